@@ -1,0 +1,86 @@
+#include "boundary_simplification.h"
+
+#include <cmath>
+#include <unordered_map>
+
+#include "geometry.h"
+
+namespace dtm {
+namespace {
+
+struct Umbrella {
+  Vec3 vector_area;
+  Vec3 link_centroid;
+  bool is_disk = false;
+};
+
+// `triangles`: the outward triangles of the umbrella of v.
+Umbrella umbrella_of(uint32_t v, std::span<const std::array<uint32_t, 3>> triangles,
+                     std::span<const GridPoint> points) {
+  Umbrella u;
+  // Each outward triangle (v, a, b) contributes the directed link edge a -> b;
+  // the umbrella is a disk when these edges form one cycle through every
+  // link vertex exactly once.
+  std::unordered_map<uint32_t, uint32_t> next;
+  next.reserve(triangles.size() * 2);
+  const Vec3 pv = to_vec(points[v]);
+  for (const auto& t : triangles) {
+    int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+    const uint32_t a = t[(k + 1) % 3], b = t[(k + 2) % 3];
+    if (!next.emplace(a, b).second) return u;  // a starts two link edges
+    u.vector_area += cross(to_vec(points[a]) - pv, to_vec(points[b]) - pv) * 0.5;
+  }
+  uint32_t steps = 0, start = next.begin()->first, cur = start;
+  do {
+    auto it = next.find(cur);
+    if (it == next.end()) return u;  // open link: v sits on a border of the surface
+    cur = it->second;
+    u.link_centroid += to_vec(points[cur]);
+    ++steps;
+  } while (cur != start && steps <= next.size());
+  if (cur != start || steps != next.size()) return u;  // several cycles
+  u.link_centroid = u.link_centroid * (1.0 / steps);
+  u.is_disk = steps >= 3;
+  return u;
+}
+
+}  // namespace
+
+std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& L, const Csr& represented,
+                                                   std::span<const GridPoint> originals,
+                                                   double dmax) {
+  const auto faces = boundary_faces(L.dt, L.in_mesh);
+  std::vector<std::array<uint32_t, 3>> triangles;
+  triangles.reserve(faces.size());
+  for (const auto& f : faces) triangles.push_back(outward_triangle(L.dt, L.points, f));
+
+  // Triangles around each vertex, as rows of a CSR.
+  Csr around;
+  around.offsets.assign(L.size() + 1, 0);
+  for (const auto& t : triangles)
+    for (uint32_t v : t) ++around.offsets[v + 1];
+  for (size_t v = 0; v < L.size(); ++v) around.offsets[v + 1] += around.offsets[v];
+  around.items.resize(around.offsets.back());
+  std::vector<uint32_t> fill(around.offsets.begin(), around.offsets.end() - 1);
+  for (uint32_t i = 0; i < triangles.size(); ++i)
+    for (uint32_t v : triangles[i]) around.items[fill[v]++] = i;
+
+  std::vector<BoundaryCandidate> out;
+  std::vector<std::array<uint32_t, 3>> umbrella;
+  for (uint32_t v = 0; v < L.size(); ++v) {
+    if (!L.boundary[v] || around.row(v).empty()) continue;
+    umbrella.clear();
+    for (uint32_t i : around.row(v)) umbrella.push_back(triangles[i]);
+    const Umbrella u = umbrella_of(v, umbrella, L.points);
+    const double area = norm(u.vector_area);
+    if (!u.is_disk || area == 0) continue;
+    const Vec3 normal = u.vector_area * (1.0 / area);
+    double error = std::abs(dot(normal, to_vec(L.points[v]) - u.link_centroid));
+    for (uint32_t k : represented.row(v))
+      error = std::max(error, std::abs(dot(normal, to_vec(originals[k]) - u.link_centroid)));
+    if (error <= dmax) out.push_back({v, error});
+  }
+  return out;
+}
+
+}  // namespace dtm

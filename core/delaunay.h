@@ -1,0 +1,76 @@
+// The project's only door to CGAL's Delaunay tetrahedralization. CGAL is
+// slow to compile, so it stays inside delaunay.cpp; everything else works on
+// the plain arrays of TetMesh.
+//
+// Uniqueness (DESIGN.md §3.2): CGAL's Delaunay_triangulation_3 with exact
+// predicates breaks cospherical ties by a symbolic perturbation that depends
+// only on the coordinates, so the cell set is a function of the point set,
+// whatever the insertion order, batching or removals. The tests prove it on
+// degenerate grid input.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "grid.h"
+
+namespace dtm {
+
+// A tetrahedralization detached from CGAL. Vertex indices are the caller's
+// ids; cells are positively oriented. Cell order is not canonical.
+struct TetMesh {
+  std::vector<std::array<uint32_t, 4>> cells;
+  // neighbors[c][i]: the cell sharing the face of c opposite its vertex i,
+  // or -1 when that face is on the convex hull.
+  std::vector<std::array<int32_t, 4>> neighbors;
+};
+
+// Thrown when the points do not span three dimensions.
+struct DegenerateInput : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Delaunay tetrahedralization of `points`; vertex i is points[i]. The points
+// must be distinct. Throws DegenerateInput if they are coplanar (or fewer
+// than 4).
+TetMesh delaunay_tetrahedralize(std::span<const GridPoint> points);
+
+// A Delaunay tetrahedralization that is edited in place: batch insertion
+// (what the decoder does level by level) and vertex removal.
+class IncrementalDelaunay {
+ public:
+  IncrementalDelaunay();
+  ~IncrementalDelaunay();
+  IncrementalDelaunay(const IncrementalDelaunay&) = delete;
+  IncrementalDelaunay& operator=(const IncrementalDelaunay&) = delete;
+
+  // Inserts points[i] with id ids[i]. A batch is spatially sorted first.
+  void insert(std::span<const GridPoint> points, std::span<const uint32_t> ids);
+  // Inserts one point at a time, in the given order (no spatial sort).
+  void insert_one_by_one(std::span<const GridPoint> points, std::span<const uint32_t> ids);
+  // Removes the vertices at these positions; throws if one is absent.
+  void remove(std::span<const GridPoint> points);
+
+  int dimension() const;
+  size_t number_of_vertices() const;
+  // The current finite cells, vertices named by their ids.
+  TetMesh mesh() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// For the quality guard: the smallest solid angle among the cells that
+// would fill the cavity of `apex` if it were removed, where `link` holds its
+// Delaunay neighbours. Those cells are the cells of DT(link) in conflict with
+// apex; only those of circumradius <= max_radius count (the ones the alpha
+// carving would keep). Returns +infinity if no such cell exists and 0 if the
+// link is not three-dimensional.
+double cavity_min_solid_angle(std::span<const GridPoint> link, const GridPoint& apex,
+                              double max_radius);
+
+}  // namespace dtm

@@ -1,0 +1,32 @@
+#include "geometry.h"
+
+#include <limits>
+
+namespace dtm {
+
+double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return dot(b - a, cross(c - a, d - a)) / 6.0;
+}
+
+double circumradius(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const Vec3 u = b - a, v = c - a, w = d - a;
+  const double det = dot(u, cross(v, w));
+  if (det == 0) return std::numeric_limits<double>::infinity();
+  const Vec3 num = cross(v, w) * dot(u, u) + cross(w, u) * dot(v, v) + cross(u, v) * dot(w, w);
+  return norm(num) / (2 * std::abs(det));
+}
+
+double solid_angle(const Vec3& apex, const Vec3& p, const Vec3& q, const Vec3& r) {
+  const Vec3 a = p - apex, b = q - apex, c = r - apex;
+  const double la = norm(a), lb = norm(b), lc = norm(c);
+  const double numerator = std::abs(dot(a, cross(b, c)));
+  const double denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+  return 2 * std::atan2(numerator, denominator);
+}
+
+std::array<double, 4> solid_angles(const std::array<Vec3, 4>& t) {
+  return {solid_angle(t[0], t[1], t[2], t[3]), solid_angle(t[1], t[0], t[2], t[3]),
+          solid_angle(t[2], t[0], t[1], t[3]), solid_angle(t[3], t[0], t[1], t[2])};
+}
+
+}  // namespace dtm

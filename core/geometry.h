@@ -1,0 +1,46 @@
+// Small exact-input geometry on grid points: tetrahedron volume, circumradius
+// and solid angles. Inputs are integer grid coordinates (exact in double up
+// to 2^24), so every quantity is computed identically on any machine.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "grid.h"
+
+namespace dtm {
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+  Vec3 operator+(const Vec3& o) const { return {x + o.x, y + o.y, z + o.z}; }
+  Vec3 operator-(const Vec3& o) const { return {x - o.x, y - o.y, z - o.z}; }
+  Vec3 operator*(double s) const { return {x * s, y * s, z * s}; }
+  Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+};
+
+inline Vec3 to_vec(const GridPoint& p) { return {double(p.x), double(p.y), double(p.z)}; }
+inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+
+inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kFullSolidAngle = 4 * kPi;
+// Every solid angle of the regular tetrahedron: 3 arccos(1/3) - pi.
+inline constexpr double kRegularTetSolidAngle = 0.5512855984325308;
+
+// Signed volume (eq. 2.5): positive for a positively oriented tetrahedron.
+double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+// Radius of the circumscribed sphere; +infinity for a flat tetrahedron.
+double circumradius(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+// Solid angle at `apex` subtended by triangle (p, q, r), in steradians, by the
+// Van Oosterom-Strackee formula (equal to eq. 2.2-2.3, better conditioned).
+double solid_angle(const Vec3& apex, const Vec3& p, const Vec3& q, const Vec3& r);
+
+// The four solid angles of a tetrahedron, at vertex i for i = 0..3.
+std::array<double, 4> solid_angles(const std::array<Vec3, 4>& t);
+
+}  // namespace dtm

@@ -1,0 +1,212 @@
+#include "hierarchy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "boundary_simplification.h"
+#include "delaunay.h"
+#include "geometry.h"
+#include "importance.h"
+#include "surface_distance.h"
+
+namespace dtm {
+namespace {
+
+// Each original (level-0) boundary point is represented by one vertex of the
+// current level: itself until it is removed, then the neighbour it was handed
+// to. The boundary test checks these points, so the error bound holds
+// against the original surface, not just against the previous level.
+struct Representation {
+  std::vector<GridPoint> originals;
+  std::vector<uint32_t> owner;  // grid-point index of the representing vertex
+
+  Csr rows_for(std::span<const uint32_t> level_vertices, size_t grid_points) const {
+    std::vector<uint32_t> local(grid_points, UINT32_MAX);
+    for (uint32_t i = 0; i < level_vertices.size(); ++i) local[level_vertices[i]] = i;
+    Csr rows;
+    rows.offsets.assign(level_vertices.size() + 1, 0);
+    for (uint32_t o : owner) ++rows.offsets[local[o] + 1];
+    for (size_t v = 0; v < level_vertices.size(); ++v) rows.offsets[v + 1] += rows.offsets[v];
+    rows.items.resize(owner.size());
+    std::vector<uint32_t> fill(rows.offsets.begin(), rows.offsets.end() - 1);
+    for (uint32_t k = 0; k < owner.size(); ++k) rows.items[fill[local[owner[k]]]++] = k;
+    return rows;
+  }
+};
+
+LevelStats measure(const LevelGeometry& L, const Representation& rep) {
+  LevelStats s;
+  s.vertices = L.size();
+  s.boundary_vertices = std::count(L.boundary.begin(), L.boundary.end(), 1);
+  s.alpha = L.alpha;
+  s.tetrahedra = L.mesh_cells;
+  double sum = 0, lowest = std::numeric_limits<double>::infinity();
+  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
+    if (!L.in_mesh[c]) continue;
+    sum += L.cell_min_solid_angle[c];
+    lowest = std::min(lowest, L.cell_min_solid_angle[c]);
+  }
+  s.avg_min_solid_angle = L.mesh_cells ? sum / L.mesh_cells : 0;
+  s.min_solid_angle = L.mesh_cells ? lowest : 0;
+  std::vector<std::array<uint32_t, 3>> surface;
+  for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
+    surface.push_back(outward_triangle(L.dt, L.points, f));
+  const DistanceSummary d = distance_to_surface(L.points, surface, rep.originals);
+  s.max_boundary_error = d.max;
+  s.mean_boundary_error = d.mean;
+  return s;
+}
+
+// The quality guard's verdict on removing vertex v of level L.
+bool quality_allows(const LevelGeometry& L, uint32_t v, double guard) {
+  double star_min = std::numeric_limits<double>::infinity();
+  for (uint32_t c : L.cells_of_vertex.row(v))
+    if (L.in_mesh[c]) star_min = std::min(star_min, L.cell_min_solid_angle[c]);
+  std::vector<GridPoint> link;
+  for (uint32_t u : L.neighbors.row(v)) link.push_back(L.points[u]);
+  return cavity_min_solid_angle(link, L.points[v], L.alpha) >= std::min(guard, star_min);
+}
+
+struct Removal {
+  std::vector<uint8_t> removed;  // per local vertex
+  uint64_t boundary = 0, interior = 0, rejected_by_quality = 0;
+};
+
+// Greedy independent set: boundary candidates by ascending error, then
+// interior vertices by ascending importance; a removed vertex locks its
+// Delaunay neighbours.
+Removal select_removal(const LevelGeometry& L, const Csr& represented, const Representation& rep,
+                       const HierarchyOptions& opt) {
+  Removal r;
+  r.removed.assign(L.size(), 0);
+  std::vector<uint8_t> locked(L.size(), 0);
+  auto take = [&](uint32_t v) {
+    if (locked[v]) return false;
+    if (opt.quality_guard > 0 && !quality_allows(L, v, opt.quality_guard)) {
+      ++r.rejected_by_quality;
+      return false;
+    }
+    r.removed[v] = 1;
+    locked[v] = 1;
+    for (uint32_t u : L.neighbors.row(v)) locked[u] = 1;
+    return true;
+  };
+
+  auto candidates = boundary_candidates(L, represented, rep.originals, opt.dmax);
+  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
+    return a.error != b.error ? a.error < b.error : a.vertex < b.vertex;
+  });
+  for (const auto& c : candidates) r.boundary += take(c.vertex);
+
+  std::vector<std::pair<double, uint32_t>> interior;
+  for (uint32_t v = 0; v < L.size(); ++v)
+    if (!L.boundary[v]) interior.emplace_back(importance(L, v), v);
+  std::sort(interior.begin(), interior.end());
+  for (const auto& [ip, v] : interior) r.interior += take(v);
+  return r;
+}
+
+// Hands the original points represented by removed vertices to their nearest
+// surviving Delaunay neighbour (all neighbours survive: the set is independent).
+void hand_over(Representation& rep, const LevelGeometry& L, std::span<const uint32_t> vertices,
+               const Removal& r, size_t grid_points) {
+  const Csr rows = rep.rows_for(vertices, grid_points);
+  for (uint32_t v = 0; v < L.size(); ++v) {
+    if (!r.removed[v]) continue;
+    for (uint32_t k : rows.row(v)) {
+      const Vec3 p = to_vec(rep.originals[k]);
+      uint32_t best = UINT32_MAX;
+      double best_d = std::numeric_limits<double>::infinity();
+      for (uint32_t u : L.neighbors.row(v)) {
+        const Vec3 e = to_vec(L.points[u]) - p;
+        const double d = dot(e, e);
+        if (d < best_d) best_d = d, best = u;
+      }
+      rep.owner[k] = vertices[best];
+    }
+  }
+}
+
+std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
+                                                  std::span<const uint32_t> vertices) {
+  std::vector<std::array<uint32_t, 4>> out;
+  out.reserve(L.mesh_cells);
+  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
+    if (!L.in_mesh[c]) continue;
+    const auto& cell = L.dt.cells[c];
+    out.push_back({vertices[cell[0]], vertices[cell[1]], vertices[cell[2]], vertices[cell[3]]});
+  }
+  return out;
+}
+
+std::vector<GridPoint> gather(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
+  std::vector<GridPoint> out;
+  out.reserve(ids.size());
+  for (uint32_t i : ids) out.push_back(points[i]);
+  return out;
+}
+
+}  // namespace
+
+Hierarchy build_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& opt,
+                          const LevelCallback& on_level) {
+  Hierarchy h;
+  std::vector<uint32_t> vertices(points.size());
+  for (uint32_t i = 0; i < vertices.size(); ++i) vertices[i] = i;
+  LevelGeometry L = analyze_level(gather(points, vertices), opt.alpha);
+
+  Representation rep;
+  for (uint32_t v = 0; v < L.size(); ++v)
+    if (L.boundary[v]) {
+      rep.originals.push_back(L.points[v]);
+      rep.owner.push_back(vertices[v]);
+    }
+
+  Removal made;  // the removal that produced the current level
+  for (int level = 0;; ++level) {
+    Level out;
+    out.vertices = vertices;
+    out.alpha = L.alpha;
+    out.mesh = carved_cells(L, vertices);
+    out.stats = measure(L, rep);
+    out.stats.level = level;
+    out.stats.removed_boundary = made.boundary;
+    out.stats.removed_interior = made.interior;
+    out.stats.rejected_by_quality = made.rejected_by_quality;
+    h.levels.push_back(std::move(out));
+    if (on_level) on_level(h.levels.back());
+
+    if (opt.max_levels > 0 && level >= opt.max_levels) break;
+    if (level > 0 && opt.stop_when_boundary_is_final && made.boundary == 0) break;
+
+    const Csr represented = rep.rows_for(vertices, points.size());
+    Removal next = select_removal(L, represented, rep, opt);
+    const uint64_t removed = next.boundary + next.interior;
+    if (removed == 0 || vertices.size() - removed < opt.min_base_vertices) break;
+
+    std::vector<uint32_t> kept;
+    kept.reserve(vertices.size() - removed);
+    for (uint32_t v = 0; v < L.size(); ++v)
+      if (!next.removed[v]) kept.push_back(vertices[v]);
+    LevelGeometry coarser;
+    try {
+      coarser = analyze_level(gather(points, kept), opt.alpha);
+    } catch (const DegenerateInput&) {
+      break;  // the coarser set would be flat: this level is the coarsest
+    }
+    hand_over(rep, L, vertices, next, points.size());
+    vertices = std::move(kept);
+    L = std::move(coarser);
+    made = next;
+  }
+  return h;
+}
+
+std::vector<std::array<uint32_t, 4>> canonical_cells(std::vector<std::array<uint32_t, 4>> cells) {
+  for (auto& c : cells) std::sort(c.begin(), c.end());
+  std::sort(cells.begin(), cells.end());
+  return cells;
+}
+
+}  // namespace dtm

@@ -1,0 +1,75 @@
+// The level-of-detail hierarchy of the seed paper (§II): level 0 holds every
+// grid point; each coarser level removes one set of vertices that is
+// independent in the finer level's Delaunay tetrahedralization: boundary
+// vertices whose removal keeps the surface within Dmax (§II.2), then interior
+// vertices by ascending importance (§II.3-II.4). Each level's mesh is the
+// alpha-carved Delaunay tetrahedralization of its vertices, so only vertex
+// sets need to be stored.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "grid.h"
+#include "level.h"
+
+namespace dtm {
+
+struct HierarchyOptions {
+  AlphaPolicy alpha;
+  double dmax = 1.0;               // boundary tolerance, grid units
+  int max_levels = 0;              // coarser levels to build at most; 0 = no limit
+  size_t min_base_vertices = 16;   // never build a level with fewer vertices
+  // The paper's rule: the first level that removes no boundary vertex is the
+  // last one built.
+  bool stop_when_boundary_is_final = true;
+  // Quality guard (0 = off): a removal is accepted only if the cells that
+  // refill its cavity have a smallest solid angle >= min(quality_guard, the
+  // smallest solid angle of the star they replace). With 0.5513 (the regular
+  // tetrahedron's) it means "never worse than before".
+  double quality_guard = 0;
+};
+
+struct LevelStats {
+  int level = 0;
+  uint64_t vertices = 0;
+  uint64_t boundary_vertices = 0;
+  uint64_t removed_interior = 0;  // removed from the finer level to make this one
+  uint64_t removed_boundary = 0;
+  uint64_t rejected_by_quality = 0;  // candidates the quality guard kept
+  double alpha = 0;                  // grid units
+  uint64_t tetrahedra = 0;           // cells of M_l
+  double avg_min_solid_angle = 0;    // over M_l cells, steradians
+  double min_solid_angle = 0;
+  double max_boundary_error = 0;     // grid units: level-0 boundary vertices to this boundary
+  double mean_boundary_error = 0;
+};
+
+struct Level {
+  std::vector<uint32_t> vertices;  // indices into the grid points, ascending
+  double alpha = 0;                // grid units
+  // M_l, vertices named by grid-point index. Cell order is not canonical.
+  std::vector<std::array<uint32_t, 4>> mesh;
+  LevelStats stats;
+};
+
+struct Hierarchy {
+  std::vector<Level> levels;  // levels[0] is the finest
+};
+
+// Called once per level as soon as it is complete.
+using LevelCallback = std::function<void(const Level&)>;
+
+// Builds the hierarchy over `points` (distinct grid points). Throws
+// DegenerateInput if level 0 does not span three dimensions.
+Hierarchy build_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& options,
+                          const LevelCallback& on_level = {});
+
+// The cells of a level in canonical form: each cell's vertices sorted,
+// cells sorted. Two meshes are the same iff their canonical forms are equal.
+std::vector<std::array<uint32_t, 4>> canonical_cells(std::vector<std::array<uint32_t, 4>> cells);
+
+}  // namespace dtm

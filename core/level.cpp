@@ -1,0 +1,83 @@
+#include "level.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry.h"
+
+namespace dtm {
+
+const char* to_string(AlphaPolicy::Kind kind) {
+  switch (kind) {
+    case AlphaPolicy::Kind::kPaper: return "paper";
+    case AlphaPolicy::Kind::kFixed: return "fixed";
+    case AlphaPolicy::Kind::kConvexHull: return "hull";
+  }
+  return "?";
+}
+
+LevelGeometry analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy) {
+  LevelGeometry L;
+  L.points = std::move(points);
+  L.dt = delaunay_tetrahedralize(L.points);
+  const size_t n = L.points.size(), m = L.dt.cells.size();
+  L.neighbors = vertex_neighbors(L.dt, n);
+  L.cells_of_vertex = vertex_cells(L.dt, n);
+
+  double length_sum = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    const Vec3 p = to_vec(L.points[v]);
+    for (uint32_t u : L.neighbors.row(v)) {
+      if (u <= v) continue;
+      length_sum += norm(to_vec(L.points[u]) - p);
+      ++L.finite_edges;
+    }
+  }
+  L.mean_edge_length = L.finite_edges ? length_sum / L.finite_edges : 0;
+  switch (policy.kind) {
+    case AlphaPolicy::Kind::kPaper: L.alpha = L.mean_edge_length; break;
+    case AlphaPolicy::Kind::kFixed: L.alpha = policy.fixed_value; break;
+    case AlphaPolicy::Kind::kConvexHull: L.alpha = INFINITY; break;
+  }
+
+  L.in_mesh.assign(m, 0);
+  L.cell_min_solid_angle.assign(m, 0);
+  L.cell_volume.assign(m, 0);
+  L.solid_angle_sum.assign(n, 0);
+  L.mesh_volume.assign(n, 0);
+  for (size_t c = 0; c < m; ++c) {
+    const auto& cell = L.dt.cells[c];
+    const std::array<Vec3, 4> t = {to_vec(L.points[cell[0]]), to_vec(L.points[cell[1]]),
+                                   to_vec(L.points[cell[2]]), to_vec(L.points[cell[3]])};
+    const auto angles = solid_angles(t);
+    L.cell_min_solid_angle[c] = std::min({angles[0], angles[1], angles[2], angles[3]});
+    L.cell_volume[c] = signed_volume(t[0], t[1], t[2], t[3]);
+    if (circumradius(t[0], t[1], t[2], t[3]) > L.alpha) continue;
+    L.in_mesh[c] = 1;
+    ++L.mesh_cells;
+    for (int i = 0; i < 4; ++i) {
+      L.solid_angle_sum[cell[i]] += angles[i];
+      L.mesh_volume[cell[i]] += L.cell_volume[c];
+    }
+  }
+  L.boundary.assign(n, 0);
+  for (size_t v = 0; v < n; ++v)
+    L.boundary[v] = L.solid_angle_sum[v] < kFullSolidAngle - kSolidAngleTolerance;
+  return L;
+}
+
+std::vector<uint8_t> topological_boundary(const LevelGeometry& L) {
+  std::vector<uint8_t> out(L.size(), 0);
+  std::vector<uint8_t> touched(L.size(), 0);
+  for (size_t c = 0; c < L.dt.cells.size(); ++c)
+    if (L.in_mesh[c])
+      for (uint32_t v : L.dt.cells[c]) touched[v] = 1;
+  for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
+    for (int i = 0; i < 4; ++i)
+      if (i != f.opposite) out[L.dt.cells[f.cell][i]] = 1;
+  for (size_t v = 0; v < L.size(); ++v)
+    if (!touched[v]) out[v] = 1;
+  return out;
+}
+
+}  // namespace dtm

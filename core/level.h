@@ -1,0 +1,65 @@
+// One level of detail analysed as the seed paper does (§II.1): the Delaunay
+// tetrahedralization of the level's points, alpha (eq. 2.1), the carved mesh,
+// solid angles (eq. 2.2-2.3), the boundary, and the volumes behind the
+// importance value (eq. 2.4).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "delaunay.h"
+#include "grid.h"
+#include "topology.h"
+
+namespace dtm {
+
+// How alpha_l is chosen; the carved mesh M_l keeps the cells of circumradius <= alpha_l.
+struct AlphaPolicy {
+  enum class Kind {
+    kPaper,       // mean length of the finite edges of DT(V_l) (eq. 2.1)
+    kFixed,       // one value for every level (`fixed_value`, grid units)
+    kConvexHull,  // keep every cell: M_l = DT(V_l)
+  };
+  Kind kind = Kind::kPaper;
+  double fixed_value = 0;
+};
+
+const char* to_string(AlphaPolicy::Kind kind);
+
+// A vertex is interior when the solid angles of its mesh cells add up to 4*pi
+// within this tolerance (steradians). Computed on exact grid input the sum of
+// an interior vertex is off by ~1e-13; the smallest exterior angle a
+// boundary vertex leaves open is many orders of magnitude above that.
+inline constexpr double kSolidAngleTolerance = 1e-7;
+
+struct LevelGeometry {
+  std::vector<GridPoint> points;  // vertex v is points[v]
+  TetMesh dt;                     // DT(V_l)
+  Csr neighbors;                  // edge graph of DT(V_l)
+  Csr cells_of_vertex;            // cells of DT(V_l) around each vertex
+  uint64_t finite_edges = 0;
+  double mean_edge_length = 0;    // grid units
+  double alpha = 0;               // grid units
+
+  std::vector<uint8_t> in_mesh;             // per cell: belongs to M_l
+  std::vector<double> cell_min_solid_angle; // per cell: the smallest of its 4 solid angles
+  std::vector<double> cell_volume;          // per cell, grid units cubed
+  std::vector<double> solid_angle_sum;      // per vertex, over its M_l cells
+  std::vector<double> mesh_volume;          // per vertex: volume of its M_l cells
+  std::vector<uint8_t> boundary;            // per vertex: solid-angle boundary (§II.1.b)
+  uint64_t mesh_cells = 0;
+
+  size_t size() const { return points.size(); }
+};
+
+// Analyses the level whose vertices are `points` (distinct grid points).
+// Throws DegenerateInput if they do not span 3D.
+LevelGeometry analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy);
+
+// The topological boundary of M_l: vertices of its boundary faces, plus
+// vertices in no M_l cell. The solid-angle test must agree with it.
+std::vector<uint8_t> topological_boundary(const LevelGeometry& level);
+
+}  // namespace dtm

@@ -1,0 +1,58 @@
+#include "grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace dtm {
+
+QuantizedPoints quantize(std::span<const InputPoint> input, int qbits) {
+  if (qbits < kMinQBits || qbits > kMaxQBits)
+    throw std::invalid_argument("qbits must be in [1, 24], got " + std::to_string(qbits));
+  if (input.empty()) throw std::invalid_argument("no points to quantize");
+
+  std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (size_t i = 0; i < input.size(); ++i) {
+    const double c[3] = {input[i].x, input[i].y, input[i].z};
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(c[a]))
+        throw std::invalid_argument("point " + std::to_string(i) + " has a non-finite coordinate");
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  }
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  const int32_t max_cell = static_cast<int32_t>((uint32_t{1} << qbits) - 1);
+
+  QuantizedPoints out;
+  out.grid.qbits = qbits;
+  out.grid.origin = lo;
+  out.grid.step = extent > 0 ? extent / max_cell : 1.0;
+
+  std::vector<GridPoint> cells(input.size());
+  const double inv = 1.0 / out.grid.step;
+  for (size_t i = 0; i < input.size(); ++i) {
+    auto q = [&](double v, int a) {
+      const double t = std::floor((v - lo[a]) * inv + 0.5);
+      return static_cast<int32_t>(std::clamp(t, 0.0, static_cast<double>(max_cell)));
+    };
+    cells[i] = {q(input[i].x, 0), q(input[i].y, 1), q(input[i].z, 2)};
+  }
+
+  std::vector<uint32_t> order(input.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return cells[a] != cells[b] ? cells[a] < cells[b] : a < b;
+  });
+  out.input_to_point.resize(input.size());
+  for (uint32_t k : order) {
+    if (out.points.empty() || out.points.back() != cells[k]) out.points.push_back(cells[k]);
+    else ++out.duplicates_merged;
+    out.input_to_point[k] = static_cast<uint32_t>(out.points.size() - 1);
+  }
+  return out;
+}
+
+}  // namespace dtm

@@ -1,0 +1,132 @@
+#include "tetgen.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
+namespace dtm {
+namespace {
+
+// Reads the non-comment, non-blank lines of a file, remembering line numbers.
+class LineReader {
+ public:
+  explicit LineReader(const std::string& path) : path_(path), in_(path) {
+    if (!in_) throw FormatError(path + ": cannot open file");
+  }
+  // The next meaningful line split into tokens; false at end of file.
+  bool next(std::vector<std::string_view>& tokens) {
+    while (std::getline(in_, line_)) {
+      ++number_;
+      if (auto hash = line_.find('#'); hash != std::string::npos) line_.resize(hash);
+      tokens.clear();
+      std::string_view rest(line_);
+      while (true) {
+        const size_t b = rest.find_first_not_of(" \t\r,");
+        if (b == std::string_view::npos) break;
+        rest.remove_prefix(b);
+        const size_t e = rest.find_first_of(" \t\r,");
+        tokens.push_back(rest.substr(0, e));
+        if (e == std::string_view::npos) break;
+        rest.remove_prefix(e);
+      }
+      if (!tokens.empty()) return true;
+    }
+    return false;
+  }
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw FormatError(path_ + ":" + std::to_string(number_) + ": " + problem);
+  }
+  template <class T>
+  T parse(std::string_view token, const char* what) const {
+    T value{};
+    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec != std::errc() || end != token.data() + token.size())
+      fail(std::string("expected ") + what + ", found '" + std::string(token) + "'");
+    return value;
+  }
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+  std::string line_;
+  size_t number_ = 0;
+};
+
+}  // namespace
+
+NodeFile read_tetgen_node(const std::string& path) {
+  LineReader r(path);
+  std::vector<std::string_view> tok;
+  if (!r.next(tok)) throw FormatError(path + ": empty file, expected a .node header");
+  if (tok.size() < 2 || tok.size() > 4) r.fail("expected a header '<points> <dimension> [<attributes> <markers>]'");
+  const auto count = r.parse<uint64_t>(tok[0], "a point count");
+  const auto dim = r.parse<int>(tok[1], "a dimension");
+  const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count") : 0;
+  const int has_marker = tok.size() > 3 ? r.parse<int>(tok[3], "0 or 1 boundary markers") : 0;
+  if (dim != 3) r.fail("dimension must be 3, got " + std::to_string(dim));
+  if (attributes < 0 || has_marker < 0 || has_marker > 1) r.fail("bad attribute or marker count");
+  if (count > (uint64_t{1} << 31)) r.fail("point count " + std::to_string(count) + " is too large");
+
+  NodeFile out;
+  out.points.reserve(std::min<uint64_t>(count, 1 << 20));  // grow with the data, not the claim
+  const size_t expected = 4 + attributes + has_marker;
+  int64_t first_index = 0;
+  for (uint64_t i = 0; i < count; ++i) {
+    if (!r.next(tok))
+      throw FormatError(path + ": file ends after " + std::to_string(i) + " of " +
+                        std::to_string(count) + " points");
+    if (tok.size() != expected)
+      r.fail("expected " + std::to_string(expected) + " fields, found " + std::to_string(tok.size()));
+    const auto index = r.parse<int64_t>(tok[0], "a point index");
+    if (i == 0) {
+      if (index != 0 && index != 1) r.fail("the first point index must be 0 or 1");
+      first_index = index;
+    } else if (index != first_index + static_cast<int64_t>(i)) {
+      r.fail("point index " + std::to_string(index) + " out of sequence");
+    }
+    InputPoint p{r.parse<double>(tok[1], "a coordinate"), r.parse<double>(tok[2], "a coordinate"),
+                 r.parse<double>(tok[3], "a coordinate")};
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      r.fail("coordinate is not finite");
+    out.points.push_back(p);
+    if (has_marker) out.markers.push_back(r.parse<int>(tok[expected - 1], "a boundary marker"));
+  }
+  out.index_base = static_cast<int>(first_index);
+  if (r.next(tok)) r.fail("unexpected data after the " + std::to_string(count) + " points");
+  return out;
+}
+
+std::vector<std::array<uint32_t, 4>> read_tetgen_ele(const std::string& path, size_t num_points,
+                                                     int index_base) {
+  LineReader r(path);
+  std::vector<std::string_view> tok;
+  if (!r.next(tok)) throw FormatError(path + ": empty file, expected an .ele header");
+  if (tok.size() < 2 || tok.size() > 3) r.fail("expected a header '<tetrahedra> <nodes per tet> [<attributes>]'");
+  const auto count = r.parse<uint64_t>(tok[0], "a tetrahedron count");
+  const auto per = r.parse<int>(tok[1], "nodes per tetrahedron");
+  const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count") : 0;
+  if (per != 4) r.fail("only linear tetrahedra (4 nodes) are supported, got " + std::to_string(per));
+  if (attributes < 0) r.fail("bad attribute count");
+  std::vector<std::array<uint32_t, 4>> out;
+  out.reserve(std::min<uint64_t>(count, 1 << 20));
+  for (uint64_t i = 0; i < count; ++i) {
+    if (!r.next(tok))
+      throw FormatError(path + ": file ends after " + std::to_string(i) + " of " +
+                        std::to_string(count) + " tetrahedra");
+    if (tok.size() != static_cast<size_t>(5 + attributes))
+      r.fail("expected " + std::to_string(5 + attributes) + " fields");
+    std::array<uint32_t, 4> t;
+    for (int k = 0; k < 4; ++k) {
+      const auto v = r.parse<int64_t>(tok[1 + k], "a vertex index") - index_base;
+      if (v < 0 || static_cast<uint64_t>(v) >= num_points)
+        r.fail("vertex index " + std::string(tok[1 + k]) + " out of range");
+      t[k] = static_cast<uint32_t>(v);
+    }
+    out.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace dtm

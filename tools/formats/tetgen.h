@@ -1,0 +1,34 @@
+// TetGen .node / .ele files (https://wias-berlin.de/software/tetgen/fformats.html):
+// '#' comments, a header line, then one numbered record per line. Indices may
+// start at 0 or 1 (the first record decides, as TetGen does).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/grid.h"
+
+namespace dtm {
+
+// A bad input file: the message names the file, the line and the problem.
+struct FormatError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct NodeFile {
+  std::vector<InputPoint> points;
+  std::vector<int> markers;  // boundary markers when the file has them, else empty
+  int index_base = 0;        // index of the first point (0 or 1)
+};
+
+NodeFile read_tetgen_node(const std::string& path);
+
+// Tetrahedra of an .ele file as 0-based indices into the .node's points.
+// `index_base` is the first index of the matching .node file.
+std::vector<std::array<uint32_t, 4>> read_tetgen_ele(const std::string& path, size_t num_points,
+                                                     int index_base = 0);
+
+}  // namespace dtm
