@@ -1,0 +1,267 @@
+// bench_hierarchy: how much does the whole level-of-detail hierarchy cost
+// compared with a single CGAL Delaunay tetrahedralization of the same points?
+//
+// Per model (bunny_10k, bunny_100k, bunny_1m; absent .node files are skipped):
+//   CgalDelaunay/<m>  dtm::delaunay_tetrahedralize: one CGAL build + export to TetMesh
+//   CgalRaw/<m>       the bare CGAL range insertion, no export, destruction not timed
+//   Hierarchy/<m>     dtm::build_hierarchy with meshenc's recommended settings
+//                     (--box 256 --qbits 14 --dmax 2, defaults otherwise)
+// All three run on the same quantized points; loading and quantization are
+// not timed. At the end a markdown table with hierarchy / CGAL time is printed.
+//
+// Usage:
+//   bench_hierarchy [--data DIR] [benchmark flags]   DIR defaults to $DTM_BENCH_DATA, else .
+//   bench_hierarchy --peak-memory MODEL.node [hierarchy|cgal]
+//       builds once in this fresh process and prints the peak RSS (ru_maxrss)
+//   bench_hierarchy --cgal-version
+#include <benchmark/benchmark.h>
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/version.h>
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/delaunay.h"
+#include "core/hierarchy.h"
+#include "tools/formats/tetgen.h"
+
+namespace {
+
+constexpr const char* kModels[] = {"bunny_10k", "bunny_100k", "bunny_1m"};
+constexpr int kQBits = 14;
+constexpr double kBox = 256;   // largest extent after scaling (meshenc --box 256)
+constexpr double kDmax = 2.0;  // boundary tolerance in scaled units (meshenc --dmax 2)
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using RawDT = CGAL::Delaunay_triangulation_3<K>;
+
+struct Model {
+  std::string name;
+  dtm::QuantizedPoints q;
+  dtm::HierarchyOptions opt;
+};
+
+// Same preprocessing as `meshenc FILE --box 256 --dmax 2`, so the benchmark
+// times the run the README recommends.
+Model load_model(const std::string& name, const std::string& path) {
+  auto node = dtm::read_tetgen_node(path);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (const auto& p : node.points) {
+    const double c[3] = {p.x, p.y, p.z};
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
+  }
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  const double scale = extent > 0 ? kBox / extent : 1.0;
+  for (auto& p : node.points) p = {p.x * scale, p.y * scale, p.z * scale};
+
+  Model m{name, dtm::quantize(node.points, kQBits), {}};
+  m.opt.dmax = kDmax / m.q.grid.step;  // HierarchyOptions wants grid units
+  return m;
+}
+
+// Timing: a few iterations for the small models, one for the 1M model (each
+// build takes seconds there, and run-to-run noise is small next to that).
+int iterations_for(size_t n) { return n < 50'000 ? 10 : n < 500'000 ? 3 : 1; }
+
+void register_benchmarks(const Model& m) {
+  const int iters = iterations_for(m.q.points.size());
+  const double n = static_cast<double>(m.q.points.size());
+
+  benchmark::RegisterBenchmark(("CgalDelaunay/" + m.name).c_str(), [&m, n](benchmark::State& st) {
+    size_t cells = 0;
+    for (auto _ : st) {
+      const dtm::TetMesh dt = dtm::delaunay_tetrahedralize(m.q.points);
+      cells = dt.cells.size();
+      benchmark::DoNotOptimize(dt.cells.data());
+    }
+    st.counters["vertices"] = n;
+    st.counters["cells"] = static_cast<double>(cells);
+  })->Iterations(iters)->Unit(benchmark::kMillisecond);
+
+  // The wrapper above also attaches ids, numbers the cells and copies them
+  // out; this variant shows what that export costs on top of CGAL itself.
+  benchmark::RegisterBenchmark(("CgalRaw/" + m.name).c_str(), [&m, n](benchmark::State& st) {
+    std::vector<K::Point_3> pts;
+    pts.reserve(m.q.points.size());
+    for (const auto& p : m.q.points) pts.emplace_back(p.x, p.y, p.z);
+    size_t cells = 0;
+    for (auto _ : st) {
+      auto dt = std::make_unique<RawDT>(pts.begin(), pts.end());  // spatial sort + insertion
+      cells = dt->number_of_finite_cells();
+      st.PauseTiming();  // freeing millions of cells is not construction
+      dt.reset();
+      st.ResumeTiming();
+    }
+    st.counters["vertices"] = n;
+    st.counters["cells"] = static_cast<double>(cells);
+  })->Iterations(iters)->Unit(benchmark::kMillisecond);
+
+  benchmark::RegisterBenchmark(("Hierarchy/" + m.name).c_str(), [&m, n](benchmark::State& st) {
+    size_t levels = 0, base = 0;
+    for (auto _ : st) {
+      const dtm::Hierarchy h = dtm::build_hierarchy(m.q.points, m.opt);
+      levels = h.levels.size();
+      base = h.levels.back().vertices.size();
+      benchmark::DoNotOptimize(h.levels.data());
+    }
+    st.counters["vertices"] = n;
+    st.counters["levels"] = static_cast<double>(levels);  // including level 0
+    st.counters["base_vertices"] = static_cast<double>(base);
+  })->Iterations(iters)->Unit(benchmark::kMillisecond);
+}
+
+// Prints the usual console output and keeps, per benchmark, the real time
+// and the counters for the summary table.
+class CollectingReporter : public benchmark::ConsoleReporter {
+ public:
+  struct Result {
+    double seconds = 0;  // mean real time per iteration over all repetitions
+    benchmark::UserCounters counters;
+  };
+  using ConsoleReporter::ConsoleReporter;
+
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& r : runs) {
+      // Aggregates (--benchmark_repetitions) would double count; errors have no time.
+      if (r.run_type != Run::RT_Iteration || r.error_occurred || r.iterations == 0) continue;
+      // function_name is the registered name, without the "/iterations:N" suffix.
+      Sum& s = sums_[r.run_name.function_name];
+      s.seconds += r.real_accumulated_time;
+      s.iterations += r.iterations;
+      s.counters = r.counters;
+    }
+  }
+  std::optional<Result> find(const std::string& name) const {
+    const auto it = sums_.find(name);
+    if (it == sums_.end()) return std::nullopt;
+    return Result{it->second.seconds / it->second.iterations, it->second.counters};
+  }
+
+ private:
+  struct Sum {
+    double seconds = 0;
+    int64_t iterations = 0;
+    benchmark::UserCounters counters;
+  };
+  std::map<std::string, Sum> sums_;
+};
+
+void print_table(const CollectingReporter& rep, const std::vector<std::unique_ptr<Model>>& models) {
+  std::printf(
+      "\n| model | vertices | levels | CGAL DT (s) | hierarchy (s) | ratio | raw CGAL build (s) |\n"
+      "|---|---:|---:|---:|---:|---:|---:|\n");
+  for (const auto& m : models) {
+    const auto cgal = rep.find("CgalDelaunay/" + m->name);
+    const auto raw = rep.find("CgalRaw/" + m->name);
+    const auto hier = rep.find("Hierarchy/" + m->name);
+    if (!cgal || !hier) continue;  // filtered out by --benchmark_filter, or failed
+    char raw_text[32] = "-";
+    if (raw) std::snprintf(raw_text, sizeof raw_text, "%.3f", raw->seconds);
+    std::printf("| %s | %zu | %.0f | %.3f | %.3f | %.1f | %s |\n", m->name.c_str(),
+                m->q.points.size(), hier->counters.at("levels").value, cgal->seconds,
+                hier->seconds, hier->seconds / cgal->seconds, raw_text);
+  }
+}
+
+double max_rss_mib() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;  // Linux reports KiB
+}
+
+// One build in a fresh process: ru_maxrss is a high-water mark, so measuring
+// several models (or the benchmark loop) in one process would mix them up.
+int peak_memory(const std::string& path, const std::string& what) {
+  if (what != "hierarchy" && what != "cgal") {
+    std::fprintf(stderr, "bench_hierarchy: --peak-memory: expected 'hierarchy' or 'cgal'\n");
+    return 2;
+  }
+  const Model m = load_model(std::filesystem::path(path).stem().string(), path);
+  const double loaded = max_rss_mib();
+  const auto start = std::chrono::steady_clock::now();
+  size_t levels = 1;
+  if (what == "cgal") {
+    benchmark::DoNotOptimize(dtm::delaunay_tetrahedralize(m.q.points).cells.data());
+  } else {
+    levels = dtm::build_hierarchy(m.q.points, m.opt).levels.size();
+  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("model=%s build=%s vertices=%zu levels=%zu seconds=%.3f loaded_rss_mib=%.1f peak_rss_mib=%.1f\n",
+              m.name.c_str(), what.c_str(), m.q.points.size(), levels, secs, loaded, max_rss_mib());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Our own flags are taken out of argv before Google Benchmark sees it.
+  std::string data = std::getenv("DTM_BENCH_DATA") ? std::getenv("DTM_BENCH_DATA") : ".";
+  std::vector<char*> rest = {argv[0]};
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a == "--cgal-version") {
+        std::printf("%s\n", CGAL_VERSION_STR);
+        return 0;
+      } else if (a == "--peak-memory" && i + 1 < argc) {
+        return peak_memory(argv[i + 1], i + 2 < argc ? argv[i + 2] : "hierarchy");
+      } else if (a == "--data" && i + 1 < argc) {
+        data = argv[++i];
+      } else if (a.rfind("--data=", 0) == 0) {
+        data = a.substr(7);
+      } else {
+        rest.push_back(argv[i]);
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_hierarchy: %s\n", e.what());
+    return 1;
+  }
+  int bargc = static_cast<int>(rest.size());
+  benchmark::Initialize(&bargc, rest.data());
+  if (benchmark::ReportUnrecognizedArguments(bargc, rest.data())) return 1;
+
+  // Models live on the heap so the benchmark lambdas can hold references.
+  std::vector<std::unique_ptr<Model>> models;
+  for (const char* name : kModels) {
+    const std::string path = data + "/" + name + ".node";
+    if (!std::filesystem::exists(path)) {
+      std::fprintf(stderr, "bench_hierarchy: skipping %s: %s not found\n", name, path.c_str());
+      continue;
+    }
+    try {
+      models.push_back(std::make_unique<Model>(load_model(name, path)));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench_hierarchy: skipping %s: %s\n", name, e.what());
+      continue;
+    }
+    register_benchmarks(*models.back());
+  }
+  if (models.empty()) {
+    std::fprintf(stderr, "bench_hierarchy: no model found in %s (set DTM_BENCH_DATA or --data)\n",
+                 data.c_str());
+    return 1;
+  }
+
+  CollectingReporter rep(isatty(STDOUT_FILENO) ? benchmark::ConsoleReporter::OO_Color
+                                               : benchmark::ConsoleReporter::OO_None);
+  benchmark::RunSpecifiedBenchmarks(&rep);
+  print_table(rep, models);
+  benchmark::Shutdown();
+  return 0;
+}

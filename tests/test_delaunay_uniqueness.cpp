@@ -1,0 +1,129 @@
+// DESIGN.md §3.2: on degenerate (massively cospherical) grid input, the
+// Delaunay tetrahedralization is one function of the point set: any insertion
+// order, batch insertion level by level, and vertex removal give the same cells.
+#include <gtest/gtest.h>
+
+#include <numeric>
+#include <random>
+
+#include "core/delaunay.h"
+#include "test_support.h"
+
+namespace dtm {
+namespace {
+
+using test::cells_by_coords;
+
+std::vector<uint32_t> iota_ids(size_t n) {
+  std::vector<uint32_t> ids(n);
+  std::iota(ids.begin(), ids.end(), 0u);
+  return ids;
+}
+
+std::vector<test::CellByCoords> reference(const std::vector<GridPoint>& pts) {
+  return cells_by_coords(delaunay_tetrahedralize(pts), pts);
+}
+
+std::vector<test::CellByCoords> one_by_one(const std::vector<GridPoint>& pts, uint32_t seed) {
+  std::vector<uint32_t> order = iota_ids(pts.size());
+  std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+  std::vector<GridPoint> shuffled;
+  for (uint32_t i : order) shuffled.push_back(pts[i]);
+  IncrementalDelaunay dt;
+  dt.insert_one_by_one(shuffled, order);
+  return cells_by_coords(dt.mesh(), pts);
+}
+
+// Inserts a random 1/8 first, then the rest in three batches.
+std::vector<test::CellByCoords> in_batches(const std::vector<GridPoint>& pts, uint32_t seed) {
+  std::vector<uint32_t> order = iota_ids(pts.size());
+  std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+  const size_t cuts[] = {0, pts.size() / 8, pts.size() * 2 / 5, pts.size() * 3 / 4, pts.size()};
+  IncrementalDelaunay dt;
+  for (int b = 0; b < 4; ++b) {
+    std::vector<uint32_t> ids(order.begin() + cuts[b], order.begin() + cuts[b + 1]);
+    std::vector<GridPoint> batch;
+    for (uint32_t i : ids) batch.push_back(pts[i]);
+    dt.insert(batch, ids);
+  }
+  return cells_by_coords(dt.mesh(), pts);
+}
+
+// Builds the superset, removes `drop` of its points one by one; the result
+// must equal the direct build of the remaining points.
+void expect_removal_matches_direct_build(const std::vector<GridPoint>& pts, size_t drop,
+                                         uint32_t seed) {
+  std::vector<uint32_t> order = iota_ids(pts.size());
+  std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+  std::vector<GridPoint> removed, kept;
+  for (size_t k = 0; k < order.size(); ++k) (k < drop ? removed : kept).push_back(pts[order[k]]);
+  IncrementalDelaunay dt;
+  dt.insert(pts, iota_ids(pts.size()));
+  dt.remove(removed);
+  ASSERT_EQ(dt.number_of_vertices(), kept.size());
+  EXPECT_EQ(cells_by_coords(dt.mesh(), pts), reference(kept));
+}
+
+class DegenerateGrid : public ::testing::TestWithParam<int> {
+ protected:
+  std::vector<GridPoint> points() const {
+    return GetParam() == 0 ? test::full_grid(8) : test::random_grid_points(1500, 5, GetParam());
+  }
+};
+
+TEST_P(DegenerateGrid, AnyInsertionOrderGivesTheSameCells) {
+  const auto pts = points();
+  const auto ref = reference(pts);
+  ASSERT_FALSE(ref.empty());
+  for (uint32_t seed = 1; seed <= 4; ++seed) EXPECT_EQ(one_by_one(pts, seed), ref) << "seed " << seed;
+}
+
+TEST_P(DegenerateGrid, BatchInsertionGivesTheSameCells) {
+  const auto pts = points();
+  const auto ref = reference(pts);
+  for (uint32_t seed = 1; seed <= 4; ++seed) EXPECT_EQ(in_batches(pts, seed), ref) << "seed " << seed;
+}
+
+TEST_P(DegenerateGrid, RemovalGivesTheSameCellsAsADirectBuild) {
+  const auto pts = points();
+  expect_removal_matches_direct_build(pts, pts.size() / 5, 7);
+  expect_removal_matches_direct_build(pts, pts.size() / 2, 8);
+}
+
+INSTANTIATE_TEST_SUITE_P(Grids, DegenerateGrid, ::testing::Values(0, 11, 12),
+                         [](const auto& info) {
+                           return info.param == 0 ? std::string("Full8x8x8")
+                                                  : "Random5Bit_" + std::to_string(info.param);
+                         });
+
+TEST(DelaunayUniqueness, TheGridReallyIsDegenerate) {
+  // A unit cube of 8 cospherical points has many Delaunay tetrahedralizations;
+  // the 8x8x8 grid has 343 such cubes. The symbolic perturbation must still
+  // produce a valid triangulation of the cube's volume: the cells of the
+  // 8x8x8 grid fill its 7^3 volume exactly.
+  const auto pts = test::full_grid(8);
+  const TetMesh mesh = delaunay_tetrahedralize(pts);
+  double volume = 0;
+  for (const auto& c : mesh.cells) {
+    auto v = [&](int i) { return pts[c[i]]; };
+    const double ax = v(1).x - v(0).x, ay = v(1).y - v(0).y, az = v(1).z - v(0).z;
+    const double bx = v(2).x - v(0).x, by = v(2).y - v(0).y, bz = v(2).z - v(0).z;
+    const double cx = v(3).x - v(0).x, cy = v(3).y - v(0).y, cz = v(3).z - v(0).z;
+    const double det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    ASSERT_GT(det, 0) << "every finite cell is positively oriented and not flat";
+    volume += det / 6;
+  }
+  EXPECT_NEAR(volume, 343.0, 1e-9);
+}
+
+TEST(DelaunayUniqueness, CoplanarInputIsRejected) {
+  std::vector<GridPoint> flat;
+  for (int x = 0; x < 5; ++x)
+    for (int y = 0; y < 5; ++y) flat.push_back({x, y, 3});
+  EXPECT_THROW(delaunay_tetrahedralize(flat), DegenerateInput);
+  EXPECT_THROW(delaunay_tetrahedralize(std::vector<GridPoint>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}),
+               DegenerateInput);
+}
+
+}  // namespace
+}  // namespace dtm

@@ -1,0 +1,49 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/geometry.h"
+
+namespace dtm {
+namespace {
+
+// A regular tetrahedron: alternate corners of a cube.
+const std::array<Vec3, 4> kRegular = {Vec3{0, 0, 0}, Vec3{1, 1, 0}, Vec3{1, 0, 1}, Vec3{0, 1, 1}};
+
+TEST(Geometry, RegularTetrahedronSolidAngleIsThePapersValue) {
+  for (double a : solid_angles(kRegular)) EXPECT_NEAR(a, 0.551286, 5e-7);
+  EXPECT_NEAR(kRegularTetSolidAngle, 3 * std::acos(1.0 / 3) - kPi, 1e-15);
+}
+
+TEST(Geometry, SolidAngleMatchesDihedralFormulaOfThePaper) {
+  // Eq. 2.2: solid angle at A = sum of the dihedral angles at AB, AC, AD - pi.
+  const std::array<Vec3, 4> t = {Vec3{0, 0, 0}, Vec3{5, 1, 0}, Vec3{1, 4, 1}, Vec3{2, 1, 7}};
+  auto dihedral = [](Vec3 a, Vec3 b, Vec3 c, Vec3 d) {  // at edge ab, faces abc and abd
+    const Vec3 e = b - a;
+    const Vec3 n1 = cross(e, c - a), n2 = cross(e, d - a);
+    return std::acos(dot(n1, n2) / (norm(n1) * norm(n2)));
+  };
+  const double expected = dihedral(t[0], t[1], t[2], t[3]) + dihedral(t[0], t[2], t[1], t[3]) +
+                          dihedral(t[0], t[3], t[1], t[2]) - kPi;
+  EXPECT_NEAR(solid_angles(t)[0], expected, 1e-12);
+}
+
+TEST(Geometry, OctantCornerIsAnEighthOfTheSphere) {
+  const std::array<Vec3, 4> t = {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
+  EXPECT_NEAR(solid_angles(t)[0], kFullSolidAngle / 8, 1e-14);
+}
+
+TEST(Geometry, VolumeAndCircumradius) {
+  // |det| of the edge vectors (1,1,0), (1,0,1), (0,1,1) is 2: volume 1/3.
+  const double v = signed_volume(kRegular[0], kRegular[1], kRegular[2], kRegular[3]);
+  EXPECT_NEAR(std::abs(v), 1.0 / 3, 1e-15);
+  EXPECT_EQ(signed_volume(kRegular[0], kRegular[2], kRegular[1], kRegular[3]), -v);
+  EXPECT_NEAR(signed_volume({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}), 1.0 / 6, 1e-15);
+  // The regular tetrahedron inscribed in the unit cube has the cube's circumsphere.
+  EXPECT_NEAR(circumradius(kRegular[0], kRegular[1], kRegular[2], kRegular[3]),
+              std::sqrt(3.0) / 2, 1e-15);
+  EXPECT_TRUE(std::isinf(circumradius({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0})));
+}
+
+}  // namespace
+}  // namespace dtm

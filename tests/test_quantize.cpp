@@ -1,0 +1,58 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/grid.h"
+
+namespace dtm {
+namespace {
+
+TEST(Quantize, DracoStyleGridOverTheBoundingCube) {
+  const std::vector<InputPoint> in = {{1, 2, 3}, {5, 2, 3}, {1, 4.1, 4}};
+  const auto q = quantize(in, 3);
+  EXPECT_EQ(q.grid.origin, (std::array<double, 3>{1, 2, 3}));
+  EXPECT_DOUBLE_EQ(q.grid.step, 4.0 / 7);  // largest extent / (2^q - 1)
+  ASSERT_EQ(q.points.size(), 3u);
+  // Points are sorted; the largest extent spans the whole grid.
+  EXPECT_EQ(q.points[0], (GridPoint{0, 0, 0}));
+  EXPECT_EQ(q.points[1], (GridPoint{0, 4, 2}));  // 2.1 / (4/7) = 3.675 -> 4; 1 / (4/7) = 1.75 -> 2
+  EXPECT_EQ(q.points[2], (GridPoint{7, 0, 0}));
+  EXPECT_EQ(q.input_to_point, (std::vector<uint32_t>{0, 2, 1}));
+}
+
+TEST(Quantize, DuplicatesAreMergedAndCounted) {
+  const std::vector<InputPoint> in = {{0, 0, 0}, {1, 1, 1}, {0.0001, 0, 0}, {1, 1, 1}, {0.5, 0, 0}};
+  const auto q = quantize(in, 4);
+  EXPECT_EQ(q.duplicates_merged, 2u);
+  EXPECT_EQ(q.points.size(), 3u);
+  EXPECT_EQ(q.input_to_point[0], q.input_to_point[2]);
+  EXPECT_EQ(q.input_to_point[1], q.input_to_point[3]);
+  EXPECT_NE(q.input_to_point[0], q.input_to_point[4]);
+}
+
+TEST(Quantize, RoundTripErrorIsHalfAStep) {
+  std::vector<InputPoint> in;
+  for (int i = 0; i < 1000; ++i) in.push_back({std::sin(i) * 3, std::cos(i * 1.3), i * 0.001});
+  for (int bits : {1, 8, 14, 24}) {
+    const auto q = quantize(in, bits);
+    for (size_t i = 0; i < in.size(); ++i) {
+      const InputPoint back = q.grid.to_input(q.points[q.input_to_point[i]]);
+      EXPECT_LE(std::abs(back.x - in[i].x), q.grid.step * 0.5 + 1e-12);
+      EXPECT_LE(std::abs(back.y - in[i].y), q.grid.step * 0.5 + 1e-12);
+      EXPECT_LE(std::abs(back.z - in[i].z), q.grid.step * 0.5 + 1e-12);
+    }
+  }
+}
+
+TEST(Quantize, RejectsBadInput) {
+  const std::vector<InputPoint> ok = {{0, 0, 0}, {1, 1, 1}};
+  EXPECT_THROW(quantize(ok, 0), std::invalid_argument);
+  EXPECT_THROW(quantize(ok, 25), std::invalid_argument);
+  EXPECT_THROW(quantize({}, 14), std::invalid_argument);
+  const std::vector<InputPoint> nan = {{0, 0, 0}, {std::numeric_limits<double>::quiet_NaN(), 0, 0}};
+  EXPECT_THROW(quantize(nan, 14), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dtm
