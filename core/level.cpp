@@ -21,8 +21,8 @@ LevelGeometry analyze_level(std::vector<GridPoint> points, const AlphaPolicy& po
   L.points = std::move(points);
   L.dt = delaunay_tetrahedralize(L.points);
   const size_t n = L.points.size(), m = L.dt.cells.size();
-  L.neighbors = vertex_neighbors(L.dt, n);
   L.cells_of_vertex = vertex_cells(L.dt, n);
+  L.neighbors = vertex_neighbors(L.dt, L.cells_of_vertex);
 
   double length_sum = 0;
   for (uint32_t v = 0; v < n; ++v) {

@@ -5,8 +5,10 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 #include <vector>
 
 namespace dtm {
@@ -34,9 +36,23 @@ DistanceSummary distance_to_surface(std::span<const GridPoint> vertices,
     soup.emplace_back(to_point(vertices[t[0]]), to_point(vertices[t[1]]), to_point(vertices[t[2]]));
   Tree tree(soup.cbegin(), soup.cend());
   tree.accelerate_distance_queries();
+  // Queries are independent and the tree is read-only once its search
+  // structure exists (the first query builds it), so the rest run on every
+  // core. Distances are summed afterwards in one order: the mean does not
+  // depend on the thread count.
+  std::vector<double> distance(queries.size());
+  distance[0] = std::sqrt(tree.squared_distance(to_point(queries[0])));
+  const size_t threads = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 8);
+  const size_t chunk = (queries.size() + threads - 1) / threads;
+  std::vector<std::thread> workers;
+  for (size_t t = 0; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      for (size_t i = std::max<size_t>(1, t * chunk); i < std::min(queries.size(), (t + 1) * chunk); ++i)
+        distance[i] = std::sqrt(tree.squared_distance(to_point(queries[i])));
+    });
+  for (auto& w : workers) w.join();
   double sum = 0;
-  for (const GridPoint& q : queries) {
-    const double d = std::sqrt(tree.squared_distance(to_point(q)));
+  for (double d : distance) {
     out.max = std::max(out.max, d);
     sum += d;
   }

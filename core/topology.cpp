@@ -6,35 +6,6 @@
 
 namespace dtm {
 
-Csr vertex_neighbors(const TetMesh& mesh, size_t num_vertices) {
-  // Every cell names each of its 6 edges from both ends; duplicates (the same
-  // edge seen from other cells) are removed per row after sorting.
-  std::vector<uint32_t> count(num_vertices + 1, 0);
-  for (const auto& c : mesh.cells)
-    for (uint32_t v : c) count[v + 1] += 3;
-  Csr raw;
-  raw.offsets.assign(num_vertices + 1, 0);
-  for (size_t v = 0; v < num_vertices; ++v) raw.offsets[v + 1] = raw.offsets[v] + count[v + 1];
-  raw.items.resize(raw.offsets.back());
-  std::vector<uint32_t> fill(raw.offsets.begin(), raw.offsets.end() - 1);
-  for (const auto& c : mesh.cells)
-    for (int i = 0; i < 4; ++i)
-      for (int j = 0; j < 4; ++j)
-        if (i != j) raw.items[fill[c[i]]++] = c[j];
-
-  Csr out;
-  out.offsets.assign(num_vertices + 1, 0);
-  out.items.reserve(raw.items.size() / 4);
-  for (size_t v = 0; v < num_vertices; ++v) {
-    auto first = raw.items.begin() + raw.offsets[v], last = raw.items.begin() + raw.offsets[v + 1];
-    std::sort(first, last);
-    last = std::unique(first, last);
-    out.items.insert(out.items.end(), first, last);
-    out.offsets[v + 1] = static_cast<uint32_t>(out.items.size());
-  }
-  return out;
-}
-
 Csr vertex_cells(const TetMesh& mesh, size_t num_vertices) {
   Csr out;
   out.offsets.assign(num_vertices + 1, 0);
@@ -45,6 +16,29 @@ Csr vertex_cells(const TetMesh& mesh, size_t num_vertices) {
   std::vector<uint32_t> fill(out.offsets.begin(), out.offsets.end() - 1);
   for (uint32_t c = 0; c < mesh.cells.size(); ++c)
     for (uint32_t v : mesh.cells[c]) out.items[fill[v]++] = c;
+  return out;
+}
+
+Csr vertex_neighbors(const TetMesh& mesh, const Csr& cells_of_vertex) {
+  // The neighbours of v are the other corners of its cells; a stamp per
+  // vertex (the last v that listed it) drops repeats without a hash or a
+  // sort of the ~70 corners each vertex sees.
+  const size_t n = cells_of_vertex.rows();
+  std::vector<uint32_t> stamp(n, UINT32_MAX);
+  Csr out;
+  out.offsets.assign(n + 1, 0);
+  out.items.reserve(mesh.cells.size() * 3);
+  for (uint32_t v = 0; v < n; ++v) {
+    const size_t first = out.items.size();
+    for (uint32_t c : cells_of_vertex.row(v))
+      for (uint32_t u : mesh.cells[c])
+        if (u != v && stamp[u] != v) {
+          stamp[u] = v;
+          out.items.push_back(u);
+        }
+    std::sort(out.items.begin() + first, out.items.end());
+    out.offsets[v + 1] = static_cast<uint32_t>(out.items.size());
+  }
   return out;
 }
 

@@ -21,11 +21,12 @@ struct Csr {
   size_t rows() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };
 
-// Sorted neighbour lists of the edge graph of `mesh` (vertices 0..n-1).
-Csr vertex_neighbors(const TetMesh& mesh, size_t num_vertices);
-
 // For each vertex, the cells incident to it (ascending cell index).
 Csr vertex_cells(const TetMesh& mesh, size_t num_vertices);
+
+// Sorted neighbour lists of the edge graph of `mesh`; `cells_of_vertex` is
+// vertex_cells(mesh, n).
+Csr vertex_neighbors(const TetMesh& mesh, const Csr& cells_of_vertex);
 
 // A face of a carved mesh: cell and the local index of the opposite vertex.
 struct BoundaryFace {

@@ -199,9 +199,10 @@ TEST_P(HierarchyProperties, ImportanceOrderIsHonoured) {
         }
       EXPECT_TRUE(has_removed_neighbour) << c().name << " level " << l << ": interior vertex "
                                          << u << " was free yet kept (the set is not maximal)";
-      if (has_removed_neighbour)
+      if (has_removed_neighbour) {
         EXPECT_TRUE(locked_in_time) << c().name << " level " << l << ": interior vertex " << u
                                     << " was kept but none of its removed neighbours precedes it";
+      }
     }
   }
 }

@@ -81,7 +81,9 @@ TEST_P(CorpusLevel, SolidAngleBoundaryIsTheTopologicalBoundary) {
     EXPECT_EQ(L.boundary[v], topo[v]) << GetParam() << " vertex " << v
                                       << " solid angle sum " << L.solid_angle_sum[v];
     boundary += L.boundary[v];
-    if (!L.boundary[v]) EXPECT_NEAR(L.solid_angle_sum[v], kFullSolidAngle, 1e-9);
+    if (!L.boundary[v]) {
+      EXPECT_NEAR(L.solid_angle_sum[v], kFullSolidAngle, 1e-9);
+    }
   }
   EXPECT_GT(boundary, 0u);
   EXPECT_LT(boundary, L.size());
