@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 
@@ -281,6 +282,35 @@ TEST(BoundarySimplification, RepresentedOriginalPointsBoundTheError) {
   EXPECT_FALSE(has(2.9));
   EXPECT_TRUE(has(3.0));
 }
+
+}  // namespace
+}  // namespace dtm
+
+namespace dtm {
+namespace {
+
+// Every corpus model builds a full hierarchy with the README's settings
+// (256-unit box, Dmax = 2, paper's alpha and stopping rule).
+class CorpusHierarchy : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CorpusHierarchy, BuildsToTheEnd) {
+  const auto q = test::load_quantized(GetParam());
+  const double extent = q.grid.step * ((1 << 14) - 1);
+  HierarchyOptions o;
+  o.dmax = 2.0 * (extent / 256) / q.grid.step;
+  const Hierarchy h = build_hierarchy(q.points, o);
+  ASSERT_GE(h.levels.size(), 2u) << GetParam();
+  for (size_t l = 1; l < h.levels.size(); ++l) {
+    EXPECT_LT(h.levels[l].vertices.size(), h.levels[l - 1].vertices.size());
+    EXPECT_GT(h.levels[l].stats.tetrahedra, 0u);
+    EXPECT_TRUE(std::isfinite(h.levels[l].stats.max_boundary_error));
+    EXPECT_GT(h.levels[l].stats.avg_min_solid_angle, 0);
+  }
+  EXPECT_EQ(h.levels.back().stats.removed_boundary, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusHierarchy, ::testing::ValuesIn(test::kCorpus),
+                         [](const auto& info) { return info.param; });
 
 }  // namespace
 }  // namespace dtm
