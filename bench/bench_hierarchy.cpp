@@ -8,6 +8,8 @@
 //                     (--box 256 --qbits 14 --dmax 2, defaults otherwise)
 // All three run on the same quantized points; loading and quantization are
 // not timed. At the end a markdown table with hierarchy / CGAL time is printed.
+// "Time" is wall time; "CPU" is the whole process's CPU time, so CPU > Time
+// would mean the build used several threads.
 //
 // Usage:
 //   bench_hierarchy [--data DIR] [benchmark flags]   DIR defaults to $DTM_BENCH_DATA, else .
@@ -90,7 +92,7 @@ void register_benchmarks(const Model& m) {
     }
     st.counters["vertices"] = n;
     st.counters["cells"] = static_cast<double>(cells);
-  })->Iterations(iters)->Unit(benchmark::kMillisecond);
+  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 
   // The wrapper above also attaches ids, numbers the cells and copies them
   // out; this variant shows what that export costs on top of CGAL itself.
@@ -108,20 +110,25 @@ void register_benchmarks(const Model& m) {
     }
     st.counters["vertices"] = n;
     st.counters["cells"] = static_cast<double>(cells);
-  })->Iterations(iters)->Unit(benchmark::kMillisecond);
+  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 
   benchmark::RegisterBenchmark(("Hierarchy/" + m.name).c_str(), [&m, n](benchmark::State& st) {
-    size_t levels = 0, base = 0;
+    size_t levels = 0, base = 0, level_vertices = 0;
     for (auto _ : st) {
       const dtm::Hierarchy h = dtm::build_hierarchy(m.q.points, m.opt);
       levels = h.levels.size();
       base = h.levels.back().vertices.size();
+      level_vertices = 0;
+      for (const auto& l : h.levels) level_vertices += l.vertices.size();
       benchmark::DoNotOptimize(h.levels.data());
     }
     st.counters["vertices"] = n;
     st.counters["levels"] = static_cast<double>(levels);  // including level 0
     st.counters["base_vertices"] = static_cast<double>(base);
-  })->Iterations(iters)->Unit(benchmark::kMillisecond);
+    // Every level is tetrahedralized from scratch and CGAL's build is about
+    // linear in the points, so this is roughly a floor for hierarchy / CGAL.
+    st.counters["dt_points_per_vertex"] = static_cast<double>(level_vertices) / n;
+  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 }
 
 // Prints the usual console output and keeps, per benchmark, the real time
@@ -163,8 +170,9 @@ class CollectingReporter : public benchmark::ConsoleReporter {
 
 void print_table(const CollectingReporter& rep, const std::vector<std::unique_ptr<Model>>& models) {
   std::printf(
-      "\n| model | vertices | levels | CGAL DT (s) | hierarchy (s) | ratio | raw CGAL build (s) |\n"
-      "|---|---:|---:|---:|---:|---:|---:|\n");
+      "\n| model | vertices | levels | CGAL DT (s) | hierarchy (s) | ratio | raw CGAL build (s) "
+      "| points triangulated / N |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& m : models) {
     const auto cgal = rep.find("CgalDelaunay/" + m->name);
     const auto raw = rep.find("CgalRaw/" + m->name);
@@ -172,9 +180,10 @@ void print_table(const CollectingReporter& rep, const std::vector<std::unique_pt
     if (!cgal || !hier) continue;  // filtered out by --benchmark_filter, or failed
     char raw_text[32] = "-";
     if (raw) std::snprintf(raw_text, sizeof raw_text, "%.3f", raw->seconds);
-    std::printf("| %s | %zu | %.0f | %.3f | %.3f | %.1f | %s |\n", m->name.c_str(),
+    std::printf("| %s | %zu | %.0f | %.3f | %.3f | %.1f | %s | %.2f |\n", m->name.c_str(),
                 m->q.points.size(), hier->counters.at("levels").value, cgal->seconds,
-                hier->seconds, hier->seconds / cgal->seconds, raw_text);
+                hier->seconds, hier->seconds / cgal->seconds, raw_text,
+                hier->counters.at("dt_points_per_vertex").value);
   }
 }
 

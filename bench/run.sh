@@ -28,6 +28,11 @@ if [ ! -s "$data/bunny_1m.node" ]; then
   "$shared/make_large.sh" -o "$data" bunny_1m >&2
 fi
 
+# Recorded before the run: another checkout may change under a long benchmark.
+commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+git -C "$root" diff --quiet HEAD -- core tools CMakeLists.txt 2>/dev/null || commit+=" + uncommitted changes in core/ or tools/"
+built=$(date -u -r "$bin" '+%Y-%m-%d %H:%M UTC')
+
 log=$(mktemp); err=$(mktemp); trap 'rm -f "$log" "$err"' EXIT
 cmd=("$bin" --data "$data" "$@")
 echo "run.sh: ${cmd[*]}" >&2
@@ -56,12 +61,14 @@ echo "$mem"
   echo "- machine: $(nproc) cores ($(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)), $(uname -sr)"
   echo "- load average (1/5/15 min) before / after the timed run: $load_before / $load_after"
   echo "- CGAL $("$bin" --cgal-version), $(c++ --version | head -1)"
-  echo "- commit: $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)$(git -C "$root" diff --quiet HEAD -- core tools 2>/dev/null || echo ' (core/ or tools/ modified)')"
+  echo "- source: $commit (bench_hierarchy built $built)"
   echo "- command: \`bench/run.sh ${build#$root/}${*:+ $*}\` (runs \`bench_hierarchy --data ${data#$root/}${*:+ $*}\`, then \`bench_hierarchy --peak-memory MODEL.node hierarchy|cgal\` per model)"
   echo "- settings: meshenc's recommended run: input scaled to a largest extent of 256, q = 14, Dmax = 2, defaults otherwise."
   echo "  CGAL DT = \`dtm::delaunay_tetrahedralize\` (one CGAL build + export); raw CGAL build = bare"
-  echo "  \`Delaunay_triangulation_3\` range insertion (Epick), destruction not timed. Times are the mean real time"
-  echo "  per iteration (single thread); levels include level 0."
+  echo "  \`Delaunay_triangulation_3\` range insertion (Epick), destruction not timed. Times are the mean wall time"
+  echo "  per iteration; the CGAL builds are single-threaded, the hierarchy may use several threads (see the CPU"
+  echo "  column below: process CPU time). Levels include level 0. Points triangulated / N: sum of the level sizes"
+  echo "  over N (every level is tetrahedralized from scratch)."
   echo
   echo "## Time"
   echo
