@@ -67,8 +67,9 @@ echo "$mem"
   echo "  CGAL DT = \`dtm::delaunay_tetrahedralize\` (one CGAL build + export); raw CGAL build = bare"
   echo "  \`Delaunay_triangulation_3\` range insertion (Epick), destruction not timed. Times are the mean wall time"
   echo "  per iteration; the CGAL builds are single-threaded, the hierarchy may use several threads (see the CPU"
-  echo "  column below: process CPU time). Levels include level 0. Points triangulated / N: sum of the level sizes"
-  echo "  over N (every level is tetrahedralized from scratch)."
+  echo "  column below: process CPU time). Levels include level 0. Sum of level sizes / N: every level is analysed"
+  echo "  in full; level 0 is tetrahedralized by CGAL, each coarser level by refilling the removed vertices' cavities."
+  echo "  \"Without error statistics\": the same build minus the per-level boundary-error measurement (AABB queries)."
   echo
   echo "## Time"
   echo

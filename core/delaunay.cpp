@@ -5,12 +5,10 @@
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
-#include "geometry.h"
 
 namespace dtm {
 namespace {
@@ -105,30 +103,36 @@ int IncrementalDelaunay::dimension() const { return impl_->dt.dimension(); }
 size_t IncrementalDelaunay::number_of_vertices() const { return impl_->dt.number_of_vertices(); }
 TetMesh IncrementalDelaunay::mesh() const { return export_mesh(impl_->dt); }
 
-double cavity_min_solid_angle(std::span<const GridPoint> link, const GridPoint& apex,
-                              double max_radius) {
+CavityFill cavity_fill(std::span<const GridPoint> link, std::span<const uint32_t> link_ids,
+                       const GridPoint& apex) {
+  CavityFill out;
   DT dt;
-  for (const GridPoint& p : link) dt.insert(to_point(p));
-  if (dt.dimension() < 3) return 0.0;
+  DT::Cell_handle hint;
+  for (size_t i = 0; i < link.size(); ++i) {
+    auto v = dt.insert(to_point(link[i]), hint);
+    v->info() = link_ids[i];
+    hint = v->cell();
+  }
+  if (dt.dimension() < 3) return out;
   const Point q = to_point(apex);
-  std::vector<DT::Cell_handle> conflicts;
   DT::Locate_type lt;
   int li, lj;
-  DT::Cell_handle start = dt.locate(q, lt, li, lj);
-  if (lt == DT::VERTEX) return 0.0;
+  const DT::Cell_handle start = dt.locate(q, lt, li, lj, hint);
+  if (lt == DT::VERTEX) throw std::invalid_argument("cavity_fill: apex is a link vertex");
+  std::vector<DT::Cell_handle> conflicts;
   dt.find_conflicts(q, start, CGAL::Emptyset_iterator(), std::back_inserter(conflicts));
-  double best = std::numeric_limits<double>::infinity();
-  for (DT::Cell_handle c : conflicts) {
-    if (dt.is_infinite(c)) continue;
-    std::array<Vec3, 4> t;
-    for (int i = 0; i < 4; ++i) {
-      const Point& p = c->vertex(i)->point();
-      t[i] = {p.x(), p.y(), p.z()};
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) c->info() = -1;
+  for (DT::Cell_handle c : conflicts)
+    if (!dt.is_infinite(c)) {
+      c->info() = static_cast<int32_t>(out.cells.size());
+      out.cells.push_back({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(),
+                           c->vertex(3)->info()});
     }
-    if (circumradius(t[0], t[1], t[2], t[3]) > max_radius) continue;
-    for (double a : solid_angles(t)) best = std::min(best, a);
-  }
-  return best;
+  out.neighbors.resize(out.cells.size());
+  for (DT::Cell_handle c : conflicts)
+    if (c->info() >= 0)
+      for (int i = 0; i < 4; ++i) out.neighbors[c->info()][i] = c->neighbor(i)->info();
+  return out;
 }
 
 }  // namespace dtm

@@ -64,13 +64,21 @@ class IncrementalDelaunay {
   std::unique_ptr<Impl> impl_;
 };
 
-// For the quality guard: the smallest solid angle among the cells that
-// would fill the cavity of `apex` if it were removed, where `link` holds its
-// Delaunay neighbours. Those cells are the cells of DT(link) in conflict with
-// apex; only those of circumradius <= max_radius count (the ones the alpha
-// carving would keep). Returns +infinity if no such cell exists and 0 if the
-// link is not three-dimensional.
-double cavity_min_solid_angle(std::span<const GridPoint> link, const GridPoint& apex,
-                              double max_radius);
+// The cells that refill the star of `apex` when it is removed from a
+// Delaunay tetrahedralization in which `link` are its neighbours: the cells
+// of DT(link) in conflict with apex (whose circumsphere contains it, under the
+// same symbolic perturbation). These are exactly the cells the Delaunay
+// tetrahedralization without apex has in that region.
+struct CavityFill {
+  std::vector<std::array<uint32_t, 4>> cells;  // named by link_ids, positively oriented
+  // neighbors[c][i]: the fill cell across the face opposite vertex i, or -1
+  // when that face is on the cavity's border (or on the new convex hull).
+  std::vector<std::array<int32_t, 4>> neighbors;
+};
+
+// Empty when the link does not span three dimensions (apex was the tip of a
+// flat hull region).
+CavityFill cavity_fill(std::span<const GridPoint> link, std::span<const uint32_t> link_ids,
+                       const GridPoint& apex);
 
 }  // namespace dtm

@@ -30,6 +30,20 @@ inline constexpr double kFullSolidAngle = 4 * kPi;
 // Every solid angle of the regular tetrahedron: 3 arccos(1/3) - pi.
 inline constexpr double kRegularTetSolidAngle = 0.5512855984325308;
 
+using Int128 = __int128;
+
+// 6 x |volume| of a tetrahedron of grid points, exactly: coordinate
+// differences need 25 bits, their triple products 75, so 128 bits hold the
+// determinant.
+inline Int128 abs_six_volume(const GridPoint& a, const GridPoint& b, const GridPoint& c,
+                             const GridPoint& d) {
+  const Int128 ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
+  const Int128 vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
+  const Int128 wx = d.x - a.x, wy = d.y - a.y, wz = d.z - a.z;
+  const Int128 det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
+  return det < 0 ? -det : det;
+}
+
 // Signed volume (eq. 2.5): positive for a positively oriented tetrahedron.
 double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 

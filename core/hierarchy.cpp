@@ -8,6 +8,7 @@
 #include "delaunay.h"
 #include "geometry.h"
 #include "importance.h"
+#include "independent_removal.h"
 #include "surface_distance.h"
 
 namespace dtm {
@@ -35,7 +36,7 @@ struct Representation {
   }
 };
 
-LevelStats measure(const LevelGeometry& L, const Representation& rep) {
+LevelStats measure(const LevelGeometry& L, const Representation& rep, bool boundary_error) {
   LevelStats s;
   s.vertices = L.size();
   s.boundary_vertices = std::count(L.boundary.begin(), L.boundary.end(), 1);
@@ -49,6 +50,7 @@ LevelStats measure(const LevelGeometry& L, const Representation& rep) {
   }
   s.avg_min_solid_angle = L.mesh_cells ? sum / L.mesh_cells : 0;
   s.min_solid_angle = L.mesh_cells ? lowest : 0;
+  if (!boundary_error) return s;
   std::vector<std::array<uint32_t, 3>> surface;
   for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
     surface.push_back(outward_triangle(L.dt, L.points, f));
@@ -64,8 +66,22 @@ bool quality_allows(const LevelGeometry& L, uint32_t v, double guard) {
   for (uint32_t c : L.cells_of_vertex.row(v))
     if (L.in_mesh[c]) star_min = std::min(star_min, L.cell_min_solid_angle[c]);
   std::vector<GridPoint> link;
-  for (uint32_t u : L.neighbors.row(v)) link.push_back(L.points[u]);
-  return cavity_min_solid_angle(link, L.points[v], L.alpha) >= std::min(guard, star_min);
+  std::vector<uint32_t> ids;
+  for (uint32_t u : L.neighbors.row(v)) {
+    link.push_back(L.points[u]);
+    ids.push_back(u);
+  }
+  // The cells that would refill the cavity, as far as alpha would keep them.
+  // No refill at all (a flat hull tip) is rejected: it removes volume.
+  const auto fill = cavity_fill(link, ids, L.points[v]).cells;
+  double fill_min = fill.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+  for (const auto& c : fill) {
+    const std::array<Vec3, 4> t = {to_vec(L.points[c[0]]), to_vec(L.points[c[1]]),
+                                   to_vec(L.points[c[2]]), to_vec(L.points[c[3]])};
+    if (circumradius(t[0], t[1], t[2], t[3]) > L.alpha) continue;
+    for (double a : solid_angles(t)) fill_min = std::min(fill_min, a);
+  }
+  return fill_min >= std::min(guard, star_min);
 }
 
 struct Removal {
@@ -169,7 +185,7 @@ Hierarchy build_hierarchy(std::span<const GridPoint> points, const HierarchyOpti
     out.vertices = vertices;
     out.alpha = L.alpha;
     out.mesh = carved_cells(L, vertices);
-    out.stats = measure(L, rep);
+    out.stats = measure(L, rep, opt.measure_boundary_error);
     out.stats.level = level;
     out.stats.removed_boundary = made.boundary;
     out.stats.removed_interior = made.interior;
@@ -191,7 +207,10 @@ Hierarchy build_hierarchy(std::span<const GridPoint> points, const HierarchyOpti
       if (!next.removed[v]) kept.push_back(vertices[v]);
     LevelGeometry coarser;
     try {
-      coarser = analyze_level(gather(points, kept), opt.alpha);
+      coarser = analyze_level(gather(points, kept),
+                              remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points,
+                                                          next.removed),
+                              opt.alpha);
     } catch (const DegenerateInput&) {
       break;  // the coarser set would be flat: this level is the coarsest
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "geometry.h"
 
@@ -17,9 +18,17 @@ const char* to_string(AlphaPolicy::Kind kind) {
 }
 
 LevelGeometry analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy) {
+  TetMesh dt = delaunay_tetrahedralize(points);
+  return analyze_level(std::move(points), std::move(dt), policy);
+}
+
+LevelGeometry analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy) {
   LevelGeometry L;
   L.points = std::move(points);
-  L.dt = delaunay_tetrahedralize(L.points);
+  L.dt = std::move(dt);
+  if (L.dt.cells.empty())
+    throw DegenerateInput("the " + std::to_string(L.points.size()) +
+                          " points do not span three dimensions");
   const size_t n = L.points.size(), m = L.dt.cells.size();
   L.cells_of_vertex = vertex_cells(L.dt, n);
   L.neighbors = vertex_neighbors(L.dt, L.cells_of_vertex);
@@ -42,22 +51,28 @@ LevelGeometry analyze_level(std::vector<GridPoint> points, const AlphaPolicy& po
 
   L.in_mesh.assign(m, 0);
   L.cell_min_solid_angle.assign(m, 0);
-  L.cell_volume.assign(m, 0);
   L.solid_angle_sum.assign(n, 0);
-  L.mesh_volume.assign(n, 0);
+  L.mesh_volume6.assign(n, 0);
   for (size_t c = 0; c < m; ++c) {
-    const auto& cell = L.dt.cells[c];
+    // Corners in lexicographic order of their coordinates: every quantity is
+    // then the same function of the four points whatever order a
+    // triangulation lists them in, so an encoder and a decoder that build
+    // the same cells differently carve them identically, bit for bit.
+    std::array<uint32_t, 4> cell = L.dt.cells[c];
+    std::sort(cell.begin(), cell.end(),
+              [&](uint32_t a, uint32_t b) { return L.points[a] < L.points[b]; });
     const std::array<Vec3, 4> t = {to_vec(L.points[cell[0]]), to_vec(L.points[cell[1]]),
                                    to_vec(L.points[cell[2]]), to_vec(L.points[cell[3]])};
-    const auto angles = solid_angles(t);
-    L.cell_min_solid_angle[c] = std::min({angles[0], angles[1], angles[2], angles[3]});
-    L.cell_volume[c] = signed_volume(t[0], t[1], t[2], t[3]);
     if (circumradius(t[0], t[1], t[2], t[3]) > L.alpha) continue;
     L.in_mesh[c] = 1;
     ++L.mesh_cells;
+    const auto angles = solid_angles(t);
+    L.cell_min_solid_angle[c] = std::min({angles[0], angles[1], angles[2], angles[3]});
+    const Int128 volume6 = abs_six_volume(L.points[cell[0]], L.points[cell[1]],
+                                          L.points[cell[2]], L.points[cell[3]]);
     for (int i = 0; i < 4; ++i) {
       L.solid_angle_sum[cell[i]] += angles[i];
-      L.mesh_volume[cell[i]] += L.cell_volume[c];
+      L.mesh_volume6[cell[i]] += volume6;
     }
   }
   L.boundary.assign(n, 0);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "delaunay.h"
+#include "geometry.h"
 #include "grid.h"
 #include "topology.h"
 
@@ -44,10 +45,11 @@ struct LevelGeometry {
   double alpha = 0;               // grid units
 
   std::vector<uint8_t> in_mesh;             // per cell: belongs to M_l
-  std::vector<double> cell_min_solid_angle; // per cell: the smallest of its 4 solid angles
-  std::vector<double> cell_volume;          // per cell, grid units cubed
+  std::vector<double> cell_min_solid_angle; // per M_l cell: the smallest of its 4 solid angles
   std::vector<double> solid_angle_sum;      // per vertex, over its M_l cells
-  std::vector<double> mesh_volume;          // per vertex: volume of its M_l cells
+  // Per vertex: 6 x the volume of its M_l cells, exact, so that importance
+  // values (and their ties) do not depend on the order cells are listed in.
+  std::vector<Int128> mesh_volume6;
   std::vector<uint8_t> boundary;            // per vertex: solid-angle boundary (§II.1.b)
   uint64_t mesh_cells = 0;
 
@@ -57,6 +59,9 @@ struct LevelGeometry {
 // Analyses the level whose vertices are `points` (distinct grid points).
 // Throws DegenerateInput if they do not span 3D.
 LevelGeometry analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy);
+
+// The same, given the Delaunay tetrahedralization of `points` already.
+LevelGeometry analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy);
 
 // The topological boundary of M_l: vertices of its boundary faces, plus
 // vertices in no M_l cell. The solid-angle test must agree with it.

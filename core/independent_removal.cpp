@@ -1,0 +1,143 @@
+#include "independent_removal.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <tuple>
+
+namespace dtm {
+namespace {
+
+// A face named by its three sorted vertex ids.
+struct FaceKey {
+  uint32_t a, b, c;
+  bool operator==(const FaceKey&) const = default;
+  bool operator<(const FaceKey& o) const { return std::tie(a, b, c) < std::tie(o.a, o.b, o.c); }
+};
+
+FaceKey face_of(const std::array<uint32_t, 4>& cell, int opposite) {
+  std::array<uint32_t, 3> f;
+  int k = 0;
+  for (int i = 0; i < 4; ++i)
+    if (i != opposite) f[k++] = cell[i];
+  std::sort(f.begin(), f.end());
+  return {f[0], f[1], f[2]};
+}
+
+int index_of(const std::array<uint32_t, 4>& cell, uint32_t v) {
+  for (int i = 0; i < 4; ++i)
+    if (cell[i] == v) return i;
+  throw std::logic_error("remove_independent_vertices: vertex not in its cell");
+}
+
+// The border of a cavity: one face per cell of the removed vertex's star
+// (the face opposite it), with what lies beyond.
+struct BorderFace {
+  FaceKey key;      // in the new numbering
+  int32_t outside;  // old cell beyond the face, or -1 (convex hull)
+  int outside_face; // index of the face in the outside cell
+};
+
+}  // namespace
+
+TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_vertex,
+                                    const Csr& neighbors, std::span<const GridPoint> points,
+                                    std::span<const uint8_t> removed) {
+  const size_t n = points.size(), m = dt.cells.size();
+  std::vector<uint32_t> new_id(n, UINT32_MAX);
+  uint32_t survivors = 0;
+  for (size_t v = 0; v < n; ++v)
+    if (!removed[v]) new_id[v] = survivors++;
+
+  // Surviving cells keep their order and, where the other side survived too,
+  // their neighbours; dead cells (in a removed star) go.
+  std::vector<int32_t> cell_map(m, -1);
+  TetMesh out;
+  out.cells.reserve(m);
+  for (size_t c = 0; c < m; ++c) {
+    const auto& cell = dt.cells[c];
+    if (removed[cell[0]] || removed[cell[1]] || removed[cell[2]] || removed[cell[3]]) continue;
+    cell_map[c] = static_cast<int32_t>(out.cells.size());
+    out.cells.push_back({new_id[cell[0]], new_id[cell[1]], new_id[cell[2]], new_id[cell[3]]});
+  }
+  out.neighbors.assign(out.cells.size(), {-1, -1, -1, -1});
+  for (size_t c = 0; c < m; ++c) {
+    if (cell_map[c] < 0) continue;
+    for (int i = 0; i < 4; ++i) {
+      const int32_t nb = dt.neighbors[c][i];
+      if (nb >= 0 && cell_map[nb] >= 0) out.neighbors[cell_map[c]][i] = cell_map[nb];
+    }
+  }
+
+  // Refill every cavity. A fill cell's border face meets either a surviving
+  // cell (linked at once), the hull, or the fill of another cavity when the
+  // cell beyond was in another removed vertex's star: those are paired last.
+  struct CrossFace {
+    FaceKey key;
+    int32_t cell;
+    int face;
+  };
+  std::vector<CrossFace> cross;
+  std::vector<GridPoint> link;
+  std::vector<uint32_t> link_ids;
+  std::vector<BorderFace> border;
+  for (uint32_t v = 0; v < n; ++v) {
+    if (!removed[v]) continue;
+    link.clear();
+    link_ids.clear();
+    for (uint32_t u : neighbors.row(v)) {
+      if (removed[u])
+        throw std::invalid_argument("remove_independent_vertices: the set is not independent");
+      link.push_back(points[u]);
+      link_ids.push_back(new_id[u]);
+    }
+    border.clear();
+    for (uint32_t c : cells_of_vertex.row(v)) {
+      const auto& cell = dt.cells[c];
+      const int i = index_of(cell, v);
+      const std::array<uint32_t, 4> renamed = {new_id[cell[0]], new_id[cell[1]], new_id[cell[2]],
+                                               new_id[cell[3]]};
+      const int32_t outside = dt.neighbors[c][i];
+      int outside_face = -1;
+      if (outside >= 0)
+        for (int j = 0; j < 4; ++j)
+          if (dt.neighbors[outside][j] == static_cast<int32_t>(c)) outside_face = j;
+      border.push_back({face_of(renamed, i), outside, outside_face});
+    }
+
+    const CavityFill fill = cavity_fill(link, link_ids, points[v]);
+    const auto first = static_cast<int32_t>(out.cells.size());
+    for (size_t f = 0; f < fill.cells.size(); ++f) {
+      out.cells.push_back(fill.cells[f]);
+      std::array<int32_t, 4> nb;
+      for (int i = 0; i < 4; ++i) nb[i] = fill.neighbors[f][i] < 0 ? -1 : first + fill.neighbors[f][i];
+      out.neighbors.push_back(nb);
+    }
+    for (size_t f = 0; f < fill.cells.size(); ++f)
+      for (int i = 0; i < 4; ++i) {
+        if (fill.neighbors[f][i] >= 0) continue;
+        const int32_t self = first + static_cast<int32_t>(f);
+        const FaceKey key = face_of(fill.cells[f], i);
+        const auto b = std::find_if(border.begin(), border.end(),
+                                    [&](const BorderFace& x) { return x.key == key; });
+        if (b == border.end() || b->outside < 0) continue;  // on the convex hull
+        const int32_t beyond = cell_map[b->outside];
+        if (beyond >= 0) {
+          out.neighbors[self][i] = beyond;
+          out.neighbors[beyond][b->outside_face] = self;
+        } else {
+          cross.push_back({key, self, i});
+        }
+      }
+  }
+  std::sort(cross.begin(), cross.end(),
+            [](const CrossFace& x, const CrossFace& y) { return x.key < y.key; });
+  for (size_t k = 0; k + 1 < cross.size(); ++k)
+    if (cross[k].key == cross[k + 1].key) {
+      out.neighbors[cross[k].cell][cross[k].face] = cross[k + 1].cell;
+      out.neighbors[cross[k + 1].cell][cross[k + 1].face] = cross[k].cell;
+      ++k;
+    }
+  return out;
+}
+
+}  // namespace dtm
