@@ -1,5 +1,6 @@
 #include "geometry.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace dtm {
@@ -14,6 +15,11 @@ double circumradius(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) 
   if (det == 0) return std::numeric_limits<double>::infinity();
   const Vec3 num = cross(v, w) * dot(u, u) + cross(w, u) * dot(v, v) + cross(u, v) * dot(w, w);
   return norm(num) / (2 * std::abs(det));
+}
+
+double canonical_circumradius(std::array<GridPoint, 4> c) {
+  std::sort(c.begin(), c.end());
+  return circumradius(to_vec(c[0]), to_vec(c[1]), to_vec(c[2]), to_vec(c[3]));
 }
 
 double solid_angle(const Vec3& apex, const Vec3& p, const Vec3& q, const Vec3& r) {

@@ -50,6 +50,11 @@ double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 // Radius of the circumscribed sphere; +infinity for a flat tetrahedron.
 double circumradius(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+// The circumradius as the carving computes it (spec/HIERARCHY.md §2): on the
+// corners sorted lexicographically, so the value depends on the four points
+// only, not on the order a triangulation lists them in.
+double canonical_circumradius(std::array<GridPoint, 4> corners);
+
 // Solid angle at `apex` subtended by triangle (p, q, r), in steradians, by the
 // Van Oosterom-Strackee formula (equal to eq. 2.2-2.3, better conditioned).
 double solid_angle(const Vec3& apex, const Vec3& p, const Vec3& q, const Vec3& r);

@@ -63,7 +63,9 @@ LevelGeometry analyze_level(std::vector<GridPoint> points, TetMesh dt, const Alp
               [&](uint32_t a, uint32_t b) { return L.points[a] < L.points[b]; });
     const std::array<Vec3, 4> t = {to_vec(L.points[cell[0]]), to_vec(L.points[cell[1]]),
                                    to_vec(L.points[cell[2]]), to_vec(L.points[cell[3]])};
-    if (circumradius(t[0], t[1], t[2], t[3]) > L.alpha) continue;
+    if (canonical_circumradius({L.points[cell[0]], L.points[cell[1]], L.points[cell[2]],
+                                L.points[cell[3]]}) > L.alpha)
+      continue;
     L.in_mesh[c] = 1;
     ++L.mesh_cells;
     const auto angles = solid_angles(t);

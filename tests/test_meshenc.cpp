@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "codec/format.h"
 #include "test_support.h"
 
 namespace dtm {
@@ -18,8 +19,8 @@ struct ToolRun {
   std::string output;  // stdout and stderr
 };
 
-ToolRun meshenc(const std::string& args) {
-  const std::string cmd = std::string(DTM_MESHENC) + " " + args + " 2>&1";
+ToolRun run(const std::string& cmd_without_redirect) {
+  const std::string cmd = cmd_without_redirect + " 2>&1";
   ToolRun r{0, {}};
   std::FILE* p = popen(cmd.c_str(), "r");
   char buf[4096];
@@ -27,6 +28,10 @@ ToolRun meshenc(const std::string& args) {
   r.status = pclose(p);
   return r;
 }
+
+ToolRun meshenc(const std::string& args) { return run(std::string(DTM_MESHENC) + " " + args); }
+const std::string kMeshdec = DTM_MESHDEC;
+const std::string kMeshinfo = DTM_MESHINFO;
 
 TEST(Meshenc, WritesTheReportWithTheAgreedFieldNames) {
   const std::string report = ::testing::TempDir() + "/torus.json";
@@ -68,6 +73,89 @@ TEST(Meshenc, RejectsBadOptions) {
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --qbits 25").status, 0);
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --alpha nonsense").status, 0);
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --scale 2 --box 3").status, 0);
+}
+
+// The three tools end to end, as the README shows them.
+class Tools : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = ::testing::TempDir() + "/tools";
+    std::filesystem::create_directories(dir_);
+    stream_ = dir_ + "/bunny.dtm";
+    const ToolRun r = meshenc(test::data_path("bunny_10k.node") +
+                              " --box 256 --dmax 2 --hash-cells -q -o " + stream_);
+    ASSERT_EQ(r.status, 0) << r.output;
+  }
+  static std::string dir_, stream_;
+};
+std::string Tools::dir_, Tools::stream_;
+
+TEST_F(Tools, MeshdecWritesEveryFormatAndVerifiesTheLevels) {
+  ToolRun r = run(kMeshdec + " " + stream_ + " -o " + dir_ + "/fine.node --verify");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("verified 25 levels"), std::string::npos) << r.output;
+  const NodeFile fine = read_tetgen_node(dir_ + "/fine.node");
+  EXPECT_EQ(fine.points.size(), 9844u);
+  EXPECT_EQ(read_tetgen_ele(dir_ + "/fine.ele", fine.points.size()).size(), 57733u);
+
+  r = run(kMeshdec + " " + stream_ + " -o " + dir_ + "/l3.vtu --level 3");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("level 3: 6202 vertices, 38227 tetrahedra"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir_ + "/l3.vtu"));
+}
+
+TEST_F(Tools, TruncatedInputDecodesWhatItHolds) {
+  const ToolRun r = run("head -c 20000 " + stream_ + " | " + kMeshdec + " - -o " + dir_ + "/cut.vtu");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("truncated"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("writing level 6"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir_ + "/cut.vtu"));
+}
+
+TEST_F(Tools, DamagedOrForeignInputFailsAndWritesNothing) {
+  const std::string out = dir_ + "/never.vtu";
+  std::filesystem::remove(out);
+  ToolRun r = run("printf 'not a stream' | " + kMeshdec + " - -o " + out);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("not a .dtm stream"), std::string::npos) << r.output;
+  // One flipped byte in the middle of the stream: a damaged layer.
+  const std::string damaged = dir_ + "/damaged.dtm";
+  std::filesystem::copy_file(stream_, damaged, std::filesystem::copy_options::overwrite_existing);
+  {
+    std::fstream f(damaged, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(20000);
+    f.put('\x5a');
+  }
+  r = run(kMeshdec + " " + damaged + " -o " + out);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("checksum mismatch"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST_F(Tools, MeshinfoJsonDescribesTheStreamWithoutDecoding) {
+  const ToolRun r = run(kMeshinfo + " " + stream_ + " --json");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  EXPECT_EQ(j["qbits"], 14);
+  EXPECT_EQ(j["origin"].size(), 3u);
+  EXPECT_GT(j["step"].get<double>(), 0);
+  EXPECT_EQ(j["truncated"], false);
+  ASSERT_EQ(j["levels"].size(), 25u);
+  uint64_t total = dtm::kHeaderSize;
+  for (const auto& l : j["levels"]) {
+    for (const char* key : {"level", "vertices", "alpha", "layer_bytes", "complete"})
+      EXPECT_TRUE(l.contains(key)) << key;
+    total += l["layer_bytes"].get<uint64_t>();
+  }
+  EXPECT_EQ(total, std::filesystem::file_size(stream_));
+  EXPECT_EQ(j["levels"][24]["vertices"], 9844);
+}
+
+TEST_F(Tools, EncoderAndDecoderPipe) {
+  const ToolRun r = run(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") +
+                        " -o - | " + kMeshdec + " - -o - --format vtu-ascii | head -c 200");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("UnstructuredGrid"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include "codec/encoder.h"
 #include "core/hierarchy.h"
 #include "tools/atomic_file.h"
 #include "tools/formats/tetgen.h"
@@ -18,9 +19,9 @@ namespace {
 
 constexpr const char* kExamples = R"(
 Examples:
-  meshenc torus_288.node --scale 6.5 --dmax 3
-  meshenc bunny_10k.node --box 256 --dmax 2 --report bunny.json
-  meshenc mesh.node --qbits 16 --levels 4 --quality-guard 0.05
+  meshenc torus_288.node --scale 25 --dmax 3
+  meshenc bunny_10k.node -o bunny.dtm --box 256 --dmax 2 --report bunny.json
+  meshenc mesh.node -o mesh.dtm --qbits 16 --levels 4 --quality-guard 0.05
 
 Dmax and --alpha values are in input units, after --scale/--box.)";
 
@@ -51,12 +52,15 @@ dtm::AlphaPolicy parse_alpha(const std::string& text, double step) {
 int main(int argc, char** argv) {
   CLI::App app{"meshenc: build the Delaunay level-of-detail hierarchy of a volume point set"};
   app.footer(kExamples);
-  std::string input, report_path, alpha_text = "paper";
+  std::string input, output, report_path, alpha_text = "paper";
   int qbits = 14, levels = 0;
   double dmax = 0, scale = 0, box = 0, guard = 0;
   size_t min_base = 16;
-  bool no_paper_stop = false, quiet = false;
+  bool no_paper_stop = false, quiet = false, hash_cells = false;
   app.add_option("input", input, "TetGen .node file")->required();
+  app.add_option("-o,--output", output, "write the .dtm stream here ('-' = standard output)");
+  app.add_flag("--hash-cells", hash_cells,
+               "store each level's cell-set hash (lets meshdec --verify prove its meshes)");
   app.add_option("--qbits", qbits, "quantization bits per axis (1..24)")
       ->capture_default_str()->check(CLI::Range(1, 24));
   app.add_option("--dmax", dmax,
@@ -81,6 +85,7 @@ int main(int argc, char** argv) {
   app.add_option("--report", report_path, "write the level table as JSON to this file");
   app.add_flag("-q,--quiet", quiet, "do not print the table");
   CLI11_PARSE(app, argc, argv);
+  if (output == "-") quiet = true;  // standard output carries the stream
 
   try {
     auto node = dtm::read_tetgen_node(input);
@@ -121,7 +126,7 @@ int main(int argc, char** argv) {
     const bool progress = !quiet && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     std::vector<dtm::LevelStats> stats;
-    dtm::build_hierarchy(q.points, opt, [&](const dtm::Level& level) {
+    const dtm::Hierarchy hierarchy = dtm::build_hierarchy(q.points, opt, [&](const dtm::Level& level) {
       stats.push_back(level.stats);
       if (!quiet) dtm::print_table_row(stdout, level.stats, q.grid);
       if (progress) {
@@ -133,10 +138,34 @@ int main(int argc, char** argv) {
     });
     if (progress) std::fprintf(stderr, "\033[K");
 
-    if (!report_path.empty()) {
-      dtm::ReportContext ctx{input, q.grid, q.duplicates_merged, scale};
-      dtm::write_file_atomically(report_path, dtm::report_json(ctx, stats).dump(2) + "\n");
+    dtm::ReportContext ctx;
+    ctx.input = input;
+    ctx.grid = q.grid;
+    ctx.duplicates_merged = q.duplicates_merged;
+    ctx.scale = scale;
+    if (!output.empty()) {
+      dtm::EncoderOptions eo;
+      eo.cell_hashes = hash_cells;
+      const auto stream = dtm::encode_stream(hierarchy, q.points, q.grid, opt.alpha.kind, eo);
+      ctx.layer_bytes = stream.layer_bytes;
+      ctx.stream_bytes = stream.bytes.size();
+      const std::string_view bytes(reinterpret_cast<const char*>(stream.bytes.data()),
+                                   stream.bytes.size());
+      if (output == "-") {
+        if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() ||
+            std::fflush(stdout) != 0)
+          throw std::runtime_error("cannot write the stream to standard output");
+      } else {
+        dtm::write_file_atomically(output, bytes);
+      }
+      if (!quiet)
+        std::printf("%s: %zu bytes, %.2f bits per vertex (%zu vertices, %zu levels)\n",
+                    output.c_str(), stream.bytes.size(),
+                    8.0 * stream.bytes.size() / q.points.size(), q.points.size(),
+                    hierarchy.levels.size());
     }
+    if (!report_path.empty())
+      dtm::write_file_atomically(report_path, dtm::report_json(ctx, stats).dump(2) + "\n");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshenc: error: %s\n", e.what());
     return 1;

@@ -41,7 +41,15 @@ nlohmann::json report_json(const ReportContext& ctx, const std::vector<LevelStat
   j["scale"] = ctx.scale;
   j["duplicates_merged"] = ctx.duplicates_merged;
   j["levels"] = nlohmann::json::array();
-  for (const auto& s : levels) j["levels"].push_back(level_json(s, ctx.grid));
+  for (const auto& s : levels) {
+    j["levels"].push_back(level_json(s, ctx.grid));
+    if (static_cast<size_t>(s.level) < ctx.layer_bytes.size())
+      j["levels"].back()["layer_bytes"] = ctx.layer_bytes[s.level];
+  }
+  if (ctx.stream_bytes > 0 && !levels.empty()) {
+    j["stream_bytes"] = ctx.stream_bytes;
+    j["bits_per_vertex"] = 8.0 * ctx.stream_bytes / levels.front().vertices;
+  }
   return j;
 }
 

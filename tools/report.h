@@ -18,6 +18,8 @@ struct ReportContext {
   Grid grid;
   uint64_t duplicates_merged = 0;
   double scale = 1.0;  // input coordinates were multiplied by this before quantization
+  std::vector<uint64_t> layer_bytes;  // per level, when a stream was written
+  uint64_t stream_bytes = 0;
 };
 
 // Column header and one row per level; alpha and errors in (scaled) input units.

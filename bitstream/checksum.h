@@ -1,0 +1,12 @@
+// XXH3-64 (libxxhash): the checksum of headers and layers, and the hash of a
+// level's canonical cell set.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+namespace dtm {
+
+uint64_t xxh3_64(std::span<const uint8_t> bytes);
+
+}  // namespace dtm

@@ -1,0 +1,174 @@
+#include "decoder.h"
+
+#include <string>
+#include <unordered_set>
+
+#include "bitstream/point_set_coder.h"
+#include "core/geometry.h"
+
+namespace dtm {
+
+struct ProgressiveDecoder::PointSet {
+  struct Hash {
+    size_t operator()(const GridPoint& p) const {
+      uint64_t h = static_cast<uint64_t>(p.x) * 0x9E3779B97F4A7C15ull;
+      h ^= static_cast<uint64_t>(p.y) * 0xC2B2AE3D27D4EB4Full + (h >> 31);
+      h ^= static_cast<uint64_t>(p.z) * 0x165667B19E3779F9ull + (h >> 29);
+      return static_cast<size_t>(h ^ (h >> 32));
+    }
+  };
+  std::unordered_set<GridPoint, Hash> points;
+};
+
+ProgressiveDecoder::ProgressiveDecoder(DecoderOptions options)
+    : options_(options), seen_(std::make_unique<PointSet>()) {}
+ProgressiveDecoder::~ProgressiveDecoder() = default;
+
+Status ProgressiveDecoder::fail(Status s) {
+  error_ = s;
+  return s;
+}
+
+Status ProgressiveDecoder::feed(std::span<const uint8_t> bytes, const LevelCallback& on_level) {
+  if (!error_.ok()) return error_;
+  if (done_) return Status::Ok();  // the rest is not wanted
+  pending_.insert(pending_.end(), bytes.begin(), bytes.end());
+  while (true) {
+    const Status s = step(on_level);
+    if (s.code() == StatusCode::kNeedMoreInput) break;
+    if (!s.ok()) return fail(s);
+    if (done_) break;
+  }
+  // Drop consumed bytes once they are the larger part of the buffer.
+  if (pending_start_ > pending_.size() / 2) {
+    pending_.erase(pending_.begin(), pending_.begin() + pending_start_);
+    pending_start_ = 0;
+  }
+  return Status::Ok();
+}
+
+// Decodes one more piece (the header or one layer) if its bytes are all here.
+Status ProgressiveDecoder::step(const LevelCallback& on_level) {
+  const std::span<const uint8_t> avail(pending_.data() + pending_start_,
+                                       pending_.size() - pending_start_);
+  if (!has_header_) {
+    DTM_RETURN_IF_ERROR(parse_header(avail, header_));
+    has_header_ = true;
+    pending_start_ += kHeaderSize;
+    consumed_ += kHeaderSize;
+    return Status::Ok();
+  }
+  const int level = header_.level_count - 1 - static_cast<int>(levels_.size());
+  if (level < 0) {
+    if (!avail.empty())
+      return {StatusCode::kCorrupt, std::to_string(avail.size()) +
+                                        " bytes of trailing data after the last layer"};
+    done_ = true;
+    return Status::Ok();
+  }
+  const std::string where = "level " + std::to_string(level) + " at byte " + std::to_string(consumed_);
+  LayerHeader lh;
+  const uint32_t previous = levels_.empty() ? 0 : levels_.back().vertices;
+  Status s = parse_layer_header(avail, header_, level, previous, lh);
+  if (s.code() == StatusCode::kNeedMoreInput) return s;
+  if (!s.ok()) return {s.code(), where + ": " + s.message()};
+  if (lh.level_vertices > options_.max_vertices)
+    return {StatusCode::kLimitExceeded, where + ": " + std::to_string(lh.level_vertices) +
+                                            " vertices exceed the limit of " +
+                                            std::to_string(options_.max_vertices)};
+  if (avail.size() < kLayerHeaderSize + lh.payload_bytes)
+    return {StatusCode::kNeedMoreInput, "layer incomplete"};
+  const auto payload = avail.subspan(kLayerHeaderSize, lh.payload_bytes);
+  if (!layer_checksum_ok(avail, payload, lh.checksum))
+    return {StatusCode::kCorrupt, where + ": layer checksum mismatch"};
+
+  std::vector<GridPoint> added;
+  s = decode_point_set(payload, header_.grid.qbits, lh.new_vertices, added);
+  if (!s.ok()) return {s.code(), where + ": " + s.message()};
+  for (const GridPoint& p : added)
+    if (seen_->points.count(p))
+      return {StatusCode::kCorrupt, where + ": a point of this layer is already in a coarser level"};
+  std::vector<uint32_t> ids(added.size());
+  for (size_t i = 0; i < added.size(); ++i) ids[i] = static_cast<uint32_t>(points_.size() + i);
+  dt_.insert(added, ids);
+  if (levels_.empty() && dt_.dimension() < 3)
+    return {StatusCode::kCorrupt, where + ": the base level does not span three dimensions"};
+  for (const GridPoint& p : added) seen_->points.insert(p);
+  points_.insert(points_.end(), added.begin(), added.end());
+
+  DecodedLevel d;
+  d.level = level;
+  d.vertices = lh.level_vertices;
+  d.alpha = lh.alpha;
+  if (header_.flags & kFlagCellHashes) d.cell_hash = lh.cell_hash;
+  levels_.push_back(d);
+  pending_start_ += kLayerHeaderSize + lh.payload_bytes;
+  consumed_ += kLayerHeaderSize + lh.payload_bytes;
+  if (on_level) on_level(*this, d);
+  if (level == options_.stop_after_level) done_ = true;
+  return Status::Ok();
+}
+
+Status ProgressiveDecoder::finish() const {
+  if (!error_.ok()) return error_;
+  if (done_) return Status::Ok();
+  if (!has_header_) return {StatusCode::kTruncated, "the input ends inside the header"};
+  return {StatusCode::kTruncated,
+          levels_.empty() ? std::string("the input ends before the base level is complete")
+                          : "the input ends after level " + std::to_string(finest_level()) +
+                                " (of " + std::to_string(header_.level_count) + " levels)"};
+}
+
+int ProgressiveDecoder::finest_level() const {
+  return levels_.empty() ? -1 : levels_.back().level;
+}
+
+uint32_t ProgressiveDecoder::level_vertices(int level) const {
+  for (const auto& l : levels_)
+    if (l.level == level) return l.vertices;
+  return 0;
+}
+
+std::vector<int32_t> ProgressiveDecoder::vertex_levels() const {
+  std::vector<int32_t> out(points_.size());
+  uint32_t first = 0;
+  for (const auto& l : levels_) {
+    for (uint32_t i = first; i < l.vertices; ++i) out[i] = l.level;
+    first = l.vertices;
+  }
+  return out;
+}
+
+TetMesh ProgressiveDecoder::delaunay() const { return dt_.mesh(); }
+
+std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {
+  if (levels_.empty()) return {};
+  const TetMesh dt = dt_.mesh();
+  return flagged_cells(dt, carve(dt, points_, levels_.back().alpha));
+}
+
+std::vector<uint8_t> carve(const TetMesh& dt, std::span<const GridPoint> points, double alpha) {
+  std::vector<uint8_t> in_mesh(dt.cells.size());
+  for (size_t k = 0; k < dt.cells.size(); ++k) {
+    const auto& c = dt.cells[k];
+    in_mesh[k] =
+        canonical_circumradius({points[c[0]], points[c[1]], points[c[2]], points[c[3]]}) <= alpha;
+  }
+  return in_mesh;
+}
+
+std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt,
+                                                   std::span<const uint8_t> in_mesh) {
+  std::vector<std::array<uint32_t, 4>> out;
+  for (size_t k = 0; k < dt.cells.size(); ++k)
+    if (in_mesh[k]) out.push_back(dt.cells[k]);
+  return out;
+}
+
+Status decode_stream(std::span<const uint8_t> bytes, ProgressiveDecoder& decoder) {
+  const Status s = decoder.feed(bytes);
+  if (!s.ok()) return s;
+  return decoder.finish();
+}
+
+}  // namespace dtm

@@ -1,0 +1,106 @@
+// .dtm bytes -> levels, coarsest first, as the bytes arrive. Each layer's
+// points are inserted as one batch into the Delaunay tetrahedralization the
+// decoder already holds (never rebuilt), so level l's mesh is DT(V_l) carved
+// with the stored alpha_l.
+//
+// Safety: nothing the stream claims is allocated before the bytes that
+// justify it are present (a point costs at least one bit of payload) and the
+// claim is within DecoderOptions' limits. A damaged layer is reported with
+// its level and byte offset and leaves the levels before it usable.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "bitstream/status.h"
+#include "codec/format.h"
+#include "core/delaunay.h"
+
+namespace dtm {
+
+struct DecoderOptions {
+  // The most vertices a stream may make this decoder hold: a Delaunay
+  // tetrahedralization needs ~600 bytes per vertex, so 30M fits in 24 GiB.
+  uint64_t max_vertices = 30'000'000;
+  // Stop after this level (0 = finest; -1 = decode every level present).
+  int stop_after_level = -1;
+};
+
+struct DecodedLevel {
+  int level = 0;
+  uint32_t vertices = 0;
+  double alpha = 0;  // grid units
+  std::optional<uint64_t> cell_hash;
+};
+
+class ProgressiveDecoder {
+ public:
+  using LevelCallback = std::function<void(const ProgressiveDecoder&, const DecodedLevel&)>;
+
+  explicit ProgressiveDecoder(DecoderOptions options = {});
+  ~ProgressiveDecoder();
+  ProgressiveDecoder(const ProgressiveDecoder&) = delete;
+  ProgressiveDecoder& operator=(const ProgressiveDecoder&) = delete;
+
+  // Takes the next bytes. `on_level` is called for every level completed by
+  // them, with the decoder showing that level. Returns ok (waiting for more
+  // bytes, or done) or the error that stopped decoding; after an error every
+  // call returns it again.
+  Status feed(std::span<const uint8_t> bytes, const LevelCallback& on_level = {});
+  // At the end of the input: ok if every level (or the requested one) was
+  // decoded, kTruncated if the input stopped early (the levels decoded stand),
+  // or the error.
+  Status finish() const;
+
+  bool has_header() const { return has_header_; }
+  const StreamHeader& header() const { return header_; }
+  // The finest level decoded so far; -1 before the base layer.
+  int finest_level() const;
+  const std::vector<DecodedLevel>& levels() const { return levels_; }  // coarsest first
+
+  // The vertices of the finest decoded level, coarsest layer first: level l
+  // is the first level_vertices(l) of them.
+  const std::vector<GridPoint>& points() const { return points_; }
+  uint32_t level_vertices(int level) const;
+  // Per vertex, the coarsest level that contains it.
+  std::vector<int32_t> vertex_levels() const;
+  // DT of the finest decoded level (ids index points()) and its carving.
+  TetMesh delaunay() const;
+  std::vector<std::array<uint32_t, 4>> carved_cells() const;
+  // Stream bytes consumed by whole levels.
+  uint64_t bytes_used() const { return consumed_; }
+
+ private:
+  Status step(const LevelCallback& on_level);
+  Status fail(Status s);
+
+  DecoderOptions options_;
+  std::vector<uint8_t> pending_;  // bytes received and not yet consumed
+  size_t pending_start_ = 0;
+  uint64_t consumed_ = 0;         // stream offset of pending_[pending_start_]
+  bool has_header_ = false;
+  StreamHeader header_;
+  std::vector<DecodedLevel> levels_;
+  std::vector<GridPoint> points_;
+  struct PointSet;
+  std::unique_ptr<PointSet> seen_;  // every point decoded, to reject duplicates
+  IncrementalDelaunay dt_;
+  Status error_;
+  bool done_ = false;
+};
+
+// One call: decodes `bytes` up to `level` (-1: the finest level present).
+// `decoder` then holds the result; the returned status is finish()'s.
+Status decode_stream(std::span<const uint8_t> bytes, ProgressiveDecoder& decoder);
+
+// M_l: flags the cells of `dt` whose circumradius is <= alpha (spec/HIERARCHY.md §2).
+std::vector<uint8_t> carve(const TetMesh& dt, std::span<const GridPoint> points, double alpha);
+// The cells of `dt` flagged in `in_mesh`.
+std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt,
+                                                   std::span<const uint8_t> in_mesh);
+
+}  // namespace dtm

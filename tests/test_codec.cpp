@@ -1,0 +1,275 @@
+// The .dtm stream: the point-set coder, the determinism contract (every
+// decoded level equals the encoder's), truncation at every byte, damage,
+// and incremental feeding.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "bitstream/point_set_coder.h"
+#include "codec/decoder.h"
+#include "codec/encoder.h"
+#include "codec/format.h"
+#include "core/hierarchy.h"
+#include "test_support.h"
+
+namespace dtm {
+namespace {
+
+TEST(PointSetCoder, MortonRoundTrip) {
+  std::mt19937 rng(1);
+  for (int q : {1, 5, 14, 24}) {
+    std::uniform_int_distribution<int32_t> c(0, (1 << q) - 1);
+    for (int i = 0; i < 200; ++i) {
+      const GridPoint p{c(rng), c(rng), c(rng)};
+      EXPECT_EQ(morton_decode(morton_encode(p, q), q), p);
+    }
+  }
+}
+
+TEST(PointSetCoder, RoundTripsSetsOfAnySize) {
+  for (int q : {1, 3, 10, 14, 24}) {
+    for (size_t n : {1, 2, 7, 300}) {
+      const size_t cap = q == 1 ? 8 : n;
+      const auto pts = test::random_grid_points(std::min(n, cap), q, static_cast<uint32_t>(q * 1000 + n));
+      const auto payload = encode_point_set(pts, q);
+      std::vector<GridPoint> back;
+      ASSERT_TRUE(decode_point_set(payload, q, static_cast<uint32_t>(pts.size()), back).ok());
+      std::vector<GridPoint> sorted_back = back, sorted_in = pts;
+      std::sort(sorted_back.begin(), sorted_back.end());
+      std::sort(sorted_in.begin(), sorted_in.end());
+      EXPECT_EQ(sorted_back, sorted_in) << "q=" << q << " n=" << n;
+    }
+  }
+}
+
+TEST(PointSetCoder, RejectsDamagedPayloads) {
+  const auto pts = test::random_grid_points(50, 8, 3);
+  const auto payload = encode_point_set(pts, 8);
+  std::vector<GridPoint> out;
+  auto extra = payload;
+  extra.push_back(0);
+  EXPECT_EQ(decode_point_set(extra, 8, 50, out).code(), StatusCode::kCorrupt);  // trailing byte
+  out.clear();
+  EXPECT_EQ(decode_point_set(std::span(payload).first(payload.size() - 1), 8, 50, out).code(),
+            StatusCode::kCorrupt);  // ends early
+  out.clear();
+  EXPECT_EQ(decode_point_set(payload, 8, 51, out).code(), StatusCode::kCorrupt);  // count too large
+  out.clear();
+  auto bad_k = payload;
+  bad_k[0] = 25;  // above 3q
+  EXPECT_EQ(decode_point_set(bad_k, 8, 50, out).code(), StatusCode::kCorrupt);
+  out.clear();
+  // A run of one bits: codes beyond the grid, caught without looping.
+  std::vector<uint8_t> ones(40, 0xFF);
+  ones[0] = 0;
+  EXPECT_EQ(decode_point_set(ones, 4, 3, out).code(), StatusCode::kCorrupt);
+}
+
+struct Encoded {
+  std::vector<GridPoint> points;
+  Hierarchy hierarchy;
+  EncodedStream stream;
+};
+
+Encoded encode_model(std::vector<GridPoint> points, const Grid& grid, HierarchyOptions opt = {},
+                     bool hashes = true) {
+  Encoded e;
+  e.points = std::move(points);
+  e.hierarchy = build_hierarchy(e.points, opt);
+  EncoderOptions eo;
+  eo.cell_hashes = hashes;
+  e.stream = encode_stream(e.hierarchy, e.points, grid, opt.alpha.kind, eo);
+  return e;
+}
+
+// Every decoded level equals the encoder's: vertex set, Delaunay cells and
+// carved cells, compared by coordinates.
+void expect_decoder_matches_encoder(const Encoded& e, const std::string& name) {
+  ProgressiveDecoder dec;
+  int checked = 0;
+  const auto& levels = e.hierarchy.levels;
+  const Status s = dec.feed(e.stream.bytes, [&](const ProgressiveDecoder& d, const DecodedLevel& l) {
+    const Level& ref = levels[l.level];
+    std::vector<GridPoint> want;
+    for (uint32_t i : ref.vertices) want.push_back(e.points[i]);
+    std::vector<GridPoint> got = d.points();
+    std::sort(got.begin(), got.end());
+    ASSERT_EQ(got, want) << name << " level " << l.level;
+    EXPECT_EQ(l.alpha, ref.alpha);
+    const TetMesh dt = d.delaunay();
+    EXPECT_EQ(test::cells_by_coords(dt, d.points()),
+              test::cells_by_coords(delaunay_tetrahedralize(want), want))
+        << name << " level " << l.level;
+    TetMesh carved_ref, carved_dec;
+    carved_ref.cells = ref.mesh;
+    carved_dec.cells = d.carved_cells();
+    EXPECT_EQ(test::cells_by_coords(carved_dec, d.points()),
+              test::cells_by_coords(carved_ref, e.points))
+        << name << " level " << l.level;
+    ASSERT_TRUE(l.cell_hash.has_value());
+    EXPECT_EQ(*l.cell_hash, cell_set_hash(d.points(), carved_dec.cells));
+    ++checked;
+  });
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_TRUE(dec.finish().ok());
+  EXPECT_EQ(checked, static_cast<int>(levels.size()));
+}
+
+class CorpusCodec : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CorpusCodec, DecodedLevelsEqualTheEncodersAndStreamsAreReproducible) {
+  const auto q = test::load_quantized(GetParam());
+  HierarchyOptions opt;
+  opt.dmax = 2.0 * ((1 << 14) - 1) / 256;  // Dmax = 2 in a 256-unit box
+  const Encoded e = encode_model(q.points, q.grid, opt);
+  expect_decoder_matches_encoder(e, GetParam());
+  EXPECT_EQ(encode_model(q.points, q.grid, opt).stream.bytes, e.stream.bytes);
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusCodec, ::testing::ValuesIn(test::kCorpus),
+                         [](const auto& info) { return info.param; });
+
+TEST(Codec, DegenerateGridsRoundTrip) {
+  Grid grid;
+  grid.qbits = 5;
+  HierarchyOptions opt;
+  opt.dmax = 0.5;
+  opt.stop_when_boundary_is_final = false;
+  expect_decoder_matches_encoder(encode_model(test::full_grid(10), grid, opt), "full_grid_10");
+  expect_decoder_matches_encoder(encode_model(test::random_grid_points(2000, 5, 9), grid, opt),
+                                 "random_5bit");
+  AlphaPolicy hull{AlphaPolicy::Kind::kConvexHull, 0};
+  opt.alpha = hull;
+  expect_decoder_matches_encoder(encode_model(test::full_grid(8), grid, opt), "full_grid_8_hull");
+}
+
+Encoded small_stream() {
+  const auto q = test::load_quantized("torus_288");
+  HierarchyOptions opt;
+  opt.dmax = 335;
+  return encode_model(q.points, q.grid, opt);
+}
+
+// Layer ends: the byte offsets at which each level becomes complete.
+std::vector<size_t> layer_ends(const EncodedStream& s) {
+  std::vector<size_t> ends;
+  size_t at = kHeaderSize;
+  for (size_t l = s.layer_bytes.size(); l-- > 0;) ends.push_back(at += s.layer_bytes[l]);
+  return ends;
+}
+
+TEST(Codec, EveryPrefixDecodesToTheWholeLayersItHolds) {
+  const Encoded e = small_stream();
+  const auto ends = layer_ends(e.stream);
+  ASSERT_EQ(ends.back(), e.stream.bytes.size());
+  for (size_t len = 0; len <= e.stream.bytes.size(); ++len) {
+    ProgressiveDecoder dec;
+    ASSERT_TRUE(dec.feed(std::span(e.stream.bytes).first(len)).ok()) << "prefix " << len;
+    const size_t whole = std::upper_bound(ends.begin(), ends.end(), len) - ends.begin();
+    ASSERT_EQ(dec.levels().size(), whole) << "prefix " << len;
+    const Status fin = dec.finish();
+    if (len == e.stream.bytes.size()) {
+      EXPECT_TRUE(fin.ok());
+    } else {
+      EXPECT_EQ(fin.code(), StatusCode::kTruncated) << "prefix " << len;
+    }
+    if (whole > 0) {
+      const int level = dec.finest_level();
+      EXPECT_EQ(dec.points().size(), e.hierarchy.levels[level].vertices.size());
+    }
+    const StreamSummary summary = scan_stream(std::span(e.stream.bytes).first(len));
+    EXPECT_EQ(summary.status.ok(), len == e.stream.bytes.size());
+    if (!summary.status.ok()) {
+      EXPECT_EQ(summary.status.code(), StatusCode::kTruncated) << len;
+    }
+  }
+}
+
+TEST(Codec, FeedingInRandomChunksGivesTheSameLevels) {
+  const Encoded e = small_stream();
+  std::mt19937 rng(4);
+  for (int trial = 0; trial < 20; ++trial) {
+    ProgressiveDecoder dec;
+    std::vector<int> seen;
+    size_t at = 0;
+    while (at < e.stream.bytes.size()) {
+      const size_t n = std::min<size_t>(std::uniform_int_distribution<size_t>(0, 300)(rng),
+                                        e.stream.bytes.size() - at);
+      ASSERT_TRUE(dec.feed(std::span(e.stream.bytes).subspan(at, n),
+                           [&](const ProgressiveDecoder&, const DecodedLevel& l) {
+                             seen.push_back(l.level);
+                           }).ok());
+      at += n;
+    }
+    EXPECT_TRUE(dec.finish().ok());
+    ASSERT_EQ(seen.size(), e.hierarchy.levels.size());
+    for (size_t i = 0; i < seen.size(); ++i)
+      EXPECT_EQ(seen[i], static_cast<int>(e.hierarchy.levels.size() - 1 - i));
+  }
+}
+
+TEST(Codec, ADamagedLayerIsReportedAndTheLevelsBeforeItStay) {
+  const Encoded e = small_stream();
+  const auto ends = layer_ends(e.stream);
+  for (size_t k = 0; k < ends.size(); ++k) {
+    auto bytes = e.stream.bytes;
+    const size_t start = k == 0 ? kHeaderSize : ends[k - 1];
+    bytes[start + kLayerHeaderSize + 1 < ends[k] ? start + kLayerHeaderSize + 1 : start + 3] ^= 0x10;
+    ProgressiveDecoder dec;
+    const Status s = dec.feed(bytes);
+    ASSERT_EQ(s.code(), StatusCode::kCorrupt) << "layer " << k;
+    const int level = static_cast<int>(e.hierarchy.levels.size() - 1 - k);
+    EXPECT_NE(s.message().find("level " + std::to_string(level) + " at byte " + std::to_string(start)),
+              std::string::npos)
+        << s.message();
+    EXPECT_EQ(dec.levels().size(), k);
+    EXPECT_EQ(dec.finish().code(), StatusCode::kCorrupt);
+  }
+}
+
+TEST(Codec, ForeignAndFutureStreamsAreRejected) {
+  const Encoded e = small_stream();
+  auto bytes = e.stream.bytes;
+  bytes[1] = 'X';
+  ProgressiveDecoder a;
+  EXPECT_EQ(a.feed(bytes).code(), StatusCode::kNotDtm);
+
+  bytes = e.stream.bytes;
+  bytes[8] = 2;  // version 2.0: refused by version before the checksum is looked at
+  ProgressiveDecoder b;
+  EXPECT_EQ(b.feed(bytes).code(), StatusCode::kUnsupported);
+
+  bytes = e.stream.bytes;
+  bytes[20] ^= 1;  // origin: header checksum
+  ProgressiveDecoder c;
+  EXPECT_EQ(c.feed(bytes).code(), StatusCode::kCorrupt);
+
+  bytes = e.stream.bytes;
+  bytes.push_back(0);  // trailing garbage
+  ProgressiveDecoder d;
+  EXPECT_EQ(d.feed(bytes).code(), StatusCode::kCorrupt);
+  EXPECT_EQ(scan_stream(bytes).status.code(), StatusCode::kCorrupt);
+}
+
+TEST(Codec, VertexLimitIsEnforcedBeforeDecoding) {
+  const Encoded e = small_stream();
+  DecoderOptions o;
+  o.max_vertices = 100;
+  ProgressiveDecoder dec(o);
+  const Status s = dec.feed(e.stream.bytes);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded) << s.message();
+}
+
+TEST(Codec, StopsAtTheRequestedLevel) {
+  const Encoded e = small_stream();
+  DecoderOptions o;
+  o.stop_after_level = 2;
+  ProgressiveDecoder dec(o);
+  ASSERT_TRUE(dec.feed(e.stream.bytes).ok());
+  EXPECT_TRUE(dec.finish().ok());
+  EXPECT_EQ(dec.finest_level(), 2);
+  EXPECT_EQ(dec.points().size(), e.hierarchy.levels[2].vertices.size());
+}
+
+}  // namespace
+}  // namespace dtm

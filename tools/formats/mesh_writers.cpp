@@ -1,0 +1,227 @@
+#include "mesh_writers.h"
+
+#include <bit>
+#include <charconv>
+#include <filesystem>
+#include <stdexcept>
+#include <type_traits>
+
+namespace dtm {
+namespace {
+
+constexpr std::string_view kNodeExt = ".node";
+constexpr std::string_view kProducer = "dtmesh";
+
+// Shortest text that reads back to the same value (doubles bit-identical).
+template <class T>
+void append_number(std::string& out, T value) {
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
+  out.append(buf, end);
+}
+
+void validate(const OutputMesh& m) {
+  const size_t n = m.points.size();
+  if (!m.level.empty() && m.level.size() != n)
+    throw std::invalid_argument("mesh writer: " + std::to_string(m.level.size()) + " levels for " +
+                                std::to_string(n) + " points");
+  if (!m.boundary.empty() && m.boundary.size() != n)
+    throw std::invalid_argument("mesh writer: " + std::to_string(m.boundary.size()) +
+                                " boundary flags for " + std::to_string(n) + " points");
+  for (size_t c = 0; c < m.cells.size(); ++c)
+    for (uint32_t v : m.cells[c])
+      if (v >= n)
+        throw std::invalid_argument("mesh writer: cell " + std::to_string(c) + " names vertex " +
+                                    std::to_string(v) + " of " + std::to_string(n));
+}
+
+bool has_node_extension(const std::string& path) {
+  return std::filesystem::path(path).extension() == kNodeExt;
+}
+
+// --- TetGen -----------------------------------------------------------------
+
+std::string render_node(const OutputMesh& m) {
+  const bool markers = !m.boundary.empty();
+  std::string out;
+  out.reserve(m.points.size() * 64);
+  append_number(out, m.points.size());
+  out += markers ? " 3 0 1\n" : " 3 0 0\n";
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    const InputPoint p = m.grid.to_input(m.points[i]);
+    append_number(out, i);
+    for (double x : {p.x, p.y, p.z}) {
+      out += ' ';
+      append_number(out, x);
+    }
+    if (markers) {
+      out += ' ';
+      append_number(out, unsigned{m.boundary[i]});
+    }
+    out += '\n';
+  }
+  out += "# written by " + std::string(kProducer) + "\n";
+  return out;
+}
+
+std::string render_ele(const OutputMesh& m) {
+  std::string out;
+  out.reserve(m.cells.size() * 40);
+  append_number(out, m.cells.size());
+  out += " 4 0\n";
+  for (size_t i = 0; i < m.cells.size(); ++i) {
+    append_number(out, i);
+    for (uint32_t v : m.cells[i]) {
+      out += ' ';
+      append_number(out, v);
+    }
+    out += '\n';
+  }
+  out += "# written by " + std::string(kProducer) + "\n";
+  return out;
+}
+
+// --- VTK XML ----------------------------------------------------------------
+
+// Appends `v` as little-endian bytes whatever the host's byte order, as the
+// file's byte_order="LittleEndian" promises.
+template <class T>
+void append_le(std::string& out, T v) {
+  using U = std::conditional_t<sizeof(T) == 1, uint8_t,
+            std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>;
+  static_assert(sizeof(U) == sizeof(T));
+  const U u = std::bit_cast<U>(v);
+  for (size_t k = 0; k < sizeof(U); ++k) out += static_cast<char>((u >> (8 * k)) & 0xff);
+}
+
+// One <DataArray> of `components`-tuples. `values` is flat; ascii puts
+// `per_line` values on a line (connectivity is a 1-component array to VTK,
+// but reads best 4 to a line).
+template <class T>
+void data_array(std::string& out, const char* type, const char* name, int components, size_t per_line,
+                const std::vector<T>& values, bool binary) {
+  out += "        <DataArray type=\"" + std::string(type) + "\" Name=\"" + name + "\"";
+  if (components > 1) out += " NumberOfComponents=\"" + std::to_string(components) + "\"";
+  out += binary ? " format=\"binary\">\n          " : " format=\"ascii\">\n";
+  if (binary) {
+    // One uncompressed block: the UInt64 byte count (header_type), then the data,
+    // base64-encoded together as VTK's own writer does.
+    std::string raw;
+    raw.reserve(8 + values.size() * sizeof(T));
+    append_le(raw, uint64_t{values.size() * sizeof(T)});
+    for (T v : values) append_le(raw, v);
+    out += base64_encode(raw);
+    out += '\n';
+  } else {
+    for (size_t i = 0; i < values.size(); ++i) {
+      out += i % per_line == 0 ? "          " : " ";
+      if constexpr (sizeof(T) == 1)
+        append_number(out, unsigned{values[i]});  // a number, not a character
+      else
+        append_number(out, values[i]);
+      if ((i + 1) % per_line == 0) out += '\n';
+    }
+  }
+  out += "        </DataArray>\n";
+}
+
+std::string render_vtu(const OutputMesh& m, bool binary) {
+  constexpr uint8_t kVtkTetra = 10;
+  std::vector<double> coords;
+  coords.reserve(3 * m.points.size());
+  for (const GridPoint& g : m.points) {
+    const InputPoint p = m.grid.to_input(g);
+    coords.insert(coords.end(), {p.x, p.y, p.z});
+  }
+  // Our positive orientation (det(b-a, c-a, d-a) > 0) is VTK_TETRA's: the
+  // fourth point lies on the right-hand normal side of the first three.
+  std::vector<int64_t> connectivity, offsets;
+  connectivity.reserve(4 * m.cells.size());
+  offsets.reserve(m.cells.size());
+  for (const auto& c : m.cells) {
+    connectivity.insert(connectivity.end(), c.begin(), c.end());
+    offsets.push_back(static_cast<int64_t>(connectivity.size()));
+  }
+  const std::vector<uint8_t> types(m.cells.size(), kVtkTetra);
+
+  std::string out =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n"
+      "  <UnstructuredGrid>\n"
+      "    <Piece NumberOfPoints=\"" +
+      std::to_string(m.points.size()) + "\" NumberOfCells=\"" + std::to_string(m.cells.size()) +
+      "\">\n";
+  if (!m.level.empty() || !m.boundary.empty()) {
+    out += "      <PointData>\n";
+    if (!m.level.empty()) data_array(out, "Int32", "level", 1, 1, m.level, binary);
+    if (!m.boundary.empty()) data_array(out, "UInt8", "boundary", 1, 1, m.boundary, binary);
+    out += "      </PointData>\n";
+  }
+  out += "      <Points>\n";
+  data_array(out, "Float64", "Points", 3, 3, coords, binary);
+  out += "      </Points>\n      <Cells>\n";
+  data_array(out, "Int64", "connectivity", 1, 4, connectivity, binary);
+  data_array(out, "Int64", "offsets", 1, 1, offsets, binary);
+  data_array(out, "UInt8", "types", 1, 1, types, binary);
+  out +=
+      "      </Cells>\n"
+      "    </Piece>\n"
+      "  </UnstructuredGrid>\n"
+      "</VTKFile>\n";
+  return out;
+}
+
+}  // namespace
+
+std::string base64_encode(std::string_view bytes) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  size_t i = 0;
+  for (; i + 3 <= bytes.size(); i += 3) {
+    const uint32_t w = uint32_t{static_cast<uint8_t>(bytes[i])} << 16 |
+                       uint32_t{static_cast<uint8_t>(bytes[i + 1])} << 8 |
+                       uint32_t{static_cast<uint8_t>(bytes[i + 2])};
+    for (int shift : {18, 12, 6, 0}) out += kAlphabet[(w >> shift) & 63];
+  }
+  if (const size_t rest = bytes.size() - i; rest > 0) {
+    uint32_t w = uint32_t{static_cast<uint8_t>(bytes[i])} << 16;
+    if (rest == 2) w |= uint32_t{static_cast<uint8_t>(bytes[i + 1])} << 8;
+    out += kAlphabet[(w >> 18) & 63];
+    out += kAlphabet[(w >> 12) & 63];
+    out += rest == 2 ? kAlphabet[(w >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+MeshFormat format_for_path(const std::string& path) {
+  // extension() gives "" for "dir/.node" (a hidden file without a stem), so
+  // that is rejected too.
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == kNodeExt) return MeshFormat::kTetgen;
+  if (ext == ".vtu") return MeshFormat::kVtu;
+  throw std::invalid_argument(path + ": unknown output format (expected a .node or .vtu file name)");
+}
+
+std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& mesh, MeshFormat format,
+                                                             const std::string& path) {
+  validate(mesh);
+  switch (format) {
+    case MeshFormat::kTetgen: {
+      if (!has_node_extension(path))
+        throw std::invalid_argument(path + ": a TetGen output path must end in .node");
+      const std::string ele = path.substr(0, path.size() - kNodeExt.size()) + ".ele";
+      return {{path, render_node(mesh)}, {ele, render_ele(mesh)}};
+    }
+    case MeshFormat::kVtu:
+      return {{path, render_vtu(mesh, true)}};
+    case MeshFormat::kVtuAscii:
+      return {{path, render_vtu(mesh, false)}};
+  }
+  throw std::invalid_argument(path + ": unknown mesh format");
+}
+
+}  // namespace dtm

@@ -1,0 +1,51 @@
+// Output of decoded levels: TetGen .node/.ele (the corpus format, see
+// shared/data/README.md) and VTK XML UnstructuredGrid .vtu (ParaView).
+// The writers only render bytes; the caller writes them (atomically).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/grid.h"
+
+namespace dtm {
+
+// A decoded level ready to write. Vertex i is at grid.to_input(points[i]).
+struct OutputMesh {
+  Grid grid;                                   // dequantization
+  std::vector<GridPoint> points;
+  std::vector<std::array<uint32_t, 4>> cells;  // tetrahedra, indices into points, positively oriented
+  std::vector<int32_t> level;     // optional (empty = absent): per vertex, the coarsest level containing it
+  std::vector<uint8_t> boundary;  // optional (empty = absent): per vertex, 1 on the boundary
+};
+
+enum class MeshFormat {
+  kTetgen,    // X.node + X.ele; `boundary` becomes the marker column, `level` is not written
+  kVtu,       // VTK XML, format="binary": base64 of [UInt64 byte count][little-endian data]
+  kVtuAscii,  // VTK XML, format="ascii"
+};
+
+// The format named by the output path's extension: ".node" -> kTetgen (the
+// .ele goes beside it, same stem), ".vtu" -> kVtu. Extensions are
+// case-sensitive, as TetGen's own are: "X.NODE" would otherwise get an
+// "X.ele" that `tetgen X` cannot find. Throws std::invalid_argument naming the
+// path for anything else.
+MeshFormat format_for_path(const std::string& path);
+
+// The files of `mesh` in `format` as (path, bytes) pairs: two for kTetgen
+// (`path`, which must end in ".node", and the .ele beside it), one for the
+// VTU formats (`path` as given). Throws std::invalid_argument for a cell
+// index out of range, a `level` or `boundary` whose size is neither 0 nor
+// the number of points, or a TetGen path not ending in ".node".
+std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& mesh, MeshFormat format,
+                                                             const std::string& path);
+
+// Standard base64 (RFC 4648, with '=' padding), as VTK's binary format wants.
+// Exposed for its test.
+std::string base64_encode(std::string_view bytes);
+
+}  // namespace dtm

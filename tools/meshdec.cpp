@@ -1,0 +1,139 @@
+// meshdec: decodes a .dtm stream (or any prefix of one) to a tetrahedral
+// mesh file at the requested level of detail.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <string>
+
+#include "codec/decoder.h"
+#include "core/topology.h"
+#include "tools/atomic_file.h"
+#include "tools/formats/mesh_writers.h"
+#include "tools/stream_input.h"
+
+namespace {
+
+constexpr const char* kExamples = R"(
+Examples:
+  meshdec bunny.dtm -o bunny.vtu                 # finest level, for ParaView
+  meshdec bunny.dtm -o coarse.node --level 3     # TetGen .node + .ele
+  head -c 40000 bunny.dtm | meshdec - -o preview.vtu
+  meshdec bunny.dtm -o - --format vtu > bunny.vtu
+
+A truncated stream decodes to the finest whole level it holds (exit status 0,
+a note on stderr); a damaged or foreign one is an error and writes nothing.)";
+
+// Vertices on the boundary of the carved mesh: on a face with a carved cell
+// on one side only, or in no carved cell.
+std::vector<uint8_t> boundary_flags(const dtm::TetMesh& dt, size_t num_points,
+                                    const std::vector<uint8_t>& in_mesh) {
+  std::vector<uint8_t> out(num_points, 0), touched(num_points, 0);
+  for (size_t c = 0; c < dt.cells.size(); ++c)
+    if (in_mesh[c])
+      for (uint32_t v : dt.cells[c]) touched[v] = 1;
+  for (const auto& f : dtm::boundary_faces(dt, in_mesh))
+    for (int i = 0; i < 4; ++i)
+      if (i != f.opposite) out[dt.cells[f.cell][i]] = 1;
+  for (size_t v = 0; v < num_points; ++v)
+    if (!touched[v]) out[v] = 1;
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"meshdec: decode a .dtm stream to a tetrahedral mesh"};
+  app.footer(kExamples);
+  std::string input, output, format_name;
+  int level = -1;
+  bool verify = false, quiet = false;
+  uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
+  app.add_option("input", input, ".dtm stream ('-' = standard input)")->required();
+  app.add_option("-o,--output", output, "output mesh: X.vtu or X.node (+ X.ele); '-' = standard output")
+      ->required();
+  app.add_option("--level", level, "level of detail to write (0 = finest; default: the finest present)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--format", format_name, "node, vtu or vtu-ascii (default: from the output's extension)")
+      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii"}));
+  app.add_flag("--verify", verify,
+               "check every decoded level against the cell-set hashes in the stream (meshenc --hash-cells)");
+  app.add_option("--max-vertices", max_vertices, "refuse streams claiming more vertices than this")
+      ->capture_default_str();
+  app.add_flag("-q,--quiet", quiet, "no notes on stderr");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    dtm::MeshFormat format;
+    if (!format_name.empty())
+      format = format_name == "node" ? dtm::MeshFormat::kTetgen
+               : format_name == "vtu" ? dtm::MeshFormat::kVtu
+                                      : dtm::MeshFormat::kVtuAscii;
+    else if (output == "-")
+      format = dtm::MeshFormat::kVtu;
+    else
+      format = dtm::format_for_path(output);
+    if (output == "-" && format == dtm::MeshFormat::kTetgen)
+      throw std::invalid_argument("TetGen output is two files; it cannot go to standard output");
+
+    dtm::DecoderOptions options;
+    options.max_vertices = max_vertices;
+    options.stop_after_level = level;
+    dtm::ProgressiveDecoder decoder(options);
+    int verified = 0;
+    dtm::Status verify_error;
+    auto on_level = [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
+      if (!verify || !verify_error.ok()) return;
+      if (!l.cell_hash) {
+        verify_error = {dtm::StatusCode::kUnsupported,
+                        "--verify: the stream has no cell-set hashes (encode with meshenc --hash-cells)"};
+        return;
+      }
+      if (dtm::cell_set_hash(d.points(), d.carved_cells()) != *l.cell_hash)
+        verify_error = {dtm::StatusCode::kCorrupt,
+                        "--verify: level " + std::to_string(l.level) +
+                            " differs from the encoder's mesh (a different Delaunay implementation?)"};
+      else
+        ++verified;
+    };
+    dtm::Status fed;
+    dtm::read_in_chunks(input, [&](std::span<const uint8_t> chunk) {
+      fed = decoder.feed(chunk, on_level);
+      return fed.ok() && decoder.finish().code() != dtm::StatusCode::kOk;
+    });
+    const dtm::Status status = decoder.finish();
+    if (status.code() != dtm::StatusCode::kOk && status.code() != dtm::StatusCode::kTruncated)
+      throw std::runtime_error(input + ": " + status.message());
+    if (!verify_error.ok()) throw std::runtime_error(input + ": " + verify_error.message());
+    if (decoder.finest_level() < 0) throw std::runtime_error(input + ": " + status.message());
+    if (status.code() == dtm::StatusCode::kTruncated && !quiet)
+      std::fprintf(stderr, "meshdec: %s: truncated: %s; writing level %d\n", input.c_str(),
+                   status.message().c_str(), decoder.finest_level());
+
+    dtm::OutputMesh mesh;
+    mesh.grid = decoder.header().grid;
+    mesh.points = decoder.points();
+    const dtm::TetMesh dt = decoder.delaunay();
+    const double alpha = decoder.levels().back().alpha;
+    const std::vector<uint8_t> in_mesh = dtm::carve(dt, mesh.points, alpha);
+    mesh.cells = dtm::flagged_cells(dt, in_mesh);
+    mesh.level = decoder.vertex_levels();
+    mesh.boundary = boundary_flags(dt, mesh.points.size(), in_mesh);
+
+    for (const auto& [path, bytes] : dtm::render_mesh(mesh, format, output == "-" ? "out.vtu" : output)) {
+      if (output == "-") {
+        if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() || std::fflush(stdout) != 0)
+          throw std::runtime_error("cannot write to standard output");
+      } else {
+        dtm::write_file_atomically(path, bytes);
+      }
+    }
+    if (!quiet)
+      std::fprintf(stderr, "meshdec: level %d: %zu vertices, %zu tetrahedra%s\n", decoder.finest_level(),
+                   mesh.points.size(), mesh.cells.size(),
+                   verify ? (", verified " + std::to_string(verified) + " levels").c_str() : "");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "meshdec: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
