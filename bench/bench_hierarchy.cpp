@@ -37,6 +37,8 @@
 #include <string>
 #include <vector>
 
+#include "codec/decoder.h"
+#include "codec/encoder.h"
 #include "core/delaunay.h"
 #include "core/hierarchy.h"
 #include "tools/formats/tetgen.h"
@@ -55,6 +57,17 @@ struct Model {
   std::string name;
   dtm::QuantizedPoints q;
   dtm::HierarchyOptions opt;
+  std::vector<uint8_t> stream;  // encoded once, on first use by a decode benchmark
+
+  const std::vector<uint8_t>& encoded() {
+    if (stream.empty()) {
+      dtm::HierarchyOptions fast = opt;
+      fast.measure_boundary_error = false;
+      stream = dtm::encode_stream(dtm::build_hierarchy(q.points, fast), q.points, q.grid,
+                                  opt.alpha.kind).bytes;
+    }
+    return stream;
+  }
 };
 
 // Same preprocessing as `meshenc FILE --box 256 --dmax 2`, so the benchmark
@@ -70,7 +83,7 @@ Model load_model(const std::string& name, const std::string& path) {
   const double scale = extent > 0 ? kBox / extent : 1.0;
   for (auto& p : node.points) p = {p.x * scale, p.y * scale, p.z * scale};
 
-  Model m{name, dtm::quantize(node.points, kQBits), {}};
+  Model m{name, dtm::quantize(node.points, kQBits), {}, {}};
   m.opt.dmax = kDmax / m.q.grid.step;  // HierarchyOptions wants grid units
   return m;
 }
@@ -138,6 +151,51 @@ void register_benchmarks(const Model& m) {
       st.counters["level_points_per_vertex"] = static_cast<double>(level_vertices) / n;
     })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
   }
+
+  // What meshenc does after reading its input: the hierarchy (without the
+  // boundary-error report) and the stream.
+  benchmark::RegisterBenchmark(("Encode/" + m.name).c_str(), [&m, n](benchmark::State& st) {
+    dtm::HierarchyOptions opt = m.opt;
+    opt.measure_boundary_error = false;
+    size_t bytes = 0;
+    for (auto _ : st) {
+      const auto stream = dtm::encode_stream(dtm::build_hierarchy(m.q.points, opt), m.q.points,
+                                             m.q.grid, opt.alpha.kind);
+      bytes = stream.bytes.size();
+    }
+    st.counters["vertices"] = n;
+    st.counters["bits_per_vertex"] = 8.0 * bytes / n;
+  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+
+  // Every layer inserted, coarsest first, into one triangulation; then the
+  // finest level's mesh exported and carved. Any level's mesh is available
+  // the same way when its layer completes (next benchmark).
+  benchmark::RegisterBenchmark(("Decode/" + m.name).c_str(), [&m, n](benchmark::State& st) {
+    const auto& bytes = const_cast<Model&>(m).encoded();
+    size_t cells = 0;
+    for (auto _ : st) {
+      dtm::ProgressiveDecoder dec;
+      if (!dec.feed(bytes).ok()) st.SkipWithError("decode failed");
+      cells = dec.carved_cells().size();
+    }
+    st.counters["vertices"] = n;
+    st.counters["carved_cells"] = static_cast<double>(cells);
+  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+
+  benchmark::RegisterBenchmark(("DecodeEveryLevelMesh/" + m.name).c_str(), [&m, n](benchmark::State& st) {
+    const auto& bytes = const_cast<Model&>(m).encoded();
+    size_t cells = 0;
+    for (auto _ : st) {
+      dtm::ProgressiveDecoder dec;
+      cells = 0;
+      const auto s = dec.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel&) {
+        cells += d.carved_cells().size();
+      });
+      if (!s.ok()) st.SkipWithError("decode failed");
+    }
+    st.counters["vertices"] = n;
+    st.counters["carved_cells_all_levels"] = static_cast<double>(cells);
+  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 }
 
 // Prints the usual console output and keeps, per benchmark, the real time
@@ -176,6 +234,26 @@ class CollectingReporter : public benchmark::ConsoleReporter {
   };
   std::map<std::string, Sum> sums_;
 };
+
+void print_codec_table(const CollectingReporter& rep,
+                       const std::vector<std::unique_ptr<Model>>& models) {
+  std::printf(
+      "\n| model | vertices | CGAL DT (s) | encode (s) | ratio | decode, finest mesh (s) | ratio "
+      "| decode, every level's mesh (s) | ratio | bits per vertex |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const auto& m : models) {
+    const auto cgal = rep.find("CgalDelaunay/" + m->name);
+    const auto enc = rep.find("Encode/" + m->name);
+    const auto dec = rep.find("Decode/" + m->name);
+    const auto all = rep.find("DecodeEveryLevelMesh/" + m->name);
+    if (!cgal || !enc || !dec || !all) continue;
+    std::printf("| %s | %zu | %.3f | %.3f | %.2f | %.3f | %.2f | %.3f | %.2f | %.2f |\n",
+                m->name.c_str(), m->q.points.size(), cgal->seconds, enc->seconds,
+                enc->seconds / cgal->seconds, dec->seconds, dec->seconds / cgal->seconds,
+                all->seconds, all->seconds / cgal->seconds,
+                enc->counters.at("bits_per_vertex").value);
+  }
+}
 
 void print_table(const CollectingReporter& rep, const std::vector<std::unique_ptr<Model>>& models) {
   std::printf(
@@ -282,6 +360,7 @@ int main(int argc, char** argv) {
                                                : benchmark::ConsoleReporter::OO_None);
   benchmark::RunSpecifiedBenchmarks(&rep);
   print_table(rep, models);
+  print_codec_table(rep, models);
   benchmark::Shutdown();
   return 0;
 }

@@ -1,19 +1,30 @@
 #!/usr/bin/env bash
-# The main job on the bundled samples: install what is missing, build, and
-# build the level-of-detail hierarchy of the seed paper's torus and of the
-# bunny, printing the level table of each.
+# The main job on the bundled samples: install what is missing, build, build
+# the level-of-detail hierarchy of the seed paper's torus and of the bunny,
+# encode each into a .dtm stream, decode every level back, and print the
+# tables.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/build.sh"
-enc="$root/build/tools/meshenc"
+bin="$root/build/tools"
 out="$root/build/demo"
 mkdir -p "$out"
 xz -dc "$root/data/bunny_10k.node.xz" > "$out/bunny_10k.node"
 
 echo "== torus_288, scaled so that alpha_0 matches the paper's 19.6 (Figure 6), Dmax = 3"
-"$enc" "$root/data/torus_288.node" --scale 25 --dmax 3 --report "$out/torus_288.json"
+"$bin/meshenc" "$root/data/torus_288.node" --scale 25 --dmax 3 --hash-cells \
+  -o "$out/torus_288.dtm" --report "$out/torus_288.json"
 echo
 echo "== bunny_10k in a 256-unit box, Dmax = 2 (the paper's Cat settings)"
-"$enc" "$out/bunny_10k.node" --box 256 --dmax 2 --report "$out/bunny_10k.json"
+"$bin/meshenc" "$out/bunny_10k.node" --box 256 --dmax 2 --hash-cells \
+  -o "$out/bunny_10k.dtm" --report "$out/bunny_10k.json"
 echo
-echo "JSON reports: $out/torus_288.json $out/bunny_10k.json"
+echo "== decoding every level of bunny_10k.dtm (meshinfo --stats), checked against the encoder's cell hashes"
+"$bin/meshinfo" "$out/bunny_10k.dtm" --stats
+"$bin/meshdec" "$out/bunny_10k.dtm" -o "$out/bunny_10k.vtu" --verify
+"$bin/meshdec" "$out/bunny_10k.dtm" -o "$out/bunny_10k_level8.vtu" --level 8
+echo
+echo "== a truncated stream: the first 20,000 bytes"
+head -c 20000 "$out/bunny_10k.dtm" | "$bin/meshdec" - -o "$out/bunny_10k_preview.vtu"
+echo
+echo "Outputs in $out (open the .vtu files in ParaView; colour by 'level')."
