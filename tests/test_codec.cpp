@@ -3,6 +3,7 @@
 // and incremental feeding.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <random>
 
 #include "bitstream/point_set_coder.h"
@@ -128,6 +129,16 @@ TEST_P(CorpusCodec, DecodedLevelsEqualTheEncodersAndStreamsAreReproducible) {
 
 INSTANTIATE_TEST_SUITE_P(Corpus, CorpusCodec, ::testing::ValuesIn(test::kCorpus),
                          [](const auto& info) { return info.param; });
+
+TEST(Codec, Bunny100kRoundTripsWhenTheSharedCorpusIsPresent) {
+  if (!std::ifstream(test::data_path("bunny_100k.node")))
+    GTEST_SKIP() << "bunny_100k.node absent (shared/data is not beside the checkout)";
+  const auto q = test::load_quantized("bunny_100k");
+  HierarchyOptions opt;
+  opt.dmax = 2.0 * ((1 << 14) - 1) / 256;
+  opt.measure_boundary_error = false;
+  expect_decoder_matches_encoder(encode_model(q.points, q.grid, opt), "bunny_100k");
+}
 
 TEST(Codec, DegenerateGridsRoundTrip) {
   Grid grid;

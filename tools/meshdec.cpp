@@ -2,8 +2,11 @@
 // mesh file at the requested level of detail.
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <string>
+
+#include <unistd.h>
 
 #include "codec/decoder.h"
 #include "core/topology.h"
@@ -81,7 +84,15 @@ int main(int argc, char** argv) {
     dtm::ProgressiveDecoder decoder(options);
     int verified = 0;
     dtm::Status verify_error;
+    const bool progress = !quiet && isatty(STDERR_FILENO);
+    const auto start = std::chrono::steady_clock::now();
     auto on_level = [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
+      if (progress) {
+        const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::fprintf(stderr, "\r  level %d decoded: %u vertices, %.0f vertices/s\033[K", l.level,
+                     l.vertices, l.vertices / std::max(s, 1e-9));
+      }
       if (!verify || !verify_error.ok()) return;
       if (!l.cell_hash) {
         verify_error = {dtm::StatusCode::kUnsupported,
@@ -100,6 +111,7 @@ int main(int argc, char** argv) {
       fed = decoder.feed(chunk, on_level);
       return fed.ok() && decoder.finish().code() != dtm::StatusCode::kOk;
     });
+    if (progress) std::fprintf(stderr, "\r\033[K");
     const dtm::Status status = decoder.finish();
     if (status.code() != dtm::StatusCode::kOk && status.code() != dtm::StatusCode::kTruncated)
       throw std::runtime_error(input + ": " + status.message());
