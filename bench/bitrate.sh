@@ -44,6 +44,9 @@ for t in draco_encoder zstd xz python3 sha256sum; do
   command -v "$t" >/dev/null 2>&1 || { echo "bitrate.sh: $t missing; apt-get install -y draco zstd xz-utils python3" >&2; exit 2; }
 done
 start=$(date +%s)
+# The build may be shared: fingerprint the tools now, check them again at the end.
+tools_id() { sha256sum "$enc" "$dec" | cut -c1-12 | paste -sd' '; }
+tools_before=$(tools_id)
 mkdir -p "$data" "$out"
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/bitrate.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
@@ -122,10 +125,15 @@ while read -r m node; do
   fi
 done <"$list"
 
+tools_after=$(tools_id)
+[ "$tools_before" = "$tools_after" ] ||
+  die "meshenc/meshdec changed during the run (sha256 $tools_before -> $tools_after); rerun"
+commit_end="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+[ "$commit_end" = "$commit" ] || commit="$commit at start, $commit_end at end"
 rc=0
-(python3 - "$list" "$out" "$report.tmp" "$notes" "$commit" "$dirty" "$enc" "$start" "$QS" <<'PYEOF'
+(python3 - "$list" "$out" "$report.tmp" "$notes" "$commit" "$dirty" "$enc" "$start" "$QS" "$tools_before" <<'PYEOF'
 import json, math, os, sys, time, subprocess
-listf, outd, dest, notesf, commit, dirty, enc, start, qs = sys.argv[1:10]
+listf, outd, dest, notesf, commit, dirty, enc, start, qs, tools = sys.argv[1:11]
 QS = [int(q) for q in qs.split()]
 LAYER_HDR, STREAM_HDR = 38, 56
 LN2 = math.log(2)
@@ -222,8 +230,9 @@ def pkgver(p):
 w('# Bitrate: .dtm streams vs Draco and zstd\n')
 w('Written by `bench/bitrate.sh` (do not edit by hand; rerun it).\n')
 w('- date: %s (run took %d s)' % (now, time.time() - float(start)))
-w('- commit: %s%s; meshenc built %s' % (commit, (' (' + dirty + ')') if dirty else '',
-  time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime(os.path.getmtime(enc)))))
+w('- commit: %s%s; meshenc built %s, sha256 of meshenc / meshdec %s (unchanged during the run)' % (
+  commit, (' (' + dirty + ')') if dirty else '',
+  time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime(os.path.getmtime(enc))), ' / '.join(tools.split())))
 w('- draco %s, zstd %s; machine: %s, %d cores' % (pkgver('draco'), pkgver('zstd'), os.uname().machine, os.cpu_count()))
 w('- bits per vertex (bpv) = 8 × bytes / N, N = vertices of the input `.node` (all models here have '
   'no point merged by quantization at q = 12..16 unless noted).\n')
