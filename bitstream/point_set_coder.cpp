@@ -26,35 +26,62 @@ class BitWriter {
   int used_ = 0;
 };
 
+// Reads bits most significant first, 64 at a time where it can: a unary run
+// is counted with one countl_one per word instead of bit by bit.
 class BitReader {
  public:
-  explicit BitReader(std::span<const uint8_t> bytes) : bytes_(bytes) {}
-  bool bit(bool& b) {
-    if (pos_ >= bytes_.size() * 8) return false;
-    b = (bytes_[pos_ >> 3] >> (7 - (pos_ & 7))) & 1;
-    ++pos_;
-    return true;
+  explicit BitReader(std::span<const uint8_t> bytes) : bytes_(bytes), size_(bytes.size() * 8) {}
+  // Counts one bits up to the next zero bit and consumes them and it; gives
+  // up (false) past `limit` ones or at the end of the input.
+  bool unary(MortonCode limit, MortonCode& ones) {
+    ones = 0;
+    while (true) {
+      if (pos_ >= size_) return false;
+      const int run = std::countl_one(peek64());
+      const size_t avail = size_ - pos_;
+      if (static_cast<size_t>(run) < std::min<size_t>(64, avail)) {
+        ones += run;
+        pos_ += run + 1;
+        return ones <= limit;
+      }
+      const size_t step = std::min<size_t>(64, avail);
+      ones += step;
+      pos_ += step;
+      if (ones > limit) return false;
+    }
   }
-  bool bits(int n, MortonCode& v) {
-    if (pos_ + n > bytes_.size() * 8) return false;
+  bool bits(int n, MortonCode& v) {  // n <= 3 * 24
+    if (pos_ + n > size_) return false;
     v = 0;
-    for (int i = 0; i < n; ++i) {
-      bool b = false;
-      bit(b);
-      v = (v << 1) | static_cast<unsigned>(b);
+    while (n > 0) {
+      const int take = std::min(n, 56);
+      v = (v << take) | (peek64() >> (64 - take));
+      pos_ += take;
+      n -= take;
     }
     return true;
   }
   // True when only zero padding bits of the last byte remain.
   bool at_clean_end() const {
-    if (pos_ > bytes_.size() * 8) return false;
-    if ((pos_ + 7) / 8 != bytes_.size()) return false;
+    if (pos_ > size_ || (pos_ + 7) / 8 != bytes_.size()) return false;
     if (pos_ % 8 == 0) return true;
     return (bytes_.back() & (0xFFu >> (pos_ % 8))) == 0;
   }
 
  private:
+  // The next 64 bits from pos_, zeros past the end.
+  uint64_t peek64() const {
+    const size_t byte = pos_ >> 3;
+    uint64_t word = 0;
+    for (size_t i = 0; i < 8; ++i)
+      word = (word << 8) | (byte + i < bytes_.size() ? bytes_[byte + i] : 0);
+    const int shift = pos_ & 7;
+    if (shift == 0) return word;
+    const uint8_t next = byte + 8 < bytes_.size() ? bytes_[byte + 8] : 0;
+    return (word << shift) | (next >> (8 - shift));
+  }
   std::span<const uint8_t> bytes_;
+  size_t size_;
   size_t pos_ = 0;
 };
 
@@ -134,12 +161,9 @@ Status decode_point_set(std::span<const uint8_t> payload, int qbits, uint32_t co
   out.reserve(out.size() + count);
   for (uint32_t i = 0; i < count; ++i) {
     MortonCode quotient = 0;
-    bool b = false;
-    while (true) {
-      if (!r.bit(b)) return {StatusCode::kCorrupt, "point-set payload ends early"};
-      if (!b) break;
-      if (++quotient > max_quotient) return {StatusCode::kCorrupt, "point outside the grid"};
-    }
+    if (!r.unary(max_quotient, quotient))
+      return {StatusCode::kCorrupt, quotient > max_quotient ? "point outside the grid"
+                                                             : "point-set payload ends early"};
     MortonCode low = 0;
     if (!r.bits(k, low)) return {StatusCode::kCorrupt, "point-set payload ends early"};
     const MortonCode gap = (quotient << k) | low;

@@ -1,7 +1,9 @@
-// .dtm bytes -> levels, coarsest first, as the bytes arrive. Each layer's
-// points are inserted as one batch into the Delaunay tetrahedralization the
-// decoder already holds (never rebuilt), so level l's mesh is DT(V_l) carved
-// with the stored alpha_l.
+// .dtm bytes -> levels, coarsest first, as the bytes arrive. A layer is
+// validated as soon as its bytes are in; its points join the Delaunay
+// tetrahedralization the decoder holds (never rebuilt) when a mesh is asked
+// for: one batch per layer if the caller looks at every level, one batch for
+// all of them if it only looks at the last (as fast as a single CGAL
+// construction). Level l's mesh is DT(V_l) carved with the stored alpha_l.
 //
 // Safety: nothing the stream claims is allocated before the bytes that
 // justify it are present (a point costs at least one bit of payload) and the
@@ -69,6 +71,7 @@ class ProgressiveDecoder {
   // Per vertex, the coarsest level that contains it.
   std::vector<int32_t> vertex_levels() const;
   // DT of the finest decoded level (ids index points()) and its carving.
+  // These bring the triangulation up to date first.
   TetMesh delaunay() const;
   std::vector<std::array<uint32_t, 4>> carved_cells() const;
   // Stream bytes consumed by whole levels.
@@ -77,6 +80,7 @@ class ProgressiveDecoder {
  private:
   Status step(const LevelCallback& on_level);
   Status fail(Status s);
+  void insert_pending() const;
 
   DecoderOptions options_;
   std::vector<uint8_t> pending_;  // bytes received and not yet consumed
@@ -88,7 +92,10 @@ class ProgressiveDecoder {
   std::vector<GridPoint> points_;
   struct PointSet;
   std::unique_ptr<PointSet> seen_;  // every point decoded, to reject duplicates
-  IncrementalDelaunay dt_;
+  // The triangulation lags behind points_ until a mesh is asked for.
+  mutable IncrementalDelaunay dt_;
+  mutable size_t inserted_ = 0;          // points_ already in dt_
+  mutable size_t layers_pending_ = 0;    // whole layers not yet in dt_
   Status error_;
   bool done_ = false;
 };

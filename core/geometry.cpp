@@ -5,6 +5,28 @@
 
 namespace dtm {
 
+bool spans_three_dimensions(std::span<const GridPoint> points) {
+  // Find two points that differ, then a third off their line, then a fourth
+  // off their plane; cross products of integer differences are exact in 128 bits.
+  size_t i = 1;
+  while (i < points.size() && points[i] == points[0]) ++i;
+  if (i >= points.size()) return false;
+  const GridPoint a = points[0], b = points[i];
+  const Int128 ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
+  Int128 nx = 0, ny = 0, nz = 0;
+  size_t j = i + 1;
+  for (; j < points.size(); ++j) {
+    const Int128 vx = points[j].x - a.x, vy = points[j].y - a.y, vz = points[j].z - a.z;
+    nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    if (nx != 0 || ny != 0 || nz != 0) break;
+  }
+  for (size_t k = j + 1; k < points.size(); ++k) {
+    const Int128 wx = points[k].x - a.x, wy = points[k].y - a.y, wz = points[k].z - a.z;
+    if (nx * wx + ny * wy + nz * wz != 0) return true;
+  }
+  return false;
+}
+
 double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return dot(b - a, cross(c - a, d - a)) / 6.0;
 }

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <span>
 
 #include "grid.h"
 
@@ -43,6 +44,9 @@ inline Int128 abs_six_volume(const GridPoint& a, const GridPoint& b, const GridP
   const Int128 det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
   return det < 0 ? -det : det;
 }
+
+// True if the points do not all lie in one plane (exact).
+bool spans_three_dimensions(std::span<const GridPoint> points);
 
 // Signed volume (eq. 2.5): positive for a positively oriented tetrahedron.
 double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

@@ -271,6 +271,28 @@ TEST(Codec, VertexLimitIsEnforcedBeforeDecoding) {
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded) << s.message();
 }
 
+TEST(Codec, ALevelAskedForOnlyAtTheEndIsTheSameMesh) {
+  // Without callbacks the points go into the triangulation in one batch at
+  // the end (the fast path); the mesh must be the one built layer by layer.
+  const Encoded e = small_stream();
+  for (int stop : {-1, 3}) {
+    DecoderOptions o;
+    o.stop_after_level = stop;
+    ProgressiveDecoder lazy(o), eager(o);
+    ASSERT_TRUE(lazy.feed(e.stream.bytes).ok());
+    ASSERT_TRUE(eager.feed(e.stream.bytes, [](const ProgressiveDecoder& d, const DecodedLevel&) {
+      d.delaunay();
+    }).ok());
+    EXPECT_EQ(test::cells_by_coords(lazy.delaunay(), lazy.points()),
+              test::cells_by_coords(eager.delaunay(), eager.points()));
+    TetMesh a, b;
+    a.cells = lazy.carved_cells();
+    b.cells = eager.carved_cells();
+    EXPECT_EQ(test::cells_by_coords(a, lazy.points()), test::cells_by_coords(b, eager.points()));
+    EXPECT_FALSE(a.cells.empty());
+  }
+}
+
 TEST(Codec, StopsAtTheRequestedLevel) {
   const Encoded e = small_stream();
   DecoderOptions o;
