@@ -74,12 +74,7 @@ struct Model {
 // times the run the README recommends.
 Model load_model(const std::string& name, const std::string& path) {
   auto node = dtm::read_tetgen_node(path);
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (const auto& p : node.points) {
-    const double c[3] = {p.x, p.y, p.z};
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
-  }
-  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  const double extent = dtm::largest_extent(node.points);
   const double scale = extent > 0 ? kBox / extent : 1.0;
   for (auto& p : node.points) p = {p.x * scale, p.y * scale, p.z * scale};
 

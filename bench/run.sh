@@ -73,7 +73,8 @@ echo "$mem"
   echo
   echo "## Time"
   echo
-  grep '^|' "$log"
+  # Two tables (hierarchy; encoder and decoder): a blank line before each header row.
+  grep '^|' "$log" | awk 'NR > 1 && /^\| model/ { print "" } { print }'
   echo
   echo "## Peak memory (ru_maxrss, one process per row and build)"
   echo

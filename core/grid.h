@@ -46,6 +46,9 @@ struct QuantizedPoints {
 inline constexpr int kMinQBits = 1;
 inline constexpr int kMaxQBits = 24;
 
+// The largest side of the points' bounding box (what --box scales to).
+double largest_extent(std::span<const InputPoint> points);
+
 // Quantizes `input` onto a `qbits`-bit grid and merges coincident points.
 // Throws std::invalid_argument for qbits out of range, an empty input, or
 // non-finite coordinates.

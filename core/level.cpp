@@ -84,17 +84,7 @@ LevelGeometry analyze_level(std::vector<GridPoint> points, TetMesh dt, const Alp
 }
 
 std::vector<uint8_t> topological_boundary(const LevelGeometry& L) {
-  std::vector<uint8_t> out(L.size(), 0);
-  std::vector<uint8_t> touched(L.size(), 0);
-  for (size_t c = 0; c < L.dt.cells.size(); ++c)
-    if (L.in_mesh[c])
-      for (uint32_t v : L.dt.cells[c]) touched[v] = 1;
-  for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
-    for (int i = 0; i < 4; ++i)
-      if (i != f.opposite) out[L.dt.cells[f.cell][i]] = 1;
-  for (size_t v = 0; v < L.size(); ++v)
-    if (!touched[v]) out[v] = 1;
-  return out;
+  return boundary_vertices(L.dt, L.size(), L.in_mesh);
 }
 
 }  // namespace dtm

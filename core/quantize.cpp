@@ -8,6 +8,16 @@
 
 namespace dtm {
 
+double largest_extent(std::span<const InputPoint> points) {
+  if (points.empty()) return 0;
+  InputPoint lo = points[0], hi = points[0];
+  for (const InputPoint& p : points) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  return std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+}
+
 QuantizedPoints quantize(std::span<const InputPoint> input, int qbits) {
   if (qbits < kMinQBits || qbits > kMaxQBits)
     throw std::invalid_argument("qbits must be in [1, 24], got " + std::to_string(qbits));

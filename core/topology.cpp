@@ -54,6 +54,20 @@ std::vector<BoundaryFace> boundary_faces(const TetMesh& mesh, std::span<const ui
   return out;
 }
 
+std::vector<uint8_t> boundary_vertices(const TetMesh& mesh, size_t num_vertices,
+                                       std::span<const uint8_t> in_mesh) {
+  std::vector<uint8_t> out(num_vertices, 0), touched(num_vertices, 0);
+  for (size_t c = 0; c < mesh.cells.size(); ++c)
+    if (in_mesh[c])
+      for (uint32_t v : mesh.cells[c]) touched[v] = 1;
+  for (const BoundaryFace& f : boundary_faces(mesh, in_mesh))
+    for (int i = 0; i < 4; ++i)
+      if (i != f.opposite) out[mesh.cells[f.cell][i]] = 1;
+  for (size_t v = 0; v < num_vertices; ++v)
+    if (!touched[v]) out[v] = 1;
+  return out;
+}
+
 std::array<uint32_t, 3> outward_triangle(const TetMesh& mesh, std::span<const GridPoint> points,
                                          const BoundaryFace& f) {
   const auto& c = mesh.cells[f.cell];

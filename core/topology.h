@@ -38,6 +38,11 @@ struct BoundaryFace {
 // convex hull or a cell not flagged: the topological boundary of the carved mesh.
 std::vector<BoundaryFace> boundary_faces(const TetMesh& mesh, std::span<const uint8_t> in_mesh);
 
+// The vertices on the boundary of the carved mesh: on a boundary face, or in
+// no flagged cell at all.
+std::vector<uint8_t> boundary_vertices(const TetMesh& mesh, size_t num_vertices,
+                                       std::span<const uint8_t> in_mesh);
+
 // The triangle of a boundary face, ordered so that its normal points out of
 // its cell (right-hand rule).
 std::array<uint32_t, 3> outward_triangle(const TetMesh& mesh, std::span<const GridPoint> points,

@@ -26,22 +26,6 @@ Examples:
 A truncated stream decodes to the finest whole level it holds (exit status 0,
 a note on stderr); a damaged or foreign one is an error and writes nothing.)";
 
-// Vertices on the boundary of the carved mesh: on a face with a carved cell
-// on one side only, or in no carved cell.
-std::vector<uint8_t> boundary_flags(const dtm::TetMesh& dt, size_t num_points,
-                                    const std::vector<uint8_t>& in_mesh) {
-  std::vector<uint8_t> out(num_points, 0), touched(num_points, 0);
-  for (size_t c = 0; c < dt.cells.size(); ++c)
-    if (in_mesh[c])
-      for (uint32_t v : dt.cells[c]) touched[v] = 1;
-  for (const auto& f : dtm::boundary_faces(dt, in_mesh))
-    for (int i = 0; i < 4; ++i)
-      if (i != f.opposite) out[dt.cells[f.cell][i]] = 1;
-  for (size_t v = 0; v < num_points; ++v)
-    if (!touched[v]) out[v] = 1;
-  return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -129,7 +113,7 @@ int main(int argc, char** argv) {
     const std::vector<uint8_t> in_mesh = dtm::carve(dt, mesh.points, alpha);
     mesh.cells = dtm::flagged_cells(dt, in_mesh);
     mesh.level = decoder.vertex_levels();
-    mesh.boundary = boundary_flags(dt, mesh.points.size(), in_mesh);
+    mesh.boundary = dtm::boundary_vertices(dt, mesh.points.size(), in_mesh);
 
     for (const auto& [path, bytes] : dtm::render_mesh(mesh, format, output == "-" ? "out.vtu" : output)) {
       if (output == "-") {

@@ -93,12 +93,7 @@ int main(int argc, char** argv) {
       throw dtm::FormatError(input + ": " + std::to_string(node.points.size()) +
                              " points; a tetrahedral mesh needs at least 4");
     if (box > 0) {
-      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-      for (const auto& p : node.points) {
-        const double c[3] = {p.x, p.y, p.z};
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
-      }
-      const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+      const double extent = dtm::largest_extent(node.points);
       scale = extent > 0 ? box / extent : 1.0;
     }
     if (scale <= 0) scale = 1.0;
