@@ -8,5 +8,6 @@
 namespace dtm {
 
 uint64_t xxh3_64(std::span<const uint8_t> bytes);
+uint64_t xxh3_64(std::span<const uint8_t> bytes, uint64_t seed);
 
 }  // namespace dtm

@@ -2,6 +2,9 @@
 
 #include <string>
 
+#include <random>
+
+#include "bitstream/checksum.h"
 #include "bitstream/point_set_coder.h"
 #include "core/geometry.h"
 
@@ -9,16 +12,18 @@ namespace dtm {
 
 // Every point decoded so far, to reject a layer that repeats one: open
 // addressing with linear probing (coordinates are >= 0, so x = -1 marks an
-// empty slot), grown as points arrive, never to what the stream claims.
+// empty slot), grown as points arrive, never to what the stream claims. The
+// hash is seeded per decoder, so that a stream cannot be crafted to make
+// every point collide (which would make the checks quadratic).
 struct ProgressiveDecoder::PointSet {
   std::vector<GridPoint> slots = std::vector<GridPoint>(1024, GridPoint{-1, 0, 0});
   size_t size = 0;
+  uint64_t seed = (static_cast<uint64_t>(std::random_device{}()) << 32) ^ std::random_device{}();
 
-  static size_t hash(const GridPoint& p) {
-    uint64_t h = static_cast<uint64_t>(p.x) * 0x9E3779B97F4A7C15ull;
-    h ^= static_cast<uint64_t>(p.y) * 0xC2B2AE3D27D4EB4Full + (h >> 31);
-    h ^= static_cast<uint64_t>(p.z) * 0x165667B19E3779F9ull + (h >> 29);
-    return static_cast<size_t>(h ^ (h >> 32));
+  size_t hash(const GridPoint& p) const {
+    const int32_t key[3] = {p.x, p.y, p.z};
+    return static_cast<size_t>(
+        xxh3_64({reinterpret_cast<const uint8_t*>(key), sizeof key}, seed));
   }
   size_t slot_of(const GridPoint& p) const {
     const size_t mask = slots.size() - 1;
@@ -50,13 +55,13 @@ Status ProgressiveDecoder::fail(Status s) {
 
 Status ProgressiveDecoder::feed(std::span<const uint8_t> bytes, const LevelCallback& on_level) {
   if (!error_.ok()) return error_;
-  if (done_) return Status::Ok();  // the rest is not wanted
+  if (stopped_) return Status::Ok();  // the requested level is decoded: the rest is not wanted
   pending_.insert(pending_.end(), bytes.begin(), bytes.end());
   while (true) {
     const Status s = step(on_level);
     if (s.code() == StatusCode::kNeedMoreInput) break;
     if (!s.ok()) return fail(s);
-    if (done_) break;
+    if (stopped_) break;
   }
   // Drop consumed bytes once they are the larger part of the buffer.
   if (pending_start_ > pending_.size() / 2) {
@@ -78,12 +83,11 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
     return Status::Ok();
   }
   const int level = header_.level_count - 1 - static_cast<int>(levels_.size());
-  if (level < 0) {
+  if (level < 0) {  // complete: any further byte is trailing data, whenever it comes
     if (!avail.empty())
       return {StatusCode::kCorrupt, std::to_string(avail.size()) +
                                         " bytes of trailing data after the last layer"};
-    done_ = true;
-    return Status::Ok();
+    return {StatusCode::kNeedMoreInput, "complete"};
   }
   const std::string where = "level " + std::to_string(level) + " at byte " + std::to_string(consumed_);
   LayerHeader lh;
@@ -122,13 +126,13 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   pending_start_ += kLayerHeaderSize + lh.payload_bytes;
   consumed_ += kLayerHeaderSize + lh.payload_bytes;
   if (on_level) on_level(*this, d);
-  if (level == options_.stop_after_level) done_ = true;
+  if (level == options_.stop_after_level) stopped_ = true;
   return Status::Ok();
 }
 
 Status ProgressiveDecoder::finish() const {
   if (!error_.ok()) return error_;
-  if (done_) return Status::Ok();
+  if (stopped_ || complete()) return Status::Ok();
   if (!has_header_) return {StatusCode::kTruncated, "the input ends inside the header"};
   return {StatusCode::kTruncated,
           levels_.empty() ? std::string("the input ends before the base level is complete")

@@ -59,6 +59,10 @@ class ProgressiveDecoder {
   Status finish() const;
 
   bool has_header() const { return has_header_; }
+  // Every level of the stream is decoded (later bytes would be trailing data).
+  bool complete() const { return has_header_ && levels_.size() == header_.level_count; }
+  // The level asked for in DecoderOptions is decoded; later bytes are ignored.
+  bool stopped() const { return stopped_; }
   const StreamHeader& header() const { return header_; }
   // The finest level decoded so far; -1 before the base layer.
   int finest_level() const;
@@ -97,7 +101,7 @@ class ProgressiveDecoder {
   mutable size_t inserted_ = 0;          // points_ already in dt_
   mutable size_t layers_pending_ = 0;    // whole layers not yet in dt_
   Status error_;
-  bool done_ = false;
+  bool stopped_ = false;  // the requested level is decoded
 };
 
 // One call: decodes `bytes` up to `level` (-1: the finest level present).

@@ -262,6 +262,63 @@ TEST(Codec, ForeignAndFutureStreamsAreRejected) {
   EXPECT_EQ(scan_stream(bytes).status.code(), StatusCode::kCorrupt);
 }
 
+TEST(Codec, TrailingDataIsRejectedEvenInALaterFeed) {
+  const Encoded e = small_stream();
+  ProgressiveDecoder dec;
+  ASSERT_TRUE(dec.feed(e.stream.bytes).ok());
+  EXPECT_TRUE(dec.complete());
+  EXPECT_TRUE(dec.finish().ok());
+  const uint8_t junk[] = {1, 2, 3};
+  EXPECT_EQ(dec.feed(junk).code(), StatusCode::kCorrupt);
+  EXPECT_EQ(dec.finish().code(), StatusCode::kCorrupt);
+}
+
+// A layer whose checksum is right but whose content is not: built with the
+// format's own writer, so only the decoder's semantic checks can catch it.
+TEST(Codec, ALayerRepeatingACoarserPointIsRejected) {
+  StreamHeader h;
+  h.grid.qbits = 4;
+  h.level_count = 2;
+  h.vertex_count = 6;
+  const std::vector<GridPoint> base = {{0, 0, 0}, {9, 0, 0}, {0, 9, 0}, {0, 0, 9}, {5, 5, 5}};
+  LayerHeader l1;
+  l1.level = 1;
+  l1.new_vertices = 5;
+  l1.level_vertices = 5;
+  l1.alpha = 100;
+  LayerHeader l0 = l1;
+  l0.level = 0;
+  l0.new_vertices = 1;
+  l0.level_vertices = 6;
+  auto bytes = write_header(h);
+  for (const auto& part : {write_layer(l1, encode_point_set(base, 4)),
+                           write_layer(l0, encode_point_set(std::vector<GridPoint>{{9, 0, 0}}, 4))})
+    bytes.insert(bytes.end(), part.begin(), part.end());
+  ProgressiveDecoder dec;
+  const Status s = dec.feed(bytes);
+  EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+  EXPECT_NE(s.message().find("already in a coarser level"), std::string::npos) << s.message();
+  EXPECT_EQ(dec.levels().size(), 1u);  // the base level stands
+}
+
+TEST(Codec, AFlatBaseLevelIsRejected) {
+  StreamHeader h;
+  h.grid.qbits = 4;
+  h.level_count = 1;
+  h.vertex_count = 4;
+  LayerHeader l;
+  l.level = 0;
+  l.new_vertices = 4;
+  l.level_vertices = 4;
+  l.alpha = 100;
+  auto bytes = write_header(h);
+  const auto layer = write_layer(
+      l, encode_point_set(std::vector<GridPoint>{{0, 0, 1}, {5, 0, 1}, {0, 5, 1}, {5, 5, 1}}, 4));
+  bytes.insert(bytes.end(), layer.begin(), layer.end());
+  ProgressiveDecoder dec;
+  EXPECT_EQ(dec.feed(bytes).code(), StatusCode::kCorrupt);
+}
+
 TEST(Codec, VertexLimitIsEnforcedBeforeDecoding) {
   const Encoded e = small_stream();
   DecoderOptions o;

@@ -64,7 +64,7 @@ TEST(Meshenc, BadInputFailsClearlyAndLeavesNoReport) {
     const std::string path = std::string(DTM_TEST_SOURCE_DIR) + "/bad/" + name;
     const ToolRun r = meshenc(path + " --report " + report);
     EXPECT_NE(r.status, 0) << name;
-    EXPECT_NE(r.output.find("meshenc: error:"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("meshenc: error: " + path), std::string::npos) << r.output;
     EXPECT_FALSE(std::filesystem::exists(report)) << name;
   }
 }
@@ -102,6 +102,13 @@ TEST_F(Tools, MeshdecWritesEveryFormatAndVerifiesTheLevels) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("level 3: 6202 vertices, 38227 tetrahedra"), std::string::npos) << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir_ + "/l3.vtu"));
+}
+
+TEST_F(Tools, ALevelTheStreamDoesNotHaveIsAnError) {
+  const ToolRun r = run(kMeshdec + " " + stream_ + " -o " + dir_ + "/none.vtu --level 25");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("levels 0 to 24"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/none.vtu"));
 }
 
 TEST_F(Tools, TruncatedInputDecodesWhatItHolds) {

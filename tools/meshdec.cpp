@@ -93,13 +93,16 @@ int main(int argc, char** argv) {
     dtm::Status fed;
     dtm::read_in_chunks(input, [&](std::span<const uint8_t> chunk) {
       fed = decoder.feed(chunk, on_level);
-      return fed.ok() && decoder.finish().code() != dtm::StatusCode::kOk;
+      return fed.ok() && !decoder.stopped();  // read to the end: trailing bytes are an error
     });
     if (progress) std::fprintf(stderr, "\r\033[K");
     const dtm::Status status = decoder.finish();
     if (status.code() != dtm::StatusCode::kOk && status.code() != dtm::StatusCode::kTruncated)
       throw std::runtime_error(input + ": " + status.message());
     if (!verify_error.ok()) throw std::runtime_error(input + ": " + verify_error.message());
+    if (level >= 0 && decoder.has_header() && level >= decoder.header().level_count)
+      throw std::runtime_error(input + ": --level " + std::to_string(level) + " asked, the stream has levels 0 to " +
+                               std::to_string(decoder.header().level_count - 1));
     if (decoder.finest_level() < 0) throw std::runtime_error(input + ": " + status.message());
     if (status.code() == dtm::StatusCode::kTruncated && !quiet)
       std::fprintf(stderr, "meshdec: %s: truncated: %s; writing level %d\n", input.c_str(),
@@ -115,13 +118,13 @@ int main(int argc, char** argv) {
     mesh.level = decoder.vertex_levels();
     mesh.boundary = dtm::boundary_vertices(dt, mesh.points.size(), in_mesh);
 
-    for (const auto& [path, bytes] : dtm::render_mesh(mesh, format, output == "-" ? "out.vtu" : output)) {
-      if (output == "-") {
-        if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() || std::fflush(stdout) != 0)
-          throw std::runtime_error("cannot write to standard output");
-      } else {
-        dtm::write_file_atomically(path, bytes);
-      }
+    const auto files = dtm::render_mesh(mesh, format, output == "-" ? "out.vtu" : output);
+    if (output == "-") {
+      const std::string& bytes = files.front().second;
+      if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() || std::fflush(stdout) != 0)
+        throw std::runtime_error("cannot write to standard output");
+    } else {
+      dtm::write_files_atomically(files);
     }
     if (!quiet)
       std::fprintf(stderr, "meshdec: level %d: %zu vertices, %zu tetrahedra%s\n", decoder.finest_level(),

@@ -121,16 +121,21 @@ int main(int argc, char** argv) {
     const bool progress = !quiet && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     std::vector<dtm::LevelStats> stats;
-    const dtm::Hierarchy hierarchy = dtm::build_hierarchy(q.points, opt, [&](const dtm::Level& level) {
-      stats.push_back(level.stats);
-      if (!quiet) dtm::print_table_row(stdout, level.stats, q.grid);
-      if (progress) {
-        const double s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::fprintf(stderr, "\r  level %d done, %.0f vertices/s\033[K\r", level.stats.level,
-                     q.points.size() / std::max(s, 1e-9));
-      }
-    });
+    dtm::Hierarchy hierarchy;
+    try {
+      hierarchy = dtm::build_hierarchy(q.points, opt, [&](const dtm::Level& level) {
+        stats.push_back(level.stats);
+        if (!quiet) dtm::print_table_row(stdout, level.stats, q.grid);
+        if (progress) {
+          const double s =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          std::fprintf(stderr, "\r  level %d done, %.0f vertices/s\033[K\r", level.stats.level,
+                       q.points.size() / std::max(s, 1e-9));
+        }
+      });
+    } catch (const dtm::DegenerateInput& e) {
+      throw std::runtime_error(input + ": " + e.what());
+    }
     if (progress) std::fprintf(stderr, "\033[K");
 
     dtm::ReportContext ctx;
@@ -138,20 +143,21 @@ int main(int argc, char** argv) {
     ctx.grid = q.grid;
     ctx.duplicates_merged = q.duplicates_merged;
     ctx.scale = scale;
+    // The stream and the report are written together or not at all.
+    std::vector<std::pair<std::string, std::string>> files;
     if (!output.empty()) {
       dtm::EncoderOptions eo;
       eo.cell_hashes = hash_cells;
       const auto stream = dtm::encode_stream(hierarchy, q.points, q.grid, opt.alpha.kind, eo);
       ctx.layer_bytes = stream.layer_bytes;
       ctx.stream_bytes = stream.bytes.size();
-      const std::string_view bytes(reinterpret_cast<const char*>(stream.bytes.data()),
-                                   stream.bytes.size());
+      std::string bytes(stream.bytes.begin(), stream.bytes.end());
       if (output == "-") {
         if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() ||
             std::fflush(stdout) != 0)
           throw std::runtime_error("cannot write the stream to standard output");
       } else {
-        dtm::write_file_atomically(output, bytes);
+        files.emplace_back(output, std::move(bytes));
       }
       if (!quiet)
         std::printf("%s: %zu bytes, %.2f bits per vertex (%zu vertices, %zu levels)\n",
@@ -160,7 +166,8 @@ int main(int argc, char** argv) {
                     hierarchy.levels.size());
     }
     if (!report_path.empty())
-      dtm::write_file_atomically(report_path, dtm::report_json(ctx, stats).dump(2) + "\n");
+      files.emplace_back(report_path, dtm::report_json(ctx, stats).dump(2) + "\n");
+    dtm::write_files_atomically(files);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshenc: error: %s\n", e.what());
     return 1;

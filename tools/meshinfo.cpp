@@ -68,9 +68,11 @@ int main(int argc, char** argv) {
     std::vector<QualityRow> quality;
     if (stats) {
       dtm::ProgressiveDecoder decoder;
-      decoder.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
-        quality.push_back(quality_of(d.points(), l.alpha));
-      });
+      const dtm::Status st =
+          decoder.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
+            quality.push_back(quality_of(d.points(), l.alpha));
+          });
+      if (!st.ok()) throw std::runtime_error(input + ": " + st.message());
     }
 
     const auto& h = s.header;
