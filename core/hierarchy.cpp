@@ -39,17 +39,12 @@ struct Representation {
 LevelStats measure(const LevelGeometry& L, const Representation& rep, bool boundary_error) {
   LevelStats s;
   s.vertices = L.size();
-  s.boundary_vertices = std::count(L.boundary.begin(), L.boundary.end(), 1);
+  const MeshQuality q = mesh_quality(L);
+  s.boundary_vertices = q.boundary_vertices;
   s.alpha = L.alpha;
   s.tetrahedra = L.mesh_cells;
-  double sum = 0, lowest = std::numeric_limits<double>::infinity();
-  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
-    if (!L.in_mesh[c]) continue;
-    sum += L.cell_min_solid_angle[c];
-    lowest = std::min(lowest, L.cell_min_solid_angle[c]);
-  }
-  s.avg_min_solid_angle = L.mesh_cells ? sum / L.mesh_cells : 0;
-  s.min_solid_angle = L.mesh_cells ? lowest : 0;
+  s.avg_min_solid_angle = q.avg_min_solid_angle;
+  s.min_solid_angle = q.min_solid_angle;
   if (!boundary_error) return s;
   std::vector<std::array<uint32_t, 3>> surface;
   for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))

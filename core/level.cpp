@@ -83,6 +83,20 @@ LevelGeometry analyze_level(std::vector<GridPoint> points, TetMesh dt, const Alp
   return L;
 }
 
+MeshQuality mesh_quality(const LevelGeometry& L) {
+  MeshQuality q;
+  double sum = 0, lowest = INFINITY;
+  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
+    if (!L.in_mesh[c]) continue;
+    sum += L.cell_min_solid_angle[c];
+    lowest = std::min(lowest, L.cell_min_solid_angle[c]);
+  }
+  q.avg_min_solid_angle = L.mesh_cells ? sum / L.mesh_cells : 0;
+  q.min_solid_angle = L.mesh_cells ? lowest : 0;
+  for (uint8_t b : L.boundary) q.boundary_vertices += b;
+  return q;
+}
+
 std::vector<uint8_t> topological_boundary(const LevelGeometry& L) {
   return boundary_vertices(L.dt, L.size(), L.in_mesh);
 }

@@ -63,6 +63,15 @@ LevelGeometry analyze_level(std::vector<GridPoint> points, const AlphaPolicy& po
 // The same, given the Delaunay tetrahedralization of `points` already.
 LevelGeometry analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy);
 
+// The paper's quality figures of M_l (§III, Tables 1-2): mean and minimum
+// over its cells of each cell's smallest solid angle, and its boundary size.
+struct MeshQuality {
+  double avg_min_solid_angle = 0;
+  double min_solid_angle = 0;
+  uint64_t boundary_vertices = 0;
+};
+MeshQuality mesh_quality(const LevelGeometry& level);
+
 // The topological boundary of M_l: vertices of its boundary faces, plus
 // vertices in no M_l cell. The solid-angle test must agree with it.
 std::vector<uint8_t> topological_boundary(const LevelGeometry& level);

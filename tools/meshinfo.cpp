@@ -22,23 +22,15 @@ Examples:
   meshinfo bunny.dtm --stats      # also decodes every level: tetrahedra, solid angles)";
 
 struct QualityRow {
-  uint64_t tetrahedra = 0, boundary = 0;
-  double avg_min_solid_angle = 0, min_solid_angle = 0;
+  uint64_t tetrahedra = 0;
+  dtm::MeshQuality quality;
 };
 
 // The paper's quality figures of one decoded level, from its own analysis.
 QualityRow quality_of(std::vector<dtm::GridPoint> points, double alpha) {
-  dtm::AlphaPolicy fixed{dtm::AlphaPolicy::Kind::kFixed, alpha};
-  const dtm::LevelGeometry L = dtm::analyze_level(std::move(points), fixed);
-  QualityRow q;
-  q.tetrahedra = L.mesh_cells;
-  for (uint8_t b : L.boundary) q.boundary += b;
-  double sum = 0, lowest = INFINITY;
-  for (size_t c = 0; c < L.dt.cells.size(); ++c)
-    if (L.in_mesh[c]) sum += L.cell_min_solid_angle[c], lowest = std::min(lowest, L.cell_min_solid_angle[c]);
-  q.avg_min_solid_angle = L.mesh_cells ? sum / L.mesh_cells : 0;
-  q.min_solid_angle = L.mesh_cells ? lowest : 0;
-  return q;
+  const dtm::LevelGeometry L =
+      dtm::analyze_level(std::move(points), {dtm::AlphaPolicy::Kind::kFixed, alpha});
+  return {L.mesh_cells, dtm::mesh_quality(L)};
 }
 
 }  // namespace
@@ -110,9 +102,9 @@ int main(int argc, char** argv) {
       }
       if (i < quality.size())
         row.update({{"tetrahedra", quality[i].tetrahedra},
-                    {"boundary_vertices", quality[i].boundary},
-                    {"avg_min_solid_angle", quality[i].avg_min_solid_angle},
-                    {"min_solid_angle", quality[i].min_solid_angle}});
+                    {"boundary_vertices", quality[i].quality.boundary_vertices},
+                    {"avg_min_solid_angle", quality[i].quality.avg_min_solid_angle},
+                    {"min_solid_angle", quality[i].quality.min_solid_angle}});
       j["levels"].push_back(row);
     }
     if (json) {
@@ -135,8 +127,8 @@ int main(int argc, char** argv) {
                   8.0 * layer_bytes / l.header.new_vertices);
       if (i < quality.size())
         std::printf(" %9llu %9llu %9.6f %9.3g", (unsigned long long)quality[i].tetrahedra,
-                    (unsigned long long)quality[i].boundary, quality[i].avg_min_solid_angle,
-                    quality[i].min_solid_angle);
+                    (unsigned long long)quality[i].quality.boundary_vertices,
+                    quality[i].quality.avg_min_solid_angle, quality[i].quality.min_solid_angle);
       std::printf("%s\n", l.complete ? "" : "  (incomplete)");
     }
   } catch (const std::exception& e) {
