@@ -22,10 +22,6 @@ class ByteWriter {
     u64(bits);
   }
   void bytes(std::span<const uint8_t> b) { bytes_.insert(bytes_.end(), b.begin(), b.end()); }
-  // Overwrites 4 bytes at `offset` (for fields known only later).
-  void patch_u32(size_t offset, uint32_t v) {
-    for (int i = 0; i < 4; ++i) bytes_[offset + i] = static_cast<uint8_t>(v >> (8 * i));
-  }
   size_t size() const { return bytes_.size(); }
   const std::vector<uint8_t>& data() const { return bytes_; }
   std::vector<uint8_t> take() { return std::move(bytes_); }

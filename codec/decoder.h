@@ -78,8 +78,6 @@ class ProgressiveDecoder {
   // These bring the triangulation up to date first.
   TetMesh delaunay() const;
   std::vector<std::array<uint32_t, 4>> carved_cells() const;
-  // Stream bytes consumed by whole levels.
-  uint64_t bytes_used() const { return consumed_; }
 
  private:
   Status step(const LevelCallback& on_level);
@@ -104,8 +102,8 @@ class ProgressiveDecoder {
   bool stopped_ = false;  // the requested level is decoded
 };
 
-// One call: decodes `bytes` up to `level` (-1: the finest level present).
-// `decoder` then holds the result; the returned status is finish()'s.
+// One call: decodes `bytes` with `decoder` (up to its stop_after_level) and
+// returns finish()'s status; `decoder` then holds the result.
 Status decode_stream(std::span<const uint8_t> bytes, ProgressiveDecoder& decoder);
 
 // M_l: flags the cells of `dt` whose circumradius is <= alpha (spec/HIERARCHY.md §2).

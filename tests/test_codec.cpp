@@ -355,8 +355,7 @@ TEST(Codec, StopsAtTheRequestedLevel) {
   DecoderOptions o;
   o.stop_after_level = 2;
   ProgressiveDecoder dec(o);
-  ASSERT_TRUE(dec.feed(e.stream.bytes).ok());
-  EXPECT_TRUE(dec.finish().ok());
+  EXPECT_TRUE(decode_stream(e.stream.bytes, dec).ok());
   EXPECT_EQ(dec.finest_level(), 2);
   EXPECT_EQ(dec.points().size(), e.hierarchy.levels[2].vertices.size());
 }
