@@ -121,8 +121,7 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
 // Hands the original points represented by removed vertices to their nearest
 // surviving Delaunay neighbour (all neighbours survive: the set is independent).
 void hand_over(Representation& rep, const LevelGeometry& L, std::span<const uint32_t> vertices,
-               const Removal& r, size_t grid_points) {
-  const Csr rows = rep.rows_for(vertices, grid_points);
+               const Removal& r, const Csr& rows) {
   for (uint32_t v = 0; v < L.size(); ++v) {
     if (!r.removed[v]) continue;
     for (uint32_t k : rows.row(v)) {
@@ -209,7 +208,7 @@ Hierarchy build_hierarchy(std::span<const GridPoint> points, const HierarchyOpti
     } catch (const DegenerateInput&) {
       break;  // the coarser set would be flat: this level is the coarsest
     }
-    hand_over(rep, L, vertices, next, points.size());
+    hand_over(rep, L, vertices, next, represented);
     vertices = std::move(kept);
     L = std::move(coarser);
     made = next;
