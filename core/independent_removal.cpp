@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <thread>
 #include <tuple>
 
 namespace dtm {
@@ -77,19 +78,43 @@ TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_verte
     int face;
   };
   std::vector<CrossFace> cross;
-  std::vector<GridPoint> link;
-  std::vector<uint32_t> link_ids;
-  std::vector<BorderFace> border;
-  for (uint32_t v = 0; v < n; ++v) {
-    if (!removed[v]) continue;
-    link.clear();
-    link_ids.clear();
-    for (uint32_t u : neighbors.row(v)) {
-      if (removed[u])
-        throw std::invalid_argument("remove_independent_vertices: the set is not independent");
-      link.push_back(points[u]);
-      link_ids.push_back(new_id[u]);
+
+  // The fills are independent of each other (disjoint stars, separate small
+  // triangulations), so they are computed on every core; stitching them in
+  // stays sequential, in vertex order, so the result does not depend on the
+  // number of threads.
+  std::vector<uint32_t> removed_list;
+  for (uint32_t v = 0; v < n; ++v)
+    if (removed[v]) removed_list.push_back(v);
+  std::vector<CavityFill> fills(removed_list.size());
+  std::vector<uint8_t> dependent(removed_list.size(), 0);
+  const size_t threads =
+      removed_list.size() < 2048 ? 1 : std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 8);
+  auto compute = [&](size_t t) {
+    std::vector<GridPoint> link;
+    std::vector<uint32_t> link_ids;
+    for (size_t k = t; k < removed_list.size(); k += threads) {
+      const uint32_t v = removed_list[k];
+      link.clear();
+      link_ids.clear();
+      for (uint32_t u : neighbors.row(v)) {
+        if (removed[u]) dependent[k] = 1;
+        link.push_back(points[u]);
+        link_ids.push_back(new_id[u]);
+      }
+      if (!dependent[k]) fills[k] = cavity_fill(link, link_ids, points[v]);
     }
+  };
+  std::vector<std::thread> workers;
+  for (size_t t = 1; t < threads; ++t) workers.emplace_back(compute, t);
+  compute(0);
+  for (auto& w : workers) w.join();
+  if (std::find(dependent.begin(), dependent.end(), 1) != dependent.end())
+    throw std::invalid_argument("remove_independent_vertices: the set is not independent");
+
+  std::vector<BorderFace> border;
+  for (size_t k = 0; k < removed_list.size(); ++k) {
+    const uint32_t v = removed_list[k];
     border.clear();
     for (uint32_t c : cells_of_vertex.row(v)) {
       const auto& cell = dt.cells[c];
@@ -104,7 +129,7 @@ TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_verte
       border.push_back({face_of(renamed, i), outside, outside_face});
     }
 
-    const CavityFill fill = cavity_fill(link, link_ids, points[v]);
+    const CavityFill& fill = fills[k];
     const auto first = static_cast<int32_t>(out.cells.size());
     for (size_t f = 0; f < fill.cells.size(); ++f) {
       out.cells.push_back(fill.cells[f]);
