@@ -81,9 +81,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   w.f64(h.alpha);
   w.u32(h.payload_bytes = static_cast<uint32_t>(payload.size()));
   w.u64(h.cell_hash);
-  std::vector<uint8_t> summed(w.data());
-  summed.insert(summed.end(), payload.begin(), payload.end());
-  w.u64(xxh3_64(summed));
+  w.u64(xxh3_64(w.data(), payload));
   w.bytes(payload);
   return w.take();
 }
@@ -119,10 +117,7 @@ Status parse_layer_header(std::span<const uint8_t> bytes, const StreamHeader& st
 
 bool layer_checksum_ok(std::span<const uint8_t> layer_header_bytes,
                        std::span<const uint8_t> payload, uint64_t checksum) {
-  std::vector<uint8_t> summed(layer_header_bytes.begin(),
-                              layer_header_bytes.begin() + kLayerChecksumOffset);
-  summed.insert(summed.end(), payload.begin(), payload.end());
-  return xxh3_64(summed) == checksum;
+  return xxh3_64(layer_header_bytes.first(kLayerChecksumOffset), payload) == checksum;
 }
 
 StreamSummary scan_stream(std::span<const uint8_t> bytes) {
