@@ -3,94 +3,28 @@
 #include <algorithm>
 #include <bit>
 
+#include "bitstream/range_coder.h"
+
 namespace dtm {
-namespace {
 
-class BitWriter {
- public:
-  void bit(bool b) {
-    if (used_ == 0) bytes_.push_back(0);
-    if (b) bytes_.back() |= static_cast<uint8_t>(0x80u >> used_);
-    used_ = (used_ + 1) & 7;
-  }
-  void bits(MortonCode v, int n) {  // n <= 128, most significant first
-    for (int i = n - 1; i >= 0; --i) bit(((v >> i) & 1) != 0);
-  }
-  void ones(MortonCode n) {
-    for (MortonCode i = 0; i < n; ++i) bit(true);
-  }
-  std::vector<uint8_t>& bytes() { return bytes_; }
+// Context layout (spec/FORMAT.md §5.3).
+constexpr int kKnownClasses = 7;   // class(k): 0, 1, 2, 3-4, 5-8, 9-16, 17+
+constexpr int kSmallMax = 12;      // n0 of nodes with 2..12 new points: bisection
+constexpr int kSplitContexts = 29; // 0: no known point; else 1 + 4 * share bucket + size class
+constexpr int kBisectNodes = 32;   // heap positions of the bisection of [0, 12]
+constexpr int kLargeClasses = 26;  // bit_width(n) of nodes with n > 12
+constexpr int kPrefixBits = 40;    // Exp-Golomb prefix: at most 40 ones
 
- private:
-  std::vector<uint8_t> bytes_;
-  int used_ = 0;
+struct SetCoderModels::Tables {
+  AdaptiveBit single[kKnownClasses][kKnownClasses];
+  AdaptiveBit small[kSmallMax + 1][kSplitContexts][kBisectNodes];
+  AdaptiveBit large_prefix[kLargeClasses][kPrefixBits + 1];
 };
 
-// Reads bits most significant first, 64 at a time where it can: a unary run
-// is counted with one countl_one per word instead of bit by bit.
-class BitReader {
- public:
-  explicit BitReader(std::span<const uint8_t> bytes) : bytes_(bytes), size_(bytes.size() * 8) {}
-  // Counts one bits up to the next zero bit and consumes them and it; gives
-  // up (false) past `limit` ones or at the end of the input.
-  bool unary(MortonCode limit, MortonCode& ones) {
-    ones = 0;
-    while (true) {
-      if (pos_ >= size_) return false;
-      const int run = std::countl_one(peek64());
-      const size_t avail = size_ - pos_;
-      if (static_cast<size_t>(run) < std::min<size_t>(64, avail)) {
-        ones += run;
-        pos_ += run + 1;
-        return ones <= limit;
-      }
-      const size_t step = std::min<size_t>(64, avail);
-      ones += step;
-      pos_ += step;
-      if (ones > limit) return false;
-    }
-  }
-  bool bits(int n, MortonCode& v) {  // n <= 3 * 24
-    if (pos_ + n > size_) return false;
-    v = 0;
-    while (n > 0) {
-      const int take = std::min(n, 56);
-      v = (v << take) | (peek64() >> (64 - take));
-      pos_ += take;
-      n -= take;
-    }
-    return true;
-  }
-  // True when only zero padding bits of the last byte remain.
-  bool at_clean_end() const {
-    if (pos_ > size_ || (pos_ + 7) / 8 != bytes_.size()) return false;
-    if (pos_ % 8 == 0) return true;
-    return (bytes_.back() & (0xFFu >> (pos_ % 8))) == 0;
-  }
-
- private:
-  // The next 64 bits from pos_, zeros past the end.
-  uint64_t peek64() const {
-    const size_t byte = pos_ >> 3;
-    uint64_t word = 0;
-    for (size_t i = 0; i < 8; ++i)
-      word = (word << 8) | (byte + i < bytes_.size() ? bytes_[byte + i] : 0);
-    const int shift = pos_ & 7;
-    if (shift == 0) return word;
-    const uint8_t next = byte + 8 < bytes_.size() ? bytes_[byte + 8] : 0;
-    return (word << shift) | (next >> (8 - shift));
-  }
-  std::span<const uint8_t> bytes_;
-  size_t size_;
-  size_t pos_ = 0;
-};
-
-int bit_length(MortonCode v) {
-  const uint64_t hi = static_cast<uint64_t>(v >> 64), lo = static_cast<uint64_t>(v);
-  return hi ? 128 - std::countl_zero(hi) : 64 - std::countl_zero(lo);
-}
-
-}  // namespace
+SetCoderModels::SetCoderModels() : tables_(std::make_unique<Tables>()) {}
+SetCoderModels::~SetCoderModels() = default;
+SetCoderModels::SetCoderModels(SetCoderModels&&) noexcept = default;
+SetCoderModels& SetCoderModels::operator=(SetCoderModels&&) noexcept = default;
 
 MortonCode morton_encode(const GridPoint& p, int qbits) {
   MortonCode code = 0;
@@ -111,69 +45,213 @@ GridPoint morton_decode(MortonCode code, int qbits) {
   return p;
 }
 
-std::vector<uint8_t> encode_point_set(std::span<const GridPoint> points, int qbits) {
-  std::vector<MortonCode> codes;
-  codes.reserve(points.size());
-  for (const GridPoint& p : points) codes.push_back(morton_encode(p, qbits));
-  std::sort(codes.begin(), codes.end());
-  std::vector<MortonCode> gaps(codes.size());
-  for (size_t i = 0; i < codes.size(); ++i) gaps[i] = i == 0 ? codes[0] : codes[i] - codes[i - 1] - 1;
-
-  // The Rice parameter that makes the payload smallest, searched around
-  // log2 of the mean gap.
-  int best_k = 0;
-  if (!gaps.empty()) {
-    MortonCode total = 0;
-    for (MortonCode g : gaps) total += g;
-    const int guess = bit_length(total / gaps.size());
-    MortonCode best_bits = ~MortonCode{0};
-    for (int k = std::max(0, guess - 3); k <= std::min(3 * qbits, guess + 2); ++k) {
-      MortonCode bits = 0;
-      for (MortonCode g : gaps) bits += (g >> k) + 1 + k;
-      if (bits < best_bits) best_bits = bits, best_k = k;
-    }
-  }
-  BitWriter w;
-  w.bytes().push_back(static_cast<uint8_t>(best_k));
-  // The k byte is whole, so bit writing starts on a fresh byte.
-  std::vector<uint8_t> head = std::move(w.bytes());
-  BitWriter body;
-  for (MortonCode g : gaps) {
-    body.ones(g >> best_k);
-    body.bit(false);
-    body.bits(g, best_k);
-  }
-  head.insert(head.end(), body.bytes().begin(), body.bytes().end());
-  return head;
+void merge_known(std::vector<MortonCode>& known, std::span<const GridPoint> added, int qbits) {
+  const size_t old_size = known.size();
+  for (const GridPoint& p : added) known.push_back(morton_encode(p, qbits));
+  std::sort(known.begin() + old_size, known.end());
+  std::inplace_merge(known.begin(), known.begin() + old_size, known.end());
 }
 
-Status decode_point_set(std::span<const uint8_t> payload, int qbits, uint32_t count,
+namespace {
+
+int known_class(uint64_t k) {
+  if (k <= 2) return static_cast<int>(k);
+  if (k <= 4) return 3;
+  if (k <= 8) return 4;
+  if (k <= 16) return 5;
+  return 6;
+}
+
+// The share of the known points in the first child, in 7 buckets, and how
+// many known points back it: where the coarser level is dense, the finer one
+// is too.
+int split_context(uint64_t k0, uint64_t k) {
+  if (k == 0) return 0;
+  const int share = static_cast<int>((7 * (2 * k0 + 1)) / (2 * (k + 1)));  // 0..6
+  const int size = k <= 1 ? 0 : k <= 4 ? 1 : k <= 16 ? 2 : 3;
+  return 1 + 4 * share + size;
+}
+
+// n * (k0 + 1/2) / (k + 1), rounded half up: the known points' guess at n0.
+uint64_t predicted_first(uint64_t n, uint64_t k0, uint64_t k) {
+  const unsigned __int128 num = static_cast<unsigned __int128>(n) * (2 * k0 + 1) + (k + 1);
+  return static_cast<uint64_t>(num / (2 * (k + 1)));
+}
+
+uint64_t zigzag(int64_t d) { return d >= 0 ? 2 * static_cast<uint64_t>(d) : 2 * static_cast<uint64_t>(-d) - 1; }
+int64_t unzigzag(uint64_t u) { return (u & 1) ? -static_cast<int64_t>((u + 1) / 2) : static_cast<int64_t>(u / 2); }
+
+// The first index in [lo, hi) of `codes` whose code is >= mid.
+size_t split_index(std::span<const MortonCode> codes, size_t lo, size_t hi, MortonCode mid) {
+  return static_cast<size_t>(
+      std::lower_bound(codes.begin() + lo, codes.begin() + hi, mid) - codes.begin());
+}
+
+class Encoder {
+ public:
+  Encoder(std::span<const MortonCode> known, std::span<const MortonCode> fresh, int qbits,
+          SetCoderModels::Tables& t)
+      : known_(known), fresh_(fresh), bits_(3 * qbits), t_(t) {}
+
+  std::vector<uint8_t> run() {
+    node(0, 0, 0, fresh_.size(), 0, known_.size());
+    return rc_.finish();
+  }
+
+ private:
+  // Node of depth `depth` starting at code `base`; fresh_[f0, f1) and
+  // known_[k0, k1) lie in it; f1 > f0.
+  void node(int depth, MortonCode base, size_t f0, size_t f1, size_t k0, size_t k1) {
+    const uint64_t n = f1 - f0, k = k1 - k0;
+    const int rest = bits_ - depth;
+    if (rest == 0) return;  // one cell, one new point (the input is distinct)
+    if (n == 1 && k == 0) {
+      const MortonCode offset = fresh_[f0] - base;
+      if (rest > 64) rc_.encode_raw(static_cast<uint64_t>(offset >> 64), rest - 64);
+      rc_.encode_raw(static_cast<uint64_t>(offset), std::min(rest, 64));
+      return;
+    }
+    const MortonCode mid = base + (MortonCode{1} << (rest - 1));
+    const size_t fm = split_index(fresh_, f0, f1, mid);
+    const size_t km = split_index(known_, k0, k1, mid);
+    const uint64_t n0 = fm - f0, kn0 = km - k0;
+    if (n == 1) {
+      rc_.encode(t_.single[known_class(kn0)][known_class(k - kn0)], n0 == 0);
+    } else if (n <= kSmallMax) {
+      auto& models = t_.small[n][split_context(kn0, k)];
+      uint64_t lo = 0, hi = n;
+      int heap = 1;
+      while (lo < hi) {
+        const uint64_t half = (lo + hi) / 2;
+        const bool upper = n0 > half;
+        rc_.encode(models[heap], upper);
+        heap = 2 * heap + upper;
+        if (upper) lo = half + 1;
+        else hi = half;
+      }
+    } else {
+      const uint64_t guess = predicted_first(n, kn0, k);
+      const uint64_t u = zigzag(static_cast<int64_t>(n0) - static_cast<int64_t>(guess)) + 1;
+      const int e = std::bit_width(u) - 1;
+      auto& prefix = t_.large_prefix[std::bit_width(n)];
+      for (int i = 0; i < e; ++i) rc_.encode(prefix[i], true);
+      rc_.encode(prefix[e], false);
+      rc_.encode_raw(u, e);  // the bits below the leading one
+    }
+    if (fm > f0) node(depth + 1, base, f0, fm, k0, km);
+    if (f1 > fm) node(depth + 1, mid, fm, f1, km, k1);
+  }
+
+  std::span<const MortonCode> known_, fresh_;
+  int bits_;
+  SetCoderModels::Tables& t_;
+  RangeEncoder rc_;
+};
+
+class Decoder {
+ public:
+  Decoder(std::span<const uint8_t> payload, std::span<const MortonCode> known, int qbits,
+          SetCoderModels::Tables& t, std::vector<GridPoint>& out)
+      : rc_(payload), known_(known), qbits_(qbits), bits_(3 * qbits), t_(t), out_(out) {}
+
+  Status run(uint32_t count) {
+    if (!node(0, 0, count, 0, known_.size())) return {StatusCode::kCorrupt, error_};
+    if (!rc_.finished_cleanly())
+      return {StatusCode::kCorrupt, rc_.overran() ? "point-set payload ends early"
+                                                  : "point-set payload does not end where its bytes do"};
+    return Status::Ok();
+  }
+
+ private:
+  bool fail(const char* why) {
+    error_ = why;
+    return false;
+  }
+
+  bool node(int depth, MortonCode base, uint64_t n, size_t k0, size_t k1) {
+    // A payload that runs past its end only reads zeros: stop at once rather
+    // than decode what the stream does not hold.
+    if (rc_.overran()) return fail("point-set payload ends early");
+    const uint64_t k = k1 - k0;
+    const int rest = bits_ - depth;
+    if (rest == 0) {
+      if (n > 1) return fail("two points in one grid cell");
+      if (k > 0) return fail("a point of this layer is already in a coarser level");
+      out_.push_back(morton_decode(base, qbits_));
+      return true;
+    }
+    if (n == 1 && k == 0) {
+      MortonCode offset = 0;
+      if (rest > 64) offset = MortonCode{rc_.decode_raw(rest - 64)} << 64;
+      offset |= rc_.decode_raw(std::min(rest, 64));
+      out_.push_back(morton_decode(base + offset, qbits_));
+      return true;
+    }
+    const MortonCode mid = base + (MortonCode{1} << (rest - 1));
+    const size_t km = split_index(known_, k0, k1, mid);
+    const uint64_t kn0 = km - k0;
+    uint64_t n0 = 0;
+    if (n == 1) {
+      // Bit 1: the point is in the second child.
+      n0 = rc_.decode(t_.single[known_class(kn0)][known_class(k - kn0)]) ? 0 : 1;
+    } else if (n <= kSmallMax) {
+      auto& models = t_.small[n][split_context(kn0, k)];
+      uint64_t lo = 0, hi = n;
+      int heap = 1;
+      while (lo < hi) {
+        const uint64_t half = (lo + hi) / 2;
+        const bool upper = rc_.decode(models[heap]);
+        heap = 2 * heap + upper;
+        if (upper) lo = half + 1;
+        else hi = half;
+      }
+      n0 = lo;
+    } else {
+      auto& prefix = t_.large_prefix[std::bit_width(n)];
+      int e = 0;
+      while (rc_.decode(prefix[e]))
+        if (++e > kPrefixBits - 1) return fail("point count out of range");
+      const uint64_t u = (uint64_t{1} << e) | rc_.decode_raw(e);
+      const int64_t value = static_cast<int64_t>(predicted_first(n, kn0, k)) + unzigzag(u - 1);
+      if (value < 0 || static_cast<uint64_t>(value) > n) return fail("point count out of range");
+      n0 = static_cast<uint64_t>(value);
+    }
+    if (n0 > 0 && !node(depth + 1, base, n0, k0, km)) return false;
+    if (n > n0 && !node(depth + 1, mid, n - n0, km, k1)) return false;
+    return true;
+  }
+
+  RangeDecoder rc_;
+  std::span<const MortonCode> known_;
+  int qbits_, bits_;
+  SetCoderModels::Tables& t_;
+  std::vector<GridPoint>& out_;
+  const char* error_ = "";
+};
+
+}  // namespace
+
+std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known,
+                                      std::span<const GridPoint> points, int qbits,
+                                      SetCoderModels& models) {
+  if (points.empty()) return {};
+  std::vector<MortonCode> fresh;
+  fresh.reserve(points.size());
+  for (const GridPoint& p : points) fresh.push_back(morton_encode(p, qbits));
+  std::sort(fresh.begin(), fresh.end());
+  return Encoder(known, fresh, qbits, models.tables()).run();
+}
+
+Status decode_point_set(std::span<const uint8_t> payload, std::span<const MortonCode> known,
+                        int qbits, uint32_t count, SetCoderModels& models,
                         std::vector<GridPoint>& out) {
-  if (payload.empty()) return {StatusCode::kCorrupt, "empty point-set payload"};
+  if (count == 0) {
+    if (!payload.empty()) return {StatusCode::kCorrupt, "payload bytes in a layer of no points"};
+    return Status::Ok();
+  }
   if (payload.size() < min_payload_bytes(count))
     return {StatusCode::kCorrupt, "payload too short for its point count"};
-  const int k = payload[0];
-  if (k > 3 * qbits) return {StatusCode::kCorrupt, "Rice parameter out of range"};
-  const MortonCode end = MortonCode{1} << (3 * qbits);  // codes are < end
-  const MortonCode max_quotient = end >> k;
-  BitReader r(payload.subspan(1));
-  MortonCode next = 0;  // the smallest code the next point may have
-  out.reserve(out.size() + count);
-  for (uint32_t i = 0; i < count; ++i) {
-    MortonCode quotient = 0;
-    if (!r.unary(max_quotient, quotient))
-      return {StatusCode::kCorrupt, quotient > max_quotient ? "point outside the grid"
-                                                             : "point-set payload ends early"};
-    MortonCode low = 0;
-    if (!r.bits(k, low)) return {StatusCode::kCorrupt, "point-set payload ends early"};
-    const MortonCode gap = (quotient << k) | low;
-    if (gap >= end - next) return {StatusCode::kCorrupt, "point outside the grid"};
-    const MortonCode code = next + gap;
-    out.push_back(morton_decode(code, qbits));
-    next = code + 1;
-  }
-  if (!r.at_clean_end()) return {StatusCode::kCorrupt, "trailing bits in a point-set payload"};
-  return Status::Ok();
+  return Decoder(payload, known, qbits, models.tables(), out).run(count);
 }
 
 }  // namespace dtm

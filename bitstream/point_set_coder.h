@@ -1,17 +1,27 @@
-// The first point-set coder: a layer's points are a set, so they are sent in
-// Morton (octree) order as Rice-coded gaps between consecutive Morton codes.
-// For n points spread over the 2^(3q) cells of the grid it costs about
-// log2(2^(3q) / n) + 1.5 bits per point: close to the size of an unordered
-// set drawn uniformly, and blind to the shape (issue 5 makes it small).
+// The layer coder: the points a layer adds are a set, coded as a binary
+// space partition conditioned on the points the decoder already holds (the
+// coarser levels). See spec/FORMAT.md §5 for the normative definition.
 //
-// Payload: one byte k (the Rice parameter, 0..3q), then for each point, in
-// ascending Morton order, gap = code - previous code - 1 (the first point's
-// gap is its code) as q = gap >> k in unary (q one bits, then a zero bit)
-// and the low k bits of gap, most significant first. Bits fill bytes from
-// the most significant bit; the last byte is padded with zero bits.
+// The grid's cells are ordered by Morton code (3q bits, x y z interleaved,
+// most significant first); a node at depth b is the set of codes sharing a
+// b-bit prefix, and its two children split it by the next bit. For a node
+// holding n >= 1 new points and k known ones (k0, k1 in its children, known
+// to both sides), the coder sends n0, the new points in the first child:
+// - n = 1 and k = 0: the point's remaining code bits, raw;
+// - n = 1 and k > 0: one adaptive bit, context (class(k0), class(k1));
+// - 2 <= n <= 12: n0 by bisection of [0, n], adaptive bits with context
+//   (n, the split the known points predict, the node tree position);
+// - n > 12: n0 minus the known points' prediction, zigzag Exp-Golomb with
+//   adaptive prefix bits.
+// Known points make the coder follow the object's density (a finer level
+// fills the same volume as the coarser one, at the same grading) and learn
+// that new points keep their distance from known ones. The models carry over
+// from layer to layer of one stream.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -25,17 +35,42 @@ using MortonCode = unsigned __int128;
 MortonCode morton_encode(const GridPoint& p, int qbits);
 GridPoint morton_decode(MortonCode code, int qbits);
 
-// Encodes distinct points of a qbits grid, in any order.
-std::vector<uint8_t> encode_point_set(std::span<const GridPoint> points, int qbits);
+// The adaptive models of one stream: created at the stream's start, updated
+// by every layer in stream order, identically by encoder and decoder.
+class SetCoderModels {
+ public:
+  SetCoderModels();
+  ~SetCoderModels();
+  SetCoderModels(SetCoderModels&&) noexcept;
+  SetCoderModels& operator=(SetCoderModels&&) noexcept;
+  struct Tables;
+  Tables& tables() { return *tables_; }
 
-// Decodes exactly `count` points, appending them in Morton order. Rejects
-// (kCorrupt) codes outside the grid, a payload that ends early, trailing
-// bytes, and non-zero padding.
-Status decode_point_set(std::span<const uint8_t> payload, int qbits, uint32_t count,
+ private:
+  std::unique_ptr<Tables> tables_;
+};
+
+// Known points: ascending Morton codes of every point of the coarser levels.
+// New points: distinct, none of them known, any order.
+std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known,
+                                      std::span<const GridPoint> points, int qbits,
+                                      SetCoderModels& models);
+
+// Decodes exactly `count` new points, appending them in Morton order. Rejects
+// (kCorrupt) a payload that does not describe `count` distinct points none of
+// which is known, or that does not end exactly where its bytes do. `models`
+// are left in an unspecified state after an error.
+Status decode_point_set(std::span<const uint8_t> payload, std::span<const MortonCode> known,
+                        int qbits, uint32_t count, SetCoderModels& models,
                         std::vector<GridPoint>& out);
 
-// The fewest payload bytes that `count` points can take: a decoder rejects
-// counts the bytes cannot hold before allocating anything for them.
-inline uint64_t min_payload_bytes(uint64_t count) { return 1 + (count + 7) / 8; }
+// Merges ascending `added` codes into ascending `known`.
+void merge_known(std::vector<MortonCode>& known, std::span<const GridPoint> added, int qbits);
+
+// The fewest payload bytes a layer of `count` points takes: the range coder's
+// final flush (4 bytes) when count > 0. Adaptive coding can make a point cost
+// far less than a bit, so counts are not bounded by payload size; the decoder
+// grows its output as points are decoded, never to the claimed count.
+inline uint64_t min_payload_bytes(uint64_t count) { return count > 0 ? 4 : 0; }
 
 }  // namespace dtm

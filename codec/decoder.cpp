@@ -2,50 +2,14 @@
 
 #include <string>
 
-#include <random>
-
 #include "bitstream/checksum.h"
 #include "bitstream/point_set_coder.h"
 #include "core/geometry.h"
 
 namespace dtm {
 
-// Every point decoded so far, to reject a layer that repeats one: open
-// addressing with linear probing (coordinates are >= 0, so x = -1 marks an
-// empty slot), grown as points arrive, never to what the stream claims. The
-// hash is seeded per decoder, so that a stream cannot be crafted to make
-// every point collide (which would make the checks quadratic).
-struct ProgressiveDecoder::PointSet {
-  std::vector<GridPoint> slots = std::vector<GridPoint>(1024, GridPoint{-1, 0, 0});
-  size_t size = 0;
-  uint64_t seed = (static_cast<uint64_t>(std::random_device{}()) << 32) ^ std::random_device{}();
-
-  size_t hash(const GridPoint& p) const {
-    const int32_t key[3] = {p.x, p.y, p.z};
-    return static_cast<size_t>(
-        xxh3_64({reinterpret_cast<const uint8_t*>(key), sizeof key}, seed));
-  }
-  size_t slot_of(const GridPoint& p) const {
-    const size_t mask = slots.size() - 1;
-    size_t i = hash(p) & mask;
-    while (slots[i].x >= 0 && slots[i] != p) i = (i + 1) & mask;
-    return i;
-  }
-  bool contains(const GridPoint& p) const { return slots[slot_of(p)].x >= 0; }
-  void insert(const GridPoint& p) {
-    if (2 * (size + 1) > slots.size()) {
-      std::vector<GridPoint> old(slots.size() * 2, GridPoint{-1, 0, 0});
-      old.swap(slots);
-      for (const GridPoint& q : old)
-        if (q.x >= 0) slots[slot_of(q)] = q;
-    }
-    GridPoint& s = slots[slot_of(p)];
-    if (s.x < 0) s = p, ++size;
-  }
-};
-
 ProgressiveDecoder::ProgressiveDecoder(DecoderOptions options)
-    : options_(options), seen_(std::make_unique<PointSet>()) {}
+    : options_(options) {}
 ProgressiveDecoder::~ProgressiveDecoder() = default;
 
 Status ProgressiveDecoder::fail(Status s) {
@@ -106,14 +70,13 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
     return {StatusCode::kCorrupt, where + ": layer checksum mismatch"};
 
   std::vector<GridPoint> added;
-  s = decode_point_set(payload, header_.grid.qbits, lh.new_vertices, added);
+  // The coder itself rejects a point repeated within the layer or already
+  // known from a coarser one.
+  s = decode_point_set(payload, known_, header_.grid.qbits, lh.new_vertices, models_, added);
   if (!s.ok()) return {s.code(), where + ": " + s.message()};
-  for (const GridPoint& p : added)
-    if (seen_->contains(p))
-      return {StatusCode::kCorrupt, where + ": a point of this layer is already in a coarser level"};
   if (levels_.empty() && !spans_three_dimensions(added))
     return {StatusCode::kCorrupt, where + ": the base level does not span three dimensions"};
-  for (const GridPoint& p : added) seen_->insert(p);
+  merge_known(known_, added, header_.grid.qbits);
   points_.insert(points_.end(), added.begin(), added.end());
   ++layers_pending_;
 

@@ -6,8 +6,9 @@
 // construction). Level l's mesh is DT(V_l) carved with the stored alpha_l.
 //
 // Safety: nothing the stream claims is allocated before the bytes that
-// justify it are present (a point costs at least one bit of payload) and the
-// claim is within DecoderOptions' limits. A damaged layer is reported with
+// justify it are present: points are stored as they are decoded, never
+// reserved by count, and a level's vertex count is checked against
+// DecoderOptions' limit before its payload is read. A damaged layer is reported with
 // its level and byte offset and leaves the levels before it usable.
 #pragma once
 
@@ -18,6 +19,7 @@
 #include <span>
 #include <vector>
 
+#include "bitstream/point_set_coder.h"
 #include "bitstream/status.h"
 #include "codec/format.h"
 #include "core/delaunay.h"
@@ -92,8 +94,8 @@ class ProgressiveDecoder {
   StreamHeader header_;
   std::vector<DecodedLevel> levels_;
   std::vector<GridPoint> points_;
-  struct PointSet;
-  std::unique_ptr<PointSet> seen_;  // every point decoded, to reject duplicates
+  std::vector<MortonCode> known_;  // Morton codes of points_, ascending: the coder's context
+  SetCoderModels models_;          // the layer coder's models, adapted layer after layer
   // The triangulation lags behind points_ until a mesh is asked for.
   mutable IncrementalDelaunay dt_;
   mutable size_t inserted_ = 0;          // points_ already in dt_

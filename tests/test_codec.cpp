@@ -5,6 +5,7 @@
 
 #include <fstream>
 #include <random>
+#include <set>
 
 #include "bitstream/point_set_coder.h"
 #include "codec/decoder.h"
@@ -27,43 +28,142 @@ TEST(PointSetCoder, MortonRoundTrip) {
   }
 }
 
+// Encodes `pts` as one layer given `known` points, with fresh models.
+std::vector<uint8_t> encode_layer(std::span<const GridPoint> pts, int q,
+                                  std::span<const GridPoint> known = {}) {
+  std::vector<MortonCode> codes;
+  merge_known(codes, known, q);
+  SetCoderModels models;
+  return encode_point_set(codes, pts, q, models);
+}
+
+Status decode_layer(std::span<const uint8_t> payload, int q, uint32_t count,
+                    std::vector<GridPoint>& out, std::span<const GridPoint> known = {}) {
+  std::vector<MortonCode> codes;
+  merge_known(codes, known, q);
+  SetCoderModels models;
+  return decode_point_set(payload, codes, q, count, models, out);
+}
+
+std::vector<GridPoint> sorted(std::vector<GridPoint> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
 TEST(PointSetCoder, RoundTripsSetsOfAnySize) {
-  for (int q : {1, 3, 10, 14, 24}) {
-    for (size_t n : {1, 2, 7, 300}) {
+  for (int q : {1, 3, 10, 14, 21, 22, 24}) {
+    for (size_t n : {1, 2, 7, 13, 300}) {
       const size_t cap = q == 1 ? 8 : n;
       const auto pts = test::random_grid_points(std::min(n, cap), q, static_cast<uint32_t>(q * 1000 + n));
-      const auto payload = encode_point_set(pts, q);
+      const auto payload = encode_layer(pts, q);
       std::vector<GridPoint> back;
-      ASSERT_TRUE(decode_point_set(payload, q, static_cast<uint32_t>(pts.size()), back).ok());
-      std::vector<GridPoint> sorted_back = back, sorted_in = pts;
-      std::sort(sorted_back.begin(), sorted_back.end());
-      std::sort(sorted_in.begin(), sorted_in.end());
-      EXPECT_EQ(sorted_back, sorted_in) << "q=" << q << " n=" << n;
+      ASSERT_TRUE(decode_layer(payload, q, static_cast<uint32_t>(pts.size()), back).ok());
+      EXPECT_EQ(back.size(), pts.size());
+      EXPECT_TRUE(std::is_sorted(back.begin(), back.end(), [q](const GridPoint& a, const GridPoint& b) {
+        return morton_encode(a, q) < morton_encode(b, q);
+      })) << "decoded points come in Morton order";
+      EXPECT_EQ(sorted(back), sorted(pts)) << "q=" << q << " n=" << n;
     }
   }
 }
 
+// Layers coded given the points of earlier layers, with the models carried
+// from layer to layer as in a stream: every layer decodes to its points, and
+// only with the same known points and the same model history.
+TEST(PointSetCoder, LayersRoundTripGivenKnownPointsAndCarriedModels) {
+  const int q = 12;
+  const auto all = test::random_grid_points(3000, q, 7);
+  const std::vector<std::span<const GridPoint>> layers = {
+      std::span(all).subspan(0, 200), std::span(all).subspan(200, 800),
+      std::span(all).subspan(1000, 2000)};
+  std::vector<MortonCode> known;
+  SetCoderModels enc_models;
+  std::vector<std::vector<uint8_t>> payloads;
+  for (const auto& layer : layers) {
+    payloads.push_back(encode_point_set(known, layer, q, enc_models));
+    merge_known(known, layer, q);
+  }
+  known.clear();
+  SetCoderModels dec_models;
+  for (size_t i = 0; i < layers.size(); ++i) {
+    std::vector<GridPoint> back;
+    ASSERT_TRUE(decode_point_set(payloads[i], known, q, static_cast<uint32_t>(layers[i].size()),
+                                 dec_models, back).ok()) << "layer " << i;
+    EXPECT_EQ(sorted(back), sorted({layers[i].begin(), layers[i].end()})) << "layer " << i;
+    merge_known(known, back, q);
+  }
+  // The last layer with fresh models, or without the known points, is not
+  // what was coded: it fails or gives other points.
+  std::vector<GridPoint> other;
+  const Status fresh = decode_layer(payloads[2], q, 2000, other, std::span(all).first(1000));
+  EXPECT_TRUE(!fresh.ok() || sorted(other) != sorted({layers[2].begin(), layers[2].end()}));
+}
+
+// The coder follows the coarser level's density: where the known points
+// cluster, the new points are, and a layer costs fewer bits when its coarser
+// points are known than when coded alone.
+TEST(PointSetCoder, KnownPointsMakeALayerCheaper) {
+  const int q = 14;
+  std::mt19937 rng(11);
+  std::set<GridPoint> coarse_set, fine_set;
+  for (int cluster = 0; cluster < 60; ++cluster) {
+    const GridPoint corner{static_cast<int32_t>(rng() % 16000), static_cast<int32_t>(rng() % 16000),
+                           static_cast<int32_t>(rng() % 16000)};
+    for (auto* set : {&coarse_set, &fine_set})
+      for (int i = 0; i < (set == &coarse_set ? 30 : 10); ++i)
+        set->insert({corner.x + static_cast<int32_t>(rng() % 64), corner.y + static_cast<int32_t>(rng() % 64),
+                     corner.z + static_cast<int32_t>(rng() % 64)});
+  }
+  for (const auto& p : coarse_set) fine_set.erase(p);
+  const std::vector<GridPoint> coarse(coarse_set.begin(), coarse_set.end());
+  const std::vector<GridPoint> fine(fine_set.begin(), fine_set.end());
+  const auto alone = encode_layer(fine, q);
+  const auto given = encode_layer(fine, q, coarse);
+  EXPECT_LT(given.size() * 1.15, alone.size()) << given.size() << " vs " << alone.size();
+  std::vector<GridPoint> back;
+  ASSERT_TRUE(decode_layer(given, q, static_cast<uint32_t>(fine.size()), back, coarse).ok());
+  EXPECT_EQ(sorted(back), fine);
+}
+
 TEST(PointSetCoder, RejectsDamagedPayloads) {
   const auto pts = test::random_grid_points(50, 8, 3);
-  const auto payload = encode_point_set(pts, 8);
+  const auto payload = encode_layer(pts, 8);
   std::vector<GridPoint> out;
   auto extra = payload;
   extra.push_back(0);
-  EXPECT_EQ(decode_point_set(extra, 8, 50, out).code(), StatusCode::kCorrupt);  // trailing byte
-  out.clear();
-  EXPECT_EQ(decode_point_set(std::span(payload).first(payload.size() - 1), 8, 50, out).code(),
-            StatusCode::kCorrupt);  // ends early
-  out.clear();
-  EXPECT_EQ(decode_point_set(payload, 8, 51, out).code(), StatusCode::kCorrupt);  // count too large
-  out.clear();
-  auto bad_k = payload;
-  bad_k[0] = 25;  // above 3q
-  EXPECT_EQ(decode_point_set(bad_k, 8, 50, out).code(), StatusCode::kCorrupt);
-  out.clear();
-  // A run of one bits: codes beyond the grid, caught without looping.
-  std::vector<uint8_t> ones(40, 0xFF);
-  ones[0] = 0;
-  EXPECT_EQ(decode_point_set(ones, 4, 3, out).code(), StatusCode::kCorrupt);
+  EXPECT_EQ(decode_layer(extra, 8, 50, out).code(), StatusCode::kCorrupt);  // trailing byte
+  for (size_t cut = 0; cut < payload.size(); ++cut) {
+    out.clear();
+    EXPECT_EQ(decode_layer(std::span(payload).first(cut), 8, 50, out).code(), StatusCode::kCorrupt)
+        << "cut at " << cut;
+  }
+  for (uint32_t count : {0u, 1u, 49u, 51u, 5000u}) {
+    out.clear();
+    EXPECT_EQ(decode_layer(payload, 8, count, out).code(), StatusCode::kCorrupt) << count;
+  }
+  // Arbitrary bytes never decode to more points than claimed, nor crash.
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::vector<uint8_t> junk(4 + rng() % 40);
+    for (auto& b : junk) b = static_cast<uint8_t>(rng());
+    out.clear();
+    const uint32_t count = 1 + rng() % 100;
+    const Status s = decode_layer(junk, 4 + trial % 20, count, out);
+    EXPECT_LE(out.size(), count);
+    if (s.ok()) {
+      EXPECT_EQ(out.size(), count);
+    }
+  }
+}
+
+TEST(PointSetCoder, RejectsAPointAlreadyKnown) {
+  const std::vector<GridPoint> known = {{1, 2, 3}, {7, 7, 7}, {0, 15, 3}};
+  const std::vector<GridPoint> layer = {{7, 7, 7}, {9, 9, 9}};
+  const auto payload = encode_layer(layer, 4, known);
+  std::vector<GridPoint> out;
+  const Status s = decode_layer(payload, 4, 2, out, known);
+  EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+  EXPECT_NE(s.message().find("already in a coarser level"), std::string::npos) << s.message();
 }
 
 struct Encoded {
@@ -246,7 +346,7 @@ TEST(Codec, ForeignAndFutureStreamsAreRejected) {
   EXPECT_EQ(a.feed(bytes).code(), StatusCode::kNotDtm);
 
   bytes = e.stream.bytes;
-  bytes[8] = 2;  // version 2.0: refused by version before the checksum is looked at
+  bytes[8] = kVersionMajor + 1;  // a future version: refused before the checksum is looked at
   ProgressiveDecoder b;
   EXPECT_EQ(b.feed(bytes).code(), StatusCode::kUnsupported);
 
@@ -291,8 +391,12 @@ TEST(Codec, ALayerRepeatingACoarserPointIsRejected) {
   l0.new_vertices = 1;
   l0.level_vertices = 6;
   auto bytes = write_header(h);
-  for (const auto& part : {write_layer(l1, encode_point_set(base, 4)),
-                           write_layer(l0, encode_point_set(std::vector<GridPoint>{{9, 0, 0}}, 4))})
+  std::vector<MortonCode> known;
+  SetCoderModels models;
+  const auto base_payload = encode_point_set(known, base, 4, models);
+  merge_known(known, base, 4);
+  const auto repeat_payload = encode_point_set(known, std::vector<GridPoint>{{9, 0, 0}}, 4, models);
+  for (const auto& part : {write_layer(l1, base_payload), write_layer(l0, repeat_payload)})
     bytes.insert(bytes.end(), part.begin(), part.end());
   ProgressiveDecoder dec;
   const Status s = dec.feed(bytes);
@@ -313,7 +417,7 @@ TEST(Codec, AFlatBaseLevelIsRejected) {
   l.alpha = 100;
   auto bytes = write_header(h);
   const auto layer = write_layer(
-      l, encode_point_set(std::vector<GridPoint>{{0, 0, 1}, {5, 0, 1}, {0, 5, 1}, {5, 5, 1}}, 4));
+      l, encode_layer(std::vector<GridPoint>{{0, 0, 1}, {5, 0, 1}, {0, 5, 1}, {5, 5, 1}}, 4));
   bytes.insert(bytes.end(), layer.begin(), layer.end());
   ProgressiveDecoder dec;
   EXPECT_EQ(dec.feed(bytes).code(), StatusCode::kCorrupt);

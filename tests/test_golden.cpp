@@ -1,4 +1,4 @@
-// Golden streams (spec/FORMAT.md §6): streams of format 1.0 that every later
+// Golden streams (spec/FORMAT.md §6): streams of format 2.0 that every later
 // decoder must decode to the same levels, and whose every damaged variant it
 // must refuse.
 #include <gtest/gtest.h>

@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   int qbits = 14, levels = 0;
   double dmax = 0, scale = 0, box = 0, guard = 0;
   size_t min_base = 16;
+  int level_step = 1;
   bool no_paper_stop = false, quiet = false, hash_cells = false;
   app.add_option("input", input, "TetGen .node file")->required();
   app.add_option("-o,--output", output, "write the .dtm stream here ('-' = standard output)");
@@ -82,6 +83,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 0.56));
   app.add_flag("--no-paper-stop", no_paper_stop,
                "do not stop at the first level that removes no boundary vertex");
+  app.add_option("--level-step", level_step,
+                 "stream every N-th level (and the coarsest): fewer levels of detail, fewer bits")
+      ->capture_default_str()->check(CLI::Range(1, 1000));
   app.add_option("--report", report_path, "write the level table as JSON to this file");
   app.add_flag("-q,--quiet", quiet, "do not print the table");
   CLI11_PARSE(app, argc, argv);
@@ -148,8 +152,10 @@ int main(int argc, char** argv) {
     if (!output.empty()) {
       dtm::EncoderOptions eo;
       eo.cell_hashes = hash_cells;
+      eo.level_step = level_step;
       const auto stream = dtm::encode_stream(hierarchy, q.points, q.grid, opt.alpha.kind, eo);
       ctx.layer_bytes = stream.layer_bytes;
+      ctx.streamed_levels = stream.streamed_levels;
       ctx.stream_bytes = stream.bytes.size();
       std::string bytes(stream.bytes.begin(), stream.bytes.end());
       if (output == "-") {
@@ -163,7 +169,7 @@ int main(int argc, char** argv) {
         std::printf("%s: %zu bytes, %.2f bits per vertex (%zu vertices, %zu levels)\n",
                     output.c_str(), stream.bytes.size(),
                     8.0 * stream.bytes.size() / q.points.size(), q.points.size(),
-                    hierarchy.levels.size());
+                    stream.streamed_levels.size());
     }
     if (!report_path.empty())
       files.emplace_back(report_path, dtm::report_json(ctx, stats).dump(2) + "\n");

@@ -45,6 +45,8 @@ nlohmann::json report_json(const ReportContext& ctx, const std::vector<LevelStat
     j["levels"].push_back(level_json(s, ctx.grid));
     if (static_cast<size_t>(s.level) < ctx.layer_bytes.size())
       j["levels"].back()["layer_bytes"] = ctx.layer_bytes[s.level];
+    for (size_t k = 0; k < ctx.streamed_levels.size(); ++k)
+      if (ctx.streamed_levels[k] == s.level) j["levels"].back()["stream_level"] = k;
   }
   if (ctx.stream_bytes > 0 && !levels.empty()) {
     j["stream_bytes"] = ctx.stream_bytes;

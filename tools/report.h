@@ -18,7 +18,8 @@ struct ReportContext {
   Grid grid;
   uint64_t duplicates_merged = 0;
   double scale = 1.0;  // input coordinates were multiplied by this before quantization
-  std::vector<uint64_t> layer_bytes;  // per level, when a stream was written
+  std::vector<uint64_t> layer_bytes;  // per level, when a stream was written (0: not streamed)
+  std::vector<int> streamed_levels;   // hierarchy level of each stream level
   uint64_t stream_bytes = 0;
 };
 

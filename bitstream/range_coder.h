@@ -1,0 +1,75 @@
+// A binary range coder (the carry-less-with-cache design of LZMA) with
+// adaptive bit models. Each layer's payload is one range-coded block; the
+// models live outside the coder, so they can carry what they learnt from one
+// layer into the next.
+//
+// Block: the encoder's bytes after its first output byte (always zero, so it
+// is not sent), including the four bytes of the final flush. The decoder
+// reads exactly those bytes; reading past the end yields zeros and is
+// reported by overran(), and a block is valid only if the decoder ends having
+// read every byte and no more (finished_cleanly()).
+#pragma once
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dtm {
+
+// P(bit = 0) in 1/65536 units, adapting faster while young: the first
+// observations move it like a count (rate 1/(n+2)), later ones by 1/128 at
+// most, so that a model follows slowly drifting statistics across layers.
+struct AdaptiveBit {
+  uint16_t p0 = 32768;
+  uint8_t seen = 0;
+
+  void update(bool bit) {
+    const int rate = std::min(7, static_cast<int>(std::bit_width(seen + 2u)));
+    if (bit) p0 -= p0 >> rate;
+    else p0 += (65536 - p0) >> rate;
+    if (seen < 255) ++seen;
+  }
+};
+
+class RangeEncoder {
+ public:
+  void encode(AdaptiveBit& model, bool bit);
+  // n raw bits of `value`, most significant first (each costs exactly one bit).
+  void encode_raw(uint64_t value, int n);
+  // Flushes and returns the block.
+  std::vector<uint8_t> finish();
+
+ private:
+  void normalize();
+  void shift_low();
+  uint64_t low_ = 0;
+  uint32_t range_ = 0xFFFFFFFFu;
+  uint8_t cache_ = 0;
+  uint64_t cache_size_ = 1;
+  bool first_byte_ = true;  // the always-zero first byte is dropped
+  std::vector<uint8_t> out_;
+};
+
+class RangeDecoder {
+ public:
+  explicit RangeDecoder(std::span<const uint8_t> block);
+  bool decode(AdaptiveBit& model);
+  uint64_t decode_raw(int n);
+  // Bytes past the end of the block were needed.
+  bool overran() const { return pos_ > block_.size(); }
+  // Every byte of the block was read, none past it, and the final flush
+  // matches: what a block written by RangeEncoder ends like.
+  bool finished_cleanly() const { return pos_ == block_.size() && code_ == 0; }
+
+ private:
+  uint8_t next_byte() { return pos_ < block_.size() ? block_[pos_++] : (++pos_, 0); }
+  void normalize();
+  std::span<const uint8_t> block_;
+  size_t pos_ = 0;
+  uint32_t range_ = 0xFFFFFFFFu;
+  uint32_t code_ = 0;
+};
+
+}  // namespace dtm

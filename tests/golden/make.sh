@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
+# current format version and their expected levels. Run it only when the
+# format's major version changes (spec/FORMAT.md §6): a golden stream is a
+# promise that every later decoder of that version decodes it identically.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${1:-$root/build}
+enc=$build/tools/meshenc
+info=$build/tools/meshinfo
+make_one() {  # NAME INPUT meshenc-options...
+  local name=$1 input=$2; shift 2
+  "$enc" "$root/data/$input" -o "$here/$name.dtm" --hash-cells -q "$@"
+  "$info" "$here/$name.dtm" --json | python3 -c '
+import json, sys
+info = json.load(sys.stdin)
+print(json.dumps({
+    "format": "dtm " + info["version"],
+    "qbits": info["qbits"],
+    "vertices": info["vertices"],
+    "levels": [{"level": l["level"], "vertices": l["vertices"],
+                "new_vertices": l["new_vertices"], "cell_hash": l["cell_hash"]}
+               for l in info["levels"]]}, indent=1))' >"$here/$name.expected.json"
+}
+make_one torus_288 torus_288.node --scale 25 --dmax 3
+make_one torus_288_grid_q10_hull torus_288_grid.node --qbits 10 --alpha hull --levels 3
+make_one torus_288_q24 torus_288.node --qbits 24 --levels 1
