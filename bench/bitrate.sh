@@ -4,8 +4,9 @@
 # tetrahedral mesh. Writes bench/BITRATE.md and prints its path.
 #
 # BUILD_DIR (default: build, relative to the repo root) must hold the built
-# tools/meshenc and tools/meshdec. Needs draco_encoder, zstd, xz and python3
-# (standard library only): apt-get install -y draco zstd xz-utils python3.
+# tools/meshenc and tools/meshdec. Needs draco_encoder, zstd, xz, python3
+# (standard library only) and gnuplot: apt-get install -y draco zstd xz-utils python3 gnuplot-nox.
+# Also writes bench/bitrate.csv, bench/bitrate_layers.csv, bench/rd.csv and bench/rd.png.
 #
 # For every model of ../shared/data/volumes (decompressed, sha256-checked, into
 # BUILD_DIR/bitrate-data/; bunny_1m only if BUILD_DIR/bench-data/bunny_1m.node
@@ -40,8 +41,8 @@ MODELS=${BITRATE_MODELS:-$ALL}   # a subset, for trying the script out (then no 
 die() { echo "bitrate.sh: $*" >&2; exit 1; }
 [ -x "$enc" ] && [ -x "$dec" ] || die "$enc or $dec not built"
 [ -x "$baselines" ] || die "$baselines missing"
-for t in draco_encoder zstd xz python3 sha256sum; do
-  command -v "$t" >/dev/null 2>&1 || { echo "bitrate.sh: $t missing; apt-get install -y draco zstd xz-utils python3" >&2; exit 2; }
+for t in draco_encoder zstd xz python3 sha256sum gnuplot; do
+  command -v "$t" >/dev/null 2>&1 || { echo "bitrate.sh: $t missing; apt-get install -y draco zstd xz-utils python3 gnuplot-nox" >&2; exit 2; }
 done
 start=$(date +%s)
 # The build may be shared: fingerprint the tools now, check them again at the end.
@@ -93,6 +94,9 @@ while read -r m node; do
   for q in $QS; do
     "$enc" "$node" --qbits "$q" --box 256 --dmax 2 -o "$out/$m.q$q.dtm" --report "$out/$m.q$q.json" -q \
       >"$tmp/enc.log" 2>&1 || { cat "$tmp/enc.log" >&2; die "meshenc failed on $m at q=$q"; }
+    "$enc" "$node" --qbits "$q" --box 256 --dmax 2 --level-step 4 -o "$out/$m.q$q.s4.dtm" \
+      --report "$out/$m.q$q.s4.json" -q >"$tmp/enc.log" 2>&1 ||
+      { cat "$tmp/enc.log" >&2; die "meshenc --level-step 4 failed on $m at q=$q"; }
   done
 
   # Decode check at q=14: record the outcome, do not stop the report.
@@ -107,7 +111,8 @@ while read -r m node; do
   cache=$out/$m.baselines
   ele=${node%.node}.ele
   fresh=1
-  if [ "${BITRATE_FRESH:-0}" != 1 ] && [ -s "$cache" ] && [ "$cache" -nt "$node" ] && [ "$cache" -nt "$baselines" ] &&
+  if [ "${BITRATE_FRESH:-0}" != 1 ] && [ -s "$cache" ] && grep -q '^ptszst' "$cache" &&
+     [ "$cache" -nt "$node" ] && [ "$cache" -nt "$baselines" ] &&
      { [ ! -e "$ele" ] || [ "$cache" -nt "$ele" ]; }; then fresh=0; fi
   if [ "$fresh" = 1 ]; then
     keep=$tmp/keep; rm -rf "$keep"
@@ -119,6 +124,7 @@ while read -r m node; do
         echo "drc $q $cl $(stat -c %s "$f") $(od -An -tu1 -j8 -N1 "$f" | tr -d ' ')"
       done; done
       if [ -f "$keep/$m/mesh.bin.zst" ]; then echo "meshzst $(stat -c %s "$keep/$m/mesh.bin.zst")"; fi
+      echo "ptszst $(stat -c %s "$keep/$m/pts.f32.zst")"
     } >"$cache.tmp"
     mv "$cache.tmp" "$cache"
     rm -rf "$keep"
@@ -131,9 +137,9 @@ tools_after=$(tools_id)
 commit_end="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
 [ "$commit_end" = "$commit" ] || commit="$commit at start, $commit_end at end"
 rc=0
-(python3 - "$list" "$out" "$report.tmp" "$notes" "$commit" "$dirty" "$enc" "$start" "$QS" "$tools_before" <<'PYEOF'
-import json, math, os, sys, time, subprocess
-listf, outd, dest, notesf, commit, dirty, enc, start, qs, tools = sys.argv[1:11]
+(python3 - "$list" "$out" "$report.tmp" "$notes" "$commit" "$dirty" "$enc" "$start" "$QS" "$tools_before" "$root/bench" <<'PYEOF'
+import csv, json, math, os, sys, time, subprocess
+listf, outd, dest, notesf, commit, dirty, enc, start, qs, tools, benchd = sys.argv[1:12]
 QS = [int(q) for q in qs.split()]
 LAYER_HDR, STREAM_HDR = 38, 56
 LN2 = math.log(2)
@@ -188,10 +194,13 @@ for line in open(listf):
         L = len(lv)
         assert sum(r['layer_bytes'] for r in lv) + STREAM_HDR == j['stream_bytes'], name
         new = [lv[i]['vertices'] - (lv[i + 1]['vertices'] if i + 1 < L else 0) for i in range(L)]
+        j4 = json.load(open(os.path.join(outd, '%s.q%d.s4.json' % (name, q))))
         m['q'][q] = dict(json=j, levels=lv, new=new, L=L, bytes=j['stream_bytes'],
-                         distinct=lv[0]['vertices'], dup=j['duplicates_merged'])
+                         distinct=lv[0]['vertices'], dup=j['duplicates_merged'],
+                         bytes_s4=j4['stream_bytes'],
+                         L_s4=sum(1 for r in j4['levels'] if 'stream_level' in r))
     # baselines
-    drc = {}; meshz = None
+    drc = {}; meshz = None; ptsz = None
     for l in open(os.path.join(outd, name + '.baselines')):
         t = l.split()
         if t[0] == 'drc':
@@ -199,7 +208,8 @@ for line in open(listf):
             assert meth == 1, '%s q%d cl%d: draco method %d, not kd-tree' % (name, q, cl, meth)
             drc[(q, cl)] = b
         elif t[0] == 'meshzst': meshz = int(t[1])
-    m['drc'] = drc; m['meshz'] = meshz
+        elif t[0] == 'ptszst': ptsz = int(t[1])
+    m['drc'] = drc; m['meshz'] = meshz; m['ptsz'] = ptsz
     # decode check at q = 14
     st = open(os.path.join(outd, name + '.q14.dec.status')).read().strip()
     j14 = m['q'][14]['json']
@@ -240,39 +250,70 @@ w('Commands (per model MODEL and Q in 12 14 16; files in BUILD_DIR/bitrate-data/
 w('```')
 w('bench/bitrate.sh build')
 w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 -o MODEL.qQ.dtm --report MODEL.qQ.json -q')
+w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --level-step 4 -o MODEL.qQ.s4.dtm --report MODEL.qQ.s4.json -q')
 w('meshdec MODEL.q14.dtm -o MODEL.q14.dec.node -q        # decode check, q = 14 only')
 w('shared/tools/baselines.sh -q "12 14 16" -c "10 4" -H -k KEEP MODEL.node')
 w('  # = draco_encoder -point_cloud -i pts.ply -qp Q -cl {10,4}  (float32 xyz; kd-tree method)')
-w('  #   zstd -19 of float32 xyz per vertex + int32 x4 per tet (TetGen .ele)')
+w('  #   zstd -19 of float32 xyz (positions only), and of float32 xyz per vertex + int32 x4 per tet (TetGen .ele)')
 w('```\n')
-w('Stream bytes = 56-byte header + per layer 38-byte header + payload (Rice-coded Morton gaps, '
-  'spec/FORMAT.md). Draco = the smaller of `-cl 10` and `-cl 4` at the same Q (same grid: one step '
-  '= largest extent / (2^Q − 1)). Ratio = ours / Draco (target of a later issue: <= 0.85).\n')
+w('Stream bytes = 56-byte header + per layer 38-byte header + payload (format 2.0: each layer coded by '
+  'binary space partition given the coarser levels, adaptive range coding; spec/FORMAT.md §3.1). '
+  '"ours" streams every level of the hierarchy; "step 4" streams every 4th level (`--level-step 4`). '
+  'Draco = the smaller of `-cl 10` and `-cl 4` at the same Q (same grid: one step '
+  '= largest extent / (2^Q − 1)). Ratio = ours / Draco (issue 5 target: <= 0.85). '
+  'The same figures are in `bench/bitrate.csv` (totals) and `bench/bitrate_layers.csv` (per layer).\n')
 
 w('## Table 1: bits per vertex\n')
 hdr = '| model | N | levels (q=14) |'
 sep = '|---|---:|---:|'
 for q in QS:
-    hdr += ' ours q%d bpv | Draco kd q%d | ratio |' % (q, q) if q == QS[0] else ' ours q%d | Draco q%d | ratio |' % (q, q)
-    sep += '---:|---:|---:|'
-hdr += ' tet mesh zstd-19 bpv | decodes (q=14) |'; sep += '---:|---|'
+    hdr += ' ours q%d | step 4 q%d | Draco kd q%d | ratio | ratio step 4 |' % (q, q, q)
+    sep += '---:|---:|---:|---:|---:|'
+hdr += ' f32 xyz zstd-19 | tet mesh zstd-19 | decodes (q=14) |'; sep += '---:|---:|---|'
 w(hdr); w(sep)
+print(hdr); print(sep)
 ratios = {q: [] for q in QS}
+ratios4 = {q: [] for q in QS}
+csv_rows = []
 for m in models:
     N = m['N']
     row = '| %s | %d | %d |' % (m['name'], N, m['q'][14]['L'])
     for q in QS:
-        ours, dr = m['q'][q]['bytes'], draco_best(m, q)
+        ours, ours4, dr = m['q'][q]['bytes'], m['q'][q]['bytes_s4'], draco_best(m, q)
         ratios[q].append(ours / dr)
-        row += ' %s | %s | %s |' % (f2(bpv(ours, N)), f2(bpv(dr, N)), f3(ours / dr))
+        ratios4[q].append(ours4 / dr)
+        row += ' %s | %s | %s | %s | %s |' % (f2(bpv(ours, N)), f2(bpv(ours4, N)), f2(bpv(dr, N)),
+                                            f3(ours / dr), f3(ours4 / dr))
+        csv_rows.append(dict(model=m['name'], N=N, q=q, levels=m['q'][q]['L'], stream_bytes=ours,
+            bpv=round(bpv(ours, N), 4), levels_step4=m['q'][q]['L_s4'], stream_bytes_step4=ours4,
+            bpv_step4=round(bpv(ours4, N), 4), draco_kd_bytes=dr, draco_kd_bpv=round(bpv(dr, N), 4),
+            ratio=round(ours / dr, 4), ratio_step4=round(ours4 / dr, 4),
+            zstd_f32_xyz_bpv=round(bpv(m['ptsz'], N), 4) if m['ptsz'] else '',
+            zstd_tet_mesh_bpv=round(bpv(m['meshz'], N), 4) if m['meshz'] else ''))
+    row += ' %s |' % (f2(bpv(m['ptsz'], N)) if m['ptsz'] else '-')
     row += ' %s |' % (f2(bpv(m['meshz'], N)) if m['meshz'] else '-')
     d = m['dec']
     row += (' yes, %d vertices = encoder set |' % d['n']) if d['ok'] else ' **NO** (see below) |'
     w(row)
+    print(row)
 w('')
 for q in QS:
-    r = ratios[q]
-    w('- q=%d: ratio min %.3f, max %.3f, mean %.3f over %d models.' % (q, min(r), max(r), sum(r) / len(r), len(r)))
+    r, r4 = ratios[q], ratios4[q]
+    w('- q=%d: ratio min %.3f, max %.3f, mean %.3f over %d models; with --level-step 4 min %.3f, max %.3f, mean %.3f.' % (
+        q, min(r), max(r), sum(r) / len(r), len(r), min(r4), max(r4), sum(r4) / len(r4)))
+with open(os.path.join(benchd, 'bitrate.csv'), 'w', newline='') as f:
+    cw = csv.DictWriter(f, fieldnames=list(csv_rows[0].keys()))
+    cw.writeheader(); cw.writerows(csv_rows)
+with open(os.path.join(benchd, 'bitrate_layers.csv'), 'w', newline='') as f:
+    cw = csv.writer(f)
+    cw.writerow(['model', 'q', 'level', 'vertices', 'new_vertices', 'layer_bytes', 'bits_per_new_vertex'])
+    for m in models:
+        for q in QS:
+            d = m['q'][q]
+            for i in reversed(range(d['L'])):
+                r = d['levels'][i]
+                cw.writerow([m['name'], q, r['level'], r['vertices'], d['new'][i], r['layer_bytes'],
+                             round(8.0 * r['layer_bytes'] / d['new'][i], 3)])
 dups = ['%s q%d: %d' % (m['name'], q, m['q'][q]['dup']) for m in models for q in QS if m['q'][q]['dup']]
 if dups: w('- points merged by quantization (ours): ' + ', '.join(dups) + '.')
 bad = [m for m in models if not m['dec']['ok']]
@@ -304,9 +345,9 @@ w('## Table 3: where the bits go, q = 14 (bits per vertex)\n')
 w('headers = (56 + 38 × levels) × 8 / N; payload = the rest of the stream. level entropy = '
   'Σ_l n_l log2(N / n_l) / N over the layer sizes n_l (the multinomial cost of telling which layer '
   'each vertex is in). set bound = log2 C(2^(3q), N) / N (one uniform set); per-layer bound = '
-  'Σ_l log2 C(2^(3q), n_l) / N (every layer a separate uniform set). Rice overhead = payload − '
-  'per-layer bound.\n')
-w('| model | N | levels | ours | headers | payload | level entropy | set bound | per-layer bound | per-layer − set bound | Rice overhead | Draco kd | Draco − set bound |')
+  'Σ_l log2 C(2^(3q), n_l) / N (every layer a separate uniform set). coder − bound = payload − '
+  'per-layer bound (negative: the coder beats uniform sets, by following the shape and the coarser levels).\n')
+w('| model | N | levels | ours | headers | payload | level entropy | set bound | per-layer bound | per-layer − set bound | coder − bound | Draco kd | Draco − set bound |')
 w('|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|')
 t3 = []
 for m in models:
@@ -346,13 +387,11 @@ w('- **Which layer each vertex is in.** The level entropy Σ n_l log2(N/n_l)/N i
   'entropy on every model.' % (
     rng([t['H'] for t in big10], '%.2f'), ', '.join(per(t, 'H') for t in big10),
     rng([t['plb'] - t['sb'] for t in big10], '%.2f'), max(abs(t['plb'] - t['sb'] - t['H']) for t in t3)))
-w('- **The payload coder is a uniform-set coder.** Payload − per-layer bound (the Rice-coded Morton gaps '
-  'against log2 C(2^42, n_l) per layer) is %s bpv: each layer costs what a uniform random set of the '
-  'same size in the whole 2^14 cube costs. Draco kd-tree − set bound is %s bpv (%s; negative = Draco '
-  'below the bound).' % (
+w('- **The payload coder against uniform sets.** Payload − per-layer bound (our coder '
+  'against log2 C(2^42, n_l) per layer) is %s bpv. Draco kd-tree − set bound is %s bpv (%s; negative = below the bound).' % (
     rng([t['pay'] - t['plb'] for t in t3], '%+.3f'), rng([t['dr'] - t['sb'] for t in t3], '%+.2f'),
     ', '.join('%s %+.2f' % (t['name'], t['dr'] - t['sb']) for t in t3)))
-w('- **Decomposition of the q = 14 gap** (ours − Draco = headers + level entropy + Rice overhead + '
+w('- **Decomposition of the q = 14 gap** (ours − Draco = headers + level entropy + (coder − bound) + '
   '(set bound − Draco) + (per-layer − set bound − level entropy)): %s.' % '; '.join(
     '%s %+.2f = %.2f + %.2f %+.2f %+.2f %+.2f' % (t['name'], t['ours'] - t['dr'], t['hdrs'], t['H'],
       t['pay'] - t['plb'], t['sb'] - t['dr'], t['plb'] - t['sb'] - t['H']) for t in t3))
@@ -360,6 +399,63 @@ mz = [(m['name'], bpv(m['meshz'], m['N']) / bpv(m['q'][14]['bytes'], m['N'])) fo
 w('- **Against the stored tetrahedral mesh** (zstd -19 of float32 xyz + int32 × 4 per tet, which keeps '
   'full float32 positions and the TetGen connectivity), the q = 14 stream is %s times smaller (%s).' % (
     rng([v for _, v in mz], '%.1f'), ', '.join('%s %.1f' % x for x in mz)))
+w('')
+
+# Rate-distortion: every whole-layer prefix of each q = 14 stream (base only,
+# base + 1 layer, ...) against the geometric error of the level it decodes to.
+rd_rows = []
+for m in models:
+    d = m['q'][14]; j = d['json']
+    pts = node_points(m['node'])
+    s_ = j['scale']
+    diag = math.sqrt(sum((s_ * (max(p[a] for p in pts) - min(p[a] for p in pts))) ** 2 for a in range(3)))
+    total = STREAM_HDR
+    for i in reversed(range(d['L'])):
+        r = d['levels'][i]
+        total += r['layer_bytes']
+        rd_rows.append(dict(model=m['name'], level=r['level'], layers=d['L'] - i, vertices=r['vertices'],
+                            prefix_bytes=total, prefix_bits_per_finest_vertex=round(8.0 * total / m['N'], 4),
+                            max_error_over_diagonal=r['max_boundary_error'] / diag,
+                            mean_error_over_diagonal=r['mean_boundary_error'] / diag))
+rd_csv = os.path.join(benchd, 'rd.csv')
+with open(rd_csv, 'w', newline='') as f:
+    cw = csv.DictWriter(f, fieldnames=list(rd_rows[0].keys()))
+    cw.writeheader(); cw.writerows(rd_rows)
+plotted = [n for n in ('bunny_100k', 'bunny_10k', 'elephant_10k', 'fandisk_11k', 'hand_10k', 'bunny_1m')
+           if any(r['model'] == n for r in rd_rows)]
+png = os.path.join(benchd, 'rd.png')
+try:
+    script = ['set terminal pngcairo size 1100,520 font ",10" noenhanced', 'set output "%s"' % png,
+              'set datafile separator ","', 'set multiplot layout 1,2',
+              'set logscale x', 'set grid', 'set key top right',
+              'set xlabel "stream prefix (bytes)"']
+    for col, title in ((7, 'largest'), (8, 'mean')):
+        script.append('set ylabel "%s boundary error / bounding-box diagonal (%%)"' % title)
+        script.append('set title "%s distance, level-0 boundary vertices to the level surface (q = 14)"' % title)
+        script.append('plot ' + ', '.join(
+            '"%s" skip 1 using (strcol(1) eq "%s" ? $5 : 1/0):($%d*100) with linespoints pt 7 ps 0.5 title "%s"' % (rd_csv, n, col, n)
+            for n in plotted))
+    script.append('unset multiplot')
+    subprocess.run(['gnuplot'], input='\n'.join(script), text=True, check=True, capture_output=True)
+    have_png = True
+except (OSError, subprocess.CalledProcessError) as e:
+    have_png = False
+w('## Rate-distortion, q = 14\n')
+w('Every whole-layer prefix of a stream decodes to a valid level; this is its size against the '
+  'geometric error of that level: the largest and mean distance from the level-0 boundary vertices '
+  'to the level\'s boundary surface (as meshenc measures it), divided by the diagonal of the bounding '
+  'box. All prefixes of every model are in `bench/rd.csv`.' + (' Plot: `bench/rd.png`.\n' if have_png
+  else ' (gnuplot was not found, so no plot: `apt-get install gnuplot-nox`.)\n'))
+w('| model | prefix | vertices | bytes | largest error / diagonal | mean error / diagonal |')
+w('|---|---|---:|---:|---:|---:|')
+for n in plotted:
+    rows = [r for r in rd_rows if r['model'] == n]
+    picks = sorted({0, len(rows) // 4, len(rows) // 2, 3 * len(rows) // 4, len(rows) - 1})
+    for k in picks:
+        r = rows[k]
+        w('| %s | base + %d layers (level %d) | %d | %d | %.3f%% | %.4f%% |' % (
+            n, r['layers'] - 1, r['level'], r['vertices'], r['prefix_bytes'],
+            100 * r['max_error_over_diagonal'], 100 * r['mean_error_over_diagonal']))
 w('')
 with open(dest, 'w') as f: f.write('\n'.join(o) + '\n')
 sys.exit(3 if bad else 0)
