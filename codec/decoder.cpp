@@ -124,7 +124,7 @@ std::vector<int32_t> ProgressiveDecoder::vertex_levels() const {
 }
 
 void ProgressiveDecoder::insert_pending() const {
-  if (inserted_ == points_.size()) return;
+  if (inserted_ == points_.size() || !mesh_status_.ok()) return;
   const std::span<const GridPoint> batch(points_.data() + inserted_, points_.size() - inserted_);
   std::vector<uint32_t> ids(batch.size());
   for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<uint32_t>(inserted_ + i);
@@ -132,14 +132,20 @@ void ProgressiveDecoder::insert_pending() const {
   // curve: inserted in that order, each point located from the previous one,
   // it goes ~12% faster than re-sorted. Anything else (the base layer,
   // several layers at once) gets CGAL's spatially sorted batch insertion.
-  if (inserted_ > 0 && layers_pending_ == 1) dt_.insert_one_by_one(batch, ids);
-  else dt_.insert(batch, ids);
+  try {
+    if (inserted_ > 0 && layers_pending_ == 1) dt_.insert_one_by_one(batch, ids);
+    else dt_.insert(batch, ids);
+  } catch (const TooManyCells& e) {
+    mesh_status_ = {StatusCode::kLimitExceeded, "level " + std::to_string(finest_level()) + ": " + e.what()};
+    return;
+  }
   inserted_ = points_.size();
   layers_pending_ = 0;
 }
 
 TetMesh ProgressiveDecoder::delaunay() const {
   insert_pending();
+  if (!mesh_status_.ok()) return {};
   return dt_.mesh();
 }
 

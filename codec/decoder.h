@@ -77,9 +77,13 @@ class ProgressiveDecoder {
   // Per vertex, the coarsest level that contains it.
   std::vector<int32_t> vertex_levels() const;
   // DT of the finest decoded level (ids index points()) and its carving.
-  // These bring the triangulation up to date first.
+  // These bring the triangulation up to date first. If the points make a
+  // degenerate triangulation (over kMaxCellsPerVertex cells per vertex, which
+  // no mesh has: a hostile stream), they return nothing and mesh_status()
+  // says why, for good.
   TetMesh delaunay() const;
   std::vector<std::array<uint32_t, 4>> carved_cells() const;
+  Status mesh_status() const { return mesh_status_; }
 
  private:
   Status step(const LevelCallback& on_level);
@@ -100,6 +104,7 @@ class ProgressiveDecoder {
   mutable IncrementalDelaunay dt_;
   mutable size_t inserted_ = 0;          // points_ already in dt_
   mutable size_t layers_pending_ = 0;    // whole layers not yet in dt_
+  mutable Status mesh_status_;           // why dt_ is unusable, if it is
   Status error_;
   bool stopped_ = false;  // the requested level is decoded
 };

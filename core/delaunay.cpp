@@ -4,6 +4,9 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <CGAL/property_map.h>
+#include <CGAL/spatial_sort.h>
+#include <CGAL/Spatial_sort_traits_adapter_3.h>
 
 #include <stdexcept>
 #include <string>
@@ -23,12 +26,36 @@ using Point = K::Point_3;
 
 Point to_point(const GridPoint& p) { return Point(p.x, p.y, p.z); }
 
+// Throws TooManyCells once the triangulation holds more cells than
+// kMaxCellsPerVertex per vertex: checked every few insertions, so the excess
+// it can allocate is bounded.
+void check_cells(const DT& dt) {
+  const size_t v = dt.number_of_vertices();
+  if (dt.number_of_cells() > kMaxCellsPerVertex * v + 4096)
+    throw TooManyCells("the Delaunay tetrahedralization of these points has over " +
+                       std::to_string(kMaxCellsPerVertex) + " cells per vertex (" +
+                       std::to_string(dt.number_of_cells()) + " cells for " + std::to_string(v) +
+                       " vertices): the points lie in a degenerate configuration such as two lines");
+}
+
+// What CGAL's range insertion does (spatial sort, then insertion with the
+// previous vertex as hint), plus the cell check.
 void insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const uint32_t> ids) {
   if (points.size() != ids.size()) throw std::invalid_argument("points and ids differ in size");
-  std::vector<std::pair<Point, uint32_t>> batch;
+  using Item = std::pair<Point, uint32_t>;
+  std::vector<Item> batch;
   batch.reserve(points.size());
   for (size_t i = 0; i < points.size(); ++i) batch.emplace_back(to_point(points[i]), ids[i]);
-  dt.insert(batch.begin(), batch.end());  // spatially sorted by CGAL
+  CGAL::spatial_sort(batch.begin(), batch.end(),
+                     CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<Item>>());
+  DT::Cell_handle hint;
+  for (size_t i = 0; i < batch.size(); ++i) {
+    auto v = dt.insert(batch[i].first, hint);
+    v->info() = batch[i].second;
+    hint = v->cell();
+    if ((i & 255) == 255) check_cells(dt);
+  }
+  check_cells(dt);
 }
 
 TetMesh export_mesh(DT& dt) {
@@ -87,7 +114,9 @@ void IncrementalDelaunay::insert_one_by_one(std::span<const GridPoint> points,
     auto v = impl_->dt.insert(to_point(points[i]), hint);
     v->info() = ids[i];
     hint = v->cell();
+    if ((i & 255) == 255) check_cells(impl_->dt);
   }
+  check_cells(impl_->dt);
 }
 
 void IncrementalDelaunay::remove(std::span<const GridPoint> points) {

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "grid.h"
@@ -33,9 +34,18 @@ struct DegenerateInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A Delaunay tetrahedralization of n points can have O(n^2) cells (points on
+// two skew lines); a mesh's has about 6.5 n. Insertion stops with
+// TooManyCells past this many per vertex, so that hostile input costs memory
+// and time linear in its vertices.
+inline constexpr size_t kMaxCellsPerVertex = 64;
+struct TooManyCells : DegenerateInput {
+  using DegenerateInput::DegenerateInput;
+};
+
 // Delaunay tetrahedralization of `points`; vertex i is points[i]. The points
 // must be distinct. Throws DegenerateInput if they are coplanar (or fewer
-// than 4).
+// than 4), TooManyCells if the cells exceed kMaxCellsPerVertex per vertex.
 TetMesh delaunay_tetrahedralize(std::span<const GridPoint> points);
 
 // A Delaunay tetrahedralization that is edited in place: batch insertion
@@ -48,6 +58,8 @@ class IncrementalDelaunay {
   IncrementalDelaunay& operator=(const IncrementalDelaunay&) = delete;
 
   // Inserts points[i] with id ids[i]. A batch is spatially sorted first.
+  // Both insertions throw TooManyCells as delaunay_tetrahedralize does (the
+  // triangulation is then unusable).
   void insert(std::span<const GridPoint> points, std::span<const uint32_t> ids);
   // Inserts one point at a time, in the given order (no spatial sort).
   void insert_one_by_one(std::span<const GridPoint> points, std::span<const uint32_t> ids);

@@ -34,6 +34,8 @@ QuantizedPoints quantize(std::span<const InputPoint> input, int qbits) {
     }
   }
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (!std::isfinite(extent))
+    throw std::invalid_argument("the points' bounding box is wider than a double can hold");
   const int32_t max_cell = static_cast<int32_t>((uint32_t{1} << qbits) - 1);
 
   QuantizedPoints out;

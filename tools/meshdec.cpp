@@ -83,7 +83,12 @@ int main(int argc, char** argv) {
                         "--verify: the stream has no cell-set hashes (encode with meshenc --hash-cells)"};
         return;
       }
-      if (dtm::cell_set_hash(d.points(), d.carved_cells()) != *l.cell_hash)
+      const auto cells = d.carved_cells();
+      if (!d.mesh_status().ok()) {
+        verify_error = d.mesh_status();
+        return;
+      }
+      if (dtm::cell_set_hash(d.points(), cells) != *l.cell_hash)
         verify_error = {dtm::StatusCode::kCorrupt,
                         "--verify: level " + std::to_string(l.level) +
                             " differs from the encoder's mesh (a different Delaunay implementation?)"};
@@ -112,6 +117,7 @@ int main(int argc, char** argv) {
     mesh.grid = decoder.header().grid;
     mesh.points = decoder.points();
     const dtm::TetMesh dt = decoder.delaunay();
+    if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
     const double alpha = decoder.levels().back().alpha;
     const std::vector<uint8_t> in_mesh = dtm::carve(dt, mesh.points, alpha);
     mesh.cells = dtm::flagged_cells(dt, in_mesh);

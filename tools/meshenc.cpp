@@ -104,7 +104,12 @@ int main(int argc, char** argv) {
     if (scale != 1.0)
       for (auto& p : node.points) p = {p.x * scale, p.y * scale, p.z * scale};
 
-    const auto q = dtm::quantize(node.points, qbits);
+    dtm::QuantizedPoints q;
+    try {
+      q = dtm::quantize(node.points, qbits);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(input + ": " + e.what());
+    }
     const double extent = q.grid.step * ((1u << qbits) - 1);
     if (dmax <= 0) dmax = 0.005 * extent;
 
