@@ -1,4 +1,5 @@
-// meshenc: reads a volume point set, builds its Delaunay level-of-detail
+// meshenc: reads a volume point set (a volume mesh, a point cloud or surface,
+// or the solid of a voxel volume), builds its Delaunay level-of-detail
 // hierarchy and prints the level table while it works.
 #include <CLI/CLI.hpp>
 
@@ -12,7 +13,7 @@
 #include "codec/encoder.h"
 #include "core/hierarchy.h"
 #include "tools/atomic_file.h"
-#include "tools/formats/tetgen.h"
+#include "tools/formats/input.h"
 #include "tools/report.h"
 
 namespace {
@@ -22,6 +23,22 @@ Examples:
   meshenc torus_288.node --scale 25 --dmax 3
   meshenc bunny_10k.node -o bunny.dtm --box 256 --dmax 2 --report bunny.json
   meshenc mesh.node -o mesh.dtm --qbits 16 --levels 4 --quality-guard 0.05
+  meshenc scan.ply -o scan.dtm --qbits 12
+  meshenc ct.nhdr --threshold 300 --voxel-interior-step 2 -o ct.dtm --dmax 1.5
+
+Inputs (by extension, or --format): TetGen .node (+ .ele), Medit .mesh, VTK
+.vtk and .vtu, gmsh .msh (2.2, 4.1), PLY, OFF, OBJ, XYZ, NRRD .nrrd/.nhdr.
+Only the vertices are encoded; tetrahedra and per-vertex values in the file
+are read, checked and kept aside.
+
+Voxel volumes: the solid is the voxels with value >= --threshold (or ==
+--label); its points are every boundary voxel (a 6-neighbour outside the
+solid) and the interior voxels whose indices are all multiples of
+--voxel-interior-step. With isotropic axis-aligned spacing the voxel lattice
+is the quantization grid (qbits = just enough for the selected extent, or
+--qbits if larger): positions are coded losslessly. Anisotropic or oblique
+spacing: voxel centres are placed at their physical positions and quantized
+like any point set (lossy).
 
 Dmax and --alpha values are in input units, after --scale/--box.)";
 
@@ -57,12 +74,26 @@ int main(int argc, char** argv) {
   double dmax = 0, scale = 0, box = 0, guard = 0;
   size_t min_base = 16;
   bool no_paper_stop = false, quiet = false, hash_cells = false;
-  app.add_option("input", input, "TetGen .node file")->required();
+  std::string format_name;
+  dtm::VolumeOptions volume;
+  app.add_option("input", input, "input file: .node .mesh .vtk .vtu .msh .nrrd .nhdr .ply .off .obj .xyz")
+      ->required();
+  app.add_option("--format", format_name, std::string("input format, overriding the extension: ") +
+                                              dtm::kInputFormatNames);
+  auto* threshold_opt = app.add_option("--threshold", volume.threshold,
+                                       "voxel volumes: the solid is the voxels with value >= T");
+  app.add_option("--label", volume.label, "voxel volumes: the solid is the voxels with value == L")
+      ->excludes(threshold_opt);
+  app.add_option("--voxel-interior-step", volume.interior_step,
+                 "voxel volumes: keep interior voxels whose indices are multiples of K (boundary voxels "
+                 "are always kept)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("-o,--output", output, "write the .dtm stream here ('-' = standard output)");
   app.add_flag("--hash-cells", hash_cells,
                "store each level's cell-set hash (lets meshdec --verify prove its meshes)");
-  app.add_option("--qbits", qbits, "quantization bits per axis (1..24)")
-      ->capture_default_str()->check(CLI::Range(1, 24));
+  auto* qbits_opt = app.add_option("--qbits", qbits,
+                                   "quantization bits per axis (1..24; voxel lattices: just enough by default)")
+                        ->capture_default_str()->check(CLI::Range(1, 24));
   app.add_option("--dmax", dmax,
                  "boundary tolerance Dmax in input units (default: 0.5% of the largest extent)")
       ->check(CLI::PositiveNumber);
@@ -88,19 +119,42 @@ int main(int argc, char** argv) {
   if (output == "-") quiet = true;  // standard output carries the stream
 
   try {
-    auto node = dtm::read_tetgen_node(input);
-    if (node.points.size() < 4)
-      throw dtm::FormatError(input + ": " + std::to_string(node.points.size()) +
-                             " points; a tetrahedral mesh needs at least 4");
+    std::optional<dtm::InputFormat> format;
+    if (!format_name.empty()) {
+      format = dtm::input_format_named(format_name);
+      if (!format)
+        throw std::invalid_argument("--format " + format_name + ": unknown (known: " + dtm::kInputFormatNames + ")");
+    }
+    const bool volume_options = volume.threshold || volume.label || volume.interior_step != 1;
+    if (volume_options && (format ? *format : dtm::input_format_for_path(input)) != dtm::InputFormat::kNrrd)
+      throw std::invalid_argument(input + ": --threshold, --label and --voxel-interior-step apply to voxel volumes only");
+    auto in = dtm::read_input(input, format, volume);
     if (box > 0) {
-      const double extent = dtm::largest_extent(node.points);
+      const double extent = dtm::largest_extent(in.points);
       scale = extent > 0 ? box / extent : 1.0;
     }
     if (scale <= 0) scale = 1.0;
     if (scale != 1.0)
-      for (auto& p : node.points) p = {p.x * scale, p.y * scale, p.z * scale};
+      for (auto& p : in.points) p = {p.x * scale, p.y * scale, p.z * scale};
 
-    const auto q = dtm::quantize(node.points, qbits);
+    dtm::QuantizedPoints q;
+    const bool lattice = in.on_grid.has_value();
+    if (lattice) {
+      // The voxel lattice is the grid: positions stay exact.
+      q = std::move(*in.on_grid);
+      const int needed = q.grid.qbits;
+      if (qbits_opt->count() > 0) {
+        if (qbits < needed)
+          throw std::invalid_argument(input + ": the selected voxels span " + std::to_string((1 << needed) / 2) +
+                                      " or more voxels on an axis: --qbits must be at least " + std::to_string(needed));
+        q.grid.qbits = qbits;
+      }
+      qbits = q.grid.qbits;
+      for (double& o : q.grid.origin) o *= scale;
+      q.grid.step *= scale;
+    } else {
+      q = dtm::quantize(in.points, qbits);
+    }
     const double extent = q.grid.step * ((1u << qbits) - 1);
     if (dmax <= 0) dmax = 0.005 * extent;
 
@@ -113,9 +167,15 @@ int main(int argc, char** argv) {
     opt.quality_guard = guard;
 
     if (!quiet) {
-      std::printf("%s: %zu points, %llu merged by quantization, q=%d, step=%.6g, Dmax=%g\n",
-                  input.c_str(), node.points.size(), (unsigned long long)q.duplicates_merged,
-                  qbits, q.grid.step, dmax);
+      std::printf("%s: %zu points, %llu merged by quantization, q=%d, step=%.6g, Dmax=%g%s\n",
+                  input.c_str(), in.points.size(), (unsigned long long)q.duplicates_merged,
+                  qbits, q.grid.step, dmax, lattice ? " (the voxel lattice: lossless)" : "");
+      if (!in.tets.empty() || !in.fields.empty()) {
+        std::string kept;
+        if (!in.tets.empty()) kept += std::to_string(in.tets.size()) + " tetrahedra";
+        for (const auto& f : in.fields) kept += (kept.empty() ? "field '" : ", field '") + f.name + "'";
+        std::printf("%s: kept aside (not coded yet): %s\n", input.c_str(), kept.c_str());
+      }
       dtm::print_table_header(stdout);
     }
     const bool progress = !quiet && isatty(STDERR_FILENO);
