@@ -11,6 +11,7 @@
 
 #include "format_error.h"
 #include "point_sets.h"
+#include "text_cursor.h"
 
 namespace dtm {
 namespace {
@@ -79,6 +80,18 @@ const char* expectations(PointSetFormat f) {
   return "";
 }
 
+// CGAL's OFF point reader stops quietly at the end of the file, however many
+// vertices the header announced: compare with the header ourselves.
+void check_off_count(const std::string& path, size_t read) {
+  TextCursor c = TextCursor::open(path, '#');
+  const std::string_view header = c.token("an OFF header");
+  if (header.size() < 3 || header.substr(header.size() - 3) != "OFF") return;  // CGAL accepted it: leave it be
+  const auto announced = c.number<uint64_t>("a vertex count");
+  if (announced != read)
+    throw FormatError(path + ": the header announces " + std::to_string(announced) + " vertices, the file holds " +
+                      std::to_string(read) + " (truncated?)");
+}
+
 }  // namespace
 
 InputMesh read_point_set(const std::string& path, PointSetFormat format) {
@@ -109,6 +122,7 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
       default: ok = CGAL::IO::read_XYZ(in, ps); break;
     }
     if (ok) out = from_point_set(ps);
+    if (ok && format == PointSetFormat::kOff) check_off_count(path, out.points.size());
   }
   if (!ok)
     throw FormatError(path + ": not a valid " + std::string(name_of(format)) + " file (CGAL's reader stopped; expected " +

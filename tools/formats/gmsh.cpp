@@ -73,8 +73,8 @@ class GmshReader {
     }
   }
 
-  void add_node(int64_t tag) {
-    if (!index_of_.emplace(tag, static_cast<uint32_t>(out_.points.size())).second)
+  void add_node(int64_t tag, size_t index) {
+    if (!index_of_.emplace(tag, static_cast<uint32_t>(index)).second)
       c_.fail("node tag " + std::to_string(tag) + " defined twice");
   }
 
@@ -82,7 +82,7 @@ class GmshReader {
     const uint64_t n = c_.count("a node count", c_.remaining() / 8);
     out_.points.reserve(n);
     for (uint64_t i = 0; i < n; ++i) {
-      add_node(c_.number<int64_t>("a node tag"));
+      add_node(c_.number<int64_t>("a node tag"), out_.points.size());
       const double x = c_.coordinate(), y = c_.coordinate(), z = c_.coordinate();
       out_.points.push_back({x, y, z});
     }
@@ -101,7 +101,7 @@ class GmshReader {
       const uint64_t in_block = c_.count("a node count", c_.remaining() / 8);
       if (dim < 0 || dim > 3 || parametric < 0 || parametric > 1) c_.fail("bad node block header");
       const size_t first = out_.points.size();
-      for (uint64_t i = 0; i < in_block; ++i) add_node(c_.number<int64_t>("a node tag"));
+      for (uint64_t i = 0; i < in_block; ++i) add_node(c_.number<int64_t>("a node tag"), first + i);
       for (uint64_t i = 0; i < in_block; ++i) {
         const double x = c_.coordinate(), y = c_.coordinate(), z = c_.coordinate();
         out_.points.push_back({x, y, z});

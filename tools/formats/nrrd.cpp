@@ -181,7 +181,11 @@ Volume read_nrrd(const std::string& path) {
       throw FormatError(path + ": unsupported: a list of data files");
     const std::filesystem::path p(*file);
     data_path = p.is_absolute() ? p.string() : (std::filesystem::path(path).parent_path() / p).string();
-    detached = read_whole_file(data_path);
+    try {
+      detached = read_whole_file(data_path);
+    } catch (const FormatError& e) {
+      throw FormatError(path + ": data file: " + e.what());
+    }
     data = detached;
   } else {
     if (!blank_line) throw FormatError(path + ": header ends without the blank line before the data");

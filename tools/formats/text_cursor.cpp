@@ -41,10 +41,15 @@ bool TextCursor::at_end() {
 }
 
 std::string_view TextCursor::peek() {
+  // Leaves the position alone: binary data may follow the current line.
+  const size_t pos = pos_, line = line_;
   skip_space();
   size_t e = pos_;
   while (e < data_.size() && !std::isspace(static_cast<unsigned char>(data_[e]))) ++e;
-  return std::string_view(data_).substr(pos_, e - pos_);
+  const std::string_view out = std::string_view(data_).substr(pos_, e - pos_);
+  pos_ = pos;
+  line_ = line;
+  return out;
 }
 
 std::string_view TextCursor::token(const char* what) {
@@ -73,8 +78,11 @@ std::string_view TextCursor::rest_of_line() {
 
 void TextCursor::skip_to_next_line() {
   while (pos_ < data_.size() && data_[pos_] != '\n') {
-    if (!std::isspace(static_cast<unsigned char>(data_[pos_])))
+    if (!std::isspace(static_cast<unsigned char>(data_[pos_]))) {
+      token_line_ = line_;
+      token_offset_ = pos_;
       fail("unexpected '" + std::string(peek()) + "' at the end of the line");
+    }
     ++pos_;
   }
   if (pos_ < data_.size()) {

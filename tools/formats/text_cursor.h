@@ -31,7 +31,7 @@ class TextCursor {
   bool at_end();
   // The next token; fails with "file ends, expected <what>" at the end.
   std::string_view token(const char* what);
-  // The next token without consuming it ("" at the end).
+  // The next token without moving the cursor ("" at the end).
   std::string_view peek();
   // The rest of the current line (without '\r\n'), then moves to the next
   // line. At the end of a line, the (empty) rest of it.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "format_error.h"
@@ -51,9 +52,10 @@ InputMesh voxel_points(const Volume& v, const VolumeOptions& o, const std::strin
         }
       }
   if (voxels.empty()) {
-    const std::string rule = o.threshold ? "threshold " + std::to_string(*o.threshold) : "label " + std::to_string(*o.label);
-    throw FormatError(path + ": the " + rule + " selects no voxel (values range from " + std::to_string(lo) + " to " +
-                      std::to_string(hi) + ")");
+    char text[200];
+    std::snprintf(text, sizeof text, "%s %g selects no voxel (values range from %g to %g)",
+                  o.threshold ? "--threshold" : "--label", o.threshold ? *o.threshold : *o.label, lo, hi);
+    throw FormatError(path + ": " + text);
   }
   // Lexicographic (x, y, z) order, as QuantizedPoints requires.
   std::vector<uint32_t> order(voxels.size());

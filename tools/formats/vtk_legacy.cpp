@@ -65,10 +65,10 @@ class LegacyReader {
       } else if (key == "CELLS") {
         read_cells(cell_offsets, connectivity);
       } else if (key == "CELL_TYPES") {
-        const uint64_t n = c_.count("a cell count", c_.remaining() / 2);
+        const uint64_t n = c_.count("a cell count", c_.remaining());
         for (double t : array(n, "int")) cell_types.push_back(static_cast<int64_t>(t));
       } else if (key == "POINT_DATA" || key == "CELL_DATA") {
-        data_count = c_.count("a tuple count", c_.remaining() / 2);
+        data_count = c_.count("a tuple count", c_.remaining());
         in_point_data = key == "POINT_DATA";
         in_data = true;
         if (in_point_data && data_count != out_.points.size())
@@ -102,7 +102,7 @@ class LegacyReader {
         for (uint64_t a = 0; a < arrays; ++a) {
           VertexField f{std::string(c_.token("an array name")), 0, {}};
           f.components = c_.number<int>("a component count");
-          const uint64_t tuples = c_.count("a tuple count", c_.remaining() / 2);
+          const uint64_t tuples = c_.count("a tuple count", c_.remaining());
           if (f.components < 1) c_.fail("bad component count");
           f.values = array(tuples * f.components, c_.token("a value type"));
           if (in_point_data && data_count > 0) {
@@ -172,8 +172,8 @@ class LegacyReader {
 
   void read_cells(std::vector<int64_t>& offsets, std::vector<int64_t>& connectivity) {
     if (!offsets.empty()) c_.fail("a second CELLS section");
-    const uint64_t a = c_.count("a cell count", c_.remaining() / 2);
-    const uint64_t b = c_.count("a cell list size", c_.remaining() / 2);
+    const uint64_t a = c_.count("a cell count", c_.remaining());
+    const uint64_t b = c_.count("a cell list size", c_.remaining());
     if (c_.peek() == "OFFSETS") {  // version 5.1: a = cells + 1, b = connectivity size
       c_.token("OFFSETS");
       for (double v : array(a, c_.token("an offset type"))) offsets.push_back(static_cast<int64_t>(v));
@@ -244,14 +244,18 @@ std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
   out += "CELL_TYPES " + std::to_string(m.cells.size()) + "\n";
   for (size_t i = 0; i < m.cells.size(); ++i) put(int32_t{kVtkTetra}, true);
   end_section();
-  if (!m.level.empty() || !m.boundary.empty()) out += "POINT_DATA " + std::to_string(m.points.size()) + "\n";
+  // Point data as one FIELD block: VTK's legacy reader keeps only the first
+  // SCALARS of a file unless asked for all, but always reads every FIELD array.
+  const int arrays = !m.level.empty() + !m.boundary.empty();
+  if (arrays > 0)
+    out += "POINT_DATA " + std::to_string(m.points.size()) + "\nFIELD FieldData " + std::to_string(arrays) + "\n";
   if (!m.level.empty()) {
-    out += "SCALARS level int 1\nLOOKUP_TABLE default\n";
+    out += "level 1 " + std::to_string(m.points.size()) + " int\n";
     for (int32_t v : m.level) put(v, true);
     end_section();
   }
   if (!m.boundary.empty()) {
-    out += "SCALARS boundary unsigned_char 1\nLOOKUP_TABLE default\n";
+    out += "boundary 1 " + std::to_string(m.points.size()) + " unsigned_char\n";
     for (uint8_t v : m.boundary) put(v, true);
     end_section();
   }

@@ -296,7 +296,7 @@ class VtuReader {
   // The `tuples` x `components` values of a DataArray, whatever its format.
   std::vector<double> array(const Element& da, uint64_t tuples, int components) {
     const std::string name = da.attr("Name") ? *da.attr("Name") : "";
-    const std::string what = "DataArray \"" + name + "\"";
+    const std::string what = name.empty() ? "a DataArray" : "DataArray \"" + name + "\"";
     const std::string* type_name = da.attr("type");
     const auto type = type_name ? xml_type(*type_name) : std::nullopt;
     if (!type) p_.fail_at(da.offset, what + ": unknown or unsupported type \"" + (type_name ? *type_name : "") + "\"");
