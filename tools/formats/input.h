@@ -10,6 +10,7 @@
 #include <string>
 #include <string_view>
 
+#include "format_error.h"
 #include "input_mesh.h"
 #include "voxel_points.h"
 
