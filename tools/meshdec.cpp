@@ -12,6 +12,7 @@
 #include "core/topology.h"
 #include "tools/atomic_file.h"
 #include "tools/formats/mesh_writers.h"
+#include "tools/formats/surface_writers.h"
 #include "tools/stream_input.h"
 
 namespace {
@@ -129,10 +130,16 @@ int main(int argc, char** argv) {
     } else {
       dtm::write_files_atomically(files);
     }
-    if (!quiet)
+    if (!quiet) {
+      std::string note = verify ? ", verified " + std::to_string(verified) + " levels" : "";
+      if (format == dtm::MeshFormat::kPly || format == dtm::MeshFormat::kOff) {
+        const dtm::BoundarySurface s = dtm::boundary_surface(mesh);
+        note += "; boundary surface: " + std::to_string(s.vertices.size()) + " vertices, " +
+                std::to_string(s.triangles.size()) + " triangles";
+      }
       std::fprintf(stderr, "meshdec: level %d: %zu vertices, %zu tetrahedra%s\n", decoder.finest_level(),
-                   mesh.points.size(), mesh.cells.size(),
-                   verify ? (", verified " + std::to_string(verified) + " levels").c_str() : "");
+                   mesh.points.size(), mesh.cells.size(), note.c_str());
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshdec: error: %s\n", e.what());
     return 1;

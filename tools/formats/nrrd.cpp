@@ -147,6 +147,8 @@ Volume read_nrrd(const std::string& path) {
       throw FormatError(path + ": bad size " + std::to_string(sizes[a]));
     v.sizes[a] = static_cast<uint64_t>(sizes[a]);
   }
+  if (v.voxels() > (uint64_t{1} << 33))
+    throw FormatError(path + ": " + std::to_string(v.voxels()) + " voxels: larger than this reader handles (2^33)");
   if (const std::string* dirs = field("space directions")) {
     const auto d = numbers(*dirs, "space directions");
     if (d.size() != 9) throw FormatError(path + ": 'space directions' must be three 3-vectors");

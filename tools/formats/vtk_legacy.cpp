@@ -103,7 +103,7 @@ class LegacyReader {
           VertexField f{std::string(c_.token("an array name")), 0, {}};
           f.components = c_.number<int>("a component count");
           const uint64_t tuples = c_.count("a tuple count", c_.remaining());
-          if (f.components < 1) c_.fail("bad component count");
+          if (f.components < 1 || f.components > 64) c_.fail("bad component count " + std::to_string(f.components));
           f.values = array(tuples * f.components, c_.token("a value type"));
           if (in_point_data && data_count > 0) {
             if (tuples != out_.points.size())

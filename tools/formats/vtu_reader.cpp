@@ -252,7 +252,7 @@ class VtuReader {
         VertexField f;
         f.name = da.attr("Name") ? *da.attr("Name") : "unnamed";
         f.components = static_cast<int>(count_attr(da, "NumberOfComponents", 1));
-        if (f.components < 1) p_.fail_at(da.offset, "NumberOfComponents must be at least 1");
+        if (f.components < 1 || f.components > 64) p_.fail_at(da.offset, "NumberOfComponents must be 1 to 64");
         f.values = array(da, n, f.components);
         out.fields.push_back(std::move(f));
       }
