@@ -6,6 +6,8 @@
 
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "format_test_support.h"
 #include "test_support.h"
 #include "tools/formats/input.h"
@@ -94,6 +96,26 @@ TEST_F(ConvertedCorpus, TheSamePointSetGivesAByteIdenticalStreamFromEveryFormat)
     ++compared;
   }
   EXPECT_EQ(compared, 14);
+}
+
+TEST_F(ConvertedCorpus, InputTetrahedraAreTheReferenceShapeInTheReport) {
+  const std::string report = dir_ + "/reference.json";
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + dir_ + "/torus_288.mesh --scale 25 --dmax 3 --report " + report);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("reference shape: the input's 1080 tetrahedra (180 boundary vertices)"), std::string::npos)
+      << r.output;
+  auto j = nlohmann::json::parse(test::slurp(report));
+  EXPECT_EQ(j["reference_tetrahedra"], 1080);
+  // On the torus the carved level 0 has exactly TetGen's boundary; coarser levels stray.
+  EXPECT_EQ(j["levels"][0]["reference_max_error"], 0.0);
+  EXPECT_GT(j["levels"].back()["reference_max_error"].get<double>(), 0.0);
+  EXPECT_GE(j["levels"].back()["reference_max_error"].get<double>(),
+            j["levels"].back()["max_boundary_error"].get<double>());
+  r = test::run_command(std::string(DTM_MESHENC) + " " + dir_ + "/torus_288.xyz --report " + report);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find("reference shape"), std::string::npos);
+  j = nlohmann::json::parse(test::slurp(report));
+  EXPECT_FALSE(j.contains("reference_tetrahedra"));
 }
 
 TEST_F(ConvertedCorpus, FormatOverridesTheExtension) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include "core/hierarchy.h"
 #include "tools/atomic_file.h"
 #include "tools/formats/input.h"
+#include "tools/reference_shape.h"
 #include "tools/report.h"
 
 namespace {
@@ -181,10 +183,15 @@ int main(int argc, char** argv) {
     const bool progress = !quiet && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     std::vector<dtm::LevelStats> stats;
+    // The input's tetrahedra, when it has them, are the reference shape.
+    std::optional<dtm::ReferenceShape> reference;
+    if (!in.tets.empty()) reference.emplace(in.tets, q);
+    std::vector<dtm::DistanceSummary> reference_errors;
     dtm::Hierarchy hierarchy;
     try {
       hierarchy = dtm::build_hierarchy(q.points, opt, [&](const dtm::Level& level) {
         stats.push_back(level.stats);
+        if (reference) reference_errors.push_back(reference->distance(level.mesh, q.points));
         if (!quiet) dtm::print_table_row(stdout, level.stats, q.grid);
         if (progress) {
           const double s =
@@ -197,6 +204,16 @@ int main(int argc, char** argv) {
       throw std::runtime_error(input + ": " + e.what());
     }
     if (progress) std::fprintf(stderr, "\033[K");
+    if (reference && !quiet && !reference_errors.empty()) {
+      const auto& first = reference_errors.front();
+      const auto& last = reference_errors.back();
+      std::printf("reference shape: the input's %zu tetrahedra (%zu boundary vertices); distance between its "
+                  "boundary and each level's, both ways, max / mean: level 0 %.4g / %.4g, level %zu %.4g / %.4g "
+                  "(all levels in --report)\n",
+                  reference->tetrahedra(), reference->boundary_vertices(), first.max * q.grid.step,
+                  first.mean * q.grid.step, reference_errors.size() - 1, last.max * q.grid.step,
+                  last.mean * q.grid.step);
+    }
 
     dtm::ReportContext ctx;
     ctx.input = input;
@@ -225,8 +242,17 @@ int main(int argc, char** argv) {
                     8.0 * stream.bytes.size() / q.points.size(), q.points.size(),
                     hierarchy.levels.size());
     }
-    if (!report_path.empty())
-      files.emplace_back(report_path, dtm::report_json(ctx, stats).dump(2) + "\n");
+    if (!report_path.empty()) {
+      auto j = dtm::report_json(ctx, stats);
+      if (reference) {
+        j["reference_tetrahedra"] = reference->tetrahedra();
+        for (size_t l = 0; l < reference_errors.size() && l < j["levels"].size(); ++l) {
+          j["levels"][l]["reference_max_error"] = reference_errors[l].max * q.grid.step;
+          j["levels"][l]["reference_mean_error"] = reference_errors[l].mean * q.grid.step;
+        }
+      }
+      files.emplace_back(report_path, j.dump(2) + "\n");
+    }
     dtm::write_files_atomically(files);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshenc: error: %s\n", e.what());

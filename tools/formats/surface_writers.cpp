@@ -6,7 +6,7 @@
 
 namespace dtm {
 
-BoundarySurface boundary_surface(const OutputMesh& m) {
+std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::array<uint32_t, 4>> cells) {
   // Outward faces of a positively oriented (a, b, c, d): d lies on the
   // right-hand normal side of (a, b, c), so that face turns the other way.
   static constexpr int kFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
@@ -15,23 +15,28 @@ BoundarySurface boundary_surface(const OutputMesh& m) {
     std::array<uint32_t, 3> oriented;
   };
   std::vector<Face> faces;
-  faces.reserve(4 * m.cells.size());
-  for (const auto& t : m.cells)
+  faces.reserve(4 * cells.size());
+  for (const auto& t : cells)
     for (const auto& f : kFaces) {
       Face face{{t[f[0]], t[f[1]], t[f[2]]}, {t[f[0]], t[f[1]], t[f[2]]}};
       std::sort(face.key.begin(), face.key.end());
       faces.push_back(face);
     }
   std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key; });
-  BoundarySurface out;
-  std::vector<int64_t> local(m.points.size(), -1);
-  std::vector<std::array<uint32_t, 3>> kept;
+  std::vector<std::array<uint32_t, 3>> out;
   for (size_t i = 0; i < faces.size();) {
     size_t j = i;
     while (j < faces.size() && faces[j].key == faces[i].key) ++j;
-    if (j - i == 1) kept.push_back(faces[i].oriented);
+    if (j - i == 1) out.push_back(faces[i].oriented);
     i = j;
   }
+  return out;
+}
+
+BoundarySurface boundary_surface(const OutputMesh& m) {
+  const auto kept = boundary_triangles(m.cells);
+  BoundarySurface out;
+  std::vector<int64_t> local(m.points.size(), -1);
   for (const auto& f : kept)
     for (uint32_t v : f) local[v] = 0;
   for (uint32_t v = 0; v < m.points.size(); ++v)
