@@ -111,11 +111,13 @@ TEST_F(ConvertedCorpus, InputTetrahedraAreTheReferenceShapeInTheReport) {
   EXPECT_GT(j["levels"].back()["reference_max_error"].get<double>(), 0.0);
   EXPECT_GE(j["levels"].back()["reference_max_error"].get<double>(),
             j["levels"].back()["max_boundary_error"].get<double>());
-  r = test::run_command(std::string(DTM_MESHENC) + " " + dir_ + "/torus_288.xyz --report " + report);
-  ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_EQ(r.output.find("reference shape"), std::string::npos);
-  j = nlohmann::json::parse(test::slurp(report));
-  EXPECT_FALSE(j.contains("reference_tetrahedra"));
+  for (const std::string& args : {dir_ + "/torus_288.xyz", test::data_path("torus_288.node") + " --no-reference"}) {
+    r = test::run_command(std::string(DTM_MESHENC) + " " + args + " --report " + report);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(r.output.find("reference shape"), std::string::npos) << args;
+    j = nlohmann::json::parse(test::slurp(report));
+    EXPECT_FALSE(j.contains("reference_tetrahedra")) << args;
+  }
 }
 
 TEST_F(ConvertedCorpus, FormatOverridesTheExtension) {

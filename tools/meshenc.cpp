@@ -30,8 +30,9 @@ Examples:
 
 Inputs (by extension, or --format): TetGen .node (+ .ele), Medit .mesh, VTK
 .vtk and .vtu, gmsh .msh (2.2, 4.1), PLY, OFF, OBJ, XYZ, NRRD .nrrd/.nhdr.
-Only the vertices are encoded; tetrahedra and per-vertex values in the file
-are read, checked and kept aside.
+Only the vertices are encoded; per-vertex values in the file are read, checked
+and kept aside; tetrahedra in the file are the reference shape that each
+level's boundary is measured against (the line after the table, --report).
 
 Voxel volumes: the solid is the voxels with value >= --threshold (or ==
 --label); its points are every boundary voxel (a 6-neighbour outside the
@@ -75,7 +76,7 @@ int main(int argc, char** argv) {
   int qbits = 14, levels = 0;
   double dmax = 0, scale = 0, box = 0, guard = 0;
   size_t min_base = 16;
-  bool no_paper_stop = false, quiet = false, hash_cells = false;
+  bool no_paper_stop = false, quiet = false, hash_cells = false, no_reference = false;
   std::string format_name;
   dtm::VolumeOptions volume;
   app.add_option("input", input, "input file: .node .mesh .vtk .vtu .msh .nrrd .nhdr .ply .off .obj .xyz")
@@ -91,6 +92,8 @@ int main(int argc, char** argv) {
                  "are always kept)")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("-o,--output", output, "write the .dtm stream here ('-' = standard output)");
+  app.add_flag("--no-reference", no_reference,
+               "ignore the input's tetrahedra (no reference-shape error; a TetGen .ele is not even read)");
   app.add_flag("--hash-cells", hash_cells,
                "store each level's cell-set hash (lets meshdec --verify prove its meshes)");
   auto* qbits_opt = app.add_option("--qbits", qbits,
@@ -130,7 +133,8 @@ int main(int argc, char** argv) {
     const bool volume_options = volume.threshold || volume.label || volume.interior_step != 1;
     if (volume_options && (format ? *format : dtm::input_format_for_path(input)) != dtm::InputFormat::kNrrd)
       throw std::invalid_argument(input + ": --threshold, --label and --voxel-interior-step apply to voxel volumes only");
-    auto in = dtm::read_input(input, format, volume);
+    auto in = dtm::read_input(input, format, volume, !no_reference);
+    if (no_reference) in.tets.clear();
     if (box > 0) {
       const double extent = dtm::largest_extent(in.points);
       scale = extent > 0 ? box / extent : 1.0;
@@ -172,11 +176,10 @@ int main(int argc, char** argv) {
       std::printf("%s: %zu points, %llu merged by quantization, q=%d, step=%.6g, Dmax=%g%s\n",
                   input.c_str(), in.points.size(), (unsigned long long)q.duplicates_merged,
                   qbits, q.grid.step, dmax, lattice ? " (the voxel lattice: lossless)" : "");
-      if (!in.tets.empty() || !in.fields.empty()) {
-        std::string kept;
-        if (!in.tets.empty()) kept += std::to_string(in.tets.size()) + " tetrahedra";
-        for (const auto& f : in.fields) kept += (kept.empty() ? "field '" : ", field '") + f.name + "'";
-        std::printf("%s: kept aside (not coded yet): %s\n", input.c_str(), kept.c_str());
+      if (!in.fields.empty()) {
+        std::string names;
+        for (const auto& f : in.fields) names += (names.empty() ? "'" : ", '") + f.name + "'";
+        std::printf("%s: per-vertex fields kept aside (not coded yet): %s\n", input.c_str(), names.c_str());
       }
       dtm::print_table_header(stdout);
     }

@@ -39,20 +39,20 @@ InputFormat input_format_for_path(const std::string& path) {
 
 namespace {
 
-InputMesh read_tetgen(const std::string& path) {
+InputMesh read_tetgen(const std::string& path, bool with_ele) {
   NodeFile node = read_tetgen_node(path);
   InputMesh out;
   out.points = std::move(node.points);
   if (!node.markers.empty())
     out.fields.push_back({"boundary_marker", 1, std::vector<double>(node.markers.begin(), node.markers.end())});
   const std::filesystem::path ele = std::filesystem::path(path).replace_extension(".ele");
-  if (std::filesystem::exists(ele)) out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);
+  if (with_ele && std::filesystem::exists(ele)) out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);
   return out;
 }
 
-InputMesh read_any(const std::string& path, InputFormat format, const VolumeOptions& volume) {
+InputMesh read_any(const std::string& path, InputFormat format, const VolumeOptions& volume, bool tetgen_ele) {
   switch (format) {
-    case InputFormat::kTetgen: return read_tetgen(path);
+    case InputFormat::kTetgen: return read_tetgen(path, tetgen_ele);
     case InputFormat::kMedit: return read_medit(path);
     case InputFormat::kVtk: return read_vtk_legacy(path);
     case InputFormat::kVtu: return read_vtu(path);
@@ -68,9 +68,10 @@ InputMesh read_any(const std::string& path, InputFormat format, const VolumeOpti
 
 }  // namespace
 
-InputMesh read_input(const std::string& path, std::optional<InputFormat> format, const VolumeOptions& volume) {
+InputMesh read_input(const std::string& path, std::optional<InputFormat> format, const VolumeOptions& volume,
+                     bool tetgen_ele) {
   if (!std::filesystem::exists(path)) throw FormatError(path + ": cannot open file (it does not exist)");
-  InputMesh mesh = read_any(path, format ? *format : input_format_for_path(path), volume);
+  InputMesh mesh = read_any(path, format ? *format : input_format_for_path(path), volume, tetgen_ele);
   check_spans_3d(mesh.points, path);
   return mesh;
 }
