@@ -250,6 +250,29 @@ TEST(OutputFormats, BoundarySurfaceReadByMeshio) {
   }
 }
 
+// gmsh itself opens our .msh and .mesh files and saves them again (as msh 2.2,
+// which our reader reads back): the same vertices (gmsh prints 16 digits, so
+// within 1e-15 relative) and the same tetrahedra.
+TEST(OutputFormats, GmshOpensOurMshAndMeditFiles) {
+  const OutputMesh m = torus_mesh();
+  for (const auto& [format, name] : {std::pair{MeshFormat::kGmsh, "for_gmsh.msh"}, std::pair{MeshFormat::kMedit, "for_gmsh.mesh"}}) {
+    SCOPED_TRACE(name);
+    const std::string back = ::testing::TempDir() + "/" + name + ".gmsh22.msh";
+    const auto r = test::run_command("gmsh -v 2 " + write(m, format, name) + " -0 -format msh22 -o " + back);
+    ASSERT_EQ(r.status, 0) << "gmsh failed (scripts/setup.sh installs it):\n" << r.output;
+    EXPECT_EQ(r.output.find("rror"), std::string::npos) << r.output;
+    const InputMesh g = read_input(back);
+    ASSERT_EQ(g.points.size(), m.points.size());
+    for (size_t i = 0; i < m.points.size(); ++i) {
+      const InputPoint want = m.grid.to_input(m.points[i]);
+      ASSERT_NEAR(g.points[i].x, want.x, 1e-15 * (1 + std::abs(want.x)));
+      ASSERT_NEAR(g.points[i].y, want.y, 1e-15 * (1 + std::abs(want.y)));
+      ASSERT_NEAR(g.points[i].z, want.z, 1e-15 * (1 + std::abs(want.z)));
+    }
+    EXPECT_EQ(g.tets, m.cells);
+  }
+}
+
 // --- meshdec end to end ----------------------------------------------------------
 
 TEST(OutputFormats, MeshdecWritesEveryFormatByExtensionAndByName) {
