@@ -123,9 +123,10 @@ class LegacyReader {
     }
     if (!have_points) throw FormatError(c_.path() + ": no POINTS section");
     if (cell_offsets.size() > 1 || !cell_types.empty()) {
-      if (cell_types.size() + 1 != cell_offsets.size())
+      const size_t cells = cell_offsets.empty() ? 0 : cell_offsets.size() - 1;
+      if (cell_types.size() != cells)
         throw FormatError(c_.path() + ": " + std::to_string(cell_types.size()) + " CELL_TYPES for " +
-                          std::to_string(cell_offsets.size() - 1) + " CELLS");
+                          std::to_string(cells) + " CELLS");
       for (size_t i = 0; i < cell_types.size(); ++i) {
         const int64_t b = cell_offsets[i], e = cell_offsets[i + 1];
         for (int64_t k = b; k < e; ++k)
