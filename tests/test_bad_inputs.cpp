@@ -7,6 +7,7 @@
 
 #include "format_test_support.h"
 #include "tools/formats/input.h"
+#include "tools/formats/mesh_writers.h"
 
 namespace dtm {
 namespace {
@@ -121,6 +122,46 @@ INSTANTIATE_TEST_SUITE_P(
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
       return n;
     });
+
+}  // namespace
+}  // namespace dtm
+
+namespace dtm {
+namespace {
+
+// The prefixes of a small valid file in each of our own readers' formats are
+// either still a valid file or rejected with a FormatError: never a crash,
+// a hang or another exception.
+TEST(TruncatedInputs, EveryPrefixIsRejectedCleanlyOrStillValid) {
+  OutputMesh m;
+  m.grid.step = 0.25;
+  m.grid.origin = {1, 2, 3};
+  m.points = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}, {4, 4, 4}};
+  m.cells = {{0, 1, 2, 3}, {1, 2, 3, 4}};
+  m.level = {0, 1, 1, 0, 2};
+  m.boundary = {1, 1, 1, 1, 0};
+  const std::string dir = ::testing::TempDir();
+  for (const auto& [format, name] :
+       {std::pair{MeshFormat::kVtk, "t.vtk"}, std::pair{MeshFormat::kVtkAscii, "t_ascii.vtk"},
+        std::pair{MeshFormat::kVtu, "t.vtu"}, std::pair{MeshFormat::kVtuAscii, "t_ascii.vtu"},
+        std::pair{MeshFormat::kMedit, "t.mesh"}, std::pair{MeshFormat::kGmsh, "t.msh"}}) {
+    const std::string bytes = render_mesh(m, format, name).front().second;
+    const std::string path = dir + "/prefix_" + name;
+    size_t accepted = 0;
+    // Every cut in the headers, then every third one (each cut is a file write).
+    for (size_t n = 0; n < bytes.size(); n += n < 256 ? 1 : 3) {
+      std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes.substr(0, n);
+      try {
+        const InputMesh back = read_input(path);
+        ++accepted;
+        EXPECT_EQ(back.points.size(), m.points.size()) << name << " cut at " << n;
+      } catch (const FormatError& e) {
+        ASSERT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
+      }
+    }
+    EXPECT_LT(accepted, 8u) << name << ": only a cut in the final whitespace may still be valid";
+  }
+}
 
 }  // namespace
 }  // namespace dtm
