@@ -201,7 +201,7 @@ void expect_error_or_stream(const std::string& path, const std::string& error_pa
 TEST(DegenerateInput, CollinearPoints) {
   std::vector<std::array<double, 3>> p;
   for (int i = 0; i < 1000; ++i) p.push_back({i * 0.5, 3.0, -2.0});
-  expect_error_or_stream(write_node("collinear", p), "1 dimension", 0);
+  expect_error_or_stream(write_node("collinear", p), "collinear", 0);
   // On a sloped line, rounding to the grid may move points off the line: then
   // they span three dimensions and make a (thin) mesh, which is a correct result.
   p.clear();

@@ -84,7 +84,7 @@ TEST(MeshWriters, FormatForPathByExtension) {
 TEST(MeshWriters, FormatForPathRejectsUnknownAndUppercaseNamingThePath) {
   // Uppercase is rejected on purpose: TetGen's names are lowercase and
   // "X.NODE" would get an "X.ele" sibling (see mesh_writers.h).
-  for (const std::string path : {"mesh.off", "mesh", "mesh.ele", "dir/.node", "OUT.VTU", "out.Node"}) {
+  for (const std::string path : {"mesh.stl", "mesh", "mesh.ele", "dir/.node", "OUT.VTU", "out.Node"}) {
     try {
       format_for_path(path);
       ADD_FAILURE() << path << " was accepted";

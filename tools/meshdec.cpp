@@ -12,6 +12,7 @@
 #include "core/topology.h"
 #include "tools/atomic_file.h"
 #include "tools/formats/mesh_writers.h"
+#include "tools/formats/surface_writers.h"
 #include "tools/stream_input.h"
 
 namespace {
@@ -20,6 +21,8 @@ constexpr const char* kExamples = R"(
 Examples:
   meshdec bunny.dtm -o bunny.vtu                 # finest level, for ParaView
   meshdec bunny.dtm -o coarse.node --level 3     # TetGen .node + .ele
+  meshdec bunny.dtm -o bunny.msh                 # gmsh 4.1 (also .vtk, .mesh)
+  meshdec bunny.dtm -o surface.ply --level 5     # the boundary surface, normals out
   head -c 40000 bunny.dtm | meshdec - -o preview.vtu
   meshdec bunny.dtm -o - --format vtu > bunny.vtu
 
@@ -36,12 +39,15 @@ int main(int argc, char** argv) {
   bool verify = false, quiet = false;
   uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
   app.add_option("input", input, ".dtm stream ('-' = standard input)")->required();
-  app.add_option("-o,--output", output, "output mesh: X.vtu or X.node (+ X.ele); '-' = standard output")
+  app.add_option("-o,--output", output,
+                 "output: X.vtu, X.vtk, X.mesh, X.msh, X.node (+ X.ele); the boundary surface as X.ply or "
+                 "X.off; the points as X.xyz; '-' = standard output")
       ->required();
   app.add_option("--level", level, "level of detail to write (0 = finest; default: the finest present)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--format", format_name, "node, vtu or vtu-ascii (default: from the output's extension)")
-      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii"}));
+  app.add_option("--format", format_name,
+                 std::string(dtm::kOutputFormatNames) + " (default: from the output's extension)")
+      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "ply", "off", "xyz"}));
   app.add_flag("--verify", verify,
                "check every decoded level against the cell-set hashes in the stream (meshenc --hash-cells)");
   app.add_option("--max-vertices", max_vertices, "refuse streams claiming more vertices than this")
@@ -52,9 +58,7 @@ int main(int argc, char** argv) {
   try {
     dtm::MeshFormat format;
     if (!format_name.empty())
-      format = format_name == "node" ? dtm::MeshFormat::kTetgen
-               : format_name == "vtu" ? dtm::MeshFormat::kVtu
-                                      : dtm::MeshFormat::kVtuAscii;
+      format = dtm::format_named(format_name);
     else if (output == "-")
       format = dtm::MeshFormat::kVtu;
     else
@@ -132,10 +136,16 @@ int main(int argc, char** argv) {
     } else {
       dtm::write_files_atomically(files);
     }
-    if (!quiet)
+    if (!quiet) {
+      std::string note = verify ? ", verified " + std::to_string(verified) + " levels" : "";
+      if (format == dtm::MeshFormat::kPly || format == dtm::MeshFormat::kOff) {
+        const dtm::BoundarySurface s = dtm::boundary_surface(mesh);
+        note += "; boundary surface: " + std::to_string(s.vertices.size()) + " vertices, " +
+                std::to_string(s.triangles.size()) + " triangles";
+      }
       std::fprintf(stderr, "meshdec: level %d: %zu vertices, %zu tetrahedra%s\n", decoder.finest_level(),
-                   mesh.points.size(), mesh.cells.size(),
-                   verify ? (", verified " + std::to_string(verified) + " levels").c_str() : "");
+                   mesh.points.size(), mesh.cells.size(), note.c_str());
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshdec: error: %s\n", e.what());
     return 1;

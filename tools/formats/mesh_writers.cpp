@@ -1,5 +1,11 @@
 #include "mesh_writers.h"
 
+#include "gmsh.h"
+#include "medit.h"
+#include "render_util.h"
+#include "surface_writers.h"
+#include "vtk_legacy.h"
+
 #include <bit>
 #include <charconv>
 #include <filesystem>
@@ -11,14 +17,6 @@ namespace {
 
 constexpr std::string_view kNodeExt = ".node";
 constexpr std::string_view kProducer = "dtmesh";
-
-// Shortest text that reads back to the same value (doubles bit-identical).
-template <class T>
-void append_number(std::string& out, T value) {
-  char buf[32];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
-  out.append(buf, end);
-}
 
 void validate(const OutputMesh& m) {
   const size_t n = m.points.size();
@@ -83,17 +81,6 @@ std::string render_ele(const OutputMesh& m) {
 
 // --- VTK XML ----------------------------------------------------------------
 
-// Appends `v` as little-endian bytes whatever the host's byte order, as the
-// file's byte_order="LittleEndian" promises.
-template <class T>
-void append_le(std::string& out, T v) {
-  using U = std::conditional_t<sizeof(T) == 1, uint8_t,
-            std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>;
-  static_assert(sizeof(U) == sizeof(T));
-  const U u = std::bit_cast<U>(v);
-  for (size_t k = 0; k < sizeof(U); ++k) out += static_cast<char>((u >> (8 * k)) & 0xff);
-}
-
 // One <DataArray> of `components`-tuples. `values` is flat; ascii puts
 // `per_line` values on a line (connectivity is a 1-component array to VTK,
 // but reads best 4 to a line).
@@ -108,17 +95,14 @@ void data_array(std::string& out, const char* type, const char* name, int compon
     // base64-encoded together as VTK's own writer does.
     std::string raw;
     raw.reserve(8 + values.size() * sizeof(T));
-    append_le(raw, uint64_t{values.size() * sizeof(T)});
-    for (T v : values) append_le(raw, v);
+    append_binary(raw, uint64_t{values.size() * sizeof(T)});
+    for (T v : values) append_binary(raw, v);
     out += base64_encode(raw);
     out += '\n';
   } else {
     for (size_t i = 0; i < values.size(); ++i) {
       out += i % per_line == 0 ? "          " : " ";
-      if constexpr (sizeof(T) == 1)
-        append_number(out, unsigned{values[i]});  // a number, not a character
-      else
-        append_number(out, values[i]);
+      append_number(out, values[i]);
       if ((i + 1) % per_line == 0) out += '\n';
     }
   }
@@ -203,7 +187,26 @@ MeshFormat format_for_path(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == kNodeExt) return MeshFormat::kTetgen;
   if (ext == ".vtu") return MeshFormat::kVtu;
-  throw std::invalid_argument(path + ": unknown output format (expected a .node or .vtu file name)");
+  if (ext == ".vtk") return MeshFormat::kVtk;
+  if (ext == ".mesh") return MeshFormat::kMedit;
+  if (ext == ".msh") return MeshFormat::kGmsh;
+  if (ext == ".ply") return MeshFormat::kPly;
+  if (ext == ".off") return MeshFormat::kOff;
+  if (ext == ".xyz") return MeshFormat::kXyz;
+  throw std::invalid_argument(path +
+                              ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .ply, .off or .xyz "
+                              "file name)");
+}
+
+MeshFormat format_named(const std::string& name) {
+  static const std::pair<const char*, MeshFormat> kNames[] = {
+      {"node", MeshFormat::kTetgen}, {"vtu", MeshFormat::kVtu},         {"vtu-ascii", MeshFormat::kVtuAscii},
+      {"vtk", MeshFormat::kVtk},     {"vtk-ascii", MeshFormat::kVtkAscii}, {"mesh", MeshFormat::kMedit},
+      {"msh", MeshFormat::kGmsh},    {"ply", MeshFormat::kPly},         {"off", MeshFormat::kOff},
+      {"xyz", MeshFormat::kXyz}};
+  for (const auto& [n, f] : kNames)
+    if (name == n) return f;
+  throw std::invalid_argument("unknown output format '" + name + "' (known: " + kOutputFormatNames + ")");
 }
 
 std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& mesh, MeshFormat format,
@@ -220,6 +223,20 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
       return {{path, render_vtu(mesh, true)}};
     case MeshFormat::kVtuAscii:
       return {{path, render_vtu(mesh, false)}};
+    case MeshFormat::kVtk:
+      return {{path, render_vtk_legacy(mesh, true)}};
+    case MeshFormat::kVtkAscii:
+      return {{path, render_vtk_legacy(mesh, false)}};
+    case MeshFormat::kMedit:
+      return {{path, render_medit(mesh)}};
+    case MeshFormat::kGmsh:
+      return {{path, render_gmsh(mesh)}};
+    case MeshFormat::kPly:
+      return {{path, render_ply(mesh)}};
+    case MeshFormat::kOff:
+      return {{path, render_off(mesh)}};
+    case MeshFormat::kXyz:
+      return {{path, render_xyz(mesh)}};
   }
   throw std::invalid_argument(path + ": unknown mesh format");
 }

@@ -1,6 +1,7 @@
 // Output of decoded levels: TetGen .node/.ele (the corpus format, see
-// shared/data/README.md) and VTK XML UnstructuredGrid .vtu (ParaView).
-// The writers only render bytes; the caller writes them (atomically).
+// shared/data/README.md), VTK XML .vtu and legacy .vtk (ParaView), Medit
+// .mesh, gmsh .msh 4.1, the boundary surface as PLY or OFF, the points as
+// XYZ. The writers only render bytes; the caller writes them (atomically).
 #pragma once
 
 #include <array>
@@ -27,18 +28,31 @@ enum class MeshFormat {
   kTetgen,    // X.node + X.ele; `boundary` becomes the marker column, `level` is not written
   kVtu,       // VTK XML, format="binary": base64 of [UInt64 byte count][little-endian data]
   kVtuAscii,  // VTK XML, format="ascii"
+  kVtk,       // VTK legacy 4.2, BINARY (big-endian); point data level, boundary
+  kVtkAscii,  // VTK legacy 4.2, ASCII
+  kMedit,     // Medit .mesh, ASCII; `boundary` becomes the vertex ref
+  kGmsh,      // gmsh .msh 4.1 ASCII; $NodeData level, boundary
+  kPly,       // boundary surface, binary PLY, outward normals
+  kOff,       // boundary surface, ASCII OFF, outward normals
+  kXyz,       // the points only
 };
 
 // The format named by the output path's extension: ".node" -> kTetgen (the
-// .ele goes beside it, same stem), ".vtu" -> kVtu. Extensions are
+// .ele goes beside it, same stem), ".vtu" -> kVtu, ".vtk" -> kVtk, ".mesh"
+// -> kMedit, ".msh" -> kGmsh, ".ply", ".off", ".xyz". Extensions are
 // case-sensitive, as TetGen's own are: "X.NODE" would otherwise get an
 // "X.ele" that `tetgen X` cannot find. Throws std::invalid_argument naming the
 // path for anything else.
 MeshFormat format_for_path(const std::string& path);
 
+// The format meshdec --format names: node, vtu, vtu-ascii, vtk, vtk-ascii,
+// mesh, msh, ply, off, xyz. Throws std::invalid_argument for anything else.
+MeshFormat format_named(const std::string& name);
+inline constexpr const char* kOutputFormatNames = "node, vtu, vtu-ascii, vtk, vtk-ascii, mesh, msh, ply, off, xyz";
+
 // The files of `mesh` in `format` as (path, bytes) pairs: two for kTetgen
 // (`path`, which must end in ".node", and the .ele beside it), one for the
-// VTU formats (`path` as given). Throws std::invalid_argument for a cell
+// others (`path` as given). Throws std::invalid_argument for a cell
 // index out of range, a `level` or `boundary` whose size is neither 0 nor
 // the number of points, or a TetGen path not ending in ".node".
 std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& mesh, MeshFormat format,

@@ -5,18 +5,13 @@
 
 #include <array>
 #include <cstdint>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/grid.h"
+#include "format_error.h"
 
 namespace dtm {
-
-// A bad input file: the message names the file, the line and the problem.
-struct FormatError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 struct NodeFile {
   std::vector<InputPoint> points;

@@ -1,0 +1,47 @@
+// Helpers for the format tests: running the tools and Debian's Python (the
+// independent readers meshio and VTK live there), and reading files whole.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace dtm::test {
+
+struct CommandRun {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+inline CommandRun run_command(const std::string& cmd) {
+  CommandRun r{-1, {}};
+  std::FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (size_t n = std::fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+  r.status = pclose(p);
+  return r;
+}
+
+// Debian's python3-meshio and python3-vtk9 live in /usr/lib/python3/dist-packages,
+// which only Debian's interpreter sees (a pyenv or venv python3 would not).
+inline const std::string kPython = "/usr/bin/python3";
+
+inline std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+inline std::string bad_file(const std::string& name) {
+  return std::string(DTM_TEST_SOURCE_DIR) + "/bad/" + name;
+}
+
+inline bool same_double(double a, double b) { return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b); }
+
+}  // namespace dtm::test

@@ -1,0 +1,198 @@
+// meshenc's readers on real data: torus_288 and bunny_10k written in every
+// input format by writers that are not ours (VTK's, meshio's; see
+// convert_corpus.py), read back to the same points, tetrahedra and fields,
+// and encoded to byte-identical streams whatever the format.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "format_test_support.h"
+#include "test_support.h"
+#include "tools/formats/input.h"
+
+namespace dtm {
+namespace {
+
+struct Converted {
+  const char* suffix;  // appended to the model's name by convert_corpus.py
+  bool tets;           // the format carries the tetrahedra
+  bool marker;         // the format carries the made-up point field "marker"
+  bool exact;          // coordinates are written so that they read back bit-identical
+};
+
+const Converted kConverted[] = {
+    {"_ascii.vtu", true, true, true},        {"_base64.vtu", true, true, true},
+    {"_appended_raw.vtu", true, true, true}, {"_appended_base64.vtu", true, true, true},
+    {"_binary.vtk", true, true, true},       {"_ascii.vtk", true, true, false},  // VTK writes 11 digits
+    {"_42.vtk", true, true, true},           {".mesh", true, false, true},
+    {"_22.msh", true, true, true},           {"_41.msh", true, true, true},
+    {"_binary.ply", false, false, true},     {"_ascii.ply", false, false, true},
+    {".off", false, false, true},            {".obj", false, false, true},
+    {".xyz", false, false, true}};
+
+class ConvertedCorpus : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = ::testing::TempDir() + "/converted";
+    std::filesystem::create_directories(dir_);
+    for (const char* model : {"torus_288", "bunny_10k"}) {
+      const auto r = test::run_command(test::kPython + " " + DTM_TEST_SOURCE_DIR + "/convert_corpus.py " +
+                                       test::data_path(std::string(model) + ".node") + " " + dir_ + " " + model);
+      ASSERT_EQ(r.status, 0) << "convert_corpus.py failed (scripts/setup.sh installs python3-vtk9 and "
+                                "python3-meshio):\n"
+                             << r.output;
+    }
+  }
+  static std::string path(const std::string& model, const Converted& c) { return dir_ + "/" + model + c.suffix; }
+  static std::string dir_;
+};
+std::string ConvertedCorpus::dir_;
+
+TEST_F(ConvertedCorpus, EveryFormatReadsTheSamePointsTetrahedraAndFields) {
+  const NodeFile node = read_tetgen_node(test::data_path("torus_288.node"));
+  const auto tets = read_tetgen_ele(test::data_path("torus_288.ele"), node.points.size());
+  for (const Converted& c : kConverted) {
+    SCOPED_TRACE(c.suffix);
+    const InputMesh m = read_input(path("torus_288", c));
+    ASSERT_EQ(m.points.size(), node.points.size());
+    for (size_t i = 0; i < m.points.size(); ++i) {
+      const InputPoint a = m.points[i], b = node.points[i];
+      if (c.exact) {
+        ASSERT_TRUE(test::same_double(a.x, b.x) && test::same_double(a.y, b.y) && test::same_double(a.z, b.z))
+            << "point " << i;
+      } else {
+        ASSERT_NEAR(a.x, b.x, 1e-9);
+        ASSERT_NEAR(a.y, b.y, 1e-9);
+        ASSERT_NEAR(a.z, b.z, 1e-9);
+      }
+    }
+    if (c.tets) EXPECT_EQ(m.tets, tets);
+    else EXPECT_TRUE(m.tets.empty());
+    if (c.marker) {
+      const auto f = std::find_if(m.fields.begin(), m.fields.end(), [](const VertexField& f) { return f.name == "marker"; });
+      ASSERT_NE(f, m.fields.end());
+      ASSERT_EQ(f->values.size(), m.points.size());
+      for (size_t i = 0; i < m.points.size(); ++i) ASSERT_EQ(f->values[i], static_cast<double>(i % 3));
+    }
+  }
+}
+
+TEST_F(ConvertedCorpus, TheSamePointSetGivesAByteIdenticalStreamFromEveryFormat) {
+  const std::string options = " -q --box 256 --dmax 2 --levels 6 -o ";
+  const std::string reference = dir_ + "/bunny_10k_node.dtm";
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("bunny_10k.node") + options + reference);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string want = test::slurp(reference);
+  ASSERT_GT(want.size(), 1000u);
+  int compared = 0;
+  for (const Converted& c : kConverted) {
+    if (!c.exact) continue;
+    const std::string out = dir_ + "/bunny_10k" + c.suffix + ".dtm";
+    r = test::run_command(std::string(DTM_MESHENC) + " " + path("bunny_10k", c) + options + out);
+    ASSERT_EQ(r.status, 0) << c.suffix << ": " << r.output;
+    EXPECT_TRUE(test::slurp(out) == want) << c.suffix << ": the stream differs from the .node's";
+    ++compared;
+  }
+  EXPECT_EQ(compared, 14);
+}
+
+TEST_F(ConvertedCorpus, InputTetrahedraAreTheReferenceShapeInTheReport) {
+  const std::string report = dir_ + "/reference.json";
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + dir_ + "/torus_288.mesh --scale 25 --dmax 3 --report " + report);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("reference shape: the input's 1080 tetrahedra (180 boundary vertices)"), std::string::npos)
+      << r.output;
+  auto j = nlohmann::json::parse(test::slurp(report));
+  EXPECT_EQ(j["reference_tetrahedra"], 1080);
+  // On the torus the carved level 0 has exactly TetGen's boundary; coarser levels stray.
+  EXPECT_EQ(j["levels"][0]["reference_max_error"], 0.0);
+  EXPECT_GT(j["levels"].back()["reference_max_error"].get<double>(), 0.0);
+  EXPECT_GE(j["levels"].back()["reference_max_error"].get<double>(),
+            j["levels"].back()["max_boundary_error"].get<double>());
+  for (const std::string& args : {dir_ + "/torus_288.xyz", test::data_path("torus_288.node") + " --no-reference"}) {
+    r = test::run_command(std::string(DTM_MESHENC) + " " + args + " --report " + report);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(r.output.find("reference shape"), std::string::npos) << args;
+    j = nlohmann::json::parse(test::slurp(report));
+    EXPECT_FALSE(j.contains("reference_tetrahedra")) << args;
+  }
+}
+
+TEST_F(ConvertedCorpus, FormatOverridesTheExtension) {
+  const std::string renamed = dir_ + "/torus_288_ply.data";
+  std::filesystem::copy_file(dir_ + "/torus_288_binary.ply", renamed, std::filesystem::copy_options::overwrite_existing);
+  EXPECT_EQ(read_input(renamed, InputFormat::kPly).points.size(), 288u);
+  try {
+    read_input(renamed);
+    ADD_FAILURE() << "an unknown extension was accepted";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find(renamed + ": unknown input format '.data'"), std::string::npos) << e.what();
+  }
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + renamed + " --format ply -q");
+  EXPECT_EQ(r.status, 0) << r.output;
+  r = test::run_command(std::string(DTM_MESHENC) + " " + renamed + " --format stl -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("--format stl: unknown"), std::string::npos) << r.output;
+}
+
+TEST(InputFormats, NamesAndExtensions) {
+  EXPECT_EQ(input_format_for_path("a/b.NODE"), InputFormat::kTetgen);  // input extensions ignore case
+  EXPECT_EQ(input_format_for_path("x.nhdr"), InputFormat::kNrrd);
+  EXPECT_EQ(input_format_for_path("x.msh"), InputFormat::kGmsh);
+  EXPECT_EQ(input_format_named("medit"), InputFormat::kMedit);
+  EXPECT_FALSE(input_format_named("stl").has_value());
+  EXPECT_THROW(input_format_for_path("x"), FormatError);
+}
+
+// Small files by hand for what the converted corpus does not show.
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+TEST(InputFormats, GmshSparseTagsAndNodeData) {
+  const std::string path = write_temp("sparse.msh",
+                                      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 \"solid\"\n$EndPhysicalNames\n"
+                                      "$Nodes\n2 4 10 40\n0 1 0 1\n40\n0 0 1\n3 1 0 3\n10\n20\n30\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n"
+                                      "$Elements\n1 1 7 7\n3 1 4 1\n7 10 20 30 40\n$EndElements\n"
+                                      "$NodeData\n1\n\"t\"\n1\n0.0\n3\n0\n1\n4\n10 1.5\n20 2.5\n30 3.5\n40 4.5\n$EndNodeData\n");
+  const InputMesh m = read_input(path);
+  ASSERT_EQ(m.points.size(), 4u);
+  EXPECT_EQ(m.points[0].z, 1.0);  // node 40 comes first in the file
+  ASSERT_EQ(m.tets.size(), 1u);
+  EXPECT_EQ(m.tets[0], (std::array<uint32_t, 4>{1, 2, 3, 0}));
+  ASSERT_EQ(m.fields.size(), 1u);
+  EXPECT_EQ(m.fields[0].name, "t");
+  EXPECT_EQ(m.fields[0].values, (std::vector<double>{4.5, 1.5, 2.5, 3.5}));
+}
+
+TEST(InputFormats, PlyPropertiesAreKeptAsFields) {
+  const std::string path = write_temp("props.ply",
+                                      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                      "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+                                      "property uchar intensity\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                      "end_header\n0 0 0 1 0 0 7\n1 0 0 0 1 0 8\n0 1 0 0 0 1 9\n0 0 1 1 0 0 10\n3 0 1 2\n");
+  const InputMesh m = read_input(path);
+  ASSERT_EQ(m.points.size(), 4u);
+  ASSERT_EQ(m.fields.size(), 2u);
+  EXPECT_EQ(m.fields[0].name, "normal");
+  EXPECT_EQ(m.fields[0].components, 3);
+  EXPECT_EQ(m.fields[1].name, "intensity");
+  EXPECT_EQ(m.fields[1].values, (std::vector<double>{7, 8, 9, 10}));
+}
+
+TEST(InputFormats, MeditSkipsOtherSectionsAndKeepsRefs) {
+  const std::string path = write_temp("sections.mesh",
+                                      "MeshVersionFormatted 1\n# comment\nDimension\n3\nVertices\n4\n0 0 0 5\n1 0 0 6\n0 1 0 7\n"
+                                      "0 0 1 8\nCorners\n1\n1\nTriangles\n1\n1 2 3 0\nTetrahedra\n1\n1 2 3 4 1\nEnd\n");
+  const InputMesh m = read_input(path);
+  EXPECT_EQ(m.tets.size(), 1u);
+  ASSERT_EQ(m.fields.size(), 1u);
+  EXPECT_EQ(m.fields[0].values, (std::vector<double>{5, 6, 7, 8}));
+}
+
+}  // namespace
+}  // namespace dtm

@@ -1,0 +1,229 @@
+// Voxel volumes: a CT-like torus generated here in every NRRD flavour we read
+// (uint8, uint16 big-endian, float32; attached, detached .nhdr + .raw, gzip),
+// its solid taken on the voxel grid, and the most degenerate Delaunay input
+// there is (every point on a lattice) through the hierarchy, the stream and
+// the decoder, checked level by level.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "format_test_support.h"
+#include "test_support.h"
+#include "tools/formats/input.h"
+#include "tools/formats/render_util.h"
+
+namespace dtm {
+namespace {
+
+constexpr int kSize = 32;
+constexpr double kSpacing = 0.5;                       // exact in binary: positions stay exact
+constexpr std::array<double, 3> kOrigin{10, 20, -30};
+
+// Signed depth inside a torus (core radius 9, tube radius 4, voxel units),
+// centred in the volume: > 0 inside.
+double depth(int i, int j, int k) {
+  const double x = i - 15.5, y = j - 15.5, z = k - 15.2;
+  return 4.0 - std::hypot(std::hypot(x, y) - 9.0, z);
+}
+
+enum class Flavour { kUint8, kUint16Big, kFloat32 };
+
+// The volume's bytes, x fastest; CT-like values: 1000 + 100 * depth, clamped.
+std::string voxels(Flavour f) {
+  std::string out;
+  for (int k = 0; k < kSize; ++k)
+    for (int j = 0; j < kSize; ++j)
+      for (int i = 0; i < kSize; ++i) {
+        const double d = depth(i, j, k);
+        switch (f) {
+          case Flavour::kUint8: append_binary(out, static_cast<uint8_t>(d >= 0 ? 200 : 10)); break;
+          case Flavour::kUint16Big:
+            append_binary(out, static_cast<uint16_t>(std::clamp(1000 + 100 * d, 0.0, 4000.0)), true);
+            break;
+          case Flavour::kFloat32: append_binary(out, static_cast<float>(d)); break;
+        }
+      }
+  return out;
+}
+
+std::string header(const char* type, const char* encoding, const char* endian, const std::string& extra = "") {
+  return std::string("NRRD0004\n# a CT-like torus\ntype: ") + type + "\ndimension: 3\nsizes: 32 32 32\n" +
+         "space dimension: 3\nspace directions: (0.5,0,0) (0,0.5,0) (0,0,0.5)\nspace origin: (10,20,-30)\n" +
+         "kinds: domain domain domain\nencoding: " + encoding + "\n" + (endian ? std::string("endian: ") + endian + "\n" : "") +
+         extra;
+}
+
+class Volumes : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = ::testing::TempDir() + "/volumes";
+    std::filesystem::create_directories(dir_);
+    std::ofstream(dir_ + "/torus_u8.nrrd", std::ios::binary) << header("uchar", "raw", nullptr) << "\n"
+                                                             << voxels(Flavour::kUint8);
+    std::ofstream(dir_ + "/torus_u16.raw", std::ios::binary) << voxels(Flavour::kUint16Big);
+    std::ofstream(dir_ + "/torus_u16.nhdr") << header("unsigned short", "raw", "big", "data file: torus_u16.raw\n");
+    std::ofstream(dir_ + "/torus_f32.nrrd", std::ios::binary) << header("float", "raw", "little") << "\n"
+                                                              << voxels(Flavour::kFloat32);
+    // gzip, as 3D Slicer saves by default.
+    std::ofstream(dir_ + "/torus_f32.raw", std::ios::binary) << voxels(Flavour::kFloat32);
+    const auto r = test::run_command("gzip -c " + dir_ + "/torus_f32.raw > " + dir_ + "/torus_f32.raw.gz");
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ofstream(dir_ + "/torus_gz.nrrd", std::ios::binary) << header("float", "gzip", "little") << "\n"
+                                                             << test::slurp(dir_ + "/torus_f32.raw.gz");
+  }
+  static std::string path(const std::string& name) { return dir_ + "/" + name; }
+  static VolumeOptions threshold(double t, int step = 1) {
+    VolumeOptions o;
+    o.threshold = t;
+    o.interior_step = step;
+    return o;
+  }
+  static std::string dir_;
+};
+std::string Volumes::dir_;
+
+TEST_F(Volumes, EveryFlavourSelectsTheSameSolidOnTheVoxelLattice) {
+  const InputMesh u8 = read_input(path("torus_u8.nrrd"), {}, threshold(100));
+  ASSERT_TRUE(u8.on_grid.has_value());
+  const QuantizedPoints& q = *u8.on_grid;
+  // Points: the voxels at depth >= 0, indices shifted so that the smallest is 0.
+  size_t solid = 0;
+  for (int k = 0; k < kSize; ++k)
+    for (int j = 0; j < kSize; ++j)
+      for (int i = 0; i < kSize; ++i) solid += depth(i, j, k) >= 0;
+  EXPECT_EQ(q.points.size(), solid);  // interior step 1: every solid voxel
+  EXPECT_TRUE(std::is_sorted(q.points.begin(), q.points.end()));
+  EXPECT_EQ(std::adjacent_find(q.points.begin(), q.points.end()), q.points.end());
+  EXPECT_EQ(q.grid.step, kSpacing);
+  GridPoint lo = q.points[0], hi = q.points[0];
+  for (const GridPoint& g : q.points) {
+    lo = {std::min(lo.x, g.x), std::min(lo.y, g.y), std::min(lo.z, g.z)};
+    hi = {std::max(hi.x, g.x), std::max(hi.y, g.y), std::max(hi.z, g.z)};
+  }
+  EXPECT_EQ(lo, (GridPoint{0, 0, 0}));
+  EXPECT_EQ(q.grid.qbits, 5);  // the torus spans 27 voxels: 2^5 - 1 >= 26
+  // Lossless: each point's position is its voxel centre, exactly.
+  for (size_t n = 0; n < q.points.size(); ++n) {
+    const InputPoint p = u8.points[n];
+    const double i = (p.x - kOrigin[0]) / kSpacing, j = (p.y - kOrigin[1]) / kSpacing, k = (p.z - kOrigin[2]) / kSpacing;
+    ASSERT_EQ(i, std::floor(i));
+    ASSERT_GE(depth(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)), 0);
+    const InputPoint g = q.grid.to_input(q.points[n]);
+    ASSERT_TRUE(test::same_double(g.x, p.x) && test::same_double(g.y, p.y) && test::same_double(g.z, p.z));
+  }
+  // The same points from uint16 (detached, big-endian), float32 and gzip.
+  for (const auto& [name, t] : {std::pair{"torus_u16.nhdr", 1000.0}, std::pair{"torus_f32.nrrd", 0.0},
+                                std::pair{"torus_gz.nrrd", 0.0}}) {
+    const InputMesh m = read_input(path(name), {}, threshold(t));
+    ASSERT_TRUE(m.on_grid.has_value()) << name;
+    EXPECT_EQ(m.on_grid->points, q.points) << name;
+    EXPECT_EQ(m.on_grid->grid.origin, q.grid.origin) << name;
+    ASSERT_EQ(m.fields.size(), 1u);
+    EXPECT_EQ(m.fields[0].name, "value");
+  }
+}
+
+TEST_F(Volumes, InteriorSubsamplingKeepsEveryBoundaryVoxel) {
+  const InputMesh all = read_input(path("torus_u8.nrrd"), {}, threshold(100, 1));
+  const InputMesh sub = read_input(path("torus_u8.nrrd"), {}, threshold(100, 3));
+  const auto& a = all.on_grid->points;
+  const auto& s = sub.on_grid->points;
+  EXPECT_LT(s.size(), a.size());
+  ASSERT_TRUE(std::includes(a.begin(), a.end(), s.begin(), s.end()));
+  // A voxel of `a` with all 6 neighbours in `a` is interior; every other one is kept.
+  const std::set<GridPoint> in_a(a.begin(), a.end()), in_s(s.begin(), s.end());
+  size_t boundary = 0;
+  for (const GridPoint& g : a) {
+    bool interior = true;
+    for (const GridPoint d : {GridPoint{1, 0, 0}, GridPoint{-1, 0, 0}, GridPoint{0, 1, 0}, GridPoint{0, -1, 0},
+                              GridPoint{0, 0, 1}, GridPoint{0, 0, -1}})
+      interior = interior && in_a.count({g.x + d.x, g.y + d.y, g.z + d.z});
+    if (!interior) {
+      ++boundary;
+      EXPECT_TRUE(in_s.count(g));
+    }
+  }
+  EXPECT_GT(boundary, 0u);
+  EXPECT_GT(s.size(), boundary);  // and some interior voxels
+}
+
+TEST_F(Volumes, LatticeRoundTripsThroughTheCodecLevelByLevel) {
+  // Every level of the hierarchy of a lattice point set is rebuilt by the
+  // decoder, cell for cell (cell-set hashes, meshdec --verify), and the
+  // finest level holds exactly the voxel centres.
+  const std::string stream = path("torus.dtm"), report = path("torus.json"), node = path("torus_decoded.node");
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u16.nhdr") +
+                             " --threshold 1000 --voxel-interior-step 2 --dmax 0.5 --hash-cells -o " + stream +
+                             " --report " + report);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("the voxel lattice: lossless"), std::string::npos) << r.output;
+  const auto j = nlohmann::json::parse(test::slurp(report));
+  EXPECT_EQ(j["qbits"], 5);
+  EXPECT_EQ(j["step"], kSpacing);
+  EXPECT_EQ(j["duplicates_merged"], 0);
+  ASSERT_GE(j["levels"].size(), 3u) << r.output;
+  r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " --verify -o " + node);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("verified " + std::to_string(j["levels"].size()) + " levels"), std::string::npos) << r.output;
+  VolumeOptions o = threshold(1000, 2);
+  const InputMesh want = read_input(path("torus_u16.nhdr"), {}, o);
+  const NodeFile got = read_tetgen_node(node);
+  ASSERT_EQ(got.points.size(), want.points.size());
+  std::vector<std::array<double, 3>> a, b;
+  for (const auto& p : got.points) a.push_back({p.x, p.y, p.z});
+  for (const auto& p : want.points) b.push_back({p.x, p.y, p.z});
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);  // bit-identical positions
+}
+
+TEST_F(Volumes, QbitsMayGrowButNotShrink) {
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u8.nrrd") + " --threshold 100 --qbits 4 -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("--qbits must be at least 5"), std::string::npos) << r.output;
+  const std::string report = path("q12.json");
+  r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u8.nrrd") +
+                        " --threshold 100 --qbits 12 --levels 2 -q --report " + report);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto j = nlohmann::json::parse(test::slurp(report));
+  EXPECT_EQ(j["qbits"], 12);
+  EXPECT_EQ(j["step"], kSpacing);
+}
+
+TEST_F(Volumes, LabelSelectsOneValue) {
+  VolumeOptions o;
+  o.label = 200;
+  const InputMesh m = read_input(path("torus_u8.nrrd"), {}, o);
+  EXPECT_EQ(m.points.size(), read_input(path("torus_u8.nrrd"), {}, threshold(100)).points.size());
+  o.label = 201;
+  EXPECT_THROW(read_input(path("torus_u8.nrrd"), {}, o), FormatError);
+}
+
+TEST_F(Volumes, AnisotropicSpacingPlacesVoxelsAtTheirPositionsAndQuantizesThem) {
+  const std::string p = path("anisotropic.nrrd");
+  std::ofstream(p, std::ios::binary) << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 32 32 32\nspacings: 1 1 2.5\n"
+                                        "encoding: raw\n\n"
+                                     << voxels(Flavour::kUint8);
+  const InputMesh m = read_input(p, {}, threshold(100));
+  EXPECT_FALSE(m.on_grid.has_value());
+  for (const InputPoint& q : m.points) ASSERT_EQ(std::fmod(q.z, 2.5), 0.0);
+  const auto r = test::run_command(std::string(DTM_MESHENC) + " " + p + " --threshold 100 --levels 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find("lossless"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("q=14"), std::string::npos) << r.output;
+}
+
+TEST_F(Volumes, VolumeOptionsNeedAVolumeAndAVolumeNeedsThem) {
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") + " --threshold 3 -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("apply to voxel volumes only"), std::string::npos) << r.output;
+  r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u8.nrrd") + " -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("needs exactly one of --threshold"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace dtm

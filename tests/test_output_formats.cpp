@@ -1,0 +1,324 @@
+// meshdec's new outputs: VTK legacy (binary and ASCII), Medit, gmsh 4.1, the
+// boundary surface as PLY and OFF, XYZ. Each is read back by our own reader
+// (write -> read -> the same vertices and tetrahedra, bit for bit) and by an
+// independent one: meshio for every format, VTK itself for .vtk and .vtu.
+#include <gtest/gtest.h>
+
+#include <charconv>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "core/geometry.h"
+#include "format_test_support.h"
+#include "test_support.h"
+#include "tools/atomic_file.h"
+#include "tools/formats/input.h"
+#include "tools/formats/mesh_writers.h"
+#include "tools/formats/surface_writers.h"
+
+namespace dtm {
+namespace {
+
+// torus_288 quantized with its TetGen tetrahedra and markers; `level` made up.
+OutputMesh torus_mesh() {
+  const NodeFile node = read_tetgen_node(test::data_path("torus_288.node"));
+  const QuantizedPoints q = quantize(node.points, 14);
+  OutputMesh m;
+  m.grid = q.grid;
+  m.points = q.points;
+  for (auto t : read_tetgen_ele(test::data_path("torus_288.ele"), node.points.size()))
+    m.cells.push_back({q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]], q.input_to_point[t[3]]});
+  m.boundary.assign(m.points.size(), 0);
+  for (size_t i = 0; i < node.points.size(); ++i)
+    if (node.markers[i]) m.boundary[q.input_to_point[i]] = 1;
+  for (size_t i = 0; i < m.points.size(); ++i) m.level.push_back(static_cast<int32_t>(i % 7));
+  return m;
+}
+
+std::string write(const OutputMesh& m, MeshFormat f, const std::string& name) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  write_files_atomically(render_mesh(m, f, path));
+  return path;
+}
+
+const VertexField* field(const InputMesh& m, const std::string& name) {
+  for (const auto& f : m.fields)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+// --- our own readers --------------------------------------------------------
+
+struct VolumeOutput {
+  MeshFormat format;
+  const char* name;
+  bool level;     // writes the level field
+  const char* boundary;  // name of the field holding the boundary flag, or ""
+};
+
+const VolumeOutput kVolumeOutputs[] = {
+    {MeshFormat::kVtk, "out_binary.vtk", true, "boundary"},   {MeshFormat::kVtkAscii, "out_ascii.vtk", true, "boundary"},
+    {MeshFormat::kVtu, "out_binary.vtu", true, "boundary"},   {MeshFormat::kVtuAscii, "out_ascii.vtu", true, "boundary"},
+    {MeshFormat::kMedit, "out.mesh", false, "ref"},           {MeshFormat::kGmsh, "out.msh", true, "boundary"},
+    {MeshFormat::kTetgen, "out.node", false, "boundary_marker"}};
+
+TEST(OutputFormats, EveryVolumeFormatReadsBackToTheSameMeshBitForBit) {
+  const OutputMesh m = torus_mesh();
+  for (const VolumeOutput& o : kVolumeOutputs) {
+    SCOPED_TRACE(o.name);
+    const InputMesh back = read_input(write(m, o.format, o.name));
+    ASSERT_EQ(back.points.size(), m.points.size());
+    for (size_t i = 0; i < m.points.size(); ++i) {
+      const InputPoint want = m.grid.to_input(m.points[i]);
+      ASSERT_TRUE(test::same_double(back.points[i].x, want.x) && test::same_double(back.points[i].y, want.y) &&
+                  test::same_double(back.points[i].z, want.z))
+          << "point " << i;
+    }
+    EXPECT_EQ(back.tets, m.cells);
+    if (o.level) {
+      const VertexField* f = field(back, "level");
+      ASSERT_NE(f, nullptr);
+      EXPECT_EQ(f->values, std::vector<double>(m.level.begin(), m.level.end()));
+    }
+    const VertexField* b = field(back, o.boundary);
+    ASSERT_NE(b, nullptr);
+    EXPECT_EQ(b->values, std::vector<double>(m.boundary.begin(), m.boundary.end()));
+  }
+}
+
+TEST(OutputFormats, XyzHoldsEveryPoint) {
+  const OutputMesh m = torus_mesh();
+  const InputMesh back = read_input(write(m, MeshFormat::kXyz, "out.xyz"));
+  ASSERT_EQ(back.points.size(), m.points.size());
+  for (size_t i = 0; i < m.points.size(); ++i)
+    EXPECT_TRUE(test::same_double(back.points[i].x, m.grid.to_input(m.points[i]).x));
+}
+
+// --- the boundary surface ----------------------------------------------------
+
+// A closed, consistently oriented surface whose signed volume (divergence
+// theorem) is the volume of the tetrahedra: normals point outward.
+void expect_closed_and_outward(const OutputMesh& m, const std::vector<InputPoint>& pts,
+                               const std::vector<std::array<uint32_t, 3>>& tris) {
+  std::map<std::pair<uint32_t, uint32_t>, int> directed;
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  for (const auto& [edge, n] : directed) {
+    ASSERT_EQ(n, 1) << "edge used twice in one direction";
+    ASSERT_EQ(directed.count({edge.second, edge.first}), 1u) << "open edge";
+  }
+  auto det = [](InputPoint a, InputPoint b, InputPoint c, InputPoint d) {
+    const double u[3] = {b.x - a.x, b.y - a.y, b.z - a.z}, v[3] = {c.x - a.x, c.y - a.y, c.z - a.z},
+                 w[3] = {d.x - a.x, d.y - a.y, d.z - a.z};
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+  };
+  double surface = 0, cells = 0;
+  const InputPoint o{0, 0, 0};
+  for (const auto& t : tris) surface += det(o, pts[t[0]], pts[t[1]], pts[t[2]]);
+  for (const auto& c : m.cells)
+    cells += det(m.grid.to_input(m.points[c[0]]), m.grid.to_input(m.points[c[1]]), m.grid.to_input(m.points[c[2]]),
+                 m.grid.to_input(m.points[c[3]]));
+  EXPECT_GT(cells, 0);
+  EXPECT_NEAR(surface, cells, 1e-9 * cells);
+}
+
+TEST(OutputFormats, BoundarySurfaceIsClosedAndOrientedOutward) {
+  const OutputMesh m = torus_mesh();
+  const BoundarySurface s = boundary_surface(m);
+  // The TetGen torus: 180 surface vertices, a closed genus-1 surface (V - E + F = 0, E = 3F/2).
+  EXPECT_EQ(s.vertices.size(), 180u);
+  EXPECT_EQ(s.triangles.size(), 360u);
+  std::vector<InputPoint> pts;
+  for (uint32_t v : s.vertices) pts.push_back(m.grid.to_input(m.points[v]));
+  expect_closed_and_outward(m, pts, s.triangles);
+}
+
+// --- independent readers -------------------------------------------------------
+
+struct Dump {
+  std::vector<InputPoint> points;
+  std::string cell_type;
+  std::vector<std::vector<uint32_t>> cells;
+  std::map<std::string, std::vector<double>> point_data;
+};
+
+double to_double(const std::string& token) {
+  double v = 0;
+  std::from_chars(token.data(), token.data() + token.size(), v);
+  return v;
+}
+
+// What `reader` (meshio or vtk) reads in `path`, via dump_mesh.py.
+Dump independent_read(const std::string& reader, const std::string& path) {
+  const auto r = test::run_command(test::kPython + " " + DTM_TEST_SOURCE_DIR + "/dump_mesh.py " + reader + " " + path);
+  Dump d;
+  if (r.status != 0) {
+    ADD_FAILURE() << reader << " could not read " << path << " (scripts/setup.sh installs python3-meshio and "
+                  << "python3-vtk9):\n" << r.output.substr(0, 2000);
+    return d;
+  }
+  std::istringstream in(r.output);
+  std::string word, s;
+  size_t n = 0;
+  while (in >> word) {
+    if (word == "points") {
+      in >> n;
+      for (size_t i = 0; i < n; ++i) {
+        std::string x, y, z;
+        in >> x >> y >> z;
+        d.points.push_back({to_double(x), to_double(y), to_double(z)});
+      }
+    } else if (word == "cells") {
+      in >> d.cell_type >> n;
+      const size_t per = d.cell_type == "tetra" ? 4 : d.cell_type == "triangle" ? 3 : 1;
+      for (size_t i = 0; i < n; ++i) {
+        std::vector<uint32_t> c(per);
+        for (auto& v : c) in >> v;
+        d.cells.push_back(c);
+      }
+    } else if (word == "pointdata") {
+      in >> s >> n;
+      auto& values = d.point_data[s];
+      for (size_t i = 0; i < n; ++i) {
+        std::string v;
+        in >> v;
+        values.push_back(to_double(v));
+      }
+    } else if (word == "end") {
+      return d;
+    }
+  }
+  ADD_FAILURE() << "incomplete dump of " << path << ":\n" << r.output.substr(0, 2000);
+  return d;
+}
+
+void expect_same_points(const Dump& d, const std::vector<InputPoint>& want) {
+  ASSERT_EQ(d.points.size(), want.size());
+  for (size_t i = 0; i < want.size(); ++i)
+    ASSERT_TRUE(test::same_double(d.points[i].x, want[i].x) && test::same_double(d.points[i].y, want[i].y) &&
+                test::same_double(d.points[i].z, want[i].z))
+        << "point " << i;
+}
+
+TEST(OutputFormats, VolumeFormatsReadByMeshioAndVtk) {
+  const OutputMesh m = torus_mesh();
+  std::vector<InputPoint> want;
+  for (const GridPoint& g : m.points) want.push_back(m.grid.to_input(g));
+  struct Case {
+    MeshFormat format;
+    const char* name;
+    const char* reader;
+    bool fields;
+  };
+  for (const Case& c : {Case{MeshFormat::kVtk, "ind_binary.vtk", "meshio", true},
+                        Case{MeshFormat::kVtkAscii, "ind_ascii.vtk", "meshio", true},
+                        Case{MeshFormat::kVtk, "ind_binary.vtk", "vtk", true},
+                        Case{MeshFormat::kVtkAscii, "ind_ascii.vtk", "vtk", true},
+                        Case{MeshFormat::kVtu, "ind_binary.vtu", "vtk", true},
+                        Case{MeshFormat::kVtuAscii, "ind_ascii.vtu", "vtk", true},
+                        Case{MeshFormat::kMedit, "ind.mesh", "meshio", false},
+                        Case{MeshFormat::kGmsh, "ind.msh", "meshio", true}}) {
+    SCOPED_TRACE(std::string(c.name) + " read by " + c.reader);
+    const Dump d = independent_read(c.reader, write(m, c.format, c.name));
+    expect_same_points(d, want);
+    EXPECT_EQ(d.cell_type, "tetra");
+    ASSERT_EQ(d.cells.size(), m.cells.size());
+    for (size_t i = 0; i < m.cells.size(); ++i)
+      ASSERT_EQ(d.cells[i], std::vector<uint32_t>(m.cells[i].begin(), m.cells[i].end())) << "cell " << i;
+    if (c.fields) {
+      EXPECT_EQ(d.point_data.at("level"), std::vector<double>(m.level.begin(), m.level.end()));
+      EXPECT_EQ(d.point_data.at("boundary"), std::vector<double>(m.boundary.begin(), m.boundary.end()));
+    }
+  }
+}
+
+TEST(OutputFormats, BoundarySurfaceReadByMeshio) {
+  const OutputMesh m = torus_mesh();
+  const BoundarySurface s = boundary_surface(m);
+  std::vector<InputPoint> want;
+  for (uint32_t v : s.vertices) want.push_back(m.grid.to_input(m.points[v]));
+  for (const auto& [format, name] : {std::pair{MeshFormat::kPly, "surface.ply"}, std::pair{MeshFormat::kOff, "surface.off"}}) {
+    SCOPED_TRACE(name);
+    const Dump d = independent_read("meshio", write(m, format, name));
+    expect_same_points(d, want);
+    EXPECT_EQ(d.cell_type, "triangle");
+    std::vector<std::array<uint32_t, 3>> tris;
+    for (const auto& c : d.cells) tris.push_back({c[0], c[1], c[2]});
+    EXPECT_EQ(tris, s.triangles);
+    expect_closed_and_outward(m, d.points, tris);
+    // And our own (CGAL's) reader: the same vertices, with `level` for PLY.
+    const InputMesh back = read_input(::testing::TempDir() + "/" + name);
+    ASSERT_EQ(back.points.size(), want.size());
+    for (size_t i = 0; i < want.size(); ++i)
+      ASSERT_TRUE(test::same_double(back.points[i].x, want[i].x) && test::same_double(back.points[i].z, want[i].z));
+    if (format == MeshFormat::kPly) {
+      const VertexField* level = field(back, "level");
+      ASSERT_NE(level, nullptr);
+      for (size_t i = 0; i < s.vertices.size(); ++i) ASSERT_EQ(level->values[i], m.level[s.vertices[i]]);
+    }
+  }
+}
+
+// gmsh itself opens our .msh and .mesh files and saves them again (as msh 2.2,
+// which our reader reads back): the same vertices (gmsh prints 16 digits, so
+// within 1e-15 relative) and the same tetrahedra.
+TEST(OutputFormats, GmshOpensOurMshAndMeditFiles) {
+  const OutputMesh m = torus_mesh();
+  for (const auto& [format, name] : {std::pair{MeshFormat::kGmsh, "for_gmsh.msh"}, std::pair{MeshFormat::kMedit, "for_gmsh.mesh"}}) {
+    SCOPED_TRACE(name);
+    const std::string back = ::testing::TempDir() + "/" + name + ".gmsh22.msh";
+    const auto r = test::run_command("gmsh -v 2 " + write(m, format, name) + " -0 -format msh22 -o " + back);
+    ASSERT_EQ(r.status, 0) << "gmsh failed (scripts/setup.sh installs it):\n" << r.output;
+    EXPECT_EQ(r.output.find("rror"), std::string::npos) << r.output;
+    const InputMesh g = read_input(back);
+    ASSERT_EQ(g.points.size(), m.points.size());
+    for (size_t i = 0; i < m.points.size(); ++i) {
+      const InputPoint want = m.grid.to_input(m.points[i]);
+      ASSERT_NEAR(g.points[i].x, want.x, 1e-15 * (1 + std::abs(want.x)));
+      ASSERT_NEAR(g.points[i].y, want.y, 1e-15 * (1 + std::abs(want.y)));
+      ASSERT_NEAR(g.points[i].z, want.z, 1e-15 * (1 + std::abs(want.z)));
+    }
+    EXPECT_EQ(g.tets, m.cells);
+  }
+}
+
+// --- meshdec end to end ----------------------------------------------------------
+
+TEST(OutputFormats, MeshdecWritesEveryFormatByExtensionAndByName) {
+  const std::string dir = ::testing::TempDir() + "/meshdec_formats";
+  std::filesystem::create_directories(dir);
+  const std::string stream = dir + "/torus.dtm";
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") + " -q -o " + stream);
+  ASSERT_EQ(r.status, 0) << r.output;
+  size_t tets = 0, points = 0;
+  for (const char* ext : {".vtu", ".vtk", ".mesh", ".msh", ".node"}) {
+    const std::string out = dir + "/level1" + ext;
+    r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " --level 1 -o " + out);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const InputMesh back = read_input(out);
+    if (tets == 0) {
+      tets = back.tets.size();
+      points = back.points.size();
+      EXPECT_LT(points, 288u);
+    }
+    EXPECT_EQ(back.points.size(), points) << ext;
+    EXPECT_EQ(back.tets.size(), tets) << ext;
+    EXPECT_GT(tets, 0u);
+  }
+  r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " -o " + dir + "/surface.off");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(test::slurp(dir + "/surface.off").substr(0, 4), "OFF\n");
+  r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " -o " + dir + "/surface.ply");
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " -q -o - --format vtk-ascii | head -c 26");
+  EXPECT_EQ(r.output, "# vtk DataFile Version 4.2");
+  r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " -q -o - --format xyz | wc -l");
+  EXPECT_EQ(std::stoi(r.output), 288);
+  r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " -o " + dir + "/x.stl");
+  EXPECT_NE(r.status, 0);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.stl"));
+}
+
+}  // namespace
+}  // namespace dtm

@@ -1,0 +1,139 @@
+// The only file that instantiates CGAL's point-set readers.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/IO/OBJ.h>
+#include <CGAL/Point_set_3.h>
+#include <CGAL/Point_set_3/IO/OFF.h>
+#include <CGAL/Point_set_3/IO/PLY.h>
+#include <CGAL/Point_set_3/IO/XYZ.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "format_error.h"
+#include "point_sets.h"
+#include "text_cursor.h"
+
+namespace dtm {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using PointSet = CGAL::Point_set_3<Kernel::Point_3, Kernel::Vector_3>;
+
+// The property `name` as a field if it has type T.
+template <class T>
+bool take_property(const PointSet& ps, const std::string& name, InputMesh& out) {
+  const auto [map, found] = ps.template property_map<T>(name);
+  if (!found) return false;
+  VertexField f{name, 1, {}};
+  f.values.reserve(ps.size());
+  for (auto index : ps) f.values.push_back(static_cast<double>(map[index]));
+  out.fields.push_back(std::move(f));
+  return true;
+}
+
+InputMesh from_point_set(const PointSet& ps) {
+  InputMesh out;
+  out.points.reserve(ps.size());
+  for (auto index : ps) {
+    const auto& p = ps.point(index);
+    out.points.push_back({p.x(), p.y(), p.z()});
+  }
+  if (ps.has_normal_map()) {
+    VertexField f{"normal", 3, {}};
+    for (auto index : ps) {
+      const auto& n = ps.normal(index);
+      f.values.insert(f.values.end(), {n.x(), n.y(), n.z()});
+    }
+    out.fields.push_back(std::move(f));
+  }
+  for (const std::string& name : ps.properties()) {
+    if (name == "index" || name == "point" || name == "normal") continue;
+    take_property<int8_t>(ps, name, out) || take_property<uint8_t>(ps, name, out) ||
+        take_property<int16_t>(ps, name, out) || take_property<uint16_t>(ps, name, out) ||
+        take_property<int32_t>(ps, name, out) || take_property<uint32_t>(ps, name, out) ||
+        take_property<float>(ps, name, out) || take_property<double>(ps, name, out);
+  }
+  return out;
+}
+
+const char* name_of(PointSetFormat f) {
+  switch (f) {
+    case PointSetFormat::kPly: return "PLY";
+    case PointSetFormat::kOff: return "OFF";
+    case PointSetFormat::kObj: return "OBJ";
+    case PointSetFormat::kXyz: return "XYZ";
+  }
+  return "?";
+}
+
+// What each reader expects, for the error message (CGAL gives no position).
+const char* expectations(PointSetFormat f) {
+  switch (f) {
+    case PointSetFormat::kPly:
+      return "a 'ply' header ending in 'end_header', a vertex element with x y z, and as many items as the "
+             "header announces";
+    case PointSetFormat::kOff:
+      return "an 'OFF' header, the vertex, face and edge counts, then as many 'x y z' lines as announced";
+    case PointSetFormat::kObj: return "'v x y z' vertex lines (and optional faces)";
+    case PointSetFormat::kXyz: return "one 'x y z' (or 'x y z nx ny nz') line per point";
+  }
+  return "";
+}
+
+// CGAL's OFF point reader stops quietly at the end of the file, however many
+// vertices the header announced: compare with the header ourselves.
+void check_off_count(const std::string& path, size_t read) {
+  TextCursor c = TextCursor::open(path, '#');
+  const std::string_view header = c.token("an OFF header");
+  if (header.size() < 3 || header.substr(header.size() - 3) != "OFF") return;  // CGAL accepted it: leave it be
+  const auto announced = c.number<uint64_t>("a vertex count");
+  if (announced != read)
+    throw FormatError(path + ": the header announces " + std::to_string(announced) + " vertices, the file holds " +
+                      std::to_string(read) + " (truncated?)");
+}
+
+}  // namespace
+
+InputMesh read_point_set(const std::string& path, PointSetFormat format) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FormatError(path + ": cannot open file");
+  if (in.peek() == std::ifstream::traits_type::eof()) throw FormatError(path + ": empty file");
+  InputMesh out;
+  bool ok = false;
+  // CGAL's readers print their own complaints on std::cerr; ours follows.
+  if (format == PointSetFormat::kObj) {
+    std::vector<Kernel::Point_3> points;
+    std::vector<std::vector<std::size_t>> faces;
+    ok = CGAL::IO::read_OBJ(in, points, faces, CGAL::parameters::verbose(false));
+    // CGAL wants a polygon soup and refuses an OBJ without faces, after
+    // reading it whole; a point cloud is what we want here.
+    if (!ok && faces.empty() && !points.empty() && in.eof() && !in.bad()) ok = true;
+    for (const auto& p : points) out.points.push_back({p.x(), p.y(), p.z()});
+    for (const auto& f : faces)
+      for (std::size_t v : f)
+        if (v >= points.size())
+          throw FormatError(path + ": a face names vertex " + std::to_string(v + 1) + " of " +
+                            std::to_string(points.size()));
+  } else {
+    PointSet ps;
+    switch (format) {
+      case PointSetFormat::kPly: ok = CGAL::IO::read_PLY(in, ps); break;
+      case PointSetFormat::kOff: ok = CGAL::IO::read_OFF(in, ps); break;
+      default: ok = CGAL::IO::read_XYZ(in, ps); break;
+    }
+    if (ok) out = from_point_set(ps);
+    if (ok && format == PointSetFormat::kOff) check_off_count(path, out.points.size());
+  }
+  if (!ok)
+    throw FormatError(path + ": not a valid " + std::string(name_of(format)) + " file (CGAL's reader stopped; expected " +
+                      expectations(format) + ")");
+  if (out.points.empty()) throw FormatError(path + ": no vertices");
+  for (size_t i = 0; i < out.points.size(); ++i) {
+    const InputPoint& p = out.points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw FormatError(path + ": vertex " + std::to_string(i) + ": coordinate is not finite");
+  }
+  return out;
+}
+
+}  // namespace dtm

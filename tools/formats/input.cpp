@@ -1,0 +1,79 @@
+#include "input.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include "gmsh.h"
+#include "medit.h"
+#include "nrrd.h"
+#include "point_sets.h"
+#include "tetgen.h"
+#include "vtk_legacy.h"
+#include "vtu_reader.h"
+
+namespace dtm {
+
+std::optional<InputFormat> input_format_named(std::string_view name) {
+  std::string n(name);
+  std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (n == "node" || n == "tetgen") return InputFormat::kTetgen;
+  if (n == "mesh" || n == "medit") return InputFormat::kMedit;
+  if (n == "vtk") return InputFormat::kVtk;
+  if (n == "vtu") return InputFormat::kVtu;
+  if (n == "msh" || n == "gmsh") return InputFormat::kGmsh;
+  if (n == "nrrd" || n == "nhdr") return InputFormat::kNrrd;
+  if (n == "ply") return InputFormat::kPly;
+  if (n == "off") return InputFormat::kOff;
+  if (n == "obj") return InputFormat::kObj;
+  if (n == "xyz") return InputFormat::kXyz;
+  return std::nullopt;
+}
+
+InputFormat input_format_for_path(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (const auto f = ext.size() > 1 ? input_format_named(ext.substr(1)) : std::nullopt) return *f;
+  throw FormatError(path + ": unknown input format '" + ext + "' (known: " + kInputFormatNames +
+                    "; or give --format)");
+}
+
+namespace {
+
+InputMesh read_tetgen(const std::string& path, bool with_ele) {
+  NodeFile node = read_tetgen_node(path);
+  InputMesh out;
+  out.points = std::move(node.points);
+  if (!node.markers.empty())
+    out.fields.push_back({"boundary_marker", 1, std::vector<double>(node.markers.begin(), node.markers.end())});
+  const std::filesystem::path ele = std::filesystem::path(path).replace_extension(".ele");
+  if (with_ele && std::filesystem::exists(ele)) out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);
+  return out;
+}
+
+InputMesh read_any(const std::string& path, InputFormat format, const VolumeOptions& volume, bool tetgen_ele) {
+  switch (format) {
+    case InputFormat::kTetgen: return read_tetgen(path, tetgen_ele);
+    case InputFormat::kMedit: return read_medit(path);
+    case InputFormat::kVtk: return read_vtk_legacy(path);
+    case InputFormat::kVtu: return read_vtu(path);
+    case InputFormat::kGmsh: return read_gmsh(path);
+    case InputFormat::kNrrd: return voxel_points(read_nrrd(path), volume, path);
+    case InputFormat::kPly: return read_point_set(path, PointSetFormat::kPly);
+    case InputFormat::kOff: return read_point_set(path, PointSetFormat::kOff);
+    case InputFormat::kObj: return read_point_set(path, PointSetFormat::kObj);
+    case InputFormat::kXyz: return read_point_set(path, PointSetFormat::kXyz);
+  }
+  throw FormatError(path + ": unknown input format");
+}
+
+}  // namespace
+
+InputMesh read_input(const std::string& path, std::optional<InputFormat> format, const VolumeOptions& volume,
+                     bool tetgen_ele) {
+  if (!std::filesystem::exists(path)) throw FormatError(path + ": cannot open file (it does not exist)");
+  InputMesh mesh = read_any(path, format ? *format : input_format_for_path(path), volume, tetgen_ele);
+  check_spans_3d(mesh.points, path);
+  return mesh;
+}
+
+}  // namespace dtm

@@ -1,0 +1,42 @@
+// meshenc's input: one entry point for every format it reads, chosen by the
+// file's extension or by name (--format).
+//
+//   point sets, surfaces   .ply .off .obj .xyz          (CGAL's readers)
+//   volume meshes          .node(+.ele) .mesh .vtk .vtu .msh   (ours)
+//   voxel volumes          .nrrd .nhdr                  (ours; needs VolumeOptions)
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "format_error.h"
+#include "input_mesh.h"
+#include "voxel_points.h"
+
+namespace dtm {
+
+enum class InputFormat { kTetgen, kMedit, kVtk, kVtu, kGmsh, kNrrd, kPly, kOff, kObj, kXyz };
+
+// "node" (or "tetgen"), "mesh" ("medit"), "vtk", "vtu", "msh" ("gmsh"),
+// "nrrd" ("nhdr"), "ply", "off", "obj", "xyz"; nullopt for anything else.
+std::optional<InputFormat> input_format_named(std::string_view name);
+// The names input_format_named accepts, for help texts.
+inline constexpr const char* kInputFormatNames = "node, mesh, vtk, vtu, msh, nrrd, ply, off, obj, xyz";
+
+// By extension, ignoring case. Throws FormatError naming the path otherwise.
+InputFormat input_format_for_path(const std::string& path);
+
+// Reads `path` (format: given, or by extension) and checks that it can make
+// a tetrahedral mesh: at least 4 distinct points, not all coplanar. A TetGen
+// .node brings the .ele beside it when there is one, unless
+// `tetgen_ele` is false (a large .ele costs time to read). Throws FormatError
+// naming the file, where, and the problem.
+InputMesh read_input(const std::string& path, std::optional<InputFormat> format = {},
+                     const VolumeOptions& volume = {}, bool tetgen_ele = true);
+
+// Throws FormatError("path: ...") if `points` has fewer than 4 distinct
+// points or they are all coplanar (exact predicates).
+void check_spans_3d(const std::vector<InputPoint>& points, const std::string& path);
+
+}  // namespace dtm

@@ -1,0 +1,36 @@
+// What every input reader returns: the points, the reference tetrahedra when
+// the file has them, and the per-vertex values kept aside for the attribute
+// coding to come.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/grid.h"
+
+namespace dtm {
+
+// One per-vertex array of the input: `components` values per point, point
+// after point (values.size() == components * points).
+struct VertexField {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;
+};
+
+struct InputMesh {
+  std::vector<InputPoint> points;
+  // Tetrahedra of the input (0-based indices into points): the reference
+  // shape for error measurement. Empty for point sets, surfaces and volumes.
+  std::vector<std::array<uint32_t, 4>> tets;
+  std::vector<VertexField> fields;
+  // Voxel inputs on an isotropic lattice: the lattice itself as the
+  // quantization grid, so that positions are coded losslessly. `points` then
+  // holds the same positions as doubles.
+  std::optional<QuantizedPoints> on_grid;
+};
+
+}  // namespace dtm

@@ -1,0 +1,244 @@
+#include "nrrd.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "format_error.h"
+#include "text_cursor.h"
+
+namespace dtm {
+namespace {
+
+std::optional<ScalarType> nrrd_type(const std::string& name) {
+  static const std::map<std::string, ScalarType> kTypes = {
+      {"signed char", ScalarType::kInt8},     {"int8", ScalarType::kInt8},       {"int8_t", ScalarType::kInt8},
+      {"uchar", ScalarType::kUInt8},          {"unsigned char", ScalarType::kUInt8},
+      {"uint8", ScalarType::kUInt8},          {"uint8_t", ScalarType::kUInt8},   {"short", ScalarType::kInt16},
+      {"short int", ScalarType::kInt16},      {"signed short", ScalarType::kInt16},
+      {"signed short int", ScalarType::kInt16}, {"int16", ScalarType::kInt16},   {"int16_t", ScalarType::kInt16},
+      {"ushort", ScalarType::kUInt16},        {"unsigned short", ScalarType::kUInt16},
+      {"unsigned short int", ScalarType::kUInt16}, {"uint16", ScalarType::kUInt16},
+      {"uint16_t", ScalarType::kUInt16},      {"int", ScalarType::kInt32},       {"signed int", ScalarType::kInt32},
+      {"int32", ScalarType::kInt32},          {"int32_t", ScalarType::kInt32},   {"uint", ScalarType::kUInt32},
+      {"unsigned int", ScalarType::kUInt32},  {"uint32", ScalarType::kUInt32},   {"uint32_t", ScalarType::kUInt32},
+      {"float", ScalarType::kFloat32},        {"double", ScalarType::kFloat64}};
+  const auto it = kTypes.find(name);
+  if (it == kTypes.end()) return std::nullopt;
+  return it->second;
+}
+
+// Fields that do not change where voxels are or what they hold.
+bool is_descriptive(const std::string& field) {
+  static const char* kFields[] = {"content", "kinds", "centers", "centerings", "labels", "units",
+                                  "space units", "measurement frame", "min", "max", "old min",
+                                  "old max", "thicknesses", "axis mins", "axismins", "axis maxs",
+                                  "axismaxs", "sample units", "sampleunits", "number", "block size",
+                                  "blocksize", "space", "space dimension"};
+  for (const char* f : kFields)
+    if (field == f) return true;
+  return false;
+}
+
+std::string trim(std::string_view s) {
+  const size_t b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
+  return b == std::string_view::npos ? "" : std::string(s.substr(b, e - b + 1));
+}
+
+}  // namespace
+
+std::string gunzip(std::string_view compressed, uint64_t expected, const std::string& path) {
+  std::string out(expected, '\0');
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 32) != Z_OK) throw FormatError(path + ": cannot start zlib");  // gzip or zlib header
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(compressed.data()));
+  z.avail_in = static_cast<uInt>(compressed.size());
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = static_cast<uInt>(expected);
+  const int r = inflate(&z, Z_FINISH);
+  const uint64_t produced = z.total_out;
+  inflateEnd(&z);
+  if (r == Z_BUF_ERROR && produced == expected)
+    throw FormatError(path + ": gzip data holds more than the " + std::to_string(expected) + " bytes of the volume");
+  if (r != Z_STREAM_END)
+    throw FormatError(path + ": gzip data is damaged or truncated (" + std::to_string(produced) + " of " +
+                      std::to_string(expected) + " bytes)" + (z.msg ? std::string(": ") + z.msg : ""));
+  if (produced != expected)
+    throw FormatError(path + ": gzip data holds " + std::to_string(produced) + " bytes, the volume needs " +
+                      std::to_string(expected));
+  return out;
+}
+
+Volume read_nrrd(const std::string& path) {
+  TextCursor c = TextCursor::open(path);
+  if (c.remaining() == 0) c.fail("empty file, expected a 'NRRD000X' magic line");
+  const std::string magic(c.rest_of_line());
+  if (magic.size() != 8 || magic.substr(0, 7) != "NRRD000" || magic[7] < '1' || magic[7] > '5')
+    c.fail("not a NRRD file (expected 'NRRD0001' to 'NRRD0005', found '" + magic.substr(0, 20) + "')");
+  std::map<std::string, std::string> fields;
+  bool blank_line = false;
+  while (c.remaining() > 0) {
+    const std::string_view line = c.rest_of_line();
+    if (line.empty()) {
+      blank_line = true;
+      break;
+    }
+    if (line[0] == '#') continue;
+    if (line.find(":=") != std::string_view::npos && line.find(":=") < line.find(": ")) continue;  // key/value pair
+    const size_t colon = line.find(": ");
+    if (colon == std::string_view::npos) c.fail("expected 'field: value', found '" + std::string(line) + "'");
+    std::string key(line.substr(0, colon));
+    if (key == "datafile") key = "data file";
+    if (key == "byteskip") key = "byte skip";
+    if (key == "lineskip") key = "line skip";
+    if (key == "spacedirections") key = "space directions";
+    if (key == "spaceorigin") key = "space origin";
+    if (!fields.emplace(key, trim(line.substr(colon + 2))).second) c.fail("field '" + key + "' given twice");
+    static const char* kUsed[] = {"type", "dimension", "sizes", "spacings", "space directions", "space origin",
+                                  "encoding", "endian", "data file", "byte skip", "line skip"};
+    if (std::find_if(std::begin(kUsed), std::end(kUsed), [&](const char* f) { return key == f; }) == std::end(kUsed) &&
+        !is_descriptive(key))
+      c.fail("unknown field '" + key + "'");
+  }
+  auto field = [&](const char* key) -> const std::string* {
+    const auto it = fields.find(key);
+    return it == fields.end() ? nullptr : &it->second;
+  };
+  auto require = [&](const char* key) -> const std::string& {
+    const std::string* v = field(key);
+    if (!v) throw FormatError(path + ": header has no '" + std::string(key) + "' field");
+    return *v;
+  };
+  auto numbers = [&](const std::string& text, const char* key) {
+    std::vector<double> out;
+    std::string_view s = text;
+    while (true) {
+      const size_t b = s.find_first_not_of(" \t(),");
+      if (b == std::string_view::npos) break;
+      s.remove_prefix(b);
+      const size_t e = std::min(s.find_first_of(" \t(),"), s.size());
+      double v = 0;
+      const auto [end, ec] = std::from_chars(s.data(), s.data() + e, v);
+      if (ec != std::errc() || end != s.data() + e || !std::isfinite(v))
+        throw FormatError(path + ": field '" + key + "': expected numbers, found '" + std::string(s.substr(0, e)) + "'");
+      out.push_back(v);
+      s.remove_prefix(e);
+    }
+    return out;
+  };
+
+  Volume v;
+  const auto type = nrrd_type(require("type"));
+  if (!type) throw FormatError(path + ": unsupported type '" + require("type") + "'");
+  v.type = *type;
+  if (require("dimension") != "3")
+    throw FormatError(path + ": dimension must be 3 (one scalar per voxel), got " + require("dimension"));
+  const auto sizes = numbers(require("sizes"), "sizes");
+  if (sizes.size() != 3) throw FormatError(path + ": 'sizes' must hold 3 values");
+  for (int a = 0; a < 3; ++a) {
+    if (sizes[a] < 1 || sizes[a] > (1 << 24) || sizes[a] != std::floor(sizes[a]))
+      throw FormatError(path + ": bad size " + std::to_string(sizes[a]));
+    v.sizes[a] = static_cast<uint64_t>(sizes[a]);
+  }
+  if (v.voxels() > (uint64_t{1} << 33))
+    throw FormatError(path + ": " + std::to_string(v.voxels()) + " voxels: larger than this reader handles (2^33)");
+  if (const std::string* dirs = field("space directions")) {
+    const auto d = numbers(*dirs, "space directions");
+    if (d.size() != 9) throw FormatError(path + ": 'space directions' must be three 3-vectors");
+    for (int a = 0; a < 3; ++a) v.directions[a] = {d[3 * a], d[3 * a + 1], d[3 * a + 2]};
+    if (field("spacings")) throw FormatError(path + ": both 'spacings' and 'space directions'");
+  } else if (const std::string* sp = field("spacings")) {
+    const auto s = numbers(*sp, "spacings");
+    if (s.size() != 3) throw FormatError(path + ": 'spacings' must hold 3 values");
+    for (int a = 0; a < 3; ++a) v.directions[a] = {a == 0 ? s[0] : 0, a == 1 ? s[1] : 0, a == 2 ? s[2] : 0};
+  }
+  if (const std::string* o = field("space origin")) {
+    const auto d = numbers(*o, "space origin");
+    if (d.size() != 3) throw FormatError(path + ": 'space origin' must be a 3-vector");
+    v.origin = {d[0], d[1], d[2]};
+  }
+  const std::string& encoding = require("encoding");
+  const int size = scalar_size(v.type);
+  if (const std::string* e = field("endian")) {
+    if (*e != "little" && *e != "big") throw FormatError(path + ": endian must be 'little' or 'big'");
+    v.big_endian = *e == "big";
+  } else if (size > 1 && encoding != "ascii" && encoding != "text" && encoding != "txt") {
+    throw FormatError(path + ": header has no 'endian' field");
+  }
+  const uint64_t bytes = v.voxels() * size;
+
+  // The data: after the blank line, or in the detached file.
+  std::string detached;
+  std::string data_path = path;
+  std::string_view data;
+  if (const std::string* file = field("data file")) {
+    if (file->find(' ') != std::string::npos || *file == "LIST")
+      throw FormatError(path + ": unsupported: a list of data files");
+    const std::filesystem::path p(*file);
+    data_path = p.is_absolute() ? p.string() : (std::filesystem::path(path).parent_path() / p).string();
+    try {
+      detached = read_whole_file(data_path);
+    } catch (const FormatError& e) {
+      throw FormatError(path + ": data file: " + e.what());
+    }
+    data = detached;
+  } else {
+    if (!blank_line) throw FormatError(path + ": header ends without the blank line before the data");
+    data = c.rest();
+  }
+  if (const std::string* skip = field("line skip")) {
+    const auto n = numbers(*skip, "line skip");
+    if (n.size() != 1 || n[0] < 0) throw FormatError(path + ": bad 'line skip'");
+    for (int i = 0; i < n[0]; ++i) {
+      const size_t nl = data.find('\n');
+      if (nl == std::string_view::npos) throw FormatError(data_path + ": ends within the lines to skip");
+      data.remove_prefix(nl + 1);
+    }
+  }
+  if (const std::string* skip = field("byte skip")) {
+    const auto n = numbers(*skip, "byte skip");
+    if (n.size() != 1 || n[0] < -1) throw FormatError(path + ": bad 'byte skip'");
+    if (n[0] == -1) {
+      if (encoding != "raw") throw FormatError(path + ": 'byte skip: -1' needs raw encoding");
+      if (data.size() < bytes) throw FormatError(data_path + ": holds " + std::to_string(data.size()) + " bytes, the volume needs " + std::to_string(bytes));
+      data.remove_prefix(data.size() - bytes);
+    } else {
+      if (n[0] > data.size()) throw FormatError(data_path + ": shorter than 'byte skip'");
+      data.remove_prefix(static_cast<size_t>(n[0]));
+    }
+  }
+  if (encoding == "raw") {
+    if (data.size() != bytes)
+      throw FormatError(data_path + ": " + std::string(data.size() < bytes ? "truncated: " : "") + "holds " +
+                        std::to_string(data.size()) + " bytes of data, the " + std::to_string(v.sizes[0]) + "x" +
+                        std::to_string(v.sizes[1]) + "x" + std::to_string(v.sizes[2]) + " volume needs " +
+                        std::to_string(bytes));
+    v.data.assign(data);
+  } else if (encoding == "gzip" || encoding == "gz") {
+    v.data = gunzip(data, bytes, data_path);
+  } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
+    TextCursor t(data_path, std::string(data));
+    v.big_endian = false;
+    v.type = ScalarType::kFloat64;
+    v.data.reserve(v.voxels() * 8);
+    for (uint64_t i = 0; i < v.voxels(); ++i) {
+      if (t.at_end()) t.fail("data ends after " + std::to_string(i) + " of " + std::to_string(v.voxels()) + " values");
+      const double x = t.number<double>("a value");
+      const auto u = std::bit_cast<uint64_t>(x);
+      for (int k = 0; k < 8; ++k) v.data += static_cast<char>((u >> (8 * k)) & 0xff);
+    }
+    if (!t.at_end()) t.fail("more values than the volume's " + std::to_string(v.voxels()));
+  } else {
+    throw FormatError(path + ": unsupported encoding '" + encoding + "' (raw, gzip and ascii are read)");
+  }
+  return v;
+}
+
+}  // namespace dtm

@@ -1,0 +1,81 @@
+// A strict cursor over a whole input file for the small readers of our own
+// (Medit, VTK legacy, gmsh, NRRD headers): whitespace-separated tokens, whole
+// lines and raw binary bytes, with errors that say where. Errors in text name
+// the line ("path:12: problem"); once binary bytes have been read they name
+// the byte offset ("path: byte 4096: problem").
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "format_error.h"
+
+namespace dtm {
+
+// The bytes of `path`; throws FormatError "path: cannot open file".
+std::string read_whole_file(const std::string& path);
+
+class TextCursor {
+ public:
+  // `comment`: a character that starts a comment running to the end of the
+  // line ('\0' = none); tokens skip comments, lines do not.
+  TextCursor(std::string path, std::string bytes, char comment = '\0');
+  static TextCursor open(const std::string& path, char comment = '\0') {
+    return TextCursor(path, read_whole_file(path), comment);
+  }
+
+  const std::string& path() const { return path_; }
+  // True when only whitespace and comments are left.
+  bool at_end();
+  // The next token; fails with "file ends, expected <what>" at the end.
+  std::string_view token(const char* what);
+  // The next token without moving the cursor ("" at the end).
+  std::string_view peek();
+  // The rest of the current line (without '\r\n'), then moves to the next
+  // line. At the end of a line, the (empty) rest of it.
+  std::string_view rest_of_line();
+  // Skips whitespace up to and including the end of the current line.
+  void skip_to_next_line();
+  // `n` raw bytes from the current position.
+  std::string_view bytes(uint64_t n, const char* what);
+  size_t offset() const { return pos_; }
+  uint64_t remaining() const { return data_.size() - pos_; }
+  // Everything after the current position.
+  std::string_view rest() const { return std::string_view(data_).substr(pos_); }
+
+  template <class T>
+  T number(const char* what) {
+    const std::string_view t = token(what);
+    T value{};
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
+    if (ec != std::errc() || end != t.data() + t.size())
+      fail(std::string("expected ") + what + ", found '" + std::string(t) + "'");
+    return value;
+  }
+  // A finite double.
+  double coordinate();
+  // A count no larger than `limit` (what the rest of the file could hold).
+  uint64_t count(const char* what, uint64_t limit);
+  void expect(std::string_view keyword);
+
+  // Where the last token started: "path:line" for text, "path: byte N" after
+  // binary data.
+  std::string where() const;
+  [[noreturn]] void fail(const std::string& problem) const;
+
+ private:
+  void skip_space();
+
+  std::string path_;
+  std::string data_;
+  char comment_;
+  size_t pos_ = 0;
+  size_t line_ = 1;         // line of pos_
+  size_t token_line_ = 1;   // line where the last token started
+  size_t token_offset_ = 0;
+  bool binary_ = false;     // binary bytes have been read: report offsets
+};
+
+}  // namespace dtm

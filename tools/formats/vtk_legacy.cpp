@@ -1,0 +1,266 @@
+#include "vtk_legacy.h"
+
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include "render_util.h"
+#include "scalar_type.h"
+#include "text_cursor.h"
+
+namespace dtm {
+namespace {
+
+constexpr int kVtkTetra = 10;
+
+std::optional<ScalarType> legacy_type(std::string_view name) {
+  static const std::map<std::string, ScalarType, std::less<>> kTypes = {
+      {"char", ScalarType::kInt8},           {"unsigned_char", ScalarType::kUInt8},
+      {"short", ScalarType::kInt16},         {"unsigned_short", ScalarType::kUInt16},
+      {"int", ScalarType::kInt32},           {"unsigned_int", ScalarType::kUInt32},
+      {"long", ScalarType::kInt64},          {"unsigned_long", ScalarType::kUInt64},
+      {"vtktypeint64", ScalarType::kInt64},  {"vtktypeuint64", ScalarType::kUInt64},
+      {"vtkIdType", ScalarType::kInt64},     {"float", ScalarType::kFloat32},
+      {"double", ScalarType::kFloat64}};
+  const auto it = kTypes.find(name);
+  if (it == kTypes.end()) return std::nullopt;
+  return it->second;
+}
+
+class LegacyReader {
+ public:
+  explicit LegacyReader(const std::string& path) : c_(TextCursor::open(path)) {}
+
+  InputMesh read() {
+    if (c_.remaining() == 0) c_.fail("empty file, expected '# vtk DataFile Version'");
+    const std::string_view magic = c_.rest_of_line();
+    if (magic.substr(0, 22) != "# vtk DataFile Version")
+      c_.fail("not a VTK legacy file (expected '# vtk DataFile Version x.y')");
+    c_.rest_of_line();  // title
+    const std::string_view mode = c_.token("ASCII or BINARY");
+    if (mode != "ASCII" && mode != "BINARY")
+      c_.fail("expected ASCII or BINARY, found '" + std::string(mode) + "'");
+    binary_ = mode == "BINARY";
+    c_.expect("DATASET");
+    const std::string_view kind = c_.token("a dataset type");
+    if (kind != "UNSTRUCTURED_GRID")
+      c_.fail("only UNSTRUCTURED_GRID datasets are supported, got '" + std::string(kind) + "'");
+
+    bool have_points = false;
+    std::vector<int64_t> cell_offsets, connectivity, cell_types;
+    uint64_t data_count = 0;  // tuples per array in the current POINT_DATA / CELL_DATA
+    bool in_point_data = false, in_data = false;
+    while (!c_.at_end()) {
+      const std::string key(c_.token("a keyword"));
+      if (key == "POINTS") {
+        if (have_points) c_.fail("a second POINTS section");
+        have_points = true;
+        const uint64_t n = c_.count("a point count", c_.remaining() / 3);
+        const auto xyz = array(3 * n, c_.token("a point type"));
+        out_.points.reserve(n);
+        for (uint64_t i = 0; i < n; ++i) out_.points.push_back({xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
+        for (double v : xyz)
+          if (!std::isfinite(v)) c_.fail("a point coordinate is not finite");
+      } else if (key == "CELLS") {
+        read_cells(cell_offsets, connectivity);
+      } else if (key == "CELL_TYPES") {
+        const uint64_t n = c_.count("a cell count", c_.remaining());
+        for (double t : array(n, "int")) cell_types.push_back(static_cast<int64_t>(t));
+      } else if (key == "POINT_DATA" || key == "CELL_DATA") {
+        data_count = c_.count("a tuple count", c_.remaining());
+        in_point_data = key == "POINT_DATA";
+        in_data = true;
+        if (in_point_data && data_count != out_.points.size())
+          c_.fail("POINT_DATA " + std::to_string(data_count) + " for " +
+                  std::to_string(out_.points.size()) + " points");
+      } else if (key == "SCALARS" || key == "VECTORS" || key == "NORMALS" || key == "TEXTURE_COORDINATES" ||
+                 key == "TENSORS") {
+        if (!in_data) c_.fail(key + " outside POINT_DATA or CELL_DATA");
+        VertexField f{std::string(c_.token("an array name")), 3, {}};
+        if (key == "TENSORS") f.components = 9;
+        if (key == "TEXTURE_COORDINATES") f.components = c_.number<int>("a dimension");
+        const std::string type(c_.token("a value type"));
+        if (key == "SCALARS") {
+          // "SCALARS name type [components]", then "LOOKUP_TABLE name" on its own line.
+          f.components = 1;
+          if (const std::string_view rest = c_.rest_of_line(); rest.find_first_not_of(" \t") != std::string_view::npos) {
+            const std::string_view n = rest.substr(rest.find_first_not_of(" \t"));
+            const auto [end, ec] = std::from_chars(n.data(), n.data() + n.size(), f.components);
+            if (ec != std::errc() || n.substr(end - n.data()).find_first_not_of(" \t") != std::string_view::npos)
+              c_.fail("expected a component count, found '" + std::string(n) + "'");
+          }
+          c_.expect("LOOKUP_TABLE");
+          c_.token("a lookup table name");
+        }
+        if (f.components < 1 || f.components > 9) c_.fail("bad component count " + std::to_string(f.components));
+        f.values = array(data_count * f.components, type);
+        if (in_point_data) out_.fields.push_back(std::move(f));
+      } else if (key == "FIELD") {
+        c_.token("a field name");
+        const uint64_t arrays = c_.count("an array count", c_.remaining() / 4);
+        for (uint64_t a = 0; a < arrays; ++a) {
+          VertexField f{std::string(c_.token("an array name")), 0, {}};
+          f.components = c_.number<int>("a component count");
+          const uint64_t tuples = c_.count("a tuple count", c_.remaining());
+          if (f.components < 1 || f.components > 64) c_.fail("bad component count " + std::to_string(f.components));
+          f.values = array(tuples * f.components, c_.token("a value type"));
+          if (in_point_data && data_count > 0) {
+            if (tuples != out_.points.size())
+              c_.fail("array '" + f.name + "' has " + std::to_string(tuples) + " tuples for " +
+                      std::to_string(out_.points.size()) + " points");
+            out_.fields.push_back(std::move(f));
+          }
+        }
+      } else if (key == "METADATA") {
+        // VTK >= 8 writes array information after the data, up to a blank line.
+        c_.skip_to_next_line();
+        while (c_.remaining() > 0 && !c_.rest_of_line().empty()) {
+        }
+      } else {
+        c_.fail("unknown or unsupported keyword '" + key + "'");
+      }
+    }
+    if (!have_points) throw FormatError(c_.path() + ": no POINTS section");
+    if (cell_offsets.size() > 1 || !cell_types.empty()) {
+      const size_t cells = cell_offsets.empty() ? 0 : cell_offsets.size() - 1;
+      if (cell_types.size() != cells)
+        throw FormatError(c_.path() + ": " + std::to_string(cell_types.size()) + " CELL_TYPES for " +
+                          std::to_string(cells) + " CELLS");
+      for (size_t i = 0; i < cell_types.size(); ++i) {
+        const int64_t b = cell_offsets[i], e = cell_offsets[i + 1];
+        for (int64_t k = b; k < e; ++k)
+          if (connectivity[k] < 0 || static_cast<uint64_t>(connectivity[k]) >= out_.points.size())
+            throw FormatError(c_.path() + ": cell " + std::to_string(i) + ": point index " +
+                              std::to_string(connectivity[k]) + " out of range");
+        if (cell_types[i] != kVtkTetra) continue;
+        if (e - b != 4)
+          throw FormatError(c_.path() + ": cell " + std::to_string(i) + " is a VTK_TETRA with " +
+                            std::to_string(e - b) + " points");
+        out_.tets.push_back({static_cast<uint32_t>(connectivity[b]), static_cast<uint32_t>(connectivity[b + 1]),
+                             static_cast<uint32_t>(connectivity[b + 2]), static_cast<uint32_t>(connectivity[b + 3])});
+      }
+    }
+    return std::move(out_);
+  }
+
+ private:
+  // `n` values of the named type: text tokens, or big-endian bytes after the
+  // end of the current line.
+  std::vector<double> array(uint64_t n, std::string_view type_name) {
+    const auto type = legacy_type(type_name);
+    if (!type) c_.fail("unknown or unsupported value type '" + std::string(type_name) + "'");
+    std::vector<double> out;
+    if (binary_) {
+      c_.skip_to_next_line();
+      const int size = scalar_size(*type);
+      if (n > c_.remaining() / size)
+        c_.fail("file ends: " + std::to_string(n) + " values of type " + std::string(type_name) +
+                " need " + std::to_string(n * size) + " bytes, " + std::to_string(c_.remaining()) + " left");
+      const std::string_view raw = c_.bytes(n * size, "binary data");
+      out.reserve(n);
+      for (uint64_t i = 0; i < n; ++i) out.push_back(scalar_at(raw.data() + i * size, *type, true));
+    } else {
+      if (n > c_.remaining() / 2) c_.fail("file ends before the " + std::to_string(n) + " values it announces");
+      out.reserve(n);
+      for (uint64_t i = 0; i < n; ++i) {
+        if (is_integer(*type)) out.push_back(static_cast<double>(c_.number<int64_t>("an integer")));
+        else out.push_back(c_.number<double>("a number"));
+      }
+    }
+    return out;
+  }
+
+  void read_cells(std::vector<int64_t>& offsets, std::vector<int64_t>& connectivity) {
+    if (!offsets.empty()) c_.fail("a second CELLS section");
+    const uint64_t a = c_.count("a cell count", c_.remaining());
+    const uint64_t b = c_.count("a cell list size", c_.remaining());
+    if (c_.peek() == "OFFSETS") {  // version 5.1: a = cells + 1, b = connectivity size
+      c_.token("OFFSETS");
+      for (double v : array(a, c_.token("an offset type"))) offsets.push_back(static_cast<int64_t>(v));
+      c_.expect("CONNECTIVITY");
+      for (double v : array(b, c_.token("a connectivity type"))) connectivity.push_back(static_cast<int64_t>(v));
+      if (a == 0 || offsets.front() != 0 || static_cast<uint64_t>(offsets.back()) != b)
+        c_.fail("OFFSETS do not span the CONNECTIVITY of " + std::to_string(b) + " indices");
+      for (size_t i = 1; i < offsets.size(); ++i)
+        if (offsets[i] < offsets[i - 1]) c_.fail("OFFSETS decrease at cell " + std::to_string(i - 1));
+      return;
+    }
+    // Classic: `a` cells, `b` integers in all, each cell "k i1 .. ik".
+    const auto list = array(b, "int");
+    offsets.push_back(0);
+    size_t at = 0;
+    for (uint64_t i = 0; i < a; ++i) {
+      if (at >= list.size() || list[at] < 0 || list[at] > static_cast<double>(list.size() - at - 1))
+        c_.fail("CELLS: cell " + std::to_string(i) + " runs past the " + std::to_string(b) + " integers announced");
+      const auto k = static_cast<size_t>(list[at]);
+      for (size_t j = 1; j <= k; ++j) connectivity.push_back(static_cast<int64_t>(list[at + j]));
+      at += k + 1;
+      offsets.push_back(static_cast<int64_t>(connectivity.size()));
+    }
+    if (at != list.size())
+      c_.fail("CELLS: " + std::to_string(a) + " cells use " + std::to_string(at) + " of the " +
+              std::to_string(b) + " integers announced");
+  }
+
+  TextCursor c_;
+  bool binary_ = false;
+  InputMesh out_;
+};
+
+}  // namespace
+
+InputMesh read_vtk_legacy(const std::string& path) { return LegacyReader(path).read(); }
+
+std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
+  std::string out = "# vtk DataFile Version 4.2\nwritten by dtmesh\n";
+  out += binary ? "BINARY\n" : "ASCII\n";
+  out += "DATASET UNSTRUCTURED_GRID\nPOINTS " + std::to_string(m.points.size()) + " double\n";
+  // In ASCII every value is followed by a line break or a space; in BINARY
+  // the values are packed and the section ends with one line break.
+  auto put = [&](auto v, bool end_of_line) {
+    if (binary) {
+      append_binary(out, v, true);
+    } else {
+      append_number(out, v);
+      out += end_of_line ? '\n' : ' ';
+    }
+  };
+  auto end_section = [&] {
+    if (binary) out += '\n';
+  };
+  for (const GridPoint& g : m.points) {
+    const InputPoint p = m.grid.to_input(g);
+    put(p.x, false);
+    put(p.y, false);
+    put(p.z, true);
+  }
+  end_section();
+  out += "CELLS " + std::to_string(m.cells.size()) + " " + std::to_string(5 * m.cells.size()) + "\n";
+  for (const auto& t : m.cells) {
+    put(int32_t{4}, false);
+    for (int k = 0; k < 4; ++k) put(static_cast<int32_t>(t[k]), k == 3);
+  }
+  end_section();
+  out += "CELL_TYPES " + std::to_string(m.cells.size()) + "\n";
+  for (size_t i = 0; i < m.cells.size(); ++i) put(int32_t{kVtkTetra}, true);
+  end_section();
+  // Point data as one FIELD block: VTK's legacy reader keeps only the first
+  // SCALARS of a file unless asked for all, but always reads every FIELD array.
+  const int arrays = !m.level.empty() + !m.boundary.empty();
+  if (arrays > 0)
+    out += "POINT_DATA " + std::to_string(m.points.size()) + "\nFIELD FieldData " + std::to_string(arrays) + "\n";
+  if (!m.level.empty()) {
+    out += "level 1 " + std::to_string(m.points.size()) + " int\n";
+    for (int32_t v : m.level) put(v, true);
+    end_section();
+  }
+  if (!m.boundary.empty()) {
+    out += "boundary 1 " + std::to_string(m.points.size()) + " unsigned_char\n";
+    for (uint8_t v : m.boundary) put(v, true);
+    end_section();
+  }
+  return out;
+}
+
+}  // namespace dtm

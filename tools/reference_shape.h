@@ -1,0 +1,38 @@
+// The input's own tetrahedra (TetGen .ele, Medit, VTK, gmsh) as the reference
+// shape of every level: how far a level's boundary surface strays from the
+// boundary of the mesh the user gave us, both ways. A measurement for the
+// report; the hierarchy does not use it.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/grid.h"
+#include "core/surface_distance.h"
+
+namespace dtm {
+
+class ReferenceShape {
+ public:
+  // `tets` index the input points; `q` maps them onto the grid. Tetrahedra
+  // that quantization collapsed are dropped.
+  ReferenceShape(std::span<const std::array<uint32_t, 4>> tets, const QuantizedPoints& q);
+
+  size_t tetrahedra() const { return tets_.size(); }
+  size_t boundary_vertices() const { return boundary_vertices_.size(); }
+
+  // Two-sided distance, grid units, between the boundary surface of `cells`
+  // (indices into `points`, the grid points `q` held) and the reference's:
+  // the largest over the vertices of both surfaces of the distance to the
+  // other surface, and the mean over them.
+  DistanceSummary distance(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> points) const;
+
+ private:
+  std::vector<std::array<uint32_t, 4>> tets_;
+  std::vector<std::array<uint32_t, 3>> boundary_;
+  std::vector<GridPoint> boundary_vertices_;
+};
+
+}  // namespace dtm
