@@ -1,0 +1,38 @@
+// Every input reader on arbitrary bytes: a FormatError naming the problem,
+// or points that can make a tetrahedral mesh (finite, at least 4, not all
+// coplanar), never a crash. The first byte's low 4 bits pick the format,
+// its high 4 bits the voxel threshold and interior step; the rest is the file.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include "fuzz_check.h"
+#include "tools/formats/input.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  static const char* kExtensions[] = {".node", ".mesh", ".vtk", ".vtu", ".msh", ".nrrd", ".ply", ".off", ".obj", ".xyz"};
+  const char* ext = kExtensions[(data[0] & 15) % 10];
+  const std::string path = "/tmp/dtm_fuzz_input_" + std::to_string(getpid()) + ext;
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) return 0;
+  std::fwrite(data + 1, 1, size - 1, f);
+  std::fclose(f);
+  dtm::VolumeOptions volume;
+  volume.threshold = static_cast<double>(data[0] >> 4);
+  volume.interior_step = 1 + (data[0] >> 6);
+  try {
+    // No .ele is read: a stray one beside the temporary file must not matter.
+    const dtm::InputMesh in = dtm::read_input(path, {}, volume, false);
+    FUZZ_CHECK(in.points.size() >= 4);
+    for (const auto& p : in.points) FUZZ_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+    for (const auto& t : in.tets)
+      for (auto v : t) FUZZ_CHECK(v < in.points.size());
+  } catch (const dtm::FormatError&) {
+  }
+  std::remove(path.c_str());
+  return 0;
+}
