@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 #include <random>
 #include <set>
 
@@ -154,6 +155,36 @@ TEST(PointSetCoder, RejectsDamagedPayloads) {
       EXPECT_EQ(out.size(), count);
     }
   }
+}
+
+// Arbitrary payloads reach each of the coder's structural checks (two points
+// in one cell, a point already known, a count out of range) and are refused
+// by it: a damaged layer can neither repeat a point nor leave the grid.
+TEST(PointSetCoder, JunkPayloadsHitEveryStructuralCheck) {
+  std::mt19937 rng(9);
+  const std::vector<GridPoint> known = {{0, 0, 0}, {1, 1, 1}, {2, 3, 1}, {3, 0, 2}};
+  std::map<std::string, int> seen;
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::vector<uint8_t> junk(4 + rng() % 12);
+    for (auto& b : junk) b = static_cast<uint8_t>(rng());
+    std::vector<GridPoint> out;
+    const uint32_t count = 2 + rng() % 40;
+    const Status s = decode_layer(junk, 2, count, out, known);  // a 4^3 grid: collisions are likely
+    if (s.ok()) {
+      // Whatever decodes is a valid layer: distinct points in the grid, none known.
+      std::set<GridPoint> distinct(out.begin(), out.end());
+      EXPECT_EQ(distinct.size(), count);
+      for (const auto& p : out) {
+        EXPECT_TRUE(p.x >= 0 && p.x < 4 && p.y >= 0 && p.y < 4 && p.z >= 0 && p.z < 4);
+        EXPECT_EQ(std::count(known.begin(), known.end(), p), 0);
+      }
+    } else {
+      ++seen[s.message()];
+    }
+  }
+  for (const char* check : {"two points in one grid cell", "a point of this layer is already in a coarser level",
+                            "point count out of range"})
+    EXPECT_GT(seen[check], 0) << check;
 }
 
 TEST(PointSetCoder, RejectsAPointAlreadyKnown) {
