@@ -243,12 +243,7 @@ std::string render_gmsh(const OutputMesh& m) {
     out += '\n';
   }
   for (const InputPoint& p : xyz) {
-    append_number(out, p.x);
-    out += ' ';
-    append_number(out, p.y);
-    out += ' ';
-    append_number(out, p.z);
-    out += '\n';
+    append_xyz_line(out, p);
   }
   out += "$EndNodes\n$Elements\n";
   out += "1 " + std::to_string(t) + " " + std::to_string(t ? 1 : 0) + " " + std::to_string(t) + "\n";

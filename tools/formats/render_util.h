@@ -23,6 +23,17 @@ void append_number(std::string& out, T value) {
   }
 }
 
+// "x y z\n", each coordinate as append_number writes it.
+template <class P>
+void append_xyz_line(std::string& out, const P& p) {
+  append_number(out, p.x);
+  out += ' ';
+  append_number(out, p.y);
+  out += ' ';
+  append_number(out, p.z);
+  out += '\n';
+}
+
 // `v` as little-endian (or big-endian) bytes whatever the host's byte order.
 template <class T>
 void append_binary(std::string& out, T v, bool big_endian = false) {

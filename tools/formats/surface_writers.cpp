@@ -79,12 +79,7 @@ std::string render_off(const OutputMesh& m) {
   out += std::to_string(s.vertices.size()) + " " + std::to_string(s.triangles.size()) + " 0\n";
   for (uint32_t v : s.vertices) {
     const InputPoint p = m.grid.to_input(m.points[v]);
-    append_number(out, p.x);
-    out += ' ';
-    append_number(out, p.y);
-    out += ' ';
-    append_number(out, p.z);
-    out += '\n';
+    append_xyz_line(out, p);
   }
   for (const auto& t : s.triangles) {
     out += '3';
@@ -102,12 +97,7 @@ std::string render_xyz(const OutputMesh& m) {
   out.reserve(m.points.size() * 60);
   for (const GridPoint& g : m.points) {
     const InputPoint p = m.grid.to_input(g);
-    append_number(out, p.x);
-    out += ' ';
-    append_number(out, p.y);
-    out += ' ';
-    append_number(out, p.z);
-    out += '\n';
+    append_xyz_line(out, p);
   }
   return out;
 }
