@@ -5,6 +5,7 @@
 // the decoder, checked level by level.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 
@@ -123,6 +124,30 @@ TEST_F(Volumes, EveryFlavourSelectsTheSameSolidOnTheVoxelLattice) {
     EXPECT_EQ(m.on_grid->grid.origin, q.grid.origin) << name;
     ASSERT_EQ(m.fields.size(), 1u);
     EXPECT_EQ(m.fields[0].name, "value");
+  }
+}
+
+// A header may claim a volume far larger than its data: the reader must
+// find out from the data, without allocating what the header claims
+// (2048^3 bytes here, 8 GiB).
+TEST_F(Volumes, AHugeClaimedVolumeWithLittleDataFailsWithoutAllocatingIt) {
+  const std::string claim =
+      "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2048 2048 2048\nspacings: 1 1 1\n";
+  std::ofstream(path("small.raw"), std::ios::binary) << std::string(1000, '\0');
+  const auto r = test::run_command("gzip -c " + path("small.raw") + " > " + path("small.raw.gz"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ofstream(path("huge_gz.nrrd"), std::ios::binary) << claim << "encoding: gzip\n\n"
+                                                         << test::slurp(path("small.raw.gz"));
+  std::ofstream(path("huge_ascii.nrrd"), std::ios::binary) << claim << "encoding: ascii\n\n1 2 3 4\n";
+  for (const char* name : {"huge_gz.nrrd", "huge_ascii.nrrd"}) {
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      read_input(path(name), {}, threshold(1));
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0) << name;
   }
 }
 

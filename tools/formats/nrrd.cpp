@@ -54,18 +54,31 @@ std::string trim(std::string_view s) {
 
 }  // namespace
 
+// Inflates in 1 MiB steps, so that memory follows the data actually present
+// rather than the size the header claims (a few bytes of gzip can claim a
+// 2^33-voxel volume).
 std::string gunzip(std::string_view compressed, uint64_t expected, const std::string& path) {
-  std::string out(expected, '\0');
+  std::string out;
   z_stream z{};
   if (inflateInit2(&z, 15 + 32) != Z_OK) throw FormatError(path + ": cannot start zlib");  // gzip or zlib header
   z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(compressed.data()));
   z.avail_in = static_cast<uInt>(compressed.size());
-  z.next_out = reinterpret_cast<Bytef*>(out.data());
-  z.avail_out = static_cast<uInt>(expected);
-  const int r = inflate(&z, Z_FINISH);
-  const uint64_t produced = z.total_out;
+  constexpr uint64_t kStep = uint64_t{1} << 20;
+  int r = Z_OK;
+  while (r == Z_OK) {
+    const uint64_t have = out.size();
+    const uint64_t room = std::min(kStep, expected + 1 - have);  // one byte more: detects excess data
+    if (room == 0) break;
+    out.resize(have + room);
+    z.next_out = reinterpret_cast<Bytef*>(out.data() + have);
+    z.avail_out = static_cast<uInt>(room);
+    r = inflate(&z, Z_NO_FLUSH);
+    out.resize(have + room - z.avail_out);
+    if (r == Z_BUF_ERROR && z.avail_in == 0) break;  // input exhausted before the end of the stream
+  }
+  const uint64_t produced = out.size();
   inflateEnd(&z);
-  if (r == Z_BUF_ERROR && produced == expected)
+  if (produced > expected)
     throw FormatError(path + ": gzip data holds more than the " + std::to_string(expected) + " bytes of the volume");
   if (r != Z_STREAM_END)
     throw FormatError(path + ": gzip data is damaged or truncated (" + std::to_string(produced) + " of " +
@@ -227,6 +240,10 @@ Volume read_nrrd(const std::string& path) {
     TextCursor t(data_path, std::string(data));
     v.big_endian = false;
     v.type = ScalarType::kFloat64;
+    // Each value takes a character and a separator at least.
+    if (v.voxels() > data.size() / 2 + 1)
+      t.fail("data ends: " + std::to_string(data.size()) + " bytes of text cannot hold " +
+             std::to_string(v.voxels()) + " values");
     v.data.reserve(v.voxels() * 8);
     for (uint64_t i = 0; i < v.voxels(); ++i) {
       if (t.at_end()) t.fail("data ends after " + std::to_string(i) + " of " + std::to_string(v.voxels()) + " values");
