@@ -93,7 +93,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"index_out_of_range.msh", ":13: node tag 9 out of range"},
         BadInput{"inf.msh", ":9: coordinate is not finite"},
         // PLY, OFF, OBJ, XYZ (CGAL's readers give no position: the message says what they need)
-        BadInput{"bad_header.ply", "not a valid PLY file"},
+        BadInput{"bad_header.ply", "bad_header.ply:1: not a PLY file"},
+        BadInput{"property_before_element.ply", "property_before_element.ply:3: 'property' before any 'element'"},
+        BadInput{"huge_count.ply", "huge_count.ply:3: element 'vertex' announces 4000000000 items"},
         BadInput{"truncated_binary.ply", "not a valid PLY file"},
         BadInput{"count_mismatch.ply", "not a valid PLY file"},
         BadInput{"nan.ply", "vertex 2: coordinate is not finite"},

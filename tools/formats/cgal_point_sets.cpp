@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "format_error.h"
 #include "point_sets.h"
@@ -92,6 +93,45 @@ void check_off_count(const std::string& path, size_t read) {
                       std::to_string(read) + " (truncated?)");
 }
 
+// CGAL's PLY reader trusts its header: a 'property' line before any
+// 'element' line makes it index an empty vector (undefined behaviour, found
+// by fuzzing), and an element count is reserved as announced (a few bytes
+// can announce 4 billion vertices). The header is checked here first; the
+// data stays CGAL's to read.
+void check_ply_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(0, std::ios::end);
+  const auto file_size = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
+  in.seekg(0);
+  std::string line;
+  bool have_element = false;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string where = path + ":" + std::to_string(number) + ": ";
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (number == 1) {
+      if (keyword != "ply") throw FormatError(where + "not a PLY file (the first line must be 'ply')");
+      continue;
+    }
+    if (keyword == "end_header") return;
+    if (keyword == "element") {
+      std::string name;
+      uint64_t count = 0;
+      if (!(words >> name >> count))
+        throw FormatError(where + "an 'element' line needs a name and a count");
+      if (count > file_size)
+        throw FormatError(where + "element '" + name + "' announces " + std::to_string(count) +
+                          " items; the file has only " + std::to_string(file_size) + " bytes");
+      have_element = true;
+    } else if (keyword == "property" && !have_element) {
+      throw FormatError(where + "'property' before any 'element'");
+    }
+  }
+  throw FormatError(path + ": the PLY header has no 'end_header' line");
+}
+
 }  // namespace
 
 InputMesh read_point_set(const std::string& path, PointSetFormat format) {
@@ -117,7 +157,10 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
   } else {
     PointSet ps;
     switch (format) {
-      case PointSetFormat::kPly: ok = CGAL::IO::read_PLY(in, ps); break;
+      case PointSetFormat::kPly:
+        check_ply_header(path);
+        ok = CGAL::IO::read_PLY(in, ps);
+        break;
       case PointSetFormat::kOff: ok = CGAL::IO::read_OFF(in, ps); break;
       default: ok = CGAL::IO::read_XYZ(in, ps); break;
     }
