@@ -95,6 +95,7 @@ INSTANTIATE_TEST_SUITE_P(
         // PLY, OFF, OBJ, XYZ (CGAL's readers give no position: the message says what they need)
         BadInput{"bad_header.ply", "bad_header.ply:1: not a PLY file"},
         BadInput{"property_before_element.ply", "property_before_element.ply:3: 'property' before any 'element'"},
+        BadInput{"integer_coordinates.ply", "integer_coordinates.ply:4: vertex property 'x' is 'int'"},
         BadInput{"huge_count.ply", "huge_count.ply:3: element 'vertex' announces 4000000000 items"},
         BadInput{"truncated_binary.ply", "not a valid PLY file"},
         BadInput{"count_mismatch.ply", "not a valid PLY file"},

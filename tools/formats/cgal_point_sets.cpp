@@ -94,10 +94,11 @@ void check_off_count(const std::string& path, size_t read) {
 }
 
 // CGAL's PLY reader trusts its header: a 'property' line before any
-// 'element' line makes it index an empty vector (undefined behaviour, found
-// by fuzzing), and an element count is reserved as announced (a few bytes
-// can announce 4 billion vertices). The header is checked here first; the
-// data stays CGAL's to read.
+// 'element' line makes it index an empty vector, and a vertex coordinate
+// (x y z, nx ny nz) that is not float or double makes it call through a null
+// pointer (undefined behaviour, both found by fuzzing); an element count is
+// reserved as announced (a few bytes can announce 4 billion vertices). The
+// header is checked here first; the data stays CGAL's to read.
 void check_ply_header(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   in.seekg(0, std::ios::end);
@@ -105,6 +106,7 @@ void check_ply_header(const std::string& path) {
   in.seekg(0);
   std::string line;
   bool have_element = false;
+  std::string element;
   for (int number = 1; std::getline(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::string where = path + ":" + std::to_string(number) + ": ";
@@ -125,8 +127,19 @@ void check_ply_header(const std::string& path) {
         throw FormatError(where + "element '" + name + "' announces " + std::to_string(count) +
                           " items; the file has only " + std::to_string(file_size) + " bytes");
       have_element = true;
-    } else if (keyword == "property" && !have_element) {
-      throw FormatError(where + "'property' before any 'element'");
+      element = name;
+    } else if (keyword == "property") {
+      if (!have_element) throw FormatError(where + "'property' before any 'element'");
+      std::string type, name;
+      words >> type >> name;
+      if (type == "list") {
+        std::string item_type;
+        words >> item_type >> name;
+      }
+      const bool coordinate = name == "x" || name == "y" || name == "z" || name == "nx" || name == "ny" || name == "nz";
+      const bool real = type == "float" || type == "float32" || type == "double" || type == "float64";
+      if (element == "vertex" && coordinate && !real)
+        throw FormatError(where + "vertex property '" + name + "' is '" + type + "'; coordinates must be float or double");
     }
   }
   throw FormatError(path + ": the PLY header has no 'end_header' line");
