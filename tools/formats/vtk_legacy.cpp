@@ -66,7 +66,7 @@ class LegacyReader {
         read_cells(cell_offsets, connectivity);
       } else if (key == "CELL_TYPES") {
         const uint64_t n = c_.count("a cell count", c_.remaining());
-        for (double t : array(n, "int")) cell_types.push_back(static_cast<int64_t>(t));
+        for (double t : array(n, "int")) cell_types.push_back(whole(t, "a cell type"));
       } else if (key == "POINT_DATA" || key == "CELL_DATA") {
         data_count = c_.count("a tuple count", c_.remaining());
         in_point_data = key == "POINT_DATA";
@@ -171,15 +171,23 @@ class LegacyReader {
     return out;
   }
 
+  // A value of an integer array as an integer: binary arrays may hold any
+  // double, and converting one out of range is undefined behaviour.
+  int64_t whole(double v, const char* what) {
+    if (!(v >= -4611686018427387904.0 && v <= 4611686018427387904.0) || v != std::floor(v))  // 2^62
+      c_.fail(std::string(what) + " is not a whole number in range: " + std::to_string(v));
+    return static_cast<int64_t>(v);
+  }
+
   void read_cells(std::vector<int64_t>& offsets, std::vector<int64_t>& connectivity) {
     if (!offsets.empty()) c_.fail("a second CELLS section");
     const uint64_t a = c_.count("a cell count", c_.remaining());
     const uint64_t b = c_.count("a cell list size", c_.remaining());
     if (c_.peek() == "OFFSETS") {  // version 5.1: a = cells + 1, b = connectivity size
       c_.token("OFFSETS");
-      for (double v : array(a, c_.token("an offset type"))) offsets.push_back(static_cast<int64_t>(v));
+      for (double v : array(a, c_.token("an offset type"))) offsets.push_back(whole(v, "an offset"));
       c_.expect("CONNECTIVITY");
-      for (double v : array(b, c_.token("a connectivity type"))) connectivity.push_back(static_cast<int64_t>(v));
+      for (double v : array(b, c_.token("a connectivity type"))) connectivity.push_back(whole(v, "a point index"));
       if (a == 0 || offsets.front() != 0 || static_cast<uint64_t>(offsets.back()) != b)
         c_.fail("OFFSETS do not span the CONNECTIVITY of " + std::to_string(b) + " indices");
       for (size_t i = 1; i < offsets.size(); ++i)
@@ -194,7 +202,7 @@ class LegacyReader {
       if (at >= list.size() || list[at] < 0 || list[at] > static_cast<double>(list.size() - at - 1))
         c_.fail("CELLS: cell " + std::to_string(i) + " runs past the " + std::to_string(b) + " integers announced");
       const auto k = static_cast<size_t>(list[at]);
-      for (size_t j = 1; j <= k; ++j) connectivity.push_back(static_cast<int64_t>(list[at + j]));
+      for (size_t j = 1; j <= k; ++j) connectivity.push_back(whole(list[at + j], "a point index"));
       at += k + 1;
       offsets.push_back(static_cast<int64_t>(connectivity.size()));
     }

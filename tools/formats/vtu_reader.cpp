@@ -377,12 +377,20 @@ class VtuReader {
     }
     const auto offsets = array(named_array(*ce, "offsets"), cells, 1);
     const auto types = array(named_array(*ce, "types"), cells, 1);
-    const uint64_t total = cells == 0 ? 0 : static_cast<uint64_t>(std::max(0.0, offsets.back()));
+    if (cells > 0 && !(offsets.back() >= 0 && offsets.back() <= 9007199254740992.0))  // 2^53
+      p_.fail_at(ce->offset, "the last offset (" + std::to_string(offsets.back()) + ") is not a valid count");
+    const uint64_t total = cells == 0 ? 0 : static_cast<uint64_t>(offsets.back());
     const Element& conn_element = named_array(*ce, "connectivity");
     const auto conn = array(conn_element, total, 1);
     double previous = 0;
     for (uint64_t c = 0; c < cells; ++c) {
-      if (offsets[c] < previous) p_.fail_at(ce->offset, "offsets decrease at cell " + std::to_string(c));
+      // Checked before use: an offset past the last one (fuzzing found it)
+      // would index past the connectivity array.
+      if (!(offsets[c] >= previous)) p_.fail_at(ce->offset, "offsets decrease at cell " + std::to_string(c));
+      if (!(offsets[c] <= static_cast<double>(conn.size())) || offsets[c] != std::floor(offsets[c]))
+        p_.fail_at(ce->offset, "cell " + std::to_string(c) + ": offset " + std::to_string(offsets[c]) +
+                                   " is not a whole number within the " + std::to_string(conn.size()) +
+                                   " connectivity values");
       const auto b = static_cast<uint64_t>(previous), e = static_cast<uint64_t>(offsets[c]);
       previous = offsets[c];
       for (uint64_t k = b; k < e; ++k)
