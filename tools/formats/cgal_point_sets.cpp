@@ -6,6 +6,8 @@
 #include <CGAL/Point_set_3/IO/PLY.h>
 #include <CGAL/Point_set_3/IO/XYZ.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -104,9 +106,11 @@ void check_ply_header(const std::string& path) {
   in.seekg(0, std::ios::end);
   const auto file_size = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
   in.seekg(0);
-  std::string line;
-  bool have_element = false;
-  std::string element;
+  auto is_name = [](const std::string& w) {
+    return !w.empty() && std::all_of(w.begin(), w.end(), [](unsigned char ch) { return std::isalnum(ch) || ch == '_'; });
+  };
+  std::string line, element;
+  int vertex_elements = 0, coordinates = 0;
   for (int number = 1; std::getline(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::string where = path + ":" + std::to_string(number) + ": ";
@@ -117,29 +121,39 @@ void check_ply_header(const std::string& path) {
       if (keyword != "ply") throw FormatError(where + "not a PLY file (the first line must be 'ply')");
       continue;
     }
-    if (keyword == "end_header") return;
+    if (keyword == "end_header") {
+      if (vertex_elements != 1 || coordinates != 3)
+        throw FormatError(path + ": the PLY header needs one 'vertex' element with float or double x, y, z");
+      return;
+    }
+    if (keyword == "comment" || keyword == "obj_info" || keyword == "format") continue;
     if (keyword == "element") {
-      std::string name;
-      uint64_t count = 0;
-      if (!(words >> name >> count))
-        throw FormatError(where + "an 'element' line needs a name and a count");
+      std::string name, count_text, extra;
+      if (!(words >> name >> count_text) || (words >> extra) || !is_name(name) ||
+          !std::all_of(count_text.begin(), count_text.end(), [](unsigned char ch) { return std::isdigit(ch); }) ||
+          count_text.size() > 19)
+        throw FormatError(where + "an 'element' line is 'element NAME COUNT'");
+      const uint64_t count = std::stoull(count_text);
       if (count > file_size)
-        throw FormatError(where + "element '" + name + "' announces " + std::to_string(count) +
-                          " items; the file has only " + std::to_string(file_size) + " bytes");
-      have_element = true;
+        throw FormatError(where + "element '" + name + "' announces " + count_text + " items; the file has only " +
+                          std::to_string(file_size) + " bytes");
       element = name;
+      if (name == "vertex") ++vertex_elements;
     } else if (keyword == "property") {
-      if (!have_element) throw FormatError(where + "'property' before any 'element'");
-      std::string type, name;
-      words >> type >> name;
-      if (type == "list") {
-        std::string item_type;
-        words >> item_type >> name;
-      }
+      if (element.empty()) throw FormatError(where + "'property' before any 'element'");
+      std::string type, name, item_type;
+      words >> type;
+      if (type == "list") words >> item_type;
+      words >> name;
+      if (!is_name(type) || !is_name(name) || (type == "list" && !is_name(item_type)))
+        throw FormatError(where + "a 'property' line is 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME'");
       const bool coordinate = name == "x" || name == "y" || name == "z" || name == "nx" || name == "ny" || name == "nz";
       const bool real = type == "float" || type == "float32" || type == "double" || type == "float64";
       if (element == "vertex" && coordinate && !real)
         throw FormatError(where + "vertex property '" + name + "' is '" + type + "'; coordinates must be float or double");
+      if (element == "vertex" && (name == "x" || name == "y" || name == "z")) ++coordinates;
+    } else {
+      throw FormatError(where + "unknown PLY header line '" + line.substr(0, 40) + "'");
     }
   }
   throw FormatError(path + ": the PLY header has no 'end_header' line");
