@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "format_error.h"
@@ -110,6 +111,7 @@ void check_ply_header(const std::string& path) {
     return !w.empty() && std::all_of(w.begin(), w.end(), [](unsigned char ch) { return std::isalnum(ch) || ch == '_'; });
   };
   std::string line, element;
+  std::set<std::string> property_names;  // "element.property"
   int vertex_elements = 0, coordinates = 0;
   for (int number = 1; std::getline(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -141,14 +143,17 @@ void check_ply_header(const std::string& path) {
       if (name == "vertex") ++vertex_elements;
     } else if (keyword == "property") {
       if (element.empty()) throw FormatError(where + "'property' before any 'element'");
-      std::string type, name, item_type;
+      std::string type, name, item_type, extra;
       words >> type;
-      if (type == "list") words >> item_type;
+      if (type == "list") words >> item_type >> type;
       words >> name;
-      if (!is_name(type) || !is_name(name) || (type == "list" && !is_name(item_type)))
+      if (!is_name(type) || !is_name(name) || (!item_type.empty() && !is_name(item_type)) || (words >> extra))
         throw FormatError(where + "a 'property' line is 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME'");
+      if (!property_names.insert(element + "." + name).second)
+        throw FormatError(where + "element '" + element + "' has two properties named '" + name + "'");
       const bool coordinate = name == "x" || name == "y" || name == "z" || name == "nx" || name == "ny" || name == "nz";
-      const bool real = type == "float" || type == "float32" || type == "double" || type == "float64";
+      const bool real = item_type.empty() &&  // a list is not a coordinate
+                        (type == "float" || type == "float32" || type == "double" || type == "float64");
       if (element == "vertex" && coordinate && !real)
         throw FormatError(where + "vertex property '" + name + "' is '" + type + "'; coordinates must be float or double");
       if (element == "vertex" && (name == "x" || name == "y" || name == "z")) ++coordinates;
