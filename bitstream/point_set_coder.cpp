@@ -12,7 +12,7 @@ constexpr int kKnownClasses = 7;   // class(k): 0, 1, 2, 3-4, 5-8, 9-16, 17+
 constexpr int kSmallMax = 12;      // n0 of nodes with 2..12 new points: bisection
 constexpr int kSplitContexts = 29; // 0: no known point; else 1 + 4 * share bucket + size class
 constexpr int kBisectNodes = 32;   // heap positions of the bisection of [0, 12]
-constexpr int kLargeClasses = 26;  // bit_width(n) of nodes with n > 12
+constexpr int kLargeClasses = 33;  // bit_width(n) of nodes with n > 12 (n < 2^32)
 constexpr int kPrefixBits = 40;    // Exp-Golomb prefix: at most 40 ones
 
 struct SetCoderModels::Tables {

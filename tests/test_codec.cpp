@@ -138,7 +138,7 @@ TEST(PointSetCoder, RejectsDamagedPayloads) {
     EXPECT_EQ(decode_layer(std::span(payload).first(cut), 8, 50, out).code(), StatusCode::kCorrupt)
         << "cut at " << cut;
   }
-  for (uint32_t count : {0u, 1u, 49u, 51u, 5000u}) {
+  for (uint32_t count : {0u, 1u, 49u, 51u, 5000u, 1u << 25, 0xFFFFFFFFu}) {  // every count class
     out.clear();
     EXPECT_EQ(decode_layer(payload, 8, count, out).code(), StatusCode::kCorrupt) << count;
   }
