@@ -7,7 +7,7 @@
 
 namespace dtm {
 
-// Context layout (spec/FORMAT.md §5.3).
+// Context layout (spec/FORMAT.md §3.1).
 constexpr int kKnownClasses = 7;   // class(k): 0, 1, 2, 3-4, 5-8, 9-16, 17+
 constexpr int kSmallMax = 12;      // n0 of nodes with 2..12 new points: bisection
 constexpr int kSplitContexts = 29; // 0: no known point; else 1 + 4 * share bucket + size class
