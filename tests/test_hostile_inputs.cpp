@@ -72,7 +72,7 @@ TEST(HostileStream, TwoSkewLinesAreRefusedBeforeTheirQuadraticMesh) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 20.0);
 }
 
-TEST(HostileStream, MeshdecRefusesTwoSkewLinesAndWritesNothing) {
+TEST(HostileStream, MeshdecAndMeshinfoRefuseTwoSkewLines) {
   const std::string dir = ::testing::TempDir() + "/hostile";
   std::filesystem::create_directories(dir);
   const auto bytes = single_layer_stream(two_skew_lines(1500));
@@ -87,6 +87,12 @@ TEST(HostileStream, MeshdecRefusesTwoSkewLinesAndWritesNothing) {
   EXPECT_NE(pclose(p), 0);
   EXPECT_NE(out.find("cells per vertex"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists(dir + "/skew.vtu"));
+  // meshinfo --stats decodes every level too.
+  p = popen((std::string(DTM_MESHINFO) + " " + dir + "/skew.dtm --stats 2>&1").c_str(), "r");
+  out.clear();
+  while (size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  EXPECT_NE(pclose(p), 0);
+  EXPECT_NE(out.find("meshinfo: error: " + dir + "/skew.dtm: level 0: "), std::string::npos) << out;
 }
 
 TEST(HostileStream, EveryTruncationOfEveryGoldenStreamGivesItsWholeLayers) {

@@ -62,7 +62,11 @@ int main(int argc, char** argv) {
       dtm::ProgressiveDecoder decoder;
       const dtm::Status st =
           decoder.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
-            quality.push_back(quality_of(d.points(), l.alpha));
+            try {
+              quality.push_back(quality_of(d.points(), l.alpha));
+            } catch (const dtm::DegenerateInput& e) {  // hostile points: too many cells
+              throw std::runtime_error(input + ": level " + std::to_string(l.level) + ": " + e.what());
+            }
           });
       if (!st.ok()) throw std::runtime_error(input + ": " + st.message());
     }
