@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "output_mesh_support.h"
 #include "test_support.h"
 #include "tools/atomic_file.h"
 #include "tools/formats/mesh_writers.h"
@@ -28,30 +29,8 @@ OutputMesh small_mesh() {
   return m;
 }
 
-// torus_288 quantized, with its TetGen tetrahedra and boundary markers mapped
-// onto the grid points; `level` is made up (the writers do not interpret it).
-OutputMesh torus_mesh() {
-  const NodeFile node = read_tetgen_node(test::data_path("torus_288.node"));
-  const QuantizedPoints q = quantize(node.points, 14);
-  OutputMesh m;
-  m.grid = q.grid;
-  m.points = q.points;
-  for (auto t : read_tetgen_ele(test::data_path("torus_288.ele"), node.points.size()))
-    m.cells.push_back({q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
-                       q.input_to_point[t[3]]});
-  m.boundary.assign(m.points.size(), 0);
-  for (size_t i = 0; i < node.points.size(); ++i)
-    if (node.markers[i]) m.boundary[q.input_to_point[i]] = 1;
-  for (size_t i = 0; i < m.points.size(); ++i) m.level.push_back(static_cast<int32_t>(i % 7));
-  return m;
-}
-
-// Renders and writes the files; returns the first path.
-std::string write(const OutputMesh& m, MeshFormat f, const std::string& name) {
-  const std::string path = ::testing::TempDir() + "/" + name;
-  for (const auto& [p, bytes] : render_mesh(m, f, path)) write_file_atomically(p, bytes);
-  return path;
-}
+using test::torus_mesh;  // torus_288 with its tetrahedra (output_mesh_support.h)
+using test::write;
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
