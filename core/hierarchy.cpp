@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "boundary_simplification.h"
 #include "delaunay.h"
@@ -36,7 +37,10 @@ struct Representation {
   }
 };
 
-LevelStats measure(const LevelGeometry& L, const Representation& rep, bool boundary_error) {
+// `ids`: the grid-point index of each vertex of L; `error` measures the
+// distance from the level-0 boundary vertices, level after level.
+LevelStats measure(const LevelGeometry& L, std::span<const uint32_t> ids,
+                   SurfaceDistanceTracker* error) {
   LevelStats s;
   s.vertices = L.size();
   const MeshQuality q = mesh_quality(L);
@@ -45,11 +49,11 @@ LevelStats measure(const LevelGeometry& L, const Representation& rep, bool bound
   s.tetrahedra = L.mesh_cells;
   s.avg_min_solid_angle = q.avg_min_solid_angle;
   s.min_solid_angle = q.min_solid_angle;
-  if (!boundary_error) return s;
+  if (!error) return s;
   std::vector<std::array<uint32_t, 3>> surface;
   for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
     surface.push_back(outward_triangle(L.dt, L.points, f));
-  const DistanceSummary d = distance_to_surface(L.points, surface, rep.originals);
+  const DistanceSummary d = error->measure(L.points, ids, surface);
   s.max_boundary_error = d.max;
   s.mean_boundary_error = d.mean;
   return s;
@@ -173,13 +177,16 @@ Hierarchy build_hierarchy(std::span<const GridPoint> points, const HierarchyOpti
       rep.owner.push_back(vertices[v]);
     }
 
+  std::optional<SurfaceDistanceTracker> error;
+  if (opt.measure_boundary_error) error.emplace(rep.originals);
+
   Removal made;  // the removal that produced the current level
   for (int level = 0;; ++level) {
     Level out;
     out.vertices = vertices;
     out.alpha = L.alpha;
     out.mesh = carved_cells(L, vertices);
-    out.stats = measure(L, rep, opt.measure_boundary_error);
+    out.stats = measure(L, vertices, error ? &*error : nullptr);
     out.stats.level = level;
     out.stats.removed_boundary = made.boundary;
     out.stats.removed_interior = made.interior;

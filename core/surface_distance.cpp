@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -19,45 +20,176 @@ using Primitive = CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 K::Point_3 to_point(const GridPoint& p) { return {double(p.x), double(p.y), double(p.z)}; }
-}  // namespace
 
-DistanceSummary distance_to_surface(std::span<const GridPoint> vertices,
-                                    std::span<const std::array<uint32_t, 3>> triangles,
-                                    std::span<const GridPoint> queries) {
-  DistanceSummary out;
-  if (queries.empty()) return out;
-  if (triangles.empty()) {
-    out.max = out.mean = std::numeric_limits<double>::infinity();
-    return out;
-  }
+// Runs body(i) for i in [0, n) on every core. body(0) runs first, alone: a
+// CGAL tree builds its search structures on its first query, after which it
+// is read-only and safe to share.
+template <typename Body>
+void parallel_for(size_t n, const Body& body) {
+  if (n == 0) return;
+  body(0);
+  const size_t threads = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 8);
+  const size_t chunk = (n + threads - 1) / threads;
+  std::vector<std::thread> workers;
+  for (size_t t = 0; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      for (size_t i = std::max<size_t>(1, t * chunk); i < std::min(n, (t + 1) * chunk); ++i) body(i);
+    });
+  for (auto& w : workers) w.join();
+}
+
+DistanceSummary no_surface() {
+  const double inf = std::numeric_limits<double>::infinity();
+  return {inf, inf};
+}
+
+std::vector<Triangle> triangle_soup(std::span<const GridPoint> vertices,
+                                    std::span<const std::array<uint32_t, 3>> triangles) {
   std::vector<Triangle> soup;
   soup.reserve(triangles.size());
   for (const auto& t : triangles)
     soup.emplace_back(to_point(vertices[t[0]]), to_point(vertices[t[1]]), to_point(vertices[t[2]]));
-  Tree tree(soup.cbegin(), soup.cend());
-  tree.accelerate_distance_queries();
-  // Queries are independent and the tree is read-only once its search
-  // structure exists (the first query builds it), so the rest run on every
-  // core. Distances are summed afterwards in one order: the mean does not
-  // depend on the thread count.
-  std::vector<double> distance(queries.size());
-  distance[0] = std::sqrt(tree.squared_distance(to_point(queries[0])));
-  const size_t threads = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 8);
-  const size_t chunk = (queries.size() + threads - 1) / threads;
-  std::vector<std::thread> workers;
-  for (size_t t = 0; t < threads; ++t)
-    workers.emplace_back([&, t] {
-      for (size_t i = std::max<size_t>(1, t * chunk); i < std::min(queries.size(), (t + 1) * chunk); ++i)
-        distance[i] = std::sqrt(tree.squared_distance(to_point(queries[i])));
-    });
-  for (auto& w : workers) w.join();
+  return soup;
+}
+
+using TriangleKey = std::array<uint32_t, 3>;  // sorted vertex ids
+}  // namespace
+
+DistanceSummary summarize_squared(std::span<const double> squared) {
+  DistanceSummary out;
   double sum = 0;
-  for (double d : distance) {
+  for (double d2 : squared) {
+    const double d = std::sqrt(d2);
     out.max = std::max(out.max, d);
     sum += d;
   }
-  out.mean = sum / queries.size();
+  out.mean = squared.empty() ? 0 : sum / squared.size();
   return out;
+}
+
+struct FixedSurface::State {
+  std::vector<Triangle> soup;
+  std::optional<Tree> tree;
+};
+
+FixedSurface::FixedSurface(std::span<const GridPoint> vertices,
+                           std::span<const std::array<uint32_t, 3>> triangles)
+    : state_(std::make_unique<State>()) {
+  state_->soup = triangle_soup(vertices, triangles);
+  if (state_->soup.empty()) return;
+  state_->tree.emplace(state_->soup.cbegin(), state_->soup.cend());
+  state_->tree->accelerate_distance_queries();
+}
+FixedSurface::~FixedSurface() = default;
+FixedSurface::FixedSurface(FixedSurface&&) noexcept = default;
+FixedSurface& FixedSurface::operator=(FixedSurface&&) noexcept = default;
+
+std::vector<double> FixedSurface::squared_distances(std::span<const GridPoint> queries) const {
+  std::vector<double> squared(queries.size(), std::numeric_limits<double>::infinity());
+  if (!state_->tree) return squared;
+  const Tree& tree = *state_->tree;
+  parallel_for(queries.size(), [&](size_t i) { squared[i] = tree.squared_distance(to_point(queries[i])); });
+  return squared;
+}
+
+DistanceSummary distance_to_surface(std::span<const GridPoint> vertices,
+                                    std::span<const std::array<uint32_t, 3>> triangles,
+                                    std::span<const GridPoint> queries) {
+  if (queries.empty()) return {};
+  if (triangles.empty()) return no_surface();
+  return summarize_squared(FixedSurface(vertices, triangles).squared_distances(queries));
+}
+
+struct SurfaceDistanceTracker::State {
+  std::vector<K::Point_3> queries;
+  // Per query, after a measure(): the squared distance, the nearest point
+  // and the key of the triangle it lies on.
+  std::vector<double> squared;
+  std::vector<K::Point_3> nearest;
+  std::vector<TriangleKey> nearest_triangle;
+  bool measured = false;
+  std::vector<TriangleKey> previous;  // the last surface's keys, sorted
+};
+
+SurfaceDistanceTracker::SurfaceDistanceTracker(std::span<const GridPoint> queries)
+    : state_(std::make_unique<State>()) {
+  for (const GridPoint& q : queries) state_->queries.push_back(to_point(q));
+  state_->squared.resize(queries.size());
+  state_->nearest.resize(queries.size());
+  state_->nearest_triangle.resize(queries.size());
+}
+SurfaceDistanceTracker::~SurfaceDistanceTracker() = default;
+SurfaceDistanceTracker::SurfaceDistanceTracker(SurfaceDistanceTracker&&) noexcept = default;
+SurfaceDistanceTracker& SurfaceDistanceTracker::operator=(SurfaceDistanceTracker&&) noexcept = default;
+
+DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> vertices,
+                                                std::span<const uint32_t> ids,
+                                                std::span<const std::array<uint32_t, 3>> triangles) {
+  State& s = *state_;
+  if (s.queries.empty()) return {};
+  if (triangles.empty()) {
+    s.measured = false;
+    s.previous.clear();
+    return no_surface();
+  }
+  const std::vector<Triangle> soup = triangle_soup(vertices, triangles);
+  std::vector<TriangleKey> keys;
+  keys.reserve(triangles.size());
+  for (const auto& t : triangles) {
+    TriangleKey k = ids.empty() ? t : TriangleKey{ids[t[0]], ids[t[1]], ids[t[2]]};
+    std::sort(k.begin(), k.end());
+    keys.push_back(k);
+  }
+  std::vector<TriangleKey> sorted_keys = keys;
+  std::sort(sorted_keys.begin(), sorted_keys.end());
+  const auto present = [](const std::vector<TriangleKey>& set, const TriangleKey& k) {
+    return std::binary_search(set.begin(), set.end(), k);
+  };
+
+  // The triangles this surface adds to the previous one.
+  std::vector<Triangle> added;
+  std::vector<uint32_t> added_index;
+  for (uint32_t i = 0; i < keys.size(); ++i)
+    if (!s.measured || !present(s.previous, keys[i])) {
+      added.push_back(soup[i]);
+      added_index.push_back(i);
+    }
+  // Queries whose nearest triangle is gone are searched in full, the others
+  // against the added triangles only.
+  std::vector<uint32_t> full, check;
+  for (uint32_t q = 0; q < s.queries.size(); ++q)
+    (s.measured && present(sorted_keys, s.nearest_triangle[q]) ? check : full).push_back(q);
+
+  if (!full.empty()) {
+    Tree tree(soup.cbegin(), soup.cend());
+    tree.accelerate_distance_queries();
+    parallel_for(full.size(), [&](size_t j) {
+      const uint32_t q = full[j];
+      const auto hit = tree.closest_point_and_primitive(s.queries[q]);
+      s.squared[q] = CGAL::squared_distance(s.queries[q], hit.first);
+      s.nearest[q] = hit.first;
+      s.nearest_triangle[q] = keys[static_cast<size_t>(hit.second - soup.cbegin())];
+    });
+  }
+  if (!check.empty() && !added.empty()) {
+    Tree tree(added.cbegin(), added.cend());
+    tree.build();
+    parallel_for(check.size(), [&](size_t j) {
+      const uint32_t q = check[j];
+      // The current nearest point bounds the search: the traversal returns
+      // it unless an added triangle is closer.
+      const auto hit = tree.closest_point_and_primitive(s.queries[q], {s.nearest[q], added.cbegin()});
+      const double d2 = CGAL::squared_distance(s.queries[q], hit.first);
+      if (d2 < s.squared[q]) {
+        s.squared[q] = d2;
+        s.nearest[q] = hit.first;
+        s.nearest_triangle[q] = keys[added_index[static_cast<size_t>(hit.second - added.cbegin())]];
+      }
+    });
+  }
+  s.measured = true;
+  s.previous = std::move(sorted_keys);
+  return summarize_squared(s.squared);
 }
 
 }  // namespace dtm

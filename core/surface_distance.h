@@ -6,7 +6,9 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
+#include <vector>
 
 #include "grid.h"
 
@@ -20,5 +22,51 @@ struct DistanceSummary {
 DistanceSummary distance_to_surface(std::span<const GridPoint> vertices,
                                     std::span<const std::array<uint32_t, 3>> triangles,
                                     std::span<const GridPoint> queries);
+
+// Max and mean of the square roots, summed in order (the mean does not depend
+// on how the distances were computed in parallel).
+DistanceSummary summarize_squared(std::span<const double> squared);
+
+// One fixed surface asked about many times: its search structure is built
+// once. No triangle: every distance is +infinity.
+class FixedSurface {
+ public:
+  FixedSurface(std::span<const GridPoint> vertices, std::span<const std::array<uint32_t, 3>> triangles);
+  ~FixedSurface();
+  FixedSurface(FixedSurface&&) noexcept;
+  FixedSurface& operator=(FixedSurface&&) noexcept;
+
+  // Squared distance of each query, computed on every core.
+  std::vector<double> squared_distances(std::span<const GridPoint> queries) const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// The same measurement for fixed queries against a sequence of surfaces that
+// differ a little from one to the next (the levels of a hierarchy, where a
+// level changes the surface only around the boundary vertices it removes).
+// A query whose nearest triangle is still there can only come closer to a
+// new triangle, so it is checked against the new triangles alone; only the
+// queries whose nearest triangle is gone are searched again in full. The
+// results equal distance_to_surface's on every surface (tested).
+class SurfaceDistanceTracker {
+ public:
+  explicit SurfaceDistanceTracker(std::span<const GridPoint> queries);
+  ~SurfaceDistanceTracker();
+  SurfaceDistanceTracker(SurfaceDistanceTracker&&) noexcept;
+  SurfaceDistanceTracker& operator=(SurfaceDistanceTracker&&) noexcept;
+
+  // `ids` names each of `vertices` across calls (grid-point indices; empty:
+  // the vertex indices are the names): a triangle is the same one from call
+  // to call when its three names are.
+  DistanceSummary measure(std::span<const GridPoint> vertices, std::span<const uint32_t> ids,
+                          std::span<const std::array<uint32_t, 3>> triangles);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 }  // namespace dtm

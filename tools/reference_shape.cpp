@@ -1,49 +1,75 @@
 #include "reference_shape.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "tools/formats/surface_writers.h"
 
 namespace dtm {
 namespace {
 
-std::vector<GridPoint> vertices_of(std::span<const std::array<uint32_t, 3>> triangles,
-                                   std::span<const GridPoint> points) {
+std::vector<uint32_t> vertex_ids_of(std::span<const std::array<uint32_t, 3>> triangles) {
   std::vector<uint32_t> ids;
   for (const auto& t : triangles) ids.insert(ids.end(), t.begin(), t.end());
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+std::vector<GridPoint> gather(std::span<const uint32_t> ids, std::span<const GridPoint> points) {
   std::vector<GridPoint> out;
   out.reserve(ids.size());
   for (uint32_t v : ids) out.push_back(points[v]);
   return out;
 }
 
-}  // namespace
-
-ReferenceShape::ReferenceShape(std::span<const std::array<uint32_t, 4>> tets, const QuantizedPoints& q) {
+// The input's tetrahedra on the grid, without those quantization collapsed.
+std::vector<std::array<uint32_t, 4>> collapsed_dropped(std::span<const std::array<uint32_t, 4>> tets,
+                                                       const QuantizedPoints& q) {
+  std::vector<std::array<uint32_t, 4>> out;
   for (const auto& t : tets) {
     std::array<uint32_t, 4> g{q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
                               q.input_to_point[t[3]]};
     std::array<uint32_t, 4> s = g;
     std::sort(s.begin(), s.end());
-    if (std::adjacent_find(s.begin(), s.end()) == s.end()) tets_.push_back(g);
+    if (std::adjacent_find(s.begin(), s.end()) == s.end()) out.push_back(g);
   }
-  // Orientation does not matter for distances: no need to fix the input's.
-  boundary_ = boundary_triangles(tets_);
-  boundary_vertices_ = vertices_of(boundary_, q.points);
+  return out;
 }
 
+}  // namespace
+
+// Orientation does not matter for distances: no need to fix the input's.
+ReferenceShape::ReferenceShape(std::span<const std::array<uint32_t, 4>> tets, const QuantizedPoints& q)
+    : tets_(collapsed_dropped(tets, q)),
+      boundary_(boundary_triangles(tets_)),
+      boundary_vertices_(gather(vertex_ids_of(boundary_), q.points)),
+      reference_surface_(q.points, boundary_),
+      to_level_(boundary_vertices_),
+      to_reference_(q.points.size(), std::numeric_limits<double>::quiet_NaN()) {}
+
 DistanceSummary ReferenceShape::distance(std::span<const std::array<uint32_t, 4>> cells,
-                                         std::span<const GridPoint> points) const {
+                                         std::span<const GridPoint> points) {
   const auto level_boundary = boundary_triangles(cells);
-  const auto level_vertices = vertices_of(level_boundary, points);
-  const DistanceSummary to_level = distance_to_surface(points, level_boundary, boundary_vertices_);
-  const DistanceSummary to_reference = distance_to_surface(points, boundary_, level_vertices);
-  const double n = static_cast<double>(boundary_vertices_.size() + level_vertices.size());
+  const DistanceSummary to_level = boundary_vertices_.empty()
+                                       ? DistanceSummary{}
+                                       : to_level_.measure(points, {}, level_boundary);
+  const std::vector<uint32_t> level_ids = vertex_ids_of(level_boundary);
+  std::vector<uint32_t> unmeasured;
+  for (uint32_t v : level_ids)
+    if (std::isnan(to_reference_[v])) unmeasured.push_back(v);
+  const std::vector<double> fresh = reference_surface_.squared_distances(gather(unmeasured, points));
+  for (size_t i = 0; i < unmeasured.size(); ++i) to_reference_[unmeasured[i]] = fresh[i];
+  std::vector<double> squared;
+  squared.reserve(level_ids.size());
+  for (uint32_t v : level_ids) squared.push_back(to_reference_[v]);
+  const DistanceSummary to_reference = summarize_squared(squared);
+  const size_t n_level = level_ids.size();
+  const double n = static_cast<double>(boundary_vertices_.size() + n_level);
   DistanceSummary out;
   out.max = std::max(to_level.max, to_reference.max);
-  out.mean = n > 0 ? (to_level.mean * boundary_vertices_.size() + to_reference.mean * level_vertices.size()) / n : 0;
+  out.mean = n > 0 ? (to_level.mean * boundary_vertices_.size() + to_reference.mean * n_level) / n : 0;
   return out;
 }
 

@@ -26,13 +26,21 @@ class ReferenceShape {
   // Two-sided distance, grid units, between the boundary surface of `cells`
   // (indices into `points`, the grid points `q` held) and the reference's:
   // the largest over the vertices of both surfaces of the distance to the
-  // other surface, and the mean over them.
-  DistanceSummary distance(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> points) const;
+  // other surface, and the mean over them. Meant to be called level after
+  // level of one hierarchy: what a level shares with the one measured
+  // before it is not measured again.
+  DistanceSummary distance(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> points);
 
  private:
   std::vector<std::array<uint32_t, 4>> tets_;
   std::vector<std::array<uint32_t, 3>> boundary_;
   std::vector<GridPoint> boundary_vertices_;
+  FixedSurface reference_surface_;
+  SurfaceDistanceTracker to_level_;  // from boundary_vertices_
+  // Squared distance of each grid point to the reference surface, once
+  // measured (NaN before): a level's boundary vertices are mostly the
+  // previous level's.
+  std::vector<double> to_reference_;
 };
 
 }  // namespace dtm
