@@ -99,9 +99,9 @@ while read -r m node; do
       { cat "$tmp/enc.log" >&2; die "meshenc --level-step 4 failed on $m at q=$q"; }
     # Two levels only (the base and the finest): what the set coder costs
     # with next to nothing spent on levels of detail.
-    "$enc" "$node" --qbits "$q" --box 256 --dmax 2 --level-step 1000000 -o "$out/$m.q$q.two.dtm" \
+    "$enc" "$node" --qbits "$q" --box 256 --dmax 2 --level-step 1000 -o "$out/$m.q$q.two.dtm" \
       --report "$out/$m.q$q.two.json" -q >"$tmp/enc.log" 2>&1 ||
-      { cat "$tmp/enc.log" >&2; die "meshenc --level-step 1000000 failed on $m at q=$q"; }
+      { cat "$tmp/enc.log" >&2; die "meshenc --level-step 1000 failed on $m at q=$q"; }
   done
 
   # Decode check at q=14: record the outcome, do not stop the report.
@@ -257,7 +257,7 @@ w('```')
 w('bench/bitrate.sh build')
 w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 -o MODEL.qQ.dtm --report MODEL.qQ.json -q')
 w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --level-step 4 -o MODEL.qQ.s4.dtm --report MODEL.qQ.s4.json -q')
-w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --level-step 1000000 -o MODEL.qQ.two.dtm --report MODEL.qQ.two.json -q')
+w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --level-step 1000 -o MODEL.qQ.two.dtm --report MODEL.qQ.two.json -q')
 w('meshdec MODEL.q14.dtm -o MODEL.q14.dec.node -q        # decode check, q = 14 only')
 w('shared/tools/baselines.sh -q "12 14 16" -c "10 4" -H -k KEEP MODEL.node')
 w('  # = draco_encoder -point_cloud -i pts.ply -qp Q -cl {10,4}  (float32 xyz; kd-tree method)')
@@ -335,7 +335,7 @@ for l in open(notesf):
 w('')
 
 w('### Table 1b: the set coder alone (two levels: the base and the finest)\n')
-w('`--level-step 1000000` streams only the coarsest level and level 0: almost nothing is spent on levels '
+w('`--level-step 1000` streams only the coarsest level and level 0: almost nothing is spent on levels '
   'of detail, so this is what our point-set coder costs against Draco\'s on the same points. '
   'Reaching 0.85 × Draco with every level would need the coder to beat this figure by the level '
   'entropy (Table 3) on top.\n')
