@@ -263,8 +263,9 @@ w('shared/tools/baselines.sh -q "12 14 16" -c "10 4" -H -k KEEP MODEL.node')
 w('  # = draco_encoder -point_cloud -i pts.ply -qp Q -cl {10,4}  (float32 xyz; kd-tree method)')
 w('  #   zstd -19 of float32 xyz (positions only), and of float32 xyz per vertex + int32 x4 per tet (TetGen .ele)')
 w('```\n')
-w('Stream bytes = 56-byte header + per layer 38-byte header + payload (format 2.0: each layer coded by '
-  'binary space partition given the coarser levels, adaptive range coding; spec/FORMAT.md §3.1). '
+w('Stream bytes = 56-byte header + per layer 38-byte header + payload (format 3.0: each layer coded by '
+  'binary space partition given the coarser levels, adaptive range coding, lone points\' coordinates '
+  'as values already used where they are; spec/FORMAT.md §3.1). '
   '"ours" streams every level of the hierarchy; "step 4" streams every 4th level (`--level-step 4`). '
   'Draco = the smaller of `-cl 10` and `-cl 4` at the same Q (same grid: one step '
   '= largest extent / (2^Q − 1)). Ratio = ours / Draco (issue 5 target: <= 0.85). '

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 
+#include "bitstream/coordinate_set.h"
 #include "bitstream/range_coder.h"
 
 namespace dtm {
@@ -14,14 +15,40 @@ constexpr int kSplitContexts = 29; // 0: no known point; else 1 + 4 * share buck
 constexpr int kBisectNodes = 32;   // heap positions of the bisection of [0, 12]
 constexpr int kLargeClasses = 33;  // bit_width(n) of nodes with n > 12 (n < 2^32)
 constexpr int kPrefixBits = 40;    // Exp-Golomb prefix: at most 40 ones
+constexpr int kReuseContexts = 24; // floor(2 log2(values in range / values used there)), capped
 
 struct SetCoderModels::Tables {
   AdaptiveBit single[kKnownClasses][kKnownClasses];
   AdaptiveBit small[kSmallMax + 1][kSplitContexts][kBisectNodes];
   AdaptiveBit large_prefix[kLargeClasses][kPrefixBits + 1];
+  AdaptiveBit reuse[3][kReuseContexts];
+  // Format 3: the grid's qbits, and the values each axis has taken in the
+  // stream so far (made at the first point: a stream refused before its
+  // first payload costs no memory). Format 2: qbits 0.
+  int reuse_qbits = 0;
+  std::vector<CoordinateSet> used_sets;
+
+  bool reuses_coordinates() const { return reuse_qbits > 0; }
+  std::vector<CoordinateSet>& used() {
+    if (used_sets.empty())
+      for (int a = 0; a < 3; ++a) used_sets.emplace_back(reuse_qbits);
+    return used_sets;
+  }
+  void note(const GridPoint& p) {
+    if (!reuses_coordinates()) return;
+    auto& sets = used();
+    sets[0].insert(static_cast<uint32_t>(p.x));
+    sets[1].insert(static_cast<uint32_t>(p.y));
+    sets[2].insert(static_cast<uint32_t>(p.z));
+  }
 };
 
 SetCoderModels::SetCoderModels() : tables_(std::make_unique<Tables>()) {}
+
+void SetCoderModels::enable_coordinate_reuse(int qbits) {
+  tables_->used_sets.clear();
+  tables_->reuse_qbits = qbits;
+}
 SetCoderModels::~SetCoderModels() = default;
 SetCoderModels::SetCoderModels(SetCoderModels&&) noexcept = default;
 SetCoderModels& SetCoderModels::operator=(SetCoderModels&&) noexcept = default;
@@ -78,6 +105,22 @@ uint64_t predicted_first(uint64_t n, uint64_t k0, uint64_t k) {
   return static_cast<uint64_t>(num / (2 * (k + 1)));
 }
 
+// The context of a lone point's reuse bit: how crowded the node's interval of
+// 2^r values is with used ones, b = floor(2 log2(2^r / m)), at most 23.
+int reuse_context(uint64_t m, int r) {
+  const unsigned __int128 range_squared = static_cast<unsigned __int128>(1) << (2 * r);
+  int b = 0;
+  while (b + 1 < kReuseContexts &&
+         (static_cast<unsigned __int128>(m) * m << (b + 1)) <= range_squared)
+    ++b;
+  return b;
+}
+
+// The bits a lone point has left on each axis at depth d (x is split first).
+int remaining_bits(int qbits, int depth, int axis) { return qbits - (depth + 2 - axis) / 3; }
+
+int32_t axis_of(const GridPoint& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
+
 uint64_t zigzag(int64_t d) { return d >= 0 ? 2 * static_cast<uint64_t>(d) : 2 * static_cast<uint64_t>(-d) - 1; }
 int64_t unzigzag(uint64_t u) { return (u & 1) ? -static_cast<int64_t>((u + 1) / 2) : static_cast<int64_t>(u / 2); }
 
@@ -91,7 +134,7 @@ class Encoder {
  public:
   Encoder(std::span<const MortonCode> known, std::span<const MortonCode> fresh, int qbits,
           SetCoderModels::Tables& t)
-      : known_(known), fresh_(fresh), bits_(3 * qbits), t_(t) {}
+      : known_(known), fresh_(fresh), qbits_(qbits), bits_(3 * qbits), t_(t) {}
 
   std::vector<uint8_t> run() {
     node(0, 0, 0, fresh_.size(), 0, known_.size());
@@ -104,11 +147,12 @@ class Encoder {
   void node(int depth, MortonCode base, size_t f0, size_t f1, size_t k0, size_t k1) {
     const uint64_t n = f1 - f0, k = k1 - k0;
     const int rest = bits_ - depth;
-    if (rest == 0) return;  // one cell, one new point (the input is distinct)
+    if (rest == 0) {  // one cell, one new point (the input is distinct)
+      t_.note(morton_decode(base, qbits_));
+      return;
+    }
     if (n == 1 && k == 0) {
-      const MortonCode offset = fresh_[f0] - base;
-      if (rest > 64) rc_.encode_raw(static_cast<uint64_t>(offset >> 64), rest - 64);
-      rc_.encode_raw(static_cast<uint64_t>(offset), std::min(rest, 64));
+      lone(depth, base, fresh_[f0]);
       return;
     }
     const MortonCode mid = base + (MortonCode{1} << (rest - 1));
@@ -142,8 +186,50 @@ class Encoder {
     if (f1 > fm) node(depth + 1, mid, fm, f1, km, k1);
   }
 
+  void lone(int depth, MortonCode base, MortonCode code) {
+    if (!t_.reuses_coordinates()) {
+      const MortonCode offset = code - base;
+      const int rest = bits_ - depth;
+      if (rest > 64) rc_.encode_raw(static_cast<uint64_t>(offset >> 64), rest - 64);
+      rc_.encode_raw(static_cast<uint64_t>(offset), std::min(rest, 64));
+      return;
+    }
+    const GridPoint p = morton_decode(code, qbits_), lo = morton_decode(base, qbits_);
+    for (int a = 0; a < 3; ++a) {
+      const int r = remaining_bits(qbits_, depth, a);
+      if (r == 0) continue;
+      const uint64_t first = static_cast<uint64_t>(axis_of(lo, a)), value = static_cast<uint64_t>(axis_of(p, a));
+      const CoordinateSet& used = t_.used()[a];
+      const uint64_t m = used.count_in(first, first + (uint64_t{1} << r));
+      if (m == 0) {
+        rc_.encode_raw(value - first, r);
+        continue;
+      }
+      const bool reused = used.contains(static_cast<uint32_t>(value));
+      rc_.encode(t_.reuse[a][reuse_context(m, r)], reused);
+      const uint64_t used_below = used.count_in(first, value);
+      if (reused) encode_index(used_below, m);
+      else encode_index(value - first - used_below, (uint64_t{1} << r) - m);
+    }
+    t_.note(p);
+  }
+
+  // i in [0, count): uniform, or truncated binary in raw bits when count is
+  // too large for the range coder's uniform symbols.
+  void encode_index(uint64_t i, uint64_t count) {
+    if (count <= 1) return;
+    if (count <= kMaxUniform) {
+      rc_.encode_uniform(static_cast<uint32_t>(i), static_cast<uint32_t>(count));
+      return;
+    }
+    const int k = std::bit_width(count) - 1;
+    const uint64_t u = (uint64_t{2} << k) - count;
+    if (i < u) rc_.encode_raw(i, k);
+    else rc_.encode_raw(i + u, k + 1);
+  }
+
   std::span<const MortonCode> known_, fresh_;
-  int bits_;
+  int qbits_, bits_;
   SetCoderModels::Tables& t_;
   RangeEncoder rc_;
 };
@@ -178,15 +264,10 @@ class Decoder {
       if (n > 1) return fail("two points in one grid cell");
       if (k > 0) return fail("a point of this layer is already in a coarser level");
       out_.push_back(morton_decode(base, qbits_));
+      t_.note(out_.back());
       return true;
     }
-    if (n == 1 && k == 0) {
-      MortonCode offset = 0;
-      if (rest > 64) offset = MortonCode{rc_.decode_raw(rest - 64)} << 64;
-      offset |= rc_.decode_raw(std::min(rest, 64));
-      out_.push_back(morton_decode(base + offset, qbits_));
-      return true;
-    }
+    if (n == 1 && k == 0) return lone(depth, base);
     const MortonCode mid = base + (MortonCode{1} << (rest - 1));
     const size_t km = split_index(known_, k0, k1, mid);
     const uint64_t kn0 = km - k0;
@@ -218,6 +299,54 @@ class Decoder {
     }
     if (n0 > 0 && !node(depth + 1, base, n0, k0, km)) return false;
     if (n > n0 && !node(depth + 1, mid, n - n0, km, k1)) return false;
+    return true;
+  }
+
+  bool lone(int depth, MortonCode base) {
+    if (!t_.reuses_coordinates()) {
+      const int rest = bits_ - depth;
+      MortonCode offset = 0;
+      if (rest > 64) offset = MortonCode{rc_.decode_raw(rest - 64)} << 64;
+      offset |= rc_.decode_raw(std::min(rest, 64));
+      out_.push_back(morton_decode(base + offset, qbits_));
+      return true;
+    }
+    GridPoint p = morton_decode(base, qbits_);
+    int32_t* coordinate[3] = {&p.x, &p.y, &p.z};
+    for (int a = 0; a < 3; ++a) {
+      const int r = remaining_bits(qbits_, depth, a);
+      if (r == 0) continue;
+      const uint64_t first = static_cast<uint64_t>(*coordinate[a]), size = uint64_t{1} << r;
+      const CoordinateSet& used = t_.used()[a];
+      const uint64_t m = used.count_in(first, first + size);
+      uint64_t value = 0;
+      if (m == 0) {
+        value = first + rc_.decode_raw(r);
+      } else {
+        const bool reused = rc_.decode(t_.reuse[a][reuse_context(m, r)]);
+        uint64_t i = 0;
+        if (!decode_index(reused ? m : size - m, i)) return fail("coordinate rank out of range");
+        value = reused ? used.select(first, i) : used.select_absent(first, i);
+      }
+      *coordinate[a] = static_cast<int32_t>(value);
+    }
+    out_.push_back(p);
+    t_.note(p);
+    return true;
+  }
+
+  bool decode_index(uint64_t count, uint64_t& i) {
+    i = 0;
+    if (count <= 1) return true;
+    if (count <= kMaxUniform) {
+      i = rc_.decode_uniform(static_cast<uint32_t>(count));
+      return i < count;
+    }
+    const int k = std::bit_width(count) - 1;
+    const uint64_t u = (uint64_t{2} << k) - count;
+    uint64_t x = rc_.decode_raw(k);
+    if (x >= u) x = ((x << 1) | rc_.decode_raw(1)) - u;
+    i = x;
     return true;
   }
 

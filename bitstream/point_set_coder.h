@@ -7,7 +7,11 @@
 // b-bit prefix, and its two children split it by the next bit. For a node
 // holding n >= 1 new points and k known ones (k0, k1 in its children, known
 // to both sides), the coder sends n0, the new points in the first child:
-// - n = 1 and k = 0: the point's remaining code bits, raw;
+// - n = 1 and k = 0 (a lone point): each axis's remaining bits, raw in
+//   format 2; in format 3 first an adaptive bit saying whether the value is
+//   one the stream has already used on that axis, then its rank among those
+//   values or among the others (grids, extrusions and CAD parts repeat
+//   coordinates: torus_10k's rings -20%, fandisk -3%, TetGen interiors +-0);
 // - n = 1 and k > 0: one adaptive bit, context (class(k0), class(k1));
 // - 2 <= n <= 12: n0 by bisection of [0, n], adaptive bits with context
 //   (n, the split the known points predict, the node tree position);
@@ -41,6 +45,9 @@ GridPoint morton_decode(MortonCode code, int qbits);
 class SetCoderModels {
  public:
   SetCoderModels();
+  // Format 3: lone points' coordinates may be sent as values the stream has
+  // already used (§3.1). Call before the first layer, with the stream's qbits.
+  void enable_coordinate_reuse(int qbits);
   ~SetCoderModels();
   SetCoderModels(SetCoderModels&&) noexcept;
   SetCoderModels& operator=(SetCoderModels&&) noexcept;

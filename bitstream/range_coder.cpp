@@ -47,6 +47,12 @@ void RangeEncoder::encode_raw(uint64_t value, int n) {
   }
 }
 
+void RangeEncoder::encode_uniform(uint32_t value, uint32_t count) {
+  range_ /= count;
+  low_ += static_cast<uint64_t>(range_) * value;
+  normalize();
+}
+
 std::vector<uint8_t> RangeEncoder::finish() {
   for (int i = 0; i < 5; ++i) shift_low();
   return std::move(out_);
@@ -88,6 +94,15 @@ uint64_t RangeDecoder::decode_raw(int n) {
     v = (v << 1) | (bit ? 1 : 0);
     normalize();
   }
+  return v;
+}
+
+uint32_t RangeDecoder::decode_uniform(uint32_t count) {
+  range_ /= count;
+  uint32_t v = code_ / range_;
+  if (v < count) code_ -= v * range_;
+  else v = count;  // damaged: the state stays usable (range renormalized), the caller refuses
+  normalize();
   return v;
 }
 

@@ -33,11 +33,18 @@ struct AdaptiveBit {
   }
 };
 
+// The largest count encode_uniform takes: the range (at least 2^24 between
+// symbols) must leave at least 2^8 per value.
+inline constexpr uint32_t kMaxUniform = uint32_t{1} << 16;
+
 class RangeEncoder {
  public:
   void encode(AdaptiveBit& model, bool bit);
   // n raw bits of `value`, most significant first (each costs exactly one bit).
   void encode_raw(uint64_t value, int n);
+  // `value` in [0, count), all equally likely: log2(count) bits, to within
+  // count / 2^24 of a bit. 2 <= count <= kMaxUniform.
+  void encode_uniform(uint32_t value, uint32_t count);
   // Flushes and returns the block.
   std::vector<uint8_t> finish();
 
@@ -57,6 +64,9 @@ class RangeDecoder {
   explicit RangeDecoder(std::span<const uint8_t> block);
   bool decode(AdaptiveBit& model);
   uint64_t decode_raw(int n);
+  // A value coded by encode_uniform, or `count` if the bytes do not hold one
+  // (only a damaged block does that).
+  uint32_t decode_uniform(uint32_t count);
   // Bytes past the end of the block were needed.
   bool overran() const { return pos_ > block_.size(); }
   // Every byte of the block was read, none past it, and the final flush

@@ -42,6 +42,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   if (!has_header_) {
     DTM_RETURN_IF_ERROR(parse_header(avail, header_));
     has_header_ = true;
+    if (header_.version_major >= 3) models_.enable_coordinate_reuse(header_.grid.qbits);
     pending_start_ += kHeaderSize;
     consumed_ += kHeaderSize;
     return Status::Ok();

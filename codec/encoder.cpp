@@ -33,6 +33,7 @@ EncodedStream encode_stream(const Hierarchy& hierarchy, std::span<const GridPoin
   std::vector<uint32_t> coarser;  // V_{l+1}, ascending
   std::vector<MortonCode> known;  // Morton codes of V_{l+1}, ascending
   SetCoderModels models;          // adapted layer after layer, as the decoder's
+  models.enable_coordinate_reuse(grid.qbits);
   for (size_t l = streamed.size(); l-- > 0;) {
     const Level& level = hierarchy.levels[streamed[l]];
     std::vector<uint32_t> added;

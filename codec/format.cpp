@@ -46,10 +46,11 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   uint32_t header_checksum = 0;
   r.u8(h.version_major);
   r.u8(h.version_minor);
-  if (h.version_major != kVersionMajor)
+  if (h.version_major < kOldestVersionMajor || h.version_major > kVersionMajor)
     return {StatusCode::kUnsupported, "format version " + std::to_string(h.version_major) + "." +
-                                          std::to_string(h.version_minor) +
-                                          " is not supported (this decoder reads 1.x)"};
+                                          std::to_string(h.version_minor) + " is not supported (this decoder reads " +
+                                          std::to_string(kOldestVersionMajor) + ".x to " +
+                                          std::to_string(kVersionMajor) + ".x)"};
   r.u8(qbits);
   r.u8(policy);
   r.u16(h.flags);

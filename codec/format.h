@@ -19,7 +19,8 @@
 namespace dtm {
 
 inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0A, 0x1A, 0x0A};
-inline constexpr uint8_t kVersionMajor = 2;
+inline constexpr uint8_t kVersionMajor = 3;        // what the encoder writes
+inline constexpr uint8_t kOldestVersionMajor = 2;  // the decoder also reads 2.x
 inline constexpr uint8_t kVersionMinor = 0;
 inline constexpr size_t kHeaderSize = 56;
 inline constexpr size_t kLayerHeaderSize = 38;

@@ -3,6 +3,7 @@
 // and incremental feeding.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <random>
@@ -29,20 +30,29 @@ TEST(PointSetCoder, MortonRoundTrip) {
   }
 }
 
+// Fresh models of format 3 (reuse = true: lone points may reuse coordinates)
+// or of format 2.
+SetCoderModels fresh_models(int q, bool reuse) {
+  SetCoderModels models;
+  if (reuse) models.enable_coordinate_reuse(q);
+  return models;
+}
+
 // Encodes `pts` as one layer given `known` points, with fresh models.
 std::vector<uint8_t> encode_layer(std::span<const GridPoint> pts, int q,
-                                  std::span<const GridPoint> known = {}) {
+                                  std::span<const GridPoint> known = {}, bool reuse = true) {
   std::vector<MortonCode> codes;
   merge_known(codes, known, q);
-  SetCoderModels models;
+  SetCoderModels models = fresh_models(q, reuse);
   return encode_point_set(codes, pts, q, models);
 }
 
 Status decode_layer(std::span<const uint8_t> payload, int q, uint32_t count,
-                    std::vector<GridPoint>& out, std::span<const GridPoint> known = {}) {
+                    std::vector<GridPoint>& out, std::span<const GridPoint> known = {},
+                    bool reuse = true) {
   std::vector<MortonCode> codes;
   merge_known(codes, known, q);
-  SetCoderModels models;
+  SetCoderModels models = fresh_models(q, reuse);
   return decode_point_set(payload, codes, q, count, models, out);
 }
 
@@ -52,18 +62,19 @@ std::vector<GridPoint> sorted(std::vector<GridPoint> v) {
 }
 
 TEST(PointSetCoder, RoundTripsSetsOfAnySize) {
+  for (const bool reuse : {false, true})
   for (int q : {1, 3, 10, 14, 21, 22, 24}) {
     for (size_t n : {1, 2, 7, 13, 300}) {
       const size_t cap = q == 1 ? 8 : n;
       const auto pts = test::random_grid_points(std::min(n, cap), q, static_cast<uint32_t>(q * 1000 + n));
-      const auto payload = encode_layer(pts, q);
+      const auto payload = encode_layer(pts, q, {}, reuse);
       std::vector<GridPoint> back;
-      ASSERT_TRUE(decode_layer(payload, q, static_cast<uint32_t>(pts.size()), back).ok());
+      ASSERT_TRUE(decode_layer(payload, q, static_cast<uint32_t>(pts.size()), back, {}, reuse).ok());
       EXPECT_EQ(back.size(), pts.size());
       EXPECT_TRUE(std::is_sorted(back.begin(), back.end(), [q](const GridPoint& a, const GridPoint& b) {
         return morton_encode(a, q) < morton_encode(b, q);
       })) << "decoded points come in Morton order";
-      EXPECT_EQ(sorted(back), sorted(pts)) << "q=" << q << " n=" << n;
+      EXPECT_EQ(sorted(back), sorted(pts)) << "q=" << q << " n=" << n << " reuse=" << reuse;
     }
   }
 }
@@ -72,20 +83,29 @@ TEST(PointSetCoder, RoundTripsSetsOfAnySize) {
 // from layer to layer as in a stream: every layer decodes to its points, and
 // only with the same known points and the same model history.
 TEST(PointSetCoder, LayersRoundTripGivenKnownPointsAndCarriedModels) {
+  for (const bool reuse : {false, true}) {
+  SCOPED_TRACE(reuse ? "format 3" : "format 2");
   const int q = 12;
-  const auto all = test::random_grid_points(3000, q, 7);
+  // Random points, a third of them moved onto a few shared planes, so that
+  // reused coordinates occur across layers as well as within them.
+  auto all = test::random_grid_points(3000, q, 7);
+  for (size_t i = 0; i < all.size(); i += 3) all[i].z = 100 * static_cast<int32_t>(i % 7);
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  std::shuffle(all.begin(), all.end(), std::mt19937(3));
+  ASSERT_GE(all.size(), 3000u - 20);
   const std::vector<std::span<const GridPoint>> layers = {
       std::span(all).subspan(0, 200), std::span(all).subspan(200, 800),
       std::span(all).subspan(1000, 2000)};
   std::vector<MortonCode> known;
-  SetCoderModels enc_models;
+  SetCoderModels enc_models = fresh_models(q, reuse);
   std::vector<std::vector<uint8_t>> payloads;
   for (const auto& layer : layers) {
     payloads.push_back(encode_point_set(known, layer, q, enc_models));
     merge_known(known, layer, q);
   }
   known.clear();
-  SetCoderModels dec_models;
+  SetCoderModels dec_models = fresh_models(q, reuse);
   for (size_t i = 0; i < layers.size(); ++i) {
     std::vector<GridPoint> back;
     ASSERT_TRUE(decode_point_set(payloads[i], known, q, static_cast<uint32_t>(layers[i].size()),
@@ -96,8 +116,32 @@ TEST(PointSetCoder, LayersRoundTripGivenKnownPointsAndCarriedModels) {
   // The last layer with fresh models, or without the known points, is not
   // what was coded: it fails or gives other points.
   std::vector<GridPoint> other;
-  const Status fresh = decode_layer(payloads[2], q, 2000, other, std::span(all).first(1000));
+  const Status fresh = decode_layer(payloads[2], q, 2000, other, std::span(all).first(1000), reuse);
   EXPECT_TRUE(!fresh.ok() || sorted(other) != sorted({layers[2].begin(), layers[2].end()}));
+  }
+}
+
+// Format 3: a lone point's coordinate that the stream has used before costs
+// the rank among the used values in its node's interval, not its raw bits:
+// points on a few planes (a layered grid, a torus of rings) code much
+// smaller; points in general position cost what they did, within 1%.
+TEST(PointSetCoder, ReusedCoordinatesMakeLayeredPointsCheap) {
+  const int q = 14;
+  std::mt19937 rng(21);
+  std::set<GridPoint> on_planes;
+  while (on_planes.size() < 4000)
+    on_planes.insert({static_cast<int32_t>(rng() % 16384), static_cast<int32_t>(rng() % 16384),
+                      static_cast<int32_t>(1000 + 1200 * (rng() % 12))});
+  const std::vector<GridPoint> layered(on_planes.begin(), on_planes.end());
+  const size_t with = encode_layer(layered, q, {}, true).size(), without = encode_layer(layered, q, {}, false).size();
+  EXPECT_LT(with, 0.85 * without) << with << " vs " << without;
+  const auto general = test::random_grid_points(4000, q, 22);
+  const size_t with_g = encode_layer(general, q, {}, true).size();
+  const size_t without_g = encode_layer(general, q, {}, false).size();
+  EXPECT_LT(with_g, 1.01 * without_g) << with_g << " vs " << without_g;
+  std::vector<GridPoint> back;
+  ASSERT_TRUE(decode_layer(encode_layer(layered, q), q, static_cast<uint32_t>(layered.size()), back).ok());
+  EXPECT_EQ(sorted(back), layered);
 }
 
 // The coder follows the coarser level's density: where the known points
@@ -127,20 +171,22 @@ TEST(PointSetCoder, KnownPointsMakeALayerCheaper) {
 }
 
 TEST(PointSetCoder, RejectsDamagedPayloads) {
+  for (const bool reuse : {false, true}) {
+  SCOPED_TRACE(reuse ? "format 3" : "format 2");
   const auto pts = test::random_grid_points(50, 8, 3);
-  const auto payload = encode_layer(pts, 8);
+  const auto payload = encode_layer(pts, 8, {}, reuse);
   std::vector<GridPoint> out;
   auto extra = payload;
   extra.push_back(0);
-  EXPECT_EQ(decode_layer(extra, 8, 50, out).code(), StatusCode::kCorrupt);  // trailing byte
+  EXPECT_EQ(decode_layer(extra, 8, 50, out, {}, reuse).code(), StatusCode::kCorrupt);  // trailing byte
   for (size_t cut = 0; cut < payload.size(); ++cut) {
     out.clear();
-    EXPECT_EQ(decode_layer(std::span(payload).first(cut), 8, 50, out).code(), StatusCode::kCorrupt)
+    EXPECT_EQ(decode_layer(std::span(payload).first(cut), 8, 50, out, {}, reuse).code(), StatusCode::kCorrupt)
         << "cut at " << cut;
   }
   for (uint32_t count : {0u, 1u, 49u, 51u, 5000u, 1u << 25, 0xFFFFFFFFu}) {  // every count class
     out.clear();
-    EXPECT_EQ(decode_layer(payload, 8, count, out).code(), StatusCode::kCorrupt) << count;
+    EXPECT_EQ(decode_layer(payload, 8, count, out, {}, reuse).code(), StatusCode::kCorrupt) << count;
   }
   // Arbitrary bytes never decode to more points than claimed, nor crash.
   std::mt19937 rng(5);
@@ -149,11 +195,12 @@ TEST(PointSetCoder, RejectsDamagedPayloads) {
     for (auto& b : junk) b = static_cast<uint8_t>(rng());
     out.clear();
     const uint32_t count = 1 + rng() % 100;
-    const Status s = decode_layer(junk, 4 + trial % 20, count, out);
+    const Status s = decode_layer(junk, 4 + trial % 20, count, out, {}, reuse);
     EXPECT_LE(out.size(), count);
     if (s.ok()) {
       EXPECT_EQ(out.size(), count);
     }
+  }
   }
 }
 
@@ -161,6 +208,8 @@ TEST(PointSetCoder, RejectsDamagedPayloads) {
 // in one cell, a point already known, a count out of range) and are refused
 // by it: a damaged layer can neither repeat a point nor leave the grid.
 TEST(PointSetCoder, JunkPayloadsHitEveryStructuralCheck) {
+  for (const bool reuse : {false, true}) {
+  SCOPED_TRACE(reuse ? "format 3" : "format 2");
   std::mt19937 rng(9);
   const std::vector<GridPoint> known = {{0, 0, 0}, {1, 1, 1}, {2, 3, 1}, {3, 0, 2}};
   std::map<std::string, int> seen;
@@ -169,7 +218,8 @@ TEST(PointSetCoder, JunkPayloadsHitEveryStructuralCheck) {
     for (auto& b : junk) b = static_cast<uint8_t>(rng());
     std::vector<GridPoint> out;
     const uint32_t count = 2 + rng() % 40;
-    const Status s = decode_layer(junk, 2, count, out, known);  // a 4^3 grid: collisions are likely
+    // A 4^3 grid: collisions are likely.
+    const Status s = decode_layer(junk, 2, count, out, known, reuse);
     if (s.ok()) {
       // Whatever decodes is a valid layer: distinct points in the grid, none known.
       std::set<GridPoint> distinct(out.begin(), out.end());
@@ -185,6 +235,7 @@ TEST(PointSetCoder, JunkPayloadsHitEveryStructuralCheck) {
   for (const char* check : {"two points in one grid cell", "a point of this layer is already in a coarser level",
                             "point count out of range"})
     EXPECT_GT(seen[check], 0) << check;
+  }
 }
 
 TEST(PointSetCoder, RejectsAPointAlreadyKnown) {
@@ -423,7 +474,8 @@ TEST(Codec, ALayerRepeatingACoarserPointIsRejected) {
   l0.level_vertices = 6;
   auto bytes = write_header(h);
   std::vector<MortonCode> known;
-  SetCoderModels models;
+  SetCoderModels models;  // as the stream's format (3) has them
+  models.enable_coordinate_reuse(4);
   const auto base_payload = encode_point_set(known, base, 4, models);
   merge_known(known, base, 4);
   const auto repeat_payload = encode_point_set(known, std::vector<GridPoint>{{9, 0, 0}}, 4, models);

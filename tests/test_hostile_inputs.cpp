@@ -41,7 +41,8 @@ std::vector<uint8_t> single_layer_stream(const std::vector<GridPoint>& points) {
   l.new_vertices = h.vertex_count;
   l.level_vertices = h.vertex_count;
   l.alpha = 1e9;
-  SetCoderModels models;
+  SetCoderModels models;  // as the stream's format (3) has them
+  models.enable_coordinate_reuse(14);
   auto bytes = write_header(h);
   const auto layer = write_layer(l, encode_point_set({}, points, 14, models));
   bytes.insert(bytes.end(), layer.begin(), layer.end());

@@ -1,5 +1,6 @@
 // The binary range coder: what is encoded decodes, whatever the models say;
-// a block is accepted only whole; raw bits cost exactly one bit each.
+// a block is accepted only whole; raw bits cost exactly one bit each, uniform
+// symbols log2(count) bits.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,9 +13,10 @@ namespace {
 
 struct Symbol {
   bool raw;
-  int model;      // adaptive: which model
-  uint64_t value; // the bit, or the raw value
-  int bits;       // raw: how many
+  int model;       // adaptive: which model
+  uint64_t value;  // the bit, the raw value or the uniform one
+  int bits;        // raw: how many
+  uint32_t count;  // > 0: a uniform symbol in [0, count)
 };
 
 std::vector<Symbol> random_symbols(uint32_t seed, size_t count) {
@@ -23,7 +25,11 @@ std::vector<Symbol> random_symbols(uint32_t seed, size_t count) {
   for (size_t i = 0; i < count; ++i) {
     Symbol s{};
     s.raw = rng() % 5 == 0;
-    if (s.raw) {
+    if (!s.raw && rng() % 4 == 0) {
+      s.count = 2 + rng() % (kMaxUniform - 1);
+      if (rng() % 2) s.count = 2 + s.count % 7;  // small counts too
+      s.value = rng() % s.count;
+    } else if (s.raw) {
       s.bits = static_cast<int>(rng() % 65);
       s.value = s.bits == 0 ? 0 : (uint64_t{rng()} << 32 | rng()) >> (64 - s.bits);
     } else {
@@ -40,7 +46,8 @@ std::vector<uint8_t> encode(const std::vector<Symbol>& symbols) {
   RangeEncoder enc;
   AdaptiveBit models[4];
   for (const Symbol& s : symbols) {
-    if (s.raw) enc.encode_raw(s.value, s.bits);
+    if (s.count > 0) enc.encode_uniform(static_cast<uint32_t>(s.value), s.count);
+    else if (s.raw) enc.encode_raw(s.value, s.bits);
     else enc.encode(models[s.model], s.value != 0);
   }
   return enc.finish();
@@ -52,7 +59,9 @@ bool decodes_to(std::span<const uint8_t> block, const std::vector<Symbol>& symbo
   AdaptiveBit models[4];
   bool same = true;
   for (const Symbol& s : symbols) {
-    const uint64_t v = s.raw ? dec.decode_raw(s.bits) : dec.decode(models[s.model]);
+    const uint64_t v = s.count > 0 ? dec.decode_uniform(s.count)
+                       : s.raw    ? dec.decode_raw(s.bits)
+                                  : dec.decode(models[s.model]);
     same = same && v == s.value;
   }
   return same && dec.finished_cleanly();
@@ -82,6 +91,39 @@ TEST(RangeCoder, RawBitsCostOneBitEach) {
   const size_t bytes = enc.finish().size();
   EXPECT_GE(bytes, 8000u);
   EXPECT_LE(bytes, 8000u + 5);  // the final flush
+}
+
+TEST(RangeCoder, UniformSymbolsCostLog2OfTheirCount) {
+  for (uint32_t count : {3u, 1000u, kMaxUniform}) {
+    std::mt19937 rng(count);
+    RangeEncoder enc;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) enc.encode_uniform(rng() % count, count);
+    const double bits = 8.0 * enc.finish().size(), ideal = n * std::log2(count);
+    EXPECT_LT(bits, ideal * 1.002 + 40) << count;
+    EXPECT_GT(bits, ideal * 0.998) << count;
+  }
+}
+
+// Damaged bytes: a uniform symbol either decodes into its range or reports
+// `count`, never a value past it, and the decoder stays usable after.
+TEST(RangeCoder, UniformSymbolsFromJunkStayInRangeOrSaySo) {
+  // The code past the last whole multiple of range / count: 0xFFFFFFFF with
+  // range 2^32 - 1 and count 3 is no symbol.
+  const std::vector<uint8_t> past_the_end = {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF};
+  RangeDecoder dec(past_the_end);
+  EXPECT_EQ(dec.decode_uniform(3), 3u);
+  EXPECT_LE(dec.decode_uniform(kMaxUniform), kMaxUniform);
+  std::mt19937 rng(4);
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::vector<uint8_t> junk(8);
+    for (auto& b : junk) b = static_cast<uint8_t>(rng());
+    RangeDecoder d(junk);
+    for (int i = 0; i < 6; ++i) {
+      const uint32_t count = 2 + rng() % 300;
+      ASSERT_LE(d.decode_uniform(count), count);
+    }
+  }
 }
 
 TEST(RangeCoder, AdaptiveBitsApproachTheEntropy) {

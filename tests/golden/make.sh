@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
 # current format version and their expected levels. Run it only when the
-# format's major version changes (spec/FORMAT.md §6): a golden stream is a
-# promise that every later decoder of that version decodes it identically.
+# format's major version changes (spec/FORMAT.md §6), after moving the
+# previous version's streams to v<major>/ (as v2/ holds format 2.0's) if
+# decoders still read it: a golden stream is a promise that every later
+# decoder decodes it identically or refuses its version.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)

@@ -1,0 +1,94 @@
+#include "coordinate_set.h"
+
+#include <bit>
+#include <stdexcept>
+
+namespace dtm {
+
+namespace {
+
+// The position of the k-th (0-based) set bit of w; k < popcount(w).
+int nth_set_bit(uint64_t w, uint64_t k) {
+  for (; k > 0; --k) w &= w - 1;
+  return std::countr_zero(w);
+}
+
+}  // namespace
+
+CoordinateSet::CoordinateSet(int qbits) {
+  if (qbits < 1 || qbits > 24) throw std::invalid_argument("CoordinateSet: qbits out of range");
+  const size_t blocks = qbits <= kBlockShift ? 1 : size_t{1} << (qbits - kBlockShift);
+  blocks_.resize(blocks);
+  tree_.assign(blocks + 1, 0);
+  top_bit_ = std::bit_floor(blocks);
+}
+
+void CoordinateSet::insert(uint32_t value) {
+  auto& block = blocks_[value >> kBlockShift];
+  if (!block) block = std::make_unique<Block>();  // zeroed
+  uint64_t& word = (*block)[(value >> 6) & 63];
+  const uint64_t bit = uint64_t{1} << (value & 63);
+  if (word & bit) return;
+  word |= bit;
+  for (size_t i = (value >> kBlockShift) + 1; i < tree_.size(); i += i & (~i + 1)) ++tree_[i];
+}
+
+bool CoordinateSet::contains(uint32_t value) const {
+  const auto& block = blocks_[value >> kBlockShift];
+  return block && (((*block)[(value >> 6) & 63] >> (value & 63)) & 1);
+}
+
+uint64_t CoordinateSet::count_below(uint64_t value) const {
+  const uint64_t b = value >> kBlockShift;
+  uint64_t count = 0;
+  for (uint64_t i = std::min<uint64_t>(b, blocks_.size()); i > 0; i &= i - 1) count += tree_[i];
+  if (b >= blocks_.size() || !blocks_[b]) return count;
+  const Block& block = *blocks_[b];
+  const uint64_t word = (value >> 6) & 63;
+  for (uint64_t w = 0; w < word; ++w) count += std::popcount(block[w]);
+  return count + std::popcount(block[word] & ((uint64_t{1} << (value & 63)) - 1));
+}
+
+uint64_t CoordinateSet::find_block(uint64_t target, bool absent, uint64_t& before) const {
+  // Fenwick descent: the node at pos + step covers the `step` blocks after pos.
+  uint64_t pos = 0;
+  before = 0;
+  for (uint64_t step = top_bit_; step > 0; step >>= 1) {
+    if (pos + step >= tree_.size()) continue;
+    const uint64_t in_node = absent ? (step << kBlockShift) - tree_[pos + step] : tree_[pos + step];
+    if (before + in_node <= target) {
+      pos += step;
+      before += in_node;
+    }
+  }
+  return pos;
+}
+
+uint32_t CoordinateSet::select(uint64_t lo, uint64_t k) const {
+  uint64_t before = 0;
+  const uint64_t target = count_below(lo) + k;
+  const uint64_t b = find_block(target, false, before);
+  uint64_t rest = target - before;
+  const Block& block = *blocks_[b];  // it holds the value, so it exists
+  for (uint64_t w = 0;; ++w) {
+    const uint64_t here = std::popcount(block[w]);
+    if (rest < here) return static_cast<uint32_t>((b << kBlockShift) + 64 * w + nth_set_bit(block[w], rest));
+    rest -= here;
+  }
+}
+
+uint32_t CoordinateSet::select_absent(uint64_t lo, uint64_t k) const {
+  uint64_t before = 0;
+  const uint64_t target = lo - count_below(lo) + k;
+  const uint64_t b = find_block(target, true, before);
+  uint64_t rest = target - before;
+  if (!blocks_[b]) return static_cast<uint32_t>((b << kBlockShift) + rest);
+  const Block& block = *blocks_[b];
+  for (uint64_t w = 0;; ++w) {
+    const uint64_t here = 64 - std::popcount(block[w]);
+    if (rest < here) return static_cast<uint32_t>((b << kBlockShift) + 64 * w + nth_set_bit(~block[w], rest));
+    rest -= here;
+  }
+}
+
+}  // namespace dtm
