@@ -206,7 +206,8 @@ class Encoder {
         continue;
       }
       const bool reused = used.contains(static_cast<uint32_t>(value));
-      rc_.encode(t_.reuse[a][reuse_context(m, r)], reused);
+      // Every value of the interval used: the coordinate is one of them.
+      if (m < (uint64_t{1} << r)) rc_.encode(t_.reuse[a][reuse_context(m, r)], reused);
       const uint64_t used_below = used.count_in(first, value);
       if (reused) encode_index(used_below, m);
       else encode_index(value - first - used_below, (uint64_t{1} << r) - m);
@@ -323,7 +324,7 @@ class Decoder {
       if (m == 0) {
         value = first + rc_.decode_raw(r);
       } else {
-        const bool reused = rc_.decode(t_.reuse[a][reuse_context(m, r)]);
+        const bool reused = m == size || rc_.decode(t_.reuse[a][reuse_context(m, r)]);
         uint64_t i = 0;
         if (!decode_index(reused ? m : size - m, i)) return fail("coordinate rank out of range");
         value = reused ? used.select(first, i) : used.select_absent(first, i);
