@@ -49,6 +49,23 @@ uint64_t CoordinateSet::count_below(uint64_t value) const {
   return count + std::popcount(block[word] & ((uint64_t{1} << (value & 63)) - 1));
 }
 
+uint64_t CoordinateSet::count_in(uint64_t lo, uint64_t hi) const {
+  if (hi <= lo) return 0;
+  const uint64_t b = lo >> kBlockShift;
+  if (b != (hi - 1) >> kBlockShift) return count_below(hi) - count_below(lo);
+  if (!blocks_[b]) return 0;
+  const Block& block = *blocks_[b];
+  const uint64_t first = (lo >> 6) & 63, last = ((hi - 1) >> 6) & 63;
+  uint64_t count = 0;
+  for (uint64_t w = first; w <= last; ++w) {
+    uint64_t bits = block[w];
+    if (w == first) bits &= ~uint64_t{0} << (lo & 63);
+    if (w == last && (hi & 63) != 0) bits &= (uint64_t{1} << (hi & 63)) - 1;
+    count += std::popcount(bits);
+  }
+  return count;
+}
+
 uint64_t CoordinateSet::find_block(uint64_t target, bool absent, uint64_t& before) const {
   // Fenwick descent: the node at pos + step covers the `step` blocks after pos.
   uint64_t pos = 0;
@@ -65,6 +82,18 @@ uint64_t CoordinateSet::find_block(uint64_t target, bool absent, uint64_t& befor
 }
 
 uint32_t CoordinateSet::select(uint64_t lo, uint64_t k) const {
+  // First within lo's own block, from lo on.
+  if (const auto& own = blocks_[lo >> kBlockShift]) {
+    uint64_t rest = k;
+    for (uint64_t w = (lo >> 6) & 63; w < 64; ++w) {
+      uint64_t bits = (*own)[w];
+      if (w == ((lo >> 6) & 63)) bits &= ~uint64_t{0} << (lo & 63);
+      const uint64_t here = std::popcount(bits);
+      if (rest < here)
+        return static_cast<uint32_t>(((lo >> kBlockShift) << kBlockShift) + 64 * w + nth_set_bit(bits, rest));
+      rest -= here;
+    }
+  }
   uint64_t before = 0;
   const uint64_t target = count_below(lo) + k;
   const uint64_t b = find_block(target, false, before);
@@ -78,6 +107,20 @@ uint32_t CoordinateSet::select(uint64_t lo, uint64_t k) const {
 }
 
 uint32_t CoordinateSet::select_absent(uint64_t lo, uint64_t k) const {
+  // First within lo's own block, from lo on.
+  const uint64_t block_start = (lo >> kBlockShift) << kBlockShift;
+  if (const auto& own = blocks_[lo >> kBlockShift]) {
+    uint64_t rest = k;
+    for (uint64_t w = (lo >> 6) & 63; w < 64; ++w) {
+      uint64_t gaps = ~(*own)[w];
+      if (w == ((lo >> 6) & 63)) gaps &= ~uint64_t{0} << (lo & 63);
+      const uint64_t here = std::popcount(gaps);
+      if (rest < here) return static_cast<uint32_t>(block_start + 64 * w + nth_set_bit(gaps, rest));
+      rest -= here;
+    }
+  } else if (lo + k < block_start + (uint64_t{1} << kBlockShift)) {
+    return static_cast<uint32_t>(lo + k);
+  }
   uint64_t before = 0;
   const uint64_t target = lo - count_below(lo) + k;
   const uint64_t b = find_block(target, true, before);

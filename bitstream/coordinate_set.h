@@ -1,7 +1,9 @@
 // The values one axis has taken so far in a stream: a bitmap over the 2^q
 // coordinates in blocks of 4096 values, made when first written to, with a
 // Fenwick tree of the blocks' counts, so that counting, ranking and selecting
-// within any interval cost O(log 2^q) plus one block's 64 words. The layer
+// within any interval cost O(log 2^q) plus one block's 64 words, and within an
+// interval inside one block (the common case: a lone point's node is about
+// the sampling spacing wide) only the words it spans. The layer
 // coder uses it to send a lone point's coordinate as "the i-th value already
 // used here" (spec/FORMAT.md §3.1): meshes from grids, extrusions and CAD
 // parts repeat coordinates far more often than chance.
@@ -24,7 +26,8 @@ class CoordinateSet {
   bool contains(uint32_t value) const;
   // Values in the set below `value` (any value up to 2^qbits).
   uint64_t count_below(uint64_t value) const;
-  uint64_t count_in(uint64_t lo, uint64_t hi) const { return count_below(hi) - count_below(lo); }
+  // Values in the set in [lo, hi).
+  uint64_t count_in(uint64_t lo, uint64_t hi) const;
   // The k-th (0-based) value of the set at or above lo; k < count_in(lo, 2^qbits).
   uint32_t select(uint64_t lo, uint64_t k) const;
   // The k-th (0-based) value not in the set at or above lo, below 2^qbits.
