@@ -209,24 +209,10 @@ class Encoder {
       // Every value of the interval used: the coordinate is one of them.
       if (m < (uint64_t{1} << r)) rc_.encode(t_.reuse[a][reuse_context(m, r)], reused);
       const uint64_t used_below = used.count_in(first, value);
-      if (reused) encode_index(used_below, m);
-      else encode_index(value - first - used_below, (uint64_t{1} << r) - m);
+      if (reused) rc_.encode_index(used_below, m);
+      else rc_.encode_index(value - first - used_below, (uint64_t{1} << r) - m);
     }
     t_.note(p);
-  }
-
-  // i in [0, count): uniform, or truncated binary in raw bits when count is
-  // too large for the range coder's uniform symbols.
-  void encode_index(uint64_t i, uint64_t count) {
-    if (count <= 1) return;
-    if (count <= kMaxUniform) {
-      rc_.encode_uniform(static_cast<uint32_t>(i), static_cast<uint32_t>(count));
-      return;
-    }
-    const int k = std::bit_width(count) - 1;
-    const uint64_t u = (uint64_t{2} << k) - count;
-    if (i < u) rc_.encode_raw(i, k);
-    else rc_.encode_raw(i + u, k + 1);
   }
 
   std::span<const MortonCode> known_, fresh_;
@@ -325,29 +311,15 @@ class Decoder {
         value = first + rc_.decode_raw(r);
       } else {
         const bool reused = m == size || rc_.decode(t_.reuse[a][reuse_context(m, r)]);
-        uint64_t i = 0;
-        if (!decode_index(reused ? m : size - m, i)) return fail("coordinate rank out of range");
+        const uint64_t count = reused ? m : size - m;
+        const uint64_t i = rc_.decode_index(count);
+        if (i >= count) return fail("coordinate rank out of range");
         value = reused ? used.select(first, i) : used.select_absent(first, i);
       }
       *coordinate[a] = static_cast<int32_t>(value);
     }
     out_.push_back(p);
     t_.note(p);
-    return true;
-  }
-
-  bool decode_index(uint64_t count, uint64_t& i) {
-    i = 0;
-    if (count <= 1) return true;
-    if (count <= kMaxUniform) {
-      i = rc_.decode_uniform(static_cast<uint32_t>(count));
-      return i < count;
-    }
-    const int k = std::bit_width(count) - 1;
-    const uint64_t u = (uint64_t{2} << k) - count;
-    uint64_t x = rc_.decode_raw(k);
-    if (x >= u) x = ((x << 1) | rc_.decode_raw(1)) - u;
-    i = x;
     return true;
   }
 

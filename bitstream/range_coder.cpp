@@ -53,6 +53,18 @@ void RangeEncoder::encode_uniform(uint32_t value, uint32_t count) {
   normalize();
 }
 
+void RangeEncoder::encode_index(uint64_t value, uint64_t count) {
+  if (count <= 1) return;
+  if (count <= kMaxUniform) {
+    encode_uniform(static_cast<uint32_t>(value), static_cast<uint32_t>(count));
+    return;
+  }
+  const int k = std::bit_width(count) - 1;
+  const uint64_t u = (uint64_t{2} << k) - count;
+  if (value < u) encode_raw(value, k);
+  else encode_raw(value + u, k + 1);
+}
+
 std::vector<uint8_t> RangeEncoder::finish() {
   for (int i = 0; i < 5; ++i) shift_low();
   return std::move(out_);
@@ -104,6 +116,16 @@ uint32_t RangeDecoder::decode_uniform(uint32_t count) {
   else v = count;  // damaged: the state stays usable (range renormalized), the caller refuses
   normalize();
   return v;
+}
+
+uint64_t RangeDecoder::decode_index(uint64_t count) {
+  if (count <= 1) return 0;
+  if (count <= kMaxUniform) return decode_uniform(static_cast<uint32_t>(count));
+  // Truncated binary: always a value below count.
+  const int k = std::bit_width(count) - 1;
+  const uint64_t u = (uint64_t{2} << k) - count;
+  const uint64_t x = decode_raw(k);
+  return x < u ? x : ((x << 1) | decode_raw(1)) - u;
 }
 
 }  // namespace dtm

@@ -45,6 +45,10 @@ class RangeEncoder {
   // `value` in [0, count), all equally likely: log2(count) bits, to within
   // count / 2^24 of a bit. 2 <= count <= kMaxUniform.
   void encode_uniform(uint32_t value, uint32_t count);
+  // `value` in [0, count), count >= 1 (nothing is coded for 1): a uniform
+  // symbol, or truncated binary in raw bits when count > kMaxUniform
+  // (spec/FORMAT.md §3.1, "uniform index").
+  void encode_index(uint64_t value, uint64_t count);
   // Flushes and returns the block.
   std::vector<uint8_t> finish();
 
@@ -67,6 +71,8 @@ class RangeDecoder {
   // A value coded by encode_uniform, or `count` if the bytes do not hold one
   // (only a damaged block does that).
   uint32_t decode_uniform(uint32_t count);
+  // A value coded by encode_index, or `count` if the bytes do not hold one.
+  uint64_t decode_index(uint64_t count);
   // Bytes past the end of the block were needed.
   bool overran() const { return pos_ > block_.size(); }
   // Every byte of the block was read, none past it, and the final flush
