@@ -37,9 +37,9 @@
 #include <string>
 #include <vector>
 
-#include "codec/decoder.h"
-#include "codec/encoder.h"
-#include "core/delaunay.h"
+#include "codec/decode.h"
+#include "codec/expert_encode.h"
+#include "mesh/delaunay.h"
 #include "core/hierarchy.h"
 #include "tools/formats/tetgen.h"
 
@@ -63,8 +63,8 @@ struct Model {
     if (stream.empty()) {
       dtm::HierarchyOptions fast = opt;
       fast.measure_boundary_error = false;
-      stream = dtm::encode_stream(dtm::build_hierarchy(q.points, fast), q.points, q.grid,
-                                  opt.alpha.kind).bytes;
+      stream = dtm::encode_stream(dtm::build_hierarchy(q.points, fast).value(), q.points, q.grid,
+                                  opt.alpha.kind).value().bytes;
     }
     return stream;
   }
@@ -78,7 +78,7 @@ Model load_model(const std::string& name, const std::string& path) {
   const double scale = extent > 0 ? kBox / extent : 1.0;
   for (auto& p : node.points) p = {p.x * scale, p.y * scale, p.z * scale};
 
-  Model m{name, dtm::quantize(node.points, kQBits), {}, {}};
+  Model m{name, dtm::quantize(node.points, kQBits).value(), {}, {}};
   m.opt.dmax = kDmax / m.q.grid.step;  // HierarchyOptions wants grid units
   return m;
 }
@@ -94,7 +94,7 @@ void register_benchmarks(const Model& m) {
   benchmark::RegisterBenchmark(("CgalDelaunay/" + m.name).c_str(), [&m, n](benchmark::State& st) {
     size_t cells = 0;
     for (auto _ : st) {
-      const dtm::TetMesh dt = dtm::delaunay_tetrahedralize(m.q.points);
+      const dtm::TetMesh dt = dtm::delaunay_tetrahedralize(m.q.points).value();
       cells = dt.cells.size();
       benchmark::DoNotOptimize(dt.cells.data());
     }
@@ -130,7 +130,7 @@ void register_benchmarks(const Model& m) {
       opt.measure_boundary_error = stats;
       size_t levels = 0, base = 0, level_vertices = 0;
       for (auto _ : st) {
-        const dtm::Hierarchy h = dtm::build_hierarchy(m.q.points, opt);
+        const dtm::Hierarchy h = dtm::build_hierarchy(m.q.points, opt).value();
         levels = h.levels.size();
         base = h.levels.back().vertices.size();
         level_vertices = 0;
@@ -154,8 +154,8 @@ void register_benchmarks(const Model& m) {
     opt.measure_boundary_error = false;
     size_t bytes = 0;
     for (auto _ : st) {
-      const auto stream = dtm::encode_stream(dtm::build_hierarchy(m.q.points, opt), m.q.points,
-                                             m.q.grid, opt.alpha.kind);
+      const auto stream = dtm::encode_stream(dtm::build_hierarchy(m.q.points, opt).value(), m.q.points,
+                                             m.q.grid, opt.alpha.kind).value();
       bytes = stream.bytes.size();
     }
     st.counters["vertices"] = n;
@@ -289,9 +289,9 @@ int peak_memory(const std::string& path, const std::string& what) {
   const auto start = std::chrono::steady_clock::now();
   size_t levels = 1;
   if (what == "cgal") {
-    benchmark::DoNotOptimize(dtm::delaunay_tetrahedralize(m.q.points).cells.data());
+    benchmark::DoNotOptimize(dtm::delaunay_tetrahedralize(m.q.points).value().cells.data());
   } else {
-    levels = dtm::build_hierarchy(m.q.points, m.opt).levels.size();
+    levels = dtm::build_hierarchy(m.q.points, m.opt).value().levels.size();
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("model=%s build=%s vertices=%zu levels=%zu seconds=%.3f loaded_rss_mib=%.1f peak_rss_mib=%.1f\n",

@@ -27,7 +27,7 @@
 #include <random>
 #include <vector>
 
-#include "codec/decoder.h"
+#include "codec/decode.h"
 
 namespace {
 

@@ -1,4 +1,6 @@
-#include "coordinate_set.h"
+#include "bitstream/coordinate_set.h"
+
+#include "common/status.h"
 
 #include <bit>
 #include <stdexcept>
@@ -16,7 +18,7 @@ int nth_set_bit(uint64_t w, uint64_t k) {
 }  // namespace
 
 CoordinateSet::CoordinateSet(int qbits) {
-  if (qbits < 1 || qbits > 24) throw std::invalid_argument("CoordinateSet: qbits out of range");
+  DTM_CHECK(qbits >= 1 && qbits <= 24);
   const size_t blocks = qbits <= kBlockShift ? 1 : size_t{1} << (qbits - kBlockShift);
   blocks_.resize(blocks);
   tree_.assign(blocks + 1, 0);

@@ -1,4 +1,4 @@
-#include "range_coder.h"
+#include "bitstream/range_coder.h"
 
 namespace dtm {
 namespace {
@@ -109,23 +109,35 @@ uint64_t RangeDecoder::decode_raw(int n) {
   return v;
 }
 
-uint32_t RangeDecoder::decode_uniform(uint32_t count) {
+Status RangeDecoder::decode_uniform(uint32_t count, uint32_t& value) {
   range_ /= count;
-  uint32_t v = code_ / range_;
-  if (v < count) code_ -= v * range_;
-  else v = count;  // damaged: the state stays usable (range renormalized), the caller refuses
+  const uint32_t v = code_ / range_;
+  const bool valid = v < count;
+  // Damaged: the state stays usable (range renormalized), the caller stops.
+  if (valid) code_ -= v * range_;
   normalize();
-  return v;
+  if (!valid) return {StatusCode::kCorrupt, "a uniform index is not below its count"};
+  value = v;
+  return Status::Ok();
 }
 
-uint64_t RangeDecoder::decode_index(uint64_t count) {
-  if (count <= 1) return 0;
-  if (count <= kMaxUniform) return decode_uniform(static_cast<uint32_t>(count));
+Status RangeDecoder::decode_index(uint64_t count, uint64_t& value) {
+  if (count <= 1) {
+    value = 0;
+    return Status::Ok();
+  }
+  if (count <= kMaxUniform) {
+    uint32_t v = 0;
+    DTM_RETURN_IF_ERROR(decode_uniform(static_cast<uint32_t>(count), v));
+    value = v;
+    return Status::Ok();
+  }
   // Truncated binary: always a value below count.
   const int k = std::bit_width(count) - 1;
   const uint64_t u = (uint64_t{2} << k) - count;
   const uint64_t x = decode_raw(k);
-  return x < u ? x : ((x << 1) | decode_raw(1)) - u;
+  value = x < u ? x : ((x << 1) | decode_raw(1)) - u;
+  return Status::Ok();
 }
 
 }  // namespace dtm

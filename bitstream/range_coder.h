@@ -16,6 +16,8 @@
 #include <span>
 #include <vector>
 
+#include "common/status.h"
+
 namespace dtm {
 
 // P(bit = 0) in 1/65536 units, adapting faster while young: the first
@@ -68,11 +70,11 @@ class RangeDecoder {
   explicit RangeDecoder(std::span<const uint8_t> block);
   bool decode(AdaptiveBit& model);
   uint64_t decode_raw(int n);
-  // A value coded by encode_uniform, or `count` if the bytes do not hold one
-  // (only a damaged block does that).
-  uint32_t decode_uniform(uint32_t count);
-  // A value coded by encode_index, or `count` if the bytes do not hold one.
-  uint64_t decode_index(uint64_t count);
+  // A value coded by encode_uniform; kCorrupt if the bytes do not hold one
+  // (only a damaged block does that; the decoder stays usable).
+  Status decode_uniform(uint32_t count, uint32_t& value);
+  // A value coded by encode_index; kCorrupt if the bytes do not hold one.
+  Status decode_index(uint64_t count, uint64_t& value);
   // Bytes past the end of the block were needed.
   bool overran() const { return pos_ > block_.size(); }
   // Every byte of the block was read, none past it, and the final flush

@@ -1,10 +1,9 @@
-#include "decoder.h"
+#include "codec/decode.h"
 
 #include <string>
 
-#include "bitstream/checksum.h"
-#include "bitstream/point_set_coder.h"
-#include "core/geometry.h"
+#include "codec/layer_coder.h"
+#include "mesh/geometry.h"
 
 namespace dtm {
 
@@ -42,39 +41,23 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   if (!has_header_) {
     DTM_RETURN_IF_ERROR(parse_header(avail, header_));
     has_header_ = true;
+    walk_.emplace(header_, options_.max_vertices);
     if (header_.version_major >= 3) models_.enable_coordinate_reuse(header_.grid.qbits);
     pending_start_ += kHeaderSize;
-    consumed_ += kHeaderSize;
     return Status::Ok();
   }
-  const int level = header_.level_count - 1 - static_cast<int>(levels_.size());
-  if (level < 0) {  // complete: any further byte is trailing data, whenever it comes
-    if (!avail.empty())
-      return {StatusCode::kCorrupt, std::to_string(avail.size()) +
-                                        " bytes of trailing data after the last layer"};
-    return {StatusCode::kNeedMoreInput, "complete"};
-  }
-  const std::string where = "level " + std::to_string(level) + " at byte " + std::to_string(consumed_);
-  LayerHeader lh;
-  const uint32_t previous = levels_.empty() ? 0 : levels_.back().vertices;
-  Status s = parse_layer_header(avail, header_, level, previous, lh);
-  if (s.code() == StatusCode::kNeedMoreInput) return s;
-  if (!s.ok()) return {s.code(), where + ": " + s.message()};
-  if (lh.level_vertices > options_.max_vertices)
-    return {StatusCode::kLimitExceeded, where + ": " + std::to_string(lh.level_vertices) +
-                                            " vertices exceed the limit of " +
-                                            std::to_string(options_.max_vertices)};
-  if (avail.size() < kLayerHeaderSize + lh.payload_bytes)
-    return {StatusCode::kNeedMoreInput, "layer incomplete"};
-  const auto payload = avail.subspan(kLayerHeaderSize, lh.payload_bytes);
-  if (!layer_checksum_ok(avail, payload, lh.checksum))
-    return {StatusCode::kCorrupt, where + ": layer checksum mismatch"};
+  const int level = walk_->next_level();
+  Layer layer;
+  DTM_RETURN_IF_ERROR(walk_->next(avail, layer));
+  const std::string where = "level " + std::to_string(level) + " at byte " + std::to_string(layer.offset);
+  const LayerHeader& lh = layer.header;
 
   std::vector<GridPoint> added;
   // The coder itself rejects a point repeated within the layer or already
   // known from a coarser one.
-  s = decode_point_set(payload, known_, header_.grid.qbits, lh.new_vertices, models_, added);
-  if (!s.ok()) return {s.code(), where + ": " + s.message()};
+  DTM_RETURN_IF_ERROR(
+      decode_point_set(layer.payload, known_, header_.grid.qbits, lh.new_vertices, models_, added)
+          .with_context(where));
   if (levels_.empty() && !spans_three_dimensions(added))
     return {StatusCode::kCorrupt, where + ": the base level does not span three dimensions"};
   merge_known(known_, added, header_.grid.qbits);
@@ -88,7 +71,6 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   if (header_.flags & kFlagCellHashes) d.cell_hash = lh.cell_hash;
   levels_.push_back(d);
   pending_start_ += kLayerHeaderSize + lh.payload_bytes;
-  consumed_ += kLayerHeaderSize + lh.payload_bytes;
   if (on_level) on_level(*this, d);
   if (level == options_.stop_after_level) stopped_ = true;
   return Status::Ok();
@@ -133,11 +115,10 @@ void ProgressiveDecoder::insert_pending() const {
   // curve: inserted in that order, each point located from the previous one,
   // it goes ~12% faster than re-sorted. Anything else (the base layer,
   // several layers at once) gets CGAL's spatially sorted batch insertion.
-  try {
-    if (inserted_ > 0 && layers_pending_ == 1) dt_.insert_one_by_one(batch, ids);
-    else dt_.insert(batch, ids);
-  } catch (const TooManyCells& e) {
-    mesh_status_ = {StatusCode::kLimitExceeded, "level " + std::to_string(finest_level()) + ": " + e.what()};
+  const Status s = inserted_ > 0 && layers_pending_ == 1 ? dt_.insert_one_by_one(batch, ids)
+                                                         : dt_.insert(batch, ids);
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return;
   }
   inserted_ = points_.size();
@@ -154,24 +135,6 @@ std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {
   if (levels_.empty()) return {};
   const TetMesh dt = delaunay();
   return flagged_cells(dt, carve(dt, points_, levels_.back().alpha));
-}
-
-std::vector<uint8_t> carve(const TetMesh& dt, std::span<const GridPoint> points, double alpha) {
-  std::vector<uint8_t> in_mesh(dt.cells.size());
-  for (size_t k = 0; k < dt.cells.size(); ++k) {
-    const auto& c = dt.cells[k];
-    in_mesh[k] =
-        canonical_circumradius({points[c[0]], points[c[1]], points[c[2]], points[c[3]]}) <= alpha;
-  }
-  return in_mesh;
-}
-
-std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt,
-                                                   std::span<const uint8_t> in_mesh) {
-  std::vector<std::array<uint32_t, 4>> out;
-  for (size_t k = 0; k < dt.cells.size(); ++k)
-    if (in_mesh[k]) out.push_back(dt.cells[k]);
-  return out;
 }
 
 Status decode_stream(std::span<const uint8_t> bytes, ProgressiveDecoder& decoder) {

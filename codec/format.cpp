@@ -1,39 +1,97 @@
-#include "format.h"
+#include "codec/format.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <string>
+#include <type_traits>
 
-#include "bitstream/byte_io.h"
-#include "bitstream/checksum.h"
-#include "bitstream/point_set_coder.h"
+#include "codec/layer_coder.h"
+#include "common/byte_io.h"
+#include "common/checksum.h"
 
 namespace dtm {
 namespace {
 
-constexpr size_t kLayerChecksumOffset = 30;
-
-uint32_t low32(uint64_t v) { return static_cast<uint32_t>(v); }
-
 Status corrupt(const std::string& what) { return {StatusCode::kCorrupt, what}; }
+
+template <class Wire>
+void put(ByteWriter& w, Wire v) {
+  if constexpr (std::is_same_v<Wire, double>) w.f64(v);
+  else if constexpr (sizeof(Wire) == 1) w.u8(v);
+  else if constexpr (sizeof(Wire) == 2) w.u16(v);
+  else if constexpr (sizeof(Wire) == 4) w.u32(v);
+  else w.u64(v);
+}
+
+template <class Wire>
+Wire get(ByteReader& r) {
+  Wire v{};
+  if constexpr (std::is_same_v<Wire, double>) r.f64(v);
+  else if constexpr (sizeof(Wire) == 1) r.u8(v);
+  else if constexpr (sizeof(Wire) == 2) r.u16(v);
+  else if constexpr (sizeof(Wire) == 4) r.u32(v);
+  else r.u64(v);
+  return v;
+}
+
+// Writes a field list. The checksum covers the bytes before it, then
+// `trailer` (a layer's payload; empty for the stream header), and keeps
+// only as many low bits as its field holds.
+struct FieldWriter {
+  ByteWriter w;
+  std::span<const uint8_t> trailer;
+  void magic(const char*) { w.bytes(kMagic); }
+  template <class Wire, class T>
+  void field(const char*, const T& v) {
+    put<Wire>(w, static_cast<Wire>(v));
+  }
+  template <class Wire, class T, size_t N>
+  void field(const char* name, const std::array<T, N>& a) {
+    for (const T& v : a) field<Wire>(name, v);
+  }
+  template <class Wire, class T>
+  void checksum(const char*, T& v) {
+    v = static_cast<T>(xxh3_64(w.data(), trailer));
+    put<Wire>(w, static_cast<Wire>(v));
+  }
+};
+
+// Reads a field list from bytes known to hold it whole.
+struct FieldReader {
+  ByteReader r;
+  void magic(const char*) {
+    for (size_t i = 0; i < kMagic.size(); ++i) get<uint8_t>(r);
+  }
+  template <class Wire, class T>
+  void field(const char*, T& v) {
+    v = static_cast<T>(get<Wire>(r));
+  }
+  template <class Wire, class T, size_t N>
+  void field(const char* name, std::array<T, N>& a) {
+    for (T& v : a) field<Wire>(name, v);
+  }
+  template <class Wire, class T>
+  void checksum(const char* name, T& v) {
+    field<Wire>(name, v);
+  }
+};
+
+template <class Header>
+Header read_fields(std::span<const uint8_t> bytes) {
+  Header h;
+  FieldReader reader{ByteReader(bytes)};
+  visit_fields(h, reader);
+  return h;
+}
+
+constexpr size_t kHeaderChecksumOffset = sized<StreamHeader>().checksum_offset;
+constexpr size_t kLayerChecksumOffset = sized<LayerHeader>().checksum_offset;
 
 }  // namespace
 
-std::vector<uint8_t> write_header(const StreamHeader& h) {
-  ByteWriter w;
-  w.bytes(kMagic);
-  w.u8(h.version_major);
-  w.u8(h.version_minor);
-  w.u8(static_cast<uint8_t>(h.grid.qbits));
-  w.u8(static_cast<uint8_t>(h.alpha_policy));
-  w.u16(h.flags);
-  w.u16(h.level_count);
-  w.u32(h.vertex_count);
-  for (double o : h.grid.origin) w.f64(o);
-  w.f64(h.grid.step);
-  w.u32(low32(xxh3_64(w.data())));
-  return w.take();
+std::vector<uint8_t> write_header(StreamHeader h) {
+  FieldWriter writer;
+  visit_fields(h, writer);
+  return writer.w.take();
 }
 
 Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
@@ -41,30 +99,17 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   if (!std::equal(bytes.begin(), bytes.begin() + magic_seen, kMagic.begin()))
     return {StatusCode::kNotDtm, "not a .dtm stream (wrong magic)"};
   if (bytes.size() < kHeaderSize) return {StatusCode::kNeedMoreInput, "header incomplete"};
-  ByteReader r(bytes.subspan(kMagic.size(), kHeaderSize - kMagic.size()));
-  uint8_t qbits = 0, policy = 0;
-  uint32_t header_checksum = 0;
-  r.u8(h.version_major);
-  r.u8(h.version_minor);
+  h = read_fields<StreamHeader>(bytes.first(kHeaderSize));
+  // The version first: a future version may change everything after it.
   if (h.version_major < kOldestVersionMajor || h.version_major > kVersionMajor)
-    return {StatusCode::kUnsupported, "format version " + std::to_string(h.version_major) + "." +
-                                          std::to_string(h.version_minor) + " is not supported (this decoder reads " +
-                                          std::to_string(kOldestVersionMajor) + ".x to " +
-                                          std::to_string(kVersionMajor) + ".x)"};
-  r.u8(qbits);
-  r.u8(policy);
-  r.u16(h.flags);
-  r.u16(h.level_count);
-  r.u32(h.vertex_count);
-  for (double& o : h.grid.origin) r.f64(o);
-  r.f64(h.grid.step);
-  r.u32(header_checksum);
-  if (header_checksum != low32(xxh3_64(bytes.first(kHeaderSize - 4))))
+    return {StatusCode::kUnsupported,
+            "format version " + std::to_string(h.version_major) + "." +
+                std::to_string(h.version_minor) + " is not supported (this decoder reads " +
+                std::to_string(kOldestVersionMajor) + ".x to " + std::to_string(kVersionMajor) + ".x)"};
+  if (h.checksum != static_cast<uint32_t>(xxh3_64(bytes.first(kHeaderChecksumOffset))))
     return corrupt("header checksum mismatch");
-  if (qbits < kMinQBits || qbits > kMaxQBits) return corrupt("qbits out of range");
-  h.grid.qbits = qbits;
-  if (policy > 2) return corrupt("unknown alpha policy");
-  h.alpha_policy = static_cast<AlphaPolicy::Kind>(policy);
+  if (h.grid.qbits < kMinQBits || h.grid.qbits > kMaxQBits) return corrupt("qbits out of range");
+  if (static_cast<uint8_t>(h.alpha_policy) > 2) return corrupt("unknown alpha policy");
   if (h.flags & ~kKnownFlags) return {StatusCode::kUnsupported, "unknown header flags"};
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
@@ -75,50 +120,65 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
 }
 
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload) {
-  ByteWriter w;
-  w.u16(h.level);
-  w.u32(h.new_vertices);
-  w.u32(h.level_vertices);
-  w.f64(h.alpha);
-  w.u32(h.payload_bytes = static_cast<uint32_t>(payload.size()));
-  w.u64(h.cell_hash);
-  w.u64(xxh3_64(w.data(), payload));
-  w.bytes(payload);
-  return w.take();
+  h.payload_bytes = static_cast<uint32_t>(payload.size());
+  FieldWriter writer;
+  writer.trailer = payload;
+  visit_fields(h, writer);
+  writer.w.bytes(payload);
+  return writer.w.take();
 }
 
-Status parse_layer_header(std::span<const uint8_t> bytes, const StreamHeader& stream,
-                          int expected_level, uint32_t previous_level_vertices, LayerHeader& h) {
-  if (bytes.size() < kLayerHeaderSize) return {StatusCode::kNeedMoreInput, "layer header incomplete"};
-  ByteReader r(bytes.first(kLayerHeaderSize));
-  r.u16(h.level);
-  r.u32(h.new_vertices);
-  r.u32(h.level_vertices);
-  r.f64(h.alpha);
-  r.u32(h.payload_bytes);
-  r.u64(h.cell_hash);
-  r.u64(h.checksum);
-  if (h.level != expected_level)
+LayerWalk::LayerWalk(const StreamHeader& header, uint64_t max_level_vertices)
+    : header_(header),
+      max_level_vertices_(max_level_vertices),
+      next_level_(header.level_count - 1),
+      offset_(kHeaderSize) {}
+
+Status LayerWalk::check(const LayerHeader& h) const {
+  if (h.level != next_level_)
     return corrupt("layer for level " + std::to_string(h.level) + " where level " +
-                   std::to_string(expected_level) + " was due");
+                   std::to_string(next_level_) + " was due");
   if (h.new_vertices == 0) return corrupt("a layer without points");
-  if (static_cast<uint64_t>(previous_level_vertices) + h.new_vertices != h.level_vertices)
+  if (static_cast<uint64_t>(previous_vertices_) + h.new_vertices != h.level_vertices)
     return corrupt("level vertex count does not add up");
-  if (h.level_vertices > stream.vertex_count)
+  if (h.level_vertices > header_.vertex_count)
     return corrupt("level has more vertices than the finest level");
-  if (h.level == 0 && h.level_vertices != stream.vertex_count)
+  if (h.level == 0 && h.level_vertices != header_.vertex_count)
     return corrupt("finest level's vertex count differs from the header's");
   if (std::isnan(h.alpha) || !(h.alpha > 0)) return corrupt("alpha is not positive");
   if (h.payload_bytes < min_payload_bytes(h.new_vertices))
     return corrupt("payload too short for its point count");
-  if (!(stream.flags & kFlagCellHashes) && h.cell_hash != 0)
+  if (!(header_.flags & kFlagCellHashes) && h.cell_hash != 0)
     return corrupt("cell hash present without its flag");
+  if (h.level_vertices > max_level_vertices_)
+    return {StatusCode::kLimitExceeded, std::to_string(h.level_vertices) +
+                                            " vertices exceed the limit of " +
+                                            std::to_string(max_level_vertices_)};
   return Status::Ok();
 }
 
-bool layer_checksum_ok(std::span<const uint8_t> layer_header_bytes,
-                       std::span<const uint8_t> payload, uint64_t checksum) {
-  return xxh3_64(layer_header_bytes.first(kLayerChecksumOffset), payload) == checksum;
+Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen) {
+  if (header_seen) *header_seen = false;
+  if (done()) {
+    if (!bytes.empty())
+      return corrupt(std::to_string(bytes.size()) + " bytes of trailing data after the last layer");
+    return {StatusCode::kNeedMoreInput, "complete"};
+  }
+  if (bytes.size() < kLayerHeaderSize) return {StatusCode::kNeedMoreInput, "layer header incomplete"};
+  const std::string where = "level " + std::to_string(next_level_) + " at byte " + std::to_string(offset_);
+  layer.header = read_fields<LayerHeader>(bytes.first(kLayerHeaderSize));
+  layer.offset = offset_;
+  DTM_RETURN_IF_ERROR(check(layer.header).with_context(where));
+  if (header_seen) *header_seen = true;
+  if (bytes.size() - kLayerHeaderSize < layer.header.payload_bytes)
+    return {StatusCode::kNeedMoreInput, "layer incomplete"};
+  layer.payload = bytes.subspan(kLayerHeaderSize, layer.header.payload_bytes);
+  if (xxh3_64(bytes.first(kLayerChecksumOffset), layer.payload) != layer.header.checksum)
+    return corrupt(where + ": layer checksum mismatch");
+  offset_ += kLayerHeaderSize + layer.header.payload_bytes;
+  previous_vertices_ = layer.header.level_vertices;
+  --next_level_;
+  return Status::Ok();
 }
 
 StreamSummary scan_stream(std::span<const uint8_t> bytes) {
@@ -130,44 +190,27 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
       s.status = {StatusCode::kTruncated, "the stream ends inside its header"};
     return s;
   }
-  uint64_t offset = kHeaderSize;
-  uint32_t previous = 0;
-  for (int level = s.header.level_count - 1; level >= 0; --level) {
-    LayerSummary layer;
-    layer.offset = offset;
-    const auto rest = bytes.subspan(offset);
-    Status st = parse_layer_header(rest, s.header, level, previous, layer.header);
-    if (st.code() == StatusCode::kNeedMoreInput) {
-      s.status = {StatusCode::kTruncated, "the stream ends in the header of level " +
-                                              std::to_string(level) + "'s layer"};
-      return s;
+  LayerWalk walk(s.header);
+  while (true) {
+    const int level = walk.next_level();
+    Layer layer;
+    bool header_seen = false;
+    const Status st = walk.next(bytes.subspan(walk.offset()), layer, &header_seen);
+    if (st.ok()) {
+      s.layers.push_back({layer.header, layer.offset, true});
+      continue;
     }
-    if (!st.ok()) {
-      s.status = {st.code(), "level " + std::to_string(level) + " at byte " +
-                                 std::to_string(offset) + ": " + st.message()};
-      return s;
+    if (st.code() != StatusCode::kNeedMoreInput) {
+      s.status = st;
+    } else if (!walk.done()) {
+      if (header_seen) s.layers.push_back({layer.header, layer.offset, false});
+      s.status = {StatusCode::kTruncated,
+                  header_seen ? "the stream ends inside level " + std::to_string(level) + "'s layer"
+                              : "the stream ends in the header of level " + std::to_string(level) +
+                                    "'s layer"};
     }
-    if (rest.size() < kLayerHeaderSize + layer.header.payload_bytes) {
-      s.layers.push_back(layer);  // header read, payload incomplete
-      s.status = {StatusCode::kTruncated, "the stream ends inside level " +
-                                              std::to_string(level) + "'s layer"};
-      return s;
-    }
-    if (!layer_checksum_ok(rest, rest.subspan(kLayerHeaderSize, layer.header.payload_bytes),
-                           layer.header.checksum)) {
-      s.status = {StatusCode::kCorrupt, "level " + std::to_string(level) + " at byte " +
-                                            std::to_string(offset) + ": layer checksum mismatch"};
-      return s;
-    }
-    layer.complete = true;
-    s.layers.push_back(layer);
-    offset += kLayerHeaderSize + layer.header.payload_bytes;
-    previous = layer.header.level_vertices;
+    return s;
   }
-  if (offset != bytes.size())
-    s.status = {StatusCode::kCorrupt, std::to_string(bytes.size() - offset) +
-                                          " bytes of trailing data after the last layer"};
-  return s;
 }
 
 uint64_t cell_set_hash(std::span<const GridPoint> points,

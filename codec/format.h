@@ -1,20 +1,23 @@
 // The bytes of a .dtm stream, defined once for the encoder, the decoder and
-// meshinfo. spec/FORMAT.md is the normative description; keep them in step.
+// meshinfo. spec/FORMAT.md is the normative description; its header tables
+// are checked against the field lists below by tests/test_format_fields.cpp.
 //
 //   stream = header, layer(L), layer(L-1), ..., layer(0)     coarsest first
-//   header = 56 bytes (below), ending with its own checksum
-//   layer  = 38-byte layer header + payload (the new points of the level)
+//   header = kHeaderSize bytes (below), ending with its own checksum
+//   layer  = kLayerHeaderSize-byte layer header + payload (the level's new points)
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
-#include "bitstream/status.h"
-#include "core/grid.h"
-#include "core/level.h"
+#include "common/grid.h"
+#include "common/status.h"
+#include "mesh/carving.h"
 
 namespace dtm {
 
@@ -22,8 +25,6 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 inline constexpr uint8_t kVersionMajor = 3;        // what the encoder writes
 inline constexpr uint8_t kOldestVersionMajor = 2;  // the decoder also reads 2.x
 inline constexpr uint8_t kVersionMinor = 0;
-inline constexpr size_t kHeaderSize = 56;
-inline constexpr size_t kLayerHeaderSize = 38;
 inline constexpr uint16_t kFlagCellHashes = 1;  // each layer carries its level's cell-set hash
 inline constexpr uint16_t kKnownFlags = kFlagCellHashes;
 
@@ -31,10 +32,11 @@ struct StreamHeader {
   uint8_t version_major = kVersionMajor;
   uint8_t version_minor = kVersionMinor;
   Grid grid;
-  AlphaPolicy::Kind alpha_policy = AlphaPolicy::Kind::kPaper;
+  AlphaKind alpha_policy = AlphaKind::kPaper;
   uint16_t flags = 0;
   uint16_t level_count = 0;
   uint32_t vertex_count = 0;  // of the finest level (level 0)
+  uint32_t checksum = 0;      // low 32 bits of XXH3-64 of the bytes before it
 };
 
 struct LayerHeader {
@@ -44,23 +46,121 @@ struct LayerHeader {
   double alpha = 0;             // grid units
   uint32_t payload_bytes = 0;
   uint64_t cell_hash = 0;       // meaningful with kFlagCellHashes, else 0
-  uint64_t checksum = 0;        // XXH3-64 of the first 30 header bytes and the payload
+  uint64_t checksum = 0;        // XXH3-64 of the header bytes before it and the payload
 };
 
-std::vector<uint8_t> write_header(const StreamHeader& h);
+// The fields of each header in stream order, described once: writing,
+// parsing, the sizes and the checksum's place derive from these lists. A
+// field visitor V has
+//   v.magic(name)                        the 8 magic bytes
+//   v.template field<Wire>(name, value)  one little-endian Wire (uint8_t ..
+//                                        uint64_t, double); value may be an
+//                                        int, an enum or a std::array of them
+//   v.template checksum<Wire>(name, value)  the header's checksum, last
+template <class V>
+constexpr void visit_fields(StreamHeader& h, V& v) {
+  v.magic("magic");
+  v.template field<uint8_t>("version_major", h.version_major);
+  v.template field<uint8_t>("version_minor", h.version_minor);
+  v.template field<uint8_t>("qbits", h.grid.qbits);
+  v.template field<uint8_t>("alpha_policy", h.alpha_policy);
+  v.template field<uint16_t>("flags", h.flags);
+  v.template field<uint16_t>("level_count", h.level_count);
+  v.template field<uint32_t>("vertex_count", h.vertex_count);
+  v.template field<double>("origin", h.grid.origin);
+  v.template field<double>("step", h.grid.step);
+  v.template checksum<uint32_t>("header_checksum", h.checksum);
+}
+
+template <class V>
+constexpr void visit_fields(LayerHeader& h, V& v) {
+  v.template field<uint16_t>("level", h.level);
+  v.template field<uint32_t>("new_vertices", h.new_vertices);
+  v.template field<uint32_t>("level_vertices", h.level_vertices);
+  v.template field<double>("alpha", h.alpha);
+  v.template field<uint32_t>("payload_bytes", h.payload_bytes);
+  v.template field<uint64_t>("cell_hash", h.cell_hash);
+  v.template checksum<uint64_t>("layer_checksum", h.checksum);
+}
+
+// Counts the bytes of a field list (compile time).
+struct FieldSizer {
+  size_t size = 0;
+  size_t checksum_offset = 0;
+  constexpr void magic(const char*) { size += kMagic.size(); }
+  template <class Wire, class T>
+  constexpr void field(const char*, const T&) {
+    size += sizeof(Wire);
+  }
+  template <class Wire, class T, size_t N>
+  constexpr void field(const char*, const std::array<T, N>&) {
+    size += N * sizeof(Wire);
+  }
+  template <class Wire, class T>
+  constexpr void checksum(const char*, const T&) {
+    checksum_offset = size;
+    size += sizeof(Wire);
+  }
+};
+
+template <class Header>
+constexpr FieldSizer sized() {
+  Header h{};
+  FieldSizer s;
+  visit_fields(h, s);
+  return s;
+}
+
+inline constexpr size_t kHeaderSize = sized<StreamHeader>().size;
+inline constexpr size_t kLayerHeaderSize = sized<LayerHeader>().size;
+static_assert(kHeaderSize == 56 && kLayerHeaderSize == 38, "the format's header sizes changed");
+
+std::vector<uint8_t> write_header(StreamHeader h);
 // Parses and validates the header at the start of `bytes`. kNeedMoreInput if
 // fewer than kHeaderSize bytes are given.
 Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h);
 
+// The layer header (checksum computed) followed by the payload.
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload);
-// Parses a layer header (not its payload) and checks it against the stream
-// header and the previous layer (`previous_level_vertices`, 0 for the base).
-// `expected_level` is the level this layer must carry.
-Status parse_layer_header(std::span<const uint8_t> bytes, const StreamHeader& stream,
-                          int expected_level, uint32_t previous_level_vertices, LayerHeader& h);
-// True if the layer's checksum matches its header and payload.
-bool layer_checksum_ok(std::span<const uint8_t> layer_header_bytes,
-                       std::span<const uint8_t> payload, uint64_t checksum);
+
+// A whole, checksummed layer, as LayerWalk returns it.
+struct Layer {
+  LayerHeader header;
+  std::span<const uint8_t> payload;
+  uint64_t offset = 0;  // of the layer header in the stream
+};
+
+// Reads the layers of a stream in order, from bytes that may arrive in
+// pieces: the one place where a layer header is checked against the stream
+// header and the layer before it, and its checksum verified. Errors name the
+// level and the byte offset of the layer.
+class LayerWalk {
+ public:
+  // `max_level_vertices`: a level with more vertices is refused
+  // (kLimitExceeded) before its payload is read.
+  explicit LayerWalk(const StreamHeader& header,
+                     uint64_t max_level_vertices = std::numeric_limits<uint64_t>::max());
+
+  // `bytes` are the stream's bytes from offset() on. ok: `layer` is the next
+  // layer, whole and checksummed, and the walk has moved past it.
+  // kNeedMoreInput: its bytes are not all here; `header_seen` (if given)
+  // says whether its header was, and then `layer.header` holds it. After the
+  // last layer, any byte is trailing data (kCorrupt), none kNeedMoreInput.
+  Status next(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen = nullptr);
+
+  bool done() const { return next_level_ < 0; }
+  int next_level() const { return next_level_; }
+  uint64_t offset() const { return offset_; }
+
+ private:
+  Status check(const LayerHeader& h) const;
+
+  StreamHeader header_;
+  uint64_t max_level_vertices_;
+  int next_level_;
+  uint32_t previous_vertices_ = 0;
+  uint64_t offset_;
+};
 
 // What a stream holds, read from its headers without decoding any point
 // (meshinfo). Checksums are verified.

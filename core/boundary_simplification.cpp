@@ -1,9 +1,9 @@
-#include "boundary_simplification.h"
+#include "core/boundary_simplification.h"
 
 #include <cmath>
 #include <unordered_map>
 
-#include "geometry.h"
+#include "mesh/geometry.h"
 
 namespace dtm {
 namespace {
@@ -55,15 +55,10 @@ std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& L, const
   for (const auto& f : faces) triangles.push_back(outward_triangle(L.dt, L.points, f));
 
   // Triangles around each vertex, as rows of a CSR.
-  Csr around;
-  around.offsets.assign(L.size() + 1, 0);
-  for (const auto& t : triangles)
-    for (uint32_t v : t) ++around.offsets[v + 1];
-  for (size_t v = 0; v < L.size(); ++v) around.offsets[v + 1] += around.offsets[v];
-  around.items.resize(around.offsets.back());
-  std::vector<uint32_t> fill(around.offsets.begin(), around.offsets.end() - 1);
-  for (uint32_t i = 0; i < triangles.size(); ++i)
-    for (uint32_t v : triangles[i]) around.items[fill[v]++] = i;
+  const Csr around = build_csr(L.size(), [&](auto&& emit) {
+    for (uint32_t i = 0; i < triangles.size(); ++i)
+      for (uint32_t v : triangles[i]) emit(v, i);
+  });
 
   std::vector<BoundaryCandidate> out;
   std::vector<std::array<uint32_t, 3>> umbrella;

@@ -20,7 +20,7 @@
 #include <span>
 #include <vector>
 
-#include "level.h"
+#include "core/level.h"
 
 namespace dtm {
 

@@ -1,16 +1,16 @@
-#include "hierarchy.h"
+#include "core/hierarchy.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 
-#include "boundary_simplification.h"
-#include "delaunay.h"
-#include "geometry.h"
-#include "importance.h"
-#include "independent_removal.h"
-#include "surface_distance.h"
+#include "core/boundary_simplification.h"
+#include "mesh/delaunay.h"
+#include "mesh/geometry.h"
+#include "core/importance.h"
+#include "core/independent_removal.h"
+#include "core/surface_distance.h"
 
 namespace dtm {
 namespace {
@@ -26,14 +26,9 @@ struct Representation {
   Csr rows_for(std::span<const uint32_t> level_vertices, size_t grid_points) const {
     std::vector<uint32_t> local(grid_points, UINT32_MAX);
     for (uint32_t i = 0; i < level_vertices.size(); ++i) local[level_vertices[i]] = i;
-    Csr rows;
-    rows.offsets.assign(level_vertices.size() + 1, 0);
-    for (uint32_t o : owner) ++rows.offsets[local[o] + 1];
-    for (size_t v = 0; v < level_vertices.size(); ++v) rows.offsets[v + 1] += rows.offsets[v];
-    rows.items.resize(owner.size());
-    std::vector<uint32_t> fill(rows.offsets.begin(), rows.offsets.end() - 1);
-    for (uint32_t k = 0; k < owner.size(); ++k) rows.items[fill[local[owner[k]]]++] = k;
-    return rows;
+    return build_csr(level_vertices.size(), [&](auto&& emit) {
+      for (uint32_t k = 0; k < owner.size(); ++k) emit(local[owner[k]], k);
+    });
   }
 };
 
@@ -75,9 +70,9 @@ bool quality_allows(const LevelGeometry& L, uint32_t v, double guard) {
   const auto fill = cavity_fill(link, ids, L.points[v]).cells;
   double fill_min = fill.empty() ? 0.0 : std::numeric_limits<double>::infinity();
   for (const auto& c : fill) {
+    if (!kept_by_alpha(L.points, c, L.alpha)) continue;
     const std::array<Vec3, 4> t = {to_vec(L.points[c[0]]), to_vec(L.points[c[1]]),
                                    to_vec(L.points[c[2]]), to_vec(L.points[c[3]])};
-    if (circumradius(t[0], t[1], t[2], t[3]) > L.alpha) continue;
     for (double a : solid_angles(t)) fill_min = std::min(fill_min, a);
   }
   return fill_min >= std::min(guard, star_min);
@@ -163,12 +158,12 @@ std::vector<GridPoint> gather(std::span<const GridPoint> points, std::span<const
 
 }  // namespace
 
-Hierarchy build_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& opt,
-                          const LevelCallback& on_level) {
+StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& opt,
+                                    const LevelCallback& on_level) {
   Hierarchy h;
   std::vector<uint32_t> vertices(points.size());
   for (uint32_t i = 0; i < vertices.size(); ++i) vertices[i] = i;
-  LevelGeometry L = analyze_level(gather(points, vertices), opt.alpha);
+  DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze_level(gather(points, vertices), opt.alpha));
 
   Representation rep;
   for (uint32_t v = 0; v < L.size(); ++v)
@@ -206,18 +201,16 @@ Hierarchy build_hierarchy(std::span<const GridPoint> points, const HierarchyOpti
     kept.reserve(vertices.size() - removed);
     for (uint32_t v = 0; v < L.size(); ++v)
       if (!next.removed[v]) kept.push_back(vertices[v]);
-    LevelGeometry coarser;
-    try {
-      coarser = analyze_level(gather(points, kept),
-                              remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points,
-                                                          next.removed),
-                              opt.alpha);
-    } catch (const DegenerateInput&) {
-      break;  // the coarser set would be flat: this level is the coarsest
-    }
+    StatusOr<LevelGeometry> coarser = analyze_level(
+        gather(points, kept),
+        remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points, next.removed),
+        opt.alpha);
+    // The coarser set would be flat: this level is the coarsest.
+    if (coarser.status().code() == StatusCode::kInvalidInput) break;
+    if (!coarser.ok()) return coarser.status();
     hand_over(rep, L, vertices, next, represented);
     vertices = std::move(kept);
-    L = std::move(coarser);
+    L = std::move(coarser).value();
     made = next;
   }
   return h;

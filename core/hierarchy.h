@@ -13,8 +13,9 @@
 #include <span>
 #include <vector>
 
-#include "grid.h"
-#include "level.h"
+#include "common/grid.h"
+#include "common/status.h"
+#include "core/level.h"
 
 namespace dtm {
 
@@ -67,10 +68,11 @@ struct Hierarchy {
 // Called once per level as soon as it is complete.
 using LevelCallback = std::function<void(const Level&)>;
 
-// Builds the hierarchy over `points` (distinct grid points). Throws
-// DegenerateInput if level 0 does not span three dimensions.
-Hierarchy build_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& options,
-                          const LevelCallback& on_level = {});
+// Builds the hierarchy over `points` (distinct grid points). kInvalidInput
+// if level 0 does not span three dimensions.
+StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points,
+                                    const HierarchyOptions& options,
+                                    const LevelCallback& on_level = {});
 
 // The cells of a level in canonical form: each cell's vertices sorted,
 // cells sorted. Two meshes are the same iff their canonical forms are equal.

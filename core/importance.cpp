@@ -1,4 +1,4 @@
-#include "importance.h"
+#include "core/importance.h"
 
 #include <limits>
 

@@ -1,7 +1,6 @@
-#include "independent_removal.h"
+#include "core/independent_removal.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <thread>
 #include <tuple>
 
@@ -27,7 +26,7 @@ FaceKey face_of(const std::array<uint32_t, 4>& cell, int opposite) {
 int index_of(const std::array<uint32_t, 4>& cell, uint32_t v) {
   for (int i = 0; i < 4; ++i)
     if (cell[i] == v) return i;
-  throw std::logic_error("remove_independent_vertices: vertex not in its cell");
+  check_failed(__FILE__, __LINE__, "the removed vertex is a corner of each cell of its star");
 }
 
 // The border of a cavity: one face per cell of the removed vertex's star
@@ -109,8 +108,8 @@ TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_verte
   for (size_t t = 1; t < threads; ++t) workers.emplace_back(compute, t);
   compute(0);
   for (auto& w : workers) w.join();
-  if (std::find(dependent.begin(), dependent.end(), 1) != dependent.end())
-    throw std::invalid_argument("remove_independent_vertices: the set is not independent");
+  // The caller's promise: no two removed vertices share an edge.
+  DTM_CHECK(std::find(dependent.begin(), dependent.end(), 1) == dependent.end());
 
   std::vector<BorderFace> border;
   for (size_t k = 0; k < removed_list.size(); ++k) {

@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <span>
 
-#include "delaunay.h"
-#include "topology.h"
+#include "mesh/delaunay.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 

@@ -1,34 +1,26 @@
-#include "level.h"
+#include "core/level.h"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-#include "geometry.h"
+#include "mesh/geometry.h"
 
 namespace dtm {
 
-const char* to_string(AlphaPolicy::Kind kind) {
-  switch (kind) {
-    case AlphaPolicy::Kind::kPaper: return "paper";
-    case AlphaPolicy::Kind::kFixed: return "fixed";
-    case AlphaPolicy::Kind::kConvexHull: return "hull";
-  }
-  return "?";
-}
-
-LevelGeometry analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy) {
-  TetMesh dt = delaunay_tetrahedralize(points);
+StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy) {
+  DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(points));
   return analyze_level(std::move(points), std::move(dt), policy);
 }
 
-LevelGeometry analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy) {
+StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
+                                      const AlphaPolicy& policy) {
   LevelGeometry L;
   L.points = std::move(points);
   L.dt = std::move(dt);
   if (L.dt.cells.empty())
-    throw DegenerateInput("the " + std::to_string(L.points.size()) +
-                          " points do not span three dimensions");
+    return Status{StatusCode::kInvalidInput, "the " + std::to_string(L.points.size()) +
+                                                 " points do not span three dimensions"};
   const size_t n = L.points.size(), m = L.dt.cells.size();
   L.cells_of_vertex = vertex_cells(L.dt, n);
   L.neighbors = vertex_neighbors(L.dt, L.cells_of_vertex);
@@ -54,18 +46,15 @@ LevelGeometry analyze_level(std::vector<GridPoint> points, TetMesh dt, const Alp
   L.solid_angle_sum.assign(n, 0);
   L.mesh_volume6.assign(n, 0);
   for (size_t c = 0; c < m; ++c) {
-    // Corners in lexicographic order of their coordinates: every quantity is
-    // then the same function of the four points whatever order a
-    // triangulation lists them in, so an encoder and a decoder that build
-    // the same cells differently carve them identically, bit for bit.
+    if (!kept_by_alpha(L.points, L.dt.cells[c], L.alpha)) continue;
+    // Corners in lexicographic order of their coordinates, as the carving
+    // takes them: the angles and volumes are then the same function of the
+    // four points whatever order a triangulation lists them in.
     std::array<uint32_t, 4> cell = L.dt.cells[c];
     std::sort(cell.begin(), cell.end(),
               [&](uint32_t a, uint32_t b) { return L.points[a] < L.points[b]; });
     const std::array<Vec3, 4> t = {to_vec(L.points[cell[0]]), to_vec(L.points[cell[1]]),
                                    to_vec(L.points[cell[2]]), to_vec(L.points[cell[3]])};
-    if (canonical_circumradius({L.points[cell[0]], L.points[cell[1]], L.points[cell[2]],
-                                L.points[cell[3]]}) > L.alpha)
-      continue;
     L.in_mesh[c] = 1;
     ++L.mesh_cells;
     const auto angles = solid_angles(t);

@@ -9,25 +9,22 @@
 #include <string>
 #include <vector>
 
-#include "delaunay.h"
-#include "geometry.h"
-#include "grid.h"
-#include "topology.h"
+#include "common/grid.h"
+#include "common/status.h"
+#include "mesh/carving.h"
+#include "mesh/delaunay.h"
+#include "mesh/geometry.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 
-// How alpha_l is chosen; the carved mesh M_l keeps the cells of circumradius <= alpha_l.
+// How alpha_l is chosen; the carved mesh M_l keeps the cells of
+// circumradius <= alpha_l (mesh/carving.h).
 struct AlphaPolicy {
-  enum class Kind {
-    kPaper,       // mean length of the finite edges of DT(V_l) (eq. 2.1)
-    kFixed,       // one value for every level (`fixed_value`, grid units)
-    kConvexHull,  // keep every cell: M_l = DT(V_l)
-  };
+  using Kind = AlphaKind;
   Kind kind = Kind::kPaper;
-  double fixed_value = 0;
+  double fixed_value = 0;  // grid units, for kFixed
 };
-
-const char* to_string(AlphaPolicy::Kind kind);
 
 // A vertex is interior when the solid angles of its mesh cells add up to 4*pi
 // within this tolerance (steradians). Computed on exact grid input the sum of
@@ -57,11 +54,12 @@ struct LevelGeometry {
 };
 
 // Analyses the level whose vertices are `points` (distinct grid points).
-// Throws DegenerateInput if they do not span 3D.
-LevelGeometry analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy);
+// kInvalidInput if they do not span 3D.
+StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy);
 
 // The same, given the Delaunay tetrahedralization of `points` already.
-LevelGeometry analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy);
+StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
+                                      const AlphaPolicy& policy);
 
 // The paper's quality figures of M_l (§III, Tables 1-2): mean and minimum
 // over its cells of each cell's smallest solid angle, and its boundary size.

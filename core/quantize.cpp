@@ -1,9 +1,8 @@
-#include "grid.h"
+#include "core/quantize.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <stdexcept>
 #include <string>
 
 namespace dtm {
@@ -18,24 +17,25 @@ double largest_extent(std::span<const InputPoint> points) {
   return std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
 }
 
-QuantizedPoints quantize(std::span<const InputPoint> input, int qbits) {
+StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits) {
+  const auto invalid = [](std::string what) { return Status{StatusCode::kInvalidInput, std::move(what)}; };
   if (qbits < kMinQBits || qbits > kMaxQBits)
-    throw std::invalid_argument("qbits must be in [1, 24], got " + std::to_string(qbits));
-  if (input.empty()) throw std::invalid_argument("no points to quantize");
+    return invalid("qbits must be in [1, 24], got " + std::to_string(qbits));
+  if (input.empty()) return invalid("no points to quantize");
 
   std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   for (size_t i = 0; i < input.size(); ++i) {
     const double c[3] = {input[i].x, input[i].y, input[i].z};
     for (int a = 0; a < 3; ++a) {
       if (!std::isfinite(c[a]))
-        throw std::invalid_argument("point " + std::to_string(i) + " has a non-finite coordinate");
+        return invalid("point " + std::to_string(i) + " has a non-finite coordinate");
       lo[a] = std::min(lo[a], c[a]);
       hi[a] = std::max(hi[a], c[a]);
     }
   }
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   if (!std::isfinite(extent))
-    throw std::invalid_argument("the points' bounding box is wider than a double can hold");
+    return invalid("the points' bounding box is wider than a double can hold");
   const int32_t max_cell = static_cast<int32_t>((uint32_t{1} << qbits) - 1);
 
   QuantizedPoints out;

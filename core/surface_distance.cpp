@@ -1,4 +1,4 @@
-#include "surface_distance.h"
+#include "core/surface_distance.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>

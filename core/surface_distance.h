@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "grid.h"
+#include "common/grid.h"
 
 namespace dtm {
 

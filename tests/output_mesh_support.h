@@ -16,7 +16,7 @@ namespace dtm::test {
 
 inline OutputMesh torus_mesh() {
   const NodeFile node = read_tetgen_node(data_path("torus_288.node"));
-  const QuantizedPoints q = quantize(node.points, 14);
+  const QuantizedPoints q = quantize(node.points, 14).value();
   OutputMesh m;
   m.grid = q.grid;
   m.points = q.points;

@@ -9,9 +9,9 @@
 #include <random>
 #include <set>
 
-#include "bitstream/point_set_coder.h"
-#include "codec/decoder.h"
-#include "codec/encoder.h"
+#include "codec/layer_coder.h"
+#include "codec/decode.h"
+#include "codec/expert_encode.h"
 #include "codec/format.h"
 #include "core/hierarchy.h"
 #include "test_support.h"
@@ -258,10 +258,10 @@ Encoded encode_model(std::vector<GridPoint> points, const Grid& grid, HierarchyO
                      bool hashes = true) {
   Encoded e;
   e.points = std::move(points);
-  e.hierarchy = build_hierarchy(e.points, opt);
-  EncoderOptions eo;
+  e.hierarchy = build_hierarchy(e.points, opt).value();
+  StreamOptions eo;
   eo.cell_hashes = hashes;
-  e.stream = encode_stream(e.hierarchy, e.points, grid, opt.alpha.kind, eo);
+  e.stream = encode_stream(e.hierarchy, e.points, grid, opt.alpha.kind, eo).value();
   return e;
 }
 
@@ -281,7 +281,7 @@ void expect_decoder_matches_encoder(const Encoded& e, const std::string& name) {
     EXPECT_EQ(l.alpha, ref.alpha);
     const TetMesh dt = d.delaunay();
     EXPECT_EQ(test::cells_by_coords(dt, d.points()),
-              test::cells_by_coords(delaunay_tetrahedralize(want), want))
+              test::cells_by_coords(delaunay_tetrahedralize(want).value(), want))
         << name << " level " << l.level;
     TetMesh carved_ref, carved_dec;
     carved_ref.cells = ref.mesh;

@@ -6,7 +6,7 @@
 #include <numeric>
 #include <random>
 
-#include "core/delaunay.h"
+#include "mesh/delaunay.h"
 #include "test_support.h"
 
 namespace dtm {
@@ -21,7 +21,7 @@ std::vector<uint32_t> iota_ids(size_t n) {
 }
 
 std::vector<test::CellByCoords> reference(const std::vector<GridPoint>& pts) {
-  return cells_by_coords(delaunay_tetrahedralize(pts), pts);
+  return cells_by_coords(delaunay_tetrahedralize(pts).value(), pts);
 }
 
 std::vector<test::CellByCoords> one_by_one(const std::vector<GridPoint>& pts, uint32_t seed) {
@@ -102,7 +102,7 @@ TEST(DelaunayUniqueness, TheGridReallyIsDegenerate) {
   // produce a valid triangulation of the cube's volume: the cells of the
   // 8x8x8 grid fill its 7^3 volume exactly.
   const auto pts = test::full_grid(8);
-  const TetMesh mesh = delaunay_tetrahedralize(pts);
+  const TetMesh mesh = delaunay_tetrahedralize(pts).value();
   double volume = 0;
   for (const auto& c : mesh.cells) {
     auto v = [&](int i) { return pts[c[i]]; };
@@ -120,9 +120,9 @@ TEST(DelaunayUniqueness, CoplanarInputIsRejected) {
   std::vector<GridPoint> flat;
   for (int x = 0; x < 5; ++x)
     for (int y = 0; y < 5; ++y) flat.push_back({x, y, 3});
-  EXPECT_THROW(delaunay_tetrahedralize(flat), DegenerateInput);
-  EXPECT_THROW(delaunay_tetrahedralize(std::vector<GridPoint>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}),
-               DegenerateInput);
+  EXPECT_EQ(delaunay_tetrahedralize(flat).status().code(), StatusCode::kInvalidInput);
+  EXPECT_EQ(delaunay_tetrahedralize(std::vector<GridPoint>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}).status().code(),
+            StatusCode::kInvalidInput);
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/geometry.h"
+#include "mesh/geometry.h"
 
 namespace dtm {
 namespace {

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "codec/decoder.h"
+#include "codec/decode.h"
 #include "codec/format.h"
 
 namespace dtm {

@@ -9,7 +9,7 @@
 #include <numeric>
 
 #include "core/boundary_simplification.h"
-#include "core/geometry.h"
+#include "mesh/geometry.h"
 #include "core/hierarchy.h"
 #include "core/importance.h"
 #include "test_support.h"
@@ -52,7 +52,7 @@ const std::vector<Case>& cases() {
 const Hierarchy& hierarchy_of(const Case& c) {
   static std::map<std::string, Hierarchy> built;
   auto it = built.find(c.name);
-  if (it == built.end()) it = built.emplace(c.name, build_hierarchy(c.points, c.options)).first;
+  if (it == built.end()) it = built.emplace(c.name, build_hierarchy(c.points, c.options).value()).first;
   return it->second;
 }
 
@@ -93,7 +93,7 @@ TEST_P(HierarchyProperties, RemovedSetsAreIndependentAndUntouchedCellsSurvive) {
     for (uint32_t v : coarse) removed[v] = 0;
 
     const auto fine_pts = gather(c().points, fine), coarse_pts = gather(c().points, coarse);
-    const TetMesh fine_dt = delaunay_tetrahedralize(fine_pts);
+    const TetMesh fine_dt = delaunay_tetrahedralize(fine_pts).value();
     for (const auto& cell : fine_dt.cells)
       for (int i = 0; i < 4; ++i)
         for (int j = i + 1; j < 4; ++j)
@@ -101,7 +101,7 @@ TEST_P(HierarchyProperties, RemovedSetsAreIndependentAndUntouchedCellsSurvive) {
               << c().name << " level " << l << ": removed vertices " << fine[cell[i]] << " and "
               << fine[cell[j]] << " share an edge";
 
-    const auto coarse_cells = test::cells_by_coords(delaunay_tetrahedralize(coarse_pts), coarse_pts);
+    const auto coarse_cells = test::cells_by_coords(delaunay_tetrahedralize(coarse_pts).value(), coarse_pts);
     size_t untouched = 0;
     for (const auto& cell : fine_dt.cells) {
       if (removed[fine[cell[0]]] || removed[fine[cell[1]]] || removed[fine[cell[2]]] ||
@@ -121,7 +121,7 @@ TEST_P(HierarchyProperties, RemovedSetsAreIndependentAndUntouchedCellsSurvive) {
 TEST_P(HierarchyProperties, EachLevelIsTheCarvedDelaunayOfItsVertices) {
   for (const Level& level : h().levels) {
     const auto pts = gather(c().points, level.vertices);
-    const LevelGeometry L = analyze_level(pts, c().options.alpha);
+    const LevelGeometry L = analyze_level(pts, c().options.alpha).value();
     EXPECT_DOUBLE_EQ(L.alpha, level.alpha);
     std::vector<std::array<uint32_t, 4>> expected;
     for (size_t k = 0; k < L.dt.cells.size(); ++k)
@@ -150,7 +150,7 @@ TEST_P(HierarchyProperties, InsertingLayersCoarsestFirstRebuildsEveryLevel) {
     have = levels[l].vertices;
     const auto pts = gather(c().points, have);
     EXPECT_EQ(test::cells_by_coords(dt.mesh(), c().points),
-              test::cells_by_coords(delaunay_tetrahedralize(pts), pts))
+              test::cells_by_coords(delaunay_tetrahedralize(pts).value(), pts))
         << c().name << " level " << l;
   }
 }
@@ -165,7 +165,7 @@ TEST_P(HierarchyProperties, RemovalCountsAddUp) {
 }
 
 TEST_P(HierarchyProperties, IsDeterministic) {
-  const Hierarchy again = build_hierarchy(c().points, c().options);
+  const Hierarchy again = build_hierarchy(c().points, c().options).value();
   ASSERT_EQ(again.levels.size(), h().levels.size());
   for (size_t l = 0; l < again.levels.size(); ++l)
     EXPECT_EQ(again.levels[l].vertices, h().levels[l].vertices);
@@ -178,7 +178,7 @@ TEST_P(HierarchyProperties, ImportanceOrderIsHonoured) {
   if (c().options.quality_guard > 0) GTEST_SKIP() << "the guard may skip vertices";
   for (size_t l = 0; l + 1 < h().levels.size(); ++l) {
     const auto& fine = h().levels[l].vertices;
-    const LevelGeometry L = analyze_level(gather(c().points, fine), c().options.alpha);
+    const LevelGeometry L = analyze_level(gather(c().points, fine), c().options.alpha).value();
     std::vector<uint8_t> removed(L.size(), 1);
     {
       const auto& coarse = h().levels[l + 1].vertices;
@@ -215,17 +215,17 @@ TEST(HierarchyStopping, RespectsLevelCountAndBaseSize) {
   const auto pts = test::load_quantized("bunny_10k").points;
   HierarchyOptions o = dmax(128);
   o.max_levels = 2;
-  EXPECT_EQ(build_hierarchy(pts, o).levels.size(), 3u);
+  EXPECT_EQ(build_hierarchy(pts, o).value().levels.size(), 3u);
   o.max_levels = 0;
   o.min_base_vertices = 6000;
-  const Hierarchy h = build_hierarchy(pts, o);
+  const Hierarchy h = build_hierarchy(pts, o).value();
   EXPECT_GE(h.levels.back().vertices.size(), 6000u);
   EXPECT_GT(h.levels.size(), 1u);
 }
 
 TEST(HierarchyStopping, PaperRuleEndsAtTheFirstLevelWithoutBoundaryRemoval) {
   const auto pts = test::load_quantized("torus_288").points;
-  const Hierarchy h = build_hierarchy(pts, dmax(335));
+  const Hierarchy h = build_hierarchy(pts, dmax(335)).value();
   for (size_t l = 1; l + 1 < h.levels.size(); ++l)
     EXPECT_GT(h.levels[l].stats.removed_boundary, 0u) << "level " << l;
   EXPECT_EQ(h.levels.back().stats.removed_boundary, 0u);
@@ -246,7 +246,7 @@ TEST(HierarchyQuality, GuardRejectsRemovalsThatWouldCreateWorseCells) {
 // of its link (error 0); a corner or an edge vertex does not.
 TEST(BoundarySimplification, FlatFaceVerticesAreCandidatesCornersAreNot) {
   const auto pts = test::full_grid(6);
-  const LevelGeometry L = analyze_level(pts, {AlphaPolicy::Kind::kConvexHull, 0});
+  const LevelGeometry L = analyze_level(pts, {AlphaPolicy::Kind::kConvexHull, 0}).value();
   Csr nothing;
   nothing.offsets.assign(L.size() + 1, 0);
   const auto candidates = boundary_candidates(L, nothing, {}, 0.25);
@@ -266,7 +266,7 @@ TEST(BoundarySimplification, RepresentedOriginalPointsBoundTheError) {
   // The same cube face vertex, now standing for an original point 3 units
   // off the face plane: it stops being a candidate for Dmax < 3.
   const auto pts = test::full_grid(6);
-  const LevelGeometry L = analyze_level(pts, {AlphaPolicy::Kind::kConvexHull, 0});
+  const LevelGeometry L = analyze_level(pts, {AlphaPolicy::Kind::kConvexHull, 0}).value();
   const uint32_t face_vertex = 0 * 36 + 2 * 6 + 3;  // (0, 2, 3) on the x = 0 face
   ASSERT_EQ(pts[face_vertex], (GridPoint{0, 2, 3}));
   const std::vector<GridPoint> originals = {{-3, 2, 3}};
@@ -298,7 +298,7 @@ TEST_P(CorpusHierarchy, BuildsToTheEnd) {
   const double extent = q.grid.step * ((1 << 14) - 1);
   HierarchyOptions o;
   o.dmax = 2.0 * (extent / 256) / q.grid.step;
-  const Hierarchy h = build_hierarchy(q.points, o);
+  const Hierarchy h = build_hierarchy(q.points, o).value();
   ASSERT_GE(h.levels.size(), 2u) << GetParam();
   for (size_t l = 1; l < h.levels.size(); ++l) {
     EXPECT_LT(h.levels[l].vertices.size(), h.levels[l - 1].vertices.size());

@@ -11,8 +11,8 @@
 #include <fstream>
 #include <iterator>
 
-#include "bitstream/point_set_coder.h"
-#include "codec/decoder.h"
+#include "codec/layer_coder.h"
+#include "codec/decode.h"
 #include "codec/format.h"
 #include "test_support.h"
 

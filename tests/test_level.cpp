@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <set>
 
-#include "core/geometry.h"
+#include "mesh/geometry.h"
 #include "core/level.h"
 #include "test_support.h"
 
@@ -15,7 +15,7 @@ namespace {
 
 TEST(Level, AlphaIsTheMeanFiniteEdgeLength) {
   const auto pts = test::random_grid_points(400, 10, 3);
-  const LevelGeometry L = analyze_level(pts, {});
+  const LevelGeometry L = analyze_level(pts, {}).value();
   // Edges recounted independently from the cells.
   std::set<std::pair<uint32_t, uint32_t>> edges;
   for (const auto& c : L.dt.cells)
@@ -29,7 +29,7 @@ TEST(Level, AlphaIsTheMeanFiniteEdgeLength) {
 
 TEST(Level, MeshKeepsExactlyTheCellsWithinAlpha) {
   const auto pts = test::random_grid_points(400, 10, 4);
-  const LevelGeometry L = analyze_level(pts, {});
+  const LevelGeometry L = analyze_level(pts, {}).value();
   uint64_t kept = 0;
   for (size_t c = 0; c < L.dt.cells.size(); ++c) {
     const auto& t = L.dt.cells[c];
@@ -46,17 +46,17 @@ TEST(Level, MeshKeepsExactlyTheCellsWithinAlpha) {
 TEST(Level, AlphaPolicies) {
   const auto pts = test::random_grid_points(300, 10, 5);
   AlphaPolicy hull{AlphaPolicy::Kind::kConvexHull, 0};
-  const LevelGeometry H = analyze_level(pts, hull);
+  const LevelGeometry H = analyze_level(pts, hull).value();
   EXPECT_EQ(H.mesh_cells, H.dt.cells.size());
   AlphaPolicy fixed{AlphaPolicy::Kind::kFixed, 1.0};  // below any circumradius of distinct points
-  EXPECT_EQ(analyze_level(pts, fixed).mesh_cells, 0u);
+  EXPECT_EQ(analyze_level(pts, fixed).value().mesh_cells, 0u);
 }
 
 // Every vertex whose star is complete sums to 4 pi; on a convex hull with
 // every cell kept, exactly the hull vertices are boundary vertices.
 TEST(Level, InteriorVerticesSumToFourPi) {
   const auto pts = test::full_grid(6);
-  const LevelGeometry L = analyze_level(pts, {AlphaPolicy::Kind::kConvexHull, 0});
+  const LevelGeometry L = analyze_level(pts, {AlphaPolicy::Kind::kConvexHull, 0}).value();
   int interior = 0;
   for (size_t v = 0; v < L.size(); ++v) {
     const GridPoint p = pts[v];
@@ -74,7 +74,7 @@ class CorpusLevel : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(CorpusLevel, SolidAngleBoundaryIsTheTopologicalBoundary) {
   const auto q = test::load_quantized(GetParam());
-  const LevelGeometry L = analyze_level(q.points, {});
+  const LevelGeometry L = analyze_level(q.points, {}).value();
   const auto topo = topological_boundary(L);
   size_t boundary = 0;
   for (size_t v = 0; v < L.size(); ++v) {
@@ -98,8 +98,8 @@ TEST_P(CorpusLevel, DetectedBoundaryIsCloseToTheTrueSurface) {
   // future work, so those models are skipped here rather than asserted loosely.
   const auto node = read_tetgen_node(test::data_path(GetParam() + ".node"));
   ASSERT_FALSE(node.markers.empty());
-  const auto q = quantize(node.points, 14);
-  const LevelGeometry L = analyze_level(q.points, {});
+  const auto q = quantize(node.points, 14).value();
+  const LevelGeometry L = analyze_level(q.points, {}).value();
   size_t differ = 0, surface = 0;
   for (size_t i = 0; i < node.points.size(); ++i) {
     const bool marked = node.markers[i] != 0;

@@ -9,7 +9,7 @@
 #include <map>
 #include <set>
 
-#include "core/geometry.h"
+#include "mesh/geometry.h"
 #include "format_test_support.h"
 #include "output_mesh_support.h"
 #include "test_support.h"

@@ -59,7 +59,9 @@ bool decodes_to(std::span<const uint8_t> block, const std::vector<Symbol>& symbo
   AdaptiveBit models[4];
   bool same = true;
   for (const Symbol& s : symbols) {
-    const uint64_t v = s.count > 0 ? dec.decode_uniform(s.count)
+    uint32_t uniform = UINT32_MAX;
+    if (s.count > 0 && !dec.decode_uniform(s.count, uniform).ok()) return false;
+    const uint64_t v = s.count > 0 ? uniform
                        : s.raw    ? dec.decode_raw(s.bits)
                                   : dec.decode(models[s.model]);
     same = same && v == s.value;
@@ -105,15 +107,17 @@ TEST(RangeCoder, UniformSymbolsCostLog2OfTheirCount) {
   }
 }
 
-// Damaged bytes: a uniform symbol either decodes into its range or reports
-// `count`, never a value past it, and the decoder stays usable after.
+// Damaged bytes: a uniform symbol either decodes into its range or is
+// refused, never a value past it, and the decoder stays usable after.
 TEST(RangeCoder, UniformSymbolsFromJunkStayInRangeOrSaySo) {
   // The code past the last whole multiple of range / count: 0xFFFFFFFF with
   // range 2^32 - 1 and count 3 is no symbol.
   const std::vector<uint8_t> past_the_end = {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF};
   RangeDecoder dec(past_the_end);
-  EXPECT_EQ(dec.decode_uniform(3), 3u);
-  EXPECT_LE(dec.decode_uniform(kMaxUniform), kMaxUniform);
+  uint32_t v = 0;
+  EXPECT_EQ(dec.decode_uniform(3, v).code(), StatusCode::kCorrupt);
+  const Status after = dec.decode_uniform(kMaxUniform, v);
+  EXPECT_TRUE(!after.ok() || v < kMaxUniform);
   std::mt19937 rng(4);
   for (int trial = 0; trial < 2000; ++trial) {
     std::vector<uint8_t> junk(8);
@@ -121,7 +125,9 @@ TEST(RangeCoder, UniformSymbolsFromJunkStayInRangeOrSaySo) {
     RangeDecoder d(junk);
     for (int i = 0; i < 6; ++i) {
       const uint32_t count = 2 + rng() % 300;
-      ASSERT_LE(d.decode_uniform(count), count);
+      uint32_t value = count;
+      const Status s = d.decode_uniform(count, value);
+      ASSERT_TRUE(s.ok() ? value < count : s.code() == StatusCode::kCorrupt);
     }
   }
 }

@@ -8,8 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "core/delaunay.h"
-#include "core/grid.h"
+#include "mesh/delaunay.h"
+#include "common/grid.h"
+#include "core/quantize.h"
 #include "tools/formats/tetgen.h"
 
 namespace dtm::test {
@@ -23,7 +24,7 @@ inline std::string data_path(const std::string& name) {
 }
 
 inline QuantizedPoints load_quantized(const std::string& model, int qbits = 14) {
-  return quantize(read_tetgen_node(data_path(model + ".node")).points, qbits);
+  return quantize(read_tetgen_node(data_path(model + ".node")).points, qbits).value();
 }
 
 // A tetrahedron named by its corner coordinates, corners sorted: independent

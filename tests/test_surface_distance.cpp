@@ -13,7 +13,7 @@
 #include "core/surface_distance.h"
 #include "test_support.h"
 #include "tools/formats/surface_writers.h"
-#include "tools/reference_shape.h"
+#include "core/reference_shape.h"
 
 namespace dtm {
 namespace {
@@ -41,7 +41,7 @@ TEST(SurfaceDistanceTracker, EqualsAFullSearchOnEveryLevelInAnyOrder) {
   HierarchyOptions options;
   options.dmax = 128;
   options.measure_boundary_error = false;
-  const Hierarchy h = build_hierarchy(points, options);
+  const Hierarchy h = build_hierarchy(points, options).value();
   ASSERT_GE(h.levels.size(), 10u);
   std::vector<std::vector<std::array<uint32_t, 3>>> surfaces;
   for (const Level& level : h.levels) surfaces.push_back(boundary_triangles(level.mesh));
@@ -69,7 +69,7 @@ TEST(SurfaceDistanceTracker, NamesMakeTrianglesTheSameAcrossRenumbering) {
   // The hierarchy gives each level's vertices local numbers and their grid
   // ids as names: renumbering between calls must not confuse the tracker.
   const auto points = test::load_quantized("torus_288").points;
-  const Hierarchy h = build_hierarchy(points, {});
+  const Hierarchy h = build_hierarchy(points, {}).value();
   ASSERT_GE(h.levels.size(), 2u);
   const auto fine = boundary_triangles(h.levels[0].mesh);
   const std::vector<GridPoint> queries = boundary_vertices(fine, points);
@@ -93,7 +93,7 @@ TEST(SurfaceDistanceTracker, HierarchyErrorsAreTheFullSearchs) {
   const auto points = test::load_quantized("bunny_10k").points;
   HierarchyOptions options;
   options.dmax = 128;
-  const Hierarchy h = build_hierarchy(points, options);
+  const Hierarchy h = build_hierarchy(points, options).value();
   const std::vector<GridPoint> originals = boundary_vertices(boundary_triangles(h.levels[0].mesh), points);
   for (const Level& level : h.levels) {
     const DistanceSummary d = distance_to_surface(points, boundary_triangles(level.mesh), originals);
@@ -110,7 +110,7 @@ TEST(ReferenceShape, RemembersNothingThatChangesItsAnswers) {
   HierarchyOptions options;
   options.dmax = 128;
   options.measure_boundary_error = false;
-  const Hierarchy h = build_hierarchy(q.points, options);
+  const Hierarchy h = build_hierarchy(q.points, options).value();
   // The finest level's own cells as the "input tetrahedra" (indices of q's
   // points through the identity map).
   QuantizedPoints identity = q;

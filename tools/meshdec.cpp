@@ -8,12 +8,14 @@
 
 #include <unistd.h>
 
-#include "codec/decoder.h"
-#include "core/topology.h"
+#include "codec/decode.h"
+#include "mesh/carving.h"
+#include "mesh/topology.h"
 #include "tools/atomic_file.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
 #include "tools/stream_input.h"
+#include "tools/version.h"
 
 namespace {
 
@@ -29,126 +31,160 @@ Examples:
 A truncated stream decodes to the finest whole level it holds (exit status 0,
 a note on stderr); a damaged or foreign one is an error and writes nothing.)";
 
+struct Command {
+  std::string input, output, format_name;
+  int level = -1;
+  bool verify = false, quiet = false;
+  uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
+};
+
+void add_options(CLI::App& app, Command& c) {
+  app.add_option("input", c.input, ".dtm stream ('-' = standard input)")->required();
+  app.add_option("-o,--output", c.output,
+                 "output: X.vtu, X.vtk, X.mesh, X.msh, X.node (+ X.ele); the boundary surface as X.ply or "
+                 "X.off; the points as X.xyz; '-' = standard output")
+      ->required();
+  app.add_option("--level", c.level, "level of detail to write (0 = finest; default: the finest present)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--format", c.format_name,
+                 std::string(dtm::kOutputFormatNames) + " (default: from the output's extension)")
+      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "ply", "off", "xyz"}));
+  app.add_flag("--verify", c.verify,
+               "check every decoded level against the cell-set hashes in the stream (meshenc --hash-cells)");
+  app.add_option("--max-vertices", c.max_vertices, "refuse streams claiming more vertices than this")
+      ->capture_default_str();
+  app.add_flag("-q,--quiet", c.quiet, "no notes on stderr");
+  app.set_version_flag("--version", dtm::version_text("meshdec"));
+}
+
+dtm::MeshFormat output_format(const Command& c) {
+  dtm::MeshFormat format;
+  if (!c.format_name.empty()) format = dtm::format_named(c.format_name);
+  else if (c.output == "-") format = dtm::MeshFormat::kVtu;
+  else format = dtm::format_for_path(c.output);
+  if (c.output == "-" && format == dtm::MeshFormat::kTetgen)
+    throw std::invalid_argument("TetGen output is two files; it cannot go to standard output");
+  return format;
+}
+
+// --verify: every decoded level's mesh against the cell-set hash the encoder stored.
+class Verifier {
+ public:
+  void check(const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
+    if (!error_.ok()) return;
+    if (!l.cell_hash) {
+      error_ = {dtm::StatusCode::kUnsupported,
+                "--verify: the stream has no cell-set hashes (encode with meshenc --hash-cells)"};
+      return;
+    }
+    const auto cells = d.carved_cells();
+    if (!d.mesh_status().ok()) {
+      error_ = d.mesh_status();
+      return;
+    }
+    if (dtm::cell_set_hash(d.points(), cells) != *l.cell_hash)
+      error_ = {dtm::StatusCode::kCorrupt, "--verify: level " + std::to_string(l.level) +
+                                               " differs from the encoder's mesh (a different Delaunay "
+                                               "implementation?)"};
+    else
+      ++verified_;
+  }
+  const dtm::Status& error() const { return error_; }
+  int verified() const { return verified_; }
+
+ private:
+  int verified_ = 0;
+  dtm::Status error_;
+};
+
+// Feeds the input to the decoder as it is read; throws on anything but a
+// whole or truncated stream with at least one level.
+void decode(const Command& c, dtm::ProgressiveDecoder& decoder, Verifier& verifier) {
+  const bool progress = !c.quiet && isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  auto on_level = [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
+    if (progress) {
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::fprintf(stderr, "\r  level %d decoded: %u vertices, %.0f vertices/s\033[K", l.level, l.vertices,
+                   l.vertices / std::max(s, 1e-9));
+    }
+    if (c.verify) verifier.check(d, l);
+  };
+  dtm::read_in_chunks(c.input, [&](std::span<const uint8_t> chunk) {
+    // Read to the end: trailing bytes are an error.
+    return decoder.feed(chunk, on_level).ok() && !decoder.stopped();
+  });
+  if (progress) std::fprintf(stderr, "\r\033[K");
+  const dtm::Status status = decoder.finish();
+  if (status.code() != dtm::StatusCode::kOk && status.code() != dtm::StatusCode::kTruncated)
+    throw std::runtime_error(c.input + ": " + status.message());
+  if (!verifier.error().ok()) throw std::runtime_error(c.input + ": " + verifier.error().message());
+  if (c.level >= 0 && decoder.has_header() && c.level >= decoder.header().level_count)
+    throw std::runtime_error(c.input + ": --level " + std::to_string(c.level) + " asked, the stream has levels 0 to " +
+                             std::to_string(decoder.header().level_count - 1));
+  if (decoder.finest_level() < 0) throw std::runtime_error(c.input + ": " + status.message());
+  if (status.code() == dtm::StatusCode::kTruncated && !c.quiet)
+    std::fprintf(stderr, "meshdec: %s: truncated: %s; writing level %d\n", c.input.c_str(),
+                 status.message().c_str(), decoder.finest_level());
+}
+
+// The decoder's finest level as the writers take it.
+dtm::OutputMesh output_mesh(const Command& c, const dtm::ProgressiveDecoder& decoder) {
+  dtm::OutputMesh mesh;
+  mesh.grid = decoder.header().grid;
+  mesh.points = decoder.points();
+  const dtm::TetMesh dt = decoder.delaunay();
+  if (!decoder.mesh_status().ok()) throw std::runtime_error(c.input + ": " + decoder.mesh_status().message());
+  const std::vector<uint8_t> in_mesh = dtm::carve(dt, mesh.points, decoder.levels().back().alpha);
+  mesh.cells = dtm::flagged_cells(dt, in_mesh);
+  mesh.level = decoder.vertex_levels();
+  mesh.boundary = dtm::boundary_vertices(dt, mesh.points.size(), in_mesh);
+  return mesh;
+}
+
+void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat format) {
+  const auto files = dtm::render_mesh(mesh, format, c.output == "-" ? "out.vtu" : c.output);
+  if (c.output != "-") return dtm::write_files_atomically(files);
+  const std::string& bytes = files.front().second;
+  if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() || std::fflush(stdout) != 0)
+    throw std::runtime_error("cannot write to standard output");
+}
+
+int run(const Command& c) {
+  const dtm::MeshFormat format = output_format(c);
+  dtm::DecoderOptions options;
+  options.max_vertices = c.max_vertices;
+  options.stop_after_level = c.level;
+  dtm::ProgressiveDecoder decoder(options);
+  Verifier verifier;
+  decode(c, decoder, verifier);
+  const dtm::OutputMesh mesh = output_mesh(c, decoder);
+  write_output(c, mesh, format);
+  if (!c.quiet) {
+    std::string note = c.verify ? ", verified " + std::to_string(verifier.verified()) + " levels" : "";
+    if (format == dtm::MeshFormat::kPly || format == dtm::MeshFormat::kOff) {
+      const dtm::BoundarySurface s = dtm::boundary_surface(mesh);
+      note += "; boundary surface: " + std::to_string(s.vertices.size()) + " vertices, " +
+              std::to_string(s.triangles.size()) + " triangles";
+    }
+    std::fprintf(stderr, "meshdec: level %d: %zu vertices, %zu tetrahedra%s\n", decoder.finest_level(),
+                 mesh.points.size(), mesh.cells.size(), note.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"meshdec: decode a .dtm stream to a tetrahedral mesh"};
   app.footer(kExamples);
-  std::string input, output, format_name;
-  int level = -1;
-  bool verify = false, quiet = false;
-  uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
-  app.add_option("input", input, ".dtm stream ('-' = standard input)")->required();
-  app.add_option("-o,--output", output,
-                 "output: X.vtu, X.vtk, X.mesh, X.msh, X.node (+ X.ele); the boundary surface as X.ply or "
-                 "X.off; the points as X.xyz; '-' = standard output")
-      ->required();
-  app.add_option("--level", level, "level of detail to write (0 = finest; default: the finest present)")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--format", format_name,
-                 std::string(dtm::kOutputFormatNames) + " (default: from the output's extension)")
-      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "ply", "off", "xyz"}));
-  app.add_flag("--verify", verify,
-               "check every decoded level against the cell-set hashes in the stream (meshenc --hash-cells)");
-  app.add_option("--max-vertices", max_vertices, "refuse streams claiming more vertices than this")
-      ->capture_default_str();
-  app.add_flag("-q,--quiet", quiet, "no notes on stderr");
+  Command command;
+  add_options(app, command);
   CLI11_PARSE(app, argc, argv);
-
   try {
-    dtm::MeshFormat format;
-    if (!format_name.empty())
-      format = dtm::format_named(format_name);
-    else if (output == "-")
-      format = dtm::MeshFormat::kVtu;
-    else
-      format = dtm::format_for_path(output);
-    if (output == "-" && format == dtm::MeshFormat::kTetgen)
-      throw std::invalid_argument("TetGen output is two files; it cannot go to standard output");
-
-    dtm::DecoderOptions options;
-    options.max_vertices = max_vertices;
-    options.stop_after_level = level;
-    dtm::ProgressiveDecoder decoder(options);
-    int verified = 0;
-    dtm::Status verify_error;
-    const bool progress = !quiet && isatty(STDERR_FILENO);
-    const auto start = std::chrono::steady_clock::now();
-    auto on_level = [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
-      if (progress) {
-        const double s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::fprintf(stderr, "\r  level %d decoded: %u vertices, %.0f vertices/s\033[K", l.level,
-                     l.vertices, l.vertices / std::max(s, 1e-9));
-      }
-      if (!verify || !verify_error.ok()) return;
-      if (!l.cell_hash) {
-        verify_error = {dtm::StatusCode::kUnsupported,
-                        "--verify: the stream has no cell-set hashes (encode with meshenc --hash-cells)"};
-        return;
-      }
-      const auto cells = d.carved_cells();
-      if (!d.mesh_status().ok()) {
-        verify_error = d.mesh_status();
-        return;
-      }
-      if (dtm::cell_set_hash(d.points(), cells) != *l.cell_hash)
-        verify_error = {dtm::StatusCode::kCorrupt,
-                        "--verify: level " + std::to_string(l.level) +
-                            " differs from the encoder's mesh (a different Delaunay implementation?)"};
-      else
-        ++verified;
-    };
-    dtm::Status fed;
-    dtm::read_in_chunks(input, [&](std::span<const uint8_t> chunk) {
-      fed = decoder.feed(chunk, on_level);
-      return fed.ok() && !decoder.stopped();  // read to the end: trailing bytes are an error
-    });
-    if (progress) std::fprintf(stderr, "\r\033[K");
-    const dtm::Status status = decoder.finish();
-    if (status.code() != dtm::StatusCode::kOk && status.code() != dtm::StatusCode::kTruncated)
-      throw std::runtime_error(input + ": " + status.message());
-    if (!verify_error.ok()) throw std::runtime_error(input + ": " + verify_error.message());
-    if (level >= 0 && decoder.has_header() && level >= decoder.header().level_count)
-      throw std::runtime_error(input + ": --level " + std::to_string(level) + " asked, the stream has levels 0 to " +
-                               std::to_string(decoder.header().level_count - 1));
-    if (decoder.finest_level() < 0) throw std::runtime_error(input + ": " + status.message());
-    if (status.code() == dtm::StatusCode::kTruncated && !quiet)
-      std::fprintf(stderr, "meshdec: %s: truncated: %s; writing level %d\n", input.c_str(),
-                   status.message().c_str(), decoder.finest_level());
-
-    dtm::OutputMesh mesh;
-    mesh.grid = decoder.header().grid;
-    mesh.points = decoder.points();
-    const dtm::TetMesh dt = decoder.delaunay();
-    if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
-    const double alpha = decoder.levels().back().alpha;
-    const std::vector<uint8_t> in_mesh = dtm::carve(dt, mesh.points, alpha);
-    mesh.cells = dtm::flagged_cells(dt, in_mesh);
-    mesh.level = decoder.vertex_levels();
-    mesh.boundary = dtm::boundary_vertices(dt, mesh.points.size(), in_mesh);
-
-    const auto files = dtm::render_mesh(mesh, format, output == "-" ? "out.vtu" : output);
-    if (output == "-") {
-      const std::string& bytes = files.front().second;
-      if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() || std::fflush(stdout) != 0)
-        throw std::runtime_error("cannot write to standard output");
-    } else {
-      dtm::write_files_atomically(files);
-    }
-    if (!quiet) {
-      std::string note = verify ? ", verified " + std::to_string(verified) + " levels" : "";
-      if (format == dtm::MeshFormat::kPly || format == dtm::MeshFormat::kOff) {
-        const dtm::BoundarySurface s = dtm::boundary_surface(mesh);
-        note += "; boundary surface: " + std::to_string(s.vertices.size()) + " vertices, " +
-                std::to_string(s.triangles.size()) + " triangles";
-      }
-      std::fprintf(stderr, "meshdec: level %d: %zu vertices, %zu tetrahedra%s\n", decoder.finest_level(),
-                   mesh.points.size(), mesh.cells.size(), note.c_str());
-    }
+    return run(command);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshdec: error: %s\n", e.what());
     return 1;
   }
-  return 0;
 }

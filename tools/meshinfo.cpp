@@ -8,10 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "codec/decoder.h"
+#include "codec/decode.h"
 #include "codec/format.h"
 #include "core/level.h"
 #include "tools/stream_input.h"
+#include "tools/version.h"
 
 namespace {
 
@@ -26,11 +27,109 @@ struct QualityRow {
   dtm::MeshQuality quality;
 };
 
-// The paper's quality figures of one decoded level, from its own analysis.
-QualityRow quality_of(std::vector<dtm::GridPoint> points, double alpha) {
-  const dtm::LevelGeometry L =
-      dtm::analyze_level(std::move(points), {dtm::AlphaPolicy::Kind::kFixed, alpha});
-  return {L.mesh_cells, dtm::mesh_quality(L)};
+// The paper's quality figures of every level the stream holds, each from its
+// own analysis (the level's points carved with its stored alpha).
+std::vector<QualityRow> decode_quality(const std::string& input, std::span<const uint8_t> bytes) {
+  std::vector<QualityRow> rows;
+  dtm::Status failed;
+  dtm::ProgressiveDecoder decoder;
+  const dtm::Status st = decoder.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
+    if (!failed.ok()) return;
+    auto level = dtm::analyze_level(d.points(), {dtm::AlphaKind::kFixed, l.alpha});
+    // Hostile points (too many cells) are refused by name.
+    if (!level.ok()) failed = level.status().with_context("level " + std::to_string(l.level));
+    else rows.push_back({level->mesh_cells, dtm::mesh_quality(*level)});
+  });
+  if (!st.ok()) throw std::runtime_error(input + ": " + st.message());
+  if (!failed.ok()) throw std::runtime_error(input + ": " + failed.message());
+  return rows;
+}
+
+nlohmann::json summary_json(const std::string& input, const dtm::StreamSummary& s,
+                            const std::vector<QualityRow>& quality) {
+  const auto& h = s.header;
+  const double step = h.grid.step;
+  const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
+  nlohmann::json j;
+  j["input"] = input;
+  j["version"] = std::to_string(h.version_major) + "." + std::to_string(h.version_minor);
+  j["qbits"] = h.grid.qbits;
+  j["origin"] = {h.grid.origin[0], h.grid.origin[1], h.grid.origin[2]};
+  j["step"] = step;
+  j["alpha_policy"] = dtm::to_string(h.alpha_policy);
+  j["cell_hashes"] = (h.flags & dtm::kFlagCellHashes) != 0;
+  j["level_count"] = h.level_count;
+  j["vertices"] = h.vertex_count;
+  j["bytes"] = s.bytes;
+  j["bits_per_vertex"] = 8.0 * s.bytes / h.vertex_count;
+  j["truncated"] = truncated;
+  if (truncated) j["truncation"] = s.status.message();
+  j["levels"] = nlohmann::json::array();
+  for (size_t i = 0; i < s.layers.size(); ++i) {
+    const auto& l = s.layers[i];
+    const uint64_t layer_bytes = dtm::kLayerHeaderSize + l.header.payload_bytes;
+    nlohmann::json row = {{"level", l.header.level},
+                          {"vertices", l.header.level_vertices},
+                          {"new_vertices", l.header.new_vertices},
+                          {"alpha", l.header.alpha * step},
+                          {"layer_bytes", layer_bytes},
+                          {"layer_bits_per_new_vertex", 8.0 * layer_bytes / l.header.new_vertices},
+                          {"complete", l.complete}};
+    if (h.flags & dtm::kFlagCellHashes) {
+      char hex[17];
+      std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)l.header.cell_hash);
+      row["cell_hash"] = hex;
+    }
+    if (i < quality.size())
+      row.update({{"tetrahedra", quality[i].tetrahedra},
+                  {"boundary_vertices", quality[i].quality.boundary_vertices},
+                  {"avg_min_solid_angle", quality[i].quality.avg_min_solid_angle},
+                  {"min_solid_angle", quality[i].quality.min_solid_angle}});
+    j["levels"].push_back(row);
+  }
+  return j;
+}
+
+void print_table(const std::string& input, const dtm::StreamSummary& s, const std::vector<QualityRow>& quality,
+                 bool stats) {
+  const auto& h = s.header;
+  const double step = h.grid.step;
+  std::printf("%s: .dtm %u.%u, %u vertices in %u levels, q=%d, step=%.6g, alpha policy %s%s\n", input.c_str(),
+              h.version_major, h.version_minor, h.vertex_count, h.level_count, h.grid.qbits, step,
+              dtm::to_string(h.alpha_policy), (h.flags & dtm::kFlagCellHashes) ? ", cell hashes" : "");
+  const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
+  std::printf("%llu bytes, %.2f bits per vertex%s\n", (unsigned long long)s.bytes, 8.0 * s.bytes / h.vertex_count,
+              truncated ? (", TRUNCATED: " + s.status.message()).c_str() : "");
+  std::printf("%5s %9s %9s %11s %11s %9s%s\n", "level", "vertices", "new", "alpha", "layer_bytes", "bits/new",
+              stats ? "      tets  boundary avg_minSA    min_SA" : "");
+  for (size_t i = 0; i < s.layers.size(); ++i) {
+    const auto& l = s.layers[i];
+    const uint64_t layer_bytes = dtm::kLayerHeaderSize + l.header.payload_bytes;
+    std::printf("%5u %9u %9u %11.5g %11llu %9.2f", l.header.level, l.header.level_vertices, l.header.new_vertices,
+                l.header.alpha * step, (unsigned long long)layer_bytes, 8.0 * layer_bytes / l.header.new_vertices);
+    if (i < quality.size())
+      std::printf(" %9llu %9llu %9.6f %9.3g", (unsigned long long)quality[i].tetrahedra,
+                  (unsigned long long)quality[i].quality.boundary_vertices, quality[i].quality.avg_min_solid_angle,
+                  quality[i].quality.min_solid_angle);
+    std::printf("%s\n", l.complete ? "" : "  (incomplete)");
+  }
+}
+
+int run(const std::string& input, bool json, bool stats) {
+  std::vector<uint8_t> bytes;
+  dtm::read_in_chunks(input, [&](std::span<const uint8_t> chunk) {
+    bytes.insert(bytes.end(), chunk.begin(), chunk.end());
+    return true;
+  });
+  const dtm::StreamSummary s = dtm::scan_stream(bytes);
+  const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
+  if (!s.status.ok() && !truncated) throw std::runtime_error(input + ": " + s.status.message());
+  if (s.layers.empty() && truncated && s.bytes < dtm::kHeaderSize)
+    throw std::runtime_error(input + ": " + s.status.message());
+  const std::vector<QualityRow> quality = stats ? decode_quality(input, bytes) : std::vector<QualityRow>{};
+  if (json) std::printf("%s\n", summary_json(input, s, quality).dump(2).c_str());
+  else print_table(input, s, quality, stats);
+  return 0;
 }
 
 }  // namespace
@@ -43,101 +142,12 @@ int main(int argc, char** argv) {
   app.add_option("input", input, ".dtm stream ('-' = standard input)")->required();
   app.add_flag("--json", json, "print JSON");
   app.add_flag("--stats", stats, "decode every level and add its quality figures");
+  app.set_version_flag("--version", dtm::version_text("meshinfo"));
   CLI11_PARSE(app, argc, argv);
-
   try {
-    std::vector<uint8_t> bytes;
-    dtm::read_in_chunks(input, [&](std::span<const uint8_t> chunk) {
-      bytes.insert(bytes.end(), chunk.begin(), chunk.end());
-      return true;
-    });
-    const dtm::StreamSummary s = dtm::scan_stream(bytes);
-    const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
-    if (!s.status.ok() && !truncated) throw std::runtime_error(input + ": " + s.status.message());
-    if (s.layers.empty() && truncated && s.bytes < dtm::kHeaderSize)
-      throw std::runtime_error(input + ": " + s.status.message());
-
-    std::vector<QualityRow> quality;
-    if (stats) {
-      dtm::ProgressiveDecoder decoder;
-      const dtm::Status st =
-          decoder.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
-            try {
-              quality.push_back(quality_of(d.points(), l.alpha));
-            } catch (const dtm::DegenerateInput& e) {  // hostile points: too many cells
-              throw std::runtime_error(input + ": level " + std::to_string(l.level) + ": " + e.what());
-            }
-          });
-      if (!st.ok()) throw std::runtime_error(input + ": " + st.message());
-    }
-
-    const auto& h = s.header;
-    const double step = h.grid.step;
-    const uint32_t finest = h.vertex_count;
-    nlohmann::json j;
-    j["input"] = input;
-    j["version"] = std::to_string(h.version_major) + "." + std::to_string(h.version_minor);
-    j["qbits"] = h.grid.qbits;
-    j["origin"] = {h.grid.origin[0], h.grid.origin[1], h.grid.origin[2]};
-    j["step"] = step;
-    j["alpha_policy"] = dtm::to_string(h.alpha_policy);
-    j["cell_hashes"] = (h.flags & dtm::kFlagCellHashes) != 0;
-    j["level_count"] = h.level_count;
-    j["vertices"] = finest;
-    j["bytes"] = s.bytes;
-    j["bits_per_vertex"] = 8.0 * s.bytes / finest;
-    j["truncated"] = truncated;
-    if (truncated) j["truncation"] = s.status.message();
-    j["levels"] = nlohmann::json::array();
-    for (size_t i = 0; i < s.layers.size(); ++i) {
-      const auto& l = s.layers[i];
-      const uint64_t layer_bytes = dtm::kLayerHeaderSize + l.header.payload_bytes;
-      nlohmann::json row = {{"level", l.header.level},
-                            {"vertices", l.header.level_vertices},
-                            {"new_vertices", l.header.new_vertices},
-                            {"alpha", l.header.alpha * step},
-                            {"layer_bytes", layer_bytes},
-                            {"layer_bits_per_new_vertex", 8.0 * layer_bytes / l.header.new_vertices},
-                            {"complete", l.complete}};
-      if (h.flags & dtm::kFlagCellHashes) {
-        char hex[17];
-        std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)l.header.cell_hash);
-        row["cell_hash"] = hex;
-      }
-      if (i < quality.size())
-        row.update({{"tetrahedra", quality[i].tetrahedra},
-                    {"boundary_vertices", quality[i].quality.boundary_vertices},
-                    {"avg_min_solid_angle", quality[i].quality.avg_min_solid_angle},
-                    {"min_solid_angle", quality[i].quality.min_solid_angle}});
-      j["levels"].push_back(row);
-    }
-    if (json) {
-      std::printf("%s\n", j.dump(2).c_str());
-      return 0;
-    }
-    std::printf("%s: .dtm %s, %u vertices in %u levels, q=%d, step=%.6g, alpha policy %s%s\n",
-                input.c_str(), j["version"].get<std::string>().c_str(), finest, h.level_count,
-                h.grid.qbits, step, dtm::to_string(h.alpha_policy),
-                (h.flags & dtm::kFlagCellHashes) ? ", cell hashes" : "");
-    std::printf("%llu bytes, %.2f bits per vertex%s\n", (unsigned long long)s.bytes,
-                8.0 * s.bytes / finest, truncated ? (", TRUNCATED: " + s.status.message()).c_str() : "");
-    std::printf("%5s %9s %9s %11s %11s %9s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
-                "bits/new", stats ? "      tets  boundary avg_minSA    min_SA" : "");
-    for (size_t i = 0; i < s.layers.size(); ++i) {
-      const auto& l = s.layers[i];
-      const uint64_t layer_bytes = dtm::kLayerHeaderSize + l.header.payload_bytes;
-      std::printf("%5u %9u %9u %11.5g %11llu %9.2f", l.header.level, l.header.level_vertices,
-                  l.header.new_vertices, l.header.alpha * step, (unsigned long long)layer_bytes,
-                  8.0 * layer_bytes / l.header.new_vertices);
-      if (i < quality.size())
-        std::printf(" %9llu %9llu %9.6f %9.3g", (unsigned long long)quality[i].tetrahedra,
-                    (unsigned long long)quality[i].quality.boundary_vertices,
-                    quality[i].quality.avg_min_solid_angle, quality[i].quality.min_solid_angle);
-      std::printf("%s\n", l.complete ? "" : "  (incomplete)");
-    }
+    return run(input, json, stats);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshinfo: error: %s\n", e.what());
     return 1;
   }
-  return 0;
 }

@@ -1,4 +1,4 @@
-#include "report.h"
+#include "tools/report.h"
 
 namespace dtm {
 
@@ -32,25 +32,32 @@ nlohmann::json level_json(const LevelStats& s, const Grid& g) {
           {"mean_boundary_error", s.mean_boundary_error * g.step}};
 }
 
-nlohmann::json report_json(const ReportContext& ctx, const std::vector<LevelStats>& levels) {
+nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
+  const Grid& g = r.grid;
   nlohmann::json j;
-  j["input"] = ctx.input;
-  j["qbits"] = ctx.grid.qbits;
-  j["origin"] = {ctx.grid.origin[0], ctx.grid.origin[1], ctx.grid.origin[2]};
-  j["step"] = ctx.grid.step;
-  j["scale"] = ctx.scale;
-  j["duplicates_merged"] = ctx.duplicates_merged;
+  j["input"] = input;
+  j["qbits"] = g.qbits;
+  j["origin"] = {g.origin[0], g.origin[1], g.origin[2]};
+  j["step"] = g.step;
+  j["scale"] = r.scale;
+  j["duplicates_merged"] = r.duplicates_merged;
+  if (r.reference_tetrahedra > 0) j["reference_tetrahedra"] = r.reference_tetrahedra;
   j["levels"] = nlohmann::json::array();
-  for (const auto& s : levels) {
-    j["levels"].push_back(level_json(s, ctx.grid));
-    if (static_cast<size_t>(s.level) < ctx.layer_bytes.size())
-      j["levels"].back()["layer_bytes"] = ctx.layer_bytes[s.level];
-    for (size_t k = 0; k < ctx.streamed_levels.size(); ++k)
-      if (ctx.streamed_levels[k] == s.level) j["levels"].back()["stream_level"] = k;
+  for (const LevelReport& level : r.levels) {
+    const LevelStats& s = level.stats;
+    nlohmann::json row = level_json(s, g);
+    if (static_cast<size_t>(s.level) < r.layer_bytes.size()) row["layer_bytes"] = r.layer_bytes[s.level];
+    for (size_t k = 0; k < r.streamed_levels.size(); ++k)
+      if (r.streamed_levels[k] == s.level) row["stream_level"] = k;
+    if (level.reference_error) {
+      row["reference_max_error"] = level.reference_error->max * g.step;
+      row["reference_mean_error"] = level.reference_error->mean * g.step;
+    }
+    j["levels"].push_back(row);
   }
-  if (ctx.stream_bytes > 0 && !levels.empty()) {
-    j["stream_bytes"] = ctx.stream_bytes;
-    j["bits_per_vertex"] = 8.0 * ctx.stream_bytes / levels.front().vertices;
+  if (r.stream_bytes > 0 && !r.levels.empty()) {
+    j["stream_bytes"] = r.stream_bytes;
+    j["bits_per_vertex"] = 8.0 * r.stream_bytes / r.levels.front().stats.vertices;
   }
   return j;
 }

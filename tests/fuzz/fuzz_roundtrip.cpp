@@ -1,13 +1,14 @@
 // Random small point sets -> hierarchy -> stream -> decoder: every decoded
-// level is the encoder's (vertex set and carved cells), and encoding twice
-// gives the same bytes.
+// level is the encoder's (vertex set and carved cells), the decoder produces
+// the vertices in the order the encoder said, and encoding twice gives the
+// same bytes.
 #include <cstdint>
 #include <set>
 #include <span>
 #include <vector>
 
-#include "codec/decoder.h"
-#include "codec/encoder.h"
+#include "codec/decode.h"
+#include "codec/expert_encode.h"
 #include "codec/format.h"
 #include "core/hierarchy.h"
 #include "fuzz_check.h"
@@ -30,18 +31,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   options.dmax = 1.0 + data[1] % 7;
   options.min_base_vertices = 4;
   options.measure_boundary_error = false;
-  dtm::Hierarchy hierarchy;
-  try {
-    hierarchy = dtm::build_hierarchy(points, options);
-  } catch (const dtm::DegenerateInput&) {
+  const auto built = dtm::build_hierarchy(points, options);
+  if (!built.ok()) {
+    FUZZ_CHECK(built.status().code() == dtm::StatusCode::kInvalidInput);
     return 0;  // flat input: refused, as it must be
   }
-  dtm::EncoderOptions eo;
-  eo.cell_hashes = true;
-  eo.level_step = step;
-  const auto first = dtm::encode_stream(hierarchy, points, grid, options.alpha.kind, eo);
-  const auto second = dtm::encode_stream(hierarchy, points, grid, options.alpha.kind, eo);
-  FUZZ_CHECK(first.bytes == second.bytes);
+  const dtm::Hierarchy& hierarchy = *built;
+  dtm::StreamOptions so;
+  so.cell_hashes = true;
+  so.level_step = step;
+  const auto encoded = dtm::encode_stream(hierarchy, points, grid, options.alpha.kind, so);
+  const auto again = dtm::encode_stream(hierarchy, points, grid, options.alpha.kind, so);
+  FUZZ_CHECK(encoded.ok() && again.ok());
+  const dtm::EncodedStream& first = *encoded;
+  FUZZ_CHECK(first.bytes == again->bytes);
 
   dtm::ProgressiveDecoder decoder;
   size_t index = 0;
@@ -57,5 +60,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   });
   FUZZ_CHECK(s.ok() && decoder.finish().ok());
   FUZZ_CHECK(index == first.streamed_levels.size());
+  FUZZ_CHECK(first.decode_order.size() == decoder.points().size());
+  for (size_t i = 0; i < first.decode_order.size(); ++i)
+    FUZZ_CHECK(decoder.points()[i] == points[first.decode_order[i]]);
   return 0;
 }

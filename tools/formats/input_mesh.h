@@ -9,7 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/grid.h"
+#include "common/grid.h"
+#include "core/quantize.h"
 
 namespace dtm {
 

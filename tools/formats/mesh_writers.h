@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/grid.h"
+#include "common/grid.h"
 
 namespace dtm {
 

@@ -1,56 +1,12 @@
-#include "surface_writers.h"
+#include "tools/formats/surface_writers.h"
+
+#include "mesh/topology.h"
 
 #include <algorithm>
 
 #include "render_util.h"
 
 namespace dtm {
-
-std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::array<uint32_t, 4>> cells) {
-  // Outward faces of a positively oriented (a, b, c, d): d lies on the
-  // right-hand normal side of (a, b, c), so that face turns the other way.
-  static constexpr int kFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-  struct Face {
-    uint32_t second, third;             // the sorted key after its smallest vertex
-    std::array<uint32_t, 3> oriented;
-  };
-  if (cells.empty()) return {};
-  // Faces are bucketed by their smallest vertex (a counting sort), then each
-  // small bucket is sorted: the two sides of an inner face meet in one
-  // bucket. The output is in ascending key order, as one global sort would
-  // give, at a fraction of its cost (this runs once per level in meshenc).
-  uint32_t top = 0;
-  for (const auto& t : cells) top = std::max({top, t[0], t[1], t[2], t[3]});
-  std::vector<uint32_t> first(static_cast<size_t>(top) + 2, 0);
-  const auto smallest = [](const std::array<uint32_t, 4>& t, const int* f) {
-    return std::min({t[f[0]], t[f[1]], t[f[2]]});
-  };
-  for (const auto& t : cells)
-    for (const auto& f : kFaces) ++first[smallest(t, f) + 1];
-  for (size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
-  std::vector<Face> faces(4 * cells.size());
-  std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-  for (const auto& t : cells)
-    for (const auto& f : kFaces) {
-      std::array<uint32_t, 3> key = {t[f[0]], t[f[1]], t[f[2]]};
-      std::sort(key.begin(), key.end());
-      faces[fill[key[0]]++] = {key[1], key[2], {t[f[0]], t[f[1]], t[f[2]]}};
-    }
-  std::vector<std::array<uint32_t, 3>> out;
-  for (size_t v = 0; v + 1 < first.size(); ++v) {
-    const auto begin = faces.begin() + first[v], end = faces.begin() + first[v + 1];
-    std::sort(begin, end, [](const Face& a, const Face& b) {
-      return a.second != b.second ? a.second < b.second : a.third < b.third;
-    });
-    for (auto i = begin; i != end;) {
-      auto j = i;
-      while (j != end && j->second == i->second && j->third == i->third) ++j;
-      if (j - i == 1) out.push_back(i->oriented);
-      i = j;
-    }
-  }
-  return out;
-}
 
 BoundarySurface boundary_surface(const OutputMesh& m) {
   const auto kept = boundary_triangles(m.cells);

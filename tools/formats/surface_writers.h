@@ -18,12 +18,6 @@ struct BoundarySurface {
   std::vector<std::array<uint32_t, 3>> triangles; // indices into `vertices`, normals pointing out
 };
 
-// The faces that belong to exactly one of `cells` (positively oriented
-// tetrahedra), each ordered so that its right-hand normal points away from
-// its cell, in a canonical order (sorted by their vertices). Indices are the
-// cells' own.
-std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::array<uint32_t, 4>> cells);
-
 // boundary_triangles of `mesh.cells` over the vertices they use, renumbered.
 BoundarySurface boundary_surface(const OutputMesh& mesh);
 

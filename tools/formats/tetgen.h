@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/grid.h"
+#include "common/grid.h"
 #include "format_error.h"
 
 namespace dtm {

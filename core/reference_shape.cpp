@@ -1,10 +1,10 @@
-#include "reference_shape.h"
+#include "core/reference_shape.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "tools/formats/surface_writers.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 namespace {

@@ -16,13 +16,15 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
-#include "bitstream/point_set_coder.h"
-#include "bitstream/status.h"
 #include "codec/format.h"
-#include "core/delaunay.h"
+#include "codec/layer_coder.h"
+#include "common/status.h"
+#include "mesh/carving.h"
+#include "mesh/delaunay.h"
 
 namespace dtm {
 
@@ -93,9 +95,9 @@ class ProgressiveDecoder {
   DecoderOptions options_;
   std::vector<uint8_t> pending_;  // bytes received and not yet consumed
   size_t pending_start_ = 0;
-  uint64_t consumed_ = 0;         // stream offset of pending_[pending_start_]
   bool has_header_ = false;
   StreamHeader header_;
+  std::optional<LayerWalk> walk_;  // made with the header
   std::vector<DecodedLevel> levels_;
   std::vector<GridPoint> points_;
   std::vector<MortonCode> known_;  // Morton codes of points_, ascending: the coder's context
@@ -112,11 +114,5 @@ class ProgressiveDecoder {
 // One call: decodes `bytes` with `decoder` (up to its stop_after_level) and
 // returns finish()'s status; `decoder` then holds the result.
 Status decode_stream(std::span<const uint8_t> bytes, ProgressiveDecoder& decoder);
-
-// M_l: flags the cells of `dt` whose circumradius is <= alpha (spec/HIERARCHY.md §2).
-std::vector<uint8_t> carve(const TetMesh& dt, std::span<const GridPoint> points, double alpha);
-// The cells of `dt` flagged in `in_mesh`.
-std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt,
-                                                   std::span<const uint8_t> in_mesh);
 
 }  // namespace dtm

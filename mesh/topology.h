@@ -1,25 +1,15 @@
-// Incidence structures derived from a TetMesh: who touches whom. Built in
-// linear time with counting passes (compressed sparse rows), no hashing.
+// Incidence structures derived from a TetMesh: who touches whom, as
+// compressed sparse rows built in linear time.
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
-#include "delaunay.h"
+#include "common/csr.h"
+#include "mesh/delaunay.h"
 
 namespace dtm {
-
-// Rows of variable length stored back to back: row r is
-// items[offsets[r] .. offsets[r+1]).
-struct Csr {
-  std::vector<uint32_t> offsets;
-  std::vector<uint32_t> items;
-  std::span<const uint32_t> row(size_t r) const {
-    return {items.data() + offsets[r], items.data() + offsets[r + 1]};
-  }
-  size_t rows() const { return offsets.empty() ? 0 : offsets.size() - 1; }
-};
 
 // For each vertex, the cells incident to it (ascending cell index).
 Csr vertex_cells(const TetMesh& mesh, size_t num_vertices);
@@ -47,5 +37,11 @@ std::vector<uint8_t> boundary_vertices(const TetMesh& mesh, size_t num_vertices,
 // its cell (right-hand rule).
 std::array<uint32_t, 3> outward_triangle(const TetMesh& mesh, std::span<const GridPoint> points,
                                          const BoundaryFace& f);
+
+// The faces that belong to exactly one of `cells` (positively oriented
+// tetrahedra, any list, not only a Delaunay tetrahedralization's), each
+// ordered so that its right-hand normal points away from its cell, in a
+// canonical order (sorted by their vertices). Indices are the cells' own.
+std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::array<uint32_t, 4>> cells);
 
 }  // namespace dtm

@@ -30,8 +30,8 @@
 #include <span>
 #include <vector>
 
-#include "bitstream/status.h"
-#include "core/grid.h"
+#include "common/status.h"
+#include "common/grid.h"
 
 namespace dtm {
 

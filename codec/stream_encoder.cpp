@@ -1,24 +1,23 @@
-#include "encoder.h"
-
 #include <algorithm>
 #include <iterator>
-#include <stdexcept>
 
-#include "bitstream/point_set_coder.h"
+#include "codec/expert_encode.h"
 #include "codec/format.h"
+#include "codec/layer_coder.h"
 
 namespace dtm {
 
-EncodedStream encode_stream(const Hierarchy& hierarchy, std::span<const GridPoint> points,
-                            const Grid& grid, AlphaPolicy::Kind alpha_policy,
-                            const EncoderOptions& options) {
-  if (options.level_step < 1) throw std::invalid_argument("encode_stream: level_step < 1");
+StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<const GridPoint> points,
+                                      const Grid& grid, AlphaKind alpha_policy,
+                                      const StreamOptions& options) {
+  const auto invalid = [](const char* what) { return Status{StatusCode::kInvalidInput, what}; };
+  if (options.level_step < 1) return invalid("encode_stream: level_step < 1");
   std::vector<int> streamed;
   for (size_t i = 0; i < hierarchy.levels.size(); ++i)
     if (i % options.level_step == 0 || i + 1 == hierarchy.levels.size())
       streamed.push_back(static_cast<int>(i));
   if (streamed.empty() || streamed.size() > 0xFFFF)
-    throw std::invalid_argument("encode_stream: level count out of range");
+    return invalid("encode_stream: level count out of range");
   StreamHeader h;
   h.grid = grid;
   h.alpha_policy = alpha_policy;
@@ -40,10 +39,19 @@ EncodedStream encode_stream(const Hierarchy& hierarchy, std::span<const GridPoin
     std::set_difference(level.vertices.begin(), level.vertices.end(), coarser.begin(),
                         coarser.end(), std::back_inserter(added));
     if (added.size() + coarser.size() != level.vertices.size())
-      throw std::invalid_argument("encode_stream: levels are not nested");
+      return invalid("encode_stream: levels are not nested");
+    // In the decoder's order: the layer coder sends a set, which comes out
+    // in ascending Morton order.
+    std::vector<std::pair<MortonCode, uint32_t>> by_code;
+    by_code.reserve(added.size());
+    for (uint32_t i : added) by_code.emplace_back(morton_encode(points[i], grid.qbits), i);
+    std::sort(by_code.begin(), by_code.end());
     std::vector<GridPoint> layer_points;
     layer_points.reserve(added.size());
-    for (uint32_t i : added) layer_points.push_back(points[i]);
+    for (const auto& [code, i] : by_code) {
+      layer_points.push_back(points[i]);
+      out.decode_order.push_back(i);
+    }
 
     LayerHeader lh;
     lh.level = static_cast<uint16_t>(l);

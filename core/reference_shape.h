@@ -9,7 +9,8 @@
 #include <span>
 #include <vector>
 
-#include "core/grid.h"
+#include "common/grid.h"
+#include "core/quantize.h"
 #include "core/surface_distance.h"
 
 namespace dtm {

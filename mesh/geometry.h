@@ -7,7 +7,7 @@
 #include <cmath>
 #include <span>
 
-#include "grid.h"
+#include "common/grid.h"
 
 namespace dtm {
 

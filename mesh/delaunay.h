@@ -13,10 +13,10 @@
 #include <cstdint>
 #include <memory>
 #include <span>
-#include <stdexcept>
 #include <vector>
 
-#include "grid.h"
+#include "common/grid.h"
+#include "common/status.h"
 
 namespace dtm {
 
@@ -29,24 +29,16 @@ struct TetMesh {
   std::vector<std::array<int32_t, 4>> neighbors;
 };
 
-// Thrown when the points do not span three dimensions.
-struct DegenerateInput : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
 // A Delaunay tetrahedralization of n points can have O(n^2) cells (points on
 // two skew lines); a mesh's has about 6.5 n. Insertion stops with
-// TooManyCells past this many per vertex, so that hostile input costs memory
-// and time linear in its vertices.
+// kLimitExceeded past this many per vertex, so that hostile input costs
+// memory and time linear in its vertices.
 inline constexpr size_t kMaxCellsPerVertex = 64;
-struct TooManyCells : DegenerateInput {
-  using DegenerateInput::DegenerateInput;
-};
 
-// Delaunay tetrahedralization of `points`; vertex i is points[i]. The points
-// must be distinct. Throws DegenerateInput if they are coplanar (or fewer
-// than 4), TooManyCells if the cells exceed kMaxCellsPerVertex per vertex.
-TetMesh delaunay_tetrahedralize(std::span<const GridPoint> points);
+// Delaunay tetrahedralization of `points`; vertex i is points[i].
+// kInvalidInput if the points are not distinct or are coplanar (or fewer
+// than 4); kLimitExceeded if the cells exceed kMaxCellsPerVertex per vertex.
+StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points);
 
 // A Delaunay tetrahedralization that is edited in place: batch insertion
 // (what the decoder does level by level) and vertex removal.
@@ -58,13 +50,13 @@ class IncrementalDelaunay {
   IncrementalDelaunay& operator=(const IncrementalDelaunay&) = delete;
 
   // Inserts points[i] with id ids[i]. A batch is spatially sorted first.
-  // Both insertions throw TooManyCells as delaunay_tetrahedralize does (the
-  // triangulation is then unusable).
-  void insert(std::span<const GridPoint> points, std::span<const uint32_t> ids);
+  // Both insertions fail with kLimitExceeded as delaunay_tetrahedralize does
+  // (the triangulation is then unusable).
+  Status insert(std::span<const GridPoint> points, std::span<const uint32_t> ids);
   // Inserts one point at a time, in the given order (no spatial sort).
-  void insert_one_by_one(std::span<const GridPoint> points, std::span<const uint32_t> ids);
-  // Removes the vertices at these positions; throws if one is absent.
-  void remove(std::span<const GridPoint> points);
+  Status insert_one_by_one(std::span<const GridPoint> points, std::span<const uint32_t> ids);
+  // Removes the vertices at these positions; kInvalidInput if one is absent.
+  Status remove(std::span<const GridPoint> points);
 
   int dimension() const;
   size_t number_of_vertices() const;
@@ -89,7 +81,7 @@ struct CavityFill {
 };
 
 // Empty when the link does not span three dimensions (apex was the tip of a
-// flat hull region).
+// flat hull region). `apex` must not be a link point.
 CavityFill cavity_fill(std::span<const GridPoint> link, std::span<const uint32_t> link_ids,
                        const GridPoint& apex);
 

@@ -1,4 +1,4 @@
-#include "delaunay.h"
+#include "mesh/delaunay.h"
 
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -8,10 +8,9 @@
 #include <CGAL/spatial_sort.h>
 #include <CGAL/Spatial_sort_traits_adapter_3.h>
 
-#include <stdexcept>
+#include <exception>
 #include <string>
 #include <utility>
-
 
 namespace dtm {
 namespace {
@@ -26,36 +25,58 @@ using Point = K::Point_3;
 
 Point to_point(const GridPoint& p) { return Point(p.x, p.y, p.z); }
 
-// Throws TooManyCells once the triangulation holds more cells than
+// CGAL reports failures (a violated precondition, no memory) by exceptions;
+// this door turns them into a Status, so that nothing above it throws.
+template <class F>
+Status guarded(F&& f) {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    return {StatusCode::kLimitExceeded, "out of memory building a Delaunay tetrahedralization"};
+  } catch (const std::exception& e) {
+    return {StatusCode::kInternal, std::string("CGAL: ") + e.what()};
+  }
+}
+
+// kLimitExceeded once the triangulation holds more cells than
 // kMaxCellsPerVertex per vertex: checked every few insertions, so the excess
 // it can allocate is bounded.
-void check_cells(const DT& dt) {
+Status check_cells(const DT& dt) {
   const size_t v = dt.number_of_vertices();
-  if (dt.number_of_cells() > kMaxCellsPerVertex * v + 4096)
-    throw TooManyCells("the Delaunay tetrahedralization of these points has over " +
-                       std::to_string(kMaxCellsPerVertex) + " cells per vertex (" +
-                       std::to_string(dt.number_of_cells()) + " cells for " + std::to_string(v) +
-                       " vertices): the points lie in a degenerate configuration such as two lines");
+  if (dt.number_of_cells() <= kMaxCellsPerVertex * v + 4096) return Status::Ok();
+  return {StatusCode::kLimitExceeded,
+          "the Delaunay tetrahedralization of these points has over " +
+              std::to_string(kMaxCellsPerVertex) + " cells per vertex (" +
+              std::to_string(dt.number_of_cells()) + " cells for " + std::to_string(v) +
+              " vertices): the points lie in a degenerate configuration such as two lines"};
+}
+
+// Inserts item_of(0), ..., item_of(n - 1) (point and id) in that order, each
+// located from the previous one, with the cell check every 256 insertions.
+template <class ItemOf>
+Status insert_in_order(DT& dt, size_t n, ItemOf&& item_of) {
+  DT::Cell_handle hint;
+  for (size_t i = 0; i < n; ++i) {
+    const auto [point, id] = item_of(i);
+    auto v = dt.insert(point, hint);
+    v->info() = id;
+    hint = v->cell();
+    if ((i & 255) == 255) DTM_RETURN_IF_ERROR(check_cells(dt));
+  }
+  return check_cells(dt);
 }
 
 // What CGAL's range insertion does (spatial sort, then insertion with the
 // previous vertex as hint), plus the cell check.
-void insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const uint32_t> ids) {
-  if (points.size() != ids.size()) throw std::invalid_argument("points and ids differ in size");
+Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const uint32_t> ids) {
+  DTM_CHECK(points.size() == ids.size());
   using Item = std::pair<Point, uint32_t>;
   std::vector<Item> batch;
   batch.reserve(points.size());
   for (size_t i = 0; i < points.size(); ++i) batch.emplace_back(to_point(points[i]), ids[i]);
   CGAL::spatial_sort(batch.begin(), batch.end(),
                      CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<Item>>());
-  DT::Cell_handle hint;
-  for (size_t i = 0; i < batch.size(); ++i) {
-    auto v = dt.insert(batch[i].first, hint);
-    v->info() = batch[i].second;
-    hint = v->cell();
-    if ((i & 255) == 255) check_cells(dt);
-  }
-  check_cells(dt);
+  return insert_in_order(dt, batch.size(), [&](size_t i) { return batch[i]; });
 }
 
 TetMesh export_mesh(DT& dt) {
@@ -81,17 +102,18 @@ TetMesh export_mesh(DT& dt) {
 
 }  // namespace
 
-TetMesh delaunay_tetrahedralize(std::span<const GridPoint> points) {
+StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
   std::vector<uint32_t> ids(points.size());
   for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<uint32_t>(i);
   DT dt;
-  insert_batch(dt, points, ids);
+  DTM_RETURN_IF_ERROR(guarded([&] { return insert_batch(dt, points, ids); }));
   if (dt.number_of_vertices() != points.size())
-    throw std::invalid_argument("delaunay_tetrahedralize: points are not distinct");
+    return Status{StatusCode::kInvalidInput, "the points to tetrahedralize are not distinct"};
   if (dt.dimension() < 3)
-    throw DegenerateInput("the " + std::to_string(points.size()) +
-                          " points span only " + std::to_string(std::max(dt.dimension(), 0)) +
-                          " dimension(s); a tetrahedral mesh needs 4 points not in one plane");
+    return Status{StatusCode::kInvalidInput,
+                  "the " + std::to_string(points.size()) + " points span only " +
+                      std::to_string(std::max(dt.dimension(), 0)) +
+                      " dimension(s); a tetrahedral mesh needs 4 points not in one plane"};
   return export_mesh(dt);
 }
 
@@ -102,30 +124,29 @@ struct IncrementalDelaunay::Impl {
 IncrementalDelaunay::IncrementalDelaunay() : impl_(std::make_unique<Impl>()) {}
 IncrementalDelaunay::~IncrementalDelaunay() = default;
 
-void IncrementalDelaunay::insert(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
-  insert_batch(impl_->dt, points, ids);
+Status IncrementalDelaunay::insert(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
+  return guarded([&] { return insert_batch(impl_->dt, points, ids); });
 }
 
-void IncrementalDelaunay::insert_one_by_one(std::span<const GridPoint> points,
-                                            std::span<const uint32_t> ids) {
-  if (points.size() != ids.size()) throw std::invalid_argument("points and ids differ in size");
-  DT::Cell_handle hint;
-  for (size_t i = 0; i < points.size(); ++i) {
-    auto v = impl_->dt.insert(to_point(points[i]), hint);
-    v->info() = ids[i];
-    hint = v->cell();
-    if ((i & 255) == 255) check_cells(impl_->dt);
-  }
-  check_cells(impl_->dt);
+Status IncrementalDelaunay::insert_one_by_one(std::span<const GridPoint> points,
+                                              std::span<const uint32_t> ids) {
+  DTM_CHECK(points.size() == ids.size());
+  return guarded([&] {
+    return insert_in_order(impl_->dt, points.size(),
+                           [&](size_t i) { return std::make_pair(to_point(points[i]), ids[i]); });
+  });
 }
 
-void IncrementalDelaunay::remove(std::span<const GridPoint> points) {
-  for (const GridPoint& p : points) {
-    DT::Vertex_handle v;
-    if (!impl_->dt.is_vertex(to_point(p), v))
-      throw std::invalid_argument("remove: point is not a vertex");
-    impl_->dt.remove(v);
-  }
+Status IncrementalDelaunay::remove(std::span<const GridPoint> points) {
+  return guarded([&] {
+    for (const GridPoint& p : points) {
+      DT::Vertex_handle v;
+      if (!impl_->dt.is_vertex(to_point(p), v))
+        return Status{StatusCode::kInvalidInput, "remove: a point is not a vertex"};
+      impl_->dt.remove(v);
+    }
+    return Status::Ok();
+  });
 }
 
 int IncrementalDelaunay::dimension() const { return impl_->dt.dimension(); }
@@ -147,7 +168,7 @@ CavityFill cavity_fill(std::span<const GridPoint> link, std::span<const uint32_t
   DT::Locate_type lt;
   int li, lj;
   const DT::Cell_handle start = dt.locate(q, lt, li, lj, hint);
-  if (lt == DT::VERTEX) throw std::invalid_argument("cavity_fill: apex is a link vertex");
+  DTM_CHECK(lt != DT::VERTEX);
   std::vector<DT::Cell_handle> conflicts;
   dt.find_conflicts(q, start, CGAL::Emptyset_iterator(), std::back_inserter(conflicts));
   for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) c->info() = -1;

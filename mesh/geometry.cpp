@@ -1,4 +1,4 @@
-#include "geometry.h"
+#include "mesh/geometry.h"
 
 #include <algorithm>
 #include <limits>

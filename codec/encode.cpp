@@ -1,0 +1,133 @@
+#include "codec/encode.h"
+
+#include <string>
+
+#include "codec/expert_encode.h"
+#include "core/reference_shape.h"
+
+namespace dtm {
+namespace {
+
+Status invalid(std::string what) { return {StatusCode::kInvalidInput, std::move(what)}; }
+
+// The input's lattice as the grid: positions stay exact.
+StatusOr<QuantizedPoints> lattice_grid(const QuantizedPoints& lattice, int qbits, double scale) {
+  QuantizedPoints q = lattice;
+  const int needed = q.grid.qbits;
+  if (qbits > 0) {
+    if (qbits < needed)
+      return invalid("the lattice spans " + std::to_string((1 << needed) / 2) +
+                     " or more points on an axis: qbits must be at least " + std::to_string(needed));
+    q.grid.qbits = qbits;
+  }
+  for (double& o : q.grid.origin) o *= scale;
+  q.grid.step *= scale;
+  return q;
+}
+
+HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, double dmax) {
+  HierarchyOptions h;
+  h.alpha.kind = o.alpha;
+  h.alpha.fixed_value = o.fixed_alpha / grid.step;
+  h.dmax = dmax / grid.step;
+  h.max_levels = o.max_levels;
+  h.min_base_vertices = o.min_base_vertices;
+  h.stop_when_boundary_is_final = o.paper_stop;
+  h.quality_guard = o.quality_guard;
+  h.measure_boundary_error = o.measure_boundary_error;
+  return h;
+}
+
+Status check_options(const EncodeOptions& o) {
+  if (o.qbits != 0 && (o.qbits < kMinQBits || o.qbits > kMaxQBits))
+    return invalid("qbits must be in [1, 24], got " + std::to_string(o.qbits));
+  if (!(o.scale > 0)) return invalid("the scale must be positive");
+  if (o.box < 0) return invalid("the box must be positive");
+  if (o.dmax < 0) return invalid("D_max must be positive");
+  if (o.alpha == AlphaKind::kFixed && !(o.fixed_alpha > 0))
+    return invalid("a fixed alpha must be positive");
+  if (o.max_levels < 0) return invalid("the level count must not be negative");
+  if (o.quality_guard < 0) return invalid("the quality guard must not be negative");
+  if (o.level_step < 1) return invalid("the level step must be at least 1");
+  return Status::Ok();
+}
+
+}  // namespace
+
+StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions& options) {
+  DTM_RETURN_IF_ERROR(check_options(options));
+  if (input.lattice && input.lattice->input_to_point.size() != input.points.size())
+    return invalid("the lattice and the points differ in count");
+  EncodePlan plan;
+  plan.scale = options.scale;
+  if (options.box > 0) {
+    const double extent = largest_extent(input.points);
+    plan.scale = extent > 0 ? options.box / extent : 1.0;
+  }
+  if (input.lattice) {
+    DTM_ASSIGN_OR_RETURN(plan.quantized, lattice_grid(*input.lattice, options.qbits, plan.scale));
+  } else {
+    std::vector<InputPoint> scaled(input.points.begin(), input.points.end());
+    if (plan.scale != 1.0)
+      for (auto& p : scaled) p = {p.x * plan.scale, p.y * plan.scale, p.z * plan.scale};
+    DTM_ASSIGN_OR_RETURN(plan.quantized, quantize(scaled, options.qbits > 0 ? options.qbits : 14));
+  }
+  const Grid& grid = plan.quantized.grid;
+  plan.dmax = options.dmax > 0 ? options.dmax : 0.005 * grid.step * ((1u << grid.qbits) - 1);
+  return plan;
+}
+
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options,
+                             const LevelReady& on_level) {
+  DTM_ASSIGN_OR_RETURN(EncodePlan plan, plan_encoding(input, options));
+  return encode(input, options, std::move(plan), on_level);
+}
+
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options,
+                             EncodePlan plan, const LevelReady& on_level) {
+  const QuantizedPoints& q = plan.quantized;
+  EncodedMesh out;
+  EncodeReport& report = out.report;
+  report.grid = q.grid;
+  report.scale = plan.scale;
+  report.dmax = plan.dmax;
+  report.lattice = input.lattice != nullptr;
+  report.input_points = input.points.size();
+  report.duplicates_merged = q.duplicates_merged;
+
+  std::optional<ReferenceShape> reference;
+  if (!input.tetrahedra.empty()) {
+    for (const auto& t : input.tetrahedra)
+      for (uint32_t v : t)
+        if (v >= input.points.size()) return invalid("a tetrahedron names a point that does not exist");
+    reference.emplace(input.tetrahedra, q);
+    report.reference_tetrahedra = reference->tetrahedra();
+    report.reference_boundary_vertices = reference->boundary_vertices();
+  }
+  const HierarchyOptions hierarchy = hierarchy_options(options, q.grid, plan.dmax);
+  DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
+    LevelReport r;
+    r.stats = level.stats;
+    if (reference) r.reference_error = reference->distance(level.mesh, q.points);
+    report.levels.push_back(r);
+    if (on_level) on_level(report.levels.back());
+  }));
+
+  StreamOptions stream_options;
+  stream_options.cell_hashes = options.cell_hashes;
+  stream_options.level_step = options.level_step;
+  DTM_ASSIGN_OR_RETURN(EncodedStream stream,
+                       encode_stream(h, q.points, q.grid, options.alpha, stream_options));
+  report.layer_bytes = std::move(stream.layer_bytes);
+  report.streamed_levels = std::move(stream.streamed_levels);
+  report.stream_bytes = stream.bytes.size();
+  out.bytes = std::move(stream.bytes);
+
+  std::vector<uint32_t> vertex_of_point(q.points.size());
+  for (uint32_t v = 0; v < stream.decode_order.size(); ++v) vertex_of_point[stream.decode_order[v]] = v;
+  out.vertex_of_input.reserve(q.input_to_point.size());
+  for (uint32_t p : q.input_to_point) out.vertex_of_input.push_back(vertex_of_point[p]);
+  return out;
+}
+
+}  // namespace dtm

@@ -1,0 +1,120 @@
+// Encoding in one call: points (and, when the input has them, its
+// tetrahedra) -> a .dtm stream, with the report of every level.
+//
+//   dtm::EncodeInput in;
+//   in.points = points;                      // std::vector<dtm::InputPoint>
+//   dtm::EncodeOptions options;              // q = 14, D_max = 0.5% of the extent, ...
+//   auto encoded = dtm::encode(in, options);
+//   if (!encoded.ok()) fail(encoded.status().message());
+//   write(encoded->bytes);                   // decode with codec/decode.h
+//
+// The policies every caller would otherwise copy live here: the voxel
+// lattice as the grid, the default D_max, lengths in input units. Callers
+// who build the hierarchy themselves use codec/expert_encode.h.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "common/grid.h"
+#include "common/status.h"
+#include "core/hierarchy.h"
+#include "core/quantize.h"
+#include "core/surface_distance.h"
+#include "mesh/carving.h"
+
+namespace dtm {
+
+struct EncodeOptions {
+  // The grid: bits per axis, 1 to 24; 0 = 14, or for a lattice input just
+  // enough bits for its extent (a larger value is allowed, not a smaller).
+  int qbits = 0;
+  // Input coordinates are multiplied by `scale` first, or, if box > 0, by
+  // whatever makes their largest extent `box`. Every length below and in
+  // the report is in these scaled input units.
+  double scale = 1.0;
+  double box = 0;
+
+  // The hierarchy (spec/HIERARCHY.md).
+  double dmax = 0;  // boundary tolerance; 0 = 0.5% of the grid's extent
+  AlphaKind alpha = AlphaKind::kPaper;
+  double fixed_alpha = 0;           // with AlphaKind::kFixed
+  int max_levels = 0;               // coarser levels at most; 0 = no limit
+  size_t min_base_vertices = 16;    // never build a level with fewer vertices
+  bool paper_stop = true;           // stop at the first level removing no boundary vertex
+  double quality_guard = 0;         // HierarchyOptions::quality_guard; 0 = off
+  bool measure_boundary_error = true;  // LevelStats' max/mean_boundary_error
+
+  // The stream (codec/expert_encode.h, StreamOptions).
+  int level_step = 1;
+  bool cell_hashes = false;
+};
+
+struct EncodeInput {
+  std::span<const InputPoint> points;
+  // The input's own tetrahedra (indices into `points`), when it has them:
+  // the reference shape each level's boundary is measured against.
+  std::span<const std::array<uint32_t, 4>> tetrahedra;
+  // Points that already lie on an integer lattice (a voxel volume's
+  // centres, core/quantize.h's form, in the same order as `points`): its
+  // grid is used as it is, so positions are coded losslessly.
+  const QuantizedPoints* lattice = nullptr;
+};
+
+struct LevelReport {
+  LevelStats stats;  // lengths in grid units: multiply by grid.step
+  // With tetrahedra in the input: the distance between the input's boundary
+  // surface and this level's, both ways, grid units.
+  std::optional<DistanceSummary> reference_error;
+};
+
+struct EncodeReport {
+  Grid grid;                    // origin and step in scaled input units
+  double scale = 1.0;           // what the input coordinates were multiplied by
+  double dmax = 0;              // scaled input units
+  bool lattice = false;         // the input's lattice is the grid: lossless
+  uint64_t input_points = 0;
+  uint64_t duplicates_merged = 0;
+  uint64_t reference_tetrahedra = 0;        // after quantization, 0 without tetrahedra
+  uint64_t reference_boundary_vertices = 0;
+  std::vector<LevelReport> levels;          // every hierarchy level, finest first
+  std::vector<uint64_t> layer_bytes;        // per hierarchy level; 0 if not streamed
+  std::vector<int> streamed_levels;         // hierarchy level of each stream level
+  uint64_t stream_bytes = 0;
+};
+
+struct EncodedMesh {
+  std::vector<uint8_t> bytes;
+  EncodeReport report;
+  // For each input point, the index of its vertex in the order the decoder
+  // produces them (ProgressiveDecoder::points(): coarsest layer first,
+  // ascending Morton code within a layer). Points that quantization merged
+  // share a vertex.
+  std::vector<uint32_t> vertex_of_input;
+};
+
+// The grid `input` and `options` make, and D_max in its units: what encode()
+// uses, for callers who want to say it before the (long) work starts.
+struct EncodePlan {
+  QuantizedPoints quantized;
+  double scale = 1.0;
+  double dmax = 0;  // scaled input units
+};
+StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions& options);
+
+// Called once per hierarchy level as soon as it is built.
+using LevelReady = std::function<void(const LevelReport&)>;
+
+// kInvalidInput (with the reason) for options out of range or points that
+// cannot make a tetrahedral mesh (fewer than 4 distinct, all coplanar).
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options = {},
+                             const LevelReady& on_level = {});
+// The same, from a plan_encoding() result.
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options,
+                             EncodePlan plan, const LevelReady& on_level = {});
+
+}  // namespace dtm
