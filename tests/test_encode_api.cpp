@@ -1,0 +1,98 @@
+// The one-call encoder (codec/encode.h): it is the expert path composed,
+// it says where each input point's vertex comes out of the decoder, and it
+// refuses what cannot make a mesh with a Status, not an exception.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "codec/decode.h"
+#include "codec/encode.h"
+#include "codec/expert_encode.h"
+#include "test_support.h"
+#include "tools/formats/input.h"
+
+namespace dtm {
+namespace {
+
+InputMesh torus() { return read_input(test::data_path("torus_288.node")); }
+
+TEST(EncodeApi, IsQuantizeThenBuildThenEncodeStream) {
+  const InputMesh in = torus();
+  EncodeInput input;
+  input.points = in.points;
+  EncodeOptions options;
+  options.scale = 25;
+  options.dmax = 3;
+  options.cell_hashes = true;
+  const auto encoded = encode(input, options);
+  ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+
+  std::vector<InputPoint> scaled = in.points;
+  for (auto& p : scaled) p = {p.x * 25, p.y * 25, p.z * 25};
+  const QuantizedPoints q = quantize(scaled, 14).value();
+  HierarchyOptions h;
+  h.dmax = 3 / q.grid.step;
+  const Hierarchy hierarchy = build_hierarchy(q.points, h).value();
+  StreamOptions s;
+  s.cell_hashes = true;
+  const EncodedStream expert = encode_stream(hierarchy, q.points, q.grid, AlphaKind::kPaper, s).value();
+  EXPECT_EQ(encoded->bytes, expert.bytes);
+  EXPECT_EQ(encoded->report.levels.size(), hierarchy.levels.size());
+  EXPECT_EQ(encoded->report.stream_bytes, expert.bytes.size());
+}
+
+// What per-vertex values will rely on: input point i comes out of the
+// decoder as vertex vertex_of_input[i], at its quantized position.
+TEST(EncodeApi, SaysWhereTheDecoderPutsEachInputPoint) {
+  InputMesh in = torus();
+  in.points.push_back(in.points[7]);  // a duplicate shares its vertex
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  EncodeOptions options;
+  options.box = 256;
+  options.dmax = 2;
+  options.level_step = 2;
+  const auto encoded = encode(input, options);
+  ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+  ASSERT_EQ(encoded->vertex_of_input.size(), in.points.size());
+  EXPECT_EQ(encoded->vertex_of_input.back(), encoded->vertex_of_input[7]);
+  EXPECT_EQ(encoded->report.duplicates_merged, 1u);
+  EXPECT_GT(encoded->report.reference_tetrahedra, 0u);
+  ProgressiveDecoder decoder;
+  ASSERT_TRUE(decode_stream(encoded->bytes, decoder).ok());
+  const Grid& grid = encoded->report.grid;
+  const double scale = encoded->report.scale;
+  for (size_t i = 0; i < in.points.size(); ++i) {
+    const InputPoint p = grid.to_input(decoder.points().at(encoded->vertex_of_input[i]));
+    EXPECT_LE(std::abs(p.x - in.points[i].x * scale), grid.step * 0.5 + 1e-9) << i;
+    EXPECT_LE(std::abs(p.y - in.points[i].y * scale), grid.step * 0.5 + 1e-9) << i;
+    EXPECT_LE(std::abs(p.z - in.points[i].z * scale), grid.step * 0.5 + 1e-9) << i;
+  }
+  for (const LevelReport& level : encoded->report.levels) EXPECT_TRUE(level.reference_error.has_value());
+}
+
+TEST(EncodeApi, RefusesWhatCannotMakeAMeshWithAStatus) {
+  EncodeInput input;
+  const std::vector<InputPoint> three = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  input.points = three;
+  EXPECT_EQ(encode(input).status().code(), StatusCode::kInvalidInput);
+  const std::vector<InputPoint> flat = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 3, 0}};
+  input.points = flat;
+  EXPECT_EQ(encode(input).status().code(), StatusCode::kInvalidInput);
+  const InputMesh in = torus();
+  input.points = in.points;
+  EncodeOptions options;
+  options.qbits = 25;
+  EXPECT_EQ(encode(input, options).status().code(), StatusCode::kInvalidInput);
+  options = {};
+  options.alpha = AlphaKind::kFixed;  // without its value
+  EXPECT_EQ(encode(input, options).status().code(), StatusCode::kInvalidInput);
+  const std::vector<std::array<uint32_t, 4>> beyond = {{0, 1, 2, 9999}};
+  input.tetrahedra = beyond;
+  EXPECT_EQ(encode(input).status().code(), StatusCode::kInvalidInput);
+}
+
+}  // namespace
+}  // namespace dtm
