@@ -37,20 +37,21 @@ struct BorderFace {
   int outside_face; // index of the face in the outside cell
 };
 
-}  // namespace
+// A fill cell's face on its cavity's border whose other side was another
+// removed vertex's star: it meets that cavity's fill, paired at the end.
+struct CrossFace {
+  FaceKey key;
+  int32_t cell;
+  int face;
+};
 
-TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_vertex,
-                                    const Csr& neighbors, std::span<const GridPoint> points,
-                                    std::span<const uint8_t> removed) {
-  const size_t n = points.size(), m = dt.cells.size();
-  std::vector<uint32_t> new_id(n, UINT32_MAX);
-  uint32_t survivors = 0;
-  for (size_t v = 0; v < n; ++v)
-    if (!removed[v]) new_id[v] = survivors++;
-
-  // Surviving cells keep their order and, where the other side survived too,
-  // their neighbours; dead cells (in a removed star) go.
-  std::vector<int32_t> cell_map(m, -1);
+// The cells that survive the removal (those with no removed corner), in
+// their order, renumbered, with their neighbours where the other side
+// survived too. `cell_map` gets each old cell's new index, or -1.
+TetMesh surviving_cells(const TetMesh& dt, std::span<const uint8_t> removed, std::span<const uint32_t> new_id,
+                        std::vector<int32_t>& cell_map) {
+  const size_t m = dt.cells.size();
+  cell_map.assign(m, -1);
   TetMesh out;
   out.cells.reserve(m);
   for (size_t c = 0; c < m; ++c) {
@@ -67,24 +68,15 @@ TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_verte
       if (nb >= 0 && cell_map[nb] >= 0) out.neighbors[cell_map[c]][i] = cell_map[nb];
     }
   }
+  return out;
+}
 
-  // Refill every cavity. A fill cell's border face meets either a surviving
-  // cell (linked at once), the hull, or the fill of another cavity when the
-  // cell beyond was in another removed vertex's star: those are paired last.
-  struct CrossFace {
-    FaceKey key;
-    int32_t cell;
-    int face;
-  };
-  std::vector<CrossFace> cross;
-
-  // The fills are independent of each other (disjoint stars, separate small
-  // triangulations), so they are computed on every core; stitching them in
-  // stays sequential, in vertex order, so the result does not depend on the
-  // number of threads.
-  std::vector<uint32_t> removed_list;
-  for (uint32_t v = 0; v < n; ++v)
-    if (removed[v]) removed_list.push_back(v);
+// The fill of every removed vertex's cavity. The fills are independent of
+// each other (disjoint stars, separate small triangulations), so they are
+// computed on every core.
+std::vector<CavityFill> cavity_fills(std::span<const uint32_t> removed_list, const Csr& neighbors,
+                                     std::span<const GridPoint> points, std::span<const uint8_t> removed,
+                                     std::span<const uint32_t> new_id) {
   std::vector<CavityFill> fills(removed_list.size());
   std::vector<uint8_t> dependent(removed_list.size(), 0);
   const size_t threads =
@@ -110,57 +102,92 @@ TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_verte
   for (auto& w : workers) w.join();
   // The caller's promise: no two removed vertices share an edge.
   DTM_CHECK(std::find(dependent.begin(), dependent.end(), 1) == dependent.end());
+  return fills;
+}
 
-  std::vector<BorderFace> border;
-  for (size_t k = 0; k < removed_list.size(); ++k) {
-    const uint32_t v = removed_list[k];
-    border.clear();
-    for (uint32_t c : cells_of_vertex.row(v)) {
-      const auto& cell = dt.cells[c];
-      const int i = index_of(cell, v);
-      const std::array<uint32_t, 4> renamed = {new_id[cell[0]], new_id[cell[1]], new_id[cell[2]],
-                                               new_id[cell[3]]};
-      const int32_t outside = dt.neighbors[c][i];
-      int outside_face = -1;
-      if (outside >= 0)
-        for (int j = 0; j < 4; ++j)
-          if (dt.neighbors[outside][j] == static_cast<int32_t>(c)) outside_face = j;
-      border.push_back({face_of(renamed, i), outside, outside_face});
-    }
-
-    const CavityFill& fill = fills[k];
-    const auto first = static_cast<int32_t>(out.cells.size());
-    for (size_t f = 0; f < fill.cells.size(); ++f) {
-      out.cells.push_back(fill.cells[f]);
-      std::array<int32_t, 4> nb;
-      for (int i = 0; i < 4; ++i) nb[i] = fill.neighbors[f][i] < 0 ? -1 : first + fill.neighbors[f][i];
-      out.neighbors.push_back(nb);
-    }
-    for (size_t f = 0; f < fill.cells.size(); ++f)
-      for (int i = 0; i < 4; ++i) {
-        if (fill.neighbors[f][i] >= 0) continue;
-        const int32_t self = first + static_cast<int32_t>(f);
-        const FaceKey key = face_of(fill.cells[f], i);
-        const auto b = std::find_if(border.begin(), border.end(),
-                                    [&](const BorderFace& x) { return x.key == key; });
-        if (b == border.end() || b->outside < 0) continue;  // on the convex hull
-        const int32_t beyond = cell_map[b->outside];
-        if (beyond >= 0) {
-          out.neighbors[self][i] = beyond;
-          out.neighbors[beyond][b->outside_face] = self;
-        } else {
-          cross.push_back({key, self, i});
-        }
-      }
+// The border of v's cavity: the face of each cell of its star opposite v
+// (renamed), with the old cell beyond it.
+void cavity_border(const TetMesh& dt, const Csr& cells_of_vertex, uint32_t v, std::span<const uint32_t> new_id,
+                   std::vector<BorderFace>& border) {
+  border.clear();
+  for (uint32_t c : cells_of_vertex.row(v)) {
+    const auto& cell = dt.cells[c];
+    const int i = index_of(cell, v);
+    const std::array<uint32_t, 4> renamed = {new_id[cell[0]], new_id[cell[1]], new_id[cell[2]], new_id[cell[3]]};
+    const int32_t outside = dt.neighbors[c][i];
+    int outside_face = -1;
+    if (outside >= 0)
+      for (int j = 0; j < 4; ++j)
+        if (dt.neighbors[outside][j] == static_cast<int32_t>(c)) outside_face = j;
+    border.push_back({face_of(renamed, i), outside, outside_face});
   }
-  std::sort(cross.begin(), cross.end(),
-            [](const CrossFace& x, const CrossFace& y) { return x.key < y.key; });
+}
+
+// Appends a cavity's fill to `out`: its inner faces linked among themselves,
+// its border faces to the surviving cell beyond (at once) or, when the cell
+// beyond was in another removed star, noted in `cross`.
+void stitch(const CavityFill& fill, std::span<const BorderFace> border, std::span<const int32_t> cell_map,
+            TetMesh& out, std::vector<CrossFace>& cross) {
+  const auto first = static_cast<int32_t>(out.cells.size());
+  for (size_t f = 0; f < fill.cells.size(); ++f) {
+    out.cells.push_back(fill.cells[f]);
+    std::array<int32_t, 4> nb;
+    for (int i = 0; i < 4; ++i) nb[i] = fill.neighbors[f][i] < 0 ? -1 : first + fill.neighbors[f][i];
+    out.neighbors.push_back(nb);
+  }
+  for (size_t f = 0; f < fill.cells.size(); ++f)
+    for (int i = 0; i < 4; ++i) {
+      if (fill.neighbors[f][i] >= 0) continue;
+      const int32_t self = first + static_cast<int32_t>(f);
+      const FaceKey key = face_of(fill.cells[f], i);
+      const auto b = std::find_if(border.begin(), border.end(), [&](const BorderFace& x) { return x.key == key; });
+      if (b == border.end() || b->outside < 0) continue;  // on the convex hull
+      const int32_t beyond = cell_map[b->outside];
+      if (beyond >= 0) {
+        out.neighbors[self][i] = beyond;
+        out.neighbors[beyond][b->outside_face] = self;
+      } else {
+        cross.push_back({key, self, i});
+      }
+    }
+}
+
+// Links the fill faces that meet across two cavities: each such face was
+// noted once from each side.
+void pair_cross_faces(std::vector<CrossFace>& cross, TetMesh& out) {
+  std::sort(cross.begin(), cross.end(), [](const CrossFace& x, const CrossFace& y) { return x.key < y.key; });
   for (size_t k = 0; k + 1 < cross.size(); ++k)
     if (cross[k].key == cross[k + 1].key) {
       out.neighbors[cross[k].cell][cross[k].face] = cross[k + 1].cell;
       out.neighbors[cross[k + 1].cell][cross[k + 1].face] = cross[k].cell;
       ++k;
     }
+}
+
+}  // namespace
+
+TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_vertex,
+                                    const Csr& neighbors, std::span<const GridPoint> points,
+                                    std::span<const uint8_t> removed) {
+  const size_t n = points.size();
+  std::vector<uint32_t> new_id(n, UINT32_MAX), removed_list;
+  uint32_t survivors = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    if (!removed[v]) new_id[v] = survivors++;
+    else removed_list.push_back(v);
+  }
+  std::vector<int32_t> cell_map;
+  TetMesh out = surviving_cells(dt, removed, new_id, cell_map);
+  const std::vector<CavityFill> fills = cavity_fills(removed_list, neighbors, points, removed, new_id);
+  // Stitched in vertex order, so that the result does not depend on the
+  // number of threads.
+  std::vector<CrossFace> cross;
+  std::vector<BorderFace> border;
+  for (size_t k = 0; k < removed_list.size(); ++k) {
+    cavity_border(dt, cells_of_vertex, removed_list[k], new_id, border);
+    stitch(fills[k], border, cell_map, out, cross);
+  }
+  pair_cross_faces(cross, out);
   return out;
 }
 

@@ -89,47 +89,39 @@ std::string gunzip(std::string_view compressed, uint64_t expected, const std::st
   return out;
 }
 
-Volume read_nrrd(const std::string& path) {
-  TextCursor c = TextCursor::open(path);
-  if (c.remaining() == 0) c.fail("empty file, expected a 'NRRD000X' magic line");
-  const std::string magic(c.rest_of_line());
-  if (magic.size() != 8 || magic.substr(0, 7) != "NRRD000" || magic[7] < '1' || magic[7] > '5')
-    c.fail("not a NRRD file (expected 'NRRD0001' to 'NRRD0005', found '" + magic.substr(0, 20) + "')");
-  std::map<std::string, std::string> fields;
-  bool blank_line = false;
-  while (c.remaining() > 0) {
-    const std::string_view line = c.rest_of_line();
-    if (line.empty()) {
-      blank_line = true;
-      break;
+namespace {
+
+// The header's fields, read up to the blank line (or the file's end).
+class NrrdHeader {
+ public:
+  NrrdHeader(TextCursor& c, const std::string& path) : path_(path) {
+    if (c.remaining() == 0) c.fail("empty file, expected a 'NRRD000X' magic line");
+    const std::string magic(c.rest_of_line());
+    if (magic.size() != 8 || magic.substr(0, 7) != "NRRD000" || magic[7] < '1' || magic[7] > '5')
+      c.fail("not a NRRD file (expected 'NRRD0001' to 'NRRD0005', found '" + magic.substr(0, 20) + "')");
+    while (c.remaining() > 0) {
+      const std::string_view line = c.rest_of_line();
+      if (line.empty()) {
+        blank_line_ = true;
+        break;
+      }
+      add(c, line);
     }
-    if (line[0] == '#') continue;
-    if (line.find(":=") != std::string_view::npos && line.find(":=") < line.find(": ")) continue;  // key/value pair
-    const size_t colon = line.find(": ");
-    if (colon == std::string_view::npos) c.fail("expected 'field: value', found '" + std::string(line) + "'");
-    std::string key(line.substr(0, colon));
-    if (key == "datafile") key = "data file";
-    if (key == "byteskip") key = "byte skip";
-    if (key == "lineskip") key = "line skip";
-    if (key == "spacedirections") key = "space directions";
-    if (key == "spaceorigin") key = "space origin";
-    if (!fields.emplace(key, trim(line.substr(colon + 2))).second) c.fail("field '" + key + "' given twice");
-    static const char* kUsed[] = {"type", "dimension", "sizes", "spacings", "space directions", "space origin",
-                                  "encoding", "endian", "data file", "byte skip", "line skip"};
-    if (std::find_if(std::begin(kUsed), std::end(kUsed), [&](const char* f) { return key == f; }) == std::end(kUsed) &&
-        !is_descriptive(key))
-      c.fail("unknown field '" + key + "'");
   }
-  auto field = [&](const char* key) -> const std::string* {
-    const auto it = fields.find(key);
-    return it == fields.end() ? nullptr : &it->second;
-  };
-  auto require = [&](const char* key) -> const std::string& {
+
+  const std::string& path() const { return path_; }
+  bool blank_line() const { return blank_line_; }
+  const std::string* field(const char* key) const {
+    const auto it = fields_.find(key);
+    return it == fields_.end() ? nullptr : &it->second;
+  }
+  const std::string& require(const char* key) const {
     const std::string* v = field(key);
-    if (!v) throw FormatError(path + ": header has no '" + std::string(key) + "' field");
+    if (!v) fail("header has no '" + std::string(key) + "' field");
     return *v;
-  };
-  auto numbers = [&](const std::string& text, const char* key) {
+  }
+  // The numbers of a field's value, separated by blanks, commas or parentheses.
+  std::vector<double> numbers(const std::string& text, const char* key) const {
     std::vector<double> out;
     std::string_view s = text;
     while (true) {
@@ -140,93 +132,151 @@ Volume read_nrrd(const std::string& path) {
       double v = 0;
       const auto [end, ec] = std::from_chars(s.data(), s.data() + e, v);
       if (ec != std::errc() || end != s.data() + e || !std::isfinite(v))
-        throw FormatError(path + ": field '" + key + "': expected numbers, found '" + std::string(s.substr(0, e)) + "'");
+        fail("field '" + std::string(key) + "': expected numbers, found '" + std::string(s.substr(0, e)) + "'");
       out.push_back(v);
       s.remove_prefix(e);
     }
     return out;
-  };
+  }
+  // The numbers of an optional field, which must hold `count` of them.
+  std::optional<std::vector<double>> vector(const char* key, size_t count, const char* what) const {
+    const std::string* text = field(key);
+    if (!text) return std::nullopt;
+    auto values = numbers(*text, key);
+    if (values.size() != count) fail("'" + std::string(key) + "' must " + what);
+    return values;
+  }
+  [[noreturn]] void fail(const std::string& what) const { throw FormatError(path_ + ": " + what); }
 
+ private:
+  void add(TextCursor& c, std::string_view line) {
+    if (line[0] == '#') return;
+    if (line.find(":=") != std::string_view::npos && line.find(":=") < line.find(": ")) return;  // key/value pair
+    const size_t colon = line.find(": ");
+    if (colon == std::string_view::npos) c.fail("expected 'field: value', found '" + std::string(line) + "'");
+    static const std::map<std::string, std::string> kSpellings = {
+        {"datafile", "data file"},          {"byteskip", "byte skip"},      {"lineskip", "line skip"},
+        {"spacedirections", "space directions"}, {"spaceorigin", "space origin"}};
+    std::string key(line.substr(0, colon));
+    if (const auto it = kSpellings.find(key); it != kSpellings.end()) key = it->second;
+    if (!fields_.emplace(key, trim(line.substr(colon + 2))).second) c.fail("field '" + key + "' given twice");
+    static const char* kUsed[] = {"type", "dimension", "sizes", "spacings", "space directions", "space origin",
+                                  "encoding", "endian", "data file", "byte skip", "line skip"};
+    if (std::find_if(std::begin(kUsed), std::end(kUsed), [&](const char* f) { return key == f; }) == std::end(kUsed) &&
+        !is_descriptive(key))
+      c.fail("unknown field '" + key + "'");
+  }
+
+  std::string path_;
+  std::map<std::string, std::string> fields_;
+  bool blank_line_ = false;
+};
+
+// Type, sizes, placement in space and byte order: everything but the data.
+Volume volume_layout(const NrrdHeader& h) {
   Volume v;
-  const auto type = nrrd_type(require("type"));
-  if (!type) throw FormatError(path + ": unsupported type '" + require("type") + "'");
+  const auto type = nrrd_type(h.require("type"));
+  if (!type) h.fail("unsupported type '" + h.require("type") + "'");
   v.type = *type;
-  if (require("dimension") != "3")
-    throw FormatError(path + ": dimension must be 3 (one scalar per voxel), got " + require("dimension"));
-  const auto sizes = numbers(require("sizes"), "sizes");
-  if (sizes.size() != 3) throw FormatError(path + ": 'sizes' must hold 3 values");
+  if (h.require("dimension") != "3") h.fail("dimension must be 3 (one scalar per voxel), got " + h.require("dimension"));
+  const auto sizes = h.numbers(h.require("sizes"), "sizes");
+  if (sizes.size() != 3) h.fail("'sizes' must hold 3 values");
   for (int a = 0; a < 3; ++a) {
     if (sizes[a] < 1 || sizes[a] > (1 << 24) || sizes[a] != std::floor(sizes[a]))
-      throw FormatError(path + ": bad size " + std::to_string(sizes[a]));
+      h.fail("bad size " + std::to_string(sizes[a]));
     v.sizes[a] = static_cast<uint64_t>(sizes[a]);
   }
   if (v.voxels() > (uint64_t{1} << 33))
-    throw FormatError(path + ": " + std::to_string(v.voxels()) + " voxels: larger than this reader handles (2^33)");
-  if (const std::string* dirs = field("space directions")) {
-    const auto d = numbers(*dirs, "space directions");
-    if (d.size() != 9) throw FormatError(path + ": 'space directions' must be three 3-vectors");
-    for (int a = 0; a < 3; ++a) v.directions[a] = {d[3 * a], d[3 * a + 1], d[3 * a + 2]};
-    if (field("spacings")) throw FormatError(path + ": both 'spacings' and 'space directions'");
-  } else if (const std::string* sp = field("spacings")) {
-    const auto s = numbers(*sp, "spacings");
-    if (s.size() != 3) throw FormatError(path + ": 'spacings' must hold 3 values");
-    for (int a = 0; a < 3; ++a) v.directions[a] = {a == 0 ? s[0] : 0, a == 1 ? s[1] : 0, a == 2 ? s[2] : 0};
+    h.fail(std::to_string(v.voxels()) + " voxels: larger than this reader handles (2^33)");
+  if (const auto d = h.vector("space directions", 9, "be three 3-vectors")) {
+    for (int a = 0; a < 3; ++a) v.directions[a] = {(*d)[3 * a], (*d)[3 * a + 1], (*d)[3 * a + 2]};
+    if (h.field("spacings")) h.fail("both 'spacings' and 'space directions'");
+  } else if (const auto s = h.vector("spacings", 3, "hold 3 values")) {
+    for (int a = 0; a < 3; ++a) v.directions[a] = {a == 0 ? (*s)[0] : 0, a == 1 ? (*s)[1] : 0, a == 2 ? (*s)[2] : 0};
   }
-  if (const std::string* o = field("space origin")) {
-    const auto d = numbers(*o, "space origin");
-    if (d.size() != 3) throw FormatError(path + ": 'space origin' must be a 3-vector");
-    v.origin = {d[0], d[1], d[2]};
-  }
-  const std::string& encoding = require("encoding");
-  const int size = scalar_size(v.type);
-  if (const std::string* e = field("endian")) {
-    if (*e != "little" && *e != "big") throw FormatError(path + ": endian must be 'little' or 'big'");
+  if (const auto o = h.vector("space origin", 3, "be a 3-vector")) v.origin = {(*o)[0], (*o)[1], (*o)[2]};
+  const std::string& encoding = h.require("encoding");
+  if (const std::string* e = h.field("endian")) {
+    if (*e != "little" && *e != "big") h.fail("endian must be 'little' or 'big'");
     v.big_endian = *e == "big";
-  } else if (size > 1 && encoding != "ascii" && encoding != "text" && encoding != "txt") {
-    throw FormatError(path + ": header has no 'endian' field");
+  } else if (scalar_size(v.type) > 1 && encoding != "ascii" && encoding != "text" && encoding != "txt") {
+    h.fail("header has no 'endian' field");
   }
-  const uint64_t bytes = v.voxels() * size;
+  return v;
+}
 
-  // The data: after the blank line, or in the detached file.
-  std::string detached;
-  std::string data_path = path;
+// The encoded data: after the blank line or in the detached file (read into
+// `detached`, its path into `data_path`), past the lines and bytes to skip.
+std::string_view data_bytes(const NrrdHeader& h, TextCursor& c, uint64_t bytes, std::string& detached,
+                            std::string& data_path) {
   std::string_view data;
-  if (const std::string* file = field("data file")) {
-    if (file->find(' ') != std::string::npos || *file == "LIST")
-      throw FormatError(path + ": unsupported: a list of data files");
+  data_path = h.path();
+  if (const std::string* file = h.field("data file")) {
+    if (file->find(' ') != std::string::npos || *file == "LIST") h.fail("unsupported: a list of data files");
     const std::filesystem::path p(*file);
-    data_path = p.is_absolute() ? p.string() : (std::filesystem::path(path).parent_path() / p).string();
+    data_path = p.is_absolute() ? p.string() : (std::filesystem::path(h.path()).parent_path() / p).string();
     try {
       detached = read_whole_file(data_path);
     } catch (const FormatError& e) {
-      throw FormatError(path + ": data file: " + e.what());
+      h.fail("data file: " + std::string(e.what()));
     }
     data = detached;
   } else {
-    if (!blank_line) throw FormatError(path + ": header ends without the blank line before the data");
+    if (!h.blank_line()) h.fail("header ends without the blank line before the data");
     data = c.rest();
   }
-  if (const std::string* skip = field("line skip")) {
-    const auto n = numbers(*skip, "line skip");
-    if (n.size() != 1 || n[0] < 0) throw FormatError(path + ": bad 'line skip'");
-    for (int i = 0; i < n[0]; ++i) {
+  if (const auto n = h.vector("line skip", 1, "be one number")) {
+    if ((*n)[0] < 0) h.fail("bad 'line skip'");
+    for (int i = 0; i < (*n)[0]; ++i) {
       const size_t nl = data.find('\n');
       if (nl == std::string_view::npos) throw FormatError(data_path + ": ends within the lines to skip");
       data.remove_prefix(nl + 1);
     }
   }
-  if (const std::string* skip = field("byte skip")) {
-    const auto n = numbers(*skip, "byte skip");
-    if (n.size() != 1 || n[0] < -1) throw FormatError(path + ": bad 'byte skip'");
-    if (n[0] == -1) {
-      if (encoding != "raw") throw FormatError(path + ": 'byte skip: -1' needs raw encoding");
-      if (data.size() < bytes) throw FormatError(data_path + ": holds " + std::to_string(data.size()) + " bytes, the volume needs " + std::to_string(bytes));
+  if (const auto n = h.vector("byte skip", 1, "be one number")) {
+    if ((*n)[0] < -1) h.fail("bad 'byte skip'");
+    if ((*n)[0] == -1) {
+      if (h.require("encoding") != "raw") h.fail("'byte skip: -1' needs raw encoding");
+      if (data.size() < bytes)
+        throw FormatError(data_path + ": holds " + std::to_string(data.size()) + " bytes, the volume needs " +
+                          std::to_string(bytes));
       data.remove_prefix(data.size() - bytes);
     } else {
-      if (n[0] > data.size()) throw FormatError(data_path + ": shorter than 'byte skip'");
-      data.remove_prefix(static_cast<size_t>(n[0]));
+      if ((*n)[0] > data.size()) throw FormatError(data_path + ": shorter than 'byte skip'");
+      data.remove_prefix(static_cast<size_t>((*n)[0]));
     }
   }
+  return data;
+}
+
+// ASCII data: every value as a little-endian float64.
+std::string ascii_values(std::string_view data, const std::string& data_path, uint64_t voxels) {
+  TextCursor t(data_path, std::string(data));
+  // Each value takes a character and a separator at least.
+  if (voxels > data.size() / 2 + 1)
+    t.fail("data ends: " + std::to_string(data.size()) + " bytes of text cannot hold " + std::to_string(voxels) +
+           " values");
+  std::string out;
+  out.reserve(voxels * 8);
+  for (uint64_t i = 0; i < voxels; ++i) {
+    if (t.at_end()) t.fail("data ends after " + std::to_string(i) + " of " + std::to_string(voxels) + " values");
+    const auto u = std::bit_cast<uint64_t>(t.number<double>("a value"));
+    for (int k = 0; k < 8; ++k) out += static_cast<char>((u >> (8 * k)) & 0xff);
+  }
+  if (!t.at_end()) t.fail("more values than the volume's " + std::to_string(voxels));
+  return out;
+}
+
+}  // namespace
+
+Volume read_nrrd(const std::string& path) {
+  TextCursor c = TextCursor::open(path);
+  const NrrdHeader header(c, path);
+  Volume v = volume_layout(header);
+  const uint64_t bytes = v.voxels() * scalar_size(v.type);
+  std::string detached, data_path;
+  const std::string_view data = data_bytes(header, c, bytes, detached, data_path);
+  const std::string& encoding = header.require("encoding");
   if (encoding == "raw") {
     if (data.size() != bytes)
       throw FormatError(data_path + ": " + std::string(data.size() < bytes ? "truncated: " : "") + "holds " +
@@ -237,23 +287,11 @@ Volume read_nrrd(const std::string& path) {
   } else if (encoding == "gzip" || encoding == "gz") {
     v.data = gunzip(data, bytes, data_path);
   } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
-    TextCursor t(data_path, std::string(data));
+    v.data = ascii_values(data, data_path, v.voxels());
     v.big_endian = false;
     v.type = ScalarType::kFloat64;
-    // Each value takes a character and a separator at least.
-    if (v.voxels() > data.size() / 2 + 1)
-      t.fail("data ends: " + std::to_string(data.size()) + " bytes of text cannot hold " +
-             std::to_string(v.voxels()) + " values");
-    v.data.reserve(v.voxels() * 8);
-    for (uint64_t i = 0; i < v.voxels(); ++i) {
-      if (t.at_end()) t.fail("data ends after " + std::to_string(i) + " of " + std::to_string(v.voxels()) + " values");
-      const double x = t.number<double>("a value");
-      const auto u = std::bit_cast<uint64_t>(x);
-      for (int k = 0; k < 8; ++k) v.data += static_cast<char>((u >> (8 * k)) & 0xff);
-    }
-    if (!t.at_end()) t.fail("more values than the volume's " + std::to_string(v.voxels()));
   } else {
-    throw FormatError(path + ": unsupported encoding '" + encoding + "' (raw, gzip and ascii are read)");
+    header.fail("unsupported encoding '" + encoding + "' (raw, gzip and ascii are read)");
   }
   return v;
 }
