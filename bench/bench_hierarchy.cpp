@@ -16,12 +16,10 @@
 //   bench_hierarchy --peak-memory MODEL.node [hierarchy|cgal]
 //       builds once in this fresh process and prints the peak RSS (ru_maxrss)
 //   bench_hierarchy --cgal-version
-#include <benchmark/benchmark.h>
-
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/version.h>
-
+#include <benchmark/benchmark.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -39,8 +37,8 @@
 
 #include "codec/decode.h"
 #include "codec/expert_encode.h"
-#include "mesh/delaunay.h"
 #include "core/hierarchy.h"
+#include "mesh/delaunay.h"
 #include "tools/formats/tetgen.h"
 
 namespace {
@@ -63,8 +61,10 @@ struct Model {
     if (stream.empty()) {
       dtm::HierarchyOptions fast = opt;
       fast.measure_boundary_error = false;
-      stream = dtm::encode_stream(dtm::build_hierarchy(q.points, fast).value(), q.points, q.grid,
-                                  opt.alpha.kind).value().bytes;
+      stream =
+          dtm::encode_stream(dtm::build_hierarchy(q.points, fast).value(), q.points, q.grid, opt.alpha.kind)
+              .value()
+              .bytes;
     }
     return stream;
   }
@@ -91,106 +91,135 @@ void register_benchmarks(const Model& m) {
   const int iters = iterations_for(m.q.points.size());
   const double n = static_cast<double>(m.q.points.size());
 
-  benchmark::RegisterBenchmark(("CgalDelaunay/" + m.name).c_str(), [&m, n](benchmark::State& st) {
-    size_t cells = 0;
-    for (auto _ : st) {
-      const dtm::TetMesh dt = dtm::delaunay_tetrahedralize(m.q.points).value();
-      cells = dt.cells.size();
-      benchmark::DoNotOptimize(dt.cells.data());
-    }
-    st.counters["vertices"] = n;
-    st.counters["cells"] = static_cast<double>(cells);
-  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+  benchmark::RegisterBenchmark(("CgalDelaunay/" + m.name).c_str(),
+                               [&m, n](benchmark::State& st) {
+                                 size_t cells = 0;
+                                 for (auto _ : st) {
+                                   const dtm::TetMesh dt = dtm::delaunay_tetrahedralize(m.q.points).value();
+                                   cells = dt.cells.size();
+                                   benchmark::DoNotOptimize(dt.cells.data());
+                                 }
+                                 st.counters["vertices"] = n;
+                                 st.counters["cells"] = static_cast<double>(cells);
+                               })
+      ->Iterations(iters)
+      ->Unit(benchmark::kMillisecond)
+      ->MeasureProcessCPUTime();
 
   // The wrapper above also attaches ids, numbers the cells and copies them
   // out; this variant shows what that export costs on top of CGAL itself.
-  benchmark::RegisterBenchmark(("CgalRaw/" + m.name).c_str(), [&m, n](benchmark::State& st) {
-    std::vector<K::Point_3> pts;
-    pts.reserve(m.q.points.size());
-    for (const auto& p : m.q.points) pts.emplace_back(p.x, p.y, p.z);
-    size_t cells = 0;
-    for (auto _ : st) {
-      auto dt = std::make_unique<RawDT>(pts.begin(), pts.end());  // spatial sort + insertion
-      cells = dt->number_of_finite_cells();
-      st.PauseTiming();  // freeing millions of cells is not construction
-      dt.reset();
-      st.ResumeTiming();
-    }
-    st.counters["vertices"] = n;
-    st.counters["cells"] = static_cast<double>(cells);
-  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+  benchmark::RegisterBenchmark(("CgalRaw/" + m.name).c_str(),
+                               [&m, n](benchmark::State& st) {
+                                 std::vector<K::Point_3> pts;
+                                 pts.reserve(m.q.points.size());
+                                 for (const auto& p : m.q.points) pts.emplace_back(p.x, p.y, p.z);
+                                 size_t cells = 0;
+                                 for (auto _ : st) {
+                                   auto dt = std::make_unique<RawDT>(pts.begin(),
+                                                                     pts.end());  // spatial sort + insertion
+                                   cells = dt->number_of_finite_cells();
+                                   st.PauseTiming();  // freeing millions of cells is not construction
+                                   dt.reset();
+                                   st.ResumeTiming();
+                                 }
+                                 st.counters["vertices"] = n;
+                                 st.counters["cells"] = static_cast<double>(cells);
+                               })
+      ->Iterations(iters)
+      ->Unit(benchmark::kMillisecond)
+      ->MeasureProcessCPUTime();
 
   // The whole build as meshenc runs it, then without the boundary-error
   // statistics (a measurement: one AABB query per original boundary vertex
   // and level, which decides nothing).
   for (const bool stats : {true, false}) {
     const std::string name = (stats ? "Hierarchy/" : "HierarchyNoStats/") + m.name;
-    benchmark::RegisterBenchmark(name.c_str(), [&m, n, stats](benchmark::State& st) {
-      dtm::HierarchyOptions opt = m.opt;
-      opt.measure_boundary_error = stats;
-      size_t levels = 0, base = 0, level_vertices = 0;
-      for (auto _ : st) {
-        const dtm::Hierarchy h = dtm::build_hierarchy(m.q.points, opt).value();
-        levels = h.levels.size();
-        base = h.levels.back().vertices.size();
-        level_vertices = 0;
-        for (const auto& l : h.levels) level_vertices += l.vertices.size();
-        benchmark::DoNotOptimize(h.levels.data());
-      }
-      st.counters["vertices"] = n;
-      st.counters["levels"] = static_cast<double>(levels);  // including level 0
-      st.counters["base_vertices"] = static_cast<double>(base);
-      // Every level is analysed in full, so the work grows with the sum of
-      // the level sizes (level 0 is tetrahedralized from scratch, the others
-      // by refilling the removed vertices' cavities).
-      st.counters["level_points_per_vertex"] = static_cast<double>(level_vertices) / n;
-    })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+    benchmark::RegisterBenchmark(name.c_str(),
+                                 [&m, n, stats](benchmark::State& st) {
+                                   dtm::HierarchyOptions opt = m.opt;
+                                   opt.measure_boundary_error = stats;
+                                   size_t levels = 0, base = 0, level_vertices = 0;
+                                   for (auto _ : st) {
+                                     const dtm::Hierarchy h = dtm::build_hierarchy(m.q.points, opt).value();
+                                     levels = h.levels.size();
+                                     base = h.levels.back().vertices.size();
+                                     level_vertices = 0;
+                                     for (const auto& l : h.levels) level_vertices += l.vertices.size();
+                                     benchmark::DoNotOptimize(h.levels.data());
+                                   }
+                                   st.counters["vertices"] = n;
+                                   st.counters["levels"] = static_cast<double>(levels);  // including level 0
+                                   st.counters["base_vertices"] = static_cast<double>(base);
+                                   // Every level is analysed in full, so the work grows with the sum of
+                                   // the level sizes (level 0 is tetrahedralized from scratch, the others
+                                   // by refilling the removed vertices' cavities).
+                                   st.counters["level_points_per_vertex"] =
+                                       static_cast<double>(level_vertices) / n;
+                                 })
+        ->Iterations(iters)
+        ->Unit(benchmark::kMillisecond)
+        ->MeasureProcessCPUTime();
   }
 
   // What meshenc does after reading its input: the hierarchy (without the
   // boundary-error report) and the stream.
-  benchmark::RegisterBenchmark(("Encode/" + m.name).c_str(), [&m, n](benchmark::State& st) {
-    dtm::HierarchyOptions opt = m.opt;
-    opt.measure_boundary_error = false;
-    size_t bytes = 0;
-    for (auto _ : st) {
-      const auto stream = dtm::encode_stream(dtm::build_hierarchy(m.q.points, opt).value(), m.q.points,
-                                             m.q.grid, opt.alpha.kind).value();
-      bytes = stream.bytes.size();
-    }
-    st.counters["vertices"] = n;
-    st.counters["bits_per_vertex"] = 8.0 * bytes / n;
-  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+  benchmark::RegisterBenchmark(("Encode/" + m.name).c_str(),
+                               [&m, n](benchmark::State& st) {
+                                 dtm::HierarchyOptions opt = m.opt;
+                                 opt.measure_boundary_error = false;
+                                 size_t bytes = 0;
+                                 for (auto _ : st) {
+                                   const auto stream =
+                                       dtm::encode_stream(dtm::build_hierarchy(m.q.points, opt).value(),
+                                                          m.q.points, m.q.grid, opt.alpha.kind)
+                                           .value();
+                                   bytes = stream.bytes.size();
+                                 }
+                                 st.counters["vertices"] = n;
+                                 st.counters["bits_per_vertex"] = 8.0 * bytes / n;
+                               })
+      ->Iterations(iters)
+      ->Unit(benchmark::kMillisecond)
+      ->MeasureProcessCPUTime();
 
   // Every layer inserted, coarsest first, into one triangulation; then the
   // finest level's mesh exported and carved. Any level's mesh is available
   // the same way when its layer completes (next benchmark).
-  benchmark::RegisterBenchmark(("Decode/" + m.name).c_str(), [&m, n](benchmark::State& st) {
-    const auto& bytes = const_cast<Model&>(m).encoded();
-    size_t cells = 0;
-    for (auto _ : st) {
-      dtm::ProgressiveDecoder dec;
-      if (!dec.feed(bytes).ok()) st.SkipWithError("decode failed");
-      cells = dec.carved_cells().size();
-    }
-    st.counters["vertices"] = n;
-    st.counters["carved_cells"] = static_cast<double>(cells);
-  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+  benchmark::RegisterBenchmark(("Decode/" + m.name).c_str(),
+                               [&m, n](benchmark::State& st) {
+                                 const auto& bytes = const_cast<Model&>(m).encoded();
+                                 size_t cells = 0;
+                                 for (auto _ : st) {
+                                   dtm::ProgressiveDecoder dec;
+                                   if (!dec.feed(bytes).ok()) st.SkipWithError("decode failed");
+                                   cells = dec.carved_cells().size();
+                                 }
+                                 st.counters["vertices"] = n;
+                                 st.counters["carved_cells"] = static_cast<double>(cells);
+                               })
+      ->Iterations(iters)
+      ->Unit(benchmark::kMillisecond)
+      ->MeasureProcessCPUTime();
 
-  benchmark::RegisterBenchmark(("DecodeEveryLevelMesh/" + m.name).c_str(), [&m, n](benchmark::State& st) {
-    const auto& bytes = const_cast<Model&>(m).encoded();
-    size_t cells = 0;
-    for (auto _ : st) {
-      dtm::ProgressiveDecoder dec;
-      cells = 0;
-      const auto s = dec.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel&) {
-        cells += d.carved_cells().size();
-      });
-      if (!s.ok()) st.SkipWithError("decode failed");
-    }
-    st.counters["vertices"] = n;
-    st.counters["carved_cells_all_levels"] = static_cast<double>(cells);
-  })->Iterations(iters)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+  benchmark::RegisterBenchmark(
+      ("DecodeEveryLevelMesh/" + m.name).c_str(),
+      [&m, n](benchmark::State& st) {
+        const auto& bytes = const_cast<Model&>(m).encoded();
+        size_t cells = 0;
+        for (auto _ : st) {
+          dtm::ProgressiveDecoder dec;
+          cells = 0;
+          const auto s = dec.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel&) {
+            cells += d.carved_cells().size();
+          });
+          if (!s.ok()) st.SkipWithError("decode failed");
+        }
+        st.counters["vertices"] = n;
+        st.counters["carved_cells_all_levels"] = static_cast<double>(cells);
+      })
+      ->Iterations(iters)
+      ->Unit(benchmark::kMillisecond)
+      ->MeasureProcessCPUTime();
 }
 
 // Prints the usual console output and keeps, per benchmark, the real time
@@ -230,8 +259,7 @@ class CollectingReporter : public benchmark::ConsoleReporter {
   std::map<std::string, Sum> sums_;
 };
 
-void print_codec_table(const CollectingReporter& rep,
-                       const std::vector<std::unique_ptr<Model>>& models) {
+void print_codec_table(const CollectingReporter& rep, const std::vector<std::unique_ptr<Model>>& models) {
   std::printf(
       "\n| model | vertices | CGAL DT (s) | encode (s) | ratio | decode, finest mesh (s) | ratio "
       "| decode, every level's mesh (s) | ratio | bits per vertex |\n"
@@ -242,10 +270,9 @@ void print_codec_table(const CollectingReporter& rep,
     const auto dec = rep.find("Decode/" + m->name);
     const auto all = rep.find("DecodeEveryLevelMesh/" + m->name);
     if (!cgal || !enc || !dec || !all) continue;
-    std::printf("| %s | %zu | %.3f | %.3f | %.2f | %.3f | %.2f | %.3f | %.2f | %.2f |\n",
-                m->name.c_str(), m->q.points.size(), cgal->seconds, enc->seconds,
-                enc->seconds / cgal->seconds, dec->seconds, dec->seconds / cgal->seconds,
-                all->seconds, all->seconds / cgal->seconds,
+    std::printf("| %s | %zu | %.3f | %.3f | %.2f | %.3f | %.2f | %.3f | %.2f | %.2f |\n", m->name.c_str(),
+                m->q.points.size(), cgal->seconds, enc->seconds, enc->seconds / cgal->seconds, dec->seconds,
+                dec->seconds / cgal->seconds, all->seconds, all->seconds / cgal->seconds,
                 enc->counters.at("bits_per_vertex").value);
   }
 }
@@ -263,10 +290,9 @@ void print_table(const CollectingReporter& rep, const std::vector<std::unique_pt
     if (!cgal || !hier || !bare) continue;  // filtered out by --benchmark_filter, or failed
     char raw_text[32] = "-";
     if (raw) std::snprintf(raw_text, sizeof raw_text, "%.3f", raw->seconds);
-    std::printf("| %s | %zu | %.0f | %.3f | %.3f | %.1f | %.3f | %.1f | %s | %.2f |\n",
-                m->name.c_str(), m->q.points.size(), hier->counters.at("levels").value,
-                cgal->seconds, hier->seconds, hier->seconds / cgal->seconds, bare->seconds,
-                bare->seconds / cgal->seconds, raw_text,
+    std::printf("| %s | %zu | %.0f | %.3f | %.3f | %.1f | %.3f | %.1f | %s | %.2f |\n", m->name.c_str(),
+                m->q.points.size(), hier->counters.at("levels").value, cgal->seconds, hier->seconds,
+                hier->seconds / cgal->seconds, bare->seconds, bare->seconds / cgal->seconds, raw_text,
                 hier->counters.at("level_points_per_vertex").value);
   }
 }
@@ -294,8 +320,9 @@ int peak_memory(const std::string& path, const std::string& what) {
     levels = dtm::build_hierarchy(m.q.points, m.opt).value().levels.size();
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("model=%s build=%s vertices=%zu levels=%zu seconds=%.3f loaded_rss_mib=%.1f peak_rss_mib=%.1f\n",
-              m.name.c_str(), what.c_str(), m.q.points.size(), levels, secs, loaded, max_rss_mib());
+  std::printf(
+      "model=%s build=%s vertices=%zu levels=%zu seconds=%.3f loaded_rss_mib=%.1f peak_rss_mib=%.1f\n",
+      m.name.c_str(), what.c_str(), m.q.points.size(), levels, secs, loaded, max_rss_mib());
   return 0;
 }
 

@@ -37,7 +37,7 @@ using Tds = CGAL::Triangulation_data_structure_3<Vb>;
 using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
 using Point = K::Point_3;
 
-constexpr int kBins = 64;         // u in [0, 2), steps of 1/32
+constexpr int kBins = 64;  // u in [0, 2), steps of 1/32
 constexpr int kSamplesPerPoint = 40;
 
 int bin_of(double u) { return std::min(kBins - 1, static_cast<int>(u * 32)); }
@@ -62,7 +62,8 @@ Point uniform_in(DT::Cell_handle c, std::mt19937_64& rng) {
     s = 1 - t - tmp;
   }
   const double a = 1 - s - t - u;
-  const Point p[4] = {c->vertex(0)->point(), c->vertex(1)->point(), c->vertex(2)->point(), c->vertex(3)->point()};
+  const Point p[4] = {c->vertex(0)->point(), c->vertex(1)->point(), c->vertex(2)->point(),
+                      c->vertex(3)->point()};
   return {a * p[0].x() + s * p[1].x() + t * p[2].x() + u * p[3].x(),
           a * p[0].y() + s * p[1].y() + t * p[2].y() + u * p[3].y(),
           a * p[0].z() + s * p[1].z() + t * p[2].z() + u * p[3].z()};
@@ -70,8 +71,8 @@ Point uniform_in(DT::Cell_handle c, std::mt19937_64& rng) {
 
 struct LayerFigures {
   size_t coarse = 0, fresh = 0;
-  double spacing_bound = 0;   // bits per new point
-  double at_circumcentre = 0; // share of new points
+  double spacing_bound = 0;    // bits per new point
+  double at_circumcentre = 0;  // share of new points
 };
 
 LayerFigures measure(const std::vector<dtm::GridPoint>& points, size_t coarse, size_t fine) {
@@ -85,7 +86,8 @@ LayerFigures measure(const std::vector<dtm::GridPoint>& points, size_t coarse, s
     std::vector<DT::Vertex_handle> adjacent;
     dt.finite_adjacent_vertices(v, std::back_inserter(adjacent));
     double nearest = std::numeric_limits<double>::infinity();
-    for (auto w : adjacent) nearest = std::min(nearest, std::sqrt(CGAL::squared_distance(v->point(), w->point())));
+    for (auto w : adjacent)
+      nearest = std::min(nearest, std::sqrt(CGAL::squared_distance(v->point(), w->point())));
     v->info() = nearest;
   }
   // The volume's histogram of u.
@@ -119,8 +121,9 @@ LayerFigures measure(const std::vector<dtm::GridPoint>& points, size_t coarse, s
     dt.finite_incident_cells(v, std::back_inserter(around));
     double best = std::numeric_limits<double>::infinity();
     for (auto a : around)
-      best = std::min(best, CGAL::squared_distance(x, CGAL::circumcenter(a->vertex(0)->point(), a->vertex(1)->point(),
-                                                                          a->vertex(2)->point(), a->vertex(3)->point())));
+      best = std::min(
+          best, CGAL::squared_distance(x, CGAL::circumcenter(a->vertex(0)->point(), a->vertex(1)->point(),
+                                                             a->vertex(2)->point(), a->vertex(3)->point())));
     if (best <= 1.0) ++near_centre;
   }
   if (inside == 0) return out;
@@ -157,12 +160,14 @@ int main(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) levels.push_back(std::atoi(argv[i]));
   if (levels.empty())
     for (int l = 0; l + 1 < static_cast<int>(decoder.levels().size()); ++l) levels.push_back(l);
-  std::printf("| level | coarse vertices | new vertices | spacing bound (bits per new vertex) | "
-              "new vertices at a coarse circumcentre |\n|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "| level | coarse vertices | new vertices | spacing bound (bits per new vertex) | "
+      "new vertices at a coarse circumcentre |\n|---:|---:|---:|---:|---:|\n");
   double weighted = 0;
   for (int l : levels) {
     if (l < finest || l + 1 >= static_cast<int>(decoder.levels().size())) continue;
-    const LayerFigures f = measure(decoder.points(), decoder.level_vertices(l + 1), decoder.level_vertices(l));
+    const LayerFigures f =
+        measure(decoder.points(), decoder.level_vertices(l + 1), decoder.level_vertices(l));
     weighted += f.spacing_bound * f.fresh;
     std::printf("| %d | %zu | %zu | %.2f | %.1f%% |\n", l, f.coarse, f.fresh, f.spacing_bound,
                 100 * f.at_circumcentre);

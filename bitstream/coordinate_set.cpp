@@ -1,9 +1,9 @@
 #include "bitstream/coordinate_set.h"
 
-#include "common/status.h"
-
 #include <bit>
 #include <stdexcept>
+
+#include "common/status.h"
 
 namespace dtm {
 

@@ -10,8 +10,10 @@ void RangeEncoder::shift_low() {
     const uint8_t carry = static_cast<uint8_t>(low_ >> 32);
     uint8_t pending = cache_;
     do {
-      if (first_byte_) first_byte_ = false;  // always zero: not sent
-      else out_.push_back(static_cast<uint8_t>(pending + carry));
+      if (first_byte_)
+        first_byte_ = false;  // always zero: not sent
+      else
+        out_.push_back(static_cast<uint8_t>(pending + carry));
       pending = 0xFF;
     } while (--cache_size_ != 0);
     cache_ = static_cast<uint8_t>(static_cast<uint32_t>(low_) >> 24);
@@ -61,8 +63,10 @@ void RangeEncoder::encode_index(uint64_t value, uint64_t count) {
   }
   const int k = std::bit_width(count) - 1;
   const uint64_t u = (uint64_t{2} << k) - count;
-  if (value < u) encode_raw(value, k);
-  else encode_raw(value + u, k + 1);
+  if (value < u)
+    encode_raw(value, k);
+  else
+    encode_raw(value + u, k + 1);
 }
 
 std::vector<uint8_t> RangeEncoder::finish() {

@@ -29,8 +29,10 @@ struct AdaptiveBit {
 
   void update(bool bit) {
     const int rate = std::min(7, static_cast<int>(std::bit_width(seen + 2u)));
-    if (bit) p0 -= p0 >> rate;
-    else p0 += (65536 - p0) >> rate;
+    if (bit)
+      p0 -= p0 >> rate;
+    else
+      p0 += (65536 - p0) >> rate;
     if (seen < 255) ++seen;
   }
 };

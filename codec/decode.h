@@ -104,9 +104,9 @@ class ProgressiveDecoder {
   SetCoderModels models_;          // the layer coder's models, adapted layer after layer
   // The triangulation lags behind points_ until a mesh is asked for.
   mutable IncrementalDelaunay dt_;
-  mutable size_t inserted_ = 0;          // points_ already in dt_
-  mutable size_t layers_pending_ = 0;    // whole layers not yet in dt_
-  mutable Status mesh_status_;           // why dt_ is unusable, if it is
+  mutable size_t inserted_ = 0;        // points_ already in dt_
+  mutable size_t layers_pending_ = 0;  // whole layers not yet in dt_
+  mutable Status mesh_status_;         // why dt_ is unusable, if it is
   Status error_;
   bool stopped_ = false;  // the requested level is decoded
 };

@@ -1,14 +1,12 @@
-#include "codec/decode.h"
-
 #include <string>
 
+#include "codec/decode.h"
 #include "codec/layer_coder.h"
 #include "mesh/geometry.h"
 
 namespace dtm {
 
-ProgressiveDecoder::ProgressiveDecoder(DecoderOptions options)
-    : options_(options) {}
+ProgressiveDecoder::ProgressiveDecoder(DecoderOptions options) : options_(options) {}
 ProgressiveDecoder::~ProgressiveDecoder() = default;
 
 Status ProgressiveDecoder::fail(Status s) {
@@ -36,8 +34,7 @@ Status ProgressiveDecoder::feed(std::span<const uint8_t> bytes, const LevelCallb
 
 // Decodes one more piece (the header or one layer) if its bytes are all here.
 Status ProgressiveDecoder::step(const LevelCallback& on_level) {
-  const std::span<const uint8_t> avail(pending_.data() + pending_start_,
-                                       pending_.size() - pending_start_);
+  const std::span<const uint8_t> avail(pending_.data() + pending_start_, pending_.size() - pending_start_);
   if (!has_header_) {
     DTM_RETURN_IF_ERROR(parse_header(avail, header_));
     has_header_ = true;
@@ -80,15 +77,13 @@ Status ProgressiveDecoder::finish() const {
   if (!error_.ok()) return error_;
   if (stopped_ || complete()) return Status::Ok();
   if (!has_header_) return {StatusCode::kTruncated, "the input ends inside the header"};
-  return {StatusCode::kTruncated,
-          levels_.empty() ? std::string("the input ends before the base level is complete")
-                          : "the input ends after level " + std::to_string(finest_level()) +
-                                " (of " + std::to_string(header_.level_count) + " levels)"};
+  return {StatusCode::kTruncated, levels_.empty()
+                                      ? std::string("the input ends before the base level is complete")
+                                      : "the input ends after level " + std::to_string(finest_level()) +
+                                            " (of " + std::to_string(header_.level_count) + " levels)"};
 }
 
-int ProgressiveDecoder::finest_level() const {
-  return levels_.empty() ? -1 : levels_.back().level;
-}
+int ProgressiveDecoder::finest_level() const { return levels_.empty() ? -1 : levels_.back().level; }
 
 uint32_t ProgressiveDecoder::level_vertices(int level) const {
   for (const auto& l : levels_)
@@ -115,8 +110,8 @@ void ProgressiveDecoder::insert_pending() const {
   // curve: inserted in that order, each point located from the previous one,
   // it goes ~12% faster than re-sorted. Anything else (the base layer,
   // several layers at once) gets CGAL's spatially sorted batch insertion.
-  const Status s = inserted_ > 0 && layers_pending_ == 1 ? dt_.insert_one_by_one(batch, ids)
-                                                         : dt_.insert(batch, ids);
+  const Status s =
+      inserted_ > 0 && layers_pending_ == 1 ? dt_.insert_one_by_one(batch, ids) : dt_.insert(batch, ids);
   if (!s.ok()) {
     mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return;

@@ -44,8 +44,7 @@ Status check_options(const EncodeOptions& o) {
   if (!(o.scale > 0)) return invalid("the scale must be positive");
   if (o.box < 0) return invalid("the box must be positive");
   if (o.dmax < 0) return invalid("D_max must be positive");
-  if (o.alpha == AlphaKind::kFixed && !(o.fixed_alpha > 0))
-    return invalid("a fixed alpha must be positive");
+  if (o.alpha == AlphaKind::kFixed && !(o.fixed_alpha > 0)) return invalid("a fixed alpha must be positive");
   if (o.max_levels < 0) return invalid("the level count must not be negative");
   if (o.quality_guard < 0) return invalid("the quality guard must not be negative");
   if (o.level_step < 1) return invalid("the level step must be at least 1");
@@ -83,8 +82,8 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   return encode(input, options, std::move(plan), on_level);
 }
 
-StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options,
-                             EncodePlan plan, const LevelReady& on_level) {
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, EncodePlan plan,
+                             const LevelReady& on_level) {
   const QuantizedPoints& q = plan.quantized;
   EncodedMesh out;
   EncodeReport& report = out.report;
@@ -106,12 +105,12 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   }
   const HierarchyOptions hierarchy = hierarchy_options(options, q.grid, plan.dmax);
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
-    LevelReport r;
-    r.stats = level.stats;
-    if (reference) r.reference_error = reference->distance(level.mesh, q.points);
-    report.levels.push_back(r);
-    if (on_level) on_level(report.levels.back());
-  }));
+                         LevelReport r;
+                         r.stats = level.stats;
+                         if (reference) r.reference_error = reference->distance(level.mesh, q.points);
+                         report.levels.push_back(r);
+                         if (on_level) on_level(report.levels.back());
+                       }));
 
   StreamOptions stream_options;
   stream_options.cell_hashes = options.cell_hashes;

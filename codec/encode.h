@@ -42,11 +42,11 @@ struct EncodeOptions {
   // The hierarchy (spec/HIERARCHY.md).
   double dmax = 0;  // boundary tolerance; 0 = 0.5% of the grid's extent
   AlphaKind alpha = AlphaKind::kPaper;
-  double fixed_alpha = 0;           // with AlphaKind::kFixed
-  int max_levels = 0;               // coarser levels at most; 0 = no limit
-  size_t min_base_vertices = 16;    // never build a level with fewer vertices
-  bool paper_stop = true;           // stop at the first level removing no boundary vertex
-  double quality_guard = 0;         // HierarchyOptions::quality_guard; 0 = off
+  double fixed_alpha = 0;              // with AlphaKind::kFixed
+  int max_levels = 0;                  // coarser levels at most; 0 = no limit
+  size_t min_base_vertices = 16;       // never build a level with fewer vertices
+  bool paper_stop = true;              // stop at the first level removing no boundary vertex
+  double quality_guard = 0;            // HierarchyOptions::quality_guard; 0 = off
   bool measure_boundary_error = true;  // LevelStats' max/mean_boundary_error
 
   // The stream (codec/expert_encode.h, StreamOptions).
@@ -73,17 +73,17 @@ struct LevelReport {
 };
 
 struct EncodeReport {
-  Grid grid;                    // origin and step in scaled input units
-  double scale = 1.0;           // what the input coordinates were multiplied by
-  double dmax = 0;              // scaled input units
-  bool lattice = false;         // the input's lattice is the grid: lossless
+  Grid grid;             // origin and step in scaled input units
+  double scale = 1.0;    // what the input coordinates were multiplied by
+  double dmax = 0;       // scaled input units
+  bool lattice = false;  // the input's lattice is the grid: lossless
   uint64_t input_points = 0;
   uint64_t duplicates_merged = 0;
-  uint64_t reference_tetrahedra = 0;        // after quantization, 0 without tetrahedra
+  uint64_t reference_tetrahedra = 0;  // after quantization, 0 without tetrahedra
   uint64_t reference_boundary_vertices = 0;
-  std::vector<LevelReport> levels;          // every hierarchy level, finest first
-  std::vector<uint64_t> layer_bytes;        // per hierarchy level; 0 if not streamed
-  std::vector<int> streamed_levels;         // hierarchy level of each stream level
+  std::vector<LevelReport> levels;    // every hierarchy level, finest first
+  std::vector<uint64_t> layer_bytes;  // per hierarchy level; 0 if not streamed
+  std::vector<int> streamed_levels;   // hierarchy level of each stream level
   uint64_t stream_bytes = 0;
 };
 
@@ -114,7 +114,7 @@ using LevelReady = std::function<void(const LevelReport&)>;
 StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options = {},
                              const LevelReady& on_level = {});
 // The same, from a plan_encoding() result.
-StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options,
-                             EncodePlan plan, const LevelReady& on_level = {});
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, EncodePlan plan,
+                             const LevelReady& on_level = {});
 
 }  // namespace dtm

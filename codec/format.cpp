@@ -15,21 +15,31 @@ Status corrupt(const std::string& what) { return {StatusCode::kCorrupt, what}; }
 
 template <class Wire>
 void put(ByteWriter& w, Wire v) {
-  if constexpr (std::is_same_v<Wire, double>) w.f64(v);
-  else if constexpr (sizeof(Wire) == 1) w.u8(v);
-  else if constexpr (sizeof(Wire) == 2) w.u16(v);
-  else if constexpr (sizeof(Wire) == 4) w.u32(v);
-  else w.u64(v);
+  if constexpr (std::is_same_v<Wire, double>)
+    w.f64(v);
+  else if constexpr (sizeof(Wire) == 1)
+    w.u8(v);
+  else if constexpr (sizeof(Wire) == 2)
+    w.u16(v);
+  else if constexpr (sizeof(Wire) == 4)
+    w.u32(v);
+  else
+    w.u64(v);
 }
 
 template <class Wire>
 Wire get(ByteReader& r) {
   Wire v{};
-  if constexpr (std::is_same_v<Wire, double>) r.f64(v);
-  else if constexpr (sizeof(Wire) == 1) r.u8(v);
-  else if constexpr (sizeof(Wire) == 2) r.u16(v);
-  else if constexpr (sizeof(Wire) == 4) r.u32(v);
-  else r.u64(v);
+  if constexpr (std::is_same_v<Wire, double>)
+    r.f64(v);
+  else if constexpr (sizeof(Wire) == 1)
+    r.u8(v);
+  else if constexpr (sizeof(Wire) == 2)
+    r.u16(v);
+  else if constexpr (sizeof(Wire) == 4)
+    r.u32(v);
+  else
+    r.u64(v);
   return v;
 }
 
@@ -103,9 +113,9 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   // The version first: a future version may change everything after it.
   if (h.version_major < kOldestVersionMajor || h.version_major > kVersionMajor)
     return {StatusCode::kUnsupported,
-            "format version " + std::to_string(h.version_major) + "." +
-                std::to_string(h.version_minor) + " is not supported (this decoder reads " +
-                std::to_string(kOldestVersionMajor) + ".x to " + std::to_string(kVersionMajor) + ".x)"};
+            "format version " + std::to_string(h.version_major) + "." + std::to_string(h.version_minor) +
+                " is not supported (this decoder reads " + std::to_string(kOldestVersionMajor) + ".x to " +
+                std::to_string(kVersionMajor) + ".x)"};
   if (h.checksum != static_cast<uint32_t>(xxh3_64(bytes.first(kHeaderChecksumOffset))))
     return corrupt("header checksum mismatch");
   if (h.grid.qbits < kMinQBits || h.grid.qbits > kMaxQBits) return corrupt("qbits out of range");
@@ -151,8 +161,7 @@ Status LayerWalk::check(const LayerHeader& h) const {
   if (!(header_.flags & kFlagCellHashes) && h.cell_hash != 0)
     return corrupt("cell hash present without its flag");
   if (h.level_vertices > max_level_vertices_)
-    return {StatusCode::kLimitExceeded, std::to_string(h.level_vertices) +
-                                            " vertices exceed the limit of " +
+    return {StatusCode::kLimitExceeded, std::to_string(h.level_vertices) + " vertices exceed the limit of " +
                                             std::to_string(max_level_vertices_)};
   return Status::Ok();
 }
@@ -205,16 +214,15 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
     } else if (!walk.done()) {
       if (header_seen) s.layers.push_back({layer.header, layer.offset, false});
       s.status = {StatusCode::kTruncated,
-                  header_seen ? "the stream ends inside level " + std::to_string(level) + "'s layer"
-                              : "the stream ends in the header of level " + std::to_string(level) +
-                                    "'s layer"};
+                  header_seen
+                      ? "the stream ends inside level " + std::to_string(level) + "'s layer"
+                      : "the stream ends in the header of level " + std::to_string(level) + "'s layer"};
     }
     return s;
   }
 }
 
-uint64_t cell_set_hash(std::span<const GridPoint> points,
-                       std::span<const std::array<uint32_t, 4>> cells) {
+uint64_t cell_set_hash(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells) {
   std::vector<std::array<int32_t, 12>> canon;
   canon.reserve(cells.size());
   for (const auto& c : cells) {

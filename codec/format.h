@@ -45,8 +45,8 @@ struct LayerHeader {
   uint32_t level_vertices = 0;  // |V_level| = the coarser level's count + new_vertices
   double alpha = 0;             // grid units
   uint32_t payload_bytes = 0;
-  uint64_t cell_hash = 0;       // meaningful with kFlagCellHashes, else 0
-  uint64_t checksum = 0;        // XXH3-64 of the header bytes before it and the payload
+  uint64_t cell_hash = 0;  // meaningful with kFlagCellHashes, else 0
+  uint64_t checksum = 0;   // XXH3-64 of the header bytes before it and the payload
 };
 
 // The fields of each header in stream order, described once: writing,
@@ -180,7 +180,6 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes);
 // A level's canonical cell-set hash: each cell as its four grid points in
 // lexicographic order (12 int32, little-endian), cells in lexicographic
 // order, XXH3-64 of the concatenation.
-uint64_t cell_set_hash(std::span<const GridPoint> points,
-                       std::span<const std::array<uint32_t, 4>> cells);
+uint64_t cell_set_hash(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
 
 }  // namespace dtm

@@ -30,8 +30,8 @@
 #include <span>
 #include <vector>
 
-#include "common/status.h"
 #include "common/grid.h"
+#include "common/status.h"
 
 namespace dtm {
 
@@ -60,17 +60,15 @@ class SetCoderModels {
 
 // Known points: ascending Morton codes of every point of the coarser levels.
 // New points: distinct, none of them known, any order.
-std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known,
-                                      std::span<const GridPoint> points, int qbits,
-                                      SetCoderModels& models);
+std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known, std::span<const GridPoint> points,
+                                      int qbits, SetCoderModels& models);
 
 // Decodes exactly `count` new points, appending them in Morton order. Rejects
 // (kCorrupt) a payload that does not describe `count` distinct points none of
 // which is known, or that does not end exactly where its bytes do. `models`
 // are left in an unspecified state after an error.
-Status decode_point_set(std::span<const uint8_t> payload, std::span<const MortonCode> known,
-                        int qbits, uint32_t count, SetCoderModels& models,
-                        std::vector<GridPoint>& out);
+Status decode_point_set(std::span<const uint8_t> payload, std::span<const MortonCode> known, int qbits,
+                        uint32_t count, SetCoderModels& models, std::vector<GridPoint>& out);
 
 // Merges ascending `added` codes into ascending `known`.
 void merge_known(std::vector<MortonCode>& known, std::span<const GridPoint> added, int qbits);

@@ -17,13 +17,13 @@
 namespace dtm {
 
 // Context layout (spec/FORMAT.md §3.1).
-inline constexpr int kKnownClasses = 7;   // class(k): 0, 1, 2, 3-4, 5-8, 9-16, 17+
-inline constexpr int kSmallMax = 12;      // n0 of nodes with 2..12 new points: bisection
-inline constexpr int kSplitContexts = 29; // 0: no known point; else 1 + 4 * share bucket + size class
-inline constexpr int kBisectNodes = 32;   // heap positions of the bisection of [0, 12]
-inline constexpr int kLargeClasses = 33;  // bit_width(n) of nodes with n > 12 (n < 2^32)
-inline constexpr int kPrefixBits = 40;    // Exp-Golomb prefix: at most 40 ones
-inline constexpr int kReuseContexts = 24; // floor(2 log2(values in range / values used there)), capped
+inline constexpr int kKnownClasses = 7;    // class(k): 0, 1, 2, 3-4, 5-8, 9-16, 17+
+inline constexpr int kSmallMax = 12;       // n0 of nodes with 2..12 new points: bisection
+inline constexpr int kSplitContexts = 29;  // 0: no known point; else 1 + 4 * share bucket + size class
+inline constexpr int kBisectNodes = 32;    // heap positions of the bisection of [0, 12]
+inline constexpr int kLargeClasses = 33;   // bit_width(n) of nodes with n > 12 (n < 2^32)
+inline constexpr int kPrefixBits = 40;     // Exp-Golomb prefix: at most 40 ones
+inline constexpr int kReuseContexts = 24;  // floor(2 log2(values in range / values used there)), capped
 
 struct SetCoderModels::Tables {
   AdaptiveBit single[kKnownClasses][kKnownClasses];
@@ -82,9 +82,7 @@ inline uint64_t predicted_first(uint64_t n, uint64_t k0, uint64_t k) {
 inline int reuse_context(uint64_t m, int r) {
   const unsigned __int128 range_squared = static_cast<unsigned __int128>(1) << (2 * r);
   int b = 0;
-  while (b + 1 < kReuseContexts &&
-         (static_cast<unsigned __int128>(m) * m << (b + 1)) <= range_squared)
-    ++b;
+  while (b + 1 < kReuseContexts && (static_cast<unsigned __int128>(m) * m << (b + 1)) <= range_squared) ++b;
   return b;
 }
 
@@ -93,13 +91,16 @@ inline int remaining_bits(int qbits, int depth, int axis) { return qbits - (dept
 
 inline int32_t axis_of(const GridPoint& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
 
-inline uint64_t zigzag(int64_t d) { return d >= 0 ? 2 * static_cast<uint64_t>(d) : 2 * static_cast<uint64_t>(-d) - 1; }
-inline int64_t unzigzag(uint64_t u) { return (u & 1) ? -static_cast<int64_t>((u + 1) / 2) : static_cast<int64_t>(u / 2); }
+inline uint64_t zigzag(int64_t d) {
+  return d >= 0 ? 2 * static_cast<uint64_t>(d) : 2 * static_cast<uint64_t>(-d) - 1;
+}
+inline int64_t unzigzag(uint64_t u) {
+  return (u & 1) ? -static_cast<int64_t>((u + 1) / 2) : static_cast<int64_t>(u / 2);
+}
 
 // The first index in [lo, hi) of `codes` whose code is >= mid.
 inline size_t split_index(std::span<const MortonCode> codes, size_t lo, size_t hi, MortonCode mid) {
-  return static_cast<size_t>(
-      std::lower_bound(codes.begin() + lo, codes.begin() + hi, mid) - codes.begin());
+  return static_cast<size_t>(std::lower_bound(codes.begin() + lo, codes.begin() + hi, mid) - codes.begin());
 }
 
 }  // namespace layer_coder

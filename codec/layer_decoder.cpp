@@ -53,8 +53,10 @@ class Decoder {
         const uint64_t half = (lo + hi) / 2;
         const bool upper = rc_.decode(models[heap]);
         heap = 2 * heap + upper;
-        if (upper) lo = half + 1;
-        else hi = half;
+        if (upper)
+          lo = half + 1;
+        else
+          hi = half;
       }
       n0 = lo;
     } else {
@@ -115,9 +117,8 @@ class Decoder {
 
 }  // namespace
 
-Status decode_point_set(std::span<const uint8_t> payload, std::span<const MortonCode> known,
-                        int qbits, uint32_t count, SetCoderModels& models,
-                        std::vector<GridPoint>& out) {
+Status decode_point_set(std::span<const uint8_t> payload, std::span<const MortonCode> known, int qbits,
+                        uint32_t count, SetCoderModels& models, std::vector<GridPoint>& out) {
   if (count == 0) {
     if (!payload.empty()) return {StatusCode::kCorrupt, "payload bytes in a layer of no points"};
     return Status::Ok();

@@ -49,8 +49,10 @@ class Encoder {
         const bool upper = n0 > half;
         rc_.encode(models[heap], upper);
         heap = 2 * heap + upper;
-        if (upper) lo = half + 1;
-        else hi = half;
+        if (upper)
+          lo = half + 1;
+        else
+          hi = half;
       }
     } else {
       const uint64_t guess = predicted_first(n, kn0, k);
@@ -77,7 +79,8 @@ class Encoder {
     for (int a = 0; a < 3; ++a) {
       const int r = remaining_bits(qbits_, depth, a);
       if (r == 0) continue;
-      const uint64_t first = static_cast<uint64_t>(axis_of(lo, a)), value = static_cast<uint64_t>(axis_of(p, a));
+      const uint64_t first = static_cast<uint64_t>(axis_of(lo, a)),
+                     value = static_cast<uint64_t>(axis_of(p, a));
       const CoordinateSet& used = t_.used()[a];
       const uint64_t m = used.count_in(first, first + (uint64_t{1} << r));
       if (m == 0) {
@@ -88,8 +91,10 @@ class Encoder {
       // Every value of the interval used: the coordinate is one of them.
       if (m < (uint64_t{1} << r)) rc_.encode(t_.reuse[a][reuse_context(m, r)], reused);
       const uint64_t used_below = used.count_in(first, value);
-      if (reused) rc_.encode_index(used_below, m);
-      else rc_.encode_index(value - first - used_below, (uint64_t{1} << r) - m);
+      if (reused)
+        rc_.encode_index(used_below, m);
+      else
+        rc_.encode_index(value - first - used_below, (uint64_t{1} << r) - m);
     }
     t_.note(p);
   }
@@ -102,9 +107,8 @@ class Encoder {
 
 }  // namespace
 
-std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known,
-                                      std::span<const GridPoint> points, int qbits,
-                                      SetCoderModels& models) {
+std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known, std::span<const GridPoint> points,
+                                      int qbits, SetCoderModels& models) {
   if (points.empty()) return {};
   std::vector<MortonCode> fresh;
   fresh.reserve(points.size());

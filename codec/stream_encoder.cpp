@@ -16,8 +16,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   for (size_t i = 0; i < hierarchy.levels.size(); ++i)
     if (i % options.level_step == 0 || i + 1 == hierarchy.levels.size())
       streamed.push_back(static_cast<int>(i));
-  if (streamed.empty() || streamed.size() > 0xFFFF)
-    return invalid("encode_stream: level count out of range");
+  if (streamed.empty() || streamed.size() > 0xFFFF) return invalid("encode_stream: level count out of range");
   StreamHeader h;
   h.grid = grid;
   h.alpha_policy = alpha_policy;
@@ -36,8 +35,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   for (size_t l = streamed.size(); l-- > 0;) {
     const Level& level = hierarchy.levels[streamed[l]];
     std::vector<uint32_t> added;
-    std::set_difference(level.vertices.begin(), level.vertices.end(), coarser.begin(),
-                        coarser.end(), std::back_inserter(added));
+    std::set_difference(level.vertices.begin(), level.vertices.end(), coarser.begin(), coarser.end(),
+                        std::back_inserter(added));
     if (added.size() + coarser.size() != level.vertices.size())
       return invalid("encode_stream: levels are not nested");
     // In the decoder's order: the layer coder sends a set, which comes out

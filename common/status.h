@@ -53,7 +53,7 @@ const char* to_string(StatusCode code);
 template <class T>
 class StatusOr {
  public:
-  StatusOr(T value) : value_(std::move(value)) {}  // NOLINT: implicit, as absl's
+  StatusOr(T value) : value_(std::move(value)) {}         // NOLINT: implicit, as absl's
   StatusOr(Status status) : status_(std::move(status)) {  // NOLINT
     if (status_.ok()) status_ = {StatusCode::kInternal, "StatusOr made from an ok Status"};
   }
@@ -82,10 +82,10 @@ class StatusOr {
 #define DTM_STATUS_CONCAT(a, b) DTM_STATUS_CONCAT_INNER(a, b)
 
 // Returns the status of `expr` from the calling function if it is an error.
-#define DTM_RETURN_IF_ERROR(expr)                  \
-  do {                                             \
-    ::dtm::Status dtm_status_ = (expr);            \
-    if (!dtm_status_.ok()) return dtm_status_;     \
+#define DTM_RETURN_IF_ERROR(expr)              \
+  do {                                         \
+    ::dtm::Status dtm_status_ = (expr);        \
+    if (!dtm_status_.ok()) return dtm_status_; \
   } while (0)
 
 // `lhs = value of expr` (a StatusOr), or returns its status from the calling
@@ -99,8 +99,8 @@ class StatusOr {
 
 // Internal invariants: a failure is a bug in this project, not bad input, so
 // it aborts with the place and the condition (also in release builds).
-#define DTM_CHECK(condition)                                            \
-  do {                                                                  \
+#define DTM_CHECK(condition)                                               \
+  do {                                                                     \
     if (!(condition)) ::dtm::check_failed(__FILE__, __LINE__, #condition); \
   } while (0)
 [[noreturn]] void check_failed(const char* file, int line, const char* condition);

@@ -47,8 +47,7 @@ Umbrella umbrella_of(uint32_t v, std::span<const std::array<uint32_t, 3>> triang
 }  // namespace
 
 std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& L, const Csr& represented,
-                                                   std::span<const GridPoint> originals,
-                                                   double dmax) {
+                                                   std::span<const GridPoint> originals, double dmax) {
   const auto faces = boundary_faces(L.dt, L.in_mesh);
   std::vector<std::array<uint32_t, 3>> triangles;
   triangles.reserve(faces.size());

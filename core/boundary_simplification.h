@@ -32,9 +32,7 @@ struct BoundaryCandidate {
 // The removable boundary vertices of `level` for the tolerance `dmax` (grid
 // units). `represented` has one row per vertex of the level: the original
 // boundary points it stands for (indices into `originals`).
-std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& level,
-                                                   const Csr& represented,
-                                                   std::span<const GridPoint> originals,
-                                                   double dmax);
+std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& level, const Csr& represented,
+                                                   std::span<const GridPoint> originals, double dmax);
 
 }  // namespace dtm

@@ -6,11 +6,11 @@
 #include <optional>
 
 #include "core/boundary_simplification.h"
-#include "mesh/delaunay.h"
-#include "mesh/geometry.h"
 #include "core/importance.h"
 #include "core/independent_removal.h"
 #include "core/surface_distance.h"
+#include "mesh/delaunay.h"
+#include "mesh/geometry.h"
 
 namespace dtm {
 namespace {
@@ -34,8 +34,7 @@ struct Representation {
 
 // `ids`: the grid-point index of each vertex of L; `error` measures the
 // distance from the level-0 boundary vertices, level after level.
-LevelStats measure(const LevelGeometry& L, std::span<const uint32_t> ids,
-                   SurfaceDistanceTracker* error) {
+LevelStats measure(const LevelGeometry& L, std::span<const uint32_t> ids, SurfaceDistanceTracker* error) {
   LevelStats s;
   s.vertices = L.size();
   const MeshQuality q = mesh_quality(L);
@@ -71,8 +70,8 @@ bool quality_allows(const LevelGeometry& L, uint32_t v, double guard) {
   double fill_min = fill.empty() ? 0.0 : std::numeric_limits<double>::infinity();
   for (const auto& c : fill) {
     if (!kept_by_alpha(L.points, c, L.alpha)) continue;
-    const std::array<Vec3, 4> t = {to_vec(L.points[c[0]]), to_vec(L.points[c[1]]),
-                                   to_vec(L.points[c[2]]), to_vec(L.points[c[3]])};
+    const std::array<Vec3, 4> t = {to_vec(L.points[c[0]]), to_vec(L.points[c[1]]), to_vec(L.points[c[2]]),
+                                   to_vec(L.points[c[3]])};
     for (double a : solid_angles(t)) fill_min = std::min(fill_min, a);
   }
   return fill_min >= std::min(guard, star_min);
@@ -203,8 +202,7 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
       if (!next.removed[v]) kept.push_back(vertices[v]);
     StatusOr<LevelGeometry> coarser = analyze_level(
         gather(points, kept),
-        remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points, next.removed),
-        opt.alpha);
+        remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points, next.removed), opt.alpha);
     // The coarser set would be flat: this level is the coarsest.
     if (coarser.status().code() == StatusCode::kInvalidInput) break;
     if (!coarser.ok()) return coarser.status();

@@ -21,9 +21,9 @@ namespace dtm {
 
 struct HierarchyOptions {
   AlphaPolicy alpha;
-  double dmax = 1.0;               // boundary tolerance, grid units
-  int max_levels = 0;              // coarser levels to build at most; 0 = no limit
-  size_t min_base_vertices = 16;   // never build a level with fewer vertices
+  double dmax = 1.0;              // boundary tolerance, grid units
+  int max_levels = 0;             // coarser levels to build at most; 0 = no limit
+  size_t min_base_vertices = 16;  // never build a level with fewer vertices
   // The paper's rule: the first level that removes no boundary vertex is the
   // last one built.
   bool stop_when_boundary_is_final = true;
@@ -49,7 +49,7 @@ struct LevelStats {
   uint64_t tetrahedra = 0;           // cells of M_l
   double avg_min_solid_angle = 0;    // over M_l cells, steradians
   double min_solid_angle = 0;
-  double max_boundary_error = 0;     // grid units: level-0 boundary vertices to this boundary
+  double max_boundary_error = 0;  // grid units: level-0 boundary vertices to this boundary
   double mean_boundary_error = 0;
 };
 
@@ -70,8 +70,7 @@ using LevelCallback = std::function<void(const Level&)>;
 
 // Builds the hierarchy over `points` (distinct grid points). kInvalidInput
 // if level 0 does not span three dimensions.
-StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points,
-                                    const HierarchyOptions& options,
+StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& options,
                                     const LevelCallback& on_level = {});
 
 // The cells of a level in canonical form: each cell's vertices sorted,

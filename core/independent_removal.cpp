@@ -32,9 +32,9 @@ int index_of(const std::array<uint32_t, 4>& cell, uint32_t v) {
 // The border of a cavity: one face per cell of the removed vertex's star
 // (the face opposite it), with what lies beyond.
 struct BorderFace {
-  FaceKey key;      // in the new numbering
-  int32_t outside;  // old cell beyond the face, or -1 (convex hull)
-  int outside_face; // index of the face in the outside cell
+  FaceKey key;       // in the new numbering
+  int32_t outside;   // old cell beyond the face, or -1 (convex hull)
+  int outside_face;  // index of the face in the outside cell
 };
 
 // A fill cell's face on its cavity's border whose other side was another
@@ -107,13 +107,14 @@ std::vector<CavityFill> cavity_fills(std::span<const uint32_t> removed_list, con
 
 // The border of v's cavity: the face of each cell of its star opposite v
 // (renamed), with the old cell beyond it.
-void cavity_border(const TetMesh& dt, const Csr& cells_of_vertex, uint32_t v, std::span<const uint32_t> new_id,
-                   std::vector<BorderFace>& border) {
+void cavity_border(const TetMesh& dt, const Csr& cells_of_vertex, uint32_t v,
+                   std::span<const uint32_t> new_id, std::vector<BorderFace>& border) {
   border.clear();
   for (uint32_t c : cells_of_vertex.row(v)) {
     const auto& cell = dt.cells[c];
     const int i = index_of(cell, v);
-    const std::array<uint32_t, 4> renamed = {new_id[cell[0]], new_id[cell[1]], new_id[cell[2]], new_id[cell[3]]};
+    const std::array<uint32_t, 4> renamed = {new_id[cell[0]], new_id[cell[1]], new_id[cell[2]],
+                                             new_id[cell[3]]};
     const int32_t outside = dt.neighbors[c][i];
     int outside_face = -1;
     if (outside >= 0)
@@ -140,7 +141,8 @@ void stitch(const CavityFill& fill, std::span<const BorderFace> border, std::spa
       if (fill.neighbors[f][i] >= 0) continue;
       const int32_t self = first + static_cast<int32_t>(f);
       const FaceKey key = face_of(fill.cells[f], i);
-      const auto b = std::find_if(border.begin(), border.end(), [&](const BorderFace& x) { return x.key == key; });
+      const auto b =
+          std::find_if(border.begin(), border.end(), [&](const BorderFace& x) { return x.key == key; });
       if (b == border.end() || b->outside < 0) continue;  // on the convex hull
       const int32_t beyond = cell_map[b->outside];
       if (beyond >= 0) {
@@ -166,15 +168,16 @@ void pair_cross_faces(std::vector<CrossFace>& cross, TetMesh& out) {
 
 }  // namespace
 
-TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_vertex,
-                                    const Csr& neighbors, std::span<const GridPoint> points,
-                                    std::span<const uint8_t> removed) {
+TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_vertex, const Csr& neighbors,
+                                    std::span<const GridPoint> points, std::span<const uint8_t> removed) {
   const size_t n = points.size();
   std::vector<uint32_t> new_id(n, UINT32_MAX), removed_list;
   uint32_t survivors = 0;
   for (uint32_t v = 0; v < n; ++v) {
-    if (!removed[v]) new_id[v] = survivors++;
-    else removed_list.push_back(v);
+    if (!removed[v])
+      new_id[v] = survivors++;
+    else
+      removed_list.push_back(v);
   }
   std::vector<int32_t> cell_map;
   TetMesh out = surviving_cells(dt, removed, new_id, cell_map);

@@ -17,8 +17,7 @@ namespace dtm {
 // `dt` is the Delaunay tetrahedralization of `points`, with its incidences;
 // `removed[v]` flags an independent set. Returns the tetrahedralization of the
 // survivors, numbered in their order (survivor k is the k-th unflagged vertex).
-TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_vertex,
-                                    const Csr& neighbors, std::span<const GridPoint> points,
-                                    std::span<const uint8_t> removed);
+TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_vertex, const Csr& neighbors,
+                                    std::span<const GridPoint> points, std::span<const uint8_t> removed);
 
 }  // namespace dtm

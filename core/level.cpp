@@ -13,14 +13,13 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, const Alpha
   return analyze_level(std::move(points), std::move(dt), policy);
 }
 
-StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
-                                      const AlphaPolicy& policy) {
+StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy) {
   LevelGeometry L;
   L.points = std::move(points);
   L.dt = std::move(dt);
   if (L.dt.cells.empty())
-    return Status{StatusCode::kInvalidInput, "the " + std::to_string(L.points.size()) +
-                                                 " points do not span three dimensions"};
+    return Status{StatusCode::kInvalidInput,
+                  "the " + std::to_string(L.points.size()) + " points do not span three dimensions"};
   const size_t n = L.points.size(), m = L.dt.cells.size();
   L.cells_of_vertex = vertex_cells(L.dt, n);
   L.neighbors = vertex_neighbors(L.dt, L.cells_of_vertex);
@@ -36,9 +35,15 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
   }
   L.mean_edge_length = L.finite_edges ? length_sum / L.finite_edges : 0;
   switch (policy.kind) {
-    case AlphaPolicy::Kind::kPaper: L.alpha = L.mean_edge_length; break;
-    case AlphaPolicy::Kind::kFixed: L.alpha = policy.fixed_value; break;
-    case AlphaPolicy::Kind::kConvexHull: L.alpha = INFINITY; break;
+    case AlphaPolicy::Kind::kPaper:
+      L.alpha = L.mean_edge_length;
+      break;
+    case AlphaPolicy::Kind::kFixed:
+      L.alpha = policy.fixed_value;
+      break;
+    case AlphaPolicy::Kind::kConvexHull:
+      L.alpha = INFINITY;
+      break;
   }
 
   L.in_mesh.assign(m, 0);
@@ -51,16 +56,15 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
     // takes them: the angles and volumes are then the same function of the
     // four points whatever order a triangulation lists them in.
     std::array<uint32_t, 4> cell = L.dt.cells[c];
-    std::sort(cell.begin(), cell.end(),
-              [&](uint32_t a, uint32_t b) { return L.points[a] < L.points[b]; });
+    std::sort(cell.begin(), cell.end(), [&](uint32_t a, uint32_t b) { return L.points[a] < L.points[b]; });
     const std::array<Vec3, 4> t = {to_vec(L.points[cell[0]]), to_vec(L.points[cell[1]]),
                                    to_vec(L.points[cell[2]]), to_vec(L.points[cell[3]])};
     L.in_mesh[c] = 1;
     ++L.mesh_cells;
     const auto angles = solid_angles(t);
     L.cell_min_solid_angle[c] = std::min({angles[0], angles[1], angles[2], angles[3]});
-    const Int128 volume6 = abs_six_volume(L.points[cell[0]], L.points[cell[1]],
-                                          L.points[cell[2]], L.points[cell[3]]);
+    const Int128 volume6 =
+        abs_six_volume(L.points[cell[0]], L.points[cell[1]], L.points[cell[2]], L.points[cell[3]]);
     for (int i = 0; i < 4; ++i) {
       L.solid_angle_sum[cell[i]] += angles[i];
       L.mesh_volume6[cell[i]] += volume6;

@@ -38,16 +38,16 @@ struct LevelGeometry {
   Csr neighbors;                  // edge graph of DT(V_l)
   Csr cells_of_vertex;            // cells of DT(V_l) around each vertex
   uint64_t finite_edges = 0;
-  double mean_edge_length = 0;    // grid units
-  double alpha = 0;               // grid units
+  double mean_edge_length = 0;  // grid units
+  double alpha = 0;             // grid units
 
-  std::vector<uint8_t> in_mesh;             // per cell: belongs to M_l
-  std::vector<double> cell_min_solid_angle; // per M_l cell: the smallest of its 4 solid angles
-  std::vector<double> solid_angle_sum;      // per vertex, over its M_l cells
+  std::vector<uint8_t> in_mesh;              // per cell: belongs to M_l
+  std::vector<double> cell_min_solid_angle;  // per M_l cell: the smallest of its 4 solid angles
+  std::vector<double> solid_angle_sum;       // per vertex, over its M_l cells
   // Per vertex: 6 x the volume of its M_l cells, exact, so that importance
   // values (and their ties) do not depend on the order cells are listed in.
   std::vector<Int128> mesh_volume6;
-  std::vector<uint8_t> boundary;            // per vertex: solid-angle boundary (§II.1.b)
+  std::vector<uint8_t> boundary;  // per vertex: solid-angle boundary (§II.1.b)
   uint64_t mesh_cells = 0;
 
   size_t size() const { return points.size(); }
@@ -58,8 +58,7 @@ struct LevelGeometry {
 StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy);
 
 // The same, given the Delaunay tetrahedralization of `points` already.
-StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
-                                      const AlphaPolicy& policy);
+StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy);
 
 // The paper's quality figures of M_l (§III, Tables 1-2): mean and minimum
 // over its cells of each cell's smallest solid angle, and its boundary size.

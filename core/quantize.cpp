@@ -27,15 +27,13 @@ StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits)
   for (size_t i = 0; i < input.size(); ++i) {
     const double c[3] = {input[i].x, input[i].y, input[i].z};
     for (int a = 0; a < 3; ++a) {
-      if (!std::isfinite(c[a]))
-        return invalid("point " + std::to_string(i) + " has a non-finite coordinate");
+      if (!std::isfinite(c[a])) return invalid("point " + std::to_string(i) + " has a non-finite coordinate");
       lo[a] = std::min(lo[a], c[a]);
       hi[a] = std::max(hi[a], c[a]);
     }
   }
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-  if (!std::isfinite(extent))
-    return invalid("the points' bounding box is wider than a double can hold");
+  if (!std::isfinite(extent)) return invalid("the points' bounding box is wider than a double can hold");
   const int32_t max_cell = static_cast<int32_t>((uint32_t{1} << qbits) - 1);
 
   QuantizedPoints out;
@@ -55,13 +53,14 @@ StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits)
 
   std::vector<uint32_t> order(input.size());
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return cells[a] != cells[b] ? cells[a] < cells[b] : a < b;
-  });
+  std::sort(order.begin(), order.end(),
+            [&](uint32_t a, uint32_t b) { return cells[a] != cells[b] ? cells[a] < cells[b] : a < b; });
   out.input_to_point.resize(input.size());
   for (uint32_t k : order) {
-    if (out.points.empty() || out.points.back() != cells[k]) out.points.push_back(cells[k]);
-    else ++out.duplicates_merged;
+    if (out.points.empty() || out.points.back() != cells[k])
+      out.points.push_back(cells[k]);
+    else
+      ++out.duplicates_merged;
     out.input_to_point[k] = static_cast<uint32_t>(out.points.size() - 1);
   }
   return out;

@@ -52,9 +52,8 @@ ReferenceShape::ReferenceShape(std::span<const std::array<uint32_t, 4>> tets, co
 DistanceSummary ReferenceShape::distance(std::span<const std::array<uint32_t, 4>> cells,
                                          std::span<const GridPoint> points) {
   const auto level_boundary = boundary_triangles(cells);
-  const DistanceSummary to_level = boundary_vertices_.empty()
-                                       ? DistanceSummary{}
-                                       : to_level_.measure(points, {}, level_boundary);
+  const DistanceSummary to_level =
+      boundary_vertices_.empty() ? DistanceSummary{} : to_level_.measure(points, {}, level_boundary);
   const std::vector<uint32_t> level_ids = vertex_ids_of(level_boundary);
   std::vector<uint32_t> unmeasured;
   for (uint32_t v : level_ids)

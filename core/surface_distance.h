@@ -15,7 +15,7 @@
 namespace dtm {
 
 struct DistanceSummary {
-  double max = 0;   // grid units; +infinity when there is no surface
+  double max = 0;  // grid units; +infinity when there is no surface
   double mean = 0;
 };
 

@@ -6,9 +6,12 @@ namespace dtm {
 
 const char* to_string(AlphaKind kind) {
   switch (kind) {
-    case AlphaKind::kPaper: return "paper";
-    case AlphaKind::kFixed: return "fixed";
-    case AlphaKind::kConvexHull: return "hull";
+    case AlphaKind::kPaper:
+      return "paper";
+    case AlphaKind::kFixed:
+      return "fixed";
+    case AlphaKind::kConvexHull:
+      return "hull";
   }
   return "?";
 }
@@ -23,8 +26,7 @@ std::vector<uint8_t> carve(const TetMesh& dt, std::span<const GridPoint> points,
   return in_mesh;
 }
 
-std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt,
-                                                   std::span<const uint8_t> in_mesh) {
+std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt, std::span<const uint8_t> in_mesh) {
   std::vector<std::array<uint32_t, 4>> out;
   for (size_t k = 0; k < dt.cells.size(); ++k)
     if (in_mesh[k]) out.push_back(dt.cells[k]);

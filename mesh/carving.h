@@ -38,7 +38,6 @@ inline bool kept_by_alpha(std::span<const GridPoint> points, const std::array<ui
 std::vector<uint8_t> carve(const TetMesh& dt, std::span<const GridPoint> points, double alpha);
 
 // The cells of `dt` flagged in `in_mesh`.
-std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt,
-                                                   std::span<const uint8_t> in_mesh);
+std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt, std::span<const uint8_t> in_mesh);
 
 }  // namespace dtm

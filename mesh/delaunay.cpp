@@ -2,11 +2,11 @@
 
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Spatial_sort_traits_adapter_3.h>
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 #include <CGAL/property_map.h>
 #include <CGAL/spatial_sort.h>
-#include <CGAL/Spatial_sort_traits_adapter_3.h>
 
 #include <exception>
 #include <string>
@@ -17,8 +17,7 @@ namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Vb = CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>;
-using Cb = CGAL::Triangulation_cell_base_with_info_3<int32_t, K,
-                                                     CGAL::Delaunay_triangulation_cell_base_3<K>>;
+using Cb = CGAL::Triangulation_cell_base_with_info_3<int32_t, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
 using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
 using Point = K::Point_3;
@@ -45,9 +44,9 @@ Status check_cells(const DT& dt) {
   const size_t v = dt.number_of_vertices();
   if (dt.number_of_cells() <= kMaxCellsPerVertex * v + 4096) return Status::Ok();
   return {StatusCode::kLimitExceeded,
-          "the Delaunay tetrahedralization of these points has over " +
-              std::to_string(kMaxCellsPerVertex) + " cells per vertex (" +
-              std::to_string(dt.number_of_cells()) + " cells for " + std::to_string(v) +
+          "the Delaunay tetrahedralization of these points has over " + std::to_string(kMaxCellsPerVertex) +
+              " cells per vertex (" + std::to_string(dt.number_of_cells()) + " cells for " +
+              std::to_string(v) +
               " vertices): the points lie in a degenerate configuration such as two lines"};
 }
 
@@ -175,8 +174,8 @@ CavityFill cavity_fill(std::span<const GridPoint> link, std::span<const uint32_t
   for (DT::Cell_handle c : conflicts)
     if (!dt.is_infinite(c)) {
       c->info() = static_cast<int32_t>(out.cells.size());
-      out.cells.push_back({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(),
-                           c->vertex(3)->info()});
+      out.cells.push_back(
+          {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()});
     }
   out.neighbors.resize(out.cells.size());
   for (DT::Cell_handle c : conflicts)

@@ -16,7 +16,12 @@ struct Vec3 {
   Vec3 operator+(const Vec3& o) const { return {x + o.x, y + o.y, z + o.z}; }
   Vec3 operator-(const Vec3& o) const { return {x - o.x, y - o.y, z - o.z}; }
   Vec3 operator*(double s) const { return {x * s, y * s, z * s}; }
-  Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+  Vec3& operator+=(const Vec3& o) {
+    x += o.x;
+    y += o.y;
+    z += o.z;
+    return *this;
+  }
 };
 
 inline Vec3 to_vec(const GridPoint& p) { return {double(p.x), double(p.y), double(p.z)}; }
@@ -36,8 +41,7 @@ using Int128 = __int128;
 // 6 x |volume| of a tetrahedron of grid points, exactly: coordinate
 // differences need 25 bits, their triple products 75, so 128 bits hold the
 // determinant.
-inline Int128 abs_six_volume(const GridPoint& a, const GridPoint& b, const GridPoint& c,
-                             const GridPoint& d) {
+inline Int128 abs_six_volume(const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d) {
   const Int128 ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
   const Int128 vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
   const Int128 wx = d.x - a.x, wy = d.y - a.y, wz = d.z - a.z;

@@ -42,6 +42,8 @@ inline std::string bad_file(const std::string& name) {
   return std::string(DTM_TEST_SOURCE_DIR) + "/bad/" + name;
 }
 
-inline bool same_double(double a, double b) { return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b); }
+inline bool same_double(double a, double b) {
+  return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b);
+}
 
 }  // namespace dtm::test

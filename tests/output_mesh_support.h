@@ -21,8 +21,8 @@ inline OutputMesh torus_mesh() {
   m.grid = q.grid;
   m.points = q.points;
   for (auto t : read_tetgen_ele(data_path("torus_288.ele"), node.points.size()))
-    m.cells.push_back({q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
-                       q.input_to_point[t[3]]});
+    m.cells.push_back(
+        {q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]], q.input_to_point[t[3]]});
   m.boundary.assign(m.points.size(), 0);
   for (size_t i = 0; i < node.points.size(); ++i)
     if (node.markers[i]) m.boundary[q.input_to_point[i]] = 1;

@@ -41,11 +41,13 @@ TEST_P(BadInputs, TheReaderRejectsItNamingFileWhereAndProblem) {
 
 TEST_P(BadInputs, MeshencFailsWithTheMessageAndWritesNothing) {
   const std::string path = test::bad_file(GetParam().file);
-  const std::string out = ::testing::TempDir() + "/bad_input.dtm", report = ::testing::TempDir() + "/bad_input.json";
+  const std::string out = ::testing::TempDir() + "/bad_input.dtm",
+                    report = ::testing::TempDir() + "/bad_input.json";
   std::filesystem::remove(out);
   std::filesystem::remove(report);
-  const auto r = test::run_command(std::string(DTM_MESHENC) + " " + path + (is_volume(path) ? " --threshold 1" : "") +
-                                   " -o " + out + " --report " + report);
+  const auto r =
+      test::run_command(std::string(DTM_MESHENC) + " " + path + (is_volume(path) ? " --threshold 1" : "") +
+                        " -o " + out + " --report " + report);
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("meshenc: error: " + path), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(GetParam().message), std::string::npos) << r.output;
@@ -94,7 +96,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"inf.msh", ":9: coordinate is not finite"},
         // PLY, OFF, OBJ, XYZ (CGAL's readers give no position: the message says what they need)
         BadInput{"bad_header.ply", "bad_header.ply:1: not a PLY file"},
-        BadInput{"property_before_element.ply", "property_before_element.ply:3: 'property' before any 'element'"},
+        BadInput{"property_before_element.ply",
+                 "property_before_element.ply:3: 'property' before any 'element'"},
         BadInput{"integer_coordinates.ply", "integer_coordinates.ply:4: vertex property 'x' is 'int'"},
         BadInput{"huge_count.ply", "huge_count.ply:3: element 'vertex' announces 4000000000 items"},
         BadInput{"truncated_binary.ply", "not a valid PLY file"},
@@ -117,8 +120,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"empty_selection.nrrd", "--threshold 1 selects no voxel (values range from 0 to 0)"},
         BadInput{"flat_selection.nrrd", "all 9 distinct points are coplanar"},
         // TetGen, through the same entry point
-        BadInput{"truncated.node", "file ends after 2 of 4 points"},
-        BadInput{"coplanar.node", "coplanar"}, BadInput{"three_points.node", "at least 4"}),
+        BadInput{"truncated.node", "file ends after 2 of 4 points"}, BadInput{"coplanar.node", "coplanar"},
+        BadInput{"three_points.node", "at least 4"}),
     [](const auto& info) {
       std::string n = info.param.file;
       for (char& c : n)

@@ -9,10 +9,10 @@
 #include <random>
 #include <set>
 
-#include "codec/layer_coder.h"
 #include "codec/decode.h"
 #include "codec/expert_encode.h"
 #include "codec/format.h"
+#include "codec/layer_coder.h"
 #include "core/hierarchy.h"
 #include "test_support.h"
 
@@ -47,9 +47,8 @@ std::vector<uint8_t> encode_layer(std::span<const GridPoint> pts, int q,
   return encode_point_set(codes, pts, q, models);
 }
 
-Status decode_layer(std::span<const uint8_t> payload, int q, uint32_t count,
-                    std::vector<GridPoint>& out, std::span<const GridPoint> known = {},
-                    bool reuse = true) {
+Status decode_layer(std::span<const uint8_t> payload, int q, uint32_t count, std::vector<GridPoint>& out,
+                    std::span<const GridPoint> known = {}, bool reuse = true) {
   std::vector<MortonCode> codes;
   merge_known(codes, known, q);
   SetCoderModels models = fresh_models(q, reuse);
@@ -63,20 +62,20 @@ std::vector<GridPoint> sorted(std::vector<GridPoint> v) {
 
 TEST(PointSetCoder, RoundTripsSetsOfAnySize) {
   for (const bool reuse : {false, true})
-  for (int q : {1, 3, 10, 14, 21, 22, 24}) {
-    for (size_t n : {1, 2, 7, 13, 300}) {
-      const size_t cap = q == 1 ? 8 : n;
-      const auto pts = test::random_grid_points(std::min(n, cap), q, static_cast<uint32_t>(q * 1000 + n));
-      const auto payload = encode_layer(pts, q, {}, reuse);
-      std::vector<GridPoint> back;
-      ASSERT_TRUE(decode_layer(payload, q, static_cast<uint32_t>(pts.size()), back, {}, reuse).ok());
-      EXPECT_EQ(back.size(), pts.size());
-      EXPECT_TRUE(std::is_sorted(back.begin(), back.end(), [q](const GridPoint& a, const GridPoint& b) {
-        return morton_encode(a, q) < morton_encode(b, q);
-      })) << "decoded points come in Morton order";
-      EXPECT_EQ(sorted(back), sorted(pts)) << "q=" << q << " n=" << n << " reuse=" << reuse;
+    for (int q : {1, 3, 10, 14, 21, 22, 24}) {
+      for (size_t n : {1, 2, 7, 13, 300}) {
+        const size_t cap = q == 1 ? 8 : n;
+        const auto pts = test::random_grid_points(std::min(n, cap), q, static_cast<uint32_t>(q * 1000 + n));
+        const auto payload = encode_layer(pts, q, {}, reuse);
+        std::vector<GridPoint> back;
+        ASSERT_TRUE(decode_layer(payload, q, static_cast<uint32_t>(pts.size()), back, {}, reuse).ok());
+        EXPECT_EQ(back.size(), pts.size());
+        EXPECT_TRUE(std::is_sorted(back.begin(), back.end(), [q](const GridPoint& a, const GridPoint& b) {
+          return morton_encode(a, q) < morton_encode(b, q);
+        })) << "decoded points come in Morton order";
+        EXPECT_EQ(sorted(back), sorted(pts)) << "q=" << q << " n=" << n << " reuse=" << reuse;
+      }
     }
-  }
 }
 
 // Layers coded given the points of earlier layers, with the models carried
@@ -84,40 +83,41 @@ TEST(PointSetCoder, RoundTripsSetsOfAnySize) {
 // only with the same known points and the same model history.
 TEST(PointSetCoder, LayersRoundTripGivenKnownPointsAndCarriedModels) {
   for (const bool reuse : {false, true}) {
-  SCOPED_TRACE(reuse ? "format 3" : "format 2");
-  const int q = 12;
-  // Random points, a third of them moved onto a few shared planes, so that
-  // reused coordinates occur across layers as well as within them.
-  auto all = test::random_grid_points(3000, q, 7);
-  for (size_t i = 0; i < all.size(); i += 3) all[i].z = 100 * static_cast<int32_t>(i % 7);
-  std::sort(all.begin(), all.end());
-  all.erase(std::unique(all.begin(), all.end()), all.end());
-  std::shuffle(all.begin(), all.end(), std::mt19937(3));
-  ASSERT_GE(all.size(), 3000u - 20);
-  const std::vector<std::span<const GridPoint>> layers = {
-      std::span(all).subspan(0, 200), std::span(all).subspan(200, 800),
-      std::span(all).subspan(1000, 2000)};
-  std::vector<MortonCode> known;
-  SetCoderModels enc_models = fresh_models(q, reuse);
-  std::vector<std::vector<uint8_t>> payloads;
-  for (const auto& layer : layers) {
-    payloads.push_back(encode_point_set(known, layer, q, enc_models));
-    merge_known(known, layer, q);
-  }
-  known.clear();
-  SetCoderModels dec_models = fresh_models(q, reuse);
-  for (size_t i = 0; i < layers.size(); ++i) {
-    std::vector<GridPoint> back;
-    ASSERT_TRUE(decode_point_set(payloads[i], known, q, static_cast<uint32_t>(layers[i].size()),
-                                 dec_models, back).ok()) << "layer " << i;
-    EXPECT_EQ(sorted(back), sorted({layers[i].begin(), layers[i].end()})) << "layer " << i;
-    merge_known(known, back, q);
-  }
-  // The last layer with fresh models, or without the known points, is not
-  // what was coded: it fails or gives other points.
-  std::vector<GridPoint> other;
-  const Status fresh = decode_layer(payloads[2], q, 2000, other, std::span(all).first(1000), reuse);
-  EXPECT_TRUE(!fresh.ok() || sorted(other) != sorted({layers[2].begin(), layers[2].end()}));
+    SCOPED_TRACE(reuse ? "format 3" : "format 2");
+    const int q = 12;
+    // Random points, a third of them moved onto a few shared planes, so that
+    // reused coordinates occur across layers as well as within them.
+    auto all = test::random_grid_points(3000, q, 7);
+    for (size_t i = 0; i < all.size(); i += 3) all[i].z = 100 * static_cast<int32_t>(i % 7);
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    std::shuffle(all.begin(), all.end(), std::mt19937(3));
+    ASSERT_GE(all.size(), 3000u - 20);
+    const std::vector<std::span<const GridPoint>> layers = {
+        std::span(all).subspan(0, 200), std::span(all).subspan(200, 800), std::span(all).subspan(1000, 2000)};
+    std::vector<MortonCode> known;
+    SetCoderModels enc_models = fresh_models(q, reuse);
+    std::vector<std::vector<uint8_t>> payloads;
+    for (const auto& layer : layers) {
+      payloads.push_back(encode_point_set(known, layer, q, enc_models));
+      merge_known(known, layer, q);
+    }
+    known.clear();
+    SetCoderModels dec_models = fresh_models(q, reuse);
+    for (size_t i = 0; i < layers.size(); ++i) {
+      std::vector<GridPoint> back;
+      ASSERT_TRUE(
+          decode_point_set(payloads[i], known, q, static_cast<uint32_t>(layers[i].size()), dec_models, back)
+              .ok())
+          << "layer " << i;
+      EXPECT_EQ(sorted(back), sorted({layers[i].begin(), layers[i].end()})) << "layer " << i;
+      merge_known(known, back, q);
+    }
+    // The last layer with fresh models, or without the known points, is not
+    // what was coded: it fails or gives other points.
+    std::vector<GridPoint> other;
+    const Status fresh = decode_layer(payloads[2], q, 2000, other, std::span(all).first(1000), reuse);
+    EXPECT_TRUE(!fresh.ok() || sorted(other) != sorted({layers[2].begin(), layers[2].end()}));
   }
 }
 
@@ -133,7 +133,8 @@ TEST(PointSetCoder, ReusedCoordinatesMakeLayeredPointsCheap) {
     on_planes.insert({static_cast<int32_t>(rng() % 16384), static_cast<int32_t>(rng() % 16384),
                       static_cast<int32_t>(1000 + 1200 * (rng() % 12))});
   const std::vector<GridPoint> layered(on_planes.begin(), on_planes.end());
-  const size_t with = encode_layer(layered, q, {}, true).size(), without = encode_layer(layered, q, {}, false).size();
+  const size_t with = encode_layer(layered, q, {}, true).size(),
+               without = encode_layer(layered, q, {}, false).size();
   EXPECT_LT(with, 0.85 * without) << with << " vs " << without;
   const auto general = test::random_grid_points(4000, q, 22);
   const size_t with_g = encode_layer(general, q, {}, true).size();
@@ -172,35 +173,36 @@ TEST(PointSetCoder, KnownPointsMakeALayerCheaper) {
 
 TEST(PointSetCoder, RejectsDamagedPayloads) {
   for (const bool reuse : {false, true}) {
-  SCOPED_TRACE(reuse ? "format 3" : "format 2");
-  const auto pts = test::random_grid_points(50, 8, 3);
-  const auto payload = encode_layer(pts, 8, {}, reuse);
-  std::vector<GridPoint> out;
-  auto extra = payload;
-  extra.push_back(0);
-  EXPECT_EQ(decode_layer(extra, 8, 50, out, {}, reuse).code(), StatusCode::kCorrupt);  // trailing byte
-  for (size_t cut = 0; cut < payload.size(); ++cut) {
-    out.clear();
-    EXPECT_EQ(decode_layer(std::span(payload).first(cut), 8, 50, out, {}, reuse).code(), StatusCode::kCorrupt)
-        << "cut at " << cut;
-  }
-  for (uint32_t count : {0u, 1u, 49u, 51u, 5000u, 1u << 25, 0xFFFFFFFFu}) {  // every count class
-    out.clear();
-    EXPECT_EQ(decode_layer(payload, 8, count, out, {}, reuse).code(), StatusCode::kCorrupt) << count;
-  }
-  // Arbitrary bytes never decode to more points than claimed, nor crash.
-  std::mt19937 rng(5);
-  for (int trial = 0; trial < 2000; ++trial) {
-    std::vector<uint8_t> junk(4 + rng() % 40);
-    for (auto& b : junk) b = static_cast<uint8_t>(rng());
-    out.clear();
-    const uint32_t count = 1 + rng() % 100;
-    const Status s = decode_layer(junk, 4 + trial % 20, count, out, {}, reuse);
-    EXPECT_LE(out.size(), count);
-    if (s.ok()) {
-      EXPECT_EQ(out.size(), count);
+    SCOPED_TRACE(reuse ? "format 3" : "format 2");
+    const auto pts = test::random_grid_points(50, 8, 3);
+    const auto payload = encode_layer(pts, 8, {}, reuse);
+    std::vector<GridPoint> out;
+    auto extra = payload;
+    extra.push_back(0);
+    EXPECT_EQ(decode_layer(extra, 8, 50, out, {}, reuse).code(), StatusCode::kCorrupt);  // trailing byte
+    for (size_t cut = 0; cut < payload.size(); ++cut) {
+      out.clear();
+      EXPECT_EQ(decode_layer(std::span(payload).first(cut), 8, 50, out, {}, reuse).code(),
+                StatusCode::kCorrupt)
+          << "cut at " << cut;
     }
-  }
+    for (uint32_t count : {0u, 1u, 49u, 51u, 5000u, 1u << 25, 0xFFFFFFFFu}) {  // every count class
+      out.clear();
+      EXPECT_EQ(decode_layer(payload, 8, count, out, {}, reuse).code(), StatusCode::kCorrupt) << count;
+    }
+    // Arbitrary bytes never decode to more points than claimed, nor crash.
+    std::mt19937 rng(5);
+    for (int trial = 0; trial < 2000; ++trial) {
+      std::vector<uint8_t> junk(4 + rng() % 40);
+      for (auto& b : junk) b = static_cast<uint8_t>(rng());
+      out.clear();
+      const uint32_t count = 1 + rng() % 100;
+      const Status s = decode_layer(junk, 4 + trial % 20, count, out, {}, reuse);
+      EXPECT_LE(out.size(), count);
+      if (s.ok()) {
+        EXPECT_EQ(out.size(), count);
+      }
+    }
   }
 }
 
@@ -209,32 +211,33 @@ TEST(PointSetCoder, RejectsDamagedPayloads) {
 // by it: a damaged layer can neither repeat a point nor leave the grid.
 TEST(PointSetCoder, JunkPayloadsHitEveryStructuralCheck) {
   for (const bool reuse : {false, true}) {
-  SCOPED_TRACE(reuse ? "format 3" : "format 2");
-  std::mt19937 rng(9);
-  const std::vector<GridPoint> known = {{0, 0, 0}, {1, 1, 1}, {2, 3, 1}, {3, 0, 2}};
-  std::map<std::string, int> seen;
-  for (int trial = 0; trial < 20000; ++trial) {
-    std::vector<uint8_t> junk(4 + rng() % 12);
-    for (auto& b : junk) b = static_cast<uint8_t>(rng());
-    std::vector<GridPoint> out;
-    const uint32_t count = 2 + rng() % 40;
-    // A 4^3 grid: collisions are likely.
-    const Status s = decode_layer(junk, 2, count, out, known, reuse);
-    if (s.ok()) {
-      // Whatever decodes is a valid layer: distinct points in the grid, none known.
-      std::set<GridPoint> distinct(out.begin(), out.end());
-      EXPECT_EQ(distinct.size(), count);
-      for (const auto& p : out) {
-        EXPECT_TRUE(p.x >= 0 && p.x < 4 && p.y >= 0 && p.y < 4 && p.z >= 0 && p.z < 4);
-        EXPECT_EQ(std::count(known.begin(), known.end(), p), 0);
+    SCOPED_TRACE(reuse ? "format 3" : "format 2");
+    std::mt19937 rng(9);
+    const std::vector<GridPoint> known = {{0, 0, 0}, {1, 1, 1}, {2, 3, 1}, {3, 0, 2}};
+    std::map<std::string, int> seen;
+    for (int trial = 0; trial < 20000; ++trial) {
+      std::vector<uint8_t> junk(4 + rng() % 12);
+      for (auto& b : junk) b = static_cast<uint8_t>(rng());
+      std::vector<GridPoint> out;
+      const uint32_t count = 2 + rng() % 40;
+      // A 4^3 grid: collisions are likely.
+      const Status s = decode_layer(junk, 2, count, out, known, reuse);
+      if (s.ok()) {
+        // Whatever decodes is a valid layer: distinct points in the grid, none known.
+        std::set<GridPoint> distinct(out.begin(), out.end());
+        EXPECT_EQ(distinct.size(), count);
+        for (const auto& p : out) {
+          EXPECT_TRUE(p.x >= 0 && p.x < 4 && p.y >= 0 && p.y < 4 && p.z >= 0 && p.z < 4);
+          EXPECT_EQ(std::count(known.begin(), known.end(), p), 0);
+        }
+      } else {
+        ++seen[s.message()];
       }
-    } else {
-      ++seen[s.message()];
     }
-  }
-  for (const char* check : {"two points in one grid cell", "a point of this layer is already in a coarser level",
-                            "point count out of range"})
-    EXPECT_GT(seen[check], 0) << check;
+    for (const char* check :
+         {"two points in one grid cell", "a point of this layer is already in a coarser level",
+          "point count out of range"})
+      EXPECT_GT(seen[check], 0) << check;
   }
 }
 
@@ -286,8 +289,7 @@ void expect_decoder_matches_encoder(const Encoded& e, const std::string& name) {
     TetMesh carved_ref, carved_dec;
     carved_ref.cells = ref.mesh;
     carved_dec.cells = d.carved_cells();
-    EXPECT_EQ(test::cells_by_coords(carved_dec, d.points()),
-              test::cells_by_coords(carved_ref, e.points))
+    EXPECT_EQ(test::cells_by_coords(carved_dec, d.points()), test::cells_by_coords(carved_ref, e.points))
         << name << " level " << l.level;
     ASSERT_TRUE(l.cell_hash.has_value());
     EXPECT_EQ(*l.cell_hash, cell_set_hash(d.points(), carved_dec.cells));
@@ -386,12 +388,11 @@ TEST(Codec, FeedingInRandomChunksGivesTheSameLevels) {
     std::vector<int> seen;
     size_t at = 0;
     while (at < e.stream.bytes.size()) {
-      const size_t n = std::min<size_t>(std::uniform_int_distribution<size_t>(0, 300)(rng),
-                                        e.stream.bytes.size() - at);
+      const size_t n =
+          std::min<size_t>(std::uniform_int_distribution<size_t>(0, 300)(rng), e.stream.bytes.size() - at);
       ASSERT_TRUE(dec.feed(std::span(e.stream.bytes).subspan(at, n),
-                           [&](const ProgressiveDecoder&, const DecodedLevel& l) {
-                             seen.push_back(l.level);
-                           }).ok());
+                           [&](const ProgressiveDecoder&, const DecodedLevel& l) { seen.push_back(l.level); })
+                      .ok());
       at += n;
     }
     EXPECT_TRUE(dec.finish().ok());
@@ -499,8 +500,8 @@ TEST(Codec, AFlatBaseLevelIsRejected) {
   l.level_vertices = 4;
   l.alpha = 100;
   auto bytes = write_header(h);
-  const auto layer = write_layer(
-      l, encode_layer(std::vector<GridPoint>{{0, 0, 1}, {5, 0, 1}, {0, 5, 1}, {5, 5, 1}}, 4));
+  const auto layer =
+      write_layer(l, encode_layer(std::vector<GridPoint>{{0, 0, 1}, {5, 0, 1}, {0, 5, 1}, {5, 5, 1}}, 4));
   bytes.insert(bytes.end(), layer.begin(), layer.end());
   ProgressiveDecoder dec;
   EXPECT_EQ(dec.feed(bytes).code(), StatusCode::kCorrupt);
@@ -524,9 +525,9 @@ TEST(Codec, ALevelAskedForOnlyAtTheEndIsTheSameMesh) {
     o.stop_after_level = stop;
     ProgressiveDecoder lazy(o), eager(o);
     ASSERT_TRUE(lazy.feed(e.stream.bytes).ok());
-    ASSERT_TRUE(eager.feed(e.stream.bytes, [](const ProgressiveDecoder& d, const DecodedLevel&) {
-      d.delaunay();
-    }).ok());
+    ASSERT_TRUE(
+        eager.feed(e.stream.bytes, [](const ProgressiveDecoder& d, const DecodedLevel&) { d.delaunay(); })
+            .ok());
     EXPECT_EQ(test::cells_by_coords(lazy.delaunay(), lazy.points()),
               test::cells_by_coords(eager.delaunay(), eager.points()));
     TetMesh a, b;

@@ -24,7 +24,8 @@ TEST(CoordinateSet, AgreesWithAnOrderedSet) {
       reference.insert(v);
       const uint64_t lo = rng() % size, hi = lo + rng() % (size - lo + 1);
       const auto first = reference.lower_bound(static_cast<uint32_t>(lo));
-      const uint64_t present = static_cast<uint64_t>(std::distance(first, reference.lower_bound(static_cast<uint32_t>(hi))));
+      const uint64_t present =
+          static_cast<uint64_t>(std::distance(first, reference.lower_bound(static_cast<uint32_t>(hi))));
       ASSERT_EQ(set.count_in(lo, hi), present) << "q=" << q << " [" << lo << ", " << hi << ")";
       ASSERT_EQ(set.count_below(size), reference.size());
       ASSERT_TRUE(set.contains(v));

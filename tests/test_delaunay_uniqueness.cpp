@@ -51,8 +51,7 @@ std::vector<test::CellByCoords> in_batches(const std::vector<GridPoint>& pts, ui
 
 // Builds the superset, removes `drop` of its points one by one; the result
 // must equal the direct build of the remaining points.
-void expect_removal_matches_direct_build(const std::vector<GridPoint>& pts, size_t drop,
-                                         uint32_t seed) {
+void expect_removal_matches_direct_build(const std::vector<GridPoint>& pts, size_t drop, uint32_t seed) {
   std::vector<uint32_t> order = iota_ids(pts.size());
   std::shuffle(order.begin(), order.end(), std::mt19937(seed));
   std::vector<GridPoint> removed, kept;
@@ -90,11 +89,9 @@ TEST_P(DegenerateGrid, RemovalGivesTheSameCellsAsADirectBuild) {
   expect_removal_matches_direct_build(pts, pts.size() / 2, 8);
 }
 
-INSTANTIATE_TEST_SUITE_P(Grids, DegenerateGrid, ::testing::Values(0, 11, 12),
-                         [](const auto& info) {
-                           return info.param == 0 ? std::string("Full8x8x8")
-                                                  : "Random5Bit_" + std::to_string(info.param);
-                         });
+INSTANTIATE_TEST_SUITE_P(Grids, DegenerateGrid, ::testing::Values(0, 11, 12), [](const auto& info) {
+  return info.param == 0 ? std::string("Full8x8x8") : "Random5Bit_" + std::to_string(info.param);
+});
 
 TEST(DelaunayUniqueness, TheGridReallyIsDegenerate) {
   // A unit cube of 8 cospherical points has many Delaunay tetrahedralizations;

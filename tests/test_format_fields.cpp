@@ -91,9 +91,7 @@ TEST(FormatFields, StreamHeaderTableIsTheCodesFieldList) {
   expect_spec_matches<StreamHeader>("## 2. Header");
 }
 
-TEST(FormatFields, LayerHeaderTableIsTheCodesFieldList) {
-  expect_spec_matches<LayerHeader>("## 3. Layer");
-}
+TEST(FormatFields, LayerHeaderTableIsTheCodesFieldList) { expect_spec_matches<LayerHeader>("## 3. Layer"); }
 
 TEST(FormatFields, ChecksumsCoverTheBytesBeforeThem) {
   EXPECT_EQ(sized<StreamHeader>().checksum_offset + 4, kHeaderSize);

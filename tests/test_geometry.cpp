@@ -40,8 +40,7 @@ TEST(Geometry, VolumeAndCircumradius) {
   EXPECT_EQ(signed_volume(kRegular[0], kRegular[2], kRegular[1], kRegular[3]), -v);
   EXPECT_NEAR(signed_volume({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}), 1.0 / 6, 1e-15);
   // The regular tetrahedron inscribed in the unit cube has the cube's circumsphere.
-  EXPECT_NEAR(circumradius(kRegular[0], kRegular[1], kRegular[2], kRegular[3]),
-              std::sqrt(3.0) / 2, 1e-15);
+  EXPECT_NEAR(circumradius(kRegular[0], kRegular[1], kRegular[2], kRegular[3]), std::sqrt(3.0) / 2, 1e-15);
   EXPECT_TRUE(std::isinf(circumradius({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0})));
 }
 

@@ -5,7 +5,6 @@
 
 #include <fstream>
 #include <iterator>
-
 #include <nlohmann/json.hpp>
 
 #include "codec/decode.h"
@@ -19,9 +18,7 @@ std::vector<uint8_t> read_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-std::string golden(const std::string& name) {
-  return std::string(DTM_TEST_SOURCE_DIR) + "/golden/" + name;
-}
+std::string golden(const std::string& name) { return std::string(DTM_TEST_SOURCE_DIR) + "/golden/" + name; }
 
 std::string hex(uint64_t v) {
   char buf[17];
@@ -38,15 +35,17 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
   const auto expected = nlohmann::json::parse(expected_file);
   size_t index = 0;
   ProgressiveDecoder dec;
-  ASSERT_TRUE(dec.feed(bytes, [&](const ProgressiveDecoder& d, const DecodedLevel& l) {
-                  ASSERT_LT(index, expected["levels"].size());
-                  const auto& want = expected["levels"][index++];
-                  EXPECT_EQ(l.level, want["level"].get<int>());
-                  EXPECT_EQ(l.vertices, want["vertices"].get<uint32_t>());
-                  EXPECT_EQ(hex(cell_set_hash(d.points(), d.carved_cells())),
-                            want["cell_hash"].get<std::string>())
-                      << GetParam() << " level " << l.level;
-                }).ok());
+  ASSERT_TRUE(dec.feed(bytes,
+                       [&](const ProgressiveDecoder& d, const DecodedLevel& l) {
+                         ASSERT_LT(index, expected["levels"].size());
+                         const auto& want = expected["levels"][index++];
+                         EXPECT_EQ(l.level, want["level"].get<int>());
+                         EXPECT_EQ(l.vertices, want["vertices"].get<uint32_t>());
+                         EXPECT_EQ(hex(cell_set_hash(d.points(), d.carved_cells())),
+                                   want["cell_hash"].get<std::string>())
+                             << GetParam() << " level " << l.level;
+                       })
+                  .ok());
   EXPECT_TRUE(dec.finish().ok());
   EXPECT_EQ(index, expected["levels"].size());
   EXPECT_EQ(dec.header().grid.qbits, expected["qbits"].get<int>());

@@ -9,9 +9,9 @@
 #include <numeric>
 
 #include "core/boundary_simplification.h"
-#include "mesh/geometry.h"
 #include "core/hierarchy.h"
 #include "core/importance.h"
+#include "mesh/geometry.h"
 #include "test_support.h"
 
 namespace dtm {
@@ -108,8 +108,7 @@ TEST_P(HierarchyProperties, RemovedSetsAreIndependentAndUntouchedCellsSurvive) {
           removed[fine[cell[3]]])
         continue;
       ++untouched;
-      test::CellByCoords t = {fine_pts[cell[0]], fine_pts[cell[1]], fine_pts[cell[2]],
-                              fine_pts[cell[3]]};
+      test::CellByCoords t = {fine_pts[cell[0]], fine_pts[cell[1]], fine_pts[cell[2]], fine_pts[cell[3]]};
       std::sort(t.begin(), t.end());
       ASSERT_TRUE(std::binary_search(coarse_cells.begin(), coarse_cells.end(), t))
           << c().name << " level " << l << ": an untouched cell is missing at level " << l + 1;
@@ -127,8 +126,8 @@ TEST_P(HierarchyProperties, EachLevelIsTheCarvedDelaunayOfItsVertices) {
     for (size_t k = 0; k < L.dt.cells.size(); ++k)
       if (L.in_mesh[k]) {
         const auto& t = L.dt.cells[k];
-        expected.push_back({level.vertices[t[0]], level.vertices[t[1]], level.vertices[t[2]],
-                            level.vertices[t[3]]});
+        expected.push_back(
+            {level.vertices[t[0]], level.vertices[t[1]], level.vertices[t[2]], level.vertices[t[3]]});
       }
     EXPECT_EQ(canonical_cells(level.mesh), canonical_cells(expected));
     EXPECT_EQ(level.stats.tetrahedra, level.mesh.size());
@@ -144,8 +143,8 @@ TEST_P(HierarchyProperties, InsertingLayersCoarsestFirstRebuildsEveryLevel) {
   std::vector<uint32_t> have;
   for (size_t l = levels.size(); l-- > 0;) {
     std::vector<uint32_t> layer;
-    std::set_difference(levels[l].vertices.begin(), levels[l].vertices.end(), have.begin(),
-                        have.end(), std::back_inserter(layer));
+    std::set_difference(levels[l].vertices.begin(), levels[l].vertices.end(), have.begin(), have.end(),
+                        std::back_inserter(layer));
     dt.insert(gather(c().points, layer), layer);
     have = levels[l].vertices;
     const auto pts = gather(c().points, have);
@@ -198,8 +197,8 @@ TEST_P(HierarchyProperties, ImportanceOrderIsHonoured) {
           has_removed_neighbour = true;
           if ((L.boundary[w] != 0) || before(w, u)) locked_in_time = true;
         }
-      EXPECT_TRUE(has_removed_neighbour) << c().name << " level " << l << ": interior vertex "
-                                         << u << " was free yet kept (the set is not maximal)";
+      EXPECT_TRUE(has_removed_neighbour) << c().name << " level " << l << ": interior vertex " << u
+                                         << " was free yet kept (the set is not maximal)";
       if (has_removed_neighbour) {
         EXPECT_TRUE(locked_in_time) << c().name << " level " << l << ": interior vertex " << u
                                     << " was kept but none of its removed neighbours precedes it";

@@ -11,9 +11,9 @@
 #include <fstream>
 #include <iterator>
 
-#include "codec/layer_coder.h"
 #include "codec/decode.h"
 #include "codec/format.h"
+#include "codec/layer_coder.h"
 #include "test_support.h"
 
 namespace dtm {
@@ -77,8 +77,8 @@ TEST(HostileStream, MeshdecAndMeshinfoRefuseTwoSkewLines) {
   const std::string dir = ::testing::TempDir() + "/hostile";
   std::filesystem::create_directories(dir);
   const auto bytes = single_layer_stream(two_skew_lines(1500));
-  std::ofstream(dir + "/skew.dtm", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                                            static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(dir + "/skew.dtm", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   std::filesystem::remove(dir + "/skew.vtu");
   const std::string cmd = std::string(DTM_MESHDEC) + " " + dir + "/skew.dtm -o " + dir + "/skew.vtu 2>&1";
   std::FILE* p = popen(cmd.c_str(), "r");

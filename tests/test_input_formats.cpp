@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "format_test_support.h"
@@ -22,15 +21,21 @@ struct Converted {
   bool exact;          // coordinates are written so that they read back bit-identical
 };
 
-const Converted kConverted[] = {
-    {"_ascii.vtu", true, true, true},        {"_base64.vtu", true, true, true},
-    {"_appended_raw.vtu", true, true, true}, {"_appended_base64.vtu", true, true, true},
-    {"_binary.vtk", true, true, true},       {"_ascii.vtk", true, true, false},  // VTK writes 11 digits
-    {"_42.vtk", true, true, true},           {".mesh", true, false, true},
-    {"_22.msh", true, true, true},           {"_41.msh", true, true, true},
-    {"_binary.ply", false, false, true},     {"_ascii.ply", false, false, true},
-    {".off", false, false, true},            {".obj", false, false, true},
-    {".xyz", false, false, true}};
+const Converted kConverted[] = {{"_ascii.vtu", true, true, true},
+                                {"_base64.vtu", true, true, true},
+                                {"_appended_raw.vtu", true, true, true},
+                                {"_appended_base64.vtu", true, true, true},
+                                {"_binary.vtk", true, true, true},
+                                {"_ascii.vtk", true, true, false},  // VTK writes 11 digits
+                                {"_42.vtk", true, true, true},
+                                {".mesh", true, false, true},
+                                {"_22.msh", true, true, true},
+                                {"_41.msh", true, true, true},
+                                {"_binary.ply", false, false, true},
+                                {"_ascii.ply", false, false, true},
+                                {".off", false, false, true},
+                                {".obj", false, false, true},
+                                {".xyz", false, false, true}};
 
 class ConvertedCorpus : public ::testing::Test {
  protected:
@@ -38,14 +43,17 @@ class ConvertedCorpus : public ::testing::Test {
     dir_ = ::testing::TempDir() + "/converted";
     std::filesystem::create_directories(dir_);
     for (const char* model : {"torus_288", "bunny_10k"}) {
-      const auto r = test::run_command(test::kPython + " " + DTM_TEST_SOURCE_DIR + "/convert_corpus.py " +
-                                       test::data_path(std::string(model) + ".node") + " " + dir_ + " " + model);
+      const auto r =
+          test::run_command(test::kPython + " " + DTM_TEST_SOURCE_DIR + "/convert_corpus.py " +
+                            test::data_path(std::string(model) + ".node") + " " + dir_ + " " + model);
       ASSERT_EQ(r.status, 0) << "convert_corpus.py failed (scripts/setup.sh installs python3-vtk9 and "
                                 "python3-meshio):\n"
                              << r.output;
     }
   }
-  static std::string path(const std::string& model, const Converted& c) { return dir_ + "/" + model + c.suffix; }
+  static std::string path(const std::string& model, const Converted& c) {
+    return dir_ + "/" + model + c.suffix;
+  }
   static std::string dir_;
 };
 std::string ConvertedCorpus::dir_;
@@ -68,10 +76,13 @@ TEST_F(ConvertedCorpus, EveryFormatReadsTheSamePointsTetrahedraAndFields) {
         ASSERT_NEAR(a.z, b.z, 1e-9);
       }
     }
-    if (c.tets) EXPECT_EQ(m.tets, tets);
-    else EXPECT_TRUE(m.tets.empty());
+    if (c.tets)
+      EXPECT_EQ(m.tets, tets);
+    else
+      EXPECT_TRUE(m.tets.empty());
     if (c.marker) {
-      const auto f = std::find_if(m.fields.begin(), m.fields.end(), [](const VertexField& f) { return f.name == "marker"; });
+      const auto f = std::find_if(m.fields.begin(), m.fields.end(),
+                                  [](const VertexField& f) { return f.name == "marker"; });
       ASSERT_NE(f, m.fields.end());
       ASSERT_EQ(f->values.size(), m.points.size());
       for (size_t i = 0; i < m.points.size(); ++i) ASSERT_EQ(f->values[i], static_cast<double>(i % 3));
@@ -82,7 +93,8 @@ TEST_F(ConvertedCorpus, EveryFormatReadsTheSamePointsTetrahedraAndFields) {
 TEST_F(ConvertedCorpus, TheSamePointSetGivesAByteIdenticalStreamFromEveryFormat) {
   const std::string options = " -q --box 256 --dmax 2 --levels 6 -o ";
   const std::string reference = dir_ + "/bunny_10k_node.dtm";
-  auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("bunny_10k.node") + options + reference);
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("bunny_10k.node") + options +
+                             reference);
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string want = test::slurp(reference);
   ASSERT_GT(want.size(), 1000u);
@@ -100,9 +112,11 @@ TEST_F(ConvertedCorpus, TheSamePointSetGivesAByteIdenticalStreamFromEveryFormat)
 
 TEST_F(ConvertedCorpus, InputTetrahedraAreTheReferenceShapeInTheReport) {
   const std::string report = dir_ + "/reference.json";
-  auto r = test::run_command(std::string(DTM_MESHENC) + " " + dir_ + "/torus_288.mesh --scale 25 --dmax 3 --report " + report);
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + dir_ +
+                             "/torus_288.mesh --scale 25 --dmax 3 --report " + report);
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("reference shape: the input's 1080 tetrahedra (180 boundary vertices)"), std::string::npos)
+  EXPECT_NE(r.output.find("reference shape: the input's 1080 tetrahedra (180 boundary vertices)"),
+            std::string::npos)
       << r.output;
   auto j = nlohmann::json::parse(test::slurp(report));
   EXPECT_EQ(j["reference_tetrahedra"], 1080);
@@ -111,7 +125,8 @@ TEST_F(ConvertedCorpus, InputTetrahedraAreTheReferenceShapeInTheReport) {
   EXPECT_GT(j["levels"].back()["reference_max_error"].get<double>(), 0.0);
   EXPECT_GE(j["levels"].back()["reference_max_error"].get<double>(),
             j["levels"].back()["max_boundary_error"].get<double>());
-  for (const std::string& args : {dir_ + "/torus_288.xyz", test::data_path("torus_288.node") + " --no-reference"}) {
+  for (const std::string& args :
+       {dir_ + "/torus_288.xyz", test::data_path("torus_288.node") + " --no-reference"}) {
     r = test::run_command(std::string(DTM_MESHENC) + " " + args + " --report " + report);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_EQ(r.output.find("reference shape"), std::string::npos) << args;
@@ -122,13 +137,15 @@ TEST_F(ConvertedCorpus, InputTetrahedraAreTheReferenceShapeInTheReport) {
 
 TEST_F(ConvertedCorpus, FormatOverridesTheExtension) {
   const std::string renamed = dir_ + "/torus_288_ply.data";
-  std::filesystem::copy_file(dir_ + "/torus_288_binary.ply", renamed, std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(dir_ + "/torus_288_binary.ply", renamed,
+                             std::filesystem::copy_options::overwrite_existing);
   EXPECT_EQ(read_input(renamed, InputFormat::kPly).points.size(), 288u);
   try {
     read_input(renamed);
     ADD_FAILURE() << "an unknown extension was accepted";
   } catch (const FormatError& e) {
-    EXPECT_NE(std::string(e.what()).find(renamed + ": unknown input format '.data'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(renamed + ": unknown input format '.data'"), std::string::npos)
+        << e.what();
   }
   auto r = test::run_command(std::string(DTM_MESHENC) + " " + renamed + " --format ply -q");
   EXPECT_EQ(r.status, 0) << r.output;
@@ -154,11 +171,12 @@ std::string write_temp(const std::string& name, const std::string& text) {
 }
 
 TEST(InputFormats, GmshSparseTagsAndNodeData) {
-  const std::string path = write_temp("sparse.msh",
-                                      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 \"solid\"\n$EndPhysicalNames\n"
-                                      "$Nodes\n2 4 10 40\n0 1 0 1\n40\n0 0 1\n3 1 0 3\n10\n20\n30\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n"
-                                      "$Elements\n1 1 7 7\n3 1 4 1\n7 10 20 30 40\n$EndElements\n"
-                                      "$NodeData\n1\n\"t\"\n1\n0.0\n3\n0\n1\n4\n10 1.5\n20 2.5\n30 3.5\n40 4.5\n$EndNodeData\n");
+  const std::string path = write_temp(
+      "sparse.msh",
+      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 \"solid\"\n$EndPhysicalNames\n"
+      "$Nodes\n2 4 10 40\n0 1 0 1\n40\n0 0 1\n3 1 0 3\n10\n20\n30\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n"
+      "$Elements\n1 1 7 7\n3 1 4 1\n7 10 20 30 40\n$EndElements\n"
+      "$NodeData\n1\n\"t\"\n1\n0.0\n3\n0\n1\n4\n10 1.5\n20 2.5\n30 3.5\n40 4.5\n$EndNodeData\n");
   const InputMesh m = read_input(path);
   ASSERT_EQ(m.points.size(), 4u);
   EXPECT_EQ(m.points[0].z, 1.0);  // node 40 comes first in the file
@@ -170,11 +188,12 @@ TEST(InputFormats, GmshSparseTagsAndNodeData) {
 }
 
 TEST(InputFormats, PlyPropertiesAreKeptAsFields) {
-  const std::string path = write_temp("props.ply",
-                                      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-                                      "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
-                                      "property uchar intensity\nelement face 1\nproperty list uchar int vertex_indices\n"
-                                      "end_header\n0 0 0 1 0 0 7\n1 0 0 0 1 0 8\n0 1 0 0 0 1 9\n0 0 1 1 0 0 10\n3 0 1 2\n");
+  const std::string path =
+      write_temp("props.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                 "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+                 "property uchar intensity\nelement face 1\nproperty list uchar int vertex_indices\n"
+                 "end_header\n0 0 0 1 0 0 7\n1 0 0 0 1 0 8\n0 1 0 0 0 1 9\n0 0 1 1 0 0 10\n3 0 1 2\n");
   const InputMesh m = read_input(path);
   ASSERT_EQ(m.points.size(), 4u);
   ASSERT_EQ(m.fields.size(), 2u);
@@ -185,9 +204,10 @@ TEST(InputFormats, PlyPropertiesAreKeptAsFields) {
 }
 
 TEST(InputFormats, MeditSkipsOtherSectionsAndKeepsRefs) {
-  const std::string path = write_temp("sections.mesh",
-                                      "MeshVersionFormatted 1\n# comment\nDimension\n3\nVertices\n4\n0 0 0 5\n1 0 0 6\n0 1 0 7\n"
-                                      "0 0 1 8\nCorners\n1\n1\nTriangles\n1\n1 2 3 0\nTetrahedra\n1\n1 2 3 4 1\nEnd\n");
+  const std::string path =
+      write_temp("sections.mesh",
+                 "MeshVersionFormatted 1\n# comment\nDimension\n3\nVertices\n4\n0 0 0 5\n1 0 0 6\n0 1 0 7\n"
+                 "0 0 1 8\nCorners\n1\n1\nTriangles\n1\n1 2 3 0\nTetrahedra\n1\n1 2 3 4 1\nEnd\n");
   const InputMesh m = read_input(path);
   EXPECT_EQ(m.tets.size(), 1u);
   ASSERT_EQ(m.fields.size(), 1u);

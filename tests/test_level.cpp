@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <set>
 
-#include "mesh/geometry.h"
 #include "core/level.h"
+#include "mesh/geometry.h"
 #include "test_support.h"
 
 namespace dtm {
@@ -33,8 +33,7 @@ TEST(Level, MeshKeepsExactlyTheCellsWithinAlpha) {
   uint64_t kept = 0;
   for (size_t c = 0; c < L.dt.cells.size(); ++c) {
     const auto& t = L.dt.cells[c];
-    const double r = circumradius(to_vec(pts[t[0]]), to_vec(pts[t[1]]), to_vec(pts[t[2]]),
-                                  to_vec(pts[t[3]]));
+    const double r = circumradius(to_vec(pts[t[0]]), to_vec(pts[t[1]]), to_vec(pts[t[2]]), to_vec(pts[t[3]]));
     EXPECT_EQ(L.in_mesh[c] != 0, r <= L.alpha);
     kept += L.in_mesh[c];
   }
@@ -78,8 +77,8 @@ TEST_P(CorpusLevel, SolidAngleBoundaryIsTheTopologicalBoundary) {
   const auto topo = topological_boundary(L);
   size_t boundary = 0;
   for (size_t v = 0; v < L.size(); ++v) {
-    EXPECT_EQ(L.boundary[v], topo[v]) << GetParam() << " vertex " << v
-                                      << " solid angle sum " << L.solid_angle_sum[v];
+    EXPECT_EQ(L.boundary[v], topo[v])
+        << GetParam() << " vertex " << v << " solid angle sum " << L.solid_angle_sum[v];
     boundary += L.boundary[v];
     if (!L.boundary[v]) {
       EXPECT_NEAR(L.solid_angle_sum[v], kFullSolidAngle, 1e-9);
@@ -106,13 +105,12 @@ TEST_P(CorpusLevel, DetectedBoundaryIsCloseToTheTrueSurface) {
     surface += marked;
     differ += marked != (L.boundary[q.input_to_point[i]] != 0);
   }
-  std::printf("%s: %zu of %zu surface vertices classified differently\n", GetParam().c_str(),
-              differ, surface);
-  const std::set<std::string> graded = {"elephant_10k", "fandisk_11k", "hand_10k",
-                                        "triceratops_10k"};
+  std::printf("%s: %zu of %zu surface vertices classified differently\n", GetParam().c_str(), differ,
+              surface);
+  const std::set<std::string> graded = {"elephant_10k", "fandisk_11k", "hand_10k", "triceratops_10k"};
   if (graded.count(GetParam()))
-    GTEST_SKIP() << "graded mesh: the paper's alpha carves its surface layer (" << differ
-                 << " of " << surface << " differ)";
+    GTEST_SKIP() << "graded mesh: the paper's alpha carves its surface layer (" << differ << " of " << surface
+                 << " differ)";
   EXPECT_LE(differ, surface / 50) << GetParam() << ": " << differ << " of " << surface;
 }
 

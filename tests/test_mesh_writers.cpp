@@ -261,7 +261,8 @@ void expect_meshio_reads(const OutputMesh& m, const std::string& vtu, bool binar
   std::vector<std::pair<std::string, size_t>> blocks;
   if (!m.level.empty()) blocks.emplace_back("level", 4 * n);
   if (!m.boundary.empty()) blocks.emplace_back("boundary", n);
-  blocks.insert(blocks.end(), {{"Points", 24 * n}, {"connectivity", 32 * t}, {"offsets", 8 * t}, {"types", t}});
+  blocks.insert(blocks.end(),
+                {{"Points", 24 * n}, {"connectivity", 32 * t}, {"offsets", 8 * t}, {"types", t}});
   if (binary) {
     for (const auto& [name, bytes] : blocks) {
       size_t header = 0, payload = 0;
@@ -294,7 +295,8 @@ TEST(MeshWriters, VtuAsciiReadByMeshio) {
 
 // The whitespace-separated tokens of the DataArray named `name`; checks its
 // type and ascii format on the way.
-std::vector<std::string> ascii_array(const std::string& xml, const std::string& name, const std::string& type) {
+std::vector<std::string> ascii_array(const std::string& xml, const std::string& name,
+                                     const std::string& type) {
   const size_t at = xml.find("Name=\"" + name + "\"");
   if (at == std::string::npos) {
     ADD_FAILURE() << "no DataArray " << name;

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "codec/format.h"
@@ -46,9 +45,9 @@ TEST(Meshenc, WritesTheReportWithTheAgreedFieldNames) {
   EXPECT_EQ(j["origin"].size(), 3u);
   ASSERT_GE(j["levels"].size(), 3u);
   for (const auto& level : j["levels"])
-    for (const char* key : {"level", "vertices", "boundary_vertices", "removed_interior",
-                            "removed_boundary", "alpha", "tetrahedra", "avg_min_solid_angle",
-                            "min_solid_angle", "max_boundary_error"})
+    for (const char* key :
+         {"level", "vertices", "boundary_vertices", "removed_interior", "removed_boundary", "alpha",
+          "tetrahedra", "avg_min_solid_angle", "min_solid_angle", "max_boundary_error"})
       EXPECT_TRUE(level.contains(key)) << key;
   EXPECT_EQ(j["levels"][0]["vertices"], 288);
   EXPECT_EQ(j["levels"][0]["boundary_vertices"], 180);
@@ -82,8 +81,8 @@ class Tools : public ::testing::Test {
     dir_ = ::testing::TempDir() + "/tools";
     std::filesystem::create_directories(dir_);
     stream_ = dir_ + "/bunny.dtm";
-    const ToolRun r = meshenc(test::data_path("bunny_10k.node") +
-                              " --box 256 --dmax 2 --hash-cells -q -o " + stream_);
+    const ToolRun r =
+        meshenc(test::data_path("bunny_10k.node") + " --box 256 --dmax 2 --hash-cells -q -o " + stream_);
     ASSERT_EQ(r.status, 0) << r.output;
   }
   static std::string dir_, stream_;
@@ -159,8 +158,8 @@ TEST_F(Tools, MeshinfoJsonDescribesTheStreamWithoutDecoding) {
 }
 
 TEST_F(Tools, EncoderAndDecoderPipe) {
-  const ToolRun r = run(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") +
-                        " -o - | " + kMeshdec + " - -o - --format vtu-ascii | head -c 200");
+  const ToolRun r = run(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") + " -o - | " +
+                        kMeshdec + " - -o - --format vtu-ascii | head -c 200");
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("UnstructuredGrid"), std::string::npos) << r.output;
 }

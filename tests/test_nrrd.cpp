@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "format_test_support.h"
@@ -20,7 +19,7 @@ namespace dtm {
 namespace {
 
 constexpr int kSize = 32;
-constexpr double kSpacing = 0.5;                       // exact in binary: positions stay exact
+constexpr double kSpacing = 0.5;  // exact in binary: positions stay exact
 constexpr std::array<double, 3> kOrigin{10, 20, -30};
 
 // Signed depth inside a torus (core radius 9, tube radius 4, voxel units),
@@ -40,21 +39,26 @@ std::string voxels(Flavour f) {
       for (int i = 0; i < kSize; ++i) {
         const double d = depth(i, j, k);
         switch (f) {
-          case Flavour::kUint8: append_binary(out, static_cast<uint8_t>(d >= 0 ? 200 : 10)); break;
+          case Flavour::kUint8:
+            append_binary(out, static_cast<uint8_t>(d >= 0 ? 200 : 10));
+            break;
           case Flavour::kUint16Big:
             append_binary(out, static_cast<uint16_t>(std::clamp(1000 + 100 * d, 0.0, 4000.0)), true);
             break;
-          case Flavour::kFloat32: append_binary(out, static_cast<float>(d)); break;
+          case Flavour::kFloat32:
+            append_binary(out, static_cast<float>(d));
+            break;
         }
       }
   return out;
 }
 
-std::string header(const char* type, const char* encoding, const char* endian, const std::string& extra = "") {
+std::string header(const char* type, const char* encoding, const char* endian,
+                   const std::string& extra = "") {
   return std::string("NRRD0004\n# a CT-like torus\ntype: ") + type + "\ndimension: 3\nsizes: 32 32 32\n" +
          "space dimension: 3\nspace directions: (0.5,0,0) (0,0.5,0) (0,0,0.5)\nspace origin: (10,20,-30)\n" +
-         "kinds: domain domain domain\nencoding: " + encoding + "\n" + (endian ? std::string("endian: ") + endian + "\n" : "") +
-         extra;
+         "kinds: domain domain domain\nencoding: " + encoding + "\n" +
+         (endian ? std::string("endian: ") + endian + "\n" : "") + extra;
 }
 
 class Volumes : public ::testing::Test {
@@ -65,7 +69,8 @@ class Volumes : public ::testing::Test {
     std::ofstream(dir_ + "/torus_u8.nrrd", std::ios::binary) << header("uchar", "raw", nullptr) << "\n"
                                                              << voxels(Flavour::kUint8);
     std::ofstream(dir_ + "/torus_u16.raw", std::ios::binary) << voxels(Flavour::kUint16Big);
-    std::ofstream(dir_ + "/torus_u16.nhdr") << header("unsigned short", "raw", "big", "data file: torus_u16.raw\n");
+    std::ofstream(dir_ + "/torus_u16.nhdr")
+        << header("unsigned short", "raw", "big", "data file: torus_u16.raw\n");
     std::ofstream(dir_ + "/torus_f32.nrrd", std::ios::binary) << header("float", "raw", "little") << "\n"
                                                               << voxels(Flavour::kFloat32);
     // gzip, as 3D Slicer saves by default.
@@ -109,7 +114,8 @@ TEST_F(Volumes, EveryFlavourSelectsTheSameSolidOnTheVoxelLattice) {
   // Lossless: each point's position is its voxel centre, exactly.
   for (size_t n = 0; n < q.points.size(); ++n) {
     const InputPoint p = u8.points[n];
-    const double i = (p.x - kOrigin[0]) / kSpacing, j = (p.y - kOrigin[1]) / kSpacing, k = (p.z - kOrigin[2]) / kSpacing;
+    const double i = (p.x - kOrigin[0]) / kSpacing, j = (p.y - kOrigin[1]) / kSpacing,
+                 k = (p.z - kOrigin[2]) / kSpacing;
     ASSERT_EQ(i, std::floor(i));
     ASSERT_GE(depth(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)), 0);
     const InputPoint g = q.grid.to_input(q.points[n]);
@@ -131,13 +137,12 @@ TEST_F(Volumes, EveryFlavourSelectsTheSameSolidOnTheVoxelLattice) {
 // find out from the data, without allocating what the header claims
 // (2048^3 bytes here, 8 GiB).
 TEST_F(Volumes, AHugeClaimedVolumeWithLittleDataFailsWithoutAllocatingIt) {
-  const std::string claim =
-      "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2048 2048 2048\nspacings: 1 1 1\n";
+  const std::string claim = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2048 2048 2048\nspacings: 1 1 1\n";
   std::ofstream(path("small.raw"), std::ios::binary) << std::string(1000, '\0');
   const auto r = test::run_command("gzip -c " + path("small.raw") + " > " + path("small.raw.gz"));
   ASSERT_EQ(r.status, 0) << r.output;
   std::ofstream(path("huge_gz.nrrd"), std::ios::binary) << claim << "encoding: gzip\n\n"
-                                                         << test::slurp(path("small.raw.gz"));
+                                                        << test::slurp(path("small.raw.gz"));
   std::ofstream(path("huge_ascii.nrrd"), std::ios::binary) << claim << "encoding: ascii\n\n1 2 3 4\n";
   for (const char* name : {"huge_gz.nrrd", "huge_ascii.nrrd"}) {
     const auto start = std::chrono::steady_clock::now();
@@ -163,8 +168,8 @@ TEST_F(Volumes, InteriorSubsamplingKeepsEveryBoundaryVoxel) {
   size_t boundary = 0;
   for (const GridPoint& g : a) {
     bool interior = true;
-    for (const GridPoint d : {GridPoint{1, 0, 0}, GridPoint{-1, 0, 0}, GridPoint{0, 1, 0}, GridPoint{0, -1, 0},
-                              GridPoint{0, 0, 1}, GridPoint{0, 0, -1}})
+    for (const GridPoint d : {GridPoint{1, 0, 0}, GridPoint{-1, 0, 0}, GridPoint{0, 1, 0},
+                              GridPoint{0, -1, 0}, GridPoint{0, 0, 1}, GridPoint{0, 0, -1}})
       interior = interior && in_a.count({g.x + d.x, g.y + d.y, g.z + d.z});
     if (!interior) {
       ++boundary;
@@ -179,10 +184,11 @@ TEST_F(Volumes, LatticeRoundTripsThroughTheCodecLevelByLevel) {
   // Every level of the hierarchy of a lattice point set is rebuilt by the
   // decoder, cell for cell (cell-set hashes, meshdec --verify), and the
   // finest level holds exactly the voxel centres.
-  const std::string stream = path("torus.dtm"), report = path("torus.json"), node = path("torus_decoded.node");
+  const std::string stream = path("torus.dtm"), report = path("torus.json"),
+                    node = path("torus_decoded.node");
   auto r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u16.nhdr") +
-                             " --threshold 1000 --voxel-interior-step 2 --dmax 0.5 --hash-cells -o " + stream +
-                             " --report " + report);
+                             " --threshold 1000 --voxel-interior-step 2 --dmax 0.5 --hash-cells -o " +
+                             stream + " --report " + report);
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("the voxel lattice: lossless"), std::string::npos) << r.output;
   const auto j = nlohmann::json::parse(test::slurp(report));
@@ -192,7 +198,8 @@ TEST_F(Volumes, LatticeRoundTripsThroughTheCodecLevelByLevel) {
   ASSERT_GE(j["levels"].size(), 3u) << r.output;
   r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " --verify -o " + node);
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("verified " + std::to_string(j["levels"].size()) + " levels"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("verified " + std::to_string(j["levels"].size()) + " levels"), std::string::npos)
+      << r.output;
   VolumeOptions o = threshold(1000, 2);
   const InputMesh want = read_input(path("torus_u16.nhdr"), {}, o);
   const NodeFile got = read_tetgen_node(node);
@@ -206,7 +213,8 @@ TEST_F(Volumes, LatticeRoundTripsThroughTheCodecLevelByLevel) {
 }
 
 TEST_F(Volumes, QbitsMayGrowButNotShrink) {
-  auto r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u8.nrrd") + " --threshold 100 --qbits 4 -q");
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u8.nrrd") +
+                             " --threshold 100 --qbits 4 -q");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("qbits must be at least 5"), std::string::npos) << r.output;
   const std::string report = path("q12.json");
@@ -229,9 +237,10 @@ TEST_F(Volumes, LabelSelectsOneValue) {
 
 TEST_F(Volumes, AnisotropicSpacingPlacesVoxelsAtTheirPositionsAndQuantizesThem) {
   const std::string p = path("anisotropic.nrrd");
-  std::ofstream(p, std::ios::binary) << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 32 32 32\nspacings: 1 1 2.5\n"
-                                        "encoding: raw\n\n"
-                                     << voxels(Flavour::kUint8);
+  std::ofstream(p, std::ios::binary)
+      << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 32 32 32\nspacings: 1 1 2.5\n"
+         "encoding: raw\n\n"
+      << voxels(Flavour::kUint8);
   const InputMesh m = read_input(p, {}, threshold(100));
   EXPECT_FALSE(m.on_grid.has_value());
   for (const InputPoint& q : m.points) ASSERT_EQ(std::fmod(q.z, 2.5), 0.0);
@@ -242,7 +251,8 @@ TEST_F(Volumes, AnisotropicSpacingPlacesVoxelsAtTheirPositionsAndQuantizesThem) 
 }
 
 TEST_F(Volumes, VolumeOptionsNeedAVolumeAndAVolumeNeedsThem) {
-  auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") + " --threshold 3 -q");
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") +
+                             " --threshold 3 -q");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("apply to voxel volumes only"), std::string::npos) << r.output;
   r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u8.nrrd") + " -q");

@@ -9,8 +9,8 @@
 #include <map>
 #include <set>
 
-#include "mesh/geometry.h"
 #include "format_test_support.h"
+#include "mesh/geometry.h"
 #include "output_mesh_support.h"
 #include "test_support.h"
 #include "tools/atomic_file.h"
@@ -35,15 +35,17 @@ const VertexField* field(const InputMesh& m, const std::string& name) {
 struct VolumeOutput {
   MeshFormat format;
   const char* name;
-  bool level;     // writes the level field
+  bool level;            // writes the level field
   const char* boundary;  // name of the field holding the boundary flag, or ""
 };
 
-const VolumeOutput kVolumeOutputs[] = {
-    {MeshFormat::kVtk, "out_binary.vtk", true, "boundary"},   {MeshFormat::kVtkAscii, "out_ascii.vtk", true, "boundary"},
-    {MeshFormat::kVtu, "out_binary.vtu", true, "boundary"},   {MeshFormat::kVtuAscii, "out_ascii.vtu", true, "boundary"},
-    {MeshFormat::kMedit, "out.mesh", false, "ref"},           {MeshFormat::kGmsh, "out.msh", true, "boundary"},
-    {MeshFormat::kTetgen, "out.node", false, "boundary_marker"}};
+const VolumeOutput kVolumeOutputs[] = {{MeshFormat::kVtk, "out_binary.vtk", true, "boundary"},
+                                       {MeshFormat::kVtkAscii, "out_ascii.vtk", true, "boundary"},
+                                       {MeshFormat::kVtu, "out_binary.vtu", true, "boundary"},
+                                       {MeshFormat::kVtuAscii, "out_ascii.vtu", true, "boundary"},
+                                       {MeshFormat::kMedit, "out.mesh", false, "ref"},
+                                       {MeshFormat::kGmsh, "out.msh", true, "boundary"},
+                                       {MeshFormat::kTetgen, "out.node", false, "boundary_marker"}};
 
 TEST(OutputFormats, EveryVolumeFormatReadsBackToTheSameMeshBitForBit) {
   const OutputMesh m = torus_mesh();
@@ -53,8 +55,8 @@ TEST(OutputFormats, EveryVolumeFormatReadsBackToTheSameMeshBitForBit) {
     ASSERT_EQ(back.points.size(), m.points.size());
     for (size_t i = 0; i < m.points.size(); ++i) {
       const InputPoint want = m.grid.to_input(m.points[i]);
-      ASSERT_TRUE(test::same_double(back.points[i].x, want.x) && test::same_double(back.points[i].y, want.y) &&
-                  test::same_double(back.points[i].z, want.z))
+      ASSERT_TRUE(test::same_double(back.points[i].x, want.x) &&
+                  test::same_double(back.points[i].y, want.y) && test::same_double(back.points[i].z, want.z))
           << "point " << i;
     }
     EXPECT_EQ(back.tets, m.cells);
@@ -93,14 +95,15 @@ void expect_closed_and_outward(const OutputMesh& m, const std::vector<InputPoint
   auto det = [](InputPoint a, InputPoint b, InputPoint c, InputPoint d) {
     const double u[3] = {b.x - a.x, b.y - a.y, b.z - a.z}, v[3] = {c.x - a.x, c.y - a.y, c.z - a.z},
                  w[3] = {d.x - a.x, d.y - a.y, d.z - a.z};
-    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+           u[2] * (v[0] * w[1] - v[1] * w[0]);
   };
   double surface = 0, cells = 0;
   const InputPoint o{0, 0, 0};
   for (const auto& t : tris) surface += det(o, pts[t[0]], pts[t[1]], pts[t[2]]);
   for (const auto& c : m.cells)
-    cells += det(m.grid.to_input(m.points[c[0]]), m.grid.to_input(m.points[c[1]]), m.grid.to_input(m.points[c[2]]),
-                 m.grid.to_input(m.points[c[3]]));
+    cells += det(m.grid.to_input(m.points[c[0]]), m.grid.to_input(m.points[c[1]]),
+                 m.grid.to_input(m.points[c[2]]), m.grid.to_input(m.points[c[3]]));
   EXPECT_GT(cells, 0);
   EXPECT_NEAR(surface, cells, 1e-9 * cells);
 }
@@ -133,11 +136,13 @@ double to_double(const std::string& token) {
 
 // What `reader` (meshio or vtk) reads in `path`, via dump_mesh.py.
 Dump independent_read(const std::string& reader, const std::string& path) {
-  const auto r = test::run_command(test::kPython + " " + DTM_TEST_SOURCE_DIR + "/dump_mesh.py " + reader + " " + path);
+  const auto r =
+      test::run_command(test::kPython + " " + DTM_TEST_SOURCE_DIR + "/dump_mesh.py " + reader + " " + path);
   Dump d;
   if (r.status != 0) {
     ADD_FAILURE() << reader << " could not read " << path << " (scripts/setup.sh installs python3-meshio and "
-                  << "python3-vtk9):\n" << r.output.substr(0, 2000);
+                  << "python3-vtk9):\n"
+                  << r.output.substr(0, 2000);
     return d;
   }
   std::istringstream in(r.output);
@@ -220,7 +225,8 @@ TEST(OutputFormats, BoundarySurfaceReadByMeshio) {
   const BoundarySurface s = boundary_surface(m);
   std::vector<InputPoint> want;
   for (uint32_t v : s.vertices) want.push_back(m.grid.to_input(m.points[v]));
-  for (const auto& [format, name] : {std::pair{MeshFormat::kPly, "surface.ply"}, std::pair{MeshFormat::kOff, "surface.off"}}) {
+  for (const auto& [format, name] :
+       {std::pair{MeshFormat::kPly, "surface.ply"}, std::pair{MeshFormat::kOff, "surface.off"}}) {
     SCOPED_TRACE(name);
     const Dump d = independent_read("meshio", write(m, format, name));
     expect_same_points(d, want);
@@ -233,7 +239,8 @@ TEST(OutputFormats, BoundarySurfaceReadByMeshio) {
     const InputMesh back = read_input(::testing::TempDir() + "/" + name);
     ASSERT_EQ(back.points.size(), want.size());
     for (size_t i = 0; i < want.size(); ++i)
-      ASSERT_TRUE(test::same_double(back.points[i].x, want[i].x) && test::same_double(back.points[i].z, want[i].z));
+      ASSERT_TRUE(test::same_double(back.points[i].x, want[i].x) &&
+                  test::same_double(back.points[i].z, want[i].z));
     if (format == MeshFormat::kPly) {
       const VertexField* level = field(back, "level");
       ASSERT_NE(level, nullptr);
@@ -247,7 +254,8 @@ TEST(OutputFormats, BoundarySurfaceReadByMeshio) {
 // within 1e-15 relative) and the same tetrahedra.
 TEST(OutputFormats, GmshOpensOurMshAndMeditFiles) {
   const OutputMesh m = torus_mesh();
-  for (const auto& [format, name] : {std::pair{MeshFormat::kGmsh, "for_gmsh.msh"}, std::pair{MeshFormat::kMedit, "for_gmsh.mesh"}}) {
+  for (const auto& [format, name] :
+       {std::pair{MeshFormat::kGmsh, "for_gmsh.msh"}, std::pair{MeshFormat::kMedit, "for_gmsh.mesh"}}) {
     SCOPED_TRACE(name);
     const std::string back = ::testing::TempDir() + "/" + name + ".gmsh22.msh";
     const auto r = test::run_command("gmsh -v 2 " + write(m, format, name) + " -0 -format msh22 -o " + back);
@@ -271,7 +279,8 @@ TEST(OutputFormats, MeshdecWritesEveryFormatByExtensionAndByName) {
   const std::string dir = ::testing::TempDir() + "/meshdec_formats";
   std::filesystem::create_directories(dir);
   const std::string stream = dir + "/torus.dtm";
-  auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") + " -q -o " + stream);
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") + " -q -o " +
+                             stream);
   ASSERT_EQ(r.status, 0) << r.output;
   size_t tets = 0, points = 0;
   for (const char* ext : {".vtu", ".vtk", ".mesh", ".msh", ".node"}) {

@@ -46,9 +46,12 @@ std::vector<uint8_t> encode(const std::vector<Symbol>& symbols) {
   RangeEncoder enc;
   AdaptiveBit models[4];
   for (const Symbol& s : symbols) {
-    if (s.count > 0) enc.encode_uniform(static_cast<uint32_t>(s.value), s.count);
-    else if (s.raw) enc.encode_raw(s.value, s.bits);
-    else enc.encode(models[s.model], s.value != 0);
+    if (s.count > 0)
+      enc.encode_uniform(static_cast<uint32_t>(s.value), s.count);
+    else if (s.raw)
+      enc.encode_raw(s.value, s.bits);
+    else
+      enc.encode(models[s.model], s.value != 0);
   }
   return enc.finish();
 }
@@ -61,9 +64,7 @@ bool decodes_to(std::span<const uint8_t> block, const std::vector<Symbol>& symbo
   for (const Symbol& s : symbols) {
     uint32_t uniform = UINT32_MAX;
     if (s.count > 0 && !dec.decode_uniform(s.count, uniform).ok()) return false;
-    const uint64_t v = s.count > 0 ? uniform
-                       : s.raw    ? dec.decode_raw(s.bits)
-                                  : dec.decode(models[s.model]);
+    const uint64_t v = s.count > 0 ? uniform : s.raw ? dec.decode_raw(s.bits) : dec.decode(models[s.model]);
     same = same && v == s.value;
   }
   return same && dec.finished_cleanly();

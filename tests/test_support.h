@@ -8,20 +8,17 @@
 #include <string>
 #include <vector>
 
-#include "mesh/delaunay.h"
 #include "common/grid.h"
 #include "core/quantize.h"
+#include "mesh/delaunay.h"
 #include "tools/formats/tetgen.h"
 
 namespace dtm::test {
 
-inline const std::vector<std::string> kCorpus = {"torus_288",  "bunny_10k",   "elephant_10k",
-                                                 "fandisk_11k", "hand_10k",   "knot1_10k",
-                                                 "torus_10k",  "triceratops_10k"};
+inline const std::vector<std::string> kCorpus = {"torus_288", "bunny_10k", "elephant_10k", "fandisk_11k",
+                                                 "hand_10k",  "knot1_10k", "torus_10k",    "triceratops_10k"};
 
-inline std::string data_path(const std::string& name) {
-  return std::string(DTM_TEST_DATA_DIR) + "/" + name;
-}
+inline std::string data_path(const std::string& name) { return std::string(DTM_TEST_DATA_DIR) + "/" + name; }
 
 inline QuantizedPoints load_quantized(const std::string& model, int qbits = 14) {
   return quantize(read_tetgen_node(data_path(model + ".node")).points, qbits).value();

@@ -10,10 +10,10 @@
 #include <random>
 
 #include "core/hierarchy.h"
+#include "core/reference_shape.h"
 #include "core/surface_distance.h"
 #include "test_support.h"
 #include "tools/formats/surface_writers.h"
-#include "core/reference_shape.h"
 
 namespace dtm {
 namespace {
@@ -83,7 +83,8 @@ TEST(SurfaceDistanceTracker, NamesMakeTrianglesTheSameAcrossRenumbering) {
       level_points.push_back(points[id]);
     }
     std::vector<std::array<uint32_t, 3>> renumbered;
-    for (const auto& t : boundary_triangles(level.mesh)) renumbered.push_back({local[t[0]], local[t[1]], local[t[2]]});
+    for (const auto& t : boundary_triangles(level.mesh))
+      renumbered.push_back({local[t[0]], local[t[1]], local[t[2]]});
     expect_same(tracker.measure(level_points, level.vertices, renumbered),
                 distance_to_surface(level_points, renumbered, queries), "level " + std::to_string(l));
   }

@@ -53,8 +53,7 @@ TEST_P(BadNodeFiles, AreRejectedWithFileLineAndProblem) {
 
 INSTANTIATE_TEST_SUITE_P(
     Corpus, BadNodeFiles,
-    ::testing::Values(BadFile{"empty.node", "empty file"},
-                      BadFile{"missing.node", "cannot open"},
+    ::testing::Values(BadFile{"empty.node", "empty file"}, BadFile{"missing.node", "cannot open"},
                       BadFile{"truncated.node", "file ends after 2 of 4 points"},
                       BadFile{"wrong_dimension.node", ":1: dimension must be 3"},
                       BadFile{"nan.node", ":4: coordinate is not finite"},

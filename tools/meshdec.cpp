@@ -1,12 +1,11 @@
 // meshdec: decodes a .dtm stream (or any prefix of one) to a tetrahedral
 // mesh file at the requested level of detail.
-#include <CLI/CLI.hpp>
+#include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <string>
-
-#include <unistd.h>
 
 #include "codec/decode.h"
 #include "mesh/carving.h"
@@ -48,7 +47,8 @@ void add_options(CLI::App& app, Command& c) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--format", c.format_name,
                  std::string(dtm::kOutputFormatNames) + " (default: from the output's extension)")
-      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "ply", "off", "xyz"}));
+      ->check(CLI::IsMember(
+          {"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "ply", "off", "xyz"}));
   app.add_flag("--verify", c.verify,
                "check every decoded level against the cell-set hashes in the stream (meshenc --hash-cells)");
   app.add_option("--max-vertices", c.max_vertices, "refuse streams claiming more vertices than this")
@@ -59,9 +59,12 @@ void add_options(CLI::App& app, Command& c) {
 
 dtm::MeshFormat output_format(const Command& c) {
   dtm::MeshFormat format;
-  if (!c.format_name.empty()) format = dtm::format_named(c.format_name);
-  else if (c.output == "-") format = dtm::MeshFormat::kVtu;
-  else format = dtm::format_for_path(c.output);
+  if (!c.format_name.empty())
+    format = dtm::format_named(c.format_name);
+  else if (c.output == "-")
+    format = dtm::MeshFormat::kVtu;
+  else
+    format = dtm::format_for_path(c.output);
   if (c.output == "-" && format == dtm::MeshFormat::kTetgen)
     throw std::invalid_argument("TetGen output is two files; it cannot go to standard output");
   return format;
@@ -120,7 +123,8 @@ void decode(const Command& c, dtm::ProgressiveDecoder& decoder, Verifier& verifi
     throw std::runtime_error(c.input + ": " + status.message());
   if (!verifier.error().ok()) throw std::runtime_error(c.input + ": " + verifier.error().message());
   if (c.level >= 0 && decoder.has_header() && c.level >= decoder.header().level_count)
-    throw std::runtime_error(c.input + ": --level " + std::to_string(c.level) + " asked, the stream has levels 0 to " +
+    throw std::runtime_error(c.input + ": --level " + std::to_string(c.level) +
+                             " asked, the stream has levels 0 to " +
                              std::to_string(decoder.header().level_count - 1));
   if (decoder.finest_level() < 0) throw std::runtime_error(c.input + ": " + status.message());
   if (status.code() == dtm::StatusCode::kTruncated && !c.quiet)

@@ -1,15 +1,14 @@
 // meshenc: reads a volume point set (a volume mesh, a point cloud or surface,
 // or the solid of a voxel volume), builds its Delaunay level-of-detail
 // hierarchy and prints the level table while it works.
-#include <CLI/CLI.hpp>
+#include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
-
-#include <unistd.h>
 
 #include "codec/encode.h"
 #include "tools/atomic_file.h"
@@ -66,8 +65,7 @@ void parse_alpha(const std::string& text, dtm::EncodeOptions& o) {
     used = 0;
   }
   if (used != text.size() || !(v > 0))
-    throw std::invalid_argument("--alpha must be 'paper', 'hull' or a positive number, got '" +
-                                text + "'");
+    throw std::invalid_argument("--alpha must be 'paper', 'hull' or a positive number, got '" + text + "'");
   o.alpha = dtm::AlphaKind::kFixed;
   o.fixed_alpha = v;
 }
@@ -76,8 +74,8 @@ void add_options(CLI::App& app, Command& c) {
   dtm::EncodeOptions& e = c.encode;
   app.add_option("input", c.input, "input file: .node .mesh .vtk .vtu .msh .nrrd .nhdr .ply .off .obj .xyz")
       ->required();
-  app.add_option("--format", c.format_name, std::string("input format, overriding the extension: ") +
-                                                dtm::kInputFormatNames);
+  app.add_option("--format", c.format_name,
+                 std::string("input format, overriding the extension: ") + dtm::kInputFormatNames);
   auto* threshold_opt = app.add_option("--threshold", c.volume.threshold,
                                        "voxel volumes: the solid is the voxels with value >= T");
   app.add_option("--label", c.volume.label, "voxel volumes: the solid is the voxels with value == L")
@@ -85,7 +83,8 @@ void add_options(CLI::App& app, Command& c) {
   app.add_option("--voxel-interior-step", c.volume.interior_step,
                  "voxel volumes: keep interior voxels whose indices are multiples of K (boundary voxels "
                  "are always kept)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app.add_option("-o,--output", c.output, "write the .dtm stream here ('-' = standard output)");
   app.add_flag("--no-reference", c.no_reference,
                "ignore the input's tetrahedra (no reference-shape error; a TetGen .ele is not even read)");
@@ -100,7 +99,8 @@ void add_options(CLI::App& app, Command& c) {
   auto* scale_opt = app.add_option("--scale", e.scale, "multiply input coordinates by this first")
                         ->check(CLI::PositiveNumber);
   app.add_option("--box", e.box, "scale the input so that its largest extent is this")
-      ->check(CLI::PositiveNumber)->excludes(scale_opt);
+      ->check(CLI::PositiveNumber)
+      ->excludes(scale_opt);
   app.add_option("--levels", e.max_levels, "build at most this many coarser levels (0 = no limit)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--min-base", e.min_base_vertices, "never build a level with fewer vertices")
@@ -111,11 +111,13 @@ void add_options(CLI::App& app, Command& c) {
                  "accept a removal only if its new cells' smallest solid angle is >= "
                  "min(S, the star's); 0 = off")
       ->check(CLI::Range(0.0, 0.56));
-  app.add_flag("--no-paper-stop", [&e](int64_t) { e.paper_stop = false; },
-               "do not stop at the first level that removes no boundary vertex");
+  app.add_flag(
+      "--no-paper-stop", [&e](int64_t) { e.paper_stop = false; },
+      "do not stop at the first level that removes no boundary vertex");
   app.add_option("--level-step", e.level_step,
                  "stream every N-th level (and the coarsest): fewer levels of detail, fewer bits")
-      ->capture_default_str()->check(CLI::Range(1, 1000));
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
   app.add_option("--report", c.report_path, "write the level table as JSON to this file");
   app.add_flag("-q,--quiet", c.quiet, "do not print the table");
   app.set_version_flag("--version", dtm::version_text("meshenc"));
@@ -126,12 +128,13 @@ dtm::InputMesh read(const Command& c) {
   if (!c.format_name.empty()) {
     format = dtm::input_format_named(c.format_name);
     if (!format)
-      throw std::invalid_argument("--format " + c.format_name + ": unknown (known: " +
-                                  dtm::kInputFormatNames + ")");
+      throw std::invalid_argument("--format " + c.format_name +
+                                  ": unknown (known: " + dtm::kInputFormatNames + ")");
   }
   const bool volume_options = c.volume.threshold || c.volume.label || c.volume.interior_step != 1;
   if (volume_options && (format ? *format : dtm::input_format_for_path(c.input)) != dtm::InputFormat::kNrrd)
-    throw std::invalid_argument(c.input + ": --threshold, --label and --voxel-interior-step apply to voxel volumes only");
+    throw std::invalid_argument(
+        c.input + ": --threshold, --label and --voxel-interior-step apply to voxel volumes only");
   auto in = dtm::read_input(c.input, format, c.volume, !c.no_reference);
   if (c.no_reference) in.tets.clear();
   return in;
@@ -139,9 +142,9 @@ dtm::InputMesh read(const Command& c) {
 
 void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePlan& plan) {
   const auto& q = plan.quantized;
-  std::printf("%s: %zu points, %llu merged by quantization, q=%d, step=%.6g, Dmax=%g%s\n",
-              c.input.c_str(), in.points.size(), (unsigned long long)q.duplicates_merged, q.grid.qbits,
-              q.grid.step, plan.dmax, in.on_grid ? " (the voxel lattice: lossless)" : "");
+  std::printf("%s: %zu points, %llu merged by quantization, q=%d, step=%.6g, Dmax=%g%s\n", c.input.c_str(),
+              in.points.size(), (unsigned long long)q.duplicates_merged, q.grid.qbits, q.grid.step, plan.dmax,
+              in.on_grid ? " (the voxel lattice: lossless)" : "");
   if (!in.fields.empty()) {
     std::string names;
     for (const auto& f : in.fields) names += (names.empty() ? "'" : ", '") + f.name + "'";
@@ -154,11 +157,12 @@ void print_reference_line(const dtm::EncodeReport& r) {
   const auto& first = *r.levels.front().reference_error;
   const auto& last = *r.levels.back().reference_error;
   const double step = r.grid.step;
-  std::printf("reference shape: the input's %llu tetrahedra (%llu boundary vertices); distance between its "
-              "boundary and each level's, both ways, max / mean: level 0 %.4g / %.4g, level %zu %.4g / %.4g "
-              "(all levels in --report)\n",
-              (unsigned long long)r.reference_tetrahedra, (unsigned long long)r.reference_boundary_vertices,
-              first.max * step, first.mean * step, r.levels.size() - 1, last.max * step, last.mean * step);
+  std::printf(
+      "reference shape: the input's %llu tetrahedra (%llu boundary vertices); distance between its "
+      "boundary and each level's, both ways, max / mean: level 0 %.4g / %.4g, level %zu %.4g / %.4g "
+      "(all levels in --report)\n",
+      (unsigned long long)r.reference_tetrahedra, (unsigned long long)r.reference_boundary_vertices,
+      first.max * step, first.mean * step, r.levels.size() - 1, last.max * step, last.mean * step);
 }
 
 // The stream and the report are written together or not at all.
@@ -197,14 +201,15 @@ int run(Command& c) {
   const dtm::Grid grid = plan->quantized.grid;
   const size_t vertices = plan->quantized.points.size();
   // Without an output the stream is still made: the report gives its size.
-  const auto encoded = dtm::encode(input, c.encode, std::move(plan).value(), [&](const dtm::LevelReport& level) {
-    if (!c.quiet) dtm::print_table_row(stdout, level.stats, grid);
-    if (progress) {
-      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::fprintf(stderr, "\r  level %d done, %.0f vertices/s\033[K\r", level.stats.level,
-                   vertices / std::max(s, 1e-9));
-    }
-  });
+  const auto encoded =
+      dtm::encode(input, c.encode, std::move(plan).value(), [&](const dtm::LevelReport& level) {
+        if (!c.quiet) dtm::print_table_row(stdout, level.stats, grid);
+        if (progress) {
+          const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          std::fprintf(stderr, "\r  level %d done, %.0f vertices/s\033[K\r", level.stats.level,
+                       vertices / std::max(s, 1e-9));
+        }
+      });
   if (progress) std::fprintf(stderr, "\033[K");
   if (!encoded.ok()) throw std::runtime_error(c.input + ": " + encoded.status().message());
   const dtm::EncodeReport& r = encoded->report;

@@ -1,12 +1,10 @@
 // meshinfo: what a .dtm stream holds, read from its headers (checksums
 // verified, no mesh rebuilt); with --stats, each level decoded and measured.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "codec/decode.h"
 #include "codec/format.h"
@@ -33,13 +31,16 @@ std::vector<QualityRow> decode_quality(const std::string& input, std::span<const
   std::vector<QualityRow> rows;
   dtm::Status failed;
   dtm::ProgressiveDecoder decoder;
-  const dtm::Status st = decoder.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
-    if (!failed.ok()) return;
-    auto level = dtm::analyze_level(d.points(), {dtm::AlphaKind::kFixed, l.alpha});
-    // Hostile points (too many cells) are refused by name.
-    if (!level.ok()) failed = level.status().with_context("level " + std::to_string(l.level));
-    else rows.push_back({level->mesh_cells, dtm::mesh_quality(*level)});
-  });
+  const dtm::Status st =
+      decoder.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
+        if (!failed.ok()) return;
+        auto level = dtm::analyze_level(d.points(), {dtm::AlphaKind::kFixed, l.alpha});
+        // Hostile points (too many cells) are refused by name.
+        if (!level.ok())
+          failed = level.status().with_context("level " + std::to_string(l.level));
+        else
+          rows.push_back({level->mesh_cells, dtm::mesh_quality(*level)});
+      });
   if (!st.ok()) throw std::runtime_error(input + ": " + st.message());
   if (!failed.ok()) throw std::runtime_error(input + ": " + failed.message());
   return rows;
@@ -90,27 +91,29 @@ nlohmann::json summary_json(const std::string& input, const dtm::StreamSummary& 
   return j;
 }
 
-void print_table(const std::string& input, const dtm::StreamSummary& s, const std::vector<QualityRow>& quality,
-                 bool stats) {
+void print_table(const std::string& input, const dtm::StreamSummary& s,
+                 const std::vector<QualityRow>& quality, bool stats) {
   const auto& h = s.header;
   const double step = h.grid.step;
   std::printf("%s: .dtm %u.%u, %u vertices in %u levels, q=%d, step=%.6g, alpha policy %s%s\n", input.c_str(),
               h.version_major, h.version_minor, h.vertex_count, h.level_count, h.grid.qbits, step,
               dtm::to_string(h.alpha_policy), (h.flags & dtm::kFlagCellHashes) ? ", cell hashes" : "");
   const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
-  std::printf("%llu bytes, %.2f bits per vertex%s\n", (unsigned long long)s.bytes, 8.0 * s.bytes / h.vertex_count,
+  std::printf("%llu bytes, %.2f bits per vertex%s\n", (unsigned long long)s.bytes,
+              8.0 * s.bytes / h.vertex_count,
               truncated ? (", TRUNCATED: " + s.status.message()).c_str() : "");
   std::printf("%5s %9s %9s %11s %11s %9s%s\n", "level", "vertices", "new", "alpha", "layer_bytes", "bits/new",
               stats ? "      tets  boundary avg_minSA    min_SA" : "");
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
     const uint64_t layer_bytes = dtm::kLayerHeaderSize + l.header.payload_bytes;
-    std::printf("%5u %9u %9u %11.5g %11llu %9.2f", l.header.level, l.header.level_vertices, l.header.new_vertices,
-                l.header.alpha * step, (unsigned long long)layer_bytes, 8.0 * layer_bytes / l.header.new_vertices);
+    std::printf("%5u %9u %9u %11.5g %11llu %9.2f", l.header.level, l.header.level_vertices,
+                l.header.new_vertices, l.header.alpha * step, (unsigned long long)layer_bytes,
+                8.0 * layer_bytes / l.header.new_vertices);
     if (i < quality.size())
       std::printf(" %9llu %9llu %9.6f %9.3g", (unsigned long long)quality[i].tetrahedra,
-                  (unsigned long long)quality[i].quality.boundary_vertices, quality[i].quality.avg_min_solid_angle,
-                  quality[i].quality.min_solid_angle);
+                  (unsigned long long)quality[i].quality.boundary_vertices,
+                  quality[i].quality.avg_min_solid_angle, quality[i].quality.min_solid_angle);
     std::printf("%s\n", l.complete ? "" : "  (incomplete)");
   }
 }
@@ -127,8 +130,10 @@ int run(const std::string& input, bool json, bool stats) {
   if (s.layers.empty() && truncated && s.bytes < dtm::kHeaderSize)
     throw std::runtime_error(input + ": " + s.status.message());
   const std::vector<QualityRow> quality = stats ? decode_quality(input, bytes) : std::vector<QualityRow>{};
-  if (json) std::printf("%s\n", summary_json(input, s, quality).dump(2).c_str());
-  else print_table(input, s, quality, stats);
+  if (json)
+    std::printf("%s\n", summary_json(input, s, quality).dump(2).c_str());
+  else
+    print_table(input, s, quality, stats);
   return 0;
 }
 

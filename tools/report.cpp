@@ -3,17 +3,16 @@
 namespace dtm {
 
 void print_table_header(std::FILE* out) {
-  std::fprintf(out, "%5s %9s %9s %8s %8s %9s %9s %9s %9s %9s %9s\n", "level", "vertices",
-               "boundary", "rm_int", "rm_bnd", "alpha", "tets", "avg_minSA", "min_SA",
-               "max_err", "mean_err");
+  std::fprintf(out, "%5s %9s %9s %8s %8s %9s %9s %9s %9s %9s %9s\n", "level", "vertices", "boundary",
+               "rm_int", "rm_bnd", "alpha", "tets", "avg_minSA", "min_SA", "max_err", "mean_err");
 }
 
 void print_table_row(std::FILE* out, const LevelStats& s, const Grid& g) {
   std::fprintf(out, "%5d %9llu %9llu %8llu %8llu %9.5g %9llu %9.6f %9.3g %9.4g %9.4g\n", s.level,
                (unsigned long long)s.vertices, (unsigned long long)s.boundary_vertices,
                (unsigned long long)s.removed_interior, (unsigned long long)s.removed_boundary,
-               s.alpha * g.step, (unsigned long long)s.tetrahedra, s.avg_min_solid_angle,
-               s.min_solid_angle, s.max_boundary_error * g.step, s.mean_boundary_error * g.step);
+               s.alpha * g.step, (unsigned long long)s.tetrahedra, s.avg_min_solid_angle, s.min_solid_angle,
+               s.max_boundary_error * g.step, s.mean_boundary_error * g.step);
   std::fflush(out);
 }
 

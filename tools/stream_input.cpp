@@ -8,8 +8,7 @@
 
 namespace dtm {
 
-void read_in_chunks(const std::string& path,
-                    const std::function<bool(std::span<const uint8_t>)>& consume) {
+void read_in_chunks(const std::string& path, const std::function<bool(std::span<const uint8_t>)>& consume) {
   std::FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
   if (!f) throw std::runtime_error(path + ": cannot open: " + std::strerror(errno));
   std::vector<uint8_t> chunk(1 << 16);

@@ -12,7 +12,6 @@ namespace dtm {
 // Calls `consume` with each chunk of `path` ("-" = standard input) until the
 // input ends or `consume` returns false. Throws std::runtime_error naming the
 // path if it cannot be read.
-void read_in_chunks(const std::string& path,
-                    const std::function<bool(std::span<const uint8_t>)>& consume);
+void read_in_chunks(const std::string& path, const std::function<bool(std::span<const uint8_t>)>& consume);
 
 }  // namespace dtm

@@ -25,7 +25,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const uint32_t mask = (uint32_t{1} << qbits) - 1;
   std::set<dtm::GridPoint> known_set;
   for (size_t i = 0; i < known_count && pos + 6 <= size; ++i, pos += 6) {
-    const auto coordinate = [&](size_t at) { return static_cast<int32_t>((data[at] | data[at + 1] << 8) & mask); };
+    const auto coordinate = [&](size_t at) {
+      return static_cast<int32_t>((data[at] | data[at + 1] << 8) & mask);
+    };
     known_set.insert({coordinate(pos), coordinate(pos + 2), coordinate(pos + 4)});
   }
   const std::vector<dtm::GridPoint> known(known_set.begin(), known_set.end());

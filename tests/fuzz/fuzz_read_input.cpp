@@ -14,7 +14,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  static const char* kExtensions[] = {".node", ".mesh", ".vtk", ".vtu", ".msh", ".nrrd", ".ply", ".off", ".obj", ".xyz"};
+  static const char* kExtensions[] = {".node", ".mesh", ".vtk", ".vtu", ".msh",
+                                      ".nrrd", ".ply",  ".off", ".obj", ".xyz"};
   const char* ext = kExtensions[(data[0] & 15) % 10];
   const std::string path = "/tmp/dtm_fuzz_input_" + std::to_string(getpid()) + ext;
   std::FILE* f = std::fopen(path.c_str(), "wb");
@@ -28,7 +29,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // No .ele is read: a stray one beside the temporary file must not matter.
     const dtm::InputMesh in = dtm::read_input(path, {}, volume, false);
     FUZZ_CHECK(in.points.size() >= 4);
-    for (const auto& p : in.points) FUZZ_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+    for (const auto& p : in.points)
+      FUZZ_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
     for (const auto& t : in.tets)
       for (auto v : t) FUZZ_CHECK(v < in.points.size());
   } catch (const dtm::FormatError&) {

@@ -48,16 +48,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   dtm::ProgressiveDecoder decoder;
   size_t index = 0;
-  const dtm::Status s = decoder.feed(first.bytes, [&](const dtm::ProgressiveDecoder& d,
-                                                      const dtm::DecodedLevel& level) {
-    const auto& want = hierarchy.levels[first.streamed_levels[level.level]];
-    std::vector<dtm::GridPoint> got(d.points().begin(), d.points().end()), expected;
-    for (uint32_t v : want.vertices) expected.push_back(points[v]);
-    std::sort(got.begin(), got.end());
-    FUZZ_CHECK(got == expected);
-    FUZZ_CHECK(dtm::cell_set_hash(d.points(), d.carved_cells()) == *level.cell_hash);
-    ++index;
-  });
+  const dtm::Status s =
+      decoder.feed(first.bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& level) {
+        const auto& want = hierarchy.levels[first.streamed_levels[level.level]];
+        std::vector<dtm::GridPoint> got(d.points().begin(), d.points().end()), expected;
+        for (uint32_t v : want.vertices) expected.push_back(points[v]);
+        std::sort(got.begin(), got.end());
+        FUZZ_CHECK(got == expected);
+        FUZZ_CHECK(dtm::cell_set_hash(d.points(), d.carved_cells()) == *level.cell_hash);
+        ++index;
+      });
   FUZZ_CHECK(s.ok() && decoder.finish().ok());
   FUZZ_CHECK(index == first.streamed_levels.size());
   FUZZ_CHECK(first.decode_order.size() == decoder.points().size());

@@ -24,7 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (uint32_t v : t) FUZZ_CHECK(v < 64);
     } else {
       const auto node = dtm::read_tetgen_node(path);
-      for (const auto& p : node.points) FUZZ_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+      for (const auto& p : node.points)
+        FUZZ_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
     }
   } catch (const dtm::FormatError&) {
   }

@@ -62,10 +62,14 @@ InputMesh from_point_set(const PointSet& ps) {
 
 const char* name_of(PointSetFormat f) {
   switch (f) {
-    case PointSetFormat::kPly: return "PLY";
-    case PointSetFormat::kOff: return "OFF";
-    case PointSetFormat::kObj: return "OBJ";
-    case PointSetFormat::kXyz: return "XYZ";
+    case PointSetFormat::kPly:
+      return "PLY";
+    case PointSetFormat::kOff:
+      return "OFF";
+    case PointSetFormat::kObj:
+      return "OBJ";
+    case PointSetFormat::kXyz:
+      return "XYZ";
   }
   return "?";
 }
@@ -78,8 +82,10 @@ const char* expectations(PointSetFormat f) {
              "header announces";
     case PointSetFormat::kOff:
       return "an 'OFF' header, the vertex, face and edge counts, then as many 'x y z' lines as announced";
-    case PointSetFormat::kObj: return "'v x y z' vertex lines (and optional faces)";
-    case PointSetFormat::kXyz: return "one 'x y z' (or 'x y z nx ny nz') line per point";
+    case PointSetFormat::kObj:
+      return "'v x y z' vertex lines (and optional faces)";
+    case PointSetFormat::kXyz:
+      return "one 'x y z' (or 'x y z nx ny nz') line per point";
   }
   return "";
 }
@@ -89,11 +95,12 @@ const char* expectations(PointSetFormat f) {
 void check_off_count(const std::string& path, size_t read) {
   TextCursor c = TextCursor::open(path, '#');
   const std::string_view header = c.token("an OFF header");
-  if (header.size() < 3 || header.substr(header.size() - 3) != "OFF") return;  // CGAL accepted it: leave it be
+  if (header.size() < 3 || header.substr(header.size() - 3) != "OFF")
+    return;  // CGAL accepted it: leave it be
   const auto announced = c.number<uint64_t>("a vertex count");
   if (announced != read)
-    throw FormatError(path + ": the header announces " + std::to_string(announced) + " vertices, the file holds " +
-                      std::to_string(read) + " (truncated?)");
+    throw FormatError(path + ": the header announces " + std::to_string(announced) +
+                      " vertices, the file holds " + std::to_string(read) + " (truncated?)");
 }
 
 // CGAL's PLY reader trusts its header: a 'property' line before any
@@ -108,7 +115,8 @@ void check_ply_header(const std::string& path) {
   const auto file_size = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
   in.seekg(0);
   auto is_name = [](const std::string& w) {
-    return !w.empty() && std::all_of(w.begin(), w.end(), [](unsigned char ch) { return std::isalnum(ch) || ch == '_'; });
+    return !w.empty() &&
+           std::all_of(w.begin(), w.end(), [](unsigned char ch) { return std::isalnum(ch) || ch == '_'; });
   };
   std::string line, element;
   std::set<std::string> property_names;  // "element.property"
@@ -132,13 +140,14 @@ void check_ply_header(const std::string& path) {
     if (keyword == "element") {
       std::string name, count_text, extra;
       if (!(words >> name >> count_text) || (words >> extra) || !is_name(name) ||
-          !std::all_of(count_text.begin(), count_text.end(), [](unsigned char ch) { return std::isdigit(ch); }) ||
+          !std::all_of(count_text.begin(), count_text.end(),
+                       [](unsigned char ch) { return std::isdigit(ch); }) ||
           count_text.size() > 19)
         throw FormatError(where + "an 'element' line is 'element NAME COUNT'");
       const uint64_t count = std::stoull(count_text);
       if (count > file_size)
-        throw FormatError(where + "element '" + name + "' announces " + count_text + " items; the file has only " +
-                          std::to_string(file_size) + " bytes");
+        throw FormatError(where + "element '" + name + "' announces " + count_text +
+                          " items; the file has only " + std::to_string(file_size) + " bytes");
       element = name;
       if (name == "vertex") ++vertex_elements;
     } else if (keyword == "property") {
@@ -148,14 +157,17 @@ void check_ply_header(const std::string& path) {
       if (type == "list") words >> item_type >> type;
       words >> name;
       if (!is_name(type) || !is_name(name) || (!item_type.empty() && !is_name(item_type)) || (words >> extra))
-        throw FormatError(where + "a 'property' line is 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME'");
+        throw FormatError(
+            where + "a 'property' line is 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME'");
       if (!property_names.insert(element + "." + name).second)
         throw FormatError(where + "element '" + element + "' has two properties named '" + name + "'");
-      const bool coordinate = name == "x" || name == "y" || name == "z" || name == "nx" || name == "ny" || name == "nz";
+      const bool coordinate =
+          name == "x" || name == "y" || name == "z" || name == "nx" || name == "ny" || name == "nz";
       const bool real = item_type.empty() &&  // a list is not a coordinate
                         (type == "float" || type == "float32" || type == "double" || type == "float64");
       if (element == "vertex" && coordinate && !real)
-        throw FormatError(where + "vertex property '" + name + "' is '" + type + "'; coordinates must be float or double");
+        throw FormatError(where + "vertex property '" + name + "' is '" + type +
+                          "'; coordinates must be float or double");
       if (element == "vertex" && (name == "x" || name == "y" || name == "z")) ++coordinates;
     } else {
       throw FormatError(where + "unknown PLY header line '" + line.substr(0, 40) + "'");
@@ -193,15 +205,19 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
         check_ply_header(path);
         ok = CGAL::IO::read_PLY(in, ps);
         break;
-      case PointSetFormat::kOff: ok = CGAL::IO::read_OFF(in, ps); break;
-      default: ok = CGAL::IO::read_XYZ(in, ps); break;
+      case PointSetFormat::kOff:
+        ok = CGAL::IO::read_OFF(in, ps);
+        break;
+      default:
+        ok = CGAL::IO::read_XYZ(in, ps);
+        break;
     }
     if (ok) out = from_point_set(ps);
     if (ok && format == PointSetFormat::kOff) check_off_count(path, out.points.size());
   }
   if (!ok)
-    throw FormatError(path + ": not a valid " + std::string(name_of(format)) + " file (CGAL's reader stopped; expected " +
-                      expectations(format) + ")");
+    throw FormatError(path + ": not a valid " + std::string(name_of(format)) +
+                      " file (CGAL's reader stopped; expected " + expectations(format) + ")");
   if (out.points.empty()) throw FormatError(path + ": no vertices");
   for (size_t i = 0; i < out.points.size(); ++i) {
     const InputPoint& p = out.points[i];

@@ -38,7 +38,8 @@ class GmshReader {
       c_.fail("unsupported version " + version + " (2.2 and 4.1 are read)");
     v4_ = version == "4.1";
     if (c_.number<int>("the file type (0 = ASCII)") != 0) c_.fail("unsupported: binary .msh (save as ASCII)");
-    if (const int size = c_.number<int>("the data size"); size != 8) c_.fail("data size must be 8, got " + std::to_string(size));
+    if (const int size = c_.number<int>("the data size"); size != 8)
+      c_.fail("data size must be 8, got " + std::to_string(size));
     c_.expect("$EndMeshFormat");
     bool have_nodes = false;
     while (!c_.at_end()) {
@@ -110,7 +111,8 @@ class GmshReader {
       if (out_.points.size() - first != in_block) c_.fail("node block size mismatch");
     }
     if (out_.points.size() != n)
-      c_.fail("$Nodes announces " + std::to_string(n) + " nodes, its blocks hold " + std::to_string(out_.points.size()));
+      c_.fail("$Nodes announces " + std::to_string(n) + " nodes, its blocks hold " +
+              std::to_string(out_.points.size()));
   }
 
   uint32_t node(std::string_view tag_text) {
@@ -142,12 +144,14 @@ class GmshReader {
     c_.skip_to_next_line();
     for (uint64_t i = 0; i < n; ++i) {
       const auto f = split(c_.rest_of_line());
-      if (f.empty()) c_.fail("file ends after " + std::to_string(i) + " of " + std::to_string(n) + " elements");
+      if (f.empty())
+        c_.fail("file ends after " + std::to_string(i) + " of " + std::to_string(n) + " elements");
       if (f.size() < 3) c_.fail("expected 'tag type ntags ...'");
       int type = 0, tags = 0;
       std::from_chars(f[1].data(), f[1].data() + f[1].size(), type);
       const auto [end, ec] = std::from_chars(f[2].data(), f[2].data() + f[2].size(), tags);
-      if (ec != std::errc() || tags < 0 || f.size() < 3 + static_cast<size_t>(tags)) c_.fail("bad element tag count");
+      if (ec != std::errc() || tags < 0 || f.size() < 3 + static_cast<size_t>(tags))
+        c_.fail("bad element tag count");
       element(f, 3 + tags, type);
     }
   }
@@ -172,7 +176,8 @@ class GmshReader {
       seen += in_block;
     }
     if (seen != n)
-      c_.fail("$Elements announces " + std::to_string(n) + " elements, its blocks hold " + std::to_string(seen));
+      c_.fail("$Elements announces " + std::to_string(n) + " elements, its blocks hold " +
+              std::to_string(seen));
   }
 
   // A view's values at the nodes: kept when it covers every node once.
@@ -181,7 +186,8 @@ class GmshReader {
     const int strings = c_.number<int>("a string tag count");
     for (int i = 0; i < strings; ++i) {
       std::string s(c_.token("a string tag"));
-      if (i == 0) f.name = s.size() >= 2 && s.front() == '"' && s.back() == '"' ? s.substr(1, s.size() - 2) : s;
+      if (i == 0)
+        f.name = s.size() >= 2 && s.front() == '"' && s.back() == '"' ? s.substr(1, s.size() - 2) : s;
     }
     const int reals = c_.number<int>("a real tag count");
     for (int i = 0; i < reals; ++i) c_.number<double>("a real tag");

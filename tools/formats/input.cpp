@@ -44,24 +44,37 @@ InputMesh read_tetgen(const std::string& path, bool with_ele) {
   InputMesh out;
   out.points = std::move(node.points);
   if (!node.markers.empty())
-    out.fields.push_back({"boundary_marker", 1, std::vector<double>(node.markers.begin(), node.markers.end())});
+    out.fields.push_back(
+        {"boundary_marker", 1, std::vector<double>(node.markers.begin(), node.markers.end())});
   const std::filesystem::path ele = std::filesystem::path(path).replace_extension(".ele");
-  if (with_ele && std::filesystem::exists(ele)) out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);
+  if (with_ele && std::filesystem::exists(ele))
+    out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);
   return out;
 }
 
-InputMesh read_any(const std::string& path, InputFormat format, const VolumeOptions& volume, bool tetgen_ele) {
+InputMesh read_any(const std::string& path, InputFormat format, const VolumeOptions& volume,
+                   bool tetgen_ele) {
   switch (format) {
-    case InputFormat::kTetgen: return read_tetgen(path, tetgen_ele);
-    case InputFormat::kMedit: return read_medit(path);
-    case InputFormat::kVtk: return read_vtk_legacy(path);
-    case InputFormat::kVtu: return read_vtu(path);
-    case InputFormat::kGmsh: return read_gmsh(path);
-    case InputFormat::kNrrd: return voxel_points(read_nrrd(path), volume, path);
-    case InputFormat::kPly: return read_point_set(path, PointSetFormat::kPly);
-    case InputFormat::kOff: return read_point_set(path, PointSetFormat::kOff);
-    case InputFormat::kObj: return read_point_set(path, PointSetFormat::kObj);
-    case InputFormat::kXyz: return read_point_set(path, PointSetFormat::kXyz);
+    case InputFormat::kTetgen:
+      return read_tetgen(path, tetgen_ele);
+    case InputFormat::kMedit:
+      return read_medit(path);
+    case InputFormat::kVtk:
+      return read_vtk_legacy(path);
+    case InputFormat::kVtu:
+      return read_vtu(path);
+    case InputFormat::kGmsh:
+      return read_gmsh(path);
+    case InputFormat::kNrrd:
+      return voxel_points(read_nrrd(path), volume, path);
+    case InputFormat::kPly:
+      return read_point_set(path, PointSetFormat::kPly);
+    case InputFormat::kOff:
+      return read_point_set(path, PointSetFormat::kOff);
+    case InputFormat::kObj:
+      return read_point_set(path, PointSetFormat::kObj);
+    case InputFormat::kXyz:
+      return read_point_set(path, PointSetFormat::kXyz);
   }
   throw FormatError(path + ": unknown input format");
 }

@@ -11,19 +11,31 @@ namespace {
 // Sections other than Vertices that we read past: how many vertex indices and
 // how many trailing integers (refs) each record has, or reals for vectors.
 struct SectionLayout {
-  int indices;  // vertex indices (checked against the vertex count)
-  int integers; // other integers (refs, element numbers)
+  int indices;   // vertex indices (checked against the vertex count)
+  int integers;  // other integers (refs, element numbers)
   int reals;
 };
 const std::map<std::string, SectionLayout, std::less<>>& sections() {
   static const std::map<std::string, SectionLayout, std::less<>> kSections = {
-      {"Edges", {2, 1, 0}},          {"Triangles", {3, 1, 0}},       {"Quadrilaterals", {4, 1, 0}},
-      {"Tetrahedra", {4, 1, 0}},     {"Pyramids", {5, 1, 0}},        {"Prisms", {6, 1, 0}},
-      {"Hexahedra", {8, 1, 0}},      {"Hexaedra", {8, 1, 0}},        {"Corners", {1, 0, 0}},
-      {"RequiredVertices", {1, 0, 0}}, {"Ridges", {0, 1, 0}},        {"RequiredEdges", {0, 1, 0}},
-      {"RequiredTriangles", {0, 1, 0}}, {"RequiredQuadrilaterals", {0, 1, 0}},
-      {"Normals", {0, 0, 3}},        {"Tangents", {0, 0, 3}},        {"NormalAtVertices", {1, 1, 0}},
-      {"TangentAtVertices", {1, 1, 0}}, {"TangentAtEdges", {0, 3, 0}}};
+      {"Edges", {2, 1, 0}},
+      {"Triangles", {3, 1, 0}},
+      {"Quadrilaterals", {4, 1, 0}},
+      {"Tetrahedra", {4, 1, 0}},
+      {"Pyramids", {5, 1, 0}},
+      {"Prisms", {6, 1, 0}},
+      {"Hexahedra", {8, 1, 0}},
+      {"Hexaedra", {8, 1, 0}},
+      {"Corners", {1, 0, 0}},
+      {"RequiredVertices", {1, 0, 0}},
+      {"Ridges", {0, 1, 0}},
+      {"RequiredEdges", {0, 1, 0}},
+      {"RequiredTriangles", {0, 1, 0}},
+      {"RequiredQuadrilaterals", {0, 1, 0}},
+      {"Normals", {0, 0, 3}},
+      {"Tangents", {0, 0, 3}},
+      {"NormalAtVertices", {1, 1, 0}},
+      {"TangentAtVertices", {1, 1, 0}},
+      {"TangentAtEdges", {0, 3, 0}}};
   return kSections;
 }
 

@@ -1,16 +1,16 @@
 #include "mesh_writers.h"
 
-#include "gmsh.h"
-#include "medit.h"
-#include "render_util.h"
-#include "surface_writers.h"
-#include "vtk_legacy.h"
-
 #include <bit>
 #include <charconv>
 #include <filesystem>
 #include <stdexcept>
 #include <type_traits>
+
+#include "gmsh.h"
+#include "medit.h"
+#include "render_util.h"
+#include "surface_writers.h"
+#include "vtk_legacy.h"
 
 namespace dtm {
 namespace {
@@ -24,8 +24,8 @@ void validate(const OutputMesh& m) {
     throw std::invalid_argument("mesh writer: " + std::to_string(m.level.size()) + " levels for " +
                                 std::to_string(n) + " points");
   if (!m.boundary.empty() && m.boundary.size() != n)
-    throw std::invalid_argument("mesh writer: " + std::to_string(m.boundary.size()) +
-                                " boundary flags for " + std::to_string(n) + " points");
+    throw std::invalid_argument("mesh writer: " + std::to_string(m.boundary.size()) + " boundary flags for " +
+                                std::to_string(n) + " points");
   for (size_t c = 0; c < m.cells.size(); ++c)
     for (uint32_t v : m.cells[c])
       if (v >= n)
@@ -134,8 +134,7 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
       "header_type=\"UInt64\">\n"
       "  <UnstructuredGrid>\n"
       "    <Piece NumberOfPoints=\"" +
-      std::to_string(m.points.size()) + "\" NumberOfCells=\"" + std::to_string(m.cells.size()) +
-      "\">\n";
+      std::to_string(m.points.size()) + "\" NumberOfCells=\"" + std::to_string(m.cells.size()) + "\">\n";
   if (!m.level.empty() || !m.boundary.empty()) {
     out += "      <PointData>\n";
     if (!m.level.empty()) data_array(out, "Int32", "level", 1, 1, m.level, binary);
@@ -159,8 +158,7 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
 }  // namespace
 
 std::string base64_encode(std::string_view bytes) {
-  static constexpr char kAlphabet[] =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   out.reserve((bytes.size() + 2) / 3 * 4);
   size_t i = 0;
@@ -193,17 +191,23 @@ MeshFormat format_for_path(const std::string& path) {
   if (ext == ".ply") return MeshFormat::kPly;
   if (ext == ".off") return MeshFormat::kOff;
   if (ext == ".xyz") return MeshFormat::kXyz;
-  throw std::invalid_argument(path +
-                              ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .ply, .off or .xyz "
-                              "file name)");
+  throw std::invalid_argument(
+      path +
+      ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .ply, .off or .xyz "
+      "file name)");
 }
 
 MeshFormat format_named(const std::string& name) {
-  static const std::pair<const char*, MeshFormat> kNames[] = {
-      {"node", MeshFormat::kTetgen}, {"vtu", MeshFormat::kVtu},         {"vtu-ascii", MeshFormat::kVtuAscii},
-      {"vtk", MeshFormat::kVtk},     {"vtk-ascii", MeshFormat::kVtkAscii}, {"mesh", MeshFormat::kMedit},
-      {"msh", MeshFormat::kGmsh},    {"ply", MeshFormat::kPly},         {"off", MeshFormat::kOff},
-      {"xyz", MeshFormat::kXyz}};
+  static const std::pair<const char*, MeshFormat> kNames[] = {{"node", MeshFormat::kTetgen},
+                                                              {"vtu", MeshFormat::kVtu},
+                                                              {"vtu-ascii", MeshFormat::kVtuAscii},
+                                                              {"vtk", MeshFormat::kVtk},
+                                                              {"vtk-ascii", MeshFormat::kVtkAscii},
+                                                              {"mesh", MeshFormat::kMedit},
+                                                              {"msh", MeshFormat::kGmsh},
+                                                              {"ply", MeshFormat::kPly},
+                                                              {"off", MeshFormat::kOff},
+                                                              {"xyz", MeshFormat::kXyz}};
   for (const auto& [n, f] : kNames)
     if (name == n) return f;
   throw std::invalid_argument("unknown output format '" + name + "' (known: " + kOutputFormatNames + ")");

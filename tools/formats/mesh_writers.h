@@ -17,7 +17,7 @@ namespace dtm {
 
 // A decoded level ready to write. Vertex i is at grid.to_input(points[i]).
 struct OutputMesh {
-  Grid grid;                                   // dequantization
+  Grid grid;  // dequantization
   std::vector<GridPoint> points;
   std::vector<std::array<uint32_t, 4>> cells;  // tetrahedra, indices into points, positively oriented
   std::vector<int32_t> level;     // optional (empty = absent): per vertex, the coarsest level containing it
@@ -48,7 +48,8 @@ MeshFormat format_for_path(const std::string& path);
 // The format meshdec --format names: node, vtu, vtu-ascii, vtk, vtk-ascii,
 // mesh, msh, ply, off, xyz. Throws std::invalid_argument for anything else.
 MeshFormat format_named(const std::string& name);
-inline constexpr const char* kOutputFormatNames = "node, vtu, vtu-ascii, vtk, vtk-ascii, mesh, msh, ply, off, xyz";
+inline constexpr const char* kOutputFormatNames =
+    "node, vtu, vtu-ascii, vtk, vtk-ascii, mesh, msh, ply, off, xyz";
 
 // The files of `mesh` in `format` as (path, bytes) pairs: two for kTetgen
 // (`path`, which must end in ".node", and the .ele beside it), one for the

@@ -18,18 +18,34 @@ namespace dtm {
 namespace {
 
 std::optional<ScalarType> nrrd_type(const std::string& name) {
-  static const std::map<std::string, ScalarType> kTypes = {
-      {"signed char", ScalarType::kInt8},     {"int8", ScalarType::kInt8},       {"int8_t", ScalarType::kInt8},
-      {"uchar", ScalarType::kUInt8},          {"unsigned char", ScalarType::kUInt8},
-      {"uint8", ScalarType::kUInt8},          {"uint8_t", ScalarType::kUInt8},   {"short", ScalarType::kInt16},
-      {"short int", ScalarType::kInt16},      {"signed short", ScalarType::kInt16},
-      {"signed short int", ScalarType::kInt16}, {"int16", ScalarType::kInt16},   {"int16_t", ScalarType::kInt16},
-      {"ushort", ScalarType::kUInt16},        {"unsigned short", ScalarType::kUInt16},
-      {"unsigned short int", ScalarType::kUInt16}, {"uint16", ScalarType::kUInt16},
-      {"uint16_t", ScalarType::kUInt16},      {"int", ScalarType::kInt32},       {"signed int", ScalarType::kInt32},
-      {"int32", ScalarType::kInt32},          {"int32_t", ScalarType::kInt32},   {"uint", ScalarType::kUInt32},
-      {"unsigned int", ScalarType::kUInt32},  {"uint32", ScalarType::kUInt32},   {"uint32_t", ScalarType::kUInt32},
-      {"float", ScalarType::kFloat32},        {"double", ScalarType::kFloat64}};
+  static const std::map<std::string, ScalarType> kTypes = {{"signed char", ScalarType::kInt8},
+                                                           {"int8", ScalarType::kInt8},
+                                                           {"int8_t", ScalarType::kInt8},
+                                                           {"uchar", ScalarType::kUInt8},
+                                                           {"unsigned char", ScalarType::kUInt8},
+                                                           {"uint8", ScalarType::kUInt8},
+                                                           {"uint8_t", ScalarType::kUInt8},
+                                                           {"short", ScalarType::kInt16},
+                                                           {"short int", ScalarType::kInt16},
+                                                           {"signed short", ScalarType::kInt16},
+                                                           {"signed short int", ScalarType::kInt16},
+                                                           {"int16", ScalarType::kInt16},
+                                                           {"int16_t", ScalarType::kInt16},
+                                                           {"ushort", ScalarType::kUInt16},
+                                                           {"unsigned short", ScalarType::kUInt16},
+                                                           {"unsigned short int", ScalarType::kUInt16},
+                                                           {"uint16", ScalarType::kUInt16},
+                                                           {"uint16_t", ScalarType::kUInt16},
+                                                           {"int", ScalarType::kInt32},
+                                                           {"signed int", ScalarType::kInt32},
+                                                           {"int32", ScalarType::kInt32},
+                                                           {"int32_t", ScalarType::kInt32},
+                                                           {"uint", ScalarType::kUInt32},
+                                                           {"unsigned int", ScalarType::kUInt32},
+                                                           {"uint32", ScalarType::kUInt32},
+                                                           {"uint32_t", ScalarType::kUInt32},
+                                                           {"float", ScalarType::kFloat32},
+                                                           {"double", ScalarType::kFloat64}};
   const auto it = kTypes.find(name);
   if (it == kTypes.end()) return std::nullopt;
   return it->second;
@@ -37,11 +53,12 @@ std::optional<ScalarType> nrrd_type(const std::string& name) {
 
 // Fields that do not change where voxels are or what they hold.
 bool is_descriptive(const std::string& field) {
-  static const char* kFields[] = {"content", "kinds", "centers", "centerings", "labels", "units",
-                                  "space units", "measurement frame", "min", "max", "old min",
-                                  "old max", "thicknesses", "axis mins", "axismins", "axis maxs",
-                                  "axismaxs", "sample units", "sampleunits", "number", "block size",
-                                  "blocksize", "space", "space dimension"};
+  static const char* kFields[] = {"content",     "kinds",        "centers",     "centerings",
+                                  "labels",      "units",        "space units", "measurement frame",
+                                  "min",         "max",          "old min",     "old max",
+                                  "thicknesses", "axis mins",    "axismins",    "axis maxs",
+                                  "axismaxs",    "sample units", "sampleunits", "number",
+                                  "block size",  "blocksize",    "space",       "space dimension"};
   for (const char* f : kFields)
     if (field == f) return true;
   return false;
@@ -60,7 +77,8 @@ std::string trim(std::string_view s) {
 std::string gunzip(std::string_view compressed, uint64_t expected, const std::string& path) {
   std::string out;
   z_stream z{};
-  if (inflateInit2(&z, 15 + 32) != Z_OK) throw FormatError(path + ": cannot start zlib");  // gzip or zlib header
+  if (inflateInit2(&z, 15 + 32) != Z_OK)
+    throw FormatError(path + ": cannot start zlib");  // gzip or zlib header
   z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(compressed.data()));
   z.avail_in = static_cast<uInt>(compressed.size());
   constexpr uint64_t kStep = uint64_t{1} << 20;
@@ -79,7 +97,8 @@ std::string gunzip(std::string_view compressed, uint64_t expected, const std::st
   const uint64_t produced = out.size();
   inflateEnd(&z);
   if (produced > expected)
-    throw FormatError(path + ": gzip data holds more than the " + std::to_string(expected) + " bytes of the volume");
+    throw FormatError(path + ": gzip data holds more than the " + std::to_string(expected) +
+                      " bytes of the volume");
   if (r != Z_STREAM_END)
     throw FormatError(path + ": gzip data is damaged or truncated (" + std::to_string(produced) + " of " +
                       std::to_string(expected) + " bytes)" + (z.msg ? std::string(": ") + z.msg : ""));
@@ -132,7 +151,8 @@ class NrrdHeader {
       double v = 0;
       const auto [end, ec] = std::from_chars(s.data(), s.data() + e, v);
       if (ec != std::errc() || end != s.data() + e || !std::isfinite(v))
-        fail("field '" + std::string(key) + "': expected numbers, found '" + std::string(s.substr(0, e)) + "'");
+        fail("field '" + std::string(key) + "': expected numbers, found '" + std::string(s.substr(0, e)) +
+             "'");
       out.push_back(v);
       s.remove_prefix(e);
     }
@@ -151,18 +171,23 @@ class NrrdHeader {
  private:
   void add(TextCursor& c, std::string_view line) {
     if (line[0] == '#') return;
-    if (line.find(":=") != std::string_view::npos && line.find(":=") < line.find(": ")) return;  // key/value pair
+    if (line.find(":=") != std::string_view::npos && line.find(":=") < line.find(": "))
+      return;  // key/value pair
     const size_t colon = line.find(": ");
     if (colon == std::string_view::npos) c.fail("expected 'field: value', found '" + std::string(line) + "'");
-    static const std::map<std::string, std::string> kSpellings = {
-        {"datafile", "data file"},          {"byteskip", "byte skip"},      {"lineskip", "line skip"},
-        {"spacedirections", "space directions"}, {"spaceorigin", "space origin"}};
+    static const std::map<std::string, std::string> kSpellings = {{"datafile", "data file"},
+                                                                  {"byteskip", "byte skip"},
+                                                                  {"lineskip", "line skip"},
+                                                                  {"spacedirections", "space directions"},
+                                                                  {"spaceorigin", "space origin"}};
     std::string key(line.substr(0, colon));
     if (const auto it = kSpellings.find(key); it != kSpellings.end()) key = it->second;
     if (!fields_.emplace(key, trim(line.substr(colon + 2))).second) c.fail("field '" + key + "' given twice");
-    static const char* kUsed[] = {"type", "dimension", "sizes", "spacings", "space directions", "space origin",
-                                  "encoding", "endian", "data file", "byte skip", "line skip"};
-    if (std::find_if(std::begin(kUsed), std::end(kUsed), [&](const char* f) { return key == f; }) == std::end(kUsed) &&
+    static const char* kUsed[] = {"type",         "dimension", "sizes",  "spacings",  "space directions",
+                                  "space origin", "encoding",  "endian", "data file", "byte skip",
+                                  "line skip"};
+    if (std::find_if(std::begin(kUsed), std::end(kUsed), [&](const char* f) { return key == f; }) ==
+            std::end(kUsed) &&
         !is_descriptive(key))
       c.fail("unknown field '" + key + "'");
   }
@@ -178,7 +203,8 @@ Volume volume_layout(const NrrdHeader& h) {
   const auto type = nrrd_type(h.require("type"));
   if (!type) h.fail("unsupported type '" + h.require("type") + "'");
   v.type = *type;
-  if (h.require("dimension") != "3") h.fail("dimension must be 3 (one scalar per voxel), got " + h.require("dimension"));
+  if (h.require("dimension") != "3")
+    h.fail("dimension must be 3 (one scalar per voxel), got " + h.require("dimension"));
   const auto sizes = h.numbers(h.require("sizes"), "sizes");
   if (sizes.size() != 3) h.fail("'sizes' must hold 3 values");
   for (int a = 0; a < 3; ++a) {
@@ -192,7 +218,8 @@ Volume volume_layout(const NrrdHeader& h) {
     for (int a = 0; a < 3; ++a) v.directions[a] = {(*d)[3 * a], (*d)[3 * a + 1], (*d)[3 * a + 2]};
     if (h.field("spacings")) h.fail("both 'spacings' and 'space directions'");
   } else if (const auto s = h.vector("spacings", 3, "hold 3 values")) {
-    for (int a = 0; a < 3; ++a) v.directions[a] = {a == 0 ? (*s)[0] : 0, a == 1 ? (*s)[1] : 0, a == 2 ? (*s)[2] : 0};
+    for (int a = 0; a < 3; ++a)
+      v.directions[a] = {a == 0 ? (*s)[0] : 0, a == 1 ? (*s)[1] : 0, a == 2 ? (*s)[2] : 0};
   }
   if (const auto o = h.vector("space origin", 3, "be a 3-vector")) v.origin = {(*o)[0], (*o)[1], (*o)[2]};
   const std::string& encoding = h.require("encoding");
@@ -254,12 +281,13 @@ std::string ascii_values(std::string_view data, const std::string& data_path, ui
   TextCursor t(data_path, std::string(data));
   // Each value takes a character and a separator at least.
   if (voxels > data.size() / 2 + 1)
-    t.fail("data ends: " + std::to_string(data.size()) + " bytes of text cannot hold " + std::to_string(voxels) +
-           " values");
+    t.fail("data ends: " + std::to_string(data.size()) + " bytes of text cannot hold " +
+           std::to_string(voxels) + " values");
   std::string out;
   out.reserve(voxels * 8);
   for (uint64_t i = 0; i < voxels; ++i) {
-    if (t.at_end()) t.fail("data ends after " + std::to_string(i) + " of " + std::to_string(voxels) + " values");
+    if (t.at_end())
+      t.fail("data ends after " + std::to_string(i) + " of " + std::to_string(voxels) + " values");
     const auto u = std::bit_cast<uint64_t>(t.number<double>("a value"));
     for (int k = 0; k < 8; ++k) out += static_cast<char>((u >> (8 * k)) & 0xff);
   }
@@ -280,9 +308,9 @@ Volume read_nrrd(const std::string& path) {
   if (encoding == "raw") {
     if (data.size() != bytes)
       throw FormatError(data_path + ": " + std::string(data.size() < bytes ? "truncated: " : "") + "holds " +
-                        std::to_string(data.size()) + " bytes of data, the " + std::to_string(v.sizes[0]) + "x" +
-                        std::to_string(v.sizes[1]) + "x" + std::to_string(v.sizes[2]) + " volume needs " +
-                        std::to_string(bytes));
+                        std::to_string(data.size()) + " bytes of data, the " + std::to_string(v.sizes[0]) +
+                        "x" + std::to_string(v.sizes[1]) + "x" + std::to_string(v.sizes[2]) +
+                        " volume needs " + std::to_string(bytes));
     v.data.assign(data);
   } else if (encoding == "gzip" || encoding == "gz") {
     v.data = gunzip(data, bytes, data_path);

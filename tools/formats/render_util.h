@@ -37,9 +37,9 @@ void append_xyz_line(std::string& out, const P& p) {
 // `v` as little-endian (or big-endian) bytes whatever the host's byte order.
 template <class T>
 void append_binary(std::string& out, T v, bool big_endian = false) {
-  using U = std::conditional_t<sizeof(T) == 1, uint8_t,
-            std::conditional_t<sizeof(T) == 2, uint16_t,
-            std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
+  using U = std::conditional_t<
+      sizeof(T) == 1, uint8_t,
+      std::conditional_t<sizeof(T) == 2, uint16_t, std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
   static_assert(sizeof(U) == sizeof(T));
   const U u = std::bit_cast<U>(v);
   for (size_t k = 0; k < sizeof(U); ++k) {

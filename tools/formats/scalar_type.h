@@ -9,14 +9,33 @@
 
 namespace dtm {
 
-enum class ScalarType { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kInt64, kUInt64, kFloat32, kFloat64 };
+enum class ScalarType {
+  kInt8,
+  kUInt8,
+  kInt16,
+  kUInt16,
+  kInt32,
+  kUInt32,
+  kInt64,
+  kUInt64,
+  kFloat32,
+  kFloat64
+};
 
 constexpr int scalar_size(ScalarType t) {
   switch (t) {
-    case ScalarType::kInt8: case ScalarType::kUInt8: return 1;
-    case ScalarType::kInt16: case ScalarType::kUInt16: return 2;
-    case ScalarType::kInt32: case ScalarType::kUInt32: case ScalarType::kFloat32: return 4;
-    default: return 8;
+    case ScalarType::kInt8:
+    case ScalarType::kUInt8:
+      return 1;
+    case ScalarType::kInt16:
+    case ScalarType::kUInt16:
+      return 2;
+    case ScalarType::kInt32:
+    case ScalarType::kUInt32:
+    case ScalarType::kFloat32:
+      return 4;
+    default:
+      return 8;
   }
 }
 
@@ -31,16 +50,26 @@ inline double scalar_at(const char* p, ScalarType t, bool big_endian) {
   uint64_t u = 0;
   for (int k = n - 1; k >= 0; --k) u = (u << 8) | b[k];  // little-endian value in u
   switch (t) {
-    case ScalarType::kInt8: return static_cast<int8_t>(u);
-    case ScalarType::kUInt8: return static_cast<uint8_t>(u);
-    case ScalarType::kInt16: return static_cast<int16_t>(u);
-    case ScalarType::kUInt16: return static_cast<uint16_t>(u);
-    case ScalarType::kInt32: return static_cast<int32_t>(u);
-    case ScalarType::kUInt32: return static_cast<uint32_t>(u);
-    case ScalarType::kInt64: return static_cast<double>(static_cast<int64_t>(u));
-    case ScalarType::kUInt64: return static_cast<double>(u);
-    case ScalarType::kFloat32: return std::bit_cast<float>(static_cast<uint32_t>(u));
-    case ScalarType::kFloat64: return std::bit_cast<double>(u);
+    case ScalarType::kInt8:
+      return static_cast<int8_t>(u);
+    case ScalarType::kUInt8:
+      return static_cast<uint8_t>(u);
+    case ScalarType::kInt16:
+      return static_cast<int16_t>(u);
+    case ScalarType::kUInt16:
+      return static_cast<uint16_t>(u);
+    case ScalarType::kInt32:
+      return static_cast<int32_t>(u);
+    case ScalarType::kUInt32:
+      return static_cast<uint32_t>(u);
+    case ScalarType::kInt64:
+      return static_cast<double>(static_cast<int64_t>(u));
+    case ScalarType::kUInt64:
+      return static_cast<double>(u);
+    case ScalarType::kFloat32:
+      return std::bit_cast<float>(static_cast<uint32_t>(u));
+    case ScalarType::kFloat64:
+      return std::bit_cast<double>(u);
   }
   return 0;
 }

@@ -17,8 +17,9 @@ void check_spans_3d(const std::vector<InputPoint>& points, const std::string& pa
   std::sort(p.begin(), p.end());
   p.erase(std::unique(p.begin(), p.end()), p.end());
   if (p.size() < 4)
-    throw FormatError(path + ": " + std::to_string(p.size()) + " distinct point" + (p.size() == 1 ? "" : "s") +
-                      " (of " + std::to_string(points.size()) + "); a tetrahedral mesh needs at least 4");
+    throw FormatError(path + ": " + std::to_string(p.size()) + " distinct point" +
+                      (p.size() == 1 ? "" : "s") + " (of " + std::to_string(points.size()) +
+                      "); a tetrahedral mesh needs at least 4");
   // p[0] != p[1]; find a point off their line, then one off their plane.
   size_t c = 2;
   while (c < p.size() && CGAL::collinear(p[0], p[1], p[c])) ++c;

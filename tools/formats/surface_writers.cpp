@@ -1,9 +1,8 @@
 #include "tools/formats/surface_writers.h"
 
-#include "mesh/topology.h"
-
 #include <algorithm>
 
+#include "mesh/topology.h"
 #include "render_util.h"
 
 namespace dtm {

@@ -14,8 +14,8 @@
 namespace dtm {
 
 struct BoundarySurface {
-  std::vector<uint32_t> vertices;                 // indices into the mesh's points, ascending
-  std::vector<std::array<uint32_t, 3>> triangles; // indices into `vertices`, normals pointing out
+  std::vector<uint32_t> vertices;                  // indices into the mesh's points, ascending
+  std::vector<std::array<uint32_t, 3>> triangles;  // indices into `vertices`, normals pointing out
 };
 
 // boundary_triangles of `mesh.cells` over the vertices they use, renumbered.

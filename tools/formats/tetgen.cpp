@@ -60,7 +60,8 @@ NodeFile read_tetgen_node(const std::string& path) {
   LineReader r(path);
   std::vector<std::string_view> tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected a .node header");
-  if (tok.size() < 2 || tok.size() > 4) r.fail("expected a header '<points> <dimension> [<attributes> <markers>]'");
+  if (tok.size() < 2 || tok.size() > 4)
+    r.fail("expected a header '<points> <dimension> [<attributes> <markers>]'");
   const auto count = r.parse<uint64_t>(tok[0], "a point count");
   const auto dim = r.parse<int>(tok[1], "a dimension");
   const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count") : 0;
@@ -75,8 +76,8 @@ NodeFile read_tetgen_node(const std::string& path) {
   int64_t first_index = 0;
   for (uint64_t i = 0; i < count; ++i) {
     if (!r.next(tok))
-      throw FormatError(path + ": file ends after " + std::to_string(i) + " of " +
-                        std::to_string(count) + " points");
+      throw FormatError(path + ": file ends after " + std::to_string(i) + " of " + std::to_string(count) +
+                        " points");
     if (tok.size() != expected)
       r.fail("expected " + std::to_string(expected) + " fields, found " + std::to_string(tok.size()));
     const auto index = r.parse<int64_t>(tok[0], "a point index");
@@ -88,8 +89,7 @@ NodeFile read_tetgen_node(const std::string& path) {
     }
     InputPoint p{r.parse<double>(tok[1], "a coordinate"), r.parse<double>(tok[2], "a coordinate"),
                  r.parse<double>(tok[3], "a coordinate")};
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      r.fail("coordinate is not finite");
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) r.fail("coordinate is not finite");
     out.points.push_back(p);
     if (has_marker) out.markers.push_back(r.parse<int>(tok[expected - 1], "a boundary marker"));
   }
@@ -103,7 +103,8 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(const std::string& path, si
   LineReader r(path);
   std::vector<std::string_view> tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected an .ele header");
-  if (tok.size() < 2 || tok.size() > 3) r.fail("expected a header '<tetrahedra> <nodes per tet> [<attributes>]'");
+  if (tok.size() < 2 || tok.size() > 3)
+    r.fail("expected a header '<tetrahedra> <nodes per tet> [<attributes>]'");
   const auto count = r.parse<uint64_t>(tok[0], "a tetrahedron count");
   const auto per = r.parse<int>(tok[1], "nodes per tetrahedron");
   const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count") : 0;
@@ -113,8 +114,8 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(const std::string& path, si
   out.reserve(std::min<uint64_t>(count, 1 << 20));
   for (uint64_t i = 0; i < count; ++i) {
     if (!r.next(tok))
-      throw FormatError(path + ": file ends after " + std::to_string(i) + " of " +
-                        std::to_string(count) + " tetrahedra");
+      throw FormatError(path + ": file ends after " + std::to_string(i) + " of " + std::to_string(count) +
+                        " tetrahedra");
     if (tok.size() != static_cast<size_t>(5 + attributes))
       r.fail("expected " + std::to_string(5 + attributes) + " fields");
     std::array<uint32_t, 4> t;

@@ -110,8 +110,7 @@ double TextCursor::coordinate() {
 
 uint64_t TextCursor::count(const char* what, uint64_t limit) {
   const auto n = number<uint64_t>(what);
-  if (n > limit)
-    fail(std::string(what) + " " + std::to_string(n) + " is more than the file can hold");
+  if (n > limit) fail(std::string(what) + " " + std::to_string(n) + " is more than the file can hold");
   return n;
 }
 
@@ -125,8 +124,6 @@ std::string TextCursor::where() const {
   return path_ + ":" + std::to_string(token_line_);
 }
 
-void TextCursor::fail(const std::string& problem) const {
-  throw FormatError(where() + ": " + problem);
-}
+void TextCursor::fail(const std::string& problem) const { throw FormatError(where() + ": " + problem); }
 
 }  // namespace dtm

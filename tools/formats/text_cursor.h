@@ -72,10 +72,10 @@ class TextCursor {
   std::string data_;
   char comment_;
   size_t pos_ = 0;
-  size_t line_ = 1;         // line of pos_
-  size_t token_line_ = 1;   // line where the last token started
+  size_t line_ = 1;        // line of pos_
+  size_t token_line_ = 1;  // line where the last token started
   size_t token_offset_ = 0;
-  bool binary_ = false;     // binary bytes have been read: report offsets
+  bool binary_ = false;  // binary bytes have been read: report offsets
 };
 
 }  // namespace dtm

@@ -17,7 +17,8 @@ int bits_for_range(uint64_t range) {
 
 InputMesh voxel_points(const Volume& v, const VolumeOptions& o, const std::string& path) {
   if (o.threshold.has_value() == o.label.has_value())
-    throw FormatError(path + ": a volume needs exactly one of --threshold T (solid: value >= T) or --label L");
+    throw FormatError(path +
+                      ": a volume needs exactly one of --threshold T (solid: value >= T) or --label L");
   if (o.interior_step < 1) throw FormatError(path + ": the interior step must be at least 1");
   const uint64_t nx = v.sizes[0], ny = v.sizes[1], nz = v.sizes[2];
   std::vector<uint8_t> solid(v.voxels());

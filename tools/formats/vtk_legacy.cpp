@@ -16,12 +16,12 @@ constexpr int kVtkTetra = 10;
 
 std::optional<ScalarType> legacy_type(std::string_view name) {
   static const std::map<std::string, ScalarType, std::less<>> kTypes = {
-      {"char", ScalarType::kInt8},           {"unsigned_char", ScalarType::kUInt8},
-      {"short", ScalarType::kInt16},         {"unsigned_short", ScalarType::kUInt16},
-      {"int", ScalarType::kInt32},           {"unsigned_int", ScalarType::kUInt32},
-      {"long", ScalarType::kInt64},          {"unsigned_long", ScalarType::kUInt64},
-      {"vtktypeint64", ScalarType::kInt64},  {"vtktypeuint64", ScalarType::kUInt64},
-      {"vtkIdType", ScalarType::kInt64},     {"float", ScalarType::kFloat32},
+      {"char", ScalarType::kInt8},          {"unsigned_char", ScalarType::kUInt8},
+      {"short", ScalarType::kInt16},        {"unsigned_short", ScalarType::kUInt16},
+      {"int", ScalarType::kInt32},          {"unsigned_int", ScalarType::kUInt32},
+      {"long", ScalarType::kInt64},         {"unsigned_long", ScalarType::kUInt64},
+      {"vtktypeint64", ScalarType::kInt64}, {"vtktypeuint64", ScalarType::kUInt64},
+      {"vtkIdType", ScalarType::kInt64},    {"float", ScalarType::kFloat32},
       {"double", ScalarType::kFloat64}};
   const auto it = kTypes.find(name);
   if (it == kTypes.end()) return std::nullopt;
@@ -72,8 +72,8 @@ class LegacyReader {
         in_point_data = key == "POINT_DATA";
         in_data = true;
         if (in_point_data && data_count != out_.points.size())
-          c_.fail("POINT_DATA " + std::to_string(data_count) + " for " +
-                  std::to_string(out_.points.size()) + " points");
+          c_.fail("POINT_DATA " + std::to_string(data_count) + " for " + std::to_string(out_.points.size()) +
+                  " points");
       } else if (key == "SCALARS" || key == "VECTORS" || key == "NORMALS" || key == "TEXTURE_COORDINATES" ||
                  key == "TENSORS") {
         if (!in_data) c_.fail(key + " outside POINT_DATA or CELL_DATA");
@@ -84,16 +84,19 @@ class LegacyReader {
         if (key == "SCALARS") {
           // "SCALARS name type [components]", then "LOOKUP_TABLE name" on its own line.
           f.components = 1;
-          if (const std::string_view rest = c_.rest_of_line(); rest.find_first_not_of(" \t") != std::string_view::npos) {
+          if (const std::string_view rest = c_.rest_of_line();
+              rest.find_first_not_of(" \t") != std::string_view::npos) {
             const std::string_view n = rest.substr(rest.find_first_not_of(" \t"));
             const auto [end, ec] = std::from_chars(n.data(), n.data() + n.size(), f.components);
-            if (ec != std::errc() || n.substr(end - n.data()).find_first_not_of(" \t") != std::string_view::npos)
+            if (ec != std::errc() ||
+                n.substr(end - n.data()).find_first_not_of(" \t") != std::string_view::npos)
               c_.fail("expected a component count, found '" + std::string(n) + "'");
           }
           c_.expect("LOOKUP_TABLE");
           c_.token("a lookup table name");
         }
-        if (f.components < 1 || f.components > 9) c_.fail("bad component count " + std::to_string(f.components));
+        if (f.components < 1 || f.components > 9)
+          c_.fail("bad component count " + std::to_string(f.components));
         f.values = array(data_count * f.components, type);
         if (in_point_data) out_.fields.push_back(std::move(f));
       } else if (key == "FIELD") {
@@ -103,7 +106,8 @@ class LegacyReader {
           VertexField f{std::string(c_.token("an array name")), 0, {}};
           f.components = c_.number<int>("a component count");
           const uint64_t tuples = c_.count("a tuple count", c_.remaining());
-          if (f.components < 1 || f.components > 64) c_.fail("bad component count " + std::to_string(f.components));
+          if (f.components < 1 || f.components > 64)
+            c_.fail("bad component count " + std::to_string(f.components));
           f.values = array(tuples * f.components, c_.token("a value type"));
           if (in_point_data && data_count > 0) {
             if (tuples != out_.points.size())
@@ -137,8 +141,9 @@ class LegacyReader {
         if (e - b != 4)
           throw FormatError(c_.path() + ": cell " + std::to_string(i) + " is a VTK_TETRA with " +
                             std::to_string(e - b) + " points");
-        out_.tets.push_back({static_cast<uint32_t>(connectivity[b]), static_cast<uint32_t>(connectivity[b + 1]),
-                             static_cast<uint32_t>(connectivity[b + 2]), static_cast<uint32_t>(connectivity[b + 3])});
+        out_.tets.push_back(
+            {static_cast<uint32_t>(connectivity[b]), static_cast<uint32_t>(connectivity[b + 1]),
+             static_cast<uint32_t>(connectivity[b + 2]), static_cast<uint32_t>(connectivity[b + 3])});
       }
     }
     return std::move(out_);
@@ -155,17 +160,20 @@ class LegacyReader {
       c_.skip_to_next_line();
       const int size = scalar_size(*type);
       if (n > c_.remaining() / size)
-        c_.fail("file ends: " + std::to_string(n) + " values of type " + std::string(type_name) +
-                " need " + std::to_string(n * size) + " bytes, " + std::to_string(c_.remaining()) + " left");
+        c_.fail("file ends: " + std::to_string(n) + " values of type " + std::string(type_name) + " need " +
+                std::to_string(n * size) + " bytes, " + std::to_string(c_.remaining()) + " left");
       const std::string_view raw = c_.bytes(n * size, "binary data");
       out.reserve(n);
       for (uint64_t i = 0; i < n; ++i) out.push_back(scalar_at(raw.data() + i * size, *type, true));
     } else {
-      if (n > c_.remaining() / 2) c_.fail("file ends before the " + std::to_string(n) + " values it announces");
+      if (n > c_.remaining() / 2)
+        c_.fail("file ends before the " + std::to_string(n) + " values it announces");
       out.reserve(n);
       for (uint64_t i = 0; i < n; ++i) {
-        if (is_integer(*type)) out.push_back(static_cast<double>(c_.number<int64_t>("an integer")));
-        else out.push_back(c_.number<double>("a number"));
+        if (is_integer(*type))
+          out.push_back(static_cast<double>(c_.number<int64_t>("an integer")));
+        else
+          out.push_back(c_.number<double>("a number"));
       }
     }
     return out;
@@ -187,7 +195,8 @@ class LegacyReader {
       c_.token("OFFSETS");
       for (double v : array(a, c_.token("an offset type"))) offsets.push_back(whole(v, "an offset"));
       c_.expect("CONNECTIVITY");
-      for (double v : array(b, c_.token("a connectivity type"))) connectivity.push_back(whole(v, "a point index"));
+      for (double v : array(b, c_.token("a connectivity type")))
+        connectivity.push_back(whole(v, "a point index"));
       if (a == 0 || offsets.front() != 0 || static_cast<uint64_t>(offsets.back()) != b)
         c_.fail("OFFSETS do not span the CONNECTIVITY of " + std::to_string(b) + " indices");
       for (size_t i = 1; i < offsets.size(); ++i)
@@ -200,7 +209,8 @@ class LegacyReader {
     size_t at = 0;
     for (uint64_t i = 0; i < a; ++i) {
       if (at >= list.size() || list[at] < 0 || list[at] > static_cast<double>(list.size() - at - 1))
-        c_.fail("CELLS: cell " + std::to_string(i) + " runs past the " + std::to_string(b) + " integers announced");
+        c_.fail("CELLS: cell " + std::to_string(i) + " runs past the " + std::to_string(b) +
+                " integers announced");
       const auto k = static_cast<size_t>(list[at]);
       for (size_t j = 1; j <= k; ++j) connectivity.push_back(whole(list[at + j], "a point index"));
       at += k + 1;
@@ -257,7 +267,8 @@ std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
   // SCALARS of a file unless asked for all, but always reads every FIELD array.
   const int arrays = !m.level.empty() + !m.boundary.empty();
   if (arrays > 0)
-    out += "POINT_DATA " + std::to_string(m.points.size()) + "\nFIELD FieldData " + std::to_string(arrays) + "\n";
+    out += "POINT_DATA " + std::to_string(m.points.size()) + "\nFIELD FieldData " + std::to_string(arrays) +
+           "\n";
   if (!m.level.empty()) {
     out += "level 1 " + std::to_string(m.points.size()) + " int\n";
     for (int32_t v : m.level) put(v, true);

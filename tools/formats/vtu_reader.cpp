@@ -19,7 +19,7 @@ struct Element {
   std::map<std::string, std::string, std::less<>> attrs;
   std::string_view text;  // character data directly inside (DataArray bodies)
   std::vector<size_t> children;
-  size_t offset = 0;      // of the start tag, for error messages
+  size_t offset = 0;  // of the start tag, for error messages
   const std::string* attr(std::string_view key) const {
     const auto it = attrs.find(key);
     return it == attrs.end() ? nullptr : &it->second;
@@ -56,7 +56,8 @@ class VtuParser {
         const std::string name = trim(data_.substr(lt + 2, gt - lt - 2));
         if (stack.empty() || elements_[stack.back()].name != name)
           fail_at(lt, "end tag </" + name + "> does not match " +
-                          (stack.empty() ? std::string("any element") : "<" + elements_[stack.back()].name + ">"));
+                          (stack.empty() ? std::string("any element")
+                                         : "<" + elements_[stack.back()].name + ">"));
         stack.pop_back();
         pos = gt + 1;
       } else {
@@ -86,7 +87,9 @@ class VtuParser {
   const std::string& path() const { return path_; }
 
   std::string line_of(size_t offset) const {
-    return path_ + ":" + std::to_string(1 + std::count(data_.begin(), data_.begin() + std::min(offset, data_.size()), '\n'));
+    return path_ + ":" +
+           std::to_string(1 +
+                          std::count(data_.begin(), data_.begin() + std::min(offset, data_.size()), '\n'));
   }
   [[noreturn]] void fail_at(size_t offset, const std::string& problem) const {
     throw FormatError(line_of(offset) + ": " + problem);
@@ -106,7 +109,9 @@ class VtuParser {
     Element e;
     e.offset = lt;
     size_t p = lt + 1;
-    auto is_name = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == ':' || c == '-' || c == '.'; };
+    auto is_name = [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == ':' || c == '-' || c == '.';
+    };
     while (p < data_.size() && is_name(data_[p])) e.name += data_[p++];
     if (e.name.empty()) fail_at(lt, "malformed tag");
     while (true) {
@@ -124,10 +129,12 @@ class VtuParser {
       std::string key;
       while (p < data_.size() && is_name(data_[p])) key += data_[p++];
       while (p < data_.size() && std::isspace(static_cast<unsigned char>(data_[p]))) ++p;
-      if (key.empty() || p >= data_.size() || data_[p] != '=') fail_at(lt, "malformed attribute in <" + e.name + ">");
+      if (key.empty() || p >= data_.size() || data_[p] != '=')
+        fail_at(lt, "malformed attribute in <" + e.name + ">");
       ++p;
       while (p < data_.size() && std::isspace(static_cast<unsigned char>(data_[p]))) ++p;
-      if (p >= data_.size() || (data_[p] != '"' && data_[p] != '\'')) fail_at(lt, "unquoted attribute " + key);
+      if (p >= data_.size() || (data_[p] != '"' && data_[p] != '\''))
+        fail_at(lt, "unquoted attribute " + key);
       const size_t close = find_or_fail(data_.find(data_[p], p + 1), lt, "unterminated attribute value");
       if (!e.attrs.emplace(key, data_.substr(p + 1, close - p - 1)).second)
         fail_at(lt, "attribute " + key + " given twice");
@@ -146,7 +153,8 @@ class VtuParser {
     const size_t underscore = data_.find_first_not_of(" \t\r\n", pos);
     if (underscore == std::string::npos || data_[underscore] != '_')
       fail_at(e.offset, "AppendedData must start with '_'");
-    const size_t end = appended_raw_ ? data_.rfind("</AppendedData>") : data_.find("</AppendedData>", underscore);
+    const size_t end =
+        appended_raw_ ? data_.rfind("</AppendedData>") : data_.find("</AppendedData>", underscore);
     if (end == std::string::npos || end < underscore) fail_at(e.offset, "file ends inside <AppendedData>");
     appended_offset_ = underscore + 1;
     appended_ = std::string_view(data_).substr(underscore + 1, end - underscore - 1);
@@ -163,9 +171,9 @@ class VtuParser {
 
 std::optional<ScalarType> xml_type(std::string_view name) {
   static const std::map<std::string, ScalarType, std::less<>> kTypes = {
-      {"Int8", ScalarType::kInt8},     {"UInt8", ScalarType::kUInt8},   {"Int16", ScalarType::kInt16},
-      {"UInt16", ScalarType::kUInt16}, {"Int32", ScalarType::kInt32},   {"UInt32", ScalarType::kUInt32},
-      {"Int64", ScalarType::kInt64},   {"UInt64", ScalarType::kUInt64}, {"Float32", ScalarType::kFloat32},
+      {"Int8", ScalarType::kInt8},      {"UInt8", ScalarType::kUInt8},   {"Int16", ScalarType::kInt16},
+      {"UInt16", ScalarType::kUInt16},  {"Int32", ScalarType::kInt32},   {"UInt32", ScalarType::kUInt32},
+      {"Int64", ScalarType::kInt64},    {"UInt64", ScalarType::kUInt64}, {"Float32", ScalarType::kFloat32},
       {"Float64", ScalarType::kFloat64}};
   const auto it = kTypes.find(name);
   if (it == kTypes.end()) return std::nullopt;
@@ -222,7 +230,8 @@ class VtuReader {
     if (const auto* c = root.attr("compressor"))
       p_.fail_at(root.offset, "unsupported: compressed data (compressor=\"" + *c + "\"); save uncompressed");
     if (const auto* b = root.attr("byte_order")) {
-      if (*b != "LittleEndian" && *b != "BigEndian") p_.fail_at(root.offset, "unknown byte_order \"" + *b + "\"");
+      if (*b != "LittleEndian" && *b != "BigEndian")
+        p_.fail_at(root.offset, "unknown byte_order \"" + *b + "\"");
       big_endian_ = *b == "BigEndian";
     }
     if (const auto* h = root.attr("header_type")) {
@@ -252,7 +261,8 @@ class VtuReader {
         VertexField f;
         f.name = da.attr("Name") ? *da.attr("Name") : "unnamed";
         f.components = static_cast<int>(count_attr(da, "NumberOfComponents", 1));
-        if (f.components < 1 || f.components > 64) p_.fail_at(da.offset, "NumberOfComponents must be 1 to 64");
+        if (f.components < 1 || f.components > 64)
+          p_.fail_at(da.offset, "NumberOfComponents must be 1 to 64");
         f.values = array(da, n, f.components);
         out.fields.push_back(std::move(f));
       }
@@ -265,7 +275,8 @@ class VtuReader {
     const Element* found = nullptr;
     for (size_t id : parent.children)
       if (p_.element(id).name == name) {
-        if (found) p_.fail_at(p_.element(id).offset, "a second <" + std::string(name) + "> in <" + parent.name + ">");
+        if (found)
+          p_.fail_at(p_.element(id).offset, "a second <" + std::string(name) + "> in <" + parent.name + ">");
         found = &p_.element(id);
       }
     return found;
@@ -277,7 +288,9 @@ class VtuReader {
   }
   const Element& named_array(const Element& parent, std::string_view name) const {
     for (size_t id : parent.children)
-      if (const Element& e = p_.element(id); e.name == "DataArray" && e.attr("Name") && *e.attr("Name") == name) return e;
+      if (const Element& e = p_.element(id);
+          e.name == "DataArray" && e.attr("Name") && *e.attr("Name") == name)
+        return e;
     p_.fail_at(parent.offset, "<" + parent.name + "> has no DataArray \"" + std::string(name) + "\"");
   }
   uint64_t count_attr(const Element& e, const char* key, std::optional<uint64_t> fallback = {}) const {
@@ -299,20 +312,24 @@ class VtuReader {
     const std::string what = name.empty() ? "a DataArray" : "DataArray \"" + name + "\"";
     const std::string* type_name = da.attr("type");
     const auto type = type_name ? xml_type(*type_name) : std::nullopt;
-    if (!type) p_.fail_at(da.offset, what + ": unknown or unsupported type \"" + (type_name ? *type_name : "") + "\"");
+    if (!type)
+      p_.fail_at(da.offset, what + ": unknown or unsupported type \"" + (type_name ? *type_name : "") + "\"");
     if (const int c = static_cast<int>(count_attr(da, "NumberOfComponents", 1)); c != components)
-      p_.fail_at(da.offset, what + " has " + std::to_string(c) + " components, expected " + std::to_string(components));
+      p_.fail_at(da.offset,
+                 what + " has " + std::to_string(c) + " components, expected " + std::to_string(components));
     const uint64_t n = tuples * components;
     const std::string* format = da.attr("format");
     if (!format) p_.fail_at(da.offset, what + " has no format");
     std::vector<double> out;
     if (*format == "ascii") {
       TextCursor c(p_.line_of(da.offset) + ": " + what, std::string(da.text));
-      if (n > da.text.size()) p_.fail_at(da.offset, what + " holds fewer than the " + std::to_string(n) + " values expected");
+      if (n > da.text.size())
+        p_.fail_at(da.offset, what + " holds fewer than the " + std::to_string(n) + " values expected");
       out.reserve(n);
       for (uint64_t i = 0; i < n; ++i) {
         if (c.at_end())
-          p_.fail_at(da.offset, what + " holds " + std::to_string(i) + " values, expected " + std::to_string(n));
+          p_.fail_at(da.offset,
+                     what + " holds " + std::to_string(i) + " values, expected " + std::to_string(n));
         const std::string_view t = c.token("a number");
         double v = 0;
         const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
@@ -320,7 +337,8 @@ class VtuReader {
           p_.fail_at(da.offset, what + ": expected a number, found '" + std::string(t) + "'");
         out.push_back(v);
       }
-      if (!c.at_end()) p_.fail_at(da.offset, what + " holds more than the " + std::to_string(n) + " values expected");
+      if (!c.at_end())
+        p_.fail_at(da.offset, what + " holds more than the " + std::to_string(n) + " values expected");
       return out;
     }
     const int size = scalar_size(*type), hsize = scalar_size(header_type_);
@@ -333,23 +351,28 @@ class VtuReader {
     } else if (*format == "appended") {
       const uint64_t offset = count_attr(da, "offset");
       if (offset >= p_.appended().size())
-        p_.fail_at(da.offset, what + ": offset " + std::to_string(offset) + " is past the end of the appended data");
+        p_.fail_at(da.offset,
+                   what + ": offset " + std::to_string(offset) + " is past the end of the appended data");
       if (p_.appended_raw()) {
         const std::string_view rest = p_.appended().substr(offset);
         where = p_.appended_offset() + offset;
         if (rest.size() < static_cast<size_t>(hsize))
-          throw FormatError(p_.path() + ": byte " + std::to_string(where) + ": " + what + ": file ends in its header");
+          throw FormatError(p_.path() + ": byte " + std::to_string(where) + ": " + what +
+                            ": file ends in its header");
         const auto count = static_cast<uint64_t>(scalar_at(rest.data(), header_type_, big_endian_));
         if (count > rest.size() - hsize)
           throw FormatError(p_.path() + ": byte " + std::to_string(where) + ": " + what + ": " +
-                            std::to_string(count) + " bytes announced, " + std::to_string(rest.size() - hsize) + " left");
+                            std::to_string(count) + " bytes announced, " +
+                            std::to_string(rest.size() - hsize) + " left");
         bytes.assign(rest.substr(0, hsize + count));
       } else {
         size_t pos = offset;
         std::string e = base64_decode(p_.appended(), pos, hsize, bytes);
         if (e.empty() && bytes.size() >= static_cast<size_t>(hsize)) {
           const auto count = static_cast<uint64_t>(scalar_at(bytes.data(), header_type_, big_endian_));
-          if (count > p_.appended().size()) p_.fail_at(da.offset, what + ": " + std::to_string(count) + " bytes announced, more than the file holds");
+          if (count > p_.appended().size())
+            p_.fail_at(da.offset,
+                       what + ": " + std::to_string(count) + " bytes announced, more than the file holds");
           e = base64_decode(p_.appended(), pos, hsize + count, bytes);
         }
         if (!e.empty()) p_.fail_at(da.offset, what + ": " + e);
@@ -360,12 +383,14 @@ class VtuReader {
     if (bytes.size() < static_cast<size_t>(hsize)) p_.fail_at(da.offset, what + ": data ends in its header");
     const auto count = static_cast<uint64_t>(scalar_at(bytes.data(), header_type_, big_endian_));
     if (count != n * size || bytes.size() < hsize + count)
-      throw FormatError((where == da.offset ? p_.line_of(da.offset) : p_.path() + ": byte " + std::to_string(where)) +
-                        ": " + what + ": block of " + std::to_string(count) + " bytes (" +
-                        std::to_string(bytes.size() - hsize) + " present), expected " + std::to_string(n) + " values of " +
-                        std::to_string(size) + " bytes");
+      throw FormatError(
+          (where == da.offset ? p_.line_of(da.offset) : p_.path() + ": byte " + std::to_string(where)) +
+          ": " + what + ": block of " + std::to_string(count) + " bytes (" +
+          std::to_string(bytes.size() - hsize) + " present), expected " + std::to_string(n) + " values of " +
+          std::to_string(size) + " bytes");
     out.reserve(n);
-    for (uint64_t i = 0; i < n; ++i) out.push_back(scalar_at(bytes.data() + hsize + i * size, *type, big_endian_));
+    for (uint64_t i = 0; i < n; ++i)
+      out.push_back(scalar_at(bytes.data() + hsize + i * size, *type, big_endian_));
     return out;
   }
 
@@ -396,10 +421,12 @@ class VtuReader {
       for (uint64_t k = b; k < e; ++k)
         if (!(conn[k] >= 0 && conn[k] < static_cast<double>(points)))
           p_.fail_at(conn_element.offset, "cell " + std::to_string(c) + ": point index " +
-                                              std::to_string(static_cast<int64_t>(conn[k])) + " out of range");
+                                              std::to_string(static_cast<int64_t>(conn[k])) +
+                                              " out of range");
       if (types[c] != kVtkTetra) continue;
       if (e - b != 4)
-        p_.fail_at(ce->offset, "cell " + std::to_string(c) + " is a VTK_TETRA with " + std::to_string(e - b) + " points");
+        p_.fail_at(ce->offset,
+                   "cell " + std::to_string(c) + " is a VTK_TETRA with " + std::to_string(e - b) + " points");
       out.tets.push_back({static_cast<uint32_t>(conn[b]), static_cast<uint32_t>(conn[b + 1]),
                           static_cast<uint32_t>(conn[b + 2]), static_cast<uint32_t>(conn[b + 3])});
     }
