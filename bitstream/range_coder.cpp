@@ -19,7 +19,7 @@ void RangeEncoder::shift_low() {
     cache_ = static_cast<uint8_t>(static_cast<uint32_t>(low_) >> 24);
   }
   ++cache_size_;
-  low_ = static_cast<uint64_t>(static_cast<uint32_t>(low_) << 8);
+  low_ = (low_ & 0x00FFFFFFu) << 8;  // bits 24-31 went to the cache above
 }
 
 void RangeEncoder::normalize() {

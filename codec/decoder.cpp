@@ -133,8 +133,7 @@ std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {
 }
 
 Status decode_stream(std::span<const uint8_t> bytes, ProgressiveDecoder& decoder) {
-  const Status s = decoder.feed(bytes);
-  if (!s.ok()) return s;
+  DTM_RETURN_IF_ERROR(decoder.feed(bytes));
   return decoder.finish();
 }
 

@@ -79,10 +79,10 @@ StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions
 StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options,
                              const LevelReady& on_level) {
   DTM_ASSIGN_OR_RETURN(EncodePlan plan, plan_encoding(input, options));
-  return encode(input, options, std::move(plan), on_level);
+  return encode(input, options, plan, on_level);
 }
 
-StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, EncodePlan plan,
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, const EncodePlan& plan,
                              const LevelReady& on_level) {
   const QuantizedPoints& q = plan.quantized;
   EncodedMesh out;

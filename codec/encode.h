@@ -114,7 +114,7 @@ using LevelReady = std::function<void(const LevelReport&)>;
 StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options = {},
                              const LevelReady& on_level = {});
 // The same, from a plan_encoding() result.
-StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, EncodePlan plan,
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, const EncodePlan& plan,
                              const LevelReady& on_level = {});
 
 }  // namespace dtm

@@ -3,9 +3,8 @@
 #include "codec/layer_coder_contexts.h"
 
 namespace dtm {
+namespace layer_coder {
 namespace {
-
-using namespace layer_coder;
 
 class Decoder {
  public:
@@ -116,6 +115,7 @@ class Decoder {
 };
 
 }  // namespace
+}  // namespace layer_coder
 
 Status decode_point_set(std::span<const uint8_t> payload, std::span<const MortonCode> known, int qbits,
                         uint32_t count, SetCoderModels& models, std::vector<GridPoint>& out) {
@@ -125,7 +125,7 @@ Status decode_point_set(std::span<const uint8_t> payload, std::span<const Morton
   }
   if (payload.size() < min_payload_bytes(count))
     return {StatusCode::kCorrupt, "payload too short for its point count"};
-  return Decoder(payload, known, qbits, models.tables(), out).run(count);
+  return layer_coder::Decoder(payload, known, qbits, models.tables(), out).run(count);
 }
 
 }  // namespace dtm

@@ -5,9 +5,8 @@
 #include "codec/layer_coder_contexts.h"
 
 namespace dtm {
+namespace layer_coder {
 namespace {
-
-using namespace layer_coder;
 
 class Encoder {
  public:
@@ -106,6 +105,7 @@ class Encoder {
 };
 
 }  // namespace
+}  // namespace layer_coder
 
 std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known, std::span<const GridPoint> points,
                                       int qbits, SetCoderModels& models) {
@@ -114,7 +114,7 @@ std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known, std::sp
   fresh.reserve(points.size());
   for (const GridPoint& p : points) fresh.push_back(morton_encode(p, qbits));
   std::sort(fresh.begin(), fresh.end());
-  return Encoder(known, fresh, qbits, models.tables()).run();
+  return layer_coder::Encoder(known, fresh, qbits, models.tables()).run();
 }
 
 }  // namespace dtm

@@ -12,7 +12,7 @@ namespace dtm {
 // A point of the q-bit grid: each coordinate in [0, 2^q - 1].
 struct GridPoint {
   int32_t x = 0, y = 0, z = 0;
-  auto operator<=>(const GridPoint&) const = default;
+  auto operator<=>(const GridPoint&) const = default;  // NOLINT(modernize-use-nullptr): clang-tidy 14 bug
 };
 
 struct InputPoint {

@@ -90,12 +90,14 @@ class StatusOr {
 
 // `lhs = value of expr` (a StatusOr), or returns its status from the calling
 // function. `lhs` may declare a variable: DTM_ASSIGN_OR_RETURN(auto x, f());
+// NOLINTBEGIN(bugprone-macro-parentheses): `lhs` is a declaration, `tmp` a name.
 #define DTM_ASSIGN_OR_RETURN(lhs, expr) \
   DTM_ASSIGN_OR_RETURN_IMPL(DTM_STATUS_CONCAT(dtm_status_or_, __LINE__), lhs, expr)
 #define DTM_ASSIGN_OR_RETURN_IMPL(tmp, lhs, expr) \
   auto tmp = (expr);                              \
   if (!tmp.ok()) return tmp.status();             \
   lhs = std::move(tmp).value()
+// NOLINTEND(bugprone-macro-parentheses)
 
 // Internal invariants: a failure is a bug in this project, not bad input, so
 // it aborts with the place and the condition (also in release builds).

@@ -180,12 +180,13 @@ int run(const Command& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"meshdec: decode a .dtm stream to a tetrahedral mesh"};
-  app.footer(kExamples);
-  Command command;
-  add_options(app, command);
-  CLI11_PARSE(app, argc, argv);
+  // Everything inside the try: CLI11 and the readers may throw (bad_alloc too).
   try {
+    CLI::App app{"meshdec: decode a .dtm stream to a tetrahedral mesh"};
+    app.footer(kExamples);
+    Command command;
+    add_options(app, command);
+    CLI11_PARSE(app, argc, argv);
     return run(command);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshdec: error: %s\n", e.what());

@@ -143,8 +143,8 @@ dtm::InputMesh read(const Command& c) {
 void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePlan& plan) {
   const auto& q = plan.quantized;
   std::printf("%s: %zu points, %llu merged by quantization, q=%d, step=%.6g, Dmax=%g%s\n", c.input.c_str(),
-              in.points.size(), (unsigned long long)q.duplicates_merged, q.grid.qbits, q.grid.step, plan.dmax,
-              in.on_grid ? " (the voxel lattice: lossless)" : "");
+              in.points.size(), static_cast<unsigned long long>(q.duplicates_merged), q.grid.qbits,
+              q.grid.step, plan.dmax, in.on_grid ? " (the voxel lattice: lossless)" : "");
   if (!in.fields.empty()) {
     std::string names;
     for (const auto& f : in.fields) names += (names.empty() ? "'" : ", '") + f.name + "'";
@@ -161,8 +161,9 @@ void print_reference_line(const dtm::EncodeReport& r) {
       "reference shape: the input's %llu tetrahedra (%llu boundary vertices); distance between its "
       "boundary and each level's, both ways, max / mean: level 0 %.4g / %.4g, level %zu %.4g / %.4g "
       "(all levels in --report)\n",
-      (unsigned long long)r.reference_tetrahedra, (unsigned long long)r.reference_boundary_vertices,
-      first.max * step, first.mean * step, r.levels.size() - 1, last.max * step, last.mean * step);
+      static_cast<unsigned long long>(r.reference_tetrahedra),
+      static_cast<unsigned long long>(r.reference_boundary_vertices), first.max * step, first.mean * step,
+      r.levels.size() - 1, last.max * step, last.mean * step);
 }
 
 // The stream and the report are written together or not at all.
@@ -217,7 +218,7 @@ int run(Command& c) {
     print_reference_line(r);
     if (!c.output.empty())
       std::printf("%s: %llu bytes, %.2f bits per vertex (%zu vertices, %zu levels)\n", c.output.c_str(),
-                  (unsigned long long)r.stream_bytes, 8.0 * r.stream_bytes / vertices, vertices,
+                  static_cast<unsigned long long>(r.stream_bytes), 8.0 * r.stream_bytes / vertices, vertices,
                   r.streamed_levels.size());
   }
   write_outputs(c, *encoded);
@@ -227,12 +228,13 @@ int run(Command& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"meshenc: build the Delaunay level-of-detail hierarchy of a volume point set"};
-  app.footer(kExamples);
-  Command command;
-  add_options(app, command);
-  CLI11_PARSE(app, argc, argv);
+  // Everything inside the try: CLI11 and the readers may throw (bad_alloc too).
   try {
+    CLI::App app{"meshenc: build the Delaunay level-of-detail hierarchy of a volume point set"};
+    app.footer(kExamples);
+    Command command;
+    add_options(app, command);
+    CLI11_PARSE(app, argc, argv);
     return run(command);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshenc: error: %s\n", e.what());

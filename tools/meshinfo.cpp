@@ -78,7 +78,7 @@ nlohmann::json summary_json(const std::string& input, const dtm::StreamSummary& 
                           {"complete", l.complete}};
     if (h.flags & dtm::kFlagCellHashes) {
       char hex[17];
-      std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)l.header.cell_hash);
+      std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(l.header.cell_hash));
       row["cell_hash"] = hex;
     }
     if (i < quality.size())
@@ -99,7 +99,7 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
               h.version_major, h.version_minor, h.vertex_count, h.level_count, h.grid.qbits, step,
               dtm::to_string(h.alpha_policy), (h.flags & dtm::kFlagCellHashes) ? ", cell hashes" : "");
   const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
-  std::printf("%llu bytes, %.2f bits per vertex%s\n", (unsigned long long)s.bytes,
+  std::printf("%llu bytes, %.2f bits per vertex%s\n", static_cast<unsigned long long>(s.bytes),
               8.0 * s.bytes / h.vertex_count,
               truncated ? (", TRUNCATED: " + s.status.message()).c_str() : "");
   std::printf("%5s %9s %9s %11s %11s %9s%s\n", "level", "vertices", "new", "alpha", "layer_bytes", "bits/new",
@@ -108,11 +108,11 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
     const auto& l = s.layers[i];
     const uint64_t layer_bytes = dtm::kLayerHeaderSize + l.header.payload_bytes;
     std::printf("%5u %9u %9u %11.5g %11llu %9.2f", l.header.level, l.header.level_vertices,
-                l.header.new_vertices, l.header.alpha * step, (unsigned long long)layer_bytes,
+                l.header.new_vertices, l.header.alpha * step, static_cast<unsigned long long>(layer_bytes),
                 8.0 * layer_bytes / l.header.new_vertices);
     if (i < quality.size())
-      std::printf(" %9llu %9llu %9.6f %9.3g", (unsigned long long)quality[i].tetrahedra,
-                  (unsigned long long)quality[i].quality.boundary_vertices,
+      std::printf(" %9llu %9llu %9.6f %9.3g", static_cast<unsigned long long>(quality[i].tetrahedra),
+                  static_cast<unsigned long long>(quality[i].quality.boundary_vertices),
                   quality[i].quality.avg_min_solid_angle, quality[i].quality.min_solid_angle);
     std::printf("%s\n", l.complete ? "" : "  (incomplete)");
   }
@@ -140,16 +140,17 @@ int run(const std::string& input, bool json, bool stats) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"meshinfo: describe a .dtm stream"};
-  app.footer(kExamples);
-  std::string input;
-  bool json = false, stats = false;
-  app.add_option("input", input, ".dtm stream ('-' = standard input)")->required();
-  app.add_flag("--json", json, "print JSON");
-  app.add_flag("--stats", stats, "decode every level and add its quality figures");
-  app.set_version_flag("--version", dtm::version_text("meshinfo"));
-  CLI11_PARSE(app, argc, argv);
+  // Everything inside the try: CLI11 and the readers may throw (bad_alloc too).
   try {
+    CLI::App app{"meshinfo: describe a .dtm stream"};
+    app.footer(kExamples);
+    std::string input;
+    bool json = false, stats = false;
+    app.add_option("input", input, ".dtm stream ('-' = standard input)")->required();
+    app.add_flag("--json", json, "print JSON");
+    app.add_flag("--stats", stats, "decode every level and add its quality figures");
+    app.set_version_flag("--version", dtm::version_text("meshinfo"));
+    CLI11_PARSE(app, argc, argv);
     return run(input, json, stats);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "meshinfo: error: %s\n", e.what());

@@ -9,9 +9,11 @@ void print_table_header(std::FILE* out) {
 
 void print_table_row(std::FILE* out, const LevelStats& s, const Grid& g) {
   std::fprintf(out, "%5d %9llu %9llu %8llu %8llu %9.5g %9llu %9.6f %9.3g %9.4g %9.4g\n", s.level,
-               (unsigned long long)s.vertices, (unsigned long long)s.boundary_vertices,
-               (unsigned long long)s.removed_interior, (unsigned long long)s.removed_boundary,
-               s.alpha * g.step, (unsigned long long)s.tetrahedra, s.avg_min_solid_angle, s.min_solid_angle,
+               static_cast<unsigned long long>(s.vertices),
+               static_cast<unsigned long long>(s.boundary_vertices),
+               static_cast<unsigned long long>(s.removed_interior),
+               static_cast<unsigned long long>(s.removed_boundary), s.alpha * g.step,
+               static_cast<unsigned long long>(s.tetrahedra), s.avg_min_solid_angle, s.min_solid_angle,
                s.max_boundary_error * g.step, s.mean_boundary_error * g.step);
   std::fflush(out);
 }

@@ -30,7 +30,7 @@ bool take_property(const PointSet& ps, const std::string& name, InputMesh& out) 
   if (!found) return false;
   VertexField f{name, 1, {}};
   f.values.reserve(ps.size());
-  for (auto index : ps) f.values.push_back(static_cast<double>(map[index]));
+  for (const auto& index : ps) f.values.push_back(static_cast<double>(map[index]));
   out.fields.push_back(std::move(f));
   return true;
 }
@@ -38,13 +38,13 @@ bool take_property(const PointSet& ps, const std::string& name, InputMesh& out) 
 InputMesh from_point_set(const PointSet& ps) {
   InputMesh out;
   out.points.reserve(ps.size());
-  for (auto index : ps) {
+  for (const auto& index : ps) {
     const auto& p = ps.point(index);
     out.points.push_back({p.x(), p.y(), p.z()});
   }
   if (ps.has_normal_map()) {
     VertexField f{"normal", 3, {}};
-    for (auto index : ps) {
+    for (const auto& index : ps) {
       const auto& n = ps.normal(index);
       f.values.insert(f.values.end(), {n.x(), n.y(), n.z()});
     }

@@ -116,7 +116,7 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(const std::string& path, si
     if (!r.next(tok))
       throw FormatError(path + ": file ends after " + std::to_string(i) + " of " + std::to_string(count) +
                         " tetrahedra");
-    if (tok.size() != static_cast<size_t>(5 + attributes))
+    if (tok.size() != 5 + static_cast<size_t>(attributes))
       r.fail("expected " + std::to_string(5 + attributes) + " fields");
     std::array<uint32_t, 4> t;
     for (int k = 0; k < 4; ++k) {

@@ -96,9 +96,9 @@ class VtuParser {
   }
 
  private:
-  static std::string trim(std::string s) {
+  static std::string trim(std::string_view s) {
     const size_t b = s.find_first_not_of(" \t\r\n"), e = s.find_last_not_of(" \t\r\n");
-    return b == std::string::npos ? "" : s.substr(b, e - b + 1);
+    return b == std::string::npos ? "" : std::string(s.substr(b, e - b + 1));
   }
   size_t find_or_fail(size_t found, size_t from, const char* problem) const {
     if (found == std::string::npos) fail_at(from, problem);
