@@ -6,6 +6,8 @@
 #include <array>
 #include <compare>
 #include <cstdint>
+#include <span>
+#include <vector>
 
 namespace dtm {
 
@@ -30,6 +32,14 @@ struct Grid {
     return {origin[0] + p.x * step, origin[1] + p.y * step, origin[2] + p.z * step};
   }
 };
+
+// The points with these ids, in the ids' order.
+inline std::vector<GridPoint> gather(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
+  std::vector<GridPoint> out;
+  out.reserve(ids.size());
+  for (uint32_t i : ids) out.push_back(points[i]);
+  return out;
+}
 
 inline constexpr int kMinQBits = 1;
 inline constexpr int kMaxQBits = 24;

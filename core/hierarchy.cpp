@@ -148,13 +148,6 @@ std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
   return out;
 }
 
-std::vector<GridPoint> gather(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
-  std::vector<GridPoint> out;
-  out.reserve(ids.size());
-  for (uint32_t i : ids) out.push_back(points[i]);
-  return out;
-}
-
 }  // namespace
 
 StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& opt,

@@ -17,13 +17,6 @@ std::vector<uint32_t> vertex_ids_of(std::span<const std::array<uint32_t, 3>> tri
   return ids;
 }
 
-std::vector<GridPoint> gather(std::span<const uint32_t> ids, std::span<const GridPoint> points) {
-  std::vector<GridPoint> out;
-  out.reserve(ids.size());
-  for (uint32_t v : ids) out.push_back(points[v]);
-  return out;
-}
-
 // The input's tetrahedra on the grid, without those quantization collapsed.
 std::vector<std::array<uint32_t, 4>> collapsed_dropped(std::span<const std::array<uint32_t, 4>> tets,
                                                        const QuantizedPoints& q) {
@@ -44,7 +37,7 @@ std::vector<std::array<uint32_t, 4>> collapsed_dropped(std::span<const std::arra
 ReferenceShape::ReferenceShape(std::span<const std::array<uint32_t, 4>> tets, const QuantizedPoints& q)
     : tets_(collapsed_dropped(tets, q)),
       boundary_(boundary_triangles(tets_)),
-      boundary_vertices_(gather(vertex_ids_of(boundary_), q.points)),
+      boundary_vertices_(gather(q.points, vertex_ids_of(boundary_))),
       reference_surface_(q.points, boundary_),
       to_level_(boundary_vertices_),
       to_reference_(q.points.size(), std::numeric_limits<double>::quiet_NaN()) {}
@@ -58,7 +51,7 @@ DistanceSummary ReferenceShape::distance(std::span<const std::array<uint32_t, 4>
   std::vector<uint32_t> unmeasured;
   for (uint32_t v : level_ids)
     if (std::isnan(to_reference_[v])) unmeasured.push_back(v);
-  const std::vector<double> fresh = reference_surface_.squared_distances(gather(unmeasured, points));
+  const std::vector<double> fresh = reference_surface_.squared_distances(gather(points, unmeasured));
   for (size_t i = 0; i < unmeasured.size(); ++i) to_reference_[unmeasured[i]] = fresh[i];
   std::vector<double> squared;
   squared.reserve(level_ids.size());

@@ -14,7 +14,7 @@
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
 #include "tools/stream_input.h"
-#include "tools/version.h"
+#include "tools/tool_main.h"
 
 namespace {
 
@@ -54,7 +54,6 @@ void add_options(CLI::App& app, Command& c) {
   app.add_option("--max-vertices", c.max_vertices, "refuse streams claiming more vertices than this")
       ->capture_default_str();
   app.add_flag("-q,--quiet", c.quiet, "no notes on stderr");
-  app.set_version_flag("--version", dtm::version_text("meshdec"));
 }
 
 dtm::MeshFormat output_format(const Command& c) {
@@ -180,16 +179,6 @@ int run(const Command& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Everything inside the try: CLI11 and the readers may throw (bad_alloc too).
-  try {
-    CLI::App app{"meshdec: decode a .dtm stream to a tetrahedral mesh"};
-    app.footer(kExamples);
-    Command command;
-    add_options(app, command);
-    CLI11_PARSE(app, argc, argv);
-    return run(command);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "meshdec: error: %s\n", e.what());
-    return 1;
-  }
+  return dtm::tool_main<Command>("meshdec", "decode a .dtm stream to a tetrahedral mesh", kExamples, argc,
+                                 argv, add_options, run);
 }

@@ -14,7 +14,7 @@
 #include "tools/atomic_file.h"
 #include "tools/formats/input.h"
 #include "tools/report.h"
-#include "tools/version.h"
+#include "tools/tool_main.h"
 
 namespace {
 
@@ -120,7 +120,6 @@ void add_options(CLI::App& app, Command& c) {
       ->check(CLI::Range(1, 1000));
   app.add_option("--report", c.report_path, "write the level table as JSON to this file");
   app.add_flag("-q,--quiet", c.quiet, "do not print the table");
-  app.set_version_flag("--version", dtm::version_text("meshenc"));
 }
 
 dtm::InputMesh read(const Command& c) {
@@ -228,16 +227,7 @@ int run(Command& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Everything inside the try: CLI11 and the readers may throw (bad_alloc too).
-  try {
-    CLI::App app{"meshenc: build the Delaunay level-of-detail hierarchy of a volume point set"};
-    app.footer(kExamples);
-    Command command;
-    add_options(app, command);
-    CLI11_PARSE(app, argc, argv);
-    return run(command);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "meshenc: error: %s\n", e.what());
-    return 1;
-  }
+  return dtm::tool_main<Command>("meshenc",
+                                 "build the Delaunay level-of-detail hierarchy of a volume point set",
+                                 kExamples, argc, argv, add_options, run);
 }

@@ -10,7 +10,7 @@
 #include "codec/format.h"
 #include "core/level.h"
 #include "tools/stream_input.h"
-#include "tools/version.h"
+#include "tools/tool_main.h"
 
 namespace {
 
@@ -118,7 +118,19 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
   }
 }
 
-int run(const std::string& input, bool json, bool stats) {
+struct Command {
+  std::string input;
+  bool json = false, stats = false;
+};
+
+void add_options(CLI::App& app, Command& c) {
+  app.add_option("input", c.input, ".dtm stream ('-' = standard input)")->required();
+  app.add_flag("--json", c.json, "print JSON");
+  app.add_flag("--stats", c.stats, "decode every level and add its quality figures");
+}
+
+int run(const Command& c) {
+  const std::string& input = c.input;
   std::vector<uint8_t> bytes;
   dtm::read_in_chunks(input, [&](std::span<const uint8_t> chunk) {
     bytes.insert(bytes.end(), chunk.begin(), chunk.end());
@@ -129,31 +141,17 @@ int run(const std::string& input, bool json, bool stats) {
   if (!s.status.ok() && !truncated) throw std::runtime_error(input + ": " + s.status.message());
   if (s.layers.empty() && truncated && s.bytes < dtm::kHeaderSize)
     throw std::runtime_error(input + ": " + s.status.message());
-  const std::vector<QualityRow> quality = stats ? decode_quality(input, bytes) : std::vector<QualityRow>{};
-  if (json)
+  const std::vector<QualityRow> quality = c.stats ? decode_quality(input, bytes) : std::vector<QualityRow>{};
+  if (c.json)
     std::printf("%s\n", summary_json(input, s, quality).dump(2).c_str());
   else
-    print_table(input, s, quality, stats);
+    print_table(input, s, quality, c.stats);
   return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Everything inside the try: CLI11 and the readers may throw (bad_alloc too).
-  try {
-    CLI::App app{"meshinfo: describe a .dtm stream"};
-    app.footer(kExamples);
-    std::string input;
-    bool json = false, stats = false;
-    app.add_option("input", input, ".dtm stream ('-' = standard input)")->required();
-    app.add_flag("--json", json, "print JSON");
-    app.add_flag("--stats", stats, "decode every level and add its quality figures");
-    app.set_version_flag("--version", dtm::version_text("meshinfo"));
-    CLI11_PARSE(app, argc, argv);
-    return run(input, json, stats);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "meshinfo: error: %s\n", e.what());
-    return 1;
-  }
+  return dtm::tool_main<Command>("meshinfo", "describe a .dtm stream", kExamples, argc, argv, add_options,
+                                 run);
 }

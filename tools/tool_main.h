@@ -1,0 +1,41 @@
+// What every tool shares around its own work: --help with its examples,
+// --version, and one answer to any error (a message naming the tool, exit 1).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "codec/format.h"
+
+namespace dtm {
+
+// The project's version (CMake's project(VERSION)) and the stream versions it writes and reads.
+inline std::string version_text(const char* tool) {
+  return std::string(tool) + " (dtmesh " DTM_VERSION "): writes .dtm " + std::to_string(kVersionMajor) + "." +
+         std::to_string(kVersionMinor) + ", reads .dtm " + std::to_string(kOldestVersionMajor) + ".x to " +
+         std::to_string(kVersionMajor) + ".x";
+}
+
+// Parses the command line into a Command (filled by add_options(app, command))
+// and runs run(command). Everything is inside the try: CLI11 and the readers
+// may throw, and so may an allocation.
+template <class Command, class AddOptions, class Run>
+int tool_main(const char* tool, const char* description, const char* examples, int argc, char** argv,
+              AddOptions add_options, Run run) {
+  try {
+    CLI::App app{std::string(tool) + ": " + description};
+    app.footer(examples);
+    app.set_version_flag("--version", version_text(tool));
+    Command command;
+    add_options(app, command);
+    CLI11_PARSE(app, argc, argv);
+    return run(command);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error: %s\n", tool, e.what());
+    return 1;
+  }
+}
+
+}  // namespace dtm
