@@ -3,7 +3,8 @@
 // tetrahedralization the decoder holds (never rebuilt) when a mesh is asked
 // for: one batch per layer if the caller looks at every level, one batch for
 // all of them if it only looks at the last (as fast as a single CGAL
-// construction). Level l's mesh is DT(V_l) carved with the stored alpha_l.
+// construction). Level l's mesh is DT(V_l) carved with the stored alpha_l,
+// corrected by the layer's carving section when the stream has them.
 //
 // Safety: nothing the stream claims is allocated before the bytes that
 // justify it are present: points are stored as they are decoded, never
@@ -85,6 +86,9 @@ class ProgressiveDecoder {
   // says why, for good.
   TetMesh delaunay() const;
   std::vector<std::array<uint32_t, 4>> carved_cells() const;
+  // Per cell of `dt` (delaunay()'s result): whether the finest level keeps
+  // it, alpha's verdict corrected by the stream's (spec/FORMAT.md §3.2).
+  std::vector<uint8_t> carving(const TetMesh& dt) const;
   Status mesh_status() const { return mesh_status_; }
 
  private:
@@ -100,6 +104,7 @@ class ProgressiveDecoder {
   std::optional<LayerWalk> walk_;  // made with the header
   std::vector<DecodedLevel> levels_;
   std::vector<GridPoint> points_;
+  std::vector<uint8_t> carving_;   // the finest level's carving section
   std::vector<MortonCode> known_;  // Morton codes of points_, ascending: the coder's context
   SetCoderModels models_;          // the layer coder's models, adapted layer after layer
   // The triangulation lags behind points_ until a mesh is asked for.

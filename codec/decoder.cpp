@@ -1,5 +1,6 @@
 #include <string>
 
+#include "codec/carving_coder.h"
 #include "codec/decode.h"
 #include "codec/layer_coder.h"
 #include "mesh/geometry.h"
@@ -67,7 +68,9 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   d.alpha = lh.alpha;
   if (header_.flags & kFlagCellHashes) d.cell_hash = lh.cell_hash;
   levels_.push_back(d);
-  pending_start_ += kLayerHeaderSize + lh.payload_bytes;
+  // Only the finest level's carving is ever asked for (carved_cells()).
+  carving_.assign(layer.carving.begin(), layer.carving.end());
+  pending_start_ += layer.size();
   if (on_level) on_level(*this, d);
   if (level == options_.stop_after_level) stopped_ = true;
   return Status::Ok();
@@ -126,10 +129,24 @@ TetMesh ProgressiveDecoder::delaunay() const {
   return dt_.mesh();
 }
 
+std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt) const {
+  if (levels_.empty() || !mesh_status_.ok()) return {};
+  const double alpha = levels_.back().alpha;
+  if (!(header_.flags & kFlagCarvingCorrections)) return carve(dt, points_, alpha);
+  std::vector<uint8_t> kept;
+  const Status s = decode_carving(carving_, dt, points_, alpha, kept);
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
+    return {};
+  }
+  return kept;
+}
+
 std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {
-  if (levels_.empty()) return {};
   const TetMesh dt = delaunay();
-  return flagged_cells(dt, carve(dt, points_, levels_.back().alpha));
+  const std::vector<uint8_t> kept = carving(dt);
+  if (!mesh_status_.ok()) return {};
+  return flagged_cells(dt, kept);
 }
 
 Status decode_stream(std::span<const uint8_t> bytes, ProgressiveDecoder& decoder) {

@@ -34,6 +34,8 @@ HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, dou
   h.min_base_vertices = o.min_base_vertices;
   h.stop_when_boundary_is_final = o.paper_stop;
   h.quality_guard = o.quality_guard;
+  h.carve_to_reference = o.carve_to_reference;
+  h.removal_share = o.removal_share;
   h.measure_boundary_error = o.measure_boundary_error;
   return h;
 }
@@ -48,6 +50,7 @@ Status check_options(const EncodeOptions& o) {
   if (o.max_levels < 0) return invalid("the level count must not be negative");
   if (o.quality_guard < 0) return invalid("the quality guard must not be negative");
   if (o.level_step < 1) return invalid("the level step must be at least 1");
+  if (!(o.removal_share >= 0 && o.removal_share < 1)) return invalid("the removal share must be in [0, 1)");
   return Status::Ok();
 }
 
@@ -103,7 +106,8 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     report.reference_tetrahedra = reference->tetrahedra();
     report.reference_boundary_vertices = reference->boundary_vertices();
   }
-  const HierarchyOptions hierarchy = hierarchy_options(options, q.grid, plan.dmax);
+  HierarchyOptions hierarchy = hierarchy_options(options, q.grid, plan.dmax);
+  if (reference) hierarchy.reference_cells = reference->tets();
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;
                          r.stats = level.stats;
@@ -118,6 +122,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   DTM_ASSIGN_OR_RETURN(EncodedStream stream,
                        encode_stream(h, q.points, q.grid, options.alpha, stream_options));
   report.layer_bytes = std::move(stream.layer_bytes);
+  report.carving_bytes = std::move(stream.carving_bytes);
   report.streamed_levels = std::move(stream.streamed_levels);
   report.stream_bytes = stream.bytes.size();
   out.bytes = std::move(stream.bytes);

@@ -39,8 +39,16 @@ struct EncodeOptions {
   double scale = 1.0;
   double box = 0;
 
-  // The hierarchy (spec/HIERARCHY.md).
+  // The hierarchy (spec/HIERARCHY.md). The defaults are the codec's levels;
+  // EncodeOptions::paper() the seed paper's.
   double dmax = 0;  // boundary tolerance; 0 = 0.5% of the grid's extent
+  // Every level keeps the cells inside the reference solid (the input's
+  // tetrahedra, or level 0's alpha carving), alpha only predicting them and
+  // the stream correcting it; false: alpha alone carves (the paper).
+  bool carve_to_reference = true;
+  // Each level removes about this share of the finer level's vertices, in
+  // several independent-set passes; 0: one pass per level (the paper).
+  double removal_share = 0.5;
   AlphaKind alpha = AlphaKind::kPaper;
   double fixed_alpha = 0;              // with AlphaKind::kFixed
   int max_levels = 0;                  // coarser levels at most; 0 = no limit
@@ -52,6 +60,16 @@ struct EncodeOptions {
   // The stream (codec/expert_encode.h, StreamOptions).
   int level_step = 1;
   bool cell_hashes = false;
+
+  // The seed paper's hierarchy: alpha carving without corrections, one
+  // independent set per level, its stopping rule.
+  static EncodeOptions paper() {
+    EncodeOptions o;
+    o.carve_to_reference = false;
+    o.removal_share = 0;
+    o.paper_stop = true;
+    return o;
+  }
 };
 
 struct EncodeInput {
@@ -81,9 +99,10 @@ struct EncodeReport {
   uint64_t duplicates_merged = 0;
   uint64_t reference_tetrahedra = 0;  // after quantization, 0 without tetrahedra
   uint64_t reference_boundary_vertices = 0;
-  std::vector<LevelReport> levels;    // every hierarchy level, finest first
-  std::vector<uint64_t> layer_bytes;  // per hierarchy level; 0 if not streamed
-  std::vector<int> streamed_levels;   // hierarchy level of each stream level
+  std::vector<LevelReport> levels;      // every hierarchy level, finest first
+  std::vector<uint64_t> layer_bytes;    // per hierarchy level; 0 if not streamed
+  std::vector<uint64_t> carving_bytes;  // of those, the carving corrections
+  std::vector<int> streamed_levels;     // hierarchy level of each stream level
   uint64_t stream_bytes = 0;
 };
 

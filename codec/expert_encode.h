@@ -36,6 +36,8 @@ struct EncodedStream {
   // Bytes of each hierarchy level's layer (header included), indexed by
   // hierarchy level; 0 for a level left out by level_step.
   std::vector<uint64_t> layer_bytes;
+  // Of those, the carving corrections' (spec/FORMAT.md §3.2).
+  std::vector<uint64_t> carving_bytes;
   // The hierarchy level of each stream level (finest first).
   std::vector<int> streamed_levels;
   // The order in which a decoder produces the vertices (coarsest layer

@@ -86,15 +86,18 @@ struct FieldReader {
 };
 
 template <class Header>
-Header read_fields(std::span<const uint8_t> bytes) {
+Header read_fields(std::span<const uint8_t> bytes, uint8_t format_major = kVersionMajor) {
   Header h;
+  if constexpr (requires { h.format_major; }) h.format_major = format_major;
   FieldReader reader{ByteReader(bytes)};
   visit_fields(h, reader);
   return h;
 }
 
 constexpr size_t kHeaderChecksumOffset = sized<StreamHeader>().checksum_offset;
-constexpr size_t kLayerChecksumOffset = sized<LayerHeader>().checksum_offset;
+constexpr size_t layer_checksum_offset(uint8_t format_major) {
+  return sized<LayerHeader>(format_major).checksum_offset;
+}
 
 }  // namespace
 
@@ -129,12 +132,16 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   return Status::Ok();
 }
 
-std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload) {
+std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
+                                 std::span<const uint8_t> carving) {
   h.payload_bytes = static_cast<uint32_t>(payload.size());
+  h.carving_bytes = static_cast<uint32_t>(carving.size());
+  std::vector<uint8_t> body(payload.begin(), payload.end());
+  body.insert(body.end(), carving.begin(), carving.end());
   FieldWriter writer;
-  writer.trailer = payload;
+  writer.trailer = body;
   visit_fields(h, writer);
-  writer.w.bytes(payload);
+  writer.w.bytes(body);
   return writer.w.take();
 }
 
@@ -158,6 +165,8 @@ Status LayerWalk::check(const LayerHeader& h) const {
   if (std::isnan(h.alpha) || !(h.alpha > 0)) return corrupt("alpha is not positive");
   if (h.payload_bytes < min_payload_bytes(h.new_vertices))
     return corrupt("payload too short for its point count");
+  if (!(header_.flags & kFlagCarvingCorrections) && h.carving_bytes != 0)
+    return corrupt("carving corrections present without their flag");
   if (!(header_.flags & kFlagCellHashes) && h.cell_hash != 0)
     return corrupt("cell hash present without its flag");
   if (h.level_vertices > max_level_vertices_)
@@ -173,18 +182,22 @@ Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* heade
       return corrupt(std::to_string(bytes.size()) + " bytes of trailing data after the last layer");
     return {StatusCode::kNeedMoreInput, "complete"};
   }
-  if (bytes.size() < kLayerHeaderSize) return {StatusCode::kNeedMoreInput, "layer header incomplete"};
+  const uint8_t major = header_.version_major;
+  const size_t header_size = layer_header_size(major);
+  if (bytes.size() < header_size) return {StatusCode::kNeedMoreInput, "layer header incomplete"};
   const std::string where = "level " + std::to_string(next_level_) + " at byte " + std::to_string(offset_);
-  layer.header = read_fields<LayerHeader>(bytes.first(kLayerHeaderSize));
+  layer.header = read_fields<LayerHeader>(bytes.first(header_size), major);
   layer.offset = offset_;
   DTM_RETURN_IF_ERROR(check(layer.header).with_context(where));
   if (header_seen) *header_seen = true;
-  if (bytes.size() - kLayerHeaderSize < layer.header.payload_bytes)
+  if (bytes.size() - header_size < layer.header.body_bytes())
     return {StatusCode::kNeedMoreInput, "layer incomplete"};
-  layer.payload = bytes.subspan(kLayerHeaderSize, layer.header.payload_bytes);
-  if (xxh3_64(bytes.first(kLayerChecksumOffset), layer.payload) != layer.header.checksum)
+  const std::span<const uint8_t> body = bytes.subspan(header_size, layer.header.body_bytes());
+  layer.payload = body.first(layer.header.payload_bytes);
+  layer.carving = body.subspan(layer.header.payload_bytes);
+  if (xxh3_64(bytes.first(layer_checksum_offset(major)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
-  offset_ += kLayerHeaderSize + layer.header.payload_bytes;
+  offset_ += header_size + layer.header.body_bytes();
   previous_vertices_ = layer.header.level_vertices;
   --next_level_;
   return Status::Ok();

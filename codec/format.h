@@ -4,7 +4,8 @@
 //
 //   stream = header, layer(L), layer(L-1), ..., layer(0)     coarsest first
 //   header = kHeaderSize bytes (below), ending with its own checksum
-//   layer  = kLayerHeaderSize-byte layer header + payload (the level's new points)
+//   layer  = layer header + payload (the level's new points)
+//            + carving section (4.0: the level's carving corrections)
 #pragma once
 
 #include <array>
@@ -22,11 +23,14 @@
 namespace dtm {
 
 inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0A, 0x1A, 0x0A};
-inline constexpr uint8_t kVersionMajor = 3;        // what the encoder writes
+inline constexpr uint8_t kVersionMajor = 4;        // what the encoder writes
 inline constexpr uint8_t kOldestVersionMajor = 2;  // the decoder also reads 2.x
 inline constexpr uint8_t kVersionMinor = 0;
 inline constexpr uint16_t kFlagCellHashes = 1;  // each layer carries its level's cell-set hash
-inline constexpr uint16_t kKnownFlags = kFlagCellHashes;
+// 4.0: layers carry carving corrections (codec/carving_coder.h); without
+// the flag every carving section is empty and alpha alone carves (the paper).
+inline constexpr uint16_t kFlagCarvingCorrections = 2;
+inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -40,13 +44,18 @@ struct StreamHeader {
 };
 
 struct LayerHeader {
+  // Not a field: the stream's major version, which says which fields follow.
+  uint8_t format_major = kVersionMajor;
   uint16_t level = 0;
   uint32_t new_vertices = 0;    // points in this layer's payload
   uint32_t level_vertices = 0;  // |V_level| = the coarser level's count + new_vertices
   double alpha = 0;             // grid units
   uint32_t payload_bytes = 0;
-  uint64_t cell_hash = 0;  // meaningful with kFlagCellHashes, else 0
-  uint64_t checksum = 0;   // XXH3-64 of the header bytes before it and the payload
+  uint32_t carving_bytes = 0;  // 4.0 and later: the carving section, after the payload
+  uint64_t cell_hash = 0;      // meaningful with kFlagCellHashes, else 0
+  uint64_t checksum = 0;       // XXH3-64 of the header bytes before it, the payload and the carving section
+
+  uint64_t body_bytes() const { return uint64_t{payload_bytes} + carving_bytes; }
 };
 
 // The fields of each header in stream order, described once: writing,
@@ -57,6 +66,8 @@ struct LayerHeader {
 //                                        uint64_t, double); value may be an
 //                                        int, an enum or a std::array of them
 //   v.template checksum<Wire>(name, value)  the header's checksum, last
+// A field added in a later version is visited only for streams of that
+// version or later.
 template <class V>
 constexpr void visit_fields(StreamHeader& h, V& v) {
   v.magic("magic");
@@ -79,6 +90,7 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
   v.template field<uint32_t>("level_vertices", h.level_vertices);
   v.template field<double>("alpha", h.alpha);
   v.template field<uint32_t>("payload_bytes", h.payload_bytes);
+  if (h.format_major >= 4) v.template field<uint32_t>("carving_bytes", h.carving_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -104,30 +116,38 @@ struct FieldSizer {
 };
 
 template <class Header>
-constexpr FieldSizer sized() {
+constexpr FieldSizer sized(uint8_t format_major = kVersionMajor) {
   Header h{};
+  if constexpr (requires { h.format_major; }) h.format_major = format_major;
   FieldSizer s;
   visit_fields(h, s);
   return s;
 }
 
 inline constexpr size_t kHeaderSize = sized<StreamHeader>().size;
-inline constexpr size_t kLayerHeaderSize = sized<LayerHeader>().size;
-static_assert(kHeaderSize == 56 && kLayerHeaderSize == 38, "the format's header sizes changed");
+// A layer header's size in a stream of this major version.
+constexpr size_t layer_header_size(uint8_t format_major) { return sized<LayerHeader>(format_major).size; }
+inline constexpr size_t kLayerHeaderSize = layer_header_size(kVersionMajor);
+static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && kLayerHeaderSize == 42,
+              "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
 // Parses and validates the header at the start of `bytes`. kNeedMoreInput if
 // fewer than kHeaderSize bytes are given.
 Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h);
 
-// The layer header (checksum computed) followed by the payload.
-std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload);
+// The layer header (checksum computed) followed by the payload and the
+// carving section (4.0 and later).
+std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
+                                 std::span<const uint8_t> carving = {});
 
 // A whole, checksummed layer, as LayerWalk returns it.
 struct Layer {
   LayerHeader header;
   std::span<const uint8_t> payload;
+  std::span<const uint8_t> carving;
   uint64_t offset = 0;  // of the layer header in the stream
+  uint64_t size() const { return layer_header_size(header.format_major) + header.body_bytes(); }
 };
 
 // Reads the layers of a stream in order, from bytes that may arrive in
@@ -168,6 +188,7 @@ struct LayerSummary {
   LayerHeader header;
   uint64_t offset = 0;  // of the layer header in the stream
   bool complete = false;
+  uint64_t size() const { return layer_header_size(header.format_major) + header.body_bytes(); }
 };
 struct StreamSummary {
   StreamHeader header;

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <iterator>
 
+#include "codec/carving_coder.h"
 #include "codec/expert_encode.h"
 #include "codec/format.h"
 #include "codec/layer_coder.h"
@@ -20,13 +21,20 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   StreamHeader h;
   h.grid = grid;
   h.alpha_policy = alpha_policy;
-  h.flags = options.cell_hashes ? kFlagCellHashes : 0;
+  // The hierarchy carries its verdicts when it was carved to a reference:
+  // then every layer corrects alpha's prediction.
+  const bool corrections = !hierarchy.levels[0].kept.empty();
+  h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
   EncodedStream out;
   out.bytes = write_header(h);
   out.layer_bytes.assign(hierarchy.levels.size(), 0);
+  out.carving_bytes.assign(hierarchy.levels.size(), 0);
+  // The decoder's vertex index of each grid point, and its points in order.
+  std::vector<uint32_t> decoder_index(points.size(), UINT32_MAX);
+  std::vector<GridPoint> decoded;
   out.streamed_levels = streamed;
   std::vector<uint32_t> coarser;  // V_{l+1}, ascending
   std::vector<MortonCode> known;  // Morton codes of V_{l+1}, ascending
@@ -49,7 +57,18 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     layer_points.reserve(added.size());
     for (const auto& [code, i] : by_code) {
       layer_points.push_back(points[i]);
+      decoder_index[i] = static_cast<uint32_t>(out.decode_order.size());
       out.decode_order.push_back(i);
+      decoded.push_back(points[i]);
+    }
+    std::vector<uint8_t> carving;
+    if (corrections) {
+      if (level.kept.size() != level.delaunay.cells.size())
+        return invalid("encode_stream: a level without its carving verdicts");
+      TetMesh dt = level.delaunay;
+      for (auto& c : dt.cells)
+        for (uint32_t& v : c) v = decoder_index[v];
+      carving = encode_carving(dt, decoded, level.alpha, level.kept);
     }
 
     LayerHeader lh;
@@ -58,7 +77,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
     if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.mesh);
-    const auto layer = write_layer(lh, encode_point_set(known, layer_points, grid.qbits, models));
+    const auto layer = write_layer(lh, encode_point_set(known, layer_points, grid.qbits, models), carving);
+    out.carving_bytes[streamed[l]] = carving.size();
     merge_known(known, layer_points, grid.qbits);
     out.layer_bytes[streamed[l]] = layer.size();
     out.bytes.insert(out.bytes.end(), layer.begin(), layer.end());

@@ -8,6 +8,7 @@
 #include "core/boundary_simplification.h"
 #include "core/importance.h"
 #include "core/independent_removal.h"
+#include "core/reference_solid.h"
 #include "core/surface_distance.h"
 #include "mesh/delaunay.h"
 #include "mesh/geometry.h"
@@ -155,7 +156,17 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
   Hierarchy h;
   std::vector<uint32_t> vertices(points.size());
   for (uint32_t i = 0; i < vertices.size(); ++i) vertices[i] = i;
-  DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze_level(gather(points, vertices), opt.alpha));
+  std::optional<ReferenceSolid> solid;
+  if (opt.carve_to_reference && !opt.reference_cells.empty()) solid.emplace(points, opt.reference_cells);
+  // The level's geometry, carved to the solid when there is one.
+  auto analyze = [&](std::vector<GridPoint> level_points, TetMesh dt) {
+    const std::vector<uint8_t> verdicts = solid ? solid->verdicts(dt, level_points) : std::vector<uint8_t>{};
+    return analyze_level(std::move(level_points), std::move(dt), opt.alpha, verdicts);
+  };
+  DTM_ASSIGN_OR_RETURN(TetMesh dt0, delaunay_tetrahedralize(points));
+  DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze(gather(points, vertices), std::move(dt0)));
+  // Without a reference of its own, the solid is level 0 as alpha carves it.
+  if (opt.carve_to_reference && !solid) solid.emplace(points, carved_cells(L, vertices));
 
   Representation rep;
   for (uint32_t v = 0; v < L.size(); ++v)
@@ -167,42 +178,60 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
   std::optional<SurfaceDistanceTracker> error;
   if (opt.measure_boundary_error) error.emplace(rep.originals);
 
-  Removal made;  // the removal that produced the current level
+  Removal made;  // what the passes that produced the current level removed
+  int passes = 0;
   for (int level = 0;; ++level) {
     Level out;
     out.vertices = vertices;
     out.alpha = L.alpha;
     out.mesh = carved_cells(L, vertices);
+    if (opt.carve_to_reference) {
+      out.delaunay = L.dt;
+      for (auto& c : out.delaunay.cells)
+        for (uint32_t& v : c) v = vertices[v];
+      out.kept = L.in_mesh;
+    }
     out.stats = measure(L, vertices, error ? &*error : nullptr);
     out.stats.level = level;
     out.stats.removed_boundary = made.boundary;
     out.stats.removed_interior = made.interior;
     out.stats.rejected_by_quality = made.rejected_by_quality;
+    out.stats.passes = passes;
     h.levels.push_back(std::move(out));
     if (on_level) on_level(h.levels.back());
 
     if (opt.max_levels > 0 && level >= opt.max_levels) break;
     if (level > 0 && opt.stop_when_boundary_is_final && made.boundary == 0) break;
 
-    const Csr represented = rep.rows_for(vertices, points.size());
-    Removal next = select_removal(L, represented, rep, opt);
-    const uint64_t removed = next.boundary + next.interior;
-    if (removed == 0 || vertices.size() - removed < opt.min_base_vertices) break;
+    // The passes that make the next level.
+    made = {};
+    passes = 0;
+    const size_t finer = vertices.size();
+    do {
+      const Csr represented = rep.rows_for(vertices, points.size());
+      Removal next = select_removal(L, represented, rep, opt);
+      const uint64_t removed = next.boundary + next.interior;
+      if (removed == 0 || vertices.size() - removed < opt.min_base_vertices) break;
 
-    std::vector<uint32_t> kept;
-    kept.reserve(vertices.size() - removed);
-    for (uint32_t v = 0; v < L.size(); ++v)
-      if (!next.removed[v]) kept.push_back(vertices[v]);
-    StatusOr<LevelGeometry> coarser = analyze_level(
-        gather(points, kept),
-        remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points, next.removed), opt.alpha);
-    // The coarser set would be flat: this level is the coarsest.
-    if (coarser.status().code() == StatusCode::kInvalidInput) break;
-    if (!coarser.ok()) return coarser.status();
-    hand_over(rep, L, vertices, next, represented);
-    vertices = std::move(kept);
-    L = std::move(coarser).value();
-    made = next;
+      std::vector<uint32_t> kept;
+      kept.reserve(vertices.size() - removed);
+      for (uint32_t v = 0; v < L.size(); ++v)
+        if (!next.removed[v]) kept.push_back(vertices[v]);
+      StatusOr<LevelGeometry> coarser =
+          analyze(gather(points, kept),
+                  remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points, next.removed));
+      // The coarser set would be flat: the current one is the coarsest.
+      if (coarser.status().code() == StatusCode::kInvalidInput) break;
+      if (!coarser.ok()) return coarser.status();
+      hand_over(rep, L, vertices, next, represented);
+      vertices = std::move(kept);
+      L = std::move(coarser).value();
+      made.boundary += next.boundary;
+      made.interior += next.interior;
+      made.rejected_by_quality += next.rejected_by_quality;
+      ++passes;
+    } while (static_cast<double>(finer - vertices.size()) < opt.removal_share * static_cast<double>(finer));
+    if (passes == 0) break;
   }
   return h;
 }

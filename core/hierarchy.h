@@ -21,6 +21,18 @@ namespace dtm {
 
 struct HierarchyOptions {
   AlphaPolicy alpha;
+  // The carving (spec/HIERARCHY.md §3). false: the paper's, alpha decides.
+  // true: every level keeps the cells whose centroid is in the reference
+  // solid; alpha is only the decoder's prediction, which the stream corrects.
+  bool carve_to_reference = false;
+  // The reference solid's tetrahedra (grid-point indices), with
+  // carve_to_reference; empty: level 0's alpha carving is the reference.
+  std::span<const std::array<uint32_t, 4>> reference_cells;
+  // How much a level removes: independent-set passes, each in the then
+  // current tetrahedralization, until this share of the finer level's
+  // vertices is gone (or nothing more passes the guards). 0: one pass (the
+  // paper).
+  double removal_share = 0;
   double dmax = 1.0;              // boundary tolerance, grid units
   int max_levels = 0;             // coarser levels to build at most; 0 = no limit
   size_t min_base_vertices = 16;  // never build a level with fewer vertices
@@ -45,6 +57,7 @@ struct LevelStats {
   uint64_t removed_interior = 0;  // removed from the finer level to make this one
   uint64_t removed_boundary = 0;
   uint64_t rejected_by_quality = 0;  // candidates the quality guard kept
+  int passes = 0;                    // independent sets removed to make this level
   double alpha = 0;                  // grid units
   uint64_t tetrahedra = 0;           // cells of M_l
   double avg_min_solid_angle = 0;    // over M_l cells, steradians
@@ -58,6 +71,10 @@ struct Level {
   double alpha = 0;                // grid units
   // M_l, vertices named by grid-point index. Cell order is not canonical.
   std::vector<std::array<uint32_t, 4>> mesh;
+  // With carve_to_reference: DT(V_l) whole (grid-point indices) and, per
+  // cell, whether M_l keeps it; what the stream's corrections are made from.
+  TetMesh delaunay;
+  std::vector<uint8_t> kept;
   LevelStats stats;
 };
 

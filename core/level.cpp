@@ -13,10 +13,13 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, const Alpha
   return analyze_level(std::move(points), std::move(dt), policy);
 }
 
-StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy) {
+StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy,
+                                      std::span<const uint8_t> verdicts) {
   LevelGeometry L;
   L.points = std::move(points);
   L.dt = std::move(dt);
+  if (!verdicts.empty() && verdicts.size() != L.dt.cells.size())
+    return Status{StatusCode::kInternal, "analyze_level: a verdict per cell expected"};
   if (L.dt.cells.empty())
     return Status{StatusCode::kInvalidInput,
                   "the " + std::to_string(L.points.size()) + " points do not span three dimensions"};
@@ -51,7 +54,8 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
   L.solid_angle_sum.assign(n, 0);
   L.mesh_volume6.assign(n, 0);
   for (size_t c = 0; c < m; ++c) {
-    if (!kept_by_alpha(L.points, L.dt.cells[c], L.alpha)) continue;
+    const bool kept = verdicts.empty() ? kept_by_alpha(L.points, L.dt.cells[c], L.alpha) : verdicts[c] != 0;
+    if (!kept) continue;
     // Corners in lexicographic order of their coordinates, as the carving
     // takes them: the angles and volumes are then the same function of the
     // four points whatever order a triangulation lists them in.

@@ -54,11 +54,15 @@ struct LevelGeometry {
 };
 
 // Analyses the level whose vertices are `points` (distinct grid points).
-// kInvalidInput if they do not span 3D.
+// kInvalidInput if they do not span 3D. M_l is carved by alpha.
 StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, const AlphaPolicy& policy);
 
-// The same, given the Delaunay tetrahedralization of `points` already.
-StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy);
+// The same, given the Delaunay tetrahedralization of `points` already, and,
+// optionally, the verdict on each of its cells (M_l keeps cell c when
+// verdicts[c] != 0: the reference solid's carving, or a decoder's);
+// alpha is computed all the same: it is the decoder's prediction.
+StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy,
+                                      std::span<const uint8_t> verdicts = {});
 
 // The paper's quality figures of M_l (§III, Tables 1-2): mean and minimum
 // over its cells of each cell's smallest solid angle, and its boundary size.

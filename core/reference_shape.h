@@ -22,6 +22,8 @@ class ReferenceShape {
   ReferenceShape(std::span<const std::array<uint32_t, 4>> tets, const QuantizedPoints& q);
 
   size_t tetrahedra() const { return tets_.size(); }
+  // The input's tetrahedra on the grid (grid-point indices).
+  std::span<const std::array<uint32_t, 4>> tets() const { return tets_; }
   size_t boundary_vertices() const { return boundary_vertices_.size(); }
 
   // Two-sided distance, grid units, between the boundary surface of `cells`

@@ -33,6 +33,8 @@ TEST(EncodeApi, IsQuantizeThenBuildThenEncodeStream) {
   const QuantizedPoints q = quantize(scaled, 14).value();
   HierarchyOptions h;
   h.dmax = 3 / q.grid.step;
+  h.carve_to_reference = options.carve_to_reference;
+  h.removal_share = options.removal_share;
   const Hierarchy hierarchy = build_hierarchy(q.points, h).value();
   StreamOptions s;
   s.cell_hashes = true;

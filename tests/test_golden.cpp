@@ -1,5 +1,6 @@
-// Golden streams (spec/FORMAT.md §6): streams of format 3.0, and of 2.0
-// (golden/v2/, which this decoder still reads), that every later decoder must
+// Golden streams (spec/FORMAT.md §6): streams of format 4.0 (with carving
+// corrections, and the paper's alpha carving), and of 3.0 and 2.0
+// (golden/v3/, golden/v2/, which this decoder still reads), that every later decoder must
 // decode to the same levels, and whose every damaged variant it must refuse.
 #include <gtest/gtest.h>
 
@@ -67,8 +68,11 @@ TEST_P(GoldenStream, EverySingleBitFlipIsRefused) {
     }
 }
 
+INSTANTIATE_TEST_SUITE_P(Format4_0, GoldenStream,
+                         ::testing::Values("torus_288", "torus_288_paper", "torus_288_grid_q10_hull",
+                                           "torus_288_q24"));
 INSTANTIATE_TEST_SUITE_P(Format3_0, GoldenStream,
-                         ::testing::Values("torus_288", "torus_288_grid_q10_hull", "torus_288_q24"));
+                         ::testing::Values("v3/torus_288", "v3/torus_288_grid_q10_hull", "v3/torus_288_q24"));
 INSTANTIATE_TEST_SUITE_P(Format2_0, GoldenStream,
                          ::testing::Values("v2/torus_288", "v2/torus_288_grid_q10_hull", "v2/torus_288_q24"));
 

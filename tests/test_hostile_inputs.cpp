@@ -24,7 +24,9 @@ std::vector<uint8_t> read_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-const char* kGolden[] = {"torus_288", "torus_288_grid_q10_hull", "torus_288_q24"};
+const char* kGolden[] = {"torus_288",     "torus_288_paper", "torus_288_grid_q10_hull",
+                         "torus_288_q24", "v3/torus_288",    "v3/torus_288_q24",
+                         "v2/torus_288"};
 std::string golden(const std::string& name) {
   return std::string(DTM_TEST_SOURCE_DIR) + "/golden/" + name + ".dtm";
 }
@@ -107,7 +109,7 @@ TEST(HostileStream, EveryTruncationOfEveryGoldenStreamGivesItsWholeLayers) {
       EXPECT_EQ(s.code(), StatusCode::kTruncated) << name << " cut " << cut << ": " << s.message();
       size_t whole = 0;  // layers that end at or before the cut
       for (const auto& l : summary.layers)
-        if (l.offset + kLayerHeaderSize + l.header.payload_bytes <= cut) ++whole;
+        if (l.offset + l.size() <= cut) ++whole;
       EXPECT_EQ(decoder.levels().size(), whole) << name << " cut " << cut;
     }
   }
@@ -121,7 +123,7 @@ TEST(HostileStream, LayersOutOfOrderAreRejected) {
     // Swap the first two layers.
     const auto& a = summary.layers[0];
     const auto& b = summary.layers[1];
-    const size_t a_end = b.offset, b_end = b.offset + kLayerHeaderSize + b.header.payload_bytes;
+    const size_t a_end = b.offset, b_end = b.offset + b.size();
     std::vector<uint8_t> swapped(bytes.begin(), bytes.begin() + a.offset);
     swapped.insert(swapped.end(), bytes.begin() + b.offset, bytes.begin() + b_end);
     swapped.insert(swapped.end(), bytes.begin() + a.offset, bytes.begin() + a_end);

@@ -138,7 +138,8 @@ dtm::OutputMesh output_mesh(const Command& c, const dtm::ProgressiveDecoder& dec
   mesh.points = decoder.points();
   const dtm::TetMesh dt = decoder.delaunay();
   if (!decoder.mesh_status().ok()) throw std::runtime_error(c.input + ": " + decoder.mesh_status().message());
-  const std::vector<uint8_t> in_mesh = dtm::carve(dt, mesh.points, decoder.levels().back().alpha);
+  const std::vector<uint8_t> in_mesh = decoder.carving(dt);
+  if (!decoder.mesh_status().ok()) throw std::runtime_error(c.input + ": " + decoder.mesh_status().message());
   mesh.cells = dtm::flagged_cells(dt, in_mesh);
   mesh.level = decoder.vertex_levels();
   mesh.boundary = dtm::boundary_vertices(dt, mesh.points.size(), in_mesh);

@@ -45,7 +45,8 @@ Dmax and --alpha values are in input units, after --scale/--box.)";
 
 // What the command line asks for.
 struct Command {
-  std::string input, output, report_path, alpha_text = "paper", format_name;
+  std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
+  std::optional<double> removal_share;
   bool quiet = false, no_reference = false;
   dtm::VolumeOptions volume;
   dtm::EncodeOptions encode;
@@ -105,6 +106,16 @@ void add_options(CLI::App& app, Command& c) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--min-base", e.min_base_vertices, "never build a level with fewer vertices")
       ->capture_default_str();
+  app.add_option("--preset", c.preset,
+                 "codec: levels carved to the input's solid (alpha predicts, the stream corrects), about "
+                 "half the vertices each; paper: the seed paper's (alpha carving, one independent set per "
+                 "level, its stopping rule)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"codec", "paper"}));
+  app.add_option("--removal-share", c.removal_share,
+                 "each level removes about this share of the finer level's vertices (codec: 0.5; 0 = one "
+                 "independent set per level)")
+      ->check(CLI::Range(0.0, 0.95));
   app.add_option("--alpha", c.alpha_text, "alpha policy: paper (eq. 2.1), hull, or a value")
       ->capture_default_str();
   app.add_option("--quality-guard", e.quality_guard,
@@ -184,6 +195,12 @@ void write_outputs(const Command& c, const dtm::EncodedMesh& encoded) {
 
 int run(Command& c) {
   if (c.output == "-") c.quiet = true;  // standard output carries the stream
+  if (c.preset == "paper") {
+    const dtm::EncodeOptions paper = dtm::EncodeOptions::paper();
+    c.encode.carve_to_reference = paper.carve_to_reference;
+    c.encode.removal_share = paper.removal_share;
+  }
+  if (c.removal_share) c.encode.removal_share = *c.removal_share;
   parse_alpha(c.alpha_text, c.encode);
   const dtm::InputMesh in = read(c);
   dtm::EncodeInput input;

@@ -26,7 +26,7 @@ struct QualityRow {
 };
 
 // The paper's quality figures of every level the stream holds, each from its
-// own analysis (the level's points carved with its stored alpha).
+// own analysis (the level's points carved as the decoder carves them).
 std::vector<QualityRow> decode_quality(const std::string& input, std::span<const uint8_t> bytes) {
   std::vector<QualityRow> rows;
   dtm::Status failed;
@@ -34,7 +34,13 @@ std::vector<QualityRow> decode_quality(const std::string& input, std::span<const
   const dtm::Status st =
       decoder.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
         if (!failed.ok()) return;
-        auto level = dtm::analyze_level(d.points(), {dtm::AlphaKind::kFixed, l.alpha});
+        dtm::TetMesh dt = d.delaunay();
+        const std::vector<uint8_t> kept = d.carving(dt);
+        if (!d.mesh_status().ok()) {
+          failed = d.mesh_status();
+          return;
+        }
+        auto level = dtm::analyze_level(d.points(), std::move(dt), {dtm::AlphaKind::kFixed, l.alpha}, kept);
         // Hostile points (too many cells) are refused by name.
         if (!level.ok())
           failed = level.status().with_context("level " + std::to_string(l.level));
@@ -59,6 +65,7 @@ nlohmann::json summary_json(const std::string& input, const dtm::StreamSummary& 
   j["step"] = step;
   j["alpha_policy"] = dtm::to_string(h.alpha_policy);
   j["cell_hashes"] = (h.flags & dtm::kFlagCellHashes) != 0;
+  j["carving_corrections"] = (h.flags & dtm::kFlagCarvingCorrections) != 0;
   j["level_count"] = h.level_count;
   j["vertices"] = h.vertex_count;
   j["bytes"] = s.bytes;
@@ -68,10 +75,11 @@ nlohmann::json summary_json(const std::string& input, const dtm::StreamSummary& 
   j["levels"] = nlohmann::json::array();
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
-    const uint64_t layer_bytes = dtm::kLayerHeaderSize + l.header.payload_bytes;
+    const uint64_t layer_bytes = l.size();
     nlohmann::json row = {{"level", l.header.level},
                           {"vertices", l.header.level_vertices},
                           {"new_vertices", l.header.new_vertices},
+                          {"carving_bytes", l.header.carving_bytes},
                           {"alpha", l.header.alpha * step},
                           {"layer_bytes", layer_bytes},
                           {"layer_bits_per_new_vertex", 8.0 * layer_bytes / l.header.new_vertices},
@@ -95,21 +103,23 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
                  const std::vector<QualityRow>& quality, bool stats) {
   const auto& h = s.header;
   const double step = h.grid.step;
-  std::printf("%s: .dtm %u.%u, %u vertices in %u levels, q=%d, step=%.6g, alpha policy %s%s\n", input.c_str(),
-              h.version_major, h.version_minor, h.vertex_count, h.level_count, h.grid.qbits, step,
-              dtm::to_string(h.alpha_policy), (h.flags & dtm::kFlagCellHashes) ? ", cell hashes" : "");
+  std::printf("%s: .dtm %u.%u, %u vertices in %u levels, q=%d, step=%.6g, alpha policy %s%s%s\n",
+              input.c_str(), h.version_major, h.version_minor, h.vertex_count, h.level_count, h.grid.qbits,
+              step, dtm::to_string(h.alpha_policy),
+              (h.flags & dtm::kFlagCarvingCorrections) ? ", carving corrections" : ", alpha carving (paper)",
+              (h.flags & dtm::kFlagCellHashes) ? ", cell hashes" : "");
   const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
   std::printf("%llu bytes, %.2f bits per vertex%s\n", static_cast<unsigned long long>(s.bytes),
               8.0 * s.bytes / h.vertex_count,
               truncated ? (", TRUNCATED: " + s.status.message()).c_str() : "");
-  std::printf("%5s %9s %9s %11s %11s %9s%s\n", "level", "vertices", "new", "alpha", "layer_bytes", "bits/new",
-              stats ? "      tets  boundary avg_minSA    min_SA" : "");
+  std::printf("%5s %9s %9s %11s %11s %9s %9s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
+              "bits/new", "carving", stats ? "      tets  boundary avg_minSA    min_SA" : "");
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
-    const uint64_t layer_bytes = dtm::kLayerHeaderSize + l.header.payload_bytes;
-    std::printf("%5u %9u %9u %11.5g %11llu %9.2f", l.header.level, l.header.level_vertices,
+    const uint64_t layer_bytes = l.size();
+    std::printf("%5u %9u %9u %11.5g %11llu %9.2f %9u", l.header.level, l.header.level_vertices,
                 l.header.new_vertices, l.header.alpha * step, static_cast<unsigned long long>(layer_bytes),
-                8.0 * layer_bytes / l.header.new_vertices);
+                8.0 * layer_bytes / l.header.new_vertices, l.header.carving_bytes);
     if (i < quality.size())
       std::printf(" %9llu %9llu %9.6f %9.3g", static_cast<unsigned long long>(quality[i].tetrahedra),
                   static_cast<unsigned long long>(quality[i].quality.boundary_vertices),

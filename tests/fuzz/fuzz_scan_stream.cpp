@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(layer.offset < size);
     if (layer.complete) {
       FUZZ_CHECK(layer.header.level_vertices == previous_vertices + layer.header.new_vertices);
-      previous_end = layer.offset + dtm::kLayerHeaderSize + layer.header.payload_bytes;
+      previous_end = layer.offset + layer.size();
       FUZZ_CHECK(previous_end <= size);
       previous_vertices = layer.header.level_vertices;
     }

@@ -2,7 +2,7 @@
 # tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
 # current format version and their expected levels. Run it only when the
 # format's major version changes (spec/FORMAT.md §6), after moving the
-# previous version's streams to v<major>/ (as v2/ holds format 2.0's) if
+# previous version's streams to v<major>/ (as v2/ and v3/ hold formats 2.0 and 3.0) if
 # decoders still read it: a golden stream is a promise that every later
 # decoder decodes it identically or refuses its version.
 set -euo pipefail
@@ -26,5 +26,6 @@ print(json.dumps({
                for l in info["levels"]]}, indent=1))' >"$here/$name.expected.json"
 }
 make_one torus_288 torus_288.node --scale 25 --dmax 3
+make_one torus_288_paper torus_288.node --scale 25 --dmax 3 --preset paper
 make_one torus_288_grid_q10_hull torus_288_grid.node --qbits 10 --alpha hull --levels 3
 make_one torus_288_q24 torus_288.node --qbits 24 --levels 1

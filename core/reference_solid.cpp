@@ -1,0 +1,110 @@
+#include "core/reference_solid.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/csr.h"
+#include "mesh/geometry.h"
+
+namespace dtm {
+namespace {
+
+using P4 = std::array<int64_t, 3>;
+
+// Sign of the orientation determinant of (a, b, c, d), exact: coordinates
+// at 4x scale need 27 bits, differences 28, triple products 84.
+int orientation(const P4& a, const P4& b, const P4& c, const P4& d) {
+  const Int128 ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+  const Int128 vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+  const Int128 wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+  const Int128 det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
+  return det > 0 ? 1 : det < 0 ? -1 : 0;
+}
+
+P4 times4(const GridPoint& p) { return {4 * int64_t{p.x}, 4 * int64_t{p.y}, 4 * int64_t{p.z}}; }
+
+}  // namespace
+
+ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
+                               std::span<const std::array<uint32_t, 4>> cells) {
+  tets_.reserve(cells.size());
+  for (const auto& c : cells) {
+    std::array<P4, 4> t = {times4(points[c[0]]), times4(points[c[1]]), times4(points[c[2]]),
+                           times4(points[c[3]])};
+    const int o = orientation(t[0], t[1], t[2], t[3]);
+    if (o == 0) continue;
+    if (o < 0) std::swap(t[2], t[3]);
+    tets_.push_back(t);
+  }
+  if (tets_.empty()) return;
+  lo_ = hi_ = tets_[0][0];
+  double mean_extent = 0;
+  for (const auto& t : tets_) {
+    P4 tlo = t[0], thi = t[0];
+    for (const P4& p : t)
+      for (int a = 0; a < 3; ++a) {
+        tlo[a] = std::min(tlo[a], p[a]), thi[a] = std::max(thi[a], p[a]);
+        lo_[a] = std::min(lo_[a], p[a]), hi_[a] = std::max(hi_[a], p[a]);
+      }
+    mean_extent += static_cast<double>((thi[0] - tlo[0]) + (thi[1] - tlo[1]) + (thi[2] - tlo[2])) / 3;
+  }
+  // Buckets about the size of a tetrahedron (a few candidates per query),
+  // and no more buckets than tetrahedra.
+  mean_extent /= static_cast<double>(tets_.size());
+  const int64_t largest = std::max({hi_[0] - lo_[0], hi_[1] - lo_[1], hi_[2] - lo_[2]}) + 1;
+  const double cube_root = std::cbrt(static_cast<double>(tets_.size()));
+  bucket_size_ = std::max<int64_t>(
+      {1, static_cast<int64_t>(mean_extent), static_cast<int64_t>(static_cast<double>(largest) / cube_root)});
+  for (int a = 0; a < 3; ++a) dims_[a] = (hi_[a] - lo_[a]) / bucket_size_ + 1;
+  const size_t buckets = static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
+  auto for_each_bucket = [&](const std::array<P4, 4>& t, auto&& f) {
+    P4 tlo = t[0], thi = t[0];
+    for (const P4& p : t)
+      for (int a = 0; a < 3; ++a) tlo[a] = std::min(tlo[a], p[a]), thi[a] = std::max(thi[a], p[a]);
+    std::array<int64_t, 3> b0, b1;
+    for (int a = 0; a < 3; ++a) b0[a] = (tlo[a] - lo_[a]) / bucket_size_, b1[a] = (thi[a] - lo_[a]) / bucket_size_;
+    for (int64_t z = b0[2]; z <= b1[2]; ++z)
+      for (int64_t y = b0[1]; y <= b1[1]; ++y)
+        for (int64_t x = b0[0]; x <= b1[0]; ++x) f(static_cast<uint32_t>((z * dims_[1] + y) * dims_[0] + x));
+  };
+  buckets_ = build_csr(buckets, [&](auto&& emit) {
+    for (uint32_t k = 0; k < tets_.size(); ++k) for_each_bucket(tets_[k], [&](uint32_t b) { emit(b, k); });
+  });
+}
+
+size_t ReferenceSolid::bucket_of(const P4& p) const {
+  std::array<int64_t, 3> b;
+  for (int a = 0; a < 3; ++a) b[a] = (p[a] - lo_[a]) / bucket_size_;
+  return static_cast<size_t>((b[2] * dims_[1] + b[1]) * dims_[0] + b[0]);
+}
+
+bool ReferenceSolid::contains4(const P4& p) const {
+  if (tets_.empty()) return false;
+  for (int a = 0; a < 3; ++a)
+    if (p[a] < lo_[a] || p[a] > hi_[a]) return false;
+  const size_t b = bucket_of(p);
+  for (uint32_t k : buckets_.row(b)) {
+    const auto& t = tets_[k];
+    // Inside or on the boundary: p is on the inner side of every face.
+    if (orientation(p, t[1], t[2], t[3]) >= 0 && orientation(t[0], p, t[2], t[3]) >= 0 &&
+        orientation(t[0], t[1], p, t[3]) >= 0 && orientation(t[0], t[1], t[2], p) >= 0)
+      return true;
+  }
+  return false;
+}
+
+std::vector<uint8_t> ReferenceSolid::verdicts(const TetMesh& dt, std::span<const GridPoint> points) const {
+  std::vector<uint8_t> out(dt.cells.size());
+  for (size_t c = 0; c < out.size(); ++c) {
+    const auto& k = dt.cells[c];
+    out[c] = contains_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
+  }
+  return out;
+}
+
+bool ReferenceSolid::contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
+                                       const GridPoint& d) const {
+  return contains4({int64_t{a.x} + b.x + c.x + d.x, int64_t{a.y} + b.y + c.y + d.y, int64_t{a.z} + b.z + c.z + d.z});
+}
+
+}  // namespace dtm

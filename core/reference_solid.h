@@ -1,0 +1,48 @@
+// The solid every level is carved to (DESIGN.md §3.3, spec/HIERARCHY.md §3):
+// a set of tetrahedra over grid points (the input's own, or level 0's alpha
+// carving when the input has none). A cell of a level's Delaunay
+// tetrahedralization is kept when its centroid lies in the closed union of
+// these tetrahedra. The test is exact: centroids are compared at four times
+// the grid's scale, in 128-bit integers.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/csr.h"
+#include "common/grid.h"
+#include "mesh/delaunay.h"
+
+namespace dtm {
+
+class ReferenceSolid {
+ public:
+  // `cells` index `points`; flat cells are ignored (they hold no volume).
+  ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
+
+  // True if the centroid of the tetrahedron (a, b, c, d) is in the solid.
+  bool contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d) const;
+
+  size_t tetrahedra() const { return tets_.size(); }
+
+  // Per cell of `dt` (vertex ids index `points`): 1 if the solid keeps it.
+  std::vector<uint8_t> verdicts(const TetMesh& dt, std::span<const GridPoint> points) const;
+
+ private:
+  // Corners at four times the grid scale, so that a centroid is integral.
+  using Point4 = std::array<int64_t, 3>;
+  bool contains4(const Point4& p) const;
+  size_t bucket_of(const Point4& p) const;
+
+  std::vector<std::array<Point4, 4>> tets_;  // positively oriented
+  // A uniform grid of buckets over the solid's bounding box, each listing
+  // the tetrahedra whose bounding box meets it (CSR).
+  Point4 lo_{}, hi_{};
+  std::array<int64_t, 3> dims_{1, 1, 1};
+  int64_t bucket_size_ = 1;
+  Csr buckets_;
+};
+
+}  // namespace dtm
