@@ -14,9 +14,10 @@ namespace {
 // bucket is how many of these the ratio exceeds (spec/FORMAT.md §3.2 lists
 // them; products with alpha are exact IEEE operations, so both sides agree).
 constexpr std::array<double, kCarvingRatioBuckets - 1> kRatioSteps = {
-    0.29730177875068026, 0.3535533905932738, 0.42044820762685725, 0.5, 0.5946035575013605,
-    0.7071067811865476,  0.8408964152537145, 1.0,                 1.189207115002721, 1.4142135623730951,
-    1.681792830507429,   2.0,                2.378414230005442,   2.8284271247461903, 3.363585661014858};
+    0.29730177875068026, 0.3535533905932738, 0.42044820762685725, 0.5,
+    0.5946035575013605,  0.7071067811865476, 0.8408964152537145,  1.0,
+    1.189207115002721,   1.4142135623730951, 1.681792830507429,   2.0,
+    2.378414230005442,   2.8284271247461903, 3.363585661014858};
 static_assert(kRatioSteps[7] == 1.0, "bucket 8 and above: alpha removes the cell");
 
 using Models = std::array<AdaptiveBit, kCarvingContexts>;
@@ -70,8 +71,8 @@ Status decode_carving(std::span<const uint8_t> section, const TetMesh& dt, std::
   RangeDecoder rc(section);
   for (uint32_t c : p.order) kept[c] ^= static_cast<uint8_t>(rc.decode(models[p.context[c]]));
   if (!rc.finished_cleanly())
-    return {StatusCode::kCorrupt, rc.overran() ? "carving corrections end early"
-                                               : "bytes after the carving corrections"};
+    return {StatusCode::kCorrupt,
+            rc.overran() ? "carving corrections end early" : "bytes after the carving corrections"};
   return Status::Ok();
 }
 

@@ -34,6 +34,7 @@ HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, dou
   h.min_base_vertices = o.min_base_vertices;
   h.stop_when_boundary_is_final = o.paper_stop;
   h.quality_guard = o.quality_guard;
+  h.quality_ratio = o.quality_ratio;
   h.carve_to_reference = o.carve_to_reference;
   h.removal_share = o.removal_share;
   h.measure_boundary_error = o.measure_boundary_error;

@@ -55,6 +55,7 @@ struct EncodeOptions {
   size_t min_base_vertices = 16;       // never build a level with fewer vertices
   bool paper_stop = true;              // stop at the first level removing no boundary vertex
   double quality_guard = 0;            // HierarchyOptions::quality_guard; 0 = off
+  double quality_ratio = 0.8;          // HierarchyOptions::quality_ratio; 0 = off
   bool measure_boundary_error = true;  // LevelStats' max/mean_boundary_error
 
   // The stream (codec/expert_encode.h, StreamOptions).
@@ -67,6 +68,7 @@ struct EncodeOptions {
     EncodeOptions o;
     o.carve_to_reference = false;
     o.removal_share = 0;
+    o.quality_ratio = 0;
     o.paper_stop = true;
     return o;
   }

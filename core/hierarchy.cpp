@@ -9,12 +9,17 @@
 #include "core/importance.h"
 #include "core/independent_removal.h"
 #include "core/reference_solid.h"
+#include "core/refill.h"
 #include "core/surface_distance.h"
 #include "mesh/delaunay.h"
 #include "mesh/geometry.h"
 
 namespace dtm {
 namespace {
+
+// With several passes per level, a level that removes less than this share
+// of what removal_share asks is not built.
+constexpr double kThinLevelShare = 0.4;
 
 // Each original (level-0) boundary point is represented by one vertex of the
 // current level: itself until it is removed, then the neighbour it was handed
@@ -54,48 +59,61 @@ LevelStats measure(const LevelGeometry& L, std::span<const uint32_t> ids, Surfac
   return s;
 }
 
-// The quality guard's verdict on removing vertex v of level L.
-bool quality_allows(const LevelGeometry& L, uint32_t v, double guard) {
+// The quality guards' verdict on removing vertex v of level L, refilled by
+// `fill`: its kept cells' smallest solid angle against the star's.
+bool quality_allows(const LevelGeometry& L, uint32_t v, const Refill& fill, const HierarchyOptions& opt) {
   double star_min = std::numeric_limits<double>::infinity();
   for (uint32_t c : L.cells_of_vertex.row(v))
     if (L.in_mesh[c]) star_min = std::min(star_min, L.cell_min_solid_angle[c]);
-  std::vector<GridPoint> link;
-  std::vector<uint32_t> ids;
-  for (uint32_t u : L.neighbors.row(v)) {
-    link.push_back(L.points[u]);
-    ids.push_back(u);
-  }
-  // The cells that would refill the cavity, as far as alpha would keep them.
   // No refill at all (a flat hull tip) is rejected: it removes volume.
-  const auto fill = cavity_fill(link, ids, L.points[v]).cells;
-  double fill_min = fill.empty() ? 0.0 : std::numeric_limits<double>::infinity();
-  for (const auto& c : fill) {
-    if (!kept_by_alpha(L.points, c, L.alpha)) continue;
+  double fill_min = fill.cells.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < fill.cells.size(); ++k) {
+    if (!fill.kept[k]) continue;
+    const auto& c = fill.cells[k];
     const std::array<Vec3, 4> t = {to_vec(L.points[c[0]]), to_vec(L.points[c[1]]), to_vec(L.points[c[2]]),
                                    to_vec(L.points[c[3]])};
     for (double a : solid_angles(t)) fill_min = std::min(fill_min, a);
   }
-  return fill_min >= std::min(guard, star_min);
+  if (opt.quality_guard > 0 && fill_min < std::min(opt.quality_guard, star_min)) return false;
+  if (opt.quality_ratio > 0 && fill_min < opt.quality_ratio * star_min) return false;
+  return true;
 }
 
 struct Removal {
   std::vector<uint8_t> removed;  // per local vertex
-  uint64_t boundary = 0, interior = 0, rejected_by_quality = 0;
+  uint64_t boundary = 0, interior = 0, rejected_by_quality = 0, rejected_by_shape = 0;
 };
 
 // Greedy independent set: boundary candidates by ascending error, then
 // interior vertices by ascending importance; a removed vertex locks its
 // Delaunay neighbours.
 Removal select_removal(const LevelGeometry& L, const Csr& represented, const Representation& rep,
-                       const HierarchyOptions& opt) {
+                       const HierarchyOptions& opt, const ReferenceSolid* solid,
+                       const FixedSurface* reference_surface) {
   Removal r;
   r.removed.assign(L.size(), 0);
   std::vector<uint8_t> locked(L.size(), 0);
+  const LevelSurface surface = solid ? level_surface(L) : LevelSurface{};
   auto take = [&](uint32_t v) {
     if (locked[v]) return false;
-    if (opt.quality_guard > 0 && !quality_allows(L, v, opt.quality_guard)) {
-      ++r.rejected_by_quality;
-      return false;
+    const bool quality_guarded = opt.quality_guard > 0 || opt.quality_ratio > 0;
+    if (quality_guarded || solid) {
+      const Refill fill = refill_of(L, v, solid);
+      if (quality_guarded && !quality_allows(L, v, fill, opt)) {
+        ++r.rejected_by_quality;
+        return false;
+      }
+      if (solid) {
+        std::vector<GridPoint> originals;
+        for (uint32_t k : represented.row(v)) originals.push_back(rep.originals[k]);
+        if (L.boundary[v])
+          for (uint32_t u : L.neighbors.row(v))
+            for (uint32_t k : represented.row(u)) originals.push_back(rep.originals[k]);
+        if (!shape_allows(L, surface, v, fill, originals, *reference_surface, opt.dmax)) {
+          ++r.rejected_by_shape;
+          return false;
+        }
+      }
     }
     r.removed[v] = 1;
     locked[v] = 1;
@@ -166,7 +184,16 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
   DTM_ASSIGN_OR_RETURN(TetMesh dt0, delaunay_tetrahedralize(points));
   DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze(gather(points, vertices), std::move(dt0)));
   // Without a reference of its own, the solid is level 0 as alpha carves it.
-  if (opt.carve_to_reference && !solid) solid.emplace(points, carved_cells(L, vertices));
+  std::vector<std::array<uint32_t, 4>> level0_cells;
+  if (opt.carve_to_reference && !solid) {
+    level0_cells = carved_cells(L, vertices);
+    solid.emplace(points, level0_cells);
+  }
+  // The solid's boundary surface, which the shape guard keeps every level near.
+  std::optional<FixedSurface> reference_surface;
+  if (solid)
+    reference_surface.emplace(points,
+                              boundary_triangles(level0_cells.empty() ? opt.reference_cells : level0_cells));
 
   Representation rep;
   for (uint32_t v = 0; v < L.size(); ++v)
@@ -196,6 +223,7 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
     out.stats.removed_boundary = made.boundary;
     out.stats.removed_interior = made.interior;
     out.stats.rejected_by_quality = made.rejected_by_quality;
+    out.stats.rejected_by_shape = made.rejected_by_shape;
     out.stats.passes = passes;
     h.levels.push_back(std::move(out));
     if (on_level) on_level(h.levels.back());
@@ -207,9 +235,19 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
     made = {};
     passes = 0;
     const size_t finer = vertices.size();
+    // A level that removes too little costs more bits than it is worth: it is
+    // undone and the current level is the coarsest (see removal_share).
+    struct Saved {
+      LevelGeometry level;
+      std::vector<uint32_t> vertices;
+      Representation rep;
+    };
+    std::optional<Saved> before;
+    if (opt.removal_share > 0) before = Saved{L, vertices, rep};
     do {
       const Csr represented = rep.rows_for(vertices, points.size());
-      Removal next = select_removal(L, represented, rep, opt);
+      Removal next = select_removal(L, represented, rep, opt, solid ? &*solid : nullptr,
+                                    reference_surface ? &*reference_surface : nullptr);
       const uint64_t removed = next.boundary + next.interior;
       if (removed == 0 || vertices.size() - removed < opt.min_base_vertices) break;
 
@@ -229,9 +267,17 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
       made.boundary += next.boundary;
       made.interior += next.interior;
       made.rejected_by_quality += next.rejected_by_quality;
+      made.rejected_by_shape += next.rejected_by_shape;
       ++passes;
     } while (static_cast<double>(finer - vertices.size()) < opt.removal_share * static_cast<double>(finer));
     if (passes == 0) break;
+    if (before && static_cast<double>(finer - vertices.size()) <
+                      kThinLevelShare * opt.removal_share * static_cast<double>(finer)) {
+      L = std::move(before->level);
+      vertices = std::move(before->vertices);
+      rep = std::move(before->rep);
+      break;
+    }
   }
   return h;
 }

@@ -31,7 +31,8 @@ struct HierarchyOptions {
   // How much a level removes: independent-set passes, each in the then
   // current tetrahedralization, until this share of the finer level's
   // vertices is gone (or nothing more passes the guards). 0: one pass (the
-  // paper).
+  // paper). A level that reaches less than 40% of this share is not built:
+  // the finer level is the coarsest.
   double removal_share = 0;
   double dmax = 1.0;              // boundary tolerance, grid units
   int max_levels = 0;             // coarser levels to build at most; 0 = no limit
@@ -44,6 +45,9 @@ struct HierarchyOptions {
   // smallest solid angle of the star they replace). With 0.5513 (the regular
   // tetrahedron's) it means "never worse than before".
   double quality_guard = 0;
+  // Relative quality guard (0 = off): a removal is accepted only if the
+  // refill's smallest solid angle is >= quality_ratio x the star's.
+  double quality_ratio = 0;
   // The boundary error statistics (an AABB-tree query per original boundary
   // vertex and level) are a measurement, not part of the construction: the
   // benchmark reports the build with and without them.
@@ -57,6 +61,7 @@ struct LevelStats {
   uint64_t removed_interior = 0;  // removed from the finer level to make this one
   uint64_t removed_boundary = 0;
   uint64_t rejected_by_quality = 0;  // candidates the quality guard kept
+  uint64_t rejected_by_shape = 0;    // candidates the shape guard kept (carve_to_reference)
   int passes = 0;                    // independent sets removed to make this level
   double alpha = 0;                  // grid units
   uint64_t tetrahedra = 0;           // cells of M_l

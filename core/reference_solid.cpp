@@ -62,7 +62,8 @@ ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
     for (const P4& p : t)
       for (int a = 0; a < 3; ++a) tlo[a] = std::min(tlo[a], p[a]), thi[a] = std::max(thi[a], p[a]);
     std::array<int64_t, 3> b0, b1;
-    for (int a = 0; a < 3; ++a) b0[a] = (tlo[a] - lo_[a]) / bucket_size_, b1[a] = (thi[a] - lo_[a]) / bucket_size_;
+    for (int a = 0; a < 3; ++a)
+      b0[a] = (tlo[a] - lo_[a]) / bucket_size_, b1[a] = (thi[a] - lo_[a]) / bucket_size_;
     for (int64_t z = b0[2]; z <= b1[2]; ++z)
       for (int64_t y = b0[1]; y <= b1[1]; ++y)
         for (int64_t x = b0[0]; x <= b1[0]; ++x) f(static_cast<uint32_t>((z * dims_[1] + y) * dims_[0] + x));
@@ -104,7 +105,8 @@ std::vector<uint8_t> ReferenceSolid::verdicts(const TetMesh& dt, std::span<const
 
 bool ReferenceSolid::contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
                                        const GridPoint& d) const {
-  return contains4({int64_t{a.x} + b.x + c.x + d.x, int64_t{a.y} + b.y + c.y + d.y, int64_t{a.z} + b.z + c.z + d.z});
+  return contains4(
+      {int64_t{a.x} + b.x + c.x + d.x, int64_t{a.y} + b.y + c.y + d.y, int64_t{a.z} + b.z + c.z + d.z});
 }
 
 }  // namespace dtm

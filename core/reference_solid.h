@@ -23,7 +23,8 @@ class ReferenceSolid {
   ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
 
   // True if the centroid of the tetrahedron (a, b, c, d) is in the solid.
-  bool contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d) const;
+  bool contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
+                         const GridPoint& d) const;
 
   size_t tetrahedra() const { return tets_.size(); }
 

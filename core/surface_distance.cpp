@@ -92,6 +92,11 @@ std::vector<double> FixedSurface::squared_distances(std::span<const GridPoint> q
   return squared;
 }
 
+double FixedSurface::squared_distance(const GridPoint& query) const {
+  if (!state_->tree) return std::numeric_limits<double>::infinity();
+  return state_->tree->squared_distance(to_point(query));
+}
+
 DistanceSummary distance_to_surface(std::span<const GridPoint> vertices,
                                     std::span<const std::array<uint32_t, 3>> triangles,
                                     std::span<const GridPoint> queries) {

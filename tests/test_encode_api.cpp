@@ -35,6 +35,7 @@ TEST(EncodeApi, IsQuantizeThenBuildThenEncodeStream) {
   h.dmax = 3 / q.grid.step;
   h.carve_to_reference = options.carve_to_reference;
   h.removal_share = options.removal_share;
+  h.quality_ratio = options.quality_ratio;
   const Hierarchy hierarchy = build_hierarchy(q.points, h).value();
   StreamOptions s;
   s.cell_hashes = true;

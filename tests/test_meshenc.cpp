@@ -34,7 +34,8 @@ const std::string kMeshinfo = DTM_MESHINFO;
 
 TEST(Meshenc, WritesTheReportWithTheAgreedFieldNames) {
   const std::string report = ::testing::TempDir() + "/torus.json";
-  const ToolRun r = meshenc(test::data_path("torus_288.node") + " --scale 25 --dmax 3 --report " + report);
+  const ToolRun r =
+      meshenc(test::data_path("torus_288.node") + " --scale 25 --dmax 3 --preset paper --report " + report);
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("level"), std::string::npos);
   std::ifstream in(report);

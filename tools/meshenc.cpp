@@ -46,7 +46,7 @@ Dmax and --alpha values are in input units, after --scale/--box.)";
 // What the command line asks for.
 struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
-  std::optional<double> removal_share;
+  std::optional<double> removal_share, quality_ratio;
   bool quiet = false, no_reference = false;
   dtm::VolumeOptions volume;
   dtm::EncodeOptions encode;
@@ -122,6 +122,11 @@ void add_options(CLI::App& app, Command& c) {
                  "accept a removal only if its new cells' smallest solid angle is >= "
                  "min(S, the star's); 0 = off")
       ->check(CLI::Range(0.0, 0.56));
+  app.add_option(
+         "--quality-ratio", c.quality_ratio,
+         "accept a removal only if its new cells' smallest solid angle is >= R x the star's (codec: 0.8); "
+         "0 = off")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_flag(
       "--no-paper-stop", [&e](int64_t) { e.paper_stop = false; },
       "do not stop at the first level that removes no boundary vertex");
@@ -199,8 +204,10 @@ int run(Command& c) {
     const dtm::EncodeOptions paper = dtm::EncodeOptions::paper();
     c.encode.carve_to_reference = paper.carve_to_reference;
     c.encode.removal_share = paper.removal_share;
+    c.encode.quality_ratio = paper.quality_ratio;
   }
   if (c.removal_share) c.encode.removal_share = *c.removal_share;
+  if (c.quality_ratio) c.encode.quality_ratio = *c.quality_ratio;
   parse_alpha(c.alpha_text, c.encode);
   const dtm::InputMesh in = read(c);
   dtm::EncodeInput input;

@@ -25,6 +25,8 @@ nlohmann::json level_json(const LevelStats& s, const Grid& g) {
           {"removed_interior", s.removed_interior},
           {"removed_boundary", s.removed_boundary},
           {"rejected_by_quality", s.rejected_by_quality},
+          {"rejected_by_shape", s.rejected_by_shape},
+          {"passes", s.passes},
           {"alpha", s.alpha * g.step},
           {"tetrahedra", s.tetrahedra},
           {"avg_min_solid_angle", s.avg_min_solid_angle},
