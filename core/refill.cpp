@@ -41,8 +41,9 @@ Refill refill_of(const LevelGeometry& L, uint32_t v, const ReferenceSolid* solid
   r.kept.resize(r.cells.size());
   for (size_t c = 0; c < r.cells.size(); ++c) {
     const auto& k = r.cells[c];
-    r.kept[c] = solid ? solid->contains_centroid(L.points[k[0]], L.points[k[1]], L.points[k[2]], L.points[k[3]])
-                      : kept_by_alpha(L.points, k, L.alpha);
+    r.kept[c] = solid
+                    ? solid->contains_centroid(L.points[k[0]], L.points[k[1]], L.points[k[2]], L.points[k[3]])
+                    : kept_by_alpha(L.points, k, L.alpha);
   }
   // What lies across the cavity's border: the cell outside each face of the
   // star opposite v (the hull, when there is none), and whether it is kept.
@@ -72,7 +73,8 @@ Refill refill_of(const LevelGeometry& L, uint32_t v, const ReferenceSolid* solid
 
 LevelSurface level_surface(const LevelGeometry& L) {
   LevelSurface s;
-  for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh)) s.triangles.push_back(outward_triangle(L.dt, L.points, f));
+  for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
+    s.triangles.push_back(outward_triangle(L.dt, L.points, f));
   s.around = build_csr(L.size(), [&](auto&& emit) {
     for (uint32_t i = 0; i < s.triangles.size(); ++i)
       for (uint32_t u : s.triangles[i]) emit(u, i);
@@ -92,7 +94,8 @@ bool shape_allows(const LevelGeometry& L, const LevelSurface& surface, uint32_t 
       return static_cast<int32_t>(std::lround((double{1} * a + b + c) / 3));
     };
     const GridPoint &a = L.points[f[0]], &b = L.points[f[1]], &c = L.points[f[2]];
-    if (reference.squared_distance({round3(a.x, b.x, c.x), round3(a.y, b.y, c.y), round3(a.z, b.z, c.z)}) > dmax2)
+    if (reference.squared_distance({round3(a.x, b.x, c.x), round3(a.y, b.y, c.y), round3(a.z, b.z, c.z)}) >
+        dmax2)
       return false;
   }
   std::vector<Face> after = refill.surface;
@@ -103,8 +106,8 @@ bool shape_allows(const LevelGeometry& L, const LevelSurface& surface, uint32_t 
     }
   auto near_surface = [&](const Vec3& p) {
     for (const Face& f : after)
-      if (point_triangle_distance(p, to_vec(L.points[f[0]]), to_vec(L.points[f[1]]), to_vec(L.points[f[2]])) <=
-          dmax)
+      if (point_triangle_distance(p, to_vec(L.points[f[0]]), to_vec(L.points[f[1]]),
+                                  to_vec(L.points[f[2]])) <= dmax)
         return true;
     return false;
   };

@@ -91,7 +91,9 @@ TEST_F(ConvertedCorpus, EveryFormatReadsTheSamePointsTetrahedraAndFields) {
 }
 
 TEST_F(ConvertedCorpus, TheSamePointSetGivesAByteIdenticalStreamFromEveryFormat) {
-  const std::string options = " -q --box 256 --dmax 2 --levels 6 -o ";
+  // The point set alone: tetrahedra (which some formats carry) would make
+  // the reference solid, and the levels, differ.
+  const std::string options = " -q --box 256 --dmax 2 --levels 2 --no-reference -o ";
   const std::string reference = dir_ + "/bunny_10k_node.dtm";
   auto r = test::run_command(std::string(DTM_MESHENC) + " " + test::data_path("bunny_10k.node") + options +
                              reference);

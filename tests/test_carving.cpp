@@ -1,0 +1,211 @@
+// Levels carved to the reference solid (DESIGN.md §3.3, spec/HIERARCHY.md §3,
+// spec/FORMAT.md §3.2): the rule, the corrections' round trip, level 0 equal
+// to an input whose tetrahedra are Delaunay, and the shape bound and quality
+// of the codec's levels on TetGen models.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "codec/carving_coder.h"
+#include "codec/decode.h"
+#include "codec/encode.h"
+#include "core/reference_solid.h"
+#include "mesh/carving.h"
+#include "mesh/delaunay.h"
+#include "test_support.h"
+
+namespace dtm {
+namespace {
+
+using Cell = std::array<uint32_t, 4>;
+
+std::vector<Cell> canonical(std::vector<Cell> cells) {
+  for (auto& c : cells) std::sort(c.begin(), c.end());
+  std::sort(cells.begin(), cells.end());
+  return cells;
+}
+
+TEST(ReferenceSolid, ContainsTheCentroidsOfItsOwnCellsAndNothingOutside) {
+  // A 4x4x4 block split into Delaunay cells, of which the solid keeps those
+  // in the lower half (centroid z < 1.5).
+  const std::vector<GridPoint> points = test::full_grid(4);
+  const TetMesh dt = delaunay_tetrahedralize(points).value();
+  std::vector<Cell> lower;
+  for (const auto& c : dt.cells) {
+    const int z4 = points[c[0]].z + points[c[1]].z + points[c[2]].z + points[c[3]].z;
+    if (z4 < 6) lower.push_back(c);
+  }
+  ASSERT_FALSE(lower.empty());
+  const ReferenceSolid solid(points, lower);
+  const std::vector<uint8_t> verdicts = solid.verdicts(dt, points);
+  for (size_t c = 0; c < dt.cells.size(); ++c) {
+    const auto& k = dt.cells[c];
+    const int z4 = points[k[0]].z + points[k[1]].z + points[k[2]].z + points[k[3]].z;
+    EXPECT_EQ(verdicts[c] != 0, z4 < 6) << "cell " << c;
+  }
+  // Points on the solid's boundary are in it (closed); beyond it, not.
+  EXPECT_TRUE(solid.contains_centroid({0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}));
+  EXPECT_FALSE(solid.contains_centroid({0, 0, 3}, {0, 0, 3}, {0, 0, 3}, {0, 0, 3}));
+  EXPECT_FALSE(solid.contains_centroid({9, 9, 9}, {9, 9, 9}, {9, 9, 9}, {9, 9, 9}));
+}
+
+TEST(CarvingCoder, CorrectionsRoundTripAndNoneCostNothing) {
+  const std::vector<GridPoint> points = test::random_grid_points(400, 8, 7);
+  const TetMesh dt = delaunay_tetrahedralize(points).value();
+  const double alpha = 30;
+  const std::vector<uint8_t> predicted = carve(dt, points, alpha);
+  EXPECT_TRUE(encode_carving(dt, points, alpha, predicted).empty());
+  std::vector<uint8_t> truth = predicted;
+  for (size_t c = 0; c < truth.size(); c += 7) truth[c] ^= 1;
+  const std::vector<uint8_t> section = encode_carving(dt, points, alpha, truth);
+  ASSERT_FALSE(section.empty());
+  std::vector<uint8_t> decoded;
+  ASSERT_TRUE(decode_carving(section, dt, points, alpha, decoded).ok());
+  EXPECT_EQ(decoded, truth);
+  // The decoder visits the cells in canonical order: another listing of the
+  // same tetrahedralization decodes to the same verdicts.
+  TetMesh shuffled = dt;
+  std::reverse(shuffled.cells.begin(), shuffled.cells.end());
+  std::reverse(shuffled.neighbors.begin(), shuffled.neighbors.end());
+  const int32_t last = static_cast<int32_t>(dt.cells.size()) - 1;
+  for (auto& n : shuffled.neighbors)
+    for (int32_t& k : n)
+      if (k >= 0) k = last - k;
+  std::vector<uint8_t> decoded_shuffled;
+  ASSERT_TRUE(decode_carving(section, shuffled, points, alpha, decoded_shuffled).ok());
+  std::reverse(decoded_shuffled.begin(), decoded_shuffled.end());
+  EXPECT_EQ(decoded_shuffled, truth);
+  // A cut section is refused, not misread.
+  std::vector<uint8_t> ignored;
+  EXPECT_EQ(decode_carving(std::span(section).first(section.size() - 1), dt, points, alpha, ignored).code(),
+            StatusCode::kCorrupt);
+}
+
+// What every codec test below encodes and decodes.
+struct Decoded {
+  EncodedMesh encoded;
+  std::vector<std::vector<Cell>> levels;  // per decoded level, coarsest first: canonical cells
+  std::vector<GridPoint> points;          // the decoder's
+};
+
+Decoded encode_and_decode(const std::vector<InputPoint>& points, const std::vector<Cell>& tets,
+                          EncodeOptions options) {
+  EncodeInput input;
+  input.points = points;
+  input.tetrahedra = tets;
+  options.cell_hashes = true;
+  Decoded out;
+  out.encoded = encode(input, options).value();
+  ProgressiveDecoder decoder;
+  EXPECT_TRUE(decoder
+                  .feed(out.encoded.bytes,
+                        [&](const ProgressiveDecoder& d, const DecodedLevel& l) {
+                          const auto cells = d.carved_cells();
+                          // The encoder's mesh, corrections included.
+                          EXPECT_EQ(cell_set_hash(d.points(), cells), l.cell_hash.value()) << "level " << l.level;
+                          out.levels.push_back(canonical(cells));
+                        })
+                  .ok());
+  EXPECT_TRUE(decoder.finish().ok());
+  out.points = decoder.points();
+  return out;
+}
+
+TEST(CarvedLevels, AnInputOfDelaunayCellsDecodesToExactlyItsCells) {
+  // A solid that is no alpha shape: the Delaunay cells of a random cloud
+  // whose centroid lies in a ball, minus a slab through it.
+  const std::vector<GridPoint> grid = test::random_grid_points(600, 10, 11);
+  const TetMesh dt = delaunay_tetrahedralize(grid).value();
+  std::vector<InputPoint> points;
+  for (const GridPoint& p : grid) points.push_back({double(p.x), double(p.y), double(p.z)});
+  std::vector<Cell> solid;
+  for (const auto& c : dt.cells) {
+    double x = 0, y = 0, z = 0;
+    for (uint32_t v : c) x += grid[v].x / 4.0, y += grid[v].y / 4.0, z += grid[v].z / 4.0;
+    const double r2 = (x - 512) * (x - 512) + (y - 512) * (y - 512) + (z - 512) * (z - 512);
+    if (r2 < 400.0 * 400.0 && std::abs(z - 512) > 60) solid.push_back(c);
+  }
+  ASSERT_GT(solid.size(), 500u);
+  const Decoded d = encode_and_decode(points, solid, {});
+  ASSERT_GE(d.levels.size(), 1u);
+  // Level 0, in the input's numbering.
+  const auto& vertex_of_input = d.encoded.vertex_of_input;
+  std::vector<Cell> input_cells;
+  for (Cell c : solid) {
+    for (uint32_t& v : c) v = vertex_of_input[v];
+    input_cells.push_back(c);
+  }
+  EXPECT_EQ(d.levels.back(), canonical(input_cells));
+  // Alpha alone would not have given it: the corrections did.
+  EXPECT_GT(d.encoded.report.carving_bytes[0], 0u);
+}
+
+TEST(CarvedLevels, EveryLevelKeepsTheCellsInsideTheReference) {
+  const NodeFile node = read_tetgen_node(test::data_path("torus_288.node"));
+  const auto tets = read_tetgen_ele(test::data_path("torus_288.ele"), node.points.size(), node.index_base);
+  EncodeOptions options;
+  options.scale = 25;
+  options.dmax = 3;
+  options.quality_ratio = 0;
+  options.removal_share = 0.3;
+  const Decoded d = encode_and_decode(node.points, tets, options);
+  ASSERT_GE(d.levels.size(), 3u);
+  std::vector<Cell> reference;
+  for (Cell c : tets) {
+    for (uint32_t& v : c) v = d.encoded.vertex_of_input[v];
+    reference.push_back(c);
+  }
+  const ReferenceSolid solid(d.points, reference);
+  // Level by level: DT(V_l)'s cells kept are exactly those whose centroid is in the solid.
+  size_t level_index = 0;
+  ProgressiveDecoder again;
+  ASSERT_TRUE(again
+                  .feed(d.encoded.bytes,
+                        [&](const ProgressiveDecoder& dec, const DecodedLevel&) {
+                          const TetMesh dt = dec.delaunay();
+                          EXPECT_EQ(dec.carving(dt), solid.verdicts(dt, dec.points())) << level_index;
+                          ++level_index;
+                        })
+                  .ok());
+  EXPECT_EQ(level_index, d.levels.size());
+}
+
+// The codec's levels on TetGen models with their tetrahedra: the shape
+// within 2 D_max both ways at every level, its mean within D_max / 2, about
+// half the vertices per level, and quality held (measured floor, see the
+// README's "Known limits" for the 0.85 target).
+class CodecLevels : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CodecLevels, KeepTheShapeWithinTwoDmaxAndHalveTheVertices) {
+  const NodeFile node = read_tetgen_node(test::data_path(GetParam() + ".node"));
+  const auto tets = read_tetgen_ele(test::data_path(GetParam() + ".ele"), node.points.size(), node.index_base);
+  EncodeInput input;
+  input.points = node.points;
+  input.tetrahedra = tets;
+  EncodeOptions options;
+  options.box = 256;
+  options.dmax = 2;
+  const EncodeReport r = encode(input, options).value().report;
+  ASSERT_GE(r.levels.size(), 3u);
+  const double dmax = 2 / r.grid.step;  // grid units, as the report's distances
+  const double q0 = r.levels[0].stats.avg_min_solid_angle;
+  for (size_t l = 0; l < r.levels.size(); ++l) {
+    const auto& level = r.levels[l];
+    ASSERT_TRUE(level.reference_error.has_value());
+    EXPECT_LE(level.reference_error->max, 2 * dmax) << "level " << l;
+    EXPECT_LE(level.reference_error->mean, dmax / 2) << "level " << l;
+    EXPECT_LE(level.stats.max_boundary_error, 2 * dmax) << "level " << l;
+    EXPECT_GE(level.stats.avg_min_solid_angle, 0.65 * q0) << "level " << l;
+    if (l > 0) {
+      const double kept = double(level.stats.vertices) / double(r.levels[l - 1].stats.vertices);
+      EXPECT_LE(kept, 0.8) << "level " << l;
+    }
+  }
+  EXPECT_EQ(r.levels[0].reference_error->max, 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(TetGen, CodecLevels, ::testing::Values("bunny_10k", "elephant_10k"));
+
+}  // namespace
+}  // namespace dtm
