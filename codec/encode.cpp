@@ -112,7 +112,12 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;
                          r.stats = level.stats;
-                         if (reference) r.reference_error = reference->distance(level.mesh, q.points);
+                         if (reference) {
+                           const auto d = reference->distance(level.mesh, q.points);
+                           r.reference_error = d.both;
+                           r.reference_to_level = d.to_level;
+                           r.level_to_reference = d.to_reference;
+                         }
                          report.levels.push_back(r);
                          if (on_level) on_level(report.levels.back());
                        }));

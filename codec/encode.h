@@ -63,12 +63,15 @@ struct EncodeOptions {
   bool cell_hashes = false;
 
   // The seed paper's hierarchy: alpha carving without corrections, one
-  // independent set per level, its stopping rule.
+  // independent set per level, its quality trade-off (a removal may not make
+  // its neighbourhood's smallest solid angle worse than min(0.3, the star's))
+  // and its stopping rule.
   static EncodeOptions paper() {
     EncodeOptions o;
     o.carve_to_reference = false;
     o.removal_share = 0;
     o.quality_ratio = 0;
+    o.quality_guard = 0.3;
     o.paper_stop = true;
     return o;
   }
@@ -89,7 +92,10 @@ struct LevelReport {
   LevelStats stats;  // lengths in grid units: multiply by grid.step
   // With tetrahedra in the input: the distance between the input's boundary
   // surface and this level's, both ways, grid units.
-  std::optional<DistanceSummary> reference_error;
+  std::optional<DistanceSummary> reference_error;  // both ways together
+  std::optional<DistanceSummary>
+      reference_to_level;  // the reference's boundary vertices to the level's surface
+  std::optional<DistanceSummary> level_to_reference;  // the level's surface to the reference's
 };
 
 struct EncodeReport {

@@ -94,8 +94,15 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
   r.removed.assign(L.size(), 0);
   std::vector<uint8_t> locked(L.size(), 0);
   const LevelSurface surface = solid ? level_surface(L) : LevelSurface{};
+  // With the shape guard, two boundary removals of one pass must not share a
+  // neighbour: each is judged with the surface around its neighbours as it
+  // was, which the other would change. The later one waits for the next pass.
+  std::vector<uint8_t> surface_touched(solid ? L.size() : 0, 0);
   auto take = [&](uint32_t v) {
     if (locked[v]) return false;
+    if (solid && L.boundary[v])
+      for (uint32_t u : L.neighbors.row(v))
+        if (surface_touched[u]) return false;
     const bool quality_guarded = opt.quality_guard > 0 || opt.quality_ratio > 0;
     if (quality_guarded || solid) {
       const Refill fill = refill_of(L, v, solid);
@@ -118,6 +125,8 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
     r.removed[v] = 1;
     locked[v] = 1;
     for (uint32_t u : L.neighbors.row(v)) locked[u] = 1;
+    if (solid && L.boundary[v])
+      for (uint32_t u : L.neighbors.row(v)) surface_touched[u] = 1;
     return true;
   };
 

@@ -42,8 +42,8 @@ ReferenceShape::ReferenceShape(std::span<const std::array<uint32_t, 4>> tets, co
       to_level_(boundary_vertices_),
       to_reference_(q.points.size(), std::numeric_limits<double>::quiet_NaN()) {}
 
-DistanceSummary ReferenceShape::distance(std::span<const std::array<uint32_t, 4>> cells,
-                                         std::span<const GridPoint> points) {
+ReferenceShape::TwoWay ReferenceShape::distance(std::span<const std::array<uint32_t, 4>> cells,
+                                                std::span<const GridPoint> points) {
   const auto level_boundary = boundary_triangles(cells);
   const DistanceSummary to_level =
       boundary_vertices_.empty() ? DistanceSummary{} : to_level_.measure(points, {}, level_boundary);
@@ -54,14 +54,27 @@ DistanceSummary ReferenceShape::distance(std::span<const std::array<uint32_t, 4>
   const std::vector<double> fresh = reference_surface_.squared_distances(gather(points, unmeasured));
   for (size_t i = 0; i < unmeasured.size(); ++i) to_reference_[unmeasured[i]] = fresh[i];
   std::vector<double> squared;
-  squared.reserve(level_ids.size());
+  squared.reserve(level_ids.size() + level_boundary.size());
   for (uint32_t v : level_ids) squared.push_back(to_reference_[v]);
+  // A point inside each triangle too: a flat triangle between two surface
+  // vertices can cut across a concavity its corners do not see.
+  std::vector<std::array<double, 3>> centroids;
+  centroids.reserve(level_boundary.size());
+  for (const auto& t : level_boundary) {
+    const GridPoint &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
+    centroids.push_back({(double{1} * a.x + b.x + c.x) / 3, (double{1} * a.y + b.y + c.y) / 3,
+                         (double{1} * a.z + b.z + c.z) / 3});
+  }
+  const std::vector<double> centroid_squared = reference_surface_.squared_distances(centroids);
+  squared.insert(squared.end(), centroid_squared.begin(), centroid_squared.end());
   const DistanceSummary to_reference = summarize_squared(squared);
-  const size_t n_level = level_ids.size();
-  const double n = static_cast<double>(boundary_vertices_.size() + n_level);
-  DistanceSummary out;
-  out.max = std::max(to_level.max, to_reference.max);
-  out.mean = n > 0 ? (to_level.mean * boundary_vertices_.size() + to_reference.mean * n_level) / n : 0;
+  const double n_level = static_cast<double>(squared.size());
+  const double n = static_cast<double>(boundary_vertices_.size()) + n_level;
+  TwoWay out;
+  out.to_level = to_level;
+  out.to_reference = to_reference;
+  out.both.max = std::max(to_level.max, to_reference.max);
+  out.both.mean = n > 0 ? (to_level.mean * boundary_vertices_.size() + to_reference.mean * n_level) / n : 0;
   return out;
 }
 

@@ -26,13 +26,18 @@ class ReferenceShape {
   std::span<const std::array<uint32_t, 4>> tets() const { return tets_; }
   size_t boundary_vertices() const { return boundary_vertices_.size(); }
 
-  // Two-sided distance, grid units, between the boundary surface of `cells`
-  // (indices into `points`, the grid points `q` held) and the reference's:
-  // the largest over the vertices of both surfaces of the distance to the
-  // other surface, and the mean over them. Meant to be called level after
-  // level of one hierarchy: what a level shares with the one measured
-  // before it is not measured again.
-  DistanceSummary distance(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> points);
+  // The distance, grid units, between the boundary surface of `cells`
+  // (indices into `points`, the grid points `q` held) and the reference's,
+  // both ways: from the reference's boundary vertices to the level's
+  // surface, and from the level's surface (its vertices and its triangles'
+  // centroids, rounded to the grid) to the reference's; and both together
+  // (the larger max, the mean over all the points measured). Meant to be
+  // called level after level of one hierarchy: what a level shares with the
+  // one measured before it is not measured again.
+  struct TwoWay {
+    DistanceSummary to_level, to_reference, both;
+  };
+  TwoWay distance(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> points);
 
  private:
   std::vector<std::array<uint32_t, 4>> tets_;

@@ -92,6 +92,16 @@ std::vector<double> FixedSurface::squared_distances(std::span<const GridPoint> q
   return squared;
 }
 
+std::vector<double> FixedSurface::squared_distances(std::span<const std::array<double, 3>> queries) const {
+  std::vector<double> squared(queries.size(), std::numeric_limits<double>::infinity());
+  if (!state_->tree) return squared;
+  const Tree& tree = *state_->tree;
+  parallel_for(queries.size(), [&](size_t i) {
+    squared[i] = tree.squared_distance(K::Point_3(queries[i][0], queries[i][1], queries[i][2]));
+  });
+  return squared;
+}
+
 double FixedSurface::squared_distance(const GridPoint& query) const {
   if (!state_->tree) return std::numeric_limits<double>::infinity();
   return state_->tree->squared_distance(to_point(query));

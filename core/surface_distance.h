@@ -38,6 +38,8 @@ class FixedSurface {
 
   // Squared distance of each query, computed on every core.
   std::vector<double> squared_distances(std::span<const GridPoint> queries) const;
+  // The same for points between grid points (triangle centroids).
+  std::vector<double> squared_distances(std::span<const std::array<double, 3>> queries) const;
   // One query, on the calling thread.
   double squared_distance(const GridPoint& query) const;
 

@@ -46,7 +46,7 @@ Dmax and --alpha values are in input units, after --scale/--box.)";
 // What the command line asks for.
 struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
-  std::optional<double> removal_share, quality_ratio;
+  std::optional<double> removal_share, quality_ratio, quality_guard;
   bool quiet = false, no_reference = false;
   dtm::VolumeOptions volume;
   dtm::EncodeOptions encode;
@@ -118,9 +118,9 @@ void add_options(CLI::App& app, Command& c) {
       ->check(CLI::Range(0.0, 0.95));
   app.add_option("--alpha", c.alpha_text, "alpha policy: paper (eq. 2.1), hull, or a value")
       ->capture_default_str();
-  app.add_option("--quality-guard", e.quality_guard,
+  app.add_option("--quality-guard", c.quality_guard,
                  "accept a removal only if its new cells' smallest solid angle is >= "
-                 "min(S, the star's); 0 = off")
+                 "min(S, the star's) (paper: 0.3); 0 = off")
       ->check(CLI::Range(0.0, 0.56));
   app.add_option(
          "--quality-ratio", c.quality_ratio,
@@ -171,14 +171,20 @@ void print_reference_line(const dtm::EncodeReport& r) {
   if (r.reference_tetrahedra == 0 || r.levels.empty()) return;
   const auto& first = *r.levels.front().reference_error;
   const auto& last = *r.levels.back().reference_error;
+  double worst_to_level = 0, worst_to_reference = 0;
+  for (const auto& l : r.levels) {
+    worst_to_level = std::max(worst_to_level, l.reference_to_level->max);
+    worst_to_reference = std::max(worst_to_reference, l.level_to_reference->max);
+  }
   const double step = r.grid.step;
   std::printf(
       "reference shape: the input's %llu tetrahedra (%llu boundary vertices); distance between its "
-      "boundary and each level's, both ways, max / mean: level 0 %.4g / %.4g, level %zu %.4g / %.4g "
-      "(all levels in --report)\n",
+      "boundary and each level's, both ways, max / mean: level 0 %.4g / %.4g, level %zu %.4g / %.4g; "
+      "worst level: %.4g from the input's boundary to the level's, %.4g from the level's to the input's\n",
       static_cast<unsigned long long>(r.reference_tetrahedra),
       static_cast<unsigned long long>(r.reference_boundary_vertices), first.max * step, first.mean * step,
-      r.levels.size() - 1, last.max * step, last.mean * step);
+      r.levels.size() - 1, last.max * step, last.mean * step, worst_to_level * step,
+      worst_to_reference * step);
 }
 
 // The stream and the report are written together or not at all.
@@ -205,9 +211,11 @@ int run(Command& c) {
     c.encode.carve_to_reference = paper.carve_to_reference;
     c.encode.removal_share = paper.removal_share;
     c.encode.quality_ratio = paper.quality_ratio;
+    c.encode.quality_guard = paper.quality_guard;
   }
   if (c.removal_share) c.encode.removal_share = *c.removal_share;
   if (c.quality_ratio) c.encode.quality_ratio = *c.quality_ratio;
+  if (c.quality_guard) c.encode.quality_guard = *c.quality_guard;
   parse_alpha(c.alpha_text, c.encode);
   const dtm::InputMesh in = read(c);
   dtm::EncodeInput input;
@@ -218,7 +226,7 @@ int run(Command& c) {
   if (!plan.ok()) throw std::runtime_error(c.input + ": " + plan.status().message());
   if (!c.quiet) {
     print_plan(c, in, *plan);
-    dtm::print_table_header(stdout);
+    dtm::print_table_header(stdout, !input.tetrahedra.empty());
   }
   const bool progress = !c.quiet && isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
@@ -227,7 +235,7 @@ int run(Command& c) {
   // Without an output the stream is still made: the report gives its size.
   const auto encoded =
       dtm::encode(input, c.encode, std::move(plan).value(), [&](const dtm::LevelReport& level) {
-        if (!c.quiet) dtm::print_table_row(stdout, level.stats, grid);
+        if (!c.quiet) dtm::print_table_row(stdout, level, grid);
         if (progress) {
           const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           std::fprintf(stderr, "\r  level %d done, %.0f vertices/s\033[K\r", level.stats.level,

@@ -2,19 +2,26 @@
 
 namespace dtm {
 
-void print_table_header(std::FILE* out) {
-  std::fprintf(out, "%5s %9s %9s %8s %8s %9s %9s %9s %9s %9s %9s\n", "level", "vertices", "boundary",
-               "rm_int", "rm_bnd", "alpha", "tets", "avg_minSA", "min_SA", "max_err", "mean_err");
+void print_table_header(std::FILE* out, bool reference) {
+  std::fprintf(out, "%5s %9s %9s %8s %8s %9s %9s %9s %9s %9s %9s%s\n", "level", "vertices", "boundary",
+               "rm_int", "rm_bnd", "alpha", "tets", "avg_minSA", "min_SA", "max_err", "mean_err",
+               reference ? "   ref>lvl max/mean   lvl>ref max/mean" : "");
 }
 
-void print_table_row(std::FILE* out, const LevelStats& s, const Grid& g) {
-  std::fprintf(out, "%5d %9llu %9llu %8llu %8llu %9.5g %9llu %9.6f %9.3g %9.4g %9.4g\n", s.level,
+void print_table_row(std::FILE* out, const LevelReport& level, const Grid& g) {
+  const LevelStats& s = level.stats;
+  std::fprintf(out, "%5d %9llu %9llu %8llu %8llu %9.5g %9llu %9.6f %9.3g %9.4g %9.4g", s.level,
                static_cast<unsigned long long>(s.vertices),
                static_cast<unsigned long long>(s.boundary_vertices),
                static_cast<unsigned long long>(s.removed_interior),
                static_cast<unsigned long long>(s.removed_boundary), s.alpha * g.step,
                static_cast<unsigned long long>(s.tetrahedra), s.avg_min_solid_angle, s.min_solid_angle,
                s.max_boundary_error * g.step, s.mean_boundary_error * g.step);
+  if (level.reference_to_level && level.level_to_reference)
+    std::fprintf(out, "   %8.4g / %-7.4g   %8.4g / %-7.4g", level.reference_to_level->max * g.step,
+                 level.reference_to_level->mean * g.step, level.level_to_reference->max * g.step,
+                 level.level_to_reference->mean * g.step);
+  std::fprintf(out, "\n");
   std::fflush(out);
 }
 
@@ -44,6 +51,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   j["step"] = g.step;
   j["scale"] = r.scale;
   j["duplicates_merged"] = r.duplicates_merged;
+  j["input_points"] = r.input_points;
   if (r.reference_tetrahedra > 0) j["reference_tetrahedra"] = r.reference_tetrahedra;
   j["levels"] = nlohmann::json::array();
   for (const LevelReport& level : r.levels) {
@@ -55,7 +63,13 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
     if (level.reference_error) {
       row["reference_max_error"] = level.reference_error->max * g.step;
       row["reference_mean_error"] = level.reference_error->mean * g.step;
+      row["reference_to_level_max"] = level.reference_to_level->max * g.step;
+      row["reference_to_level_mean"] = level.reference_to_level->mean * g.step;
+      row["level_to_reference_max"] = level.level_to_reference->max * g.step;
+      row["level_to_reference_mean"] = level.level_to_reference->mean * g.step;
     }
+    if (static_cast<size_t>(s.level) < r.carving_bytes.size())
+      row["carving_bytes"] = r.carving_bytes[s.level];
     j["levels"].push_back(row);
   }
   if (r.stream_bytes > 0 && !r.levels.empty()) {

@@ -14,8 +14,9 @@
 namespace dtm {
 
 // Column header and one row per level; alpha and errors in (scaled) input units.
-void print_table_header(std::FILE* out);
-void print_table_row(std::FILE* out, const LevelStats& s, const Grid& grid);
+// `reference`: the rows have the shape error against the input's solid, both ways.
+void print_table_header(std::FILE* out, bool reference);
+void print_table_row(std::FILE* out, const LevelReport& level, const Grid& grid);
 
 nlohmann::json level_json(const LevelStats& s, const Grid& grid);
 // meshenc --report: `input` names the file encoded.

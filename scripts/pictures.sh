@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# scripts/pictures.sh [BUILD_DIR] -- remakes docs/*_levels.png: the input's
+# surface (../shared/data/surfaces), then every level of the codec's stream
+# (meshenc's default preset, the model's TetGen .node + .ele from data/,
+# --box 256 --dmax 2), and for the elephant the paper preset's coarsest level.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-$root/build}
+bin=$build/tools
+work=$build/pictures
+surfaces=${DTM_SHARED:-$root/../shared}/data/surfaces
+mkdir -p "$work"
+for m in bunny elephant; do
+  for ext in node ele; do xz -dc "$root/data/${m}_10k.$ext.xz" > "$work/${m}_10k.$ext"; done
+  "$bin/meshenc" "$work/${m}_10k.node" --box 256 --dmax 2 -q -o "$work/$m.dtm"
+  levels=$("$bin/meshinfo" "$work/$m.dtm" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['level_count'])")
+  panels=("$surfaces/$m.off")
+  for ((l = 0; l < levels; ++l)); do
+    "$bin/meshdec" "$work/$m.dtm" -o "$work/${m}_level$l.ply" --level $l -q
+    panels+=("$work/${m}_level$l.ply")
+  done
+  if [ "$m" = elephant ]; then
+    "$bin/meshenc" "$work/${m}_10k.node" --box 256 --dmax 2 --preset paper -q -o "$work/${m}_paper.dtm"
+    last=$(( $("$bin/meshinfo" "$work/${m}_paper.dtm" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['level_count'])") - 1 ))
+    "$bin/meshdec" "$work/${m}_paper.dtm" -o "$work/${m}_paper_last.ply" --level $last -q
+    panels+=("$work/${m}_paper_last.ply")
+  fi
+  /usr/bin/python3 "$root/scripts/render_levels.py" "$root/docs/${m}_levels.png" --elevation 90 --azimuth 0 "${panels[@]}"
+done
+echo "$root/docs/bunny_levels.png $root/docs/elephant_levels.png"
