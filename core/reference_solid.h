@@ -37,12 +37,16 @@ class ReferenceSolid {
   bool contains4(const Point4& p) const;
   size_t bucket_of(const Point4& p) const;
 
-  std::vector<std::array<Point4, 4>> tets_;  // positively oriented
+  std::vector<std::array<Point4, 4>> tets_;   // positively oriented
+  std::vector<std::array<Point4, 2>> boxes_;  // each tetrahedron's bounding box: a cheap first test
   // A uniform grid of buckets over the solid's bounding box, each listing
   // the tetrahedra whose bounding box meets it (CSR).
   Point4 lo_{}, hi_{};
   std::array<int64_t, 3> dims_{1, 1, 1};
   int64_t bucket_size_ = 1;
+  // Every coordinate (x4) under 2^18: orientations fit in 64-bit integers.
+  // (Queries outside the bounding box are refused before any orientation.)
+  bool small_ = false;
   Csr buckets_;
 };
 
