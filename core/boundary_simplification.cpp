@@ -48,16 +48,14 @@ Umbrella umbrella_of(uint32_t v, std::span<const std::array<uint32_t, 3>> triang
 
 std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& L, const Csr& represented,
                                                    std::span<const GridPoint> originals, double dmax) {
-  const auto faces = boundary_faces(L.dt, L.in_mesh);
-  std::vector<std::array<uint32_t, 3>> triangles;
-  triangles.reserve(faces.size());
-  for (const auto& f : faces) triangles.push_back(outward_triangle(L.dt, L.points, f));
+  return boundary_candidates(L, level_surface(L), represented, originals, dmax);
+}
 
-  // Triangles around each vertex, as rows of a CSR.
-  const Csr around = build_csr(L.size(), [&](auto&& emit) {
-    for (uint32_t i = 0; i < triangles.size(); ++i)
-      for (uint32_t v : triangles[i]) emit(v, i);
-  });
+std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& L, const LevelSurface& surface,
+                                                   const Csr& represented,
+                                                   std::span<const GridPoint> originals, double dmax) {
+  const auto& triangles = surface.triangles;
+  const Csr& around = surface.around;
 
   std::vector<BoundaryCandidate> out;
   std::vector<std::array<uint32_t, 3>> umbrella;

@@ -34,5 +34,9 @@ struct BoundaryCandidate {
 // boundary points it stands for (indices into `originals`).
 std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& level, const Csr& represented,
                                                    std::span<const GridPoint> originals, double dmax);
+// The same on the level's surface, already built (level_surface()).
+std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& level, const LevelSurface& surface,
+                                                   const Csr& represented,
+                                                   std::span<const GridPoint> originals, double dmax);
 
 }  // namespace dtm

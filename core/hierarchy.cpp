@@ -93,7 +93,7 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
   Removal r;
   r.removed.assign(L.size(), 0);
   std::vector<uint8_t> locked(L.size(), 0);
-  const LevelSurface surface = solid ? level_surface(L) : LevelSurface{};
+  const LevelSurface surface = level_surface(L);  // for the candidates and the shape guard
   // With the shape guard, two boundary removals of one pass must not share a
   // neighbour: each is judged with the surface around its neighbours as it
   // was, which the other would change. The later one waits for the next pass.
@@ -130,7 +130,7 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
     return true;
   };
 
-  auto candidates = boundary_candidates(L, represented, rep.originals, opt.dmax);
+  auto candidates = boundary_candidates(L, surface, represented, rep.originals, opt.dmax);
   std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
     return a.error != b.error ? a.error < b.error : a.vertex < b.vertex;
   });

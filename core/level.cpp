@@ -80,6 +80,17 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
   return L;
 }
 
+LevelSurface level_surface(const LevelGeometry& L) {
+  LevelSurface s;
+  for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
+    s.triangles.push_back(outward_triangle(L.dt, L.points, f));
+  s.around = build_csr(L.size(), [&](auto&& emit) {
+    for (uint32_t i = 0; i < s.triangles.size(); ++i)
+      for (uint32_t u : s.triangles[i]) emit(u, i);
+  });
+  return s;
+}
+
 MeshQuality mesh_quality(const LevelGeometry& L) {
   MeshQuality q;
   double sum = 0, lowest = INFINITY;

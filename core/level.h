@@ -64,6 +64,15 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, const Alpha
 StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt, const AlphaPolicy& policy,
                                       std::span<const uint8_t> verdicts = {});
 
+// The boundary surface of M_l: its triangles (local vertices, outward) and,
+// per vertex, the triangles around it. The boundary simplification and the
+// shape guard both work on it.
+struct LevelSurface {
+  std::vector<std::array<uint32_t, 3>> triangles;
+  Csr around;
+};
+LevelSurface level_surface(const LevelGeometry& level);
+
 // The paper's quality figures of M_l (§III, Tables 1-2): mean and minimum
 // over its cells of each cell's smallest solid angle, and its boundary size.
 struct MeshQuality {

@@ -15,21 +15,16 @@ using P4 = std::array<int64_t, 3>;
 // at 4x scale need 27 bits, differences 28, triple products 84. With
 // coordinates under 2^18 (q <= 16) differences are under 2^19 and the
 // determinant under 3 x 2^58: 64 bits hold it, and it is 3x faster.
-int orientation64(const P4& a, const P4& b, const P4& c, const P4& d) {
-  const int64_t ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-  const int64_t vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-  const int64_t wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
-  const int64_t det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
+template <class Int>
+int orientation_in(const P4& a, const P4& b, const P4& c, const P4& d) {
+  const Int ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+  const Int vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+  const Int wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+  const Int det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
   return det > 0 ? 1 : det < 0 ? -1 : 0;
 }
-
-int orientation(const P4& a, const P4& b, const P4& c, const P4& d) {
-  const Int128 ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-  const Int128 vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-  const Int128 wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
-  const Int128 det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
-  return det > 0 ? 1 : det < 0 ? -1 : 0;
-}
+constexpr auto orientation64 = orientation_in<int64_t>;
+constexpr auto orientation = orientation_in<Int128>;
 
 P4 times4(const GridPoint& p) { return {4 * int64_t{p.x}, 4 * int64_t{p.y}, 4 * int64_t{p.z}}; }
 
@@ -48,7 +43,6 @@ ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
   }
   if (tets_.empty()) return;
   lo_ = hi_ = tets_[0][0];
-  double mean_extent = 0;
   boxes_.reserve(tets_.size());
   for (const auto& t : tets_) {
     P4 tlo = t[0], thi = t[0];
@@ -58,26 +52,20 @@ ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
         lo_[a] = std::min(lo_[a], p[a]), hi_[a] = std::max(hi_[a], p[a]);
       }
     boxes_.push_back({tlo, thi});
-    mean_extent += static_cast<double>((thi[0] - tlo[0]) + (thi[1] - tlo[1]) + (thi[2] - tlo[2])) / 3;
   }
-  // Buckets about the size of a tetrahedron (a few candidates per query),
-  // and no more buckets than tetrahedra.
-  mean_extent /= static_cast<double>(tets_.size());
   const int64_t largest = std::max({hi_[0] - lo_[0], hi_[1] - lo_[1], hi_[2] - lo_[2]}) + 1;
   const double cube_root = std::cbrt(static_cast<double>(tets_.size()));
   small_ = std::max({std::abs(lo_[0]), std::abs(lo_[1]), std::abs(lo_[2]), std::abs(hi_[0]), std::abs(hi_[1]),
                      std::abs(hi_[2])}) < (int64_t{1} << 18);
   // A graded mesh's cells range from tiny (at the surface) to large (inside):
-  // buckets as small as the typical cell, not the mean one, with at most
-  // 8 buckets per tetrahedron.
-  (void)mean_extent;
+  // buckets of half the spacing N tetrahedra would have spread evenly over
+  // the box (about 8 N buckets), so that the small cells, where most queries
+  // fall, share few buckets; a large cell is listed in many.
   bucket_size_ = std::max<int64_t>(1, static_cast<int64_t>(static_cast<double>(largest) / (2 * cube_root)));
   for (int a = 0; a < 3; ++a) dims_[a] = (hi_[a] - lo_[a]) / bucket_size_ + 1;
   const size_t buckets = static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
-  auto for_each_bucket = [&](const std::array<P4, 4>& t, auto&& f) {
-    P4 tlo = t[0], thi = t[0];
-    for (const P4& p : t)
-      for (int a = 0; a < 3; ++a) tlo[a] = std::min(tlo[a], p[a]), thi[a] = std::max(thi[a], p[a]);
+  auto for_each_bucket = [&](const std::array<P4, 2>& box, auto&& f) {
+    const P4 &tlo = box[0], &thi = box[1];
     std::array<int64_t, 3> b0, b1;
     for (int a = 0; a < 3; ++a)
       b0[a] = (tlo[a] - lo_[a]) / bucket_size_, b1[a] = (thi[a] - lo_[a]) / bucket_size_;
@@ -86,7 +74,7 @@ ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
         for (int64_t x = b0[0]; x <= b1[0]; ++x) f(static_cast<uint32_t>((z * dims_[1] + y) * dims_[0] + x));
   };
   buckets_ = build_csr(buckets, [&](auto&& emit) {
-    for (uint32_t k = 0; k < tets_.size(); ++k) for_each_bucket(tets_[k], [&](uint32_t b) { emit(b, k); });
+    for (uint32_t k = 0; k < tets_.size(); ++k) for_each_bucket(boxes_[k], [&](uint32_t b) { emit(b, k); });
   });
 }
 

@@ -71,17 +71,6 @@ Refill refill_of(const LevelGeometry& L, uint32_t v, const ReferenceSolid* solid
   return r;
 }
 
-LevelSurface level_surface(const LevelGeometry& L) {
-  LevelSurface s;
-  for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
-    s.triangles.push_back(outward_triangle(L.dt, L.points, f));
-  s.around = build_csr(L.size(), [&](auto&& emit) {
-    for (uint32_t i = 0; i < s.triangles.size(); ++i)
-      for (uint32_t u : s.triangles[i]) emit(u, i);
-  });
-  return s;
-}
-
 bool shape_allows(const LevelGeometry& L, const LevelSurface& surface, uint32_t v, const Refill& refill,
                   std::span<const GridPoint> represented, const FixedSurface& reference, double dmax) {
   if (refill.cells.empty()) return false;

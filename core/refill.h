@@ -30,14 +30,6 @@ struct Refill {
 // The refill of the cavity of v; `solid` null: carved by alpha (L.alpha).
 Refill refill_of(const LevelGeometry& L, uint32_t v, const ReferenceSolid* solid);
 
-// The level's boundary triangles (local vertices) and, per vertex, those
-// around it: what the shape guard measures against.
-struct LevelSurface {
-  std::vector<std::array<uint32_t, 3>> triangles;
-  Csr around;
-};
-LevelSurface level_surface(const LevelGeometry& L);
-
 // The shape guard (spec/HIERARCHY.md §5): removing v keeps the carved
 // surface where it was. An interior vertex's refill must be kept whole (no
 // new surface inside the solid). For a boundary vertex, v and the original
