@@ -122,6 +122,9 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
                          if (on_level) on_level(report.levels.back());
                        }));
 
+  if (reference && !h.levels.empty())
+    report.level0_difference = solid_difference(q.points, h.levels.front().mesh, reference->tets());
+
   StreamOptions stream_options;
   stream_options.cell_hashes = options.cell_hashes;
   stream_options.level_step = options.level_step;

@@ -24,6 +24,7 @@
 #include "common/status.h"
 #include "core/hierarchy.h"
 #include "core/quantize.h"
+#include "core/solid_difference.h"
 #include "core/surface_distance.h"
 #include "mesh/carving.h"
 
@@ -107,6 +108,9 @@ struct EncodeReport {
   uint64_t duplicates_merged = 0;
   uint64_t reference_tetrahedra = 0;  // after quantization, 0 without tetrahedra
   uint64_t reference_boundary_vertices = 0;
+  // With tetrahedra in the input: level 0's solid against the input's, grid
+  // units cubed (core/solid_difference.h).
+  std::optional<SolidDifference> level0_difference;
   std::vector<LevelReport> levels;      // every hierarchy level, finest first
   std::vector<uint64_t> layer_bytes;    // per hierarchy level; 0 if not streamed
   std::vector<uint64_t> carving_bytes;  // of those, the carving corrections

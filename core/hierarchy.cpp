@@ -84,12 +84,45 @@ struct Removal {
   uint64_t boundary = 0, interior = 0, rejected_by_quality = 0, rejected_by_shape = 0;
 };
 
+// The guards' rejections, kept from pass to pass by grid point. With a
+// reference solid, a guard's verdict on v depends only on the cells within
+// two edges of v (its star, the cells beyond it, the surface around its
+// neighbours) and on the original points v and its neighbours represent; a
+// pass changes these only within two edges of a vertex it removes. Elsewhere
+// the verdict of the previous pass stands, and the later passes of a level,
+// which remove few vertices, need not refill the whole level again.
+// (Without a solid, alpha carves and changes with every pass: no cache.)
+class RejectionCache {
+ public:
+  enum Verdict : uint8_t { kUnknown = 0, kByQuality = 1, kByShape = 2 };
+  explicit RejectionCache(size_t grid_points) : verdict_(grid_points, kUnknown) {}
+  Verdict get(uint32_t grid_id) const { return static_cast<Verdict>(verdict_[grid_id]); }
+  void set(uint32_t grid_id, Verdict v) { verdict_[grid_id] = v; }
+  // Forgets the verdicts within two edges of a vertex `removed` flags in L.
+  void forget_near(const LevelGeometry& L, std::span<const uint32_t> vertices,
+                   std::span<const uint8_t> removed) {
+    for (uint32_t v = 0; v < L.size(); ++v) {
+      if (!removed[v]) continue;
+      verdict_[vertices[v]] = kUnknown;
+      for (uint32_t u : L.neighbors.row(v)) {
+        verdict_[vertices[u]] = kUnknown;
+        for (uint32_t w : L.neighbors.row(u)) verdict_[vertices[w]] = kUnknown;
+      }
+    }
+  }
+
+ private:
+  std::vector<uint8_t> verdict_;
+};
+
 // Greedy independent set: boundary candidates by ascending error, then
 // interior vertices by ascending importance; a removed vertex locks its
-// Delaunay neighbours.
+// Delaunay neighbours. `cache` (with a solid only) holds the rejections
+// still valid from earlier passes; `vertices` maps L's vertices to grid ids.
 Removal select_removal(const LevelGeometry& L, const Csr& represented, const Representation& rep,
                        const HierarchyOptions& opt, const ReferenceSolid* solid,
-                       const FixedSurface* reference_surface) {
+                       const FixedSurface* reference_surface, std::span<const uint32_t> vertices,
+                       RejectionCache* cache) {
   Removal r;
   r.removed.assign(L.size(), 0);
   std::vector<uint8_t> locked(L.size(), 0);
@@ -104,10 +137,17 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
       for (uint32_t u : L.neighbors.row(v))
         if (surface_touched[u]) return false;
     const bool quality_guarded = opt.quality_guard > 0 || opt.quality_ratio > 0;
+    if (cache) {
+      const RejectionCache::Verdict known = cache->get(vertices[v]);
+      r.rejected_by_quality += known == RejectionCache::kByQuality;
+      r.rejected_by_shape += known == RejectionCache::kByShape;
+      if (known != RejectionCache::kUnknown) return false;
+    }
     if (quality_guarded || solid) {
       const Refill fill = refill_of(L, v, solid);
       if (quality_guarded && !quality_allows(L, v, fill, opt)) {
         ++r.rejected_by_quality;
+        if (cache) cache->set(vertices[v], RejectionCache::kByQuality);
         return false;
       }
       if (solid) {
@@ -118,6 +158,7 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
             for (uint32_t k : represented.row(u)) originals.push_back(rep.originals[k]);
         if (!shape_allows(L, surface, v, fill, originals, *reference_surface, opt.dmax)) {
           ++r.rejected_by_shape;
+          if (cache) cache->set(vertices[v], RejectionCache::kByShape);
           return false;
         }
       }
@@ -164,6 +205,17 @@ void hand_over(Representation& rep, const LevelGeometry& L, std::span<const uint
   }
 }
 
+// The verdicts of the cells of L that no removal touches, in their order:
+// remove_independent_vertices lists these cells first, as they were.
+std::vector<uint8_t> surviving_verdicts(const LevelGeometry& L, std::span<const uint8_t> removed) {
+  std::vector<uint8_t> out;
+  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
+    const auto& k = L.dt.cells[c];
+    if (!removed[k[0]] && !removed[k[1]] && !removed[k[2]] && !removed[k[3]]) out.push_back(L.in_mesh[c]);
+  }
+  return out;
+}
+
 std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
                                                   std::span<const uint32_t> vertices) {
   std::vector<std::array<uint32_t, 4>> out;
@@ -190,6 +242,20 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
     const std::vector<uint8_t> verdicts = solid ? solid->verdicts(dt, level_points) : std::vector<uint8_t>{};
     return analyze_level(std::move(level_points), std::move(dt), opt.alpha, verdicts);
   };
+  // The same after a pass: the cells that survive it keep their verdict (the
+  // rule looks at a cell's corners only), so only the refills are tested.
+  auto analyze_after = [&](const LevelGeometry& finer, std::span<const uint8_t> removed,
+                           std::vector<GridPoint> level_points, TetMesh dt) {
+    if (!solid) return analyze_level(std::move(level_points), std::move(dt), opt.alpha);
+    std::vector<uint8_t> verdicts = surviving_verdicts(finer, removed);
+    verdicts.reserve(dt.cells.size());
+    for (size_t c = verdicts.size(); c < dt.cells.size(); ++c) {
+      const auto& k = dt.cells[c];
+      verdicts.push_back(solid->contains_centroid(level_points[k[0]], level_points[k[1]], level_points[k[2]],
+                                                  level_points[k[3]]));
+    }
+    return analyze_level(std::move(level_points), std::move(dt), opt.alpha, verdicts);
+  };
   DTM_ASSIGN_OR_RETURN(TetMesh dt0, delaunay_tetrahedralize(points));
   DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze(gather(points, vertices), std::move(dt0)));
   // Without a reference of its own, the solid is level 0 as alpha carves it.
@@ -213,6 +279,9 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
 
   std::optional<SurfaceDistanceTracker> error;
   if (opt.measure_boundary_error) error.emplace(rep.originals);
+
+  std::optional<RejectionCache> rejections;
+  if (solid) rejections.emplace(points.size());
 
   Removal made;  // what the passes that produced the current level removed
   int passes = 0;
@@ -256,7 +325,8 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
     do {
       const Csr represented = rep.rows_for(vertices, points.size());
       Removal next = select_removal(L, represented, rep, opt, solid ? &*solid : nullptr,
-                                    reference_surface ? &*reference_surface : nullptr);
+                                    reference_surface ? &*reference_surface : nullptr, vertices,
+                                    rejections ? &*rejections : nullptr);
       const uint64_t removed = next.boundary + next.interior;
       if (removed == 0 || vertices.size() - removed < opt.min_base_vertices) break;
 
@@ -264,12 +334,13 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
       kept.reserve(vertices.size() - removed);
       for (uint32_t v = 0; v < L.size(); ++v)
         if (!next.removed[v]) kept.push_back(vertices[v]);
-      StatusOr<LevelGeometry> coarser =
-          analyze(gather(points, kept),
-                  remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points, next.removed));
+      StatusOr<LevelGeometry> coarser = analyze_after(
+          L, next.removed, gather(points, kept),
+          remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points, next.removed));
       // The coarser set would be flat: the current one is the coarsest.
       if (coarser.status().code() == StatusCode::kInvalidInput) break;
       if (!coarser.ok()) return coarser.status();
+      if (rejections) rejections->forget_near(L, vertices, next.removed);
       hand_over(rep, L, vertices, next, represented);
       vertices = std::move(kept);
       L = std::move(coarser).value();

@@ -17,6 +17,8 @@ namespace dtm {
 // `dt` is the Delaunay tetrahedralization of `points`, with its incidences;
 // `removed[v]` flags an independent set. Returns the tetrahedralization of the
 // survivors, numbered in their order (survivor k is the k-th unflagged vertex).
+// Its first cells are the cells of `dt` with no flagged corner, in their order
+// (renumbered); the refills of the cavities follow.
 TetMesh remove_independent_vertices(const TetMesh& dt, const Csr& cells_of_vertex, const Csr& neighbors,
                                     std::span<const GridPoint> points, std::span<const uint8_t> removed);
 

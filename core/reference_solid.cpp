@@ -63,6 +63,7 @@ ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
   // fall, share few buckets; a large cell is listed in many.
   bucket_size_ = std::max<int64_t>(1, static_cast<int64_t>(static_cast<double>(largest) / (2 * cube_root)));
   for (int a = 0; a < 3; ++a) dims_[a] = (hi_[a] - lo_[a]) / bucket_size_ + 1;
+  sort_along_morton_curve();
   const size_t buckets = static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
   auto for_each_bucket = [&](const std::array<P4, 2>& box, auto&& f) {
     const P4 &tlo = box[0], &thi = box[1];
@@ -76,6 +77,41 @@ ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
   buckets_ = build_csr(buckets, [&](auto&& emit) {
     for (uint32_t k = 0; k < tets_.size(); ++k) for_each_bucket(boxes_[k], [&](uint32_t b) { emit(b, k); });
   });
+}
+
+// Neighbouring tetrahedra are stored near each other, so that a query, which
+// scans a bucket's tetrahedra, and the next query, which falls near it, touch
+// few cache lines: the order is that of the buckets of the boxes' centres
+// along a Morton (Z-order) curve. The verdicts do not depend on it.
+void ReferenceSolid::sort_along_morton_curve() {
+  auto spread = [](uint64_t x) {  // the bits of a 21-bit x, two zeros between each
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffff;
+    x = (x | x << 16) & 0x1f0000ff0000ff;
+    x = (x | x << 8) & 0x100f00f00f00f00f;
+    x = (x | x << 4) & 0x10c30c30c30c30c3;
+    x = (x | x << 2) & 0x1249249249249249;
+    return x;
+  };
+  std::vector<std::pair<uint64_t, uint32_t>> order(tets_.size());
+  for (uint32_t k = 0; k < tets_.size(); ++k) {
+    uint64_t code = 0;
+    for (int a = 0; a < 3; ++a) {
+      const auto cell = static_cast<uint64_t>((boxes_[k][0][a] + boxes_[k][1][a]) / 2 - lo_[a]) /
+                        static_cast<uint64_t>(bucket_size_);
+      code |= spread(cell) << a;
+    }
+    order[k] = {code, k};
+  }
+  std::sort(order.begin(), order.end());
+  std::vector<std::array<Point4, 4>> tets(tets_.size());
+  std::vector<std::array<Point4, 2>> boxes(boxes_.size());
+  for (size_t i = 0; i < order.size(); ++i) {
+    tets[i] = tets_[order[i].second];
+    boxes[i] = boxes_[order[i].second];
+  }
+  tets_ = std::move(tets);
+  boxes_ = std::move(boxes);
 }
 
 size_t ReferenceSolid::bucket_of(const P4& p) const {

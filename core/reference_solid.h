@@ -26,6 +26,9 @@ class ReferenceSolid {
   bool contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
                          const GridPoint& d) const;
 
+  // True if the point p / 4 (p at four times the grid scale) is in the solid.
+  bool contains_point4(const std::array<int64_t, 3>& p) const { return contains4(p); }
+
   size_t tetrahedra() const { return tets_.size(); }
 
   // Per cell of `dt` (vertex ids index `points`): 1 if the solid keeps it.
@@ -36,6 +39,7 @@ class ReferenceSolid {
   using Point4 = std::array<int64_t, 3>;
   bool contains4(const Point4& p) const;
   size_t bucket_of(const Point4& p) const;
+  void sort_along_morton_curve();
 
   std::vector<std::array<Point4, 4>> tets_;   // positively oriented
   std::vector<std::array<Point4, 2>> boxes_;  // each tetrahedron's bounding box: a cheap first test

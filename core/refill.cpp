@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
@@ -47,13 +46,17 @@ Refill refill_of(const LevelGeometry& L, uint32_t v, const ReferenceSolid* solid
   }
   // What lies across the cavity's border: the cell outside each face of the
   // star opposite v (the hull, when there is none), and whether it is kept.
-  std::map<Face, bool> outside_kept;
+  // (A sorted vector: a star has a few dozen faces, and this runs for every
+  // candidate of every pass.)
+  std::vector<std::pair<Face, bool>> outside_kept;
   for (uint32_t c : L.cells_of_vertex.row(v)) {
     const auto& cell = L.dt.cells[c];
     const int i = static_cast<int>(std::find(cell.begin(), cell.end(), v) - cell.begin());
     const int32_t across = L.dt.neighbors[c][i];
-    outside_kept[sorted_face(face_of(cell, i))] = across >= 0 && L.in_mesh[static_cast<size_t>(across)];
+    outside_kept.emplace_back(sorted_face(face_of(cell, i)),
+                              across >= 0 && L.in_mesh[static_cast<size_t>(across)]);
   }
+  std::sort(outside_kept.begin(), outside_kept.end());
   for (size_t c = 0; c < r.cells.size(); ++c) {
     if (!r.kept[c]) continue;
     for (int i = 0; i < 4; ++i) {
@@ -62,8 +65,10 @@ Refill refill_of(const LevelGeometry& L, uint32_t v, const ReferenceSolid* solid
       if (n >= 0) {
         other_kept = r.kept[static_cast<size_t>(n)];
       } else {
-        const auto it = outside_kept.find(sorted_face(face_of(r.cells[c], i)));
-        other_kept = it != outside_kept.end() && it->second;
+        const Face key = sorted_face(face_of(r.cells[c], i));
+        const auto it = std::lower_bound(outside_kept.begin(), outside_kept.end(), key,
+                                         [](const auto& entry, const Face& f) { return entry.first < f; });
+        other_kept = it != outside_kept.end() && it->first == key && it->second;
       }
       if (!other_kept) r.surface.push_back(face_of(r.cells[c], i));
     }

@@ -11,6 +11,7 @@
 #include "codec/decode.h"
 #include "codec/encode.h"
 #include "core/reference_solid.h"
+#include "core/solid_difference.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
 #include "test_support.h"
@@ -48,6 +49,46 @@ TEST(ReferenceSolid, ContainsTheCentroidsOfItsOwnCellsAndNothingOutside) {
   EXPECT_TRUE(solid.contains_centroid({0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}));
   EXPECT_FALSE(solid.contains_centroid({0, 0, 3}, {0, 0, 3}, {0, 0, 3}, {0, 0, 3}));
   EXPECT_FALSE(solid.contains_centroid({9, 9, 9}, {9, 9, 9}, {9, 9, 9}, {9, 9, 9}));
+}
+
+// The cube [0, 256]^3 (corner k at the bits of k: x = 1, y = 2, z = 4) split
+// two ways: into the 6 tetrahedra around its diagonal 0-7, and into 5. (Large
+// enough that rounding samples to a quarter step moves a negligible share.)
+std::vector<GridPoint> cube_corners() {
+  std::vector<GridPoint> p;
+  for (int k = 0; k < 8; ++k) p.push_back({256 * (k & 1), 128 * (k & 2), 64 * (k & 4)});
+  return p;
+}
+const std::vector<Cell> kSixAroundTheDiagonal = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
+                                                 {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+const std::vector<Cell> kFive = {{0, 3, 5, 6}, {1, 0, 3, 5}, {2, 0, 3, 6}, {4, 0, 5, 6}, {7, 3, 5, 6}};
+
+TEST(SolidDifference, TwoSplitsOfOneCubeDifferByNothing) {
+  const std::vector<GridPoint> cube = cube_corners();
+  const SolidDifference d = solid_difference(cube, kFive, kSixAroundTheDiagonal);
+  EXPECT_EQ(d.shared_cells, 0u);
+  EXPECT_DOUBLE_EQ(d.second_volume, 256.0 * 256 * 256);
+  EXPECT_EQ(d.only_first, 0);
+  EXPECT_EQ(d.only_second, 0);
+  const SolidDifference same = solid_difference(cube, kFive, kFive);
+  EXPECT_EQ(same.shared_cells, 5u);
+  EXPECT_EQ(same.symmetric(), 0);
+}
+
+TEST(SolidDifference, HalfACubeMissesHalfItsVolume) {
+  const std::vector<GridPoint> cube = cube_corners();
+  const std::vector<Cell> half(kSixAroundTheDiagonal.begin(), kSixAroundTheDiagonal.begin() + 3);
+  const SolidDifference d = solid_difference(cube, kFive, half);
+  const double half_volume = 128.0 * 256 * 256;
+  EXPECT_DOUBLE_EQ(d.second_volume, half_volume);
+  EXPECT_EQ(d.only_second, 0);
+  // Cells of the five cross the cut: sampled, within 5% of the half.
+  EXPECT_NEAR(d.only_first, half_volume, 0.05 * half_volume);
+  const SolidDifference back = solid_difference(cube, half, kSixAroundTheDiagonal);
+  EXPECT_EQ(back.shared_cells, 3u);
+  EXPECT_EQ(back.only_first, 0);
+  // Whole cells of the six: exact but for samples rounded onto the cut.
+  EXPECT_NEAR(back.only_second, half_volume, 0.005 * half_volume);
 }
 
 TEST(CarvingCoder, CorrectionsRoundTripAndNoneCostNothing) {
@@ -138,6 +179,11 @@ TEST(CarvedLevels, AnInputOfDelaunayCellsDecodesToExactlyItsCells) {
     input_cells.push_back(c);
   }
   EXPECT_EQ(d.levels.back(), canonical(input_cells));
+  // And the report says so: every input cell is a level-0 cell, no volume differs.
+  const auto& difference = d.encoded.report.level0_difference;
+  ASSERT_TRUE(difference.has_value());
+  EXPECT_EQ(difference->shared_cells, solid.size());
+  EXPECT_EQ(difference->symmetric(), 0);
   // Alpha alone would not have given it: the corrections did.
   EXPECT_GT(d.encoded.report.carving_bytes[0], 0u);
 }

@@ -185,6 +185,15 @@ void print_reference_line(const dtm::EncodeReport& r) {
       static_cast<unsigned long long>(r.reference_boundary_vertices), first.max * step, first.mean * step,
       r.levels.size() - 1, last.max * step, last.mean * step, worst_to_level * step,
       worst_to_reference * step);
+  if (r.level0_difference) {
+    const dtm::SolidDifference& d = *r.level0_difference;
+    std::printf(
+        "level 0's solid vs the input's: %llu tetrahedra shared; symmetric difference %.4g%% of the "
+        "input's volume (%.4g only in level 0, %.4g only in the input)\n",
+        static_cast<unsigned long long>(d.shared_cells),
+        d.second_volume > 0 ? 100 * d.symmetric() / d.second_volume : 0.0, d.only_first * step * step * step,
+        d.only_second * step * step * step);
+  }
 }
 
 // The stream and the report are written together or not at all.

@@ -53,6 +53,15 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   j["duplicates_merged"] = r.duplicates_merged;
   j["input_points"] = r.input_points;
   if (r.reference_tetrahedra > 0) j["reference_tetrahedra"] = r.reference_tetrahedra;
+  if (r.level0_difference) {
+    const SolidDifference& d = *r.level0_difference;
+    const double cube = g.step * g.step * g.step;
+    j["level0_difference"] = {{"only_level0", d.only_first * cube},
+                              {"only_input", d.only_second * cube},
+                              {"input_volume", d.second_volume * cube},
+                              {"share", d.second_volume > 0 ? d.symmetric() / d.second_volume : 0.0},
+                              {"shared_tetrahedra", d.shared_cells}};
+  }
   j["levels"] = nlohmann::json::array();
   for (const LevelReport& level : r.levels) {
     const LevelStats& s = level.stats;
