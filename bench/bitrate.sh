@@ -146,7 +146,7 @@ rc=0
 import csv, json, math, os, sys, time, subprocess
 listf, outd, dest, notesf, commit, dirty, enc, start, qs, tools, benchd = sys.argv[1:12]
 QS = [int(q) for q in qs.split()]
-LAYER_HDR, STREAM_HDR = 38, 56
+LAYER_HDR, STREAM_HDR = 42, 56  # format 4.0
 LN2 = math.log(2)
 
 def log2_choose_grid(q, d):
@@ -263,9 +263,11 @@ w('shared/tools/baselines.sh -q "12 14 16" -c "10 4" -H -k KEEP MODEL.node')
 w('  # = draco_encoder -point_cloud -i pts.ply -qp Q -cl {10,4}  (float32 xyz; kd-tree method)')
 w('  #   zstd -19 of float32 xyz (positions only), and of float32 xyz per vertex + int32 x4 per tet (TetGen .ele)')
 w('```\n')
-w('Stream bytes = 56-byte header + per layer 38-byte header + payload (format 3.0: each layer coded by '
-  'binary space partition given the coarser levels, adaptive range coding, lone points\' coordinates '
-  'as values already used where they are; spec/FORMAT.md §3.1). '
+w('Stream bytes = 56-byte header + per layer 42-byte header + payload (format 4.0: each layer\'s new '
+  'points coded by binary space partition given the coarser levels, adaptive range coding, lone points\' '
+  'coordinates as values already used where they are, spec/FORMAT.md §3.1; then the carving corrections, '
+  '§3.2: where alpha\'s prediction differs from the input\'s solid, which `.ele` beside each `.node` gives). '
+  'meshenc runs with its default (codec) preset. '
   '"ours" streams every level of the hierarchy; "step 4" streams every 4th level (`--level-step 4`). '
   'Draco = the smaller of `-cl 10` and `-cl 4` at the same Q (same grid: one step '
   '= largest extent / (2^Q − 1)). Ratio = ours / Draco (issue 5 target: <= 0.85). '
@@ -277,7 +279,7 @@ sep = '|---|---:|---:|'
 for q in QS:
     hdr += ' ours q%d | step 4 q%d | Draco kd q%d | ratio | ratio step 4 |' % (q, q, q)
     sep += '---:|---:|---:|---:|---:|'
-hdr += ' f32 xyz zstd-19 | tet mesh zstd-19 | decodes (q=14) |'; sep += '---:|---:|---|'
+hdr += ' carving share (q=14) | f32 xyz zstd-19 | tet mesh zstd-19 | decodes (q=14) |'; sep += '---:|---:|---:|---|'
 w(hdr); w(sep)
 print(hdr); print(sep)
 ratios = {q: [] for q in QS}
@@ -293,7 +295,9 @@ for m in models:
         row += ' %s | %s | %s | %s | %s |' % (f2(bpv(ours, N)), f2(bpv(ours4, N)), f2(bpv(dr, N)),
                                             f3(ours / dr), f3(ours4 / dr))
         csv_rows.append(dict(model=m['name'], N=N, q=q, levels=m['q'][q]['L'], stream_bytes=ours,
-            bpv=round(bpv(ours, N), 4), levels_step4=m['q'][q]['L_s4'], stream_bytes_step4=ours4,
+            bpv=round(bpv(ours, N), 4),
+            carving_bytes=sum(r.get('carving_bytes', 0) for r in m['q'][q]['levels']),
+            levels_step4=m['q'][q]['L_s4'], stream_bytes_step4=ours4,
             bpv_step4=round(bpv(ours4, N), 4), stream_bytes_two_levels=m['q'][q]['bytes_two'],
             bpv_two_levels=round(bpv(m['q'][q]['bytes_two'], N), 4),
             draco_kd_bytes=dr, draco_kd_bpv=round(bpv(dr, N), 4),
@@ -301,6 +305,8 @@ for m in models:
             ratio_two_levels=round(m['q'][q]['bytes_two'] / dr, 4),
             zstd_f32_xyz_bpv=round(bpv(m['ptsz'], N), 4) if m['ptsz'] else '',
             zstd_tet_mesh_bpv=round(bpv(m['meshz'], N), 4) if m['meshz'] else ''))
+    d14 = m['q'][14]
+    row += ' %.1f%% |' % (100.0 * sum(r.get('carving_bytes', 0) for r in d14['levels']) / d14['bytes'])
     row += ' %s |' % (f2(bpv(m['ptsz'], N)) if m['ptsz'] else '-')
     row += ' %s |' % (f2(bpv(m['meshz'], N)) if m['meshz'] else '-')
     d = m['dec']
@@ -317,13 +323,13 @@ with open(os.path.join(benchd, 'bitrate.csv'), 'w', newline='') as f:
     cw.writeheader(); cw.writerows(csv_rows)
 with open(os.path.join(benchd, 'bitrate_layers.csv'), 'w', newline='') as f:
     cw = csv.writer(f)
-    cw.writerow(['model', 'q', 'level', 'vertices', 'new_vertices', 'layer_bytes', 'bits_per_new_vertex'])
+    cw.writerow(['model', 'q', 'level', 'vertices', 'new_vertices', 'layer_bytes', 'carving_bytes', 'bits_per_new_vertex'])
     for m in models:
         for q in QS:
             d = m['q'][q]
             for i in reversed(range(d['L'])):
                 r = d['levels'][i]
-                cw.writerow([m['name'], q, r['level'], r['vertices'], d['new'][i], r['layer_bytes'],
+                cw.writerow([m['name'], q, r['level'], r['vertices'], d['new'][i], r['layer_bytes'], r.get('carving_bytes', 0),
                              round(8.0 * r['layer_bytes'] / d['new'][i], 3)])
 
 dups = ['%s q%d: %d' % (m['name'], q, m['q'][q]['dup']) for m in models for q in QS if m['q'][q]['dup']]
@@ -356,7 +362,7 @@ for q in QS:
     w('- q=%d: two levels / Draco min %.3f, max %.3f, mean %.3f.' % (q, min(r), max(r), sum(r) / len(r)))
 w('')
 w('## Table 2: per layer, q = 14\n')
-w('Layers in stream order (base layer first). Layer bytes include the 38-byte layer header; '
+w('Layers in stream order (base layer first). Layer bytes include the 42-byte layer header and the carving corrections; '
   'bits per new vertex = 8 × layer bytes / new vertices; payload bits per new vertex leave the '
   'header out; set bound per new vertex = log2 C(2^42, n) / n for n = new vertices (a uniform '
   'set in the whole cube); share = layer bytes / stream bytes (the 56-byte stream header is the rest).\n')
@@ -365,16 +371,16 @@ for name in ('bunny_10k', 'bunny_100k'):
     if m is None: continue
     d = m['q'][14]
     w('**%s** (N = %d, %d levels, %d stream bytes, %.2f bpv)\n' % (name, m['N'], d['L'], d['bytes'], bpv(d['bytes'], m['N'])))
-    w('| level | vertices | new vertices | layer bytes | bits per new vertex | payload bits per new vertex | set bound per new vertex | share of stream |')
-    w('|---:|---:|---:|---:|---:|---:|---:|---:|')
+    w('| level | vertices | new vertices | layer bytes | carving bytes | bits per new vertex | payload bits per new vertex | set bound per new vertex | share of stream |')
+    w('|---:|---:|---:|---:|---:|---:|---:|---:|---:|')
     for i in reversed(range(d['L'])):
         r = d['levels'][i]; n = d['new'][i]; b = r['layer_bytes']
-        w('| %d | %d | %d | %d | %.2f | %.2f | %.2f | %.2f%% |' % (r['level'], r['vertices'], n, b, 8.0 * b / n,
+        w('| %d | %d | %d | %d | %d | %.2f | %.2f | %.2f | %.2f%% |' % (r['level'], r['vertices'], n, b, r.get('carving_bytes', 0), 8.0 * b / n,
           8.0 * (b - LAYER_HDR) / n, log2_choose_grid(14, n) / n, 100.0 * b / d['bytes']))
     w('')
 
 w('## Table 3: where the bits go, q = 14 (bits per vertex)\n')
-w('headers = (56 + 38 × levels) × 8 / N; payload = the rest of the stream. level entropy = '
+w('headers = (56 + 42 × levels) × 8 / N; payload = the rest of the stream (carving corrections included). level entropy = '
   'Σ_l n_l log2(N / n_l) / N over the layer sizes n_l (the multinomial cost of telling which layer '
   'each vertex is in). set bound = log2 C(2^(3q), N) / N (one uniform set); per-layer bound = '
   'Σ_l log2 C(2^(3q), n_l) / N (every layer a separate uniform set). coder − bound = payload − '

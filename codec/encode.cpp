@@ -35,6 +35,7 @@ HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, dou
   h.stop_when_boundary_is_final = o.paper_stop;
   h.quality_guard = o.quality_guard;
   h.quality_ratio = o.quality_ratio;
+  h.average_quality_floor = o.average_quality_floor;
   h.carve_to_reference = o.carve_to_reference;
   h.removal_share = o.removal_share;
   h.measure_boundary_error = o.measure_boundary_error;
@@ -50,6 +51,8 @@ Status check_options(const EncodeOptions& o) {
   if (o.alpha == AlphaKind::kFixed && !(o.fixed_alpha > 0)) return invalid("a fixed alpha must be positive");
   if (o.max_levels < 0) return invalid("the level count must not be negative");
   if (o.quality_guard < 0) return invalid("the quality guard must not be negative");
+  if (!(o.average_quality_floor >= 0 && o.average_quality_floor <= 1))
+    return invalid("the average quality floor must be in [0, 1]");
   if (o.level_step < 1) return invalid("the level step must be at least 1");
   if (!(o.removal_share >= 0 && o.removal_share < 1)) return invalid("the removal share must be in [0, 1)");
   return Status::Ok();

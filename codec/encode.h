@@ -51,13 +51,14 @@ struct EncodeOptions {
   // several independent-set passes; 0: one pass per level (the paper).
   double removal_share = 0.5;
   AlphaKind alpha = AlphaKind::kPaper;
-  double fixed_alpha = 0;              // with AlphaKind::kFixed
-  int max_levels = 0;                  // coarser levels at most; 0 = no limit
-  size_t min_base_vertices = 16;       // never build a level with fewer vertices
-  bool paper_stop = true;              // stop at the first level removing no boundary vertex
-  double quality_guard = 0;            // HierarchyOptions::quality_guard; 0 = off
-  double quality_ratio = 0.8;          // HierarchyOptions::quality_ratio; 0 = off
-  bool measure_boundary_error = true;  // LevelStats' max/mean_boundary_error
+  double fixed_alpha = 0;               // with AlphaKind::kFixed
+  int max_levels = 0;                   // coarser levels at most; 0 = no limit
+  size_t min_base_vertices = 16;        // never build a level with fewer vertices
+  bool paper_stop = true;               // stop at the first level removing no boundary vertex
+  double quality_guard = 0;             // HierarchyOptions::quality_guard; 0 = off
+  double quality_ratio = 0;             // HierarchyOptions::quality_ratio; 0 = off
+  double average_quality_floor = 0.85;  // HierarchyOptions::average_quality_floor; 0 = off
+  bool measure_boundary_error = true;   // LevelStats' max/mean_boundary_error
 
   // The stream (codec/expert_encode.h, StreamOptions).
   int level_step = 1;
@@ -73,6 +74,7 @@ struct EncodeOptions {
     o.removal_share = 0;
     o.quality_ratio = 0;
     o.quality_guard = 0.3;
+    o.average_quality_floor = 0;
     o.paper_stop = true;
     return o;
   }

@@ -79,6 +79,28 @@ bool quality_allows(const LevelGeometry& L, uint32_t v, const Refill& fill, cons
   return true;
 }
 
+// The smallest solid angles of some cells, less the floor, summed: the
+// level's average stays >= the floor while its cells' sum stays >= 0.
+double surplus_of_star(const LevelGeometry& L, uint32_t v, double floor) {
+  double s = 0;
+  for (uint32_t c : L.cells_of_vertex.row(v))
+    if (L.in_mesh[c]) s += L.cell_min_solid_angle[c] - floor;
+  return s;
+}
+
+double surplus_of_fill(const LevelGeometry& L, const Refill& fill, double floor) {
+  double s = 0;
+  for (size_t k = 0; k < fill.cells.size(); ++k) {
+    if (!fill.kept[k]) continue;
+    const auto& c = fill.cells[k];
+    const std::array<Vec3, 4> t = {to_vec(L.points[c[0]]), to_vec(L.points[c[1]]), to_vec(L.points[c[2]]),
+                                   to_vec(L.points[c[3]])};
+    const auto angles = solid_angles(t);
+    s += *std::min_element(angles.begin(), angles.end()) - floor;
+  }
+  return s;
+}
+
 struct Removal {
   std::vector<uint8_t> removed;  // per local vertex
   uint64_t boundary = 0, interior = 0, rejected_by_quality = 0, rejected_by_shape = 0;
@@ -122,8 +144,16 @@ class RejectionCache {
 Removal select_removal(const LevelGeometry& L, const Csr& represented, const Representation& rep,
                        const HierarchyOptions& opt, const ReferenceSolid* solid,
                        const FixedSurface* reference_surface, std::span<const uint32_t> vertices,
-                       RejectionCache* cache) {
+                       RejectionCache* cache, double quality_floor) {
   Removal r;
+  // With a quality floor: the level's surplus (see surplus_of_star) and the
+  // removals that would spend some of it, which wait for the end of the pass.
+  const bool hold_average = quality_floor > 0;
+  double surplus = 0;
+  if (hold_average)
+    for (size_t c = 0; c < L.dt.cells.size(); ++c)
+      if (L.in_mesh[c]) surplus += L.cell_min_solid_angle[c] - quality_floor;
+  std::vector<std::pair<double, uint32_t>> waiting;  // (change of the surplus, vertex)
   r.removed.assign(L.size(), 0);
   std::vector<uint8_t> locked(L.size(), 0);
   const LevelSurface surface = level_surface(L);  // for the candidates and the shape guard
@@ -131,12 +161,23 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
   // neighbour: each is judged with the surface around its neighbours as it
   // was, which the other would change. The later one waits for the next pass.
   std::vector<uint8_t> surface_touched(solid ? L.size() : 0, 0);
-  auto take = [&](uint32_t v) {
+  auto accept = [&](uint32_t v) {
+    r.removed[v] = 1;
+    locked[v] = 1;
+    for (uint32_t u : L.neighbors.row(v)) locked[u] = 1;
+    if (solid && L.boundary[v])
+      for (uint32_t u : L.neighbors.row(v)) surface_touched[u] = 1;
+  };
+  auto free_to_take = [&](uint32_t v) {
     if (locked[v]) return false;
     if (solid && L.boundary[v])
       for (uint32_t u : L.neighbors.row(v))
         if (surface_touched[u]) return false;
-    const bool quality_guarded = opt.quality_guard > 0 || opt.quality_ratio > 0;
+    return true;
+  };
+  auto take = [&](uint32_t v) {
+    if (!free_to_take(v)) return false;
+    const bool quality_guarded = opt.quality_guard > 0 || opt.quality_ratio > 0 || hold_average;
     if (cache) {
       const RejectionCache::Verdict known = cache->get(vertices[v]);
       r.rejected_by_quality += known == RejectionCache::kByQuality;
@@ -162,12 +203,17 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
           return false;
         }
       }
+      if (hold_average) {
+        // Depends on the whole level: never cached.
+        const double change = surplus_of_fill(L, fill, quality_floor) - surplus_of_star(L, v, quality_floor);
+        if (change < 0) {
+          waiting.emplace_back(change, v);
+          return false;
+        }
+        surplus += change;
+      }
     }
-    r.removed[v] = 1;
-    locked[v] = 1;
-    for (uint32_t u : L.neighbors.row(v)) locked[u] = 1;
-    if (solid && L.boundary[v])
-      for (uint32_t u : L.neighbors.row(v)) surface_touched[u] = 1;
+    accept(v);
     return true;
   };
 
@@ -182,6 +228,22 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
     if (!L.boundary[v]) interior.emplace_back(importance(L, v), v);
   std::sort(interior.begin(), interior.end());
   for (const auto& [ip, v] : interior) r.interior += take(v);
+
+  // Least damaging first, while the surplus lasts. A waiting vertex whose
+  // neighbour was taken since is locked; otherwise its refill and verdicts
+  // are as computed.
+  std::stable_sort(waiting.begin(), waiting.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (const auto& [change, v] : waiting) {
+    if (!free_to_take(v)) continue;
+    if (surplus + change < 0) {
+      ++r.rejected_by_quality;
+      continue;
+    }
+    surplus += change;
+    accept(v);
+    ++(L.boundary[v] ? r.boundary : r.interior);
+  }
   return r;
 }
 
@@ -326,7 +388,8 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
       const Csr represented = rep.rows_for(vertices, points.size());
       Removal next = select_removal(L, represented, rep, opt, solid ? &*solid : nullptr,
                                     reference_surface ? &*reference_surface : nullptr, vertices,
-                                    rejections ? &*rejections : nullptr);
+                                    rejections ? &*rejections : nullptr,
+                                    opt.average_quality_floor * h.levels.front().stats.avg_min_solid_angle);
       const uint64_t removed = next.boundary + next.interior;
       if (removed == 0 || vertices.size() - removed < opt.min_base_vertices) break;
 

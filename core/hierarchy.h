@@ -48,6 +48,14 @@ struct HierarchyOptions {
   // Relative quality guard (0 = off): a removal is accepted only if the
   // refill's smallest solid angle is >= quality_ratio x the star's.
   double quality_ratio = 0;
+  // Average quality floor (0 = off): a removal is accepted only while the
+  // level's average smallest solid angle, as the removals accepted so far
+  // leave it, stays >= average_quality_floor x level 0's. Removals that do
+  // not lower it come first, in the usual order; the others are then taken
+  // least damaging first while the margin lasts. Exact with a reference
+  // solid (the refill's kept cells are the next level's); with alpha
+  // carving, the next level's alpha may keep other cells.
+  double average_quality_floor = 0;
   // The boundary error statistics (an AABB-tree query per original boundary
   // vertex and level) are a measurement, not part of the construction: the
   // benchmark reports the build with and without them.

@@ -14,9 +14,9 @@ namespace dtm {
 
 struct SolidDifference {
   // Grid units cubed.
-  double only_first = 0;    // inside `first`, outside `second`
-  double only_second = 0;   // inside `second`, outside `first`
-  double second_volume = 0;  // the whole of `second`
+  double only_first = 0;      // inside `first`, outside `second`
+  double only_second = 0;     // inside `second`, outside `first`
+  double second_volume = 0;   // the whole of `second`
   uint64_t shared_cells = 0;  // tetrahedra both list (same four corners)
   double symmetric() const { return only_first + only_second; }
 };

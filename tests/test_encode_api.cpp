@@ -36,6 +36,7 @@ TEST(EncodeApi, IsQuantizeThenBuildThenEncodeStream) {
   h.carve_to_reference = options.carve_to_reference;
   h.removal_share = options.removal_share;
   h.quality_ratio = options.quality_ratio;
+  h.average_quality_floor = options.average_quality_floor;
   const Hierarchy hierarchy = build_hierarchy(q.points, h).value();
   StreamOptions s;
   s.cell_hashes = true;

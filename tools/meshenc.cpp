@@ -46,7 +46,7 @@ Dmax and --alpha values are in input units, after --scale/--box.)";
 // What the command line asks for.
 struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
-  std::optional<double> removal_share, quality_ratio, quality_guard;
+  std::optional<double> removal_share, quality_ratio, quality_guard, quality_floor;
   bool quiet = false, no_reference = false;
   dtm::VolumeOptions volume;
   dtm::EncodeOptions encode;
@@ -122,10 +122,13 @@ void add_options(CLI::App& app, Command& c) {
                  "accept a removal only if its new cells' smallest solid angle is >= "
                  "min(S, the star's) (paper: 0.3); 0 = off")
       ->check(CLI::Range(0.0, 0.56));
-  app.add_option(
-         "--quality-ratio", c.quality_ratio,
-         "accept a removal only if its new cells' smallest solid angle is >= R x the star's (codec: 0.8); "
-         "0 = off")
+  app.add_option("--quality-ratio", c.quality_ratio,
+                 "accept a removal only if its new cells' smallest solid angle is >= R x the star's; 0 = off "
+                 "(both presets)")
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--quality-floor", c.quality_floor,
+                 "keep every level's average smallest solid angle >= F x level 0's, removing as many "
+                 "vertices as that allows (codec: 0.85; 0 = off)")
       ->check(CLI::Range(0.0, 1.0));
   app.add_flag(
       "--no-paper-stop", [&e](int64_t) { e.paper_stop = false; },
@@ -221,7 +224,9 @@ int run(Command& c) {
     c.encode.removal_share = paper.removal_share;
     c.encode.quality_ratio = paper.quality_ratio;
     c.encode.quality_guard = paper.quality_guard;
+    c.encode.average_quality_floor = paper.average_quality_floor;
   }
+  if (c.quality_floor) c.encode.average_quality_floor = *c.quality_floor;
   if (c.removal_share) c.encode.removal_share = *c.removal_share;
   if (c.quality_ratio) c.encode.quality_ratio = *c.quality_ratio;
   if (c.quality_guard) c.encode.quality_guard = *c.quality_guard;
