@@ -8,6 +8,7 @@
 #include "core/boundary_simplification.h"
 #include "core/importance.h"
 #include "core/independent_removal.h"
+#include "core/point_buckets.h"
 #include "core/reference_solid.h"
 #include "core/refill.h"
 #include "core/surface_distance.h"
@@ -137,14 +138,44 @@ class RejectionCache {
   std::vector<uint8_t> verdict_;
 };
 
+// The original boundary points removing boundary vertex v may leave farther
+// than D_max from the surface: those v and its neighbours represent, and
+// every other one within D_max of a triangle the removal takes away or
+// re-decides (any other keeps the triangle it is near; the representation
+// alone misses points whose representative has drifted away).
+std::vector<GridPoint> originals_at_risk(const LevelGeometry& L, const LevelSurface& surface, uint32_t v,
+                                         const Refill& fill, const Csr& represented,
+                                         const Representation& rep, const PointBuckets& index, double dmax) {
+  std::vector<uint32_t> ids;
+  for (uint32_t k : represented.row(v)) ids.push_back(k);
+  for (uint32_t u : L.neighbors.row(v))
+    for (uint32_t k : represented.row(u)) ids.push_back(k);
+  for (const auto& t : triangles_at_stake(surface, L, v, fill)) {
+    const Vec3 a = to_vec(L.points[t[0]]), b = to_vec(L.points[t[1]]), c = to_vec(L.points[t[2]]);
+    const std::array<double, 3> lo = {std::min({a.x, b.x, c.x}) - dmax, std::min({a.y, b.y, c.y}) - dmax,
+                                      std::min({a.z, b.z, c.z}) - dmax};
+    const std::array<double, 3> hi = {std::max({a.x, b.x, c.x}) + dmax, std::max({a.y, b.y, c.y}) + dmax,
+                                      std::max({a.z, b.z, c.z}) + dmax};
+    index.for_each_in_box(lo, hi, [&](uint32_t k) {
+      if (point_triangle_distance(to_vec(rep.originals[k]), a, b, c) <= dmax) ids.push_back(k);
+    });
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  std::vector<GridPoint> out;
+  out.reserve(ids.size());
+  for (uint32_t k : ids) out.push_back(rep.originals[k]);
+  return out;
+}
+
 // Greedy independent set: boundary candidates by ascending error, then
 // interior vertices by ascending importance; a removed vertex locks its
 // Delaunay neighbours. `cache` (with a solid only) holds the rejections
 // still valid from earlier passes; `vertices` maps L's vertices to grid ids.
 Removal select_removal(const LevelGeometry& L, const Csr& represented, const Representation& rep,
                        const HierarchyOptions& opt, const ReferenceSolid* solid,
-                       const FixedSurface* reference_surface, std::span<const uint32_t> vertices,
-                       RejectionCache* cache, double quality_floor) {
+                       const FixedSurface* reference_surface, const PointBuckets* originals_index,
+                       std::span<const uint32_t> vertices, RejectionCache* cache, double quality_floor) {
   Removal r;
   // With a quality floor: the level's surplus (see surplus_of_star) and the
   // removals that would spend some of it, which wait for the end of the pass.
@@ -192,11 +223,10 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
         return false;
       }
       if (solid) {
-        std::vector<GridPoint> originals;
-        for (uint32_t k : represented.row(v)) originals.push_back(rep.originals[k]);
-        if (L.boundary[v])
-          for (uint32_t u : L.neighbors.row(v))
-            for (uint32_t k : represented.row(u)) originals.push_back(rep.originals[k]);
+        const std::vector<GridPoint> originals =
+            L.boundary[v]
+                ? originals_at_risk(L, surface, v, fill, represented, rep, *originals_index, opt.dmax)
+                : std::vector<GridPoint>{};
         if (!shape_allows(L, surface, v, fill, originals, *reference_surface, opt.dmax)) {
           ++r.rejected_by_shape;
           if (cache) cache->set(vertices[v], RejectionCache::kByShape);
@@ -342,6 +372,9 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
   std::optional<SurfaceDistanceTracker> error;
   if (opt.measure_boundary_error) error.emplace(rep.originals);
 
+  // The original boundary points by place, for the shape guard.
+  std::optional<PointBuckets> originals_index;
+  if (solid) originals_index.emplace(rep.originals);
   std::optional<RejectionCache> rejections;
   if (solid) rejections.emplace(points.size());
 
@@ -387,7 +420,8 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
     do {
       const Csr represented = rep.rows_for(vertices, points.size());
       Removal next = select_removal(L, represented, rep, opt, solid ? &*solid : nullptr,
-                                    reference_surface ? &*reference_surface : nullptr, vertices,
+                                    reference_surface ? &*reference_surface : nullptr,
+                                    originals_index ? &*originals_index : nullptr, vertices,
                                     rejections ? &*rejections : nullptr,
                                     opt.average_quality_floor * h.levels.front().stats.avg_min_solid_angle);
       const uint64_t removed = next.boundary + next.interior;

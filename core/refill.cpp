@@ -58,26 +58,27 @@ Refill refill_of(const LevelGeometry& L, uint32_t v, const ReferenceSolid* solid
   }
   std::sort(outside_kept.begin(), outside_kept.end());
   for (size_t c = 0; c < r.cells.size(); ++c) {
-    if (!r.kept[c]) continue;
     for (int i = 0; i < 4; ++i) {
       const int32_t n = fill.neighbors[c][i];
-      bool other_kept = false;
       if (n >= 0) {
-        other_kept = r.kept[static_cast<size_t>(n)];
-      } else {
-        const Face key = sorted_face(face_of(r.cells[c], i));
-        const auto it = std::lower_bound(outside_kept.begin(), outside_kept.end(), key,
-                                         [](const auto& entry, const Face& f) { return entry.first < f; });
-        other_kept = it != outside_kept.end() && it->first == key && it->second;
+        // An inner face, seen from its kept side.
+        if (r.kept[c] && !r.kept[static_cast<size_t>(n)]) r.surface.push_back(face_of(r.cells[c], i));
+        continue;
       }
-      if (!other_kept) r.surface.push_back(face_of(r.cells[c], i));
+      const Face key = sorted_face(face_of(r.cells[c], i));
+      const auto it = std::lower_bound(outside_kept.begin(), outside_kept.end(), key,
+                                       [](const auto& entry, const Face& f) { return entry.first < f; });
+      const bool on_border = it != outside_kept.end() && it->first == key;
+      const bool outside = on_border && it->second;  // the hull counts as removed
+      if (r.kept[c] != outside) r.surface.push_back(face_of(r.cells[c], i));
     }
   }
+  for (const auto& [face, kept] : outside_kept) r.border.push_back(face);  // sorted
   return r;
 }
 
 bool shape_allows(const LevelGeometry& L, const LevelSurface& surface, uint32_t v, const Refill& refill,
-                  std::span<const GridPoint> represented, const FixedSurface& reference, double dmax) {
+                  std::span<const GridPoint> at_risk, const FixedSurface& reference, double dmax) {
   if (refill.cells.empty()) return false;
   if (!L.boundary[v]) return std::all_of(refill.kept.begin(), refill.kept.end(), [](uint8_t k) { return k; });
   const double dmax2 = dmax * dmax;
@@ -96,7 +97,9 @@ bool shape_allows(const LevelGeometry& L, const LevelSurface& surface, uint32_t 
   for (uint32_t u : L.neighbors.row(v))
     for (uint32_t i : surface.around.row(u)) {
       const Face& t = surface.triangles[i];
-      if (t[0] != v && t[1] != v && t[2] != v) after.push_back(t);
+      if (t[0] != v && t[1] != v && t[2] != v &&
+          !std::binary_search(refill.border.begin(), refill.border.end(), sorted_face(t)))
+        after.push_back(t);
     }
   auto near_surface = [&](const Vec3& p) {
     for (const Face& f : after)
@@ -106,9 +109,24 @@ bool shape_allows(const LevelGeometry& L, const LevelSurface& surface, uint32_t 
     return false;
   };
   if (!near_surface(to_vec(L.points[v]))) return false;
-  for (const GridPoint& p : represented)
+  for (const GridPoint& p : at_risk)
     if (!near_surface(to_vec(p))) return false;
   return true;
+}
+
+std::vector<Face> triangles_at_stake(const LevelSurface& surface, const LevelGeometry& L, uint32_t v,
+                                     const Refill& refill) {
+  std::vector<Face> out;
+  for (uint32_t i : surface.around.row(v)) out.push_back(surface.triangles[i]);
+  for (uint32_t u : L.neighbors.row(v))
+    for (uint32_t i : surface.around.row(u)) {
+      const Face& t = surface.triangles[i];
+      // Each border triangle is around three neighbours: taken once, from its smallest vertex.
+      if (u == std::min({t[0], t[1], t[2]}) &&
+          std::binary_search(refill.border.begin(), refill.border.end(), sorted_face(t)))
+        out.push_back(t);
+    }
+  return out;
 }
 
 // Ericson, Real-Time Collision Detection, §5.1.5: the closest point by
