@@ -4,10 +4,16 @@
 // Per model (bunny_10k, bunny_100k, bunny_1m; absent .node files are skipped):
 //   CgalDelaunay/<m>  dtm::delaunay_tetrahedralize: one CGAL build + export to TetMesh
 //   CgalRaw/<m>       the bare CGAL range insertion, no export, destruction not timed
-//   Hierarchy/<m>     dtm::build_hierarchy with meshenc's recommended settings
-//                     (--box 256 --qbits 14 --dmax 2, defaults otherwise)
-// All three run on the same quantized points; loading and quantization are
-// not timed. At the end a markdown table with hierarchy / CGAL time is printed.
+//   Hierarchy/<m>     dtm::build_hierarchy's bare mechanism (HierarchyOptions'
+//                     defaults: one independent set per level, alpha carving,
+//                     no guards) at meshenc's recommended grid
+//                     (--box 256 --qbits 14 --dmax 2)
+//   Encode/<m>        dtm::encode as meshenc runs it, codec preset, with the
+//                     model's .ele (when beside the .node) as the reference solid
+//   EncodePaper/<m>   the same, EncodeOptions::paper()
+//   Decode.../<m>     the codec preset's stream
+// All run on the same points; loading and quantization are not timed. At the
+// end two markdown tables give each time over one CGAL construction's.
 // "Time" is wall time; "CPU" is the whole process's CPU time, so CPU > Time
 // would mean the build used several threads.
 //
@@ -36,7 +42,7 @@
 #include <vector>
 
 #include "codec/decode.h"
-#include "codec/expert_encode.h"
+#include "codec/encode.h"
 #include "core/hierarchy.h"
 #include "mesh/delaunay.h"
 #include "tools/formats/tetgen.h"
@@ -53,19 +59,26 @@ using RawDT = CGAL::Delaunay_triangulation_3<K>;
 
 struct Model {
   std::string name;
+  std::vector<dtm::InputPoint> points;        // scaled to the 256 box
+  std::vector<std::array<uint32_t, 4>> tets;  // the .ele beside the .node, if any
   dtm::QuantizedPoints q;
   dtm::HierarchyOptions opt;
   std::vector<uint8_t> stream;  // encoded once, on first use by a decode benchmark
 
+  dtm::EncodeOptions options(bool paper) const {
+    dtm::EncodeOptions o = paper ? dtm::EncodeOptions::paper() : dtm::EncodeOptions{};
+    o.qbits = kQBits;
+    o.dmax = kDmax;
+    return o;
+  }
+  dtm::EncodedMesh encode(bool paper) const {
+    dtm::EncodeInput in;
+    in.points = points;
+    in.tetrahedra = tets;
+    return dtm::encode(in, options(paper)).value();
+  }
   const std::vector<uint8_t>& encoded() {
-    if (stream.empty()) {
-      dtm::HierarchyOptions fast = opt;
-      fast.measure_boundary_error = false;
-      stream =
-          dtm::encode_stream(dtm::build_hierarchy(q.points, fast).value(), q.points, q.grid, opt.alpha.kind)
-              .value()
-              .bytes;
-    }
+    if (stream.empty()) stream = encode(false).bytes;
     return stream;
   }
 };
@@ -77,8 +90,11 @@ Model load_model(const std::string& name, const std::string& path) {
   const double extent = dtm::largest_extent(node.points);
   const double scale = extent > 0 ? kBox / extent : 1.0;
   for (auto& p : node.points) p = {p.x * scale, p.y * scale, p.z * scale};
+  std::vector<std::array<uint32_t, 4>> tets;
+  const std::string ele = std::filesystem::path(path).replace_extension(".ele").string();
+  if (std::filesystem::exists(ele)) tets = dtm::read_tetgen_ele(ele, node.points.size(), node.index_base);
 
-  Model m{name, dtm::quantize(node.points, kQBits).value(), {}, {}};
+  Model m{name, node.points, std::move(tets), dtm::quantize(node.points, kQBits).value(), {}, {}};
   m.opt.dmax = kDmax / m.q.grid.step;  // HierarchyOptions wants grid units
   return m;
 }
@@ -161,26 +177,24 @@ void register_benchmarks(const Model& m) {
         ->MeasureProcessCPUTime();
   }
 
-  // What meshenc does after reading its input: the hierarchy (without the
-  // boundary-error report) and the stream.
-  benchmark::RegisterBenchmark(("Encode/" + m.name).c_str(),
-                               [&m, n](benchmark::State& st) {
-                                 dtm::HierarchyOptions opt = m.opt;
-                                 opt.measure_boundary_error = false;
-                                 size_t bytes = 0;
-                                 for (auto _ : st) {
-                                   const auto stream =
-                                       dtm::encode_stream(dtm::build_hierarchy(m.q.points, opt).value(),
-                                                          m.q.points, m.q.grid, opt.alpha.kind)
-                                           .value();
-                                   bytes = stream.bytes.size();
-                                 }
-                                 st.counters["vertices"] = n;
-                                 st.counters["bits_per_vertex"] = 8.0 * bytes / n;
-                               })
-      ->Iterations(iters)
-      ->Unit(benchmark::kMillisecond)
-      ->MeasureProcessCPUTime();
+  // What meshenc does after reading its input, reports included: each preset.
+  for (const bool paper : {false, true}) {
+    benchmark::RegisterBenchmark(((paper ? "EncodePaper/" : "Encode/") + m.name).c_str(),
+                                 [&m, n, paper](benchmark::State& st) {
+                                   size_t bytes = 0, levels = 0;
+                                   for (auto _ : st) {
+                                     const dtm::EncodedMesh e = m.encode(paper);
+                                     bytes = e.bytes.size();
+                                     levels = e.report.levels.size();
+                                   }
+                                   st.counters["vertices"] = n;
+                                   st.counters["levels"] = static_cast<double>(levels);
+                                   st.counters["bits_per_vertex"] = 8.0 * bytes / n;
+                                 })
+        ->Iterations(paper || n > 50'000 ? 1 : iters)
+        ->Unit(benchmark::kMillisecond)
+        ->MeasureProcessCPUTime();
+  }
 
   // Every layer inserted, coarsest first, into one triangulation; then the
   // finest level's mesh exported and carved. Any level's mesh is available
@@ -261,19 +275,26 @@ class CollectingReporter : public benchmark::ConsoleReporter {
 
 void print_codec_table(const CollectingReporter& rep, const std::vector<std::unique_ptr<Model>>& models) {
   std::printf(
-      "\n| model | vertices | CGAL DT (s) | encode (s) | ratio | decode, finest mesh (s) | ratio "
-      "| decode, every level's mesh (s) | ratio | bits per vertex |\n"
-      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "\n| model | vertices | reference solid | CGAL DT (s) | encode, codec (s) | ratio | levels | bits per "
+      "vertex "
+      "| encode, paper (s) | ratio | levels | decode, finest mesh (s) | ratio "
+      "| decode, every level's mesh (s) | ratio |\n"
+      "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& m : models) {
     const auto cgal = rep.find("CgalDelaunay/" + m->name);
     const auto enc = rep.find("Encode/" + m->name);
+    const auto paper = rep.find("EncodePaper/" + m->name);
     const auto dec = rep.find("Decode/" + m->name);
     const auto all = rep.find("DecodeEveryLevelMesh/" + m->name);
-    if (!cgal || !enc || !dec || !all) continue;
-    std::printf("| %s | %zu | %.3f | %.3f | %.2f | %.3f | %.2f | %.3f | %.2f | %.2f |\n", m->name.c_str(),
-                m->q.points.size(), cgal->seconds, enc->seconds, enc->seconds / cgal->seconds, dec->seconds,
-                dec->seconds / cgal->seconds, all->seconds, all->seconds / cgal->seconds,
-                enc->counters.at("bits_per_vertex").value);
+    if (!cgal || !enc || !paper || !dec || !all) continue;
+    std::printf(
+        "| %s | %zu | %s | %.3f | %.3f | %.1f | %.0f | %.2f | %.3f | %.1f | %.0f | %.3f | %.2f | %.3f | %.2f "
+        "|\n",
+        m->name.c_str(), m->q.points.size(), m->tets.empty() ? "level 0's alpha carving" : "its .ele",
+        cgal->seconds, enc->seconds, enc->seconds / cgal->seconds, enc->counters.at("levels").value,
+        enc->counters.at("bits_per_vertex").value, paper->seconds, paper->seconds / cgal->seconds,
+        paper->counters.at("levels").value, dec->seconds, dec->seconds / cgal->seconds, all->seconds,
+        all->seconds / cgal->seconds);
   }
 }
 

@@ -427,7 +427,7 @@ w('- **The set coder alone** (Table 1b, two levels) costs %s × Draco at q = 14 
           for m in big2 if m['name'] == 'bunny_100k'), 'n/a')))
 big10 = [t for t in t3 if t['N'] >= 5000]
 def per(t, key): return '%s %.3f' % (t['name'], t[key])
-w('- **Layer headers** (38 bytes × levels × 8 / N, plus 56 × 8 / N for the stream header) cost %s bpv '
+w('- **Layer headers** (42 bytes × levels × 8 / N, plus 56 × 8 / N for the stream header) cost %s bpv '
   'at q = 14: %s.' % (rng([t['hdrs'] for t in t3], '%.3f'), ', '.join(per(t, 'hdrs') for t in t3)))
 w('- **Which layer each vertex is in.** The level entropy Σ n_l log2(N/n_l)/N is %s bpv on the models with '
   'N >= 5000 (%s). The layered payload pays it in full: coding each layer as its own uniform set costs '

@@ -22,7 +22,8 @@ PointBuckets::PointBuckets(std::span<const GridPoint> points) : points_(points.b
   buckets_ = build_csr(static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]), [&](auto&& emit) {
     for (uint32_t i = 0; i < points_.size(); ++i) {
       const GridPoint& p = points_[i];
-      const int64_t x = (p.x - origin_[0]) / size_, y = (p.y - origin_[1]) / size_, z = (p.z - origin_[2]) / size_;
+      const int64_t x = (p.x - origin_[0]) / size_, y = (p.y - origin_[1]) / size_,
+                    z = (p.z - origin_[2]) / size_;
       emit(static_cast<uint32_t>((z * dims_[1] + y) * dims_[0] + x), i);
     }
   });

@@ -266,5 +266,24 @@ TEST_P(CodecLevels, KeepTheShapeWithinTwoDmaxAndHalveTheVertices) {
 
 INSTANTIATE_TEST_SUITE_P(TetGen, CodecLevels, ::testing::Values("bunny_10k", "elephant_10k"));
 
+// The paper preset on the paper's torus (288 vertices, scale 25, D_max 3):
+// its Table 2's trend, as issue 12 states it: 3 to 6 coarser levels, at least
+// 10% of the vertices removed at level 1 (the paper: 50 of 288), and no level
+// whose average smallest solid angle falls below level 0's.
+TEST(PaperPreset, ShowsTheTorusTrendOfTable2) {
+  const NodeFile node = read_tetgen_node(test::data_path("torus_288.node"));
+  EncodeInput input;
+  input.points = node.points;  // no tetrahedra: alpha carves, as in the paper
+  EncodeOptions options = EncodeOptions::paper();
+  options.scale = 25;
+  options.dmax = 3;
+  const EncodeReport r = encode(input, options).value().report;
+  ASSERT_GE(r.levels.size(), 4u);
+  EXPECT_LE(r.levels.size(), 7u);
+  EXPECT_GE(288 - r.levels[1].stats.vertices, 29u);
+  const double q0 = r.levels[0].stats.avg_min_solid_angle;
+  for (const auto& level : r.levels) EXPECT_GE(level.stats.avg_min_solid_angle, q0) << level.stats.level;
+}
+
 }  // namespace
 }  // namespace dtm

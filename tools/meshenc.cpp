@@ -109,7 +109,7 @@ void add_options(CLI::App& app, Command& c) {
   app.add_option("--preset", c.preset,
                  "codec: levels carved to the input's solid (alpha predicts, the stream corrects), about "
                  "half the vertices each; paper: the seed paper's (alpha carving, one independent set per "
-                 "level, its stopping rule)")
+                 "level, as many removals as keep the average quality, its stopping rule)")
       ->capture_default_str()
       ->check(CLI::IsMember({"codec", "paper"}));
   app.add_option("--removal-share", c.removal_share,
@@ -120,7 +120,7 @@ void add_options(CLI::App& app, Command& c) {
       ->capture_default_str();
   app.add_option("--quality-guard", c.quality_guard,
                  "accept a removal only if its new cells' smallest solid angle is >= "
-                 "min(S, the star's) (paper: 0.3); 0 = off")
+                 "min(S, the star's); 0 = off (both presets)")
       ->check(CLI::Range(0.0, 0.56));
   app.add_option("--quality-ratio", c.quality_ratio,
                  "accept a removal only if its new cells' smallest solid angle is >= R x the star's; 0 = off "
@@ -128,7 +128,7 @@ void add_options(CLI::App& app, Command& c) {
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--quality-floor", c.quality_floor,
                  "keep every level's average smallest solid angle >= F x level 0's, removing as many "
-                 "vertices as that allows (codec: 0.85; 0 = off)")
+                 "vertices as that allows (codec: 0.85, paper: 1; 0 = off)")
       ->check(CLI::Range(0.0, 1.0));
   app.add_flag(
       "--no-paper-stop", [&e](int64_t) { e.paper_stop = false; },

@@ -26,6 +26,6 @@ print(json.dumps({
                for l in info["levels"]]}, indent=1))' >"$here/$name.expected.json"
 }
 make_one torus_288 torus_288.node --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3
-make_one torus_288_paper torus_288.node --scale 25 --dmax 3 --preset paper
+make_one torus_288_paper torus_288.node --scale 25 --dmax 3 --preset paper --quality-guard 0.3 --quality-floor 0
 make_one torus_288_grid_q10_hull torus_288_grid.node --qbits 10 --alpha hull --levels 3
 make_one torus_288_q24 torus_288.node --qbits 24 --levels 1
