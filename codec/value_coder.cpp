@@ -1,0 +1,279 @@
+#include "codec/value_coder.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <utility>
+
+#include "bitstream/range_coder.h"
+
+namespace dtm {
+
+struct ValuePredictor::Models {
+  AdaptiveBit nonzero[kValueSpreadContexts];
+  AdaptiveBit negative[kValueSpreadContexts];
+  // Unary magnitude class: "class > j" for j = 1, 2, ... (the last model
+  // serves every larger j).
+  AdaptiveBit more[kValueSpreadContexts][kValueClassModels];
+  // The two bits under a magnitude's leading one, as a binary tree per class.
+  AdaptiveBit mantissa[kValueClassModels][4];
+};
+
+namespace {
+
+using UInt128 = unsigned __int128;
+
+// The largest magnitude class a residual can have: scaled values lie in
+// [0, 2^65) (a 64-bit type's span), so |residual| < 2^65.
+constexpr int kMaxClass = 65;
+
+int bit_width128(UInt128 m) {
+  const auto high = static_cast<uint64_t>(m >> 64);
+  return high ? 64 + std::bit_width(high) : std::bit_width(static_cast<uint64_t>(m));
+}
+
+int spread_context(Int128 lowest, Int128 highest) {
+  const int width = bit_width128(static_cast<UInt128>(highest - lowest));
+  return std::min(kValueSpreadContexts - 1, (width + 1) / 2);
+}
+
+void encode_residual(RangeEncoder& enc, ValuePredictor::Models& m, int ctx, Int128 r) {
+  enc.encode(m.nonzero[ctx], r != 0);
+  if (r == 0) return;
+  enc.encode(m.negative[ctx], r < 0);
+  const UInt128 mag = r < 0 ? static_cast<UInt128>(-r) : static_cast<UInt128>(r);
+  const int cls = bit_width128(mag);
+  for (int j = 1; j < cls; ++j) enc.encode(m.more[ctx][std::min(j, kValueClassModels) - 1], true);
+  if (cls < kMaxClass) enc.encode(m.more[ctx][std::min(cls, kValueClassModels) - 1], false);
+  const int below = cls - 1;  // bits under the leading one
+  const int modelled = std::min(2, below);
+  int node = 1;
+  for (int i = 0; i < modelled; ++i) {
+    const bool bit = (mag >> (below - 1 - i)) & 1;
+    enc.encode(m.mantissa[std::min(cls, kValueClassModels) - 1][node], bit);
+    node = 2 * node + bit;
+  }
+  int raw = below - modelled;
+  while (raw > 0) {
+    const int n = std::min(raw, 32);
+    raw -= n;
+    enc.encode_raw(static_cast<uint64_t>(mag >> raw) & ((uint64_t{1} << n) - 1), n);
+  }
+}
+
+Status decode_residual(RangeDecoder& dec, ValuePredictor::Models& m, int ctx, Int128& r) {
+  r = 0;
+  if (!dec.decode(m.nonzero[ctx])) return Status::Ok();
+  const bool negative = dec.decode(m.negative[ctx]);
+  int cls = 1;
+  while (cls < kMaxClass && dec.decode(m.more[ctx][std::min(cls, kValueClassModels) - 1])) ++cls;
+  const int below = cls - 1;
+  const int modelled = std::min(2, below);
+  UInt128 mag = 1;
+  int node = 1;
+  for (int i = 0; i < modelled; ++i) {
+    const bool bit = dec.decode(m.mantissa[std::min(cls, kValueClassModels) - 1][node]);
+    mag = mag << 1 | static_cast<UInt128>(bit);
+    node = 2 * node + bit;
+  }
+  int raw = below - modelled;
+  while (raw > 0) {
+    const int n = std::min(raw, 32);
+    raw -= n;
+    mag = mag << n | static_cast<UInt128>(dec.decode_raw(n));
+  }
+  r = negative ? -static_cast<Int128>(mag) : static_cast<Int128>(mag);
+  return Status::Ok();
+}
+
+}  // namespace
+
+ValuePredictor::ValuePredictor() : models_(std::make_unique<Models>()) {}
+ValuePredictor::~ValuePredictor() = default;
+ValuePredictor::ValuePredictor(ValuePredictor&&) noexcept = default;
+ValuePredictor& ValuePredictor::operator=(ValuePredictor&&) noexcept = default;
+
+std::array<int64_t, 3> ValuePredictor::cell_of(const GridPoint& p) const {
+  return {(p.x - origin_[0]) / cell_, (p.y - origin_[1]) / cell_, (p.z - origin_[2]) / cell_};
+}
+
+void ValuePredictor::prepare(std::span<const GridPoint> incoming) {
+  if (points_.empty() && incoming.empty()) return;
+  const GridPoint first = points_.empty() ? incoming[0] : points_[0];
+  std::array<int64_t, 3> lo = {first.x, first.y, first.z}, hi = lo;
+  auto grow = [&](const GridPoint& p) {
+    const std::array<int64_t, 3> c = {p.x, p.y, p.z};
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
+  };
+  for (const GridPoint& p : points_) grow(p);
+  for (const GridPoint& p : incoming) grow(p);
+  // About one point per cell once the layer is in (integer arithmetic:
+  // the encoder and every decoder size the grid alike).
+  const int64_t extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}) + 1;
+  const auto total = static_cast<int64_t>(points_.size() + incoming.size());
+  int64_t per_side = 1;
+  while ((per_side + 1) * (per_side + 1) * (per_side + 1) <= total) ++per_side;
+  origin_ = lo;
+  cell_ = std::max<int64_t>(1, (extent + per_side - 1) / per_side);
+  for (int a = 0; a < 3; ++a) dims_[a] = (hi[a] - lo[a]) / cell_ + 1;
+  buckets_.assign(static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]), {});
+  for (uint32_t i = 0; i < points_.size(); ++i) buckets_[bucket(cell_of(points_[i]))].push_back(i);
+}
+
+void ValuePredictor::add(const GridPoint& p, Int128 value) {
+  buckets_[bucket(cell_of(p))].push_back(static_cast<uint32_t>(points_.size()));
+  points_.push_back(p);
+  values_.push_back(value);
+}
+
+ValuePredictor::Prediction ValuePredictor::predict(const GridPoint& p) const {
+  if (points_.empty()) return {};
+  // The kValueNeighbours nearest known points, ties to the earlier coded:
+  // rings of cells around p's, until no farther ring can hold a nearer one.
+  struct Near {
+    int64_t d2;
+    uint32_t index;
+    bool operator<(const Near& o) const { return d2 != o.d2 ? d2 < o.d2 : index < o.index; }
+  };
+  std::array<Near, kValueNeighbours> best;
+  int found = 0;
+  const std::array<int64_t, 3> c = cell_of(p);
+  const int64_t rings = std::max({dims_[0], dims_[1], dims_[2]});
+  for (int64_t r = 0; r <= rings; ++r) {
+    for (int64_t z = c[2] - r; z <= c[2] + r; ++z) {
+      if (z < 0 || z >= dims_[2]) continue;
+      for (int64_t y = c[1] - r; y <= c[1] + r; ++y) {
+        if (y < 0 || y >= dims_[1]) continue;
+        const bool y_or_z_on_ring = std::abs(z - c[2]) == r || std::abs(y - c[1]) == r;
+        for (int64_t x = c[0] - r; x <= c[0] + r; x += (y_or_z_on_ring || r == 0) ? 1 : 2 * r) {
+          if (x < 0 || x >= dims_[0]) continue;
+          for (uint32_t i : buckets_[bucket({x, y, z})]) {
+            const int64_t dx = points_[i].x - p.x, dy = points_[i].y - p.y, dz = points_[i].z - p.z;
+            const Near n{dx * dx + dy * dy + dz * dz, i};
+            if (found < kValueNeighbours) {
+              best[found++] = n;
+              std::push_heap(best.begin(), best.begin() + found);
+            } else if (n < best[0]) {
+              std::pop_heap(best.begin(), best.end());
+              best.back() = n;
+              std::push_heap(best.begin(), best.end());
+            }
+          }
+        }
+      }
+    }
+    // Any point of a farther ring is at least r cells away along an axis (a
+    // point exactly that far could still win a tie: strict).
+    if (found == kValueNeighbours && best[0].d2 < (r * cell_) * (r * cell_)) break;
+  }
+  std::sort_heap(best.begin(), best.begin() + found);  // nearest first
+  // Weights d_1^2 / d_i^2 in 16-bit fixed point (the nearest weighs 2^16),
+  // exact integers, so that every decoder predicts the same value.
+  const Int128 nearest = std::max<int64_t>(1, best[0].d2);
+  Int128 num = 0, den = 0;
+  Int128 lowest = values_[best[0].index], highest = lowest;
+  for (int k = 0; k < found; ++k) {
+    const Int128 v = values_[best[k].index];
+    const Int128 w = (nearest << 16) / std::max<int64_t>(1, best[k].d2);
+    num += w * v;
+    den += w;
+    lowest = std::min(lowest, v), highest = std::max(highest, v);
+  }
+  return {(2 * num + den) / (2 * den), spread_context(lowest, highest)};
+}
+
+Int128 to_ordered(uint64_t bits, ValueType type) {
+  switch (type) {
+    case ValueType::kI8: return static_cast<int8_t>(bits);
+    case ValueType::kU8: return static_cast<uint8_t>(bits);
+    case ValueType::kI16: return static_cast<int16_t>(bits);
+    case ValueType::kU16: return static_cast<uint16_t>(bits);
+    case ValueType::kI32: return static_cast<int32_t>(bits);
+    case ValueType::kU32: return static_cast<uint32_t>(bits);
+    case ValueType::kI64: return static_cast<int64_t>(bits);
+    case ValueType::kU64: return static_cast<Int128>(bits);
+    case ValueType::kF32: {
+      // fpzip's map: negative floats reversed under the positive ones, so
+      // that the integers order as the floats do (NaNs beyond infinities).
+      const auto b = static_cast<uint32_t>(bits);
+      const uint32_t u = (b >> 31) ? ~b : (b | 0x80000000u);
+      return static_cast<Int128>(u) - (Int128{1} << 31);
+    }
+    case ValueType::kF64: {
+      const uint64_t u = (bits >> 63) ? ~bits : (bits | (uint64_t{1} << 63));
+      return static_cast<Int128>(u) - (Int128{1} << 63);
+    }
+  }
+  return 0;
+}
+
+uint64_t from_ordered(Int128 ordered, ValueType type) {
+  switch (type) {
+    case ValueType::kI8:
+    case ValueType::kI16:
+    case ValueType::kI32:
+    case ValueType::kI64: return static_cast<uint64_t>(static_cast<int64_t>(ordered));
+    case ValueType::kU8:
+    case ValueType::kU16:
+    case ValueType::kU32:
+    case ValueType::kU64: return static_cast<uint64_t>(ordered);
+    case ValueType::kF32: {
+      const auto u = static_cast<uint32_t>(static_cast<uint64_t>(ordered + (Int128{1} << 31)));
+      return (u >> 31) ? (u & 0x7fffffffu) : ~u;
+    }
+    case ValueType::kF64: {
+      const auto u = static_cast<uint64_t>(ordered + (Int128{1} << 63));
+      return (u >> 63) ? (u & ~(uint64_t{1} << 63)) : ~u;
+    }
+  }
+  return 0;
+}
+
+ValueScale value_scale(std::span<const Int128> ordered) {
+  ValueScale s;
+  if (ordered.empty()) return s;
+  s.offset = *std::min_element(ordered.begin(), ordered.end());
+  UInt128 g = 0;
+  for (const Int128 v : ordered) {
+    UInt128 a = static_cast<UInt128>(v - s.offset), b = g;
+    while (b != 0) a = std::exchange(b, a % b);  // gcd(v - offset, g)
+    g = a;
+  }
+  s.step = g == 0 ? 1 : static_cast<Int128>(g);
+  return s;
+}
+
+std::vector<uint8_t> ValueEncoder::encode_layer(std::span<const GridPoint> points,
+                                                std::span<const Int128> ordered) {
+  RangeEncoder enc;
+  predictor_.prepare(points);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Int128 v = (ordered[i] - scale_.offset) / scale_.step;
+    const ValuePredictor::Prediction pred = predictor_.predict(points[i]);
+    encode_residual(enc, predictor_.models(), pred.context, v - pred.value);
+    predictor_.add(points[i], v);
+  }
+  return enc.finish();
+}
+
+Status ValueDecoder::decode_layer(std::span<const uint8_t> section, std::span<const GridPoint> points,
+                                  std::vector<Int128>& ordered) {
+  RangeDecoder dec(section);
+  predictor_.prepare(points);
+  ordered.clear();
+  ordered.reserve(points.size());
+  for (const GridPoint& p : points) {
+    const ValuePredictor::Prediction pred = predictor_.predict(p);
+    Int128 r = 0;
+    DTM_RETURN_IF_ERROR(decode_residual(dec, predictor_.models(), pred.context, r));
+    const Int128 v = pred.value + r;
+    if (v < 0 || v >= (Int128{1} << kMaxClass) || dec.overran())
+      return {StatusCode::kCorrupt, "a value section decodes out of range"};
+    predictor_.add(p, v);
+    ordered.push_back(scale_.offset + v * scale_.step);
+  }
+  if (!dec.finished_cleanly()) return {StatusCode::kCorrupt, "a value section has bytes left over or ends early"};
+  return Status::Ok();
+}
+
+}  // namespace dtm

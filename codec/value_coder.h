@@ -1,0 +1,113 @@
+// Per-vertex values coded level by level (issue 13; not in the stream
+// format yet: this is the coder the format's value sections will carry).
+// Encoder and decoder side by side, sharing the predictor.
+//
+// Values are integers that order like the originals (to_ordered below: the
+// integers as they are, floats by the fpzip map of their bits), shifted by
+// the smallest value and divided by the greatest common divisor of the
+// shifts (CT numbers in steps of 10 cost log2(10) bits less each). Points
+// arrive layer by layer, coarsest first, in the order the decoder produces
+// them; each value is predicted from the values of the kValueNeighbours
+// nearest points already coded (every coarser level's, and this layer's
+// earlier ones), weighted by inverse squared distance in exact integer
+// arithmetic, and the residual is range-coded: zero flag, sign, magnitude
+// class in unary, two modelled mantissa bits, the rest raw. Contexts: how
+// far apart the neighbours' values are. The models carry over from layer to
+// layer, as the values do.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "common/grid.h"
+#include "common/status.h"
+#include "mesh/geometry.h"
+
+namespace dtm {
+
+// How a field's values are stored: integers of 8 to 64 bits, IEEE floats.
+enum class ValueType : uint8_t { kI8, kU8, kI16, kU16, kI32, kU32, kI64, kU64, kF32, kF64 };
+
+// The order-preserving integer of a value given by its bits (the integer's
+// two's complement bits, or the float's IEEE bits), and back. Floats: NaNs
+// and infinities included, bit for bit.
+Int128 to_ordered(uint64_t bits, ValueType type);
+uint64_t from_ordered(Int128 ordered, ValueType type);
+
+// What the whole field shares, sent once: its smallest ordered value and the
+// gcd of every value's distance from it (1 when all values are equal).
+struct ValueScale {
+  Int128 offset = 0;
+  Int128 step = 1;
+};
+ValueScale value_scale(std::span<const Int128> ordered);
+
+inline constexpr int kValueNeighbours = 8;
+inline constexpr int kValueSpreadContexts = 6;
+inline constexpr int kValueClassModels = 24;
+
+// The points coded so far with their (scaled) values, and the adaptive
+// models: the state encoder and decoder keep in step.
+class ValuePredictor {
+ public:
+  // The prediction of the value at p and its context, from the values known so far.
+  struct Prediction {
+    Int128 value = 0;
+    int context = 0;
+  };
+  Prediction predict(const GridPoint& p) const;
+  // Adds a point and its scaled value to what is known.
+  void add(const GridPoint& p, Int128 value);
+  // Call before a layer's values: sizes the search grid for the points known
+  // and the layer's (`incoming`, whose positions the decoder has by then).
+  void prepare(std::span<const GridPoint> incoming);
+
+  struct Models;
+  Models& models() { return *models_; }
+  ValuePredictor();
+  ~ValuePredictor();
+  ValuePredictor(ValuePredictor&&) noexcept;
+  ValuePredictor& operator=(ValuePredictor&&) noexcept;
+
+ private:
+  std::array<int64_t, 3> cell_of(const GridPoint& p) const;
+  size_t bucket(const std::array<int64_t, 3>& c) const { return static_cast<size_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]); }
+  std::vector<GridPoint> points_;
+  std::vector<Int128> values_;
+  // A uniform grid of the known points over the box of every point known or
+  // about to be: cells of edge cell_ (grid units), about one point each.
+  std::array<int64_t, 3> origin_{}, dims_{1, 1, 1};
+  int64_t cell_ = 1;
+  std::vector<std::vector<uint32_t>> buckets_;
+  std::unique_ptr<Models> models_;
+};
+
+class ValueEncoder {
+ public:
+  explicit ValueEncoder(ValueScale scale) : scale_(scale) {}
+  // The section of one layer: the values (ordered integers) of its new
+  // points, in the decoder's order.
+  std::vector<uint8_t> encode_layer(std::span<const GridPoint> points, std::span<const Int128> ordered);
+
+ private:
+  ValueScale scale_;
+  ValuePredictor predictor_;
+};
+
+class ValueDecoder {
+ public:
+  explicit ValueDecoder(ValueScale scale) : scale_(scale) {}
+  // The ordered values of a layer's new points from its section; kCorrupt
+  // if the section ends early, has bytes left over or decodes out of range.
+  Status decode_layer(std::span<const uint8_t> section, std::span<const GridPoint> points,
+                      std::vector<Int128>& ordered);
+
+ private:
+  ValueScale scale_;
+  ValuePredictor predictor_;
+};
+
+}  // namespace dtm
