@@ -51,8 +51,9 @@ void append(std::string& out, T v) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: value_bits FILE [--threshold T | --label L] [--voxel-interior-step K] "
-                         "[--box B] [--dmax D] [--raw-type i16|u16|i32|f32|f64]\n");
+    std::fprintf(stderr,
+                 "usage: value_bits FILE [--threshold T | --label L] [--voxel-interior-step K] "
+                 "[--box B] [--dmax D] [--raw-type i16|u16|i32|f32|f64]\n");
     return 2;
   }
   const std::string path = argv[1];
@@ -61,12 +62,18 @@ int main(int argc, char** argv) {
   std::string raw_type;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--threshold") volume.threshold = std::stod(v);
-    else if (a == "--label") volume.label = std::stod(v);
-    else if (a == "--voxel-interior-step") volume.interior_step = std::stoi(v);
-    else if (a == "--box") options.box = std::stod(v);
-    else if (a == "--dmax") options.dmax = std::stod(v);
-    else if (a == "--raw-type") raw_type = v;
+    if (a == "--threshold")
+      volume.threshold = std::stod(v);
+    else if (a == "--label")
+      volume.label = std::stod(v);
+    else if (a == "--voxel-interior-step")
+      volume.interior_step = std::stoi(v);
+    else if (a == "--box")
+      options.box = std::stod(v);
+    else if (a == "--dmax")
+      options.dmax = std::stod(v);
+    else if (a == "--raw-type")
+      raw_type = v;
     else {
       std::fprintf(stderr, "value_bits: unknown option %s\n", a.c_str());
       return 2;
@@ -87,9 +94,10 @@ int main(int argc, char** argv) {
     std::vector<dtm::GridPoint> points;
     std::vector<size_t> layer_ends;
     dtm::ProgressiveDecoder decoder;
-    if (!decoder.feed(encoded.bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel&) {
-          layer_ends.push_back(d.points().size());
-        }).ok())
+    if (!decoder
+             .feed(encoded.bytes, [&](const dtm::ProgressiveDecoder& d,
+                                      const dtm::DecodedLevel&) { layer_ends.push_back(d.points().size()); })
+             .ok())
       throw std::runtime_error("the stream does not decode");
     points = decoder.points();
     const size_t n = points.size();
@@ -117,12 +125,14 @@ int main(int argc, char** argv) {
           fits_u16 = fits_u16 && v >= 0 && v <= 65535;
         }
         std::string type = raw_type;
-        if (type.empty()) type = integral && fits16 ? "i16" : integral && fits_u16 ? "u16" : integral ? "i32" : "f64";
-        const dtm::ValueType vt = type == "f32" ? dtm::ValueType::kF32
+        if (type.empty())
+          type = integral && fits16 ? "i16" : integral && fits_u16 ? "u16" : integral ? "i32" : "f64";
+        const dtm::ValueType vt = type == "f32"   ? dtm::ValueType::kF32
                                   : type == "f64" ? dtm::ValueType::kF64
                                                   : dtm::ValueType::kI32;
         auto ordered_of = [&](double v) {
-          if (vt == dtm::ValueType::kF32) return dtm::to_ordered(std::bit_cast<uint32_t>(static_cast<float>(v)), vt);
+          if (vt == dtm::ValueType::kF32)
+            return dtm::to_ordered(std::bit_cast<uint32_t>(static_cast<float>(v)), vt);
           if (vt == dtm::ValueType::kF64) return dtm::to_ordered(std::bit_cast<uint64_t>(v), vt);
           return dtm::Int128{static_cast<int64_t>(v)};
         };
@@ -153,27 +163,35 @@ int main(int argc, char** argv) {
         std::string raw;
         for (const size_t i : raster) {
           const double v = value(i);
-          if (type == "i16") append(raw, static_cast<int16_t>(v));
-          else if (type == "u16") append(raw, static_cast<uint16_t>(v));
-          else if (type == "i32") append(raw, static_cast<int32_t>(v));
-          else if (type == "f32") append(raw, static_cast<float>(v));
-          else append(raw, v);
+          if (type == "i16")
+            append(raw, static_cast<int16_t>(v));
+          else if (type == "u16")
+            append(raw, static_cast<uint16_t>(v));
+          else if (type == "i32")
+            append(raw, static_cast<int32_t>(v));
+          else if (type == "f32")
+            append(raw, static_cast<float>(v));
+          else
+            append(raw, v);
         }
         const std::string tmp =
-            (std::filesystem::temp_directory_path() / ("value_bits_" + std::to_string(getpid()) + ".raw")).string();
+            (std::filesystem::temp_directory_path() / ("value_bits_" + std::to_string(getpid()) + ".raw"))
+                .string();
         std::ofstream(tmp, std::ios::binary).write(raw.data(), static_cast<std::streamsize>(raw.size()));
         const long zstd = compressed_size("zstd -19 -q -c", tmp), xz = compressed_size("xz -9 -c", tmp);
         std::filesystem::remove(tmp);
         const double m = static_cast<double>(in.points.size());
         const double ours = 8.0 * static_cast<double>(bytes) / static_cast<double>(n);
         const double best = 8.0 * static_cast<double>(std::min(zstd, xz)) / m;
-        std::printf("field %s[%d] (%s, gcd %lld): ours %.3f bits/value, zstd -19 %.3f, xz -9 %.3f, raw %.1f; "
-                    "ours / better = %.3f; per layer (coarsest first):",
-                    f.name.c_str(), c, type.c_str(), static_cast<long long>(scale.step), ours, 8.0 * zstd / m,
-                    8.0 * xz / m, 8.0 * static_cast<double>(raw.size()) / m, ours / best);
+        std::printf(
+            "field %s[%d] (%s, gcd %lld): ours %.3f bits/value, zstd -19 %.3f, xz -9 %.3f, raw %.1f; "
+            "ours / better = %.3f; per layer (coarsest first):",
+            f.name.c_str(), c, type.c_str(), static_cast<long long>(scale.step), ours, 8.0 * zstd / m,
+            8.0 * xz / m, 8.0 * static_cast<double>(raw.size()) / m, ours / best);
         begin = 0;
         for (size_t k = 0; k < per_layer.size(); ++k) {
-          std::printf(" %.2f", 8.0 * static_cast<double>(per_layer[k]) / static_cast<double>(layer_ends[k] - begin));
+          std::printf(" %.2f",
+                      8.0 * static_cast<double>(per_layer[k]) / static_cast<double>(layer_ends[k] - begin));
           begin = layer_ends[k];
         }
         std::printf("\n");

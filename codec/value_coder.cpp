@@ -124,6 +124,7 @@ void ValuePredictor::add(const GridPoint& p, Int128 value) {
   buckets_[bucket(cell_of(p))].push_back(static_cast<uint32_t>(points_.size()));
   points_.push_back(p);
   values_.push_back(value);
+  sum_ += value;
 }
 
 ValuePredictor::Prediction ValuePredictor::predict(const GridPoint& p) const {
@@ -179,19 +180,28 @@ ValuePredictor::Prediction ValuePredictor::predict(const GridPoint& p) const {
     den += w;
     lowest = std::min(lowest, v), highest = std::max(highest, v);
   }
-  return {(2 * num + den) / (2 * den), spread_context(lowest, highest)};
+  const auto count = static_cast<Int128>(values_.size());
+  return {(2 * num + den) / (2 * den), (2 * sum_ + count) / (2 * count), spread_context(lowest, highest)};
 }
 
 Int128 to_ordered(uint64_t bits, ValueType type) {
   switch (type) {
-    case ValueType::kI8: return static_cast<int8_t>(bits);
-    case ValueType::kU8: return static_cast<uint8_t>(bits);
-    case ValueType::kI16: return static_cast<int16_t>(bits);
-    case ValueType::kU16: return static_cast<uint16_t>(bits);
-    case ValueType::kI32: return static_cast<int32_t>(bits);
-    case ValueType::kU32: return static_cast<uint32_t>(bits);
-    case ValueType::kI64: return static_cast<int64_t>(bits);
-    case ValueType::kU64: return static_cast<Int128>(bits);
+    case ValueType::kI8:
+      return static_cast<int8_t>(bits);
+    case ValueType::kU8:
+      return static_cast<uint8_t>(bits);
+    case ValueType::kI16:
+      return static_cast<int16_t>(bits);
+    case ValueType::kU16:
+      return static_cast<uint16_t>(bits);
+    case ValueType::kI32:
+      return static_cast<int32_t>(bits);
+    case ValueType::kU32:
+      return static_cast<uint32_t>(bits);
+    case ValueType::kI64:
+      return static_cast<int64_t>(bits);
+    case ValueType::kU64:
+      return static_cast<Int128>(bits);
     case ValueType::kF32: {
       // fpzip's map: negative floats reversed under the positive ones, so
       // that the integers order as the floats do (NaNs beyond infinities).
@@ -212,11 +222,13 @@ uint64_t from_ordered(Int128 ordered, ValueType type) {
     case ValueType::kI8:
     case ValueType::kI16:
     case ValueType::kI32:
-    case ValueType::kI64: return static_cast<uint64_t>(static_cast<int64_t>(ordered));
+    case ValueType::kI64:
+      return static_cast<uint64_t>(static_cast<int64_t>(ordered));
     case ValueType::kU8:
     case ValueType::kU16:
     case ValueType::kU32:
-    case ValueType::kU64: return static_cast<uint64_t>(ordered);
+    case ValueType::kU64:
+      return static_cast<uint64_t>(ordered);
     case ValueType::kF32: {
       const auto u = static_cast<uint32_t>(static_cast<uint64_t>(ordered + (Int128{1} << 31)));
       return (u >> 31) ? (u & 0x7fffffffu) : ~u;
@@ -245,15 +257,32 @@ ValueScale value_scale(std::span<const Int128> ordered) {
 
 std::vector<uint8_t> ValueEncoder::encode_layer(std::span<const GridPoint> points,
                                                 std::span<const Int128> ordered) {
-  RangeEncoder enc;
+  // The predictions do not depend on the mode (every earlier value is
+  // known exactly): make them once, then code the layer in each mode with a
+  // copy of the models, and keep the smallest.
   predictor_.prepare(points);
+  std::vector<ValuePredictor::Prediction> predictions;
+  std::vector<Int128> values;
   for (size_t i = 0; i < points.size(); ++i) {
-    const Int128 v = (ordered[i] - scale_.offset) / scale_.step;
-    const ValuePredictor::Prediction pred = predictor_.predict(points[i]);
-    encode_residual(enc, predictor_.models(), pred.context, v - pred.value);
-    predictor_.add(points[i], v);
+    values.push_back((ordered[i] - scale_.offset) / scale_.step);
+    predictions.push_back(predictor_.predict(points[i]));
+    predictor_.add(points[i], values.back());
   }
-  return enc.finish();
+  auto code = [&](ValueMode mode, ValuePredictor::Models& models) {
+    RangeEncoder enc;
+    enc.encode_raw(static_cast<uint64_t>(mode), 2);
+    for (size_t i = 0; i < values.size(); ++i)
+      encode_residual(enc, models, predictions[i].context, values[i] - predictions[i].value(mode));
+    return enc.finish();
+  };
+  ValueMode best = ValueMode::kNeighbours;
+  size_t best_size = SIZE_MAX;
+  for (int m = 0; m < kValueModes; ++m) {
+    ValuePredictor::Models trial = predictor_.models();
+    const size_t size = code(static_cast<ValueMode>(m), trial).size();
+    if (size < best_size) best_size = size, best = static_cast<ValueMode>(m);
+  }
+  return code(best, predictor_.models());
 }
 
 Status ValueDecoder::decode_layer(std::span<const uint8_t> section, std::span<const GridPoint> points,
@@ -262,17 +291,20 @@ Status ValueDecoder::decode_layer(std::span<const uint8_t> section, std::span<co
   predictor_.prepare(points);
   ordered.clear();
   ordered.reserve(points.size());
+  const uint64_t mode = dec.decode_raw(2);
+  if (mode >= kValueModes) return {StatusCode::kCorrupt, "a value section names an unknown prediction mode"};
   for (const GridPoint& p : points) {
     const ValuePredictor::Prediction pred = predictor_.predict(p);
     Int128 r = 0;
     DTM_RETURN_IF_ERROR(decode_residual(dec, predictor_.models(), pred.context, r));
-    const Int128 v = pred.value + r;
+    const Int128 v = pred.value(static_cast<ValueMode>(mode)) + r;
     if (v < 0 || v >= (Int128{1} << kMaxClass) || dec.overran())
       return {StatusCode::kCorrupt, "a value section decodes out of range"};
     predictor_.add(p, v);
     ordered.push_back(scale_.offset + v * scale_.step);
   }
-  if (!dec.finished_cleanly()) return {StatusCode::kCorrupt, "a value section has bytes left over or ends early"};
+  if (!dec.finished_cleanly())
+    return {StatusCode::kCorrupt, "a value section has bytes left over or ends early"};
   return Status::Ok();
 }
 

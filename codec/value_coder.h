@@ -10,8 +10,10 @@
 // them; each value is predicted from the values of the kValueNeighbours
 // nearest points already coded (every coarser level's, and this layer's
 // earlier ones), weighted by inverse squared distance in exact integer
-// arithmetic, and the residual is range-coded: zero flag, sign, magnitude
-// class in unary, two modelled mantissa bits, the rest raw. Contexts: how
+// arithmetic, or pulled toward the mean of every value coded so far (each
+// layer says which: noisy data such as a CT's predict better from the mean),
+// and the residual is range-coded: zero flag, sign, magnitude class in
+// unary, two modelled mantissa bits, the rest raw. Contexts: how
 // far apart the neighbours' values are. The models carry over from layer to
 // layer, as the values do.
 #pragma once
@@ -46,6 +48,11 @@ struct ValueScale {
 ValueScale value_scale(std::span<const Int128> ordered);
 
 inline constexpr int kValueNeighbours = 8;
+
+// How a layer predicts: from the neighbours, halfway between them and the
+// mean of the values so far, or the mean alone. The encoder tries each.
+enum class ValueMode : uint8_t { kNeighbours = 0, kHalfway = 1, kMean = 2 };
+inline constexpr int kValueModes = 3;
 inline constexpr int kValueSpreadContexts = 6;
 inline constexpr int kValueClassModels = 24;
 
@@ -55,8 +62,14 @@ class ValuePredictor {
  public:
   // The prediction of the value at p and its context, from the values known so far.
   struct Prediction {
-    Int128 value = 0;
+    Int128 neighbours = 0;  // the inverse-distance mean of the nearest values
+    Int128 mean = 0;        // the mean of every value known
     int context = 0;
+    Int128 value(ValueMode mode) const {
+      return mode == ValueMode::kNeighbours ? neighbours
+             : mode == ValueMode::kMean     ? mean
+                                            : (neighbours + mean) / 2;
+    }
   };
   Prediction predict(const GridPoint& p) const;
   // Adds a point and its scaled value to what is known.
@@ -74,9 +87,12 @@ class ValuePredictor {
 
  private:
   std::array<int64_t, 3> cell_of(const GridPoint& p) const;
-  size_t bucket(const std::array<int64_t, 3>& c) const { return static_cast<size_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]); }
+  size_t bucket(const std::array<int64_t, 3>& c) const {
+    return static_cast<size_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
+  }
   std::vector<GridPoint> points_;
   std::vector<Int128> values_;
+  Int128 sum_ = 0;
   // A uniform grid of the known points over the box of every point known or
   // about to be: cells of edge cell_ (grid units), about one point each.
   std::array<int64_t, 3> origin_{}, dims_{1, 1, 1};

@@ -20,7 +20,8 @@ uint64_t bits_of(double d) { return std::bit_cast<uint64_t>(d); }
 
 TEST(ValueTypes, OrderedIntegersOrderAsTheFloatsAndComeBackBitForBit) {
   const float inf = std::numeric_limits<float>::infinity();
-  const std::vector<float> floats = {-inf, -3.4e38f, -1.0f, -1e-40f, -0.0f, 0.0f, 1e-45f, 1.0f, 2.5f, 3.4e38f, inf};
+  const std::vector<float> floats = {-inf,   -3.4e38f, -1.0f, -1e-40f, -0.0f, 0.0f,
+                                     1e-45f, 1.0f,     2.5f,  3.4e38f, inf};
   for (size_t i = 0; i < floats.size(); ++i) {
     const Int128 o = to_ordered(bits_of(floats[i]), ValueType::kF32);
     EXPECT_EQ(from_ordered(o, ValueType::kF32), bits_of(floats[i])) << floats[i];
@@ -45,7 +46,8 @@ TEST(ValueTypes, OrderedIntegersOrderAsTheFloatsAndComeBackBitForBit) {
   // Integers are themselves; their extremes come back.
   EXPECT_EQ(to_ordered(0xff, ValueType::kI8), -1);
   EXPECT_EQ(to_ordered(0xff, ValueType::kU8), 255);
-  EXPECT_EQ(from_ordered(to_ordered(0x8000000000000000, ValueType::kI64), ValueType::kI64), 0x8000000000000000);
+  EXPECT_EQ(from_ordered(to_ordered(0x8000000000000000, ValueType::kI64), ValueType::kI64),
+            0x8000000000000000);
   EXPECT_EQ(from_ordered(to_ordered(~uint64_t{0}, ValueType::kU64), ValueType::kU64), ~uint64_t{0});
 }
 
@@ -68,10 +70,14 @@ Layers smooth_field(ValueType type, uint32_t seed) {
     for (const GridPoint& p : l.points.back()) {
       const double f = 1000 * std::sin(p.x / 400.0) * std::cos(p.y / 500.0) + p.z / 3.0 + noise(rng);
       uint64_t bits = 0;
-      if (type == ValueType::kF32) bits = bits_of(static_cast<float>(f));
-      else if (type == ValueType::kF64) bits = bits_of(f);
-      else if (type == ValueType::kU16) bits = static_cast<uint16_t>(std::lround(f + 2000));
-      else bits = static_cast<uint64_t>(static_cast<int64_t>(std::lround(f)));
+      if (type == ValueType::kF32)
+        bits = bits_of(static_cast<float>(f));
+      else if (type == ValueType::kF64)
+        bits = bits_of(f);
+      else if (type == ValueType::kU16)
+        bits = static_cast<uint16_t>(std::lround(f + 2000));
+      else
+        bits = static_cast<uint64_t>(static_cast<int64_t>(std::lround(f)));
       v.push_back(to_ordered(bits, type));
     }
     l.values.push_back(std::move(v));
