@@ -5,11 +5,14 @@
 //
 //   value_bits FILE [--threshold T | --label L] [--voxel-interior-step K]
 //              [--box B] [--dmax D] [--raw-type i16|u16|i32|f32|f64]
+//              [--error-share S]
 //
 // Positions are encoded as meshenc would (codec preset), the stream decoded
 // for the decoder's point order and layers, and every field's values coded
 // layer by layer in that order. --raw-type says how the baselines store a
-// value (default: i16 when every value fits, else f64).
+// value (default: i16 when every value fits, else f64). --error-share S codes
+// the fields lossily within E = S x their range (codec/value_coder.h
+// quantize_within), against zstd -19 of round(v / 2E) as int32.
 #include <unistd.h>
 
 #include <algorithm>
@@ -60,6 +63,7 @@ int main(int argc, char** argv) {
   dtm::VolumeOptions volume;
   dtm::EncodeOptions options;
   std::string raw_type;
+  double error_share = 0;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--threshold")
@@ -74,6 +78,8 @@ int main(int argc, char** argv) {
       options.dmax = std::stod(v);
     else if (a == "--raw-type")
       raw_type = v;
+    else if (a == "--error-share")
+      error_share = std::stod(v);
     else {
       std::fprintf(stderr, "value_bits: unknown option %s\n", a.c_str());
       return 2;
@@ -138,10 +144,18 @@ int main(int argc, char** argv) {
         };
         // Values in the decoder's order (a merged point takes its first input's).
         std::vector<dtm::Int128> by_vertex(n, 0);
+        std::vector<double> doubles(n, 0);
         std::vector<uint8_t> seen(n, 0);
         for (size_t i = 0; i < in.points.size(); ++i) {
           const uint32_t v = encoded.vertex_of_input[i];
-          if (!seen[v]) by_vertex[v] = ordered_of(value(i)), seen[v] = 1;
+          if (!seen[v]) by_vertex[v] = ordered_of(value(i)), doubles[v] = value(i), seen[v] = 1;
+        }
+        double error = 0;
+        dtm::LossyScale lossy;
+        if (error_share > 0) {
+          const auto [lo, hi] = std::minmax_element(doubles.begin(), doubles.end());
+          error = error_share * (*hi - *lo);
+          by_vertex = dtm::quantize_within(doubles, error, type == "f32", lossy).value();
         }
         const dtm::ValueScale scale = dtm::value_scale(by_vertex);
         dtm::ValueEncoder enc(scale);
@@ -163,7 +177,9 @@ int main(int argc, char** argv) {
         std::string raw;
         for (const size_t i : raster) {
           const double v = value(i);
-          if (type == "i16")
+          if (error > 0)
+            append(raw, static_cast<int32_t>(std::lround(v / (2 * error))));
+          else if (type == "i16")
             append(raw, static_cast<int16_t>(v));
           else if (type == "u16")
             append(raw, static_cast<uint16_t>(v));
@@ -183,6 +199,9 @@ int main(int argc, char** argv) {
         const double m = static_cast<double>(in.points.size());
         const double ours = 8.0 * static_cast<double>(bytes) / static_cast<double>(n);
         const double best = 8.0 * static_cast<double>(std::min(zstd, xz)) / m;
+        if (error > 0)
+          std::printf("lossy, E = %g (%g of the range; baseline values round(v / 2E) as int32): ", error,
+                      error_share);
         std::printf(
             "field %s[%d] (%s, gcd %lld): ours %.3f bits/value, zstd -19 %.3f, xz -9 %.3f, raw %.1f; "
             "ours / better = %.3f; per layer (coarsest first):",

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "bitstream/range_coder.h"
@@ -26,6 +27,8 @@ using UInt128 = unsigned __int128;
 // The largest magnitude class a residual can have: scaled values lie in
 // [0, 2^65) (a 64-bit type's span), so |residual| < 2^65.
 constexpr int kMaxClass = 65;
+
+Status invalid(std::string what) { return {StatusCode::kInvalidInput, std::move(what)}; }
 
 int bit_width128(UInt128 m) {
   const auto high = static_cast<uint64_t>(m >> 64);
@@ -239,6 +242,50 @@ uint64_t from_ordered(Int128 ordered, ValueType type) {
     }
   }
   return 0;
+}
+
+double dequantize(Int128 q, const LossyScale& scale, bool float32) {
+  const double v = scale.origin + static_cast<double>(q) * scale.step;
+  return float32 ? static_cast<double>(static_cast<float>(v)) : v;
+}
+
+StatusOr<std::vector<Int128>> quantize_within(std::span<const double> values, double error, bool float32,
+                                              LossyScale& scale) {
+  if (!(error > 0) || !std::isfinite(error)) return invalid("the error bound must be a positive number");
+  double lo = 0, largest = 0;
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i]))
+      return invalid("vertex " + std::to_string(i) + " holds " +
+                     (std::isnan(values[i]) ? "NaN" : "an infinity") + ", which a lossy field cannot keep");
+    lo = i == 0 ? values[i] : std::min(lo, values[i]);
+    largest = std::max(largest, std::abs(values[i]));
+  }
+  // The step leaves room for the rounding of origin + q * step and of its
+  // conversion to the field's type: two units in the last place of the
+  // largest magnitude.
+  const double ulp = float32
+                         ? std::nextafter(static_cast<float>(largest), INFINITY) - static_cast<float>(largest)
+                         : std::nextafter(largest, INFINITY) - largest;
+  scale = {lo, 2 * error - 4 * ulp};
+  if (!(scale.step > 0)) return invalid("the error bound is smaller than the values' precision");
+  std::vector<Int128> out;
+  out.reserve(values.size());
+  for (size_t i = 0; i < values.size(); ++i) {
+    const double exact = (values[i] - lo) / scale.step;
+    if (exact > 1e18) return invalid("the error bound is too small for the values' range");
+    const auto q = static_cast<Int128>(std::llround(exact));
+    Int128 chosen = -1;
+    for (const Int128 candidate : {q, q - 1, q + 1})
+      if (candidate >= 0 && std::abs(dequantize(candidate, scale, float32) - values[i]) <= error) {
+        chosen = candidate;
+        break;
+      }
+    if (chosen < 0)
+      return invalid("vertex " + std::to_string(i) + ": no value within the error bound " +
+                     std::to_string(error) + " of " + std::to_string(values[i]) + " at this precision");
+    out.push_back(chosen);
+  }
+  return out;
 }
 
 ValueScale value_scale(std::span<const Int128> ordered) {

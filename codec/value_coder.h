@@ -47,6 +47,20 @@ struct ValueScale {
 };
 ValueScale value_scale(std::span<const Int128> ordered);
 
+// Lossy coding of a float field with a guaranteed bound E: each value v
+// becomes the integer q = round((v - origin) / (2E)), coded losslessly, and
+// decodes to origin + q * 2E, within E of v, in the field's own type (the
+// encoder checks it value by value and takes q +- 1 where rounding would
+// break the bound). kInvalidInput naming the first vertex for a NaN or an
+// infinity, or for a bound too small for the values' magnitude.
+struct LossyScale {
+  double origin = 0;
+  double step = 1;  // 2E
+};
+StatusOr<std::vector<Int128>> quantize_within(std::span<const double> values, double error, bool float32,
+                                              LossyScale& scale);
+double dequantize(Int128 q, const LossyScale& scale, bool float32);
+
 inline constexpr int kValueNeighbours = 8;
 
 // How a layer predicts: from the neighbours, halfway between them and the

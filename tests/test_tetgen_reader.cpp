@@ -31,6 +31,16 @@ TEST(TetgenReader, OneBasedIndicesAndComments) {
   EXPECT_TRUE(n.markers.empty());
 }
 
+TEST(TetgenReader, KeepsThePointsAttributes) {
+  const std::string path = ::testing::TempDir() + "/attributes.node";
+  std::ofstream(path)
+      << "4 3 2 1\n0 0 0 0 1.5 -2 1\n1 1 0 0 2.5 -3 0\n2 0 1 0 3.5 -4 1\n3 0 0 1 4.5 -5e-3 0\n";
+  const NodeFile n = read_tetgen_node(path);
+  EXPECT_EQ(n.attribute_count, 2);
+  EXPECT_EQ(n.attributes, (std::vector<double>{1.5, -2, 2.5, -3, 3.5, -4, 4.5, -5e-3}));
+  EXPECT_EQ(n.markers, (std::vector<int>{1, 0, 1, 0}));
+}
+
 struct BadFile {
   const char* file;
   const char* message;  // a part of the expected error

@@ -169,5 +169,38 @@ TEST(ValueCoder, ADamagedSectionIsRefusedNotMisread) {
   }
 }
 
+TEST(LossyValues, EveryDecodedValueIsWithinTheBoundInItsOwnType) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1e4, 1e4);
+  std::vector<double> values(5000);
+  for (double& v : values) v = u(rng);
+  values[7] = 1e-30;  // tiny next to the range
+  for (const bool float32 : {false, true}) {
+    if (float32)
+      for (double& v : values) v = static_cast<float>(v);
+    // (float32 holds values near 1e4 to about 1e-3: a bound must exceed that.)
+    for (const double error : {float32 ? 0.01 : 1e-3, 0.5, 7.0}) {
+      LossyScale scale;
+      const auto q = quantize_within(values, error, float32, scale);
+      ASSERT_TRUE(q.ok()) << q.status().message();
+      for (size_t i = 0; i < values.size(); ++i)
+        ASSERT_LE(std::abs(dequantize((*q)[i], scale, float32) - values[i]), error) << i << " " << error;
+    }
+  }
+}
+
+TEST(LossyValues, NaNInfinityAndHopelessBoundsAreRefusedNamingTheVertex) {
+  LossyScale scale;
+  std::vector<double> v = {1, 2, std::nan(""), 4};
+  auto q = quantize_within(v, 0.1, false, scale);
+  ASSERT_FALSE(q.ok());
+  EXPECT_NE(q.status().message().find("vertex 2"), std::string::npos) << q.status().message();
+  v[2] = -std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(quantize_within(v, 0.1, false, scale).ok());
+  // A bound under the values' own precision.
+  EXPECT_FALSE(quantize_within(std::vector<double>{1e15, 1e15 + 0.25, 0}, 1e-6, false, scale).ok());
+  EXPECT_FALSE(quantize_within(std::vector<double>{1, 2}, 0, false, scale).ok());
+}
+
 }  // namespace
 }  // namespace dtm

@@ -43,6 +43,8 @@ InputMesh read_tetgen(const std::string& path, bool with_ele) {
   NodeFile node = read_tetgen_node(path);
   InputMesh out;
   out.points = std::move(node.points);
+  if (node.attribute_count > 0)
+    out.fields.push_back({"attributes", node.attribute_count, std::move(node.attributes)});
   if (!node.markers.empty())
     out.fields.push_back(
         {"boundary_marker", 1, std::vector<double>(node.markers.begin(), node.markers.end())});

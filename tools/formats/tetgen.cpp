@@ -91,9 +91,12 @@ NodeFile read_tetgen_node(const std::string& path) {
                  r.parse<double>(tok[3], "a coordinate")};
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) r.fail("coordinate is not finite");
     out.points.push_back(p);
+    for (int a = 0; a < attributes; ++a)
+      out.attributes.push_back(r.parse<double>(tok[4 + a], "an attribute"));
     if (has_marker) out.markers.push_back(r.parse<int>(tok[expected - 1], "a boundary marker"));
   }
   out.index_base = static_cast<int>(first_index);
+  out.attribute_count = attributes;
   if (r.next(tok)) r.fail("unexpected data after the " + std::to_string(count) + " points");
   return out;
 }

@@ -17,6 +17,9 @@ struct NodeFile {
   std::vector<InputPoint> points;
   std::vector<int> markers;  // boundary markers when the file has them, else empty
   int index_base = 0;        // index of the first point (0 or 1)
+  // The points' attributes, `attribute_count` per point, point after point.
+  int attribute_count = 0;
+  std::vector<double> attributes;
 };
 
 NodeFile read_tetgen_node(const std::string& path);
