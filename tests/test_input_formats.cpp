@@ -191,6 +191,20 @@ TEST(InputFormats, GmshSparseTagsAndNodeData) {
   ASSERT_EQ(m.fields.size(), 1u);
   EXPECT_EQ(m.fields[0].name, "t");
   EXPECT_EQ(m.fields[0].values, (std::vector<double>{4.5, 1.5, 2.5, 3.5}));
+  EXPECT_EQ(m.fields[0].type, ScalarType::kFloat64);  // gmsh's node data are doubles
+}
+
+TEST(InputFormats, PointDataKeepTheTypeTheFileStoresThemIn) {
+  const std::string path = ::testing::TempDir() + "/typed.vtk";
+  std::ofstream(path) << "# vtk DataFile Version 3.0\ntyped\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                         "POINTS 4 double\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                         "POINT_DATA 4\nSCALARS density short 1\nLOOKUP_TABLE default\n1 2 3 4\n"
+                         "FIELD extra 1\nflow 3 4 float\n0 0 0 1 1 1 2 2 2 3 3 3\n";
+  const InputMesh m = read_input(path);
+  ASSERT_EQ(m.fields.size(), 2u);
+  EXPECT_EQ(m.fields[0].type, ScalarType::kInt16);
+  EXPECT_EQ(m.fields[1].type, ScalarType::kFloat32);
+  EXPECT_EQ(m.fields[1].components, 3);
 }
 
 TEST(InputFormats, PlyPropertiesAreKeptAsFields) {

@@ -121,15 +121,18 @@ TEST_F(Volumes, EveryFlavourSelectsTheSameSolidOnTheVoxelLattice) {
     const InputPoint g = q.grid.to_input(q.points[n]);
     ASSERT_TRUE(test::same_double(g.x, p.x) && test::same_double(g.y, p.y) && test::same_double(g.z, p.z));
   }
-  // The same points from uint16 (detached, big-endian), float32 and gzip.
-  for (const auto& [name, t] : {std::pair{"torus_u16.nhdr", 1000.0}, std::pair{"torus_f32.nrrd", 0.0},
-                                std::pair{"torus_gz.nrrd", 0.0}}) {
+  // The same points from uint16 (detached, big-endian), float32 and gzip,
+  // and the values' type as the file stores them.
+  for (const auto& [name, t, type] : {std::tuple{"torus_u16.nhdr", 1000.0, ScalarType::kUInt16},
+                                      std::tuple{"torus_f32.nrrd", 0.0, ScalarType::kFloat32},
+                                      std::tuple{"torus_gz.nrrd", 0.0, ScalarType::kFloat32}}) {
     const InputMesh m = read_input(path(name), {}, threshold(t));
     ASSERT_TRUE(m.on_grid.has_value()) << name;
     EXPECT_EQ(m.on_grid->points, q.points) << name;
     EXPECT_EQ(m.on_grid->grid.origin, q.grid.origin) << name;
     ASSERT_EQ(m.fields.size(), 1u);
     EXPECT_EQ(m.fields[0].name, "value");
+    EXPECT_EQ(m.fields[0].type, type) << name;
   }
 }
 

@@ -165,7 +165,9 @@ void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePla
               q.grid.step, plan.dmax, in.on_grid ? " (the voxel lattice: lossless)" : "");
   if (!in.fields.empty()) {
     std::string names;
-    for (const auto& f : in.fields) names += (names.empty() ? "'" : ", '") + f.name + "'";
+    for (const auto& f : in.fields)
+      names += (names.empty() ? "'" : ", '") + f.name + "' (" + dtm::scalar_name(f.type) +
+               (f.components > 1 ? " x " + std::to_string(f.components) : "") + ")";
     std::printf("%s: per-vertex fields kept aside (not coded yet): %s\n", c.input.c_str(), names.c_str());
   }
 }

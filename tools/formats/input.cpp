@@ -44,10 +44,11 @@ InputMesh read_tetgen(const std::string& path, bool with_ele) {
   InputMesh out;
   out.points = std::move(node.points);
   if (node.attribute_count > 0)
-    out.fields.push_back({"attributes", node.attribute_count, std::move(node.attributes)});
-  if (!node.markers.empty())
     out.fields.push_back(
-        {"boundary_marker", 1, std::vector<double>(node.markers.begin(), node.markers.end())});
+        {"attributes", node.attribute_count, std::move(node.attributes), ScalarType::kFloat64});
+  if (!node.markers.empty())
+    out.fields.push_back({"boundary_marker", 1, std::vector<double>(node.markers.begin(), node.markers.end()),
+                          ScalarType::kInt32});
   const std::filesystem::path ele = std::filesystem::path(path).replace_extension(".ele");
   if (with_ele && std::filesystem::exists(ele))
     out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);

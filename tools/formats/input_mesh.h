@@ -11,15 +11,19 @@
 
 #include "common/grid.h"
 #include "core/quantize.h"
+#include "scalar_type.h"
 
 namespace dtm {
 
 // One per-vertex array of the input: `components` values per point, point
-// after point (values.size() == components * points).
+// after point (values.size() == components * points), and the type the file
+// stores them in (what a lossless coding must give back). Held as doubles:
+// exact for every type but 64-bit integers beyond 2^53.
 struct VertexField {
   std::string name;
   int components = 1;
   std::vector<double> values;
+  ScalarType type = ScalarType::kFloat64;
 };
 
 struct InputMesh {

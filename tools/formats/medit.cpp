@@ -67,7 +67,7 @@ InputMesh read_medit(const std::string& path) {
       have_vertices = true;
       const uint64_t n = c.count("a vertex count", limit / 4);
       out.points.reserve(n);
-      VertexField ref{"ref", 1, {}};
+      VertexField ref{"ref", 1, {}, ScalarType::kInt32};
       ref.values.reserve(n);
       for (uint64_t i = 0; i < n; ++i) {
         const double x = c.coordinate(), y = c.coordinate(), z = c.coordinate();

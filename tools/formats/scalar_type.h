@@ -39,6 +39,13 @@ constexpr int scalar_size(ScalarType t) {
   }
 }
 
+// "int8" ... "uint64", "float32", "float64".
+constexpr const char* scalar_name(ScalarType t) {
+  constexpr const char* kNames[] = {"int8",   "uint8", "int16",  "uint16",  "int32",
+                                    "uint32", "int64", "uint64", "float32", "float64"};
+  return kNames[static_cast<int>(t)];
+}
+
 constexpr bool is_integer(ScalarType t) { return t != ScalarType::kFloat32 && t != ScalarType::kFloat64; }
 
 // The value at `p` (scalar_size(t) bytes) as a double. 64-bit integers above

@@ -64,7 +64,7 @@ InputMesh voxel_points(const Volume& v, const VolumeOptions& o, const std::strin
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return voxels[a] < voxels[b]; });
 
   InputMesh out;
-  VertexField value{"value", 1, {}};
+  VertexField value{"value", 1, {}, v.type};
   std::array<int32_t, 3> min{voxels[0].x, voxels[0].y, voxels[0].z}, max = min;
   for (const GridPoint& g : voxels) {
     min = {std::min(min[0], g.x), std::min(min[1], g.y), std::min(min[2], g.z)};

@@ -98,6 +98,7 @@ class LegacyReader {
         if (f.components < 1 || f.components > 9)
           c_.fail("bad component count " + std::to_string(f.components));
         f.values = array(data_count * f.components, type);
+        if (const auto t = legacy_type(type)) f.type = *t;
         if (in_point_data) out_.fields.push_back(std::move(f));
       } else if (key == "FIELD") {
         c_.token("a field name");
@@ -108,7 +109,9 @@ class LegacyReader {
           const uint64_t tuples = c_.count("a tuple count", c_.remaining());
           if (f.components < 1 || f.components > 64)
             c_.fail("bad component count " + std::to_string(f.components));
-          f.values = array(tuples * f.components, c_.token("a value type"));
+          const std::string type(c_.token("a value type"));
+          f.values = array(tuples * f.components, type);
+          if (const auto t = legacy_type(type)) f.type = *t;
           if (in_point_data && data_count > 0) {
             if (tuples != out_.points.size())
               c_.fail("array '" + f.name + "' has " + std::to_string(tuples) + " tuples for " +

@@ -264,6 +264,7 @@ class VtuReader {
         if (f.components < 1 || f.components > 64)
           p_.fail_at(da.offset, "NumberOfComponents must be 1 to 64");
         f.values = array(da, n, f.components);
+        if (const auto* t = da.attr("type"); t && xml_type(*t)) f.type = *xml_type(*t);
         out.fields.push_back(std::move(f));
       }
     read_cells(piece, cells, n, out);
