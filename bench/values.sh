@@ -15,6 +15,11 @@ bin=$build/bench/value_bits
 shared=${DTM_SHARED:-$root/../shared}
 work=$build/values-data
 [ -x "$bin" ] || { echo "values.sh: $bin not built" >&2; exit 2; }
+for t in zstd xz; do
+  command -v $t >/dev/null || { echo "values.sh: $t missing; apt-get install -y zstd xz-utils python3-numpy" >&2; exit 2; }
+done
+/usr/bin/python3 -c 'import numpy' 2>/dev/null ||
+  { echo "values.sh: numpy missing; apt-get install -y python3-numpy" >&2; exit 2; }
 mkdir -p "$work"
 for ext in node ele; do xz -dc "$root/data/bunny_10k.$ext.xz" > "$work/bunny_10k.$ext"; done
 # The smooth field: three Gaussians of width 0.15 x the largest extent, float32.
