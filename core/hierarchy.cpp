@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 
+#include "common/parallel_for.h"
 #include "core/boundary_simplification.h"
 #include "core/importance.h"
 #include "core/independent_removal.h"
@@ -206,58 +207,97 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
         if (surface_touched[u]) return false;
     return true;
   };
-  auto take = [&](uint32_t v) {
-    if (!free_to_take(v)) return false;
-    const bool quality_guarded = opt.quality_guard > 0 || opt.quality_ratio > 0 || hold_average;
+  // A candidate's verdict depends on the level as the pass found it (see
+  // surface_touched and RejectionCache), not on what the pass takes before
+  // it: only whether it is still free does. So candidates are judged a chunk
+  // at a time on every core, and the verdicts applied in order.
+  struct Verdict {
+    enum Kind : uint8_t { kKnownQuality, kKnownShape, kQuality, kShape, kWait, kTake } kind = kTake;
+    double change = 0;  // of the surplus, with a quality floor
+  };
+  const bool quality_guarded = opt.quality_guard > 0 || opt.quality_ratio > 0 || hold_average;
+  auto judge = [&](uint32_t v) -> Verdict {
     if (cache) {
       const RejectionCache::Verdict known = cache->get(vertices[v]);
-      r.rejected_by_quality += known == RejectionCache::kByQuality;
-      r.rejected_by_shape += known == RejectionCache::kByShape;
-      if (known != RejectionCache::kUnknown) return false;
+      if (known == RejectionCache::kByQuality) return {Verdict::kKnownQuality};
+      if (known == RejectionCache::kByShape) return {Verdict::kKnownShape};
     }
-    if (quality_guarded || solid) {
-      const Refill fill = refill_of(L, v, solid);
-      if (quality_guarded && !quality_allows(L, v, fill, opt)) {
+    if (!quality_guarded && !solid) return {Verdict::kTake};
+    const Refill fill = refill_of(L, v, solid);
+    if (quality_guarded && !quality_allows(L, v, fill, opt)) return {Verdict::kQuality};
+    if (solid) {
+      const std::vector<GridPoint> originals =
+          L.boundary[v] ? originals_at_risk(L, surface, v, fill, represented, rep, *originals_index, opt.dmax)
+                        : std::vector<GridPoint>{};
+      if (!shape_allows(L, surface, v, fill, originals, *reference_surface, opt.dmax))
+        return {Verdict::kShape};
+    }
+    if (!hold_average) return {Verdict::kTake};
+    // Depends on the whole level: never cached.
+    const double change = surplus_of_fill(L, fill, quality_floor) - surplus_of_star(L, v, quality_floor);
+    return {change < 0 ? Verdict::kWait : Verdict::kTake, change};
+  };
+  auto apply = [&](uint32_t v, const Verdict& d) {
+    switch (d.kind) {
+      case Verdict::kKnownQuality:
+        ++r.rejected_by_quality;
+        return false;
+      case Verdict::kKnownShape:
+        ++r.rejected_by_shape;
+        return false;
+      case Verdict::kQuality:
         ++r.rejected_by_quality;
         if (cache) cache->set(vertices[v], RejectionCache::kByQuality);
         return false;
-      }
-      if (solid) {
-        const std::vector<GridPoint> originals =
-            L.boundary[v]
-                ? originals_at_risk(L, surface, v, fill, represented, rep, *originals_index, opt.dmax)
-                : std::vector<GridPoint>{};
-        if (!shape_allows(L, surface, v, fill, originals, *reference_surface, opt.dmax)) {
-          ++r.rejected_by_shape;
-          if (cache) cache->set(vertices[v], RejectionCache::kByShape);
-          return false;
-        }
-      }
-      if (hold_average) {
-        // Depends on the whole level: never cached.
-        const double change = surplus_of_fill(L, fill, quality_floor) - surplus_of_star(L, v, quality_floor);
-        if (change < 0) {
-          waiting.emplace_back(change, v);
-          return false;
-        }
-        surplus += change;
-      }
+      case Verdict::kShape:
+        ++r.rejected_by_shape;
+        if (cache) cache->set(vertices[v], RejectionCache::kByShape);
+        return false;
+      case Verdict::kWait:
+        waiting.emplace_back(d.change, v);
+        return false;
+      case Verdict::kTake:
+        surplus += d.change;
+        accept(v);
+        return true;
     }
-    accept(v);
-    return true;
+    return false;
+  };
+  // Takes what passes in `order`; returns how many.
+  auto take_in_order = [&](std::span<const uint32_t> order) {
+    constexpr size_t kChunk = 256;
+    uint64_t taken = 0;
+    std::vector<uint32_t> free;
+    std::vector<Verdict> verdicts;
+    for (size_t at = 0; at < order.size(); at += kChunk) {
+      free.clear();
+      for (size_t i = at; i < std::min(order.size(), at + kChunk); ++i)
+        if (free_to_take(order[i])) free.push_back(order[i]);
+      verdicts.assign(free.size(), {});
+      parallel_for(
+          free.size(), [&](size_t i) { verdicts[i] = judge(free[i]); }, 16);
+      for (size_t i = 0; i < free.size(); ++i)
+        if (free_to_take(free[i])) taken += apply(free[i], verdicts[i]);
+    }
+    return taken;
   };
 
   auto candidates = boundary_candidates(L, surface, represented, rep.originals, opt.dmax);
   std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
     return a.error != b.error ? a.error < b.error : a.vertex < b.vertex;
   });
-  for (const auto& c : candidates) r.boundary += take(c.vertex);
+  std::vector<uint32_t> order;
+  order.reserve(L.size());
+  for (const auto& c : candidates) order.push_back(c.vertex);
+  r.boundary += take_in_order(order);
 
   std::vector<std::pair<double, uint32_t>> interior;
   for (uint32_t v = 0; v < L.size(); ++v)
     if (!L.boundary[v]) interior.emplace_back(importance(L, v), v);
   std::sort(interior.begin(), interior.end());
-  for (const auto& [ip, v] : interior) r.interior += take(v);
+  order.clear();
+  for (const auto& [ip, v] : interior) order.push_back(v);
+  r.interior += take_in_order(order);
 
   // Least damaging first, while the surplus lasts. A waiting vertex whose
   // neighbour was taken since is locked; otherwise its refill and verdicts

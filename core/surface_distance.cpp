@@ -12,6 +12,8 @@
 #include <thread>
 #include <vector>
 
+#include "common/parallel_for.h"
+
 namespace dtm {
 namespace {
 using K = CGAL::Simple_cartesian<double>;
@@ -20,23 +22,6 @@ using Primitive = CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 K::Point_3 to_point(const GridPoint& p) { return {double(p.x), double(p.y), double(p.z)}; }
-
-// Runs body(i) for i in [0, n) on every core. body(0) runs first, alone: a
-// CGAL tree builds its search structures on its first query, after which it
-// is read-only and safe to share.
-template <typename Body>
-void parallel_for(size_t n, const Body& body) {
-  if (n == 0) return;
-  body(0);
-  const size_t threads = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 8);
-  const size_t chunk = (n + threads - 1) / threads;
-  std::vector<std::thread> workers;
-  for (size_t t = 0; t < threads; ++t)
-    workers.emplace_back([&, t] {
-      for (size_t i = std::max<size_t>(1, t * chunk); i < std::min(n, (t + 1) * chunk); ++i) body(i);
-    });
-  for (auto& w : workers) w.join();
-}
 
 DistanceSummary no_surface() {
   const double inf = std::numeric_limits<double>::infinity();

@@ -1,0 +1,34 @@
+// Runs independent work on every core (at most 8 threads).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <thread>
+#include <vector>
+
+namespace dtm {
+
+// Runs body(i) for i in [0, n), each once, on every core. body(0) runs
+// first, alone: a CGAL tree builds its search structures on its first
+// query, after which it is read-only and safe to share. The others are
+// dealt out in turn (thread t takes t + 1, t + 1 + threads, ...), so that
+// items of uneven cost spread evenly. Below `serial_below` items it all runs
+// on the calling thread (starting threads costs more than the work).
+template <typename Body>
+void parallel_for(size_t n, const Body& body, size_t serial_below = 2) {
+  if (n == 0) return;
+  body(0);
+  const size_t threads = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 8);
+  if (threads == 1 || n < serial_below) {
+    for (size_t i = 1; i < n; ++i) body(i);
+    return;
+  }
+  std::vector<std::thread> workers;
+  for (size_t t = 0; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      for (size_t i = 1 + t; i < n; i += threads) body(i);
+    });
+  for (auto& w : workers) w.join();
+}
+
+}  // namespace dtm
