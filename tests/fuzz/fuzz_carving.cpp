@@ -13,37 +13,14 @@
 
 #include "codec/carving_coder.h"
 #include "fuzz_check.h"
+#include "fuzz_point_sets.h"
 #include "mesh/delaunay.h"
-
-namespace {
-
-const std::vector<dtm::GridPoint>& points_for(bool random) {
-  static const std::vector<dtm::GridPoint> block = [] {
-    std::vector<dtm::GridPoint> p;
-    for (int x = 0; x < 4; ++x)
-      for (int y = 0; y < 4; ++y)
-        for (int z = 0; z < 4; ++z) p.push_back({x, y, z});
-    return p;
-  }();
-  static const std::vector<dtm::GridPoint> cloud = [] {
-    std::vector<dtm::GridPoint> p;
-    uint32_t s = 12345;
-    auto next = [&] { return static_cast<int32_t>((s = s * 1103515245u + 12345u) >> 25); };
-    for (int i = 0; i < 300; ++i) p.push_back({next(), next(), next()});
-    std::sort(p.begin(), p.end());
-    p.erase(std::unique(p.begin(), p.end()), p.end());
-    return p;
-  }();
-  return random ? cloud : block;
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  const auto& points = points_for(data[0] & 1);
-  static const dtm::TetMesh block_dt = dtm::delaunay_tetrahedralize(points_for(false)).value();
-  static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(points_for(true)).value();
+  const auto& points = fuzz_point_set(data[0] & 1);
+  static const dtm::TetMesh block_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value();
+  static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value();
   const dtm::TetMesh& dt = (data[0] & 1) ? cloud_dt : block_dt;
   const double alpha = 0.25 * (data[0] >> 1) + 0.25;
   const std::span<const uint8_t> section(data + 1, size - 1);
