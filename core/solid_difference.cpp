@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/reference_solid.h"
+#include "mesh/geometry.h"
 
 namespace dtm {
 namespace {
@@ -20,11 +21,7 @@ std::vector<Cell> sorted_cells(std::span<const Cell> cells) {
 }
 
 double volume(std::span<const GridPoint> points, const Cell& c) {
-  const GridPoint &a = points[c[0]], &b = points[c[1]], &p = points[c[2]], &d = points[c[3]];
-  const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
-  const double vx = p.x - a.x, vy = p.y - a.y, vz = p.z - a.z;
-  const double wx = d.x - a.x, wy = d.y - a.y, wz = d.z - a.z;
-  return std::abs(ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx)) / 6;
+  return static_cast<double>(abs_six_volume(points[c[0]], points[c[1]], points[c[2]], points[c[3]])) / 6;
 }
 
 // splitmix64: a small, fixed generator, so the estimate is reproducible.
