@@ -11,7 +11,7 @@
 # For every model of ../shared/data/volumes (decompressed, sha256-checked, into
 # BUILD_DIR/bitrate-data/; bunny_1m only if BUILD_DIR/bench-data/bunny_1m.node
 # exists, see bench/run.sh) and q in 12 14 16:
-#   meshenc MODEL.node --qbits Q --box 256 --dmax 2 -o MODEL.qQ.dtm --report MODEL.qQ.json -q
+#   meshenc MODEL.node --qbits Q --box 256 --dmax 2 --no-fields -o MODEL.qQ.dtm --report MODEL.qQ.json -q
 # at q=14 the stream is decoded and compared with the encoder's point set:
 #   meshdec MODEL.q14.dtm -o MODEL.q14.dec.node -q
 # and once per model, all three q at once (Draco kd-tree, -cl 10 and -cl 4):
@@ -92,14 +92,14 @@ fi
 
 while read -r m node; do
   for q in $QS; do
-    "$enc" "$node" --qbits "$q" --box 256 --dmax 2 -o "$out/$m.q$q.dtm" --report "$out/$m.q$q.json" -q \
+    "$enc" "$node" --qbits "$q" --box 256 --dmax 2 --no-fields -o "$out/$m.q$q.dtm" --report "$out/$m.q$q.json" -q \
       >"$tmp/enc.log" 2>&1 || { cat "$tmp/enc.log" >&2; die "meshenc failed on $m at q=$q"; }
-    "$enc" "$node" --qbits "$q" --box 256 --dmax 2 --level-step 4 -o "$out/$m.q$q.s4.dtm" \
+    "$enc" "$node" --qbits "$q" --box 256 --dmax 2 --no-fields --level-step 4 -o "$out/$m.q$q.s4.dtm" \
       --report "$out/$m.q$q.s4.json" -q >"$tmp/enc.log" 2>&1 ||
       { cat "$tmp/enc.log" >&2; die "meshenc --level-step 4 failed on $m at q=$q"; }
     # Two levels only (the base and the finest): what the set coder costs
     # with next to nothing spent on levels of detail.
-    "$enc" "$node" --qbits "$q" --box 256 --dmax 2 --level-step 1000 -o "$out/$m.q$q.two.dtm" \
+    "$enc" "$node" --qbits "$q" --box 256 --dmax 2 --no-fields --level-step 1000 -o "$out/$m.q$q.two.dtm" \
       --report "$out/$m.q$q.two.json" -q >"$tmp/enc.log" 2>&1 ||
       { cat "$tmp/enc.log" >&2; die "meshenc --level-step 1000 failed on $m at q=$q"; }
   done
@@ -255,9 +255,9 @@ w('- bits per vertex (bpv) = 8 × bytes / N, N = vertices of the input `.node` (
 w('Commands (per model MODEL and Q in 12 14 16; files in BUILD_DIR/bitrate-data/):\n')
 w('```')
 w('bench/bitrate.sh build')
-w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 -o MODEL.qQ.dtm --report MODEL.qQ.json -q')
-w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --level-step 4 -o MODEL.qQ.s4.dtm --report MODEL.qQ.s4.json -q')
-w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --level-step 1000 -o MODEL.qQ.two.dtm --report MODEL.qQ.two.json -q')
+w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --no-fields -o MODEL.qQ.dtm --report MODEL.qQ.json -q')
+w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --no-fields --level-step 4 -o MODEL.qQ.s4.dtm --report MODEL.qQ.s4.json -q')
+w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --no-fields --level-step 1000 -o MODEL.qQ.two.dtm --report MODEL.qQ.two.json -q')
 w('meshdec MODEL.q14.dtm -o MODEL.q14.dec.node -q        # decode check, q = 14 only')
 w('shared/tools/baselines.sh -q "12 14 16" -c "10 4" -H -k KEEP MODEL.node')
 w('  # = draco_encoder -point_cloud -i pts.ply -qp Q -cl {10,4}  (float32 xyz; kd-tree method)')

@@ -2,7 +2,7 @@
 # bench/levels.sh [BUILD_DIR] -- the codec's levels (meshenc's default
 # preset) on the TetGen corpus of ../shared/data/volumes, each model with its
 # own tetrahedra as the reference solid, q = 14, --box 256 --dmax 2:
-#   meshenc MODEL.node --box 256 --dmax 2 -o MODEL.dtm --report MODEL.json -q
+#   meshenc MODEL.node --box 256 --dmax 2 --no-fields -o MODEL.dtm --report MODEL.json -q
 # and the paper's preset beside it (--preset paper). Writes bench/LEVELS.md
 # (per model: levels, vertices per level, shape error both ways per level,
 # quality per level, bits per vertex, the carving corrections' share, and
@@ -24,7 +24,7 @@ for m in $MODELS; do
   done
   for preset in codec paper; do
     /usr/bin/time -f "%e" -o "$data/$m.$preset.seconds" \
-      "$enc" "$data/$m.node" --box 256 --dmax 2 --preset $preset -o "$data/$m.$preset.dtm" \
+      "$enc" "$data/$m.node" --box 256 --dmax 2 --no-fields --preset $preset -o "$data/$m.$preset.dtm" \
       --report "$data/$m.$preset.json" -q
   done
 done
@@ -44,7 +44,7 @@ lines = ["# The codec's levels on the TetGen corpus", "",
          f"Commit {commit}; run took {seconds} s on this machine (2 cores).", "",
          "Each model with its own tetrahedra as the reference solid, q = 14, `--box 256 --dmax 2` "
          "(D_max = 2, so the issue's bound 2 D_max = 4 and D_max / 2 = 1):", "",
-         "```", "meshenc MODEL.node --box 256 --dmax 2 [--preset paper] -o MODEL.dtm --report MODEL.json -q", "```", "",
+         "```", "meshenc MODEL.node --box 256 --dmax 2 --no-fields [--preset paper] -o MODEL.dtm --report MODEL.json -q", "```", "",
          "Shape error, in input units: *to level* = from the reference's boundary vertices to the level's "
          "boundary surface; *to reference* = from the level's boundary surface (its vertices and its triangles' "
          "centroids) to the reference's boundary surface (max / mean). Quality = average over the level's cells of their smallest solid angle, "

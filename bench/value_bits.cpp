@@ -1,28 +1,26 @@
-// value_bits: what the level-by-level value coder (codec/value_coder.h)
-// spends on an input's per-vertex fields, beside zstd -19 and xz -9 of the
-// same values stored raw in the input's order (raster order, x fastest, for a
-// voxel volume). Issue 13's measurement, before the values are in the stream.
+// value_bits: what a .dtm stream spends on an input's per-vertex fields
+// (spec/FORMAT.md §3.3), beside zstd -19 and xz -9 of the same values stored
+// raw in the input's order (raster order, x fastest, for a voxel volume), and
+// what decoding them adds to decoding the positions. Issue 13's measurement.
 //
 //   value_bits FILE [--threshold T | --label L] [--voxel-interior-step K]
-//              [--box B] [--dmax D] [--raw-type i16|u16|i32|f32|f64]
-//              [--error-share S]
+//              [--box B] [--dmax D] [--field NAME] [--error-shares S1,S2,...]
+//              [--csv OUT.csv]
 //
-// Positions are encoded as meshenc would (codec preset), the stream decoded
-// for the decoder's point order and layers, and every field's values coded
-// layer by layer in that order. --raw-type says how the baselines store a
-// value (default: i16 when every value fits, else f64). --error-share S codes
-// the fields lossily within E = S x their range (codec/value_coder.h
-// quantize_within), against zstd -19 of round(v / 2E) as int32.
+// Each field (or only NAME) is encoded as meshenc encodes it, alone with the
+// positions: losslessly, or with --error-shares within E = S x its range for
+// each S (floats only), against zstd -19 of round(v / 2E) as int32. The
+// stream is decoded and every value checked (exact, or within E) before
+// anything is printed. --csv appends one row per measurement.
 #include <unistd.h>
 
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -30,8 +28,9 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
-#include "codec/value_coder.h"
+#include "tools/field_types.h"
 #include "tools/formats/input.h"
+#include "tools/formats/render_util.h"
 
 namespace {
 
@@ -46,9 +45,76 @@ long compressed_size(const std::string& command, const std::string& path) {
   return bytes;
 }
 
-template <class T>
-void append(std::string& out, T v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
+// zstd -19 and xz -9 of `raw`, in bytes.
+std::pair<long, long> baselines(const std::string& raw) {
+  const std::string tmp =
+      (std::filesystem::temp_directory_path() / ("value_bits_" + std::to_string(getpid()) + ".raw")).string();
+  std::ofstream(tmp, std::ios::binary).write(raw.data(), static_cast<std::streamsize>(raw.size()));
+  const long zstd = compressed_size("zstd -19 -q -c", tmp), xz = compressed_size("xz -9 -c", tmp);
+  std::filesystem::remove(tmp);
+  return {zstd, xz};
+}
+
+// The best of seven: decoding `bytes` to the finest mesh (points, values
+// and the carved tetrahedralization).
+double decode_seconds(const std::vector<uint8_t>& bytes) {
+  double best = 1e300;
+  for (int k = 0; k < 7; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    dtm::ProgressiveDecoder d;
+    if (!d.feed(bytes).ok() || d.carved_cells().empty())
+      throw std::runtime_error("the stream does not decode");
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return best;
+}
+
+struct Args {
+  std::string path, only_field, csv;
+  dtm::VolumeOptions volume;
+  dtm::EncodeOptions options;
+  std::vector<double> error_shares;
+};
+
+Args parse(int argc, char** argv) {
+  Args a;
+  a.path = argv[1];
+  for (int i = 2; i + 1 < argc; i += 2) {
+    const std::string o = argv[i], v = argv[i + 1];
+    if (o == "--threshold") {
+      a.volume.threshold = std::stod(v);
+    } else if (o == "--label") {
+      a.volume.label = std::stod(v);
+    } else if (o == "--voxel-interior-step") {
+      a.volume.interior_step = std::stoi(v);
+    } else if (o == "--box") {
+      a.options.box = std::stod(v);
+    } else if (o == "--dmax") {
+      a.options.dmax = std::stod(v);
+    } else if (o == "--field") {
+      a.only_field = v;
+    } else if (o == "--csv") {
+      a.csv = v;
+    } else if (o == "--error-shares") {
+      std::stringstream s(v);
+      for (std::string item; std::getline(s, item, ',');) a.error_shares.push_back(std::stod(item));
+    } else {
+      throw std::invalid_argument("unknown option " + o);
+    }
+  }
+  return a;
+}
+
+// The input's points in raster order (z, then y, then x slowest first).
+std::vector<size_t> raster_order(const dtm::InputMesh& in) {
+  std::vector<size_t> raster(in.points.size());
+  for (size_t i = 0; i < raster.size(); ++i) raster[i] = i;
+  std::stable_sort(raster.begin(), raster.end(), [&](size_t a, size_t b) {
+    const auto& p = in.points[a];
+    const auto& q = in.points[b];
+    return std::tie(p.z, p.y, p.x) < std::tie(q.z, q.y, q.x);
+  });
+  return raster;
 }
 
 }  // namespace
@@ -56,196 +122,98 @@ void append(std::string& out, T v) {
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
-                 "usage: value_bits FILE [--threshold T | --label L] [--voxel-interior-step K] "
-                 "[--box B] [--dmax D] [--raw-type i16|u16|i32|f32|f64]\n");
+                 "usage: value_bits FILE [--threshold T | --label L] [--voxel-interior-step K] [--box B] "
+                 "[--dmax D] [--field NAME] [--error-shares S1,S2,...] [--csv OUT.csv]\n");
     return 2;
   }
-  const std::string path = argv[1];
-  dtm::VolumeOptions volume;
-  dtm::EncodeOptions options;
-  std::string raw_type;
-  double error_share = 0;
-  for (int i = 2; i + 1 < argc; i += 2) {
-    const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--threshold")
-      volume.threshold = std::stod(v);
-    else if (a == "--label")
-      volume.label = std::stod(v);
-    else if (a == "--voxel-interior-step")
-      volume.interior_step = std::stoi(v);
-    else if (a == "--box")
-      options.box = std::stod(v);
-    else if (a == "--dmax")
-      options.dmax = std::stod(v);
-    else if (a == "--raw-type")
-      raw_type = v;
-    else if (a == "--error-share")
-      error_share = std::stod(v);
-    else {
-      std::fprintf(stderr, "value_bits: unknown option %s\n", a.c_str());
-      return 2;
-    }
-  }
   try {
-    const dtm::InputMesh in = dtm::read_input(path, {}, volume);
-    if (in.fields.empty()) {
-      std::fprintf(stderr, "value_bits: %s has no per-vertex field\n", path.c_str());
-      return 1;
-    }
+    const Args args = parse(argc, argv);
+    const dtm::InputMesh in = dtm::read_input(args.path, {}, args.volume);
     dtm::EncodeInput input;
     input.points = in.points;
     input.tetrahedra = in.tets;
     if (in.on_grid) input.lattice = &*in.on_grid;
-    const dtm::EncodedMesh encoded = dtm::encode(input, options).value();
-    // The decoder's order and layers.
-    std::vector<dtm::GridPoint> points;
-    std::vector<size_t> layer_ends;
-    dtm::ProgressiveDecoder decoder;
-    if (!decoder
-             .feed(encoded.bytes, [&](const dtm::ProgressiveDecoder& d,
-                                      const dtm::DecodedLevel&) { layer_ends.push_back(d.points().size()); })
-             .ok())
-      throw std::runtime_error("the stream does not decode");
-    points = decoder.points();
-    const size_t n = points.size();
-    // Decoding the positions to the finest mesh, the best of three (the
-    // yardstick for decoding the values).
-    auto seconds = [](auto&& f) {
-      double best = 1e300;
-      for (int k = 0; k < 3; ++k) {
-        const auto start = std::chrono::steady_clock::now();
-        f();
-        best =
-            std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-      }
-      return best;
-    };
-    const double position_seconds = seconds([&] {
-      dtm::ProgressiveDecoder d;
-      if (!d.feed(encoded.bytes).ok() || d.carved_cells().empty()) throw std::runtime_error("decode failed");
-    });
-    std::printf("%s: %zu points (%zu input), %zu layers, positions %zu bytes (%.2f bits per point)\n",
-                path.c_str(), n, in.points.size(), layer_ends.size(), encoded.bytes.size(),
-                8.0 * static_cast<double>(encoded.bytes.size()) / static_cast<double>(n));
-
-    // Raster order of the input points (z, then y, then x slowest first).
-    std::vector<size_t> raster(in.points.size());
-    for (size_t i = 0; i < raster.size(); ++i) raster[i] = i;
-    std::stable_sort(raster.begin(), raster.end(), [&](size_t a, size_t b) {
-      const auto& p = in.points[a];
-      const auto& q = in.points[b];
-      return std::tie(p.z, p.y, p.x) < std::tie(q.z, q.y, q.x);
-    });
+    const dtm::EncodedMesh plain = dtm::encode(input, args.options).value();
+    const size_t n = plain.report.levels.front().stats.vertices;
+    const double plain_seconds = decode_seconds(plain.bytes);
+    std::printf(
+        "%s: %zu points (%zu input), %zu levels; the positions alone: %zu bytes, %.2f bits per point\n",
+        args.path.c_str(), n, in.points.size(), plain.report.streamed_levels.size(), plain.bytes.size(),
+        8.0 * static_cast<double>(plain.bytes.size()) / static_cast<double>(n));
+    const std::vector<size_t> raster = raster_order(in);
+    const std::string model = std::filesystem::path(args.path).stem().string();
 
     for (const dtm::VertexField& f : in.fields) {
-      for (int c = 0; c < f.components; ++c) {
-        const auto value = [&](size_t i) { return f.values[i * f.components + c]; };
-        bool integral = true, fits16 = true, fits_u16 = true;
-        for (size_t i = 0; i < in.points.size(); ++i) {
-          const double v = value(i);
-          integral = integral && v == std::floor(v) && std::abs(v) < 9e15;
-          fits16 = fits16 && v >= -32768 && v <= 32767;
-          fits_u16 = fits_u16 && v >= 0 && v <= 65535;
-        }
-        std::string type = raw_type;
-        if (type.empty())
-          type = integral && fits16 ? "i16" : integral && fits_u16 ? "u16" : integral ? "i32" : "f64";
-        const dtm::ValueType vt = type == "f32"   ? dtm::ValueType::kF32
-                                  : type == "f64" ? dtm::ValueType::kF64
-                                                  : dtm::ValueType::kI32;
-        auto ordered_of = [&](double v) {
-          if (vt == dtm::ValueType::kF32)
-            return dtm::to_ordered(std::bit_cast<uint32_t>(static_cast<float>(v)), vt);
-          if (vt == dtm::ValueType::kF64) return dtm::to_ordered(std::bit_cast<uint64_t>(v), vt);
-          return dtm::Int128{static_cast<int64_t>(v)};
-        };
-        // Values in the decoder's order (a merged point takes its first input's).
-        std::vector<dtm::Int128> by_vertex(n, 0);
-        std::vector<double> doubles(n, 0);
-        std::vector<uint8_t> seen(n, 0);
+      if (!args.only_field.empty() && f.name != args.only_field) continue;
+      const dtm::ValueType type = dtm::value_type(f.type);
+      const dtm::EncodeInput::Field field{f.name, type, f.components, f.values};
+      input.fields = std::span(&field, 1);
+      double lo = 1e300, hi = -1e300;
+      for (double v : f.values) lo = std::min(lo, v), hi = std::max(hi, v);
+      std::vector<double> shares = {0};
+      if (dtm::is_float(type))
+        shares.insert(shares.end(), args.error_shares.begin(), args.error_shares.end());
+      for (const double share : shares) {
+        const double error = share * (hi - lo);
+        dtm::EncodeOptions options = args.options;
+        if (error > 0) options.field_errors[f.name] = error;
+        const dtm::EncodedMesh encoded = dtm::encode(input, options).value();
+        // Every value back, exactly or within E (a merged point keeps its first input's).
+        dtm::ProgressiveDecoder dec;
+        if (!dtm::decode_stream(encoded.bytes, dec).ok())
+          throw std::runtime_error("the stream does not decode");
+        std::vector<uint8_t> first(n, 1);
         for (size_t i = 0; i < in.points.size(); ++i) {
           const uint32_t v = encoded.vertex_of_input[i];
-          if (!seen[v]) by_vertex[v] = ordered_of(value(i)), doubles[v] = value(i), seen[v] = 1;
-        }
-        double error = 0;
-        dtm::LossyScale lossy;
-        if (error_share > 0) {
-          const auto [lo, hi] = std::minmax_element(doubles.begin(), doubles.end());
-          error = error_share * (*hi - *lo);
-          by_vertex = dtm::quantize_within(doubles, error, type == "f32", lossy).value();
-        }
-        const dtm::ValueScale scale = dtm::value_scale(by_vertex);
-        dtm::ValueEncoder enc(scale);
-        dtm::ValueDecoder dec(scale);
-        size_t bytes = 0, begin = 0;
-        std::vector<size_t> per_layer;
-        std::vector<std::vector<uint8_t>> sections;
-        for (const size_t end : layer_ends) {
-          const std::span<const dtm::GridPoint> lp(points.data() + begin, end - begin);
-          const std::span<const dtm::Int128> lv(by_vertex.data() + begin, end - begin);
-          const std::vector<uint8_t> section = enc.encode_layer(lp, lv);
-          std::vector<dtm::Int128> back;
-          if (!dec.decode_layer(section, lp, back).ok() || !std::equal(back.begin(), back.end(), lv.begin()))
-            throw std::runtime_error("the values do not round-trip");
-          bytes += section.size();
-          per_layer.push_back(section.size());
-          sections.push_back(section);
-          begin = end;
-        }
-        const double value_seconds = seconds([&] {
-          dtm::ValueDecoder d(scale);
-          std::vector<dtm::Int128> back;
-          size_t from = 0;
-          for (size_t k = 0; k < sections.size(); ++k) {
-            if (!d.decode_layer(sections[k], std::span(points.data() + from, layer_ends[k] - from), back)
-                     .ok())
-              throw std::runtime_error("the values do not decode");
-            from = layer_ends[k];
+          if (!first[v]) continue;
+          first[v] = 0;
+          for (int c = 0; c < f.components; ++c) {
+            const double want = f.values[i * f.components + c], got = dec.fields()[0].value(v, c);
+            const bool same = error > 0
+                                  ? std::abs(got - want) <= error
+                                  : dec.fields()[0].bits[v * f.components + c] == dtm::bits_of(want, type);
+            if (!same) throw std::runtime_error(f.name + ": point " + std::to_string(i) + " decodes wrong");
           }
-        });
-        // The baselines: the raw values in raster order.
+        }
+        // The baseline: raw values in raster order, in their type (lossy: round(v / 2E) as int32).
         std::string raw;
-        for (const size_t i : raster) {
-          const double v = value(i);
-          if (error > 0)
-            append(raw, static_cast<int32_t>(std::lround(v / (2 * error))));
-          else if (type == "i16")
-            append(raw, static_cast<int16_t>(v));
-          else if (type == "u16")
-            append(raw, static_cast<uint16_t>(v));
-          else if (type == "i32")
-            append(raw, static_cast<int32_t>(v));
-          else if (type == "f32")
-            append(raw, static_cast<float>(v));
-          else
-            append(raw, v);
-        }
-        const std::string tmp =
-            (std::filesystem::temp_directory_path() / ("value_bits_" + std::to_string(getpid()) + ".raw"))
-                .string();
-        std::ofstream(tmp, std::ios::binary).write(raw.data(), static_cast<std::streamsize>(raw.size()));
-        const long zstd = compressed_size("zstd -19 -q -c", tmp), xz = compressed_size("xz -9 -c", tmp);
-        std::filesystem::remove(tmp);
-        const double m = static_cast<double>(in.points.size());
-        const double ours = 8.0 * static_cast<double>(bytes) / static_cast<double>(n);
-        const double best = 8.0 * static_cast<double>(std::min(zstd, xz)) / m;
-        if (error > 0)
-          std::printf("lossy, E = %g (%g of the range; baseline values round(v / 2E) as int32): ", error,
-                      error_share);
+        for (const size_t i : raster)
+          for (int c = 0; c < f.components; ++c) {
+            const double v = f.values[i * f.components + c];
+            if (error > 0)
+              dtm::append_binary(raw, static_cast<int32_t>(std::lround(v / (2 * error))));
+            else
+              dtm::append_scalar_binary(raw, dtm::bits_of(v, type), f.type);
+          }
+        const auto [zstd, xz] = baselines(raw);
+        const double values = static_cast<double>(in.points.size()) * f.components;
+        const double ours = 8.0 * static_cast<double>(encoded.report.fields[0].bytes) /
+                            (static_cast<double>(n) * f.components);
+        const double zstd_bits = 8.0 * static_cast<double>(zstd) / values,
+                     xz_bits = 8.0 * static_cast<double>(xz) / values;
+        const double decode_share = (decode_seconds(encoded.bytes) - plain_seconds) / plain_seconds;
         std::printf(
-            "field %s[%d] (%s, gcd %lld): ours %.3f bits/value, zstd -19 %.3f, xz -9 %.3f, raw %.1f; "
-            "ours / better = %.3f; per layer (coarsest first):",
-            f.name.c_str(), c, type.c_str(), static_cast<long long>(scale.step), ours, 8.0 * zstd / m,
-            8.0 * xz / m, 8.0 * static_cast<double>(raw.size()) / m, ours / best);
-        begin = 0;
-        for (size_t k = 0; k < per_layer.size(); ++k) {
-          std::printf(" %.2f",
-                      8.0 * static_cast<double>(per_layer[k]) / static_cast<double>(layer_ends[k] - begin));
-          begin = layer_ends[k];
+            "field '%s' (%s%s), %s: ours %.3f bits/value, zstd -19 %.3f, xz -9 %.3f, raw %.1f; "
+            "ours / better = %.3f; decoding the values adds %.0f%% to decoding the positions\n",
+            f.name.c_str(), dtm::value_type_name(type),
+            f.components > 1 ? (" x " + std::to_string(f.components)).c_str() : "",
+            error > 0 ? ("within E = " + std::to_string(error) + " (" + std::to_string(share) +
+                         " of the range; baselines of round(v / 2E) as int32)")
+                            .c_str()
+                      : "lossless",
+            ours, zstd_bits, xz_bits, 8.0 * static_cast<double>(raw.size()) / values,
+            ours / std::min(zstd_bits, xz_bits), 100 * decode_share);
+        if (!args.csv.empty()) {
+          const bool header = !std::filesystem::exists(args.csv);
+          std::ofstream csv(args.csv, std::ios::app);
+          if (header)
+            csv << "model,field,type,components,mode,error_share,error,vertices,ours_bits,zstd_bits,xz_bits,"
+                   "ours_over_better,decode_share\n";
+          csv << model << "," << f.name << "," << dtm::value_type_name(type) << "," << f.components << ","
+              << (error > 0 ? "lossy" : "lossless") << "," << share << "," << error << "," << n << "," << ours
+              << "," << zstd_bits << "," << xz_bits << "," << ours / std::min(zstd_bits, xz_bits) << ","
+              << decode_share << "\n";
         }
-        std::printf("; decoding them takes %.0f%% of decoding the positions to the finest mesh",
-                    100 * value_seconds / position_seconds);
-        std::printf("\n");
       }
     }
   } catch (const std::exception& e) {

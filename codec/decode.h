@@ -23,6 +23,7 @@
 
 #include "codec/format.h"
 #include "codec/layer_coder.h"
+#include "codec/value_fields.h"
 #include "common/status.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
@@ -79,6 +80,10 @@ class ProgressiveDecoder {
   uint32_t level_vertices(int level) const;
   // Per vertex, the coarsest level that contains it.
   std::vector<int32_t> vertex_levels() const;
+  // The stream's per-vertex fields (5.0; none before), each with the values
+  // of points(), vertex-major. Valid once has_header() and the field table
+  // are in; each whole layer adds its points' values.
+  const std::vector<FieldValues>& fields() const { return fields_; }
   // DT of the finest decoded level (ids index points()) and its carving.
   // These bring the triangulation up to date first. If the points make a
   // degenerate triangulation (over kMaxCellsPerVertex cells per vertex, which
@@ -100,8 +105,12 @@ class ProgressiveDecoder {
   std::vector<uint8_t> pending_;  // bytes received and not yet consumed
   size_t pending_start_ = 0;
   bool has_header_ = false;
+  bool has_field_table_ = false;
   StreamHeader header_;
-  std::optional<LayerWalk> walk_;  // made with the header
+  std::optional<FieldSectionDecoder> value_decoder_;
+  std::vector<FieldValues> fields_;
+  std::vector<FieldValues> layer_values_;  // scratch: one layer's
+  std::optional<LayerWalk> walk_;          // made with the header
   std::vector<DecodedLevel> levels_;
   std::vector<GridPoint> points_;
   std::vector<uint8_t> carving_;   // the finest level's carving section

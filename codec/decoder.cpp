@@ -39,9 +39,21 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   if (!has_header_) {
     DTM_RETURN_IF_ERROR(parse_header(avail, header_));
     has_header_ = true;
-    walk_.emplace(header_, options_.max_vertices);
+    has_field_table_ = !(header_.flags & kFlagValues);
+    if (has_field_table_) walk_.emplace(header_, options_.max_vertices);
     if (header_.version_major >= 3) models_.enable_coordinate_reuse(header_.grid.qbits);
     pending_start_ += kHeaderSize;
+    return Status::Ok();
+  }
+  if (!has_field_table_) {
+    std::vector<FieldDescription> table;
+    size_t table_bytes = 0;
+    DTM_RETURN_IF_ERROR(parse_field_table(avail, table, table_bytes));
+    for (const FieldDescription& f : table) fields_.push_back({f, {}});
+    value_decoder_.emplace(std::move(table));
+    has_field_table_ = true;
+    walk_.emplace(header_, options_.max_vertices, table_bytes);
+    pending_start_ += table_bytes;
     return Status::Ok();
   }
   const int level = walk_->next_level();
@@ -58,6 +70,12 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
           .with_context(where));
   if (levels_.empty() && !spans_three_dimensions(added))
     return {StatusCode::kCorrupt, where + ": the base level does not span three dimensions"};
+  if (value_decoder_) {
+    DTM_RETURN_IF_ERROR(value_decoder_->decode_layer(layer.values, added, layer_values_).with_context(where));
+    for (size_t f = 0; f < fields_.size(); ++f)
+      fields_[f].bits.insert(fields_[f].bits.end(), layer_values_[f].bits.begin(),
+                             layer_values_[f].bits.end());
+  }
   merge_known(known_, added, header_.grid.qbits);
   points_.insert(points_.end(), added.begin(), added.end());
   ++layers_pending_;
@@ -80,6 +98,7 @@ Status ProgressiveDecoder::finish() const {
   if (!error_.ok()) return error_;
   if (stopped_ || complete()) return Status::Ok();
   if (!has_header_) return {StatusCode::kTruncated, "the input ends inside the header"};
+  if (!has_field_table_) return {StatusCode::kTruncated, "the input ends inside the field table"};
   return {StatusCode::kTruncated, levels_.empty()
                                       ? std::string("the input ends before the base level is complete")
                                       : "the input ends after level " + std::to_string(finest_level()) +

@@ -1,5 +1,7 @@
 #include "codec/encode.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "codec/expert_encode.h"
@@ -58,6 +60,63 @@ Status check_options(const EncodeOptions& o) {
   return Status::Ok();
 }
 
+// The fields' values per grid point (the first input point's, where
+// quantization merged several), checked against the points and the options.
+StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, const EncodeOptions& options,
+                                                     const QuantizedPoints& q, uint64_t& merged_differing) {
+  for (const auto& [name, error] : options.field_errors) {
+    bool found = false;
+    for (const auto& f : input.fields) found = found || f.name == name;
+    if (!found) return invalid("--field-error names '" + name + "', which is not a field of the input");
+  }
+  std::vector<FieldValues> out;
+  std::vector<uint8_t> differs(q.points.size(), 0);
+  for (const auto& f : input.fields) {
+    const std::string field = "field '" + f.name + "'";
+    if (f.components < 1 || f.components > kMaxFieldComponents)
+      return invalid(field + " has " + std::to_string(f.components) + " components (1 to 64)");
+    if (f.values.size() != input.points.size() * f.components)
+      return invalid(field + " has " + std::to_string(f.values.size()) + " values for " +
+                     std::to_string(input.points.size()) + " points of " + std::to_string(f.components) +
+                     " components");
+    FieldValues v;
+    v.description.name = f.name;
+    v.description.type = f.type;
+    v.description.components = f.components;
+    if (const auto e = options.field_errors.find(f.name); e != options.field_errors.end()) {
+      if (!is_float(f.type))
+        return invalid(field + " holds " + value_type_name(f.type) +
+                       " values: only float fields can be lossy");
+      if (!(e->second > 0) || !std::isfinite(e->second))
+        return invalid(field + ": the error bound must be positive");
+      v.description.lossy = true;
+      v.description.error_bound = e->second;
+      for (size_t i = 0; i < f.values.size(); ++i)
+        if (!std::isfinite(f.values[i]))
+          return invalid(field + ": point " + std::to_string(i / f.components) + " holds " +
+                         (std::isnan(f.values[i]) ? "NaN" : "an infinity") +
+                         ", which a lossy field cannot keep (code it losslessly)");
+    }
+    const size_t n = f.components;
+    v.bits.resize(q.points.size() * n);
+    std::vector<uint8_t> seen(q.points.size(), 0);
+    for (size_t i = 0; i < q.input_to_point.size(); ++i) {
+      const uint32_t p = q.input_to_point[i];
+      for (size_t c = 0; c < n; ++c) {
+        const uint64_t bits = bits_of(f.values[i * n + c], f.type);
+        if (!seen[p])
+          v.bits[p * n + c] = bits;
+        else if (v.bits[p * n + c] != bits)
+          differs[p] = 1;
+      }
+      seen[p] = 1;
+    }
+    out.push_back(std::move(v));
+  }
+  merged_differing = static_cast<uint64_t>(std::count(differs.begin(), differs.end(), 1));
+  return out;
+}
+
 }  // namespace
 
 StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions& options) {
@@ -101,6 +160,10 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   report.input_points = input.points.size();
   report.duplicates_merged = q.duplicates_merged;
 
+  // The fields are checked before the (long) hierarchy is built.
+  DTM_ASSIGN_OR_RETURN(std::vector<FieldValues> fields,
+                       grid_point_fields(input, options, q, report.merged_points_with_other_values));
+
   std::optional<ReferenceShape> reference;
   if (!input.tetrahedra.empty()) {
     for (const auto& t : input.tetrahedra)
@@ -132,9 +195,13 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   stream_options.cell_hashes = options.cell_hashes;
   stream_options.level_step = options.level_step;
   DTM_ASSIGN_OR_RETURN(EncodedStream stream,
-                       encode_stream(h, q.points, q.grid, options.alpha, stream_options));
+                       encode_stream(h, q.points, q.grid, options.alpha, stream_options, std::move(fields)));
   report.layer_bytes = std::move(stream.layer_bytes);
   report.carving_bytes = std::move(stream.carving_bytes);
+  report.value_bytes = std::move(stream.value_bytes);
+  for (size_t f = 0; f < stream.fields.size(); ++f)
+    report.fields.push_back({stream.fields[f], stream.field_bytes[f]});
+  report.field_table_bytes = stream.field_table_bytes;
   report.streamed_levels = std::move(stream.streamed_levels);
   report.stream_bytes = stream.bytes.size();
   out.bytes = std::move(stream.bytes);

@@ -16,10 +16,13 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "codec/value_fields.h"
 #include "common/grid.h"
 #include "common/status.h"
 #include "core/hierarchy.h"
@@ -60,6 +63,10 @@ struct EncodeOptions {
   double average_quality_floor = 0.85;  // HierarchyOptions::average_quality_floor; 0 = off
   bool measure_boundary_error = true;   // LevelStats' max/mean_boundary_error
 
+  // Fields coded lossily: name -> E, every decoded value within E of the
+  // original (float fields only). The others are lossless.
+  std::map<std::string, double> field_errors;
+
   // The stream (codec/expert_encode.h, StreamOptions).
   int level_step = 1;
   bool cell_hashes = false;
@@ -91,6 +98,19 @@ struct EncodeInput {
   // centres, core/quantize.h's form, in the same order as `points`): its
   // grid is used as it is, so positions are coded losslessly.
   const QuantizedPoints* lattice = nullptr;
+  // Per-vertex fields to code with the points (a 5.0 stream; none: 4.0).
+  struct Field {
+    std::string name;
+    ValueType type = ValueType::kF64;
+    int components = 1;
+    std::span<const double> values;  // per point, `components` each (point-major)
+  };
+  std::span<const Field> fields;
+};
+
+struct FieldReport {
+  FieldDescription description;
+  uint64_t bytes = 0;  // its value sections' bytes over every layer
 };
 
 struct LevelReport {
@@ -118,7 +138,13 @@ struct EncodeReport {
   std::vector<LevelReport> levels;      // every hierarchy level, finest first
   std::vector<uint64_t> layer_bytes;    // per hierarchy level; 0 if not streamed
   std::vector<uint64_t> carving_bytes;  // of those, the carving corrections
-  std::vector<int> streamed_levels;     // hierarchy level of each stream level
+  std::vector<uint64_t> value_bytes;    // of those, the values
+  std::vector<FieldReport> fields;
+  uint64_t field_table_bytes = 0;
+  // Points merged by quantization whose values differed: each vertex keeps
+  // its first point's values.
+  uint64_t merged_points_with_other_values = 0;
+  std::vector<int> streamed_levels;  // hierarchy level of each stream level
   uint64_t stream_bytes = 0;
 };
 
@@ -144,8 +170,10 @@ StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions
 // Called once per hierarchy level as soon as it is built.
 using LevelReady = std::function<void(const LevelReport&)>;
 
-// kInvalidInput (with the reason) for options out of range or points that
-// cannot make a tetrahedral mesh (fewer than 4 distinct, all coplanar).
+// kInvalidInput (with the reason) for options out of range, points that
+// cannot make a tetrahedral mesh (fewer than 4 distinct, all coplanar), or a
+// field that does not fit the points or cannot be coded as asked (a NaN in a
+// lossy field: the field's name and the first point's index).
 StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options = {},
                              const LevelReady& on_level = {});
 // The same, from a plan_encoding() result.

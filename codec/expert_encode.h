@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/value_fields.h"
 #include "common/grid.h"
 #include "common/status.h"
 #include "core/hierarchy.h"
@@ -36,8 +37,15 @@ struct EncodedStream {
   // Bytes of each hierarchy level's layer (header included), indexed by
   // hierarchy level; 0 for a level left out by level_step.
   std::vector<uint64_t> layer_bytes;
-  // Of those, the carving corrections' (spec/FORMAT.md §3.2).
+  // Of those, the carving corrections' (spec/FORMAT.md §3.2) and the
+  // values' (§3.3).
   std::vector<uint64_t> carving_bytes;
+  std::vector<uint64_t> value_bytes;
+  // The field table as written (with its scales), each field's bytes over
+  // every layer, and the table's own size.
+  std::vector<FieldDescription> fields;
+  std::vector<uint64_t> field_bytes;
+  uint64_t field_table_bytes = 0;
   // The hierarchy level of each stream level (finest first).
   std::vector<int> streamed_levels;
   // The order in which a decoder produces the vertices (coarsest layer
@@ -46,11 +54,14 @@ struct EncodedStream {
   std::vector<uint32_t> decode_order;
 };
 
-// `points` are the grid points the hierarchy's vertex indices refer to.
-// kInvalidInput if the levels are not nested, level_step < 1 or there are
-// more than 65535 levels to stream.
+// `points` are the grid points the hierarchy's vertex indices refer to;
+// `fields`, if any, give a value per point (and component) each: the stream
+// is then 5.0 and carries them. kInvalidInput if the levels are not nested,
+// level_step < 1, there are more than 65535 levels to stream, or a field is
+// malformed or cannot be coded as asked (FieldSectionEncoder::make).
 StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<const GridPoint> points,
                                       const Grid& grid, AlphaKind alpha_policy,
-                                      const StreamOptions& options = {});
+                                      const StreamOptions& options = {},
+                                      std::vector<FieldValues> fields = {});
 
 }  // namespace dtm

@@ -124,6 +124,7 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   if (h.grid.qbits < kMinQBits || h.grid.qbits > kMaxQBits) return corrupt("qbits out of range");
   if (static_cast<uint8_t>(h.alpha_policy) > 2) return corrupt("unknown alpha policy");
   if (h.flags & ~kKnownFlags) return {StatusCode::kUnsupported, "unknown header flags"};
+  if ((h.flags & kFlagValues) && h.version_major < 5) return corrupt("values flagged in a stream before 5.0");
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
   for (double o : h.grid.origin)
@@ -133,11 +134,13 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
 }
 
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
-                                 std::span<const uint8_t> carving) {
+                                 std::span<const uint8_t> carving, std::span<const uint8_t> values) {
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
+  h.value_bytes = static_cast<uint32_t>(values.size());
   std::vector<uint8_t> body(payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
+  body.insert(body.end(), values.begin(), values.end());
   FieldWriter writer;
   writer.trailer = body;
   visit_fields(h, writer);
@@ -145,11 +148,11 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   return writer.w.take();
 }
 
-LayerWalk::LayerWalk(const StreamHeader& header, uint64_t max_level_vertices)
+LayerWalk::LayerWalk(const StreamHeader& header, uint64_t max_level_vertices, uint64_t table_bytes)
     : header_(header),
       max_level_vertices_(max_level_vertices),
       next_level_(header.level_count - 1),
-      offset_(kHeaderSize) {}
+      offset_(kHeaderSize + table_bytes) {}
 
 Status LayerWalk::check(const LayerHeader& h) const {
   if (h.level != next_level_)
@@ -167,6 +170,8 @@ Status LayerWalk::check(const LayerHeader& h) const {
     return corrupt("payload too short for its point count");
   if (!(header_.flags & kFlagCarvingCorrections) && h.carving_bytes != 0)
     return corrupt("carving corrections present without their flag");
+  if (!(header_.flags & kFlagValues) && h.value_bytes != 0)
+    return corrupt("a value section present without its flag");
   if (!(header_.flags & kFlagCellHashes) && h.cell_hash != 0)
     return corrupt("cell hash present without its flag");
   if (h.level_vertices > max_level_vertices_)
@@ -194,7 +199,8 @@ Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* heade
     return {StatusCode::kNeedMoreInput, "layer incomplete"};
   const std::span<const uint8_t> body = bytes.subspan(header_size, layer.header.body_bytes());
   layer.payload = body.first(layer.header.payload_bytes);
-  layer.carving = body.subspan(layer.header.payload_bytes);
+  layer.carving = body.subspan(layer.header.payload_bytes, layer.header.carving_bytes);
+  layer.values = body.subspan(layer.header.payload_bytes + layer.header.carving_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();
@@ -212,20 +218,34 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
       s.status = {StatusCode::kTruncated, "the stream ends inside its header"};
     return s;
   }
-  LayerWalk walk(s.header);
+  if (s.header.flags & kFlagValues) {
+    size_t table_bytes = 0;
+    s.status = parse_field_table(bytes.subspan(kHeaderSize), s.fields, table_bytes);
+    if (!s.status.ok()) {
+      if (s.status.code() == StatusCode::kNeedMoreInput)
+        s.status = {StatusCode::kTruncated, "the stream ends inside its field table"};
+      return s;
+    }
+    s.field_table_bytes = table_bytes;
+  }
+  LayerWalk walk(s.header, std::numeric_limits<uint64_t>::max(), s.field_table_bytes);
   while (true) {
     const int level = walk.next_level();
     Layer layer;
     bool header_seen = false;
     const Status st = walk.next(bytes.subspan(walk.offset()), layer, &header_seen);
     if (st.ok()) {
-      s.layers.push_back({layer.header, layer.offset, true});
+      s.layers.push_back({layer.header, layer.offset, true, {}});
+      if (!s.fields.empty()) {
+        s.status = value_section_field_bytes(layer.values, s.fields, s.layers.back().field_bytes);
+        if (!s.status.ok()) return s;
+      }
       continue;
     }
     if (st.code() != StatusCode::kNeedMoreInput) {
       s.status = st;
     } else if (!walk.done()) {
-      if (header_seen) s.layers.push_back({layer.header, layer.offset, false});
+      if (header_seen) s.layers.push_back({layer.header, layer.offset, false, {}});
       s.status = {StatusCode::kTruncated,
                   header_seen
                       ? "the stream ends inside level " + std::to_string(level) + "'s layer"

@@ -2,10 +2,12 @@
 // meshinfo. spec/FORMAT.md is the normative description; its header tables
 // are checked against the field lists below by tests/test_format_fields.cpp.
 //
-//   stream = header, layer(L), layer(L-1), ..., layer(0)     coarsest first
+//   stream = header, [field table], layer(L), layer(L-1), ..., layer(0)
 //   header = kHeaderSize bytes (below), ending with its own checksum
+//   field table (5.0, with kFlagValues): codec/value_fields.h
 //   layer  = layer header + payload (the level's new points)
 //            + carving section (4.0: the level's carving corrections)
+//            + value section (5.0: the new points' values)
 #pragma once
 
 #include <array>
@@ -16,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "codec/value_fields.h"
 #include "common/grid.h"
 #include "common/status.h"
 #include "mesh/carving.h"
@@ -23,14 +26,20 @@
 namespace dtm {
 
 inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0A, 0x1A, 0x0A};
-inline constexpr uint8_t kVersionMajor = 4;        // what the encoder writes
+// The encoder writes 5.0 when the stream carries values and 4.0 otherwise
+// (the oldest version that says all the stream holds); the decoder reads 2.x
+// to 5.x.
+inline constexpr uint8_t kVersionMajor = 5;
+inline constexpr uint8_t kVersionMajorWithoutValues = 4;
 inline constexpr uint8_t kOldestVersionMajor = 2;  // the decoder also reads 2.x
 inline constexpr uint8_t kVersionMinor = 0;
 inline constexpr uint16_t kFlagCellHashes = 1;  // each layer carries its level's cell-set hash
 // 4.0: layers carry carving corrections (codec/carving_coder.h); without
 // the flag every carving section is empty and alpha alone carves (the paper).
 inline constexpr uint16_t kFlagCarvingCorrections = 2;
-inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections;
+// 5.0: a field table follows the header and layers carry value sections.
+inline constexpr uint16_t kFlagValues = 4;
+inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -52,10 +61,11 @@ struct LayerHeader {
   double alpha = 0;             // grid units
   uint32_t payload_bytes = 0;
   uint32_t carving_bytes = 0;  // 4.0 and later: the carving section, after the payload
+  uint32_t value_bytes = 0;    // 5.0 and later: the value section, after the carving section
   uint64_t cell_hash = 0;      // meaningful with kFlagCellHashes, else 0
-  uint64_t checksum = 0;       // XXH3-64 of the header bytes before it, the payload and the carving section
+  uint64_t checksum = 0;       // XXH3-64 of the header bytes before it and the body
 
-  uint64_t body_bytes() const { return uint64_t{payload_bytes} + carving_bytes; }
+  uint64_t body_bytes() const { return uint64_t{payload_bytes} + carving_bytes + value_bytes; }
 };
 
 // The fields of each header in stream order, described once: writing,
@@ -91,6 +101,7 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
   v.template field<double>("alpha", h.alpha);
   v.template field<uint32_t>("payload_bytes", h.payload_bytes);
   if (h.format_major >= 4) v.template field<uint32_t>("carving_bytes", h.carving_bytes);
+  if (h.format_major >= 5) v.template field<uint32_t>("value_bytes", h.value_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -128,7 +139,8 @@ inline constexpr size_t kHeaderSize = sized<StreamHeader>().size;
 // A layer header's size in a stream of this major version.
 constexpr size_t layer_header_size(uint8_t format_major) { return sized<LayerHeader>(format_major).size; }
 inline constexpr size_t kLayerHeaderSize = layer_header_size(kVersionMajor);
-static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && kLayerHeaderSize == 42,
+static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_size(4) == 42 &&
+                  kLayerHeaderSize == 46,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -136,16 +148,17 @@ std::vector<uint8_t> write_header(StreamHeader h);
 // fewer than kHeaderSize bytes are given.
 Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h);
 
-// The layer header (checksum computed) followed by the payload and the
-// carving section (4.0 and later).
+// The layer header (checksum computed) followed by the payload, the carving
+// section (4.0 and later) and the value section (5.0 and later).
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
-                                 std::span<const uint8_t> carving = {});
+                                 std::span<const uint8_t> carving = {}, std::span<const uint8_t> values = {});
 
 // A whole, checksummed layer, as LayerWalk returns it.
 struct Layer {
   LayerHeader header;
   std::span<const uint8_t> payload;
   std::span<const uint8_t> carving;
+  std::span<const uint8_t> values;
   uint64_t offset = 0;  // of the layer header in the stream
   uint64_t size() const { return layer_header_size(header.format_major) + header.body_bytes(); }
 };
@@ -157,9 +170,11 @@ struct Layer {
 class LayerWalk {
  public:
   // `max_level_vertices`: a level with more vertices is refused
-  // (kLimitExceeded) before its payload is read.
+  // (kLimitExceeded) before its payload is read. `table_bytes`: the field
+  // table's size, between the header and the first layer.
   explicit LayerWalk(const StreamHeader& header,
-                     uint64_t max_level_vertices = std::numeric_limits<uint64_t>::max());
+                     uint64_t max_level_vertices = std::numeric_limits<uint64_t>::max(),
+                     uint64_t table_bytes = 0);
 
   // `bytes` are the stream's bytes from offset() on. ok: `layer` is the next
   // layer, whole and checksummed, and the walk has moved past it.
@@ -188,10 +203,14 @@ struct LayerSummary {
   LayerHeader header;
   uint64_t offset = 0;  // of the layer header in the stream
   bool complete = false;
+  std::vector<uint64_t>
+      field_bytes;  // complete layers of a 5.0 stream: each field's share of the value section
   uint64_t size() const { return layer_header_size(header.format_major) + header.body_bytes(); }
 };
 struct StreamSummary {
   StreamHeader header;
+  std::vector<FieldDescription> fields;  // 5.0 with kFlagValues: the field table
+  uint64_t field_table_bytes = 0;
   std::vector<LayerSummary> layers;  // coarsest first; the last may be incomplete
   uint64_t bytes = 0;                // bytes given
   Status status;                     // ok, or why the scan stopped early

@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <iterator>
+#include <optional>
+#include <string>
 
 #include "codec/carving_coder.h"
 #include "codec/expert_encode.h"
@@ -9,9 +11,9 @@
 namespace dtm {
 
 StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<const GridPoint> points,
-                                      const Grid& grid, AlphaKind alpha_policy,
-                                      const StreamOptions& options) {
-  const auto invalid = [](const char* what) { return Status{StatusCode::kInvalidInput, what}; };
+                                      const Grid& grid, AlphaKind alpha_policy, const StreamOptions& options,
+                                      std::vector<FieldValues> fields) {
+  const auto invalid = [](const std::string& what) { return Status{StatusCode::kInvalidInput, what}; };
   if (options.level_step < 1) return invalid("encode_stream: level_step < 1");
   std::vector<int> streamed;
   for (size_t i = 0; i < hierarchy.levels.size(); ++i)
@@ -24,14 +26,46 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // The hierarchy carries its verdicts when it was carved to a reference:
   // then every layer corrects alpha's prediction.
   const bool corrections = !hierarchy.levels[0].kept.empty();
-  h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0);
+  const bool values = !fields.empty();
+  if (fields.size() > kMaxFields) return invalid("encode_stream: more than 32 fields");
+  for (const FieldValues& f : fields) {
+    const FieldDescription& d = f.description;
+    const std::string field = "encode_stream: field '" + d.name + "'";
+    if (d.name.empty() || d.name.size() > kMaxFieldNameBytes)
+      return invalid(field + ": a name of 1 to 64 bytes");
+    if (d.components < 1 || d.components > kMaxFieldComponents)
+      return invalid(field + ": 1 to 64 components");
+    if (f.bits.size() != points.size() * d.components)
+      return invalid(field + ": " + std::to_string(f.bits.size()) + " values for " +
+                     std::to_string(points.size()) + " points of " + std::to_string(d.components) +
+                     " components");
+    if (d.lossy && !is_float(d.type)) return invalid(field + ": only float fields can be lossy");
+    for (const FieldValues& other : fields)
+      if (&other != &f && other.description.name == d.name) return invalid(field + " is given twice");
+  }
+  std::optional<FieldSectionEncoder> value_coder;
+  if (values) {
+    auto made = FieldSectionEncoder::make(std::move(fields));
+    if (!made.ok()) return made.status();
+    value_coder.emplace(std::move(*made));
+  }
+  h.version_major = values ? kVersionMajor : kVersionMajorWithoutValues;
+  h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
+            (values ? kFlagValues : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
   EncodedStream out;
   out.bytes = write_header(h);
+  if (value_coder) {
+    out.fields = value_coder->descriptions();
+    const auto table = write_field_table(out.fields);
+    out.field_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
   out.layer_bytes.assign(hierarchy.levels.size(), 0);
   out.carving_bytes.assign(hierarchy.levels.size(), 0);
+  out.value_bytes.assign(hierarchy.levels.size(), 0);
   // The decoder's vertex index of each grid point, and its points in order.
   std::vector<uint32_t> decoder_index(points.size(), UINT32_MAX);
   std::vector<GridPoint> decoded;
@@ -54,9 +88,11 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     for (uint32_t i : added) by_code.emplace_back(morton_encode(points[i], grid.qbits), i);
     std::sort(by_code.begin(), by_code.end());
     std::vector<GridPoint> layer_points;
+    std::vector<uint32_t> layer_indices;
     layer_points.reserve(added.size());
     for (const auto& [code, i] : by_code) {
       layer_points.push_back(points[i]);
+      layer_indices.push_back(i);
       decoder_index[i] = static_cast<uint32_t>(out.decode_order.size());
       out.decode_order.push_back(i);
       decoded.push_back(points[i]);
@@ -71,14 +107,20 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       carving = encode_carving(dt, decoded, level.alpha, level.kept);
     }
 
+    std::vector<uint8_t> value_section;
+    if (value_coder) value_section = value_coder->encode_layer(layer_indices, layer_points, out.field_bytes);
+
     LayerHeader lh;
+    lh.format_major = h.version_major;
     lh.level = static_cast<uint16_t>(l);
     lh.new_vertices = static_cast<uint32_t>(added.size());
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
     if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.mesh);
-    const auto layer = write_layer(lh, encode_point_set(known, layer_points, grid.qbits, models), carving);
+    const auto layer =
+        write_layer(lh, encode_point_set(known, layer_points, grid.qbits, models), carving, value_section);
     out.carving_bytes[streamed[l]] = carving.size();
+    out.value_bytes[streamed[l]] = value_section.size();
     merge_known(known, layer_points, grid.qbits);
     out.layer_bytes[streamed[l]] = layer.size();
     out.bytes.insert(out.bytes.end(), layer.begin(), layer.end());

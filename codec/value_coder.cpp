@@ -345,7 +345,7 @@ Status ValueDecoder::decode_layer(std::span<const uint8_t> section, std::span<co
     Int128 r = 0;
     DTM_RETURN_IF_ERROR(decode_residual(dec, predictor_.models(), pred.context, r));
     const Int128 v = pred.value(static_cast<ValueMode>(mode)) + r;
-    if (v < 0 || v >= (Int128{1} << kMaxClass) || dec.overran())
+    if (v < 0 || v >= (Int128{1} << kMaxClass) || v > max_scaled_ || dec.overran())
       return {StatusCode::kCorrupt, "a value section decodes out of range"};
     predictor_.add(p, v);
     ordered.push_back(scale_.offset + v * scale_.step);

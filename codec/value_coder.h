@@ -1,6 +1,6 @@
-// Per-vertex values coded level by level (issue 13; not in the stream
-// format yet: this is the coder the format's value sections will carry).
-// Encoder and decoder side by side, sharing the predictor.
+// Per-vertex values coded level by level: one component's values, as a
+// layer's value section carries them (codec/value_fields.h puts a stream's
+// fields together). Encoder and decoder side by side, sharing the predictor.
 //
 // Values are integers that order like the originals (to_ordered below: the
 // integers as they are, floats by the fpzip map of their bits), shifted by
@@ -129,7 +129,10 @@ class ValueEncoder {
 
 class ValueDecoder {
  public:
-  explicit ValueDecoder(ValueScale scale) : scale_(scale) {}
+  // A scaled value above `max_scaled` is damage (the type's range, known
+  // from the field table, bounds it), and so is one at 2^65 or beyond.
+  explicit ValueDecoder(ValueScale scale, Int128 max_scaled = Int128{1} << 65)
+      : scale_(scale), max_scaled_(max_scaled) {}
   // The ordered values of a layer's new points from its section; kCorrupt
   // if the section ends early, has bytes left over or decodes out of range.
   Status decode_layer(std::span<const uint8_t> section, std::span<const GridPoint> points,
@@ -137,6 +140,7 @@ class ValueDecoder {
 
  private:
   ValueScale scale_;
+  Int128 max_scaled_;
   ValuePredictor predictor_;
 };
 

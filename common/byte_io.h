@@ -46,6 +46,11 @@ class ByteReader {
     std::memcpy(&v, &bits, 8);
     return true;
   }
+  bool skip(size_t n) {
+    if (remaining() < n) return false;
+    pos_ += n;
+    return true;
+  }
   size_t position() const { return pos_; }
   size_t remaining() const { return bytes_.size() - pos_; }
 

@@ -1,7 +1,8 @@
-// Golden streams (spec/FORMAT.md §6): streams of format 4.0 (with carving
-// corrections, and the paper's alpha carving), and of 3.0 and 2.0
-// (golden/v3/, golden/v2/, which this decoder still reads), that every later decoder must
-// decode to the same levels, and whose every damaged variant it must refuse.
+// Golden streams (spec/FORMAT.md §6): streams of format 5.0 (with the
+// input's TetGen markers as a field), and of 4.0 (carving corrections, and
+// the paper's alpha carving), 3.0 and 2.0 (golden/v4/, v3/, v2/, which this
+// decoder still reads), that every later decoder must decode to the same
+// levels and values, and whose every damaged variant it must refuse.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -10,6 +11,8 @@
 
 #include "codec/decode.h"
 #include "codec/format.h"
+#include "test_support.h"
+#include "tools/formats/input.h"
 
 namespace dtm {
 namespace {
@@ -68,9 +71,57 @@ TEST_P(GoldenStream, EverySingleBitFlipIsRefused) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Format4_0, GoldenStream,
+// The 5.0 streams carry the input's boundary markers: every vertex of every
+// level has the marker of the input point it quantizes (found by position,
+// the stream's grid mapped onto the input's bounding box).
+TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
+  for (const std::string name :
+       {"torus_288", "torus_288_paper", "torus_288_grid_q10_hull", "torus_288_q24"}) {
+    const InputMesh in = read_input(
+        test::data_path(name.find("grid") != std::string::npos ? "torus_288_grid.node" : "torus_288.node"));
+    const VertexField& markers = in.fields.at(0);
+    ASSERT_EQ(markers.name, "boundary_marker");
+    ProgressiveDecoder dec;
+    ASSERT_TRUE(decode_stream(read_bytes(golden(name + ".dtm")), dec).ok()) << name;
+    ASSERT_EQ(dec.fields().size(), 1u) << name;
+    const FieldValues& f = dec.fields()[0];
+    EXPECT_EQ(f.description.name, "boundary_marker");
+    EXPECT_EQ(f.description.type, ValueType::kI32);
+    EXPECT_FALSE(f.description.lossy);
+    // The affine map from input units to the decoded ones: per axis, the boxes' corners.
+    std::array<double, 3> in_lo{1e300, 1e300, 1e300}, in_hi{-1e300, -1e300, -1e300}, lo = in_lo, hi = in_hi;
+    auto grow = [](std::array<double, 3>& l, std::array<double, 3>& h, const InputPoint& p) {
+      const double c[3] = {p.x, p.y, p.z};
+      for (int a = 0; a < 3; ++a) l[a] = std::min(l[a], c[a]), h[a] = std::max(h[a], c[a]);
+    };
+    for (const InputPoint& p : in.points) grow(in_lo, in_hi, p);
+    std::vector<InputPoint> decoded;
+    for (const GridPoint& g : dec.points()) decoded.push_back(dec.header().grid.to_input(g));
+    for (const InputPoint& p : decoded) grow(lo, hi, p);
+    for (size_t v = 0; v < decoded.size(); ++v) {
+      const double c[3] = {decoded[v].x, decoded[v].y, decoded[v].z};
+      size_t best = 0;
+      double best_d = 1e300;
+      for (size_t i = 0; i < in.points.size(); ++i) {
+        const double ic[3] = {in.points[i].x, in.points[i].y, in.points[i].z};
+        double d = 0;
+        for (int a = 0; a < 3; ++a) {
+          const double t = in_lo[a] + (c[a] - lo[a]) / (hi[a] - lo[a]) * (in_hi[a] - in_lo[a]);
+          d += (t - ic[a]) * (t - ic[a]);
+        }
+        if (d < best_d) best_d = d, best = i;
+      }
+      EXPECT_EQ(f.value(v, 0), markers.values[best]) << name << " vertex " << v;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Format5_0, GoldenStream,
                          ::testing::Values("torus_288", "torus_288_paper", "torus_288_grid_q10_hull",
                                            "torus_288_q24"));
+INSTANTIATE_TEST_SUITE_P(Format4_0, GoldenStream,
+                         ::testing::Values("v4/torus_288", "v4/torus_288_paper", "v4/torus_288_grid_q10_hull",
+                                           "v4/torus_288_q24"));
 INSTANTIATE_TEST_SUITE_P(Format3_0, GoldenStream,
                          ::testing::Values("v3/torus_288", "v3/torus_288_grid_q10_hull", "v3/torus_288_q24"));
 INSTANTIATE_TEST_SUITE_P(Format2_0, GoldenStream,

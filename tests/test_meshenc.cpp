@@ -159,7 +159,7 @@ TEST_F(Tools, MeshinfoJsonDescribesTheStreamWithoutDecoding) {
   EXPECT_GT(j["step"].get<double>(), 0);
   EXPECT_EQ(j["truncated"], false);
   ASSERT_EQ(j["levels"].size(), static_cast<size_t>(levels_));
-  uint64_t total = dtm::kHeaderSize;
+  uint64_t total = dtm::kHeaderSize + j["field_table_bytes"].get<uint64_t>();
   for (const auto& l : j["levels"]) {
     for (const char* key : {"level", "vertices", "alpha", "layer_bytes", "carving_bytes", "complete"})
       EXPECT_TRUE(l.contains(key)) << key;

@@ -249,7 +249,7 @@ TEST_F(Volumes, AnisotropicSpacingPlacesVoxelsAtTheirPositionsAndQuantizesThem) 
   for (const InputPoint& q : m.points) ASSERT_EQ(std::fmod(q.z, 2.5), 0.0);
   const auto r = test::run_command(std::string(DTM_MESHENC) + " " + p + " --threshold 100 --levels 2");
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_EQ(r.output.find("lossless"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("the voxel lattice"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("q=14"), std::string::npos) << r.output;
 }
 
@@ -260,7 +260,31 @@ TEST_F(Volumes, VolumeOptionsNeedAVolumeAndAVolumeNeedsThem) {
   EXPECT_NE(r.output.find("apply to voxel volumes only"), std::string::npos) << r.output;
   r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u8.nrrd") + " -q");
   EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.output.find("needs exactly one of --threshold"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not a 0/1 mask needs --threshold"), std::string::npos) << r.output;
+}
+
+// A 0/1 mask needs no selection: its solid is the 1s, and its values say
+// nothing more, so the stream carries no field. A scan's values do travel.
+TEST_F(Volumes, AMaskNeedsNoThresholdAndCarriesNoField) {
+  const std::string p = path("mask.nrrd");
+  std::string voxels;
+  for (int k = 0; k < 16; ++k)
+    for (int j = 0; j < 16; ++j)
+      for (int i = 0; i < 16; ++i)
+        voxels +=
+            static_cast<char>((i - 7.5) * (i - 7.5) + (j - 7.5) * (j - 7.5) + (k - 7.5) * (k - 7.5) < 36);
+  std::ofstream(p, std::ios::binary)
+      << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n\n"
+      << voxels;
+  const InputMesh m = read_input(p, {}, {});
+  EXPECT_TRUE(m.fields.empty());
+  EXPECT_GT(m.points.size(), 100u);
+  const auto with_label = read_input(p, {}, {std::nullopt, 1.0, 1});
+  ASSERT_EQ(with_label.fields.size(), 1u);
+  EXPECT_EQ(with_label.points.size(), m.points.size());
+  const auto r = test::run_command(std::string(DTM_MESHENC) + " " + p + " -o " + path("mask.dtm"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find("fields"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "mesh/carving.h"
 #include "mesh/topology.h"
 #include "tools/atomic_file.h"
+#include "tools/field_types.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
 #include "tools/stream_input.h"
@@ -143,6 +144,9 @@ dtm::OutputMesh output_mesh(const Command& c, const dtm::ProgressiveDecoder& dec
   mesh.cells = dtm::flagged_cells(dt, in_mesh);
   mesh.level = decoder.vertex_levels();
   mesh.boundary = dtm::boundary_vertices(dt, mesh.points.size(), in_mesh);
+  for (const dtm::FieldValues& f : decoder.fields())
+    mesh.fields.push_back(
+        {f.description.name, dtm::scalar_type(f.description.type), f.description.components, f.bits});
   return mesh;
 }
 

@@ -12,6 +12,7 @@
 
 #include "codec/encode.h"
 #include "tools/atomic_file.h"
+#include "tools/field_types.h"
 #include "tools/formats/input.h"
 #include "tools/report.h"
 #include "tools/tool_main.h"
@@ -25,15 +26,21 @@ Examples:
   meshenc mesh.node -o mesh.dtm --qbits 16 --levels 4 --quality-guard 0.05
   meshenc scan.ply -o scan.dtm --qbits 12
   meshenc ct.nhdr --threshold 300 --voxel-interior-step 2 -o ct.dtm --dmax 1.5
+  meshenc flow.vtu -o flow.dtm --field-error pressure=0.01
 
 Inputs (by extension, or --format): TetGen .node (+ .ele), Medit .mesh, VTK
 .vtk and .vtu, gmsh .msh (2.2, 4.1), PLY, OFF, OBJ, XYZ, NRRD .nrrd/.nhdr.
-Only the vertices are encoded; per-vertex values in the file are read, checked
-and kept aside; tetrahedra in the file are the reference shape that each
-level's boundary is measured against (the line after the table, --report).
+The vertices are encoded with every per-vertex field of the file (VTK/VTU
+PointData, gmsh $NodeData, PLY vertex properties, TetGen .node attributes and
+markers, a volume's voxel values): losslessly, or a float field within
+--field-error NAME=E of its values; --no-fields leaves them out. Tetrahedra in
+the file are the reference shape: each level's cells are the Delaunay cells
+inside it, and its boundary is measured against it (the line after the table,
+--report).
 
 Voxel volumes: the solid is the voxels with value >= --threshold (or ==
---label); its points are every boundary voxel (a 6-neighbour outside the
+--label), whose values are the field 'value'; a 0/1 mask needs neither (its
+solid is the 1s, and it has no field). Its points are every boundary voxel (a 6-neighbour outside the
 solid) and the interior voxels whose indices are all multiples of
 --voxel-interior-step. With isotropic axis-aligned spacing the voxel lattice
 is the quantization grid (qbits = just enough for the selected extent, or
@@ -43,11 +50,18 @@ like any point set (lossy).
 
 Dmax and --alpha values are in input units, after --scale/--box.)";
 
+std::string format_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
 // What the command line asks for.
 struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
   std::optional<double> removal_share, quality_ratio, quality_guard, quality_floor;
-  bool quiet = false, no_reference = false;
+  bool quiet = false, no_reference = false, no_fields = false;
+  std::vector<std::string> field_errors;  // NAME=E
   dtm::VolumeOptions volume;
   dtm::EncodeOptions encode;
 };
@@ -137,6 +151,10 @@ void add_options(CLI::App& app, Command& c) {
                  "stream every N-th level (and the coarsest): fewer levels of detail, fewer bits")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
+  app.add_option("--field-error", c.field_errors,
+                 "code float field NAME lossily, every decoded value within E of its own (repeatable)")
+      ->type_name("NAME=E");
+  app.add_flag("--no-fields", c.no_fields, "leave the input's per-vertex fields out of the stream");
   app.add_option("--report", c.report_path, "write the level table as JSON to this file");
   app.add_flag("-q,--quiet", c.quiet, "do not print the table");
 }
@@ -165,11 +183,48 @@ void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePla
               q.grid.step, plan.dmax, in.on_grid ? " (the voxel lattice: lossless)" : "");
   if (!in.fields.empty()) {
     std::string names;
-    for (const auto& f : in.fields)
+    for (const auto& f : in.fields) {
       names += (names.empty() ? "'" : ", '") + f.name + "' (" + dtm::scalar_name(f.type) +
-               (f.components > 1 ? " x " + std::to_string(f.components) : "") + ")";
-    std::printf("%s: per-vertex fields kept aside (not coded yet): %s\n", c.input.c_str(), names.c_str());
+               (f.components > 1 ? " x " + std::to_string(f.components) : "");
+      const auto e = c.encode.field_errors.find(f.name);
+      names +=
+          e == c.encode.field_errors.end() ? ", lossless)" : ", within " + format_number(e->second) + ")";
+    }
+    std::printf("%s: per-vertex fields %s: %s\n", c.input.c_str(), c.no_fields ? "left out" : "coded",
+                names.c_str());
   }
+}
+
+// NAME=E arguments into the options.
+void parse_field_errors(const std::vector<std::string>& args, dtm::EncodeOptions& o) {
+  for (const std::string& a : args) {
+    const size_t eq = a.rfind('=');
+    size_t used = 0;
+    double e = 0;
+    if (eq != std::string::npos && eq > 0) try {
+        e = std::stod(a.substr(eq + 1), &used);
+      } catch (...) {
+        used = 0;
+      }
+    if (eq == std::string::npos || eq == 0 || used == 0 || used != a.size() - eq - 1 || !(e > 0) ||
+        !std::isfinite(e))
+      throw std::invalid_argument("--field-error expects NAME=E with E a positive number, got '" + a + "'");
+    o.field_errors[a.substr(0, eq)] = e;
+  }
+}
+
+void print_fields(const dtm::EncodeReport& r, size_t vertices) {
+  for (const dtm::FieldReport& f : r.fields) {
+    const auto& d = f.description;
+    std::printf("  field '%s' (%s%s): %llu bytes, %.2f bits per value, %s\n", d.name.c_str(),
+                dtm::value_type_name(d.type),
+                d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
+                static_cast<unsigned long long>(f.bytes), 8.0 * f.bytes / (vertices * d.components),
+                d.lossy ? ("every value within " + format_number(d.error_bound)).c_str() : "lossless");
+  }
+  if (r.merged_points_with_other_values > 0)
+    std::printf("  %llu vertices merged points with different values: each keeps its first point's\n",
+                static_cast<unsigned long long>(r.merged_points_with_other_values));
 }
 
 void print_reference_line(const dtm::EncodeReport& r) {
@@ -233,10 +288,18 @@ int run(Command& c) {
   if (c.quality_ratio) c.encode.quality_ratio = *c.quality_ratio;
   if (c.quality_guard) c.encode.quality_guard = *c.quality_guard;
   parse_alpha(c.alpha_text, c.encode);
+  parse_field_errors(c.field_errors, c.encode);
+  if (c.no_fields && !c.encode.field_errors.empty())
+    throw std::invalid_argument("--field-error and --no-fields contradict each other");
   const dtm::InputMesh in = read(c);
   dtm::EncodeInput input;
   input.points = in.points;
   input.tetrahedra = in.tets;
+  std::vector<dtm::EncodeInput::Field> fields;
+  if (!c.no_fields)
+    for (const auto& f : in.fields)
+      fields.push_back({f.name, dtm::value_type(f.type), f.components, f.values});
+  input.fields = fields;
   if (in.on_grid) input.lattice = &*in.on_grid;
   auto plan = dtm::plan_encoding(input, c.encode);
   if (!plan.ok()) throw std::runtime_error(c.input + ": " + plan.status().message());
@@ -263,10 +326,14 @@ int run(Command& c) {
   const dtm::EncodeReport& r = encoded->report;
   if (!c.quiet) {
     print_reference_line(r);
+    uint64_t value_bytes = r.field_table_bytes;
+    for (const auto& f : r.fields) value_bytes += f.bytes;
     if (!c.output.empty())
-      std::printf("%s: %llu bytes, %.2f bits per vertex (%zu vertices, %zu levels)\n", c.output.c_str(),
-                  static_cast<unsigned long long>(r.stream_bytes), 8.0 * r.stream_bytes / vertices, vertices,
-                  r.streamed_levels.size());
+      std::printf("%s: %llu bytes, %.2f bits per vertex for the levels (%zu vertices, %zu levels)%s\n",
+                  c.output.c_str(), static_cast<unsigned long long>(r.stream_bytes),
+                  8.0 * (r.stream_bytes - value_bytes) / vertices, vertices, r.streamed_levels.size(),
+                  r.fields.empty() ? "" : ", and the values:");
+    print_fields(r, vertices);
   }
   write_outputs(c, *encoded);
   return 0;

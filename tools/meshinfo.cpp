@@ -72,6 +72,21 @@ nlohmann::json summary_json(const std::string& input, const dtm::StreamSummary& 
   j["bits_per_vertex"] = 8.0 * s.bytes / h.vertex_count;
   j["truncated"] = truncated;
   if (truncated) j["truncation"] = s.status.message();
+  // Each field's share of the stream: its value sections in the complete layers.
+  std::vector<uint64_t> field_bytes(s.fields.size(), 0);
+  for (const auto& l : s.layers)
+    for (size_t f = 0; f < l.field_bytes.size(); ++f) field_bytes[f] += l.field_bytes[f];
+  j["fields"] = nlohmann::json::array();
+  for (size_t f = 0; f < s.fields.size(); ++f) {
+    const dtm::FieldDescription& d = s.fields[f];
+    j["fields"].push_back({{"name", d.name},
+                           {"type", dtm::value_type_name(d.type)},
+                           {"components", d.components},
+                           {"mode", d.lossy ? "lossy" : "lossless"},
+                           {"error_bound", d.error_bound},
+                           {"bytes", field_bytes[f]}});
+  }
+  j["field_table_bytes"] = s.field_table_bytes;
   j["levels"] = nlohmann::json::array();
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
@@ -80,10 +95,16 @@ nlohmann::json summary_json(const std::string& input, const dtm::StreamSummary& 
                           {"vertices", l.header.level_vertices},
                           {"new_vertices", l.header.new_vertices},
                           {"carving_bytes", l.header.carving_bytes},
+                          {"value_bytes", l.header.value_bytes},
                           {"alpha", l.header.alpha * step},
                           {"layer_bytes", layer_bytes},
                           {"layer_bits_per_new_vertex", 8.0 * layer_bytes / l.header.new_vertices},
                           {"complete", l.complete}};
+    if (!s.fields.empty() && l.complete) {
+      nlohmann::json per_field = nlohmann::json::object();
+      for (size_t f = 0; f < s.fields.size(); ++f) per_field[s.fields[f].name] = l.field_bytes[f];
+      row["field_bytes"] = per_field;
+    }
     if (h.flags & dtm::kFlagCellHashes) {
       char hex[17];
       std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(l.header.cell_hash));
@@ -112,14 +133,26 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
   std::printf("%llu bytes, %.2f bits per vertex%s\n", static_cast<unsigned long long>(s.bytes),
               8.0 * s.bytes / h.vertex_count,
               truncated ? (", TRUNCATED: " + s.status.message()).c_str() : "");
-  std::printf("%5s %9s %9s %11s %11s %9s %9s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
-              "bits/new", "carving", stats ? "      tets  boundary avg_minSA    min_SA" : "");
+  for (const dtm::FieldDescription& d : s.fields) {
+    uint64_t bytes = 0;
+    for (const auto& l : s.layers)
+      for (size_t f = 0; f < l.field_bytes.size(); ++f)
+        if (s.fields[f].name == d.name) bytes += l.field_bytes[f];
+    std::printf("field '%s': %s%s, %s, %llu bytes\n", d.name.c_str(), dtm::value_type_name(d.type),
+                d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
+                d.lossy ? ("within " + std::to_string(d.error_bound)).c_str() : "lossless",
+                static_cast<unsigned long long>(bytes));
+  }
+  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
+              "bits/new", "carving", s.fields.empty() ? "" : "    values",
+              stats ? "      tets  boundary avg_minSA    min_SA" : "");
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
     const uint64_t layer_bytes = l.size();
     std::printf("%5u %9u %9u %11.5g %11llu %9.2f %9u", l.header.level, l.header.level_vertices,
                 l.header.new_vertices, l.header.alpha * step, static_cast<unsigned long long>(layer_bytes),
                 8.0 * layer_bytes / l.header.new_vertices, l.header.carving_bytes);
+    if (!s.fields.empty()) std::printf(" %9u", l.header.value_bytes);
     if (i < quality.size())
       std::printf(" %9llu %9llu %9.6f %9.3g", static_cast<unsigned long long>(quality[i].tetrahedra),
                   static_cast<unsigned long long>(quality[i].quality.boundary_vertices),

@@ -62,6 +62,20 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
                               {"share", d.second_volume > 0 ? d.symmetric() / d.second_volume : 0.0},
                               {"shared_tetrahedra", d.shared_cells}};
   }
+  j["fields"] = nlohmann::json::array();
+  for (const FieldReport& f : r.fields) {
+    const FieldDescription& d = f.description;
+    j["fields"].push_back({{"name", d.name},
+                           {"type", value_type_name(d.type)},
+                           {"components", d.components},
+                           {"mode", d.lossy ? "lossy" : "lossless"},
+                           {"error_bound", d.error_bound},
+                           {"bytes", f.bytes}});
+  }
+  if (!r.fields.empty()) {
+    j["field_table_bytes"] = r.field_table_bytes;
+    j["merged_points_with_other_values"] = r.merged_points_with_other_values;
+  }
   j["levels"] = nlohmann::json::array();
   for (const LevelReport& level : r.levels) {
     const LevelStats& s = level.stats;
@@ -79,6 +93,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
     }
     if (static_cast<size_t>(s.level) < r.carving_bytes.size())
       row["carving_bytes"] = r.carving_bytes[s.level];
+    if (static_cast<size_t>(s.level) < r.value_bytes.size()) row["value_bytes"] = r.value_bytes[s.level];
     j["levels"].push_back(row);
   }
   if (r.stream_bytes > 0 && !r.levels.empty()) {

@@ -276,6 +276,21 @@ std::string render_gmsh(const OutputMesh& m) {
   };
   node_data("level", m.level);
   node_data("boundary", m.boundary);
+  // $NodeData holds 1, 3 or 9 components (scalar, vector, tensor).
+  for (const OutputField& f : m.fields) {
+    if (f.components != 1 && f.components != 3 && f.components != 9) continue;
+    out += "$NodeData\n1\n\"" + f.name + "\"\n1\n0\n3\n0\n" + std::to_string(f.components) + "\n" +
+           std::to_string(n) + "\n";
+    for (size_t i = 0; i < n; ++i) {
+      append_number(out, i + 1);
+      for (int c = 0; c < f.components; ++c) {
+        out += ' ';
+        append_scalar_text(out, f.bits[i * f.components + c], f.type);
+      }
+      out += '\n';
+    }
+    out += "$EndNodeData\n";
+  }
   return out;
 }
 

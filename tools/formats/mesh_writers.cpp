@@ -26,6 +26,10 @@ void validate(const OutputMesh& m) {
   if (!m.boundary.empty() && m.boundary.size() != n)
     throw std::invalid_argument("mesh writer: " + std::to_string(m.boundary.size()) + " boundary flags for " +
                                 std::to_string(n) + " points");
+  for (const OutputField& f : m.fields)
+    if (f.components < 1 || f.bits.size() != n * f.components)
+      throw std::invalid_argument("mesh writer: field '" + f.name + "' has " + std::to_string(f.bits.size()) +
+                                  " values for " + std::to_string(n) + " points");
   for (size_t c = 0; c < m.cells.size(); ++c)
     for (uint32_t v : m.cells[c])
       if (v >= n)
@@ -39,12 +43,24 @@ bool has_node_extension(const std::string& path) {
 
 // --- TetGen -----------------------------------------------------------------
 
+// The field TetGen's marker column carries back, if the stream has it.
+const OutputField* marker_field(const OutputMesh& m) {
+  for (const OutputField& f : m.fields)
+    if (f.name == "boundary_marker" && f.components == 1 && is_integer(f.type)) return &f;
+  return nullptr;
+}
+
 std::string render_node(const OutputMesh& m) {
-  const bool markers = !m.boundary.empty();
+  const OutputField* marker = marker_field(m);
+  const bool markers = marker || !m.boundary.empty();
+  // Every other field's components are attributes (TetGen's are doubles).
+  size_t attributes = 0;
+  for (const OutputField& f : m.fields)
+    if (&f != marker) attributes += f.components;
   std::string out;
   out.reserve(m.points.size() * 64);
   append_number(out, m.points.size());
-  out += markers ? " 3 0 1\n" : " 3 0 0\n";
+  out += " 3 " + std::to_string(attributes) + (markers ? " 1\n" : " 0\n");
   for (size_t i = 0; i < m.points.size(); ++i) {
     const InputPoint p = m.grid.to_input(m.points[i]);
     append_number(out, i);
@@ -52,9 +68,18 @@ std::string render_node(const OutputMesh& m) {
       out += ' ';
       append_number(out, x);
     }
+    for (const OutputField& f : m.fields)
+      if (&f != marker)
+        for (int c = 0; c < f.components; ++c) {
+          out += ' ';
+          append_scalar_text(out, f.bits[i * f.components + c], f.type);
+        }
     if (markers) {
       out += ' ';
-      append_number(out, unsigned{m.boundary[i]});
+      if (marker)
+        append_scalar_text(out, marker->bits[i], marker->type);
+      else
+        append_number(out, unsigned{m.boundary[i]});
     }
     out += '\n';
   }
@@ -109,6 +134,59 @@ void data_array(std::string& out, const char* type, const char* name, int compon
   out += "        </DataArray>\n";
 }
 
+// A name inside an XML attribute.
+std::string xml_escaped(const std::string& name) {
+  std::string out;
+  for (char ch : name) {
+    switch (ch) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += ch;
+    }
+  }
+  return out;
+}
+
+const char* vtu_type(ScalarType t) {
+  constexpr const char* kNames[] = {"Int8",   "UInt8", "Int16",  "UInt16",  "Int32",
+                                    "UInt32", "Int64", "UInt64", "Float32", "Float64"};
+  return kNames[static_cast<int>(t)];
+}
+
+// A field's <DataArray>, its values written in their own type.
+void field_array(std::string& out, const OutputField& f, bool binary) {
+  out += "        <DataArray type=\"" + std::string(vtu_type(f.type)) + "\" Name=\"" + xml_escaped(f.name) +
+         "\"";
+  if (f.components > 1) out += " NumberOfComponents=\"" + std::to_string(f.components) + "\"";
+  out += binary ? " format=\"binary\">\n          " : " format=\"ascii\">\n";
+  if (binary) {
+    std::string raw;
+    raw.reserve(8 + f.bits.size() * scalar_size(f.type));
+    append_binary(raw, uint64_t{f.bits.size() * scalar_size(f.type)});
+    for (uint64_t b : f.bits) append_scalar_binary(raw, b, f.type);
+    out += base64_encode(raw);
+    out += '\n';
+  } else {
+    for (size_t i = 0; i < f.bits.size(); ++i) {
+      out += i % f.components == 0 ? "          " : " ";
+      append_scalar_text(out, f.bits[i], f.type);
+      if ((i + 1) % f.components == 0) out += '\n';
+    }
+  }
+  out += "        </DataArray>\n";
+}
+
 std::string render_vtu(const OutputMesh& m, bool binary) {
   constexpr uint8_t kVtkTetra = 10;
   std::vector<double> coords;
@@ -135,10 +213,11 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
       "  <UnstructuredGrid>\n"
       "    <Piece NumberOfPoints=\"" +
       std::to_string(m.points.size()) + "\" NumberOfCells=\"" + std::to_string(m.cells.size()) + "\">\n";
-  if (!m.level.empty() || !m.boundary.empty()) {
+  if (!m.level.empty() || !m.boundary.empty() || !m.fields.empty()) {
     out += "      <PointData>\n";
     if (!m.level.empty()) data_array(out, "Int32", "level", 1, 1, m.level, binary);
     if (!m.boundary.empty()) data_array(out, "UInt8", "boundary", 1, 1, m.boundary, binary);
+    for (const OutputField& f : m.fields) field_array(out, f, binary);
     out += "      </PointData>\n";
   }
   out += "      <Points>\n";

@@ -12,8 +12,17 @@
 #include <vector>
 
 #include "common/grid.h"
+#include "tools/formats/scalar_type.h"
 
 namespace dtm {
+
+// A per-vertex field as decoded: raw bits of `type`, vertex-major.
+struct OutputField {
+  std::string name;
+  ScalarType type = ScalarType::kFloat64;
+  int components = 1;
+  std::vector<uint64_t> bits;
+};
 
 // A decoded level ready to write. Vertex i is at grid.to_input(points[i]).
 struct OutputMesh {
@@ -22,6 +31,11 @@ struct OutputMesh {
   std::vector<std::array<uint32_t, 4>> cells;  // tetrahedra, indices into points, positively oriented
   std::vector<int32_t> level;     // optional (empty = absent): per vertex, the coarsest level containing it
   std::vector<uint8_t> boundary;  // optional (empty = absent): per vertex, 1 on the boundary
+  // The stream's fields, written where the format carries point data
+  // (VTU/VTK point data, gmsh $NodeData, PLY vertex properties, TetGen
+  // attributes; a 1-component integer field named boundary_marker is the
+  // TetGen marker column). Medit, OFF and XYZ have no place for them.
+  std::vector<OutputField> fields;
 };
 
 enum class MeshFormat {

@@ -8,6 +8,8 @@
 #include <string>
 #include <type_traits>
 
+#include "tools/formats/scalar_type.h"
+
 namespace dtm {
 
 // Shortest text that reads back to the same value (doubles bit-identical).
@@ -45,6 +47,36 @@ void append_binary(std::string& out, T v, bool big_endian = false) {
   for (size_t k = 0; k < sizeof(U); ++k) {
     const size_t shift = 8 * (big_endian ? sizeof(U) - 1 - k : k);
     out += static_cast<char>((u >> shift) & 0xff);
+  }
+}
+
+// A value of type `t` given by its raw bits (an integer's two's complement,
+// a float's IEEE bits), as scalar_size(t) bytes.
+inline void append_scalar_binary(std::string& out, uint64_t bits, ScalarType t, bool big_endian = false) {
+  const int n = scalar_size(t);
+  for (int k = 0; k < n; ++k) out += static_cast<char>((bits >> (8 * (big_endian ? n - 1 - k : k))) & 0xff);
+}
+
+// The same as text that reads back to the same bits, NaN and infinities as
+// "nan", "inf", "-inf". A float32 is written as the shortest text of its
+// exact double, so that a reader of doubles (gmsh, TetGen) gets the value
+// itself and one of floats the same float.
+inline void append_scalar_text(std::string& out, uint64_t bits, ScalarType t) {
+  switch (t) {
+    case ScalarType::kFloat32:
+      return append_number(out, static_cast<double>(std::bit_cast<float>(static_cast<uint32_t>(bits))));
+    case ScalarType::kFloat64:
+      return append_number(out, std::bit_cast<double>(bits));
+    case ScalarType::kUInt64:
+      return append_number(out, bits);
+    default: {
+      // Sign-extend from the type's width.
+      const int shift = 64 - 8 * scalar_size(t);
+      const bool is_signed = t == ScalarType::kInt8 || t == ScalarType::kInt16 || t == ScalarType::kInt32 ||
+                             t == ScalarType::kInt64;
+      if (is_signed) return append_number(out, static_cast<int64_t>(bits << shift) >> shift);
+      return append_number(out, bits);
+    }
   }
 }
 

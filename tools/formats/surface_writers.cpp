@@ -31,6 +31,17 @@ std::string render_ply(const OutputMesh& m) {
   out += "element vertex " + std::to_string(s.vertices.size()) + "\n";
   out += "property double x\nproperty double y\nproperty double z\n";
   if (level) out += "property int level\n";
+  // Fields as properties in their own type (PLY has no 64-bit integers:
+  // those become doubles), one per component.
+  constexpr const char* kTypeNames[] = {"char", "uchar",  "short",  "ushort", "int",
+                                        "uint", "double", "double", "float",  "double"};
+  for (const OutputField& f : m.fields)
+    for (int c = 0; c < f.components; ++c) {
+      // A PLY name ends at a blank.
+      std::string name = f.components > 1 ? f.name + "_" + std::to_string(c) : f.name;
+      std::replace(name.begin(), name.end(), ' ', '_');
+      out += std::string("property ") + kTypeNames[static_cast<int>(f.type)] + " " + name + "\n";
+    }
   out += "element face " + std::to_string(s.triangles.size()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
   for (uint32_t v : s.vertices) {
@@ -39,6 +50,16 @@ std::string render_ply(const OutputMesh& m) {
     append_binary(out, p.y);
     append_binary(out, p.z);
     if (level) append_binary(out, int32_t{m.level[v]});
+    for (const OutputField& f : m.fields)
+      for (int c = 0; c < f.components; ++c) {
+        const uint64_t bits = f.bits[size_t{v} * f.components + c];
+        if (f.type == ScalarType::kInt64)
+          append_binary(out, static_cast<double>(static_cast<int64_t>(bits)));
+        else if (f.type == ScalarType::kUInt64)
+          append_binary(out, static_cast<double>(bits));
+        else
+          append_scalar_binary(out, bits, f.type);
+      }
   }
   for (const auto& t : s.triangles) {
     append_binary(out, uint8_t{3});

@@ -15,12 +15,22 @@ int bits_for_range(uint64_t range) {
   return q;
 }
 
-InputMesh voxel_points(const Volume& v, const VolumeOptions& o, const std::string& path) {
-  if (o.threshold.has_value() == o.label.has_value())
-    throw FormatError(path +
-                      ": a volume needs exactly one of --threshold T (solid: value >= T) or --label L");
-  if (o.interior_step < 1) throw FormatError(path + ": the interior step must be at least 1");
+InputMesh voxel_points(const Volume& v, const VolumeOptions& asked, const std::string& path) {
+  if (asked.threshold && asked.label) throw FormatError(path + ": give --threshold or --label, not both");
+  if (asked.interior_step < 1) throw FormatError(path + ": the interior step must be at least 1");
   const uint64_t nx = v.sizes[0], ny = v.sizes[1], nz = v.sizes[2];
+  // A mask (only 0s and 1s) needs neither: its solid is the 1s, and its
+  // values say nothing the solid does not.
+  const bool mask = !asked.threshold && !asked.label;
+  if (mask)
+    for (uint64_t at = 0; at < v.voxels(); ++at) {
+      const double x = v.at(at % nx, at / nx % ny, at / (nx * ny));
+      if (x != 0 && x != 1)
+        throw FormatError(path +
+                          ": a volume that is not a 0/1 mask needs --threshold T (solid: value >= T) or "
+                          "--label L");
+    }
+  const VolumeOptions o = mask ? VolumeOptions{std::nullopt, 1.0, asked.interior_step} : asked;
   std::vector<uint8_t> solid(v.voxels());
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (uint64_t k = 0, at = 0; k < nz; ++k)
@@ -97,7 +107,7 @@ InputMesh voxel_points(const Volume& v, const VolumeOptions& o, const std::strin
       out.points.push_back(p);
     }
   }
-  out.fields.push_back(std::move(value));
+  if (!mask) out.fields.push_back(std::move(value));
   if (lattice) {
     q.input_to_point.resize(q.points.size());
     for (uint32_t i = 0; i < q.points.size(); ++i) q.input_to_point[i] = i;

@@ -20,8 +20,10 @@ struct VolumeOptions {
   int interior_step = 1;            // keep interior voxels with i, j, k all multiples of this
 };
 
-// Throws FormatError naming `path` when no or both selections are given,
-// or when nothing is selected.
+// Without a selection the volume must be a 0/1 mask: its solid is the 1s
+// and it has no field; with one, the selected voxels' values are the field
+// `value`. Throws FormatError naming `path` when both selections are given,
+// none for a volume that is not a mask, or when nothing is selected.
 InputMesh voxel_points(const Volume& volume, const VolumeOptions& options, const std::string& path);
 
 // The smallest q with 2^q - 1 >= range (at least 1).

@@ -268,7 +268,7 @@ std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
   end_section();
   // Point data as one FIELD block: VTK's legacy reader keeps only the first
   // SCALARS of a file unless asked for all, but always reads every FIELD array.
-  const int arrays = !m.level.empty() + !m.boundary.empty();
+  const int arrays = !m.level.empty() + !m.boundary.empty() + static_cast<int>(m.fields.size());
   if (arrays > 0)
     out += "POINT_DATA " + std::to_string(m.points.size()) + "\nFIELD FieldData " + std::to_string(arrays) +
            "\n";
@@ -280,6 +280,25 @@ std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
   if (!m.boundary.empty()) {
     out += "boundary 1 " + std::to_string(m.points.size()) + " unsigned_char\n";
     for (uint8_t v : m.boundary) put(v, true);
+    end_section();
+  }
+  constexpr const char* kTypeNames[] = {"char",  "unsigned_char", "short",        "unsigned_short",
+                                        "int",   "unsigned_int",  "vtktypeint64", "vtktypeuint64",
+                                        "float", "double"};
+  for (const OutputField& f : m.fields) {
+    // Legacy names end at a blank: VTK writes one inside a name as %20.
+    std::string name;
+    for (char ch : f.name) name += ch == ' ' ? std::string("%20") : std::string(1, ch);
+    out += name + " " + std::to_string(f.components) + " " + std::to_string(m.points.size()) + " " +
+           kTypeNames[static_cast<int>(f.type)] + "\n";
+    for (size_t i = 0; i < f.bits.size(); ++i) {
+      if (binary) {
+        append_scalar_binary(out, f.bits[i], f.type, true);
+      } else {
+        append_scalar_text(out, f.bits[i], f.type);
+        out += (i + 1) % f.components == 0 ? '\n' : ' ';
+      }
+    }
     end_section();
   }
   return out;
