@@ -35,6 +35,28 @@ int bit_width128(UInt128 m) {
   return high ? 64 + std::bit_width(high) : std::bit_width(static_cast<uint64_t>(m));
 }
 
+// The 26 cells around a cell: the 6 sharing a face, the 12 sharing an edge,
+// the 8 sharing a corner.
+constexpr std::array<std::array<int8_t, 3>, 26> kFirstRing = [] {
+  std::array<std::array<int8_t, 3>, 26> out{};
+  size_t n = 0;
+  for (int nonzero = 1; nonzero <= 3; ++nonzero)
+    for (int z = -1; z <= 1; ++z)
+      for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x)
+          if ((x != 0) + (y != 0) + (z != 0) == nonzero)
+            out[n++] = {static_cast<int8_t>(x), static_cast<int8_t>(y), static_cast<int8_t>(z)};
+  return out;
+}();
+
+// a / b for a >= 0, b > 0, in 64 bits when both fit (Int128 division is a
+// library call, and a prediction makes two).
+Int128 floor_ratio(Int128 a, Int128 b) {
+  constexpr Int128 kFits = Int128{1} << 62;
+  if (a < kFits && b < kFits) return static_cast<int64_t>(a) / static_cast<int64_t>(b);
+  return a / b;
+}
+
 int spread_context(Int128 lowest, Int128 highest) {
   const int width = bit_width128(static_cast<UInt128>(highest - lowest));
   return std::min(kValueSpreadContexts - 1, (width + 1) / 2);
@@ -110,21 +132,31 @@ void ValuePredictor::prepare(std::span<const GridPoint> incoming) {
   };
   for (const GridPoint& p : points_) grow(p);
   for (const GridPoint& p : incoming) grow(p);
-  // About one point per cell once the layer is in (integer arithmetic:
-  // the encoder and every decoder size the grid alike).
+  // About kPointsPerCell points per cell once the layer is in, so that the
+  // 8 nearest usually lie within one ring of cells. The grid only speeds the
+  // search up: the neighbours it finds are the exact nearest, whatever its size.
+  constexpr int64_t kPointsPerCell = 2;
   const int64_t extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}) + 1;
   const auto total = static_cast<int64_t>(points_.size() + incoming.size());
   int64_t per_side = 1;
-  while ((per_side + 1) * (per_side + 1) * (per_side + 1) <= total) ++per_side;
+  while ((per_side + 1) * (per_side + 1) * (per_side + 1) * kPointsPerCell <= total) ++per_side;
   origin_ = lo;
   cell_ = std::max<int64_t>(1, (extent + per_side - 1) / per_side);
   for (int a = 0; a < 3; ++a) dims_[a] = (hi[a] - lo[a]) / cell_ + 1;
-  buckets_.assign(static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]), {});
-  for (uint32_t i = 0; i < points_.size(); ++i) buckets_[bucket(cell_of(points_[i]))].push_back(i);
+  const auto cells = static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
+  // Counting sort of the known points by cell.
+  cell_start_.assign(cells + 1, 0);
+  std::vector<uint32_t> cell_of_point(points_.size());
+  for (uint32_t i = 0; i < points_.size(); ++i) ++cell_start_[(cell_of_point[i] = bucket(cell_of(points_[i]))) + 1];
+  for (size_t b = 0; b < cells; ++b) cell_start_[b + 1] += cell_start_[b];
+  settled_.resize(points_.size());
+  std::vector<uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (uint32_t i = 0; i < points_.size(); ++i) settled_[fill[cell_of_point[i]]++] = {points_[i], i};
+  recent_.assign(cells, {});
 }
 
 void ValuePredictor::add(const GridPoint& p, Int128 value) {
-  buckets_[bucket(cell_of(p))].push_back(static_cast<uint32_t>(points_.size()));
+  recent_[bucket(cell_of(p))].push_back({p, static_cast<uint32_t>(points_.size())});
   points_.push_back(p);
   values_.push_back(value);
   sum_ += value;
@@ -139,52 +171,95 @@ ValuePredictor::Prediction ValuePredictor::predict(const GridPoint& p) const {
     uint32_t index;
     bool operator<(const Near& o) const { return d2 != o.d2 ? d2 < o.d2 : index < o.index; }
   };
+  // best[0..found) in ascending order; `worst` is the farthest kept once
+  // there are kValueNeighbours of them (until then, anything is taken).
   std::array<Near, kValueNeighbours> best;
   int found = 0;
+  int64_t worst = INT64_MAX;
+  auto consider = [&](const Entry& e) {
+    const int64_t dx = e.p.x - p.x, dy = e.p.y - p.y, dz = e.p.z - p.z;
+    const Near n{dx * dx + dy * dy + dz * dz, e.index};
+    if (n.d2 > worst) return;  // most points, once the first ring is in
+    int k = 0;
+    if (found < kValueNeighbours)
+      k = found++;
+    else if (n < best[kValueNeighbours - 1])
+      k = kValueNeighbours - 1;
+    else
+      return;
+    while (k > 0 && n < best[k - 1]) {
+      best[k] = best[k - 1];
+      --k;
+    }
+    best[k] = n;
+    if (found == kValueNeighbours) worst = best[kValueNeighbours - 1].d2;
+  };
   const std::array<int64_t, 3> c = cell_of(p);
+  const std::array<int64_t, 3> q = {p.x, p.y, p.z};
+  // How far p is, along axis a, from the points of cell k on that axis (its
+  // grid coordinates run from origin + k cell_ to origin + (k + 1) cell_ - 1).
+  auto gap = [&](int a, int64_t k) -> int64_t {
+    if (k < c[a]) return q[a] - (origin_[a] + (k + 1) * cell_ - 1);
+    if (k > c[a]) return origin_[a] + k * cell_ - q[a];
+    return 0;
+  };
+  // A cell wholly farther than the 8th nearest found cannot change them
+  // (one exactly as far could, by the tie rule: not skipped).
+  auto visit = [&](int64_t x, int64_t y, int64_t z) {
+    if (x < 0 || x >= dims_[0] || y < 0 || y >= dims_[1] || z < 0 || z >= dims_[2]) return;
+    const int64_t gx = gap(0, x), gy = gap(1, y), gz = gap(2, z);
+    if (gx * gx + gy * gy + gz * gz > worst) return;
+    const size_t b = bucket({x, y, z});
+    for (const Entry* e = settled_.data() + cell_start_[b]; e != settled_.data() + cell_start_[b + 1]; ++e)
+      consider(*e);
+    for (const Entry& e : recent_[b]) consider(e);
+  };
   const int64_t rings = std::max({dims_[0], dims_[1], dims_[2]});
   for (int64_t r = 0; r <= rings; ++r) {
-    for (int64_t z = c[2] - r; z <= c[2] + r; ++z) {
-      if (z < 0 || z >= dims_[2]) continue;
-      for (int64_t y = c[1] - r; y <= c[1] + r; ++y) {
-        if (y < 0 || y >= dims_[1]) continue;
-        const bool y_or_z_on_ring = std::abs(z - c[2]) == r || std::abs(y - c[1]) == r;
-        for (int64_t x = c[0] - r; x <= c[0] + r; x += (y_or_z_on_ring || r == 0) ? 1 : 2 * r) {
-          if (x < 0 || x >= dims_[0]) continue;
-          for (uint32_t i : buckets_[bucket({x, y, z})]) {
-            const int64_t dx = points_[i].x - p.x, dy = points_[i].y - p.y, dz = points_[i].z - p.z;
-            const Near n{dx * dx + dy * dy + dz * dz, i};
-            if (found < kValueNeighbours) {
-              best[found++] = n;
-              std::push_heap(best.begin(), best.begin() + found);
-            } else if (n < best[0]) {
-              std::pop_heap(best.begin(), best.end());
-              best.back() = n;
-              std::push_heap(best.begin(), best.end());
-            }
-          }
+    if (r <= 1) {
+      // p's cell and its 26 neighbours, nearest kinds first (faces, edges,
+      // corners), so that the 8 nearest fill early and most points are
+      // turned away at the first comparison.
+      if (r == 1)
+        for (const auto& o : kFirstRing) visit(c[0] + o[0], c[1] + o[1], c[2] + o[2]);
+      else
+        visit(c[0], c[1], c[2]);
+    } else {
+      for (int64_t z = c[2] - r; z <= c[2] + r; ++z)
+        for (int64_t y = c[1] - r; y <= c[1] + r; ++y) {
+          const bool y_or_z_on_ring = std::abs(z - c[2]) == r || std::abs(y - c[1]) == r;
+          for (int64_t x = c[0] - r; x <= c[0] + r; x += y_or_z_on_ring ? 1 : 2 * r) visit(x, y, z);
         }
-      }
     }
-    // Any point of a farther ring is at least r cells away along an axis (a
-    // point exactly that far could still win a tie: strict).
-    if (found == kValueNeighbours && best[0].d2 < (r * cell_) * (r * cell_)) break;
+    if (found < kValueNeighbours) continue;
+    // Every point outside the cells searched is at least `outside` from p
+    // along some axis (strict below: one exactly that far could win a tie).
+    int64_t outside = INT64_MAX;
+    for (int a = 0; a < 3; ++a) {
+      if (c[a] - r - 1 >= 0) outside = std::min(outside, gap(a, c[a] - r - 1));
+      if (c[a] + r + 1 < dims_[a]) outside = std::min(outside, gap(a, c[a] + r + 1));
+    }
+    if (outside == INT64_MAX || worst < outside * outside) break;
   }
-  std::sort_heap(best.begin(), best.begin() + found);  // nearest first
   // Weights d_1^2 / d_i^2 in 16-bit fixed point (the nearest weighs 2^16),
   // exact integers, so that every decoder predicts the same value.
-  const Int128 nearest = std::max<int64_t>(1, best[0].d2);
+  // Every quantity is non-negative, so truncating division is floor; the
+  // 64-bit paths give the same integers as the 128-bit ones, only faster.
+  const int64_t nearest = std::max<int64_t>(1, best[0].d2);
   Int128 num = 0, den = 0;
   Int128 lowest = values_[best[0].index], highest = lowest;
   for (int k = 0; k < found; ++k) {
     const Int128 v = values_[best[k].index];
-    const Int128 w = (nearest << 16) / std::max<int64_t>(1, best[k].d2);
+    const int64_t d2 = std::max<int64_t>(1, best[k].d2);
+    const int64_t w = nearest < (int64_t{1} << 46) ? (nearest << 16) / d2
+                                                    : static_cast<int64_t>((Int128{nearest} << 16) / d2);
     num += w * v;
     den += w;
     lowest = std::min(lowest, v), highest = std::max(highest, v);
   }
   const auto count = static_cast<Int128>(values_.size());
-  return {(2 * num + den) / (2 * den), (2 * sum_ + count) / (2 * count), spread_context(lowest, highest)};
+  return {floor_ratio(2 * num + den, 2 * den), floor_ratio(2 * sum_ + count, 2 * count),
+          spread_context(lowest, highest)};
 }
 
 Int128 to_ordered(uint64_t bits, ValueType type) {

@@ -108,10 +108,19 @@ class ValuePredictor {
   std::vector<Int128> values_;
   Int128 sum_ = 0;
   // A uniform grid of the known points over the box of every point known or
-  // about to be: cells of edge cell_ (grid units), about one point each.
+  // about to be: cells of edge cell_ (grid units), about one point each. The
+  // points known when the layer began are stored cell by cell, contiguous
+  // with their coordinates (cell_start_ indexes settled_); the layer's own,
+  // as they come, in recent_.
+  struct Entry {
+    GridPoint p;
+    uint32_t index;
+  };
   std::array<int64_t, 3> origin_{}, dims_{1, 1, 1};
   int64_t cell_ = 1;
-  std::vector<std::vector<uint32_t>> buckets_;
+  std::vector<uint32_t> cell_start_;
+  std::vector<Entry> settled_;
+  std::vector<std::vector<Entry>> recent_;
   std::unique_ptr<Models> models_;
 };
 
