@@ -118,11 +118,22 @@ ValuePredictor::~ValuePredictor() = default;
 ValuePredictor::ValuePredictor(ValuePredictor&&) noexcept = default;
 ValuePredictor& ValuePredictor::operator=(ValuePredictor&&) noexcept = default;
 
-std::array<int64_t, 3> ValuePredictor::cell_of(const GridPoint& p) const {
+std::array<int64_t, 3> NeighbourSearch::cell_of(const GridPoint& p) const {
   return {(p.x - origin_[0]) / cell_, (p.y - origin_[1]) / cell_, (p.z - origin_[2]) / cell_};
 }
 
-void ValuePredictor::prepare(std::span<const GridPoint> incoming) {
+std::vector<Neighbours> NeighbourSearch::layer(std::span<const GridPoint> points) {
+  prepare(points);
+  std::vector<Neighbours> out;
+  out.reserve(points.size());
+  for (const GridPoint& p : points) {
+    out.push_back(nearest(p));
+    add(p);
+  }
+  return out;
+}
+
+void NeighbourSearch::prepare(std::span<const GridPoint> incoming) {
   if (points_.empty() && incoming.empty()) return;
   const GridPoint first = points_.empty() ? incoming[0] : points_[0];
   std::array<int64_t, 3> lo = {first.x, first.y, first.z}, hi = lo;
@@ -147,7 +158,8 @@ void ValuePredictor::prepare(std::span<const GridPoint> incoming) {
   // Counting sort of the known points by cell.
   cell_start_.assign(cells + 1, 0);
   std::vector<uint32_t> cell_of_point(points_.size());
-  for (uint32_t i = 0; i < points_.size(); ++i) ++cell_start_[(cell_of_point[i] = bucket(cell_of(points_[i]))) + 1];
+  for (uint32_t i = 0; i < points_.size(); ++i)
+    ++cell_start_[(cell_of_point[i] = bucket(cell_of(points_[i]))) + 1];
   for (size_t b = 0; b < cells; ++b) cell_start_[b + 1] += cell_start_[b];
   settled_.resize(points_.size());
   std::vector<uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
@@ -155,14 +167,12 @@ void ValuePredictor::prepare(std::span<const GridPoint> incoming) {
   recent_.assign(cells, {});
 }
 
-void ValuePredictor::add(const GridPoint& p, Int128 value) {
+void NeighbourSearch::add(const GridPoint& p) {
   recent_[bucket(cell_of(p))].push_back({p, static_cast<uint32_t>(points_.size())});
   points_.push_back(p);
-  values_.push_back(value);
-  sum_ += value;
 }
 
-ValuePredictor::Prediction ValuePredictor::predict(const GridPoint& p) const {
+Neighbours NeighbourSearch::nearest(const GridPoint& p) const {
   if (points_.empty()) return {};
   // The kValueNeighbours nearest known points, ties to the earlier coded:
   // rings of cells around p's, until no farther ring can hold a nearer one.
@@ -241,18 +251,31 @@ ValuePredictor::Prediction ValuePredictor::predict(const GridPoint& p) const {
     }
     if (outside == INT64_MAX || worst < outside * outside) break;
   }
+  Neighbours out;
+  out.count = found;
+  for (int k = 0; k < found; ++k) out.index[k] = best[k].index, out.d2[k] = best[k].d2;
+  return out;
+}
+
+void ValuePredictor::add(Int128 value) {
+  values_.push_back(value);
+  sum_ += value;
+}
+
+ValuePredictor::Prediction ValuePredictor::predict(const Neighbours& n) const {
+  if (n.count == 0) return {};
   // Weights d_1^2 / d_i^2 in 16-bit fixed point (the nearest weighs 2^16),
   // exact integers, so that every decoder predicts the same value.
   // Every quantity is non-negative, so truncating division is floor; the
   // 64-bit paths give the same integers as the 128-bit ones, only faster.
-  const int64_t nearest = std::max<int64_t>(1, best[0].d2);
+  const int64_t nearest = std::max<int64_t>(1, n.d2[0]);
   Int128 num = 0, den = 0;
-  Int128 lowest = values_[best[0].index], highest = lowest;
-  for (int k = 0; k < found; ++k) {
-    const Int128 v = values_[best[k].index];
-    const int64_t d2 = std::max<int64_t>(1, best[k].d2);
+  Int128 lowest = values_[n.index[0]], highest = lowest;
+  for (int k = 0; k < n.count; ++k) {
+    const Int128 v = values_[n.index[k]];
+    const int64_t d2 = std::max<int64_t>(1, n.d2[k]);
     const int64_t w = nearest < (int64_t{1} << 46) ? (nearest << 16) / d2
-                                                    : static_cast<int64_t>((Int128{nearest} << 16) / d2);
+                                                   : static_cast<int64_t>((Int128{nearest} << 16) / d2);
     num += w * v;
     den += w;
     lowest = std::min(lowest, v), highest = std::max(highest, v);
@@ -377,18 +400,17 @@ ValueScale value_scale(std::span<const Int128> ordered) {
   return s;
 }
 
-std::vector<uint8_t> ValueEncoder::encode_layer(std::span<const GridPoint> points,
+std::vector<uint8_t> ValueEncoder::encode_layer(std::span<const Neighbours> neighbours,
                                                 std::span<const Int128> ordered) {
   // The predictions do not depend on the mode (every earlier value is
   // known exactly): make them once, then code the layer in each mode with a
   // copy of the models, and keep the smallest.
-  predictor_.prepare(points);
   std::vector<ValuePredictor::Prediction> predictions;
   std::vector<Int128> values;
-  for (size_t i = 0; i < points.size(); ++i) {
+  for (size_t i = 0; i < neighbours.size(); ++i) {
     values.push_back((ordered[i] - scale_.offset) / scale_.step);
-    predictions.push_back(predictor_.predict(points[i]));
-    predictor_.add(points[i], values.back());
+    predictions.push_back(predictor_.predict(neighbours[i]));
+    predictor_.add(values.back());
   }
   auto code = [&](ValueMode mode, ValuePredictor::Models& models) {
     RangeEncoder enc;
@@ -407,22 +429,21 @@ std::vector<uint8_t> ValueEncoder::encode_layer(std::span<const GridPoint> point
   return code(best, predictor_.models());
 }
 
-Status ValueDecoder::decode_layer(std::span<const uint8_t> section, std::span<const GridPoint> points,
+Status ValueDecoder::decode_layer(std::span<const uint8_t> block, std::span<const Neighbours> neighbours,
                                   std::vector<Int128>& ordered) {
-  RangeDecoder dec(section);
-  predictor_.prepare(points);
+  RangeDecoder dec(block);
   ordered.clear();
-  ordered.reserve(points.size());
+  ordered.reserve(neighbours.size());
   const uint64_t mode = dec.decode_raw(2);
   if (mode >= kValueModes) return {StatusCode::kCorrupt, "a value section names an unknown prediction mode"};
-  for (const GridPoint& p : points) {
-    const ValuePredictor::Prediction pred = predictor_.predict(p);
+  for (const Neighbours& n : neighbours) {
+    const ValuePredictor::Prediction pred = predictor_.predict(n);
     Int128 r = 0;
     DTM_RETURN_IF_ERROR(decode_residual(dec, predictor_.models(), pred.context, r));
     const Int128 v = pred.value(static_cast<ValueMode>(mode)) + r;
     if (v < 0 || v >= (Int128{1} << kMaxClass) || v > max_scaled_ || dec.overran())
       return {StatusCode::kCorrupt, "a value section decodes out of range"};
-    predictor_.add(p, v);
+    predictor_.add(v);
     ordered.push_back(scale_.offset + v * scale_.step);
   }
   if (!dec.finished_cleanly())

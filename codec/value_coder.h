@@ -70,45 +70,37 @@ inline constexpr int kValueModes = 3;
 inline constexpr int kValueSpreadContexts = 6;
 inline constexpr int kValueClassModels = 24;
 
-// The points coded so far with their (scaled) values, and the adaptive
-// models: the state encoder and decoder keep in step.
-class ValuePredictor {
- public:
-  // The prediction of the value at p and its context, from the values known so far.
-  struct Prediction {
-    Int128 neighbours = 0;  // the inverse-distance mean of the nearest values
-    Int128 mean = 0;        // the mean of every value known
-    int context = 0;
-    Int128 value(ValueMode mode) const {
-      return mode == ValueMode::kNeighbours ? neighbours
-             : mode == ValueMode::kMean     ? mean
-                                            : (neighbours + mean) / 2;
-    }
-  };
-  Prediction predict(const GridPoint& p) const;
-  // Adds a point and its scaled value to what is known.
-  void add(const GridPoint& p, Int128 value);
-  // Call before a layer's values: sizes the search grid for the points known
-  // and the layer's (`incoming`, whose positions the decoder has by then).
-  void prepare(std::span<const GridPoint> incoming);
+// The nearest points already known to a point about to be coded: their
+// indices (in the order they became known) and squared grid distances,
+// nearest first, ties to the earlier known.
+struct Neighbours {
+  std::array<uint32_t, kValueNeighbours> index{};
+  std::array<int64_t, kValueNeighbours> d2{};
+  int count = 0;
+};
 
-  struct Models;
-  Models& models() { return *models_; }
-  ValuePredictor();
-  ~ValuePredictor();
-  ValuePredictor(ValuePredictor&&) noexcept;
-  ValuePredictor& operator=(ValuePredictor&&) noexcept;
+// The points coded so far, searchable by place. The neighbours depend on the
+// positions alone, which the decoder has before any value: one search serves
+// every component of every field.
+class NeighbourSearch {
+ public:
+  // The neighbours of every point of a layer, each among the points known
+  // before it (every coarser layer's and this layer's earlier ones); the
+  // layer's points are then known.
+  std::vector<Neighbours> layer(std::span<const GridPoint> points);
 
  private:
+  // Sizes the grid for the points known and the layer's.
+  void prepare(std::span<const GridPoint> incoming);
+  Neighbours nearest(const GridPoint& p) const;
+  void add(const GridPoint& p);
   std::array<int64_t, 3> cell_of(const GridPoint& p) const;
   size_t bucket(const std::array<int64_t, 3>& c) const {
     return static_cast<size_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
   }
   std::vector<GridPoint> points_;
-  std::vector<Int128> values_;
-  Int128 sum_ = 0;
   // A uniform grid of the known points over the box of every point known or
-  // about to be: cells of edge cell_ (grid units), about one point each. The
+  // about to be: cells of edge cell_ (grid units), about two points each. The
   // points known when the layer began are stored cell by cell, contiguous
   // with their coordinates (cell_start_ indexes settled_); the layer's own,
   // as they come, in recent_.
@@ -121,19 +113,54 @@ class ValuePredictor {
   std::vector<uint32_t> cell_start_;
   std::vector<Entry> settled_;
   std::vector<std::vector<Entry>> recent_;
+};
+
+// One component's (scaled) values coded so far and its adaptive models: the
+// state encoder and decoder keep in step.
+class ValuePredictor {
+ public:
+  // The prediction of the next value and its context, from its neighbours' values.
+  struct Prediction {
+    Int128 neighbours = 0;  // the inverse-distance mean of the nearest values
+    Int128 mean = 0;        // the mean of every value known
+    int context = 0;
+    Int128 value(ValueMode mode) const {
+      return mode == ValueMode::kNeighbours ? neighbours
+             : mode == ValueMode::kMean     ? mean
+                                            : (neighbours + mean) / 2;
+    }
+  };
+  Prediction predict(const Neighbours& n) const;
+  void add(Int128 value);
+
+  struct Models;
+  Models& models() { return *models_; }
+  ValuePredictor();
+  ~ValuePredictor();
+  ValuePredictor(ValuePredictor&&) noexcept;
+  ValuePredictor& operator=(ValuePredictor&&) noexcept;
+
+ private:
+  std::vector<Int128> values_;
+  Int128 sum_ = 0;
   std::unique_ptr<Models> models_;
 };
 
 class ValueEncoder {
  public:
   explicit ValueEncoder(ValueScale scale) : scale_(scale) {}
-  // The section of one layer: the values (ordered integers) of its new
-  // points, in the decoder's order.
-  std::vector<uint8_t> encode_layer(std::span<const GridPoint> points, std::span<const Int128> ordered);
+  // The block of one layer: the values (ordered integers) of its new
+  // points, in the decoder's order, given their neighbours.
+  std::vector<uint8_t> encode_layer(std::span<const Neighbours> neighbours, std::span<const Int128> ordered);
+  // The same for a component coded alone: it searches the neighbours itself.
+  std::vector<uint8_t> encode_layer(std::span<const GridPoint> points, std::span<const Int128> ordered) {
+    return encode_layer(own_search_.layer(points), ordered);
+  }
 
  private:
   ValueScale scale_;
   ValuePredictor predictor_;
+  NeighbourSearch own_search_;
 };
 
 class ValueDecoder {
@@ -142,15 +169,22 @@ class ValueDecoder {
   // from the field table, bounds it), and so is one at 2^65 or beyond.
   explicit ValueDecoder(ValueScale scale, Int128 max_scaled = Int128{1} << 65)
       : scale_(scale), max_scaled_(max_scaled) {}
-  // The ordered values of a layer's new points from its section; kCorrupt
-  // if the section ends early, has bytes left over or decodes out of range.
-  Status decode_layer(std::span<const uint8_t> section, std::span<const GridPoint> points,
+  // The ordered values of a layer's new points from its block, given their
+  // neighbours; kCorrupt if the block ends early, has bytes left over or
+  // decodes out of range.
+  Status decode_layer(std::span<const uint8_t> block, std::span<const Neighbours> neighbours,
                       std::vector<Int128>& ordered);
+  // The same for a component coded alone.
+  Status decode_layer(std::span<const uint8_t> block, std::span<const GridPoint> points,
+                      std::vector<Int128>& ordered) {
+    return decode_layer(block, own_search_.layer(points), ordered);
+  }
 
  private:
   ValueScale scale_;
   Int128 max_scaled_;
   ValuePredictor predictor_;
+  NeighbourSearch own_search_;
 };
 
 }  // namespace dtm

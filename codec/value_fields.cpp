@@ -255,6 +255,7 @@ std::vector<uint8_t> FieldSectionEncoder::encode_layer(std::span<const uint32_t>
                                                        std::span<const GridPoint> positions,
                                                        std::vector<uint64_t>& field_bytes) {
   field_bytes.resize(descriptions_.size(), 0);
+  const std::vector<Neighbours> neighbours = search_.layer(positions);
   ByteWriter w;
   size_t coder = 0;
   for (size_t f = 0; f < descriptions_.size(); ++f) {
@@ -263,7 +264,7 @@ std::vector<uint8_t> FieldSectionEncoder::encode_layer(std::span<const uint32_t>
       std::vector<Int128> layer;
       layer.reserve(points.size());
       for (uint32_t p : points) layer.push_back(ordered_[coder][p]);
-      const std::vector<uint8_t> block = coders_[coder].encode_layer(positions, layer);
+      const std::vector<uint8_t> block = coders_[coder].encode_layer(neighbours, layer);
       w.u32(static_cast<uint32_t>(block.size()));
       w.bytes(block);
     }
@@ -283,6 +284,7 @@ Status FieldSectionDecoder::decode_layer(std::span<const uint8_t> section,
                                          std::vector<FieldValues>& out) {
   out.clear();
   for (const FieldDescription& f : descriptions_) out.push_back({f, {}});
+  const std::vector<Neighbours> neighbours = search_.layer(positions);
   ByteReader r(section);
   size_t coder = 0;
   std::vector<Int128> ordered;
@@ -294,7 +296,7 @@ Status FieldSectionDecoder::decode_layer(std::span<const uint8_t> section,
       if (!r.u32(length) || length > r.remaining())
         return {StatusCode::kCorrupt, "the value section of field '" + d.name + "' ends early"};
       DTM_RETURN_IF_ERROR(coders_[coder]
-                              .decode_layer(section.subspan(r.position(), length), positions, ordered)
+                              .decode_layer(section.subspan(r.position(), length), neighbours, ordered)
                               .with_context("field '" + d.name + "'"));
       r.skip(length);
       if (c == 0) bits.resize(positions.size() * d.components);

@@ -85,6 +85,7 @@ class FieldSectionEncoder {
   std::vector<FieldDescription> descriptions_;
   std::vector<std::vector<Int128>> ordered_;  // per component of every field, per point
   std::vector<ValueEncoder> coders_;          // per component of every field
+  NeighbourSearch search_;                    // shared by every component
 };
 
 class FieldSectionDecoder {
@@ -98,6 +99,7 @@ class FieldSectionDecoder {
  private:
   std::vector<FieldDescription> descriptions_;
   std::vector<ValueDecoder> coders_;
+  NeighbourSearch search_;  // shared by every component
 };
 
 }  // namespace dtm
