@@ -76,7 +76,7 @@ shares=1e-2,3e-3,1e-3,3e-4,1e-4,3e-5,1e-5
   echo "every value checked, exact or within E. Baselines: zstd -19 and xz -9 of the raw values in the"
   echo "input's order (raster order, x fastest, for a volume) in their own type; for a lossy row, of"
   echo "round(v / 2E) as int32. Decoding cost: decoding the stream with the field to the finest mesh,"
-  echo "against the same stream without it (best of 7 each). Issue 13's targets: lossless 16-bit scans at"
+  echo "against the same stream without it (best of 15 each, in turns). Issue 13's targets: lossless 16-bit scans at"
   echo "most 0.75x the better of zstd and xz; smooth floats within E = 1e-3 of the range at most 0.5x zstd;"
   echo "decoding the values at most 25% more than decoding the positions."
   echo
