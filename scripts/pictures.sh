@@ -2,7 +2,8 @@
 # scripts/pictures.sh [BUILD_DIR] -- remakes docs/*_levels.png: the input's
 # surface (../shared/data/surfaces), then every level of the codec's stream
 # (meshenc's default preset, the model's TetGen .node + .ele from data/,
-# --box 256 --dmax 2), and for the elephant the paper preset's coarsest level.
+# --box 256 --dmax 2), and for the elephant the paper preset's coarsest level;
+# and docs/mri_values.png, a slice of the MRI's values at three levels.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
@@ -27,4 +28,11 @@ for m in bunny elephant; do
   fi
   /usr/bin/python3 "$root/scripts/render_levels.py" "$root/docs/${m}_levels.png" --elevation 90 --azimuth 0 "${panels[@]}"
 done
-echo "$root/docs/bunny_levels.png $root/docs/elephant_levels.png"
+# The MRI's values (../shared/data/fields/mri_s0.nrrd): its middle slice beside
+# the same slice of levels 0, 2 and 4, and level 4's error.
+mri=${DTM_SHARED:-$root/../shared}/data/fields/mri_s0.nrrd
+"$bin/meshenc" "$mri" --threshold 150 -q -o "$work/mri.dtm"
+for l in 0 2 4; do "$bin/meshdec" "$work/mri.dtm" --level $l -o "$work/mri_level$l.vtu" -q; done
+/usr/bin/python3 "$root/scripts/render_values.py" "$root/docs/mri_values.png" "$mri" --slice 5 --threshold 150 \
+  "$work/mri_level0.vtu" "$work/mri_level2.vtu" "$work/mri_level4.vtu"
+echo "$root/docs/bunny_levels.png $root/docs/elephant_levels.png $root/docs/mri_values.png"
