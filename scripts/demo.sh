@@ -29,10 +29,10 @@ echo
 echo "== a truncated stream: the first 20,000 bytes"
 head -c 20000 "$out/bunny_10k.dtm" | "$bin/meshdec" - -o "$out/bunny_10k_preview.vtu"
 echo
-echo "== a CT-like volume (data/ct_torus.nrrd, 48^3 int16, 0.5 mm voxels): the solid at threshold 0, interior voxels every 2nd"
+echo "== a CT-like volume (data/ct_torus.nrrd, 48^3 int16, 0.5 mm voxels): the solid at threshold 0, interior voxels every 2nd, with their CT numbers (the field 'value')"
 "$bin/meshenc" "$root/data/ct_torus.nrrd" --threshold 0 --voxel-interior-step 2 --dmax 0.5 --levels 8 --hash-cells \
   -o "$out/ct_torus.dtm"
 "$bin/meshdec" "$out/ct_torus.dtm" -o "$out/ct_torus.vtu" --verify
 "$bin/meshdec" "$out/ct_torus.dtm" -o "$out/ct_torus_level2_surface.ply" --level 2
 echo
-echo "Outputs in $out (open the .vtu files in ParaView; colour by 'level')."
+echo "Outputs in $out (open the .vtu files in ParaView; colour by 'level', or by 'value' for the CT)."
