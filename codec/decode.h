@@ -34,6 +34,9 @@ struct DecoderOptions {
   // The most vertices a stream may make this decoder hold: a Delaunay
   // tetrahedralization needs ~600 bytes per vertex, so 30M fits in 24 GiB.
   uint64_t max_vertices = 30'000'000;
+  // The most per-vertex values (vertices x components of every field) a
+  // stream may make this decoder hold, 8 bytes each: 1G is 8 GiB.
+  uint64_t max_values = 1'000'000'000;
   // Stop after this level (0 = finest; -1 = decode every level present).
   int stop_after_level = -1;
 };

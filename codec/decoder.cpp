@@ -71,6 +71,13 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   if (levels_.empty() && !spans_three_dimensions(added))
     return {StatusCode::kCorrupt, where + ": the base level does not span three dimensions"};
   if (value_decoder_) {
+    uint64_t components = 0;
+    for (const FieldValues& f : fields_) components += f.description.components;
+    if (uint64_t{lh.level_vertices} * components > options_.max_values)
+      return {StatusCode::kLimitExceeded, where + ": " + std::to_string(lh.level_vertices) + " vertices of " +
+                                              std::to_string(components) +
+                                              " values each exceed the limit of " +
+                                              std::to_string(options_.max_values) + " values"};
     DTM_RETURN_IF_ERROR(value_decoder_->decode_layer(layer.values, added, layer_values_).with_context(where));
     for (size_t f = 0; f < fields_.size(); ++f)
       fields_[f].bits.insert(fields_[f].bits.end(), layer_values_[f].bits.begin(),

@@ -69,10 +69,17 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
     for (const auto& f : input.fields) found = found || f.name == name;
     if (!found) return invalid("--field-error names '" + name + "', which is not a field of the input");
   }
+  if (input.fields.size() > kMaxFields)
+    return invalid("the input has " + std::to_string(input.fields.size()) +
+                   " fields; a stream holds at most " + std::to_string(kMaxFields));
   std::vector<FieldValues> out;
   std::vector<uint8_t> differs(q.points.size(), 0);
   for (const auto& f : input.fields) {
     const std::string field = "field '" + f.name + "'";
+    if (f.name.empty() || f.name.size() > kMaxFieldNameBytes)
+      return invalid(field + ": a field's name must have 1 to 64 bytes");
+    for (const auto& other : input.fields)
+      if (&other != &f && other.name == f.name) return invalid("two fields are named '" + f.name + "'");
     if (f.components < 1 || f.components > kMaxFieldComponents)
       return invalid(field + " has " + std::to_string(f.components) + " components (1 to 64)");
     if (f.values.size() != input.points.size() * f.components)

@@ -309,6 +309,25 @@ TEST(StreamValues, PrefixesGiveWholeLayersWithTheirValuesAndDamageIsRefused) {
   }
 }
 
+// The decoder holds at most DecoderOptions::max_values values, checked
+// before a layer's values are decoded; the levels before stand.
+TEST(StreamValues, TheValueLimitIsEnforcedBeforeDecoding) {
+  FieldCase c = torus_with_fields();
+  EncodeInput in;
+  in.points = c.mesh.points;
+  in.fields = c.fields;  // 7 components
+  const auto encoded = encode(in, torus_options());
+  ASSERT_TRUE(encoded.ok());
+  DecoderOptions options;
+  options.max_values = 200 * 7;  // the base level fits, level 0 does not
+  ProgressiveDecoder dec(options);
+  const Status s = decode_stream(encoded->bytes, dec);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded) << s.message();
+  ASSERT_FALSE(dec.levels().empty());
+  EXPECT_LE(dec.points().size() * 7, options.max_values);
+  EXPECT_EQ(dec.fields()[2].bits.size(), dec.points().size() * 3);
+}
+
 // Lossy fields on every corpus model: a smooth analytic field (a sum of
 // Gaussians) in float32 and float64 within 1e-3 of its range, checked at
 // every vertex of every level.

@@ -8,12 +8,15 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   dtm::DecoderOptions options;
-  options.max_vertices = 4096;  // keeps each run fast; the limit itself is under test too
+  options.max_vertices = 4096;  // keeps each run fast; the limits themselves are under test too
+  options.max_values = 4096 * 8;
   dtm::ProgressiveDecoder decoder(options);
   const dtm::Status status = dtm::decode_stream({data, size}, decoder);
   if (decoder.levels().empty()) return 0;
   FUZZ_CHECK(decoder.points().size() == decoder.levels().back().vertices);
   FUZZ_CHECK(decoder.points().size() <= options.max_vertices);
+  for (const auto& f : decoder.fields())
+    FUZZ_CHECK(f.bits.size() == decoder.points().size() * f.description.components);
   if (status.ok()) FUZZ_CHECK(decoder.complete() || decoder.stopped());
   // The finest level decoded must triangulate and carve (this runs CGAL on
   // hostile point sets).
