@@ -121,6 +121,18 @@ TEST(FieldTools, EveryFormatWithPointDataGivesTheFieldsBack) {
   EXPECT_NE(r.output.find("('region', 'int16', ())"), std::string::npos) << r.output;
 }
 
+// A name with XML's special characters is escaped by the writer and read
+// back as it was.
+TEST(FieldTools, VtuFieldNamesRoundTripThroughXmlEscapes) {
+  OutputMesh m = test::torus_mesh();
+  m.fields = {{"p&q <\"r\">", ScalarType::kInt8, 1, std::vector<uint64_t>(m.points.size(), 1)}};
+  const std::string path = ::testing::TempDir() + "/escaped.vtu";
+  write_files_atomically(render_mesh(m, MeshFormat::kVtu, path));
+  EXPECT_NE(test::slurp(path).find("Name=\"p&amp;q &lt;&quot;r&quot;&gt;\""), std::string::npos);
+  const InputMesh back = read_input(path);
+  EXPECT_NE(field_named(back, "p&q <\"r\">"), nullptr);
+}
+
 TEST(FieldTools, LossyFieldsKeepTheirBoundAndNoFieldsLeavesThemOut) {
   const std::string dir = ::testing::TempDir();
   const FieldInput in = write_input(dir);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <optional>
 
@@ -11,6 +12,27 @@
 
 namespace dtm {
 namespace {
+
+// An attribute value with XML's five predefined entities replaced (a field
+// named "p&q" is written Name="p&amp;q").
+std::string unescaped(const std::string& v) {
+  static const std::pair<const char*, char> kEntities[] = {
+      {"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&apos;", '\''}};
+  std::string out;
+  for (size_t i = 0; i < v.size();) {
+    bool replaced = false;
+    if (v[i] == '&')
+      for (const auto& [entity, ch] : kEntities)
+        if (v.compare(i, std::strlen(entity), entity) == 0) {
+          out += ch;
+          i += std::strlen(entity);
+          replaced = true;
+          break;
+        }
+    if (!replaced) out += v[i++];
+  }
+  return out;
+}
 
 constexpr int kVtkTetra = 10;
 
@@ -136,7 +158,7 @@ class VtuParser {
       if (p >= data_.size() || (data_[p] != '"' && data_[p] != '\''))
         fail_at(lt, "unquoted attribute " + key);
       const size_t close = find_or_fail(data_.find(data_[p], p + 1), lt, "unterminated attribute value");
-      if (!e.attrs.emplace(key, data_.substr(p + 1, close - p - 1)).second)
+      if (!e.attrs.emplace(key, unescaped(data_.substr(p + 1, close - p - 1))).second)
         fail_at(lt, "attribute " + key + " given twice");
       p = close + 1;
     }
