@@ -206,6 +206,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   report.layer_bytes = std::move(stream.layer_bytes);
   report.carving_bytes = std::move(stream.carving_bytes);
   report.value_bytes = std::move(stream.value_bytes);
+  report.level_field_bytes = std::move(stream.level_field_bytes);
   for (size_t f = 0; f < stream.fields.size(); ++f)
     report.fields.push_back({stream.fields[f], stream.field_bytes[f]});
   report.field_table_bytes = stream.field_table_bytes;

@@ -135,10 +135,11 @@ struct EncodeReport {
   // With tetrahedra in the input: level 0's solid against the input's, grid
   // units cubed (core/solid_difference.h).
   std::optional<SolidDifference> level0_difference;
-  std::vector<LevelReport> levels;      // every hierarchy level, finest first
-  std::vector<uint64_t> layer_bytes;    // per hierarchy level; 0 if not streamed
-  std::vector<uint64_t> carving_bytes;  // of those, the carving corrections
-  std::vector<uint64_t> value_bytes;    // of those, the values
+  std::vector<LevelReport> levels;                       // every hierarchy level, finest first
+  std::vector<uint64_t> layer_bytes;                     // per hierarchy level; 0 if not streamed
+  std::vector<uint64_t> carving_bytes;                   // of those, the carving corrections
+  std::vector<uint64_t> value_bytes;                     // of those, the values
+  std::vector<std::vector<uint64_t>> level_field_bytes;  // and of those, each field's (empty if not streamed)
   std::vector<FieldReport> fields;
   uint64_t field_table_bytes = 0;
   // Points merged by quantization whose values differed: each vertex keeps

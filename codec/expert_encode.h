@@ -45,6 +45,7 @@ struct EncodedStream {
   // every layer, and the table's own size.
   std::vector<FieldDescription> fields;
   std::vector<uint64_t> field_bytes;
+  std::vector<std::vector<uint64_t>> level_field_bytes;  // per hierarchy level, per field
   uint64_t field_table_bytes = 0;
   // The hierarchy level of each stream level (finest first).
   std::vector<int> streamed_levels;

@@ -108,7 +108,14 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     }
 
     std::vector<uint8_t> value_section;
-    if (value_coder) value_section = value_coder->encode_layer(layer_indices, layer_points, out.field_bytes);
+    if (value_coder) {
+      std::vector<uint64_t> layer_field_bytes;
+      value_section = value_coder->encode_layer(layer_indices, layer_points, layer_field_bytes);
+      out.field_bytes.resize(layer_field_bytes.size(), 0);
+      for (size_t f = 0; f < layer_field_bytes.size(); ++f) out.field_bytes[f] += layer_field_bytes[f];
+      out.level_field_bytes.resize(hierarchy.levels.size());
+      out.level_field_bytes[streamed[l]] = std::move(layer_field_bytes);
+    }
 
     LayerHeader lh;
     lh.format_major = h.version_major;

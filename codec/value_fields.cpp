@@ -254,7 +254,7 @@ StatusOr<FieldSectionEncoder> FieldSectionEncoder::make(std::vector<FieldValues>
 std::vector<uint8_t> FieldSectionEncoder::encode_layer(std::span<const uint32_t> points,
                                                        std::span<const GridPoint> positions,
                                                        std::vector<uint64_t>& field_bytes) {
-  field_bytes.resize(descriptions_.size(), 0);
+  field_bytes.assign(descriptions_.size(), 0);
   const std::vector<Neighbours> neighbours = search_.layer(positions);
   ByteWriter w;
   size_t coder = 0;

@@ -76,8 +76,8 @@ class FieldSectionEncoder {
   static StatusOr<FieldSectionEncoder> make(std::vector<FieldValues> fields);
   const std::vector<FieldDescription>& descriptions() const { return descriptions_; }
   // The value section of a layer whose new points are `points` (indices
-  // into the fields' values) at `positions`, in the decoder's order. Adds
-  // each field's bytes (length words included) to `field_bytes`.
+  // into the fields' values) at `positions`, in the decoder's order, and in
+  // `field_bytes` each field's share of it (length words included).
   std::vector<uint8_t> encode_layer(std::span<const uint32_t> points, std::span<const GridPoint> positions,
                                     std::vector<uint64_t>& field_bytes);
 

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "format_test_support.h"
 #include "output_mesh_support.h"
@@ -155,7 +156,12 @@ TEST(FieldTools, LossyFieldsKeepTheirBoundAndNoFieldsLeavesThemOut) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("\"mode\": \"lossy\""), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("\"field_bytes\""), std::string::npos) << r.output;
-  EXPECT_NE(test::slurp(report).find("\"error_bound\": 0.05"), std::string::npos);
+  const auto j = nlohmann::json::parse(test::slurp(report));
+  EXPECT_EQ(j["fields"][0]["error_bound"], 0.05);
+  uint64_t temperature = 0;
+  for (const auto& level : j["levels"])
+    if (level.contains("field_bytes")) temperature += level["field_bytes"]["temperature"].get<uint64_t>();
+  EXPECT_EQ(temperature, j["fields"][0]["bytes"].get<uint64_t>());
 
   // Refusals name the problem and write nothing.
   const std::string refused = dir + "/refused.dtm";

@@ -94,6 +94,12 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
     if (static_cast<size_t>(s.level) < r.carving_bytes.size())
       row["carving_bytes"] = r.carving_bytes[s.level];
     if (static_cast<size_t>(s.level) < r.value_bytes.size()) row["value_bytes"] = r.value_bytes[s.level];
+    if (static_cast<size_t>(s.level) < r.level_field_bytes.size() && !r.level_field_bytes[s.level].empty()) {
+      nlohmann::json per_field = nlohmann::json::object();
+      for (size_t f = 0; f < r.fields.size(); ++f)
+        per_field[r.fields[f].description.name] = r.level_field_bytes[s.level][f];
+      row["field_bytes"] = per_field;
+    }
     j["levels"].push_back(row);
   }
   if (r.stream_bytes > 0 && !r.levels.empty()) {
