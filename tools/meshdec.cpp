@@ -28,6 +28,10 @@ Examples:
   head -c 40000 bunny.dtm | meshdec - -o preview.vtu
   meshdec bunny.dtm -o - --format vtu > bunny.vtu
 
+The stream's per-vertex fields (meshinfo lists them) are written beside the
+points where the format has room: VTU/VTK point data in their own types, gmsh
+$NodeData, PLY vertex properties, TetGen attributes.
+
 A truncated stream decodes to the finest whole level it holds (exit status 0,
 a note on stderr); a damaged or foreign one is an error and writes nothing.)";
 
