@@ -69,41 +69,32 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
     for (const auto& f : input.fields) found = found || f.name == name;
     if (!found) return invalid("--field-error names '" + name + "', which is not a field of the input");
   }
-  if (input.fields.size() > kMaxFields)
-    return invalid("the input has " + std::to_string(input.fields.size()) +
-                   " fields; a stream holds at most " + std::to_string(kMaxFields));
+  std::vector<FieldDescription> descriptions;
+  std::vector<size_t> value_counts;
+  for (const auto& f : input.fields) {
+    FieldDescription& d = descriptions.emplace_back();
+    d.name = f.name;
+    d.type = f.type;
+    d.components = f.components;
+    if (const auto e = options.field_errors.find(f.name); e != options.field_errors.end()) {
+      d.lossy = true;
+      d.error_bound = e->second;
+    }
+    value_counts.push_back(f.values.size());
+  }
+  DTM_RETURN_IF_ERROR(check_fields(descriptions, value_counts, input.points.size()));
+
   std::vector<FieldValues> out;
   std::vector<uint8_t> differs(q.points.size(), 0);
-  for (const auto& f : input.fields) {
-    const std::string field = "field '" + f.name + "'";
-    if (f.name.empty() || f.name.size() > kMaxFieldNameBytes)
-      return invalid(field + ": a field's name must have 1 to 64 bytes");
-    for (const auto& other : input.fields)
-      if (&other != &f && other.name == f.name) return invalid("two fields are named '" + f.name + "'");
-    if (f.components < 1 || f.components > kMaxFieldComponents)
-      return invalid(field + " has " + std::to_string(f.components) + " components (1 to 64)");
-    if (f.values.size() != input.points.size() * f.components)
-      return invalid(field + " has " + std::to_string(f.values.size()) + " values for " +
-                     std::to_string(input.points.size()) + " points of " + std::to_string(f.components) +
-                     " components");
-    FieldValues v;
-    v.description.name = f.name;
-    v.description.type = f.type;
-    v.description.components = f.components;
-    if (const auto e = options.field_errors.find(f.name); e != options.field_errors.end()) {
-      if (!is_float(f.type))
-        return invalid(field + " holds " + value_type_name(f.type) +
-                       " values: only float fields can be lossy");
-      if (!(e->second > 0) || !std::isfinite(e->second))
-        return invalid(field + ": the error bound must be positive");
-      v.description.lossy = true;
-      v.description.error_bound = e->second;
+  for (size_t k = 0; k < input.fields.size(); ++k) {
+    const auto& f = input.fields[k];
+    FieldValues& v = out.emplace_back(FieldValues{descriptions[k], {}});
+    if (v.description.lossy)
       for (size_t i = 0; i < f.values.size(); ++i)
         if (!std::isfinite(f.values[i]))
-          return invalid(field + ": point " + std::to_string(i / f.components) + " holds " +
+          return invalid("field '" + f.name + "': point " + std::to_string(i / f.components) + " holds " +
                          (std::isnan(f.values[i]) ? "NaN" : "an infinity") +
                          ", which a lossy field cannot keep (code it losslessly)");
-    }
     const size_t n = f.components;
     v.bits.resize(q.points.size() * n);
     std::vector<uint8_t> seen(q.points.size(), 0);
@@ -118,7 +109,6 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
       }
       seen[p] = 1;
     }
-    out.push_back(std::move(v));
   }
   merged_differing = static_cast<uint64_t>(std::count(differs.begin(), differs.end(), 1));
   return out;

@@ -27,22 +27,11 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // then every layer corrects alpha's prediction.
   const bool corrections = !hierarchy.levels[0].kept.empty();
   const bool values = !fields.empty();
-  if (fields.size() > kMaxFields) return invalid("encode_stream: more than 32 fields");
-  for (const FieldValues& f : fields) {
-    const FieldDescription& d = f.description;
-    const std::string field = "encode_stream: field '" + d.name + "'";
-    if (d.name.empty() || d.name.size() > kMaxFieldNameBytes)
-      return invalid(field + ": a name of 1 to 64 bytes");
-    if (d.components < 1 || d.components > kMaxFieldComponents)
-      return invalid(field + ": 1 to 64 components");
-    if (f.bits.size() != points.size() * d.components)
-      return invalid(field + ": " + std::to_string(f.bits.size()) + " values for " +
-                     std::to_string(points.size()) + " points of " + std::to_string(d.components) +
-                     " components");
-    if (d.lossy && !is_float(d.type)) return invalid(field + ": only float fields can be lossy");
-    for (const FieldValues& other : fields)
-      if (&other != &f && other.description.name == d.name) return invalid(field + " is given twice");
-  }
+  std::vector<FieldDescription> descriptions;
+  std::vector<size_t> value_counts;
+  for (const FieldValues& f : fields)
+    descriptions.push_back(f.description), value_counts.push_back(f.bits.size());
+  DTM_RETURN_IF_ERROR(check_fields(descriptions, value_counts, points.size()).with_context("encode_stream"));
   std::optional<FieldSectionEncoder> value_coder;
   if (values) {
     auto made = FieldSectionEncoder::make(std::move(fields));

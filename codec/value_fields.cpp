@@ -147,6 +147,32 @@ double value_of(uint64_t bits, ValueType t) {
   }
 }
 
+Status check_fields(std::span<const FieldDescription> fields, std::span<const size_t> value_counts,
+                    size_t points) {
+  const auto invalid = [](const std::string& what) { return Status{StatusCode::kInvalidInput, what}; };
+  if (fields.size() > kMaxFields)
+    return invalid("the input has " + std::to_string(fields.size()) + " fields; a stream holds at most " +
+                   std::to_string(kMaxFields));
+  for (size_t i = 0; i < fields.size(); ++i) {
+    const FieldDescription& f = fields[i];
+    const std::string field = "field '" + f.name + "'";
+    if (f.name.empty() || f.name.size() > kMaxFieldNameBytes)
+      return invalid(field + ": a field's name must have 1 to 64 bytes");
+    for (size_t j = 0; j < i; ++j)
+      if (fields[j].name == f.name) return invalid("two fields are named '" + f.name + "'");
+    if (f.components < 1 || f.components > kMaxFieldComponents)
+      return invalid(field + " has " + std::to_string(f.components) + " components (1 to 64)");
+    if (value_counts[i] != points * f.components)
+      return invalid(field + " has " + std::to_string(value_counts[i]) + " values for " +
+                     std::to_string(points) + " points of " + std::to_string(f.components) + " components");
+    if (f.lossy && !is_float(f.type))
+      return invalid(field + " holds " + value_type_name(f.type) + " values: only float fields can be lossy");
+    if (f.lossy && !(f.error_bound > 0 && std::isfinite(f.error_bound)))
+      return invalid(field + ": the error bound must be positive");
+  }
+  return Status::Ok();
+}
+
 std::vector<uint8_t> write_field_table(std::span<const FieldDescription> fields) {
   ByteWriter body;
   body.u8(static_cast<uint8_t>(fields.size()));

@@ -56,6 +56,13 @@ struct FieldValues {
   }
 };
 
+// kInvalidInput, naming the field, unless `fields` can make a field table
+// for `points` points: at most 32 fields of distinct names of 1 to 64
+// bytes, 1 to 64 components each, lossy ones of a float type within a
+// positive bound, and value_counts[f] = points x components of field f.
+Status check_fields(std::span<const FieldDescription> fields, std::span<const size_t> value_counts,
+                    size_t points);
+
 std::vector<uint8_t> write_field_table(std::span<const FieldDescription> fields);
 // Parses the table at the start of `bytes`: kNeedMoreInput until it is all
 // there, kCorrupt for a damaged one. `consumed` is its size in bytes.

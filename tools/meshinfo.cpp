@@ -52,6 +52,14 @@ std::vector<QualityRow> decode_quality(const std::string& input, std::span<const
   return rows;
 }
 
+// Each field's share of the stream: its value sections in the complete layers.
+std::vector<uint64_t> total_field_bytes(const dtm::StreamSummary& s) {
+  std::vector<uint64_t> bytes(s.fields.size(), 0);
+  for (const auto& l : s.layers)
+    for (size_t f = 0; f < l.field_bytes.size(); ++f) bytes[f] += l.field_bytes[f];
+  return bytes;
+}
+
 nlohmann::json summary_json(const std::string& input, const dtm::StreamSummary& s,
                             const std::vector<QualityRow>& quality) {
   const auto& h = s.header;
@@ -72,10 +80,7 @@ nlohmann::json summary_json(const std::string& input, const dtm::StreamSummary& 
   j["bits_per_vertex"] = 8.0 * s.bytes / h.vertex_count;
   j["truncated"] = truncated;
   if (truncated) j["truncation"] = s.status.message();
-  // Each field's share of the stream: its value sections in the complete layers.
-  std::vector<uint64_t> field_bytes(s.fields.size(), 0);
-  for (const auto& l : s.layers)
-    for (size_t f = 0; f < l.field_bytes.size(); ++f) field_bytes[f] += l.field_bytes[f];
+  const std::vector<uint64_t> field_bytes = total_field_bytes(s);
   j["fields"] = nlohmann::json::array();
   for (size_t f = 0; f < s.fields.size(); ++f) {
     const dtm::FieldDescription& d = s.fields[f];
@@ -133,15 +138,13 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
   std::printf("%llu bytes, %.2f bits per vertex%s\n", static_cast<unsigned long long>(s.bytes),
               8.0 * s.bytes / h.vertex_count,
               truncated ? (", TRUNCATED: " + s.status.message()).c_str() : "");
-  for (const dtm::FieldDescription& d : s.fields) {
-    uint64_t bytes = 0;
-    for (const auto& l : s.layers)
-      for (size_t f = 0; f < l.field_bytes.size(); ++f)
-        if (s.fields[f].name == d.name) bytes += l.field_bytes[f];
+  const std::vector<uint64_t> field_bytes = total_field_bytes(s);
+  for (size_t f = 0; f < s.fields.size(); ++f) {
+    const dtm::FieldDescription& d = s.fields[f];
     std::printf("field '%s': %s%s, %s, %llu bytes\n", d.name.c_str(), dtm::value_type_name(d.type),
                 d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
                 d.lossy ? ("within " + std::to_string(d.error_bound)).c_str() : "lossless",
-                static_cast<unsigned long long>(bytes));
+                static_cast<unsigned long long>(field_bytes[f]));
   }
   std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
               "bits/new", "carving", s.fields.empty() ? "" : "    values",
