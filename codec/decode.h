@@ -46,6 +46,9 @@ struct DecodedLevel {
   uint32_t vertices = 0;
   double alpha = 0;  // grid units
   std::optional<uint64_t> cell_hash;
+  // Bytes of the stream up to the end of this level's layer: what a reader
+  // must have received to show the level (a viewer's bits per vertex).
+  uint64_t stream_bytes = 0;
 };
 
 class ProgressiveDecoder {

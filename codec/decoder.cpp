@@ -92,6 +92,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   d.vertices = lh.level_vertices;
   d.alpha = lh.alpha;
   if (header_.flags & kFlagCellHashes) d.cell_hash = lh.cell_hash;
+  d.stream_bytes = layer.offset + layer.size();
   levels_.push_back(d);
   // Only the finest level's carving is ever asked for (carved_cells()).
   carving_.assign(layer.carving.begin(), layer.carving.end());

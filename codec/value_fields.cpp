@@ -1,6 +1,5 @@
 #include "codec/value_fields.h"
 
-#include <bit>
 #include <cmath>
 #include <utility>
 
@@ -107,6 +106,13 @@ Status parse_description(ByteReader& r, FieldDescription& f) {
   return Status::Ok();
 }
 
+// std::bit_cast, which the WebAssembly build's libc++ (emscripten 3.1.6)
+// does not have yet; the compiler builtin behind it is in both compilers.
+template <class To, class From>
+To bit_cast(const From& from) {
+  return __builtin_bit_cast(To, from);
+}
+
 }  // namespace
 
 const char* value_type_name(ValueType t) {
@@ -120,9 +126,9 @@ bool is_float(ValueType t) { return t == ValueType::kF32 || t == ValueType::kF64
 uint64_t bits_of(double v, ValueType t) {
   switch (t) {
     case ValueType::kF32:
-      return std::bit_cast<uint32_t>(static_cast<float>(v));
+      return bit_cast<uint32_t>(static_cast<float>(v));
     case ValueType::kF64:
-      return std::bit_cast<uint64_t>(v);
+      return bit_cast<uint64_t>(v);
     case ValueType::kU64:
       return std::isfinite(v) && v >= 0 && v < 0x1p64 ? static_cast<uint64_t>(v) : 0;
     default: {
@@ -137,9 +143,9 @@ uint64_t bits_of(double v, ValueType t) {
 double value_of(uint64_t bits, ValueType t) {
   switch (t) {
     case ValueType::kF32:
-      return std::bit_cast<float>(static_cast<uint32_t>(bits));
+      return bit_cast<float>(static_cast<uint32_t>(bits));
     case ValueType::kF64:
-      return std::bit_cast<double>(bits);
+      return bit_cast<double>(bits);
     case ValueType::kU64:
       return static_cast<double>(bits);
     default:

@@ -21,7 +21,7 @@ if ! clang-format --dry-run -Werror "${files[@]}" 2>/tmp/lint_format.$$; then
 fi
 rm -f /tmp/lint_format.$$
 # Library and tool sources only: tests and benchmarks follow the format, not tidy.
-run-clang-tidy -p "$build" -j "$(nproc)" -quiet "$root/(common|bitstream|mesh|core|codec|tools)/.*\.cpp$" \
+run-clang-tidy -p "$build" -j "$(nproc)" -quiet "$root/(common|bitstream|mesh|core|codec|tools|web)/.*\.cpp$" \
   > "$build/clang-tidy.log" 2>&1 || {
   grep -E "(error|warning):" "$build/clang-tidy.log" | sort -u | head -40 >&2
   echo "lint: clang-tidy found the above (full log: $build/clang-tidy.log)" >&2

@@ -1,0 +1,334 @@
+// The .dtm viewer page: streams a stream into the decoder's worker, keeps
+// every level it completes, and draws the one chosen (the newest, unless the
+// slider says otherwise). Its state is public, for tests and for pages that
+// embed it:
+//   window.dtmViewer = {status: 'idle' | 'loading' | 'done' | 'truncated' | 'error',
+//                       levels: [{level, vertices, tetrahedra, bytes}], error, ...}
+// and a 'dtmviewer' event is dispatched on window whenever it changes.
+//
+// URL parameters: stream=URL (the .dtm to load), level=K (show level K once it
+// arrives), colour=plain|level|boundary|FIELD, view=surface|cut|cells,
+// cut=x|y|z:FRACTION, edges=1, camera=AZIMUTH,ELEVATION (degrees),
+// maxVertices=N, ui=0 (the canvas alone), surface=URL.off (draw an OFF surface
+// instead of a stream: the input beside its levels in the README's pictures).
+import { centroidCoordinates, keptBelow, keptSurface, cellsNearest, shrunkenCells, triangleEdges } from './cells.js';
+import { fillColours, fieldRange, kRampCss } from './colours.js';
+import { parseOff } from './off.js';
+import { LevelScene } from './scene.js';
+
+const params = new URLSearchParams(location.search);
+const $ = (id) => document.getElementById(id);
+const kMaxShrunkenCells = 200_000;
+const kMaxEdges = 3_000_000;
+
+const state = {
+  status: 'idle',
+  levels: [],
+  error: null,
+  source: null,
+  received: 0,
+  total: null,
+  header: null,
+  fields: [],
+  shown: null,     // the level drawn, or null
+  cellsShown: 0,   // in the 'cells' view: how many shrunken cells are drawn
+  rendered: null,  // the level of the last frame drawn
+  frames: 0,
+  timings: {},     // ms since the page started: header, firstLevel, firstPicture, lastByte, end
+};
+window.dtmViewer = state;
+
+// Everything decoded so far, for the levels received (coarsest first).
+let store = null;
+let worker = null;
+let followNewest = true;
+const view = {
+  colour: params.get('colour') || 'plain',
+  mode: params.get('view') || 'surface',
+  axis: 'xyz'.indexOf((params.get('cut') || 'x:0.5').split(':')[0]),
+  cut: Number((params.get('cut') || 'x:0.5').split(':')[1] ?? 0.5),
+  edges: params.get('edges') === '1',
+  camera: (params.get('camera') || '0,0').split(',').map(Number),
+};
+if (view.axis < 0) view.axis = 0;
+
+const scene = new LevelScene($('canvas'), () => {
+  state.rendered = state.shown;
+  state.frames += 1;
+  if (state.shown !== null && state.timings.firstPicture === undefined) state.timings.firstPicture = performance.now();
+  publish();
+});
+
+function publish() {
+  window.dispatchEvent(new CustomEvent('dtmviewer', { detail: state }));
+}
+
+function start(source, request) {
+  worker?.terminate();
+  store = null;
+  followNewest = true;
+  Object.assign(state, {
+    status: 'loading', levels: [], error: null, source, received: 0, total: null, header: null,
+    fields: [], shown: null, rendered: null, timings: { start: performance.now() },
+  });
+  worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+  worker.onmessage = (event) => receive(event.data);
+  worker.onerror = (event) => {
+    event.preventDefault();
+    finish('error', `the decoder stopped: ${event.message || 'worker error'}`);
+  };
+  worker.postMessage({ ...request, maxVertices: Number(params.get('maxVertices')) || 3_000_000 });
+  updateOverlay();
+  publish();
+}
+
+function receive(message) {
+  if (message.type === 'progress') {
+    state.received = message.received;
+    state.total = message.total;
+  } else if (message.type === 'header') {
+    state.header = message.header;
+    state.timings.header = performance.now();
+    scene.allocate(message.header.vertexCount);
+    store = { levels: [], vertexLevels: new Uint8Array(message.header.vertexCount), values: null };
+  } else if (message.type === 'level') {
+    addLevel(message);
+  } else if (message.type === 'end') {
+    state.received = message.received;
+    state.timings.lastByte = performance.now();
+    finish(message.status, message.status === 'done' ? null : message.message);
+    return;
+  }
+  updateOverlay();
+  publish();
+}
+
+function addLevel(m) {
+  if (!store.values) {
+    state.fields = m.fields;
+    store.values = m.fields.map((f) => new Float32Array(state.header.vertexCount * f.components));
+    addFieldChoices(m.fields);
+  }
+  scene.addPositions(m.firstNew, m.positions);
+  store.vertexLevels.fill(m.level, m.firstNew, m.vertices);
+  m.fields.forEach((f, i) => store.values[i].set(m.values[i], m.firstNew * f.components));
+  store.levels.push({
+    level: m.level, vertices: m.vertices, tetrahedra: m.tetrahedra, bytes: m.streamBytes,
+    cells: m.cells, neighbors: m.neighbors, surface: m.surface, boundary: m.boundary, centroids: null,
+  });
+  state.levels.push({ level: m.level, vertices: m.vertices, tetrahedra: m.tetrahedra, bytes: m.streamBytes });
+  if (state.timings.firstLevel === undefined) state.timings.firstLevel = performance.now();
+  if (!scene.framed) frameOn(m.positions);
+
+  const slider = $('level');
+  slider.max = String(store.levels.length - 1);
+  const wanted = params.get('level');
+  if (wanted !== null) {
+    if (Number(wanted) === m.level) show(store.levels.length - 1);
+  } else if (followNewest) {
+    slider.value = slider.max;
+    show(store.levels.length - 1);
+  }
+}
+
+function finish(status, error) {
+  state.status = status;
+  state.error = error;
+  state.timings.end = performance.now();
+  worker?.terminate();
+  worker = null;
+  updateOverlay();
+  publish();
+}
+
+function frameOn(positions) {
+  const min = [Infinity, Infinity, Infinity], max = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < positions.length; ++i) {
+    min[i % 3] = Math.min(min[i % 3], positions[i]);
+    max[i % 3] = Math.max(max[i % 3], positions[i]);
+  }
+  scene.frame({ x: min[0], y: min[1], z: min[2] }, { x: max[0], y: max[1], z: max[2] }, ...view.camera);
+}
+
+// Draws store.levels[index] as the view asks.
+function show(index) {
+  const l = store.levels[index];
+  if (!l) return;
+  state.shown = l.level;
+  $('level').value = String(index);
+  colour(l);
+  if (view.mode === 'surface') {
+    scene.showTriangles(l.surface, view.edges ? capped(triangleEdges(l.surface)) : null);
+  } else {
+    const positions = scene.positions;
+    l.centroids ??= [0, 1, 2].map((axis) => centroidCoordinates(l.cells, positions, axis));
+    const centroids = l.centroids[view.axis];
+    const threshold = cutThreshold(centroids);
+    const kept = keptBelow(centroids, threshold);
+    if (view.mode === 'cut') {
+      const { triangles, cutFaces } = keptSurface(l.cells, l.neighbors, kept);
+      scene.showTriangles(triangles, capped(triangleEdges(view.edges ? triangles : cutFaces)));
+    } else {
+      const chosen = cellsNearest(centroids, kept, threshold, kMaxShrunkenCells);
+      const soup = shrunkenCells(l.cells, chosen, positions, scene.colours, 0.75);
+      scene.showSoup(soup, view.edges ? capped(triangleEdges(sequence(soup.position.length / 3))) : null);
+      state.cellsShown = chosen.length;
+    }
+  }
+  updateOverlay();
+  publish();
+}
+
+function sequence(n) {
+  const out = new Uint32Array(n);
+  for (let i = 0; i < n; ++i) out[i] = i;
+  return out;
+}
+
+function capped(edges) {
+  return edges.length / 2 <= kMaxEdges ? edges : null;
+}
+
+// The cut plane's coordinate: view.cut of the way across the level's cells.
+function cutThreshold(centroids) {
+  let min = Infinity, max = -Infinity;
+  for (const c of centroids) min = Math.min(min, c), max = Math.max(max, c);
+  return min + view.cut * (max - min);
+}
+
+function colour(l) {
+  const options = { vertexLevels: store.vertexLevels, coarsest: store.levels[0].level, flags: l.boundary };
+  let mode = view.colour;
+  const f = state.fields.findIndex((field) => field.name === view.colour);
+  if (f >= 0) {
+    mode = 'field';
+    options.values = store.values[f];
+    options.components = state.fields[f].components;
+    options.range = fieldRange(options.values, options.components, l.vertices);
+    $('legend').hidden = false;
+    $('legend-bar').style.background = kRampCss;
+    $('legend-min').textContent = formatValue(options.range.min);
+    $('legend-max').textContent = formatValue(options.range.max);
+    $('legend-name').textContent = state.fields[f].components > 1 ? `|${view.colour}|` : view.colour;
+  } else {
+    $('legend').hidden = true;
+    if (!['plain', 'level', 'boundary'].includes(mode)) mode = 'plain';
+  }
+  fillColours(scene.colours, l.vertices, mode, options);
+  scene.coloursChanged(l.vertices);
+}
+
+function formatValue(x) {
+  return Math.abs(x) >= 1e5 || (Math.abs(x) < 1e-3 && x !== 0) ? x.toExponential(3) : String(Number(x.toPrecision(5)));
+}
+
+function addFieldChoices(fields) {
+  const select = $('colour');
+  for (const f of fields) {
+    const option = document.createElement('option');
+    option.value = f.name;
+    option.textContent = `${f.name} (${f.type}${f.components > 1 ? ` x${f.components}` : ''})`;
+    select.append(option);
+  }
+  select.value = view.colour;
+  if (select.value !== view.colour) select.value = 'plain';
+}
+
+const number = (n) => n.toLocaleString('en-US');
+function bytesText(n) {
+  return n < 1e3 ? `${n} B` : n < 1e6 ? `${(n / 1e3).toFixed(1)} KB` : `${(n / 1e6).toFixed(2)} MB`;
+}
+
+function updateOverlay() {
+  const s = state;
+  const total = s.total ? ` of ${bytesText(s.total)}` : '';
+  const levelCount = s.header ? s.header.levelCount : '?';
+  const words = {
+    idle: 'drop a .dtm file here, or open one',
+    loading: `loading: ${bytesText(s.received)}${total} received, ${s.levels.length} of ${levelCount} levels`,
+    done: `done: ${bytesText(s.received)}, all ${s.levels.length} levels`,
+    truncated: `truncated: ${bytesText(s.received)}, ${s.levels.length} of ${levelCount} whole levels (${s.error})`,
+    error: `error: ${s.error}`,
+  };
+  $('status').textContent = `${s.source ? s.source + ': ' : ''}${words[s.status]}`;
+  $('status').className = s.status;
+  const l = store?.levels.find((x) => x.level === s.shown);
+  $('figures').textContent = l
+    ? `level ${l.level} · ${number(l.vertices)} vertices · ${number(l.tetrahedra)} tetrahedra · ` +
+      `${bytesText(l.bytes)} · ${(8 * l.bytes / l.vertices).toFixed(2)} bits/vertex` +
+      (view.mode === 'cells' && s.cellsShown < l.tetrahedra ? ` · ${number(s.cellsShown)} cells nearest the cut shown` : '')
+    : '';
+  $('level-label').textContent = l ? `level ${l.level}` : '';
+}
+
+// The controls.
+$('level').addEventListener('input', (e) => {
+  const index = Number(e.target.value);
+  followNewest = index === store.levels.length - 1;
+  show(index);
+});
+$('colour').addEventListener('change', (e) => { view.colour = e.target.value; redraw(); });
+$('mode').addEventListener('change', (e) => { view.mode = e.target.value; syncControls(); redraw(); });
+$('axis').addEventListener('change', (e) => { view.axis = Number(e.target.value); redraw(); });
+$('cut').addEventListener('input', (e) => { view.cut = Number(e.target.value) / 100; redraw(); });
+$('edges').addEventListener('change', (e) => { view.edges = e.target.checked; redraw(); });
+$('open').addEventListener('change', (e) => { if (e.target.files[0]) openFile(e.target.files[0]); });
+
+function redraw() {
+  if (!store) return;
+  const index = store.levels.findIndex((l) => l.level === state.shown);
+  if (index >= 0) show(index);
+}
+
+function syncControls() {
+  $('mode').value = view.mode;
+  $('colour').value = view.colour;
+  $('axis').value = String(view.axis);
+  $('cut').value = String(Math.round(view.cut * 100));
+  $('edges').checked = view.edges;
+  $('cut-controls').hidden = view.mode === 'surface';
+}
+
+function openFile(file) {
+  start(file.name, { file });
+}
+
+// Drag and drop a local file anywhere on the page.
+document.addEventListener('dragover', (e) => { e.preventDefault(); document.body.classList.add('dragging'); });
+document.addEventListener('dragleave', () => document.body.classList.remove('dragging'));
+document.addEventListener('drop', (e) => {
+  e.preventDefault();
+  document.body.classList.remove('dragging');
+  const file = e.dataTransfer?.files?.[0];
+  if (file) openFile(file);
+});
+
+async function showSurface(url) {
+  state.source = url;
+  state.status = 'loading';
+  try {
+    const response = await fetch(url);
+    if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
+    const { positions, triangles } = parseOff(await response.text());
+    scene.allocate(positions.length / 3);
+    scene.addPositions(0, positions);
+    frameOn(positions);
+    const vertices = positions.length / 3;
+    fillColours(scene.colours, vertices, 'plain');
+    scene.coloursChanged(vertices);
+    scene.showTriangles(triangles, view.edges ? triangleEdges(triangles) : null);
+    state.shown = 'surface';
+    state.status = 'done';
+  } catch (e) {
+    state.status = 'error';
+    state.error = String(e.message || e);
+  }
+  updateOverlay();
+  publish();
+}
+
+if (params.get('ui') === '0') document.body.classList.add('bare');
+syncControls();
+if (params.get('surface')) showSurface(params.get('surface'));
+else if (params.get('stream')) start(params.get('stream').split('/').pop(), { url: params.get('stream') });
+else updateOverlay();

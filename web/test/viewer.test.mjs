@@ -1,0 +1,216 @@
+// The viewer page in a real browser (Debian's chromium through Playwright):
+// it shows every level of golden and corpus streams with the native
+// decoder's counts, ends a truncated stream on its last whole level and says
+// so, shows a damaged stream's error without crashing, draws levels as a
+// throttled stream arrives, opens dropped and chosen files, and draws every
+// view. Screenshots go to build/web-artifacts/ (kept by CI as artifacts).
+import { after, before, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { mkdirSync, readFileSync } from 'node:fs';
+import { basename, join } from 'node:path';
+import { webTestConfig } from './load_decoder.mjs';
+import { allStreams, brokenCopies, nativeSummary } from './streams.mjs';
+import { drawnShare, launchBrowser, openPage, serve, waitForEnd } from './browser.mjs';
+
+const config = webTestConfig();
+const shots = join(config.artifacts, 'screenshots');
+mkdirSync(shots, { recursive: true });
+const streams = allStreams(config);
+const corpus = (name) => streams.find((s) => s.name === `corpus/${name}.dtm`);
+let browser;
+
+before(async () => { browser = await launchBrowser(); });
+after(async () => { await browser?.close(); });
+
+// Loads `stream` (a path) in a fresh page; returns the page, its final state
+// and the server (closed by the caller through done()).
+async function load(stream, { query = '', rate, size } = {}) {
+  const server = await serve(config, stream, rate);
+  const page = await openPage(browser, size);
+  await page.goto(`${server.url}?stream=stream.dtm${query}`);
+  const state = await waitForEnd(page);
+  return { page, state, server, done: async () => { await page.close(); server.close(); } };
+}
+
+// The page's levels against the native decoder's, level by level.
+function expectNativeLevels(state, native, name) {
+  const expected = native.filter((l) => l.level !== undefined)
+    .map((l) => ({ level: l.level, vertices: l.vertices, tetrahedra: l.tetrahedra, bytes: l.stream_bytes }));
+  assert.deepEqual(state.levels, expected, `${name}: the page's levels`);
+}
+
+test('WebGL 2 draws in headless chromium', async () => {
+  const page = await openPage(browser);
+  await page.setContent('<canvas id="c"></canvas>');
+  const renderer = await page.evaluate(() => {
+    const gl = document.getElementById('c').getContext('webgl2');
+    const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
+    return gl ? (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : 'unknown renderer') : null;
+  });
+  assert.ok(renderer, 'no WebGL 2 context');
+  console.log(`WebGL renderer: ${renderer}`);
+  await page.close();
+});
+
+const shown = streams.filter((s) => /^golden\/[^/]+\.dtm$/.test(s.name) ||
+                                    /corpus\/(bunny_10k|elephant_10k|ct_torus)/.test(s.name));
+for (const stream of shown) {
+  test(`every level of ${stream.name}, with meshdec's counts`, async () => {
+    const { page, state, done } = await load(stream.path);
+    try {
+      assert.equal(state.status, 'done', state.error);
+      expectNativeLevels(state, nativeSummary(config, stream.path), stream.name);
+      assert.equal(state.received, readFileSync(stream.path).length);
+      assert.equal(state.shown, 0, 'the finest level is shown');
+      assert.ok(await drawnShare(page) > 0.02, 'the level is drawn');
+      const overlay = await page.textContent('#figures');
+      assert.match(overlay, new RegExp(`level 0 · ${state.levels.at(-1).vertices.toLocaleString('en-US')} vertices`));
+      assert.deepEqual(page.problems, []);
+      await page.screenshot({ path: join(shots, `${basename(stream.path, '.dtm')}.png`) });
+    } finally {
+      await done();
+    }
+  });
+}
+
+for (const stream of [corpus('bunny_10k'), corpus('ct_torus')]) {
+  const native = nativeSummary(config, stream.path);
+  for (const copy of brokenCopies(stream, native, join(config.artifacts, 'broken-pages'))) {
+    test(`${copy.name}: ends as the native decoder does`, async () => {
+      const expected = nativeSummary(config, copy.path);
+      const { page, state, done } = await load(copy.path);
+      try {
+        const end = expected.at(-1);
+        assert.equal(state.status, end.end);
+        assert.equal(state.error, end.message);
+        expectNativeLevels(state, expected, copy.name);
+        if (copy.kind === 'truncated' && state.levels.length > 0) {
+          assert.match(state.error, /ends (after level|inside)/);
+          assert.equal(state.shown, state.levels.at(-1).level, 'the last whole level is shown');
+        }
+        if (copy.kind === 'damaged') {
+          assert.match(state.error, /^level \d+ at byte \d+: /, 'the error names the level and the byte');
+          assert.equal(state.levels.length, copy.wholeLevels, 'the levels before the damage stand');
+        }
+        assert.match(await page.textContent('#status'), new RegExp(`^stream.dtm: ${end.end}`));
+        assert.deepEqual(page.problems, []);
+        await page.screenshot({ path: join(shots, `${basename(copy.path, '.dtm')}.png`) });
+      } finally {
+        await done();
+      }
+    });
+  }
+}
+
+test('a stream that is not there is an error, not a hang', async () => {
+  const server = await serve(config);
+  const page = await openPage(browser);
+  try {
+    await page.goto(`${server.url}?stream=missing.dtm`);
+    const state = await waitForEnd(page);
+    assert.equal(state.status, 'error');
+    assert.match(state.error, /missing\.dtm: HTTP 404/);
+    assert.deepEqual(state.levels, []);
+  } finally {
+    await page.close();
+    server.close();
+  }
+});
+
+test('levels are drawn as a throttled stream arrives', async () => {
+  const stream = corpus('bunny_10k');
+  const server = await serve(config, stream.path, '25KB/s');
+  const page = await openPage(browser);
+  try {
+    // Every change of the state, with its time.
+    await page.addInitScript(() => {
+      window.dtmLog = [];
+      window.addEventListener('dtmviewer', (e) => window.dtmLog.push(
+        { t: performance.now(), levels: e.detail.levels.length, rendered: e.detail.rendered, received: e.detail.received }));
+    });
+    await page.goto(`${server.url}?stream=stream.dtm`);
+    const state = await waitForEnd(page);
+    const log = await page.evaluate(() => window.dtmLog);
+    assert.equal(state.status, 'done');
+    const coarsest = state.levels[0].level;
+    const firstDrawn = log.find((e) => e.rendered === coarsest);
+    assert.ok(firstDrawn, 'the coarsest level was drawn');
+    assert.ok(firstDrawn.received < state.received / 2, `drawn after ${firstDrawn.received} of ${state.received} bytes`);
+    assert.ok(state.timings.lastByte - state.timings.firstPicture > 500, 'the first picture came well before the last byte');
+    // Each level appeared on its own, before the bytes of the next were all in.
+    const counts = new Set(log.map((e) => e.levels));
+    for (let n = 1; n <= state.levels.length; ++n) assert.ok(counts.has(n), `${n} levels were shown at some point`);
+    assert.deepEqual(page.problems, []);
+  } finally {
+    await page.close();
+    server.close();
+  }
+});
+
+test('a file opened from disk or dropped on the page is decoded', async () => {
+  const stream = corpus('elephant_10k');
+  const native = nativeSummary(config, stream.path);
+  const server = await serve(config);
+  const page = await openPage(browser);
+  try {
+    await page.goto(server.url);
+    assert.equal(await page.evaluate(() => window.dtmViewer.status), 'idle');
+    await page.setInputFiles('#open', stream.path);
+    let state = await waitForEnd(page);
+    assert.equal(state.status, 'done');
+    assert.equal(state.source, 'elephant_10k.dtm');
+    expectNativeLevels(state, native, 'opened');
+
+    const bytes = [...readFileSync(corpus('bunny_10k').path)];
+    await page.evaluate((data) => {
+      const transfer = new DataTransfer();
+      transfer.items.add(new File([new Uint8Array(data)], 'dropped.dtm'));
+      document.dispatchEvent(new DragEvent('drop', { dataTransfer: transfer, bubbles: true, cancelable: true }));
+    }, bytes);
+    await page.waitForFunction(() => window.dtmViewer.source === 'dropped.dtm');
+    state = await waitForEnd(page);
+    assert.equal(state.status, 'done');
+    expectNativeLevels(state, nativeSummary(config, corpus('bunny_10k').path), 'dropped');
+    assert.deepEqual(page.problems, []);
+  } finally {
+    await page.close();
+    server.close();
+  }
+});
+
+test('every view and colour draws, and the slider steps through the levels', async () => {
+  const { page, state, done } = await load(corpus('ct_torus').path);
+  try {
+    assert.equal(state.status, 'done');
+    const draw = async (name, change) => {
+      const frames = await page.evaluate(() => window.dtmViewer.frames);
+      await page.evaluate(change);
+      await page.waitForFunction((f) => window.dtmViewer.frames > f, frames);
+      const share = await drawnShare(page);
+      assert.ok(share > 0.01, `${name}: ${share} of the canvas drawn`);
+      await page.screenshot({ path: join(shots, `ct_torus_${name}.png`) });
+      return share;
+    };
+    const select = (id, value) => `{ const e = document.getElementById('${id}'); e.value = '${value}';
+                                      e.dispatchEvent(new Event(e.tagName === 'INPUT' ? 'input' : 'change')); }`;
+    await draw('level_colours', select('colour', 'level'));
+    await draw('boundary_colours', select('colour', 'boundary'));
+    await draw('field_value', select('colour', 'value'));
+    assert.equal(await page.isVisible('#legend'), true, 'a field has its legend');
+    const surface = await drawnShare(page);
+    await draw('cut', select('mode', 'cut'));
+    await draw('cut_y', select('axis', '1'));
+    const cut = await draw('cut_y_20', select('cut', '20'));
+    assert.ok(cut < surface, 'a cut at 20% hides most of the solid');
+    await draw('cells', select('mode', 'cells'));
+    await draw('cells_edges', `{ const e = document.getElementById('edges'); e.checked = true; e.dispatchEvent(new Event('change')); }`);
+    await draw('coarsest', select('level', '0'));
+    const now = await page.evaluate(() => window.dtmViewer);
+    assert.equal(now.shown, state.levels[0].level);
+    assert.equal(now.rendered, now.shown);
+    assert.match(await page.textContent('#figures'), new RegExp(`level ${now.shown} · ${state.levels[0].vertices} vertices`));
+    assert.deepEqual(page.problems, []);
+  } finally {
+    await done();
+  }
+});
