@@ -28,3 +28,8 @@ target_compile_definitions(CGAL::CGAL INTERFACE
 # JavaScript-emulated exceptions would route every call through a trampoline.
 add_compile_options(-fwasm-exceptions)
 add_link_options(-fwasm-exceptions)
+
+# Debian's emcc finds its node modules (acorn) in /usr/share/nodejs only when
+# node itself is Debian's; the machine's node may be NodeSource's. Linking is
+# where emcc runs node, so every link gets the path, whoever runs the build.
+set_property(GLOBAL PROPERTY RULE_LAUNCH_LINK "${CMAKE_COMMAND} -E env NODE_PATH=/usr/share/nodejs")

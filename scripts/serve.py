@@ -23,7 +23,7 @@ import sys
 import time
 import urllib.parse
 
-CHUNK = 16384
+CHUNK = 4096
 
 
 def parse_rate(text):

@@ -26,15 +26,19 @@ const state = {
   levels: [],
   error: null,
   source: null,
-  received: 0,
-  total: null,
+  received: 0,    // bytes arrived
+  decoded: 0,     // bytes the decoder has gone through
+  total: null,    // the stream's length, when the server says it
   header: null,
   fields: [],
   shown: null,     // the level drawn, or null
   cellsShown: 0,   // in the 'cells' view: how many shrunken cells are drawn
   rendered: null,  // the level of the last frame drawn
   frames: 0,
-  timings: {},     // ms since the page started: header, firstLevel, firstPicture, lastByte, end
+  // ms since navigation: start, renderer (made), header, firstLevel,
+  // firstPicture, lastByte, end; per level, decoded[level] (in the worker)
+  // and drawn[level] (first on the screen)
+  timings: { decoded: {}, drawn: {} },
 };
 window.dtmViewer = state;
 
@@ -52,50 +56,69 @@ const view = {
 };
 if (view.axis < 0) view.axis = 0;
 
-const scene = new LevelScene($('canvas'), () => {
-  state.rendered = state.shown;
-  state.frames += 1;
-  if (state.shown !== null && state.timings.firstPicture === undefined) state.timings.firstPicture = performance.now();
-  publish();
-});
+// The renderer, made once the decoder's worker runs (or at once when there is
+// no stream to load): a WebGL context and its shaders keep this thread busy
+// for a while (most of a second on a software renderer), and the worker needs
+// this thread to start.
+let scene = null;
+function ensureScene() {
+  scene ??= new LevelScene($('canvas'), () => {
+    state.rendered = state.shown;
+    state.frames += 1;
+    if (state.shown !== null) {
+      state.timings.firstPicture ??= performance.now();
+      state.timings.drawn[state.shown] ??= performance.now();
+    }
+    publish();
+  });
+  state.timings.renderer ??= performance.now();
+  return scene;
+}
 
 function publish() {
   window.dispatchEvent(new CustomEvent('dtmviewer', { detail: state }));
 }
 
+// Loads a stream in the decoder's worker: `request` is {url} or {file}.
 function start(source, request) {
   worker?.terminate();
   store = null;
   followNewest = true;
+  if (scene) scene.framed = false;  // the next model gets its own camera
   Object.assign(state, {
-    status: 'loading', levels: [], error: null, source, received: 0, total: null, header: null,
-    fields: [], shown: null, rendered: null, timings: { start: performance.now() },
+    status: 'loading', levels: [], error: null, source, received: 0, decoded: 0, total: null, header: null,
+    fields: [], shown: null, rendered: null, timings: { start: performance.now(), decoded: {}, drawn: {} },
   });
-  worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
-  worker.onmessage = (event) => receive(event.data);
-  worker.onerror = (event) => {
+  const load = (worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' }));
+  load.onmessage = (event) => { if (worker === load) receive(event.data); };
+  load.onerror = (event) => {
     event.preventDefault();
-    finish('error', `the decoder stopped: ${event.message || 'worker error'}`);
+    if (worker === load) finish('error', `the decoder stopped: ${event.message || 'worker error'}`);
   };
-  worker.postMessage({ ...request, maxVertices: Number(params.get('maxVertices')) || 3_000_000 });
+  load.postMessage({ ...request, maxVertices: Number(params.get('maxVertices')) || 3_000_000 });
   updateOverlay();
   publish();
 }
 
 function receive(message) {
-  if (message.type === 'progress') {
+  if (message.type === 'started') {
+    ensureScene();  // the worker runs: time to make the renderer
+    return;
+  } else if (message.type === 'progress') {
     state.received = message.received;
+    state.decoded = message.decoded;
     state.total = message.total;
   } else if (message.type === 'header') {
     state.header = message.header;
     state.timings.header = performance.now();
-    scene.allocate(message.header.vertexCount);
+    ensureScene().allocate(message.header.vertexCount);
     store = { levels: [], vertexLevels: new Uint8Array(message.header.vertexCount), values: null };
   } else if (message.type === 'level') {
     addLevel(message);
   } else if (message.type === 'end') {
     state.received = message.received;
-    state.timings.lastByte = performance.now();
+    state.decoded = message.decoded;
+    if (message.lastByteAt) state.timings.lastByte = message.lastByteAt - performance.timeOrigin;
     finish(message.status, message.status === 'done' ? null : message.message);
     return;
   }
@@ -109,6 +132,7 @@ function addLevel(m) {
     store.values = m.fields.map((f) => new Float32Array(state.header.vertexCount * f.components));
     addFieldChoices(m.fields);
   }
+  state.timings.decoded[m.level] = m.decodedAt - performance.timeOrigin;
   scene.addPositions(m.firstNew, m.positions);
   store.vertexLevels.fill(m.level, m.firstNew, m.vertices);
   m.fields.forEach((f, i) => store.values[i].set(m.values[i], m.firstNew * f.components));
@@ -234,7 +258,9 @@ function addFieldChoices(fields) {
   if (select.value !== view.colour) select.value = 'plain';
 }
 
-const number = (n) => n.toLocaleString('en-US');
+function number(n) {
+  return n.toLocaleString('en-US');
+}
 function bytesText(n) {
   return n < 1e3 ? `${n} B` : n < 1e6 ? `${(n / 1e3).toFixed(1)} KB` : `${(n / 1e6).toFixed(2)} MB`;
 }
@@ -245,7 +271,8 @@ function updateOverlay() {
   const levelCount = s.header ? s.header.levelCount : '?';
   const words = {
     idle: 'drop a .dtm file here, or open one',
-    loading: `loading: ${bytesText(s.received)}${total} received, ${s.levels.length} of ${levelCount} levels`,
+    loading: `loading: ${bytesText(s.received)}${total} received` +
+      (s.decoded < s.received ? ` (${bytesText(s.decoded)} decoded)` : '') + `, ${s.levels.length} of ${levelCount} levels`,
     done: `done: ${bytesText(s.received)}, all ${s.levels.length} levels`,
     truncated: `truncated: ${bytesText(s.received)}, ${s.levels.length} of ${levelCount} whole levels (${s.error})`,
     error: `error: ${s.error}`,
@@ -329,6 +356,10 @@ async function showSurface(url) {
 
 if (params.get('ui') === '0') document.body.classList.add('bare');
 syncControls();
-if (params.get('surface')) showSurface(params.get('surface'));
-else if (params.get('stream')) start(params.get('stream').split('/').pop(), { url: params.get('stream') });
-else updateOverlay();
+if (params.get('stream') && !params.get('surface')) {
+  start(params.get('stream').split('/').pop(), { url: params.get('stream') });
+} else {
+  ensureScene();
+  if (params.get('surface')) showSurface(params.get('surface'));
+  else updateOverlay();
+}

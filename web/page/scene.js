@@ -36,6 +36,7 @@ export class LevelScene {
 
     new ResizeObserver(() => this.#resize()).observe(canvas);
     this.#resize();
+    this.#compileShaders();
   }
 
   // Room for every vertex of the stream.
@@ -128,6 +129,19 @@ export class LevelScene {
     geometry.setIndex(new THREE.BufferAttribute(edges, 1));
     this.edges = new THREE.LineSegments(geometry, this.edgeMaterial);
     this.scene.add(this.edges);
+  }
+
+  // Compiles the surface's shaders now, while the stream is arriving, rather
+  // than when the first level is drawn (seconds on a software renderer).
+  #compileShaders() {
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(9), 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(9), 3));
+    const mesh = new THREE.Mesh(geometry, this.material);
+    this.scene.add(mesh);
+    this.renderer.compile(this.scene, this.camera);
+    this.scene.remove(mesh);
+    geometry.dispose();
   }
 
   #clear() {

@@ -15,11 +15,12 @@ export async function launchBrowser() {
 }
 
 // Serves `dist` (and `stream` as /stream.dtm, throttled to `rate` if given)
-// on a free port; resolves to {url, close()}.
-export function serve(config, stream, rate) {
+// on a free port; resolves to {url, close()}. `extra`: more serve.py options.
+export function serve(config, stream, rate, extra = []) {
   const args = [join(config.source, 'scripts', 'serve.py'), config.dist];
   if (stream) args.push(stream);
   if (rate) args.push('--rate', rate);
+  args.push(...extra);
   const server = spawn('python3', args, { stdio: ['ignore', 'pipe', 'inherit'] });
   return new Promise((resolve, reject) => {
     server.once('error', reject);
