@@ -36,3 +36,5 @@ echo "== a CT-like volume (data/ct_torus.nrrd, 48^3 int16, 0.5 mm voxels): the s
 "$bin/meshdec" "$out/ct_torus.dtm" -o "$out/ct_torus_level2_surface.ply" --level 2
 echo
 echo "Outputs in $out (open the .vtu files in ParaView; colour by 'level', or by 'value' for the CT)."
+echo "To watch a stream arrive level by level in the browser viewer:"
+echo "  scripts/view.sh $out/bunny_10k.dtm --rate 100KB/s"

@@ -1,13 +1,7 @@
 // Per-vertex colours for the three colour modes: the vertex's level, the
 // level's boundary flag, or a value field on a colour ramp.
 
-// A categorical palette, coarsest level first (Okabe and Ito's, safe for
-// colour-blind eyes), repeated past eight levels.
-const kLevelPalette = [
-  [0.90, 0.62, 0.00], [0.34, 0.71, 0.91], [0.00, 0.62, 0.45], [0.94, 0.89, 0.26],
-  [0.00, 0.45, 0.70], [0.84, 0.37, 0.00], [0.80, 0.47, 0.65], [0.60, 0.60, 0.60],
-];
-export const kPlain = [0.87, 0.80, 0.68];
+export const kPlain = [0.85, 0.74, 0.58];
 const kBoundary = [0.84, 0.37, 0.00];
 const kInterior = [0.34, 0.71, 0.91];
 
@@ -28,11 +22,16 @@ export const kRampCss = `linear-gradient(to right, ${kRamp
   .map((c) => `rgb(${c.map((v) => Math.round(255 * v)).join(',')})`)
   .join(', ')})`;
 
+// Levels on the ramp: the coarsest dark, level 0 (the finest) bright, so that
+// a region's colour says how late its vertices arrive.
 export function levelColour(level, coarsest) {
-  return kLevelPalette[(coarsest - level) % kLevelPalette.length];
+  return rampColour(coarsest > 0 ? (coarsest - level) / coarsest : 1);
 }
 
-// Writes the colours of vertices [0, count) into `out` (3 floats each).
+// sRGB to linear: three.js takes vertex colours as linear light.
+const kToLinear = (c) => c.map((x) => (x <= 0.04045 ? x / 12.92 : ((x + 0.055) / 1.055) ** 2.4));
+
+// Writes the colours of vertices [0, count) into `out` (3 floats each, linear).
 //   mode 'plain'    one colour
 //   mode 'level'    vertexLevels[v] (the coarsest level holding v)
 //   mode 'boundary' flags[v] (the shown level's boundary vertices)
@@ -47,6 +46,7 @@ export function fillColours(out, count, mode, { vertexLevels, coarsest, flags, v
       const x = fieldMagnitude(values, components, v);
       c = Number.isFinite(x) ? rampColour((x - range.min) / (range.max - range.min || 1)) : [0.5, 0.5, 0.5];
     }
+    c = kToLinear(c);
     out[3 * v] = c[0], out[3 * v + 1] = c[1], out[3 * v + 2] = c[2];
   }
 }

@@ -33,6 +33,7 @@ const state = {
   fields: [],
   shown: null,     // the level drawn, or null
   cellsShown: 0,   // in the 'cells' view: how many shrunken cells are drawn
+  trianglesDrawn: 0,
   rendered: null,  // the level of the last frame drawn
   frames: 0,
   // ms since navigation: start, renderer (made), header, firstLevel,
@@ -183,6 +184,7 @@ function show(index) {
   colour(l);
   if (view.mode === 'surface') {
     scene.showTriangles(l.surface, view.edges ? capped(triangleEdges(l.surface)) : null);
+    state.trianglesDrawn = l.surface.length / 3;
   } else {
     const positions = scene.positions;
     l.centroids ??= [0, 1, 2].map((axis) => centroidCoordinates(l.cells, positions, axis));
@@ -192,11 +194,13 @@ function show(index) {
     if (view.mode === 'cut') {
       const { triangles, cutFaces } = keptSurface(l.cells, l.neighbors, kept);
       scene.showTriangles(triangles, capped(triangleEdges(view.edges ? triangles : cutFaces)));
+      state.trianglesDrawn = triangles.length / 3;
     } else {
       const chosen = cellsNearest(centroids, kept, threshold, kMaxShrunkenCells);
       const soup = shrunkenCells(l.cells, chosen, positions, scene.colours, 0.75);
       scene.showSoup(soup, view.edges ? capped(triangleEdges(sequence(soup.position.length / 3))) : null);
       state.cellsShown = chosen.length;
+      state.trianglesDrawn = 4 * chosen.length;
     }
   }
   updateOverlay();
@@ -221,7 +225,8 @@ function cutThreshold(centroids) {
 }
 
 function colour(l) {
-  const options = { vertexLevels: store.vertexLevels, coarsest: store.levels[0].level, flags: l.boundary };
+  const coarsest = store.levels[0].level;
+  const options = { vertexLevels: store.vertexLevels, coarsest, flags: l.boundary };
   let mode = view.colour;
   const f = state.fields.findIndex((field) => field.name === view.colour);
   if (f >= 0) {
@@ -229,17 +234,26 @@ function colour(l) {
     options.values = store.values[f];
     options.components = state.fields[f].components;
     options.range = fieldRange(options.values, options.components, l.vertices);
-    $('legend').hidden = false;
-    $('legend-bar').style.background = kRampCss;
-    $('legend-min').textContent = formatValue(options.range.min);
-    $('legend-max').textContent = formatValue(options.range.max);
-    $('legend-name').textContent = state.fields[f].components > 1 ? `|${view.colour}|` : view.colour;
+    legend(state.fields[f].components > 1 ? `|${view.colour}|` : view.colour,
+           formatValue(options.range.min), formatValue(options.range.max));
+  } else if (mode === 'level') {
+    legend('level', String(coarsest), '0');
   } else {
-    $('legend').hidden = true;
-    if (!['plain', 'level', 'boundary'].includes(mode)) mode = 'plain';
+    legend(null);
+    if (!['plain', 'boundary'].includes(mode)) mode = 'plain';
   }
   fillColours(scene.colours, l.vertices, mode, options);
   scene.coloursChanged(l.vertices);
+}
+
+// The ramp's legend, or none.
+function legend(name, low, high) {
+  $('legend').hidden = !name;
+  if (!name) return;
+  $('legend-bar').style.background = kRampCss;
+  $('legend-name').textContent = name;
+  $('legend-min').textContent = low;
+  $('legend-max').textContent = high;
 }
 
 function formatValue(x) {
@@ -344,6 +358,7 @@ async function showSurface(url) {
     fillColours(scene.colours, vertices, 'plain');
     scene.coloursChanged(vertices);
     scene.showTriangles(triangles, view.edges ? triangleEdges(triangles) : null);
+    state.trianglesDrawn = triangles.length / 3;
     state.shown = 'surface';
     state.status = 'done';
   } catch (e) {

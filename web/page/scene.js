@@ -14,11 +14,11 @@ export class LevelScene {
     this.renderer.setClearColor(0xffffff, 1);
     this.scene = new THREE.Scene();
     this.camera = new THREE.PerspectiveCamera(30, 1, 0.01, 1000);
-    const key = new THREE.DirectionalLight(0xffffff, 2.2);
+    const key = new THREE.DirectionalLight(0xffffff, 2.8);
     key.position.set(0.5, 0.8, 1);
     this.camera.add(key);  // the light follows the eye
     this.scene.add(this.camera);
-    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x606060, 1.3));
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x303030, 0.8));
     this.controls = new OrbitControls(this.camera, canvas);
     this.controls.addEventListener('change', () => this.requestRender());
     this.onRendered = onRendered;

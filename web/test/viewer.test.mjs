@@ -6,11 +6,12 @@
 // view. Screenshots go to build/web-artifacts/ (kept by CI as artifacts).
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdirSync, readFileSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { basename, join } from 'node:path';
 import { webTestConfig } from './load_decoder.mjs';
 import { allStreams, brokenCopies, nativeSummary } from './streams.mjs';
 import { drawnShare, launchBrowser, openPage, serve, waitForEnd } from './browser.mjs';
+import { composePicture, levelPanels } from './pictures.mjs';
 
 const config = webTestConfig();
 const shots = join(config.artifacts, 'screenshots');
@@ -213,4 +214,48 @@ test('every view and colour draws, and the slider steps through the levels', asy
   } finally {
     await done();
   }
+});
+
+// The README's pictures (docs/viewer_*.png): written to the artifacts on every
+// run, and over the committed ones with DTM_UPDATE_PICTURES=1
+// (scripts/web_pictures.sh). The input's surface comes from ../shared/data
+// when it is beside the checkout.
+test('pictures of every level beside the input surface', async () => {
+  const surfaces = join(config.source, '..', 'shared', 'data', 'surfaces');
+  const out = process.env.DTM_UPDATE_PICTURES ? join(config.source, 'docs') : shots;
+  for (const [model, camera] of [['bunny', '0,0'], ['elephant', '-30,10']]) {
+    const surface = join(surfaces, `${model}.off`);
+    const panels = await levelPanels(browser, config, {
+      stream: corpus(`${model}_10k`).path, surface: existsSync(surface) ? surface : null, camera });
+    assert.ok(panels.length >= 5);
+    await composePicture(browser, `${model}_10k.dtm in the viewer: the input's surface, then every level, finest first`,
+                         panels, join(out, `viewer_${model}_levels.png`));
+  }
+});
+
+test('a picture of the views: levels, a cut, shrunken cells', async () => {
+  const out = process.env.DTM_UPDATE_PICTURES ? join(config.source, 'docs') : shots;
+  const stream = corpus('bunny_10k').path;
+  const server = await serve(config, stream);
+  const page = await openPage(browser, { width: 300, height: 300 });
+  const panels = [];
+  try {
+    for (const [query, caption] of [
+      ['colour=level', ['colour by level', 'coarsest dark, finest bright']],
+      ['colour=level&view=cut&cut=z:0.5&edges=1', ['cut through the cells', 'the tetrahedra behind a plane, whole']],
+      ['colour=boundary&view=cells&cut=z:0.5', ['shrunken cells', 'boundary vertices orange, interior ones blue']],
+      ['view=cut&cut=z:0.5&edges=1&level=3', ['level 3, cut', '1,021 vertices: fewer, larger cells']],
+    ]) {
+      await page.goto(`${server.url}?stream=stream.dtm&ui=0&camera=0,0&${query}`);
+      const state = await waitForEnd(page);
+      assert.equal(state.status, 'done');
+      assert.ok(await drawnShare(page) > 0.02, query);
+      panels.push({ png: await page.screenshot(), caption });
+    }
+    assert.deepEqual(page.problems, []);
+  } finally {
+    await page.close();
+    server.close();
+  }
+  await composePicture(browser, 'bunny_10k.dtm: what the viewer shows of the tetrahedra', panels, join(out, 'viewer_views.png'));
 });
