@@ -12,6 +12,7 @@
 #include "mesh/topology.h"
 #include "tools/atomic_file.h"
 #include "tools/field_types.h"
+#include "tools/formats/gltf_writer.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
 #include "tools/stream_input.h"
@@ -25,6 +26,9 @@ Examples:
   meshdec bunny.dtm -o coarse.node --level 3     # TetGen .node + .ele
   meshdec bunny.dtm -o bunny.msh                 # gmsh 4.1 (also .vtk, .mesh)
   meshdec bunny.dtm -o surface.ply --level 5     # the boundary surface, normals out
+  meshdec bunny.dtm -o bunny.glb --level 2       # the same as glTF 2.0, Draco-compressed (web, AR, Blender)
+  meshdec ct.dtm -o ct.glb --color value         # coloured by the field 'value'
+  meshdec bunny.dtm -o bunny.drc                 # the surface as a Draco file
   head -c 40000 bunny.dtm | meshdec - -o preview.vtu
   meshdec bunny.dtm -o - --format vtu > bunny.vtu
 
@@ -39,21 +43,29 @@ struct Command {
   std::string input, output, format_name;
   int level = -1;
   bool verify = false, quiet = false;
+  dtm::SurfaceStyle style;
+  bool no_draco = false;
   uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
 };
 
 void add_options(CLI::App& app, Command& c) {
   app.add_option("input", c.input, ".dtm stream ('-' = standard input)")->required();
   app.add_option("-o,--output", c.output,
-                 "output: X.vtu, X.vtk, X.mesh, X.msh, X.node (+ X.ele); the boundary surface as X.ply or "
-                 "X.off; the points as X.xyz; '-' = standard output")
+                 "output: X.vtu, X.vtk, X.mesh, X.msh, X.node (+ X.ele); the boundary surface as X.ply, "
+                 "X.off, X.glb, X.gltf (+ X.bin) or X.drc; the points as X.xyz; '-' = standard output")
       ->required();
   app.add_option("--level", c.level, "level of detail to write (0 = finest; default: the finest present)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--format", c.format_name,
                  std::string(dtm::kOutputFormatNames) + " (default: from the output's extension)")
-      ->check(CLI::IsMember(
-          {"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "ply", "off", "xyz"}));
+      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "ply", "off",
+                             "xyz", "glb", "gltf", "drc"}));
+  app.add_option(
+         "--color", c.style.colour,
+         "glTF and .drc vertex colours: level (dark = coarsest), boundary, or a field's name (a vector by "
+         "its length), on a colour ramp")
+      ->capture_default_str();
+  app.add_flag("--no-draco", c.no_draco, "glTF: plain buffers instead of Draco compression");
   app.add_flag("--verify", c.verify,
                "check every decoded level against the cell-set hashes in the stream (meshenc --hash-cells)");
   app.add_option("--max-vertices", c.max_vertices, "refuse streams claiming more vertices than this")
@@ -71,6 +83,8 @@ dtm::MeshFormat output_format(const Command& c) {
     format = dtm::format_for_path(c.output);
   if (c.output == "-" && format == dtm::MeshFormat::kTetgen)
     throw std::invalid_argument("TetGen output is two files; it cannot go to standard output");
+  if (c.output == "-" && format == dtm::MeshFormat::kGltf)
+    throw std::invalid_argument("glTF output is two files (.gltf and .bin); write .glb to standard output");
   return format;
 }
 
@@ -155,7 +169,9 @@ dtm::OutputMesh output_mesh(const Command& c, const dtm::ProgressiveDecoder& dec
 }
 
 void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat format) {
-  const auto files = dtm::render_mesh(mesh, format, c.output == "-" ? "out.vtu" : c.output);
+  dtm::SurfaceStyle style = c.style;
+  style.draco = !c.no_draco;
+  const auto files = dtm::render_mesh(mesh, format, c.output == "-" ? "out.vtu" : c.output, style);
   if (c.output != "-") return dtm::write_files_atomically(files);
   const std::string& bytes = files.front().second;
   if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() || std::fflush(stdout) != 0)
@@ -174,10 +190,25 @@ int run(const Command& c) {
   write_output(c, mesh, format);
   if (!c.quiet) {
     std::string note = c.verify ? ", verified " + std::to_string(verifier.verified()) + " levels" : "";
-    if (format == dtm::MeshFormat::kPly || format == dtm::MeshFormat::kOff) {
+    if (format == dtm::MeshFormat::kPly || format == dtm::MeshFormat::kOff ||
+        format == dtm::MeshFormat::kGlb || format == dtm::MeshFormat::kGltf ||
+        format == dtm::MeshFormat::kDrc) {
       const dtm::BoundarySurface s = dtm::boundary_surface(mesh);
       note += "; boundary surface: " + std::to_string(s.vertices.size()) + " vertices, " +
               std::to_string(s.triangles.size()) + " triangles";
+    }
+    const bool draco = format == dtm::MeshFormat::kDrc ||
+                       ((format == dtm::MeshFormat::kGlb || format == dtm::MeshFormat::kGltf) && !c.no_draco);
+    if (draco) {
+      // The quantization Draco was given, and what it costs the positions.
+      const dtm::SurfaceQuantization q = dtm::surface_quantization(mesh);
+      char text[256];
+      std::snprintf(
+          text, sizeof text,
+          "; Draco: positions %d bits (step %.6g, the stream's grid %.6g: within %.6g of the decoded "
+          "positions), normals %d bits, colours %d bits",
+          q.position_bits, q.draco_step, q.grid_step, q.draco_step / 2, dtm::kNormalBits, dtm::kColourBits);
+      note += text;
     }
     std::fprintf(stderr, "meshdec: level %d: %zu vertices, %zu tetrahedra%s\n", decoder.finest_level(),
                  mesh.points.size(), mesh.cells.size(), note.c_str());

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "gltf_writer.h"
 #include "gmsh.h"
 #include "medit.h"
 #include "render_util.h"
@@ -270,10 +271,13 @@ MeshFormat format_for_path(const std::string& path) {
   if (ext == ".ply") return MeshFormat::kPly;
   if (ext == ".off") return MeshFormat::kOff;
   if (ext == ".xyz") return MeshFormat::kXyz;
+  if (ext == ".glb") return MeshFormat::kGlb;
+  if (ext == ".gltf") return MeshFormat::kGltf;
+  if (ext == ".drc") return MeshFormat::kDrc;
   throw std::invalid_argument(
       path +
-      ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .ply, .off or .xyz "
-      "file name)");
+      ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .ply, .off, .xyz, .glb, .gltf or "
+      ".drc file name)");
 }
 
 MeshFormat format_named(const std::string& name) {
@@ -286,14 +290,18 @@ MeshFormat format_named(const std::string& name) {
                                                               {"msh", MeshFormat::kGmsh},
                                                               {"ply", MeshFormat::kPly},
                                                               {"off", MeshFormat::kOff},
-                                                              {"xyz", MeshFormat::kXyz}};
+                                                              {"xyz", MeshFormat::kXyz},
+                                                              {"glb", MeshFormat::kGlb},
+                                                              {"gltf", MeshFormat::kGltf},
+                                                              {"drc", MeshFormat::kDrc}};
   for (const auto& [n, f] : kNames)
     if (name == n) return f;
   throw std::invalid_argument("unknown output format '" + name + "' (known: " + kOutputFormatNames + ")");
 }
 
 std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& mesh, MeshFormat format,
-                                                             const std::string& path) {
+                                                             const std::string& path,
+                                                             const SurfaceStyle& style) {
   validate(mesh);
   switch (format) {
     case MeshFormat::kTetgen: {
@@ -320,6 +328,10 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
       return {{path, render_off(mesh)}};
     case MeshFormat::kXyz:
       return {{path, render_xyz(mesh)}};
+    case MeshFormat::kGlb:
+    case MeshFormat::kGltf:
+    case MeshFormat::kDrc:
+      return render_surface_gltf(mesh, format, path, style);
   }
   throw std::invalid_argument(path + ": unknown mesh format");
 }

@@ -1,7 +1,8 @@
 // Output of decoded levels: TetGen .node/.ele (the corpus format, see
 // shared/data/README.md), VTK XML .vtu and legacy .vtk (ParaView), Medit
-// .mesh, gmsh .msh 4.1, the boundary surface as PLY or OFF, the points as
-// XYZ. The writers only render bytes; the caller writes them (atomically).
+// .mesh, gmsh .msh 4.1, the boundary surface as PLY, OFF, glTF 2.0 (.glb, or
+// .gltf + .bin; Draco-compressed or plain) or Draco .drc, the points as XYZ.
+// The writers only render bytes; the caller writes them (atomically).
 #pragma once
 
 #include <array>
@@ -49,29 +50,44 @@ enum class MeshFormat {
   kPly,       // boundary surface, binary PLY, outward normals
   kOff,       // boundary surface, ASCII OFF, outward normals
   kXyz,       // the points only
+  kGlb,       // boundary surface, binary glTF 2.0 (tools/formats/gltf_writer.h)
+  kGltf,      // boundary surface, glTF 2.0 JSON + its .bin beside it (same stem)
+  kDrc,       // boundary surface, Draco's own file
+};
+
+// How the surface formats that carry colours draw them (glTF, .drc;
+// tools/formats/gltf_writer.h says what each means).
+struct SurfaceStyle {
+  std::string colour = "level";  // "level", "boundary" or a field's name
+  bool draco = true;             // glTF: KHR_draco_mesh_compression, or plain accessors
 };
 
 // The format named by the output path's extension: ".node" -> kTetgen (the
 // .ele goes beside it, same stem), ".vtu" -> kVtu, ".vtk" -> kVtk, ".mesh"
-// -> kMedit, ".msh" -> kGmsh, ".ply", ".off", ".xyz". Extensions are
+// -> kMedit, ".msh" -> kGmsh, ".ply", ".off", ".xyz", ".glb", ".gltf",
+// ".drc". Extensions are
 // case-sensitive, as TetGen's own are: "X.NODE" would otherwise get an
 // "X.ele" that `tetgen X` cannot find. Throws std::invalid_argument naming the
 // path for anything else.
 MeshFormat format_for_path(const std::string& path);
 
 // The format meshdec --format names: node, vtu, vtu-ascii, vtk, vtk-ascii,
-// mesh, msh, ply, off, xyz. Throws std::invalid_argument for anything else.
+// mesh, msh, ply, off, xyz, glb, gltf, drc. Throws std::invalid_argument for
+// anything else.
 MeshFormat format_named(const std::string& name);
 inline constexpr const char* kOutputFormatNames =
-    "node, vtu, vtu-ascii, vtk, vtk-ascii, mesh, msh, ply, off, xyz";
+    "node, vtu, vtu-ascii, vtk, vtk-ascii, mesh, msh, ply, off, xyz, glb, gltf, drc";
 
 // The files of `mesh` in `format` as (path, bytes) pairs: two for kTetgen
-// (`path`, which must end in ".node", and the .ele beside it), one for the
-// others (`path` as given). Throws std::invalid_argument for a cell
-// index out of range, a `level` or `boundary` whose size is neither 0 nor
-// the number of points, or a TetGen path not ending in ".node".
+// (`path`, which must end in ".node", and the .ele beside it) and kGltf (the
+// .bin beside it), one for the others (`path` as given). `style` is for the
+// formats with colours. Throws std::invalid_argument for a cell index out of
+// range, a `level` or `boundary` whose size is neither 0 nor the number of
+// points, a TetGen path not ending in ".node", or a surface format asked of
+// a level whose surface is empty.
 std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& mesh, MeshFormat format,
-                                                             const std::string& path);
+                                                             const std::string& path,
+                                                             const SurfaceStyle& style = {});
 
 // Standard base64 (RFC 4648, with '=' padding), as VTK's binary format wants.
 // Exposed for its test.

@@ -28,5 +28,6 @@ export function webTestConfig() {
     streams: need('DTM_WEB_STREAMS'),
     source: need('DTM_SOURCE_DIR'),
     artifacts: need('DTM_WEB_ARTIFACTS'),
+    meshdec: process.env.DTM_MESHDEC,
   };
 }

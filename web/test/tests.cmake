@@ -9,7 +9,7 @@ set(web_artifacts ${CMAKE_BINARY_DIR}/web-artifacts)
 set(web_environment
   DTM_WEB_DIST=${web_dist}
   DTM_LEVEL_SUMMARY=$<TARGET_FILE:level_summary>
-  DTM_MESHINFO=$<TARGET_FILE:meshinfo>
+  DTM_MESHDEC=$<TARGET_FILE:meshdec>
   DTM_WEB_STREAMS=${web_streams}
   DTM_SOURCE_DIR=${PROJECT_SOURCE_DIR}
   DTM_WEB_ARTIFACTS=${web_artifacts})
@@ -24,10 +24,10 @@ add_test(NAME web_build_present
          COMMAND ${CMAKE_COMMAND} -DDIST=${web_dist} -P ${CMAKE_CURRENT_SOURCE_DIR}/test/check_dist.cmake)
 set_tests_properties(web_build_present PROPERTIES FIXTURES_SETUP web_dist)
 
-foreach(test wasm_equivalence cells viewer)
+foreach(test wasm_equivalence cells viewer gltf)
   add_test(NAME web_${test} COMMAND ${NODE} --test --test-reporter=spec ${CMAKE_CURRENT_SOURCE_DIR}/test/${test}.test.mjs)
   set_tests_properties(web_${test} PROPERTIES
     ENVIRONMENT "${web_environment}" FIXTURES_REQUIRED "web_streams;web_dist" TIMEOUT 900)
 endforeach()
 # Chromium wants both cores for itself.
-set_tests_properties(web_viewer PROPERTIES RUN_SERIAL TRUE)
+set_tests_properties(web_viewer web_gltf PROPERTIES RUN_SERIAL TRUE)

@@ -1,0 +1,46 @@
+// A decoded level's boundary surface for the tools people already use:
+// glTF 2.0 (binary .glb, or .gltf with its .bin) compressed with Draco
+// (KHR_draco_mesh_compression) or plain, and Draco's own .drc. Debian's
+// libdraco writes all three (its glTF encoder and its mesh encoder); this
+// file makes the surface they encode: the faces of exactly one carved
+// tetrahedron, outward, with positions in input units, area-weighted vertex
+// normals and vertex colours.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tools/formats/mesh_writers.h"
+
+namespace dtm {
+
+// SurfaceStyle (mesh_writers.h): vertex colours by "level" (the coarsest
+// level holding the vertex, on a ramp from dark to bright), "boundary" (the
+// boundary flag: every surface vertex has it, so one colour), or the name of
+// one of the mesh's fields (a vector by its length), on the same ramp between
+// the surface's smallest and largest value; and whether glTF is compressed.
+
+// Draco's position quantization for this surface: just enough bits that
+// Draco's step over the surface's extent is at most the stream's grid step,
+// so that every position stays within half a grid step of the decoded one.
+struct SurfaceQuantization {
+  int position_bits = 0;
+  double draco_step = 0;  // input units
+  double grid_step = 0;   // the stream's, input units
+};
+inline constexpr int kNormalBits = 10;
+inline constexpr int kColourBits = 8;
+
+// The files of `mesh`'s boundary surface in `format` (kGlb, kGltf: the .gltf
+// and its .bin beside it, same stem; kDrc). Throws std::invalid_argument when
+// the surface is empty, the colour names no field, or libdraco fails.
+std::vector<std::pair<std::string, std::string>> render_surface_gltf(const OutputMesh& mesh,
+                                                                     MeshFormat format,
+                                                                     const std::string& path,
+                                                                     const SurfaceStyle& style);
+
+// What render_surface_gltf uses for `mesh` (empty surface: position_bits 0).
+SurfaceQuantization surface_quantization(const OutputMesh& mesh);
+
+}  // namespace dtm
