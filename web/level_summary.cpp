@@ -30,36 +30,36 @@ int usage() {
   return 2;
 }
 
-// Decodes to the finest mesh RUNS times, as meshdec does (one batch), and
-// prints the best time and the tetrahedra.
-int time_finest(const std::vector<uint8_t>& bytes, int runs) {
+// Runs `decode` (which returns the tetrahedra it made, or -1) RUNS times
+// and prints the best time and the tetrahedra.
+template <class Decode>
+int print_best_time(int runs, Decode&& decode) {
   double best = 1e300;
-  size_t tetrahedra = 0;
+  long long tetrahedra = 0;
   for (int r = 0; r < runs; ++r) {
     const auto start = std::chrono::steady_clock::now();
-    dtm::ProgressiveDecoder decoder;
-    if (!dtm::decode_stream(bytes, decoder).ok()) return 1;
-    tetrahedra = decoder.carved_cells().size();
+    tetrahedra = decode();
+    if (tetrahedra < 0) return 1;
     best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
-  std::printf("{\"seconds\": %.6f, \"tetrahedra\": %zu}\n", best, tetrahedra);
+  std::printf("{\"seconds\": %.6f, \"tetrahedra\": %lld}\n", best, tetrahedra);
   return 0;
 }
 
-// Makes every level's view RUNS times, the whole stream fed at once, and
-// prints the best time and the finest level's tetrahedra.
-int time_levels(const std::vector<uint8_t>& bytes, int runs) {
-  double best = 1e300;
-  size_t tetrahedra = 0;
-  for (int r = 0; r < runs; ++r) {
-    const auto start = std::chrono::steady_clock::now();
-    dtm::LevelViewer viewer;
-    if (!viewer.feed(bytes).ok()) return 1;
-    while (viewer.has_level()) tetrahedra = viewer.take_level().cells.size();
-    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
-  std::printf("{\"seconds\": %.6f, \"tetrahedra\": %zu}\n", best, tetrahedra);
-  return 0;
+// To the finest mesh in one batch, as meshdec decodes.
+long long decode_finest(const std::vector<uint8_t>& bytes) {
+  dtm::ProgressiveDecoder decoder;
+  if (!dtm::decode_stream(bytes, decoder).ok()) return -1;
+  return static_cast<long long>(decoder.carved_cells().size());
+}
+
+// Every level's view, the whole stream fed at once, as the page makes them.
+long long decode_levels(const std::vector<uint8_t>& bytes) {
+  dtm::LevelViewer viewer;
+  if (!viewer.feed(bytes).ok()) return -1;
+  long long tetrahedra = 0;
+  while (viewer.has_level()) tetrahedra = static_cast<long long>(viewer.take_level().cells.size());
+  return tetrahedra;
 }
 
 }  // namespace
@@ -87,7 +87,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (runs > 0) return levels ? time_levels(bytes, runs) : time_finest(bytes, runs);
+  if (runs > 0)
+    return print_best_time(runs, [&] { return levels ? decode_levels(bytes) : decode_finest(bytes); });
 
   dtm::LevelViewer viewer;
   dtm::Status status;

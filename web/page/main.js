@@ -162,6 +162,8 @@ function finish(status, error) {
   state.timings.end = performance.now();
   worker?.terminate();
   worker = null;
+  // A level asked for (level=K) that never came: show the finest there is.
+  if (state.shown === null && store?.levels.length) show(store.levels.length - 1);
   updateOverlay();
   publish();
 }

@@ -1,0 +1,118 @@
+// web/level_view.h, natively (and so under ASan and UBSan in CI): each
+// level's view agrees with the decoder's own mesh functions, its cell
+// neighbours are mutual, and hostile bytes (every truncation of a golden
+// stream, random bit flips) end in an error or a prefix of the levels, never
+// a crash.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <random>
+
+#include "codec/decode.h"
+#include "mesh/carving.h"
+#include "mesh/topology.h"
+#include "web/level_view.h"
+
+namespace dtm {
+namespace {
+
+std::vector<uint8_t> golden_bytes(const std::string& name) {
+  std::ifstream in(std::string(DTM_TEST_SOURCE_DIR) + "/golden/" + name, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Triangles with their smallest vertex first, sorted: a set to compare.
+std::vector<std::array<uint32_t, 3>> canonical(std::vector<std::array<uint32_t, 3>> triangles) {
+  for (auto& t : triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  std::sort(triangles.begin(), triangles.end());
+  return triangles;
+}
+
+TEST(LevelView, EveryLevelAgreesWithTheDecodersMesh) {
+  for (const char* name : {"torus_288.dtm", "torus_288_grid_q10_hull.dtm", "v4/torus_288_paper.dtm"}) {
+    const auto bytes = golden_bytes(name);
+    ASSERT_FALSE(bytes.empty()) << name;
+    LevelViewer viewer;
+    ProgressiveDecoder reference;
+    size_t levels = 0;
+    // The reference decoder, fed the same bytes, stops at each level in turn.
+    for (size_t at = 0; at < bytes.size(); at += 100) {
+      ASSERT_TRUE(viewer.feed(std::span(bytes.data() + at, std::min<size_t>(100, bytes.size() - at))).ok());
+      while (viewer.has_level()) {
+        const LevelView view = viewer.take_level();
+        DecoderOptions options;
+        options.stop_after_level = view.level;
+        ProgressiveDecoder one(options);
+        ASSERT_TRUE(decode_stream(bytes, one).ok());
+        const auto cells = one.carved_cells();
+        EXPECT_EQ(view.vertices, one.points().size()) << name;
+        EXPECT_EQ(cell_set_hash(one.points(), view.cells), cell_set_hash(one.points(), cells)) << name;
+        EXPECT_EQ(canonical(view.surface), canonical(boundary_triangles(cells)))
+            << name << " level " << view.level;
+        const TetMesh dt = one.delaunay();
+        EXPECT_EQ(view.boundary, boundary_vertices(dt, one.points().size(), one.carving(dt)));
+        // Neighbours are mutual and share the face.
+        for (size_t c = 0; c < view.cells.size(); ++c)
+          for (int i = 0; i < 4; ++i) {
+            const int32_t n = view.cell_neighbors[c][i];
+            if (n < 0) continue;
+            const auto& back = view.cell_neighbors[n];
+            EXPECT_NE(std::find(back.begin(), back.end(), static_cast<int32_t>(c)), back.end());
+            int shared = 0;
+            for (int k = 0; k < 4; ++k)
+              shared += k != i && std::count(view.cells[n].begin(), view.cells[n].end(), view.cells[c][k]);
+            EXPECT_EQ(shared, 3);
+          }
+        // The new points in input units about the grid's centre, as floats.
+        const auto centre = grid_centre(one.header().grid);
+        ASSERT_EQ(view.new_positions.size(), 3 * size_t{view.vertices - view.first_new});
+        for (uint32_t v = view.first_new; v < view.vertices; ++v) {
+          const InputPoint p = one.header().grid.to_input(one.points()[v]);
+          EXPECT_EQ(view.new_positions[3 * (v - view.first_new)], static_cast<float>(p.x - centre[0]));
+          EXPECT_EQ(view.new_positions[3 * (v - view.first_new) + 2], static_cast<float>(p.z - centre[2]));
+        }
+        ++levels;
+      }
+    }
+    EXPECT_TRUE(viewer.finish().ok()) << name;
+    EXPECT_EQ(levels, viewer.decoder().header().level_count) << name;
+  }
+}
+
+TEST(LevelView, EveryTruncationEndsOnAWholeLevel) {
+  const auto bytes = golden_bytes("torus_288.dtm");
+  ProgressiveDecoder whole;
+  ASSERT_TRUE(decode_stream(bytes, whole).ok());
+  for (size_t n = 0; n < bytes.size(); ++n) {
+    LevelViewer viewer;
+    ASSERT_TRUE(viewer.feed(std::span(bytes.data(), n)).ok()) << n;
+    EXPECT_EQ(viewer.finish().code(), StatusCode::kTruncated) << n;
+    size_t levels = 0;
+    while (viewer.has_level()) {
+      const LevelView view = viewer.take_level();
+      EXPECT_EQ(view.vertices, whole.levels()[levels].vertices);
+      EXPECT_LE(view.stream_bytes, n);
+      ++levels;
+    }
+    EXPECT_EQ(levels, viewer.decoder().levels().size());
+  }
+}
+
+TEST(LevelView, BitFlipsEndInAnErrorOrTheSameLevels) {
+  const auto bytes = golden_bytes("torus_288.dtm");
+  std::mt19937 random(14);
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::vector<uint8_t> damaged = bytes;
+    damaged[random() % damaged.size()] ^= static_cast<uint8_t>(1u << (random() % 8));
+    LevelViewer viewer;
+    const Status fed = viewer.feed(damaged);
+    const Status end = viewer.finish();
+    EXPECT_EQ(fed.ok(), end.ok() || end.code() == StatusCode::kTruncated);
+    while (viewer.has_level()) viewer.take_level();
+  }
+}
+
+}  // namespace
+}  // namespace dtm
