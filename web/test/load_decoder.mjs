@@ -29,5 +29,6 @@ export function webTestConfig() {
     source: need('DTM_SOURCE_DIR'),
     artifacts: need('DTM_WEB_ARTIFACTS'),
     meshdec: process.env.DTM_MESHDEC,
+    meshinfo: process.env.DTM_MESHINFO,
   };
 }

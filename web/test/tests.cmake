@@ -10,6 +10,7 @@ set(web_environment
   DTM_WEB_DIST=${web_dist}
   DTM_LEVEL_SUMMARY=$<TARGET_FILE:level_summary>
   DTM_MESHDEC=$<TARGET_FILE:meshdec>
+  DTM_MESHINFO=$<TARGET_FILE:meshinfo>
   DTM_WEB_STREAMS=${web_streams}
   DTM_SOURCE_DIR=${PROJECT_SOURCE_DIR}
   DTM_WEB_ARTIFACTS=${web_artifacts})

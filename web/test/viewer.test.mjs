@@ -5,6 +5,7 @@
 // throttled stream arrives, opens dropped and chosen files, and draws every
 // view. Screenshots go to build/web-artifacts/ (kept by CI as artifacts).
 import { after, before, test } from 'node:test';
+import { execFileSync } from 'node:child_process';
 import assert from 'node:assert/strict';
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { basename, join } from 'node:path';
@@ -62,6 +63,14 @@ for (const stream of shown) {
       assert.equal(state.status, 'done', state.error);
       expectNativeLevels(state, nativeSummary(config, stream.path), stream.name);
       assert.equal(state.received, readFileSync(stream.path).length);
+      // ... and meshinfo's: vertices, tetrahedra, and each layer's bytes.
+      const info = JSON.parse(execFileSync(config.meshinfo, [stream.path, '--json', '--stats'], { encoding: 'utf8' }));
+      assert.deepEqual(state.levels.map((l) => [l.level, l.vertices, l.tetrahedra]),
+                       info.levels.map((l) => [l.level, l.vertices, l.tetrahedra]));
+      state.levels.forEach((l, i) => {
+        if (i > 0) assert.equal(l.bytes - state.levels[i - 1].bytes, info.levels[i].layer_bytes);
+      });
+      assert.equal(state.levels.at(-1).bytes, info.bytes);
       assert.equal(state.shown, 0, 'the finest level is shown');
       assert.ok(await drawnShare(page) > 0.02, 'the level is drawn');
       const overlay = await page.textContent('#figures');
