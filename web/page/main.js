@@ -113,7 +113,7 @@ function receive(message) {
     state.header = message.header;
     state.timings.header = performance.now();
     ensureScene().allocate(message.header.vertexCount);
-    store = { levels: [], vertexLevels: new Uint8Array(message.header.vertexCount), values: null };
+    store = { levels: [], vertexLevels: new Uint16Array(message.header.vertexCount), values: null };
   } else if (message.type === 'level') {
     addLevel(message);
   } else if (message.type === 'end') {
@@ -264,6 +264,7 @@ function formatValue(x) {
 
 function addFieldChoices(fields) {
   const select = $('colour');
+  while (select.options.length > 3) select.remove(3);  // an earlier stream's fields
   for (const f of fields) {
     const option = document.createElement('option');
     option.value = f.name;
