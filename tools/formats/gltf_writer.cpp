@@ -240,7 +240,10 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
   check(encoder.EncodeToBuffer(*mesh, &buffer), path);
   // Draco's encoder names itself the generator and greys the vertex colours
   // (base colour 0.75): say who wrote the file, and show the colours as made.
-  auto [json, bin] = split_glb(bytes_of(buffer));
+  // Named, not a structured binding: a lambda below captures the JSON.
+  std::pair<nlohmann::json, std::string> parts = split_glb(bytes_of(buffer));
+  nlohmann::json& json = parts.first;
+  const std::string& bin = parts.second;
   json["asset"]["generator"] = std::string("dtmesh meshdec ") + DTM_VERSION;
   for (auto& material : json["materials"]) material["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1, 1, 1};
   // Plain buffers: say which views hold indices and which vertices, as the
