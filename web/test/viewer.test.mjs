@@ -129,7 +129,9 @@ test('a stream that is not there is an error, not a hang', async () => {
 
 test('levels are drawn as a throttled stream arrives', async () => {
   const stream = corpus('bunny_10k');
-  const server = await serve(config, stream.path, '25KB/s');
+  // 8 KB/s: about 5 s for the stream, several times what making the renderer
+  // takes on a busy machine with software rendering.
+  const server = await serve(config, stream.path, '8KB/s');
   const page = await openPage(browser);
   try {
     // Every change of the state, with its time.
@@ -143,10 +145,11 @@ test('levels are drawn as a throttled stream arrives', async () => {
     const log = await page.evaluate(() => window.dtmLog);
     assert.equal(state.status, 'done');
     const coarsest = state.levels[0].level;
+    const firstLevel = log.find((e) => e.levels >= 1);
+    assert.ok(firstLevel.received < state.received / 4, `the coarsest level came after ${firstLevel.received} of ${state.received} bytes`);
     const firstDrawn = log.find((e) => e.rendered === coarsest);
     assert.ok(firstDrawn, 'the coarsest level was drawn');
-    assert.ok(firstDrawn.received < state.received / 2, `drawn after ${firstDrawn.received} of ${state.received} bytes`);
-    assert.ok(state.timings.lastByte - state.timings.firstPicture > 500, 'the first picture came well before the last byte');
+    assert.ok(state.timings.firstPicture < state.timings.lastByte - 1000, 'the first picture came well before the last byte');
     // Each level appeared on its own, before the bytes of the next were all in.
     const counts = new Set(log.map((e) => e.levels));
     for (let n = 1; n <= state.levels.length; ++n) assert.ok(counts.has(n), `${n} levels were shown at some point`);
