@@ -190,25 +190,25 @@ int run(const Command& c) {
   write_output(c, mesh, format);
   if (!c.quiet) {
     std::string note = c.verify ? ", verified " + std::to_string(verifier.verified()) + " levels" : "";
+    const bool draco = format == dtm::MeshFormat::kDrc ||
+                       ((format == dtm::MeshFormat::kGlb || format == dtm::MeshFormat::kGltf) && !c.no_draco);
     if (format == dtm::MeshFormat::kPly || format == dtm::MeshFormat::kOff ||
         format == dtm::MeshFormat::kGlb || format == dtm::MeshFormat::kGltf ||
         format == dtm::MeshFormat::kDrc) {
       const dtm::BoundarySurface s = dtm::boundary_surface(mesh);
       note += "; boundary surface: " + std::to_string(s.vertices.size()) + " vertices, " +
               std::to_string(s.triangles.size()) + " triangles";
-    }
-    const bool draco = format == dtm::MeshFormat::kDrc ||
-                       ((format == dtm::MeshFormat::kGlb || format == dtm::MeshFormat::kGltf) && !c.no_draco);
-    if (draco) {
-      // The quantization Draco was given, and what it costs the positions.
-      const dtm::SurfaceQuantization q = dtm::surface_quantization(mesh);
-      char text[256];
-      std::snprintf(
-          text, sizeof text,
-          "; Draco: positions %d bits (step %.6g, the stream's grid %.6g: within %.6g of the decoded "
-          "positions), normals %d bits, colours %d bits",
-          q.position_bits, q.draco_step, q.grid_step, q.draco_step / 2, dtm::kNormalBits, dtm::kColourBits);
-      note += text;
+      if (draco) {
+        // The quantization Draco was given, and what it costs the positions.
+        const dtm::SurfaceQuantization q = dtm::surface_quantization(mesh, s);
+        char text[256];
+        std::snprintf(text, sizeof text,
+                      "; Draco: positions %d bits (step %.6g, the stream's grid %.6g: within %.6g of the "
+                      "decoded positions), normals %d bits, colours %d bits",
+                      q.position_bits, q.draco_step, q.grid_step, q.draco_step / 2, dtm::kNormalBits,
+                      dtm::kColourBits);
+        note += text;
+      }
     }
     std::fprintf(stderr, "meshdec: level %d: %zu vertices, %zu tetrahedra%s\n", decoder.finest_level(),
                  mesh.points.size(), mesh.cells.size(), note.c_str());

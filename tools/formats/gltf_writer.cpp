@@ -15,7 +15,6 @@
 #include "codec/value_fields.h"
 #include "mesh/geometry.h"
 #include "tools/field_types.h"
-#include "tools/formats/surface_writers.h"
 
 namespace dtm {
 namespace {
@@ -70,14 +69,13 @@ std::vector<double> ramp_positions(const OutputMesh& m, const BoundarySurface& s
   }
   double low = INFINITY, high = -INFINITY;
   for (size_t i = 0; i < t.size(); ++i) {
+    // A scalar's value, a vector's length.
+    const auto value = [&](int c) {
+      return value_of(field->bits[size_t{s.vertices[i]} * field->components + c], value_type(field->type));
+    };
     double sum = 0;
-    for (int c = 0; c < field->components; ++c) {
-      const double v =
-          value_of(field->bits[size_t{s.vertices[i]} * field->components + c], value_type(field->type));
-      sum += v * v;
-    }
-    t[i] = field->components == 1 ? value_of(field->bits[s.vertices[i]], value_type(field->type))
-                                  : std::sqrt(sum);
+    for (int c = 0; c < field->components; ++c) sum += value(c) * value(c);
+    t[i] = field->components == 1 ? value(0) : std::sqrt(sum);
     if (std::isfinite(t[i])) low = std::min(low, t[i]), high = std::max(high, t[i]);
   }
   for (double& x : t) x = high > low ? (x - low) / (high - low) : 0.5;
@@ -185,8 +183,7 @@ std::string assemble_glb(const nlohmann::json& json, const std::string& bin) {
 
 }  // namespace
 
-SurfaceQuantization surface_quantization(const OutputMesh& mesh) {
-  const BoundarySurface s = boundary_surface(mesh);
+SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundarySurface& s) {
   SurfaceQuantization q;
   q.grid_step = mesh.grid.step;
   if (s.vertices.empty()) return q;
@@ -212,7 +209,7 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
   if (s.triangles.empty())
     throw std::invalid_argument(
         path + ": the level's boundary surface is empty (no carved tetrahedron): nothing to write");
-  const SurfaceQuantization q = surface_quantization(m);
+  const SurfaceQuantization q = surface_quantization(m, s);
   std::unique_ptr<draco::Mesh> mesh = draco_surface(m, s, style);
 
   if (format == MeshFormat::kDrc) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tools/formats/mesh_writers.h"
+#include "tools/formats/surface_writers.h"
 
 namespace dtm {
 
@@ -40,7 +41,8 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
                                                                      const std::string& path,
                                                                      const SurfaceStyle& style);
 
-// What render_surface_gltf uses for `mesh` (empty surface: position_bits 0).
-SurfaceQuantization surface_quantization(const OutputMesh& mesh);
+// What render_surface_gltf uses for `mesh`, whose boundary_surface
+// (surface_writers.h) is `surface` (empty surface: position_bits 0).
+SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundarySurface& surface);
 
 }  // namespace dtm

@@ -9,7 +9,6 @@
 // Status, and an exception (no memory) becomes the session's error.
 #include <emscripten/emscripten.h>
 
-#include <chrono>
 #include <cstdint>
 #include <exception>
 #include <new>
@@ -23,12 +22,15 @@ namespace {
 
 struct Session {
   explicit Session(dtm::DecoderOptions options) : viewer(options) {}
-  dtm::LevelViewer viewer;
+  dtm::LevelViewer viewer;  // keeps the decoder's own errors
   std::vector<uint8_t> input;
   dtm::LevelView level;
-  std::string error;
-  std::string text;  // the last string handed out (a field name, a summary)
+  dtm::Status failure;  // an exception outside the decoder (no memory)
+  std::string text;     // the last string handed out (a field name, a summary)
 };
+
+// How the stream stands at its end: ok, kTruncated or the error.
+dtm::Status end_status(const Session* s) { return s->failure.ok() ? s->viewer.finish() : s->failure; }
 
 const char* keep(Session* s, std::string text) {
   s->text = std::move(text);
@@ -40,9 +42,10 @@ int32_t guarded(Session* s, F&& f) {
   try {
     return f();
   } catch (const std::bad_alloc&) {
-    s->error = "out of memory: the stream needs more than this page can hold";
+    s->failure = {dtm::StatusCode::kLimitExceeded,
+                  "out of memory: the stream needs more than this page can hold"};
   } catch (const std::exception& e) {
-    s->error = e.what();
+    s->failure = {dtm::StatusCode::kInternal, e.what()};
   }
   return -1;
 }
@@ -84,25 +87,22 @@ EMSCRIPTEN_KEEPALIVE uint8_t* dtm_session_input(Session* s, uint32_t n) {
 // Decodes the n bytes written into the input buffer: 0, or -1 on an error
 // (dtm_session_error). Levels completed before an error stay available.
 EMSCRIPTEN_KEEPALIVE int32_t dtm_session_feed(Session* s, uint32_t n) {
+  if (!s->failure.ok()) return -1;
   return guarded(s, [&] {
     if (n > s->input.size()) throw std::invalid_argument("feed: more bytes than the input buffer holds");
-    const dtm::Status status = s->viewer.feed(std::span(s->input.data(), n));
-    if (!status.ok()) s->error = status.message();
-    return status.ok() ? 0 : -1;
+    return s->viewer.feed(std::span(s->input.data(), n)).ok() ? 0 : -1;
   });
 }
 
 // At the end of the input: 0 every level decoded, 1 truncated (the levels
 // decoded stand; dtm_session_error says where it ended), 2 an error.
 EMSCRIPTEN_KEEPALIVE int32_t dtm_session_finish(Session* s) {
-  if (!s->error.empty()) return 2;
-  const dtm::Status status = s->viewer.finish();
-  if (status.ok()) return 0;
-  s->error = status.message();
-  return status.code() == dtm::StatusCode::kTruncated ? 1 : 2;
+  const dtm::Status status = end_status(s);
+  return status.ok() ? 0 : status.code() == dtm::StatusCode::kTruncated ? 1 : 2;
 }
 
-EMSCRIPTEN_KEEPALIVE const char* dtm_session_error(Session* s) { return s->error.c_str(); }
+// Why decoding stopped (after a failed feed), or how the input ended.
+EMSCRIPTEN_KEEPALIVE const char* dtm_session_error(Session* s) { return keep(s, end_status(s).message()); }
 
 // The stream header, once dtm_session_has_header().
 EMSCRIPTEN_KEEPALIVE int32_t dtm_session_has_header(Session* s) {
@@ -182,8 +182,7 @@ EMSCRIPTEN_KEEPALIVE const char* dtm_level_summary(Session* s) {
 
 // How the stream ended, as the native level_summary's last line prints it.
 EMSCRIPTEN_KEEPALIVE const char* dtm_session_end_summary(Session* s) {
-  if (!s->error.empty()) return keep(s, dtm::end_summary_json({dtm::StatusCode::kCorrupt, s->error}));
-  return keep(s, dtm::end_summary_json(s->viewer.finish()));
+  return keep(s, dtm::end_summary_json(end_status(s)));
 }
 
 // For the speed benchmark (bench/viewer.sh): decodes a whole stream to its
