@@ -161,32 +161,45 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   DTM_ASSIGN_OR_RETURN(std::vector<FieldValues> fields,
                        grid_point_fields(input, options, q, report.merged_points_with_other_values));
 
-  std::optional<ReferenceShape> reference;
+  // The input's tetrahedra on the grid: the reference solid.
+  std::vector<std::array<uint32_t, 4>> reference_tets;
   if (!input.tetrahedra.empty()) {
     for (const auto& t : input.tetrahedra)
       for (uint32_t v : t)
         if (v >= input.points.size()) return invalid("a tetrahedron names a point that does not exist");
-    reference.emplace(input.tetrahedra, q);
-    report.reference_tetrahedra = reference->tetrahedra();
-    report.reference_boundary_vertices = reference->boundary_vertices();
+    reference_tets = grid_tetrahedra(input.tetrahedra, q);
+    report.reference_tetrahedra = reference_tets.size();
   }
+  // The paper preset does not carve to the reference: it is only measured.
+  std::optional<ReferenceShape> measured_only;
+  if (!reference_tets.empty() && !options.carve_to_reference) measured_only.emplace(q.points, reference_tets);
   HierarchyOptions hierarchy = hierarchy_options(options, q.grid, plan.dmax);
-  if (reference) hierarchy.reference_cells = reference->tets();
+  hierarchy.reference_cells = reference_tets;
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;
                          r.stats = level.stats;
-                         if (reference) {
-                           const auto d = reference->distance(level.mesh, q.points);
+                         if (measured_only) {
+                           const ShapeMeasurement d = measured_only->distance(level.mesh, q.points);
                            r.reference_error = d.both;
                            r.reference_to_level = d.to_level;
                            r.level_to_reference = d.to_reference;
+                         } else if (!reference_tets.empty() && level.stats.reference_shape) {
+                           // The codec's builder measured it, to check the level.
+                           r.reference_to_level = level.stats.reference_shape->to_level;
+                           r.level_to_reference = level.stats.reference_shape->to_reference;
+                           r.reference_error = level.stats.reference_shape->both;
                          }
                          report.levels.push_back(r);
                          if (on_level) on_level(report.levels.back());
                        }));
 
-  if (reference && !h.levels.empty())
-    report.level0_difference = solid_difference(q.points, h.levels.front().mesh, reference->tets());
+  if (!reference_tets.empty())
+    report.reference_boundary_vertices =
+        measured_only ? measured_only->boundary_vertices() : h.reference_boundary_vertices;
+  if (h.level0_difference)
+    report.level0_difference = h.level0_difference;
+  else if (!reference_tets.empty() && !h.levels.empty())
+    report.level0_difference = solid_difference(q.points, h.levels.front().mesh, reference_tets);
 
   StreamOptions stream_options;
   stream_options.cell_hashes = options.cell_hashes;

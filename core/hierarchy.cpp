@@ -7,10 +7,9 @@
 
 #include "common/parallel_for.h"
 #include "core/boundary_simplification.h"
+#include "core/codec_hierarchy.h"
 #include "core/importance.h"
 #include "core/independent_removal.h"
-#include "core/point_buckets.h"
-#include "core/reference_solid.h"
 #include "core/refill.h"
 #include "core/surface_distance.h"
 #include "mesh/delaunay.h"
@@ -108,75 +107,11 @@ struct Removal {
   uint64_t boundary = 0, interior = 0, rejected_by_quality = 0, rejected_by_shape = 0;
 };
 
-// The guards' rejections, kept from pass to pass by grid point. With a
-// reference solid, a guard's verdict on v depends only on the cells within
-// two edges of v (its star, the cells beyond it, the surface around its
-// neighbours) and on the original points v and its neighbours represent; a
-// pass changes these only within two edges of a vertex it removes. Elsewhere
-// the verdict of the previous pass stands, and the later passes of a level,
-// which remove few vertices, need not refill the whole level again.
-// (Without a solid, alpha carves and changes with every pass: no cache.)
-class RejectionCache {
- public:
-  enum Verdict : uint8_t { kUnknown = 0, kByQuality = 1, kByShape = 2 };
-  explicit RejectionCache(size_t grid_points) : verdict_(grid_points, kUnknown) {}
-  Verdict get(uint32_t grid_id) const { return static_cast<Verdict>(verdict_[grid_id]); }
-  void set(uint32_t grid_id, Verdict v) { verdict_[grid_id] = v; }
-  // Forgets the verdicts within two edges of a vertex `removed` flags in L.
-  void forget_near(const LevelGeometry& L, std::span<const uint32_t> vertices,
-                   std::span<const uint8_t> removed) {
-    for (uint32_t v = 0; v < L.size(); ++v) {
-      if (!removed[v]) continue;
-      verdict_[vertices[v]] = kUnknown;
-      for (uint32_t u : L.neighbors.row(v)) {
-        verdict_[vertices[u]] = kUnknown;
-        for (uint32_t w : L.neighbors.row(u)) verdict_[vertices[w]] = kUnknown;
-      }
-    }
-  }
-
- private:
-  std::vector<uint8_t> verdict_;
-};
-
-// The original boundary points removing boundary vertex v may leave farther
-// than D_max from the surface: those v and its neighbours represent, and
-// every other one within D_max of a triangle the removal takes away or
-// re-decides (any other keeps the triangle it is near; the representation
-// alone misses points whose representative has drifted away).
-std::vector<GridPoint> originals_at_risk(const LevelGeometry& L, const LevelSurface& surface, uint32_t v,
-                                         const Refill& fill, const Csr& represented,
-                                         const Representation& rep, const PointBuckets& index, double dmax) {
-  std::vector<uint32_t> ids;
-  for (uint32_t k : represented.row(v)) ids.push_back(k);
-  for (uint32_t u : L.neighbors.row(v))
-    for (uint32_t k : represented.row(u)) ids.push_back(k);
-  for (const auto& t : triangles_at_stake(surface, L, v, fill)) {
-    const Vec3 a = to_vec(L.points[t[0]]), b = to_vec(L.points[t[1]]), c = to_vec(L.points[t[2]]);
-    const std::array<double, 3> lo = {std::min({a.x, b.x, c.x}) - dmax, std::min({a.y, b.y, c.y}) - dmax,
-                                      std::min({a.z, b.z, c.z}) - dmax};
-    const std::array<double, 3> hi = {std::max({a.x, b.x, c.x}) + dmax, std::max({a.y, b.y, c.y}) + dmax,
-                                      std::max({a.z, b.z, c.z}) + dmax};
-    index.for_each_in_box(lo, hi, [&](uint32_t k) {
-      if (point_triangle_distance(to_vec(rep.originals[k]), a, b, c) <= dmax) ids.push_back(k);
-    });
-  }
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  std::vector<GridPoint> out;
-  out.reserve(ids.size());
-  for (uint32_t k : ids) out.push_back(rep.originals[k]);
-  return out;
-}
-
-// Greedy independent set: boundary candidates by ascending error, then
-// interior vertices by ascending importance; a removed vertex locks its
-// Delaunay neighbours. `cache` (with a solid only) holds the rejections
-// still valid from earlier passes; `vertices` maps L's vertices to grid ids.
+// Greedy independent set (the paper preset, alpha carving): boundary
+// candidates by ascending error, then interior vertices by ascending
+// importance; a removed vertex locks its Delaunay neighbours.
 Removal select_removal(const LevelGeometry& L, const Csr& represented, const Representation& rep,
-                       const HierarchyOptions& opt, const ReferenceSolid* solid,
-                       const FixedSurface* reference_surface, const PointBuckets* originals_index,
-                       std::span<const uint32_t> vertices, RejectionCache* cache, double quality_floor) {
+                       const HierarchyOptions& opt, double quality_floor) {
   Removal r;
   // With a quality floor: the level's surplus (see surplus_of_star) and the
   // removals that would spend some of it, which wait for the end of the pass.
@@ -188,70 +123,34 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
   std::vector<std::pair<double, uint32_t>> waiting;  // (change of the surplus, vertex)
   r.removed.assign(L.size(), 0);
   std::vector<uint8_t> locked(L.size(), 0);
-  const LevelSurface surface = level_surface(L);  // for the candidates and the shape guard
-  // With the shape guard, two boundary removals of one pass must not share a
-  // neighbour: each is judged with the surface around its neighbours as it
-  // was, which the other would change. The later one waits for the next pass.
-  std::vector<uint8_t> surface_touched(solid ? L.size() : 0, 0);
+  const LevelSurface surface = level_surface(L);  // for the boundary candidates
   auto accept = [&](uint32_t v) {
     r.removed[v] = 1;
     locked[v] = 1;
     for (uint32_t u : L.neighbors.row(v)) locked[u] = 1;
-    if (solid && L.boundary[v])
-      for (uint32_t u : L.neighbors.row(v)) surface_touched[u] = 1;
   };
-  auto free_to_take = [&](uint32_t v) {
-    if (locked[v]) return false;
-    if (solid && L.boundary[v])
-      for (uint32_t u : L.neighbors.row(v))
-        if (surface_touched[u]) return false;
-    return true;
-  };
-  // A candidate's verdict depends on the level as the pass found it (see
-  // surface_touched and RejectionCache), not on what the pass takes before
-  // it: only whether it is still free does. So candidates are judged a chunk
-  // at a time on every core, and the verdicts applied in order.
+  auto free_to_take = [&](uint32_t v) { return !locked[v]; };
+  // A candidate's verdict depends on the level as the pass found it, not on
+  // what the pass takes before it: only whether it is still free does. So
+  // candidates are judged a chunk at a time on every core, and the verdicts
+  // applied in order.
   struct Verdict {
-    enum Kind : uint8_t { kKnownQuality, kKnownShape, kQuality, kShape, kWait, kTake } kind = kTake;
+    enum Kind : uint8_t { kQuality, kWait, kTake } kind = kTake;
     double change = 0;  // of the surplus, with a quality floor
   };
   const bool quality_guarded = opt.quality_guard > 0 || opt.quality_ratio > 0 || hold_average;
   auto judge = [&](uint32_t v) -> Verdict {
-    if (cache) {
-      const RejectionCache::Verdict known = cache->get(vertices[v]);
-      if (known == RejectionCache::kByQuality) return {Verdict::kKnownQuality};
-      if (known == RejectionCache::kByShape) return {Verdict::kKnownShape};
-    }
-    if (!quality_guarded && !solid) return {Verdict::kTake};
-    const Refill fill = refill_of(L, v, solid);
-    if (quality_guarded && !quality_allows(L, v, fill, opt)) return {Verdict::kQuality};
-    if (solid) {
-      const std::vector<GridPoint> originals =
-          L.boundary[v] ? originals_at_risk(L, surface, v, fill, represented, rep, *originals_index, opt.dmax)
-                        : std::vector<GridPoint>{};
-      if (!shape_allows(L, surface, v, fill, originals, *reference_surface, opt.dmax))
-        return {Verdict::kShape};
-    }
+    if (!quality_guarded) return {Verdict::kTake};
+    const Refill fill = refill_of(L, v, nullptr);
+    if (!quality_allows(L, v, fill, opt)) return {Verdict::kQuality};
     if (!hold_average) return {Verdict::kTake};
-    // Depends on the whole level: never cached.
     const double change = surplus_of_fill(L, fill, quality_floor) - surplus_of_star(L, v, quality_floor);
     return {change < 0 ? Verdict::kWait : Verdict::kTake, change};
   };
   auto apply = [&](uint32_t v, const Verdict& d) {
     switch (d.kind) {
-      case Verdict::kKnownQuality:
-        ++r.rejected_by_quality;
-        return false;
-      case Verdict::kKnownShape:
-        ++r.rejected_by_shape;
-        return false;
       case Verdict::kQuality:
         ++r.rejected_by_quality;
-        if (cache) cache->set(vertices[v], RejectionCache::kByQuality);
-        return false;
-      case Verdict::kShape:
-        ++r.rejected_by_shape;
-        if (cache) cache->set(vertices[v], RejectionCache::kByShape);
         return false;
       case Verdict::kWait:
         waiting.emplace_back(d.change, v);
@@ -337,17 +236,6 @@ void hand_over(Representation& rep, const LevelGeometry& L, std::span<const uint
   }
 }
 
-// The verdicts of the cells of L that no removal touches, in their order:
-// remove_independent_vertices lists these cells first, as they were.
-std::vector<uint8_t> surviving_verdicts(const LevelGeometry& L, std::span<const uint8_t> removed) {
-  std::vector<uint8_t> out;
-  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
-    const auto& k = L.dt.cells[c];
-    if (!removed[k[0]] && !removed[k[1]] && !removed[k[2]] && !removed[k[3]]) out.push_back(L.in_mesh[c]);
-  }
-  return out;
-}
-
 std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
                                                   std::span<const uint32_t> vertices) {
   std::vector<std::array<uint32_t, 4>> out;
@@ -364,43 +252,13 @@ std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
 
 StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& opt,
                                     const LevelCallback& on_level) {
+  if (opt.carve_to_reference) return build_codec_hierarchy(points, opt, on_level);
+  // The paper preset: alpha carves, independent sets are removed by refill.
   Hierarchy h;
   std::vector<uint32_t> vertices(points.size());
   for (uint32_t i = 0; i < vertices.size(); ++i) vertices[i] = i;
-  std::optional<ReferenceSolid> solid;
-  if (opt.carve_to_reference && !opt.reference_cells.empty()) solid.emplace(points, opt.reference_cells);
-  // The level's geometry, carved to the solid when there is one.
-  auto analyze = [&](std::vector<GridPoint> level_points, TetMesh dt) {
-    const std::vector<uint8_t> verdicts = solid ? solid->verdicts(dt, level_points) : std::vector<uint8_t>{};
-    return analyze_level(std::move(level_points), std::move(dt), opt.alpha, verdicts);
-  };
-  // The same after a pass: the cells that survive it keep their verdict (the
-  // rule looks at a cell's corners only), so only the refills are tested.
-  auto analyze_after = [&](const LevelGeometry& finer, std::span<const uint8_t> removed,
-                           std::vector<GridPoint> level_points, TetMesh dt) {
-    if (!solid) return analyze_level(std::move(level_points), std::move(dt), opt.alpha);
-    std::vector<uint8_t> verdicts = surviving_verdicts(finer, removed);
-    verdicts.reserve(dt.cells.size());
-    for (size_t c = verdicts.size(); c < dt.cells.size(); ++c) {
-      const auto& k = dt.cells[c];
-      verdicts.push_back(solid->contains_centroid(level_points[k[0]], level_points[k[1]], level_points[k[2]],
-                                                  level_points[k[3]]));
-    }
-    return analyze_level(std::move(level_points), std::move(dt), opt.alpha, verdicts);
-  };
   DTM_ASSIGN_OR_RETURN(TetMesh dt0, delaunay_tetrahedralize(points));
-  DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze(gather(points, vertices), std::move(dt0)));
-  // Without a reference of its own, the solid is level 0 as alpha carves it.
-  std::vector<std::array<uint32_t, 4>> level0_cells;
-  if (opt.carve_to_reference && !solid) {
-    level0_cells = carved_cells(L, vertices);
-    solid.emplace(points, level0_cells);
-  }
-  // The solid's boundary surface, which the shape guard keeps every level near.
-  std::optional<FixedSurface> reference_surface;
-  if (solid)
-    reference_surface.emplace(points,
-                              boundary_triangles(level0_cells.empty() ? opt.reference_cells : level0_cells));
+  DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze_level(gather(points, vertices), std::move(dt0), opt.alpha));
 
   Representation rep;
   for (uint32_t v = 0; v < L.size(); ++v)
@@ -412,12 +270,6 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
   std::optional<SurfaceDistanceTracker> error;
   if (opt.measure_boundary_error) error.emplace(rep.originals);
 
-  // The original boundary points by place, for the shape guard.
-  std::optional<PointBuckets> originals_index;
-  if (solid) originals_index.emplace(rep.originals);
-  std::optional<RejectionCache> rejections;
-  if (solid) rejections.emplace(points.size());
-
   Removal made;  // what the passes that produced the current level removed
   int passes = 0;
   for (int level = 0;; ++level) {
@@ -425,12 +277,6 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
     out.vertices = vertices;
     out.alpha = L.alpha;
     out.mesh = carved_cells(L, vertices);
-    if (opt.carve_to_reference) {
-      out.delaunay = L.dt;
-      for (auto& c : out.delaunay.cells)
-        for (uint32_t& v : c) v = vertices[v];
-      out.kept = L.in_mesh;
-    }
     out.stats = measure(L, vertices, error ? &*error : nullptr);
     out.stats.level = level;
     out.stats.removed_boundary = made.boundary;
@@ -459,10 +305,7 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
     if (opt.removal_share > 0) before = Saved{L, vertices, rep};
     do {
       const Csr represented = rep.rows_for(vertices, points.size());
-      Removal next = select_removal(L, represented, rep, opt, solid ? &*solid : nullptr,
-                                    reference_surface ? &*reference_surface : nullptr,
-                                    originals_index ? &*originals_index : nullptr, vertices,
-                                    rejections ? &*rejections : nullptr,
+      Removal next = select_removal(L, represented, rep, opt,
                                     opt.average_quality_floor * h.levels.front().stats.avg_min_solid_angle);
       const uint64_t removed = next.boundary + next.interior;
       if (removed == 0 || vertices.size() - removed < opt.min_base_vertices) break;
@@ -471,13 +314,13 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
       kept.reserve(vertices.size() - removed);
       for (uint32_t v = 0; v < L.size(); ++v)
         if (!next.removed[v]) kept.push_back(vertices[v]);
-      StatusOr<LevelGeometry> coarser = analyze_after(
-          L, next.removed, gather(points, kept),
-          remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points, next.removed));
+      StatusOr<LevelGeometry> coarser = analyze_level(
+          gather(points, kept),
+          remove_independent_vertices(L.dt, L.cells_of_vertex, L.neighbors, L.points, next.removed),
+          opt.alpha);
       // The coarser set would be flat: the current one is the coarsest.
       if (coarser.status().code() == StatusCode::kInvalidInput) break;
       if (!coarser.ok()) return coarser.status();
-      if (rejections) rejections->forget_near(L, vertices, next.removed);
       hand_over(rep, L, vertices, next, represented);
       vertices = std::move(kept);
       L = std::move(coarser).value();

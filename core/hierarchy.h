@@ -10,12 +10,15 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "common/grid.h"
 #include "common/status.h"
 #include "core/level.h"
+#include "core/solid_difference.h"
+#include "core/surface_distance.h"
 
 namespace dtm {
 
@@ -62,6 +65,14 @@ struct HierarchyOptions {
   bool measure_boundary_error = true;
 };
 
+// The distance between a reference's boundary and a level's, each way: from
+// the reference's boundary vertices to the level's surface, from the level's
+// surface (its vertices and triangle centroids) to the reference's, and both
+// together (the larger max, the mean over every point measured).
+struct ShapeFigures {
+  DistanceSummary to_level, to_reference, both;
+};
+
 struct LevelStats {
   int level = 0;
   uint64_t vertices = 0;
@@ -69,11 +80,19 @@ struct LevelStats {
   uint64_t removed_interior = 0;  // removed from the finer level to make this one
   uint64_t removed_boundary = 0;
   uint64_t rejected_by_quality = 0;  // candidates the quality guard kept
-  uint64_t rejected_by_shape = 0;    // candidates the shape guard kept (carve_to_reference)
-  int passes = 0;                    // independent sets removed to make this level
-  double alpha = 0;                  // grid units
-  uint64_t tetrahedra = 0;           // cells of M_l
-  double avg_min_solid_angle = 0;    // over M_l cells, steradians
+  uint64_t rejected_by_shape = 0;    // (paper preset with a shape guard: none today)
+  int passes = 0;                    // independent sets removed to make this level (paper preset)
+  // The codec preset (spec/HIERARCHY.md §6.1-6.2): vertices the whole-level
+  // choice kept, those the repair put back, and its rounds.
+  uint64_t chosen = 0;
+  uint64_t put_back = 0;
+  int repair_rounds = 0;
+  // With a reference solid (the codec preset): the distance between its
+  // boundary and this level's (grid units), as the builder checked it.
+  std::optional<ShapeFigures> reference_shape;
+  double alpha = 0;                // grid units
+  uint64_t tetrahedra = 0;         // cells of M_l
+  double avg_min_solid_angle = 0;  // over M_l cells, steradians
   double min_solid_angle = 0;
   double max_boundary_error = 0;  // grid units: level-0 boundary vertices to this boundary
   double mean_boundary_error = 0;
@@ -93,6 +112,10 @@ struct Level {
 
 struct Hierarchy {
   std::vector<Level> levels;  // levels[0] is the finest
+  // With a reference solid (the codec preset): how many vertices its
+  // boundary has, and level 0's solid against it (core/solid_difference.h).
+  uint64_t reference_boundary_vertices = 0;
+  std::optional<SolidDifference> level0_difference;
 };
 
 // Called once per level as soon as it is complete.

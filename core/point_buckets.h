@@ -15,7 +15,22 @@ namespace dtm {
 
 class PointBuckets {
  public:
-  explicit PointBuckets(std::span<const GridPoint> points);
+  // How the points spread: over a few sheets (a surface's points: about one
+  // point per bucket along a sheet) or through a volume (about one per bucket).
+  enum class Spread { kSurface, kVolume };
+  explicit PointBuckets(std::span<const GridPoint> points, Spread spread = Spread::kSurface);
+
+  // Calls f(i) for every point i within `radius` of `center` (grid units).
+  template <class F>
+  void for_each_in_ball(const std::array<double, 3>& center, double radius, F&& f) const {
+    const double r2 = radius * radius;
+    for_each_in_box({center[0] - radius, center[1] - radius, center[2] - radius},
+                    {center[0] + radius, center[1] + radius, center[2] + radius}, [&](uint32_t i) {
+                      const GridPoint& p = points_[i];
+                      const double dx = p.x - center[0], dy = p.y - center[1], dz = p.z - center[2];
+                      if (dx * dx + dy * dy + dz * dz < r2) f(i);
+                    });
+  }
 
   // Calls f(i) for every point i inside the box [lo, hi] (grid units,
   // inclusive), each once.

@@ -17,10 +17,12 @@ std::vector<uint32_t> vertex_ids_of(std::span<const std::array<uint32_t, 3>> tri
   return ids;
 }
 
-// The input's tetrahedra on the grid, without those quantization collapsed.
-std::vector<std::array<uint32_t, 4>> collapsed_dropped(std::span<const std::array<uint32_t, 4>> tets,
-                                                       const QuantizedPoints& q) {
+}  // namespace
+
+std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<uint32_t, 4>> tets,
+                                                     const QuantizedPoints& q) {
   std::vector<std::array<uint32_t, 4>> out;
+  out.reserve(tets.size());
   for (const auto& t : tets) {
     std::array<uint32_t, 4> g{q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
                               q.input_to_point[t[3]]};
@@ -31,51 +33,58 @@ std::vector<std::array<uint32_t, 4>> collapsed_dropped(std::span<const std::arra
   return out;
 }
 
-}  // namespace
-
 // Orientation does not matter for distances: no need to fix the input's.
-ReferenceShape::ReferenceShape(std::span<const std::array<uint32_t, 4>> tets, const QuantizedPoints& q)
-    : tets_(collapsed_dropped(tets, q)),
-      boundary_(boundary_triangles(tets_)),
-      boundary_vertices_(gather(q.points, vertex_ids_of(boundary_))),
-      reference_surface_(q.points, boundary_),
-      to_level_(boundary_vertices_),
-      to_reference_(q.points.size(), std::numeric_limits<double>::quiet_NaN()) {}
+ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
+                               std::span<const std::array<uint32_t, 4>> tets)
+    : boundary_(dtm::boundary_triangles(tets)),
+      boundary_points_(gather(points, vertex_ids_of(boundary_))),
+      reference_surface_(points, boundary_),
+      to_level_(boundary_points_) {}
 
-ReferenceShape::TwoWay ReferenceShape::distance(std::span<const std::array<uint32_t, 4>> cells,
-                                                std::span<const GridPoint> points) {
-  const auto level_boundary = boundary_triangles(cells);
-  const DistanceSummary to_level =
-      boundary_vertices_.empty() ? DistanceSummary{} : to_level_.measure(points, {}, level_boundary);
-  const std::vector<uint32_t> level_ids = vertex_ids_of(level_boundary);
+ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std::span<const uint32_t> ids,
+                                         std::span<const std::array<uint32_t, 3>> triangles) {
+  ShapeMeasurement m;
+  m.to_level = boundary_points_.empty() ? DistanceSummary{} : to_level_.measure(points, ids, triangles);
+  m.reference_squared = to_level_.squared();
+  m.reference_nearest = to_level_.nearest_triangles();
+  m.surface_vertices = vertex_ids_of(triangles);
+  // Grid points not measured before, on every core.
   std::vector<uint32_t> unmeasured;
-  for (uint32_t v : level_ids)
-    if (std::isnan(to_reference_[v])) unmeasured.push_back(v);
+  for (uint32_t v : m.surface_vertices) {
+    const uint32_t id = ids.empty() ? v : ids[v];
+    if (id >= to_reference_.size()) to_reference_.resize(id + 1, std::numeric_limits<double>::quiet_NaN());
+    if (std::isnan(to_reference_[id])) unmeasured.push_back(v);
+  }
   const std::vector<double> fresh = reference_surface_.squared_distances(gather(points, unmeasured));
-  for (size_t i = 0; i < unmeasured.size(); ++i) to_reference_[unmeasured[i]] = fresh[i];
-  std::vector<double> squared;
-  squared.reserve(level_ids.size() + level_boundary.size());
-  for (uint32_t v : level_ids) squared.push_back(to_reference_[v]);
+  for (size_t i = 0; i < unmeasured.size(); ++i)
+    to_reference_[ids.empty() ? unmeasured[i] : ids[unmeasured[i]]] = fresh[i];
+  m.vertex_squared.reserve(m.surface_vertices.size());
+  for (uint32_t v : m.surface_vertices) m.vertex_squared.push_back(to_reference_[ids.empty() ? v : ids[v]]);
   // A point inside each triangle too: a flat triangle between two surface
   // vertices can cut across a concavity its corners do not see.
   std::vector<std::array<double, 3>> centroids;
-  centroids.reserve(level_boundary.size());
-  for (const auto& t : level_boundary) {
+  centroids.reserve(triangles.size());
+  for (const auto& t : triangles) {
     const GridPoint &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
     centroids.push_back({(double{1} * a.x + b.x + c.x) / 3, (double{1} * a.y + b.y + c.y) / 3,
                          (double{1} * a.z + b.z + c.z) / 3});
   }
-  const std::vector<double> centroid_squared = reference_surface_.squared_distances(centroids);
-  squared.insert(squared.end(), centroid_squared.begin(), centroid_squared.end());
-  const DistanceSummary to_reference = summarize_squared(squared);
+  m.centroid_squared = reference_surface_.squared_distances(centroids);
+  std::vector<double> squared = m.vertex_squared;
+  squared.insert(squared.end(), m.centroid_squared.begin(), m.centroid_squared.end());
+  m.to_reference = summarize_squared(squared);
   const double n_level = static_cast<double>(squared.size());
-  const double n = static_cast<double>(boundary_vertices_.size()) + n_level;
-  TwoWay out;
-  out.to_level = to_level;
-  out.to_reference = to_reference;
-  out.both.max = std::max(to_level.max, to_reference.max);
-  out.both.mean = n > 0 ? (to_level.mean * boundary_vertices_.size() + to_reference.mean * n_level) / n : 0;
-  return out;
+  const double n_reference = static_cast<double>(boundary_points_.size());
+  m.both.max = std::max(m.to_level.max, m.to_reference.max);
+  m.both.mean = n_level + n_reference > 0 ? (m.to_level.mean * n_reference + m.to_reference.mean * n_level) /
+                                                (n_level + n_reference)
+                                          : 0;
+  return m;
+}
+
+ShapeMeasurement ReferenceShape::distance(std::span<const std::array<uint32_t, 4>> cells,
+                                          std::span<const GridPoint> points) {
+  return measure(points, {}, dtm::boundary_triangles(cells));
 }
 
 }  // namespace dtm

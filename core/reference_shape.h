@@ -1,7 +1,11 @@
-// The input's own tetrahedra (TetGen .ele, Medit, VTK, gmsh) as the reference
-// shape of every level: how far a level's boundary surface strays from the
-// boundary of the mesh the user gave us, both ways. A measurement for the
-// report; the hierarchy does not use it.
+// The reference shape every codec level is held to (spec/HIERARCHY.md §6):
+// the boundary of the reference solid (the input's tetrahedra, or level 0's
+// alpha carving). A level's boundary surface is measured against it both
+// ways: from the reference's boundary vertices to the level's surface, and
+// from the level's surface (its vertices and its triangles' centroids) to the
+// reference's. The hierarchy builder checks every level with this one
+// measurement and repairs where it exceeds D_max; the report shows its
+// figures. Distances are inexact (CGAL's AABB tree, doubles): a measurement.
 #pragma once
 
 #include <array>
@@ -15,38 +19,58 @@
 
 namespace dtm {
 
+// The input's tetrahedra on the grid (indices of q.points), without those
+// quantization collapsed (two corners on one grid point).
+std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<uint32_t, 4>> tets,
+                                                     const QuantizedPoints& q);
+
+// One level's surface measured against the reference. The per-point
+// figures are squared distances in grid units.
+struct ShapeMeasurement {
+  DistanceSummary to_level;      // the reference's boundary vertices to the level's surface
+  DistanceSummary to_reference;  // the level's surface to the reference's
+  DistanceSummary both;          // the larger max; the mean over every point measured
+  // Per reference boundary vertex (ReferenceShape::boundary_points()): its
+  // squared distance to the level's surface and the triangle nearest it
+  // (its ids, sorted).
+  std::vector<double> reference_squared;
+  std::vector<std::array<uint32_t, 3>> reference_nearest;
+  // The level's surface vertices (indices into the measured points) and
+  // each one's squared distance; each triangle's centroid's.
+  std::vector<uint32_t> surface_vertices;
+  std::vector<double> vertex_squared;
+  std::vector<double> centroid_squared;
+};
+
 class ReferenceShape {
  public:
-  // `tets` index the input points; `q` maps them onto the grid. Tetrahedra
-  // that quantization collapsed are dropped.
-  ReferenceShape(std::span<const std::array<uint32_t, 4>> tets, const QuantizedPoints& q);
+  // `tets` index `points` (the grid points); their orientation does not matter.
+  ReferenceShape(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets);
 
-  size_t tetrahedra() const { return tets_.size(); }
-  // The input's tetrahedra on the grid (grid-point indices).
-  std::span<const std::array<uint32_t, 4>> tets() const { return tets_; }
-  size_t boundary_vertices() const { return boundary_vertices_.size(); }
+  size_t boundary_vertices() const { return boundary_points_.size(); }
+  std::span<const GridPoint> boundary_points() const { return boundary_points_; }
+  std::span<const std::array<uint32_t, 3>> boundary_triangles() const { return boundary_; }
 
-  // The distance, grid units, between the boundary surface of `cells`
-  // (indices into `points`, the grid points `q` held) and the reference's,
-  // both ways: from the reference's boundary vertices to the level's
-  // surface, and from the level's surface (its vertices and its triangles'
-  // centroids, rounded to the grid) to the reference's; and both together
-  // (the larger max, the mean over all the points measured). Meant to be
-  // called level after level of one hierarchy: what a level shares with the
-  // one measured before it is not measured again.
-  struct TwoWay {
-    DistanceSummary to_level, to_reference, both;
-  };
-  TwoWay distance(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> points);
+  // Measures the surface `triangles` (indices into `points`), whose points
+  // are named across calls by `ids` (grid-point indices): meant to be
+  // called level after level, and repair after repair, of one hierarchy,
+  // what a surface shares with the one measured before it is not measured
+  // again. No triangle: every distance to the level is +infinity.
+  ShapeMeasurement measure(std::span<const GridPoint> points, std::span<const uint32_t> ids,
+                           std::span<const std::array<uint32_t, 3>> triangles);
+
+  // The same for a level given by its carved cells (indices into the grid
+  // points the reference was made with), figures only.
+  ShapeMeasurement distance(std::span<const std::array<uint32_t, 4>> cells,
+                            std::span<const GridPoint> points);
 
  private:
-  std::vector<std::array<uint32_t, 4>> tets_;
   std::vector<std::array<uint32_t, 3>> boundary_;
-  std::vector<GridPoint> boundary_vertices_;
+  std::vector<GridPoint> boundary_points_;
   FixedSurface reference_surface_;
-  SurfaceDistanceTracker to_level_;  // from boundary_vertices_
-  // Squared distance of each grid point to the reference surface, once
-  // measured (NaN before): a level's boundary vertices are mostly the
+  SurfaceDistanceTracker to_level_;  // from boundary_points_
+  // Squared distance of a grid point to the reference surface, once
+  // measured (NaN before): a level's surface vertices are mostly the
   // previous level's.
   std::vector<double> to_reference_;
 };

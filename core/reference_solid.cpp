@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/csr.h"
+#include "common/parallel_for.h"
 #include "mesh/geometry.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 namespace {
@@ -23,136 +24,222 @@ int orientation_in(const P4& a, const P4& b, const P4& c, const P4& d) {
   const Int det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
   return det > 0 ? 1 : det < 0 ? -1 : 0;
 }
-constexpr auto orientation64 = orientation_in<int64_t>;
-constexpr auto orientation = orientation_in<Int128>;
 
 P4 times4(const GridPoint& p) { return {4 * int64_t{p.x}, 4 * int64_t{p.y}, 4 * int64_t{p.z}}; }
+
+// Groups larger than this many are given tetrahedron lists instead of one
+// exact test each (a test scans every tetrahedron).
+constexpr size_t kMostGroupTests = 64;
 
 }  // namespace
 
 ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
-                               std::span<const std::array<uint32_t, 4>> cells) {
-  tets_.reserve(cells.size());
-  for (const auto& c : cells) {
-    std::array<P4, 4> t = {times4(points[c[0]]), times4(points[c[1]]), times4(points[c[2]]),
-                           times4(points[c[3]])};
-    const int o = orientation(t[0], t[1], t[2], t[3]);
-    if (o == 0) continue;
-    if (o < 0) std::swap(t[2], t[3]);
-    tets_.push_back(t);
-  }
-  if (tets_.empty()) return;
-  lo_ = hi_ = tets_[0][0];
-  boxes_.reserve(tets_.size());
-  for (const auto& t : tets_) {
-    P4 tlo = t[0], thi = t[0];
-    for (const P4& p : t)
+                               std::span<const std::array<uint32_t, 4>> cells,
+                               std::span<const std::array<uint32_t, 3>> boundary)
+    : points_(points), cells_(cells) {
+  build(boundary);
+}
+
+ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
+                               std::span<const std::array<uint32_t, 4>> cells)
+    : points_(points), cells_(cells) {
+  build(boundary_triangles(cells));
+}
+
+void ReferenceSolid::build(std::span<const std::array<uint32_t, 3>> boundary) {
+  const size_t n = cells_.size();
+  orientation_.resize(n);
+  bool any = false;
+  for (size_t k = 0; k < n; ++k) {
+    const auto& t = cells_[k];
+    for (uint32_t v : t) {
+      const P4 p = times4(points_[v]);
       for (int a = 0; a < 3; ++a) {
-        tlo[a] = std::min(tlo[a], p[a]), thi[a] = std::max(thi[a], p[a]);
-        lo_[a] = std::min(lo_[a], p[a]), hi_[a] = std::max(hi_[a], p[a]);
+        lo_[a] = any ? std::min(lo_[a], p[a]) : p[a];
+        hi_[a] = any ? std::max(hi_[a], p[a]) : p[a];
       }
-    boxes_.push_back({tlo, thi});
+      any = true;
+    }
   }
-  const int64_t largest = std::max({hi_[0] - lo_[0], hi_[1] - lo_[1], hi_[2] - lo_[2]}) + 1;
-  const double cube_root = std::cbrt(static_cast<double>(tets_.size()));
   small_ = std::max({std::abs(lo_[0]), std::abs(lo_[1]), std::abs(lo_[2]), std::abs(hi_[0]), std::abs(hi_[1]),
                      std::abs(hi_[2])}) < (int64_t{1} << 18);
-  // A graded mesh's cells range from tiny (at the surface) to large (inside):
-  // buckets of half the spacing N tetrahedra would have spread evenly over
-  // the box (about 8 N buckets), so that the small cells, where most queries
-  // fall, share few buckets; a large cell is listed in many.
-  bucket_size_ = std::max<int64_t>(1, static_cast<int64_t>(static_cast<double>(largest) / (2 * cube_root)));
-  for (int a = 0; a < 3; ++a) dims_[a] = (hi_[a] - lo_[a]) / bucket_size_ + 1;
-  sort_along_morton_curve();
-  const size_t buckets = static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
-  auto for_each_bucket = [&](const std::array<P4, 2>& box, auto&& f) {
-    const P4 &tlo = box[0], &thi = box[1];
-    std::array<int64_t, 3> b0, b1;
-    for (int a = 0; a < 3; ++a)
-      b0[a] = (tlo[a] - lo_[a]) / bucket_size_, b1[a] = (thi[a] - lo_[a]) / bucket_size_;
-    for (int64_t z = b0[2]; z <= b1[2]; ++z)
-      for (int64_t y = b0[1]; y <= b1[1]; ++y)
-        for (int64_t x = b0[0]; x <= b1[0]; ++x) f(static_cast<uint32_t>((z * dims_[1] + y) * dims_[0] + x));
+  parallel_for(
+      n,
+      [&](size_t k) {
+        const auto& t = cells_[k];
+        const P4 a = times4(points_[t[0]]), b = times4(points_[t[1]]), c = times4(points_[t[2]]),
+                 d = times4(points_[t[3]]);
+        const int o = small_ ? orientation_in<int64_t>(a, b, c, d) : orientation_in<Int128>(a, b, c, d);
+        orientation_[k] = o > 0 ? 1 : o < 0 ? 2 : 0;
+      },
+      4096);
+  if (!any) {
+    state_.assign(1, kOutside);
+    return;
+  }
+  // About two grid cells per tetrahedron, at most 2^26 (256 MiB of states).
+  const double volume = static_cast<double>(hi_[0] - lo_[0] + 1) * static_cast<double>(hi_[1] - lo_[1] + 1) *
+                        static_cast<double>(hi_[2] - lo_[2] + 1);
+  const double target = std::clamp(2.0 * static_cast<double>(n), 4096.0, 67108864.0);
+  step_ = std::max<int64_t>(2, static_cast<int64_t>(std::ceil(std::cbrt(volume / target))));
+  step_ += step_ & 1;
+  for (int a = 0; a < 3; ++a) dims_[a] = (hi_[a] - lo_[a]) / step_ + 1;
+  const size_t total = static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
+  const uint32_t kUnknown = UINT32_MAX, kMixed = UINT32_MAX - 1;
+  state_.assign(total, kUnknown);
+
+  // The grid cells a closed box [bl, bh] meets: those whose closed extent
+  // overlaps it (a box on a cell's face meets both cells).
+  auto range = [&](const P4& bl, const P4& bh, std::array<int64_t, 3>& c0, std::array<int64_t, 3>& c1) {
+    for (int a = 0; a < 3; ++a) {
+      const int64_t l = bl[a] - lo_[a], h = bh[a] - lo_[a];
+      c0[a] = std::max<int64_t>(0, l % step_ == 0 ? l / step_ - 1 : l / step_);
+      c1[a] = std::min(dims_[a] - 1, h / step_);
+    }
   };
-  buckets_ = build_csr(buckets, [&](auto&& emit) {
-    for (uint32_t k = 0; k < tets_.size(); ++k) for_each_bucket(boxes_[k], [&](uint32_t b) { emit(b, k); });
+  auto box_of = [&](std::span<const uint32_t> corners, P4& bl, P4& bh) {
+    bl = bh = times4(points_[corners[0]]);
+    for (uint32_t v : corners.subspan(1)) {
+      const P4 p = times4(points_[v]);
+      for (int a = 0; a < 3; ++a) bl[a] = std::min(bl[a], p[a]), bh[a] = std::max(bh[a], p[a]);
+    }
+  };
+  auto for_each_cell = [&](const std::array<int64_t, 3>& c0, const std::array<int64_t, 3>& c1, auto&& f) {
+    for (int64_t z = c0[2]; z <= c1[2]; ++z)
+      for (int64_t y = c0[1]; y <= c1[1]; ++y)
+        for (int64_t x = c0[0]; x <= c1[0]; ++x) f(static_cast<size_t>((z * dims_[1] + y) * dims_[0] + x));
+  };
+  for (const auto& t : boundary) {
+    P4 bl, bh;
+    box_of(t, bl, bh);
+    std::array<int64_t, 3> c0, c1;
+    range(bl, bh, c0, c1);
+    for_each_cell(c0, c1, [&](size_t cell) { state_[cell] = kMixed; });
+  }
+
+  // The groups of untouched cells, by flood fill through faces; a group
+  // touching the grid's border lies outside (the solid is inside its box:
+  // a border cell meets no tetrahedron's interior unless the boundary
+  // touches it). Each other group is classified by one exact test of its
+  // first cell's centre, while those tests stay few; beyond, the group's
+  // cells become mixed.
+  std::vector<uint32_t> queue;
+  std::vector<std::pair<uint32_t, size_t>> groups;  // (label, first cell)
+  uint32_t next_label = 0;
+  std::vector<uint32_t> label(total, UINT32_MAX);
+  for (size_t start = 0; start < total; ++start) {
+    if (state_[start] != kUnknown || label[start] != UINT32_MAX) continue;
+    const uint32_t g = next_label++;
+    bool border = false;
+    label[start] = g;
+    queue.assign(1, static_cast<uint32_t>(start));
+    while (!queue.empty()) {
+      const size_t cell = queue.back();
+      queue.pop_back();
+      const int64_t x = static_cast<int64_t>(cell) % dims_[0],
+                    y = static_cast<int64_t>(cell) / dims_[0] % dims_[1],
+                    z = static_cast<int64_t>(cell) / (dims_[0] * dims_[1]);
+      border =
+          border || x == 0 || y == 0 || z == 0 || x == dims_[0] - 1 || y == dims_[1] - 1 || z == dims_[2] - 1;
+      const int64_t steps[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+      for (const auto& s : steps) {
+        const int64_t nx = x + s[0], ny = y + s[1], nz = z + s[2];
+        if (nx < 0 || ny < 0 || nz < 0 || nx >= dims_[0] || ny >= dims_[1] || nz >= dims_[2]) continue;
+        const size_t nb = static_cast<size_t>((nz * dims_[1] + ny) * dims_[0] + nx);
+        if (state_[nb] == kUnknown && label[nb] == UINT32_MAX) {
+          label[nb] = g;
+          queue.push_back(static_cast<uint32_t>(nb));
+        }
+      }
+    }
+    groups.emplace_back(border ? 1u : 0u, start);
+  }
+  std::vector<uint32_t> group_state(groups.size(), kOutside);
+  size_t tests = 0;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    if (groups[g].first) continue;  // on the border: outside
+    if (tests++ >= kMostGroupTests) {
+      group_state[g] = kMixed;
+      continue;
+    }
+    const size_t cell = groups[g].second;
+    const int64_t x = static_cast<int64_t>(cell) % dims_[0],
+                  y = static_cast<int64_t>(cell) / dims_[0] % dims_[1],
+                  z = static_cast<int64_t>(cell) / (dims_[0] * dims_[1]);
+    const P4 centre = {lo_[0] + x * step_ + step_ / 2, lo_[1] + y * step_ + step_ / 2,
+                       lo_[2] + z * step_ + step_ / 2};
+    bool inside = false;
+    for (uint32_t k = 0; k < cells_.size() && !inside; ++k) inside = in_tetrahedron(centre, k);
+    group_state[g] = inside ? kInside : kOutside;
+  }
+  for (size_t cell = 0; cell < total; ++cell)
+    if (state_[cell] == kUnknown) state_[cell] = group_state[label[cell]];
+  label = {};
+
+  // Mixed cells get their rows, then the tetrahedra whose boxes meet them.
+  uint32_t mixed = 0;
+  for (uint32_t& s : state_)
+    if (s == kMixed) s = kFirstMixed + mixed++;
+  mixed_ = build_csr(mixed, [&](auto&& emit) {
+    for (uint32_t k = 0; k < cells_.size(); ++k) {
+      if (orientation_[k] == 0) continue;
+      P4 bl, bh;
+      box_of(cells_[k], bl, bh);
+      std::array<int64_t, 3> c0, c1;
+      range(bl, bh, c0, c1);
+      for_each_cell(c0, c1, [&](size_t cell) {
+        if (state_[cell] >= kFirstMixed) emit(state_[cell] - kFirstMixed, k);
+      });
+    }
   });
 }
 
-// Neighbouring tetrahedra are stored near each other, so that a query, which
-// scans a bucket's tetrahedra, and the next query, which falls near it, touch
-// few cache lines: the order is that of the buckets of the boxes' centres
-// along a Morton (Z-order) curve. The verdicts do not depend on it.
-void ReferenceSolid::sort_along_morton_curve() {
-  auto spread = [](uint64_t x) {  // the bits of a 21-bit x, two zeros between each
-    x &= 0x1fffff;
-    x = (x | x << 32) & 0x1f00000000ffff;
-    x = (x | x << 16) & 0x1f0000ff0000ff;
-    x = (x | x << 8) & 0x100f00f00f00f00f;
-    x = (x | x << 4) & 0x10c30c30c30c30c3;
-    x = (x | x << 2) & 0x1249249249249249;
-    return x;
-  };
-  std::vector<std::pair<uint64_t, uint32_t>> order(tets_.size());
-  for (uint32_t k = 0; k < tets_.size(); ++k) {
-    uint64_t code = 0;
-    for (int a = 0; a < 3; ++a) {
-      const auto cell = static_cast<uint64_t>((boxes_[k][0][a] + boxes_[k][1][a]) / 2 - lo_[a]) /
-                        static_cast<uint64_t>(bucket_size_);
-      code |= spread(cell) << a;
-    }
-    order[k] = {code, k};
+bool ReferenceSolid::in_tetrahedron(const P4& p, uint32_t k) const {
+  if (orientation_[k] == 0) return false;
+  const auto& t = cells_[k];
+  P4 c[4] = {times4(points_[t[0]]), times4(points_[t[1]]), times4(points_[t[2]]), times4(points_[t[3]])};
+  for (int a = 0; a < 3; ++a) {
+    const int64_t l = std::min({c[0][a], c[1][a], c[2][a], c[3][a]}),
+                  h = std::max({c[0][a], c[1][a], c[2][a], c[3][a]});
+    if (p[a] < l || p[a] > h) return false;
   }
-  std::sort(order.begin(), order.end());
-  std::vector<std::array<Point4, 4>> tets(tets_.size());
-  std::vector<std::array<Point4, 2>> boxes(boxes_.size());
-  for (size_t i = 0; i < order.size(); ++i) {
-    tets[i] = tets_[order[i].second];
-    boxes[i] = boxes_[order[i].second];
-  }
-  tets_ = std::move(tets);
-  boxes_ = std::move(boxes);
+  if (orientation_[k] == 2) std::swap(c[2], c[3]);
+  // Inside or on the boundary: p is on the inner side of every face.
+  const auto orient = small_ ? orientation_in<int64_t> : orientation_in<Int128>;
+  return orient(p, c[1], c[2], c[3]) >= 0 && orient(c[0], p, c[2], c[3]) >= 0 &&
+         orient(c[0], c[1], p, c[3]) >= 0 && orient(c[0], c[1], c[2], p) >= 0;
 }
 
-size_t ReferenceSolid::bucket_of(const P4& p) const {
-  std::array<int64_t, 3> b;
-  for (int a = 0; a < 3; ++a) b[a] = (p[a] - lo_[a]) / bucket_size_;
-  return static_cast<size_t>((b[2] * dims_[1] + b[1]) * dims_[0] + b[0]);
+size_t ReferenceSolid::cell_of(const P4& p) const {
+  std::array<int64_t, 3> c;
+  for (int a = 0; a < 3; ++a) c[a] = (p[a] - lo_[a]) / step_;
+  return static_cast<size_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
 }
 
 bool ReferenceSolid::contains4(const P4& p) const {
-  if (tets_.empty()) return false;
+  if (cells_.empty()) return false;
   for (int a = 0; a < 3; ++a)
     if (p[a] < lo_[a] || p[a] > hi_[a]) return false;
-  const size_t b = bucket_of(p);
-  for (uint32_t k : buckets_.row(b)) {
-    const auto& box = boxes_[k];
-    if (p[0] < box[0][0] || p[0] > box[1][0] || p[1] < box[0][1] || p[1] > box[1][1] || p[2] < box[0][2] ||
-        p[2] > box[1][2])
-      continue;
-    const auto& t = tets_[k];
-    // Inside or on the boundary: p is on the inner side of every face.
-    const auto orient = small_ ? orientation64 : orientation;
-    if (orient(p, t[1], t[2], t[3]) >= 0 && orient(t[0], p, t[2], t[3]) >= 0 &&
-        orient(t[0], t[1], p, t[3]) >= 0 && orient(t[0], t[1], t[2], p) >= 0)
-      return true;
-  }
+  const uint32_t s = state_[cell_of(p)];
+  if (s < kFirstMixed) return s == kInside;
+  for (uint32_t k : mixed_.row(s - kFirstMixed))
+    if (in_tetrahedron(p, k)) return true;
   return false;
 }
 
 std::vector<uint8_t> ReferenceSolid::verdicts(const TetMesh& dt, std::span<const GridPoint> points) const {
   std::vector<uint8_t> out(dt.cells.size());
-  for (size_t c = 0; c < out.size(); ++c) {
-    const auto& k = dt.cells[c];
-    out[c] = contains_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
-  }
+  parallel_for((out.size() + 1023) / 1024,
+               [&](size_t block) {
+                 for (size_t c = block * 1024; c < std::min(out.size(), block * 1024 + 1024); ++c) {
+                   const auto& k = dt.cells[c];
+                   out[c] = contains_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
+                 }
+               },
+               4);
   return out;
 }
 
-bool ReferenceSolid::contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
-                                       const GridPoint& d) const {
-  return contains4(
-      {int64_t{a.x} + b.x + c.x + d.x, int64_t{a.y} + b.y + c.y + d.y, int64_t{a.z} + b.z + c.z + d.z});
-}
+ReferenceSolid::Layout ReferenceSolid::layout() const { return {dims_, mixed_.rows(), mixed_.items.size()}; }
 
 }  // namespace dtm

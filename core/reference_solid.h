@@ -1,9 +1,18 @@
-// The solid every level is carved to (DESIGN.md §3.3, spec/HIERARCHY.md §3):
-// a set of tetrahedra over grid points (the input's own, or level 0's alpha
-// carving when the input has none). A cell of a level's Delaunay
+// The solid every codec level is carved to (DESIGN.md §3.3, spec/HIERARCHY.md
+// §2.1): a set of tetrahedra over grid points (the input's own, or level 0's
+// alpha carving when the input has none). A cell of a level's Delaunay
 // tetrahedralization is kept when its centroid lies in the closed union of
 // these tetrahedra. The test is exact: centroids are compared at four times
-// the grid's scale, in 128-bit integers.
+// the grid's scale, with integer orientation determinants.
+//
+// Held compactly and answered mostly by one lookup: a uniform grid over the
+// solid's box whose cells are classified once. A cell that no boundary
+// triangle's bounding box touches lies wholly inside or wholly outside (the
+// solid's boundary is in those triangles), and so does every cell connected
+// to it through such cells: each connected group is classified by one exact
+// test. Only the cells the boundary touches ("mixed") keep a list of the
+// tetrahedra whose boxes meet them, tested exactly. The tetrahedra and points
+// are the caller's (spans): they must outlive the solid.
 #pragma once
 
 #include <array>
@@ -19,39 +28,58 @@ namespace dtm {
 
 class ReferenceSolid {
  public:
-  // `cells` index `points`; flat cells are ignored (they hold no volume).
+  // `cells` index `points`; flat cells hold no volume and are ignored.
+  // `boundary`: the faces of exactly one of `cells` (boundary_triangles());
+  // computed here when not given.
+  ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells,
+                 std::span<const std::array<uint32_t, 3>> boundary);
   ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
 
   // True if the centroid of the tetrahedron (a, b, c, d) is in the solid.
   bool contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
-                         const GridPoint& d) const;
-
+                         const GridPoint& d) const {
+    return contains4(
+        {int64_t{a.x} + b.x + c.x + d.x, int64_t{a.y} + b.y + c.y + d.y, int64_t{a.z} + b.z + c.z + d.z});
+  }
   // True if the point p / 4 (p at four times the grid scale) is in the solid.
   bool contains_point4(const std::array<int64_t, 3>& p) const { return contains4(p); }
 
-  size_t tetrahedra() const { return tets_.size(); }
+  size_t tetrahedra() const { return cells_.size(); }
 
   // Per cell of `dt` (vertex ids index `points`): 1 if the solid keeps it.
+  // Computed on every core.
   std::vector<uint8_t> verdicts(const TetMesh& dt, std::span<const GridPoint> points) const;
 
- private:
-  // Corners at four times the grid scale, so that a centroid is integral.
-  using Point4 = std::array<int64_t, 3>;
-  bool contains4(const Point4& p) const;
-  size_t bucket_of(const Point4& p) const;
-  void sort_along_morton_curve();
+  // The grid's figures, for tests and benchmarks: cells along each axis, and
+  // how many are mixed and how many tetrahedra their lists hold.
+  struct Layout {
+    std::array<int64_t, 3> dims;
+    uint64_t mixed_cells, listed;
+  };
+  Layout layout() const;
 
-  std::vector<std::array<Point4, 4>> tets_;   // positively oriented
-  std::vector<std::array<Point4, 2>> boxes_;  // each tetrahedron's bounding box: a cheap first test
-  // A uniform grid of buckets over the solid's bounding box, each listing
-  // the tetrahedra whose bounding box meets it (CSR).
+ private:
+  using Point4 = std::array<int64_t, 3>;
+  static constexpr uint32_t kOutside = 0, kInside = 1, kFirstMixed = 2;
+
+  void build(std::span<const std::array<uint32_t, 3>> boundary);
+  bool contains4(const Point4& p) const;
+  // The exact test of p against tetrahedron k (a flat one contains nothing).
+  bool in_tetrahedron(const Point4& p, uint32_t k) const;
+  size_t cell_of(const Point4& p) const;
+
+  std::span<const GridPoint> points_;
+  std::span<const std::array<uint32_t, 4>> cells_;
+  // Per tetrahedron: 0 flat, 1 positively oriented, 2 negatively.
+  std::vector<uint8_t> orientation_;
   Point4 lo_{}, hi_{};
+  int64_t step_ = 2;  // grid cell edge at four times the grid scale (even: cell centres are integral)
   std::array<int64_t, 3> dims_{1, 1, 1};
-  int64_t bucket_size_ = 1;
+  // Per grid cell: kOutside, kInside, or kFirstMixed + its row in mixed_.
+  std::vector<uint32_t> state_;
+  Csr mixed_;  // per mixed cell, the tetrahedra whose boxes meet it
   // Every coordinate (x4) under 2^18: orientations fit in 64-bit integers.
-  // (Queries outside the bounding box are refused before any orientation.)
   bool small_ = false;
-  Csr buckets_;
 };
 
 }  // namespace dtm

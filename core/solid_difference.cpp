@@ -5,6 +5,8 @@
 #include <iterator>
 #include <vector>
 
+#include "common/csr.h"
+#include "common/parallel_for.h"
 #include "core/reference_solid.h"
 #include "mesh/geometry.h"
 
@@ -34,37 +36,91 @@ uint64_t next_random(uint64_t& state) {
 
 double unit_random(uint64_t& state) { return static_cast<double>(next_random(state) >> 11) * 0x1p-53; }
 
-// The volume of the cells of `cells` outside `other`, cells in `skip`
-// (sorted) left out.
-double outside_volume(std::span<const GridPoint> points, std::span<const Cell> cells,
-                      std::span<const Cell> skip, const ReferenceSolid& other) {
-  double out = 0;
-  uint64_t state = 0;
-  for (const Cell& c : cells) {
-    if (std::binary_search(skip.begin(), skip.end(), c)) continue;
-    const double v = volume(points, c);
-    if (v == 0) continue;
-    int outside = 0;
-    for (int s = 0; s < kSolidDifferenceSamples; ++s) {
-      // Uniform in the tetrahedron: barycentric weights are the gaps
-      // between three sorted uniform numbers.
-      std::array<double, 3> u = {unit_random(state), unit_random(state), unit_random(state)};
-      std::sort(u.begin(), u.end());
-      const std::array<double, 4> w = {u[0], u[1] - u[0], u[2] - u[1], 1 - u[2]};
-      std::array<int64_t, 3> p4{};  // at four times the grid scale
-      for (int axis = 0; axis < 3; ++axis) {
-        double x = 0;
-        for (int k = 0; k < 4; ++k) {
-          const GridPoint& g = points[c[k]];
-          x += w[k] * (axis == 0 ? g.x : axis == 1 ? g.y : g.z);
-        }
-        p4[axis] = std::llround(4 * x);
-      }
-      outside += !other.contains_point4(p4);
-    }
-    out += v * outside / kSolidDifferenceSamples;
-  }
+// The cells of `cells` not in `skip` (sorted).
+std::vector<uint32_t> unshared(std::span<const Cell> cells, std::span<const Cell> skip) {
+  std::vector<uint32_t> out;
+  for (uint32_t k = 0; k < cells.size(); ++k)
+    if (!std::binary_search(skip.begin(), skip.end(), cells[k])) out.push_back(k);
   return out;
+}
+
+// The volume of the cells `which` of `cells` outside a solid, each sampled
+// at `samples` points from a sequence seeded by its index (the figure does
+// not depend on how the work is split between cores). `inside(p4, cell)`:
+// whether p / 4 is in the solid (`cell`: the sampled cell's index).
+template <class Inside>
+double outside_volume(std::span<const GridPoint> points, std::span<const Cell> cells,
+                      std::span<const uint32_t> which, int samples, const Inside& inside) {
+  std::vector<double> per_cell(which.size(), 0);
+  parallel_for(
+      which.size(),
+      [&](size_t i) {
+        const Cell& c = cells[which[i]];
+        const double v = volume(points, c);
+        if (v == 0) return;
+        uint64_t state = 0x2545f4914f6cdd1dull * (which[i] + 1);
+        int outside = 0;
+        for (int s = 0; s < samples; ++s) {
+          // Uniform in the tetrahedron: barycentric weights are the gaps
+          // between three sorted uniform numbers.
+          std::array<double, 3> u = {unit_random(state), unit_random(state), unit_random(state)};
+          std::sort(u.begin(), u.end());
+          const std::array<double, 4> w = {u[0], u[1] - u[0], u[2] - u[1], 1 - u[2]};
+          std::array<int64_t, 3> p4{};  // at four times the grid scale
+          for (int axis = 0; axis < 3; ++axis) {
+            double x = 0;
+            for (int k = 0; k < 4; ++k) {
+              const GridPoint& g = points[c[k]];
+              x += w[k] * (axis == 0 ? g.x : axis == 1 ? g.y : g.z);
+            }
+            p4[axis] = std::llround(4 * x);
+          }
+          outside += !inside(p4, which[i]);
+        }
+        per_cell[i] = v * outside / samples;
+      },
+      64);
+  double out = 0;
+  for (double v : per_cell) out += v;
+  return out;
+}
+
+int samples_for(size_t cells) {
+  return static_cast<int>(std::clamp<size_t>(kSolidDifferenceSampleBudget / std::max<size_t>(1, cells),
+                                             kSolidDifferenceFewestSamples, kSolidDifferenceSamples));
+}
+
+using P4 = std::array<int64_t, 3>;
+
+int orientation(const P4& a, const P4& b, const P4& c, const P4& d) {
+  const Int128 ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+  const Int128 vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+  const Int128 wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+  const Int128 det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
+  return det > 0 ? 1 : det < 0 ? -1 : 0;
+}
+
+P4 times4(const GridPoint& p) { return {4 * int64_t{p.x}, 4 * int64_t{p.y}, 4 * int64_t{p.z}}; }
+
+// The cell of `dt` (positively oriented) whose closure holds p / 4, walking
+// from `start` across any face p lies strictly beyond; -1 when the walk
+// leaves the convex hull (p is in no cell).
+int64_t locate(std::span<const GridPoint> points, const TetMesh& dt, int64_t start, const P4& p) {
+  int64_t c = start;
+  for (size_t steps = 0; steps <= dt.cells.size(); ++steps) {
+    const auto& k = dt.cells[static_cast<size_t>(c)];
+    const P4 v[4] = {times4(points[k[0]]), times4(points[k[1]]), times4(points[k[2]]), times4(points[k[3]])};
+    int beyond = -1;
+    for (int i = 0; i < 4 && beyond < 0; ++i) {
+      P4 w[4] = {v[0], v[1], v[2], v[3]};
+      w[i] = p;
+      if (orientation(w[0], w[1], w[2], w[3]) < 0) beyond = i;
+    }
+    if (beyond < 0) return c;
+    c = dt.neighbors[static_cast<size_t>(c)][beyond];
+    if (c < 0) return -1;
+  }
+  return -1;  // not reached: a visibility walk ends in a Delaunay tetrahedralization
 }
 
 }  // namespace
@@ -75,11 +131,79 @@ SolidDifference solid_difference(std::span<const GridPoint> points, std::span<co
   std::vector<Cell> shared;
   std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(shared));
   const ReferenceSolid solid_a(points, a), solid_b(points, b);
+  const std::vector<uint32_t> only_a = unshared(a, shared), only_b = unshared(b, shared);
+  const int samples = samples_for(only_a.size() + only_b.size());
   SolidDifference d;
   d.shared_cells = shared.size();
-  d.only_first = outside_volume(points, a, shared, solid_b);
-  d.only_second = outside_volume(points, b, shared, solid_a);
+  d.samples_per_cell = samples;
+  d.only_first = outside_volume(points, a, only_a, samples,
+                                [&](const P4& p, uint32_t) { return solid_b.contains_point4(p); });
+  d.only_second = outside_volume(points, b, only_b, samples,
+                                 [&](const P4& p, uint32_t) { return solid_a.contains_point4(p); });
   for (const Cell& c : b) d.second_volume += volume(points, c);
+  return d;
+}
+
+std::vector<int32_t> matching_tetrahedra(const TetMesh& dt, size_t points, std::span<const Cell> tets) {
+  // The tetrahedra by their smallest corner: a cell's match, if any, is
+  // among the few that share its smallest corner.
+  auto sorted = [](Cell c) {
+    std::sort(c.begin(), c.end());
+    return c;
+  };
+  const Csr by_corner = build_csr(points, [&](auto&& emit) {
+    for (uint32_t k = 0; k < tets.size(); ++k) emit(*std::min_element(tets[k].begin(), tets[k].end()), k);
+  });
+  std::vector<int32_t> match(dt.cells.size(), -1);
+  parallel_for((dt.cells.size() + 4095) / 4096,
+               [&](size_t block) {
+                 for (size_t c = block * 4096; c < std::min(dt.cells.size(), block * 4096 + 4096); ++c) {
+                   const Cell key = sorted(dt.cells[c]);
+                   for (uint32_t k : by_corner.row(key[0]))
+                     if (sorted(tets[k]) == key) {
+                       match[c] = static_cast<int32_t>(k);
+                       break;
+                     }
+                 }
+               },
+               2);
+  return match;
+}
+
+SolidDifference carved_difference(std::span<const GridPoint> points, const TetMesh& dt,
+                                  std::span<const uint8_t> kept, std::span<const Cell> tets,
+                                  const ReferenceSolid& solid, std::span<const int32_t> match) {
+  std::vector<uint8_t> tet_shared(tets.size(), 0);
+  std::vector<uint32_t> only_dt;
+  SolidDifference d;
+  for (uint32_t c = 0; c < dt.cells.size(); ++c) {
+    if (!kept[c]) continue;
+    if (match[c] >= 0) {
+      tet_shared[static_cast<size_t>(match[c])] = 1;
+      ++d.shared_cells;
+    } else {
+      only_dt.push_back(c);
+    }
+  }
+  std::vector<uint32_t> only_tets;
+  for (uint32_t k = 0; k < tets.size(); ++k)
+    if (!tet_shared[k]) only_tets.push_back(k);
+  // Where each walk starts: a cell at the sampled tetrahedron's first corner.
+  std::vector<int64_t> cell_at(points.size(), -1);
+  for (size_t c = 0; c < dt.cells.size(); ++c)
+    for (uint32_t v : dt.cells[c])
+      if (cell_at[v] < 0) cell_at[v] = static_cast<int64_t>(c);
+  const int samples = samples_for(only_dt.size() + only_tets.size());
+  d.samples_per_cell = samples;
+  d.only_first = outside_volume(points, dt.cells, only_dt, samples,
+                                [&](const P4& p, uint32_t) { return solid.contains_point4(p); });
+  d.only_second = outside_volume(points, tets, only_tets, samples, [&](const P4& p, uint32_t k) {
+    const int64_t start = cell_at[tets[k][0]];
+    if (start < 0) return false;
+    const int64_t c = locate(points, dt, start, p);
+    return c >= 0 && kept[static_cast<size_t>(c)] != 0;
+  });
+  for (const Cell& c : tets) d.second_volume += volume(points, c);
   return d;
 }
 

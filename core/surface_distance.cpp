@@ -130,6 +130,7 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
   if (triangles.empty()) {
     s.measured = false;
     s.previous.clear();
+    std::fill(s.squared.begin(), s.squared.end(), std::numeric_limits<double>::infinity());
     return no_surface();
   }
   const std::vector<Triangle> soup = triangle_soup(vertices, triangles);
@@ -190,6 +191,11 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
   s.measured = true;
   s.previous = std::move(sorted_keys);
   return summarize_squared(s.squared);
+}
+
+std::vector<double> SurfaceDistanceTracker::squared() const { return state_->squared; }
+std::vector<std::array<uint32_t, 3>> SurfaceDistanceTracker::nearest_triangles() const {
+  return state_->nearest_triangle;
 }
 
 }  // namespace dtm

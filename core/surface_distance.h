@@ -67,6 +67,11 @@ class SurfaceDistanceTracker {
   // to call when its three names are.
   DistanceSummary measure(std::span<const GridPoint> vertices, std::span<const uint32_t> ids,
                           std::span<const std::array<uint32_t, 3>> triangles);
+  // Each query's squared distance as the last measure() found it
+  // (+infinity when that surface had no triangle).
+  std::vector<double> squared() const;
+  // Each query's nearest triangle then, by its ids (sorted).
+  std::vector<std::array<uint32_t, 3>> nearest_triangles() const;
 
  private:
   struct State;

@@ -8,6 +8,7 @@
 #include <CGAL/property_map.h>
 #include <CGAL/spatial_sort.h>
 
+#include <algorithm>
 #include <exception>
 #include <string>
 #include <utility>
@@ -16,11 +17,31 @@ namespace dtm {
 namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+// A cell's index in the last exported mesh; cells CGAL makes later start at -1.
+struct CellTag {
+  int32_t index = -1;
+};
 using Vb = CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>;
-using Cb = CGAL::Triangulation_cell_base_with_info_3<int32_t, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
-using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
+using Cb = CGAL::Triangulation_cell_base_with_info_3<CellTag, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
+#ifdef CGAL_LINKED_WITH_TBB
+// Large batches are inserted by TBB's threads, each locking the cells it
+// changes; the cells do not depend on the order (DESIGN.md §6).
+using Concurrency = CGAL::Parallel_tag;
+#else
+using Concurrency = CGAL::Sequential_tag;
+#endif
+using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb, Concurrency>;
 using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
+// The small triangulations of cavity_fill stay sequential: a few dozen points.
+using SmallTds = CGAL::Triangulation_data_structure_3<
+    CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>,
+    CGAL::Triangulation_cell_base_with_info_3<int32_t, K, CGAL::Delaunay_triangulation_cell_base_3<K>>>;
+using SmallDT = CGAL::Delaunay_triangulation_3<K, SmallTds>;
 using Point = K::Point_3;
+
+// Batches this large go to every core; below, starting threads costs more
+// than it gains.
+constexpr size_t kParallelBatch = 20000;
 
 Point to_point(const GridPoint& p) { return Point(p.x, p.y, p.z); }
 
@@ -66,32 +87,76 @@ Status insert_in_order(DT& dt, size_t n, ItemOf&& item_of) {
 }
 
 // What CGAL's range insertion does (spatial sort, then insertion with the
-// previous vertex as hint), plus the cell check.
+// previous vertex as hint), plus the cell check. A large batch goes to
+// every core in slices of at most an eighth of what the triangulation
+// holds, with the check after each: in the sorted order (a multiscale
+// Hilbert order of random samples) every slice is spread over the whole
+// batch, so a degenerate configuration shows while its cells are still a
+// fraction of the limit.
 Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const uint32_t> ids) {
   DTM_CHECK(points.size() == ids.size());
   using Item = std::pair<Point, uint32_t>;
   std::vector<Item> batch;
   batch.reserve(points.size());
   for (size_t i = 0; i < points.size(); ++i) batch.emplace_back(to_point(points[i]), ids[i]);
-  CGAL::spatial_sort(batch.begin(), batch.end(),
-                     CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<Item>>());
+  using SortTraits = CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<Item>>;
+#ifdef CGAL_LINKED_WITH_TBB
+  if (batch.size() >= kParallelBatch) {
+    CGAL::spatial_sort<CGAL::Parallel_tag>(batch.begin(), batch.end(), SortTraits());
+    // The first points one by one: the threads need a 3D triangulation to lock.
+    size_t done = std::min(batch.size(), std::max<size_t>(4096, dt.number_of_vertices() / 8));
+    DTM_RETURN_IF_ERROR(insert_in_order(dt, done, [&](size_t i) { return batch[i]; }));
+    CGAL::Bbox_3 box;
+    for (const GridPoint& p : points) box += to_point(p).bbox();
+    for (auto v : dt.finite_vertex_handles()) box += v->point().bbox();
+    typename DT::Lock_data_structure locks(box, 50);
+    // The triangulation must not keep the locks past this scope, even when
+    // CGAL throws (out of memory).
+    struct Unlock {
+      DT& dt;
+      ~Unlock() { dt.set_lock_data_structure(nullptr); }
+    } unlock{dt};
+    dt.set_lock_data_structure(&locks);
+    while (done < batch.size()) {
+      const size_t slice = std::min(batch.size() - done, std::max<size_t>(4096, dt.number_of_vertices() / 8));
+      // CGAL sorts each slice again (cheap: it is already in order).
+      dt.insert(batch.begin() + static_cast<std::ptrdiff_t>(done),
+                batch.begin() + static_cast<std::ptrdiff_t>(done + slice));
+      done += slice;
+      DTM_RETURN_IF_ERROR(check_cells(dt));
+    }
+    return Status::Ok();
+  }
+#endif
+  CGAL::spatial_sort(batch.begin(), batch.end(), SortTraits());
   return insert_in_order(dt, batch.size(), [&](size_t i) { return batch[i]; });
 }
 
-TetMesh export_mesh(DT& dt) {
+// The finite cells, numbered in iteration order (each cell's tag becomes its
+// index); `previous`, if given, receives each cell's tag before (-1: new).
+TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
   TetMesh out;
+  if (previous) previous->clear();
   if (dt.dimension() < 3) return out;
-  out.cells.reserve(dt.number_of_finite_cells());
+  const size_t m = dt.number_of_finite_cells();
+  out.cells.reserve(m);
+  out.neighbors.reserve(m);
+  if (previous) previous->reserve(m);
   int32_t next = 0;
-  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c)
-    c->info() = dt.is_infinite(c) ? -1 : next++;
-  out.neighbors.reserve(next);
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
+    if (dt.is_infinite(c)) {
+      c->info().index = -1;
+      continue;
+    }
+    if (previous) previous->push_back(c->info().index);
+    c->info().index = next++;
+  }
   for (auto c : dt.finite_cell_handles()) {
     std::array<uint32_t, 4> v;
     std::array<int32_t, 4> n;
     for (int i = 0; i < 4; ++i) {
       v[i] = c->vertex(i)->info();
-      n[i] = c->neighbor(i)->info();
+      n[i] = c->neighbor(i)->info().index;
     }
     out.cells.push_back(v);
     out.neighbors.push_back(n);
@@ -113,23 +178,36 @@ StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
                   "the " + std::to_string(points.size()) + " points span only " +
                       std::to_string(std::max(dt.dimension(), 0)) +
                       " dimension(s); a tetrahedral mesh needs 4 points not in one plane"};
-  return export_mesh(dt);
+  return export_mesh(dt, nullptr);
+}
+
+bool parallel_delaunay_available() {
+#ifdef CGAL_LINKED_WITH_TBB
+  return true;
+#else
+  return false;
+#endif
 }
 
 struct IncrementalDelaunay::Impl {
   DT dt;
+  // The vertex of each id, for conflicts()' start (filled on demand).
+  mutable std::vector<DT::Vertex_handle> by_id;
+  mutable bool by_id_current = false;
 };
 
 IncrementalDelaunay::IncrementalDelaunay() : impl_(std::make_unique<Impl>()) {}
 IncrementalDelaunay::~IncrementalDelaunay() = default;
 
 Status IncrementalDelaunay::insert(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
+  impl_->by_id_current = false;
   return guarded([&] { return insert_batch(impl_->dt, points, ids); });
 }
 
 Status IncrementalDelaunay::insert_one_by_one(std::span<const GridPoint> points,
                                               std::span<const uint32_t> ids) {
   DTM_CHECK(points.size() == ids.size());
+  impl_->by_id_current = false;
   return guarded([&] {
     return insert_in_order(impl_->dt, points.size(),
                            [&](size_t i) { return std::make_pair(to_point(points[i]), ids[i]); });
@@ -137,6 +215,7 @@ Status IncrementalDelaunay::insert_one_by_one(std::span<const GridPoint> points,
 }
 
 Status IncrementalDelaunay::remove(std::span<const GridPoint> points) {
+  impl_->by_id_current = false;
   return guarded([&] {
     for (const GridPoint& p : points) {
       DT::Vertex_handle v;
@@ -148,15 +227,57 @@ Status IncrementalDelaunay::remove(std::span<const GridPoint> points) {
   });
 }
 
+IncrementalDelaunay::Conflicts IncrementalDelaunay::conflicts(const GridPoint& p, uint32_t near_id) const {
+  Conflicts out;
+  const DT& dt = impl_->dt;
+  if (dt.dimension() < 3) return out;
+  if (!impl_->by_id_current) {
+    impl_->by_id.clear();
+    for (auto v : dt.finite_vertex_handles()) {
+      if (v->info() >= impl_->by_id.size()) impl_->by_id.resize(v->info() + 1);
+      impl_->by_id[v->info()] = v;
+    }
+    impl_->by_id_current = true;
+  }
+  const Point q = to_point(p);
+  DT::Locate_type lt;
+  int li, lj;
+  DT::Cell_handle hint;
+  if (near_id < impl_->by_id.size() && impl_->by_id[near_id] != DT::Vertex_handle())
+    hint = impl_->by_id[near_id]->cell();
+  const DT::Cell_handle start = dt.locate(q, lt, li, lj, hint);
+  if (lt == DT::VERTEX) return out;
+  std::vector<DT::Cell_handle> cells;
+  std::vector<DT::Facet> border;
+  dt.find_conflicts(q, start, std::back_inserter(border), std::back_inserter(cells));
+  for (DT::Cell_handle c : cells) {
+    if (dt.is_infinite(c)) {
+      out = {};
+      out.on_hull = true;
+      return out;
+    }
+    out.cells.push_back(c->info().index);
+  }
+  for (const DT::Facet& f : border) {
+    std::array<uint32_t, 3> face;
+    for (int k = 0; k < 3; ++k) face[k] = f.first->vertex((f.second + 1 + k) & 3)->info();
+    out.faces.push_back(face);
+  }
+  return out;
+}
+
 int IncrementalDelaunay::dimension() const { return impl_->dt.dimension(); }
 size_t IncrementalDelaunay::number_of_vertices() const { return impl_->dt.number_of_vertices(); }
-TetMesh IncrementalDelaunay::mesh() const { return export_mesh(impl_->dt); }
+TetMesh IncrementalDelaunay::mesh() const { return export_mesh(impl_->dt, nullptr); }
+TetMesh IncrementalDelaunay::mesh(std::vector<int32_t>& previous_index) {
+  return export_mesh(impl_->dt, &previous_index);
+}
 
 CavityFill cavity_fill(std::span<const GridPoint> link, std::span<const uint32_t> link_ids,
                        const GridPoint& apex) {
   CavityFill out;
-  DT dt;
-  DT::Cell_handle hint;
+  SmallDT dt;
+  SmallDT::Cell_handle hint;
   for (size_t i = 0; i < link.size(); ++i) {
     auto v = dt.insert(to_point(link[i]), hint);
     v->info() = link_ids[i];
@@ -164,21 +285,21 @@ CavityFill cavity_fill(std::span<const GridPoint> link, std::span<const uint32_t
   }
   if (dt.dimension() < 3) return out;
   const Point q = to_point(apex);
-  DT::Locate_type lt;
+  SmallDT::Locate_type lt;
   int li, lj;
-  const DT::Cell_handle start = dt.locate(q, lt, li, lj, hint);
-  DTM_CHECK(lt != DT::VERTEX);
-  std::vector<DT::Cell_handle> conflicts;
+  const SmallDT::Cell_handle start = dt.locate(q, lt, li, lj, hint);
+  DTM_CHECK(lt != SmallDT::VERTEX);
+  std::vector<SmallDT::Cell_handle> conflicts;
   dt.find_conflicts(q, start, CGAL::Emptyset_iterator(), std::back_inserter(conflicts));
   for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) c->info() = -1;
-  for (DT::Cell_handle c : conflicts)
+  for (SmallDT::Cell_handle c : conflicts)
     if (!dt.is_infinite(c)) {
       c->info() = static_cast<int32_t>(out.cells.size());
       out.cells.push_back(
           {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()});
     }
   out.neighbors.resize(out.cells.size());
-  for (DT::Cell_handle c : conflicts)
+  for (SmallDT::Cell_handle c : conflicts)
     if (c->info() >= 0)
       for (int i = 0; i < 4; ++i) out.neighbors[c->info()][i] = c->neighbor(i)->info();
   return out;

@@ -35,13 +35,19 @@ struct TetMesh {
 // memory and time linear in its vertices.
 inline constexpr size_t kMaxCellsPerVertex = 64;
 
-// Delaunay tetrahedralization of `points`; vertex i is points[i].
-// kInvalidInput if the points are not distinct or are coplanar (or fewer
-// than 4); kLimitExceeded if the cells exceed kMaxCellsPerVertex per vertex.
+// Delaunay tetrahedralization of `points`; vertex i is points[i]. Large
+// batches are inserted on every core (CGAL's Parallel_tag, where TBB is
+// linked; the cells are the same, DESIGN.md §6). kInvalidInput if the points
+// are not distinct or are coplanar (or fewer than 4); kLimitExceeded if the
+// cells exceed kMaxCellsPerVertex per vertex.
 StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points);
 
+// True when batch insertions use several threads (a native build with TBB).
+bool parallel_delaunay_available();
+
 // A Delaunay tetrahedralization that is edited in place: batch insertion
-// (what the decoder does level by level) and vertex removal.
+// (what the decoder does level by level, and the encoder's local repairs)
+// and vertex removal.
 class IncrementalDelaunay {
  public:
   IncrementalDelaunay();
@@ -49,19 +55,38 @@ class IncrementalDelaunay {
   IncrementalDelaunay(const IncrementalDelaunay&) = delete;
   IncrementalDelaunay& operator=(const IncrementalDelaunay&) = delete;
 
-  // Inserts points[i] with id ids[i]. A batch is spatially sorted first.
-  // Both insertions fail with kLimitExceeded as delaunay_tetrahedralize does
-  // (the triangulation is then unusable).
+  // Inserts points[i] with id ids[i]. A batch is spatially sorted first and,
+  // when large, inserted on every core, a slice at a time with the cell
+  // check between slices. Both insertions fail with kLimitExceeded as
+  // delaunay_tetrahedralize does (the triangulation is then unusable).
   Status insert(std::span<const GridPoint> points, std::span<const uint32_t> ids);
   // Inserts one point at a time, in the given order (no spatial sort).
   Status insert_one_by_one(std::span<const GridPoint> points, std::span<const uint32_t> ids);
   // Removes the vertices at these positions; kInvalidInput if one is absent.
   Status remove(std::span<const GridPoint> points);
 
+  // What inserting `p` would change, seen before it is done: the cells in
+  // conflict with it (their indices in the last export; none may have
+  // changed since) and the faces bounding that region (vertex ids), each of
+  // which makes a new cell with p. `near_id`, the id of a vertex near p,
+  // starts the search. Empty with on_hull set when p lies outside the convex
+  // hull (it would also replace infinite cells); empty when p is a vertex.
+  struct Conflicts {
+    std::vector<int32_t> cells;
+    std::vector<std::array<uint32_t, 3>> faces;
+    bool on_hull = false;
+  };
+  Conflicts conflicts(const GridPoint& p, uint32_t near_id) const;
+
   int dimension() const;
   size_t number_of_vertices() const;
   // The current finite cells, vertices named by their ids.
   TetMesh mesh() const;
+  // The same, and per cell its index in the mesh the previous export (either
+  // function) returned, or -1 for a cell made since (by insertions or
+  // removals): what a caller needs to keep its per-cell results for the
+  // cells a local change left alone. On the first call every cell is new.
+  TetMesh mesh(std::vector<int32_t>& previous_index);
 
  private:
   struct Impl;

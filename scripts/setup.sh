@@ -5,7 +5,8 @@ set -euo pipefail
 packages=(build-essential cmake libcgal-dev libgmp-dev libmpfr-dev libboost-dev
           nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev xz-utils
           libxxhash-dev zlib1g-dev python3-meshio python3-vtk9 gmsh gzip
-          clang-format clang-tidy emscripten chromium libdraco-dev libeigen3-dev draco)
+          clang-format clang-tidy emscripten chromium libdraco-dev libeigen3-dev draco
+          libtbb-dev tetgen)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 #include <set>
 
 #include "codec/carving_coder.h"
@@ -14,7 +15,9 @@
 #include "core/solid_difference.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
+#include "mesh/geometry.h"
 #include "test_support.h"
+#include "tools/formats/tetgen.h"
 
 namespace dtm {
 namespace {
@@ -49,6 +52,91 @@ TEST(ReferenceSolid, ContainsTheCentroidsOfItsOwnCellsAndNothingOutside) {
   EXPECT_TRUE(solid.contains_centroid({0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}));
   EXPECT_FALSE(solid.contains_centroid({0, 0, 3}, {0, 0, 3}, {0, 0, 3}, {0, 0, 3}));
   EXPECT_FALSE(solid.contains_centroid({9, 9, 9}, {9, 9, 9}, {9, 9, 9}, {9, 9, 9}));
+}
+
+// The grid-accelerated test against the plain definition (scan every
+// tetrahedron) on a real model: the centroids of every cell of its Delaunay
+// tetrahedralization and of random cells, random points of its box at four
+// times the grid scale, and points on its faces and corners (the solid is
+// closed), including a solid with holes in it (every third tetrahedron).
+TEST(ReferenceSolid, AgreesWithAScanOfEveryTetrahedron) {
+  const auto q = test::load_quantized("bunny_10k");
+  const NodeFile node = read_tetgen_node(test::data_path("bunny_10k.node"));
+  const auto input = read_tetgen_ele(test::data_path("bunny_10k.ele"), node.points.size(), node.index_base);
+  std::vector<Cell> whole;
+  for (const Cell& c : input)
+    whole.push_back(
+        {q.input_to_point[c[0]], q.input_to_point[c[1]], q.input_to_point[c[2]], q.input_to_point[c[3]]});
+  std::vector<Cell> holed;
+  for (size_t k = 0; k < whole.size(); ++k)
+    if (k % 3 != 0) holed.push_back(whole[k]);
+  std::mt19937 rng(3);
+  for (const auto* cells : {&whole, &holed}) {
+    const ReferenceSolid solid(q.points, *cells);
+    EXPECT_GT(solid.layout().mixed_cells, 0u);
+    using P4 = std::array<int64_t, 3>;
+    std::vector<std::array<P4, 4>> corners;
+    std::vector<std::array<P4, 2>> boxes;
+    for (const Cell& c : *cells) {
+      std::array<P4, 4> t;
+      for (int i = 0; i < 4; ++i)
+        t[i] = {4 * int64_t{q.points[c[i]].x}, 4 * int64_t{q.points[c[i]].y}, 4 * int64_t{q.points[c[i]].z}};
+      std::array<P4, 2> box = {t[0], t[0]};
+      for (const P4& v : t)
+        for (int a = 0; a < 3; ++a)
+          box[0][a] = std::min(box[0][a], v[a]), box[1][a] = std::max(box[1][a], v[a]);
+      corners.push_back(t);
+      boxes.push_back(box);
+    }
+    auto scan = [&](const P4& p) {
+      for (size_t k = 0; k < corners.size(); ++k) {
+        if (p[0] < boxes[k][0][0] || p[0] > boxes[k][1][0] || p[1] < boxes[k][0][1] ||
+            p[1] > boxes[k][1][1] || p[2] < boxes[k][0][2] || p[2] > boxes[k][1][2])
+          continue;
+        std::array<P4, 4> t = corners[k];
+        auto orient = [](auto a, auto b, auto c, auto d) {
+          const Int128 ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2], vx = c[0] - a[0],
+                       vy = c[1] - a[1], vz = c[2] - a[2], wx = d[0] - a[0], wy = d[1] - a[1],
+                       wz = d[2] - a[2];
+          const Int128 det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
+          return det > 0 ? 1 : det < 0 ? -1 : 0;
+        };
+        const int o = orient(t[0], t[1], t[2], t[3]);
+        if (o == 0) continue;
+        if (o < 0) std::swap(t[2], t[3]);
+        if (orient(p, t[1], t[2], t[3]) >= 0 && orient(t[0], p, t[2], t[3]) >= 0 &&
+            orient(t[0], t[1], p, t[3]) >= 0 && orient(t[0], t[1], t[2], p) >= 0)
+          return true;
+      }
+      return false;
+    };
+    std::vector<std::array<int64_t, 3>> probes;
+    const TetMesh dt = delaunay_tetrahedralize(q.points).value();
+    for (size_t c = 0; c < dt.cells.size(); c += 7) {
+      std::array<int64_t, 3> p{0, 0, 0};
+      for (uint32_t v : dt.cells[c]) p[0] += q.points[v].x, p[1] += q.points[v].y, p[2] += q.points[v].z;
+      probes.push_back(p);
+    }
+    std::uniform_int_distribution<int64_t> coordinate(-100, 4 * 16383 + 100);
+    for (int i = 0; i < 3000; ++i) probes.push_back({coordinate(rng), coordinate(rng), coordinate(rng)});
+    for (size_t k = 0; k < cells->size(); k += 41) {  // a corner, an edge's middle, a face's centroid x 4
+      const Cell& c = (*cells)[k];
+      const GridPoint a = q.points[c[0]], b = q.points[c[1]], d = q.points[c[2]];
+      probes.push_back({4 * int64_t{a.x}, 4 * int64_t{a.y}, 4 * int64_t{a.z}});
+      probes.push_back({2 * (int64_t{a.x} + b.x), 2 * (int64_t{a.y} + b.y), 2 * (int64_t{a.z} + b.z)});
+      if ((int64_t{a.x} + b.x + d.x) % 3 == 0 && (int64_t{a.y} + b.y + d.y) % 3 == 0 &&
+          (int64_t{a.z} + b.z + d.z) % 3 == 0)
+        probes.push_back({4 * (int64_t{a.x} + b.x + d.x) / 3, 4 * (int64_t{a.y} + b.y + d.y) / 3,
+                          4 * (int64_t{a.z} + b.z + d.z) / 3});
+    }
+    size_t inside = 0;
+    for (const auto& p : probes) {
+      const bool want = scan(p);
+      inside += want;
+      ASSERT_EQ(solid.contains_point4(p), want) << p[0] << " " << p[1] << " " << p[2];
+    }
+    EXPECT_GT(inside, probes.size() / 10);
+  }
 }
 
 // The cube [0, 256]^3 (corner k at the bits of k: x = 1, y = 2, z = 4) split

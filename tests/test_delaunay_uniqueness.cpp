@@ -5,6 +5,7 @@
 
 #include <numeric>
 #include <random>
+#include <set>
 
 #include "mesh/delaunay.h"
 #include "test_support.h"
@@ -92,6 +93,66 @@ TEST_P(DegenerateGrid, RemovalGivesTheSameCellsAsADirectBuild) {
 INSTANTIATE_TEST_SUITE_P(Grids, DegenerateGrid, ::testing::Values(0, 11, 12), [](const auto& info) {
   return info.param == 0 ? std::string("Full8x8x8") : "Random5Bit_" + std::to_string(info.param);
 });
+
+// Batches of 20,000 points and more go to every core (Parallel_tag): the
+// threads insert in an order the scheduler decides, which the symbolic
+// perturbation must not see. A full 30^3 lattice is as cospherical as input
+// gets; it is inserted in parallel (one batch), one point at a time, and as
+// a parallel batch into a triangulation that holds a random tenth already.
+TEST(DelaunayUniqueness, ParallelBatchesGiveTheSameCells) {
+  ASSERT_TRUE(parallel_delaunay_available()) << "the native build links TBB";
+  const auto pts = test::full_grid(30);
+  const auto parallel = reference(pts);
+  IncrementalDelaunay sequential;
+  ASSERT_TRUE(sequential.insert_one_by_one(pts, iota_ids(pts.size())).ok());
+  EXPECT_EQ(cells_by_coords(sequential.mesh(), pts), parallel);
+
+  std::vector<uint32_t> order = iota_ids(pts.size());
+  std::shuffle(order.begin(), order.end(), std::mt19937(5));
+  std::vector<GridPoint> first, rest;
+  std::vector<uint32_t> first_ids, rest_ids;
+  for (size_t k = 0; k < order.size(); ++k) {
+    (k < order.size() / 10 ? first : rest).push_back(pts[order[k]]);
+    (k < order.size() / 10 ? first_ids : rest_ids).push_back(order[k]);
+  }
+  IncrementalDelaunay two_batches;
+  ASSERT_TRUE(two_batches.insert(first, first_ids).ok());
+  ASSERT_TRUE(two_batches.insert(rest, rest_ids).ok());
+  EXPECT_EQ(cells_by_coords(two_batches.mesh(), pts), parallel);
+}
+
+// The export says which cells a later insertion left alone: their index in
+// the previous export; the others are new (-1) and are exactly the cells the
+// previous export did not have.
+TEST(DelaunayUniqueness, ExportTellsWhichCellsAreNew) {
+  const auto pts = test::random_grid_points(3000, 6, 21);
+  std::vector<GridPoint> first(pts.begin(), pts.begin() + 2900), later(pts.begin() + 2900, pts.end());
+  std::vector<uint32_t> ids = iota_ids(pts.size());
+  IncrementalDelaunay dt;
+  ASSERT_TRUE(dt.insert(first, std::span(ids).first(2900)).ok());
+  std::vector<int32_t> previous;
+  const TetMesh before = dt.mesh(previous);
+  for (int32_t p : previous) EXPECT_EQ(p, -1);
+  ASSERT_TRUE(dt.insert(later, std::span(ids).subspan(2900)).ok());
+  const TetMesh after = dt.mesh(previous);
+  ASSERT_EQ(previous.size(), after.cells.size());
+  auto sorted = [](std::array<uint32_t, 4> c) {
+    std::sort(c.begin(), c.end());
+    return c;
+  };
+  std::set<std::array<uint32_t, 4>> old_cells;
+  for (const auto& c : before.cells) old_cells.insert(sorted(c));
+  size_t kept = 0;
+  for (size_t c = 0; c < after.cells.size(); ++c) {
+    const bool was_there = old_cells.count(sorted(after.cells[c])) > 0;
+    EXPECT_EQ(previous[c] >= 0, was_there);
+    if (previous[c] >= 0) {
+      EXPECT_EQ(sorted(before.cells[static_cast<size_t>(previous[c])]), sorted(after.cells[c]));
+      ++kept;
+    }
+  }
+  EXPECT_GT(kept, after.cells.size() / 2);
+}
 
 TEST(DelaunayUniqueness, TheGridReallyIsDegenerate) {
   // A unit cube of 8 cospherical points has many Delaunay tetrahedralizations;

@@ -112,14 +112,10 @@ TEST(ReferenceShape, RemembersNothingThatChangesItsAnswers) {
   options.dmax = 128;
   options.measure_boundary_error = false;
   const Hierarchy h = build_hierarchy(q.points, options).value();
-  // The finest level's own cells as the "input tetrahedra" (indices of q's
-  // points through the identity map).
-  QuantizedPoints identity = q;
-  identity.input_to_point.resize(q.points.size());
-  for (uint32_t i = 0; i < q.points.size(); ++i) identity.input_to_point[i] = i;
-  ReferenceShape running(h.levels[0].mesh, identity);
+  // The finest level's own cells as the reference.
+  ReferenceShape running(q.points, h.levels[0].mesh);
   for (size_t l : {size_t{0}, size_t{1}, size_t{4}, size_t{2}, h.levels.size() - 1}) {
-    ReferenceShape fresh(h.levels[0].mesh, identity);
+    ReferenceShape fresh(q.points, h.levels[0].mesh);
     expect_same(running.distance(h.levels[l].mesh, q.points).both,
                 fresh.distance(h.levels[l].mesh, q.points).both, "level " + std::to_string(l));
   }

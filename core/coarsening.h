@@ -1,0 +1,54 @@
+// Choosing a whole coarser level at once (spec/HIERARCHY.md §6.1): a
+// well-spaced subset of about half the level's vertices, the way optimal
+// coarsening of unstructured meshes does it (Miller, Talmor, Teng): a
+// maximal set of vertices no two of which lie closer than beta times their
+// local spacing, grown greedily in a fixed order, with beta chosen so that
+// the set holds the share asked for.
+//
+// * Local spacing h(v): the mean length of the edges of v's carved cells
+//   (of its Delaunay edges when it is in none).
+// * Conflict: u and v conflict when |uv| < beta (h(u) + h(v)) / 2; the
+//   candidates are v's Delaunay neighbours and theirs (two rings hold every
+//   vertex within ~2h).
+// * Order: the boundary vertices that must stay (a surface neighbourhood
+//   that is not a disk, or a chord error above D_max: spec §4) first, always
+//   kept; then the other boundary vertices by descending chord error (the
+//   surface's features before its flat parts); then the interior vertices in
+//   ascending grid order (a sweep, which packs a maximal set more evenly
+//   than the paper's importance order does).
+// * beta: searched from the previous level's by secant steps within a
+//   bracket until the kept share is within 1% of the target (three or four
+//   trials, each one linear pass).
+//
+// The choice only has to be good, not right: the level built from it is
+// checked against every bound, and repaired where one breaks (level_build.h).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/level.h"
+
+namespace dtm {
+
+struct CoarseningOptions {
+  double keep_share = 0.5;   // of the level's vertices
+  double dmax = 1.0;         // grid units: the chord error above which a boundary vertex stays
+  double beta_guess = 0.85;  // where the search for beta starts (the previous level's)
+};
+
+struct Coarsening {
+  std::vector<uint8_t> keep;  // per vertex of the level
+  uint64_t kept = 0;
+  uint64_t fixed = 0;  // boundary vertices that had to stay
+  double beta = 0;     // the spacing factor the bisection settled on
+};
+
+// `surface` is level_surface(level).
+Coarsening choose_coarser(const LevelGeometry& level, const LevelSurface& surface,
+                          const CoarseningOptions& options);
+
+// The local spacing h(v) of every vertex (grid units).
+std::vector<double> local_spacing(const LevelGeometry& level);
+
+}  // namespace dtm

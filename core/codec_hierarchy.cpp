@@ -1,0 +1,168 @@
+#include "core/codec_hierarchy.h"
+
+#include <optional>
+
+#include "common/parallel_for.h"
+#include "core/coarsening.h"
+#include "core/level_build.h"
+#include "core/reference_shape.h"
+#include "core/reference_solid.h"
+#include "mesh/delaunay.h"
+
+namespace dtm {
+namespace {
+
+// A level that removes less than this share of what removal_share asks is
+// not built: the finer level is the coarsest (a thin level costs more bits
+// than the detail it adds).
+constexpr double kThinLevelShare = 0.4;
+
+std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
+                                                  std::span<const uint32_t> vertices) {
+  std::vector<std::array<uint32_t, 4>> out;
+  out.reserve(L.mesh_cells);
+  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
+    if (!L.in_mesh[c]) continue;
+    const auto& cell = L.dt.cells[c];
+    out.push_back({vertices[cell[0]], vertices[cell[1]], vertices[cell[2]], vertices[cell[3]]});
+  }
+  return out;
+}
+
+// The level as the hierarchy hands it on: grid ids, its carving, its figures.
+Level make_level(const LevelGeometry& L, std::span<const uint32_t> vertices, int index,
+                 const ShapeMeasurement& shape) {
+  Level out;
+  out.vertices.assign(vertices.begin(), vertices.end());
+  out.alpha = L.alpha;
+  out.mesh = carved_cells(L, vertices);
+  out.delaunay = L.dt;
+  for (auto& c : out.delaunay.cells)
+    for (uint32_t& v : c) v = vertices[v];
+  out.kept = L.in_mesh;
+  LevelStats& s = out.stats;
+  s.level = index;
+  s.vertices = L.size();
+  const MeshQuality q = mesh_quality(L);
+  s.boundary_vertices = q.boundary_vertices;
+  s.alpha = L.alpha;
+  s.tetrahedra = L.mesh_cells;
+  s.avg_min_solid_angle = q.avg_min_solid_angle;
+  s.min_solid_angle = q.min_solid_angle;
+  // The boundary error is measured from the reference's boundary vertices
+  // (level 0's boundary, when level 0's carving is the reference).
+  s.max_boundary_error = shape.to_level.max;
+  s.mean_boundary_error = shape.to_level.mean;
+  s.reference_shape = ShapeFigures{shape.to_level, shape.to_reference, shape.both};
+  return out;
+}
+
+}  // namespace
+
+StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& opt,
+                                          const LevelCallback& on_level) {
+  if (opt.quality_guard > 0 || opt.quality_ratio > 0)
+    return Status{StatusCode::kInvalidInput,
+                  "the per-removal quality rules (quality guard, quality ratio) belong to the paper preset's "
+                  "independent sets; the codec preset keeps the average quality floor"};
+  Hierarchy h;
+  std::vector<uint32_t> vertices(points.size());
+  for (uint32_t i = 0; i < vertices.size(); ++i) vertices[i] = i;
+
+  // Level 0 and the reference: the input's solid, or level 0's alpha carving.
+  DTM_ASSIGN_OR_RETURN(TetMesh dt0, delaunay_tetrahedralize(points));
+  std::optional<ReferenceShape> shape;
+  std::optional<ReferenceSolid> solid;
+  std::vector<std::array<uint32_t, 4>> alpha_cells;
+  std::vector<int32_t> match;  // per level-0 cell, the reference tetrahedron it is
+  std::optional<LevelGeometry> L;
+  if (!opt.reference_cells.empty()) {
+    shape.emplace(points, opt.reference_cells);
+    solid.emplace(points, opt.reference_cells, shape->boundary_triangles());
+    std::vector<uint8_t> verdicts;
+    {
+      // A Delaunay cell that is one of the solid's own tetrahedra holds its
+      // centroid: no test needed (the most of level 0's cells).
+      match = matching_tetrahedra(dt0, points.size(), opt.reference_cells);
+      verdicts.resize(dt0.cells.size());
+      parallel_for((dt0.cells.size() + 4095) / 4096,
+                   [&](size_t block) {
+                     for (size_t c = block * 4096; c < std::min(dt0.cells.size(), block * 4096 + 4096); ++c) {
+                       const auto& k = dt0.cells[c];
+                       verdicts[c] = match[c] >= 0 || solid->contains_centroid(points[k[0]], points[k[1]],
+                                                                               points[k[2]], points[k[3]]);
+                     }
+                   },
+                   2);
+    }
+    DTM_ASSIGN_OR_RETURN(L, analyze_level(gather(points, vertices), std::move(dt0), opt.alpha, verdicts));
+  } else {
+    DTM_ASSIGN_OR_RETURN(L, analyze_level(gather(points, vertices), std::move(dt0), opt.alpha));
+    alpha_cells = carved_cells(*L, vertices);
+    shape.emplace(points, alpha_cells);
+    solid.emplace(points, alpha_cells, shape->boundary_triangles());
+  }
+  const LevelReference reference{&*solid, &*shape};
+  h.reference_boundary_vertices = shape->boundary_vertices();
+
+  const CarvedSurface surface0 = carved_surface(L->dt, L->in_mesh, L->points);
+  const ShapeMeasurement shape0 = shape->measure(L->points, vertices, surface0.triangles);
+  SurfaceRecord record = record_surface(vertices, surface0.triangles, shape0);
+  if (!match.empty()) {
+    h.level0_difference = carved_difference(points, L->dt, L->in_mesh, opt.reference_cells, *solid, match);
+    match = {};
+  }
+  h.levels.push_back(make_level(*L, vertices, 0, shape0));
+  if (on_level) on_level(h.levels.back());
+
+  LevelBounds bounds;
+  bounds.dmax = opt.dmax;
+  bounds.quality_floor = opt.average_quality_floor * h.levels.front().stats.avg_min_solid_angle;
+  const double share = opt.removal_share > 0 ? opt.removal_share : 0.5;
+  double beta = 0.85;  // the spacing factor of the last choice: where the next search starts
+  for (int level = 1;; ++level) {
+    if (opt.max_levels > 0 && level > opt.max_levels) break;
+    const size_t finer = vertices.size();
+    const Coarsening choice = choose_coarser(*L, level_surface(*L), {1 - share, opt.dmax, beta});
+    beta = choice.beta;
+    StatusOr<BuiltLevel> built =
+        build_coarser_level(*L, vertices, record, choice.keep, reference, bounds, opt.alpha);
+    // The coarser set would be flat: the current one is the coarsest.
+    if (built.status().code() == StatusCode::kInvalidInput) break;
+    if (!built.ok()) return built.status();
+    const size_t coarser = built->vertices.size();
+    if (coarser < opt.min_base_vertices) break;
+    if (static_cast<double>(finer - coarser) < kThinLevelShare * share * static_cast<double>(finer)) break;
+    // A bound the repair could not restore: the finer level is the coarsest.
+    if (!built->quality_met || built->shape_left > 0) break;
+
+    uint64_t removed_boundary = 0;
+    {
+      size_t k = 0;
+      for (uint32_t v = 0; v < finer; ++v) {
+        const bool kept = k < coarser && built->vertices[k] == vertices[v];
+        if (kept)
+          ++k;
+        else
+          removed_boundary += L->boundary[v];
+      }
+    }
+    Level out = make_level(built->geometry, built->vertices, level, built->shape);
+    out.stats.removed_boundary = removed_boundary;
+    out.stats.removed_interior = finer - coarser - removed_boundary;
+    out.stats.passes = 1;
+    out.stats.chosen = built->chosen;
+    out.stats.put_back = built->put_back;
+    out.stats.repair_rounds = built->repair_rounds;
+    h.levels.push_back(std::move(out));
+    if (on_level) on_level(h.levels.back());
+
+    vertices = std::move(built->vertices);
+    record = std::move(built->surface);
+    L = std::move(built->geometry);
+    if (opt.stop_when_boundary_is_final && removed_boundary == 0) break;
+  }
+  return h;
+}
+
+}  // namespace dtm

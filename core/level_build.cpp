@@ -1,0 +1,369 @@
+#include "core/level_build.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "common/parallel_for.h"
+#include "core/point_buckets.h"
+#include "mesh/delaunay.h"
+#include "mesh/geometry.h"
+#include "mesh/topology.h"
+
+namespace dtm {
+namespace {
+
+using Key = std::array<uint32_t, 3>;
+
+Key sorted_key(std::span<const uint32_t> ids, const std::array<uint32_t, 3>& t) {
+  Key k = {ids[t[0]], ids[t[1]], ids[t[2]]};
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+struct Ball {
+  std::array<double, 3> center;
+  double radius;
+};
+
+// The circumscribed ball of a cell; radius 0 for a flat one (it is in
+// conflict with nothing a repair could put back).
+Ball circumball(std::span<const GridPoint> points, const std::array<uint32_t, 4>& cell) {
+  const Vec3 a = to_vec(points[cell[0]]);
+  const Vec3 u = to_vec(points[cell[1]]) - a, v = to_vec(points[cell[2]]) - a,
+             w = to_vec(points[cell[3]]) - a;
+  const double det = dot(u, cross(v, w));
+  if (det == 0) return {{a.x, a.y, a.z}, 0};
+  const Vec3 n = cross(v, w) * dot(u, u) + cross(w, u) * dot(v, v) + cross(u, v) * dot(w, w);
+  const Vec3 c = a + n * (0.5 / det);
+  return {{c.x, c.y, c.z}, norm(n) / (2 * std::abs(det))};
+}
+
+// The smallest solid angle of a cell, on its corners in lexicographic
+// order (as analyze_level computes it: the same bits whatever the order a
+// triangulation lists them in).
+double smallest_solid_angle(std::span<const GridPoint> points, std::array<uint32_t, 4> cell) {
+  std::sort(cell.begin(), cell.end(), [&](uint32_t a, uint32_t b) { return points[a] < points[b]; });
+  const auto angles = solid_angles(
+      {to_vec(points[cell[0]]), to_vec(points[cell[1]]), to_vec(points[cell[2]]), to_vec(points[cell[3]])});
+  return std::min({angles[0], angles[1], angles[2], angles[3]});
+}
+
+// Per cell of the current triangulation: the solid's verdict and, for a
+// kept cell, its smallest solid angle. A round keeps the results of the
+// cells the previous round's insertions left alone.
+struct CellResults {
+  std::vector<uint8_t> kept;
+  std::vector<double> angle;
+
+  void update(const TetMesh& mesh, std::span<const int32_t> previous, std::span<const GridPoint> points,
+              const ReferenceSolid& solid) {
+    std::vector<uint8_t> new_kept(mesh.cells.size());
+    std::vector<double> new_angle(mesh.cells.size(), 0);
+    std::vector<uint32_t> fresh;
+    for (uint32_t c = 0; c < mesh.cells.size(); ++c) {
+      const int32_t p = previous[c];
+      if (p >= 0) {
+        new_kept[c] = kept[static_cast<size_t>(p)];
+        new_angle[c] = angle[static_cast<size_t>(p)];
+      } else {
+        fresh.push_back(c);
+      }
+    }
+    parallel_for(
+        fresh.size(),
+        [&](size_t i) {
+          const auto& k = mesh.cells[fresh[i]];
+          const bool in = solid.contains_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
+          new_kept[fresh[i]] = in;
+          if (in) new_angle[fresh[i]] = smallest_solid_angle(points, k);
+        },
+        1024);
+    kept = std::move(new_kept);
+    angle = std::move(new_angle);
+  }
+};
+
+// What the repair puts back: removed vertices of the finer level, found by place.
+class RemovedVertices {
+ public:
+  RemovedVertices(const LevelGeometry& fine, std::span<const uint8_t> keep) {
+    std::vector<GridPoint> places;
+    for (uint32_t v = 0; v < fine.size(); ++v)
+      if (!keep[v]) {
+        vertex_.push_back(v);
+        places.push_back(fine.points[v]);
+      }
+    index_.emplace(places, PointBuckets::Spread::kVolume);
+    chosen_.assign(vertex_.size(), 0);
+  }
+  size_t size() const { return vertex_.size(); }
+
+  // The `count` removed vertices nearest the ball's centre, strictly inside
+  // it, that are not put back or marked yet (indices of removed vertices).
+  std::vector<uint32_t> nearest(const Ball& b, size_t count, std::span<const GridPoint> fine_points) const {
+    if (b.radius <= 0 || count == 0) return {};
+    std::vector<std::pair<double, uint32_t>> near;
+    index_->for_each_in_ball(b.center, b.radius, [&](uint32_t k) {
+      if (chosen_[k]) return;
+      const GridPoint& p = fine_points[vertex_[k]];
+      const double dx = p.x - b.center[0], dy = p.y - b.center[1], dz = p.z - b.center[2];
+      near.emplace_back(dx * dx + dy * dy + dz * dz, k);
+    });
+    const size_t taken = std::min(count, near.size());
+    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(taken), near.end());
+    std::vector<uint32_t> out;
+    for (size_t i = 0; i < taken; ++i) out.push_back(near[i].second);
+    return out;
+  }
+  size_t take_nearest(const Ball& b, size_t count, std::span<const GridPoint> fine_points) {
+    const std::vector<uint32_t> near = nearest(b, count, fine_points);
+    for (uint32_t k : near) mark(k);
+    return near.size();
+  }
+  void mark(uint32_t k) { chosen_[k] = 1; }
+  bool marked(uint32_t k) const { return chosen_[k] != 0; }
+  uint32_t vertex(uint32_t k) const { return vertex_[k]; }
+
+  // The fine vertices marked since the last call.
+  std::vector<uint32_t> collect() {
+    std::vector<uint32_t> out;
+    for (size_t k = 0; k < vertex_.size(); ++k)
+      if (chosen_[k] == 1) {
+        chosen_[k] = 2;
+        out.push_back(vertex_[k]);
+      }
+    return out;
+  }
+
+ private:
+  std::vector<uint32_t> vertex_;  // fine vertex of each removed one
+  std::vector<uint8_t> chosen_;   // 0: still removed, 1: marked this round, 2: put back
+  std::optional<PointBuckets> index_;
+};
+
+// The level's surplus over the quality floor: the sum over its carved cells
+// of (smallest solid angle - floor); its average meets the floor while the
+// surplus is >= 0 (the paper preset's rule, spec §6.2). Puts back, among the
+// removed vertices nearest the circumcentres of the worst cells, those whose
+// insertion raises the surplus most, each judged exactly on what it would
+// change (the cells in conflict with it out, its star in), with disjoint
+// changes, until the deficit is covered with a fifth to spare.
+void repair_quality(const IncrementalDelaunay& dt, const TetMesh& mesh, const CellResults& cells,
+                    std::span<const GridPoint> points, const ReferenceSolid& solid, double floor,
+                    RemovedVertices& removed) {
+  double surplus = 0;
+  std::vector<std::pair<double, uint32_t>> worst;
+  for (uint32_t c = 0; c < mesh.cells.size(); ++c) {
+    if (!cells.kept[c]) continue;
+    surplus += cells.angle[c] - floor;
+    if (cells.angle[c] < floor) worst.emplace_back(cells.angle[c], c);
+  }
+  if (surplus >= 0) return;
+  std::sort(worst.begin(), worst.end());
+  // Enough of the worst cells (at least 64) to find candidates for several
+  // times the deficit.
+  std::vector<std::pair<uint32_t, uint32_t>> candidates;  // (removed vertex, a corner of its cell)
+  double naive = 0;
+  for (size_t i = 0; i < worst.size() && (i < 64 || naive < -4 * surplus); ++i) {
+    const auto& [angle, c] = worst[i];
+    for (uint32_t k : removed.nearest(circumball(points, mesh.cells[c]), 3, points))
+      candidates.emplace_back(k, mesh.cells[c][0]);
+    naive += floor - angle;
+  }
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end(),
+                               [](const auto& a, const auto& b) { return a.first == b.first; }),
+                   candidates.end());
+  struct Option {
+    double gain;
+    uint32_t k;
+    std::vector<int32_t> cells;
+  };
+  std::vector<Option> options;
+  for (const auto& [k, near] : candidates) {
+    const GridPoint& p = points[removed.vertex(k)];
+    IncrementalDelaunay::Conflicts region = dt.conflicts(p, near);
+    if (region.cells.empty()) continue;
+    double gain = 0;
+    for (int32_t c : region.cells)
+      if (cells.kept[static_cast<size_t>(c)]) gain -= cells.angle[static_cast<size_t>(c)] - floor;
+    const uint32_t v = removed.vertex(k);
+    for (const auto& f : region.faces) {
+      const std::array<uint32_t, 4> cell = {v, f[0], f[1], f[2]};
+      if (solid.contains_centroid(points[v], points[f[0]], points[f[1]], points[f[2]]))
+        gain += smallest_solid_angle(points, cell) - floor;
+    }
+    if (gain > 0) options.push_back({gain, k, std::move(region.cells)});
+  }
+  std::stable_sort(options.begin(), options.end(),
+                   [](const Option& a, const Option& b) { return a.gain > b.gain; });
+  std::vector<uint8_t> touched(mesh.cells.size(), 0);
+  const double goal = -0.2 * surplus;
+  for (const Option& o : options) {
+    if (surplus >= goal) break;
+    bool free = !removed.marked(o.k);
+    for (int32_t c : o.cells) free = free && !touched[static_cast<size_t>(c)];
+    if (!free) continue;
+    for (int32_t c : o.cells) touched[static_cast<size_t>(c)] = 1;
+    removed.mark(o.k);
+    surplus += o.gain;
+  }
+}
+
+}  // namespace
+
+CarvedSurface carved_surface(const TetMesh& dt, std::span<const uint8_t> kept,
+                             std::span<const GridPoint> points) {
+  CarvedSurface s;
+  for (const BoundaryFace& f : boundary_faces(dt, kept)) {
+    s.triangles.push_back(outward_triangle(dt, points, f));
+    s.cells.push_back({static_cast<int32_t>(f.cell), dt.neighbors[f.cell][f.opposite]});
+  }
+  return s;
+}
+
+SurfaceRecord record_surface(std::span<const uint32_t> ids,
+                             std::span<const std::array<uint32_t, 3>> triangles,
+                             const ShapeMeasurement& measured) {
+  SurfaceRecord r;
+  r.triangles.reserve(triangles.size());
+  for (const auto& t : triangles) r.triangles.push_back(sorted_key(ids, t));
+  std::sort(r.triangles.begin(), r.triangles.end());
+  for (uint32_t v : measured.surface_vertices) r.vertices.push_back(ids[v]);
+  std::sort(r.vertices.begin(), r.vertices.end());
+  r.reference_squared = measured.reference_squared;
+  return r;
+}
+
+StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<const uint32_t> fine_vertices,
+                                         const SurfaceRecord& fine_surface, std::span<const uint8_t> keep,
+                                         const LevelReference& ref, const LevelBounds& bounds,
+                                         const AlphaPolicy& alpha) {
+  const std::span<const GridPoint> points = fine.points;  // the build names vertices by their fine index
+  BuiltLevel out;
+  std::vector<uint32_t> chosen;
+  for (uint32_t v = 0; v < fine.size(); ++v)
+    if (keep[v]) chosen.push_back(v);
+  out.chosen = chosen.size();
+  IncrementalDelaunay dt;
+  DTM_RETURN_IF_ERROR(dt.insert(gather(points, chosen), chosen));
+  if (dt.dimension() < 3)
+    return Status{StatusCode::kInvalidInput, "the coarser level does not span three dimensions"};
+  RemovedVertices removed(fine, keep);
+  const double dmax2 = bounds.dmax * bounds.dmax;
+  const std::span<const GridPoint> reference_points = ref.shape->boundary_points();
+
+  TetMesh mesh;
+  CellResults cells;
+  CarvedSurface surface;
+  for (int round = 0;; ++round) {
+    std::vector<int32_t> previous;
+    mesh = dt.mesh(previous);
+    cells.update(mesh, previous, points, *ref.solid);
+    surface = carved_surface(mesh, cells.kept, points);
+    out.shape = ref.shape->measure(points, fine_vertices, surface.triangles);
+
+    double sum = 0;
+    uint64_t count = 0;
+    for (size_t c = 0; c < mesh.cells.size(); ++c)
+      if (cells.kept[c]) sum += cells.angle[c], ++count;
+    out.quality = count ? sum / static_cast<double>(count) : 0;
+    out.quality_met = bounds.quality_floor <= 0 || out.quality >= bounds.quality_floor;
+
+    // The places beyond D_max this level made (not inherited), and what
+    // would change them.
+    std::vector<uint8_t> far_triangle(surface.triangles.size(), 0);
+    std::vector<uint8_t> far_vertex(points.size(), 0);
+    for (size_t i = 0; i < out.shape.surface_vertices.size(); ++i)
+      if (out.shape.vertex_squared[i] > dmax2) {
+        const uint32_t v = out.shape.surface_vertices[i];
+        if (!std::binary_search(fine_surface.vertices.begin(), fine_surface.vertices.end(), fine_vertices[v]))
+          far_vertex[v] = 1;
+      }
+    uint64_t broken = 0;
+    for (size_t t = 0; t < surface.triangles.size(); ++t) {
+      const auto& tri = surface.triangles[t];
+      const bool far = out.shape.centroid_squared[t] > dmax2 || far_vertex[tri[0]] || far_vertex[tri[1]] ||
+                       far_vertex[tri[2]];
+      if (far && !std::binary_search(fine_surface.triangles.begin(), fine_surface.triangles.end(),
+                                     sorted_key(fine_vertices, tri)))
+        far_triangle[t] = 1, ++broken;
+    }
+    std::vector<uint32_t> far_reference;
+    for (uint32_t i = 0; i < out.shape.reference_squared.size(); ++i) {
+      const double d2 = out.shape.reference_squared[i];
+      if (d2 > dmax2 && d2 > fine_surface.reference_squared[i] * (1 + 1e-9) + 1e-9)
+        far_reference.push_back(i);
+    }
+    broken += far_reference.size();
+    out.shape_left = broken;
+    if (broken == 0 && out.quality_met) break;
+    if (round == bounds.repair_rounds) break;
+
+    // A far triangle: what the cells on both sides of it are in conflict
+    // with (each vertex put back destroys the cell). A far reference
+    // vertex: the same for the triangle nearest it.
+    for (size_t t = 0; t < surface.triangles.size(); ++t) {
+      if (!far_triangle[t]) continue;
+      for (int32_t c : surface.cells[t])
+        if (c >= 0) removed.take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), 2, points);
+    }
+    if (!far_reference.empty()) {
+      // The triangle nearest each far reference vertex, by its grid ids.
+      std::vector<std::pair<Key, uint32_t>> by_key;
+      by_key.reserve(surface.triangles.size());
+      for (uint32_t t = 0; t < surface.triangles.size(); ++t)
+        by_key.emplace_back(sorted_key(fine_vertices, surface.triangles[t]), t);
+      std::sort(by_key.begin(), by_key.end());
+      for (uint32_t i : far_reference) {
+        const Key& key = out.shape.reference_nearest[i];
+        const auto it = std::lower_bound(by_key.begin(), by_key.end(), std::pair<Key, uint32_t>{key, 0});
+        size_t taken = 0;
+        if (it != by_key.end() && it->first == key)
+          for (int32_t c : surface.cells[it->second])
+            if (c >= 0)
+              taken +=
+                  removed.take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), 2, points);
+        // Else the removed vertex nearest it, however far: progress.
+        const GridPoint& p = reference_points[i];
+        for (double r = 2 * std::sqrt(out.shape.reference_squared[i]); taken == 0 && r < 1e8; r *= 4)
+          taken = removed.take_nearest({{double(p.x), double(p.y), double(p.z)}, r}, 1, points);
+      }
+    }
+    if (!out.quality_met) repair_quality(dt, mesh, cells, points, *ref.solid, bounds.quality_floor, removed);
+    const std::vector<uint32_t> back = removed.collect();
+    if (back.empty()) break;  // nothing left to put back where a bound breaks
+    out.put_back += back.size();
+    ++out.repair_rounds;
+    DTM_RETURN_IF_ERROR(dt.insert(gather(points, back), back));
+  }
+
+  // The level in its own numbering: its vertices in ascending grid order.
+  std::vector<uint32_t> local(fine.size(), UINT32_MAX);
+  std::vector<uint32_t> members;
+  {
+    std::vector<uint8_t> in_level(fine.size(), 0);
+    for (const auto& c : mesh.cells)
+      for (uint32_t v : c) in_level[v] = 1;
+    for (uint32_t v = 0; v < fine.size(); ++v)
+      if (in_level[v]) {
+        local[v] = static_cast<uint32_t>(members.size());
+        members.push_back(v);
+      }
+  }
+  for (auto& c : mesh.cells)
+    for (uint32_t& v : c) v = local[v];
+  for (auto& t : surface.triangles)
+    for (uint32_t& v : t) v = local[v];
+  out.vertices.reserve(members.size());
+  for (uint32_t v : members) out.vertices.push_back(fine_vertices[v]);
+  for (uint32_t& v : out.shape.surface_vertices) v = local[v];
+  out.surface = record_surface(out.vertices, surface.triangles, out.shape);
+  DTM_ASSIGN_OR_RETURN(out.geometry,
+                       analyze_level(gather(points, members), std::move(mesh), alpha, cells.kept));
+  return out;
+}
+
+}  // namespace dtm
