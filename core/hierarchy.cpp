@@ -104,7 +104,7 @@ double surplus_of_fill(const LevelGeometry& L, const Refill& fill, double floor)
 
 struct Removal {
   std::vector<uint8_t> removed;  // per local vertex
-  uint64_t boundary = 0, interior = 0, rejected_by_quality = 0, rejected_by_shape = 0;
+  uint64_t boundary = 0, interior = 0, rejected_by_quality = 0;
 };
 
 // Greedy independent set (the paper preset, alpha carving): boundary
@@ -141,7 +141,7 @@ Removal select_removal(const LevelGeometry& L, const Csr& represented, const Rep
   const bool quality_guarded = opt.quality_guard > 0 || opt.quality_ratio > 0 || hold_average;
   auto judge = [&](uint32_t v) -> Verdict {
     if (!quality_guarded) return {Verdict::kTake};
-    const Refill fill = refill_of(L, v, nullptr);
+    const Refill fill = refill_of(L, v);
     if (!quality_allows(L, v, fill, opt)) return {Verdict::kQuality};
     if (!hold_average) return {Verdict::kTake};
     const double change = surplus_of_fill(L, fill, quality_floor) - surplus_of_star(L, v, quality_floor);
@@ -282,7 +282,6 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
     out.stats.removed_boundary = made.boundary;
     out.stats.removed_interior = made.interior;
     out.stats.rejected_by_quality = made.rejected_by_quality;
-    out.stats.rejected_by_shape = made.rejected_by_shape;
     out.stats.passes = passes;
     h.levels.push_back(std::move(out));
     if (on_level) on_level(h.levels.back());
@@ -327,7 +326,6 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
       made.boundary += next.boundary;
       made.interior += next.interior;
       made.rejected_by_quality += next.rejected_by_quality;
-      made.rejected_by_shape += next.rejected_by_shape;
       ++passes;
     } while (static_cast<double>(finer - vertices.size()) < opt.removal_share * static_cast<double>(finer));
     if (passes == 0) break;

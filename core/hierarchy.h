@@ -79,8 +79,7 @@ struct LevelStats {
   uint64_t boundary_vertices = 0;
   uint64_t removed_interior = 0;  // removed from the finer level to make this one
   uint64_t removed_boundary = 0;
-  uint64_t rejected_by_quality = 0;  // candidates the quality guard kept
-  uint64_t rejected_by_shape = 0;    // (paper preset with a shape guard: none today)
+  uint64_t rejected_by_quality = 0;  // candidates the quality rules kept (paper preset)
   int passes = 0;                    // independent sets removed to make this level (paper preset)
   // The codec preset (spec/HIERARCHY.md §6.1-6.2): vertices the whole-level
   // choice kept, those the repair put back, and its rounds.

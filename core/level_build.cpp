@@ -95,7 +95,7 @@ class RemovedVertices {
         vertex_.push_back(v);
         places.push_back(fine.points[v]);
       }
-    index_.emplace(places, PointBuckets::Spread::kVolume);
+    index_.emplace(places);
     chosen_.assign(vertex_.size(), 0);
   }
   size_t size() const { return vertex_.size(); }

@@ -5,8 +5,7 @@
 
 namespace dtm {
 
-PointBuckets::PointBuckets(std::span<const GridPoint> points, Spread spread)
-    : points_(points.begin(), points.end()) {
+PointBuckets::PointBuckets(std::span<const GridPoint> points) : points_(points.begin(), points.end()) {
   if (points_.empty()) return;
   std::array<int64_t, 3> lo = {points_[0].x, points_[0].y, points_[0].z}, hi = lo;
   for (const GridPoint& p : points_) {
@@ -15,11 +14,8 @@ PointBuckets::PointBuckets(std::span<const GridPoint> points, Spread spread)
   }
   origin_ = lo;
   const int64_t extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}) + 1;
-  // About one point per bucket along a surface (n points spread over a few
-  // sheets across the box): sqrt(n) buckets along the box's largest side;
-  // through a volume, cbrt(n).
-  const double n = static_cast<double>(points_.size());
-  const double per_side = std::max(1.0, spread == Spread::kSurface ? std::sqrt(n) : std::cbrt(n));
+  // cbrt(n) buckets along the box's largest side.
+  const double per_side = std::max(1.0, std::cbrt(static_cast<double>(points_.size())));
   size_ = std::max<int64_t>(1, static_cast<int64_t>(static_cast<double>(extent) / per_side));
   for (int a = 0; a < 3; ++a) dims_[a] = (hi[a] - lo[a]) / size_ + 1;
   buckets_ = build_csr(static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]), [&](auto&& emit) {

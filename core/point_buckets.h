@@ -1,6 +1,6 @@
-// A fixed set of points found by box: a uniform grid of buckets (CSR). The
-// shape guard asks it which original boundary points lie near the surface
-// triangles a removal takes away.
+// A fixed set of points found by box or ball: a uniform grid of buckets
+// (CSR). The codec's repair asks it which removed vertices lie in a cell's
+// circumsphere.
 #pragma once
 
 #include <array>
@@ -15,10 +15,8 @@ namespace dtm {
 
 class PointBuckets {
  public:
-  // How the points spread: over a few sheets (a surface's points: about one
-  // point per bucket along a sheet) or through a volume (about one per bucket).
-  enum class Spread { kSurface, kVolume };
-  explicit PointBuckets(std::span<const GridPoint> points, Spread spread = Spread::kSurface);
+  // About one point per bucket, for points that fill a volume.
+  explicit PointBuckets(std::span<const GridPoint> points);
 
   // Calls f(i) for every point i within `radius` of `center` (grid units).
   template <class F>
