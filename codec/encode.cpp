@@ -41,6 +41,7 @@ HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, dou
   h.carve_to_reference = o.carve_to_reference;
   h.removal_share = o.removal_share;
   h.measure_boundary_error = o.measure_boundary_error;
+  h.on_phase = o.on_phase;
   return h;
 }
 
@@ -201,6 +202,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   else if (!reference_tets.empty() && !h.levels.empty())
     report.level0_difference = solid_difference(q.points, h.levels.front().mesh, reference_tets);
 
+  report_phase(options.on_phase, "writing the stream");
   StreamOptions stream_options;
   stream_options.cell_hashes = options.cell_hashes;
   stream_options.level_step = options.level_step;

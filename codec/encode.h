@@ -24,6 +24,7 @@
 
 #include "codec/value_fields.h"
 #include "common/grid.h"
+#include "common/progress.h"
 #include "common/status.h"
 #include "core/hierarchy.h"
 #include "core/quantize.h"
@@ -70,6 +71,10 @@ struct EncodeOptions {
   // The stream (codec/expert_encode.h, StreamOptions).
   int level_step = 1;
   bool cell_hashes = false;
+
+  // Told each phase of the work as it starts (common/progress.h): the
+  // hierarchy's levels, then the stream's.
+  PhaseCallback on_phase;
 
   // The seed paper's hierarchy: alpha carving without corrections, one
   // independent set per level, its quality trade-off (a removal may not make

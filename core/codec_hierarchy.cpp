@@ -1,6 +1,7 @@
 #include "core/codec_hierarchy.h"
 
 #include <optional>
+#include <string>
 
 #include "common/parallel_for.h"
 #include "core/coarsening.h"
@@ -70,6 +71,10 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   for (uint32_t i = 0; i < vertices.size(); ++i) vertices[i] = i;
 
   // Level 0 and the reference: the input's solid, or level 0's alpha carving.
+  const auto phase = [&](int level, const char* what) {
+    report_phase(opt.on_phase, "level " + std::to_string(level) + ": " + what);
+  };
+  phase(0, "Delaunay tetrahedralization");
   DTM_ASSIGN_OR_RETURN(TetMesh dt0, delaunay_tetrahedralize(points));
   std::optional<ReferenceShape> shape;
   std::optional<ReferenceSolid> solid;
@@ -77,9 +82,11 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   std::vector<int32_t> match;  // per level-0 cell, the reference tetrahedron it is
   std::optional<LevelGeometry> L;
   if (!opt.reference_cells.empty()) {
+    phase(0, "the reference solid");
     shape.emplace(points, opt.reference_cells);
     solid.emplace(points, opt.reference_cells, shape->boundary_triangles());
     std::vector<uint8_t> verdicts;
+    phase(0, "carving to the reference");
     {
       // A Delaunay cell that is one of the solid's own tetrahedra holds its
       // centroid: no test needed (the most of level 0's cells).
@@ -95,20 +102,25 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
                    },
                    2);
     }
+    phase(0, "analysing the level");
     DTM_ASSIGN_OR_RETURN(L, analyze_level(gather(points, vertices), std::move(dt0), opt.alpha, verdicts));
   } else {
+    phase(0, "analysing the level");
     DTM_ASSIGN_OR_RETURN(L, analyze_level(gather(points, vertices), std::move(dt0), opt.alpha));
     alpha_cells = carved_cells(*L, vertices);
+    phase(0, "the reference solid");
     shape.emplace(points, alpha_cells);
     solid.emplace(points, alpha_cells, shape->boundary_triangles());
   }
   const LevelReference reference{&*solid, &*shape};
   h.reference_boundary_vertices = shape->boundary_vertices();
 
+  phase(0, "measuring the shape");
   const CarvedSurface surface0 = carved_surface(L->dt, L->in_mesh, L->points);
   const ShapeMeasurement shape0 = shape->measure(L->points, vertices, surface0.triangles);
   SurfaceRecord record = record_surface(vertices, surface0.triangles, shape0);
   if (!match.empty()) {
+    phase(0, "its solid against the reference");
     h.level0_difference = carved_difference(points, L->dt, L->in_mesh, opt.reference_cells, *solid, match);
     match = {};
   }
@@ -123,10 +135,12 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   for (int level = 1;; ++level) {
     if (opt.max_levels > 0 && level > opt.max_levels) break;
     const size_t finer = vertices.size();
+    phase(level, "choosing the vertices");
     const Coarsening choice = choose_coarser(*L, level_surface(*L), {1 - share, opt.dmax, beta});
     beta = choice.beta;
     StatusOr<BuiltLevel> built =
-        build_coarser_level(*L, vertices, record, choice.keep, reference, bounds, opt.alpha);
+        build_coarser_level(*L, vertices, record, choice.keep, reference, bounds, opt.alpha,
+                            [&](const char* what) { phase(level, what); });
     // The coarser set would be flat: the current one is the coarsest.
     if (built.status().code() == StatusCode::kInvalidInput) break;
     if (!built.ok()) return built.status();

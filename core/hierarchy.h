@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/grid.h"
+#include "common/progress.h"
 #include "common/status.h"
 #include "core/level.h"
 #include "core/solid_difference.h"
@@ -63,6 +64,8 @@ struct HierarchyOptions {
   // vertex and level) are a measurement, not part of the construction: the
   // benchmark reports the build with and without them.
   bool measure_boundary_error = true;
+  // Told each phase as it starts (common/progress.h).
+  PhaseCallback on_phase;
 };
 
 // The distance between a reference's boundary and a level's, each way: from

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/parallel_for.h"
 #include "mesh/geometry.h"
 
 namespace dtm {
@@ -53,25 +54,52 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
   L.cell_min_solid_angle.assign(m, 0);
   L.solid_angle_sum.assign(n, 0);
   L.mesh_volume6.assign(n, 0);
-  for (size_t c = 0; c < m; ++c) {
-    const bool kept = verdicts.empty() ? kept_by_alpha(L.points, L.dt.cells[c], L.alpha) : verdicts[c] != 0;
-    if (!kept) continue;
-    // Corners in lexicographic order of their coordinates, as the carving
-    // takes them: the angles and volumes are then the same function of the
-    // four points whatever order a triangulation lists them in.
-    std::array<uint32_t, 4> cell = L.dt.cells[c];
-    std::sort(cell.begin(), cell.end(), [&](uint32_t a, uint32_t b) { return L.points[a] < L.points[b]; });
-    const std::array<Vec3, 4> t = {to_vec(L.points[cell[0]]), to_vec(L.points[cell[1]]),
-                                   to_vec(L.points[cell[2]]), to_vec(L.points[cell[3]])};
-    L.in_mesh[c] = 1;
-    ++L.mesh_cells;
-    const auto angles = solid_angles(t);
-    L.cell_min_solid_angle[c] = std::min({angles[0], angles[1], angles[2], angles[3]});
-    const Int128 volume6 =
-        abs_six_volume(L.points[cell[0]], L.points[cell[1]], L.points[cell[2]], L.points[cell[3]]);
-    for (int i = 0; i < 4; ++i) {
-      L.solid_angle_sum[cell[i]] += angles[i];
-      L.mesh_volume6[cell[i]] += volume6;
+  // A chunk of cells at a time: their angles and volumes on every core,
+  // then added to their vertices in cell order (the sums' bits do not
+  // depend on the split).
+  struct Measured {
+    std::array<uint32_t, 4> corners;  // lexicographic order of their coordinates
+    std::array<double, 4> angles;
+    Int128 volume6;
+  };
+  constexpr size_t kChunk = 1 << 16, kBlock = 1024;
+  std::vector<Measured> measured(std::min(m, kChunk));
+  for (size_t first = 0; first < m; first += kChunk) {
+    const size_t count = std::min(kChunk, m - first);
+    parallel_for(
+        (count + kBlock - 1) / kBlock,
+        [&](size_t block) {
+          for (size_t i = block * kBlock; i < std::min(count, block * kBlock + kBlock); ++i) {
+            const size_t c = first + i;
+            const bool kept =
+                verdicts.empty() ? kept_by_alpha(L.points, L.dt.cells[c], L.alpha) : verdicts[c] != 0;
+            L.in_mesh[c] = kept;
+            if (!kept) continue;
+            // Corners in lexicographic order of their coordinates, as the
+            // carving takes them: the angles and volumes are then the same
+            // function of the four points whatever order a triangulation
+            // lists them in.
+            Measured& r = measured[i];
+            r.corners = L.dt.cells[c];
+            std::sort(r.corners.begin(), r.corners.end(),
+                      [&](uint32_t a, uint32_t b) { return L.points[a] < L.points[b]; });
+            const std::array<Vec3, 4> t = {to_vec(L.points[r.corners[0]]), to_vec(L.points[r.corners[1]]),
+                                           to_vec(L.points[r.corners[2]]), to_vec(L.points[r.corners[3]])};
+            r.angles = solid_angles(t);
+            L.cell_min_solid_angle[c] = std::min({r.angles[0], r.angles[1], r.angles[2], r.angles[3]});
+            r.volume6 = abs_six_volume(L.points[r.corners[0]], L.points[r.corners[1]], L.points[r.corners[2]],
+                                       L.points[r.corners[3]]);
+          }
+        },
+        2);
+    for (size_t i = 0; i < count; ++i) {
+      if (!L.in_mesh[first + i]) continue;
+      ++L.mesh_cells;
+      const Measured& r = measured[i];
+      for (int k = 0; k < 4; ++k) {
+        L.solid_angle_sum[r.corners[k]] += r.angles[k];
+        L.mesh_volume6[r.corners[k]] += r.volume6;
+      }
     }
   }
   L.boundary.assign(n, 0);

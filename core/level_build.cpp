@@ -240,7 +240,8 @@ SurfaceRecord record_surface(std::span<const uint32_t> ids,
 StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<const uint32_t> fine_vertices,
                                          const SurfaceRecord& fine_surface, std::span<const uint8_t> keep,
                                          const LevelReference& ref, const LevelBounds& bounds,
-                                         const AlphaPolicy& alpha) {
+                                         const AlphaPolicy& alpha,
+                                         const std::function<void(const char*)>& phase) {
   const std::span<const GridPoint> points = fine.points;  // the build names vertices by their fine index
   BuiltLevel out;
   std::vector<uint32_t> chosen;
@@ -248,6 +249,7 @@ StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<co
     if (keep[v]) chosen.push_back(v);
   out.chosen = chosen.size();
   IncrementalDelaunay dt;
+  phase("Delaunay tetrahedralization");
   DTM_RETURN_IF_ERROR(dt.insert(gather(points, chosen), chosen));
   if (dt.dimension() < 3)
     return Status{StatusCode::kInvalidInput, "the coarser level does not span three dimensions"};
@@ -260,8 +262,10 @@ StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<co
   CarvedSurface surface;
   for (int round = 0;; ++round) {
     std::vector<int32_t> previous;
+    phase(round == 0 ? "carving to the reference" : "carving the repaired places");
     mesh = dt.mesh(previous);
     cells.update(mesh, previous, points, *ref.solid);
+    phase("measuring the shape");
     surface = carved_surface(mesh, cells.kept, points);
     out.shape = ref.shape->measure(points, fine_vertices, surface.triangles);
 
@@ -302,6 +306,7 @@ StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<co
     if (broken == 0 && out.quality_met) break;
     if (round == bounds.repair_rounds) break;
 
+    phase("choosing what to put back");
     // A far triangle: what the cells on both sides of it are in conflict
     // with (each vertex put back destroys the cell). A far reference
     // vertex: the same for the triangle nearest it.
@@ -337,10 +342,12 @@ StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<co
     if (back.empty()) break;  // nothing left to put back where a bound breaks
     out.put_back += back.size();
     ++out.repair_rounds;
+    phase("putting vertices back");
     DTM_RETURN_IF_ERROR(dt.insert(gather(points, back), back));
   }
 
   // The level in its own numbering: its vertices in ascending grid order.
+  phase("analysing the level");
   std::vector<uint32_t> local(fine.size(), UINT32_MAX);
   std::vector<uint32_t> members;
   {

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -82,9 +83,11 @@ struct BuiltLevel {
 
 // `fine`: the finer level (its vertices `fine_vertices`, grid ids), carved to
 // the reference; `keep`: the choice, per vertex of `fine`.
+// `phase` is told what the build is doing as it goes.
 StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<const uint32_t> fine_vertices,
                                          const SurfaceRecord& fine_surface, std::span<const uint8_t> keep,
                                          const LevelReference& reference, const LevelBounds& bounds,
-                                         const AlphaPolicy& alpha);
+                                         const AlphaPolicy& alpha,
+                                         const std::function<void(const char*)>& phase);
 
 }  // namespace dtm

@@ -37,9 +37,17 @@ std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<
 ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
                                std::span<const std::array<uint32_t, 4>> tets)
     : boundary_(dtm::boundary_triangles(tets)),
-      boundary_points_(gather(points, vertex_ids_of(boundary_))),
+      boundary_ids_(vertex_ids_of(boundary_)),
+      boundary_points_(gather(points, boundary_ids_)),
       reference_surface_(points, boundary_),
-      to_level_(boundary_points_) {}
+      to_level_(boundary_points_, boundary_ids_),
+      to_reference_(points.size(), std::numeric_limits<double>::quiet_NaN()) {
+  // On the reference's surface: its own vertices and triangles.
+  for (uint32_t v : boundary_ids_) to_reference_[v] = 0;
+  boundary_keys_ = boundary_;
+  for (auto& k : boundary_keys_) std::sort(k.begin(), k.end());
+  std::sort(boundary_keys_.begin(), boundary_keys_.end());
+}
 
 ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std::span<const uint32_t> ids,
                                          std::span<const std::array<uint32_t, 3>> triangles) {
@@ -51,9 +59,7 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   // Grid points not measured before, on every core.
   std::vector<uint32_t> unmeasured;
   for (uint32_t v : m.surface_vertices) {
-    const uint32_t id = ids.empty() ? v : ids[v];
-    if (id >= to_reference_.size()) to_reference_.resize(id + 1, std::numeric_limits<double>::quiet_NaN());
-    if (std::isnan(to_reference_[id])) unmeasured.push_back(v);
+    if (std::isnan(to_reference_[ids.empty() ? v : ids[v]])) unmeasured.push_back(v);
   }
   const std::vector<double> fresh = reference_surface_.squared_distances(gather(points, unmeasured));
   for (size_t i = 0; i < unmeasured.size(); ++i)
@@ -62,14 +68,22 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   for (uint32_t v : m.surface_vertices) m.vertex_squared.push_back(to_reference_[ids.empty() ? v : ids[v]]);
   // A point inside each triangle too: a flat triangle between two surface
   // vertices can cut across a concavity its corners do not see.
+  // (A triangle of the reference's surface is at distance 0.)
   std::vector<std::array<double, 3>> centroids;
-  centroids.reserve(triangles.size());
-  for (const auto& t : triangles) {
+  std::vector<uint32_t> searched;
+  m.centroid_squared.assign(triangles.size(), 0);
+  for (uint32_t i = 0; i < triangles.size(); ++i) {
+    const auto& t = triangles[i];
+    std::array<uint32_t, 3> key = ids.empty() ? t : std::array<uint32_t, 3>{ids[t[0]], ids[t[1]], ids[t[2]]};
+    std::sort(key.begin(), key.end());
+    if (std::binary_search(boundary_keys_.begin(), boundary_keys_.end(), key)) continue;
     const GridPoint &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
     centroids.push_back({(double{1} * a.x + b.x + c.x) / 3, (double{1} * a.y + b.y + c.y) / 3,
                          (double{1} * a.z + b.z + c.z) / 3});
+    searched.push_back(i);
   }
-  m.centroid_squared = reference_surface_.squared_distances(centroids);
+  const std::vector<double> found = reference_surface_.squared_distances(centroids);
+  for (size_t k = 0; k < searched.size(); ++k) m.centroid_squared[searched[k]] = found[k];
   std::vector<double> squared = m.vertex_squared;
   squared.insert(squared.end(), m.centroid_squared.begin(), m.centroid_squared.end());
   m.to_reference = summarize_squared(squared);

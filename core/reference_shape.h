@@ -66,12 +66,14 @@ class ReferenceShape {
 
  private:
   std::vector<std::array<uint32_t, 3>> boundary_;
+  std::vector<std::array<uint32_t, 3>> boundary_keys_;  // each triangle's ids sorted, the list sorted
+  std::vector<uint32_t> boundary_ids_;                  // grid ids of boundary_points_
   std::vector<GridPoint> boundary_points_;
   FixedSurface reference_surface_;
   SurfaceDistanceTracker to_level_;  // from boundary_points_
   // Squared distance of a grid point to the reference surface, once
-  // measured (NaN before): a level's surface vertices are mostly the
-  // previous level's.
+  // measured (NaN before; 0 from the start for the reference's own boundary
+  // vertices): a level's surface vertices are mostly the previous level's.
   std::vector<double> to_reference_;
 };
 

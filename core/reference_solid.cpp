@@ -27,10 +27,6 @@ int orientation_in(const P4& a, const P4& b, const P4& c, const P4& d) {
 
 P4 times4(const GridPoint& p) { return {4 * int64_t{p.x}, 4 * int64_t{p.y}, 4 * int64_t{p.z}}; }
 
-// Groups larger than this many are given tetrahedron lists instead of one
-// exact test each (a test scans every tetrahedron).
-constexpr size_t kMostGroupTests = 64;
-
 }  // namespace
 
 ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
@@ -117,81 +113,87 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 3>> boundary) {
     for_each_cell(c0, c1, [&](size_t cell) { state_[cell] = kMixed; });
   }
 
-  // The groups of untouched cells, by flood fill through faces; a group
-  // touching the grid's border lies outside (the solid is inside its box:
-  // a border cell meets no tetrahedron's interior unless the boundary
-  // touches it). Each other group is classified by one exact test of its
-  // first cell's centre, while those tests stay few; beyond, the group's
-  // cells become mixed.
-  std::vector<uint32_t> queue;
-  std::vector<std::pair<uint32_t, size_t>> groups;  // (label, first cell)
-  uint32_t next_label = 0;
-  std::vector<uint32_t> label(total, UINT32_MAX);
-  for (size_t start = 0; start < total; ++start) {
-    if (state_[start] != kUnknown || label[start] != UINT32_MAX) continue;
-    const uint32_t g = next_label++;
-    bool border = false;
-    label[start] = g;
-    queue.assign(1, static_cast<uint32_t>(start));
-    while (!queue.empty()) {
-      const size_t cell = queue.back();
-      queue.pop_back();
-      const int64_t x = static_cast<int64_t>(cell) % dims_[0],
-                    y = static_cast<int64_t>(cell) / dims_[0] % dims_[1],
-                    z = static_cast<int64_t>(cell) / (dims_[0] * dims_[1]);
-      border =
-          border || x == 0 || y == 0 || z == 0 || x == dims_[0] - 1 || y == dims_[1] - 1 || z == dims_[2] - 1;
-      const int64_t steps[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-      for (const auto& s : steps) {
-        const int64_t nx = x + s[0], ny = y + s[1], nz = z + s[2];
-        if (nx < 0 || ny < 0 || nz < 0 || nx >= dims_[0] || ny >= dims_[1] || nz >= dims_[2]) continue;
-        const size_t nb = static_cast<size_t>((nz * dims_[1] + ny) * dims_[0] + nx);
-        if (state_[nb] == kUnknown && label[nb] == UINT32_MAX) {
-          label[nb] = g;
-          queue.push_back(static_cast<uint32_t>(nb));
-        }
-      }
-    }
-    groups.emplace_back(border ? 1u : 0u, start);
-  }
-  std::vector<uint32_t> group_state(groups.size(), kOutside);
-  size_t tests = 0;
-  for (size_t g = 0; g < groups.size(); ++g) {
-    if (groups[g].first) continue;  // on the border: outside
-    if (tests++ >= kMostGroupTests) {
-      group_state[g] = kMixed;
-      continue;
-    }
-    const size_t cell = groups[g].second;
-    const int64_t x = static_cast<int64_t>(cell) % dims_[0],
-                  y = static_cast<int64_t>(cell) / dims_[0] % dims_[1],
-                  z = static_cast<int64_t>(cell) / (dims_[0] * dims_[1]);
-    const P4 centre = {lo_[0] + x * step_ + step_ / 2, lo_[1] + y * step_ + step_ / 2,
-                       lo_[2] + z * step_ + step_ / 2};
-    bool inside = false;
-    for (uint32_t k = 0; k < cells_.size() && !inside; ++k) inside = in_tetrahedron(centre, k);
-    group_state[g] = inside ? kInside : kOutside;
-  }
-  for (size_t cell = 0; cell < total; ++cell)
-    if (state_[cell] == kUnknown) state_[cell] = group_state[label[cell]];
-  label = {};
-
-  // Mixed cells get their rows, then the tetrahedra whose boxes meet them.
+  // Mixed cells get their rows, then the tetrahedra whose boxes meet them:
+  // first, on every core, which tetrahedra meet a mixed cell at all (those
+  // near the boundary), then the rows.
   uint32_t mixed = 0;
   for (uint32_t& s : state_)
     if (s == kMixed) s = kFirstMixed + mixed++;
+  std::vector<uint8_t> near(n, 0);
+  parallel_for((n + 4095) / 4096,
+               [&](size_t block) {
+                 for (size_t k = block * 4096; k < std::min(n, block * 4096 + 4096); ++k) {
+                   if (orientation_[k] == 0) continue;
+                   P4 bl, bh;
+                   box_of(cells_[k], bl, bh);
+                   std::array<int64_t, 3> c0, c1;
+                   range(bl, bh, c0, c1);
+                   bool any = false;
+                   for_each_cell(c0, c1, [&](size_t cell) { any = any || state_[cell] != kUnknown; });
+                   near[k] = any;
+                 }
+               },
+               2);
   mixed_ = build_csr(mixed, [&](auto&& emit) {
     for (uint32_t k = 0; k < cells_.size(); ++k) {
-      if (orientation_[k] == 0) continue;
+      if (!near[k]) continue;
       P4 bl, bh;
       box_of(cells_[k], bl, bh);
       std::array<int64_t, 3> c0, c1;
       range(bl, bh, c0, c1);
       for_each_cell(c0, c1, [&](size_t cell) {
-        if (state_[cell] >= kFirstMixed) emit(state_[cell] - kFirstMixed, k);
+        if (state_[cell] >= kFirstMixed && state_[cell] != kUnknown) emit(state_[cell] - kFirstMixed, k);
       });
     }
   });
+
+  // The groups of untouched cells, by flood fill through faces. A group
+  // lies wholly inside or outside; it is classified by one exact test of the
+  // centre of a face it shares with a mixed cell: that point is in the
+  // group's closed cells (so not on the boundary), and every tetrahedron
+  // holding it meets the mixed cell's closure (so is on its list). A group
+  // with no mixed neighbour is the whole grid, which the boundary does not
+  // touch: outside.
+  const int64_t steps[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  std::vector<uint32_t> queue;
+  for (size_t start = 0; start < total; ++start) {
+    if (state_[start] != kUnknown) continue;
+    // The group, marked kGrouping while it is gathered.
+    constexpr uint32_t kGrouping = UINT32_MAX - 2;
+    std::vector<uint32_t> group;
+    state_[start] = kGrouping;
+    queue.assign(1, static_cast<uint32_t>(start));
+    uint32_t verdict = kOutside;
+    bool decided = false;
+    while (!queue.empty()) {
+      const uint32_t cell = queue.back();
+      queue.pop_back();
+      group.push_back(cell);
+      const int64_t x = int64_t{cell} % dims_[0], y = int64_t{cell} / dims_[0] % dims_[1],
+                    z = int64_t{cell} / (dims_[0] * dims_[1]);
+      for (const auto& st : steps) {
+        const int64_t nx = x + st[0], ny = y + st[1], nz = z + st[2];
+        if (nx < 0 || ny < 0 || nz < 0 || nx >= dims_[0] || ny >= dims_[1] || nz >= dims_[2]) continue;
+        const size_t nb = static_cast<size_t>((nz * dims_[1] + ny) * dims_[0] + nx);
+        if (state_[nb] == kUnknown) {
+          state_[nb] = kGrouping;
+          queue.push_back(static_cast<uint32_t>(nb));
+        } else if (!decided && state_[nb] >= kFirstMixed && state_[nb] < kGrouping) {
+          // The centre of the face between cell and nb (integral: step_ is even).
+          P4 centre = {lo_[0] + x * step_ + step_ / 2, lo_[1] + y * step_ + step_ / 2,
+                       lo_[2] + z * step_ + step_ / 2};
+          for (int a = 0; a < 3; ++a)
+            if (st[a] != 0) centre[a] += st[a] * step_ / 2;
+          bool inside = false;
+          for (uint32_t k : mixed_.row(state_[nb] - kFirstMixed))
+            inside = inside || in_tetrahedron(centre, k);
+          verdict = inside ? kInside : kOutside;
+          decided = true;
+        }
+      }
+    }
+    for (uint32_t cell : group) state_[cell] = verdict;
+  }
 }
 
 bool ReferenceSolid::in_tetrahedron(const P4& p, uint32_t k) const {

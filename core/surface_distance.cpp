@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/parallel_for.h"
+#include "common/status.h"
 
 namespace dtm {
 namespace {
@@ -109,10 +110,14 @@ struct SurfaceDistanceTracker::State {
   std::vector<TriangleKey> nearest_triangle;
   bool measured = false;
   std::vector<TriangleKey> previous;  // the last surface's keys, sorted
+  std::vector<uint32_t> query_ids;    // empty: queries have no names
 };
 
-SurfaceDistanceTracker::SurfaceDistanceTracker(std::span<const GridPoint> queries)
+SurfaceDistanceTracker::SurfaceDistanceTracker(std::span<const GridPoint> queries,
+                                               std::span<const uint32_t> query_ids)
     : state_(std::make_unique<State>()) {
+  DTM_CHECK(query_ids.empty() || query_ids.size() == queries.size());
+  state_->query_ids.assign(query_ids.begin(), query_ids.end());
   for (const GridPoint& q : queries) state_->queries.push_back(to_point(q));
   state_->squared.resize(queries.size());
   state_->nearest.resize(queries.size());
@@ -155,11 +160,30 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
       added.push_back(soup[i]);
       added_index.push_back(i);
     }
-  // Queries whose nearest triangle is gone are searched in full, the others
+  // A named query that is a vertex of the surface is on it. The other
+  // queries whose nearest triangle is gone are searched in full, the rest
   // against the added triangles only.
+  std::vector<std::pair<uint32_t, uint32_t>> triangle_at;  // (vertex name, a triangle of it), sorted
+  if (!s.query_ids.empty()) {
+    triangle_at.reserve(3 * triangles.size());
+    for (uint32_t i = 0; i < triangles.size(); ++i)
+      for (uint32_t v : triangles[i]) triangle_at.emplace_back(ids.empty() ? v : ids[v], i);
+    std::sort(triangle_at.begin(), triangle_at.end());
+  }
   std::vector<uint32_t> full, check;
-  for (uint32_t q = 0; q < s.queries.size(); ++q)
+  for (uint32_t q = 0; q < s.queries.size(); ++q) {
+    if (!triangle_at.empty()) {
+      const auto it = std::lower_bound(triangle_at.begin(), triangle_at.end(),
+                                       std::pair<uint32_t, uint32_t>{s.query_ids[q], 0});
+      if (it != triangle_at.end() && it->first == s.query_ids[q]) {
+        s.squared[q] = 0;
+        s.nearest[q] = s.queries[q];
+        s.nearest_triangle[q] = keys[it->second];
+        continue;
+      }
+    }
     (s.measured && present(sorted_keys, s.nearest_triangle[q]) ? check : full).push_back(q);
+  }
 
   if (!full.empty()) {
     Tree tree(soup.cbegin(), soup.cend());

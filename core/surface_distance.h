@@ -57,7 +57,11 @@ class FixedSurface {
 // results equal distance_to_surface's on every surface (tested).
 class SurfaceDistanceTracker {
  public:
-  explicit SurfaceDistanceTracker(std::span<const GridPoint> queries);
+  // `query_ids`, if given, names each query as measure()'s `ids` name the
+  // surface's points: a query that is a vertex of the surface is at
+  // distance 0 without a search.
+  explicit SurfaceDistanceTracker(std::span<const GridPoint> queries,
+                                  std::span<const uint32_t> query_ids = {});
   ~SurfaceDistanceTracker();
   SurfaceDistanceTracker(SurfaceDistanceTracker&&) noexcept;
   SurfaceDistanceTracker& operator=(SurfaceDistanceTracker&&) noexcept;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "common/parallel_for.h"
 #include "mesh/geometry.h"
 
 namespace dtm {
@@ -16,22 +17,45 @@ Csr vertex_cells(const TetMesh& mesh, size_t num_vertices) {
 Csr vertex_neighbors(const TetMesh& mesh, const Csr& cells_of_vertex) {
   // The neighbours of v are the other corners of its cells; a stamp per
   // vertex (the last v that listed it) drops repeats without a hash or a
-  // sort of the ~70 corners each vertex sees.
+  // sort of the ~70 corners each vertex sees. Blocks of vertices on every
+  // core, each thread with its stamps, joined in vertex order.
   const size_t n = cells_of_vertex.rows();
-  std::vector<uint32_t> stamp(n, UINT32_MAX);
+  constexpr size_t kBlock = 4096;
+  const size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::vector<uint32_t>> items(blocks), counts(blocks);
+  parallel_for(
+      blocks,
+      [&](size_t block) {
+        thread_local std::vector<uint32_t> stamp;
+        if (stamp.size() < n) stamp.assign(n, UINT32_MAX);
+        auto& out = items[block];
+        for (uint32_t v = static_cast<uint32_t>(block * kBlock); v < std::min(n, block * kBlock + kBlock);
+             ++v) {
+          const size_t first = out.size();
+          for (uint32_t c : cells_of_vertex.row(v))
+            for (uint32_t u : mesh.cells[c])
+              if (u != v && stamp[u] != v) {
+                stamp[u] = v;
+                out.push_back(u);
+              }
+          std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
+          counts[block].push_back(static_cast<uint32_t>(out.size() - first));
+        }
+        // A later call with another mesh of as many vertices must not see
+        // these stamps as its own.
+        for (uint32_t u : out) stamp[u] = UINT32_MAX;
+      },
+      2);
   Csr out;
   out.offsets.assign(n + 1, 0);
-  out.items.reserve(mesh.cells.size() * 3);
-  for (uint32_t v = 0; v < n; ++v) {
-    const size_t first = out.items.size();
-    for (uint32_t c : cells_of_vertex.row(v))
-      for (uint32_t u : mesh.cells[c])
-        if (u != v && stamp[u] != v) {
-          stamp[u] = v;
-          out.items.push_back(u);
-        }
-    std::sort(out.items.begin() + first, out.items.end());
-    out.offsets[v + 1] = static_cast<uint32_t>(out.items.size());
+  size_t v = 0, total = 0;
+  for (size_t b = 0; b < blocks; ++b) {
+    for (uint32_t k : counts[b]) out.offsets[++v] = static_cast<uint32_t>(total += k);
+  }
+  out.items.reserve(total);
+  for (auto& block : items) {
+    out.items.insert(out.items.end(), block.begin(), block.end());
+    block = {};
   }
   return out;
 }
@@ -83,36 +107,58 @@ std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::arr
   // Each face's sorted vertices are its key. Faces are bucketed by their
   // smallest vertex, then each small bucket is sorted: the two sides of an
   // inner face meet in one bucket. The output is in ascending key order, as
-  // one global sort would give, at a fraction of its cost (this runs once
-  // per level in meshenc).
-  std::vector<std::array<uint32_t, 3>> keys(4 * cells.size());
+  // one global sort would give, at a fraction of its cost; the keys and the
+  // buckets' sorts are made on every core.
+  const size_t faces = 4 * cells.size();
+  std::vector<std::array<uint32_t, 3>> keys(faces);
+  constexpr size_t kBlock = 8192;
+  parallel_for((cells.size() + kBlock - 1) / kBlock,
+               [&](size_t block) {
+                 for (size_t c = block * kBlock; c < std::min(cells.size(), block * kBlock + kBlock); ++c)
+                   for (int f = 0; f < 4; ++f) {
+                     auto& key = keys[4 * c + f];
+                     key = {cells[c][kFaces[f][0]], cells[c][kFaces[f][1]], cells[c][kFaces[f][2]]};
+                     if (key[0] > key[1]) std::swap(key[0], key[1]);
+                     if (key[1] > key[2]) std::swap(key[1], key[2]);
+                     if (key[0] > key[1]) std::swap(key[0], key[1]);
+                   }
+               },
+               2);
   uint32_t top = 0;
-  for (size_t c = 0; c < cells.size(); ++c)
-    for (int f = 0; f < 4; ++f) {
-      auto& key = keys[4 * c + f];
-      key = {cells[c][kFaces[f][0]], cells[c][kFaces[f][1]], cells[c][kFaces[f][2]]};
-      std::sort(key.begin(), key.end());
-      top = std::max(top, key[2]);
-    }
-  Csr buckets = build_csr(static_cast<size_t>(top) + 1, [&](auto&& emit) {
+  for (const auto& key : keys) top = std::max(top, key[2]);
+  const Csr buckets = build_csr(static_cast<size_t>(top) + 1, [&](auto&& emit) {
     for (uint32_t i = 0; i < keys.size(); ++i) emit(keys[i][0], i);
   });
+  // Each block of buckets finds its boundary faces on its own; the blocks'
+  // lists are joined in order.
+  const size_t blocks = (buckets.rows() + kBlock - 1) / kBlock;
+  std::vector<std::vector<std::array<uint32_t, 3>>> found(blocks);
+  parallel_for(
+      blocks,
+      [&](size_t block) {
+        std::vector<uint32_t> items;
+        for (size_t v = block * kBlock; v < std::min(buckets.rows(), block * kBlock + kBlock); ++v) {
+          const auto row = buckets.row(v);
+          items.assign(row.begin(), row.end());
+          std::sort(items.begin(), items.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+          for (size_t i = 0; i < items.size();) {
+            size_t j = i;
+            while (j < items.size() && keys[items[j]] == keys[items[i]]) ++j;
+            if (j - i == 1) {
+              const auto& cell = cells[items[i] / 4];
+              const int* f = kFaces[items[i] % 4];
+              found[block].push_back({cell[f[0]], cell[f[1]], cell[f[2]]});
+            }
+            i = j;
+          }
+        }
+      },
+      2);
   std::vector<std::array<uint32_t, 3>> out;
-  for (size_t v = 0; v < buckets.rows(); ++v) {
-    const auto begin = buckets.items.begin() + buckets.offsets[v];
-    const auto end = buckets.items.begin() + buckets.offsets[v + 1];
-    std::sort(begin, end, [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
-    for (auto i = begin; i != end;) {
-      auto j = i;
-      while (j != end && keys[*j] == keys[*i]) ++j;
-      if (j - i == 1) {
-        const auto& cell = cells[*i / 4];
-        const int* f = kFaces[*i % 4];
-        out.push_back({cell[f[0]], cell[f[1]], cell[f[2]]});
-      }
-      i = j;
-    }
-  }
+  size_t total = 0;
+  for (const auto& f : found) total += f.size();
+  out.reserve(total);
+  for (const auto& f : found) out.insert(out.end(), f.begin(), f.end());
   return out;
 }
 

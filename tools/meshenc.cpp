@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -14,6 +13,7 @@
 #include "tools/atomic_file.h"
 #include "tools/field_types.h"
 #include "tools/formats/input.h"
+#include "tools/phase_display.h"
 #include "tools/report.h"
 #include "tools/tool_main.h"
 
@@ -60,7 +60,7 @@ std::string format_number(double v) {
 struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
   std::optional<double> removal_share, quality_ratio, quality_guard, quality_floor;
-  bool quiet = false, no_reference = false, no_fields = false;
+  bool quiet = false, no_reference = false, no_fields = false, verbose = false;
   std::vector<std::string> field_errors;  // NAME=E
   dtm::VolumeOptions volume;
   dtm::EncodeOptions encode;
@@ -156,7 +156,9 @@ void add_options(CLI::App& app, Command& c) {
       ->type_name("NAME=E");
   app.add_flag("--no-fields", c.no_fields, "leave the input's per-vertex fields out of the stream");
   app.add_option("--report", c.report_path, "write the level table as JSON to this file");
-  app.add_flag("-q,--quiet", c.quiet, "do not print the table");
+  app.add_flag("-q,--quiet", c.quiet, "do not print the table (nor the progress line on a terminal)");
+  app.add_flag("-v,--verbose", c.verbose,
+               "print each phase of the work on standard error, with how long it took");
 }
 
 dtm::InputMesh read(const Command& c) {
@@ -291,7 +293,11 @@ int run(Command& c) {
   parse_field_errors(c.field_errors, c.encode);
   if (c.no_fields && !c.encode.field_errors.empty())
     throw std::invalid_argument("--field-error and --no-fields contradict each other");
+  // What the work is doing, on standard error: a status line on a terminal.
+  dtm::PhaseDisplay display(!c.quiet && isatty(STDERR_FILENO), c.verbose);
+  display.start("reading " + c.input);
   const dtm::InputMesh in = read(c);
+  display.start("quantizing");
   dtm::EncodeInput input;
   input.points = in.points;
   input.tetrahedra = in.tets;
@@ -304,27 +310,26 @@ int run(Command& c) {
   auto plan = dtm::plan_encoding(input, c.encode);
   if (!plan.ok()) throw std::runtime_error(c.input + ": " + plan.status().message());
   if (!c.quiet) {
+    display.clear();
     print_plan(c, in, *plan);
     dtm::print_table_header(stdout, !input.tetrahedra.empty());
   }
-  const bool progress = !c.quiet && isatty(STDERR_FILENO);
-  const auto start = std::chrono::steady_clock::now();
   const dtm::Grid grid = plan->quantized.grid;
   const size_t vertices = plan->quantized.points.size();
+  c.encode.on_phase = [&](std::string_view phase) { display.start(phase); };
   // Without an output the stream is still made: the report gives its size.
   const auto encoded =
       dtm::encode(input, c.encode, std::move(plan).value(), [&](const dtm::LevelReport& level) {
-        if (!c.quiet) dtm::print_table_row(stdout, level, grid);
-        if (progress) {
-          const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          std::fprintf(stderr, "\r  level %d done, %.0f vertices/s\033[K\r", level.stats.level,
-                       vertices / std::max(s, 1e-9));
-        }
+        if (c.quiet) return;
+        display.clear();
+        dtm::print_table_row(stdout, level, grid);
       });
-  if (progress) std::fprintf(stderr, "\033[K");
   if (!encoded.ok()) throw std::runtime_error(c.input + ": " + encoded.status().message());
+  if (!c.output.empty() || !c.report_path.empty())
+    display.start("writing " + (c.output.empty() ? c.report_path : c.output));
   const dtm::EncodeReport& r = encoded->report;
   if (!c.quiet) {
+    display.clear();
     print_reference_line(r);
     uint64_t value_bytes = r.field_table_bytes;
     for (const auto& f : r.fields) value_bytes += f.bytes;
@@ -336,6 +341,7 @@ int run(Command& c) {
     print_fields(r, vertices);
   }
   write_outputs(c, *encoded);
+  display.finish();
   return 0;
 }
 

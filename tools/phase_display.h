@@ -1,0 +1,39 @@
+// What a tool shows of its long work on standard error: on a terminal, one
+// status line rewritten in place ("[ 12.3 s] level 2: measuring the shape");
+// with --verbose, a line per finished phase with how long it took (for
+// seeing where the time goes); nothing when piped or quiet.
+#pragma once
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+namespace dtm {
+
+class PhaseDisplay {
+ public:
+  // `live`: rewrite a status line (stderr is a terminal and not quiet);
+  // `timings`: print every finished phase's duration.
+  PhaseDisplay(bool live, bool timings) : live_(live), timings_(timings) {}
+  ~PhaseDisplay() { finish(); }
+
+  // A new phase starts; the one before it ends.
+  void start(std::string_view phase);
+  // Clears the status line, so that other output can be printed; the next
+  // start() draws it again.
+  void clear();
+  // Ends the last phase (and, with timings, prints the total).
+  void finish();
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void end_current();
+
+  bool live_, timings_;
+  bool drawn_ = false, finished_ = false;
+  std::string current_;
+  Clock::time_point begin_ = Clock::now(), phase_begin_ = begin_;
+};
+
+}  // namespace dtm
