@@ -180,7 +180,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
                          LevelReport r;
                          r.stats = level.stats;
                          if (measured_only) {
-                           const ShapeMeasurement d = measured_only->distance(level.mesh, q.points);
+                           const ShapeMeasurement d = measured_only->distance(level.carved_cells(), q.points);
                            r.reference_error = d.both;
                            r.reference_to_level = d.to_level;
                            r.level_to_reference = d.to_reference;
@@ -200,7 +200,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   if (h.level0_difference)
     report.level0_difference = h.level0_difference;
   else if (!reference_tets.empty() && !h.levels.empty())
-    report.level0_difference = solid_difference(q.points, h.levels.front().mesh, reference_tets);
+    report.level0_difference = solid_difference(q.points, h.levels.front().carved_cells(), reference_tets);
 
   report_phase(options.on_phase, "writing the stream");
   StreamOptions stream_options;

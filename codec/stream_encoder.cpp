@@ -112,7 +112,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.new_vertices = static_cast<uint32_t>(added.size());
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
-    if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.mesh);
+    if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.carved_cells());
     const auto layer =
         write_layer(lh, encode_point_set(known, layer_points, grid.qbits, models), carving, value_section);
     out.carving_bytes[streamed[l]] = carving.size();

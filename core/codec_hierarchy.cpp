@@ -30,17 +30,13 @@ std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
   return out;
 }
 
-// The level as the hierarchy hands it on: grid ids, its carving, its figures.
-Level make_level(const LevelGeometry& L, std::span<const uint32_t> vertices, int index,
-                 const ShapeMeasurement& shape) {
+// The level as the hierarchy hands it on, but for its tetrahedralization
+// (hand_over()): its vertices (grid ids) and its figures.
+Level describe(const LevelGeometry& L, std::span<const uint32_t> vertices, int index,
+               const ShapeMeasurement& shape) {
   Level out;
   out.vertices.assign(vertices.begin(), vertices.end());
   out.alpha = L.alpha;
-  out.mesh = carved_cells(L, vertices);
-  out.delaunay = L.dt;
-  for (auto& c : out.delaunay.cells)
-    for (uint32_t& v : c) v = vertices[v];
-  out.kept = L.in_mesh;
   LevelStats& s = out.stats;
   s.level = index;
   s.vertices = L.size();
@@ -56,6 +52,23 @@ Level make_level(const LevelGeometry& L, std::span<const uint32_t> vertices, int
   s.mean_boundary_error = shape.to_level.mean;
   s.reference_shape = ShapeFigures{shape.to_level, shape.to_reference, shape.both};
   return out;
+}
+
+// The working level's tetrahedralization and carving move into the level
+// handed on (grid ids): one copy of a level's cells, never two.
+void hand_over(Level& out, LevelGeometry& L) {
+  out.delaunay = std::move(L.dt);
+  for (auto& c : out.delaunay.cells)
+    for (uint32_t& v : c) v = out.vertices[v];
+  out.kept = std::move(L.in_mesh);
+}
+
+// The analysis the codec's builder does not read again (the paper preset's
+// importance and refills use them): freed, a level being large.
+void drop_unused(LevelGeometry& L) {
+  L.cells_of_vertex = {};
+  L.solid_angle_sum = {};
+  L.mesh_volume6 = {};
 }
 
 }  // namespace
@@ -112,6 +125,7 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
     shape.emplace(points, alpha_cells);
     solid.emplace(points, alpha_cells, shape->boundary_triangles());
   }
+  drop_unused(*L);
   const LevelReference reference{&*solid, &*shape};
   h.reference_boundary_vertices = shape->boundary_vertices();
 
@@ -124,22 +138,33 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
     h.level0_difference = carved_difference(points, L->dt, L->in_mesh, opt.reference_cells, *solid, match);
     match = {};
   }
-  h.levels.push_back(make_level(*L, vertices, 0, shape0));
-  if (on_level) on_level(h.levels.back());
+  h.levels.push_back(describe(*L, vertices, 0, shape0));
 
   LevelBounds bounds;
   bounds.dmax = opt.dmax;
   bounds.quality_floor = opt.average_quality_floor * h.levels.front().stats.avg_min_solid_angle;
   const double share = opt.removal_share > 0 ? opt.removal_share : 0.5;
   double beta = 0.85;  // the spacing factor of the last choice: where the next search starts
+  // A level is handed on, tetrahedralization and all, once the next one's
+  // vertices are chosen (the choice is the last to read it), or at the end.
+  auto complete_last = [&] {
+    hand_over(h.levels.back(), *L);
+    L.reset();
+    if (on_level) on_level(h.levels.back());
+  };
   for (int level = 1;; ++level) {
     if (opt.max_levels > 0 && level > opt.max_levels) break;
     const size_t finer = vertices.size();
     phase(level, "choosing the vertices");
     const Coarsening choice = choose_coarser(*L, level_surface(*L), {1 - share, opt.dmax, beta});
     beta = choice.beta;
+    // What the build needs of the finer level: its points, and which were
+    // on its boundary (for the figures).
+    const std::vector<GridPoint> fine_points = std::move(L->points);
+    const std::vector<uint8_t> fine_boundary = std::move(L->boundary);
+    complete_last();
     StatusOr<BuiltLevel> built =
-        build_coarser_level(*L, vertices, record, choice.keep, reference, bounds, opt.alpha,
+        build_coarser_level(fine_points, vertices, record, choice.keep, reference, bounds, opt.alpha,
                             [&](const char* what) { phase(level, what); });
     // The coarser set would be flat: the current one is the coarsest.
     if (built.status().code() == StatusCode::kInvalidInput) break;
@@ -158,10 +183,10 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
         if (kept)
           ++k;
         else
-          removed_boundary += L->boundary[v];
+          removed_boundary += fine_boundary[v];
       }
     }
-    Level out = make_level(built->geometry, built->vertices, level, built->shape);
+    Level out = describe(built->geometry, built->vertices, level, built->shape);
     out.stats.removed_boundary = removed_boundary;
     out.stats.removed_interior = finer - coarser - removed_boundary;
     out.stats.passes = 1;
@@ -169,13 +194,14 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
     out.stats.put_back = built->put_back;
     out.stats.repair_rounds = built->repair_rounds;
     h.levels.push_back(std::move(out));
-    if (on_level) on_level(h.levels.back());
 
     vertices = std::move(built->vertices);
     record = std::move(built->surface);
     L = std::move(built->geometry);
+    drop_unused(*L);
     if (opt.stop_when_boundary_is_final && removed_boundary == 0) break;
   }
+  if (L) complete_last();
   return h;
 }
 

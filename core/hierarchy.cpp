@@ -340,6 +340,15 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
   return h;
 }
 
+std::vector<std::array<uint32_t, 4>> Level::carved_cells() const {
+  if (kept.empty()) return mesh;
+  std::vector<std::array<uint32_t, 4>> out;
+  out.reserve(stats.tetrahedra);
+  for (size_t c = 0; c < delaunay.cells.size(); ++c)
+    if (kept[c]) out.push_back(delaunay.cells[c]);
+  return out;
+}
+
 std::vector<std::array<uint32_t, 4>> canonical_cells(std::vector<std::array<uint32_t, 4>> cells) {
   for (auto& c : cells) std::sort(c.begin(), c.end());
   std::sort(cells.begin(), cells.end());

@@ -103,13 +103,18 @@ struct LevelStats {
 struct Level {
   std::vector<uint32_t> vertices;  // indices into the grid points, ascending
   double alpha = 0;                // grid units
-  // M_l, vertices named by grid-point index. Cell order is not canonical.
+  // M_l, vertices named by grid-point index, when alpha carves (the paper
+  // preset); empty with carve_to_reference, where delaunay and kept hold it.
+  // carved_cells() gives it either way. Cell order is not canonical.
   std::vector<std::array<uint32_t, 4>> mesh;
   // With carve_to_reference: DT(V_l) whole (grid-point indices) and, per
   // cell, whether M_l keeps it; what the stream's corrections are made from.
   TetMesh delaunay;
   std::vector<uint8_t> kept;
   LevelStats stats;
+
+  // M_l's cells (grid-point indices).
+  std::vector<std::array<uint32_t, 4>> carved_cells() const;
 };
 
 struct Hierarchy {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 
 #include "common/parallel_for.h"
@@ -88,12 +89,12 @@ struct CellResults {
 // What the repair puts back: removed vertices of the finer level, found by place.
 class RemovedVertices {
  public:
-  RemovedVertices(const LevelGeometry& fine, std::span<const uint8_t> keep) {
+  RemovedVertices(std::span<const GridPoint> fine_points, std::span<const uint8_t> keep) {
     std::vector<GridPoint> places;
-    for (uint32_t v = 0; v < fine.size(); ++v)
+    for (uint32_t v = 0; v < fine_points.size(); ++v)
       if (!keep[v]) {
         vertex_.push_back(v);
-        places.push_back(fine.points[v]);
+        places.push_back(fine_points[v]);
       }
     index_.emplace(places);
     chosen_.assign(vertex_.size(), 0);
@@ -237,23 +238,27 @@ SurfaceRecord record_surface(std::span<const uint32_t> ids,
   return r;
 }
 
-StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<const uint32_t> fine_vertices,
+StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
+                                         std::span<const uint32_t> fine_vertices,
                                          const SurfaceRecord& fine_surface, std::span<const uint8_t> keep,
                                          const LevelReference& ref, const LevelBounds& bounds,
                                          const AlphaPolicy& alpha,
                                          const std::function<void(const char*)>& phase) {
-  const std::span<const GridPoint> points = fine.points;  // the build names vertices by their fine index
+  const std::span<const GridPoint> points = fine_points;  // the build names vertices by their fine index
   BuiltLevel out;
   std::vector<uint32_t> chosen;
-  for (uint32_t v = 0; v < fine.size(); ++v)
+  for (uint32_t v = 0; v < points.size(); ++v)
     if (keep[v]) chosen.push_back(v);
   out.chosen = chosen.size();
-  IncrementalDelaunay dt;
+  // The triangulation and the removed vertices' index live through the
+  // rounds only: they are gone before the level is analysed.
+  auto dt = std::make_unique<IncrementalDelaunay>();
   phase("Delaunay tetrahedralization");
-  DTM_RETURN_IF_ERROR(dt.insert(gather(points, chosen), chosen));
-  if (dt.dimension() < 3)
+  DTM_RETURN_IF_ERROR(dt->insert(gather(points, chosen), chosen));
+  chosen = {};
+  if (dt->dimension() < 3)
     return Status{StatusCode::kInvalidInput, "the coarser level does not span three dimensions"};
-  RemovedVertices removed(fine, keep);
+  auto removed = std::make_unique<RemovedVertices>(points, keep);
   const double dmax2 = bounds.dmax * bounds.dmax;
   const std::span<const GridPoint> reference_points = ref.shape->boundary_points();
 
@@ -263,7 +268,7 @@ StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<co
   for (int round = 0;; ++round) {
     std::vector<int32_t> previous;
     phase(round == 0 ? "carving to the reference" : "carving the repaired places");
-    mesh = dt.mesh(previous);
+    mesh = dt->mesh(previous);
     cells.update(mesh, previous, points, *ref.solid);
     phase("measuring the shape");
     surface = carved_surface(mesh, cells.kept, points);
@@ -313,7 +318,7 @@ StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<co
     for (size_t t = 0; t < surface.triangles.size(); ++t) {
       if (!far_triangle[t]) continue;
       for (int32_t c : surface.cells[t])
-        if (c >= 0) removed.take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), 2, points);
+        if (c >= 0) removed->take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), 2, points);
     }
     if (!far_reference.empty()) {
       // The triangle nearest each far reference vertex, by its grid ids.
@@ -330,31 +335,34 @@ StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<co
           for (int32_t c : surface.cells[it->second])
             if (c >= 0)
               taken +=
-                  removed.take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), 2, points);
+                  removed->take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), 2, points);
         // Else the removed vertex nearest it, however far: progress.
         const GridPoint& p = reference_points[i];
         for (double r = 2 * std::sqrt(out.shape.reference_squared[i]); taken == 0 && r < 1e8; r *= 4)
-          taken = removed.take_nearest({{double(p.x), double(p.y), double(p.z)}, r}, 1, points);
+          taken = removed->take_nearest({{double(p.x), double(p.y), double(p.z)}, r}, 1, points);
       }
     }
-    if (!out.quality_met) repair_quality(dt, mesh, cells, points, *ref.solid, bounds.quality_floor, removed);
-    const std::vector<uint32_t> back = removed.collect();
+    if (!out.quality_met)
+      repair_quality(*dt, mesh, cells, points, *ref.solid, bounds.quality_floor, *removed);
+    const std::vector<uint32_t> back = removed->collect();
     if (back.empty()) break;  // nothing left to put back where a bound breaks
     out.put_back += back.size();
     ++out.repair_rounds;
     phase("putting vertices back");
-    DTM_RETURN_IF_ERROR(dt.insert(gather(points, back), back));
+    DTM_RETURN_IF_ERROR(dt->insert(gather(points, back), back));
   }
 
+  dt.reset();
+  removed.reset();
   // The level in its own numbering: its vertices in ascending grid order.
   phase("analysing the level");
-  std::vector<uint32_t> local(fine.size(), UINT32_MAX);
+  std::vector<uint32_t> local(points.size(), UINT32_MAX);
   std::vector<uint32_t> members;
   {
-    std::vector<uint8_t> in_level(fine.size(), 0);
+    std::vector<uint8_t> in_level(points.size(), 0);
     for (const auto& c : mesh.cells)
       for (uint32_t v : c) in_level[v] = 1;
-    for (uint32_t v = 0; v < fine.size(); ++v)
+    for (uint32_t v = 0; v < points.size(); ++v)
       if (in_level[v]) {
         local[v] = static_cast<uint32_t>(members.size());
         members.push_back(v);

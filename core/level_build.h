@@ -81,10 +81,11 @@ struct BuiltLevel {
   bool quality_met = true;
 };
 
-// `fine`: the finer level (its vertices `fine_vertices`, grid ids), carved to
-// the reference; `keep`: the choice, per vertex of `fine`.
-// `phase` is told what the build is doing as it goes.
-StatusOr<BuiltLevel> build_coarser_level(const LevelGeometry& fine, std::span<const uint32_t> fine_vertices,
+// `fine_points`: the finer level's points (its vertices `fine_vertices`,
+// grid ids); `keep`: the choice, per vertex of the finer level. `phase` is
+// told what the build is doing as it goes.
+StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
+                                         std::span<const uint32_t> fine_vertices,
                                          const SurfaceRecord& fine_surface, std::span<const uint8_t> keep,
                                          const LevelReference& reference, const LevelBounds& bounds,
                                          const AlphaPolicy& alpha,

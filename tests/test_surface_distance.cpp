@@ -44,7 +44,7 @@ TEST(SurfaceDistanceTracker, EqualsAFullSearchOnEveryLevelInAnyOrder) {
   const Hierarchy h = build_hierarchy(points, options).value();
   ASSERT_GE(h.levels.size(), 10u);
   std::vector<std::vector<std::array<uint32_t, 3>>> surfaces;
-  for (const Level& level : h.levels) surfaces.push_back(boundary_triangles(level.mesh));
+  for (const Level& level : h.levels) surfaces.push_back(boundary_triangles(level.carved_cells()));
   const std::vector<GridPoint> queries = boundary_vertices(surfaces[0], points);
 
   // Fine to coarse (as the hierarchy measures), then jumping about, with an
@@ -71,7 +71,7 @@ TEST(SurfaceDistanceTracker, NamesMakeTrianglesTheSameAcrossRenumbering) {
   const auto points = test::load_quantized("torus_288").points;
   const Hierarchy h = build_hierarchy(points, {}).value();
   ASSERT_GE(h.levels.size(), 2u);
-  const auto fine = boundary_triangles(h.levels[0].mesh);
+  const auto fine = boundary_triangles(h.levels[0].carved_cells());
   const std::vector<GridPoint> queries = boundary_vertices(fine, points);
   SurfaceDistanceTracker tracker(queries);
   for (size_t l = 0; l < h.levels.size(); ++l) {
@@ -83,7 +83,7 @@ TEST(SurfaceDistanceTracker, NamesMakeTrianglesTheSameAcrossRenumbering) {
       level_points.push_back(points[id]);
     }
     std::vector<std::array<uint32_t, 3>> renumbered;
-    for (const auto& t : boundary_triangles(level.mesh))
+    for (const auto& t : boundary_triangles(level.carved_cells()))
       renumbered.push_back({local[t[0]], local[t[1]], local[t[2]]});
     expect_same(tracker.measure(level_points, level.vertices, renumbered),
                 distance_to_surface(level_points, renumbered, queries), "level " + std::to_string(l));
@@ -95,9 +95,11 @@ TEST(SurfaceDistanceTracker, HierarchyErrorsAreTheFullSearchs) {
   HierarchyOptions options;
   options.dmax = 128;
   const Hierarchy h = build_hierarchy(points, options).value();
-  const std::vector<GridPoint> originals = boundary_vertices(boundary_triangles(h.levels[0].mesh), points);
+  const std::vector<GridPoint> originals =
+      boundary_vertices(boundary_triangles(h.levels[0].carved_cells()), points);
   for (const Level& level : h.levels) {
-    const DistanceSummary d = distance_to_surface(points, boundary_triangles(level.mesh), originals);
+    const DistanceSummary d =
+        distance_to_surface(points, boundary_triangles(level.carved_cells()), originals);
     EXPECT_NEAR(level.stats.max_boundary_error, d.max, 1e-9 * std::max(1.0, d.max)) << level.stats.level;
     EXPECT_NEAR(level.stats.mean_boundary_error, d.mean, 1e-9 * std::max(1.0, d.mean)) << level.stats.level;
   }
@@ -113,13 +115,13 @@ TEST(ReferenceShape, RemembersNothingThatChangesItsAnswers) {
   options.measure_boundary_error = false;
   const Hierarchy h = build_hierarchy(q.points, options).value();
   // The finest level's own cells as the reference.
-  ReferenceShape running(q.points, h.levels[0].mesh);
+  ReferenceShape running(q.points, h.levels[0].carved_cells());
   for (size_t l : {size_t{0}, size_t{1}, size_t{4}, size_t{2}, h.levels.size() - 1}) {
-    ReferenceShape fresh(q.points, h.levels[0].mesh);
-    expect_same(running.distance(h.levels[l].mesh, q.points).both,
-                fresh.distance(h.levels[l].mesh, q.points).both, "level " + std::to_string(l));
+    ReferenceShape fresh(q.points, h.levels[0].carved_cells());
+    expect_same(running.distance(h.levels[l].carved_cells(), q.points).both,
+                fresh.distance(h.levels[l].carved_cells(), q.points).both, "level " + std::to_string(l));
   }
-  EXPECT_LE(running.distance(h.levels[0].mesh, q.points).both.max, 1e-9);
+  EXPECT_LE(running.distance(h.levels[0].carved_cells(), q.points).both.max, 1e-9);
 }
 
 // boundary_triangles against the plain definition: the faces that exactly

@@ -158,7 +158,7 @@ void add_options(CLI::App& app, Command& c) {
   app.add_option("--report", c.report_path, "write the level table as JSON to this file");
   app.add_flag("-q,--quiet", c.quiet, "do not print the table (nor the progress line on a terminal)");
   app.add_flag("-v,--verbose", c.verbose,
-               "print each phase of the work on standard error, with how long it took");
+               "print each phase of the work on standard error, with how long it took and the memory in use");
 }
 
 dtm::InputMesh read(const Command& c) {

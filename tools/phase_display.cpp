@@ -1,8 +1,26 @@
 #include "tools/phase_display.h"
 
+#include <utility>
+
 namespace dtm {
 namespace {
 double seconds(std::chrono::steady_clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+// The process's resident memory now and at its peak so far, MiB (Linux:
+// /proc/self/status); 0 where unknown.
+std::pair<double, double> resident_mib() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return {0, 0};
+  char line[256];
+  double now = 0, peak = 0;
+  while (std::fgets(line, sizeof line, f)) {
+    unsigned long kib = 0;
+    if (std::sscanf(line, "VmRSS: %lu kB", &kib) == 1) now = kib / 1024.0;
+    if (std::sscanf(line, "VmHWM: %lu kB", &kib) == 1) peak = kib / 1024.0;
+  }
+  std::fclose(f);
+  return {now, peak};
+}
 }  // namespace
 
 void PhaseDisplay::start(std::string_view phase) {
@@ -27,7 +45,9 @@ void PhaseDisplay::end_current() {
   if (current_.empty()) return;
   if (timings_) {
     clear();
-    std::fprintf(stderr, "%9.3f s  %s\n", seconds(Clock::now() - phase_begin_), current_.c_str());
+    const auto [now, peak] = resident_mib();
+    std::fprintf(stderr, "%9.3f s %8.0f MiB %8.0f MiB peak  %s\n", seconds(Clock::now() - phase_begin_), now,
+                 peak, current_.c_str());
   }
   current_.clear();
 }
@@ -37,7 +57,11 @@ void PhaseDisplay::finish() {
   finished_ = true;
   end_current();
   clear();
-  if (timings_) std::fprintf(stderr, "%9.3f s  in all\n", seconds(Clock::now() - begin_));
+  if (timings_) {
+    const auto [now, peak] = resident_mib();
+    std::fprintf(stderr, "%9.3f s %8.0f MiB %8.0f MiB peak  in all\n", seconds(Clock::now() - begin_), now,
+                 peak);
+  }
 }
 
 }  // namespace dtm

@@ -1,7 +1,8 @@
 // What a tool shows of its long work on standard error: on a terminal, one
 // status line rewritten in place ("[ 12.3 s] level 2: measuring the shape");
-// with --verbose, a line per finished phase with how long it took (for
-// seeing where the time goes); nothing when piped or quiet.
+// with --verbose, a line per finished phase with how long it took and the
+// memory in use after it (now and at the peak so far: for seeing where time
+// and memory go); nothing when piped or quiet.
 #pragma once
 
 #include <chrono>
