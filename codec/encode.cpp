@@ -176,6 +176,13 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   if (!reference_tets.empty() && !options.carve_to_reference) measured_only.emplace(q.points, reference_tets);
   HierarchyOptions hierarchy = hierarchy_options(options, q.grid, plan.dmax);
   hierarchy.reference_cells = reference_tets;
+  // A scan's voxels are its solid (without tetrahedra to say otherwise).
+  std::optional<VoxelSolid> voxels;
+  if (input.voxels && reference_tets.empty() && options.carve_to_reference) {
+    hierarchy.reference_solid = &voxels.emplace(*input.voxels, q.grid, plan.scale);
+    report.reference_voxels = static_cast<uint64_t>(
+        std::count(input.voxels->inside.begin(), input.voxels->inside.end(), uint8_t{1}));
+  }
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;
                          r.stats = level.stats;

@@ -30,6 +30,7 @@
 #include "core/quantize.h"
 #include "core/solid_difference.h"
 #include "core/surface_distance.h"
+#include "core/voxel_solid.h"
 #include "mesh/carving.h"
 
 namespace dtm {
@@ -99,6 +100,9 @@ struct EncodeInput {
   // The input's own tetrahedra (indices into `points`), when it has them:
   // the reference shape each level's boundary is measured against.
   std::span<const std::array<uint32_t, 4>> tetrahedra;
+  // A scan's voxels (the input's points are some of their centres): the
+  // solid every level is carved to, when there are no tetrahedra.
+  const VoxelMask* voxels = nullptr;
   // Points that already lie on an integer lattice (a voxel volume's
   // centres, core/quantize.h's form, in the same order as `points`): its
   // grid is used as it is, so positions are coded losslessly.
@@ -136,6 +140,7 @@ struct EncodeReport {
   uint64_t input_points = 0;
   uint64_t duplicates_merged = 0;
   uint64_t reference_tetrahedra = 0;  // after quantization, 0 without tetrahedra
+  uint64_t reference_voxels = 0;      // the voxels of the solid carved to, 0 without
   uint64_t reference_boundary_vertices = 0;
   // With tetrahedra in the input: level 0's solid against the input's, grid
   // units cubed (core/solid_difference.h).

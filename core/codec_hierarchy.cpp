@@ -83,7 +83,9 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   std::vector<uint32_t> vertices(points.size());
   for (uint32_t i = 0; i < vertices.size(); ++i) vertices[i] = i;
 
-  // Level 0 and the reference: the input's solid, or level 0's alpha carving.
+  // Level 0 and the reference: the input's tetrahedra, the solid given (a
+  // scan's voxels), or level 0's alpha carving. Without tetrahedra, level
+  // 0's carved surface is the shape the levels are held to.
   const auto phase = [&](int level, const char* what) {
     report_phase(opt.on_phase, "level " + std::to_string(level) + ": " + what);
   };
@@ -91,13 +93,14 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   DTM_ASSIGN_OR_RETURN(TetMesh dt0, delaunay_tetrahedralize(points));
   std::optional<ReferenceShape> shape;
   std::optional<ReferenceSolid> solid;
-  std::vector<std::array<uint32_t, 4>> alpha_cells;
+  const Solid* carving = nullptr;  // what every level is carved to
+  std::vector<std::array<uint32_t, 4>> level0_cells;
   std::vector<int32_t> match;  // per level-0 cell, the reference tetrahedron it is
   std::optional<LevelGeometry> L;
   if (!opt.reference_cells.empty()) {
     phase(0, "the reference solid");
     shape.emplace(points, opt.reference_cells);
-    solid.emplace(points, opt.reference_cells, shape->boundary_triangles());
+    carving = &solid.emplace(points, opt.reference_cells, shape->boundary_triangles());
     std::vector<uint8_t> verdicts;
     phase(0, "carving to the reference");
     {
@@ -117,16 +120,25 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
     }
     phase(0, "analysing the level");
     DTM_ASSIGN_OR_RETURN(L, analyze_level(gather(points, vertices), std::move(dt0), opt.alpha, verdicts));
+  } else if (opt.reference_solid) {
+    phase(0, "carving to the reference");
+    const std::vector<uint8_t> verdicts = opt.reference_solid->verdicts(dt0, points);
+    phase(0, "analysing the level");
+    DTM_ASSIGN_OR_RETURN(L, analyze_level(gather(points, vertices), std::move(dt0), opt.alpha, verdicts));
+    carving = opt.reference_solid;
+    level0_cells = carved_cells(*L, vertices);
+    phase(0, "the reference shape");
+    shape.emplace(points, level0_cells);
   } else {
     phase(0, "analysing the level");
     DTM_ASSIGN_OR_RETURN(L, analyze_level(gather(points, vertices), std::move(dt0), opt.alpha));
-    alpha_cells = carved_cells(*L, vertices);
+    level0_cells = carved_cells(*L, vertices);
     phase(0, "the reference solid");
-    shape.emplace(points, alpha_cells);
-    solid.emplace(points, alpha_cells, shape->boundary_triangles());
+    shape.emplace(points, level0_cells);
+    carving = &solid.emplace(points, level0_cells, shape->boundary_triangles());
   }
   drop_unused(*L);
-  const LevelReference reference{&*solid, &*shape};
+  const LevelReference reference{carving, &*shape};
   h.reference_boundary_vertices = shape->boundary_vertices();
 
   phase(0, "measuring the shape");

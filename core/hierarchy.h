@@ -18,6 +18,7 @@
 #include "common/progress.h"
 #include "common/status.h"
 #include "core/level.h"
+#include "core/solid.h"
 #include "core/solid_difference.h"
 #include "core/surface_distance.h"
 
@@ -30,8 +31,11 @@ struct HierarchyOptions {
   // solid; alpha is only the decoder's prediction, which the stream corrects.
   bool carve_to_reference = false;
   // The reference solid's tetrahedra (grid-point indices), with
-  // carve_to_reference; empty: level 0's alpha carving is the reference.
+  // carve_to_reference. Without them, `reference_solid` if given (a scan's
+  // voxels, core/voxel_solid.h; level 0's carving is then the shape the
+  // levels are measured against), else level 0's alpha carving.
   std::span<const std::array<uint32_t, 4>> reference_cells;
+  const Solid* reference_solid = nullptr;
   // How much a level removes: independent-set passes, each in the then
   // current tetrahedralization, until this share of the finer level's
   // vertices is gone (or nothing more passes the guards). 0: one pass (the

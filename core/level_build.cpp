@@ -59,7 +59,7 @@ struct CellResults {
   std::vector<double> angle;
 
   void update(const TetMesh& mesh, std::span<const int32_t> previous, std::span<const GridPoint> points,
-              const ReferenceSolid& solid) {
+              const Solid& solid) {
     std::vector<uint8_t> new_kept(mesh.cells.size());
     std::vector<double> new_angle(mesh.cells.size(), 0);
     std::vector<uint32_t> fresh;
@@ -101,12 +101,14 @@ class RemovedVertices {
   }
   size_t size() const { return vertex_.size(); }
 
-  // The `count` removed vertices nearest the ball's centre, strictly inside
-  // it, that are not put back or marked yet (indices of removed vertices).
+  // The `count` removed vertices nearest the ball's centre, in it or on its
+  // sphere, that are not put back or marked yet (indices of removed
+  // vertices). On the sphere counts: grid points are often cospherical, and
+  // the symbolic perturbation may put such a point in conflict with the cell.
   std::vector<uint32_t> nearest(const Ball& b, size_t count, std::span<const GridPoint> fine_points) const {
     if (b.radius <= 0 || count == 0) return {};
     std::vector<std::pair<double, uint32_t>> near;
-    index_->for_each_in_ball(b.center, b.radius, [&](uint32_t k) {
+    index_->for_each_in_ball(b.center, b.radius * (1 + 1e-9) + 1e-9, [&](uint32_t k) {
       if (chosen_[k]) return;
       const GridPoint& p = fine_points[vertex_[k]];
       const double dx = p.x - b.center[0], dy = p.y - b.center[1], dz = p.z - b.center[2];
@@ -152,7 +154,7 @@ class RemovedVertices {
 // change (the cells in conflict with it out, its star in), with disjoint
 // changes, until the deficit is covered with a fifth to spare.
 void repair_quality(const IncrementalDelaunay& dt, const TetMesh& mesh, const CellResults& cells,
-                    std::span<const GridPoint> points, const ReferenceSolid& solid, double floor,
+                    std::span<const GridPoint> points, const Solid& solid, double floor,
                     RemovedVertices& removed) {
   double surplus = 0;
   std::vector<std::pair<double, uint32_t>> worst;
@@ -312,13 +314,17 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     if (round == bounds.repair_rounds) break;
 
     phase("choosing what to put back");
+    // Where a place stays broken round after round, more of what is near it
+    // comes back each time: 2, 3, 4, ... vertices per cell at fault.
+    const size_t per_place = 2 + static_cast<size_t>(round);
     // A far triangle: what the cells on both sides of it are in conflict
     // with (each vertex put back destroys the cell). A far reference
     // vertex: the same for the triangle nearest it.
     for (size_t t = 0; t < surface.triangles.size(); ++t) {
       if (!far_triangle[t]) continue;
       for (int32_t c : surface.cells[t])
-        if (c >= 0) removed->take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), 2, points);
+        if (c >= 0)
+          removed->take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), per_place, points);
     }
     if (!far_reference.empty()) {
       // The triangle nearest each far reference vertex, by its grid ids.
@@ -334,12 +340,12 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
         if (it != by_key.end() && it->first == key)
           for (int32_t c : surface.cells[it->second])
             if (c >= 0)
-              taken +=
-                  removed->take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), 2, points);
+              taken += removed->take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]),
+                                             per_place, points);
         // Else the removed vertex nearest it, however far: progress.
         const GridPoint& p = reference_points[i];
         for (double r = 2 * std::sqrt(out.shape.reference_squared[i]); taken == 0 && r < 1e8; r *= 4)
-          taken = removed->take_nearest({{double(p.x), double(p.y), double(p.z)}, r}, 1, points);
+          taken = removed->take_nearest({{double(p.x), double(p.y), double(p.z)}, r}, per_place / 2, points);
       }
     }
     if (!out.quality_met)

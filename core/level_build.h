@@ -18,7 +18,8 @@
 // surface triangle (the vertices those cells are in conflict with: each one
 // put back destroys the cell), the nearest few within the distance of a far
 // reference vertex, and those in conflict with the worst-shaped cells until
-// the quality's deficit is covered.
+// the quality's deficit is covered; a place still broken gets one more
+// vertex back per cell each round.
 #pragma once
 
 #include <array>
@@ -31,19 +32,19 @@
 #include "common/status.h"
 #include "core/level.h"
 #include "core/reference_shape.h"
-#include "core/reference_solid.h"
+#include "core/solid.h"
 
 namespace dtm {
 
 struct LevelBounds {
   double dmax = 1.0;         // grid units
   double quality_floor = 0;  // the smallest average smallest solid angle (sr); 0 = none
-  int repair_rounds = 8;
+  int repair_rounds = 12;
 };
 
 // The reference a codec level is carved to and measured against.
 struct LevelReference {
-  const ReferenceSolid* solid = nullptr;
+  const Solid* solid = nullptr;
   ReferenceShape* shape = nullptr;
 };
 

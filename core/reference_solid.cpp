@@ -229,19 +229,6 @@ bool ReferenceSolid::contains4(const P4& p) const {
   return false;
 }
 
-std::vector<uint8_t> ReferenceSolid::verdicts(const TetMesh& dt, std::span<const GridPoint> points) const {
-  std::vector<uint8_t> out(dt.cells.size());
-  parallel_for((out.size() + 1023) / 1024,
-               [&](size_t block) {
-                 for (size_t c = block * 1024; c < std::min(out.size(), block * 1024 + 1024); ++c) {
-                   const auto& k = dt.cells[c];
-                   out[c] = contains_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
-                 }
-               },
-               4);
-  return out;
-}
-
 ReferenceSolid::Layout ReferenceSolid::layout() const { return {dims_, mixed_.rows(), mixed_.items.size()}; }
 
 }  // namespace dtm

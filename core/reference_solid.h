@@ -22,11 +22,12 @@
 
 #include "common/csr.h"
 #include "common/grid.h"
+#include "core/solid.h"
 #include "mesh/delaunay.h"
 
 namespace dtm {
 
-class ReferenceSolid {
+class ReferenceSolid : public Solid {
  public:
   // `cells` index `points`; flat cells hold no volume and are ignored.
   // `boundary`: the faces of exactly one of `cells` (boundary_triangles());
@@ -35,20 +36,9 @@ class ReferenceSolid {
                  std::span<const std::array<uint32_t, 3>> boundary);
   ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
 
-  // True if the centroid of the tetrahedron (a, b, c, d) is in the solid.
-  bool contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
-                         const GridPoint& d) const {
-    return contains4(
-        {int64_t{a.x} + b.x + c.x + d.x, int64_t{a.y} + b.y + c.y + d.y, int64_t{a.z} + b.z + c.z + d.z});
-  }
-  // True if the point p / 4 (p at four times the grid scale) is in the solid.
-  bool contains_point4(const std::array<int64_t, 3>& p) const { return contains4(p); }
+  bool contains_point4(const std::array<int64_t, 3>& p) const override { return contains4(p); }
 
   size_t tetrahedra() const { return cells_.size(); }
-
-  // Per cell of `dt` (vertex ids index `points`): 1 if the solid keeps it.
-  // Computed on every core.
-  std::vector<uint8_t> verdicts(const TetMesh& dt, std::span<const GridPoint> points) const;
 
   // The grid's figures, for tests and benchmarks: cells along each axis, and
   // how many are mixed and how many tetrahedra their lists hold.

@@ -172,7 +172,7 @@ std::vector<int32_t> matching_tetrahedra(const TetMesh& dt, size_t points, std::
 
 SolidDifference carved_difference(std::span<const GridPoint> points, const TetMesh& dt,
                                   std::span<const uint8_t> kept, std::span<const Cell> tets,
-                                  const ReferenceSolid& solid, std::span<const int32_t> match) {
+                                  const Solid& solid, std::span<const int32_t> match) {
   std::vector<uint8_t> tet_shared(tets.size(), 0);
   std::vector<uint32_t> only_dt;
   SolidDifference d;

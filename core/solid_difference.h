@@ -58,7 +58,7 @@ std::vector<int32_t> matching_tetrahedra(const TetMesh& dt, size_t points,
 // estimate, with no solid built for `dt`.
 SolidDifference carved_difference(std::span<const GridPoint> points, const TetMesh& dt,
                                   std::span<const uint8_t> kept,
-                                  std::span<const std::array<uint32_t, 4>> tets, const ReferenceSolid& solid,
+                                  std::span<const std::array<uint32_t, 4>> tets, const Solid& solid,
                                   std::span<const int32_t> match);
 
 }  // namespace dtm

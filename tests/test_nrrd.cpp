@@ -10,6 +10,9 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "codec/decode.h"
+#include "codec/encode.h"
+#include "core/voxel_solid.h"
 #include "format_test_support.h"
 #include "test_support.h"
 #include "tools/formats/input.h"
@@ -213,6 +216,92 @@ TEST_F(Volumes, LatticeRoundTripsThroughTheCodecLevelByLevel) {
   std::sort(a.begin(), a.end());
   std::sort(b.begin(), b.end());
   EXPECT_EQ(a, b);  // bit-identical positions
+}
+
+// The voxels are the solid (spec/HIERARCHY.md §2.1): at every level the
+// decoder's mesh is exactly the Delaunay cells whose centroid lies in a
+// solid voxel, worked out here from the volume itself: the voxel whose centre
+// is nearest the centroid in input units (at half-way, the higher index).
+// On the lattice (the grid is the voxels) and through the directions of an
+// anisotropic volume.
+TEST_F(Volumes, EveryLevelKeepsTheCellsWhoseCentroidIsInASolidVoxel) {
+  const std::string anisotropic = path("anisotropic_solid.nrrd");
+  std::ofstream(anisotropic, std::ios::binary)
+      << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 32 32 32\nspacings: 1 1 2.5\nencoding: raw\n\n"
+      << voxels(Flavour::kUint8);
+  for (const auto& [file, spacing] : {std::pair{path("torus_u8.nrrd"), std::array<double, 3>{0.5, 0.5, 0.5}},
+                                      std::pair{anisotropic, std::array<double, 3>{1, 1, 2.5}}}) {
+    const InputMesh in = read_input(file, {}, threshold(100, 2));
+    ASSERT_TRUE(in.voxels.has_value());
+    EncodeInput input;
+    input.points = in.points;
+    if (in.on_grid) input.lattice = &*in.on_grid;
+    input.voxels = &*in.voxels;
+    EncodeOptions options;
+    options.dmax = 1.0;
+    const EncodedMesh encoded = encode(input, options).value();
+    EXPECT_GT(encoded.report.reference_voxels, 0u);
+    const Grid& grid = encoded.report.grid;
+    const std::array<double, 3> origin = file == anisotropic ? std::array<double, 3>{0, 0, 0} : kOrigin;
+    auto solid_at = [&](const std::array<double, 3>& x) {
+      int64_t v[3];
+      for (int a = 0; a < 3; ++a)
+        v[a] = static_cast<int64_t>(std::floor((x[a] - origin[a]) / spacing[a] + 0.5));
+      for (int a = 0; a < 3; ++a)
+        if (v[a] < 0 || v[a] >= kSize) return false;
+      return depth(static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2])) >= 0;
+    };
+    size_t levels = 0, kept = 0;
+    ProgressiveDecoder decoder;
+    ASSERT_TRUE(decoder
+                    .feed(encoded.bytes,
+                          [&](const ProgressiveDecoder& d, const DecodedLevel& l) {
+                            const TetMesh dt = d.delaunay();
+                            const std::vector<uint8_t> carving = d.carving(dt);
+                            for (size_t c = 0; c < dt.cells.size(); ++c) {
+                              std::array<double, 3> centroid{0, 0, 0};
+                              for (uint32_t v : dt.cells[c]) {
+                                const InputPoint p = grid.to_input(d.points()[v]);
+                                centroid[0] += p.x / 4, centroid[1] += p.y / 4, centroid[2] += p.z / 4;
+                              }
+                              ASSERT_EQ(carving[c] != 0, solid_at(centroid)) << file << " level " << l.level;
+                              kept += carving[c];
+                            }
+                            ++levels;
+                          })
+                    .ok());
+    EXPECT_GE(levels, 3u) << file;
+    EXPECT_GT(kept, 1000u);
+  }
+}
+
+TEST(VoxelSolid, TheCentroidsVoxelIsTheNearestCentreHalfWayUp) {
+  // Voxels 0..3 along x, 1 along y and z; only voxel 2 solid. The lattice is
+  // the grid, offset by one voxel (grid point 0 is voxel 1).
+  VoxelMask mask;
+  mask.sizes = {4, 1, 1};
+  mask.inside = {0, 0, 1, 0};
+  mask.lattice_offset = std::array<int64_t, 3>{1, 0, 0};
+  const VoxelSolid solid(mask, Grid{}, 1.0);
+  // Grid x in quarters: voxel 2 is grid 1, from 0.5 (included) to 1.5 (excluded).
+  EXPECT_FALSE(solid.contains_point4({1, 0, 0}));  // 0.25
+  EXPECT_TRUE(solid.contains_point4({2, 0, 0}));   // 0.5: half-way goes up
+  EXPECT_TRUE(solid.contains_point4({5, 0, 0}));   // 1.25
+  EXPECT_FALSE(solid.contains_point4({6, 0, 0}));  // 1.5: voxel 3
+  EXPECT_FALSE(solid.contains_point4({4, 4, 0}));  // y = 1: outside the volume
+  EXPECT_FALSE(solid.contains_point4({-9, 0, 0}));
+  // The same through directions (no lattice): voxel centres at x = 10 + 2 i.
+  mask.lattice_offset.reset();
+  mask.origin = {10, 0, 0};
+  mask.directions = {{{2, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  Grid grid;
+  grid.origin = {10, 0, 0};
+  grid.step = 0.5;  // grid x g is input 10 + g / 2
+  const VoxelSolid through(mask, grid, 1.0);
+  EXPECT_FALSE(through.contains_point4({4 * 5, 0, 0}));   // input 12.5: voxel 1
+  EXPECT_TRUE(through.contains_point4({4 * 6, 0, 0}));    // 13: half-way, voxel 2
+  EXPECT_TRUE(through.contains_point4({4 * 9, 0, 0}));    // 14.5
+  EXPECT_FALSE(through.contains_point4({4 * 10, 0, 0}));  // 15: voxel 3
 }
 
 TEST_F(Volumes, QbitsMayGrowButNotShrink) {

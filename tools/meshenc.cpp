@@ -230,6 +230,11 @@ void print_fields(const dtm::EncodeReport& r, size_t vertices) {
 }
 
 void print_reference_line(const dtm::EncodeReport& r) {
+  if (r.reference_voxels > 0)
+    std::printf(
+        "reference solid: the volume's %llu solid voxels (every level keeps the cells whose centroid "
+        "lies in one)\n",
+        static_cast<unsigned long long>(r.reference_voxels));
   if (r.reference_tetrahedra == 0 || r.levels.empty()) return;
   const auto& first = *r.levels.front().reference_error;
   const auto& last = *r.levels.back().reference_error;
@@ -307,6 +312,7 @@ int run(Command& c) {
       fields.push_back({f.name, dtm::value_type(f.type), f.components, f.values});
   input.fields = fields;
   if (in.on_grid) input.lattice = &*in.on_grid;
+  if (in.voxels && !c.no_reference) input.voxels = &*in.voxels;
   auto plan = dtm::plan_encoding(input, c.encode);
   if (!plan.ok()) throw std::runtime_error(c.input + ": " + plan.status().message());
   if (!c.quiet) {

@@ -55,6 +55,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   j["duplicates_merged"] = r.duplicates_merged;
   j["input_points"] = r.input_points;
   if (r.reference_tetrahedra > 0) j["reference_tetrahedra"] = r.reference_tetrahedra;
+  if (r.reference_voxels > 0) j["reference_voxels"] = r.reference_voxels;
   if (r.level0_difference) {
     const SolidDifference& d = *r.level0_difference;
     const double cube = g.step * g.step * g.step;

@@ -11,6 +11,7 @@
 
 #include "common/grid.h"
 #include "core/quantize.h"
+#include "core/voxel_solid.h"
 #include "scalar_type.h"
 
 namespace dtm {
@@ -36,6 +37,9 @@ struct InputMesh {
   // quantization grid, so that positions are coded losslessly. `points` then
   // holds the same positions as doubles.
   std::optional<QuantizedPoints> on_grid;
+  // Voxel inputs: which voxels are the solid, the reference every level is
+  // carved to (core/voxel_solid.h).
+  std::optional<VoxelMask> voxels;
 };
 
 }  // namespace dtm

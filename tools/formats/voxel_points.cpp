@@ -108,6 +108,12 @@ InputMesh voxel_points(const Volume& v, const VolumeOptions& asked, const std::s
     }
   }
   if (!mask) out.fields.push_back(std::move(value));
+  VoxelMask& m = out.voxels.emplace();
+  m.sizes = {nx, ny, nz};
+  m.inside = std::move(solid);
+  m.origin = v.origin;
+  m.directions = d;
+  if (lattice) m.lattice_offset = std::array<int64_t, 3>{min[0], min[1], min[2]};
   if (lattice) {
     q.input_to_point.resize(q.points.size());
     for (uint32_t i = 0; i < q.points.size(); ++i) q.input_to_point[i] = i;

@@ -1,0 +1,37 @@
+// A solid every codec level is carved to (spec/HIERARCHY.md §2.1): a cell of
+// a level's Delaunay tetrahedralization is kept when its centroid lies in it.
+// Two kinds: the input's tetrahedra (reference_solid.h) and a scan's voxels
+// (voxel_solid.h). Points are asked at four times the grid's scale, where a
+// centroid of grid points is integral: the verdicts are exact.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/grid.h"
+#include "mesh/delaunay.h"
+
+namespace dtm {
+
+class Solid {
+ public:
+  virtual ~Solid() = default;
+
+  // True if the point p / 4 (p at four times the grid scale) is in the solid.
+  virtual bool contains_point4(const std::array<int64_t, 3>& p) const = 0;
+
+  // True if the centroid of the tetrahedron (a, b, c, d) is in the solid.
+  bool contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
+                         const GridPoint& d) const {
+    return contains_point4(
+        {int64_t{a.x} + b.x + c.x + d.x, int64_t{a.y} + b.y + c.y + d.y, int64_t{a.z} + b.z + c.z + d.z});
+  }
+
+  // Per cell of `dt` (vertex ids index `points`): 1 if the solid keeps it.
+  // Computed on every core.
+  std::vector<uint8_t> verdicts(const TetMesh& dt, std::span<const GridPoint> points) const;
+};
+
+}  // namespace dtm
