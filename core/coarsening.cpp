@@ -32,12 +32,6 @@ Coarsening greedy_pass(const LevelGeometry& L, std::span<const uint32_t> order,
           free = false;
           break;
         }
-      for (auto u = L.neighbors.row(v).begin(); free && u != L.neighbors.row(v).end(); ++u)
-        for (uint32_t w : L.neighbors.row(*u))
-          if (w != v && conflicts(w)) {
-            free = false;
-            break;
-          }
       if (!free) continue;
     }
     c.keep[v] = 1;

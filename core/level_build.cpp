@@ -146,16 +146,64 @@ class RemovedVertices {
   std::optional<PointBuckets> index_;
 };
 
+// What inserting p into `mesh` would change, estimated: the cells whose
+// circumsphere holds p (in doubles, boundary included), found from `start`
+// (one of them) across faces, and the faces around them, each of which makes
+// a new cell with p. False when the region reaches the convex hull or
+// `start` does not hold p. (An estimate: where p is cospherical with a cell
+// CGAL's symbolic perturbation decides; this only ranks candidates, the
+// level is measured again after the real insertion.)
+bool conflict_region(const TetMesh& mesh, std::span<const GridPoint> points, const GridPoint& p,
+                     uint32_t start, std::vector<int32_t>& cells,
+                     std::vector<std::array<uint32_t, 3>>& faces) {
+  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  cells.clear();
+  faces.clear();
+  auto holds = [&](uint32_t c) {
+    const Ball b = circumball(points, mesh.cells[c]);
+    const double dx = p.x - b.center[0], dy = p.y - b.center[1], dz = p.z - b.center[2];
+    return b.radius > 0 && dx * dx + dy * dy + dz * dz <= b.radius * b.radius * (1 + 1e-9);
+  };
+  if (!holds(start)) return false;
+  cells.push_back(static_cast<int32_t>(start));
+  for (size_t at = 0; at < cells.size(); ++at) {
+    const auto c = static_cast<uint32_t>(cells[at]);
+    for (int i = 0; i < 4; ++i) {
+      const int32_t n = mesh.neighbors[c][i];
+      if (n < 0) {
+        // A hull face: p beyond (or on) its plane is outside the hull, where
+        // insertion would also replace infinite cells; otherwise the face
+        // bounds the region.
+        const auto& k = mesh.cells[c];
+        const Vec3 a = to_vec(points[k[kFace[i][0]]]), b = to_vec(points[k[kFace[i][1]]]),
+                   d = to_vec(points[k[kFace[i][2]]]);
+        const Vec3 normal = cross(b - a, d - a);
+        if (dot(normal, to_vec(p) - a) * dot(normal, to_vec(points[k[i]]) - a) <= 0) return false;
+        faces.push_back({k[kFace[i][0]], k[kFace[i][1]], k[kFace[i][2]]});
+        continue;
+      }
+      if (std::find(cells.begin(), cells.end(), n) != cells.end()) continue;
+      if (holds(static_cast<uint32_t>(n))) {
+        cells.push_back(n);
+      } else {
+        const auto& k = mesh.cells[c];
+        faces.push_back({k[kFace[i][0]], k[kFace[i][1]], k[kFace[i][2]]});
+      }
+    }
+    if (cells.size() > 256) return false;  // not a local change
+  }
+  return true;
+}
+
 // The level's surplus over the quality floor: the sum over its carved cells
 // of (smallest solid angle - floor); its average meets the floor while the
-// surplus is >= 0 (the paper preset's rule, spec §6.2). Puts back, among the
+// surplus is >= 0 (the paper preset's rule, spec §6.4). Puts back, among the
 // removed vertices nearest the circumcentres of the worst cells, those whose
-// insertion raises the surplus most, each judged exactly on what it would
-// change (the cells in conflict with it out, its star in), with disjoint
-// changes, until the deficit is covered with a fifth to spare.
-void repair_quality(const IncrementalDelaunay& dt, const TetMesh& mesh, const CellResults& cells,
-                    std::span<const GridPoint> points, const Solid& solid, double floor,
-                    RemovedVertices& removed) {
+// insertion raises the surplus most, each judged (on every core) on what it
+// would change (the cells in conflict with it out, its star in), with
+// disjoint changes, until the deficit is covered with a fifth to spare.
+void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<const GridPoint> points,
+                    const Solid& solid, double floor, RemovedVertices& removed) {
   double surplus = 0;
   std::vector<std::pair<double, uint32_t>> worst;
   for (uint32_t c = 0; c < mesh.cells.size(); ++c) {
@@ -167,12 +215,12 @@ void repair_quality(const IncrementalDelaunay& dt, const TetMesh& mesh, const Ce
   std::sort(worst.begin(), worst.end());
   // Enough of the worst cells (at least 64) to find candidates for several
   // times the deficit.
-  std::vector<std::pair<uint32_t, uint32_t>> candidates;  // (removed vertex, a corner of its cell)
+  std::vector<std::pair<uint32_t, uint32_t>> candidates;  // (removed vertex, a cell holding it)
   double naive = 0;
   for (size_t i = 0; i < worst.size() && (i < 64 || naive < -4 * surplus); ++i) {
     const auto& [angle, c] = worst[i];
     for (uint32_t k : removed.nearest(circumball(points, mesh.cells[c]), 3, points))
-      candidates.emplace_back(k, mesh.cells[c][0]);
+      candidates.emplace_back(k, c);
     naive += floor - angle;
   }
   std::sort(candidates.begin(), candidates.end());
@@ -180,26 +228,30 @@ void repair_quality(const IncrementalDelaunay& dt, const TetMesh& mesh, const Ce
                                [](const auto& a, const auto& b) { return a.first == b.first; }),
                    candidates.end());
   struct Option {
-    double gain;
-    uint32_t k;
+    double gain = 0;
+    uint32_t k = 0;
     std::vector<int32_t> cells;
   };
-  std::vector<Option> options;
-  for (const auto& [k, near] : candidates) {
-    const GridPoint& p = points[removed.vertex(k)];
-    IncrementalDelaunay::Conflicts region = dt.conflicts(p, near);
-    if (region.cells.empty()) continue;
-    double gain = 0;
-    for (int32_t c : region.cells)
-      if (cells.kept[static_cast<size_t>(c)]) gain -= cells.angle[static_cast<size_t>(c)] - floor;
-    const uint32_t v = removed.vertex(k);
-    for (const auto& f : region.faces) {
-      const std::array<uint32_t, 4> cell = {v, f[0], f[1], f[2]};
-      if (solid.contains_centroid(points[v], points[f[0]], points[f[1]], points[f[2]]))
-        gain += smallest_solid_angle(points, cell) - floor;
-    }
-    if (gain > 0) options.push_back({gain, k, std::move(region.cells)});
-  }
+  std::vector<Option> options(candidates.size());
+  parallel_for(
+      candidates.size(),
+      [&](size_t i) {
+        thread_local std::vector<std::array<uint32_t, 3>> faces;
+        Option& o = options[i];
+        o.k = candidates[i].first;
+        const uint32_t v = removed.vertex(o.k);
+        if (!conflict_region(mesh, points, points[v], candidates[i].second, o.cells, faces)) {
+          o.cells.clear();
+          return;
+        }
+        for (int32_t c : o.cells)
+          if (cells.kept[static_cast<size_t>(c)]) o.gain -= cells.angle[static_cast<size_t>(c)] - floor;
+        for (const auto& f : faces)
+          if (solid.contains_centroid(points[v], points[f[0]], points[f[1]], points[f[2]]))
+            o.gain += smallest_solid_angle(points, {v, f[0], f[1], f[2]}) - floor;
+      },
+      32);
+  std::erase_if(options, [](const Option& o) { return o.cells.empty() || o.gain <= 0; });
   std::stable_sort(options.begin(), options.end(),
                    [](const Option& a, const Option& b) { return a.gain > b.gain; });
   std::vector<uint8_t> touched(mesh.cells.size(), 0);
@@ -348,8 +400,7 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
           taken = removed->take_nearest({{double(p.x), double(p.y), double(p.z)}, r}, per_place / 2, points);
       }
     }
-    if (!out.quality_met)
-      repair_quality(*dt, mesh, cells, points, *ref.solid, bounds.quality_floor, *removed);
+    if (!out.quality_met) repair_quality(mesh, cells, points, *ref.solid, bounds.quality_floor, *removed);
     const std::vector<uint32_t> back = removed->collect();
     if (back.empty()) break;  // nothing left to put back where a bound breaks
     out.put_back += back.size();

@@ -191,23 +191,18 @@ bool parallel_delaunay_available() {
 
 struct IncrementalDelaunay::Impl {
   DT dt;
-  // The vertex of each id, for conflicts()' start (filled on demand).
-  mutable std::vector<DT::Vertex_handle> by_id;
-  mutable bool by_id_current = false;
 };
 
 IncrementalDelaunay::IncrementalDelaunay() : impl_(std::make_unique<Impl>()) {}
 IncrementalDelaunay::~IncrementalDelaunay() = default;
 
 Status IncrementalDelaunay::insert(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
-  impl_->by_id_current = false;
   return guarded([&] { return insert_batch(impl_->dt, points, ids); });
 }
 
 Status IncrementalDelaunay::insert_one_by_one(std::span<const GridPoint> points,
                                               std::span<const uint32_t> ids) {
   DTM_CHECK(points.size() == ids.size());
-  impl_->by_id_current = false;
   return guarded([&] {
     return insert_in_order(impl_->dt, points.size(),
                            [&](size_t i) { return std::make_pair(to_point(points[i]), ids[i]); });
@@ -215,7 +210,6 @@ Status IncrementalDelaunay::insert_one_by_one(std::span<const GridPoint> points,
 }
 
 Status IncrementalDelaunay::remove(std::span<const GridPoint> points) {
-  impl_->by_id_current = false;
   return guarded([&] {
     for (const GridPoint& p : points) {
       DT::Vertex_handle v;
@@ -225,45 +219,6 @@ Status IncrementalDelaunay::remove(std::span<const GridPoint> points) {
     }
     return Status::Ok();
   });
-}
-
-IncrementalDelaunay::Conflicts IncrementalDelaunay::conflicts(const GridPoint& p, uint32_t near_id) const {
-  Conflicts out;
-  const DT& dt = impl_->dt;
-  if (dt.dimension() < 3) return out;
-  if (!impl_->by_id_current) {
-    impl_->by_id.clear();
-    for (auto v : dt.finite_vertex_handles()) {
-      if (v->info() >= impl_->by_id.size()) impl_->by_id.resize(v->info() + 1);
-      impl_->by_id[v->info()] = v;
-    }
-    impl_->by_id_current = true;
-  }
-  const Point q = to_point(p);
-  DT::Locate_type lt;
-  int li, lj;
-  DT::Cell_handle hint;
-  if (near_id < impl_->by_id.size() && impl_->by_id[near_id] != DT::Vertex_handle())
-    hint = impl_->by_id[near_id]->cell();
-  const DT::Cell_handle start = dt.locate(q, lt, li, lj, hint);
-  if (lt == DT::VERTEX) return out;
-  std::vector<DT::Cell_handle> cells;
-  std::vector<DT::Facet> border;
-  dt.find_conflicts(q, start, std::back_inserter(border), std::back_inserter(cells));
-  for (DT::Cell_handle c : cells) {
-    if (dt.is_infinite(c)) {
-      out = {};
-      out.on_hull = true;
-      return out;
-    }
-    out.cells.push_back(c->info().index);
-  }
-  for (const DT::Facet& f : border) {
-    std::array<uint32_t, 3> face;
-    for (int k = 0; k < 3; ++k) face[k] = f.first->vertex((f.second + 1 + k) & 3)->info();
-    out.faces.push_back(face);
-  }
-  return out;
 }
 
 int IncrementalDelaunay::dimension() const { return impl_->dt.dimension(); }

@@ -65,19 +65,6 @@ class IncrementalDelaunay {
   // Removes the vertices at these positions; kInvalidInput if one is absent.
   Status remove(std::span<const GridPoint> points);
 
-  // What inserting `p` would change, seen before it is done: the cells in
-  // conflict with it (their indices in the last export; none may have
-  // changed since) and the faces bounding that region (vertex ids), each of
-  // which makes a new cell with p. `near_id`, the id of a vertex near p,
-  // starts the search. Empty with on_hull set when p lies outside the convex
-  // hull (it would also replace infinite cells); empty when p is a vertex.
-  struct Conflicts {
-    std::vector<int32_t> cells;
-    std::vector<std::array<uint32_t, 3>> faces;
-    bool on_hull = false;
-  };
-  Conflicts conflicts(const GridPoint& p, uint32_t near_id) const;
-
   int dimension() const;
   size_t number_of_vertices() const;
   // The current finite cells, vertices named by their ids.
