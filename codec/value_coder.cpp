@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "bitstream/range_coder.h"
+#include "common/parallel_for.h"
 
 namespace dtm {
 
@@ -124,12 +125,20 @@ std::array<int64_t, 3> NeighbourSearch::cell_of(const GridPoint& p) const {
 
 std::vector<Neighbours> NeighbourSearch::layer(std::span<const GridPoint> points) {
   prepare(points);
-  std::vector<Neighbours> out;
-  out.reserve(points.size());
-  for (const GridPoint& p : points) {
-    out.push_back(nearest(p));
-    add(p);
-  }
+  // Every point of the layer is in the grid first, named by its place in
+  // the coding order; each one's search then skips those named after it, so
+  // the searches are independent (and run on every core) and find what a
+  // search made as the points came would.
+  const auto first = static_cast<uint32_t>(points_.size());
+  for (const GridPoint& p : points) add(p);
+  std::vector<Neighbours> out(points.size());
+  constexpr size_t kBlock = 1024;
+  parallel_for((points.size() + kBlock - 1) / kBlock,
+               [&](size_t block) {
+                 for (size_t i = block * kBlock; i < std::min(points.size(), block * kBlock + kBlock); ++i)
+                   out[i] = nearest(points[i], first + static_cast<uint32_t>(i));
+               },
+               2);
   return out;
 }
 
@@ -172,8 +181,8 @@ void NeighbourSearch::add(const GridPoint& p) {
   points_.push_back(p);
 }
 
-Neighbours NeighbourSearch::nearest(const GridPoint& p) const {
-  if (points_.empty()) return {};
+Neighbours NeighbourSearch::nearest(const GridPoint& p, uint32_t known) const {
+  if (known == 0) return {};
   // The kValueNeighbours nearest known points, ties to the earlier coded:
   // rings of cells around p's, until no farther ring can hold a nearer one.
   struct Near {
@@ -187,6 +196,7 @@ Neighbours NeighbourSearch::nearest(const GridPoint& p) const {
   int found = 0;
   int64_t worst = INT64_MAX;
   auto consider = [&](const Entry& e) {
+    if (e.index >= known) return;  // coded after p
     const int64_t dx = e.p.x - p.x, dy = e.p.y - p.y, dz = e.p.z - p.z;
     const Near n{dx * dx + dy * dy + dz * dz, e.index};
     if (n.d2 > worst) return;  // most points, once the first ring is in

@@ -92,7 +92,8 @@ class NeighbourSearch {
  private:
   // Sizes the grid for the points known and the layer's.
   void prepare(std::span<const GridPoint> incoming);
-  Neighbours nearest(const GridPoint& p) const;
+  // The nearest among the first `known` points (in coding order).
+  Neighbours nearest(const GridPoint& p, uint32_t known) const;
   void add(const GridPoint& p);
   std::array<int64_t, 3> cell_of(const GridPoint& p) const;
   size_t bucket(const std::array<int64_t, 3>& c) const {

@@ -1,4 +1,5 @@
-// Runs independent work on every core (at most 8 threads).
+// Runs independent work on every core (at most 8 threads; one in a
+// WebAssembly build).
 #pragma once
 
 #include <algorithm>
@@ -18,7 +19,12 @@ template <typename Body>
 void parallel_for(size_t n, const Body& body, size_t serial_below = 2) {
   if (n == 0) return;
   body(0);
+#ifdef __EMSCRIPTEN__
+  // One WebAssembly decoder per worker, built without threads.
+  const size_t threads = 1;
+#else
   const size_t threads = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 8);
+#endif
   if (threads == 1 || n < serial_below) {
     for (size_t i = 1; i < n; ++i) body(i);
     return;
