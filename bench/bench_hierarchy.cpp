@@ -1,26 +1,31 @@
-// bench_hierarchy: how much does the whole level-of-detail hierarchy cost
-// compared with a single CGAL Delaunay tetrahedralization of the same points?
+// bench_hierarchy: how much do the encoder and the decoder cost compared
+// with one sequential CGAL Delaunay tetrahedralization of the same points?
 //
 // Per model (bunny_10k, bunny_100k, bunny_1m; absent .node files are skipped):
-//   CgalDelaunay/<m>  dtm::delaunay_tetrahedralize: one CGAL build + export to TetMesh
-//   CgalRaw/<m>       the bare CGAL range insertion, no export, destruction not timed
-//   Hierarchy/<m>     dtm::build_hierarchy's bare mechanism (HierarchyOptions'
-//                     defaults: one independent set per level, alpha carving,
-//                     no guards) at meshenc's recommended grid
-//                     (--box 256 --qbits 14 --dmax 2)
-//   Encode/<m>        dtm::encode as meshenc runs it, codec preset, with the
-//                     model's .ele (when beside the .node) as the reference solid
-//   EncodePaper/<m>   the same, EncodeOptions::paper()
-//   Decode.../<m>     the codec preset's stream
+//   CgalSequential/<m>  CGAL's sequential range insertion (spatial sort +
+//                       insertion), no export, destruction not timed: the
+//                       reference every ratio divides by
+//   CgalDelaunay/<m>    dtm::delaunay_tetrahedralize: the same points on every
+//                       core (Parallel_tag) and exported to a TetMesh
+//   Encode/<m>          dtm::encode as meshenc runs it (reports included),
+//                       codec preset, the model's .ele (when beside the .node)
+//                       as the reference solid, at meshenc's recommended grid
+//                       (--box 256 --qbits 14 --dmax 2)
+//   EncodePaper/<m>     the same, EncodeOptions::paper() (10k and 100k only:
+//                       the paper preset is exempt from the speed target)
+//   Decode.../<m>       the codec preset's stream: the finest mesh, every mesh
 // All run on the same points; loading and quantization are not timed. At the
-// end two markdown tables give each time over one CGAL construction's.
+// end a markdown table gives each time over one sequential construction's.
 // "Time" is wall time; "CPU" is the whole process's CPU time, so CPU > Time
-// would mean the build used several threads.
+// means several threads worked.
 //
 // Usage:
 //   bench_hierarchy [--data DIR] [benchmark flags]   DIR defaults to $DTM_BENCH_DATA, else .
-//   bench_hierarchy --peak-memory MODEL.node [hierarchy|cgal]
-//       builds once in this fresh process and prints the peak RSS (ru_maxrss)
+//   bench_hierarchy --peak-memory MODEL.node encode|decode|cgal
+//       in this fresh process: loads the model (and, for decode, encodes it
+//       first in a child process's stead: the stream is read from
+//       MODEL.dtm, which `encode` writes), does the one thing, and prints the
+//       peak RSS (ru_maxrss) and the time
 //   bench_hierarchy --cgal-version
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -35,6 +40,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -43,7 +49,6 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
-#include "core/hierarchy.h"
 #include "mesh/delaunay.h"
 #include "tools/formats/tetgen.h"
 
@@ -62,7 +67,6 @@ struct Model {
   std::vector<dtm::InputPoint> points;        // scaled to the 256 box
   std::vector<std::array<uint32_t, 4>> tets;  // the .ele beside the .node, if any
   dtm::QuantizedPoints q;
-  dtm::HierarchyOptions opt;
   std::vector<uint8_t> stream;  // encoded once, on first use by a decode benchmark
 
   dtm::EncodeOptions options(bool paper) const {
@@ -94,9 +98,7 @@ Model load_model(const std::string& name, const std::string& path) {
   const std::string ele = std::filesystem::path(path).replace_extension(".ele").string();
   if (std::filesystem::exists(ele)) tets = dtm::read_tetgen_ele(ele, node.points.size(), node.index_base);
 
-  Model m{name, node.points, std::move(tets), dtm::quantize(node.points, kQBits).value(), {}, {}};
-  m.opt.dmax = kDmax / m.q.grid.step;  // HierarchyOptions wants grid units
-  return m;
+  return Model{name, node.points, std::move(tets), dtm::quantize(node.points, kQBits).value(), {}};
 }
 
 // Timing: a few iterations for the small models, one for the 1M model (each
@@ -107,24 +109,8 @@ void register_benchmarks(const Model& m) {
   const int iters = iterations_for(m.q.points.size());
   const double n = static_cast<double>(m.q.points.size());
 
-  benchmark::RegisterBenchmark(("CgalDelaunay/" + m.name).c_str(),
-                               [&m, n](benchmark::State& st) {
-                                 size_t cells = 0;
-                                 for (auto _ : st) {
-                                   const dtm::TetMesh dt = dtm::delaunay_tetrahedralize(m.q.points).value();
-                                   cells = dt.cells.size();
-                                   benchmark::DoNotOptimize(dt.cells.data());
-                                 }
-                                 st.counters["vertices"] = n;
-                                 st.counters["cells"] = static_cast<double>(cells);
-                               })
-      ->Iterations(iters)
-      ->Unit(benchmark::kMillisecond)
-      ->MeasureProcessCPUTime();
-
-  // The wrapper above also attaches ids, numbers the cells and copies them
-  // out; this variant shows what that export costs on top of CGAL itself.
-  benchmark::RegisterBenchmark(("CgalRaw/" + m.name).c_str(),
+  // The reference: CGAL alone, one thread.
+  benchmark::RegisterBenchmark(("CgalSequential/" + m.name).c_str(),
                                [&m, n](benchmark::State& st) {
                                  std::vector<K::Point_3> pts;
                                  pts.reserve(m.q.points.size());
@@ -145,40 +131,25 @@ void register_benchmarks(const Model& m) {
       ->Unit(benchmark::kMillisecond)
       ->MeasureProcessCPUTime();
 
-  // The whole build as meshenc runs it, then without the boundary-error
-  // statistics (a measurement: one AABB query per original boundary vertex
-  // and level, which decides nothing).
-  for (const bool stats : {true, false}) {
-    const std::string name = (stats ? "Hierarchy/" : "HierarchyNoStats/") + m.name;
-    benchmark::RegisterBenchmark(name.c_str(),
-                                 [&m, n, stats](benchmark::State& st) {
-                                   dtm::HierarchyOptions opt = m.opt;
-                                   opt.measure_boundary_error = stats;
-                                   size_t levels = 0, base = 0, level_vertices = 0;
-                                   for (auto _ : st) {
-                                     const dtm::Hierarchy h = dtm::build_hierarchy(m.q.points, opt).value();
-                                     levels = h.levels.size();
-                                     base = h.levels.back().vertices.size();
-                                     level_vertices = 0;
-                                     for (const auto& l : h.levels) level_vertices += l.vertices.size();
-                                     benchmark::DoNotOptimize(h.levels.data());
-                                   }
-                                   st.counters["vertices"] = n;
-                                   st.counters["levels"] = static_cast<double>(levels);  // including level 0
-                                   st.counters["base_vertices"] = static_cast<double>(base);
-                                   // Every level is analysed in full, so the work grows with the sum of
-                                   // the level sizes (level 0 is tetrahedralized from scratch, the others
-                                   // by refilling the removed vertices' cavities).
-                                   st.counters["level_points_per_vertex"] =
-                                       static_cast<double>(level_vertices) / n;
-                                 })
-        ->Iterations(iters)
-        ->Unit(benchmark::kMillisecond)
-        ->MeasureProcessCPUTime();
-  }
+  // Ours: on every core, and exported to a TetMesh.
+  benchmark::RegisterBenchmark(("CgalDelaunay/" + m.name).c_str(),
+                               [&m, n](benchmark::State& st) {
+                                 size_t cells = 0;
+                                 for (auto _ : st) {
+                                   const dtm::TetMesh dt = dtm::delaunay_tetrahedralize(m.q.points).value();
+                                   cells = dt.cells.size();
+                                   benchmark::DoNotOptimize(dt.cells.data());
+                                 }
+                                 st.counters["vertices"] = n;
+                                 st.counters["cells"] = static_cast<double>(cells);
+                               })
+      ->Iterations(iters)
+      ->Unit(benchmark::kMillisecond)
+      ->MeasureProcessCPUTime();
 
   // What meshenc does after reading its input, reports included: each preset.
   for (const bool paper : {false, true}) {
+    if (paper && n > 500'000) continue;
     benchmark::RegisterBenchmark(((paper ? "EncodePaper/" : "Encode/") + m.name).c_str(),
                                  [&m, n, paper](benchmark::State& st) {
                                    size_t bytes = 0, levels = 0;
@@ -275,46 +246,29 @@ class CollectingReporter : public benchmark::ConsoleReporter {
 
 void print_codec_table(const CollectingReporter& rep, const std::vector<std::unique_ptr<Model>>& models) {
   std::printf(
-      "\n| model | vertices | reference solid | CGAL DT (s) | encode, codec (s) | ratio | levels | bits per "
-      "vertex "
-      "| encode, paper (s) | ratio | levels | decode, finest mesh (s) | ratio "
-      "| decode, every level's mesh (s) | ratio |\n"
-      "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "\n| model | vertices | reference solid | one sequential CGAL construction (s) | ours, both cores, "
+      "exported | encode, codec | levels | bits per vertex | encode, paper | levels | decode, finest mesh "
+      "| decode, every level's mesh |\n"
+      "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& m : models) {
-    const auto cgal = rep.find("CgalDelaunay/" + m->name);
+    const auto seq = rep.find("CgalSequential/" + m->name);
+    const auto ours = rep.find("CgalDelaunay/" + m->name);
     const auto enc = rep.find("Encode/" + m->name);
     const auto paper = rep.find("EncodePaper/" + m->name);
     const auto dec = rep.find("Decode/" + m->name);
     const auto all = rep.find("DecodeEveryLevelMesh/" + m->name);
-    if (!cgal || !enc || !paper || !dec || !all) continue;
-    std::printf(
-        "| %s | %zu | %s | %.3f | %.3f | %.1f | %.0f | %.2f | %.3f | %.1f | %.0f | %.3f | %.2f | %.3f | %.2f "
-        "|\n",
-        m->name.c_str(), m->q.points.size(), m->tets.empty() ? "level 0's alpha carving" : "its .ele",
-        cgal->seconds, enc->seconds, enc->seconds / cgal->seconds, enc->counters.at("levels").value,
-        enc->counters.at("bits_per_vertex").value, paper->seconds, paper->seconds / cgal->seconds,
-        paper->counters.at("levels").value, dec->seconds, dec->seconds / cgal->seconds, all->seconds,
-        all->seconds / cgal->seconds);
-  }
-}
-
-void print_table(const CollectingReporter& rep, const std::vector<std::unique_ptr<Model>>& models) {
-  std::printf(
-      "\n| model | vertices | levels | CGAL DT (s) | hierarchy (s) | ratio | hierarchy without "
-      "error statistics (s) | ratio | raw CGAL build (s) | sum of level sizes / N |\n"
-      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  for (const auto& m : models) {
-    const auto cgal = rep.find("CgalDelaunay/" + m->name);
-    const auto raw = rep.find("CgalRaw/" + m->name);
-    const auto hier = rep.find("Hierarchy/" + m->name);
-    const auto bare = rep.find("HierarchyNoStats/" + m->name);
-    if (!cgal || !hier || !bare) continue;  // filtered out by --benchmark_filter, or failed
-    char raw_text[32] = "-";
-    if (raw) std::snprintf(raw_text, sizeof raw_text, "%.3f", raw->seconds);
-    std::printf("| %s | %zu | %.0f | %.3f | %.3f | %.1f | %.3f | %.1f | %s | %.2f |\n", m->name.c_str(),
-                m->q.points.size(), hier->counters.at("levels").value, cgal->seconds, hier->seconds,
-                hier->seconds / cgal->seconds, bare->seconds, bare->seconds / cgal->seconds, raw_text,
-                hier->counters.at("level_points_per_vertex").value);
+    if (!seq || !ours || !enc || !dec || !all) continue;
+    auto ratio = [&](const auto& r) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%.2fx (%.3f s)", r->seconds / seq->seconds, r->seconds);
+      return std::string(text);
+    };
+    std::printf("| %s | %zu | %s | %.3f | %s | **%s** | %.0f | %.2f | %s | %s | **%s** | %s |\n",
+                m->name.c_str(), m->q.points.size(), m->tets.empty() ? "level 0's alpha carving" : "its .ele",
+                seq->seconds, ratio(ours).c_str(), ratio(enc).c_str(), enc->counters.at("levels").value,
+                enc->counters.at("bits_per_vertex").value, paper ? ratio(paper).c_str() : "-",
+                paper ? std::to_string(static_cast<int>(paper->counters.at("levels").value)).c_str() : "-",
+                ratio(dec).c_str(), ratio(all).c_str());
   }
 }
 
@@ -324,26 +278,54 @@ double max_rss_mib() {
   return u.ru_maxrss / 1024.0;  // Linux reports KiB
 }
 
-// One build in a fresh process: ru_maxrss is a high-water mark, so measuring
-// several models (or the benchmark loop) in one process would mix them up.
+// One thing in a fresh process: ru_maxrss is a high-water mark, so
+// measuring several models (or the benchmark loop) in one process would mix
+// them up.
 int peak_memory(const std::string& path, const std::string& what) {
-  if (what != "hierarchy" && what != "cgal") {
-    std::fprintf(stderr, "bench_hierarchy: --peak-memory: expected 'hierarchy' or 'cgal'\n");
+  if (what != "encode" && what != "decode" && what != "cgal") {
+    std::fprintf(stderr, "bench_hierarchy: --peak-memory: expected 'encode', 'decode' or 'cgal'\n");
     return 2;
   }
-  const Model m = load_model(std::filesystem::path(path).stem().string(), path);
+  const std::string stream_path = std::filesystem::path(path).replace_extension(".dtm").string();
+  std::vector<uint8_t> stream;
+  std::optional<Model> m;
+  if (what == "decode") {
+    std::ifstream in(stream_path, std::ios::binary);
+    if (!in) {
+      std::fprintf(stderr, "bench_hierarchy: %s missing: run --peak-memory %s encode first\n",
+                   stream_path.c_str(), path.c_str());
+      return 2;
+    }
+    stream.assign(std::istreambuf_iterator<char>(in), {});
+  } else {
+    m.emplace(load_model(std::filesystem::path(path).stem().string(), path));
+  }
   const double loaded = max_rss_mib();
   const auto start = std::chrono::steady_clock::now();
-  size_t levels = 1;
+  size_t levels = 1, vertices = 0;
   if (what == "cgal") {
-    benchmark::DoNotOptimize(dtm::delaunay_tetrahedralize(m.q.points).value().cells.data());
+    std::vector<K::Point_3> pts;
+    for (const auto& p : m->q.points) pts.emplace_back(p.x, p.y, p.z);
+    const RawDT dt(pts.begin(), pts.end());
+    vertices = dt.number_of_vertices();
+  } else if (what == "encode") {
+    const dtm::EncodedMesh e = m->encode(false);
+    levels = e.report.levels.size();
+    vertices = m->q.points.size();
+    std::ofstream(stream_path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(e.bytes.data()), static_cast<std::streamsize>(e.bytes.size()));
   } else {
-    levels = dtm::build_hierarchy(m.q.points, m.opt).value().levels.size();
+    dtm::ProgressiveDecoder dec;
+    if (!dtm::decode_stream(stream, dec).ok()) return 1;
+    benchmark::DoNotOptimize(dec.carved_cells().data());
+    levels = dec.levels().size();
+    vertices = dec.points().size();
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf(
       "model=%s build=%s vertices=%zu levels=%zu seconds=%.3f loaded_rss_mib=%.1f peak_rss_mib=%.1f\n",
-      m.name.c_str(), what.c_str(), m.q.points.size(), levels, secs, loaded, max_rss_mib());
+      std::filesystem::path(path).stem().c_str(), what.c_str(), vertices, levels, secs, loaded,
+      max_rss_mib());
   return 0;
 }
 
@@ -402,7 +384,6 @@ int main(int argc, char** argv) {
   CollectingReporter rep(isatty(STDOUT_FILENO) ? benchmark::ConsoleReporter::OO_Color
                                                : benchmark::ConsoleReporter::OO_None);
   benchmark::RunSpecifiedBenchmarks(&rep);
-  print_table(rep, models);
   print_codec_table(rep, models);
   benchmark::Shutdown();
   return 0;
