@@ -19,7 +19,8 @@
 
 int main(int argc, char** argv) {
   if (argc < 4 || std::string(argv[2]) != "--threshold") {
-    std::fprintf(stderr, "usage: voxel_reference VOLUME.nrrd --threshold T [--voxel-interior-step K] [--dmax D]\n");
+    std::fprintf(stderr,
+                 "usage: voxel_reference VOLUME.nrrd --threshold T [--voxel-interior-step K] [--dmax D]\n");
     return 2;
   }
   dtm::VolumeOptions volume;
@@ -31,15 +32,17 @@ int main(int argc, char** argv) {
     if (a == "--dmax") dmax = std::stod(argv[i + 1]);
   }
   const dtm::InputMesh in = dtm::read_input(argv[1], {}, volume);
-  std::printf("| reference | level | vertices | cells | cells with their centroid outside the solid voxels | "
-              "their share of the level's volume | stream bytes (all levels, values included) |\n"
-              "|---|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "| reference | level | vertices | cells | cells with their centroid outside the solid voxels | "
+      "their share of the level's volume | stream bytes (all levels, values included) |\n"
+      "|---|---:|---:|---:|---:|---:|---:|\n");
   for (const bool voxels : {false, true}) {
     dtm::EncodeInput input;
     input.points = in.points;
     if (in.on_grid) input.lattice = &*in.on_grid;
     std::vector<dtm::EncodeInput::Field> fields;
-    for (const auto& f : in.fields) fields.push_back({f.name, dtm::value_type(f.type), f.components, f.values});
+    for (const auto& f : in.fields)
+      fields.push_back({f.name, dtm::value_type(f.type), f.components, f.values});
     input.fields = fields;
     if (voxels) input.voxels = &*in.voxels;
     dtm::EncodeOptions options;

@@ -23,6 +23,11 @@ Key sorted_key(std::span<const uint32_t> ids, const std::array<uint32_t, 3>& t) 
   return k;
 }
 
+// A kept cell whose smallest solid angle is below this (steradians; the
+// regular tetrahedron's is 0.55) and that has three or four faces on the
+// surface is a fin (see the rounds below).
+constexpr double kFinSolidAngle = 0.02;
+
 struct Ball {
   std::array<double, 3> center;
   double radius;
@@ -362,13 +367,31 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     }
     broken += far_reference.size();
     out.shape_left = broken;
-    if (broken == 0 && out.quality_met) break;
+    // Fins and slots: nearly flat cells with three or four faces on the
+    // surface, kept (a thin flap) or not (a thin slot into the solid), which
+    // a viewer shows as lines even when they lie within D_max. Repaired
+    // where something removed is in conflict with them; one that cannot be
+    // does not hold the level back.
+    std::vector<uint32_t> fins;
+    {
+      std::vector<uint8_t> inside_faces(mesh.cells.size(), 0), outside_faces(mesh.cells.size(), 0);
+      for (const auto& [inside, outside] : surface.cells) {
+        ++inside_faces[static_cast<size_t>(inside)];
+        if (outside >= 0) ++outside_faces[static_cast<size_t>(outside)];
+      }
+      for (uint32_t c = 0; c < mesh.cells.size(); ++c)
+        if ((inside_faces[c] >= 3 && cells.angle[c] < kFinSolidAngle) ||
+            (outside_faces[c] >= 3 && smallest_solid_angle(points, mesh.cells[c]) < kFinSolidAngle))
+          fins.push_back(c);
+    }
+    if (broken == 0 && out.quality_met && fins.empty()) break;
     if (round == bounds.repair_rounds) break;
 
     phase("choosing what to put back");
     // Where a place stays broken round after round, more of what is near it
     // comes back each time: 2, 3, 4, ... vertices per cell at fault.
     const size_t per_place = 2 + static_cast<size_t>(round);
+    for (uint32_t c : fins) removed->take_nearest(circumball(points, mesh.cells[c]), per_place, points);
     // A far triangle: what the cells on both sides of it are in conflict
     // with (each vertex put back destroys the cell). A far reference
     // vertex: the same for the triangle nearest it.
