@@ -333,8 +333,8 @@ TEST_P(CodecLevels, KeepTheShapeWithinTwoDmaxAndHalveTheVertices) {
     // and the level's surface (vertices and triangle centroids) to the reference's.
     EXPECT_LE(level.reference_to_level->max, 2 * dmax) << "level " << l;
     EXPECT_LE(level.level_to_reference->max, 2 * dmax) << "level " << l;
-    // What the shape guard promises is tighter: D_max, up to the grid
-    // rounding of the triangle centroids it tests.
+    // What the check and repair promise is tighter: D_max (1% for the
+    // rounding of the distances).
     EXPECT_LE(level.reference_to_level->max, 1.01 * dmax) << "level " << l;
     EXPECT_LE(level.level_to_reference->max, 1.01 * dmax) << "level " << l;
     EXPECT_LE(level.reference_to_level->mean, dmax / 2) << "level " << l;
@@ -342,8 +342,11 @@ TEST_P(CodecLevels, KeepTheShapeWithinTwoDmaxAndHalveTheVertices) {
     EXPECT_LE(level.stats.max_boundary_error, 2 * dmax) << "level " << l;
     EXPECT_GE(level.stats.avg_min_solid_angle, 0.85 * q0) << "level " << l;
     if (l > 0) {
+      // Every level removes at least 0.3 x the share asked (0.5): the
+      // thin-level rule (spec/HIERARCHY.md §6.2); the first, about half.
       const double kept = double(level.stats.vertices) / double(r.levels[l - 1].stats.vertices);
-      EXPECT_LE(kept, 0.8) << "level " << l;
+      EXPECT_LE(kept, 0.85) << "level " << l;
+      if (l == 1) EXPECT_LE(kept, 0.56) << "level " << l;
     }
   }
   // Level 0 has every reference boundary vertex on its surface; its own
