@@ -4,9 +4,9 @@
 #include <array>
 
 #include "bitstream/range_coder.h"
-#include "common/csr.h"
 #include "common/parallel_for.h"
 #include "mesh/carving.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 namespace {
@@ -56,44 +56,8 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
         }
       },
       2);
-  p.order = canonical_cell_order(dt.cells);
+  p.order = canonical_cell_order(dt.cells);  // the identity for an exported triangulation
   return p;
-}
-
-std::vector<uint32_t> canonical_cell_order(std::span<const std::array<uint32_t, 4>> cells) {
-  // Cells by their smallest vertex (a counting sort), then each vertex's
-  // few cells by their other three: the order one comparison sort of the
-  // sorted tuples gives, in linear time.
-  const size_t m = cells.size();
-  std::vector<std::array<uint32_t, 4>> sorted(m);
-  parallel_for((m + 4095) / 4096,
-               [&](size_t block) {
-                 for (size_t k = block * 4096; k < std::min(m, block * 4096 + 4096); ++k) {
-                   auto c = cells[k];
-                   if (c[0] > c[1]) std::swap(c[0], c[1]);
-                   if (c[2] > c[3]) std::swap(c[2], c[3]);
-                   if (c[0] > c[2]) std::swap(c[0], c[2]);
-                   if (c[1] > c[3]) std::swap(c[1], c[3]);
-                   if (c[1] > c[2]) std::swap(c[1], c[2]);
-                   sorted[k] = c;
-                 }
-               },
-               2);
-  uint32_t top = 0;
-  for (const auto& c : sorted) top = std::max(top, c[3]);
-  const Csr by_smallest = build_csr(m == 0 ? 0 : size_t{top} + 1, [&](auto&& emit) {
-    for (uint32_t k = 0; k < m; ++k) emit(sorted[k][0], k);
-  });
-  std::vector<uint32_t> order = by_smallest.items;
-  parallel_for((by_smallest.rows() + 4095) / 4096,
-               [&](size_t block) {
-                 for (size_t v = block * 4096; v < std::min(by_smallest.rows(), block * 4096 + 4096); ++v)
-                   std::sort(order.begin() + by_smallest.offsets[v],
-                             order.begin() + by_smallest.offsets[v + 1],
-                             [&](uint32_t a, uint32_t b) { return sorted[a] < sorted[b]; });
-               },
-               2);
-  return order;
 }
 
 std::vector<uint8_t> encode_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,

@@ -31,11 +31,6 @@ inline constexpr int kCarvingRatioBuckets = 16;
 inline constexpr int kCarvingContexts = kCarvingRatioBuckets * 5;
 CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha);
 
-// The canonical order of cells: by their vertex ids sorted ascending,
-// compared lexicographically (the cells' own order breaks no tie: a
-// triangulation has no two cells on the same four vertices).
-std::vector<uint32_t> canonical_cell_order(std::span<const std::array<uint32_t, 4>> cells);
-
 // The section for true verdicts `kept` (per cell of dt); empty when alpha's
 // prediction is right everywhere.
 std::vector<uint8_t> encode_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,

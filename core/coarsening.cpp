@@ -76,8 +76,11 @@ std::vector<double> local_spacing(const LevelGeometry& L) {
 Coarsening choose_coarser(const LevelGeometry& L, const LevelSurface& surface, const CoarseningOptions& o) {
   const size_t n = L.size();
   // The chord error of every boundary vertex whose surface neighbourhood is
-  // a disk; the others must stay.
-  std::vector<uint8_t> fixed(L.boundary.begin(), L.boundary.end());
+  // a disk; the other vertices on the surface must stay. A vertex in no kept
+  // cell (outside the solid) shapes nothing: it is chosen like an interior one.
+  std::vector<uint8_t> on_surface(n, 0), fixed(n, 0);
+  for (uint32_t v = 0; v < n; ++v) on_surface[v] = L.boundary[v] && !surface.around.row(v).empty();
+  fixed = on_surface;
   std::vector<double> error(n, 0);
   const Csr none{std::vector<uint32_t>(n + 1, 0), {}};
   for (const BoundaryCandidate& b :
@@ -91,14 +94,14 @@ Coarsening choose_coarser(const LevelGeometry& L, const LevelSurface& surface, c
   for (uint32_t v = 0; v < n; ++v) {
     if (fixed[v])
       order.push_back(v);
-    else if (L.boundary[v])
+    else if (on_surface[v])
       boundary.push_back(v);
   }
   std::stable_sort(boundary.begin(), boundary.end(),
                    [&](uint32_t a, uint32_t b) { return error[a] > error[b]; });
   order.insert(order.end(), boundary.begin(), boundary.end());
   for (uint32_t v = 0; v < n; ++v)
-    if (!L.boundary[v]) order.push_back(v);
+    if (!on_surface[v]) order.push_back(v);
 
   const std::vector<double> h = local_spacing(L);
   // The kept count falls as beta grows. From the caller's guess (the

@@ -14,7 +14,8 @@
 // * Order: the boundary vertices that must stay (a surface neighbourhood
 //   that is not a disk, or a chord error above D_max: spec §4) first, always
 //   kept; then the other boundary vertices by descending chord error (the
-//   surface's features before its flat parts); then the interior vertices in
+//   surface's features before its flat parts); then the interior vertices
+//   (and those in no kept cell, outside the solid: they shape nothing) in
 //   ascending grid order (a sweep, which packs a maximal set more evenly
 //   than the paper's importance order does).
 // * beta: searched from the previous level's by secant steps within a

@@ -13,6 +13,9 @@
 #include <string>
 #include <utility>
 
+#include "common/parallel_for.h"
+#include "mesh/topology.h"
+
 namespace dtm {
 namespace {
 
@@ -132,35 +135,73 @@ Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const u
   return insert_in_order(dt, batch.size(), [&](size_t i) { return batch[i]; });
 }
 
-// The finite cells, numbered in iteration order (each cell's tag becomes its
-// index); `previous`, if given, receives each cell's tag before (-1: new).
+// new[k] = old[order[k]], in place: each cycle of the permutation followed
+// once (`done` marks the places filled).
+template <class T>
+void permute(std::vector<T>& v, std::span<const uint32_t> order, std::vector<uint8_t>& done) {
+  done.assign(v.size(), 0);
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (done[i]) continue;
+    T first = v[i];
+    size_t j = i;
+    while (true) {
+      done[j] = 1;
+      const size_t k = order[j];
+      if (k == i) {
+        v[j] = first;
+        break;
+      }
+      v[j] = v[k];
+      j = k;
+    }
+  }
+}
+
+// The finite cells in the canonical order (topology.h: by their sorted vertex
+// ids), whatever order the triangulation holds them in (after a parallel
+// insertion, the threads' order): everything computed from an exported mesh
+// is then the same on every run. Each cell's tag becomes its index;
+// `previous`, if given, receives each cell's tag before (-1: new).
 TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
   TetMesh out;
   if (previous) previous->clear();
   if (dt.dimension() < 3) return out;
   const size_t m = dt.number_of_finite_cells();
-  out.cells.reserve(m);
-  out.neighbors.reserve(m);
+  std::vector<DT::Cell_handle> handles;
+  handles.reserve(m);
   if (previous) previous->reserve(m);
-  int32_t next = 0;
   for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
     if (dt.is_infinite(c)) {
       c->info().index = -1;
       continue;
     }
     if (previous) previous->push_back(c->info().index);
-    c->info().index = next++;
+    c->info().index = static_cast<int32_t>(handles.size());
+    handles.push_back(c);
   }
-  for (auto c : dt.finite_cell_handles()) {
-    std::array<uint32_t, 4> v;
-    std::array<int32_t, 4> n;
-    for (int i = 0; i < 4; ++i) {
-      v[i] = c->vertex(i)->info();
-      n[i] = c->neighbor(i)->info().index;
-    }
-    out.cells.push_back(v);
-    out.neighbors.push_back(n);
-  }
+  out.cells.resize(handles.size());
+  out.neighbors.resize(handles.size());
+  constexpr size_t kBlock = 4096;
+  parallel_for((handles.size() + kBlock - 1) / kBlock,
+               [&](size_t block) {
+                 for (size_t k = block * kBlock; k < std::min(handles.size(), block * kBlock + kBlock); ++k)
+                   for (int i = 0; i < 4; ++i) {
+                     out.cells[k][i] = handles[k]->vertex(i)->info();
+                     out.neighbors[k][i] = handles[k]->neighbor(i)->info().index;
+                   }
+               },
+               2);
+  const std::vector<uint32_t> order = canonical_cell_order(out.cells);
+  std::vector<uint32_t> place(order.size());
+  for (uint32_t k = 0; k < order.size(); ++k) place[order[k]] = k;
+  std::vector<uint8_t> done;
+  permute(out.cells, order, done);
+  permute(out.neighbors, order, done);
+  if (previous) permute(*previous, order, done);
+  for (auto& n : out.neighbors)
+    for (int32_t& c : n)
+      if (c >= 0) c = static_cast<int32_t>(place[static_cast<size_t>(c)]);
+  for (size_t k = 0; k < handles.size(); ++k) handles[k]->info().index = static_cast<int32_t>(place[k]);
   return out;
 }
 

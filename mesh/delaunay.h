@@ -21,7 +21,9 @@
 namespace dtm {
 
 // A tetrahedralization detached from CGAL. Vertex indices are the caller's
-// ids; cells are positively oriented. Cell order is not canonical.
+// ids; cells are positively oriented. Those this file exports are in the
+// canonical order (mesh/topology.h: by sorted vertex ids), whatever order
+// the insertions left them in.
 struct TetMesh {
   std::vector<std::array<uint32_t, 4>> cells;
   // neighbors[c][i]: the cell sharing the face of c opposite its vertex i,

@@ -99,6 +99,48 @@ std::array<uint32_t, 3> outward_triangle(const TetMesh& mesh, std::span<const Gr
   return t;
 }
 
+namespace {
+std::array<uint32_t, 4> sorted4(std::array<uint32_t, 4> c) {
+  if (c[0] > c[1]) std::swap(c[0], c[1]);
+  if (c[2] > c[3]) std::swap(c[2], c[3]);
+  if (c[0] > c[2]) std::swap(c[0], c[2]);
+  if (c[1] > c[3]) std::swap(c[1], c[3]);
+  if (c[1] > c[2]) std::swap(c[1], c[2]);
+  return c;
+}
+}  // namespace
+
+std::vector<uint32_t> canonical_cell_order(std::span<const std::array<uint32_t, 4>> cells) {
+  const size_t m = cells.size();
+  std::vector<uint32_t> order(m);
+  bool in_order = true;
+  for (size_t k = 1; k < m && in_order; ++k) in_order = sorted4(cells[k - 1]) < sorted4(cells[k]);
+  if (in_order) {
+    for (uint32_t k = 0; k < m; ++k) order[k] = k;
+    return order;
+  }
+  uint32_t top = 0;
+  for (const auto& c : cells) top = std::max({top, c[0], c[1], c[2], c[3]});
+  Csr by_smallest = build_csr(m == 0 ? 0 : size_t{top} + 1, [&](auto&& emit) {
+    for (uint32_t k = 0; k < m; ++k) emit(std::min({cells[k][0], cells[k][1], cells[k][2], cells[k][3]}), k);
+  });
+  constexpr size_t kBlock = 4096;
+  parallel_for((by_smallest.rows() + kBlock - 1) / kBlock,
+               [&](size_t block) {
+                 std::vector<std::pair<std::array<uint32_t, 4>, uint32_t>> bucket;
+                 for (size_t v = block * kBlock; v < std::min(by_smallest.rows(), block * kBlock + kBlock);
+                      ++v) {
+                   bucket.clear();
+                   for (uint32_t k : by_smallest.row(v)) bucket.emplace_back(sorted4(cells[k]), k);
+                   std::sort(bucket.begin(), bucket.end());
+                   uint32_t* out = by_smallest.items.data() + by_smallest.offsets[v];
+                   for (const auto& [key, k] : bucket) *out++ = k;
+                 }
+               },
+               2);
+  return std::move(by_smallest.items);
+}
+
 std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::array<uint32_t, 4>> cells) {
   // Outward faces of a positively oriented (a, b, c, d): d lies on the
   // right-hand normal side of (a, b, c), so that face turns the other way.

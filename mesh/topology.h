@@ -38,6 +38,14 @@ std::vector<uint8_t> boundary_vertices(const TetMesh& mesh, size_t num_vertices,
 std::array<uint32_t, 3> outward_triangle(const TetMesh& mesh, std::span<const GridPoint> points,
                                          const BoundaryFace& f);
 
+// The canonical order of cells: by their vertex ids sorted ascending,
+// compared lexicographically (a triangulation has no two cells on the same
+// four vertices). order[k] is the cell at place k. Linear time: a counting
+// sort by smallest vertex, then each vertex's few cells sorted, on every
+// core; the identity, at the cost of one pass, when the cells are in it
+// already (every exported triangulation's are: mesh/delaunay.h).
+std::vector<uint32_t> canonical_cell_order(std::span<const std::array<uint32_t, 4>> cells);
+
 // The faces that belong to exactly one of `cells` (positively oriented
 // tetrahedra, any list, not only a Delaunay tetrahedralization's), each
 // ordered so that its right-hand normal points away from its cell, in a

@@ -121,6 +121,32 @@ TEST(DelaunayUniqueness, ParallelBatchesGiveTheSameCells) {
   EXPECT_EQ(cells_by_coords(two_batches.mesh(), pts), parallel);
 }
 
+// A triangulation built on every core holds its cells in the order the
+// threads made them; the export gives them in the canonical order (sorted
+// vertex ids), with neighbours that match, so that nothing computed from it
+// depends on the threads.
+TEST(DelaunayUniqueness, ExportIsInTheCanonicalOrder) {
+  const auto pts = test::random_grid_points(40000, 9, 31);
+  const TetMesh mesh = delaunay_tetrahedralize(pts).value();
+  auto sorted = [](std::array<uint32_t, 4> c) {
+    std::sort(c.begin(), c.end());
+    return c;
+  };
+  for (size_t c = 1; c < mesh.cells.size(); ++c) ASSERT_LT(sorted(mesh.cells[c - 1]), sorted(mesh.cells[c]));
+  for (size_t c = 0; c < mesh.cells.size(); ++c)
+    for (int i = 0; i < 4; ++i) {
+      const int32_t n = mesh.neighbors[c][i];
+      if (n < 0) continue;
+      // The neighbour shares the three corners other than corner i.
+      int shared = 0;
+      for (int j = 0; j < 4; ++j)
+        if (j != i)
+          shared += std::count(mesh.cells[static_cast<size_t>(n)].begin(),
+                               mesh.cells[static_cast<size_t>(n)].end(), mesh.cells[c][j]);
+      ASSERT_EQ(shared, 3);
+    }
+}
+
 // The export says which cells a later insertion left alone: their index in
 // the previous export; the others are new (-1) and are exactly the cells the
 // previous export did not have.
