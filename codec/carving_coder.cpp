@@ -73,9 +73,10 @@ std::vector<uint8_t> encode_carving(const TetMesh& dt, std::span<const GridPoint
 }
 
 Status decode_carving(std::span<const uint8_t> section, const TetMesh& dt, std::span<const GridPoint> points,
-                      double alpha, std::vector<uint8_t>& kept) {
+                      double alpha, std::vector<uint8_t>& kept, std::vector<uint32_t>* order) {
   CarvingPrediction p = predict_carving(dt, points, alpha);
   kept = std::move(p.kept);
+  if (order) *order = p.order;
   if (section.empty()) return Status::Ok();
   Models models;
   RangeDecoder rc(section);

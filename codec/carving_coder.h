@@ -38,7 +38,9 @@ std::vector<uint8_t> encode_carving(const TetMesh& dt, std::span<const GridPoint
 
 // The level's verdicts, per cell of dt, from its section (empty: alpha's).
 // kCorrupt if the section ends before its last symbol or has bytes after it.
+// `order`, if given, receives the canonical order of dt's cells (computed on
+// the way: the order the section codes them in).
 Status decode_carving(std::span<const uint8_t> section, const TetMesh& dt, std::span<const GridPoint> points,
-                      double alpha, std::vector<uint8_t>& kept);
+                      double alpha, std::vector<uint8_t>& kept, std::vector<uint32_t>* order = nullptr);
 
 }  // namespace dtm

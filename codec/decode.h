@@ -94,12 +94,17 @@ class ProgressiveDecoder {
   // These bring the triangulation up to date first. If the points make a
   // degenerate triangulation (over kMaxCellsPerVertex cells per vertex, which
   // no mesh has: a hostile stream), they return nothing and mesh_status()
-  // says why, for good.
-  TetMesh delaunay() const;
+  // says why, for good. delaunay()'s cells are as the triangulation holds
+  // them (built on every core, their order varies from run to run) unless
+  // asked for in the canonical order (sorted vertex ids; it costs a sort);
+  // carved_cells() are in the canonical order.
+  TetMesh delaunay(IncrementalDelaunay::CellOrder order = IncrementalDelaunay::CellOrder::kAsBuilt) const;
   std::vector<std::array<uint32_t, 4>> carved_cells() const;
   // Per cell of `dt` (delaunay()'s result): whether the finest level keeps
   // it, alpha's verdict corrected by the stream's (spec/FORMAT.md §3.2).
   std::vector<uint8_t> carving(const TetMesh& dt) const;
+  // The same, and the canonical order of dt's cells (found on the way).
+  std::vector<uint8_t> carving(const TetMesh& dt, std::vector<uint32_t>& order) const;
   Status mesh_status() const { return mesh_status_; }
 
  private:

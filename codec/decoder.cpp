@@ -4,6 +4,7 @@
 #include "codec/decode.h"
 #include "codec/layer_coder.h"
 #include "mesh/geometry.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 namespace {
@@ -156,18 +157,27 @@ void ProgressiveDecoder::insert_pending() const {
   layers_pending_ = 0;
 }
 
-TetMesh ProgressiveDecoder::delaunay() const {
+TetMesh ProgressiveDecoder::delaunay(IncrementalDelaunay::CellOrder order) const {
   insert_pending();
   if (!mesh_status_.ok()) return {};
-  return dt_.mesh();
+  return dt_.mesh(order);
 }
 
 std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt) const {
+  std::vector<uint32_t> order;
+  return carving(dt, order);
+}
+
+std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<uint32_t>& order) const {
+  order.clear();
   if (levels_.empty() || !mesh_status_.ok()) return {};
   const double alpha = levels_.back().alpha;
-  if (!(header_.flags & kFlagCarvingCorrections)) return carve(dt, points_, alpha);
+  if (!(header_.flags & kFlagCarvingCorrections)) {
+    order = canonical_cell_order(dt.cells);
+    return carve(dt, points_, alpha);
+  }
   std::vector<uint8_t> kept;
-  const Status s = decode_carving(carving_, dt, points_, alpha, kept);
+  const Status s = decode_carving(carving_, dt, points_, alpha, kept, &order);
   if (!s.ok()) {
     mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return {};
@@ -177,9 +187,13 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt) const {
 
 std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {
   const TetMesh dt = delaunay();
-  const std::vector<uint8_t> kept = carving(dt);
+  std::vector<uint32_t> order;
+  const std::vector<uint8_t> kept = carving(dt, order);
   if (!mesh_status_.ok()) return {};
-  return flagged_cells(dt, kept);
+  std::vector<std::array<uint32_t, 4>> out;
+  for (uint32_t c : order)
+    if (kept[c]) out.push_back(dt.cells[c]);
+  return out;
 }
 
 Status decode_stream(std::span<const uint8_t> bytes, ProgressiveDecoder& decoder) {

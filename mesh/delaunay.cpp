@@ -14,7 +14,6 @@
 #include <utility>
 
 #include "common/parallel_for.h"
-#include "mesh/topology.h"
 
 namespace dtm {
 namespace {
@@ -135,73 +134,101 @@ Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const u
   return insert_in_order(dt, batch.size(), [&](size_t i) { return batch[i]; });
 }
 
-// new[k] = old[order[k]], in place: each cycle of the permutation followed
-// once (`done` marks the places filled).
-template <class T>
-void permute(std::vector<T>& v, std::span<const uint32_t> order, std::vector<uint8_t>& done) {
-  done.assign(v.size(), 0);
-  for (size_t i = 0; i < v.size(); ++i) {
-    if (done[i]) continue;
-    T first = v[i];
-    size_t j = i;
-    while (true) {
-      done[j] = 1;
-      const size_t k = order[j];
-      if (k == i) {
-        v[j] = first;
-        break;
-      }
-      v[j] = v[k];
-      j = k;
-    }
-  }
-}
-
-// The finite cells in the canonical order (topology.h: by their sorted vertex
-// ids), whatever order the triangulation holds them in (after a parallel
-// insertion, the threads' order): everything computed from an exported mesh
-// is then the same on every run. Each cell's tag becomes its index;
-// `previous`, if given, receives each cell's tag before (-1: new).
-TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
+// The finite cells in the order the triangulation holds them (after a
+// parallel insertion, the threads' order: it varies from run to run), each
+// cell's tag its index.
+TetMesh export_as_built(DT& dt) {
   TetMesh out;
-  if (previous) previous->clear();
   if (dt.dimension() < 3) return out;
-  const size_t m = dt.number_of_finite_cells();
   std::vector<DT::Cell_handle> handles;
-  handles.reserve(m);
-  if (previous) previous->reserve(m);
+  handles.reserve(dt.number_of_finite_cells());
   for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
-    if (dt.is_infinite(c)) {
-      c->info().index = -1;
-      continue;
-    }
-    if (previous) previous->push_back(c->info().index);
-    c->info().index = static_cast<int32_t>(handles.size());
-    handles.push_back(c);
+    c->info().index = dt.is_infinite(c) ? -1 : static_cast<int32_t>(handles.size());
+    if (!dt.is_infinite(c)) handles.push_back(c);
   }
-  out.cells.resize(handles.size());
-  out.neighbors.resize(handles.size());
+  const size_t m = handles.size();
+  out.cells.resize(m);
+  out.neighbors.resize(m);
   constexpr size_t kBlock = 4096;
-  parallel_for((handles.size() + kBlock - 1) / kBlock,
+  parallel_for((m + kBlock - 1) / kBlock,
                [&](size_t block) {
-                 for (size_t k = block * kBlock; k < std::min(handles.size(), block * kBlock + kBlock); ++k)
+                 for (size_t k = block * kBlock; k < std::min(m, block * kBlock + kBlock); ++k)
                    for (int i = 0; i < 4; ++i) {
                      out.cells[k][i] = handles[k]->vertex(i)->info();
                      out.neighbors[k][i] = handles[k]->neighbor(i)->info().index;
                    }
                },
                2);
-  const std::vector<uint32_t> order = canonical_cell_order(out.cells);
-  std::vector<uint32_t> place(order.size());
-  for (uint32_t k = 0; k < order.size(); ++k) place[order[k]] = k;
-  std::vector<uint8_t> done;
-  permute(out.cells, order, done);
-  permute(out.neighbors, order, done);
-  if (previous) permute(*previous, order, done);
-  for (auto& n : out.neighbors)
-    for (int32_t& c : n)
-      if (c >= 0) c = static_cast<int32_t>(place[static_cast<size_t>(c)]);
-  for (size_t k = 0; k < handles.size(); ++k) handles[k]->info().index = static_cast<int32_t>(place[k]);
+  return out;
+}
+
+// The finite cells in the canonical order (topology.h: by their sorted vertex
+// ids), whatever order the triangulation holds them in (after a parallel
+// insertion, the threads' order): everything computed from an exported mesh
+// is then the same on every run. The cells are grouped by their smallest
+// vertex as CGAL lists them (a counting sort), each vertex's few sorted on
+// every core, and written out in that order. Each cell's tag becomes its
+// index; `previous`, if given, receives each cell's tag before (-1: new).
+TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
+  TetMesh out;
+  if (previous) previous->clear();
+  if (dt.dimension() < 3) return out;
+  const size_t m = dt.number_of_finite_cells();
+  uint32_t top = 0;
+  for (auto v : dt.finite_vertex_handles()) top = std::max(top, v->info());
+  std::vector<uint32_t> start(size_t{top} + 2, 0);
+  auto smallest = [](DT::Cell_handle c) {
+    return std::min({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()});
+  };
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
+    if (dt.is_infinite(c)) {
+      c->info().index = -1;
+      continue;
+    }
+    ++start[smallest(c) + 1];
+  }
+  for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
+  std::vector<DT::Cell_handle> handles(m);
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (auto c : dt.finite_cell_handles()) handles[fill[smallest(c)]++] = c;
+  }
+  constexpr size_t kBlock = 4096;
+  auto sorted_ids = [](DT::Cell_handle c) {
+    std::array<uint32_t, 4> k = {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(),
+                                 c->vertex(3)->info()};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  parallel_for((start.size() - 1 + kBlock - 1) / kBlock,
+               [&](size_t block) {
+                 for (size_t v = block * kBlock; v < std::min(start.size() - 1, block * kBlock + kBlock); ++v)
+                   std::sort(
+                       handles.begin() + start[v], handles.begin() + start[v + 1],
+                       [&](DT::Cell_handle a, DT::Cell_handle b) { return sorted_ids(a) < sorted_ids(b); });
+               },
+               2);
+  // Each cell is its own thread's alone: the tags are written in parallel.
+  if (previous) previous->resize(m);
+  parallel_for((m + kBlock - 1) / kBlock,
+               [&](size_t block) {
+                 for (size_t k = block * kBlock; k < std::min(m, block * kBlock + kBlock); ++k) {
+                   if (previous) (*previous)[k] = handles[k]->info().index;
+                   handles[k]->info().index = static_cast<int32_t>(k);
+                 }
+               },
+               2);
+  out.cells.resize(m);
+  out.neighbors.resize(m);
+  parallel_for((m + kBlock - 1) / kBlock,
+               [&](size_t block) {
+                 for (size_t k = block * kBlock; k < std::min(m, block * kBlock + kBlock); ++k)
+                   for (int i = 0; i < 4; ++i) {
+                     out.cells[k][i] = handles[k]->vertex(i)->info();
+                     out.neighbors[k][i] = handles[k]->neighbor(i)->info().index;
+                   }
+               },
+               2);
   return out;
 }
 
@@ -264,7 +291,9 @@ Status IncrementalDelaunay::remove(std::span<const GridPoint> points) {
 
 int IncrementalDelaunay::dimension() const { return impl_->dt.dimension(); }
 size_t IncrementalDelaunay::number_of_vertices() const { return impl_->dt.number_of_vertices(); }
-TetMesh IncrementalDelaunay::mesh() const { return export_mesh(impl_->dt, nullptr); }
+TetMesh IncrementalDelaunay::mesh(CellOrder order) const {
+  return order == CellOrder::kCanonical ? export_mesh(impl_->dt, nullptr) : export_as_built(impl_->dt);
+}
 TetMesh IncrementalDelaunay::mesh(std::vector<int32_t>& previous_index) {
   return export_mesh(impl_->dt, &previous_index);
 }

@@ -23,7 +23,7 @@ namespace dtm {
 // A tetrahedralization detached from CGAL. Vertex indices are the caller's
 // ids; cells are positively oriented. Those this file exports are in the
 // canonical order (mesh/topology.h: by sorted vertex ids), whatever order
-// the insertions left them in.
+// the insertions left them in, unless asked for as built.
 struct TetMesh {
   std::vector<std::array<uint32_t, 4>> cells;
   // neighbors[c][i]: the cell sharing the face of c opposite its vertex i,
@@ -69,8 +69,11 @@ class IncrementalDelaunay {
 
   int dimension() const;
   size_t number_of_vertices() const;
-  // The current finite cells, vertices named by their ids.
-  TetMesh mesh() const;
+  // The current finite cells, vertices named by their ids: in the canonical
+  // order, or as the triangulation holds them (cheaper; after a parallel
+  // insertion the order varies from run to run).
+  enum class CellOrder { kCanonical, kAsBuilt };
+  TetMesh mesh(CellOrder order = CellOrder::kCanonical) const;
   // The same, and per cell its index in the mesh the previous export (either
   // function) returned, or -1 for a cell made since (by insertions or
   // removals): what a caller needs to keep its per-cell results for the

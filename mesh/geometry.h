@@ -49,6 +49,11 @@ inline Int128 abs_six_volume(const GridPoint& a, const GridPoint& b, const GridP
   return det < 0 ? -det : det;
 }
 
+// A positively oriented cell's corners in ascending order, but for the last
+// two swapped when that order would turn it inside out (exact): one way of
+// writing a cell, whatever order a triangulation lists its corners in.
+std::array<uint32_t, 4> sorted_positive(std::array<uint32_t, 4> cell, std::span<const GridPoint> points);
+
 // True if the points do not all lie in one plane (exact).
 bool spans_three_dimensions(std::span<const GridPoint> points);
 

@@ -157,9 +157,14 @@ dtm::OutputMesh output_mesh(const Command& c, const dtm::ProgressiveDecoder& dec
   mesh.points = decoder.points();
   const dtm::TetMesh dt = decoder.delaunay();
   if (!decoder.mesh_status().ok()) throw std::runtime_error(c.input + ": " + decoder.mesh_status().message());
-  const std::vector<uint8_t> in_mesh = decoder.carving(dt);
+  std::vector<uint32_t> order;
+  const std::vector<uint8_t> in_mesh = decoder.carving(dt, order);
   if (!decoder.mesh_status().ok()) throw std::runtime_error(c.input + ": " + decoder.mesh_status().message());
-  mesh.cells = dtm::flagged_cells(dt, in_mesh);
+  // In the canonical order, each cell's corners ascending but for the
+  // orientation: the same file from every run (the triangulation is built on
+  // every core, in an order of the threads').
+  for (uint32_t k : order)
+    if (in_mesh[k]) mesh.cells.push_back(dtm::sorted_positive(dt.cells[k], mesh.points));
   mesh.level = decoder.vertex_levels();
   mesh.boundary = dtm::boundary_vertices(dt, mesh.points.size(), in_mesh);
   for (const dtm::FieldValues& f : decoder.fields())

@@ -34,7 +34,8 @@ std::vector<QualityRow> decode_quality(const std::string& input, std::span<const
   const dtm::Status st =
       decoder.feed(bytes, [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
         if (!failed.ok()) return;
-        dtm::TetMesh dt = d.delaunay();
+        // The canonical order: the figures' sums come out the same on every run.
+        dtm::TetMesh dt = d.delaunay(dtm::IncrementalDelaunay::CellOrder::kCanonical);
         const std::vector<uint8_t> kept = d.carving(dt);
         if (!d.mesh_status().ok()) {
           failed = d.mesh_status();
