@@ -230,6 +230,29 @@ TEST(HierarchyStopping, PaperRuleEndsAtTheFirstLevelWithoutBoundaryRemoval) {
   EXPECT_EQ(h.levels.back().stats.removed_boundary, 0u);
 }
 
+// The quality floor stalls the paper preset on a TetGen quality mesh: it
+// stops after the first level that removed less than 1% (HIERARCHY.md §7),
+// where the paper's rule alone goes on (bunny_10k: 22 levels, not 16).
+TEST(HierarchyStopping, PaperPresetEndsAfterAStalledLevel) {
+  const auto pts = test::load_quantized("bunny_10k").points;
+  HierarchyOptions o = dmax(128);
+  o.average_quality_floor = 1.0;  // the paper preset's
+  const Hierarchy h = build_hierarchy(pts, o).value();
+  auto removed_share = [&](size_t l) {
+    const auto& s = h.levels[l].stats;
+    return static_cast<double>(s.removed_boundary + s.removed_interior) /
+           static_cast<double>(h.levels[l - 1].vertices.size());
+  };
+  ASSERT_GT(h.levels.size(), 2u);
+  for (size_t l = 1; l + 1 < h.levels.size(); ++l) EXPECT_GE(removed_share(l), 0.01) << "level " << l;
+  const size_t last = h.levels.size() - 1;
+  EXPECT_TRUE(removed_share(last) < 0.01 || h.levels[last].stats.removed_boundary == 0);
+  o.stop_when_boundary_is_final = false;
+  o.max_levels = static_cast<int>(h.levels.size());
+  const Hierarchy longer = build_hierarchy(pts, o).value();
+  EXPECT_GT(longer.levels.size(), h.levels.size()) << "the rule stopped a hierarchy that would have gone on";
+}
+
 TEST(HierarchyQuality, GuardRejectsRemovalsThatWouldCreateWorseCells) {
   const auto& plain = hierarchy_of(cases()[0]);
   const auto& guarded = hierarchy_of(cases()[5]);
