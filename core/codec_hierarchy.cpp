@@ -25,18 +25,6 @@ constexpr double kThinLevelShare = 0.3;
 constexpr size_t kRetriedBelow = 200'000;
 constexpr double kRetryShare = 0.6;
 
-std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
-                                                  std::span<const uint32_t> vertices) {
-  std::vector<std::array<uint32_t, 4>> out;
-  out.reserve(L.mesh_cells);
-  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
-    if (!L.in_mesh[c]) continue;
-    const auto& cell = L.dt.cells[c];
-    out.push_back({vertices[cell[0]], vertices[cell[1]], vertices[cell[2]], vertices[cell[3]]});
-  }
-  return out;
-}
-
 // The level as the hierarchy hands it on, but for its tetrahedralization
 // (hand_over()): its vertices (grid ids) and its figures.
 Level describe(const LevelGeometry& L, std::span<const uint32_t> vertices, int index,

@@ -239,18 +239,6 @@ void hand_over(Representation& rep, const LevelGeometry& L, std::span<const uint
   }
 }
 
-std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
-                                                  std::span<const uint32_t> vertices) {
-  std::vector<std::array<uint32_t, 4>> out;
-  out.reserve(L.mesh_cells);
-  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
-    if (!L.in_mesh[c]) continue;
-    const auto& cell = L.dt.cells[c];
-    out.push_back({vertices[cell[0]], vertices[cell[1]], vertices[cell[2]], vertices[cell[3]]});
-  }
-  return out;
-}
-
 }  // namespace
 
 StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const HierarchyOptions& opt,

@@ -137,4 +137,16 @@ std::vector<uint8_t> topological_boundary(const LevelGeometry& L) {
   return boundary_vertices(L.dt, L.size(), L.in_mesh);
 }
 
+std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L,
+                                                  std::span<const uint32_t> vertices) {
+  std::vector<std::array<uint32_t, 4>> out;
+  out.reserve(L.mesh_cells);
+  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
+    if (!L.in_mesh[c]) continue;
+    const auto& cell = L.dt.cells[c];
+    out.push_back({vertices[cell[0]], vertices[cell[1]], vertices[cell[2]], vertices[cell[3]]});
+  }
+  return out;
+}
+
 }  // namespace dtm

@@ -86,4 +86,8 @@ MeshQuality mesh_quality(const LevelGeometry& level);
 // vertices in no M_l cell. The solid-angle test must agree with it.
 std::vector<uint8_t> topological_boundary(const LevelGeometry& level);
 
+// The cells of M_l (in_mesh), their vertices named by `vertices` (the level's
+// local index -> grid-point index), in the triangulation's order.
+std::vector<std::array<uint32_t, 4>> carved_cells(const LevelGeometry& L, std::span<const uint32_t> vertices);
+
 }  // namespace dtm

@@ -134,18 +134,10 @@ Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const u
   return insert_in_order(dt, batch.size(), [&](size_t i) { return batch[i]; });
 }
 
-// The finite cells in the order the triangulation holds them (after a
-// parallel insertion, the threads' order: it varies from run to run), each
-// cell's tag its index.
-TetMesh export_as_built(DT& dt) {
+// The cells of `handles`, in that order, as vertex ids and neighbour tags
+// (each handle's tag already set to its position, -1 for infinite cells).
+TetMesh cells_of(const std::vector<DT::Cell_handle>& handles) {
   TetMesh out;
-  if (dt.dimension() < 3) return out;
-  std::vector<DT::Cell_handle> handles;
-  handles.reserve(dt.number_of_finite_cells());
-  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
-    c->info().index = dt.is_infinite(c) ? -1 : static_cast<int32_t>(handles.size());
-    if (!dt.is_infinite(c)) handles.push_back(c);
-  }
   const size_t m = handles.size();
   out.cells.resize(m);
   out.neighbors.resize(m);
@@ -162,6 +154,20 @@ TetMesh export_as_built(DT& dt) {
   return out;
 }
 
+// The finite cells in the order the triangulation holds them (after a
+// parallel insertion, the threads' order: it varies from run to run), each
+// cell's tag its index.
+TetMesh export_as_built(DT& dt) {
+  if (dt.dimension() < 3) return {};
+  std::vector<DT::Cell_handle> handles;
+  handles.reserve(dt.number_of_finite_cells());
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
+    c->info().index = dt.is_infinite(c) ? -1 : static_cast<int32_t>(handles.size());
+    if (!dt.is_infinite(c)) handles.push_back(c);
+  }
+  return cells_of(handles);
+}
+
 // The finite cells in the canonical order (topology.h: by their sorted vertex
 // ids), whatever order the triangulation holds them in (after a parallel
 // insertion, the threads' order): everything computed from an exported mesh
@@ -170,9 +176,8 @@ TetMesh export_as_built(DT& dt) {
 // every core, and written out in that order. Each cell's tag becomes its
 // index; `previous`, if given, receives each cell's tag before (-1: new).
 TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
-  TetMesh out;
   if (previous) previous->clear();
-  if (dt.dimension() < 3) return out;
+  if (dt.dimension() < 3) return {};
   const size_t m = dt.number_of_finite_cells();
   uint32_t top = 0;
   for (auto v : dt.finite_vertex_handles()) top = std::max(top, v->info());
@@ -218,18 +223,7 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
                  }
                },
                2);
-  out.cells.resize(m);
-  out.neighbors.resize(m);
-  parallel_for((m + kBlock - 1) / kBlock,
-               [&](size_t block) {
-                 for (size_t k = block * kBlock; k < std::min(m, block * kBlock + kBlock); ++k)
-                   for (int i = 0; i < 4; ++i) {
-                     out.cells[k][i] = handles[k]->vertex(i)->info();
-                     out.neighbors[k][i] = handles[k]->neighbor(i)->info().index;
-                   }
-               },
-               2);
-  return out;
+  return cells_of(handles);
 }
 
 }  // namespace
