@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "common/parallel_for.h"
-#include "core/point_buckets.h"
+#include "core/nearest_points.h"
 #include "mesh/delaunay.h"
 #include "mesh/geometry.h"
 #include "mesh/topology.h"
@@ -108,16 +108,31 @@ class RemovedVertices {
 
   // The `count` removed vertices nearest the ball's centre, in it or on its
   // sphere, that are not put back or marked yet (indices of removed
-  // vertices). On the sphere counts: grid points are often cospherical, and
-  // the symbolic perturbation may put such a point in conflict with the cell.
+  // vertices; equally near ones by index). On the sphere counts: grid points
+  // are often cospherical, and the symbolic perturbation may put such a
+  // point in conflict with the cell.
   std::vector<uint32_t> nearest(const Ball& b, size_t count, std::span<const GridPoint> fine_points) const {
     if (b.radius <= 0 || count == 0) return {};
+    const double whole = b.radius * (1 + 1e-9) + 1e-9;
+    const double whole2 = whole * whole;
+    // The search's distances may differ from these in the last bits: it
+    // goes on a little past the ball and past the count-th distance, and
+    // the answer is sorted on the distances computed here.
+    auto beyond = [](double searched, double limit) { return searched > limit * (1 + 1e-12) + 1e-9; };
     std::vector<std::pair<double, uint32_t>> near;
-    index_->for_each_in_ball(b.center, b.radius * (1 + 1e-9) + 1e-9, [&](uint32_t k) {
-      if (chosen_[k]) return;
+    double count_th = 0;
+    index_->visit_nearest(b.center, [&](uint32_t k, double searched) {
+      if (beyond(searched, whole2) || (near.size() >= count && beyond(searched, count_th))) return false;
+      if (chosen_[k]) return true;
       const GridPoint& p = fine_points[vertex_[k]];
       const double dx = p.x - b.center[0], dy = p.y - b.center[1], dz = p.z - b.center[2];
-      near.emplace_back(dx * dx + dy * dy + dz * dz, k);
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      if (d2 < whole2) {
+        near.emplace_back(d2, k);
+        if (near.size() == count)
+          for (const auto& n : near) count_th = std::max(count_th, n.first);
+      }
+      return true;
     });
     const size_t taken = std::min(count, near.size());
     std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(taken), near.end());
@@ -148,7 +163,7 @@ class RemovedVertices {
  private:
   std::vector<uint32_t> vertex_;  // fine vertex of each removed one
   std::vector<uint8_t> chosen_;   // 0: still removed, 1: marked this round, 2: put back
-  std::optional<PointBuckets> index_;
+  std::optional<NearestPoints> index_;
 };
 
 // What inserting p into `mesh` would change, estimated: the cells whose
@@ -220,14 +235,22 @@ void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<con
   std::sort(worst.begin(), worst.end());
   // Enough of the worst cells (at least 64) to find candidates for several
   // times the deficit.
+  size_t searched = 0;
+  for (double naive = 0; searched < worst.size() && (searched < 64 || naive < -4 * surplus); ++searched)
+    naive += floor - worst[searched].first;
+  // Each cell's nearest removed vertices, on every core (nothing is marked
+  // while they are sought).
+  std::vector<std::vector<uint32_t>> near(searched);
+  parallel_for(
+      searched,
+      [&](size_t i) {
+        near[i] = removed.nearest(circumball(points, mesh.cells[worst[i].second]), 3, points);
+      },
+      64);
   std::vector<std::pair<uint32_t, uint32_t>> candidates;  // (removed vertex, a cell holding it)
-  double naive = 0;
-  for (size_t i = 0; i < worst.size() && (i < 64 || naive < -4 * surplus); ++i) {
-    const auto& [angle, c] = worst[i];
-    for (uint32_t k : removed.nearest(circumball(points, mesh.cells[c]), 3, points))
-      candidates.emplace_back(k, c);
-    naive += floor - angle;
-  }
+  for (size_t i = 0; i < searched; ++i)
+    for (uint32_t k : near[i]) candidates.emplace_back(k, worst[i].second);
+  near = {};
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end(),
                                [](const auto& a, const auto& b) { return a.first == b.first; }),
@@ -327,7 +350,7 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
   for (int round = 0;; ++round) {
     std::vector<int32_t> previous;
     phase(round == 0 ? "carving to the reference" : "carving the repaired places");
-    mesh = dt->mesh(previous);
+    mesh = dt->mesh(mesh, previous);
     cells.update(mesh, previous, points, *ref.solid);
     phase("measuring the shape");
     surface = carved_surface(mesh, cells.kept, points);

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "common/grid.h"
@@ -75,6 +76,9 @@ class ReferenceShape {
   // measured (NaN before; 0 from the start for the reference's own boundary
   // vertices): a level's surface vertices are mostly the previous level's.
   std::vector<double> to_reference_;
+  // The last measured surface's triangles off the reference (ids sorted)
+  // and their centroids' squared distances to it, sorted by the ids.
+  std::vector<std::pair<std::array<uint32_t, 3>, double>> centroid_squared_;
 };
 
 }  // namespace dtm

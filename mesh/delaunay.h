@@ -79,6 +79,11 @@ class IncrementalDelaunay {
   // removals): what a caller needs to keep its per-cell results for the
   // cells a local change left alone. On the first call every cell is new.
   TetMesh mesh(std::vector<int32_t>& previous_index);
+  // The same, given `before`: what the previous export returned, unchanged
+  // (empty: there was none). Only the cells made since are read from the
+  // triangulation and sorted, the rest are copied: after a few local
+  // insertions, a pass over the arrays instead of a whole export.
+  TetMesh mesh(const TetMesh& before, std::vector<int32_t>& previous_index);
 
  private:
   struct Impl;

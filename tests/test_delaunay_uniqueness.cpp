@@ -180,6 +180,54 @@ TEST(DelaunayUniqueness, ExportTellsWhichCellsAreNew) {
   EXPECT_GT(kept, after.cells.size() / 2);
 }
 
+// The export after local edits, given the previous one, is the whole
+// canonical export: the same cells in the same order with the same
+// neighbours, and the same previous indices. Rounds of a few insertions on
+// degenerate grid points, some outside the convex hull so far, and a removal.
+TEST(DelaunayUniqueness, PatchedExportIsTheWholeExport) {
+  const auto pts = test::random_grid_points(4000, 7, 33);
+  std::vector<uint32_t> ids = iota_ids(pts.size());
+  // The first batch is the points nearest the middle: later ones are
+  // outside its hull too.
+  std::vector<uint32_t> order = ids;
+  auto spread = [&](uint32_t i) {
+    const GridPoint& p = pts[i];
+    return std::abs(p.x - 64) + std::abs(p.y - 64) + std::abs(p.z - 64);
+  };
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return spread(a) < spread(b); });
+  IncrementalDelaunay patched, whole;
+  std::vector<GridPoint> batch;
+  std::vector<uint32_t> batch_ids;
+  auto take = [&](size_t from, size_t to) {
+    batch.clear();
+    batch_ids.clear();
+    for (size_t k = from; k < to; ++k) batch.push_back(pts[order[k]]), batch_ids.push_back(order[k]);
+  };
+  take(0, 3000);
+  ASSERT_TRUE(patched.insert(batch, batch_ids).ok());
+  ASSERT_TRUE(whole.insert(batch, batch_ids).ok());
+  TetMesh mesh;
+  std::vector<int32_t> previous, expected_previous;
+  mesh = patched.mesh(mesh, previous);
+  TetMesh expected = whole.mesh(expected_previous);
+  ASSERT_EQ(mesh.cells, expected.cells);
+  for (size_t from = 3000; from < 4000; from += 250) {
+    take(from, from + 250);
+    ASSERT_TRUE(patched.insert(batch, batch_ids).ok());
+    ASSERT_TRUE(whole.insert(batch, batch_ids).ok());
+    if (from == 3500) {
+      const std::vector<GridPoint> gone = {pts[order[10]], pts[order[20]]};
+      ASSERT_TRUE(patched.remove(gone).ok());
+      ASSERT_TRUE(whole.remove(gone).ok());
+    }
+    mesh = patched.mesh(mesh, previous);
+    expected = whole.mesh(expected_previous);
+    ASSERT_EQ(mesh.cells, expected.cells) << "after the batch from " << from;
+    ASSERT_EQ(mesh.neighbors, expected.neighbors) << "after the batch from " << from;
+    ASSERT_EQ(previous, expected_previous) << "after the batch from " << from;
+  }
+}
+
 TEST(DelaunayUniqueness, TheGridReallyIsDegenerate) {
   // A unit cube of 8 cospherical points has many Delaunay tetrahedralizations;
   // the 8x8x8 grid has 343 such cubes. The symbolic perturbation must still
