@@ -22,7 +22,7 @@ constexpr double kThinLevelShare = 0.3;
 // Levels smaller than this are kept until the next one is accepted, so that
 // a failed try can be made again removing fewer (a larger level is handed on
 // as soon as the next one's vertices are chosen: memory).
-constexpr size_t kRetriedBelow = 200'000;
+constexpr size_t kRetriedBelow = 100'000;
 constexpr double kRetryShare = 0.6;
 
 // The level as the hierarchy hands it on, but for its tetrahedralization

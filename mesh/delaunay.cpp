@@ -15,6 +15,10 @@
 
 #include "common/parallel_for.h"
 
+#ifdef CGAL_LINKED_WITH_TBB
+#include <oneapi/tbb/scalable_allocator.h>
+#endif
+
 namespace dtm {
 namespace {
 
@@ -46,6 +50,18 @@ using Point = K::Point_3;
 constexpr size_t kParallelBatch = 20000;
 
 Point to_point(const GridPoint& p) { return Point(p.x, p.y, p.z); }
+
+// With TBB, the triangulation's cells come from TBB's scalable allocator,
+// which keeps what is freed in its own pools: a finished triangulation would
+// stay in the process's memory through every later phase. Handed back here
+// once a triangulation is gone.
+void release_freed_memory() {
+#ifdef CGAL_LINKED_WITH_TBB
+  scalable_allocation_command(TBBMALLOC_CLEAN_ALL_BUFFERS, nullptr);
+#endif
+}
+
+StatusOr<TetMesh> tetrahedralize_in(std::span<const GridPoint> points);
 
 // CGAL reports failures (a violated precondition, no memory) by exceptions;
 // this door turns them into a Status, so that nothing above it throws.
@@ -240,16 +256,18 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
 // export (its cells and neighbours as returned). The cells the edits left
 // keep their tags, the index they had in `before`, and their order; only the
 // cells made since are read and sorted, and the two sorted runs are merged:
-// the result is export_mesh's, at the cost of a pass over the arrays.
+// the result is export_mesh's, at the cost of a pass over the arrays, and
+// of less memory than a whole export (no handle per cell).
 TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& previous) {
   const size_t old_count = before.cells.size();
-  std::vector<DT::Cell_handle> kept(old_count);  // by index in `before`; null: destroyed
+  // Which cells of `before` are left (their new index, later), and the new ones.
+  std::vector<int32_t> new_of_old(old_count, -1);
   std::vector<DT::Cell_handle> fresh;
   for (auto c : dt.finite_cell_handles()) {
     const int32_t tag = c->info().index;
     if (tag >= 0) {
-      DTM_CHECK(static_cast<size_t>(tag) < old_count && kept[static_cast<size_t>(tag)] == DT::Cell_handle());
-      kept[static_cast<size_t>(tag)] = c;
+      DTM_CHECK(static_cast<size_t>(tag) < old_count && new_of_old[static_cast<size_t>(tag)] == -1);
+      new_of_old[static_cast<size_t>(tag)] = 0;
     } else {
       fresh.push_back(c);
     }
@@ -261,72 +279,91 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   using Keyed = std::pair<std::array<uint32_t, 4>, DT::Cell_handle>;
   std::vector<Keyed> made;
   made.reserve(fresh.size());
-  for (DT::Cell_handle c : fresh)
-    made.emplace_back(
-        key_of({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()}), c);
+  for (DT::Cell_handle c : fresh) {
+    const std::array<uint32_t, 4> ids = {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(),
+                                         c->vertex(3)->info()};
+    made.emplace_back(key_of(ids), c);
+  }
   fresh = {};
   std::sort(made.begin(), made.end(), [](const Keyed& a, const Keyed& b) { return a.first < b.first; });
 
-  // The merged order: each new index names an old cell (its index) or a made one (~its index).
+  // The merge, writing the cells as it goes. A new cell's tag becomes
+  // -2 - its index for now: told apart from the old tags (>= 0) and the
+  // infinite cells' (-1) until every tag is final.
   const size_t m = dt.number_of_finite_cells();
-  std::vector<int64_t> order;
-  order.reserve(m);
-  size_t j = 0;
-  for (size_t i = 0; i < old_count; ++i) {
-    if (kept[i] == DT::Cell_handle()) continue;
-    const std::array<uint32_t, 4> k = key_of(before.cells[i]);
-    while (j < made.size() && made[j].first < k) order.push_back(~static_cast<int64_t>(j++));
-    order.push_back(static_cast<int64_t>(i));
-  }
-  while (j < made.size()) order.push_back(~static_cast<int64_t>(j++));
-  DTM_CHECK(order.size() == m);
-
-  constexpr size_t kBlock = 4096;
-  auto handle_at = [&](size_t k) {
-    return order[k] >= 0 ? kept[static_cast<size_t>(order[k])] : made[~order[k]].second;
-  };
-  previous.resize(m);
-  parallel_for((m + kBlock - 1) / kBlock,
-               [&](size_t block) {
-                 for (size_t k = block * kBlock; k < std::min(m, block * kBlock + kBlock); ++k) {
-                   previous[k] = order[k] >= 0 ? static_cast<int32_t>(order[k]) : -1;
-                   handle_at(k)->info().index = static_cast<int32_t>(k);
-                 }
-               },
-               2);
-  // Cells and neighbours: a kept cell's corners are as before, and so are
-  // its neighbours where they were kept too; the rest are read.
   TetMesh out;
   out.cells.resize(m);
   out.neighbors.resize(m);
+  previous.assign(m, -1);
+  size_t k = 0, j = 0;
+  auto take_made = [&] {
+    const DT::Cell_handle c = made[j++].second;
+    for (int f = 0; f < 4; ++f) out.cells[k][f] = c->vertex(f)->info();
+    c->info().index = -2 - static_cast<int32_t>(k++);
+  };
+  for (size_t i = 0; i < old_count; ++i) {
+    if (new_of_old[i] < 0) continue;
+    const std::array<uint32_t, 4> key = key_of(before.cells[i]);
+    while (j < made.size() && made[j].first < key) take_made();
+    out.cells[k] = before.cells[i];
+    previous[k] = static_cast<int32_t>(i);
+    new_of_old[i] = static_cast<int32_t>(k++);
+  }
+  while (j < made.size()) take_made();
+  DTM_CHECK(k == m);
+
+  // Every tag final; the old cells next to something new (or to the hull)
+  // are kept to read their neighbours from.
+  std::vector<DT::Cell_handle> bordering;
+  for (auto c : dt.finite_cell_handles()) {
+    int32_t& tag = c->info().index;
+    if (tag <= -2) {
+      tag = -2 - tag;
+      continue;
+    }
+    const auto i = static_cast<size_t>(tag);
+    tag = new_of_old[i];
+    for (int32_t n : before.neighbors[i])
+      if (n < 0 || new_of_old[static_cast<size_t>(n)] < 0) {
+        bordering.push_back(c);
+        break;
+      }
+  }
+  // Neighbours: a kept cell's are as before where they were kept too; the
+  // rest are read.
+  constexpr size_t kBlock = 4096;
   parallel_for((m + kBlock - 1) / kBlock,
                [&](size_t block) {
-                 for (size_t k = block * kBlock; k < std::min(m, block * kBlock + kBlock); ++k) {
-                   const DT::Cell_handle c = handle_at(k);
-                   if (order[k] >= 0) {
-                     const auto i = static_cast<size_t>(order[k]);
-                     out.cells[k] = before.cells[i];
-                     for (int f = 0; f < 4; ++f) {
-                       const int32_t n = before.neighbors[i][f];
-                       out.neighbors[k][f] = n >= 0 && kept[static_cast<size_t>(n)] != DT::Cell_handle()
-                                                 ? kept[static_cast<size_t>(n)]->info().index
-                                                 : c->neighbor(f)->info().index;
-                     }
-                   } else {
-                     for (int f = 0; f < 4; ++f) {
-                       out.cells[k][f] = c->vertex(f)->info();
-                       out.neighbors[k][f] = c->neighbor(f)->info().index;
-                     }
+                 for (size_t at = block * kBlock; at < std::min(m, block * kBlock + kBlock); ++at) {
+                   if (previous[at] < 0) continue;
+                   const auto i = static_cast<size_t>(previous[at]);
+                   for (int f = 0; f < 4; ++f) {
+                     const int32_t n = before.neighbors[i][f];
+                     out.neighbors[at][f] = n >= 0 ? new_of_old[static_cast<size_t>(n)] : -1;
                    }
                  }
                },
                2);
+  for (const auto& [key, c] : made)
+    for (int f = 0; f < 4; ++f)
+      out.neighbors[static_cast<size_t>(c->info().index)][f] = c->neighbor(f)->info().index;
+  for (DT::Cell_handle c : bordering)
+    for (int f = 0; f < 4; ++f)
+      out.neighbors[static_cast<size_t>(c->info().index)][f] = c->neighbor(f)->info().index;
   return out;
 }
 
 }  // namespace
 
 StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
+  StatusOr<TetMesh> out = tetrahedralize_in(points);
+  release_freed_memory();
+  return out;
+}
+
+namespace {
+
+StatusOr<TetMesh> tetrahedralize_in(std::span<const GridPoint> points) {
   std::vector<uint32_t> ids(points.size());
   for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<uint32_t>(i);
   DT dt;
@@ -341,6 +378,8 @@ StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
   return export_mesh(dt, nullptr);
 }
 
+}  // namespace
+
 bool parallel_delaunay_available() {
 #ifdef CGAL_LINKED_WITH_TBB
   return true;
@@ -354,7 +393,10 @@ struct IncrementalDelaunay::Impl {
 };
 
 IncrementalDelaunay::IncrementalDelaunay() : impl_(std::make_unique<Impl>()) {}
-IncrementalDelaunay::~IncrementalDelaunay() = default;
+IncrementalDelaunay::~IncrementalDelaunay() {
+  impl_.reset();
+  release_freed_memory();
+}
 
 Status IncrementalDelaunay::insert(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
   return guarded([&] { return insert_batch(impl_->dt, points, ids); });
