@@ -32,6 +32,9 @@ struct NearestPoints::State {
 
 NearestPoints::NearestPoints(std::span<const GridPoint> points) : state_(std::make_unique<State>()) {
   State& s = *state_;
+  // No tree for no points (a property map over an empty array would name
+  // its first element).
+  if (points.empty()) return;
   s.points.reserve(points.size());
   for (const GridPoint& p : points) s.points.emplace_back(p.x, p.y, p.z);
   std::vector<uint32_t> ids(points.size());

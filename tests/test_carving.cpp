@@ -346,7 +346,9 @@ TEST_P(CodecLevels, KeepTheShapeWithinTwoDmaxAndHalveTheVertices) {
       // thin-level rule (spec/HIERARCHY.md §6.2); the first, about half.
       const double kept = double(level.stats.vertices) / double(r.levels[l - 1].stats.vertices);
       EXPECT_LE(kept, 0.85) << "level " << l;
-      if (l == 1) EXPECT_LE(kept, 0.56) << "level " << l;
+      if (l == 1) {
+        EXPECT_LE(kept, 0.56) << "level " << l;
+      }
     }
   }
   // Level 0 has every reference boundary vertex on its surface; its own
