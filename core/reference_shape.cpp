@@ -68,23 +68,19 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   for (uint32_t v : m.surface_vertices) m.vertex_squared.push_back(to_reference_[ids.empty() ? v : ids[v]]);
   // A point inside each triangle too: a flat triangle between two surface
   // vertices can cut across a concavity its corners do not see.
-  // (A triangle of the reference's surface is at distance 0.)
-  // Each triangle's centroid is measured once: a repair round's surface is
-  // mostly the one before it, whose figures are kept by the triangle's ids.
+  // (A triangle of the reference's surface is at distance 0.) Each one is
+  // measured once: a repair round's surface is mostly the one before it,
+  // whose figures are kept by the triangle's ids.
   using Measured = std::pair<std::array<uint32_t, 3>, double>;
   std::vector<std::array<double, 3>> centroids;
-  std::vector<uint32_t> searched;
+  std::vector<std::pair<uint32_t, std::array<uint32_t, 3>>> searched;  // (triangle, key)
   std::vector<Measured> measured;
   measured.reserve(triangles.size());
   m.centroid_squared.assign(triangles.size(), 0);
-  auto key_of = [&](const std::array<uint32_t, 3>& t) {
-    std::array<uint32_t, 3> key = ids.empty() ? t : std::array<uint32_t, 3>{ids[t[0]], ids[t[1]], ids[t[2]]};
-    std::sort(key.begin(), key.end());
-    return key;
-  };
   for (uint32_t i = 0; i < triangles.size(); ++i) {
     const auto& t = triangles[i];
-    const std::array<uint32_t, 3> key = key_of(t);
+    std::array<uint32_t, 3> key = ids.empty() ? t : std::array<uint32_t, 3>{ids[t[0]], ids[t[1]], ids[t[2]]};
+    std::sort(key.begin(), key.end());
     if (std::binary_search(boundary_keys_.begin(), boundary_keys_.end(), key)) continue;
     const auto known =
         std::lower_bound(centroid_squared_.begin(), centroid_squared_.end(), Measured{key, -1.0});
@@ -96,12 +92,12 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
     const GridPoint &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
     centroids.push_back({(double{1} * a.x + b.x + c.x) / 3, (double{1} * a.y + b.y + c.y) / 3,
                          (double{1} * a.z + b.z + c.z) / 3});
-    searched.push_back(i);
+    searched.emplace_back(i, key);
   }
   const std::vector<double> found = reference_surface_.squared_distances(centroids);
   for (size_t k = 0; k < searched.size(); ++k) {
-    m.centroid_squared[searched[k]] = found[k];
-    measured.emplace_back(key_of(triangles[searched[k]]), found[k]);
+    m.centroid_squared[searched[k].first] = found[k];
+    measured.emplace_back(searched[k].second, found[k]);
   }
   std::sort(measured.begin(), measured.end());
   centroid_squared_ = std::move(measured);

@@ -61,8 +61,6 @@ void release_freed_memory() {
 #endif
 }
 
-StatusOr<TetMesh> tetrahedralize_in(std::span<const GridPoint> points);
-
 // CGAL reports failures (a violated precondition, no memory) by exceptions;
 // this door turns them into a Status, so that nothing above it throws.
 template <class F>
@@ -150,6 +148,15 @@ Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const u
   return insert_in_order(dt, batch.size(), [&](size_t i) { return batch[i]; });
 }
 
+// A cell's vertex ids, ascending: its key in the canonical order.
+std::array<uint32_t, 4> sorted_ids(std::array<uint32_t, 4> ids) {
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+std::array<uint32_t, 4> sorted_ids(DT::Cell_handle c) {
+  return sorted_ids({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()});
+}
+
 // The cells of `handles`, in that order, as vertex ids and neighbour tags
 // (each handle's tag already set to its position, -1 for infinite cells).
 TetMesh cells_of(const std::vector<DT::Cell_handle>& handles) {
@@ -225,13 +232,8 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
                  for (size_t v = block * kBlock; v < std::min(start.size() - 1, block * kBlock + kBlock);
                       ++v) {
                    group.clear();
-                   for (uint32_t k = start[v]; k < start[v + 1]; ++k) {
-                     const DT::Cell_handle c = handles[k];
-                     std::array<uint32_t, 4> ids = {c->vertex(0)->info(), c->vertex(1)->info(),
-                                                    c->vertex(2)->info(), c->vertex(3)->info()};
-                     std::sort(ids.begin(), ids.end());
-                     group.emplace_back(ids, c);
-                   }
+                   for (uint32_t k = start[v]; k < start[v + 1]; ++k)
+                     group.emplace_back(sorted_ids(handles[k]), handles[k]);
                    // Keys are distinct (no two cells share four vertices).
                    std::sort(group.begin(), group.end(),
                              [](const Keyed& a, const Keyed& b) { return a.first < b.first; });
@@ -260,31 +262,20 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
 // of less memory than a whole export (no handle per cell).
 TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& previous) {
   const size_t old_count = before.cells.size();
-  // Which cells of `before` are left (their new index, later), and the new ones.
+  // Which cells of `before` are left (their new index, later), and the new
+  // ones by their keys.
+  using Keyed = std::pair<std::array<uint32_t, 4>, DT::Cell_handle>;
   std::vector<int32_t> new_of_old(old_count, -1);
-  std::vector<DT::Cell_handle> fresh;
+  std::vector<Keyed> made;
   for (auto c : dt.finite_cell_handles()) {
     const int32_t tag = c->info().index;
     if (tag >= 0) {
       DTM_CHECK(static_cast<size_t>(tag) < old_count && new_of_old[static_cast<size_t>(tag)] == -1);
       new_of_old[static_cast<size_t>(tag)] = 0;
     } else {
-      fresh.push_back(c);
+      made.emplace_back(sorted_ids(c), c);
     }
   }
-  auto key_of = [](std::array<uint32_t, 4> ids) {
-    std::sort(ids.begin(), ids.end());
-    return ids;
-  };
-  using Keyed = std::pair<std::array<uint32_t, 4>, DT::Cell_handle>;
-  std::vector<Keyed> made;
-  made.reserve(fresh.size());
-  for (DT::Cell_handle c : fresh) {
-    const std::array<uint32_t, 4> ids = {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(),
-                                         c->vertex(3)->info()};
-    made.emplace_back(key_of(ids), c);
-  }
-  fresh = {};
   std::sort(made.begin(), made.end(), [](const Keyed& a, const Keyed& b) { return a.first < b.first; });
 
   // The merge, writing the cells as it goes. A new cell's tag becomes
@@ -303,7 +294,7 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   };
   for (size_t i = 0; i < old_count; ++i) {
     if (new_of_old[i] < 0) continue;
-    const std::array<uint32_t, 4> key = key_of(before.cells[i]);
+    const std::array<uint32_t, 4> key = sorted_ids(before.cells[i]);
     while (j < made.size() && made[j].first < key) take_made();
     out.cells[k] = before.cells[i];
     previous[k] = static_cast<int32_t>(i);
@@ -353,16 +344,7 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   return out;
 }
 
-}  // namespace
-
-StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
-  StatusOr<TetMesh> out = tetrahedralize_in(points);
-  release_freed_memory();
-  return out;
-}
-
-namespace {
-
+// delaunay_tetrahedralize without the release of the freed memory.
 StatusOr<TetMesh> tetrahedralize_in(std::span<const GridPoint> points) {
   std::vector<uint32_t> ids(points.size());
   for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<uint32_t>(i);
@@ -379,6 +361,12 @@ StatusOr<TetMesh> tetrahedralize_in(std::span<const GridPoint> points) {
 }
 
 }  // namespace
+
+StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
+  StatusOr<TetMesh> out = tetrahedralize_in(points);
+  release_freed_memory();
+  return out;
+}
 
 bool parallel_delaunay_available() {
 #ifdef CGAL_LINKED_WITH_TBB
