@@ -6,7 +6,9 @@ packages=(build-essential cmake libcgal-dev libgmp-dev libmpfr-dev libboost-dev
           nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev xz-utils
           libxxhash-dev zlib1g-dev python3-meshio python3-vtk9 gmsh gzip
           clang-format clang-tidy emscripten chromium libdraco-dev libeigen3-dev draco
-          libtbb-dev tetgen)
+          libtbb-dev tetgen
+          python3-numpy python3-pytest python3-venv python3-pip python3-setuptools python3-pybind11
+          pybind11-dev paraview python3-paraview xvfb)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -8,10 +8,8 @@
 #include <string>
 
 #include "codec/decode.h"
-#include "mesh/carving.h"
-#include "mesh/topology.h"
 #include "tools/atomic_file.h"
-#include "tools/field_types.h"
+#include "tools/decoded_mesh.h"
 #include "tools/formats/gltf_writer.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
@@ -150,29 +148,6 @@ void decode(const Command& c, dtm::ProgressiveDecoder& decoder, Verifier& verifi
                  status.message().c_str(), decoder.finest_level());
 }
 
-// The decoder's finest level as the writers take it.
-dtm::OutputMesh output_mesh(const Command& c, const dtm::ProgressiveDecoder& decoder) {
-  dtm::OutputMesh mesh;
-  mesh.grid = decoder.header().grid;
-  mesh.points = decoder.points();
-  const dtm::TetMesh dt = decoder.delaunay();
-  if (!decoder.mesh_status().ok()) throw std::runtime_error(c.input + ": " + decoder.mesh_status().message());
-  std::vector<uint32_t> order;
-  const std::vector<uint8_t> in_mesh = decoder.carving(dt, order);
-  if (!decoder.mesh_status().ok()) throw std::runtime_error(c.input + ": " + decoder.mesh_status().message());
-  // In the canonical order, each cell's corners ascending but for the
-  // orientation: the same file from every run (the triangulation is built on
-  // every core, in an order of the threads').
-  for (uint32_t k : order)
-    if (in_mesh[k]) mesh.cells.push_back(dtm::sorted_positive(dt.cells[k], mesh.points));
-  mesh.level = decoder.vertex_levels();
-  mesh.boundary = dtm::boundary_vertices(dt, mesh.points.size(), in_mesh);
-  for (const dtm::FieldValues& f : decoder.fields())
-    mesh.fields.push_back(
-        {f.description.name, dtm::scalar_type(f.description.type), f.description.components, f.bits});
-  return mesh;
-}
-
 void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat format) {
   dtm::SurfaceStyle style = c.style;
   style.draco = !c.no_draco;
@@ -191,7 +166,7 @@ int run(const Command& c) {
   dtm::ProgressiveDecoder decoder(options);
   Verifier verifier;
   decode(c, decoder, verifier);
-  const dtm::OutputMesh mesh = output_mesh(c, decoder);
+  const dtm::OutputMesh mesh = dtm::decoded_mesh(decoder, c.input);
   write_output(c, mesh, format);
   if (!c.quiet) {
     std::string note = c.verify ? ", verified " + std::to_string(verifier.verified()) + " levels" : "";

@@ -1,0 +1,108 @@
+"""A ParaView reader for .dtm streams (progressive tetrahedral meshes, dtmesh).
+
+Load it once: Tools > Manage Plugins > Load New... and pick this file (tick
+"Auto Load" to keep it), or in pvpython / pvbatch:
+
+    LoadPlugin("/path/to/paraview/dtmesh_reader.py", ns=globals())
+    mesh = OpenDataFile("part.dtm")
+    mesh.Level = 3          # a coarser level of detail (0 = the finest)
+
+File > Open then opens .dtm files. The reader shows one level of the stream's
+hierarchy as an unstructured grid of tetrahedra, with the stream's per-vertex
+fields and, per vertex, `level` (the coarsest level holding it) and
+`boundary`; its Level property runs over the stream's levels (0 = the finest,
+as meshdec --level counts them). The stream's figures (meshinfo's) are field
+data, in the Information panel.
+
+It needs the Python package dtmesh importable by ParaView's Python (the same
+Python 3 as the system's on Debian): install it with pip for that Python, or
+put the directory holding it on PYTHONPATH.
+"""
+import inspect
+import json
+
+import numpy as np
+
+# ParaView 5.11's Python algorithms call inspect.getargspec, which Python
+# 3.11 removed; they read only its .args, which getfullargspec has too.
+if not hasattr(inspect, "getargspec"):
+    inspect.getargspec = inspect.getfullargspec
+
+from paraview.util.vtkAlgorithm import VTKPythonAlgorithmBase, smdomain, smhint, smproperty, smproxy  # noqa: E402
+from vtkmodules.numpy_interface import dataset_adapter  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkStringArray  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid  # noqa: E402
+
+try:
+    import dtmesh
+except ImportError as e:  # said when a file is opened, not when the plugin loads
+    dtmesh = None
+    _import_error = e
+
+
+@smproxy.reader(name="DtmeshReader", label="dtmesh stream reader", extensions="dtm",
+                file_description="dtmesh progressive tetrahedral meshes")
+class DtmeshReader(VTKPythonAlgorithmBase):
+    def __init__(self):
+        VTKPythonAlgorithmBase.__init__(self, nInputPorts=0, nOutputPorts=1, outputType="vtkUnstructuredGrid")
+        self._filename = None
+        self._level = 0
+        self._bytes = None
+        self._info = None
+        self._meshes = {}  # level -> dtmesh.Mesh, decoded once each
+
+    def _stream(self):
+        if self._bytes is None and self._filename:
+            if dtmesh is None:
+                raise RuntimeError(f"the dtmesh Python package is not importable here: {_import_error}")
+            with open(self._filename, "rb") as f:
+                self._bytes = f.read()
+            self._info = dtmesh.info(self._bytes)
+        return self._bytes
+
+    @smproperty.stringvector(name="FileName")
+    @smdomain.filelist()
+    @smhint.filechooser(extensions="dtm", file_description="dtmesh progressive tetrahedral meshes")
+    def SetFileName(self, name):
+        if name != self._filename:
+            self._filename = name
+            self._bytes, self._info, self._meshes = None, None, {}
+            self.Modified()
+
+    @smproperty.intvector(name="LevelRange", information_only="1")
+    def GetLevelRange(self):
+        if self._stream() is None:
+            return (0, 0)
+        return (0, max(0, self._info["level_count"] - 1))
+
+    @smproperty.intvector(name="Level", default_values=0)
+    @smdomain.xml("""<IntRangeDomain name="range">
+                       <RequiredProperties><Property name="LevelRange" function="RangeInfo"/></RequiredProperties>
+                     </IntRangeDomain>
+                     <Documentation>The level of detail shown: 0 is the finest, the largest the coarsest.</Documentation>""")
+    def SetLevel(self, level):
+        if level != self._level:
+            self._level = level
+            self.Modified()
+
+    def RequestData(self, request, in_info, out_info):
+        data = self._stream()
+        level = min(max(0, int(self._level)), self._info["level_count"] - 1)
+        if level not in self._meshes:
+            self._meshes[level] = dtmesh.decode(data, level)
+        mesh = self._meshes[level]
+        output = vtkUnstructuredGrid.GetData(out_info, 0)
+        output.ShallowCopy(dtmesh.to_vtk(mesh))
+        # The stream's figures, for the Information panel.
+        fields = dataset_adapter.WrapDataObject(output).FieldData
+        fields.append(np.array([level]), "dtm_level")
+        fields.append(np.array([self._info["level_count"]]), "dtm_level_count")
+        fields.append(np.array([self._info["bytes"]]), "dtm_stream_bytes")
+        fields.append(np.array([self._info["bits_per_vertex"]]), "dtm_bits_per_vertex")
+        layers = [row for row in self._info["levels"] if row["level"] >= level]
+        fields.append(np.array([sum(row["layer_bytes"] for row in layers)]), "dtm_layer_bytes_to_this_level")
+        summary = vtkStringArray()
+        summary.SetName("dtm_info")
+        summary.InsertNextValue(json.dumps(self._info))
+        output.GetFieldData().AddArray(summary)
+        return 1

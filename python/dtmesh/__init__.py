@@ -1,0 +1,365 @@
+"""dtmesh: progressive compression of tetrahedral volume meshes and their per-vertex data.
+
+A ``.dtm`` stream holds a solid at several levels of detail, each the Delaunay
+tetrahedralization of a subset of the finer level's vertices carved to the
+input's solid; any prefix of whole layers decodes to a coarser valid mesh.
+This package is the C++ library's encoder and decoder with numpy arrays in and
+out (the same bytes as the ``meshenc`` tool, the same meshes as ``meshdec``)::
+
+    import numpy as np, dtmesh
+    encoded = dtmesh.encode(points, tetrahedra, {"pressure": p}, dmax=0.01)
+    open("part.dtm", "wb").write(encoded.bytes)
+    mesh = dtmesh.decode(encoded.bytes)            # the finest level
+    coarse = dtmesh.decode(encoded.bytes, level=3)  # a coarser one, decoded alone
+    mesh.points, mesh.tetrahedra, mesh.fields["pressure"]
+
+    decoder = dtmesh.Decoder()                     # progressive: as bytes arrive
+    for chunk in chunks:
+        for level in decoder.feed(chunk):
+            show(level)
+
+Importing dtmesh registers the ``.dtm`` format with meshio (``meshio.read`` and
+``meshio.write``) and, when PyVista is installed, with ``pyvista.read``.
+"""
+from __future__ import annotations
+
+import json
+import os
+import warnings
+from dataclasses import dataclass, field
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Union
+
+import numpy as np
+
+from . import _dtmesh
+
+__all__ = ["Error", "Mesh", "Encoded", "Decoder", "encode", "decode", "info", "to_vtk", "to_pyvista"]
+__version__ = _dtmesh.version
+
+
+class Error(Exception):
+    """A stream the library refuses (damaged, foreign, hostile) or an input it cannot encode.
+
+    The message is the library's own, as meshdec and meshenc print it: what is
+    wrong and where (the level and byte offset of a damaged layer, the field
+    and point of a bad value).
+    """
+
+
+_dtmesh.set_error_type(Error)
+
+# The stored types, in the library's order (ScalarType / ValueType).
+_DTYPES = [np.int8, np.uint8, np.int16, np.uint16, np.int32, np.uint32, np.int64, np.uint64, np.float32, np.float64]
+_TYPE_OF = {np.dtype(t): i for i, t in enumerate(_DTYPES)}
+
+Bytes = Union[bytes, bytearray, memoryview]
+
+
+@dataclass
+class Mesh:
+    """One level of detail of a stream, as numpy arrays.
+
+    Attributes:
+        points: float64, N x 3, in the encoder's (scaled) input units.
+        tetrahedra: uint32, M x 4, indices into ``points``, positively oriented,
+            in the canonical order (the same arrays on every run).
+        fields: the stream's per-vertex fields by name, each in its stored
+            dtype, shape (N,) or (N, components).
+        level: which level of detail this is (0 = the finest of the stream).
+        level_count: how many levels the stream has.
+        vertex_levels: int32 per vertex, the coarsest level that contains it.
+        boundary: bool per vertex, True on the mesh's boundary surface.
+    """
+
+    points: np.ndarray
+    tetrahedra: np.ndarray
+    fields: Dict[str, np.ndarray] = field(default_factory=dict)
+    level: int = 0
+    level_count: int = 1
+    vertex_levels: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int32))
+    boundary: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+
+    def to_meshio(self):
+        """This level as a ``meshio.Mesh``: the fields, ``level`` and ``boundary`` as point data."""
+        import meshio
+
+        point_data = dict(self.fields)
+        point_data["level"] = self.vertex_levels
+        point_data["boundary"] = self.boundary.astype(np.uint8)
+        return meshio.Mesh(self.points, [("tetra", self.tetrahedra.astype(np.int64))], point_data=point_data,
+                           info={"dtmesh_derived": ["level", "boundary"]})
+
+    def to_vtk(self):
+        """This level as a ``vtkUnstructuredGrid`` (see :func:`to_vtk`)."""
+        return to_vtk(self)
+
+    def to_pyvista(self):
+        """This level as a ``pyvista.UnstructuredGrid`` (see :func:`to_pyvista`)."""
+        return to_pyvista(self)
+
+
+@dataclass
+class Encoded:
+    """What :func:`encode` made.
+
+    Attributes:
+        bytes: the ``.dtm`` stream.
+        report: every level's figures, as ``meshenc --report`` writes them
+            (vertices, tetrahedra, quality, shape error both ways, bytes per layer, ...).
+        vertex_of_input: uint32 per input point, its vertex in the order the
+            decoder gives them (points that quantization merged share one).
+    """
+
+    bytes: bytes
+    report: Dict[str, Any]
+    vertex_of_input: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.bytes)
+
+
+def _field_in(name: str, values: Any, count: int):
+    a = np.asarray(values)
+    if a.dtype == np.bool_:
+        a = a.astype(np.uint8)
+    if a.dtype not in _TYPE_OF:
+        raise TypeError(f"field {name!r}: dtype {a.dtype} is not one of int8..int64, uint8..uint64, float32, float64")
+    if a.ndim not in (1, 2) or a.shape[0] != count:
+        raise ValueError(f"field {name!r}: shape {a.shape}, expected ({count},) or ({count}, components)")
+    components = 1 if a.ndim == 1 else a.shape[1]
+    as_double = a.astype(np.float64).reshape(-1)
+    if a.dtype.kind in "iu" and a.dtype.itemsize == 8 and a.size:
+        back = as_double.astype(a.dtype)
+        if not np.array_equal(back, a.reshape(-1)):
+            raise ValueError(f"field {name!r}: 64-bit integers beyond 2^53 cannot be coded exactly")
+    return _dtmesh.FieldIn(name, _TYPE_OF[a.dtype], int(components), as_double)
+
+
+def encode(
+    points: Any,
+    tetrahedra: Any = None,
+    fields: Optional[Mapping[str, Any]] = None,
+    *,
+    qbits: int = 14,
+    box: Optional[float] = None,
+    scale: Optional[float] = None,
+    dmax: Optional[float] = None,
+    preset: str = "codec",
+    field_errors: Optional[Mapping[str, float]] = None,
+) -> Encoded:
+    """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
+
+    The options are meshenc's, with its names and defaults; for the same points
+    and options the stream is byte for byte the one meshenc writes.
+
+    Args:
+        points: N x 3 coordinates (any float or int dtype).
+        tetrahedra: M x 4 indices into ``points``, or None. When given they are
+            the reference solid: every level keeps the Delaunay cells inside it,
+            and its boundary is held within ``dmax`` of theirs.
+        fields: per-vertex values by name, each (N,) or (N, components) of
+            int8..int64, uint8..uint64, float32, float64 (bool as uint8); coded
+            losslessly unless named in ``field_errors``. Their order is the
+            stream's.
+        qbits: quantization bits per axis, 1 to 24.
+        box: scale the points so that their largest extent is this (excludes ``scale``).
+        scale: multiply the coordinates by this first.
+        dmax: boundary tolerance in (scaled) input units; default 0.5% of the largest extent.
+        preset: "codec" (levels carved to the input's solid, about half the
+            vertices each) or "paper" (the seed paper's hierarchy).
+        field_errors: float field name -> E: every decoded value within E of its own.
+
+    Returns:
+        :class:`Encoded`, with the stream and the report.
+
+    Raises:
+        Error: points that cannot make a tetrahedral mesh (fewer than 4
+            distinct, all coplanar), or a field that cannot be coded as asked.
+        ValueError, TypeError: arguments of the wrong shape, type or range.
+    """
+    p = np.ascontiguousarray(np.asarray(points, dtype=np.float64))
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise ValueError(f"points must be N x 3, got shape {p.shape}")
+    t = None
+    if tetrahedra is not None:
+        t = np.ascontiguousarray(np.asarray(tetrahedra, dtype=np.int64))
+    field_list = [_field_in(name, values, p.shape[0]) for name, values in (fields or {}).items()]
+    stream, report, vertex_of_input = _dtmesh.encode(
+        p, t, field_list, int(qbits), box, scale, dmax, preset, dict(field_errors or {}))
+    return Encoded(stream, json.loads(report), vertex_of_input)
+
+
+def _mesh_of(d: Dict[str, Any]) -> Mesh:
+    n = d["points"].shape[0]
+    fields = {}
+    for name, type_index, components, raw in d["fields"]:
+        a = np.frombuffer(raw, dtype=np.dtype(_DTYPES[type_index]).newbyteorder("<")).astype(
+            _DTYPES[type_index], copy=True)
+        fields[name] = a if components == 1 else a.reshape(n, components)
+    return Mesh(points=d["points"], tetrahedra=d["tetrahedra"], fields=fields, level=d["level"],
+                level_count=d["level_count"], vertex_levels=d["vertex_levels"],
+                boundary=d["boundary"].astype(bool))
+
+
+def _as_bytes(data: Union[Bytes, str, os.PathLike]) -> bytes:
+    if isinstance(data, (str, os.PathLike)):
+        with open(data, "rb") as f:
+            return f.read()
+    return bytes(data)
+
+
+class Decoder:
+    """Decodes a stream as its bytes arrive: each level as soon as its layer is complete.
+
+    ::
+
+        decoder = dtmesh.Decoder()
+        for chunk in response.iter_content(65536):
+            for mesh in decoder.feed(chunk):
+                print(mesh.level, len(mesh.points))
+        decoder.finish()
+
+    Args:
+        level: stop after this level (0 = the finest); None decodes every level.
+        max_vertices: refuse a stream claiming more vertices than this (the
+            decoder never allocates what a stream merely claims).
+    """
+
+    def __init__(self, level: Optional[int] = None, max_vertices: int = _dtmesh.default_max_vertices):
+        if level is not None and level < 0:
+            raise ValueError("level must be >= 0")
+        self._decoder = _dtmesh.Decoder(-1 if level is None else int(level), int(max_vertices))
+
+    def feed(self, chunk: Bytes) -> Iterator[Mesh]:
+        """Takes the next bytes; yields each level they complete, coarsest first.
+
+        Raises:
+            Error: the stream is damaged or foreign (the levels decoded before stand).
+        """
+        for d in self._decoder.feed(bytes(chunk), True):
+            yield _mesh_of(d)
+
+    def finish(self) -> None:
+        """Says the input has ended: warns if it stopped before the last level asked for.
+
+        Raises:
+            Error: the stream is damaged.
+        """
+        truncated = self._decoder.finish()
+        if truncated is not None:
+            warnings.warn(f"truncated stream: {truncated}; the finest whole level is {self.finest_level}",
+                          stacklevel=2)
+
+    @property
+    def done(self) -> bool:
+        """Every level asked for is decoded (later bytes would be ignored)."""
+        return self._decoder.done()
+
+    @property
+    def finest_level(self) -> int:
+        """The finest level decoded so far; -1 before the first."""
+        return self._decoder.finest_level()
+
+    @property
+    def level_count(self) -> int:
+        """How many levels the stream has; -1 before its header."""
+        return self._decoder.level_count()
+
+    def mesh(self) -> Mesh:
+        """The finest level decoded so far."""
+        return _mesh_of(self._decoder.mesh())
+
+
+def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None) -> Mesh:
+    """Decodes a stream (bytes, or a file's path) to one level of detail.
+
+    Args:
+        data: the ``.dtm`` stream, whole or any prefix of it.
+        level: the level to decode (0 = the finest); None: the finest present.
+
+    Returns:
+        :class:`Mesh`. A truncated stream gives its finest whole level, with a
+        ``warnings.warn`` saying where it stopped.
+
+    Raises:
+        Error: the stream is damaged or foreign, holds no whole level, or has
+            no such level.
+    """
+    if level is not None and level < 0:
+        raise ValueError("level must be >= 0")
+    decoder = _dtmesh.Decoder(-1 if level is None else int(level), int(_dtmesh.default_max_vertices))
+    decoder.feed(_as_bytes(data), False)
+    truncated = decoder.finish()
+    count = decoder.level_count()
+    if level is not None and count >= 0 and level >= count:
+        raise Error(f"level {level} asked, the stream has levels 0 to {count - 1}")
+    if decoder.finest_level() < 0:
+        raise Error(truncated or "the stream holds no whole level")
+    if truncated is not None:
+        warnings.warn(f"truncated stream: {truncated}; decoding level {decoder.finest_level()}", stacklevel=2)
+    return _mesh_of(decoder.mesh())
+
+
+def info(data: Union[Bytes, str, os.PathLike], stats: bool = False) -> Dict[str, Any]:
+    """What a stream holds, as ``meshinfo --json`` gives it (``--stats`` with ``stats=True``).
+
+    Read from the headers (checksums verified, no mesh rebuilt); with
+    ``stats`` every level is decoded and its tetrahedra and quality added.
+    """
+    return json.loads(_dtmesh.info(_as_bytes(data), bool(stats)))
+
+
+def to_vtk(mesh: Mesh):
+    """A level as a ``vtkUnstructuredGrid``: its fields, ``level`` and ``boundary`` as point data.
+
+    Uses whatever VTK the interpreter has (``vtkmodules``: VTK's wheel,
+    Debian's python3-vtk9, or ParaView's own inside pvpython).
+    """
+    from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import VTK_TETRA, vtkCellArray, vtkUnstructuredGrid
+
+    grid = vtkUnstructuredGrid()
+    points = vtkPoints()
+    points.SetData(numpy_to_vtk(np.ascontiguousarray(mesh.points), deep=True))
+    grid.SetPoints(points)
+    m = mesh.tetrahedra.shape[0]
+    offsets = numpy_to_vtkIdTypeArray(np.arange(0, 4 * m + 1, 4, dtype=np.int64), deep=True)
+    connectivity = numpy_to_vtkIdTypeArray(np.ascontiguousarray(mesh.tetrahedra.reshape(-1), dtype=np.int64),
+                                           deep=True)
+    cells = vtkCellArray()
+    cells.SetData(offsets, connectivity)
+    grid.SetCells(VTK_TETRA, cells)
+    arrays = dict(mesh.fields)
+    arrays["level"] = mesh.vertex_levels
+    arrays["boundary"] = mesh.boundary.astype(np.uint8)
+    for name, values in arrays.items():
+        a = numpy_to_vtk(np.ascontiguousarray(values), deep=True)
+        a.SetName(name)
+        grid.GetPointData().AddArray(a)
+    return grid
+
+
+def to_pyvista(mesh: Mesh):
+    """A level as a ``pyvista.UnstructuredGrid`` (PyVista must be installed)."""
+    import pyvista
+
+    return pyvista.wrap(to_vtk(mesh))
+
+
+def _register_readers() -> None:
+    try:
+        from . import _meshio
+
+        _meshio.register()
+    except ImportError:
+        pass  # meshio is optional
+    try:
+        import pyvista
+    except ImportError:
+        return
+    if hasattr(pyvista, "register_reader"):
+        pyvista.register_reader(".dtm", lambda path, **kwargs: to_pyvista(decode(path, kwargs.get("level"))))
+
+
+_register_readers()

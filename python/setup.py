@@ -1,0 +1,49 @@
+"""Builds dtmesh's extension module with the project's CMake build.
+
+The C++ library is built once per checkout in python/build/cmake (or in
+$DTMESH_CMAKE_BUILD), with position-independent code and without the tests
+and benchmarks, and only the target _dtmesh is asked for: a second
+`pip install` rebuilds what changed, nothing else.
+"""
+import os
+import pathlib
+import subprocess
+import sys
+
+from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parent
+
+
+class CMakeExtension(Extension):
+    def __init__(self, name):
+        super().__init__(name, sources=[])
+
+
+class CMakeBuild(build_ext):
+    def build_extension(self, ext):
+        target = pathlib.Path(self.get_ext_fullpath(ext.name)).resolve()
+        build = pathlib.Path(os.environ.get("DTMESH_CMAKE_BUILD", HERE / "build" / "cmake"))
+        configure = [
+            "cmake", "-S", str(ROOT), "-B", str(build),
+            "-DCMAKE_BUILD_TYPE=Release",
+            "-DDTM_PYTHON=ON", "-DDTM_BUILD_TESTS=OFF", "-DDTM_BUILD_BENCH=OFF", "-DDTM_WEB_TESTS=OFF",
+            f"-DPython_EXECUTABLE={sys.executable}",
+            f"-DCMAKE_LIBRARY_OUTPUT_DIRECTORY={target.parent}",
+        ]
+        try:
+            import pybind11
+
+            configure.append(f"-Dpybind11_DIR={pybind11.get_cmake_dir()}")
+        except ImportError:
+            pass  # CMake looks for pybind11's package itself (Debian's pybind11-dev)
+        subprocess.run(configure, check=True, stdout=subprocess.DEVNULL)
+        jobs = str(os.cpu_count() or 2)
+        subprocess.run(["cmake", "--build", str(build), "--target", "_dtmesh", "-j", jobs], check=True)
+        if not target.exists():
+            raise RuntimeError(f"the build did not make {target}")
+
+
+setup(ext_modules=[CMakeExtension("dtmesh._dtmesh")], cmdclass={"build_ext": CMakeBuild})

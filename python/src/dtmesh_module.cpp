@@ -1,0 +1,298 @@
+// _dtmesh: the C++ library under the Python package `dtmesh` (python/dtmesh).
+// It only moves arrays across: the encoder, the decoder, the report and the
+// stream summary are the library's and the tools' own (no second codec), so
+// a stream made here is byte for byte meshenc's, and a level decoded here is
+// meshdec's. The GIL is released while the library works.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "codec/decode.h"
+#include "codec/encode.h"
+#include "tools/decoded_mesh.h"
+#include "tools/field_types.h"
+#include "tools/report.h"
+#include "tools/stream_info.h"
+
+namespace py = pybind11;
+
+namespace {
+
+// The library's errors, raised as dtmesh.Error (python/dtmesh/__init__.py
+// gives it its place); set when the module is made.
+py::object* error_type = nullptr;
+
+[[noreturn]] void raise_error(const std::string& message) {
+  PyErr_SetString(error_type->ptr(), message.c_str());
+  throw py::error_already_set();
+}
+
+// One field as Python hands it over: its values already as doubles
+// (point-major, `components` each) and its type's index (ScalarType order).
+struct FieldIn {
+  std::string name;
+  int type = 0;
+  int components = 1;
+  py::array_t<double, py::array::c_style | py::array::forcecast> values;
+};
+
+py::bytes to_bytes(const std::vector<uint8_t>& v) {
+  return py::bytes(reinterpret_cast<const char*>(v.data()), v.size());
+}
+
+// meshenc's options for its preset, then the arguments Python gave.
+dtm::EncodeOptions encode_options(int qbits, std::optional<double> box, std::optional<double> scale,
+                                  std::optional<double> dmax, const std::string& preset,
+                                  const std::map<std::string, double>& field_errors) {
+  if (preset != "codec" && preset != "paper")
+    throw py::value_error("preset must be 'codec' or 'paper', got '" + preset + "'");
+  dtm::EncodeOptions o = preset == "paper" ? dtm::EncodeOptions::paper() : dtm::EncodeOptions{};
+  if (qbits < 1 || qbits > 24) throw py::value_error("qbits must be 1 to 24, got " + std::to_string(qbits));
+  o.qbits = qbits;
+  if (box && scale) throw py::value_error("give box or scale, not both");
+  if (box) {
+    if (!(*box > 0)) throw py::value_error("box must be positive");
+    o.box = *box;
+  }
+  if (scale) {
+    if (!(*scale > 0)) throw py::value_error("scale must be positive");
+    o.scale = *scale;
+  }
+  if (dmax) {
+    if (!(*dmax > 0)) throw py::value_error("dmax must be positive");
+    o.dmax = *dmax;
+  }
+  for (const auto& [name, e] : field_errors)
+    if (!(e > 0) || !std::isfinite(e))
+      throw py::value_error("field_errors['" + name + "'] must be a positive number");
+  o.field_errors = field_errors;
+  return o;
+}
+
+// (stream bytes, meshenc --report's JSON text, each input point's vertex).
+py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> points,
+                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> tetrahedra,
+                 const std::vector<FieldIn>& fields, int qbits, std::optional<double> box,
+                 std::optional<double> scale, std::optional<double> dmax, const std::string& preset,
+                 const std::map<std::string, double>& field_errors) {
+  if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must be an N x 3 array");
+  const size_t n = static_cast<size_t>(points.shape(0));
+  std::vector<dtm::InputPoint> in_points(n);
+  const double* p = points.data();
+  for (size_t i = 0; i < n; ++i) in_points[i] = {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
+  std::vector<std::array<uint32_t, 4>> tets;
+  if (tetrahedra) {
+    const auto& t = *tetrahedra;
+    if (t.ndim() != 2 || t.shape(1) != 4) throw py::value_error("tetrahedra must be an M x 4 array");
+    const int64_t* v = t.data();
+    tets.resize(static_cast<size_t>(t.shape(0)));
+    for (size_t k = 0; k < tets.size(); ++k)
+      for (int j = 0; j < 4; ++j) {
+        const int64_t id = v[4 * k + j];
+        if (id < 0 || static_cast<size_t>(id) >= n)
+          throw py::value_error("tetrahedra[" + std::to_string(k) + "] names point " + std::to_string(id) +
+                                ", there are " + std::to_string(n));
+        tets[k][j] = static_cast<uint32_t>(id);
+      }
+  }
+  std::vector<dtm::EncodeInput::Field> in_fields;
+  for (const FieldIn& f : fields) {
+    if (f.type < 0 || f.type > static_cast<int>(dtm::ScalarType::kFloat64))
+      throw py::value_error("field '" + f.name + "': unknown type");
+    if (static_cast<size_t>(f.values.size()) != n * static_cast<size_t>(f.components))
+      throw py::value_error("field '" + f.name + "' has " + std::to_string(f.values.size()) +
+                            " values, the points need " + std::to_string(n * f.components));
+    in_fields.push_back({f.name, dtm::value_type(static_cast<dtm::ScalarType>(f.type)), f.components,
+                         std::span<const double>(f.values.data(), static_cast<size_t>(f.values.size()))});
+  }
+  const dtm::EncodeOptions options = encode_options(qbits, box, scale, dmax, preset, field_errors);
+  dtm::EncodeInput input;
+  input.points = in_points;
+  input.tetrahedra = tets;
+  input.fields = in_fields;
+  std::optional<dtm::StatusOr<dtm::EncodedMesh>> encoded;
+  {
+    py::gil_scoped_release release;
+    encoded.emplace(dtm::encode(input, options));
+  }
+  if (!encoded->ok()) raise_error(encoded->status().message());
+  const std::string report = dtm::report_json("", (*encoded)->report).dump();
+  const auto& of_input = (*encoded)->vertex_of_input;
+  py::array_t<uint32_t> vertex_of_input(static_cast<py::ssize_t>(of_input.size()));
+  std::memcpy(vertex_of_input.mutable_data(), of_input.data(), of_input.size() * sizeof(uint32_t));
+  return py::make_tuple(to_bytes((*encoded)->bytes), report, vertex_of_input);
+}
+
+template <class T>
+py::array_t<T> array_of(const std::vector<T>& v, std::vector<py::ssize_t> shape) {
+  py::array_t<T> a(shape);
+  if (!v.empty()) std::memcpy(a.mutable_data(), v.data(), v.size() * sizeof(T));
+  return a;
+}
+
+// A decoded level as Python's Mesh takes it: a dict of arrays.
+py::dict level_dict(const dtm::OutputMesh& mesh, int level, int level_count) {
+  const size_t n = mesh.points.size();
+  py::array_t<double> xyz({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+  double* out = xyz.mutable_data();
+  for (size_t i = 0; i < n; ++i) {
+    const dtm::InputPoint q = mesh.grid.to_input(mesh.points[i]);
+    out[3 * i] = q.x, out[3 * i + 1] = q.y, out[3 * i + 2] = q.z;
+  }
+  py::array_t<uint32_t> cells({static_cast<py::ssize_t>(mesh.cells.size()), py::ssize_t{4}});
+  if (!mesh.cells.empty()) std::memcpy(cells.mutable_data(), mesh.cells.data(), mesh.cells.size() * 16);
+  py::list fields;
+  for (const dtm::OutputField& f : mesh.fields) {
+    // The stored type's bytes: the low bytes of each value's bits
+    // (two's complement or IEEE; little-endian, as the stream is).
+    const size_t size = static_cast<size_t>(dtm::scalar_size(f.type));
+    std::string raw(f.bits.size() * size, '\0');
+    for (size_t i = 0; i < f.bits.size(); ++i) std::memcpy(&raw[i * size], &f.bits[i], size);
+    fields.append(py::make_tuple(f.name, static_cast<int>(f.type), f.components, py::bytes(raw)));
+  }
+  py::dict d;
+  d["points"] = xyz;
+  d["tetrahedra"] = cells;
+  d["vertex_levels"] = array_of(mesh.level, {static_cast<py::ssize_t>(n)});
+  d["boundary"] = array_of(mesh.boundary, {static_cast<py::ssize_t>(n)});
+  d["fields"] = fields;
+  d["level"] = level;
+  d["level_count"] = level_count;
+  return d;
+}
+
+// The decoder's finest level, made with the GIL released.
+py::dict finest_level_dict(const dtm::ProgressiveDecoder& decoder) {
+  std::optional<dtm::OutputMesh> mesh;
+  std::string failure;
+  {
+    py::gil_scoped_release release;
+    try {
+      mesh.emplace(dtm::decoded_mesh(decoder, "stream"));
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+  }
+  if (!mesh) raise_error(failure);
+  return level_dict(*mesh, decoder.finest_level(), decoder.header().level_count);
+}
+
+// The progressive decoder, fed chunk by chunk; each call returns the levels
+// its bytes completed.
+class Decoder {
+ public:
+  explicit Decoder(int stop_after_level, uint64_t max_vertices) {
+    dtm::DecoderOptions o;
+    o.stop_after_level = stop_after_level;
+    o.max_vertices = max_vertices;
+    decoder_ = std::make_unique<dtm::ProgressiveDecoder>(o);
+  }
+
+  // The levels completed by `chunk`, each as level_dict() makes it, or only
+  // their numbers when `meshes` is false. Raises dtmesh.Error for a damaged
+  // stream.
+  py::list feed(py::bytes chunk, bool meshes) {
+    const std::string_view view = chunk;
+    // Each completed level's mesh is made in the callback (the decoder then
+    // shows that level), without the GIL; the arrays after the feed.
+    std::vector<std::pair<int, dtm::OutputMesh>> levels;
+    std::string failure;
+    dtm::Status status;
+    auto on_level = [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
+      if (!failure.empty()) return;
+      if (!meshes) return levels.emplace_back(l.level, dtm::OutputMesh{}), void();
+      try {
+        levels.emplace_back(l.level, dtm::decoded_mesh(d, "stream"));
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+    };
+    {
+      py::gil_scoped_release release;
+      status = decoder_->feed({reinterpret_cast<const uint8_t*>(view.data()), view.size()}, on_level);
+    }
+    if (!failure.empty()) raise_error(failure);
+    if (!status.ok()) raise_error(status.message());
+    py::list out;
+    const int count = decoder_->header().level_count;
+    for (const auto& [level, mesh] : levels) {
+      if (meshes)
+        out.append(level_dict(mesh, level, count));
+      else
+        out.append(level);
+    }
+    return out;
+  }
+
+  // None when every level asked for is in; the reason when the input stopped
+  // early (the levels decoded stand); raises for a damaged stream.
+  std::optional<std::string> finish() const {
+    const dtm::Status s = decoder_->finish();
+    if (s.ok()) return std::nullopt;
+    if (s.code() == dtm::StatusCode::kTruncated) return s.message();
+    raise_error(s.message());
+  }
+
+  bool done() const { return decoder_->complete() || decoder_->stopped(); }
+  int finest_level() const { return decoder_->finest_level(); }
+  int level_count() const { return decoder_->has_header() ? decoder_->header().level_count : -1; }
+  py::dict mesh() const {
+    if (decoder_->finest_level() < 0) raise_error("no level is decoded yet");
+    return finest_level_dict(*decoder_);
+  }
+
+ private:
+  std::unique_ptr<dtm::ProgressiveDecoder> decoder_;
+};
+
+// meshinfo --json [--stats] as JSON text.
+std::string info(py::bytes data, bool stats) {
+  const std::string_view view = data;
+  const std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(view.data()), view.size());
+  std::string text, failure;
+  {
+    py::gil_scoped_release release;
+    try {
+      const dtm::StreamSummary s = dtm::scan_for_info("stream", bytes);
+      const std::vector<dtm::QualityRow> quality =
+          stats ? dtm::decode_quality("stream", bytes) : std::vector<dtm::QualityRow>{};
+      text = dtm::summary_json("", s, quality).dump();
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+  }
+  if (!failure.empty()) raise_error(failure);
+  return text;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_dtmesh, m) {
+  m.doc() = "The dtmesh C++ library's encoder and decoder (use the package dtmesh, not this module).";
+  // Never destroyed: it would outlive the interpreter.
+  error_type = new py::object(py::reinterpret_borrow<py::object>(PyExc_RuntimeError));
+  m.def("set_error_type", [](py::object type) { *error_type = std::move(type); });
+  py::class_<FieldIn>(m, "FieldIn")
+      .def(py::init<std::string, int, int, py::array_t<double, py::array::c_style | py::array::forcecast>>());
+  m.def("encode", &encode, py::arg("points"), py::arg("tetrahedra"), py::arg("fields"), py::arg("qbits"),
+        py::arg("box"), py::arg("scale"), py::arg("dmax"), py::arg("preset"), py::arg("field_errors"));
+  py::class_<Decoder>(m, "Decoder")
+      .def(py::init<int, uint64_t>(), py::arg("stop_after_level"), py::arg("max_vertices"))
+      .def("feed", &Decoder::feed, py::arg("chunk"), py::arg("meshes"))
+      .def("finish", &Decoder::finish)
+      .def("done", &Decoder::done)
+      .def("finest_level", &Decoder::finest_level)
+      .def("level_count", &Decoder::level_count)
+      .def("mesh", &Decoder::mesh);
+  m.def("info", &info, py::arg("data"), py::arg("stats"));
+  m.attr("default_max_vertices") = dtm::DecoderOptions{}.max_vertices;
+  m.attr("version") = DTM_VERSION;
+}

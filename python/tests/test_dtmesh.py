@@ -1,0 +1,231 @@
+"""dtmesh against the project's own tools: the same streams as meshenc, the same
+meshes as meshdec, the same summary as meshinfo; and what a stream's damage
+does to it."""
+import json
+import threading
+import time
+import warnings
+
+import meshio
+import numpy as np
+import pytest
+
+import dtmesh
+from conftest import ENCODE_ARGS, GOLDEN, read_tetgen, run, tool
+
+
+def meshdec_level(stream, tmp_path, level=None):
+    """meshdec's output as meshio reads it back (VTU: float64 points, the fields in their types)."""
+    out = tmp_path / "meshdec.vtu"
+    run(tool("meshdec"), stream, "-q", "-o", out, *([] if level is None else ["--level", level]))
+    return meshio.read(out)
+
+
+def assert_same_level(mesh, reference):
+    assert mesh.points.dtype == np.float64
+    np.testing.assert_array_equal(mesh.points, reference.points)
+    np.testing.assert_array_equal(mesh.tetrahedra, reference.cells_dict["tetra"])
+    np.testing.assert_array_equal(mesh.vertex_levels, reference.point_data["level"])
+    np.testing.assert_array_equal(mesh.boundary, reference.point_data["boundary"].astype(bool))
+    assert sorted(mesh.fields) == sorted(k for k in reference.point_data if k not in ("level", "boundary"))
+    for name, values in mesh.fields.items():
+        theirs = reference.point_data[name]
+        assert values.dtype == theirs.dtype, name
+        np.testing.assert_array_equal(values, theirs.reshape(values.shape))
+
+
+@pytest.mark.parametrize("stream", GOLDEN, ids=lambda p: str(p.relative_to(p.parents[1])))
+def test_golden_streams_decode_as_meshdec_decodes_them(stream, tmp_path):
+    assert_same_level(dtmesh.decode(stream.read_bytes()), meshdec_level(stream, tmp_path))
+
+
+def test_corpus_streams_decode_as_meshdec_decodes_them_at_every_level(corpus, tmp_path):
+    for name, (_, stream) in corpus.items():
+        data = stream.read_bytes()
+        count = dtmesh.info(data)["level_count"]
+        for level in range(count):
+            mesh = dtmesh.decode(data, level=level)
+            assert (mesh.level, mesh.level_count) == (level, count)
+            assert_same_level(mesh, meshdec_level(stream, tmp_path, level))
+
+
+def test_encode_from_numpy_writes_meshencs_bytes(corpus):
+    for name, (node, stream) in corpus.items():
+        points, tets, fields = read_tetgen(node)
+        encoded = dtmesh.encode(points, tets, fields, box=256, dmax=2)
+        assert encoded.bytes == stream.read_bytes(), name
+
+
+def test_encode_options_match_meshencs(corpus, tmp_path):
+    node, _ = corpus["torus_10k"]
+    points, tets, fields = read_tetgen(node)
+    cases = [
+        (dict(qbits=12, scale=3.0), ["--qbits", "12", "--scale", "3"]),
+        (dict(preset="paper", box=256, dmax=2), ["--preset", "paper", "--box", "256", "--dmax", "2"]),
+        (dict(box=100), ["--box", "100"]),
+    ]
+    for options, arguments in cases:
+        stream = tmp_path / "x.dtm"
+        run(tool("meshenc"), node, "-q", "-o", stream, *arguments)
+        assert dtmesh.encode(points, tets, fields, **options).bytes == stream.read_bytes(), arguments
+
+
+def test_encode_report_is_meshencs_report(corpus, tmp_path):
+    node, _ = corpus["hand_10k"]
+    report = tmp_path / "report.json"
+    run(tool("meshenc"), node, "-q", "--report", report, *ENCODE_ARGS)
+    expected = json.loads(report.read_text())
+    got = dtmesh.encode(*read_tetgen(node), box=256, dmax=2).report
+    expected.pop("input"), got.pop("input")
+    assert got == expected
+
+
+def test_lossy_field_within_its_bound_and_lossless_fields_exact():
+    rng = np.random.default_rng(7)
+    points = rng.random((3000, 3))
+    fields = {
+        "pressure": rng.normal(size=3000),
+        "velocity": rng.normal(size=(3000, 3)).astype(np.float32),
+        "material": rng.integers(-5, 5, size=3000).astype(np.int8),
+        "id": np.arange(3000, dtype=np.uint64),
+        "mask": rng.random(3000) < 0.5,
+    }
+    encoded = dtmesh.encode(points, fields=fields, field_errors={"pressure": 1e-3})
+    mesh = dtmesh.decode(encoded.bytes)
+    vertex = encoded.vertex_of_input
+    assert mesh.fields["pressure"].dtype == np.float64
+    assert np.max(np.abs(mesh.fields["pressure"][vertex] - fields["pressure"])) <= 1e-3
+    for name in ("velocity", "material", "id"):
+        assert mesh.fields[name].dtype == fields[name].dtype
+        np.testing.assert_array_equal(mesh.fields[name][vertex], fields[name])
+    np.testing.assert_array_equal(mesh.fields["mask"][vertex], fields["mask"].astype(np.uint8))
+    assert {f["name"]: f["mode"] for f in encoded.report["fields"]}["pressure"] == "lossy"
+
+
+def test_info_is_meshinfos_json(corpus):
+    for name, (_, stream) in list(corpus.items())[:2]:
+        for stats in (False, True):
+            expected = json.loads(run(tool("meshinfo"), stream, "--json", *(["--stats"] if stats else [])))
+            got = dtmesh.info(stream.read_bytes(), stats=stats)
+            expected.pop("input"), got.pop("input")
+            assert got == expected, (name, stats)
+
+
+def test_progressive_decoder_gives_every_level_as_its_layer_completes(corpus):
+    data = corpus["knot1_10k"][1].read_bytes()
+    decoder = dtmesh.Decoder()
+    seen = []
+    for start in range(0, len(data), 4096):
+        for mesh in decoder.feed(data[start : start + 4096]):
+            seen.append(mesh)
+            # A level arrives once its bytes are all in, and not before.
+            assert dtmesh.info(data[: start + 4096])["levels"][len(seen) - 1]["complete"]
+    decoder.finish()
+    assert [m.level for m in seen] == list(range(seen[0].level_count - 1, -1, -1))
+    for mesh in seen:
+        reference = dtmesh.decode(data, level=mesh.level)
+        np.testing.assert_array_equal(mesh.points, reference.points)
+        np.testing.assert_array_equal(mesh.tetrahedra, reference.tetrahedra)
+    assert decoder.done and decoder.finest_level == 0
+
+
+def test_every_truncation_ends_in_a_level_or_an_error():
+    data = GOLDEN[0].read_bytes()
+    count = dtmesh.info(data)["level_count"]
+    decoded = 0
+    for end in range(len(data)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                mesh = dtmesh.decode(data[:end])
+            except dtmesh.Error:
+                continue
+        decoded += 1
+        assert 0 < mesh.level < count and len(mesh.tetrahedra) > 0
+        assert any("truncated" in str(w.message) for w in caught)
+    assert decoded > 0  # every prefix past the base layer decodes
+
+
+def test_damaged_and_foreign_bytes_raise_the_librarys_error():
+    # Every byte is under a checksum: a flipped bit is refused, or (in a
+    # layer's length, which then runs past the end) read as a truncation,
+    # never decoded as if whole.
+    data = bytearray(GOLDEN[0].read_bytes())
+    for bit in range(8 * len(data)):
+        flipped = bytearray(data)
+        flipped[bit // 8] ^= 1 << (bit % 8)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                dtmesh.decode(bytes(flipped))
+            except dtmesh.Error:
+                continue
+        assert any("truncated" in str(w.message) for w in caught), f"bit {bit % 8} of byte {bit // 8}"
+    rng = np.random.default_rng(1)
+    for garbage in (b"", b"not a stream at all", bytes(rng.integers(0, 256, 5000, dtype=np.uint8))):
+        with pytest.raises(dtmesh.Error):
+            dtmesh.decode(garbage)
+    with pytest.raises(dtmesh.Error, match="levels 0 to"):
+        dtmesh.decode(bytes(data), level=99)
+
+
+def test_bad_input_raises_with_the_reason():
+    with pytest.raises(dtmesh.Error, match="not in one plane"):
+        dtmesh.encode(np.zeros((10, 3)))
+    with pytest.raises(ValueError):
+        dtmesh.encode(np.zeros((10, 2)))
+    with pytest.raises(ValueError, match="names point"):
+        dtmesh.encode(np.random.rand(10, 3), np.array([[0, 1, 2, 99]]))
+    with pytest.raises(ValueError, match="2\\^53"):
+        dtmesh.encode(np.random.rand(10, 3), fields={"big": np.full(10, 2**60 + 1, dtype=np.int64)})
+    with pytest.raises(ValueError, match="preset"):
+        dtmesh.encode(np.random.rand(10, 3), preset="fast")
+
+
+def test_meshio_reads_and_writes_dtm(corpus, tmp_path):
+    node, stream = corpus["elephant_10k"]
+    read = meshio.read(stream)
+    finest = dtmesh.decode(stream.read_bytes())
+    np.testing.assert_array_equal(read.points, finest.points)
+    np.testing.assert_array_equal(read.cells_dict["tetra"], finest.tetrahedra)
+    # Written back: the stream's fields, not the derived level and boundary.
+    again = tmp_path / "again.dtm"
+    meshio.write(again, read, box=256, dmax=2)
+    assert [f["name"] for f in dtmesh.info(again)["fields"]] == ["boundary_marker"]
+    # A mesh from elsewhere, through meshio: its tetrahedra are the solid.
+    points, tets, fields = read_tetgen(node)
+    mesh = meshio.Mesh(points, [("tetra", tets)], point_data=fields)
+    out = tmp_path / "from_meshio.dtm"
+    meshio.write(out, mesh, box=256, dmax=2)
+    assert out.read_bytes() == stream.read_bytes()
+
+
+def test_vtk_grid_has_the_level_and_its_point_data(corpus):
+    mesh = dtmesh.decode(corpus["fandisk_11k"][1].read_bytes(), level=1)
+    grid = dtmesh.to_vtk(mesh)
+    assert grid.GetNumberOfPoints() == len(mesh.points)
+    assert grid.GetNumberOfCells() == len(mesh.tetrahedra)
+    ids = grid.GetCell(5).GetPointIds()
+    assert [ids.GetId(i) for i in range(4)] == list(mesh.tetrahedra[5])
+    names = {grid.GetPointData().GetArrayName(i) for i in range(grid.GetPointData().GetNumberOfArrays())}
+    assert names == {"boundary_marker", "level", "boundary"}
+
+
+def test_decoding_releases_the_gil(corpus):
+    # While one thread decodes, Python code runs in another: the count grows
+    # through the decode, as it could not if the GIL were held.
+    data = corpus["bunny_10k"][1].read_bytes()
+    done, ticks = threading.Event(), [0]
+
+    def decode_many():
+        for _ in range(5):
+            dtmesh.decode(data)
+        done.set()
+
+    worker = threading.Thread(target=decode_many)
+    start = time.perf_counter()
+    worker.start()
+    while not done.is_set():
+        ticks[0] += 1
+    worker.join()
+    assert ticks[0] > 10000, f"{ticks[0]} ticks in {time.perf_counter() - start:.2f} s"

@@ -1,0 +1,30 @@
+#include "tools/decoded_mesh.h"
+
+#include <stdexcept>
+
+#include "mesh/carving.h"
+#include "mesh/topology.h"
+#include "tools/field_types.h"
+
+namespace dtm {
+
+OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input) {
+  OutputMesh mesh;
+  mesh.grid = decoder.header().grid;
+  mesh.points = decoder.points();
+  const TetMesh dt = decoder.delaunay();
+  if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+  std::vector<uint32_t> order;
+  const std::vector<uint8_t> in_mesh = decoder.carving(dt, order);
+  if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+  for (uint32_t k : order)
+    if (in_mesh[k]) mesh.cells.push_back(sorted_positive(dt.cells[k], mesh.points));
+  mesh.level = decoder.vertex_levels();
+  mesh.boundary = boundary_vertices(dt, mesh.points.size(), in_mesh);
+  for (const FieldValues& f : decoder.fields())
+    mesh.fields.push_back(
+        {f.description.name, scalar_type(f.description.type), f.description.components, f.bits});
+  return mesh;
+}
+
+}  // namespace dtm

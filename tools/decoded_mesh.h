@@ -1,0 +1,20 @@
+// The finest level a progressive decoder holds, as the writers take it
+// (tools/formats/mesh_writers.h) and as the Python package hands it to numpy:
+// its points, its carved cells in the canonical order (each cell's corners
+// ascending but for the orientation: the same arrays from every run, though
+// the triangulation is built on every core), each vertex's coarsest level,
+// the boundary vertices and the stream's fields.
+#pragma once
+
+#include <string>
+
+#include "codec/decode.h"
+#include "tools/formats/mesh_writers.h"
+
+namespace dtm {
+
+// Throws std::runtime_error naming `input` if the points cannot make the
+// level's triangulation (a hostile stream).
+OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input);
+
+}  // namespace dtm
