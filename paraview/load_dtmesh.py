@@ -22,4 +22,13 @@ if not hasattr(inspect, "getargspec"):
 
 from paraview.simple import LoadPlugin  # noqa: E402
 
-LoadPlugin(os.path.join(os.path.dirname(os.path.abspath(__file__)), "dtmesh_reader.py"), ns=globals())
+try:
+    _plugin = os.path.join(os.path.dirname(os.path.abspath(__file__)), "dtmesh_reader.py")
+except NameError:
+    # ParaView's --script runs this file as a string, without its path: the
+    # copy of the plugin installed with the package, which the reader needs
+    # anyway.
+    import dtmesh
+
+    _plugin = dtmesh.paraview_plugin
+LoadPlugin(_plugin, ns=globals())

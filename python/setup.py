@@ -12,6 +12,7 @@ import sys
 
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
+from setuptools.command.build_py import build_py
 
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -46,4 +47,17 @@ class CMakeBuild(build_ext):
             raise RuntimeError(f"the build did not make {target}")
 
 
-setup(ext_modules=[CMakeExtension("dtmesh._dtmesh")], cmdclass={"build_ext": CMakeBuild})
+class WithParaViewReader(build_py):
+    """Ships the ParaView reader (../paraview/dtmesh_reader.py) in the package:
+    dtmesh.paraview_plugin names it, for Tools > Manage Plugins and
+    paraview/load_dtmesh.py."""
+
+    def run(self):
+        super().run()
+        if not self.dry_run:
+            target = pathlib.Path(self.build_lib) / "dtmesh" / "paraview_reader.py"
+            self.copy_file(str(ROOT / "paraview" / "dtmesh_reader.py"), str(target))
+
+
+setup(ext_modules=[CMakeExtension("dtmesh._dtmesh")],
+      cmdclass={"build_ext": CMakeBuild, "build_py": WithParaViewReader})

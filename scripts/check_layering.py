@@ -12,7 +12,7 @@ Each library folder may include only the folders below it:
     web        -> common, bitstream, mesh, codec's decoder files
                   (the viewer: it is built for WebAssembly, where the
                   hierarchy builder and the encoder do not exist)
-    tools, tests, bench: anything; no library includes them.
+    tools, tests, bench, python: anything; no library includes them.
 
 Run by ctest (test 'layering') and so by CI: an include across a forbidden
 arrow fails the suite, not just a reviewer's eye. Exit status 1 lists every

@@ -18,8 +18,8 @@ if not hasattr(inspect, "getargspec"):
     inspect.getargspec = inspect.getfullargspec
 
 from paraview import servermanager
-from paraview.simple import (ColorBy, CreateView, GetColorTransferFunction, LoadPlugin, OpenDataFile,
-                             Render, SaveScreenshot, Show, Text)
+from paraview.simple import (ColorBy, CreateView, GetColorTransferFunction, GetScalarBar, LoadPlugin,
+                             OpenDataFile, Render, SaveScreenshot, Show, Text)
 
 plugin, stream, meshinfo, screenshot = sys.argv[1:5]
 LoadPlugin(plugin, ns=globals())
@@ -71,9 +71,14 @@ for source, shift, label in ((reader, 0.0, f"Level {info['level_count'] - 1} (co
     text = Text(Text=label)
     text_display = Show(text, view)
     text_display.WindowLocation = "Any Location"
-    text_display.Position = [0.12 + 0.5 * shift, 0.9]
-GetColorTransferFunction("level").ApplyPreset("Viridis (matplotlib)", True)
+    text_display.Position = [0.2 + 0.42 * shift, 0.88]
+    text_display.FontSize = 20
+level_colours = GetColorTransferFunction("level")
+level_colours.ApplyPreset("Viridis (matplotlib)", True)
+bar = GetScalarBar(level_colours, view)
+bar.Title, bar.ComponentTitle, bar.Visibility = "vertex's coarsest level", "", 1
 view.ResetCamera()
+view.GetActiveCamera().Dolly(1.5)
 Render(view)
 SaveScreenshot(screenshot, view, ImageResolution=[1200, 600])
 check("screenshot saved", True)

@@ -33,8 +33,14 @@ import numpy as np
 
 from . import _dtmesh
 
-__all__ = ["Error", "Mesh", "Encoded", "Decoder", "encode", "decode", "info", "to_vtk", "to_pyvista"]
+__all__ = ["Error", "Mesh", "Encoded", "Decoder", "encode", "decode", "info", "to_vtk", "to_pyvista",
+           "paraview_plugin"]
 __version__ = _dtmesh.version
+
+#: The ParaView reader plugin installed with the package (the repository's
+#: paraview/dtmesh_reader.py): load it in ParaView (Tools > Manage Plugins,
+#: or paraview/load_dtmesh.py, which finds it here).
+paraview_plugin = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview_reader.py")
 
 
 class Error(Exception):

@@ -1,0 +1,38 @@
+# Types of the extension module under dtmesh (python/src/dtmesh_module.cpp).
+# Use the package's functions (dtmesh.encode, dtmesh.decode, dtmesh.Decoder,
+# dtmesh.info): they check and shape what they hand this module.
+from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+version: str
+default_max_vertices: int
+
+def set_error_type(type: type) -> None: ...
+
+class FieldIn:
+    def __init__(self, name: str, type: int, components: int, values: npt.NDArray[np.float64]) -> None: ...
+
+def encode(
+    points: npt.NDArray[np.float64],
+    tetrahedra: Optional[npt.NDArray[np.int64]],
+    fields: List[FieldIn],
+    qbits: int,
+    box: Optional[float],
+    scale: Optional[float],
+    dmax: Optional[float],
+    preset: str,
+    field_errors: Mapping[str, float],
+) -> Tuple[bytes, str, npt.NDArray[np.uint32]]: ...
+
+class Decoder:
+    def __init__(self, stop_after_level: int, max_vertices: int) -> None: ...
+    def feed(self, chunk: bytes, meshes: bool) -> List[Union[int, Dict[str, Any]]]: ...
+    def finish(self) -> Optional[str]: ...
+    def done(self) -> bool: ...
+    def finest_level(self) -> int: ...
+    def level_count(self) -> int: ...
+    def mesh(self) -> Dict[str, Any]: ...
+
+def info(data: bytes, stats: bool) -> str: ...
