@@ -27,7 +27,7 @@ import json
 import os
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Union
+from typing import Any, Dict, List, Mapping, Optional, Union
 
 import numpy as np
 
@@ -236,14 +236,13 @@ class Decoder:
             raise ValueError("level must be >= 0")
         self._decoder = _dtmesh.Decoder(-1 if level is None else int(level), int(max_vertices))
 
-    def feed(self, chunk: Bytes) -> Iterator[Mesh]:
-        """Takes the next bytes; yields each level they complete, coarsest first.
+    def feed(self, chunk: Bytes) -> List[Mesh]:
+        """Takes the next bytes (at once); returns each level they completed, coarsest first.
 
         Raises:
             Error: the stream is damaged or foreign (the levels decoded before stand).
         """
-        for d in self._decoder.feed(bytes(chunk), True):
-            yield _mesh_of(d)
+        return [_mesh_of(d) for d in self._decoder.feed(bytes(chunk), True)]
 
     def finish(self) -> None:
         """Says the input has ended: warns if it stopped before the last level asked for.
