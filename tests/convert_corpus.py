@@ -1,5 +1,5 @@
 """Writes one TetGen model (.node + .ele) in every input format meshenc reads,
-with writers that are not ours: VTK's own (python3-vtk9) for .vtu and .vtk,
+with writers that are not ours: VTK's own (python3-paraview, whose Python has VTK) for .vtu and .vtk,
 meshio (python3-meshio) for Medit, gmsh, PLY, OFF, OBJ; XYZ by hand.
 Coordinates are written so that they read back to the same doubles.
 

@@ -46,9 +46,10 @@ class ConvertedCorpus : public ::testing::Test {
       const auto r =
           test::run_command(test::kPython + " " + DTM_TEST_SOURCE_DIR + "/convert_corpus.py " +
                             test::data_path(std::string(model) + ".node") + " " + dir_ + " " + model);
-      ASSERT_EQ(r.status, 0) << "convert_corpus.py failed (scripts/setup.sh installs python3-vtk9 and "
-                                "python3-meshio):\n"
-                             << r.output;
+      ASSERT_EQ(r.status, 0)
+          << "convert_corpus.py failed (scripts/setup.sh installs python3-paraview (VTK) and "
+             "python3-meshio):\n"
+          << r.output;
     }
   }
   static std::string path(const std::string& model, const Converted& c) {

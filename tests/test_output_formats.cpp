@@ -141,7 +141,7 @@ Dump independent_read(const std::string& reader, const std::string& path) {
   Dump d;
   if (r.status != 0) {
     ADD_FAILURE() << reader << " could not read " << path << " (scripts/setup.sh installs python3-meshio and "
-                  << "python3-vtk9):\n"
+                  << "python3-paraview, whose Python has VTK):\n"
                   << r.output.substr(0, 2000);
     return d;
   }
