@@ -37,8 +37,32 @@ case "$step" in
     "$build/tools/meshenc" "$build/paraview_bunny.node" -q -o "$stream" --box 256 --dmax 2
     # pvbatch runs on Debian's Python: the venv's dtmesh is put on its path.
     site="$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
-    PYTHONPATH="$site" xvfb-run -a pvbatch "$root/paraview/tests/check_reader.py" \
-      "$root/paraview/dtmesh_reader.py" "$stream" "$build/tools/meshinfo" "$build/paraview_reader.png"
+    # pvbatch renders through GLX, so it needs an X server. Under xvfb-run
+    # the server once refused pvbatch in CI ("bad X server connection") and
+    # xvfb-run had thrown Xvfb's messages away; so Xvfb is started here:
+    # -displayfd picks a free display and writes its number only once the
+    # server listens, and whatever Xvfb says is shown if anything fails.
+    display_file="$build/paraview_xvfb.display" xvfb_log="$build/paraview_xvfb.log"
+    rm -f "$display_file"
+    Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$display_file" 2>"$xvfb_log" &
+    xvfb=$!
+    trap 'kill "$xvfb" 2>/dev/null || true' EXIT
+    for _ in $(seq 300); do
+      grep -q '^[0-9][0-9]*$' "$display_file" 2>/dev/null && break
+      kill -0 "$xvfb" 2>/dev/null || break
+      sleep 0.1
+    done
+    if ! grep -q '^[0-9][0-9]*$' "$display_file" 2>/dev/null; then
+      echo "Xvfb did not start; it said:" >&2
+      cat "$xvfb_log" >&2
+      exit 1
+    fi
+    if ! DISPLAY=":$(cat "$display_file")" PYTHONPATH="$site" pvbatch "$root/paraview/tests/check_reader.py" \
+        "$root/paraview/dtmesh_reader.py" "$stream" "$build/tools/meshinfo" "$build/paraview_reader.png"; then
+      echo "pvbatch failed; Xvfb said:" >&2
+      cat "$xvfb_log" >&2
+      exit 1
+    fi
     ;;
   *)
     echo "usage: $0 install|pytest|paraview BUILD" >&2

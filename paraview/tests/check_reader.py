@@ -30,9 +30,16 @@ expected_arrays = sorted([f["name"] for f in info["fields"]] + ["level", "bounda
 passed, failed = 0, 0
 
 
+def say(line):
+    # pvbatch's sys.stdout goes through VTK's output window, which holds it
+    # unless PYTHONUNBUFFERED is set, and os._exit below would drop it.
+    sys.__stdout__.write(line + "\n")
+    sys.__stdout__.flush()
+
+
 def check(what, ok):
     global passed, failed
-    print(("ok    " if ok else "FAIL  ") + what)
+    say(("ok    " if ok else "FAIL  ") + what)
     passed, failed = passed + ok, failed + (not ok)
 
 
@@ -82,7 +89,7 @@ view.GetActiveCamera().Dolly(1.5)
 Render(view)
 SaveScreenshot(screenshot, view, ImageResolution=[1200, 600])
 check("screenshot saved", True)
-print(f"{passed} passed, {failed} failed", flush=True)
+say(f"{passed} passed, {failed} failed")
 # Straight out: Xvfb's GLX fails ParaView's render-window teardown at exit
 # (GLXBadContext), which would turn a passing run's status into 1.
 os._exit(1 if failed else 0)
