@@ -27,6 +27,56 @@ int orientation_in(const P4& a, const P4& b, const P4& c, const P4& d) {
 
 P4 times4(const GridPoint& p) { return {4 * int64_t{p.x}, 4 * int64_t{p.y}, 4 * int64_t{p.z}}; }
 
+// The plane through a, b, c as n . p = offset, n = (b - a) x (c - a),
+// exact: with coordinates under 2^18 (x4) the normal's components are under
+// 2^39 and n . p under 2^59, which 64 bits hold; beyond, 128.
+template <class Int>
+struct Plane {
+  Int n[3], offset;
+  Plane(const P4& a, const P4& b, const P4& c) {
+    const Int ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    const Int vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    n[0] = uy * vz - uz * vy, n[1] = uz * vx - ux * vz, n[2] = ux * vy - uy * vx;
+    offset = n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
+  }
+  Int at(const P4& p) const { return n[0] * p[0] + n[1] * p[1] + n[2] * p[2] - offset; }
+  // The least and greatest of n . p - offset over the closed box [lo, hi].
+  std::pair<Int, Int> range(const P4& lo, const P4& hi) const {
+    Int least = -offset, most = -offset;
+    for (int a = 0; a < 3; ++a) {
+      const Int l = n[a] * lo[a], h = n[a] * hi[a];
+      least += std::min(l, h), most += std::max(l, h);
+    }
+    return {least, most};
+  }
+};
+
+// Whether the closed triangle (a, b, c) may meet the closed box [lo, hi]:
+// false only when the box lies strictly on one side of its plane (its
+// bounding box is tested by the caller). A flat triangle may meet anything.
+template <class Int>
+bool plane_meets_box(const P4& a, const P4& b, const P4& c, const P4& lo, const P4& hi) {
+  const Plane<Int> plane(a, b, c);
+  const auto [least, most] = plane.range(lo, hi);
+  return least <= 0 && most >= 0;
+}
+
+// Whether the closed tetrahedron t (corners in either orientation) may meet
+// the closed box [lo, hi]: false only when the box lies strictly outside
+// one of its faces' planes (its bounding box is tested by the caller).
+template <class Int>
+bool tetrahedron_meets_box(const std::array<P4, 4>& t, const P4& lo, const P4& hi) {
+  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  for (int f = 0; f < 4; ++f) {
+    const Plane<Int> plane(t[kFace[f][0]], t[kFace[f][1]], t[kFace[f][2]]);
+    const Int inner = plane.at(t[f]);  // the side the tetrahedron is on
+    if (inner == 0) return true;       // flat
+    const auto [least, most] = plane.range(lo, hi);
+    if ((inner > 0 && most < 0) || (inner < 0 && least > 0)) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
@@ -100,100 +150,116 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 3>> boundary) {
       for (int a = 0; a < 3; ++a) bl[a] = std::min(bl[a], p[a]), bh[a] = std::max(bh[a], p[a]);
     }
   };
-  auto for_each_cell = [&](const std::array<int64_t, 3>& c0, const std::array<int64_t, 3>& c1, auto&& f) {
+  // The closed extent of grid cell (x, y, z).
+  auto cell_box = [&](int64_t x, int64_t y, int64_t z, P4& bl, P4& bh) {
+    bl = {lo_[0] + x * step_, lo_[1] + y * step_, lo_[2] + z * step_};
+    bh = {bl[0] + step_, bl[1] + step_, bl[2] + step_};
+  };
+  auto for_each_cell_box = [&](const std::array<int64_t, 3>& c0, const std::array<int64_t, 3>& c1, auto&& f) {
+    P4 bl, bh;
     for (int64_t z = c0[2]; z <= c1[2]; ++z)
       for (int64_t y = c0[1]; y <= c1[1]; ++y)
-        for (int64_t x = c0[0]; x <= c1[0]; ++x) f(static_cast<size_t>((z * dims_[1] + y) * dims_[0] + x));
+        for (int64_t x = c0[0]; x <= c1[0]; ++x) {
+          cell_box(x, y, z, bl, bh);
+          f(static_cast<size_t>((z * dims_[1] + y) * dims_[0] + x), bl, bh);
+        }
   };
+  // Mixed: the cells a boundary triangle meets (its box, then its plane).
   for (const auto& t : boundary) {
     P4 bl, bh;
     box_of(t, bl, bh);
     std::array<int64_t, 3> c0, c1;
     range(bl, bh, c0, c1);
-    for_each_cell(c0, c1, [&](size_t cell) { state_[cell] = kMixed; });
+    const P4 a = times4(points_[t[0]]), b = times4(points_[t[1]]), c = times4(points_[t[2]]);
+    for_each_cell_box(c0, c1, [&](size_t cell, const P4& cl, const P4& ch) {
+      if (state_[cell] == kMixed) return;
+      if (small_ ? plane_meets_box<int64_t>(a, b, c, cl, ch) : plane_meets_box<Int128>(a, b, c, cl, ch))
+        state_[cell] = kMixed;
+    });
   }
 
-  // Mixed cells get their rows, then the tetrahedra whose boxes meet them:
-  // first, on every core, which tetrahedra meet a mixed cell at all (those
-  // near the boundary), then the rows.
+  // Mixed cells get their rows, then the tetrahedra that may meet them (box
+  // and face planes): found on every core in blocks of tetrahedra, each
+  // block's (row, tetrahedron) pairs in tetrahedron order, then counted out
+  // in block order, so that every row lists its tetrahedra ascending.
   uint32_t mixed = 0;
-  for (uint32_t& s : state_)
-    if (s == kMixed) s = kFirstMixed + mixed++;
-  std::vector<uint8_t> near(n, 0);
-  parallel_for((n + 4095) / 4096,
-               [&](size_t block) {
-                 for (size_t k = block * 4096; k < std::min(n, block * 4096 + 4096); ++k) {
-                   if (orientation_[k] == 0) continue;
-                   P4 bl, bh;
-                   box_of(cells_[k], bl, bh);
-                   std::array<int64_t, 3> c0, c1;
-                   range(bl, bh, c0, c1);
-                   bool any = false;
-                   for_each_cell(c0, c1, [&](size_t cell) { any = any || state_[cell] != kUnknown; });
-                   near[k] = any;
-                 }
-               },
-               2);
-  mixed_ = build_csr(mixed, [&](auto&& emit) {
-    for (uint32_t k = 0; k < cells_.size(); ++k) {
-      if (!near[k]) continue;
-      P4 bl, bh;
-      box_of(cells_[k], bl, bh);
-      std::array<int64_t, 3> c0, c1;
-      range(bl, bh, c0, c1);
-      for_each_cell(c0, c1, [&](size_t cell) {
-        if (state_[cell] >= kFirstMixed && state_[cell] != kUnknown) emit(state_[cell] - kFirstMixed, k);
-      });
+  // Which cells are mixed, one bit each: a few MiB that stay in cache while
+  // every tetrahedron's cells are looked up (most are not mixed).
+  std::vector<uint64_t> is_mixed((total + 63) / 64, 0);
+  for (size_t cell = 0; cell < total; ++cell)
+    if (state_[cell] == kMixed) {
+      state_[cell] = kFirstMixed + mixed++;
+      is_mixed[cell / 64] |= uint64_t{1} << (cell % 64);
     }
-  });
-
-  // The groups of untouched cells, by flood fill through faces. A group
-  // lies wholly inside or outside; it is classified by one exact test of the
-  // centre of a face it shares with a mixed cell: that point is in the
-  // group's closed cells (so not on the boundary), and every tetrahedron
-  // holding it meets the mixed cell's closure (so is on its list). A group
-  // with no mixed neighbour is the whole grid, which the boundary does not
-  // touch: outside.
-  const int64_t steps[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-  std::vector<uint32_t> queue;
-  for (size_t start = 0; start < total; ++start) {
-    if (state_[start] != kUnknown) continue;
-    // The group, marked kGrouping while it is gathered.
-    constexpr uint32_t kGrouping = UINT32_MAX - 2;
-    std::vector<uint32_t> group;
-    state_[start] = kGrouping;
-    queue.assign(1, static_cast<uint32_t>(start));
-    uint32_t verdict = kOutside;
-    bool decided = false;
-    while (!queue.empty()) {
-      const uint32_t cell = queue.back();
-      queue.pop_back();
-      group.push_back(cell);
-      const int64_t x = int64_t{cell} % dims_[0], y = int64_t{cell} / dims_[0] % dims_[1],
-                    z = int64_t{cell} / (dims_[0] * dims_[1]);
-      for (const auto& st : steps) {
-        const int64_t nx = x + st[0], ny = y + st[1], nz = z + st[2];
-        if (nx < 0 || ny < 0 || nz < 0 || nx >= dims_[0] || ny >= dims_[1] || nz >= dims_[2]) continue;
-        const size_t nb = static_cast<size_t>((nz * dims_[1] + ny) * dims_[0] + nx);
-        if (state_[nb] == kUnknown) {
-          state_[nb] = kGrouping;
-          queue.push_back(static_cast<uint32_t>(nb));
-        } else if (!decided && state_[nb] >= kFirstMixed && state_[nb] < kGrouping) {
-          // The centre of the face between cell and nb (integral: step_ is even).
-          P4 centre = {lo_[0] + x * step_ + step_ / 2, lo_[1] + y * step_ + step_ / 2,
-                       lo_[2] + z * step_ + step_ / 2};
-          for (int a = 0; a < 3; ++a)
-            if (st[a] != 0) centre[a] += st[a] * step_ / 2;
-          bool inside = false;
-          for (uint32_t k : mixed_.row(state_[nb] - kFirstMixed))
-            inside = inside || in_tetrahedron(centre, k);
-          verdict = inside ? kInside : kOutside;
-          decided = true;
+  constexpr size_t kTetBlock = 16384;
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> pairs((n + kTetBlock - 1) / kTetBlock);
+  parallel_for(
+      pairs.size(),
+      [&](size_t block) {
+        std::array<P4, 4> corners;
+        for (size_t k = block * kTetBlock; k < std::min(n, block * kTetBlock + kTetBlock); ++k) {
+          if (orientation_[k] == 0) continue;
+          P4 bl, bh;
+          box_of(cells_[k], bl, bh);
+          std::array<int64_t, 3> c0, c1;
+          range(bl, bh, c0, c1);
+          bool corners_read = false;
+          for_each_cell_box(c0, c1, [&](size_t cell, const P4& cl, const P4& ch) {
+            if (!(is_mixed[cell / 64] >> (cell % 64) & 1)) return;
+            if (!corners_read) {
+              for (int i = 0; i < 4; ++i) corners[i] = times4(points_[cells_[k][i]]);
+              corners_read = true;
+            }
+            if (small_ ? tetrahedron_meets_box<int64_t>(corners, cl, ch)
+                       : tetrahedron_meets_box<Int128>(corners, cl, ch))
+              pairs[block].emplace_back(state_[cell] - kFirstMixed, static_cast<uint32_t>(k));
+          });
         }
-      }
-    }
-    for (uint32_t cell : group) state_[cell] = verdict;
-  }
+      },
+      2);
+  mixed_ = build_csr(mixed, [&](auto&& emit) {
+    for (const auto& block : pairs)
+      for (const auto& [row, k] : block) emit(row, k);
+  });
+  pairs = {};
+  is_mixed = {};
+
+  // The untouched cells, row by row along x (rows on every core): a run of
+  // them between two mixed cells lies wholly inside or outside, classified
+  // by one exact test of the centre of the face it shares with the mixed
+  // cell before it: that point is in the run's closed cells (so not on the
+  // boundary), and every tetrahedron holding it meets the mixed cell's
+  // closure (so is on its list). A run that reaches the grid's end along x
+  // is outside: the first cell holds points of the plane x = lo, which the
+  // solid meets only on its boundary (which this cell does not), the last
+  // points beyond hi.
+  parallel_for(
+      static_cast<size_t>(dims_[1] * dims_[2]),
+      [&](size_t row) {
+        const int64_t y = static_cast<int64_t>(row) % dims_[1], z = static_cast<int64_t>(row) / dims_[1];
+        uint32_t* const cells = state_.data() + row * static_cast<size_t>(dims_[0]);
+        for (int64_t x = 0; x < dims_[0];) {
+          if (cells[x] != kUnknown) {
+            ++x;
+            continue;
+          }
+          int64_t end = x;
+          while (end < dims_[0] && cells[end] == kUnknown) ++end;
+          uint32_t verdict = kOutside;
+          if (x > 0 && end < dims_[0]) {
+            const P4 centre = {lo_[0] + x * step_, lo_[1] + y * step_ + step_ / 2,
+                               lo_[2] + z * step_ + step_ / 2};
+            for (uint32_t k : mixed_.row(cells[x - 1] - kFirstMixed))
+              if (in_tetrahedron(centre, k)) {
+                verdict = kInside;
+                break;
+              }
+          }
+          for (int64_t i = x; i < end; ++i) cells[i] = verdict;
+          x = end;
+        }
+      },
+      64);
 }
 
 bool ReferenceSolid::in_tetrahedron(const P4& p, uint32_t k) const {

@@ -7,12 +7,13 @@
 //
 // Held compactly and answered mostly by one lookup: a uniform grid over the
 // solid's box whose cells are classified once. A cell that no boundary
-// triangle's bounding box touches lies wholly inside or wholly outside (the
-// solid's boundary is in those triangles), and so does every cell connected
-// to it through such cells: each connected group is classified by one exact
-// test. Only the cells the boundary touches ("mixed") keep a list of the
-// tetrahedra whose boxes meet them, tested exactly. The tetrahedra and points
-// are the caller's (spans): they must outlive the solid.
+// triangle meets (its box, then its plane: exact integer tests) lies wholly
+// inside or wholly outside (the solid's boundary is in those triangles), and
+// so does every run of such cells along a grid row: each run is classified
+// by one exact test (rows on every core). Only the cells the boundary meets
+// ("mixed") keep a list of the tetrahedra that may meet them (box and face
+// planes), tested exactly. The tetrahedra and points are the caller's
+// (spans): they must outlive the solid.
 #pragma once
 
 #include <array>
