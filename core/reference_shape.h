@@ -21,7 +21,10 @@
 namespace dtm {
 
 // The input's tetrahedra on the grid (indices of q.points), without those
-// quantization collapsed (two corners on one grid point).
+// quantization collapsed (two corners on one grid point), ordered by their
+// smallest vertex (ties in input order): the grid points are in
+// lexicographic order, so this order sweeps space and whatever is built from
+// the tetrahedra reads their corners in order.
 std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<uint32_t, 4>> tets,
                                                      const QuantizedPoints& q);
 

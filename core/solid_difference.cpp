@@ -44,9 +44,19 @@ std::vector<uint32_t> unshared(std::span<const Cell> cells, std::span<const Cell
   return out;
 }
 
+// The seed of a cell's samples: its corners, whatever their order and the
+// cell's place in its list.
+uint64_t seed_of(Cell c) {
+  std::sort(c.begin(), c.end());
+  uint64_t state = (uint64_t{c[0]} << 32 | c[1]) ^ 0x2545f4914f6cdd1dull;
+  state = next_random(state) ^ (uint64_t{c[2]} << 32 | c[3]);
+  return next_random(state);
+}
+
 // The volume of the cells `which` of `cells` outside a solid, each sampled
-// at `samples` points from a sequence seeded by its index (the figure does
-// not depend on how the work is split between cores). `inside(p4, cell)`:
+// at `samples` points from a sequence seeded by its corners (the figure does
+// not depend on how the work is split between cores, nor, but for rounding,
+// on the order the cells are listed in). `inside(p4, cell)`:
 // whether p / 4 is in the solid (`cell`: the sampled cell's index).
 template <class Inside>
 double outside_volume(std::span<const GridPoint> points, std::span<const Cell> cells,
@@ -58,7 +68,7 @@ double outside_volume(std::span<const GridPoint> points, std::span<const Cell> c
         const Cell& c = cells[which[i]];
         const double v = volume(points, c);
         if (v == 0) return;
-        uint64_t state = 0x2545f4914f6cdd1dull * (which[i] + 1);
+        uint64_t state = seed_of(c);
         int outside = 0;
         for (int s = 0; s < samples; ++s) {
           // Uniform in the tetrahedron: barycentric weights are the gaps
