@@ -65,7 +65,8 @@ double outside_volume(std::span<const GridPoint> points, std::span<const Cell> c
   parallel_for(
       which.size(),
       [&](size_t i) {
-        const Cell& c = cells[which[i]];
+        Cell c = cells[which[i]];
+        std::sort(c.begin(), c.end());  // the samples do not depend on the corners' order
         const double v = volume(points, c);
         if (v == 0) return;
         uint64_t state = seed_of(c);
@@ -198,7 +199,8 @@ SolidDifference carved_difference(std::span<const GridPoint> points, const TetMe
   std::vector<uint32_t> only_tets;
   for (uint32_t k = 0; k < tets.size(); ++k)
     if (!tet_shared[k]) only_tets.push_back(k);
-  // Where each walk starts: a cell at the sampled tetrahedron's first corner.
+  // Where each walk starts: a cell at the sampled tetrahedron's smallest
+  // corner (whatever order it lists its corners in).
   std::vector<int64_t> cell_at(points.size(), -1);
   for (size_t c = 0; c < dt.cells.size(); ++c)
     for (uint32_t v : dt.cells[c])
@@ -208,7 +210,7 @@ SolidDifference carved_difference(std::span<const GridPoint> points, const TetMe
   d.only_first = outside_volume(points, dt.cells, only_dt, samples,
                                 [&](const P4& p, uint32_t) { return solid.contains_point4(p); });
   d.only_second = outside_volume(points, tets, only_tets, samples, [&](const P4& p, uint32_t k) {
-    const int64_t start = cell_at[tets[k][0]];
+    const int64_t start = cell_at[*std::min_element(tets[k].begin(), tets[k].end())];
     if (start < 0) return false;
     const int64_t c = locate(points, dt, start, p);
     return c >= 0 && kept[static_cast<size_t>(c)] != 0;
