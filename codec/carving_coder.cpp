@@ -21,16 +21,46 @@ constexpr std::array<double, kCarvingRatioBuckets - 1> kRatioSteps = {
     2.378414230005442,   2.8284271247461903, 3.363585661014858};
 static_assert(kRatioSteps[7] == 1.0, "bucket 8 and above: alpha removes the cell");
 
-using Models = std::array<AdaptiveBit, kCarvingContexts>;
+// The traversal both sides make: the cells in canonical order, one bit
+// each (1 = alpha's verdict is wrong), coded by `code_bit(model, cell)`
+// (the encoder's writes the bit it knows, the decoder's reads it); `kept`
+// starts as alpha's verdicts and ends as the true ones.
+template <class CodeBit>
+void visit_corrections(const TetMesh& dt, const CarvingPrediction& p, CarvingContexts contexts,
+                       std::vector<uint8_t>& kept, CodeBit&& code_bit) {
+  if (contexts == CarvingContexts::kAlphaNeighbours) {
+    std::array<AdaptiveBit, kAlphaNeighbourContexts> models;
+    for (uint32_t c : p.order) kept[c] ^= static_cast<uint8_t>(code_bit(models[p.context[c]], c));
+    return;
+  }
+  std::array<AdaptiveBit, kDecodedNeighbourContexts> models;
+  std::vector<uint8_t> decoded(dt.cells.size(), 0);
+  for (uint32_t c : p.order) {
+    int neighbours_kept = 0, wrong = 0;
+    for (int32_t n : dt.neighbors[c]) {
+      if (n < 0) continue;
+      const auto k = static_cast<size_t>(n);
+      neighbours_kept += kept[k];
+      if (decoded[k]) wrong += kept[k] != p.kept[k];
+    }
+    const int context = ((p.bucket[c] / 2) * 5 + neighbours_kept) * 3 + std::min(wrong, 2);
+    kept[c] ^= static_cast<uint8_t>(code_bit(models[static_cast<size_t>(context)], c));
+    decoded[c] = 1;
+  }
+}
 
 }  // namespace
 
-CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha) {
+CarvingContexts carving_contexts(uint8_t format_major) {
+  return format_major >= 6 ? CarvingContexts::kDecodedNeighbours : CarvingContexts::kAlphaNeighbours;
+}
+
+CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
+                                  CarvingContexts contexts) {
   const size_t m = dt.cells.size();
   CarvingPrediction p;
   p.kept.resize(m);
-  p.context.resize(m);
-  std::vector<uint8_t> bucket(m);
+  p.bucket.resize(m);
   // Each cell on its own: every core (the same bits whatever the split).
   constexpr size_t kBlock = 4096;
   const size_t blocks = (m + kBlock - 1) / kBlock;
@@ -41,46 +71,56 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
           const double radius = carving_radius(points, dt.cells[c]);
           uint8_t b = 0;
           for (double step : kRatioSteps) b += radius > step * alpha;
-          bucket[c] = b;
+          p.bucket[c] = b;
           p.kept[c] = radius <= alpha;
         }
       },
       2);
-  parallel_for(
-      blocks,
-      [&](size_t block) {
-        for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c) {
-          int kept_neighbors = 0;
-          for (int32_t n : dt.neighbors[c]) kept_neighbors += n >= 0 && p.kept[static_cast<size_t>(n)];
-          p.context[c] = static_cast<uint8_t>(bucket[c] * 5 + kept_neighbors);
-        }
-      },
-      2);
+  if (contexts == CarvingContexts::kAlphaNeighbours) {
+    p.context.resize(m);
+    parallel_for(
+        blocks,
+        [&](size_t block) {
+          for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c) {
+            int kept_neighbors = 0;
+            for (int32_t n : dt.neighbors[c]) kept_neighbors += n >= 0 && p.kept[static_cast<size_t>(n)];
+            p.context[c] = static_cast<uint8_t>(p.bucket[c] * 5 + kept_neighbors);
+          }
+        },
+        2);
+  }
   p.order = canonical_cell_order(dt.cells);  // the identity for an exported triangulation
   return p;
 }
 
 std::vector<uint8_t> encode_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
-                                    std::span<const uint8_t> kept) {
-  const CarvingPrediction p = predict_carving(dt, points, alpha);
+                                    std::span<const uint8_t> kept, CarvingContexts contexts) {
+  const CarvingPrediction p = predict_carving(dt, points, alpha, contexts);
   bool any = false;
   for (size_t c = 0; c < kept.size() && !any; ++c) any = (kept[c] != 0) != (p.kept[c] != 0);
   if (!any) return {};
-  Models models;
   RangeEncoder rc;
-  for (uint32_t c : p.order) rc.encode(models[p.context[c]], (kept[c] != 0) != (p.kept[c] != 0));
+  std::vector<uint8_t> verdicts = p.kept;
+  visit_corrections(dt, p, contexts, verdicts, [&](AdaptiveBit& model, uint32_t c) {
+    const bool wrong = (kept[c] != 0) != (p.kept[c] != 0);
+    rc.encode(model, wrong);
+    return wrong;
+  });
   return rc.finish();
 }
 
 Status decode_carving(std::span<const uint8_t> section, const TetMesh& dt, std::span<const GridPoint> points,
-                      double alpha, std::vector<uint8_t>& kept, std::vector<uint32_t>* order) {
-  CarvingPrediction p = predict_carving(dt, points, alpha);
-  kept = std::move(p.kept);
+                      double alpha, CarvingContexts contexts, std::vector<uint8_t>& kept,
+                      std::vector<uint32_t>* order) {
+  CarvingPrediction p = predict_carving(dt, points, alpha, contexts);
   if (order) *order = p.order;
-  if (section.empty()) return Status::Ok();
-  Models models;
+  if (section.empty()) {
+    kept = std::move(p.kept);
+    return Status::Ok();
+  }
+  kept = p.kept;
   RangeDecoder rc(section);
-  for (uint32_t c : p.order) kept[c] ^= static_cast<uint8_t>(rc.decode(models[p.context[c]]));
+  visit_corrections(dt, p, contexts, kept, [&](AdaptiveBit& model, uint32_t) { return rc.decode(model); });
   if (!rc.finished_cleanly())
     return {StatusCode::kCorrupt,
             rc.overran() ? "carving corrections end early" : "bytes after the carving corrections"};

@@ -4,9 +4,12 @@
 // solid's, spec/HIERARCHY.md §3) and sends, for every cell, whether the
 // prediction is wrong, as an adaptive binary symbol. The cells are visited
 // in a canonical order and the contexts use only what the decoder has: the
-// cell's circumradius over alpha and how many of its face neighbours alpha
-// keeps. Each level's section is coded alone (fresh models), so a decoder
-// reads the sections of the levels it shows and no other.
+// cell's circumradius over alpha and its face neighbours: from 6.0 the
+// verdicts of those already decoded (a wrong prediction comes in patches
+// along the surface: bench/carving_models measured 25-45% fewer bits on the
+// corpus than 4.0's contexts, which count the neighbours alpha keeps). Each
+// level's section is coded alone (fresh models), so a decoder reads the
+// sections of the levels it shows and no other.
 #pragma once
 
 #include <cstdint>
@@ -19,28 +22,44 @@
 
 namespace dtm {
 
-// Per cell of `dt` (vertex ids index `points`): alpha's verdict and the
-// context of its correction; and the canonical order of the cells (each
-// cell's ids ascending, cells ascending).
+// The contexts a section is coded with (spec/FORMAT.md §3.2).
+enum class CarvingContexts {
+  // 4.0 and 5.0: the circumradius bucket and how many face neighbours alpha
+  // keeps (80 models).
+  kAlphaNeighbours,
+  // 6.0: the half-octave bucket, how many face neighbours are kept (their
+  // decoded verdict where decoded already, alpha's otherwise) and how many
+  // of the decoded ones alpha got wrong, 0, 1 or 2+ (120 models).
+  kDecodedNeighbours,
+};
+CarvingContexts carving_contexts(uint8_t format_major);
+
+// Per cell of `dt` (vertex ids index `points`): alpha's verdict and what
+// the context of its correction starts from; and the canonical order of the
+// cells (each cell's ids ascending, cells ascending).
 struct CarvingPrediction {
   std::vector<uint8_t> kept;     // per cell: alpha keeps it
-  std::vector<uint8_t> context;  // per cell: < kCarvingContexts
+  std::vector<uint8_t> bucket;   // per cell: < kCarvingRatioBuckets
+  std::vector<uint8_t> context;  // kAlphaNeighbours only: per cell, < kAlphaNeighbourContexts
   std::vector<uint32_t> order;   // cell indices in coding order
 };
 inline constexpr int kCarvingRatioBuckets = 16;
-inline constexpr int kCarvingContexts = kCarvingRatioBuckets * 5;
-CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha);
+inline constexpr int kAlphaNeighbourContexts = kCarvingRatioBuckets * 5;
+inline constexpr int kDecodedNeighbourContexts = kCarvingRatioBuckets / 2 * 5 * 3;
+CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
+                                  CarvingContexts contexts);
 
 // The section for true verdicts `kept` (per cell of dt); empty when alpha's
 // prediction is right everywhere.
 std::vector<uint8_t> encode_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
-                                    std::span<const uint8_t> kept);
+                                    std::span<const uint8_t> kept, CarvingContexts contexts);
 
 // The level's verdicts, per cell of dt, from its section (empty: alpha's).
 // kCorrupt if the section ends before its last symbol or has bytes after it.
 // `order`, if given, receives the canonical order of dt's cells (computed on
 // the way: the order the section codes them in).
 Status decode_carving(std::span<const uint8_t> section, const TetMesh& dt, std::span<const GridPoint> points,
-                      double alpha, std::vector<uint8_t>& kept, std::vector<uint32_t>* order = nullptr);
+                      double alpha, CarvingContexts contexts, std::vector<uint8_t>& kept,
+                      std::vector<uint32_t>* order = nullptr);
 
 }  // namespace dtm

@@ -177,7 +177,8 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<
     return carve(dt, points_, alpha);
   }
   std::vector<uint8_t> kept;
-  const Status s = decode_carving(carving_, dt, points_, alpha, kept, &order);
+  const Status s =
+      decode_carving(carving_, dt, points_, alpha, carving_contexts(header_.version_major), kept, &order);
   if (!s.ok()) {
     mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return {};

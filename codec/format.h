@@ -26,10 +26,11 @@
 namespace dtm {
 
 inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0A, 0x1A, 0x0A};
-// The encoder writes 5.0 when the stream carries values and 4.0 otherwise
-// (the oldest version that says all the stream holds); the decoder reads 2.x
-// to 5.x.
-inline constexpr uint8_t kVersionMajor = 5;
+// The encoder writes the oldest version that says all the stream holds: 6.0
+// when it carries carving corrections (6.0's contexts code them), else 5.0
+// when it carries values, else 4.0; the decoder reads 2.x to 6.x.
+inline constexpr uint8_t kVersionMajor = 6;
+inline constexpr uint8_t kVersionMajorWithValues = 5;
 inline constexpr uint8_t kVersionMajorWithoutValues = 4;
 inline constexpr uint8_t kOldestVersionMajor = 2;  // the decoder also reads 2.x
 inline constexpr uint8_t kVersionMinor = 0;

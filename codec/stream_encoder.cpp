@@ -38,7 +38,9 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     if (!made.ok()) return made.status();
     value_coder.emplace(std::move(*made));
   }
-  h.version_major = values ? kVersionMajor : kVersionMajorWithoutValues;
+  h.version_major = corrections ? kVersionMajor
+                    : values    ? kVersionMajorWithValues
+                                : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
             (values ? kFlagValues : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
@@ -93,7 +95,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       TetMesh dt = level.delaunay;
       for (auto& c : dt.cells)
         for (uint32_t& v : c) v = decoder_index[v];
-      carving = encode_carving(dt, decoded, level.alpha, level.kept);
+      carving = encode_carving(dt, decoded, level.alpha, level.kept, carving_contexts(h.version_major));
     }
 
     std::vector<uint8_t> value_section;

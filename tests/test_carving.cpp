@@ -229,18 +229,24 @@ TEST(SolidDifference, TheEstimateDoesNotDependOnTheInputsOrder) {
   EXPECT_NEAR(a.only_second, b.only_second, 1e-9 * a.second_volume);
 }
 
-TEST(CarvingCoder, CorrectionsRoundTripAndNoneCostNothing) {
+// Both context rules (4.0's and 6.0's): corrections decode to the verdicts
+// encoded, whatever order the cells are listed in; none cost nothing; a cut
+// section is refused.
+class CarvingCoderContexts : public ::testing::TestWithParam<CarvingContexts> {};
+
+TEST_P(CarvingCoderContexts, CorrectionsRoundTripAndNoneCostNothing) {
+  const CarvingContexts contexts = GetParam();
   const std::vector<GridPoint> points = test::random_grid_points(400, 8, 7);
   const TetMesh dt = delaunay_tetrahedralize(points).value();
   const double alpha = 30;
   const std::vector<uint8_t> predicted = carve(dt, points, alpha);
-  EXPECT_TRUE(encode_carving(dt, points, alpha, predicted).empty());
+  EXPECT_TRUE(encode_carving(dt, points, alpha, predicted, contexts).empty());
   std::vector<uint8_t> truth = predicted;
   for (size_t c = 0; c < truth.size(); c += 7) truth[c] ^= 1;
-  const std::vector<uint8_t> section = encode_carving(dt, points, alpha, truth);
+  const std::vector<uint8_t> section = encode_carving(dt, points, alpha, truth, contexts);
   ASSERT_FALSE(section.empty());
   std::vector<uint8_t> decoded;
-  ASSERT_TRUE(decode_carving(section, dt, points, alpha, decoded).ok());
+  ASSERT_TRUE(decode_carving(section, dt, points, alpha, contexts, decoded).ok());
   EXPECT_EQ(decoded, truth);
   // The decoder visits the cells in canonical order: another listing of the
   // same tetrahedralization decodes to the same verdicts.
@@ -252,13 +258,43 @@ TEST(CarvingCoder, CorrectionsRoundTripAndNoneCostNothing) {
     for (int32_t& k : n)
       if (k >= 0) k = last - k;
   std::vector<uint8_t> decoded_shuffled;
-  ASSERT_TRUE(decode_carving(section, shuffled, points, alpha, decoded_shuffled).ok());
+  ASSERT_TRUE(decode_carving(section, shuffled, points, alpha, contexts, decoded_shuffled).ok());
   std::reverse(decoded_shuffled.begin(), decoded_shuffled.end());
   EXPECT_EQ(decoded_shuffled, truth);
   // A cut section is refused, not misread.
   std::vector<uint8_t> ignored;
-  EXPECT_EQ(decode_carving(std::span(section).first(section.size() - 1), dt, points, alpha, ignored).code(),
+  EXPECT_EQ(decode_carving(std::span(section).first(section.size() - 1), dt, points, alpha, contexts, ignored)
+                .code(),
             StatusCode::kCorrupt);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothRules, CarvingCoderContexts,
+                         ::testing::Values(CarvingContexts::kAlphaNeighbours,
+                                           CarvingContexts::kDecodedNeighbours),
+                         [](const auto& info) {
+                           return info.param == CarvingContexts::kAlphaNeighbours ? std::string("Format4")
+                                                                                  : std::string("Format6");
+                         });
+
+// 6.0's contexts see that wrong predictions come in patches: a patch of
+// wrong verdicts (every cell near one corner of the block) costs fewer bytes
+// than with 4.0's, and the version decides which the stream uses.
+TEST(CarvingCoder, DecodedNeighboursCodePatchesInFewerBytes) {
+  const std::vector<GridPoint> points = test::random_grid_points(2000, 8, 5);
+  const TetMesh dt = delaunay_tetrahedralize(points).value();
+  const double alpha = 1e9;  // alpha keeps everything
+  std::vector<uint8_t> truth(dt.cells.size(), 1);
+  for (size_t c = 0; c < dt.cells.size(); ++c) {
+    const GridPoint& p = points[dt.cells[c][0]];
+    if (p.x < 96 && p.y < 96 && p.z < 96) truth[c] = 0;
+  }
+  const size_t old_bytes = encode_carving(dt, points, alpha, truth, CarvingContexts::kAlphaNeighbours).size();
+  const size_t new_bytes =
+      encode_carving(dt, points, alpha, truth, CarvingContexts::kDecodedNeighbours).size();
+  EXPECT_LT(new_bytes, old_bytes * 0.8) << old_bytes << " -> " << new_bytes;
+  EXPECT_EQ(carving_contexts(4), CarvingContexts::kAlphaNeighbours);
+  EXPECT_EQ(carving_contexts(5), CarvingContexts::kAlphaNeighbours);
+  EXPECT_EQ(carving_contexts(6), CarvingContexts::kDecodedNeighbours);
 }
 
 // What every codec test below encodes and decodes.

@@ -179,7 +179,9 @@ TEST(FieldTools, LossyFieldsKeepTheirBoundAndNoFieldsLeavesThemOut) {
   r = test::run_command(std::string(DTM_MESHENC) + " " + in.path + " -o " + stream + " --no-fields");
   ASSERT_EQ(r.status, 0) << r.output;
   r = test::run_command(std::string(DTM_MESHINFO) + " " + stream);
-  EXPECT_NE(r.output.find(".dtm 4.0"), std::string::npos) << r.output;
+  // No field table: the oldest version that holds the carving corrections
+  // (6.0), without the values flag.
+  EXPECT_NE(r.output.find(".dtm 6.0"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("field"), std::string::npos) << r.output;
 }
 

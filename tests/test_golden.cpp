@@ -1,8 +1,10 @@
-// Golden streams (spec/FORMAT.md §6): streams of format 5.0 (with the
-// input's TetGen markers as a field), and of 4.0 (carving corrections, and
-// the paper's alpha carving), 3.0 and 2.0 (golden/v4/, v3/, v2/, which this
-// decoder still reads), that every later decoder must decode to the same
-// levels and values, and whose every damaged variant it must refuse.
+// Golden streams (spec/FORMAT.md §6): streams of format 6.0 (carving
+// corrections with 6.0's contexts; the paper preset's, without corrections,
+// are 5.0), all with the input's TetGen markers as a field, and of 5.0, 4.0
+// (carving corrections, and the paper's alpha carving), 3.0 and 2.0
+// (golden/v5/, v4/, v3/, v2/, which this decoder still reads), that every
+// later decoder must decode to the same levels and values, and whose every
+// damaged variant it must refuse.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -71,12 +73,13 @@ TEST_P(GoldenStream, EverySingleBitFlipIsRefused) {
     }
 }
 
-// The 5.0 streams carry the input's boundary markers: every vertex of every
-// level has the marker of the input point it quantizes (found by position,
-// the stream's grid mapped onto the input's bounding box).
+// The 6.0 and 5.0 streams carry the input's boundary markers: every vertex
+// of every level has the marker of the input point it quantizes (found by
+// position, the stream's grid mapped onto the input's bounding box).
 TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
   for (const std::string name :
-       {"torus_288", "torus_288_paper", "torus_288_grid_q10_hull", "torus_288_q24"}) {
+       {"torus_288", "torus_288_paper", "torus_288_grid_q10_hull", "torus_288_q24", "v5/torus_288",
+        "v5/torus_288_paper", "v5/torus_288_grid_q10_hull", "v5/torus_288_q24"}) {
     const InputMesh in = read_input(
         test::data_path(name.find("grid") != std::string::npos ? "torus_288_grid.node" : "torus_288.node"));
     const VertexField& markers = in.fields.at(0);
@@ -116,9 +119,12 @@ TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Format5_0, GoldenStream,
+INSTANTIATE_TEST_SUITE_P(Format6_0, GoldenStream,
                          ::testing::Values("torus_288", "torus_288_paper", "torus_288_grid_q10_hull",
                                            "torus_288_q24"));
+INSTANTIATE_TEST_SUITE_P(Format5_0, GoldenStream,
+                         ::testing::Values("v5/torus_288", "v5/torus_288_paper", "v5/torus_288_grid_q10_hull",
+                                           "v5/torus_288_q24"));
 INSTANTIATE_TEST_SUITE_P(Format4_0, GoldenStream,
                          ::testing::Values("v4/torus_288", "v4/torus_288_paper", "v4/torus_288_grid_q10_hull",
                                            "v4/torus_288_q24"));

@@ -4,8 +4,8 @@
 // verdict per cell, which re-encodes to the same section.
 //
 // Input: byte 0: which point set (a 4x4x4 block, or 300 pseudo-random
-// points of a 7-bit grid, by its low bit) and alpha (its other bits, in
-// quarter grid steps); then the section.
+// points of a 7-bit grid, by bit 0), which contexts (6.0's by bit 1, else
+// 4.0's) and alpha (its other bits, in quarter grid steps); then the section.
 #include <algorithm>
 #include <cstdint>
 #include <span>
@@ -22,16 +22,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const dtm::TetMesh block_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value();
   static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value();
   const dtm::TetMesh& dt = (data[0] & 1) ? cloud_dt : block_dt;
-  const double alpha = 0.25 * (data[0] >> 1) + 0.25;
+  const dtm::CarvingContexts contexts =
+      (data[0] & 2) ? dtm::CarvingContexts::kDecodedNeighbours : dtm::CarvingContexts::kAlphaNeighbours;
+  const double alpha = 0.25 * (data[0] >> 2) + 0.25;
   const std::span<const uint8_t> section(data + 1, size - 1);
   std::vector<uint8_t> kept;
-  const dtm::Status s = dtm::decode_carving(section, dt, points, alpha, kept);
+  const dtm::Status s = dtm::decode_carving(section, dt, points, alpha, contexts, kept);
   if (!s.ok()) {
     FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
     return 0;
   }
   FUZZ_CHECK(kept.size() == dt.cells.size());
-  const std::vector<uint8_t> again = dtm::encode_carving(dt, points, alpha, kept);
+  const std::vector<uint8_t> again = dtm::encode_carving(dt, points, alpha, kept, contexts);
   // A section that decodes is the encoder's, or empty where no bit is set.
   FUZZ_CHECK(std::vector<uint8_t>(section.begin(), section.end()) == again || again.empty());
   return 0;

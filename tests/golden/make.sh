@@ -2,7 +2,7 @@
 # tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
 # current format version and their expected levels. Run it only when the
 # format's major version changes (spec/FORMAT.md §6), after moving the
-# previous version's streams to v<major>/ (as v2/, v3/ and v4/ hold formats 2.0 to 4.0) if
+# previous version's streams to v<major>/ (as v2/ to v5/ hold formats 2.0 to 5.0) if
 # decoders still read it: a golden stream is a promise that every later
 # decoder decodes it identically or refuses its version.
 set -euo pipefail
