@@ -142,11 +142,26 @@ tools_after=$(tools_id)
 commit_end="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
 [ "$commit_end" = "$commit" ] || commit="$commit at start, $commit_end at end"
 rc=0
-(python3 - "$list" "$out" "$report.tmp" "$notes" "$commit" "$dirty" "$enc" "$start" "$QS" "$tools_before" "$root/bench" <<'PYEOF'
+(python3 - "$list" "$out" "$report.tmp" "$notes" "$commit" "$dirty" "$enc" "$start" "$QS" "$tools_before" "$root/bench" "$shared/data/BASELINES.md" <<'PYEOF'
 import csv, json, math, os, sys, time, subprocess
-listf, outd, dest, notesf, commit, dirty, enc, start, qs, tools, benchd = sys.argv[1:12]
+listf, outd, dest, notesf, commit, dirty, enc, start, qs, tools, benchd, baselines_md = sys.argv[1:13]
 QS = [int(q) for q in qs.split()]
-LAYER_HDR, STREAM_HDR = 42, 56  # format 4.0
+LAYER_HDR, STREAM_HDR = 46, 56  # format 6.0 (and 5.0)
+
+def gpcc_table(path):
+    # BASELINES.md's G-PCC table: per model, bits per vertex at each q.
+    out, cols = {}, None
+    for line in open(path):
+        cells = [c.strip() for c in line.strip().strip('|').split('|')]
+        if len(cells) > 2 and cells[0] == 'volume' and any(c.startswith('G-PCC q') for c in cells):
+            cols = {int(c[7:]): i for i, c in enumerate(cells) if c.startswith('G-PCC q')}
+            continue
+        if cols and len(cells) > max(cols.values()) and not cells[0].startswith('---'):
+            try: out[cells[0]] = {q: float(cells[i]) for q, i in cols.items()}
+            except ValueError: cols = None
+        elif cols and not line.strip(): cols = None
+    return out
+GPCC = gpcc_table(baselines_md)
 LN2 = math.log(2)
 
 def log2_choose_grid(q, d):
@@ -203,7 +218,7 @@ for line in open(listf):
         j2 = json.load(open(os.path.join(outd, '%s.q%d.two.json' % (name, q))))
         m['q'][q] = dict(json=j, levels=lv, new=new, L=L, bytes=j['stream_bytes'],
                          distinct=lv[0]['vertices'], dup=j['duplicates_merged'],
-                         bytes_s4=j4['stream_bytes'], bytes_two=j2['stream_bytes'],
+                         bytes_s4=j4['stream_bytes'], bytes_two=j2['stream_bytes'], json_two=j2,
                          L_s4=sum(1 for r in j4['levels'] if 'stream_level' in r))
     # baselines
     drc = {}; meshz = None; ptsz = None
@@ -263,27 +278,31 @@ w('shared/tools/baselines.sh -q "12 14 16" -c "10 4" -H -k KEEP MODEL.node')
 w('  # = draco_encoder -point_cloud -i pts.ply -qp Q -cl {10,4}  (float32 xyz; kd-tree method)')
 w('  #   zstd -19 of float32 xyz (positions only), and of float32 xyz per vertex + int32 x4 per tet (TetGen .ele)')
 w('```\n')
-w('Stream bytes = 56-byte header + per layer 42-byte header + payload (format 4.0: each layer\'s new '
+w('Stream bytes = 56-byte header + per layer 46-byte header + payload (format 6.0: each layer\'s new '
   'points coded by binary space partition given the coarser levels, adaptive range coding, lone points\' '
   'coordinates as values already used where they are, spec/FORMAT.md §3.1; then the carving corrections, '
-  '§3.2: where alpha\'s prediction differs from the input\'s solid, which `.ele` beside each `.node` gives). '
+  '§3.2: where alpha\'s prediction differs from the input\'s solid, which `.ele` beside each `.node` gives, '
+  'coded from the neighbours\' decoded verdicts). '
   'meshenc runs with its default (codec) preset. '
   '"ours" streams every level of the hierarchy; "step 4" streams every 4th level (`--level-step 4`). '
   'Draco = the smaller of `-cl 10` and `-cl 4` at the same Q (same grid: one step '
-  '= largest extent / (2^Q − 1)). Ratio = ours / Draco (issue 5 target: <= 0.85). '
+  '= largest extent / (2^Q − 1)). Ratio = ours / Draco. G-PCC = MPEG TMC13 v23 lossless octree, the best of '
+  'its variants, from `shared/data/BASELINES.md` (not installed here); "/ best" = ours / the smaller of '
+  'G-PCC and Draco (issue 23 target: <= 1 with every level). '
   'The same figures are in `bench/bitrate.csv` (totals) and `bench/bitrate_layers.csv` (per layer).\n')
 
 w('## Table 1: bits per vertex\n')
 hdr = '| model | N | levels (q=14) |'
 sep = '|---|---:|---:|'
 for q in QS:
-    hdr += ' ours q%d | step 4 q%d | Draco kd q%d | ratio | ratio step 4 |' % (q, q, q)
-    sep += '---:|---:|---:|---:|---:|'
+    hdr += ' ours q%d | step 4 q%d | Draco kd q%d | ratio | ratio step 4 | G-PCC q%d | / best |' % (q, q, q, q)
+    sep += '---:|---:|---:|---:|---:|---:|---:|'
 hdr += ' carving share (q=14) | f32 xyz zstd-19 | tet mesh zstd-19 | decodes (q=14) |'; sep += '---:|---:|---:|---|'
 w(hdr); w(sep)
 print(hdr); print(sep)
 ratios = {q: [] for q in QS}
 ratios4 = {q: [] for q in QS}
+ratios_best = {q: [] for q in QS}
 csv_rows = []
 for m in models:
     N = m['N']
@@ -294,6 +313,10 @@ for m in models:
         ratios4[q].append(ours4 / dr)
         row += ' %s | %s | %s | %s | %s |' % (f2(bpv(ours, N)), f2(bpv(ours4, N)), f2(bpv(dr, N)),
                                             f3(ours / dr), f3(ours4 / dr))
+        g = GPCC.get(m['name'], {}).get(q)
+        best = min(bpv(dr, N), g) if g is not None else None
+        if best is not None: ratios_best[q].append((m['name'], bpv(ours, N) / best))
+        row += ' %s | %s |' % (f2(g) if g is not None else '-', f3(bpv(ours, N) / best) if best else '-')
         csv_rows.append(dict(model=m['name'], N=N, q=q, levels=m['q'][q]['L'], stream_bytes=ours,
             bpv=round(bpv(ours, N), 4),
             carving_bytes=sum(r.get('carving_bytes', 0) for r in m['q'][q]['levels']),
@@ -301,6 +324,7 @@ for m in models:
             bpv_step4=round(bpv(ours4, N), 4), stream_bytes_two_levels=m['q'][q]['bytes_two'],
             bpv_two_levels=round(bpv(m['q'][q]['bytes_two'], N), 4),
             draco_kd_bytes=dr, draco_kd_bpv=round(bpv(dr, N), 4),
+            gpcc_bpv=g if g is not None else '', ratio_best=round(bpv(ours, N) / best, 4) if best else '',
             ratio=round(ours / dr, 4), ratio_step4=round(ours4 / dr, 4),
             ratio_two_levels=round(m['q'][q]['bytes_two'] / dr, 4),
             zstd_f32_xyz_bpv=round(bpv(m['ptsz'], N), 4) if m['ptsz'] else '',
@@ -318,6 +342,11 @@ for q in QS:
     r, r4 = ratios[q], ratios4[q]
     w('- q=%d: ratio min %.3f, max %.3f, mean %.3f over %d models; with --level-step 4 min %.3f, max %.3f, mean %.3f.' % (
         q, min(r), max(r), sum(r) / len(r), len(r), min(r4), max(r4), sum(r4) / len(r4)))
+    rb = ratios_best[q]
+    if rb:
+        w('  Against the better of G-PCC and Draco: %s (%d models with G-PCC figures; at most 1: %s).' % (
+            ', '.join('%s %.3f' % (n, x) for n, x in rb), len(rb),
+            ', '.join(n for n, x in rb if x <= 1) or 'none'))
 with open(os.path.join(benchd, 'bitrate.csv'), 'w', newline='') as f:
     cw = csv.DictWriter(f, fieldnames=list(csv_rows[0].keys()))
     cw.writeheader(); cw.writerows(csv_rows)
@@ -400,6 +429,29 @@ for m in models:
     t3.append(dict(name=m['name'], ours=ours, hdrs=hdrs, H=H, sb=sb, plb=plb, pay=pay, dr=dr, L=L, N=N))
     w('| %s | %d | %d | %.2f | %.3f | %.2f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %.3f |' % (
         m['name'], N, L, ours, hdrs, pay, H, sb, plb, plb - sb, pay - plb, dr, dr - sb))
+w('')
+
+w('### Table 3b: what the bits say, q = 14 (bits per vertex)\n')
+w('points, one set = the two-level stream (`--level-step 1000`) without its headers and corrections: '
+  'what our coder spends on the point set; which level = the every-level stream\'s points minus that '
+  '(telling which layer each vertex is in, net of what conditioning on the coarser levels saves); '
+  'corrections = every level\'s carving sections. G-PCC from BASELINES.md.\n')
+w('| model | N | ours | headers | points, one set | which level | corrections | G-PCC | ours − G-PCC | points, one set − G-PCC |')
+w('|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|')
+for m in models:
+    d = m['q'][14]; N = m['N']; L = d['L']
+    corr = sum(r.get('carving_bytes', 0) for r in d['levels']) * 8.0 / N
+    hdrs = (STREAM_HDR + LAYER_HDR * L) * 8.0 / N
+    pts = bpv(d['bytes'], N) - hdrs - corr
+    j2 = d['json_two']
+    l2 = [r for r in j2['levels'] if 'stream_level' in r] or j2['levels']
+    two = (j2['stream_bytes'] - STREAM_HDR - LAYER_HDR * len(l2) -
+           sum(r.get('carving_bytes', 0) for r in l2)) * 8.0 / N
+    g = GPCC.get(m['name'], {}).get(14)
+    w('| %s | %d | %.2f | %.3f | %.2f | %.2f | %.2f | %s | %s | %s |' % (
+        m['name'], N, bpv(d['bytes'], N), hdrs, two, pts - two, corr,
+        '%.2f' % g if g is not None else '-', '%+.2f' % (bpv(d['bytes'], N) - g) if g is not None else '-',
+        '%+.2f' % (two - g) if g is not None else '-'))
 w('')
 
 # Observations: generated from the measurements above, so a rerun keeps them true.
