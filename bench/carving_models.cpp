@@ -64,8 +64,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf(
-      "| stream | vertices | cells, all levels | flips | shipped bits | baseline | flips | verdicts | verdicts "
-      "without alpha's neighbours | + new vertices | flips 0-3 | coded count |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "| stream | vertices | cells, all levels | flips | shipped bits | baseline | flips | verdicts | "
+      "verdicts "
+      "without alpha's neighbours | + new vertices | flips 0-3 | coded count "
+      "|\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int i = 1; i < argc; ++i) {
     const std::vector<uint8_t> bytes = read_file(argv[i]);
     double shipped = 0, base = 0, flips_cost = 0, verdicts_cost = 0, plain_cost = 0, fresh_cost = 0,
@@ -115,9 +117,10 @@ int main(int argc, char** argv) {
         ++cells;
         flips += flip;
       }
-      shipped += 8.0 * static_cast<double>(dtm::encode_carving(dt, d.points(), level.alpha, kept,
-                                                                dtm::carving_contexts(d.header().version_major))
-                                               .size());
+      shipped +=
+          8.0 * static_cast<double>(dtm::encode_carving(dt, d.points(), level.alpha, kept,
+                                                        dtm::carving_contexts(d.header().version_major))
+                                        .size());
       base += c0.bits, flips_cost += c1.bits, verdicts_cost += c2.bits, plain_cost += c3.bits;
       fresh_cost += c4.bits, flips4_cost += c5.bits, coded_cost += c6.bits;
     };
@@ -125,8 +128,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s: %s\n", argv[i], s.message().c_str());
       return 1;
     }
-    std::printf("| %s | %zu | %llu | %llu | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f |\n", argv[i],
-                dec.points().size(), static_cast<unsigned long long>(cells),
+    std::printf("| %s | %zu | %llu | %llu | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f |\n",
+                argv[i], dec.points().size(), static_cast<unsigned long long>(cells),
                 static_cast<unsigned long long>(flips), shipped, base, flips_cost, verdicts_cost, plain_cost,
                 fresh_cost, flips4_cost, coded_cost);
     std::fflush(stdout);

@@ -43,13 +43,13 @@ using dtm::AdaptiveBit;
 using dtm::GridPoint;
 using dtm::MortonCode;
 using namespace dtm::layer_coder;
-using dtm::kKnownClasses;
-using dtm::kSmallMax;
-using dtm::kSplitContexts;
 using dtm::kBisectNodes;
+using dtm::kKnownClasses;
 using dtm::kLargeClasses;
 using dtm::kPrefixBits;
 using dtm::kReuseContexts;
+using dtm::kSmallMax;
+using dtm::kSplitContexts;
 
 // The points the decoder holds, for nearest-point queries: a hash grid.
 class NearPoints {
@@ -119,8 +119,8 @@ const char* name(Model m) {
 
 static double kLowestZ = -3;
 static int kMaxSteps = 64;
-constexpr int kSizeClasses = 12;  // half octaves of node extent / spacing, from 1/8 up
-constexpr int kNearBuckets = 9;   // d0 / (d0 + d1) in ninths
+constexpr int kSizeClasses = 12;     // half octaves of node extent / spacing, from 1/8 up
+constexpr int kNearBuckets = 9;      // d0 / (d0 + d1) in ninths
 constexpr int kDistanceBuckets = 7;  // d / s: 0, 1/4, 1/2, 3/4, 1, 3/2, 2 and up
 int distance_bucket(double u) {
   static constexpr double kSteps[] = {0.25, 0.5, 0.75, 1.0, 1.5, 2.0};
@@ -150,8 +150,8 @@ struct Tables {
 
 class CostCoder {
  public:
-  CostCoder(std::span<const MortonCode> known, std::span<const MortonCode> fresh, int qbits, Tables& t, Model m,
-            NearPoints& near)
+  CostCoder(std::span<const MortonCode> known, std::span<const MortonCode> fresh, int qbits, Tables& t,
+            Model m, NearPoints& near)
       : known_(known), fresh_(fresh), qbits_(qbits), bits_(3 * qbits), t_(t), model_(m), near_(near) {}
 
   double run() {
@@ -277,7 +277,8 @@ class CostCoder {
     for (int a = 0; a < 3; ++a) {
       const int r = remaining_bits(qbits_, depth, a);
       if (r == 0) continue;
-      const uint64_t first = static_cast<uint64_t>(axis_of(lo, a)), value = static_cast<uint64_t>(axis_of(p, a));
+      const uint64_t first = static_cast<uint64_t>(axis_of(lo, a)),
+                     value = static_cast<uint64_t>(axis_of(p, a));
       const dtm::CoordinateSet& used = t_.used[a];
       const uint64_t m = used.count_in(first, first + (uint64_t{1} << r));
       if (m == 0) {

@@ -33,19 +33,24 @@ void visit_corrections(const TetMesh& dt, const CarvingPrediction& p, CarvingCon
     for (uint32_t c : p.order) kept[c] ^= static_cast<uint8_t>(code_bit(models[p.context[c]], c));
     return;
   }
+  // context(c) needs only what changed around c since alpha's prediction:
+  // the neighbours decoded as wrong. p.context holds each cell's context
+  // from alpha's verdicts alone (bucket and kept neighbours); a cell decoded
+  // as wrong tells each neighbour (those decoded already do not look again),
+  // so the pass costs a neighbour walk per wrong cell only.
   std::array<AdaptiveBit, kDecodedNeighbourContexts> models;
-  std::vector<uint8_t> decoded(dt.cells.size(), 0);
+  std::vector<int8_t> kept_change(dt.cells.size(), 0);  // kept neighbours gained (lost)
+  std::vector<uint8_t> wrong(dt.cells.size(), 0);       // neighbours decoded as wrong
   for (uint32_t c : p.order) {
-    int neighbours_kept = 0, wrong = 0;
+    const int context = (p.context[c] + kept_change[c]) * 3 + std::min<int>(wrong[c], 2);
+    if (!code_bit(models[static_cast<size_t>(context)], c)) continue;
+    kept[c] ^= 1;
     for (int32_t n : dt.neighbors[c]) {
       if (n < 0) continue;
       const auto k = static_cast<size_t>(n);
-      neighbours_kept += kept[k];
-      if (decoded[k]) wrong += kept[k] != p.kept[k];
+      kept_change[k] = static_cast<int8_t>(kept_change[k] + (kept[c] ? 1 : -1));
+      ++wrong[k];
     }
-    const int context = ((p.bucket[c] / 2) * 5 + neighbours_kept) * 3 + std::min(wrong, 2);
-    kept[c] ^= static_cast<uint8_t>(code_bit(models[static_cast<size_t>(context)], c));
-    decoded[c] = 1;
   }
 }
 
@@ -76,19 +81,20 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
         }
       },
       2);
-  if (contexts == CarvingContexts::kAlphaNeighbours) {
-    p.context.resize(m);
-    parallel_for(
-        blocks,
-        [&](size_t block) {
-          for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c) {
-            int kept_neighbors = 0;
-            for (int32_t n : dt.neighbors[c]) kept_neighbors += n >= 0 && p.kept[static_cast<size_t>(n)];
-            p.context[c] = static_cast<uint8_t>(p.bucket[c] * 5 + kept_neighbors);
-          }
-        },
-        2);
-  }
+  // The context from alpha's verdicts: the whole of 4.0's, the start of 6.0's.
+  const bool half_octaves = contexts == CarvingContexts::kDecodedNeighbours;
+  p.context.resize(m);
+  parallel_for(
+      blocks,
+      [&](size_t block) {
+        for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c) {
+          int kept_neighbors = 0;
+          for (int32_t n : dt.neighbors[c]) kept_neighbors += n >= 0 && p.kept[static_cast<size_t>(n)];
+          p.context[c] =
+              static_cast<uint8_t>((half_octaves ? p.bucket[c] / 2 : p.bucket[c]) * 5 + kept_neighbors);
+        }
+      },
+      2);
   p.order = canonical_cell_order(dt.cells);  // the identity for an exported triangulation
   return p;
 }
