@@ -31,13 +31,15 @@ done
 python3 - "$root" "$data" "$(( $(date +%s) - start ))" $MODELS <<'PY'
 import csv, json, sys, subprocess
 root, data, seconds, models = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
-# MPEG G-PCC (TMC13 v23, lossless octree, q = 14) as measured for issue 12;
-# the codec is not on these machines.
-gpcc = {"bunny_10k": 28.19, "bunny_100k": 23.84}
-draco = {}
+# Draco's and MPEG G-PCC's points-only files at q = 14, as bench/bitrate.sh
+# tabulates them (G-PCC: TMC13 v23's lossless octree from
+# shared/data/BASELINES.md; the codec is not on these machines).
+gpcc, draco = {}, {}
 for row in csv.DictReader(open(f"{root}/bench/bitrate.csv")):
     if row["q"] == "14":
         draco[row["model"]] = float(row["draco_kd_bpv"])
+        if row.get("gpcc_bpv"):
+            gpcc[row["model"]] = float(row["gpcc_bpv"])
 commit = subprocess.run(["git", "-C", root, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
 lines = ["# The codec's levels on the TetGen corpus", "",
          "Written by `bench/levels.sh` (do not edit by hand; rerun it). "
@@ -50,7 +52,7 @@ lines = ["# The codec's levels on the TetGen corpus", "",
          "centroids) to the reference's boundary surface (max / mean). Quality = average over the level's cells of their smallest solid angle, "
          "and its ratio to level 0's. Draco = `draco_encoder -point_cloud` kd-tree at q = 14 "
          "(bench/bitrate.csv, the smaller of -cl 10 / -cl 4). G-PCC = MPEG's TMC13 v23 lossless "
-         "octree at q = 14 as measured for issue 12 (bunny_10k, bunny_100k only; not installed here). "
+         "octree at q = 14, the best of its variants (shared/data/BASELINES.md through bench/bitrate.csv; not installed here). "
          "Level 0 vs input = the volume inside exactly one of level 0's solid and the input's tetrahedra, "
          "as a share of the input's volume (`level0_difference` in the report: shared tetrahedra cancel, the others "
          "are sampled at 400 uniform points each).", "",

@@ -21,6 +21,10 @@
 //   the shipped raw or reused coordinates.
 // - single: a node with one new point and known ones takes the same context
 //   beside its known-point classes.
+// - distances: as single, the lone points' context being each half's
+//   distance over the spacing, in 7 buckets each.
+// - axis (on the shipped rules alone): the split's axis added to the
+//   contexts of nodes with 2-12 new points and of single points.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -102,7 +106,7 @@ class NearPoints {
   std::vector<double> spacing_;
 };
 
-enum class Model { kBaseline, kSpacing, kSingle, kDistances };
+enum class Model { kBaseline, kSpacing, kSingle, kDistances, kAxis };
 const char* name(Model m) {
   switch (m) {
     case Model::kBaseline:
@@ -113,6 +117,8 @@ const char* name(Model m) {
       return "single";
     case Model::kDistances:
       return "distances";
+    case Model::kAxis:
+      return "axis";
   }
   return "?";
 }
@@ -133,6 +139,8 @@ struct Tables {
   AdaptiveBit single[kKnownClasses][kKnownClasses];
   AdaptiveBit single_near[3][3][kSizeClasses][kNearBuckets];
   AdaptiveBit small[kSmallMax + 1][kSplitContexts][kBisectNodes];
+  AdaptiveBit small_axis[3][kSmallMax + 1][kSplitContexts][kBisectNodes];
+  AdaptiveBit single_axis[3][kKnownClasses][kKnownClasses];
   AdaptiveBit large_prefix[kLargeClasses][kPrefixBits + 1];
   AdaptiveBit reuse[3][kReuseContexts];
   AdaptiveBit lone[kSizeClasses][kNearBuckets];
@@ -225,14 +233,18 @@ class CostCoder {
     const uint64_t n0 = fm - f0, kn0 = km - k0;
     if (n == 1) {
       int size_class = 0;
-      const int c = model_ >= Model::kSingle ? near_context(depth, base, size_class) : -1;
-      if (c >= 0)
+      const int c =
+          model_ >= Model::kSingle && model_ != Model::kAxis ? near_context(depth, base, size_class) : -1;
+      if (model_ == Model::kAxis)
+        bit(t_.single_axis[depth % 3][known_class(kn0)][known_class(k - kn0)], n0 == 0);
+      else if (c >= 0)
         bit(t_.single_near[std::min(known_class(kn0), 2)][std::min(known_class(k - kn0), 2)][size_class][c],
             n0 == 0);
       else
         bit(t_.single[known_class(kn0)][known_class(k - kn0)], n0 == 0);
     } else if (n <= kSmallMax) {
-      auto& models = t_.small[n][split_context(kn0, k)];
+      auto& models = model_ == Model::kAxis ? t_.small_axis[depth % 3][n][split_context(kn0, k)]
+                                            : t_.small[n][split_context(kn0, k)];
       uint64_t lo = 0, hi = n;
       int heap = 1;
       while (lo < hi) {
@@ -260,7 +272,7 @@ class CostCoder {
   }
 
   void lone(int depth, MortonCode base, MortonCode code) {
-    if (model_ >= Model::kSpacing) {
+    if (model_ >= Model::kSpacing && model_ != Model::kAxis) {
       // Halves chosen by adaptive bits while the node is large against the spacing.
       for (int step = 0; bits_ - depth > 0 && step < kMaxSteps; ++step) {
         int size_class = 0, b[2] = {0, 0};
@@ -268,7 +280,7 @@ class CostCoder {
         if (c < 0) break;
         const MortonCode mid = base + (MortonCode{1} << (bits_ - depth - 1));
         const bool upper = code >= mid;
-        bit(model_ >= Model::kDistances ? t_.lone_d[size_class][b[0]][b[1]] : t_.lone[size_class][c], upper);
+        bit(model_ == Model::kDistances ? t_.lone_d[size_class][b[0]][b[1]] : t_.lone[size_class][c], upper);
         if (upper) base = mid;
         ++depth;
       }
@@ -321,7 +333,7 @@ int main(int argc, char** argv) {
   }
   if (const char* e = std::getenv("PM_LOWEST_Z")) kLowestZ = std::atof(e);
   if (const char* e = std::getenv("PM_MAX_STEPS")) kMaxSteps = std::atoi(e);
-  const Model models[] = {Model::kBaseline, Model::kSpacing, Model::kSingle, Model::kDistances};
+  const Model models[] = {Model::kBaseline, Model::kSpacing, Model::kSingle, Model::kDistances, Model::kAxis};
   std::printf("| stream | vertices | shipped payload bpv | ");
   for (Model m : models) std::printf("%s bpv | ", name(m));
   std::printf("lone share (baseline) |\n|---|---:|---:|");

@@ -65,7 +65,7 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
   const size_t m = dt.cells.size();
   CarvingPrediction p;
   p.kept.resize(m);
-  p.bucket.resize(m);
+  std::vector<uint8_t> bucket(m);
   // Each cell on its own: every core (the same bits whatever the split).
   constexpr size_t kBlock = 4096;
   const size_t blocks = (m + kBlock - 1) / kBlock;
@@ -76,7 +76,7 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
           const double radius = carving_radius(points, dt.cells[c]);
           uint8_t b = 0;
           for (double step : kRatioSteps) b += radius > step * alpha;
-          p.bucket[c] = b;
+          bucket[c] = b;
           p.kept[c] = radius <= alpha;
         }
       },
@@ -91,7 +91,7 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
           int kept_neighbors = 0;
           for (int32_t n : dt.neighbors[c]) kept_neighbors += n >= 0 && p.kept[static_cast<size_t>(n)];
           p.context[c] =
-              static_cast<uint8_t>((half_octaves ? p.bucket[c] / 2 : p.bucket[c]) * 5 + kept_neighbors);
+              static_cast<uint8_t>((half_octaves ? bucket[c] / 2 : bucket[c]) * 5 + kept_neighbors);
         }
       },
       2);

@@ -38,10 +38,10 @@ CarvingContexts carving_contexts(uint8_t format_major);
 // the context of its correction starts from; and the canonical order of the
 // cells (each cell's ids ascending, cells ascending).
 struct CarvingPrediction {
-  std::vector<uint8_t> kept;    // per cell: alpha keeps it
-  std::vector<uint8_t> bucket;  // per cell: < kCarvingRatioBuckets
+  std::vector<uint8_t> kept;  // per cell: alpha keeps it
   // Per cell, the context from alpha's verdicts alone: 4.0's whole context
-  // (< kAlphaNeighbourContexts); 6.0's half-octave bucket and kept
+  // (the circumradius bucket, < kCarvingRatioBuckets, and the kept
+  // neighbours: < kAlphaNeighbourContexts); 6.0's half-octave bucket and kept
   // neighbours, which the decoded verdicts then change.
   std::vector<uint8_t> context;
   std::vector<uint32_t> order;  // cell indices in coding order
