@@ -90,8 +90,6 @@ class NearPoints {
     }
     return {std::sqrt(best), s};
   }
-  size_t size() const { return pts_.size(); }
-  const GridPoint& point(size_t i) const { return pts_[i]; }
   void set_spacing(size_t i, double s) { spacing_[i] = s; }
 
  private:
@@ -166,7 +164,7 @@ class CostCoder {
     node(0, 0, 0, fresh_.size(), 0, known_.size());
     return cost_;
   }
-  double lone_bits = 0, split_bits = 0;
+  double lone_bits = 0;
 
  private:
   void bit(AdaptiveBit& a, bool b) {
@@ -226,7 +224,6 @@ class CostCoder {
       lone_bits += cost_ - before;
       return;
     }
-    const double before = cost_;
     const MortonCode mid = base + (MortonCode{1} << (rest - 1));
     const size_t fm = split_index(fresh_, f0, f1, mid);
     const size_t km = split_index(known_, k0, k1, mid);
@@ -266,7 +263,6 @@ class CostCoder {
       bit(prefix[e], false);
       cost_ += e;
     }
-    split_bits += cost_ - before;
     if (fm > f0) node(depth + 1, base, f0, fm, k0, km);
     if (f1 > fm) node(depth + 1, mid, fm, f1, km, k1);
   }

@@ -6,7 +6,7 @@
 // in a canonical order and the contexts use only what the decoder has: the
 // cell's circumradius over alpha and its face neighbours: from 6.0 the
 // verdicts of those already decoded (a wrong prediction comes in patches
-// along the surface: bench/carving_models measured 14-45% fewer bits on the
+// along the surface: bench/carving_models measured 10-45% fewer bits on the
 // corpus than 4.0's contexts, which count the neighbours alpha keeps). Each
 // level's section is coded alone (fresh models), so a decoder reads the
 // sections of the levels it shows and no other.
