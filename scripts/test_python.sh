@@ -37,32 +37,72 @@ case "$step" in
     "$build/tools/meshenc" "$build/paraview_bunny.node" -q -o "$stream" --box 256 --dmax 2
     # pvbatch runs on Debian's Python: the venv's dtmesh is put on its path.
     site="$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
-    # pvbatch renders through GLX, so it needs an X server. Under xvfb-run
-    # the server once refused pvbatch in CI ("bad X server connection") and
-    # xvfb-run had thrown Xvfb's messages away; so Xvfb is started here:
-    # -displayfd picks a free display and writes its number only once the
-    # server listens, and whatever Xvfb says is shown if anything fails.
+    # pvbatch renders through GLX, so it needs an X server. In CI the server
+    # has twice refused pvbatch ("bad X server connection"): once under
+    # xvfb-run, once under an Xvfb that had announced its display through
+    # -displayfd, with nothing in Xvfb's log either time. So the server is
+    # not trusted until a client has really opened it (libX11's XOpenDisplay,
+    # what VTK calls), a server that never lets one in is replaced by a fresh
+    # one on another display, and what the machine's X sockets look like is
+    # printed if every attempt fails.
     display_file="$build/paraview_xvfb.display" xvfb_log="$build/paraview_xvfb.log"
-    rm -f "$display_file"
-    Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$display_file" 2>"$xvfb_log" &
-    xvfb=$!
-    trap 'kill "$xvfb" 2>/dev/null || true' EXIT
-    for _ in $(seq 300); do
-      grep -q '^[0-9][0-9]*$' "$display_file" 2>/dev/null && break
-      kill -0 "$xvfb" 2>/dev/null || break
-      sleep 0.1
+    xvfb=""
+    trap '[ -z "$xvfb" ] || kill "$xvfb" 2>/dev/null || true' EXIT
+    start_xvfb() {
+      rm -f "$display_file"
+      Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$display_file" 2>"$xvfb_log" &
+      xvfb=$!
+      for _ in $(seq 300); do
+        grep -q '^[0-9][0-9]*$' "$display_file" 2>/dev/null && break
+        kill -0 "$xvfb" 2>/dev/null || break
+        sleep 0.1
+      done
+      grep -q '^[0-9][0-9]*$' "$display_file" 2>/dev/null || return 1
+      # Up to 10 s for the announced display to accept a client.
+      DISPLAY=":$(cat "$display_file")" "$python" -c '
+import ctypes, sys, time
+x11 = ctypes.CDLL("libX11.so.6")
+x11.XOpenDisplay.restype = ctypes.c_void_p
+x11.XOpenDisplay.argtypes = [ctypes.c_char_p]
+x11.XCloseDisplay.argtypes = [ctypes.c_void_p]
+for _ in range(100):
+    d = x11.XOpenDisplay(None)
+    if d:
+        x11.XCloseDisplay(d)
+        sys.exit(0)
+    time.sleep(0.1)
+sys.exit(1)'
+    }
+    stop_xvfb() {
+      kill "$xvfb" 2>/dev/null || true
+      wait "$xvfb" 2>/dev/null || true
+      xvfb=""
+    }
+    report_x() {
+      echo "$1; Xvfb (display :$(cat "$display_file" 2>/dev/null)) said:" >&2
+      cat "$xvfb_log" >&2
+      ls -la /tmp/.X11-unix >&2 2>&1 || true
+    }
+    # Up to 3 servers; only a refused X connection is worth another try,
+    # any other failure of pvbatch is the reader's and ends the test.
+    pvbatch_out="$build/paraview_pvbatch.out"
+    for attempt in 1 2 3; do
+      if ! start_xvfb; then
+        report_x "attempt $attempt: the X server did not let a client in"
+        stop_xvfb
+        continue
+      fi
+      if DISPLAY=":$(cat "$display_file")" PYTHONPATH="$site" pvbatch "$root/paraview/tests/check_reader.py" \
+          "$root/paraview/dtmesh_reader.py" "$stream" "$build/tools/meshinfo" "$build/paraview_reader.png" \
+          > >(tee "$pvbatch_out") 2>&1; then
+        exit 0
+      fi
+      report_x "attempt $attempt: pvbatch failed"
+      grep -q "bad X server connection" "$pvbatch_out" || exit 1
+      stop_xvfb
     done
-    if ! grep -q '^[0-9][0-9]*$' "$display_file" 2>/dev/null; then
-      echo "Xvfb did not start; it said:" >&2
-      cat "$xvfb_log" >&2
-      exit 1
-    fi
-    if ! DISPLAY=":$(cat "$display_file")" PYTHONPATH="$site" pvbatch "$root/paraview/tests/check_reader.py" \
-        "$root/paraview/dtmesh_reader.py" "$stream" "$build/tools/meshinfo" "$build/paraview_reader.png"; then
-      echo "pvbatch failed; Xvfb said:" >&2
-      cat "$xvfb_log" >&2
-      exit 1
-    fi
+    echo "no X server let pvbatch in after 3 attempts" >&2
+    exit 1
     ;;
   *)
     echo "usage: $0 install|pytest|paraview BUILD" >&2
