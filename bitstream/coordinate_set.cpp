@@ -25,6 +25,17 @@ CoordinateSet::CoordinateSet(int qbits) {
   top_bit_ = std::bit_floor(blocks);
 }
 
+CoordinateSet::CoordinateSet(const CoordinateSet& other)
+    : blocks_(other.blocks_.size()), tree_(other.tree_), top_bit_(other.top_bit_) {
+  for (size_t b = 0; b < blocks_.size(); ++b)
+    if (other.blocks_[b]) blocks_[b] = std::make_unique<Block>(*other.blocks_[b]);
+}
+
+CoordinateSet& CoordinateSet::operator=(const CoordinateSet& other) {
+  if (this != &other) *this = CoordinateSet(other);
+  return *this;
+}
+
 void CoordinateSet::insert(uint32_t value) {
   auto& block = blocks_[value >> kBlockShift];
   if (!block) block = std::make_unique<Block>();  // zeroed

@@ -21,6 +21,11 @@ class CoordinateSet {
   // Values in [0, 2^qbits), 1 <= qbits <= 24. Costs 12 bytes per block of
   // 4096 values (48 KiB at q = 24) plus 512 bytes per block in use.
   explicit CoordinateSet(int qbits);
+  CoordinateSet(const CoordinateSet& other);
+  CoordinateSet& operator=(const CoordinateSet& other);
+  CoordinateSet(CoordinateSet&&) noexcept = default;
+  CoordinateSet& operator=(CoordinateSet&&) noexcept = default;
+  ~CoordinateSet() = default;
 
   void insert(uint32_t value);
   bool contains(uint32_t value) const;

@@ -111,6 +111,8 @@ class ProgressiveDecoder {
   Status step(const LevelCallback& on_level);
   Status fail(Status s);
   void insert_pending() const;
+  // The layer's new points in Morton order, merged into known_.
+  Status decode_layer_points(const Layer& layer, std::vector<GridPoint>& added);
 
   DecoderOptions options_;
   std::vector<uint8_t> pending_;  // bytes received and not yet consumed

@@ -2,6 +2,7 @@
 
 #include "codec/carving_coder.h"
 #include "codec/decode.h"
+#include "codec/layer_candidates.h"
 #include "codec/layer_coder.h"
 #include "mesh/geometry.h"
 #include "mesh/topology.h"
@@ -68,11 +69,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   const LayerHeader& lh = layer.header;
 
   std::vector<GridPoint> added;
-  // The coder itself rejects a point repeated within the layer or already
-  // known from a coarser one.
-  DTM_RETURN_IF_ERROR(
-      decode_point_set(layer.payload, known_, header_.grid.qbits, lh.new_vertices, models_, added)
-          .with_context(where));
+  DTM_RETURN_IF_ERROR(decode_layer_points(layer, added).with_context(where));
   if (levels_.empty() && !spans_three_dimensions(added))
     return {StatusCode::kCorrupt, where + ": the base level does not span three dimensions"};
   if (value_decoder_) {
@@ -88,7 +85,6 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
       fields_[f].bits.insert(fields_[f].bits.end(), layer_values_[f].bits.begin(),
                              layer_values_[f].bits.end());
   }
-  merge_known(known_, added, header_.grid.qbits);
   points_.insert(points_.end(), added.begin(), added.end());
   ++layers_pending_;
 
@@ -104,6 +100,49 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   pending_start_ += layer.size();
   if (on_level) on_level(*this, d);
   if (level == options_.stop_after_level) stopped_ = true;
+  return Status::Ok();
+}
+
+Status ProgressiveDecoder::decode_layer_points(const Layer& layer, std::vector<GridPoint>& added) {
+  const LayerHeader& lh = layer.header;
+  const int qbits = header_.grid.qbits;
+  // The coder itself rejects a point repeated within the layer or already
+  // known from a coarser one.
+  if (lh.candidate_kinds == 0) {
+    DTM_RETURN_IF_ERROR(decode_point_set(layer.payload, known_, qbits, lh.new_vertices, models_, added));
+    merge_known(known_, added, qbits);
+    return Status::Ok();
+  }
+  // 7.0: the candidates come from DT(V_{l+1}), the points decoded so far.
+  insert_pending();
+  DTM_RETURN_IF_ERROR(mesh_status_);
+  const CandidateList candidates =
+      layer_candidates(dt_.finite_cells(), points_, known_, qbits, lh.candidate_kinds);
+  std::vector<GridPoint> sent;
+  DTM_RETURN_IF_ERROR(decode_candidate_section(layer.candidates, candidates, lh.new_vertices, sent));
+  std::vector<MortonCode> sent_codes;
+  sent_codes.reserve(sent.size());
+  for (const GridPoint& p : sent) sent_codes.push_back(morton_encode(p, qbits));
+  std::sort(sent_codes.begin(), sent_codes.end());
+  for (size_t i = 0; i < sent_codes.size(); ++i)
+    if ((i > 0 && sent_codes[i] == sent_codes[i - 1]) ||
+        std::binary_search(known_.begin(), known_.end(), sent_codes[i]))
+      return {StatusCode::kCorrupt, "candidates: a point sent twice, or known from a coarser level"};
+  models_.note_points(sent);
+  merge_known(known_, sent, qbits);
+  std::vector<GridPoint> rest;
+  const auto left = static_cast<uint32_t>(lh.new_vertices - sent.size());
+  DTM_RETURN_IF_ERROR(decode_point_set(layer.payload, known_, qbits, left, models_, rest));
+  merge_known(known_, rest, qbits);
+  // The layer in Morton order, as a layer without candidates comes out.
+  added.reserve(lh.new_vertices);
+  for (const MortonCode c : sent_codes) added.push_back(morton_decode(c, qbits));
+  const size_t middle = added.size();
+  added.insert(added.end(), rest.begin(), rest.end());
+  std::inplace_merge(added.begin(), added.begin() + static_cast<std::ptrdiff_t>(middle), added.end(),
+                     [qbits](const GridPoint& a, const GridPoint& b) {
+                       return morton_encode(a, qbits) < morton_encode(b, qbits);
+                     });
   return Status::Ok();
 }
 

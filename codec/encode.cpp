@@ -217,6 +217,8 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
                        encode_stream(h, q.points, q.grid, options.alpha, stream_options, std::move(fields)));
   report.layer_bytes = std::move(stream.layer_bytes);
   report.carving_bytes = std::move(stream.carving_bytes);
+  report.candidate_bytes = std::move(stream.candidate_bytes);
+  report.candidate_points = std::move(stream.candidate_points);
   report.value_bytes = std::move(stream.value_bytes);
   report.level_field_bytes = std::move(stream.level_field_bytes);
   for (size_t f = 0; f < stream.fields.size(); ++f)

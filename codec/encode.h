@@ -148,6 +148,8 @@ struct EncodeReport {
   std::vector<LevelReport> levels;                       // every hierarchy level, finest first
   std::vector<uint64_t> layer_bytes;                     // per hierarchy level; 0 if not streamed
   std::vector<uint64_t> carving_bytes;                   // of those, the carving corrections
+  std::vector<uint64_t> candidate_bytes;                 // of those, the candidate section (7.0)
+  std::vector<uint64_t> candidate_points;                // the points it sends
   std::vector<uint64_t> value_bytes;                     // of those, the values
   std::vector<std::vector<uint64_t>> level_field_bytes;  // and of those, each field's (empty if not streamed)
   std::vector<FieldReport> fields;

@@ -41,6 +41,10 @@ struct EncodedStream {
   // values' (§3.3).
   std::vector<uint64_t> carving_bytes;
   std::vector<uint64_t> value_bytes;
+  // Of those, the candidate section's (§3.4; 0 where the layer sends every
+  // point through the set coder), and how many points it sends.
+  std::vector<uint64_t> candidate_bytes;
+  std::vector<uint64_t> candidate_points;
   // The field table as written (with its scales), each field's bytes over
   // every layer, and the table's own size.
   std::vector<FieldDescription> fields;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "codec/layer_candidates.h"
 #include "codec/layer_coder.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
@@ -134,11 +135,14 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
 }
 
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
-                                 std::span<const uint8_t> carving, std::span<const uint8_t> values) {
+                                 std::span<const uint8_t> carving, std::span<const uint8_t> values,
+                                 std::span<const uint8_t> candidates) {
+  h.candidate_bytes = static_cast<uint32_t>(candidates.size());
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
   h.value_bytes = static_cast<uint32_t>(values.size());
-  std::vector<uint8_t> body(payload.begin(), payload.end());
+  std::vector<uint8_t> body(candidates.begin(), candidates.end());
+  body.insert(body.end(), payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
   body.insert(body.end(), values.begin(), values.end());
   FieldWriter writer;
@@ -166,7 +170,8 @@ Status LayerWalk::check(const LayerHeader& h) const {
   if (h.level == 0 && h.level_vertices != header_.vertex_count)
     return corrupt("finest level's vertex count differs from the header's");
   if (std::isnan(h.alpha) || !(h.alpha > 0)) return corrupt("alpha is not positive");
-  if (h.payload_bytes < min_payload_bytes(h.new_vertices))
+  // (With candidates, the payload holds only the points they do not send.)
+  if (h.candidate_kinds == 0 && h.payload_bytes < min_payload_bytes(h.new_vertices))
     return corrupt("payload too short for its point count");
   if (!(header_.flags & kFlagCarvingCorrections) && h.carving_bytes != 0)
     return corrupt("carving corrections present without their flag");
@@ -174,6 +179,13 @@ Status LayerWalk::check(const LayerHeader& h) const {
     return corrupt("a value section present without its flag");
   if (!(header_.flags & kFlagCellHashes) && h.cell_hash != 0)
     return corrupt("cell hash present without its flag");
+  if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
+  if (h.candidate_kinds != 0 && previous_vertices_ == 0)
+    return corrupt("candidates at the base level, which has no coarser level");
+  if (h.candidate_kinds != 0 && header_.grid.qbits > kMaxCandidateQBits)
+    return corrupt("candidates on a grid of more than 19 bits");
+  if (h.candidate_kinds == 0 && h.candidate_bytes != 0)
+    return corrupt("a candidate section without candidate kinds");
   if (h.level_vertices > max_level_vertices_)
     return {StatusCode::kLimitExceeded, std::to_string(h.level_vertices) + " vertices exceed the limit of " +
                                             std::to_string(max_level_vertices_)};
@@ -198,9 +210,11 @@ Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   if (bytes.size() - header_size < layer.header.body_bytes())
     return {StatusCode::kNeedMoreInput, "layer incomplete"};
   const std::span<const uint8_t> body = bytes.subspan(header_size, layer.header.body_bytes());
-  layer.payload = body.first(layer.header.payload_bytes);
-  layer.carving = body.subspan(layer.header.payload_bytes, layer.header.carving_bytes);
-  layer.values = body.subspan(layer.header.payload_bytes + layer.header.carving_bytes);
+  const LayerHeader& lh = layer.header;
+  layer.candidates = body.first(lh.candidate_bytes);
+  layer.payload = body.subspan(lh.candidate_bytes, lh.payload_bytes);
+  layer.carving = body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes, lh.carving_bytes);
+  layer.values = body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();

@@ -5,7 +5,9 @@
 //   stream = header, [field table], layer(L), layer(L-1), ..., layer(0)
 //   header = kHeaderSize bytes (below), ending with its own checksum
 //   field table (5.0, with kFlagValues): codec/value_fields.h
-//   layer  = layer header + payload (the level's new points)
+//   layer  = layer header + candidate section (7.0: new points beside the
+//            coarser level's circumcentres and edge midpoints)
+//            + payload (the level's other new points)
 //            + carving section (4.0: the level's carving corrections)
 //            + value section (5.0: the new points' values)
 #pragma once
@@ -26,10 +28,11 @@
 namespace dtm {
 
 inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0A, 0x1A, 0x0A};
-// The encoder writes the oldest version that says all the stream holds: 6.0
-// when it carries carving corrections (6.0's contexts code them), else 5.0
-// when it carries values, else 4.0; the decoder reads 2.x to 6.x.
-inline constexpr uint8_t kVersionMajor = 6;
+// The encoder writes the oldest version that says all the stream holds: 7.0
+// when it carries carving corrections (the codec preset, whose layers may
+// send points beside candidates; 6.0's correction contexts), else 5.0 when
+// it carries values, else 4.0; the decoder reads 2.x to 7.x.
+inline constexpr uint8_t kVersionMajor = 7;
 inline constexpr uint8_t kVersionMajorWithValues = 5;
 inline constexpr uint8_t kVersionMajorWithoutValues = 4;
 inline constexpr uint8_t kOldestVersionMajor = 2;  // the decoder also reads 2.x
@@ -63,10 +66,17 @@ struct LayerHeader {
   uint32_t payload_bytes = 0;
   uint32_t carving_bytes = 0;  // 4.0 and later: the carving section, after the payload
   uint32_t value_bytes = 0;    // 5.0 and later: the value section, after the carving section
-  uint64_t cell_hash = 0;      // meaningful with kFlagCellHashes, else 0
-  uint64_t checksum = 0;       // XXH3-64 of the header bytes before it and the body
+  // 7.0 and later: which candidates the layer's points are sent beside
+  // (codec/layer_candidates.h; 0 = none, always at the base level) and the
+  // candidate section's size, before the payload.
+  uint8_t candidate_kinds = 0;
+  uint32_t candidate_bytes = 0;
+  uint64_t cell_hash = 0;  // meaningful with kFlagCellHashes, else 0
+  uint64_t checksum = 0;   // XXH3-64 of the header bytes before it and the body
 
-  uint64_t body_bytes() const { return uint64_t{payload_bytes} + carving_bytes + value_bytes; }
+  uint64_t body_bytes() const {
+    return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + value_bytes;
+  }
 };
 
 // The fields of each header in stream order, described once: writing,
@@ -103,6 +113,10 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
   v.template field<uint32_t>("payload_bytes", h.payload_bytes);
   if (h.format_major >= 4) v.template field<uint32_t>("carving_bytes", h.carving_bytes);
   if (h.format_major >= 5) v.template field<uint32_t>("value_bytes", h.value_bytes);
+  if (h.format_major >= 7) {
+    v.template field<uint8_t>("candidate_kinds", h.candidate_kinds);
+    v.template field<uint32_t>("candidate_bytes", h.candidate_bytes);
+  }
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -141,7 +155,7 @@ inline constexpr size_t kHeaderSize = sized<StreamHeader>().size;
 constexpr size_t layer_header_size(uint8_t format_major) { return sized<LayerHeader>(format_major).size; }
 inline constexpr size_t kLayerHeaderSize = layer_header_size(kVersionMajor);
 static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_size(4) == 42 &&
-                  kLayerHeaderSize == 46,
+                  layer_header_size(6) == 46 && kLayerHeaderSize == 51,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -149,14 +163,17 @@ std::vector<uint8_t> write_header(StreamHeader h);
 // fewer than kHeaderSize bytes are given.
 Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h);
 
-// The layer header (checksum computed) followed by the payload, the carving
-// section (4.0 and later) and the value section (5.0 and later).
+// The layer header (checksum computed) followed by the candidate section
+// (7.0 and later), the payload, the carving section (4.0 and later) and the
+// value section (5.0 and later).
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
-                                 std::span<const uint8_t> carving = {}, std::span<const uint8_t> values = {});
+                                 std::span<const uint8_t> carving = {}, std::span<const uint8_t> values = {},
+                                 std::span<const uint8_t> candidates = {});
 
 // A whole, checksummed layer, as LayerWalk returns it.
 struct Layer {
   LayerHeader header;
+  std::span<const uint8_t> candidates;
   std::span<const uint8_t> payload;
   std::span<const uint8_t> carving;
   std::span<const uint8_t> values;

@@ -48,6 +48,12 @@ class SetCoderModels {
   // Format 3: lone points' coordinates may be sent as values the stream has
   // already used (§3.1). Call before the first layer, with the stream's qbits.
   void enable_coordinate_reuse(int qbits);
+  // Format 7.0: points a layer sends outside the set coder (beside
+  // candidates, codec/layer_candidates.h) count as used coordinates, as the
+  // set coder's own do; noted before the layer's payload.
+  void note_points(std::span<const GridPoint> points);
+  // A copy, for an encoder that tries a layer two ways and keeps one.
+  SetCoderModels clone() const;
   ~SetCoderModels();
   SetCoderModels(SetCoderModels&&) noexcept;
   SetCoderModels& operator=(SetCoderModels&&) noexcept;

@@ -6,9 +6,79 @@
 #include "codec/carving_coder.h"
 #include "codec/expert_encode.h"
 #include "codec/format.h"
+#include "codec/layer_candidates.h"
 #include "codec/layer_coder.h"
 
 namespace dtm {
+
+namespace {
+
+// A layer's points as coded: the candidate kinds used (0: none), the
+// candidate section, the payload and how many points the section sends.
+struct LayerPoints {
+  uint8_t kinds = 0;
+  std::vector<uint8_t> section, payload;
+  size_t sent = 0;
+};
+
+// Candidates cost the decoder a Delaunay tetrahedralization of the coarser
+// level before the layer (instead of one of the finest level only) and a
+// pass over its cells (and, for midpoints, over its edges too, about twice
+// the work): a layer uses them only where they save this share of its
+// bytes, and midpoints, where centres alone already do, only where they
+// save this share more than centres alone.
+constexpr double kCandidateSaving = 0.04;
+constexpr double kMidpointSaving = 0.03;
+
+// The layer's points `fresh` through the set coder alone, or, when
+// `coarse_cells` (DT of the coarser level, decoder ids) are given, those
+// beside the coarser level's candidates through a candidate section: the
+// option the rule above prefers. `models` are left as the chosen option's
+// coding leaves them.
+LayerPoints code_layer_points(std::span<const GridPoint> fresh, std::span<const GridPoint> coarse,
+                              std::span<const std::array<uint32_t, 4>> coarse_cells,
+                              std::span<const MortonCode> known, int qbits, SetCoderModels& models) {
+  const SetCoderModels before = coarse_cells.empty() ? SetCoderModels() : models.clone();
+  LayerPoints best;
+  best.payload = encode_point_set(known, fresh, qbits, models);
+  if (coarse_cells.empty()) return best;
+  const CandidateList both = layer_candidates(coarse_cells, coarse, known, qbits, kKnownCandidateKinds);
+  CandidateList centres;  // the same list without the midpoints' own places
+  centres.qbits = qbits;
+  for (size_t i = 0; i < both.size(); ++i)
+    if (both.context(i) < kCentreContexts) centres.keys.push_back(both.keys[i]);
+  std::optional<SetCoderModels> chosen;
+  double required = kCandidateSaving;
+  const std::pair<uint8_t, const CandidateList*> options[] = {{kCandidateCellCentres, &centres},
+                                                              {kKnownCandidateKinds, &both}};
+  for (const auto& [kinds, list] : options) {
+    LayerPoints option;
+    option.kinds = kinds;
+    std::vector<uint8_t> sent;
+    option.section = encode_candidate_section(*list, fresh, sent);
+    std::vector<GridPoint> sent_points, rest;
+    for (size_t i = 0; i < fresh.size(); ++i) (sent[i] ? sent_points : rest).push_back(fresh[i]);
+    SetCoderModels trial = before.clone();
+    trial.note_points(sent_points);
+    std::vector<MortonCode> known_with_sent(known.begin(), known.end());
+    merge_known(known_with_sent, sent_points, qbits);
+    option.payload = encode_point_set(known_with_sent, rest, qbits, trial);
+    option.sent = sent_points.size();
+    const size_t bytes = option.section.size() + option.payload.size();
+    if (option.sent > 0 &&
+        bytes <= (1 - required) * static_cast<double>(best.section.size() + best.payload.size())) {
+      best = std::move(option);
+      chosen = std::move(trial);
+    }
+    // Midpoints must save the same share as centres do, and where centres
+    // alone pay, their own share more than them.
+    required = best.kinds == 0 ? kCandidateSaving : kMidpointSaving;
+  }
+  if (chosen) models = std::move(*chosen);
+  return best;
+}
+
+}  // namespace
 
 StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<const GridPoint> points,
                                       const Grid& grid, AlphaKind alpha_policy, const StreamOptions& options,
@@ -57,6 +127,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   out.layer_bytes.assign(hierarchy.levels.size(), 0);
   out.carving_bytes.assign(hierarchy.levels.size(), 0);
   out.value_bytes.assign(hierarchy.levels.size(), 0);
+  out.candidate_bytes.assign(hierarchy.levels.size(), 0);
+  out.candidate_points.assign(hierarchy.levels.size(), 0);
   // The decoder's vertex index of each grid point, and its points in order.
   std::vector<uint32_t> decoder_index(points.size(), UINT32_MAX);
   std::vector<GridPoint> decoded;
@@ -108,15 +180,38 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       out.level_field_bytes[streamed[l]] = std::move(layer_field_bytes);
     }
 
+    const std::span<const GridPoint> coarse_points(decoded.data(), decoded.size() - layer_points.size());
+    std::vector<std::array<uint32_t, 4>> coarse_cells;
+    const bool may_use_candidates =
+        h.version_major >= 7 && !coarser.empty() && grid.qbits <= kMaxCandidateQBits;
+    if (may_use_candidates) {
+      const Level& coarse = hierarchy.levels[streamed[l + 1]];
+      if (coarse.delaunay.cells.empty()) {  // the paper preset keeps no tetrahedralization
+        DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(coarse_points));
+        coarse_cells = std::move(dt.cells);
+      } else {
+        coarse_cells = coarse.delaunay.cells;
+        for (auto& c : coarse_cells)
+          for (uint32_t& v : c) v = decoder_index[v];
+      }
+    }
+    LayerPoints coded =
+        code_layer_points(layer_points, coarse_points, coarse_cells, known, grid.qbits, models);
+    std::vector<uint8_t>& payload = coded.payload;
+    std::vector<uint8_t>& candidate_section = coded.section;
+    const uint8_t candidate_kinds = coded.kinds;
+    out.candidate_points[streamed[l]] = coded.sent;
+    out.candidate_bytes[streamed[l]] = candidate_section.size();
+
     LayerHeader lh;
     lh.format_major = h.version_major;
+    lh.candidate_kinds = candidate_kinds;
     lh.level = static_cast<uint16_t>(l);
     lh.new_vertices = static_cast<uint32_t>(added.size());
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
     if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.carved_cells());
-    const auto layer =
-        write_layer(lh, encode_point_set(known, layer_points, grid.qbits, models), carving, value_section);
+    const auto layer = write_layer(lh, payload, carving, value_section, candidate_section);
     out.carving_bytes[streamed[l]] = carving.size();
     out.value_bytes[streamed[l]] = value_section.size();
     merge_known(known, layer_points, grid.qbits);

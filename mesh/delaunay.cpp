@@ -416,6 +416,15 @@ size_t IncrementalDelaunay::number_of_vertices() const { return impl_->dt.number
 TetMesh IncrementalDelaunay::mesh(CellOrder order) const {
   return order == CellOrder::kCanonical ? export_mesh(impl_->dt, nullptr) : export_as_built(impl_->dt);
 }
+std::vector<std::array<uint32_t, 4>> IncrementalDelaunay::finite_cells() const {
+  std::vector<std::array<uint32_t, 4>> out;
+  if (impl_->dt.dimension() < 3) return out;
+  out.reserve(impl_->dt.number_of_finite_cells());
+  for (auto c : impl_->dt.finite_cell_handles())
+    out.push_back({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()});
+  return out;
+}
+
 TetMesh IncrementalDelaunay::mesh(std::vector<int32_t>& previous_index) {
   return export_mesh(impl_->dt, &previous_index);
 }

@@ -74,6 +74,9 @@ class IncrementalDelaunay {
   // insertion the order varies from run to run).
   enum class CellOrder { kCanonical, kAsBuilt };
   TetMesh mesh(CellOrder order = CellOrder::kCanonical) const;
+  // Only the finite cells' vertex ids, as built: the cheapest export, for
+  // what depends on the cell set alone (format 7.0's candidates).
+  std::vector<std::array<uint32_t, 4>> finite_cells() const;
   // The same, and per cell its index in the mesh the previous export (either
   // function) returned, or -1 for a cell made since (by insertions or
   // removals): what a caller needs to keep its per-cell results for the

@@ -7,14 +7,14 @@
 
 namespace dtm {
 
-Csr vertex_cells(const TetMesh& mesh, size_t num_vertices) {
+Csr vertex_cells(std::span<const std::array<uint32_t, 4>> cells, size_t num_vertices) {
   return build_csr(num_vertices, [&](auto&& emit) {
-    for (uint32_t c = 0; c < mesh.cells.size(); ++c)
-      for (uint32_t v : mesh.cells[c]) emit(v, c);
+    for (uint32_t c = 0; c < cells.size(); ++c)
+      for (uint32_t v : cells[c]) emit(v, c);
   });
 }
 
-Csr vertex_neighbors(const TetMesh& mesh, const Csr& cells_of_vertex) {
+Csr vertex_neighbors(std::span<const std::array<uint32_t, 4>> cells, const Csr& cells_of_vertex) {
   // The neighbours of v are the other corners of its cells; a stamp per
   // vertex (the last v that listed it) drops repeats without a hash or a
   // sort of the ~70 corners each vertex sees. Blocks of vertices on every
@@ -33,7 +33,7 @@ Csr vertex_neighbors(const TetMesh& mesh, const Csr& cells_of_vertex) {
              ++v) {
           const size_t first = out.size();
           for (uint32_t c : cells_of_vertex.row(v))
-            for (uint32_t u : mesh.cells[c])
+            for (uint32_t u : cells[c])
               if (u != v && stamp[u] != v) {
                 stamp[u] = v;
                 out.push_back(u);

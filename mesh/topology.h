@@ -12,11 +12,17 @@
 namespace dtm {
 
 // For each vertex, the cells incident to it (ascending cell index).
-Csr vertex_cells(const TetMesh& mesh, size_t num_vertices);
+Csr vertex_cells(std::span<const std::array<uint32_t, 4>> cells, size_t num_vertices);
+inline Csr vertex_cells(const TetMesh& mesh, size_t num_vertices) {
+  return vertex_cells(mesh.cells, num_vertices);
+}
 
-// Sorted neighbour lists of the edge graph of `mesh`; `cells_of_vertex` is
-// vertex_cells(mesh, n).
-Csr vertex_neighbors(const TetMesh& mesh, const Csr& cells_of_vertex);
+// Sorted neighbour lists of the edge graph of `cells`; `cells_of_vertex` is
+// vertex_cells(cells, n).
+Csr vertex_neighbors(std::span<const std::array<uint32_t, 4>> cells, const Csr& cells_of_vertex);
+inline Csr vertex_neighbors(const TetMesh& mesh, const Csr& cells_of_vertex) {
+  return vertex_neighbors(mesh.cells, cells_of_vertex);
+}
 
 // A face of a carved mesh: cell and the local index of the opposite vertex.
 struct BoundaryFace {

@@ -180,8 +180,8 @@ TEST(FieldTools, LossyFieldsKeepTheirBoundAndNoFieldsLeavesThemOut) {
   ASSERT_EQ(r.status, 0) << r.output;
   r = test::run_command(std::string(DTM_MESHINFO) + " " + stream);
   // No field table: the oldest version that holds the carving corrections
-  // (6.0), without the values flag.
-  EXPECT_NE(r.output.find(".dtm 6.0"), std::string::npos) << r.output;
+  // (7.0), without the values flag.
+  EXPECT_NE(r.output.find(".dtm 7.0"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("field"), std::string::npos) << r.output;
 }
 

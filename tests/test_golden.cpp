@@ -1,10 +1,12 @@
-// Golden streams (spec/FORMAT.md §6): streams of format 6.0 (carving
-// corrections with 6.0's contexts; the paper preset's, without corrections,
-// are 5.0), all with the input's TetGen markers as a field, and of 5.0, 4.0
+// Golden streams (spec/FORMAT.md §6): streams of format 7.0 (layers that
+// send points beside the coarser level's candidates: ellipsoid_793, a TetGen
+// mesh; the torus's layers send none; the paper preset's, without
+// corrections, are 5.0), the torus's with the input's TetGen markers as a
+// field, and of 6.0 (carving corrections with 6.0's contexts), 5.0, 4.0
 // (carving corrections, and the paper's alpha carving), 3.0 and 2.0
-// (golden/v5/, v4/, v3/, v2/, which this decoder still reads), that every
-// later decoder must decode to the same levels and values, and whose every
-// damaged variant it must refuse.
+// (golden/v6/ to v2/, which this decoder still reads), that every later
+// decoder must decode to the same levels and values, and whose every damaged
+// variant it must refuse.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -73,12 +75,13 @@ TEST_P(GoldenStream, EverySingleBitFlipIsRefused) {
     }
 }
 
-// The 6.0 and 5.0 streams carry the input's boundary markers: every vertex
+// The torus's 7.0, 6.0 and 5.0 streams carry the input's boundary markers: every vertex
 // of every level has the marker of the input point it quantizes (found by
 // position, the stream's grid mapped onto the input's bounding box).
 TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
   for (const std::string name :
-       {"torus_288", "torus_288_paper", "torus_288_grid_q10_hull", "torus_288_q24", "v5/torus_288",
+       {"torus_288", "torus_288_paper", "torus_288_grid_q10_hull", "torus_288_q24", "v6/torus_288",
+        "v6/torus_288_paper", "v6/torus_288_grid_q10_hull", "v6/torus_288_q24", "v5/torus_288",
         "v5/torus_288_paper", "v5/torus_288_grid_q10_hull", "v5/torus_288_q24"}) {
     const InputMesh in = read_input(
         test::data_path(name.find("grid") != std::string::npos ? "torus_288_grid.node" : "torus_288.node"));
@@ -119,9 +122,12 @@ TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
   }
 }
 
+INSTANTIATE_TEST_SUITE_P(Format7_0, GoldenStream,
+                         ::testing::Values("ellipsoid_793", "torus_288", "torus_288_paper",
+                                           "torus_288_grid_q10_hull", "torus_288_q24"));
 INSTANTIATE_TEST_SUITE_P(Format6_0, GoldenStream,
-                         ::testing::Values("torus_288", "torus_288_paper", "torus_288_grid_q10_hull",
-                                           "torus_288_q24"));
+                         ::testing::Values("v6/torus_288", "v6/torus_288_paper", "v6/torus_288_grid_q10_hull",
+                                           "v6/torus_288_q24"));
 INSTANTIATE_TEST_SUITE_P(Format5_0, GoldenStream,
                          ::testing::Values("v5/torus_288", "v5/torus_288_paper", "v5/torus_288_grid_q10_hull",
                                            "v5/torus_288_q24"));

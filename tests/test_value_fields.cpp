@@ -175,7 +175,7 @@ TEST(StreamValues, LosslessFieldsComeBackBitExactAtEveryLevel) {
   ASSERT_TRUE(encoded.ok()) << encoded.status().message();
   ASSERT_EQ(encoded->report.fields.size(), c.fields.size());
   EXPECT_EQ(encoded->report.merged_points_with_other_values, 0u);
-  EXPECT_EQ(encoded->bytes[8], 6);  // format 6.0: values and carving corrections
+  EXPECT_EQ(encoded->bytes[8], 7);  // format 7.0: values and carving corrections
 
   ProgressiveDecoder dec;
   int levels = 0;

@@ -40,8 +40,11 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
                 d.lossy ? ("within " + std::to_string(d.error_bound)).c_str() : "lossless",
                 static_cast<unsigned long long>(field_bytes[f]));
   }
-  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
-              "bits/new", "carving", s.fields.empty() ? "" : "    values",
+  // 7.0: the candidate section's bytes (points sent beside the coarser
+  // level's circumcentres and edge midpoints).
+  const bool candidates = s.header.version_major >= 7;
+  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
+              "bits/new", "carving", candidates ? " candidate" : "", s.fields.empty() ? "" : "    values",
               stats ? "      tets  boundary avg_minSA    min_SA" : "");
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
@@ -49,6 +52,7 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
     std::printf("%5u %9u %9u %11.5g %11llu %9.2f %9u", l.header.level, l.header.level_vertices,
                 l.header.new_vertices, l.header.alpha * step, static_cast<unsigned long long>(layer_bytes),
                 8.0 * layer_bytes / l.header.new_vertices, l.header.carving_bytes);
+    if (candidates) std::printf(" %9u", l.header.candidate_bytes);
     if (!s.fields.empty()) std::printf(" %9u", l.header.value_bytes);
     if (i < quality.size())
       std::printf(" %9llu %9llu %9.6f %9.3g", static_cast<unsigned long long>(quality[i].tetrahedra),

@@ -2,7 +2,7 @@
 # tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
 # current format version and their expected levels. Run it only when the
 # format's major version changes (spec/FORMAT.md §6), after moving the
-# previous version's streams to v<major>/ (as v2/ to v5/ hold formats 2.0 to 5.0) if
+# previous version's streams to v<major>/ (as v2/ to v6/ hold formats 2.0 to 6.0) if
 # decoders still read it: a golden stream is a promise that every later
 # decoder decodes it identically or refuses its version.
 set -euo pipefail
@@ -29,3 +29,5 @@ make_one torus_288 torus_288.node --scale 25 --dmax 3 --quality-floor 0 --remova
 make_one torus_288_paper torus_288.node --scale 25 --dmax 3 --preset paper --quality-guard 0.3 --quality-floor 0
 make_one torus_288_grid_q10_hull torus_288_grid.node --qbits 10 --alpha hull --levels 3
 make_one torus_288_q24 torus_288.node --qbits 24 --levels 1
+# 7.0: a TetGen mesh whose finer layers send points beside candidates.
+make_one ellipsoid_793 ellipsoid_793.node --dmax 3
