@@ -89,11 +89,13 @@ int context_of(const DT::Cell_handle c, const Point& centre) {
   // distance to vertex 0 against the shortest edge's, by bit widths.
   int64_t shortest = INT64_MAX;
   auto sq = [](const Point& a, const Point& b) {
-    const int64_t dx = std::llround(a.x() - b.x()), dy = std::llround(a.y() - b.y()), dz = std::llround(a.z() - b.z());
+    const int64_t dx = std::llround(a.x() - b.x()), dy = std::llround(a.y() - b.y()),
+                  dz = std::llround(a.z() - b.z());
     return dx * dx + dy * dy + dz * dz;
   };
   for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j) shortest = std::min(shortest, sq(c->vertex(i)->point(), c->vertex(j)->point()));
+    for (int j = i + 1; j < 4; ++j)
+      shortest = std::min(shortest, sq(c->vertex(i)->point(), c->vertex(j)->point()));
   const Point rounded(std::round(centre.x()), std::round(centre.y()), std::round(centre.z()));
   const int64_t r2 = sq(rounded, c->vertex(0)->point());
   const int bucket = std::clamp(static_cast<int>(std::bit_width(static_cast<uint64_t>(r2))) -

@@ -84,14 +84,16 @@ bool cell_centre(const std::array<uint32_t, 4>& ids, std::span<const GridPoint> 
   int64_t shortest = std::numeric_limits<int64_t>::max(), nearest = std::numeric_limits<int64_t>::max();
   for (int i = 0; i < 4; ++i) {
     nearest = std::min(nearest, squared_distance(at, coarse[ids[i]]));
-    for (int j = i + 1; j < 4; ++j) shortest = std::min(shortest, squared_distance(coarse[ids[i]], coarse[ids[j]]));
+    for (int j = i + 1; j < 4; ++j)
+      shortest = std::min(shortest, squared_distance(coarse[ids[i]], coarse[ids[j]]));
   }
   context = std::clamp(bit_width(nearest) - bit_width(shortest) + 2, 0, kCentreContexts - 1);
   return true;
 }
 
 uint64_t key_of(const GridPoint& at, int context, int qbits) {
-  return (static_cast<uint64_t>(morton_encode(at, qbits)) << kCandidateContextBits) | static_cast<uint64_t>(context);
+  return (static_cast<uint64_t>(morton_encode(at, qbits)) << kCandidateContextBits) |
+         static_cast<uint64_t>(context);
 }
 
 // Runs emit_block(first, last, out) over blocks of [0, n) on every core and
@@ -111,8 +113,8 @@ void keys_in_blocks(size_t n, std::vector<uint64_t>& keys, const EmitBlock& emit
   }
 }
 
-void add_cell_centres(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> coarse, int qbits,
-                      std::vector<uint64_t>& keys) {
+void add_cell_centres(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> coarse,
+                      int qbits, std::vector<uint64_t>& keys) {
   keys_in_blocks(cells.size(), keys, [&](size_t first, size_t last, std::vector<uint64_t>& out) {
     GridPoint at;
     int context = 0;
@@ -121,14 +123,15 @@ void add_cell_centres(std::span<const std::array<uint32_t, 4>> cells, std::span<
   });
 }
 
-void add_edge_midpoints(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> coarse, int qbits,
-                        std::vector<uint64_t>& keys) {
+void add_edge_midpoints(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> coarse,
+                        int qbits, std::vector<uint64_t>& keys) {
   const Csr neighbours = vertex_neighbors(cells, vertex_cells(cells, coarse.size()));
   std::vector<int64_t> nearest(coarse.size(), std::numeric_limits<int64_t>::max());
   parallel_for(
       coarse.size(),
       [&](size_t u) {
-        for (uint32_t v : neighbours.row(u)) nearest[u] = std::min(nearest[u], squared_distance(coarse[u], coarse[v]));
+        for (uint32_t v : neighbours.row(u))
+          nearest[u] = std::min(nearest[u], squared_distance(coarse[u], coarse[v]));
       },
       1 << 14);
   keys_in_blocks(coarse.size(), keys, [&](size_t first, size_t last, std::vector<uint64_t>& out) {
@@ -162,8 +165,9 @@ void radix_sort(std::vector<uint64_t>& keys, int bits) {
 
 }  // namespace
 
-CandidateList layer_candidates(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> coarse,
-                               std::span<const MortonCode> known, int qbits, uint8_t kinds) {
+CandidateList layer_candidates(std::span<const std::array<uint32_t, 4>> cells,
+                               std::span<const GridPoint> coarse, std::span<const MortonCode> known,
+                               int qbits, uint8_t kinds) {
   CandidateList out;
   out.qbits = qbits;
   if (qbits > kMaxCandidateQBits) return out;
@@ -188,25 +192,30 @@ CandidateList layer_candidates(std::span<const std::array<uint32_t, 4>> cells, s
 
 namespace {
 
-// An open-addressing table from a candidate's Morton code to its index.
-class CandidateIndex {
+// The candidates grouped by their place halved on every axis (their Morton
+// code over 8: consecutive in the list), an open-addressing table from a
+// group's key to its first candidate. A point's neighbourhood of 3 x 3 x 3
+// places meets at most 2 x 2 x 2 groups.
+class CandidateGroups {
  public:
-  explicit CandidateIndex(const CandidateList& candidates)
+  explicit CandidateGroups(const CandidateList& candidates)
       : slots_(std::bit_ceil(2 * candidates.size() + 2), UINT32_MAX), candidates_(candidates) {
     for (uint32_t i = 0; i < candidates.size(); ++i) {
-      size_t s = slot(candidates.code(i));
+      if (i > 0 && candidates.code(i) >> 3 == candidates.code(i - 1) >> 3) continue;
+      size_t s = slot(candidates.code(i) >> 3);
       while (slots_[s] != UINT32_MAX) s = (s + 1) & (slots_.size() - 1);
       slots_[s] = i;
     }
   }
-  uint32_t find(uint64_t code) const {
-    for (size_t s = slot(code);; s = (s + 1) & (slots_.size() - 1))
-      if (slots_[s] == UINT32_MAX || candidates_.code(slots_[s]) == code) return slots_[s];
+  // The first candidate of the group `key`, or UINT32_MAX.
+  uint32_t first(uint64_t key) const {
+    for (size_t s = slot(key);; s = (s + 1) & (slots_.size() - 1))
+      if (slots_[s] == UINT32_MAX || candidates_.code(slots_[s]) >> 3 == key) return slots_[s];
   }
 
  private:
-  size_t slot(uint64_t code) const {
-    uint64_t h = code * 0x9E3779B97F4A7C15ull;
+  size_t slot(uint64_t key) const {
+    uint64_t h = key * 0x9E3779B97F4A7C15ull;
     h ^= h >> 29;
     return h & (slots_.size() - 1);
   }
@@ -216,34 +225,40 @@ class CandidateIndex {
 
 }  // namespace
 
-std::vector<uint8_t> encode_candidate_section(const CandidateList& candidates, std::span<const GridPoint> points,
+std::vector<CandidateHit> points_beside(const CandidateList& candidates, std::span<const GridPoint> points) {
+  const CandidateGroups groups(candidates);
+  const int q = candidates.qbits;
+  const int32_t top = (1 << q) - 1;
+  std::vector<CandidateHit> out;
+  for (uint32_t p = 0; p < points.size(); ++p) {
+    const GridPoint& x = points[p];
+    // The groups of the places x - 1 .. x + 1 on each axis, clamped to the grid.
+    int32_t lo[3], hi[3];
+    const int32_t c[3] = {x.x, x.y, x.z};
+    for (int a = 0; a < 3; ++a) lo[a] = std::max(0, c[a] - 1) >> 1, hi[a] = std::min(top, c[a] + 1) >> 1;
+    for (int32_t gx = lo[0]; gx <= hi[0]; ++gx)
+      for (int32_t gy = lo[1]; gy <= hi[1]; ++gy)
+        for (int32_t gz = lo[2]; gz <= hi[2]; ++gz) {
+          const uint64_t key = static_cast<uint64_t>(morton_encode({gx, gy, gz}, q));
+          for (uint32_t i = groups.first(key); i < candidates.size() && candidates.code(i) >> 3 == key; ++i) {
+            const GridPoint at = candidates.at(i);
+            const int dx = x.x - at.x, dy = x.y - at.y, dz = x.z - at.z;
+            if (std::abs(dx) > 1 || std::abs(dy) > 1 || std::abs(dz) > 1) continue;
+            out.push_back({i, static_cast<uint8_t>((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)), p});
+          }
+        }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<uint8_t> encode_candidate_section(const CandidateList& candidates,
+                                              std::span<const CandidateHit> beside, size_t point_count,
                                               std::vector<uint8_t>& sent) {
-  sent.assign(points.size(), 0);
-  // Every (candidate, offset, point) with the point beside the candidate,
-  // found from the points' side (27 lookups each), then each candidate in
-  // turn takes its first free point by offset.
-  struct Beside {
-    uint32_t candidate;
-    uint8_t offset;
-    uint32_t point;
-    auto operator<=>(const Beside&) const = default;  // NOLINT(modernize-use-nullptr): clang-tidy 14 bug
-  };
-  const CandidateIndex index(candidates);
-  const int64_t side = int64_t{1} << candidates.qbits;
-  std::vector<Beside> beside;
-  for (uint32_t p = 0; p < points.size(); ++p)
-    for (int s = 0; s < kOffsets; ++s) {
-      // The candidate at point - offset.
-      const int64_t x = int64_t{points[p].x} - (s % 3 - 1), y = int64_t{points[p].y} - ((s / 3) % 3 - 1),
-                    z = int64_t{points[p].z} - (s / 9 - 1);
-      if (x < 0 || y < 0 || z < 0 || x >= side || y >= side || z >= side) continue;
-      const GridPoint at{static_cast<int32_t>(x), static_cast<int32_t>(y), static_cast<int32_t>(z)};
-      const uint32_t c = index.find(static_cast<uint64_t>(morton_encode(at, candidates.qbits)));
-      if (c != UINT32_MAX) beside.push_back({c, static_cast<uint8_t>(s), p});
-    }
-  std::sort(beside.begin(), beside.end());
+  // Each candidate in turn takes its first free point by offset.
+  sent.assign(point_count, 0);
   std::vector<int8_t> hit(candidates.size(), -1);
-  for (const Beside& b : beside) {
+  for (const CandidateHit& b : beside) {
     if (hit[b.candidate] >= 0 || sent[b.point]) continue;
     hit[b.candidate] = static_cast<int8_t>(b.offset);
     sent[b.point] = 1;
@@ -262,9 +277,16 @@ std::vector<uint8_t> encode_candidate_section(const CandidateList& candidates, s
   return enc.finish();
 }
 
+std::vector<uint8_t> encode_candidate_section(const CandidateList& candidates,
+                                              std::span<const GridPoint> points, std::vector<uint8_t>& sent) {
+  return encode_candidate_section(candidates, points_beside(candidates, points), points.size(), sent);
+}
+
 Status decode_candidate_section(std::span<const uint8_t> section, const CandidateList& candidates,
                                 uint32_t max_points, std::vector<GridPoint>& out) {
-  const auto corrupt = [](const std::string& what) { return Status{StatusCode::kCorrupt, "candidates: " + what}; };
+  const auto corrupt = [](const std::string& what) {
+    return Status{StatusCode::kCorrupt, "candidates: " + what};
+  };
   RangeDecoder dec(section);
   CandidateModels models;
   uint32_t count = 0;
@@ -279,7 +301,8 @@ Status decode_candidate_section(std::span<const uint8_t> section, const Candidat
     if (s >= kOffsets) return corrupt("an offset out of range");
     if (++count > max_points) return corrupt("more points than the layer has");
     const GridPoint c = candidates.at(i);
-    const int64_t x = int64_t{c.x} + s % 3 - 1, y = int64_t{c.y} + (s / 3) % 3 - 1, z = int64_t{c.z} + s / 9 - 1;
+    const int64_t x = int64_t{c.x} + s % 3 - 1, y = int64_t{c.y} + (s / 3) % 3 - 1,
+                  z = int64_t{c.z} + s / 9 - 1;
     if (!inside_grid(x, y, z, candidates.qbits)) return corrupt("a point outside the grid");
     out.push_back({static_cast<int32_t>(x), static_cast<int32_t>(y), static_cast<int32_t>(z)});
     if (dec.overran()) break;

@@ -73,13 +73,30 @@ struct CandidateList {
 // finite Delaunay cells `cells` (vertex ids, any order and orientation):
 // those of `kinds`, inside the grid; of several at one place, the smallest
 // context's. qbits <= kMaxCandidateQBits.
-CandidateList layer_candidates(std::span<const std::array<uint32_t, 4>> cells, std::span<const GridPoint> coarse,
-                               std::span<const MortonCode> known, int qbits, uint8_t kinds);
+CandidateList layer_candidates(std::span<const std::array<uint32_t, 4>> cells,
+                               std::span<const GridPoint> coarse, std::span<const MortonCode> known,
+                               int qbits, uint8_t kinds);
 
 // The section for the layer's new points `points`: which candidates have a
 // new point beside them, and where. `sent[i]` is set for each point the
 // section sends (each at most once); the rest go to the set coder.
-std::vector<uint8_t> encode_candidate_section(const CandidateList& candidates, std::span<const GridPoint> points,
+std::vector<uint8_t> encode_candidate_section(const CandidateList& candidates,
+                                              std::span<const GridPoint> points, std::vector<uint8_t>& sent);
+
+// The same in two steps, for an encoder that tries several lists: every
+// (candidate, offset, point) with the point within one step of the
+// candidate on each axis (offset (dx + 1) + 3 (dy + 1) + 9 (dz + 1)),
+// ascending; then the section from them (each candidate in turn takes its
+// first point not taken).
+struct CandidateHit {
+  uint32_t candidate;
+  uint8_t offset;
+  uint32_t point;
+  auto operator<=>(const CandidateHit&) const = default;  // NOLINT(modernize-use-nullptr): clang-tidy 14 bug
+};
+std::vector<CandidateHit> points_beside(const CandidateList& candidates, std::span<const GridPoint> points);
+std::vector<uint8_t> encode_candidate_section(const CandidateList& candidates,
+                                              std::span<const CandidateHit> beside, size_t point_count,
                                               std::vector<uint8_t>& sent);
 
 // The points the section sends, appended to `out` in candidate order.

@@ -2,6 +2,7 @@
 #include <iterator>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include "codec/carving_coder.h"
 #include "codec/expert_encode.h"
@@ -43,19 +44,32 @@ LayerPoints code_layer_points(std::span<const GridPoint> fresh, std::span<const 
   best.payload = encode_point_set(known, fresh, qbits, models);
   if (coarse_cells.empty()) return best;
   const CandidateList both = layer_candidates(coarse_cells, coarse, known, qbits, kKnownCandidateKinds);
-  CandidateList centres;  // the same list without the midpoints' own places
+  const std::vector<CandidateHit> beside_both = points_beside(both, fresh);
+  // The same list without the midpoints' own places (a place both a centre
+  // and a midpoint has the centre's context), and its hits renumbered.
+  CandidateList centres;
   centres.qbits = qbits;
+  std::vector<uint32_t> index_in_centres(both.size(), UINT32_MAX);
   for (size_t i = 0; i < both.size(); ++i)
-    if (both.context(i) < kCentreContexts) centres.keys.push_back(both.keys[i]);
+    if (both.context(i) < kCentreContexts) {
+      index_in_centres[i] = static_cast<uint32_t>(centres.size());
+      centres.keys.push_back(both.keys[i]);
+    }
+  std::vector<CandidateHit> beside_centres;
+  for (CandidateHit h : beside_both)
+    if (index_in_centres[h.candidate] != UINT32_MAX) {
+      h.candidate = index_in_centres[h.candidate];
+      beside_centres.push_back(h);
+    }
   std::optional<SetCoderModels> chosen;
   double required = kCandidateSaving;
-  const std::pair<uint8_t, const CandidateList*> options[] = {{kCandidateCellCentres, &centres},
-                                                              {kKnownCandidateKinds, &both}};
-  for (const auto& [kinds, list] : options) {
+  const std::tuple<uint8_t, const CandidateList*, const std::vector<CandidateHit>*> options[] = {
+      {kCandidateCellCentres, &centres, &beside_centres}, {kKnownCandidateKinds, &both, &beside_both}};
+  for (const auto& [kinds, list, beside] : options) {
     LayerPoints option;
     option.kinds = kinds;
     std::vector<uint8_t> sent;
-    option.section = encode_candidate_section(*list, fresh, sent);
+    option.section = encode_candidate_section(*list, *beside, fresh.size(), sent);
     std::vector<GridPoint> sent_points, rest;
     for (size_t i = 0; i < fresh.size(); ++i) (sent[i] ? sent_points : rest).push_back(fresh[i]);
     SetCoderModels trial = before.clone();

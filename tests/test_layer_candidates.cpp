@@ -98,7 +98,8 @@ TEST(LayerCandidates, LargeCellsAndCentresOutsideTheGridGiveNone) {
 }
 
 TEST(LayerCandidates, EveryEdgeGivesItsMidpointRoundedHalfUpOnce) {
-  const std::vector<GridPoint> points = {{10, 10, 10}, {13, 10, 10}, {10, 15, 10}, {10, 10, 11}, {14, 14, 14}};
+  const std::vector<GridPoint> points = {
+      {10, 10, 10}, {13, 10, 10}, {10, 15, 10}, {10, 10, 11}, {14, 14, 14}};
   // Two cells sharing the face 1-2-3: 9 edges.
   const std::array<std::array<uint32_t, 4>, 2> cells = {{{0, 1, 2, 3}, {4, 1, 2, 3}}};
   const auto c = layer_candidates(cells, points, codes_of(points), kQ, kCandidateEdgeMidpoints);
@@ -166,14 +167,15 @@ TEST(CandidateSection, SendsBackExactlyThePointsItMarks) {
       if (sent[i]) marked.push_back(l.fresh[i]);
     EXPECT_GT(marked.size(), l.fresh.size() / 3) << seed;
     std::vector<GridPoint> decoded;
-    ASSERT_TRUE(decode_candidate_section(section, l.candidates, static_cast<uint32_t>(l.fresh.size()), decoded)
-                    .ok());
+    ASSERT_TRUE(
+        decode_candidate_section(section, l.candidates, static_cast<uint32_t>(l.fresh.size()), decoded).ok());
     EXPECT_EQ(codes_of(decoded), codes_of(marked)) << seed;
     // At fewer points allowed than it sends, it is refused.
     std::vector<GridPoint> capped;
-    EXPECT_EQ(decode_candidate_section(section, l.candidates, static_cast<uint32_t>(marked.size() - 1), capped)
-                  .code(),
-              StatusCode::kCorrupt);
+    EXPECT_EQ(
+        decode_candidate_section(section, l.candidates, static_cast<uint32_t>(marked.size() - 1), capped)
+            .code(),
+        StatusCode::kCorrupt);
   }
 }
 
@@ -249,10 +251,11 @@ TEST(CandidateStream, AHandMadeStreamDecodesToItsPoints) {
   ASSERT_TRUE(decode_stream(bytes, dec).ok()) << dec.finish().message();
   ASSERT_EQ(dec.points().size(), l.coarse.size() + l.fresh.size());
   const std::vector<GridPoint> layer(dec.points().begin() + static_cast<std::ptrdiff_t>(l.coarse.size()),
-                                    dec.points().end());
+                                     dec.points().end());
   EXPECT_EQ(codes_of(layer), codes_of(l.fresh));
   // In Morton order, as a payload gives a layer.
-  for (size_t i = 1; i < layer.size(); ++i) EXPECT_LT(morton_encode(layer[i - 1], kQ), morton_encode(layer[i], kQ));
+  for (size_t i = 1; i < layer.size(); ++i)
+    EXPECT_LT(morton_encode(layer[i - 1], kQ), morton_encode(layer[i], kQ));
 }
 
 TEST(CandidateStream, SendingAKnownPointOrCandidatesAtTheBaseIsRefused) {
@@ -282,7 +285,8 @@ TEST(CandidateStream, SendingAKnownPointOrCandidatesAtTheBaseIsRefused) {
 
 TEST(CandidateStream, ATetGenMeshsFinerLayersUseCandidatesAndDecodeToTheEncodersLevels) {
   const NodeFile node = read_tetgen_node(test::data_path("ellipsoid_793.node"));
-  const auto tets = read_tetgen_ele(test::data_path("ellipsoid_793.ele"), node.points.size(), node.index_base);
+  const auto tets =
+      read_tetgen_ele(test::data_path("ellipsoid_793.ele"), node.points.size(), node.index_base);
   EncodeInput in;
   in.points = node.points;
   in.tetrahedra = tets;
@@ -297,11 +301,13 @@ TEST(CandidateStream, ATetGenMeshsFinerLayersUseCandidatesAndDecodeToTheEncoders
   EXPECT_GT(sent, 20u);
   ProgressiveDecoder dec;
   size_t levels = 0;
-  ASSERT_TRUE(dec.feed(encoded->bytes, [&](const ProgressiveDecoder& d, const DecodedLevel& level) {
-                   ++levels;
-                   ASSERT_TRUE(level.cell_hash.has_value());
-                   EXPECT_EQ(cell_set_hash(d.points(), d.carved_cells()), *level.cell_hash) << level.level;
-                 })
+  ASSERT_TRUE(dec.feed(encoded->bytes,
+                       [&](const ProgressiveDecoder& d, const DecodedLevel& level) {
+                         ++levels;
+                         ASSERT_TRUE(level.cell_hash.has_value());
+                         EXPECT_EQ(cell_set_hash(d.points(), d.carved_cells()), *level.cell_hash)
+                             << level.level;
+                       })
                   .ok());
   EXPECT_TRUE(dec.complete());
   EXPECT_GT(levels, 2u);
