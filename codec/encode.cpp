@@ -213,6 +213,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   StreamOptions stream_options;
   stream_options.cell_hashes = options.cell_hashes;
   stream_options.level_step = options.level_step;
+  stream_options.candidates = options.candidates;
   DTM_ASSIGN_OR_RETURN(EncodedStream stream,
                        encode_stream(h, q.points, q.grid, options.alpha, stream_options, std::move(fields)));
   report.layer_bytes = std::move(stream.layer_bytes);

@@ -72,6 +72,7 @@ struct EncodeOptions {
   // The stream (codec/expert_encode.h, StreamOptions).
   int level_step = 1;
   bool cell_hashes = false;
+  bool candidates = true;
 
   // Told each phase of the work as it starts (common/progress.h): the
   // hierarchy's levels, then the stream's.

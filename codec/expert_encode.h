@@ -30,6 +30,11 @@ struct StreamOptions {
   // belongs to is what costs) at the price of fewer levels of detail. The
   // stream numbers its levels 0, 1, 2, ... in that order.
   int level_step = 1;
+  // Format 7.0's candidate section (spec/FORMAT.md §3.4) in the finest
+  // layer where it pays (codec/stream_encoder.cpp): fewer bits on meshes
+  // from Delaunay refinement, for a decoder that builds the next coarser
+  // level's tetrahedralization first. Off: every point through the set coder.
+  bool candidates = true;
 };
 
 struct EncodedStream {

@@ -311,6 +311,23 @@ TEST(CandidateStream, ATetGenMeshsFinerLayersUseCandidatesAndDecodeToTheEncoders
                   .ok());
   EXPECT_TRUE(dec.complete());
   EXPECT_GT(levels, 2u);
+
+  // Without candidates (meshenc --no-candidates): the same levels, every
+  // point through the set coder, more bytes.
+  options.candidates = false;
+  const auto plain = encode(in, options);
+  ASSERT_TRUE(plain.ok());
+  for (uint64_t n : plain->report.candidate_points) EXPECT_EQ(n, 0u);
+  EXPECT_GT(plain->bytes.size(), encoded->bytes.size());
+  const StreamSummary with = scan_stream(encoded->bytes), without = scan_stream(plain->bytes);
+  ASSERT_EQ(with.layers.size(), without.layers.size());
+  for (size_t i = 0; i < with.layers.size(); ++i) {
+    EXPECT_EQ(with.layers[i].header.cell_hash, without.layers[i].header.cell_hash);
+    EXPECT_EQ(without.layers[i].header.candidate_kinds, 0);
+  }
+  // Only the finest layer uses them.
+  for (size_t i = 0; i + 1 < with.layers.size(); ++i) EXPECT_EQ(with.layers[i].header.candidate_kinds, 0);
+  EXPECT_NE(with.layers.back().header.candidate_kinds, 0);
 }
 
 }  // namespace

@@ -147,6 +147,10 @@ void add_options(CLI::App& app, Command& c) {
   app.add_flag(
       "--no-paper-stop", [&e](int64_t) { e.paper_stop = false; },
       "do not stop at the first level that removes no boundary vertex");
+  app.add_flag(
+      "--no-candidates", [&e](int64_t) { e.candidates = false; },
+      "send no point beside the coarser level's circumcentres and edge midpoints: a larger stream, whose "
+      "finest level decodes faster");
   app.add_option("--level-step", e.level_step,
                  "stream every N-th level (and the coarsest): fewer levels of detail, fewer bits")
       ->capture_default_str()
