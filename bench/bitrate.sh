@@ -146,7 +146,7 @@ rc=0
 import csv, json, math, os, sys, time, subprocess
 listf, outd, dest, notesf, commit, dirty, enc, start, qs, tools, benchd, baselines_md = sys.argv[1:13]
 QS = [int(q) for q in qs.split()]
-LAYER_HDR, STREAM_HDR = 46, 56  # format 6.0 (and 5.0)
+LAYER_HDR, STREAM_HDR = 51, 56  # format 7.0
 
 def gpcc_table(path):
     # BASELINES.md's G-PCC table: per model, bits per vertex at each q.
@@ -435,9 +435,11 @@ w('### Table 3b: what the bits say, q = 14 (bits per vertex)\n')
 w('points, one set = the two-level stream (`--level-step 1000`) without its headers and corrections: '
   'what our coder spends on the point set; which level = the every-level stream\'s points minus that '
   '(telling which layer each vertex is in, net of what conditioning on the coarser levels saves); '
-  'corrections = every level\'s carving sections. G-PCC from BASELINES.md.\n')
-w('| model | N | ours | headers | points, one set | which level | corrections | G-PCC | ours − G-PCC | points, one set − G-PCC |')
-w('|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|')
+  'corrections = every level\'s carving sections; of the points, the candidate sections (format 7.0: the '
+  'finest layer\'s points beside the coarser level\'s circumcentres and edge midpoints) and the share of '
+  'the points they send. G-PCC from BASELINES.md.\n')
+w('| model | N | ours | headers | points, one set | which level | corrections | of the points: candidate sections | points sent beside candidates | G-PCC | ours − G-PCC | points, one set − G-PCC |')
+w('|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|')
 for m in models:
     d = m['q'][14]; N = m['N']; L = d['L']
     corr = sum(r.get('carving_bytes', 0) for r in d['levels']) * 8.0 / N
@@ -448,8 +450,10 @@ for m in models:
     two = (j2['stream_bytes'] - STREAM_HDR - LAYER_HDR * len(l2) -
            sum(r.get('carving_bytes', 0) for r in l2)) * 8.0 / N
     g = GPCC.get(m['name'], {}).get(14)
-    w('| %s | %d | %.2f | %.3f | %.2f | %.2f | %.2f | %s | %s | %s |' % (
-        m['name'], N, bpv(d['bytes'], N), hdrs, two, pts - two, corr,
+    cand = sum(r.get('candidate_bytes', 0) for r in d['levels']) * 8.0 / N
+    sent = sum(r.get('candidate_points', 0) for r in d['levels'])
+    w('| %s | %d | %.2f | %.3f | %.2f | %.2f | %.2f | %.2f | %.1f%% | %s | %s | %s |' % (
+        m['name'], N, bpv(d['bytes'], N), hdrs, two, pts - two, corr, cand, 100.0 * sent / N,
         '%.2f' % g if g is not None else '-', '%+.2f' % (bpv(d['bytes'], N) - g) if g is not None else '-',
         '%+.2f' % (two - g) if g is not None else '-'))
 w('')

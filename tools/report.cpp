@@ -97,6 +97,10 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
     if (static_cast<size_t>(s.level) < r.carving_bytes.size())
       row["carving_bytes"] = r.carving_bytes[s.level];
     if (static_cast<size_t>(s.level) < r.value_bytes.size()) row["value_bytes"] = r.value_bytes[s.level];
+    if (static_cast<size_t>(s.level) < r.candidate_bytes.size()) {
+      row["candidate_bytes"] = r.candidate_bytes[s.level];
+      row["candidate_points"] = r.candidate_points[s.level];
+    }
     if (static_cast<size_t>(s.level) < r.level_field_bytes.size() && !r.level_field_bytes[s.level].empty()) {
       nlohmann::json per_field = nlohmann::json::object();
       for (size_t f = 0; f < r.fields.size(); ++f)
