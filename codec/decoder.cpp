@@ -134,8 +134,9 @@ Status ProgressiveDecoder::decode_layer_points(const Layer& layer, std::vector<G
   const auto left = static_cast<uint32_t>(lh.new_vertices - sent.size());
   DTM_RETURN_IF_ERROR(decode_point_set(layer.payload, known_, qbits, left, models_, rest));
   merge_known(known_, rest, qbits);
-  // The layer in Morton order, as a layer without candidates comes out.
-  added.reserve(lh.new_vertices);
+  // The layer in Morton order, as a layer without candidates comes out (its
+  // size as decoded, never as the header claims: spec §5).
+  added.reserve(sent.size() + rest.size());
   for (const MortonCode c : sent_codes) added.push_back(morton_decode(c, qbits));
   const size_t middle = added.size();
   added.insert(added.end(), rest.begin(), rest.end());
