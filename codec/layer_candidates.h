@@ -7,8 +7,8 @@
 // the cells they refine (TetGen, CGAL's Mesh_3, gmsh's Delaunay) and split
 // encroached edges at their midpoints; many of those cells and edges survive
 // into the coarser level's Delaunay tetrahedralization. On the TetGen corpus,
-// 20-28% of the finest layer's new points lie within one grid step of a
-// circumcentre of the next level's cells, and on bunny_100k 5-10% of every
+// 16-22% of the finest layer's new points lie within one grid step of a
+// circumcentre of the next level's cells, and on bunny_100k 6-11% of every
 // layer's near an edge midpoint (bench/circumcentre_candidates,
 // docs/research/point_models.md §4). Such a point costs a flag and a
 // 27-way offset here (~9 bits) instead of ~28 in the set coder.
