@@ -40,10 +40,13 @@ constexpr double kMidpointSaving = 0.03;
 LayerPoints code_layer_points(std::span<const GridPoint> fresh, std::span<const GridPoint> coarse,
                               std::span<const std::array<uint32_t, 4>> coarse_cells,
                               std::span<const MortonCode> known, int qbits, SetCoderModels& models) {
-  const SetCoderModels before = coarse_cells.empty() ? SetCoderModels() : models.clone();
   LayerPoints best;
+  if (coarse_cells.empty()) {
+    best.payload = encode_point_set(known, fresh, qbits, models);
+    return best;
+  }
+  const SetCoderModels before = models.clone();
   best.payload = encode_point_set(known, fresh, qbits, models);
-  if (coarse_cells.empty()) return best;
   const CandidateList both = layer_candidates(coarse_cells, coarse, known, qbits, kKnownCandidateKinds);
   const std::vector<CandidateHit> beside_both = points_beside(both, fresh);
   // The same list without the midpoints' own places (a place both a centre
