@@ -16,6 +16,9 @@
 #include "common/parallel_for.h"
 
 #ifdef CGAL_LINKED_WITH_TBB
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/scalable_allocator.h>
 #endif
 
@@ -48,6 +51,8 @@ using Point = K::Point_3;
 // Batches this large go to every core; below, starting threads costs more
 // than it gains.
 constexpr size_t kParallelBatch = 20000;
+// Below this many vertices the threads would contend for the same few cells.
+constexpr size_t kParallelStart = 4096;
 
 Point to_point(const GridPoint& p) { return Point(p.x, p.y, p.z); }
 
@@ -102,6 +107,42 @@ Status insert_in_order(DT& dt, size_t n, ItemOf&& item_of) {
   return check_cells(dt);
 }
 
+// CGAL's parallel range insertion (Delaunay_triangulation_3::insert_with_info)
+// on points already in spatial order: each thread takes a run of
+// consecutive points, each located from the thread's previous one, and
+// retries a point whose cells another thread holds. CGAL's own call would
+// copy the slice and sort it again (a shuffle and a multiscale sort).
+#ifdef CGAL_LINKED_WITH_TBB
+template <class Item>
+void insert_sorted_in_parallel(DT& dt, std::span<const Item> items) {
+  // Every thread starts from some vertex; then from its previous point.
+  const DT::Vertex_handle start = dt.finite_vertices_begin();
+  tbb::enumerable_thread_specific<DT::Vertex_handle> hints(start);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size()), [&](const tbb::blocked_range<size_t>& r) {
+    DT::Vertex_handle& hint = hints.local();
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const Point& p = items[i].first;
+      for (;;) {
+        if (dt.try_lock_vertex(hint) && dt.try_lock_point(p)) {
+          bool could_lock_zone = false;
+          const DT::Vertex_handle v = dt.insert(p, hint, &could_lock_zone);
+          dt.unlock_all_elements();
+          if (could_lock_zone) {
+            if (v != DT::Vertex_handle()) {
+              v->info() = items[i].second;
+              hint = v;
+            }
+            break;
+          }
+        } else {
+          dt.unlock_all_elements();
+        }
+      }
+    }
+  });
+}
+#endif
+
 // What CGAL's range insertion does (spatial sort, then insertion with the
 // previous vertex as hint), plus the cell check. A large batch goes to
 // every core in slices of at most an eighth of what the triangulation
@@ -119,9 +160,13 @@ Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const u
 #ifdef CGAL_LINKED_WITH_TBB
   if (batch.size() >= kParallelBatch) {
     CGAL::spatial_sort<CGAL::Parallel_tag>(batch.begin(), batch.end(), SortTraits());
-    // The first points one by one: the threads need a 3D triangulation to lock.
-    size_t done = std::min(batch.size(), std::max<size_t>(4096, dt.number_of_vertices() / 8));
+    // The first points one by one, while the triangulation is small or flat:
+    // the threads need a 3D triangulation to lock, with room for both.
+    const size_t held = dt.number_of_vertices();
+    size_t done = held >= kParallelStart ? 0 : std::min(batch.size(), kParallelStart - held);
     DTM_RETURN_IF_ERROR(insert_in_order(dt, done, [&](size_t i) { return batch[i]; }));
+    for (; done < batch.size() && dt.dimension() < 3; ++done)
+      DTM_RETURN_IF_ERROR(insert_in_order(dt, 1, [&](size_t) { return batch[done]; }));
     CGAL::Bbox_3 box;
     for (const GridPoint& p : points) box += to_point(p).bbox();
     for (auto v : dt.finite_vertex_handles()) box += v->point().bbox();
@@ -134,10 +179,9 @@ Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const u
     } unlock{dt};
     dt.set_lock_data_structure(&locks);
     while (done < batch.size()) {
-      const size_t slice = std::min(batch.size() - done, std::max<size_t>(4096, dt.number_of_vertices() / 8));
-      // CGAL sorts each slice again (cheap: it is already in order).
-      dt.insert(batch.begin() + static_cast<std::ptrdiff_t>(done),
-                batch.begin() + static_cast<std::ptrdiff_t>(done + slice));
+      const size_t slice =
+          std::min(batch.size() - done, std::max<size_t>(kParallelStart, dt.number_of_vertices() / 8));
+      insert_sorted_in_parallel(dt, std::span<const Item>(batch).subspan(done, slice));
       done += slice;
       DTM_RETURN_IF_ERROR(check_cells(dt));
     }

@@ -98,27 +98,33 @@ INSTANTIATE_TEST_SUITE_P(Grids, DegenerateGrid, ::testing::Values(0, 11, 12), []
 // threads insert in an order the scheduler decides, which the symbolic
 // perturbation must not see. A full 30^3 lattice is as cospherical as input
 // gets; it is inserted in parallel (one batch), one point at a time, and as
-// a parallel batch into a triangulation that holds a random tenth already.
+// a parallel batch into a triangulation that holds a random share already:
+// a tenth (too few vertices for the threads: the batch starts one point at
+// a time) or a quarter (the threads start at once, a decoder's finer layer).
 TEST(DelaunayUniqueness, ParallelBatchesGiveTheSameCells) {
   ASSERT_TRUE(parallel_delaunay_available()) << "the native build links TBB";
-  const auto pts = test::full_grid(30);
+  const auto pts = test::full_grid(33);
   const auto parallel = reference(pts);
   IncrementalDelaunay sequential;
   ASSERT_TRUE(sequential.insert_one_by_one(pts, iota_ids(pts.size())).ok());
   EXPECT_EQ(cells_by_coords(sequential.mesh(), pts), parallel);
 
-  std::vector<uint32_t> order = iota_ids(pts.size());
-  std::shuffle(order.begin(), order.end(), std::mt19937(5));
-  std::vector<GridPoint> first, rest;
-  std::vector<uint32_t> first_ids, rest_ids;
-  for (size_t k = 0; k < order.size(); ++k) {
-    (k < order.size() / 10 ? first : rest).push_back(pts[order[k]]);
-    (k < order.size() / 10 ? first_ids : rest_ids).push_back(order[k]);
+  for (const size_t share : {10, 4}) {
+    std::vector<uint32_t> order = iota_ids(pts.size());
+    std::shuffle(order.begin(), order.end(), std::mt19937(5));
+    std::vector<GridPoint> first, rest;
+    std::vector<uint32_t> first_ids, rest_ids;
+    for (size_t k = 0; k < order.size(); ++k) {
+      (k < order.size() / share ? first : rest).push_back(pts[order[k]]);
+      (k < order.size() / share ? first_ids : rest_ids).push_back(order[k]);
+    }
+    ASSERT_GE(rest.size(), 20000u) << "a batch the threads share";
+    if (share == 4) ASSERT_GE(first.size(), 4096u) << "no point inserted alone";
+    IncrementalDelaunay two_batches;
+    ASSERT_TRUE(two_batches.insert(first, first_ids).ok());
+    ASSERT_TRUE(two_batches.insert(rest, rest_ids).ok());
+    EXPECT_EQ(cells_by_coords(two_batches.mesh(), pts), parallel) << "a 1/" << share << " share first";
   }
-  IncrementalDelaunay two_batches;
-  ASSERT_TRUE(two_batches.insert(first, first_ids).ok());
-  ASSERT_TRUE(two_batches.insert(rest, rest_ids).ok());
-  EXPECT_EQ(cells_by_coords(two_batches.mesh(), pts), parallel);
 }
 
 // A triangulation built on every core holds its cells in the order the
