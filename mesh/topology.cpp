@@ -1,6 +1,7 @@
 #include "mesh/topology.h"
 
 #include <algorithm>
+#include <tuple>
 
 #include "common/parallel_for.h"
 #include "mesh/geometry.h"
@@ -119,26 +120,44 @@ std::vector<uint32_t> canonical_cell_order(std::span<const std::array<uint32_t, 
     for (uint32_t k = 0; k < m; ++k) order[k] = k;
     return order;
   }
+  // Each cell's other three vertices (sorted) and its index go straight to
+  // its smallest vertex's bucket: one pass reading the cells in order, then
+  // each bucket sorted where it lies. (Gathering the cells by index into
+  // the buckets instead, a random read per cell, took 30% longer.) The
+  // entries cost 16 bytes a cell while the triangulation is still held,
+  // below the insertion's peak.
+  struct Entry {
+    uint32_t second, third, fourth, cell;
+  };
   uint32_t top = 0;
   for (const auto& c : cells) top = std::max({top, c[0], c[1], c[2], c[3]});
-  Csr by_smallest = build_csr(m == 0 ? 0 : size_t{top} + 1, [&](auto&& emit) {
-    for (uint32_t k = 0; k < m; ++k) emit(std::min({cells[k][0], cells[k][1], cells[k][2], cells[k][3]}), k);
-  });
+  const size_t rows = size_t{top} + 1;
+  std::vector<uint32_t> start(rows + 1, 0);
+  for (const auto& c : cells) ++start[size_t{std::min({c[0], c[1], c[2], c[3]})} + 1];
+  for (size_t v = 1; v <= rows; ++v) start[v] += start[v - 1];
+  std::vector<Entry> entries(m);
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t k = 0; k < m; ++k) {
+      const auto c = sorted4(cells[k]);
+      entries[fill[c[0]]++] = {c[1], c[2], c[3], k};
+    }
+  }
   constexpr size_t kBlock = 4096;
-  parallel_for((by_smallest.rows() + kBlock - 1) / kBlock,
+  parallel_for((rows + kBlock - 1) / kBlock,
                [&](size_t block) {
-                 std::vector<std::pair<std::array<uint32_t, 4>, uint32_t>> bucket;
-                 for (size_t v = block * kBlock; v < std::min(by_smallest.rows(), block * kBlock + kBlock);
-                      ++v) {
-                   bucket.clear();
-                   for (uint32_t k : by_smallest.row(v)) bucket.emplace_back(sorted4(cells[k]), k);
-                   std::sort(bucket.begin(), bucket.end());
-                   uint32_t* out = by_smallest.items.data() + by_smallest.offsets[v];
-                   for (const auto& [key, k] : bucket) *out++ = k;
+                 for (size_t v = block * kBlock; v < std::min(rows, block * kBlock + kBlock); ++v) {
+                   Entry* first = entries.data() + start[v];
+                   Entry* last = entries.data() + start[v + 1];
+                   std::sort(first, last, [](const Entry& a, const Entry& b) {
+                     return std::tie(a.second, a.third, a.fourth) < std::tie(b.second, b.third, b.fourth);
+                   });
+                   for (Entry* e = first; e != last; ++e)
+                     order[static_cast<size_t>(e - entries.data())] = e->cell;
                  }
                },
                2);
-  return std::move(by_smallest.items);
+  return order;
 }
 
 std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::array<uint32_t, 4>> cells) {

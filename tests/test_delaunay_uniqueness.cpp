@@ -8,6 +8,7 @@
 #include <set>
 
 #include "mesh/delaunay.h"
+#include "mesh/topology.h"
 #include "test_support.h"
 
 namespace dtm {
@@ -151,6 +152,26 @@ TEST(DelaunayUniqueness, ExportIsInTheCanonicalOrder) {
                                mesh.cells[static_cast<size_t>(n)].end(), mesh.cells[c][j]);
       ASSERT_EQ(shared, 3);
     }
+}
+
+// canonical_cell_order puts any listing of the cells, in any order and with
+// each cell's vertices in any order, into the export's order.
+TEST(DelaunayUniqueness, CanonicalOrderOfAnyListingIsTheExports) {
+  const auto pts = test::random_grid_points(20000, 9, 37);
+  const TetMesh mesh = delaunay_tetrahedralize(pts).value();
+  std::vector<std::array<uint32_t, 4>> listing = mesh.cells;
+  std::mt19937 rng(3);
+  std::shuffle(listing.begin(), listing.end(), rng);
+  for (auto& c : listing) std::rotate(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(rng() % 4), c.end());
+  const std::vector<uint32_t> order = canonical_cell_order(listing);
+  ASSERT_EQ(order.size(), listing.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    std::array<uint32_t, 4> a = listing[order[k]], b = mesh.cells[k];
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    ASSERT_EQ(a, b) << "place " << k;
+  }
+  EXPECT_EQ(canonical_cell_order(mesh.cells), iota_ids(mesh.cells.size())) << "the export is in order";
 }
 
 // The export says which cells a later insertion left alone: their index in
