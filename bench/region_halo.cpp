@@ -181,16 +181,22 @@ int main(int argc, char** argv) {
     for (std::string item; std::getline(list, item, ',');) depths.push_back(std::stoi(item));
   }
   std::printf(
-      "%s, level %d: %zu points, %zu cells, %zu kept (%zu of them with a circumradius over 2 alpha); %d boxes of "
+      "%s, level %d: %zu points, %zu cells, %zu kept (%zu of them with a circumradius over 2 alpha); %d "
+      "boxes of "
       "%.3g of the bounding box's volume\n\n",
       argv[1], level, points.size(), global.size(), kept.size(), kept_large, boxes, share);
-  std::printf("| depth | bricks with points | points per brick | rings needed (min / mean / max) | points in the box (mean) | "
-              "points decoded (mean, max) | kept cells meeting the box (mean) | certified cells not in the tetrahedralization | "
-              "kept cells meeting the box not found (of them over 2 alpha) |\n|---:|---:|---:|---|---:|---|---:|---:|---:|\n");
+  std::printf(
+      "| depth | bricks with points | points per brick | rings needed (min / mean / max) | points in the box "
+      "(mean) | "
+      "points decoded (mean, max) | kept cells meeting the box (mean) | certified cells not in the "
+      "tetrahedralization | "
+      "kept cells meeting the box not found (of them over 2 alpha) "
+      "|\n|---:|---:|---:|---|---:|---|---:|---:|---:|\n");
   for (const int depth : depths) {
     Bricks b{depth, qbits - depth};
     std::set<int> occupied;
-    for (const GridPoint& p : points) occupied.insert((b.of(p.x) * b.side() + b.of(p.y)) * b.side() + b.of(p.z));
+    for (const GridPoint& p : points)
+      occupied.insert((b.of(p.x) * b.side() + b.of(p.y)) * b.side() + b.of(p.z));
     std::mt19937 rng(7);
     int ring_min = 1 << 30, ring_max = 0;
     double ring_sum = 0, inside_sum = 0, decoded_sum = 0, decoded_max = 0, meeting_sum = 0;
@@ -233,7 +239,7 @@ int main(int argc, char** argv) {
             std::array<double, 3> centre;
             double radius = 0;
             if (!circumsphere(c, local, centre, radius)) continue;  // flat: no cell of the level
-            if (radius > 2 * alpha) continue;                        // carved away
+            if (radius > 2 * alpha) continue;                       // carved away
             if (!sphere_inside(b, mask, centre, radius)) {
               complete = false;
               break;
@@ -259,10 +265,11 @@ int main(int argc, char** argv) {
         break;
       }
     }
-    std::printf("| %d | %zu | %.0f | %d / %.2f / %d | %.2f%% | %.1f%%, %.1f%% | %.0f | %zu | %zu (%zu) |\n", depth,
-                occupied.size(), static_cast<double>(points.size()) / static_cast<double>(occupied.size()), ring_min,
-                ring_sum / boxes, ring_max, 100 * inside_sum / boxes, 100 * decoded_sum / boxes, 100 * decoded_max, meeting_sum / boxes,
-                wrong, missing, missing_large);
+    std::printf("| %d | %zu | %.0f | %d / %.2f / %d | %.2f%% | %.1f%%, %.1f%% | %.0f | %zu | %zu (%zu) |\n",
+                depth, occupied.size(),
+                static_cast<double>(points.size()) / static_cast<double>(occupied.size()), ring_min,
+                ring_sum / boxes, ring_max, 100 * inside_sum / boxes, 100 * decoded_sum / boxes,
+                100 * decoded_max, meeting_sum / boxes, wrong, missing, missing_large);
     std::fflush(stdout);
   }
   return 0;
