@@ -39,6 +39,7 @@
 
 #include "codec/decode.h"
 #include "mesh/delaunay.h"
+#include "mesh/geometry.h"
 
 namespace {
 
@@ -68,30 +69,18 @@ bool cell_meets(const Cell& c, std::span<const GridPoint> points, const Box& box
 }
 
 // The circumsphere's centre and radius, in doubles (a grid step of margin
-// covers their rounding on these grids).
-bool circumsphere(const Cell& c, std::span<const GridPoint> points, std::array<double, 3>& centre,
-                  double& radius) {
-  const auto p0 = at(points[c[0]]);
-  double d[3][3], len2[3];
-  for (int i = 0; i < 3; ++i) {
-    const auto q = at(points[c[i + 1]]);
-    for (int a = 0; a < 3; ++a) d[i][a] = q[a] - p0[a];
-    len2[i] = d[i][0] * d[i][0] + d[i][1] * d[i][1] + d[i][2] * d[i][2];
-  }
-  auto cross = [](const double* u, const double* v, double* w) {
-    w[0] = u[1] * v[2] - u[2] * v[1], w[1] = u[2] * v[0] - u[0] * v[2], w[2] = u[0] * v[1] - u[1] * v[0];
-  };
-  double bc[3], ca[3], ab[3];
-  cross(d[1], d[2], bc), cross(d[2], d[0], ca), cross(d[0], d[1], ab);
-  const double det2 = 2 * (d[0][0] * bc[0] + d[0][1] * bc[1] + d[0][2] * bc[2]);
-  if (det2 == 0) return false;
-  double r2 = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double off = (len2[0] * bc[a] + len2[1] * ca[a] + len2[2] * ab[a]) / det2;
-    centre[a] = p0[a] + off;
-    r2 += off * off;
-  }
-  radius = std::sqrt(r2);
+// covers their rounding on these grids); false for a flat cell.
+bool circumsphere(const Cell& c, std::span<const GridPoint> points, dtm::Vec3& centre, double& radius) {
+  using dtm::cross, dtm::dot;
+  const dtm::Vec3 a = dtm::to_vec(points[c[0]]);
+  const dtm::Vec3 u = dtm::to_vec(points[c[1]]) - a, v = dtm::to_vec(points[c[2]]) - a,
+                  w = dtm::to_vec(points[c[3]]) - a;
+  const double det = dot(u, cross(v, w));
+  if (det == 0) return false;
+  const dtm::Vec3 offset =
+      (cross(v, w) * dot(u, u) + cross(w, u) * dot(v, v) + cross(u, v) * dot(w, w)) * (1 / (2 * det));
+  centre = a + offset;
+  radius = dtm::norm(offset);
   return true;
 }
 
@@ -118,8 +107,8 @@ std::vector<uint8_t> decoded_bricks(const Bricks& b, const Box& box, int rings) 
 
 // The sphere, a grid step larger, inside decoded bricks only (outside the
 // grid there are no points: that counts as decoded).
-bool sphere_inside(const Bricks& b, const std::vector<uint8_t>& mask, const std::array<double, 3>& c,
-                   double r) {
+bool sphere_inside(const Bricks& b, const std::vector<uint8_t>& mask, const dtm::Vec3& centre, double r) {
+  const double c[3] = {centre.x, centre.y, centre.z};
   const int side = b.side();
   int lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
@@ -164,7 +153,7 @@ int main(int argc, char** argv) {
   for (const Cell& c : decoder.carved_cells()) kept.push_back(sorted(c));
   size_t kept_large = 0;
   for (const Cell& c : kept) {
-    std::array<double, 3> centre;
+    dtm::Vec3 centre;
     double radius = 0;
     kept_large += circumsphere(c, points, centre, radius) && radius > 2 * alpha;
   }
@@ -236,7 +225,7 @@ int main(int argc, char** argv) {
           for (size_t k = 0; complete && k < dt.value().cells.size(); ++k) {
             const Cell& c = dt.value().cells[k];
             if (!cell_meets(c, local, box)) continue;
-            std::array<double, 3> centre;
+            dtm::Vec3 centre;
             double radius = 0;
             if (!circumsphere(c, local, centre, radius)) continue;  // flat: no cell of the level
             if (radius > 2 * alpha) continue;                       // carved away
@@ -253,7 +242,7 @@ int main(int argc, char** argv) {
         for (const Cell& c : expected) {
           if (std::binary_search(found.begin(), found.end(), c)) continue;
           ++missing;
-          std::array<double, 3> centre;
+          dtm::Vec3 centre;
           double radius = 0;
           missing_large += circumsphere(c, points, centre, radius) && radius > 2 * alpha;
         }
