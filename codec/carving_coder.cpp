@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <string>
 
 #include "bitstream/range_coder.h"
 #include "common/parallel_for.h"
@@ -54,14 +55,116 @@ void visit_corrections(const TetMesh& dt, const CarvingPrediction& p, CarvingCon
   }
 }
 
+// The cells of each chunk, in canonical order: chunk_cells[first[i] ..
+// first[i + 1]) are chunk i's.
+struct ChunkCells {
+  std::vector<uint32_t> cells, first;
+};
+ChunkCells group_by_chunk(std::span<const uint32_t> order, std::span<const uint32_t> chunk_of_cell,
+                          size_t chunk_count) {
+  ChunkCells g;
+  g.first.assign(chunk_count + 1, 0);
+  for (uint32_t c : order)
+    if (chunk_of_cell[c] != kNoCarvingChunk) ++g.first[chunk_of_cell[c] + 1];
+  for (size_t i = 0; i < chunk_count; ++i) g.first[i + 1] += g.first[i];
+  g.cells.resize(g.first[chunk_count]);
+  std::vector<uint32_t> next(g.first.begin(), g.first.end() - 1);
+  for (uint32_t c : order)
+    if (chunk_of_cell[c] != kNoCarvingChunk) g.cells[next[chunk_of_cell[c]]++] = c;
+  return g;
+}
+
+// One chunk's traversal (6.0's contexts): as visit_corrections, but a wrong
+// verdict tells only the neighbours of the same chunk. Chunks touch
+// disjoint cells of `kept`, `kept_change` and `wrong`: they may run at once.
+template <class CodeBit>
+void visit_chunk(const TetMesh& dt, const CarvingPrediction& p, std::span<const uint32_t> cells,
+                 std::span<const uint32_t> chunk_of_cell, std::vector<uint8_t>& kept,
+                 std::vector<int8_t>& kept_change, std::vector<uint8_t>& wrong, CodeBit&& code_bit) {
+  std::array<AdaptiveBit, kDecodedNeighbourContexts> models;
+  for (uint32_t c : cells) {
+    const int context = (p.context[c] + kept_change[c]) * 3 + std::min<int>(wrong[c], 2);
+    if (!code_bit(models[static_cast<size_t>(context)], c)) continue;
+    kept[c] ^= 1;
+    for (int32_t n : dt.neighbors[c]) {
+      if (n < 0 || chunk_of_cell[static_cast<size_t>(n)] != chunk_of_cell[c]) continue;
+      const auto k = static_cast<size_t>(n);
+      kept_change[k] = static_cast<int8_t>(kept_change[k] + (kept[c] ? 1 : -1));
+      ++wrong[k];
+    }
+  }
+}
+
 }  // namespace
+
+std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::span<const GridPoint> points,
+                                                        double alpha, std::span<const uint8_t> kept,
+                                                        std::span<const uint32_t> chunk_of_cell,
+                                                        size_t chunk_count) {
+  const CarvingPrediction p =
+      predict_carving(dt, points, alpha, CarvingContexts::kDecodedNeighbours, chunk_of_cell);
+  const ChunkCells g = group_by_chunk(p.order, chunk_of_cell, chunk_count);
+  std::vector<std::vector<uint8_t>> out(chunk_count);
+  std::vector<uint8_t> verdicts = p.kept;
+  std::vector<int8_t> kept_change(dt.cells.size(), 0);
+  std::vector<uint8_t> wrong(dt.cells.size(), 0);
+  parallel_for(
+      chunk_count,
+      [&](size_t i) {
+        const std::span<const uint32_t> cells(g.cells.data() + g.first[i], g.first[i + 1] - g.first[i]);
+        bool any = false;
+        for (uint32_t c : cells) any = any || (kept[c] != 0) != (p.kept[c] != 0);
+        if (!any) return;
+        RangeEncoder rc;
+        visit_chunk(dt, p, cells, chunk_of_cell, verdicts, kept_change, wrong,
+                    [&](AdaptiveBit& model, uint32_t c) {
+                      const bool is_wrong = (kept[c] != 0) != (p.kept[c] != 0);
+                      rc.encode(model, is_wrong);
+                      return is_wrong;
+                    });
+        out[i] = rc.finish();
+      },
+      2);
+  return out;
+}
+
+Status decode_carving_chunks(std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
+                             std::span<const GridPoint> points, double alpha,
+                             std::span<const uint32_t> chunk_of_cell, std::vector<uint8_t>& kept,
+                             std::vector<uint32_t>* order) {
+  CarvingPrediction p =
+      predict_carving(dt, points, alpha, CarvingContexts::kDecodedNeighbours, chunk_of_cell);
+  const ChunkCells g = group_by_chunk(p.order, chunk_of_cell, sections.size());
+  kept = p.kept;
+  std::vector<int8_t> kept_change(dt.cells.size(), 0);
+  std::vector<uint8_t> wrong(dt.cells.size(), 0);
+  std::vector<uint8_t> damaged(sections.size(), 0);
+  parallel_for(
+      sections.size(),
+      [&](size_t i) {
+        if (sections[i].empty()) return;
+        const std::span<const uint32_t> cells(g.cells.data() + g.first[i], g.first[i + 1] - g.first[i]);
+        RangeDecoder rc(sections[i]);
+        visit_chunk(dt, p, cells, chunk_of_cell, kept, kept_change, wrong,
+                    [&](AdaptiveBit& model, uint32_t) { return rc.decode(model); });
+        damaged[i] = !rc.finished_cleanly();
+      },
+      2);
+  for (size_t i = 0; i < sections.size(); ++i)
+    if (damaged[i])
+      return {StatusCode::kCorrupt, "chunk " + std::to_string(i) +
+                                        ": carving corrections do not end where "
+                                        "their bytes do"};
+  if (order) *order = std::move(p.order);
+  return Status::Ok();
+}
 
 CarvingContexts carving_contexts(uint8_t format_major) {
   return format_major >= 6 ? CarvingContexts::kDecodedNeighbours : CarvingContexts::kAlphaNeighbours;
 }
 
 CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
-                                  CarvingContexts contexts) {
+                                  CarvingContexts contexts, std::span<const uint32_t> chunk_of_cell) {
   const size_t m = dt.cells.size();
   CarvingPrediction p;
   p.kept.resize(m);
@@ -89,7 +192,10 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
       [&](size_t block) {
         for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c) {
           int kept_neighbors = 0;
-          for (int32_t n : dt.neighbors[c]) kept_neighbors += n >= 0 && p.kept[static_cast<size_t>(n)];
+          for (int32_t n : dt.neighbors[c])
+            kept_neighbors +=
+                n >= 0 && p.kept[static_cast<size_t>(n)] &&
+                (chunk_of_cell.empty() || chunk_of_cell[static_cast<size_t>(n)] == chunk_of_cell[c]);
           p.context[c] =
               static_cast<uint8_t>((half_octaves ? bucket[c] / 2 : bucket[c]) * 5 + kept_neighbors);
         }

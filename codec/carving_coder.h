@@ -49,8 +49,10 @@ struct CarvingPrediction {
 inline constexpr int kCarvingRatioBuckets = 16;
 inline constexpr int kAlphaNeighbourContexts = kCarvingRatioBuckets * 5;
 inline constexpr int kDecodedNeighbourContexts = kCarvingRatioBuckets / 2 * 5 * 3;
+// With `chunk_of_cell` (bricked layers), the kept neighbours counted are
+// those of the same chunk only.
 CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
-                                  CarvingContexts contexts);
+                                  CarvingContexts contexts, std::span<const uint32_t> chunk_of_cell = {});
 
 // The section for true verdicts `kept` (per cell of dt); empty when alpha's
 // prediction is right everywhere.
@@ -64,5 +66,24 @@ std::vector<uint8_t> encode_carving(const TetMesh& dt, std::span<const GridPoint
 Status decode_carving(std::span<const uint8_t> section, const TetMesh& dt, std::span<const GridPoint> points,
                       double alpha, CarvingContexts contexts, std::vector<uint8_t>& kept,
                       std::vector<uint32_t>* order = nullptr);
+
+// Bricked layers (8.0, codec/bricks.h): the corrections in chunks.
+// `chunk_of_cell`: per cell of dt, the chunk whose section codes its bit, or
+// kNoCarvingChunk (no bit: alpha's verdict stands). Each chunk visits its
+// own cells in canonical order with fresh 6.0 models, and its contexts see
+// only the face neighbours of the same chunk (another chunk's count as not
+// kept): chunks decode independently, on every core, and a region reader
+// needs, for a chunk, only the cells whose circumspheres reach its brick.
+inline constexpr uint32_t kNoCarvingChunk = UINT32_MAX;
+std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::span<const GridPoint> points,
+                                                        double alpha, std::span<const uint8_t> kept,
+                                                        std::span<const uint32_t> chunk_of_cell,
+                                                        size_t chunk_count);
+// `sections[i]`: chunk i's section (empty: no correction). kCorrupt names
+// the chunk (its index) whose section does not end where its bytes do.
+Status decode_carving_chunks(std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
+                             std::span<const GridPoint> points, double alpha,
+                             std::span<const uint32_t> chunk_of_cell, std::vector<uint8_t>& kept,
+                             std::vector<uint32_t>* order = nullptr);
 
 }  // namespace dtm

@@ -21,6 +21,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/bricks.h"
 #include "codec/format.h"
 #include "codec/layer_coder.h"
 #include "codec/value_fields.h"
@@ -113,6 +114,8 @@ class ProgressiveDecoder {
   void insert_pending() const;
   // The layer's new points in Morton order, merged into known_.
   Status decode_layer_points(const Layer& layer, std::vector<GridPoint>& added);
+  Status decode_bricked_layer(const Layer& layer, std::vector<GridPoint>& added);
+  std::vector<uint8_t> bricked_carving(const TetMesh& dt, std::vector<uint32_t>& order) const;
 
   DecoderOptions options_;
   std::vector<uint8_t> pending_;  // bytes received and not yet consumed
@@ -126,7 +129,13 @@ class ProgressiveDecoder {
   std::optional<LayerWalk> walk_;          // made with the header
   std::vector<DecodedLevel> levels_;
   std::vector<GridPoint> points_;
-  std::vector<uint8_t> carving_;   // the finest level's carving section
+  std::vector<uint8_t> carving_;  // the finest level's carving section
+  // Bricked streams (8.0): the finest layer's index, chunks (their carving
+  // sections are the level's corrections), brick depth and kept radius.
+  std::vector<BrickChunk> chunks_;
+  std::vector<uint8_t> chunk_bytes_;
+  int brick_depth_ = 0;
+  double kept_radius_ = 0;
   std::vector<MortonCode> known_;  // Morton codes of points_, ascending: the coder's context
   SetCoderModels models_;          // the layer coder's models, adapted layer after layer
   // The triangulation lags behind points_ until a mesh is asked for.

@@ -97,6 +97,11 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   levels_.push_back(d);
   // Only the finest level's carving is ever asked for (carved_cells()).
   carving_.assign(layer.carving.begin(), layer.carving.end());
+  if (lh.bricked) {
+    chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
+    brick_depth_ = lh.brick_depth;
+    kept_radius_ = lh.kept_radius;
+  }
   pending_start_ += layer.size();
   if (on_level) on_level(*this, d);
   if (level == options_.stop_after_level) stopped_ = true;
@@ -106,6 +111,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
 Status ProgressiveDecoder::decode_layer_points(const Layer& layer, std::vector<GridPoint>& added) {
   const LayerHeader& lh = layer.header;
   const int qbits = header_.grid.qbits;
+  if (lh.bricked) return decode_bricked_layer(layer, added);
   // The coder itself rejects a point repeated within the layer or already
   // known from a coarser one.
   if (lh.candidate_kinds == 0) {
@@ -145,6 +151,48 @@ Status ProgressiveDecoder::decode_layer_points(const Layer& layer, std::vector<G
                        return morton_encode(a, qbits) < morton_encode(b, qbits);
                      });
   return Status::Ok();
+}
+
+Status ProgressiveDecoder::decode_bricked_layer(const Layer& layer, std::vector<GridPoint>& added) {
+  const LayerHeader& lh = layer.header;
+  const int qbits = header_.grid.qbits;
+  std::vector<BrickChunk> chunks;
+  DTM_RETURN_IF_ERROR(
+      parse_brick_index(layer.index, lh.brick_depth, qbits, lh.new_vertices, lh.chunk_bytes, chunks));
+  if (!(header_.flags & kFlagCarvingCorrections))
+    for (const BrickChunk& c : chunks)
+      if (c.carving_bytes != 0)
+        return {StatusCode::kCorrupt, "carving corrections present without their flag"};
+  DTM_RETURN_IF_ERROR(
+      decode_bricked_points(chunks, layer.chunks, known_, qbits, lh.brick_depth, models_, added));
+  merge_known(known_, added, qbits);
+  chunks_ = std::move(chunks);
+  return Status::Ok();
+}
+
+std::vector<uint8_t> ProgressiveDecoder::bricked_carving(const TetMesh& dt,
+                                                         std::vector<uint32_t>& order) const {
+  const int qbits = header_.grid.qbits;
+  std::vector<MortonCode> codes(points_.size());
+  for (size_t v = 0; v < codes.size(); ++v) codes[v] = morton_encode(points_[v], qbits);
+  const std::vector<uint64_t> owner =
+      carving_bricks_of_cells(dt, points_, codes, qbits, brick_depth_, kept_radius_);
+  std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
+  for (size_t c = 0; c < owner.size(); ++c)
+    if (const BrickChunk* chunk = owner[c] == kNoBrick ? nullptr : find_chunk(chunks_, owner[c]))
+      chunk_of_cell[c] = static_cast<uint32_t>(chunk - chunks_.data());
+  std::vector<std::span<const uint8_t>> sections;
+  sections.reserve(chunks_.size());
+  for (const BrickChunk& c : chunks_)
+    sections.push_back(split_chunk(c, std::span(chunk_bytes_).subspan(c.offset, c.size())).carving);
+  std::vector<uint8_t> kept;
+  const Status s =
+      decode_carving_chunks(sections, dt, points_, levels_.back().alpha, chunk_of_cell, kept, &order);
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
+    return {};
+  }
+  return kept;
 }
 
 Status ProgressiveDecoder::finish() const {
@@ -216,6 +264,7 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<
     order = canonical_cell_order(dt.cells);
     return carve(dt, points_, alpha);
   }
+  if (!chunks_.empty() || (header_.flags & kFlagBricks)) return bricked_carving(dt, order);
   std::vector<uint8_t> kept;
   const Status s =
       decode_carving(carving_, dt, points_, alpha, carving_contexts(header_.version_major), kept, &order);

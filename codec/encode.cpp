@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "codec/bricks.h"
 #include "codec/expert_encode.h"
 #include "core/reference_shape.h"
 
@@ -31,6 +32,7 @@ HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, dou
   HierarchyOptions h;
   h.alpha.kind = o.alpha;
   h.alpha.fixed_value = o.fixed_alpha / grid.step;
+  if (o.bricks) h.alpha.kept_radius_ratio = kBrickedKeptRadiusRatio;
   h.dmax = dmax / grid.step;
   h.max_levels = o.max_levels;
   h.min_base_vertices = o.min_base_vertices;
@@ -214,6 +216,8 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   stream_options.cell_hashes = options.cell_hashes;
   stream_options.level_step = options.level_step;
   stream_options.candidates = options.candidates;
+  stream_options.bricks = options.bricks;
+  stream_options.brick_points = options.brick_points;
   DTM_ASSIGN_OR_RETURN(EncodedStream stream,
                        encode_stream(h, q.points, q.grid, options.alpha, stream_options, std::move(fields)));
   report.layer_bytes = std::move(stream.layer_bytes);

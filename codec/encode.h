@@ -73,6 +73,8 @@ struct EncodeOptions {
   int level_step = 1;
   bool cell_hashes = false;
   bool candidates = true;
+  bool bricks = false;
+  uint64_t brick_points = 2048;
 
   // Told each phase of the work as it starts (common/progress.h): the
   // hierarchy's levels, then the stream's.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "codec/bricks.h"
 #include "codec/layer_candidates.h"
 #include "codec/layer_coder.h"
 #include "common/byte_io.h"
@@ -87,17 +88,18 @@ struct FieldReader {
 };
 
 template <class Header>
-Header read_fields(std::span<const uint8_t> bytes, uint8_t format_major = kVersionMajor) {
+Header read_fields(std::span<const uint8_t> bytes, uint8_t format_major = kVersionMajor,
+                   bool bricked = false) {
   Header h;
-  if constexpr (requires { h.format_major; }) h.format_major = format_major;
+  if constexpr (requires { h.format_major; }) h.format_major = format_major, h.bricked = bricked;
   FieldReader reader{ByteReader(bytes)};
   visit_fields(h, reader);
   return h;
 }
 
 constexpr size_t kHeaderChecksumOffset = sized<StreamHeader>().checksum_offset;
-constexpr size_t layer_checksum_offset(uint8_t format_major) {
-  return sized<LayerHeader>(format_major).checksum_offset;
+constexpr size_t layer_checksum_offset(uint8_t format_major, bool bricked) {
+  return sized<LayerHeader>(format_major, bricked).checksum_offset;
 }
 
 }  // namespace
@@ -126,6 +128,10 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   if (static_cast<uint8_t>(h.alpha_policy) > 2) return corrupt("unknown alpha policy");
   if (h.flags & ~kKnownFlags) return {StatusCode::kUnsupported, "unknown header flags"};
   if ((h.flags & kFlagValues) && h.version_major < 5) return corrupt("values flagged in a stream before 5.0");
+  if ((h.flags & kFlagBricks) && h.version_major < 8) return corrupt("bricks flagged in a stream before 8.0");
+  if ((h.flags & kFlagBricks) && (h.flags & kFlagValues))
+    return {StatusCode::kUnsupported,
+            "bricked layers with values (8.0 defines bricked layers without values)"};
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
   for (double o : h.grid.origin)
@@ -152,6 +158,19 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   return writer.w.take();
 }
 
+std::vector<uint8_t> write_bricked_layer(LayerHeader h, std::span<const uint8_t> index,
+                                         std::span<const uint8_t> chunks) {
+  h.bricked = true;
+  h.index_bytes = static_cast<uint32_t>(index.size());
+  h.chunk_bytes = chunks.size();
+  FieldWriter writer;
+  writer.trailer = index;
+  visit_fields(h, writer);
+  writer.w.bytes(index);
+  writer.w.bytes(chunks);
+  return writer.w.take();
+}
+
 LayerWalk::LayerWalk(const StreamHeader& header, uint64_t max_level_vertices, uint64_t table_bytes)
     : header_(header),
       max_level_vertices_(max_level_vertices),
@@ -170,6 +189,28 @@ Status LayerWalk::check(const LayerHeader& h) const {
   if (h.level == 0 && h.level_vertices != header_.vertex_count)
     return corrupt("finest level's vertex count differs from the header's");
   if (std::isnan(h.alpha) || !(h.alpha > 0)) return corrupt("alpha is not positive");
+  if (h.bricked) {
+    if (!(h.kept_radius >= h.alpha)) return corrupt("kept radius below alpha");
+    if (!(header_.flags & kFlagCarvingCorrections) && h.kept_radius != h.alpha)
+      return corrupt("kept radius other than alpha without carving corrections");
+    if (h.brick_depth > kMaxBrickDepthField || h.brick_depth > header_.grid.qbits)
+      return corrupt("brick depth out of range");
+    if (previous_vertices_ == 0 && h.brick_depth != 0) return corrupt("a base layer of more than one brick");
+    if (h.chunk_bytes < min_payload_bytes(h.new_vertices))
+      return corrupt("chunks too short for their points");
+  } else {
+    DTM_RETURN_IF_ERROR(check_sections(h));
+  }
+  if (!(header_.flags & kFlagCellHashes) && h.cell_hash != 0)
+    return corrupt("cell hash present without its flag");
+  if (h.level_vertices > max_level_vertices_)
+    return {StatusCode::kLimitExceeded, std::to_string(h.level_vertices) + " vertices exceed the limit of " +
+                                            std::to_string(max_level_vertices_)};
+  return Status::Ok();
+}
+
+// The sections of a layer that is not bricked.
+Status LayerWalk::check_sections(const LayerHeader& h) const {
   // (With candidates, the payload holds only the points they do not send.)
   if (h.candidate_kinds == 0 && h.payload_bytes < min_payload_bytes(h.new_vertices))
     return corrupt("payload too short for its point count");
@@ -177,8 +218,6 @@ Status LayerWalk::check(const LayerHeader& h) const {
     return corrupt("carving corrections present without their flag");
   if (!(header_.flags & kFlagValues) && h.value_bytes != 0)
     return corrupt("a value section present without its flag");
-  if (!(header_.flags & kFlagCellHashes) && h.cell_hash != 0)
-    return corrupt("cell hash present without its flag");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
     return corrupt("candidates at the base level, which has no coarser level");
@@ -186,13 +225,20 @@ Status LayerWalk::check(const LayerHeader& h) const {
     return corrupt("candidates on a grid of more than 19 bits");
   if (h.candidate_kinds == 0 && h.candidate_bytes != 0)
     return corrupt("a candidate section without candidate kinds");
-  if (h.level_vertices > max_level_vertices_)
-    return {StatusCode::kLimitExceeded, std::to_string(h.level_vertices) + " vertices exceed the limit of " +
-                                            std::to_string(max_level_vertices_)};
   return Status::Ok();
 }
 
 Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen) {
+  return walk(bytes, layer, header_seen, true);
+}
+
+Status LayerWalk::next_index(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen) {
+  if (!(header_.flags & kFlagBricks))
+    return {StatusCode::kInvalidInput, "next_index: the layers are not bricked"};
+  return walk(bytes, layer, header_seen, false);
+}
+
+Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen, bool with_chunks) {
   if (header_seen) *header_seen = false;
   if (done()) {
     if (!bytes.empty())
@@ -200,13 +246,28 @@ Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* heade
     return {StatusCode::kNeedMoreInput, "complete"};
   }
   const uint8_t major = header_.version_major;
-  const size_t header_size = layer_header_size(major);
+  const bool bricked = header_.flags & kFlagBricks;
+  const size_t header_size = layer_header_size(major, bricked);
   if (bytes.size() < header_size) return {StatusCode::kNeedMoreInput, "layer header incomplete"};
   const std::string where = "level " + std::to_string(next_level_) + " at byte " + std::to_string(offset_);
-  layer.header = read_fields<LayerHeader>(bytes.first(header_size), major);
+  layer = Layer{};
+  layer.header = read_fields<LayerHeader>(bytes.first(header_size), major, bricked);
   layer.offset = offset_;
   DTM_RETURN_IF_ERROR(check(layer.header).with_context(where));
   if (header_seen) *header_seen = true;
+  if (bricked) {
+    const LayerHeader& lh = layer.header;
+    const uint64_t needed = with_chunks ? lh.body_bytes() : lh.index_bytes;
+    if (bytes.size() - header_size < needed) return {StatusCode::kNeedMoreInput, "layer incomplete"};
+    layer.index = bytes.subspan(header_size, lh.index_bytes);
+    if (with_chunks) layer.chunks = bytes.subspan(header_size + lh.index_bytes, lh.chunk_bytes);
+    if (xxh3_64(bytes.first(layer_checksum_offset(major, true)), layer.index) != lh.checksum)
+      return corrupt(where + ": layer checksum mismatch");
+    offset_ += header_size + lh.body_bytes();
+    previous_vertices_ = lh.level_vertices;
+    --next_level_;
+    return Status::Ok();
+  }
   if (bytes.size() - header_size < layer.header.body_bytes())
     return {StatusCode::kNeedMoreInput, "layer incomplete"};
   const std::span<const uint8_t> body = bytes.subspan(header_size, layer.header.body_bytes());
@@ -215,7 +276,7 @@ Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   layer.payload = body.subspan(lh.candidate_bytes, lh.payload_bytes);
   layer.carving = body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes, lh.carving_bytes);
   layer.values = body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes);
-  if (xxh3_64(bytes.first(layer_checksum_offset(major)), body) != layer.header.checksum)
+  if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();
   previous_vertices_ = layer.header.level_vertices;
@@ -249,7 +310,25 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
     bool header_seen = false;
     const Status st = walk.next(bytes.subspan(walk.offset()), layer, &header_seen);
     if (st.ok()) {
-      s.layers.push_back({layer.header, layer.offset, true, {}});
+      s.layers.push_back({layer.header, 0, layer.offset, true, {}});
+      if (layer.header.bricked) {
+        LayerHeader& lh = s.layers.back().header;
+        std::vector<BrickChunk> chunks;
+        s.status =
+            parse_brick_index(layer.index, lh.brick_depth, s.header.grid.qbits, lh.new_vertices,
+                              lh.chunk_bytes, chunks)
+                .with_context("level " + std::to_string(level) + " at byte " + std::to_string(layer.offset));
+        if (!s.status.ok()) return s;
+        s.layers.back().chunks = chunks.size();
+        for (const BrickChunk& c : chunks)
+          if (s.status = check_chunk(c, layer.chunks.subspan(c.offset, c.size()))
+                             .with_context("level " + std::to_string(level) + " at byte " +
+                                           std::to_string(layer.offset));
+              !s.status.ok())
+            return s;
+        for (const BrickChunk& c : chunks)
+          lh.payload_bytes += c.payload_bytes, lh.carving_bytes += c.carving_bytes;
+      }
       if (!s.fields.empty()) {
         s.status = value_section_field_bytes(layer.values, s.fields, s.layers.back().field_bytes);
         if (!s.status.ok()) return s;
@@ -259,7 +338,7 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
     if (st.code() != StatusCode::kNeedMoreInput) {
       s.status = st;
     } else if (!walk.done()) {
-      if (header_seen) s.layers.push_back({layer.header, layer.offset, false, {}});
+      if (header_seen) s.layers.push_back({layer.header, 0, layer.offset, false, {}});
       s.status = {StatusCode::kTruncated,
                   header_seen
                       ? "the stream ends inside level " + std::to_string(level) + "'s layer"

@@ -10,6 +10,8 @@
 //            + payload (the level's other new points)
 //            + carving section (4.0: the level's carving corrections)
 //            + value section (5.0: the new points' values)
+//   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
+//            (codec/bricks.h: each brick's new points and corrections)
 #pragma once
 
 #include <array>
@@ -31,8 +33,10 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // The encoder writes the oldest version that says all the stream holds: 7.0
 // when it carries carving corrections (the codec preset, whose layers may
 // send points beside candidates; 6.0's correction contexts), else 5.0 when
-// it carries values, else 4.0; the decoder reads 2.x to 7.x.
-inline constexpr uint8_t kVersionMajor = 7;
+// it carries values, else 4.0; 8.0 when its layers are bricked (kFlagBricks);
+// the decoder reads 2.x to 8.x.
+inline constexpr uint8_t kVersionMajor = 8;
+inline constexpr uint8_t kVersionMajorUnbricked = 7;
 inline constexpr uint8_t kVersionMajorWithValues = 5;
 inline constexpr uint8_t kVersionMajorWithoutValues = 4;
 inline constexpr uint8_t kOldestVersionMajor = 2;  // the decoder also reads 2.x
@@ -43,7 +47,11 @@ inline constexpr uint16_t kFlagCellHashes = 1;  // each layer carries its level'
 inline constexpr uint16_t kFlagCarvingCorrections = 2;
 // 5.0: a field table follows the header and layers carry value sections.
 inline constexpr uint16_t kFlagValues = 4;
-inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues;
+// 8.0: every layer is bricked (codec/bricks.h): an index and one chunk per
+// brick instead of the candidate, payload, carving and value sections.
+inline constexpr uint16_t kFlagBricks = 8;
+inline constexpr int kMaxBrickDepthField = 16;  // codec/bricks.h's kMaxBrickDepth
+inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues | kFlagBricks;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -57,8 +65,10 @@ struct StreamHeader {
 };
 
 struct LayerHeader {
-  // Not a field: the stream's major version, which says which fields follow.
+  // Not fields: the stream's major version and whether its layers are
+  // bricked (kFlagBricks), which say which fields follow.
   uint8_t format_major = kVersionMajor;
+  bool bricked = false;
   uint16_t level = 0;
   uint32_t new_vertices = 0;    // points in this layer's payload
   uint32_t level_vertices = 0;  // |V_level| = the coarser level's count + new_vertices
@@ -71,10 +81,20 @@ struct LayerHeader {
   // candidate section's size, before the payload.
   uint8_t candidate_kinds = 0;
   uint32_t candidate_bytes = 0;
+  // Bricked layers (8.0): the largest circumradius of a kept cell (at least
+  // alpha; larger cells carry no correction bit), the bricks' octree depth,
+  // and the sizes of the index and of the chunks after it.
+  double kept_radius = 0;
+  uint8_t brick_depth = 0;
+  uint32_t index_bytes = 0;
+  uint64_t chunk_bytes = 0;
   uint64_t cell_hash = 0;  // meaningful with kFlagCellHashes, else 0
-  uint64_t checksum = 0;   // XXH3-64 of the header bytes before it and the body
+  // XXH3-64 of the header bytes before it and the body (of a bricked layer:
+  // and its index; each chunk has its own checksum in the index).
+  uint64_t checksum = 0;
 
   uint64_t body_bytes() const {
+    if (bricked) return uint64_t{index_bytes} + chunk_bytes;
     return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + value_bytes;
   }
 };
@@ -110,6 +130,15 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
   v.template field<uint32_t>("new_vertices", h.new_vertices);
   v.template field<uint32_t>("level_vertices", h.level_vertices);
   v.template field<double>("alpha", h.alpha);
+  if (h.bricked) {
+    v.template field<double>("kept_radius", h.kept_radius);
+    v.template field<uint8_t>("brick_depth", h.brick_depth);
+    v.template field<uint32_t>("index_bytes", h.index_bytes);
+    v.template field<uint64_t>("chunk_bytes", h.chunk_bytes);
+    v.template field<uint64_t>("cell_hash", h.cell_hash);
+    v.template checksum<uint64_t>("layer_checksum", h.checksum);
+    return;
+  }
   v.template field<uint32_t>("payload_bytes", h.payload_bytes);
   if (h.format_major >= 4) v.template field<uint32_t>("carving_bytes", h.carving_bytes);
   if (h.format_major >= 5) v.template field<uint32_t>("value_bytes", h.value_bytes);
@@ -142,9 +171,9 @@ struct FieldSizer {
 };
 
 template <class Header>
-constexpr FieldSizer sized(uint8_t format_major = kVersionMajor) {
+constexpr FieldSizer sized(uint8_t format_major = kVersionMajor, bool bricked = false) {
   Header h{};
-  if constexpr (requires { h.format_major; }) h.format_major = format_major;
+  if constexpr (requires { h.format_major; }) h.format_major = format_major, h.bricked = bricked;
   FieldSizer s;
   visit_fields(h, s);
   return s;
@@ -152,10 +181,13 @@ constexpr FieldSizer sized(uint8_t format_major = kVersionMajor) {
 
 inline constexpr size_t kHeaderSize = sized<StreamHeader>().size;
 // A layer header's size in a stream of this major version.
-constexpr size_t layer_header_size(uint8_t format_major) { return sized<LayerHeader>(format_major).size; }
+constexpr size_t layer_header_size(uint8_t format_major, bool bricked = false) {
+  return sized<LayerHeader>(format_major, bricked).size;
+}
 inline constexpr size_t kLayerHeaderSize = layer_header_size(kVersionMajor);
+inline constexpr size_t kBrickedLayerHeaderSize = layer_header_size(kVersionMajor, true);
 static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_size(4) == 42 &&
-                  layer_header_size(6) == 46 && kLayerHeaderSize == 51,
+                  layer_header_size(6) == 46 && kLayerHeaderSize == 51 && kBrickedLayerHeaderSize == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -170,6 +202,11 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> carving = {}, std::span<const uint8_t> values = {},
                                  std::span<const uint8_t> candidates = {});
 
+// Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
+// the checksum computed), the index, the chunks.
+std::vector<uint8_t> write_bricked_layer(LayerHeader h, std::span<const uint8_t> index,
+                                         std::span<const uint8_t> chunks);
+
 // A whole, checksummed layer, as LayerWalk returns it.
 struct Layer {
   LayerHeader header;
@@ -177,8 +214,14 @@ struct Layer {
   std::span<const uint8_t> payload;
   std::span<const uint8_t> carving;
   std::span<const uint8_t> values;
+  // A bricked layer's index (checksummed with the header) and chunks (each
+  // checked against its checksum in the index when it is decoded).
+  std::span<const uint8_t> index;
+  std::span<const uint8_t> chunks;
   uint64_t offset = 0;  // of the layer header in the stream
-  uint64_t size() const { return layer_header_size(header.format_major) + header.body_bytes(); }
+  uint64_t size() const {
+    return layer_header_size(header.format_major, header.bricked) + header.body_bytes();
+  }
 };
 
 // Reads the layers of a stream in order, from bytes that may arrive in
@@ -200,6 +243,11 @@ class LayerWalk {
   // says whether its header was, and then `layer.header` holds it. After the
   // last layer, any byte is trailing data (kCorrupt), none kNeedMoreInput.
   Status next(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen = nullptr);
+  // A bricked layer from its header and index alone (a region reader, which
+  // reads the chunks it needs elsewhere): `bytes` from offset() on hold at
+  // least the header and index; the walk moves past the whole layer.
+  // layer.chunks is left empty.
+  Status next_index(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen = nullptr);
 
   bool done() const { return next_level_ < 0; }
   int next_level() const { return next_level_; }
@@ -207,6 +255,8 @@ class LayerWalk {
 
  private:
   Status check(const LayerHeader& h) const;
+  Status check_sections(const LayerHeader& h) const;
+  Status walk(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen, bool with_chunks);
 
   StreamHeader header_;
   uint64_t max_level_vertices_;
@@ -218,12 +268,18 @@ class LayerWalk {
 // What a stream holds, read from its headers without decoding any point
 // (meshinfo). Checksums are verified.
 struct LayerSummary {
+  // A bricked layer's (8.0) header holds, besides its own fields, its
+  // chunks' payload and carving bytes added up in payload_bytes and
+  // carving_bytes (once its index is whole), and `chunks` their count.
   LayerHeader header;
+  uint64_t chunks = 0;
   uint64_t offset = 0;  // of the layer header in the stream
   bool complete = false;
   std::vector<uint64_t>
       field_bytes;  // complete layers of a 5.0 stream: each field's share of the value section
-  uint64_t size() const { return layer_header_size(header.format_major) + header.body_bytes(); }
+  uint64_t size() const {
+    return layer_header_size(header.format_major, header.bricked) + header.body_bytes();
+  }
 };
 struct StreamSummary {
   StreamHeader header;

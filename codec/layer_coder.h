@@ -64,17 +64,26 @@ class SetCoderModels {
   std::unique_ptr<Tables> tables_;
 };
 
-// Known points: ascending Morton codes of every point of the coarser levels.
-// New points: distinct, none of them known, any order.
+// Where a payload's traversal starts: the root, or (8.0, a brick's chunk)
+// the octree node of depth `depth` (Morton bits, a multiple of 3) whose
+// codes start at `base`; every point, new or known, lies in it.
+struct PointSetNode {
+  int depth = 0;
+  MortonCode base = 0;
+};
+
+// Known points: ascending Morton codes of every point of the coarser levels
+// (in the node). New points: distinct, none of them known, any order.
 std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known, std::span<const GridPoint> points,
-                                      int qbits, SetCoderModels& models);
+                                      int qbits, SetCoderModels& models, PointSetNode start = {});
 
 // Decodes exactly `count` new points, appending them in Morton order. Rejects
 // (kCorrupt) a payload that does not describe `count` distinct points none of
 // which is known, or that does not end exactly where its bytes do. `models`
 // are left in an unspecified state after an error.
 Status decode_point_set(std::span<const uint8_t> payload, std::span<const MortonCode> known, int qbits,
-                        uint32_t count, SetCoderModels& models, std::vector<GridPoint>& out);
+                        uint32_t count, SetCoderModels& models, std::vector<GridPoint>& out,
+                        PointSetNode start = {});
 
 // Merges ascending `added` codes into ascending `known`.
 void merge_known(std::vector<MortonCode>& known, std::span<const GridPoint> added, int qbits);

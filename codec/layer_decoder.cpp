@@ -12,8 +12,8 @@ class Decoder {
           SetCoderModels::Tables& t, std::vector<GridPoint>& out)
       : rc_(payload), known_(known), qbits_(qbits), bits_(3 * qbits), t_(t), out_(out) {}
 
-  Status run(uint32_t count) {
-    DTM_RETURN_IF_ERROR(node(0, 0, count, 0, known_.size()));
+  Status run(uint32_t count, PointSetNode start) {
+    DTM_RETURN_IF_ERROR(node(start.depth, start.base, count, 0, known_.size()));
     if (!rc_.finished_cleanly())
       return fail(rc_.overran() ? "point-set payload ends early"
                                 : "point-set payload does not end where its bytes do");
@@ -118,14 +118,15 @@ class Decoder {
 }  // namespace layer_coder
 
 Status decode_point_set(std::span<const uint8_t> payload, std::span<const MortonCode> known, int qbits,
-                        uint32_t count, SetCoderModels& models, std::vector<GridPoint>& out) {
+                        uint32_t count, SetCoderModels& models, std::vector<GridPoint>& out,
+                        PointSetNode start) {
   if (count == 0) {
     if (!payload.empty()) return {StatusCode::kCorrupt, "payload bytes in a layer of no points"};
     return Status::Ok();
   }
   if (payload.size() < min_payload_bytes(count))
     return {StatusCode::kCorrupt, "payload too short for its point count"};
-  return layer_coder::Decoder(payload, known, qbits, models.tables(), out).run(count);
+  return layer_coder::Decoder(payload, known, qbits, models.tables(), out).run(count, start);
 }
 
 }  // namespace dtm

@@ -14,8 +14,8 @@ class Encoder {
           SetCoderModels::Tables& t)
       : known_(known), fresh_(fresh), qbits_(qbits), bits_(3 * qbits), t_(t) {}
 
-  std::vector<uint8_t> run() {
-    node(0, 0, 0, fresh_.size(), 0, known_.size());
+  std::vector<uint8_t> run(PointSetNode start) {
+    node(start.depth, start.base, 0, fresh_.size(), 0, known_.size());
     return rc_.finish();
   }
 
@@ -108,13 +108,13 @@ class Encoder {
 }  // namespace layer_coder
 
 std::vector<uint8_t> encode_point_set(std::span<const MortonCode> known, std::span<const GridPoint> points,
-                                      int qbits, SetCoderModels& models) {
+                                      int qbits, SetCoderModels& models, PointSetNode start) {
   if (points.empty()) return {};
   std::vector<MortonCode> fresh;
   fresh.reserve(points.size());
   for (const GridPoint& p : points) fresh.push_back(morton_encode(p, qbits));
   std::sort(fresh.begin(), fresh.end());
-  return layer_coder::Encoder(known, fresh, qbits, models.tables()).run();
+  return layer_coder::Encoder(known, fresh, qbits, models.tables()).run(start);
 }
 
 }  // namespace dtm

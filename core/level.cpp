@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/parallel_for.h"
+#include "mesh/carving.h"
 #include "mesh/geometry.h"
 
 namespace dtm {
@@ -71,8 +72,11 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
         [&](size_t block) {
           for (size_t i = block * kBlock; i < std::min(count, block * kBlock + kBlock); ++i) {
             const size_t c = first + i;
-            const bool kept =
-                verdicts.empty() ? kept_by_alpha(L.points, L.dt.cells[c], L.alpha) : verdicts[c] != 0;
+            const bool kept = verdicts.empty()
+                                  ? kept_by_alpha(L.points, L.dt.cells[c], L.alpha)
+                                  : verdicts[c] != 0 && (policy.kept_radius_ratio <= 0 ||
+                                                         carving_radius(L.points, L.dt.cells[c]) <=
+                                                             policy.kept_radius_ratio * L.alpha);
             L.in_mesh[c] = kept;
             if (!kept) continue;
             // Corners in lexicographic order of their coordinates, as the

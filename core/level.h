@@ -24,6 +24,13 @@ struct AlphaPolicy {
   using Kind = AlphaKind;
   Kind kind = Kind::kPaper;
   double fixed_value = 0;  // grid units, for kFixed
+  // A level carved to a reference keeps no cell whose circumradius exceeds
+  // this multiple of alpha (0: no bound). Bricked streams (spec/FORMAT.md
+  // §3.5) need the bound: a region reader decodes the points within twice
+  // the largest kept circumradius of the region. The cells above it are
+  // nearly flat (slivers on the solid's flat faces): dropping them moves the
+  // boundary by their thickness.
+  double kept_radius_ratio = 0;
 };
 
 // A vertex is interior when the solid angles of its mesh cells add up to 4*pi

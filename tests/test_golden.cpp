@@ -122,6 +122,7 @@ TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
   }
 }
 
+INSTANTIATE_TEST_SUITE_P(Format8_0, GoldenStream, ::testing::Values("ellipsoid_793_bricks"));
 INSTANTIATE_TEST_SUITE_P(Format7_0, GoldenStream,
                          ::testing::Values("ellipsoid_793", "torus_288", "torus_288_paper",
                                            "torus_288_grid_q10_hull", "torus_288_q24"));

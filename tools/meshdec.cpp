@@ -8,6 +8,8 @@
 #include <string>
 
 #include "codec/decode.h"
+#include "codec/region_decoder.h"
+#include "mesh/geometry.h"
 #include "tools/atomic_file.h"
 #include "tools/decoded_mesh.h"
 #include "tools/formats/gltf_writer.h"
@@ -27,6 +29,8 @@ Examples:
   meshdec bunny.dtm -o bunny.glb --level 2       # the same as glTF 2.0, Draco-compressed (web, AR, Blender)
   meshdec ct.dtm -o ct.glb --color value         # coloured by the field 'value'
   meshdec bunny.dtm -o bunny.drc                 # the surface as a Draco file
+  meshdec big.dtm -o part.vtu --box 0 0 0 10 10 10   # the cells meeting a box (reads only the
+                                                  # chunks around it from a meshenc --bricks stream)
   head -c 40000 bunny.dtm | meshdec - -o preview.vtu
   meshdec bunny.dtm -o - --format vtu > bunny.vtu
 
@@ -44,6 +48,7 @@ struct Command {
   dtm::SurfaceStyle style;
   bool no_draco = false;
   uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
+  std::vector<double> box;
 };
 
 void add_options(CLI::App& app, Command& c) {
@@ -68,6 +73,12 @@ void add_options(CLI::App& app, Command& c) {
                "check every decoded level against the cell-set hashes in the stream (meshenc --hash-cells)");
   app.add_option("--max-vertices", c.max_vertices, "refuse streams claiming more vertices than this")
       ->capture_default_str();
+  app.add_option("--box", c.box,
+                 "only the level's cells that meet this box (their bounding boxes do), in the input's units, "
+                 "with point data vertex_id (the vertex's number in the whole level); from a bricked stream "
+                 "(meshenc --bricks) it reads only the chunks around the box")
+      ->expected(6)
+      ->type_name("X0 Y0 Z0 X1 Y1 Z1");
   app.add_flag("-q,--quiet", c.quiet, "no notes on stderr");
 }
 
@@ -158,8 +169,50 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
     throw std::runtime_error("cannot write to standard output");
 }
 
+// --box: the region's cells, from the chunks it needs.
+int run_region(const Command& c, dtm::MeshFormat format) {
+  if (c.input == "-") throw std::invalid_argument("--box reads the stream by offset: give a file, not '-'");
+  if (c.verify) throw std::invalid_argument("--box and --verify: verify the whole stream instead");
+  auto source = dtm::FileSource::open(c.input);
+  if (!source.ok()) throw std::runtime_error(source.status().message());
+  std::vector<uint8_t> head(dtm::kHeaderSize);
+  dtm::StreamHeader header;
+  if (source->size() < head.size() || !source->read(0, head).ok() || !dtm::parse_header(head, header).ok())
+    header = {};  // decode_region says what is wrong
+  const std::array<double, 3> lo = {c.box[0], c.box[1], c.box[2]}, hi = {c.box[3], c.box[4], c.box[5]};
+  if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2])
+    throw std::invalid_argument("--box: each of X0 Y0 Z0 must be at most X1 Y1 Z1");
+  dtm::DecoderOptions options;
+  options.max_vertices = c.max_vertices;
+  const int level = std::max(c.level, 0);
+  const auto region = dtm::decode_region(*source, dtm::grid_box_of(header.grid, lo, hi), level, options);
+  if (!region.ok()) throw std::runtime_error(c.input + ": " + region.status().message());
+  dtm::OutputMesh mesh;
+  mesh.grid = header.grid;
+  mesh.points = region->points;
+  for (const auto& cell : region->cells) mesh.cells.push_back(dtm::sorted_positive(cell, mesh.points));
+  mesh.level = region->vertex_levels;
+  dtm::OutputField ids{"vertex_id", dtm::ScalarType::kUInt32, 1, {}};
+  ids.bits.assign(region->vertex_ids.begin(), region->vertex_ids.end());
+  mesh.fields.push_back(std::move(ids));
+  write_output(c, mesh, format);
+  if (!c.quiet)
+    std::fprintf(stderr,
+                 "meshdec: level %d, box: %zu vertices, %zu tetrahedra; read %llu of %llu bytes (%.1f%%), "
+                 "%llu chunks%s\n",
+                 level, mesh.points.size(), mesh.cells.size(),
+                 static_cast<unsigned long long>(region->bytes_read),
+                 static_cast<unsigned long long>(source->size()),
+                 100.0 * static_cast<double>(region->bytes_read) /
+                     static_cast<double>(std::max<uint64_t>(1, source->size())),
+                 static_cast<unsigned long long>(region->chunks_read),
+                 region->bricked ? "" : " (not a bricked stream: decoded whole)");
+  return 0;
+}
+
 int run(const Command& c) {
   const dtm::MeshFormat format = output_format(c);
+  if (!c.box.empty()) return run_region(c, format);
   dtm::DecoderOptions options;
   options.max_vertices = c.max_vertices;
   options.stop_after_level = c.level;

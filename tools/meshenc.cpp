@@ -151,6 +151,15 @@ void add_options(CLI::App& app, Command& c) {
       "--no-candidates", [&e](int64_t) { e.candidates = false; },
       "send no point beside the coarser level's circumcentres and edge midpoints: a larger stream, whose "
       "finest level decodes faster");
+  app.add_flag("--bricks", e.bricks,
+               "bricked layers (format 8.0): each layer's points and corrections in one chunk per octree "
+               "brick, so that meshdec --box decodes a region from the chunks around it (no candidates; "
+               "streams without fields only, for now)");
+  app.add_option("--brick-points", e.brick_points,
+                 "with --bricks: each layer's bricks are the smallest that hold this many of its new points "
+                 "on average (smaller: regions read fewer bytes, the stream grows)")
+      ->capture_default_str()
+      ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 32));
   app.add_option("--level-step", e.level_step,
                  "stream every N-th level (and the coarsest): fewer levels of detail, fewer bits")
       ->capture_default_str()

@@ -23,11 +23,12 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
                  const std::vector<dtm::QualityRow>& quality, bool stats) {
   const auto& h = s.header;
   const double step = h.grid.step;
-  std::printf("%s: .dtm %u.%u, %u vertices in %u levels, q=%d, step=%.6g, alpha policy %s%s%s\n",
+  std::printf("%s: .dtm %u.%u, %u vertices in %u levels, q=%d, step=%.6g, alpha policy %s%s%s%s\n",
               input.c_str(), h.version_major, h.version_minor, h.vertex_count, h.level_count, h.grid.qbits,
               step, dtm::to_string(h.alpha_policy),
               (h.flags & dtm::kFlagCarvingCorrections) ? ", carving corrections" : ", alpha carving (paper)",
-              (h.flags & dtm::kFlagCellHashes) ? ", cell hashes" : "");
+              (h.flags & dtm::kFlagCellHashes) ? ", cell hashes" : "",
+              (h.flags & dtm::kFlagBricks) ? ", bricked layers" : "");
   const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
   std::printf("%llu bytes, %.2f bits per vertex%s\n", static_cast<unsigned long long>(s.bytes),
               8.0 * s.bytes / h.vertex_count,
@@ -42,10 +43,15 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
   }
   // 7.0: the candidate section's bytes (points sent beside the coarser
   // level's circumcentres and edge midpoints).
-  const bool candidates = s.header.version_major >= 7;
+  // 8.0 bricked: each layer's chunks and its index's bytes instead.
+  const bool bricks = s.header.flags & dtm::kFlagBricks;
+  const bool candidates = s.header.version_major >= 7 && !bricks;
   std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
-              "bits/new", "carving", candidates ? " candidate" : "", s.fields.empty() ? "" : "    values",
-              stats ? "      tets  boundary avg_minSA    min_SA" : "");
+              "bits/new", "carving",
+              candidates ? " candidate"
+              : bricks   ? "    chunks     index"
+                         : "",
+              s.fields.empty() ? "" : "    values", stats ? "      tets  boundary avg_minSA    min_SA" : "");
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
     const uint64_t layer_bytes = l.size();
@@ -53,6 +59,7 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
                 l.header.new_vertices, l.header.alpha * step, static_cast<unsigned long long>(layer_bytes),
                 8.0 * layer_bytes / l.header.new_vertices, l.header.carving_bytes);
     if (candidates) std::printf(" %9u", l.header.candidate_bytes);
+    if (bricks) std::printf(" %9llu %9u", static_cast<unsigned long long>(l.chunks), l.header.index_bytes);
     if (!s.fields.empty()) std::printf(" %9u", l.header.value_bytes);
     if (i < quality.size())
       std::printf(" %9llu %9llu %9.6f %9.3g", static_cast<unsigned long long>(quality[i].tetrahedra),

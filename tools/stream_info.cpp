@@ -65,6 +65,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
   j["alpha_policy"] = to_string(h.alpha_policy);
   j["cell_hashes"] = (h.flags & kFlagCellHashes) != 0;
   j["carving_corrections"] = (h.flags & kFlagCarvingCorrections) != 0;
+  j["bricks"] = (h.flags & kFlagBricks) != 0;
   j["level_count"] = h.level_count;
   j["vertices"] = h.vertex_count;
   j["bytes"] = s.bytes;
@@ -98,6 +99,11 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                           {"layer_bytes", layer_bytes},
                           {"layer_bits_per_new_vertex", 8.0 * layer_bytes / l.header.new_vertices},
                           {"complete", l.complete}};
+    if (l.header.bricked)
+      row.update({{"brick_depth", l.header.brick_depth},
+                  {"chunks", l.chunks},
+                  {"index_bytes", l.header.index_bytes},
+                  {"kept_radius", l.header.kept_radius * step}});
     if (!s.fields.empty() && l.complete) {
       nlohmann::json per_field = nlohmann::json::object();
       for (size_t f = 0; f < s.fields.size(); ++f) per_field[s.fields[f].name] = l.field_bytes[f];

@@ -1,0 +1,161 @@
+// Bricked layers (format 8.0, header flag `bricks`; spec/FORMAT.md §3.5):
+// each layer's new points and carving corrections are grouped by the octree
+// nodes of one depth (bricks: contiguous Morton ranges), one separately
+// addressable chunk per brick, listed in the layer's index. A chunk decodes
+// from the base layer and the coarser layers' points inside its brick alone,
+// so that a reader decodes a region from the chunks around it
+// (codec/region_decoder.h) and the chunks of a layer decode on every core.
+// What encoder, decoder and region reader share is defined here once.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/format.h"
+#include "codec/layer_coder.h"
+#include "common/grid.h"
+#include "common/status.h"
+#include "mesh/delaunay.h"
+
+namespace dtm {
+
+// Bricks are octree nodes of depth 0 (the whole grid) to 16 per axis
+// (codec/format.h's kMaxBrickDepthField): 2^48 bricks, far more than any
+// layer has points.
+inline constexpr int kMaxBrickDepth = kMaxBrickDepthField;
+
+// `meshenc --bricks` builds levels that keep no cell of circumradius over
+// this multiple of alpha (core/level.h's kept_radius_ratio): a region reader
+// decodes the bricks within twice the largest kept circumradius of the box
+// and of the bricks owning its cells. Without the bound a few nearly flat
+// kept cells (0.1-0.3% of a coarse level's, circumradii up to 10^4 alpha)
+// would make every region the whole level.
+inline constexpr double kBrickedKeptRadiusRatio = 2.0;
+
+// One chunk of a bricked layer's index, in ascending brick order.
+struct BrickChunk {
+  uint64_t brick = 0;  // the brick's Morton prefix (3 x depth bits)
+  uint32_t new_points = 0;
+  uint32_t payload_bytes = 0;
+  uint32_t carving_bytes = 0;
+  uint32_t value_bytes = 0;  // 8.0: always 0 (bricked streams carry no values yet)
+  uint32_t checksum = 0;     // low 32 bits of XXH3-64 of the chunk's bytes
+  // Not stored, derived while parsing:
+  uint64_t offset = 0;         // of the chunk from the start of the layer's chunk area
+  uint64_t points_before = 0;  // new points of the layer in the chunks before this one
+  uint64_t size() const { return uint64_t{payload_bytes} + carving_bytes + value_bytes; }
+};
+
+// A chunk's bytes: its payload (the layer coder from the brick's node), its
+// carving corrections, its values.
+struct ChunkBytes {
+  std::span<const uint8_t> payload, carving, values;
+};
+ChunkBytes split_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes);
+
+// The index: varint chunk count, then per chunk varint (brick - previous
+// brick - 1; the first: brick), new_points, payload_bytes, carving_bytes,
+// value_bytes, and the u32 checksum. Offsets are not stored.
+std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks);
+// Parses and checks an index against its layer: bricks ascending and below
+// 8^depth, the new points adding up to new_vertices and the chunk sizes to
+// chunk_bytes, no empty chunk, a payload of at least the range coder's flush
+// for a chunk of points, and none for a chunk without. Allocates in
+// proportion to the index's bytes only.
+Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, uint64_t new_vertices,
+                         uint64_t chunk_bytes, std::vector<BrickChunk>& out);
+// The chunk of `brick`, or nullptr.
+const BrickChunk* find_chunk(std::span<const BrickChunk> chunks, uint64_t brick);
+// Low 32 bits of XXH3-64 of a chunk's bytes.
+uint32_t chunk_checksum(std::span<const uint8_t> bytes);
+
+inline uint64_t brick_of(MortonCode code, int qbits, int depth) {
+  return static_cast<uint64_t>(code >> (3 * (qbits - depth)));
+}
+inline PointSetNode brick_node(uint64_t brick, int qbits, int depth) {
+  return {3 * depth, MortonCode{brick} << (3 * (qbits - depth))};
+}
+
+// An axis-aligned box of grid points, bounds included.
+struct GridBox {
+  std::array<int64_t, 3> lo{}, hi{};
+  bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
+  bool contains(const GridPoint& p) const {
+    return p.x >= lo[0] && p.x <= hi[0] && p.y >= lo[1] && p.y <= hi[1] && p.z >= lo[2] && p.z <= hi[2];
+  }
+  // Grown by `margin` on every side, then clipped to the grid [0, 2^qbits).
+  GridBox grown(int64_t margin, int qbits) const;
+};
+GridBox brick_box(uint64_t brick, int qbits, int depth);
+// The bricks of depth `depth` that meet `box`, ascending, and the box they
+// cover together.
+std::vector<uint64_t> bricks_meeting(const GridBox& box, int qbits, int depth, GridBox* covered = nullptr);
+
+// Who codes each cell's carving correction in a bricked layer: the brick
+// that holds the cell's vertex of smallest Morton code, and only for a cell
+// whose circumradius (HIERARCHY.md §2's) is at most the layer's kept_radius:
+// a larger cell is never kept and costs no bit (kNoBrick). `codes`: each
+// vertex's Morton code.
+inline constexpr uint64_t kNoBrick = UINT64_MAX;
+std::vector<uint64_t> carving_bricks_of_cells(const TetMesh& dt, std::span<const GridPoint> points,
+                                              std::span<const MortonCode> codes, int qbits, int depth,
+                                              double kept_radius);
+
+// The coder state every chunk of a bricked layer starts from: the set
+// coder's models as the base layer (one chunk, depth 0) leaves them, plus the
+// coordinates of the coarser levels' points inside the chunk's brick
+// (spec/FORMAT.md §3.5). Models learnt within one brick go no further.
+SetCoderModels chunk_models(const SetCoderModels& after_base, std::span<const MortonCode> known_in_brick,
+                            int qbits);
+// The Morton codes of `known` (ascending) inside a brick.
+std::span<const MortonCode> known_in_brick(std::span<const MortonCode> known, uint64_t brick, int qbits,
+                                           int depth);
+
+// Decoder: checks a chunk's bytes against its checksum (kCorrupt, naming the
+// brick).
+Status check_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes);
+// Decodes one chunk's new points (ascending Morton code), appending them to
+// `out`. `known`: every point of V_{l+1} the caller holds in the brick (at
+// least); `after_base`: the models as the base layer left them.
+Status decode_chunk_points(const BrickChunk& chunk, std::span<const uint8_t> payload,
+                           std::span<const MortonCode> known, int qbits, int depth,
+                           const SetCoderModels& after_base, std::vector<GridPoint>& out);
+// Every chunk of a layer, checked and decoded on every core; the points in
+// ascending Morton order. The base layer (known empty) decodes with
+// `models` and leaves them as the later chunks' start; a later layer only
+// reads them.
+Status decode_bricked_points(std::span<const BrickChunk> chunks, std::span<const uint8_t> chunk_bytes,
+                             std::span<const MortonCode> known, int qbits, int depth, SetCoderModels& models,
+                             std::vector<GridPoint>& out);
+
+// Encoder (dtm_encoder): one bricked layer.
+struct BrickedLayerInput {
+  int qbits = 0;
+  int depth = 0;
+  std::span<const GridPoint> points;  // the layer's new points, ascending Morton code
+  std::span<const MortonCode> known;  // V_{l+1}'s codes, ascending
+  // The stream's set-coder models: for the base layer (known empty) the
+  // chunk codes with them and leaves them as the snapshot later chunks start
+  // from; later layers only read them.
+  SetCoderModels* models = nullptr;
+  // With carving corrections: DT(V_l) over `level_points` (decoder order),
+  // the true verdicts per cell, and kept_radius (cells above it carry no
+  // bit and must not be kept).
+  const TetMesh* dt = nullptr;
+  std::span<const GridPoint> level_points;
+  std::span<const uint8_t> kept;
+  double alpha = 0, kept_radius = 0;
+};
+struct BrickedLayerBytes {
+  std::vector<uint8_t> index, chunks;
+  uint64_t chunk_count = 0, carving_bytes = 0, payload_bytes = 0;
+};
+BrickedLayerBytes encode_bricked_layer(const BrickedLayerInput& in);
+// The deepest brick depth (at most kMaxBrickDepth and qbits) at which the
+// layer's points fill their bricks with `target` points on average; 0 when
+// none does. `codes`: the layer's, ascending.
+int choose_brick_depth(std::span<const MortonCode> codes, int qbits, uint64_t target);
+
+}  // namespace dtm

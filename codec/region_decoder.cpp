@@ -1,0 +1,337 @@
+#include "codec/region_decoder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+
+#include "codec/carving_coder.h"
+#include "codec/layer_coder.h"
+#include "mesh/carving.h"
+#include "mesh/delaunay.h"
+#include "mesh/geometry.h"
+#include "mesh/topology.h"
+
+namespace dtm {
+
+Status MemorySource::read(uint64_t offset, std::span<uint8_t> out) {
+  if (offset > bytes_.size() || out.size() > bytes_.size() - offset)
+    return {StatusCode::kTruncated, "the stream ends at byte " + std::to_string(bytes_.size())};
+  std::copy_n(bytes_.begin() + static_cast<std::ptrdiff_t>(offset), out.size(), out.begin());
+  return Status::Ok();
+}
+
+StatusOr<FileSource> FileSource::open(const std::string& path) {
+  FileSource f;
+  f.path_ = path;
+  f.file_ = std::fopen(path.c_str(), "rb");
+  if (!f.file_) return Status{StatusCode::kInvalidInput, path + ": cannot open"};
+  if (std::fseek(f.file_, 0, SEEK_END) != 0) return Status{StatusCode::kInvalidInput, path + ": cannot seek"};
+  const long end = std::ftell(f.file_);
+  if (end < 0) return Status{StatusCode::kInvalidInput, path + ": cannot seek"};
+  f.size_ = static_cast<uint64_t>(end);
+  return f;
+}
+
+FileSource::FileSource(FileSource&& o) noexcept : file_(o.file_), size_(o.size_), path_(std::move(o.path_)) {
+  o.file_ = nullptr;
+}
+FileSource& FileSource::operator=(FileSource&& o) noexcept {
+  std::swap(file_, o.file_);
+  std::swap(size_, o.size_);
+  std::swap(path_, o.path_);
+  return *this;
+}
+FileSource::~FileSource() {
+  if (file_) std::fclose(file_);
+}
+
+Status FileSource::read(uint64_t offset, std::span<uint8_t> out) {
+  if (offset > size_ || out.size() > size_ - offset)
+    return {StatusCode::kTruncated, path_ + ": the stream ends at byte " + std::to_string(size_)};
+  if (std::fseek(file_, static_cast<long>(offset), SEEK_SET) != 0 ||
+      std::fread(out.data(), 1, out.size(), file_) != out.size())
+    return {StatusCode::kInvalidInput, path_ + ": read error"};
+  return Status::Ok();
+}
+
+GridBox grid_box_of(const Grid& grid, const std::array<double, 3>& lo, const std::array<double, 3>& hi) {
+  GridBox b;
+  const double top = std::ldexp(1.0, grid.qbits);
+  for (int a = 0; a < 3; ++a) {
+    const double l = std::ceil((lo[a] - grid.origin[a]) / grid.step);
+    const double h = std::floor((hi[a] - grid.origin[a]) / grid.step);
+    b.lo[a] = static_cast<int64_t>(std::clamp(std::isnan(l) ? top : l, -1.0, top));
+    b.hi[a] = static_cast<int64_t>(std::clamp(std::isnan(h) ? -1.0 : h, -1.0, top));
+  }
+  return b;
+}
+
+namespace {
+
+bool cell_meets(std::span<const GridPoint> points, const std::array<uint32_t, 4>& cell, const GridBox& box) {
+  std::array<int64_t, 3> lo = {INT64_MAX, INT64_MAX, INT64_MAX}, hi = {INT64_MIN, INT64_MIN, INT64_MIN};
+  for (uint32_t v : cell) {
+    const GridPoint& p = points[v];
+    const int64_t c[3] = {p.x, p.y, p.z};
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
+  }
+  for (int a = 0; a < 3; ++a)
+    if (hi[a] < box.lo[a] || lo[a] > box.hi[a]) return false;
+  return true;
+}
+
+// The region's result from cells over vertices numbered globally: only the
+// cells' vertices, ascending number; cells in canonical order.
+void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
+             std::span<const int32_t> levels, std::vector<std::array<uint32_t, 4>> cells, RegionMesh& out) {
+  std::vector<uint32_t> used;
+  for (const auto& c : cells) used.insert(used.end(), c.begin(), c.end());
+  std::sort(used.begin(), used.end(), [&](uint32_t a, uint32_t b) { return ids[a] < ids[b]; });
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::vector<uint32_t> local(points.size(), UINT32_MAX);
+  for (size_t i = 0; i < used.size(); ++i) {
+    local[used[i]] = static_cast<uint32_t>(i);
+    out.points.push_back(points[used[i]]);
+    out.vertex_ids.push_back(ids[used[i]]);
+    out.vertex_levels.push_back(levels[used[i]]);
+  }
+  for (auto& c : cells) {
+    for (uint32_t& v : c) v = local[v];
+    std::sort(c.begin(), c.end());
+  }
+  std::sort(cells.begin(), cells.end());
+  out.cells = std::move(cells);
+}
+
+// What the walk over the layers' headers and indexes keeps of each.
+struct LayerPlan {
+  LayerHeader header;
+  std::vector<BrickChunk> chunks;
+  uint64_t chunk_area = 0;    // stream offset of the first chunk
+  uint32_t first_vertex = 0;  // the level's vertices before this layer's
+};
+
+// A margin of `factor` x r grid steps and a little more, or the whole grid.
+int64_t margin(double r, double factor, int qbits) {
+  const double m = std::ceil(factor * r) + 2;
+  const double whole = std::ldexp(1.0, qbits + 1);
+  return static_cast<int64_t>(std::isfinite(m) && m < whole ? m : whole);
+}
+
+}  // namespace
+
+RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box) {
+  RegionMesh out;
+  out.level = decoder.finest_level();
+  const auto& points = decoder.points();
+  std::vector<std::array<uint32_t, 4>> cells;
+  for (const auto& c : decoder.carved_cells())
+    if (cell_meets(points, c, box)) cells.push_back(c);
+  std::vector<uint32_t> ids(points.size());
+  std::iota(ids.begin(), ids.end(), 0u);
+  compact(points, ids, decoder.vertex_levels(), std::move(cells), out);
+  out.points_decoded = points.size();
+  return out;
+}
+
+StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int level,
+                                   const DecoderOptions& options) {
+  RegionMesh out;
+  out.level = level;
+  const auto read = [&](uint64_t offset, uint64_t size, std::vector<uint8_t>& bytes) -> Status {
+    if (offset > source.size() || size > source.size() - offset)
+      return {StatusCode::kTruncated, "the stream ends at byte " + std::to_string(source.size()) +
+                                          ", before the bytes level " + std::to_string(level) + " needs"};
+    bytes.resize(size);
+    out.bytes_read += size;
+    return source.read(offset, bytes);
+  };
+  std::vector<uint8_t> bytes;
+  DTM_RETURN_IF_ERROR(read(0, std::min<uint64_t>(kHeaderSize, source.size()), bytes));
+  StreamHeader header;
+  if (const Status s = parse_header(bytes, header); !s.ok())
+    return s.code() == StatusCode::kNeedMoreInput
+               ? Status{StatusCode::kTruncated, "the stream ends in its header"}
+               : s;
+  if (level < 0 || level >= header.level_count)
+    return Status{StatusCode::kInvalidInput, "level " + std::to_string(level) +
+                                                 ": the stream has levels 0 to " +
+                                                 std::to_string(header.level_count - 1)};
+  if (!(header.flags & kFlagBricks)) {
+    // Not bricked: the whole stream, then the level filtered.
+    out.bytes_read = 0;
+    DTM_RETURN_IF_ERROR(read(0, source.size(), bytes));
+    DecoderOptions o = options;
+    o.stop_after_level = level;
+    ProgressiveDecoder decoder(o);
+    DTM_RETURN_IF_ERROR(decode_stream(bytes, decoder));
+    if (decoder.finest_level() != level)
+      return Status{StatusCode::kTruncated, "the stream ends before level " + std::to_string(level)};
+    DTM_RETURN_IF_ERROR(decoder.mesh_status());
+    RegionMesh r = region_of(decoder, box);
+    r.bytes_read = out.bytes_read;
+    return r;
+  }
+  out.bricked = true;
+  const int q = header.grid.qbits;
+
+  // Every layer's header and index, down to the level.
+  std::vector<LayerPlan> plans;
+  LayerWalk walk(header, options.max_vertices);
+  while (walk.next_level() >= level) {
+    const int at = walk.next_level();
+    const uint64_t offset = walk.offset();
+    Layer layer;
+    bool header_seen = false;
+    uint64_t want = kBrickedLayerHeaderSize;
+    Status s;
+    while (true) {
+      DTM_RETURN_IF_ERROR(read(offset, want, bytes));
+      s = walk.next_index(bytes, layer, &header_seen);
+      if (s.code() != StatusCode::kNeedMoreInput || !header_seen) break;
+      const uint64_t whole = kBrickedLayerHeaderSize + uint64_t{layer.header.index_bytes};
+      if (whole <= want) break;
+      out.bytes_read -= want;  // read again with the index (counted once)
+      want = whole;
+    }
+    DTM_RETURN_IF_ERROR(s);
+    LayerPlan p;
+    p.header = layer.header;
+    p.chunk_area = offset + kBrickedLayerHeaderSize + layer.header.index_bytes;
+    p.first_vertex = layer.header.level_vertices - layer.header.new_vertices;
+    const std::string where = "level " + std::to_string(at) + " at byte " + std::to_string(offset);
+    DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, layer.header.brick_depth, q, layer.header.new_vertices,
+                                          layer.header.chunk_bytes, p.chunks)
+                            .with_context(where));
+    plans.push_back(std::move(p));
+  }
+
+  // The bricks each layer decodes, finest first: those owning the cells
+  // that may meet the box (carving), the points their cells reach, and the
+  // coarser layers' bricks covering those.
+  const LayerPlan& finest = plans.back();
+  const double r = finest.header.kept_radius;
+  GridBox owners_cover;
+  const std::vector<uint64_t> owners =
+      bricks_meeting(box.grown(margin(r, 2, q), q), q, finest.header.brick_depth, &owners_cover);
+  std::vector<std::vector<uint64_t>> needed(plans.size());
+  std::vector<GridBox> cover(plans.size());
+  if (!owners.empty()) {
+    GridBox region = owners_cover.grown(margin(r, 2, q), q);
+    for (size_t i = plans.size(); i-- > 0;) {
+      needed[i] = bricks_meeting(region, q, plans[i].header.brick_depth, &cover[i]);
+      region = cover[i];
+    }
+  }
+
+  // Decode the points, coarsest layer first.
+  std::vector<GridPoint> points;
+  std::vector<uint32_t> ids;
+  std::vector<int32_t> levels;
+  std::vector<MortonCode> known;
+  SetCoderModels models;
+  models.enable_coordinate_reuse(q);
+  std::vector<uint8_t> finest_chunks;  // the finest layer's chunks read, back to back
+  std::vector<std::pair<const BrickChunk*, uint64_t>> finest_read;  // each one's place in it
+  for (size_t i = 0; i < plans.size(); ++i) {
+    const LayerPlan& p = plans[i];
+    const int depth = p.header.brick_depth;
+    const int at = p.header.level;
+    std::vector<GridPoint> added;
+    for (const uint64_t brick : needed[i]) {
+      const BrickChunk* chunk = find_chunk(p.chunks, brick);
+      if (!chunk) continue;
+      DTM_RETURN_IF_ERROR(read(p.chunk_area + chunk->offset, chunk->size(), bytes));
+      const std::string where = "level " + std::to_string(at) + ", brick " + std::to_string(brick) +
+                                " at byte " + std::to_string(p.chunk_area + chunk->offset);
+      DTM_RETURN_IF_ERROR(check_chunk(*chunk, bytes).with_context(where));
+      ++out.chunks_read;
+      const ChunkBytes parts = split_chunk(*chunk, bytes);
+      const size_t before = added.size();
+      if (i == 0) {
+        DTM_RETURN_IF_ERROR(decode_point_set(parts.payload, {}, q, chunk->new_points, models, added,
+                                             brick_node(brick, q, depth))
+                                .with_context(where));
+      } else {
+        DTM_RETURN_IF_ERROR(
+            decode_chunk_points(*chunk, parts.payload, known, q, depth, models, added).with_context(where));
+      }
+      if (added.size() - before != chunk->new_points)
+        return Status{StatusCode::kCorrupt, where + ": the chunk's points differ from its index entry"};
+      for (size_t k = 0; k < chunk->new_points; ++k) {
+        ids.push_back(static_cast<uint32_t>(p.first_vertex + chunk->points_before + k));
+        levels.push_back(at);
+      }
+      if (i + 1 == plans.size()) {
+        finest_read.emplace_back(chunk, finest_chunks.size());
+        finest_chunks.insert(finest_chunks.end(), bytes.begin(), bytes.end());
+      }
+    }
+    merge_known(known, added, q);
+    points.insert(points.end(), added.begin(), added.end());
+    if (uint64_t{points.size()} > options.max_vertices)
+      return Status{StatusCode::kLimitExceeded, std::to_string(points.size()) +
+                                                    " vertices exceed the limit of " +
+                                                    std::to_string(options.max_vertices)};
+  }
+  out.points_decoded = points.size();
+  if (owners.empty()) return out;
+
+  // The level's points inside the finest layer's bricks, numbered as the
+  // whole level numbers them (the canonical order of cells is then the
+  // whole level's), tetrahedralized.
+  const GridBox& decoded = cover.back();
+  std::vector<uint32_t> inside;
+  for (uint32_t v = 0; v < points.size(); ++v)
+    if (decoded.contains(points[v])) inside.push_back(v);
+  std::sort(inside.begin(), inside.end(), [&](uint32_t a, uint32_t b) { return ids[a] < ids[b]; });
+  std::vector<GridPoint> local_points;
+  std::vector<uint32_t> local_ids;
+  std::vector<int32_t> local_levels;
+  for (uint32_t v : inside) {
+    local_points.push_back(points[v]);
+    local_ids.push_back(ids[v]);
+    local_levels.push_back(levels[v]);
+  }
+  if (!spans_three_dimensions(local_points)) return out;  // no cell at all
+  DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(local_points));
+
+  // Each cell's owner brick; the carving of the owners' chunks.
+  const LayerPlan& lp = plans.back();
+  const int depth = lp.header.brick_depth;
+  std::vector<MortonCode> codes(local_points.size());
+  for (size_t v = 0; v < codes.size(); ++v) codes[v] = morton_encode(local_points[v], q);
+  const std::vector<uint64_t> owner = carving_bricks_of_cells(dt, local_points, codes, q, depth, r);
+  std::vector<uint8_t> kept;
+  if (header.flags & kFlagCarvingCorrections) {
+    std::vector<std::span<const uint8_t>> sections;
+    std::vector<uint64_t> section_bricks;
+    for (const auto& [chunk, at] : finest_read)
+      if (std::binary_search(owners.begin(), owners.end(), chunk->brick)) {
+        sections.push_back(
+            split_chunk(*chunk, std::span<const uint8_t>(finest_chunks).subspan(at, chunk->size())).carving);
+        section_bricks.push_back(chunk->brick);
+      }
+    std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
+    for (size_t c = 0; c < owner.size(); ++c) {
+      const auto it = std::lower_bound(section_bricks.begin(), section_bricks.end(), owner[c]);
+      if (owner[c] != kNoBrick && it != section_bricks.end() && *it == owner[c])
+        chunk_of_cell[c] = static_cast<uint32_t>(it - section_bricks.begin());
+    }
+    DTM_RETURN_IF_ERROR(
+        decode_carving_chunks(sections, dt, local_points, lp.header.alpha, chunk_of_cell, kept)
+            .with_context("level " + std::to_string(level)));
+  } else {
+    kept = carve(dt, local_points, lp.header.alpha);
+  }
+  std::vector<std::array<uint32_t, 4>> cells;
+  for (size_t c = 0; c < dt.cells.size(); ++c)
+    if (kept[c] && owner[c] != kNoBrick && std::binary_search(owners.begin(), owners.end(), owner[c]) &&
+        cell_meets(local_points, dt.cells[c], box))
+      cells.push_back(dt.cells[c]);
+  compact(local_points, local_ids, local_levels, std::move(cells), out);
+  return out;
+}
+
+}  // namespace dtm

@@ -1,0 +1,238 @@
+// Bricked layers (format 8.0, spec/FORMAT.md §3.5) and decoding a region
+// from them (§4.1): the region is exactly the whole level's cells that meet
+// the box, whatever the box, and reads only the chunks around it.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "codec/bricks.h"
+#include "codec/encode.h"
+#include "codec/region_decoder.h"
+#include "test_support.h"
+#include "tools/formats/input.h"
+
+namespace dtm {
+namespace {
+
+std::vector<uint8_t> bricked_stream(const std::string& model, uint64_t brick_points,
+                                    bool cell_hashes = false) {
+  const InputMesh in = read_input(test::data_path(model + ".node"));
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  EncodeOptions options;
+  options.box = 256;
+  options.dmax = 2;
+  options.bricks = true;
+  options.brick_points = brick_points;
+  options.cell_hashes = cell_hashes;
+  auto encoded = encode(input, options);
+  EXPECT_TRUE(encoded.ok()) << encoded.status().message();
+  return encoded.ok() ? encoded->bytes : std::vector<uint8_t>{};
+}
+
+// The grid box of the level's points.
+GridBox bounds(std::span<const GridPoint> points) {
+  GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
+  for (const GridPoint& p : points) {
+    const int64_t c[3] = {p.x, p.y, p.z};
+    for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], c[a]), b.hi[a] = std::max(b.hi[a], c[a]);
+  }
+  return b;
+}
+
+void expect_same_region(const RegionMesh& got, const RegionMesh& want, const std::string& what) {
+  EXPECT_EQ(got.cells.size(), want.cells.size()) << what;
+  EXPECT_TRUE(got.cells == want.cells) << what;
+  EXPECT_TRUE(got.points == want.points) << what;
+  EXPECT_TRUE(got.vertex_ids == want.vertex_ids) << what;
+  EXPECT_TRUE(got.vertex_levels == want.vertex_levels) << what;
+}
+
+TEST(BrickIndex, RoundTripsAndRefusesWhatDoesNotAddUp) {
+  std::vector<BrickChunk> chunks = {{3, 10, 20, 5, 0, 0xDEADBEEF}, {9, 0, 0, 7, 0, 1}, {63, 4, 6, 0, 0, 2}};
+  const std::vector<uint8_t> index = write_brick_index(chunks);
+  std::vector<BrickChunk> back;
+  ASSERT_TRUE(parse_brick_index(index, 2, 14, 14, 38, back).ok());
+  ASSERT_EQ(back.size(), 3u);
+  EXPECT_EQ(back[1].brick, 9u);
+  EXPECT_EQ(back[1].offset, 25u);
+  EXPECT_EQ(back[2].points_before, 10u);
+  EXPECT_EQ(back[0].checksum, 0xDEADBEEFu);
+  EXPECT_FALSE(parse_brick_index(index, 2, 14, 15, 38, back).ok());  // points do not add up
+  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 39, back).ok());  // nor the bytes
+  EXPECT_FALSE(parse_brick_index(index, 1, 14, 14, 38, back).ok());  // brick 63 is outside depth 1's 8
+  for (size_t cut = 0; cut < index.size(); ++cut)
+    EXPECT_FALSE(parse_brick_index(std::span(index).first(cut), 2, 14, 14, 38, back).ok()) << cut;
+  chunks[1].carving_bytes = 0;  // an empty chunk is not listed
+  EXPECT_FALSE(parse_brick_index(write_brick_index(chunks), 2, 14, 14, 31, back).ok());
+}
+
+TEST(BrickGeometry, BricksMeetingABoxCoverIt) {
+  const GridBox box{{5, 17, 0}, {40, 18, 63}};
+  GridBox covered;
+  const std::vector<uint64_t> bricks = bricks_meeting(box, 6, 2, &covered);  // 16-wide bricks of a 64 grid
+  EXPECT_EQ(bricks.size(), 3u * 1u * 4u);
+  EXPECT_EQ(covered.lo, (std::array<int64_t, 3>{0, 16, 0}));
+  EXPECT_EQ(covered.hi, (std::array<int64_t, 3>{47, 31, 63}));
+  for (uint64_t b : bricks) {
+    const GridBox k = brick_box(b, 6, 2);
+    EXPECT_TRUE(k.lo[0] <= box.hi[0] && k.hi[0] >= box.lo[0] && k.lo[1] <= box.hi[1] && k.hi[1] >= box.lo[1]);
+  }
+  EXPECT_TRUE(bricks_meeting({{64, 0, 0}, {70, 5, 5}}, 6, 2).empty());  // off the grid
+}
+
+TEST(BrickedStream, DecodesToTheEncodersMeshesAtEveryLevel) {
+  const std::vector<uint8_t> bytes = bricked_stream("hand_10k", 64, true);
+  StreamHeader h;
+  ASSERT_TRUE(parse_header(bytes, h).ok());
+  EXPECT_EQ(h.version_major, 8);
+  EXPECT_TRUE(h.flags & kFlagBricks);
+  ProgressiveDecoder decoder;
+  int verified = 0;
+  ASSERT_TRUE(decoder
+                  .feed(bytes,
+                        [&](const ProgressiveDecoder& d, const DecodedLevel& l) {
+                          ASSERT_TRUE(l.cell_hash.has_value());
+                          EXPECT_EQ(cell_set_hash(d.points(), d.carved_cells()), *l.cell_hash) << l.level;
+                          ++verified;
+                        })
+                  .ok());
+  EXPECT_EQ(verified, h.level_count);
+  // Several bricks per finer layer, and no kept cell above the bound.
+  const StreamSummary s = scan_stream(bytes);
+  ASSERT_TRUE(s.status.ok());
+  EXPECT_GT(s.layers.back().header.brick_depth, 0);
+  for (const auto& l : s.layers)
+    EXPECT_LE(l.header.kept_radius, kBrickedKeptRadiusRatio * l.header.alpha) << l.header.level;
+}
+
+TEST(BrickedStream, RegionIsTheWholeLevelFilteredToTheBox) {
+  for (const std::string model : {"bunny_10k", "fandisk_11k", "hand_10k"}) {
+    const std::vector<uint8_t> bytes = bricked_stream(model, 8);
+    StreamHeader h;
+    ASSERT_TRUE(parse_header(bytes, h).ok());
+    std::mt19937 rng(7);
+    bool some_box_read_less = false;
+    for (int level = 0; level < h.level_count; ++level) {
+      DecoderOptions o;
+      o.stop_after_level = level;
+      ProgressiveDecoder whole(o);
+      ASSERT_TRUE(decode_stream(bytes, whole).ok());
+      const GridBox all = bounds(whole.points());
+      std::vector<GridBox> boxes;
+      for (int i = 0; i < 6; ++i) {  // random boxes of 1% to 10% of the volume
+        GridBox b;
+        const double share = std::uniform_real_distribution<double>(0.2, 0.47)(rng);
+        for (int a = 0; a < 3; ++a) {
+          const int64_t w = static_cast<int64_t>(share * static_cast<double>(all.hi[a] - all.lo[a]));
+          b.lo[a] = std::uniform_int_distribution<int64_t>(all.lo[a], all.hi[a] - w)(rng);
+          b.hi[a] = b.lo[a] + w;
+        }
+        boxes.push_back(b);
+      }
+      GridBox corner = all;  // at the mesh's edge: a corner of its bounds
+      for (int a = 0; a < 3; ++a) corner.lo[a] = all.hi[a] - (all.hi[a] - all.lo[a]) / 5;
+      boxes.push_back(corner);
+      boxes.push_back(all);                              // the whole level
+      boxes.push_back({{-50, -50, -50}, {-1, -1, -1}});  // off the grid: nothing
+      boxes.push_back({{all.lo[0], all.lo[1], all.lo[2]}, {all.lo[0], all.lo[1], all.lo[2]}});  // one point
+      for (size_t i = 0; i < boxes.size(); ++i) {
+        MemorySource source(bytes);
+        const auto got = decode_region(source, boxes[i], level);
+        ASSERT_TRUE(got.ok()) << got.status().message();
+        const RegionMesh want = region_of(whole, boxes[i]);
+        expect_same_region(*got, want,
+                           model + " level " + std::to_string(level) + " box " + std::to_string(i));
+        EXPECT_TRUE(got->bricked);
+        // The one-point box at a corner of the level reads the chunks near it only.
+        if (level == 0 && i + 1 == boxes.size()) some_box_read_less = got->bytes_read < bytes.size() * 3 / 5;
+      }
+      EXPECT_GT(region_of(whole, all).cells.size(), 0u);
+    }
+    EXPECT_TRUE(some_box_read_less) << model << ": a one-point region read most of the stream";
+  }
+}
+
+TEST(BrickedStream, RegionOfAStreamNotBrickedIsDecodedWhole) {
+  const InputMesh in = read_input(test::data_path("bunny_10k.node"));
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  EncodeOptions options;
+  options.box = 256;
+  const auto encoded = encode(input, options);
+  ASSERT_TRUE(encoded.ok());
+  ProgressiveDecoder whole;
+  ASSERT_TRUE(decode_stream(encoded->bytes, whole).ok());
+  const GridBox all = bounds(whole.points());
+  GridBox half = all;
+  half.hi[0] = (all.lo[0] + all.hi[0]) / 2;
+  MemorySource source(encoded->bytes);
+  const auto got = decode_region(source, half, 0);
+  ASSERT_TRUE(got.ok()) << got.status().message();
+  EXPECT_FALSE(got->bricked);
+  EXPECT_EQ(got->bytes_read, encoded->bytes.size());
+  expect_same_region(*got, region_of(whole, half), "not bricked");
+}
+
+// A damaged chunk is reported by the decodes that read it, and only by them.
+TEST(BrickedStream, ADamagedChunkFailsTheRegionsThatReadIt) {
+  std::vector<uint8_t> bytes = bricked_stream("bunny_10k", 64);
+  const StreamSummary s = scan_stream(bytes);
+  ASSERT_TRUE(s.status.ok());
+  const LayerSummary& finest = s.layers.back();
+  const LayerHeader& lh = finest.header;
+  const uint64_t index_at = finest.offset + kBrickedLayerHeaderSize;
+  std::vector<BrickChunk> chunks;
+  ASSERT_TRUE(parse_brick_index(std::span(bytes).subspan(index_at, lh.index_bytes), lh.brick_depth,
+                                s.header.grid.qbits, lh.new_vertices, lh.chunk_bytes, chunks)
+                  .ok());
+  ASSERT_GT(chunks.size(), 4u);
+  const BrickChunk& victim = chunks[chunks.size() / 2];
+  bytes[index_at + lh.index_bytes + victim.offset + victim.size() / 2] ^= 0x10;
+
+  ProgressiveDecoder whole;
+  const Status status = decode_stream(bytes, whole);
+  EXPECT_EQ(status.code(), StatusCode::kCorrupt);
+  EXPECT_NE(status.message().find("chunk checksum mismatch"), std::string::npos) << status.message();
+  EXPECT_EQ(whole.finest_level(), 1);  // the coarser levels stand
+
+  const GridBox inside = brick_box(victim.brick, s.header.grid.qbits, lh.brick_depth);
+  MemorySource source(bytes);
+  const auto touching = decode_region(source, inside, 0);
+  ASSERT_FALSE(touching.ok());
+  EXPECT_NE(touching.status().message().find("brick " + std::to_string(victim.brick)), std::string::npos)
+      << touching.status().message();
+  // A box far from it: a corner of the grid away from the victim.
+  const int64_t top = (int64_t{1} << s.header.grid.qbits) - 1;
+  GridBox far;
+  for (int a = 0; a < 3; ++a) {
+    const bool low = inside.lo[a] > top / 2;
+    far.lo[a] = low ? 0 : top - top / 16;
+    far.hi[a] = low ? top / 16 : top;
+  }
+  const auto away = decode_region(source, far, 0);
+  EXPECT_TRUE(away.ok()) << away.status().message();
+}
+
+// Every prefix: the whole levels it holds, never a crash; a region of a level
+// the prefix lacks is a truncation.
+TEST(BrickedStream, EveryPrefixDecodesItsWholeLevels) {
+  const std::vector<uint8_t> bytes = bricked_stream("bunny_10k", 64);
+  const StreamSummary s = scan_stream(bytes);
+  for (size_t cut = 0; cut < bytes.size(); cut += 1 + cut / 50) {
+    const std::span<const uint8_t> prefix = std::span(bytes).first(cut);
+    ProgressiveDecoder d;
+    const Status status = decode_stream(prefix, d);
+    EXPECT_TRUE(status.code() == StatusCode::kTruncated || status.code() == StatusCode::kNeedMoreInput ||
+                status.code() == StatusCode::kNotDtm)
+        << cut << ": " << status.message();
+    MemorySource source(prefix);
+    const auto region = decode_region(source, {{0, 0, 0}, {1 << 20, 1 << 20, 1 << 20}}, 0);
+    EXPECT_FALSE(region.ok()) << cut;
+  }
+}
+
+}  // namespace
+}  // namespace dtm
