@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <numeric>
 
 #include "codec/carving_coder.h"
@@ -135,64 +136,67 @@ RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box) {
   return out;
 }
 
-StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int level,
-                                   const DecoderOptions& options) {
-  RegionMesh out;
-  out.level = level;
-  const auto read = [&](uint64_t offset, uint64_t size, std::vector<uint8_t>& bytes) -> Status {
-    if (offset > source.size() || size > source.size() - offset)
-      return {StatusCode::kTruncated, "the stream ends at byte " + std::to_string(source.size()) +
-                                          ", before the bytes level " + std::to_string(level) + " needs"};
-    bytes.resize(size);
-    out.bytes_read += size;
-    return source.read(offset, bytes);
-  };
-  std::vector<uint8_t> bytes;
-  DTM_RETURN_IF_ERROR(read(0, std::min<uint64_t>(kHeaderSize, source.size()), bytes));
+namespace {
+
+// The stream's header and every layer's header and index down to a level,
+// read by offset.
+struct StreamPlan {
   StreamHeader header;
+  std::vector<LayerPlan> layers;  // coarsest first; the last is the level's
+};
+
+class Reader {
+ public:
+  explicit Reader(ByteSource& source) : source_(source) {}
+  uint64_t bytes_read = 0;
+  Status read(uint64_t offset, uint64_t size, std::vector<uint8_t>& bytes, const std::string& what) {
+    if (offset > source_.size() || size > source_.size() - offset)
+      return {StatusCode::kTruncated,
+              "the stream ends at byte " + std::to_string(source_.size()) + ", before " + what};
+    bytes.resize(size);
+    bytes_read += size;
+    return source_.read(offset, bytes);
+  }
+  ByteSource& source() { return source_; }
+
+ private:
+  ByteSource& source_;
+};
+
+// The header; `bricked` false for a stream whose layers are not bricked.
+Status read_header(Reader& reader, int level, StreamHeader& header) {
+  std::vector<uint8_t> bytes;
+  DTM_RETURN_IF_ERROR(
+      reader.read(0, std::min<uint64_t>(kHeaderSize, reader.source().size()), bytes, "the header's end"));
   if (const Status s = parse_header(bytes, header); !s.ok())
     return s.code() == StatusCode::kNeedMoreInput
                ? Status{StatusCode::kTruncated, "the stream ends in its header"}
                : s;
   if (level < 0 || level >= header.level_count)
-    return Status{StatusCode::kInvalidInput, "level " + std::to_string(level) +
-                                                 ": the stream has levels 0 to " +
-                                                 std::to_string(header.level_count - 1)};
-  if (!(header.flags & kFlagBricks)) {
-    // Not bricked: the whole stream, then the level filtered.
-    out.bytes_read = 0;
-    DTM_RETURN_IF_ERROR(read(0, source.size(), bytes));
-    DecoderOptions o = options;
-    o.stop_after_level = level;
-    ProgressiveDecoder decoder(o);
-    DTM_RETURN_IF_ERROR(decode_stream(bytes, decoder));
-    if (decoder.finest_level() != level)
-      return Status{StatusCode::kTruncated, "the stream ends before level " + std::to_string(level)};
-    DTM_RETURN_IF_ERROR(decoder.mesh_status());
-    RegionMesh r = region_of(decoder, box);
-    r.bytes_read = out.bytes_read;
-    return r;
-  }
-  out.bricked = true;
-  const int q = header.grid.qbits;
+    return {StatusCode::kInvalidInput, "level " + std::to_string(level) + ": the stream has levels 0 to " +
+                                           std::to_string(header.level_count - 1)};
+  return Status::Ok();
+}
 
-  // Every layer's header and index, down to the level.
-  std::vector<LayerPlan> plans;
-  LayerWalk walk(header, options.max_vertices);
+Status read_plan(Reader& reader, int level, const DecoderOptions& options, StreamPlan& plan) {
+  const int q = plan.header.grid.qbits;
+  std::vector<uint8_t> bytes;
+  LayerWalk walk(plan.header, options.max_vertices);
   while (walk.next_level() >= level) {
     const int at = walk.next_level();
     const uint64_t offset = walk.offset();
+    const std::string what = "level " + std::to_string(at) + "'s layer";
     Layer layer;
     bool header_seen = false;
     uint64_t want = kBrickedLayerHeaderSize;
     Status s;
     while (true) {
-      DTM_RETURN_IF_ERROR(read(offset, want, bytes));
+      DTM_RETURN_IF_ERROR(reader.read(offset, want, bytes, what));
       s = walk.next_index(bytes, layer, &header_seen);
       if (s.code() != StatusCode::kNeedMoreInput || !header_seen) break;
       const uint64_t whole = kBrickedLayerHeaderSize + uint64_t{layer.header.index_bytes};
       if (whole <= want) break;
-      out.bytes_read -= want;  // read again with the index (counted once)
+      reader.bytes_read -= want;  // read again with the index (counted once)
       want = whole;
     }
     DTM_RETURN_IF_ERROR(s);
@@ -200,70 +204,104 @@ StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int l
     p.header = layer.header;
     p.chunk_area = offset + kBrickedLayerHeaderSize + layer.header.index_bytes;
     p.first_vertex = layer.header.level_vertices - layer.header.new_vertices;
-    const std::string where = "level " + std::to_string(at) + " at byte " + std::to_string(offset);
     DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, layer.header.brick_depth, q, layer.header.new_vertices,
                                           layer.header.chunk_bytes, p.chunks)
-                            .with_context(where));
-    plans.push_back(std::move(p));
+                            .with_context(what + " at byte " + std::to_string(offset)));
+    plan.layers.push_back(std::move(p));
   }
+  return Status::Ok();
+}
 
-  // The bricks each layer decodes, finest first: those owning the cells
-  // that may meet the box (carving), the points their cells reach, and the
-  // coarser layers' bricks covering those.
-  const LayerPlan& finest = plans.back();
+bool meets(const GridBox& a, const GridBox& b) {
+  for (int k = 0; k < 3; ++k)
+    if (a.hi[k] < b.lo[k] || a.lo[k] > b.hi[k]) return false;
+  return true;
+}
+bool meets_any(const GridBox& a, std::span<const GridBox> boxes) {
+  return std::any_of(boxes.begin(), boxes.end(), [&](const GridBox& b) { return meets(a, b); });
+}
+
+// The level's bricks whose cells are wanted: those inside `cubes` (a union
+// of whole bricks), as `owns` says brick by brick.
+struct Owners {
+  std::vector<GridBox> cubes;
+  std::function<bool(uint64_t)> owns;
+};
+
+// The cells of the level that `owners` own (and, with `box`, that meet it),
+// from the chunks within twice the level's kept radius of the owners.
+Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners, const GridBox* box,
+                    const DecoderOptions& options, RegionMesh& out) {
+  const int q = plan.header.grid.qbits;
+  const LayerPlan& finest = plan.layers.back();
+  const int level = finest.header.level;
   const double r = finest.header.kept_radius;
-  GridBox owners_cover;
-  const std::vector<uint64_t> owners =
-      bricks_meeting(box.grown(margin(r, 2, q), q), q, finest.header.brick_depth, &owners_cover);
-  std::vector<std::vector<uint64_t>> needed(plans.size());
-  std::vector<GridBox> cover(plans.size());
-  if (!owners.empty()) {
-    GridBox region = owners_cover.grown(margin(r, 2, q), q);
-    for (size_t i = plans.size(); i-- > 0;) {
-      needed[i] = bricks_meeting(region, q, plans[i].header.brick_depth, &cover[i]);
-      region = cover[i];
+  // Where the level's points are needed (the owners grown by 2r), then, layer
+  // by layer towards the coarsest, also the bricks of the chunks decoded
+  // there (their known points): a chunk is read if its brick meets the region
+  // or a brick chosen in a finer layer.
+  std::vector<GridBox> region;
+  for (const GridBox& c : owners.cubes) region.push_back(c.grown(margin(r, 2, q), q));
+  std::vector<std::vector<const BrickChunk*>> needed(plan.layers.size());
+  // The bricks of the chunks chosen in the finer layers, by depth.
+  std::vector<std::pair<int, std::vector<uint64_t>>> chosen;
+  const auto meets_chosen = [&](uint64_t brick, int depth) {
+    for (const auto& [d, bricks] : chosen) {
+      if (d >= depth) {  // a finer brick inside this one
+        const auto it = std::lower_bound(bricks.begin(), bricks.end(), brick << (3 * (d - depth)));
+        if (it != bricks.end() && (*it >> (3 * (d - depth))) == brick) return true;
+      } else if (std::binary_search(bricks.begin(), bricks.end(), brick >> (3 * (depth - d)))) {
+        return true;  // inside a coarser brick
+      }
     }
+    return false;
+  };
+  for (size_t i = plan.layers.size(); i-- > 0;) {
+    const LayerPlan& p = plan.layers[i];
+    const int depth = p.header.brick_depth;
+    std::vector<uint64_t> bricks;
+    for (const BrickChunk& c : p.chunks)
+      if (meets_any(brick_box(c.brick, q, depth), region) || meets_chosen(c.brick, depth))
+        needed[i].push_back(&c), bricks.push_back(c.brick);
+    chosen.emplace_back(depth, std::move(bricks));
   }
 
-  // Decode the points, coarsest layer first.
+  // The points, coarsest layer first.
   std::vector<GridPoint> points;
   std::vector<uint32_t> ids;
   std::vector<int32_t> levels;
   std::vector<MortonCode> known;
   SetCoderModels models;
   models.enable_coordinate_reuse(q);
-  std::vector<uint8_t> finest_chunks;  // the finest layer's chunks read, back to back
-  std::vector<std::pair<const BrickChunk*, uint64_t>> finest_read;  // each one's place in it
-  for (size_t i = 0; i < plans.size(); ++i) {
-    const LayerPlan& p = plans[i];
+  std::vector<uint8_t> bytes, finest_chunks;
+  std::vector<std::pair<const BrickChunk*, uint64_t>> finest_read;  // chunk, its place in finest_chunks
+  for (size_t i = 0; i < plan.layers.size(); ++i) {
+    const LayerPlan& p = plan.layers[i];
     const int depth = p.header.brick_depth;
     const int at = p.header.level;
     std::vector<GridPoint> added;
-    for (const uint64_t brick : needed[i]) {
-      const BrickChunk* chunk = find_chunk(p.chunks, brick);
-      if (!chunk) continue;
-      DTM_RETURN_IF_ERROR(read(p.chunk_area + chunk->offset, chunk->size(), bytes));
-      const std::string where = "level " + std::to_string(at) + ", brick " + std::to_string(brick) +
+    for (const BrickChunk* chunk : needed[i]) {
+      const std::string where = "level " + std::to_string(at) + ", brick " + std::to_string(chunk->brick) +
                                 " at byte " + std::to_string(p.chunk_area + chunk->offset);
+      DTM_RETURN_IF_ERROR(reader.read(p.chunk_area + chunk->offset, chunk->size(), bytes, where));
       DTM_RETURN_IF_ERROR(check_chunk(*chunk, bytes).with_context(where));
       ++out.chunks_read;
       const ChunkBytes parts = split_chunk(*chunk, bytes);
       const size_t before = added.size();
-      if (i == 0) {
+      if (i == 0)  // the base layer: one chunk, with the stream's models
         DTM_RETURN_IF_ERROR(decode_point_set(parts.payload, {}, q, chunk->new_points, models, added,
-                                             brick_node(brick, q, depth))
+                                             brick_node(chunk->brick, q, depth))
                                 .with_context(where));
-      } else {
+      else
         DTM_RETURN_IF_ERROR(
             decode_chunk_points(*chunk, parts.payload, known, q, depth, models, added).with_context(where));
-      }
       if (added.size() - before != chunk->new_points)
-        return Status{StatusCode::kCorrupt, where + ": the chunk's points differ from its index entry"};
-      for (size_t k = 0; k < chunk->new_points; ++k) {
+        return {StatusCode::kCorrupt, where + ": the chunk's points differ from its index entry"};
+      for (uint32_t k = 0; k < chunk->new_points; ++k) {
         ids.push_back(static_cast<uint32_t>(p.first_vertex + chunk->points_before + k));
         levels.push_back(at);
       }
-      if (i + 1 == plans.size()) {
+      if (i + 1 == plan.layers.size()) {
         finest_read.emplace_back(chunk, finest_chunks.size());
         finest_chunks.insert(finest_chunks.end(), bytes.begin(), bytes.end());
       }
@@ -271,20 +309,18 @@ StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int l
     merge_known(known, added, q);
     points.insert(points.end(), added.begin(), added.end());
     if (uint64_t{points.size()} > options.max_vertices)
-      return Status{StatusCode::kLimitExceeded, std::to_string(points.size()) +
-                                                    " vertices exceed the limit of " +
-                                                    std::to_string(options.max_vertices)};
+      return {StatusCode::kLimitExceeded, std::to_string(points.size()) + " vertices exceed the limit of " +
+                                              std::to_string(options.max_vertices)};
   }
   out.points_decoded = points.size();
-  if (owners.empty()) return out;
 
-  // The level's points inside the finest layer's bricks, numbered as the
-  // whole level numbers them (the canonical order of cells is then the
-  // whole level's), tetrahedralized.
-  const GridBox& decoded = cover.back();
+  // The level's points in the region, numbered as the whole level numbers
+  // them (the canonical order of cells is then the whole level's),
+  // tetrahedralized.
   std::vector<uint32_t> inside;
   for (uint32_t v = 0; v < points.size(); ++v)
-    if (decoded.contains(points[v])) inside.push_back(v);
+    if (std::any_of(region.begin(), region.end(), [&](const GridBox& b) { return b.contains(points[v]); }))
+      inside.push_back(v);
   std::sort(inside.begin(), inside.end(), [&](uint32_t a, uint32_t b) { return ids[a] < ids[b]; });
   std::vector<GridPoint> local_points;
   std::vector<uint32_t> local_ids;
@@ -294,21 +330,20 @@ StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int l
     local_ids.push_back(ids[v]);
     local_levels.push_back(levels[v]);
   }
-  if (!spans_three_dimensions(local_points)) return out;  // no cell at all
+  if (!spans_three_dimensions(local_points)) return Status::Ok();  // no cell at all
   DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(local_points));
 
   // Each cell's owner brick; the carving of the owners' chunks.
-  const LayerPlan& lp = plans.back();
-  const int depth = lp.header.brick_depth;
+  const int depth = finest.header.brick_depth;
   std::vector<MortonCode> codes(local_points.size());
   for (size_t v = 0; v < codes.size(); ++v) codes[v] = morton_encode(local_points[v], q);
   const std::vector<uint64_t> owner = carving_bricks_of_cells(dt, local_points, codes, q, depth, r);
   std::vector<uint8_t> kept;
-  if (header.flags & kFlagCarvingCorrections) {
+  if (plan.header.flags & kFlagCarvingCorrections) {
     std::vector<std::span<const uint8_t>> sections;
     std::vector<uint64_t> section_bricks;
     for (const auto& [chunk, at] : finest_read)
-      if (std::binary_search(owners.begin(), owners.end(), chunk->brick)) {
+      if (owners.owns(chunk->brick)) {
         sections.push_back(
             split_chunk(*chunk, std::span<const uint8_t>(finest_chunks).subspan(at, chunk->size())).carving);
         section_bricks.push_back(chunk->brick);
@@ -320,17 +355,117 @@ StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int l
         chunk_of_cell[c] = static_cast<uint32_t>(it - section_bricks.begin());
     }
     DTM_RETURN_IF_ERROR(
-        decode_carving_chunks(sections, dt, local_points, lp.header.alpha, chunk_of_cell, kept)
+        decode_carving_chunks(sections, dt, local_points, finest.header.alpha, chunk_of_cell, kept)
             .with_context("level " + std::to_string(level)));
   } else {
-    kept = carve(dt, local_points, lp.header.alpha);
+    kept = carve(dt, local_points, finest.header.alpha);
   }
   std::vector<std::array<uint32_t, 4>> cells;
   for (size_t c = 0; c < dt.cells.size(); ++c)
-    if (kept[c] && owner[c] != kNoBrick && std::binary_search(owners.begin(), owners.end(), owner[c]) &&
-        cell_meets(local_points, dt.cells[c], box))
+    if (kept[c] && owner[c] != kNoBrick && owners.owns(owner[c]) &&
+        (!box || cell_meets(local_points, dt.cells[c], *box)))
       cells.push_back(dt.cells[c]);
   compact(local_points, local_ids, local_levels, std::move(cells), out);
+  return Status::Ok();
+}
+
+// A stream that is not bricked: decoded whole to the level.
+Status decode_whole(Reader& reader, int level, const DecoderOptions& options, ProgressiveDecoder& decoder) {
+  std::vector<uint8_t> bytes;
+  reader.bytes_read = 0;
+  DTM_RETURN_IF_ERROR(reader.read(0, reader.source().size(), bytes, "its end"));
+  DTM_RETURN_IF_ERROR(decode_stream(bytes, decoder));
+  if (decoder.finest_level() != level)
+    return {StatusCode::kTruncated, "the stream ends before level " + std::to_string(level)};
+  return decoder.mesh_status();
+}
+
+// The cubes (octree nodes) that bricks [first, last) of depth `depth` make.
+std::vector<GridBox> morton_range_cubes(uint64_t first, uint64_t last, int qbits, int depth) {
+  std::vector<GridBox> out;
+  while (first < last) {
+    int k = 0;  // the largest aligned node of 8^k bricks starting at first
+    while (k < depth && first % (uint64_t{8} << (3 * k)) == 0 && first + (uint64_t{8} << (3 * k)) <= last)
+      ++k;
+    out.push_back(brick_box(first >> (3 * k), qbits, depth - k));
+    first += uint64_t{1} << (3 * k);
+  }
+  return out;
+}
+
+}  // namespace
+
+StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int level,
+                                   const DecoderOptions& options) {
+  Reader reader(source);
+  StreamPlan plan;
+  DTM_RETURN_IF_ERROR(read_header(reader, level, plan.header));
+  RegionMesh out;
+  out.level = level;
+  if (!(plan.header.flags & kFlagBricks)) {
+    DecoderOptions o = options;
+    o.stop_after_level = level;
+    ProgressiveDecoder decoder(o);
+    DTM_RETURN_IF_ERROR(decode_whole(reader, level, o, decoder));
+    out = region_of(decoder, box);
+    out.bytes_read = reader.bytes_read;
+    return out;
+  }
+  out.bricked = true;
+  DTM_RETURN_IF_ERROR(read_plan(reader, level, options, plan));
+  const int q = plan.header.grid.qbits;
+  const LayerHeader& lh = plan.layers.back().header;
+  // The bricks that may own a kept cell meeting the box.
+  GridBox cover;
+  const std::vector<uint64_t> bricks =
+      bricks_meeting(box.grown(margin(lh.kept_radius, 2, q), q), q, lh.brick_depth, &cover);
+  if (!bricks.empty()) {
+    Owners owners;
+    owners.cubes = {cover};
+    owners.owns = [&](uint64_t b) { return std::binary_search(bricks.begin(), bricks.end(), b); };
+    DTM_RETURN_IF_ERROR(decode_owned(reader, plan, owners, &box, options, out));
+  }
+  out.bytes_read = reader.bytes_read;
+  return out;
+}
+
+StatusOr<RegionMesh> decode_piece(ByteSource& source, int level, int piece, int pieces,
+                                  const DecoderOptions& options) {
+  if (pieces < 1 || piece < 0 || piece >= pieces)
+    return Status{StatusCode::kInvalidInput,
+                  "piece " + std::to_string(piece) + " of " + std::to_string(pieces) + ": no such piece"};
+  Reader reader(source);
+  StreamPlan plan;
+  DTM_RETURN_IF_ERROR(read_header(reader, level, plan.header));
+  if (!(plan.header.flags & kFlagBricks))
+    return Status{StatusCode::kUnsupported, "pieces need a bricked stream (meshenc --bricks)"};
+  RegionMesh out;
+  out.level = level;
+  out.bricked = true;
+  DTM_RETURN_IF_ERROR(read_plan(reader, level, options, plan));
+  const int q = plan.header.grid.qbits;
+  const LayerPlan& finest = plan.layers.back();
+  const int depth = finest.header.brick_depth;
+  // Contiguous ranges of the level's bricks, cut between chunks so that each
+  // piece has about as many of the level's new points.
+  const std::vector<BrickChunk>& chunks = finest.chunks;
+  const uint64_t total = finest.header.new_vertices;
+  const auto cut = [&](int k) -> uint64_t {
+    if (k == 0) return 0;
+    if (k == pieces) return uint64_t{1} << (3 * depth);
+    const uint64_t target = total * static_cast<uint64_t>(k) / static_cast<uint64_t>(pieces);
+    for (const BrickChunk& c : chunks)
+      if (c.points_before >= target) return c.brick;
+    return uint64_t{1} << (3 * depth);
+  };
+  const uint64_t first = cut(piece), last = std::max(first, cut(piece + 1));
+  if (first < last) {
+    Owners owners;
+    owners.cubes = morton_range_cubes(first, last, q, depth);
+    owners.owns = [&](uint64_t b) { return b >= first && b < last; };
+    DTM_RETURN_IF_ERROR(decode_owned(reader, plan, owners, nullptr, options, out));
+  }
+  out.bytes_read = reader.bytes_read;
   return out;
 }
 

@@ -92,6 +92,16 @@ struct RegionMesh {
 StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int level,
                                    const DecoderOptions& options = {});
 
+// Piece `piece` (0 to pieces - 1) of a level of a bricked stream: the cells
+// whose owner bricks (the brick of their least-Morton vertex) lie in the
+// piece's contiguous range of the level's bricks, the ranges cut between
+// chunks so that each holds about as many of the level's new points. Every
+// cell of the level is in exactly one piece; a piece reads only the chunks
+// around its bricks (mpirun meshdec: one piece per rank). kUnsupported for
+// a stream that is not bricked.
+StatusOr<RegionMesh> decode_piece(ByteSource& source, int level, int piece, int pieces,
+                                  const DecoderOptions& options = {});
+
 // The same region from a decoder holding the level whole (its finest
 // decoded level): the definition decode_region is tested against.
 RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box);

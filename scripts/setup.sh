@@ -11,7 +11,9 @@ packages=(build-essential cmake libcgal-dev libgmp-dev libmpfr-dev libboost-dev
           # the format tests use as an independent reader and writer: Debian
           # makes it conflict with python3-vtk9, so that one is not listed.
           python3-numpy python3-pytest python3-venv python3-pip python3-setuptools python3-pybind11
-          pybind11-dev paraview python3-paraview xvfb)
+          pybind11-dev paraview python3-paraview xvfb
+          # mpirun meshdec (optional in the build; its test needs it)
+          libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -154,6 +154,46 @@ TEST(BrickedStream, RegionIsTheWholeLevelFilteredToTheBox) {
   }
 }
 
+// Pieces (one per MPI rank): every cell of the level in exactly one piece.
+TEST(BrickedStream, PiecesPartitionTheLevel) {
+  const std::vector<uint8_t> bytes = bricked_stream("hand_10k", 8);
+  StreamHeader h;
+  ASSERT_TRUE(parse_header(bytes, h).ok());
+  for (int level : {0, 2}) {
+    DecoderOptions o;
+    o.stop_after_level = level;
+    ProgressiveDecoder whole(o);
+    ASSERT_TRUE(decode_stream(bytes, whole).ok());
+    std::vector<std::array<uint32_t, 4>> want = whole.carved_cells();
+    for (auto& c : want) std::sort(c.begin(), c.end());
+    std::sort(want.begin(), want.end());
+    for (int pieces : {1, 2, 3, 4, 7}) {
+      std::vector<std::array<uint32_t, 4>> got;
+      uint64_t read = 0;
+      for (int piece = 0; piece < pieces; ++piece) {
+        MemorySource source(bytes);
+        const auto p = decode_piece(source, level, piece, pieces);
+        ASSERT_TRUE(p.ok()) << p.status().message();
+        for (auto c : p->cells) {
+          for (uint32_t& v : c) {
+            EXPECT_EQ(whole.points()[p->vertex_ids[v]], p->points[v]);
+            v = p->vertex_ids[v];
+          }
+          std::sort(c.begin(), c.end());
+          got.push_back(c);
+        }
+        read = std::max(read, p->bytes_read);
+      }
+      std::sort(got.begin(), got.end());
+      EXPECT_TRUE(got == want) << "level " << level << ", " << pieces << " pieces: " << got.size()
+                               << " cells, " << want.size() << " in the level";
+      if (pieces >= 4 && level == 0) EXPECT_LT(read, bytes.size()) << "a piece read the whole stream";
+    }
+  }
+  MemorySource source(bytes);
+  EXPECT_FALSE(decode_piece(source, 0, 4, 4).ok());
+}
+
 TEST(BrickedStream, RegionOfAStreamNotBrickedIsDecodedWhole) {
   const InputMesh in = read_input(test::data_path("bunny_10k.node"));
   EncodeInput input;

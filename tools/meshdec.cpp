@@ -15,6 +15,7 @@
 #include "tools/formats/gltf_writer.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
+#include "tools/mpi_session.h"
 #include "tools/stream_input.h"
 #include "tools/tool_main.h"
 
@@ -31,6 +32,8 @@ Examples:
   meshdec bunny.dtm -o bunny.drc                 # the surface as a Draco file
   meshdec big.dtm -o part.vtu --box 0 0 0 10 10 10   # the cells meeting a box (reads only the
                                                   # chunks around it from a meshenc --bricks stream)
+  mpirun -n 4 meshdec big.dtm -o big.pvtu         # one piece per rank (a --bricks stream), for ParaView
+  meshdec big.dtm -o big.pvtu --pieces 4          # the same four pieces, one after another
   head -c 40000 bunny.dtm | meshdec - -o preview.vtu
   meshdec bunny.dtm -o - --format vtu > bunny.vtu
 
@@ -49,6 +52,7 @@ struct Command {
   bool no_draco = false;
   uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
   std::vector<double> box;
+  int pieces = 0;
 };
 
 void add_options(CLI::App& app, Command& c) {
@@ -79,6 +83,11 @@ void add_options(CLI::App& app, Command& c) {
                  "(meshenc --bricks) it reads only the chunks around the box")
       ->expected(6)
       ->type_name("X0 Y0 Z0 X1 Y1 Z1");
+  app.add_option(
+         "--pieces", c.pieces,
+         "with -o X.pvtu: decode the level in this many pieces, X_0.vtu ... (default: one per MPI rank "
+         "under mpirun, else 1); every cell is in exactly one piece (a bricked stream: meshenc --bricks)")
+      ->check(CLI::Range(1, 1 << 20));
   app.add_flag("-q,--quiet", c.quiet, "no notes on stderr");
 }
 
@@ -169,6 +178,86 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
     throw std::runtime_error("cannot write to standard output");
 }
 
+// A region or piece as the writers take it: its points, cells, each vertex's
+// coarsest level and its number in the whole level (point data vertex_id).
+dtm::OutputMesh region_output(const dtm::RegionMesh& region, const dtm::Grid& grid) {
+  dtm::OutputMesh mesh;
+  mesh.grid = grid;
+  mesh.points = region.points;
+  for (const auto& cell : region.cells) mesh.cells.push_back(dtm::sorted_positive(cell, mesh.points));
+  mesh.level = region.vertex_levels;
+  dtm::OutputField ids{"vertex_id", dtm::ScalarType::kUInt32, 1, {}};
+  ids.bits.assign(region.vertex_ids.begin(), region.vertex_ids.end());
+  mesh.fields.push_back(std::move(ids));
+  return mesh;
+}
+
+bool ends_with(const std::string& s, const std::string& end) {
+  return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
+}
+
+// -o X.pvtu: the level in pieces X_0.vtu, X_1.vtu, ..., each rank writing
+// its own (ranks take pieces in turn), rank 0 the .pvtu once every piece is
+// written. Any rank's failure fails them all and leaves no file.
+int run_pieces(const Command& c) {
+  const dtm::MpiSession& mpi = dtm::mpi_session();
+  if (c.input == "-")
+    throw std::invalid_argument("-o X.pvtu reads the stream by offset: give a file, not '-'");
+  if (!c.box.empty() || c.verify) throw std::invalid_argument("-o X.pvtu: no --box or --verify");
+  const int pieces = c.pieces > 0 ? c.pieces : mpi.size();
+  const int level = std::max(c.level, 0);
+  const std::string stem = c.output.substr(0, c.output.size() - 5);
+  const size_t slash = stem.find_last_of('/');
+  const std::string base = slash == std::string::npos ? stem : stem.substr(slash + 1);
+  std::vector<std::string> names, written;
+  for (int i = 0; i < pieces; ++i) names.push_back(base + "_" + std::to_string(i) + ".vtu");
+  std::string error;
+  uint64_t cells = 0, bytes_read = 0, largest_read = 0, size = 0;
+  dtm::Grid grid;
+  try {
+    auto source = dtm::FileSource::open(c.input);
+    if (!source.ok()) throw std::runtime_error(source.status().message());
+    size = source->size();
+    dtm::DecoderOptions options;
+    options.max_vertices = c.max_vertices;
+    for (int i = mpi.rank(); i < pieces; i += mpi.size()) {
+      const auto piece = dtm::decode_piece(*source, level, i, pieces, options);
+      if (!piece.ok()) throw std::runtime_error(c.input + ": " + piece.status().message());
+      std::vector<uint8_t> head(dtm::kHeaderSize);
+      dtm::StreamHeader header;
+      if (source->read(0, head).ok() && dtm::parse_header(head, header).ok()) grid = header.grid;
+      const std::string path = (slash == std::string::npos ? "" : stem.substr(0, slash + 1)) + names[i];
+      dtm::write_files_atomically(dtm::render_mesh(region_output(*piece, grid), dtm::MeshFormat::kVtu, path));
+      written.push_back(path);
+      cells += piece->cells.size();
+      bytes_read += piece->bytes_read;
+      largest_read = std::max(largest_read, piece->bytes_read);
+    }
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  if (!mpi.all(error.empty())) {
+    for (const std::string& path : written) std::remove(path.c_str());
+    if (!error.empty()) throw std::runtime_error(error);
+    return 1;  // another rank's error, which that rank reports
+  }
+  const uint64_t all_cells = mpi.sum(cells), all_read = mpi.sum(bytes_read);
+  if (mpi.rank() == 0) {
+    dtm::OutputMesh like;
+    like.level = {0};
+    like.fields.push_back({"vertex_id", dtm::ScalarType::kUInt32, 1, {}});
+    dtm::write_files_atomically({{c.output, dtm::render_pvtu(like, names)}});
+    if (!c.quiet)
+      std::fprintf(
+          stderr,
+          "meshdec: level %d: %d pieces (%d ranks), %llu tetrahedra; the pieces read %llu bytes of a "
+          "%llu-byte stream in all\n",
+          level, pieces, mpi.size(), static_cast<unsigned long long>(all_cells),
+          static_cast<unsigned long long>(all_read), static_cast<unsigned long long>(size));
+  }
+  return 0;
+}
+
 // --box: the region's cells, from the chunks it needs.
 int run_region(const Command& c, dtm::MeshFormat format) {
   if (c.input == "-") throw std::invalid_argument("--box reads the stream by offset: give a file, not '-'");
@@ -187,14 +276,7 @@ int run_region(const Command& c, dtm::MeshFormat format) {
   const int level = std::max(c.level, 0);
   const auto region = dtm::decode_region(*source, dtm::grid_box_of(header.grid, lo, hi), level, options);
   if (!region.ok()) throw std::runtime_error(c.input + ": " + region.status().message());
-  dtm::OutputMesh mesh;
-  mesh.grid = header.grid;
-  mesh.points = region->points;
-  for (const auto& cell : region->cells) mesh.cells.push_back(dtm::sorted_positive(cell, mesh.points));
-  mesh.level = region->vertex_levels;
-  dtm::OutputField ids{"vertex_id", dtm::ScalarType::kUInt32, 1, {}};
-  ids.bits.assign(region->vertex_ids.begin(), region->vertex_ids.end());
-  mesh.fields.push_back(std::move(ids));
+  const dtm::OutputMesh mesh = region_output(*region, header.grid);
   write_output(c, mesh, format);
   if (!c.quiet)
     std::fprintf(stderr,
@@ -211,6 +293,8 @@ int run_region(const Command& c, dtm::MeshFormat format) {
 }
 
 int run(const Command& c) {
+  if (ends_with(c.output, ".pvtu")) return run_pieces(c);
+  if (c.pieces > 0) throw std::invalid_argument("--pieces writes a .pvtu: -o X.pvtu");
   const dtm::MeshFormat format = output_format(c);
   if (!c.box.empty()) return run_region(c, format);
   dtm::DecoderOptions options;
@@ -251,7 +335,14 @@ int run(const Command& c) {
 
 }  // namespace
 
+namespace dtm {
+MpiSession* the_session = nullptr;
+MpiSession& mpi_session() { return *the_session; }
+}  // namespace dtm
+
 int main(int argc, char** argv) {
+  dtm::MpiSession mpi(&argc, &argv);
+  dtm::the_session = &mpi;
   return dtm::tool_main<Command>("meshdec", "decode a .dtm stream to a tetrahedral mesh", kExamples, argc,
                                  argv, add_options, run);
 }

@@ -237,6 +237,32 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
 
 }  // namespace
 
+std::string render_pvtu(const OutputMesh& like, std::span<const std::string> pieces) {
+  std::string out =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n"
+      "  <PUnstructuredGrid GhostLevel=\"0\">\n";
+  if (!like.level.empty() || !like.boundary.empty() || !like.fields.empty()) {
+    out += "    <PPointData>\n";
+    if (!like.level.empty()) out += "      <PDataArray type=\"Int32\" Name=\"level\"/>\n";
+    if (!like.boundary.empty()) out += "      <PDataArray type=\"UInt8\" Name=\"boundary\"/>\n";
+    for (const OutputField& f : like.fields) {
+      out += "      <PDataArray type=\"" + std::string(vtu_type(f.type)) + "\" Name=\"" +
+             xml_escaped(f.name) + "\"";
+      if (f.components > 1) out += " NumberOfComponents=\"" + std::to_string(f.components) + "\"";
+      out += "/>\n";
+    }
+    out += "    </PPointData>\n";
+  }
+  out +=
+      "    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n    "
+      "</PPoints>\n";
+  for (const std::string& piece : pieces) out += "    <Piece Source=\"" + xml_escaped(piece) + "\"/>\n";
+  out += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  return out;
+}
+
 std::string base64_encode(std::string_view bytes) {
   static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;

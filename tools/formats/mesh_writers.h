@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -88,6 +89,12 @@ inline constexpr const char* kOutputFormatNames =
 std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& mesh, MeshFormat format,
                                                              const std::string& path,
                                                              const SurfaceStyle& style = {});
+
+// A VTK parallel unstructured grid (.pvtu) naming `pieces` (.vtu files,
+// paths relative to the .pvtu) written by render_mesh as kVtu from meshes
+// with the point data of `like` (level, boundary, fields: the same names,
+// types and components in every piece).
+std::string render_pvtu(const OutputMesh& like, std::span<const std::string> pieces);
 
 // Standard base64 (RFC 4648, with '=' padding), as VTK's binary format wants.
 // Exposed for its test.

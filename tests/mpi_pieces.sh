@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# tests/mpi_pieces.sh MESHENC MESHDEC DATA_DIR -- `mpirun -n P meshdec
+# in.dtm -o out.pvtu` for P = 1, 2, 4 (oversubscribed: the machine may have
+# fewer cores; as root, Open MPI wants --allow-run-as-root): each rank writes
+# its pieces, and they are byte for byte the pieces one process writes with
+# --pieces P; the pieces' cells add up to the whole level's; ParaView's
+# reader opens the .pvtu to the same count (where pvpython is installed). The
+# pieces' exact partition (every cell in one piece) is tests/test_bricks.cpp's
+# BrickedStream.PiecesPartitionTheLevel.
+set -euo pipefail
+meshenc=$1 meshdec=$2 data=$3
+command -v mpirun >/dev/null || { echo "mpi_pieces: mpirun missing (apt-get install openmpi-bin)"; exit 1; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+as_root=()
+[ "$(id -u)" -eq 0 ] && as_root=(--allow-run-as-root)
+"$meshenc" "$data/bunny_10k.node" --bricks --brick-points 16 --no-fields -q -o "$work/b.dtm"
+"$meshdec" "$work/b.dtm" -o "$work/whole.vtu" -q
+cells_of() { grep -oh 'NumberOfCells="[0-9]*"' "$@" | grep -o '[0-9]*' | awk '{s += $1} END {print s}'; }
+whole=$(cells_of "$work/whole.vtu")
+echo "whole level 0: $whole cells"
+failed=0
+for p in 1 2 4; do
+  mkdir -p "$work/mpi$p" "$work/one$p"
+  mpirun --oversubscribe "${as_root[@]}" -n "$p" "$meshdec" "$work/b.dtm" -o "$work/mpi$p/b.pvtu"
+  "$meshdec" "$work/b.dtm" -o "$work/one$p/b.pvtu" --pieces "$p" -q
+  pieces=$(ls "$work/mpi$p"/b_*.vtu | wc -l)
+  sum=$(cells_of "$work/mpi$p"/b_*.vtu)
+  same=yes
+  for f in "$work/one$p"/*; do cmp -s "$f" "$work/mpi$p/$(basename "$f")" || same=no; done
+  listed=$(grep -c '<Piece Source=' "$work/mpi$p/b.pvtu")
+  echo "mpirun -n $p: $pieces pieces listed $listed times, $sum cells; the same files as --pieces $p: $same"
+  [ "$pieces" -eq "$p" ] && [ "$listed" -eq "$p" ] && [ "$sum" -eq "$whole" ] && [ "$same" = yes ] || failed=1
+  if command -v pvpython >/dev/null; then
+    pv=$(pvpython -c "
+from paraview.simple import *
+r = XMLPartitionedUnstructuredGridReader(FileName=['$work/mpi$p/b.pvtu'])
+r.UpdatePipeline()
+print(r.GetDataInformation().GetNumberOfCells())" 2>/dev/null | tail -1)
+    echo "  ParaView reads $pv cells"
+    [ "$pv" = "$whole" ] || failed=1
+  fi
+done
+# A stream that is not bricked: a clear error and no file.
+"$meshenc" "$data/bunny_10k.node" --no-fields -q -o "$work/plain.dtm"
+mkdir -p "$work/plain"
+if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshdec" "$work/plain.dtm" -o "$work/plain/p.pvtu" 2>"$work/err"; then
+  echo "a stream that is not bricked made pieces"; failed=1
+fi
+grep -q "bricked stream" "$work/err" || { cat "$work/err"; failed=1; }
+[ -z "$(ls "$work/plain")" ] || { echo "files left behind: $(ls "$work/plain")"; failed=1; }
+[ $failed -eq 0 ] && echo "mpi_pieces: ok"
+exit $failed
