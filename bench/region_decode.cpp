@@ -19,6 +19,7 @@
 #include <random>
 #include <string>
 
+#include "bench/bench_env.h"
 #include "codec/region_decoder.h"
 
 namespace {
@@ -27,12 +28,9 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-double env_or(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atof(v) : fallback;
-}
-
 }  // namespace
+
+using dtm::bench::env_or;
 
 int main(int argc, char** argv) {
   if (argc < 2) {

@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_env.h"
 #include "codec/decode.h"
 #include "mesh/delaunay.h"
 #include "mesh/geometry.h"
@@ -122,12 +123,9 @@ bool sphere_inside(const Bricks& b, const std::vector<uint8_t>& mask, const dtm:
   return true;
 }
 
-double env_or(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atof(v) : fallback;
-}
-
 }  // namespace
+
+using dtm::bench::env_or;
 
 int main(int argc, char** argv) {
   if (argc < 2) {
