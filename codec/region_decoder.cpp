@@ -207,6 +207,10 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
     DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, layer.header.brick_depth, q, layer.header.new_vertices,
                                           layer.header.chunk_bytes, p.chunks)
                             .with_context(what + " at byte " + std::to_string(offset)));
+    if (!(plan.header.flags & kFlagCarvingCorrections))
+      for (const BrickChunk& c : p.chunks)
+        if (c.carving_bytes != 0)
+          return {StatusCode::kCorrupt, what + ": carving corrections present without their flag"};
     plan.layers.push_back(std::move(p));
   }
   return Status::Ok();
