@@ -154,6 +154,22 @@ TEST(BrickedStream, RegionIsTheWholeLevelFilteredToTheBox) {
   }
 }
 
+// 8.0 puts no values in chunks: refused before the hierarchy is built.
+TEST(BrickedStream, FieldsAreRefusedUpFront) {
+  const InputMesh in = read_input(test::data_path("torus_288.node"));
+  const std::vector<double> values(in.points.size(), 1.0);
+  const std::vector<EncodeInput::Field> fields = {{"pressure", ValueType::kF64, 1, values}};
+  EncodeInput input;
+  input.points = in.points;
+  input.fields = fields;
+  EncodeOptions options;
+  options.bricks = true;
+  const auto encoded = encode(input, options);
+  ASSERT_FALSE(encoded.ok());
+  EXPECT_EQ(encoded.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(encoded.status().message().find("--no-fields"), std::string::npos) << encoded.status().message();
+}
+
 // Pieces (one per MPI rank): every cell of the level in exactly one piece.
 TEST(BrickedStream, PiecesPartitionTheLevel) {
   const std::vector<uint8_t> bytes = bricked_stream("hand_10k", 8);
