@@ -162,7 +162,8 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
 
   // The fields are checked before the (long) hierarchy is built.
   if (options.bricks && !input.fields.empty())
-    return invalid("bricked layers (--bricks) carry no per-vertex values yet: leave the fields out (--no-fields)");
+    return invalid(
+        "bricked layers (--bricks) carry no per-vertex values yet: leave the fields out (--no-fields)");
   DTM_ASSIGN_OR_RETURN(std::vector<FieldValues> fields,
                        grid_point_fields(input, options, q, report.merged_points_with_other_values));
 

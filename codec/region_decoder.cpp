@@ -8,6 +8,7 @@
 
 #include "codec/carving_coder.h"
 #include "codec/layer_coder.h"
+#include "common/parallel_for.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
 #include "mesh/geometry.h"
@@ -86,10 +87,13 @@ bool cell_meets(std::span<const GridPoint> points, const std::array<uint32_t, 4>
 // cells' vertices, ascending number; cells in canonical order.
 void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
              std::span<const int32_t> levels, std::vector<std::array<uint32_t, 4>> cells, RegionMesh& out) {
+  std::vector<uint8_t> in_a_cell(points.size(), 0);
+  for (const auto& c : cells)
+    for (uint32_t v : c) in_a_cell[v] = 1;
   std::vector<uint32_t> used;
-  for (const auto& c : cells) used.insert(used.end(), c.begin(), c.end());
+  for (uint32_t v = 0; v < points.size(); ++v)
+    if (in_a_cell[v]) used.push_back(v);
   std::sort(used.begin(), used.end(), [&](uint32_t a, uint32_t b) { return ids[a] < ids[b]; });
-  used.erase(std::unique(used.begin(), used.end()), used.end());
   std::vector<uint32_t> local(points.size(), UINT32_MAX);
   for (size_t i = 0; i < used.size(); ++i) {
     local[used[i]] = static_cast<uint32_t>(i);
@@ -277,37 +281,52 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   std::vector<MortonCode> known;
   SetCoderModels models;
   models.enable_coordinate_reuse(q);
-  std::vector<uint8_t> bytes, finest_chunks;
+  std::vector<uint8_t> finest_chunks;
   std::vector<std::pair<const BrickChunk*, uint64_t>> finest_read;  // chunk, its place in finest_chunks
   for (size_t i = 0; i < plan.layers.size(); ++i) {
     const LayerPlan& p = plan.layers[i];
     const int depth = p.header.brick_depth;
     const int at = p.header.level;
-    std::vector<GridPoint> added;
-    for (const BrickChunk* chunk : needed[i]) {
-      const std::string where = "level " + std::to_string(at) + ", brick " + std::to_string(chunk->brick) +
-                                " at byte " + std::to_string(p.chunk_area + chunk->offset);
-      DTM_RETURN_IF_ERROR(reader.read(p.chunk_area + chunk->offset, chunk->size(), bytes, where));
-      DTM_RETURN_IF_ERROR(check_chunk(*chunk, bytes).with_context(where));
+    // The layer's chunks read (one after another) and checked, then decoded
+    // on every core, each into its own list.
+    std::vector<std::vector<uint8_t>> chunk_bytes(needed[i].size());
+    std::vector<std::string> where(needed[i].size());
+    for (size_t k = 0; k < needed[i].size(); ++k) {
+      const BrickChunk& chunk = *needed[i][k];
+      where[k] = "level " + std::to_string(at) + ", brick " + std::to_string(chunk.brick) + " at byte " +
+                 std::to_string(p.chunk_area + chunk.offset);
+      DTM_RETURN_IF_ERROR(reader.read(p.chunk_area + chunk.offset, chunk.size(), chunk_bytes[k], where[k]));
+      DTM_RETURN_IF_ERROR(check_chunk(chunk, chunk_bytes[k]).with_context(where[k]));
       ++out.chunks_read;
-      const ChunkBytes parts = split_chunk(*chunk, bytes);
-      const size_t before = added.size();
-      if (i == 0)  // the base layer: one chunk, with the stream's models
-        DTM_RETURN_IF_ERROR(decode_point_set(parts.payload, {}, q, chunk->new_points, models, added,
-                                             brick_node(chunk->brick, q, depth))
-                                .with_context(where));
-      else
-        DTM_RETURN_IF_ERROR(
-            decode_chunk_points(*chunk, parts.payload, known, q, depth, models, added).with_context(where));
-      if (added.size() - before != chunk->new_points)
-        return {StatusCode::kCorrupt, where + ": the chunk's points differ from its index entry"};
-      for (uint32_t k = 0; k < chunk->new_points; ++k) {
-        ids.push_back(static_cast<uint32_t>(p.first_vertex + chunk->points_before + k));
+    }
+    std::vector<std::vector<GridPoint>> decoded(needed[i].size());
+    std::vector<Status> status(needed[i].size());
+    const auto decode = [&](size_t k) {
+      const BrickChunk& chunk = *needed[i][k];
+      const ChunkBytes parts = split_chunk(chunk, chunk_bytes[k]);
+      status[k] = i == 0  // the base layer: one chunk, with the stream's models
+                      ? decode_point_set(parts.payload, {}, q, chunk.new_points, models, decoded[k],
+                                         brick_node(chunk.brick, q, depth))
+                      : decode_chunk_points(chunk, parts.payload, known, q, depth, models, decoded[k]);
+    };
+    if (i == 0)
+      for (size_t k = 0; k < needed[i].size(); ++k) decode(k);
+    else
+      parallel_for(needed[i].size(), decode, 2);
+    std::vector<GridPoint> added;
+    for (size_t k = 0; k < needed[i].size(); ++k) {
+      const BrickChunk& chunk = *needed[i][k];
+      DTM_RETURN_IF_ERROR(status[k].with_context(where[k]));
+      if (decoded[k].size() != chunk.new_points)
+        return {StatusCode::kCorrupt, where[k] + ": the chunk's points differ from its index entry"};
+      added.insert(added.end(), decoded[k].begin(), decoded[k].end());
+      for (uint32_t n = 0; n < chunk.new_points; ++n) {
+        ids.push_back(static_cast<uint32_t>(p.first_vertex + chunk.points_before + n));
         levels.push_back(at);
       }
       if (i + 1 == plan.layers.size()) {
-        finest_read.emplace_back(chunk, finest_chunks.size());
-        finest_chunks.insert(finest_chunks.end(), bytes.begin(), bytes.end());
+        finest_read.emplace_back(&chunk, finest_chunks.size());
+        finest_chunks.insert(finest_chunks.end(), chunk_bytes[k].begin(), chunk_bytes[k].end());
       }
     }
     merge_known(known, added, q);
@@ -374,7 +393,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
 }
 
 // A stream that is not bricked: decoded whole to the level.
-Status decode_whole(Reader& reader, int level, const DecoderOptions& options, ProgressiveDecoder& decoder) {
+Status decode_whole(Reader& reader, int level, ProgressiveDecoder& decoder) {
   std::vector<uint8_t> bytes;
   reader.bytes_read = 0;
   DTM_RETURN_IF_ERROR(reader.read(0, reader.source().size(), bytes, "its end"));
@@ -410,7 +429,7 @@ StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int l
     DecoderOptions o = options;
     o.stop_after_level = level;
     ProgressiveDecoder decoder(o);
-    DTM_RETURN_IF_ERROR(decode_whole(reader, level, o, decoder));
+    DTM_RETURN_IF_ERROR(decode_whole(reader, level, decoder));
     out = region_of(decoder, box);
     out.bytes_read = reader.bytes_read;
     return out;

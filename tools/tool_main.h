@@ -13,10 +13,11 @@ namespace dtm {
 
 // The project's version (CMake's project(VERSION)) and the stream versions it writes and reads.
 inline std::string version_text(const char* tool) {
-  return std::string(tool) + " (dtmesh " DTM_VERSION "): writes .dtm " + std::to_string(kVersionMajorUnbricked) +
-         "." + std::to_string(kVersionMinor) + " (" + std::to_string(kVersionMajor) + "." +
-         std::to_string(kVersionMinor) + " with bricked layers), reads .dtm " + std::to_string(kOldestVersionMajor) +
-         ".x to " + std::to_string(kVersionMajor) + ".x";
+  return std::string(tool) + " (dtmesh " DTM_VERSION "): writes .dtm " +
+         std::to_string(kVersionMajorUnbricked) + "." + std::to_string(kVersionMinor) + " (" +
+         std::to_string(kVersionMajor) + "." + std::to_string(kVersionMinor) +
+         " with bricked layers), reads .dtm " + std::to_string(kOldestVersionMajor) + ".x to " +
+         std::to_string(kVersionMajor) + ".x";
 }
 
 // Parses the command line into a Command (filled by add_options(app, command))
