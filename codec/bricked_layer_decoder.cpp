@@ -24,17 +24,14 @@ Status decode_chunk_points(const BrickChunk& chunk, std::span<const uint8_t> pay
       .with_context("brick " + std::to_string(chunk.brick));
 }
 
-Status decode_bricked_points(std::span<const BrickChunk> chunks, std::span<const uint8_t> chunk_bytes,
-                             std::span<const MortonCode> known, int qbits, int depth, SetCoderModels& models,
-                             std::vector<GridPoint>& out) {
-  for (const BrickChunk& c : chunks)
-    DTM_RETURN_IF_ERROR(check_chunk(c, chunk_bytes.subspan(c.offset, c.size())));
+Status decode_bricked_points(std::span<const ChunkInput> chunks, std::span<const MortonCode> known, int qbits,
+                             int depth, SetCoderModels& models, std::vector<GridPoint>& out) {
+  for (const ChunkInput& c : chunks) DTM_RETURN_IF_ERROR(check_chunk(*c.chunk, c.bytes));
   if (known.empty()) {  // the base layer: one chunk, depth 0, the stream's models
-    for (const BrickChunk& c : chunks) {
-      const ChunkBytes b = split_chunk(c, chunk_bytes.subspan(c.offset, c.size()));
-      DTM_RETURN_IF_ERROR(decode_point_set(b.payload, {}, qbits, c.new_points, models, out,
-                                           brick_node(c.brick, qbits, depth)));
-    }
+    for (const ChunkInput& c : chunks)
+      DTM_RETURN_IF_ERROR(decode_point_set(split_chunk(*c.chunk, c.bytes).payload, {}, qbits,
+                                           c.chunk->new_points, models, out,
+                                           brick_node(c.chunk->brick, qbits, depth)));
     return Status::Ok();
   }
   // Each chunk into its own list (its size as decoded, never as claimed).
@@ -43,9 +40,9 @@ Status decode_bricked_points(std::span<const BrickChunk> chunks, std::span<const
   parallel_for(
       chunks.size(),
       [&](size_t i) {
-        const BrickChunk& c = chunks[i];
-        const ChunkBytes b = split_chunk(c, chunk_bytes.subspan(c.offset, c.size()));
-        status[i] = decode_chunk_points(c, b.payload, known, qbits, depth, models, decoded[i]);
+        const ChunkInput& c = chunks[i];
+        status[i] = decode_chunk_points(*c.chunk, split_chunk(*c.chunk, c.bytes).payload, known, qbits, depth,
+                                        models, decoded[i]);
       },
       2);
   for (const Status& s : status) DTM_RETURN_IF_ERROR(s);

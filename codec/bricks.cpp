@@ -178,10 +178,6 @@ std::vector<uint64_t> carving_bricks_of_cells(const TetMesh& dt, std::span<const
   return out;
 }
 
-}  // namespace dtm
-
-namespace dtm {
-
 std::span<const MortonCode> known_in_brick(std::span<const MortonCode> known, uint64_t brick, int qbits,
                                            int depth) {
   const PointSetNode node = brick_node(brick, qbits, depth);

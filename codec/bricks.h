@@ -21,11 +21,6 @@
 
 namespace dtm {
 
-// Bricks are octree nodes of depth 0 (the whole grid) to 16 per axis
-// (codec/format.h's kMaxBrickDepthField): 2^48 bricks, far more than any
-// layer has points.
-inline constexpr int kMaxBrickDepth = kMaxBrickDepthField;
-
 // `meshenc --bricks` builds levels that keep no cell of circumradius over
 // this multiple of alpha (core/level.h's kept_radius_ratio): a region reader
 // decodes the bricks within twice the largest kept circumradius of the box
@@ -122,13 +117,18 @@ Status check_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes);
 Status decode_chunk_points(const BrickChunk& chunk, std::span<const uint8_t> payload,
                            std::span<const MortonCode> known, int qbits, int depth,
                            const SetCoderModels& after_base, std::vector<GridPoint>& out);
-// Every chunk of a layer, checked and decoded on every core; the points in
-// ascending Morton order. The base layer (known empty) decodes with
+// Chunks of one layer with their bytes, in ascending brick order: all of
+// them (the whole decoder) or those a region needs.
+struct ChunkInput {
+  const BrickChunk* chunk = nullptr;
+  std::span<const uint8_t> bytes;
+};
+// The chunks checked, then decoded on every core; their points appended to
+// `out` in ascending Morton order. The base layer (known empty) decodes with
 // `models` and leaves them as the later chunks' start; a later layer only
 // reads them.
-Status decode_bricked_points(std::span<const BrickChunk> chunks, std::span<const uint8_t> chunk_bytes,
-                             std::span<const MortonCode> known, int qbits, int depth, SetCoderModels& models,
-                             std::vector<GridPoint>& out);
+Status decode_bricked_points(std::span<const ChunkInput> chunks, std::span<const MortonCode> known, int qbits,
+                             int depth, SetCoderModels& models, std::vector<GridPoint>& out);
 
 // Encoder (dtm_encoder): one bricked layer.
 struct BrickedLayerInput {

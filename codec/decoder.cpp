@@ -163,8 +163,10 @@ Status ProgressiveDecoder::decode_bricked_layer(const Layer& layer, std::vector<
     for (const BrickChunk& c : chunks)
       if (c.carving_bytes != 0)
         return {StatusCode::kCorrupt, "carving corrections present without their flag"};
-  DTM_RETURN_IF_ERROR(
-      decode_bricked_points(chunks, layer.chunks, known_, qbits, lh.brick_depth, models_, added));
+  std::vector<ChunkInput> inputs;
+  inputs.reserve(chunks.size());
+  for (const BrickChunk& c : chunks) inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size())});
+  DTM_RETURN_IF_ERROR(decode_bricked_points(inputs, known_, qbits, lh.brick_depth, models_, added));
   merge_known(known_, added, qbits);
   chunks_ = std::move(chunks);
   return Status::Ok();

@@ -193,7 +193,7 @@ Status LayerWalk::check(const LayerHeader& h) const {
     if (!(h.kept_radius >= h.alpha)) return corrupt("kept radius below alpha");
     if (!(header_.flags & kFlagCarvingCorrections) && h.kept_radius != h.alpha)
       return corrupt("kept radius other than alpha without carving corrections");
-    if (h.brick_depth > kMaxBrickDepthField || h.brick_depth > header_.grid.qbits)
+    if (h.brick_depth > kMaxBrickDepth || h.brick_depth > header_.grid.qbits)
       return corrupt("brick depth out of range");
     if (previous_vertices_ == 0 && h.brick_depth != 0) return corrupt("a base layer of more than one brick");
     if (h.chunk_bytes < min_payload_bytes(h.new_vertices))

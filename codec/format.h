@@ -50,7 +50,9 @@ inline constexpr uint16_t kFlagValues = 4;
 // 8.0: every layer is bricked (codec/bricks.h): an index and one chunk per
 // brick instead of the candidate, payload, carving and value sections.
 inline constexpr uint16_t kFlagBricks = 8;
-inline constexpr int kMaxBrickDepthField = 16;  // codec/bricks.h's kMaxBrickDepth
+// Bricked layers' octree depth: at most 16 per axis, 2^48 bricks, far more
+// than any layer has points (codec/bricks.h).
+inline constexpr int kMaxBrickDepth = 16;
 inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues | kFlagBricks;
 
 struct StreamHeader {

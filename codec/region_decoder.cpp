@@ -8,7 +8,6 @@
 
 #include "codec/carving_coder.h"
 #include "codec/layer_coder.h"
-#include "common/parallel_for.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
 #include "mesh/geometry.h"
@@ -167,7 +166,7 @@ class Reader {
   ByteSource& source_;
 };
 
-// The header; `bricked` false for a stream whose layers are not bricked.
+// The stream's header, and the level checked against it.
 Status read_header(Reader& reader, int level, StreamHeader& header) {
   std::vector<uint8_t> bytes;
   DTM_RETURN_IF_ERROR(
@@ -285,50 +284,31 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   std::vector<std::pair<const BrickChunk*, uint64_t>> finest_read;  // chunk, its place in finest_chunks
   for (size_t i = 0; i < plan.layers.size(); ++i) {
     const LayerPlan& p = plan.layers[i];
-    const int depth = p.header.brick_depth;
     const int at = p.header.level;
-    // The layer's chunks read (one after another) and checked, then decoded
-    // on every core, each into its own list.
+    // The layer's chunks read one after another, then checked and decoded
+    // as the whole decoder does (each decodes exactly its index's points).
     std::vector<std::vector<uint8_t>> chunk_bytes(needed[i].size());
-    std::vector<std::string> where(needed[i].size());
+    std::vector<ChunkInput> inputs;
     for (size_t k = 0; k < needed[i].size(); ++k) {
       const BrickChunk& chunk = *needed[i][k];
-      where[k] = "level " + std::to_string(at) + ", brick " + std::to_string(chunk.brick) + " at byte " +
-                 std::to_string(p.chunk_area + chunk.offset);
-      DTM_RETURN_IF_ERROR(reader.read(p.chunk_area + chunk.offset, chunk.size(), chunk_bytes[k], where[k]));
-      DTM_RETURN_IF_ERROR(check_chunk(chunk, chunk_bytes[k]).with_context(where[k]));
-      ++out.chunks_read;
-    }
-    std::vector<std::vector<GridPoint>> decoded(needed[i].size());
-    std::vector<Status> status(needed[i].size());
-    const auto decode = [&](size_t k) {
-      const BrickChunk& chunk = *needed[i][k];
-      const ChunkBytes parts = split_chunk(chunk, chunk_bytes[k]);
-      status[k] = i == 0  // the base layer: one chunk, with the stream's models
-                      ? decode_point_set(parts.payload, {}, q, chunk.new_points, models, decoded[k],
-                                         brick_node(chunk.brick, q, depth))
-                      : decode_chunk_points(chunk, parts.payload, known, q, depth, models, decoded[k]);
-    };
-    if (i == 0)
-      for (size_t k = 0; k < needed[i].size(); ++k) decode(k);
-    else
-      parallel_for(needed[i].size(), decode, 2);
-    std::vector<GridPoint> added;
-    for (size_t k = 0; k < needed[i].size(); ++k) {
-      const BrickChunk& chunk = *needed[i][k];
-      DTM_RETURN_IF_ERROR(status[k].with_context(where[k]));
-      if (decoded[k].size() != chunk.new_points)
-        return {StatusCode::kCorrupt, where[k] + ": the chunk's points differ from its index entry"};
-      added.insert(added.end(), decoded[k].begin(), decoded[k].end());
+      DTM_RETURN_IF_ERROR(
+          reader.read(p.chunk_area + chunk.offset, chunk.size(), chunk_bytes[k],
+                      "level " + std::to_string(at) + ", brick " + std::to_string(chunk.brick)));
+      inputs.push_back({&chunk, chunk_bytes[k]});
       for (uint32_t n = 0; n < chunk.new_points; ++n) {
         ids.push_back(static_cast<uint32_t>(p.first_vertex + chunk.points_before + n));
         levels.push_back(at);
       }
-      if (i + 1 == plan.layers.size()) {
-        finest_read.emplace_back(&chunk, finest_chunks.size());
+    }
+    out.chunks_read += inputs.size();
+    std::vector<GridPoint> added;
+    DTM_RETURN_IF_ERROR(decode_bricked_points(inputs, known, q, p.header.brick_depth, models, added)
+                            .with_context("level " + std::to_string(at)));
+    if (i + 1 == plan.layers.size())
+      for (size_t k = 0; k < inputs.size(); ++k) {
+        finest_read.emplace_back(inputs[k].chunk, finest_chunks.size());
         finest_chunks.insert(finest_chunks.end(), chunk_bytes[k].begin(), chunk_bytes[k].end());
       }
-    }
     merge_known(known, added, q);
     points.insert(points.end(), added.begin(), added.end());
     if (uint64_t{points.size()} > options.max_vertices)

@@ -220,12 +220,15 @@ int run_pieces(const Command& c) {
     size = source->size();
     dtm::DecoderOptions options;
     options.max_vertices = c.max_vertices;
+    // The grid the pieces' points map back through (decode_piece says what
+    // is wrong with a header that does not parse).
+    std::vector<uint8_t> head(dtm::kHeaderSize);
+    dtm::StreamHeader header;
+    if (size >= head.size() && source->read(0, head).ok() && dtm::parse_header(head, header).ok())
+      grid = header.grid;
     for (int i = mpi.rank(); i < pieces; i += mpi.size()) {
       const auto piece = dtm::decode_piece(*source, level, i, pieces, options);
       if (!piece.ok()) throw std::runtime_error(c.input + ": " + piece.status().message());
-      std::vector<uint8_t> head(dtm::kHeaderSize);
-      dtm::StreamHeader header;
-      if (source->read(0, head).ok() && dtm::parse_header(head, header).ok()) grid = header.grid;
       const std::string path = (slash == std::string::npos ? "" : stem.substr(0, slash + 1)) + names[i];
       dtm::write_files_atomically(dtm::render_mesh(region_output(*piece, grid), dtm::MeshFormat::kVtu, path));
       written.push_back(path);
