@@ -117,14 +117,13 @@ const BrickChunk* find_chunk(std::span<const BrickChunk> chunks, uint64_t brick)
   return it != chunks.end() && it->brick == brick ? &*it : nullptr;
 }
 
-GridBox GridBox::grown(int64_t margin, int qbits) const {
-  GridBox b;
-  const int64_t top = (int64_t{1} << qbits) - 1;
-  for (int a = 0; a < 3; ++a) {
-    b.lo[a] = std::max<int64_t>(0, lo[a] - margin);
-    b.hi[a] = std::min<int64_t>(top, hi[a] + margin);
-  }
-  return b;
+std::vector<uint32_t> morton_ranks(std::span<const MortonCode> codes) {
+  std::vector<uint32_t> by_code(codes.size());
+  for (uint32_t i = 0; i < by_code.size(); ++i) by_code[i] = i;
+  std::sort(by_code.begin(), by_code.end(), [&](uint32_t a, uint32_t b) { return codes[a] < codes[b]; });
+  std::vector<uint32_t> rank(codes.size());
+  for (uint32_t r = 0; r < by_code.size(); ++r) rank[by_code[r]] = r;
+  return rank;
 }
 
 GridBox brick_box(uint64_t brick, int qbits, int depth) {

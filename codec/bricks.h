@@ -73,16 +73,6 @@ inline PointSetNode brick_node(uint64_t brick, int qbits, int depth) {
   return {3 * depth, MortonCode{brick} << (3 * (qbits - depth))};
 }
 
-// An axis-aligned box of grid points, bounds included.
-struct GridBox {
-  std::array<int64_t, 3> lo{}, hi{};
-  bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
-  bool contains(const GridPoint& p) const {
-    return p.x >= lo[0] && p.x <= hi[0] && p.y >= lo[1] && p.y <= hi[1] && p.z >= lo[2] && p.z <= hi[2];
-  }
-  // Grown by `margin` on every side, then clipped to the grid [0, 2^qbits).
-  GridBox grown(int64_t margin, int qbits) const;
-};
 GridBox brick_box(uint64_t brick, int qbits, int depth);
 // The bricks of depth `depth` that meet `box`, ascending, and the box they
 // cover together.
@@ -97,6 +87,12 @@ inline constexpr uint64_t kNoBrick = UINT64_MAX;
 std::vector<uint64_t> carving_bricks_of_cells(const TetMesh& dt, std::span<const GridPoint> points,
                                               std::span<const MortonCode> codes, int qbits, int depth,
                                               double kept_radius);
+
+// Per point, its rank in the ascending order of `codes` (distinct): the
+// order in which a bricked layer's carving chunks visit their cells
+// (codec/carving_coder.h), the same for the whole level and for any part
+// of it.
+std::vector<uint32_t> morton_ranks(std::span<const MortonCode> codes);
 
 // The coder state every chunk of a bricked layer starts from: the set
 // coder's models as the base layer (one chunk, depth 0) leaves them, plus the
@@ -130,29 +126,7 @@ struct ChunkInput {
 Status decode_bricked_points(std::span<const ChunkInput> chunks, std::span<const MortonCode> known, int qbits,
                              int depth, SetCoderModels& models, std::vector<GridPoint>& out);
 
-// Encoder (dtm_encoder): one bricked layer.
-struct BrickedLayerInput {
-  int qbits = 0;
-  int depth = 0;
-  std::span<const GridPoint> points;  // the layer's new points, ascending Morton code
-  std::span<const MortonCode> known;  // V_{l+1}'s codes, ascending
-  // The stream's set-coder models: for the base layer (known empty) the
-  // chunk codes with them and leaves them as the snapshot later chunks start
-  // from; later layers only read them.
-  SetCoderModels* models = nullptr;
-  // With carving corrections: DT(V_l) over `level_points` (decoder order),
-  // the true verdicts per cell, and kept_radius (cells above it carry no
-  // bit and must not be kept).
-  const TetMesh* dt = nullptr;
-  std::span<const GridPoint> level_points;
-  std::span<const uint8_t> kept;
-  double alpha = 0, kept_radius = 0;
-};
-struct BrickedLayerBytes {
-  std::vector<uint8_t> index, chunks;
-  uint64_t chunk_count = 0, carving_bytes = 0, payload_bytes = 0;
-};
-BrickedLayerBytes encode_bricked_layer(const BrickedLayerInput& in);
+// Encoder (dtm_encoder, codec/bricked_encoder.cpp).
 // The deepest brick depth (at most kMaxBrickDepth and qbits) at which the
 // layer's points fill their bricks with `target` points on average; 0 when
 // none does. `codes`: the layer's, ascending.

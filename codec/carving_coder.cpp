@@ -95,15 +95,26 @@ void visit_chunk(const TetMesh& dt, const CarvingPrediction& p, std::span<const 
   }
 }
 
+// A bricked layer's coding order: the cells by their vertices' ranks
+// (each cell's ascending, cells ascending), as canonical_cell_order orders
+// them by vertex number.
+std::vector<uint32_t> ranked_order(const TetMesh& dt, std::span<const uint32_t> vertex_rank) {
+  std::vector<std::array<uint32_t, 4>> ranked(dt.cells.size());
+  for (size_t c = 0; c < ranked.size(); ++c)
+    for (int i = 0; i < 4; ++i) ranked[c][i] = vertex_rank[dt.cells[c][i]];
+  return canonical_cell_order(ranked);
+}
+
 }  // namespace
 
 std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::span<const GridPoint> points,
                                                         double alpha, std::span<const uint8_t> kept,
                                                         std::span<const uint32_t> chunk_of_cell,
-                                                        size_t chunk_count) {
+                                                        size_t chunk_count,
+                                                        std::span<const uint32_t> vertex_rank) {
   const CarvingPrediction p =
       predict_carving(dt, points, alpha, CarvingContexts::kDecodedNeighbours, chunk_of_cell);
-  const ChunkCells g = group_by_chunk(p.order, chunk_of_cell, chunk_count);
+  const ChunkCells g = group_by_chunk(ranked_order(dt, vertex_rank), chunk_of_cell, chunk_count);
   std::vector<std::vector<uint8_t>> out(chunk_count);
   std::vector<uint8_t> verdicts = p.kept;
   std::vector<int8_t> kept_change(dt.cells.size(), 0);
@@ -130,11 +141,11 @@ std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::
 
 Status decode_carving_chunks(std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
                              std::span<const GridPoint> points, double alpha,
-                             std::span<const uint32_t> chunk_of_cell, std::vector<uint8_t>& kept,
-                             std::vector<uint32_t>* order) {
+                             std::span<const uint32_t> chunk_of_cell, std::span<const uint32_t> vertex_rank,
+                             std::vector<uint8_t>& kept, std::vector<uint32_t>* order) {
   CarvingPrediction p =
       predict_carving(dt, points, alpha, CarvingContexts::kDecodedNeighbours, chunk_of_cell);
-  const ChunkCells g = group_by_chunk(p.order, chunk_of_cell, sections.size());
+  const ChunkCells g = group_by_chunk(ranked_order(dt, vertex_rank), chunk_of_cell, sections.size());
   kept = p.kept;
   std::vector<int8_t> kept_change(dt.cells.size(), 0);
   std::vector<uint8_t> wrong(dt.cells.size(), 0);

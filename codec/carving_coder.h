@@ -74,16 +74,23 @@ Status decode_carving(std::span<const uint8_t> section, const TetMesh& dt, std::
 // only the face neighbours of the same chunk (another chunk's count as not
 // kept): chunks decode independently, on every core, and a region reader
 // needs, for a chunk, only the cells whose circumspheres reach its brick.
+// A chunk visits its cells by `vertex_rank` (per vertex of dt: its rank in
+// the level's Morton order, codec/bricks.h's morton_ranks) instead of by
+// vertex number: an order of places, which a block of the encoder knows
+// before the coarser levels that number the vertices are built.
 inline constexpr uint32_t kNoCarvingChunk = UINT32_MAX;
 std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::span<const GridPoint> points,
                                                         double alpha, std::span<const uint8_t> kept,
                                                         std::span<const uint32_t> chunk_of_cell,
-                                                        size_t chunk_count);
+                                                        size_t chunk_count,
+                                                        std::span<const uint32_t> vertex_rank);
 // `sections[i]`: chunk i's section (empty: no correction). kCorrupt names
 // the chunk (its index) whose section does not end where its bytes do.
+// `order`, if given, receives the canonical order of dt's cells (by vertex
+// number, as decode_carving's).
 Status decode_carving_chunks(std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
                              std::span<const GridPoint> points, double alpha,
-                             std::span<const uint32_t> chunk_of_cell, std::vector<uint8_t>& kept,
-                             std::vector<uint32_t>* order = nullptr);
+                             std::span<const uint32_t> chunk_of_cell, std::span<const uint32_t> vertex_rank,
+                             std::vector<uint8_t>& kept, std::vector<uint32_t>* order = nullptr);
 
 }  // namespace dtm

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -46,6 +47,9 @@ struct DecodedLevel {
   int level = 0;
   uint32_t vertices = 0;
   double alpha = 0;  // grid units
+  // Bricked streams: no kept cell has a larger circumradius (carving_radius,
+  // grid units; spec/FORMAT.md §3.5). Otherwise +infinity.
+  double kept_radius = INFINITY;
   std::optional<uint64_t> cell_hash;
   // Bytes of the stream up to the end of this level's layer: what a reader
   // must have received to show the level (a viewer's bits per vertex).

@@ -92,6 +92,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   d.level = level;
   d.vertices = lh.level_vertices;
   d.alpha = lh.alpha;
+  if (lh.bricked) d.kept_radius = lh.kept_radius;
   if (header_.flags & kFlagCellHashes) d.cell_hash = lh.cell_hash;
   d.stream_bytes = layer.offset + layer.size();
   levels_.push_back(d);
@@ -188,8 +189,8 @@ std::vector<uint8_t> ProgressiveDecoder::bricked_carving(const TetMesh& dt,
   for (const BrickChunk& c : chunks_)
     sections.push_back(split_chunk(c, std::span(chunk_bytes_).subspan(c.offset, c.size())).carving);
   std::vector<uint8_t> kept;
-  const Status s =
-      decode_carving_chunks(sections, dt, points_, levels_.back().alpha, chunk_of_cell, kept, &order);
+  const Status s = decode_carving_chunks(sections, dt, points_, levels_.back().alpha, chunk_of_cell,
+                                         morton_ranks(codes), kept, &order);
   if (!s.ok()) {
     mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return {};

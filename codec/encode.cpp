@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "codec/bricks.h"
+#include "codec/bricked_encoder.h"
 #include "codec/expert_encode.h"
 #include "core/reference_shape.h"
 
@@ -32,7 +32,6 @@ HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, dou
   HierarchyOptions h;
   h.alpha.kind = o.alpha;
   h.alpha.fixed_value = o.fixed_alpha / grid.step;
-  if (o.bricks) h.alpha.kept_radius_ratio = kBrickedKeptRadiusRatio;
   h.dmax = dmax / grid.step;
   h.max_levels = o.max_levels;
   h.min_base_vertices = o.min_base_vertices;
@@ -117,6 +116,56 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
   return out;
 }
 
+// A bricked stream: the levels built block by block, on the ranks of
+// options.exchange if given (codec/bricked_encoder.h).
+StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOptions& options,
+                                       const EncodePlan& plan, std::span<const std::array<uint32_t, 4>> tets,
+                                       const Solid* voxels, EncodedMesh out, const LevelReady& on_level) {
+  if (!options.carve_to_reference)
+    return invalid("bricked layers (--bricks) need the codec preset: its levels carve to the input's solid");
+  if (options.level_step != 1)
+    return invalid("bricked layers (--bricks) stream every level (no --level-step)");
+  const QuantizedPoints& q = plan.quantized;
+  EncodeReport& report = out.report;
+  BrickedEncodeInput in;
+  in.points = q.points;
+  in.grid = q.grid;
+  in.reference_tets = tets;
+  in.voxels = voxels;
+  BrickedEncodeOptions o;
+  o.hierarchy = hierarchy_options(options, q.grid, plan.dmax);
+  o.brick_points = options.brick_points;
+  o.block_points = options.block_points;
+  o.cell_hashes = options.cell_hashes;
+  o.exchange = options.exchange;
+  DTM_ASSIGN_OR_RETURN(BrickedEncoding encoded, encode_bricked(in, o, [&](const LevelStats& stats) {
+                         LevelReport r;
+                         r.stats = stats;
+                         if (!tets.empty() && stats.reference_shape) {
+                           r.reference_to_level = stats.reference_shape->to_level;
+                           r.level_to_reference = stats.reference_shape->to_reference;
+                           r.reference_error = stats.reference_shape->both;
+                         }
+                         report.levels.push_back(r);
+                         if (on_level) on_level(report.levels.back());
+                       }));
+  const size_t L = encoded.levels.size();
+  report.layer_bytes = std::move(encoded.layer_bytes);
+  report.carving_bytes = std::move(encoded.carving_bytes);
+  report.candidate_bytes.assign(L, 0);
+  report.candidate_points.assign(L, 0);
+  report.value_bytes.assign(L, 0);
+  for (size_t l = 0; l < L; ++l) report.streamed_levels.push_back(static_cast<int>(l));
+  report.stream_bytes = encoded.bytes.size();
+  report.reference_boundary_vertices = encoded.reference_boundary_vertices;
+  out.bytes = std::move(encoded.bytes);
+  std::vector<uint32_t> vertex_of_point(q.points.size());
+  for (uint32_t v = 0; v < encoded.decode_order.size(); ++v) vertex_of_point[encoded.decode_order[v]] = v;
+  out.vertex_of_input.reserve(q.input_to_point.size());
+  for (uint32_t p : q.input_to_point) out.vertex_of_input.push_back(vertex_of_point[p]);
+  return out;
+}
+
 }  // namespace
 
 StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions& options) {
@@ -188,6 +237,9 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     report.reference_voxels = static_cast<uint64_t>(
         std::count(input.voxels->inside.begin(), input.voxels->inside.end(), uint8_t{1}));
   }
+  if (options.bricks)
+    return encode_in_bricks(input, options, plan, reference_tets, voxels ? &*voxels : nullptr, std::move(out),
+                            on_level);
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;
                          r.stats = level.stats;
@@ -219,8 +271,6 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   stream_options.cell_hashes = options.cell_hashes;
   stream_options.level_step = options.level_step;
   stream_options.candidates = options.candidates;
-  stream_options.bricks = options.bricks;
-  stream_options.brick_points = options.brick_points;
   DTM_ASSIGN_OR_RETURN(EncodedStream stream,
                        encode_stream(h, q.points, q.grid, options.alpha, stream_options, std::move(fields)));
   report.layer_bytes = std::move(stream.layer_bytes);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "codec/value_fields.h"
+#include "common/exchange.h"
 #include "common/grid.h"
 #include "common/progress.h"
 #include "common/status.h"
@@ -73,8 +74,16 @@ struct EncodeOptions {
   int level_step = 1;
   bool cell_hashes = false;
   bool candidates = true;
+  // Bricked layers (format 8.0, codec/bricked_encoder.h): the levels built
+  // block by block (blocks of about block_points points), each layer's
+  // points and corrections in chunks of about brick_points new points.
+  // The codec preset only; no fields, no level_step yet.
   bool bricks = false;
   uint64_t brick_points = 2048;
+  uint64_t block_points = uint64_t{1} << 18;
+  // The ranks of an MPI run making one bricked stream together (every rank
+  // calls encode() with the same input and options); nullptr: this process.
+  RankExchange* exchange = nullptr;
 
   // Told each phase of the work as it starts (common/progress.h): the
   // hierarchy's levels, then the stream's.

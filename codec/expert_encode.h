@@ -35,13 +35,8 @@ struct StreamOptions {
   // from Delaunay refinement, for a decoder that builds the next coarser
   // level's tetrahedralization first. Off: every point through the set coder.
   bool candidates = true;
-  // Format 8.0's bricked layers (spec/FORMAT.md §3.5, codec/bricks.h): each
-  // layer's points and corrections in one chunk per octree brick, so that a
-  // region decodes from the chunks around it. Each layer's bricks are the
-  // deepest that hold brick_points new points on average. No candidates;
-  // no values yet (kInvalidInput).
-  bool bricks = false;
-  uint64_t brick_points = 2048;
+  // (Bricked streams, format 8.0, come from codec/bricked_encoder.h: their
+  // levels are built block by block.)
 };
 
 struct EncodedStream {
@@ -57,11 +52,6 @@ struct EncodedStream {
   // point through the set coder), and how many points it sends.
   std::vector<uint64_t> candidate_bytes;
   std::vector<uint64_t> candidate_points;
-  // Bricked streams: each layer's brick depth, chunk count and index bytes
-  // (per hierarchy level).
-  std::vector<int> brick_depth;
-  std::vector<uint64_t> chunk_count;
-  std::vector<uint64_t> index_bytes;
   // The field table as written (with its scales), each field's bytes over
   // every layer, and the table's own size.
   std::vector<FieldDescription> fields;

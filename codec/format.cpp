@@ -348,16 +348,38 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
   }
 }
 
+namespace {
+
+std::array<int32_t, 12> canonical_row(std::span<const GridPoint> points, const std::array<uint32_t, 4>& c) {
+  std::array<GridPoint, 4> q = {points[c[0]], points[c[1]], points[c[2]], points[c[3]]};
+  std::sort(q.begin(), q.end());
+  std::array<int32_t, 12> row;
+  for (int i = 0; i < 4; ++i) row[3 * i] = q[i].x, row[3 * i + 1] = q[i].y, row[3 * i + 2] = q[i].z;
+  return row;
+}
+
+}  // namespace
+
+uint64_t cell_hash_sum(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells) {
+  uint64_t sum = 0;
+  for (const auto& c : cells) {
+    const std::array<int32_t, 12> row = canonical_row(points, c);
+    ByteWriter w;
+    for (int32_t v : row) w.u32(static_cast<uint32_t>(v));
+    sum += xxh3_64(w.data());
+  }
+  return sum;
+}
+
+uint64_t level_cell_hash(uint32_t flags, std::span<const GridPoint> points,
+                         std::span<const std::array<uint32_t, 4>> cells) {
+  return (flags & kFlagBricks) ? cell_hash_sum(points, cells) : cell_set_hash(points, cells);
+}
+
 uint64_t cell_set_hash(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells) {
   std::vector<std::array<int32_t, 12>> canon;
   canon.reserve(cells.size());
-  for (const auto& c : cells) {
-    std::array<GridPoint, 4> q = {points[c[0]], points[c[1]], points[c[2]], points[c[3]]};
-    std::sort(q.begin(), q.end());
-    std::array<int32_t, 12> row;
-    for (int i = 0; i < 4; ++i) row[3 * i] = q[i].x, row[3 * i + 1] = q[i].y, row[3 * i + 2] = q[i].z;
-    canon.push_back(row);
-  }
+  for (const auto& c : cells) canon.push_back(canonical_row(points, c));
   std::sort(canon.begin(), canon.end());
   ByteWriter w;
   for (const auto& row : canon)

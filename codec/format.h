@@ -297,5 +297,12 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes);
 // lexicographic order (12 int32, little-endian), cells in lexicographic
 // order, XXH3-64 of the concatenation.
 uint64_t cell_set_hash(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
+// A bricked stream's (8.0, flag bricks): the wrapping 64-bit sum over the
+// cells of XXH3-64 of each cell's row as above, which parts of the level
+// made apart add up to (spec/FORMAT.md §3.5).
+uint64_t cell_hash_sum(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
+// The hash a stream with these header flags states for a level.
+uint64_t level_cell_hash(uint32_t flags, std::span<const GridPoint> points,
+                         std::span<const std::array<uint32_t, 4>> cells);
 
 }  // namespace dtm

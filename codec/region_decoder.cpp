@@ -219,13 +219,8 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
   return Status::Ok();
 }
 
-bool meets(const GridBox& a, const GridBox& b) {
-  for (int k = 0; k < 3; ++k)
-    if (a.hi[k] < b.lo[k] || a.lo[k] > b.hi[k]) return false;
-  return true;
-}
 bool meets_any(const GridBox& a, std::span<const GridBox> boxes) {
-  return std::any_of(boxes.begin(), boxes.end(), [&](const GridBox& b) { return meets(a, b); });
+  return std::any_of(boxes.begin(), boxes.end(), [&](const GridBox& b) { return a.meets(b); });
 }
 
 // The level's bricks whose cells are wanted: those inside `cubes` (a union
@@ -357,9 +352,9 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
       if (owner[c] != kNoBrick && it != section_bricks.end() && *it == owner[c])
         chunk_of_cell[c] = static_cast<uint32_t>(it - section_bricks.begin());
     }
-    DTM_RETURN_IF_ERROR(
-        decode_carving_chunks(sections, dt, local_points, finest.header.alpha, chunk_of_cell, kept)
-            .with_context("level " + std::to_string(level)));
+    DTM_RETURN_IF_ERROR(decode_carving_chunks(sections, dt, local_points, finest.header.alpha, chunk_of_cell,
+                                              morton_ranks(codes), kept)
+                            .with_context("level " + std::to_string(level)));
   } else {
     kept = carve(dt, local_points, finest.header.alpha);
   }

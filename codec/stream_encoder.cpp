@@ -4,7 +4,6 @@
 #include <string>
 #include <tuple>
 
-#include "codec/bricks.h"
 #include "codec/carving_coder.h"
 #include "codec/expert_encode.h"
 #include "codec/format.h"
@@ -98,65 +97,6 @@ LayerPoints code_layer_points(std::span<const GridPoint> fresh, std::span<const 
   return best;
 }
 
-// One bricked layer (8.0) of hierarchy level `level`, streamed as `stream_level`.
-StatusOr<std::vector<uint8_t>> encode_bricked(
-    const Level& level, uint16_t stream_level, std::span<const GridPoint> layer_points,
-    std::span<const MortonCode> known, std::span<const uint32_t> decoder_index,
-    std::span<const GridPoint> decoded, std::span<const GridPoint> points, int qbits, uint8_t major,
-    bool corrections, const StreamOptions& options, int finest_depth, SetCoderModels& models,
-    EncodedStream& out, int hierarchy_level) {
-  LayerHeader lh;
-  lh.format_major = major;
-  lh.bricked = true;
-  lh.level = stream_level;
-  lh.new_vertices = static_cast<uint32_t>(layer_points.size());
-  lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
-  lh.alpha = level.alpha;
-  lh.kept_radius = level.alpha;
-  std::vector<MortonCode> codes;
-  codes.reserve(layer_points.size());
-  for (const GridPoint& p : layer_points) codes.push_back(morton_encode(p, qbits));
-  // The finest layer's bricks everywhere, but where a coarser layer would
-  // fill them with fewer than an eighth of brick_points (a region reads the
-  // coarser layers' bricks covering its own: larger ones would dominate what
-  // it reads).
-  lh.brick_depth = static_cast<uint8_t>(
-      known.empty()
-          ? 0
-          : std::min(finest_depth,
-                     choose_brick_depth(codes, qbits, std::max<uint64_t>(1, options.brick_points / 8))));
-
-  BrickedLayerInput in;
-  in.qbits = qbits;
-  in.depth = lh.brick_depth;
-  in.points = layer_points;
-  in.known = known;
-  in.models = &models;
-  TetMesh dt;
-  if (corrections) {
-    if (level.kept.size() != level.delaunay.cells.size())
-      return Status{StatusCode::kInvalidInput, "encode_stream: a level without its carving verdicts"};
-    dt = level.delaunay;
-    for (auto& c : dt.cells)
-      for (uint32_t& v : c) v = decoder_index[v];
-    // Every kept cell must carry a bit: the largest kept circumradius bounds them.
-    for (size_t c = 0; c < dt.cells.size(); ++c)
-      if (level.kept[c]) lh.kept_radius = std::max(lh.kept_radius, carving_radius(decoded, dt.cells[c]));
-    in.dt = &dt;
-    in.level_points = decoded;
-    in.kept = level.kept;
-    in.alpha = level.alpha;
-    in.kept_radius = lh.kept_radius;
-  }
-  const BrickedLayerBytes coded = encode_bricked_layer(in);
-  if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.carved_cells());
-  out.carving_bytes[hierarchy_level] = coded.carving_bytes;
-  out.brick_depth[hierarchy_level] = lh.brick_depth;
-  out.chunk_count[hierarchy_level] = coded.chunk_count;
-  out.index_bytes[hierarchy_level] = coded.index.size();
-  return write_bricked_layer(lh, coded.index, coded.chunks);
-}
-
 }  // namespace
 
 StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<const GridPoint> points,
@@ -176,8 +116,6 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // then every layer corrects alpha's prediction.
   const bool corrections = !hierarchy.levels[0].kept.empty();
   const bool values = !fields.empty();
-  if (options.bricks && values) return invalid("encode_stream: bricked layers carry no values yet");
-  if (options.bricks && options.brick_points == 0) return invalid("encode_stream: brick_points is 0");
   std::vector<FieldDescription> descriptions;
   std::vector<size_t> value_counts;
   for (const FieldValues& f : fields)
@@ -189,12 +127,11 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     if (!made.ok()) return made.status();
     value_coder.emplace(std::move(*made));
   }
-  h.version_major = options.bricks ? kVersionMajor
-                    : corrections  ? kVersionMajorUnbricked
-                    : values       ? kVersionMajorWithValues
-                                   : kVersionMajorWithoutValues;
+  h.version_major = corrections ? kVersionMajorUnbricked
+                    : values    ? kVersionMajorWithValues
+                                : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
-            (values ? kFlagValues : 0) | (options.bricks ? kFlagBricks : 0);
+            (values ? kFlagValues : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
@@ -211,29 +148,10 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   out.value_bytes.assign(hierarchy.levels.size(), 0);
   out.candidate_bytes.assign(hierarchy.levels.size(), 0);
   out.candidate_points.assign(hierarchy.levels.size(), 0);
-  if (options.bricks) {
-    out.brick_depth.assign(hierarchy.levels.size(), 0);
-    out.chunk_count.assign(hierarchy.levels.size(), 0);
-    out.index_bytes.assign(hierarchy.levels.size(), 0);
-  }
   // The decoder's vertex index of each grid point, and its points in order.
   std::vector<uint32_t> decoder_index(points.size(), UINT32_MAX);
   std::vector<GridPoint> decoded;
   out.streamed_levels = streamed;
-  // Bricked: the depth whose bricks hold brick_points of the finest layer's
-  // new points on average.
-  int finest_depth = 0;
-  if (options.bricks && streamed.size() > 1) {
-    const auto& fine = hierarchy.levels[streamed[0]].vertices;
-    const auto& next = hierarchy.levels[streamed[1]].vertices;
-    std::vector<uint32_t> fresh;
-    std::set_difference(fine.begin(), fine.end(), next.begin(), next.end(), std::back_inserter(fresh));
-    std::vector<MortonCode> codes;
-    codes.reserve(fresh.size());
-    for (uint32_t i : fresh) codes.push_back(morton_encode(points[i], grid.qbits));
-    std::sort(codes.begin(), codes.end());
-    finest_depth = choose_brick_depth(codes, grid.qbits, options.brick_points);
-  }
   std::vector<uint32_t> coarser;  // V_{l+1}, ascending
   std::vector<MortonCode> known;  // Morton codes of V_{l+1}, ascending
   SetCoderModels models;          // adapted layer after layer, as the decoder's
@@ -260,17 +178,6 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       decoder_index[i] = static_cast<uint32_t>(out.decode_order.size());
       out.decode_order.push_back(i);
       decoded.push_back(points[i]);
-    }
-    if (options.bricks) {
-      DTM_ASSIGN_OR_RETURN(std::vector<uint8_t> layer,
-                           encode_bricked(level, static_cast<uint16_t>(l), layer_points, known, decoder_index,
-                                          decoded, points, grid.qbits, h.version_major, corrections, options,
-                                          finest_depth, models, out, streamed[l]));
-      merge_known(known, layer_points, grid.qbits);
-      out.layer_bytes[streamed[l]] = layer.size();
-      out.bytes.insert(out.bytes.end(), layer.begin(), layer.end());
-      coarser = level.vertices;
-      continue;
     }
     std::vector<uint8_t> carving;
     if (corrections) {

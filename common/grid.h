@@ -41,6 +41,30 @@ inline std::vector<GridPoint> gather(std::span<const GridPoint> points, std::spa
   return out;
 }
 
+// An axis-aligned box of grid points, bounds included.
+struct GridBox {
+  std::array<int64_t, 3> lo{}, hi{};
+  bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
+  bool contains(const GridPoint& p) const {
+    return p.x >= lo[0] && p.x <= hi[0] && p.y >= lo[1] && p.y <= hi[1] && p.z >= lo[2] && p.z <= hi[2];
+  }
+  bool meets(const GridBox& o) const {
+    for (int a = 0; a < 3; ++a)
+      if (lo[a] > o.hi[a] || o.lo[a] > hi[a]) return false;
+    return true;
+  }
+  // Grown by `margin` on every side, then clipped to the grid [0, 2^qbits).
+  GridBox grown(int64_t margin, int qbits) const {
+    GridBox b;
+    const int64_t top = (int64_t{1} << qbits) - 1;
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = lo[a] - margin < 0 ? 0 : lo[a] - margin;
+      b.hi[a] = hi[a] + margin > top ? top : hi[a] + margin;
+    }
+    return b;
+  }
+};
+
 inline constexpr int kMinQBits = 1;
 inline constexpr int kMaxQBits = 24;
 

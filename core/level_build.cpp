@@ -8,6 +8,7 @@
 
 #include "common/parallel_for.h"
 #include "core/nearest_points.h"
+#include "mesh/carving.h"
 #include "mesh/delaunay.h"
 #include "mesh/geometry.h"
 #include "mesh/topology.h"
@@ -21,6 +22,16 @@ Key sorted_key(std::span<const uint32_t> ids, const std::array<uint32_t, 3>& t) 
   Key k = {ids[t[0]], ids[t[1]], ids[t[2]]};
   std::sort(k.begin(), k.end());
   return k;
+}
+
+// Whether `owned` (none: the whole level) owns a place with these corners:
+// the box holds the lexicographically smallest one.
+template <size_t N>
+bool owns(const GridBox* owned, std::span<const GridPoint> points, const std::array<uint32_t, N>& corners) {
+  if (!owned) return true;
+  GridPoint least = points[corners[0]];
+  for (size_t i = 1; i < N; ++i) least = std::min(least, points[corners[i]]);
+  return owned->contains(least);
 }
 
 // A kept cell whose smallest solid angle is below this (steradians; the
@@ -64,7 +75,7 @@ struct CellResults {
   std::vector<double> angle;
 
   void update(const TetMesh& mesh, std::span<const int32_t> previous, std::span<const GridPoint> points,
-              const Solid& solid) {
+              const Solid& solid, double kept_radius) {
     std::vector<uint8_t> new_kept(mesh.cells.size());
     std::vector<double> new_angle(mesh.cells.size(), 0);
     std::vector<uint32_t> fresh;
@@ -81,7 +92,8 @@ struct CellResults {
         fresh.size(),
         [&](size_t i) {
           const auto& k = mesh.cells[fresh[i]];
-          const bool in = solid.contains_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
+          const bool in = solid.contains_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]) &&
+                          (kept_radius <= 0 || carving_radius(points, k) <= kept_radius);
           new_kept[fresh[i]] = in;
           if (in) new_angle[fresh[i]] = smallest_solid_angle(points, k);
         },
@@ -223,11 +235,16 @@ bool conflict_region(const TetMesh& mesh, std::span<const GridPoint> points, con
 // would change (the cells in conflict with it out, its star in), with
 // disjoint changes, until the deficit is covered with a fifth to spare.
 void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<const GridPoint> points,
-                    const Solid& solid, double floor, RemovedVertices& removed) {
+                    const Solid& solid, double floor, double kept_radius, const GridBox* owned,
+                    RemovedVertices& removed) {
+  // The cells the level's quality is taken over (a block's own: LevelBounds::owned).
+  std::vector<uint8_t> counted(mesh.cells.size(), 1);
+  if (owned)
+    for (uint32_t c = 0; c < mesh.cells.size(); ++c) counted[c] = owns(owned, points, mesh.cells[c]);
   double surplus = 0;
   std::vector<std::pair<double, uint32_t>> worst;
   for (uint32_t c = 0; c < mesh.cells.size(); ++c) {
-    if (!cells.kept[c]) continue;
+    if (!cells.kept[c] || !counted[c]) continue;
     surplus += cells.angle[c] - floor;
     if (cells.angle[c] < floor) worst.emplace_back(cells.angle[c], c);
   }
@@ -273,9 +290,12 @@ void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<con
           return;
         }
         for (int32_t c : o.cells)
-          if (cells.kept[static_cast<size_t>(c)]) o.gain -= cells.angle[static_cast<size_t>(c)] - floor;
+          if (cells.kept[static_cast<size_t>(c)] && counted[static_cast<size_t>(c)])
+            o.gain -= cells.angle[static_cast<size_t>(c)] - floor;
         for (const auto& f : faces)
-          if (solid.contains_centroid(points[v], points[f[0]], points[f[1]], points[f[2]]))
+          if (solid.contains_centroid(points[v], points[f[0]], points[f[1]], points[f[2]]) &&
+              (kept_radius <= 0 || carving_radius(points, {v, f[0], f[1], f[2]}) <= kept_radius) &&
+              owns(owned, points, std::array<uint32_t, 4>{v, f[0], f[1], f[2]}))
             o.gain += smallest_solid_angle(points, {v, f[0], f[1], f[2]}) - floor;
       },
       32);
@@ -351,7 +371,7 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     std::vector<int32_t> previous;
     phase(round == 0 ? "carving to the reference" : "carving the repaired places");
     mesh = dt->mesh(mesh, previous);
-    cells.update(mesh, previous, points, *ref.solid);
+    cells.update(mesh, previous, points, *ref.solid, bounds.kept_radius);
     phase("measuring the shape");
     surface = carved_surface(mesh, cells.kept, points);
     out.shape = ref.shape->measure(points, fine_vertices, surface.triangles);
@@ -359,9 +379,9 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     double sum = 0;
     uint64_t count = 0;
     for (size_t c = 0; c < mesh.cells.size(); ++c)
-      if (cells.kept[c]) sum += cells.angle[c], ++count;
+      if (cells.kept[c] && owns(bounds.owned, points, mesh.cells[c])) sum += cells.angle[c], ++count;
     out.quality = count ? sum / static_cast<double>(count) : 0;
-    out.quality_met = bounds.quality_floor <= 0 || out.quality >= bounds.quality_floor;
+    out.quality_met = bounds.quality_floor <= 0 || count == 0 || out.quality >= bounds.quality_floor;
 
     // The places beyond D_max this level made (not inherited), and what
     // would change them.
@@ -378,14 +398,16 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
       const auto& tri = surface.triangles[t];
       const bool far = out.shape.centroid_squared[t] > dmax2 || far_vertex[tri[0]] || far_vertex[tri[1]] ||
                        far_vertex[tri[2]];
-      if (far && !std::binary_search(fine_surface.triangles.begin(), fine_surface.triangles.end(),
-                                     sorted_key(fine_vertices, tri)))
+      if (far && owns(bounds.owned, points, tri) &&
+          !std::binary_search(fine_surface.triangles.begin(), fine_surface.triangles.end(),
+                              sorted_key(fine_vertices, tri)))
         far_triangle[t] = 1, ++broken;
     }
     std::vector<uint32_t> far_reference;
     for (uint32_t i = 0; i < out.shape.reference_squared.size(); ++i) {
       const double d2 = out.shape.reference_squared[i];
-      if (d2 > dmax2 && d2 > fine_surface.reference_squared[i] * (1 + 1e-9) + 1e-9)
+      if (d2 > dmax2 && d2 > fine_surface.reference_squared[i] * (1 + 1e-9) + 1e-9 &&
+          (!bounds.owned || bounds.owned->contains(reference_points[i])))
         far_reference.push_back(i);
     }
     broken += far_reference.size();
@@ -403,8 +425,10 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
         if (outside >= 0) ++outside_faces[static_cast<size_t>(outside)];
       }
       for (uint32_t c = 0; c < mesh.cells.size(); ++c)
-        if ((inside_faces[c] >= 3 && cells.angle[c] < kFinSolidAngle) ||
-            (outside_faces[c] >= 3 && smallest_solid_angle(points, mesh.cells[c]) < kFinSolidAngle))
+        if (!owns(bounds.owned, points, mesh.cells[c])) {
+          continue;
+        } else if ((inside_faces[c] >= 3 && cells.angle[c] < kFinSolidAngle) ||
+                   (outside_faces[c] >= 3 && smallest_solid_angle(points, mesh.cells[c]) < kFinSolidAngle))
           fins.push_back(c);
     }
     if (broken == 0 && out.quality_met && fins.empty()) break;
@@ -446,7 +470,9 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
           taken = removed->take_nearest({{double(p.x), double(p.y), double(p.z)}, r}, per_place / 2, points);
       }
     }
-    if (!out.quality_met) repair_quality(mesh, cells, points, *ref.solid, bounds.quality_floor, *removed);
+    if (!out.quality_met)
+      repair_quality(mesh, cells, points, *ref.solid, bounds.quality_floor, bounds.kept_radius, bounds.owned,
+                     *removed);
     const std::vector<uint32_t> back = removed->collect();
     if (back.empty()) break;  // nothing left to put back where a bound breaks
     out.put_back += back.size();
@@ -477,6 +503,7 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     for (uint32_t& v : t) v = local[v];
   out.vertices.reserve(members.size());
   for (uint32_t v : members) out.vertices.push_back(fine_vertices[v]);
+  if (!bounds.analyze) return out;
   for (uint32_t& v : out.shape.surface_vertices) v = local[v];
   out.surface = record_surface(out.vertices, surface.triangles, out.shape);
   DTM_ASSIGN_OR_RETURN(out.geometry,

@@ -40,6 +40,18 @@ struct LevelBounds {
   double dmax = 1.0;         // grid units
   double quality_floor = 0;  // the smallest average smallest solid angle (sr); 0 = none
   int repair_rounds = 12;
+  // A block of a level built block by block (codec/block_levels.h): only the
+  // places this box owns are checked (a surface triangle or a cell by its
+  // lexicographically smallest corner, a reference vertex by itself), and
+  // the quality is the average over the cells it owns; what the repair puts
+  // back may lie anywhere in the points given. nullptr: the whole level.
+  const GridBox* owned = nullptr;
+  // The level keeps no cell of circumradius (carving_radius) above this: a
+  // bricked stream's kept_radius (spec/FORMAT.md §3.5). 0: no bound.
+  double kept_radius = 0;
+  // false: the built level is not analysed (BuiltLevel::geometry and
+  // ::surface stay empty), its vertex set and checks are all the caller needs.
+  bool analyze = true;
 };
 
 // The reference a codec level is carved to and measured against.

@@ -71,7 +71,16 @@ std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<
 // Orientation does not matter for distances: no need to fix the input's.
 ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
                                std::span<const std::array<uint32_t, 4>> tets)
-    : boundary_(dtm::boundary_triangles(tets)),
+    : ReferenceShape(points, dtm::boundary_triangles(tets)) {}
+
+ReferenceShape ReferenceShape::from_boundary(std::span<const GridPoint> points,
+                                             std::vector<std::array<uint32_t, 3>> boundary) {
+  return ReferenceShape(points, std::move(boundary));
+}
+
+ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
+                               std::vector<std::array<uint32_t, 3>> boundary)
+    : boundary_(std::move(boundary)),
       boundary_ids_(vertex_ids_of(boundary_)),
       boundary_points_(gather(points, boundary_ids_)),
       reference_surface_(points, boundary_),

@@ -50,9 +50,16 @@ class ReferenceShape {
  public:
   // `tets` index `points` (the grid points); their orientation does not matter.
   ReferenceShape(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets);
+  // The same from the reference's boundary triangles (indices into
+  // `points`): a part of a larger reference, for one block of a level
+  // built block by block.
+  static ReferenceShape from_boundary(std::span<const GridPoint> points,
+                                      std::vector<std::array<uint32_t, 3>> boundary);
 
   size_t boundary_vertices() const { return boundary_points_.size(); }
   std::span<const GridPoint> boundary_points() const { return boundary_points_; }
+  // The grid ids of boundary_points(), ascending.
+  std::span<const uint32_t> boundary_ids() const { return boundary_ids_; }
   std::span<const std::array<uint32_t, 3>> boundary_triangles() const { return boundary_; }
 
   // Measures the surface `triangles` (indices into `points`), whose points
@@ -69,6 +76,8 @@ class ReferenceShape {
                             std::span<const GridPoint> points);
 
  private:
+  ReferenceShape(std::span<const GridPoint> points, std::vector<std::array<uint32_t, 3>> boundary);
+
   std::vector<std::array<uint32_t, 3>> boundary_;
   std::vector<std::array<uint32_t, 3>> boundary_keys_;  // each triangle's ids sorted, the list sorted
   std::vector<uint32_t> boundary_ids_;                  // grid ids of boundary_points_

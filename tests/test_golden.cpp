@@ -49,7 +49,7 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
                          const auto& want = expected["levels"][index++];
                          EXPECT_EQ(l.level, want["level"].get<int>());
                          EXPECT_EQ(l.vertices, want["vertices"].get<uint32_t>());
-                         EXPECT_EQ(hex(cell_set_hash(d.points(), d.carved_cells())),
+                         EXPECT_EQ(hex(level_cell_hash(d.header().flags, d.points(), d.carved_cells())),
                                    want["cell_hash"].get<std::string>())
                              << GetParam() << " level " << l.level;
                        })

@@ -121,7 +121,7 @@ class Verifier {
       error_ = d.mesh_status();
       return;
     }
-    if (dtm::cell_set_hash(d.points(), cells) != *l.cell_hash)
+    if (dtm::level_cell_hash(d.header().flags, d.points(), cells) != *l.cell_hash)
       error_ = {dtm::StatusCode::kCorrupt, "--verify: level " + std::to_string(l.level) +
                                                " differs from the encoder's mesh (a different Delaunay "
                                                "implementation?)"};

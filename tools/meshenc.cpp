@@ -13,6 +13,7 @@
 #include "tools/atomic_file.h"
 #include "tools/field_types.h"
 #include "tools/formats/input.h"
+#include "tools/mpi_session.h"
 #include "tools/phase_display.h"
 #include "tools/report.h"
 #include "tools/tool_main.h"
@@ -160,6 +161,11 @@ void add_options(CLI::App& app, Command& c) {
                  "on average (smaller: regions read fewer bytes, the stream grows)")
       ->capture_default_str()
       ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 32));
+  app.add_option("--block-points", e.block_points,
+                 "with --bricks: the levels are built in blocks of about this many points, each on its own "
+                 "(and, under mpirun, on the ranks in turn); the stream depends on it, not on the ranks")
+      ->capture_default_str()
+      ->check(CLI::Range(uint64_t{64}, uint64_t{1} << 32));
   app.add_option("--level-step", e.level_step,
                  "stream every N-th level (and the coarsest): fewer levels of detail, fewer bits")
       ->capture_default_str()
@@ -294,6 +300,15 @@ void write_outputs(const Command& c, const dtm::EncodedMesh& encoded) {
 }
 
 int run(Command& c) {
+  // Under mpirun every rank reads the input and builds its share of the
+  // blocks; rank 0 writes the stream, the same bytes as one process writes.
+  dtm::MpiSession& mpi = dtm::mpi_session();
+  if (mpi.size() > 1) {
+    if (!c.encode.bricks)
+      throw std::invalid_argument("under mpirun, meshenc writes a bricked stream: add --bricks");
+    c.encode.exchange = &mpi;
+    if (mpi.rank() != 0) c.quiet = true;
+  }
   if (c.output == "-") c.quiet = true;  // standard output carries the stream
   if (c.preset == "paper") {
     const dtm::EncodeOptions paper = dtm::EncodeOptions::paper();
@@ -359,14 +374,21 @@ int run(Command& c) {
                   r.fields.empty() ? "" : ", and the values:");
     print_fields(r, vertices);
   }
-  write_outputs(c, *encoded);
+  if (mpi.rank() == 0) write_outputs(c, *encoded);
   display.finish();
   return 0;
 }
 
 }  // namespace
 
+namespace dtm {
+MpiSession* the_session = nullptr;
+MpiSession& mpi_session() { return *the_session; }
+}  // namespace dtm
+
 int main(int argc, char** argv) {
+  dtm::MpiSession mpi(&argc, &argv);
+  dtm::the_session = &mpi;
   return dtm::tool_main<Command>("meshenc",
                                  "build the Delaunay level-of-detail hierarchy of a volume point set",
                                  kExamples, argc, argv, add_options, run);

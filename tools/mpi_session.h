@@ -6,6 +6,11 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <span>
+#include <stdexcept>
+#include <vector>
+
+#include "common/exchange.h"
 
 #ifdef DTM_WITH_MPI
 #include <mpi.h>
@@ -13,7 +18,7 @@
 
 namespace dtm {
 
-class MpiSession {
+class MpiSession : public RankExchange {
  public:
   MpiSession(int* argc, char*** argv) {
 #ifdef DTM_WITH_MPI
@@ -36,8 +41,39 @@ class MpiSession {
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
 
-  int rank() const { return rank_; }
-  int size() const { return size_; }
+  bool active() const { return active_; }
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+  // RankExchange: MPI_Allgatherv of every rank's bytes (at most 2 GiB from
+  // one rank at a time: MPI counts are ints).
+  std::vector<std::vector<uint8_t>> all_gather(std::span<const uint8_t> mine) override {
+#ifdef DTM_WITH_MPI
+    if (active_) {
+      if (mine.size() > static_cast<size_t>(INT32_MAX))
+        throw std::runtime_error("MPI: over 2 GiB from one rank");
+      const int count = static_cast<int>(mine.size());
+      std::vector<int> counts(static_cast<size_t>(size_)), offsets(static_cast<size_t>(size_), 0);
+      MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+      size_t total = 0;
+      for (int r = 0; r < size_; ++r) {
+        if (total > static_cast<size_t>(INT32_MAX)) throw std::runtime_error("MPI: over 2 GiB gathered");
+        offsets[static_cast<size_t>(r)] = static_cast<int>(total);
+        total += static_cast<size_t>(counts[static_cast<size_t>(r)]);
+      }
+      if (total > static_cast<size_t>(INT32_MAX)) throw std::runtime_error("MPI: over 2 GiB gathered");
+      std::vector<uint8_t> all(total);
+      MPI_Allgatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
+                     MPI_COMM_WORLD);
+      std::vector<std::vector<uint8_t>> out(static_cast<size_t>(size_));
+      for (int r = 0; r < size_; ++r) {
+        const auto first = all.begin() + offsets[static_cast<size_t>(r)];
+        out[static_cast<size_t>(r)].assign(first, first + counts[static_cast<size_t>(r)]);
+      }
+      return out;
+    }
+#endif
+    return {std::vector<uint8_t>(mine.begin(), mine.end())};
+  }
   // Whether `ok` holds on every rank.
   bool all(bool ok) const {
 #ifdef DTM_WITH_MPI

@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
   bool hashes_match = true;
   const auto on_level = [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& level) {
     const auto cells = d.carved_cells();
-    const bool hash_ok = !level.cell_hash || dtm::cell_set_hash(d.points(), cells) == *level.cell_hash;
+    const bool hash_ok =
+        !level.cell_hash || dtm::level_cell_hash(d.header().flags, d.points(), cells) == *level.cell_hash;
     hashes_match = hashes_match && hash_ok;
     std::printf("level %d: %u vertices, %zu tetrahedra%s\n", level.level, level.vertices, cells.size(),
                 level.cell_hash ? (hash_ok ? ", cell hash verified" : ", CELL HASH DIFFERS") : "");

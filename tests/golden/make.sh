@@ -32,4 +32,4 @@ make_one torus_288_q24 torus_288.node --qbits 24 --levels 1
 # 7.0: a TetGen mesh whose finer layers send points beside candidates.
 make_one ellipsoid_793 ellipsoid_793.node --dmax 3
 # 8.0: bricked layers (several chunks in the finer layers).
-make_one ellipsoid_793_bricks ellipsoid_793.node --dmax 3 --bricks --brick-points 16
+make_one ellipsoid_793_bricks ellipsoid_793.node --dmax 3 --bricks --brick-points 16 --block-points 100

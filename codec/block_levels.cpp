@@ -1,0 +1,298 @@
+#include "codec/block_levels.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "codec/bricks.h"
+#include "codec/carving_coder.h"
+#include "codec/format.h"
+#include "mesh/carving.h"
+#include "mesh/topology.h"
+
+namespace dtm {
+namespace {
+
+// The Morton ranges of the bricks covering `box`, at a depth where there
+// are at most about 8 of them along each axis.
+std::vector<std::pair<MortonCode, MortonCode>> ranges_covering(const GridBox& box, int qbits) {
+  const GridBox clipped = box.grown(0, qbits);
+  std::vector<std::pair<MortonCode, MortonCode>> out;
+  if (clipped.empty()) return out;
+  int64_t extent = 1;
+  for (int a = 0; a < 3; ++a) extent = std::max(extent, clipped.hi[a] - clipped.lo[a] + 1);
+  int depth = qbits;
+  while (depth > 0 && (extent >> (qbits - depth)) > 8) --depth;
+  const int shift = 3 * (qbits - depth);
+  for (uint64_t brick : bricks_meeting(clipped, qbits, depth)) {
+    const MortonCode first = MortonCode{brick} << shift;
+    if (!out.empty() && out.back().second == first)
+      out.back().second = MortonCode{brick + 1} << shift;  // adjacent bricks: one range
+    else
+      out.emplace_back(first, MortonCode{brick + 1} << shift);
+  }
+  return out;
+}
+
+template <size_t N>
+bool owns(const GridBox& owned, std::span<const GridPoint> points, const std::array<uint32_t, N>& corners) {
+  GridPoint least = points[corners[0]];
+  for (size_t i = 1; i < N; ++i) least = std::min(least, points[corners[i]]);
+  return owned.contains(least);
+}
+
+}  // namespace
+
+MortonIndex::MortonIndex(std::span<const GridPoint> points, int qbits) : qbits_(qbits) {
+  std::vector<std::pair<MortonCode, uint32_t>> by_code(points.size());
+  for (uint32_t i = 0; i < points.size(); ++i) by_code[i] = {morton_encode(points[i], qbits), i};
+  std::sort(by_code.begin(), by_code.end());
+  codes_.reserve(by_code.size());
+  ids_.reserve(by_code.size());
+  for (const auto& [code, id] : by_code) codes_.push_back(code), ids_.push_back(id);
+}
+
+std::vector<uint32_t> MortonIndex::inside(const GridBox& box, std::span<const uint8_t> level_of,
+                                          int level) const {
+  std::vector<uint32_t> out;
+  for (const auto& [first, last] : ranges_covering(box, qbits_)) {
+    const size_t begin =
+        static_cast<size_t>(std::lower_bound(codes_.begin(), codes_.end(), first) - codes_.begin());
+    for (size_t i = begin; i < codes_.size() && codes_[i] < last; ++i)
+      if (level_of[ids_[i]] >= level && box.contains(morton_decode(codes_[i], qbits_)))
+        out.push_back(ids_[i]);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void MortonIndex::level(std::span<const uint8_t> level_of, int level, std::vector<MortonCode>& codes,
+                        std::vector<uint32_t>* ids) const {
+  codes.clear();
+  if (ids) ids->clear();
+  for (size_t i = 0; i < codes_.size(); ++i)
+    if (level_of[ids_[i]] >= level) {
+      codes.push_back(codes_[i]);
+      if (ids) ids->push_back(ids_[i]);
+    }
+}
+
+TetrahedronIndex::TetrahedronIndex(std::span<const GridPoint> points,
+                                   std::span<const std::array<uint32_t, 4>> tets, int qbits)
+    : points_(points), tets_(tets), qbits_(qbits) {
+  anchors_.resize(tets.size());
+  for (uint32_t k = 0; k < tets.size(); ++k) {
+    GridPoint lo = points[tets[k][0]], hi = lo;
+    for (int i = 1; i < 4; ++i) {
+      const GridPoint& p = points[tets[k][i]];
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    extent_ = {std::max<int64_t>(extent_[0], hi.x - lo.x), std::max<int64_t>(extent_[1], hi.y - lo.y),
+               std::max<int64_t>(extent_[2], hi.z - lo.z)};
+    anchors_[k] = {morton_encode(lo, qbits), k};
+  }
+  std::sort(anchors_.begin(), anchors_.end());
+}
+
+std::vector<std::array<uint32_t, 4>> TetrahedronIndex::meeting(const GridBox& box) const {
+  // A tetrahedron meeting the box has its box's low corner in the box
+  // grown down by the largest extent.
+  GridBox anchors = box;
+  for (int a = 0; a < 3; ++a) anchors.lo[a] -= extent_[a];
+  std::vector<uint32_t> found;
+  for (const auto& [first, last] : ranges_covering(anchors, qbits_)) {
+    auto it = std::lower_bound(anchors_.begin(), anchors_.end(), std::pair<MortonCode, uint32_t>{first, 0});
+    for (; it != anchors_.end() && it->first < last; ++it) {
+      const auto& t = tets_[it->second];
+      GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
+      for (uint32_t v : t) {
+        const GridPoint& p = points_[v];
+        const int64_t c[3] = {p.x, p.y, p.z};
+        for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], c[a]), b.hi[a] = std::max(b.hi[a], c[a]);
+      }
+      if (b.meets(box)) found.push_back(it->second);
+    }
+  }
+  // In input order: the solid's structures read the corners in order.
+  std::sort(found.begin(), found.end());
+  std::vector<std::array<uint32_t, 4>> out;
+  out.reserve(found.size());
+  for (uint32_t k : found) out.push_back(tets_[k]);
+  return out;
+}
+
+std::unique_ptr<BlockReference> block_reference(std::span<const GridPoint> points,
+                                                const TetrahedronIndex& index, const Solid* voxels,
+                                                const GridBox& region) {
+  auto r = std::make_unique<BlockReference>();
+  r->tets = index.meeting(region);
+  // A face of exactly one of these tetrahedra is a face of the reference's
+  // boundary where it meets the region (a tetrahedron beyond it would meet
+  // the region too, and be here); elsewhere it may be where the selection
+  // ends, which the solid must see as a boundary but the shape must not.
+  std::vector<std::array<uint32_t, 3>> faces = boundary_triangles(r->tets);
+  if (voxels) {
+    r->solid = voxels;
+  } else {
+    r->tet_solid = std::make_unique<ReferenceSolid>(points, r->tets, faces);
+    r->solid = r->tet_solid.get();
+  }
+  std::erase_if(faces, [&](const std::array<uint32_t, 3>& f) {
+    GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
+    for (uint32_t v : f) {
+      const int64_t c[3] = {points[v].x, points[v].y, points[v].z};
+      for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], c[a]), b.hi[a] = std::max(b.hi[a], c[a]);
+    }
+    return !b.meets(region);
+  });
+  r->shape.emplace(ReferenceShape::from_boundary(points, std::move(faces)));
+  return r;
+}
+
+void DistanceSums::add(double squared) {
+  const double d = std::sqrt(squared);
+  max = std::max(max, d);
+  sum += d;
+  ++count;
+}
+
+void DistanceSums::add(const DistanceSums& o) {
+  max = std::max(max, o.max);
+  sum += o.sum;
+  count += o.count;
+}
+
+StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* reference,
+                                      const BlockAnalysisOptions& o) {
+  BlockAnalysis out;
+  const size_t n = block.points.size();
+  DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(block.points));
+  std::vector<uint8_t> verdicts;
+  if (reference) verdicts = reference->solid->verdicts(dt, block.points);
+  AlphaPolicy policy;
+  policy.kind = AlphaKind::kFixed;
+  policy.fixed_value = o.alpha;
+  policy.kept_radius_ratio = o.kept_radius / o.alpha;
+  DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze_level(block.points, std::move(dt), policy, verdicts));
+  verdicts = {};
+  const std::span<const GridPoint> points = L.points;
+  const std::span<const uint32_t> ids = block.ids;
+
+  BlockFigures& f = out.figures;
+  std::vector<std::array<uint32_t, 4>> owned_cells;
+  for (uint32_t v = 0; v < n; ++v)
+    if (block.owned.contains(points[v])) {
+      ++f.vertices;
+      if (L.boundary[v]) ++f.boundary_vertices, out.boundary.push_back(ids[v]);
+    }
+  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
+    if (!L.in_mesh[c] || !owns(block.owned, points, L.dt.cells[c])) continue;
+    ++f.cells;
+    f.quality_sum += L.cell_min_solid_angle[c];
+    f.quality_min = std::min(f.quality_min, L.cell_min_solid_angle[c]);
+    owned_cells.push_back(L.dt.cells[c]);
+  }
+  f.cell_hash = cell_hash_sum(points, owned_cells);
+  if (o.collect_cells) {
+    out.carved = std::move(owned_cells);
+    for (auto& c : out.carved)
+      for (uint32_t& v : c) v = ids[v];
+  }
+  owned_cells = {};
+
+  // The surface: what the block owns of it, and its distance to the reference.
+  const LevelSurface surface = level_surface(L);
+  std::vector<uint8_t> on_surface(n, 0);
+  for (const auto& t : surface.triangles) {
+    for (uint32_t v : t) on_surface[v] = 1;
+    if (!owns(block.owned, points, t)) continue;
+    std::array<uint32_t, 3> key = {ids[t[0]], ids[t[1]], ids[t[2]]};
+    std::sort(key.begin(), key.end());
+    out.surface_triangles.push_back(key);
+  }
+  std::sort(out.surface_triangles.begin(), out.surface_triangles.end());
+  for (uint32_t v = 0; v < n; ++v)
+    if (on_surface[v] && block.owned.contains(points[v])) out.surface_vertices.push_back(ids[v]);
+  if (reference && reference->shape) {
+    ReferenceShape& shape = *reference->shape;
+    const ShapeMeasurement m = shape.measure(points, ids, surface.triangles);
+    const auto reference_points = shape.boundary_points();
+    const auto reference_ids = shape.boundary_ids();
+    for (size_t i = 0; i < reference_points.size(); ++i)
+      if (block.owned.contains(reference_points[i])) {
+        f.to_level.add(m.reference_squared[i]);
+        out.reference_squared.emplace_back(reference_ids[i], m.reference_squared[i]);
+      }
+    for (size_t i = 0; i < m.surface_vertices.size(); ++i)
+      if (block.owned.contains(points[m.surface_vertices[i]])) f.to_reference.add(m.vertex_squared[i]);
+    for (size_t t = 0; t < surface.triangles.size(); ++t)
+      if (owns(block.owned, points, surface.triangles[t])) f.to_reference.add(m.centroid_squared[t]);
+  }
+
+  // The carving sections of the layer's bricks inside the block, their
+  // cells coded in the order of their vertices' Morton codes (§3.5).
+  if (o.brick_depth >= 0) {
+    std::vector<MortonCode> codes(n);
+    for (uint32_t v = 0; v < n; ++v) codes[v] = morton_encode(points[v], o.qbits);
+    const std::vector<uint64_t> owner =
+        carving_bricks_of_cells(L.dt, points, codes, o.qbits, o.brick_depth, o.kept_radius);
+    std::vector<uint64_t> bricks;
+    for (uint64_t b : owner)
+      if (b != kNoBrick &&
+          block.owned.contains(morton_decode(MortonCode{b} << (3 * (o.qbits - o.brick_depth)), o.qbits)))
+        bricks.push_back(b);
+    std::sort(bricks.begin(), bricks.end());
+    bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
+    std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
+    for (size_t c = 0; c < owner.size(); ++c) {
+      const auto it = std::lower_bound(bricks.begin(), bricks.end(), owner[c]);
+      if (owner[c] != kNoBrick && it != bricks.end() && *it == owner[c])
+        chunk_of_cell[c] = static_cast<uint32_t>(it - bricks.begin());
+    }
+    std::vector<std::vector<uint8_t>> sections = encode_carving_chunks(
+        L.dt, points, o.alpha, L.in_mesh, chunk_of_cell, bricks.size(), morton_ranks(codes));
+    for (size_t i = 0; i < bricks.size(); ++i)
+      if (!sections[i].empty()) out.carving.emplace_back(bricks[i], std::move(sections[i]));
+  }
+
+  if (o.choice) {
+    const Coarsening c = choose_coarser(L, surface, *o.choice);
+    for (uint32_t v = 0; v < n; ++v)
+      if (c.keep[v] && block.owned.contains(points[v])) out.chosen.push_back(ids[v]);
+  }
+  return out;
+}
+
+StatusOr<BlockBuild> build_block(const BlockRegion& fine, std::span<const uint8_t> keep,
+                                 const SurfaceRecord& record,
+                                 std::span<const std::pair<uint32_t, double>> reference_squared,
+                                 BlockReference& reference, const LevelBounds& bounds) {
+  const auto in_region = [&](uint32_t id) {
+    return std::binary_search(fine.ids.begin(), fine.ids.end(), id);
+  };
+  // The finer level's record where the block can see it.
+  SurfaceRecord local;
+  for (const auto& t : record.triangles)
+    if (in_region(t[0]) && in_region(t[1]) && in_region(t[2])) local.triangles.push_back(t);
+  for (uint32_t v : record.vertices)
+    if (in_region(v)) local.vertices.push_back(v);
+  for (uint32_t id : reference.shape->boundary_ids()) {
+    const auto it = std::lower_bound(reference_squared.begin(), reference_squared.end(),
+                                     std::pair<uint32_t, double>{id, -INFINITY});
+    local.reference_squared.push_back(it != reference_squared.end() && it->first == id ? it->second : 0.0);
+  }
+  LevelBounds b = bounds;
+  b.owned = &fine.owned;
+  b.analyze = false;
+  DTM_ASSIGN_OR_RETURN(BuiltLevel built, build_coarser_level(fine.points, fine.ids, local, keep,
+                                                             {reference.solid, &*reference.shape}, b,
+                                                             AlphaPolicy{}, [](const char*) {}));
+  BlockBuild out;
+  out.vertices = std::move(built.vertices);
+  out.broken = built.shape_left;
+  out.quality_met = built.quality_met;
+  out.rounds = built.repair_rounds;
+  return out;
+}
+
+}  // namespace dtm

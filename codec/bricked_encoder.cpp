@@ -1,0 +1,829 @@
+#include "codec/bricked_encoder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "codec/block_levels.h"
+#include "codec/bricks.h"
+#include "codec/format.h"
+#include "common/byte_io.h"
+#include "common/parallel_for.h"
+#include "core/nearest_points.h"
+
+namespace dtm {
+namespace {
+
+Status invalid(const std::string& what) { return {StatusCode::kInvalidInput, what}; }
+
+// The halo of a block: three kept radii (block_levels.h).
+constexpr double kHaloKeptRadii = 3.0;
+// alpha of a bricked level (spec/HIERARCHY.md §6.5): this many times the
+// mean distance from a vertex to its nearest neighbour.
+constexpr double kAlphaPerSpacing = 1.5;
+// A coarser level keeps no cell of circumradius above this many times the
+// finer level's alpha (its kept_radius: about twice its own alpha, a level
+// having about 2^(1/3) times the finer one's spacing); level 0, twice its own.
+constexpr double kKeptRadiusPerFinerAlpha = 2.5;
+constexpr double kKeptRadiusOfLevel0 = 2.0;
+// As the whole-level builder (core/codec_hierarchy.cpp): a level removing
+// less than this share of what is asked is not built, and a level that
+// breaks a bound is tried once more removing less.
+constexpr double kThinLevelShare = 0.3;
+constexpr double kRetryShare = 0.6;
+
+// The blocks of one level: the non-empty octree nodes of one depth, and
+// the rank that builds each (contiguous runs of about equal point counts).
+struct BlockPlan {
+  int depth = 0;
+  std::vector<uint64_t> blocks;
+  std::vector<size_t> first;  // of each block's points in the level's Morton order; one more at the end
+  std::vector<int> rank;
+};
+
+BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int depth, int ranks) {
+  BlockPlan p;
+  p.depth = depth;
+  for (size_t i = 0; i < codes.size(); ++i) {
+    const uint64_t b = brick_of(codes[i], qbits, depth);
+    if (p.blocks.empty() || p.blocks.back() != b) p.blocks.push_back(b), p.first.push_back(i);
+  }
+  p.first.push_back(codes.size());
+  const double share = static_cast<double>(codes.size()) / ranks;
+  for (size_t k = 0; k < p.blocks.size(); ++k) {
+    const double middle = 0.5 * static_cast<double>(p.first[k] + p.first[k + 1]);
+    p.rank.push_back(std::min(ranks - 1, static_cast<int>(middle / share)));
+  }
+  return p;
+}
+
+// Serialized results, for the exchange between ranks.
+void put(ByteWriter& w, std::span<const uint32_t> v) {
+  w.u64(v.size());
+  for (uint32_t x : v) w.u32(x);
+}
+void put(ByteWriter& w, std::span<const uint8_t> v) {
+  w.u64(v.size());
+  w.bytes(v);
+}
+void put(ByteWriter& w, const DistanceSums& d) {
+  w.f64(d.max);
+  w.f64(d.sum);
+  w.u64(d.count);
+}
+
+// The reader trusts its input: it comes from this program's other ranks.
+class Reader {
+ public:
+  explicit Reader(std::span<const uint8_t> bytes) : r_(bytes) {}
+  uint64_t u64() {
+    uint64_t v = 0;
+    r_.u64(v);
+    return v;
+  }
+  uint32_t u32() {
+    uint32_t v = 0;
+    r_.u32(v);
+    return v;
+  }
+  double f64() {
+    double v = 0;
+    r_.f64(v);
+    return v;
+  }
+  std::vector<uint32_t> u32s() {
+    std::vector<uint32_t> v(u64());
+    for (uint32_t& x : v) x = u32();
+    return v;
+  }
+  std::vector<uint8_t> bytes() {
+    std::vector<uint8_t> v(u64());
+    for (uint8_t& x : v) r_.u8(x);
+    return v;
+  }
+  DistanceSums sums() {
+    DistanceSums d;
+    d.max = f64();
+    d.sum = f64();
+    d.count = u64();
+    return d;
+  }
+  bool done() const { return r_.remaining() == 0; }
+
+ private:
+  ByteReader r_;
+};
+
+// Runs `work` on every block of `plan` this rank builds (in block order),
+// each result serialized by the work, and returns every block's bytes,
+// indexed by block, on every rank.
+std::vector<std::vector<uint8_t>> run_blocks(
+    const BlockPlan& plan, RankExchange& exchange,
+    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status) {
+  ByteWriter mine;
+  Status local = Status::Ok();
+  for (size_t k = 0; k < plan.blocks.size() && local.ok(); ++k) {
+    if (plan.rank[k] != exchange.rank()) continue;
+    StatusOr<std::vector<uint8_t>> done = work(k);
+    if (!done.ok()) {
+      local = done.status();
+      break;
+    }
+    mine.u64(k);
+    put(mine, std::span<const uint8_t>(*done));
+  }
+  // A failure anywhere is every rank's: it says so in its bytes.
+  ByteWriter sent;
+  sent.u8(local.ok() ? 1 : 0);
+  if (!local.ok()) {
+    const std::string& m = local.message();
+    put(sent, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(m.data()), m.size()));
+  } else {
+    sent.bytes(mine.data());
+  }
+  const std::vector<std::vector<uint8_t>> all = exchange.all_gather(sent.data());
+  std::vector<std::vector<uint8_t>> out(plan.blocks.size());
+  for (const auto& bytes : all) {
+    if (bytes.empty()) continue;
+    if (bytes[0] == 0) {
+      Reader r(std::span<const uint8_t>(bytes).subspan(1));
+      const std::vector<uint8_t> m = r.bytes();
+      if (status.ok())
+        status = {local.ok() ? StatusCode::kInternal : local.code(), std::string(m.begin(), m.end())};
+      continue;
+    }
+    Reader r(std::span<const uint8_t>(bytes).subspan(1));
+    while (!r.done()) {
+      const uint64_t k = r.u64();
+      out[k] = r.bytes();
+    }
+  }
+  if (!local.ok()) status = local;
+  return out;
+}
+
+std::vector<uint8_t> serialize(const BlockAnalysis& a) {
+  ByteWriter w;
+  const BlockFigures& f = a.figures;
+  w.u64(f.vertices);
+  w.u64(f.boundary_vertices);
+  w.u64(f.cells);
+  w.f64(f.quality_sum);
+  w.f64(f.quality_min);
+  put(w, f.to_level);
+  put(w, f.to_reference);
+  w.u64(f.cell_hash);
+  w.u64(a.surface_triangles.size());
+  for (const auto& t : a.surface_triangles)
+    for (uint32_t v : t) w.u32(v);
+  put(w, std::span<const uint32_t>(a.surface_vertices));
+  w.u64(a.reference_squared.size());
+  for (const auto& [id, d2] : a.reference_squared) w.u32(id), w.f64(d2);
+  w.u64(a.carving.size());
+  for (const auto& [brick, bytes] : a.carving) {
+    w.u64(brick);
+    put(w, std::span<const uint8_t>(bytes));
+  }
+  put(w, std::span<const uint32_t>(a.chosen));
+  put(w, std::span<const uint32_t>(a.boundary));
+  w.u64(a.carved.size());
+  for (const auto& c : a.carved)
+    for (uint32_t v : c) w.u32(v);
+  return w.take();
+}
+
+BlockAnalysis deserialize_analysis(std::span<const uint8_t> bytes) {
+  Reader r(bytes);
+  BlockAnalysis a;
+  BlockFigures& f = a.figures;
+  f.vertices = r.u64();
+  f.boundary_vertices = r.u64();
+  f.cells = r.u64();
+  f.quality_sum = r.f64();
+  f.quality_min = r.f64();
+  f.to_level = r.sums();
+  f.to_reference = r.sums();
+  f.cell_hash = r.u64();
+  a.surface_triangles.resize(r.u64());
+  for (auto& t : a.surface_triangles)
+    for (uint32_t& v : t) v = r.u32();
+  a.surface_vertices = r.u32s();
+  a.reference_squared.resize(r.u64());
+  for (auto& [id, d2] : a.reference_squared) id = r.u32(), d2 = r.f64();
+  a.carving.resize(r.u64());
+  for (auto& [brick, section] : a.carving) brick = r.u64(), section = r.bytes();
+  a.chosen = r.u32s();
+  a.boundary = r.u32s();
+  a.carved.resize(r.u64());
+  for (auto& c : a.carved)
+    for (uint32_t& v : c) v = r.u32();
+  return a;
+}
+
+// What the encoder keeps of a level for the stream.
+struct LevelOut {
+  double alpha = 0, kept_radius = 0;
+  int brick_depth = 0, block_depth = 0;
+  std::map<uint64_t, std::vector<uint8_t>> carving;  // per brick
+  uint64_t cell_hash = 0;
+  LevelStats stats;
+};
+
+// The level's quality floor over each level-0 block: average_quality_floor
+// times level 0's average there (a block of a coarser level takes the
+// blocks of level 0 inside it, or around it).
+struct QualityFloors {
+  int depth = 0;
+  std::vector<uint64_t> blocks;
+  std::vector<double> sum;
+  std::vector<uint64_t> count;
+  double factor = 0, whole = 0;
+
+  double floor(uint64_t block, int depth_of_block) const {
+    if (factor <= 0) return 0;
+    double s = 0;
+    uint64_t c = 0;
+    for (size_t i = 0; i < blocks.size(); ++i) {
+      const bool inside = depth_of_block <= depth ? (blocks[i] >> (3 * (depth - depth_of_block))) == block
+                                                  : (block >> (3 * (depth_of_block - depth))) == blocks[i];
+      if (inside) s += sum[i], c += count[i];
+    }
+    return factor * (c > 0 ? s / static_cast<double>(c) : whole);
+  }
+};
+
+class BrickedEncoder {
+ public:
+  BrickedEncoder(const BrickedEncodeInput& in, const BrickedEncodeOptions& o, RankExchange& exchange)
+      : in_(in),
+        o_(o),
+        x_(exchange),
+        q_(in.grid.qbits),
+        index_(in.points, q_),
+        level_of_(in.points.size(), 0) {
+    if (!in.reference_tets.empty()) tets_.emplace(in.points, in.reference_tets, q_);
+  }
+
+  StatusOr<BrickedEncoding> run(const std::function<void(const LevelStats&)>& on_level);
+
+ private:
+  void phase(int level, const std::string& what) const {
+    report_phase(o_.hierarchy.on_phase, "level " + std::to_string(level) + ": " + what);
+  }
+  BlockRegion region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const;
+  std::unique_ptr<BlockReference> reference_for(const GridBox& region, bool level0) const;
+  StatusOr<double> level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan);
+  Status analyse(int level, const BlockPlan& plan, int64_t halo, const BlockAnalysisOptions& options,
+                 std::vector<BlockAnalysis>& out);
+  // The coarser level from the choice: builds, repairs, and merges until no
+  // block's region changes. Sets coarser_ (per grid point).
+  Status build(int level, const BlockPlan& plan, int64_t halo, double kept_radius,
+               const QualityFloors& floors, uint64_t& broken, bool& quality_met, int& rounds);
+  StatusOr<std::vector<uint8_t>> base_carving(int level, const LevelOut& out);
+  StatusOr<BrickedEncoding> write_stream(std::vector<LevelOut>& levels);
+
+  const BrickedEncodeInput& in_;
+  const BrickedEncodeOptions& o_;
+  RankExchange& x_;
+  int q_;
+  MortonIndex index_;
+  std::vector<uint8_t> level_of_;  // per grid point: the coarsest level that holds it
+  std::optional<TetrahedronIndex> tets_;
+  std::vector<std::array<uint32_t, 4>> level0_cells_;  // the reference, when level 0's carving is
+  SurfaceRecord record_;                               // the finer level's
+  std::vector<std::pair<uint32_t, double>> reference_squared_;
+  std::vector<uint8_t> coarser_;  // per grid point: in the level being built
+  uint64_t reference_boundary_vertices_ = 0;
+};
+
+BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const {
+  BlockRegion b;
+  b.owned = brick_box(plan.blocks[k], q_, plan.depth);
+  b.region = b.owned.grown(halo, q_);
+  b.ids = index_.inside(b.region, level_of_, level);
+  b.points = gather(in_.points, b.ids);
+  return b;
+}
+
+std::unique_ptr<BlockReference> BrickedEncoder::reference_for(const GridBox& region, bool level0) const {
+  if (tets_) return block_reference(in_.points, *tets_, in_.voxels, region);
+  // Without tetrahedra, level 0 is carved by alpha or the voxels, and is
+  // then the reference shape (and, without voxels, the solid).
+  if (level0) {
+    if (!in_.voxels) return nullptr;
+    auto r = std::make_unique<BlockReference>();
+    r->solid = in_.voxels;
+    return r;
+  }
+  return nullptr;  // not reached: level0_cells_ make tets_ after level 0
+}
+
+StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan) {
+  if (o_.hierarchy.alpha.kind == AlphaKind::kFixed) return o_.hierarchy.alpha.fixed_value;
+  // Each vertex's nearest neighbour, found among the whole level (every
+  // rank holds its points), summed block by block.
+  const std::vector<GridPoint> points = gather(in_.points, ids);
+  const NearestPoints nearest(points);
+  Status status = Status::Ok();
+  const auto sums = run_blocks(
+      plan, x_,
+      [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+        const size_t first = plan.first[k], count = plan.first[k + 1] - first;
+        std::vector<double> d(count, 0);
+        parallel_for(
+            count,
+            [&](size_t i) {
+              const GridPoint& p = points[first + i];
+              nearest.visit_nearest({double(p.x), double(p.y), double(p.z)}, [&](uint32_t j, double d2) {
+                if (j == first + i) return true;
+                d[i] = std::sqrt(d2);
+                return false;
+              });
+            },
+            1024);
+        double sum = 0;
+        for (double v : d) sum += v;
+        ByteWriter w;
+        w.f64(sum);
+        return w.take();
+      },
+      status);
+  DTM_RETURN_IF_ERROR(status);
+  double total = 0;
+  for (const auto& s : sums) total += Reader(s).f64();
+  return kAlphaPerSpacing * total / static_cast<double>(ids.size());
+}
+
+Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
+                               const BlockAnalysisOptions& options, std::vector<BlockAnalysis>& out) {
+  Status status = Status::Ok();
+  const auto results = run_blocks(
+      plan, x_,
+      [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+        const BlockRegion block = region_of(plan, k, level, halo);
+        const std::unique_ptr<BlockReference> reference = reference_for(block.region, level == 0);
+        DTM_ASSIGN_OR_RETURN(BlockAnalysis a, analyse_block(block, reference.get(), options));
+        return serialize(a);
+      },
+      status);
+  DTM_RETURN_IF_ERROR(status);
+  out.clear();
+  for (const auto& r : results) out.push_back(deserialize_analysis(r));
+  return Status::Ok();
+}
+
+Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, double kept_radius,
+                             const QualityFloors& floors, uint64_t& broken, bool& quality_met, int& rounds) {
+  LevelBounds bounds;
+  bounds.dmax = o_.hierarchy.dmax;
+  bounds.kept_radius = kept_radius;
+  // Per block: its last result (region size as left), broken places,
+  // quality, rounds; the blocks still to build.
+  std::vector<uint64_t> left(plan.blocks.size(), 0), block_broken(plan.blocks.size(), 0);
+  std::vector<uint8_t> met(plan.blocks.size(), 1), to_build(plan.blocks.size(), 1);
+  std::vector<int> block_rounds(plan.blocks.size(), 0);
+  for (int pass = 0;; ++pass) {
+    phase(level + 1, pass == 0 ? "building the blocks" : "building again where a neighbour put points back");
+    Status status = Status::Ok();
+    const auto results = run_blocks(
+        plan, x_,
+        [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+          ByteWriter w;
+          if (!to_build[k]) {
+            w.u8(0);
+            return w.take();
+          }
+          const BlockRegion fine = region_of(plan, k, level, halo);
+          std::vector<uint8_t> keep(fine.ids.size());
+          for (size_t i = 0; i < keep.size(); ++i) keep[i] = coarser_[fine.ids[i]];
+          const std::unique_ptr<BlockReference> reference = reference_for(fine.region, false);
+          LevelBounds b = bounds;
+          b.quality_floor = floors.floor(plan.blocks[k], plan.depth);
+          DTM_ASSIGN_OR_RETURN(BlockBuild built,
+                               build_block(fine, keep, record_, reference_squared_, *reference, b));
+          // What it put back (the rest was chosen already).
+          std::vector<uint32_t> back;
+          for (uint32_t id : built.vertices)
+            if (!coarser_[id]) back.push_back(id);
+          w.u8(1);
+          w.u64(built.vertices.size());
+          w.u64(built.broken);
+          w.u8(built.quality_met ? 1 : 0);
+          w.u32(static_cast<uint32_t>(built.rounds));
+          put(w, std::span<const uint32_t>(back));
+          return w.take();
+        },
+        status);
+    DTM_RETURN_IF_ERROR(status);
+    for (size_t k = 0; k < results.size(); ++k) {
+      ByteReader r(results[k]);
+      uint8_t built = 0;
+      r.u8(built);
+      if (!built) continue;
+      uint64_t size = 0, brk = 0;
+      uint8_t ok = 0;
+      uint32_t nrounds = 0;
+      r.u64(size);
+      r.u64(brk);
+      r.u8(ok);
+      r.u32(nrounds);
+      left[k] = size;
+      block_broken[k] = brk;
+      met[k] = ok;
+      block_rounds[k] = std::max(block_rounds[k], static_cast<int>(nrounds));
+      uint64_t count = 0;
+      r.u64(count);
+      for (uint64_t i = 0; i < count; ++i) {
+        uint32_t id = 0;
+        r.u32(id);
+        coarser_[id] = 1;
+      }
+    }
+    // A block whose region now holds more of the coarser level than it
+    // left (a neighbour put points back there) is built again.
+    bool again = false;
+    std::vector<uint8_t> next(plan.blocks.size(), 0);
+    {
+      Status s2 = Status::Ok();
+      const auto changed = run_blocks(
+          plan, x_,
+          [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+            const BlockRegion fine = region_of(plan, k, level, halo);
+            uint64_t now = 0;
+            for (uint32_t id : fine.ids) now += coarser_[id];
+            return std::vector<uint8_t>{static_cast<uint8_t>(now > left[k] ? 1 : 0)};
+          },
+          s2);
+      DTM_RETURN_IF_ERROR(s2);
+      for (size_t k = 0; k < changed.size(); ++k) next[k] = changed[k].at(0), again = again || next[k];
+    }
+    if (!again || pass >= 6) {
+      broken = 0;
+      quality_met = true;
+      rounds = 0;
+      for (size_t k = 0; k < plan.blocks.size(); ++k) {
+        broken += block_broken[k] + (next[k] ? 1 : 0);  // a block left unchecked counts as broken
+        quality_met = quality_met && met[k];
+        rounds = std::max(rounds, block_rounds[k]);
+      }
+      return Status::Ok();
+    }
+    to_build = next;
+  }
+}
+
+StatusOr<std::vector<uint8_t>> BrickedEncoder::base_carving(int level, const LevelOut& out) {
+  // The base layer is one chunk of depth 0 (§3.5): its carving over the
+  // whole coarsest level, on rank 0, sent to every rank.
+  BlockPlan one;
+  one.depth = 0;
+  one.blocks = {0};
+  one.first = {0, 0};
+  one.rank = {0};
+  BlockAnalysisOptions options;
+  options.qbits = q_;
+  options.alpha = out.alpha;
+  options.kept_radius = out.kept_radius;
+  options.brick_depth = 0;
+  std::vector<BlockAnalysis> a;
+  DTM_RETURN_IF_ERROR(analyse(level, one, 0, options, a));
+  if (a.at(0).carving.empty()) return std::vector<uint8_t>{};
+  return std::move(a[0].carving[0].second);
+}
+
+StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const LevelStats&)>& on_level) {
+  const HierarchyOptions& h = o_.hierarchy;
+  const int ranks = x_.size();
+  std::vector<MortonCode> codes;
+  std::vector<uint32_t> ids;
+  index_.level(level_of_, 0, codes, &ids);
+  const int finest_depth = choose_brick_depth(codes, q_, 2 * o_.brick_points);
+  const double share = h.removal_share > 0 ? h.removal_share : 0.5;
+  QualityFloors floors;
+  floors.factor = h.average_quality_floor;
+  std::vector<LevelOut> levels;
+  // The coarser level's figures made while building it, for its row, and
+  // the largest circumradius it keeps.
+  LevelStats built_stats;
+  double next_kept_radius = 0;
+  bool last = false;
+  for (int level = 0;; ++level) {
+    if (level > 250) return invalid("more than 250 levels");
+    index_.level(level_of_, level, codes, &ids);
+    LevelOut out;
+    out.brick_depth =
+        std::min(finest_depth, choose_brick_depth(codes, q_, std::max<uint64_t>(1, o_.brick_points / 4)));
+    out.block_depth = std::min(out.brick_depth, choose_brick_depth(codes, q_, o_.block_points));
+    const BlockPlan plan = plan_blocks(codes, q_, out.block_depth, ranks);
+    phase(level, "alpha");
+    DTM_ASSIGN_OR_RETURN(out.alpha, level_alpha(ids, plan));
+    if (!(out.alpha > 0)) return invalid("the level's points do not span three dimensions");
+    // kept_radius is the build's, alpha (a prediction) at most that (§3.5).
+    out.kept_radius = level == 0 ? kKeptRadiusOfLevel0 * out.alpha : next_kept_radius;
+    out.alpha = std::min(out.alpha, out.kept_radius);
+    const double kept_radius = out.kept_radius;
+    next_kept_radius = kKeptRadiusPerFinerAlpha * out.alpha;
+    const int64_t halo =
+        static_cast<int64_t>(std::ceil(kHaloKeptRadii * std::max(kept_radius, next_kept_radius))) + 1;
+    const bool may_choose = !last && !(h.max_levels > 0 && level >= h.max_levels);
+
+    BlockAnalysisOptions options;
+    options.qbits = q_;
+    options.alpha = out.alpha;
+    options.kept_radius = kept_radius;
+    options.brick_depth = out.brick_depth;
+    options.collect_cells = level == 0 && !tets_;
+    if (may_choose) options.choice = CoarseningOptions{1 - share, h.dmax, 0.85};
+    phase(level, "Delaunay tetrahedralization, carving and choice, block by block");
+    std::vector<BlockAnalysis> analysis;
+    DTM_RETURN_IF_ERROR(analyse(level, plan, halo, options, analysis));
+
+    // The level's figures, carving and surface record, merged in block order.
+    LevelStats& s = out.stats;
+    s = built_stats;
+    s.level = level;
+    s.vertices = ids.size();
+    s.alpha = out.alpha;
+    DistanceSums to_level, to_reference;
+    double quality_sum = 0, quality_min = INFINITY;
+    record_ = {};
+    reference_squared_.clear();
+    std::vector<uint32_t> boundary;
+    for (BlockAnalysis& a : analysis) {
+      const BlockFigures& f = a.figures;
+      s.boundary_vertices += f.boundary_vertices;
+      s.tetrahedra += f.cells;
+      quality_sum += f.quality_sum;
+      quality_min = std::min(quality_min, f.quality_min);
+      to_level.add(f.to_level);
+      to_reference.add(f.to_reference);
+      out.cell_hash += f.cell_hash;
+      for (auto& [brick, bytes] : a.carving) out.carving[brick] = std::move(bytes);
+      record_.triangles.insert(record_.triangles.end(), a.surface_triangles.begin(),
+                               a.surface_triangles.end());
+      record_.vertices.insert(record_.vertices.end(), a.surface_vertices.begin(), a.surface_vertices.end());
+      reference_squared_.insert(reference_squared_.end(), a.reference_squared.begin(),
+                                a.reference_squared.end());
+      boundary.insert(boundary.end(), a.boundary.begin(), a.boundary.end());
+      if (level == 0 && !tets_) level0_cells_.insert(level0_cells_.end(), a.carved.begin(), a.carved.end());
+    }
+    std::sort(record_.triangles.begin(), record_.triangles.end());
+    std::sort(record_.vertices.begin(), record_.vertices.end());
+    std::sort(reference_squared_.begin(), reference_squared_.end());
+    std::sort(boundary.begin(), boundary.end());
+    s.avg_min_solid_angle = s.tetrahedra ? quality_sum / static_cast<double>(s.tetrahedra) : 0;
+    s.min_solid_angle = s.tetrahedra ? quality_min : 0;
+    if (to_level.count + to_reference.count > 0) {
+      ShapeFigures shape;
+      shape.to_level = {to_level.max, to_level.count ? to_level.sum / to_level.count : 0};
+      shape.to_reference = {to_reference.max, to_reference.count ? to_reference.sum / to_reference.count : 0};
+      shape.both = {
+          std::max(to_level.max, to_reference.max),
+          (to_level.sum + to_reference.sum) / static_cast<double>(to_level.count + to_reference.count)};
+      s.reference_shape = shape;
+      reference_boundary_vertices_ = to_level.count;
+      s.max_boundary_error = shape.to_level.max;
+      s.mean_boundary_error = shape.to_level.mean;
+    } else if (level == 0) {
+      s.reference_shape = ShapeFigures{};  // level 0 is its own reference
+    }
+    if (level == 0) {
+      floors.depth = plan.depth;
+      floors.blocks = plan.blocks;
+      for (const BlockAnalysis& a : analysis) {
+        floors.sum.push_back(a.figures.quality_sum);
+        floors.count.push_back(a.figures.cells);
+      }
+      floors.whole = s.avg_min_solid_angle;
+      if (!tets_) {
+        // Level 0's carving is the reference from now on.
+        std::sort(level0_cells_.begin(), level0_cells_.end());
+        tets_.emplace(in_.points, level0_cells_, q_);
+        // Its surface is the reference's: every distance to it is 0.
+        reference_squared_.clear();
+      }
+    }
+    if (on_level) on_level(s);
+    levels.push_back(std::move(out));
+    if (!may_choose) break;
+
+    // The coarser level: chosen, built and repaired; once more removing
+    // less where that fails; else this level is the coarsest.
+    const size_t finer = ids.size();
+    bool accepted = false;
+    for (const double attempt : {share, kRetryShare * share}) {
+      coarser_.assign(in_.points.size(), 0);
+      if (attempt == share) {
+        for (const BlockAnalysis& a : analysis)
+          for (uint32_t id : a.chosen) coarser_[id] = 1;
+      } else {
+        phase(level + 1, "choosing again, fewer");
+        options.choice = CoarseningOptions{1 - attempt, h.dmax, 0.85};
+        options.brick_depth = -1;
+        options.collect_cells = false;
+        std::vector<BlockAnalysis> again;
+        DTM_RETURN_IF_ERROR(analyse(level, plan, halo, options, again));
+        for (const BlockAnalysis& a : again)
+          for (uint32_t id : a.chosen) coarser_[id] = 1;
+      }
+      uint64_t chosen = 0;
+      for (uint32_t id : ids) chosen += coarser_[id];
+      uint64_t broken = 0;
+      bool quality_met = true;
+      int rounds = 0;
+      DTM_RETURN_IF_ERROR(build(level, plan, halo, next_kept_radius, floors, broken, quality_met, rounds));
+      uint64_t coarser = 0, removed_boundary = 0;
+      for (uint32_t id : ids) coarser += coarser_[id];
+      for (uint32_t id : boundary) removed_boundary += !coarser_[id];
+      if (coarser < h.min_base_vertices) break;
+      if (static_cast<double>(finer - coarser) < kThinLevelShare * share * static_cast<double>(finer) ||
+          !quality_met || broken > 0)
+        continue;
+      accepted = true;
+      built_stats = {};
+      built_stats.removed_boundary = removed_boundary;
+      built_stats.removed_interior = finer - coarser - removed_boundary;
+      built_stats.passes = 1;
+      built_stats.chosen = chosen;
+      built_stats.put_back = coarser - chosen;
+      built_stats.repair_rounds = rounds;
+      last = h.stop_when_boundary_is_final && removed_boundary == 0;
+      break;
+    }
+    if (!accepted) break;
+    for (uint32_t id : ids)
+      if (coarser_[id]) level_of_[id] = static_cast<uint8_t>(level + 1);
+  }
+  coarser_ = {};
+  return write_stream(levels);
+}
+
+StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& levels) {
+  const int coarsest = static_cast<int>(levels.size()) - 1;
+  // The base layer is one chunk of depth 0.
+  if (levels[coarsest].brick_depth != 0 || levels[coarsest].carving.size() > 1) {
+    report_phase(o_.hierarchy.on_phase, "the base layer's carving");
+    DTM_ASSIGN_OR_RETURN(std::vector<uint8_t> base, base_carving(coarsest, levels[coarsest]));
+    levels[coarsest].carving.clear();
+    if (!base.empty()) levels[coarsest].carving[0] = std::move(base);
+  }
+  levels[coarsest].brick_depth = 0;
+
+  StreamHeader header;
+  header.grid = in_.grid;
+  header.alpha_policy = o_.hierarchy.alpha.kind;
+  header.version_major = kVersionMajor;
+  header.flags =
+      static_cast<uint16_t>((o_.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections | kFlagBricks);
+  header.level_count = static_cast<uint16_t>(levels.size());
+  header.vertex_count = static_cast<uint32_t>(in_.points.size());
+  BrickedEncoding out;
+  out.reference_boundary_vertices = reference_boundary_vertices_;
+  out.bytes = write_header(header);
+  const size_t L = levels.size();
+  out.layer_bytes.assign(L, 0);
+  out.carving_bytes.assign(L, 0);
+  out.chunk_count.assign(L, 0);
+  out.index_bytes.assign(L, 0);
+  out.brick_depth.assign(L, 0);
+  out.block_depth.assign(L, 0);
+  for (const LevelOut& l : levels) out.levels.push_back(l.stats);
+
+  SetCoderModels models;
+  models.enable_coordinate_reuse(q_);
+  std::vector<MortonCode> known;  // V_{l+1}, ascending
+  for (int level = coarsest; level >= 0; --level) {
+    report_phase(o_.hierarchy.on_phase, "writing level " + std::to_string(level) + "'s layer");
+    LevelOut& lo = levels[static_cast<size_t>(level)];
+    const int depth = lo.brick_depth;
+    // The layer's points in Morton order.
+    std::vector<MortonCode> codes;
+    std::vector<uint32_t> ids;
+    index_.level(level_of_, level, codes, &ids);
+    std::vector<GridPoint> fresh;
+    std::vector<MortonCode> fresh_codes;
+    for (size_t i = 0; i < ids.size(); ++i)
+      if (level_of_[ids[i]] == level) {
+        fresh.push_back(in_.points[ids[i]]);
+        fresh_codes.push_back(codes[i]);
+        out.decode_order.push_back(ids[i]);
+      }
+    // The bricks with points; their payloads, made by the ranks in turn.
+    std::vector<uint64_t> bricks;
+    std::vector<size_t> first;
+    for (size_t i = 0; i < fresh_codes.size(); ++i) {
+      const uint64_t b = brick_of(fresh_codes[i], q_, depth);
+      if (bricks.empty() || bricks.back() != b) bricks.push_back(b), first.push_back(i);
+    }
+    first.push_back(fresh_codes.size());
+    std::vector<std::vector<uint8_t>> payloads(bricks.size());
+    if (known.empty()) {
+      payloads.at(0) = encode_point_set({}, fresh, q_, models, brick_node(0, q_, 0));
+    } else {
+      BlockPlan plan;
+      plan.depth = depth;
+      plan.blocks = bricks;
+      plan.first = first;
+      const double share = static_cast<double>(fresh.size()) / x_.size();
+      for (size_t k = 0; k < bricks.size(); ++k)
+        plan.rank.push_back(
+            std::min(x_.size() - 1, static_cast<int>(0.5 * (first[k] + first[k + 1]) / share)));
+      Status status = Status::Ok();
+      payloads = run_blocks(
+          plan, x_,
+          [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+            const std::span<const GridPoint> points(fresh.data() + first[k], first[k + 1] - first[k]);
+            const std::span<const MortonCode> inside = known_in_brick(known, bricks[k], q_, depth);
+            SetCoderModels chunk = chunk_models(models, inside, q_);
+            return encode_point_set(inside, points, q_, chunk, brick_node(bricks[k], q_, depth));
+          },
+          status);
+      DTM_RETURN_IF_ERROR(status);
+    }
+    // The chunks: every brick with points or corrections, ascending.
+    std::vector<BrickChunk> chunks;
+    std::vector<uint8_t> chunk_bytes;
+    auto carving = lo.carving.begin();
+    size_t p = 0;
+    while (p < bricks.size() || carving != lo.carving.end()) {
+      const uint64_t brick = std::min(p < bricks.size() ? bricks[p] : UINT64_MAX,
+                                      carving != lo.carving.end() ? carving->first : UINT64_MAX);
+      BrickChunk chunk;
+      chunk.brick = brick;
+      const size_t start = chunk_bytes.size();
+      if (p < bricks.size() && bricks[p] == brick) {
+        chunk.new_points = static_cast<uint32_t>(first[p + 1] - first[p]);
+        chunk.payload_bytes = static_cast<uint32_t>(payloads[p].size());
+        chunk_bytes.insert(chunk_bytes.end(), payloads[p].begin(), payloads[p].end());
+        ++p;
+      }
+      if (carving != lo.carving.end() && carving->first == brick) {
+        chunk.carving_bytes = static_cast<uint32_t>(carving->second.size());
+        chunk_bytes.insert(chunk_bytes.end(), carving->second.begin(), carving->second.end());
+        out.carving_bytes[static_cast<size_t>(level)] += carving->second.size();
+        ++carving;
+      }
+      if (chunk.size() == 0) continue;
+      chunk.checksum = chunk_checksum(std::span(chunk_bytes).subspan(start));
+      chunks.push_back(chunk);
+    }
+    const std::vector<uint8_t> index = write_brick_index(chunks);
+    LayerHeader lh;
+    lh.format_major = kVersionMajor;
+    lh.bricked = true;
+    lh.level = static_cast<uint16_t>(level);
+    lh.new_vertices = static_cast<uint32_t>(fresh.size());
+    lh.level_vertices = static_cast<uint32_t>(ids.size());
+    lh.alpha = lo.alpha;
+    lh.kept_radius = lo.kept_radius;
+    lh.brick_depth = static_cast<uint8_t>(depth);
+    if (o_.cell_hashes) lh.cell_hash = lo.cell_hash;
+    const std::vector<uint8_t> layer = write_bricked_layer(lh, index, chunk_bytes);
+    out.layer_bytes[static_cast<size_t>(level)] = layer.size();
+    out.chunk_count[static_cast<size_t>(level)] = chunks.size();
+    out.index_bytes[static_cast<size_t>(level)] = index.size();
+    out.brick_depth[static_cast<size_t>(level)] = depth;
+    out.block_depth[static_cast<size_t>(level)] = lo.block_depth;
+    out.bytes.insert(out.bytes.end(), layer.begin(), layer.end());
+    merge_known(known, fresh, q_);
+  }
+  return out;
+}
+
+}  // namespace
+
+int choose_brick_depth(std::span<const MortonCode> codes, int qbits, uint64_t target) {
+  int best = 0;
+  for (int depth = 1; depth <= std::min(qbits, kMaxBrickDepth); ++depth) {
+    uint64_t bricks = 0, previous = UINT64_MAX;
+    for (const MortonCode c : codes) {
+      const uint64_t b = brick_of(c, qbits, depth);
+      bricks += b != previous;
+      previous = b;
+    }
+    if (bricks == 0 || codes.size() < target * bricks) break;
+    best = depth;
+  }
+  return best;
+}
+
+StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const BrickedEncodeOptions& options,
+                                         const std::function<void(const LevelStats&)>& on_level) {
+  if (input.points.size() < 4) return invalid("fewer than four points make no tetrahedron");
+  if (input.points.size() > (size_t{1} << 31)) return invalid("bricked streams hold at most 2^31 points");
+  if (options.brick_points == 0 || options.block_points == 0)
+    return invalid("brick and block points must be positive");
+  if (options.hierarchy.alpha.kind == AlphaKind::kConvexHull)
+    return invalid("bricked layers need a finite alpha (the halo of a region is a multiple of it)");
+  if (options.hierarchy.alpha.kind == AlphaKind::kFixed && !(options.hierarchy.alpha.fixed_value > 0))
+    return invalid("a fixed alpha must be positive");
+  SingleProcess alone;
+  RankExchange& exchange = options.exchange ? *options.exchange : alone;
+  BrickedEncoder encoder(input, options, exchange);
+  return encoder.run(on_level);
+}
+
+}  // namespace dtm

@@ -1,0 +1,68 @@
+// A bricked stream (format 8.0, spec/FORMAT.md §3.5) from grid points, its
+// levels built block by block (codec/block_levels.h, spec/HIERARCHY.md
+// §6.5) on one process or on the ranks of an MPI run: each rank builds the
+// blocks it is given and the ranks exchange what the blocks found, level
+// after level. The blocks, and so the stream, depend on the points alone:
+// the bytes are the same for any number of ranks, and each block's work
+// holds only its region in memory.
+//
+// What a rank holds whole: the grid points (12 bytes each), which level
+// each belongs to, a Morton index of them, the reference tetrahedra, and
+// what the blocks report (the surface records, the carving sections, the
+// coarser level's choice); the Delaunay tetrahedralizations, the carving
+// and the checks are made block by block.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "common/exchange.h"
+#include "common/grid.h"
+#include "common/status.h"
+#include "core/hierarchy.h"
+#include "core/solid.h"
+#include "mesh/carving.h"
+
+namespace dtm {
+
+struct BrickedEncodeOptions {
+  // The levels (HierarchyOptions' meaning, lengths in grid units): dmax,
+  // average_quality_floor, removal_share, max_levels, min_base_vertices,
+  // stop_when_boundary_is_final, on_phase. alpha: kPaper (alpha from the
+  // level's spacing, §6.5) or kFixed.
+  HierarchyOptions hierarchy;
+  // Each layer's bricks hold about brick_points of its new points; the
+  // levels are built in blocks of about block_points points.
+  uint64_t brick_points = 2048;
+  uint64_t block_points = uint64_t{1} << 18;
+  bool cell_hashes = false;
+  // The ranks of the run; nullptr: this process alone.
+  RankExchange* exchange = nullptr;
+};
+
+struct BrickedEncodeInput {
+  std::span<const GridPoint> points;  // distinct grid points, ascending (quantize()'s order)
+  Grid grid;
+  // The reference solid's tetrahedra (indices into points), or none.
+  std::span<const std::array<uint32_t, 4>> reference_tets;
+  // A scan's voxels as the solid (without tetrahedra), or nullptr; with
+  // neither, level 0's alpha carving is the reference.
+  const Solid* voxels = nullptr;
+};
+
+struct BrickedEncoding {
+  std::vector<uint8_t> bytes;                                                  // the stream, on every rank
+  std::vector<LevelStats> levels;                                              // finest first
+  std::vector<uint64_t> layer_bytes, carving_bytes, chunk_count, index_bytes;  // per level
+  std::vector<int> brick_depth, block_depth;                                   // per level
+  std::vector<uint32_t> decode_order;                                          // as EncodedStream's
+  uint64_t reference_boundary_vertices = 0;
+};
+
+StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const BrickedEncodeOptions& options,
+                                         const std::function<void(const LevelStats&)>& on_level = {});
+
+}  // namespace dtm
