@@ -76,76 +76,61 @@ void MortonIndex::level(std::span<const uint8_t> level_of, int level, std::vecto
     }
 }
 
-TetrahedronIndex::TetrahedronIndex(std::span<const GridPoint> points,
-                                   std::span<const std::array<uint32_t, 4>> tets, int qbits)
-    : points_(points), tets_(tets), qbits_(qbits) {
-  anchors_.resize(tets.size());
-  for (uint32_t k = 0; k < tets.size(); ++k) {
-    GridPoint lo = points[tets[k][0]], hi = lo;
-    for (int i = 1; i < 4; ++i) {
-      const GridPoint& p = points[tets[k][i]];
-      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    }
-    extent_ = {std::max<int64_t>(extent_[0], hi.x - lo.x), std::max<int64_t>(extent_[1], hi.y - lo.y),
-               std::max<int64_t>(extent_[2], hi.z - lo.z)};
-    anchors_[k] = {morton_encode(lo, qbits), k};
+namespace {
+
+template <size_t N>
+GridBox box_of(std::span<const GridPoint> points, const std::array<uint32_t, N>& corners) {
+  GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
+  for (uint32_t v : corners) {
+    const int64_t c[3] = {points[v].x, points[v].y, points[v].z};
+    for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], c[a]), b.hi[a] = std::max(b.hi[a], c[a]);
   }
-  std::sort(anchors_.begin(), anchors_.end());
+  return b;
 }
 
-std::vector<std::array<uint32_t, 4>> TetrahedronIndex::meeting(const GridBox& box) const {
-  // A tetrahedron meeting the box has its box's low corner in the box
-  // grown down by the largest extent.
+}  // namespace
+
+TriangleIndex::TriangleIndex(std::span<const GridPoint> points,
+                             std::vector<std::array<uint32_t, 3>> triangles, int qbits)
+    : points_(points), qbits_(qbits) {
+  std::vector<std::pair<MortonCode, uint32_t>> by_anchor(triangles.size());
+  for (uint32_t k = 0; k < triangles.size(); ++k) {
+    const GridBox b = box_of(points, triangles[k]);
+    for (int a = 0; a < 3; ++a) extent_[a] = std::max(extent_[a], b.hi[a] - b.lo[a]);
+    by_anchor[k] = {morton_encode({static_cast<int32_t>(b.lo[0]), static_cast<int32_t>(b.lo[1]),
+                                   static_cast<int32_t>(b.lo[2])},
+                                  qbits),
+                    k};
+  }
+  std::sort(by_anchor.begin(), by_anchor.end());
+  triangles_.reserve(triangles.size());
+  anchors_.reserve(triangles.size());
+  for (const auto& [code, k] : by_anchor) triangles_.push_back(triangles[k]), anchors_.push_back(code);
+}
+
+std::vector<std::array<uint32_t, 3>> TriangleIndex::meeting(const GridBox& box) const {
+  // A triangle meeting the box has its box's low corner in the box grown
+  // down by the largest extent.
   GridBox anchors = box;
   for (int a = 0; a < 3; ++a) anchors.lo[a] -= extent_[a];
   std::vector<uint32_t> found;
-  for (const auto& [first, last] : ranges_covering(anchors, qbits_)) {
-    auto it = std::lower_bound(anchors_.begin(), anchors_.end(), std::pair<MortonCode, uint32_t>{first, 0});
-    for (; it != anchors_.end() && it->first < last; ++it) {
-      const auto& t = tets_[it->second];
-      GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
-      for (uint32_t v : t) {
-        const GridPoint& p = points_[v];
-        const int64_t c[3] = {p.x, p.y, p.z};
-        for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], c[a]), b.hi[a] = std::max(b.hi[a], c[a]);
-      }
-      if (b.meets(box)) found.push_back(it->second);
-    }
-  }
-  // In input order: the solid's structures read the corners in order.
-  std::sort(found.begin(), found.end());
-  std::vector<std::array<uint32_t, 4>> out;
+  for (const auto& [first, last] : ranges_covering(anchors, qbits_))
+    for (size_t k = static_cast<size_t>(std::lower_bound(anchors_.begin(), anchors_.end(), first) -
+                                        anchors_.begin());
+         k < anchors_.size() && anchors_[k] < last; ++k)
+      if (box_of(points_, triangles_[k]).meets(box)) found.push_back(static_cast<uint32_t>(k));
+  std::sort(found.begin(), found.end());  // one order whatever the ranges
+  std::vector<std::array<uint32_t, 3>> out;
   out.reserve(found.size());
-  for (uint32_t k : found) out.push_back(tets_[k]);
+  for (uint32_t k : found) out.push_back(triangles_[k]);
   return out;
 }
 
-std::unique_ptr<BlockReference> block_reference(std::span<const GridPoint> points,
-                                                const TetrahedronIndex& index, const Solid* voxels,
-                                                const GridBox& region) {
-  auto r = std::make_unique<BlockReference>();
-  r->tets = index.meeting(region);
-  // A face of exactly one of these tetrahedra is a face of the reference's
-  // boundary where it meets the region (a tetrahedron beyond it would meet
-  // the region too, and be here); elsewhere it may be where the selection
-  // ends, which the solid must see as a boundary but the shape must not.
-  std::vector<std::array<uint32_t, 3>> faces = boundary_triangles(r->tets);
-  if (voxels) {
-    r->solid = voxels;
-  } else {
-    r->tet_solid = std::make_unique<ReferenceSolid>(points, r->tets, faces);
-    r->solid = r->tet_solid.get();
-  }
-  std::erase_if(faces, [&](const std::array<uint32_t, 3>& f) {
-    GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
-    for (uint32_t v : f) {
-      const int64_t c[3] = {points[v].x, points[v].y, points[v].z};
-      for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], c[a]), b.hi[a] = std::max(b.hi[a], c[a]);
-    }
-    return !b.meets(region);
-  });
-  r->shape.emplace(ReferenceShape::from_boundary(points, std::move(faces)));
+BlockReference block_reference(std::span<const GridPoint> points, const Solid* solid,
+                               const TriangleIndex* faces, const GridBox& region) {
+  BlockReference r;
+  r.solid = solid;
+  if (faces) r.shape.emplace(ReferenceShape::from_boundary(points, faces->meeting(region)));
   return r;
 }
 

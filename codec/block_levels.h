@@ -37,7 +37,7 @@
 #include "core/coarsening.h"
 #include "core/level_build.h"
 #include "core/reference_shape.h"
-#include "core/reference_solid.h"
+#include "core/solid.h"
 
 namespace dtm {
 
@@ -58,35 +58,34 @@ class MortonIndex {
   std::vector<uint32_t> ids_;      // the grid id of each
 };
 
-// The reference tetrahedra by place: those whose bounding box meets a box.
-class TetrahedronIndex {
+// The reference's boundary triangles by place: those whose bounding box
+// meets a box.
+class TriangleIndex {
  public:
-  TetrahedronIndex(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets,
-                   int qbits);
-  std::vector<std::array<uint32_t, 4>> meeting(const GridBox& box) const;
+  TriangleIndex(std::span<const GridPoint> points, std::vector<std::array<uint32_t, 3>> triangles, int qbits);
+  std::vector<std::array<uint32_t, 3>> meeting(const GridBox& box) const;
+  size_t size() const { return triangles_.size(); }
 
  private:
   std::span<const GridPoint> points_;
-  std::span<const std::array<uint32_t, 4>> tets_;
+  std::vector<std::array<uint32_t, 3>> triangles_;  // ascending by the Morton code of their box's low corner
+  std::vector<MortonCode> anchors_;                 // those codes
+  std::array<int64_t, 3> extent_{};                 // the largest box, per axis
   int qbits_;
-  std::vector<std::pair<MortonCode, uint32_t>> anchors_;  // Morton code of each box's low corner, ascending
-  std::array<int64_t, 3> extent_{};                       // the largest box, per axis
 };
 
-// What a block is carved to and measured against: the reference
-// tetrahedra meeting its region (the solid they make there is the whole
-// reference's), or the scan's voxels, and the reference's boundary
-// triangles meeting the region.
+// What a block is carved to and measured against: the reference solid
+// (the whole reference's, shared by every block), and the reference's
+// boundary triangles meeting the block's region, whose shape measure()
+// remembers nothing of another block's.
 struct BlockReference {
-  std::vector<std::array<uint32_t, 4>> tets;
-  std::unique_ptr<ReferenceSolid> tet_solid;
   const Solid* solid = nullptr;
   std::optional<ReferenceShape> shape;
 };
-// `voxels`: the solid, when the reference tetrahedra only give the shape.
-std::unique_ptr<BlockReference> block_reference(std::span<const GridPoint> points,
-                                                const TetrahedronIndex& tets, const Solid* voxels,
-                                                const GridBox& region);
+// `faces`: null when the reference has no shape yet (level 0 carved by
+// alpha or voxels is its own).
+BlockReference block_reference(std::span<const GridPoint> points, const Solid* solid,
+                               const TriangleIndex* faces, const GridBox& region);
 
 // A block of level l: its box, its region, and V_l's points in the region.
 struct BlockRegion {
@@ -138,8 +137,7 @@ struct BlockAnalysis {
   std::vector<std::array<uint32_t, 4>> carved;  // with collect_cells: owned kept cells (grid ids)
 };
 
-// `reference`: null for level 0 carved by alpha; its shape is measured
-// against (and remembers what it measured).
+// `reference`: null for level 0 carved by alpha.
 StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* reference,
                                       const BlockAnalysisOptions& options);
 

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "codec/block_levels.h"
@@ -13,6 +14,8 @@
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
 #include "core/nearest_points.h"
+#include "core/reference_solid.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 namespace {
@@ -264,7 +267,8 @@ class BrickedEncoder {
         q_(in.grid.qbits),
         index_(in.points, q_),
         level_of_(in.points.size(), 0) {
-    if (!in.reference_tets.empty()) tets_.emplace(in.points, in.reference_tets, q_);
+    solid_ = in.voxels;
+    if (!in.reference_tets.empty()) set_reference(in.reference_tets);
   }
 
   StatusOr<BrickedEncoding> run(const std::function<void(const LevelStats&)>& on_level);
@@ -274,7 +278,15 @@ class BrickedEncoder {
     report_phase(o_.hierarchy.on_phase, "level " + std::to_string(level) + ": " + what);
   }
   BlockRegion region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const;
-  std::unique_ptr<BlockReference> reference_for(const GridBox& region, bool level0) const;
+  // The reference of a block's region, made once for the blocks of one
+  // place: a box holding the region, its bounds rounded out to quarters of
+  // the block (a block's region grows with the levels' halos, its
+  // reference a few times only; at depth 0, the whole grid, once).
+  // The reference from its tetrahedra (which must outlive the encoder).
+  void set_reference(std::span<const std::array<uint32_t, 4>> tets);
+  // The reference a block is carved to and measured against; none for
+  // level 0 when alpha carves it.
+  std::optional<BlockReference> reference_for(const GridBox& region) const;
   StatusOr<double> level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan);
   Status analyse(int level, const BlockPlan& plan, int64_t halo, const BlockAnalysisOptions& options,
                  std::vector<BlockAnalysis>& out);
@@ -291,9 +303,14 @@ class BrickedEncoder {
   int q_;
   MortonIndex index_;
   std::vector<uint8_t> level_of_;  // per grid point: the coarsest level that holds it
-  std::optional<TetrahedronIndex> tets_;
-  std::vector<std::array<uint32_t, 4>> level0_cells_;  // the reference, when level 0's carving is
-  SurfaceRecord record_;                               // the finer level's
+  // The reference: its solid (the input's tetrahedra, or level 0's carving,
+  // or the scan's voxels), whole on every rank, and its boundary triangles
+  // by place (none before level 0 is built, when level 0 is the reference).
+  std::vector<std::array<uint32_t, 4>> level0_cells_;
+  std::optional<ReferenceSolid> tet_solid_;
+  const Solid* solid_ = nullptr;
+  std::optional<TriangleIndex> faces_;
+  SurfaceRecord record_;  // the finer level's
   std::vector<std::pair<uint32_t, double>> reference_squared_;
   std::vector<uint8_t> coarser_;  // per grid point: in the level being built
   uint64_t reference_boundary_vertices_ = 0;
@@ -308,17 +325,16 @@ BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level
   return b;
 }
 
-std::unique_ptr<BlockReference> BrickedEncoder::reference_for(const GridBox& region, bool level0) const {
-  if (tets_) return block_reference(in_.points, *tets_, in_.voxels, region);
-  // Without tetrahedra, level 0 is carved by alpha or the voxels, and is
-  // then the reference shape (and, without voxels, the solid).
-  if (level0) {
-    if (!in_.voxels) return nullptr;
-    auto r = std::make_unique<BlockReference>();
-    r->solid = in_.voxels;
-    return r;
-  }
-  return nullptr;  // not reached: level0_cells_ make tets_ after level 0
+void BrickedEncoder::set_reference(std::span<const std::array<uint32_t, 4>> tets) {
+  std::vector<std::array<uint32_t, 3>> boundary = boundary_triangles(tets);
+  tet_solid_.emplace(in_.points, tets, boundary);
+  if (!in_.voxels) solid_ = &*tet_solid_;
+  faces_.emplace(in_.points, std::move(boundary), q_);
+}
+
+std::optional<BlockReference> BrickedEncoder::reference_for(const GridBox& region) const {
+  if (!solid_) return std::nullopt;
+  return block_reference(in_.points, solid_, faces_ ? &*faces_ : nullptr, region);
 }
 
 StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan) {
@@ -364,8 +380,9 @@ Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
       plan, x_,
       [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
         const BlockRegion block = region_of(plan, k, level, halo);
-        const std::unique_ptr<BlockReference> reference = reference_for(block.region, level == 0);
-        DTM_ASSIGN_OR_RETURN(BlockAnalysis a, analyse_block(block, reference.get(), options));
+        std::optional<BlockReference> reference = reference_for(block.region);
+        DTM_ASSIGN_OR_RETURN(BlockAnalysis a,
+                             analyse_block(block, reference ? &*reference : nullptr, options));
         return serialize(a);
       },
       status);
@@ -399,7 +416,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           const BlockRegion fine = region_of(plan, k, level, halo);
           std::vector<uint8_t> keep(fine.ids.size());
           for (size_t i = 0; i < keep.size(); ++i) keep[i] = coarser_[fine.ids[i]];
-          const std::unique_ptr<BlockReference> reference = reference_for(fine.region, false);
+          std::optional<BlockReference> reference = reference_for(fine.region);
           LevelBounds b = bounds;
           b.quality_floor = floors.floor(plan.blocks[k], plan.depth);
           DTM_ASSIGN_OR_RETURN(BlockBuild built,
@@ -535,7 +552,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     options.alpha = out.alpha;
     options.kept_radius = kept_radius;
     options.brick_depth = out.brick_depth;
-    options.collect_cells = level == 0 && !tets_;
+    options.collect_cells = level == 0 && !faces_;
     if (may_choose) options.choice = CoarseningOptions{1 - share, h.dmax, 0.85};
     phase(level, "Delaunay tetrahedralization, carving and choice, block by block");
     std::vector<BlockAnalysis> analysis;
@@ -568,7 +585,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       reference_squared_.insert(reference_squared_.end(), a.reference_squared.begin(),
                                 a.reference_squared.end());
       boundary.insert(boundary.end(), a.boundary.begin(), a.boundary.end());
-      if (level == 0 && !tets_) level0_cells_.insert(level0_cells_.end(), a.carved.begin(), a.carved.end());
+      if (level == 0 && !faces_) level0_cells_.insert(level0_cells_.end(), a.carved.begin(), a.carved.end());
     }
     std::sort(record_.triangles.begin(), record_.triangles.end());
     std::sort(record_.vertices.begin(), record_.vertices.end());
@@ -598,11 +615,12 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
         floors.count.push_back(a.figures.cells);
       }
       floors.whole = s.avg_min_solid_angle;
-      if (!tets_) {
-        // Level 0's carving is the reference from now on.
+      if (!faces_) {
+        // Level 0's carving is the reference from now on (the solid, unless
+        // the voxels are), and its surface the reference's: every distance
+        // to it is 0.
         std::sort(level0_cells_.begin(), level0_cells_.end());
-        tets_.emplace(in_.points, level0_cells_, q_);
-        // Its surface is the reference's: every distance to it is 0.
+        set_reference(level0_cells_);
         reference_squared_.clear();
       }
     }

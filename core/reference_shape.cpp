@@ -85,7 +85,7 @@ ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
       boundary_points_(gather(points, boundary_ids_)),
       reference_surface_(points, boundary_),
       to_level_(boundary_points_, boundary_ids_),
-      to_reference_(points.size(), std::numeric_limits<double>::quiet_NaN()) {
+      to_reference_(boundary_ids_.size()) {
   // On the reference's surface: its own vertices and triangles.
   for (uint32_t v : boundary_ids_) to_reference_[v] = 0;
   boundary_keys_ = boundary_;
@@ -103,13 +103,14 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   // Grid points not measured before, on every core.
   std::vector<uint32_t> unmeasured;
   for (uint32_t v : m.surface_vertices) {
-    if (std::isnan(to_reference_[ids.empty() ? v : ids[v]])) unmeasured.push_back(v);
+    if (!to_reference_.contains(ids.empty() ? v : ids[v])) unmeasured.push_back(v);
   }
   const std::vector<double> fresh = reference_surface_.squared_distances(gather(points, unmeasured));
   for (size_t i = 0; i < unmeasured.size(); ++i)
     to_reference_[ids.empty() ? unmeasured[i] : ids[unmeasured[i]]] = fresh[i];
   m.vertex_squared.reserve(m.surface_vertices.size());
-  for (uint32_t v : m.surface_vertices) m.vertex_squared.push_back(to_reference_[ids.empty() ? v : ids[v]]);
+  for (uint32_t v : m.surface_vertices)
+    m.vertex_squared.push_back(to_reference_.at(ids.empty() ? v : ids[v]));
   // A point inside each triangle too: a flat triangle between two surface
   // vertices can cut across a concavity its corners do not see.
   // (A triangle of the reference's surface is at distance 0.) Each one is

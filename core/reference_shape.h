@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -85,9 +86,9 @@ class ReferenceShape {
   FixedSurface reference_surface_;
   SurfaceDistanceTracker to_level_;  // from boundary_points_
   // Squared distance of a grid point to the reference surface, once
-  // measured (NaN before; 0 from the start for the reference's own boundary
-  // vertices): a level's surface vertices are mostly the previous level's.
-  std::vector<double> to_reference_;
+  // measured (0 from the start for the reference's own boundary vertices): a
+  // level's surface vertices are mostly the previous level's.
+  std::unordered_map<uint32_t, double> to_reference_;
   // The last measured surface's triangles off the reference (ids sorted)
   // and their centroids' squared distances to it, sorted by the ids.
   std::vector<std::pair<std::array<uint32_t, 3>, double>> centroid_squared_;
