@@ -13,7 +13,7 @@
 #include "codec/format.h"
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
-#include "core/nearest_points.h"
+#include "core/nearest_spacing.h"
 #include "core/reference_solid.h"
 #include "mesh/topology.h"
 
@@ -342,7 +342,7 @@ StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, cons
   // Each vertex's nearest neighbour, found among the whole level (every
   // rank holds its points), summed block by block.
   const std::vector<GridPoint> points = gather(in_.points, ids);
-  const NearestPoints nearest(points);
+  const NearestSpacing nearest(points);
   Status status = Status::Ok();
   const auto sums = run_blocks(
       plan, x_,
@@ -350,16 +350,7 @@ StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, cons
         const size_t first = plan.first[k], count = plan.first[k + 1] - first;
         std::vector<double> d(count, 0);
         parallel_for(
-            count,
-            [&](size_t i) {
-              const GridPoint& p = points[first + i];
-              nearest.visit_nearest({double(p.x), double(p.y), double(p.z)}, [&](uint32_t j, double d2) {
-                if (j == first + i) return true;
-                d[i] = std::sqrt(d2);
-                return false;
-              });
-            },
-            1024);
+            count, [&](size_t i) { d[i] = nearest.nearest(first + i); }, 4096);
         double sum = 0;
         for (double v : d) sum += v;
         ByteWriter w;
@@ -402,6 +393,13 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
   std::vector<uint64_t> left(plan.blocks.size(), 0), block_broken(plan.blocks.size(), 0);
   std::vector<uint8_t> met(plan.blocks.size(), 1), to_build(plan.blocks.size(), 1);
   std::vector<int> block_rounds(plan.blocks.size(), 0);
+  // What a block's checks see: its box grown by 2 kept radii and D_max.
+  // A point put back farther away changes none of the cells it owns that
+  // the level keeps (their circumspheres lie within 2 kept radii of the box),
+  // so none of its surface triangles nor the quality of its cells, and it
+  // makes no surface within D_max of a reference vertex of the box.
+  const int64_t reach = static_cast<int64_t>(std::ceil(2 * kept_radius + o_.hierarchy.dmax)) + 1;
+  const auto seen = [&](size_t k) { return brick_box(plan.blocks[k], q_, plan.depth).grown(reach, q_); };
   for (int pass = 0;; ++pass) {
     phase(level + 1, pass == 0 ? "building the blocks" : "building again where a neighbour put points back");
     Status status = Status::Ok();
@@ -421,12 +419,17 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           b.quality_floor = floors.floor(plan.blocks[k], plan.depth);
           DTM_ASSIGN_OR_RETURN(BlockBuild built,
                                build_block(fine, keep, record_, reference_squared_, *reference, b));
-          // What it put back (the rest was chosen already).
+          // What it put back (the rest was chosen already), and how much of
+          // the coarser level its checks saw.
           std::vector<uint32_t> back;
-          for (uint32_t id : built.vertices)
+          const GridBox checked = seen(k);
+          uint64_t in_sight = 0;
+          for (uint32_t id : built.vertices) {
             if (!coarser_[id]) back.push_back(id);
+            in_sight += checked.contains(in_.points[id]);
+          }
           w.u8(1);
-          w.u64(built.vertices.size());
+          w.u64(in_sight);
           w.u64(built.broken);
           w.u8(built.quality_met ? 1 : 0);
           w.u32(static_cast<uint32_t>(built.rounds));
@@ -459,8 +462,8 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
         coarser_[id] = 1;
       }
     }
-    // A block whose region now holds more of the coarser level than it
-    // left (a neighbour put points back there) is built again.
+    // A block that now sees more of the coarser level than it left (a
+    // neighbour put points back there) is built again.
     bool again = false;
     std::vector<uint8_t> next(plan.blocks.size(), 0);
     {
@@ -468,9 +471,8 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
       const auto changed = run_blocks(
           plan, x_,
           [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
-            const BlockRegion fine = region_of(plan, k, level, halo);
             uint64_t now = 0;
-            for (uint32_t id : fine.ids) now += coarser_[id];
+            for (uint32_t id : index_.inside(seen(k), level_of_, level)) now += coarser_[id];
             return std::vector<uint8_t>{static_cast<uint8_t>(now > left[k] ? 1 : 0)};
           },
           s2);

@@ -217,12 +217,19 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
                        grid_point_fields(input, options, q, report.merged_points_with_other_values));
 
   // The input's tetrahedra on the grid: the reference solid.
-  std::vector<std::array<uint32_t, 4>> reference_tets;
+  std::vector<std::array<uint32_t, 4>> converted;
+  std::span<const std::array<uint32_t, 4>> reference_tets;
   if (!input.tetrahedra.empty()) {
+    const size_t points = input.tetrahedra_on_grid ? q.points.size() : input.points.size();
     for (const auto& t : input.tetrahedra)
       for (uint32_t v : t)
-        if (v >= input.points.size()) return invalid("a tetrahedron names a point that does not exist");
-    reference_tets = grid_tetrahedra(input.tetrahedra, q);
+        if (v >= points) return invalid("a tetrahedron names a point that does not exist");
+    if (input.tetrahedra_on_grid) {
+      reference_tets = input.tetrahedra;
+    } else {
+      converted = grid_tetrahedra(input.tetrahedra, q);
+      reference_tets = converted;
+    }
     report.reference_tetrahedra = reference_tets.size();
   }
   // The paper preset does not carve to the reference: it is only measured.

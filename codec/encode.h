@@ -112,6 +112,10 @@ struct EncodeInput {
   // The input's own tetrahedra (indices into `points`), when it has them:
   // the reference shape each level's boundary is measured against.
   std::span<const std::array<uint32_t, 4>> tetrahedra;
+  // The tetrahedra name the plan's grid points already (grid_tetrahedra()
+  // of the input's, core/reference_shape.h): a caller short of memory frees
+  // its own before encoding (meshenc does, for meshes of 10M vertices).
+  bool tetrahedra_on_grid = false;
   // A scan's voxels (the input's points are some of their centres): the
   // solid every level is carved to, when there are no tetrahedra.
   const VoxelMask* voxels = nullptr;

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# tests/mpi_encode.sh MESHENC MESHDEC DATA_DIR -- `mpirun -n P meshenc
+# --bricks` for P = 1, 2, 4 (oversubscribed: the machine may have fewer
+# cores; as root, Open MPI wants --allow-run-as-root) writes byte for byte
+# the stream one process writes, whose levels decode to the encoder's
+# (meshdec --verify against the cell hashes); only rank 0 writes; an input
+# that does not exist fails every rank with the file's name and leaves no
+# file; without --bricks, mpirun meshenc says what to add.
+set -euo pipefail
+meshenc=$1 meshdec=$2 data=$3
+command -v mpirun >/dev/null || { echo "mpi_encode: mpirun missing (apt-get install openmpi-bin)"; exit 1; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+as_root=()
+[ "$(id -u)" -eq 0 ] && as_root=(--allow-run-as-root)
+# Blocks of about 1000 points: several per level, seams everywhere.
+options=(--box 256 --dmax 2 --no-fields --bricks --brick-points 64 --block-points 1000 --hash-cells -q)
+"$meshenc" "$data/bunny_10k.node" "${options[@]}" -o "$work/one.dtm"
+"$meshdec" "$work/one.dtm" -o "$work/one.vtu" --verify
+failed=0
+for p in 1 2 4; do
+  mkdir -p "$work/mpi$p"
+  mpirun --oversubscribe "${as_root[@]}" -n "$p" "$meshenc" "$data/bunny_10k.node" "${options[@]}" \
+    -o "$work/mpi$p/b.dtm"
+  same=no
+  cmp -s "$work/one.dtm" "$work/mpi$p/b.dtm" && same=yes
+  files=$(ls "$work/mpi$p" | wc -l)
+  echo "mpirun -n $p meshenc: $(stat -c %s "$work/mpi$p/b.dtm") bytes, the same bytes as one process: $same; $files file(s) written"
+  [ "$same" = yes ] && [ "$files" -eq 1 ] || failed=1
+done
+# A missing input: every rank fails, naming it; nothing is written.
+mkdir -p "$work/missing"
+if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$work/nothing.node" "${options[@]}" \
+  -o "$work/missing/b.dtm" 2>"$work/err"; then
+  echo "a missing input encoded"; failed=1
+fi
+grep -q "nothing.node" "$work/err" || { cat "$work/err"; failed=1; }
+[ -z "$(ls "$work/missing")" ] || { echo "files left behind: $(ls "$work/missing")"; failed=1; }
+# Without --bricks: a clear error.
+if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$data/bunny_10k.node" --no-fields -q \
+  -o "$work/missing/p.dtm" 2>"$work/err"; then
+  echo "mpirun meshenc without --bricks encoded"; failed=1
+fi
+grep -q -- "--bricks" "$work/err" || { cat "$work/err"; failed=1; }
+[ $failed -eq 0 ] && echo "mpi_encode: ok"
+exit $failed
