@@ -4,8 +4,10 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <new>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include "codec/block_levels.h"
@@ -130,7 +132,16 @@ std::vector<std::vector<uint8_t>> run_blocks(
   Status local = Status::Ok();
   for (size_t k = 0; k < plan.blocks.size() && local.ok(); ++k) {
     if (plan.rank[k] != exchange.rank()) continue;
-    StatusOr<std::vector<uint8_t>> done = work(k);
+    // An exception on one rank only would leave the others waiting in the
+    // exchange: it becomes this rank's failure, which every rank reports.
+    StatusOr<std::vector<uint8_t>> done = Status{StatusCode::kInternal, "no result"};
+    try {
+      done = work(k);
+    } catch (const std::bad_alloc&) {
+      done = Status{StatusCode::kLimitExceeded, "out of memory building a block"};
+    } catch (const std::exception& e) {
+      done = Status{StatusCode::kInternal, e.what()};
+    }
     if (!done.ok()) {
       local = done.status();
       break;
@@ -696,14 +707,21 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
   header.grid = in_.grid;
   header.alpha_policy = o_.hierarchy.alpha.kind;
   header.version_major = kVersionMajor;
-  header.flags =
-      static_cast<uint16_t>((o_.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections | kFlagBricks);
+  header.flags = static_cast<uint16_t>((o_.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections |
+                                       kFlagBricks | (in_.values ? kFlagValues : 0));
   header.level_count = static_cast<uint16_t>(levels.size());
   header.vertex_count = static_cast<uint32_t>(in_.points.size());
   BrickedEncoding out;
   out.reference_boundary_vertices = reference_boundary_vertices_;
   out.bytes = write_header(header);
+  if (in_.values) {
+    const std::vector<uint8_t> table = write_field_table(in_.values->descriptions());
+    out.field_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
   const size_t L = levels.size();
+  out.value_bytes.assign(L, 0);
+  out.level_field_bytes.assign(L, {});
   out.layer_bytes.assign(L, 0);
   out.carving_bytes.assign(L, 0);
   out.chunk_count.assign(L, 0);
@@ -763,6 +781,54 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
           status);
       DTM_RETURN_IF_ERROR(status);
     }
+    // Their values, each chunk's from the coarser levels' in its brick.
+    std::vector<std::vector<uint8_t>> values(bricks.size());
+    if (in_.values) {
+      std::vector<uint32_t> coarser_ids;  // V_{l+1} in Morton order, as `known`
+      std::vector<GridPoint> coarser_points;
+      for (uint32_t id : ids)
+        if (level_of_[id] > level) coarser_ids.push_back(id), coarser_points.push_back(in_.points[id]);
+      std::vector<uint32_t> fresh_ids;
+      for (uint32_t id : ids)
+        if (level_of_[id] == level) fresh_ids.push_back(id);
+      BlockPlan plan;
+      plan.depth = depth;
+      plan.blocks = bricks;
+      plan.first = first;
+      const double share = static_cast<double>(fresh.size()) / x_.size();
+      for (size_t k = 0; k < bricks.size(); ++k)
+        plan.rank.push_back(
+            std::min(x_.size() - 1, static_cast<int>(0.5 * (first[k] + first[k + 1]) / share)));
+      Status status = Status::Ok();
+      const auto coded = run_blocks(
+          plan, x_,
+          [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+            const int shift = 3 * (q_ - depth);
+            const auto lo = std::lower_bound(known.begin(), known.end(), MortonCode{bricks[k]} << shift);
+            const auto hi = std::lower_bound(known.begin(), known.end(), MortonCode{bricks[k] + 1} << shift);
+            const size_t a = static_cast<size_t>(lo - known.begin()),
+                         b = static_cast<size_t>(hi - known.begin());
+            std::vector<uint64_t> field_bytes;
+            const std::vector<uint8_t> section = in_.values->encode_chunk(
+                std::span(coarser_ids).subspan(a, b - a), std::span(coarser_points).subspan(a, b - a),
+                std::span(fresh_ids).subspan(first[k], first[k + 1] - first[k]),
+                std::span(fresh).subspan(first[k], first[k + 1] - first[k]), field_bytes);
+            ByteWriter w;
+            put(w, std::span<const uint8_t>(section));
+            w.u64(field_bytes.size());
+            for (uint64_t f : field_bytes) w.u64(f);
+            return w.take();
+          },
+          status);
+      DTM_RETURN_IF_ERROR(status);
+      out.level_field_bytes[static_cast<size_t>(level)].assign(in_.values->descriptions().size(), 0);
+      for (size_t k = 0; k < bricks.size(); ++k) {
+        Reader r(coded[k]);
+        values[k] = r.bytes();
+        const uint64_t fields = r.u64();
+        for (uint64_t f = 0; f < fields; ++f) out.level_field_bytes[static_cast<size_t>(level)][f] += r.u64();
+      }
+    }
     // The chunks: every brick with points or corrections, ascending.
     std::vector<BrickChunk> chunks;
     std::vector<uint8_t> chunk_bytes;
@@ -778,13 +844,18 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
         chunk.new_points = static_cast<uint32_t>(first[p + 1] - first[p]);
         chunk.payload_bytes = static_cast<uint32_t>(payloads[p].size());
         chunk_bytes.insert(chunk_bytes.end(), payloads[p].begin(), payloads[p].end());
-        ++p;
       }
       if (carving != lo.carving.end() && carving->first == brick) {
         chunk.carving_bytes = static_cast<uint32_t>(carving->second.size());
         chunk_bytes.insert(chunk_bytes.end(), carving->second.begin(), carving->second.end());
         out.carving_bytes[static_cast<size_t>(level)] += carving->second.size();
         ++carving;
+      }
+      if (p < bricks.size() && bricks[p] == brick) {
+        chunk.value_bytes = static_cast<uint32_t>(values[p].size());
+        chunk_bytes.insert(chunk_bytes.end(), values[p].begin(), values[p].end());
+        out.value_bytes[static_cast<size_t>(level)] += values[p].size();
+        ++p;
       }
       if (chunk.size() == 0) continue;
       chunk.checksum = chunk_checksum(std::span(chunk_bytes).subspan(start));

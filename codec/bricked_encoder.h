@@ -19,6 +19,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/value_fields.h"
 #include "common/exchange.h"
 #include "common/grid.h"
 #include "common/status.h"
@@ -51,14 +52,19 @@ struct BrickedEncodeInput {
   // A scan's voxels as the solid (without tetrahedra), or nullptr; with
   // neither, level 0's alpha carving is the reference.
   const Solid* voxels = nullptr;
+  // The per-vertex values (indexed by point), or nullptr: each chunk then
+  // carries its points' values (spec/FORMAT.md §3.5).
+  const FieldSectionEncoder* values = nullptr;
 };
 
 struct BrickedEncoding {
-  std::vector<uint8_t> bytes;                                                  // the stream, on every rank
-  std::vector<LevelStats> levels;                                              // finest first
-  std::vector<uint64_t> layer_bytes, carving_bytes, chunk_count, index_bytes;  // per level
-  std::vector<int> brick_depth, block_depth;                                   // per level
-  std::vector<uint32_t> decode_order;                                          // as EncodedStream's
+  std::vector<uint8_t> bytes;      // the stream, on every rank
+  std::vector<LevelStats> levels;  // finest first
+  std::vector<uint64_t> layer_bytes, carving_bytes, value_bytes, chunk_count, index_bytes;  // per level
+  std::vector<std::vector<uint64_t>> level_field_bytes;  // per level, per field
+  uint64_t field_table_bytes = 0;
+  std::vector<int> brick_depth, block_depth;  // per level
+  std::vector<uint32_t> decode_order;         // as EncodedStream's
   uint64_t reference_boundary_vertices = 0;
 };
 

@@ -71,7 +71,7 @@ std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks) {
 }
 
 Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, uint64_t new_vertices,
-                         uint64_t chunk_bytes, std::vector<BrickChunk>& out) {
+                         uint64_t chunk_bytes, uint16_t stream_flags, std::vector<BrickChunk>& out) {
   out.clear();
   if (depth < 0 || depth > kMaxBrickDepth || depth > qbits) return corrupt("brick depth out of range");
   size_t pos = 0;
@@ -97,7 +97,13 @@ Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, u
     if (c.new_points > 0 && c.payload_bytes < min_payload_bytes(c.new_points))
       return corrupt("a chunk's payload is too short for its points");
     if (c.size() == 0) return corrupt("an empty chunk");
-    if (c.value_bytes != 0) return corrupt("values in a chunk (8.0 bricked streams carry none)");
+    if (c.carving_bytes != 0 && !(stream_flags & kFlagCarvingCorrections))
+      return corrupt("carving corrections present without their flag");
+    if (c.value_bytes != 0 && !(stream_flags & kFlagValues))
+      return corrupt("values present without their flag");
+    if (c.value_bytes != 0 && c.new_points == 0) return corrupt("values in a chunk without points");
+    if (c.value_bytes == 0 && c.new_points > 0 && (stream_flags & kFlagValues))
+      return corrupt("a chunk's points without their values");
     c.offset = offset;
     c.points_before = points;
     offset += c.size();

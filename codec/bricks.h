@@ -35,7 +35,7 @@ struct BrickChunk {
   uint32_t new_points = 0;
   uint32_t payload_bytes = 0;
   uint32_t carving_bytes = 0;
-  uint32_t value_bytes = 0;  // 8.0: always 0 (bricked streams carry no values yet)
+  uint32_t value_bytes = 0;  // with the stream's flag values: the chunk's value section
   uint32_t checksum = 0;     // low 32 bits of XXH3-64 of the chunk's bytes
   // Not stored, derived while parsing:
   uint64_t offset = 0;         // of the chunk from the start of the layer's chunk area
@@ -57,10 +57,12 @@ std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks);
 // Parses and checks an index against its layer: bricks ascending and below
 // 8^depth, the new points adding up to new_vertices and the chunk sizes to
 // chunk_bytes, no empty chunk, a payload of at least the range coder's flush
-// for a chunk of points, and none for a chunk without. Allocates in
-// proportion to the index's bytes only.
+// for a chunk of points, and none for a chunk without; carving bytes only
+// with the stream's flag carving_corrections; with flag values, value bytes
+// in every chunk with points and in no other, without it in none. Allocates
+// in proportion to the index's bytes only.
 Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, uint64_t new_vertices,
-                         uint64_t chunk_bytes, std::vector<BrickChunk>& out);
+                         uint64_t chunk_bytes, uint16_t stream_flags, std::vector<BrickChunk>& out);
 // The chunk of `brick`, or nullptr.
 const BrickChunk* find_chunk(std::span<const BrickChunk> chunks, uint64_t brick);
 // Low 32 bits of XXH3-64 of a chunk's bytes.
@@ -125,6 +127,17 @@ struct ChunkInput {
 // reads them.
 Status decode_bricked_points(std::span<const ChunkInput> chunks, std::span<const MortonCode> known, int qbits,
                              int depth, SetCoderModels& models, std::vector<GridPoint>& out);
+
+// The values of a layer's chunks (their points `added`, in the chunks'
+// order), each chunk's decoded from the points of the coarser levels in its
+// brick (found among `known_points`, whose values `known_values` holds, in
+// any order) and its own (codec/value_fields.h), on every core; one
+// FieldValues per field in `out`.
+Status decode_bricked_values(std::span<const ChunkInput> chunks, int qbits, int depth,
+                             std::span<const FieldDescription> fields,
+                             std::span<const GridPoint> known_points,
+                             std::span<const FieldValues> known_values, std::span<const GridPoint> added,
+                             std::vector<FieldValues>& out);
 
 // Encoder (dtm_encoder, codec/bricked_encoder.cpp).
 // The deepest brick depth (at most kMaxBrickDepth and qbits) at which the

@@ -119,6 +119,8 @@ class ProgressiveDecoder {
   // The layer's new points in Morton order, merged into known_.
   Status decode_layer_points(const Layer& layer, std::vector<GridPoint>& added);
   Status decode_bricked_layer(const Layer& layer, std::vector<GridPoint>& added);
+  // A bricked layer's values, chunk by chunk (spec/FORMAT.md §3.5), into layer_values_.
+  Status decode_bricked_values(const Layer& layer, std::span<const GridPoint> added);
   std::vector<uint8_t> bricked_carving(const TetMesh& dt, std::vector<uint32_t>& order) const;
 
   DecoderOptions options_;

@@ -1,9 +1,11 @@
+#include <algorithm>
 #include <string>
 
 #include "codec/carving_coder.h"
 #include "codec/decode.h"
 #include "codec/layer_candidates.h"
 #include "codec/layer_coder.h"
+#include "common/parallel_for.h"
 #include "mesh/geometry.h"
 #include "mesh/topology.h"
 
@@ -80,7 +82,9 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
                                               std::to_string(components) +
                                               " values each exceed the limit of " +
                                               std::to_string(options_.max_values) + " values"};
-    DTM_RETURN_IF_ERROR(value_decoder_->decode_layer(layer.values, added, layer_values_).with_context(where));
+    DTM_RETURN_IF_ERROR((lh.bricked ? decode_bricked_values(layer, added)
+                                    : value_decoder_->decode_layer(layer.values, added, layer_values_))
+                            .with_context(where));
     for (size_t f = 0; f < fields_.size(); ++f)
       fields_[f].bits.insert(fields_[f].bits.end(), layer_values_[f].bits.begin(),
                              layer_values_[f].bits.end());
@@ -158,12 +162,8 @@ Status ProgressiveDecoder::decode_bricked_layer(const Layer& layer, std::vector<
   const LayerHeader& lh = layer.header;
   const int qbits = header_.grid.qbits;
   std::vector<BrickChunk> chunks;
-  DTM_RETURN_IF_ERROR(
-      parse_brick_index(layer.index, lh.brick_depth, qbits, lh.new_vertices, lh.chunk_bytes, chunks));
-  if (!(header_.flags & kFlagCarvingCorrections))
-    for (const BrickChunk& c : chunks)
-      if (c.carving_bytes != 0)
-        return {StatusCode::kCorrupt, "carving corrections present without their flag"};
+  DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, lh.brick_depth, qbits, lh.new_vertices, lh.chunk_bytes,
+                                        header_.flags, chunks));
   std::vector<ChunkInput> inputs;
   inputs.reserve(chunks.size());
   for (const BrickChunk& c : chunks) inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size())});
@@ -171,6 +171,18 @@ Status ProgressiveDecoder::decode_bricked_layer(const Layer& layer, std::vector<
   merge_known(known_, added, qbits);
   chunks_ = std::move(chunks);
   return Status::Ok();
+}
+
+Status ProgressiveDecoder::decode_bricked_values(const Layer& layer, std::span<const GridPoint> added) {
+  const LayerHeader& lh = layer.header;
+  std::vector<BrickChunk> chunks;
+  DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, lh.brick_depth, header_.grid.qbits, lh.new_vertices,
+                                        lh.chunk_bytes, header_.flags, chunks));
+  std::vector<ChunkInput> inputs;
+  inputs.reserve(chunks.size());
+  for (const BrickChunk& c : chunks) inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size())});
+  return dtm::decode_bricked_values(inputs, header_.grid.qbits, lh.brick_depth,
+                                    value_decoder_->descriptions(), points_, fields_, added, layer_values_);
 }
 
 std::vector<uint8_t> ProgressiveDecoder::bricked_carving(const TetMesh& dt,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "codec/bricked_encoder.h"
@@ -120,7 +121,8 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
 // options.exchange if given (codec/bricked_encoder.h).
 StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOptions& options,
                                        const EncodePlan& plan, std::span<const std::array<uint32_t, 4>> tets,
-                                       const Solid* voxels, EncodedMesh out, const LevelReady& on_level) {
+                                       const Solid* voxels, std::vector<FieldValues> fields, EncodedMesh out,
+                                       const LevelReady& on_level) {
   if (!options.carve_to_reference)
     return invalid("bricked layers (--bricks) need the codec preset: its levels carve to the input's solid");
   if (options.level_step != 1)
@@ -132,6 +134,12 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   in.grid = q.grid;
   in.reference_tets = tets;
   in.voxels = voxels;
+  std::optional<FieldSectionEncoder> values;
+  if (!fields.empty()) {
+    DTM_ASSIGN_OR_RETURN(FieldSectionEncoder made, FieldSectionEncoder::make(std::move(fields)));
+    values.emplace(std::move(made));
+    in.values = &*values;
+  }
   BrickedEncodeOptions o;
   o.hierarchy = hierarchy_options(options, q.grid, plan.dmax);
   o.brick_points = options.brick_points;
@@ -154,7 +162,16 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   report.carving_bytes = std::move(encoded.carving_bytes);
   report.candidate_bytes.assign(L, 0);
   report.candidate_points.assign(L, 0);
-  report.value_bytes.assign(L, 0);
+  report.value_bytes = std::move(encoded.value_bytes);
+  report.level_field_bytes = std::move(encoded.level_field_bytes);
+  report.field_table_bytes = encoded.field_table_bytes;
+  if (values)
+    for (size_t f = 0; f < values->descriptions().size(); ++f) {
+      uint64_t bytes = 0;
+      for (const auto& level : report.level_field_bytes)
+        if (f < level.size()) bytes += level[f];
+      report.fields.push_back({values->descriptions()[f], bytes});
+    }
   for (size_t l = 0; l < L; ++l) report.streamed_levels.push_back(static_cast<int>(l));
   report.stream_bytes = encoded.bytes.size();
   report.reference_boundary_vertices = encoded.reference_boundary_vertices;
@@ -210,9 +227,6 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   report.duplicates_merged = q.duplicates_merged;
 
   // The fields are checked before the (long) hierarchy is built.
-  if (options.bricks && !input.fields.empty())
-    return invalid(
-        "bricked layers (--bricks) carry no per-vertex values yet: leave the fields out (--no-fields)");
   DTM_ASSIGN_OR_RETURN(std::vector<FieldValues> fields,
                        grid_point_fields(input, options, q, report.merged_points_with_other_values));
 
@@ -245,8 +259,8 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
         std::count(input.voxels->inside.begin(), input.voxels->inside.end(), uint8_t{1}));
   }
   if (options.bricks)
-    return encode_in_bricks(input, options, plan, reference_tets, voxels ? &*voxels : nullptr, std::move(out),
-                            on_level);
+    return encode_in_bricks(input, options, plan, reference_tets, voxels ? &*voxels : nullptr,
+                            std::move(fields), std::move(out), on_level);
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;
                          r.stats = level.stats;

@@ -129,9 +129,6 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   if (h.flags & ~kKnownFlags) return {StatusCode::kUnsupported, "unknown header flags"};
   if ((h.flags & kFlagValues) && h.version_major < 5) return corrupt("values flagged in a stream before 5.0");
   if ((h.flags & kFlagBricks) && h.version_major < 8) return corrupt("bricks flagged in a stream before 8.0");
-  if ((h.flags & kFlagBricks) && (h.flags & kFlagValues))
-    return {StatusCode::kUnsupported,
-            "bricked layers with values (8.0 defines bricked layers without values)"};
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
   for (double o : h.grid.origin)
@@ -316,7 +313,7 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
         std::vector<BrickChunk> chunks;
         s.status =
             parse_brick_index(layer.index, lh.brick_depth, s.header.grid.qbits, lh.new_vertices,
-                              lh.chunk_bytes, chunks)
+                              lh.chunk_bytes, s.header.flags, chunks)
                 .with_context("level " + std::to_string(level) + " at byte " + std::to_string(layer.offset));
         if (!s.status.ok()) return s;
         s.layers.back().chunks = chunks.size();
@@ -326,10 +323,22 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
                                            std::to_string(layer.offset));
               !s.status.ok())
             return s;
-        for (const BrickChunk& c : chunks)
-          lh.payload_bytes += c.payload_bytes, lh.carving_bytes += c.carving_bytes;
-      }
-      if (!s.fields.empty()) {
+        for (const BrickChunk& c : chunks) {
+          lh.payload_bytes += c.payload_bytes, lh.carving_bytes += c.carving_bytes,
+              lh.value_bytes += c.value_bytes;
+          if (s.fields.empty() || c.value_bytes == 0) continue;
+          // Each chunk's value section, its fields' shares added up.
+          std::vector<uint64_t> shares;
+          s.status =
+              value_section_field_bytes(split_chunk(c, layer.chunks.subspan(c.offset, c.size())).values,
+                                        s.fields, shares)
+                  .with_context("level " + std::to_string(level) + ", brick " + std::to_string(c.brick));
+          if (!s.status.ok()) return s;
+          std::vector<uint64_t>& field_bytes = s.layers.back().field_bytes;
+          field_bytes.resize(shares.size(), 0);
+          for (size_t f = 0; f < shares.size(); ++f) field_bytes[f] += shares[f];
+        }
+      } else if (!s.fields.empty()) {
         s.status = value_section_field_bytes(layer.values, s.fields, s.layers.back().field_bytes);
         if (!s.status.ok()) return s;
       }

@@ -85,7 +85,8 @@ bool cell_meets(std::span<const GridPoint> points, const std::array<uint32_t, 4>
 // The region's result from cells over vertices numbered globally: only the
 // cells' vertices, ascending number; cells in canonical order.
 void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
-             std::span<const int32_t> levels, std::vector<std::array<uint32_t, 4>> cells, RegionMesh& out) {
+             std::span<const int32_t> levels, std::span<const FieldValues> values,
+             std::vector<std::array<uint32_t, 4>> cells, RegionMesh& out) {
   std::vector<uint8_t> in_a_cell(points.size(), 0);
   for (const auto& c : cells)
     for (uint32_t v : c) in_a_cell[v] = 1;
@@ -94,11 +95,17 @@ void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
     if (in_a_cell[v]) used.push_back(v);
   std::sort(used.begin(), used.end(), [&](uint32_t a, uint32_t b) { return ids[a] < ids[b]; });
   std::vector<uint32_t> local(points.size(), UINT32_MAX);
+  for (const FieldValues& f : values) out.fields.push_back({f.description, {}});
   for (size_t i = 0; i < used.size(); ++i) {
     local[used[i]] = static_cast<uint32_t>(i);
     out.points.push_back(points[used[i]]);
     out.vertex_ids.push_back(ids[used[i]]);
     out.vertex_levels.push_back(levels[used[i]]);
+    for (size_t f = 0; f < values.size(); ++f) {
+      const size_t n = static_cast<size_t>(values[f].description.components);
+      const auto first = values[f].bits.begin() + static_cast<std::ptrdiff_t>(used[i] * n);
+      out.fields[f].bits.insert(out.fields[f].bits.end(), first, first + static_cast<std::ptrdiff_t>(n));
+    }
   }
   for (auto& c : cells) {
     for (uint32_t& v : c) v = local[v];
@@ -134,7 +141,7 @@ RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box) {
     if (cell_meets(points, c, box)) cells.push_back(c);
   std::vector<uint32_t> ids(points.size());
   std::iota(ids.begin(), ids.end(), 0u);
-  compact(points, ids, decoder.vertex_levels(), std::move(cells), out);
+  compact(points, ids, decoder.vertex_levels(), decoder.fields(), std::move(cells), out);
   out.points_decoded = points.size();
   return out;
 }
@@ -145,6 +152,8 @@ namespace {
 // read by offset.
 struct StreamPlan {
   StreamHeader header;
+  std::vector<FieldDescription> fields;  // with flag values: the field table
+  uint64_t table_bytes = 0;
   std::vector<LayerPlan> layers;  // coarsest first; the last is the level's
 };
 
@@ -181,10 +190,26 @@ Status read_header(Reader& reader, int level, StreamHeader& header) {
   return Status::Ok();
 }
 
+// The field table (flag values): its length, then all of it, which the
+// table's own limits bound (kMaxTableBytes).
+Status read_field_table(Reader& reader, StreamPlan& plan) {
+  constexpr uint64_t kMaxTableBytes = 1 << 20;
+  std::vector<uint8_t> bytes;
+  DTM_RETURN_IF_ERROR(reader.read(kHeaderSize, 4, bytes, "the field table's length"));
+  const uint64_t length = bytes[0] | (bytes[1] << 8) | (bytes[2] << 16) | (uint64_t{bytes[3]} << 24);
+  if (length > kMaxTableBytes) return {StatusCode::kCorrupt, "field table: longer than any table can be"};
+  DTM_RETURN_IF_ERROR(reader.read(kHeaderSize, 4 + length + 8, bytes, "the field table's end"));
+  size_t consumed = 0;
+  DTM_RETURN_IF_ERROR(parse_field_table(bytes, plan.fields, consumed));
+  plan.table_bytes = consumed;
+  return Status::Ok();
+}
+
 Status read_plan(Reader& reader, int level, const DecoderOptions& options, StreamPlan& plan) {
   const int q = plan.header.grid.qbits;
   std::vector<uint8_t> bytes;
-  LayerWalk walk(plan.header, options.max_vertices);
+  if (plan.header.flags & kFlagValues) DTM_RETURN_IF_ERROR(read_field_table(reader, plan));
+  LayerWalk walk(plan.header, options.max_vertices, plan.table_bytes);
   while (walk.next_level() >= level) {
     const int at = walk.next_level();
     const uint64_t offset = walk.offset();
@@ -208,12 +233,8 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
     p.chunk_area = offset + kBrickedLayerHeaderSize + layer.header.index_bytes;
     p.first_vertex = layer.header.level_vertices - layer.header.new_vertices;
     DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, layer.header.brick_depth, q, layer.header.new_vertices,
-                                          layer.header.chunk_bytes, p.chunks)
+                                          layer.header.chunk_bytes, plan.header.flags, p.chunks)
                             .with_context(what + " at byte " + std::to_string(offset)));
-    if (!(plan.header.flags & kFlagCarvingCorrections))
-      for (const BrickChunk& c : p.chunks)
-        if (c.carving_bytes != 0)
-          return {StatusCode::kCorrupt, what + ": carving corrections present without their flag"};
     plan.layers.push_back(std::move(p));
   }
   return Status::Ok();
@@ -273,6 +294,8 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   std::vector<uint32_t> ids;
   std::vector<int32_t> levels;
   std::vector<MortonCode> known;
+  std::vector<FieldValues> values, layer_values;  // of `points`, per field
+  for (const FieldDescription& f : plan.fields) values.push_back({f, {}});
   SetCoderModels models;
   models.enable_coordinate_reuse(q);
   std::vector<uint8_t> finest_chunks;
@@ -304,6 +327,13 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
         finest_read.emplace_back(inputs[k].chunk, finest_chunks.size());
         finest_chunks.insert(finest_chunks.end(), chunk_bytes[k].begin(), chunk_bytes[k].end());
       }
+    if (!plan.fields.empty()) {
+      DTM_RETURN_IF_ERROR(decode_bricked_values(inputs, q, p.header.brick_depth, plan.fields, points, values,
+                                                added, layer_values)
+                              .with_context("level " + std::to_string(at)));
+      for (size_t f = 0; f < values.size(); ++f)
+        values[f].bits.insert(values[f].bits.end(), layer_values[f].bits.begin(), layer_values[f].bits.end());
+    }
     merge_known(known, added, q);
     points.insert(points.end(), added.begin(), added.end());
     if (uint64_t{points.size()} > options.max_vertices)
@@ -323,10 +353,17 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   std::vector<GridPoint> local_points;
   std::vector<uint32_t> local_ids;
   std::vector<int32_t> local_levels;
+  std::vector<FieldValues> local_values;
+  for (const FieldValues& f : values) local_values.push_back({f.description, {}});
   for (uint32_t v : inside) {
     local_points.push_back(points[v]);
     local_ids.push_back(ids[v]);
     local_levels.push_back(levels[v]);
+    for (size_t f = 0; f < values.size(); ++f) {
+      const size_t n = static_cast<size_t>(values[f].description.components);
+      const auto first = values[f].bits.begin() + static_cast<std::ptrdiff_t>(v * n);
+      local_values[f].bits.insert(local_values[f].bits.end(), first, first + static_cast<std::ptrdiff_t>(n));
+    }
   }
   if (!spans_three_dimensions(local_points)) return Status::Ok();  // no cell at all
   DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(local_points));
@@ -363,7 +400,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
     if (kept[c] && owner[c] != kNoBrick && owners.owns(owner[c]) &&
         (!box || cell_meets(local_points, dt.cells[c], *box)))
       cells.push_back(dt.cells[c]);
-  compact(local_points, local_ids, local_levels, std::move(cells), out);
+  compact(local_points, local_ids, local_levels, local_values, std::move(cells), out);
   return Status::Ok();
 }
 

@@ -79,6 +79,7 @@ struct RegionMesh {
   std::vector<uint32_t> vertex_ids;            // each one's number in the whole level (decoding order)
   std::vector<int32_t> vertex_levels;          // each one's coarsest level
   std::vector<std::array<uint32_t, 4>> cells;  // indexing points; in the level's canonical order
+  std::vector<FieldValues> fields;             // the points' values, per field (the stream's)
   // What it took: bytes read from the source, chunks decoded, points decoded.
   uint64_t bytes_read = 0;
   uint64_t chunks_read = 0;

@@ -142,6 +142,11 @@ std::vector<Neighbours> NeighbourSearch::layer(std::span<const GridPoint> points
   return out;
 }
 
+void NeighbourSearch::know(std::span<const GridPoint> points) {
+  prepare(points);
+  for (const GridPoint& p : points) add(p);
+}
+
 void NeighbourSearch::prepare(std::span<const GridPoint> incoming) {
   if (points_.empty() && incoming.empty()) return;
   const GridPoint first = points_.empty() ? incoming[0] : points_[0];
@@ -437,6 +442,14 @@ std::vector<uint8_t> ValueEncoder::encode_layer(std::span<const Neighbours> neig
     if (size < best_size) best_size = size, best = static_cast<ValueMode>(m);
   }
   return code(best, predictor_.models());
+}
+
+void ValueEncoder::know(std::span<const Int128> ordered) {
+  for (const Int128 v : ordered) predictor_.add((v - scale_.offset) / scale_.step);
+}
+
+void ValueDecoder::know(std::span<const Int128> ordered) {
+  for (const Int128 v : ordered) predictor_.add((v - scale_.offset) / scale_.step);
 }
 
 Status ValueDecoder::decode_layer(std::span<const uint8_t> block, std::span<const Neighbours> neighbours,

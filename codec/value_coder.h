@@ -88,6 +88,9 @@ class NeighbourSearch {
   // before it (every coarser layer's and this layer's earlier ones); the
   // layer's points are then known.
   std::vector<Neighbours> layer(std::span<const GridPoint> points);
+  // Points known before any layer is coded, without searching theirs (a
+  // bricked chunk's: the coarser levels' points in its brick).
+  void know(std::span<const GridPoint> points);
 
  private:
   // Sizes the grid for the points known and the layer's.
@@ -157,6 +160,9 @@ class ValueEncoder {
   std::vector<uint8_t> encode_layer(std::span<const GridPoint> points, std::span<const Int128> ordered) {
     return encode_layer(own_search_.layer(points), ordered);
   }
+  // Values known before the first layer (ordered integers, in the order
+  // their points became known to the search): the prediction's, uncoded.
+  void know(std::span<const Int128> ordered);
 
  private:
   ValueScale scale_;
@@ -180,6 +186,8 @@ class ValueDecoder {
                       std::vector<Int128>& ordered) {
     return decode_layer(block, own_search_.layer(points), ordered);
   }
+  // As ValueEncoder::know.
+  void know(std::span<const Int128> ordered);
 
  private:
   ValueScale scale_;

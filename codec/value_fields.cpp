@@ -65,6 +65,15 @@ Int128 max_scaled(const FieldDescription& f, int component) {
   return (field_range(f).second - s.offset) / s.step;
 }
 
+// What a chunk's predictor knows of a coarser point's value (spec §3.5):
+// its ordered integer, for a lossy field the quantized value nearest the
+// decoded one, from the decoded bits alone (encoder and decoder agree).
+Int128 known_ordered(const FieldDescription& f, int component, uint64_t decoded_bits) {
+  if (!f.lossy) return to_ordered(decoded_bits, f.type);
+  const LossyScale& s = f.lossy_scales[static_cast<size_t>(component)];
+  return static_cast<Int128>(std::llround((value_of(decoded_bits, f.type) - s.origin) / s.step));
+}
+
 Status parse_description(ByteReader& r, FieldDescription& f) {
   uint8_t name_length = 0, type = 0, components = 0, mode = 0;
   if (!r.u8(name_length)) return corrupt("ends inside a description");
@@ -303,6 +312,85 @@ std::vector<uint8_t> FieldSectionEncoder::encode_layer(std::span<const uint32_t>
     field_bytes[f] += w.data().size() - before;
   }
   return w.take();
+}
+
+std::vector<uint8_t> FieldSectionEncoder::encode_chunk(std::span<const uint32_t> known,
+                                                       std::span<const GridPoint> known_positions,
+                                                       std::span<const uint32_t> points,
+                                                       std::span<const GridPoint> positions,
+                                                       std::vector<uint64_t>& field_bytes) const {
+  field_bytes.resize(descriptions_.size(), 0);
+  NeighbourSearch search;
+  search.know(known_positions);
+  const std::vector<Neighbours> neighbours = search.layer(positions);
+  ByteWriter w;
+  size_t coder = 0;
+  for (size_t f = 0; f < descriptions_.size(); ++f) {
+    const FieldDescription& d = descriptions_[f];
+    const size_t before = w.data().size();
+    for (int c = 0; c < d.components; ++c, ++coder) {
+      ValueEncoder encoder(d.scales[static_cast<size_t>(c)]);
+      std::vector<Int128> seeds;
+      seeds.reserve(known.size());
+      for (uint32_t p : known) {
+        const Int128 v = ordered_[coder][p];
+        // The bits a decoder holds for the point.
+        const uint64_t bits =
+            d.lossy
+                ? bits_of(dequantize(v, d.lossy_scales[static_cast<size_t>(c)], d.type == ValueType::kF32),
+                          d.type)
+                : from_ordered(v, d.type);
+        seeds.push_back(known_ordered(d, c, bits));
+      }
+      encoder.know(seeds);
+      std::vector<Int128> values;
+      values.reserve(points.size());
+      for (uint32_t p : points) values.push_back(ordered_[coder][p]);
+      const std::vector<uint8_t> block = encoder.encode_layer(neighbours, values);
+      w.u32(static_cast<uint32_t>(block.size()));
+      w.bytes(block);
+    }
+    field_bytes[f] += w.data().size() - before;
+  }
+  return w.take();
+}
+
+Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<const uint8_t> section,
+                           std::span<const GridPoint> known_positions,
+                           std::span<const std::vector<uint64_t>> known_bits,
+                           std::span<const GridPoint> positions, std::vector<FieldValues>& out) {
+  out.clear();
+  NeighbourSearch search;
+  search.know(known_positions);
+  const std::vector<Neighbours> neighbours = search.layer(positions);
+  ByteReader r(section);
+  std::vector<Int128> ordered, seeds;
+  for (size_t f = 0; f < fields.size(); ++f) {
+    const FieldDescription& d = fields[f];
+    FieldValues& values = out.emplace_back(FieldValues{d, {}});
+    values.bits.resize(positions.size() * static_cast<size_t>(d.components));
+    for (int c = 0; c < d.components; ++c) {
+      uint32_t length = 0;
+      if (!r.u32(length) || length > r.remaining())
+        return {StatusCode::kCorrupt, "the value section of field '" + d.name + "' ends early"};
+      ValueDecoder decoder(d.scales[static_cast<size_t>(c)], max_scaled(d, c));
+      seeds.clear();
+      for (size_t i = 0; i < known_positions.size(); ++i)
+        seeds.push_back(known_ordered(d, c, known_bits[f][i * static_cast<size_t>(d.components) + c]));
+      decoder.know(seeds);
+      DTM_RETURN_IF_ERROR(decoder.decode_layer(section.subspan(r.position(), length), neighbours, ordered)
+                              .with_context("field '" + d.name + "'"));
+      r.skip(length);
+      for (size_t i = 0; i < positions.size(); ++i)
+        values.bits[i * static_cast<size_t>(d.components) + c] =
+            d.lossy ? bits_of(dequantize(ordered[i], d.lossy_scales[static_cast<size_t>(c)],
+                                         d.type == ValueType::kF32),
+                              d.type)
+                    : from_ordered(ordered[i], d.type);
+    }
+  }
+  if (r.remaining() != 0) return {StatusCode::kCorrupt, "bytes left over after the value section's fields"};
+  return Status::Ok();
 }
 
 FieldSectionDecoder::FieldSectionDecoder(std::vector<FieldDescription> fields)

@@ -87,6 +87,15 @@ class FieldSectionEncoder {
   // `field_bytes` each field's share of it (length words included).
   std::vector<uint8_t> encode_layer(std::span<const uint32_t> points, std::span<const GridPoint> positions,
                                     std::vector<uint64_t>& field_bytes);
+  // Bricked layers (8.0, spec/FORMAT.md §3.5): the value section of one
+  // chunk, coded alone: fresh models, and as neighbours only the points of
+  // the coarser levels in its brick (`known`, ascending Morton order, with
+  // the values a decoder holds for them) and the chunk's earlier ones.
+  // `field_bytes` gains each field's share.
+  std::vector<uint8_t> encode_chunk(std::span<const uint32_t> known,
+                                    std::span<const GridPoint> known_positions,
+                                    std::span<const uint32_t> points, std::span<const GridPoint> positions,
+                                    std::vector<uint64_t>& field_bytes) const;
 
  private:
   std::vector<FieldDescription> descriptions_;
@@ -95,6 +104,14 @@ class FieldSectionEncoder {
   NeighbourSearch search_;                    // shared by every component
 };
 
+// A chunk's value section (FieldSectionEncoder::encode_chunk), given the
+// known points' positions and their decoded values (per field, vertex-major
+// bits). kCorrupt if the section is damaged.
+Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<const uint8_t> section,
+                           std::span<const GridPoint> known_positions,
+                           std::span<const std::vector<uint64_t>> known_bits,
+                           std::span<const GridPoint> positions, std::vector<FieldValues>& out);
+
 class FieldSectionDecoder {
  public:
   explicit FieldSectionDecoder(std::vector<FieldDescription> fields);
@@ -102,6 +119,7 @@ class FieldSectionDecoder {
   // per field, in `out`. kCorrupt if the section is damaged.
   Status decode_layer(std::span<const uint8_t> section, std::span<const GridPoint> positions,
                       std::vector<FieldValues>& out);
+  const std::vector<FieldDescription>& descriptions() const { return descriptions_; }
 
  private:
   std::vector<FieldDescription> descriptions_;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <barrier>
+#include <cmath>
 #include <random>
 #include <thread>
 
@@ -90,25 +91,47 @@ void expect_same_region(const RegionMesh& got, const RegionMesh& want, const std
   EXPECT_TRUE(got.points == want.points) << what;
   EXPECT_TRUE(got.vertex_ids == want.vertex_ids) << what;
   EXPECT_TRUE(got.vertex_levels == want.vertex_levels) << what;
+  ASSERT_EQ(got.fields.size(), want.fields.size()) << what;
+  for (size_t f = 0; f < got.fields.size(); ++f)
+    EXPECT_TRUE(got.fields[f].bits == want.fields[f].bits)
+        << what << ", field " << got.fields[f].description.name;
 }
 
 TEST(BrickIndex, RoundTripsAndRefusesWhatDoesNotAddUp) {
   std::vector<BrickChunk> chunks = {{3, 10, 20, 5, 0, 0xDEADBEEF}, {9, 0, 0, 7, 0, 1}, {63, 4, 6, 0, 0, 2}};
   const std::vector<uint8_t> index = write_brick_index(chunks);
   std::vector<BrickChunk> back;
-  ASSERT_TRUE(parse_brick_index(index, 2, 14, 14, 38, back).ok());
+  ASSERT_TRUE(parse_brick_index(index, 2, 14, 14, 38, kFlagCarvingCorrections, back).ok());
   ASSERT_EQ(back.size(), 3u);
   EXPECT_EQ(back[1].brick, 9u);
   EXPECT_EQ(back[1].offset, 25u);
   EXPECT_EQ(back[2].points_before, 10u);
   EXPECT_EQ(back[0].checksum, 0xDEADBEEFu);
-  EXPECT_FALSE(parse_brick_index(index, 2, 14, 15, 38, back).ok());  // points do not add up
-  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 39, back).ok());  // nor the bytes
-  EXPECT_FALSE(parse_brick_index(index, 1, 14, 14, 38, back).ok());  // brick 63 is outside depth 1's 8
+  EXPECT_FALSE(
+      parse_brick_index(index, 2, 14, 15, 38, kFlagCarvingCorrections, back).ok());  // points do not add up
+  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 39, kFlagCarvingCorrections, back).ok());  // nor the bytes
+  EXPECT_FALSE(parse_brick_index(index, 1, 14, 14, 38, kFlagCarvingCorrections, back)
+                   .ok());  // brick 63 is outside depth 1's 8
   for (size_t cut = 0; cut < index.size(); ++cut)
-    EXPECT_FALSE(parse_brick_index(std::span(index).first(cut), 2, 14, 14, 38, back).ok()) << cut;
+    EXPECT_FALSE(
+        parse_brick_index(std::span(index).first(cut), 2, 14, 14, 38, kFlagCarvingCorrections, back).ok())
+        << cut;
+  // The sections the stream's flags allow: carving bytes only with
+  // carving_corrections, value bytes in every chunk of points with values.
+  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 38, 0, back).ok());
+  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 38, kFlagCarvingCorrections | kFlagValues, back).ok());
+  std::vector<BrickChunk> valued = chunks;
+  valued[0].value_bytes = 3;
+  valued[2].value_bytes = 2;
+  const uint16_t both = kFlagCarvingCorrections | kFlagValues;
+  EXPECT_TRUE(parse_brick_index(write_brick_index(valued), 2, 14, 14, 43, both, back).ok());
+  EXPECT_FALSE(
+      parse_brick_index(write_brick_index(valued), 2, 14, 14, 43, kFlagCarvingCorrections, back).ok());
+  valued[1].value_bytes = 1;  // values in a chunk without points
+  EXPECT_FALSE(parse_brick_index(write_brick_index(valued), 2, 14, 14, 44, both, back).ok());
   chunks[1].carving_bytes = 0;  // an empty chunk is not listed
-  EXPECT_FALSE(parse_brick_index(write_brick_index(chunks), 2, 14, 14, 31, back).ok());
+  EXPECT_FALSE(
+      parse_brick_index(write_brick_index(chunks), 2, 14, 14, 31, kFlagCarvingCorrections, back).ok());
 }
 
 TEST(BrickGeometry, BricksMeetingABoxCoverIt) {
@@ -276,20 +299,76 @@ TEST(BrickedStream, RegionIsTheWholeLevelFilteredToTheBox) {
   }
 }
 
-// 8.0 puts no values in chunks: refused before the hierarchy is built.
-TEST(BrickedStream, FieldsAreRefusedUpFront) {
-  const InputMesh in = read_input(test::data_path("torus_288.node"));
-  const std::vector<double> values(in.points.size(), 1.0);
-  const std::vector<EncodeInput::Field> fields = {{"pressure", ValueType::kF64, 1, values}};
+// Values in chunks (§3.5): every decoded value is the input's (lossless) or
+// within its bound (lossy), and a region's values, read from its chunks
+// alone, are the whole decode's.
+TEST(BrickedStream, RegionsCarryTheValuesOfTheWholeDecode) {
+  const InputMesh in = read_input(test::data_path("bunny_10k.node"));
+  std::vector<double> smooth, noisy;
+  std::mt19937 rng(3);
+  for (const InputPoint& p : in.points) {
+    smooth.push_back(std::sin(p.x * 20) + p.y * p.z);
+    noisy.push_back(std::uniform_real_distribution<double>(0, 1)(rng));
+  }
+  const std::vector<EncodeInput::Field> fields = {{"smooth", ValueType::kF64, 1, smooth},
+                                                  {"noisy", ValueType::kF32, 1, noisy}};
   EncodeInput input;
   input.points = in.points;
+  input.tetrahedra = in.tets;
   input.fields = fields;
-  EncodeOptions options;
-  options.bricks = true;
+  EncodeOptions options = bricked_options(64);
+  options.field_errors["noisy"] = 0.01;
   const auto encoded = encode(input, options);
-  ASSERT_FALSE(encoded.ok());
-  EXPECT_EQ(encoded.status().code(), StatusCode::kInvalidInput);
-  EXPECT_NE(encoded.status().message().find("--no-fields"), std::string::npos) << encoded.status().message();
+  ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+  const std::vector<uint8_t>& bytes = encoded->bytes;
+  StreamHeader h;
+  ASSERT_TRUE(parse_header(bytes, h).ok());
+  EXPECT_TRUE(h.flags & kFlagValues);
+  ProgressiveDecoder whole;
+  ASSERT_TRUE(decode_stream(bytes, whole).ok());
+  ASSERT_EQ(whole.fields().size(), 2u);
+  for (size_t i = 0; i < in.points.size(); ++i) {
+    const uint32_t v = encoded->vertex_of_input[i];
+    EXPECT_EQ(whole.fields()[0].value(v, 0), smooth[i]) << i;
+    EXPECT_LE(std::abs(whole.fields()[1].value(v, 0) - static_cast<float>(noisy[i])), 0.01) << i;
+  }
+  const GridBox all = bounds(whole.points());
+  for (int level : {0, 2}) {
+    DecoderOptions o;
+    o.stop_after_level = level;
+    ProgressiveDecoder d(o);
+    ASSERT_TRUE(decode_stream(bytes, d).ok());
+    for (int i = 0; i < 4; ++i) {
+      GridBox b;
+      for (int a = 0; a < 3; ++a) {
+        const int64_t w = (all.hi[a] - all.lo[a]) / 3;
+        b.lo[a] = std::uniform_int_distribution<int64_t>(all.lo[a], all.hi[a] - w)(rng);
+        b.hi[a] = b.lo[a] + w;
+      }
+      MemorySource source(bytes);
+      const auto got = decode_region(source, b, level);
+      ASSERT_TRUE(got.ok()) << got.status().message();
+      ASSERT_EQ(got->fields.size(), 2u);
+      expect_same_region(*got, region_of(d, b),
+                         "level " + std::to_string(level) + " box " + std::to_string(i));
+    }
+  }
+  // Damage in a chunk's values is that chunk's (its checksum), the others decode.
+  std::vector<uint8_t> damaged = bytes;
+  const StreamSummary s = scan_stream(bytes);
+  ASSERT_TRUE(s.status.ok());
+  const LayerSummary& finest = s.layers.back();
+  const uint64_t index_at = finest.offset + kBrickedLayerHeaderSize;
+  std::vector<BrickChunk> chunks;
+  ASSERT_TRUE(parse_brick_index(std::span(bytes).subspan(index_at, finest.header.index_bytes),
+                                finest.header.brick_depth, h.grid.qbits, finest.header.new_vertices,
+                                finest.header.chunk_bytes, h.flags, chunks)
+                  .ok());
+  const BrickChunk& victim = chunks[chunks.size() / 3];
+  ASSERT_GT(victim.value_bytes, 0u);
+  damaged[index_at + finest.header.index_bytes + victim.offset + victim.size() - 1] ^= 0x40;
+  ProgressiveDecoder hurt;
+  EXPECT_EQ(decode_stream(damaged, hurt).code(), StatusCode::kCorrupt);
 }
 
 // Pieces (one per MPI rank): every cell of the level in exactly one piece.
@@ -364,7 +443,7 @@ TEST(BrickedStream, ADamagedChunkFailsTheRegionsThatReadIt) {
   const uint64_t index_at = finest.offset + kBrickedLayerHeaderSize;
   std::vector<BrickChunk> chunks;
   ASSERT_TRUE(parse_brick_index(std::span(bytes).subspan(index_at, lh.index_bytes), lh.brick_depth,
-                                s.header.grid.qbits, lh.new_vertices, lh.chunk_bytes, chunks)
+                                s.header.grid.qbits, lh.new_vertices, lh.chunk_bytes, s.header.flags, chunks)
                   .ok());
   ASSERT_GT(chunks.size(), 4u);
   const BrickChunk& victim = chunks[chunks.size() / 2];

@@ -75,14 +75,14 @@ TEST_P(GoldenStream, EverySingleBitFlipIsRefused) {
     }
 }
 
-// The torus's 7.0, 6.0 and 5.0 streams carry the input's boundary markers: every vertex
+// The torus's 8.0 (bricked), 7.0, 6.0 and 5.0 streams carry the input's boundary markers: every vertex
 // of every level has the marker of the input point it quantizes (found by
 // position, the stream's grid mapped onto the input's bounding box).
 TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
   for (const std::string name :
-       {"torus_288", "torus_288_paper", "torus_288_grid_q10_hull", "torus_288_q24", "v6/torus_288",
-        "v6/torus_288_paper", "v6/torus_288_grid_q10_hull", "v6/torus_288_q24", "v5/torus_288",
-        "v5/torus_288_paper", "v5/torus_288_grid_q10_hull", "v5/torus_288_q24"}) {
+       {"torus_288_bricks", "torus_288", "torus_288_paper", "torus_288_grid_q10_hull", "torus_288_q24",
+        "v6/torus_288", "v6/torus_288_paper", "v6/torus_288_grid_q10_hull", "v6/torus_288_q24",
+        "v5/torus_288", "v5/torus_288_paper", "v5/torus_288_grid_q10_hull", "v5/torus_288_q24"}) {
     const InputMesh in = read_input(
         test::data_path(name.find("grid") != std::string::npos ? "torus_288_grid.node" : "torus_288.node"));
     const VertexField& markers = in.fields.at(0);
@@ -122,7 +122,8 @@ TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Format8_0, GoldenStream, ::testing::Values("ellipsoid_793_bricks"));
+INSTANTIATE_TEST_SUITE_P(Format8_0, GoldenStream,
+                         ::testing::Values("ellipsoid_793_bricks", "torus_288_bricks"));
 INSTANTIATE_TEST_SUITE_P(Format7_0, GoldenStream,
                          ::testing::Values("ellipsoid_793", "torus_288", "torus_288_paper",
                                            "torus_288_grid_q10_hull", "torus_288_q24"));

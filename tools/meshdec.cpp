@@ -12,6 +12,7 @@
 #include "mesh/geometry.h"
 #include "tools/atomic_file.h"
 #include "tools/decoded_mesh.h"
+#include "tools/field_types.h"
 #include "tools/formats/gltf_writer.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
@@ -189,6 +190,9 @@ dtm::OutputMesh region_output(const dtm::RegionMesh& region, const dtm::Grid& gr
   dtm::OutputField ids{"vertex_id", dtm::ScalarType::kUInt32, 1, {}};
   ids.bits.assign(region.vertex_ids.begin(), region.vertex_ids.end());
   mesh.fields.push_back(std::move(ids));
+  for (const dtm::FieldValues& f : region.fields)
+    mesh.fields.push_back(
+        {f.description.name, dtm::scalar_type(f.description.type), f.description.components, f.bits});
   return mesh;
 }
 

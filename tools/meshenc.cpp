@@ -153,10 +153,11 @@ void add_options(CLI::App& app, Command& c) {
       "--no-candidates", [&e](int64_t) { e.candidates = false; },
       "send no point beside the coarser level's circumcentres and edge midpoints: a larger stream, whose "
       "finest level decodes faster");
-  app.add_flag("--bricks", e.bricks,
-               "bricked layers (format 8.0): each layer's points and corrections in one chunk per octree "
-               "brick, so that meshdec --box decodes a region from the chunks around it (no candidates; "
-               "streams without fields only, for now)");
+  app.add_flag(
+      "--bricks", e.bricks,
+      "bricked layers (format 8.0): each layer's points and corrections in one chunk per octree "
+      "brick, so that meshdec --box decodes a region from the chunks around it, values included; the "
+      "levels are built in blocks, the same bytes alone or under mpirun (no candidates)");
   app.add_option("--brick-points", e.brick_points,
                  "with --bricks: each layer's bricks are the smallest that hold this many of its new points "
                  "on average (smaller: regions read fewer bytes, the stream grows)")
@@ -308,7 +309,7 @@ int run(Command& c) {
     if (!c.encode.bricks)
       throw std::invalid_argument("under mpirun, meshenc writes a bricked stream: add --bricks");
     c.encode.exchange = &mpi;
-    if (mpi.rank() != 0) c.quiet = true;
+    if (mpi.rank() != 0) c.quiet = true, c.verbose = false;
   }
   if (c.output == "-") c.quiet = true;  // standard output carries the stream
   if (c.preset == "paper") {

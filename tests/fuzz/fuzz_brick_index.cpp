@@ -9,15 +9,19 @@
 #include "fuzz_check.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  // 6 parameter bytes: qbits, depth, the layer's points and chunk bytes (u16 each).
+  // 6 parameter bytes: qbits, depth (and in its high part the stream's
+  // flags carving_corrections and values), the layer's points and chunk
+  // bytes (u16 each).
   if (size < 6) return 0;
   const int qbits = 1 + data[0] % 24;
   const int depth = data[1] % 18;  // 17: beyond the format's 16
+  const uint16_t flags = static_cast<uint16_t>(((data[1] / 18) & 1 ? dtm::kFlagCarvingCorrections : 0) |
+                                               ((data[1] / 36) & 1 ? dtm::kFlagValues : 0));
   const uint64_t new_vertices = data[2] | (data[3] << 8);
   const uint64_t chunk_bytes = data[4] | (data[5] << 8);
   const std::span<const uint8_t> index(data + 6, size - 6);
   std::vector<dtm::BrickChunk> chunks;
-  if (!dtm::parse_brick_index(index, depth, qbits, new_vertices, chunk_bytes, chunks).ok()) return 0;
+  if (!dtm::parse_brick_index(index, depth, qbits, new_vertices, chunk_bytes, flags, chunks).ok()) return 0;
   FUZZ_CHECK(depth <= qbits && depth <= dtm::kMaxBrickDepth);
   uint64_t points = 0, bytes = 0;
   for (size_t i = 0; i < chunks.size(); ++i) {
@@ -25,6 +29,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(chunks[i].brick < (uint64_t{1} << (3 * depth)));
     FUZZ_CHECK(chunks[i].offset == bytes && chunks[i].points_before == points);
     FUZZ_CHECK(chunks[i].size() > 0);
+    FUZZ_CHECK(chunks[i].carving_bytes == 0 || (flags & dtm::kFlagCarvingCorrections));
+    FUZZ_CHECK((chunks[i].value_bytes > 0) == ((flags & dtm::kFlagValues) && chunks[i].new_points > 0));
     points += chunks[i].new_points;
     bytes += chunks[i].size();
   }

@@ -33,3 +33,5 @@ make_one torus_288_q24 torus_288.node --qbits 24 --levels 1
 make_one ellipsoid_793 ellipsoid_793.node --dmax 3
 # 8.0: bricked layers (several chunks in the finer layers).
 make_one ellipsoid_793_bricks ellipsoid_793.node --dmax 3 --bricks --brick-points 16 --block-points 100
+# 8.0: bricked layers with values (the torus's TetGen markers, int32).
+make_one torus_288_bricks torus_288.node --scale 25 --dmax 3 --bricks --brick-points 8 --block-points 64
