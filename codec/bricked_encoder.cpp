@@ -4,13 +4,11 @@
 #include <cmath>
 #include <map>
 #include <memory>
-#include <new>
 #include <optional>
-#include <set>
-#include <stdexcept>
 #include <string>
 
 #include "codec/block_levels.h"
+#include "codec/block_runs.h"
 #include "codec/bricks.h"
 #include "codec/format.h"
 #include "common/byte_io.h"
@@ -39,203 +37,6 @@ constexpr double kKeptRadiusOfLevel0 = 2.0;
 // breaks a bound is tried once more removing less.
 constexpr double kThinLevelShare = 0.3;
 constexpr double kRetryShare = 0.6;
-
-// The blocks of one level: the non-empty octree nodes of one depth, and
-// the rank that builds each (contiguous runs of about equal point counts).
-struct BlockPlan {
-  int depth = 0;
-  std::vector<uint64_t> blocks;
-  std::vector<size_t> first;  // of each block's points in the level's Morton order; one more at the end
-  std::vector<int> rank;
-};
-
-BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int depth, int ranks) {
-  BlockPlan p;
-  p.depth = depth;
-  for (size_t i = 0; i < codes.size(); ++i) {
-    const uint64_t b = brick_of(codes[i], qbits, depth);
-    if (p.blocks.empty() || p.blocks.back() != b) p.blocks.push_back(b), p.first.push_back(i);
-  }
-  p.first.push_back(codes.size());
-  const double share = static_cast<double>(codes.size()) / ranks;
-  for (size_t k = 0; k < p.blocks.size(); ++k) {
-    const double middle = 0.5 * static_cast<double>(p.first[k] + p.first[k + 1]);
-    p.rank.push_back(std::min(ranks - 1, static_cast<int>(middle / share)));
-  }
-  return p;
-}
-
-// Serialized results, for the exchange between ranks.
-void put(ByteWriter& w, std::span<const uint32_t> v) {
-  w.u64(v.size());
-  for (uint32_t x : v) w.u32(x);
-}
-void put(ByteWriter& w, std::span<const uint8_t> v) {
-  w.u64(v.size());
-  w.bytes(v);
-}
-void put(ByteWriter& w, const DistanceSums& d) {
-  w.f64(d.max);
-  w.f64(d.sum);
-  w.u64(d.count);
-}
-
-// The reader trusts its input: it comes from this program's other ranks.
-class Reader {
- public:
-  explicit Reader(std::span<const uint8_t> bytes) : r_(bytes) {}
-  uint64_t u64() {
-    uint64_t v = 0;
-    r_.u64(v);
-    return v;
-  }
-  uint32_t u32() {
-    uint32_t v = 0;
-    r_.u32(v);
-    return v;
-  }
-  double f64() {
-    double v = 0;
-    r_.f64(v);
-    return v;
-  }
-  std::vector<uint32_t> u32s() {
-    std::vector<uint32_t> v(u64());
-    for (uint32_t& x : v) x = u32();
-    return v;
-  }
-  std::vector<uint8_t> bytes() {
-    std::vector<uint8_t> v(u64());
-    for (uint8_t& x : v) r_.u8(x);
-    return v;
-  }
-  DistanceSums sums() {
-    DistanceSums d;
-    d.max = f64();
-    d.sum = f64();
-    d.count = u64();
-    return d;
-  }
-  bool done() const { return r_.remaining() == 0; }
-
- private:
-  ByteReader r_;
-};
-
-// Runs `work` on every block of `plan` this rank builds (in block order),
-// each result serialized by the work, and returns every block's bytes,
-// indexed by block, on every rank.
-std::vector<std::vector<uint8_t>> run_blocks(
-    const BlockPlan& plan, RankExchange& exchange,
-    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status) {
-  ByteWriter mine;
-  Status local = Status::Ok();
-  for (size_t k = 0; k < plan.blocks.size() && local.ok(); ++k) {
-    if (plan.rank[k] != exchange.rank()) continue;
-    // An exception on one rank only would leave the others waiting in the
-    // exchange: it becomes this rank's failure, which every rank reports.
-    StatusOr<std::vector<uint8_t>> done = Status{StatusCode::kInternal, "no result"};
-    try {
-      done = work(k);
-    } catch (const std::bad_alloc&) {
-      done = Status{StatusCode::kLimitExceeded, "out of memory building a block"};
-    } catch (const std::exception& e) {
-      done = Status{StatusCode::kInternal, e.what()};
-    }
-    if (!done.ok()) {
-      local = done.status();
-      break;
-    }
-    mine.u64(k);
-    put(mine, std::span<const uint8_t>(*done));
-  }
-  // A failure anywhere is every rank's: it says so in its bytes.
-  ByteWriter sent;
-  sent.u8(local.ok() ? 1 : 0);
-  if (!local.ok()) {
-    const std::string& m = local.message();
-    put(sent, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(m.data()), m.size()));
-  } else {
-    sent.bytes(mine.data());
-  }
-  const std::vector<std::vector<uint8_t>> all = exchange.all_gather(sent.data());
-  std::vector<std::vector<uint8_t>> out(plan.blocks.size());
-  for (const auto& bytes : all) {
-    if (bytes.empty()) continue;
-    if (bytes[0] == 0) {
-      Reader r(std::span<const uint8_t>(bytes).subspan(1));
-      const std::vector<uint8_t> m = r.bytes();
-      if (status.ok())
-        status = {local.ok() ? StatusCode::kInternal : local.code(), std::string(m.begin(), m.end())};
-      continue;
-    }
-    Reader r(std::span<const uint8_t>(bytes).subspan(1));
-    while (!r.done()) {
-      const uint64_t k = r.u64();
-      out[k] = r.bytes();
-    }
-  }
-  if (!local.ok()) status = local;
-  return out;
-}
-
-std::vector<uint8_t> serialize(const BlockAnalysis& a) {
-  ByteWriter w;
-  const BlockFigures& f = a.figures;
-  w.u64(f.vertices);
-  w.u64(f.boundary_vertices);
-  w.u64(f.cells);
-  w.f64(f.quality_sum);
-  w.f64(f.quality_min);
-  put(w, f.to_level);
-  put(w, f.to_reference);
-  w.u64(f.cell_hash);
-  w.u64(a.surface_triangles.size());
-  for (const auto& t : a.surface_triangles)
-    for (uint32_t v : t) w.u32(v);
-  put(w, std::span<const uint32_t>(a.surface_vertices));
-  w.u64(a.reference_squared.size());
-  for (const auto& [id, d2] : a.reference_squared) w.u32(id), w.f64(d2);
-  w.u64(a.carving.size());
-  for (const auto& [brick, bytes] : a.carving) {
-    w.u64(brick);
-    put(w, std::span<const uint8_t>(bytes));
-  }
-  put(w, std::span<const uint32_t>(a.chosen));
-  put(w, std::span<const uint32_t>(a.boundary));
-  w.u64(a.carved.size());
-  for (const auto& c : a.carved)
-    for (uint32_t v : c) w.u32(v);
-  return w.take();
-}
-
-BlockAnalysis deserialize_analysis(std::span<const uint8_t> bytes) {
-  Reader r(bytes);
-  BlockAnalysis a;
-  BlockFigures& f = a.figures;
-  f.vertices = r.u64();
-  f.boundary_vertices = r.u64();
-  f.cells = r.u64();
-  f.quality_sum = r.f64();
-  f.quality_min = r.f64();
-  f.to_level = r.sums();
-  f.to_reference = r.sums();
-  f.cell_hash = r.u64();
-  a.surface_triangles.resize(r.u64());
-  for (auto& t : a.surface_triangles)
-    for (uint32_t& v : t) v = r.u32();
-  a.surface_vertices = r.u32s();
-  a.reference_squared.resize(r.u64());
-  for (auto& [id, d2] : a.reference_squared) id = r.u32(), d2 = r.f64();
-  a.carving.resize(r.u64());
-  for (auto& [brick, section] : a.carving) brick = r.u64(), section = r.bytes();
-  a.chosen = r.u32s();
-  a.boundary = r.u32s();
-  a.carved.resize(r.u64());
-  for (auto& c : a.carved)
-    for (uint32_t& v : c) v = r.u32();
-  return a;
-}
 
 // What the encoder keeps of a level for the stream.
 struct LevelOut {
@@ -371,7 +172,7 @@ StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, cons
       status);
   DTM_RETURN_IF_ERROR(status);
   double total = 0;
-  for (const auto& s : sums) total += Reader(s).f64();
+  for (const auto& s : sums) total += BlockReader(s).f64();
   return kAlphaPerSpacing * total / static_cast<double>(ids.size());
 }
 
@@ -450,28 +251,13 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
         status);
     DTM_RETURN_IF_ERROR(status);
     for (size_t k = 0; k < results.size(); ++k) {
-      ByteReader r(results[k]);
-      uint8_t built = 0;
-      r.u8(built);
-      if (!built) continue;
-      uint64_t size = 0, brk = 0;
-      uint8_t ok = 0;
-      uint32_t nrounds = 0;
-      r.u64(size);
-      r.u64(brk);
-      r.u8(ok);
-      r.u32(nrounds);
-      left[k] = size;
-      block_broken[k] = brk;
-      met[k] = ok;
-      block_rounds[k] = std::max(block_rounds[k], static_cast<int>(nrounds));
-      uint64_t count = 0;
-      r.u64(count);
-      for (uint64_t i = 0; i < count; ++i) {
-        uint32_t id = 0;
-        r.u32(id);
-        coarser_[id] = 1;
-      }
+      BlockReader r(results[k]);
+      if (!r.u8()) continue;
+      left[k] = r.u64();
+      block_broken[k] = r.u64();
+      met[k] = r.u8();
+      block_rounds[k] = std::max(block_rounds[k], static_cast<int>(r.u32()));
+      for (uint32_t id : r.u32s()) coarser_[id] = 1;
     }
     // A block that now sees more of the coarser level than it left (a
     // neighbour put points back there) is built again.
@@ -757,18 +543,15 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
       if (bricks.empty() || bricks.back() != b) bricks.push_back(b), first.push_back(i);
     }
     first.push_back(fresh_codes.size());
+    BlockPlan plan;  // the bricks, shared out among the ranks
+    plan.depth = depth;
+    plan.blocks = bricks;
+    plan.first = first;
+    assign_ranks(plan, x_.size());
     std::vector<std::vector<uint8_t>> payloads(bricks.size());
     if (known.empty()) {
       payloads.at(0) = encode_point_set({}, fresh, q_, models, brick_node(0, q_, 0));
     } else {
-      BlockPlan plan;
-      plan.depth = depth;
-      plan.blocks = bricks;
-      plan.first = first;
-      const double share = static_cast<double>(fresh.size()) / x_.size();
-      for (size_t k = 0; k < bricks.size(); ++k)
-        plan.rank.push_back(
-            std::min(x_.size() - 1, static_cast<int>(0.5 * (first[k] + first[k + 1]) / share)));
       Status status = Status::Ok();
       payloads = run_blocks(
           plan, x_,
@@ -791,14 +574,6 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
       std::vector<uint32_t> fresh_ids;
       for (uint32_t id : ids)
         if (level_of_[id] == level) fresh_ids.push_back(id);
-      BlockPlan plan;
-      plan.depth = depth;
-      plan.blocks = bricks;
-      plan.first = first;
-      const double share = static_cast<double>(fresh.size()) / x_.size();
-      for (size_t k = 0; k < bricks.size(); ++k)
-        plan.rank.push_back(
-            std::min(x_.size() - 1, static_cast<int>(0.5 * (first[k] + first[k + 1]) / share)));
       Status status = Status::Ok();
       const auto coded = run_blocks(
           plan, x_,
@@ -823,7 +598,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
       DTM_RETURN_IF_ERROR(status);
       out.level_field_bytes[static_cast<size_t>(level)].assign(in_.values->descriptions().size(), 0);
       for (size_t k = 0; k < bricks.size(); ++k) {
-        Reader r(coded[k]);
+        BlockReader r(coded[k]);
         values[k] = r.bytes();
         const uint64_t fields = r.u64();
         for (uint64_t f = 0; f < fields; ++f) out.level_field_bytes[static_cast<size_t>(level)][f] += r.u64();

@@ -1,0 +1,67 @@
+// The blocks of a level and how the ranks of a run share them
+// (codec/bricked_encoder.h): which rank builds which block, the one
+// exchange every phase ends with, and the bytes a block's results travel in
+// (between this program's own ranks: written and read without checks).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "codec/block_levels.h"
+#include "codec/layer_coder.h"
+#include "common/byte_io.h"
+#include "common/exchange.h"
+#include "common/status.h"
+
+namespace dtm {
+
+// The blocks of one level: the non-empty octree nodes of one depth, and
+// the rank that builds each (contiguous runs of about equal point counts).
+struct BlockPlan {
+  int depth = 0;
+  std::vector<uint64_t> blocks;
+  std::vector<size_t> first;  // of each block's points in the level's Morton order; one more at the end
+  std::vector<int> rank;
+};
+// `codes`: the level's Morton codes, ascending.
+BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int depth, int ranks);
+// Ranks for a plan's blocks, given their `first` points: contiguous runs of
+// about equal point counts.
+void assign_ranks(BlockPlan& plan, int ranks);
+
+// Runs `work` on every block of `plan` this rank builds (in block order),
+// each result serialized by the work, and returns every block's bytes,
+// indexed by block, on every rank. A failure on any rank (a Status, or an
+// exception, which would otherwise leave the other ranks waiting in the
+// exchange) is every rank's: `status` says it.
+std::vector<std::vector<uint8_t>> run_blocks(const BlockPlan& plan, RankExchange& exchange,
+                                             const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work,
+                                             Status& status);
+
+void put(ByteWriter& w, std::span<const uint32_t> v);
+void put(ByteWriter& w, std::span<const uint8_t> v);
+void put(ByteWriter& w, const DistanceSums& d);
+
+// Reads what put() and ByteWriter wrote (the input is this program's own).
+class BlockReader {
+ public:
+  explicit BlockReader(std::span<const uint8_t> bytes) : r_(bytes) {}
+  uint8_t u8();
+  uint32_t u32();
+  uint64_t u64();
+  double f64();
+  std::vector<uint32_t> u32s();
+  std::vector<uint8_t> bytes();
+  DistanceSums sums();
+  bool done() const { return r_.remaining() == 0; }
+
+ private:
+  ByteReader r_;
+};
+
+std::vector<uint8_t> serialize(const BlockAnalysis& a);
+BlockAnalysis deserialize_analysis(std::span<const uint8_t> bytes);
+
+}  // namespace dtm
