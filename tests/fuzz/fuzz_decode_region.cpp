@@ -1,7 +1,8 @@
 // Decoding a region (spec/FORMAT.md §4.1) from arbitrary bytes: the first 7
 // bytes pick the level and the box, the rest is the stream. Never a crash, a
 // hang or an allocation the bytes do not justify; what decodes is a mesh
-// over its own points, numbered within the level, having read no byte twice.
+// over its own points, numbered within the level, having read no byte twice,
+// with every field's values for every point.
 // (That the region equals the whole level filtered holds for the streams the
 // encoder writes, tests/test_bricks.cpp: a hostile stream may claim a kept
 // radius its cells break, which only the whole decode can see.)
@@ -32,5 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(region->vertex_ids[i] > region->vertex_ids[i - 1]);
   for (const auto& c : region->cells)
     for (uint32_t v : c) FUZZ_CHECK(v < region->points.size());
+  for (const auto& f : region->fields)  // values in chunks: every point's, whole
+    FUZZ_CHECK(f.bits.size() == region->points.size() * static_cast<size_t>(f.description.components));
   return 0;
 }
