@@ -80,9 +80,9 @@ DistanceSums BlockReader::sums() {
   return d;
 }
 
-std::vector<std::vector<uint8_t>> run_blocks(const BlockPlan& plan, RankExchange& exchange,
-                                             const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work,
-                                             Status& status) {
+std::vector<std::vector<uint8_t>> run_blocks(
+    const BlockPlan& plan, RankExchange& exchange,
+    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status) {
   ByteWriter mine;
   Status local = Status::Ok();
   for (size_t k = 0; k < plan.blocks.size() && local.ok(); ++k) {

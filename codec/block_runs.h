@@ -36,9 +36,9 @@ void assign_ranks(BlockPlan& plan, int ranks);
 // indexed by block, on every rank. A failure on any rank (a Status, or an
 // exception, which would otherwise leave the other ranks waiting in the
 // exchange) is every rank's: `status` says it.
-std::vector<std::vector<uint8_t>> run_blocks(const BlockPlan& plan, RankExchange& exchange,
-                                             const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work,
-                                             Status& status);
+std::vector<std::vector<uint8_t>> run_blocks(
+    const BlockPlan& plan, RankExchange& exchange,
+    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status);
 
 void put(ByteWriter& w, std::span<const uint32_t> v);
 void put(ByteWriter& w, std::span<const uint8_t> v);

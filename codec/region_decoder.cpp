@@ -198,6 +198,7 @@ Status read_field_table(Reader& reader, StreamPlan& plan) {
   DTM_RETURN_IF_ERROR(reader.read(kHeaderSize, 4, bytes, "the field table's length"));
   const uint64_t length = bytes[0] | (bytes[1] << 8) | (bytes[2] << 16) | (uint64_t{bytes[3]} << 24);
   if (length > kMaxTableBytes) return {StatusCode::kCorrupt, "field table: longer than any table can be"};
+  reader.bytes_read -= 4;  // read again with the rest (counted once)
   DTM_RETURN_IF_ERROR(reader.read(kHeaderSize, 4 + length + 8, bytes, "the field table's end"));
   size_t consumed = 0;
   DTM_RETURN_IF_ERROR(parse_field_table(bytes, plan.fields, consumed));
@@ -354,6 +355,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   std::vector<uint32_t> local_ids;
   std::vector<int32_t> local_levels;
   std::vector<FieldValues> local_values;
+  local_values.reserve(values.size());
   for (const FieldValues& f : values) local_values.push_back({f.description, {}});
   for (uint32_t v : inside) {
     local_points.push_back(points[v]);

@@ -381,7 +381,9 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     for (size_t c = 0; c < mesh.cells.size(); ++c)
       if (cells.kept[c] && owns(bounds.owned, points, mesh.cells[c])) sum += cells.angle[c], ++count;
     out.quality = count ? sum / static_cast<double>(count) : 0;
-    out.quality_met = bounds.quality_floor <= 0 || count == 0 || out.quality >= bounds.quality_floor;
+    // A block owning no kept cell has no quality of its own to keep.
+    out.quality_met =
+        bounds.quality_floor <= 0 || (bounds.owned && count == 0) || out.quality >= bounds.quality_floor;
 
     // The places beyond D_max this level made (not inherited), and what
     // would change them.

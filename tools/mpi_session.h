@@ -33,7 +33,7 @@ class MpiSession : public RankExchange {
     (void)argc, (void)argv;
 #endif
   }
-  ~MpiSession() {
+  ~MpiSession() override {
 #ifdef DTM_WITH_MPI
     if (active_) MPI_Finalize();
 #endif
