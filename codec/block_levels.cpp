@@ -6,6 +6,7 @@
 #include "codec/bricks.h"
 #include "codec/carving_coder.h"
 #include "codec/format.h"
+#include "common/release.h"
 #include "mesh/carving.h"
 #include "mesh/topology.h"
 
@@ -159,7 +160,7 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
   policy.fixed_value = o.alpha;
   policy.kept_radius_ratio = o.kept_radius / o.alpha;
   DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze_level(block.points, std::move(dt), policy, verdicts));
-  verdicts = {};
+  release(verdicts);
   const std::span<const GridPoint> points = L.points;
   const std::span<const uint32_t> ids = block.ids;
 
@@ -183,7 +184,7 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
     for (auto& c : out.carved)
       for (uint32_t& v : c) v = ids[v];
   }
-  owned_cells = {};
+  release(owned_cells);
 
   // The surface: what the block owns of it, and its distance to the reference.
   const LevelSurface surface = level_surface(L);

@@ -13,6 +13,7 @@
 #include "codec/format.h"
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
+#include "common/release.h"
 #include "core/nearest_spacing.h"
 #include "core/reference_solid.h"
 #include "mesh/topology.h"
@@ -81,6 +82,7 @@ class BrickedEncoder {
         level_of_(in.points.size(), 0) {
     solid_ = in.voxels;
     if (!in.reference_tets.empty()) set_reference(in.reference_tets);
+    if (in.reference_tets_done) in.reference_tets_done();
   }
 
   StatusOr<BrickedEncoding> run(const std::function<void(const LevelStats&)>& on_level);
@@ -118,7 +120,7 @@ class BrickedEncoder {
   // The reference: its solid (the input's tetrahedra, or level 0's carving,
   // or the scan's voxels), whole on every rank, and its boundary triangles
   // by place (none before level 0 is built, when level 0 is the reference).
-  std::vector<std::array<uint32_t, 4>> level0_cells_;
+  std::vector<std::array<uint32_t, 4>> level0_cells_;  // until they are the solid
   std::optional<ReferenceSolid> tet_solid_;
   const Solid* solid_ = nullptr;
   std::optional<TriangleIndex> faces_;
@@ -420,6 +422,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
         // to it is 0.
         std::sort(level0_cells_.begin(), level0_cells_.end());
         set_reference(level0_cells_);
+        release(level0_cells_);
         reference_squared_.clear();
       }
     }
@@ -474,7 +477,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     for (uint32_t id : ids)
       if (coarser_[id]) level_of_[id] = static_cast<uint8_t>(level + 1);
   }
-  coarser_ = {};
+  release(coarser_);
   return write_stream(levels);
 }
 

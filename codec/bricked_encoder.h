@@ -7,7 +7,8 @@
 // holds only its region in memory.
 //
 // What a rank holds whole: the grid points (12 bytes each), which level
-// each belongs to, a Morton index of them, the reference tetrahedra, and
+// each belongs to, a Morton index of them, the reference solid (its
+// boundary triangles and the tetrahedra near them), and
 // what the blocks report (the surface records, the carving sections, the
 // coarser level's choice); the Delaunay tetrahedralizations, the carving
 // and the checks are made block by block.
@@ -49,6 +50,9 @@ struct BrickedEncodeInput {
   Grid grid;
   // The reference solid's tetrahedra (indices into points), or none.
   std::span<const std::array<uint32_t, 4>> reference_tets;
+  // Called once reference_tets are read no more (the encoder's solid and
+  // boundary hold what it needs of them), before the levels are built.
+  std::function<void()> reference_tets_done;
   // A scan's voxels as the solid (without tetrahedra), or nullptr; with
   // neither, level 0's alpha carving is the reference.
   const Solid* voxels = nullptr;

@@ -133,6 +133,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   in.points = q.points;
   in.grid = q.grid;
   in.reference_tets = tets;
+  in.reference_tets_done = input.tetrahedra_done;
   in.voxels = voxels;
   std::optional<FieldSectionEncoder> values;
   if (!fields.empty()) {

@@ -116,6 +116,11 @@ struct EncodeInput {
   // of the input's, core/reference_shape.h): a caller short of memory frees
   // its own before encoding (meshenc does, for meshes of 10M vertices).
   bool tetrahedra_on_grid = false;
+  // Called once the encoder reads `tetrahedra` no more, before its levels
+  // are built, so that the caller may free them: the bricked encoder
+  // (EncodeOptions::bricks) keeps its own copy of the few it tests again;
+  // the whole-level encoder reads them to the end and does not call it.
+  std::function<void()> tetrahedra_done;
   // A scan's voxels (the input's points are some of their centres): the
   // solid every level is carved to, when there are no tetrahedra.
   const VoxelMask* voxels = nullptr;

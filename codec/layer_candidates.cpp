@@ -8,6 +8,7 @@
 
 #include "bitstream/range_coder.h"
 #include "common/parallel_for.h"
+#include "common/release.h"
 #include "mesh/topology.h"
 
 namespace dtm {
@@ -109,7 +110,7 @@ void keys_in_blocks(size_t n, std::vector<uint64_t>& keys, const EmitBlock& emit
   keys.reserve(total);
   for (auto& f : found) {
     keys.insert(keys.end(), f.begin(), f.end());
-    f = {};
+    release(f);
   }
 }
 

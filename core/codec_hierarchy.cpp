@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/parallel_for.h"
+#include "common/release.h"
 #include "core/coarsening.h"
 #include "core/level_build.h"
 #include "core/reference_shape.h"
@@ -62,8 +63,8 @@ void hand_over(Level& out, LevelGeometry& L) {
 // importance and refills use them): freed, a level being large.
 void drop_unused(LevelGeometry& L) {
   L.cells_of_vertex = {};
-  L.solid_angle_sum = {};
-  L.mesh_volume6 = {};
+  release(L.solid_angle_sum);
+  release(L.mesh_volume6);
 }
 
 }  // namespace
@@ -143,7 +144,7 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   if (!match.empty()) {
     phase(0, "its solid against the reference");
     h.level0_difference = carved_difference(points, L->dt, L->in_mesh, opt.reference_cells, *solid, match);
-    match = {};
+    release(match);
   }
   h.levels.push_back(describe(*L, vertices, 0, shape0));
 

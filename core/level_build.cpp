@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "common/parallel_for.h"
+#include "common/release.h"
 #include "core/nearest_points.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
@@ -267,7 +268,7 @@ void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<con
   std::vector<std::pair<uint32_t, uint32_t>> candidates;  // (removed vertex, a cell holding it)
   for (size_t i = 0; i < searched; ++i)
     for (uint32_t k : near[i]) candidates.emplace_back(k, worst[i].second);
-  near = {};
+  release(near);
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end(),
                                [](const auto& a, const auto& b) { return a.first == b.first; }),
@@ -357,7 +358,7 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
   auto dt = std::make_unique<IncrementalDelaunay>();
   phase("Delaunay tetrahedralization");
   DTM_RETURN_IF_ERROR(dt->insert(gather(points, chosen), chosen));
-  chosen = {};
+  release(chosen);
   if (dt->dimension() < 3)
     return Status{StatusCode::kInvalidInput, "the coarser level does not span three dimensions"};
   auto removed = std::make_unique<RemovedVertices>(points, keep);

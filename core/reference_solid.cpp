@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/parallel_for.h"
+#include "common/release.h"
 #include "mesh/geometry.h"
 #include "mesh/topology.h"
 
@@ -82,22 +83,43 @@ bool tetrahedron_meets_box(const std::array<P4, 4>& t, const P4& lo, const P4& h
 ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
                                std::span<const std::array<uint32_t, 4>> cells,
                                std::span<const std::array<uint32_t, 3>> boundary)
-    : points_(points), cells_(cells) {
-  build(boundary);
+    : points_(points), tetrahedra_(cells.size()) {
+  build(cells, boundary);
+  keep_listed(cells);
 }
 
 ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
                                std::span<const std::array<uint32_t, 4>> cells)
-    : points_(points), cells_(cells) {
-  build(boundary_triangles(cells));
+    : points_(points), tetrahedra_(cells.size()) {
+  build(cells, boundary_triangles(cells));
+  keep_listed(cells);
 }
 
-void ReferenceSolid::build(std::span<const std::array<uint32_t, 3>> boundary) {
-  const size_t n = cells_.size();
+void ReferenceSolid::keep_listed(std::span<const std::array<uint32_t, 4>> cells) {
+  std::vector<uint32_t> listed(mixed_.items.begin(), mixed_.items.end());
+  std::sort(listed.begin(), listed.end());
+  listed.erase(std::unique(listed.begin(), listed.end()), listed.end());
+  kept_.resize(listed.size());
+  std::vector<uint8_t> orientation(listed.size());
+  for (size_t i = 0; i < listed.size(); ++i)
+    kept_[i] = cells[listed[i]], orientation[i] = orientation_[listed[i]];
+  parallel_for(
+      mixed_.items.size(),
+      [&](size_t i) {
+        mixed_.items[i] = static_cast<uint32_t>(
+            std::lower_bound(listed.begin(), listed.end(), mixed_.items[i]) - listed.begin());
+      },
+      4096);
+  orientation_ = std::move(orientation);
+}
+
+void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
+                           std::span<const std::array<uint32_t, 3>> boundary) {
+  const size_t n = cells.size();
   orientation_.resize(n);
   bool any = false;
   for (size_t k = 0; k < n; ++k) {
-    const auto& t = cells_[k];
+    const auto& t = cells[k];
     for (uint32_t v : t) {
       const P4 p = times4(points_[v]);
       for (int a = 0; a < 3; ++a) {
@@ -112,7 +134,7 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 3>> boundary) {
   parallel_for(
       n,
       [&](size_t k) {
-        const auto& t = cells_[k];
+        const auto& t = cells[k];
         const P4 a = times4(points_[t[0]]), b = times4(points_[t[1]]), c = times4(points_[t[2]]),
                  d = times4(points_[t[3]]);
         const int o = small_ ? orientation_in<int64_t>(a, b, c, d) : orientation_in<Int128>(a, b, c, d);
@@ -200,14 +222,14 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 3>> boundary) {
         for (size_t k = block * kTetBlock; k < std::min(n, block * kTetBlock + kTetBlock); ++k) {
           if (orientation_[k] == 0) continue;
           P4 bl, bh;
-          box_of(cells_[k], bl, bh);
+          box_of(cells[k], bl, bh);
           std::array<int64_t, 3> c0, c1;
           range(bl, bh, c0, c1);
           bool corners_read = false;
           for_each_cell_box(c0, c1, [&](size_t cell, const P4& cl, const P4& ch) {
             if (!(is_mixed[cell / 64] >> (cell % 64) & 1)) return;
             if (!corners_read) {
-              for (int i = 0; i < 4; ++i) corners[i] = times4(points_[cells_[k][i]]);
+              for (int i = 0; i < 4; ++i) corners[i] = times4(points_[cells[k][i]]);
               corners_read = true;
             }
             if (small_ ? tetrahedron_meets_box<int64_t>(corners, cl, ch)
@@ -221,8 +243,8 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 3>> boundary) {
     for (const auto& block : pairs)
       for (const auto& [row, k] : block) emit(row, k);
   });
-  pairs = {};
-  is_mixed = {};
+  release(pairs);
+  release(is_mixed);
 
   // The untouched cells, row by row along x (rows on every core): a run of
   // them between two mixed cells lies wholly inside or outside, classified
@@ -237,41 +259,41 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 3>> boundary) {
       static_cast<size_t>(dims_[1] * dims_[2]),
       [&](size_t row) {
         const int64_t y = static_cast<int64_t>(row) % dims_[1], z = static_cast<int64_t>(row) / dims_[1];
-        uint32_t* const cells = state_.data() + row * static_cast<size_t>(dims_[0]);
+        uint32_t* const states = state_.data() + row * static_cast<size_t>(dims_[0]);
         for (int64_t x = 0; x < dims_[0];) {
-          if (cells[x] != kUnknown) {
+          if (states[x] != kUnknown) {
             ++x;
             continue;
           }
           int64_t end = x;
-          while (end < dims_[0] && cells[end] == kUnknown) ++end;
+          while (end < dims_[0] && states[end] == kUnknown) ++end;
           uint32_t verdict = kOutside;
           if (x > 0 && end < dims_[0]) {
             const P4 centre = {lo_[0] + x * step_, lo_[1] + y * step_ + step_ / 2,
                                lo_[2] + z * step_ + step_ / 2};
-            for (uint32_t k : mixed_.row(cells[x - 1] - kFirstMixed))
-              if (in_tetrahedron(centre, k)) {
+            for (uint32_t k : mixed_.row(states[x - 1] - kFirstMixed))
+              if (in_tetrahedron(centre, cells[k], orientation_[k])) {
                 verdict = kInside;
                 break;
               }
           }
-          for (int64_t i = x; i < end; ++i) cells[i] = verdict;
+          for (int64_t i = x; i < end; ++i) states[i] = verdict;
           x = end;
         }
       },
       64);
 }
 
-bool ReferenceSolid::in_tetrahedron(const P4& p, uint32_t k) const {
-  if (orientation_[k] == 0) return false;
-  const auto& t = cells_[k];
+bool ReferenceSolid::in_tetrahedron(const P4& p, const std::array<uint32_t, 4>& t,
+                                    uint8_t orientation) const {
+  if (orientation == 0) return false;
   P4 c[4] = {times4(points_[t[0]]), times4(points_[t[1]]), times4(points_[t[2]]), times4(points_[t[3]])};
   for (int a = 0; a < 3; ++a) {
     const int64_t l = std::min({c[0][a], c[1][a], c[2][a], c[3][a]}),
                   h = std::max({c[0][a], c[1][a], c[2][a], c[3][a]});
     if (p[a] < l || p[a] > h) return false;
   }
-  if (orientation_[k] == 2) std::swap(c[2], c[3]);
+  if (orientation == 2) std::swap(c[2], c[3]);
   // Inside or on the boundary: p is on the inner side of every face.
   const auto orient = small_ ? orientation_in<int64_t> : orientation_in<Int128>;
   return orient(p, c[1], c[2], c[3]) >= 0 && orient(c[0], p, c[2], c[3]) >= 0 &&
@@ -285,16 +307,18 @@ size_t ReferenceSolid::cell_of(const P4& p) const {
 }
 
 bool ReferenceSolid::contains4(const P4& p) const {
-  if (cells_.empty()) return false;
+  if (tetrahedra_ == 0) return false;
   for (int a = 0; a < 3; ++a)
     if (p[a] < lo_[a] || p[a] > hi_[a]) return false;
   const uint32_t s = state_[cell_of(p)];
   if (s < kFirstMixed) return s == kInside;
   for (uint32_t k : mixed_.row(s - kFirstMixed))
-    if (in_tetrahedron(p, k)) return true;
+    if (in_tetrahedron(p, kept_[k], orientation_[k])) return true;
   return false;
 }
 
-ReferenceSolid::Layout ReferenceSolid::layout() const { return {dims_, mixed_.rows(), mixed_.items.size()}; }
+ReferenceSolid::Layout ReferenceSolid::layout() const {
+  return {dims_, mixed_.rows(), mixed_.items.size(), kept_.size()};
+}
 
 }  // namespace dtm

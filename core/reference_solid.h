@@ -12,8 +12,9 @@
 // so does every run of such cells along a grid row: each run is classified
 // by one exact test (rows on every core). Only the cells the boundary meets
 // ("mixed") keep a list of the tetrahedra that may meet them (box and face
-// planes), tested exactly. The tetrahedra and points are the caller's
-// (spans): they must outlive the solid.
+// planes), tested exactly. Only those tetrahedra are kept (a copy, near the
+// boundary: at 1M vertices a quarter of them), so that the caller may free its
+// own; the points are the caller's (a span): they must outlive the solid.
 #pragma once
 
 #include <array>
@@ -39,13 +40,14 @@ class ReferenceSolid : public Solid {
 
   bool contains_point4(const std::array<int64_t, 3>& p) const override { return contains4(p); }
 
-  size_t tetrahedra() const { return cells_.size(); }
+  size_t tetrahedra() const { return tetrahedra_; }
 
   // The grid's figures, for tests and benchmarks: cells along each axis, and
-  // how many are mixed and how many tetrahedra their lists hold.
+  // how many are mixed, how many tetrahedra their lists hold, and how many
+  // distinct tetrahedra the solid keeps.
   struct Layout {
     std::array<int64_t, 3> dims;
-    uint64_t mixed_cells, listed;
+    uint64_t mixed_cells, listed, kept;
   };
   Layout layout() const;
 
@@ -53,15 +55,22 @@ class ReferenceSolid : public Solid {
   using Point4 = std::array<int64_t, 3>;
   static constexpr uint32_t kOutside = 0, kInside = 1, kFirstMixed = 2;
 
-  void build(std::span<const std::array<uint32_t, 3>> boundary);
+  void build(std::span<const std::array<uint32_t, 4>> cells,
+             std::span<const std::array<uint32_t, 3>> boundary);
+  // Keeps the listed tetrahedra only, renumbered in their order.
+  void keep_listed(std::span<const std::array<uint32_t, 4>> cells);
   bool contains4(const Point4& p) const;
-  // The exact test of p against tetrahedron k (a flat one contains nothing).
-  bool in_tetrahedron(const Point4& p, uint32_t k) const;
+  // The exact test of p against tetrahedron t of the given orientation (a
+  // flat one contains nothing).
+  bool in_tetrahedron(const Point4& p, const std::array<uint32_t, 4>& t, uint8_t orientation) const;
   size_t cell_of(const Point4& p) const;
 
   std::span<const GridPoint> points_;
-  std::span<const std::array<uint32_t, 4>> cells_;
-  // Per tetrahedron: 0 flat, 1 positively oriented, 2 negatively.
+  // The tetrahedra the mixed cells list (mixed_ numbers them).
+  std::vector<std::array<uint32_t, 4>> kept_;
+  size_t tetrahedra_ = 0;
+  // Per tetrahedron (while building, the caller's; then kept_'s): 0 flat,
+  // 1 positively oriented, 2 negatively.
   std::vector<uint8_t> orientation_;
   Point4 lo_{}, hi_{};
   int64_t step_ = 2;  // grid cell edge at four times the grid scale (even: cell centres are integral)

@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "common/parallel_for.h"
+#include "common/release.h"
 #include "mesh/geometry.h"
 
 namespace dtm {
@@ -56,7 +57,7 @@ Csr vertex_neighbors(std::span<const std::array<uint32_t, 4>> cells, const Csr& 
   out.items.reserve(total);
   for (auto& block : items) {
     out.items.insert(out.items.end(), block.begin(), block.end());
-    block = {};
+    release(block);
   }
   return out;
 }

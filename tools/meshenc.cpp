@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "codec/encode.h"
+#include "common/release.h"
 #include "core/reference_shape.h"
 #include "tools/atomic_file.h"
 #include "tools/field_types.h"
@@ -353,11 +354,13 @@ int run(Command& c) {
   const dtm::Grid grid = plan->quantized.grid;
   const size_t vertices = plan->quantized.points.size();
   // The reference on the grid, the input's copy freed (a tenth of the
-  // memory a 10M-vertex mesh's encoding takes).
+  // memory a 10M-vertex mesh's encoding takes), and the grid's once the
+  // encoder holds what it needs of them.
   std::vector<std::array<uint32_t, 4>> grid_tets = dtm::grid_tetrahedra(in.tets, plan->quantized);
-  in.tets = {};
+  dtm::release(in.tets);
   input.tetrahedra = grid_tets;
   input.tetrahedra_on_grid = true;
+  input.tetrahedra_done = [&grid_tets] { dtm::release(grid_tets); };
   c.encode.on_phase = [&](std::string_view phase) { display.start(phase); };
   // Without an output the stream is still made: the report gives its size.
   const auto encoded =
