@@ -23,47 +23,40 @@ std::vector<uint32_t> vertex_ids_of(std::span<const std::array<uint32_t, 3>> tri
 std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<uint32_t, 4>> tets,
                                                      const QuantizedPoints& q) {
   using Tet = std::array<uint32_t, 4>;
-  std::vector<Tet> out;
-  out.reserve(tets.size());
-  for (const auto& t : tets) {
-    Tet g{q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]], q.input_to_point[t[3]]};
+  const auto on_grid = [&](const Tet& t, Tet& g) {
+    g = {q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]], q.input_to_point[t[3]]};
     Tet s = g;
     std::sort(s.begin(), s.end());
-    if (std::adjacent_find(s.begin(), s.end()) == s.end()) out.push_back(g);
-  }
+    return std::adjacent_find(s.begin(), s.end()) == s.end();  // not collapsed by quantization
+  };
   // Ordered by smallest vertex (stable), in two passes that each touch
   // memory in order: into partitions of consecutive vertex ids, then each
-  // partition by its own counting sort (on every core). A mesher's output
+  // partition sorted where it lies (on every core). A mesher's output
   // order is its refinement's, scattered over space at 10M vertices; in
   // this order every pass over the tetrahedra reads their corners in order
   // (bunny_10m's reference shape and solid went from 37 s to 13 s, for
-  // 1.8 s more here).
-  const size_t n = out.size();
-  if (n < 2) return out;
+  // 1.8 s more here). The tetrahedra go straight from the input into their
+  // partitions: one copy of them is made, beside the caller's.
   auto smallest = [](const Tet& t) { return std::min({t[0], t[1], t[2], t[3]}); };
   const size_t ids = q.points.size();
   int shift = 0;
   while ((ids >> shift) >= 1024) ++shift;
   const size_t partitions = (ids >> shift) + 1;
   std::vector<size_t> start(partitions + 1, 0);
-  for (const Tet& t : out) ++start[(smallest(t) >> shift) + 1];
+  Tet g;
+  for (const Tet& t : tets)
+    if (on_grid(t, g)) ++start[(smallest(g) >> shift) + 1];
   for (size_t p = 0; p < partitions; ++p) start[p + 1] += start[p];
-  std::vector<Tet> scattered(n);
+  std::vector<Tet> out(start.back());
   {
     std::vector<size_t> fill(start.begin(), start.end() - 1);
-    for (const Tet& t : out) scattered[fill[smallest(t) >> shift]++] = t;
+    for (const Tet& t : tets)
+      if (on_grid(t, g)) out[fill[smallest(g) >> shift]++] = g;
   }
   parallel_for(partitions, [&](size_t p) {
-    const uint32_t first = static_cast<uint32_t>(p << shift);
-    std::vector<size_t> at(size_t{1} << shift, 0);
-    for (size_t i = start[p]; i < start[p + 1]; ++i) ++at[smallest(scattered[i]) - first];
-    size_t offset = start[p];
-    for (size_t& a : at) {
-      const size_t count = a;
-      a = offset;
-      offset += count;
-    }
-    for (size_t i = start[p]; i < start[p + 1]; ++i) out[at[smallest(scattered[i]) - first]++] = scattered[i];
+    std::stable_sort(out.begin() + static_cast<std::ptrdiff_t>(start[p]),
+                     out.begin() + static_cast<std::ptrdiff_t>(start[p + 1]),
+                     [&](const Tet& a, const Tet& b) { return smallest(a) < smallest(b); });
   });
   return out;
 }

@@ -125,7 +125,8 @@ TEST(ReferenceShape, RemembersNothingThatChangesItsAnswers) {
 }
 
 // boundary_triangles against the plain definition: the faces that exactly
-// one cell has, in ascending sorted-key order, oriented as that cell gives them.
+// one cell has, in ascending sorted-key order, oriented as that cell gives
+// them, in one pass and in several.
 TEST(BoundaryTriangles, MatchesAGlobalSort) {
   std::mt19937 rng(7);
   for (int round = 0; round < 20; ++round) {
@@ -160,6 +161,10 @@ TEST(BoundaryTriangles, MatchesAGlobalSort) {
     for (const auto& [key, sides] : by_key)
       if (sides.size() == 1) expected.push_back(sides[0]);
     EXPECT_EQ(boundary_triangles(cells), expected) << "round " << round;
+    // In passes over ranges of vertices (a bucket larger than a pass is a
+    // pass of its own): the same faces in the same order.
+    for (const size_t per_pass : {1, 7, 50})
+      EXPECT_EQ(boundary_triangles(cells, per_pass), expected) << "round " << round << ", " << per_pass;
   }
   EXPECT_TRUE(boundary_triangles({}).empty());
 }
