@@ -198,8 +198,9 @@ Status read_field_table(Reader& reader, StreamPlan& plan) {
   DTM_RETURN_IF_ERROR(reader.read(kHeaderSize, 4, bytes, "the field table's length"));
   const uint64_t length = bytes[0] | (bytes[1] << 8) | (bytes[2] << 16) | (uint64_t{bytes[3]} << 24);
   if (length > kMaxTableBytes) return {StatusCode::kCorrupt, "field table: longer than any table can be"};
-  reader.bytes_read -= 4;  // read again with the rest (counted once)
-  DTM_RETURN_IF_ERROR(reader.read(kHeaderSize, 4 + length + 8, bytes, "the field table's end"));
+  std::vector<uint8_t> rest;
+  DTM_RETURN_IF_ERROR(reader.read(kHeaderSize + 4, length + 8, rest, "the field table's end"));
+  bytes.insert(bytes.end(), rest.begin(), rest.end());
   size_t consumed = 0;
   DTM_RETURN_IF_ERROR(parse_field_table(bytes, plan.fields, consumed));
   plan.table_bytes = consumed;
