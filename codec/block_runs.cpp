@@ -5,15 +5,42 @@
 #include <new>
 #include <string>
 
+#include "codec/bricks.h"
+
 namespace dtm {
 
-BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int depth, int ranks) {
-  BlockPlan p;
-  p.depth = depth;
-  for (size_t i = 0; i < codes.size(); ++i) {
-    const uint64_t b = static_cast<uint64_t>(codes[i] >> (3 * (qbits - depth)));
-    if (p.blocks.empty() || p.blocks.back() != b) p.blocks.push_back(b), p.first.push_back(i);
+namespace {
+
+// Appends the blocks of the node (depth, prefix) holding codes[begin, end).
+void split_node(std::span<const MortonCode> codes, int qbits, int max_depth, uint64_t max_points, int depth,
+                uint64_t prefix, size_t begin, size_t end, BlockPlan& p) {
+  if (end - begin <= max_points || depth >= max_depth) {
+    p.blocks.push_back(prefix);
+    p.depth.push_back(depth);
+    p.first.push_back(begin);
+    return;
   }
+  const int shift = 3 * (qbits - depth - 1);
+  for (size_t i = begin; i < end;) {
+    const uint64_t child = static_cast<uint64_t>(codes[i] >> shift);
+    const auto last =
+        std::lower_bound(codes.begin() + static_cast<std::ptrdiff_t>(i),
+                         codes.begin() + static_cast<std::ptrdiff_t>(end), MortonCode{child + 1} << shift);
+    const auto next = static_cast<size_t>(last - codes.begin());
+    split_node(codes, qbits, max_depth, max_points, depth + 1, child, i, next, p);
+    i = next;
+  }
+}
+
+}  // namespace
+
+GridBox BlockPlan::box(size_t k, int qbits) const { return brick_box(blocks[k], qbits, depth[k]); }
+
+BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int max_depth, uint64_t max_points,
+                      int ranks) {
+  BlockPlan p;
+  if (!codes.empty())
+    split_node(codes, qbits, max_depth, std::max<uint64_t>(1, max_points), 0, 0, 0, codes.size(), p);
   p.first.push_back(codes.size());
   assign_ranks(p, ranks);
   return p;

@@ -17,16 +17,22 @@
 
 namespace dtm {
 
-// The blocks of one level: the non-empty octree nodes of one depth, and
+// The blocks of one level: non-empty octree nodes, in Morton order, and
 // the rank that builds each (contiguous runs of about equal point counts).
 struct BlockPlan {
-  int depth = 0;
-  std::vector<uint64_t> blocks;
-  std::vector<size_t> first;  // of each block's points in the level's Morton order; one more at the end
+  std::vector<uint64_t> blocks;  // each node's Morton prefix (3 x its depth bits)
+  std::vector<int> depth;        // of each node
+  std::vector<size_t> first;     // of each block's points in the level's Morton order; one more at the end
   std::vector<int> rank;
+  GridBox box(size_t k, int qbits) const;
 };
-// `codes`: the level's Morton codes, ascending.
-BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int depth, int ranks);
+// The octree nodes split from the root until none holds more than
+// `max_points` of the level's points or it has depth `max_depth`: the
+// largest block, and so what building it holds in memory, is bounded by
+// the points wherever they crowd, not by their average. `codes`: the
+// level's Morton codes, ascending.
+BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int max_depth, uint64_t max_points,
+                      int ranks);
 // Ranks for a plan's blocks, given their `first` points: contiguous runs of
 // about equal point counts.
 void assign_ranks(BlockPlan& plan, int ranks);

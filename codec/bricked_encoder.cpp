@@ -42,18 +42,23 @@ constexpr double kRetryShare = 0.6;
 // What the encoder keeps of a level for the stream.
 struct LevelOut {
   double alpha = 0, kept_radius = 0;
-  int brick_depth = 0, block_depth = 0;
+  int brick_depth = 0;
   std::map<uint64_t, std::vector<uint8_t>> carving;  // per brick
   uint64_t cell_hash = 0;
   LevelStats stats;
 };
 
+// Whether one octree node holds the other.
+bool nested(uint64_t a, int depth_a, uint64_t b, int depth_b) {
+  return depth_a <= depth_b ? (b >> (3 * (depth_b - depth_a))) == a : (a >> (3 * (depth_a - depth_b))) == b;
+}
+
 // The level's quality floor over each level-0 block: average_quality_floor
 // times level 0's average there (a block of a coarser level takes the
 // blocks of level 0 inside it, or around it).
 struct QualityFloors {
-  int depth = 0;
   std::vector<uint64_t> blocks;
+  std::vector<int> depth;
   std::vector<double> sum;
   std::vector<uint64_t> count;
   double factor = 0, whole = 0;
@@ -62,11 +67,8 @@ struct QualityFloors {
     if (factor <= 0) return 0;
     double s = 0;
     uint64_t c = 0;
-    for (size_t i = 0; i < blocks.size(); ++i) {
-      const bool inside = depth_of_block <= depth ? (blocks[i] >> (3 * (depth - depth_of_block))) == block
-                                                  : (block >> (3 * (depth_of_block - depth))) == blocks[i];
-      if (inside) s += sum[i], c += count[i];
-    }
+    for (size_t i = 0; i < blocks.size(); ++i)
+      if (nested(blocks[i], depth[i], block, depth_of_block)) s += sum[i], c += count[i];
     return factor * (c > 0 ? s / static_cast<double>(c) : whole);
   }
 };
@@ -132,7 +134,7 @@ class BrickedEncoder {
 
 BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const {
   BlockRegion b;
-  b.owned = brick_box(plan.blocks[k], q_, plan.depth);
+  b.owned = plan.box(k, q_);
   b.region = b.owned.grown(halo, q_);
   b.ids = index_.inside(b.region, level_of_, level);
   b.points = gather(in_.points, b.ids);
@@ -140,7 +142,9 @@ BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level
 }
 
 void BrickedEncoder::set_reference(std::span<const std::array<uint32_t, 4>> tets) {
+  report_phase(o_.hierarchy.on_phase, "the reference's boundary");
   std::vector<std::array<uint32_t, 3>> boundary = boundary_triangles(tets);
+  report_phase(o_.hierarchy.on_phase, "the reference solid");
   tet_solid_.emplace(in_.points, tets, boundary);
   if (!in_.voxels) solid_ = &*tet_solid_;
   faces_.emplace(in_.points, std::move(boundary), q_);
@@ -213,7 +217,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
   // so none of its surface triangles nor the quality of its cells, and it
   // makes no surface within D_max of a reference vertex of the box.
   const int64_t reach = static_cast<int64_t>(std::ceil(2 * kept_radius + o_.hierarchy.dmax)) + 1;
-  const auto seen = [&](size_t k) { return brick_box(plan.blocks[k], q_, plan.depth).grown(reach, q_); };
+  const auto seen = [&](size_t k) { return plan.box(k, q_).grown(reach, q_); };
   for (int pass = 0;; ++pass) {
     phase(level + 1, pass == 0 ? "building the blocks" : "building again where a neighbour put points back");
     Status status = Status::Ok();
@@ -230,7 +234,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           for (size_t i = 0; i < keep.size(); ++i) keep[i] = coarser_[fine.ids[i]];
           std::optional<BlockReference> reference = reference_for(fine.region);
           LevelBounds b = bounds;
-          b.quality_floor = floors.floor(plan.blocks[k], plan.depth);
+          b.quality_floor = floors.floor(plan.blocks[k], plan.depth[k]);
           DTM_ASSIGN_OR_RETURN(BlockBuild built,
                                build_block(fine, keep, record_, reference_squared_, *reference, b));
           // What it put back (the rest was chosen already), and how much of
@@ -297,8 +301,8 @@ StatusOr<std::vector<uint8_t>> BrickedEncoder::base_carving(int level, const Lev
   // The base layer is one chunk of depth 0 (§3.5): its carving over the
   // whole coarsest level, on rank 0, sent to every rank.
   BlockPlan one;
-  one.depth = 0;
   one.blocks = {0};
+  one.depth = {0};
   one.first = {0, 0};
   one.rank = {0};
   BlockAnalysisOptions options;
@@ -334,8 +338,10 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     LevelOut out;
     out.brick_depth =
         std::min(finest_depth, choose_brick_depth(codes, q_, std::max<uint64_t>(1, o_.brick_points / 4)));
-    out.block_depth = std::min(out.brick_depth, choose_brick_depth(codes, q_, o_.block_points));
-    const BlockPlan plan = plan_blocks(codes, q_, out.block_depth, ranks);
+    const BlockPlan plan = plan_blocks(codes, q_, out.brick_depth, o_.block_points, ranks);
+    size_t largest = 0;
+    for (size_t k = 0; k < plan.blocks.size(); ++k)
+      largest = std::max(largest, plan.first[k + 1] - plan.first[k]);
     phase(level, "alpha");
     DTM_ASSIGN_OR_RETURN(out.alpha, level_alpha(ids, plan));
     if (!(out.alpha > 0)) return invalid("the level's points do not span three dimensions");
@@ -355,7 +361,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     options.brick_depth = out.brick_depth;
     options.collect_cells = level == 0 && !faces_;
     if (may_choose) options.choice = CoarseningOptions{1 - share, h.dmax, 0.85};
-    phase(level, "Delaunay tetrahedralization, carving and choice, block by block");
+    phase(level, "Delaunay tetrahedralization, carving and choice in " + std::to_string(plan.blocks.size()) +
+                     " blocks of at most " + std::to_string(largest) + " points");
     std::vector<BlockAnalysis> analysis;
     DTM_RETURN_IF_ERROR(analyse(level, plan, halo, options, analysis));
 
@@ -409,8 +416,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       s.reference_shape = ShapeFigures{};  // level 0 is its own reference
     }
     if (level == 0) {
-      floors.depth = plan.depth;
       floors.blocks = plan.blocks;
+      floors.depth = plan.depth;
       for (const BlockAnalysis& a : analysis) {
         floors.sum.push_back(a.figures.quality_sum);
         floors.count.push_back(a.figures.cells);
@@ -516,7 +523,6 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
   out.chunk_count.assign(L, 0);
   out.index_bytes.assign(L, 0);
   out.brick_depth.assign(L, 0);
-  out.block_depth.assign(L, 0);
   for (const LevelOut& l : levels) out.levels.push_back(l.stats);
 
   SetCoderModels models;
@@ -547,8 +553,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
     }
     first.push_back(fresh_codes.size());
     BlockPlan plan;  // the bricks, shared out among the ranks
-    plan.depth = depth;
     plan.blocks = bricks;
+    plan.depth.assign(bricks.size(), depth);
     plan.first = first;
     assign_ranks(plan, x_.size());
     std::vector<std::vector<uint8_t>> payloads(bricks.size());
@@ -655,7 +661,6 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
     out.chunk_count[static_cast<size_t>(level)] = chunks.size();
     out.index_bytes[static_cast<size_t>(level)] = index.size();
     out.brick_depth[static_cast<size_t>(level)] = depth;
-    out.block_depth[static_cast<size_t>(level)] = lo.block_depth;
     out.bytes.insert(out.bytes.end(), layer.begin(), layer.end());
     merge_known(known, fresh, q_);
   }

@@ -67,8 +67,8 @@ struct BrickedEncoding {
   std::vector<uint64_t> layer_bytes, carving_bytes, value_bytes, chunk_count, index_bytes;  // per level
   std::vector<std::vector<uint64_t>> level_field_bytes;  // per level, per field
   uint64_t field_table_bytes = 0;
-  std::vector<int> brick_depth, block_depth;  // per level
-  std::vector<uint32_t> decode_order;         // as EncodedStream's
+  std::vector<int> brick_depth;        // per level
+  std::vector<uint32_t> decode_order;  // as EncodedStream's
   uint64_t reference_boundary_vertices = 0;
 };
 

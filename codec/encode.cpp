@@ -247,6 +247,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     }
     report.reference_tetrahedra = reference_tets.size();
   }
+  if (input.points_done) input.points_done();
   // The paper preset does not carve to the reference: it is only measured.
   std::optional<ReferenceShape> measured_only;
   if (!reference_tets.empty() && !options.carve_to_reference) measured_only.emplace(q.points, reference_tets);

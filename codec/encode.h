@@ -121,6 +121,10 @@ struct EncodeInput {
   // (EncodeOptions::bricks) keeps its own copy of the few it tests again;
   // the whole-level encoder reads them to the end and does not call it.
   std::function<void()> tetrahedra_done;
+  // Called once the encoder reads `points` and the fields' values no more
+  // (it holds them on its grid), before its levels are built, so that the
+  // caller may free them (24 bytes a point and 8 a value).
+  std::function<void()> points_done;
   // A scan's voxels (the input's points are some of their centres): the
   // solid every level is carved to, when there are no tetrahedra.
   const VoxelMask* voxels = nullptr;

@@ -23,11 +23,14 @@ namespace dtm {
 
 // The input's tetrahedra on the grid (indices of q.points), without those
 // quantization collapsed (two corners on one grid point), ordered by their
-// smallest vertex (ties in input order): the grid points are in
+// smallest vertex (ties by their corners): the grid points are in
 // lexicographic order, so this order sweeps space and whatever is built from
 // the tetrahedra reads their corners in order.
 std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<uint32_t, 4>> tets,
                                                      const QuantizedPoints& q);
+// The same, made of the input's tetrahedra where they lie: no copy of them
+// (a gigabyte at 60M tetrahedra).
+void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const QuantizedPoints& q);
 
 // One level's surface measured against the reference. The per-point
 // figures are squared distances in grid units.

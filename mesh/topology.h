@@ -57,7 +57,7 @@ std::vector<uint32_t> canonical_cell_order(std::span<const std::array<uint32_t, 
 // ordered so that its right-hand normal points away from its cell, in a
 // canonical order (sorted by their vertices). Indices are the cells' own.
 // The faces are matched in passes over ranges of vertices, each holding at
-// most `faces_per_pass` faces (0: a quarter of them, at least 2^24), which
+// most `faces_per_pass` faces (0: an eighth of them, at least 2^24), which
 // bounds the memory it takes; the result is the same for any.
 std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::array<uint32_t, 4>> cells,
                                                         size_t faces_per_pass = 0);

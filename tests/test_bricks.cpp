@@ -8,6 +8,7 @@
 #include <random>
 #include <thread>
 
+#include "codec/block_runs.h"
 #include "codec/bricks.h"
 #include "codec/encode.h"
 #include "codec/region_decoder.h"
@@ -146,6 +147,45 @@ TEST(BrickGeometry, BricksMeetingABoxCoverIt) {
     EXPECT_TRUE(k.lo[0] <= box.hi[0] && k.hi[0] >= box.lo[0] && k.lo[1] <= box.hi[1] && k.hi[1] >= box.lo[1]);
   }
   EXPECT_TRUE(bricks_meeting({{64, 0, 0}, {70, 5, 5}}, 6, 2).empty());  // off the grid
+}
+
+TEST(BlockPlan, SplitsWherePointsCrowdUntilEveryBlockIsBounded) {
+  // A dense cluster in one corner, sparse points elsewhere: the cluster's
+  // blocks are deeper than the rest, none holds more than the bound unless
+  // it is at the deepest allowed, and the blocks are disjoint octree nodes in
+  // Morton order covering every point once.
+  constexpr int kQbits = 10;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int32_t> anywhere(0, 1023), corner(0, 63);
+  std::vector<MortonCode> codes;
+  for (int i = 0; i < 2000; ++i)
+    codes.push_back(morton_encode({anywhere(rng), anywhere(rng), anywhere(rng)}, kQbits));
+  for (int i = 0; i < 6000; ++i)
+    codes.push_back(morton_encode({corner(rng), corner(rng), corner(rng)}, kQbits));
+  std::sort(codes.begin(), codes.end());
+  codes.erase(std::unique(codes.begin(), codes.end()), codes.end());
+  for (const int max_depth : {2, 6}) {
+    const BlockPlan plan = plan_blocks(codes, kQbits, max_depth, 300, 3);
+    ASSERT_EQ(plan.first.size(), plan.blocks.size() + 1);
+    EXPECT_EQ(plan.first.front(), 0u);
+    EXPECT_EQ(plan.first.back(), codes.size());
+    int shallowest = max_depth, deepest = 0;
+    for (size_t k = 0; k < plan.blocks.size(); ++k) {
+      const size_t count = plan.first[k + 1] - plan.first[k];
+      EXPECT_GT(count, 0u);
+      EXPECT_TRUE(count <= 300 || plan.depth[k] == max_depth) << k;
+      shallowest = std::min(shallowest, plan.depth[k]);
+      deepest = std::max(deepest, plan.depth[k]);
+      const GridBox box = plan.box(k, kQbits);
+      for (size_t i = plan.first[k]; i < plan.first[k + 1]; ++i)
+        EXPECT_TRUE(box.contains(morton_decode(codes[i], kQbits)));
+      if (k > 0) {
+        EXPECT_LE(plan.rank[k - 1], plan.rank[k]);
+      }
+    }
+    EXPECT_LT(shallowest, deepest);  // adaptive: the cluster's blocks are deeper
+    EXPECT_EQ(plan.rank.back(), 2);
+  }
 }
 
 TEST(BrickedStream, DecodesToTheEncodersMeshesAtEveryLevel) {
@@ -404,7 +444,9 @@ TEST(BrickedStream, PiecesPartitionTheLevel) {
       std::sort(got.begin(), got.end());
       EXPECT_TRUE(got == want) << "level " << level << ", " << pieces << " pieces: " << got.size()
                                << " cells, " << want.size() << " in the level";
-      if (pieces >= 4 && level == 0) EXPECT_LT(read, bytes.size()) << "a piece read the whole stream";
+      if (pieces >= 4 && level == 0) {
+        EXPECT_LT(read, bytes.size()) << "a piece read the whole stream";
+      }
     }
   }
   MemorySource source(bytes);

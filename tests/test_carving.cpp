@@ -192,7 +192,7 @@ TEST(SolidDifference, HalfACubeMissesHalfItsVolume) {
 }
 
 // The reference's tetrahedra on the grid come in order of their smallest
-// vertex, ties in the input's order, without those quantization collapsed:
+// vertex, ties by their corners, without those quantization collapsed:
 // every pass over them then reads memory in order.
 TEST(GridTetrahedra, AreTheInputsInOrderOfTheirSmallestVertex) {
   const auto q = test::load_quantized("bunny_10k", 6);  // coarse: some tetrahedra collapse
@@ -206,10 +206,14 @@ TEST(GridTetrahedra, AreTheInputsInOrderOfTheirSmallestVertex) {
     if (distinct.size() == 4) expected.push_back(g);
   }
   ASSERT_LT(expected.size(), input.size());  // the case of collapsed tetrahedra is exercised
-  std::stable_sort(expected.begin(), expected.end(), [](const Cell& a, const Cell& b) {
-    return *std::min_element(a.begin(), a.end()) < *std::min_element(b.begin(), b.end());
+  std::sort(expected.begin(), expected.end(), [](const Cell& a, const Cell& b) {
+    const uint32_t sa = *std::min_element(a.begin(), a.end()), sb = *std::min_element(b.begin(), b.end());
+    return sa != sb ? sa < sb : a < b;
   });
   EXPECT_EQ(grid_tetrahedra(input, q), expected);
+  std::vector<Cell> in_place = input;
+  grid_tetrahedra_in_place(in_place, q);
+  EXPECT_EQ(in_place, expected);
 }
 
 // Level 0's solid against the input's is an estimate from samples seeded by

@@ -99,6 +99,58 @@ TEST(EncodeApi, RefusesWhatCannotMakeAMeshWithAStatus) {
   EXPECT_EQ(encode(input).status().code(), StatusCode::kInvalidInput);
 }
 
+// A caller short of memory frees its points, values and tetrahedra when the
+// encoder says it reads them no more (meshenc does at 10M vertices): the
+// stream is the one made without freeing, and a later read of what was freed
+// is the sanitized build's failure.
+TEST(EncodeApi, TheCallerMayFreeItsInputWhenTheEncoderIsDoneWithIt) {
+  const InputMesh torus_mesh = torus();
+  std::vector<double> marks(torus_mesh.points.size());
+  for (size_t i = 0; i < marks.size(); ++i) marks[i] = static_cast<double>(i % 7);
+  for (const bool bricks : {false, true}) {
+    EncodeOptions options;
+    options.scale = 25;
+    options.dmax = 3;
+    options.bricks = bricks;
+    options.brick_points = 16;
+    options.block_points = 100;
+    const std::vector<EncodeInput::Field> kept_fields = {{"marks", ValueType::kF64, 1, marks}};
+    EncodeInput kept;
+    kept.points = torus_mesh.points;
+    kept.tetrahedra = torus_mesh.tets;
+    kept.fields = kept_fields;
+    const StatusOr<EncodedMesh> expected = encode(kept, options);
+    ASSERT_TRUE(expected.ok()) << expected.status().message();
+
+    std::vector<InputPoint> points = torus_mesh.points;
+    std::vector<std::array<uint32_t, 4>> tets = torus_mesh.tets;
+    std::vector<double> values = marks;
+    std::vector<EncodeInput::Field> fields = {{"marks", ValueType::kF64, 1, values}};
+    EncodeInput freed;
+    freed.points = points;
+    freed.tetrahedra = tets;
+    freed.fields = fields;
+    bool points_freed = false, tets_freed = false;
+    freed.points_done = [&] {
+      freed.points = {};
+      freed.fields = {};
+      std::vector<InputPoint>().swap(points);
+      std::vector<double>().swap(values);
+      points_freed = true;
+    };
+    freed.tetrahedra_done = [&] {
+      freed.tetrahedra = {};
+      std::vector<std::array<uint32_t, 4>>().swap(tets);
+      tets_freed = true;
+    };
+    const StatusOr<EncodedMesh> got = encode(freed, options);
+    ASSERT_TRUE(got.ok()) << got.status().message();
+    EXPECT_TRUE(points_freed);
+    EXPECT_EQ(tets_freed, bricks);  // the whole-level encoder reads them to the end
+    EXPECT_EQ(got->bytes, expected->bytes) << (bricks ? "bricked" : "whole levels");
+  }
+}
+
 }  // namespace
 }  // namespace dtm
 

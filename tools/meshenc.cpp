@@ -353,14 +353,20 @@ int run(Command& c) {
   }
   const dtm::Grid grid = plan->quantized.grid;
   const size_t vertices = plan->quantized.points.size();
-  // The reference on the grid, the input's copy freed (a tenth of the
-  // memory a 10M-vertex mesh's encoding takes), and the grid's once the
-  // encoder holds what it needs of them.
-  std::vector<std::array<uint32_t, 4>> grid_tets = dtm::grid_tetrahedra(in.tets, plan->quantized);
-  dtm::release(in.tets);
-  input.tetrahedra = grid_tets;
+  // The reference on the grid, made of the input's where they lie (a copy
+  // was the peak of a 10M-vertex encoding), freed once the encoder holds
+  // what it needs of them.
+  if (!in.tets.empty()) display.start("the reference's tetrahedra on the grid");
+  dtm::grid_tetrahedra_in_place(in.tets, plan->quantized);
+  input.tetrahedra = in.tets;
   input.tetrahedra_on_grid = true;
-  input.tetrahedra_done = [&grid_tets] { dtm::release(grid_tets); };
+  input.tetrahedra_done = [&in] { dtm::release(in.tets); };
+  input.points_done = [&in, &input] {
+    input.points = {};
+    input.fields = {};
+    dtm::release(in.points);
+    for (auto& f : in.fields) dtm::release(f.values);
+  };
   c.encode.on_phase = [&](std::string_view phase) { display.start(phase); };
   // Without an output the stream is still made: the report gives its size.
   const auto encoded =
