@@ -1,6 +1,7 @@
 #include "core/reference_solid.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "common/parallel_for.h"
@@ -142,10 +143,13 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
       },
       4096);
   if (!any) {
-    state_.assign(1, kOutside);
+    inside_.assign(1, 0);
+    mixed_cells_.assign(1, 0);
+    mixed_before_.assign(1, 0);
     return;
   }
-  // About two grid cells per tetrahedron, at most 2^26 (256 MiB of states).
+  // About two grid cells per tetrahedron, at most 2^26 (a byte each while
+  // building, two bits after).
   const double volume = static_cast<double>(hi_[0] - lo_[0] + 1) * static_cast<double>(hi_[1] - lo_[1] + 1) *
                         static_cast<double>(hi_[2] - lo_[2] + 1);
   const double target = std::clamp(2.0 * static_cast<double>(n), 4096.0, 67108864.0);
@@ -153,8 +157,11 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
   step_ += step_ & 1;
   for (int a = 0; a < 3; ++a) dims_[a] = (hi_[a] - lo_[a]) / step_ + 1;
   const size_t total = static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
-  const uint32_t kUnknown = UINT32_MAX, kMixed = UINT32_MAX - 1;
-  state_.assign(total, kUnknown);
+  // Each cell's state while building, a byte: then two bits (inside,
+  // mixed) and a count of the mixed cells before each 64 (a mixed cell's
+  // row in mixed_): 268 MB of 32-bit states at 60M tetrahedra became 21 MB.
+  constexpr uint8_t kOutside = 0, kInside = 1, kMixed = 2, kUnknown = 3;
+  std::vector<uint8_t> state(total, kUnknown);
 
   // The grid cells a closed box [bl, bh] meets: those whose closed extent
   // overlaps it (a box on a cell's face meets both cells).
@@ -194,9 +201,9 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
     range(bl, bh, c0, c1);
     const P4 a = times4(points_[t[0]]), b = times4(points_[t[1]]), c = times4(points_[t[2]]);
     for_each_cell_box(c0, c1, [&](size_t cell, const P4& cl, const P4& ch) {
-      if (state_[cell] == kMixed) return;
+      if (state[cell] == kMixed) return;
       if (small_ ? plane_meets_box<int64_t>(a, b, c, cl, ch) : plane_meets_box<Int128>(a, b, c, cl, ch))
-        state_[cell] = kMixed;
+        state[cell] = kMixed;
     });
   }
 
@@ -204,15 +211,18 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
   // and face planes): found on every core in blocks of tetrahedra, each
   // block's (row, tetrahedron) pairs in tetrahedron order, then counted out
   // in block order, so that every row lists its tetrahedra ascending.
-  uint32_t mixed = 0;
   // Which cells are mixed, one bit each: a few MiB that stay in cache while
   // every tetrahedron's cells are looked up (most are not mixed).
-  std::vector<uint64_t> is_mixed((total + 63) / 64, 0);
+  const size_t words = (total + 63) / 64;
+  mixed_cells_.assign(words, 0);
   for (size_t cell = 0; cell < total; ++cell)
-    if (state_[cell] == kMixed) {
-      state_[cell] = kFirstMixed + mixed++;
-      is_mixed[cell / 64] |= uint64_t{1} << (cell % 64);
-    }
+    if (state[cell] == kMixed) mixed_cells_[cell / 64] |= uint64_t{1} << (cell % 64);
+  mixed_before_.resize(words);
+  uint32_t mixed = 0;
+  for (size_t w = 0; w < words; ++w) {
+    mixed_before_[w] = mixed;
+    mixed += static_cast<uint32_t>(std::popcount(mixed_cells_[w]));
+  }
   constexpr size_t kTetBlock = 16384;
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> pairs((n + kTetBlock - 1) / kTetBlock);
   parallel_for(
@@ -227,14 +237,14 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
           range(bl, bh, c0, c1);
           bool corners_read = false;
           for_each_cell_box(c0, c1, [&](size_t cell, const P4& cl, const P4& ch) {
-            if (!(is_mixed[cell / 64] >> (cell % 64) & 1)) return;
+            if (!(mixed_cells_[cell / 64] >> (cell % 64) & 1)) return;
             if (!corners_read) {
               for (int i = 0; i < 4; ++i) corners[i] = times4(points_[cells[k][i]]);
               corners_read = true;
             }
             if (small_ ? tetrahedron_meets_box<int64_t>(corners, cl, ch)
                        : tetrahedron_meets_box<Int128>(corners, cl, ch))
-              pairs[block].emplace_back(state_[cell] - kFirstMixed, static_cast<uint32_t>(k));
+              pairs[block].emplace_back(mixed_row(cell), static_cast<uint32_t>(k));
           });
         }
       },
@@ -244,7 +254,6 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
       for (const auto& [row, k] : block) emit(row, k);
   });
   release(pairs);
-  release(is_mixed);
 
   // The untouched cells, row by row along x (rows on every core): a run of
   // them between two mixed cells lies wholly inside or outside, classified
@@ -259,7 +268,8 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
       static_cast<size_t>(dims_[1] * dims_[2]),
       [&](size_t row) {
         const int64_t y = static_cast<int64_t>(row) % dims_[1], z = static_cast<int64_t>(row) / dims_[1];
-        uint32_t* const states = state_.data() + row * static_cast<size_t>(dims_[0]);
+        const size_t row_start = row * static_cast<size_t>(dims_[0]);
+        uint8_t* const states = state.data() + row_start;
         for (int64_t x = 0; x < dims_[0];) {
           if (states[x] != kUnknown) {
             ++x;
@@ -267,11 +277,11 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
           }
           int64_t end = x;
           while (end < dims_[0] && states[end] == kUnknown) ++end;
-          uint32_t verdict = kOutside;
+          uint8_t verdict = kOutside;
           if (x > 0 && end < dims_[0]) {
             const P4 centre = {lo_[0] + x * step_, lo_[1] + y * step_ + step_ / 2,
                                lo_[2] + z * step_ + step_ / 2};
-            for (uint32_t k : mixed_.row(states[x - 1] - kFirstMixed))
+            for (uint32_t k : mixed_.row(mixed_row(row_start + static_cast<size_t>(x) - 1)))
               if (in_tetrahedron(centre, cells[k], orientation_[k])) {
                 verdict = kInside;
                 break;
@@ -282,6 +292,14 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
         }
       },
       64);
+  inside_.assign(words, 0);
+  for (size_t cell = 0; cell < total; ++cell)
+    if (state[cell] == kInside) inside_[cell / 64] |= uint64_t{1} << (cell % 64);
+}
+
+uint32_t ReferenceSolid::mixed_row(size_t cell) const {
+  const uint64_t below = (uint64_t{1} << (cell % 64)) - 1;
+  return mixed_before_[cell / 64] + static_cast<uint32_t>(std::popcount(mixed_cells_[cell / 64] & below));
 }
 
 bool ReferenceSolid::in_tetrahedron(const P4& p, const std::array<uint32_t, 4>& t,
@@ -310,9 +328,9 @@ bool ReferenceSolid::contains4(const P4& p) const {
   if (tetrahedra_ == 0) return false;
   for (int a = 0; a < 3; ++a)
     if (p[a] < lo_[a] || p[a] > hi_[a]) return false;
-  const uint32_t s = state_[cell_of(p)];
-  if (s < kFirstMixed) return s == kInside;
-  for (uint32_t k : mixed_.row(s - kFirstMixed))
+  const size_t cell = cell_of(p);
+  if (!(mixed_cells_[cell / 64] >> (cell % 64) & 1)) return inside_[cell / 64] >> (cell % 64) & 1;
+  for (uint32_t k : mixed_.row(mixed_row(cell)))
     if (in_tetrahedron(p, kept_[k], orientation_[k])) return true;
   return false;
 }

@@ -53,7 +53,6 @@ class ReferenceSolid : public Solid {
 
  private:
   using Point4 = std::array<int64_t, 3>;
-  static constexpr uint32_t kOutside = 0, kInside = 1, kFirstMixed = 2;
 
   void build(std::span<const std::array<uint32_t, 4>> cells,
              std::span<const std::array<uint32_t, 3>> boundary);
@@ -64,6 +63,8 @@ class ReferenceSolid : public Solid {
   // flat one contains nothing).
   bool in_tetrahedron(const Point4& p, const std::array<uint32_t, 4>& t, uint8_t orientation) const;
   size_t cell_of(const Point4& p) const;
+  // A mixed cell's row in mixed_.
+  uint32_t mixed_row(size_t cell) const;
 
   std::span<const GridPoint> points_;
   // The tetrahedra the mixed cells list (mixed_ numbers them).
@@ -75,8 +76,10 @@ class ReferenceSolid : public Solid {
   Point4 lo_{}, hi_{};
   int64_t step_ = 2;  // grid cell edge at four times the grid scale (even: cell centres are integral)
   std::array<int64_t, 3> dims_{1, 1, 1};
-  // Per grid cell: kOutside, kInside, or kFirstMixed + its row in mixed_.
-  std::vector<uint32_t> state_;
+  // Per grid cell, one bit each: whether the boundary meets it (mixed),
+  // else whether it is inside; and per 64 cells, the mixed cells before.
+  std::vector<uint64_t> mixed_cells_, inside_;
+  std::vector<uint32_t> mixed_before_;
   Csr mixed_;  // per mixed cell, the tetrahedra whose boxes meet it
   // Every coordinate (x4) under 2^18: orientations fit in 64-bit integers.
   bool small_ = false;
