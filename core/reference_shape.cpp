@@ -5,7 +5,6 @@
 #include <limits>
 
 #include "common/parallel_for.h"
-#include "common/release.h"
 #include "mesh/topology.h"
 
 namespace dtm {
