@@ -42,6 +42,8 @@
 namespace dtm {
 
 // Every grid point by Morton code: the points of a level inside a box.
+// Holds their ids only (4 bytes a point), the codes made again from the
+// points when a search reads them.
 class MortonIndex {
  public:
   MortonIndex(std::span<const GridPoint> points, int qbits);
@@ -53,9 +55,11 @@ class MortonIndex {
   int qbits() const { return qbits_; }
 
  private:
+  MortonCode code_of(uint32_t id) const { return morton_encode(points_[id], qbits_); }
+
   int qbits_;
-  std::vector<MortonCode> codes_;  // ascending
-  std::vector<uint32_t> ids_;      // the grid id of each
+  std::span<const GridPoint> points_;  // the caller's, which must outlive the index
+  std::vector<uint32_t> ids_;          // the grid ids by Morton code, ascending
 };
 
 // The reference's boundary triangles by place: those whose bounding box

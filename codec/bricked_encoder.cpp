@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "codec/block_runs.h"
 #include "codec/bricks.h"
 #include "codec/format.h"
+#include "codec/reference_share.h"
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
@@ -83,8 +85,11 @@ class BrickedEncoder {
         index_(in.points, q_),
         level_of_(in.points.size(), 0) {
     solid_ = in.voxels;
-    if (!in.reference_tets.empty()) set_reference(in.reference_tets);
-    if (in.reference_tets_done) in.reference_tets_done();
+    if (x_.size() > 1)
+      set_reference_in_parts(in.reference_tets);
+    else if (!in.reference_tets.empty())
+      set_reference(in.reference_tets);
+    tets_done();
   }
 
   StatusOr<BrickedEncoding> run(const std::function<void(const LevelStats&)>& on_level);
@@ -100,6 +105,16 @@ class BrickedEncoder {
   // reference a few times only; at depth 0, the whole grid, once).
   // The reference from its tetrahedra (which must outlive the encoder).
   void set_reference(std::span<const std::array<uint32_t, 4>> tets);
+  // The same on the ranks of a run, each holding at least its share of the
+  // tetrahedra (codec/reference_share.h): each finds the boundary faces and
+  // the tetrahedra near the boundary that are its own, and every rank gets
+  // them all. The solid and the boundary are the same as one process makes.
+  void set_reference_in_parts(std::span<const std::array<uint32_t, 4>> given);
+  // Tells the caller, once, that the reference's tetrahedra are read no more.
+  void tets_done() {
+    if (in_.reference_tets_done && !tets_done_) in_.reference_tets_done();
+    tets_done_ = true;
+  }
   // The reference a block is carved to and measured against; none for
   // level 0 when alpha carves it.
   std::optional<BlockReference> reference_for(const GridBox& region) const;
@@ -130,6 +145,7 @@ class BrickedEncoder {
   std::vector<std::pair<uint32_t, double>> reference_squared_;
   std::vector<uint8_t> coarser_;  // per grid point: in the level being built
   uint64_t reference_boundary_vertices_ = 0;
+  bool tets_done_ = false;
 };
 
 BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const {
@@ -150,6 +166,81 @@ void BrickedEncoder::set_reference(std::span<const std::array<uint32_t, 4>> tets
   faces_.emplace(in_.points, std::move(boundary), q_);
 }
 
+void BrickedEncoder::set_reference_in_parts(std::span<const std::array<uint32_t, 4>> given) {
+  const ReferenceShare share(in_.points.size(), x_.rank(), x_.size());
+  // What this rank holds of what it was given (all, when given its share).
+  std::vector<std::array<uint32_t, 4>> kept;
+  std::span<const std::array<uint32_t, 4>> held = given;
+  const auto holds = [&](const std::array<uint32_t, 4>& t) { return share.holds(t); };
+  if (!std::all_of(given.begin(), given.end(), holds)) {
+    std::copy_if(given.begin(), given.end(), std::back_inserter(kept), holds);
+    held = kept;
+  }
+  const auto owns = [&](const std::array<uint32_t, 4>& t) { return share.owns(t); };
+  ReferenceSolid::Extent whole;
+  {
+    const auto mine = ReferenceSolid::Extent::of(
+        in_.points, held, static_cast<uint64_t>(std::count_if(held.begin(), held.end(), owns)));
+    ByteWriter w;
+    w.u64(mine.tetrahedra);
+    w.u8(mine.any ? 1 : 0);
+    for (int a = 0; a < 3; ++a)
+      w.u64(static_cast<uint64_t>(mine.lo[a])), w.u64(static_cast<uint64_t>(mine.hi[a]));
+    for (const auto& bytes : x_.all_gather(w.take())) {
+      BlockReader r(bytes);
+      ReferenceSolid::Extent e;
+      e.tetrahedra = r.u64();
+      e.any = r.u8() != 0;
+      for (int a = 0; a < 3; ++a)
+        e.lo[a] = static_cast<int64_t>(r.u64()), e.hi[a] = static_cast<int64_t>(r.u64());
+      whole.add(e);
+    }
+  }
+  if (whole.tetrahedra == 0) return;  // no rank has any
+  // The faces of exactly one tetrahedron whose least corner is this rank's:
+  // in ascending order of their sorted corners, as boundary_triangles()
+  // gives them, and so, in rank order, all of them in the order one process finds.
+  report_phase(o_.hierarchy.on_phase, "the reference's boundary");
+  const auto gather_all = [&]<size_t N>(std::vector<std::array<uint32_t, N>> mine) {
+    ByteWriter w;
+    w.u64(mine.size());
+    for (const auto& t : mine)
+      for (uint32_t v : t) w.u32(v);
+    release(mine);
+    std::vector<std::vector<uint8_t>> parts = x_.all_gather(w.take());
+    size_t total = 0;
+    for (const auto& bytes : parts) total += BlockReader(bytes).u64();
+    std::vector<std::array<uint32_t, N>> all;
+    all.reserve(total);
+    for (auto& bytes : parts) {
+      BlockReader r(bytes);
+      for (uint64_t i = r.u64(); i > 0; --i) {
+        std::array<uint32_t, N>& t = all.emplace_back();
+        for (uint32_t& v : t) v = r.u32();
+      }
+      release(bytes);
+    }
+    return all;
+  };
+  std::vector<std::array<uint32_t, 3>> boundary = boundary_triangles(held);
+  std::erase_if(boundary, [&](const std::array<uint32_t, 3>& t) {
+    return !share.mine(std::min({t[0], t[1], t[2]}));
+  });
+  boundary = gather_all(std::move(boundary));
+  report_phase(o_.hierarchy.on_phase, "the reference solid");
+  const std::function<bool(const std::array<uint32_t, 4>&)> own = owns;
+  std::vector<std::array<uint32_t, 4>> mine =
+      ReferenceSolid::near_boundary(in_.points, held, boundary, whole, own);
+  // The tetrahedra are read no more: freed before the ranks' are gathered.
+  release(kept);
+  held = {};
+  tets_done();
+  const std::vector<std::array<uint32_t, 4>> near = gather_all(std::move(mine));
+  tet_solid_.emplace(in_.points, near, boundary, whole);
+  if (!in_.voxels) solid_ = &*tet_solid_;
+  faces_.emplace(in_.points, std::move(boundary), q_);
+}
+
 std::optional<BlockReference> BrickedEncoder::reference_for(const GridBox& region) const {
   if (!solid_) return std::nullopt;
   return block_reference(in_.points, solid_, faces_ ? &*faces_ : nullptr, region);
@@ -159,8 +250,7 @@ StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, cons
   if (o_.hierarchy.alpha.kind == AlphaKind::kFixed) return o_.hierarchy.alpha.fixed_value;
   // Each vertex's nearest neighbour, found among the whole level (every
   // rank holds its points), summed block by block.
-  const std::vector<GridPoint> points = gather(in_.points, ids);
-  const NearestSpacing nearest(points);
+  const NearestSpacing nearest(in_.points, ids);
   Status status = Status::Ok();
   const auto sums = run_blocks(
       plan, x_,

@@ -7,6 +7,8 @@
 
 #include "codec/bricked_encoder.h"
 #include "codec/expert_encode.h"
+#include "codec/reference_share.h"
+#include "common/byte_io.h"
 #include "core/reference_shape.h"
 
 namespace dtm {
@@ -129,6 +131,21 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
     return invalid("bricked layers (--bricks) stream every level (no --level-step)");
   const QuantizedPoints& q = plan.quantized;
   EncodeReport& report = out.report;
+  // On the ranks of a run each may hold only its share of the tetrahedra
+  // (codec/reference_share.h): the count is of every rank's own.
+  if (options.exchange && options.exchange->size() > 1) {
+    const ReferenceShare share(q.points.size(), options.exchange->rank(), options.exchange->size());
+    ByteWriter w;
+    w.u64(static_cast<uint64_t>(
+        std::count_if(tets.begin(), tets.end(), [&](const auto& t) { return share.owns(t); })));
+    report.reference_tetrahedra = 0;
+    for (const auto& bytes : options.exchange->all_gather(w.take())) {
+      uint64_t own = 0;
+      ByteReader(bytes).u64(own);
+      report.reference_tetrahedra += own;
+    }
+  }
+  const bool has_tets = report.reference_tetrahedra > 0;
   BrickedEncodeInput in;
   in.points = q.points;
   in.grid = q.grid;
@@ -150,7 +167,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   DTM_ASSIGN_OR_RETURN(BrickedEncoding encoded, encode_bricked(in, o, [&](const LevelStats& stats) {
                          LevelReport r;
                          r.stats = stats;
-                         if (!tets.empty() && stats.reference_shape) {
+                         if (has_tets && stats.reference_shape) {
                            r.reference_to_level = stats.reference_shape->to_level;
                            r.level_to_reference = stats.reference_shape->to_reference;
                            r.reference_error = stats.reference_shape->both;
@@ -199,10 +216,8 @@ StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions
   if (input.lattice) {
     DTM_ASSIGN_OR_RETURN(plan.quantized, lattice_grid(*input.lattice, options.qbits, plan.scale));
   } else {
-    std::vector<InputPoint> scaled(input.points.begin(), input.points.end());
-    if (plan.scale != 1.0)
-      for (auto& p : scaled) p = {p.x * plan.scale, p.y * plan.scale, p.z * plan.scale};
-    DTM_ASSIGN_OR_RETURN(plan.quantized, quantize(scaled, options.qbits > 0 ? options.qbits : 14));
+    DTM_ASSIGN_OR_RETURN(plan.quantized,
+                         quantize(input.points, options.qbits > 0 ? options.qbits : 14, plan.scale));
   }
   const Grid& grid = plan.quantized.grid;
   plan.dmax = options.dmax > 0 ? options.dmax : 0.005 * grid.step * ((1u << grid.qbits) - 1);

@@ -82,7 +82,9 @@ struct EncodeOptions {
   uint64_t brick_points = 2048;
   uint64_t block_points = uint64_t{1} << 18;
   // The ranks of an MPI run making one bricked stream together (every rank
-  // calls encode() with the same input and options); nullptr: this process.
+  // calls encode() with the same input and options, but for the
+  // tetrahedra: each needs only its share, EncodeInput::tetrahedra);
+  // nullptr: this process.
   RankExchange* exchange = nullptr;
 
   // Told each phase of the work as it starts (common/progress.h): the
@@ -110,7 +112,10 @@ struct EncodeOptions {
 struct EncodeInput {
   std::span<const InputPoint> points;
   // The input's own tetrahedra (indices into `points`), when it has them:
-  // the reference shape each level's boundary is measured against.
+  // the reference shape each level's boundary is measured against. Under
+  // an exchange of several ranks, each rank may be given only the
+  // tetrahedra its share holds (codec/reference_share.h, on the plan's grid
+  // ids): a rank never holds them all (the others, when given, are ignored).
   std::span<const std::array<uint32_t, 4>> tetrahedra;
   // The tetrahedra name the plan's grid points already (grid_tetrahedra()
   // of the input's, core/reference_shape.h): a caller short of memory frees

@@ -3,57 +3,67 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <tuple>
+#include <numeric>
 
 namespace dtm {
 
-NearestSpacing::NearestSpacing(std::span<const GridPoint> points) : points_(points) {
-  if (points.empty()) return;
-  GridPoint lo = points[0], hi = points[0];
-  for (const GridPoint& p : points) {
+NearestSpacing::NearestSpacing(std::span<const GridPoint> points) : NearestSpacing(points, {}) {}
+
+NearestSpacing::NearestSpacing(std::span<const GridPoint> points, std::span<const uint32_t> ids)
+    : points_(points), ids_(ids) {
+  const size_t n = ids.empty() ? points.size() : ids.size();
+  if (n == 0) return;
+  GridPoint lo = at(0), hi = at(0);
+  for (size_t i = 0; i < n; ++i) {
+    const GridPoint& p = at(i);
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
   // Cells of about one point each over the bounding box (more where the
   // points fill only part of it).
   const double volume = (hi.x - lo.x + 1.0) * (hi.y - lo.y + 1.0) * (hi.z - lo.z + 1.0);
-  side_ = std::max<int64_t>(1, static_cast<int64_t>(std::cbrt(volume / static_cast<double>(points.size()))));
+  side_ = std::max<int64_t>(1, static_cast<int64_t>(std::cbrt(volume / static_cast<double>(n))));
   rings_ = (std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) + side_) / side_ + 1;
-  std::vector<std::pair<Cell, uint32_t>> by_cell(points.size());
-  for (uint32_t i = 0; i < points.size(); ++i) by_cell[i] = {cell_of(points[i]), i};
-  std::sort(by_cell.begin(), by_cell.end(), [](const auto& a, const auto& b) {
-    return std::tie(a.first.x, a.first.y, a.first.z, a.second) <
-           std::tie(b.first.x, b.first.y, b.first.z, b.second);
+  order_.resize(n);
+  std::iota(order_.begin(), order_.end(), 0u);
+  std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
+    const Cell ca = cell_of(at(a)), cb = cell_of(at(b));
+    return ca != cb ? ca < cb : a < b;
   });
-  order_.reserve(points.size());
-  cells_.reserve(points.size());
-  for (uint32_t k = 0; k < by_cell.size(); ++k) {
-    order_.push_back(by_cell[k].second);
-    auto [it, fresh] = cells_.try_emplace(by_cell[k].first, k, k + 1);
-    if (!fresh) it->second.second = k + 1;
+  for (uint32_t k = 0; k < order_.size(); ++k) {
+    const Cell c = cell_of(at(order_[k]));
+    if (cells_.empty() || cells_.back() != c) cells_.push_back(c), first_.push_back(k);
   }
+  first_.push_back(static_cast<uint32_t>(order_.size()));
+  cells_.shrink_to_fit();
+  first_.shrink_to_fit();
 }
 
 double NearestSpacing::nearest(size_t i) const {
-  const GridPoint& p = points_[i];
+  const GridPoint& p = at(i);
   const Cell c = cell_of(p);
   int64_t best = std::numeric_limits<int64_t>::max();
   for (int64_t r = 0; r <= rings_; ++r) {
-    // The cells r steps away (the shell of the cube of side 2r + 1).
+    // The cells r steps away (the shell of the cube of side 2r + 1): per
+    // column (dx, dy), its cells from dz = -r to r are one run of cells_.
     for (int64_t dx = -r; dx <= r; ++dx)
-      for (int64_t dy = -r; dy <= r; ++dy)
-        for (int64_t dz = -r; dz <= r; ++dz) {
-          if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != r) continue;
-          const auto it = cells_.find({c.x + dx, c.y + dy, c.z + dz});
-          if (it == cells_.end()) continue;
-          for (uint32_t k = it->second.first; k < it->second.second; ++k) {
+      for (int64_t dy = -r; dy <= r; ++dy) {
+        const bool side = std::max(std::abs(dx), std::abs(dy)) == r;
+        const Cell from{static_cast<int32_t>(c.x + dx), static_cast<int32_t>(c.y + dy),
+                        static_cast<int32_t>(c.z - r)};
+        for (auto it = std::lower_bound(cells_.begin(), cells_.end(), from);
+             it != cells_.end() && it->x == from.x && it->y == from.y && it->z <= c.z + r; ++it) {
+          if (!side && std::abs(it->z - c.z) != r) continue;  // inside the shell: seen before
+          const size_t cell = static_cast<size_t>(it - cells_.begin());
+          for (uint32_t k = first_[cell]; k < first_[cell + 1]; ++k) {
             const uint32_t j = order_[k];
             if (j == i) continue;
-            const GridPoint& q = points_[j];
+            const GridPoint& q = at(j);
             const int64_t ex = q.x - p.x, ey = q.y - p.y, ez = q.z - p.z;
             best = std::min(best, ex * ex + ey * ey + ez * ez);
           }
         }
+      }
     // Every point of a farther cell is more than r sides away.
     if (best <= (r * side_) * (r * side_)) break;
   }

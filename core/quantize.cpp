@@ -18,6 +18,10 @@ double largest_extent(std::span<const InputPoint> points) {
 }
 
 StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits) {
+  return quantize(input, qbits, 1.0);
+}
+
+StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits, double scale) {
   const auto invalid = [](std::string what) { return Status{StatusCode::kInvalidInput, std::move(what)}; };
   if (qbits < kMinQBits || qbits > kMaxQBits)
     return invalid("qbits must be in [1, 24], got " + std::to_string(qbits));
@@ -25,7 +29,7 @@ StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits)
 
   std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   for (size_t i = 0; i < input.size(); ++i) {
-    const double c[3] = {input[i].x, input[i].y, input[i].z};
+    const double c[3] = {input[i].x * scale, input[i].y * scale, input[i].z * scale};
     for (int a = 0; a < 3; ++a) {
       if (!std::isfinite(c[a])) return invalid("point " + std::to_string(i) + " has a non-finite coordinate");
       lo[a] = std::min(lo[a], c[a]);
@@ -48,7 +52,7 @@ StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits)
       const double t = std::floor((v - lo[a]) * inv + 0.5);
       return static_cast<int32_t>(std::clamp(t, 0.0, static_cast<double>(max_cell)));
     };
-    cells[i] = {q(input[i].x, 0), q(input[i].y, 1), q(input[i].z, 2)};
+    cells[i] = {q(input[i].x * scale, 0), q(input[i].y * scale, 1), q(input[i].z * scale, 2)};
   }
 
   std::vector<uint32_t> order(input.size());
@@ -56,6 +60,11 @@ StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits)
   std::sort(order.begin(), order.end(),
             [&](uint32_t a, uint32_t b) { return cells[a] != cells[b] ? cells[a] < cells[b] : a < b; });
   out.input_to_point.resize(input.size());
+  // As many as are distinct, at once: growing by doubling held up to twice
+  // the points while copying them.
+  size_t distinct = 0;
+  for (size_t i = 0; i < order.size(); ++i) distinct += i == 0 || cells[order[i]] != cells[order[i - 1]];
+  out.points.reserve(distinct);
   for (uint32_t k : order) {
     if (out.points.empty() || out.points.back() != cells[k])
       out.points.push_back(cells[k]);

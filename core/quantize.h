@@ -28,5 +28,8 @@ double largest_extent(std::span<const InputPoint> points);
 // kInvalidInput for qbits out of range, an empty input, or non-finite
 // coordinates.
 StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits);
+// The same of the points times `scale` (each coordinate multiplied as a
+// double, as a scaled copy would hold it), without the copy.
+StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits, double scale);
 
 }  // namespace dtm

@@ -84,16 +84,21 @@ bool tetrahedron_meets_box(const std::array<P4, 4>& t, const P4& lo, const P4& h
 ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
                                std::span<const std::array<uint32_t, 4>> cells,
                                std::span<const std::array<uint32_t, 3>> boundary)
-    : points_(points), tetrahedra_(cells.size()) {
-  build(cells, boundary);
+    : points_(points) {
+  build(cells, boundary, Extent::of(points, cells, cells.size()));
   keep_listed(cells);
 }
 
 ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
                                std::span<const std::array<uint32_t, 4>> cells)
-    : points_(points), tetrahedra_(cells.size()) {
-  build(cells, boundary_triangles(cells));
-  keep_listed(cells);
+    : ReferenceSolid(points, cells, boundary_triangles(cells)) {}
+
+ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
+                               std::span<const std::array<uint32_t, 4>> near,
+                               std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole)
+    : points_(points) {
+  build(near, boundary, whole);
+  keep_listed(near);
 }
 
 void ReferenceSolid::keep_listed(std::span<const std::array<uint32_t, 4>> cells) {
@@ -114,26 +119,75 @@ void ReferenceSolid::keep_listed(std::span<const std::array<uint32_t, 4>> cells)
   orientation_ = std::move(orientation);
 }
 
-void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
-                           std::span<const std::array<uint32_t, 3>> boundary) {
-  const size_t n = cells.size();
-  orientation_.resize(n);
-  bool any = false;
-  for (size_t k = 0; k < n; ++k) {
-    const auto& t = cells[k];
+ReferenceSolid::Extent ReferenceSolid::Extent::of(std::span<const GridPoint> points,
+                                                  std::span<const std::array<uint32_t, 4>> cells,
+                                                  uint64_t owned) {
+  Extent e;
+  e.tetrahedra = owned;
+  for (const auto& t : cells)
     for (uint32_t v : t) {
-      const P4 p = times4(points_[v]);
+      const P4 p = times4(points[v]);
       for (int a = 0; a < 3; ++a) {
-        lo_[a] = any ? std::min(lo_[a], p[a]) : p[a];
-        hi_[a] = any ? std::max(hi_[a], p[a]) : p[a];
+        e.lo[a] = e.any ? std::min(e.lo[a], p[a]) : p[a];
+        e.hi[a] = e.any ? std::max(e.hi[a], p[a]) : p[a];
       }
-      any = true;
+      e.any = true;
     }
+  return e;
+}
+
+void ReferenceSolid::Extent::add(const Extent& o) {
+  tetrahedra += o.tetrahedra;
+  if (!o.any) return;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = any ? std::min(lo[a], o.lo[a]) : o.lo[a];
+    hi[a] = any ? std::max(hi[a], o.hi[a]) : o.hi[a];
   }
+  any = true;
+}
+
+std::vector<std::array<uint32_t, 4>> ReferenceSolid::near_boundary(
+    std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells,
+    std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole,
+    const std::function<bool(const std::array<uint32_t, 4>&)>& mine) {
+  ReferenceSolid s(points);
+  if (!s.frame(whole)) return {};
+  s.orient(cells);
+  s.mark_mixed(boundary);
+  std::vector<std::array<uint32_t, 4>> near;
+  s.for_each_meeting(cells, &mine, [&](std::span<const std::pair<uint32_t, uint32_t>> block) {
+    for (size_t i = 0; i < block.size(); ++i)
+      if (i == 0 || block[i].second != block[i - 1].second) near.push_back(cells[block[i].second]);
+  });
+  return near;
+}
+
+bool ReferenceSolid::frame(const Extent& whole) {
+  tetrahedra_ = whole.tetrahedra;
+  if (!whole.any) {
+    inside_.assign(1, 0);
+    mixed_cells_.assign(1, 0);
+    mixed_before_.assign(1, 0);
+    return false;
+  }
+  lo_ = whole.lo, hi_ = whole.hi;
   small_ = std::max({std::abs(lo_[0]), std::abs(lo_[1]), std::abs(lo_[2]), std::abs(hi_[0]), std::abs(hi_[1]),
                      std::abs(hi_[2])}) < (int64_t{1} << 18);
+  // About two grid cells per tetrahedron, at most 2^26 (a byte each while
+  // building, two bits after).
+  const double volume = static_cast<double>(hi_[0] - lo_[0] + 1) * static_cast<double>(hi_[1] - lo_[1] + 1) *
+                        static_cast<double>(hi_[2] - lo_[2] + 1);
+  const double target = std::clamp(2.0 * static_cast<double>(whole.tetrahedra), 4096.0, 67108864.0);
+  step_ = std::max<int64_t>(2, static_cast<int64_t>(std::ceil(std::cbrt(volume / target))));
+  step_ += step_ & 1;
+  for (int a = 0; a < 3; ++a) dims_[a] = (hi_[a] - lo_[a]) / step_ + 1;
+  return true;
+}
+
+void ReferenceSolid::orient(std::span<const std::array<uint32_t, 4>> cells) {
+  orientation_.resize(cells.size());
   parallel_for(
-      n,
+      cells.size(),
       [&](size_t k) {
         const auto& t = cells[k];
         const P4 a = times4(points_[t[0]]), b = times4(points_[t[1]]), c = times4(points_[t[2]]),
@@ -142,63 +196,55 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
         orientation_[k] = o > 0 ? 1 : o < 0 ? 2 : 0;
       },
       4096);
-  if (!any) {
-    inside_.assign(1, 0);
-    mixed_cells_.assign(1, 0);
-    mixed_before_.assign(1, 0);
-    return;
+}
+
+namespace {
+
+constexpr uint8_t kOutside = 0, kInside = 1, kMixed = 2, kUnknown = 3;
+
+}  // namespace
+
+void ReferenceSolid::cell_range(const P4& bl, const P4& bh, std::array<int64_t, 3>& c0,
+                                std::array<int64_t, 3>& c1) const {
+  for (int a = 0; a < 3; ++a) {
+    const int64_t l = bl[a] - lo_[a], h = bh[a] - lo_[a];
+    c0[a] = std::max<int64_t>(0, l % step_ == 0 ? l / step_ - 1 : l / step_);
+    c1[a] = std::min(dims_[a] - 1, h / step_);
   }
-  // About two grid cells per tetrahedron, at most 2^26 (a byte each while
-  // building, two bits after).
-  const double volume = static_cast<double>(hi_[0] - lo_[0] + 1) * static_cast<double>(hi_[1] - lo_[1] + 1) *
-                        static_cast<double>(hi_[2] - lo_[2] + 1);
-  const double target = std::clamp(2.0 * static_cast<double>(n), 4096.0, 67108864.0);
-  step_ = std::max<int64_t>(2, static_cast<int64_t>(std::ceil(std::cbrt(volume / target))));
-  step_ += step_ & 1;
-  for (int a = 0; a < 3; ++a) dims_[a] = (hi_[a] - lo_[a]) / step_ + 1;
+}
+
+void ReferenceSolid::box_of(std::span<const uint32_t> corners, P4& bl, P4& bh) const {
+  bl = bh = times4(points_[corners[0]]);
+  for (uint32_t v : corners.subspan(1)) {
+    const P4 p = times4(points_[v]);
+    for (int a = 0; a < 3; ++a) bl[a] = std::min(bl[a], p[a]), bh[a] = std::max(bh[a], p[a]);
+  }
+}
+
+template <class F>
+void ReferenceSolid::for_each_cell_box(const std::array<int64_t, 3>& c0, const std::array<int64_t, 3>& c1,
+                                       F&& f) const {
+  for (int64_t z = c0[2]; z <= c1[2]; ++z)
+    for (int64_t y = c0[1]; y <= c1[1]; ++y)
+      for (int64_t x = c0[0]; x <= c1[0]; ++x) {
+        const P4 bl = {lo_[0] + x * step_, lo_[1] + y * step_, lo_[2] + z * step_};
+        const P4 bh = {bl[0] + step_, bl[1] + step_, bl[2] + step_};
+        f(static_cast<size_t>((z * dims_[1] + y) * dims_[0] + x), bl, bh);
+      }
+}
+
+std::vector<uint8_t> ReferenceSolid::mark_mixed(std::span<const std::array<uint32_t, 3>> boundary) {
   const size_t total = static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
   // Each cell's state while building, a byte: then two bits (inside,
   // mixed) and a count of the mixed cells before each 64 (a mixed cell's
   // row in mixed_): 268 MB of 32-bit states at 60M tetrahedra became 21 MB.
-  constexpr uint8_t kOutside = 0, kInside = 1, kMixed = 2, kUnknown = 3;
   std::vector<uint8_t> state(total, kUnknown);
-
-  // The grid cells a closed box [bl, bh] meets: those whose closed extent
-  // overlaps it (a box on a cell's face meets both cells).
-  auto range = [&](const P4& bl, const P4& bh, std::array<int64_t, 3>& c0, std::array<int64_t, 3>& c1) {
-    for (int a = 0; a < 3; ++a) {
-      const int64_t l = bl[a] - lo_[a], h = bh[a] - lo_[a];
-      c0[a] = std::max<int64_t>(0, l % step_ == 0 ? l / step_ - 1 : l / step_);
-      c1[a] = std::min(dims_[a] - 1, h / step_);
-    }
-  };
-  auto box_of = [&](std::span<const uint32_t> corners, P4& bl, P4& bh) {
-    bl = bh = times4(points_[corners[0]]);
-    for (uint32_t v : corners.subspan(1)) {
-      const P4 p = times4(points_[v]);
-      for (int a = 0; a < 3; ++a) bl[a] = std::min(bl[a], p[a]), bh[a] = std::max(bh[a], p[a]);
-    }
-  };
-  // The closed extent of grid cell (x, y, z).
-  auto cell_box = [&](int64_t x, int64_t y, int64_t z, P4& bl, P4& bh) {
-    bl = {lo_[0] + x * step_, lo_[1] + y * step_, lo_[2] + z * step_};
-    bh = {bl[0] + step_, bl[1] + step_, bl[2] + step_};
-  };
-  auto for_each_cell_box = [&](const std::array<int64_t, 3>& c0, const std::array<int64_t, 3>& c1, auto&& f) {
-    P4 bl, bh;
-    for (int64_t z = c0[2]; z <= c1[2]; ++z)
-      for (int64_t y = c0[1]; y <= c1[1]; ++y)
-        for (int64_t x = c0[0]; x <= c1[0]; ++x) {
-          cell_box(x, y, z, bl, bh);
-          f(static_cast<size_t>((z * dims_[1] + y) * dims_[0] + x), bl, bh);
-        }
-  };
   // Mixed: the cells a boundary triangle meets (its box, then its plane).
   for (const auto& t : boundary) {
     P4 bl, bh;
     box_of(t, bl, bh);
     std::array<int64_t, 3> c0, c1;
-    range(bl, bh, c0, c1);
+    cell_range(bl, bh, c0, c1);
     const P4 a = times4(points_[t[0]]), b = times4(points_[t[1]]), c = times4(points_[t[2]]);
     for_each_cell_box(c0, c1, [&](size_t cell, const P4& cl, const P4& ch) {
       if (state[cell] == kMixed) return;
@@ -206,11 +252,6 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
         state[cell] = kMixed;
     });
   }
-
-  // Mixed cells get their rows, then the tetrahedra that may meet them (box
-  // and face planes): found on every core in blocks of tetrahedra, each
-  // block's (row, tetrahedron) pairs in tetrahedron order, then counted out
-  // in block order, so that every row lists its tetrahedra ascending.
   // Which cells are mixed, one bit each: a few MiB that stay in cache while
   // every tetrahedron's cells are looked up (most are not mixed).
   const size_t words = (total + 63) / 64;
@@ -223,37 +264,67 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
     mixed_before_[w] = mixed;
     mixed += static_cast<uint32_t>(std::popcount(mixed_cells_[w]));
   }
-  constexpr size_t kTetBlock = 16384;
-  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> pairs((n + kTetBlock - 1) / kTetBlock);
-  parallel_for(
-      pairs.size(),
-      [&](size_t block) {
-        std::array<P4, 4> corners;
-        for (size_t k = block * kTetBlock; k < std::min(n, block * kTetBlock + kTetBlock); ++k) {
-          if (orientation_[k] == 0) continue;
-          P4 bl, bh;
-          box_of(cells[k], bl, bh);
-          std::array<int64_t, 3> c0, c1;
-          range(bl, bh, c0, c1);
-          bool corners_read = false;
-          for_each_cell_box(c0, c1, [&](size_t cell, const P4& cl, const P4& ch) {
-            if (!(mixed_cells_[cell / 64] >> (cell % 64) & 1)) return;
-            if (!corners_read) {
-              for (int i = 0; i < 4; ++i) corners[i] = times4(points_[cells[k][i]]);
-              corners_read = true;
-            }
-            if (small_ ? tetrahedron_meets_box<int64_t>(corners, cl, ch)
-                       : tetrahedron_meets_box<Int128>(corners, cl, ch))
-              pairs[block].emplace_back(mixed_row(cell), static_cast<uint32_t>(k));
-          });
-        }
-      },
-      2);
+  return state;
+}
+
+void ReferenceSolid::for_each_meeting(
+    std::span<const std::array<uint32_t, 4>> cells,
+    const std::function<bool(const std::array<uint32_t, 4>&)>* mine,
+    const std::function<void(std::span<const std::pair<uint32_t, uint32_t>>)>& take) const {
+  // Found on every core in blocks of tetrahedra, each block's pairs in
+  // tetrahedron order, and handed over in block order, a few blocks at a
+  // time: all of them at once took 8 bytes a pair (bunny_10m: 0.4 GB).
+  const size_t n = cells.size();
+  constexpr size_t kTetBlock = 16384, kBlocksAtOnce = 64;
+  const size_t blocks = (n + kTetBlock - 1) / kTetBlock;
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> pairs(std::min(blocks, kBlocksAtOnce));
+  for (size_t first = 0; first < blocks; first += kBlocksAtOnce) {
+    const size_t count = std::min(kBlocksAtOnce, blocks - first);
+    parallel_for(
+        count,
+        [&](size_t b) {
+          pairs[b].clear();
+          const size_t block = first + b;
+          std::array<P4, 4> corners;
+          for (size_t k = block * kTetBlock; k < std::min(n, block * kTetBlock + kTetBlock); ++k) {
+            if (orientation_[k] == 0 || (mine && !(*mine)(cells[k]))) continue;
+            P4 bl, bh;
+            box_of(cells[k], bl, bh);
+            std::array<int64_t, 3> c0, c1;
+            cell_range(bl, bh, c0, c1);
+            bool corners_read = false;
+            for_each_cell_box(c0, c1, [&](size_t cell, const P4& cl, const P4& ch) {
+              if (!(mixed_cells_[cell / 64] >> (cell % 64) & 1)) return;
+              if (!corners_read) {
+                for (int i = 0; i < 4; ++i) corners[i] = times4(points_[cells[k][i]]);
+                corners_read = true;
+              }
+              if (small_ ? tetrahedron_meets_box<int64_t>(corners, cl, ch)
+                         : tetrahedron_meets_box<Int128>(corners, cl, ch))
+                pairs[b].emplace_back(mixed_row(cell), static_cast<uint32_t>(k));
+            });
+          }
+        },
+        2);
+    for (size_t b = 0; b < count; ++b) take(pairs[b]);
+  }
+}
+
+void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
+                           std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole) {
+  if (!frame(whole)) return;
+  orient(cells);
+  std::vector<uint8_t> state = mark_mixed(boundary);
+
+  // Mixed cells list the tetrahedra that may meet them, counted out in
+  // block order, so that every row lists its tetrahedra ascending (the
+  // pairs found twice, to count and to fill, rather than held).
+  const uint32_t mixed = mixed_before_.back() + static_cast<uint32_t>(std::popcount(mixed_cells_.back()));
   mixed_ = build_csr(mixed, [&](auto&& emit) {
-    for (const auto& block : pairs)
+    for_each_meeting(cells, nullptr, [&](std::span<const std::pair<uint32_t, uint32_t>> block) {
       for (const auto& [row, k] : block) emit(row, k);
+    });
   });
-  release(pairs);
 
   // The untouched cells, row by row along x (rows on every core): a run of
   // them between two mixed cells lies wholly inside or outside, classified
@@ -292,8 +363,8 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
         }
       },
       64);
-  inside_.assign(words, 0);
-  for (size_t cell = 0; cell < total; ++cell)
+  inside_.assign(mixed_cells_.size(), 0);
+  for (size_t cell = 0; cell < state.size(); ++cell)
     if (state[cell] == kInside) inside_[cell / 64] |= uint64_t{1} << (cell % 64);
 }
 

@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -38,6 +39,29 @@ class ReferenceSolid : public Solid {
                  std::span<const std::array<uint32_t, 3>> boundary);
   ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
 
+  // Made in parts (an MPI rank holding a share of the cells,
+  // codec/reference_share.h): the solid of all the cells from the box and
+  // count of them all, the whole boundary, and only the cells near it.
+  struct Extent {
+    std::array<int64_t, 3> lo{}, hi{};  // the cells' corners' box, at four times the grid's scale
+    uint64_t tetrahedra = 0;
+    bool any = false;  // lo and hi hold a corner
+    // The box of `cells`, of which `owned` are counted.
+    static Extent of(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells,
+                     uint64_t owned);
+    void add(const Extent& o);
+  };
+  // Those of `cells` (`mine` of them, so that each is found once over the
+  // parts) that the solid of the whole keeps: every cell that may meet a
+  // grid cell the boundary meets. The solid made of them all, with the
+  // whole's extent and boundary, answers as the whole's.
+  static std::vector<std::array<uint32_t, 4>> near_boundary(
+      std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells,
+      std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole,
+      const std::function<bool(const std::array<uint32_t, 4>&)>& mine);
+  ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> near,
+                 std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole);
+
   bool contains_point4(const std::array<int64_t, 3>& p) const override { return contains4(p); }
 
   size_t tetrahedra() const { return tetrahedra_; }
@@ -54,8 +78,30 @@ class ReferenceSolid : public Solid {
  private:
   using Point4 = std::array<int64_t, 3>;
 
+  explicit ReferenceSolid(std::span<const GridPoint> points) : points_(points) {}
   void build(std::span<const std::array<uint32_t, 4>> cells,
-             std::span<const std::array<uint32_t, 3>> boundary);
+             std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole);
+  // The grid cells [c0, c1] a closed box [bl, bh] meets: those whose closed
+  // extent overlaps it (a box on a cell's face meets both cells).
+  void cell_range(const Point4& bl, const Point4& bh, std::array<int64_t, 3>& c0,
+                  std::array<int64_t, 3>& c1) const;
+  void box_of(std::span<const uint32_t> corners, Point4& bl, Point4& bh) const;
+  // f(cell, its closed extent's low and high corners) for the cells [c0, c1].
+  template <class F>
+  void for_each_cell_box(const std::array<int64_t, 3>& c0, const std::array<int64_t, 3>& c1, F&& f) const;
+  // The grid over the whole's box; false when it has no corner.
+  bool frame(const Extent& whole);
+  void orient(std::span<const std::array<uint32_t, 4>> cells);
+  // Per grid cell, a byte: mixed (the boundary meets it) or unknown; sets
+  // mixed_cells_ and mixed_before_.
+  std::vector<uint8_t> mark_mixed(std::span<const std::array<uint32_t, 3>> boundary);
+  // take(pairs) per block of cells, in order: (mixed row, cell) for each
+  // mixed grid cell each cell may meet (box and face planes), of the cells
+  // `mine` takes (all when null).
+  void for_each_meeting(
+      std::span<const std::array<uint32_t, 4>> cells,
+      const std::function<bool(const std::array<uint32_t, 4>&)>* mine,
+      const std::function<void(std::span<const std::pair<uint32_t, uint32_t>>)>& take) const;
   // Keeps the listed tetrahedra only, renumbered in their order.
   void keep_listed(std::span<const std::array<uint32_t, 4>> cells);
   bool contains4(const Point4& p) const;

@@ -190,13 +190,14 @@ std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::arr
   struct Entry {
     uint32_t second, third, face;  // the key's other two vertices; 4 * cell + face
   };
-  // The buckets in passes of at most an eighth of the faces each (or 2^24):
-  // the entries of every face at once took 12 bytes a face, 2.7 GB for
-  // bunny_10m's 57M tetrahedra, the encoder's peak. Each pass reads every
-  // cell again and keeps the faces of its buckets.
+  // The buckets in passes of at most a sixteenth of the faces each (or
+  // 2^22): the entries of every face at once took 12 bytes a face, 2.7 GB
+  // for bunny_10m's 57M tetrahedra, the encoder's peak (an eighth, or 2^24,
+  // still 200 MB at 1M vertices). Each pass reads every cell again and
+  // keeps the faces of its buckets.
   const size_t buckets = start.size() - 1;
   const size_t budget =
-      faces_per_pass > 0 ? faces_per_pass : std::max<size_t>(size_t{1} << 24, start.back() / 8 + 1);
+      faces_per_pass > 0 ? faces_per_pass : std::max<size_t>(size_t{1} << 22, start.back() / 16 + 1);
   std::vector<std::vector<std::array<uint32_t, 3>>> found;
   std::vector<Entry> entries;
   for (size_t pass_first = 0; pass_first < buckets;) {

@@ -12,6 +12,7 @@
 #include "codec/carving_coder.h"
 #include "codec/decode.h"
 #include "codec/encode.h"
+#include "codec/reference_share.h"
 #include "core/reference_shape.h"
 #include "core/reference_solid.h"
 #include "core/solid_difference.h"
@@ -54,6 +55,83 @@ TEST(ReferenceSolid, ContainsTheCentroidsOfItsOwnCellsAndNothingOutside) {
   EXPECT_TRUE(solid.contains_centroid({0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}));
   EXPECT_FALSE(solid.contains_centroid({0, 0, 3}, {0, 0, 3}, {0, 0, 3}, {0, 0, 3}));
   EXPECT_FALSE(solid.contains_centroid({9, 9, 9}, {9, 9, 9}, {9, 9, 9}, {9, 9, 9}));
+}
+
+// The reference made by the ranks of a run (codec/bricked_encoder.cpp),
+// each holding its share of the tetrahedra (codec/reference_share.h): the
+// boundary faces each finds, in rank order, are the whole's in its order;
+// the tetrahedra near the boundary they find, with the whole's extent,
+// make a solid of the same grid that answers as the whole's, with a hole
+// in it (every third tetrahedron gone) or not.
+TEST(ReferenceSolid, MadeInPartsByRanksAnswersAsTheWhole) {
+  const auto q = test::load_quantized("bunny_10k");
+  const NodeFile node = read_tetgen_node(test::data_path("bunny_10k.node"));
+  const auto input = read_tetgen_ele(test::data_path("bunny_10k.ele"), node.points.size(), node.index_base);
+  std::vector<Cell> whole, holed;
+  for (const Cell& c : input)
+    whole.push_back(
+        {q.input_to_point[c[0]], q.input_to_point[c[1]], q.input_to_point[c[2]], q.input_to_point[c[3]]});
+  for (size_t k = 0; k < whole.size(); ++k)
+    if (k % 3 != 0) holed.push_back(whole[k]);
+  std::mt19937 rng(5);
+  for (const auto* cells : {&whole, &holed}) {
+    const auto boundary = boundary_triangles(*cells);
+    const ReferenceSolid one(q.points, *cells, boundary);
+    for (const int ranks : {2, 3, 7}) {
+      SCOPED_TRACE(ranks);
+      std::vector<std::array<uint32_t, 3>> faces;
+      ReferenceSolid::Extent extent;
+      std::vector<std::vector<Cell>> held(static_cast<size_t>(ranks));
+      size_t held_total = 0;
+      for (int r = 0; r < ranks; ++r) {
+        const ReferenceShare share(q.points.size(), r, ranks);
+        for (const Cell& c : *cells)
+          if (share.holds(c)) held[static_cast<size_t>(r)].push_back(c);
+        const auto& mine = held[static_cast<size_t>(r)];
+        held_total += mine.size();
+        extent.add(ReferenceSolid::Extent::of(
+            q.points, mine, static_cast<uint64_t>(std::count_if(mine.begin(), mine.end(), [&](const Cell& c) {
+              return share.owns(c);
+            }))));
+        for (const auto& f : boundary_triangles(mine))
+          if (share.mine(std::min({f[0], f[1], f[2]}))) faces.push_back(f);
+      }
+      EXPECT_LT(held_total, cells->size() * 5 / 4) << "shares overlap little";
+      ASSERT_EQ(faces, boundary);
+      ASSERT_EQ(extent.tetrahedra, cells->size());
+      std::vector<Cell> near;
+      for (int r = 0; r < ranks; ++r) {
+        const ReferenceShare share(q.points.size(), r, ranks);
+        const auto part = ReferenceSolid::near_boundary(q.points, held[static_cast<size_t>(r)], faces, extent,
+                                                        [&](const Cell& c) { return share.owns(c); });
+        near.insert(near.end(), part.begin(), part.end());
+      }
+      const ReferenceSolid parts(q.points, near, faces, extent);
+      EXPECT_EQ(parts.tetrahedra(), one.tetrahedra());
+      const auto a = parts.layout(), b = one.layout();
+      EXPECT_EQ(a.dims, b.dims);
+      EXPECT_EQ(a.mixed_cells, b.mixed_cells);
+      EXPECT_EQ(a.listed, b.listed);
+      EXPECT_EQ(a.kept, b.kept);
+      EXPECT_EQ(near.size(), b.kept) << "each near tetrahedron found once";
+      // The centroids of every cell and random points of the box.
+      std::vector<std::array<int64_t, 3>> probes;
+      for (const Cell& c : whole) {
+        std::array<int64_t, 3> sum{};
+        for (uint32_t v : c) sum[0] += q.points[v].x, sum[1] += q.points[v].y, sum[2] += q.points[v].z;
+        probes.push_back(sum);  // 4x the centroid
+      }
+      std::uniform_int_distribution<int64_t> at(-8, 4 * ((1 << q.grid.qbits) - 1) + 8);
+      for (int i = 0; i < 20000; ++i) probes.push_back({at(rng), at(rng), at(rng)});
+      size_t inside = 0;
+      for (const auto& p : probes) {
+        ASSERT_EQ(parts.contains_point4(p), one.contains_point4(p)) << p[0] << " " << p[1] << " " << p[2];
+        inside += one.contains_point4(p);
+      }
+      EXPECT_GT(inside, 0u);
+      EXPECT_LT(inside, probes.size());
+    }
+  }
 }
 
 // The grid-accelerated test against the plain definition (scan every

@@ -4,12 +4,16 @@
 // and encoded to byte-identical streams whatever the format.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "format_test_support.h"
 #include "test_support.h"
 #include "tools/formats/input.h"
+#include "tools/formats/tetgen.h"
 
 namespace dtm {
 namespace {
@@ -58,6 +62,34 @@ class ConvertedCorpus : public ::testing::Test {
   static std::string dir_;
 };
 std::string ConvertedCorpus::dir_;
+
+// An MPI rank reads only its share of an .ele: the tetrahedra `keep`
+// chooses, in the file's order, every line still checked.
+TEST(TetgenEle, KeepsWhatItIsToldAndStillChecksTheRest) {
+  const NodeFile node = read_tetgen_node(test::data_path("torus_288.node"));
+  const std::string ele = test::data_path("torus_288.ele");
+  const auto all = read_tetgen_ele(ele, node.points.size(), node.index_base);
+  const auto odd = [](const std::array<uint32_t, 4>& t) { return t[0] % 2 == 1; };
+  std::vector<std::array<uint32_t, 4>> want;
+  std::copy_if(all.begin(), all.end(), std::back_inserter(want), odd);
+  ASSERT_FALSE(want.empty());
+  EXPECT_EQ(read_tetgen_ele(ele, node.points.size(), node.index_base, odd), want);
+  // A vertex out of range in a tetrahedron the filter drops is an error.
+  const std::string dir = ::testing::TempDir() + "/tetgen_keep";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream f(dir + "/bad.ele");
+    f << "2 4 0\n0 0 1 2 3\n1 1 2 3 99\n";
+  }
+  EXPECT_THROW(read_tetgen_ele(dir + "/bad.ele", 10, 0, [](const auto& t) { return t[3] < 10; }),
+               FormatError);
+  // A header that claims more than the file holds is refused, not reserved.
+  {
+    std::ofstream f(dir + "/claims.ele");
+    f << "4000000000 4 0\n0 0 1 2 3\n";
+  }
+  EXPECT_THROW(read_tetgen_ele(dir + "/claims.ele", 10, 0), FormatError);
+}
 
 TEST_F(ConvertedCorpus, EveryFormatReadsTheSamePointsTetrahedraAndFields) {
   const NodeFile node = read_tetgen_node(test::data_path("torus_288.node"));

@@ -22,6 +22,24 @@ TEST(Quantize, DracoStyleGridOverTheBoundingCube) {
   EXPECT_EQ(q.input_to_point, (std::vector<uint32_t>{0, 2, 1}));
 }
 
+// The encoder's --box scales while quantizing (no scaled copy of 10M
+// points): the same grid as quantizing the scaled points.
+TEST(Quantize, ScalingWhileQuantizingEqualsQuantizingAScaledCopy) {
+  std::vector<InputPoint> in;
+  for (int i = 0; i < 2000; ++i) in.push_back({std::sin(i) * 3.3, std::cos(i * 1.7) * 0.2, i * 0.0013});
+  for (const double scale : {1.0, 0.37, 1234.5}) {
+    std::vector<InputPoint> scaled = in;
+    for (auto& p : scaled) p = {p.x * scale, p.y * scale, p.z * scale};
+    const auto want = quantize(scaled, 12).value();
+    const auto got = quantize(in, 12, scale).value();
+    EXPECT_EQ(got.points, want.points) << scale;
+    EXPECT_EQ(got.input_to_point, want.input_to_point) << scale;
+    EXPECT_EQ(got.grid.origin, want.grid.origin) << scale;
+    EXPECT_EQ(got.grid.step, want.grid.step) << scale;
+    EXPECT_EQ(got.duplicates_merged, want.duplicates_merged) << scale;
+  }
+}
+
 TEST(Quantize, DuplicatesAreMergedAndCounted) {
   const std::vector<InputPoint> in = {{0, 0, 0}, {1, 1, 1}, {0.0001, 0, 0}, {1, 1, 1}, {0.5, 0, 0}};
   const auto q = quantize(in, 4).value();

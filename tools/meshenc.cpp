@@ -10,11 +10,13 @@
 #include <optional>
 
 #include "codec/encode.h"
+#include "codec/reference_share.h"
 #include "common/release.h"
 #include "core/reference_shape.h"
 #include "tools/atomic_file.h"
 #include "tools/field_types.h"
 #include "tools/formats/input.h"
+#include "tools/formats/tetgen.h"
 #include "tools/mpi_session.h"
 #include "tools/phase_display.h"
 #include "tools/report.h"
@@ -196,9 +198,27 @@ dtm::InputMesh read(const Command& c) {
   if (volume_options && (format ? *format : dtm::input_format_for_path(c.input)) != dtm::InputFormat::kNrrd)
     throw std::invalid_argument(
         c.input + ": --threshold, --label and --voxel-interior-step apply to voxel volumes only");
-  auto in = dtm::read_input(c.input, format, c.volume, !c.no_reference);
-  if (c.no_reference) in.tets.clear();
+  // Under mpirun a TetGen .ele is read after the points are on the grid,
+  // each rank keeping its share (read_share()).
+  auto in = dtm::read_input(c.input, format, c.volume, !c.no_reference && dtm::mpi_session().size() == 1);
+  if (c.no_reference) in.tets.clear(), in.tetgen_ele.clear();
   return in;
+}
+
+// Under mpirun: the input's tetrahedra this rank holds for the reference
+// (codec/reference_share.h), on the grid. A TetGen .ele is read keeping
+// them only (no rank holds them all); other formats' are filtered in place.
+void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::MpiSession& mpi) {
+  const dtm::ReferenceShare share(q.points.size(), mpi.rank(), mpi.size());
+  const auto on_grid = [&](const std::array<uint32_t, 4>& t) {
+    return std::array<uint32_t, 4>{q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
+                                   q.input_to_point[t[3]]};
+  };
+  if (!in.tetgen_ele.empty())
+    in.tets = dtm::read_tetgen_ele(in.tetgen_ele, in.points.size(), in.tetgen_index_base,
+                                   [&](const std::array<uint32_t, 4>& t) { return share.holds(on_grid(t)); });
+  else
+    std::erase_if(in.tets, [&](const std::array<uint32_t, 4>& t) { return !share.holds(on_grid(t)); });
 }
 
 void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePlan& plan) {
@@ -347,6 +367,11 @@ int run(Command& c) {
   if (in.voxels && !c.no_reference) input.voxels = &*in.voxels;
   auto plan = dtm::plan_encoding(input, c.encode);
   if (!plan.ok()) throw std::runtime_error(c.input + ": " + plan.status().message());
+  if (mpi.size() > 1) {
+    if (!in.tetgen_ele.empty()) display.start("reading this rank's share of " + in.tetgen_ele);
+    hold_share(in, plan->quantized, mpi);
+  }
+  input.tetrahedra = in.tets;
   if (!c.quiet) {
     display.clear();
     print_plan(c, in, *plan);

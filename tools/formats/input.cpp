@@ -50,8 +50,12 @@ InputMesh read_tetgen(const std::string& path, bool with_ele) {
     out.fields.push_back({"boundary_marker", 1, std::vector<double>(node.markers.begin(), node.markers.end()),
                           ScalarType::kInt32});
   const std::filesystem::path ele = std::filesystem::path(path).replace_extension(".ele");
-  if (with_ele && std::filesystem::exists(ele))
-    out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);
+  if (std::filesystem::exists(ele)) {
+    if (with_ele)
+      out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);
+    else
+      out.tetgen_ele = ele.string(), out.tetgen_index_base = node.index_base;
+  }
   return out;
 }
 

@@ -30,7 +30,8 @@ InputFormat input_format_for_path(const std::string& path);
 // Reads `path` (format: given, or by extension) and checks that it can make
 // a tetrahedral mesh: at least 4 distinct points, not all coplanar. A TetGen
 // .node brings the .ele beside it when there is one, unless
-// `tetgen_ele` is false (a large .ele costs time to read). Throws FormatError
+// `tetgen_ele` is false (a large .ele costs time to read; InputMesh then
+// says where it is, to be read later, or in part). Throws FormatError
 // naming the file, where, and the problem.
 InputMesh read_input(const std::string& path, std::optional<InputFormat> format = {},
                      const VolumeOptions& volume = {}, bool tetgen_ele = true);

@@ -40,6 +40,11 @@ struct InputMesh {
   // Voxel inputs: which voxels are the solid, the reference every level is
   // carved to (core/voxel_solid.h).
   std::optional<VoxelMask> voxels;
+  // A TetGen .node read without its .ele (read_input's tetgen_ele false):
+  // the .ele beside it, if there is one, and the .node's first index, for
+  // read_tetgen_ele() later.
+  std::string tetgen_ele;
+  int tetgen_index_base = 0;
 };
 
 }  // namespace dtm

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -101,8 +102,9 @@ NodeFile read_tetgen_node(const std::string& path) {
   return out;
 }
 
-std::vector<std::array<uint32_t, 4>> read_tetgen_ele(const std::string& path, size_t num_points,
-                                                     int index_base) {
+std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
+    const std::string& path, size_t num_points, int index_base,
+    const std::function<bool(const std::array<uint32_t, 4>&)>& keep) {
   LineReader r(path);
   std::vector<std::string_view> tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected an .ele header");
@@ -114,7 +116,12 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(const std::string& path, si
   if (per != 4) r.fail("only linear tetrahedra (4 nodes) are supported, got " + std::to_string(per));
   if (attributes < 0) r.fail("bad attribute count");
   std::vector<std::array<uint32_t, 4>> out;
-  out.reserve(std::min<uint64_t>(count, 1 << 20));
+  // Room for all at once (growing by doubling held 1.5x the tetrahedra
+  // while copying, and up to twice as many): no more than the file's bytes
+  // allow, 10 to a line at least, whatever its header claims.
+  std::error_code size_error;
+  const uint64_t bytes = std::filesystem::file_size(path, size_error);
+  if (!keep) out.reserve(std::min<uint64_t>(count, size_error ? uint64_t{1} << 20 : bytes / 10));
   for (uint64_t i = 0; i < count; ++i) {
     if (!r.next(tok))
       throw FormatError(path + ": file ends after " + std::to_string(i) + " of " + std::to_string(count) +
@@ -128,8 +135,9 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(const std::string& path, si
         r.fail("vertex index " + std::string(tok[1 + k]) + " out of range");
       t[k] = static_cast<uint32_t>(v);
     }
-    out.push_back(t);
+    if (!keep || keep(t)) out.push_back(t);
   }
+  if (keep) out.shrink_to_fit();
   return out;
 }
 

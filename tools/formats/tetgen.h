@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,10 @@ NodeFile read_tetgen_node(const std::string& path);
 
 // Tetrahedra of an .ele file as 0-based indices into the .node's points.
 // `index_base` is the first index of the matching .node file.
-std::vector<std::array<uint32_t, 4>> read_tetgen_ele(const std::string& path, size_t num_points,
-                                                     int index_base = 0);
+// `keep`, when given, chooses the tetrahedra to hold (each is checked all
+// the same): an MPI rank holds its share of a large mesh only.
+std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
+    const std::string& path, size_t num_points, int index_base = 0,
+    const std::function<bool(const std::array<uint32_t, 4>&)>& keep = {});
 
 }  // namespace dtm
