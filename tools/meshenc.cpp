@@ -217,8 +217,9 @@ void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::Mp
   if (!in.tetgen_ele.empty())
     in.tets = dtm::read_tetgen_ele(in.tetgen_ele, in.points.size(), in.tetgen_index_base,
                                    [&](const std::array<uint32_t, 4>& t) { return share.holds(on_grid(t)); });
-  else
-    std::erase_if(in.tets, [&](const std::array<uint32_t, 4>& t) { return !share.holds(on_grid(t)); });
+  else if (std::erase_if(in.tets,
+                         [&](const std::array<uint32_t, 4>& t) { return !share.holds(on_grid(t)); }) > 0)
+    in.tets.shrink_to_fit();
 }
 
 void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePlan& plan) {
@@ -367,6 +368,8 @@ int run(Command& c) {
   if (in.voxels && !c.no_reference) input.voxels = &*in.voxels;
   auto plan = dtm::plan_encoding(input, c.encode);
   if (!plan.ok()) throw std::runtime_error(c.input + ": " + plan.status().message());
+  // Whether the input has tetrahedra (a rank's share may have none).
+  const bool with_reference = !in.tets.empty() || !in.tetgen_ele.empty();
   if (mpi.size() > 1) {
     if (!in.tetgen_ele.empty()) display.start("reading this rank's share of " + in.tetgen_ele);
     hold_share(in, plan->quantized, mpi);
@@ -375,7 +378,7 @@ int run(Command& c) {
   if (!c.quiet) {
     display.clear();
     print_plan(c, in, *plan);
-    dtm::print_table_header(stdout, !input.tetrahedra.empty());
+    dtm::print_table_header(stdout, with_reference);
   }
   const dtm::Grid grid = plan->quantized.grid;
   const size_t vertices = plan->quantized.points.size();
