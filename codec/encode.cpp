@@ -87,7 +87,7 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
     }
     value_counts.push_back(f.values.size());
   }
-  DTM_RETURN_IF_ERROR(check_fields(descriptions, value_counts, input.points.size()));
+  DTM_RETURN_IF_ERROR(check_fields(descriptions, value_counts, q.input_to_point.size()));
 
   std::vector<FieldValues> out;
   std::vector<uint8_t> differs(q.points.size(), 0);
@@ -239,7 +239,9 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   report.scale = plan.scale;
   report.dmax = plan.dmax;
   report.lattice = input.lattice != nullptr;
-  report.input_points = input.points.size();
+  // The input's points are counted by the plan's map (a caller may free
+  // them once the plan is made: they are read no more).
+  report.input_points = q.input_to_point.size();
   report.duplicates_merged = q.duplicates_merged;
 
   // The fields are checked before the (long) hierarchy is built.
@@ -250,7 +252,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   std::vector<std::array<uint32_t, 4>> converted;
   std::span<const std::array<uint32_t, 4>> reference_tets;
   if (!input.tetrahedra.empty()) {
-    const size_t points = input.tetrahedra_on_grid ? q.points.size() : input.points.size();
+    const size_t points = input.tetrahedra_on_grid ? q.points.size() : q.input_to_point.size();
     for (const auto& t : input.tetrahedra)
       for (uint32_t v : t)
         if (v >= points) return invalid("a tetrahedron names a point that does not exist");

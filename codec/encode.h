@@ -219,7 +219,9 @@ using LevelReady = std::function<void(const LevelReport&)>;
 // lossy field: the field's name and the first point's index).
 StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options = {},
                              const LevelReady& on_level = {});
-// The same, from a plan_encoding() result.
+// The same, from a plan_encoding() result of this input, which holds the
+// points on the grid: `input.points` is read no more (and may be empty), so
+// a caller may free them before reading what remains of the input.
 StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, const EncodePlan& plan,
                              const LevelReady& on_level = {});
 

@@ -89,6 +89,20 @@ TEST(TetgenEle, KeepsWhatItIsToldAndStillChecksTheRest) {
     f << "4000000000 4 0\n0 0 1 2 3\n";
   }
   EXPECT_THROW(read_tetgen_ele(dir + "/claims.ele", 10, 0), FormatError);
+  // Kept tetrahedra held in pieces (2^17 each) come back whole and in order.
+  {
+    std::ofstream f(dir + "/many.ele");
+    constexpr uint32_t kCount = 400000;
+    f << kCount << " 4 0\n";
+    for (uint32_t i = 0; i < kCount; ++i)
+      f << i << ' ' << i % 97 << ' ' << i % 89 << ' ' << i % 83 << ' ' << i % 7 << '\n';
+  }
+  const auto many = read_tetgen_ele(dir + "/many.ele", 100, 0);
+  std::vector<std::array<uint32_t, 4>> kept;
+  const auto not_last = [](const std::array<uint32_t, 4>& t) { return t[3] != 6; };
+  std::copy_if(many.begin(), many.end(), std::back_inserter(kept), not_last);
+  ASSERT_GT(kept.size(), size_t{2} << 17);  // two whole pieces and part of a third
+  EXPECT_EQ(read_tetgen_ele(dir + "/many.ele", 100, 0, not_last), kept);
 }
 
 TEST_F(ConvertedCorpus, EveryFormatReadsTheSamePointsTetrahedraAndFields) {

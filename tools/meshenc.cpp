@@ -215,7 +215,7 @@ void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::Mp
                                    q.input_to_point[t[3]]};
   };
   if (!in.tetgen_ele.empty())
-    in.tets = dtm::read_tetgen_ele(in.tetgen_ele, in.points.size(), in.tetgen_index_base,
+    in.tets = dtm::read_tetgen_ele(in.tetgen_ele, q.input_to_point.size(), in.tetgen_index_base,
                                    [&](const std::array<uint32_t, 4>& t) { return share.holds(on_grid(t)); });
   else if (std::erase_if(in.tets,
                          [&](const std::array<uint32_t, 4>& t) { return !share.holds(on_grid(t)); }) > 0)
@@ -225,7 +225,7 @@ void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::Mp
 void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePlan& plan) {
   const auto& q = plan.quantized;
   std::printf("%s: %zu points, %llu merged by quantization, q=%d, step=%.6g, Dmax=%g%s\n", c.input.c_str(),
-              in.points.size(), static_cast<unsigned long long>(q.duplicates_merged), q.grid.qbits,
+              q.input_to_point.size(), static_cast<unsigned long long>(q.duplicates_merged), q.grid.qbits,
               q.grid.step, plan.dmax, in.on_grid ? " (the voxel lattice: lossless)" : "");
   if (!in.fields.empty()) {
     std::string names;
@@ -371,6 +371,10 @@ int run(Command& c) {
   // Whether the input has tetrahedra (a rank's share may have none).
   const bool with_reference = !in.tets.empty() || !in.tetgen_ele.empty();
   if (mpi.size() > 1) {
+    // The plan holds the points on the grid: the input's (24 bytes each)
+    // are freed before the tetrahedra are read.
+    input.points = {};
+    dtm::release(in.points);
     if (!in.tetgen_ele.empty()) display.start("reading this rank's share of " + in.tetgen_ele);
     hold_share(in, plan->quantized, mpi);
   }

@@ -115,29 +115,49 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
   const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count") : 0;
   if (per != 4) r.fail("only linear tetrahedra (4 nodes) are supported, got " + std::to_string(per));
   if (attributes < 0) r.fail("bad attribute count");
-  std::vector<std::array<uint32_t, 4>> out;
+  using Tet = std::array<uint32_t, 4>;
+  std::vector<Tet> out;
   // Room for all at once (growing by doubling held 1.5x the tetrahedra
   // while copying, and up to twice as many): no more than the file's bytes
-  // allow, 10 to a line at least, whatever its header claims.
+  // allow, 10 to a line at least, whatever its header claims. Those kept of
+  // a share, an unknown count, are held in pieces and copied once into room
+  // for exactly them, each piece freed when copied (one vector grown, then
+  // shrunk, held up to twice them: bunny_10m's share on one of 2 ranks
+  // peaked at 1.3 GB).
   std::error_code size_error;
   const uint64_t bytes = std::filesystem::file_size(path, size_error);
   if (!keep) out.reserve(std::min<uint64_t>(count, size_error ? uint64_t{1} << 20 : bytes / 10));
+  constexpr size_t kPiece = size_t{1} << 17;  // tetrahedra: 2 MiB
+  std::vector<std::vector<Tet>> pieces;
   for (uint64_t i = 0; i < count; ++i) {
     if (!r.next(tok))
       throw FormatError(path + ": file ends after " + std::to_string(i) + " of " + std::to_string(count) +
                         " tetrahedra");
     if (tok.size() != 5 + static_cast<size_t>(attributes))
       r.fail("expected " + std::to_string(5 + attributes) + " fields");
-    std::array<uint32_t, 4> t;
+    Tet t;
     for (int k = 0; k < 4; ++k) {
       const auto v = r.parse<int64_t>(tok[1 + k], "a vertex index") - index_base;
       if (v < 0 || static_cast<uint64_t>(v) >= num_points)
         r.fail("vertex index " + std::string(tok[1 + k]) + " out of range");
       t[k] = static_cast<uint32_t>(v);
     }
-    if (!keep || keep(t)) out.push_back(t);
+    if (!keep) {
+      out.push_back(t);
+    } else if (keep(t)) {
+      if (pieces.empty() || pieces.back().size() == kPiece) pieces.emplace_back().reserve(kPiece);
+      pieces.back().push_back(t);
+    }
   }
-  if (keep) out.shrink_to_fit();
+  if (keep) {
+    // Reserved room is memory only once written to: it grows as the
+    // pieces, each large enough to be a mapping of its own, are returned.
+    out.reserve(pieces.empty() ? 0 : (pieces.size() - 1) * kPiece + pieces.back().size());
+    for (std::vector<Tet>& piece : pieces) {
+      out.insert(out.end(), piece.begin(), piece.end());
+      std::vector<Tet>().swap(piece);
+    }
+  }
   return out;
 }
 
