@@ -12,6 +12,7 @@
 #include "codec/block_runs.h"
 #include "codec/bricks.h"
 #include "codec/format.h"
+#include "codec/reference_questions.h"
 #include "codec/reference_share.h"
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
@@ -115,9 +116,15 @@ class BrickedEncoder {
     if (in_.reference_tets_done && !tets_done_) in_.reference_tets_done();
     tets_done_ = true;
   }
-  // The reference a block is carved to and measured against; none for
-  // level 0 when alpha carves it.
-  std::optional<BlockReference> reference_for(const GridBox& region) const;
+  // The reference a block is carved to (`solid`: solid_, or what a block's
+  // work asks of the ranks' parts) and measured against; none for level 0
+  // when alpha carves it.
+  std::optional<BlockReference> reference_for(const GridBox& region, const Solid* solid) const;
+  // run_blocks() of work carving to the reference: with the reference in
+  // parts, each block's work run again until the ranks answered all it asked.
+  std::vector<std::vector<uint8_t>> run_carving(
+      const BlockPlan& plan, const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid*)>& work,
+      Status& status);
   StatusOr<double> level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan);
   Status analyse(int level, const BlockPlan& plan, int64_t halo, const BlockAnalysisOptions& options,
                  std::vector<BlockAnalysis>& out);
@@ -138,8 +145,11 @@ class BrickedEncoder {
   // or the scan's voxels), whole on every rank, and its boundary triangles
   // by place (none before level 0 is built, when level 0 is the reference).
   std::vector<std::array<uint32_t, 4>> level0_cells_;  // until they are the solid
-  std::optional<ReferenceSolid> tet_solid_;
+  std::optional<ReferenceSolid> tet_solid_;            // whole, or this rank's part
   const Solid* solid_ = nullptr;
+  bool parts_ = false;  // solid_ is tet_solid_, a part
+  AnswerBook book_;     // what the ranks answered of this level's questions
+  QuestionCount questions_;
   std::optional<TriangleIndex> faces_;
   SurfaceRecord record_;  // the finer level's
   std::vector<std::pair<uint32_t, double>> reference_squared_;
@@ -228,22 +238,35 @@ void BrickedEncoder::set_reference_in_parts(std::span<const std::array<uint32_t,
   });
   boundary = gather_all(std::move(boundary));
   report_phase(o_.hierarchy.on_phase, "the reference solid");
-  const std::function<bool(const std::array<uint32_t, 4>&)> own = owns;
-  std::vector<std::array<uint32_t, 4>> mine =
-      ReferenceSolid::near_boundary(in_.points, held, boundary, whole, own);
-  // The tetrahedra are read no more: freed before the ranks' are gathered.
+  // This rank's part: the tetrahedra near the boundary that it holds (no
+  // rank gathers them all; the blocks ask the ranks what a part does not know).
+  const std::function<bool(const std::array<uint32_t, 4>&)> held_here = holds, own = owns;
+  std::vector<std::array<uint32_t, 4>> near =
+      ReferenceSolid::near_boundary(in_.points, held, boundary, whole, held_here);
+  // The tetrahedra are read no more.
   release(kept);
   held = {};
   tets_done();
-  const std::vector<std::array<uint32_t, 4>> near = gather_all(std::move(mine));
-  tet_solid_.emplace(in_.points, near, boundary, whole);
-  if (!in_.voxels) solid_ = &*tet_solid_;
+  tet_solid_.emplace(in_.points, near, own, boundary, whole, x_);
+  release(near);
+  if (!in_.voxels) solid_ = &*tet_solid_, parts_ = true;
   faces_.emplace(in_.points, std::move(boundary), q_);
 }
 
-std::optional<BlockReference> BrickedEncoder::reference_for(const GridBox& region) const {
+std::optional<BlockReference> BrickedEncoder::reference_for(const GridBox& region, const Solid* solid) const {
   if (!solid_) return std::nullopt;
-  return block_reference(in_.points, solid_, faces_ ? &*faces_ : nullptr, region);
+  return block_reference(in_.points, solid, faces_ ? &*faces_ : nullptr, region);
+}
+
+std::vector<std::vector<uint8_t>> BrickedEncoder::run_carving(
+    const BlockPlan& plan, const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid*)>& work,
+    Status& status) {
+  if (!parts_)
+    return run_blocks(
+        plan, x_, [&](size_t k) { return work(k, solid_); }, status);
+  return run_blocks_asking(
+      plan, x_, *tet_solid_, book_, [&](size_t k, const Solid& asking) { return work(k, &asking); }, status,
+      questions_);
 }
 
 StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan) {
@@ -275,11 +298,11 @@ StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, cons
 Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
                                const BlockAnalysisOptions& options, std::vector<BlockAnalysis>& out) {
   Status status = Status::Ok();
-  const auto results = run_blocks(
-      plan, x_,
-      [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+  const auto results = run_carving(
+      plan,
+      [&](size_t k, const Solid* solid) -> StatusOr<std::vector<uint8_t>> {
         const BlockRegion block = region_of(plan, k, level, halo);
-        std::optional<BlockReference> reference = reference_for(block.region);
+        std::optional<BlockReference> reference = reference_for(block.region, solid);
         DTM_ASSIGN_OR_RETURN(BlockAnalysis a,
                              analyse_block(block, reference ? &*reference : nullptr, options));
         return serialize(a);
@@ -311,9 +334,9 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
   for (int pass = 0;; ++pass) {
     phase(level + 1, pass == 0 ? "building the blocks" : "building again where a neighbour put points back");
     Status status = Status::Ok();
-    const auto results = run_blocks(
-        plan, x_,
-        [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+    const auto results = run_carving(
+        plan,
+        [&](size_t k, const Solid* solid) -> StatusOr<std::vector<uint8_t>> {
           ByteWriter w;
           if (!to_build[k]) {
             w.u8(0);
@@ -322,7 +345,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           const BlockRegion fine = region_of(plan, k, level, halo);
           std::vector<uint8_t> keep(fine.ids.size());
           for (size_t i = 0; i < keep.size(); ++i) keep[i] = coarser_[fine.ids[i]];
-          std::optional<BlockReference> reference = reference_for(fine.region);
+          std::optional<BlockReference> reference = reference_for(fine.region, solid);
           LevelBounds b = bounds;
           b.quality_floor = floors.floor(plan.blocks[k], plan.depth[k]);
           DTM_ASSIGN_OR_RETURN(BlockBuild built,
@@ -424,6 +447,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
   bool last = false;
   for (int level = 0;; ++level) {
     if (level > 250) return invalid("more than 250 levels");
+    book_ = {};  // a level's questions are of its own cells
     index_.level(level_of_, level, codes, &ids);
     LevelOut out;
     out.brick_depth =
@@ -599,6 +623,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
   header.vertex_count = static_cast<uint32_t>(in_.points.size());
   BrickedEncoding out;
   out.reference_boundary_vertices = reference_boundary_vertices_;
+  out.reference_questions = questions_.questions;
+  out.reference_question_runs = questions_.runs;
   out.bytes = write_header(header);
   if (in_.values) {
     const std::vector<uint8_t> table = write_field_table(in_.values->descriptions());

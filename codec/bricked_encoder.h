@@ -73,6 +73,7 @@ struct BrickedEncoding {
   std::vector<int> brick_depth;        // per level
   std::vector<uint32_t> decode_order;  // as EncodedStream's
   uint64_t reference_boundary_vertices = 0;
+  uint64_t reference_questions = 0, reference_question_runs = 0;  // as EncodeReport's
 };
 
 StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const BrickedEncodeOptions& options,

@@ -193,6 +193,8 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   for (size_t l = 0; l < L; ++l) report.streamed_levels.push_back(static_cast<int>(l));
   report.stream_bytes = encoded.bytes.size();
   report.reference_boundary_vertices = encoded.reference_boundary_vertices;
+  report.reference_questions = encoded.reference_questions;
+  report.reference_question_runs = encoded.reference_question_runs;
   out.bytes = std::move(encoded.bytes);
   std::vector<uint32_t> vertex_of_point(q.points.size());
   for (uint32_t v = 0; v < encoded.decode_order.size(); ++v) vertex_of_point[encoded.decode_order[v]] = v;

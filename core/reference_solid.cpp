@@ -94,11 +94,49 @@ ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
     : ReferenceSolid(points, cells, boundary_triangles(cells)) {}
 
 ReferenceSolid::ReferenceSolid(std::span<const GridPoint> points,
-                               std::span<const std::array<uint32_t, 4>> near,
-                               std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole)
-    : points_(points) {
-  build(near, boundary, whole);
-  keep_listed(near);
+                               std::span<const std::array<uint32_t, 4>> held,
+                               const std::function<bool(const std::array<uint32_t, 4>&)>& owns,
+                               std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole,
+                               RankExchange& exchange)
+    : points_(points), part_(true) {
+  build(held, boundary, whole, &exchange);
+  mark_complete(held, owns, exchange);
+  keep_listed(held);
+}
+
+void ReferenceSolid::mark_complete(std::span<const std::array<uint32_t, 4>> cells,
+                                   const std::function<bool(const std::array<uint32_t, 4>&)>& owns,
+                                   RankExchange& exchange) {
+  // A mixed cell's list here is complete when it is as long as the lists of
+  // the cells each rank owns, added up over the ranks: summed a slice of
+  // rows at a time (4 bytes a row and rank).
+  const size_t rows = mixed_.rows();
+  complete_.assign((rows + 63) / 64, 0);
+  constexpr size_t kSlice = size_t{1} << 20;
+  for (size_t first = 0;; first += kSlice) {
+    const size_t count = first < rows ? std::min(kSlice, rows - first) : 0;
+    std::vector<uint32_t> own(count, 0);
+    parallel_for(
+        count,
+        [&](size_t i) {
+          for (uint32_t k : mixed_.row(first + i)) own[i] += owns(cells[k]) ? 1 : 0;
+        },
+        4096);
+    std::vector<uint8_t> bytes(count * 4);
+    for (size_t i = 0; i < count; ++i)
+      for (int b = 0; b < 4; ++b) bytes[4 * i + b] = static_cast<uint8_t>(own[i] >> (8 * b));
+    release(own);
+    // Every rank has the same rows: each slice is one exchange on all.
+    const std::vector<std::vector<uint8_t>> all = exchange.all_gather(bytes);
+    for (size_t i = 0; i < count; ++i) {
+      uint64_t total = 0;
+      for (const auto& r : all)
+        for (int b = 0; b < 4; ++b) total += uint64_t{r[4 * i + b]} << (8 * b);
+      const size_t row = first + i;
+      if (mixed_.row(row).size() == total) complete_[row / 64] |= uint64_t{1} << (row % 64);
+    }
+    if (first + count >= rows) break;
+  }
 }
 
 void ReferenceSolid::keep_listed(std::span<const std::array<uint32_t, 4>> cells) {
@@ -311,7 +349,8 @@ void ReferenceSolid::for_each_meeting(
 }
 
 void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
-                           std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole) {
+                           std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole,
+                           RankExchange* exchange) {
   if (!frame(whole)) return;
   orient(cells);
   std::vector<uint8_t> state = mark_mixed(boundary);
@@ -335,32 +374,63 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
   // is outside: the first cell holds points of the plane x = lo, which the
   // solid meets only on its boundary (which this cell does not), the last
   // points beyond hi.
+  // Made in parts, a run is inside when any rank's cells hold that point:
+  // each rank tests its own, and the runs' bits (the same runs on every
+  // rank, numbered in row order) are OR-ed over the ranks.
+  const size_t grid_rows = static_cast<size_t>(dims_[1] * dims_[2]);
+  std::vector<uint32_t> first_run;  // per grid row, its first run's number (parts only)
+  std::vector<uint8_t> found;       // per run
+  const auto for_each_run = [&](size_t row, auto&& f) {
+    const size_t row_start = row * static_cast<size_t>(dims_[0]);
+    const uint8_t* const states = state.data() + row_start;
+    for (int64_t x = 0; x < dims_[0];) {
+      if (states[x] != kUnknown) {
+        ++x;
+        continue;
+      }
+      int64_t end = x;
+      while (end < dims_[0] && states[end] == kUnknown) ++end;
+      f(x, end);
+      x = end;
+    }
+  };
+  const auto holds_centre = [&](size_t row, int64_t x) {
+    if (x == 0) return false;
+    const int64_t y = static_cast<int64_t>(row) % dims_[1], z = static_cast<int64_t>(row) / dims_[1];
+    const P4 centre = {lo_[0] + x * step_, lo_[1] + y * step_ + step_ / 2, lo_[2] + z * step_ + step_ / 2};
+    for (uint32_t k : mixed_.row(mixed_row(row * static_cast<size_t>(dims_[0]) + static_cast<size_t>(x) - 1)))
+      if (in_tetrahedron(centre, cells[k], orientation_[k])) return true;
+    return false;
+  };
+  if (exchange) {
+    first_run.assign(grid_rows + 1, 0);
+    parallel_for(
+        grid_rows, [&](size_t row) { for_each_run(row, [&](int64_t, int64_t) { ++first_run[row + 1]; }); },
+        64);
+    for (size_t r = 0; r < grid_rows; ++r) first_run[r + 1] += first_run[r];
+    found.assign(first_run.back(), 0);
+    parallel_for(
+        grid_rows,
+        [&](size_t row) {
+          uint32_t run = first_run[row];
+          for_each_run(
+              row, [&](int64_t x, int64_t end) { found[run++] = end < dims_[0] && holds_centre(row, x); });
+        },
+        64);
+    std::vector<uint8_t> bits((found.size() + 7) / 8, 0);
+    for (size_t i = 0; i < found.size(); ++i) bits[i / 8] |= static_cast<uint8_t>(found[i] << (i % 8));
+    for (const auto& other : exchange->all_gather(bits))
+      for (size_t i = 0; i < found.size(); ++i) found[i] |= (other[i / 8] >> (i % 8)) & 1;
+  }
   parallel_for(
-      static_cast<size_t>(dims_[1] * dims_[2]),
+      grid_rows,
       [&](size_t row) {
-        const int64_t y = static_cast<int64_t>(row) % dims_[1], z = static_cast<int64_t>(row) / dims_[1];
-        const size_t row_start = row * static_cast<size_t>(dims_[0]);
-        uint8_t* const states = state.data() + row_start;
-        for (int64_t x = 0; x < dims_[0];) {
-          if (states[x] != kUnknown) {
-            ++x;
-            continue;
-          }
-          int64_t end = x;
-          while (end < dims_[0] && states[end] == kUnknown) ++end;
-          uint8_t verdict = kOutside;
-          if (x > 0 && end < dims_[0]) {
-            const P4 centre = {lo_[0] + x * step_, lo_[1] + y * step_ + step_ / 2,
-                               lo_[2] + z * step_ + step_ / 2};
-            for (uint32_t k : mixed_.row(mixed_row(row_start + static_cast<size_t>(x) - 1)))
-              if (in_tetrahedron(centre, cells[k], orientation_[k])) {
-                verdict = kInside;
-                break;
-              }
-          }
-          for (int64_t i = x; i < end; ++i) states[i] = verdict;
-          x = end;
-        }
+        uint8_t* const states = state.data() + row * static_cast<size_t>(dims_[0]);
+        uint32_t run = exchange ? first_run[row] : 0;
+        for_each_run(row, [&](int64_t x, int64_t end) {
+          const bool inside = exchange ? found[run++] != 0 : end < dims_[0] && holds_centre(row, x);
+          for (int64_t i = x; i < end; ++i) states[i] = inside ? kInside : kOutside;
+        });
       },
       64);
   inside_.assign(mixed_cells_.size(), 0);
@@ -405,6 +475,21 @@ bool ReferenceSolid::contains4(const P4& p) const {
     if (in_tetrahedron(p, kept_[k], orientation_[k])) return true;
   return false;
 }
+
+ReferenceSolid::Answer ReferenceSolid::answer4(const P4& p) const {
+  if (tetrahedra_ == 0) return Answer::kOutside;
+  for (int a = 0; a < 3; ++a)
+    if (p[a] < lo_[a] || p[a] > hi_[a]) return Answer::kOutside;
+  const size_t cell = cell_of(p);
+  if (!(mixed_cells_[cell / 64] >> (cell % 64) & 1))
+    return inside_[cell / 64] >> (cell % 64) & 1 ? Answer::kInside : Answer::kOutside;
+  const uint32_t row = mixed_row(cell);
+  for (uint32_t k : mixed_.row(row))
+    if (in_tetrahedron(p, kept_[k], orientation_[k])) return Answer::kInside;
+  return !part_ || (complete_[row / 64] >> (row % 64) & 1) ? Answer::kOutside : Answer::kUnknown;
+}
+
+bool ReferenceSolid::holds4(const P4& p) const { return answer4(p) == Answer::kInside; }
 
 ReferenceSolid::Layout ReferenceSolid::layout() const {
   return {dims_, mixed_.rows(), mixed_.items.size(), kept_.size()};

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "common/csr.h"
+#include "common/exchange.h"
 #include "common/grid.h"
 #include "core/solid.h"
 #include "mesh/delaunay.h"
@@ -40,8 +41,8 @@ class ReferenceSolid : public Solid {
   ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
 
   // Made in parts (an MPI rank holding a share of the cells,
-  // codec/reference_share.h): the solid of all the cells from the box and
-  // count of them all, the whole boundary, and only the cells near it.
+  // codec/reference_share.h): the box and count of all the cells, which
+  // frame the grid of every part as the whole's.
   struct Extent {
     std::array<int64_t, 3> lo{}, hi{};  // the cells' corners' box, at four times the grid's scale
     uint64_t tetrahedra = 0;
@@ -51,18 +52,37 @@ class ReferenceSolid : public Solid {
                      uint64_t owned);
     void add(const Extent& o);
   };
-  // Those of `cells` (`mine` of them, so that each is found once over the
-  // parts) that the solid of the whole keeps: every cell that may meet a
-  // grid cell the boundary meets. The solid made of them all, with the
-  // whole's extent and boundary, answers as the whole's.
+  // Those of `cells` (`mine` of them) that the solid of the whole keeps:
+  // every cell that may meet a grid cell the boundary meets.
   static std::vector<std::array<uint32_t, 4>> near_boundary(
       std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells,
       std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole,
       const std::function<bool(const std::array<uint32_t, 4>&)>& mine);
-  ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> near,
-                 std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole);
 
-  bool contains_point4(const std::array<int64_t, 3>& p) const override { return contains4(p); }
+  // A part of the whole's solid, on one rank of a run, so that no rank holds
+  // all the cells near the boundary: `held`, this rank's (every such cell
+  // held by some rank, and `owns` exactly one rank's own), `boundary` and
+  // `whole` the whole's. Every rank makes its part at once (they exchange
+  // what classifies the grid). A part knows which grid cells lie inside as
+  // the whole does; in a cell the boundary meets it answers when one of its
+  // cells holds the point, or when it holds every cell meeting that grid
+  // cell, and else does not know: then whether any rank's part holds the
+  // point (holds4(), OR-ed over the ranks) is the whole's answer.
+  ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> held,
+                 const std::function<bool(const std::array<uint32_t, 4>&)>& owns,
+                 std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole,
+                 RankExchange& exchange);
+  enum class Answer : uint8_t { kOutside, kInside, kUnknown };
+  // p at four times the grid's scale (as contains_point4()).
+  Answer answer4(const std::array<int64_t, 3>& p) const;
+  // Whether one of this part's cells holds p (any rank's, for the whole).
+  bool holds4(const std::array<int64_t, 3>& p) const;
+  bool is_part() const { return part_; }
+
+  // Of a part: inside only where it knows (the encoder asks the ranks the rest).
+  bool contains_point4(const std::array<int64_t, 3>& p) const override {
+    return part_ ? answer4(p) == Answer::kInside : contains4(p);
+  }
 
   size_t tetrahedra() const { return tetrahedra_; }
 
@@ -79,8 +99,13 @@ class ReferenceSolid : public Solid {
   using Point4 = std::array<int64_t, 3>;
 
   explicit ReferenceSolid(std::span<const GridPoint> points) : points_(points) {}
+  // `exchange`: made in parts (each rank's cells), runs classified by all.
   void build(std::span<const std::array<uint32_t, 4>> cells,
-             std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole);
+             std::span<const std::array<uint32_t, 3>> boundary, const Extent& whole,
+             RankExchange* exchange = nullptr);
+  // Of a part: which mixed cells list every cell that meets them.
+  void mark_complete(std::span<const std::array<uint32_t, 4>> cells,
+                     const std::function<bool(const std::array<uint32_t, 4>&)>& owns, RankExchange& exchange);
   // The grid cells [c0, c1] a closed box [bl, bh] meets: those whose closed
   // extent overlaps it (a box on a cell's face meets both cells).
   void cell_range(const Point4& bl, const Point4& bh, std::array<int64_t, 3>& c0,
@@ -129,6 +154,9 @@ class ReferenceSolid : public Solid {
   Csr mixed_;  // per mixed cell, the tetrahedra whose boxes meet it
   // Every coordinate (x4) under 2^18: orientations fit in 64-bit integers.
   bool small_ = false;
+  // A part: per mixed cell, one bit: its list holds every cell meeting it.
+  bool part_ = false;
+  std::vector<uint64_t> complete_;
 };
 
 }  // namespace dtm

@@ -3,7 +3,6 @@
 // the box, whatever the box, and reads only the chunks around it.
 #include <gtest/gtest.h>
 
-#include <barrier>
 #include <cmath>
 #include <random>
 #include <thread>
@@ -15,6 +14,7 @@
 #include "core/reference_shape.h"
 #include "mesh/carving.h"
 #include "test_support.h"
+#include "thread_ranks.h"
 #include "tools/formats/input.h"
 
 namespace dtm {
@@ -35,7 +35,7 @@ EncodeOptions bricked_options(uint64_t brick_points, uint64_t block_points = kSm
 }
 
 std::vector<uint8_t> bricked_stream(const std::string& model, uint64_t brick_points, bool cell_hashes = false,
-                                    RankExchange* exchange = nullptr) {
+                                    RankExchange* exchange = nullptr, EncodeReport* report = nullptr) {
   const InputMesh in = read_input(test::data_path(model + ".node"));
   EncodeInput input;
   input.points = in.points;
@@ -45,36 +45,11 @@ std::vector<uint8_t> bricked_stream(const std::string& model, uint64_t brick_poi
   options.exchange = exchange;
   auto encoded = encode(input, options);
   EXPECT_TRUE(encoded.ok()) << encoded.status().message();
+  if (encoded.ok() && report) *report = encoded->report;
   return encoded.ok() ? encoded->bytes : std::vector<uint8_t>{};
 }
 
-// The ranks of an MPI run, as threads of this process.
-class ThreadRanks {
- public:
-  explicit ThreadRanks(int ranks) : slots_(static_cast<size_t>(ranks)), sync_(ranks) {}
-
-  class Rank final : public RankExchange {
-   public:
-    Rank(ThreadRanks& all, int rank) : all_(all), rank_(rank) {}
-    int rank() const override { return rank_; }
-    int size() const override { return static_cast<int>(all_.slots_.size()); }
-    std::vector<std::vector<uint8_t>> all_gather(std::span<const uint8_t> mine) override {
-      all_.slots_[static_cast<size_t>(rank_)].assign(mine.begin(), mine.end());
-      all_.sync_.arrive_and_wait();
-      std::vector<std::vector<uint8_t>> out = all_.slots_;
-      all_.sync_.arrive_and_wait();  // nobody writes again before everyone has read
-      return out;
-    }
-
-   private:
-    ThreadRanks& all_;
-    int rank_;
-  };
-
- private:
-  std::vector<std::vector<uint8_t>> slots_;
-  std::barrier<> sync_;
-};
+using test::ThreadRanks;
 
 // The grid box of the level's points.
 GridBox bounds(std::span<const GridPoint> points) {
@@ -220,22 +195,37 @@ TEST(BrickedStream, DecodesToTheEncodersMeshesAtEveryLevel) {
 
 // The levels are built block by block, each block's part a function of its
 // region only: one process, or 2 or 3 ranks sharing the blocks, write the
-// same bytes.
+// same bytes. On ranks, each holds a part of the reference, and a block's
+// work is run again where it asked what only the ranks together know
+// (bunny_10k's blocks ask).
 TEST(BrickedStream, TheSameBytesForAnyNumberOfRanks) {
-  const std::vector<uint8_t> alone = bricked_stream("hand_10k", 64, true);
-  ASSERT_FALSE(alone.empty());
-  for (int ranks : {1, 2, 3}) {
-    ThreadRanks all(ranks);
-    std::vector<std::vector<uint8_t>> made(static_cast<size_t>(ranks));
-    std::vector<std::thread> threads;
-    for (int r = 0; r < ranks; ++r)
-      threads.emplace_back([&, r] {
-        ThreadRanks::Rank rank(all, r);
-        made[static_cast<size_t>(r)] = bricked_stream("hand_10k", 64, true, &rank);
-      });
-    for (auto& t : threads) t.join();
-    for (int r = 0; r < ranks; ++r)
-      EXPECT_TRUE(made[static_cast<size_t>(r)] == alone) << ranks << " ranks, rank " << r;
+  for (const std::string model : {"hand_10k", "bunny_10k"}) {
+    SCOPED_TRACE(model);
+    const std::vector<uint8_t> alone = bricked_stream(model, 64, true);
+    ASSERT_FALSE(alone.empty());
+    for (int ranks : {1, 2, 3}) {
+      ThreadRanks all(ranks);
+      std::vector<std::vector<uint8_t>> made(static_cast<size_t>(ranks));
+      std::vector<EncodeReport> reports(static_cast<size_t>(ranks));
+      std::vector<std::thread> threads;
+      for (int r = 0; r < ranks; ++r)
+        threads.emplace_back([&, r] {
+          ThreadRanks::Rank rank(all, r);
+          made[static_cast<size_t>(r)] =
+              bricked_stream(model, 64, true, &rank, &reports[static_cast<size_t>(r)]);
+        });
+      for (auto& t : threads) t.join();
+      for (int r = 0; r < ranks; ++r) {
+        EXPECT_TRUE(made[static_cast<size_t>(r)] == alone) << ranks << " ranks, rank " << r;
+        EXPECT_EQ(reports[static_cast<size_t>(r)].reference_questions, reports[0].reference_questions);
+      }
+      if (ranks == 1) {
+        EXPECT_EQ(reports[0].reference_question_runs, 0u);
+      } else if (model == "bunny_10k") {
+        EXPECT_GT(reports[0].reference_questions, 0u) << ranks;
+        EXPECT_GT(reports[0].reference_question_runs, 0u) << ranks;
+      }
+    }
   }
 }
 

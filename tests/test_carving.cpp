@@ -8,6 +8,7 @@
 #include <optional>
 #include <random>
 #include <set>
+#include <thread>
 
 #include "codec/carving_coder.h"
 #include "codec/decode.h"
@@ -20,6 +21,7 @@
 #include "mesh/delaunay.h"
 #include "mesh/geometry.h"
 #include "test_support.h"
+#include "thread_ranks.h"
 #include "tools/formats/tetgen.h"
 
 namespace dtm {
@@ -57,12 +59,13 @@ TEST(ReferenceSolid, ContainsTheCentroidsOfItsOwnCellsAndNothingOutside) {
   EXPECT_FALSE(solid.contains_centroid({9, 9, 9}, {9, 9, 9}, {9, 9, 9}, {9, 9, 9}));
 }
 
-// The reference made by the ranks of a run (codec/bricked_encoder.cpp),
+// The reference solid made in parts by ranks (threads here, as MPI ranks),
 // each holding its share of the tetrahedra (codec/reference_share.h): the
 // boundary faces each finds, in rank order, are the whole's in its order;
-// the tetrahedra near the boundary they find, with the whole's extent,
-// make a solid of the same grid that answers as the whole's, with a hole
-// in it (every third tetrahedron gone) or not.
+// each rank's part, of the tetrahedra near the boundary it holds, has the
+// whole's grid; wherever a part answers it answers as the whole does, and
+// where none does, whether any part's tetrahedra hold the point is the
+// whole's answer. With a hole in it (every third tetrahedron gone) or not.
 TEST(ReferenceSolid, MadeInPartsByRanksAnswersAsTheWhole) {
   const auto q = test::load_quantized("bunny_10k");
   const NodeFile node = read_tetgen_node(test::data_path("bunny_10k.node"));
@@ -99,21 +102,29 @@ TEST(ReferenceSolid, MadeInPartsByRanksAnswersAsTheWhole) {
       EXPECT_LT(held_total, cells->size() * 5 / 4) << "shares overlap little";
       ASSERT_EQ(faces, boundary);
       ASSERT_EQ(extent.tetrahedra, cells->size());
-      std::vector<Cell> near;
-      for (int r = 0; r < ranks; ++r) {
-        const ReferenceShare share(q.points.size(), r, ranks);
-        const auto part = ReferenceSolid::near_boundary(q.points, held[static_cast<size_t>(r)], faces, extent,
-                                                        [&](const Cell& c) { return share.owns(c); });
-        near.insert(near.end(), part.begin(), part.end());
+      // Each rank makes its part at once, exchanging with the others.
+      test::ThreadRanks all(ranks);
+      std::vector<std::optional<ReferenceSolid>> parts(static_cast<size_t>(ranks));
+      std::vector<std::thread> threads;
+      for (int r = 0; r < ranks; ++r)
+        threads.emplace_back([&, r] {
+          const ReferenceShare share(q.points.size(), r, ranks);
+          const auto near =
+              ReferenceSolid::near_boundary(q.points, held[static_cast<size_t>(r)], faces, extent,
+                                            [&](const Cell& c) { return share.holds(c); });
+          test::ThreadRanks::Rank rank(all, r);
+          parts[static_cast<size_t>(r)].emplace(
+              q.points, near, [&](const Cell& c) { return share.owns(c); }, faces, extent, rank);
+        });
+      for (auto& t : threads) t.join();
+      size_t kept = 0;
+      for (const auto& part : parts) {
+        EXPECT_EQ(part->tetrahedra(), one.tetrahedra());
+        EXPECT_EQ(part->layout().dims, one.layout().dims);
+        EXPECT_EQ(part->layout().mixed_cells, one.layout().mixed_cells);
+        kept += part->layout().kept;
       }
-      const ReferenceSolid parts(q.points, near, faces, extent);
-      EXPECT_EQ(parts.tetrahedra(), one.tetrahedra());
-      const auto a = parts.layout(), b = one.layout();
-      EXPECT_EQ(a.dims, b.dims);
-      EXPECT_EQ(a.mixed_cells, b.mixed_cells);
-      EXPECT_EQ(a.listed, b.listed);
-      EXPECT_EQ(a.kept, b.kept);
-      EXPECT_EQ(near.size(), b.kept) << "each near tetrahedron found once";
+      EXPECT_LT(kept, one.layout().kept * 3 / 2) << "the parts overlap little";
       // The centroids of every cell and random points of the box.
       std::vector<std::array<int64_t, 3>> probes;
       for (const Cell& c : whole) {
@@ -123,13 +134,29 @@ TEST(ReferenceSolid, MadeInPartsByRanksAnswersAsTheWhole) {
       }
       std::uniform_int_distribution<int64_t> at(-8, 4 * ((1 << q.grid.qbits) - 1) + 8);
       for (int i = 0; i < 20000; ++i) probes.push_back({at(rng), at(rng), at(rng)});
-      size_t inside = 0;
+      // Points some part does not know, and points no part knows.
+      size_t inside = 0, unknown_somewhere = 0, unknown_everywhere = 0;
       for (const auto& p : probes) {
-        ASSERT_EQ(parts.contains_point4(p), one.contains_point4(p)) << p[0] << " " << p[1] << " " << p[2];
-        inside += one.contains_point4(p);
+        const bool want = one.contains_point4(p);
+        bool any = false;
+        size_t unknown = 0;
+        for (const auto& part : parts) {
+          const ReferenceSolid::Answer a = part->answer4(p);
+          if (a == ReferenceSolid::Answer::kUnknown)
+            ++unknown;
+          else
+            ASSERT_EQ(a == ReferenceSolid::Answer::kInside, want) << p[0] << " " << p[1] << " " << p[2];
+          any = any || part->holds4(p);
+        }
+        ASSERT_EQ(any, want) << p[0] << " " << p[1] << " " << p[2];
+        inside += want;
+        unknown_somewhere += unknown > 0;
+        unknown_everywhere += unknown == parts.size();
       }
       EXPECT_GT(inside, 0u);
       EXPECT_LT(inside, probes.size());
+      EXPECT_GT(unknown_somewhere, 0u) << "a part does not know everything";
+      EXPECT_LT(unknown_everywhere, probes.size() / 10) << "most points some part knows alone";
     }
   }
 }

@@ -305,6 +305,12 @@ void print_reference_line(const dtm::EncodeReport& r) {
         d.second_volume > 0 ? 100 * d.symmetric() / d.second_volume : 0.0, d.only_first * step * step * step,
         d.only_second * step * step * step);
   }
+  if (r.reference_question_runs > 0)
+    std::printf(
+        "reference in parts on the ranks: %llu points answered by the ranks together, for %llu block runs "
+        "(each run again)\n",
+        static_cast<unsigned long long>(r.reference_questions),
+        static_cast<unsigned long long>(r.reference_question_runs));
 }
 
 // The stream and the report are written together or not at all.
