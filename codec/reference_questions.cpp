@@ -34,6 +34,10 @@ bool AskingSolid::contains_point4(const std::array<int64_t, 3>& p) const {
   return false;
 }
 
+void AskingSolid::settle() const {
+  if (asked()) throw Asked{};
+}
+
 std::vector<AnswerBook::Point4> AskingSolid::questions() const {
   std::vector<AnswerBook::Point4> q = questions_;
   std::sort(q.begin(), q.end());

@@ -34,11 +34,16 @@ class AnswerBook {
 
 // A part of the reference as one block's work sees it: what the part knows,
 // then what the book says; a point neither knows is noted as a question and
-// called outside (the work's result is then thrown away).
+// called outside, and the work ends at its next settle() (its result would
+// be thrown away).
 class AskingSolid final : public Solid {
  public:
   AskingSolid(const ReferenceSolid& part, const AnswerBook& book) : part_(part), book_(book) {}
   bool contains_point4(const std::array<int64_t, 3>& p) const override;
+  // Throws Asked when there are questions: the rest of the work would run
+  // on guesses.
+  void settle() const override;
+  struct Asked {};
   bool asked() const { return !questions_.empty(); }
   // The questions, ascending, each once.
   std::vector<AnswerBook::Point4> questions() const;

@@ -99,6 +99,7 @@ struct CellResults {
           if (in) new_angle[fresh[i]] = smallest_solid_angle(points, k);
         },
         1024);
+    solid.settle();
     kept = std::move(new_kept);
     angle = std::move(new_angle);
   }
@@ -300,6 +301,7 @@ void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<con
             o.gain += smallest_solid_angle(points, {v, f[0], f[1], f[2]}) - floor;
       },
       32);
+  solid.settle();
   std::erase_if(options, [](const Option& o) { return o.cells.empty() || o.gain <= 0; });
   std::stable_sort(options.begin(), options.end(),
                    [](const Option& a, const Option& b) { return a.gain > b.gain; });

@@ -17,6 +17,7 @@ std::vector<uint8_t> Solid::verdicts(const TetMesh& dt, std::span<const GridPoin
                  }
                },
                4);
+  settle();
   return out;
 }
 

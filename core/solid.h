@@ -32,6 +32,11 @@ class Solid {
   // Per cell of `dt` (vertex ids index `points`): 1 if the solid keeps it.
   // Computed on every core.
   std::vector<uint8_t> verdicts(const TetMesh& dt, std::span<const GridPoint> points) const;
+
+  // Called by work that carves, after each pass of questions, where its
+  // answers decide what it does next: a solid that could only guess some
+  // of them (codec/reference_questions.h) ends the work there by throwing.
+  virtual void settle() const {}
 };
 
 }  // namespace dtm
