@@ -142,7 +142,7 @@ class BrickedEncoder {
   MortonIndex index_;
   std::vector<uint8_t> level_of_;  // per grid point: the coarsest level that holds it
   // The reference: its solid (the input's tetrahedra, or level 0's carving,
-  // or the scan's voxels), whole on every rank, and its boundary triangles
+  // or the scan's voxels), whole, or this rank's part on ranks, and its boundary triangles
   // by place (none before level 0 is built, when level 0 is the reference).
   std::vector<std::array<uint32_t, 4>> level0_cells_;  // until they are the solid
   std::optional<ReferenceSolid> tet_solid_;            // whole, or this rank's part
