@@ -177,7 +177,7 @@ void BrickedEncoder::set_reference(std::span<const std::array<uint32_t, 4>> tets
 }
 
 void BrickedEncoder::set_reference_in_parts(std::span<const std::array<uint32_t, 4>> given) {
-  const ReferenceShare share(in_.points.size(), x_.rank(), x_.size());
+  const ReferenceShare share(in_.points, q_, x_.rank(), x_.size());
   // What this rank holds of what it was given (all, when given its share).
   std::vector<std::array<uint32_t, 4>> kept;
   std::span<const std::array<uint32_t, 4>> held = given;
@@ -207,9 +207,8 @@ void BrickedEncoder::set_reference_in_parts(std::span<const std::array<uint32_t,
     }
   }
   if (whole.tetrahedra == 0) return;  // no rank has any
-  // The faces of exactly one tetrahedron whose least corner is this rank's:
-  // in ascending order of their sorted corners, as boundary_triangles()
-  // gives them, and so, in rank order, all of them in the order one process finds.
+  // The faces of exactly one tetrahedron whose least corner is this rank's,
+  // gathered and put in the order one process finds them.
   report_phase(o_.hierarchy.on_phase, "the reference's boundary");
   const auto gather_all = [&]<size_t N>(std::vector<std::array<uint32_t, N>> mine) {
     ByteWriter w;
@@ -237,6 +236,7 @@ void BrickedEncoder::set_reference_in_parts(std::span<const std::array<uint32_t,
     return !share.mine(std::min({t[0], t[1], t[2]}));
   });
   boundary = gather_all(std::move(boundary));
+  sort_as_boundary_triangles(boundary);
   report_phase(o_.hierarchy.on_phase, "the reference solid");
   // This rank's part: the tetrahedra near the boundary that it holds (no
   // rank gathers them all; the blocks ask the ranks what a part does not know).
@@ -453,6 +453,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     out.brick_depth =
         std::min(finest_depth, choose_brick_depth(codes, q_, std::max<uint64_t>(1, o_.brick_points / 4)));
     const BlockPlan plan = plan_blocks(codes, q_, out.brick_depth, o_.block_points, ranks);
+    release(codes);  // 16 bytes a point, not held while the blocks are built
     size_t largest = 0;
     for (size_t k = 0; k < plan.blocks.size(); ++k)
       largest = std::max(largest, plan.first[k + 1] - plan.first[k]);

@@ -134,7 +134,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   // On the ranks of a run each may hold only its share of the tetrahedra
   // (codec/reference_share.h): the count is of every rank's own.
   if (options.exchange && options.exchange->size() > 1) {
-    const ReferenceShare share(q.points.size(), options.exchange->rank(), options.exchange->size());
+    const ReferenceShare share(q.points, q.grid.qbits, options.exchange->rank(), options.exchange->size());
     ByteWriter w;
     w.u64(static_cast<uint64_t>(
         std::count_if(tets.begin(), tets.end(), [&](const auto& t) { return share.owns(t); })));

@@ -161,6 +161,14 @@ std::vector<uint32_t> canonical_cell_order(std::span<const std::array<uint32_t, 
   return order;
 }
 
+void sort_as_boundary_triangles(std::vector<std::array<uint32_t, 3>>& faces) {
+  const auto key = [](std::array<uint32_t, 3> f) {
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  std::sort(faces.begin(), faces.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
+}
+
 std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::array<uint32_t, 4>> cells,
                                                         size_t faces_per_pass) {
   // Outward faces of a positively oriented (a, b, c, d): d lies on the

@@ -61,5 +61,8 @@ std::vector<uint32_t> canonical_cell_order(std::span<const std::array<uint32_t, 
 // bounds the memory it takes; the result is the same for any.
 std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::array<uint32_t, 4>> cells,
                                                         size_t faces_per_pass = 0);
+// Puts oriented faces in boundary_triangles()' canonical order (ascending by
+// their sorted vertices): faces found in parts, gathered, in the whole's.
+void sort_as_boundary_triangles(std::vector<std::array<uint32_t, 3>>& faces);
 
 }  // namespace dtm

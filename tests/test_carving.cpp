@@ -20,6 +20,7 @@
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
 #include "mesh/geometry.h"
+#include "mesh/topology.h"
 #include "test_support.h"
 #include "thread_ranks.h"
 #include "tools/formats/tetgen.h"
@@ -61,7 +62,7 @@ TEST(ReferenceSolid, ContainsTheCentroidsOfItsOwnCellsAndNothingOutside) {
 
 // The reference solid made in parts by ranks (threads here, as MPI ranks),
 // each holding its share of the tetrahedra (codec/reference_share.h): the
-// boundary faces each finds, in rank order, are the whole's in its order;
+// boundary faces each finds, gathered and sorted, are the whole's;
 // each rank's part, of the tetrahedra near the boundary it holds, has the
 // whole's grid; wherever a part answers it answers as the whole does, and
 // where none does, whether any part's tetrahedra hold the point is the
@@ -87,7 +88,7 @@ TEST(ReferenceSolid, MadeInPartsByRanksAnswersAsTheWhole) {
       std::vector<std::vector<Cell>> held(static_cast<size_t>(ranks));
       size_t held_total = 0;
       for (int r = 0; r < ranks; ++r) {
-        const ReferenceShare share(q.points.size(), r, ranks);
+        const ReferenceShare share(q.points, q.grid.qbits, r, ranks);
         for (const Cell& c : *cells)
           if (share.holds(c)) held[static_cast<size_t>(r)].push_back(c);
         const auto& mine = held[static_cast<size_t>(r)];
@@ -100,6 +101,7 @@ TEST(ReferenceSolid, MadeInPartsByRanksAnswersAsTheWhole) {
           if (share.mine(std::min({f[0], f[1], f[2]}))) faces.push_back(f);
       }
       EXPECT_LT(held_total, cells->size() * 5 / 4) << "shares overlap little";
+      sort_as_boundary_triangles(faces);
       ASSERT_EQ(faces, boundary);
       ASSERT_EQ(extent.tetrahedra, cells->size());
       // Each rank makes its part at once, exchanging with the others.
@@ -108,7 +110,7 @@ TEST(ReferenceSolid, MadeInPartsByRanksAnswersAsTheWhole) {
       std::vector<std::thread> threads;
       for (int r = 0; r < ranks; ++r)
         threads.emplace_back([&, r] {
-          const ReferenceShare share(q.points.size(), r, ranks);
+          const ReferenceShare share(q.points, q.grid.qbits, r, ranks);
           const auto near =
               ReferenceSolid::near_boundary(q.points, held[static_cast<size_t>(r)], faces, extent,
                                             [&](const Cell& c) { return share.holds(c); });

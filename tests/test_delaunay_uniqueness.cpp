@@ -120,7 +120,9 @@ TEST(DelaunayUniqueness, ParallelBatchesGiveTheSameCells) {
       (k < order.size() / share ? first_ids : rest_ids).push_back(order[k]);
     }
     ASSERT_GE(rest.size(), 20000u) << "a batch the threads share";
-    if (share == 4) ASSERT_GE(first.size(), 4096u) << "no point inserted alone";
+    if (share == 4) {
+      ASSERT_GE(first.size(), 4096u) << "no point inserted alone";
+    }
     IncrementalDelaunay two_batches;
     ASSERT_TRUE(two_batches.insert(first, first_ids).ok());
     ASSERT_TRUE(two_batches.insert(rest, rest_ids).ok());

@@ -209,7 +209,7 @@ dtm::InputMesh read(const Command& c) {
 // (codec/reference_share.h), on the grid. A TetGen .ele is read keeping
 // them only (no rank holds them all); other formats' are filtered in place.
 void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::MpiSession& mpi) {
-  const dtm::ReferenceShare share(q.points.size(), mpi.rank(), mpi.size());
+  const dtm::ReferenceShare share(q.points, q.grid.qbits, mpi.rank(), mpi.size());
   const auto on_grid = [&](const std::array<uint32_t, 4>& t) {
     return std::array<uint32_t, 4>{q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
                                    q.input_to_point[t[3]]};
