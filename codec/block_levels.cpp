@@ -81,6 +81,13 @@ void MortonIndex::level(std::span<const uint8_t> level_of, int level, std::vecto
     }
 }
 
+std::vector<uint32_t> MortonIndex::level_ids(std::span<const uint8_t> level_of, int level) const {
+  std::vector<uint32_t> ids;
+  for (uint32_t id : ids_)
+    if (level_of[id] >= level) ids.push_back(id);
+  return ids;
+}
+
 namespace {
 
 template <size_t N>

@@ -52,6 +52,8 @@ class MortonIndex {
   // The Morton codes of the points with level_of >= level, ascending, and their ids.
   void level(std::span<const uint8_t> level_of, int level, std::vector<MortonCode>& codes,
              std::vector<uint32_t>* ids = nullptr) const;
+  // Their ids alone (a code takes 16 bytes, an id 4).
+  std::vector<uint32_t> level_ids(std::span<const uint8_t> level_of, int level) const;
   int qbits() const { return qbits_; }
 
  private:

@@ -645,30 +645,28 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
   SetCoderModels models;
   models.enable_coordinate_reuse(q_);
   std::vector<MortonCode> known;  // V_{l+1}, ascending
+  out.decode_order.reserve(in_.points.size());
   for (int level = coarsest; level >= 0; --level) {
     report_phase(o_.hierarchy.on_phase, "writing level " + std::to_string(level) + "'s layer");
     LevelOut& lo = levels[static_cast<size_t>(level)];
     const int depth = lo.brick_depth;
-    // The layer's points in Morton order.
-    std::vector<MortonCode> codes;
-    std::vector<uint32_t> ids;
-    index_.level(level_of_, level, codes, &ids);
+    // The layer's points in Morton order (their codes are not kept: at
+    // level 0 they were the largest thing every rank held).
+    const std::vector<uint32_t> ids = index_.level_ids(level_of_, level);
     std::vector<GridPoint> fresh;
-    std::vector<MortonCode> fresh_codes;
-    for (size_t i = 0; i < ids.size(); ++i)
-      if (level_of_[ids[i]] == level) {
-        fresh.push_back(in_.points[ids[i]]);
-        fresh_codes.push_back(codes[i]);
-        out.decode_order.push_back(ids[i]);
+    for (uint32_t id : ids)
+      if (level_of_[id] == level) {
+        fresh.push_back(in_.points[id]);
+        out.decode_order.push_back(id);
       }
     // The bricks with points; their payloads, made by the ranks in turn.
     std::vector<uint64_t> bricks;
     std::vector<size_t> first;
-    for (size_t i = 0; i < fresh_codes.size(); ++i) {
-      const uint64_t b = brick_of(fresh_codes[i], q_, depth);
+    for (size_t i = 0; i < fresh.size(); ++i) {
+      const uint64_t b = brick_of(morton_encode(fresh[i], q_), q_, depth);
       if (bricks.empty() || bricks.back() != b) bricks.push_back(b), first.push_back(i);
     }
-    first.push_back(fresh_codes.size());
+    first.push_back(fresh.size());
     BlockPlan plan;  // the bricks, shared out among the ranks
     plan.blocks = bricks;
     plan.depth.assign(bricks.size(), depth);
@@ -779,7 +777,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write_stream(std::vector<LevelOut>& le
     out.index_bytes[static_cast<size_t>(level)] = index.size();
     out.brick_depth[static_cast<size_t>(level)] = depth;
     out.bytes.insert(out.bytes.end(), layer.begin(), layer.end());
-    merge_known(known, fresh, q_);
+    if (level > 0) merge_known(known, fresh, q_);  // V_l, for the finer layer
   }
   return out;
 }

@@ -7,14 +7,15 @@
 // holds only its region in memory.
 //
 // What a rank holds whole: the grid points (12 bytes each), which level
-// each belongs to, a Morton index of them (4 bytes each), the reference
-// solid (its boundary triangles and the tetrahedra near them), and what the
-// blocks report (the surface records, the carving sections, the coarser
+// each belongs to, a Morton index of them (4 bytes each), the reference's
+// boundary triangles and which grid cells lie inside, and what the blocks
+// report (the surface records, the carving sections, the coarser
 // level's choice); the Delaunay tetrahedralizations, the carving and the
 // checks are made block by block. The input's tetrahedra are held in
-// shares (codec/reference_share.h): each rank finds the part of the
-// boundary and of the solid's tetrahedra that is its own, and the ranks
-// gather them.
+// shares (codec/reference_share.h): each rank finds its own part of the
+// boundary (the ranks gather the boundary) and keeps its tetrahedra near it
+// as its part of the solid; what a block's part cannot answer, the ranks
+// answer together (codec/reference_questions.h).
 #pragma once
 
 #include <array>

@@ -84,6 +84,7 @@ GridPoint morton_decode(MortonCode code, int qbits) {
 
 void merge_known(std::vector<MortonCode>& known, std::span<const GridPoint> added, int qbits) {
   const size_t old_size = known.size();
+  known.reserve(old_size + added.size());  // exactly: 16 bytes a point, not twice as many
   for (const GridPoint& p : added) known.push_back(morton_encode(p, qbits));
   std::sort(known.begin() + old_size, known.end());
   std::inplace_merge(known.begin(), known.begin() + old_size, known.end());
