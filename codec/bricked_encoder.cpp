@@ -177,7 +177,8 @@ void BrickedEncoder::set_reference(std::span<const std::array<uint32_t, 4>> tets
 }
 
 void BrickedEncoder::set_reference_in_parts(std::span<const std::array<uint32_t, 4>> given) {
-  const ReferenceShare share(in_.points, q_, x_.rank(), x_.size());
+  std::optional<ReferenceShare> made;
+  const ReferenceShare& share = in_.share ? *in_.share : made.emplace(in_.points, q_, x_.rank(), x_.size());
   // What this rank holds of what it was given (all, when given its share).
   std::vector<std::array<uint32_t, 4>> kept;
   std::span<const std::array<uint32_t, 4>> held = given;

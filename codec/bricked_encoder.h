@@ -34,6 +34,8 @@
 
 namespace dtm {
 
+class ReferenceShare;
+
 struct BrickedEncodeOptions {
   // The levels (HierarchyOptions' meaning, lengths in grid units): dmax,
   // average_quality_floor, removal_share, max_levels, min_base_vertices,
@@ -57,6 +59,9 @@ struct BrickedEncodeInput {
   // Called once reference_tets are read no more (the encoder's solid and
   // boundary hold what it needs of them), before the levels are built.
   std::function<void()> reference_tets_done;
+  // On ranks: the share the tetrahedra were cut by (codec/reference_share.h,
+  // its points these), or nullptr: made from the exchange.
+  const ReferenceShare* share = nullptr;
   // A scan's voxels as the solid (without tetrahedra), or nullptr; with
   // neither, level 0's alpha carving is the reference.
   const Solid* voxels = nullptr;

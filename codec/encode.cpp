@@ -133,11 +133,14 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   EncodeReport& report = out.report;
   // On the ranks of a run each may hold only its share of the tetrahedra
   // (codec/reference_share.h): the count is of every rank's own.
+  std::optional<ReferenceShare> made;
+  const ReferenceShare* share = options.reference_share;
   if (options.exchange && options.exchange->size() > 1) {
-    const ReferenceShare share(q.points, q.grid.qbits, options.exchange->rank(), options.exchange->size());
+    if (!share)
+      share = &made.emplace(q.points, q.grid.qbits, options.exchange->rank(), options.exchange->size());
     ByteWriter w;
     w.u64(static_cast<uint64_t>(
-        std::count_if(tets.begin(), tets.end(), [&](const auto& t) { return share.owns(t); })));
+        std::count_if(tets.begin(), tets.end(), [&](const auto& t) { return share->owns(t); })));
     report.reference_tetrahedra = 0;
     for (const auto& bytes : options.exchange->all_gather(w.take())) {
       uint64_t own = 0;
@@ -152,6 +155,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   in.reference_tets = tets;
   in.reference_tets_done = input.tetrahedra_done;
   in.voxels = voxels;
+  in.share = share;
   std::optional<FieldSectionEncoder> values;
   if (!fields.empty()) {
     DTM_ASSIGN_OR_RETURN(FieldSectionEncoder made, FieldSectionEncoder::make(std::move(fields)));

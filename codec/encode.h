@@ -36,6 +36,8 @@
 
 namespace dtm {
 
+class ReferenceShare;  // codec/reference_share.h
+
 struct EncodeOptions {
   // The grid: bits per axis, 1 to 24; 0 = 14, or for a lattice input just
   // enough bits for its extent (a larger value is allowed, not a smaller).
@@ -86,6 +88,10 @@ struct EncodeOptions {
   // tetrahedra: each needs only its share, EncodeInput::tetrahedra);
   // nullptr: this process.
   RankExchange* exchange = nullptr;
+  // The share of the tetrahedra this rank was given, cut by the plan's
+  // points (codec/reference_share.h): a caller that cut them passes its
+  // own, so that the cuts are found once; nullptr: made from `exchange`.
+  const ReferenceShare* reference_share = nullptr;
 
   // Told each phase of the work as it starts (common/progress.h): the
   // hierarchy's levels, then the stream's.

@@ -183,7 +183,8 @@ void add_options(CLI::App& app, Command& c) {
   app.add_option("--report", c.report_path, "write the level table as JSON to this file");
   app.add_flag("-q,--quiet", c.quiet, "do not print the table (nor the progress line on a terminal)");
   app.add_flag("-v,--verbose", c.verbose,
-               "print each phase of the work on standard error, with how long it took and the memory in use");
+               "print each phase of the work on standard error, with how long it took and the memory in use "
+               "(under mpirun, every rank its own, each line begun 'rank R/P:')");
 }
 
 dtm::InputMesh read(const Command& c) {
@@ -208,8 +209,7 @@ dtm::InputMesh read(const Command& c) {
 // Under mpirun: the input's tetrahedra this rank holds for the reference
 // (codec/reference_share.h), on the grid. A TetGen .ele is read keeping
 // them only (no rank holds them all); other formats' are filtered in place.
-void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::MpiSession& mpi) {
-  const dtm::ReferenceShare share(q.points, q.grid.qbits, mpi.rank(), mpi.size());
+void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::ReferenceShare& share) {
   const auto on_grid = [&](const std::array<uint32_t, 4>& t) {
     return std::array<uint32_t, 4>{q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
                                    q.input_to_point[t[3]]};
@@ -338,7 +338,8 @@ int run(Command& c) {
     if (!c.encode.bricks)
       throw std::invalid_argument("under mpirun, meshenc writes a bricked stream: add --bricks");
     c.encode.exchange = &mpi;
-    if (mpi.rank() != 0) c.quiet = true, c.verbose = false;
+    // Rank 0 prints the table; with -v every rank its phases (its memory).
+    if (mpi.rank() != 0) c.quiet = true;
   }
   if (c.output == "-") c.quiet = true;  // standard output carries the stream
   if (c.preset == "paper") {
@@ -358,7 +359,9 @@ int run(Command& c) {
   if (c.no_fields && !c.encode.field_errors.empty())
     throw std::invalid_argument("--field-error and --no-fields contradict each other");
   // What the work is doing, on standard error: a status line on a terminal.
-  dtm::PhaseDisplay display(!c.quiet && isatty(STDERR_FILENO), c.verbose);
+  dtm::PhaseDisplay display(
+      !c.quiet && isatty(STDERR_FILENO), c.verbose,
+      mpi.size() > 1 ? "rank " + std::to_string(mpi.rank()) + "/" + std::to_string(mpi.size()) + ": " : "");
   display.start("reading " + c.input);
   dtm::InputMesh in = read(c);
   display.start("quantizing");
@@ -376,13 +379,16 @@ int run(Command& c) {
   if (!plan.ok()) throw std::runtime_error(c.input + ": " + plan.status().message());
   // Whether the input has tetrahedra (a rank's share may have none).
   const bool with_reference = !in.tets.empty() || !in.tetgen_ele.empty();
+  std::optional<dtm::ReferenceShare> share;  // under mpirun, this rank's, handed to the encoder
   if (mpi.size() > 1) {
     // The plan holds the points on the grid: the input's (24 bytes each)
     // are freed before the tetrahedra are read.
     input.points = {};
     dtm::release(in.points);
     if (!in.tetgen_ele.empty()) display.start("reading this rank's share of " + in.tetgen_ele);
-    hold_share(in, plan->quantized, mpi);
+    share.emplace(plan->quantized.points, plan->quantized.grid.qbits, mpi.rank(), mpi.size());
+    c.encode.reference_share = &*share;
+    hold_share(in, plan->quantized, *share);
   }
   input.tetrahedra = in.tets;
   if (!c.quiet) {

@@ -46,8 +46,8 @@ void PhaseDisplay::end_current() {
   if (timings_) {
     clear();
     const auto [now, peak] = resident_mib();
-    std::fprintf(stderr, "%9.3f s %8.0f MiB %8.0f MiB peak  %s\n", seconds(Clock::now() - phase_begin_), now,
-                 peak, current_.c_str());
+    std::fprintf(stderr, "%s%9.3f s %8.0f MiB %8.0f MiB peak  %s\n", prefix_.c_str(),
+                 seconds(Clock::now() - phase_begin_), now, peak, current_.c_str());
   }
   current_.clear();
 }
@@ -59,8 +59,8 @@ void PhaseDisplay::finish() {
   clear();
   if (timings_) {
     const auto [now, peak] = resident_mib();
-    std::fprintf(stderr, "%9.3f s %8.0f MiB %8.0f MiB peak  in all\n", seconds(Clock::now() - begin_), now,
-                 peak);
+    std::fprintf(stderr, "%s%9.3f s %8.0f MiB %8.0f MiB peak  in all\n", prefix_.c_str(),
+                 seconds(Clock::now() - begin_), now, peak);
   }
 }
 

@@ -9,14 +9,17 @@
 #include <cstdio>
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace dtm {
 
 class PhaseDisplay {
  public:
   // `live`: rewrite a status line (stderr is a terminal and not quiet);
-  // `timings`: print every finished phase's duration.
-  PhaseDisplay(bool live, bool timings) : live_(live), timings_(timings) {}
+  // `timings`: print every finished phase's duration; `prefix` begins each
+  // of those lines (under mpirun, the rank's: every rank prints its own).
+  PhaseDisplay(bool live, bool timings, std::string prefix = {})
+      : live_(live), timings_(timings), prefix_(std::move(prefix)) {}
   ~PhaseDisplay() { finish(); }
 
   // A new phase starts; the one before it ends.
@@ -32,6 +35,7 @@ class PhaseDisplay {
   void end_current();
 
   bool live_, timings_;
+  std::string prefix_;
   bool drawn_ = false, finished_ = false;
   std::string current_;
   Clock::time_point begin_ = Clock::now(), phase_begin_ = begin_;
