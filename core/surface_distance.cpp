@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/parallel_for.h"
+#include "common/release.h"
 #include "common/status.h"
 
 namespace dtm {
@@ -115,7 +116,7 @@ FixedSurface::FixedSurface(std::span<const GridPoint> vertices,
     return static_cast<uint32_t>(std::lower_bound(used.begin(), used.end(), v) - used.begin());
   };
   for (const auto& t : triangles) s.triangles.push_back({corner(t[0]), corner(t[1]), corner(t[2])});
-  std::vector<uint32_t>().swap(used);
+  release(used);
   const auto count = static_cast<uint32_t>(s.triangles.size());
   state_->tree.emplace(boost::counting_iterator<uint32_t>(0), boost::counting_iterator<uint32_t>(count),
                        TriangleById{&s}, FirstCornerById{&s});
