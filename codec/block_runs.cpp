@@ -6,6 +6,7 @@
 #include <string>
 
 #include "codec/bricks.h"
+#include "common/release.h"
 
 namespace dtm {
 
@@ -110,7 +111,9 @@ DistanceSums BlockReader::sums() {
 std::vector<std::vector<uint8_t>> run_blocks(
     const BlockPlan& plan, RankExchange& exchange,
     const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status) {
-  ByteWriter mine;
+  // 1 and the results, or 0, the failure's code and its message.
+  ByteWriter sent;
+  sent.u8(1);
   Status local = Status::Ok();
   for (size_t k = 0; k < plan.blocks.size() && local.ok(); ++k) {
     if (plan.rank[k] != exchange.rank()) continue;
@@ -126,22 +129,20 @@ std::vector<std::vector<uint8_t>> run_blocks(
       local = done.status();
       break;
     }
-    mine.u64(k);
-    put(mine, std::span<const uint8_t>(*done));
+    sent.u64(k);
+    put(sent, std::span<const uint8_t>(*done));
   }
-  // 1 and the results, or 0, the failure's code and its message.
-  ByteWriter sent;
-  sent.u8(local.ok() ? 1 : 0);
   if (!local.ok()) {
+    sent = ByteWriter();
+    sent.u8(0);
     sent.u32(static_cast<uint32_t>(local.code()));
     const std::string& m = local.message();
     put(sent, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(m.data()), m.size()));
-  } else {
-    sent.bytes(mine.data());
   }
-  const std::vector<std::vector<uint8_t>> all = exchange.all_gather(sent.data());
+  std::vector<std::vector<uint8_t>> all = exchange.all_gather(sent.take());
   std::vector<std::vector<uint8_t>> out(plan.blocks.size());
-  for (const auto& bytes : all) {
+  // Each rank's bytes freed once read: a level's results are not held twice.
+  for (auto& bytes : all) {
     if (bytes.empty()) continue;
     BlockReader r(std::span<const uint8_t>(bytes).subspan(1));
     if (bytes[0] == 0) {
@@ -154,6 +155,7 @@ std::vector<std::vector<uint8_t>> run_blocks(
       const uint64_t k = r.u64();
       out[k] = r.bytes();
     }
+    release(bytes);
   }
   if (!local.ok()) status = local;
   return out;

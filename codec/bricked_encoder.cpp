@@ -299,7 +299,7 @@ StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, cons
 Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
                                const BlockAnalysisOptions& options, std::vector<BlockAnalysis>& out) {
   Status status = Status::Ok();
-  const auto results = run_carving(
+  auto results = run_carving(
       plan,
       [&](size_t k, const Solid* solid) -> StatusOr<std::vector<uint8_t>> {
         const BlockRegion block = region_of(plan, k, level, halo);
@@ -311,7 +311,10 @@ Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
       status);
   DTM_RETURN_IF_ERROR(status);
   out.clear();
-  for (const auto& r : results) out.push_back(deserialize_analysis(r));
+  for (auto& r : results) {
+    out.push_back(deserialize_analysis(r));
+    release(r);
+  }
   return Status::Ok();
 }
 
@@ -493,6 +496,19 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     record_ = {};
     reference_squared_.clear();
     std::vector<uint32_t> boundary;
+    {
+      size_t triangles = 0, vertices = 0, squared = 0, owned_boundary = 0;
+      for (const BlockAnalysis& a : analysis) {
+        triangles += a.surface_triangles.size(), vertices += a.surface_vertices.size();
+        squared += a.reference_squared.size(), owned_boundary += a.boundary.size();
+      }
+      record_.triangles.reserve(triangles);
+      record_.vertices.reserve(vertices);
+      reference_squared_.reserve(squared);
+      boundary.reserve(owned_boundary);
+    }
+    // Each block's parts freed once merged: only its choice is read later
+    // (and its figures, which are small).
     for (BlockAnalysis& a : analysis) {
       const BlockFigures& f = a.figures;
       s.boundary_vertices += f.boundary_vertices;
@@ -510,6 +526,12 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
                                 a.reference_squared.end());
       boundary.insert(boundary.end(), a.boundary.begin(), a.boundary.end());
       if (level == 0 && !faces_) level0_cells_.insert(level0_cells_.end(), a.carved.begin(), a.carved.end());
+      release(a.carving);
+      release(a.surface_triangles);
+      release(a.surface_vertices);
+      release(a.reference_squared);
+      release(a.boundary);
+      release(a.carved);
     }
     std::sort(record_.triangles.begin(), record_.triangles.end());
     std::sort(record_.vertices.begin(), record_.vertices.end());
