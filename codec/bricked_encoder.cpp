@@ -526,12 +526,10 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
                                 a.reference_squared.end());
       boundary.insert(boundary.end(), a.boundary.begin(), a.boundary.end());
       if (level == 0 && !faces_) level0_cells_.insert(level0_cells_.end(), a.carved.begin(), a.carved.end());
-      release(a.carving);
-      release(a.surface_triangles);
-      release(a.surface_vertices);
-      release(a.reference_squared);
-      release(a.boundary);
-      release(a.carved);
+      BlockAnalysis kept;
+      kept.figures = a.figures;
+      kept.chosen = std::move(a.chosen);
+      a = std::move(kept);
     }
     std::sort(record_.triangles.begin(), record_.triangles.end());
     std::sort(record_.vertices.begin(), record_.vertices.end());
