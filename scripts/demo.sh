@@ -6,7 +6,7 @@
 # tables.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-"$root/scripts/build.sh"
+"$root/scripts/build.sh" --tools
 bin="$root/build/tools"
 out="$root/build/demo"
 mkdir -p "$out"

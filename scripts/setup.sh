@@ -1,19 +1,36 @@
 #!/usr/bin/env bash
 # Installs the Debian packages the project needs, only those missing.
+#   scripts/setup.sh          what the libraries and the tools meshenc, meshdec
+#                             and meshinfo need (scripts/demo.sh)
+#   scripts/setup.sh --all    and what the whole test suite, the viewer, the
+#                             Python package, the ParaView reader, MPI and the
+#                             benchmarks need (scripts/test.sh)
 # Runs as root (the project's machines do); uses sudo otherwise when present.
 set -euo pipefail
-packages=(build-essential cmake libcgal-dev libgmp-dev libmpfr-dev libboost-dev
-          nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev xz-utils
-          libxxhash-dev zlib1g-dev python3-meshio gmsh gzip
-          clang-format clang-tidy emscripten chromium libdraco-dev libeigen3-dev draco
-          libtbb-dev tetgen
-          # python3-paraview also gives Python VTK's modules (vtk, vtkmodules), which
-          # the format tests use as an independent reader and writer: Debian
-          # makes it conflict with python3-vtk9, so that one is not listed.
-          python3-numpy python3-pytest python3-venv python3-pip python3-setuptools python3-pybind11
-          pybind11-dev paraview python3-paraview xvfb
-          # mpirun meshdec (optional in the build; its test needs it)
-          libopenmpi-dev openmpi-bin)
+packages=(build-essential cmake xz-utils libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+          libtbb-dev nlohmann-json3-dev libcli11-dev libxxhash-dev zlib1g-dev
+          # glTF and .drc surfaces (tools/formats/gltf_writer.cpp)
+          libdraco-dev libeigen3-dev)
+if [ "${1:-}" = "--all" ]; then
+  packages+=(libgtest-dev libbenchmark-dev python3 gzip
+             # The independent writers and readers the format tests check our
+             # files against. python3-paraview also gives Python VTK's modules
+             # (vtk, vtkmodules): Debian makes it conflict with python3-vtk9,
+             # so that one is not listed.
+             python3-meshio gmsh draco tetgen
+             # The test "lint" (scripts/lint.sh)
+             clang-format clang-tidy
+             # The WebAssembly decoder and the viewer, tested in Chromium
+             emscripten chromium
+             # The Python package and the ParaView reader, installed and run as a user would
+             python3-numpy python3-pytest python3-venv python3-pip python3-setuptools python3-pybind11
+             pybind11-dev paraview python3-paraview xvfb
+             # mpirun meshenc and meshdec (optional in the build; their tests need it)
+             libopenmpi-dev openmpi-bin)
+elif [ $# -gt 0 ]; then
+  echo "usage: $0 [--all]" >&2
+  exit 2
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

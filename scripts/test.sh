@@ -8,7 +8,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 if [ "${1:-}" = "--sanitize" ]; then
-  "$root/scripts/setup.sh"
+  "$root/scripts/setup.sh" --all
   # RelWithDebInfo: optimized enough for the suite to run in minutes, with
   # line numbers in sanitizer reports. Benchmarks are not built; the web
   # tests run in the Release suite (the sanitizers cannot see into wasm).
