@@ -1,22 +1,24 @@
 #!/usr/bin/env bash
 # bench/bitrate.sh [BUILD_DIR] -- bitrate report: .dtm stream size per corpus
 # model and q, beside Draco's point-cloud coder and zstd -19 of the binary
-# tetrahedral mesh. Writes bench/BITRATE.md and prints its path.
+# tetrahedral mesh. Writes bench/results/BITRATE.md and prints its path.
 #
 # BUILD_DIR (default: build, relative to the repo root) must hold the built
 # tools/meshenc and tools/meshdec. Needs draco_encoder, zstd, xz, python3
 # (standard library only) and gnuplot: apt-get install -y draco zstd xz-utils python3 gnuplot-nox.
-# Also writes bench/bitrate.csv, bench/bitrate_layers.csv, bench/rd.csv and bench/rd.png.
+# Also writes bench/results/bitrate.csv, bitrate_layers.csv, rd.csv and rd.png.
 #
-# For every model of ../shared/data/volumes (decompressed, sha256-checked, into
+# For every model of the repository's data/ (DTM_DATA overrides the folder;
+# decompressed, checked against data/SHA256SUMS.uncompressed, into
 # BUILD_DIR/bitrate-data/; bunny_1m only if BUILD_DIR/bench-data/bunny_1m.node
 # exists, see bench/run.sh) and q in 12 14 16:
 #   meshenc MODEL.node --qbits Q --box 256 --dmax 2 --no-fields -o MODEL.qQ.dtm --report MODEL.qQ.json -q
 # at q=14 the stream is decoded and compared with the encoder's point set:
 #   meshdec MODEL.q14.dtm -o MODEL.q14.dec.node -q
 # and once per model, all three q at once (Draco kd-tree, -cl 10 and -cl 4):
-#   ../shared/tools/baselines.sh -q "12 14 16" -c "10 4" -H -k KEEP MODEL.node
-# Draco is taken as the smaller of -cl 10 / -cl 4 per q (as BASELINES.md does).
+#   bench/baselines.sh -q "12 14 16" -c "10 4" MODEL.node
+# Draco is taken as the smaller of -cl 10 / -cl 4 per q (as data/BASELINES.md does);
+# G-PCC's figures come from data/BASELINES.md.
 # baselines.sh results are cached in BUILD_DIR/bitrate-data/out/MODEL.baselines
 # and reused while newer than the model files and baselines.sh; set
 # BITRATE_FRESH=1 to recompute them. meshenc/meshdec always run.
@@ -26,12 +28,12 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-build}
 case $build in /*) ;; *) build=$root/$build ;; esac
-shared=${DTM_SHARED:-$root/../shared}
-baselines=$shared/tools/baselines.sh
-vols=$shared/data/volumes
+baselines=$root/bench/baselines.sh
+vols=${DTM_DATA:-$root/data}
 data=$build/bitrate-data
 out=$data/out
-report=$root/bench/BITRATE.md
+results=$root/bench/results
+report=$results/BITRATE.md
 enc=$build/tools/meshenc
 dec=$build/tools/meshdec
 QS="12 14 16"
@@ -48,7 +50,7 @@ start=$(date +%s)
 # The build may be shared: fingerprint the tools now, check them again at the end.
 tools_id() { sha256sum "$enc" "$dec" | cut -c1-12 | paste -sd' '; }
 tools_before=$(tools_id)
-mkdir -p "$data" "$out"
+mkdir -p "$data" "$out" "$results"
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/bitrate.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 
@@ -59,7 +61,7 @@ git -C "$root" diff --quiet HEAD -- core codec bitstream tools CMakeLists.txt 2>
   dirty="uncommitted changes in core/, codec/, bitstream/ or tools/ at run time"
 
 expected_sha() { awk -v f="$1" '$2 == f { print $1 }' "$vols/SHA256SUMS.uncompressed"; }
-# fetch NAME.EXT: BUILD_DIR/bitrate-data/NAME.EXT from the shared corpus, checked.
+# fetch NAME.EXT: BUILD_DIR/bitrate-data/NAME.EXT from the corpus, checked.
 fetch() {
   local f=$1 dst=$data/$1 want
   want=$(expected_sha "$f")
@@ -120,19 +122,10 @@ while read -r m node; do
      [ "$cache" -nt "$node" ] && [ "$cache" -nt "$baselines" ] &&
      { [ ! -e "$ele" ] || [ "$cache" -nt "$ele" ]; }; then fresh=0; fi
   if [ "$fresh" = 1 ]; then
-    keep=$tmp/keep; rm -rf "$keep"
-    "$baselines" -q "$QS" -c "10 4" -H -k "$keep" "$node" >"$out/$m.baselines.md" 2>"$tmp/bl.log" ||
+    # Lines "drc Q CL BYTES METHOD", "meshzst BYTES" (with a .ele), "ptszst BYTES".
+    "$baselines" -q "$QS" -c "10 4" "$node" >"$cache.tmp" 2>"$tmp/bl.log" ||
       { cat "$tmp/bl.log" >&2; die "baselines.sh failed on $m"; }
-    {
-      for q in $QS; do for cl in 10 4; do
-        f=$keep/$m/q${q}_cl$cl.drc
-        echo "drc $q $cl $(stat -c %s "$f") $(od -An -tu1 -j8 -N1 "$f" | tr -d ' ')"
-      done; done
-      if [ -f "$keep/$m/mesh.bin.zst" ]; then echo "meshzst $(stat -c %s "$keep/$m/mesh.bin.zst")"; fi
-      echo "ptszst $(stat -c %s "$keep/$m/pts.f32.zst")"
-    } >"$cache.tmp"
     mv "$cache.tmp" "$cache"
-    rm -rf "$keep"
   fi
 done <"$list"
 
@@ -142,7 +135,7 @@ tools_after=$(tools_id)
 commit_end="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
 [ "$commit_end" = "$commit" ] || commit="$commit at start, $commit_end at end"
 rc=0
-(python3 - "$list" "$out" "$report.tmp" "$notes" "$commit" "$dirty" "$enc" "$start" "$QS" "$tools_before" "$root/bench" "$shared/data/BASELINES.md" <<'PYEOF'
+(python3 - "$list" "$out" "$report.tmp" "$notes" "$commit" "$dirty" "$enc" "$start" "$QS" "$tools_before" "$results" "$vols/BASELINES.md" <<'PYEOF'
 import csv, json, math, os, sys, time, subprocess
 listf, outd, dest, notesf, commit, dirty, enc, start, qs, tools, benchd, baselines_md = sys.argv[1:13]
 QS = [int(q) for q in qs.split()]
@@ -165,7 +158,7 @@ GPCC = gpcc_table(baselines_md)
 LN2 = math.log(2)
 
 def log2_choose_grid(q, d):
-    # log2 C(2^(3q), d), as in shared/tools/baselines.sh
+    # log2 C(2^(3q), d): the set bound of data/BASELINES.md
     m = 2.0 ** (3 * q)
     return d * 3 * q - math.lgamma(d + 1) / LN2 + math.fsum(math.log1p(-i / m) for i in range(d)) / LN2
 
@@ -274,7 +267,7 @@ w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --no-fields -o MODEL.qQ.dtm -
 w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --no-fields --level-step 4 -o MODEL.qQ.s4.dtm --report MODEL.qQ.s4.json -q')
 w('meshenc MODEL.node --qbits Q --box 256 --dmax 2 --no-fields --level-step 1000 -o MODEL.qQ.two.dtm --report MODEL.qQ.two.json -q')
 w('meshdec MODEL.q14.dtm -o MODEL.q14.dec.node -q        # decode check, q = 14 only')
-w('shared/tools/baselines.sh -q "12 14 16" -c "10 4" -H -k KEEP MODEL.node')
+w('bench/baselines.sh -q "12 14 16" -c "10 4" MODEL.node')
 w('  # = draco_encoder -point_cloud -i pts.ply -qp Q -cl {10,4}  (float32 xyz; kd-tree method)')
 w('  #   zstd -19 of float32 xyz (positions only), and of float32 xyz per vertex + int32 x4 per tet (TetGen .ele)')
 w('```\n')
@@ -287,9 +280,9 @@ w('Stream bytes = 56-byte header + per layer 46-byte header + payload (format 6.
   '"ours" streams every level of the hierarchy; "step 4" streams every 4th level (`--level-step 4`). '
   'Draco = the smaller of `-cl 10` and `-cl 4` at the same Q (same grid: one step '
   '= largest extent / (2^Q − 1)). Ratio = ours / Draco. G-PCC = MPEG TMC13 v23 lossless octree, the best of '
-  'its variants, from `shared/data/BASELINES.md` (not installed here); "/ best" = ours / the smaller of '
+  'its variants, from `data/BASELINES.md` (not installed here); "/ best" = ours / the smaller of '
   'G-PCC and Draco (issue 23 target: <= 1 with every level). '
-  'The same figures are in `bench/bitrate.csv` (totals) and `bench/bitrate_layers.csv` (per layer).\n')
+  'The same figures are in `bench/results/bitrate.csv` (totals) and `bench/results/bitrate_layers.csv` (per layer).\n')
 
 w('## Table 1: bits per vertex\n')
 hdr = '| model | N | levels (q=14) |'
@@ -548,7 +541,7 @@ w('## Rate-distortion, q = 14\n')
 w('Every whole-layer prefix of a stream decodes to a valid level; this is its size against the '
   'geometric error of that level: the largest and mean distance from the level-0 boundary vertices '
   'to the level\'s boundary surface (as meshenc measures it), divided by the diagonal of the bounding '
-  'box. All prefixes of every model are in `bench/rd.csv`.' + (' Plot: `bench/rd.png`.\n' if have_png
+  'box. All prefixes of every model are in `bench/results/rd.csv`.' + (' Plot: `bench/results/rd.png`.\n' if have_png
   else ' (gnuplot was not found, so no plot: `apt-get install gnuplot-nox`.)\n'))
 w('| model | prefix | vertices | bytes | largest error / diagonal | mean error / diagonal |')
 w('|---|---|---:|---:|---:|---:|')

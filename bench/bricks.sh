@@ -5,8 +5,8 @@
 # without candidates) and with bricks of 256 and 2048 points, then 12 random
 # boxes of 1% of the level's bounding box decoded from each bricked stream at
 # level 0 (build/bench/region_decode, which checks every region against the
-# whole level). Writes bench/BRICKS.md. The models come from bench/scale.sh's
-# BUILD_DIR/bench-data (bunny_1m: ../shared/data/make_large.sh).
+# whole level). Writes bench/results/BRICKS.md. The models come from
+# bench/scale.sh's BUILD_DIR/bench-data (bunny_1m: data/make_large.sh).
 #   BRICKS_MODELS="bunny_100k"  measures only those
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -19,7 +19,7 @@ models=${BRICKS_MODELS:-bunny_100k bunny_1m}
 for t in "$meshenc" "$region"; do [ -x "$t" ] || { echo "bricks.sh: $t not built" >&2; exit 2; }; done
 out=$data/bricks
 mkdir -p "$out"
-report=$root/bench/BRICKS.md
+report=$root/bench/results/BRICKS.md
 size() { stat -c %s "$1"; }
 {
   echo "# Bricked layers: bits and regions"

@@ -1,18 +1,18 @@
 #!/usr/bin/env bash
 # bench/levels.sh [BUILD_DIR] -- the codec's levels (meshenc's default
-# preset) on the TetGen corpus of ../shared/data/volumes, each model with its
+# preset) on the TetGen corpus of data/ (DTM_DATA overrides it), each model with its
 # own tetrahedra as the reference solid, q = 14, --box 256 --dmax 2:
 #   meshenc MODEL.node --box 256 --dmax 2 --no-fields -o MODEL.dtm --report MODEL.json -q
-# and the paper's preset beside it (--preset paper). Writes bench/LEVELS.md
+# and the paper's preset beside it (--preset paper). Writes bench/results/LEVELS.md
 # (per model: levels, vertices per level, shape error both ways per level,
 # quality per level, bits per vertex, the carving corrections' share, and
-# the ratio to Draco's kd-tree coder at q = 14 from bench/bitrate.csv) and
-# bench/levels.csv. LEVELS_MODELS="a b" runs a subset.
+# the ratio to Draco's kd-tree coder at q = 14 from bench/results/bitrate.csv)
+# and bench/results/levels.csv. LEVELS_MODELS="a b" runs a subset.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-build}
 case $build in /*) ;; *) build=$root/$build ;; esac
-vols=${DTM_SHARED:-$root/../shared}/data/volumes
+vols=${DTM_DATA:-$root/data}
 enc=$build/tools/meshenc
 data=$build/levels-data
 mkdir -p "$data"
@@ -33,9 +33,9 @@ import csv, json, sys, subprocess
 root, data, seconds, models = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
 # Draco's and MPEG G-PCC's points-only files at q = 14, as bench/bitrate.sh
 # tabulates them (G-PCC: TMC13 v23's lossless octree from
-# shared/data/BASELINES.md; the codec is not on these machines).
+# data/BASELINES.md; the codec is not on these machines).
 gpcc, draco = {}, {}
-for row in csv.DictReader(open(f"{root}/bench/bitrate.csv")):
+for row in csv.DictReader(open(f"{root}/bench/results/bitrate.csv")):
     if row["q"] == "14":
         draco[row["model"]] = float(row["draco_kd_bpv"])
         if row.get("gpcc_bpv"):
@@ -51,8 +51,8 @@ lines = ["# The codec's levels on the TetGen corpus", "",
          "boundary surface; *to reference* = from the level's boundary surface (its vertices and its triangles' "
          "centroids) to the reference's boundary surface (max / mean). Quality = average over the level's cells of their smallest solid angle, "
          "and its ratio to level 0's. Draco = `draco_encoder -point_cloud` kd-tree at q = 14 "
-         "(bench/bitrate.csv, the smaller of -cl 10 / -cl 4). G-PCC = MPEG's TMC13 v23 lossless "
-         "octree at q = 14, the best of its variants (shared/data/BASELINES.md through bench/bitrate.csv; not installed here). "
+         "(bench/results/bitrate.csv, the smaller of -cl 10 / -cl 4). G-PCC = MPEG's TMC13 v23 lossless "
+         "octree at q = 14, the best of its variants (data/BASELINES.md through bench/results/bitrate.csv; not installed here). "
          "Level 0 vs input = the volume inside exactly one of level 0's solid and the input's tetrahedra, "
          "as a share of the input's volume (`level0_difference` in the report: shared tetrahedra cancel, the others "
          "are sampled at 400 uniform points each).", "",
@@ -101,10 +101,10 @@ for m in models:
                               f"{l['avg_min_solid_angle']:.4f} | {l['avg_min_solid_angle'] / q0:.2f} | "
                               f"{l.get('layer_bytes', 0)} | {l.get('carving_bytes', 0)} |")
             detail.append("")
-open(f"{root}/bench/LEVELS.md", "w").write("\n".join(lines + detail) + "\n")
-with open(f"{root}/bench/levels.csv", "w", newline="") as f:
+open(f"{root}/bench/results/LEVELS.md", "w").write("\n".join(lines + detail) + "\n")
+with open(f"{root}/bench/results/levels.csv", "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
     w.writeheader()
     w.writerows(rows)
-print(f"{root}/bench/LEVELS.md")
+print(f"{root}/bench/results/LEVELS.md")
 PY

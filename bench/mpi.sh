@@ -6,7 +6,7 @@
 # peak memory (GNU time), whether the stream is the same bytes for every P,
 # and one CGAL construction of the same points (bench_hierarchy's, whole
 # process) for scale. Oversubscribed: this machine has 2 cores, so P = 4
-# shows memory, not speed. Writes bench/MPI.md.
+# shows memory, not speed. Writes bench/results/MPI.md.
 #   MPI_MODEL=bunny_1m  (default bunny_10m: bench/scale.sh makes it)
 #   MPI_RANKS="1 2 4"
 #   MPI_REUSE=1         keeps a finished single-process encode (one.dtm, enc1.0)
@@ -30,7 +30,7 @@ if [ "${MPI_REUSE:-0}" != 1 ] || [ ! -s "$out/one.dtm" ] || [ ! -s "$out/enc1.0"
   rm -rf "$out"
 fi
 mkdir -p "$out"
-report=$root/bench/MPI.md
+report=$root/bench/results/MPI.md
 options=(--box 256 --dmax 2 --no-fields --bricks -q)
 
 # "SECONDS PEAK_KB" per rank, from GNU time's files NAME.RANK.

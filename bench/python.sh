@@ -3,7 +3,7 @@
 # call: dtmesh.encode and dtmesh.decode on bunny_100k against the same calls
 # in C++ (bench_hierarchy --peak-memory: encode with its .ele, box 256, Dmax
 # 2, no fields; decode of that stream to the finest level's carved cells),
-# each in a fresh process, three runs, the median. Writes bench/PYTHON.md.
+# each in a fresh process, three runs, the median. Writes bench/results/PYTHON.md.
 # Needs BUILD_DIR/bench/bench_hierarchy and the package installed in
 # BUILD_DIR/python-venv (scripts/test_python.sh install BUILD_DIR).
 set -euo pipefail
@@ -17,7 +17,7 @@ model=${PYTHON_MODEL:-bunny_100k}
 [ -x "$python" ] || { echo "python.sh: run scripts/test_python.sh install $build first" >&2; exit 2; }
 mkdir -p "$data"
 for ext in node ele; do
-  [ -s "$data/$model.$ext" ] || xz -dc "$root/../shared/data/volumes/$model.$ext.xz" > "$data/$model.$ext"
+  [ -s "$data/$model.$ext" ] || xz -dc "$root/data/$model.$ext.xz" > "$data/$model.$ext"
 done
 field() { sed -E "s/.*$1=([0-9.]+).*/\1/"; }
 median() { sort -n | sed -n 2p; }
@@ -55,5 +55,5 @@ ratio() { awk -v a="$1" -v b="$2" 'BEGIN{printf "%.2fx", a/b}'; }
   echo "C++: \`bench_hierarchy --peak-memory $model.node encode|decode\` (decode stops at the carved cells);"
   echo "Python: \`bench/python_bindings.py\` (decode also makes the numpy arrays: float64 points, each"
   echo "vertex's level, the boundary flags, the fields in their types)."
-} > "$root/bench/PYTHON.md"
-cat "$root/bench/PYTHON.md"
+} > "$root/bench/results/PYTHON.md"
+cat "$root/bench/results/PYTHON.md"

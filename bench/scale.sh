@@ -4,11 +4,11 @@
 # (meshenc, codec preset, its .ele as the reference solid) and decoded (to
 # the finest mesh), whole processes, time and peak memory against one
 # sequential CGAL construction of the same points (also a whole process:
-# reading the .node, quantizing, building). Writes bench/SCALE.md, the rows in
-# bench/scale.csv, and the log-log plot docs/scale.png.
+# reading the .node, quantizing, building). Writes bench/results/SCALE.md, the
+# rows in bench/results/scale.csv, and the log-log plot docs/scale.png.
 #
-# The models go to BUILD_DIR/bench-data/: bunny_10k and bunny_100k from
-# ../shared/data/volumes, bunny_1m by ../shared/data/make_large.sh (~70 s),
+# The models go to BUILD_DIR/bench-data/: bunny_10k and bunny_100k from the
+# repository's data/, bunny_1m by data/make_large.sh (~70 s),
 # bunny_10m by TetGen here (the same recipe, a 12.9x smaller volume bound:
 # ~25 min and ~8 GB on one core), each only when absent.
 #   SCALE_MODELS="bunny_10k bunny_100k"  measures only those
@@ -19,7 +19,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-build}
 case $build in /*) ;; *) build=$root/$build ;; esac
-shared=$root/../shared/data
+corpus=$root/data
 data=$build/bench-data
 bench=$build/bench/bench_hierarchy
 meshenc=$build/tools/meshenc
@@ -36,15 +36,15 @@ make_model() {
   [ -s "$data/$m.node" ] && [ -s "$data/$m.ele" ] && return
   case $m in
     bunny_10k|bunny_100k)
-      for ext in node ele; do xz -dc "$shared/volumes/$m.$ext.xz" >"$data/$m.$ext.tmp" && mv "$data/$m.$ext.tmp" "$data/$m.$ext"; done ;;
+      for ext in node ele; do xz -dc "$corpus/$m.$ext.xz" >"$data/$m.$ext.tmp" && mv "$data/$m.$ext.tmp" "$data/$m.$ext"; done ;;
     bunny_1m)
       echo "scale.sh: generating bunny_1m with make_large.sh (~70 s)" >&2
-      "$shared/make_large.sh" -o "$data" bunny_1m >&2 ;;
+      "$corpus/make_large.sh" -o "$data" bunny_1m >&2 ;;
     bunny_10m)
       # make_large.sh's recipe for the bunny with a smaller volume bound.
       echo "scale.sh: generating bunny_10m with TetGen (~25 min, ~8 GB)" >&2
       local work; work=$(mktemp -d)
-      cp "$shared/surfaces/bunny.off" "$work/bunny_10m.off"
+      cp "$corpus/surfaces/bunny.off" "$work/bunny_10m.off"
       (cd "$work" && tetgen -pq1.2a0.0000062Q bunny_10m.off >/dev/null)
       mv "$work/bunny_10m.1.node" "$data/bunny_10m.node"
       mv "$work/bunny_10m.1.ele" "$data/bunny_10m.ele"
@@ -55,7 +55,7 @@ make_model() {
 
 commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
 git -C "$root" diff --quiet HEAD -- core codec mesh common tools 2>/dev/null || commit+=" + uncommitted changes"
-csv=$root/bench/scale.csv
+csv=$root/bench/results/scale.csv
 echo "model,vertices,task,seconds,peak_mib" >"$csv"
 # One whole process, timed: appends a row.
 measure() {  # model vertices task command...
@@ -79,7 +79,7 @@ for m in $models; do
 done
 
 # The table and the plot, from the rows.
-out=$root/bench/SCALE.md
+out=$root/bench/results/SCALE.md
 python3 - "$csv" "$out" "$commit" <<'PY'
 import csv, sys, collections, math, datetime
 rows = list(csv.DictReader(open(sys.argv[1])))
@@ -122,7 +122,7 @@ lines += ['', 'Growth (the slope of log time, log memory against log vertices, s
           'construction %s, %s; encode %s, %s; decode %s, %s; paper %s.' % (
               slope('construction', 'seconds'), slope('construction', 'peak_mib'), slope('encode', 'seconds'),
               slope('encode', 'peak_mib'), slope('decode', 'seconds'), slope('decode', 'peak_mib'),
-              slope('encode_paper', 'seconds')), '', '![time and memory against vertices](../docs/scale.png)', '']
+              slope('encode_paper', 'seconds')), '', '![time and memory against vertices](../../docs/scale.png)', '']
 open(sys.argv[2], 'w').write('\n'.join(lines))
 # gnuplot data: vertices, then seconds and MiB per task.
 with open(sys.argv[1] + '.dat', 'w') as f:

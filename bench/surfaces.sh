@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # bench/surfaces.sh [BUILD_DIR] -- what a level's boundary surface costs in the
-# formats web, AR and DCC tools take, written to bench/SURFACES.md: per
+# formats web, AR and DCC tools take, written to bench/results/SURFACES.md: per
 # corpus model (codec preset, --box 256 --dmax 2; the streams the web tests
 # decode), level 0 and the coarsest level as .glb with Draco, .glb plain,
 # Draco's .drc and binary .ply (float64, meshdec's), and the whole stream
@@ -13,7 +13,7 @@ streams=$build/web-streams
 work=$build/bench-surfaces
 mkdir -p "$work"
 "$root/web/test/make_streams.sh" "$build/tools/meshenc" "$streams" >/dev/null
-out=$root/bench/SURFACES.md
+out=$root/bench/results/SURFACES.md
 size() { stat -c %s "$1"; }
 {
   echo "# A level's surface as glTF 2.0, Draco and PLY"

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # bench/values.sh [BUILD_DIR] -- what .dtm streams spend on per-vertex values
 # (spec/FORMAT.md §3.3), against zstd -19 and xz -9 of the same values stored
-# raw in the input's order. Writes bench/VALUES.md, bench/values.csv and the
-# rate-distortion plot docs/values_rd.png.
+# raw in the input's order. Writes bench/results/VALUES.md,
+# bench/results/values.csv and the rate-distortion plot docs/values_rd.png.
 #
-# Cases: data/ct_torus.nrrd (int16 CT numbers), ../shared/data/fields/mri_s0.nrrd
+# Cases: data/ct_torus.nrrd (int16 CT numbers), data/fields/mri_s0.nrrd
 # (a real 12-bit MRI in uint16), and bunny_10k and elephant_10k (their TetGen
 # tetrahedra) carrying a smooth analytic field (three Gaussians) in float32 and
 # float64 and a piecewise-constant label (int32): lossless, and the floats
@@ -15,7 +15,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 case $build in /*) ;; *) build=$root/$build ;; esac
 bin=$build/bench/value_bits
-shared=${DTM_SHARED:-$root/../shared}
+corpus=${DTM_DATA:-$root/data}
 work=$build/values-data
 [ -x "$bin" ] || { echo "values.sh: $bin not built" >&2; exit 2; }
 for t in zstd xz gnuplot; do
@@ -25,10 +25,10 @@ done
 /usr/bin/python3 -c 'import numpy' 2>/dev/null ||
   { echo "values.sh: numpy missing; apt-get install -y python3-numpy" >&2; exit 2; }
 mkdir -p "$work"
-csv=$root/bench/values.csv
+csv=$root/bench/results/values.csv
 rm -f "$csv"
 for m in bunny elephant; do
-  for ext in node ele; do xz -dc "$root/data/${m}_10k.$ext.xz" > "$work/${m}_10k.$ext"; done
+  for ext in node ele; do xz -dc "$corpus/${m}_10k.$ext.xz" > "$work/${m}_10k.$ext"; done
   # The fields, written as a VTU with the model's tetrahedra: three Gaussians of
   # width 0.15 x the largest extent (float32 and float64), and the label of the
   # Gaussian that dominates where it exceeds 0.2 (else 0).
@@ -63,13 +63,14 @@ with open(sys.argv[2], 'w') as o:
     o.write('</Cells></Piece></UnstructuredGrid>\n</VTKFile>\n')
 PY
 done
-run() { echo "\$ value_bits $*"; "$bin" "$@" --csv "$csv"; echo; }
+# The report names files relative to the repository root, not where it was cloned.
+run() { echo "\$ value_bits ${*//$root\//}"; "$bin" "$@" --csv "$csv" | sed "s|$root/||g"; echo; }
 shares=1e-2,3e-3,1e-3,3e-4,1e-4,3e-5,1e-5
 {
   echo "# Values in the stream: bits per value against zstd and xz"
   echo
   echo "Written by \`bench/values.sh\` (do not edit by hand; rerun it). Commit $(git -C "$root" rev-parse --short HEAD); $(date -u '+%Y-%m-%d %H:%M UTC')."
-  echo "The rows are in bench/values.csv; the lossy ones are plotted in docs/values_rd.png."
+  echo "The rows are in bench/results/values.csv; the lossy ones are plotted in docs/values_rd.png."
   echo
   echo "Each field is encoded as meshenc encodes it (codec preset), alone with the positions; ours is the"
   echo "field's value sections over every layer (length words included) per value; the stream is decoded and"
@@ -81,12 +82,12 @@ shares=1e-2,3e-3,1e-3,3e-4,1e-4,3e-5,1e-5
   echo "decoding the values at most 25% more than decoding the positions."
   echo
   echo '```'
-  run "$root/data/ct_torus.nrrd" --threshold 0 --voxel-interior-step 2 --dmax 0.5
-  run "$shared/data/fields/mri_s0.nrrd" --threshold 150 --voxel-interior-step 2
+  run "$corpus/ct_torus.nrrd" --threshold 0 --voxel-interior-step 2 --dmax 0.5
+  run "$corpus/fields/mri_s0.nrrd" --threshold 150 --voxel-interior-step 2
   run "$work/bunny_fields.vtu" --box 256 --dmax 2 --error-shares $shares
   run "$work/elephant_fields.vtu" --box 256 --dmax 2 --error-shares $shares
   echo '```'
-} > "$root/bench/VALUES.md"
+} > "$root/bench/results/VALUES.md"
 # The rate-distortion plot: bits per value against E / range, ours and zstd -19 of round(v / 2E).
 plot=$work/rd.dat
 for m in bunny_fields elephant_fields; do
@@ -112,4 +113,4 @@ plot "$plot" index 0 using 1:2 with linespoints lw 2 title "bunny float32, ours"
      "$plot" index 0 using 1:3 with linespoints dt 2 title "bunny, zstd -19", \
      "$plot" index 2 using 1:3 with linespoints dt 2 title "elephant, zstd -19"
 GP
-echo "$root/bench/VALUES.md $csv $root/docs/values_rd.png"
+echo "$root/bench/results/VALUES.md $csv $root/docs/values_rd.png"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # scripts/pictures.sh [BUILD_DIR] -- remakes docs/*_levels.png: the input's
-# surface (../shared/data/surfaces), then every level of the codec's stream
+# surface (data/surfaces), then every level of the codec's stream
 # (meshenc's default preset, the model's TetGen .node + .ele from data/,
 # --box 256 --dmax 2), and for the elephant the paper preset's coarsest level;
 # and docs/mri_values.png, a slice of the MRI's values at three levels.
@@ -9,10 +9,11 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 bin=$build/tools
 work=$build/pictures
-surfaces=${DTM_SHARED:-$root/../shared}/data/surfaces
+corpus=${DTM_DATA:-$root/data}
+surfaces=$corpus/surfaces
 mkdir -p "$work"
 for m in bunny elephant; do
-  for ext in node ele; do xz -dc "$root/data/${m}_10k.$ext.xz" > "$work/${m}_10k.$ext"; done
+  for ext in node ele; do xz -dc "$corpus/${m}_10k.$ext.xz" > "$work/${m}_10k.$ext"; done
   "$bin/meshenc" "$work/${m}_10k.node" --box 256 --dmax 2 -q -o "$work/$m.dtm"
   levels=$("$bin/meshinfo" "$work/$m.dtm" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['level_count'])")
   panels=("$surfaces/$m.off")
@@ -28,9 +29,9 @@ for m in bunny elephant; do
   fi
   /usr/bin/python3 "$root/scripts/render_levels.py" "$root/docs/${m}_levels.png" --elevation 90 --azimuth 0 "${panels[@]}"
 done
-# The MRI's values (../shared/data/fields/mri_s0.nrrd): its middle slice beside
+# The MRI's values (data/fields/mri_s0.nrrd): its middle slice beside
 # the same slice of levels 0, 2 and 4, and level 4's error.
-mri=${DTM_SHARED:-$root/../shared}/data/fields/mri_s0.nrrd
+mri=$corpus/fields/mri_s0.nrrd
 "$bin/meshenc" "$mri" --threshold 150 -q -o "$work/mri.dtm"
 for l in 0 2 4; do "$bin/meshdec" "$work/mri.dtm" --level $l -o "$work/mri_level$l.vtu" -q; done
 /usr/bin/python3 "$root/scripts/render_values.py" "$root/docs/mri_values.png" "$mri" --slice 5 --threshold 150 \

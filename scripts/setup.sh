@@ -18,6 +18,8 @@ if [ "${1:-}" = "--all" ]; then
              # (vtk, vtkmodules): Debian makes it conflict with python3-vtk9,
              # so that one is not listed.
              python3-meshio gmsh draco tetgen
+             # Draco's and zstd's sizes beside ours (bench/baselines.sh)
+             zstd
              # The test "lint" (scripts/lint.sh)
              clang-format clang-tidy
              # The WebAssembly decoder and the viewer, tested in Chromium

@@ -3,8 +3,8 @@
 # viewer itself: the picture tests of web/test/viewer.test.mjs, run with
 # DTM_UPDATE_PICTURES=1 (the test suite writes the same pictures to
 # BUILD_DIR/web-artifacts/screenshots/ on every run). Needs BUILD_DIR (default
-# build) and build-wasm/ built (scripts/test.sh builds both), and
-# ../shared/data/surfaces for the input surfaces.
+# build) and build-wasm/ built (scripts/test.sh builds both); the input
+# surfaces come from data/surfaces.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-build}

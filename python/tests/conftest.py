@@ -1,9 +1,9 @@
 """What the tests of the Python package compare against: the project's own tools
 (meshenc, meshdec, meshinfo of the C++ build), its golden streams, and the
-corpus models of shared/data.
+corpus models of the repository's data/.
 
     DTM_TOOLS   the folder holding meshenc, meshdec and meshinfo (default: build/tools)
-    DTM_DATA    the corpus (default: ../shared/data beside the checkout)
+    DTM_DATA    the corpus (default: data/ of the repository)
 """
 import lzma
 import os
@@ -15,7 +15,7 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 TOOLS = pathlib.Path(os.environ.get("DTM_TOOLS", ROOT / "build" / "tools"))
-DATA = pathlib.Path(os.environ.get("DTM_DATA", ROOT.parent / "shared" / "data"))
+DATA = pathlib.Path(os.environ.get("DTM_DATA", ROOT / "data"))
 GOLDEN = sorted((ROOT / "tests" / "golden").rglob("*.dtm"))
 # The TetGen corpus models of about 10k vertices, encoded as the README's
 # bench does (--box 256 --dmax 2).
@@ -67,7 +67,9 @@ def corpus(tmp_path_factory):
     out = {}
     for name in CORPUS:
         for ext in ("node", "ele"):
-            source = DATA / "volumes" / f"{name}.{ext}.xz"
+            source = DATA / f"{name}.{ext}.xz"
+            if not source.exists():  # a DTM_DATA that keeps its volumes in a subfolder
+                source = DATA / "volumes" / f"{name}.{ext}.xz"
             (folder / f"{name}.{ext}").write_bytes(lzma.decompress(source.read_bytes()))
         stream = folder / f"{name}.dtm"
         run(tool("meshenc"), folder / f"{name}.node", "-q", "-o", stream, *ENCODE_ARGS)

@@ -233,10 +233,9 @@ test('every view and colour draws, and the slider steps through the levels', asy
 
 // The README's pictures (docs/viewer_*.png): written to the artifacts on every
 // run, and over the committed ones with DTM_UPDATE_PICTURES=1
-// (scripts/web_pictures.sh). The input's surface comes from ../shared/data
-// when it is beside the checkout.
+// (scripts/web_pictures.sh). The input's surface comes from data/surfaces.
 test('pictures of every level beside the input surface', async () => {
-  const surfaces = join(config.source, '..', 'shared', 'data', 'surfaces');
+  const surfaces = join(config.source, 'data', 'surfaces');
   const out = process.env.DTM_UPDATE_PICTURES ? join(config.source, 'docs') : shots;
   for (const [model, camera] of [['bunny', '0,0'], ['elephant', '-30,10']]) {
     const surface = join(surfaces, `${model}.off`);
