@@ -9,6 +9,8 @@
 // level's points the boxes hold, bytes read (mean, max) and time against the
 // whole decode (mean). Exit status 1 if a region differs from the whole
 // level's.
+#include "codec/region_decode.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,7 +22,6 @@
 #include <string>
 
 #include "bench/bench_env.h"
-#include "codec/region_decoder.h"
 
 namespace {
 

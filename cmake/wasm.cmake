@@ -5,7 +5,7 @@
 # other so that /usr/include itself (glibc's headers) never reaches emcc;
 # xxHash's header is its whole implementation (XXH_INLINE_ALL, common/).
 # Without GMP, CGAL's exact fallback is its own MP_Float and Boost.Multiprecision:
-# the same exact predicates, so the same cells (DESIGN.md §6). WebAssembly has
+# the same exact predicates, so the same cells (docs/ARCHITECTURE.md §5). WebAssembly has
 # no rounding modes: CGAL's interval filters widen by nextafter instead.
 set(DTM_WASM_HOST_INCLUDE ${CMAKE_BINARY_DIR}/host-include)
 file(MAKE_DIRECTORY ${DTM_WASM_HOST_INCLUDE})

@@ -22,10 +22,10 @@
 #include <span>
 #include <vector>
 
-#include "codec/bricks.h"
-#include "codec/format.h"
-#include "codec/layer_coder.h"
-#include "codec/value_fields.h"
+#include "codec/bricks/bricks.h"
+#include "codec/sections/value_fields.h"
+#include "codec/stream/format.h"
+#include "codec/stream/layer_coder.h"
 #include "common/status.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"

@@ -5,16 +5,14 @@
 #include <optional>
 #include <string>
 
-#include "codec/bricked_encoder.h"
+#include "codec/blocks/bricked_encoder.h"
+#include "codec/blocks/reference_share.h"
 #include "codec/expert_encode.h"
-#include "codec/reference_share.h"
 #include "common/byte_io.h"
 #include "core/reference_shape.h"
 
 namespace dtm {
 namespace {
-
-Status invalid(std::string what) { return {StatusCode::kInvalidInput, std::move(what)}; }
 
 // The input's lattice as the grid: positions stay exact.
 StatusOr<QuantizedPoints> lattice_grid(const QuantizedPoints& lattice, int qbits, double scale) {
@@ -22,8 +20,8 @@ StatusOr<QuantizedPoints> lattice_grid(const QuantizedPoints& lattice, int qbits
   const int needed = q.grid.qbits;
   if (qbits > 0) {
     if (qbits < needed)
-      return invalid("the lattice spans " + std::to_string((1 << needed) / 2) +
-                     " or more points on an axis: qbits must be at least " + std::to_string(needed));
+      return invalid_input("the lattice spans " + std::to_string((1 << needed) / 2) +
+                           " or more points on an axis: qbits must be at least " + std::to_string(needed));
     q.grid.qbits = qbits;
   }
   for (double& o : q.grid.origin) o *= scale;
@@ -51,17 +49,19 @@ HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, dou
 
 Status check_options(const EncodeOptions& o) {
   if (o.qbits != 0 && (o.qbits < kMinQBits || o.qbits > kMaxQBits))
-    return invalid("qbits must be in [1, 24], got " + std::to_string(o.qbits));
-  if (!(o.scale > 0)) return invalid("the scale must be positive");
-  if (o.box < 0) return invalid("the box must be positive");
-  if (o.dmax < 0) return invalid("D_max must be positive");
-  if (o.alpha == AlphaKind::kFixed && !(o.fixed_alpha > 0)) return invalid("a fixed alpha must be positive");
-  if (o.max_levels < 0) return invalid("the level count must not be negative");
-  if (o.quality_guard < 0) return invalid("the quality guard must not be negative");
+    return invalid_input("qbits must be in [1, 24], got " + std::to_string(o.qbits));
+  if (!(o.scale > 0)) return invalid_input("the scale must be positive");
+  if (o.box < 0) return invalid_input("the box must be positive");
+  if (o.dmax < 0) return invalid_input("D_max must be positive");
+  if (o.alpha == AlphaKind::kFixed && !(o.fixed_alpha > 0))
+    return invalid_input("a fixed alpha must be positive");
+  if (o.max_levels < 0) return invalid_input("the level count must not be negative");
+  if (o.quality_guard < 0) return invalid_input("the quality guard must not be negative");
   if (!(o.average_quality_floor >= 0 && o.average_quality_floor <= 1))
-    return invalid("the average quality floor must be in [0, 1]");
-  if (o.level_step < 1) return invalid("the level step must be at least 1");
-  if (!(o.removal_share >= 0 && o.removal_share < 1)) return invalid("the removal share must be in [0, 1)");
+    return invalid_input("the average quality floor must be in [0, 1]");
+  if (o.level_step < 1) return invalid_input("the level step must be at least 1");
+  if (!(o.removal_share >= 0 && o.removal_share < 1))
+    return invalid_input("the removal share must be in [0, 1)");
   return Status::Ok();
 }
 
@@ -72,7 +72,7 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
   for (const auto& [name, error] : options.field_errors) {
     bool found = false;
     for (const auto& f : input.fields) found = found || f.name == name;
-    if (!found) return invalid("--field-error names '" + name + "', which is not a field of the input");
+    if (!found) return invalid_input("--field-error names '" + name + "', which is not a field of the input");
   }
   std::vector<FieldDescription> descriptions;
   std::vector<size_t> value_counts;
@@ -97,9 +97,9 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
     if (v.description.lossy)
       for (size_t i = 0; i < f.values.size(); ++i)
         if (!std::isfinite(f.values[i]))
-          return invalid("field '" + f.name + "': point " + std::to_string(i / f.components) + " holds " +
-                         (std::isnan(f.values[i]) ? "NaN" : "an infinity") +
-                         ", which a lossy field cannot keep (code it losslessly)");
+          return invalid_input("field '" + f.name + "': point " + std::to_string(i / f.components) +
+                               " holds " + (std::isnan(f.values[i]) ? "NaN" : "an infinity") +
+                               ", which a lossy field cannot keep (code it losslessly)");
     const size_t n = f.components;
     v.bits.resize(q.points.size() * n);
     std::vector<uint8_t> seen(q.points.size(), 0);
@@ -120,19 +120,20 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
 }
 
 // A bricked stream: the levels built block by block, on the ranks of
-// options.exchange if given (codec/bricked_encoder.h).
+// options.exchange if given (codec/blocks/bricked_encoder.h).
 StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOptions& options,
                                        const EncodePlan& plan, std::span<const std::array<uint32_t, 4>> tets,
                                        const Solid* voxels, std::vector<FieldValues> fields, EncodedMesh out,
                                        const LevelReady& on_level) {
   if (!options.carve_to_reference)
-    return invalid("bricked layers (--bricks) need the codec preset: its levels carve to the input's solid");
+    return invalid_input(
+        "bricked layers (--bricks) need the codec preset: its levels carve to the input's solid");
   if (options.level_step != 1)
-    return invalid("bricked layers (--bricks) stream every level (no --level-step)");
+    return invalid_input("bricked layers (--bricks) stream every level (no --level-step)");
   const QuantizedPoints& q = plan.quantized;
   EncodeReport& report = out.report;
   // On the ranks of a run each may hold only its share of the tetrahedra
-  // (codec/reference_share.h): the count is of every rank's own.
+  // (codec/blocks/reference_share.h): the count is of every rank's own.
   std::optional<ReferenceShare> made;
   const ReferenceShare* share = options.reference_share;
   if (options.exchange && options.exchange->size() > 1) {
@@ -212,7 +213,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
 StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions& options) {
   DTM_RETURN_IF_ERROR(check_options(options));
   if (input.lattice && input.lattice->input_to_point.size() != input.points.size())
-    return invalid("the lattice and the points differ in count");
+    return invalid_input("the lattice and the points differ in count");
   EncodePlan plan;
   plan.scale = options.scale;
   if (options.box > 0) {
@@ -261,7 +262,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     const size_t points = input.tetrahedra_on_grid ? q.points.size() : q.input_to_point.size();
     for (const auto& t : input.tetrahedra)
       for (uint32_t v : t)
-        if (v >= points) return invalid("a tetrahedron names a point that does not exist");
+        if (v >= points) return invalid_input("a tetrahedron names a point that does not exist");
     if (input.tetrahedra_on_grid) {
       reference_tets = input.tetrahedra;
     } else {

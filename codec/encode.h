@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/value_fields.h"
+#include "codec/sections/value_fields.h"
 #include "common/exchange.h"
 #include "common/grid.h"
 #include "common/progress.h"
@@ -36,7 +36,7 @@
 
 namespace dtm {
 
-class ReferenceShare;  // codec/reference_share.h
+class ReferenceShare;  // codec/blocks/reference_share.h
 
 struct EncodeOptions {
   // The grid: bits per axis, 1 to 24; 0 = 14, or for a lattice input just
@@ -76,7 +76,7 @@ struct EncodeOptions {
   int level_step = 1;
   bool cell_hashes = false;
   bool candidates = true;
-  // Bricked layers (format 8.0, codec/bricked_encoder.h): the levels built
+  // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.
   // The codec preset only; no fields, no level_step yet.
@@ -89,7 +89,7 @@ struct EncodeOptions {
   // nullptr: this process.
   RankExchange* exchange = nullptr;
   // The share of the tetrahedra this rank was given, cut by the plan's
-  // points (codec/reference_share.h): a caller that cut them passes its
+  // points (codec/blocks/reference_share.h): a caller that cut them passes its
   // own, so that the cuts are found once; nullptr: made from `exchange`.
   const ReferenceShare* reference_share = nullptr;
 
@@ -120,7 +120,7 @@ struct EncodeInput {
   // The input's own tetrahedra (indices into `points`), when it has them:
   // the reference shape each level's boundary is measured against. Under
   // an exchange of several ranks, each rank may be given only the
-  // tetrahedra its share holds (codec/reference_share.h, on the plan's grid
+  // tetrahedra its share holds (codec/blocks/reference_share.h, on the plan's grid
   // ids): a rank never holds them all (the others, when given, are ignored).
   std::span<const std::array<uint32_t, 4>> tetrahedra;
   // The tetrahedra name the plan's grid points already (grid_tetrahedra()

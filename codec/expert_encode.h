@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-#include "codec/value_fields.h"
+#include "codec/sections/value_fields.h"
 #include "common/grid.h"
 #include "common/status.h"
 #include "core/hierarchy.h"
@@ -31,11 +31,11 @@ struct StreamOptions {
   // stream numbers its levels 0, 1, 2, ... in that order.
   int level_step = 1;
   // Format 7.0's candidate section (spec/FORMAT.md §3.4) in the finest
-  // layer where it pays (codec/stream_encoder.cpp): fewer bits on meshes
+  // layer where it pays (codec/expert_encode.cpp): fewer bits on meshes
   // from Delaunay refinement, for a decoder that builds the next coarser
   // level's tetrahedralization first. Off: every point through the set coder.
   bool candidates = true;
-  // (Bricked streams, format 8.0, come from codec/bricked_encoder.h: their
+  // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
 

@@ -1,5 +1,5 @@
 // What the ranks of a run share, for the work that is split among processes
-// (meshenc under mpirun: codec/bricked_encoder.h). The libraries never call
+// (meshenc under mpirun: codec/blocks/bricked_encoder.h). The libraries never call
 // MPI themselves: the tools hand them an exchange (tools/mpi_session.h), and
 // a run in one process hands them SingleProcess. One operation is enough:
 // every rank gives its bytes and receives every rank's, in rank order; each

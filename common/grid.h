@@ -1,4 +1,4 @@
-// The integer grid shared by encoder and decoder (DESIGN.md §3.1): every
+// The integer grid shared by encoder and decoder (docs/ARCHITECTURE.md §3.1): every
 // geometric computation of the project runs on these integer coordinates,
 // never on dequantized doubles. core/quantize.h puts input points on it.
 #pragma once

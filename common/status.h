@@ -49,6 +49,12 @@ class Status {
 
 const char* to_string(StatusCode code);
 
+// The two failures most code names, made in one place: the caller's data
+// or options cannot make what was asked, and bytes that contradict the
+// format.
+inline Status invalid_input(std::string what) { return {StatusCode::kInvalidInput, std::move(what)}; }
+inline Status corrupt(std::string what) { return {StatusCode::kCorrupt, std::move(what)}; }
+
 // A value or the Status that explains why there is none.
 template <class T>
 class StatusOr {

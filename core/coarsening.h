@@ -33,11 +33,31 @@
 
 namespace dtm {
 
+// Where the first level's search for beta starts; each later one starts
+// from the previous level's beta.
+inline constexpr double kFirstBetaGuess = 0.85;
+
 struct CoarseningOptions {
-  double keep_share = 0.5;   // of the level's vertices
-  double dmax = 1.0;         // grid units: the chord error above which a boundary vertex stays
-  double beta_guess = 0.85;  // where the search for beta starts (the previous level's)
+  double keep_share = 0.5;              // of the level's vertices
+  double dmax = 1.0;                    // grid units: the chord error above which a boundary vertex stays
+  double beta_guess = kFirstBetaGuess;  // where the search for beta starts (the previous level's)
 };
+
+// When a coarser level is accepted, the same for whole levels
+// (core/codec_hierarchy.cpp) and for levels built in blocks
+// (codec/blocks/bricked_encoder.cpp):
+// * the share of a level's vertices a coarser level removes, unless
+//   HierarchyOptions::removal_share asks another;
+inline constexpr double kDefaultRemovalShare = 0.5;
+// * a level that removes less than this share of what is asked is not
+//   built: the finer level is the coarsest (a thin level costs more bits
+//   than the detail it adds: on the corpus, levels removing 13-14% cost over
+//   1% of the stream; those removing 17% and more paid for themselves);
+inline constexpr double kThinLevelShare = 0.3;
+// * a level that breaks a bound (or comes out thin) is tried once more
+//   removing this share of what was asked: coarse levels, where the
+//   boundary dominates, often hold the bounds that way.
+inline constexpr double kRetryShare = 0.6;
 
 struct Coarsening {
   std::vector<uint8_t> keep;  // per vertex of the level

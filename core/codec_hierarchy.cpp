@@ -14,17 +14,10 @@
 namespace dtm {
 namespace {
 
-// A level that removes less than this share of what removal_share asks is
-// not built: the finer level is the coarsest (a thin level costs more bits
-// than the detail it adds: on the corpus, levels removing 13-14% cost over 1%
-// of the stream; those removing 17% and more paid for themselves).
-constexpr double kThinLevelShare = 0.3;
-
 // Levels smaller than this are kept until the next one is accepted, so that
 // a failed try can be made again removing fewer (a larger level is handed on
 // as soon as the next one's vertices are chosen: memory).
 constexpr size_t kRetriedBelow = 100'000;
-constexpr double kRetryShare = 0.6;
 
 // The level as the hierarchy hands it on, but for its tetrahedralization
 // (hand_over()): its vertices (grid ids) and its figures.
@@ -151,8 +144,8 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   LevelBounds bounds;
   bounds.dmax = opt.dmax;
   bounds.quality_floor = opt.average_quality_floor * h.levels.front().stats.avg_min_solid_angle;
-  const double share = opt.removal_share > 0 ? opt.removal_share : 0.5;
-  double beta = 0.85;  // the spacing factor of the last choice: where the next search starts
+  const double share = opt.removal_share > 0 ? opt.removal_share : kDefaultRemovalShare;
+  double beta = kFirstBetaGuess;  // the spacing factor of the last choice: where the next search starts
   // A level is handed on, tetrahedralization and all, once the next one's
   // vertices are chosen (the choice is the last to read it), or at the end.
   auto complete_last = [&] {

@@ -75,8 +75,8 @@ struct CellResults {
   std::vector<uint8_t> kept;
   std::vector<double> angle;
 
-  void update(const TetMesh& mesh, std::span<const int32_t> previous, std::span<const GridPoint> points,
-              const Solid& solid, double kept_radius) {
+  Status update(const TetMesh& mesh, std::span<const int32_t> previous, std::span<const GridPoint> points,
+                const Solid& solid, double kept_radius) {
     std::vector<uint8_t> new_kept(mesh.cells.size());
     std::vector<double> new_angle(mesh.cells.size(), 0);
     std::vector<uint32_t> fresh;
@@ -99,9 +99,10 @@ struct CellResults {
           if (in) new_angle[fresh[i]] = smallest_solid_angle(points, k);
         },
         1024);
-    solid.settle();
+    DTM_RETURN_IF_ERROR(solid.settle());
     kept = std::move(new_kept);
     angle = std::move(new_angle);
+    return Status::Ok();
   }
 };
 
@@ -236,9 +237,9 @@ bool conflict_region(const TetMesh& mesh, std::span<const GridPoint> points, con
 // insertion raises the surplus most, each judged (on every core) on what it
 // would change (the cells in conflict with it out, its star in), with
 // disjoint changes, until the deficit is covered with a fifth to spare.
-void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<const GridPoint> points,
-                    const Solid& solid, double floor, double kept_radius, const GridBox* owned,
-                    RemovedVertices& removed) {
+Status repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<const GridPoint> points,
+                      const Solid& solid, double floor, double kept_radius, const GridBox* owned,
+                      RemovedVertices& removed) {
   // The cells the level's quality is taken over (a block's own: LevelBounds::owned).
   std::vector<uint8_t> counted(mesh.cells.size(), 1);
   if (owned)
@@ -250,7 +251,7 @@ void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<con
     surplus += cells.angle[c] - floor;
     if (cells.angle[c] < floor) worst.emplace_back(cells.angle[c], c);
   }
-  if (surplus >= 0) return;
+  if (surplus >= 0) return Status::Ok();
   std::sort(worst.begin(), worst.end());
   // Enough of the worst cells (at least 64) to find candidates for several
   // times the deficit.
@@ -301,7 +302,7 @@ void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<con
             o.gain += smallest_solid_angle(points, {v, f[0], f[1], f[2]}) - floor;
       },
       32);
-  solid.settle();
+  DTM_RETURN_IF_ERROR(solid.settle());
   std::erase_if(options, [](const Option& o) { return o.cells.empty() || o.gain <= 0; });
   std::stable_sort(options.begin(), options.end(),
                    [](const Option& a, const Option& b) { return a.gain > b.gain; });
@@ -316,6 +317,7 @@ void repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<con
     removed.mark(o.k);
     surplus += o.gain;
   }
+  return Status::Ok();
 }
 
 }  // namespace
@@ -374,7 +376,7 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     std::vector<int32_t> previous;
     phase(round == 0 ? "carving to the reference" : "carving the repaired places");
     mesh = dt->mesh(mesh, previous);
-    cells.update(mesh, previous, points, *ref.solid, bounds.kept_radius);
+    DTM_RETURN_IF_ERROR(cells.update(mesh, previous, points, *ref.solid, bounds.kept_radius));
     phase("measuring the shape");
     surface = carved_surface(mesh, cells.kept, points);
     out.shape = ref.shape->measure(points, fine_vertices, surface.triangles);
@@ -476,8 +478,8 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
       }
     }
     if (!out.quality_met)
-      repair_quality(mesh, cells, points, *ref.solid, bounds.quality_floor, bounds.kept_radius, bounds.owned,
-                     *removed);
+      DTM_RETURN_IF_ERROR(repair_quality(mesh, cells, points, *ref.solid, bounds.quality_floor,
+                                         bounds.kept_radius, bounds.owned, *removed));
     const std::vector<uint32_t> back = removed->collect();
     if (back.empty()) break;  // nothing left to put back where a bound breaks
     out.put_back += back.size();

@@ -40,7 +40,7 @@ struct LevelBounds {
   double dmax = 1.0;         // grid units
   double quality_floor = 0;  // the smallest average smallest solid angle (sr); 0 = none
   int repair_rounds = 12;
-  // A block of a level built block by block (codec/block_levels.h): only the
+  // A block of a level built block by block (codec/blocks/block_levels.h): only the
   // places this box owns are checked (a surface triangle or a cell by its
   // lexicographically smallest corner, a reference vertex by itself), and
   // the quality is the average over the cells it owns; what the repair puts

@@ -1,7 +1,7 @@
 // The distance from each point of a set to its nearest other point, found
 // through a grid of buckets about one spacing wide (exact: integer
 // distances): how far apart a level's vertices are, for a bricked level's
-// alpha (codec/bricked_encoder.cpp), at about 1 us a point where a kd-tree's
+// alpha (codec/blocks/bricked_encoder.cpp), at about 1 us a point where a kd-tree's
 // incremental search took 3 (bunny_10m's level 0: 30 s).
 #pragma once
 

@@ -22,22 +22,23 @@ StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits)
 }
 
 StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits, double scale) {
-  const auto invalid = [](std::string what) { return Status{StatusCode::kInvalidInput, std::move(what)}; };
   if (qbits < kMinQBits || qbits > kMaxQBits)
-    return invalid("qbits must be in [1, 24], got " + std::to_string(qbits));
-  if (input.empty()) return invalid("no points to quantize");
+    return invalid_input("qbits must be in [1, 24], got " + std::to_string(qbits));
+  if (input.empty()) return invalid_input("no points to quantize");
 
   std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   for (size_t i = 0; i < input.size(); ++i) {
     const double c[3] = {input[i].x * scale, input[i].y * scale, input[i].z * scale};
     for (int a = 0; a < 3; ++a) {
-      if (!std::isfinite(c[a])) return invalid("point " + std::to_string(i) + " has a non-finite coordinate");
+      if (!std::isfinite(c[a]))
+        return invalid_input("point " + std::to_string(i) + " has a non-finite coordinate");
       lo[a] = std::min(lo[a], c[a]);
       hi[a] = std::max(hi[a], c[a]);
     }
   }
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-  if (!std::isfinite(extent)) return invalid("the points' bounding box is wider than a double can hold");
+  if (!std::isfinite(extent))
+    return invalid_input("the points' bounding box is wider than a double can hold");
   const int32_t max_cell = static_cast<int32_t>((uint32_t{1} << qbits) - 1);
 
   QuantizedPoints out;

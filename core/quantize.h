@@ -1,4 +1,4 @@
-// Quantization of input positions onto the grid, Draco-style (DESIGN.md
+// Quantization of input positions onto the grid, Draco-style (docs/ARCHITECTURE.md
 // §3.1): coincident points are merged and counted, never dropped silently.
 #pragma once
 

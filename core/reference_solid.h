@@ -1,4 +1,4 @@
-// The solid every codec level is carved to (DESIGN.md §3.3, spec/HIERARCHY.md
+// The solid every codec level is carved to (docs/ARCHITECTURE.md §3.3, spec/HIERARCHY.md
 // §2.1): a set of tetrahedra over grid points (the input's own, or level 0's
 // alpha carving when the input has none). A cell of a level's Delaunay
 // tetrahedralization is kept when its centroid lies in the closed union of
@@ -41,7 +41,7 @@ class ReferenceSolid : public Solid {
   ReferenceSolid(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
 
   // Made in parts (an MPI rank holding a share of the cells,
-  // codec/reference_share.h): the box and count of all the cells, which
+  // codec/blocks/reference_share.h): the box and count of all the cells, which
   // frame the grid of every part as the whole's.
   struct Extent {
     std::array<int64_t, 3> lo{}, hi{};  // the cells' corners' box, at four times the grid's scale
@@ -77,7 +77,6 @@ class ReferenceSolid : public Solid {
   Answer answer4(const std::array<int64_t, 3>& p) const;
   // Whether one of this part's cells holds p (any rank's, for the whole).
   bool holds4(const std::array<int64_t, 3>& p) const;
-  bool is_part() const { return part_; }
 
   // Of a part: inside only where it knows (the encoder asks the ranks the rest).
   bool contains_point4(const std::array<int64_t, 3>& p) const override {

@@ -17,7 +17,6 @@ std::vector<uint8_t> Solid::verdicts(const TetMesh& dt, std::span<const GridPoin
                  }
                },
                4);
-  settle();
   return out;
 }
 

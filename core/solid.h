@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/grid.h"
+#include "common/status.h"
 #include "mesh/delaunay.h"
 
 namespace dtm {
@@ -30,13 +31,15 @@ class Solid {
   }
 
   // Per cell of `dt` (vertex ids index `points`): 1 if the solid keeps it.
-  // Computed on every core.
+  // Computed on every core. Work that may be handed a guessing solid
+  // settles it afterwards (below).
   std::vector<uint8_t> verdicts(const TetMesh& dt, std::span<const GridPoint> points) const;
 
   // Called by work that carves, after each pass of questions, where its
-  // answers decide what it does next: a solid that could only guess some
-  // of them (codec/reference_questions.h) ends the work there by throwing.
-  virtual void settle() const {}
+  // answers decide what it does next. A solid that could only guess some of
+  // them (codec/blocks/reference_questions.h) says so with a status that is
+  // not ok, and the work returns it at once: the rest would run on guesses.
+  virtual Status settle() const { return Status::Ok(); }
 };
 
 }  // namespace dtm

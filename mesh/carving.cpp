@@ -26,11 +26,4 @@ std::vector<uint8_t> carve(const TetMesh& dt, std::span<const GridPoint> points,
   return in_mesh;
 }
 
-std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt, std::span<const uint8_t> in_mesh) {
-  std::vector<std::array<uint32_t, 4>> out;
-  for (size_t k = 0; k < dt.cells.size(); ++k)
-    if (in_mesh[k]) out.push_back(dt.cells[k]);
-  return out;
-}
-
 }  // namespace dtm

@@ -37,7 +37,4 @@ inline bool kept_by_alpha(std::span<const GridPoint> points, const std::array<ui
 // Per cell of `dt`: 1 if kept by the rule.
 std::vector<uint8_t> carve(const TetMesh& dt, std::span<const GridPoint> points, double alpha);
 
-// The cells of `dt` flagged in `in_mesh`.
-std::vector<std::array<uint32_t, 4>> flagged_cells(const TetMesh& dt, std::span<const uint8_t> in_mesh);
-
 }  // namespace dtm

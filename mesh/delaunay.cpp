@@ -34,7 +34,7 @@ using Vb = CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>;
 using Cb = CGAL::Triangulation_cell_base_with_info_3<CellTag, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
 #ifdef CGAL_LINKED_WITH_TBB
 // Large batches are inserted by TBB's threads, each locking the cells it
-// changes; the cells do not depend on the order (DESIGN.md §6).
+// changes; the cells do not depend on the order (docs/ARCHITECTURE.md §5).
 using Concurrency = CGAL::Parallel_tag;
 #else
 using Concurrency = CGAL::Sequential_tag;

@@ -2,7 +2,7 @@
 // slow to compile, so it stays inside delaunay.cpp; everything else works on
 // the plain arrays of TetMesh.
 //
-// Uniqueness (DESIGN.md §3.2): CGAL's Delaunay_triangulation_3 with exact
+// Uniqueness (docs/ARCHITECTURE.md §3.2): CGAL's Delaunay_triangulation_3 with exact
 // predicates breaks cospherical ties by a symbolic perturbation that depends
 // only on the coordinates, so the cell set is a function of the point set,
 // whatever the insertion order, batching or removals. The tests prove it on
@@ -39,7 +39,7 @@ inline constexpr size_t kMaxCellsPerVertex = 64;
 
 // Delaunay tetrahedralization of `points`; vertex i is points[i]. Large
 // batches are inserted on every core (CGAL's Parallel_tag, where TBB is
-// linked; the cells are the same, DESIGN.md §6). kInvalidInput if the points
+// linked; the cells are the same, docs/ARCHITECTURE.md §5). kInvalidInput if the points
 // are not distinct or are coplanar (or fewer than 4); kLimitExceeded if the
 // cells exceed kMaxCellsPerVertex per vertex.
 StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points);

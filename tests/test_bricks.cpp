@@ -7,10 +7,10 @@
 #include <random>
 #include <thread>
 
-#include "codec/block_runs.h"
-#include "codec/bricks.h"
+#include "codec/blocks/block_runs.h"
+#include "codec/bricks/bricks.h"
 #include "codec/encode.h"
-#include "codec/region_decoder.h"
+#include "codec/region_decode.h"
 #include "core/reference_shape.h"
 #include "mesh/carving.h"
 #include "test_support.h"

@@ -1,4 +1,4 @@
-// Levels carved to the reference solid (DESIGN.md §3.3, spec/HIERARCHY.md §3,
+// Levels carved to the reference solid (docs/ARCHITECTURE.md §3.3, spec/HIERARCHY.md §3,
 // spec/FORMAT.md §3.2): the rule, the corrections' round trip, level 0 equal
 // to an input whose tetrahedra are Delaunay, and the shape bound and quality
 // of the codec's levels on TetGen models.
@@ -10,10 +10,10 @@
 #include <set>
 #include <thread>
 
-#include "codec/carving_coder.h"
+#include "codec/blocks/reference_share.h"
 #include "codec/decode.h"
 #include "codec/encode.h"
-#include "codec/reference_share.h"
+#include "codec/sections/carving_coder.h"
 #include "core/reference_shape.h"
 #include "core/reference_solid.h"
 #include "core/solid_difference.h"
@@ -61,7 +61,7 @@ TEST(ReferenceSolid, ContainsTheCentroidsOfItsOwnCellsAndNothingOutside) {
 }
 
 // The reference solid made in parts by ranks (threads here, as MPI ranks),
-// each holding its share of the tetrahedra (codec/reference_share.h): the
+// each holding its share of the tetrahedra (codec/blocks/reference_share.h): the
 // boundary faces each finds, gathered and sorted, are the whole's;
 // each rank's part, of the tetrahedra near the boundary it holds, has the
 // whole's grid; wherever a part answers it answers as the whole does, and

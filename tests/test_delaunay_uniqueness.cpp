@@ -1,4 +1,4 @@
-// DESIGN.md §3.2: on degenerate (massively cospherical) grid input, the
+// docs/ARCHITECTURE.md §3.2: on degenerate (massively cospherical) grid input, the
 // Delaunay tetrahedralization is one function of the point set: any insertion
 // order, batch insertion level by level, and vertex removal give the same cells.
 #include <gtest/gtest.h>

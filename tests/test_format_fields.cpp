@@ -1,5 +1,5 @@
 // The header tables of spec/FORMAT.md (§2 and §3) against the field lists of
-// codec/format.h, from which the writer, the parser and the sizes derive:
+// codec/stream/format.h, from which the writer, the parser and the sizes derive:
 // the spec and the code describe the same bytes.
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/format.h"
+#include "codec/stream/format.h"
 
 namespace dtm {
 namespace {

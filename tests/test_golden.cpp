@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "codec/decode.h"
-#include "codec/format.h"
+#include "codec/stream/format.h"
 #include "test_support.h"
 #include "tools/formats/input.h"
 

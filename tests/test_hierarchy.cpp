@@ -1,4 +1,4 @@
-// Properties of the hierarchy (DESIGN.md §3.5-3.7): nesting, independence of
+// Properties of the hierarchy (docs/ARCHITECTURE.md §3.5-3.7): nesting, independence of
 // every removed set, preservation of untouched cells, importance order,
 // stopping rules, and that a decoder inserting the layers rebuilds each level.
 #include <gtest/gtest.h>

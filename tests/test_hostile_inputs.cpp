@@ -12,8 +12,8 @@
 #include <iterator>
 
 #include "codec/decode.h"
-#include "codec/format.h"
-#include "codec/layer_coder.h"
+#include "codec/stream/format.h"
+#include "codec/stream/layer_coder.h"
 #include "test_support.h"
 
 namespace dtm {

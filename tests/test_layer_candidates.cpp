@@ -11,8 +11,8 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
-#include "codec/format.h"
-#include "codec/layer_candidates.h"
+#include "codec/sections/candidate_coder.h"
+#include "codec/stream/format.h"
 #include "test_support.h"
 #include "tools/formats/tetgen.h"
 

@@ -89,11 +89,11 @@ TEST_P(CorpusLevel, SolidAngleBoundaryIsTheTopologicalBoundary) {
 }
 
 TEST_P(CorpusLevel, DetectedBoundaryIsCloseToTheTrueSurface) {
-  // TetGen's boundary markers are the true surface. DESIGN.md §3.3 measured
+  // TetGen's boundary markers are the true surface. docs/ARCHITECTURE.md §3.3 measured
   // 17 differences on bunny_10k. The paper's alpha (mean edge length) fails
   // on meshes graded from a coarse surface to a fine interior (hand, elephant,
   // triceratops, fandisk): their surface cells are larger than alpha and are
-  // carved away. The README reports those counts; a better carving rule is
+  // carved away. docs/LIMITS.md reports those counts; a better carving rule is
   // future work, so those models are skipped here rather than asserted loosely.
   const auto node = read_tetgen_node(test::data_path(GetParam() + ".node"));
   ASSERT_FALSE(node.markers.empty());

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "codec/format.h"
+#include "codec/stream/format.h"
 #include "test_support.h"
 
 namespace dtm {

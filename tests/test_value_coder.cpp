@@ -1,4 +1,4 @@
-// The per-vertex value coder (codec/value_coder.h): the order-preserving map
+// The per-vertex value coder (codec/sections/value_coder.h): the order-preserving map
 // of every value type, exact round trips layer by layer, what the gcd buys,
 // and damaged sections refused.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <limits>
 #include <random>
 
-#include "codec/value_coder.h"
+#include "codec/sections/value_coder.h"
 #include "test_support.h"
 
 namespace dtm {

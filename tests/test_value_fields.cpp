@@ -10,7 +10,7 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
-#include "codec/value_fields.h"
+#include "codec/sections/value_fields.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
 #include "test_support.h"

@@ -45,8 +45,4 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
   }
 }
 
-void write_file_atomically(const std::string& path, std::string_view bytes) {
-  write_files_atomically({{path, std::string(bytes)}});
-}
-
 }  // namespace dtm

@@ -3,19 +3,16 @@
 #pragma once
 
 #include <string>
-#include <string_view>
 #include <utility>
 #include <vector>
 
 namespace dtm {
 
-// Throws std::runtime_error naming the path if anything fails; the target is
-// then left as it was.
-void write_file_atomically(const std::string& path, std::string_view bytes);
-
 // Several files that belong together (a TetGen .node and its .ele, a stream
 // and its report): every one is written to its temporary file first, and
-// only when all are complete are they renamed into place.
+// only when all are complete are they renamed into place. Throws
+// std::runtime_error naming the path if anything fails; the targets are then
+// left as they were.
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace dtm

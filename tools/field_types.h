@@ -2,7 +2,7 @@
 // in the same order: a field passes between them by its index.
 #pragma once
 
-#include "codec/value_coder.h"
+#include "codec/sections/value_coder.h"
 #include "tools/formats/scalar_type.h"
 
 namespace dtm {

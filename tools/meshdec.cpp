@@ -8,7 +8,7 @@
 #include <string>
 
 #include "codec/decode.h"
-#include "codec/region_decoder.h"
+#include "codec/region_decode.h"
 #include "mesh/geometry.h"
 #include "tools/atomic_file.h"
 #include "tools/decoded_mesh.h"

@@ -9,8 +9,8 @@
 #include <iostream>
 #include <optional>
 
+#include "codec/blocks/reference_share.h"
 #include "codec/encode.h"
-#include "codec/reference_share.h"
 #include "common/release.h"
 #include "core/reference_shape.h"
 #include "tools/atomic_file.h"
@@ -207,7 +207,7 @@ dtm::InputMesh read(const Command& c) {
 }
 
 // Under mpirun: the input's tetrahedra this rank holds for the reference
-// (codec/reference_share.h), on the grid. A TetGen .ele is read keeping
+// (codec/blocks/reference_share.h), on the grid. A TetGen .ele is read keeping
 // them only (no rank holds them all); other formats' are filtered in place.
 void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::ReferenceShare& share) {
   const auto on_grid = [&](const std::array<uint32_t, 4>& t) {

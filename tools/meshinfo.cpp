@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/format.h"
+#include "codec/stream/format.h"
 #include "tools/stream_info.h"
 #include "tools/stream_input.h"
 #include "tools/tool_main.h"

@@ -41,7 +41,6 @@ class MpiSession : public RankExchange {
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
 
-  bool active() const { return active_; }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   // RankExchange: MPI_Allgatherv of every rank's bytes (at most 2 GiB from

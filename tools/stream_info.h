@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/format.h"
+#include "codec/stream/format.h"
 #include "core/level.h"
 
 namespace dtm {

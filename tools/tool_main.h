@@ -10,7 +10,7 @@
 #include <malloc.h>
 #endif
 
-#include "codec/format.h"
+#include "codec/stream/format.h"
 
 namespace dtm {
 

@@ -71,7 +71,7 @@ class LevelViewer {
 };
 
 // One line of JSON that identifies a level exactly: counts, and XXH3 hashes
-// of its points in decoder order, of its carved cell set (codec/format.h's
+// of its points in decoder order, of its carved cell set (codec/stream/format.h's
 // cell_set_hash), of its surface (sorted), its boundary flags and each field's
 // values as decoded. The equivalence test compares the native and the
 // WebAssembly lines of every level of every stream.

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <span>
 
-#include "codec/bricks.h"
+#include "codec/bricks/bricks.h"
 #include "fuzz_check.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

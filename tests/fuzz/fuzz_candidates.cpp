@@ -15,7 +15,7 @@
 #include <span>
 #include <vector>
 
-#include "codec/layer_candidates.h"
+#include "codec/sections/candidate_coder.h"
 #include "fuzz_check.h"
 #include "fuzz_point_sets.h"
 #include "mesh/delaunay.h"

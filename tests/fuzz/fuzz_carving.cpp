@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-#include "codec/carving_coder.h"
+#include "codec/sections/carving_coder.h"
 #include "fuzz_check.h"
 #include "fuzz_point_sets.h"
 #include "mesh/delaunay.h"

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <span>
 
-#include "codec/region_decoder.h"
+#include "codec/region_decode.h"
 #include "fuzz_check.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

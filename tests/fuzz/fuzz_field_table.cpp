@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-#include "codec/value_fields.h"
+#include "codec/sections/value_fields.h"
 #include "common/checksum.h"
 #include "fuzz_check.h"
 #include "fuzz_point_sets.h"

@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-#include "codec/layer_coder.h"
+#include "codec/stream/layer_coder.h"
 #include "fuzz_check.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -9,7 +9,7 @@
 
 #include "codec/decode.h"
 #include "codec/expert_encode.h"
-#include "codec/format.h"
+#include "codec/stream/format.h"
 #include "core/hierarchy.h"
 #include "fuzz_check.h"
 

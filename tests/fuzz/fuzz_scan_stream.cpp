@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <span>
 
-#include "codec/format.h"
+#include "codec/stream/format.h"
 #include "fuzz_check.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,4 +1,4 @@
-// The value coder's decoder (codec/value_coder.h) on arbitrary bytes: never
+// The value coder's decoder (codec/sections/value_coder.h) on arbitrary bytes: never
 // a crash, and whatever decodes is one value per point, which the encoder
 // codes again into a section that decodes to the same values.
 //
@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "codec/value_coder.h"
+#include "codec/sections/value_coder.h"
 #include "fuzz_check.h"
 #include "fuzz_point_sets.h"
 

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "codec/value_fields.h"
+#include "codec/sections/value_fields.h"
 #include "mesh/geometry.h"
 #include "tools/field_types.h"
 

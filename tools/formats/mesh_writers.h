@@ -1,5 +1,5 @@
 // Output of decoded levels: TetGen .node/.ele (the corpus format, see
-// shared/data/README.md), VTK XML .vtu and legacy .vtk (ParaView), Medit
+// data/README.md), VTK XML .vtu and legacy .vtk (ParaView), Medit
 // .mesh, gmsh .msh 4.1, the boundary surface as PLY, OFF, glTF 2.0 (.glb, or
 // .gltf + .bin; Draco-compressed or plain) or Draco .drc, the points as XYZ.
 // The writers only render bytes; the caller writes them (atomically).

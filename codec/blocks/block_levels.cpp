@@ -1,0 +1,298 @@
+#include "codec/blocks/block_levels.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "codec/bricks/bricks.h"
+#include "codec/sections/carving_coder.h"
+#include "codec/stream/format.h"
+#include "common/release.h"
+#include "mesh/carving.h"
+#include "mesh/topology.h"
+
+namespace dtm {
+namespace {
+
+// The Morton ranges of the bricks covering `box`, at a depth where there
+// are at most about 8 of them along each axis.
+std::vector<std::pair<MortonCode, MortonCode>> ranges_covering(const GridBox& box, int qbits) {
+  const GridBox clipped = box.grown(0, qbits);
+  std::vector<std::pair<MortonCode, MortonCode>> out;
+  if (clipped.empty()) return out;
+  int64_t extent = 1;
+  for (int a = 0; a < 3; ++a) extent = std::max(extent, clipped.hi[a] - clipped.lo[a] + 1);
+  int depth = qbits;
+  while (depth > 0 && (extent >> (qbits - depth)) > 8) --depth;
+  const int shift = 3 * (qbits - depth);
+  for (uint64_t brick : bricks_meeting(clipped, qbits, depth)) {
+    const MortonCode first = MortonCode{brick} << shift;
+    if (!out.empty() && out.back().second == first)
+      out.back().second = MortonCode{brick + 1} << shift;  // adjacent bricks: one range
+    else
+      out.emplace_back(first, MortonCode{brick + 1} << shift);
+  }
+  return out;
+}
+
+template <size_t N>
+bool owns(const GridBox& owned, std::span<const GridPoint> points, const std::array<uint32_t, N>& corners) {
+  GridPoint least = points[corners[0]];
+  for (size_t i = 1; i < N; ++i) least = std::min(least, points[corners[i]]);
+  return owned.contains(least);
+}
+
+}  // namespace
+
+MortonIndex::MortonIndex(std::span<const GridPoint> points, int qbits) : qbits_(qbits), points_(points) {
+  // The codes for the sort only: 12 bytes a point while sorting, 4 after
+  // (the codes and ids of every point were 16 while sorting, then 12).
+  std::vector<MortonCode> codes(points.size());
+  for (uint32_t i = 0; i < points.size(); ++i) codes[i] = morton_encode(points[i], qbits);
+  ids_.resize(points.size());
+  std::iota(ids_.begin(), ids_.end(), 0u);
+  std::sort(ids_.begin(), ids_.end(),
+            [&](uint32_t a, uint32_t b) { return codes[a] != codes[b] ? codes[a] < codes[b] : a < b; });
+}
+
+std::vector<uint32_t> MortonIndex::inside(const GridBox& box, std::span<const uint8_t> level_of,
+                                          int level) const {
+  std::vector<uint32_t> out;
+  for (const auto& [first, last] : ranges_covering(box, qbits_)) {
+    const size_t begin = static_cast<size_t>(
+        std::lower_bound(ids_.begin(), ids_.end(), first,
+                         [&](uint32_t id, MortonCode code) { return code_of(id) < code; }) -
+        ids_.begin());
+    for (size_t i = begin; i < ids_.size() && code_of(ids_[i]) < last; ++i)
+      if (level_of[ids_[i]] >= level && box.contains(points_[ids_[i]])) out.push_back(ids_[i]);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void MortonIndex::level(std::span<const uint8_t> level_of, int level, std::vector<MortonCode>& codes,
+                        std::vector<uint32_t>* ids) const {
+  codes.clear();
+  if (ids) ids->clear();
+  for (uint32_t id : ids_)
+    if (level_of[id] >= level) {
+      codes.push_back(code_of(id));
+      if (ids) ids->push_back(id);
+    }
+}
+
+std::vector<uint32_t> MortonIndex::level_ids(std::span<const uint8_t> level_of, int level) const {
+  std::vector<uint32_t> ids;
+  for (uint32_t id : ids_)
+    if (level_of[id] >= level) ids.push_back(id);
+  return ids;
+}
+
+namespace {
+
+template <size_t N>
+GridBox box_of(std::span<const GridPoint> points, const std::array<uint32_t, N>& corners) {
+  GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
+  for (uint32_t v : corners) {
+    const int64_t c[3] = {points[v].x, points[v].y, points[v].z};
+    for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], c[a]), b.hi[a] = std::max(b.hi[a], c[a]);
+  }
+  return b;
+}
+
+}  // namespace
+
+TriangleIndex::TriangleIndex(std::span<const GridPoint> points,
+                             std::vector<std::array<uint32_t, 3>> triangles, int qbits)
+    : points_(points), qbits_(qbits) {
+  std::vector<std::pair<MortonCode, uint32_t>> by_anchor(triangles.size());
+  for (uint32_t k = 0; k < triangles.size(); ++k) {
+    const GridBox b = box_of(points, triangles[k]);
+    for (int a = 0; a < 3; ++a) extent_[a] = std::max(extent_[a], b.hi[a] - b.lo[a]);
+    by_anchor[k] = {morton_encode({static_cast<int32_t>(b.lo[0]), static_cast<int32_t>(b.lo[1]),
+                                   static_cast<int32_t>(b.lo[2])},
+                                  qbits),
+                    k};
+  }
+  std::sort(by_anchor.begin(), by_anchor.end());
+  triangles_.reserve(triangles.size());
+  anchors_.reserve(triangles.size());
+  for (const auto& [code, k] : by_anchor) triangles_.push_back(triangles[k]), anchors_.push_back(code);
+}
+
+std::vector<std::array<uint32_t, 3>> TriangleIndex::meeting(const GridBox& box) const {
+  // A triangle meeting the box has its box's low corner in the box grown
+  // down by the largest extent.
+  GridBox anchors = box;
+  for (int a = 0; a < 3; ++a) anchors.lo[a] -= extent_[a];
+  std::vector<uint32_t> found;
+  for (const auto& [first, last] : ranges_covering(anchors, qbits_))
+    for (size_t k = static_cast<size_t>(std::lower_bound(anchors_.begin(), anchors_.end(), first) -
+                                        anchors_.begin());
+         k < anchors_.size() && anchors_[k] < last; ++k)
+      if (box_of(points_, triangles_[k]).meets(box)) found.push_back(static_cast<uint32_t>(k));
+  std::sort(found.begin(), found.end());  // one order whatever the ranges
+  std::vector<std::array<uint32_t, 3>> out;
+  out.reserve(found.size());
+  for (uint32_t k : found) out.push_back(triangles_[k]);
+  return out;
+}
+
+BlockReference block_reference(std::span<const GridPoint> points, const Solid* solid,
+                               const TriangleIndex* faces, const GridBox& region) {
+  BlockReference r;
+  r.solid = solid;
+  if (faces) r.shape.emplace(ReferenceShape::from_boundary(points, faces->meeting(region)));
+  return r;
+}
+
+void DistanceSums::add(double squared) {
+  const double d = std::sqrt(squared);
+  max = std::max(max, d);
+  sum += d;
+  ++count;
+}
+
+void DistanceSums::add(const DistanceSums& o) {
+  max = std::max(max, o.max);
+  sum += o.sum;
+  count += o.count;
+}
+
+StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* reference,
+                                      const BlockAnalysisOptions& o) {
+  BlockAnalysis out;
+  const size_t n = block.points.size();
+  DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(block.points));
+  std::vector<uint8_t> verdicts;
+  if (reference) {
+    verdicts = reference->solid->verdicts(dt, block.points);
+    DTM_RETURN_IF_ERROR(reference->solid->settle());
+  }
+  AlphaPolicy policy;
+  policy.kind = AlphaKind::kFixed;
+  policy.fixed_value = o.alpha;
+  policy.kept_radius_ratio = o.kept_radius / o.alpha;
+  DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze_level(block.points, std::move(dt), policy, verdicts));
+  release(verdicts);
+  const std::span<const GridPoint> points = L.points;
+  const std::span<const uint32_t> ids = block.ids;
+
+  BlockFigures& f = out.figures;
+  std::vector<std::array<uint32_t, 4>> owned_cells;
+  for (uint32_t v = 0; v < n; ++v)
+    if (block.owned.contains(points[v])) {
+      ++f.vertices;
+      if (L.boundary[v]) ++f.boundary_vertices, out.boundary.push_back(ids[v]);
+    }
+  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
+    if (!L.in_mesh[c] || !owns(block.owned, points, L.dt.cells[c])) continue;
+    ++f.cells;
+    f.quality_sum += L.cell_min_solid_angle[c];
+    f.quality_min = std::min(f.quality_min, L.cell_min_solid_angle[c]);
+    owned_cells.push_back(L.dt.cells[c]);
+  }
+  f.cell_hash = cell_hash_sum(points, owned_cells);
+  if (o.collect_cells) {
+    out.carved = std::move(owned_cells);
+    for (auto& c : out.carved)
+      for (uint32_t& v : c) v = ids[v];
+  }
+  release(owned_cells);
+
+  // The surface: what the block owns of it, and its distance to the reference.
+  const LevelSurface surface = level_surface(L);
+  std::vector<uint8_t> on_surface(n, 0);
+  for (const auto& t : surface.triangles) {
+    for (uint32_t v : t) on_surface[v] = 1;
+    if (!owns(block.owned, points, t)) continue;
+    std::array<uint32_t, 3> key = {ids[t[0]], ids[t[1]], ids[t[2]]};
+    std::sort(key.begin(), key.end());
+    out.surface_triangles.push_back(key);
+  }
+  std::sort(out.surface_triangles.begin(), out.surface_triangles.end());
+  for (uint32_t v = 0; v < n; ++v)
+    if (on_surface[v] && block.owned.contains(points[v])) out.surface_vertices.push_back(ids[v]);
+  if (reference && reference->shape) {
+    ReferenceShape& shape = *reference->shape;
+    const ShapeMeasurement m = shape.measure(points, ids, surface.triangles);
+    const auto reference_points = shape.boundary_points();
+    const auto reference_ids = shape.boundary_ids();
+    for (size_t i = 0; i < reference_points.size(); ++i)
+      if (block.owned.contains(reference_points[i])) {
+        f.to_level.add(m.reference_squared[i]);
+        out.reference_squared.emplace_back(reference_ids[i], m.reference_squared[i]);
+      }
+    for (size_t i = 0; i < m.surface_vertices.size(); ++i)
+      if (block.owned.contains(points[m.surface_vertices[i]])) f.to_reference.add(m.vertex_squared[i]);
+    for (size_t t = 0; t < surface.triangles.size(); ++t)
+      if (owns(block.owned, points, surface.triangles[t])) f.to_reference.add(m.centroid_squared[t]);
+  }
+
+  // The carving sections of the layer's bricks inside the block, their
+  // cells coded in the order of their vertices' Morton codes (§3.5).
+  if (o.brick_depth >= 0) {
+    std::vector<MortonCode> codes(n);
+    for (uint32_t v = 0; v < n; ++v) codes[v] = morton_encode(points[v], o.qbits);
+    const std::vector<uint64_t> owner =
+        carving_bricks_of_cells(L.dt, points, codes, o.qbits, o.brick_depth, o.kept_radius);
+    std::vector<uint64_t> bricks;
+    for (uint64_t b : owner)
+      if (b != kNoBrick &&
+          block.owned.contains(morton_decode(MortonCode{b} << (3 * (o.qbits - o.brick_depth)), o.qbits)))
+        bricks.push_back(b);
+    std::sort(bricks.begin(), bricks.end());
+    bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
+    std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
+    for (size_t c = 0; c < owner.size(); ++c) {
+      const auto it = std::lower_bound(bricks.begin(), bricks.end(), owner[c]);
+      if (owner[c] != kNoBrick && it != bricks.end() && *it == owner[c])
+        chunk_of_cell[c] = static_cast<uint32_t>(it - bricks.begin());
+    }
+    std::vector<std::vector<uint8_t>> sections = encode_carving_chunks(
+        L.dt, points, o.alpha, L.in_mesh, chunk_of_cell, bricks.size(), morton_ranks(codes));
+    for (size_t i = 0; i < bricks.size(); ++i)
+      if (!sections[i].empty()) out.carving.emplace_back(bricks[i], std::move(sections[i]));
+  }
+
+  if (o.choice) {
+    const Coarsening c = choose_coarser(L, surface, *o.choice);
+    for (uint32_t v = 0; v < n; ++v)
+      if (c.keep[v] && block.owned.contains(points[v])) out.chosen.push_back(ids[v]);
+  }
+  return out;
+}
+
+StatusOr<BlockBuild> build_block(const BlockRegion& fine, std::span<const uint8_t> keep,
+                                 const SurfaceRecord& record,
+                                 std::span<const std::pair<uint32_t, double>> reference_squared,
+                                 BlockReference& reference, const LevelBounds& bounds) {
+  const auto in_region = [&](uint32_t id) {
+    return std::binary_search(fine.ids.begin(), fine.ids.end(), id);
+  };
+  // The finer level's record where the block can see it.
+  SurfaceRecord local;
+  for (const auto& t : record.triangles)
+    if (in_region(t[0]) && in_region(t[1]) && in_region(t[2])) local.triangles.push_back(t);
+  for (uint32_t v : record.vertices)
+    if (in_region(v)) local.vertices.push_back(v);
+  for (uint32_t id : reference.shape->boundary_ids()) {
+    const auto it = std::lower_bound(reference_squared.begin(), reference_squared.end(),
+                                     std::pair<uint32_t, double>{id, -INFINITY});
+    local.reference_squared.push_back(it != reference_squared.end() && it->first == id ? it->second : 0.0);
+  }
+  LevelBounds b = bounds;
+  b.owned = &fine.owned;
+  b.analyze = false;
+  DTM_ASSIGN_OR_RETURN(BuiltLevel built, build_coarser_level(fine.points, fine.ids, local, keep,
+                                                             {reference.solid, &*reference.shape}, b,
+                                                             AlphaPolicy{}, [](const char*) {}));
+  BlockBuild out;
+  out.vertices = std::move(built.vertices);
+  out.broken = built.shape_left;
+  out.quality_met = built.quality_met;
+  out.rounds = built.repair_rounds;
+  return out;
+}
+
+}  // namespace dtm

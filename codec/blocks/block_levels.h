@@ -1,0 +1,164 @@
+// The codec preset's levels built block by block (spec/HIERARCHY.md §6.5),
+// for bricked streams: the work of one level is split into the octree nodes
+// of one depth (blocks), and each block's part is a function of the level's
+// points and the reference inside the block grown by a halo, nothing else.
+// So the levels and the stream are the same whichever process builds which
+// block, in whatever order: one process, or any number of MPI ranks
+// (codec/blocks/bricked_encoder.h runs the blocks and merges their results).
+//
+// A block's work at level l, in two steps:
+// * analyse(): the Delaunay tetrahedralization of V_l in the block's
+//   region, carved to the reference (cells above kept_radius dropped), and
+//   from it what the block owns: its figures, its part of the level's
+//   surface record, its bricks' carving sections (spec/FORMAT.md §3.5) and
+//   the coarser level's choice for its vertices (core/coarsening.h);
+// * build(): the chosen vertices in the region tetrahedralized, checked
+//   and repaired (core/level_build.h) at the places the block owns; what it
+//   puts back may lie anywhere in the region.
+// A block owns the vertices in its box, a cell or surface triangle by its
+// lexicographically smallest corner, a brick's cells as §3.5 says. The halo
+// is three times the level's kept_radius: every cell a block owns whose
+// circumradius is at most kept_radius has its circumsphere inside the
+// region, so it is a cell of the whole level's tetrahedralization, and so
+// are the neighbours its carving contexts read.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "codec/stream/layer_coder.h"
+#include "common/grid.h"
+#include "common/status.h"
+#include "core/coarsening.h"
+#include "core/level_build.h"
+#include "core/reference_shape.h"
+#include "core/solid.h"
+
+namespace dtm {
+
+// Every grid point by Morton code: the points of a level inside a box.
+// Holds their ids only (4 bytes a point), the codes made again from the
+// points when a search reads them.
+class MortonIndex {
+ public:
+  MortonIndex(std::span<const GridPoint> points, int qbits);
+  // The grid ids of the points inside `box` with level_of[id] >= level, ascending.
+  std::vector<uint32_t> inside(const GridBox& box, std::span<const uint8_t> level_of, int level) const;
+  // The Morton codes of the points with level_of >= level, ascending, and their ids.
+  void level(std::span<const uint8_t> level_of, int level, std::vector<MortonCode>& codes,
+             std::vector<uint32_t>* ids = nullptr) const;
+  // Their ids alone (a code takes 16 bytes, an id 4).
+  std::vector<uint32_t> level_ids(std::span<const uint8_t> level_of, int level) const;
+  int qbits() const { return qbits_; }
+
+ private:
+  MortonCode code_of(uint32_t id) const { return morton_encode(points_[id], qbits_); }
+
+  int qbits_;
+  std::span<const GridPoint> points_;  // the caller's, which must outlive the index
+  std::vector<uint32_t> ids_;          // the grid ids by Morton code, ascending
+};
+
+// The reference's boundary triangles by place: those whose bounding box
+// meets a box.
+class TriangleIndex {
+ public:
+  TriangleIndex(std::span<const GridPoint> points, std::vector<std::array<uint32_t, 3>> triangles, int qbits);
+  std::vector<std::array<uint32_t, 3>> meeting(const GridBox& box) const;
+  size_t size() const { return triangles_.size(); }
+
+ private:
+  std::span<const GridPoint> points_;
+  std::vector<std::array<uint32_t, 3>> triangles_;  // ascending by the Morton code of their box's low corner
+  std::vector<MortonCode> anchors_;                 // those codes
+  std::array<int64_t, 3> extent_{};                 // the largest box, per axis
+  int qbits_;
+};
+
+// What a block is carved to and measured against: the reference solid
+// (the whole reference's, shared by every block), and the reference's
+// boundary triangles meeting the block's region, whose shape measure()
+// remembers nothing of another block's.
+struct BlockReference {
+  const Solid* solid = nullptr;
+  std::optional<ReferenceShape> shape;
+};
+// `faces`: null when the reference has no shape yet (level 0 carved by
+// alpha or voxels is its own).
+BlockReference block_reference(std::span<const GridPoint> points, const Solid* solid,
+                               const TriangleIndex* faces, const GridBox& region);
+
+// A block of level l: its box, its region, and V_l's points in the region.
+struct BlockRegion {
+  GridBox owned, region;
+  std::vector<uint32_t> ids;  // grid ids, ascending
+  std::vector<GridPoint> points;
+};
+
+// The figures of what a block owns, to be added up over the blocks in
+// block order (the sums are then the same for any number of processes).
+struct DistanceSums {
+  double max = 0, sum = 0;
+  uint64_t count = 0;
+  void add(double squared);
+  void add(const DistanceSums& o);
+};
+struct BlockFigures {
+  uint64_t vertices = 0, boundary_vertices = 0, cells = 0;
+  double quality_sum = 0, quality_min = INFINITY;
+  DistanceSums to_level, to_reference;
+  uint64_t cell_hash = 0;  // the wrapping sum of the owned cells' hashes (codec/stream/format.h)
+};
+
+struct BlockAnalysisOptions {
+  int qbits = 0;
+  double alpha = 0, kept_radius = 0;
+  // Bricks of the layer whose carving sections the block codes (the
+  // stream's brick depth for this level); -1: none.
+  int brick_depth = -1;
+  // Choose the coarser level's vertices (else the level is the coarsest).
+  std::optional<CoarseningOptions> choice;
+  // Level 0 without reference tetrahedra: its owned cells (carved by
+  // alpha, or by the voxels) are the reference of the coarser levels.
+  bool collect_cells = false;
+};
+
+struct BlockAnalysis {
+  BlockFigures figures;
+  // The block's part of the level's surface record (core/level_build.h):
+  // owned triangles (grid ids, each sorted), owned surface vertices, and
+  // each owned reference boundary vertex's squared distance to the surface.
+  std::vector<std::array<uint32_t, 3>> surface_triangles;
+  std::vector<uint32_t> surface_vertices;
+  std::vector<std::pair<uint32_t, double>> reference_squared;
+  // Carving sections of the bricks inside the block (brick, bytes), ascending.
+  std::vector<std::pair<uint64_t, std::vector<uint8_t>>> carving;
+  std::vector<uint32_t> chosen;                 // owned vertices the coarser level keeps (grid ids)
+  std::vector<uint32_t> boundary;               // owned boundary vertices (grid ids)
+  std::vector<std::array<uint32_t, 4>> carved;  // with collect_cells: owned kept cells (grid ids)
+};
+
+// `reference`: null for level 0 carved by alpha.
+StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* reference,
+                                      const BlockAnalysisOptions& options);
+
+struct BlockBuild {
+  std::vector<uint32_t> vertices;  // the coarser level in the region, as the block leaves it (grid ids)
+  uint64_t broken = 0;             // owned places still beyond D_max
+  bool quality_met = true;
+  int rounds = 0;
+};
+// `fine`: V_l in the region; `keep`: per point of it, whether the coarser
+// level holds it now; `record`: the finer level's surface record, its
+// reference distances keyed by grid id (ascending).
+StatusOr<BlockBuild> build_block(const BlockRegion& fine, std::span<const uint8_t> keep,
+                                 const SurfaceRecord& record,
+                                 std::span<const std::pair<uint32_t, double>> reference_squared,
+                                 BlockReference& reference, const LevelBounds& bounds);
+
+}  // namespace dtm

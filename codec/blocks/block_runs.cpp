@@ -1,0 +1,222 @@
+#include "codec/blocks/block_runs.h"
+
+#include <algorithm>
+#include <exception>
+#include <new>
+#include <string>
+
+#include "codec/bricks/bricks.h"
+#include "common/release.h"
+
+namespace dtm {
+
+namespace {
+
+// Appends the blocks of the node (depth, prefix) holding codes[begin, end).
+void split_node(std::span<const MortonCode> codes, int qbits, int max_depth, uint64_t max_points, int depth,
+                uint64_t prefix, size_t begin, size_t end, BlockPlan& p) {
+  if (end - begin <= max_points || depth >= max_depth) {
+    p.blocks.push_back(prefix);
+    p.depth.push_back(depth);
+    p.first.push_back(begin);
+    return;
+  }
+  const int shift = 3 * (qbits - depth - 1);
+  for (size_t i = begin; i < end;) {
+    const uint64_t child = static_cast<uint64_t>(codes[i] >> shift);
+    const auto last =
+        std::lower_bound(codes.begin() + static_cast<std::ptrdiff_t>(i),
+                         codes.begin() + static_cast<std::ptrdiff_t>(end), MortonCode{child + 1} << shift);
+    const auto next = static_cast<size_t>(last - codes.begin());
+    split_node(codes, qbits, max_depth, max_points, depth + 1, child, i, next, p);
+    i = next;
+  }
+}
+
+}  // namespace
+
+GridBox BlockPlan::box(size_t k, int qbits) const { return brick_box(blocks[k], qbits, depth[k]); }
+
+BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int max_depth, uint64_t max_points,
+                      int ranks) {
+  BlockPlan p;
+  if (!codes.empty())
+    split_node(codes, qbits, max_depth, std::max<uint64_t>(1, max_points), 0, 0, 0, codes.size(), p);
+  p.first.push_back(codes.size());
+  assign_ranks(p, ranks);
+  return p;
+}
+
+void assign_ranks(BlockPlan& p, int ranks) {
+  const double share = static_cast<double>(p.first.back()) / ranks;
+  p.rank.clear();
+  for (size_t k = 0; k < p.blocks.size(); ++k) {
+    const double middle = 0.5 * static_cast<double>(p.first[k] + p.first[k + 1]);
+    p.rank.push_back(std::min(ranks - 1, static_cast<int>(middle / share)));
+  }
+}
+
+void put(ByteWriter& w, std::span<const uint32_t> v) {
+  w.u64(v.size());
+  for (uint32_t x : v) w.u32(x);
+}
+void put(ByteWriter& w, std::span<const uint8_t> v) {
+  w.u64(v.size());
+  w.bytes(v);
+}
+void put(ByteWriter& w, const DistanceSums& d) {
+  w.f64(d.max);
+  w.f64(d.sum);
+  w.u64(d.count);
+}
+
+uint8_t BlockReader::u8() {
+  uint8_t v = 0;
+  r_.u8(v);
+  return v;
+}
+uint32_t BlockReader::u32() {
+  uint32_t v = 0;
+  r_.u32(v);
+  return v;
+}
+uint64_t BlockReader::u64() {
+  uint64_t v = 0;
+  r_.u64(v);
+  return v;
+}
+double BlockReader::f64() {
+  double v = 0;
+  r_.f64(v);
+  return v;
+}
+std::vector<uint32_t> BlockReader::u32s() {
+  std::vector<uint32_t> v(u64());
+  for (uint32_t& x : v) x = u32();
+  return v;
+}
+std::vector<uint8_t> BlockReader::bytes() {
+  std::vector<uint8_t> v(u64());
+  for (uint8_t& x : v) x = u8();
+  return v;
+}
+DistanceSums BlockReader::sums() {
+  DistanceSums d;
+  d.max = f64();
+  d.sum = f64();
+  d.count = u64();
+  return d;
+}
+
+std::vector<std::vector<uint8_t>> run_blocks(
+    const BlockPlan& plan, RankExchange& exchange,
+    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status) {
+  // 1 and the results, or 0, the failure's code and its message.
+  ByteWriter sent;
+  sent.u8(1);
+  Status local = Status::Ok();
+  for (size_t k = 0; k < plan.blocks.size() && local.ok(); ++k) {
+    if (plan.rank[k] != exchange.rank()) continue;
+    StatusOr<std::vector<uint8_t>> done = Status{StatusCode::kInternal, "no result"};
+    try {
+      done = work(k);
+    } catch (const std::bad_alloc&) {
+      done = Status{StatusCode::kLimitExceeded, "out of memory building a block"};
+    } catch (const std::exception& e) {
+      done = Status{StatusCode::kInternal, e.what()};
+    }
+    if (!done.ok()) {
+      local = done.status();
+      break;
+    }
+    sent.u64(k);
+    put(sent, std::span<const uint8_t>(*done));
+  }
+  if (!local.ok()) {
+    sent = ByteWriter();
+    sent.u8(0);
+    sent.u32(static_cast<uint32_t>(local.code()));
+    const std::string& m = local.message();
+    put(sent, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(m.data()), m.size()));
+  }
+  std::vector<std::vector<uint8_t>> all = exchange.all_gather(sent.take());
+  std::vector<std::vector<uint8_t>> out(plan.blocks.size());
+  // Each rank's bytes freed once read: a level's results are not held twice.
+  for (auto& bytes : all) {
+    if (bytes.empty()) continue;
+    BlockReader r(std::span<const uint8_t>(bytes).subspan(1));
+    if (bytes[0] == 0) {
+      const auto code = static_cast<StatusCode>(r.u32());
+      const std::vector<uint8_t> m = r.bytes();
+      if (status.ok()) status = {code, std::string(m.begin(), m.end())};
+      continue;
+    }
+    while (!r.done()) {
+      const uint64_t k = r.u64();
+      out[k] = r.bytes();
+    }
+    release(bytes);
+  }
+  if (!local.ok()) status = local;
+  return out;
+}
+
+std::vector<uint8_t> serialize(const BlockAnalysis& a) {
+  ByteWriter w;
+  const BlockFigures& f = a.figures;
+  w.u64(f.vertices);
+  w.u64(f.boundary_vertices);
+  w.u64(f.cells);
+  w.f64(f.quality_sum);
+  w.f64(f.quality_min);
+  put(w, f.to_level);
+  put(w, f.to_reference);
+  w.u64(f.cell_hash);
+  w.u64(a.surface_triangles.size());
+  for (const auto& t : a.surface_triangles)
+    for (uint32_t v : t) w.u32(v);
+  put(w, std::span<const uint32_t>(a.surface_vertices));
+  w.u64(a.reference_squared.size());
+  for (const auto& [id, d2] : a.reference_squared) w.u32(id), w.f64(d2);
+  w.u64(a.carving.size());
+  for (const auto& [brick, bytes] : a.carving) {
+    w.u64(brick);
+    put(w, std::span<const uint8_t>(bytes));
+  }
+  put(w, std::span<const uint32_t>(a.chosen));
+  put(w, std::span<const uint32_t>(a.boundary));
+  w.u64(a.carved.size());
+  for (const auto& c : a.carved)
+    for (uint32_t v : c) w.u32(v);
+  return w.take();
+}
+
+BlockAnalysis deserialize_analysis(std::span<const uint8_t> bytes) {
+  BlockReader r(bytes);
+  BlockAnalysis a;
+  BlockFigures& f = a.figures;
+  f.vertices = r.u64();
+  f.boundary_vertices = r.u64();
+  f.cells = r.u64();
+  f.quality_sum = r.f64();
+  f.quality_min = r.f64();
+  f.to_level = r.sums();
+  f.to_reference = r.sums();
+  f.cell_hash = r.u64();
+  a.surface_triangles.resize(r.u64());
+  for (auto& t : a.surface_triangles)
+    for (uint32_t& v : t) v = r.u32();
+  a.surface_vertices = r.u32s();
+  a.reference_squared.resize(r.u64());
+  for (auto& [id, d2] : a.reference_squared) id = r.u32(), d2 = r.f64();
+  a.carving.resize(r.u64());
+  for (auto& [brick, section] : a.carving) brick = r.u64(), section = r.bytes();
+  a.chosen = r.u32s();
+  a.boundary = r.u32s();
+  a.carved.resize(r.u64());
+  for (auto& c : a.carved)
+    for (uint32_t& v : c) v = r.u32();
+  return a;
+}
+
+}  // namespace dtm

@@ -1,0 +1,73 @@
+// The blocks of a level and how the ranks of a run share them
+// (codec/blocks/bricked_encoder.h): which rank builds which block, the one
+// exchange every phase ends with, and the bytes a block's results travel in
+// (between this program's own ranks: written and read without checks).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "codec/blocks/block_levels.h"
+#include "codec/stream/layer_coder.h"
+#include "common/byte_io.h"
+#include "common/exchange.h"
+#include "common/status.h"
+
+namespace dtm {
+
+// The blocks of one level: non-empty octree nodes, in Morton order, and
+// the rank that builds each (contiguous runs of about equal point counts).
+struct BlockPlan {
+  std::vector<uint64_t> blocks;  // each node's Morton prefix (3 x its depth bits)
+  std::vector<int> depth;        // of each node
+  std::vector<size_t> first;     // of each block's points in the level's Morton order; one more at the end
+  std::vector<int> rank;
+  GridBox box(size_t k, int qbits) const;
+};
+// The octree nodes split from the root until none holds more than
+// `max_points` of the level's points or it has depth `max_depth`: the
+// largest block, and so what building it holds in memory, is bounded by
+// the points wherever they crowd, not by their average. `codes`: the
+// level's Morton codes, ascending.
+BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int max_depth, uint64_t max_points,
+                      int ranks);
+// Ranks for a plan's blocks, given their `first` points: contiguous runs of
+// about equal point counts.
+void assign_ranks(BlockPlan& plan, int ranks);
+
+// Runs `work` on every block of `plan` this rank builds (in block order),
+// each result serialized by the work, and returns every block's bytes,
+// indexed by block, on every rank. A failure on any rank (a Status, or an
+// exception, which would otherwise leave the other ranks waiting in the
+// exchange) is every rank's: `status` says it.
+std::vector<std::vector<uint8_t>> run_blocks(
+    const BlockPlan& plan, RankExchange& exchange,
+    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status);
+
+void put(ByteWriter& w, std::span<const uint32_t> v);
+void put(ByteWriter& w, std::span<const uint8_t> v);
+void put(ByteWriter& w, const DistanceSums& d);
+
+// Reads what put() and ByteWriter wrote (the input is this program's own).
+class BlockReader {
+ public:
+  explicit BlockReader(std::span<const uint8_t> bytes) : r_(bytes) {}
+  uint8_t u8();
+  uint32_t u32();
+  uint64_t u64();
+  double f64();
+  std::vector<uint32_t> u32s();
+  std::vector<uint8_t> bytes();
+  DistanceSums sums();
+  bool done() const { return r_.remaining() == 0; }
+
+ private:
+  ByteReader r_;
+};
+
+std::vector<uint8_t> serialize(const BlockAnalysis& a);
+BlockAnalysis deserialize_analysis(std::span<const uint8_t> bytes);
+
+}  // namespace dtm

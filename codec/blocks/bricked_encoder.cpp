@@ -1,0 +1,480 @@
+#include "codec/blocks/bricked_encoder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "codec/blocks/block_levels.h"
+#include "codec/blocks/block_runs.h"
+#include "codec/blocks/bricked_stream_writer.h"
+#include "codec/blocks/level_merge.h"
+#include "codec/blocks/rank_reference.h"
+#include "codec/bricks/bricks.h"
+#include "common/byte_io.h"
+#include "common/parallel_for.h"
+#include "common/release.h"
+#include "core/nearest_spacing.h"
+
+namespace dtm {
+namespace {
+
+// The halo of a block: three kept radii (block_levels.h).
+constexpr double kHaloKeptRadii = 3.0;
+// alpha of a bricked level (spec/HIERARCHY.md §6.5): this many times the
+// mean distance from a vertex to its nearest neighbour.
+constexpr double kAlphaPerSpacing = 1.5;
+// A coarser level keeps no cell of circumradius above this many times the
+// finer level's alpha (its kept_radius: about twice its own alpha, a level
+// having about 2^(1/3) times the finer one's spacing); level 0, twice its own.
+// A region reader decodes the bricks within twice the largest kept
+// circumradius of its box (codec/region_decode.h): without the bound a few
+// nearly flat kept cells (0.1-0.3% of a coarse level's, circumradii up to
+// 10^4 alpha) would make every region the whole level.
+constexpr double kKeptRadiusPerFinerAlpha = 2.5;
+constexpr double kKeptRadiusOfLevel0 = 2.0;
+// Whether one octree node holds the other.
+bool nested(uint64_t a, int depth_a, uint64_t b, int depth_b) {
+  return depth_a <= depth_b ? (b >> (3 * (depth_b - depth_a))) == a : (a >> (3 * (depth_a - depth_b))) == b;
+}
+
+// The level's quality floor over each level-0 block: average_quality_floor
+// times level 0's average there (a block of a coarser level takes the
+// blocks of level 0 inside it, or around it).
+struct QualityFloors {
+  std::vector<uint64_t> blocks;
+  std::vector<int> depth;
+  std::vector<double> sum;
+  std::vector<uint64_t> count;
+  double factor = 0, whole = 0;
+
+  double floor(uint64_t block, int depth_of_block) const {
+    if (factor <= 0) return 0;
+    double s = 0;
+    uint64_t c = 0;
+    for (size_t i = 0; i < blocks.size(); ++i)
+      if (nested(blocks[i], depth[i], block, depth_of_block)) s += sum[i], c += count[i];
+    return factor * (c > 0 ? s / static_cast<double>(c) : whole);
+  }
+};
+
+class BrickedEncoder {
+ public:
+  BrickedEncoder(const BrickedEncodeInput& in, const BrickedEncodeOptions& o, RankExchange& exchange)
+      : in_(in),
+        o_(o),
+        x_(exchange),
+        q_(in.grid.qbits),
+        index_(in.points, q_),
+        level_of_(in.points.size(), 0),
+        reference_(in.points, q_, exchange, in.voxels, o.hierarchy.on_phase) {
+    if (x_.size() > 1)
+      reference_.set_in_parts(in.reference_tets, in.share, [this] { tets_done(); });
+    else if (!in.reference_tets.empty())
+      reference_.set_whole(in.reference_tets);
+    tets_done();
+  }
+
+  StatusOr<BrickedEncoding> run(const std::function<void(const LevelStats&)>& on_level);
+
+ private:
+  double removal_share() const {
+    return o_.hierarchy.removal_share > 0 ? o_.hierarchy.removal_share : kDefaultRemovalShare;
+  }
+  void phase(int level, const std::string& what) const {
+    report_phase(o_.hierarchy.on_phase, "level " + std::to_string(level) + ": " + what);
+  }
+  // Tells the caller, once, that the reference's tetrahedra are read no more.
+  void tets_done() {
+    if (in_.reference_tets_done && !tets_done_) in_.reference_tets_done();
+    tets_done_ = true;
+  }
+  BlockRegion region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const;
+  StatusOr<double> level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan);
+  Status analyse(int level, const BlockPlan& plan, int64_t halo, const BlockAnalysisOptions& options,
+                 std::vector<BlockAnalysis>& out);
+  // The coarser level of `level`: chosen (the blocks' choice in `analysis`),
+  // built and repaired; once more removing less where that fails. False
+  // when neither is good enough (`level` is then the coarsest); else
+  // level_of_ says the coarser level and built_stats_ its figures.
+  StatusOr<bool> coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan, int64_t halo,
+                               BlockAnalysisOptions options, const std::vector<BlockAnalysis>& analysis,
+                               std::span<const uint32_t> boundary, double kept_radius,
+                               const QualityFloors& floors);
+  // The coarser level from the choice: builds, repairs, and merges until no
+  // block's region changes. Sets coarser_ (per grid point).
+  Status build(int level, const BlockPlan& plan, int64_t halo, double kept_radius,
+               const QualityFloors& floors, uint64_t& broken, bool& quality_met, int& rounds);
+  // The base layer is one chunk of depth 0 (§3.5): its carving over the
+  // whole coarsest level, on rank 0, sent to every rank.
+  StatusOr<std::vector<uint8_t>> base_carving(int level, const BrickedLevel& out);
+
+  const BrickedEncodeInput& in_;
+  const BrickedEncodeOptions& o_;
+  RankExchange& x_;
+  int q_;
+  MortonIndex index_;
+  std::vector<uint8_t> level_of_;  // per grid point: the coarsest level that holds it
+  // The reference (none before level 0 is built, when level 0 is the reference).
+  RankReference reference_;
+  SurfaceRecord record_;  // the finer level's
+  std::vector<std::pair<uint32_t, double>> reference_squared_;
+  std::vector<uint8_t> coarser_;  // per grid point: in the level being built
+  LevelStats built_stats_;        // the coarser level's figures made while building it
+  bool last_ = false;             // the coarser level is to be the coarsest
+  uint64_t reference_boundary_vertices_ = 0;
+  bool tets_done_ = false;
+};
+
+BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const {
+  BlockRegion b;
+  b.owned = plan.box(k, q_);
+  b.region = b.owned.grown(halo, q_);
+  b.ids = index_.inside(b.region, level_of_, level);
+  b.points = gather(in_.points, b.ids);
+  return b;
+}
+
+StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan) {
+  if (o_.hierarchy.alpha.kind == AlphaKind::kFixed) return o_.hierarchy.alpha.fixed_value;
+  // Each vertex's nearest neighbour, found among the whole level (every
+  // rank holds its points), summed block by block.
+  const NearestSpacing nearest(in_.points, ids);
+  Status status = Status::Ok();
+  const auto sums = run_blocks(
+      plan, x_,
+      [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+        const size_t first = plan.first[k], count = plan.first[k + 1] - first;
+        std::vector<double> d(count, 0);
+        parallel_for(
+            count, [&](size_t i) { d[i] = nearest.nearest(first + i); }, 4096);
+        double sum = 0;
+        for (double v : d) sum += v;
+        ByteWriter w;
+        w.f64(sum);
+        return w.take();
+      },
+      status);
+  DTM_RETURN_IF_ERROR(status);
+  double total = 0;
+  for (const auto& s : sums) total += BlockReader(s).f64();
+  return kAlphaPerSpacing * total / static_cast<double>(ids.size());
+}
+
+Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
+                               const BlockAnalysisOptions& options, std::vector<BlockAnalysis>& out) {
+  Status status = Status::Ok();
+  auto results = reference_.run_carving(
+      plan,
+      [&](size_t k, const Solid* solid) -> StatusOr<std::vector<uint8_t>> {
+        const BlockRegion block = region_of(plan, k, level, halo);
+        std::optional<BlockReference> reference = reference_.for_region(block.region, solid);
+        DTM_ASSIGN_OR_RETURN(BlockAnalysis a,
+                             analyse_block(block, reference ? &*reference : nullptr, options));
+        return serialize(a);
+      },
+      status);
+  DTM_RETURN_IF_ERROR(status);
+  out.clear();
+  for (auto& r : results) {
+    out.push_back(deserialize_analysis(r));
+    release(r);
+  }
+  return Status::Ok();
+}
+
+Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, double kept_radius,
+                             const QualityFloors& floors, uint64_t& broken, bool& quality_met, int& rounds) {
+  LevelBounds bounds;
+  bounds.dmax = o_.hierarchy.dmax;
+  bounds.kept_radius = kept_radius;
+  // Per block: its last result (region size as left), broken places,
+  // quality, rounds; the blocks still to build.
+  std::vector<uint64_t> left(plan.blocks.size(), 0), block_broken(plan.blocks.size(), 0);
+  std::vector<uint8_t> met(plan.blocks.size(), 1), to_build(plan.blocks.size(), 1);
+  std::vector<int> block_rounds(plan.blocks.size(), 0);
+  // What a block's checks see: its box grown by 2 kept radii and D_max.
+  // A point put back farther away changes none of the cells it owns that
+  // the level keeps (their circumspheres lie within 2 kept radii of the box),
+  // so none of its surface triangles nor the quality of its cells, and it
+  // makes no surface within D_max of a reference vertex of the box.
+  const int64_t reach = static_cast<int64_t>(std::ceil(2 * kept_radius + o_.hierarchy.dmax)) + 1;
+  const auto seen = [&](size_t k) { return plan.box(k, q_).grown(reach, q_); };
+  for (int pass = 0;; ++pass) {
+    phase(level + 1, pass == 0 ? "building the blocks" : "building again where a neighbour put points back");
+    Status status = Status::Ok();
+    const auto results = reference_.run_carving(
+        plan,
+        [&](size_t k, const Solid* solid) -> StatusOr<std::vector<uint8_t>> {
+          ByteWriter w;
+          if (!to_build[k]) {
+            w.u8(0);
+            return w.take();
+          }
+          const BlockRegion fine = region_of(plan, k, level, halo);
+          std::vector<uint8_t> keep(fine.ids.size());
+          for (size_t i = 0; i < keep.size(); ++i) keep[i] = coarser_[fine.ids[i]];
+          std::optional<BlockReference> reference = reference_.for_region(fine.region, solid);
+          LevelBounds b = bounds;
+          b.quality_floor = floors.floor(plan.blocks[k], plan.depth[k]);
+          DTM_ASSIGN_OR_RETURN(BlockBuild built,
+                               build_block(fine, keep, record_, reference_squared_, *reference, b));
+          // What it put back (the rest was chosen already), and how much of
+          // the coarser level its checks saw.
+          std::vector<uint32_t> back;
+          const GridBox checked = seen(k);
+          uint64_t in_sight = 0;
+          for (uint32_t id : built.vertices) {
+            if (!coarser_[id]) back.push_back(id);
+            in_sight += checked.contains(in_.points[id]);
+          }
+          w.u8(1);
+          w.u64(in_sight);
+          w.u64(built.broken);
+          w.u8(built.quality_met ? 1 : 0);
+          w.u32(static_cast<uint32_t>(built.rounds));
+          put(w, std::span<const uint32_t>(back));
+          return w.take();
+        },
+        status);
+    DTM_RETURN_IF_ERROR(status);
+    for (size_t k = 0; k < results.size(); ++k) {
+      BlockReader r(results[k]);
+      if (!r.u8()) continue;
+      left[k] = r.u64();
+      block_broken[k] = r.u64();
+      met[k] = r.u8();
+      block_rounds[k] = std::max(block_rounds[k], static_cast<int>(r.u32()));
+      for (uint32_t id : r.u32s()) coarser_[id] = 1;
+    }
+    // A block that now sees more of the coarser level than it left (a
+    // neighbour put points back there) is built again.
+    bool again = false;
+    std::vector<uint8_t> next(plan.blocks.size(), 0);
+    {
+      Status s2 = Status::Ok();
+      const auto changed = run_blocks(
+          plan, x_,
+          [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+            uint64_t now = 0;
+            for (uint32_t id : index_.inside(seen(k), level_of_, level)) now += coarser_[id];
+            return std::vector<uint8_t>{static_cast<uint8_t>(now > left[k] ? 1 : 0)};
+          },
+          s2);
+      DTM_RETURN_IF_ERROR(s2);
+      for (size_t k = 0; k < changed.size(); ++k) next[k] = changed[k].at(0), again = again || next[k];
+    }
+    if (!again || pass >= 6) {
+      broken = 0;
+      quality_met = true;
+      rounds = 0;
+      for (size_t k = 0; k < plan.blocks.size(); ++k) {
+        broken += block_broken[k] + (next[k] ? 1 : 0);  // a block left unchecked counts as broken
+        quality_met = quality_met && met[k];
+        rounds = std::max(rounds, block_rounds[k]);
+      }
+      return Status::Ok();
+    }
+    to_build = next;
+  }
+}
+
+StatusOr<std::vector<uint8_t>> BrickedEncoder::base_carving(int level, const BrickedLevel& out) {
+  // The base layer is one chunk of depth 0 (§3.5): its carving over the
+  // whole coarsest level, on rank 0, sent to every rank.
+  BlockPlan one;
+  one.blocks = {0};
+  one.depth = {0};
+  one.first = {0, 0};
+  one.rank = {0};
+  BlockAnalysisOptions options;
+  options.qbits = q_;
+  options.alpha = out.alpha;
+  options.kept_radius = out.kept_radius;
+  options.brick_depth = 0;
+  std::vector<BlockAnalysis> a;
+  DTM_RETURN_IF_ERROR(analyse(level, one, 0, options, a));
+  if (a.at(0).carving.empty()) return std::vector<uint8_t>{};
+  return std::move(a[0].carving[0].second);
+}
+
+StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const LevelStats&)>& on_level) {
+  const HierarchyOptions& h = o_.hierarchy;
+  std::vector<MortonCode> codes;
+  std::vector<uint32_t> ids;
+  index_.level(level_of_, 0, codes, &ids);
+  const int finest_depth = choose_brick_depth(codes, q_, 2 * o_.brick_points);
+  QualityFloors floors;
+  floors.factor = h.average_quality_floor;
+  std::vector<BrickedLevel> levels;
+  double next_kept_radius = 0;  // the largest circumradius the coarser level keeps
+  for (int level = 0;; ++level) {
+    if (level > 250) return invalid_input("more than 250 levels");
+    reference_.start_level();
+    index_.level(level_of_, level, codes, &ids);
+    BrickedLevel out;
+    out.brick_depth =
+        std::min(finest_depth, choose_brick_depth(codes, q_, std::max<uint64_t>(1, o_.brick_points / 4)));
+    const BlockPlan plan = plan_blocks(codes, q_, out.brick_depth, o_.block_points, x_.size());
+    release(codes);  // 16 bytes a point, not held while the blocks are built
+    size_t largest = 0;
+    for (size_t k = 0; k < plan.blocks.size(); ++k)
+      largest = std::max(largest, plan.first[k + 1] - plan.first[k]);
+    phase(level, "alpha");
+    DTM_ASSIGN_OR_RETURN(out.alpha, level_alpha(ids, plan));
+    if (!(out.alpha > 0)) return invalid_input("the level's points do not span three dimensions");
+    // kept_radius is the build's, alpha (a prediction) at most that (§3.5).
+    out.kept_radius = level == 0 ? kKeptRadiusOfLevel0 * out.alpha : next_kept_radius;
+    out.alpha = std::min(out.alpha, out.kept_radius);
+    const double kept_radius = out.kept_radius;
+    next_kept_radius = kKeptRadiusPerFinerAlpha * out.alpha;
+    const int64_t halo =
+        static_cast<int64_t>(std::ceil(kHaloKeptRadii * std::max(kept_radius, next_kept_radius))) + 1;
+    const bool may_choose = !last_ && !(h.max_levels > 0 && level >= h.max_levels);
+
+    BlockAnalysisOptions options;
+    options.qbits = q_;
+    options.alpha = out.alpha;
+    options.kept_radius = kept_radius;
+    options.brick_depth = out.brick_depth;
+    options.collect_cells = level == 0 && !reference_.has_boundary();
+    if (may_choose) options.choice = CoarseningOptions{1 - removal_share(), h.dmax};
+    phase(level, "Delaunay tetrahedralization, carving and choice in " + std::to_string(plan.blocks.size()) +
+                     " blocks of at most " + std::to_string(largest) + " points");
+    std::vector<BlockAnalysis> analysis;
+    DTM_RETURN_IF_ERROR(analyse(level, plan, halo, options, analysis));
+
+    // The level's figures, carving and surface record, merged in block order.
+    out.stats = built_stats_;
+    out.stats.level = level;
+    out.stats.vertices = ids.size();
+    out.stats.alpha = out.alpha;
+    MergedLevel merged = merge_blocks(analysis, level, out);
+    record_ = std::move(merged.record);
+    reference_squared_ = std::move(merged.reference_squared);
+    if (merged.reference_boundary_vertices)
+      reference_boundary_vertices_ = *merged.reference_boundary_vertices;
+    if (level == 0) {
+      floors.blocks = plan.blocks;
+      floors.depth = plan.depth;
+      for (const BlockAnalysis& a : analysis) {
+        floors.sum.push_back(a.figures.quality_sum);
+        floors.count.push_back(a.figures.cells);
+      }
+      floors.whole = out.stats.avg_min_solid_angle;
+      if (!reference_.has_boundary()) {
+        // Level 0's carving is the reference from now on (the solid, unless
+        // the voxels are), and its surface the reference's: every distance
+        // to it is 0.
+        std::sort(merged.carved.begin(), merged.carved.end());
+        reference_.set_whole(merged.carved);
+        release(merged.carved);
+        reference_squared_.clear();
+      }
+    }
+    if (on_level) on_level(out.stats);
+    levels.push_back(std::move(out));
+    if (!may_choose) break;
+    DTM_ASSIGN_OR_RETURN(const bool built, coarser_level(level, ids, plan, halo, options, analysis,
+                                                         merged.boundary, next_kept_radius, floors));
+    if (!built) break;
+  }
+  release(coarser_);
+
+  const int coarsest = static_cast<int>(levels.size()) - 1;
+  if (levels[coarsest].brick_depth != 0 || levels[coarsest].carving.size() > 1) {
+    report_phase(h.on_phase, "the base layer's carving");
+    DTM_ASSIGN_OR_RETURN(std::vector<uint8_t> base, base_carving(coarsest, levels[coarsest]));
+    levels[coarsest].carving.clear();
+    if (!base.empty()) levels[coarsest].carving[0] = std::move(base);
+  }
+  levels[coarsest].brick_depth = 0;
+  BrickedStreamInput stream;
+  stream.points = in_.points;
+  stream.grid = in_.grid;
+  stream.alpha_policy = h.alpha.kind;
+  stream.cell_hashes = o_.cell_hashes;
+  stream.values = in_.values;
+  stream.index = &index_;
+  stream.level_of = level_of_;
+  stream.exchange = &x_;
+  stream.on_phase = h.on_phase;
+  DTM_ASSIGN_OR_RETURN(BrickedEncoding encoding, write_bricked_stream(stream, levels));
+  encoding.reference_boundary_vertices = reference_boundary_vertices_;
+  encoding.reference_questions = reference_.questions().questions;
+  encoding.reference_question_runs = reference_.questions().runs;
+  return encoding;
+}
+
+StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan,
+                                             int64_t halo, BlockAnalysisOptions options,
+                                             const std::vector<BlockAnalysis>& analysis,
+                                             std::span<const uint32_t> boundary, double kept_radius,
+                                             const QualityFloors& floors) {
+  const HierarchyOptions& h = o_.hierarchy;
+  const double share = removal_share();
+  const size_t finer = ids.size();
+  for (const double attempt : {share, kRetryShare * share}) {
+    coarser_.assign(in_.points.size(), 0);
+    if (attempt == share) {
+      for (const BlockAnalysis& a : analysis)
+        for (uint32_t id : a.chosen) coarser_[id] = 1;
+    } else {
+      phase(level + 1, "choosing again, fewer");
+      options.choice = CoarseningOptions{1 - attempt, h.dmax};
+      options.brick_depth = -1;
+      options.collect_cells = false;
+      std::vector<BlockAnalysis> again;
+      DTM_RETURN_IF_ERROR(analyse(level, plan, halo, options, again));
+      for (const BlockAnalysis& a : again)
+        for (uint32_t id : a.chosen) coarser_[id] = 1;
+    }
+    uint64_t chosen = 0;
+    for (uint32_t id : ids) chosen += coarser_[id];
+    uint64_t broken = 0;
+    bool quality_met = true;
+    int rounds = 0;
+    DTM_RETURN_IF_ERROR(build(level, plan, halo, kept_radius, floors, broken, quality_met, rounds));
+    uint64_t coarser = 0, removed_boundary = 0;
+    for (uint32_t id : ids) coarser += coarser_[id];
+    for (uint32_t id : boundary) removed_boundary += !coarser_[id];
+    if (coarser < h.min_base_vertices) return false;
+    if (static_cast<double>(finer - coarser) < kThinLevelShare * share * static_cast<double>(finer) ||
+        !quality_met || broken > 0)
+      continue;
+    built_stats_ = {};
+    built_stats_.removed_boundary = removed_boundary;
+    built_stats_.removed_interior = finer - coarser - removed_boundary;
+    built_stats_.passes = 1;
+    built_stats_.chosen = chosen;
+    built_stats_.put_back = coarser - chosen;
+    built_stats_.repair_rounds = rounds;
+    last_ = h.stop_when_boundary_is_final && removed_boundary == 0;
+    for (uint32_t id : ids)
+      if (coarser_[id]) level_of_[id] = static_cast<uint8_t>(level + 1);
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const BrickedEncodeOptions& options,
+                                         const std::function<void(const LevelStats&)>& on_level) {
+  if (input.points.size() < 4) return invalid_input("fewer than four points make no tetrahedron");
+  if (input.points.size() > (size_t{1} << 31))
+    return invalid_input("bricked streams hold at most 2^31 points");
+  if (options.brick_points == 0 || options.block_points == 0)
+    return invalid_input("brick and block points must be positive");
+  if (options.hierarchy.alpha.kind == AlphaKind::kConvexHull)
+    return invalid_input("bricked layers need a finite alpha (the halo of a region is a multiple of it)");
+  if (options.hierarchy.alpha.kind == AlphaKind::kFixed && !(options.hierarchy.alpha.fixed_value > 0))
+    return invalid_input("a fixed alpha must be positive");
+  SingleProcess alone;
+  RankExchange& exchange = options.exchange ? *options.exchange : alone;
+  BrickedEncoder encoder(input, options, exchange);
+  return encoder.run(on_level);
+}
+
+}  // namespace dtm

@@ -1,0 +1,88 @@
+// A bricked stream (format 8.0, spec/FORMAT.md §3.5) from grid points, its
+// levels built block by block (codec/blocks/block_levels.h, spec/HIERARCHY.md
+// §6.5) on one process or on the ranks of an MPI run: each rank builds the
+// blocks it is given and the ranks exchange what the blocks found, level
+// after level. The blocks, and so the stream, depend on the points alone:
+// the bytes are the same for any number of ranks, and each block's work
+// holds only its region in memory.
+//
+// What a rank holds whole: the grid points (12 bytes each), which level
+// each belongs to, a Morton index of them (4 bytes each), the reference's
+// boundary triangles and which grid cells lie inside, and what the blocks
+// report (the surface records, the carving sections, the coarser
+// level's choice); the Delaunay tetrahedralizations, the carving and the
+// checks are made block by block. The input's tetrahedra are held in
+// shares (codec/blocks/reference_share.h): each rank finds its own part of the
+// boundary (the ranks gather the boundary) and keeps its tetrahedra near it
+// as its part of the solid; what a block's part cannot answer, the ranks
+// answer together (codec/blocks/reference_questions.h).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "codec/sections/value_fields.h"
+#include "common/exchange.h"
+#include "common/grid.h"
+#include "common/status.h"
+#include "core/hierarchy.h"
+#include "core/solid.h"
+#include "mesh/carving.h"
+
+namespace dtm {
+
+class ReferenceShare;
+
+struct BrickedEncodeOptions {
+  // The levels (HierarchyOptions' meaning, lengths in grid units): dmax,
+  // average_quality_floor, removal_share, max_levels, min_base_vertices,
+  // stop_when_boundary_is_final, on_phase. alpha: kPaper (alpha from the
+  // level's spacing, §6.5) or kFixed.
+  HierarchyOptions hierarchy;
+  // Each layer's bricks hold about brick_points of its new points; the
+  // levels are built in blocks of about block_points points.
+  uint64_t brick_points = 2048;
+  uint64_t block_points = uint64_t{1} << 18;
+  bool cell_hashes = false;
+  // The ranks of the run; nullptr: this process alone.
+  RankExchange* exchange = nullptr;
+};
+
+struct BrickedEncodeInput {
+  std::span<const GridPoint> points;  // distinct grid points, ascending (quantize()'s order)
+  Grid grid;
+  // The reference solid's tetrahedra (indices into points), or none.
+  std::span<const std::array<uint32_t, 4>> reference_tets;
+  // Called once reference_tets are read no more (the encoder's solid and
+  // boundary hold what it needs of them), before the levels are built.
+  std::function<void()> reference_tets_done;
+  // On ranks: the share the tetrahedra were cut by (codec/blocks/reference_share.h,
+  // its points these), or nullptr: made from the exchange.
+  const ReferenceShare* share = nullptr;
+  // A scan's voxels as the solid (without tetrahedra), or nullptr; with
+  // neither, level 0's alpha carving is the reference.
+  const Solid* voxels = nullptr;
+  // The per-vertex values (indexed by point), or nullptr: each chunk then
+  // carries its points' values (spec/FORMAT.md §3.5).
+  const FieldSectionEncoder* values = nullptr;
+};
+
+struct BrickedEncoding {
+  std::vector<uint8_t> bytes;      // the stream, on every rank
+  std::vector<LevelStats> levels;  // finest first
+  std::vector<uint64_t> layer_bytes, carving_bytes, value_bytes, chunk_count, index_bytes;  // per level
+  std::vector<std::vector<uint64_t>> level_field_bytes;  // per level, per field
+  uint64_t field_table_bytes = 0;
+  std::vector<int> brick_depth;        // per level
+  std::vector<uint32_t> decode_order;  // as EncodedStream's
+  uint64_t reference_boundary_vertices = 0;
+  uint64_t reference_questions = 0, reference_question_runs = 0;  // as EncodeReport's
+};
+
+StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const BrickedEncodeOptions& options,
+                                         const std::function<void(const LevelStats&)>& on_level = {});
+
+}  // namespace dtm

@@ -1,0 +1,227 @@
+#include "codec/blocks/bricked_stream_writer.h"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+#include "codec/blocks/block_runs.h"
+#include "codec/bricks/bricks.h"
+#include "codec/stream/format.h"
+#include "common/byte_io.h"
+
+namespace dtm {
+namespace {
+
+// The layer's points in bricks: the bricks with points, ascending, and
+// where each one's points begin in the layer (one more at the end).
+struct LayerBricks {
+  std::vector<uint64_t> bricks;
+  std::vector<size_t> first;
+};
+LayerBricks bricks_of(std::span<const GridPoint> fresh, int qbits, int depth) {
+  LayerBricks b;
+  for (size_t i = 0; i < fresh.size(); ++i) {
+    const uint64_t brick = brick_of(morton_encode(fresh[i], qbits), qbits, depth);
+    if (b.bricks.empty() || b.bricks.back() != brick) b.bricks.push_back(brick), b.first.push_back(i);
+  }
+  b.first.push_back(fresh.size());
+  return b;
+}
+
+class LayerWriter {
+ public:
+  LayerWriter(const BrickedStreamInput& in, BrickedEncoding& out)
+      : in_(in), out_(out), q_(in.grid.qbits), x_(*in.exchange) {
+    models_.enable_coordinate_reuse(q_);
+  }
+  Status write(int level, BrickedLevel& lo);
+
+ private:
+  // The bricks' payloads, made by the ranks in turn.
+  Status payloads(const BlockPlan& plan, std::span<const GridPoint> fresh, const LayerBricks& b,
+                  std::vector<std::vector<uint8_t>>& out);
+  // Their values, each chunk's from the coarser levels' in its brick.
+  Status values(int level, const BlockPlan& plan, std::span<const uint32_t> ids,
+                std::span<const GridPoint> fresh, const LayerBricks& b,
+                std::vector<std::vector<uint8_t>>& out);
+
+  const BrickedStreamInput& in_;
+  BrickedEncoding& out_;
+  int q_;
+  RankExchange& x_;
+  SetCoderModels models_;          // as the base layer leaves them
+  std::vector<MortonCode> known_;  // V_{l+1}, ascending
+  int depth_ = 0;                  // the layer's brick depth
+};
+
+Status LayerWriter::payloads(const BlockPlan& plan, std::span<const GridPoint> fresh, const LayerBricks& b,
+                             std::vector<std::vector<uint8_t>>& out) {
+  if (known_.empty()) {  // the base layer: one chunk, the stream's models
+    out.assign(1, encode_point_set({}, fresh, q_, models_, brick_node(0, q_, 0)));
+    return Status::Ok();
+  }
+  Status status = Status::Ok();
+  out = run_blocks(
+      plan, x_,
+      [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+        return encode_chunk_points(fresh.subspan(b.first[k], b.first[k + 1] - b.first[k]), known_,
+                                   b.bricks[k], q_, depth_, models_);
+      },
+      status);
+  return status;
+}
+
+Status LayerWriter::values(int level, const BlockPlan& plan, std::span<const uint32_t> ids,
+                           std::span<const GridPoint> fresh, const LayerBricks& b,
+                           std::vector<std::vector<uint8_t>>& out) {
+  out.assign(b.bricks.size(), {});
+  if (!in_.values) return Status::Ok();
+  std::vector<uint32_t> coarser_ids;  // V_{l+1} in Morton order, as `known_`
+  std::vector<GridPoint> coarser_points;
+  std::vector<uint32_t> fresh_ids;
+  for (uint32_t id : ids)
+    if (in_.level_of[id] > level)
+      coarser_ids.push_back(id), coarser_points.push_back(in_.points[id]);
+    else if (in_.level_of[id] == level)
+      fresh_ids.push_back(id);
+  Status status = Status::Ok();
+  const auto coded = run_blocks(
+      plan, x_,
+      [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+        const int shift = 3 * (q_ - depth_);
+        const auto lo = std::lower_bound(known_.begin(), known_.end(), MortonCode{b.bricks[k]} << shift);
+        const auto hi = std::lower_bound(known_.begin(), known_.end(), MortonCode{b.bricks[k] + 1} << shift);
+        const size_t from = static_cast<size_t>(lo - known_.begin()),
+                     to = static_cast<size_t>(hi - known_.begin());
+        std::vector<uint64_t> field_bytes;
+        const std::vector<uint8_t> section =
+            in_.values->encode_chunk(std::span(coarser_ids).subspan(from, to - from),
+                                     std::span(coarser_points).subspan(from, to - from),
+                                     std::span(fresh_ids).subspan(b.first[k], b.first[k + 1] - b.first[k]),
+                                     fresh.subspan(b.first[k], b.first[k + 1] - b.first[k]), field_bytes);
+        ByteWriter w;
+        put(w, std::span<const uint8_t>(section));
+        w.u64(field_bytes.size());
+        for (uint64_t f : field_bytes) w.u64(f);
+        return w.take();
+      },
+      status);
+  DTM_RETURN_IF_ERROR(status);
+  std::vector<uint64_t>& level_fields = out_.level_field_bytes[static_cast<size_t>(level)];
+  level_fields.assign(in_.values->descriptions().size(), 0);
+  for (size_t k = 0; k < b.bricks.size(); ++k) {
+    BlockReader r(coded[k]);
+    out[k] = r.bytes();
+    const uint64_t fields = r.u64();
+    for (uint64_t f = 0; f < fields; ++f) level_fields[f] += r.u64();
+  }
+  return Status::Ok();
+}
+
+Status LayerWriter::write(int level, BrickedLevel& lo) {
+  report_phase(in_.on_phase, "writing level " + std::to_string(level) + "'s layer");
+  const auto l = static_cast<size_t>(level);
+  const int depth = depth_ = lo.brick_depth;
+  // The layer's points in Morton order (their codes are not kept: at
+  // level 0 they were the largest thing every rank held).
+  const std::vector<uint32_t> ids = in_.index->level_ids(in_.level_of, level);
+  std::vector<GridPoint> fresh;
+  for (uint32_t id : ids)
+    if (in_.level_of[id] == level) {
+      fresh.push_back(in_.points[id]);
+      out_.decode_order.push_back(id);
+    }
+  const LayerBricks b = bricks_of(fresh, q_, depth);
+  BlockPlan plan;  // the bricks, shared out among the ranks
+  plan.blocks = b.bricks;
+  plan.depth.assign(b.bricks.size(), depth);
+  plan.first = b.first;
+  assign_ranks(plan, x_.size());
+  std::vector<std::vector<uint8_t>> payload, value;
+  DTM_RETURN_IF_ERROR(payloads(plan, fresh, b, payload));
+  DTM_RETURN_IF_ERROR(values(level, plan, ids, fresh, b, value));
+
+  // The chunks: every brick with points or corrections, ascending.
+  std::vector<BrickParts> parts;
+  auto carving = lo.carving.begin();
+  size_t p = 0;
+  while (p < b.bricks.size() || carving != lo.carving.end()) {
+    BrickParts& part = parts.emplace_back();
+    part.brick = std::min(p < b.bricks.size() ? b.bricks[p] : UINT64_MAX,
+                          carving != lo.carving.end() ? carving->first : UINT64_MAX);
+    const bool points = p < b.bricks.size() && b.bricks[p] == part.brick;
+    if (points) {
+      part.new_points = static_cast<uint32_t>(b.first[p + 1] - b.first[p]);
+      part.payload = std::move(payload[p]);
+    }
+    if (carving != lo.carving.end() && carving->first == part.brick) {
+      out_.carving_bytes[l] += carving->second.size();
+      part.carving = std::move(carving->second);
+      ++carving;
+    }
+    if (points) {
+      out_.value_bytes[l] += value[p].size();
+      part.values = std::move(value[p]);
+      ++p;
+    }
+  }
+  std::vector<uint8_t> chunk_bytes;
+  const std::vector<BrickChunk> chunks = write_chunks(parts, chunk_bytes);
+  parts.clear();
+  const std::vector<uint8_t> index = write_brick_index(chunks);
+  LayerHeader lh;
+  lh.format_major = kVersionMajor;
+  lh.bricked = true;
+  lh.level = static_cast<uint16_t>(level);
+  lh.new_vertices = static_cast<uint32_t>(fresh.size());
+  lh.level_vertices = static_cast<uint32_t>(ids.size());
+  lh.alpha = lo.alpha;
+  lh.kept_radius = lo.kept_radius;
+  lh.brick_depth = static_cast<uint8_t>(depth);
+  if (in_.cell_hashes) lh.cell_hash = lo.cell_hash;
+  const std::vector<uint8_t> layer = write_bricked_layer(lh, index, chunk_bytes);
+  out_.layer_bytes[l] = layer.size();
+  out_.chunk_count[l] = chunks.size();
+  out_.index_bytes[l] = index.size();
+  out_.brick_depth[l] = depth;
+  out_.bytes.insert(out_.bytes.end(), layer.begin(), layer.end());
+  if (level > 0) merge_known(known_, fresh, q_);  // V_l, for the finer layer
+  return Status::Ok();
+}
+
+}  // namespace
+
+StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
+                                               std::vector<BrickedLevel>& levels) {
+  StreamHeader header;
+  header.grid = in.grid;
+  header.alpha_policy = in.alpha_policy;
+  header.version_major = kVersionMajor;
+  header.flags = static_cast<uint16_t>((in.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections |
+                                       kFlagBricks | (in.values ? kFlagValues : 0));
+  header.level_count = static_cast<uint16_t>(levels.size());
+  header.vertex_count = static_cast<uint32_t>(in.points.size());
+  BrickedEncoding out;
+  out.bytes = write_header(header);
+  if (in.values) {
+    const std::vector<uint8_t> table = write_field_table(in.values->descriptions());
+    out.field_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
+  const size_t count = levels.size();
+  out.value_bytes.assign(count, 0);
+  out.level_field_bytes.assign(count, {});
+  out.layer_bytes.assign(count, 0);
+  out.carving_bytes.assign(count, 0);
+  out.chunk_count.assign(count, 0);
+  out.index_bytes.assign(count, 0);
+  out.brick_depth.assign(count, 0);
+  for (const BrickedLevel& l : levels) out.levels.push_back(l.stats);
+  out.decode_order.reserve(in.points.size());
+  LayerWriter writer(in, out);
+  for (int level = static_cast<int>(count) - 1; level >= 0; --level)
+    DTM_RETURN_IF_ERROR(writer.write(level, levels[static_cast<size_t>(level)]));
+  return out;
+}
+
+}  // namespace dtm

@@ -1,0 +1,51 @@
+// The bytes of a bricked stream (format 8.0, spec/FORMAT.md §3.5) once its
+// levels are built (codec/blocks/bricked_encoder.h): the header, the field
+// table, and each level's layer, coarsest first, its bricks' points and
+// values coded by the ranks in turn, put together with the carving
+// corrections the blocks made into chunks (codec/bricks/bricks.h).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <span>
+#include <vector>
+
+#include "codec/blocks/block_levels.h"
+#include "codec/blocks/bricked_encoder.h"
+#include "codec/sections/value_fields.h"
+#include "common/exchange.h"
+#include "common/grid.h"
+#include "common/progress.h"
+#include "common/status.h"
+#include "core/hierarchy.h"
+
+namespace dtm {
+
+// What the encoder keeps of a level for the stream.
+struct BrickedLevel {
+  double alpha = 0, kept_radius = 0;
+  int brick_depth = 0;
+  std::map<uint64_t, std::vector<uint8_t>> carving;  // per brick
+  uint64_t cell_hash = 0;
+  LevelStats stats;
+};
+
+struct BrickedStreamInput {
+  std::span<const GridPoint> points;  // every grid point
+  Grid grid;
+  AlphaKind alpha_policy = AlphaKind::kPaper;
+  bool cell_hashes = false;
+  const FieldSectionEncoder* values = nullptr;  // or none
+  const MortonIndex* index = nullptr;           // of `points`
+  std::span<const uint8_t> level_of;            // per grid point: the coarsest level that holds it
+  RankExchange* exchange = nullptr;
+  PhaseCallback on_phase;
+};
+
+// The stream of `levels` (finest first; the coarsest one chunk of depth 0),
+// on every rank; with every level's byte counts. The levels' carving is
+// moved from.
+StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
+                                               std::vector<BrickedLevel>& levels);
+
+}  // namespace dtm

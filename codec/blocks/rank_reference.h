@@ -1,0 +1,80 @@
+// The reference solid of a bricked encoding as the ranks of a run hold it
+// (codec/blocks/bricked_encoder.h): its solid (the input's tetrahedra, or
+// level 0's carving, or a scan's voxels) and its boundary triangles by
+// place, whole on one process; on ranks, the boundary whole and the solid
+// in parts (codec/blocks/reference_share.h), a block's questions about the
+// parts answered by the ranks together (codec/blocks/reference_questions.h).
+// Either way a block is carved to the same verdicts.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "codec/blocks/block_levels.h"
+#include "codec/blocks/block_runs.h"
+#include "codec/blocks/reference_questions.h"
+#include "common/exchange.h"
+#include "common/grid.h"
+#include "common/progress.h"
+#include "common/status.h"
+#include "core/reference_solid.h"
+#include "core/solid.h"
+
+namespace dtm {
+
+class ReferenceShare;
+
+class RankReference {
+ public:
+  // `voxels`: a scan's solid, or nullptr; `on_phase` is told each phase.
+  RankReference(std::span<const GridPoint> points, int qbits, RankExchange& exchange, const Solid* voxels,
+                PhaseCallback on_phase);
+
+  // The reference from its tetrahedra, on this process alone. `tets` are
+  // read while this runs only.
+  void set_whole(std::span<const std::array<uint32_t, 4>> tets);
+  // The same on the ranks of a run, each given at least its share of the
+  // tetrahedra (`share`, or one made from the exchange when null): each
+  // finds the boundary faces and the tetrahedra near the boundary that are
+  // its own, and every rank gets the boundary whole. The solid and the
+  // boundary are the same as one process makes. `tets_done` is called once
+  // `given` is read no more.
+  void set_in_parts(std::span<const std::array<uint32_t, 4>> given, const ReferenceShare* share,
+                    const std::function<void()>& tets_done);
+
+  // Whether there is a boundary to measure against (none before level 0 is
+  // built when level 0, carved by alpha or voxels, is the reference).
+  bool has_boundary() const { return faces_.has_value(); }
+  // What a block of `region` is carved to (`solid`: the one run_carving()
+  // handed its work) and measured against; none without a solid.
+  std::optional<BlockReference> for_region(const GridBox& region, const Solid* solid) const;
+  // run_blocks() of work carving to the reference: with the reference in
+  // parts, each block's work run again until the ranks answered all it asked.
+  std::vector<std::vector<uint8_t>> run_carving(
+      const BlockPlan& plan, const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid*)>& work,
+      Status& status);
+  // A level's questions are of its own cells: the answers of the level
+  // before are forgotten.
+  void start_level() { book_ = {}; }
+  const QuestionCount& questions() const { return questions_; }
+
+ private:
+  std::span<const GridPoint> points_;
+  int qbits_;
+  RankExchange& x_;
+  const Solid* voxels_;
+  PhaseCallback on_phase_;
+  std::optional<ReferenceSolid> tet_solid_;  // whole, or this rank's part
+  const Solid* solid_ = nullptr;             // tet_solid_ or the voxels
+  bool parts_ = false;                       // solid_ is tet_solid_, a part
+  AnswerBook book_;                          // what the ranks answered of this level's questions
+  QuestionCount questions_;
+  std::optional<TriangleIndex> faces_;
+};
+
+}  // namespace dtm

@@ -1,0 +1,151 @@
+#include "codec/blocks/reference_questions.h"
+
+#include <algorithm>
+#include <string>
+
+namespace dtm {
+
+int AnswerBook::find(const Point4& p) const {
+  const auto it = std::lower_bound(answers_.begin(), answers_.end(), p,
+                                   [](const auto& a, const Point4& q) { return a.first < q; });
+  return it != answers_.end() && it->first == p ? it->second : -1;
+}
+
+void AnswerBook::add(std::span<const Point4> points, std::span<const uint8_t> inside) {
+  const size_t before = answers_.size();
+  for (size_t i = 0; i < points.size(); ++i) answers_.emplace_back(points[i], inside[i]);
+  std::inplace_merge(answers_.begin(), answers_.begin() + static_cast<std::ptrdiff_t>(before),
+                     answers_.end());
+}
+
+bool AskingSolid::contains_point4(const std::array<int64_t, 3>& p) const {
+  switch (part_.answer4(p)) {
+    case ReferenceSolid::Answer::kInside:
+      return true;
+    case ReferenceSolid::Answer::kOutside:
+      return false;
+    case ReferenceSolid::Answer::kUnknown:
+      break;
+  }
+  const int known = book_.find(p);
+  if (known >= 0) return known == 1;
+  const std::lock_guard<std::mutex> lock(mutex_);
+  questions_.push_back(p);
+  return false;
+}
+
+Status AskingSolid::settle() const {
+  if (!asked()) return Status::Ok();
+  return {StatusCode::kNeedMoreInput, "the reference's answers are asked of the ranks"};
+}
+
+std::vector<AnswerBook::Point4> AskingSolid::questions() const {
+  std::vector<AnswerBook::Point4> q = questions_;
+  std::sort(q.begin(), q.end());
+  q.erase(std::unique(q.begin(), q.end()), q.end());
+  return q;
+}
+
+namespace {
+
+// A block's bytes in a round: done with its result, or its questions.
+constexpr uint8_t kDone = 1, kAsked = 2, kSkipped = 0;
+
+void put_points(ByteWriter& w, std::span<const AnswerBook::Point4> points) {
+  w.u64(points.size());
+  for (const auto& p : points)
+    for (int64_t c : p) w.u64(static_cast<uint64_t>(c));
+}
+
+std::vector<AnswerBook::Point4> get_points(BlockReader& r) {
+  std::vector<AnswerBook::Point4> points(r.u64());
+  for (auto& p : points)
+    for (int64_t& c : p) c = static_cast<int64_t>(r.u64());
+  return points;
+}
+
+}  // namespace
+
+std::vector<std::vector<uint8_t>> run_blocks_asking(
+    const BlockPlan& plan, RankExchange& exchange, const ReferenceSolid& part, AnswerBook& book,
+    const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid&)>& work, Status& status,
+    QuestionCount& count) {
+  std::vector<std::vector<uint8_t>> out(plan.blocks.size());
+  std::vector<uint8_t> done(plan.blocks.size(), 0);
+  // Each round settles at least the next question of every block's work
+  // (its answers before it are right): a block asks at most once a stage of
+  // its work, and its stages are bounded (repair rounds); this is a guard.
+  constexpr int kMostRounds = 200;
+  for (int round = 0;; ++round) {
+    if (round >= kMostRounds) {
+      status = {StatusCode::kInternal, "the reference's questions did not settle"};
+      return out;
+    }
+    const auto results = run_blocks(
+        plan, exchange,
+        [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+          ByteWriter w;
+          if (done[k]) {
+            w.u8(kSkipped);
+            return w.take();
+          }
+          AskingSolid asking(part, book);
+          StatusOr<std::vector<uint8_t>> result = work(k, asking);
+          // Work that asked ran on guesses: whatever it made (or the status
+          // its settle() ended it with) is dropped.
+          if (asking.asked()) {
+            w.u8(kAsked);
+            put_points(w, asking.questions());
+            return w.take();
+          }
+          DTM_RETURN_IF_ERROR(result.status());
+          w.u8(kDone);
+          put(w, std::span<const uint8_t>(*result));
+          return w.take();
+        },
+        status);
+    if (!status.ok()) return out;
+    // Every rank has every block's bytes: the questions, all of them.
+    std::vector<AnswerBook::Point4> asked;
+    std::vector<size_t> first(plan.blocks.size() + 1, 0);
+    for (size_t k = 0; k < results.size(); ++k) {
+      first[k] = asked.size();
+      BlockReader r(results[k]);
+      const uint8_t kind = r.u8();
+      if (kind == kDone) {
+        out[k] = r.bytes();
+        done[k] = 1;
+      } else if (kind == kAsked) {
+        const std::vector<AnswerBook::Point4> q = get_points(r);
+        asked.insert(asked.end(), q.begin(), q.end());
+        ++count.runs;
+      }
+    }
+    first.back() = asked.size();
+    if (asked.empty()) return out;
+    count.questions += asked.size();
+    // Each rank: whether its own cells hold each point; OR-ed.
+    std::vector<uint8_t> bits((asked.size() + 7) / 8, 0);
+    for (size_t i = 0; i < asked.size(); ++i)
+      if (part.holds4(asked[i])) bits[i / 8] |= static_cast<uint8_t>(1u << (i % 8));
+    std::vector<uint8_t> inside(asked.size(), 0);
+    for (const auto& other : exchange.all_gather(bits))
+      for (size_t i = 0; i < asked.size(); ++i) inside[i] |= (other[i / 8] >> (i % 8)) & 1;
+    // This rank keeps the answers to its own blocks' questions.
+    std::vector<std::pair<AnswerBook::Point4, uint8_t>> mine;
+    for (size_t k = 0; k < plan.blocks.size(); ++k)
+      if (plan.rank[k] == exchange.rank())
+        for (size_t i = first[k]; i < first[k + 1]; ++i) mine.emplace_back(asked[i], inside[i]);
+    std::sort(mine.begin(), mine.end());
+    mine.erase(std::unique(mine.begin(), mine.end(),
+                           [](const auto& a, const auto& b) { return a.first == b.first; }),
+               mine.end());
+    std::vector<AnswerBook::Point4> points;
+    std::vector<uint8_t> answers;
+    for (const auto& [p, a] : mine)
+      if (book.find(p) < 0) points.push_back(p), answers.push_back(a);
+    book.add(points, answers);
+  }
+}
+
+}  // namespace dtm

@@ -1,0 +1,248 @@
+#include "codec/expert_encode.h"
+
+#include <algorithm>
+#include <iterator>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include "codec/sections/candidate_coder.h"
+#include "codec/sections/carving_coder.h"
+#include "codec/stream/format.h"
+#include "codec/stream/layer_coder.h"
+#include "mesh/carving.h"
+
+namespace dtm {
+
+namespace {
+
+// A layer's points as coded: the candidate kinds used (0: none), the
+// candidate section, the payload and how many points the section sends.
+struct LayerPoints {
+  uint8_t kinds = 0;
+  std::vector<uint8_t> section, payload;
+  size_t sent = 0;
+};
+
+// Candidates cost the decoder a Delaunay tetrahedralization of the coarser
+// level before the layer (instead of one of the finest level only: on
+// bunny_1m 1.47x one construction to the finest mesh instead of 1.20x) and
+// a pass over its cells (and, for midpoints, over its edges too, about twice
+// the work): the finest layer uses them only where they save this share of
+// its bytes, and midpoints, where centres alone already do, only where they
+// save this share more than centres alone.
+constexpr double kCandidateSaving = 0.04;
+constexpr double kMidpointSaving = 0.03;
+
+// The layer's points `fresh` through the set coder alone, or, when
+// `coarse_cells` (DT of the coarser level, decoder ids) are given, those
+// beside the coarser level's candidates through a candidate section: the
+// option the rule above prefers. `models` are left as the chosen option's
+// coding leaves them.
+LayerPoints code_layer_points(std::span<const GridPoint> fresh, std::span<const GridPoint> coarse,
+                              std::span<const std::array<uint32_t, 4>> coarse_cells,
+                              std::span<const MortonCode> known, int qbits, SetCoderModels& models) {
+  LayerPoints best;
+  if (coarse_cells.empty()) {
+    best.payload = encode_point_set(known, fresh, qbits, models);
+    return best;
+  }
+  const SetCoderModels before = models.clone();
+  best.payload = encode_point_set(known, fresh, qbits, models);
+  const CandidateList both = layer_candidates(coarse_cells, coarse, known, qbits, kKnownCandidateKinds);
+  const std::vector<CandidateHit> beside_both = points_beside(both, fresh);
+  // The same list without the midpoints' own places (a place both a centre
+  // and a midpoint has the centre's context), and its hits renumbered.
+  CandidateList centres;
+  centres.qbits = qbits;
+  std::vector<uint32_t> index_in_centres(both.size(), UINT32_MAX);
+  for (size_t i = 0; i < both.size(); ++i)
+    if (both.context(i) < kCentreContexts) {
+      index_in_centres[i] = static_cast<uint32_t>(centres.size());
+      centres.keys.push_back(both.keys[i]);
+    }
+  std::vector<CandidateHit> beside_centres;
+  for (CandidateHit h : beside_both)
+    if (index_in_centres[h.candidate] != UINT32_MAX) {
+      h.candidate = index_in_centres[h.candidate];
+      beside_centres.push_back(h);
+    }
+  std::optional<SetCoderModels> chosen;
+  double required = kCandidateSaving;
+  const std::tuple<uint8_t, const CandidateList*, const std::vector<CandidateHit>*> options[] = {
+      {kCandidateCellCentres, &centres, &beside_centres}, {kKnownCandidateKinds, &both, &beside_both}};
+  for (const auto& [kinds, list, beside] : options) {
+    LayerPoints option;
+    option.kinds = kinds;
+    std::vector<uint8_t> sent;
+    option.section = encode_candidate_section(*list, *beside, fresh.size(), sent);
+    std::vector<GridPoint> sent_points, rest;
+    for (size_t i = 0; i < fresh.size(); ++i) (sent[i] ? sent_points : rest).push_back(fresh[i]);
+    SetCoderModels trial = before.clone();
+    trial.note_points(sent_points);
+    std::vector<MortonCode> known_with_sent(known.begin(), known.end());
+    merge_known(known_with_sent, sent_points, qbits);
+    option.payload = encode_point_set(known_with_sent, rest, qbits, trial);
+    option.sent = sent_points.size();
+    const size_t bytes = option.section.size() + option.payload.size();
+    if (option.sent > 0 &&
+        bytes <= (1 - required) * static_cast<double>(best.section.size() + best.payload.size())) {
+      best = std::move(option);
+      chosen = std::move(trial);
+    }
+    // Midpoints must save the same share as centres do, and where centres
+    // alone pay, their own share more than them.
+    required = best.kinds == 0 ? kCandidateSaving : kMidpointSaving;
+  }
+  if (chosen) models = std::move(*chosen);
+  return best;
+}
+
+}  // namespace
+
+StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<const GridPoint> points,
+                                      const Grid& grid, AlphaKind alpha_policy, const StreamOptions& options,
+                                      std::vector<FieldValues> fields) {
+  if (options.level_step < 1) return invalid_input("encode_stream: level_step < 1");
+  std::vector<int> streamed;
+  for (size_t i = 0; i < hierarchy.levels.size(); ++i)
+    if (i % options.level_step == 0 || i + 1 == hierarchy.levels.size())
+      streamed.push_back(static_cast<int>(i));
+  if (streamed.empty() || streamed.size() > 0xFFFF)
+    return invalid_input("encode_stream: level count out of range");
+  StreamHeader h;
+  h.grid = grid;
+  h.alpha_policy = alpha_policy;
+  // The hierarchy carries its verdicts when it was carved to a reference:
+  // then every layer corrects alpha's prediction.
+  const bool corrections = !hierarchy.levels[0].kept.empty();
+  const bool values = !fields.empty();
+  std::vector<FieldDescription> descriptions;
+  std::vector<size_t> value_counts;
+  for (const FieldValues& f : fields)
+    descriptions.push_back(f.description), value_counts.push_back(f.bits.size());
+  DTM_RETURN_IF_ERROR(check_fields(descriptions, value_counts, points.size()).with_context("encode_stream"));
+  std::optional<FieldSectionEncoder> value_coder;
+  if (values) {
+    auto made = FieldSectionEncoder::make(std::move(fields));
+    if (!made.ok()) return made.status();
+    value_coder.emplace(std::move(*made));
+  }
+  h.version_major = corrections ? kVersionMajorUnbricked
+                    : values    ? kVersionMajorWithValues
+                                : kVersionMajorWithoutValues;
+  h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
+            (values ? kFlagValues : 0);
+  h.level_count = static_cast<uint16_t>(streamed.size());
+  h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
+
+  EncodedStream out;
+  out.bytes = write_header(h);
+  if (value_coder) {
+    out.fields = value_coder->descriptions();
+    const auto table = write_field_table(out.fields);
+    out.field_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
+  out.layer_bytes.assign(hierarchy.levels.size(), 0);
+  out.carving_bytes.assign(hierarchy.levels.size(), 0);
+  out.value_bytes.assign(hierarchy.levels.size(), 0);
+  out.candidate_bytes.assign(hierarchy.levels.size(), 0);
+  out.candidate_points.assign(hierarchy.levels.size(), 0);
+  // The decoder's vertex index of each grid point, and its points in order.
+  std::vector<uint32_t> decoder_index(points.size(), UINT32_MAX);
+  std::vector<GridPoint> decoded;
+  out.streamed_levels = streamed;
+  std::vector<uint32_t> coarser;  // V_{l+1}, ascending
+  std::vector<MortonCode> known;  // Morton codes of V_{l+1}, ascending
+  SetCoderModels models;          // adapted layer after layer, as the decoder's
+  models.enable_coordinate_reuse(grid.qbits);
+  for (size_t l = streamed.size(); l-- > 0;) {
+    const Level& level = hierarchy.levels[streamed[l]];
+    std::vector<uint32_t> added;
+    std::set_difference(level.vertices.begin(), level.vertices.end(), coarser.begin(), coarser.end(),
+                        std::back_inserter(added));
+    if (added.size() + coarser.size() != level.vertices.size())
+      return invalid_input("encode_stream: levels are not nested");
+    // In the decoder's order: the layer coder sends a set, which comes out
+    // in ascending Morton order.
+    std::vector<std::pair<MortonCode, uint32_t>> by_code;
+    by_code.reserve(added.size());
+    for (uint32_t i : added) by_code.emplace_back(morton_encode(points[i], grid.qbits), i);
+    std::sort(by_code.begin(), by_code.end());
+    std::vector<GridPoint> layer_points;
+    std::vector<uint32_t> layer_indices;
+    layer_points.reserve(added.size());
+    for (const auto& [code, i] : by_code) {
+      layer_points.push_back(points[i]);
+      layer_indices.push_back(i);
+      decoder_index[i] = static_cast<uint32_t>(out.decode_order.size());
+      out.decode_order.push_back(i);
+      decoded.push_back(points[i]);
+    }
+    std::vector<uint8_t> carving;
+    if (corrections) {
+      if (level.kept.size() != level.delaunay.cells.size())
+        return invalid_input("encode_stream: a level without its carving verdicts");
+      TetMesh dt = level.delaunay;
+      for (auto& c : dt.cells)
+        for (uint32_t& v : c) v = decoder_index[v];
+      carving = encode_carving(dt, decoded, level.alpha, level.kept, carving_contexts(h.version_major));
+    }
+
+    std::vector<uint8_t> value_section;
+    if (value_coder) {
+      std::vector<uint64_t> layer_field_bytes;
+      value_section = value_coder->encode_layer(layer_indices, layer_points, layer_field_bytes);
+      out.field_bytes.resize(layer_field_bytes.size(), 0);
+      for (size_t f = 0; f < layer_field_bytes.size(); ++f) out.field_bytes[f] += layer_field_bytes[f];
+      out.level_field_bytes.resize(hierarchy.levels.size());
+      out.level_field_bytes[streamed[l]] = std::move(layer_field_bytes);
+    }
+
+    const std::span<const GridPoint> coarse_points(decoded.data(), decoded.size() - layer_points.size());
+    std::vector<std::array<uint32_t, 4>> coarse_cells;
+    // Only the finest layer: there the mesh generator's last refinement
+    // round put its points, and only there is the decoder's price one more
+    // tetrahedralization (of level 1) whatever the number of levels.
+    const bool may_use_candidates = options.candidates && h.version_major >= 7 && l == 0 &&
+                                    !coarser.empty() && grid.qbits <= kMaxCandidateQBits;
+    if (may_use_candidates) {
+      const Level& coarse = hierarchy.levels[streamed[l + 1]];
+      if (coarse.delaunay.cells.empty()) {  // the paper preset keeps no tetrahedralization
+        DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(coarse_points));
+        coarse_cells = std::move(dt.cells);
+      } else {
+        coarse_cells = coarse.delaunay.cells;
+        for (auto& c : coarse_cells)
+          for (uint32_t& v : c) v = decoder_index[v];
+      }
+    }
+    LayerPoints coded =
+        code_layer_points(layer_points, coarse_points, coarse_cells, known, grid.qbits, models);
+    std::vector<uint8_t>& payload = coded.payload;
+    std::vector<uint8_t>& candidate_section = coded.section;
+    const uint8_t candidate_kinds = coded.kinds;
+    out.candidate_points[streamed[l]] = coded.sent;
+    out.candidate_bytes[streamed[l]] = candidate_section.size();
+
+    LayerHeader lh;
+    lh.format_major = h.version_major;
+    lh.candidate_kinds = candidate_kinds;
+    lh.level = static_cast<uint16_t>(l);
+    lh.new_vertices = static_cast<uint32_t>(added.size());
+    lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
+    lh.alpha = level.alpha;
+    if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.carved_cells());
+    const auto layer = write_layer(lh, payload, carving, value_section, candidate_section);
+    out.carving_bytes[streamed[l]] = carving.size();
+    out.value_bytes[streamed[l]] = value_section.size();
+    merge_known(known, layer_points, grid.qbits);
+    out.layer_bytes[streamed[l]] = layer.size();
+    out.bytes.insert(out.bytes.end(), layer.begin(), layer.end());
+    coarser = level.vertices;
+  }
+  return out;
+}
+
+}  // namespace dtm

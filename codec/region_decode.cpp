@@ -1,0 +1,510 @@
+#include "codec/region_decode.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <numeric>
+
+#include "codec/sections/carving_coder.h"
+#include "codec/stream/layer_coder.h"
+#include "mesh/carving.h"
+#include "mesh/delaunay.h"
+#include "mesh/geometry.h"
+#include "mesh/topology.h"
+
+namespace dtm {
+
+Status MemorySource::read(uint64_t offset, std::span<uint8_t> out) {
+  if (offset > bytes_.size() || out.size() > bytes_.size() - offset)
+    return {StatusCode::kTruncated, "the stream ends at byte " + std::to_string(bytes_.size())};
+  std::copy_n(bytes_.begin() + static_cast<std::ptrdiff_t>(offset), out.size(), out.begin());
+  return Status::Ok();
+}
+
+StatusOr<FileSource> FileSource::open(const std::string& path) {
+  FileSource f;
+  f.path_ = path;
+  f.file_ = std::fopen(path.c_str(), "rb");
+  if (!f.file_) return Status{StatusCode::kInvalidInput, path + ": cannot open"};
+  if (std::fseek(f.file_, 0, SEEK_END) != 0) return Status{StatusCode::kInvalidInput, path + ": cannot seek"};
+  const long end = std::ftell(f.file_);
+  if (end < 0) return Status{StatusCode::kInvalidInput, path + ": cannot seek"};
+  f.size_ = static_cast<uint64_t>(end);
+  return f;
+}
+
+FileSource::FileSource(FileSource&& o) noexcept : file_(o.file_), size_(o.size_), path_(std::move(o.path_)) {
+  o.file_ = nullptr;
+}
+FileSource& FileSource::operator=(FileSource&& o) noexcept {
+  std::swap(file_, o.file_);
+  std::swap(size_, o.size_);
+  std::swap(path_, o.path_);
+  return *this;
+}
+FileSource::~FileSource() {
+  if (file_) std::fclose(file_);
+}
+
+Status FileSource::read(uint64_t offset, std::span<uint8_t> out) {
+  if (offset > size_ || out.size() > size_ - offset)
+    return {StatusCode::kTruncated, path_ + ": the stream ends at byte " + std::to_string(size_)};
+  if (std::fseek(file_, static_cast<long>(offset), SEEK_SET) != 0 ||
+      std::fread(out.data(), 1, out.size(), file_) != out.size())
+    return {StatusCode::kInvalidInput, path_ + ": read error"};
+  return Status::Ok();
+}
+
+GridBox grid_box_of(const Grid& grid, const std::array<double, 3>& lo, const std::array<double, 3>& hi) {
+  GridBox b;
+  const double top = std::ldexp(1.0, grid.qbits);
+  for (int a = 0; a < 3; ++a) {
+    const double l = std::ceil((lo[a] - grid.origin[a]) / grid.step);
+    const double h = std::floor((hi[a] - grid.origin[a]) / grid.step);
+    b.lo[a] = static_cast<int64_t>(std::clamp(std::isnan(l) ? top : l, -1.0, top));
+    b.hi[a] = static_cast<int64_t>(std::clamp(std::isnan(h) ? -1.0 : h, -1.0, top));
+  }
+  return b;
+}
+
+namespace {
+
+bool cell_meets(std::span<const GridPoint> points, const std::array<uint32_t, 4>& cell, const GridBox& box) {
+  std::array<int64_t, 3> lo = {INT64_MAX, INT64_MAX, INT64_MAX}, hi = {INT64_MIN, INT64_MIN, INT64_MIN};
+  for (uint32_t v : cell) {
+    const GridPoint& p = points[v];
+    const int64_t c[3] = {p.x, p.y, p.z};
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
+  }
+  for (int a = 0; a < 3; ++a)
+    if (hi[a] < box.lo[a] || lo[a] > box.hi[a]) return false;
+  return true;
+}
+
+// The region's result from cells over vertices numbered globally: only the
+// cells' vertices, ascending number; cells in canonical order.
+void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
+             std::span<const int32_t> levels, std::span<const FieldValues> values,
+             std::vector<std::array<uint32_t, 4>> cells, RegionMesh& out) {
+  std::vector<uint8_t> in_a_cell(points.size(), 0);
+  for (const auto& c : cells)
+    for (uint32_t v : c) in_a_cell[v] = 1;
+  std::vector<uint32_t> used;
+  for (uint32_t v = 0; v < points.size(); ++v)
+    if (in_a_cell[v]) used.push_back(v);
+  std::sort(used.begin(), used.end(), [&](uint32_t a, uint32_t b) { return ids[a] < ids[b]; });
+  std::vector<uint32_t> local(points.size(), UINT32_MAX);
+  for (const FieldValues& f : values) out.fields.push_back({f.description, {}});
+  for (size_t i = 0; i < used.size(); ++i) {
+    local[used[i]] = static_cast<uint32_t>(i);
+    out.points.push_back(points[used[i]]);
+    out.vertex_ids.push_back(ids[used[i]]);
+    out.vertex_levels.push_back(levels[used[i]]);
+    for (size_t f = 0; f < values.size(); ++f) {
+      const size_t n = static_cast<size_t>(values[f].description.components);
+      const auto first = values[f].bits.begin() + static_cast<std::ptrdiff_t>(used[i] * n);
+      out.fields[f].bits.insert(out.fields[f].bits.end(), first, first + static_cast<std::ptrdiff_t>(n));
+    }
+  }
+  for (auto& c : cells) {
+    for (uint32_t& v : c) v = local[v];
+    std::sort(c.begin(), c.end());
+  }
+  std::sort(cells.begin(), cells.end());
+  out.cells = std::move(cells);
+}
+
+// What the walk over the layers' headers and indexes keeps of each.
+struct LayerPlan {
+  LayerHeader header;
+  std::vector<BrickChunk> chunks;
+  uint64_t chunk_area = 0;    // stream offset of the first chunk
+  uint32_t first_vertex = 0;  // the level's vertices before this layer's
+};
+
+// A margin of `factor` x r grid steps and a little more, or the whole grid.
+int64_t margin(double r, double factor, int qbits) {
+  const double m = std::ceil(factor * r) + 2;
+  const double whole = std::ldexp(1.0, qbits + 1);
+  return static_cast<int64_t>(std::isfinite(m) && m < whole ? m : whole);
+}
+
+}  // namespace
+
+RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box) {
+  RegionMesh out;
+  out.level = decoder.finest_level();
+  const auto& points = decoder.points();
+  std::vector<std::array<uint32_t, 4>> cells;
+  for (const auto& c : decoder.carved_cells())
+    if (cell_meets(points, c, box)) cells.push_back(c);
+  std::vector<uint32_t> ids(points.size());
+  std::iota(ids.begin(), ids.end(), 0u);
+  compact(points, ids, decoder.vertex_levels(), decoder.fields(), std::move(cells), out);
+  out.points_decoded = points.size();
+  return out;
+}
+
+namespace {
+
+// The stream's header and every layer's header and index down to a level,
+// read by offset.
+struct StreamPlan {
+  StreamHeader header;
+  std::vector<FieldDescription> fields;  // with flag values: the field table
+  uint64_t table_bytes = 0;
+  std::vector<LayerPlan> layers;  // coarsest first; the last is the level's
+};
+
+class Reader {
+ public:
+  explicit Reader(ByteSource& source) : source_(source) {}
+  uint64_t bytes_read = 0;
+  Status read(uint64_t offset, uint64_t size, std::vector<uint8_t>& bytes, const std::string& what) {
+    if (offset > source_.size() || size > source_.size() - offset)
+      return {StatusCode::kTruncated,
+              "the stream ends at byte " + std::to_string(source_.size()) + ", before " + what};
+    bytes.resize(size);
+    bytes_read += size;
+    return source_.read(offset, bytes);
+  }
+  ByteSource& source() { return source_; }
+
+ private:
+  ByteSource& source_;
+};
+
+// The stream's header, and the level checked against it.
+Status read_header(Reader& reader, int level, StreamHeader& header) {
+  std::vector<uint8_t> bytes;
+  DTM_RETURN_IF_ERROR(
+      reader.read(0, std::min<uint64_t>(kHeaderSize, reader.source().size()), bytes, "the header's end"));
+  if (const Status s = parse_header(bytes, header); !s.ok())
+    return s.code() == StatusCode::kNeedMoreInput
+               ? Status{StatusCode::kTruncated, "the stream ends in its header"}
+               : s;
+  if (level < 0 || level >= header.level_count)
+    return {StatusCode::kInvalidInput, "level " + std::to_string(level) + ": the stream has levels 0 to " +
+                                           std::to_string(header.level_count - 1)};
+  return Status::Ok();
+}
+
+// The field table (flag values): its length, then all of it, which the
+// table's own limits bound (kMaxTableBytes).
+Status read_field_table(Reader& reader, StreamPlan& plan) {
+  constexpr uint64_t kMaxTableBytes = 1 << 20;
+  std::vector<uint8_t> bytes;
+  DTM_RETURN_IF_ERROR(reader.read(kHeaderSize, 4, bytes, "the field table's length"));
+  const uint64_t length = bytes[0] | (bytes[1] << 8) | (bytes[2] << 16) | (uint64_t{bytes[3]} << 24);
+  if (length > kMaxTableBytes) return {StatusCode::kCorrupt, "field table: longer than any table can be"};
+  std::vector<uint8_t> rest;
+  DTM_RETURN_IF_ERROR(reader.read(kHeaderSize + 4, length + 8, rest, "the field table's end"));
+  bytes.insert(bytes.end(), rest.begin(), rest.end());
+  size_t consumed = 0;
+  DTM_RETURN_IF_ERROR(parse_field_table(bytes, plan.fields, consumed));
+  plan.table_bytes = consumed;
+  return Status::Ok();
+}
+
+Status read_plan(Reader& reader, int level, const DecoderOptions& options, StreamPlan& plan) {
+  const int q = plan.header.grid.qbits;
+  std::vector<uint8_t> bytes;
+  if (plan.header.flags & kFlagValues) DTM_RETURN_IF_ERROR(read_field_table(reader, plan));
+  LayerWalk walk(plan.header, options.max_vertices, plan.table_bytes);
+  while (walk.next_level() >= level) {
+    const int at = walk.next_level();
+    const uint64_t offset = walk.offset();
+    const std::string what = "level " + std::to_string(at) + "'s layer";
+    Layer layer;
+    bool header_seen = false;
+    uint64_t want = kBrickedLayerHeaderSize;
+    Status s;
+    while (true) {
+      DTM_RETURN_IF_ERROR(reader.read(offset, want, bytes, what));
+      s = walk.next_index(bytes, layer, &header_seen);
+      if (s.code() != StatusCode::kNeedMoreInput || !header_seen) break;
+      const uint64_t whole = kBrickedLayerHeaderSize + uint64_t{layer.header.index_bytes};
+      if (whole <= want) break;
+      reader.bytes_read -= want;  // read again with the index (counted once)
+      want = whole;
+    }
+    DTM_RETURN_IF_ERROR(s);
+    LayerPlan p;
+    p.header = layer.header;
+    p.chunk_area = offset + kBrickedLayerHeaderSize + layer.header.index_bytes;
+    p.first_vertex = layer.header.level_vertices - layer.header.new_vertices;
+    DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, layer.header.brick_depth, q, layer.header.new_vertices,
+                                          layer.header.chunk_bytes, plan.header.flags, p.chunks)
+                            .with_context(what + " at byte " + std::to_string(offset)));
+    plan.layers.push_back(std::move(p));
+  }
+  return Status::Ok();
+}
+
+bool meets_any(const GridBox& a, std::span<const GridBox> boxes) {
+  return std::any_of(boxes.begin(), boxes.end(), [&](const GridBox& b) { return a.meets(b); });
+}
+
+// The level's bricks whose cells are wanted: those inside `cubes` (a union
+// of whole bricks), as `owns` says brick by brick.
+struct Owners {
+  std::vector<GridBox> cubes;
+  std::function<bool(uint64_t)> owns;
+};
+
+// The cells of the level that `owners` own (and, with `box`, that meet it),
+// from the chunks within twice the level's kept radius of the owners.
+Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners, const GridBox* box,
+                    const DecoderOptions& options, RegionMesh& out) {
+  const int q = plan.header.grid.qbits;
+  const LayerPlan& finest = plan.layers.back();
+  const int level = finest.header.level;
+  const double r = finest.header.kept_radius;
+  // Where the level's points are needed (the owners grown by 2r), then, layer
+  // by layer towards the coarsest, also the bricks of the chunks decoded
+  // there (their known points): a chunk is read if its brick meets the region
+  // or a brick chosen in a finer layer.
+  std::vector<GridBox> region;
+  for (const GridBox& c : owners.cubes) region.push_back(c.grown(margin(r, 2, q), q));
+  std::vector<std::vector<const BrickChunk*>> needed(plan.layers.size());
+  // The bricks of the chunks chosen in the finer layers, by depth.
+  std::vector<std::pair<int, std::vector<uint64_t>>> chosen;
+  const auto meets_chosen = [&](uint64_t brick, int depth) {
+    for (const auto& [d, bricks] : chosen) {
+      if (d >= depth) {  // a finer brick inside this one
+        const auto it = std::lower_bound(bricks.begin(), bricks.end(), brick << (3 * (d - depth)));
+        if (it != bricks.end() && (*it >> (3 * (d - depth))) == brick) return true;
+      } else if (std::binary_search(bricks.begin(), bricks.end(), brick >> (3 * (depth - d)))) {
+        return true;  // inside a coarser brick
+      }
+    }
+    return false;
+  };
+  for (size_t i = plan.layers.size(); i-- > 0;) {
+    const LayerPlan& p = plan.layers[i];
+    const int depth = p.header.brick_depth;
+    std::vector<uint64_t> bricks;
+    for (const BrickChunk& c : p.chunks)
+      if (meets_any(brick_box(c.brick, q, depth), region) || meets_chosen(c.brick, depth))
+        needed[i].push_back(&c), bricks.push_back(c.brick);
+    chosen.emplace_back(depth, std::move(bricks));
+  }
+
+  // The points, coarsest layer first.
+  std::vector<GridPoint> points;
+  std::vector<uint32_t> ids;
+  std::vector<int32_t> levels;
+  std::vector<MortonCode> known;
+  std::vector<FieldValues> values, layer_values;  // of `points`, per field
+  for (const FieldDescription& f : plan.fields) values.push_back({f, {}});
+  SetCoderModels models;
+  models.enable_coordinate_reuse(q);
+  std::vector<uint8_t> finest_chunks;
+  std::vector<std::pair<const BrickChunk*, uint64_t>> finest_read;  // chunk, its place in finest_chunks
+  for (size_t i = 0; i < plan.layers.size(); ++i) {
+    const LayerPlan& p = plan.layers[i];
+    const int at = p.header.level;
+    // The layer's chunks read one after another, then checked and decoded
+    // as the whole decoder does (each decodes exactly its index's points).
+    std::vector<std::vector<uint8_t>> chunk_bytes(needed[i].size());
+    std::vector<ChunkInput> inputs;
+    for (size_t k = 0; k < needed[i].size(); ++k) {
+      const BrickChunk& chunk = *needed[i][k];
+      DTM_RETURN_IF_ERROR(
+          reader.read(p.chunk_area + chunk.offset, chunk.size(), chunk_bytes[k],
+                      "level " + std::to_string(at) + ", brick " + std::to_string(chunk.brick)));
+      inputs.push_back({&chunk, chunk_bytes[k]});
+      for (uint32_t n = 0; n < chunk.new_points; ++n) {
+        ids.push_back(static_cast<uint32_t>(p.first_vertex + chunk.points_before + n));
+        levels.push_back(at);
+      }
+    }
+    out.chunks_read += inputs.size();
+    std::vector<GridPoint> added;
+    DTM_RETURN_IF_ERROR(decode_bricked_points(inputs, known, q, p.header.brick_depth, models, added)
+                            .with_context("level " + std::to_string(at)));
+    if (i + 1 == plan.layers.size())
+      for (size_t k = 0; k < inputs.size(); ++k) {
+        finest_read.emplace_back(inputs[k].chunk, finest_chunks.size());
+        finest_chunks.insert(finest_chunks.end(), chunk_bytes[k].begin(), chunk_bytes[k].end());
+      }
+    if (!plan.fields.empty()) {
+      DTM_RETURN_IF_ERROR(decode_bricked_values(inputs, q, p.header.brick_depth, plan.fields, points, values,
+                                                added, layer_values)
+                              .with_context("level " + std::to_string(at)));
+      for (size_t f = 0; f < values.size(); ++f)
+        values[f].bits.insert(values[f].bits.end(), layer_values[f].bits.begin(), layer_values[f].bits.end());
+    }
+    merge_known(known, added, q);
+    points.insert(points.end(), added.begin(), added.end());
+    if (uint64_t{points.size()} > options.max_vertices)
+      return {StatusCode::kLimitExceeded, std::to_string(points.size()) + " vertices exceed the limit of " +
+                                              std::to_string(options.max_vertices)};
+  }
+  out.points_decoded = points.size();
+
+  // The level's points in the region, numbered as the whole level numbers
+  // them (the canonical order of cells is then the whole level's),
+  // tetrahedralized.
+  std::vector<uint32_t> inside;
+  for (uint32_t v = 0; v < points.size(); ++v)
+    if (std::any_of(region.begin(), region.end(), [&](const GridBox& b) { return b.contains(points[v]); }))
+      inside.push_back(v);
+  std::sort(inside.begin(), inside.end(), [&](uint32_t a, uint32_t b) { return ids[a] < ids[b]; });
+  std::vector<GridPoint> local_points;
+  std::vector<uint32_t> local_ids;
+  std::vector<int32_t> local_levels;
+  std::vector<FieldValues> local_values;
+  local_values.reserve(values.size());
+  for (const FieldValues& f : values) local_values.push_back({f.description, {}});
+  for (uint32_t v : inside) {
+    local_points.push_back(points[v]);
+    local_ids.push_back(ids[v]);
+    local_levels.push_back(levels[v]);
+    for (size_t f = 0; f < values.size(); ++f) {
+      const size_t n = static_cast<size_t>(values[f].description.components);
+      const auto first = values[f].bits.begin() + static_cast<std::ptrdiff_t>(v * n);
+      local_values[f].bits.insert(local_values[f].bits.end(), first, first + static_cast<std::ptrdiff_t>(n));
+    }
+  }
+  if (!spans_three_dimensions(local_points)) return Status::Ok();  // no cell at all
+  DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(local_points));
+
+  // Each cell's owner brick; the carving of the owners' chunks.
+  const int depth = finest.header.brick_depth;
+  std::vector<MortonCode> codes(local_points.size());
+  for (size_t v = 0; v < codes.size(); ++v) codes[v] = morton_encode(local_points[v], q);
+  const std::vector<uint64_t> owner = carving_bricks_of_cells(dt, local_points, codes, q, depth, r);
+  std::vector<uint8_t> kept;
+  if (plan.header.flags & kFlagCarvingCorrections) {
+    std::vector<std::span<const uint8_t>> sections;
+    std::vector<uint64_t> section_bricks;
+    for (const auto& [chunk, at] : finest_read)
+      if (owners.owns(chunk->brick)) {
+        sections.push_back(
+            split_chunk(*chunk, std::span<const uint8_t>(finest_chunks).subspan(at, chunk->size())).carving);
+        section_bricks.push_back(chunk->brick);
+      }
+    std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
+    for (size_t c = 0; c < owner.size(); ++c) {
+      const auto it = std::lower_bound(section_bricks.begin(), section_bricks.end(), owner[c]);
+      if (owner[c] != kNoBrick && it != section_bricks.end() && *it == owner[c])
+        chunk_of_cell[c] = static_cast<uint32_t>(it - section_bricks.begin());
+    }
+    DTM_RETURN_IF_ERROR(decode_carving_chunks(sections, dt, local_points, finest.header.alpha, chunk_of_cell,
+                                              morton_ranks(codes), kept)
+                            .with_context("level " + std::to_string(level)));
+  } else {
+    kept = carve(dt, local_points, finest.header.alpha);
+  }
+  std::vector<std::array<uint32_t, 4>> cells;
+  for (size_t c = 0; c < dt.cells.size(); ++c)
+    if (kept[c] && owner[c] != kNoBrick && owners.owns(owner[c]) &&
+        (!box || cell_meets(local_points, dt.cells[c], *box)))
+      cells.push_back(dt.cells[c]);
+  compact(local_points, local_ids, local_levels, local_values, std::move(cells), out);
+  return Status::Ok();
+}
+
+// A stream that is not bricked: decoded whole to the level.
+Status decode_whole(Reader& reader, int level, ProgressiveDecoder& decoder) {
+  std::vector<uint8_t> bytes;
+  reader.bytes_read = 0;
+  DTM_RETURN_IF_ERROR(reader.read(0, reader.source().size(), bytes, "its end"));
+  DTM_RETURN_IF_ERROR(decode_stream(bytes, decoder));
+  if (decoder.finest_level() != level)
+    return {StatusCode::kTruncated, "the stream ends before level " + std::to_string(level)};
+  return decoder.mesh_status();
+}
+
+// The cubes (octree nodes) that bricks [first, last) of depth `depth` make.
+std::vector<GridBox> morton_range_cubes(uint64_t first, uint64_t last, int qbits, int depth) {
+  std::vector<GridBox> out;
+  while (first < last) {
+    int k = 0;  // the largest aligned node of 8^k bricks starting at first
+    while (k < depth && first % (uint64_t{8} << (3 * k)) == 0 && first + (uint64_t{8} << (3 * k)) <= last)
+      ++k;
+    out.push_back(brick_box(first >> (3 * k), qbits, depth - k));
+    first += uint64_t{1} << (3 * k);
+  }
+  return out;
+}
+
+}  // namespace
+
+StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int level,
+                                   const DecoderOptions& options) {
+  Reader reader(source);
+  StreamPlan plan;
+  DTM_RETURN_IF_ERROR(read_header(reader, level, plan.header));
+  RegionMesh out;
+  out.level = level;
+  if (!(plan.header.flags & kFlagBricks)) {
+    DecoderOptions o = options;
+    o.stop_after_level = level;
+    ProgressiveDecoder decoder(o);
+    DTM_RETURN_IF_ERROR(decode_whole(reader, level, decoder));
+    out = region_of(decoder, box);
+    out.bytes_read = reader.bytes_read;
+    return out;
+  }
+  out.bricked = true;
+  DTM_RETURN_IF_ERROR(read_plan(reader, level, options, plan));
+  const int q = plan.header.grid.qbits;
+  const LayerHeader& lh = plan.layers.back().header;
+  // The bricks that may own a kept cell meeting the box.
+  GridBox cover;
+  const std::vector<uint64_t> bricks =
+      bricks_meeting(box.grown(margin(lh.kept_radius, 2, q), q), q, lh.brick_depth, &cover);
+  if (!bricks.empty()) {
+    Owners owners;
+    owners.cubes = {cover};
+    owners.owns = [&](uint64_t b) { return std::binary_search(bricks.begin(), bricks.end(), b); };
+    DTM_RETURN_IF_ERROR(decode_owned(reader, plan, owners, &box, options, out));
+  }
+  out.bytes_read = reader.bytes_read;
+  return out;
+}
+
+StatusOr<RegionMesh> decode_piece(ByteSource& source, int level, int piece, int pieces,
+                                  const DecoderOptions& options) {
+  if (pieces < 1 || piece < 0 || piece >= pieces)
+    return Status{StatusCode::kInvalidInput,
+                  "piece " + std::to_string(piece) + " of " + std::to_string(pieces) + ": no such piece"};
+  Reader reader(source);
+  StreamPlan plan;
+  DTM_RETURN_IF_ERROR(read_header(reader, level, plan.header));
+  if (!(plan.header.flags & kFlagBricks))
+    return Status{StatusCode::kUnsupported, "pieces need a bricked stream (meshenc --bricks)"};
+  RegionMesh out;
+  out.level = level;
+  out.bricked = true;
+  DTM_RETURN_IF_ERROR(read_plan(reader, level, options, plan));
+  const int q = plan.header.grid.qbits;
+  const LayerPlan& finest = plan.layers.back();
+  const int depth = finest.header.brick_depth;
+  // Contiguous ranges of the level's bricks, cut between chunks so that each
+  // piece has about as many of the level's new points.
+  const std::vector<BrickChunk>& chunks = finest.chunks;
+  const uint64_t total = finest.header.new_vertices;
+  const auto cut = [&](int k) -> uint64_t {
+    if (k == 0) return 0;
+    if (k == pieces) return uint64_t{1} << (3 * depth);
+    const uint64_t target = total * static_cast<uint64_t>(k) / static_cast<uint64_t>(pieces);
+    for (const BrickChunk& c : chunks)
+      if (c.points_before >= target) return c.brick;
+    return uint64_t{1} << (3 * depth);
+  };
+  const uint64_t first = cut(piece), last = std::max(first, cut(piece + 1));
+  if (first < last) {
+    Owners owners;
+    owners.cubes = morton_range_cubes(first, last, q, depth);
+    owners.owns = [&](uint64_t b) { return b >= first && b < last; };
+    DTM_RETURN_IF_ERROR(decode_owned(reader, plan, owners, nullptr, options, out));
+  }
+  out.bytes_read = reader.bytes_read;
+  return out;
+}
+
+}  // namespace dtm

@@ -1,0 +1,96 @@
+#include "codec/sections/carving_coder.h"
+
+#include <algorithm>
+#include <array>
+
+#include "codec/sections/carving_coder_shared.h"
+#include "common/parallel_for.h"
+#include "mesh/carving.h"
+#include "mesh/topology.h"
+
+namespace dtm {
+namespace {
+
+// Circumradius over alpha, in quarter octaves from 2^-7/4 to 2^7/4: the
+// bucket is how many of these the ratio exceeds (spec/FORMAT.md §3.2 lists
+// them; products with alpha are exact IEEE operations, so both sides agree).
+constexpr std::array<double, kCarvingRatioBuckets - 1> kRatioSteps = {
+    0.29730177875068026, 0.3535533905932738, 0.42044820762685725, 0.5,
+    0.5946035575013605,  0.7071067811865476, 0.8408964152537145,  1.0,
+    1.189207115002721,   1.4142135623730951, 1.681792830507429,   2.0,
+    2.378414230005442,   2.8284271247461903, 3.363585661014858};
+static_assert(kRatioSteps[7] == 1.0, "bucket 8 and above: alpha removes the cell");
+
+}  // namespace
+
+ChunkCells group_by_chunk(std::span<const uint32_t> order, std::span<const uint32_t> chunk_of_cell,
+                          size_t chunk_count) {
+  ChunkCells g;
+  g.first.assign(chunk_count + 1, 0);
+  for (uint32_t c : order)
+    if (chunk_of_cell[c] != kNoCarvingChunk) ++g.first[chunk_of_cell[c] + 1];
+  for (size_t i = 0; i < chunk_count; ++i) g.first[i + 1] += g.first[i];
+  g.cells.resize(g.first[chunk_count]);
+  std::vector<uint32_t> next(g.first.begin(), g.first.end() - 1);
+  for (uint32_t c : order)
+    if (chunk_of_cell[c] != kNoCarvingChunk) g.cells[next[chunk_of_cell[c]]++] = c;
+  return g;
+}
+
+// A bricked layer's coding order: the cells by their vertices' ranks
+// (each cell's ascending, cells ascending), as canonical_cell_order orders
+// them by vertex number.
+std::vector<uint32_t> ranked_order(const TetMesh& dt, std::span<const uint32_t> vertex_rank) {
+  std::vector<std::array<uint32_t, 4>> ranked(dt.cells.size());
+  for (size_t c = 0; c < ranked.size(); ++c)
+    for (int i = 0; i < 4; ++i) ranked[c][i] = vertex_rank[dt.cells[c][i]];
+  return canonical_cell_order(ranked);
+}
+
+CarvingContexts carving_contexts(uint8_t format_major) {
+  return format_major >= 6 ? CarvingContexts::kDecodedNeighbours : CarvingContexts::kAlphaNeighbours;
+}
+
+CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
+                                  CarvingContexts contexts, std::span<const uint32_t> chunk_of_cell) {
+  const size_t m = dt.cells.size();
+  CarvingPrediction p;
+  p.kept.resize(m);
+  std::vector<uint8_t> bucket(m);
+  // Each cell on its own: every core (the same bits whatever the split).
+  constexpr size_t kBlock = 4096;
+  const size_t blocks = (m + kBlock - 1) / kBlock;
+  parallel_for(
+      blocks,
+      [&](size_t block) {
+        for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c) {
+          const double radius = carving_radius(points, dt.cells[c]);
+          uint8_t b = 0;
+          for (double step : kRatioSteps) b += radius > step * alpha;
+          bucket[c] = b;
+          p.kept[c] = radius <= alpha;
+        }
+      },
+      2);
+  // The context from alpha's verdicts: the whole of 4.0's, the start of 6.0's.
+  const bool half_octaves = contexts == CarvingContexts::kDecodedNeighbours;
+  p.context.resize(m);
+  parallel_for(
+      blocks,
+      [&](size_t block) {
+        for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c) {
+          int kept_neighbors = 0;
+          for (int32_t n : dt.neighbors[c])
+            kept_neighbors +=
+                n >= 0 && p.kept[static_cast<size_t>(n)] &&
+                (chunk_of_cell.empty() || chunk_of_cell[static_cast<size_t>(n)] == chunk_of_cell[c]);
+          p.context[c] =
+              static_cast<uint8_t>((half_octaves ? bucket[c] / 2 : bucket[c]) * 5 + kept_neighbors);
+        }
+      },
+      2);
+  p.order = canonical_cell_order(dt.cells);  // the identity for an exported triangulation
+  return p;
+}
+
+}  // namespace dtm

@@ -1,0 +1,96 @@
+// The carving corrections of one level (spec/FORMAT.md §3.2), encoder and
+// decoder side by side. Alpha predicts which cells of DT(V_l) the level
+// keeps (mesh/carving.h); the encoder knows the true verdicts (the reference
+// solid's, spec/HIERARCHY.md §3) and sends, for every cell, whether the
+// prediction is wrong, as an adaptive binary symbol. The cells are visited
+// in a canonical order and the contexts use only what the decoder has: the
+// cell's circumradius over alpha and its face neighbours: from 6.0 the
+// verdicts of those already decoded (a wrong prediction comes in patches
+// along the surface: research/carving_models measured 10-45% fewer bits on the
+// corpus than 4.0's contexts, which count the neighbours alpha keeps). Each
+// level's section is coded alone (fresh models), so a decoder reads the
+// sections of the levels it shows and no other.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/grid.h"
+#include "common/status.h"
+#include "mesh/delaunay.h"
+
+namespace dtm {
+
+// The contexts a section is coded with (spec/FORMAT.md §3.2).
+enum class CarvingContexts {
+  // 4.0 and 5.0: the circumradius bucket and how many face neighbours alpha
+  // keeps (80 models).
+  kAlphaNeighbours,
+  // 6.0: the half-octave bucket, how many face neighbours are kept (their
+  // decoded verdict where decoded already, alpha's otherwise) and how many
+  // of the decoded ones alpha got wrong, 0, 1 or 2+ (120 models).
+  kDecodedNeighbours,
+};
+CarvingContexts carving_contexts(uint8_t format_major);
+
+// Per cell of `dt` (vertex ids index `points`): alpha's verdict and what
+// the context of its correction starts from; and the canonical order of the
+// cells (each cell's ids ascending, cells ascending).
+struct CarvingPrediction {
+  std::vector<uint8_t> kept;  // per cell: alpha keeps it
+  // Per cell, the context from alpha's verdicts alone: 4.0's whole context
+  // (the circumradius bucket, < kCarvingRatioBuckets, and the kept
+  // neighbours: < kAlphaNeighbourContexts); 6.0's half-octave bucket and kept
+  // neighbours, which the decoded verdicts then change.
+  std::vector<uint8_t> context;
+  std::vector<uint32_t> order;  // cell indices in coding order
+};
+inline constexpr int kCarvingRatioBuckets = 16;
+inline constexpr int kAlphaNeighbourContexts = kCarvingRatioBuckets * 5;
+inline constexpr int kDecodedNeighbourContexts = kCarvingRatioBuckets / 2 * 5 * 3;
+// With `chunk_of_cell` (bricked layers), the kept neighbours counted are
+// those of the same chunk only.
+CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
+                                  CarvingContexts contexts, std::span<const uint32_t> chunk_of_cell = {});
+
+// The section for true verdicts `kept` (per cell of dt); empty when alpha's
+// prediction is right everywhere.
+std::vector<uint8_t> encode_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
+                                    std::span<const uint8_t> kept, CarvingContexts contexts);
+
+// The level's verdicts, per cell of dt, from its section (empty: alpha's).
+// kCorrupt if the section ends before its last symbol or has bytes after it.
+// `order`, if given, receives the canonical order of dt's cells (computed on
+// the way: the order the section codes them in).
+Status decode_carving(std::span<const uint8_t> section, const TetMesh& dt, std::span<const GridPoint> points,
+                      double alpha, CarvingContexts contexts, std::vector<uint8_t>& kept,
+                      std::vector<uint32_t>* order = nullptr);
+
+// Bricked layers (8.0, codec/bricks/bricks.h): the corrections in chunks.
+// `chunk_of_cell`: per cell of dt, the chunk whose section codes its bit, or
+// kNoCarvingChunk (no bit: alpha's verdict stands). Each chunk visits its
+// own cells in canonical order with fresh 6.0 models, and its contexts see
+// only the face neighbours of the same chunk (another chunk's count as not
+// kept): chunks decode independently, on every core, and a region reader
+// needs, for a chunk, only the cells whose circumspheres reach its brick.
+// A chunk visits its cells by `vertex_rank` (per vertex of dt: its rank in
+// the level's Morton order, codec/bricks/bricks.h's morton_ranks) instead of by
+// vertex number: an order of places, which a block of the encoder knows
+// before the coarser levels that number the vertices are built.
+inline constexpr uint32_t kNoCarvingChunk = UINT32_MAX;
+std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::span<const GridPoint> points,
+                                                        double alpha, std::span<const uint8_t> kept,
+                                                        std::span<const uint32_t> chunk_of_cell,
+                                                        size_t chunk_count,
+                                                        std::span<const uint32_t> vertex_rank);
+// `sections[i]`: chunk i's section (empty: no correction). kCorrupt names
+// the chunk (its index) whose section does not end where its bytes do.
+// `order`, if given, receives the canonical order of dt's cells (by vertex
+// number, as decode_carving's).
+Status decode_carving_chunks(std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
+                             std::span<const GridPoint> points, double alpha,
+                             std::span<const uint32_t> chunk_of_cell, std::span<const uint32_t> vertex_rank,
+                             std::vector<uint8_t>& kept, std::vector<uint32_t>* order = nullptr);
+
+}  // namespace dtm

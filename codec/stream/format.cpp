@@ -1,0 +1,397 @@
+#include "codec/stream/format.h"
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+
+#include "codec/bricks/bricks.h"
+#include "codec/sections/candidate_coder.h"
+#include "codec/stream/layer_coder.h"
+#include "common/byte_io.h"
+#include "common/checksum.h"
+
+namespace dtm {
+namespace {
+
+template <class Wire>
+void put(ByteWriter& w, Wire v) {
+  if constexpr (std::is_same_v<Wire, double>)
+    w.f64(v);
+  else if constexpr (sizeof(Wire) == 1)
+    w.u8(v);
+  else if constexpr (sizeof(Wire) == 2)
+    w.u16(v);
+  else if constexpr (sizeof(Wire) == 4)
+    w.u32(v);
+  else
+    w.u64(v);
+}
+
+template <class Wire>
+Wire get(ByteReader& r) {
+  Wire v{};
+  if constexpr (std::is_same_v<Wire, double>)
+    r.f64(v);
+  else if constexpr (sizeof(Wire) == 1)
+    r.u8(v);
+  else if constexpr (sizeof(Wire) == 2)
+    r.u16(v);
+  else if constexpr (sizeof(Wire) == 4)
+    r.u32(v);
+  else
+    r.u64(v);
+  return v;
+}
+
+// Writes a field list. The checksum covers the bytes before it, then
+// `trailer` (a layer's payload; empty for the stream header), and keeps
+// only as many low bits as its field holds.
+struct FieldWriter {
+  ByteWriter w;
+  std::span<const uint8_t> trailer;
+  void magic(const char*) { w.bytes(kMagic); }
+  template <class Wire, class T>
+  void field(const char*, const T& v) {
+    put<Wire>(w, static_cast<Wire>(v));
+  }
+  template <class Wire, class T, size_t N>
+  void field(const char* name, const std::array<T, N>& a) {
+    for (const T& v : a) field<Wire>(name, v);
+  }
+  template <class Wire, class T>
+  void checksum(const char*, T& v) {
+    v = static_cast<T>(xxh3_64(w.data(), trailer));
+    put<Wire>(w, static_cast<Wire>(v));
+  }
+};
+
+// Reads a field list from bytes known to hold it whole.
+struct FieldReader {
+  ByteReader r;
+  void magic(const char*) {
+    for (size_t i = 0; i < kMagic.size(); ++i) get<uint8_t>(r);
+  }
+  template <class Wire, class T>
+  void field(const char*, T& v) {
+    v = static_cast<T>(get<Wire>(r));
+  }
+  template <class Wire, class T, size_t N>
+  void field(const char* name, std::array<T, N>& a) {
+    for (T& v : a) field<Wire>(name, v);
+  }
+  template <class Wire, class T>
+  void checksum(const char* name, T& v) {
+    field<Wire>(name, v);
+  }
+};
+
+template <class Header>
+Header read_fields(std::span<const uint8_t> bytes, uint8_t format_major = kVersionMajor,
+                   bool bricked = false) {
+  Header h;
+  if constexpr (requires { h.format_major; }) h.format_major = format_major, h.bricked = bricked;
+  FieldReader reader{ByteReader(bytes)};
+  visit_fields(h, reader);
+  return h;
+}
+
+constexpr size_t kHeaderChecksumOffset = sized<StreamHeader>().checksum_offset;
+constexpr size_t layer_checksum_offset(uint8_t format_major, bool bricked) {
+  return sized<LayerHeader>(format_major, bricked).checksum_offset;
+}
+
+}  // namespace
+
+std::vector<uint8_t> write_header(StreamHeader h) {
+  FieldWriter writer;
+  visit_fields(h, writer);
+  return writer.w.take();
+}
+
+Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
+  const size_t magic_seen = std::min(bytes.size(), kMagic.size());
+  if (!std::equal(bytes.begin(), bytes.begin() + magic_seen, kMagic.begin()))
+    return {StatusCode::kNotDtm, "not a .dtm stream (wrong magic)"};
+  if (bytes.size() < kHeaderSize) return {StatusCode::kNeedMoreInput, "header incomplete"};
+  h = read_fields<StreamHeader>(bytes.first(kHeaderSize));
+  // The version first: a future version may change everything after it.
+  if (h.version_major < kOldestVersionMajor || h.version_major > kVersionMajor)
+    return {StatusCode::kUnsupported,
+            "format version " + std::to_string(h.version_major) + "." + std::to_string(h.version_minor) +
+                " is not supported (this decoder reads " + std::to_string(kOldestVersionMajor) + ".x to " +
+                std::to_string(kVersionMajor) + ".x)"};
+  if (h.checksum != static_cast<uint32_t>(xxh3_64(bytes.first(kHeaderChecksumOffset))))
+    return corrupt("header checksum mismatch");
+  if (h.grid.qbits < kMinQBits || h.grid.qbits > kMaxQBits) return corrupt("qbits out of range");
+  if (static_cast<uint8_t>(h.alpha_policy) > 2) return corrupt("unknown alpha policy");
+  if (h.flags & ~kKnownFlags) return {StatusCode::kUnsupported, "unknown header flags"};
+  if ((h.flags & kFlagValues) && h.version_major < 5) return corrupt("values flagged in a stream before 5.0");
+  if ((h.flags & kFlagBricks) && h.version_major < 8) return corrupt("bricks flagged in a stream before 8.0");
+  if (h.level_count == 0) return corrupt("zero levels");
+  if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
+  for (double o : h.grid.origin)
+    if (!std::isfinite(o)) return corrupt("origin is not finite");
+  if (!std::isfinite(h.grid.step) || !(h.grid.step > 0)) return corrupt("step is not positive");
+  return Status::Ok();
+}
+
+std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
+                                 std::span<const uint8_t> carving, std::span<const uint8_t> values,
+                                 std::span<const uint8_t> candidates) {
+  h.candidate_bytes = static_cast<uint32_t>(candidates.size());
+  h.payload_bytes = static_cast<uint32_t>(payload.size());
+  h.carving_bytes = static_cast<uint32_t>(carving.size());
+  h.value_bytes = static_cast<uint32_t>(values.size());
+  std::vector<uint8_t> body(candidates.begin(), candidates.end());
+  body.insert(body.end(), payload.begin(), payload.end());
+  body.insert(body.end(), carving.begin(), carving.end());
+  body.insert(body.end(), values.begin(), values.end());
+  FieldWriter writer;
+  writer.trailer = body;
+  visit_fields(h, writer);
+  writer.w.bytes(body);
+  return writer.w.take();
+}
+
+std::vector<uint8_t> write_bricked_layer(LayerHeader h, std::span<const uint8_t> index,
+                                         std::span<const uint8_t> chunks) {
+  h.bricked = true;
+  h.index_bytes = static_cast<uint32_t>(index.size());
+  h.chunk_bytes = chunks.size();
+  FieldWriter writer;
+  writer.trailer = index;
+  visit_fields(h, writer);
+  writer.w.bytes(index);
+  writer.w.bytes(chunks);
+  return writer.w.take();
+}
+
+LayerWalk::LayerWalk(const StreamHeader& header, uint64_t max_level_vertices, uint64_t table_bytes)
+    : header_(header),
+      max_level_vertices_(max_level_vertices),
+      next_level_(header.level_count - 1),
+      offset_(kHeaderSize + table_bytes) {}
+
+Status LayerWalk::check(const LayerHeader& h) const {
+  if (h.level != next_level_)
+    return corrupt("layer for level " + std::to_string(h.level) + " where level " +
+                   std::to_string(next_level_) + " was due");
+  if (h.new_vertices == 0) return corrupt("a layer without points");
+  if (static_cast<uint64_t>(previous_vertices_) + h.new_vertices != h.level_vertices)
+    return corrupt("level vertex count does not add up");
+  if (h.level_vertices > header_.vertex_count)
+    return corrupt("level has more vertices than the finest level");
+  if (h.level == 0 && h.level_vertices != header_.vertex_count)
+    return corrupt("finest level's vertex count differs from the header's");
+  if (std::isnan(h.alpha) || !(h.alpha > 0)) return corrupt("alpha is not positive");
+  if (h.bricked) {
+    if (!(h.kept_radius >= h.alpha)) return corrupt("kept radius below alpha");
+    if (!(header_.flags & kFlagCarvingCorrections) && h.kept_radius != h.alpha)
+      return corrupt("kept radius other than alpha without carving corrections");
+    if (h.brick_depth > kMaxBrickDepth || h.brick_depth > header_.grid.qbits)
+      return corrupt("brick depth out of range");
+    if (previous_vertices_ == 0 && h.brick_depth != 0) return corrupt("a base layer of more than one brick");
+    if (h.chunk_bytes < min_payload_bytes(h.new_vertices))
+      return corrupt("chunks too short for their points");
+  } else {
+    DTM_RETURN_IF_ERROR(check_sections(h));
+  }
+  if (!(header_.flags & kFlagCellHashes) && h.cell_hash != 0)
+    return corrupt("cell hash present without its flag");
+  if (h.level_vertices > max_level_vertices_)
+    return {StatusCode::kLimitExceeded, std::to_string(h.level_vertices) + " vertices exceed the limit of " +
+                                            std::to_string(max_level_vertices_)};
+  return Status::Ok();
+}
+
+// The sections of a layer that is not bricked.
+Status LayerWalk::check_sections(const LayerHeader& h) const {
+  // (With candidates, the payload holds only the points they do not send.)
+  if (h.candidate_kinds == 0 && h.payload_bytes < min_payload_bytes(h.new_vertices))
+    return corrupt("payload too short for its point count");
+  if (!(header_.flags & kFlagCarvingCorrections) && h.carving_bytes != 0)
+    return corrupt("carving corrections present without their flag");
+  if (!(header_.flags & kFlagValues) && h.value_bytes != 0)
+    return corrupt("a value section present without its flag");
+  if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
+  if (h.candidate_kinds != 0 && previous_vertices_ == 0)
+    return corrupt("candidates at the base level, which has no coarser level");
+  if (h.candidate_kinds != 0 && header_.grid.qbits > kMaxCandidateQBits)
+    return corrupt("candidates on a grid of more than 19 bits");
+  if (h.candidate_kinds == 0 && h.candidate_bytes != 0)
+    return corrupt("a candidate section without candidate kinds");
+  return Status::Ok();
+}
+
+Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen) {
+  return walk(bytes, layer, header_seen, true);
+}
+
+Status LayerWalk::next_index(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen) {
+  if (!(header_.flags & kFlagBricks))
+    return {StatusCode::kInvalidInput, "next_index: the layers are not bricked"};
+  return walk(bytes, layer, header_seen, false);
+}
+
+Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen, bool with_chunks) {
+  if (header_seen) *header_seen = false;
+  if (done()) {
+    if (!bytes.empty())
+      return corrupt(std::to_string(bytes.size()) + " bytes of trailing data after the last layer");
+    return {StatusCode::kNeedMoreInput, "complete"};
+  }
+  const uint8_t major = header_.version_major;
+  const bool bricked = header_.flags & kFlagBricks;
+  const size_t header_size = layer_header_size(major, bricked);
+  if (bytes.size() < header_size) return {StatusCode::kNeedMoreInput, "layer header incomplete"};
+  const std::string where = "level " + std::to_string(next_level_) + " at byte " + std::to_string(offset_);
+  layer = Layer{};
+  layer.header = read_fields<LayerHeader>(bytes.first(header_size), major, bricked);
+  layer.offset = offset_;
+  DTM_RETURN_IF_ERROR(check(layer.header).with_context(where));
+  if (header_seen) *header_seen = true;
+  if (bricked) {
+    const LayerHeader& lh = layer.header;
+    const uint64_t needed = with_chunks ? lh.body_bytes() : lh.index_bytes;
+    if (bytes.size() - header_size < needed) return {StatusCode::kNeedMoreInput, "layer incomplete"};
+    layer.index = bytes.subspan(header_size, lh.index_bytes);
+    if (with_chunks) layer.chunks = bytes.subspan(header_size + lh.index_bytes, lh.chunk_bytes);
+    if (xxh3_64(bytes.first(layer_checksum_offset(major, true)), layer.index) != lh.checksum)
+      return corrupt(where + ": layer checksum mismatch");
+    offset_ += header_size + lh.body_bytes();
+    previous_vertices_ = lh.level_vertices;
+    --next_level_;
+    return Status::Ok();
+  }
+  if (bytes.size() - header_size < layer.header.body_bytes())
+    return {StatusCode::kNeedMoreInput, "layer incomplete"};
+  const std::span<const uint8_t> body = bytes.subspan(header_size, layer.header.body_bytes());
+  const LayerHeader& lh = layer.header;
+  layer.candidates = body.first(lh.candidate_bytes);
+  layer.payload = body.subspan(lh.candidate_bytes, lh.payload_bytes);
+  layer.carving = body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes, lh.carving_bytes);
+  layer.values = body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes);
+  if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
+    return corrupt(where + ": layer checksum mismatch");
+  offset_ += header_size + layer.header.body_bytes();
+  previous_vertices_ = layer.header.level_vertices;
+  --next_level_;
+  return Status::Ok();
+}
+
+StreamSummary scan_stream(std::span<const uint8_t> bytes) {
+  StreamSummary s;
+  s.bytes = bytes.size();
+  s.status = parse_header(bytes, s.header);
+  if (!s.status.ok()) {
+    if (s.status.code() == StatusCode::kNeedMoreInput)
+      s.status = {StatusCode::kTruncated, "the stream ends inside its header"};
+    return s;
+  }
+  if (s.header.flags & kFlagValues) {
+    size_t table_bytes = 0;
+    s.status = parse_field_table(bytes.subspan(kHeaderSize), s.fields, table_bytes);
+    if (!s.status.ok()) {
+      if (s.status.code() == StatusCode::kNeedMoreInput)
+        s.status = {StatusCode::kTruncated, "the stream ends inside its field table"};
+      return s;
+    }
+    s.field_table_bytes = table_bytes;
+  }
+  LayerWalk walk(s.header, std::numeric_limits<uint64_t>::max(), s.field_table_bytes);
+  while (true) {
+    const int level = walk.next_level();
+    Layer layer;
+    bool header_seen = false;
+    const Status st = walk.next(bytes.subspan(walk.offset()), layer, &header_seen);
+    if (st.ok()) {
+      s.layers.push_back({layer.header, 0, layer.offset, true, {}});
+      if (layer.header.bricked) {
+        LayerHeader& lh = s.layers.back().header;
+        std::vector<BrickChunk> chunks;
+        s.status =
+            parse_brick_index(layer.index, lh.brick_depth, s.header.grid.qbits, lh.new_vertices,
+                              lh.chunk_bytes, s.header.flags, chunks)
+                .with_context("level " + std::to_string(level) + " at byte " + std::to_string(layer.offset));
+        if (!s.status.ok()) return s;
+        s.layers.back().chunks = chunks.size();
+        for (const BrickChunk& c : chunks)
+          if (s.status = check_chunk(c, layer.chunks.subspan(c.offset, c.size()))
+                             .with_context("level " + std::to_string(level) + " at byte " +
+                                           std::to_string(layer.offset));
+              !s.status.ok())
+            return s;
+        for (const BrickChunk& c : chunks) {
+          lh.payload_bytes += c.payload_bytes, lh.carving_bytes += c.carving_bytes,
+              lh.value_bytes += c.value_bytes;
+          if (s.fields.empty() || c.value_bytes == 0) continue;
+          // Each chunk's value section, its fields' shares added up.
+          std::vector<uint64_t> shares;
+          s.status =
+              value_section_field_bytes(split_chunk(c, layer.chunks.subspan(c.offset, c.size())).values,
+                                        s.fields, shares)
+                  .with_context("level " + std::to_string(level) + ", brick " + std::to_string(c.brick));
+          if (!s.status.ok()) return s;
+          std::vector<uint64_t>& field_bytes = s.layers.back().field_bytes;
+          field_bytes.resize(shares.size(), 0);
+          for (size_t f = 0; f < shares.size(); ++f) field_bytes[f] += shares[f];
+        }
+      } else if (!s.fields.empty()) {
+        s.status = value_section_field_bytes(layer.values, s.fields, s.layers.back().field_bytes);
+        if (!s.status.ok()) return s;
+      }
+      continue;
+    }
+    if (st.code() != StatusCode::kNeedMoreInput) {
+      s.status = st;
+    } else if (!walk.done()) {
+      if (header_seen) s.layers.push_back({layer.header, 0, layer.offset, false, {}});
+      s.status = {StatusCode::kTruncated,
+                  header_seen
+                      ? "the stream ends inside level " + std::to_string(level) + "'s layer"
+                      : "the stream ends in the header of level " + std::to_string(level) + "'s layer"};
+    }
+    return s;
+  }
+}
+
+namespace {
+
+std::array<int32_t, 12> canonical_row(std::span<const GridPoint> points, const std::array<uint32_t, 4>& c) {
+  std::array<GridPoint, 4> q = {points[c[0]], points[c[1]], points[c[2]], points[c[3]]};
+  std::sort(q.begin(), q.end());
+  std::array<int32_t, 12> row;
+  for (int i = 0; i < 4; ++i) row[3 * i] = q[i].x, row[3 * i + 1] = q[i].y, row[3 * i + 2] = q[i].z;
+  return row;
+}
+
+}  // namespace
+
+uint64_t cell_hash_sum(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells) {
+  uint64_t sum = 0;
+  for (const auto& c : cells) {
+    const std::array<int32_t, 12> row = canonical_row(points, c);
+    ByteWriter w;
+    for (int32_t v : row) w.u32(static_cast<uint32_t>(v));
+    sum += xxh3_64(w.data());
+  }
+  return sum;
+}
+
+uint64_t level_cell_hash(uint32_t flags, std::span<const GridPoint> points,
+                         std::span<const std::array<uint32_t, 4>> cells) {
+  return (flags & kFlagBricks) ? cell_hash_sum(points, cells) : cell_set_hash(points, cells);
+}
+
+uint64_t cell_set_hash(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells) {
+  std::vector<std::array<int32_t, 12>> canon;
+  canon.reserve(cells.size());
+  for (const auto& c : cells) canon.push_back(canonical_row(points, c));
+  std::sort(canon.begin(), canon.end());
+  ByteWriter w;
+  for (const auto& row : canon)
+    for (int32_t v : row) w.u32(static_cast<uint32_t>(v));
+  return xxh3_64(w.data());
+}
+
+}  // namespace dtm

@@ -1,0 +1,308 @@
+// The bytes of a .dtm stream, defined once for the encoder, the decoder and
+// meshinfo. spec/FORMAT.md is the normative description; its header tables
+// are checked against the field lists below by tests/test_format_fields.cpp.
+//
+//   stream = header, [field table], layer(L), layer(L-1), ..., layer(0)
+//   header = kHeaderSize bytes (below), ending with its own checksum
+//   field table (5.0, with kFlagValues): codec/sections/value_fields.h
+//   layer  = layer header + candidate section (7.0: new points beside the
+//            coarser level's circumcentres and edge midpoints)
+//            + payload (the level's other new points)
+//            + carving section (4.0: the level's carving corrections)
+//            + value section (5.0: the new points' values)
+//   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
+//            (codec/bricks/bricks.h: each brick's new points and corrections)
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "codec/sections/value_fields.h"
+#include "common/grid.h"
+#include "common/status.h"
+#include "mesh/carving.h"
+
+namespace dtm {
+
+inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0A, 0x1A, 0x0A};
+// The encoder writes the oldest version that says all the stream holds: 7.0
+// when it carries carving corrections (the codec preset, whose layers may
+// send points beside candidates; 6.0's correction contexts), else 5.0 when
+// it carries values, else 4.0; 8.0 when its layers are bricked (kFlagBricks);
+// the decoder reads 2.x to 8.x.
+inline constexpr uint8_t kVersionMajor = 8;
+inline constexpr uint8_t kVersionMajorUnbricked = 7;
+inline constexpr uint8_t kVersionMajorWithValues = 5;
+inline constexpr uint8_t kVersionMajorWithoutValues = 4;
+inline constexpr uint8_t kOldestVersionMajor = 2;  // the decoder also reads 2.x
+inline constexpr uint8_t kVersionMinor = 0;
+inline constexpr uint16_t kFlagCellHashes = 1;  // each layer carries its level's cell-set hash
+// 4.0: layers carry carving corrections (codec/sections/carving_coder.h); without
+// the flag every carving section is empty and alpha alone carves (the paper).
+inline constexpr uint16_t kFlagCarvingCorrections = 2;
+// 5.0: a field table follows the header and layers carry value sections.
+inline constexpr uint16_t kFlagValues = 4;
+// 8.0: every layer is bricked (codec/bricks/bricks.h): an index and one chunk per
+// brick instead of the candidate, payload, carving and value sections.
+inline constexpr uint16_t kFlagBricks = 8;
+// Bricked layers' octree depth: at most 16 per axis, 2^48 bricks, far more
+// than any layer has points (codec/bricks/bricks.h).
+inline constexpr int kMaxBrickDepth = 16;
+inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues | kFlagBricks;
+
+struct StreamHeader {
+  uint8_t version_major = kVersionMajor;
+  uint8_t version_minor = kVersionMinor;
+  Grid grid;
+  AlphaKind alpha_policy = AlphaKind::kPaper;
+  uint16_t flags = 0;
+  uint16_t level_count = 0;
+  uint32_t vertex_count = 0;  // of the finest level (level 0)
+  uint32_t checksum = 0;      // low 32 bits of XXH3-64 of the bytes before it
+};
+
+struct LayerHeader {
+  // Not fields: the stream's major version and whether its layers are
+  // bricked (kFlagBricks), which say which fields follow.
+  uint8_t format_major = kVersionMajor;
+  bool bricked = false;
+  uint16_t level = 0;
+  uint32_t new_vertices = 0;    // points in this layer's payload
+  uint32_t level_vertices = 0;  // |V_level| = the coarser level's count + new_vertices
+  double alpha = 0;             // grid units
+  uint32_t payload_bytes = 0;
+  uint32_t carving_bytes = 0;  // 4.0 and later: the carving section, after the payload
+  uint32_t value_bytes = 0;    // 5.0 and later: the value section, after the carving section
+  // 7.0 and later: which candidates the layer's points are sent beside
+  // (codec/sections/candidate_coder.h; 0 = none, always at the base level) and the
+  // candidate section's size, before the payload.
+  uint8_t candidate_kinds = 0;
+  uint32_t candidate_bytes = 0;
+  // Bricked layers (8.0): the largest circumradius of a kept cell (at least
+  // alpha; larger cells carry no correction bit), the bricks' octree depth,
+  // and the sizes of the index and of the chunks after it.
+  double kept_radius = 0;
+  uint8_t brick_depth = 0;
+  uint32_t index_bytes = 0;
+  uint64_t chunk_bytes = 0;
+  uint64_t cell_hash = 0;  // meaningful with kFlagCellHashes, else 0
+  // XXH3-64 of the header bytes before it and the body (of a bricked layer:
+  // and its index; each chunk has its own checksum in the index).
+  uint64_t checksum = 0;
+
+  uint64_t body_bytes() const {
+    if (bricked) return uint64_t{index_bytes} + chunk_bytes;
+    return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + value_bytes;
+  }
+};
+
+// The fields of each header in stream order, described once: writing,
+// parsing, the sizes and the checksum's place derive from these lists. A
+// field visitor V has
+//   v.magic(name)                        the 8 magic bytes
+//   v.template field<Wire>(name, value)  one little-endian Wire (uint8_t ..
+//                                        uint64_t, double); value may be an
+//                                        int, an enum or a std::array of them
+//   v.template checksum<Wire>(name, value)  the header's checksum, last
+// A field added in a later version is visited only for streams of that
+// version or later.
+template <class V>
+constexpr void visit_fields(StreamHeader& h, V& v) {
+  v.magic("magic");
+  v.template field<uint8_t>("version_major", h.version_major);
+  v.template field<uint8_t>("version_minor", h.version_minor);
+  v.template field<uint8_t>("qbits", h.grid.qbits);
+  v.template field<uint8_t>("alpha_policy", h.alpha_policy);
+  v.template field<uint16_t>("flags", h.flags);
+  v.template field<uint16_t>("level_count", h.level_count);
+  v.template field<uint32_t>("vertex_count", h.vertex_count);
+  v.template field<double>("origin", h.grid.origin);
+  v.template field<double>("step", h.grid.step);
+  v.template checksum<uint32_t>("header_checksum", h.checksum);
+}
+
+template <class V>
+constexpr void visit_fields(LayerHeader& h, V& v) {
+  v.template field<uint16_t>("level", h.level);
+  v.template field<uint32_t>("new_vertices", h.new_vertices);
+  v.template field<uint32_t>("level_vertices", h.level_vertices);
+  v.template field<double>("alpha", h.alpha);
+  if (h.bricked) {
+    v.template field<double>("kept_radius", h.kept_radius);
+    v.template field<uint8_t>("brick_depth", h.brick_depth);
+    v.template field<uint32_t>("index_bytes", h.index_bytes);
+    v.template field<uint64_t>("chunk_bytes", h.chunk_bytes);
+    v.template field<uint64_t>("cell_hash", h.cell_hash);
+    v.template checksum<uint64_t>("layer_checksum", h.checksum);
+    return;
+  }
+  v.template field<uint32_t>("payload_bytes", h.payload_bytes);
+  if (h.format_major >= 4) v.template field<uint32_t>("carving_bytes", h.carving_bytes);
+  if (h.format_major >= 5) v.template field<uint32_t>("value_bytes", h.value_bytes);
+  if (h.format_major >= 7) {
+    v.template field<uint8_t>("candidate_kinds", h.candidate_kinds);
+    v.template field<uint32_t>("candidate_bytes", h.candidate_bytes);
+  }
+  v.template field<uint64_t>("cell_hash", h.cell_hash);
+  v.template checksum<uint64_t>("layer_checksum", h.checksum);
+}
+
+// Counts the bytes of a field list (compile time).
+struct FieldSizer {
+  size_t size = 0;
+  size_t checksum_offset = 0;
+  constexpr void magic(const char*) { size += kMagic.size(); }
+  template <class Wire, class T>
+  constexpr void field(const char*, const T&) {
+    size += sizeof(Wire);
+  }
+  template <class Wire, class T, size_t N>
+  constexpr void field(const char*, const std::array<T, N>&) {
+    size += N * sizeof(Wire);
+  }
+  template <class Wire, class T>
+  constexpr void checksum(const char*, const T&) {
+    checksum_offset = size;
+    size += sizeof(Wire);
+  }
+};
+
+template <class Header>
+constexpr FieldSizer sized(uint8_t format_major = kVersionMajor, bool bricked = false) {
+  Header h{};
+  if constexpr (requires { h.format_major; }) h.format_major = format_major, h.bricked = bricked;
+  FieldSizer s;
+  visit_fields(h, s);
+  return s;
+}
+
+inline constexpr size_t kHeaderSize = sized<StreamHeader>().size;
+// A layer header's size in a stream of this major version.
+constexpr size_t layer_header_size(uint8_t format_major, bool bricked = false) {
+  return sized<LayerHeader>(format_major, bricked).size;
+}
+inline constexpr size_t kLayerHeaderSize = layer_header_size(kVersionMajor);
+inline constexpr size_t kBrickedLayerHeaderSize = layer_header_size(kVersionMajor, true);
+static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_size(4) == 42 &&
+                  layer_header_size(6) == 46 && kLayerHeaderSize == 51 && kBrickedLayerHeaderSize == 55,
+              "the format's header sizes changed");
+
+std::vector<uint8_t> write_header(StreamHeader h);
+// Parses and validates the header at the start of `bytes`. kNeedMoreInput if
+// fewer than kHeaderSize bytes are given.
+Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h);
+
+// The layer header (checksum computed) followed by the candidate section
+// (7.0 and later), the payload, the carving section (4.0 and later) and the
+// value section (5.0 and later).
+std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
+                                 std::span<const uint8_t> carving = {}, std::span<const uint8_t> values = {},
+                                 std::span<const uint8_t> candidates = {});
+
+// Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
+// the checksum computed), the index, the chunks.
+std::vector<uint8_t> write_bricked_layer(LayerHeader h, std::span<const uint8_t> index,
+                                         std::span<const uint8_t> chunks);
+
+// A whole, checksummed layer, as LayerWalk returns it.
+struct Layer {
+  LayerHeader header;
+  std::span<const uint8_t> candidates;
+  std::span<const uint8_t> payload;
+  std::span<const uint8_t> carving;
+  std::span<const uint8_t> values;
+  // A bricked layer's index (checksummed with the header) and chunks (each
+  // checked against its checksum in the index when it is decoded).
+  std::span<const uint8_t> index;
+  std::span<const uint8_t> chunks;
+  uint64_t offset = 0;  // of the layer header in the stream
+  uint64_t size() const {
+    return layer_header_size(header.format_major, header.bricked) + header.body_bytes();
+  }
+};
+
+// Reads the layers of a stream in order, from bytes that may arrive in
+// pieces: the one place where a layer header is checked against the stream
+// header and the layer before it, and its checksum verified. Errors name the
+// level and the byte offset of the layer.
+class LayerWalk {
+ public:
+  // `max_level_vertices`: a level with more vertices is refused
+  // (kLimitExceeded) before its payload is read. `table_bytes`: the field
+  // table's size, between the header and the first layer.
+  explicit LayerWalk(const StreamHeader& header,
+                     uint64_t max_level_vertices = std::numeric_limits<uint64_t>::max(),
+                     uint64_t table_bytes = 0);
+
+  // `bytes` are the stream's bytes from offset() on. ok: `layer` is the next
+  // layer, whole and checksummed, and the walk has moved past it.
+  // kNeedMoreInput: its bytes are not all here; `header_seen` (if given)
+  // says whether its header was, and then `layer.header` holds it. After the
+  // last layer, any byte is trailing data (kCorrupt), none kNeedMoreInput.
+  Status next(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen = nullptr);
+  // A bricked layer from its header and index alone (a region reader, which
+  // reads the chunks it needs elsewhere): `bytes` from offset() on hold at
+  // least the header and index; the walk moves past the whole layer.
+  // layer.chunks is left empty.
+  Status next_index(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen = nullptr);
+
+  bool done() const { return next_level_ < 0; }
+  int next_level() const { return next_level_; }
+  uint64_t offset() const { return offset_; }
+
+ private:
+  Status check(const LayerHeader& h) const;
+  Status check_sections(const LayerHeader& h) const;
+  Status walk(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen, bool with_chunks);
+
+  StreamHeader header_;
+  uint64_t max_level_vertices_;
+  int next_level_;
+  uint32_t previous_vertices_ = 0;
+  uint64_t offset_;
+};
+
+// What a stream holds, read from its headers without decoding any point
+// (meshinfo). Checksums are verified.
+struct LayerSummary {
+  // A bricked layer's (8.0) header holds, besides its own fields, its
+  // chunks' payload and carving bytes added up in payload_bytes and
+  // carving_bytes (once its index is whole), and `chunks` their count.
+  LayerHeader header;
+  uint64_t chunks = 0;
+  uint64_t offset = 0;  // of the layer header in the stream
+  bool complete = false;
+  std::vector<uint64_t>
+      field_bytes;  // complete layers of a 5.0 stream: each field's share of the value section
+  uint64_t size() const {
+    return layer_header_size(header.format_major, header.bricked) + header.body_bytes();
+  }
+};
+struct StreamSummary {
+  StreamHeader header;
+  std::vector<FieldDescription> fields;  // 5.0 with kFlagValues: the field table
+  uint64_t field_table_bytes = 0;
+  std::vector<LayerSummary> layers;  // coarsest first; the last may be incomplete
+  uint64_t bytes = 0;                // bytes given
+  Status status;                     // ok, or why the scan stopped early
+};
+StreamSummary scan_stream(std::span<const uint8_t> bytes);
+
+// A level's canonical cell-set hash: each cell as its four grid points in
+// lexicographic order (12 int32, little-endian), cells in lexicographic
+// order, XXH3-64 of the concatenation.
+uint64_t cell_set_hash(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
+// A bricked stream's (8.0, flag bricks): the wrapping 64-bit sum over the
+// cells of XXH3-64 of each cell's row as above, which parts of the level
+// made apart add up to (spec/FORMAT.md §3.5).
+uint64_t cell_hash_sum(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> cells);
+// The hash a stream with these header flags states for a level.
+uint64_t level_cell_hash(uint32_t flags, std::span<const GridPoint> points,
+                         std::span<const std::array<uint32_t, 4>> cells);
+
+}  // namespace dtm
