@@ -4,6 +4,10 @@ The C++ library is built once per checkout in python/build/cmake (or in
 $DTMESH_CMAKE_BUILD), with position-independent code and without the tests
 and benchmarks, and only the target _dtmesh is asked for: a second
 `pip install` rebuilds what changed, nothing else.
+
+$DTMESH_PREBUILT_MODULE, the path of a _dtmesh module a build of the project
+already made (the test suite's build makes one beside the tools), is
+installed as it is instead: the suite does not build the library twice.
 """
 import os
 import pathlib
@@ -26,6 +30,11 @@ class CMakeExtension(Extension):
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
         target = pathlib.Path(self.get_ext_fullpath(ext.name)).resolve()
+        prebuilt = os.environ.get("DTMESH_PREBUILT_MODULE")
+        if prebuilt:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            self.copy_file(prebuilt, str(target))
+            return
         build = pathlib.Path(os.environ.get("DTMESH_CMAKE_BUILD", HERE / "build" / "cmake"))
         configure = [
             "cmake", "-S", str(ROOT), "-B", str(build),

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The Python package and the ParaView reader as a user gets them (ctest runs
-# each step as a test of its own; README "Python" and "ParaView"):
+# each step as a test of its own; docs/PYTHON.md and docs/PARAVIEW.md):
 #   scripts/test_python.sh install BUILD   a venv over Debian's Python (its
-#       numpy, meshio, pybind11, VTK), and `pip install ./python` into it
+#       numpy, meshio, pybind11, VTK), and `pip install ./python` into it,
+#       with the extension module BUILD made
 #   scripts/test_python.sh pytest BUILD    python/tests against BUILD's tools
 #   scripts/test_python.sh paraview BUILD  pvbatch opens a stream with the
 #       reader plugin, checks it against meshinfo, saves a screenshot
@@ -14,16 +15,17 @@ step="$1"
 build="$(cd "$2" && pwd)"
 python="${DTM_SYSTEM_PYTHON:-/usr/bin/python3}"
 venv="$build/python-venv"
-export DTM_TOOLS="$build/tools" DTM_DATA="${DTM_DATA:-$root/../shared/data}"
+export DTM_TOOLS="$build/tools" DTM_DATA="${DTM_DATA:-$root/data}"
 case "$step" in
   install)
     rm -rf "$venv"
     "$python" -m venv --system-site-packages "$venv"
-    # No build isolation: the build's setuptools and pybind11 are Debian's
-    # (PyPI is not reachable here). The C++ library is built with PIC in
-    # BUILD/python-cmake, once; later installs rebuild what changed.
-    DTMESH_CMAKE_BUILD="$build/python-cmake" "$venv/bin/pip" install --no-build-isolation --no-deps -q \
-      "$root/python"
+    # No build isolation: setuptools and pybind11 are Debian's (PyPI is not
+    # reachable here). The extension module is the one BUILD made from its
+    # own library objects (python/CMakeLists.txt), installed as it is.
+    module=$(ls "$build"/python/_dtmesh*.so 2>/dev/null | head -1)
+    [ -n "$module" ] || { echo "no _dtmesh module in $build/python: is pybind11-dev installed (scripts/setup.sh --all)?" >&2; exit 1; }
+    DTMESH_PREBUILT_MODULE="$module" "$venv/bin/pip" install --no-build-isolation --no-deps -q "$root/python"
     "$venv/bin/python" -c "import dtmesh; print('dtmesh', dtmesh.__version__, 'installed in', '$venv')"
     ;;
   pytest)
@@ -32,8 +34,8 @@ case "$step" in
     ;;
   paraview)
     stream="$build/paraview_reader.dtm"
-    xz -dc "$DTM_DATA/volumes/bunny_10k.node.xz" > "$build/paraview_bunny.node"
-    xz -dc "$DTM_DATA/volumes/bunny_10k.ele.xz" > "$build/paraview_bunny.ele"
+    xz -dc "$DTM_DATA/bunny_10k.node.xz" > "$build/paraview_bunny.node"
+    xz -dc "$DTM_DATA/bunny_10k.ele.xz" > "$build/paraview_bunny.ele"
     "$build/tools/meshenc" "$build/paraview_bunny.node" -q -o "$stream" --box 256 --dmax 2
     # pvbatch runs on Debian's Python: the venv's dtmesh is put on its path.
     site="$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
