@@ -109,6 +109,9 @@ class BrickedEncoder {
   // The base layer is one chunk of depth 0 (§3.5): its carving over the
   // whole coarsest level, on rank 0, sent to every rank.
   StatusOr<std::vector<uint8_t>> base_carving(int level, const BrickedLevel& out);
+  // The stream of the levels built (codec/blocks/bricked_stream_writer.h),
+  // the coarsest one's carving made one chunk first.
+  StatusOr<BrickedEncoding> write(std::vector<BrickedLevel>& levels);
 
   const BrickedEncodeInput& in_;
   const BrickedEncodeOptions& o_;
@@ -381,7 +384,11 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     if (!built) break;
   }
   release(coarser_);
+  return write(levels);
+}
 
+StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& levels) {
+  const HierarchyOptions& h = o_.hierarchy;
   const int coarsest = static_cast<int>(levels.size()) - 1;
   if (levels[coarsest].brick_depth != 0 || levels[coarsest].carving.size() > 1) {
     report_phase(h.on_phase, "the base layer's carving");
