@@ -23,4 +23,5 @@ fi
 "$root/scripts/build.sh"
 "$root/scripts/build_web.sh"
 cd "$root/build"
-ctest --output-on-failure -j "$(nproc)"
+# One job more than cores: many tests wait on processes they start.
+ctest --output-on-failure -j "$(($(nproc) + 1))"

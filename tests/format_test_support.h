@@ -5,27 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <bit>
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "test_support.h"  // run_command()
+
 namespace dtm::test {
-
-struct CommandRun {
-  int status;
-  std::string output;  // stdout and stderr
-};
-
-inline CommandRun run_command(const std::string& cmd) {
-  CommandRun r{-1, {}};
-  std::FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (size_t n = std::fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-  r.status = pclose(p);
-  return r;
-}
 
 // Debian's python3-meshio and python3-vtk9 live in /usr/lib/python3/dist-packages,
 // which only Debian's interpreter sees (a pyenv or venv python3 would not).

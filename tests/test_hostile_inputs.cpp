@@ -83,20 +83,17 @@ TEST(HostileStream, MeshdecAndMeshinfoRefuseTwoSkewLines) {
   std::ofstream(dir + "/skew.dtm", std::ios::binary)
       .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   std::filesystem::remove(dir + "/skew.vtu");
-  const std::string cmd = std::string(DTM_MESHDEC) + " " + dir + "/skew.dtm -o " + dir + "/skew.vtu 2>&1";
-  std::FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[512];
-  while (size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  EXPECT_NE(pclose(p), 0);
-  EXPECT_NE(out.find("cells per vertex"), std::string::npos) << out;
+  const test::CommandRun dec =
+      test::run_command(std::string(DTM_MESHDEC) + " " + dir + "/skew.dtm -o " + dir + "/skew.vtu");
+  EXPECT_NE(dec.status, 0);
+  EXPECT_NE(dec.output.find("cells per vertex"), std::string::npos) << dec.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/skew.vtu"));
   // meshinfo --stats decodes every level too.
-  p = popen((std::string(DTM_MESHINFO) + " " + dir + "/skew.dtm --stats 2>&1").c_str(), "r");
-  out.clear();
-  while (size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  EXPECT_NE(pclose(p), 0);
-  EXPECT_NE(out.find("meshinfo: error: " + dir + "/skew.dtm: level 0: "), std::string::npos) << out;
+  const test::CommandRun info =
+      test::run_command(std::string(DTM_MESHINFO) + " " + dir + "/skew.dtm --stats");
+  EXPECT_NE(info.status, 0);
+  EXPECT_NE(info.output.find("meshinfo: error: " + dir + "/skew.dtm: level 0: "), std::string::npos)
+      << info.output;
 }
 
 TEST(HostileStream, EveryTruncationOfEveryGoldenStreamGivesItsWholeLayers) {
@@ -151,19 +148,6 @@ TEST(HostileStream, DamagedHeaderFieldsAreRejected) {
 
 // ---- meshenc on point sets in degenerate position ----
 
-struct Run {
-  int status;
-  std::string output;
-};
-Run run(const std::string& cmd) {
-  std::FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  Run r{0, {}};
-  char buf[4096];
-  while (size_t n = std::fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-  r.status = pclose(p);
-  return r;
-}
-
 std::string write_node(const std::string& name, const std::vector<std::array<double, 3>>& points) {
   const std::string path = ::testing::TempDir() + "/" + name + ".node";
   std::FILE* f = std::fopen(path.c_str(), "w");
@@ -182,7 +166,7 @@ void expect_error_or_stream(const std::string& path, const std::string& error_pa
                             uint32_t expect_vertices) {
   const std::string out = path + ".dtm";
   std::filesystem::remove(out);
-  const Run enc = run(std::string(DTM_MESHENC) + " " + path + " -q -o " + out);
+  const test::CommandRun enc = test::run_command(std::string(DTM_MESHENC) + " " + path + " -q -o " + out);
   if (error_part == "either" && enc.status != 0) {
     EXPECT_NE(enc.output.find("meshenc: error: " + path), std::string::npos) << enc.output;
     EXPECT_FALSE(std::filesystem::exists(out));

@@ -51,7 +51,7 @@ class ConvertedCorpus : public ::testing::Test {
           test::run_command(test::kPython + " " + DTM_TEST_SOURCE_DIR + "/convert_corpus.py " +
                             test::data_path(std::string(model) + ".node") + " " + dir_ + " " + model);
       ASSERT_EQ(r.status, 0)
-          << "convert_corpus.py failed (scripts/setup.sh installs python3-paraview (VTK) and "
+          << "convert_corpus.py failed (scripts/setup.sh --all installs python3-paraview (VTK) and "
              "python3-meshio):\n"
           << r.output;
     }

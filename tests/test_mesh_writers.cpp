@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "format_test_support.h"
 #include "output_mesh_support.h"
 #include "test_support.h"
 #include "tools/atomic_file.h"
@@ -180,32 +181,18 @@ for da in ET.parse(sys.argv[1]).iter("DataArray"):
 print("end")
 )";
 
-// Debian's python3-meshio lives in /usr/lib/python3/dist-packages, which only
-// Debian's interpreter sees: a `python3` earlier on PATH (pyenv, a venv) would
-// not find it, so call /usr/bin/python3 by name.
-constexpr const char* kPython = "/usr/bin/python3";
-
 std::string meshio_dump(const std::string& vtu) {
   const std::string script = ::testing::TempDir() + "/meshio_dump.py";
   std::ofstream(script) << kMeshioDump;
-  const std::string cmd = std::string(kPython) + " " + script + " " + vtu + " 2>&1";
-  std::string out;
-  std::FILE* p = popen(cmd.c_str(), "r");
-  if (!p) {
-    ADD_FAILURE() << "cannot run " << cmd;
-    return {};
-  }
-  char buf[4096];
-  while (size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  if (status != 0) {
-    ADD_FAILURE() << "meshio could not read " << vtu << " with " << kPython
-                  << ". If python3 or meshio is missing, run scripts/setup.sh (it installs the "
+  const test::CommandRun r = test::run_command(test::kPython + " " + script + " " + vtu);
+  if (r.status != 0) {
+    ADD_FAILURE() << "meshio could not read " << vtu << " with " << test::kPython
+                  << ". If python3 or meshio is missing, run scripts/setup.sh --all (it installs the "
                      "Debian package python3-meshio). Output:\n"
-                  << out;
+                  << r.output;
     return {};
   }
-  return out;
+  return r.output;
 }
 
 // What meshio must report for `m`, in kMeshioDump's layout.

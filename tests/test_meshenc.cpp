@@ -13,28 +13,16 @@
 namespace dtm {
 namespace {
 
-struct ToolRun {
-  int status;
-  std::string output;  // stdout and stderr
-};
+using test::CommandRun;
+using test::run_command;
 
-ToolRun run(const std::string& cmd_without_redirect) {
-  const std::string cmd = cmd_without_redirect + " 2>&1";
-  ToolRun r{0, {}};
-  std::FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (size_t n = std::fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-  r.status = pclose(p);
-  return r;
-}
-
-ToolRun meshenc(const std::string& args) { return run(std::string(DTM_MESHENC) + " " + args); }
+CommandRun meshenc(const std::string& args) { return run_command(std::string(DTM_MESHENC) + " " + args); }
 const std::string kMeshdec = DTM_MESHDEC;
 const std::string kMeshinfo = DTM_MESHINFO;
 
 TEST(Meshenc, WritesTheReportWithTheAgreedFieldNames) {
   const std::string report = ::testing::TempDir() + "/torus.json";
-  const ToolRun r =
+  const CommandRun r =
       meshenc(test::data_path("torus_288.node") + " --scale 25 --dmax 3 --preset paper --report " + report);
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("level"), std::string::npos);
@@ -62,7 +50,7 @@ TEST(Meshenc, BadInputFailsClearlyAndLeavesNoReport) {
                            "all_equal.node", "does_not_exist.node"}) {
     std::filesystem::remove(report);
     const std::string path = std::string(DTM_TEST_SOURCE_DIR) + "/bad/" + name;
-    const ToolRun r = meshenc(path + " --report " + report);
+    const CommandRun r = meshenc(path + " --report " + report);
     EXPECT_NE(r.status, 0) << name;
     EXPECT_NE(r.output.find("meshenc: error: " + path), std::string::npos) << r.output;
     EXPECT_FALSE(std::filesystem::exists(report)) << name;
@@ -82,10 +70,10 @@ class Tools : public ::testing::Test {
     dir_ = ::testing::TempDir() + "/tools";
     std::filesystem::create_directories(dir_);
     stream_ = dir_ + "/bunny.dtm";
-    const ToolRun r =
+    const CommandRun r =
         meshenc(test::data_path("bunny_10k.node") + " --box 256 --dmax 2 --hash-cells -q -o " + stream_);
     ASSERT_EQ(r.status, 0) << r.output;
-    const ToolRun info = run(kMeshinfo + " " + stream_ + " --json");
+    const CommandRun info = run_command(kMeshinfo + " " + stream_ + " --json");
     ASSERT_EQ(info.status, 0) << info.output;
     const auto j = nlohmann::json::parse(info.output);
     levels_ = j["level_count"].get<int>();
@@ -102,7 +90,7 @@ int Tools::levels_ = 0;
 size_t Tools::half_finest_ = 0;
 
 TEST_F(Tools, MeshdecWritesEveryFormatAndVerifiesTheLevels) {
-  ToolRun r = run(kMeshdec + " " + stream_ + " -o " + dir_ + "/fine.node --verify");
+  CommandRun r = run_command(kMeshdec + " " + stream_ + " -o " + dir_ + "/fine.node --verify");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("verified " + std::to_string(levels_) + " levels"), std::string::npos) << r.output;
   const NodeFile fine = read_tetgen_node(dir_ + "/fine.node");
@@ -112,15 +100,15 @@ TEST_F(Tools, MeshdecWritesEveryFormatAndVerifiesTheLevels) {
   // centroid lies in it make 57570.
   EXPECT_EQ(read_tetgen_ele(dir_ + "/fine.ele", fine.points.size()).size(), 57570u);
 
-  r = run(kMeshdec + " " + stream_ + " -o " + dir_ + "/l3.vtu --level 3");
+  r = run_command(kMeshdec + " " + stream_ + " -o " + dir_ + "/l3.vtu --level 3");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("level 3: "), std::string::npos) << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir_ + "/l3.vtu"));
 }
 
 TEST_F(Tools, ALevelTheStreamDoesNotHaveIsAnError) {
-  const ToolRun r =
-      run(kMeshdec + " " + stream_ + " -o " + dir_ + "/none.vtu --level " + std::to_string(levels_));
+  const CommandRun r =
+      run_command(kMeshdec + " " + stream_ + " -o " + dir_ + "/none.vtu --level " + std::to_string(levels_));
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("levels 0 to " + std::to_string(levels_ - 1)), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/none.vtu"));
@@ -128,8 +116,8 @@ TEST_F(Tools, ALevelTheStreamDoesNotHaveIsAnError) {
 
 TEST_F(Tools, TruncatedInputDecodesWhatItHolds) {
   // Cut half way through the finest layer: every level but the finest.
-  const ToolRun r = run("head -c " + std::to_string(half_finest_) + " " + stream_ + " | " + kMeshdec +
-                        " - -o " + dir_ + "/cut.vtu");
+  const CommandRun r = run_command("head -c " + std::to_string(half_finest_) + " " + stream_ + " | " +
+                                   kMeshdec + " - -o " + dir_ + "/cut.vtu");
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("truncated"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("writing level 1"), std::string::npos) << r.output;
@@ -139,7 +127,7 @@ TEST_F(Tools, TruncatedInputDecodesWhatItHolds) {
 TEST_F(Tools, DamagedOrForeignInputFailsAndWritesNothing) {
   const std::string out = dir_ + "/never.vtu";
   std::filesystem::remove(out);
-  ToolRun r = run("printf 'not a stream' | " + kMeshdec + " - -o " + out);
+  CommandRun r = run_command("printf 'not a stream' | " + kMeshdec + " - -o " + out);
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("not a .dtm stream"), std::string::npos) << r.output;
   // One flipped byte in the middle of the stream: a damaged layer.
@@ -150,14 +138,14 @@ TEST_F(Tools, DamagedOrForeignInputFailsAndWritesNothing) {
     f.seekp(20000);
     f.put('\x5a');
   }
-  r = run(kMeshdec + " " + damaged + " -o " + out);
+  r = run_command(kMeshdec + " " + damaged + " -o " + out);
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("checksum mismatch"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST_F(Tools, MeshinfoJsonDescribesTheStreamWithoutDecoding) {
-  const ToolRun r = run(kMeshinfo + " " + stream_ + " --json");
+  const CommandRun r = run_command(kMeshinfo + " " + stream_ + " --json");
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   EXPECT_EQ(j["qbits"], 14);
@@ -177,8 +165,8 @@ TEST_F(Tools, MeshinfoJsonDescribesTheStreamWithoutDecoding) {
 }
 
 TEST_F(Tools, EncoderAndDecoderPipe) {
-  const ToolRun r = run(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") + " -o - | " +
-                        kMeshdec + " - -o - --format vtu-ascii | head -c 200");
+  const CommandRun r = run_command(std::string(DTM_MESHENC) + " " + test::data_path("torus_288.node") +
+                                   " -o - | " + kMeshdec + " - -o - --format vtu-ascii | head -c 200");
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("UnstructuredGrid"), std::string::npos) << r.output;
 }

@@ -140,7 +140,8 @@ Dump independent_read(const std::string& reader, const std::string& path) {
       test::run_command(test::kPython + " " + DTM_TEST_SOURCE_DIR + "/dump_mesh.py " + reader + " " + path);
   Dump d;
   if (r.status != 0) {
-    ADD_FAILURE() << reader << " could not read " << path << " (scripts/setup.sh installs python3-meshio and "
+    ADD_FAILURE() << reader << " could not read " << path
+                  << " (scripts/setup.sh --all installs python3-meshio and "
                   << "python3-paraview, whose Python has VTK):\n"
                   << r.output.substr(0, 2000);
     return d;
@@ -259,7 +260,7 @@ TEST(OutputFormats, GmshOpensOurMshAndMeditFiles) {
     SCOPED_TRACE(name);
     const std::string back = ::testing::TempDir() + "/" + name + ".gmsh22.msh";
     const auto r = test::run_command("gmsh -v 2 " + write(m, format, name) + " -0 -format msh22 -o " + back);
-    ASSERT_EQ(r.status, 0) << "gmsh failed (scripts/setup.sh installs it):\n" << r.output;
+    ASSERT_EQ(r.status, 0) << "gmsh failed (scripts/setup.sh --all installs it):\n" << r.output;
     EXPECT_EQ(r.output.find("rror"), std::string::npos) << r.output;
     const InputMesh g = read_input(back);
     ASSERT_EQ(g.points.size(), m.points.size());

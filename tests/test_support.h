@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <random>
 #include <set>
 #include <string>
@@ -19,6 +20,22 @@ inline const std::vector<std::string> kCorpus = {"torus_288", "bunny_10k", "elep
                                                  "hand_10k",  "knot1_10k", "torus_10k",    "triceratops_10k"};
 
 inline std::string data_path(const std::string& name) { return std::string(DTM_TEST_DATA_DIR) + "/" + name; }
+
+// A command run through the shell, as a user runs the tools: its exit
+// status (pclose's; -1 if it could not start) and what it printed.
+struct CommandRun {
+  int status;
+  std::string output;  // stdout and stderr
+};
+inline CommandRun run_command(const std::string& cmd) {
+  CommandRun r{-1, {}};
+  std::FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (size_t n = std::fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+  r.status = pclose(p);
+  return r;
+}
 
 inline QuantizedPoints load_quantized(const std::string& model, int qbits = 14) {
   return quantize(read_tetgen_node(data_path(model + ".node")).points, qbits).value();

@@ -30,5 +30,8 @@ foreach(test wasm_equivalence cells viewer gltf)
   set_tests_properties(web_${test} PROPERTIES
     ENVIRONMENT "${web_environment}" FIXTURES_REQUIRED "web_streams;web_dist" TIMEOUT 900)
 endforeach()
-# Chromium wants both cores for itself.
-set_tests_properties(web_viewer web_gltf PROPERTIES RUN_SERIAL TRUE)
+# The longest tests of the suite start first (ctest runs the costliest
+# first), beside the others: Chromium's software rendering leaves a core's
+# worth of room, and every wait in the page has a deadline of minutes.
+set_tests_properties(web_viewer PROPERTIES COST 120)
+set_tests_properties(web_gltf PROPERTIES COST 20)
