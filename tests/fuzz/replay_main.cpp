@@ -1,19 +1,30 @@
 // Runs a fuzz target on the files of a corpus, without libFuzzer: the seed
 // corpus and every past finding then run under ctest with any compiler.
-// Usage: replay_<target> FILE_OR_DIR...
+// Usage: replay_fuzz TARGET FILE_OR_DIR... (every target is linked in; the
+// build renames each one's LLVMFuzzerTestOneInput, tests/fuzz/CMakeLists.txt).
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string_view>
 #include <vector>
 
-extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
+#include "replay_targets.h"
 
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;
+  const ReplayTarget* target = nullptr;
+  for (const ReplayTarget& t : kReplayTargets)
+    if (argc > 1 && std::string_view(argv[1]) == t.name) target = &t;
+  if (!target) {
+    std::fprintf(stderr, "usage: replay_fuzz TARGET FILE_OR_DIR...; the targets:");
+    for (const ReplayTarget& t : kReplayTargets) std::fprintf(stderr, " %s", t.name);
+    std::fprintf(stderr, "\n");
+    return 2;
+  }
   size_t runs = 0;
-  for (int i = 1; i < argc; ++i) {
+  for (int i = 2; i < argc; ++i) {
     std::vector<fs::path> files;
     if (fs::is_directory(argv[i])) {
       for (const auto& e : fs::recursive_directory_iterator(argv[i]))
@@ -28,7 +39,7 @@ int main(int argc, char** argv) {
         return 2;
       }
       const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
-      LLVMFuzzerTestOneInput(bytes.data(), bytes.size());
+      target->run(bytes.data(), bytes.size());
       ++runs;
     }
   }
@@ -36,6 +47,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "replay: no input files\n");
     return 2;
   }
-  std::printf("replay: %zu inputs, no finding\n", runs);
+  std::printf("replay: %s: %zu inputs, no finding\n", target->name, runs);
   return 0;
 }
