@@ -1,5 +1,5 @@
-// Runs independent work on every core (at most 8 threads; one in a
-// WebAssembly build).
+// Runs independent work on the cores the process was given (at most 8
+// threads; common/threads.h; one in a WebAssembly build).
 #pragma once
 
 #include <algorithm>
@@ -7,9 +7,11 @@
 #include <thread>
 #include <vector>
 
+#include "common/threads.h"
+
 namespace dtm {
 
-// Runs body(i) for i in [0, n), each once, on every core. body(0) runs
+// Runs body(i) for i in [0, n), each once, on thread_count() threads. body(0) runs
 // first, alone: a CGAL tree builds its search structures on its first
 // query, after which it is read-only and safe to share. The others are
 // dealt out in turn (thread t takes t + 1, t + 1 + threads, ...), so that
@@ -19,12 +21,7 @@ template <typename Body>
 void parallel_for(size_t n, const Body& body, size_t serial_below = 2) {
   if (n == 0) return;
   body(0);
-#ifdef __EMSCRIPTEN__
-  // One WebAssembly decoder per worker, built without threads.
-  const size_t threads = 1;
-#else
-  const size_t threads = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 8);
-#endif
+  const size_t threads = std::clamp<size_t>(static_cast<size_t>(thread_count()), 1, 8);
   if (threads == 1 || n < serial_below) {
     for (size_t i = 1; i < n; ++i) body(i);
     return;

@@ -9,17 +9,23 @@
 #include <CGAL/spatial_sort.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
 #include <exception>
+#include <random>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "common/parallel_for.h"
+#include "common/threads.h"
 
 #ifdef CGAL_LINKED_WITH_TBB
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/scalable_allocator.h>
+#include <oneapi/tbb/task_arena.h>
 #endif
 
 namespace dtm {
@@ -35,12 +41,19 @@ using Cb = CGAL::Triangulation_cell_base_with_info_3<CellTag, K, CGAL::Delaunay_
 #ifdef CGAL_LINKED_WITH_TBB
 // Large batches are inserted by TBB's threads, each locking the cells it
 // changes; the cells do not depend on the order (docs/ARCHITECTURE.md §5).
+// The locks never wait: CGAL's default grid (Tag_priority_blocking) has a
+// thread spin, yielding, until a lower-priority holder lets go, and with
+// more threads than cores the holder is the one not running
+// (insert_sorted_in_parallel() says what that cost). A lock that is taken
+// fails at once, and the inserting thread backs off (retry_backoff()).
 using Concurrency = CGAL::Parallel_tag;
-#else
-using Concurrency = CGAL::Sequential_tag;
-#endif
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb, Concurrency>;
+using DT =
+    CGAL::Delaunay_triangulation_3<K, Tds, CGAL::Default, CGAL::Spatial_lock_grid_3<CGAL::Tag_non_blocking>>;
+#else
+using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb, CGAL::Sequential_tag>;
 using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
+#endif
 // The small triangulations of cavity_fill stay sequential: a few dozen points.
 using SmallTds = CGAL::Triangulation_data_structure_3<
     CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>,
@@ -107,12 +120,34 @@ Status insert_in_order(DT& dt, size_t n, ItemOf&& item_of) {
   return check_cells(dt);
 }
 
+#ifdef CGAL_LINKED_WITH_TBB
+// After a thread's `failures`-th failed attempt at a point (another thread
+// holds some of its cells): a few yields, then sleeps of a random length
+// that doubles up to about a millisecond. The holder may be a thread that
+// is not running (more threads than cores, another process's); a retry at
+// once would take the core it needs. Random, so that two threads that met
+// do not meet again at once.
+void retry_backoff(int failures) {
+  if (failures <= 3) {
+    std::this_thread::yield();
+    return;
+  }
+  thread_local std::minstd_rand random(
+      static_cast<uint32_t>(std::hash<std::thread::id>{}(std::this_thread::get_id())));
+  const uint32_t longest = 2u << std::min(failures - 4, 9);  // microseconds: 2 .. 1024
+  std::this_thread::sleep_for(std::chrono::microseconds(1 + random() % longest));
+}
+
 // CGAL's parallel range insertion (Delaunay_triangulation_3::insert_with_info)
 // on points already in spatial order: each thread takes a run of
 // consecutive points, each located from the thread's previous one, and
-// retries a point whose cells another thread holds. CGAL's own call would
-// copy the slice and sort it again (a shuffle and a multiscale sort).
-#ifdef CGAL_LINKED_WITH_TBB
+// retries a point whose cells another thread holds, backing off first.
+// CGAL's own call would copy the slice and sort it again (a shuffle and a
+// multiscale sort), and retries at once: with its blocking locks and no
+// back-off, 300k points took 3.7 s on 2 threads on 2 cores and did not end
+// in 120 s on 8 (an MPI rank per core's share, each with a pool the size of
+// the node, is that case: docs/ARCHITECTURE.md §5.9); with neither, 3.4 s
+// on 2 to 32 threads.
 template <class Item>
 void insert_sorted_in_parallel(DT& dt, std::span<const Item> items) {
   // Every thread starts from some vertex; then from its previous point.
@@ -122,7 +157,7 @@ void insert_sorted_in_parallel(DT& dt, std::span<const Item> items) {
     DT::Vertex_handle& hint = hints.local();
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Point& p = items[i].first;
-      for (;;) {
+      for (int failures = 0;; retry_backoff(++failures)) {
         if (dt.try_lock_vertex(hint) && dt.try_lock_point(p)) {
           bool could_lock_zone = false;
           const DT::Vertex_handle v = dt.insert(p, hint, &could_lock_zone);
@@ -158,34 +193,39 @@ Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const u
   for (size_t i = 0; i < points.size(); ++i) batch.emplace_back(to_point(points[i]), ids[i]);
   using SortTraits = CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<Item>>;
 #ifdef CGAL_LINKED_WITH_TBB
-  if (batch.size() >= kParallelBatch) {
-    CGAL::spatial_sort<CGAL::Parallel_tag>(batch.begin(), batch.end(), SortTraits());
-    // The first points one by one, while the triangulation is small or flat:
-    // the threads need a 3D triangulation to lock, with room for both.
-    const size_t held = dt.number_of_vertices();
-    size_t done = held >= kParallelStart ? 0 : std::min(batch.size(), kParallelStart - held);
-    DTM_RETURN_IF_ERROR(insert_in_order(dt, done, [&](size_t i) { return batch[i]; }));
-    for (; done < batch.size() && dt.dimension() < 3; ++done)
-      DTM_RETURN_IF_ERROR(insert_in_order(dt, 1, [&](size_t) { return batch[done]; }));
-    CGAL::Bbox_3 box;
-    for (const GridPoint& p : points) box += to_point(p).bbox();
-    for (auto v : dt.finite_vertex_handles()) box += v->point().bbox();
-    typename DT::Lock_data_structure locks(box, 50);
-    // The triangulation must not keep the locks past this scope, even when
-    // CGAL throws (out of memory).
-    struct Unlock {
-      DT& dt;
-      ~Unlock() { dt.set_lock_data_structure(nullptr); }
-    } unlock{dt};
-    dt.set_lock_data_structure(&locks);
-    while (done < batch.size()) {
-      const size_t slice =
-          std::min(batch.size() - done, std::max<size_t>(kParallelStart, dt.number_of_vertices() / 8));
-      insert_sorted_in_parallel(dt, std::span<const Item>(batch).subspan(done, slice));
-      done += slice;
-      DTM_RETURN_IF_ERROR(check_cells(dt));
-    }
-    return Status::Ok();
+  const int threads = thread_count();
+  if (batch.size() >= kParallelBatch && threads > 1 && !getenv("DTM_SEQ_DT")) {
+    // TBB's threads, as many as the process was given (common/threads.h).
+    tbb::task_arena arena(threads);
+    return arena.execute([&]() -> Status {
+      CGAL::spatial_sort<CGAL::Parallel_tag>(batch.begin(), batch.end(), SortTraits());
+      // The first points one by one, while the triangulation is small or flat:
+      // the threads need a 3D triangulation to lock, with room for both.
+      const size_t held = dt.number_of_vertices();
+      size_t done = held >= kParallelStart ? 0 : std::min(batch.size(), kParallelStart - held);
+      DTM_RETURN_IF_ERROR(insert_in_order(dt, done, [&](size_t i) { return batch[i]; }));
+      for (; done < batch.size() && dt.dimension() < 3; ++done)
+        DTM_RETURN_IF_ERROR(insert_in_order(dt, 1, [&](size_t) { return batch[done]; }));
+      CGAL::Bbox_3 box;
+      for (const GridPoint& p : points) box += to_point(p).bbox();
+      for (auto v : dt.finite_vertex_handles()) box += v->point().bbox();
+      typename DT::Lock_data_structure locks(box, 50);
+      // The triangulation must not keep the locks past this scope, even when
+      // CGAL throws (out of memory).
+      struct Unlock {
+        DT& dt;
+        ~Unlock() { dt.set_lock_data_structure(nullptr); }
+      } unlock{dt};
+      dt.set_lock_data_structure(&locks);
+      while (done < batch.size()) {
+        const size_t slice =
+            std::min(batch.size() - done, std::max<size_t>(kParallelStart, dt.number_of_vertices() / 8));
+        insert_sorted_in_parallel(dt, std::span<const Item>(batch).subspan(done, slice));
+        done += slice;
+        DTM_RETURN_IF_ERROR(check_cells(dt));
+      }
+      return Status::Ok();
+    });
   }
 #endif
   CGAL::spatial_sort(batch.begin(), batch.end(), SortTraits());
@@ -201,9 +241,46 @@ std::array<uint32_t, 4> sorted_ids(DT::Cell_handle c) {
   return sorted_ids({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()});
 }
 
+// Which corner of a cell comes first, second, ...: identity for an export
+// as built; for a canonical one, the smallest id first and the other three
+// turned so that the smallest of them is second (an even permutation: the
+// orientation stays positive). CGAL's cell holds its corners in some
+// rotation that follows the order the points went in, which a parallel
+// insertion varies; what is computed in floating point on a cell's corners
+// in their order (a circumcentre, a triangle's distance) must not.
+using Corners = std::array<int, 4>;
+Corners canonical_corners(DT::Cell_handle c) {
+  std::array<uint32_t, 4> id;
+  for (int i = 0; i < 4; ++i) id[i] = c->vertex(i)->info();
+  Corners p = {0, 1, 2, 3};
+  const int m = static_cast<int>(std::min_element(id.begin(), id.end()) - id.begin());
+  if (m != 0) {
+    // Two swaps: the smallest to the front, and the two corners left alone.
+    std::swap(p[0], p[m]);
+    const int x = m == 1 ? 2 : 1, y = m == 3 ? 2 : 3;
+    std::swap(p[x], p[y]);
+  }
+  if (id[p[2]] < id[p[1]] && id[p[2]] < id[p[3]])
+    p = {p[0], p[2], p[3], p[1]};
+  else if (id[p[3]] < id[p[1]] && id[p[3]] < id[p[2]])
+    p = {p[0], p[3], p[1], p[2]};
+  return p;
+}
+Corners corners_as_built(DT::Cell_handle) { return {0, 1, 2, 3}; }
+
+// Writes cell c into out at index k, its corners in the order `p` gives.
+void write_cell(DT::Cell_handle c, const Corners& p, TetMesh& out, size_t k) {
+  for (int i = 0; i < 4; ++i) {
+    out.cells[k][i] = c->vertex(p[i])->info();
+    out.neighbors[k][i] = c->neighbor(p[i])->info().index;
+  }
+}
+
 // The cells of `handles`, in that order, as vertex ids and neighbour tags
-// (each handle's tag already set to its position, -1 for infinite cells).
-TetMesh cells_of(const std::vector<DT::Cell_handle>& handles) {
+// (each handle's tag already set to its position, -1 for infinite cells),
+// each cell's corners in the order corners_of gives.
+template <class CornersOf>
+TetMesh cells_of(const std::vector<DT::Cell_handle>& handles, CornersOf corners_of) {
   TetMesh out;
   const size_t m = handles.size();
   out.cells.resize(m);
@@ -212,10 +289,7 @@ TetMesh cells_of(const std::vector<DT::Cell_handle>& handles) {
   parallel_for((m + kBlock - 1) / kBlock,
                [&](size_t block) {
                  for (size_t k = block * kBlock; k < std::min(m, block * kBlock + kBlock); ++k)
-                   for (int i = 0; i < 4; ++i) {
-                     out.cells[k][i] = handles[k]->vertex(i)->info();
-                     out.neighbors[k][i] = handles[k]->neighbor(i)->info().index;
-                   }
+                   write_cell(handles[k], corners_of(handles[k]), out, k);
                },
                2);
   return out;
@@ -232,13 +306,14 @@ TetMesh export_as_built(DT& dt) {
     c->info().index = dt.is_infinite(c) ? -1 : static_cast<int32_t>(handles.size());
     if (!dt.is_infinite(c)) handles.push_back(c);
   }
-  return cells_of(handles);
+  return cells_of(handles, corners_as_built);
 }
 
 // The finite cells in the canonical order (topology.h: by their sorted vertex
-// ids), whatever order the triangulation holds them in (after a parallel
-// insertion, the threads' order): everything computed from an exported mesh
-// is then the same on every run. The cells are grouped by their smallest
+// ids), each one's corners turned by canonical_corners, whatever order the
+// triangulation holds them in (after a parallel insertion, the threads'
+// order): everything computed from an exported mesh is then the same on
+// every run. The cells are grouped by their smallest
 // vertex as CGAL lists them (a counting sort), each vertex's few sorted on
 // every core, and written out in that order. Each cell's tag becomes its
 // index; `previous`, if given, receives each cell's tag before (-1: new).
@@ -295,7 +370,7 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
                  }
                },
                2);
-  return cells_of(handles);
+  return cells_of(handles, canonical_corners);
 }
 
 // The canonical export again after local edits, given `before`, the last
@@ -333,7 +408,8 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   size_t k = 0, j = 0;
   auto take_made = [&] {
     const DT::Cell_handle c = made[j++].second;
-    for (int f = 0; f < 4; ++f) out.cells[k][f] = c->vertex(f)->info();
+    const Corners p = canonical_corners(c);
+    for (int f = 0; f < 4; ++f) out.cells[k][f] = c->vertex(p[f])->info();
     c->info().index = -2 - static_cast<int32_t>(k++);
   };
   for (size_t i = 0; i < old_count; ++i) {
@@ -379,12 +455,12 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
                  }
                },
                2);
+  // (An old cell's corners in `before` are in the canonical rotation too,
+  // which is a function of the cell alone.)
   for (const auto& [key, c] : made)
-    for (int f = 0; f < 4; ++f)
-      out.neighbors[static_cast<size_t>(c->info().index)][f] = c->neighbor(f)->info().index;
+    write_cell(c, canonical_corners(c), out, static_cast<size_t>(c->info().index));
   for (DT::Cell_handle c : bordering)
-    for (int f = 0; f < 4; ++f)
-      out.neighbors[static_cast<size_t>(c->info().index)][f] = c->neighbor(f)->info().index;
+    write_cell(c, canonical_corners(c), out, static_cast<size_t>(c->info().index));
   return out;
 }
 

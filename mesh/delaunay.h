@@ -22,8 +22,10 @@ namespace dtm {
 
 // A tetrahedralization detached from CGAL. Vertex indices are the caller's
 // ids; cells are positively oriented. Those this file exports are in the
-// canonical order (mesh/topology.h: by sorted vertex ids), whatever order
-// the insertions left them in, unless asked for as built.
+// canonical order (mesh/topology.h: by sorted vertex ids), each cell's
+// corners in one rotation (the smallest id first), whatever order the
+// insertions left them in, unless asked for as built: what is computed from
+// an exported mesh is then the same on every run and any number of threads.
 struct TetMesh {
   std::vector<std::array<uint32_t, 4>> cells;
   // neighbors[c][i]: the cell sharing the face of c opposite its vertex i,

@@ -18,6 +18,7 @@
 #include "tools/formats/surface_writers.h"
 #include "tools/mpi_session.h"
 #include "tools/stream_input.h"
+#include "tools/thread_budget.h"
 #include "tools/tool_main.h"
 
 namespace {
@@ -54,6 +55,7 @@ struct Command {
   uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
   std::vector<double> box;
   int pieces = 0;
+  int threads = 0;  // --threads; 0: the process's share of its cores
 };
 
 void add_options(CLI::App& app, Command& c) {
@@ -90,6 +92,7 @@ void add_options(CLI::App& app, Command& c) {
          "under mpirun, else 1); every cell is in exactly one piece (a bricked stream: meshenc --bricks)")
       ->check(CLI::Range(1, 1 << 20));
   app.add_flag("-q,--quiet", c.quiet, "no notes on stderr");
+  dtm::add_threads_option(app, c.threads);
 }
 
 dtm::MeshFormat output_format(const Command& c) {
@@ -300,6 +303,7 @@ int run_region(const Command& c, dtm::MeshFormat format) {
 }
 
 int run(const Command& c) {
+  const dtm::ThreadBudget threads(c.threads, dtm::mpi_session().cores_share());
   if (ends_with(c.output, ".pvtu")) return run_pieces(c);
   if (c.pieces > 0) throw std::invalid_argument("--pieces writes a .pvtu: -o X.pvtu");
   const dtm::MeshFormat format = output_format(c);

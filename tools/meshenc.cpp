@@ -20,6 +20,7 @@
 #include "tools/mpi_session.h"
 #include "tools/phase_display.h"
 #include "tools/report.h"
+#include "tools/thread_budget.h"
 #include "tools/tool_main.h"
 
 namespace {
@@ -66,6 +67,7 @@ struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
   std::optional<double> removal_share, quality_ratio, quality_guard, quality_floor;
   bool quiet = false, no_reference = false, no_fields = false, verbose = false;
+  int threads = 0;                        // --threads; 0: the process's share of its cores
   std::vector<std::string> field_errors;  // NAME=E
   dtm::VolumeOptions volume;
   dtm::EncodeOptions encode;
@@ -185,6 +187,7 @@ void add_options(CLI::App& app, Command& c) {
   app.add_flag("-v,--verbose", c.verbose,
                "print each phase of the work on standard error, with how long it took and the memory in use "
                "(under mpirun, every rank its own, each line begun 'rank R/P:')");
+  dtm::add_threads_option(app, c.threads);
 }
 
 dtm::InputMesh read(const Command& c) {
@@ -334,6 +337,7 @@ int run(Command& c) {
   // Under mpirun every rank reads the input and builds its share of the
   // blocks; rank 0 writes the stream, the same bytes as one process writes.
   dtm::MpiSession& mpi = dtm::mpi_session();
+  const dtm::ThreadBudget threads(c.threads, mpi.cores_share());
   if (mpi.size() > 1) {
     if (!c.encode.bricks)
       throw std::invalid_argument("under mpirun, meshenc writes a bricked stream: add --bricks");
@@ -362,7 +366,9 @@ int run(Command& c) {
   dtm::PhaseDisplay display(
       !c.quiet && isatty(STDERR_FILENO), c.verbose,
       mpi.size() > 1 ? "rank " + std::to_string(mpi.rank()) + "/" + std::to_string(mpi.size()) + ": " : "");
-  display.start("reading " + c.input);
+  const int threads_used = dtm::thread_count();
+  display.start("reading " + c.input + " (" + std::to_string(threads_used) +
+                (threads_used == 1 ? " thread)" : " threads)"));
   dtm::InputMesh in = read(c);
   display.start("quantizing");
   dtm::EncodeInput input;

@@ -9,6 +9,7 @@
 #include "codec/stream/format.h"
 #include "tools/stream_info.h"
 #include "tools/stream_input.h"
+#include "tools/thread_budget.h"
 #include "tools/tool_main.h"
 
 namespace {
@@ -72,15 +73,18 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
 struct Command {
   std::string input;
   bool json = false, stats = false;
+  int threads = 0;  // --threads; 0: the cores this process was given
 };
 
 void add_options(CLI::App& app, Command& c) {
   app.add_option("input", c.input, ".dtm stream ('-' = standard input)")->required();
   app.add_flag("--json", c.json, "print JSON");
   app.add_flag("--stats", c.stats, "decode every level and add its quality figures");
+  dtm::add_threads_option(app, c.threads);
 }
 
 int run(const Command& c) {
+  const dtm::ThreadBudget threads(c.threads, dtm::cores_given());
   const std::string& input = c.input;
   std::vector<uint8_t> bytes;
   dtm::read_in_chunks(input, [&](std::span<const uint8_t> chunk) {

@@ -11,9 +11,13 @@
 #include <vector>
 
 #include "common/exchange.h"
+#include "common/threads.h"
 
 #ifdef DTM_WITH_MPI
 #include <mpi.h>
+#ifdef __linux__
+#include <sched.h>
+#endif
 #endif
 
 namespace dtm {
@@ -28,6 +32,7 @@ class MpiSession : public RankExchange {
       active_ = true;
       MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
       MPI_Comm_size(MPI_COMM_WORLD, &size_);
+      cores_share_ = node_share();
     }
 #else
     (void)argc, (void)argv;
@@ -43,6 +48,11 @@ class MpiSession : public RankExchange {
 
   int rank() const override { return rank_; }
   int size() const override { return size_; }
+  // The threads this rank's share of its cores allows: the cores of its
+  // affinity mask over the ranks on its node whose masks meet it (with
+  // `--bind-to none` every rank has the node's cores: each gets 1/P of
+  // them; bound to a core, each its core); cores_given() when alone.
+  int cores_share() const { return cores_share_ > 0 ? cores_share_ : cores_given(); }
   // RankExchange: MPI_Allgatherv of every rank's bytes (at most 2 GiB from
   // one rank at a time: MPI counts are ints).
   std::vector<std::vector<uint8_t>> all_gather(std::span<const uint8_t> mine) override {
@@ -97,6 +107,36 @@ class MpiSession : public RankExchange {
   }
 
  private:
+#ifdef DTM_WITH_MPI
+  static int node_share() {
+    MPI_Comm node;
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+    int ranks = 1;
+    MPI_Comm_size(node, &ranks);
+    int share = cores_given();
+#ifdef __linux__
+    cpu_set_t mine;
+    CPU_ZERO(&mine);
+    if (sched_getaffinity(0, sizeof mine, &mine) != 0)
+      for (int c = 0; c < cores_given(); ++c) CPU_SET(c, &mine);
+    std::vector<cpu_set_t> all(static_cast<size_t>(ranks));
+    MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, node);
+    int meeting = 0;
+    for (cpu_set_t& other : all) {
+      cpu_set_t both;
+      CPU_AND(&both, &mine, &other);
+      meeting += CPU_COUNT(&both) > 0;
+    }
+    share = CPU_COUNT(&mine) / std::max(1, meeting);
+#else
+    share /= ranks;
+#endif
+    MPI_Comm_free(&node);
+    return std::max(1, share);
+  }
+#endif
+
+  int cores_share_ = 0;
   bool active_ = false;
   int rank_ = 0;
   int size_ = 1;

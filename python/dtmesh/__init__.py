@@ -23,19 +23,53 @@ Importing dtmesh registers the ``.dtm`` format with meshio (``meshio.read`` and
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Mapping, Optional, Union
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Union
 
 import numpy as np
 
 from . import _dtmesh
 
-__all__ = ["Error", "Mesh", "Encoded", "Decoder", "encode", "decode", "info", "to_vtk", "to_pyvista",
-           "paraview_plugin"]
+__all__ = ["Error", "Mesh", "Encoded", "Decoder", "encode", "decode", "info", "set_threads", "threads",
+           "to_vtk", "to_pyvista", "paraview_plugin"]
 __version__ = _dtmesh.version
+
+_threads_asked = 0  # set_threads()'s, 0: the cores the process was given
+
+
+def set_threads(threads: Optional[int]) -> None:
+    """Sets how many threads dtmesh's work uses in this process, as meshenc's
+    ``--threads`` does: for a machine shared with other work. None: the cores
+    the process may run on (its affinity mask, as taskset or a container
+    gives them), the default. Every later call of this process uses it."""
+    global _threads_asked
+    if threads is not None and (not isinstance(threads, int) or threads < 1):
+        raise ValueError(f"threads must be a positive int or None, got {threads!r}")
+    _threads_asked = threads or 0
+    _dtmesh.set_threads(_threads_asked)
+
+
+def threads() -> int:
+    """The threads dtmesh's work uses now (set_threads(), else the cores given)."""
+    return _dtmesh.threads()
+
+
+@contextlib.contextmanager
+def _threads_for_call(n: Optional[int]) -> Iterator[None]:
+    """``threads=`` of one call: set for it, then back to what it was."""
+    if n is None:
+        yield
+        return
+    before = _threads_asked
+    set_threads(n)
+    try:
+        yield
+    finally:
+        set_threads(before or None)
 
 #: The ParaView reader plugin installed with the package (the repository's
 #: paraview/dtmesh_reader.py): load it in ParaView (Tools > Manage Plugins,
@@ -152,6 +186,7 @@ def encode(
     dmax: Optional[float] = None,
     preset: str = "codec",
     field_errors: Optional[Mapping[str, float]] = None,
+    threads: Optional[int] = None,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -174,6 +209,9 @@ def encode(
         preset: "codec" (levels carved to the input's solid, about half the
             vertices each) or "paper" (the seed paper's hierarchy).
         field_errors: float field name -> E: every decoded value within E of its own.
+        threads: threads to use for this call (meshenc's ``--threads``); None:
+            :func:`set_threads`'s, by default the cores the process may run on.
+            The stream is the same for any number.
 
     Returns:
         :class:`Encoded`, with the stream and the report.
@@ -190,8 +228,9 @@ def encode(
     if tetrahedra is not None:
         t = np.ascontiguousarray(np.asarray(tetrahedra, dtype=np.int64))
     field_list = [_field_in(name, values, p.shape[0]) for name, values in (fields or {}).items()]
-    stream, report, vertex_of_input = _dtmesh.encode(
-        p, t, field_list, int(qbits), box, scale, dmax, preset, dict(field_errors or {}))
+    with _threads_for_call(threads):
+        stream, report, vertex_of_input = _dtmesh.encode(
+            p, t, field_list, int(qbits), box, scale, dmax, preset, dict(field_errors or {}))
     return Encoded(stream, json.loads(report), vertex_of_input)
 
 
@@ -275,12 +314,15 @@ class Decoder:
         return _mesh_of(self._decoder.mesh())
 
 
-def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None) -> Mesh:
+def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None, *,
+           threads: Optional[int] = None) -> Mesh:
     """Decodes a stream (bytes, or a file's path) to one level of detail.
 
     Args:
         data: the ``.dtm`` stream, whole or any prefix of it.
         level: the level to decode (0 = the finest); None: the finest present.
+        threads: threads to use for this call (meshdec's ``--threads``); None:
+            :func:`set_threads`'s, by default the cores the process may run on.
 
     Returns:
         :class:`Mesh`. A truncated stream gives its finest whole level, with a
@@ -293,16 +335,18 @@ def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None) ->
     if level is not None and level < 0:
         raise ValueError("level must be >= 0")
     decoder = _dtmesh.Decoder(-1 if level is None else int(level), int(_dtmesh.default_max_vertices))
-    decoder.feed(_as_bytes(data), False)
-    truncated = decoder.finish()
-    count = decoder.level_count()
-    if level is not None and count >= 0 and level >= count:
-        raise Error(f"level {level} asked, the stream has levels 0 to {count - 1}")
-    if decoder.finest_level() < 0:
-        raise Error(truncated or "the stream holds no whole level")
-    if truncated is not None:
-        warnings.warn(f"truncated stream: {truncated}; decoding level {decoder.finest_level()}", stacklevel=2)
-    return _mesh_of(decoder.mesh())
+    with _threads_for_call(threads):
+        decoder.feed(_as_bytes(data), False)
+        truncated = decoder.finish()
+        count = decoder.level_count()
+        if level is not None and count >= 0 and level >= count:
+            raise Error(f"level {level} asked, the stream has levels 0 to {count - 1}")
+        if decoder.finest_level() < 0:
+            raise Error(truncated or "the stream holds no whole level")
+        if truncated is not None:
+            warnings.warn(f"truncated stream: {truncated}; decoding level {decoder.finest_level()}",
+                          stacklevel=2)
+        return _mesh_of(decoder.mesh())
 
 
 def info(data: Union[Bytes, str, os.PathLike], stats: bool = False) -> Dict[str, Any]:

@@ -3,6 +3,7 @@
 // stream summary are the library's and the tools' own (no second codec), so
 // a stream made here is byte for byte meshenc's, and a level decoded here is
 // meshdec's. The GIL is released while the library works.
+#include <oneapi/tbb/global_control.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -18,6 +19,7 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
+#include "common/threads.h"
 #include "tools/decoded_mesh.h"
 #include "tools/field_types.h"
 #include "tools/report.h"
@@ -274,6 +276,15 @@ std::string info(py::bytes data, bool stats) {
   return text;
 }
 
+// The threads the library's work uses in this process (common/threads.h),
+// TBB held to the same; 0: the cores the process was given.
+void set_threads(int n) {
+  static std::optional<tbb::global_control>* limit = new std::optional<tbb::global_control>();
+  dtm::set_thread_count(n);
+  limit->reset();
+  if (n > 0) limit->emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(n));
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_dtmesh, m) {
@@ -294,6 +305,8 @@ PYBIND11_MODULE(_dtmesh, m) {
       .def("level_count", &Decoder::level_count)
       .def("mesh", &Decoder::mesh);
   m.def("info", &info, py::arg("data"), py::arg("stats"));
+  m.def("set_threads", &set_threads, py::arg("threads"));
+  m.def("threads", &dtm::thread_count);
   m.attr("default_max_vertices") = dtm::DecoderOptions{}.max_vertices;
   m.attr("version") = DTM_VERSION;
 }

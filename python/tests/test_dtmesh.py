@@ -56,6 +56,27 @@ def test_encode_from_numpy_writes_meshencs_bytes(corpus):
         assert encoded.bytes == stream.read_bytes(), name
 
 
+def test_threads_change_no_byte(corpus):
+    node, stream = corpus["bunny_10k"]
+    points, tets, fields = read_tetgen(node)
+    expected = stream.read_bytes()
+    for threads in (1, 3):
+        assert dtmesh.encode(points, tets, fields, box=256, dmax=2, threads=threads).bytes == expected, threads
+    assert dtmesh.threads() >= 1  # the call's setting is gone: the default again
+    finest = dtmesh.decode(expected)
+    for threads in (1, 3):
+        mesh = dtmesh.decode(expected, threads=threads)
+        assert np.array_equal(mesh.tetrahedra, finest.tetrahedra), threads
+    dtmesh.set_threads(2)
+    try:
+        assert dtmesh.threads() == 2
+        assert dtmesh.encode(points, tets, fields, box=256, dmax=2).bytes == expected
+    finally:
+        dtmesh.set_threads(None)
+    with pytest.raises(ValueError):
+        dtmesh.set_threads(0)
+
+
 def test_encode_options_match_meshencs(corpus, tmp_path):
     node, _ = corpus["torus_10k"]
     points, tets, fields = read_tetgen(node)

@@ -1,0 +1,40 @@
+// The threads a tool's work uses (common/threads.h), with TBB held to the
+// same number for as long as the budget lives: --threads N where the user
+// gives it, else this process's share of the cores it was given (an MPI
+// rank's share of its node: tools/mpi_session.h). Work never starts more
+// threads than that, and a user who shares a machine can ask for fewer.
+#pragma once
+
+#include <oneapi/tbb/global_control.h>
+
+#include <CLI/CLI.hpp>
+#include <optional>
+
+#include "common/threads.h"
+
+namespace dtm {
+
+class ThreadBudget {
+ public:
+  // `asked`: --threads, 0 when not given; `share`: the process's share of
+  // its cores.
+  ThreadBudget(int asked, int share) {
+    set_thread_count(asked > 0 ? asked : share);
+    limit_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(thread_count()));
+  }
+  ~ThreadBudget() { set_thread_count(0); }
+  ThreadBudget(const ThreadBudget&) = delete;
+  ThreadBudget& operator=(const ThreadBudget&) = delete;
+
+ private:
+  std::optional<tbb::global_control> limit_;
+};
+
+inline void add_threads_option(CLI::App& app, int& threads) {
+  app.add_option("--threads", threads,
+                 "threads to use (default: the cores this process may run on, as taskset or a container "
+                 "gives them; under mpirun, this rank's share of its node's)")
+      ->check(CLI::Range(1, 4096));
+}
+
+}  // namespace dtm
