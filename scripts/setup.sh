@@ -8,7 +8,9 @@
 # Runs as root (the project's machines do); uses sudo otherwise when present.
 set -euo pipefail
 packages=(build-essential cmake xz-utils libcgal-dev libgmp-dev libmpfr-dev libboost-dev
-          libtbb-dev nlohmann-json3-dev libcli11-dev libxxhash-dev zlib1g-dev
+          libtbb-dev nlohmann-json3-dev libcli11-dev libxxhash-dev pkg-config
+          # .vtu blocks compressed as VTK's writers do (tools/formats/vtk_compression.cpp)
+          zlib1g-dev liblz4-dev liblzma-dev
           # glTF and .drc surfaces (tools/formats/gltf_writer.cpp)
           libdraco-dev libeigen3-dev)
 if [ "${1:-}" = "--all" ]; then
@@ -17,7 +19,7 @@ if [ "${1:-}" = "--all" ]; then
              # files against. python3-paraview also gives Python VTK's modules
              # (vtk, vtkmodules): Debian makes it conflict with python3-vtk9,
              # so that one is not listed.
-             python3-meshio gmsh draco tetgen
+             python3-meshio gmsh draco tetgen python3-netgen
              # Draco's and zstd's sizes beside ours (bench/baselines.sh)
              zstd
              # The test "lint" (scripts/lint.sh)

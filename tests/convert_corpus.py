@@ -52,11 +52,44 @@ arr.SetName("marker")
 grid.GetPointData().AddArray(arr)
 
 
-def vtu(name, mode, encode=True):
+def vtu(name, mode, encode=True, compressor="None", header="UInt32", pieces=1):
     w = vtk.vtkXMLUnstructuredGridWriter()
     w.SetFileName(out(name))
-    w.SetInputData(grid)
-    w.SetCompressorTypeToNone()
+    if pieces > 1:
+        # Each piece a run of the cells and the points they use (shared
+        # ones in several pieces), as a parallel writer's pieces are; made
+        # here because VTK's piece extraction writes points as floats.
+        split = vtk.vtkProgrammableFilter()
+        split.SetInputData(grid)
+
+        def one_piece():
+            info = split.GetOutputInformation(0)
+            sddp = vtk.vtkStreamingDemandDrivenPipeline
+            k, n = info.Get(sddp.UPDATE_PIECE_NUMBER()), info.Get(sddp.UPDATE_NUMBER_OF_PIECES())
+            mine = tets[len(tets) * k // n : len(tets) * (k + 1) // n]
+            used = np.unique(mine)
+            local = {int(v): i for i, v in enumerate(used)}
+            piece = vtk.vtkUnstructuredGrid()
+            p = vtk.vtkPoints()
+            p.SetData(numpy_support.numpy_to_vtk(points[used], deep=True))
+            piece.SetPoints(p)
+            for t in mine:
+                ids = vtk.vtkIdList()
+                for v in t:
+                    ids.InsertNextId(local[int(v)])
+                piece.InsertNextCell(vtk.VTK_TETRA, ids)
+            a = numpy_support.numpy_to_vtk(marker[used], deep=True)
+            a.SetName("marker")
+            piece.GetPointData().AddArray(a)
+            split.GetUnstructuredGridOutput().ShallowCopy(piece)
+
+        split.SetExecuteMethod(one_piece)
+        w.SetInputConnection(split.GetOutputPort())
+        w.SetNumberOfPieces(pieces)
+    else:
+        w.SetInputData(grid)
+    getattr(w, "SetCompressorTypeTo" + compressor)()
+    getattr(w, "SetHeaderTypeTo" + header)()
     {"ascii": w.SetDataModeToAscii, "binary": w.SetDataModeToBinary, "appended": w.SetDataModeToAppended}[mode]()
     w.SetEncodeAppendedData(encode)
     assert w.Write() == 1
@@ -66,6 +99,12 @@ vtu("_ascii.vtu", "ascii")
 vtu("_base64.vtu", "binary")
 vtu("_appended_raw.vtu", "appended", encode=False)
 vtu("_appended_base64.vtu", "appended", encode=True)
+# Compressed, as VTK and ParaView write by default (zlib), and with the
+# other compressors VTK offers, in each data mode and header size.
+vtu("_zlib.vtu", "binary", compressor="ZLib")
+vtu("_lz4_appended_raw.vtu", "appended", encode=False, compressor="LZ4", header="UInt64")
+vtu("_lzma_appended_base64.vtu", "appended", encode=True, compressor="LZMA")
+vtu("_zlib_3_pieces.vtu", "appended", encode=False, compressor="ZLib", pieces=3)
 for name, binary in (("_ascii.vtk", False), ("_binary.vtk", True)):
     w = vtk.vtkUnstructuredGridWriter()
     w.SetFileName(out(name))
@@ -79,9 +118,14 @@ mesh = meshio.Mesh(points, cells, point_data={"marker": marker})
 from meshio.vtk import _vtk_42
 
 _vtk_42.write(out("_42.vtk"), mesh, binary=False)
+# meshio's .vtu: zlib by default; lzma on request.
+meshio.vtu.write(out("_meshio_zlib.vtu"), mesh)
+meshio.vtu.write(out("_meshio_lzma.vtu"), mesh, compression="lzma")
 meshio.medit.write(out(".mesh"), meshio.Mesh(points, cells), float_fmt=".17g")
 meshio.gmsh.write(out("_22.msh"), mesh, fmt_version="2.2", binary=False, float_fmt=".17g")
 meshio.gmsh.write(out("_41.msh"), mesh, fmt_version="4.1", binary=False, float_fmt=".17g")
+meshio.gmsh.write(out("_22_binary.msh"), mesh, fmt_version="2.2", binary=True)
+meshio.gmsh.write(out("_41_binary.msh"), mesh, fmt_version="4.1", binary=True)
 surface = meshio.Mesh(points, [])
 meshio.write(out("_binary.ply"), surface, file_format="ply", binary=True)
 meshio.write(out("_ascii.ply"), surface, file_format="ply", binary=False)

@@ -5,10 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "format_test_support.h"
 #include "test_support.h"
@@ -19,22 +22,31 @@ namespace dtm {
 namespace {
 
 struct Converted {
-  const char* suffix;  // appended to the model's name by convert_corpus.py
-  bool tets;           // the format carries the tetrahedra
-  bool marker;         // the format carries the made-up point field "marker"
-  bool exact;          // coordinates are written so that they read back bit-identical
+  const char* suffix;   // appended to the model's name by convert_corpus.py
+  bool tets;            // the format carries the tetrahedra
+  bool marker;          // the format carries the made-up point field "marker"
+  bool exact;           // coordinates are written so that they read back bit-identical
+  bool pieces = false;  // several pieces, a point shared by two in both
 };
 
 const Converted kConverted[] = {{"_ascii.vtu", true, true, true},
                                 {"_base64.vtu", true, true, true},
                                 {"_appended_raw.vtu", true, true, true},
                                 {"_appended_base64.vtu", true, true, true},
+                                {"_zlib.vtu", true, true, true},
+                                {"_lz4_appended_raw.vtu", true, true, true},
+                                {"_lzma_appended_base64.vtu", true, true, true},
+                                {"_zlib_3_pieces.vtu", true, true, true, true},
+                                {"_meshio_zlib.vtu", true, true, true},
+                                {"_meshio_lzma.vtu", true, true, true},
                                 {"_binary.vtk", true, true, true},
                                 {"_ascii.vtk", true, true, false},  // VTK writes 11 digits
                                 {"_42.vtk", true, true, true},
                                 {".mesh", true, false, true},
                                 {"_22.msh", true, true, true},
                                 {"_41.msh", true, true, true},
+                                {"_22_binary.msh", true, true, true},
+                                {"_41_binary.msh", true, true, true},
                                 {"_binary.ply", false, false, true},
                                 {"_ascii.ply", false, false, true},
                                 {".off", false, false, true},
@@ -105,12 +117,41 @@ TEST(TetgenEle, KeepsWhatItIsToldAndStillChecksTheRest) {
   EXPECT_EQ(read_tetgen_ele(dir + "/many.ele", 100, 0, not_last), kept);
 }
 
+// A mesh read from pieces: its points those of `points`, some more than
+// once, each with its marker, and its tetrahedra `tets`, by their corners'
+// places.
+void expect_same_mesh_in_pieces(const InputMesh& m, const std::vector<InputPoint>& points,
+                                const std::vector<std::array<uint32_t, 4>>& tets) {
+  const auto key = [](const InputPoint& p) { return std::array<double, 3>{p.x, p.y, p.z}; };
+  std::map<std::array<double, 3>, uint32_t> index;
+  for (uint32_t i = 0; i < points.size(); ++i) index[key(points[i])] = i;
+  ASSERT_GT(m.points.size(), points.size());
+  ASSERT_EQ(m.fields.size(), 1u);
+  std::vector<uint32_t> original(m.points.size());
+  std::set<uint32_t> seen;
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    const auto it = index.find(key(m.points[i]));
+    ASSERT_NE(it, index.end()) << "point " << i << " is not the input's";
+    original[i] = it->second;
+    seen.insert(it->second);
+    EXPECT_EQ(m.fields[0].values[i], static_cast<double>(it->second % 3));
+  }
+  EXPECT_EQ(seen.size(), points.size());
+  ASSERT_EQ(m.tets.size(), tets.size());
+  for (size_t t = 0; t < tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) ASSERT_EQ(original[m.tets[t][k]], tets[t][k]) << "tetrahedron " << t;
+}
+
 TEST_F(ConvertedCorpus, EveryFormatReadsTheSamePointsTetrahedraAndFields) {
   const NodeFile node = read_tetgen_node(test::data_path("torus_288.node"));
   const auto tets = read_tetgen_ele(test::data_path("torus_288.ele"), node.points.size());
   for (const Converted& c : kConverted) {
     SCOPED_TRACE(c.suffix);
     const InputMesh m = read_input(path("torus_288", c));
+    if (c.pieces) {
+      expect_same_mesh_in_pieces(m, node.points, tets);
+      continue;
+    }
     ASSERT_EQ(m.points.size(), node.points.size());
     for (size_t i = 0; i < m.points.size(); ++i) {
       const InputPoint a = m.points[i], b = node.points[i];
@@ -157,7 +198,7 @@ TEST_F(ConvertedCorpus, TheSamePointSetGivesAByteIdenticalStreamFromEveryFormat)
     EXPECT_TRUE(test::slurp(out) == want) << c.suffix << ": the stream differs from the .node's";
     ++compared;
   }
-  EXPECT_EQ(compared, 14);
+  EXPECT_EQ(compared, 22);
 }
 
 TEST_F(ConvertedCorpus, InputTetrahedraAreTheReferenceShapeInTheReport) {
@@ -280,6 +321,70 @@ TEST(InputFormats, MeditSkipsOtherSectionsAndKeepsRefs) {
   EXPECT_EQ(m.tets.size(), 1u);
   ASSERT_EQ(m.fields.size(), 1u);
   EXPECT_EQ(m.fields[0].values, (std::vector<double>{5, 6, 7, 8}));
+}
+
+// What a reader does not keep is named, not dropped in silence.
+TEST(InputFormats, WhatIsNotReadIsNamed) {
+  const auto has = [](const InputMesh& m, const std::string& part) {
+    return std::any_of(m.left_out.begin(), m.left_out.end(),
+                       [&](const std::string& s) { return s.find(part) != std::string::npos; });
+  };
+  const std::string tet = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n";
+  // gmsh 2.0, as Netgen writes it: two physical volumes, boundary triangles.
+  InputMesh m = read_input(write_temp(
+      "netgen.msh",
+      "$MeshFormat\n2.0 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n"
+      "$EndNodes\n$Elements\n3\n1 4 2 1 1 1 2 3 4\n2 4 2 2 2 2 3 4 5\n3 2 2 7 1 1 2 3\n$EndElements\n"
+      "$PhysicalNames\n1\n3 2 \"steel insert\"\n$EndPhysicalNames\n"));
+  EXPECT_EQ(m.tets.size(), 2u);
+  EXPECT_TRUE(has(m, "elements other than tetrahedra (1 triangles)"));
+  EXPECT_TRUE(has(m, "the tetrahedra's physical tags (1, 2)"));
+  EXPECT_TRUE(has(m, "$PhysicalNames (3:2 \"steel insert\")"));
+  // Medit: tetrahedron refs and triangles.
+  m = read_input(
+      write_temp("refs.mesh",
+                 "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n"
+                 "0 0 1 0\n1 1 1 0\nTriangles\n1\n1 2 3 4\nTetrahedra\n2\n1 2 3 4 1\n2 3 4 5 2\nEnd\n"));
+  EXPECT_TRUE(has(m, "the tetrahedra's refs (1, 2)"));
+  EXPECT_TRUE(has(m, "1 Triangles"));
+  // VTK legacy CELL_DATA and a triangle.
+  m = read_input(write_temp(
+      "cells.vtk", "# vtk DataFile Version 3.0\nc\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n" +
+                       tet +
+                       "CELLS 2 9\n4 0 1 2 3\n3 1 2 3\nCELL_TYPES 2\n10\n5\n"
+                       "CELL_DATA 2\nSCALARS material int 1\nLOOKUP_TABLE default\n1 2\n"));
+  EXPECT_EQ(m.tets.size(), 1u);
+  EXPECT_TRUE(has(m, "CELL_DATA arrays 'material'"));
+  EXPECT_TRUE(has(m, "cells other than tetrahedra (1 triangles)"));
+  // A TetGen .ele with a region attribute.
+  write_temp("regions.node", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 1 1 1\n");
+  write_temp("regions.ele", "2 4 1\n0 0 1 2 3 1\n1 1 2 3 4 2\n");
+  m = read_input(::testing::TempDir() + "/regions.node");
+  EXPECT_TRUE(has(m, "1 attribute(s) per tetrahedron"));
+  // Nothing to name in a plain tetrahedral mesh.
+  EXPECT_TRUE(read_input(test::data_path("torus_288.node")).left_out.empty());
+}
+
+// A .vtu in two pieces, the second's cells on its own points.
+TEST(InputFormats, VtuPiecesAreOneMeshAndCellDataIsNamed) {
+  const std::string piece =
+      "<Piece NumberOfPoints=\"4\" NumberOfCells=\"1\"><Points><DataArray type=\"Float64\" "
+      "NumberOfComponents=\"3\" format=\"ascii\">%s</DataArray></Points>"
+      "<CellData><DataArray type=\"Int32\" Name=\"material\" format=\"ascii\">%d</DataArray></CellData>"
+      "<Cells><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 2 3</DataArray>"
+      "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">4</DataArray>"
+      "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10</DataArray></Cells></Piece>";
+  char a[1024], b[1024];
+  std::snprintf(a, sizeof a, piece.c_str(), "0 0 0 1 0 0 0 1 0 0 0 1", 1);
+  std::snprintf(b, sizeof b, piece.c_str(), "1 0 0 0 1 0 0 0 1 1 1 1", 2);
+  const InputMesh m =
+      read_input(write_temp("two.vtu", std::string("<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>") +
+                                           a + b + "</UnstructuredGrid></VTKFile>"));
+  ASSERT_EQ(m.points.size(), 8u);
+  ASSERT_EQ(m.tets.size(), 2u);
+  EXPECT_EQ(m.tets[1], (std::array<uint32_t, 4>{4, 5, 6, 7}));
+  ASSERT_EQ(m.left_out.size(), 1u);
+  EXPECT_EQ(m.left_out[0], "CellData arrays 'material'");
 }
 
 }  // namespace

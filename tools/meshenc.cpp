@@ -242,6 +242,8 @@ void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePla
     std::printf("%s: per-vertex fields %s: %s\n", c.input.c_str(), c.no_fields ? "left out" : "coded",
                 names.c_str());
   }
+  for (const std::string& what : in.left_out)
+    std::printf("%s: left out (the stream does not hold it): %s\n", c.input.c_str(), what.c_str());
 }
 
 // NAME=E arguments into the options.

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
 #include <unordered_map>
 
 #include "render_util.h"
@@ -26,6 +30,34 @@ std::vector<std::string_view> split(std::string_view line) {
   }
 }
 
+// gmsh's element types by name, the usual ones.
+std::string element_name(int type) {
+  switch (type) {
+    case 1:
+      return "lines";
+    case 2:
+      return "triangles";
+    case 3:
+      return "quadrangles";
+    case 5:
+      return "hexahedra";
+    case 6:
+      return "prisms";
+    case 7:
+      return "pyramids";
+    case 8:
+      return "3-node lines";
+    case 9:
+      return "6-node triangles";
+    case 11:
+      return "10-node tetrahedra";
+    case 15:
+      return "points";
+    default:
+      return "of gmsh type " + std::to_string(type);
+  }
+}
+
 class GmshReader {
  public:
   explicit GmshReader(const std::string& path) : c_(TextCursor::open(path)) {}
@@ -34,12 +66,25 @@ class GmshReader {
     if (c_.at_end()) c_.fail("empty file, expected '$MeshFormat'");
     c_.expect("$MeshFormat");
     const std::string version(c_.token("a version"));
-    if (version != "2.2" && version != "4.1")
-      c_.fail("unsupported version " + version + " (2.2 and 4.1 are read)");
-    v4_ = version == "4.1";
-    if (c_.number<int>("the file type (0 = ASCII)") != 0) c_.fail("unsupported: binary .msh (save as ASCII)");
+    // A number: Netgen writes 2.0 as "2.000000". 2.0 and 2.1 are 2.2 less
+    // the sections 2.2 added.
+    double number = 0;
+    const auto [end, ec] = std::from_chars(version.data(), version.data() + version.size(), number);
+    const bool v2 =
+        ec == std::errc() && end == version.data() + version.size() && number >= 2.0 && number <= 2.2;
+    v4_ = ec == std::errc() && end == version.data() + version.size() && number == 4.1;
+    if (!v2 && !v4_) c_.fail("unsupported version " + version + " (2.0, 2.2 and 4.1 are read)");
+    const int file_type = c_.number<int>("the file type (0 ASCII, 1 binary)");
+    if (file_type != 0 && file_type != 1) c_.fail("file type must be 0 (ASCII) or 1 (binary)");
+    binary_ = file_type == 1;
     if (const int size = c_.number<int>("the data size"); size != 8)
       c_.fail("data size must be 8, got " + std::to_string(size));
+    if (binary_) {
+      // The int 1, to tell the byte order; this reader takes little-endian.
+      c_.skip_to_next_line();
+      if (int32(c_.bytes(4, "the byte order mark")) != 1)
+        c_.fail("the int after the header is not 1 (a big-endian or damaged binary .msh)");
+    }
     c_.expect("$EndMeshFormat");
     bool have_nodes = false;
     while (!c_.at_end()) {
@@ -48,24 +93,73 @@ class GmshReader {
       if (section == "$Nodes") {
         if (have_nodes) c_.fail("a second $Nodes section");
         have_nodes = true;
-        v4_ ? nodes_v4() : nodes_v2();
+        if (binary_)
+          v4_ ? nodes_v4_binary() : nodes_v2_binary();
+        else
+          v4_ ? nodes_v4() : nodes_v2();
       } else if (section == "$Elements") {
         if (!have_nodes) c_.fail("$Elements before $Nodes");
-        v4_ ? elements_v4() : elements_v2();
+        if (binary_)
+          v4_ ? elements_v4_binary() : elements_v2_binary();
+        else
+          v4_ ? elements_v4() : elements_v2();
       } else if (section == "$NodeData") {
         if (!have_nodes) c_.fail("$NodeData before $Nodes");
         node_data();
+      } else if (section == "$PhysicalNames") {
+        physical_names();
       } else {
-        skip_section(section.substr(1));
+        // Sections that describe the geometry ($Entities, $Periodic, ...)
+        // carry nothing of the mesh; data sections do, and are named.
+        const std::string name = section.substr(1);
+        if (name.find("Data") != std::string::npos) skipped_data_.insert(name);
+        skip_section(name);
         continue;
       }
       c_.expect("$End" + section.substr(1));
     }
     if (!have_nodes) throw FormatError(c_.path() + ": no $Nodes section");
+    note_left_out();
     return std::move(out_);
   }
 
  private:
+  // $PhysicalNames: "dimension tag name" lines, named when left out.
+  void physical_names() {
+    const uint64_t n = c_.count("a physical name count", c_.remaining() / 4);
+    c_.skip_to_next_line();
+    for (uint64_t i = 0; i < n; ++i) {
+      const auto f = split(c_.rest_of_line());
+      if (f.size() < 3) c_.fail("expected 'dimension tag \"name\"'");
+      std::string name;
+      for (size_t k = 2; k < f.size(); ++k) name += (k > 2 ? " " : "") + std::string(f[k]);
+      physical_names_.push_back(std::string(f[0]) + ":" + std::string(f[1]) + " " + name);
+    }
+  }
+
+  void note_left_out() {
+    auto joined = [](const auto& items) {
+      std::string s;
+      for (const auto& i : items) s += (s.empty() ? "" : ", ") + i;
+      return s;
+    };
+    std::vector<std::string> others;
+    for (const auto& [type, count] : other_elements_)
+      others.push_back(std::to_string(count) + " " + element_name(type));
+    if (!others.empty()) out_.left_out.push_back("elements other than tetrahedra (" + joined(others) + ")");
+    if (volume_tags_.size() > 1) {
+      std::vector<std::string> tags;
+      for (int64_t t : volume_tags_) tags.push_back(std::to_string(t));
+      out_.left_out.push_back(
+          std::string(v4_ ? "the tetrahedra's volume entities (" : "the tetrahedra's physical tags (") +
+          joined(tags) + "): which cells are which region");
+    }
+    if (!physical_names_.empty()) out_.left_out.push_back("$PhysicalNames (" + joined(physical_names_) + ")");
+    if (!partial_node_data_.empty())
+      out_.left_out.push_back("$NodeData not given at every node (" + joined(partial_node_data_) + ")");
+    if (!skipped_data_.empty()) out_.left_out.push_back("sections $" + joined(skipped_data_));
+  }
+
   void skip_section(const std::string& name) {
     const std::string end = "$End" + name;
     while (true) {
@@ -136,7 +230,15 @@ class GmshReader {
     if (type == kGmshTetrahedron) {
       if (f.size() - skip != 4) c_.fail("a tetrahedron with " + std::to_string(f.size() - skip) + " nodes");
       out_.tets.push_back(t);
+    } else {
+      ++other_elements_[type];
     }
+  }
+
+  // A tetrahedron's region: its physical tag (2.x: the first tag), or its
+  // volume entity (4.1); a few distinct values are kept to be named.
+  void note_volume_tag(int64_t tag) {
+    if (volume_tags_.size() < 64) volume_tags_.insert(tag);
   }
 
   void elements_v2() {
@@ -152,6 +254,11 @@ class GmshReader {
       const auto [end, ec] = std::from_chars(f[2].data(), f[2].data() + f[2].size(), tags);
       if (ec != std::errc() || tags < 0 || f.size() < 3 + static_cast<size_t>(tags))
         c_.fail("bad element tag count");
+      if (type == kGmshTetrahedron && tags > 0) {
+        int64_t physical = 0;
+        std::from_chars(f[3].data(), f[3].data() + f[3].size(), physical);
+        note_volume_tag(physical);
+      }
       element(f, 3 + tags, type);
     }
   }
@@ -164,8 +271,9 @@ class GmshReader {
     uint64_t seen = 0;
     for (uint64_t b = 0; b < blocks; ++b) {
       c_.number<int>("an entity dimension");
-      c_.number<int>("an entity tag");
+      const int entity = c_.number<int>("an entity tag");
       const int type = c_.number<int>("an element type");
+      if (type == kGmshTetrahedron) note_volume_tag(entity);
       const uint64_t in_block = c_.count("an element count", c_.remaining() / 4);
       c_.skip_to_next_line();
       for (uint64_t i = 0; i < in_block; ++i) {
@@ -178,6 +286,143 @@ class GmshReader {
     if (seen != n)
       c_.fail("$Elements announces " + std::to_string(n) + " elements, its blocks hold " +
               std::to_string(seen));
+  }
+
+  // Binary sections (file type 1): little-endian ints (4 bytes), size_t
+  // (8: the data size) and doubles, as gmsh and meshio write them.
+  static int32_t int32(std::string_view b) {
+    int32_t v;
+    std::memcpy(&v, b.data(), 4);
+    return v;
+  }
+  static uint64_t size_t64(std::string_view b) {
+    uint64_t v;
+    std::memcpy(&v, b.data(), 8);
+    return v;
+  }
+  static double float64(std::string_view b) {
+    double v;
+    std::memcpy(&v, b.data(), 8);
+    return v;
+  }
+  void add_point(std::string_view xyz) {
+    const double p[3] = {float64(xyz), float64(xyz.substr(8)), float64(xyz.substr(16))};
+    for (double v : p)
+      if (!std::isfinite(v)) c_.fail("coordinate is not finite");
+    out_.points.push_back({p[0], p[1], p[2]});
+  }
+  // A binary element's node tags, `per` of them `size` bytes each.
+  void binary_element(std::string_view nodes, int type, int per, int size) {
+    std::array<uint32_t, 4> t{};
+    for (int k = 0; k < per; ++k) {
+      const std::string_view b = nodes.substr(static_cast<size_t>(k) * size);
+      const int64_t tag = size == 4 ? int64_t{int32(b)} : static_cast<int64_t>(size_t64(b));
+      const auto it = index_of_.find(tag);
+      if (it == index_of_.end()) c_.fail("node tag " + std::to_string(tag) + " out of range (no such node)");
+      if (k < 4) t[k] = it->second;
+    }
+    if (type == kGmshTetrahedron)
+      out_.tets.push_back(t);
+    else
+      ++other_elements_[type];
+  }
+
+  void nodes_v2_binary() {
+    const uint64_t n = c_.count("a node count", c_.remaining() / 28);
+    c_.skip_to_next_line();
+    const std::string_view b = c_.bytes(n * 28, "the nodes");
+    out_.points.reserve(n);
+    for (uint64_t i = 0; i < n; ++i) {
+      add_node(int32(b.substr(28 * i)), out_.points.size());
+      add_point(b.substr(28 * i + 4, 24));
+    }
+  }
+
+  void elements_v2_binary() {
+    const uint64_t n = c_.count("an element count", c_.remaining() / 8);
+    c_.skip_to_next_line();
+    for (uint64_t seen = 0; seen < n;) {
+      const std::string_view h = c_.bytes(12, "an element block header");
+      const int type = int32(h), tags = int32(h.substr(8));
+      const int64_t count = int32(h.substr(4));
+      const int per = nodes_per_element(type);
+      if (count <= 0 || static_cast<uint64_t>(count) > n - seen || tags < 0 || tags > 64)
+        c_.fail("bad element block header (type " + std::to_string(type) + ", " + std::to_string(count) +
+                " elements, " + std::to_string(tags) + " tags)");
+      const uint64_t record = 4 * (1 + static_cast<uint64_t>(tags) + per);
+      if (static_cast<uint64_t>(count) > c_.remaining() / record)
+        c_.fail("file ends inside an element block");
+      const std::string_view b = c_.bytes(count * record, "the elements");
+      for (int64_t e = 0; e < count; ++e) {
+        const std::string_view r = b.substr(e * record, record);
+        if (type == kGmshTetrahedron && tags > 0) note_volume_tag(int32(r.substr(4)));
+        binary_element(r.substr(4 * (1 + tags)), type, per, 4);
+      }
+      seen += count;
+    }
+  }
+
+  void nodes_v4_binary() {
+    c_.skip_to_next_line();
+    const std::string_view h = c_.bytes(32, "the $Nodes header");
+    const uint64_t blocks = size_t64(h), n = size_t64(h.substr(8));
+    if (n > c_.remaining() / 32 || blocks > c_.remaining() / 20)
+      c_.fail("$Nodes announces more than the file holds");
+    out_.points.reserve(n);
+    for (uint64_t k = 0; k < blocks; ++k) {
+      const std::string_view bh = c_.bytes(20, "a node block header");
+      const int dim = int32(bh), parametric = int32(bh.substr(8));
+      const uint64_t in_block = size_t64(bh.substr(12));
+      if (dim < 0 || dim > 3 || parametric < 0 || parametric > 1) c_.fail("bad node block header");
+      const uint64_t stride = 8 * (3 + static_cast<uint64_t>(dim) * parametric);
+      if (in_block > c_.remaining() / (8 + stride)) c_.fail("file ends inside a node block");
+      const std::string_view tags = c_.bytes(8 * in_block, "node tags");
+      const size_t first = out_.points.size();
+      for (uint64_t i = 0; i < in_block; ++i)
+        add_node(static_cast<int64_t>(size_t64(tags.substr(8 * i))), first + i);
+      const std::string_view xyz = c_.bytes(stride * in_block, "node coordinates");
+      for (uint64_t i = 0; i < in_block; ++i) add_point(xyz.substr(stride * i, 24));
+    }
+    if (out_.points.size() != n)
+      c_.fail("$Nodes announces " + std::to_string(n) + " nodes, its blocks hold " +
+              std::to_string(out_.points.size()));
+  }
+
+  void elements_v4_binary() {
+    c_.skip_to_next_line();
+    const std::string_view h = c_.bytes(32, "the $Elements header");
+    const uint64_t blocks = size_t64(h), n = size_t64(h.substr(8));
+    if (blocks > c_.remaining() / 20) c_.fail("$Elements announces more than the file holds");
+    uint64_t seen = 0;
+    for (uint64_t k = 0; k < blocks; ++k) {
+      const std::string_view bh = c_.bytes(20, "an element block header");
+      const int entity = int32(bh.substr(4)), type = int32(bh.substr(8));
+      const uint64_t in_block = size_t64(bh.substr(12));
+      const int per = nodes_per_element(type);
+      const uint64_t record = 8 * (1 + static_cast<uint64_t>(per));
+      if (in_block > c_.remaining() / record) c_.fail("file ends inside an element block");
+      if (type == kGmshTetrahedron) note_volume_tag(entity);
+      const std::string_view b = c_.bytes(in_block * record, "the elements");
+      for (uint64_t e = 0; e < in_block; ++e)
+        binary_element(b.substr(e * record + 8, record - 8), type, per, 8);
+      seen += in_block;
+    }
+    if (seen != n)
+      c_.fail("$Elements announces " + std::to_string(n) + " elements, its blocks hold " +
+              std::to_string(seen));
+  }
+
+  // The nodes of an element of this type; a binary file cannot be read
+  // past a type whose count is not known.
+  int nodes_per_element(int type) const {
+    static const std::map<int, int> kNodes = {
+        {1, 2},   {2, 3},   {3, 4},   {4, 4},   {5, 8},   {6, 6},   {7, 5},   {8, 3},   {9, 6},
+        {10, 9},  {11, 10}, {12, 27}, {13, 18}, {14, 14}, {15, 1},  {16, 8},  {17, 20}, {18, 15},
+        {19, 13}, {20, 9},  {21, 10}, {22, 12}, {23, 15}, {24, 15}, {25, 21}, {26, 4},  {27, 5},
+        {28, 6},  {29, 20}, {30, 35}, {31, 56}, {92, 64}, {93, 125}};
+    const auto it = kNodes.find(type);
+    if (it == kNodes.end()) c_.fail("element type " + std::to_string(type) + " is not known to this reader");
+    return it->second;
   }
 
   // A view's values at the nodes: kept when it covers every node once.
@@ -201,18 +446,45 @@ class GmshReader {
     f.values.assign(out_.points.size() * f.components, 0.0);
     std::vector<uint8_t> seen(out_.points.size(), 0);
     uint64_t distinct = 0;
-    for (uint64_t e = 0; e < entries; ++e) {
-      const std::string_view tag = c_.token("a node tag");
-      const uint32_t v = node(tag);
-      distinct += !seen[v];
-      seen[v] = 1;
-      for (int k = 0; k < f.components; ++k) f.values[v * f.components + k] = c_.number<double>("a value");
+    if (binary_) {
+      // (int node tag, components doubles) per entry.
+      const uint64_t record = 4 + 8 * static_cast<uint64_t>(f.components);
+      c_.skip_to_next_line();
+      if (entries > c_.remaining() / record) c_.fail("$NodeData announces more than the file holds");
+      const std::string_view b = c_.bytes(entries * record, "node data");
+      for (uint64_t e = 0; e < entries; ++e) {
+        const auto it = index_of_.find(int32(b.substr(e * record)));
+        if (it == index_of_.end()) c_.fail("$NodeData names a node that does not exist");
+        const uint32_t v = it->second;
+        distinct += !seen[v];
+        seen[v] = 1;
+        for (int k = 0; k < f.components; ++k)
+          f.values[v * f.components + k] = float64(b.substr(e * record + 4 + 8 * k));
+      }
+    } else {
+      for (uint64_t e = 0; e < entries; ++e) {
+        const std::string_view tag = c_.token("a node tag");
+        const uint32_t v = node(tag);
+        distinct += !seen[v];
+        seen[v] = 1;
+        for (int k = 0; k < f.components; ++k) f.values[v * f.components + k] = c_.number<double>("a value");
+      }
     }
-    if (distinct == out_.points.size()) out_.fields.push_back(std::move(f));
+    if (distinct == out_.points.size())
+      out_.fields.push_back(std::move(f));
+    else
+      partial_node_data_.push_back("'" + f.name + "' at " + std::to_string(distinct) + " of " +
+                                   std::to_string(out_.points.size()) + " nodes");
   }
 
   TextCursor c_;
   bool v4_ = false;
+  bool binary_ = false;  // file type 1
+  // What is not read into the mesh (InputMesh::left_out).
+  std::map<int, uint64_t> other_elements_;  // by gmsh element type
+  std::set<int64_t> volume_tags_;
+  std::vector<std::string> physical_names_, partial_node_data_;
+  std::set<std::string> skipped_data_;
   std::unordered_map<int64_t, uint32_t> index_of_;
   InputMesh out_;
 };

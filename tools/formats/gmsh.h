@@ -1,7 +1,9 @@
-// gmsh .msh files, ASCII, versions 2.2 and 4.1 (https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format).
-// Node tags may be sparse and in any order; binary files are rejected as
-// unsupported. Sections other than $Nodes, $Elements and $NodeData are
-// read past.
+// gmsh .msh files, versions 2.0 (as Netgen writes them), 2.2 and 4.1, ASCII
+// or binary (little-endian, as gmsh and meshio write it;
+// https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format). Node tags may
+// be sparse and in any order. Sections other than $Nodes, $Elements and
+// $NodeData are read past; what they hold of the mesh (other elements,
+// physical tags and names, element data) is named in InputMesh::left_out.
 #pragma once
 
 #include <string>

@@ -51,6 +51,9 @@ InputMesh read_tetgen(const std::string& path, bool with_ele) {
                           ScalarType::kInt32});
   const std::filesystem::path ele = std::filesystem::path(path).replace_extension(".ele");
   if (std::filesystem::exists(ele)) {
+    if (const int a = tetgen_ele_attributes(ele.string()); a > 0)
+      out.left_out.push_back(ele.string() + "'s " + std::to_string(a) +
+                             " attribute(s) per tetrahedron (TetGen's regions, -A)");
     if (with_ele)
       out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);
     else

@@ -45,6 +45,11 @@ struct InputMesh {
   // read_tetgen_ele() later.
   std::string tetgen_ele;
   int tetgen_index_base = 0;
+  // What the file holds that is not read into the mesh above (cell tags
+  // and arrays, elements other than tetrahedra, named groups), one phrase
+  // each: the tools say it, so that nothing of a user's input is left out
+  // without a word.
+  std::vector<std::string> left_out;
 };
 
 }  // namespace dtm

@@ -1,6 +1,7 @@
 #include "medit.h"
 
 #include <map>
+#include <set>
 
 #include "render_util.h"
 #include "text_cursor.h"
@@ -49,7 +50,8 @@ InputMesh read_medit(const std::string& path) {
   if (version < 1 || version > 4) c.fail("unknown MeshVersionFormatted " + std::to_string(version));
   InputMesh out;
   bool have_dimension = false, have_vertices = false;
-  std::vector<std::array<int64_t, 4>> tets;  // 1-based until the vertex count is known
+  std::vector<std::array<int64_t, 4>> tets;       // 1-based until the vertex count is known
+  std::map<std::string, uint64_t> other_records;  // records of other sections, by keyword
   while (true) {
     if (c.at_end()) c.fail("file ends without 'End'");
     const std::string keyword(c.token("a section keyword"));
@@ -82,6 +84,8 @@ InputMesh read_medit(const std::string& path) {
     const auto [indices, integers, reals] = layout->second;
     if (indices > 0 && !have_vertices) c.fail("'" + keyword + "' before 'Vertices'");
     const uint64_t n = c.count("a record count", limit / (indices + integers + reals));
+    std::set<int64_t> refs;  // a tetrahedron's integer is its ref (region)
+    if (keyword != "Tetrahedra" && n > 0) other_records[keyword] += n;
     for (uint64_t i = 0; i < n; ++i) {
       std::array<int64_t, 8> v{};
       for (int k = 0; k < indices; ++k) {
@@ -90,10 +94,24 @@ InputMesh read_medit(const std::string& path) {
           c.fail("vertex index " + std::to_string(v[k]) + " out of range 1.." +
                  std::to_string(out.points.size()));
       }
-      for (int k = 0; k < integers; ++k) c.number<int64_t>("an integer");
+      for (int k = 0; k < integers; ++k) {
+        const int64_t value = c.number<int64_t>("an integer");
+        if (keyword == "Tetrahedra" && refs.size() < 64) refs.insert(value);
+      }
       for (int k = 0; k < reals; ++k) c.coordinate();
       if (keyword == "Tetrahedra") tets.push_back({v[0], v[1], v[2], v[3]});
     }
+    if (refs.size() > 1) {
+      std::string list;
+      for (int64_t r : refs) list += (list.empty() ? "" : ", ") + std::to_string(r);
+      out.left_out.push_back("the tetrahedra's refs (" + list + "): which cells are which region");
+    }
+  }
+  if (!other_records.empty()) {
+    std::string list;
+    for (const auto& [keyword, count] : other_records)
+      list += (list.empty() ? "" : ", ") + std::to_string(count) + " " + keyword;
+    out.left_out.push_back("sections other than Vertices and Tetrahedra (" + list + ")");
   }
   if (!c.at_end()) c.fail("unexpected data after 'End'");
   if (!have_vertices) throw FormatError(path + ": no 'Vertices' section");

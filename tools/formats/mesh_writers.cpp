@@ -11,6 +11,7 @@
 #include "medit.h"
 #include "render_util.h"
 #include "surface_writers.h"
+#include "vtk_cells.h"
 #include "vtk_legacy.h"
 
 namespace dtm {
@@ -189,7 +190,6 @@ void field_array(std::string& out, const OutputField& f, bool binary) {
 }
 
 std::string render_vtu(const OutputMesh& m, bool binary) {
-  constexpr uint8_t kVtkTetra = 10;
   std::vector<double> coords;
   coords.reserve(3 * m.points.size());
   for (const GridPoint& g : m.points) {

@@ -102,6 +102,13 @@ NodeFile read_tetgen_node(const std::string& path) {
   return out;
 }
 
+int tetgen_ele_attributes(const std::string& path) {
+  LineReader r(path);
+  std::vector<std::string_view> tok;
+  if (!r.next(tok) || tok.size() < 3) return 0;
+  return std::max(0, r.parse<int>(tok[2], "an attribute count"));
+}
+
 std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::string& path, size_t num_points, int index_base,
     const std::function<bool(const std::array<uint32_t, 4>&)>& keep) {

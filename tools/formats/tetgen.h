@@ -25,6 +25,10 @@ struct NodeFile {
 
 NodeFile read_tetgen_node(const std::string& path);
 
+// The attributes per tetrahedron an .ele's header announces (TetGen's
+// region attribute, -A), 0 if none.
+int tetgen_ele_attributes(const std::string& path);
+
 // Tetrahedra of an .ele file as 0-based indices into the .node's points.
 // `index_base` is the first index of the matching .node file.
 // `keep`, when given, chooses the tetrahedra to hold (each is checked all

@@ -8,11 +8,10 @@
 #include "render_util.h"
 #include "scalar_type.h"
 #include "text_cursor.h"
+#include "vtk_cells.h"
 
 namespace dtm {
 namespace {
-
-constexpr int kVtkTetra = 10;
 
 std::optional<ScalarType> legacy_type(std::string_view name) {
   static const std::map<std::string, ScalarType, std::less<>> kTypes = {
@@ -99,7 +98,10 @@ class LegacyReader {
           c_.fail("bad component count " + std::to_string(f.components));
         f.values = array(data_count * f.components, type);
         if (const auto t = legacy_type(type)) f.type = *t;
-        if (in_point_data) out_.fields.push_back(std::move(f));
+        if (in_point_data)
+          out_.fields.push_back(std::move(f));
+        else
+          cell_arrays_.push_back("'" + f.name + "'");
       } else if (key == "FIELD") {
         c_.token("a field name");
         const uint64_t arrays = c_.count("an array count", c_.remaining() / 4);
@@ -117,6 +119,8 @@ class LegacyReader {
               c_.fail("array '" + f.name + "' has " + std::to_string(tuples) + " tuples for " +
                       std::to_string(out_.points.size()) + " points");
             out_.fields.push_back(std::move(f));
+          } else if (!in_point_data && in_data) {
+            cell_arrays_.push_back("'" + f.name + "'");
           }
         }
       } else if (key == "METADATA") {
@@ -140,7 +144,10 @@ class LegacyReader {
           if (connectivity[k] < 0 || static_cast<uint64_t>(connectivity[k]) >= out_.points.size())
             throw FormatError(c_.path() + ": cell " + std::to_string(i) + ": point index " +
                               std::to_string(connectivity[k]) + " out of range");
-        if (cell_types[i] != kVtkTetra) continue;
+        if (cell_types[i] != kVtkTetra) {
+          ++other_cells_[cell_types[i]];
+          continue;
+        }
         if (e - b != 4)
           throw FormatError(c_.path() + ": cell " + std::to_string(i) + " is a VTK_TETRA with " +
                             std::to_string(e - b) + " points");
@@ -149,10 +156,23 @@ class LegacyReader {
              static_cast<uint32_t>(connectivity[b + 2]), static_cast<uint32_t>(connectivity[b + 3])});
       }
     }
+    note_left_out();
     return std::move(out_);
   }
 
  private:
+  // What the file holds that the mesh read does not (InputMesh::left_out).
+  void note_left_out() {
+    std::string names;
+    for (const std::string& a : cell_arrays_) names += (names.empty() ? "" : ", ") + a;
+    if (!names.empty()) out_.left_out.push_back("CELL_DATA arrays " + names);
+    std::string others;
+    for (const auto& [type, count] : other_cells_)
+      others +=
+          (others.empty() ? "" : ", ") + std::to_string(count) + " " + vtk_cell_name(static_cast<int>(type));
+    if (!others.empty()) out_.left_out.push_back("cells other than tetrahedra (" + others + ")");
+  }
+
   // `n` values of the named type: text tokens, or big-endian bytes after the
   // end of the current line.
   std::vector<double> array(uint64_t n, std::string_view type_name) {
@@ -227,6 +247,8 @@ class LegacyReader {
   TextCursor c_;
   bool binary_ = false;
   InputMesh out_;
+  std::vector<std::string> cell_arrays_;     // CELL_DATA arrays seen, quoted
+  std::map<int64_t, uint64_t> other_cells_;  // cells that are not tetrahedra, by VTK type
 };
 
 }  // namespace

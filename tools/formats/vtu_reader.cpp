@@ -6,9 +6,12 @@
 #include <cstring>
 #include <map>
 #include <optional>
+#include <set>
 
 #include "scalar_type.h"
 #include "text_cursor.h"
+#include "vtk_cells.h"
+#include "vtk_compression.h"
 
 namespace dtm {
 namespace {
@@ -34,7 +37,7 @@ std::string unescaped(const std::string& v) {
   return out;
 }
 
-constexpr int kVtkTetra = 10;
+constexpr uint64_t kMaxBlockSize = uint64_t{1} << 26;
 
 struct Element {
   std::string name;
@@ -249,8 +252,13 @@ class VtuReader {
     if (root.name != "VTKFile") p_.fail_at(root.offset, "root element is <" + root.name + ">, not <VTKFile>");
     if (const auto* t = root.attr("type"); !t || *t != "UnstructuredGrid")
       p_.fail_at(root.offset, "only type=\"UnstructuredGrid\" is supported, got \"" + (t ? *t : "") + "\"");
-    if (const auto* c = root.attr("compressor"))
-      p_.fail_at(root.offset, "unsupported: compressed data (compressor=\"" + *c + "\"); save uncompressed");
+    if (const auto* c = root.attr("compressor")) {
+      compressor_ = vtk_compressor_named(*c);
+      if (!compressor_)
+        p_.fail_at(root.offset, "unknown compressor \"" + *c +
+                                    "\" (vtkZLibDataCompressor, vtkLZ4DataCompressor and "
+                                    "vtkLZMADataCompressor are read)");
+    }
     if (const auto* b = root.attr("byte_order")) {
       if (*b != "LittleEndian" && *b != "BigEndian")
         p_.fail_at(root.offset, "unknown byte_order \"" + *b + "\"");
@@ -264,18 +272,31 @@ class VtuReader {
     std::vector<size_t> pieces;
     for (size_t id : grid.children)
       if (p_.element(id).name == "Piece") pieces.push_back(id);
-    if (pieces.size() != 1)
-      p_.fail_at(grid.offset, "unsupported: " + std::to_string(pieces.size()) + " pieces (one is read)");
-    const Element& piece = p_.element(pieces[0]);
-    const uint64_t n = count_attr(piece, "NumberOfPoints"), cells = count_attr(piece, "NumberOfCells");
-
+    if (pieces.empty()) p_.fail_at(grid.offset, "no <Piece>");
+    // Several pieces (a parallel writer's, or VTK's when asked): one mesh,
+    // their points one after the other, each piece's cells renumbered.
     InputMesh out;
-    const auto xyz = array(only_child(only_child(piece, "Points"), "DataArray"), n, 3);
-    for (uint64_t i = 0; i < n; ++i) {
-      out.points.push_back({xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
-      if (!std::isfinite(xyz[3 * i]) || !std::isfinite(xyz[3 * i + 1]) || !std::isfinite(xyz[3 * i + 2]))
-        p_.fail_at(only_child(piece, "Points").offset, "point " + std::to_string(i) + " is not finite");
+    for (size_t k = 0; k < pieces.size(); ++k) read_piece(p_.element(pieces[k]), k, out);
+    note_left_out(out);
+    return out;
+  }
+
+ private:
+  // One <Piece>'s points, PointData and tetrahedra, added to `out`. A
+  // PointData array must be in every piece, with the same components.
+  void read_piece(const Element& piece, size_t k, InputMesh& out) {
+    const uint64_t n = count_attr(piece, "NumberOfPoints"), cells = count_attr(piece, "NumberOfCells");
+    const size_t first = out.points.size();
+    if (n > 0) {
+      const auto xyz = array(only_child(only_child(piece, "Points"), "DataArray"), n, 3);
+      for (uint64_t i = 0; i < n; ++i) {
+        out.points.push_back({xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
+        if (!std::isfinite(xyz[3 * i]) || !std::isfinite(xyz[3 * i + 1]) || !std::isfinite(xyz[3 * i + 2]))
+          p_.fail_at(only_child(piece, "Points").offset,
+                     "point " + std::to_string(first + i) + " is not finite");
+      }
     }
+    size_t fields = 0;
     if (const Element* pd = optional_child(piece, "PointData"))
       for (size_t id : pd->children) {
         const Element& da = p_.element(id);
@@ -287,13 +308,41 @@ class VtuReader {
           p_.fail_at(da.offset, "NumberOfComponents must be 1 to 64");
         f.values = array(da, n, f.components);
         if (const auto* t = da.attr("type"); t && xml_type(*t)) f.type = *xml_type(*t);
-        out.fields.push_back(std::move(f));
+        if (k == 0) {
+          out.fields.push_back(std::move(f));
+        } else {
+          if (fields >= out.fields.size() || out.fields[fields].name != f.name ||
+              out.fields[fields].components != f.components)
+            p_.fail_at(da.offset, "piece " + std::to_string(k + 1) + ": PointData \"" + f.name +
+                                      "\" is not the first piece's array at its place");
+          auto& values = out.fields[fields].values;
+          values.insert(values.end(), f.values.begin(), f.values.end());
+        }
+        ++fields;
       }
-    read_cells(piece, cells, n, out);
-    return out;
+    if (k > 0 && fields != out.fields.size())
+      p_.fail_at(piece.offset, "piece " + std::to_string(k + 1) + " has " + std::to_string(fields) +
+                                   " PointData arrays, the first piece " + std::to_string(out.fields.size()));
+    if (const Element* cd = optional_child(piece, "CellData"))
+      for (size_t id : cd->children)
+        if (const Element& da = p_.element(id); da.name == "DataArray")
+          cell_arrays_.insert(da.attr("Name") ? *da.attr("Name") : "unnamed");
+    read_cells(piece, cells, n, first, out);
   }
 
- private:
+  // What the file holds that the mesh read does not (InputMesh::left_out).
+  void note_left_out(InputMesh& out) const {
+    if (!cell_arrays_.empty()) {
+      std::string names;
+      for (const std::string& a : cell_arrays_) names += (names.empty() ? "'" : ", '") + a + "'";
+      out.left_out.push_back("CellData arrays " + names);
+    }
+    std::string others;
+    for (const auto& [type, count] : other_cells_)
+      others += (others.empty() ? "" : ", ") + std::to_string(count) + " " + vtk_cell_name(type);
+    if (!others.empty()) out.left_out.push_back("cells other than tetrahedra (" + others + ")");
+  }
+
   const Element* optional_child(const Element& parent, std::string_view name) const {
     const Element* found = nullptr;
     for (size_t id : parent.children)
@@ -364,60 +413,119 @@ class VtuReader {
         p_.fail_at(da.offset, what + " holds more than the " + std::to_string(n) + " values expected");
       return out;
     }
-    const int size = scalar_size(*type), hsize = scalar_size(header_type_);
-    std::string bytes;
-    size_t where = da.offset;  // for messages
+    const int size = scalar_size(*type);
+    const std::string bytes = binary_payload(da, what, n * size);
+    out.reserve(n);
+    for (uint64_t i = 0; i < n; ++i) out.push_back(scalar_at(bytes.data() + i * size, *type, big_endian_));
+    return out;
+  }
+
+  // The `expected` bytes of a binary or appended DataArray, decompressed
+  // when the file is: behind a header of header_type_ words, either the
+  // byte count, or (compressed) the block count, the block size, the last
+  // block's size (0: a whole block) and each block's compressed size.
+  std::string binary_payload(const Element& da, const std::string& what, uint64_t expected) {
+    const std::string* format = da.attr("format");
+    const int hsize = scalar_size(header_type_);
+    std::string_view text;  // base64, inline or appended
+    size_t pos = 0;
+    std::string_view raw;  // raw appended data from the array's offset
+    bool is_raw = false;
+    size_t where = da.offset;  // for messages: a line, or a byte of raw appended data
     if (*format == "binary") {
-      size_t pos = 0;
-      if (const std::string e = base64_decode(da.text, pos, da.text.size(), bytes); !e.empty())
-        p_.fail_at(da.offset, what + ": " + e);
+      text = da.text;
     } else if (*format == "appended") {
       const uint64_t offset = count_attr(da, "offset");
       if (offset >= p_.appended().size())
         p_.fail_at(da.offset,
                    what + ": offset " + std::to_string(offset) + " is past the end of the appended data");
       if (p_.appended_raw()) {
-        const std::string_view rest = p_.appended().substr(offset);
+        is_raw = true;
+        raw = p_.appended().substr(offset);
         where = p_.appended_offset() + offset;
-        if (rest.size() < static_cast<size_t>(hsize))
-          throw FormatError(p_.path() + ": byte " + std::to_string(where) + ": " + what +
-                            ": file ends in its header");
-        const auto count = static_cast<uint64_t>(scalar_at(rest.data(), header_type_, big_endian_));
-        if (count > rest.size() - hsize)
-          throw FormatError(p_.path() + ": byte " + std::to_string(where) + ": " + what + ": " +
-                            std::to_string(count) + " bytes announced, " +
-                            std::to_string(rest.size() - hsize) + " left");
-        bytes.assign(rest.substr(0, hsize + count));
       } else {
-        size_t pos = offset;
-        std::string e = base64_decode(p_.appended(), pos, hsize, bytes);
-        if (e.empty() && bytes.size() >= static_cast<size_t>(hsize)) {
-          const auto count = static_cast<uint64_t>(scalar_at(bytes.data(), header_type_, big_endian_));
-          if (count > p_.appended().size())
-            p_.fail_at(da.offset,
-                       what + ": " + std::to_string(count) + " bytes announced, more than the file holds");
-          e = base64_decode(p_.appended(), pos, hsize + count, bytes);
-        }
-        if (!e.empty()) p_.fail_at(da.offset, what + ": " + e);
+        text = p_.appended();
+        pos = offset;
       }
     } else {
       p_.fail_at(da.offset, what + ": unknown format \"" + *format + "\"");
     }
-    if (bytes.size() < static_cast<size_t>(hsize)) p_.fail_at(da.offset, what + ": data ends in its header");
-    const auto count = static_cast<uint64_t>(scalar_at(bytes.data(), header_type_, big_endian_));
-    if (count != n * size || bytes.size() < hsize + count)
+    const auto fail = [&](const std::string& problem) -> void {
       throw FormatError(
           (where == da.offset ? p_.line_of(da.offset) : p_.path() + ": byte " + std::to_string(where)) +
-          ": " + what + ": block of " + std::to_string(count) + " bytes (" +
-          std::to_string(bytes.size() - hsize) + " present), expected " + std::to_string(n) + " values of " +
-          std::to_string(size) + " bytes");
-    out.reserve(n);
-    for (uint64_t i = 0; i < n; ++i)
-      out.push_back(scalar_at(bytes.data() + hsize + i * size, *type, big_endian_));
-    return out;
+          ": " + what + ": " + problem);
+    };
+    // The array's first `want` bytes (header included) into `bytes`; false
+    // when the data ends before. Never more than the file holds: raw bytes
+    // are sliced, base64 decoded as far as it goes.
+    std::string bytes;
+    const auto fetch = [&](uint64_t want) -> bool {
+      if (is_raw) {
+        if (want > raw.size()) return false;
+        bytes.assign(raw.substr(0, want));
+        return true;
+      }
+      if (const std::string e = base64_decode(text, pos, want, bytes); !e.empty()) fail(e);
+      return bytes.size() >= want;
+    };
+    const auto word = [&](uint64_t i) {
+      return static_cast<uint64_t>(scalar_at(bytes.data() + i * hsize, header_type_, big_endian_));
+    };
+    const uint64_t left = is_raw ? raw.size() : text.size();  // an upper bound on the bytes present
+    if (!compressor_) {
+      if (!fetch(hsize)) fail(is_raw ? "file ends in its header" : "data ends in its header");
+      const uint64_t count = word(0);
+      if (is_raw && count > raw.size() - hsize)
+        fail(std::to_string(count) + " bytes announced, " + std::to_string(raw.size() - hsize) + " left");
+      if (count != expected || !fetch(hsize + count))
+        fail("block of " + std::to_string(count) + " bytes (" + std::to_string(bytes.size() - hsize) +
+             " present), expected " + std::to_string(expected) + " bytes");
+      return bytes.substr(hsize);
+    }
+    if (!fetch(3 * hsize)) fail("data ends in its compression header");
+    const uint64_t blocks = word(0), block_size = word(1), last_size = word(2);
+    if (blocks > left / hsize)
+      fail(std::to_string(blocks) + " compressed blocks announced, more than the file holds");
+    // A block is decompressed into the size its header gives: that size is
+    // bounded, so that a file cannot make the reader allocate more than a
+    // block beyond what its data really holds (VTK and meshio write 32 KiB).
+    if (block_size > kMaxBlockSize)
+      fail("blocks of " + std::to_string(block_size) + " bytes announced (at most " +
+           std::to_string(kMaxBlockSize) + " are read)");
+    const uint64_t last = last_size == 0 ? block_size : last_size;
+    if (blocks == 0 ? expected != 0
+                    : (last > block_size || block_size == 0 || (blocks - 1) > expected / block_size ||
+                       (blocks - 1) * block_size + last != expected))
+      fail(std::to_string(blocks) + " blocks of " + std::to_string(block_size) + " bytes (the last " +
+           std::to_string(last) + "), expected " + std::to_string(expected) + " bytes");
+    if (!fetch((3 + blocks) * hsize)) fail("data ends in its compression header");
+    std::vector<uint64_t> sizes(blocks);
+    uint64_t total = 0;
+    for (uint64_t b = 0; b < blocks; ++b) {
+      sizes[b] = word(3 + b);
+      if (sizes[b] > left)
+        fail("a compressed block of " + std::to_string(sizes[b]) + " bytes, more than the file holds");
+      total += sizes[b];
+    }
+    const uint64_t header = (3 + blocks) * hsize;
+    if (total > left || !fetch(header + total))
+      fail(std::to_string(total) + " compressed bytes announced, fewer present");
+    std::string payload;
+    uint64_t at = header;
+    for (uint64_t b = 0; b < blocks; ++b) {
+      const std::string_view block = std::string_view(bytes).substr(at, sizes[b]);
+      if (const std::string e =
+              decompress_vtk_block(*compressor_, block, b + 1 < blocks ? block_size : last, payload);
+          !e.empty())
+        fail("block " + std::to_string(b + 1) + " of " + std::to_string(blocks) + ": " + e);
+      at += sizes[b];
+    }
+    return payload;
   }
 
-  void read_cells(const Element& piece, uint64_t cells, uint64_t points, InputMesh& out) {
+  // The piece's tetrahedra, their point indices shifted by `first` (the
+  // points of the pieces before).
+  void read_cells(const Element& piece, uint64_t cells, uint64_t points, size_t first, InputMesh& out) {
     const Element* ce = optional_child(piece, "Cells");
     if (!ce) {
       if (cells > 0) p_.fail_at(piece.offset, "NumberOfCells=" + std::to_string(cells) + " but no <Cells>");
@@ -446,18 +554,26 @@ class VtuReader {
           p_.fail_at(conn_element.offset, "cell " + std::to_string(c) + ": point index " +
                                               std::to_string(static_cast<int64_t>(conn[k])) +
                                               " out of range");
-      if (types[c] != kVtkTetra) continue;
+      if (types[c] != kVtkTetra) {
+        ++other_cells_[static_cast<int>(types[c])];
+        continue;
+      }
       if (e - b != 4)
         p_.fail_at(ce->offset,
                    "cell " + std::to_string(c) + " is a VTK_TETRA with " + std::to_string(e - b) + " points");
-      out.tets.push_back({static_cast<uint32_t>(conn[b]), static_cast<uint32_t>(conn[b + 1]),
-                          static_cast<uint32_t>(conn[b + 2]), static_cast<uint32_t>(conn[b + 3])});
+      const auto at = [&](uint64_t i) {
+        return static_cast<uint32_t>(first + static_cast<uint64_t>(conn[i]));
+      };
+      out.tets.push_back({at(b), at(b + 1), at(b + 2), at(b + 3)});
     }
   }
 
   VtuParser p_;
   bool big_endian_ = false;
   ScalarType header_type_ = ScalarType::kUInt32;
+  std::optional<VtkCompressor> compressor_;
+  std::set<std::string> cell_arrays_;    // CellData arrays seen, by name
+  std::map<int, uint64_t> other_cells_;  // cells that are not tetrahedra, by VTK type
 };
 
 }  // namespace
