@@ -75,8 +75,10 @@ class DtmeshReader(VTKPythonAlgorithmBase):
             return (0, 0)
         return (0, max(0, self._info["level_count"] - 1))
 
+    # default_mode="min": a range domain's default is its middle unless
+    # told, and File > Open showed a middle level, not the finest.
     @smproperty.intvector(name="Level", default_values=0)
-    @smdomain.xml("""<IntRangeDomain name="range">
+    @smdomain.xml("""<IntRangeDomain name="range" default_mode="min">
                        <RequiredProperties><Property name="LevelRange" function="RangeInfo"/></RequiredProperties>
                      </IntRangeDomain>
                      <Documentation>The level of detail shown: 0 is the finest, the largest the coarsest.</Documentation>""")

@@ -48,6 +48,9 @@ check("File > Open picks the dtmesh reader", reader.GetXMLName() == "DtmeshReade
 reader.UpdatePropertyInformation()
 check("Level's range is the stream's levels",
       list(reader.GetProperty("LevelRange")) == [0, info["level_count"] - 1])
+reader.UpdatePipeline()
+check(f"File > Open shows the finest level: Level 0, {rows[0]['vertices']} points",
+      reader.Level == 0 and servermanager.Fetch(reader).GetNumberOfPoints() == rows[0]["vertices"])
 for level in (0, info["level_count"] - 1):
     reader.Level = level
     reader.UpdatePipeline()
