@@ -20,6 +20,8 @@ if [ "${1:-}" = "--all" ]; then
              # (vtk, vtkmodules): Debian makes it conflict with python3-vtk9,
              # so that one is not listed.
              python3-meshio gmsh draco tetgen python3-netgen
+             # Exodus II through meshio (python/tests: test_exodus_through_meshio)
+             python3-netcdf4
              # Draco's and zstd's sizes beside ours (bench/baselines.sh)
              zstd
              # The test "lint" (scripts/lint.sh)

@@ -256,6 +256,12 @@ TEST(InputFormats, NamesAndExtensions) {
   EXPECT_EQ(input_format_named("medit"), InputFormat::kMedit);
   EXPECT_FALSE(input_format_named("stl").has_value());
   EXPECT_THROW(input_format_for_path("x"), FormatError);
+  try {
+    input_format_for_path("run.exo");
+    ADD_FAILURE() << "an Exodus file was taken";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("Exodus II is read through Python"), std::string::npos) << e.what();
+  }
 }
 
 // Small files by hand for what the converted corpus does not show.

@@ -3,8 +3,11 @@
 Reading gives the finest level: its tetrahedra, the stream's fields and the
 per-vertex ``level`` and ``boundary`` as point data. Writing encodes the
 mesh's points, its tetrahedra (the reference solid) and its point data as
-fields, with dtmesh.encode's options as keyword arguments.
+fields, with dtmesh.encode's options as keyword arguments; what the stream
+does not hold yet (cell data, cell sets, other cells) is named in a warning.
 """
+import warnings
+
 import meshio
 import numpy as np
 
@@ -17,9 +20,23 @@ def read(filename, level=None):
 
 def write(filename, mesh, **options):
     tetrahedra = None
+    others = {}
     for block in mesh.cells:
         if block.type == "tetra":
             tetrahedra = block.data if tetrahedra is None else np.vstack([tetrahedra, block.data])
+        else:
+            others[block.type] = others.get(block.type, 0) + len(block.data)
+    # What the stream does not hold yet is named, as meshenc names it:
+    # nothing of a user's mesh is left out without a word.
+    left_out = []
+    if others:
+        left_out.append("cells other than tetrahedra (" + ", ".join(f"{n} {t}" for t, n in others.items()) + ")")
+    if mesh.cell_data:
+        left_out.append("cell data " + ", ".join(f"'{name}'" for name in mesh.cell_data))
+    if getattr(mesh, "cell_sets", None):
+        left_out.append("cell sets " + ", ".join(f"'{name}'" for name in mesh.cell_sets))
+    for what in left_out:
+        warnings.warn(f"{filename}: left out (the stream does not hold it): {what}", stacklevel=2)
     # A decoded mesh names the point data the stream makes itself (level,
     # boundary): they are not stored as fields. A mesh from elsewhere keeps
     # every array it has.

@@ -221,6 +221,38 @@ def test_meshio_reads_and_writes_dtm(corpus, tmp_path):
     assert out.read_bytes() == stream.read_bytes()
 
 
+def test_meshio_write_names_what_the_stream_does_not_hold(corpus, tmp_path):
+    points, tets, _ = read_tetgen(corpus["bunny_10k"][0])
+    triangles = tets[:5, :3]
+    mesh = meshio.Mesh(points, [("tetra", tets), ("triangle", triangles)],
+                       cell_data={"material": [np.ones(len(tets), dtype=np.int32), np.zeros(5, dtype=np.int32)]},
+                       cell_sets={"steel": [np.arange(10), np.array([], dtype=np.int64)]})
+    out = tmp_path / "tagged.dtm"
+    with pytest.warns(UserWarning) as said:
+        meshio.write(out, mesh, box=256, dmax=2)
+    lines = [str(w.message) for w in said]
+    assert any("left out (the stream does not hold it): cells other than tetrahedra (5 triangle)" in m
+               for m in lines), lines
+    assert any("cell data 'material'" in m for m in lines), lines
+    assert any("cell sets 'steel'" in m for m in lines), lines
+    # The mesh itself is encoded all the same: the stream of its tetrahedra alone.
+    plain = tmp_path / "plain.dtm"
+    meshio.write(plain, meshio.Mesh(points, [("tetra", tets)]), box=256, dmax=2)
+    assert out.read_bytes() == plain.read_bytes()
+
+
+def test_exodus_through_meshio(corpus, tmp_path):
+    """Exodus II (a simulation's mesh) goes through meshio's reader (python3-netcdf4)."""
+    pytest.importorskip("netCDF4", reason="apt-get install python3-netcdf4 (scripts/setup.sh --all)")
+    points, tets, _ = read_tetgen(corpus["torus_10k"][0])
+    exodus = tmp_path / "part.e"
+    meshio.write(exodus, meshio.Mesh(points, [("tetra", tets)]), file_format="exodus")
+    via_exodus, direct = tmp_path / "via_exodus.dtm", tmp_path / "direct.dtm"
+    meshio.write(via_exodus, meshio.read(exodus), box=256, dmax=2)
+    meshio.write(direct, meshio.Mesh(points, [("tetra", tets)]), box=256, dmax=2)
+    assert via_exodus.read_bytes() == direct.read_bytes()
+
+
 def test_vtk_grid_has_the_level_and_its_point_data(corpus):
     mesh = dtmesh.decode(corpus["fandisk_11k"][1].read_bytes(), level=1)
     grid = dtmesh.to_vtk(mesh)

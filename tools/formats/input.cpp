@@ -33,6 +33,14 @@ std::optional<InputFormat> input_format_named(std::string_view name) {
 InputFormat input_format_for_path(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (const auto f = ext.size() > 1 ? input_format_named(ext.substr(1)) : std::nullopt) return *f;
+  std::string lower = ext;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (lower == ".e" || lower == ".exo" || lower == ".ex2")
+    // Exodus II goes through the Python package's meshio route (docs/FORMATS.md).
+    throw FormatError(path +
+                      ": Exodus II is read through Python: python3 -c \"import dtmesh, meshio; "
+                      "meshio.write('out.dtm', meshio.read('" +
+                      path + "'))\" (python3-netcdf4)");
   throw FormatError(path + ": unknown input format '" + ext + "' (known: " + kInputFormatNames +
                     "; or give --format)");
 }

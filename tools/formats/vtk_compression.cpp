@@ -49,12 +49,16 @@ std::string decompress_vtk_block(VtkCompressor compressor, std::string_view bloc
     }
     case VtkCompressor::kLzma: {
       // An .xz stream per block, as lzma_easy_buffer_encode() writes it.
-      uint64_t memory = uint64_t{1} << 30;  // lzma's decoder state: far above any preset's
+      // The decoder's state, its dictionary mostly, as the block's header
+      // asks: xz's largest preset needs 65 MiB; a block asking more than
+      // 128 MiB is refused rather than allocated.
+      uint64_t memory = uint64_t{1} << 27;
       size_t in_pos = 0, out_pos = 0;
       const lzma_ret r =
           lzma_stream_buffer_decode(&memory, 0, nullptr, src, &in_pos, block.size(), dest, &out_pos, size);
       if (r == LZMA_BUF_ERROR)
         return "an LZMA block is cut short or holds more than its " + std::to_string(size) + " bytes";
+      if (r == LZMA_MEMLIMIT_ERROR) return "an LZMA block asks for more than 128 MiB to decode";
       if (r != LZMA_OK) return "an LZMA block is corrupt";
       if (out_pos != size)
         return "an LZMA block holds " + std::to_string(out_pos) + " bytes, its header says " +
