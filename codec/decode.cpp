@@ -5,6 +5,7 @@
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/carving_coder.h"
+#include "codec/sections/region_coder.h"
 #include "codec/stream/layer_coder.h"
 #include "common/parallel_for.h"
 #include "mesh/geometry.h"
@@ -49,7 +50,8 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
     DTM_RETURN_IF_ERROR(parse_header(avail, header_));
     has_header_ = true;
     has_field_table_ = !(header_.flags & kFlagValues);
-    if (has_field_table_) walk_.emplace(header_, options_.max_vertices);
+    has_region_table_ = !(header_.flags & kFlagRegions);
+    if (has_field_table_ && has_region_table_) walk_.emplace(header_, options_.max_vertices);
     if (header_.version_major >= 3) models_.enable_coordinate_reuse(header_.grid.qbits);
     pending_start_ += kHeaderSize;
     return Status::Ok();
@@ -61,7 +63,17 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
     for (const FieldDescription& f : table) fields_.push_back({f, {}});
     value_decoder_.emplace(std::move(table));
     has_field_table_ = true;
-    walk_.emplace(header_, options_.max_vertices, table_bytes);
+    tables_bytes_ += table_bytes;
+    if (has_region_table_) walk_.emplace(header_, options_.max_vertices, tables_bytes_);
+    pending_start_ += table_bytes;
+    return Status::Ok();
+  }
+  if (!has_region_table_) {
+    size_t table_bytes = 0;
+    DTM_RETURN_IF_ERROR(parse_region_table(avail, regions_, table_bytes));
+    has_region_table_ = true;
+    tables_bytes_ += table_bytes;
+    walk_.emplace(header_, options_.max_vertices, tables_bytes_);
     pending_start_ += table_bytes;
     return Status::Ok();
   }
@@ -103,6 +115,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   levels_.push_back(d);
   // Only the finest level's carving is ever asked for (carved_cells()).
   carving_.assign(layer.carving.begin(), layer.carving.end());
+  region_section_.assign(layer.regions.begin(), layer.regions.end());
   if (lh.bricked) {
     chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
     brick_depth_ = lh.brick_depth;
@@ -282,8 +295,10 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<
   }
   if (!chunks_.empty() || (header_.flags & kFlagBricks)) return bricked_carving(dt, order);
   std::vector<uint8_t> kept;
-  const Status s =
+  Status s =
       decode_carving(carving_, dt, points_, alpha, carving_contexts(header_.version_major), kept, &order);
+  if (s.ok() && (header_.flags & kFlagRegions))
+    s = decode_regions(region_section_, dt, order, regions_.size(), kept);
   if (!s.ok()) {
     mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return {};

@@ -106,11 +106,16 @@ class ProgressiveDecoder {
   TetMesh delaunay(IncrementalDelaunay::CellOrder order = IncrementalDelaunay::CellOrder::kAsBuilt) const;
   std::vector<std::array<uint32_t, 4>> carved_cells() const;
   // Per cell of `dt` (delaunay()'s result): whether the finest level keeps
-  // it, alpha's verdict corrected by the stream's (spec/FORMAT.md §3.2).
+  // it, alpha's verdict corrected by the stream's (spec/FORMAT.md §3.2):
+  // 0 if not, else its region, 1 + its index in regions() (1 in a stream
+  // of one region).
   std::vector<uint8_t> carving(const TetMesh& dt) const;
   // The same, and the canonical order of dt's cells (found on the way).
   std::vector<uint8_t> carving(const TetMesh& dt, std::vector<uint32_t>& order) const;
   Status mesh_status() const { return mesh_status_; }
+  // The stream's regions (9.0, flag regions; spec/FORMAT.md §2.2): the
+  // label and name of each region index. Empty without regions.
+  const std::vector<RegionLabel>& regions() const { return regions_; }
 
  private:
   Status step(const LevelCallback& on_level);
@@ -128,6 +133,10 @@ class ProgressiveDecoder {
   size_t pending_start_ = 0;
   bool has_header_ = false;
   bool has_field_table_ = false;
+  bool has_region_table_ = false;
+  uint64_t tables_bytes_ = 0;  // the field and region tables' bytes
+  std::vector<RegionLabel> regions_;
+  std::vector<uint8_t> region_section_;  // the finest level's
   StreamHeader header_;
   std::optional<FieldSectionDecoder> value_decoder_;
   std::vector<FieldValues> fields_;

@@ -9,6 +9,7 @@
 #include "codec/blocks/reference_share.h"
 #include "codec/expert_encode.h"
 #include "common/byte_io.h"
+#include "common/release.h"
 #include "core/reference_shape.h"
 
 namespace dtm {
@@ -258,15 +259,26 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   // The input's tetrahedra on the grid: the reference solid.
   std::vector<std::array<uint32_t, 4>> converted;
   std::span<const std::array<uint32_t, 4>> reference_tets;
+  std::vector<int32_t> labels;  // per reference tetrahedron, with regions
+  const bool with_regions = !input.tetrahedron_regions.empty();
+  if (with_regions) {
+    if (input.tetrahedron_regions.size() != input.tetrahedra.size())
+      return invalid_input("a region is needed for every tetrahedron");
+    if (options.bricks) return invalid_input("bricked streams do not carry regions yet");
+    if (!options.carve_to_reference)
+      return invalid_input("regions need the levels carved to the input's solid (not the paper preset)");
+  }
   if (!input.tetrahedra.empty()) {
     const size_t points = input.tetrahedra_on_grid ? q.points.size() : q.input_to_point.size();
     for (const auto& t : input.tetrahedra)
       for (uint32_t v : t)
         if (v >= points) return invalid_input("a tetrahedron names a point that does not exist");
+    if (with_regions) labels.assign(input.tetrahedron_regions.begin(), input.tetrahedron_regions.end());
     if (input.tetrahedra_on_grid) {
       reference_tets = input.tetrahedra;
     } else {
-      converted = grid_tetrahedra(input.tetrahedra, q);
+      converted.assign(input.tetrahedra.begin(), input.tetrahedra.end());
+      grid_tetrahedra_in_place(converted, q, with_regions ? &labels : nullptr);
       reference_tets = converted;
     }
     report.reference_tetrahedra = reference_tets.size();
@@ -277,6 +289,32 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   if (!reference_tets.empty() && !options.carve_to_reference) measured_only.emplace(q.points, reference_tets);
   HierarchyOptions hierarchy = hierarchy_options(options, q.grid, plan.dmax);
   hierarchy.reference_cells = reference_tets;
+  // The regions: the labels in ascending order make the table; each
+  // tetrahedron holds its label's index + 1. One region needs no solid of
+  // its own: every kept cell is in it.
+  std::vector<uint8_t> region_index;
+  if (with_regions) {
+    std::vector<int32_t> distinct = labels;
+    std::sort(distinct.begin(), distinct.end());
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    if (distinct.size() > kMaxRegionCount)
+      return invalid_input("the input has " + std::to_string(distinct.size()) +
+                           " regions; a stream holds at most " + std::to_string(kMaxRegionCount));
+    for (int32_t label : distinct) {
+      const auto name = input.region_names.find(label);
+      report.regions.push_back({label, name == input.region_names.end() ? "" : name->second});
+      if (report.regions.back().name.size() > kMaxRegionNameBytes)
+        report.regions.back().name.resize(kMaxRegionNameBytes);
+    }
+    if (distinct.size() > 1) {
+      region_index.reserve(labels.size());
+      for (int32_t label : labels)
+        region_index.push_back(static_cast<uint8_t>(
+            std::lower_bound(distinct.begin(), distinct.end(), label) - distinct.begin() + 1));
+      hierarchy.reference_regions = region_index;
+    }
+    release(labels);
+  }
   // A scan's voxels are its solid (without tetrahedra to say otherwise).
   std::optional<VoxelSolid> voxels;
   if (input.voxels && reference_tets.empty() && options.carve_to_reference) {
@@ -318,10 +356,13 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   stream_options.cell_hashes = options.cell_hashes;
   stream_options.level_step = options.level_step;
   stream_options.candidates = options.candidates;
+  stream_options.regions = report.regions;
   DTM_ASSIGN_OR_RETURN(EncodedStream stream,
                        encode_stream(h, q.points, q.grid, options.alpha, stream_options, std::move(fields)));
   report.layer_bytes = std::move(stream.layer_bytes);
   report.carving_bytes = std::move(stream.carving_bytes);
+  report.region_bytes = std::move(stream.region_bytes);
+  report.region_table_bytes = stream.region_table_bytes;
   report.candidate_bytes = std::move(stream.candidate_bytes);
   report.candidate_points = std::move(stream.candidate_points);
   report.value_bytes = std::move(stream.value_bytes);

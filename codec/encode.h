@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "codec/sections/region_coder.h"
 #include "codec/sections/value_fields.h"
 #include "common/exchange.h"
 #include "common/grid.h"
@@ -123,6 +124,15 @@ struct EncodeInput {
   // tetrahedra its share holds (codec/blocks/reference_share.h, on the plan's grid
   // ids): a rank never holds them all (the others, when given, are ignored).
   std::span<const std::array<uint32_t, 4>> tetrahedra;
+  // Per tetrahedron, its region (material): the input's own label (a gmsh
+  // physical volume, a Medit ref, ...); empty: none. Every level's cells
+  // then carry the region that holds their centroid (format 9.0). At most
+  // 255 distinct labels; not with bricks or the paper preset. With
+  // tetrahedra_on_grid, in the order of `tetrahedra` (grid_tetrahedra_in_place
+  // with the labels).
+  std::span<const int32_t> tetrahedron_regions;
+  // Names of the labels, where the input has them ($PhysicalNames).
+  std::map<int32_t, std::string> region_names;
   // The tetrahedra name the plan's grid points already (grid_tetrahedra()
   // of the input's, core/reference_shape.h): a caller short of memory frees
   // its own before encoding (meshenc does, for meshes of 10M vertices).
@@ -194,6 +204,9 @@ struct EncodeReport {
   std::vector<std::vector<uint64_t>> level_field_bytes;  // and of those, each field's (empty if not streamed)
   std::vector<FieldReport> fields;
   uint64_t field_table_bytes = 0;
+  std::vector<RegionLabel> regions;    // the region table (empty without regions)
+  std::vector<uint64_t> region_bytes;  // per hierarchy level, its region section
+  uint64_t region_table_bytes = 0;
   // Points merged by quantization whose values differed: each vertex keeps
   // its first point's values.
   uint64_t merged_points_with_other_values = 0;

@@ -8,9 +8,11 @@
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/carving_coder.h"
+#include "codec/sections/region_coder.h"
 #include "codec/stream/format.h"
 #include "codec/stream/layer_coder.h"
 #include "mesh/carving.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 
@@ -128,11 +130,17 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     if (!made.ok()) return made.status();
     value_coder.emplace(std::move(*made));
   }
-  h.version_major = corrections ? kVersionMajorUnbricked
-                    : values    ? kVersionMajorWithValues
-                                : kVersionMajorWithoutValues;
+  const bool regions = !options.regions.empty();
+  if (regions) {
+    DTM_RETURN_IF_ERROR(check_region_table(options.regions).with_context("encode_stream"));
+    if (!corrections) return invalid_input("encode_stream: regions need a hierarchy carved to a reference");
+  }
+  h.version_major = regions       ? kVersionMajorRegions
+                    : corrections ? kVersionMajorUnbricked
+                    : values      ? kVersionMajorWithValues
+                                  : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
-            (values ? kFlagValues : 0);
+            (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
@@ -144,6 +152,12 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     out.field_table_bytes = table.size();
     out.bytes.insert(out.bytes.end(), table.begin(), table.end());
   }
+  if (regions) {
+    const auto table = write_region_table(options.regions);
+    out.region_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
+  out.region_bytes.assign(hierarchy.levels.size(), 0);
   out.layer_bytes.assign(hierarchy.levels.size(), 0);
   out.carving_bytes.assign(hierarchy.levels.size(), 0);
   out.value_bytes.assign(hierarchy.levels.size(), 0);
@@ -180,7 +194,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       out.decode_order.push_back(i);
       decoded.push_back(points[i]);
     }
-    std::vector<uint8_t> carving;
+    std::vector<uint8_t> carving, region_section;
     if (corrections) {
       if (level.kept.size() != level.delaunay.cells.size())
         return invalid_input("encode_stream: a level without its carving verdicts");
@@ -188,6 +202,13 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       for (auto& c : dt.cells)
         for (uint32_t& v : c) v = decoder_index[v];
       carving = encode_carving(dt, decoded, level.alpha, level.kept, carving_contexts(h.version_major));
+      if (regions) {
+        for (uint8_t r : level.kept)
+          if (r > options.regions.size())
+            return invalid_input("encode_stream: a cell's region is not in the table");
+        region_section =
+            encode_regions(dt, canonical_cell_order(dt.cells), level.kept, options.regions.size());
+      }
     }
 
     std::vector<uint8_t> value_section;
@@ -234,8 +255,9 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
     if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.carved_cells());
-    const auto layer = write_layer(lh, payload, carving, value_section, candidate_section);
+    const auto layer = write_layer(lh, payload, carving, value_section, candidate_section, region_section);
     out.carving_bytes[streamed[l]] = carving.size();
+    out.region_bytes[streamed[l]] = region_section.size();
     out.value_bytes[streamed[l]] = value_section.size();
     merge_known(known, layer_points, grid.qbits);
     out.layer_bytes[streamed[l]] = layer.size();

@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/sections/region_coder.h"
 #include "codec/sections/value_fields.h"
 #include "common/grid.h"
 #include "common/status.h"
@@ -35,6 +36,10 @@ struct StreamOptions {
   // from Delaunay refinement, for a decoder that builds the next coarser
   // level's tetrahedralization first. Off: every point through the set coder.
   bool candidates = true;
+  // The regions of the cells (format 9.0, spec/FORMAT.md §2.2, §3.6): the
+  // table, whose index + 1 each level's Level::kept holds per kept cell.
+  // Empty: one region, no table (Level::kept holds 1).
+  std::vector<RegionLabel> regions;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
@@ -47,6 +52,8 @@ struct EncodedStream {
   // Of those, the carving corrections' (spec/FORMAT.md §3.2) and the
   // values' (§3.3).
   std::vector<uint64_t> carving_bytes;
+  std::vector<uint64_t> region_bytes;  // of those, the region sections' (9.0)
+  uint64_t region_table_bytes = 0;
   std::vector<uint64_t> value_bytes;
   // Of those, the candidate section's (§3.4; 0 where the layer sends every
   // point through the set coder), and how many points it sends.

@@ -9,6 +9,7 @@
 #include "core/level_build.h"
 #include "core/reference_shape.h"
 #include "core/reference_solid.h"
+#include "core/region_solid.h"
 #include "mesh/delaunay.h"
 
 namespace dtm {
@@ -82,14 +83,23 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   DTM_ASSIGN_OR_RETURN(TetMesh dt0, delaunay_tetrahedralize(points));
   std::optional<ReferenceShape> shape;
   std::optional<ReferenceSolid> solid;
-  const Solid* carving = nullptr;  // what every level is carved to
+  std::optional<RegionSolid> regions;  // a reference of several regions
+  const Solid* carving = nullptr;      // what every level is carved to
   std::vector<std::array<uint32_t, 4>> level0_cells;
   std::vector<int32_t> match;  // per level-0 cell, the reference tetrahedron it is
   std::optional<LevelGeometry> L;
   if (!opt.reference_cells.empty()) {
     phase(0, "the reference solid");
-    shape.emplace(points, opt.reference_cells);
-    carving = &solid.emplace(points, opt.reference_cells, shape->boundary_triangles());
+    const std::span<const uint8_t> region = opt.reference_regions;
+    if (!region.empty() && region.size() != opt.reference_cells.size())
+      return Status{StatusCode::kInvalidInput, "a region is needed for every reference tetrahedron"};
+    if (region.empty()) {
+      shape.emplace(points, opt.reference_cells);
+      carving = &solid.emplace(points, opt.reference_cells, shape->boundary_triangles());
+    } else {
+      shape.emplace(points, opt.reference_cells, region);
+      carving = &regions.emplace(points, opt.reference_cells, region);
+    }
     std::vector<uint8_t> verdicts;
     phase(0, "carving to the reference");
     {
@@ -101,8 +111,11 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
                    [&](size_t block) {
                      for (size_t c = block * 4096; c < std::min(dt0.cells.size(), block * 4096 + 4096); ++c) {
                        const auto& k = dt0.cells[c];
-                       verdicts[c] = match[c] >= 0 || solid->contains_centroid(points[k[0]], points[k[1]],
-                                                                               points[k[2]], points[k[3]]);
+                       const int32_t t = match[c];
+                       verdicts[c] = t < 0 ? carving->region_of_centroid(points[k[0]], points[k[1]],
+                                                                         points[k[2]], points[k[3]])
+                                     : region.empty() ? 1
+                                                      : region[static_cast<size_t>(t)];
                      }
                    },
                    2);
@@ -136,7 +149,7 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   SurfaceRecord record = record_surface(vertices, surface0.triangles, shape0);
   if (!match.empty()) {
     phase(0, "its solid against the reference");
-    h.level0_difference = carved_difference(points, L->dt, L->in_mesh, opt.reference_cells, *solid, match);
+    h.level0_difference = carved_difference(points, L->dt, L->in_mesh, opt.reference_cells, *carving, match);
     release(match);
   }
   h.levels.push_back(describe(*L, vertices, 0, shape0));

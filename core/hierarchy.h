@@ -35,6 +35,10 @@ struct HierarchyOptions {
   // voxels, core/voxel_solid.h; level 0's carving is then the shape the
   // levels are measured against), else level 0's alpha carving.
   std::span<const std::array<uint32_t, 4>> reference_cells;
+  // Per reference cell, its region (1 + the index of its label in the
+  // stream's region table, core/region_solid.h); empty: one region. Every
+  // level's kept cells then carry their region in Level::kept.
+  std::span<const uint8_t> reference_regions;
   const Solid* reference_solid = nullptr;
   // How much a level removes: independent-set passes, each in the then
   // current tetrahedralization, until this share of the finer level's

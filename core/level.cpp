@@ -77,7 +77,8 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
                                   : verdicts[c] != 0 && (policy.kept_radius_ratio <= 0 ||
                                                          carving_radius(L.points, L.dt.cells[c]) <=
                                                              policy.kept_radius_ratio * L.alpha);
-            L.in_mesh[c] = kept;
+            // A solid of several regions gives the cell's region (1 + its index).
+            L.in_mesh[c] = kept ? (verdicts.empty() ? 1 : verdicts[c]) : 0;
             if (!kept) continue;
             // Corners in lexicographic order of their coordinates, as the
             // carving takes them: the angles and volumes are then the same

@@ -93,9 +93,10 @@ struct CellResults {
         fresh.size(),
         [&](size_t i) {
           const auto& k = mesh.cells[fresh[i]];
-          const bool in = solid.contains_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]) &&
-                          (kept_radius <= 0 || carving_radius(points, k) <= kept_radius);
-          new_kept[fresh[i]] = in;
+          const uint8_t region =
+              solid.region_of_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
+          const bool in = region != 0 && (kept_radius <= 0 || carving_radius(points, k) <= kept_radius);
+          new_kept[fresh[i]] = in ? region : 0;
           if (in) new_angle[fresh[i]] = smallest_solid_angle(points, k);
         },
         1024);
@@ -351,6 +352,20 @@ CarvedSurface carved_surface(const TetMesh& dt, std::span<const uint8_t> kept,
   for (const BoundaryFace& f : boundary_faces(dt, kept)) {
     s.triangles.push_back(outward_triangle(dt, points, f));
     s.cells.push_back({static_cast<int32_t>(f.cell), dt.neighbors[f.cell][f.opposite]});
+  }
+  // The interfaces between regions, each face once (from its cell of the
+  // lower index), are measured as the boundary is.
+  for (uint32_t c = 0; c < dt.cells.size(); ++c) {
+    if (!kept[c]) continue;
+    for (int i = 0; i < 4; ++i) {
+      const int32_t n = dt.neighbors[c][static_cast<size_t>(i)];
+      if (n <= static_cast<int32_t>(c) || !kept[static_cast<size_t>(n)] ||
+          kept[static_cast<size_t>(n)] == kept[c])
+        continue;
+      const BoundaryFace f{c, static_cast<uint8_t>(i)};
+      s.triangles.push_back(outward_triangle(dt, points, f));
+      s.cells.push_back({static_cast<int32_t>(c), n});
+    }
   }
   return s;
 }

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "common/parallel_for.h"
+#include "core/region_solid.h"
 #include "mesh/topology.h"
 
 namespace dtm {
@@ -27,18 +28,40 @@ std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<
   return out;
 }
 
-void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const QuantizedPoints& q) {
+void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const QuantizedPoints& q,
+                              std::vector<int32_t>* labels) {
   using Tet = std::array<uint32_t, 4>;
   // On the grid, those quantization collapsed dropped.
   size_t kept = 0;
-  for (const Tet& t : tets) {
+  for (size_t i = 0; i < tets.size(); ++i) {
+    const Tet& t = tets[i];
     const Tet g = {q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
                    q.input_to_point[t[3]]};
     Tet s = g;
     std::sort(s.begin(), s.end());
-    if (std::adjacent_find(s.begin(), s.end()) == s.end()) tets[kept++] = g;
+    if (std::adjacent_find(s.begin(), s.end()) != s.end()) continue;
+    if (labels) (*labels)[kept] = (*labels)[i];
+    tets[kept++] = g;
   }
   tets.resize(kept);
+  auto smallest = [](const Tet& t) { return std::min({t[0], t[1], t[2], t[3]}); };
+  if (labels) {
+    // With labels, a permutation sorted once (a mesh with regions is rarely
+    // of the size the in-place order below is for): the same order.
+    labels->resize(kept);
+    std::vector<uint32_t> order(kept);
+    for (uint32_t i = 0; i < kept; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+      const uint32_t sa = smallest(tets[a]), sb = smallest(tets[b]);
+      return sa != sb ? sa < sb : (tets[a] != tets[b] ? tets[a] < tets[b] : a < b);
+    });
+    std::vector<Tet> sorted(kept);
+    std::vector<int32_t> sorted_labels(kept);
+    for (size_t i = 0; i < kept; ++i) sorted[i] = tets[order[i]], sorted_labels[i] = (*labels)[order[i]];
+    tets = std::move(sorted);
+    *labels = std::move(sorted_labels);
+    return;
+  }
   // Ordered by smallest vertex, in two passes that each touch memory in
   // order: an in-place distribution into partitions of consecutive vertex
   // ids (each partition's next free place stays in cache), then each
@@ -48,7 +71,6 @@ void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const 
   // (bunny_10m's reference shape and solid went from 37 s to 13 s). Ties
   // are ordered by their corners, so the order is the tetrahedra's, not
   // the input's; nothing built from them depends on it.
-  auto smallest = [](const Tet& t) { return std::min({t[0], t[1], t[2], t[3]}); };
   int shift = 0;
   while ((q.points.size() >> shift) >= 1024) ++shift;
   const size_t partitions = (q.points.size() >> shift) + 1;
@@ -78,6 +100,10 @@ void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const 
 ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
                                std::span<const std::array<uint32_t, 4>> tets)
     : ReferenceShape(points, dtm::boundary_triangles(tets)) {}
+
+ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
+                               std::span<const std::array<uint32_t, 4>> tets, std::span<const uint8_t> region)
+    : ReferenceShape(points, region_surface_triangles(tets, region)) {}
 
 ReferenceShape ReferenceShape::from_boundary(std::span<const GridPoint> points,
                                              std::vector<std::array<uint32_t, 3>> boundary) {

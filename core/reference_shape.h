@@ -30,7 +30,10 @@ std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<
                                                      const QuantizedPoints& q);
 // The same, made of the input's tetrahedra where they lie: no copy of them
 // (a gigabyte at 60M tetrahedra).
-void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const QuantizedPoints& q);
+// `labels`, when given, holds a value per tetrahedron (its region) and
+// follows it.
+void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const QuantizedPoints& q,
+                              std::vector<int32_t>* labels = nullptr);
 
 // One level's surface measured against the reference. The per-point
 // figures are squared distances in grid units.
@@ -54,6 +57,10 @@ class ReferenceShape {
  public:
   // `tets` index `points` (the grid points); their orientation does not matter.
   ReferenceShape(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets);
+  // Of a solid of several regions (`region` per tetrahedron, region_solid.h):
+  // its interfaces are measured as its outer boundary is.
+  ReferenceShape(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets,
+                 std::span<const uint8_t> region);
   // The same from the reference's boundary triangles (indices into
   // `points`): a part of a larger reference, for one block of a level
   // built block by block.

@@ -13,7 +13,7 @@ std::vector<uint8_t> Solid::verdicts(const TetMesh& dt, std::span<const GridPoin
                [&](size_t block) {
                  for (size_t c = block * kBlock; c < std::min(out.size(), block * kBlock + kBlock); ++c) {
                    const auto& k = dt.cells[c];
-                   out[c] = contains_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
+                   out[c] = region_of_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
                  }
                },
                4);

@@ -23,6 +23,15 @@ class Solid {
   // True if the point p / 4 (p at four times the grid scale) is in the solid.
   virtual bool contains_point4(const std::array<int64_t, 3>& p) const = 0;
 
+  // The region holding p / 4: 0 outside the solid, else 1 + the index of
+  // the region (a solid of several regions, region_solid.h; one region: 1).
+  virtual uint8_t region_point4(const std::array<int64_t, 3>& p) const { return contains_point4(p) ? 1 : 0; }
+  uint8_t region_of_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
+                             const GridPoint& d) const {
+    return region_point4(
+        {int64_t{a.x} + b.x + c.x + d.x, int64_t{a.y} + b.y + c.y + d.y, int64_t{a.z} + b.z + c.z + d.z});
+  }
+
   // True if the centroid of the tetrahedron (a, b, c, d) is in the solid.
   bool contains_centroid(const GridPoint& a, const GridPoint& b, const GridPoint& c,
                          const GridPoint& d) const {
@@ -30,7 +39,8 @@ class Solid {
         {int64_t{a.x} + b.x + c.x + d.x, int64_t{a.y} + b.y + c.y + d.y, int64_t{a.z} + b.z + c.z + d.z});
   }
 
-  // Per cell of `dt` (vertex ids index `points`): 1 if the solid keeps it.
+  // Per cell of `dt` (vertex ids index `points`): its region (0: the solid
+  // does not keep it; region_point4()).
   // Computed on every core. Work that may be handed a guessing solid
   // settles it afterwards (below).
   std::vector<uint8_t> verdicts(const TetMesh& dt, std::span<const GridPoint> points) const;

@@ -37,6 +37,10 @@ case "$step" in
     xz -dc "$DTM_DATA/bunny_10k.node.xz" > "$build/paraview_bunny.node"
     xz -dc "$DTM_DATA/bunny_10k.ele.xz" > "$build/paraview_bunny.ele"
     "$build/tools/meshenc" "$build/paraview_bunny.node" -q -o "$stream" --box 256 --dmax 2
+    # A part of two materials (data/two_materials.geo): the regions as cell data.
+    regions_stream="$build/paraview_regions.dtm"
+    xz -dc "$DTM_DATA/two_materials.msh.xz" > "$build/paraview_regions.msh"
+    "$build/tools/meshenc" "$build/paraview_regions.msh" -q -o "$regions_stream"
     # pvbatch runs on Debian's Python: the venv's dtmesh is put on its path.
     site="$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
     # pvbatch renders through GLX, so it needs an X server. In CI the server
@@ -96,6 +100,7 @@ sys.exit(1)'
       fi
       if DISPLAY=":$(cat "$display_file")" PYTHONPATH="$site" pvbatch "$root/paraview/tests/check_reader.py" \
           "$root/paraview/dtmesh_reader.py" "$stream" "$build/tools/meshinfo" "$build/paraview_reader.png" \
+          "$regions_stream" \
           > >(tee "$pvbatch_out") 2>&1; then
         exit 0
       fi

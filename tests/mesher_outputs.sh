@@ -2,11 +2,15 @@
 # tests/mesher_outputs.sh MESHENC -- meshes as gmsh and Netgen write them,
 # made here by Debian's gmsh and python3-netgen, read by meshenc: a
 # two-material gmsh part in .msh 2.2 and 4.1, ASCII and binary, gives one
-# stream from all four, and meshenc names what the stream does not hold (its
-# physical tags and names, its boundary triangles); a Netgen CSG part
-# exported as gmsh 2.0 ("2.000000") is read.
+# stream from all four, with its two physical volumes as regions, and meshenc
+# names what the stream does not hold (the surface's physical name, its
+# boundary triangles); meshdec writes the regions back as gmsh physical
+# volumes, VTU cell data and Medit refs, which gmsh and meshio read; a Netgen
+# CSG part exported as gmsh 2.0 ("2.000000") is read with its domain (Netgen
+# tags a domain d 100000 + d).
 set -euo pipefail
 meshenc=$1
+meshdec=$(dirname "$meshenc")/meshdec
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -29,15 +33,17 @@ done
 for f in b22 a41 b41; do
   cmp -s a22.dtm $f.dtm || { echo "$f.msh: a stream other than a22.msh's"; failed=1; }
 done
-for f in a22 b22; do
-  grep -q "left out (the stream does not hold it): the tetrahedra's physical tags (1, 2)" $f.out ||
-    { echo "$f.msh: physical tags not named"; cat $f.out; failed=1; }
-done
 for f in a22 b22 a41 b41; do
-  grep -q 'PhysicalNames (2:3 "base", 3:1 "aluminium", 3:2 "steel")' $f.out &&
+  grep -q 'regions (physical [a-z]*), 2: 1 "aluminium" ([0-9]* tetrahedra), 2 "steel"' $f.out ||
+    { echo "$f.msh: the physical volumes are not the regions"; cat $f.out; failed=1; }
+  grep -q 'PhysicalNames of points, curves and surfaces (2:3 "base")' $f.out &&
     grep -q "elements other than tetrahedra ([0-9]* triangles" $f.out ||
-    { echo "$f.msh: physical names or triangles not named"; cat $f.out; failed=1; }
+    { echo "$f.msh: the surface's name or triangles not named"; cat $f.out; failed=1; }
 done
+for ext in msh vtu mesh; do "$meshdec" a41.dtm -o out.$ext 2>/dev/null || failed=1; done
+gmsh out.msh -0 -format msh22 -o again.msh >/dev/null 2>&1 || { echo "gmsh does not read out.msh"; failed=1; }
+grep -A3 '^\$PhysicalNames' again.msh | grep -q '3 2 "steel"' || { echo "gmsh lost the regions"; failed=1; }
+
 # Debian's own Python, where python3-netgen is (not a user's pyenv or venv).
 py=/usr/bin/python3
 [ -x "$py" ] || py=python3
@@ -51,5 +57,21 @@ PY
 head -2 netgen.msh | tail -1 | grep -q "^2\.0" || { echo "Netgen no longer writes gmsh 2.0"; failed=1; }
 "$meshenc" netgen.msh -o netgen.dtm >netgen.out || { cat netgen.out; failed=1; }
 grep -q "netgen.dtm: [0-9]* bytes" netgen.out || { echo "netgen.msh not encoded"; failed=1; }
+grep -q "regions (physical tags), 1: 10000[0-9] (" netgen.out || { echo "netgen.msh: its domain is not a region"; cat netgen.out; failed=1; }
+# The regions as gmsh, meshio (VTU cell data, Medit refs) read them back.
+"$py" - <<'PY' || failed=1
+import sys
+import meshio
+import numpy as np
+counts = {}
+for name, key in (("out.msh", "gmsh:physical"), ("out.vtu", "region"), ("out.mesh", "medit:ref")):
+    m = meshio.read(name)
+    labels = np.concatenate([np.asarray(a) for a in m.cell_data[key]])
+    counts[name] = dict(zip(*np.unique(labels, return_counts=True)))
+if len({str(c) for c in counts.values()}) != 1 or sorted(counts["out.vtu"]) != [1, 2]:
+    sys.exit("the writers' regions differ: %s" % counts)
+if meshio.read("out.msh").field_data.get("steel", [None])[0] != 2:
+    sys.exit("out.msh: the region names are lost")
+PY
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed

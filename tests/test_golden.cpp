@@ -11,6 +11,7 @@
 
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "codec/decode.h"
@@ -52,6 +53,16 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
                          EXPECT_EQ(hex(level_cell_hash(d.header().flags, d.points(), d.carved_cells())),
                                    want["cell_hash"].get<std::string>())
                              << GetParam() << " level " << l.level;
+                         // 9.0: the level's cells per region label.
+                         if (!want.contains("region_cells")) return;
+                         const TetMesh dt = d.delaunay();
+                         std::map<std::string, uint64_t> cells;
+                         for (uint8_t r : d.carving(dt))
+                           if (r) ++cells[std::to_string(d.regions()[r - 1u].label)];
+                         for (const auto& [label, count] : want["region_cells"].items())
+                           EXPECT_EQ(cells[label], count.get<uint64_t>())
+                               << GetParam() << " level " << l.level;
+                         EXPECT_EQ(cells.size(), want["region_cells"].size());
                        })
                   .ok());
   EXPECT_TRUE(dec.finish().ok());
@@ -122,6 +133,7 @@ TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
   }
 }
 
+INSTANTIATE_TEST_SUITE_P(Format9_0, GoldenStream, ::testing::Values("two_materials"));
 INSTANTIATE_TEST_SUITE_P(Format8_0, GoldenStream,
                          ::testing::Values("ellipsoid_793_bricks", "torus_288_bricks"));
 INSTANTIATE_TEST_SUITE_P(Format7_0, GoldenStream,

@@ -344,14 +344,16 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
       "$PhysicalNames\n1\n3 2 \"steel insert\"\n$EndPhysicalNames\n"));
   EXPECT_EQ(m.tets.size(), 2u);
   EXPECT_TRUE(has(m, "elements other than tetrahedra (1 triangles)"));
-  EXPECT_TRUE(has(m, "the tetrahedra's physical tags (1, 2)"));
-  EXPECT_TRUE(has(m, "$PhysicalNames (3:2 \"steel insert\")"));
+  // Its physical tags are the regions, its volume names theirs: read.
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
+  EXPECT_EQ(m.region_names.at(2), "steel insert");
+  EXPECT_FALSE(has(m, "PhysicalNames"));
   // Medit: tetrahedron refs and triangles.
   m = read_input(
       write_temp("refs.mesh",
                  "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n"
                  "0 0 1 0\n1 1 1 0\nTriangles\n1\n1 2 3 4\nTetrahedra\n2\n1 2 3 4 1\n2 3 4 5 2\nEnd\n"));
-  EXPECT_TRUE(has(m, "the tetrahedra's refs (1, 2)"));
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
   EXPECT_TRUE(has(m, "1 Triangles"));
   // VTK legacy CELL_DATA and a triangle.
   m = read_input(write_temp(
@@ -366,7 +368,12 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
   write_temp("regions.node", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 1 1 1\n");
   write_temp("regions.ele", "2 4 1\n0 0 1 2 3 1\n1 1 2 3 4 2\n");
   m = read_input(::testing::TempDir() + "/regions.node");
-  EXPECT_TRUE(has(m, "1 attribute(s) per tetrahedron"));
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
+  EXPECT_TRUE(m.left_out.empty());
+  // A second attribute is named.
+  write_temp("regions.ele", "2 4 2\n0 0 1 2 3 1 0.5\n1 1 2 3 4 2 0.5\n");
+  m = read_input(::testing::TempDir() + "/regions.node");
+  EXPECT_TRUE(has(m, "attributes after the first (1 per tetrahedron"));
   // Nothing to name in a plain tetrahedral mesh.
   EXPECT_TRUE(read_input(test::data_path("torus_288.node")).left_out.empty());
 }
@@ -383,14 +390,17 @@ TEST(InputFormats, VtuPiecesAreOneMeshAndCellDataIsNamed) {
   char a[1024], b[1024];
   std::snprintf(a, sizeof a, piece.c_str(), "0 0 0 1 0 0 0 1 0 0 0 1", 1);
   std::snprintf(b, sizeof b, piece.c_str(), "1 0 0 0 1 0 0 0 1 1 1 1", 2);
-  const InputMesh m =
+  InputMesh m =
       read_input(write_temp("two.vtu", std::string("<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>") +
                                            a + b + "</UnstructuredGrid></VTKFile>"));
   ASSERT_EQ(m.points.size(), 8u);
   ASSERT_EQ(m.tets.size(), 2u);
   EXPECT_EQ(m.tets[1], (std::array<uint32_t, 4>{4, 5, 6, 7}));
-  ASSERT_EQ(m.left_out.size(), 1u);
-  EXPECT_EQ(m.left_out[0], "CellData arrays 'material'");
+  // An integer cell array in every piece may be the regions.
+  EXPECT_TRUE(m.left_out.empty());
+  EXPECT_EQ(m.tet_arrays.at("material"), (std::vector<int32_t>{1, 2}));
+  choose_regions(m, "", "two.vtu");
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
 }
 
 }  // namespace

@@ -17,8 +17,15 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
   std::vector<uint32_t> order;
   const std::vector<uint8_t> in_mesh = decoder.carving(dt, order);
   if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+  // With regions (format 9.0), each cell's label from the region table.
+  const std::vector<RegionLabel>& regions = decoder.regions();
   for (uint32_t k : order)
-    if (in_mesh[k]) mesh.cells.push_back(sorted_positive(dt.cells[k], mesh.points));
+    if (in_mesh[k]) {
+      mesh.cells.push_back(sorted_positive(dt.cells[k], mesh.points));
+      if (!regions.empty()) mesh.region.push_back(regions[in_mesh[k] - 1u].label);
+    }
+  for (const RegionLabel& r : regions)
+    if (!r.name.empty()) mesh.region_names[r.label] = r.name;
   mesh.level = decoder.vertex_levels();
   mesh.boundary = boundary_vertices(dt, mesh.points.size(), in_mesh);
   for (const FieldValues& f : decoder.fields())

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <optional>
 
 #include "codec/blocks/reference_share.h"
@@ -66,7 +67,8 @@ std::string format_number(double v) {
 struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
   std::optional<double> removal_share, quality_ratio, quality_guard, quality_floor;
-  bool quiet = false, no_reference = false, no_fields = false, verbose = false;
+  bool quiet = false, no_reference = false, no_fields = false, no_regions = false, verbose = false;
+  std::string region_array;
   int threads = 0;                        // --threads; 0: the process's share of its cores
   std::vector<std::string> field_errors;  // NAME=E
   dtm::VolumeOptions volume;
@@ -182,6 +184,12 @@ void add_options(CLI::App& app, Command& c) {
                  "code float field NAME lossily, every decoded value within E of its own (repeatable)")
       ->type_name("NAME=E");
   app.add_flag("--no-fields", c.no_fields, "leave the input's per-vertex fields out of the stream");
+  app.add_flag("--no-regions", c.no_regions,
+               "leave the input's regions (gmsh physical volumes, Medit refs, TetGen region attributes) out "
+               "of the stream");
+  app.add_option("--region-array", c.region_array,
+                 "a .vtu's integer cell array holding the regions (default: the first of gmsh:physical, "
+                 "medit:ref, region, material, MaterialIds, CellEntityIds it has)");
   app.add_option("--report", c.report_path, "write the level table as JSON to this file");
   app.add_flag("-q,--quiet", c.quiet, "do not print the table (nor the progress line on a terminal)");
   app.add_flag("-v,--verbose", c.verbose,
@@ -241,6 +249,19 @@ void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePla
     }
     std::printf("%s: per-vertex fields %s: %s\n", c.input.c_str(), c.no_fields ? "left out" : "coded",
                 names.c_str());
+  }
+  if (!in.tet_regions.empty()) {
+    std::map<int32_t, uint64_t> cells;
+    for (int32_t r : in.tet_regions) ++cells[r];
+    std::string list;
+    for (const auto& [label, count] : cells) {
+      const auto name = in.region_names.find(label);
+      list += (list.empty() ? "" : ", ") + std::to_string(label) +
+              (name == in.region_names.end() ? "" : " \"" + name->second + "\"") + " (" +
+              std::to_string(count) + " tetrahedra)";
+    }
+    std::printf("%s: regions (%s), %zu: %s\n", c.input.c_str(), in.region_source.c_str(), cells.size(),
+                list.c_str());
   }
   for (const std::string& what : in.left_out)
     std::printf("%s: left out (the stream does not hold it): %s\n", c.input.c_str(), what.c_str());
@@ -372,6 +393,19 @@ int run(Command& c) {
   display.start("reading " + c.input + " (" + std::to_string(threads_used) +
                 (threads_used == 1 ? " thread)" : " threads)"));
   dtm::InputMesh in = read(c);
+  dtm::choose_regions(in, c.region_array, c.input);
+  // The regions, where the stream can carry them; else named as left out.
+  if (!in.tet_regions.empty()) {
+    const char* why = c.no_regions                        ? "--no-regions"
+                      : c.encode.bricks || mpi.size() > 1 ? "bricked streams do not carry them yet"
+                      : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
+                      : c.no_reference                    ? "--no-reference"
+                                                          : nullptr;
+    if (why) {
+      in.left_out.push_back("the tetrahedra's regions, " + in.region_source + " (" + why + ")");
+      dtm::release(in.tet_regions);
+    }
+  }
   display.start("quantizing");
   dtm::EncodeInput input;
   input.points = in.points;
@@ -410,10 +444,15 @@ int run(Command& c) {
   // was the peak of a 10M-vertex encoding), freed once the encoder holds
   // what it needs of them.
   if (!in.tets.empty()) display.start("the reference's tetrahedra on the grid");
-  dtm::grid_tetrahedra_in_place(in.tets, plan->quantized);
+  dtm::grid_tetrahedra_in_place(in.tets, plan->quantized, in.tet_regions.empty() ? nullptr : &in.tet_regions);
   input.tetrahedra = in.tets;
+  input.tetrahedron_regions = in.tet_regions;
+  input.region_names = in.region_names;
   input.tetrahedra_on_grid = true;
-  input.tetrahedra_done = [&in] { dtm::release(in.tets); };
+  input.tetrahedra_done = [&in] {
+    dtm::release(in.tets);
+    dtm::release(in.tet_regions);
+  };
   input.points_done = [&in, &input] {
     input.points = {};
     input.fields = {};
@@ -443,6 +482,16 @@ int run(Command& c) {
                   8.0 * (r.stream_bytes - value_bytes) / vertices, vertices, r.streamed_levels.size(),
                   r.fields.empty() ? "" : ", and the values:");
     print_fields(r, vertices);
+    if (!r.regions.empty()) {
+      uint64_t region_bytes = r.region_table_bytes;
+      for (uint64_t b : r.region_bytes) region_bytes += b;
+      const uint64_t cells = r.levels.empty() ? 0 : r.levels.front().stats.tetrahedra;
+      std::printf("  regions: %llu bytes (the table %llu), level 0: %llu bytes, %.3f bits per cell\n",
+                  static_cast<unsigned long long>(region_bytes),
+                  static_cast<unsigned long long>(r.region_table_bytes),
+                  static_cast<unsigned long long>(r.region_bytes.empty() ? 0 : r.region_bytes.front()),
+                  cells ? 8.0 * (r.region_bytes.empty() ? 0 : r.region_bytes.front()) / cells : 0.0);
+    }
   }
   if (mpi.rank() == 0) write_outputs(c, *encoded);
   display.finish();

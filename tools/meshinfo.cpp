@@ -42,17 +42,22 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
                 d.lossy ? ("within " + std::to_string(d.error_bound)).c_str() : "lossless",
                 static_cast<unsigned long long>(field_bytes[f]));
   }
+  // 9.0: the region table; each layer's region section in its own column.
+  for (const dtm::RegionLabel& r : s.regions)
+    std::printf("region %d%s\n", r.label, r.name.empty() ? "" : (" \"" + r.name + "\"").c_str());
+  const bool regions = !s.regions.empty();
   // 7.0: the candidate section's bytes (points sent beside the coarser
   // level's circumcentres and edge midpoints).
   // 8.0 bricked: each layer's chunks and its index's bytes instead.
   const bool bricks = s.header.flags & dtm::kFlagBricks;
   const bool candidates = s.header.version_major >= 7 && !bricks;
-  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
+  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
               "bits/new", "carving",
               candidates ? " candidate"
               : bricks   ? "    chunks     index"
                          : "",
-              s.fields.empty() ? "" : "    values", stats ? "      tets  boundary avg_minSA    min_SA" : "");
+              s.fields.empty() ? "" : "    values", regions ? "   regions" : "",
+              stats ? "      tets  boundary avg_minSA    min_SA" : "");
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
     const uint64_t layer_bytes = l.size();
@@ -62,6 +67,7 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
     if (candidates) std::printf(" %9u", l.header.candidate_bytes);
     if (bricks) std::printf(" %9llu %9u", static_cast<unsigned long long>(l.chunks), l.header.index_bytes);
     if (!s.fields.empty()) std::printf(" %9u", l.header.value_bytes);
+    if (regions) std::printf(" %9u", l.header.region_bytes);
     if (i < quality.size())
       std::printf(" %9llu %9llu %9.6f %9.3g", static_cast<unsigned long long>(quality[i].tetrahedra),
                   static_cast<unsigned long long>(quality[i].quality.boundary_vertices),

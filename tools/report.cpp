@@ -52,6 +52,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   j["origin"] = {g.origin[0], g.origin[1], g.origin[2]};
   j["step"] = g.step;
   j["scale"] = r.scale;
+  j["dmax"] = r.dmax;
   j["duplicates_merged"] = r.duplicates_merged;
   j["input_points"] = r.input_points;
   if (r.reference_tetrahedra > 0) j["reference_tetrahedra"] = r.reference_tetrahedra;
@@ -79,6 +80,12 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
     j["field_table_bytes"] = r.field_table_bytes;
     j["merged_points_with_other_values"] = r.merged_points_with_other_values;
   }
+  if (!r.regions.empty()) {
+    j["regions"] = nlohmann::json::array();
+    for (const RegionLabel& region : r.regions)
+      j["regions"].push_back({{"label", region.label}, {"name", region.name}});
+    j["region_table_bytes"] = r.region_table_bytes;
+  }
   j["levels"] = nlohmann::json::array();
   for (const LevelReport& level : r.levels) {
     const LevelStats& s = level.stats;
@@ -97,6 +104,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
     if (static_cast<size_t>(s.level) < r.carving_bytes.size())
       row["carving_bytes"] = r.carving_bytes[s.level];
     if (static_cast<size_t>(s.level) < r.value_bytes.size()) row["value_bytes"] = r.value_bytes[s.level];
+    if (static_cast<size_t>(s.level) < r.region_bytes.size()) row["region_bytes"] = r.region_bytes[s.level];
     if (static_cast<size_t>(s.level) < r.candidate_bytes.size()) {
       row["candidate_bytes"] = r.candidate_bytes[s.level];
       row["candidate_points"] = r.candidate_points[s.level];

@@ -84,6 +84,9 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                            {"bytes", field_bytes[f]}});
   }
   j["field_table_bytes"] = s.field_table_bytes;
+  j["regions"] = nlohmann::json::array();
+  for (const RegionLabel& r : s.regions) j["regions"].push_back({{"label", r.label}, {"name", r.name}});
+  j["region_table_bytes"] = s.region_table_bytes;
   j["levels"] = nlohmann::json::array();
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
@@ -93,6 +96,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                           {"new_vertices", l.header.new_vertices},
                           {"carving_bytes", l.header.carving_bytes},
                           {"value_bytes", l.header.value_bytes},
+                          {"region_bytes", l.header.region_bytes},
                           {"candidate_kinds", l.header.candidate_kinds},
                           {"candidate_bytes", l.header.candidate_bytes},
                           {"alpha", l.header.alpha * step},

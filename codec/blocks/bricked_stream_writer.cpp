@@ -170,7 +170,7 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   parts.clear();
   const std::vector<uint8_t> index = write_brick_index(chunks);
   LayerHeader lh;
-  lh.format_major = kVersionMajor;
+  lh.format_major = kVersionMajorBricked;
   lh.bricked = true;
   lh.level = static_cast<uint16_t>(level);
   lh.new_vertices = static_cast<uint32_t>(fresh.size());
@@ -196,7 +196,7 @@ StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
   StreamHeader header;
   header.grid = in.grid;
   header.alpha_policy = in.alpha_policy;
-  header.version_major = kVersionMajor;
+  header.version_major = kVersionMajorBricked;
   header.flags = static_cast<uint16_t>((in.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections |
                                        kFlagBricks | (in.values ? kFlagValues : 0));
   header.level_count = static_cast<uint16_t>(levels.size());

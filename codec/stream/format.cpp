@@ -127,6 +127,12 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   if (h.flags & ~kKnownFlags) return {StatusCode::kUnsupported, "unknown header flags"};
   if ((h.flags & kFlagValues) && h.version_major < 5) return corrupt("values flagged in a stream before 5.0");
   if ((h.flags & kFlagBricks) && h.version_major < 8) return corrupt("bricks flagged in a stream before 8.0");
+  if ((h.flags & kFlagRegions) && h.version_major < 9)
+    return corrupt("regions flagged in a stream before 9.0");
+  if ((h.flags & kFlagRegions) && (h.flags & kFlagBricks))
+    return corrupt("regions flagged in a bricked stream");
+  if ((h.flags & kFlagRegions) && !(h.flags & kFlagCarvingCorrections))
+    return corrupt("regions flagged without carving corrections");
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
   for (double o : h.grid.origin)
@@ -137,14 +143,16 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
 
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
                                  std::span<const uint8_t> carving, std::span<const uint8_t> values,
-                                 std::span<const uint8_t> candidates) {
+                                 std::span<const uint8_t> candidates, std::span<const uint8_t> regions) {
   h.candidate_bytes = static_cast<uint32_t>(candidates.size());
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
   h.value_bytes = static_cast<uint32_t>(values.size());
+  h.region_bytes = static_cast<uint32_t>(regions.size());
   std::vector<uint8_t> body(candidates.begin(), candidates.end());
   body.insert(body.end(), payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
+  body.insert(body.end(), regions.begin(), regions.end());
   body.insert(body.end(), values.begin(), values.end());
   FieldWriter writer;
   writer.trailer = body;
@@ -213,6 +221,8 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
     return corrupt("carving corrections present without their flag");
   if (!(header_.flags & kFlagValues) && h.value_bytes != 0)
     return corrupt("a value section present without its flag");
+  if (!(header_.flags & kFlagRegions) && h.region_bytes != 0)
+    return corrupt("a region section present without its flag");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
     return corrupt("candidates at the base level, which has no coarser level");
@@ -270,7 +280,10 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   layer.candidates = body.first(lh.candidate_bytes);
   layer.payload = body.subspan(lh.candidate_bytes, lh.payload_bytes);
   layer.carving = body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes, lh.carving_bytes);
-  layer.values = body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes);
+  layer.regions =
+      body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes, lh.region_bytes);
+  layer.values =
+      body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes + lh.region_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();
@@ -298,7 +311,17 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
     }
     s.field_table_bytes = table_bytes;
   }
-  LayerWalk walk(s.header, std::numeric_limits<uint64_t>::max(), s.field_table_bytes);
+  if (s.header.flags & kFlagRegions) {
+    size_t table_bytes = 0;
+    s.status = parse_region_table(bytes.subspan(kHeaderSize + s.field_table_bytes), s.regions, table_bytes);
+    if (!s.status.ok()) {
+      if (s.status.code() == StatusCode::kNeedMoreInput)
+        s.status = {StatusCode::kTruncated, "the stream ends inside its region table"};
+      return s;
+    }
+    s.region_table_bytes = table_bytes;
+  }
+  LayerWalk walk(s.header, std::numeric_limits<uint64_t>::max(), s.field_table_bytes + s.region_table_bytes);
   while (true) {
     const int level = walk.next_level();
     Layer layer;

@@ -5,10 +5,12 @@
 //   stream = header, [field table], layer(L), layer(L-1), ..., layer(0)
 //   header = kHeaderSize bytes (below), ending with its own checksum
 //   field table (5.0, with kFlagValues): codec/sections/value_fields.h
+//   region table (9.0, with kFlagRegions): codec/sections/region_coder.h
 //   layer  = layer header + candidate section (7.0: new points beside the
 //            coarser level's circumcentres and edge midpoints)
 //            + payload (the level's other new points)
 //            + carving section (4.0: the level's carving corrections)
+//            + region section (9.0, kFlagRegions: the kept cells' regions)
 //            + value section (5.0: the new points' values)
 //   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
 //            (codec/bricks/bricks.h: each brick's new points and corrections)
@@ -22,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "codec/sections/region_coder.h"
 #include "codec/sections/value_fields.h"
 #include "common/grid.h"
 #include "common/status.h"
@@ -34,8 +37,11 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // when it carries carving corrections (the codec preset, whose layers may
 // send points beside candidates; 6.0's correction contexts), else 5.0 when
 // it carries values, else 4.0; 8.0 when its layers are bricked (kFlagBricks);
-// the decoder reads 2.x to 8.x.
-inline constexpr uint8_t kVersionMajor = 8;
+// 9.0 when its cells carry regions (kFlagRegions); the decoder reads 2.x to
+// 9.x.
+inline constexpr uint8_t kVersionMajor = 9;
+inline constexpr uint8_t kVersionMajorRegions = 9;
+inline constexpr uint8_t kVersionMajorBricked = 8;
 inline constexpr uint8_t kVersionMajorUnbricked = 7;
 inline constexpr uint8_t kVersionMajorWithValues = 5;
 inline constexpr uint8_t kVersionMajorWithoutValues = 4;
@@ -53,7 +59,11 @@ inline constexpr uint16_t kFlagBricks = 8;
 // Bricked layers' octree depth: at most 16 per axis, 2^48 bricks, far more
 // than any layer has points (codec/bricks/bricks.h).
 inline constexpr int kMaxBrickDepth = 16;
-inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues | kFlagBricks;
+// 9.0: a region table follows the field table and layers carry region
+// sections (codec/sections/region_coder.h); not with kFlagBricks.
+inline constexpr uint16_t kFlagRegions = 16;
+inline constexpr uint16_t kKnownFlags =
+    kFlagCellHashes | kFlagCarvingCorrections | kFlagValues | kFlagBricks | kFlagRegions;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -83,6 +93,8 @@ struct LayerHeader {
   // candidate section's size, before the payload.
   uint8_t candidate_kinds = 0;
   uint32_t candidate_bytes = 0;
+  // 9.0 and later: the region section, after the carving section.
+  uint32_t region_bytes = 0;
   // Bricked layers (8.0): the largest circumradius of a kept cell (at least
   // alpha; larger cells carry no correction bit), the bricks' octree depth,
   // and the sizes of the index and of the chunks after it.
@@ -97,7 +109,7 @@ struct LayerHeader {
 
   uint64_t body_bytes() const {
     if (bricked) return uint64_t{index_bytes} + chunk_bytes;
-    return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + value_bytes;
+    return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + value_bytes;
   }
 };
 
@@ -148,6 +160,7 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
     v.template field<uint8_t>("candidate_kinds", h.candidate_kinds);
     v.template field<uint32_t>("candidate_bytes", h.candidate_bytes);
   }
+  if (h.format_major >= 9) v.template field<uint32_t>("region_bytes", h.region_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -186,10 +199,14 @@ inline constexpr size_t kHeaderSize = sized<StreamHeader>().size;
 constexpr size_t layer_header_size(uint8_t format_major, bool bricked = false) {
   return sized<LayerHeader>(format_major, bricked).size;
 }
-inline constexpr size_t kLayerHeaderSize = layer_header_size(kVersionMajor);
-inline constexpr size_t kBrickedLayerHeaderSize = layer_header_size(kVersionMajor, true);
+// A layer header of the streams meshenc writes most (7.0), of bricked ones
+// (8.0) and of those with regions (9.0).
+inline constexpr size_t kLayerHeaderSize = layer_header_size(kVersionMajorUnbricked);
+inline constexpr size_t kBrickedLayerHeaderSize = layer_header_size(kVersionMajorBricked, true);
+inline constexpr size_t kRegionLayerHeaderSize = layer_header_size(kVersionMajorRegions);
 static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_size(4) == 42 &&
-                  layer_header_size(6) == 46 && kLayerHeaderSize == 51 && kBrickedLayerHeaderSize == 55,
+                  layer_header_size(6) == 46 && kLayerHeaderSize == 51 && kBrickedLayerHeaderSize == 55 &&
+                  kRegionLayerHeaderSize == 55 && layer_header_size(9, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -198,11 +215,12 @@ std::vector<uint8_t> write_header(StreamHeader h);
 Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h);
 
 // The layer header (checksum computed) followed by the candidate section
-// (7.0 and later), the payload, the carving section (4.0 and later) and the
-// value section (5.0 and later).
+// (7.0 and later), the payload, the carving section (4.0 and later), the
+// region section (9.0) and the value section (5.0 and later).
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
                                  std::span<const uint8_t> carving = {}, std::span<const uint8_t> values = {},
-                                 std::span<const uint8_t> candidates = {});
+                                 std::span<const uint8_t> candidates = {},
+                                 std::span<const uint8_t> regions = {});
 
 // Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
 // the checksum computed), the index, the chunks.
@@ -215,6 +233,7 @@ struct Layer {
   std::span<const uint8_t> candidates;
   std::span<const uint8_t> payload;
   std::span<const uint8_t> carving;
+  std::span<const uint8_t> regions;
   std::span<const uint8_t> values;
   // A bricked layer's index (checksummed with the header) and chunks (each
   // checked against its checksum in the index when it is decoded).
@@ -287,6 +306,8 @@ struct StreamSummary {
   StreamHeader header;
   std::vector<FieldDescription> fields;  // 5.0 with kFlagValues: the field table
   uint64_t field_table_bytes = 0;
+  std::vector<RegionLabel> regions;  // 9.0 with kFlagRegions: the region table
+  uint64_t region_table_bytes = 0;
   std::vector<LayerSummary> layers;  // coarsest first; the last may be incomplete
   uint64_t bytes = 0;                // bytes given
   Status status;                     // ok, or why the scan stopped early

@@ -1,10 +1,12 @@
 """The ParaView reader, run by pvbatch as File > Open would: ctest's paraview_reader.
 
-    pvbatch check_reader.py PLUGIN STREAM MESHINFO SCREENSHOT
+    pvbatch check_reader.py PLUGIN STREAM MESHINFO SCREENSHOT [REGIONS_STREAM]
 
 Loads the plugin, opens STREAM, checks the finest level's counts and point
 data against `MESHINFO STREAM --json --stats`, moves Level to the coarsest
 and checks again, and saves a screenshot of the coarsest beside the finest.
+With REGIONS_STREAM (a stream with regions), checks that every level's cells
+carry the cell array `region`, with the stream's labels.
 Exit status 0 and "N passed, 0 failed" when every check holds.
 """
 import inspect
@@ -22,6 +24,7 @@ from paraview.simple import (ColorBy, CreateView, GetColorTransferFunction, GetS
                              OpenDataFile, Render, SaveScreenshot, Show, Text)
 
 plugin, stream, meshinfo, screenshot = sys.argv[1:5]
+regions_stream = sys.argv[5] if len(sys.argv) > 5 else None
 LoadPlugin(plugin, ns=globals())
 info = json.loads(subprocess.run([meshinfo, stream, "--json", "--stats"], check=True, capture_output=True,
                                  text=True).stdout)
@@ -65,6 +68,22 @@ for level in (0, info["level_count"] - 1):
     check(f"level {level}: {row['boundary_vertices']} boundary vertices", on_boundary == row["boundary_vertices"])
     shown = grid.GetFieldData().GetArray("dtm_level")
     check(f"level {level}: the Information panel's dtm_level", shown is not None and shown.GetValue(0) == level)
+
+# Regions (materials): a cell array on every level.
+if regions_stream:
+    regions_info = json.loads(subprocess.run([meshinfo, regions_stream, "--json", "--stats"], check=True,
+                                             capture_output=True, text=True).stdout)
+    labels = sorted(r["label"] for r in regions_info["regions"])
+    check(f"{os.path.basename(regions_stream)} has regions {labels}", len(labels) > 1)
+    parts = OpenDataFile(regions_stream)
+    for level in range(regions_info["level_count"]):
+        parts.Level = level
+        parts.UpdatePipeline()
+        grid = servermanager.Fetch(parts)
+        region = grid.GetCellData().GetArray("region")
+        seen = sorted({int(region.GetValue(i)) for i in range(region.GetNumberOfTuples())}) if region else []
+        check(f"regions, level {level}: cell array 'region' on its {grid.GetNumberOfCells()} cells, labels {seen}",
+              region is not None and region.GetNumberOfTuples() == grid.GetNumberOfCells() and seen == labels)
 
 # The coarsest and the finest side by side, coloured by each vertex's level.
 view = CreateView("RenderView")

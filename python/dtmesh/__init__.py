@@ -109,6 +109,9 @@ class Mesh:
         level_count: how many levels the stream has.
         vertex_levels: int32 per vertex, the coarsest level that contains it.
         boundary: bool per vertex, True on the mesh's boundary surface.
+        regions: int32 per tetrahedron, its region (material) label as the
+            input gave it, when the stream has regions; else empty.
+        region_names: region label -> name, where the input named them.
     """
 
     points: np.ndarray
@@ -118,15 +121,26 @@ class Mesh:
     level_count: int = 1
     vertex_levels: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int32))
     boundary: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+    regions: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int32))
+    region_names: Dict[int, str] = field(default_factory=dict)
 
     def to_meshio(self):
-        """This level as a ``meshio.Mesh``: the fields, ``level`` and ``boundary`` as point data."""
+        """This level as a ``meshio.Mesh``: the fields, ``level`` and ``boundary`` as point data;
+        the regions as cell data ``region`` (and ``gmsh:physical``, so that meshio's gmsh
+        writer keeps them), their names as field data."""
         import meshio
 
         point_data = dict(self.fields)
         point_data["level"] = self.vertex_levels
         point_data["boundary"] = self.boundary.astype(np.uint8)
+        cell_data = {}
+        field_data = {}
+        if self.regions.size:
+            cell_data = {"region": [self.regions], "gmsh:physical": [self.regions],
+                         "gmsh:geometrical": [self.regions]}
+            field_data = {name: np.array([label, 3]) for label, name in self.region_names.items()}
         return meshio.Mesh(self.points, [("tetra", self.tetrahedra.astype(np.int64))], point_data=point_data,
+                           cell_data=cell_data, field_data=field_data,
                            info={"dtmesh_derived": ["level", "boundary"]})
 
     def to_vtk(self):
@@ -187,6 +201,8 @@ def encode(
     preset: str = "codec",
     field_errors: Optional[Mapping[str, float]] = None,
     threads: Optional[int] = None,
+    regions: Any = None,
+    region_names: Optional[Mapping[int, str]] = None,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -209,6 +225,11 @@ def encode(
         preset: "codec" (levels carved to the input's solid, about half the
             vertices each) or "paper" (the seed paper's hierarchy).
         field_errors: float field name -> E: every decoded value within E of its own.
+        regions: one integer label per tetrahedron (its material: a gmsh
+            physical volume, a Medit ref), or None. Every level's cells then
+            carry the label of the input region holding their centroid, at
+            most 255 distinct labels (the codec preset only).
+        region_names: label -> name, kept in the stream with the labels.
         threads: threads to use for this call (meshenc's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
             The stream is the same for any number.
@@ -227,10 +248,16 @@ def encode(
     t = None
     if tetrahedra is not None:
         t = np.ascontiguousarray(np.asarray(tetrahedra, dtype=np.int64))
+    r = None
+    if regions is not None:
+        if t is None:
+            raise ValueError("regions label tetrahedra: give the tetrahedra too")
+        r = np.ascontiguousarray(np.asarray(regions, dtype=np.int64).reshape(-1))
+    names = {int(label): str(name) for label, name in (region_names or {}).items()}
     field_list = [_field_in(name, values, p.shape[0]) for name, values in (fields or {}).items()]
     with _threads_for_call(threads):
         stream, report, vertex_of_input = _dtmesh.encode(
-            p, t, field_list, int(qbits), box, scale, dmax, preset, dict(field_errors or {}))
+            p, t, r, names, field_list, int(qbits), box, scale, dmax, preset, dict(field_errors or {}))
     return Encoded(stream, json.loads(report), vertex_of_input)
 
 
@@ -243,7 +270,8 @@ def _mesh_of(d: Dict[str, Any]) -> Mesh:
         fields[name] = a if components == 1 else a.reshape(n, components)
     return Mesh(points=d["points"], tetrahedra=d["tetrahedra"], fields=fields, level=d["level"],
                 level_count=d["level_count"], vertex_levels=d["vertex_levels"],
-                boundary=d["boundary"].astype(bool))
+                boundary=d["boundary"].astype(bool), regions=d["regions"],
+                region_names=dict(d["region_names"]))
 
 
 def _as_bytes(data: Union[Bytes, str, os.PathLike]) -> bytes:
@@ -386,6 +414,11 @@ def to_vtk(mesh: Mesh):
         a = numpy_to_vtk(np.ascontiguousarray(values), deep=True)
         a.SetName(name)
         grid.GetPointData().AddArray(a)
+    if mesh.regions.size:
+        a = numpy_to_vtk(np.ascontiguousarray(mesh.regions), deep=True)
+        a.SetName("region")
+        grid.GetCellData().AddArray(a)
+        grid.GetCellData().SetActiveScalars("region")
     return grid
 
 

@@ -17,6 +17,8 @@ class FieldIn:
 def encode(
     points: npt.NDArray[np.float64],
     tetrahedra: Optional[npt.NDArray[np.int64]],
+    regions: Optional[npt.NDArray[np.int64]],
+    region_names: Mapping[int, str],
     fields: List[FieldIn],
     qbits: int,
     box: Optional[float],

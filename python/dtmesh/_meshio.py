@@ -3,8 +3,11 @@
 Reading gives the finest level: its tetrahedra, the stream's fields and the
 per-vertex ``level`` and ``boundary`` as point data. Writing encodes the
 mesh's points, its tetrahedra (the reference solid) and its point data as
-fields, with dtmesh.encode's options as keyword arguments; what the stream
-does not hold yet (cell data, cell sets, other cells) is named in a warning.
+fields, with dtmesh.encode's options as keyword arguments. The tetrahedra's
+regions come from the first cell data array of gmsh:physical, medit:ref,
+region, material, MaterialIds, CellEntityIds (meshenc's default), their
+names from gmsh's field data; what the stream does not hold yet (other cell
+data, cell sets, other cells) is named in a warning.
 """
 import warnings
 
@@ -18,21 +21,45 @@ def read(filename, level=None):
     return decode(filename, level).to_meshio()
 
 
+REGION_ARRAYS = ("gmsh:physical", "medit:ref", "region", "material", "MaterialIds", "CellEntityIds")
+
+
 def write(filename, mesh, **options):
     tetrahedra = None
     others = {}
-    for block in mesh.cells:
+    tetra_blocks = []
+    for i, block in enumerate(mesh.cells):
         if block.type == "tetra":
             tetrahedra = block.data if tetrahedra is None else np.vstack([tetrahedra, block.data])
+            tetra_blocks.append(i)
         else:
             others[block.type] = others.get(block.type, 0) + len(block.data)
+    # The regions: an integer cell array of a known name, on the tetrahedra.
+    region_array = None
+    if tetra_blocks and "regions" not in options:
+        for name in REGION_ARRAYS:
+            arrays = mesh.cell_data.get(name)
+            if arrays is not None and all(np.asarray(arrays[i]).dtype.kind in "iu" for i in tetra_blocks):
+                region_array = name
+                options["regions"] = np.concatenate([np.asarray(arrays[i]).reshape(-1) for i in tetra_blocks])
+                options.setdefault("region_names", {int(v[0]): k for k, v in (mesh.field_data or {}).items()
+                                                    if len(v) >= 2 and int(v[1]) == 3})
+                break
     # What the stream does not hold yet is named, as meshenc names it:
     # nothing of a user's mesh is left out without a word.
     left_out = []
     if others:
         left_out.append("cells other than tetrahedra (" + ", ".join(f"{n} {t}" for t, n in others.items()) + ")")
-    if mesh.cell_data:
-        left_out.append("cell data " + ", ".join(f"'{name}'" for name in mesh.cell_data))
+    # Copies of the regions (a decoded mesh gives them under several names) are kept with them.
+    def same_as_regions(name):
+        arrays = mesh.cell_data[name]
+        return region_array is not None and len(arrays) == len(mesh.cells) and all(
+            np.array_equal(np.asarray(arrays[i]).reshape(-1), np.asarray(mesh.cell_data[region_array][i]).reshape(-1))
+            for i in range(len(mesh.cells)))
+
+    other_cell_data = [name for name in mesh.cell_data if name != region_array and not same_as_regions(name)]
+    if other_cell_data:
+        left_out.append("cell data " + ", ".join(f"'{name}'" for name in other_cell_data))
     if getattr(mesh, "cell_sets", None):
         left_out.append("cell sets " + ", ".join(f"'{name}'" for name in mesh.cell_sets))
     for what in left_out:

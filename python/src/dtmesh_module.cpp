@@ -83,8 +83,10 @@ dtm::EncodeOptions encode_options(int qbits, std::optional<double> box, std::opt
 // (stream bytes, meshenc --report's JSON text, each input point's vertex).
 py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> points,
                  std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> tetrahedra,
-                 const std::vector<FieldIn>& fields, int qbits, std::optional<double> box,
-                 std::optional<double> scale, std::optional<double> dmax, const std::string& preset,
+                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> regions,
+                 const std::map<int32_t, std::string>& region_names, const std::vector<FieldIn>& fields,
+                 int qbits, std::optional<double> box, std::optional<double> scale,
+                 std::optional<double> dmax, const std::string& preset,
                  const std::map<std::string, double>& field_errors) {
   if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must be an N x 3 array");
   const size_t n = static_cast<size_t>(points.shape(0));
@@ -106,6 +108,19 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
         tets[k][j] = static_cast<uint32_t>(id);
       }
   }
+  std::vector<int32_t> labels;
+  if (regions) {
+    const auto& r = *regions;
+    if (r.ndim() != 1 || static_cast<size_t>(r.shape(0)) != tets.size())
+      throw py::value_error("regions must hold one label per tetrahedron (" + std::to_string(tets.size()) +
+                            ")");
+    const int64_t* v = r.data();
+    for (size_t k = 0; k < tets.size(); ++k) {
+      if (v[k] < INT32_MIN || v[k] > INT32_MAX)
+        throw py::value_error("regions[" + std::to_string(k) + "] is not a 32-bit integer");
+      labels.push_back(static_cast<int32_t>(v[k]));
+    }
+  }
   std::vector<dtm::EncodeInput::Field> in_fields;
   for (const FieldIn& f : fields) {
     if (f.type < 0 || f.type > static_cast<int>(dtm::ScalarType::kFloat64))
@@ -120,6 +135,8 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
   dtm::EncodeInput input;
   input.points = in_points;
   input.tetrahedra = tets;
+  input.tetrahedron_regions = labels;
+  input.region_names = region_names;
   input.fields = in_fields;
   std::optional<dtm::StatusOr<dtm::EncodedMesh>> encoded;
   {
@@ -167,6 +184,8 @@ py::dict level_dict(const dtm::OutputMesh& mesh, int level, int level_count) {
   d["vertex_levels"] = array_of(mesh.level, {static_cast<py::ssize_t>(n)});
   d["boundary"] = array_of(mesh.boundary, {static_cast<py::ssize_t>(n)});
   d["fields"] = fields;
+  d["regions"] = array_of(mesh.region, {static_cast<py::ssize_t>(mesh.region.size())});
+  d["region_names"] = mesh.region_names;
   d["level"] = level;
   d["level_count"] = level_count;
   return d;
@@ -294,8 +313,9 @@ PYBIND11_MODULE(_dtmesh, m) {
   m.def("set_error_type", [](py::object type) { *error_type = std::move(type); });
   py::class_<FieldIn>(m, "FieldIn")
       .def(py::init<std::string, int, int, py::array_t<double, py::array::c_style | py::array::forcecast>>());
-  m.def("encode", &encode, py::arg("points"), py::arg("tetrahedra"), py::arg("fields"), py::arg("qbits"),
-        py::arg("box"), py::arg("scale"), py::arg("dmax"), py::arg("preset"), py::arg("field_errors"));
+  m.def("encode", &encode, py::arg("points"), py::arg("tetrahedra"), py::arg("regions"),
+        py::arg("region_names"), py::arg("fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"),
+        py::arg("dmax"), py::arg("preset"), py::arg("field_errors"));
   py::class_<Decoder>(m, "Decoder")
       .def(py::init<int, uint64_t>(), py::arg("stop_after_level"), py::arg("max_vertices"))
       .def("feed", &Decoder::feed, py::arg("chunk"), py::arg("meshes"))

@@ -2,6 +2,7 @@
 meshes as meshdec, the same summary as meshinfo; and what a stream's damage
 does to it."""
 import json
+import lzma
 import threading
 import time
 import warnings
@@ -11,7 +12,7 @@ import numpy as np
 import pytest
 
 import dtmesh
-from conftest import ENCODE_ARGS, GOLDEN, read_tetgen, run, tool
+from conftest import DATA, ENCODE_ARGS, GOLDEN, read_tetgen, run, tool
 
 
 def meshdec_level(stream, tmp_path, level=None):
@@ -225,7 +226,7 @@ def test_meshio_write_names_what_the_stream_does_not_hold(corpus, tmp_path):
     points, tets, _ = read_tetgen(corpus["bunny_10k"][0])
     triangles = tets[:5, :3]
     mesh = meshio.Mesh(points, [("tetra", tets), ("triangle", triangles)],
-                       cell_data={"material": [np.ones(len(tets), dtype=np.int32), np.zeros(5, dtype=np.int32)]},
+                       cell_data={"stress": [np.ones(len(tets)), np.zeros(5)]},
                        cell_sets={"steel": [np.arange(10), np.array([], dtype=np.int64)]})
     out = tmp_path / "tagged.dtm"
     with pytest.warns(UserWarning) as said:
@@ -233,12 +234,52 @@ def test_meshio_write_names_what_the_stream_does_not_hold(corpus, tmp_path):
     lines = [str(w.message) for w in said]
     assert any("left out (the stream does not hold it): cells other than tetrahedra (5 triangle)" in m
                for m in lines), lines
-    assert any("cell data 'material'" in m for m in lines), lines
+    assert any("cell data 'stress'" in m for m in lines), lines
     assert any("cell sets 'steel'" in m for m in lines), lines
     # The mesh itself is encoded all the same: the stream of its tetrahedra alone.
     plain = tmp_path / "plain.dtm"
     meshio.write(plain, meshio.Mesh(points, [("tetra", tets)]), box=256, dmax=2)
     assert out.read_bytes() == plain.read_bytes()
+
+
+def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
+    """A gmsh part of two materials: its physical volumes are the regions on every level."""
+    msh = tmp_path / "two_materials.msh"
+    msh.write_bytes(lzma.open(DATA / "two_materials.msh.xz").read())
+    mesh = meshio.read(msh)
+    mesh.point_data.clear()  # meshio's gmsh:dim_tags, which meshenc does not read
+    out = tmp_path / "two_materials.dtm"
+    meshio.write(out, mesh)
+    info = dtmesh.info(out)
+    assert info["version"] == "9.0"
+    assert [(r["label"], r["name"]) for r in info["regions"]] == [(1, "aluminium"), (2, "steel")]
+    # meshenc reads the same file to the same stream.
+    by_meshenc = tmp_path / "by_meshenc.dtm"
+    run(tool("meshenc"), msh, "-q", "-o", by_meshenc)
+    assert out.read_bytes() == by_meshenc.read_bytes()
+    for level in range(info["level_count"]):
+        decoded = dtmesh.decode(out.read_bytes(), level)
+        assert decoded.regions.shape == (decoded.tetrahedra.shape[0],)
+        assert sorted(set(decoded.regions.tolist())) == [1, 2]
+        assert decoded.region_names == {1: "aluminium", 2: "steel"}
+    # From numpy, the same labels, the same stream.
+    tets = np.vstack([b.data for b in mesh.cells if b.type == "tetra"])
+    labels = np.concatenate([mesh.cell_data["gmsh:physical"][i] for i, b in enumerate(mesh.cells)
+                             if b.type == "tetra"])
+    encoded = dtmesh.encode(mesh.points, tets, regions=labels, region_names={1: "aluminium", 2: "steel"})
+    assert encoded.bytes == out.read_bytes()
+    with pytest.raises(ValueError, match="one label per tetrahedron"):
+        dtmesh.encode(mesh.points, tets, regions=labels[:-1])
+    # Back through meshio's gmsh writer: gmsh's physical groups and names.
+    finest = meshio.read(out)
+    again = tmp_path / "again.msh"
+    meshio.write(again, finest, file_format="gmsh22", binary=False)
+    back = meshio.read(again)
+    assert sorted(set(np.concatenate(back.cell_data["gmsh:physical"]).tolist())) == [1, 2]
+    assert back.field_data["steel"][0] == 2
+    # And the VTK grid carries them as cell data.
+    grid = dtmesh.decode(out.read_bytes()).to_vtk()
+    assert grid.GetCellData().GetArray("region").GetNumberOfTuples() == grid.GetNumberOfCells()
 
 
 def test_exodus_through_meshio(corpus, tmp_path):

@@ -11,9 +11,14 @@ root=$(cd "$here/../.." && pwd)
 build=${1:-$root/build}
 enc=$build/tools/meshenc
 info=$build/tools/meshinfo
+dec=$build/tools/meshdec
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
 make_one() {  # NAME INPUT meshenc-options...
   local name=$1 input=$2; shift 2
-  "$enc" "$root/data/$input" -o "$here/$name.dtm" --hash-cells -q "$@"
+  local path=$root/data/$input
+  [ -f "$path" ] || path=$tmp/$input
+  "$enc" "$path" -o "$here/$name.dtm" --hash-cells -q "$@"
   "$info" "$here/$name.dtm" --json | python3 -c '
 import json, sys
 info = json.load(sys.stdin)
@@ -24,6 +29,27 @@ print(json.dumps({
     "levels": [{"level": l["level"], "vertices": l["vertices"],
                 "new_vertices": l["new_vertices"], "cell_hash": l["cell_hash"]}
                for l in info["levels"]]}, indent=1))' >"$here/$name.expected.json"
+  # With regions (9.0): each level's cells per region label, as meshdec
+  # writes them (Medit refs).
+  if [ "$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["format"])' "$here/$name.expected.json")" = "dtm 9.0" ]; then
+    local levels
+    levels=$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["levels"]))' "$here/$name.expected.json")
+    for ((l = 0; l < levels; ++l)); do "$dec" "$here/$name.dtm" --level $l -q -o "$tmp/level$l.mesh"; done
+    python3 - "$here/$name.expected.json" "$tmp" <<'PY'
+import json, sys
+path, tmp = sys.argv[1], sys.argv[2]
+expected = json.load(open(path))
+for entry in expected["levels"]:
+    lines = open("%s/level%d.mesh" % (tmp, entry["level"])).read().split("\n")
+    at = lines.index("Tetrahedra")
+    counts = {}
+    for line in lines[at + 2: at + 2 + int(lines[at + 1])]:
+        label = line.split()[4]
+        counts[label] = counts.get(label, 0) + 1
+    entry["region_cells"] = dict(sorted(counts.items(), key=lambda kv: int(kv[0])))
+json.dump(expected, open(path, "w"), indent=1)
+PY
+  fi
 }
 make_one torus_288 torus_288.node --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3
 make_one torus_288_paper torus_288.node --scale 25 --dmax 3 --preset paper --quality-guard 0.3 --quality-floor 0
@@ -35,3 +61,6 @@ make_one ellipsoid_793 ellipsoid_793.node --dmax 3
 make_one ellipsoid_793_bricks ellipsoid_793.node --dmax 3 --bricks --brick-points 16 --block-points 100
 # 8.0: bricked layers with values (the torus's TetGen markers, int32).
 make_one torus_288_bricks torus_288.node --scale 25 --dmax 3 --bricks --brick-points 8 --block-points 64
+# 9.0: regions (a gmsh part of two materials, data/two_materials.geo).
+xz -dc "$root/data/two_materials.msh.xz" >"$tmp/two_materials.msh"
+make_one two_materials two_materials.msh --quality-floor 0 --dmax 0.2

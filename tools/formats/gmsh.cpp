@@ -108,6 +108,8 @@ class GmshReader {
         node_data();
       } else if (section == "$PhysicalNames") {
         physical_names();
+      } else if (section == "$Entities" && v4_) {
+        binary_ ? entities_binary() : entities();
       } else {
         // Sections that describe the geometry ($Entities, $Periodic, ...)
         // carry nothing of the mesh; data sections do, and are named.
@@ -119,12 +121,14 @@ class GmshReader {
       c_.expect("$End" + section.substr(1));
     }
     if (!have_nodes) throw FormatError(c_.path() + ": no $Nodes section");
+    set_regions();
     note_left_out();
     return std::move(out_);
   }
 
  private:
-  // $PhysicalNames: "dimension tag name" lines, named when left out.
+  // $PhysicalNames: "dimension tag name" lines. A volume's names its
+  // region; the others are named when left out.
   void physical_names() {
     const uint64_t n = c_.count("a physical name count", c_.remaining() / 4);
     c_.skip_to_next_line();
@@ -133,8 +137,86 @@ class GmshReader {
       if (f.size() < 3) c_.fail("expected 'dimension tag \"name\"'");
       std::string name;
       for (size_t k = 2; k < f.size(); ++k) name += (k > 2 ? " " : "") + std::string(f[k]);
-      physical_names_.push_back(std::string(f[0]) + ":" + std::string(f[1]) + " " + name);
+      if (name.size() >= 2 && name.front() == '"' && name.back() == '"')
+        name = name.substr(1, name.size() - 2);
+      int dim = 0;
+      int64_t tag = 0;
+      std::from_chars(f[0].data(), f[0].data() + f[0].size(), dim);
+      std::from_chars(f[1].data(), f[1].data() + f[1].size(), tag);
+      if (dim == 3)
+        volume_names_[tag] = name;
+      else
+        physical_names_.push_back(std::string(f[0]) + ":" + std::string(f[1]) + " \"" + name + "\"");
     }
+  }
+
+  // 4.1's $Entities: which physical groups each volume entity is in (its
+  // tetrahedra's region: the first). Points, curves and surfaces are read
+  // past.
+  void entities() {
+    uint64_t counts[4];
+    for (auto& k : counts) k = c_.count("an entity count", c_.remaining() / 2);
+    for (int dim = 0; dim < 4; ++dim)
+      for (uint64_t e = 0; e < counts[dim]; ++e) {
+        const int tag = c_.number<int>("an entity tag");
+        for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) c_.number<double>("a coordinate");
+        const uint64_t physicals = c_.count("a physical tag count", c_.remaining() / 2);
+        for (uint64_t p = 0; p < physicals; ++p) {
+          const int physical = c_.number<int>("a physical tag");
+          if (dim == 3 && p == 0) volume_physical_[tag] = physical;
+        }
+        if (dim == 0) continue;
+        const uint64_t bounding = c_.count("a bounding entity count", c_.remaining() / 2);
+        for (uint64_t b = 0; b < bounding; ++b) c_.number<int>("a bounding entity tag");
+      }
+  }
+  void entities_binary() {
+    c_.skip_to_next_line();
+    const std::string_view h = c_.bytes(32, "the $Entities header");
+    uint64_t counts[4];
+    for (int k = 0; k < 4; ++k) counts[k] = size_t64(h.substr(8 * k));
+    for (int dim = 0; dim < 4; ++dim)
+      for (uint64_t e = 0; e < counts[dim]; ++e) {
+        const int tag = int32(c_.bytes(4, "an entity tag"));
+        c_.bytes(dim == 0 ? 24 : 48, "an entity's box");
+        const uint64_t physicals = size_t64(c_.bytes(8, "a physical tag count"));
+        if (physicals > c_.remaining() / 4) c_.fail("$Entities announces more than the file holds");
+        const std::string_view p = c_.bytes(4 * physicals, "physical tags");
+        if (dim == 3 && physicals > 0) volume_physical_[tag] = int32(p);
+        if (dim == 0) continue;
+        const uint64_t bounding = size_t64(c_.bytes(8, "a bounding entity count"));
+        if (bounding > c_.remaining() / 4) c_.fail("$Entities announces more than the file holds");
+        c_.bytes(4 * bounding, "bounding entity tags");
+      }
+  }
+
+  // Each tetrahedron's region: 2.x its physical tag (the first tag); 4.1
+  // its volume entity's physical group where $Entities gives one, else the
+  // entity itself.
+  void set_regions() {
+    if (tet_tag_.size() != out_.tets.size() || tet_tag_.empty() || (!v4_ && !tagged_)) return;
+    std::set<int64_t> unnamed_entities;
+    out_.tet_regions.reserve(tet_tag_.size());
+    for (int64_t tag : tet_tag_) {
+      int64_t region = tag;
+      if (v4_) {
+        const auto it = volume_physical_.find(static_cast<int>(tag));
+        if (it != volume_physical_.end())
+          region = it->second;
+        else
+          unnamed_entities.insert(tag);
+      }
+      if (region < INT32_MIN || region > INT32_MAX) c_.fail("a region tag out of the 32-bit range");
+      out_.tet_regions.push_back(static_cast<int32_t>(region));
+    }
+    out_.region_names = volume_names_;
+    if (!v4_)
+      out_.region_source = "physical tags";
+    else if (unnamed_entities.empty())
+      out_.region_source = "physical volumes";
+    else
+      out_.region_source =
+          volume_physical_.empty() ? "volume entities" : "physical volumes and volume entities";
   }
 
   void note_left_out() {
@@ -147,14 +229,9 @@ class GmshReader {
     for (const auto& [type, count] : other_elements_)
       others.push_back(std::to_string(count) + " " + element_name(type));
     if (!others.empty()) out_.left_out.push_back("elements other than tetrahedra (" + joined(others) + ")");
-    if (volume_tags_.size() > 1) {
-      std::vector<std::string> tags;
-      for (int64_t t : volume_tags_) tags.push_back(std::to_string(t));
-      out_.left_out.push_back(
-          std::string(v4_ ? "the tetrahedra's volume entities (" : "the tetrahedra's physical tags (") +
-          joined(tags) + "): which cells are which region");
-    }
-    if (!physical_names_.empty()) out_.left_out.push_back("$PhysicalNames (" + joined(physical_names_) + ")");
+    if (!physical_names_.empty())
+      out_.left_out.push_back("$PhysicalNames of points, curves and surfaces (" + joined(physical_names_) +
+                              ")");
     if (!partial_node_data_.empty())
       out_.left_out.push_back("$NodeData not given at every node (" + joined(partial_node_data_) + ")");
     if (!skipped_data_.empty()) out_.left_out.push_back("sections $" + joined(skipped_data_));
@@ -230,16 +307,15 @@ class GmshReader {
     if (type == kGmshTetrahedron) {
       if (f.size() - skip != 4) c_.fail("a tetrahedron with " + std::to_string(f.size() - skip) + " nodes");
       out_.tets.push_back(t);
+      tet_tag_.push_back(tag_);
     } else {
       ++other_elements_[type];
     }
   }
 
-  // A tetrahedron's region: its physical tag (2.x: the first tag), or its
-  // volume entity (4.1); a few distinct values are kept to be named.
-  void note_volume_tag(int64_t tag) {
-    if (volume_tags_.size() < 64) volume_tags_.insert(tag);
-  }
+  // The tag of the tetrahedron read next: its physical tag (2.x: the first
+  // tag), or its volume entity (4.1); set_regions() makes it its region.
+  void note_volume_tag(int64_t tag) { tag_ = tag; }
 
   void elements_v2() {
     const uint64_t n = c_.count("an element count", c_.remaining() / 8);
@@ -254,9 +330,9 @@ class GmshReader {
       const auto [end, ec] = std::from_chars(f[2].data(), f[2].data() + f[2].size(), tags);
       if (ec != std::errc() || tags < 0 || f.size() < 3 + static_cast<size_t>(tags))
         c_.fail("bad element tag count");
-      if (type == kGmshTetrahedron && tags > 0) {
+      if (type == kGmshTetrahedron) {
         int64_t physical = 0;
-        std::from_chars(f[3].data(), f[3].data() + f[3].size(), physical);
+        if (tags > 0) std::from_chars(f[3].data(), f[3].data() + f[3].size(), physical), tagged_ = true;
         note_volume_tag(physical);
       }
       element(f, 3 + tags, type);
@@ -321,10 +397,12 @@ class GmshReader {
       if (it == index_of_.end()) c_.fail("node tag " + std::to_string(tag) + " out of range (no such node)");
       if (k < 4) t[k] = it->second;
     }
-    if (type == kGmshTetrahedron)
+    if (type == kGmshTetrahedron) {
       out_.tets.push_back(t);
-    else
+      tet_tag_.push_back(tag_);
+    } else {
       ++other_elements_[type];
+    }
   }
 
   void nodes_v2_binary() {
@@ -355,7 +433,8 @@ class GmshReader {
       const std::string_view b = c_.bytes(count * record, "the elements");
       for (int64_t e = 0; e < count; ++e) {
         const std::string_view r = b.substr(e * record, record);
-        if (type == kGmshTetrahedron && tags > 0) note_volume_tag(int32(r.substr(4)));
+        if (type == kGmshTetrahedron) note_volume_tag(tags > 0 ? int32(r.substr(4)) : 0);
+        tagged_ = tagged_ || (type == kGmshTetrahedron && tags > 0);
         binary_element(r.substr(4 * (1 + tags)), type, per, 4);
       }
       seen += count;
@@ -482,7 +561,11 @@ class GmshReader {
   bool binary_ = false;  // file type 1
   // What is not read into the mesh (InputMesh::left_out).
   std::map<int, uint64_t> other_elements_;  // by gmsh element type
-  std::set<int64_t> volume_tags_;
+  int64_t tag_ = 0;
+  bool tagged_ = false;                 // 2.x: some tetrahedron has tags
+  std::vector<int64_t> tet_tag_;        // per tetrahedron
+  std::map<int, int> volume_physical_;  // 4.1: volume entity -> its first physical group
+  std::map<int32_t, std::string> volume_names_;
   std::vector<std::string> physical_names_, partial_node_data_;
   std::set<std::string> skipped_data_;
   std::unordered_map<int64_t, uint32_t> index_of_;
@@ -507,13 +590,36 @@ std::string render_gmsh(const OutputMesh& m) {
       hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
   }
-  // One volume entity (tag 1) holds every node and tetrahedron.
-  out += "$Entities\n0 0 0 1\n1";
-  for (double v : {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z}) {
-    out += ' ';
-    append_number(out, v);
+  // One volume entity (tag 1) holds every node and tetrahedron; with
+  // regions, one a region (tags 1, 2, ...), each in the physical group of
+  // its label, and the nodes in the first.
+  std::map<int32_t, size_t> entity_of;  // region label -> its entity's tag
+  for (int32_t r : m.region) entity_of.emplace(r, 0);
+  size_t entities = 0;
+  for (auto& [label, entity] : entity_of) entity = ++entities;
+  if (!entity_of.empty()) {
+    out += "$PhysicalNames\n" + std::to_string(entity_of.size()) + "\n";
+    for (const auto& [label, entity] : entity_of) {
+      const auto name = m.region_names.find(label);
+      out += "3 " + std::to_string(label) + " \"" +
+             (name != m.region_names.end() ? name->second : "region " + std::to_string(label)) + "\"\n";
+    }
+    out += "$EndPhysicalNames\n";
   }
-  out += " 0 0\n$EndEntities\n$Nodes\n";
+  // Per volume entity: its box (the mesh's), its physical groups, no
+  // bounding surface.
+  std::vector<std::string> physical(std::max<size_t>(1, entities), "0");
+  for (const auto& [label, entity] : entity_of) physical[entity - 1] = "1 " + std::to_string(label);
+  out += "$Entities\n0 0 0 " + std::to_string(physical.size()) + "\n";
+  for (size_t e = 0; e < physical.size(); ++e) {
+    out += std::to_string(e + 1);
+    for (double v : {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z}) {
+      out += ' ';
+      append_number(out, v);
+    }
+    out += " " + physical[e] + " 0\n";
+  }
+  out += "$EndEntities\n$Nodes\n";
   out += "1 " + std::to_string(n) + " " + std::to_string(n ? 1 : 0) + " " + std::to_string(n) + "\n";
   out += "3 1 0 " + std::to_string(n) + "\n";
   for (size_t i = 0; i < n; ++i) {
@@ -524,15 +630,21 @@ std::string render_gmsh(const OutputMesh& m) {
     append_xyz_line(out, p);
   }
   out += "$EndNodes\n$Elements\n";
-  out += "1 " + std::to_string(t) + " " + std::to_string(t ? 1 : 0) + " " + std::to_string(t) + "\n";
-  out += "3 1 4 " + std::to_string(t) + "\n";
-  for (size_t c = 0; c < t; ++c) {
-    append_number(out, c + 1);
-    for (uint32_t v : m.cells[c]) {
-      out += ' ';
-      append_number(out, uint64_t{v} + 1);
+  // One block a region (its entity's), cells numbered in the mesh's order.
+  std::vector<std::vector<size_t>> blocks(std::max<size_t>(1, entities));
+  for (size_t c = 0; c < t; ++c) blocks[m.region.empty() ? 0 : entity_of[m.region[c]] - 1].push_back(c);
+  out += std::to_string(blocks.size()) + " " + std::to_string(t) + " " + std::to_string(t ? 1 : 0) + " " +
+         std::to_string(t) + "\n";
+  for (size_t e = 0; e < blocks.size(); ++e) {
+    out += "3 " + std::to_string(e + 1) + " 4 " + std::to_string(blocks[e].size()) + "\n";
+    for (size_t c : blocks[e]) {
+      append_number(out, c + 1);
+      for (uint32_t v : m.cells[c]) {
+        out += ' ';
+        append_number(out, uint64_t{v} + 1);
+      }
+      out += '\n';
     }
-    out += '\n';
   }
   out += "$EndElements\n";
   auto node_data = [&](const char* name, const auto& values) {

@@ -59,13 +59,17 @@ InputMesh read_tetgen(const std::string& path, bool with_ele) {
                           ScalarType::kInt32});
   const std::filesystem::path ele = std::filesystem::path(path).replace_extension(".ele");
   if (std::filesystem::exists(ele)) {
-    if (const int a = tetgen_ele_attributes(ele.string()); a > 0)
-      out.left_out.push_back(ele.string() + "'s " + std::to_string(a) +
-                             " attribute(s) per tetrahedron (TetGen's regions, -A)");
-    if (with_ele)
-      out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base);
-    else
+    const int a = tetgen_ele_attributes(ele.string());
+    if (a > 1)
+      out.left_out.push_back(ele.string() + "'s attributes after the first (" + std::to_string(a - 1) +
+                             " per tetrahedron; the first is the region)");
+    if (with_ele) {
+      out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base, {}, &out.tet_regions);
+      if (!out.tet_regions.empty()) out.region_source = "region attributes (TetGen -A)";
+    } else {
+      if (a > 0) out.left_out.push_back(ele.string() + "'s region attributes (TetGen -A): not read by ranks");
       out.tetgen_ele = ele.string(), out.tetgen_index_base = node.index_base;
+    }
   }
   return out;
 }
@@ -105,6 +109,35 @@ InputMesh read_input(const std::string& path, std::optional<InputFormat> format,
   InputMesh mesh = read_any(path, format ? *format : input_format_for_path(path), volume, tetgen_ele);
   check_spans_3d(mesh.points, path);
   return mesh;
+}
+
+}  // namespace dtm
+
+namespace dtm {
+
+void choose_regions(InputMesh& in, const std::string& name, const std::string& path) {
+  std::string chosen = name;
+  if (chosen.empty())
+    for (const char* known : kRegionArrayNames)
+      if (in.tet_arrays.count(known)) {
+        chosen = known;
+        break;
+      }
+  if (!name.empty() && !in.tet_arrays.count(name)) {
+    std::string have;
+    for (const auto& [n, a] : in.tet_arrays) have += (have.empty() ? "'" : ", '") + n + "'";
+    throw FormatError(path + ": --region-array " + name + ": no integer cell array of that name" +
+                      (have.empty() ? std::string(" (the file has none)") : " (it has " + have + ")"));
+  }
+  for (auto& [n, values] : in.tet_arrays) {
+    if (n == chosen) {
+      in.tet_regions = std::move(values);
+      in.region_source = "cell array '" + n + "'";
+    } else {
+      in.left_out.push_back("the integer cell array '" + n + "'");
+    }
+  }
+  in.tet_arrays.clear();
 }
 
 }  // namespace dtm

@@ -36,6 +36,16 @@ InputFormat input_format_for_path(const std::string& path);
 InputMesh read_input(const std::string& path, std::optional<InputFormat> format = {},
                      const VolumeOptions& volume = {}, bool tetgen_ele = true);
 
+// The names of cell arrays taken as the regions when the user names none,
+// in this order: what gmsh, Medit and meshio's converters write, and the
+// usual names.
+inline constexpr const char* kRegionArrayNames[] = {"gmsh:physical", "medit:ref",   "region",
+                                                    "material",      "MaterialIds", "CellEntityIds"};
+// Makes `name` (empty: the first of kRegionArrayNames the file has) of
+// in.tet_arrays the regions, and names the other arrays as left out.
+// Throws FormatError naming `path` if a name is given and absent.
+void choose_regions(InputMesh& in, const std::string& name, const std::string& path);
+
 // Throws FormatError("path: ...") if `points` has fewer than 4 distinct
 // points or they are all coplanar (exact predicates).
 void check_spans_3d(const std::vector<InputPoint>& points, const std::string& path);

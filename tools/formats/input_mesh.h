@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +34,18 @@ struct InputMesh {
   // shape for error measurement. Empty for point sets, surfaces and volumes.
   std::vector<std::array<uint32_t, 4>> tets;
   std::vector<VertexField> fields;
+  // Per tetrahedron, its region (material), as the file labels it: gmsh's
+  // physical volume, a Medit ref, a TetGen region attribute, a VTK cell
+  // array's value; empty when the file has none. `region_names`: the
+  // labels' names where the file has them ($PhysicalNames);
+  // `region_source`: what the labels are, in words, for the tools' report.
+  std::vector<int32_t> tet_regions;
+  std::map<int32_t, std::string> region_names;
+  std::string region_source;
+  // A VTU's integer cell arrays of one component, on the tetrahedra (per
+  // tetrahedron, in the order of `tets`): one of them may be the regions
+  // (choose_regions(), tools/formats/input.h).
+  std::map<std::string, std::vector<int32_t>> tet_arrays;
   // Voxel inputs on an isotropic lattice: the lattice itself as the
   // quantization grid, so that positions are coded losslessly. `points` then
   // holds the same positions as doubles.

@@ -84,7 +84,6 @@ InputMesh read_medit(const std::string& path) {
     const auto [indices, integers, reals] = layout->second;
     if (indices > 0 && !have_vertices) c.fail("'" + keyword + "' before 'Vertices'");
     const uint64_t n = c.count("a record count", limit / (indices + integers + reals));
-    std::set<int64_t> refs;  // a tetrahedron's integer is its ref (region)
     if (keyword != "Tetrahedra" && n > 0) other_records[keyword] += n;
     for (uint64_t i = 0; i < n; ++i) {
       std::array<int64_t, 8> v{};
@@ -96,15 +95,14 @@ InputMesh read_medit(const std::string& path) {
       }
       for (int k = 0; k < integers; ++k) {
         const int64_t value = c.number<int64_t>("an integer");
-        if (keyword == "Tetrahedra" && refs.size() < 64) refs.insert(value);
+        // A tetrahedron's integer is its ref: its region.
+        if (keyword == "Tetrahedra" && k == 0) {
+          if (value < INT32_MIN || value > INT32_MAX) c.fail("a tetrahedron's ref out of the 32-bit range");
+          out.tet_regions.push_back(static_cast<int32_t>(value));
+        }
       }
       for (int k = 0; k < reals; ++k) c.coordinate();
       if (keyword == "Tetrahedra") tets.push_back({v[0], v[1], v[2], v[3]});
-    }
-    if (refs.size() > 1) {
-      std::string list;
-      for (int64_t r : refs) list += (list.empty() ? "" : ", ") + std::to_string(r);
-      out.left_out.push_back("the tetrahedra's refs (" + list + "): which cells are which region");
     }
   }
   if (!other_records.empty()) {
@@ -114,6 +112,7 @@ InputMesh read_medit(const std::string& path) {
     out.left_out.push_back("sections other than Vertices and Tetrahedra (" + list + ")");
   }
   if (!c.at_end()) c.fail("unexpected data after 'End'");
+  if (!out.tet_regions.empty()) out.region_source = "tetrahedron refs";
   if (!have_vertices) throw FormatError(path + ": no 'Vertices' section");
   for (const auto& t : tets)
     out.tets.push_back({static_cast<uint32_t>(t[0] - 1), static_cast<uint32_t>(t[1] - 1),
@@ -137,12 +136,14 @@ std::string render_medit(const OutputMesh& m) {
   out += "\nTetrahedra\n";
   append_number(out, m.cells.size());
   out += '\n';
-  for (const auto& t : m.cells) {
-    for (uint32_t v : t) {
+  // A tetrahedron's ref is its region (1 without regions).
+  for (size_t c = 0; c < m.cells.size(); ++c) {
+    for (uint32_t v : m.cells[c]) {
       append_number(out, uint64_t{v} + 1);
       out += ' ';
     }
-    out += "1\n";
+    append_number(out, m.region.empty() ? 1 : m.region[c]);
+    out += '\n';
   }
   out += "\nEnd\n";
   return out;

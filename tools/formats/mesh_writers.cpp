@@ -32,6 +32,9 @@ void validate(const OutputMesh& m) {
     if (f.components < 1 || f.bits.size() != n * f.components)
       throw std::invalid_argument("mesh writer: field '" + f.name + "' has " + std::to_string(f.bits.size()) +
                                   " values for " + std::to_string(n) + " points");
+  if (!m.region.empty() && m.region.size() != m.cells.size())
+    throw std::invalid_argument("mesh writer: " + std::to_string(m.region.size()) + " regions for " +
+                                std::to_string(m.cells.size()) + " cells");
   for (size_t c = 0; c < m.cells.size(); ++c)
     for (uint32_t v : m.cells[c])
       if (v >= n)
@@ -93,12 +96,17 @@ std::string render_ele(const OutputMesh& m) {
   std::string out;
   out.reserve(m.cells.size() * 40);
   append_number(out, m.cells.size());
-  out += " 4 0\n";
+  // The region, where there is one, as TetGen's region attribute.
+  out += m.region.empty() ? " 4 0\n" : " 4 1\n";
   for (size_t i = 0; i < m.cells.size(); ++i) {
     append_number(out, i);
     for (uint32_t v : m.cells[i]) {
       out += ' ';
       append_number(out, v);
+    }
+    if (!m.region.empty()) {
+      out += ' ';
+      append_number(out, m.region[i]);
     }
     out += '\n';
   }
@@ -220,6 +228,11 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
     if (!m.boundary.empty()) data_array(out, "UInt8", "boundary", 1, 1, m.boundary, binary);
     for (const OutputField& f : m.fields) field_array(out, f, binary);
     out += "      </PointData>\n";
+  }
+  if (!m.region.empty()) {
+    out += "      <CellData Scalars=\"region\">\n";
+    data_array(out, "Int32", "region", 1, 1, m.region, binary);
+    out += "      </CellData>\n";
   }
   out += "      <Points>\n";
   data_array(out, "Float64", "Points", 3, 3, coords, binary);

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <span>
 #include <string>
 #include <string_view>
@@ -38,6 +39,12 @@ struct OutputMesh {
   // attributes; a 1-component integer field named boundary_marker is the
   // TetGen marker column). Medit, OFF and XYZ have no place for them.
   std::vector<OutputField> fields;
+  // Optional (empty = absent): per cell, its region's label (the stream's
+  // region table, format 9.0), and the labels' names where it has them.
+  // Written as VTU/VTK cell data "region", gmsh physical volumes (with
+  // $PhysicalNames), Medit tetrahedron refs and a TetGen .ele attribute.
+  std::vector<int32_t> region;
+  std::map<int32_t, std::string> region_names;
 };
 
 enum class MeshFormat {

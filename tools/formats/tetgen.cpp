@@ -111,7 +111,7 @@ int tetgen_ele_attributes(const std::string& path) {
 
 std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::string& path, size_t num_points, int index_base,
-    const std::function<bool(const std::array<uint32_t, 4>&)>& keep) {
+    const std::function<bool(const std::array<uint32_t, 4>&)>& keep, std::vector<int32_t>* regions) {
   LineReader r(path);
   std::vector<std::string_view> tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected an .ele header");
@@ -148,6 +148,12 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
       if (v < 0 || static_cast<uint64_t>(v) >= num_points)
         r.fail("vertex index " + std::string(tok[1 + k]) + " out of range");
       t[k] = static_cast<uint32_t>(v);
+    }
+    if (regions && attributes > 0 && !keep) {
+      const auto a = r.parse<double>(tok[5], "a region attribute");
+      if (a != std::floor(a) || a < INT32_MIN || a > INT32_MAX)
+        r.fail("a region attribute that is not a 32-bit integer: " + std::string(tok[5]));
+      regions->push_back(static_cast<int32_t>(a));
     }
     if (!keep) {
       out.push_back(t);

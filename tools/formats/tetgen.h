@@ -33,8 +33,11 @@ int tetgen_ele_attributes(const std::string& path);
 // `index_base` is the first index of the matching .node file.
 // `keep`, when given, chooses the tetrahedra to hold (each is checked all
 // the same): an MPI rank holds its share of a large mesh only.
+// `regions`, when given (and no `keep`), receives each tetrahedron's first
+// attribute, TetGen's region (an integer), if the file has attributes.
 std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::string& path, size_t num_points, int index_base = 0,
-    const std::function<bool(const std::array<uint32_t, 4>&)>& keep = {});
+    const std::function<bool(const std::array<uint32_t, 4>&)>& keep = {},
+    std::vector<int32_t>* regions = nullptr);
 
 }  // namespace dtm

@@ -288,6 +288,12 @@ std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
   out += "CELL_TYPES " + std::to_string(m.cells.size()) + "\n";
   for (size_t i = 0; i < m.cells.size(); ++i) put(int32_t{kVtkTetra}, true);
   end_section();
+  if (!m.region.empty()) {
+    out += "CELL_DATA " + std::to_string(m.cells.size()) + "\nFIELD FieldData 1\nregion 1 " +
+           std::to_string(m.cells.size()) + " int\n";
+    for (int32_t v : m.region) put(v, true);
+    end_section();
+  }
   // Point data as one FIELD block: VTK's legacy reader keeps only the first
   // SCALARS of a file unless asked for all, but always reads every FIELD array.
   const int arrays = !m.level.empty() + !m.boundary.empty() + static_cast<int>(m.fields.size());

@@ -323,11 +323,40 @@ class VtuReader {
     if (k > 0 && fields != out.fields.size())
       p_.fail_at(piece.offset, "piece " + std::to_string(k + 1) + " has " + std::to_string(fields) +
                                    " PointData arrays, the first piece " + std::to_string(out.fields.size()));
+    const std::vector<uint64_t> tets = read_cells(piece, cells, n, first, out);
+    // Integer cell arrays of one component may be the regions
+    // (InputMesh::tet_arrays): kept on the tetrahedra. Others are named.
+    std::set<std::string> here;
     if (const Element* cd = optional_child(piece, "CellData"))
-      for (size_t id : cd->children)
-        if (const Element& da = p_.element(id); da.name == "DataArray")
-          cell_arrays_.insert(da.attr("Name") ? *da.attr("Name") : "unnamed");
-    read_cells(piece, cells, n, first, out);
+      for (size_t id : cd->children) {
+        const Element& da = p_.element(id);
+        if (da.name != "DataArray") continue;
+        const std::string name = da.attr("Name") ? *da.attr("Name") : "unnamed";
+        const auto* t = da.attr("type");
+        const auto type = t ? xml_type(*t) : std::nullopt;
+        const bool integer = type && *type != ScalarType::kFloat32 && *type != ScalarType::kFloat64;
+        if (!integer || count_attr(da, "NumberOfComponents", 1) != 1 ||
+            (k > 0 && !out.tet_arrays.count(name))) {
+          cell_arrays_.insert(name);
+          continue;
+        }
+        const auto values = array(da, cells, 1);
+        std::vector<int32_t>& kept = out.tet_arrays[name];
+        for (uint64_t c : tets) {
+          if (!(values[c] >= INT32_MIN && values[c] <= INT32_MAX))
+            p_.fail_at(da.offset, "CellData \"" + name + "\": a value out of the 32-bit range");
+          kept.push_back(static_cast<int32_t>(values[c]));
+        }
+        here.insert(name);
+      }
+    // An array not in every piece is not a label of every tetrahedron.
+    for (auto it = out.tet_arrays.begin(); it != out.tet_arrays.end();)
+      if (!here.count(it->first)) {
+        cell_arrays_.insert(it->first);
+        it = out.tet_arrays.erase(it);
+      } else {
+        ++it;
+      }
   }
 
   // What the file holds that the mesh read does not (InputMesh::left_out).
@@ -525,11 +554,15 @@ class VtuReader {
 
   // The piece's tetrahedra, their point indices shifted by `first` (the
   // points of the pieces before).
-  void read_cells(const Element& piece, uint64_t cells, uint64_t points, size_t first, InputMesh& out) {
+  // The piece's tetrahedra, added to `out`; returns which of its cells
+  // they are.
+  std::vector<uint64_t> read_cells(const Element& piece, uint64_t cells, uint64_t points, size_t first,
+                                   InputMesh& out) {
+    std::vector<uint64_t> tets;
     const Element* ce = optional_child(piece, "Cells");
     if (!ce) {
       if (cells > 0) p_.fail_at(piece.offset, "NumberOfCells=" + std::to_string(cells) + " but no <Cells>");
-      return;
+      return tets;
     }
     const auto offsets = array(named_array(*ce, "offsets"), cells, 1);
     const auto types = array(named_array(*ce, "types"), cells, 1);
@@ -565,7 +598,9 @@ class VtuReader {
         return static_cast<uint32_t>(first + static_cast<uint64_t>(conn[i]));
       };
       out.tets.push_back({at(b), at(b + 1), at(b + 2), at(b + 3)});
+      tets.push_back(c);
     }
+    return tets;
   }
 
   VtuParser p_;

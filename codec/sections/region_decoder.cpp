@@ -1,0 +1,94 @@
+// The region table and sections read (spec/FORMAT.md §2.2, §3.6): the
+// decoder's side of region_coder.h.
+#include <string>
+#include <vector>
+
+#include "codec/sections/region_coder.h"
+#include "codec/sections/region_coder_shared.h"
+#include "common/byte_io.h"
+#include "common/checksum.h"
+
+namespace dtm {
+namespace {
+
+Status table_corrupt(const std::string& what) { return {StatusCode::kCorrupt, "region table: " + what}; }
+
+// The table's body: a count, then per region its label and name.
+constexpr uint32_t kMaxTableBytes = 1 + kMaxRegionCount * (4 + 1 + kMaxRegionNameBytes);
+
+}  // namespace
+
+Status parse_region_table(std::span<const uint8_t> bytes, std::vector<RegionLabel>& regions,
+                          size_t& consumed) {
+  ByteReader head(bytes);
+  uint32_t table_bytes = 0;
+  if (!head.u32(table_bytes)) return {StatusCode::kNeedMoreInput, "region table incomplete"};
+  if (table_bytes == 0 || table_bytes > kMaxTableBytes) return table_corrupt("its length is out of range");
+  const size_t whole = 4 + size_t{table_bytes} + 8;
+  if (bytes.size() < whole) return {StatusCode::kNeedMoreInput, "region table incomplete"};
+  ByteReader tail(bytes.subspan(whole - 8, 8));
+  uint64_t checksum = 0;
+  tail.u64(checksum);
+  if (checksum != xxh3_64(bytes.first(whole - 8))) return table_corrupt("checksum mismatch");
+
+  ByteReader r(bytes.subspan(4, table_bytes));
+  uint8_t count = 0;
+  r.u8(count);
+  if (count == 0) return table_corrupt("no region");
+  regions.clear();
+  for (int i = 0; i < count; ++i) {
+    RegionLabel region;
+    uint32_t label = 0;
+    uint8_t name_length = 0;
+    if (!r.u32(label) || !r.u8(name_length)) return table_corrupt("ends inside a region");
+    if (name_length > kMaxRegionNameBytes) return table_corrupt("a name is longer than 64 bytes");
+    region.label = static_cast<int32_t>(label);
+    for (int k = 0; k < name_length; ++k) {
+      uint8_t ch = 0;
+      if (!r.u8(ch)) return table_corrupt("ends inside a name");
+      region.name.push_back(static_cast<char>(ch));
+    }
+    for (const RegionLabel& other : regions)
+      if (other.label == region.label) return table_corrupt("two regions labelled " + std::to_string(label));
+    regions.push_back(std::move(region));
+  }
+  if (r.remaining() != 0) return table_corrupt("bytes left over after the last region");
+  consumed = whole;
+  return Status::Ok();
+}
+
+Status decode_regions(std::span<const uint8_t> section, const TetMesh& dt, std::span<const uint32_t> order,
+                      size_t region_count, std::vector<uint8_t>& region) {
+  if (region_count < 2) {
+    if (!section.empty()) return {StatusCode::kCorrupt, "a region section in a stream of one region"};
+    for (uint8_t& r : region) r = r ? 1 : 0;
+    return Status::Ok();
+  }
+  RangeDecoder rc(section);
+  std::vector<uint8_t> decoded;
+  const bool whole =
+      visit_regions(dt, order, region, decoded,
+                    [&](RegionModels& m, const NeighbourRegions& n, uint8_t previous, uint32_t) -> uint8_t {
+                      const uint8_t guess = n.count ? n.regions[0] : previous;
+                      if (rc.decode(m.same[same_context(n)])) return guess;
+                      const int others = n.count > 0 ? n.count - 1 : 0;
+                      if (others > 0 && rc.decode(m.among_others[static_cast<size_t>(others - 1)])) {
+                        int k = 0;
+                        while (k + 1 < others && !rc.decode(m.which_other[static_cast<size_t>(k)])) ++k;
+                        return n.regions[static_cast<size_t>(k) + 1];
+                      }
+                      size_t node = 1;
+                      for (int b = 7; b >= 0; --b) node = node * 2 + (rc.decode(m.tree[node]) ? 1 : 0);
+                      const size_t index = node - 256;
+                      if (index >= region_count || rc.overran()) return 0;
+                      return static_cast<uint8_t>(index + 1);
+                    });
+  if (!whole) return {StatusCode::kCorrupt, "a cell's region is not in the region table"};
+  if (!rc.finished_cleanly())
+    return {StatusCode::kCorrupt,
+            rc.overran() ? "the region section ends early" : "bytes after the region section"};
+  region = std::move(decoded);
+  return Status::Ok();
+}
+
+}  // namespace dtm

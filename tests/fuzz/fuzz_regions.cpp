@@ -1,0 +1,64 @@
+// The region table and the region section (spec/FORMAT.md §2.2, §3.6) on
+// arbitrary bytes, below the checksums that keep the stream targets from
+// reaching them damaged: never a crash; a table that parses writes back to
+// the same bytes; a section that decodes gives every kept cell a region of
+// the table, and those regions re-encode to the same section.
+//
+// Input: byte 0: which point set (fuzz_point_sets.h, by bit 0), which cells
+// are kept (all, by bit 1, else every cell whose first vertex is even), and
+// the region count (2 + its other bits); bytes 1-2: the table's body length
+// n (little-endian); then n bytes of body (the target adds the length word
+// and the checksum), then the section.
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/sections/region_coder.h"
+#include "common/checksum.h"
+#include "fuzz_check.h"
+#include "fuzz_point_sets.h"
+#include "mesh/delaunay.h"
+#include "mesh/topology.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 3) return 0;
+  static const dtm::TetMesh block_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value();
+  static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value();
+  const dtm::TetMesh& dt = (data[0] & 1) ? cloud_dt : block_dt;
+  const size_t regions = 2 + (data[0] >> 2);
+  const size_t body = std::min<size_t>(data[1] | size_t{data[2]} << 8, size - 3);
+  std::vector<uint8_t> table(4 + body + 8);
+  for (int k = 0; k < 4; ++k) table[k] = static_cast<uint8_t>(body >> (8 * k));
+  std::copy_n(data + 3, body, table.begin() + 4);
+  const uint64_t checksum = dtm::xxh3_64(std::span(table).first(4 + body));
+  for (int k = 0; k < 8; ++k) table[4 + body + k] = static_cast<uint8_t>(checksum >> (8 * k));
+  std::vector<dtm::RegionLabel> labels;
+  size_t consumed = 0;
+  const dtm::Status parsed = dtm::parse_region_table(table, labels, consumed);
+  if (parsed.ok()) {
+    FUZZ_CHECK(consumed == table.size());
+    FUZZ_CHECK(dtm::check_region_table(labels).ok());
+    FUZZ_CHECK(dtm::write_region_table(labels) == table);
+  } else {
+    FUZZ_CHECK(parsed.code() == dtm::StatusCode::kCorrupt);
+  }
+
+  const std::span<const uint8_t> section(data + 3 + body, size - 3 - body);
+  static const std::vector<uint32_t> block_order = dtm::canonical_cell_order(block_dt.cells);
+  static const std::vector<uint32_t> cloud_order = dtm::canonical_cell_order(cloud_dt.cells);
+  const std::vector<uint32_t>& order = (data[0] & 1) ? cloud_order : block_order;
+  std::vector<uint8_t> kept(dt.cells.size());
+  for (size_t c = 0; c < kept.size(); ++c) kept[c] = (data[0] & 2) || dt.cells[c][0] % 2 == 0;
+  std::vector<uint8_t> region = kept;
+  const dtm::Status s = dtm::decode_regions(section, dt, order, regions, region);
+  if (!s.ok()) {
+    FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
+    return 0;
+  }
+  FUZZ_CHECK(region.size() == dt.cells.size());
+  for (size_t c = 0; c < region.size(); ++c) FUZZ_CHECK((region[c] != 0) == (kept[c] != 0) && region[c] <= regions);
+  FUZZ_CHECK(dtm::encode_regions(dt, order, region, regions) ==
+             std::vector<uint8_t>(section.begin(), section.end()));
+  return 0;
+}

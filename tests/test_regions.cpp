@@ -1,0 +1,394 @@
+// Regions (materials) on every level (spec/FORMAT.md §2.2, §3.6;
+// spec/HIERARCHY.md §2.2): every decoded level's cells carry the region of
+// the input tetrahedra that hold their centroids, found here by a search of
+// the input's own tetrahedra (not the encoder's solids); level 0's input
+// cells keep their labels; damaged region tables and sections are refused,
+// truncated streams end cleanly; the readers take gmsh's, Medit's and
+// TetGen's labels and the writers give them back.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <vector>
+
+#include "codec/decode.h"
+#include "codec/encode.h"
+#include "codec/sections/region_coder.h"
+#include "codec/stream/format.h"
+#include "core/quantize.h"
+#include "core/reference_shape.h"
+#include "mesh/delaunay.h"
+#include "mesh/topology.h"
+#include "test_support.h"
+#include "tools/decoded_mesh.h"
+#include "tools/formats/input.h"
+#include "tools/formats/mesh_writers.h"
+
+namespace dtm {
+namespace {
+
+using Tet = std::array<uint32_t, 4>;
+using P4 = std::array<int64_t, 3>;
+
+// A three-material block: random points, their Delaunay tetrahedra as the
+// input's cells, each labelled by its centroid: 7 in a ball, -2 on one side
+// of a plane, 3 elsewhere. Curved and flat interfaces, a region that is not
+// convex.
+struct RegionInput {
+  std::vector<InputPoint> points;
+  std::vector<Tet> tets;
+  std::vector<int32_t> labels;
+};
+
+RegionInput three_materials(size_t count, uint32_t seed) {
+  RegionInput in;
+  const std::vector<GridPoint> g = test::random_grid_points(count, 10, seed);
+  for (const GridPoint& p : g) in.points.push_back({double(p.x), double(p.y), double(p.z)});
+  const TetMesh dt = delaunay_tetrahedralize(g).value();
+  for (const Tet& t : dt.cells) {
+    double c[3] = {0, 0, 0};
+    for (uint32_t v : t) c[0] += g[v].x / 4.0, c[1] += g[v].y / 4.0, c[2] += g[v].z / 4.0;
+    const double r2 = (c[0] - 500) * (c[0] - 500) + (c[1] - 520) * (c[1] - 520) + (c[2] - 480) * (c[2] - 480);
+    in.tets.push_back(t);
+    in.labels.push_back(r2 < 280.0 * 280.0 ? 7 : c[0] > 700 ? -2 : 3);
+  }
+  return in;
+}
+
+// Exact orientation of (a, b, c, d) at four times the grid scale.
+int orientation(const P4& a, const P4& b, const P4& c, const P4& d) {
+  const __int128 bx = b[0] - a[0], by = b[1] - a[1], bz = b[2] - a[2];
+  const __int128 cx = c[0] - a[0], cy = c[1] - a[1], cz = c[2] - a[2];
+  const __int128 dx = d[0] - a[0], dy = d[1] - a[1], dz = d[2] - a[2];
+  const __int128 det = bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx);
+  return det > 0 ? 1 : det < 0 ? -1 : 0;
+}
+
+// Which input tetrahedra hold a point (closed), by a bucket grid over
+// their boxes: the label of the first region (ascending labels) holding it,
+// or nullopt outside them all.
+class RegionLocator {
+ public:
+  RegionLocator(const std::vector<GridPoint>& points, const std::vector<Tet>& tets,
+                const std::vector<int32_t>& labels)
+      : labels_(labels) {
+    for (const GridPoint& p : points)
+      corners_.push_back({4 * int64_t{p.x}, 4 * int64_t{p.y}, 4 * int64_t{p.z}});
+    for (const Tet& t : tets) tets_.push_back(t);
+    for (const P4& p : corners_)
+      for (int k = 0; k < 3; ++k) hi_ = std::max(hi_, p[static_cast<size_t>(k)]);
+    cell_ = hi_ / kCells + 1;
+    buckets_.resize(kCells * kCells * kCells);
+    for (uint32_t i = 0; i < tets_.size(); ++i) {
+      P4 lo{INT64_MAX, INT64_MAX, INT64_MAX}, hi{0, 0, 0};
+      for (uint32_t v : tets_[i])
+        for (size_t k = 0; k < 3; ++k)
+          lo[k] = std::min(lo[k], corners_[v][k]), hi[k] = std::max(hi[k], corners_[v][k]);
+      for (int64_t x = lo[0] / cell_; x <= hi[0] / cell_; ++x)
+        for (int64_t y = lo[1] / cell_; y <= hi[1] / cell_; ++y)
+          for (int64_t z = lo[2] / cell_; z <= hi[2] / cell_; ++z) buckets_[index(x, y, z)].push_back(i);
+    }
+  }
+  std::optional<int32_t> label(const P4& p) const {
+    std::optional<int32_t> best;
+    for (uint32_t i : buckets_[index(p[0] / cell_, p[1] / cell_, p[2] / cell_)]) {
+      const Tet& t = tets_[i];
+      const P4 &a = corners_[t[0]], &b = corners_[t[1]], &c = corners_[t[2]], &d = corners_[t[3]];
+      const int o = orientation(a, b, c, d);
+      if (o == 0) continue;
+      if (orientation(p, b, c, d) * o < 0 || orientation(a, p, c, d) * o < 0 ||
+          orientation(a, b, p, d) * o < 0 || orientation(a, b, c, p) * o < 0)
+        continue;
+      if (!best || labels_[i] < *best) best = labels_[i];
+    }
+    return best;
+  }
+
+ private:
+  static constexpr int64_t kCells = 24;
+  size_t index(int64_t x, int64_t y, int64_t z) const {
+    return static_cast<size_t>((std::min(x, kCells - 1) * kCells + std::min(y, kCells - 1)) * kCells +
+                               std::min(z, kCells - 1));
+  }
+  std::vector<P4> corners_;
+  std::vector<Tet> tets_;
+  const std::vector<int32_t>& labels_;
+  int64_t hi_ = 0, cell_ = 1;
+  std::vector<std::vector<uint32_t>> buckets_;
+};
+
+struct Encoded {
+  std::vector<uint8_t> bytes;
+  EncodeReport report;
+};
+
+Encoded encode_regions(const RegionInput& in, std::map<int32_t, std::string> names = {}) {
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  input.tetrahedron_regions = in.labels;
+  input.region_names = std::move(names);
+  EncodeOptions options;
+  options.dmax = 8;
+  auto encoded = encode(input, options);
+  EXPECT_TRUE(encoded.ok()) << encoded.status().message();
+  if (!encoded.ok()) return {};
+  return {encoded->bytes, encoded->report};
+}
+
+TEST(Regions, EveryLevelsCellsTakeTheRegionHoldingTheirCentroids) {
+  const RegionInput in = three_materials(2500, 11);
+  const Encoded e = encode_regions(in, {{7, "steel"}});
+  ASSERT_FALSE(e.bytes.empty());
+  ASSERT_EQ(e.report.regions.size(), 3u);
+  EXPECT_EQ(e.report.regions[0].label, -2);
+  EXPECT_EQ(e.report.regions[2].label, 7);
+  EXPECT_EQ(e.report.regions[2].name, "steel");
+  ASSERT_GE(e.report.levels.size(), 3u) << "too few levels to test coarse ones";
+
+  // The input's tetrahedra on the grid, labels alongside (the encoder's
+  // own plan: the same grid).
+  const QuantizedPoints q = quantize(in.points, 14).value();
+  std::vector<Tet> tets = in.tets;
+  std::vector<int32_t> labels = in.labels;
+  grid_tetrahedra_in_place(tets, q, &labels);
+  const RegionLocator locate(q.points, tets, labels);
+  std::set<std::array<GridPoint, 4>> input_cells;
+  std::map<std::array<GridPoint, 4>, int32_t> input_label;
+  for (size_t i = 0; i < tets.size(); ++i) {
+    std::array<GridPoint, 4> k = {q.points[tets[i][0]], q.points[tets[i][1]], q.points[tets[i][2]],
+                                  q.points[tets[i][3]]};
+    std::sort(k.begin(), k.end());
+    input_label[k] = labels[i];
+  }
+
+  ProgressiveDecoder decoder;
+  int levels = 0;
+  uint64_t input_cells_checked = 0;
+  ASSERT_TRUE(decoder
+                  .feed(e.bytes,
+                        [&](const ProgressiveDecoder& d, const DecodedLevel& level) {
+                          ++levels;
+                          ASSERT_EQ(d.regions().size(), 3u);
+                          const TetMesh dt = d.delaunay();
+                          std::vector<uint32_t> order;
+                          const std::vector<uint8_t> region = d.carving(dt, order);
+                          ASSERT_TRUE(d.mesh_status().ok()) << d.mesh_status().message();
+                          std::map<int32_t, uint64_t> seen;
+                          for (size_t c = 0; c < dt.cells.size(); ++c) {
+                            P4 centroid{0, 0, 0};
+                            std::array<GridPoint, 4> k;
+                            for (int i = 0; i < 4; ++i) {
+                              const GridPoint& p = d.points()[dt.cells[c][static_cast<size_t>(i)]];
+                              centroid[0] += p.x, centroid[1] += p.y, centroid[2] += p.z;
+                              k[static_cast<size_t>(i)] = p;
+                            }
+                            const std::optional<int32_t> expected = locate.label(centroid);
+                            ASSERT_EQ(region[c] != 0, expected.has_value()) << "level " << level.level;
+                            if (!expected) continue;
+                            const int32_t got = d.regions()[region[c] - 1u].label;
+                            ASSERT_EQ(got, *expected) << "level " << level.level << " cell " << c;
+                            ++seen[got];
+                            if (level.level == 0) {
+                              std::sort(k.begin(), k.end());
+                              const auto it = input_label.find(k);
+                              if (it != input_label.end()) {
+                                EXPECT_EQ(got, it->second);
+                                ++input_cells_checked;
+                              }
+                            }
+                          }
+                          // Every level keeps all three materials.
+                          EXPECT_EQ(seen.size(), 3u) << "level " << level.level;
+                        })
+                  .ok());
+  EXPECT_TRUE(decoder.finish().ok());
+  EXPECT_EQ(levels, static_cast<int>(e.report.levels.size()));
+  EXPECT_GT(input_cells_checked, tets.size() * 8 / 10);
+  // The interfaces are measured as the boundary is: every level within D_max.
+  for (const LevelReport& l : e.report.levels) {
+    ASSERT_TRUE(l.reference_error.has_value());
+    EXPECT_LE(l.reference_error->max, 8 / e.report.grid.step * (1 + 1e-9));
+  }
+}
+
+TEST(Regions, OneRegionStillNamesItsLabelAndCostsNoSection) {
+  RegionInput in = three_materials(800, 5);
+  std::fill(in.labels.begin(), in.labels.end(), 42);
+  const Encoded e = encode_regions(in, {{42, "rock"}});
+  ASSERT_EQ(e.report.regions.size(), 1u);
+  for (uint64_t b : e.report.region_bytes) EXPECT_EQ(b, 0u);
+  ProgressiveDecoder decoder;
+  ASSERT_TRUE(decode_stream(e.bytes, decoder).ok());
+  const OutputMesh mesh = decoded_mesh(decoder, "one region");
+  ASSERT_EQ(mesh.region.size(), mesh.cells.size());
+  for (int32_t r : mesh.region) EXPECT_EQ(r, 42);
+  EXPECT_EQ(mesh.region_names.at(42), "rock");
+}
+
+TEST(Regions, WithoutRegionsTheStreamIsAsBefore) {
+  RegionInput in = three_materials(800, 5);
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  EncodeOptions options;
+  options.dmax = 8;
+  const auto plain = encode(input, options).value();
+  EXPECT_EQ(plain.bytes[8], kVersionMajorUnbricked);
+  ProgressiveDecoder decoder;
+  ASSERT_TRUE(decode_stream(plain.bytes, decoder).ok());
+  EXPECT_TRUE(decoder.regions().empty());
+  EXPECT_TRUE(decoded_mesh(decoder, "plain").region.empty());
+}
+
+TEST(Regions, RefusedWhereTheStreamCannotCarryThem) {
+  RegionInput in = three_materials(400, 3);
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  input.tetrahedron_regions = in.labels;
+  EncodeOptions bricks;
+  bricks.bricks = true;
+  EXPECT_EQ(encode(input, bricks).status().code(), StatusCode::kInvalidInput);
+  EXPECT_EQ(encode(input, EncodeOptions::paper()).status().code(), StatusCode::kInvalidInput);
+  std::vector<int32_t> short_labels(in.labels.begin(), in.labels.end() - 1);
+  input.tetrahedron_regions = short_labels;
+  EXPECT_EQ(encode(input, EncodeOptions{}).status().code(), StatusCode::kInvalidInput);
+  std::vector<int32_t> many(in.labels.size());
+  for (size_t i = 0; i < many.size(); ++i) many[i] = static_cast<int32_t>(i % 300);
+  input.tetrahedron_regions = many;
+  EXPECT_EQ(encode(input, EncodeOptions{}).status().code(), StatusCode::kInvalidInput);
+}
+
+// Every prefix decodes to whole levels or stops as truncated; every bit
+// flipped in the region table is caught (its checksum, or the layers').
+TEST(Regions, TruncatedAndDamagedStreamsEndCleanly) {
+  const RegionInput in = three_materials(600, 9);
+  const Encoded e = encode_regions(in, {{3, "a"}, {7, "b"}});
+  ASSERT_FALSE(e.bytes.empty());
+  for (size_t len = 0; len < e.bytes.size(); len += (len < 200 ? 1 : 37)) {
+    ProgressiveDecoder d;
+    const Status fed = d.feed(std::span(e.bytes).first(len));
+    ASSERT_TRUE(fed.ok()) << len << ": " << fed.message();
+    EXPECT_EQ(d.finish().code(), StatusCode::kTruncated) << len;
+    if (d.finest_level() >= 0) {
+      const OutputMesh m = decoded_mesh(d, "prefix");
+      EXPECT_EQ(m.region.size(), m.cells.size());
+    }
+  }
+  const size_t table_end = kHeaderSize + e.report.region_table_bytes;
+  for (size_t byte = kHeaderSize; byte < table_end; ++byte)
+    for (int bit = 0; bit < 8; ++bit) {
+      std::vector<uint8_t> damaged = e.bytes;
+      damaged[byte] ^= static_cast<uint8_t>(1 << bit);
+      ProgressiveDecoder d;
+      const Status s = d.feed(damaged);
+      EXPECT_TRUE(!s.ok() || !d.finish().ok()) << "byte " << byte << " bit " << bit;
+    }
+}
+
+// Below the checksums: a damaged region section is refused or decodes to
+// regions in the table, never out of it.
+TEST(Regions, DamagedSectionsGiveRegionsInTheTableOrAnError) {
+  const std::vector<GridPoint> g = test::random_grid_points(400, 8, 2);
+  const TetMesh dt = delaunay_tetrahedralize(g).value();
+  const std::vector<uint32_t> order = canonical_cell_order(dt.cells);
+  std::vector<uint8_t> region(dt.cells.size());
+  std::mt19937 rng(4);
+  for (size_t c = 0; c < region.size(); ++c) region[c] = (g[dt.cells[c][0]].x < 128) ? 1 : 2 + rng() % 3;
+  const std::vector<uint8_t> section = encode_regions(dt, order, region, 4);
+  std::vector<uint8_t> decoded(dt.cells.size(), 1);
+  ASSERT_TRUE(decode_regions(section, dt, order, 4, decoded).ok());
+  EXPECT_EQ(decoded, region);
+  int refused = 0;
+  for (size_t byte = 0; byte < section.size(); ++byte)
+    for (int bit = 0; bit < 8; ++bit) {
+      std::vector<uint8_t> damaged = section;
+      damaged[byte] ^= static_cast<uint8_t>(1 << bit);
+      std::vector<uint8_t> out(dt.cells.size(), 1);
+      const Status s = decode_regions(damaged, dt, order, 4, out);
+      if (!s.ok()) {
+        EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+        ++refused;
+        continue;
+      }
+      for (uint8_t r : out) EXPECT_TRUE(r >= 1 && r <= 4);
+    }
+  EXPECT_GT(refused, 0);
+  for (size_t len = 0; len < section.size(); ++len) {
+    std::vector<uint8_t> out(dt.cells.size(), 1);
+    EXPECT_EQ(decode_regions(std::span(section).first(len), dt, order, 4, out).code(), StatusCode::kCorrupt)
+        << len;
+  }
+  std::vector<uint8_t> out(dt.cells.size(), 1);
+  EXPECT_EQ(decode_regions(section, dt, order, 1, out).code(), StatusCode::kCorrupt);
+}
+
+TEST(Regions, TableRoundTripsAndRefusesWhatIsNotATable) {
+  const std::vector<RegionLabel> table = {{-5, ""}, {1, "aluminium"}, {70000, std::string(64, 'x')}};
+  ASSERT_TRUE(check_region_table(table).ok());
+  const std::vector<uint8_t> bytes = write_region_table(table);
+  std::vector<RegionLabel> back;
+  size_t consumed = 0;
+  ASSERT_TRUE(parse_region_table(bytes, back, consumed).ok());
+  EXPECT_EQ(consumed, bytes.size());
+  ASSERT_EQ(back.size(), 3u);
+  EXPECT_EQ(back[0].label, -5);
+  EXPECT_EQ(back[2].name, std::string(64, 'x'));
+  for (size_t len = 0; len < bytes.size(); ++len)
+    EXPECT_EQ(parse_region_table(std::span(bytes).first(len), back, consumed).code(),
+              StatusCode::kNeedMoreInput);
+  EXPECT_FALSE(check_region_table(std::vector<RegionLabel>{{1, ""}, {1, ""}}).ok());
+  EXPECT_FALSE(check_region_table(std::vector<RegionLabel>{{1, std::string(65, 'y')}}).ok());
+  EXPECT_FALSE(check_region_table(std::vector<RegionLabel>{}).ok());
+}
+
+// The readers take the labels their formats carry; the writers give them
+// back where the format holds them.
+TEST(Regions, ReadersAndWritersCarryTheLabels) {
+  const auto dir = std::filesystem::temp_directory_path() / ("dtm_regions_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  OutputMesh m;
+  m.grid.step = 0.5;
+  m.grid.qbits = 6;
+  m.points = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}, {4, 4, 4}};
+  m.cells = {{0, 1, 2, 3}, {1, 2, 3, 4}};
+  if (orientation({4, 0, 0}, {0, 4, 0}, {0, 0, 4}, {4, 4, 4}) < 0) std::swap(m.cells[1][0], m.cells[1][1]);
+  m.region = {5, -3};
+  m.region_names = {{5, "core"}};
+  for (const char* ext : {".msh", ".mesh", ".node"}) {
+    const std::string path = (dir / (std::string("two") + ext)).string();
+    for (const auto& [file, text] : render_mesh(m, format_for_path(path), path, {})) {
+      std::ofstream(file, std::ios::binary) << text;
+    }
+    const InputMesh back = read_input(path);
+    ASSERT_EQ(back.tets.size(), 2u) << ext;
+    // gmsh's file holds a block of elements a region: the order changes.
+    std::vector<int32_t> labels = back.tet_regions;
+    if (std::string(ext) == ".msh") std::sort(labels.begin(), labels.end(), std::greater<>());
+    EXPECT_EQ(labels, (std::vector<int32_t>{5, -3})) << ext;
+    if (std::string(ext) == ".msh") {
+      EXPECT_EQ(back.region_names.at(5), "core");
+    }
+  }
+  const std::string vtu = (dir / "two.vtu").string();
+  const std::string text = render_mesh(m, MeshFormat::kVtu, vtu, {}).front().second;
+  EXPECT_NE(text.find("<CellData Scalars=\"region\">"), std::string::npos);
+  std::ofstream(vtu, std::ios::binary) << text;
+  InputMesh back = read_input(vtu);
+  choose_regions(back, "", vtu);
+  EXPECT_EQ(back.tet_regions, (std::vector<int32_t>{5, -3}));
+  EXPECT_EQ(back.region_source, "cell array 'region'");
+  back = read_input(vtu);
+  EXPECT_THROW(choose_regions(back, "material", vtu), FormatError);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace dtm
