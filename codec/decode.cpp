@@ -5,6 +5,7 @@
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/carving_coder.h"
+#include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/stream/layer_coder.h"
 #include "common/parallel_for.h"
@@ -51,7 +52,9 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
     has_header_ = true;
     has_field_table_ = !(header_.flags & kFlagValues);
     has_region_table_ = !(header_.flags & kFlagRegions);
-    if (has_field_table_ && has_region_table_) walk_.emplace(header_, options_.max_vertices);
+    has_face_table_ = !(header_.flags & kFlagFaces);
+    if (has_field_table_ && has_region_table_ && has_face_table_)
+      walk_.emplace(header_, options_.max_vertices);
     if (header_.version_major >= 3) models_.enable_coordinate_reuse(header_.grid.qbits);
     pending_start_ += kHeaderSize;
     return Status::Ok();
@@ -64,7 +67,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
     value_decoder_.emplace(std::move(table));
     has_field_table_ = true;
     tables_bytes_ += table_bytes;
-    if (has_region_table_) walk_.emplace(header_, options_.max_vertices, tables_bytes_);
+    if (has_region_table_ && has_face_table_) walk_.emplace(header_, options_.max_vertices, tables_bytes_);
     pending_start_ += table_bytes;
     return Status::Ok();
   }
@@ -72,6 +75,17 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
     size_t table_bytes = 0;
     DTM_RETURN_IF_ERROR(parse_region_table(avail, regions_, table_bytes));
     has_region_table_ = true;
+    tables_bytes_ += table_bytes;
+    if (has_face_table_) walk_.emplace(header_, options_.max_vertices, tables_bytes_);
+    pending_start_ += table_bytes;
+    return Status::Ok();
+  }
+  if (!has_face_table_) {
+    size_t table_bytes = 0;
+    DTM_RETURN_IF_ERROR(parse_region_table(avail, face_tags_, table_bytes).with_context("face tags"));
+    if (face_tags_.size() > kMaxFaceTags)
+      return {StatusCode::kCorrupt, "face tag table: more than " + std::to_string(kMaxFaceTags) + " tags"};
+    has_face_table_ = true;
     tables_bytes_ += table_bytes;
     walk_.emplace(header_, options_.max_vertices, tables_bytes_);
     pending_start_ += table_bytes;
@@ -116,6 +130,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   // Only the finest level's carving is ever asked for (carved_cells()).
   carving_.assign(layer.carving.begin(), layer.carving.end());
   region_section_.assign(layer.regions.begin(), layer.regions.end());
+  face_section_.assign(layer.faces.begin(), layer.faces.end());
   if (lh.bricked) {
     chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
     brick_depth_ = lh.brick_depth;
@@ -304,6 +319,22 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<
     return {};
   }
   return kept;
+}
+
+std::vector<uint8_t> ProgressiveDecoder::face_tags(const TetMesh& dt, std::span<const uint8_t> kept,
+                                                   SurfaceFaces& surface) const {
+  surface = surface_faces(dt, kept);
+  std::vector<uint8_t> tag;
+  if (!(header_.flags & kFlagFaces)) {
+    tag.assign(surface.faces.size(), 1);
+    return tag;
+  }
+  const Status s = decode_face_tags(face_section_, surface, face_tags_.size(), tag);
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
+    return {};
+  }
+  return tag;
 }
 
 std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "codec/bricks/bricks.h"
+#include "codec/sections/face_coder.h"
 #include "codec/sections/value_fields.h"
 #include "codec/stream/format.h"
 #include "codec/stream/layer_coder.h"
@@ -116,6 +117,13 @@ class ProgressiveDecoder {
   // The stream's regions (9.0, flag regions; spec/FORMAT.md §2.2): the
   // label and name of each region index. Empty without regions.
   const std::vector<RegionLabel>& regions() const { return regions_; }
+  // The finest level's surface (`kept`: carving()'s result for `dt`) and
+  // each face's tag (9.0, flag faces; spec/FORMAT.md §3.7): 1 + its index
+  // in face_tag_table(), 1 = no tag (every face, without the flag). Empty
+  // and mesh_status() set if the section is damaged.
+  std::vector<uint8_t> face_tags(const TetMesh& dt, std::span<const uint8_t> kept,
+                                 SurfaceFaces& surface) const;
+  const std::vector<RegionLabel>& face_tag_table() const { return face_tags_; }
 
  private:
   Status step(const LevelCallback& on_level);
@@ -137,6 +145,9 @@ class ProgressiveDecoder {
   uint64_t tables_bytes_ = 0;  // the field and region tables' bytes
   std::vector<RegionLabel> regions_;
   std::vector<uint8_t> region_section_;  // the finest level's
+  bool has_face_table_ = false;
+  std::vector<RegionLabel> face_tags_;
+  std::vector<uint8_t> face_section_;  // the finest level's
   StreamHeader header_;
   std::optional<FieldSectionDecoder> value_decoder_;
   std::vector<FieldValues> fields_;

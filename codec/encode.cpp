@@ -8,9 +8,11 @@
 #include "codec/blocks/bricked_encoder.h"
 #include "codec/blocks/reference_share.h"
 #include "codec/expert_encode.h"
+#include "codec/sections/face_coder.h"
 #include "common/byte_io.h"
 #include "common/release.h"
 #include "core/reference_shape.h"
+#include "core/region_solid.h"
 
 namespace dtm {
 namespace {
@@ -268,6 +270,15 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     if (!options.carve_to_reference)
       return invalid_input("regions need the levels carved to the input's solid (not the paper preset)");
   }
+  const bool with_faces = !input.tagged_faces.empty();
+  if (with_faces) {
+    if (input.face_tags.size() != input.tagged_faces.size())
+      return invalid_input("a tag is needed for every face");
+    if (input.tetrahedra.empty()) return invalid_input("tagged faces need the tetrahedra they bound");
+    if (options.bricks) return invalid_input("bricked streams do not carry tagged faces yet");
+    if (!options.carve_to_reference)
+      return invalid_input("tagged faces need the levels carved to the input's solid (not the paper preset)");
+  }
   if (!input.tetrahedra.empty()) {
     const size_t points = input.tetrahedra_on_grid ? q.points.size() : q.input_to_point.size();
     for (const auto& t : input.tetrahedra)
@@ -315,6 +326,40 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     }
     release(labels);
   }
+  // The tagged faces: the tags in ascending order make the table; each face
+  // is labelled 2 + its tag's index (1: no tag), on the grid.
+  std::optional<FaceTagger> tagger;
+  if (with_faces) {
+    std::vector<int32_t> distinct(input.face_tags.begin(), input.face_tags.end());
+    std::sort(distinct.begin(), distinct.end());
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    if (distinct.size() > kMaxFaceTags)
+      return invalid_input("the input's faces have " + std::to_string(distinct.size()) +
+                           " tags; a stream holds at most " + std::to_string(kMaxFaceTags));
+    for (int32_t tag : distinct) {
+      const auto name = input.face_tag_names.find(tag);
+      report.face_tags.push_back({tag, name == input.face_tag_names.end() ? "" : name->second});
+      if (report.face_tags.back().name.size() > kMaxRegionNameBytes)
+        report.face_tags.back().name.resize(kMaxRegionNameBytes);
+    }
+    std::vector<std::array<uint32_t, 3>> faces;
+    std::vector<uint8_t> face_label;
+    for (size_t i = 0; i < input.tagged_faces.size(); ++i) {
+      std::array<uint32_t, 3> g;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = input.tagged_faces[i][static_cast<size_t>(k)];
+        if (v >= q.input_to_point.size())
+          return invalid_input("a tagged face names a point that does not exist");
+        g[static_cast<size_t>(k)] = q.input_to_point[v];
+      }
+      if (g[0] == g[1] || g[1] == g[2] || g[0] == g[2]) continue;  // collapsed by quantization
+      faces.push_back(g);
+      face_label.push_back(static_cast<uint8_t>(
+          std::lower_bound(distinct.begin(), distinct.end(), input.face_tags[i]) - distinct.begin() + 2));
+    }
+    report.tagged_faces = faces.size();
+    tagger.emplace(q.points, region_surface_triangles(reference_tets, region_index), faces, face_label);
+  }
   // A scan's voxels are its solid (without tetrahedra to say otherwise).
   std::optional<VoxelSolid> voxels;
   if (input.voxels && reference_tets.empty() && options.carve_to_reference) {
@@ -357,12 +402,17 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   stream_options.level_step = options.level_step;
   stream_options.candidates = options.candidates;
   stream_options.regions = report.regions;
+  stream_options.face_tags = report.face_tags;
+  stream_options.faces = tagger ? &*tagger : nullptr;
   DTM_ASSIGN_OR_RETURN(EncodedStream stream,
                        encode_stream(h, q.points, q.grid, options.alpha, stream_options, std::move(fields)));
   report.layer_bytes = std::move(stream.layer_bytes);
   report.carving_bytes = std::move(stream.carving_bytes);
   report.region_bytes = std::move(stream.region_bytes);
   report.region_table_bytes = stream.region_table_bytes;
+  report.face_bytes = std::move(stream.face_bytes);
+  report.face_table_bytes = stream.face_table_bytes;
+  report.tagged_faces_kept = stream.tagged_faces_kept;
   report.candidate_bytes = std::move(stream.candidate_bytes);
   report.candidate_points = std::move(stream.candidate_points);
   report.value_bytes = std::move(stream.value_bytes);

@@ -133,6 +133,13 @@ struct EncodeInput {
   std::span<const int32_t> tetrahedron_regions;
   // Names of the labels, where the input has them ($PhysicalNames).
   std::map<int32_t, std::string> region_names;
+  // The input's tagged triangles (indices into `points`: gmsh physical
+  // surfaces, Medit triangle refs) and each one's tag: every level's surface
+  // faces carry a tag (core/face_tags.h; format 9.0). At most 254 distinct
+  // tags; needs the tetrahedra; not with bricks or the paper preset.
+  std::span<const std::array<uint32_t, 3>> tagged_faces;
+  std::span<const int32_t> face_tags;
+  std::map<int32_t, std::string> face_tag_names;
   // The tetrahedra name the plan's grid points already (grid_tetrahedra()
   // of the input's, core/reference_shape.h): a caller short of memory frees
   // its own before encoding (meshenc does, for meshes of 10M vertices).
@@ -207,6 +214,12 @@ struct EncodeReport {
   std::vector<RegionLabel> regions;    // the region table (empty without regions)
   std::vector<uint64_t> region_bytes;  // per hierarchy level, its region section
   uint64_t region_table_bytes = 0;
+  std::vector<RegionLabel> face_tags;  // the face tag table (empty without tagged faces)
+  std::vector<uint64_t> face_bytes;    // per hierarchy level, its face section
+  uint64_t face_table_bytes = 0;
+  // The input's tagged triangles (those quantization did not collapse), and
+  // how many of them are faces of level 0 (their tags kept exactly).
+  uint64_t tagged_faces = 0, tagged_faces_kept = 0;
   // Points merged by quantization whose values differed: each vertex keeps
   // its first point's values.
   uint64_t merged_points_with_other_values = 0;

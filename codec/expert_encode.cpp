@@ -8,6 +8,7 @@
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/carving_coder.h"
+#include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/stream/format.h"
 #include "codec/stream/layer_coder.h"
@@ -135,12 +136,19 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     DTM_RETURN_IF_ERROR(check_region_table(options.regions).with_context("encode_stream"));
     if (!corrections) return invalid_input("encode_stream: regions need a hierarchy carved to a reference");
   }
-  h.version_major = regions       ? kVersionMajorRegions
-                    : corrections ? kVersionMajorUnbricked
-                    : values      ? kVersionMajorWithValues
-                                  : kVersionMajorWithoutValues;
+  const bool faces = options.faces != nullptr;
+  if (faces) {
+    DTM_RETURN_IF_ERROR(check_region_table(options.face_tags).with_context("encode_stream: face tags"));
+    if (options.face_tags.size() > kMaxFaceTags)
+      return invalid_input("encode_stream: more than " + std::to_string(kMaxFaceTags) + " face tags");
+    if (!corrections) return invalid_input("encode_stream: face tags need a hierarchy carved to a reference");
+  }
+  h.version_major = regions || faces ? kVersionMajorRegions
+                    : corrections    ? kVersionMajorUnbricked
+                    : values         ? kVersionMajorWithValues
+                                     : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
-            (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0);
+            (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
@@ -157,7 +165,13 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     out.region_table_bytes = table.size();
     out.bytes.insert(out.bytes.end(), table.begin(), table.end());
   }
+  if (faces) {
+    const auto table = write_region_table(options.face_tags);
+    out.face_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
   out.region_bytes.assign(hierarchy.levels.size(), 0);
+  out.face_bytes.assign(hierarchy.levels.size(), 0);
   out.layer_bytes.assign(hierarchy.levels.size(), 0);
   out.carving_bytes.assign(hierarchy.levels.size(), 0);
   out.value_bytes.assign(hierarchy.levels.size(), 0);
@@ -194,7 +208,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       out.decode_order.push_back(i);
       decoded.push_back(points[i]);
     }
-    std::vector<uint8_t> carving, region_section;
+    std::vector<uint8_t> carving, region_section, face_section;
     if (corrections) {
       if (level.kept.size() != level.delaunay.cells.size())
         return invalid_input("encode_stream: a level without its carving verdicts");
@@ -208,6 +222,18 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
             return invalid_input("encode_stream: a cell's region is not in the table");
         region_section =
             encode_regions(dt, canonical_cell_order(dt.cells), level.kept, options.regions.size());
+      }
+      if (faces) {
+        // The level's surface in the decoder's numbering, its faces named by
+        // grid ids for the tagger.
+        const SurfaceFaces surface = surface_faces(dt, level.kept);
+        std::vector<std::array<uint32_t, 3>> by_grid_id;
+        by_grid_id.reserve(surface.faces.size());
+        for (const SurfaceFace& f : surface.faces)
+          by_grid_id.push_back(
+              {out.decode_order[f.key[0]], out.decode_order[f.key[1]], out.decode_order[f.key[2]]});
+        face_section = encode_face_tags(surface, options.faces->labels(by_grid_id), options.face_tags.size());
+        if (streamed[l] == 0) out.tagged_faces_kept = options.faces->tagged_among(by_grid_id);
       }
     }
 
@@ -255,7 +281,9 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
     if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.carved_cells());
-    const auto layer = write_layer(lh, payload, carving, value_section, candidate_section, region_section);
+    const auto layer =
+        write_layer(lh, payload, carving, value_section, candidate_section, region_section, face_section);
+    out.face_bytes[streamed[l]] = face_section.size();
     out.carving_bytes[streamed[l]] = carving.size();
     out.region_bytes[streamed[l]] = region_section.size();
     out.value_bytes[streamed[l]] = value_section.size();

@@ -15,6 +15,7 @@
 #include "codec/sections/value_fields.h"
 #include "common/grid.h"
 #include "common/status.h"
+#include "core/face_tags.h"
 #include "core/hierarchy.h"
 #include "core/quantize.h"
 #include "mesh/carving.h"
@@ -40,6 +41,11 @@ struct StreamOptions {
   // table, whose index + 1 each level's Level::kept holds per kept cell.
   // Empty: one region, no table (Level::kept holds 1).
   std::vector<RegionLabel> regions;
+  // The surface faces' tags (format 9.0, spec/FORMAT.md §2.3, §3.7): the
+  // tag table and what gives each level's faces theirs (core/face_tags.h,
+  // whose labels are 2 + a tag's index). Empty / null: none.
+  std::vector<RegionLabel> face_tags;
+  const FaceTagger* faces = nullptr;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
@@ -54,6 +60,11 @@ struct EncodedStream {
   std::vector<uint64_t> carving_bytes;
   std::vector<uint64_t> region_bytes;  // of those, the region sections' (9.0)
   uint64_t region_table_bytes = 0;
+  std::vector<uint64_t> face_bytes;  // of those, the face sections' (9.0)
+  uint64_t face_table_bytes = 0;
+  // Of the input's tagged triangles, those that are faces of level 0's
+  // surface (their tags kept exactly).
+  uint64_t tagged_faces_kept = 0;
   std::vector<uint64_t> value_bytes;
   // Of those, the candidate section's (§3.4; 0 where the layer sends every
   // point through the set coder), and how many points it sends.

@@ -144,6 +144,17 @@ std::vector<double> FixedSurface::squared_distances(std::span<const std::array<d
   return squared;
 }
 
+std::vector<uint32_t> FixedSurface::nearest_triangles(std::span<const std::array<double, 3>> queries) const {
+  if (!state_->tree) return {};
+  std::vector<uint32_t> nearest(queries.size());
+  const IdTree& tree = *state_->tree;
+  parallel_for(queries.size(), [&](size_t i) {
+    nearest[i] =
+        tree.closest_point_and_primitive(K::Point_3(queries[i][0], queries[i][1], queries[i][2])).second;
+  });
+  return nearest;
+}
+
 double FixedSurface::squared_distance(const GridPoint& query) const {
   if (!state_->tree) return std::numeric_limits<double>::infinity();
   return state_->tree->squared_distance(to_point(query));

@@ -42,6 +42,9 @@ class FixedSurface {
   std::vector<double> squared_distances(std::span<const std::array<double, 3>> queries) const;
   // One query, on the calling thread.
   double squared_distance(const GridPoint& query) const;
+  // Each query's nearest triangle (its index in the triangles given), on
+  // every core; empty without triangles.
+  std::vector<uint32_t> nearest_triangles(std::span<const std::array<double, 3>> queries) const;
 
  private:
   struct State;

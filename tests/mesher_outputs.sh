@@ -2,10 +2,10 @@
 # tests/mesher_outputs.sh MESHENC -- meshes as gmsh and Netgen write them,
 # made here by Debian's gmsh and python3-netgen, read by meshenc: a
 # two-material gmsh part in .msh 2.2 and 4.1, ASCII and binary, gives one
-# stream from all four, with its two physical volumes as regions, and meshenc
-# names what the stream does not hold (the surface's physical name, its
-# boundary triangles); meshdec writes the regions back as gmsh physical
-# volumes, VTU cell data and Medit refs, which gmsh and meshio read; a Netgen
+# stream from all four, with its two physical volumes as regions and its
+# physical surface as tagged faces, nothing left out; meshdec writes them
+# back as gmsh physical groups, VTU cell data and Medit refs, which gmsh and
+# meshio read; a Netgen
 # CSG part exported as gmsh 2.0 ("2.000000") is read with its domain (Netgen
 # tags a domain d 100000 + d).
 set -euo pipefail
@@ -36,13 +36,14 @@ done
 for f in a22 b22 a41 b41; do
   grep -q 'regions (physical [a-z]*), 2: 1 "aluminium" ([0-9]* tetrahedra), 2 "steel"' $f.out ||
     { echo "$f.msh: the physical volumes are not the regions"; cat $f.out; failed=1; }
-  grep -q 'PhysicalNames of points, curves and surfaces (2:3 "base")' $f.out &&
-    grep -q "elements other than tetrahedra ([0-9]* triangles" $f.out ||
-    { echo "$f.msh: the surface's name or triangles not named"; cat $f.out; failed=1; }
+  grep -q 'tagged faces (physical [a-z]*), 1: 3 "base" ([0-9]* triangles)' $f.out ||
+    { echo "$f.msh: the physical surface is not the tagged faces"; cat $f.out; failed=1; }
+  grep -q "left out" $f.out && { echo "$f.msh: something left out"; cat $f.out; failed=1; }
 done
 for ext in msh vtu mesh; do "$meshdec" a41.dtm -o out.$ext 2>/dev/null || failed=1; done
 gmsh out.msh -0 -format msh22 -o again.msh >/dev/null 2>&1 || { echo "gmsh does not read out.msh"; failed=1; }
-grep -A3 '^\$PhysicalNames' again.msh | grep -q '3 2 "steel"' || { echo "gmsh lost the regions"; failed=1; }
+grep -A4 '^\$PhysicalNames' again.msh | grep -q '3 2 "steel"' || { echo "gmsh lost the regions"; failed=1; }
+grep -A4 '^\$PhysicalNames' again.msh | grep -q '2 3 "base"' || { echo "gmsh lost the tagged faces"; failed=1; }
 
 # Debian's own Python, where python3-netgen is (not a user's pyenv or venv).
 py=/usr/bin/python3
@@ -66,12 +67,18 @@ import numpy as np
 counts = {}
 for name, key in (("out.msh", "gmsh:physical"), ("out.vtu", "region"), ("out.mesh", "medit:ref")):
     m = meshio.read(name)
-    labels = np.concatenate([np.asarray(a) for a in m.cell_data[key]])
+    labels = np.concatenate([np.asarray(a) for a, b in zip(m.cell_data[key], m.cells) if b.type == "tetra"])
     counts[name] = dict(zip(*np.unique(labels, return_counts=True)))
 if len({str(c) for c in counts.values()}) != 1 or sorted(counts["out.vtu"]) != [1, 2]:
     sys.exit("the writers' regions differ: %s" % counts)
 if meshio.read("out.msh").field_data.get("steel", [None])[0] != 2:
     sys.exit("out.msh: the region names are lost")
+# The tagged faces: triangles with the tag 3 in every writer.
+for name, key in (("out.msh", "gmsh:physical"), ("out.vtu", "region"), ("out.mesh", "medit:ref")):
+    m = meshio.read(name)
+    tags = [np.asarray(a) for a, b in zip(m.cell_data[key], m.cells) if b.type == "triangle"]
+    if not tags or set(np.concatenate(tags).tolist()) != {3}:
+        sys.exit("%s: the tagged faces are lost" % name)
 PY
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed

@@ -63,6 +63,14 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
                            EXPECT_EQ(cells[label], count.get<uint64_t>())
                                << GetParam() << " level " << l.level;
                          EXPECT_EQ(cells.size(), want["region_cells"].size());
+                         if (!want.contains("tagged_faces")) return;
+                         SurfaceFaces surface;
+                         std::map<std::string, uint64_t> faces;
+                         for (uint8_t t : d.face_tags(dt, d.carving(dt), surface))
+                           if (t >= 2) ++faces[std::to_string(d.face_tag_table()[t - 2u].label)];
+                         for (const auto& [tag, count] : want["tagged_faces"].items())
+                           EXPECT_EQ(faces[tag], count.get<uint64_t>()) << GetParam() << " level " << l.level;
+                         EXPECT_EQ(faces.size(), want["tagged_faces"].size());
                        })
                   .ok());
   EXPECT_TRUE(dec.finish().ok());

@@ -343,7 +343,10 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
       "$EndNodes\n$Elements\n3\n1 4 2 1 1 1 2 3 4\n2 4 2 2 2 2 3 4 5\n3 2 2 7 1 1 2 3\n$EndElements\n"
       "$PhysicalNames\n1\n3 2 \"steel insert\"\n$EndPhysicalNames\n"));
   EXPECT_EQ(m.tets.size(), 2u);
-  EXPECT_TRUE(has(m, "elements other than tetrahedra (1 triangles)"));
+  // Its triangle and the triangle's physical tag: a tagged face.
+  EXPECT_EQ(m.tagged_faces.size(), 1u);
+  EXPECT_EQ(m.face_tags, (std::vector<int32_t>{7}));
+  EXPECT_FALSE(has(m, "elements other than tetrahedra"));
   // Its physical tags are the regions, its volume names theirs: read.
   EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
   EXPECT_EQ(m.region_names.at(2), "steel insert");
@@ -354,7 +357,8 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
                  "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n"
                  "0 0 1 0\n1 1 1 0\nTriangles\n1\n1 2 3 4\nTetrahedra\n2\n1 2 3 4 1\n2 3 4 5 2\nEnd\n"));
   EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
-  EXPECT_TRUE(has(m, "1 Triangles"));
+  EXPECT_EQ(m.face_tags, (std::vector<int32_t>{4}));
+  EXPECT_TRUE(m.left_out.empty());
   // VTK legacy CELL_DATA and a triangle.
   m = read_input(write_temp(
       "cells.vtk", "# vtk DataFile Version 3.0\nc\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n" +

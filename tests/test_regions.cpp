@@ -19,6 +19,7 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
+#include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/stream/format.h"
 #include "core/quantize.h"
@@ -387,6 +388,231 @@ TEST(Regions, ReadersAndWritersCarryTheLabels) {
   EXPECT_EQ(back.region_source, "cell array 'region'");
   back = read_input(vtu);
   EXPECT_THROW(choose_regions(back, "material", vtu), FormatError);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace dtm
+
+namespace dtm {
+namespace {
+
+using Tri = std::array<uint32_t, 3>;
+using Vec = std::array<double, 3>;
+
+Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// Squared distance from p to the triangle (a, b, c) (Ericson's closest point).
+double squared_distance(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
+  const Vec ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+  const auto at = [&](double u, double v) {  // a + u ab + v ac
+    const Vec q = {a[0] + u * ab[0] + v * ac[0], a[1] + u * ab[1] + v * ac[1], a[2] + u * ab[2] + v * ac[2]};
+    const Vec d = sub(p, q);
+    return dot(d, d);
+  };
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return at(0, 0);
+  const Vec bp = sub(p, b);
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return at(1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return at(d1 / (d1 - d3), 0);
+  const Vec cp = sub(p, c);
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return at(0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return at(0, d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return at(1 - w, w);
+  }
+  const double denom = 1 / (va + vb + vc);
+  return at(vb * denom, vc * denom);
+}
+
+// The three materials' outer boundary, tagged on two sides (11 where x <
+// 300, 12 where z > 800), and the ball's interface tagged 13.
+struct TaggedFaces {
+  std::vector<Tri> faces;
+  std::vector<int32_t> tags;
+};
+TaggedFaces tag_sides(const RegionInput& in) {
+  TaggedFaces t;
+  std::map<Tri, std::vector<size_t>> sides;  // sorted face -> the tetrahedra that have it
+  for (size_t c = 0; c < in.tets.size(); ++c)
+    for (int skip = 0; skip < 4; ++skip) {
+      Tri f;
+      int k = 0;
+      for (int i = 0; i < 4; ++i)
+        if (i != skip) f[static_cast<size_t>(k++)] = in.tets[c][static_cast<size_t>(i)];
+      std::sort(f.begin(), f.end());
+      sides[f].push_back(c);
+    }
+  for (const auto& [f, cells] : sides) {
+    Vec centroid{0, 0, 0};
+    for (uint32_t v : f)
+      centroid = {centroid[0] + in.points[v].x / 3, centroid[1] + in.points[v].y / 3,
+                  centroid[2] + in.points[v].z / 3};
+    int32_t tag = 0;
+    if (cells.size() == 1 && centroid[0] < 300) tag = 11;
+    if (cells.size() == 1 && centroid[2] > 800) tag = 12;
+    if (cells.size() == 2 && (in.labels[cells[0]] == 7) != (in.labels[cells[1]] == 7)) tag = 13;
+    if (tag) t.faces.push_back(f), t.tags.push_back(tag);
+  }
+  return t;
+}
+
+TEST(Faces, EveryLevelsSurfaceCarriesTheTagsOfItsPatches) {
+  const RegionInput in = three_materials(2500, 11);
+  const TaggedFaces tagged = tag_sides(in);
+  ASSERT_GT(tagged.faces.size(), 100u);
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  input.tetrahedron_regions = in.labels;
+  input.tagged_faces = tagged.faces;
+  input.face_tags = tagged.tags;
+  input.face_tag_names = {{11, "west"}, {13, "ball"}};
+  EncodeOptions options;
+  options.dmax = 8;
+  const auto encoded = encode(input, options);
+  ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+  const EncodeReport& r = encoded->report;
+  ASSERT_EQ(r.face_tags.size(), 3u);
+  EXPECT_EQ(r.face_tags[0].name, "west");
+  // The input is Delaunay: level 0 has every tagged triangle as a face.
+  EXPECT_EQ(r.tagged_faces, tagged.faces.size());
+  EXPECT_EQ(r.tagged_faces_kept, tagged.faces.size());
+  ASSERT_GE(r.levels.size(), 3u);
+
+  // The input's surface (boundary and interfaces) with its tags, in input
+  // units (the grid maps onto them affinely: distances scale by step).
+  const QuantizedPoints q = quantize(in.points, 14).value();
+  std::map<std::array<GridPoint, 3>, int32_t> tag_of;
+  std::vector<std::pair<std::array<Vec, 3>, int32_t>> surface;
+  for (size_t i = 0; i < tagged.faces.size(); ++i) {
+    std::array<GridPoint, 3> k;
+    std::array<Vec, 3> corners;
+    for (size_t j = 0; j < 3; ++j) {
+      k[j] = q.points[q.input_to_point[tagged.faces[i][j]]];
+      const InputPoint p = in.points[tagged.faces[i][j]];
+      corners[j] = {p.x, p.y, p.z};
+    }
+    std::sort(k.begin(), k.end());
+    tag_of[k] = tagged.tags[i];
+    surface.push_back({corners, tagged.tags[i]});
+  }
+  const double reach = 8 * (1 + 1e-6) + 2 * r.grid.step;
+  ProgressiveDecoder decoder;
+  int levels = 0;
+  ASSERT_TRUE(decoder
+                  .feed(encoded->bytes,
+                        [&](const ProgressiveDecoder& d, const DecodedLevel& level) {
+                          ++levels;
+                          const OutputMesh m = decoded_mesh(d, "faces");
+                          ASSERT_EQ(m.faces.size(), m.face_tags.size());
+                          std::map<int32_t, size_t> count;
+                          for (size_t f = 0; f < m.faces.size(); ++f) {
+                            ++count[m.face_tags[f]];
+                            std::array<GridPoint, 3> k = {m.points[m.faces[f][0]], m.points[m.faces[f][1]],
+                                                          m.points[m.faces[f][2]]};
+                            std::sort(k.begin(), k.end());
+                            // A tagged input triangle keeps its own tag.
+                            if (const auto it = tag_of.find(k); it != tag_of.end()) {
+                              EXPECT_EQ(m.face_tags[f], it->second) << "level " << level.level;
+                              continue;
+                            }
+                            // Any other tagged face lies on its tag's patch:
+                            // within D_max of one of its triangles.
+                            Vec c{0, 0, 0};
+                            for (const GridPoint& g : k) {
+                              const InputPoint p = m.grid.to_input(g);
+                              c = {c[0] + p.x / 3, c[1] + p.y / 3, c[2] + p.z / 3};
+                            }
+                            double best = INFINITY;
+                            for (const auto& [t, tag] : surface)
+                              if (tag == m.face_tags[f])
+                                best = std::min(best, squared_distance(c, t[0], t[1], t[2]));
+                            EXPECT_LE(std::sqrt(best), reach)
+                                << "level " << level.level << " tag " << m.face_tags[f];
+                          }
+                          EXPECT_EQ(count.size(), 3u) << "level " << level.level;
+                          if (level.level == 0) {
+                            EXPECT_EQ(m.faces.size(), tagged.faces.size());
+                          }
+                        })
+                  .ok());
+  EXPECT_TRUE(decoder.finish().ok());
+  EXPECT_EQ(levels, static_cast<int>(r.levels.size()));
+}
+
+TEST(Faces, DamagedSectionsGiveTagsInTheTableOrAnError) {
+  const std::vector<GridPoint> g = test::random_grid_points(500, 8, 6);
+  const TetMesh dt = delaunay_tetrahedralize(g).value();
+  std::vector<uint8_t> kept(dt.cells.size());
+  for (size_t c = 0; c < kept.size(); ++c) kept[c] = g[dt.cells[c][0]].z < 160 ? 1 : 0;
+  const SurfaceFaces surface = surface_faces(dt, kept);
+  ASSERT_GT(surface.faces.size(), 50u);
+  std::vector<uint8_t> tag(surface.faces.size());
+  for (size_t f = 0; f < tag.size(); ++f) {
+    const GridPoint& p = g[surface.faces[f].key[0]];
+    tag[f] = p.x < 100 ? 2 : p.y < 100 ? 3 : 1;
+  }
+  const std::vector<uint8_t> section = encode_face_tags(surface, tag, 2);
+  std::vector<uint8_t> back;
+  ASSERT_TRUE(decode_face_tags(section, surface, 2, back).ok());
+  EXPECT_EQ(back, tag);
+  int refused = 0;
+  for (size_t byte = 0; byte < section.size(); ++byte)
+    for (int bit = 0; bit < 8; ++bit) {
+      std::vector<uint8_t> damaged = section;
+      damaged[byte] ^= static_cast<uint8_t>(1 << bit);
+      const Status s = decode_face_tags(damaged, surface, 2, back);
+      if (!s.ok()) {
+        EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+        ++refused;
+        continue;
+      }
+      for (uint8_t t : back) EXPECT_TRUE(t >= 1 && t <= 3);
+    }
+  EXPECT_GT(refused, 0);
+  for (size_t len = 1; len < section.size(); ++len)
+    EXPECT_EQ(decode_face_tags(std::span(section).first(len), surface, 2, back).code(), StatusCode::kCorrupt)
+        << len;
+  // No tag anywhere: no section.
+  EXPECT_TRUE(encode_face_tags(surface, std::vector<uint8_t>(surface.faces.size(), 1), 2).empty());
+}
+
+TEST(Faces, ReadersAndWritersCarryTheTags) {
+  const auto dir = std::filesystem::temp_directory_path() / ("dtm_faces_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  OutputMesh m;
+  m.grid.step = 0.5;
+  m.grid.qbits = 6;
+  m.points = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}};
+  m.cells = {{0, 1, 2, 3}};
+  if (orientation({0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}) < 0) std::swap(m.cells[0][0], m.cells[0][1]);
+  m.region = {5};
+  m.faces = {{0, 2, 1}, {0, 1, 3}};
+  m.face_tags = {21, 22};
+  m.face_tag_names = {{21, "base"}};
+  for (const char* ext : {".msh", ".mesh", ".vtu"}) {
+    const std::string path = (dir / (std::string("tagged") + ext)).string();
+    for (const auto& [file, text] : render_mesh(m, format_for_path(path), path, {}))
+      std::ofstream(file, std::ios::binary) << text;
+    InputMesh back = read_input(path);
+    choose_regions(back, "", path);
+    ASSERT_EQ(back.tagged_faces.size(), 2u) << ext;
+    std::vector<int32_t> tags = back.face_tags;
+    std::sort(tags.begin(), tags.end());
+    EXPECT_EQ(tags, (std::vector<int32_t>{21, 22})) << ext;
+    EXPECT_EQ(back.tet_regions, (std::vector<int32_t>{5})) << ext;
+    if (std::string(ext) == ".msh") {
+      EXPECT_EQ(back.face_tag_names.at(21), "base");
+    }
+  }
   std::filesystem::remove_all(dir);
 }
 

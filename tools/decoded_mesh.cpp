@@ -26,6 +26,21 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
     }
   for (const RegionLabel& r : regions)
     if (!r.name.empty()) mesh.region_names[r.label] = r.name;
+  // With tagged faces (9.0): the surface's faces that have a tag.
+  if (decoder.header().flags & kFlagFaces) {
+    SurfaceFaces surface;
+    const std::vector<uint8_t> tag = decoder.face_tags(dt, in_mesh, surface);
+    if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+    const std::vector<RegionLabel>& table = decoder.face_tag_table();
+    for (size_t f = 0; f < surface.faces.size(); ++f) {
+      if (tag[f] < 2) continue;
+      mesh.faces.push_back(
+          outward_triangle(dt, mesh.points, {surface.faces[f].cell, surface.faces[f].opposite}));
+      mesh.face_tags.push_back(table[tag[f] - 2u].label);
+    }
+    for (const RegionLabel& t : table)
+      if (!t.name.empty()) mesh.face_tag_names[t.label] = t.name;
+  }
   mesh.level = decoder.vertex_levels();
   mesh.boundary = boundary_vertices(dt, mesh.points.size(), in_mesh);
   for (const FieldValues& f : decoder.fields())

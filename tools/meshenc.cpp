@@ -67,7 +67,8 @@ std::string format_number(double v) {
 struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
   std::optional<double> removal_share, quality_ratio, quality_guard, quality_floor;
-  bool quiet = false, no_reference = false, no_fields = false, no_regions = false, verbose = false;
+  bool quiet = false, no_reference = false, no_fields = false, no_regions = false, no_face_tags = false,
+       verbose = false;
   std::string region_array;
   int threads = 0;                        // --threads; 0: the process's share of its cores
   std::vector<std::string> field_errors;  // NAME=E
@@ -187,6 +188,9 @@ void add_options(CLI::App& app, Command& c) {
   app.add_flag("--no-regions", c.no_regions,
                "leave the input's regions (gmsh physical volumes, Medit refs, TetGen region attributes) out "
                "of the stream");
+  app.add_flag("--no-face-tags", c.no_face_tags,
+               "leave the input's tagged triangles (gmsh physical surfaces, Medit triangle refs) out of the "
+               "stream");
   app.add_option("--region-array", c.region_array,
                  "a .vtu's integer cell array holding the regions (default: the first of gmsh:physical, "
                  "medit:ref, region, material, MaterialIds, CellEntityIds it has)");
@@ -261,6 +265,19 @@ void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePla
               std::to_string(count) + " tetrahedra)";
     }
     std::printf("%s: regions (%s), %zu: %s\n", c.input.c_str(), in.region_source.c_str(), cells.size(),
+                list.c_str());
+  }
+  if (!in.face_tags.empty()) {
+    std::map<int32_t, uint64_t> faces;
+    for (int32_t t : in.face_tags) ++faces[t];
+    std::string list;
+    for (const auto& [tag, count] : faces) {
+      const auto name = in.face_tag_names.find(tag);
+      list += (list.empty() ? "" : ", ") + std::to_string(tag) +
+              (name == in.face_tag_names.end() ? "" : " \"" + name->second + "\"") + " (" +
+              std::to_string(count) + " triangles)";
+    }
+    std::printf("%s: tagged faces (%s), %zu: %s\n", c.input.c_str(), in.face_tag_source.c_str(), faces.size(),
                 list.c_str());
   }
   for (const std::string& what : in.left_out)
@@ -406,6 +423,19 @@ int run(Command& c) {
       dtm::release(in.tet_regions);
     }
   }
+  if (!in.tagged_faces.empty()) {
+    const char* why = c.no_face_tags                      ? "--no-face-tags"
+                      : c.encode.bricks || mpi.size() > 1 ? "bricked streams do not carry them yet"
+                      : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
+                      : c.no_reference || in.tets.empty() ? "no tetrahedra to bound"
+                                                          : nullptr;
+    if (why) {
+      in.left_out.push_back(std::to_string(in.tagged_faces.size()) + " tagged triangles, " +
+                            in.face_tag_source + " (" + why + ")");
+      dtm::release(in.tagged_faces);
+      dtm::release(in.face_tags);
+    }
+  }
   display.start("quantizing");
   dtm::EncodeInput input;
   input.points = in.points;
@@ -448,6 +478,9 @@ int run(Command& c) {
   input.tetrahedra = in.tets;
   input.tetrahedron_regions = in.tet_regions;
   input.region_names = in.region_names;
+  input.tagged_faces = in.tagged_faces;
+  input.face_tags = in.face_tags;
+  input.face_tag_names = in.face_tag_names;
   input.tetrahedra_on_grid = true;
   input.tetrahedra_done = [&in] {
     dtm::release(in.tets);
@@ -491,6 +524,23 @@ int run(Command& c) {
                   static_cast<unsigned long long>(r.region_table_bytes),
                   static_cast<unsigned long long>(r.region_bytes.empty() ? 0 : r.region_bytes.front()),
                   cells ? 8.0 * (r.region_bytes.empty() ? 0 : r.region_bytes.front()) / cells : 0.0);
+    }
+    if (!r.face_tags.empty()) {
+      uint64_t face_bytes = r.face_table_bytes;
+      for (uint64_t b : r.face_bytes) face_bytes += b;
+      std::printf(
+          "  tagged faces: %llu bytes (the table %llu), level 0: %llu bytes; level 0 keeps %llu of the "
+          "input's %llu tagged triangles as its faces with their tags",
+          static_cast<unsigned long long>(face_bytes), static_cast<unsigned long long>(r.face_table_bytes),
+          static_cast<unsigned long long>(r.face_bytes.empty() ? 0 : r.face_bytes.front()),
+          static_cast<unsigned long long>(r.tagged_faces_kept),
+          static_cast<unsigned long long>(r.tagged_faces));
+      // The others are not faces of level 0 (a triangle inside a region, or
+      // where level 0 is not the input): their patches' tags are the nearest.
+      if (r.tagged_faces_kept < r.tagged_faces)
+        std::printf("; the other %llu are not faces of level 0, their patches tagged from the nearest",
+                    static_cast<unsigned long long>(r.tagged_faces - r.tagged_faces_kept));
+      std::printf("\n");
     }
   }
   if (mpi.rank() == 0) write_outputs(c, *encoded);

@@ -45,18 +45,21 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
   // 9.0: the region table; each layer's region section in its own column.
   for (const dtm::RegionLabel& r : s.regions)
     std::printf("region %d%s\n", r.label, r.name.empty() ? "" : (" \"" + r.name + "\"").c_str());
+  for (const dtm::RegionLabel& t : s.face_tags)
+    std::printf("face tag %d%s\n", t.label, t.name.empty() ? "" : (" \"" + t.name + "\"").c_str());
   const bool regions = !s.regions.empty();
+  const bool faces = !s.face_tags.empty();
   // 7.0: the candidate section's bytes (points sent beside the coarser
   // level's circumcentres and edge midpoints).
   // 8.0 bricked: each layer's chunks and its index's bytes instead.
   const bool bricks = s.header.flags & dtm::kFlagBricks;
   const bool candidates = s.header.version_major >= 7 && !bricks;
-  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
+  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
               "bits/new", "carving",
               candidates ? " candidate"
               : bricks   ? "    chunks     index"
                          : "",
-              s.fields.empty() ? "" : "    values", regions ? "   regions" : "",
+              s.fields.empty() ? "" : "    values", regions ? "   regions" : "", faces ? "     faces" : "",
               stats ? "      tets  boundary avg_minSA    min_SA" : "");
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
@@ -68,6 +71,7 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
     if (bricks) std::printf(" %9llu %9u", static_cast<unsigned long long>(l.chunks), l.header.index_bytes);
     if (!s.fields.empty()) std::printf(" %9u", l.header.value_bytes);
     if (regions) std::printf(" %9u", l.header.region_bytes);
+    if (faces) std::printf(" %9u", l.header.face_bytes);
     if (i < quality.size())
       std::printf(" %9llu %9llu %9.6f %9.3g", static_cast<unsigned long long>(quality[i].tetrahedra),
                   static_cast<unsigned long long>(quality[i].quality.boundary_vertices),

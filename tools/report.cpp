@@ -86,6 +86,13 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
       j["regions"].push_back({{"label", region.label}, {"name", region.name}});
     j["region_table_bytes"] = r.region_table_bytes;
   }
+  if (!r.face_tags.empty()) {
+    j["face_tags"] = nlohmann::json::array();
+    for (const RegionLabel& t : r.face_tags) j["face_tags"].push_back({{"label", t.label}, {"name", t.name}});
+    j["face_table_bytes"] = r.face_table_bytes;
+    j["tagged_faces"] = r.tagged_faces;
+    j["tagged_faces_kept"] = r.tagged_faces_kept;
+  }
   j["levels"] = nlohmann::json::array();
   for (const LevelReport& level : r.levels) {
     const LevelStats& s = level.stats;
@@ -105,6 +112,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
       row["carving_bytes"] = r.carving_bytes[s.level];
     if (static_cast<size_t>(s.level) < r.value_bytes.size()) row["value_bytes"] = r.value_bytes[s.level];
     if (static_cast<size_t>(s.level) < r.region_bytes.size()) row["region_bytes"] = r.region_bytes[s.level];
+    if (static_cast<size_t>(s.level) < r.face_bytes.size()) row["face_bytes"] = r.face_bytes[s.level];
     if (static_cast<size_t>(s.level) < r.candidate_bytes.size()) {
       row["candidate_bytes"] = r.candidate_bytes[s.level];
       row["candidate_points"] = r.candidate_points[s.level];

@@ -87,6 +87,9 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
   j["regions"] = nlohmann::json::array();
   for (const RegionLabel& r : s.regions) j["regions"].push_back({{"label", r.label}, {"name", r.name}});
   j["region_table_bytes"] = s.region_table_bytes;
+  j["face_tags"] = nlohmann::json::array();
+  for (const RegionLabel& t : s.face_tags) j["face_tags"].push_back({{"label", t.label}, {"name", t.name}});
+  j["face_table_bytes"] = s.face_table_bytes;
   j["levels"] = nlohmann::json::array();
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
@@ -97,6 +100,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                           {"carving_bytes", l.header.carving_bytes},
                           {"value_bytes", l.header.value_bytes},
                           {"region_bytes", l.header.region_bytes},
+                          {"face_bytes", l.header.face_bytes},
                           {"candidate_kinds", l.header.candidate_kinds},
                           {"candidate_bytes", l.header.candidate_bytes},
                           {"alpha", l.header.alpha * step},

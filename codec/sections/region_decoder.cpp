@@ -3,8 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "codec/sections/label_coder.h"
 #include "codec/sections/region_coder.h"
-#include "codec/sections/region_coder_shared.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
 
@@ -66,23 +66,11 @@ Status decode_regions(std::span<const uint8_t> section, const TetMesh& dt, std::
   }
   RangeDecoder rc(section);
   std::vector<uint8_t> decoded;
-  const bool whole =
-      visit_regions(dt, order, region, decoded,
-                    [&](RegionModels& m, const NeighbourRegions& n, uint8_t previous, uint32_t) -> uint8_t {
-                      const uint8_t guess = n.count ? n.regions[0] : previous;
-                      if (rc.decode(m.same[same_context(n)])) return guess;
-                      const int others = n.count > 0 ? n.count - 1 : 0;
-                      if (others > 0 && rc.decode(m.among_others[static_cast<size_t>(others - 1)])) {
-                        int k = 0;
-                        while (k + 1 < others && !rc.decode(m.which_other[static_cast<size_t>(k)])) ++k;
-                        return n.regions[static_cast<size_t>(k) + 1];
-                      }
-                      size_t node = 1;
-                      for (int b = 7; b >= 0; --b) node = node * 2 + (rc.decode(m.tree[node]) ? 1 : 0);
-                      const size_t index = node - 256;
-                      if (index >= region_count || rc.overran()) return 0;
-                      return static_cast<uint8_t>(index + 1);
-                    });
+  const bool whole = visit_labels(
+      dt.cells.size(), order, region, [&](uint32_t c) { return dt.neighbors[c]; }, decoded,
+      [&](LabelModels& m, const NeighbourLabels& n, uint8_t previous, uint32_t) {
+        return decode_label(rc, m, n, previous, region_count);
+      });
   if (!whole) return {StatusCode::kCorrupt, "a cell's region is not in the region table"};
   if (!rc.finished_cleanly())
     return {StatusCode::kCorrupt,

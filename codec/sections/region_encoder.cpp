@@ -3,8 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "codec/sections/label_coder.h"
 #include "codec/sections/region_coder.h"
-#include "codec/sections/region_coder_shared.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
 
@@ -45,34 +45,12 @@ std::vector<uint8_t> encode_regions(const TetMesh& dt, std::span<const uint32_t>
   if (region_count < 2) return {};
   RangeEncoder rc;
   std::vector<uint8_t> decoded;
-  visit_regions(dt, order, region, decoded,
-                [&](RegionModels& m, const NeighbourRegions& n, uint8_t previous, uint32_t c) -> uint8_t {
-                  const uint8_t r = region[c];
-                  const uint8_t guess = n.count ? n.regions[0] : previous;
-                  rc.encode(m.same[same_context(n)], r == guess);
-                  if (r == guess) return r;
-                  const int others = n.count > 0 ? n.count - 1 : 0;
-                  int at = 0;
-                  while (at < others && n.regions[static_cast<size_t>(at) + 1] != r) ++at;
-                  if (others > 0) {
-                    rc.encode(m.among_others[static_cast<size_t>(others - 1)], at < others);
-                    if (at < others) {
-                      for (int k = 0; k + 1 < others; ++k) {
-                        rc.encode(m.which_other[static_cast<size_t>(k)], at == k);
-                        if (at == k) break;
-                      }
-                      return r;
-                    }
-                  }
-                  const unsigned index = r - 1u;
-                  size_t node = 1;
-                  for (int b = 7; b >= 0; --b) {
-                    const bool bit = (index >> b) & 1u;
-                    rc.encode(m.tree[node], bit);
-                    node = node * 2 + (bit ? 1 : 0);
-                  }
-                  return r;
-                });
+  visit_labels(
+      dt.cells.size(), order, region, [&](uint32_t c) { return dt.neighbors[c]; }, decoded,
+      [&](LabelModels& m, const NeighbourLabels& n, uint8_t previous, uint32_t c) {
+        encode_label(rc, m, n, previous, region[c]);
+        return region[c];
+      });
   return rc.finish();
 }
 

@@ -6,6 +6,7 @@
 
 #include "codec/bricks/bricks.h"
 #include "codec/sections/candidate_coder.h"
+#include "codec/sections/face_coder.h"
 #include "codec/stream/layer_coder.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
@@ -133,6 +134,10 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
     return corrupt("regions flagged in a bricked stream");
   if ((h.flags & kFlagRegions) && !(h.flags & kFlagCarvingCorrections))
     return corrupt("regions flagged without carving corrections");
+  if ((h.flags & kFlagFaces) && h.version_major < 9) return corrupt("faces flagged in a stream before 9.0");
+  if ((h.flags & kFlagFaces) && (h.flags & kFlagBricks)) return corrupt("faces flagged in a bricked stream");
+  if ((h.flags & kFlagFaces) && !(h.flags & kFlagCarvingCorrections))
+    return corrupt("faces flagged without carving corrections");
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
   for (double o : h.grid.origin)
@@ -143,16 +148,19 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
 
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
                                  std::span<const uint8_t> carving, std::span<const uint8_t> values,
-                                 std::span<const uint8_t> candidates, std::span<const uint8_t> regions) {
+                                 std::span<const uint8_t> candidates, std::span<const uint8_t> regions,
+                                 std::span<const uint8_t> faces) {
   h.candidate_bytes = static_cast<uint32_t>(candidates.size());
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
   h.value_bytes = static_cast<uint32_t>(values.size());
   h.region_bytes = static_cast<uint32_t>(regions.size());
+  h.face_bytes = static_cast<uint32_t>(faces.size());
   std::vector<uint8_t> body(candidates.begin(), candidates.end());
   body.insert(body.end(), payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
   body.insert(body.end(), regions.begin(), regions.end());
+  body.insert(body.end(), faces.begin(), faces.end());
   body.insert(body.end(), values.begin(), values.end());
   FieldWriter writer;
   writer.trailer = body;
@@ -223,6 +231,8 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
     return corrupt("a value section present without its flag");
   if (!(header_.flags & kFlagRegions) && h.region_bytes != 0)
     return corrupt("a region section present without its flag");
+  if (!(header_.flags & kFlagFaces) && h.face_bytes != 0)
+    return corrupt("a face section present without its flag");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
     return corrupt("candidates at the base level, which has no coarser level");
@@ -280,10 +290,10 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   layer.candidates = body.first(lh.candidate_bytes);
   layer.payload = body.subspan(lh.candidate_bytes, lh.payload_bytes);
   layer.carving = body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes, lh.carving_bytes);
-  layer.regions =
-      body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes, lh.region_bytes);
-  layer.values =
-      body.subspan(uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes + lh.region_bytes);
+  const uint64_t regions_at = uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes;
+  layer.regions = body.subspan(regions_at, lh.region_bytes);
+  layer.faces = body.subspan(regions_at + lh.region_bytes, lh.face_bytes);
+  layer.values = body.subspan(regions_at + lh.region_bytes + lh.face_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();
@@ -321,7 +331,21 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
     }
     s.region_table_bytes = table_bytes;
   }
-  LayerWalk walk(s.header, std::numeric_limits<uint64_t>::max(), s.field_table_bytes + s.region_table_bytes);
+  if (s.header.flags & kFlagFaces) {
+    size_t table_bytes = 0;
+    s.status = parse_region_table(bytes.subspan(kHeaderSize + s.field_table_bytes + s.region_table_bytes),
+                                  s.face_tags, table_bytes);
+    if (s.status.ok() && s.face_tags.size() > kMaxFaceTags)
+      s.status = {StatusCode::kCorrupt, "face tag table: more than 254 tags"};
+    if (!s.status.ok()) {
+      if (s.status.code() == StatusCode::kNeedMoreInput)
+        s.status = {StatusCode::kTruncated, "the stream ends inside its face tag table"};
+      return s;
+    }
+    s.face_table_bytes = table_bytes;
+  }
+  LayerWalk walk(s.header, std::numeric_limits<uint64_t>::max(),
+                 s.field_table_bytes + s.region_table_bytes + s.face_table_bytes);
   while (true) {
     const int level = walk.next_level();
     Layer layer;

@@ -6,11 +6,13 @@
 //   header = kHeaderSize bytes (below), ending with its own checksum
 //   field table (5.0, with kFlagValues): codec/sections/value_fields.h
 //   region table (9.0, with kFlagRegions): codec/sections/region_coder.h
+//   face tag table (9.0, with kFlagFaces): the same layout
 //   layer  = layer header + candidate section (7.0: new points beside the
 //            coarser level's circumcentres and edge midpoints)
 //            + payload (the level's other new points)
 //            + carving section (4.0: the level's carving corrections)
 //            + region section (9.0, kFlagRegions: the kept cells' regions)
+//            + face section (9.0, kFlagFaces: the surface faces' tags)
 //            + value section (5.0: the new points' values)
 //   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
 //            (codec/bricks/bricks.h: each brick's new points and corrections)
@@ -62,8 +64,11 @@ inline constexpr int kMaxBrickDepth = 16;
 // 9.0: a region table follows the field table and layers carry region
 // sections (codec/sections/region_coder.h); not with kFlagBricks.
 inline constexpr uint16_t kFlagRegions = 16;
+// 9.0: a face tag table follows (the region table) and layers carry face
+// sections (codec/sections/face_coder.h); not with kFlagBricks.
+inline constexpr uint16_t kFlagFaces = 32;
 inline constexpr uint16_t kKnownFlags =
-    kFlagCellHashes | kFlagCarvingCorrections | kFlagValues | kFlagBricks | kFlagRegions;
+    kFlagCellHashes | kFlagCarvingCorrections | kFlagValues | kFlagBricks | kFlagRegions | kFlagFaces;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -93,8 +98,10 @@ struct LayerHeader {
   // candidate section's size, before the payload.
   uint8_t candidate_kinds = 0;
   uint32_t candidate_bytes = 0;
-  // 9.0 and later: the region section, after the carving section.
+  // 9.0 and later: the region section, after the carving section, and the
+  // face section after it.
   uint32_t region_bytes = 0;
+  uint32_t face_bytes = 0;
   // Bricked layers (8.0): the largest circumradius of a kept cell (at least
   // alpha; larger cells carry no correction bit), the bricks' octree depth,
   // and the sizes of the index and of the chunks after it.
@@ -109,7 +116,8 @@ struct LayerHeader {
 
   uint64_t body_bytes() const {
     if (bricked) return uint64_t{index_bytes} + chunk_bytes;
-    return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + value_bytes;
+    return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + face_bytes +
+           value_bytes;
   }
 };
 
@@ -160,7 +168,10 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
     v.template field<uint8_t>("candidate_kinds", h.candidate_kinds);
     v.template field<uint32_t>("candidate_bytes", h.candidate_bytes);
   }
-  if (h.format_major >= 9) v.template field<uint32_t>("region_bytes", h.region_bytes);
+  if (h.format_major >= 9) {
+    v.template field<uint32_t>("region_bytes", h.region_bytes);
+    v.template field<uint32_t>("face_bytes", h.face_bytes);
+  }
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -206,7 +217,7 @@ inline constexpr size_t kBrickedLayerHeaderSize = layer_header_size(kVersionMajo
 inline constexpr size_t kRegionLayerHeaderSize = layer_header_size(kVersionMajorRegions);
 static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_size(4) == 42 &&
                   layer_header_size(6) == 46 && kLayerHeaderSize == 51 && kBrickedLayerHeaderSize == 55 &&
-                  kRegionLayerHeaderSize == 55 && layer_header_size(9, true) == 55,
+                  kRegionLayerHeaderSize == 59 && layer_header_size(9, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -220,7 +231,7 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h);
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
                                  std::span<const uint8_t> carving = {}, std::span<const uint8_t> values = {},
                                  std::span<const uint8_t> candidates = {},
-                                 std::span<const uint8_t> regions = {});
+                                 std::span<const uint8_t> regions = {}, std::span<const uint8_t> faces = {});
 
 // Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
 // the checksum computed), the index, the chunks.
@@ -234,6 +245,7 @@ struct Layer {
   std::span<const uint8_t> payload;
   std::span<const uint8_t> carving;
   std::span<const uint8_t> regions;
+  std::span<const uint8_t> faces;
   std::span<const uint8_t> values;
   // A bricked layer's index (checksummed with the header) and chunks (each
   // checked against its checksum in the index when it is decoded).
@@ -308,6 +320,8 @@ struct StreamSummary {
   uint64_t field_table_bytes = 0;
   std::vector<RegionLabel> regions;  // 9.0 with kFlagRegions: the region table
   uint64_t region_table_bytes = 0;
+  std::vector<RegionLabel> face_tags;  // 9.0 with kFlagFaces: the face tag table
+  uint64_t face_table_bytes = 0;
   std::vector<LayerSummary> layers;  // coarsest first; the last may be incomplete
   uint64_t bytes = 0;                // bytes given
   Status status;                     // ok, or why the scan stopped early

@@ -73,7 +73,7 @@ for level in (0, info["level_count"] - 1):
 if regions_stream:
     regions_info = json.loads(subprocess.run([meshinfo, regions_stream, "--json", "--stats"], check=True,
                                              capture_output=True, text=True).stdout)
-    labels = sorted(r["label"] for r in regions_info["regions"])
+    labels = sorted([r["label"] for r in regions_info["regions"]] + [t["label"] for t in regions_info["face_tags"]])
     check(f"{os.path.basename(regions_stream)} has regions {labels}", len(labels) > 1)
     parts = OpenDataFile(regions_stream)
     for level in range(regions_info["level_count"]):
@@ -82,7 +82,8 @@ if regions_stream:
         grid = servermanager.Fetch(parts)
         region = grid.GetCellData().GetArray("region")
         seen = sorted({int(region.GetValue(i)) for i in range(region.GetNumberOfTuples())}) if region else []
-        check(f"regions, level {level}: cell array 'region' on its {grid.GetNumberOfCells()} cells, labels {seen}",
+        check(f"regions, level {level}: cell array 'region' on its {grid.GetNumberOfCells()} cells "
+              f"(tetrahedra, then tagged faces), labels {seen}",
               region is not None and region.GetNumberOfTuples() == grid.GetNumberOfCells() and seen == labels)
 
 # The coarsest and the finest side by side, coloured by each vertex's level.

@@ -112,6 +112,10 @@ class Mesh:
         regions: int32 per tetrahedron, its region (material) label as the
             input gave it, when the stream has regions; else empty.
         region_names: region label -> name, where the input named them.
+        faces: uint32, F x 3, the tagged faces of the level's surface
+            (indices into ``points``, outward), when the stream has them.
+        face_tags: int32 per face, its tag (a gmsh physical surface, a Medit ref).
+        face_tag_names: tag -> name, where the input named them.
     """
 
     points: np.ndarray
@@ -123,24 +127,34 @@ class Mesh:
     boundary: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
     regions: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int32))
     region_names: Dict[int, str] = field(default_factory=dict)
+    faces: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.uint32))
+    face_tags: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int32))
+    face_tag_names: Dict[int, str] = field(default_factory=dict)
 
     def to_meshio(self):
         """This level as a ``meshio.Mesh``: the fields, ``level`` and ``boundary`` as point data;
-        the regions as cell data ``region`` (and ``gmsh:physical``, so that meshio's gmsh
-        writer keeps them), their names as field data."""
+        the tagged faces as a triangle block; the regions and tags as cell data
+        ``gmsh:physical`` (meshio's name, which its gmsh writer keeps), their names as field data."""
         import meshio
 
         point_data = dict(self.fields)
         point_data["level"] = self.vertex_levels
         point_data["boundary"] = self.boundary.astype(np.uint8)
+        cells = [("tetra", self.tetrahedra.astype(np.int64))]
         cell_data = {}
         field_data = {}
-        if self.regions.size:
-            cell_data = {"region": [self.regions], "gmsh:physical": [self.regions],
-                         "gmsh:geometrical": [self.regions]}
+        if self.regions.size or self.face_tags.size:
+            # As gmsh's physical tags: a tetrahedron's region, a face's tag.
+            physical = [self.regions if self.regions.size else np.zeros(len(self.tetrahedra), np.int32)]
+            if self.face_tags.size:
+                cells.append(("triangle", self.faces.astype(np.int64)))
+                physical.append(self.face_tags)
+            # (gmsh:physical, as meshio names them for every format: a further
+            # cell array beside it breaks meshio's own gmsh round trip.)
+            cell_data = {"gmsh:physical": physical, "gmsh:geometrical": physical}
             field_data = {name: np.array([label, 3]) for label, name in self.region_names.items()}
-        return meshio.Mesh(self.points, [("tetra", self.tetrahedra.astype(np.int64))], point_data=point_data,
-                           cell_data=cell_data, field_data=field_data,
+            field_data.update({name: np.array([tag, 2]) for tag, name in self.face_tag_names.items()})
+        return meshio.Mesh(self.points, cells, point_data=point_data, cell_data=cell_data, field_data=field_data,
                            info={"dtmesh_derived": ["level", "boundary"]})
 
     def to_vtk(self):
@@ -203,6 +217,9 @@ def encode(
     threads: Optional[int] = None,
     regions: Any = None,
     region_names: Optional[Mapping[int, str]] = None,
+    faces: Any = None,
+    face_tags: Any = None,
+    face_tag_names: Optional[Mapping[int, str]] = None,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -230,6 +247,10 @@ def encode(
             carry the label of the input region holding their centroid, at
             most 255 distinct labels (the codec preset only).
         region_names: label -> name, kept in the stream with the labels.
+        faces, face_tags: F x 3 indices into ``points`` (the input's tagged
+            triangles: boundary conditions' patches) and one tag each; every
+            level's surface faces then carry the tag of their patch.
+        face_tag_names: tag -> name.
         threads: threads to use for this call (meshenc's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
             The stream is the same for any number.
@@ -254,10 +275,18 @@ def encode(
             raise ValueError("regions label tetrahedra: give the tetrahedra too")
         r = np.ascontiguousarray(np.asarray(regions, dtype=np.int64).reshape(-1))
     names = {int(label): str(name) for label, name in (region_names or {}).items()}
+    f = ft = None
+    if faces is not None:
+        if t is None:
+            raise ValueError("tagged faces bound tetrahedra: give the tetrahedra too")
+        f = np.ascontiguousarray(np.asarray(faces, dtype=np.int64))
+        ft = np.ascontiguousarray(np.asarray(face_tags if face_tags is not None else [], dtype=np.int64).reshape(-1))
+    face_names = {int(tag): str(name) for tag, name in (face_tag_names or {}).items()}
     field_list = [_field_in(name, values, p.shape[0]) for name, values in (fields or {}).items()]
     with _threads_for_call(threads):
         stream, report, vertex_of_input = _dtmesh.encode(
-            p, t, r, names, field_list, int(qbits), box, scale, dmax, preset, dict(field_errors or {}))
+            p, t, r, names, f, ft, face_names, field_list, int(qbits), box, scale, dmax, preset,
+            dict(field_errors or {}))
     return Encoded(stream, json.loads(report), vertex_of_input)
 
 
@@ -271,7 +300,8 @@ def _mesh_of(d: Dict[str, Any]) -> Mesh:
     return Mesh(points=d["points"], tetrahedra=d["tetrahedra"], fields=fields, level=d["level"],
                 level_count=d["level_count"], vertex_levels=d["vertex_levels"],
                 boundary=d["boundary"].astype(bool), regions=d["regions"],
-                region_names=dict(d["region_names"]))
+                region_names=dict(d["region_names"]), faces=d["faces"], face_tags=d["face_tags"],
+                face_tag_names=dict(d["face_tag_names"]))
 
 
 def _as_bytes(data: Union[Bytes, str, os.PathLike]) -> bytes:
@@ -414,8 +444,15 @@ def to_vtk(mesh: Mesh):
         a = numpy_to_vtk(np.ascontiguousarray(values), deep=True)
         a.SetName(name)
         grid.GetPointData().AddArray(a)
-    if mesh.regions.size:
-        a = numpy_to_vtk(np.ascontiguousarray(mesh.regions), deep=True)
+    if mesh.face_tags.size:
+        # The tagged faces after the tetrahedra, as meshdec's .vtu has them.
+        from vtkmodules.vtkCommonDataModel import VTK_TRIANGLE
+        for face in mesh.faces:
+            grid.InsertNextCell(VTK_TRIANGLE, 3, [int(v) for v in face])
+    if mesh.regions.size or mesh.face_tags.size:
+        # As gmsh's physical tags: a tetrahedron's region, a face's tag.
+        regions = mesh.regions if mesh.regions.size else np.zeros(m, np.int32)
+        a = numpy_to_vtk(np.ascontiguousarray(np.concatenate([regions, mesh.face_tags]).astype(np.int32)), deep=True)
         a.SetName("region")
         grid.GetCellData().AddArray(a)
         grid.GetCellData().SetActiveScalars("region")

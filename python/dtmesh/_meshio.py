@@ -34,7 +34,9 @@ def write(filename, mesh, **options):
             tetra_blocks.append(i)
         else:
             others[block.type] = others.get(block.type, 0) + len(block.data)
-    # The regions: an integer cell array of a known name, on the tetrahedra.
+    triangle_blocks = [i for i, block in enumerate(mesh.cells) if block.type == "triangle"]
+    # The regions: an integer cell array of a known name, on the tetrahedra;
+    # the same array on the triangles is their tags (gmsh's physical groups).
     region_array = None
     if tetra_blocks and "regions" not in options:
         for name in REGION_ARRAYS:
@@ -44,6 +46,12 @@ def write(filename, mesh, **options):
                 options["regions"] = np.concatenate([np.asarray(arrays[i]).reshape(-1) for i in tetra_blocks])
                 options.setdefault("region_names", {int(v[0]): k for k, v in (mesh.field_data or {}).items()
                                                     if len(v) >= 2 and int(v[1]) == 3})
+                if triangle_blocks and "faces" not in options:
+                    options["faces"] = np.vstack([mesh.cells[i].data for i in triangle_blocks])
+                    options["face_tags"] = np.concatenate([np.asarray(arrays[i]).reshape(-1) for i in triangle_blocks])
+                    options.setdefault("face_tag_names", {int(v[0]): k for k, v in (mesh.field_data or {}).items()
+                                                          if len(v) >= 2 and int(v[1]) == 2})
+                    others.pop("triangle", None)
                 break
     # What the stream does not hold yet is named, as meshenc names it:
     # nothing of a user's mesh is left out without a word.

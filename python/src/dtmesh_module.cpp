@@ -84,7 +84,10 @@ dtm::EncodeOptions encode_options(int qbits, std::optional<double> box, std::opt
 py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> points,
                  std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> tetrahedra,
                  std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> regions,
-                 const std::map<int32_t, std::string>& region_names, const std::vector<FieldIn>& fields,
+                 const std::map<int32_t, std::string>& region_names,
+                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> faces,
+                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> face_tags,
+                 const std::map<int32_t, std::string>& face_tag_names, const std::vector<FieldIn>& fields,
                  int qbits, std::optional<double> box, std::optional<double> scale,
                  std::optional<double> dmax, const std::string& preset,
                  const std::map<std::string, double>& field_errors) {
@@ -121,6 +124,29 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
       labels.push_back(static_cast<int32_t>(v[k]));
     }
   }
+  std::vector<std::array<uint32_t, 3>> tri;
+  std::vector<int32_t> tri_tags;
+  if (faces) {
+    const auto& f = *faces;
+    if (f.ndim() != 2 || f.shape(1) != 3) throw py::value_error("faces must be an F x 3 array");
+    if (!face_tags || face_tags->ndim() != 1 || face_tags->shape(0) != f.shape(0))
+      throw py::value_error("face_tags must hold one tag per face (" + std::to_string(f.shape(0)) + ")");
+    const int64_t* v = f.data();
+    const int64_t* t = face_tags->data();
+    for (py::ssize_t k = 0; k < f.shape(0); ++k) {
+      std::array<uint32_t, 3> tri_k;
+      for (int j = 0; j < 3; ++j) {
+        const int64_t id = v[3 * k + j];
+        if (id < 0 || static_cast<size_t>(id) >= n)
+          throw py::value_error("faces[" + std::to_string(k) + "] names point " + std::to_string(id));
+        tri_k[static_cast<size_t>(j)] = static_cast<uint32_t>(id);
+      }
+      if (t[k] < INT32_MIN || t[k] > INT32_MAX)
+        throw py::value_error("face_tags[" + std::to_string(k) + "] is not a 32-bit integer");
+      tri.push_back(tri_k);
+      tri_tags.push_back(static_cast<int32_t>(t[k]));
+    }
+  }
   std::vector<dtm::EncodeInput::Field> in_fields;
   for (const FieldIn& f : fields) {
     if (f.type < 0 || f.type > static_cast<int>(dtm::ScalarType::kFloat64))
@@ -137,6 +163,9 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
   input.tetrahedra = tets;
   input.tetrahedron_regions = labels;
   input.region_names = region_names;
+  input.tagged_faces = tri;
+  input.face_tags = tri_tags;
+  input.face_tag_names = face_tag_names;
   input.fields = in_fields;
   std::optional<dtm::StatusOr<dtm::EncodedMesh>> encoded;
   {
@@ -186,6 +215,11 @@ py::dict level_dict(const dtm::OutputMesh& mesh, int level, int level_count) {
   d["fields"] = fields;
   d["regions"] = array_of(mesh.region, {static_cast<py::ssize_t>(mesh.region.size())});
   d["region_names"] = mesh.region_names;
+  py::array_t<uint32_t> faces({static_cast<py::ssize_t>(mesh.faces.size()), py::ssize_t{3}});
+  if (!mesh.faces.empty()) std::memcpy(faces.mutable_data(), mesh.faces.data(), mesh.faces.size() * 12);
+  d["faces"] = faces;
+  d["face_tags"] = array_of(mesh.face_tags, {static_cast<py::ssize_t>(mesh.face_tags.size())});
+  d["face_tag_names"] = mesh.face_tag_names;
   d["level"] = level;
   d["level_count"] = level_count;
   return d;
@@ -314,8 +348,9 @@ PYBIND11_MODULE(_dtmesh, m) {
   py::class_<FieldIn>(m, "FieldIn")
       .def(py::init<std::string, int, int, py::array_t<double, py::array::c_style | py::array::forcecast>>());
   m.def("encode", &encode, py::arg("points"), py::arg("tetrahedra"), py::arg("regions"),
-        py::arg("region_names"), py::arg("fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"),
-        py::arg("dmax"), py::arg("preset"), py::arg("field_errors"));
+        py::arg("region_names"), py::arg("faces"), py::arg("face_tags"), py::arg("face_tag_names"),
+        py::arg("fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"), py::arg("dmax"),
+        py::arg("preset"), py::arg("field_errors"));
   py::class_<Decoder>(m, "Decoder")
       .def(py::init<int, uint64_t>(), py::arg("stop_after_level"), py::arg("max_vertices"))
       .def("feed", &Decoder::feed, py::arg("chunk"), py::arg("meshes"))

@@ -243,7 +243,8 @@ def test_meshio_write_names_what_the_stream_does_not_hold(corpus, tmp_path):
 
 
 def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
-    """A gmsh part of two materials: its physical volumes are the regions on every level."""
+    """A gmsh part of two materials: its physical volumes are the regions on every level, its
+    physical surfaces the tagged faces."""
     msh = tmp_path / "two_materials.msh"
     msh.write_bytes(lzma.open(DATA / "two_materials.msh.xz").read())
     mesh = meshio.read(msh)
@@ -266,8 +267,16 @@ def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
     tets = np.vstack([b.data for b in mesh.cells if b.type == "tetra"])
     labels = np.concatenate([mesh.cell_data["gmsh:physical"][i] for i, b in enumerate(mesh.cells)
                              if b.type == "tetra"])
-    encoded = dtmesh.encode(mesh.points, tets, regions=labels, region_names={1: "aluminium", 2: "steel"})
+    triangles = np.vstack([b.data for b in mesh.cells if b.type == "triangle"])
+    tags = np.concatenate([mesh.cell_data["gmsh:physical"][i] for i, b in enumerate(mesh.cells)
+                           if b.type == "triangle"])
+    encoded = dtmesh.encode(mesh.points, tets, regions=labels, region_names={1: "aluminium", 2: "steel"},
+                            faces=triangles, face_tags=tags, face_tag_names={3: "base", 4: "load"})
     assert encoded.bytes == out.read_bytes()
+    assert [(t["label"], t["name"]) for t in info["face_tags"]] == [(3, "base"), (4, "load")]
+    finest = dtmesh.decode(out.read_bytes())
+    assert sorted(set(finest.face_tags.tolist())) == [3, 4]
+    assert finest.faces.shape == (finest.face_tags.shape[0], 3)
     with pytest.raises(ValueError, match="one label per tetrahedron"):
         dtmesh.encode(mesh.points, tets, regions=labels[:-1])
     # Back through meshio's gmsh writer: gmsh's physical groups and names.
@@ -275,11 +284,13 @@ def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
     again = tmp_path / "again.msh"
     meshio.write(again, finest, file_format="gmsh22", binary=False)
     back = meshio.read(again)
-    assert sorted(set(np.concatenate(back.cell_data["gmsh:physical"]).tolist())) == [1, 2]
+    assert sorted(set(np.concatenate(back.cell_data["gmsh:physical"]).tolist())) == [1, 2, 3, 4]
     assert back.field_data["steel"][0] == 2
     # And the VTK grid carries them as cell data.
-    grid = dtmesh.decode(out.read_bytes()).to_vtk()
+    level0 = dtmesh.decode(out.read_bytes())
+    grid = level0.to_vtk()
     assert grid.GetCellData().GetArray("region").GetNumberOfTuples() == grid.GetNumberOfCells()
+    assert grid.GetNumberOfCells() == level0.tetrahedra.shape[0] + level0.faces.shape[0]
 
 
 def test_exodus_through_meshio(corpus, tmp_path):

@@ -57,7 +57,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   FUZZ_CHECK(region.size() == dt.cells.size());
-  for (size_t c = 0; c < region.size(); ++c) FUZZ_CHECK((region[c] != 0) == (kept[c] != 0) && region[c] <= regions);
+  for (size_t c = 0; c < region.size(); ++c)
+    FUZZ_CHECK((region[c] != 0) == (kept[c] != 0) && region[c] <= regions);
   FUZZ_CHECK(dtm::encode_regions(dt, order, region, regions) ==
              std::vector<uint8_t>(section.begin(), section.end()));
   return 0;

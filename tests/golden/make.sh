@@ -29,8 +29,8 @@ print(json.dumps({
     "levels": [{"level": l["level"], "vertices": l["vertices"],
                 "new_vertices": l["new_vertices"], "cell_hash": l["cell_hash"]}
                for l in info["levels"]]}, indent=1))' >"$here/$name.expected.json"
-  # With regions (9.0): each level's cells per region label, as meshdec
-  # writes them (Medit refs).
+  # With regions (9.0): each level's cells per region label and tagged
+  # faces per tag, as meshdec writes them (Medit refs).
   if [ "$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["format"])' "$here/$name.expected.json")" = "dtm 9.0" ]; then
     local levels
     levels=$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["levels"]))' "$here/$name.expected.json")
@@ -47,6 +47,13 @@ for entry in expected["levels"]:
         label = line.split()[4]
         counts[label] = counts.get(label, 0) + 1
     entry["region_cells"] = dict(sorted(counts.items(), key=lambda kv: int(kv[0])))
+    if "Triangles" in lines:
+        at = lines.index("Triangles")
+        faces = {}
+        for line in lines[at + 2: at + 2 + int(lines[at + 1])]:
+            tag = line.split()[3]
+            faces[tag] = faces.get(tag, 0) + 1
+        entry["tagged_faces"] = dict(sorted(faces.items(), key=lambda kv: int(kv[0])))
 json.dump(expected, open(path, "w"), indent=1)
 PY
   fi

@@ -14,6 +14,7 @@
 namespace dtm {
 namespace {
 
+constexpr int kGmshTriangle = 2;
 constexpr int kGmshTetrahedron = 4;
 
 // Whitespace-separated fields of one line.
@@ -122,6 +123,7 @@ class GmshReader {
     }
     if (!have_nodes) throw FormatError(c_.path() + ": no $Nodes section");
     set_regions();
+    set_face_tags();
     note_left_out();
     return std::move(out_);
   }
@@ -145,6 +147,8 @@ class GmshReader {
       std::from_chars(f[1].data(), f[1].data() + f[1].size(), tag);
       if (dim == 3)
         volume_names_[tag] = name;
+      else if (dim == 2)
+        surface_names_[tag] = name;
       else
         physical_names_.push_back(std::string(f[0]) + ":" + std::string(f[1]) + " \"" + name + "\"");
     }
@@ -164,6 +168,7 @@ class GmshReader {
         for (uint64_t p = 0; p < physicals; ++p) {
           const int physical = c_.number<int>("a physical tag");
           if (dim == 3 && p == 0) volume_physical_[tag] = physical;
+          if (dim == 2 && p == 0) surface_physical_[tag] = physical;
         }
         if (dim == 0) continue;
         const uint64_t bounding = c_.count("a bounding entity count", c_.remaining() / 2);
@@ -183,6 +188,7 @@ class GmshReader {
         if (physicals > c_.remaining() / 4) c_.fail("$Entities announces more than the file holds");
         const std::string_view p = c_.bytes(4 * physicals, "physical tags");
         if (dim == 3 && physicals > 0) volume_physical_[tag] = int32(p);
+        if (dim == 2 && physicals > 0) surface_physical_[tag] = int32(p);
         if (dim == 0) continue;
         const uint64_t bounding = size_t64(c_.bytes(8, "a bounding entity count"));
         if (bounding > c_.remaining() / 4) c_.fail("$Entities announces more than the file holds");
@@ -217,6 +223,23 @@ class GmshReader {
     else
       out_.region_source =
           volume_physical_.empty() ? "volume entities" : "physical volumes and volume entities";
+  }
+
+  // Each triangle's tag: 2.x its physical tag; 4.1 its surface entity's
+  // physical group where $Entities gives one, else the entity.
+  void set_face_tags() {
+    if (tri_tag_.empty() || (!v4_ && !tagged_)) return;
+    for (int64_t tag : tri_tag_) {
+      int64_t t = tag;
+      if (v4_)
+        if (const auto it = surface_physical_.find(static_cast<int>(tag)); it != surface_physical_.end())
+          t = it->second;
+      if (t < INT32_MIN || t > INT32_MAX) c_.fail("a surface tag out of the 32-bit range");
+      out_.face_tags.push_back(static_cast<int32_t>(t));
+    }
+    out_.tagged_faces = std::move(triangles_);
+    out_.face_tag_names = surface_names_;
+    out_.face_tag_source = v4_ ? "physical surfaces" : "physical tags";
   }
 
   void note_left_out() {
@@ -308,6 +331,9 @@ class GmshReader {
       if (f.size() - skip != 4) c_.fail("a tetrahedron with " + std::to_string(f.size() - skip) + " nodes");
       out_.tets.push_back(t);
       tet_tag_.push_back(tag_);
+    } else if (type == kGmshTriangle && f.size() - skip == 3) {
+      triangles_.push_back({t[0], t[1], t[2]});
+      tri_tag_.push_back(tag_);
     } else {
       ++other_elements_[type];
     }
@@ -330,7 +356,7 @@ class GmshReader {
       const auto [end, ec] = std::from_chars(f[2].data(), f[2].data() + f[2].size(), tags);
       if (ec != std::errc() || tags < 0 || f.size() < 3 + static_cast<size_t>(tags))
         c_.fail("bad element tag count");
-      if (type == kGmshTetrahedron) {
+      if (type == kGmshTetrahedron || type == kGmshTriangle) {
         int64_t physical = 0;
         if (tags > 0) std::from_chars(f[3].data(), f[3].data() + f[3].size(), physical), tagged_ = true;
         note_volume_tag(physical);
@@ -349,7 +375,7 @@ class GmshReader {
       c_.number<int>("an entity dimension");
       const int entity = c_.number<int>("an entity tag");
       const int type = c_.number<int>("an element type");
-      if (type == kGmshTetrahedron) note_volume_tag(entity);
+      if (type == kGmshTetrahedron || type == kGmshTriangle) note_volume_tag(entity);
       const uint64_t in_block = c_.count("an element count", c_.remaining() / 4);
       c_.skip_to_next_line();
       for (uint64_t i = 0; i < in_block; ++i) {
@@ -400,6 +426,9 @@ class GmshReader {
     if (type == kGmshTetrahedron) {
       out_.tets.push_back(t);
       tet_tag_.push_back(tag_);
+    } else if (type == kGmshTriangle) {
+      triangles_.push_back({t[0], t[1], t[2]});
+      tri_tag_.push_back(tag_);
     } else {
       ++other_elements_[type];
     }
@@ -433,8 +462,9 @@ class GmshReader {
       const std::string_view b = c_.bytes(count * record, "the elements");
       for (int64_t e = 0; e < count; ++e) {
         const std::string_view r = b.substr(e * record, record);
-        if (type == kGmshTetrahedron) note_volume_tag(tags > 0 ? int32(r.substr(4)) : 0);
-        tagged_ = tagged_ || (type == kGmshTetrahedron && tags > 0);
+        if (type == kGmshTetrahedron || type == kGmshTriangle)
+          note_volume_tag(tags > 0 ? int32(r.substr(4)) : 0);
+        tagged_ = tagged_ || ((type == kGmshTetrahedron || type == kGmshTriangle) && tags > 0);
         binary_element(r.substr(4 * (1 + tags)), type, per, 4);
       }
       seen += count;
@@ -480,7 +510,7 @@ class GmshReader {
       const int per = nodes_per_element(type);
       const uint64_t record = 8 * (1 + static_cast<uint64_t>(per));
       if (in_block > c_.remaining() / record) c_.fail("file ends inside an element block");
-      if (type == kGmshTetrahedron) note_volume_tag(entity);
+      if (type == kGmshTetrahedron || type == kGmshTriangle) note_volume_tag(entity);
       const std::string_view b = c_.bytes(in_block * record, "the elements");
       for (uint64_t e = 0; e < in_block; ++e)
         binary_element(b.substr(e * record + 8, record - 8), type, per, 8);
@@ -566,6 +596,10 @@ class GmshReader {
   std::vector<int64_t> tet_tag_;        // per tetrahedron
   std::map<int, int> volume_physical_;  // 4.1: volume entity -> its first physical group
   std::map<int32_t, std::string> volume_names_;
+  std::vector<std::array<uint32_t, 3>> triangles_;
+  std::vector<int64_t> tri_tag_;         // per triangle
+  std::map<int, int> surface_physical_;  // 4.1: surface entity -> its first physical group
+  std::map<int32_t, std::string> surface_names_;
   std::vector<std::string> physical_names_, partial_node_data_;
   std::set<std::string> skipped_data_;
   std::unordered_map<int64_t, uint32_t> index_of_;
@@ -597,8 +631,19 @@ std::string render_gmsh(const OutputMesh& m) {
   for (int32_t r : m.region) entity_of.emplace(r, 0);
   size_t entities = 0;
   for (auto& [label, entity] : entity_of) entity = ++entities;
-  if (!entity_of.empty()) {
-    out += "$PhysicalNames\n" + std::to_string(entity_of.size()) + "\n";
+  // The tagged faces: one surface entity a tag, in the physical group of
+  // the tag.
+  std::map<int32_t, size_t> surface_of;
+  for (int32_t tag : m.face_tags) surface_of.emplace(tag, 0);
+  size_t surfaces = 0;
+  for (auto& [tag, entity] : surface_of) entity = ++surfaces;
+  if (!entity_of.empty() || !surface_of.empty()) {
+    out += "$PhysicalNames\n" + std::to_string(entity_of.size() + surface_of.size()) + "\n";
+    for (const auto& [tag, entity] : surface_of) {
+      const auto name = m.face_tag_names.find(tag);
+      out += "2 " + std::to_string(tag) + " \"" +
+             (name != m.face_tag_names.end() ? name->second : "surface " + std::to_string(tag)) + "\"\n";
+    }
     for (const auto& [label, entity] : entity_of) {
       const auto name = m.region_names.find(label);
       out += "3 " + std::to_string(label) + " \"" +
@@ -610,7 +655,15 @@ std::string render_gmsh(const OutputMesh& m) {
   // bounding surface.
   std::vector<std::string> physical(std::max<size_t>(1, entities), "0");
   for (const auto& [label, entity] : entity_of) physical[entity - 1] = "1 " + std::to_string(label);
-  out += "$Entities\n0 0 0 " + std::to_string(physical.size()) + "\n";
+  out += "$Entities\n0 0 " + std::to_string(surfaces) + " " + std::to_string(physical.size()) + "\n";
+  for (const auto& [tag, entity] : surface_of) {
+    out += std::to_string(entity);
+    for (double v : {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z}) {
+      out += ' ';
+      append_number(out, v);
+    }
+    out += " 1 " + std::to_string(tag) + " 0\n";
+  }
   for (size_t e = 0; e < physical.size(); ++e) {
     out += std::to_string(e + 1);
     for (double v : {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z}) {
@@ -633,8 +686,23 @@ std::string render_gmsh(const OutputMesh& m) {
   // One block a region (its entity's), cells numbered in the mesh's order.
   std::vector<std::vector<size_t>> blocks(std::max<size_t>(1, entities));
   for (size_t c = 0; c < t; ++c) blocks[m.region.empty() ? 0 : entity_of[m.region[c]] - 1].push_back(c);
-  out += std::to_string(blocks.size()) + " " + std::to_string(t) + " " + std::to_string(t ? 1 : 0) + " " +
-         std::to_string(t) + "\n";
+  // The faces' blocks first (numbered after the cells), then the cells'.
+  std::vector<std::vector<size_t>> face_blocks(surfaces);
+  for (size_t f = 0; f < m.faces.size(); ++f) face_blocks[surface_of[m.face_tags[f]] - 1].push_back(f);
+  const size_t elements = t + m.faces.size();
+  out += std::to_string(blocks.size() + face_blocks.size()) + " " + std::to_string(elements) + " " +
+         std::to_string(elements ? 1 : 0) + " " + std::to_string(elements) + "\n";
+  for (size_t e = 0; e < face_blocks.size(); ++e) {
+    out += "2 " + std::to_string(e + 1) + " 2 " + std::to_string(face_blocks[e].size()) + "\n";
+    for (size_t f : face_blocks[e]) {
+      append_number(out, t + f + 1);
+      for (uint32_t v : m.faces[f]) {
+        out += ' ';
+        append_number(out, uint64_t{v} + 1);
+      }
+      out += '\n';
+    }
+  }
   for (size_t e = 0; e < blocks.size(); ++e) {
     out += "3 " + std::to_string(e + 1) + " 4 " + std::to_string(blocks[e].size()) + "\n";
     for (size_t c : blocks[e]) {

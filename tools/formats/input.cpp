@@ -138,6 +138,18 @@ void choose_regions(InputMesh& in, const std::string& name, const std::string& p
     }
   }
   in.tet_arrays.clear();
+  // A .vtu's triangles: tagged by the same array (as gmsh's physical tags
+  // are, through meshio), else named.
+  if (!in.tagged_faces.empty() && in.face_tags.empty()) {
+    if (auto it = in.triangle_arrays.find(chosen); !chosen.empty() && it != in.triangle_arrays.end()) {
+      in.face_tags = std::move(it->second);
+      in.face_tag_source = "cell array '" + chosen + "'";
+    } else {
+      in.left_out.push_back(std::to_string(in.tagged_faces.size()) + " triangles without a tag array");
+      in.tagged_faces.clear();
+    }
+  }
+  in.triangle_arrays.clear();
 }
 
 }  // namespace dtm

@@ -46,6 +46,14 @@ struct InputMesh {
   // tetrahedron, in the order of `tets`): one of them may be the regions
   // (choose_regions(), tools/formats/input.h).
   std::map<std::string, std::vector<int32_t>> tet_arrays;
+  // The file's triangles with their tags (gmsh physical surfaces, Medit
+  // triangle refs, a .vtu's triangles with the regions' array): where a
+  // simulation sets its boundary conditions. Indices into points.
+  std::vector<std::array<uint32_t, 3>> tagged_faces;
+  std::vector<int32_t> face_tags;
+  std::map<int32_t, std::string> face_tag_names;
+  std::string face_tag_source;
+  std::map<std::string, std::vector<int32_t>> triangle_arrays;  // a .vtu's, as tet_arrays
   // Voxel inputs on an isotropic lattice: the lattice itself as the
   // quantization grid, so that positions are coded losslessly. `points` then
   // holds the same positions as doubles.

@@ -84,7 +84,7 @@ InputMesh read_medit(const std::string& path) {
     const auto [indices, integers, reals] = layout->second;
     if (indices > 0 && !have_vertices) c.fail("'" + keyword + "' before 'Vertices'");
     const uint64_t n = c.count("a record count", limit / (indices + integers + reals));
-    if (keyword != "Tetrahedra" && n > 0) other_records[keyword] += n;
+    if (keyword != "Tetrahedra" && keyword != "Triangles" && n > 0) other_records[keyword] += n;
     for (uint64_t i = 0; i < n; ++i) {
       std::array<int64_t, 8> v{};
       for (int k = 0; k < indices; ++k) {
@@ -100,19 +100,28 @@ InputMesh read_medit(const std::string& path) {
           if (value < INT32_MIN || value > INT32_MAX) c.fail("a tetrahedron's ref out of the 32-bit range");
           out.tet_regions.push_back(static_cast<int32_t>(value));
         }
+        // A triangle's is its tag (a boundary condition's patch).
+        if (keyword == "Triangles" && k == 0) {
+          if (value < INT32_MIN || value > INT32_MAX) c.fail("a triangle's ref out of the 32-bit range");
+          out.face_tags.push_back(static_cast<int32_t>(value));
+        }
       }
       for (int k = 0; k < reals; ++k) c.coordinate();
       if (keyword == "Tetrahedra") tets.push_back({v[0], v[1], v[2], v[3]});
+      if (keyword == "Triangles")
+        out.tagged_faces.push_back({static_cast<uint32_t>(v[0] - 1), static_cast<uint32_t>(v[1] - 1),
+                                    static_cast<uint32_t>(v[2] - 1)});
     }
   }
   if (!other_records.empty()) {
     std::string list;
     for (const auto& [keyword, count] : other_records)
       list += (list.empty() ? "" : ", ") + std::to_string(count) + " " + keyword;
-    out.left_out.push_back("sections other than Vertices and Tetrahedra (" + list + ")");
+    out.left_out.push_back("sections other than Vertices, Triangles and Tetrahedra (" + list + ")");
   }
   if (!c.at_end()) c.fail("unexpected data after 'End'");
   if (!out.tet_regions.empty()) out.region_source = "tetrahedron refs";
+  if (!out.tagged_faces.empty()) out.face_tag_source = "triangle refs";
   if (!have_vertices) throw FormatError(path + ": no 'Vertices' section");
   for (const auto& t : tets)
     out.tets.push_back({static_cast<uint32_t>(t[0] - 1), static_cast<uint32_t>(t[1] - 1),
@@ -132,6 +141,20 @@ std::string render_medit(const OutputMesh& m) {
     }
     append_number(out, m.boundary.empty() ? 0 : int{m.boundary[i]});
     out += '\n';
+  }
+  // The tagged faces, their refs the tags.
+  if (!m.faces.empty()) {
+    out += "\nTriangles\n";
+    append_number(out, m.faces.size());
+    out += '\n';
+    for (size_t f = 0; f < m.faces.size(); ++f) {
+      for (uint32_t v : m.faces[f]) {
+        append_number(out, uint64_t{v} + 1);
+        out += ' ';
+      }
+      append_number(out, m.face_tags[f]);
+      out += '\n';
+    }
   }
   out += "\nTetrahedra\n";
   append_number(out, m.cells.size());

@@ -32,6 +32,12 @@ void validate(const OutputMesh& m) {
     if (f.components < 1 || f.bits.size() != n * f.components)
       throw std::invalid_argument("mesh writer: field '" + f.name + "' has " + std::to_string(f.bits.size()) +
                                   " values for " + std::to_string(n) + " points");
+  if (m.face_tags.size() != m.faces.size())
+    throw std::invalid_argument("mesh writer: " + std::to_string(m.face_tags.size()) + " tags for " +
+                                std::to_string(m.faces.size()) + " faces");
+  for (const auto& f : m.faces)
+    for (uint32_t v : f)
+      if (v >= n) throw std::invalid_argument("mesh writer: a face names vertex " + std::to_string(v));
   if (!m.region.empty() && m.region.size() != m.cells.size())
     throw std::invalid_argument("mesh writer: " + std::to_string(m.region.size()) + " regions for " +
                                 std::to_string(m.cells.size()) + " cells");
@@ -197,6 +203,18 @@ void field_array(std::string& out, const OutputField& f, bool binary) {
   out += "        </DataArray>\n";
 }
 
+}  // namespace
+
+std::vector<int32_t> physical_tags(const OutputMesh& m) {
+  if (m.region.empty() && m.faces.empty()) return {};
+  std::vector<int32_t> out = m.region;
+  out.resize(m.cells.size(), 0);
+  out.insert(out.end(), m.face_tags.begin(), m.face_tags.end());
+  return out;
+}
+
+namespace {
+
 std::string render_vtu(const OutputMesh& m, bool binary) {
   std::vector<double> coords;
   coords.reserve(3 * m.points.size());
@@ -213,7 +231,14 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
     connectivity.insert(connectivity.end(), c.begin(), c.end());
     offsets.push_back(static_cast<int64_t>(connectivity.size()));
   }
-  const std::vector<uint8_t> types(m.cells.size(), kVtkTetra);
+  // The tagged faces after the tetrahedra, as triangles.
+  for (const auto& f : m.faces) {
+    connectivity.insert(connectivity.end(), f.begin(), f.end());
+    offsets.push_back(static_cast<int64_t>(connectivity.size()));
+  }
+  std::vector<uint8_t> types(m.cells.size(), kVtkTetra);
+  types.resize(m.cells.size() + m.faces.size(), kVtkTriangle);
+  const std::vector<int32_t> physical = physical_tags(m);
 
   std::string out =
       "<?xml version=\"1.0\"?>\n"
@@ -221,7 +246,7 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
       "header_type=\"UInt64\">\n"
       "  <UnstructuredGrid>\n"
       "    <Piece NumberOfPoints=\"" +
-      std::to_string(m.points.size()) + "\" NumberOfCells=\"" + std::to_string(m.cells.size()) + "\">\n";
+      std::to_string(m.points.size()) + "\" NumberOfCells=\"" + std::to_string(types.size()) + "\">\n";
   if (!m.level.empty() || !m.boundary.empty() || !m.fields.empty()) {
     out += "      <PointData>\n";
     if (!m.level.empty()) data_array(out, "Int32", "level", 1, 1, m.level, binary);
@@ -229,9 +254,9 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
     for (const OutputField& f : m.fields) field_array(out, f, binary);
     out += "      </PointData>\n";
   }
-  if (!m.region.empty()) {
+  if (!physical.empty()) {
     out += "      <CellData Scalars=\"region\">\n";
-    data_array(out, "Int32", "region", 1, 1, m.region, binary);
+    data_array(out, "Int32", "region", 1, 1, physical, binary);
     out += "      </CellData>\n";
   }
   out += "      <Points>\n";

@@ -45,7 +45,20 @@ struct OutputMesh {
   // $PhysicalNames), Medit tetrahedron refs and a TetGen .ele attribute.
   std::vector<int32_t> region;
   std::map<int32_t, std::string> region_names;
+  // Optional: the tagged faces of the level's surface (outward from their
+  // cell; an interface's from its lower region) and each one's tag, with
+  // the tags' names. Written as gmsh triangles in physical surfaces, Medit
+  // Triangles with refs, VTU/VTK triangles after the tetrahedra (cell data
+  // "face_tag"; a tetrahedron's is 0).
+  std::vector<std::array<uint32_t, 3>> faces;
+  std::vector<int32_t> face_tags;
+  std::map<int32_t, std::string> face_tag_names;
 };
+
+// Per cell of a VTU/VTK file (the tetrahedra, then the tagged faces): the
+// cell data "region", as gmsh's physical tags: a tetrahedron's region (0
+// without regions), a face's tag. Empty without either.
+std::vector<int32_t> physical_tags(const OutputMesh& m);
 
 enum class MeshFormat {
   kTetgen,    // X.node + X.ele; `boundary` becomes the marker column, `level` is not written

@@ -5,6 +5,7 @@
 
 namespace dtm {
 
+inline constexpr int kVtkTriangle = 5;
 inline constexpr int kVtkTetra = 10;
 
 // A cell type by name, the usual ones (for what a reader leaves out).

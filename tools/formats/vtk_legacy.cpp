@@ -279,19 +279,26 @@ std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
     put(p.z, true);
   }
   end_section();
-  out += "CELLS " + std::to_string(m.cells.size()) + " " + std::to_string(5 * m.cells.size()) + "\n";
+  // The tetrahedra, then the tagged faces as triangles.
+  const size_t cells = m.cells.size() + m.faces.size();
+  out +=
+      "CELLS " + std::to_string(cells) + " " + std::to_string(5 * m.cells.size() + 4 * m.faces.size()) + "\n";
   for (const auto& t : m.cells) {
     put(int32_t{4}, false);
     for (int k = 0; k < 4; ++k) put(static_cast<int32_t>(t[k]), k == 3);
   }
+  for (const auto& f : m.faces) {
+    put(int32_t{3}, false);
+    for (int k = 0; k < 3; ++k) put(static_cast<int32_t>(f[k]), k == 2);
+  }
   end_section();
-  out += "CELL_TYPES " + std::to_string(m.cells.size()) + "\n";
-  for (size_t i = 0; i < m.cells.size(); ++i) put(int32_t{kVtkTetra}, true);
+  out += "CELL_TYPES " + std::to_string(cells) + "\n";
+  for (size_t i = 0; i < cells; ++i) put(int32_t{i < m.cells.size() ? kVtkTetra : kVtkTriangle}, true);
   end_section();
-  if (!m.region.empty()) {
-    out += "CELL_DATA " + std::to_string(m.cells.size()) + "\nFIELD FieldData 1\nregion 1 " +
-           std::to_string(m.cells.size()) + " int\n";
-    for (int32_t v : m.region) put(v, true);
+  if (const std::vector<int32_t> physical = physical_tags(m); !physical.empty()) {
+    out += "CELL_DATA " + std::to_string(cells) + "\nFIELD FieldData 1\nregion 1 " + std::to_string(cells) +
+           " int\n";
+    for (int32_t v : physical) put(v, true);
     end_section();
   }
   // Point data as one FIELD block: VTK's legacy reader keeps only the first

@@ -323,7 +323,8 @@ class VtuReader {
     if (k > 0 && fields != out.fields.size())
       p_.fail_at(piece.offset, "piece " + std::to_string(k + 1) + " has " + std::to_string(fields) +
                                    " PointData arrays, the first piece " + std::to_string(out.fields.size()));
-    const std::vector<uint64_t> tets = read_cells(piece, cells, n, first, out);
+    std::vector<uint64_t> triangles;
+    const std::vector<uint64_t> tets = read_cells(piece, cells, n, first, out, triangles);
     // Integer cell arrays of one component may be the regions
     // (InputMesh::tet_arrays): kept on the tetrahedra. Others are named.
     std::set<std::string> here;
@@ -341,18 +342,22 @@ class VtuReader {
           continue;
         }
         const auto values = array(da, cells, 1);
-        std::vector<int32_t>& kept = out.tet_arrays[name];
-        for (uint64_t c : tets) {
-          if (!(values[c] >= INT32_MIN && values[c] <= INT32_MAX))
-            p_.fail_at(da.offset, "CellData \"" + name + "\": a value out of the 32-bit range");
-          kept.push_back(static_cast<int32_t>(values[c]));
-        }
+        const auto keep_on = [&](const std::vector<uint64_t>& on, std::vector<int32_t>& into) {
+          for (uint64_t c : on) {
+            if (!(values[c] >= INT32_MIN && values[c] <= INT32_MAX))
+              p_.fail_at(da.offset, "CellData \"" + name + "\": a value out of the 32-bit range");
+            into.push_back(static_cast<int32_t>(values[c]));
+          }
+        };
+        keep_on(tets, out.tet_arrays[name]);
+        keep_on(triangles, out.triangle_arrays[name]);
         here.insert(name);
       }
     // An array not in every piece is not a label of every tetrahedron.
     for (auto it = out.tet_arrays.begin(); it != out.tet_arrays.end();)
       if (!here.count(it->first)) {
         cell_arrays_.insert(it->first);
+        out.triangle_arrays.erase(it->first);
         it = out.tet_arrays.erase(it);
       } else {
         ++it;
@@ -557,7 +562,7 @@ class VtuReader {
   // The piece's tetrahedra, added to `out`; returns which of its cells
   // they are.
   std::vector<uint64_t> read_cells(const Element& piece, uint64_t cells, uint64_t points, size_t first,
-                                   InputMesh& out) {
+                                   InputMesh& out, std::vector<uint64_t>& triangles) {
     std::vector<uint64_t> tets;
     const Element* ce = optional_child(piece, "Cells");
     if (!ce) {
@@ -587,6 +592,16 @@ class VtuReader {
           p_.fail_at(conn_element.offset, "cell " + std::to_string(c) + ": point index " +
                                               std::to_string(static_cast<int64_t>(conn[k])) +
                                               " out of range");
+      const auto at = [&](uint64_t i) {
+        return static_cast<uint32_t>(first + static_cast<uint64_t>(conn[i]));
+      };
+      // Triangles may carry tags (InputMesh::tagged_faces): held, tagged
+      // or named by choose_regions().
+      if (types[c] == kVtkTriangle && e - b == 3) {
+        out.tagged_faces.push_back({at(b), at(b + 1), at(b + 2)});
+        triangles.push_back(c);
+        continue;
+      }
       if (types[c] != kVtkTetra) {
         ++other_cells_[static_cast<int>(types[c])];
         continue;
@@ -594,9 +609,6 @@ class VtuReader {
       if (e - b != 4)
         p_.fail_at(ce->offset,
                    "cell " + std::to_string(c) + " is a VTK_TETRA with " + std::to_string(e - b) + " points");
-      const auto at = [&](uint64_t i) {
-        return static_cast<uint32_t>(first + static_cast<uint64_t>(conn[i]));
-      };
       out.tets.push_back({at(b), at(b + 1), at(b + 2), at(b + 3)});
       tets.push_back(c);
     }
