@@ -60,7 +60,7 @@ std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& L, const
   std::vector<BoundaryCandidate> out;
   std::vector<std::array<uint32_t, 3>> umbrella;
   for (uint32_t v = 0; v < L.size(); ++v) {
-    if (!L.boundary[v] || around.row(v).empty()) continue;
+    if (!surface.holds(L.boundary, v)) continue;
     umbrella.clear();
     for (uint32_t i : around.row(v)) umbrella.push_back(triangles[i]);
     const Umbrella u = umbrella_of(v, umbrella, L.points);

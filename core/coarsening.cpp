@@ -79,7 +79,7 @@ Coarsening choose_coarser(const LevelGeometry& L, const LevelSurface& surface, c
   // a disk; the other vertices on the surface must stay. A vertex in no kept
   // cell (outside the solid) shapes nothing: it is chosen like an interior one.
   std::vector<uint8_t> on_surface(n, 0), fixed(n, 0);
-  for (uint32_t v = 0; v < n; ++v) on_surface[v] = L.boundary[v] && !surface.around.row(v).empty();
+  for (uint32_t v = 0; v < n; ++v) on_surface[v] = surface.holds(L.boundary, v);
   fixed = on_surface;
   std::vector<double> error(n, 0);
   const Csr none{std::vector<uint32_t>(n + 1, 0), {}};

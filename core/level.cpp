@@ -117,6 +117,18 @@ LevelSurface level_surface(const LevelGeometry& L) {
   LevelSurface s;
   for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
     s.triangles.push_back(outward_triangle(L.dt, L.points, f));
+  for (uint32_t c = 0; c < L.dt.cells.size(); ++c) {
+    const uint8_t r = L.in_mesh[c];
+    if (!r) continue;
+    for (uint8_t i = 0; i < 4; ++i) {
+      const int32_t nb = L.dt.neighbors[c][i];
+      if (nb < 0 || L.in_mesh[static_cast<size_t>(nb)] <= r) continue;  // not an interface, or seen from below
+      const auto t = outward_triangle(L.dt, L.points, {c, i});
+      s.triangles.push_back(t);
+      if (s.interface.empty()) s.interface.assign(L.size(), 0);
+      for (uint32_t v : t) s.interface[v] = 1;
+    }
+  }
   s.around = build_csr(L.size(), [&](auto&& emit) {
     for (uint32_t i = 0; i < s.triangles.size(); ++i)
       for (uint32_t u : s.triangles[i]) emit(u, i);

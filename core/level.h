@@ -74,9 +74,19 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
 // The boundary surface of M_l: its triangles (local vertices, outward) and,
 // per vertex, the triangles around it. The boundary simplification and the
 // shape guard both work on it.
+// A level's surface as its coarsening sees it: its boundary triangles and,
+// with regions (in_mesh holding 1 + the region), the interfaces between
+// them (each once, oriented from the lower region), so that an interface's
+// vertices are kept or removed by the chord test as the boundary's are.
 struct LevelSurface {
   std::vector<std::array<uint32_t, 3>> triangles;
   Csr around;
+  std::vector<uint8_t> interface;  // per vertex: on an interface (empty: no region has one)
+  // A vertex the coarsening treats as on the surface: on the boundary or an
+  // interface, with surface triangles around it.
+  bool holds(const std::vector<uint8_t>& boundary, uint32_t v) const {
+    return (boundary[v] || (!interface.empty() && interface[v])) && !around.row(v).empty();
+  }
 };
 LevelSurface level_surface(const LevelGeometry& level);
 

@@ -3,7 +3,9 @@
 # surface (data/surfaces), then every level of the codec's stream
 # (meshenc's default preset, the model's TetGen .node + .ele from data/,
 # --box 256 --dmax 2), and for the elephant the paper preset's coarsest level;
-# and docs/mri_values.png, a slice of the MRI's values at three levels.
+# docs/mri_values.png, a slice of the MRI's values at three levels; and
+# docs/two_materials_levels.png, a gmsh part's levels cut open, coloured by
+# region and tagged face (data/two_materials.geo, finer; pvbatch under Xvfb).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
@@ -36,4 +38,16 @@ mri=$corpus/fields/mri_s0.nrrd
 for l in 0 2 4; do "$bin/meshdec" "$work/mri.dtm" --level $l -o "$work/mri_level$l.vtu" -q; done
 /usr/bin/python3 "$root/scripts/render_values.py" "$root/docs/mri_values.png" "$mri" --slice 5 --threshold 150 \
   "$work/mri_level0.vtu" "$work/mri_level2.vtu" "$work/mri_level4.vtu"
+# The gmsh part of two materials: its levels cut open by region and tag.
+sed "s/Mesh.CharacteristicLengthMax = .*/Mesh.CharacteristicLengthMax = 0.3;/" "$corpus/two_materials.geo" \
+  > "$work/two_materials.geo"
+gmsh -3 "$work/two_materials.geo" -format msh41 -o "$work/two_materials.msh" >/dev/null
+"$bin/meshenc" "$work/two_materials.msh" -q -o "$work/two_materials.dtm"
+levels=$("$bin/meshinfo" "$work/two_materials.dtm" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['level_count'])")
+parts=()
+for ((l = 0; l < levels; ++l)); do
+  "$bin/meshdec" "$work/two_materials.dtm" --level $l -o "$work/level_$l.vtu" -q
+  parts+=("$work/level_$l.vtu")
+done
+xvfb-run -a pvbatch "$root/scripts/render_regions.py" "$root/docs/two_materials_levels.png" "${parts[@]}"
 echo "$root/docs/bunny_levels.png $root/docs/elephant_levels.png $root/docs/mri_values.png"
