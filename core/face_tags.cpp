@@ -18,7 +18,8 @@ FaceTagger::FaceTagger(std::span<const GridPoint> points, std::span<const std::a
   tagged_.reserve(tagged.size());
   for (size_t i = 0; i < tagged.size(); ++i) tagged_.emplace_back(sorted(tagged[i]), label[i]);
   // A triangle given twice keeps its first tag.
-  std::stable_sort(tagged_.begin(), tagged_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::stable_sort(tagged_.begin(), tagged_.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
   tagged_.erase(std::unique(tagged_.begin(), tagged_.end(),
                             [](const auto& a, const auto& b) { return a.first == b.first; }),
                 tagged_.end());

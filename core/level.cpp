@@ -122,7 +122,8 @@ LevelSurface level_surface(const LevelGeometry& L) {
     if (!r) continue;
     for (uint8_t i = 0; i < 4; ++i) {
       const int32_t nb = L.dt.neighbors[c][i];
-      if (nb < 0 || L.in_mesh[static_cast<size_t>(nb)] <= r) continue;  // not an interface, or seen from below
+      if (nb < 0 || L.in_mesh[static_cast<size_t>(nb)] <= r)
+        continue;  // not an interface, or seen from below
       const auto t = outward_triangle(L.dt, L.points, {c, i});
       s.triangles.push_back(t);
       if (s.interface.empty()) s.interface.assign(L.size(), 0);

@@ -1,7 +1,7 @@
 // A level's surface faces, as encoder and decoder find them (face_coder.h).
-#include <algorithm>
-
 #include "codec/sections/face_coder.h"
+
+#include <algorithm>
 
 namespace dtm {
 
@@ -18,12 +18,14 @@ SurfaceFaces surface_faces(const TetMesh& dt, std::span<const uint8_t> kept) {
       SurfaceFace f;
       f.cell = c;
       f.opposite = static_cast<uint8_t>(i);
-      for (int k = 0; k < 3; ++k) f.key[static_cast<size_t>(k)] = dt.cells[c][static_cast<size_t>(kFace[i][k])];
+      for (int k = 0; k < 3; ++k)
+        f.key[static_cast<size_t>(k)] = dt.cells[c][static_cast<size_t>(kFace[i][k])];
       std::sort(f.key.begin(), f.key.end());
       s.faces.push_back(f);
     }
   }
-  std::sort(s.faces.begin(), s.faces.end(), [](const SurfaceFace& a, const SurfaceFace& b) { return a.key < b.key; });
+  std::sort(s.faces.begin(), s.faces.end(),
+            [](const SurfaceFace& a, const SurfaceFace& b) { return a.key < b.key; });
   // Faces sharing an edge: each face's three edges, sorted by edge.
   std::vector<std::pair<std::array<uint32_t, 2>, uint32_t>> edges;
   edges.reserve(3 * s.faces.size());

@@ -23,7 +23,8 @@ Status decode_face_tags(std::span<const uint8_t> section, const SurfaceFaces& su
       });
   if (!whole) return {StatusCode::kCorrupt, "a face's tag is not in the face tag table"};
   if (!rc.finished_cleanly())
-    return {StatusCode::kCorrupt, rc.overran() ? "the face section ends early" : "bytes after the face section"};
+    return {StatusCode::kCorrupt,
+            rc.overran() ? "the face section ends early" : "bytes after the face section"};
   return Status::Ok();
 }
 

@@ -47,9 +47,8 @@ NeighbourLabels neighbour_labels(const Neighbours& neighbours, std::span<const u
     ++decoded_neighbours;
     if (votes[label]++ == 0) seen[static_cast<size_t>(distinct++)] = label;
   }
-  std::sort(seen.begin(), seen.begin() + distinct, [&](uint8_t a, uint8_t b) {
-    return votes[a] != votes[b] ? votes[a] > votes[b] : a < b;
-  });
+  std::sort(seen.begin(), seen.begin() + distinct,
+            [&](uint8_t a, uint8_t b) { return votes[a] != votes[b] ? votes[a] > votes[b] : a < b; });
   NeighbourLabels out;
   out.neighbours = std::min(decoded_neighbours, 4);
   out.count = std::min(distinct, 4);

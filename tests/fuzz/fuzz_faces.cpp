@@ -33,6 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   FUZZ_CHECK(tag.size() == surface.faces.size());
   for (uint8_t t : tag) FUZZ_CHECK(t >= 1 && t <= tags + 1);
-  FUZZ_CHECK(dtm::encode_face_tags(surface, tag, tags) == std::vector<uint8_t>(section.begin(), section.end()));
+  FUZZ_CHECK(dtm::encode_face_tags(surface, tag, tags) ==
+             std::vector<uint8_t>(section.begin(), section.end()));
   return 0;
 }
