@@ -134,6 +134,16 @@ for x in rows:
     out.append("| %s | %.2f s, %.0f MiB | %s | %s | %s | %.4g (%.4g) |" % (
         x["model"], c, x["construction"][1], f(x["encode"]), f(x["encode_plain"]), f(x["decode"]),
         x["worst"], x["dmax"]))
+for x in rows:
+    extra = x["bytes"] - x["plain"]
+    out += ["", "**%s**: the regions and tags add %d bytes (%.1f%% of the stream, %.2f bits per vertex); the "
+            "stream is %.0fx smaller than the mesher's file under xz -9 and %.0fx smaller than meshio's zlib "
+            ".vtu of the same tetrahedra and tags; encoding takes %.2fx the time without them (a solid and a "
+            "surface measurement per region, the interfaces in the repair); %d levels against %d without "
+            "(the interfaces are held within D_max, and the quality floor binds the coarse levels)." % (
+                x["model"], extra, 100.0 * extra / x["bytes"], 8.0 * extra / x["vertices"],
+                x["xz"] / x["bytes"], x["vtu"] / x["bytes"], x["encode"][0] / x["encode_plain"][0],
+                x["levels"], x["plain_levels"])]
 out += ["", "Commands: `meshenc MESH.msh -o M.dtm --report M.json` (with regions and tagged faces), the same "
         "with `--no-face-tags` and with `--no-regions --no-face-tags`, `meshdec M.dtm -o M.vtu`, `bench_hierarchy --peak-memory MESH.node cgal` "
         "(one sequential CGAL construction of the same points); `xz -9` of the mesher's .msh; "

@@ -20,6 +20,7 @@ out, levels = sys.argv[1], sys.argv[2:]
 view = CreateView("RenderView")
 view.ViewSize = [400 * len(levels), 420]
 view.OrientationAxesVisibility = 0
+view.UseColorPaletteForBackground = 0
 view.Background = [1, 1, 1]
 colours = GetColorTransferFunction("region")
 colours.InterpretValuesAsCategories = 1
@@ -43,19 +44,27 @@ for i, path in enumerate(levels):
     for source, edges in ((cut, True), (faces, False)):
         display = Show(source, view)
         display.SetRepresentationType("Surface With Edges" if edges else "Surface")
+        display.EdgeColor = [0.25, 0.25, 0.25]
         ColorBy(display, ("CELLS", "region"))
         display.LookupTable = colours
-        display.Position = [i * 1.2 * width, 0, 0]
+        display.Position = [-i * 1.2 * width, 0, 0]  # the camera looks along -y: +x is to the left
     label = Text(Text=path.rsplit("/", 1)[-1].replace(".vtu", "").replace("_", " "))
     shown = Show(label, view)
     shown.WindowLocation = "Any Location"
     shown.Position = [0.02 + i / len(levels), 0.9]
     shown.FontSize = 14
     shown.Color = [0, 0, 0]
-view.CameraPosition = [0, -1, 0.6]
-view.CameraFocalPoint = [0, 0, 0]
+# From the cut's side (the clip keeps y below the middle), a little from
+# below and from the loaded end, so that the base and the end show; the row
+# of levels fills the picture (a parallel projection).
+Render(view)  # the first render resets the camera: set it after
+row = (len(levels) - 1) * 1.2 * width + width
+centre = [bounds[1] - row / 2, (bounds[2] + bounds[3]) / 2, (bounds[4] + bounds[5]) / 2]
+view.CameraFocalPoint = centre
+view.CameraPosition = [centre[0] + 0.35 * row, centre[1] + 2 * row, centre[2] - 0.5 * row]
 view.CameraViewUp = [0, 0, 1]
-view.ResetCamera()
+view.CameraParallelProjection = 1
+view.CameraParallelScale = 1.15 * row / (2 * 400 * len(levels) / 420)
 Render(view)
 SaveScreenshot(out, view, ImageResolution=[400 * len(levels), 420])
 print(out)
