@@ -323,6 +323,8 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<
 
 std::vector<uint8_t> ProgressiveDecoder::face_tags(const TetMesh& dt, std::span<const uint8_t> kept,
                                                    SurfaceFaces& surface) const {
+  surface = {};
+  if (kept.size() != dt.cells.size()) return {};  // no carving (its error is in mesh_status())
   surface = surface_faces(dt, kept);
   std::vector<uint8_t> tag;
   if (!(header_.flags & kFlagFaces)) {

@@ -351,6 +351,14 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
   EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
   EXPECT_EQ(m.region_names.at(2), "steel insert");
   EXPECT_FALSE(has(m, "PhysicalNames"));
+  // gmsh 2.2 elements without tags: the triangle has nothing to be tagged with.
+  m = read_input(write_temp(
+      "untagged.msh",
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n"
+      "$EndNodes\n$Elements\n2\n1 4 0 1 2 3 4\n2 2 0 1 2 3\n$EndElements\n"));
+  EXPECT_TRUE(m.tet_regions.empty());
+  EXPECT_TRUE(m.tagged_faces.empty());
+  EXPECT_TRUE(has(m, "1 triangles without tags"));
   // Medit: tetrahedron refs and triangles.
   m = read_input(
       write_temp("refs.mesh",

@@ -228,7 +228,11 @@ class GmshReader {
   // Each triangle's tag: 2.x its physical tag; 4.1 its surface entity's
   // physical group where $Entities gives one, else the entity.
   void set_face_tags() {
-    if (tri_tag_.empty() || (!v4_ && !tagged_)) return;
+    if (tri_tag_.empty()) return;
+    if (!v4_ && !tagged_) {  // 2.x elements without tags: nothing to tag them with
+      out_.left_out.push_back(std::to_string(triangles_.size()) + " triangles without tags");
+      return;
+    }
     for (int64_t tag : tri_tag_) {
       int64_t t = tag;
       if (v4_)
