@@ -17,6 +17,26 @@
 namespace dtm {
 namespace {
 
+// The distinct labels of a region or tag list, ascending: the table's order.
+std::vector<int32_t> distinct_labels(std::span<const int32_t> labels) {
+  std::vector<int32_t> distinct(labels.begin(), labels.end());
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  return distinct;
+}
+
+// A region or face tag table: each label with its name, if the input has
+// one (cut to what a table holds).
+std::vector<RegionLabel> label_table(std::span<const int32_t> distinct,
+                                     const std::map<int32_t, std::string>& names) {
+  std::vector<RegionLabel> table;
+  for (int32_t label : distinct) {
+    const auto name = names.find(label);
+    table.push_back({label, name == names.end() ? "" : name->second.substr(0, kMaxRegionNameBytes)});
+  }
+  return table;
+}
+
 // The input's lattice as the grid: positions stay exact.
 StatusOr<QuantizedPoints> lattice_grid(const QuantizedPoints& lattice, int qbits, double scale) {
   QuantizedPoints q = lattice;
@@ -305,18 +325,11 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   // its own: every kept cell is in it.
   std::vector<uint8_t> region_index;
   if (with_regions) {
-    std::vector<int32_t> distinct = labels;
-    std::sort(distinct.begin(), distinct.end());
-    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    const std::vector<int32_t> distinct = distinct_labels(labels);
     if (distinct.size() > kMaxRegionCount)
       return invalid_input("the input has " + std::to_string(distinct.size()) +
                            " regions; a stream holds at most " + std::to_string(kMaxRegionCount));
-    for (int32_t label : distinct) {
-      const auto name = input.region_names.find(label);
-      report.regions.push_back({label, name == input.region_names.end() ? "" : name->second});
-      if (report.regions.back().name.size() > kMaxRegionNameBytes)
-        report.regions.back().name.resize(kMaxRegionNameBytes);
-    }
+    report.regions = label_table(distinct, input.region_names);
     if (distinct.size() > 1) {
       region_index.reserve(labels.size());
       for (int32_t label : labels)
@@ -330,18 +343,11 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   // is labelled 2 + its tag's index (1: no tag), on the grid.
   std::optional<FaceTagger> tagger;
   if (with_faces) {
-    std::vector<int32_t> distinct(input.face_tags.begin(), input.face_tags.end());
-    std::sort(distinct.begin(), distinct.end());
-    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    const std::vector<int32_t> distinct = distinct_labels(input.face_tags);
     if (distinct.size() > kMaxFaceTags)
       return invalid_input("the input's faces have " + std::to_string(distinct.size()) +
                            " tags; a stream holds at most " + std::to_string(kMaxFaceTags));
-    for (int32_t tag : distinct) {
-      const auto name = input.face_tag_names.find(tag);
-      report.face_tags.push_back({tag, name == input.face_tag_names.end() ? "" : name->second});
-      if (report.face_tags.back().name.size() > kMaxRegionNameBytes)
-        report.face_tags.back().name.resize(kMaxRegionNameBytes);
-    }
+    report.face_tags = label_table(distinct, input.face_tag_names);
     std::vector<std::array<uint32_t, 3>> faces;
     std::vector<uint8_t> face_label;
     for (size_t i = 0; i < input.tagged_faces.size(); ++i) {
