@@ -117,7 +117,8 @@ LevelSurface level_surface(const LevelGeometry& L) {
   LevelSurface s;
   for (const BoundaryFace& f : boundary_faces(L.dt, L.in_mesh))
     s.triangles.push_back(outward_triangle(L.dt, L.points, f));
-  for (uint32_t c = 0; c < L.dt.cells.size(); ++c) {
+  const bool regions = std::any_of(L.in_mesh.begin(), L.in_mesh.end(), [](uint8_t r) { return r > 1; });
+  for (uint32_t c = 0; regions && c < L.dt.cells.size(); ++c) {
     const uint8_t r = L.in_mesh[c];
     if (!r) continue;
     for (uint8_t i = 0; i < 4; ++i) {

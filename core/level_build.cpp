@@ -354,7 +354,9 @@ CarvedSurface carved_surface(const TetMesh& dt, std::span<const uint8_t> kept,
     s.cells.push_back({static_cast<int32_t>(f.cell), dt.neighbors[f.cell][f.opposite]});
   }
   // The interfaces between regions, each face once (from its cell of the
-  // lower index), are measured as the boundary is.
+  // lower index), are measured as the boundary is. Without regions (no
+  // cell's region above 1) there are none: no pass over the cells.
+  if (std::none_of(kept.begin(), kept.end(), [](uint8_t r) { return r > 1; })) return s;
   for (uint32_t c = 0; c < dt.cells.size(); ++c) {
     if (!kept[c]) continue;
     for (int i = 0; i < 4; ++i) {

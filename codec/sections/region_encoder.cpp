@@ -5,6 +5,7 @@
 
 #include "codec/sections/label_coder.h"
 #include "codec/sections/region_coder.h"
+#include "codec/stream/table_framing.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
 
@@ -33,11 +34,7 @@ std::vector<uint8_t> write_region_table(std::span<const RegionLabel> regions) {
     body.u8(static_cast<uint8_t>(r.name.size()));
     for (char ch : r.name) body.u8(static_cast<uint8_t>(ch));
   }
-  ByteWriter w;
-  w.u32(static_cast<uint32_t>(body.data().size()));
-  w.bytes(body.data());
-  w.u64(xxh3_64(w.data()));
-  return w.take();
+  return frame_table(body.data());
 }
 
 std::vector<uint8_t> encode_regions(const TetMesh& dt, std::span<const uint32_t> order,

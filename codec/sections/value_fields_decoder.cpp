@@ -7,6 +7,7 @@
 
 #include "codec/sections/value_fields.h"
 #include "codec/sections/value_fields_shared.h"
+#include "codec/stream/table_framing.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
 
@@ -84,18 +85,10 @@ Status parse_description(ByteReader& r, FieldDescription& f) {
 
 Status parse_field_table(std::span<const uint8_t> bytes, std::vector<FieldDescription>& fields,
                          size_t& consumed) {
-  ByteReader head(bytes);
-  uint32_t table_bytes = 0;
-  if (!head.u32(table_bytes)) return {StatusCode::kNeedMoreInput, "field table incomplete"};
-  if (table_bytes == 0 || table_bytes > kMaxTableBytes) return table_corrupt("its length is out of range");
-  const size_t whole = 4 + size_t{table_bytes} + 8;
-  if (bytes.size() < whole) return {StatusCode::kNeedMoreInput, "field table incomplete"};
-  ByteReader tail(bytes.subspan(whole - 8, 8));
-  uint64_t checksum = 0;
-  tail.u64(checksum);
-  if (checksum != xxh3_64(bytes.first(whole - 8))) return table_corrupt("checksum mismatch");
-
-  ByteReader r(bytes.subspan(4, table_bytes));
+  std::span<const uint8_t> body;
+  size_t whole = 0;
+  DTM_RETURN_IF_ERROR(unframe_table(bytes, kMaxTableBytes, "field table", body, whole));
+  ByteReader r(body);
   uint8_t count = 0;
   r.u8(count);
   if (count == 0 || count > kMaxFields) return table_corrupt("the field count is out of range");

@@ -6,6 +6,7 @@
 
 #include "codec/sections/value_fields.h"
 #include "codec/sections/value_fields_shared.h"
+#include "codec/stream/table_framing.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
 
@@ -66,11 +67,7 @@ std::vector<uint8_t> write_field_table(std::span<const FieldDescription> fields)
       }
     }
   }
-  ByteWriter w;
-  w.u32(static_cast<uint32_t>(body.data().size()));
-  w.bytes(body.data());
-  w.u64(xxh3_64(w.data()));
-  return w.take();
+  return frame_table(body.data());
 }
 
 StatusOr<FieldSectionEncoder> FieldSectionEncoder::make(std::vector<FieldValues> fields) {
