@@ -44,6 +44,13 @@ Status ProgressiveDecoder::feed(std::span<const uint8_t> bytes, const LevelCallb
   return Status::Ok();
 }
 
+// Once every table the header announces is read, the layers can be walked.
+Status ProgressiveDecoder::tables_read() {
+  if (has_field_table_ && has_region_table_ && has_face_table_ && has_cell_field_table_)
+    walk_.emplace(header_, options_.max_vertices, tables_bytes_);
+  return Status::Ok();
+}
+
 // Decodes one more piece (the header or one layer) if its bytes are all here.
 Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   const std::span<const uint8_t> avail(pending_.data() + pending_start_, pending_.size() - pending_start_);
@@ -53,43 +60,35 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
     has_field_table_ = !(header_.flags & kFlagValues);
     has_region_table_ = !(header_.flags & kFlagRegions);
     has_face_table_ = !(header_.flags & kFlagFaces);
-    if (has_field_table_ && has_region_table_ && has_face_table_)
-      walk_.emplace(header_, options_.max_vertices);
+    has_cell_field_table_ = !(header_.flags & kFlagCellData);
     if (header_.version_major >= 3) models_.enable_coordinate_reuse(header_.grid.qbits);
     pending_start_ += kHeaderSize;
-    return Status::Ok();
+    return tables_read();
   }
+  // The tables after the header, in stream order (spec/FORMAT.md §2).
+  size_t table_bytes = 0;
   if (!has_field_table_) {
     std::vector<FieldDescription> table;
-    size_t table_bytes = 0;
     DTM_RETURN_IF_ERROR(parse_field_table(avail, table, table_bytes));
     for (const FieldDescription& f : table) fields_.push_back({f, {}});
     value_decoder_.emplace(std::move(table));
     has_field_table_ = true;
-    tables_bytes_ += table_bytes;
-    if (has_region_table_ && has_face_table_) walk_.emplace(header_, options_.max_vertices, tables_bytes_);
-    pending_start_ += table_bytes;
-    return Status::Ok();
-  }
-  if (!has_region_table_) {
-    size_t table_bytes = 0;
+  } else if (!has_region_table_) {
     DTM_RETURN_IF_ERROR(parse_region_table(avail, regions_, table_bytes));
     has_region_table_ = true;
-    tables_bytes_ += table_bytes;
-    if (has_face_table_) walk_.emplace(header_, options_.max_vertices, tables_bytes_);
-    pending_start_ += table_bytes;
-    return Status::Ok();
-  }
-  if (!has_face_table_) {
-    size_t table_bytes = 0;
+  } else if (!has_face_table_) {
     DTM_RETURN_IF_ERROR(parse_region_table(avail, face_tags_, table_bytes).with_context("face tags"));
     if (face_tags_.size() > kMaxFaceTags)
       return {StatusCode::kCorrupt, "face tag table: more than " + std::to_string(kMaxFaceTags) + " tags"};
     has_face_table_ = true;
+  } else if (!has_cell_field_table_) {
+    DTM_RETURN_IF_ERROR(parse_field_table(avail, cell_fields_, table_bytes).with_context("cell fields"));
+    has_cell_field_table_ = true;
+  }
+  if (table_bytes > 0) {
     tables_bytes_ += table_bytes;
-    walk_.emplace(header_, options_.max_vertices, tables_bytes_);
     pending_start_ += table_bytes;
-    return Status::Ok();
+    return tables_read();
   }
   const int level = walk_->next_level();
   Layer layer;
@@ -131,6 +130,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   carving_.assign(layer.carving.begin(), layer.carving.end());
   region_section_.assign(layer.regions.begin(), layer.regions.end());
   face_section_.assign(layer.faces.begin(), layer.faces.end());
+  cell_value_section_.assign(layer.cell_values.begin(), layer.cell_values.end());
   if (lh.bricked) {
     chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
     brick_depth_ = lh.brick_depth;
@@ -337,6 +337,31 @@ std::vector<uint8_t> ProgressiveDecoder::face_tags(const TetMesh& dt, std::span<
     return {};
   }
   return tag;
+}
+
+std::vector<FieldValues> ProgressiveDecoder::cell_data(const TetMesh& dt, std::span<const uint8_t> kept,
+                                                       std::span<const uint32_t> order) const {
+  std::vector<FieldValues> out;
+  if (cell_fields_.empty() || finest_level() != 0 || kept.size() != dt.cells.size() ||
+      order.size() != dt.cells.size())
+    return out;
+  std::vector<std::array<uint32_t, 4>> cells;
+  for (uint32_t c : order)
+    if (kept[c]) cells.push_back(dt.cells[c]);
+  uint64_t components = 0;
+  for (const FieldDescription& f : cell_fields_) components += f.components;
+  Status s = Status::Ok();
+  if (cells.size() * components > options_.max_values)
+    s = {StatusCode::kLimitExceeded, std::to_string(cells.size()) + " cells of " +
+                                         std::to_string(components) + " values each exceed the limit of " +
+                                         std::to_string(options_.max_values) + " values"};
+  else
+    s = decode_cell_values(cell_fields_, cell_value_section_, cell_positions(points_, cells), out);
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level 0's cell values");
+    return {};
+  }
+  return out;
 }
 
 std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "codec/bricks/bricks.h"
+#include "codec/sections/cell_values.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/value_fields.h"
 #include "codec/stream/format.h"
@@ -124,8 +125,18 @@ class ProgressiveDecoder {
   std::vector<uint8_t> face_tags(const TetMesh& dt, std::span<const uint8_t> kept,
                                  SurfaceFaces& surface) const;
   const std::vector<RegionLabel>& face_tag_table() const { return face_tags_; }
+  // The stream's per-cell arrays (10.0, flag cell data; spec/FORMAT.md
+  // §2.4, §3.8): their descriptions, and the values of level 0's kept
+  // cells (`kept`, `order`: carving()'s results for `dt`), one FieldValues
+  // per array, cell-major in the canonical order of the kept cells. Empty
+  // without them or before level 0 (coarser levels carry none), and
+  // mesh_status() set if the section is damaged.
+  const std::vector<FieldDescription>& cell_field_table() const { return cell_fields_; }
+  std::vector<FieldValues> cell_data(const TetMesh& dt, std::span<const uint8_t> kept,
+                                     std::span<const uint32_t> order) const;
 
  private:
+  Status tables_read();
   Status step(const LevelCallback& on_level);
   Status fail(Status s);
   void insert_pending() const;
@@ -148,6 +159,9 @@ class ProgressiveDecoder {
   bool has_face_table_ = false;
   std::vector<RegionLabel> face_tags_;
   std::vector<uint8_t> face_section_;  // the finest level's
+  bool has_cell_field_table_ = false;
+  std::vector<FieldDescription> cell_fields_;
+  std::vector<uint8_t> cell_value_section_;  // level 0's
   StreamHeader header_;
   std::optional<FieldSectionDecoder> value_decoder_;
   std::vector<FieldValues> fields_;

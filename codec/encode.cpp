@@ -11,6 +11,7 @@
 #include "codec/sections/face_coder.h"
 #include "common/byte_io.h"
 #include "common/release.h"
+#include "core/cell_sources.h"
 #include "core/reference_shape.h"
 #include "core/region_solid.h"
 
@@ -95,6 +96,7 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
   for (const auto& [name, error] : options.field_errors) {
     bool found = false;
     for (const auto& f : input.fields) found = found || f.name == name;
+    for (const auto& f : input.cell_fields) found = found || f.name == name;
     if (!found) return invalid_input("--field-error names '" + name + "', which is not a field of the input");
   }
   std::vector<FieldDescription> descriptions;
@@ -282,6 +284,25 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   std::vector<std::array<uint32_t, 4>> converted;
   std::span<const std::array<uint32_t, 4>> reference_tets;
   std::vector<int32_t> labels;  // per reference tetrahedron, with regions
+  // Per reference tetrahedron, its index in input.tetrahedra (with cell
+  // data, when the encoder puts them on the grid itself).
+  std::vector<int32_t> source;
+  const bool with_cells = !input.cell_fields.empty();
+  if (with_cells) {
+    if (input.tetrahedra.empty()) return invalid_input("cell data needs the tetrahedra it belongs to");
+    if (options.bricks) return invalid_input("bricked streams do not carry cell data yet");
+    if (!options.carve_to_reference)
+      return invalid_input("cell data needs the levels carved to the input's solid (not the paper preset)");
+    std::vector<FieldDescription> descriptions;
+    std::vector<size_t> value_counts;
+    for (const auto& f : input.cell_fields) {
+      FieldDescription& d = descriptions.emplace_back();
+      d.name = f.name, d.type = f.type, d.components = f.components;
+      value_counts.push_back(f.values.size());
+    }
+    DTM_RETURN_IF_ERROR(
+        check_fields(descriptions, value_counts, input.tetrahedra.size()).with_context("cell data"));
+  }
   const bool with_regions = !input.tetrahedron_regions.empty();
   if (with_regions) {
     if (input.tetrahedron_regions.size() != input.tetrahedra.size())
@@ -309,7 +330,18 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
       reference_tets = input.tetrahedra;
     } else {
       converted.assign(input.tetrahedra.begin(), input.tetrahedra.end());
-      grid_tetrahedra_in_place(converted, q, with_regions ? &labels : nullptr);
+      if (with_cells) {
+        // The index travels (and the regions follow it).
+        source.resize(converted.size());
+        for (size_t i = 0; i < source.size(); ++i) source[i] = static_cast<int32_t>(i);
+        grid_tetrahedra_in_place(converted, q, &source);
+        if (with_regions)
+          for (size_t i = 0; i < source.size(); ++i)
+            labels[i] = input.tetrahedron_regions[static_cast<size_t>(source[i])];
+        if (with_regions) labels.resize(source.size());
+      } else {
+        grid_tetrahedra_in_place(converted, q, with_regions ? &labels : nullptr);
+      }
       reference_tets = converted;
     }
     report.reference_tetrahedra = reference_tets.size();
@@ -410,6 +442,28 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   stream_options.regions = report.regions;
   stream_options.face_tags = report.face_tags;
   stream_options.faces = tagger ? &*tagger : nullptr;
+  if (with_cells)
+    stream_options.cell_values =
+        [&](std::span<const std::array<uint32_t, 4>> cells) -> StatusOr<std::vector<FieldValues>> {
+      const CellSources from = cell_sources(q.points, reference_tets, cells);
+      report.level0_cells = cells.size();
+      report.cells_from_input = from.exact;
+      report.cells_from_nearest = from.nearest;
+      std::vector<FieldValues> out;
+      for (const auto& f : input.cell_fields) {
+        FieldValues& v = out.emplace_back();
+        v.description.name = f.name, v.description.type = f.type, v.description.components = f.components;
+        if (const auto e = options.field_errors.find(f.name); e != options.field_errors.end())
+          v.description.lossy = true, v.description.error_bound = e->second;
+        const size_t n = static_cast<size_t>(f.components);
+        v.bits.reserve(cells.size() * n);
+        for (uint32_t t : from.tetrahedron) {
+          const size_t i = source.empty() ? t : static_cast<size_t>(source[t]);
+          for (size_t c = 0; c < n; ++c) v.bits.push_back(bits_of(f.values[i * n + c], f.type));
+        }
+      }
+      return out;
+    };
   DTM_ASSIGN_OR_RETURN(EncodedStream stream,
                        encode_stream(h, q.points, q.grid, options.alpha, stream_options, std::move(fields)));
   report.layer_bytes = std::move(stream.layer_bytes);
@@ -426,6 +480,10 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   for (size_t f = 0; f < stream.fields.size(); ++f)
     report.fields.push_back({stream.fields[f], stream.field_bytes[f]});
   report.field_table_bytes = stream.field_table_bytes;
+  for (size_t f = 0; f < stream.cell_fields.size(); ++f)
+    report.cell_fields.push_back({stream.cell_fields[f], stream.cell_field_bytes[f]});
+  report.cell_field_table_bytes = stream.cell_field_table_bytes;
+  report.cell_value_bytes = stream.cell_value_bytes;
   report.streamed_levels = std::move(stream.streamed_levels);
   report.stream_bytes = stream.bytes.size();
   out.bytes = std::move(stream.bytes);

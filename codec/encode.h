@@ -168,6 +168,13 @@ struct EncodeInput {
     std::span<const double> values;  // per point, `components` each (point-major)
   };
   std::span<const Field> fields;
+  // Per-cell arrays (element results, material properties): `values` per
+  // tetrahedron of `tetrahedra` (in its order, also with
+  // tetrahedra_on_grid), `components` each. Level 0's cells carry them
+  // (format 10.0; core/cell_sources.h says which input tetrahedron gives a
+  // cell its values), lossless or within EncodeOptions::field_errors;
+  // coarser levels carry none. Not with bricks or the paper preset.
+  std::span<const Field> cell_fields;
 };
 
 struct FieldReport {
@@ -220,6 +227,14 @@ struct EncodeReport {
   // The input's tagged triangles (those quantization did not collapse), and
   // how many of them are faces of level 0 (their tags kept exactly).
   uint64_t tagged_faces = 0, tagged_faces_kept = 0;
+  // Level 0's cell data (10.0): each array with its bytes, the table's and
+  // the section's size, level 0's kept cells, and of those how many are
+  // input tetrahedra (their values exact) and how many took the nearest of
+  // their vertices' tetrahedra's (core/cell_sources.h; the rest, the one
+  // holding their centroid).
+  std::vector<FieldReport> cell_fields;
+  uint64_t cell_field_table_bytes = 0, cell_value_bytes = 0;
+  uint64_t level0_cells = 0, cells_from_input = 0, cells_from_nearest = 0;
   // Points merged by quantization whose values differed: each vertex keeps
   // its first point's values.
   uint64_t merged_points_with_other_values = 0;

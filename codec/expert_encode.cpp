@@ -8,6 +8,7 @@
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/carving_coder.h"
+#include "codec/sections/cell_values.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/stream/format.h"
@@ -143,12 +144,40 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       return invalid_input("encode_stream: more than " + std::to_string(kMaxFaceTags) + " face tags");
     if (!corrections) return invalid_input("encode_stream: face tags need a hierarchy carved to a reference");
   }
-  h.version_major = regions || faces ? kVersionMajorRegions
-                    : corrections    ? kVersionMajorUnbricked
-                    : values         ? kVersionMajorWithValues
-                                     : kVersionMajorWithoutValues;
+  // Level 0's kept cells and their values, before the header: the cell
+  // field table's scales are the values'.
+  const bool cell_data = static_cast<bool>(options.cell_values);
+  std::optional<FieldSectionEncoder> cell_coder;
+  std::vector<uint32_t> kept_rank;  // per cell of level 0's DT: its index among the kept, or UINT32_MAX
+  if (cell_data) {
+    if (!corrections)
+      return invalid_input("encode_stream: cell data needs a hierarchy carved to a reference");
+    const Level& finest = hierarchy.levels[0];
+    std::vector<std::array<uint32_t, 4>> kept_cells;
+    kept_rank.assign(finest.delaunay.cells.size(), UINT32_MAX);
+    for (size_t c = 0; c < finest.delaunay.cells.size(); ++c)
+      if (c < finest.kept.size() && finest.kept[c]) {
+        kept_rank[c] = static_cast<uint32_t>(kept_cells.size());
+        kept_cells.push_back(finest.delaunay.cells[c]);
+      }
+    DTM_ASSIGN_OR_RETURN(std::vector<FieldValues> cell_values, options.cell_values(kept_cells));
+    std::vector<FieldDescription> cell_descriptions;
+    std::vector<size_t> cell_value_counts;
+    for (const FieldValues& f : cell_values)
+      cell_descriptions.push_back(f.description), cell_value_counts.push_back(f.bits.size());
+    DTM_RETURN_IF_ERROR(check_fields(cell_descriptions, cell_value_counts, kept_cells.size())
+                            .with_context("encode_stream: cell data"));
+    DTM_ASSIGN_OR_RETURN(FieldSectionEncoder made, FieldSectionEncoder::make(std::move(cell_values)));
+    cell_coder.emplace(std::move(made));
+  }
+  h.version_major = cell_data          ? kVersionMajorCellData
+                    : regions || faces ? kVersionMajorRegions
+                    : corrections      ? kVersionMajorUnbricked
+                    : values           ? kVersionMajorWithValues
+                                       : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
-            (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0);
+            (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0) |
+            (cell_data ? kFlagCellData : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
@@ -168,6 +197,12 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   if (faces) {
     const auto table = write_region_table(options.face_tags);
     out.face_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
+  if (cell_coder) {
+    out.cell_fields = cell_coder->descriptions();
+    const auto table = write_field_table(out.cell_fields);
+    out.cell_field_table_bytes = table.size();
     out.bytes.insert(out.bytes.end(), table.begin(), table.end());
   }
   out.region_bytes.assign(hierarchy.levels.size(), 0);
@@ -208,7 +243,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       out.decode_order.push_back(i);
       decoded.push_back(points[i]);
     }
-    std::vector<uint8_t> carving, region_section, face_section;
+    std::vector<uint8_t> carving, region_section, face_section, cell_section;
     if (corrections) {
       if (level.kept.size() != level.delaunay.cells.size())
         return invalid_input("encode_stream: a level without its carving verdicts");
@@ -234,6 +269,15 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
               {out.decode_order[f.key[0]], out.decode_order[f.key[1]], out.decode_order[f.key[2]]});
         face_section = encode_face_tags(surface, options.faces->labels(by_grid_id), options.face_tags.size());
         if (streamed[l] == 0) out.tagged_faces_kept = options.faces->tagged_among(by_grid_id);
+      }
+      if (cell_coder && streamed[l] == 0) {
+        // The kept cells in the canonical order, each standing at its centroid.
+        std::vector<uint32_t> ranks;
+        std::vector<std::array<uint32_t, 4>> cells;
+        for (uint32_t c : canonical_cell_order(dt.cells))
+          if (level.kept[c]) ranks.push_back(kept_rank[c]), cells.push_back(dt.cells[c]);
+        cell_section = cell_coder->encode_layer(ranks, cell_positions(decoded, cells), out.cell_field_bytes);
+        out.level0_cells = cells.size();
       }
     }
 
@@ -281,8 +325,9 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
     if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.carved_cells());
-    const auto layer =
-        write_layer(lh, payload, carving, value_section, candidate_section, region_section, face_section);
+    const auto layer = write_layer(lh, payload, carving, value_section, candidate_section, region_section,
+                                   face_section, cell_section);
+    out.cell_value_bytes += cell_section.size();
     out.face_bytes[streamed[l]] = face_section.size();
     out.carving_bytes[streamed[l]] = carving.size();
     out.region_bytes[streamed[l]] = region_section.size();

@@ -7,7 +7,9 @@
 //   auto stream = encode_stream(*h, q->points, q->grid, hierarchy_options.alpha.kind);
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -46,6 +48,11 @@ struct StreamOptions {
   // whose labels are 2 + a tag's index). Empty / null: none.
   std::vector<RegionLabel> face_tags;
   const FaceTagger* faces = nullptr;
+  // Per-cell arrays of level 0 (format 10.0, spec/FORMAT.md §2.4, §3.8):
+  // given level 0's kept cells (grid ids, indices into `points`), their
+  // values, one FieldValues per array, cell-major in the order given.
+  // Empty: none. Needs a hierarchy carved to a reference.
+  std::function<StatusOr<std::vector<FieldValues>>(std::span<const std::array<uint32_t, 4>>)> cell_values;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
@@ -76,6 +83,13 @@ struct EncodedStream {
   std::vector<uint64_t> field_bytes;
   std::vector<std::vector<uint64_t>> level_field_bytes;  // per hierarchy level, per field
   uint64_t field_table_bytes = 0;
+  // The cell field table as written, each array's bytes in level 0's cell
+  // value section, the table's size and the section's (10.0).
+  std::vector<FieldDescription> cell_fields;
+  std::vector<uint64_t> cell_field_bytes;
+  uint64_t cell_field_table_bytes = 0;
+  uint64_t cell_value_bytes = 0;
+  uint64_t level0_cells = 0;  // level 0's kept cells
   // The hierarchy level of each stream level (finest first).
   std::vector<int> streamed_levels;
   // The order in which a decoder produces the vertices (coarsest layer

@@ -10,7 +10,9 @@ Load it once: Tools > Manage Plugins > Load New... and pick this file (tick
 File > Open then opens .dtm files. The reader shows one level of the stream's
 hierarchy as an unstructured grid of tetrahedra, with the stream's per-vertex
 fields and, per vertex, `level` (the coarsest level holding it) and
-`boundary`; its Level property runs over the stream's levels (0 = the finest,
+`boundary`; the regions as cell data `region`, the tagged boundary faces as
+triangles after the tetrahedra (their tag in `region`), and level 0's cell
+arrays as cell data; its Level property runs over the stream's levels (0 = the finest,
 as meshdec --level counts them). The stream's figures (meshinfo's) are field
 data, in the Information panel.
 

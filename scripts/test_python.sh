@@ -40,6 +40,24 @@ case "$step" in
     # A part of two materials (data/two_materials.geo): the regions as cell data.
     regions_stream="$build/paraview_regions.dtm"
     xz -dc "$DTM_DATA/two_materials.msh.xz" > "$build/paraview_regions.msh"
+    # With an element result (gmsh $ElementData on every tetrahedron: its
+    # element tag / 2), level 0's cell data.
+    python3 - "$build/paraview_regions.msh" <<'PY'
+import sys
+path = sys.argv[1]
+lines = open(path).read().split("\n")
+at = lines.index("$Elements")
+blocks = int(lines[at + 1].split()[0])
+row, tags = at + 2, []
+for _ in range(blocks):
+    dim, entity, kind, count = map(int, lines[row].split())
+    if kind == 4:  # 4-node tetrahedra
+        tags += [int(lines[row + 1 + k].split()[0]) for k in range(count)]
+    row += 1 + count
+data = ["$ElementData", "1", '"density"', "1", "0.0", "3", "0", "1", str(len(tags))]
+data += ["%d %.17g" % (t, t / 2) for t in tags] + ["$EndElementData"]
+open(path, "a").write("\n".join(data) + "\n")
+PY
     "$build/tools/meshenc" "$build/paraview_regions.msh" -q -o "$regions_stream"
     # pvbatch runs on Debian's Python: the venv's dtmesh is put on its path.
     site="$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"

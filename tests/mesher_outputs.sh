@@ -28,7 +28,7 @@ GEO
 for v in 22 41; do
   gmsh part.geo -3 -format msh$v -o a$v.msh >/dev/null
   gmsh part.geo -3 -bin -format msh$v -o b$v.msh >/dev/null
-  for kind in a b; do "$meshenc" $kind$v.msh -o $kind$v.dtm >$kind$v.out; done
+  for kind in a b; do "$meshenc" $kind$v.msh -o $kind$v.dtm >$kind$v.out 2>&1; done
 done
 for f in b22 a41 b41; do
   cmp -s a22.dtm $f.dtm || { echo "$f.msh: a stream other than a22.msh's"; failed=1; }
@@ -79,6 +79,46 @@ for name, key in (("out.msh", "gmsh:physical"), ("out.vtu", "region"), ("out.mes
     tags = [np.asarray(a) for a, b in zip(m.cell_data[key], m.cells) if b.type == "triangle"]
     if not tags or set(np.concatenate(tags).tolist()) != {3}:
         sys.exit("%s: the tagged faces are lost" % name)
+PY
+# An element result as gmsh writes it: its mesh-quality plugin's view
+# (ICN, per tetrahedron) saved as $ElementData. meshenc keeps it as cell
+# data, nothing left out; meshdec's .msh and .vtu carry it back, gmsh
+# opens the .msh, meshio reads both, and the .msh encodes again to the same
+# cell data (every level-0 cell then an input cell).
+cat part.geo - > quality.geo <<'GEO'
+Mesh 3;
+Plugin(AnalyseMeshQuality).ICNMeasure = 1;
+Plugin(AnalyseMeshQuality).CreateView = 1;
+Plugin(AnalyseMeshQuality).Run;
+Save View[0] "quality.msh";
+GEO
+gmsh quality.geo -0 -format msh41 >/dev/null 2>&1 || { echo "gmsh did not write its quality view"; failed=1; }
+grep -q '^\$ElementData' quality.msh || { echo "gmsh's view has no \$ElementData"; failed=1; }
+"$meshenc" quality.msh -o quality.dtm --report quality.json >quality.out 2>&1 || { cat quality.out; failed=1; }
+grep -q "cell data (level 0's cells): 'ICN 3D' (float64, lossless)" quality.out ||
+  { echo "quality.msh: the element data is not the cell data"; cat quality.out; failed=1; }
+grep -q "left out" quality.out && { echo "quality.msh: something left out"; cat quality.out; failed=1; }
+for ext in msh vtu; do "$meshdec" quality.dtm -o quality_out.$ext 2>/dev/null || failed=1; done
+gmsh quality_out.msh -0 -o quality_again.msh >/dev/null 2>&1 || { echo "gmsh does not read quality_out.msh"; failed=1; }
+"$meshenc" quality_out.msh -o quality_again.dtm --report quality_again.json >/dev/null 2>&1 || failed=1
+"$py" - <<'PY' || failed=1
+import json, sys
+import meshio
+import numpy as np
+first, again = json.load(open("quality.json")), json.load(open("quality_again.json"))
+if first["cell_fields"][0]["bytes"] != again["cell_fields"][0]["bytes"]:
+    sys.exit("quality_out.msh encodes to other cell data: %s, %s" % (first["cell_fields"], again["cell_fields"]))
+if again["cells_from_input"] != again["level0_cells"]:
+    sys.exit("quality_out.msh: level 0 is not its own input")
+values = {}
+for name in ("quality_out.msh", "quality_out.vtu"):
+    m = meshio.read(name)
+    icn = [np.asarray(a) for a, b in zip(m.cell_data["ICN 3D"], m.cells) if b.type == "tetra"]
+    values[name] = np.sort(np.concatenate(icn))
+    if len(values[name]) != first["level0_cells"] or not np.all((values[name] > 0) & (values[name] <= 1)):
+        sys.exit("%s: the cell data read back is not level 0's ICN" % name)
+if not np.array_equal(values["quality_out.msh"], values["quality_out.vtu"]):
+    sys.exit("the .msh and the .vtu give other values")
 PY
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed

@@ -44,35 +44,57 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
   const auto expected = nlohmann::json::parse(expected_file);
   size_t index = 0;
   ProgressiveDecoder dec;
-  ASSERT_TRUE(dec.feed(bytes,
-                       [&](const ProgressiveDecoder& d, const DecodedLevel& l) {
-                         ASSERT_LT(index, expected["levels"].size());
-                         const auto& want = expected["levels"][index++];
-                         EXPECT_EQ(l.level, want["level"].get<int>());
-                         EXPECT_EQ(l.vertices, want["vertices"].get<uint32_t>());
-                         EXPECT_EQ(hex(level_cell_hash(d.header().flags, d.points(), d.carved_cells())),
-                                   want["cell_hash"].get<std::string>())
-                             << GetParam() << " level " << l.level;
-                         // 9.0: the level's cells per region label.
-                         if (!want.contains("region_cells")) return;
-                         const TetMesh dt = d.delaunay();
-                         std::map<std::string, uint64_t> cells;
-                         for (uint8_t r : d.carving(dt))
-                           if (r) ++cells[std::to_string(d.regions()[r - 1u].label)];
-                         for (const auto& [label, count] : want["region_cells"].items())
-                           EXPECT_EQ(cells[label], count.get<uint64_t>())
-                               << GetParam() << " level " << l.level;
-                         EXPECT_EQ(cells.size(), want["region_cells"].size());
-                         if (!want.contains("tagged_faces")) return;
-                         SurfaceFaces surface;
-                         std::map<std::string, uint64_t> faces;
-                         for (uint8_t t : d.face_tags(dt, d.carving(dt), surface))
-                           if (t >= 2) ++faces[std::to_string(d.face_tag_table()[t - 2u].label)];
-                         for (const auto& [tag, count] : want["tagged_faces"].items())
-                           EXPECT_EQ(faces[tag], count.get<uint64_t>()) << GetParam() << " level " << l.level;
-                         EXPECT_EQ(faces.size(), want["tagged_faces"].size());
-                       })
-                  .ok());
+  ASSERT_TRUE(
+      dec.feed(bytes,
+               [&](const ProgressiveDecoder& d, const DecodedLevel& l) {
+                 ASSERT_LT(index, expected["levels"].size());
+                 const auto& want = expected["levels"][index++];
+                 EXPECT_EQ(l.level, want["level"].get<int>());
+                 EXPECT_EQ(l.vertices, want["vertices"].get<uint32_t>());
+                 EXPECT_EQ(hex(level_cell_hash(d.header().flags, d.points(), d.carved_cells())),
+                           want["cell_hash"].get<std::string>())
+                     << GetParam() << " level " << l.level;
+                 // 10.0: level 0's cell arrays, each as its count and
+                 // the sum of (k + 1) x its k-th value's bits (tests/golden/make.sh).
+                 if (want.contains("cell_data")) {
+                   const TetMesh dt = d.delaunay();
+                   std::vector<uint32_t> order;
+                   const std::vector<uint8_t> kept = d.carving(dt, order);
+                   const std::vector<FieldValues> values = d.cell_data(dt, kept, order);
+                   ASSERT_EQ(values.size(), want["cell_data"].size());
+                   for (const FieldValues& f : values) {
+                     ASSERT_TRUE(want["cell_data"].contains(f.description.name)) << f.description.name;
+                     const auto& w = want["cell_data"][f.description.name];
+                     EXPECT_EQ(f.bits.size(), w["values"].get<size_t>());
+                     // Each value's bits in its own type's width (a
+                     // negative integer's are sign-extended in FieldValues).
+                     constexpr int kBytes[] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
+                     const int bytes = kBytes[static_cast<int>(f.description.type)];
+                     const uint64_t mask = bytes == 8 ? ~uint64_t{0} : (uint64_t{1} << (8 * bytes)) - 1;
+                     uint64_t sum = 0;
+                     for (size_t k = 0; k < f.bits.size(); ++k) sum += (k + 1) * (f.bits[k] & mask);
+                     EXPECT_EQ(hex(sum), w["checksum"].get<std::string>()) << f.description.name;
+                   }
+                 }
+                 // 9.0: the level's cells per region label.
+                 if (!want.contains("region_cells")) return;
+                 const TetMesh dt = d.delaunay();
+                 std::map<std::string, uint64_t> cells;
+                 for (uint8_t r : d.carving(dt))
+                   if (r) ++cells[std::to_string(d.regions()[r - 1u].label)];
+                 for (const auto& [label, count] : want["region_cells"].items())
+                   EXPECT_EQ(cells[label], count.get<uint64_t>()) << GetParam() << " level " << l.level;
+                 EXPECT_EQ(cells.size(), want["region_cells"].size());
+                 if (!want.contains("tagged_faces")) return;
+                 SurfaceFaces surface;
+                 std::map<std::string, uint64_t> faces;
+                 for (uint8_t t : d.face_tags(dt, d.carving(dt), surface))
+                   if (t >= 2) ++faces[std::to_string(d.face_tag_table()[t - 2u].label)];
+                 for (const auto& [tag, count] : want["tagged_faces"].items())
+                   EXPECT_EQ(faces[tag], count.get<uint64_t>()) << GetParam() << " level " << l.level;
+                 EXPECT_EQ(faces.size(), want["tagged_faces"].size());
+               })
+          .ok());
   EXPECT_TRUE(dec.finish().ok());
   EXPECT_EQ(index, expected["levels"].size());
   EXPECT_EQ(dec.header().grid.qbits, expected["qbits"].get<int>());
@@ -142,6 +164,7 @@ TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Format9_0, GoldenStream, ::testing::Values("two_materials"));
+INSTANTIATE_TEST_SUITE_P(Format10_0, GoldenStream, ::testing::Values("torus_288_cells"));
 INSTANTIATE_TEST_SUITE_P(Format8_0, GoldenStream,
                          ::testing::Values("ellipsoid_793_bricks", "torus_288_bricks"));
 INSTANTIATE_TEST_SUITE_P(Format7_0, GoldenStream,

@@ -367,14 +367,19 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
   EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
   EXPECT_EQ(m.face_tags, (std::vector<int32_t>{4}));
   EXPECT_TRUE(m.left_out.empty());
-  // VTK legacy CELL_DATA and a triangle.
+  // VTK legacy CELL_DATA and a triangle: an integer array may be the
+  // regions, a float array is cell data, both on the tetrahedron.
   m = read_input(write_temp(
       "cells.vtk", "# vtk DataFile Version 3.0\nc\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n" +
                        tet +
                        "CELLS 2 9\n4 0 1 2 3\n3 1 2 3\nCELL_TYPES 2\n10\n5\n"
-                       "CELL_DATA 2\nSCALARS material int 1\nLOOKUP_TABLE default\n1 2\n"));
+                       "CELL_DATA 2\nSCALARS material int 1\nLOOKUP_TABLE default\n1 2\n"
+                       "FIELD FieldData 1\nvon%20mises 1 2 float\n0.5 7\n"));
   EXPECT_EQ(m.tets.size(), 1u);
-  EXPECT_TRUE(has(m, "CELL_DATA arrays 'material'"));
+  EXPECT_EQ(m.tet_arrays["material"], (std::vector<int32_t>{1}));
+  ASSERT_EQ(m.cell_fields.size(), 1u);
+  EXPECT_EQ(m.cell_fields[0].name, "von mises");
+  EXPECT_EQ(m.cell_fields[0].values, (std::vector<double>{0.5}));
   EXPECT_TRUE(has(m, "cells other than tetrahedra (1 triangles)"));
   // A TetGen .ele with a region attribute.
   write_temp("regions.node", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 1 1 1\n");

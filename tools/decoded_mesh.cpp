@@ -41,6 +41,14 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
     for (const RegionLabel& t : table)
       if (!t.name.empty()) mesh.face_tag_names[t.label] = t.name;
   }
+  // With cell data (10.0), level 0's cells carry it, in the same order.
+  if (!decoder.cell_field_table().empty()) {
+    const std::vector<FieldValues> cell_values = decoder.cell_data(dt, in_mesh, order);
+    if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+    for (const FieldValues& f : cell_values)
+      mesh.cell_fields.push_back(
+          {f.description.name, scalar_type(f.description.type), f.description.components, f.bits});
+  }
   mesh.level = decoder.vertex_levels();
   mesh.boundary = boundary_vertices(dt, mesh.points.size(), in_mesh);
   for (const FieldValues& f : decoder.fields())

@@ -68,7 +68,7 @@ struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
   std::optional<double> removal_share, quality_ratio, quality_guard, quality_floor;
   bool quiet = false, no_reference = false, no_fields = false, no_regions = false, no_face_tags = false,
-       verbose = false;
+       no_cell_data = false, strict = false, verbose = false;
   std::string region_array;
   int threads = 0;                        // --threads; 0: the process's share of its cores
   std::vector<std::string> field_errors;  // NAME=E
@@ -191,6 +191,10 @@ void add_options(CLI::App& app, Command& c) {
   app.add_flag("--no-face-tags", c.no_face_tags,
                "leave the input's tagged triangles (gmsh physical surfaces, Medit triangle refs) out of the "
                "stream");
+  app.add_flag("--no-cell-data", c.no_cell_data,
+               "leave the input's per-cell arrays (VTU/VTK cell data, gmsh $ElementData) out of the stream");
+  app.add_flag("--strict", c.strict,
+               "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,
                  "a .vtu's integer cell array holding the regions (default: the first of gmsh:physical, "
                  "medit:ref, region, material, MaterialIds, CellEntityIds it has)");
@@ -254,6 +258,17 @@ void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePla
     std::printf("%s: per-vertex fields %s: %s\n", c.input.c_str(), c.no_fields ? "left out" : "coded",
                 names.c_str());
   }
+  if (!in.cell_fields.empty()) {
+    std::string names;
+    for (const auto& f : in.cell_fields) {
+      names += (names.empty() ? "'" : ", '") + f.name + "' (" + dtm::scalar_name(f.type) +
+               (f.components > 1 ? " x " + std::to_string(f.components) : "");
+      const auto e = c.encode.field_errors.find(f.name);
+      names +=
+          e == c.encode.field_errors.end() ? ", lossless)" : ", within " + format_number(e->second) + ")";
+    }
+    std::printf("%s: cell data (level 0's cells): %s\n", c.input.c_str(), names.c_str());
+  }
   if (!in.tet_regions.empty()) {
     std::map<int32_t, uint64_t> cells;
     for (int32_t r : in.tet_regions) ++cells[r];
@@ -280,8 +295,6 @@ void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePla
     std::printf("%s: tagged faces (%s), %zu: %s\n", c.input.c_str(), in.face_tag_source.c_str(), faces.size(),
                 list.c_str());
   }
-  for (const std::string& what : in.left_out)
-    std::printf("%s: left out (the stream does not hold it): %s\n", c.input.c_str(), what.c_str());
 }
 
 // NAME=E arguments into the options.
@@ -357,7 +370,8 @@ void print_reference_line(const dtm::EncodeReport& r) {
 }
 
 // The stream and the report are written together or not at all.
-void write_outputs(const Command& c, const dtm::EncodedMesh& encoded) {
+void write_outputs(const Command& c, const dtm::EncodedMesh& encoded,
+                   const std::vector<std::string>& left_out) {
   std::vector<std::pair<std::string, std::string>> files;
   if (!c.output.empty()) {
     std::string bytes(encoded.bytes.begin(), encoded.bytes.end());
@@ -368,8 +382,11 @@ void write_outputs(const Command& c, const dtm::EncodedMesh& encoded) {
       files.emplace_back(c.output, std::move(bytes));
     }
   }
-  if (!c.report_path.empty())
-    files.emplace_back(c.report_path, dtm::report_json(c.input, encoded.report).dump(2) + "\n");
+  if (!c.report_path.empty()) {
+    nlohmann::json j = dtm::report_json(c.input, encoded.report);
+    j["left_out"] = left_out;
+    files.emplace_back(c.report_path, j.dump(2) + "\n");
+  }
   dtm::write_files_atomically(files);
 }
 
@@ -436,6 +453,32 @@ int run(Command& c) {
       dtm::release(in.face_tags);
     }
   }
+  if (!in.cell_fields.empty()) {
+    const char* why = c.no_cell_data                      ? "--no-cell-data"
+                      : c.encode.bricks || mpi.size() > 1 ? "bricked streams do not carry them yet"
+                      : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
+                      : c.no_reference || in.tets.empty() ? "no tetrahedra to hold them"
+                                                          : nullptr;
+    if (why) {
+      std::string names;
+      for (const auto& f : in.cell_fields) names += (names.empty() ? "'" : ", '") + f.name + "'";
+      in.left_out.push_back("the cell arrays " + names + " (" + why + ")");
+      in.cell_fields.clear();
+    }
+  }
+  if (c.no_fields && !in.fields.empty()) {
+    std::string names;
+    for (const auto& f : in.fields) names += (names.empty() ? "'" : ", '") + f.name + "'";
+    in.left_out.push_back("the per-vertex fields " + names + " (--no-fields)");
+  }
+  // Whatever the stream will not hold, named on standard error (and in the
+  // report); --strict refuses the input instead.
+  for (const std::string& what : in.left_out)
+    std::fprintf(stderr, "%s: left out (the stream does not hold it): %s\n", c.input.c_str(), what.c_str());
+  if (c.strict && !in.left_out.empty())
+    throw std::runtime_error(c.input + ": --strict: the stream would leave out " +
+                             std::to_string(in.left_out.size()) + " thing" +
+                             (in.left_out.size() == 1 ? "" : "s") + " of the input (named above)");
   display.start("quantizing");
   dtm::EncodeInput input;
   input.points = in.points;
@@ -474,7 +517,28 @@ int run(Command& c) {
   // was the peak of a 10M-vertex encoding), freed once the encoder holds
   // what it needs of them.
   if (!in.tets.empty()) display.start("the reference's tetrahedra on the grid");
-  dtm::grid_tetrahedra_in_place(in.tets, plan->quantized, in.tet_regions.empty() ? nullptr : &in.tet_regions);
+  if (in.cell_fields.empty()) {
+    dtm::grid_tetrahedra_in_place(in.tets, plan->quantized,
+                                  in.tet_regions.empty() ? nullptr : &in.tet_regions);
+  } else {
+    // The cell arrays (and the regions) follow each tetrahedron's index.
+    std::vector<int32_t> source(in.tets.size());
+    for (size_t i = 0; i < source.size(); ++i) source[i] = static_cast<int32_t>(i);
+    dtm::grid_tetrahedra_in_place(in.tets, plan->quantized, &source);
+    const auto gather = [&](auto& values, size_t n) {
+      std::remove_reference_t<decltype(values)> kept;
+      kept.reserve(source.size() * n);
+      for (int32_t t : source)
+        for (size_t k = 0; k < n; ++k) kept.push_back(values[static_cast<size_t>(t) * n + k]);
+      values = std::move(kept);
+    };
+    if (!in.tet_regions.empty()) gather(in.tet_regions, 1);
+    for (auto& f : in.cell_fields) gather(f.values, static_cast<size_t>(f.components));
+  }
+  std::vector<dtm::EncodeInput::Field> cell_fields;
+  for (const auto& f : in.cell_fields)
+    cell_fields.push_back({f.name, dtm::value_type(f.type), f.components, f.values});
+  input.cell_fields = cell_fields;
   input.tetrahedra = in.tets;
   input.tetrahedron_regions = in.tet_regions;
   input.region_names = in.region_names;
@@ -509,11 +573,12 @@ int run(Command& c) {
     print_reference_line(r);
     uint64_t value_bytes = r.field_table_bytes;
     for (const auto& f : r.fields) value_bytes += f.bytes;
+    value_bytes += r.cell_field_table_bytes + r.cell_value_bytes;
     if (!c.output.empty())
       std::printf("%s: %llu bytes, %.2f bits per vertex for the levels (%zu vertices, %zu levels)%s\n",
                   c.output.c_str(), static_cast<unsigned long long>(r.stream_bytes),
                   8.0 * (r.stream_bytes - value_bytes) / vertices, vertices, r.streamed_levels.size(),
-                  r.fields.empty() ? "" : ", and the values:");
+                  r.fields.empty() && r.cell_fields.empty() ? "" : ", and the values:");
     print_fields(r, vertices);
     if (!r.regions.empty()) {
       uint64_t region_bytes = r.region_table_bytes;
@@ -525,6 +590,28 @@ int run(Command& c) {
                   static_cast<unsigned long long>(r.region_bytes.empty() ? 0 : r.region_bytes.front()),
                   cells ? 8.0 * (r.region_bytes.empty() ? 0 : r.region_bytes.front()) / cells : 0.0);
     }
+    for (const dtm::FieldReport& f : r.cell_fields) {
+      const auto& d = f.description;
+      std::printf("  cell data '%s' (%s%s): %llu bytes, %.2f bits per value, %s\n", d.name.c_str(),
+                  dtm::value_type_name(d.type),
+                  d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
+                  static_cast<unsigned long long>(f.bytes),
+                  r.level0_cells ? 8.0 * f.bytes / (r.level0_cells * d.components) : 0.0,
+                  d.lossy ? ("every value within " + format_number(d.error_bound)).c_str() : "lossless");
+    }
+    if (!r.cell_fields.empty() && r.cells_from_input == r.level0_cells)
+      std::printf("  cell data on level 0's %llu cells: every one an input tetrahedron with its own values\n",
+                  static_cast<unsigned long long>(r.level0_cells));
+    else if (!r.cell_fields.empty())
+      std::printf(
+          "  cell data on level 0's %llu cells: %llu are input tetrahedra with their own values, the others "
+          "take those of the input tetrahedron holding their centroid%s\n",
+          static_cast<unsigned long long>(r.level0_cells),
+          static_cast<unsigned long long>(r.cells_from_input),
+          r.cells_from_nearest ? (" (" + std::to_string(r.cells_from_nearest) +
+                                  " of the nearest beside them: none of their vertices' holds it)")
+                                     .c_str()
+                               : "");
     if (!r.face_tags.empty()) {
       uint64_t face_bytes = r.face_table_bytes;
       for (uint64_t b : r.face_bytes) face_bytes += b;
@@ -543,7 +630,7 @@ int run(Command& c) {
       std::printf("\n");
     }
   }
-  if (mpi.rank() == 0) write_outputs(c, *encoded);
+  if (mpi.rank() == 0) write_outputs(c, *encoded, in.left_out);
   display.finish();
   return 0;
 }

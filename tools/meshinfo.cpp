@@ -47,6 +47,18 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
     std::printf("region %d%s\n", r.label, r.name.empty() ? "" : (" \"" + r.name + "\"").c_str());
   for (const dtm::RegionLabel& t : s.face_tags)
     std::printf("face tag %d%s\n", t.label, t.name.empty() ? "" : (" \"" + t.name + "\"").c_str());
+  // 10.0: level 0's cell data, from level 0's layer.
+  for (size_t f = 0; f < s.cell_fields.size(); ++f) {
+    const dtm::FieldDescription& d = s.cell_fields[f];
+    uint64_t bytes = 0;
+    for (const auto& l : s.layers)
+      if (f < l.cell_field_bytes.size()) bytes += l.cell_field_bytes[f];
+    std::printf("cell data '%s' (level 0): %s%s, %s, %llu bytes\n", d.name.c_str(),
+                dtm::value_type_name(d.type),
+                d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
+                d.lossy ? ("within " + std::to_string(d.error_bound)).c_str() : "lossless",
+                static_cast<unsigned long long>(bytes));
+  }
   const bool regions = !s.regions.empty();
   const bool faces = !s.face_tags.empty();
   // 7.0: the candidate section's bytes (points sent beside the coarser

@@ -80,6 +80,23 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
     j["field_table_bytes"] = r.field_table_bytes;
     j["merged_points_with_other_values"] = r.merged_points_with_other_values;
   }
+  if (!r.cell_fields.empty()) {
+    j["cell_fields"] = nlohmann::json::array();
+    for (const FieldReport& f : r.cell_fields) {
+      const FieldDescription& d = f.description;
+      j["cell_fields"].push_back({{"name", d.name},
+                                  {"type", value_type_name(d.type)},
+                                  {"components", d.components},
+                                  {"mode", d.lossy ? "lossy" : "lossless"},
+                                  {"error_bound", d.error_bound},
+                                  {"bytes", f.bytes}});
+    }
+    j["cell_field_table_bytes"] = r.cell_field_table_bytes;
+    j["cell_value_bytes"] = r.cell_value_bytes;
+    j["level0_cells"] = r.level0_cells;
+    j["cells_from_input"] = r.cells_from_input;
+    j["cells_from_nearest"] = r.cells_from_nearest;
+  }
   if (!r.regions.empty()) {
     j["regions"] = nlohmann::json::array();
     for (const RegionLabel& region : r.regions)

@@ -90,6 +90,22 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
   j["face_tags"] = nlohmann::json::array();
   for (const RegionLabel& t : s.face_tags) j["face_tags"].push_back({{"label", t.label}, {"name", t.name}});
   j["face_table_bytes"] = s.face_table_bytes;
+  // Level 0's cell data (10.0): each array's share of its section.
+  std::vector<uint64_t> cell_bytes(s.cell_fields.size(), 0);
+  for (const auto& l : s.layers)
+    for (size_t f = 0; f < l.cell_field_bytes.size() && f < cell_bytes.size(); ++f)
+      cell_bytes[f] += l.cell_field_bytes[f];
+  j["cell_fields"] = nlohmann::json::array();
+  for (size_t f = 0; f < s.cell_fields.size(); ++f) {
+    const FieldDescription& d = s.cell_fields[f];
+    j["cell_fields"].push_back({{"name", d.name},
+                                {"type", value_type_name(d.type)},
+                                {"components", d.components},
+                                {"mode", d.lossy ? "lossy" : "lossless"},
+                                {"error_bound", d.error_bound},
+                                {"bytes", cell_bytes[f]}});
+  }
+  j["cell_field_table_bytes"] = s.cell_field_table_bytes;
   j["levels"] = nlohmann::json::array();
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
@@ -101,6 +117,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                           {"value_bytes", l.header.value_bytes},
                           {"region_bytes", l.header.region_bytes},
                           {"face_bytes", l.header.face_bytes},
+                          {"cell_value_bytes", l.header.cell_value_bytes},
                           {"candidate_kinds", l.header.candidate_kinds},
                           {"candidate_bytes", l.header.candidate_bytes},
                           {"alpha", l.header.alpha * step},

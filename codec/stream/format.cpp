@@ -138,6 +138,12 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   if ((h.flags & kFlagFaces) && (h.flags & kFlagBricks)) return corrupt("faces flagged in a bricked stream");
   if ((h.flags & kFlagFaces) && !(h.flags & kFlagCarvingCorrections))
     return corrupt("faces flagged without carving corrections");
+  if ((h.flags & kFlagCellData) && h.version_major < 10)
+    return corrupt("cell data flagged in a stream before 10.0");
+  if ((h.flags & kFlagCellData) && (h.flags & kFlagBricks))
+    return corrupt("cell data flagged in a bricked stream");
+  if ((h.flags & kFlagCellData) && !(h.flags & kFlagCarvingCorrections))
+    return corrupt("cell data flagged without carving corrections");
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
   for (double o : h.grid.origin)
@@ -149,19 +155,21 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
                                  std::span<const uint8_t> carving, std::span<const uint8_t> values,
                                  std::span<const uint8_t> candidates, std::span<const uint8_t> regions,
-                                 std::span<const uint8_t> faces) {
+                                 std::span<const uint8_t> faces, std::span<const uint8_t> cell_values) {
   h.candidate_bytes = static_cast<uint32_t>(candidates.size());
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
   h.value_bytes = static_cast<uint32_t>(values.size());
   h.region_bytes = static_cast<uint32_t>(regions.size());
   h.face_bytes = static_cast<uint32_t>(faces.size());
+  h.cell_value_bytes = static_cast<uint32_t>(cell_values.size());
   std::vector<uint8_t> body(candidates.begin(), candidates.end());
   body.insert(body.end(), payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
   body.insert(body.end(), regions.begin(), regions.end());
   body.insert(body.end(), faces.begin(), faces.end());
   body.insert(body.end(), values.begin(), values.end());
+  body.insert(body.end(), cell_values.begin(), cell_values.end());
   FieldWriter writer;
   writer.trailer = body;
   visit_fields(h, writer);
@@ -233,6 +241,10 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
     return corrupt("a region section present without its flag");
   if (!(header_.flags & kFlagFaces) && h.face_bytes != 0)
     return corrupt("a face section present without its flag");
+  if (!(header_.flags & kFlagCellData) && h.cell_value_bytes != 0)
+    return corrupt("a cell value section present without its flag");
+  if (h.level != 0 && h.cell_value_bytes != 0)
+    return corrupt("a cell value section in a layer but level 0's");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
     return corrupt("candidates at the base level, which has no coarser level");
@@ -293,7 +305,9 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   const uint64_t regions_at = uint64_t{lh.candidate_bytes} + lh.payload_bytes + lh.carving_bytes;
   layer.regions = body.subspan(regions_at, lh.region_bytes);
   layer.faces = body.subspan(regions_at + lh.region_bytes, lh.face_bytes);
-  layer.values = body.subspan(regions_at + lh.region_bytes + lh.face_bytes);
+  const uint64_t values_at = regions_at + lh.region_bytes + lh.face_bytes;
+  layer.values = body.subspan(values_at, lh.value_bytes);
+  layer.cell_values = body.subspan(values_at + lh.value_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();
@@ -344,15 +358,26 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
     }
     s.face_table_bytes = table_bytes;
   }
-  LayerWalk walk(s.header, std::numeric_limits<uint64_t>::max(),
-                 s.field_table_bytes + s.region_table_bytes + s.face_table_bytes);
+  if (s.header.flags & kFlagCellData) {
+    size_t table_bytes = 0;
+    s.status = parse_field_table(
+        bytes.subspan(kHeaderSize + s.field_table_bytes + s.region_table_bytes + s.face_table_bytes),
+        s.cell_fields, table_bytes);
+    if (!s.status.ok()) {
+      if (s.status.code() == StatusCode::kNeedMoreInput)
+        s.status = {StatusCode::kTruncated, "the stream ends inside its cell field table"};
+      return s;
+    }
+    s.cell_field_table_bytes = table_bytes;
+  }
+  LayerWalk walk(s.header, std::numeric_limits<uint64_t>::max(), s.tables_bytes());
   while (true) {
     const int level = walk.next_level();
     Layer layer;
     bool header_seen = false;
     const Status st = walk.next(bytes.subspan(walk.offset()), layer, &header_seen);
     if (st.ok()) {
-      s.layers.push_back({layer.header, 0, layer.offset, true, {}});
+      s.layers.push_back({layer.header, 0, layer.offset, true, {}, {}});
       if (layer.header.bricked) {
         LayerHeader& lh = s.layers.back().header;
         std::vector<BrickChunk> chunks;
@@ -387,12 +412,17 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
         s.status = value_section_field_bytes(layer.values, s.fields, s.layers.back().field_bytes);
         if (!s.status.ok()) return s;
       }
+      if (!s.cell_fields.empty() && !layer.cell_values.empty()) {
+        s.status =
+            value_section_field_bytes(layer.cell_values, s.cell_fields, s.layers.back().cell_field_bytes);
+        if (!s.status.ok()) return s;
+      }
       continue;
     }
     if (st.code() != StatusCode::kNeedMoreInput) {
       s.status = st;
     } else if (!walk.done()) {
-      if (header_seen) s.layers.push_back({layer.header, 0, layer.offset, false, {}});
+      if (header_seen) s.layers.push_back({layer.header, 0, layer.offset, false, {}, {}});
       s.status = {StatusCode::kTruncated,
                   header_seen
                       ? "the stream ends inside level " + std::to_string(level) + "'s layer"

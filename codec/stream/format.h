@@ -7,6 +7,7 @@
 //   field table (5.0, with kFlagValues): codec/sections/value_fields.h
 //   region table (9.0, with kFlagRegions): codec/sections/region_coder.h
 //   face tag table (9.0, with kFlagFaces): the same layout
+//   cell field table (10.0, with kFlagCellData): the field table's layout
 //   layer  = layer header + candidate section (7.0: new points beside the
 //            coarser level's circumcentres and edge midpoints)
 //            + payload (the level's other new points)
@@ -14,6 +15,8 @@
 //            + region section (9.0, kFlagRegions: the kept cells' regions)
 //            + face section (9.0, kFlagFaces: the surface faces' tags)
 //            + value section (5.0: the new points' values)
+//            + cell value section (10.0, kFlagCellData, level 0's layer
+//              only: the values of level 0's kept cells)
 //   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
 //            (codec/bricks/bricks.h: each brick's new points and corrections)
 #pragma once
@@ -39,9 +42,10 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // when it carries carving corrections (the codec preset, whose layers may
 // send points beside candidates; 6.0's correction contexts), else 5.0 when
 // it carries values, else 4.0; 8.0 when its layers are bricked (kFlagBricks);
-// 9.0 when its cells carry regions (kFlagRegions); the decoder reads 2.x to
-// 9.x.
-inline constexpr uint8_t kVersionMajor = 9;
+// 9.0 when its cells carry regions (kFlagRegions); 10.0 when level 0's cells
+// carry values (kFlagCellData); the decoder reads 2.x to 10.x.
+inline constexpr uint8_t kVersionMajor = 10;
+inline constexpr uint8_t kVersionMajorCellData = 10;
 inline constexpr uint8_t kVersionMajorRegions = 9;
 inline constexpr uint8_t kVersionMajorBricked = 8;
 inline constexpr uint8_t kVersionMajorUnbricked = 7;
@@ -67,8 +71,12 @@ inline constexpr uint16_t kFlagRegions = 16;
 // 9.0: a face tag table follows (the region table) and layers carry face
 // sections (codec/sections/face_coder.h); not with kFlagBricks.
 inline constexpr uint16_t kFlagFaces = 32;
-inline constexpr uint16_t kKnownFlags =
-    kFlagCellHashes | kFlagCarvingCorrections | kFlagValues | kFlagBricks | kFlagRegions | kFlagFaces;
+// 10.0: a cell field table follows (the face tag table) and level 0's layer
+// carries a cell value section: per-cell arrays of the finest level
+// (codec/sections/cell_values.h); not with kFlagBricks.
+inline constexpr uint16_t kFlagCellData = 64;
+inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues |
+                                        kFlagBricks | kFlagRegions | kFlagFaces | kFlagCellData;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -102,6 +110,9 @@ struct LayerHeader {
   // face section after it.
   uint32_t region_bytes = 0;
   uint32_t face_bytes = 0;
+  // 10.0 and later: the cell value section, after the value section (0 but
+  // in level 0's layer).
+  uint32_t cell_value_bytes = 0;
   // Bricked layers (8.0): the largest circumradius of a kept cell (at least
   // alpha; larger cells carry no correction bit), the bricks' octree depth,
   // and the sizes of the index and of the chunks after it.
@@ -117,7 +128,7 @@ struct LayerHeader {
   uint64_t body_bytes() const {
     if (bricked) return uint64_t{index_bytes} + chunk_bytes;
     return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + face_bytes +
-           value_bytes;
+           value_bytes + cell_value_bytes;
   }
 };
 
@@ -172,6 +183,7 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
     v.template field<uint32_t>("region_bytes", h.region_bytes);
     v.template field<uint32_t>("face_bytes", h.face_bytes);
   }
+  if (h.format_major >= 10) v.template field<uint32_t>("cell_value_bytes", h.cell_value_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -217,7 +229,8 @@ inline constexpr size_t kBrickedLayerHeaderSize = layer_header_size(kVersionMajo
 inline constexpr size_t kRegionLayerHeaderSize = layer_header_size(kVersionMajorRegions);
 static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_size(4) == 42 &&
                   layer_header_size(6) == 46 && kLayerHeaderSize == 51 && kBrickedLayerHeaderSize == 55 &&
-                  kRegionLayerHeaderSize == 59 && layer_header_size(9, true) == 55,
+                  kRegionLayerHeaderSize == 59 && layer_header_size(9, true) == 55 &&
+                  layer_header_size(10) == 63 && layer_header_size(10, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -227,11 +240,13 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h);
 
 // The layer header (checksum computed) followed by the candidate section
 // (7.0 and later), the payload, the carving section (4.0 and later), the
-// region section (9.0) and the value section (5.0 and later).
+// region and face sections (9.0), the value section (5.0 and later) and the
+// cell value section (10.0).
 std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
                                  std::span<const uint8_t> carving = {}, std::span<const uint8_t> values = {},
                                  std::span<const uint8_t> candidates = {},
-                                 std::span<const uint8_t> regions = {}, std::span<const uint8_t> faces = {});
+                                 std::span<const uint8_t> regions = {}, std::span<const uint8_t> faces = {},
+                                 std::span<const uint8_t> cell_values = {});
 
 // Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
 // the checksum computed), the index, the chunks.
@@ -247,6 +262,7 @@ struct Layer {
   std::span<const uint8_t> regions;
   std::span<const uint8_t> faces;
   std::span<const uint8_t> values;
+  std::span<const uint8_t> cell_values;
   // A bricked layer's index (checksummed with the header) and chunks (each
   // checked against its checksum in the index when it is decoded).
   std::span<const uint8_t> index;
@@ -310,6 +326,7 @@ struct LayerSummary {
   bool complete = false;
   std::vector<uint64_t>
       field_bytes;  // complete layers of a 5.0 stream: each field's share of the value section
+  std::vector<uint64_t> cell_field_bytes;  // 10.0, level 0: each cell field's share of its section
   uint64_t size() const {
     return layer_header_size(header.format_major, header.bricked) + header.body_bytes();
   }
@@ -322,6 +339,11 @@ struct StreamSummary {
   uint64_t region_table_bytes = 0;
   std::vector<RegionLabel> face_tags;  // 9.0 with kFlagFaces: the face tag table
   uint64_t face_table_bytes = 0;
+  std::vector<FieldDescription> cell_fields;  // 10.0 with kFlagCellData: the cell field table
+  uint64_t cell_field_table_bytes = 0;
+  uint64_t tables_bytes() const {
+    return field_table_bytes + region_table_bytes + face_table_bytes + cell_field_table_bytes;
+  }
   std::vector<LayerSummary> layers;  // coarsest first; the last may be incomplete
   uint64_t bytes = 0;                // bytes given
   Status status;                     // ok, or why the scan stopped early

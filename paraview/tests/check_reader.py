@@ -6,7 +6,8 @@ Loads the plugin, opens STREAM, checks the finest level's counts and point
 data against `MESHINFO STREAM --json --stats`, moves Level to the coarsest
 and checks again, and saves a screenshot of the coarsest beside the finest.
 With REGIONS_STREAM (a stream with regions), checks that every level's cells
-carry the cell array `region`, with the stream's labels.
+carry the cell array `region`, with the stream's labels, and that level 0
+(and no other) carries the stream's cell arrays.
 Exit status 0 and "N passed, 0 failed" when every check holds.
 """
 import inspect
@@ -75,6 +76,7 @@ if regions_stream:
                                              capture_output=True, text=True).stdout)
     labels = sorted([r["label"] for r in regions_info["regions"]] + [t["label"] for t in regions_info["face_tags"]])
     check(f"{os.path.basename(regions_stream)} has regions {labels}", len(labels) > 1)
+    check(f"{os.path.basename(regions_stream)} has cell data", len(regions_info.get("cell_fields", [])) > 0)
     parts = OpenDataFile(regions_stream)
     for level in range(regions_info["level_count"]):
         parts.Level = level
@@ -85,6 +87,15 @@ if regions_stream:
         check(f"regions, level {level}: cell array 'region' on its {grid.GetNumberOfCells()} cells "
               f"(tetrahedra, then tagged faces), labels {seen}",
               region is not None and region.GetNumberOfTuples() == grid.GetNumberOfCells() and seen == labels)
+        # Cell data (level 0's only): every array of the stream's cell field table.
+        for array in regions_info.get("cell_fields", []):
+            values = grid.GetCellData().GetArray(array["name"])
+            if level == 0:
+                check(f"cell data, level 0: cell array '{array['name']}' on its {grid.GetNumberOfCells()} cells",
+                      values is not None and values.GetNumberOfTuples() == grid.GetNumberOfCells()
+                      and values.GetNumberOfComponents() == array["components"])
+            else:
+                check(f"cell data, level {level}: none (level 0's only)", values is None)
 
 # The coarsest and the finest side by side, coloured by each vertex's level.
 view = CreateView("RenderView")

@@ -116,6 +116,9 @@ class Mesh:
             (indices into ``points``, outward), when the stream has them.
         face_tags: int32 per face, its tag (a gmsh physical surface, a Medit ref).
         face_tag_names: tag -> name, where the input named them.
+        cell_data: the stream's per-cell arrays by name, each in its stored
+            dtype, shape (M,) or (M, components): level 0 only (coarser
+            levels carry none, and have this empty).
     """
 
     points: np.ndarray
@@ -130,11 +133,13 @@ class Mesh:
     faces: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.uint32))
     face_tags: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int32))
     face_tag_names: Dict[int, str] = field(default_factory=dict)
+    cell_data: Dict[str, np.ndarray] = field(default_factory=dict)
 
     def to_meshio(self):
         """This level as a ``meshio.Mesh``: the fields, ``level`` and ``boundary`` as point data;
         the tagged faces as a triangle block; the regions and tags as cell data
-        ``gmsh:physical`` (meshio's name, which its gmsh writer keeps), their names as field data."""
+        ``gmsh:physical`` (meshio's name, which its gmsh writer keeps), their names as field data;
+        the per-cell arrays as cell data (a triangle's row 0)."""
         import meshio
 
         point_data = dict(self.fields)
@@ -154,6 +159,11 @@ class Mesh:
             cell_data = {"gmsh:physical": physical, "gmsh:geometrical": physical}
             field_data = {name: np.array([label, 3]) for label, name in self.region_names.items()}
             field_data.update({name: np.array([tag, 2]) for tag, name in self.face_tag_names.items()})
+        for name, values in self.cell_data.items():
+            blocks = [values]
+            if len(cells) > 1:
+                blocks.append(np.zeros((len(self.faces),) + values.shape[1:], values.dtype))
+            cell_data[name] = blocks
         return meshio.Mesh(self.points, cells, point_data=point_data, cell_data=cell_data, field_data=field_data,
                            info={"dtmesh_derived": ["level", "boundary"]})
 
@@ -186,14 +196,14 @@ class Encoded:
         return len(self.bytes)
 
 
-def _field_in(name: str, values: Any, count: int):
+def _field_in(name: str, values: Any, count: int, what: str = "field"):
     a = np.asarray(values)
     if a.dtype == np.bool_:
         a = a.astype(np.uint8)
     if a.dtype not in _TYPE_OF:
-        raise TypeError(f"field {name!r}: dtype {a.dtype} is not one of int8..int64, uint8..uint64, float32, float64")
+        raise TypeError(f"{what} {name!r}: dtype {a.dtype} is not one of int8..int64, uint8..uint64, float32, float64")
     if a.ndim not in (1, 2) or a.shape[0] != count:
-        raise ValueError(f"field {name!r}: shape {a.shape}, expected ({count},) or ({count}, components)")
+        raise ValueError(f"{what} {name!r}: shape {a.shape}, expected ({count},) or ({count}, components)")
     components = 1 if a.ndim == 1 else a.shape[1]
     as_double = a.astype(np.float64).reshape(-1)
     if a.dtype.kind in "iu" and a.dtype.itemsize == 8 and a.size:
@@ -220,6 +230,7 @@ def encode(
     faces: Any = None,
     face_tags: Any = None,
     face_tag_names: Optional[Mapping[int, str]] = None,
+    cell_data: Optional[Mapping[str, Any]] = None,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -251,6 +262,12 @@ def encode(
             triangles: boundary conditions' patches) and one tag each; every
             level's surface faces then carry the tag of their patch.
         face_tag_names: tag -> name.
+        cell_data: per-tetrahedron arrays by name (element results, material
+            properties), each (M,) or (M, components) of the dtypes of
+            ``fields``, lossless unless named in ``field_errors``. Level 0's
+            cells carry them: a cell that is one of ``tetrahedra`` its own
+            values, another those of the tetrahedron holding its centroid;
+            coarser levels carry none (the codec preset only).
         threads: threads to use for this call (meshenc's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
             The stream is the same for any number.
@@ -283,21 +300,30 @@ def encode(
         ft = np.ascontiguousarray(np.asarray(face_tags if face_tags is not None else [], dtype=np.int64).reshape(-1))
     face_names = {int(tag): str(name) for tag, name in (face_tag_names or {}).items()}
     field_list = [_field_in(name, values, p.shape[0]) for name, values in (fields or {}).items()]
+    if cell_data and t is None:
+        raise ValueError("cell_data belongs to tetrahedra: give the tetrahedra too")
+    cell_list = [_field_in(name, values, t.shape[0] if t is not None and t.ndim == 2 else 0, "cell_data")
+                 for name, values in (cell_data or {}).items()]
     with _threads_for_call(threads):
         stream, report, vertex_of_input = _dtmesh.encode(
-            p, t, r, names, f, ft, face_names, field_list, int(qbits), box, scale, dmax, preset,
+            p, t, r, names, f, ft, face_names, field_list, cell_list, int(qbits), box, scale, dmax, preset,
             dict(field_errors or {}))
     return Encoded(stream, json.loads(report), vertex_of_input)
 
 
-def _mesh_of(d: Dict[str, Any]) -> Mesh:
-    n = d["points"].shape[0]
-    fields = {}
-    for name, type_index, components, raw in d["fields"]:
+def _arrays_of(arrays, n: int) -> Dict[str, np.ndarray]:
+    out = {}
+    for name, type_index, components, raw in arrays:
         a = np.frombuffer(raw, dtype=np.dtype(_DTYPES[type_index]).newbyteorder("<")).astype(
             _DTYPES[type_index], copy=True)
-        fields[name] = a if components == 1 else a.reshape(n, components)
+        out[name] = a if components == 1 else a.reshape(n, components)
+    return out
+
+
+def _mesh_of(d: Dict[str, Any]) -> Mesh:
+    fields = _arrays_of(d["fields"], d["points"].shape[0])
     return Mesh(points=d["points"], tetrahedra=d["tetrahedra"], fields=fields, level=d["level"],
+                cell_data=_arrays_of(d["cell_data"], d["tetrahedra"].shape[0]),
                 level_count=d["level_count"], vertex_levels=d["vertex_levels"],
                 boundary=d["boundary"].astype(bool), regions=d["regions"],
                 region_names=dict(d["region_names"]), faces=d["faces"], face_tags=d["face_tags"],
@@ -456,6 +482,12 @@ def to_vtk(mesh: Mesh):
         a.SetName("region")
         grid.GetCellData().AddArray(a)
         grid.GetCellData().SetActiveScalars("region")
+    for name, values in mesh.cell_data.items():
+        # A tagged face's row 0.
+        padded = np.concatenate([values, np.zeros((len(mesh.face_tags),) + values.shape[1:], values.dtype)])
+        a = numpy_to_vtk(np.ascontiguousarray(padded), deep=True)
+        a.SetName(name)
+        grid.GetCellData().AddArray(a)
     return grid
 
 

@@ -6,8 +6,10 @@ mesh's points, its tetrahedra (the reference solid) and its point data as
 fields, with dtmesh.encode's options as keyword arguments. The tetrahedra's
 regions come from the first cell data array of gmsh:physical, medit:ref,
 region, material, MaterialIds, CellEntityIds (meshenc's default), their
-names from gmsh's field data; what the stream does not hold yet (other cell
-data, cell sets, other cells) is named in a warning.
+names from gmsh's field data; the other numeric cell data on the
+tetrahedra becomes the stream's cell data; what the stream does not hold
+(cell sets, other cells, an array not on every tetrahedron block) is named
+in a warning.
 """
 import warnings
 
@@ -66,8 +68,24 @@ def write(filename, mesh, **options):
             for i in range(len(mesh.cells)))
 
     other_cell_data = [name for name in mesh.cell_data if name != region_array and not same_as_regions(name)]
-    if other_cell_data:
-        left_out.append("cell data " + ", ".join(f"'{name}'" for name in other_cell_data))
+    # Per-cell arrays on the tetrahedra: the stream's cell data (but gmsh's
+    # geometrical entity tags, which meshenc does not read from a .msh
+    # either: the same file gives the same stream both ways).
+    cell_data = {}
+    for name in other_cell_data:
+        if name == "gmsh:geometrical":
+            continue
+        arrays = mesh.cell_data[name]
+        blocks = [np.asarray(arrays[i]) for i in tetra_blocks] if len(arrays) == len(mesh.cells) else []
+        if blocks and all(b.dtype.kind in "iufb" and b.ndim in (1, 2) for b in blocks):
+            cell_data[name] = np.concatenate(blocks)
+    unkept = [name for name in other_cell_data if name not in cell_data and name != "gmsh:geometrical"]
+    if "gmsh:geometrical" in other_cell_data:
+        left_out.append("cell data 'gmsh:geometrical' (gmsh's geometrical entity of each element)")
+    if unkept:
+        left_out.append("cell data " + ", ".join(f"'{name}'" for name in unkept))
+    if cell_data and "cell_data" not in options:
+        options["cell_data"] = cell_data
     if getattr(mesh, "cell_sets", None):
         left_out.append("cell sets " + ", ".join(f"'{name}'" for name in mesh.cell_sets))
     for what in left_out:

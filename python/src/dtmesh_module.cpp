@@ -88,8 +88,8 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
                  std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> faces,
                  std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> face_tags,
                  const std::map<int32_t, std::string>& face_tag_names, const std::vector<FieldIn>& fields,
-                 int qbits, std::optional<double> box, std::optional<double> scale,
-                 std::optional<double> dmax, const std::string& preset,
+                 const std::vector<FieldIn>& cell_fields, int qbits, std::optional<double> box,
+                 std::optional<double> scale, std::optional<double> dmax, const std::string& preset,
                  const std::map<std::string, double>& field_errors) {
   if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must be an N x 3 array");
   const size_t n = static_cast<size_t>(points.shape(0));
@@ -157,6 +157,17 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
     in_fields.push_back({f.name, dtm::value_type(static_cast<dtm::ScalarType>(f.type)), f.components,
                          std::span<const double>(f.values.data(), static_cast<size_t>(f.values.size()))});
   }
+  std::vector<dtm::EncodeInput::Field> in_cell_fields;
+  for (const FieldIn& f : cell_fields) {
+    if (f.type < 0 || f.type > static_cast<int>(dtm::ScalarType::kFloat64))
+      throw py::value_error("cell_data '" + f.name + "': unknown type");
+    if (static_cast<size_t>(f.values.size()) != tets.size() * static_cast<size_t>(f.components))
+      throw py::value_error("cell_data '" + f.name + "' has " + std::to_string(f.values.size()) +
+                            " values, the tetrahedra need " + std::to_string(tets.size() * f.components));
+    in_cell_fields.push_back(
+        {f.name, dtm::value_type(static_cast<dtm::ScalarType>(f.type)), f.components,
+         std::span<const double>(f.values.data(), static_cast<size_t>(f.values.size()))});
+  }
   const dtm::EncodeOptions options = encode_options(qbits, box, scale, dmax, preset, field_errors);
   dtm::EncodeInput input;
   input.points = in_points;
@@ -167,13 +178,17 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
   input.face_tags = tri_tags;
   input.face_tag_names = face_tag_names;
   input.fields = in_fields;
+  input.cell_fields = in_cell_fields;
   std::optional<dtm::StatusOr<dtm::EncodedMesh>> encoded;
   {
     py::gil_scoped_release release;
     encoded.emplace(dtm::encode(input, options));
   }
   if (!encoded->ok()) raise_error(encoded->status().message());
-  const std::string report = dtm::report_json("", (*encoded)->report).dump();
+  // meshenc's report; arrays from numpy leave nothing out.
+  nlohmann::json report_fields = dtm::report_json("", (*encoded)->report);
+  report_fields["left_out"] = nlohmann::json::array();
+  const std::string report = report_fields.dump();
   const auto& of_input = (*encoded)->vertex_of_input;
   py::array_t<uint32_t> vertex_of_input(static_cast<py::ssize_t>(of_input.size()));
   std::memcpy(vertex_of_input.mutable_data(), of_input.data(), of_input.size() * sizeof(uint32_t));
@@ -198,21 +213,27 @@ py::dict level_dict(const dtm::OutputMesh& mesh, int level, int level_count) {
   }
   py::array_t<uint32_t> cells({static_cast<py::ssize_t>(mesh.cells.size()), py::ssize_t{4}});
   if (!mesh.cells.empty()) std::memcpy(cells.mutable_data(), mesh.cells.data(), mesh.cells.size() * 16);
-  py::list fields;
-  for (const dtm::OutputField& f : mesh.fields) {
-    // The stored type's bytes: the low bytes of each value's bits
-    // (two's complement or IEEE; little-endian, as the stream is).
-    const size_t size = static_cast<size_t>(dtm::scalar_size(f.type));
-    std::string raw(f.bits.size() * size, '\0');
-    for (size_t i = 0; i < f.bits.size(); ++i) std::memcpy(&raw[i * size], &f.bits[i], size);
-    fields.append(py::make_tuple(f.name, static_cast<int>(f.type), f.components, py::bytes(raw)));
-  }
+  // Each array as (name, type, components, the stored type's bytes: the low
+  // bytes of each value's bits, two's complement or IEEE, little-endian as
+  // the stream is).
+  const auto arrays = [](const std::vector<dtm::OutputField>& from) {
+    py::list out;
+    for (const dtm::OutputField& f : from) {
+      const size_t size = static_cast<size_t>(dtm::scalar_size(f.type));
+      std::string raw(f.bits.size() * size, '\0');
+      for (size_t i = 0; i < f.bits.size(); ++i) std::memcpy(&raw[i * size], &f.bits[i], size);
+      out.append(py::make_tuple(f.name, static_cast<int>(f.type), f.components, py::bytes(raw)));
+    }
+    return out;
+  };
+  const py::list fields = arrays(mesh.fields);
   py::dict d;
   d["points"] = xyz;
   d["tetrahedra"] = cells;
   d["vertex_levels"] = array_of(mesh.level, {static_cast<py::ssize_t>(n)});
   d["boundary"] = array_of(mesh.boundary, {static_cast<py::ssize_t>(n)});
   d["fields"] = fields;
+  d["cell_data"] = arrays(mesh.cell_fields);
   d["regions"] = array_of(mesh.region, {static_cast<py::ssize_t>(mesh.region.size())});
   d["region_names"] = mesh.region_names;
   py::array_t<uint32_t> faces({static_cast<py::ssize_t>(mesh.faces.size()), py::ssize_t{3}});
@@ -349,8 +370,8 @@ PYBIND11_MODULE(_dtmesh, m) {
       .def(py::init<std::string, int, int, py::array_t<double, py::array::c_style | py::array::forcecast>>());
   m.def("encode", &encode, py::arg("points"), py::arg("tetrahedra"), py::arg("regions"),
         py::arg("region_names"), py::arg("faces"), py::arg("face_tags"), py::arg("face_tag_names"),
-        py::arg("fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"), py::arg("dmax"),
-        py::arg("preset"), py::arg("field_errors"));
+        py::arg("fields"), py::arg("cell_fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"),
+        py::arg("dmax"), py::arg("preset"), py::arg("field_errors"));
   py::class_<Decoder>(m, "Decoder")
       .def(py::init<int, uint64_t>(), py::arg("stop_after_level"), py::arg("max_vertices"))
       .def("feed", &Decoder::feed, py::arg("chunk"), py::arg("meshes"))

@@ -234,12 +234,60 @@ def test_meshio_write_names_what_the_stream_does_not_hold(corpus, tmp_path):
     lines = [str(w.message) for w in said]
     assert any("left out (the stream does not hold it): cells other than tetrahedra (5 triangle)" in m
                for m in lines), lines
-    assert any("cell data 'stress'" in m for m in lines), lines
     assert any("cell sets 'steel'" in m for m in lines), lines
-    # The mesh itself is encoded all the same: the stream of its tetrahedra alone.
+    # The cell data on the tetrahedra is kept (level 0's cells, all ones).
+    assert not any("'stress'" in m for m in lines), lines
+    decoded = dtmesh.decode(out)
+    assert np.all(decoded.cell_data["stress"] == 1)
+    # The mesh itself is encoded all the same: the levels of its tetrahedra alone.
     plain = tmp_path / "plain.dtm"
     meshio.write(plain, meshio.Mesh(points, [("tetra", tets)]), box=256, dmax=2)
-    assert out.read_bytes() == plain.read_bytes()
+    assert np.array_equal(dtmesh.decode(plain).tetrahedra, decoded.tetrahedra)
+
+
+def test_cell_data_through_numpy_meshio_and_vtk(corpus, tmp_path):
+    """Per-cell arrays: level 0's cells carry them, an input cell its own values bit for bit;
+    coarser levels none; meshio and VTK get them as cell data."""
+    points, tets, _ = read_tetgen(corpus["bunny_10k"][0])
+    centroids = points[tets].mean(axis=1)
+    heat = np.sin(centroids[:, 0] / 7).astype(np.float32)
+    velocity = np.stack([centroids[:, 1], -centroids[:, 2], np.arange(len(tets))], axis=1)
+    zone = (np.arange(len(tets)) % 5).astype(np.int16)
+    encoded = dtmesh.encode(points, tets, cell_data={"heat": heat, "velocity": velocity, "zone": zone},
+                            box=256, dmax=2)
+    info = dtmesh.info(encoded.bytes)
+    assert info["version"] == "10.0"
+    assert [c["name"] for c in info["cell_fields"]] == ["heat", "velocity", "zone"]
+    level0 = dtmesh.decode(encoded.bytes)
+    assert level0.cell_data["heat"].dtype == np.float32
+    assert level0.cell_data["velocity"].shape == (level0.tetrahedra.shape[0], 3)
+    # The third component names the input tetrahedron; an input cell has its own values.
+    v = encoded.vertex_of_input
+    by_corners = {tuple(sorted(v[t])): i for i, t in enumerate(tets)}
+    own = 0
+    for k, cell in enumerate(level0.tetrahedra):
+        i = by_corners.get(tuple(sorted(cell)))
+        if i is None:
+            continue
+        own += 1
+        assert level0.cell_data["velocity"][k, 2] == i
+        assert level0.cell_data["heat"][k] == heat[i]
+        assert level0.cell_data["zone"][k] == zone[i]
+    assert own == encoded.report["cells_from_input"] > 0.9 * len(level0.tetrahedra)
+    assert dtmesh.decode(encoded.bytes, 1).cell_data == {}
+    with pytest.raises(ValueError, match="cell_data 'zone'"):
+        dtmesh.encode(points, tets, cell_data={"zone": zone[:-1]})
+    # meshio: cell data, back into a stream with the same values.
+    mesh = level0.to_meshio()
+    assert mesh.cell_data["heat"][0].dtype == np.float32
+    out = tmp_path / "again.dtm"
+    meshio.write(out, mesh, box=256, dmax=2)
+    again = dtmesh.decode(out)
+    assert again.cell_data["heat"].dtype == np.float32
+    assert again.cell_data["zone"].shape == (again.tetrahedra.shape[0],)
+    assert sorted(set(again.cell_data["zone"].tolist())) == [0, 1, 2, 3, 4]
+    grid = level0.to_vtk()
+    assert grid.GetCellData().GetArray("velocity").GetNumberOfComponents() == 3
 
 
 def test_regions_through_numpy_meshio_and_gmsh(tmp_path):

@@ -29,9 +29,12 @@ print(json.dumps({
     "levels": [{"level": l["level"], "vertices": l["vertices"],
                 "new_vertices": l["new_vertices"], "cell_hash": l["cell_hash"]}
                for l in info["levels"]]}, indent=1))' >"$here/$name.expected.json"
-  # With regions (9.0): each level's cells per region label and tagged
+  # With regions (9.0, 10.0): each level's cells per region label and tagged
   # faces per tag, as meshdec writes them (Medit refs).
-  if [ "$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["format"])' "$here/$name.expected.json")" = "dtm 9.0" ]; then
+  local format regions
+  format=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["format"])' "$here/$name.expected.json")
+  regions=$("$info" "$here/$name.dtm" --json | python3 -c 'import json,sys; print(len(json.load(sys.stdin)["regions"]))')
+  if [ "$regions" != 0 ]; then
     local levels
     levels=$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["levels"]))' "$here/$name.expected.json")
     for ((l = 0; l < levels; ++l)); do "$dec" "$here/$name.dtm" --level $l -q -o "$tmp/level$l.mesh"; done
@@ -57,6 +60,31 @@ for entry in expected["levels"]:
 json.dump(expected, open(path, "w"), indent=1)
 PY
   fi
+  # With cell data (10.0): level 0's arrays as meshdec writes them (.vtu),
+  # each as its count and an order-sensitive checksum of its values' bits:
+  # the sum over k of (k + 1) x bits_k modulo 2^64, bits_k the k-th value's
+  # bits in its own type, zero-extended.
+  if [ "$format" = "dtm 10.0" ]; then
+    "$dec" "$here/$name.dtm" -q -o "$tmp/level0.vtu"
+    /usr/bin/python3 - "$here/$name.expected.json" "$tmp/level0.vtu" <<'PY'
+import json, sys
+import meshio, numpy as np
+path, vtu = sys.argv[1], sys.argv[2]
+expected = json.load(open(path))
+mesh = meshio.read(vtu)
+tetra = [i for i, b in enumerate(mesh.cells) if b.type == "tetra"][0]
+arrays = {}
+for name, blocks in mesh.cell_data.items():
+    if name == "region":
+        continue
+    a = np.ascontiguousarray(blocks[tetra]).reshape(-1)
+    bits = a.view(np.dtype("u%d" % a.dtype.itemsize)).astype(object)
+    checksum = sum((k + 1) * int(b) for k, b in enumerate(bits)) % (1 << 64)
+    arrays[name] = {"type": str(a.dtype), "values": int(a.size), "checksum": "%016x" % checksum}
+expected["levels"][-1]["cell_data"] = arrays
+json.dump(expected, open(path, "w"), indent=1)
+PY
+  fi
 }
 make_one torus_288 torus_288.node --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3
 make_one torus_288_paper torus_288.node --scale 25 --dmax 3 --preset paper --quality-guard 0.3 --quality-floor 0
@@ -71,3 +99,18 @@ make_one torus_288_bricks torus_288.node --scale 25 --dmax 3 --bricks --brick-po
 # 9.0: regions (a gmsh part of two materials, data/two_materials.geo).
 xz -dc "$root/data/two_materials.msh.xz" >"$tmp/two_materials.msh"
 make_one two_materials two_materials.msh --quality-floor 0 --dmax 0.2
+# 10.0: the torus with cell data (a float32 of each tetrahedron's centroid
+# and an int16 of its index), as a .vtu (small: every bit of it is flipped
+# by the tests).
+/usr/bin/python3 - "$root/data/torus_288" "$tmp/torus_288_cells.vtu" <<'PY'
+import sys
+import meshio, numpy as np
+base, out = sys.argv[1], sys.argv[2]
+points = np.loadtxt(base + ".node", comments="#", skiprows=2)[:, 1:4]
+tets = np.loadtxt(base + ".ele", comments="#", skiprows=1, dtype=np.int64)[:, 1:5]
+c = points[tets].mean(axis=1)
+heat = (20 + 5 * np.sin(c[:, 0]) * np.cos(c[:, 1]) + c[:, 2]).astype(np.float32)
+zone = (np.arange(len(tets)) % 9 - 4).astype(np.int16)
+meshio.write(out, meshio.Mesh(points, [("tetra", tets)], cell_data={"heat": [heat], "zone": [zone]}))
+PY
+make_one torus_288_cells torus_288_cells.vtu --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3

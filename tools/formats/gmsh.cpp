@@ -107,6 +107,8 @@ class GmshReader {
       } else if (section == "$NodeData") {
         if (!have_nodes) c_.fail("$NodeData before $Nodes");
         node_data();
+      } else if (section == "$ElementData") {
+        element_data();
       } else if (section == "$PhysicalNames") {
         physical_names();
       } else if (section == "$Entities" && v4_) {
@@ -261,6 +263,9 @@ class GmshReader {
                               ")");
     if (!partial_node_data_.empty())
       out_.left_out.push_back("$NodeData not given at every node (" + joined(partial_node_data_) + ")");
+    if (!partial_element_data_.empty())
+      out_.left_out.push_back("$ElementData not given at every tetrahedron (" +
+                              joined(partial_element_data_) + ")");
     if (!skipped_data_.empty()) out_.left_out.push_back("sections $" + joined(skipped_data_));
   }
 
@@ -333,6 +338,10 @@ class GmshReader {
     }
     if (type == kGmshTetrahedron) {
       if (f.size() - skip != 4) c_.fail("a tetrahedron with " + std::to_string(f.size() - skip) + " nodes");
+      int64_t tag = 0;
+      const auto [end, ec] = std::from_chars(f[0].data(), f[0].data() + f[0].size(), tag);
+      if (ec != std::errc()) c_.fail("expected an element tag, found '" + std::string(f[0]) + "'");
+      note_tetrahedron(tag);
       out_.tets.push_back(t);
       tet_tag_.push_back(tag_);
     } else if (type == kGmshTriangle && f.size() - skip == 3) {
@@ -341,6 +350,12 @@ class GmshReader {
     } else {
       ++other_elements_[type];
     }
+  }
+
+  // The element tag of the tetrahedron about to be added ($ElementData names it).
+  void note_tetrahedron(int64_t element_tag) {
+    if (!tet_of_element_.emplace(element_tag, static_cast<uint32_t>(out_.tets.size())).second)
+      c_.fail("two elements are tagged " + std::to_string(element_tag));
   }
 
   // The tag of the tetrahedron read next: its physical tag (2.x: the first
@@ -418,7 +433,7 @@ class GmshReader {
     out_.points.push_back({p[0], p[1], p[2]});
   }
   // A binary element's node tags, `per` of them `size` bytes each.
-  void binary_element(std::string_view nodes, int type, int per, int size) {
+  void binary_element(int64_t element_tag, std::string_view nodes, int type, int per, int size) {
     std::array<uint32_t, 4> t{};
     for (int k = 0; k < per; ++k) {
       const std::string_view b = nodes.substr(static_cast<size_t>(k) * size);
@@ -428,6 +443,7 @@ class GmshReader {
       if (k < 4) t[k] = it->second;
     }
     if (type == kGmshTetrahedron) {
+      note_tetrahedron(element_tag);
       out_.tets.push_back(t);
       tet_tag_.push_back(tag_);
     } else if (type == kGmshTriangle) {
@@ -469,7 +485,7 @@ class GmshReader {
         if (type == kGmshTetrahedron || type == kGmshTriangle)
           note_volume_tag(tags > 0 ? int32(r.substr(4)) : 0);
         tagged_ = tagged_ || ((type == kGmshTetrahedron || type == kGmshTriangle) && tags > 0);
-        binary_element(r.substr(4 * (1 + tags)), type, per, 4);
+        binary_element(int32(r), r.substr(4 * (1 + tags)), type, per, 4);
       }
       seen += count;
     }
@@ -517,7 +533,8 @@ class GmshReader {
       if (type == kGmshTetrahedron || type == kGmshTriangle) note_volume_tag(entity);
       const std::string_view b = c_.bytes(in_block * record, "the elements");
       for (uint64_t e = 0; e < in_block; ++e)
-        binary_element(b.substr(e * record + 8, record - 8), type, per, 8);
+        binary_element(static_cast<int64_t>(size_t64(b.substr(e * record))),
+                       b.substr(e * record + 8, record - 8), type, per, 8);
       seen += in_block;
     }
     if (seen != n)
@@ -538,15 +555,26 @@ class GmshReader {
     return it->second;
   }
 
+  // A data section's string tags, one a line (gmsh quotes them; a name may
+  // hold blanks): the first is the view's name.
+  std::string view_name() {
+    const int strings = c_.number<int>("a string tag count");
+    std::string name;
+    if (strings > 0) c_.skip_to_next_line();
+    for (int i = 0; i < strings; ++i) {
+      std::string_view s = c_.rest_of_line();
+      while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+      while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+      if (s.empty()) c_.fail("expected a string tag");
+      if (i == 0) name = s.size() >= 2 && s.front() == '"' && s.back() == '"' ? s.substr(1, s.size() - 2) : s;
+    }
+    return name;
+  }
+
   // A view's values at the nodes: kept when it covers every node once.
   void node_data() {
     VertexField f;
-    const int strings = c_.number<int>("a string tag count");
-    for (int i = 0; i < strings; ++i) {
-      std::string s(c_.token("a string tag"));
-      if (i == 0)
-        f.name = s.size() >= 2 && s.front() == '"' && s.back() == '"' ? s.substr(1, s.size() - 2) : s;
-    }
+    f.name = view_name();
     const int reals = c_.number<int>("a real tag count");
     for (int i = 0; i < reals; ++i) c_.number<double>("a real tag");
     const int ints = c_.number<int>("an integer tag count");
@@ -590,6 +618,56 @@ class GmshReader {
                                    std::to_string(out_.points.size()) + " nodes");
   }
 
+  // A view's values on the elements: kept as cell data when it covers every
+  // tetrahedron once (entries on other elements are not the mesh's).
+  void element_data() {
+    VertexField f;
+    f.name = view_name();
+    const int reals = c_.number<int>("a real tag count");
+    for (int i = 0; i < reals; ++i) c_.number<double>("a real tag");
+    const int ints = c_.number<int>("an integer tag count");
+    if (ints < 3) c_.fail("$ElementData needs 3 integer tags (step, components, entries)");
+    const int64_t step = c_.number<int64_t>("a time step");
+    f.components = c_.number<int>("a component count");
+    const uint64_t entries = c_.count("an entry count", c_.remaining() / 4);
+    for (int i = 3; i < ints; ++i) c_.number<int64_t>("an integer tag");
+    if (f.components < 1 || f.components > 9) c_.fail("bad component count");
+    const size_t tets = out_.tets.size();
+    f.values.assign(tets * f.components, 0.0);
+    std::vector<uint8_t> seen(tets, 0);
+    uint64_t distinct = 0;
+    const auto take = [&](int64_t tag, auto&& value) {
+      const auto it = tet_of_element_.find(tag);
+      if (it == tet_of_element_.end()) return;  // another element's
+      distinct += !seen[it->second];
+      seen[it->second] = 1;
+      for (int k = 0; k < f.components; ++k) f.values[it->second * f.components + k] = value(k);
+    };
+    if (binary_) {
+      const uint64_t record = 4 + 8 * static_cast<uint64_t>(f.components);
+      c_.skip_to_next_line();
+      if (entries > c_.remaining() / record) c_.fail("$ElementData announces more than the file holds");
+      const std::string_view b = c_.bytes(entries * record, "element data");
+      for (uint64_t e = 0; e < entries; ++e)
+        take(int32(b.substr(e * record)), [&](int k) { return float64(b.substr(e * record + 4 + 8 * k)); });
+    } else {
+      for (uint64_t e = 0; e < entries; ++e) {
+        const int64_t tag = c_.number<int64_t>("an element tag");
+        std::array<double, 9> v{};
+        for (int k = 0; k < f.components; ++k) v[k] = c_.number<double>("a value");
+        take(tag, [&](int k) { return v[k]; });
+      }
+    }
+    // A view of several time steps: one array a step.
+    for (const VertexField& g : out_.cell_fields)
+      if (g.name == f.name) f.name += " (step " + std::to_string(step) + ")";
+    if (tets > 0 && distinct == tets)
+      out_.cell_fields.push_back(std::move(f));
+    else
+      partial_element_data_.push_back("'" + f.name + "' at " + std::to_string(distinct) + " of " +
+                                      std::to_string(tets) + " tetrahedra");
+  }
+
   TextCursor c_;
   bool v4_ = false;
   bool binary_ = false;  // file type 1
@@ -604,9 +682,10 @@ class GmshReader {
   std::vector<int64_t> tri_tag_;         // per triangle
   std::map<int, int> surface_physical_;  // 4.1: surface entity -> its first physical group
   std::map<int32_t, std::string> surface_names_;
-  std::vector<std::string> physical_names_, partial_node_data_;
+  std::vector<std::string> physical_names_, partial_node_data_, partial_element_data_;
   std::set<std::string> skipped_data_;
   std::unordered_map<int64_t, uint32_t> index_of_;
+  std::unordered_map<int64_t, uint32_t> tet_of_element_;  // element tag -> tetrahedron
   InputMesh out_;
 };
 
@@ -746,6 +825,30 @@ std::string render_gmsh(const OutputMesh& m) {
       out += '\n';
     }
     out += "$EndNodeData\n";
+  }
+  // Cell data, an entry for every element in the order $Elements lists them
+  // (meshio's reader takes the entries in that order, whatever their tags):
+  // a tagged face's 0, then each tetrahedron's values.
+  for (const OutputField& f : m.cell_fields) {
+    if (f.components != 1 && f.components != 3 && f.components != 9) continue;
+    out += "$ElementData\n1\n\"" + f.name + "\"\n1\n0\n3\n0\n" + std::to_string(f.components) + "\n" +
+           std::to_string(elements) + "\n";
+    for (const auto& block : face_blocks)
+      for (size_t face : block) {
+        append_number(out, t + face + 1);
+        for (int k = 0; k < f.components; ++k) out += " 0";
+        out += '\n';
+      }
+    for (const auto& block : blocks)
+      for (size_t c : block) {
+        append_number(out, c + 1);
+        for (int k = 0; k < f.components; ++k) {
+          out += ' ';
+          append_scalar_text(out, f.bits[c * f.components + k], f.type);
+        }
+        out += '\n';
+      }
+    out += "$EndElementData\n";
   }
   return out;
 }

@@ -134,10 +134,16 @@ void choose_regions(InputMesh& in, const std::string& name, const std::string& p
       in.tet_regions = std::move(values);
       in.region_source = "cell array '" + n + "'";
     } else {
-      in.left_out.push_back("the integer cell array '" + n + "'");
+      // Not the regions: cell data, in the type the file stores.
+      VertexField& f = in.cell_fields.emplace_back();
+      f.name = n;
+      f.values.assign(values.begin(), values.end());
+      const auto type = in.tet_array_types.find(n);
+      f.type = type != in.tet_array_types.end() ? type->second : ScalarType::kInt32;
     }
   }
   in.tet_arrays.clear();
+  in.tet_array_types.clear();
   // A .vtu's triangles: tagged by the same array (as gmsh's physical tags
   // are, through meshio), else named.
   if (!in.tagged_faces.empty() && in.face_tags.empty()) {

@@ -42,7 +42,7 @@ InputMesh read_input(const std::string& path, std::optional<InputFormat> format 
 inline constexpr const char* kRegionArrayNames[] = {"gmsh:physical", "medit:ref",   "region",
                                                     "material",      "MaterialIds", "CellEntityIds"};
 // Makes `name` (empty: the first of kRegionArrayNames the file has) of
-// in.tet_arrays the regions, and names the other arrays as left out.
+// in.tet_arrays the regions, and the other arrays cell data (cell_fields).
 // Throws FormatError naming `path` if a name is given and absent.
 void choose_regions(InputMesh& in, const std::string& name, const std::string& path);
 

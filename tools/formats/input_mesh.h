@@ -17,8 +17,9 @@
 
 namespace dtm {
 
-// One per-vertex array of the input: `components` values per point, point
-// after point (values.size() == components * points), and the type the file
+// One per-vertex array of the input (or, as InputMesh::cell_fields, one
+// per-cell array): `components` values per point, point after point
+// (values.size() == components * points), and the type the file
 // stores them in (what a lossless coding must give back). Held as doubles:
 // exact for every type but 64-bit integers beyond 2^53.
 struct VertexField {
@@ -46,6 +47,12 @@ struct InputMesh {
   // tetrahedron, in the order of `tets`): one of them may be the regions
   // (choose_regions(), tools/formats/input.h).
   std::map<std::string, std::vector<int32_t>> tet_arrays;
+  std::map<std::string, ScalarType> tet_array_types;  // the type each one is stored in
+  // Per-cell arrays on the tetrahedra (element results, material
+  // properties: a VTU/VTK cell array, gmsh $ElementData), `components`
+  // values per tetrahedron in the order of `tets`. The integer arrays of
+  // tet_arrays that are not the regions join them (choose_regions()).
+  std::vector<VertexField> cell_fields;
   // The file's triangles with their tags (gmsh physical surfaces, Medit
   // triangle refs, a .vtu's triangles with the regions' array): where a
   // simulation sets its boundary conditions. Indices into points.

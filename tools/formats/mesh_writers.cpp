@@ -38,6 +38,11 @@ void validate(const OutputMesh& m) {
   for (const auto& f : m.faces)
     for (uint32_t v : f)
       if (v >= n) throw std::invalid_argument("mesh writer: a face names vertex " + std::to_string(v));
+  for (const OutputField& f : m.cell_fields)
+    if (f.components < 1 || f.bits.size() != m.cells.size() * f.components)
+      throw std::invalid_argument("mesh writer: cell array '" + f.name + "' has " +
+                                  std::to_string(f.bits.size()) + " values for " +
+                                  std::to_string(m.cells.size()) + " cells");
   if (!m.region.empty() && m.region.size() != m.cells.size())
     throw std::invalid_argument("mesh writer: " + std::to_string(m.region.size()) + " regions for " +
                                 std::to_string(m.cells.size()) + " cells");
@@ -213,6 +218,12 @@ std::vector<int32_t> physical_tags(const OutputMesh& m) {
   return out;
 }
 
+std::vector<OutputField> cell_and_face_fields(const OutputMesh& m) {
+  std::vector<OutputField> out = m.cell_fields;
+  for (OutputField& f : out) f.bits.resize((m.cells.size() + m.faces.size()) * f.components, 0);
+  return out;
+}
+
 namespace {
 
 std::string render_vtu(const OutputMesh& m, bool binary) {
@@ -254,9 +265,10 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
     for (const OutputField& f : m.fields) field_array(out, f, binary);
     out += "      </PointData>\n";
   }
-  if (!physical.empty()) {
-    out += "      <CellData Scalars=\"region\">\n";
-    data_array(out, "Int32", "region", 1, 1, physical, binary);
+  if (!physical.empty() || !m.cell_fields.empty()) {
+    out += physical.empty() ? "      <CellData>\n" : "      <CellData Scalars=\"region\">\n";
+    if (!physical.empty()) data_array(out, "Int32", "region", 1, 1, physical, binary);
+    for (const OutputField& f : cell_and_face_fields(m)) field_array(out, f, binary);
     out += "      </CellData>\n";
   }
   out += "      <Points>\n";

@@ -53,7 +53,16 @@ struct OutputMesh {
   std::vector<std::array<uint32_t, 3>> faces;
   std::vector<int32_t> face_tags;
   std::map<int32_t, std::string> face_tag_names;
+  // Optional: per-cell arrays (level 0 of a 10.0 stream), cell-major bits
+  // of each cell of `cells`. Written as VTU/VTK cell data (a tagged face's
+  // row 0) and gmsh $ElementData (1, 3 or 9 components); Medit, TetGen
+  // and the surface formats have no place for them.
+  std::vector<OutputField> cell_fields;
 };
+
+// The cell arrays padded to the cells and the faces after them (a face's
+// row 0), as VTU and VTK files hold them.
+std::vector<OutputField> cell_and_face_fields(const OutputMesh& m);
 
 // Per cell of a VTU/VTK file (the tetrahedra, then the tagged faces): the
 // cell data "region", as gmsh's physical tags: a tetrahedron's region (0

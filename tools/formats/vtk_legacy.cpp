@@ -76,7 +76,7 @@ class LegacyReader {
       } else if (key == "SCALARS" || key == "VECTORS" || key == "NORMALS" || key == "TEXTURE_COORDINATES" ||
                  key == "TENSORS") {
         if (!in_data) c_.fail(key + " outside POINT_DATA or CELL_DATA");
-        VertexField f{std::string(c_.token("an array name")), 3, {}};
+        VertexField f{unescaped(c_.token("an array name")), 3, {}};
         if (key == "TENSORS") f.components = 9;
         if (key == "TEXTURE_COORDINATES") f.components = c_.number<int>("a dimension");
         const std::string type(c_.token("a value type"));
@@ -101,12 +101,12 @@ class LegacyReader {
         if (in_point_data)
           out_.fields.push_back(std::move(f));
         else
-          cell_arrays_.push_back("'" + f.name + "'");
+          cell_data_.push_back(std::move(f));
       } else if (key == "FIELD") {
         c_.token("a field name");
         const uint64_t arrays = c_.count("an array count", c_.remaining() / 4);
         for (uint64_t a = 0; a < arrays; ++a) {
-          VertexField f{std::string(c_.token("an array name")), 0, {}};
+          VertexField f{unescaped(c_.token("an array name")), 0, {}};
           f.components = c_.number<int>("a component count");
           const uint64_t tuples = c_.count("a tuple count", c_.remaining());
           if (f.components < 1 || f.components > 64)
@@ -120,7 +120,10 @@ class LegacyReader {
                       std::to_string(out_.points.size()) + " points");
             out_.fields.push_back(std::move(f));
           } else if (!in_point_data && in_data) {
-            cell_arrays_.push_back("'" + f.name + "'");
+            if (tuples != data_count)
+              c_.fail("array '" + f.name + "' has " + std::to_string(tuples) + " tuples in CELL_DATA " +
+                      std::to_string(data_count));
+            cell_data_.push_back(std::move(f));
           }
         }
       } else if (key == "METADATA") {
@@ -133,8 +136,9 @@ class LegacyReader {
       }
     }
     if (!have_points) throw FormatError(c_.path() + ": no POINTS section");
+    const size_t cells = cell_offsets.empty() ? 0 : cell_offsets.size() - 1;
+    std::vector<size_t> tet_cells;  // the VTK cell index of each tetrahedron
     if (cell_offsets.size() > 1 || !cell_types.empty()) {
-      const size_t cells = cell_offsets.empty() ? 0 : cell_offsets.size() - 1;
       if (cell_types.size() != cells)
         throw FormatError(c_.path() + ": " + std::to_string(cell_types.size()) + " CELL_TYPES for " +
                           std::to_string(cells) + " CELLS");
@@ -154,13 +158,65 @@ class LegacyReader {
         out_.tets.push_back(
             {static_cast<uint32_t>(connectivity[b]), static_cast<uint32_t>(connectivity[b + 1]),
              static_cast<uint32_t>(connectivity[b + 2]), static_cast<uint32_t>(connectivity[b + 3])});
+        tet_cells.push_back(i);
       }
     }
+    keep_cell_data(cells, tet_cells);
     note_left_out();
     return std::move(out_);
   }
 
  private:
+  // An array name as VTK writes it: a blank or another byte it escapes as
+  // %XX (two hex digits).
+  static std::string unescaped(std::string_view name) {
+    std::string out;
+    for (size_t i = 0; i < name.size(); ++i) {
+      unsigned value = 0;
+      if (name[i] == '%' && i + 2 < name.size() &&
+          std::from_chars(name.data() + i + 1, name.data() + i + 3, value, 16).ptr == name.data() + i + 3) {
+        out += static_cast<char>(value);
+        i += 2;
+      } else {
+        out += name[i];
+      }
+    }
+    return out;
+  }
+
+  // CELL_DATA on the tetrahedra: an integer array of one component may be
+  // the regions (InputMesh::tet_arrays), any other is cell data.
+  void keep_cell_data(size_t cells, const std::vector<size_t>& tet_cells) {
+    for (VertexField& f : cell_data_) {
+      if (f.values.size() != cells * static_cast<size_t>(f.components))
+        throw FormatError(c_.path() + ": CELL_DATA array '" + f.name + "' has " +
+                          std::to_string(f.values.size() / static_cast<size_t>(f.components)) +
+                          " tuples for " + std::to_string(cells) + " cells");
+      if (tet_cells.empty()) {
+        cell_arrays_.push_back("'" + f.name + "'");
+        continue;
+      }
+      const auto n = static_cast<size_t>(f.components);
+      if (n == 1 && is_integer(f.type)) {
+        std::vector<int32_t>& into = out_.tet_arrays[f.name];
+        for (size_t c : tet_cells) {
+          const double v = f.values[c];
+          if (!(v >= INT32_MIN && v <= INT32_MAX))
+            throw FormatError(c_.path() + ": CELL_DATA '" + f.name + "': a value out of the 32-bit range");
+          into.push_back(static_cast<int32_t>(v));
+        }
+        out_.tet_array_types[f.name] = f.type;
+        continue;
+      }
+      VertexField& kept = out_.cell_fields.emplace_back();
+      kept.name = f.name, kept.components = f.components, kept.type = f.type;
+      kept.values.reserve(tet_cells.size() * n);
+      for (size_t c : tet_cells)
+        for (size_t j = 0; j < n; ++j) kept.values.push_back(f.values[c * n + j]);
+    }
+    cell_data_.clear();
+  }
+
   // What the file holds that the mesh read does not (InputMesh::left_out).
   void note_left_out() {
     std::string names;
@@ -247,7 +303,8 @@ class LegacyReader {
   TextCursor c_;
   bool binary_ = false;
   InputMesh out_;
-  std::vector<std::string> cell_arrays_;     // CELL_DATA arrays seen, quoted
+  std::vector<std::string> cell_arrays_;     // CELL_DATA arrays left out, quoted
+  std::vector<VertexField> cell_data_;       // CELL_DATA arrays, per cell
   std::map<int64_t, uint64_t> other_cells_;  // cells that are not tetrahedra, by VTK type
 };
 
@@ -295,11 +352,36 @@ std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
   out += "CELL_TYPES " + std::to_string(cells) + "\n";
   for (size_t i = 0; i < cells; ++i) put(int32_t{i < m.cells.size() ? kVtkTetra : kVtkTriangle}, true);
   end_section();
-  if (const std::vector<int32_t> physical = physical_tags(m); !physical.empty()) {
-    out += "CELL_DATA " + std::to_string(cells) + "\nFIELD FieldData 1\nregion 1 " + std::to_string(cells) +
-           " int\n";
-    for (int32_t v : physical) put(v, true);
+  constexpr const char* kTypeNames[] = {"char",  "unsigned_char", "short",        "unsigned_short",
+                                        "int",   "unsigned_int",  "vtktypeint64", "vtktypeuint64",
+                                        "float", "double"};
+  // An array of a FIELD block: its name (VTK writes a blank inside one as
+  // %20), components, tuples and type, then its values.
+  const auto field_array = [&](const OutputField& f, size_t tuples) {
+    std::string name;
+    for (char ch : f.name) name += ch == ' ' ? std::string("%20") : std::string(1, ch);
+    out += name + " " + std::to_string(f.components) + " " + std::to_string(tuples) + " " +
+           kTypeNames[static_cast<int>(f.type)] + "\n";
+    for (size_t i = 0; i < f.bits.size(); ++i) {
+      if (binary) {
+        append_scalar_binary(out, f.bits[i], f.type, true);
+      } else {
+        append_scalar_text(out, f.bits[i], f.type);
+        out += (i + 1) % f.components == 0 ? '\n' : ' ';
+      }
+    }
     end_section();
+  };
+  const std::vector<int32_t> physical = physical_tags(m);
+  if (!physical.empty() || !m.cell_fields.empty()) {
+    out += "CELL_DATA " + std::to_string(cells) + "\nFIELD FieldData " +
+           std::to_string(!physical.empty() + m.cell_fields.size()) + "\n";
+    if (!physical.empty()) {
+      out += "region 1 " + std::to_string(cells) + " int\n";
+      for (int32_t v : physical) put(v, true);
+      end_section();
+    }
+    for (const OutputField& f : cell_and_face_fields(m)) field_array(f, cells);
   }
   // Point data as one FIELD block: VTK's legacy reader keeps only the first
   // SCALARS of a file unless asked for all, but always reads every FIELD array.
@@ -317,25 +399,7 @@ std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
     for (uint8_t v : m.boundary) put(v, true);
     end_section();
   }
-  constexpr const char* kTypeNames[] = {"char",  "unsigned_char", "short",        "unsigned_short",
-                                        "int",   "unsigned_int",  "vtktypeint64", "vtktypeuint64",
-                                        "float", "double"};
-  for (const OutputField& f : m.fields) {
-    // Legacy names end at a blank: VTK writes one inside a name as %20.
-    std::string name;
-    for (char ch : f.name) name += ch == ' ' ? std::string("%20") : std::string(1, ch);
-    out += name + " " + std::to_string(f.components) + " " + std::to_string(m.points.size()) + " " +
-           kTypeNames[static_cast<int>(f.type)] + "\n";
-    for (size_t i = 0; i < f.bits.size(); ++i) {
-      if (binary) {
-        append_scalar_binary(out, f.bits[i], f.type, true);
-      } else {
-        append_scalar_text(out, f.bits[i], f.type);
-        out += (i + 1) % f.components == 0 ? '\n' : ' ';
-      }
-    }
-    end_section();
-  }
+  for (const OutputField& f : m.fields) field_array(f, m.points.size());
   return out;
 }
 

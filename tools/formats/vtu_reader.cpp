@@ -326,18 +326,43 @@ class VtuReader {
     std::vector<uint64_t> triangles;
     const std::vector<uint64_t> tets = read_cells(piece, cells, n, first, out, triangles);
     // Integer cell arrays of one component may be the regions
-    // (InputMesh::tet_arrays): kept on the tetrahedra. Others are named.
+    // (InputMesh::tet_arrays); every other array is cell data
+    // (InputMesh::cell_fields). Both are kept on the tetrahedra; an array
+    // not in every piece is named as left out.
     std::set<std::string> here;
+    size_t cell_fields = 0;
     if (const Element* cd = optional_child(piece, "CellData"))
       for (size_t id : cd->children) {
         const Element& da = p_.element(id);
         if (da.name != "DataArray") continue;
         const std::string name = da.attr("Name") ? *da.attr("Name") : "unnamed";
-        const auto* t = da.attr("type");
-        const auto type = t ? xml_type(*t) : std::nullopt;
-        const bool integer = type && *type != ScalarType::kFloat32 && *type != ScalarType::kFloat64;
-        if (!integer || count_attr(da, "NumberOfComponents", 1) != 1 ||
-            (k > 0 && !out.tet_arrays.count(name))) {
+        // The type the file stores (an unknown one is read as float64).
+        ScalarType type = ScalarType::kFloat64;
+        if (const auto* t = da.attr("type"))
+          if (const auto known = xml_type(*t)) type = *known;
+        const bool integer = is_integer(type);
+        const int components = static_cast<int>(count_attr(da, "NumberOfComponents", 1));
+        if (components < 1 || components > 64) p_.fail_at(da.offset, "NumberOfComponents must be 1 to 64");
+        if (!integer || components != 1) {
+          const bool known =
+              k == 0 || (cell_fields < out.cell_fields.size() && out.cell_fields[cell_fields].name == name &&
+                         out.cell_fields[cell_fields].components == components);
+          if (!known) {
+            cell_arrays_.insert(name);
+            continue;
+          }
+          const auto values = array(da, cells, components);
+          if (k == 0) {
+            VertexField& f = out.cell_fields.emplace_back();
+            f.name = name, f.components = components;
+            f.type = type;
+          }
+          std::vector<double>& into = out.cell_fields[cell_fields++].values;
+          for (uint64_t c : tets)
+            for (int j = 0; j < components; ++j) into.push_back(values[c * components + j]);
+          continue;
+        }
+        if (k > 0 && !out.tet_arrays.count(name)) {
           cell_arrays_.insert(name);
           continue;
         }
@@ -351,9 +376,10 @@ class VtuReader {
         };
         keep_on(tets, out.tet_arrays[name]);
         keep_on(triangles, out.triangle_arrays[name]);
+        out.tet_array_types[name] = type;
         here.insert(name);
       }
-    // An array not in every piece is not a label of every tetrahedron.
+    // An array not in every piece is not a value of every tetrahedron.
     for (auto it = out.tet_arrays.begin(); it != out.tet_arrays.end();)
       if (!here.count(it->first)) {
         cell_arrays_.insert(it->first);
@@ -362,6 +388,10 @@ class VtuReader {
       } else {
         ++it;
       }
+    while (k > 0 && cell_fields < out.cell_fields.size()) {
+      cell_arrays_.insert(out.cell_fields.back().name);
+      out.cell_fields.pop_back();
+    }
   }
 
   // What the file holds that the mesh read does not (InputMesh::left_out).

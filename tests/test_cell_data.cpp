@@ -1,0 +1,410 @@
+// Cell data (spec/FORMAT.md §2.4, §3.8; core/cell_sources.h): level 0's
+// cells carry the input's per-cell arrays, a cell that is an input
+// tetrahedron its own values bit for bit, any other those of an input
+// tetrahedron holding its centroid (found here by a search of every input
+// tetrahedron, not the encoder's); coarser levels carry none; lossy arrays
+// stay within their bound; damaged tables and sections are refused, every
+// truncation ends cleanly; the readers and writers of VTU, VTK and gmsh
+// carry the arrays.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "codec/decode.h"
+#include "codec/encode.h"
+#include "codec/sections/cell_values.h"
+#include "codec/stream/format.h"
+#include "core/quantize.h"
+#include "mesh/delaunay.h"
+#include "mesh/topology.h"
+#include "test_support.h"
+#include "tools/decoded_mesh.h"
+#include "tools/field_types.h"
+#include "tools/formats/input.h"
+#include "tools/formats/mesh_writers.h"
+
+namespace dtm {
+namespace {
+
+using Tet = std::array<uint32_t, 4>;
+using P4 = std::array<int64_t, 3>;
+
+// Random points on a 10-bit grid and their Delaunay tetrahedra; encoded on
+// a coarser grid (7 bits), where quantization moves the points, so that
+// level 0 (the Delaunay tetrahedralization of the moved points) has cells
+// that are not the input's. Each tetrahedron's values name it: a float64
+// t / 2 + 1/4, a float32 x 3 (t, -t, t / 8) and a uint8 t mod 7.
+struct CellInput {
+  std::vector<InputPoint> points;
+  std::vector<Tet> tets;
+  std::vector<double> pressure, stress, material;
+  std::vector<EncodeInput::Field> fields() const {
+    return {{"pressure", ValueType::kF64, 1, pressure},
+            {"stress", ValueType::kF32, 3, stress},
+            {"material", ValueType::kU8, 1, material}};
+  }
+};
+
+CellInput block(size_t count, uint32_t seed) {
+  CellInput in;
+  const std::vector<GridPoint> g = test::random_grid_points(count, 10, seed);
+  for (const GridPoint& p : g) in.points.push_back({double(p.x), double(p.y), double(p.z)});
+  in.tets = delaunay_tetrahedralize(g).value().cells;
+  for (size_t t = 0; t < in.tets.size(); ++t) {
+    const double d = static_cast<double>(t);
+    in.pressure.push_back(d / 2 + 0.25);
+    in.stress.insert(in.stress.end(), {d, -d, d / 8});
+    in.material.push_back(static_cast<double>(t % 7));
+  }
+  return in;
+}
+
+struct Encoded {
+  std::vector<uint8_t> bytes;
+  EncodeReport report;
+};
+
+Encoded encode_cells(const CellInput& in, const EncodeOptions& options) {
+  const std::vector<EncodeInput::Field> fields = in.fields();
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  input.cell_fields = fields;
+  auto encoded = encode(input, options);
+  EXPECT_TRUE(encoded.ok()) << encoded.status().message();
+  if (!encoded.ok()) return {};
+  return {encoded->bytes, encoded->report};
+}
+
+EncodeOptions coarse_grid() {
+  EncodeOptions o;
+  o.qbits = 7;
+  o.dmax = 20;
+  return o;
+}
+
+int orientation(const P4& a, const P4& b, const P4& c, const P4& d) {
+  const __int128 bx = b[0] - a[0], by = b[1] - a[1], bz = b[2] - a[2];
+  const __int128 cx = c[0] - a[0], cy = c[1] - a[1], cz = c[2] - a[2];
+  const __int128 dx = d[0] - a[0], dy = d[1] - a[1], dz = d[2] - a[2];
+  const __int128 det = bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx);
+  return det > 0 ? 1 : det < 0 ? -1 : 0;
+}
+
+bool holds(const std::array<P4, 4>& t, const P4& p) {
+  const int o = orientation(t[0], t[1], t[2], t[3]);
+  return o != 0 && orientation(p, t[1], t[2], t[3]) * o >= 0 && orientation(t[0], p, t[2], t[3]) * o >= 0 &&
+         orientation(t[0], t[1], p, t[3]) * o >= 0 && orientation(t[0], t[1], t[2], p) * o >= 0;
+}
+
+P4 times4(const GridPoint& p) { return {4 * int64_t{p.x}, 4 * int64_t{p.y}, 4 * int64_t{p.z}}; }
+
+// The input tetrahedron whose values a decoded cell carries: its pressure
+// names it (t / 2 + 1/4, exact in float64).
+uint32_t named(double pressure) { return static_cast<uint32_t>(std::lround((pressure - 0.25) * 2)); }
+
+TEST(CellData, LevelZeroCarriesTheInputsValuesAndCoarserLevelsNone) {
+  const CellInput in = block(1500, 5);
+  const Encoded e = encode_cells(in, coarse_grid());
+  ASSERT_FALSE(e.bytes.empty());
+  ASSERT_EQ(e.report.cell_fields.size(), 3u);
+  EXPECT_GT(e.report.cells_from_input, 0u);
+  ASSERT_LT(e.report.cells_from_input, e.report.level0_cells) << "every cell an input one: nothing to test";
+  ASSERT_GE(e.report.levels.size(), 2u);
+
+  // The input's tetrahedra on the encoder's grid.
+  const QuantizedPoints q = quantize(in.points, 7).value();
+  std::map<std::array<GridPoint, 4>, std::set<uint32_t>> by_corners;
+  std::vector<std::array<P4, 4>> corners(in.tets.size());
+  for (uint32_t t = 0; t < in.tets.size(); ++t) {
+    std::array<GridPoint, 4> k;
+    for (size_t i = 0; i < 4; ++i) {
+      k[i] = q.points[q.input_to_point[in.tets[t][i]]];
+      corners[t][i] = times4(k[i]);
+    }
+    std::sort(k.begin(), k.end());
+    by_corners[k].insert(t);
+  }
+
+  ProgressiveDecoder decoder;
+  int levels = 0;
+  uint64_t exact = 0, holding = 0, elsewhere = 0;
+  ASSERT_TRUE(decoder
+                  .feed(e.bytes,
+                        [&](const ProgressiveDecoder& d, const DecodedLevel& level) {
+                          ++levels;
+                          ASSERT_EQ(d.cell_field_table().size(), 3u);
+                          const TetMesh dt = d.delaunay();
+                          std::vector<uint32_t> order;
+                          const std::vector<uint8_t> kept = d.carving(dt, order);
+                          const std::vector<FieldValues> values = d.cell_data(dt, kept, order);
+                          ASSERT_TRUE(d.mesh_status().ok()) << d.mesh_status().message();
+                          if (level.level != 0) {
+                            EXPECT_TRUE(values.empty()) << "level " << level.level;
+                            return;
+                          }
+                          ASSERT_EQ(values.size(), 3u);
+                          size_t k = 0;
+                          for (uint32_t c : order) {
+                            if (!kept[c]) continue;
+                            const uint32_t t = named(values[0].value(k, 0));
+                            ASSERT_LT(t, in.tets.size());
+                            // Every array names the same input tetrahedron.
+                            EXPECT_EQ(values[1].value(k, 1), -static_cast<double>(t));
+                            EXPECT_EQ(values[1].value(k, 2), static_cast<double>(t) / 8);
+                            EXPECT_EQ(values[2].value(k, 0), static_cast<double>(t % 7));
+                            std::array<GridPoint, 4> corners_of;
+                            P4 centre{0, 0, 0};
+                            for (size_t i = 0; i < 4; ++i) {
+                              corners_of[i] = d.points()[dt.cells[c][i]];
+                              centre[0] += corners_of[i].x, centre[1] += corners_of[i].y,
+                                  centre[2] += corners_of[i].z;
+                            }
+                            std::sort(corners_of.begin(), corners_of.end());
+                            if (const auto it = by_corners.find(corners_of); it != by_corners.end()) {
+                              EXPECT_TRUE(it->second.count(t)) << "an input cell with another's values";
+                              ++exact;
+                            } else if (holds(corners[t], centre)) {
+                              ++holding;
+                            } else {
+                              ++elsewhere;
+                            }
+                            ++k;
+                          }
+                          EXPECT_EQ(k, e.report.level0_cells);
+                        })
+                  .ok());
+  EXPECT_TRUE(decoder.finish().ok());
+  EXPECT_EQ(levels, static_cast<int>(e.report.levels.size()));
+  EXPECT_EQ(exact, e.report.cells_from_input);
+  EXPECT_GT(holding, 0u);
+  EXPECT_EQ(elsewhere, e.report.cells_from_nearest);
+}
+
+TEST(CellData, LossyArraysStayWithinTheirBound) {
+  const CellInput in = block(800, 6);
+  EncodeOptions o;
+  o.field_errors["pressure"] = 0.01;
+  const Encoded e = encode_cells(in, o);
+  ASSERT_FALSE(e.bytes.empty());
+  ASSERT_TRUE(e.report.cell_fields[0].description.lossy);
+  // Here level 0 is nearly the input (Delaunay on a finer grid).
+  EXPECT_GT(e.report.cells_from_input, e.report.level0_cells * 99 / 100);
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(e.bytes, d).ok());
+  const OutputMesh m = decoded_mesh(d, "lossy");
+  ASSERT_EQ(m.cell_fields.size(), 3u);
+  const OutputField& p = m.cell_fields[0];
+  const OutputField& stress = m.cell_fields[1];
+  double worst = 0;
+  for (size_t c = 0; c < m.cells.size(); ++c) {
+    // The lossless stress names the tetrahedron; the pressure is within E.
+    float t = 0;
+    const uint32_t bits = static_cast<uint32_t>(stress.bits[3 * c]);
+    std::memcpy(&t, &bits, 4);
+    double v = 0;
+    std::memcpy(&v, &p.bits[c], 8);
+    worst = std::max(worst, std::abs(v - (t / 2 + 0.25)));
+  }
+  EXPECT_LE(worst, 0.01);
+  EXPECT_GT(worst, 0.0);
+}
+
+TEST(CellData, StreamsWithoutThemAreAsBefore) {
+  const CellInput in = block(500, 7);
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  auto plain = encode(input, EncodeOptions{});
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(plain->bytes[8], kVersionMajorUnbricked);
+  const Encoded with = encode_cells(in, EncodeOptions{});
+  EXPECT_EQ(with.bytes[8], kVersionMajorCellData);
+  // The same levels: only the table and level 0's section differ.
+  ProgressiveDecoder a, b;
+  ASSERT_TRUE(decode_stream(plain->bytes, a).ok());
+  ASSERT_TRUE(decode_stream(with.bytes, b).ok());
+  EXPECT_EQ(a.points(), b.points());
+  EXPECT_EQ(a.carved_cells(), b.carved_cells());
+}
+
+TEST(CellData, RefusedWhereTheStreamCannotCarryThem) {
+  const CellInput in = block(300, 8);
+  std::vector<EncodeInput::Field> fields = in.fields();
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  input.cell_fields = fields;
+  EncodeOptions bricks;
+  bricks.bricks = true;
+  EXPECT_EQ(encode(input, bricks).status().code(), StatusCode::kInvalidInput);
+  EXPECT_EQ(encode(input, EncodeOptions::paper()).status().code(), StatusCode::kInvalidInput);
+  std::vector<double> short_values(3);
+  fields[0].values = short_values;
+  EXPECT_EQ(encode(input, EncodeOptions{}).status().code(), StatusCode::kInvalidInput);
+  fields = in.fields();  // (a new vector: the spans are set again)
+  input.cell_fields = fields;
+  fields[1].name = "pressure";
+  EXPECT_EQ(encode(input, EncodeOptions{}).status().code(), StatusCode::kInvalidInput);
+  EncodeInput points_only;
+  points_only.points = in.points;
+  fields = in.fields();
+  input.cell_fields = fields;
+  points_only.cell_fields = fields;
+  EXPECT_EQ(encode(points_only, EncodeOptions{}).status().code(), StatusCode::kInvalidInput);
+  // A NaN in a lossy array.
+  std::vector<double> with_nan = in.pressure;
+  with_nan[5] = NAN;
+  fields[0].values = with_nan;
+  EncodeOptions lossy;
+  lossy.field_errors["pressure"] = 0.1;
+  EXPECT_EQ(encode(input, lossy).status().code(), StatusCode::kInvalidInput);
+}
+
+// Every prefix decodes to whole levels (level 0 only whole, with its
+// values) or stops as truncated; every bit flipped in the cell field table
+// is caught; the decoder's value limit holds for the cells too.
+TEST(CellData, TruncatedDamagedAndOversizedStreamsEndCleanly) {
+  const CellInput in = block(400, 9);
+  const Encoded e = encode_cells(in, EncodeOptions{});
+  ASSERT_FALSE(e.bytes.empty());
+  for (size_t len = 0; len < e.bytes.size(); len += (len < 300 ? 1 : 53)) {
+    ProgressiveDecoder d;
+    ASSERT_TRUE(d.feed(std::span(e.bytes).first(len)).ok()) << len;
+    EXPECT_EQ(d.finish().code(), StatusCode::kTruncated) << len;
+    if (d.finest_level() >= 0) {
+      const OutputMesh m = decoded_mesh(d, "prefix");
+      EXPECT_TRUE(m.cell_fields.empty()) << len;
+    }
+  }
+  const StreamSummary s = scan_stream(e.bytes);
+  ASSERT_TRUE(s.status.ok()) << s.status.message();
+  ASSERT_EQ(s.cell_fields.size(), 3u);
+  const size_t begin = kHeaderSize + s.tables_bytes() - s.cell_field_table_bytes;
+  for (size_t byte = begin; byte < begin + s.cell_field_table_bytes; ++byte)
+    for (int bit = 0; bit < 8; bit += 3) {
+      std::vector<uint8_t> damaged = e.bytes;
+      damaged[byte] ^= static_cast<uint8_t>(1 << bit);
+      ProgressiveDecoder d;
+      const Status fed = d.feed(damaged);
+      EXPECT_TRUE(!fed.ok() || !d.finish().ok()) << "byte " << byte << " bit " << bit;
+    }
+  DecoderOptions small;
+  small.max_values = e.report.level0_cells * 5 - 1;  // one value short of the 5 components' room
+  ProgressiveDecoder limited(small);
+  ASSERT_TRUE(limited.feed(e.bytes).ok());
+  const TetMesh dt = limited.delaunay();
+  std::vector<uint32_t> order;
+  const std::vector<uint8_t> kept = limited.carving(dt, order);
+  EXPECT_TRUE(limited.cell_data(dt, kept, order).empty());
+  EXPECT_EQ(limited.mesh_status().code(), StatusCode::kLimitExceeded);
+}
+
+// Below the layer checksum: a damaged cell value section is refused or
+// gives every cell its values.
+TEST(CellData, DamagedSectionsGiveValuesOrAnError) {
+  const std::vector<GridPoint> g = test::random_grid_points(120, 8, 3);
+  const TetMesh dt = delaunay_tetrahedralize(g).value();
+  std::vector<std::array<uint32_t, 4>> cells;
+  for (uint32_t c : canonical_cell_order(dt.cells)) cells.push_back(dt.cells[c]);
+  const std::vector<GridPoint> at = cell_positions(g, cells);
+  FieldValues f;
+  f.description.name = "heat";
+  f.description.type = ValueType::kF64;
+  for (size_t c = 0; c < cells.size(); ++c)
+    f.bits.push_back(bits_of(std::sin(0.01 * at[c].x) + c % 3, f.description.type));
+  const std::vector<uint64_t> original = f.bits;
+  auto coder = FieldSectionEncoder::make({f});
+  ASSERT_TRUE(coder.ok());
+  std::vector<uint32_t> ids(cells.size());
+  std::iota(ids.begin(), ids.end(), 0u);
+  std::vector<uint64_t> bytes;
+  const std::vector<uint8_t> section = coder->encode_layer(ids, at, bytes);
+  std::vector<FieldValues> out;
+  ASSERT_TRUE(decode_cell_values(coder->descriptions(), section, at, out).ok());
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].bits, original);
+  int refused = 0;
+  for (size_t byte = 0; byte < section.size(); byte += 11)
+    for (int bit = 0; bit < 8; bit += 2) {
+      std::vector<uint8_t> damaged = section;
+      damaged[byte] ^= static_cast<uint8_t>(1 << bit);
+      const Status s = decode_cell_values(coder->descriptions(), damaged, at, out);
+      if (!s.ok()) {
+        EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+        ++refused;
+        continue;
+      }
+      ASSERT_EQ(out[0].bits.size(), cells.size());
+    }
+  EXPECT_GT(refused, 0);
+  for (size_t len = 0; len < section.size(); len += 5)
+    EXPECT_EQ(decode_cell_values(coder->descriptions(), std::span(section).first(len), at, out).code(),
+              StatusCode::kCorrupt)
+        << len;
+}
+
+// The writers put the arrays where their formats hold cell data, and the
+// readers take them back, bit for bit, in their types.
+TEST(CellData, ReadersAndWritersCarryTheArrays) {
+  const auto dir = std::filesystem::temp_directory_path() / ("dtm_cells_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  OutputMesh m;
+  m.grid.step = 0.5;
+  m.grid.qbits = 6;
+  m.points = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {0, 0, 10}, {10, 10, 10}};
+  m.cells = {{0, 1, 2, 3}, {1, 2, 3, 4}};
+  m.region = {4, 9};
+  m.faces = {{0, 1, 2}};
+  m.face_tags = {3};
+  const auto f64 = [](double v) { return bits_of(v, ValueType::kF64); };
+  const auto f32 = [](double v) { return bits_of(v, ValueType::kF32); };
+  m.cell_fields.push_back({"von mises", ScalarType::kFloat64, 1, {f64(1.5e8), f64(-0.125)}});
+  m.cell_fields.push_back(
+      {"velocity", ScalarType::kFloat32, 3, {f32(1), f32(2), f32(3), f32(-4), f32(0.5), f32(6)}});
+  m.cell_fields.push_back(
+      {"zone", ScalarType::kInt32, 1, {bits_of(-3, ValueType::kI32), bits_of(70000, ValueType::kI32)}});
+  for (const auto& [format, ext] :
+       std::vector<std::pair<MeshFormat, std::string>>{{MeshFormat::kVtu, ".vtu"},
+                                                       {MeshFormat::kVtuAscii, ".vtu"},
+                                                       {MeshFormat::kVtk, ".vtk"},
+                                                       {MeshFormat::kVtkAscii, ".vtk"},
+                                                       {MeshFormat::kGmsh, ".msh"}}) {
+    const std::string path = (dir / ("cells" + ext)).string();
+    for (const auto& [file, text] : render_mesh(m, format, path))
+      std::ofstream(file, std::ios::binary) << text;
+    InputMesh in = read_input(path);
+    choose_regions(in, "", path);
+    SCOPED_TRACE(path);
+    ASSERT_EQ(in.tets.size(), 2u);
+    std::map<std::string, const VertexField*> by_name;
+    for (const VertexField& f : in.cell_fields) by_name[f.name] = &f;
+    for (const OutputField& f : m.cell_fields) {
+      ASSERT_TRUE(by_name.count(f.name)) << f.name;
+      const VertexField& g = *by_name[f.name];
+      EXPECT_EQ(g.components, f.components);
+      ASSERT_EQ(g.values.size(), f.bits.size());
+      for (size_t i = 0; i < f.bits.size(); ++i)
+        EXPECT_EQ(bits_of(g.values[i], value_type(f.type)), f.bits[i]) << f.name << " " << i;
+      // VTU and VTK keep the array's own type; gmsh's $ElementData is float64.
+      if (format != MeshFormat::kGmsh) {
+        EXPECT_EQ(g.type, f.type) << f.name;
+      }
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace dtm
