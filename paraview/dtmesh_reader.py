@@ -11,8 +11,9 @@ File > Open then opens .dtm files. The reader shows one level of the stream's
 hierarchy as an unstructured grid of tetrahedra, with the stream's per-vertex
 fields and, per vertex, `level` (the coarsest level holding it) and
 `boundary`; the regions as cell data `region`, the tagged boundary faces as
-triangles after the tetrahedra (their tag in `region`), and level 0's cell
-arrays as cell data; its Level property runs over the stream's levels (0 = the finest,
+triangles after the tetrahedra (their tag in `region`; and on their own as
+the reader's second output, a polydata with cell data `face_tag`), and level
+0's cell arrays as cell data; its Level property runs over the stream's levels (0 = the finest,
 as meshdec --level counts them). The stream's figures (meshinfo's) are field
 data, in the Information panel.
 
@@ -33,7 +34,7 @@ if not hasattr(inspect, "getargspec"):
 from paraview.util.vtkAlgorithm import VTKPythonAlgorithmBase, smdomain, smhint, smproperty, smproxy  # noqa: E402
 from vtkmodules.numpy_interface import dataset_adapter  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkStringArray  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkPolyData, vtkUnstructuredGrid  # noqa: E402
 
 try:
     import dtmesh
@@ -46,12 +47,17 @@ except ImportError as e:  # said when a file is opened, not when the plugin load
                 file_description="dtmesh progressive tetrahedral meshes")
 class DtmeshReader(VTKPythonAlgorithmBase):
     def __init__(self):
-        VTKPythonAlgorithmBase.__init__(self, nInputPorts=0, nOutputPorts=1, outputType="vtkUnstructuredGrid")
+        VTKPythonAlgorithmBase.__init__(self, nInputPorts=0, nOutputPorts=2, outputType="vtkUnstructuredGrid")
         self._filename = None
         self._level = 0
         self._bytes = None
         self._info = None
         self._meshes = {}  # level -> dtmesh.Mesh, decoded once each
+
+    def FillOutputPortInformation(self, port, info):
+        # Port 0: the level's mesh; port 1: its tagged boundary faces alone.
+        info.Set(vtkDataObject.DATA_TYPE_NAME(), "vtkUnstructuredGrid" if port == 0 else "vtkPolyData")
+        return 1
 
     def _stream(self):
         if self._bytes is None and self._filename:
@@ -109,4 +115,19 @@ class DtmeshReader(VTKPythonAlgorithmBase):
         summary.SetName("dtm_info")
         summary.InsertNextValue(json.dumps(self._info))
         output.GetFieldData().AddArray(summary)
+        # The tagged faces on their own (the second output): triangles with
+        # their tag as cell data `face_tag`, on the level's points.
+        faces = vtkPolyData.GetData(out_info, 1)
+        faces.Initialize()
+        faces.SetPoints(output.GetPoints())
+        from vtkmodules.util.numpy_support import numpy_to_vtk
+        from vtkmodules.vtkCommonDataModel import vtkCellArray
+        triangles = vtkCellArray()
+        for face in mesh.faces:
+            triangles.InsertNextCell(3, [int(v) for v in face])
+        faces.SetPolys(triangles)
+        tags = numpy_to_vtk(np.ascontiguousarray(mesh.face_tags.astype(np.int32)), deep=True)
+        tags.SetName("face_tag")
+        faces.GetCellData().AddArray(tags)
+        faces.GetCellData().SetActiveScalars("face_tag")
         return 1

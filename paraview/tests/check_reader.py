@@ -87,6 +87,14 @@ if regions_stream:
         check(f"regions, level {level}: cell array 'region' on its {grid.GetNumberOfCells()} cells "
               f"(tetrahedra, then tagged faces), labels {seen}",
               region is not None and region.GetNumberOfTuples() == grid.GetNumberOfCells() and seen == labels)
+        # The tagged faces alone, the reader's second output.
+        faces = servermanager.Fetch(parts, None, None, 1)
+        triangles = sum(1 for i in range(grid.GetNumberOfCells()) if grid.GetCellType(i) == 5)
+        tags = faces.GetCellData().GetArray("face_tag")
+        face_labels = sorted(t["label"] for t in regions_info["face_tags"])
+        seen_tags = sorted({int(tags.GetValue(i)) for i in range(tags.GetNumberOfTuples())}) if tags else []
+        check(f"tagged faces, level {level}: the second output's {faces.GetNumberOfCells()} triangles, "
+              f"tags {seen_tags}", faces.GetNumberOfCells() == triangles > 0 and seen_tags == face_labels)
         # Cell data (level 0's only): every array of the stream's cell field table.
         for array in regions_info.get("cell_fields", []):
             values = grid.GetCellData().GetArray(array["name"])

@@ -138,8 +138,8 @@ class Mesh:
     def to_meshio(self):
         """This level as a ``meshio.Mesh``: the fields, ``level`` and ``boundary`` as point data;
         the tagged faces as a triangle block; the regions and tags as cell data
-        ``gmsh:physical`` (meshio's name, which its gmsh writer keeps), their names as field data;
-        the per-cell arrays as cell data (a triangle's row 0)."""
+        ``gmsh:physical`` (meshio's name, which its gmsh writer keeps), their names as field data
+        and each named one as a cell set; the per-cell arrays as cell data (a triangle's row 0)."""
         import meshio
 
         point_data = dict(self.fields)
@@ -148,6 +148,7 @@ class Mesh:
         cells = [("tetra", self.tetrahedra.astype(np.int64))]
         cell_data = {}
         field_data = {}
+        cell_sets = {}
         if self.regions.size or self.face_tags.size:
             # As gmsh's physical tags: a tetrahedron's region, a face's tag.
             physical = [self.regions if self.regions.size else np.zeros(len(self.tetrahedra), np.int32)]
@@ -159,13 +160,17 @@ class Mesh:
             cell_data = {"gmsh:physical": physical, "gmsh:geometrical": physical}
             field_data = {name: np.array([label, 3]) for label, name in self.region_names.items()}
             field_data.update({name: np.array([tag, 2]) for tag, name in self.face_tag_names.items()})
+            # A named region or tag is also a cell set, as meshio's gmsh reader makes them.
+            cell_sets = {}
+            for name, (label, _) in field_data.items():
+                cell_sets[name] = [np.flatnonzero(block == label) for block in physical]
         for name, values in self.cell_data.items():
             blocks = [values]
             if len(cells) > 1:
                 blocks.append(np.zeros((len(self.faces),) + values.shape[1:], values.dtype))
             cell_data[name] = blocks
         return meshio.Mesh(self.points, cells, point_data=point_data, cell_data=cell_data, field_data=field_data,
-                           info={"dtmesh_derived": ["level", "boundary"]})
+                           cell_sets=cell_sets, info={"dtmesh_derived": ["level", "boundary"]})
 
     def to_vtk(self):
         """This level as a ``vtkUnstructuredGrid`` (see :func:`to_vtk`)."""

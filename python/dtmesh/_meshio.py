@@ -7,9 +7,10 @@ fields, with dtmesh.encode's options as keyword arguments. The tetrahedra's
 regions come from the first cell data array of gmsh:physical, medit:ref,
 region, material, MaterialIds, CellEntityIds (meshenc's default), their
 names from gmsh's field data; the other numeric cell data on the
-tetrahedra becomes the stream's cell data; what the stream does not hold
-(cell sets, other cells, an array not on every tetrahedron block) is named
-in a warning.
+tetrahedra becomes the stream's cell data, and a cell set that is a named
+region's or tag's cells is held by them; what the stream does not hold
+(other cell sets, other cells, an array not on every tetrahedron block) is
+named in a warning.
 """
 import warnings
 
@@ -86,8 +87,23 @@ def write(filename, mesh, **options):
         left_out.append("cell data " + ", ".join(f"'{name}'" for name in unkept))
     if cell_data and "cell_data" not in options:
         options["cell_data"] = cell_data
-    if getattr(mesh, "cell_sets", None):
-        left_out.append("cell sets " + ", ".join(f"'{name}'" for name in mesh.cell_sets))
+    # A cell set that is a named region's or tag's cells (meshio's gmsh
+    # reader makes one a physical group) is held by the regions and tags;
+    # gmsh's bounding entities are its geometry's bookkeeping.
+    def held(name, sets):
+        label = (mesh.field_data or {}).get(name)
+        if region_array is None or label is None or len(sets) != len(mesh.cells):
+            return False
+        physical = mesh.cell_data[region_array]
+        return all(np.array_equal(np.sort(np.asarray(sets[i]).reshape(-1)),
+                                  np.flatnonzero(np.asarray(physical[i]).reshape(-1) == int(label[0])))
+                   for i in range(len(mesh.cells)))
+    unheld = [name for name, sets in (getattr(mesh, "cell_sets", None) or {}).items()
+              if name != "gmsh:bounding_entities" and not held(name, sets)]
+    if unheld:
+        left_out.append("cell sets " + ", ".join(f"'{name}'" for name in unheld))
+    if "gmsh:bounding_entities" in (getattr(mesh, "cell_sets", None) or {}):
+        left_out.append("cell set 'gmsh:bounding_entities' (gmsh's geometrical entities)")
     for what in left_out:
         warnings.warn(f"{filename}: left out (the stream does not hold it): {what}", stacklevel=2)
     # A decoded mesh names the point data the stream makes itself (level,

@@ -334,6 +334,14 @@ def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
     back = meshio.read(again)
     assert sorted(set(np.concatenate(back.cell_data["gmsh:physical"]).tolist())) == [1, 2, 3, 4]
     assert back.field_data["steel"][0] == 2
+    # The named regions and tags are meshio's cell sets too, and a round trip keeps them.
+    assert sorted(finest.cell_sets) == ["aluminium", "base", "load", "steel"]
+    steel = [i for i, b in enumerate(finest.cells) if b.type == "tetra"][0]
+    assert len(finest.cell_sets["steel"][steel]) == int((dtmesh.decode(out).regions == 2).sum())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing of a decoded mesh is left out
+        meshio.write(tmp_path / "round.dtm", finest)
+    assert dtmesh.decode(tmp_path / "round.dtm").region_names == {1: "aluminium", 2: "steel"}
     # And the VTK grid carries them as cell data.
     level0 = dtmesh.decode(out.read_bytes())
     grid = level0.to_vtk()
