@@ -64,6 +64,7 @@ HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, dou
   h.quality_guard = o.quality_guard;
   h.quality_ratio = o.quality_ratio;
   h.average_quality_floor = o.average_quality_floor;
+  h.quality_floor_cap = o.quality_floor_cap;
   h.carve_to_reference = o.carve_to_reference;
   h.removal_share = o.removal_share;
   h.measure_boundary_error = o.measure_boundary_error;
@@ -83,6 +84,8 @@ Status check_options(const EncodeOptions& o) {
   if (o.quality_guard < 0) return invalid_input("the quality guard must not be negative");
   if (!(o.average_quality_floor >= 0 && o.average_quality_floor <= 1))
     return invalid_input("the average quality floor must be in [0, 1]");
+  if (!(o.quality_floor_cap >= 0 && o.quality_floor_cap <= 0.56))
+    return invalid_input("the quality floor's cap must be in [0, 0.56] (0.551 is the regular tetrahedron's)");
   if (o.level_step < 1) return invalid_input("the level step must be at least 1");
   if (!(o.removal_share >= 0 && o.removal_share < 1))
     return invalid_input("the removal share must be in [0, 1)");

@@ -67,6 +67,7 @@ struct EncodeOptions {
   double quality_guard = 0;             // HierarchyOptions::quality_guard; 0 = off
   double quality_ratio = 0;             // HierarchyOptions::quality_ratio; 0 = off
   double average_quality_floor = 0.85;  // HierarchyOptions::average_quality_floor; 0 = off
+  double quality_floor_cap = 0.25;      // HierarchyOptions::quality_floor_cap; 0 = none
   bool measure_boundary_error = true;   // LevelStats' max/mean_boundary_error
 
   // Fields coded lossily: name -> E, every decoded value within E of the
@@ -111,6 +112,7 @@ struct EncodeOptions {
     // smallest solid angle at level 0's (§III, Tables 1-2).
     o.quality_guard = 0;
     o.average_quality_floor = 1;
+    o.quality_floor_cap = 0;
     o.paper_stop = true;
     return o;
   }

@@ -157,6 +157,7 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   LevelBounds bounds;
   bounds.dmax = opt.dmax;
   bounds.quality_floor = opt.average_quality_floor * h.levels.front().stats.avg_min_solid_angle;
+  if (opt.quality_floor_cap > 0) bounds.quality_floor = std::min(bounds.quality_floor, opt.quality_floor_cap);
   const double share = opt.removal_share > 0 ? opt.removal_share : kDefaultRemovalShare;
   double beta = kFirstBetaGuess;  // the spacing factor of the last choice: where the next search starts
   // A level is handed on, tetrahedralization and all, once the next one's

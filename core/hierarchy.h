@@ -68,6 +68,10 @@ struct HierarchyOptions {
   // solid (the refill's kept cells are the next level's); with alpha
   // carving, the next level's alpha may keep other cells.
   double average_quality_floor = 0;
+  // The floor never above this absolute average smallest solid angle (0 =
+  // no cap): what Delaunay levels of well-spaced points reach, so that a
+  // mesher's best-shaped output (Netgen's 0.35) gets coarser levels too.
+  double quality_floor_cap = 0;
   // The boundary error statistics (an AABB-tree query per original boundary
   // vertex and level) are a measurement, not part of the construction: the
   // benchmark reports the build with and without them.

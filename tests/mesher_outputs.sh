@@ -59,6 +59,32 @@ head -2 netgen.msh | tail -1 | grep -q "^2\.0" || { echo "Netgen no longer write
 "$meshenc" netgen.msh -o netgen.dtm >netgen.out || { cat netgen.out; failed=1; }
 grep -q "netgen.dtm: [0-9]* bytes" netgen.out || { echo "netgen.msh not encoded"; failed=1; }
 grep -q "regions (physical tags), 1: 10000[0-9] (" netgen.out || { echo "netgen.msh: its domain is not a region"; cat netgen.out; failed=1; }
+# A best-shaped mesh (Netgen's, average smallest solid angle 0.34) gets
+# coarser levels: the quality floor is 0.85x level 0's but at most 0.25
+# (--quality-floor-cap), each level within D_max and above the floor;
+# without the cap the floor (0.29) stops it after one coarser level.
+"$py" - <<'PY' 2>/dev/null
+from netgen.csg import CSGeometry, OrthoBrick, Cylinder, Sphere, Pnt
+geo = CSGeometry()
+geo.Add(OrthoBrick(Pnt(0, 0, 0), Pnt(2, 1, 1)) - Cylinder(Pnt(0.5, 0.5, -1), Pnt(0.5, 0.5, 2), 0.2)
+        - Sphere(Pnt(1.4, 0.5, 0.5), 0.25))
+geo.GenerateMesh(maxh=0.06).Export("fine_netgen.msh", "Gmsh2 Format")
+PY
+"$meshenc" fine_netgen.msh -q -o fine.dtm --report fine.json || failed=1
+"$meshenc" fine_netgen.msh -q -o fine_uncapped.dtm --report fine_uncapped.json --quality-floor-cap 0 || failed=1
+"$py" - <<'PY' || failed=1
+import json, sys
+capped, uncapped = json.load(open("fine.json")), json.load(open("fine_uncapped.json"))
+levels = capped["levels"]
+q0 = levels[0]["avg_min_solid_angle"]
+if q0 < 0.3:
+    sys.exit("fine_netgen.msh is not a best-shaped mesh (quality %.3f)" % q0)
+if len(levels) < 4 or len(uncapped["levels"]) >= len(levels):
+    sys.exit("fine_netgen.msh: %d levels with the cap, %d without" % (len(levels), len(uncapped["levels"])))
+for l in levels[1:]:
+    if l["avg_min_solid_angle"] < min(0.85 * q0, 0.25) - 1e-9 or l["reference_max_error"] > capped["dmax"] * (1 + 1e-9):
+        sys.exit("fine_netgen.msh: level %d breaks a bound: %s" % (l["level"], l))
+PY
 # The regions as gmsh, meshio (VTU cell data, Medit refs) read them back.
 "$py" - <<'PY' || failed=1
 import sys

@@ -66,7 +66,7 @@ std::string format_number(double v) {
 // What the command line asks for.
 struct Command {
   std::string input, output, report_path, alpha_text = "paper", format_name, preset = "codec";
-  std::optional<double> removal_share, quality_ratio, quality_guard, quality_floor;
+  std::optional<double> removal_share, quality_ratio, quality_guard, quality_floor, quality_floor_cap;
   bool quiet = false, no_reference = false, no_fields = false, no_regions = false, no_face_tags = false,
        no_cell_data = false, strict = false, verbose = false;
   std::string region_array;
@@ -154,6 +154,11 @@ void add_options(CLI::App& app, Command& c) {
                  "keep every level's average smallest solid angle >= F x level 0's, removing as many "
                  "vertices as that allows (codec: 0.85, paper: 1; 0 = off)")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--quality-floor-cap", c.quality_floor_cap,
+                 "the quality floor is at most this average smallest solid angle, so that a "
+                 "best-shaped input gets levels too (codec: 0.25, what Delaunay levels of well-spaced points "
+                 "reach; paper: none; 0 = none)")
+      ->check(CLI::Range(0.0, 0.56));
   app.add_flag(
       "--no-paper-stop", [&e](int64_t) { e.paper_stop = false; },
       "do not stop at the first level that removes no boundary vertex");
@@ -410,8 +415,10 @@ int run(Command& c) {
     c.encode.quality_ratio = paper.quality_ratio;
     c.encode.quality_guard = paper.quality_guard;
     c.encode.average_quality_floor = paper.average_quality_floor;
+    c.encode.quality_floor_cap = paper.quality_floor_cap;
   }
   if (c.quality_floor) c.encode.average_quality_floor = *c.quality_floor;
+  if (c.quality_floor_cap) c.encode.quality_floor_cap = *c.quality_floor_cap;
   if (c.removal_share) c.encode.removal_share = *c.removal_share;
   if (c.quality_ratio) c.encode.quality_ratio = *c.quality_ratio;
   if (c.quality_guard) c.encode.quality_guard = *c.quality_guard;
