@@ -7,6 +7,7 @@
 #include "codec/sections/carving_coder.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
+#include "codec/sections/vertex_order.h"
 #include "codec/stream/layer_coder.h"
 #include "common/parallel_for.h"
 #include "mesh/geometry.h"
@@ -131,6 +132,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   region_section_.assign(layer.regions.begin(), layer.regions.end());
   face_section_.assign(layer.faces.begin(), layer.faces.end());
   cell_value_section_.assign(layer.cell_values.begin(), layer.cell_values.end());
+  order_section_.assign(layer.order.begin(), layer.order.end());
   if (lh.bricked) {
     chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
     brick_depth_ = lh.brick_depth;
@@ -362,6 +364,17 @@ std::vector<FieldValues> ProgressiveDecoder::cell_data(const TetMesh& dt, std::s
     return {};
   }
   return out;
+}
+
+std::vector<uint32_t> ProgressiveDecoder::vertex_order(const TetMesh& dt) const {
+  std::vector<uint32_t> order;
+  if (!(header_.flags & kFlagVertexOrder) || finest_level() != 0 || !mesh_status_.ok()) return order;
+  const Status s = decode_vertex_order(order_section_, vertex_neighbours(points_.size(), dt.cells), order);
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level 0's vertex order");
+    return {};
+  }
+  return order;
 }
 
 std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {

@@ -134,6 +134,11 @@ class ProgressiveDecoder {
   const std::vector<FieldDescription>& cell_field_table() const { return cell_fields_; }
   std::vector<FieldValues> cell_data(const TetMesh& dt, std::span<const uint8_t> kept,
                                      std::span<const uint32_t> order) const;
+  // With flag vertex order (10.0, spec/FORMAT.md §3.9) and level 0 decoded:
+  // for each input vertex in the input's numbering, its index in points()
+  // (`dt`: delaunay()'s result). Empty otherwise, and mesh_status() set if
+  // the section is damaged.
+  std::vector<uint32_t> vertex_order(const TetMesh& dt) const;
 
  private:
   Status tables_read();
@@ -162,6 +167,7 @@ class ProgressiveDecoder {
   bool has_cell_field_table_ = false;
   std::vector<FieldDescription> cell_fields_;
   std::vector<uint8_t> cell_value_section_;  // level 0's
+  std::vector<uint8_t> order_section_;       // level 0's
   StreamHeader header_;
   std::optional<FieldSectionDecoder> value_decoder_;
   std::vector<FieldValues> fields_;

@@ -349,6 +349,15 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     }
     report.reference_tetrahedra = reference_tets.size();
   }
+  if (options.keep_order) {
+    if (options.bricks) return invalid_input("bricked streams do not keep the input's vertex order yet");
+    if (!options.carve_to_reference)
+      return invalid_input("keeping the vertex order needs the codec preset (not the paper preset)");
+    if (q.duplicates_merged > 0)
+      return invalid_input(std::to_string(q.duplicates_merged) +
+                           " points share a grid point with another at q=" + std::to_string(q.grid.qbits) +
+                           ": the input's numbering cannot be kept (raise --qbits, or merge them first)");
+  }
   if (input.points_done) input.points_done();
   // The paper preset does not carve to the reference: it is only measured.
   std::optional<ReferenceShape> measured_only;
@@ -445,6 +454,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   stream_options.regions = report.regions;
   stream_options.face_tags = report.face_tags;
   stream_options.faces = tagger ? &*tagger : nullptr;
+  if (options.keep_order) stream_options.input_order = q.input_to_point;
   if (with_cells)
     stream_options.cell_values =
         [&](std::span<const std::array<uint32_t, 4>> cells) -> StatusOr<std::vector<FieldValues>> {
@@ -487,6 +497,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     report.cell_fields.push_back({stream.cell_fields[f], stream.cell_field_bytes[f]});
   report.cell_field_table_bytes = stream.cell_field_table_bytes;
   report.cell_value_bytes = stream.cell_value_bytes;
+  report.order_bytes = stream.order_bytes;
   report.streamed_levels = std::move(stream.streamed_levels);
   report.stream_bytes = stream.bytes.size();
   out.bytes = std::move(stream.bytes);

@@ -78,6 +78,11 @@ struct EncodeOptions {
   int level_step = 1;
   bool cell_hashes = false;
   bool candidates = true;
+  // Level 0's vertices in the input's numbering (format 10.0; meshenc
+  // --keep-order): the decoder gives them in the input's order. Needs every
+  // input point its own grid point (no merge by quantization) and the codec
+  // preset; not with bricks.
+  bool keep_order = false;
   // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.
@@ -237,6 +242,7 @@ struct EncodeReport {
   std::vector<FieldReport> cell_fields;
   uint64_t cell_field_table_bytes = 0, cell_value_bytes = 0;
   uint64_t level0_cells = 0, cells_from_input = 0, cells_from_nearest = 0;
+  uint64_t order_bytes = 0;  // the vertex order section (--keep-order), 0 without
   // Points merged by quantization whose values differed: each vertex keeps
   // its first point's values.
   uint64_t merged_points_with_other_values = 0;

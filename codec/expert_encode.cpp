@@ -11,6 +11,7 @@
 #include "codec/sections/cell_values.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
+#include "codec/sections/vertex_order.h"
 #include "codec/stream/format.h"
 #include "codec/stream/layer_coder.h"
 #include "mesh/carving.h"
@@ -170,14 +171,25 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     DTM_ASSIGN_OR_RETURN(FieldSectionEncoder made, FieldSectionEncoder::make(std::move(cell_values)));
     cell_coder.emplace(std::move(made));
   }
-  h.version_major = cell_data          ? kVersionMajorCellData
-                    : regions || faces ? kVersionMajorRegions
-                    : corrections      ? kVersionMajorUnbricked
-                    : values           ? kVersionMajorWithValues
-                                       : kVersionMajorWithoutValues;
+  const bool keep_order = !options.input_order.empty();
+  if (keep_order) {
+    if (!corrections)
+      return invalid_input("encode_stream: a vertex order needs a hierarchy carved to a reference");
+    if (options.input_order.size() != points.size() || hierarchy.levels[0].vertices.size() != points.size())
+      return invalid_input("encode_stream: the vertex order is not one of level 0's vertices");
+    std::vector<uint8_t> seen(points.size(), 0);
+    for (uint32_t p : options.input_order)
+      if (p >= points.size() || seen[p]++)
+        return invalid_input("encode_stream: the vertex order is not a permutation of the points");
+  }
+  h.version_major = cell_data || keep_order ? kVersionMajorCellData
+                    : regions || faces      ? kVersionMajorRegions
+                    : corrections           ? kVersionMajorUnbricked
+                    : values                ? kVersionMajorWithValues
+                                            : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
             (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0) |
-            (cell_data ? kFlagCellData : 0);
+            (cell_data ? kFlagCellData : 0) | (keep_order ? kFlagVertexOrder : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
@@ -243,7 +255,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       out.decode_order.push_back(i);
       decoded.push_back(points[i]);
     }
-    std::vector<uint8_t> carving, region_section, face_section, cell_section;
+    std::vector<uint8_t> carving, region_section, face_section, cell_section, order_section;
     if (corrections) {
       if (level.kept.size() != level.delaunay.cells.size())
         return invalid_input("encode_stream: a level without its carving verdicts");
@@ -278,6 +290,14 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
           if (level.kept[c]) ranks.push_back(kept_rank[c]), cells.push_back(dt.cells[c]);
         cell_section = cell_coder->encode_layer(ranks, cell_positions(decoded, cells), out.cell_field_bytes);
         out.level0_cells = cells.size();
+      }
+      if (keep_order && streamed[l] == 0) {
+        // Each input vertex's number in the decoder's order.
+        std::vector<uint32_t> order;
+        order.reserve(options.input_order.size());
+        for (uint32_t p : options.input_order) order.push_back(decoder_index[p]);
+        order_section = encode_vertex_order(vertex_neighbours(decoded.size(), dt.cells), order);
+        out.order_bytes = order_section.size();
       }
     }
 
@@ -326,7 +346,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.alpha = level.alpha;
     if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.carved_cells());
     const auto layer = write_layer(lh, payload, carving, value_section, candidate_section, region_section,
-                                   face_section, cell_section);
+                                   face_section, cell_section, order_section);
     out.cell_value_bytes += cell_section.size();
     out.face_bytes[streamed[l]] = face_section.size();
     out.carving_bytes[streamed[l]] = carving.size();

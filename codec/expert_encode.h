@@ -53,6 +53,10 @@ struct StreamOptions {
   // values, one FieldValues per array, cell-major in the order given.
   // Empty: none. Needs a hierarchy carved to a reference.
   std::function<StatusOr<std::vector<FieldValues>>(std::span<const std::array<uint32_t, 4>>)> cell_values;
+  // Level 0's vertices in the input's numbering (format 10.0, spec/FORMAT.md
+  // §3.9): the grid point of each input vertex, a permutation of `points`.
+  // Empty: none. Needs a hierarchy carved to a reference.
+  std::span<const uint32_t> input_order;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
@@ -90,6 +94,7 @@ struct EncodedStream {
   uint64_t cell_field_table_bytes = 0;
   uint64_t cell_value_bytes = 0;
   uint64_t level0_cells = 0;  // level 0's kept cells
+  uint64_t order_bytes = 0;   // the vertex order section (10.0)
   // The hierarchy level of each stream level (finest first).
   std::vector<int> streamed_levels;
   // The order in which a decoder produces the vertices (coarsest layer

@@ -9,6 +9,7 @@
 // variant it must refuse.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -17,7 +18,9 @@
 #include "codec/decode.h"
 #include "codec/stream/format.h"
 #include "test_support.h"
+#include "tools/decoded_mesh.h"
 #include "tools/formats/input.h"
+#include "tools/formats/tetgen.h"
 
 namespace dtm {
 namespace {
@@ -165,6 +168,26 @@ TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
 
 INSTANTIATE_TEST_SUITE_P(Format9_0, GoldenStream, ::testing::Values("two_materials"));
 INSTANTIATE_TEST_SUITE_P(Format10_0, GoldenStream, ::testing::Values("torus_288_cells"));
+
+// 10.0's vertex order: the torus's level 0 decodes in its .node's numbering
+// (each point where the stream's grid puts the input's, scaled by 25).
+TEST(GoldenOrder, TheTorusDecodesInItsInputsNumbering) {
+  const auto bytes = read_bytes(golden("torus_288_cells.dtm"));
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(bytes, d).ok());
+  ASSERT_TRUE(d.header().flags & kFlagVertexOrder);
+  const OutputMesh m = decoded_mesh(d, "torus_288_cells");
+  const NodeFile node = read_tetgen_node(test::data_path("torus_288.node"));
+  ASSERT_EQ(m.points.size(), node.points.size());
+  const Grid& g = d.header().grid;
+  for (size_t k = 0; k < node.points.size(); ++k) {
+    const InputPoint& p = node.points[k];
+    const GridPoint expected{static_cast<int32_t>(std::lround((25 * p.x - g.origin[0]) / g.step)),
+                             static_cast<int32_t>(std::lround((25 * p.y - g.origin[1]) / g.step)),
+                             static_cast<int32_t>(std::lround((25 * p.z - g.origin[2]) / g.step))};
+    EXPECT_EQ(m.points[k], expected) << k;
+  }
+}
 INSTANTIATE_TEST_SUITE_P(Format8_0, GoldenStream,
                          ::testing::Values("ellipsoid_793_bricks", "torus_288_bricks"));
 INSTANTIATE_TEST_SUITE_P(Format7_0, GoldenStream,

@@ -57,6 +57,32 @@ TEST(Meshenc, BadInputFailsClearlyAndLeavesNoReport) {
   }
 }
 
+// What the stream does not hold is said on standard error and in the
+// report; --strict refuses such an input and writes nothing.
+TEST(Meshenc, WhatIsLeftOutIsSaidAndStrictRefusesIt) {
+  const std::string dir = ::testing::TempDir();
+  const std::string vtk = dir + "/left_out.vtk", out = dir + "/left_out.dtm", report = dir + "/left_out.json";
+  std::ofstream(vtk) << "# vtk DataFile Version 3.0\nc\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n"
+                        "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\nCELLS 3 14\n4 0 1 2 3\n4 1 2 3 4\n3 0 1 2\n"
+                        "CELL_TYPES 3\n10\n10\n5\n";
+  std::filesystem::remove(out);
+  // (Standard output to /dev/null: what comes back is standard error.)
+  const CommandRun plain = run_command("(" + std::string(DTM_MESHENC) + " " + vtk + " -o " + out +
+                                       " --report " + report + " >/dev/null)");
+  ASSERT_EQ(plain.status, 0) << plain.output;
+  EXPECT_NE(plain.output.find(vtk + ": left out (the stream does not hold it): cells other than tetrahedra"),
+            std::string::npos)
+      << plain.output;
+  std::ifstream in(report);
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j["left_out"].size(), 1u);
+  std::filesystem::remove(out);
+  const CommandRun strict = meshenc(vtk + " -q --strict -o " + out);
+  EXPECT_NE(strict.status, 0);
+  EXPECT_NE(strict.output.find("--strict"), std::string::npos) << strict.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(Meshenc, RejectsBadOptions) {
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --qbits 25").status, 0);
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --alpha nonsense").status, 0);

@@ -8,6 +8,33 @@
 
 namespace dtm {
 
+namespace {
+
+// Vertex k becomes order[k]'s: the points and every per-vertex array
+// gathered, the cells' and faces' corners renamed (their orientation is the
+// points', which do not move).
+void renumber(OutputMesh& mesh, std::span<const uint32_t> order) {
+  std::vector<uint32_t> new_of_old(order.size());
+  for (uint32_t k = 0; k < order.size(); ++k) new_of_old[order[k]] = k;
+  const auto gather = [&](auto& values, size_t per) {
+    if (values.empty()) return;
+    std::remove_reference_t<decltype(values)> out(values.size());
+    for (size_t k = 0; k < order.size(); ++k)
+      for (size_t c = 0; c < per; ++c) out[k * per + c] = values[order[k] * per + c];
+    values = std::move(out);
+  };
+  gather(mesh.points, 1);
+  gather(mesh.level, 1);
+  gather(mesh.boundary, 1);
+  for (OutputField& f : mesh.fields) gather(f.bits, static_cast<size_t>(f.components));
+  for (auto& c : mesh.cells)
+    for (uint32_t& v : c) v = new_of_old[v];
+  for (auto& f : mesh.faces)
+    for (uint32_t& v : f) v = new_of_old[v];
+}
+
+}  // namespace
+
 OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input) {
   OutputMesh mesh;
   mesh.grid = decoder.header().grid;
@@ -54,6 +81,13 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
   for (const FieldValues& f : decoder.fields())
     mesh.fields.push_back(
         {f.description.name, scalar_type(f.description.type), f.description.components, f.bits});
+  // With the input's numbering (10.0, --keep-order): vertex k of the output
+  // is the input's vertex k.
+  if (decoder.header().flags & kFlagVertexOrder) {
+    const std::vector<uint32_t> order = decoder.vertex_order(dt);
+    if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+    if (!order.empty()) renumber(mesh, order);
+  }
   return mesh;
 }
 

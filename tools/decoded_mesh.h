@@ -3,7 +3,8 @@
 // its points, its carved cells in the canonical order (each cell's corners
 // ascending but for the orientation: the same arrays from every run, though
 // the triangulation is built on every core), each vertex's coarsest level,
-// the boundary vertices and the stream's fields.
+// the boundary vertices and the stream's fields; with a vertex order
+// (meshenc --keep-order) level 0's vertices in the input's numbering.
 #pragma once
 
 #include <string>

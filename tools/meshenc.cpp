@@ -198,6 +198,10 @@ void add_options(CLI::App& app, Command& c) {
                "stream");
   app.add_flag("--no-cell-data", c.no_cell_data,
                "leave the input's per-cell arrays (VTU/VTK cell data, gmsh $ElementData) out of the stream");
+  app.add_flag(
+      "--keep-order", c.encode.keep_order,
+      "decode level 0's vertices in the input's numbering (their order coded; needs every input point "
+      "its own grid point)");
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,
@@ -619,6 +623,9 @@ int run(Command& c) {
                                   " of the nearest beside them: none of their vertices' holds it)")
                                      .c_str()
                                : "");
+    if (r.order_bytes > 0)
+      std::printf("  vertex order (the input's numbering of level 0): %llu bytes, %.2f bits per vertex\n",
+                  static_cast<unsigned long long>(r.order_bytes), 8.0 * r.order_bytes / vertices);
     if (!r.face_tags.empty()) {
       uint64_t face_bytes = r.face_table_bytes;
       for (uint64_t b : r.face_bytes) face_bytes += b;

@@ -97,6 +97,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
     j["cells_from_input"] = r.cells_from_input;
     j["cells_from_nearest"] = r.cells_from_nearest;
   }
+  if (r.order_bytes > 0) j["order_bytes"] = r.order_bytes;
   if (!r.regions.empty()) {
     j["regions"] = nlohmann::json::array();
     for (const RegionLabel& region : r.regions)

@@ -66,6 +66,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
   j["cell_hashes"] = (h.flags & kFlagCellHashes) != 0;
   j["carving_corrections"] = (h.flags & kFlagCarvingCorrections) != 0;
   j["bricks"] = (h.flags & kFlagBricks) != 0;
+  j["vertex_order"] = (h.flags & kFlagVertexOrder) != 0;
   j["level_count"] = h.level_count;
   j["vertices"] = h.vertex_count;
   j["bytes"] = s.bytes;
@@ -118,6 +119,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                           {"region_bytes", l.header.region_bytes},
                           {"face_bytes", l.header.face_bytes},
                           {"cell_value_bytes", l.header.cell_value_bytes},
+                          {"order_bytes", l.header.order_bytes},
                           {"candidate_kinds", l.header.candidate_kinds},
                           {"candidate_bytes", l.header.candidate_bytes},
                           {"alpha", l.header.alpha * step},

@@ -17,6 +17,8 @@
 //            + value section (5.0: the new points' values)
 //            + cell value section (10.0, kFlagCellData, level 0's layer
 //              only: the values of level 0's kept cells)
+//            + vertex order section (10.0, kFlagVertexOrder, level 0's
+//              layer only: the input's numbering of level 0's vertices)
 //   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
 //            (codec/bricks/bricks.h: each brick's new points and corrections)
 #pragma once
@@ -75,8 +77,13 @@ inline constexpr uint16_t kFlagFaces = 32;
 // carries a cell value section: per-cell arrays of the finest level
 // (codec/sections/cell_values.h); not with kFlagBricks.
 inline constexpr uint16_t kFlagCellData = 64;
+// 10.0: level 0's layer carries a vertex order section: level 0's vertices
+// in the input's numbering (codec/sections/vertex_order.h); not with
+// kFlagBricks.
+inline constexpr uint16_t kFlagVertexOrder = 128;
 inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues |
-                                        kFlagBricks | kFlagRegions | kFlagFaces | kFlagCellData;
+                                        kFlagBricks | kFlagRegions | kFlagFaces | kFlagCellData |
+                                        kFlagVertexOrder;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -113,6 +120,9 @@ struct LayerHeader {
   // 10.0 and later: the cell value section, after the value section (0 but
   // in level 0's layer).
   uint32_t cell_value_bytes = 0;
+  // 10.0 and later: the vertex order section, after it (0 but in level 0's
+  // layer).
+  uint32_t order_bytes = 0;
   // Bricked layers (8.0): the largest circumradius of a kept cell (at least
   // alpha; larger cells carry no correction bit), the bricks' octree depth,
   // and the sizes of the index and of the chunks after it.
@@ -128,7 +138,7 @@ struct LayerHeader {
   uint64_t body_bytes() const {
     if (bricked) return uint64_t{index_bytes} + chunk_bytes;
     return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + face_bytes +
-           value_bytes + cell_value_bytes;
+           value_bytes + cell_value_bytes + order_bytes;
   }
 };
 
@@ -183,7 +193,10 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
     v.template field<uint32_t>("region_bytes", h.region_bytes);
     v.template field<uint32_t>("face_bytes", h.face_bytes);
   }
-  if (h.format_major >= 10) v.template field<uint32_t>("cell_value_bytes", h.cell_value_bytes);
+  if (h.format_major >= 10) {
+    v.template field<uint32_t>("cell_value_bytes", h.cell_value_bytes);
+    v.template field<uint32_t>("order_bytes", h.order_bytes);
+  }
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -230,7 +243,7 @@ inline constexpr size_t kRegionLayerHeaderSize = layer_header_size(kVersionMajor
 static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_size(4) == 42 &&
                   layer_header_size(6) == 46 && kLayerHeaderSize == 51 && kBrickedLayerHeaderSize == 55 &&
                   kRegionLayerHeaderSize == 59 && layer_header_size(9, true) == 55 &&
-                  layer_header_size(10) == 63 && layer_header_size(10, true) == 55,
+                  layer_header_size(10) == 67 && layer_header_size(10, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -246,7 +259,8 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> carving = {}, std::span<const uint8_t> values = {},
                                  std::span<const uint8_t> candidates = {},
                                  std::span<const uint8_t> regions = {}, std::span<const uint8_t> faces = {},
-                                 std::span<const uint8_t> cell_values = {});
+                                 std::span<const uint8_t> cell_values = {},
+                                 std::span<const uint8_t> order = {});
 
 // Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
 // the checksum computed), the index, the chunks.
@@ -263,6 +277,7 @@ struct Layer {
   std::span<const uint8_t> faces;
   std::span<const uint8_t> values;
   std::span<const uint8_t> cell_values;
+  std::span<const uint8_t> order;
   // A bricked layer's index (checksummed with the header) and chunks (each
   // checked against its checksum in the index when it is decoded).
   std::span<const uint8_t> index;

@@ -236,6 +236,7 @@ def encode(
     face_tags: Any = None,
     face_tag_names: Optional[Mapping[int, str]] = None,
     cell_data: Optional[Mapping[str, Any]] = None,
+    keep_order: bool = False,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -273,6 +274,10 @@ def encode(
             cells carry them: a cell that is one of ``tetrahedra`` its own
             values, another those of the tetrahedron holding its centroid;
             coarser levels carry none (the codec preset only).
+        keep_order: decode level 0's vertices in the order of ``points``
+            (meshenc's ``--keep-order``; the order is coded, about log2(N)
+            bits a vertex for a random one); every point must quantize to
+            its own grid point.
         threads: threads to use for this call (meshenc's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
             The stream is the same for any number.
@@ -312,7 +317,7 @@ def encode(
     with _threads_for_call(threads):
         stream, report, vertex_of_input = _dtmesh.encode(
             p, t, r, names, f, ft, face_names, field_list, cell_list, int(qbits), box, scale, dmax, preset,
-            dict(field_errors or {}))
+            dict(field_errors or {}), bool(keep_order))
     return Encoded(stream, json.loads(report), vertex_of_input)
 
 

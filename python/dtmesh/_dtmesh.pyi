@@ -23,12 +23,14 @@ def encode(
     face_tags: Optional[npt.NDArray[np.int64]],
     face_tag_names: Mapping[int, str],
     fields: List[FieldIn],
+    cell_fields: List[FieldIn],
     qbits: int,
     box: Optional[float],
     scale: Optional[float],
     dmax: Optional[float],
     preset: str,
     field_errors: Mapping[str, float],
+    keep_order: bool,
 ) -> Tuple[bytes, str, npt.NDArray[np.uint32]]: ...
 
 class Decoder:

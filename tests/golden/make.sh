@@ -100,8 +100,8 @@ make_one torus_288_bricks torus_288.node --scale 25 --dmax 3 --bricks --brick-po
 xz -dc "$root/data/two_materials.msh.xz" >"$tmp/two_materials.msh"
 make_one two_materials two_materials.msh --quality-floor 0 --dmax 0.2
 # 10.0: the torus with cell data (a float32 of each tetrahedron's centroid
-# and an int16 of its index), as a .vtu (small: every bit of it is flipped
-# by the tests).
+# and an int16 of its index), as a .vtu, and its vertex numbering
+# (--keep-order) (small: every bit of it is flipped by the tests).
 /usr/bin/python3 - "$root/data/torus_288" "$tmp/torus_288_cells.vtu" <<'PY'
 import sys
 import meshio, numpy as np
@@ -113,4 +113,4 @@ heat = (20 + 5 * np.sin(c[:, 0]) * np.cos(c[:, 1]) + c[:, 2]).astype(np.float32)
 zone = (np.arange(len(tets)) % 9 - 4).astype(np.int16)
 meshio.write(out, meshio.Mesh(points, [("tetra", tets)], cell_data={"heat": [heat], "zone": [zone]}))
 PY
-make_one torus_288_cells torus_288_cells.vtu --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3
+make_one torus_288_cells torus_288_cells.vtu --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3 --keep-order
