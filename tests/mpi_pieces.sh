@@ -4,7 +4,8 @@
 # fewer cores; as root, Open MPI wants --allow-run-as-root): each rank writes
 # its pieces, and they are byte for byte the pieces one process writes with
 # --pieces P; the pieces' cells add up to the whole level's; ParaView's
-# reader opens the .pvtu to the same count (where pvpython is installed). The
+# reader opens the .pvtu to the same count (where pvpython is installed),
+# and meshenc reads it back as one mesh of level 0's vertices. The
 # pieces' exact partition (every cell in one piece) is tests/test_bricks.cpp's
 # BrickedStream.PiecesPartitionTheLevel.
 set -euo pipefail
@@ -41,6 +42,13 @@ print(r.GetDataInformation().GetNumberOfCells())" 2>/dev/null | tail -1)
     [ "$pv" = "$whole" ] || failed=1
   fi
 done
+# meshenc reads the 4 pieces back as one mesh: the points the pieces share
+# merged, every vertex of level 0 there.
+"$meshenc" "$work/mpi4/b.pvtu" -o "$work/again.dtm" --no-fields >"$work/again.out" 2>&1 || { cat "$work/again.out"; failed=1; }
+vertices=$(grep -o '^[^:]*b.pvtu: [0-9]* points, [0-9]* merged' "$work/again.out" | awk '{print $2 - $4}')
+expected=$(grep -o 'NumberOfPoints="[0-9]*"' "$work/whole.vtu" | grep -o '[0-9]*')
+echo "meshenc reads b.pvtu: $vertices distinct points (level 0 has $expected)"
+[ "$vertices" = "$expected" ] || failed=1
 # A stream that is not bricked: a clear error and no file.
 "$meshenc" "$data/bunny_10k.node" --no-fields -q -o "$work/plain.dtm"
 mkdir -p "$work/plain"

@@ -406,5 +406,45 @@ TEST(CellData, ReadersAndWritersCarryTheArrays) {
   std::filesystem::remove_all(dir);
 }
 
+// A parallel grid (.pvtu naming two .vtu pieces, as ParaView's parallel
+// writers and meshdec --pieces write one) reads as one mesh: the pieces'
+// points one after the other, their cells renumbered, their arrays joined.
+TEST(CellData, AParallelGridReadsAsOneMesh) {
+  const auto dir = std::filesystem::temp_directory_path() / ("dtm_pvtu_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  OutputMesh a;
+  a.grid.step = 1;
+  a.grid.qbits = 6;
+  a.points = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {0, 0, 10}};
+  a.cells = {{0, 1, 2, 3}};
+  a.fields.push_back({"heat", ScalarType::kFloat32, 1, {}});
+  for (double v : {1.0, 2.0, 3.0, 4.0}) a.fields[0].bits.push_back(bits_of(v, ValueType::kF32));
+  a.cell_fields.push_back({"stress", ScalarType::kFloat64, 1, {bits_of(7.5, ValueType::kF64)}});
+  a.region = {3};
+  OutputMesh b = a;
+  b.points = {{10, 0, 0}, {0, 10, 0}, {0, 0, 10}, {10, 10, 10}};
+  b.cell_fields[0].bits = {bits_of(-1.25, ValueType::kF64)};
+  const std::vector<std::string> pieces = {"part_0.vtu", "part_1.vtu"};
+  std::ofstream((dir / pieces[0]).string())
+      << render_mesh(a, MeshFormat::kVtu, (dir / pieces[0]).string())[0].second;
+  std::ofstream((dir / pieces[1]).string())
+      << render_mesh(b, MeshFormat::kVtu, (dir / pieces[1]).string())[0].second;
+  std::ofstream((dir / "part.pvtu").string()) << render_pvtu(a, pieces);
+  InputMesh in = read_input((dir / "part.pvtu").string());
+  choose_regions(in, "", "part.pvtu");
+  ASSERT_EQ(in.points.size(), 8u);
+  ASSERT_EQ(in.tets.size(), 2u);
+  EXPECT_EQ(in.tets[1], (std::array<uint32_t, 4>{4, 5, 6, 7}));
+  EXPECT_EQ(in.tet_regions, (std::vector<int32_t>{3, 3}));
+  ASSERT_EQ(in.cell_fields.size(), 1u);
+  EXPECT_EQ(in.cell_fields[0].values, (std::vector<double>{7.5, -1.25}));
+  ASSERT_EQ(in.fields.size(), 1u);
+  EXPECT_EQ(in.fields[0].values, (std::vector<double>{1, 2, 3, 4, 1, 2, 3, 4}));
+  // A piece that is not there is an error naming it.
+  std::filesystem::remove(dir / pieces[1]);
+  EXPECT_THROW(read_input((dir / "part.pvtu").string()), FormatError);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace dtm

@@ -21,6 +21,7 @@ std::optional<InputFormat> input_format_named(std::string_view name) {
   if (n == "mesh" || n == "medit") return InputFormat::kMedit;
   if (n == "vtk") return InputFormat::kVtk;
   if (n == "vtu") return InputFormat::kVtu;
+  if (n == "pvtu") return InputFormat::kPvtu;
   if (n == "msh" || n == "gmsh") return InputFormat::kGmsh;
   if (n == "nrrd" || n == "nhdr") return InputFormat::kNrrd;
   if (n == "ply") return InputFormat::kPly;
@@ -85,6 +86,8 @@ InputMesh read_any(const std::string& path, InputFormat format, const VolumeOpti
       return read_vtk_legacy(path);
     case InputFormat::kVtu:
       return read_vtu(path);
+    case InputFormat::kPvtu:
+      return read_pvtu(path);
     case InputFormat::kGmsh:
       return read_gmsh(path);
     case InputFormat::kNrrd:

@@ -16,13 +16,13 @@
 
 namespace dtm {
 
-enum class InputFormat { kTetgen, kMedit, kVtk, kVtu, kGmsh, kNrrd, kPly, kOff, kObj, kXyz };
+enum class InputFormat { kTetgen, kMedit, kVtk, kVtu, kPvtu, kGmsh, kNrrd, kPly, kOff, kObj, kXyz };
 
-// "node" (or "tetgen"), "mesh" ("medit"), "vtk", "vtu", "msh" ("gmsh"),
+// "node" (or "tetgen"), "mesh" ("medit"), "vtk", "vtu", "pvtu", "msh" ("gmsh"),
 // "nrrd" ("nhdr"), "ply", "off", "obj", "xyz"; nullopt for anything else.
 std::optional<InputFormat> input_format_named(std::string_view name);
 // The names input_format_named accepts, for help texts.
-inline constexpr const char* kInputFormatNames = "node, mesh, vtk, vtu, msh, nrrd, ply, off, obj, xyz";
+inline constexpr const char* kInputFormatNames = "node, mesh, vtk, vtu, pvtu, msh, nrrd, ply, off, obj, xyz";
 
 // By extension, ignoring case. Throws FormatError naming the path otherwise.
 InputFormat input_format_for_path(const std::string& path);

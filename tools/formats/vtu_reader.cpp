@@ -657,4 +657,94 @@ class VtuReader {
 
 InputMesh read_vtu(const std::string& path) { return VtuReader(path).read(); }
 
+namespace {
+
+// Appends `part` (a piece, read alone) to `whole`: its points after the
+// others, its cells renumbered; a point or cell array must be in every
+// piece alike (else it is not an array of the whole: named as left out).
+void append_piece(InputMesh& whole, InputMesh part, bool first, const std::string& piece) {
+  const auto offset = static_cast<uint32_t>(whole.points.size());
+  whole.points.insert(whole.points.end(), part.points.begin(), part.points.end());
+  for (auto t : part.tets) {
+    for (uint32_t& v : t) v += offset;
+    whole.tets.push_back(t);
+  }
+  for (auto f : part.tagged_faces) {
+    for (uint32_t& v : f) v += offset;
+    whole.tagged_faces.push_back(f);
+  }
+  const auto same_arrays = [&](std::vector<VertexField>& into, std::vector<VertexField>& from,
+                               const char* what) {
+    if (first) {
+      into = std::move(from);
+      return;
+    }
+    bool same = into.size() == from.size();
+    for (size_t i = 0; same && i < into.size(); ++i)
+      same = into[i].name == from[i].name && into[i].components == from[i].components;
+    if (!same) throw FormatError(piece + ": its " + what + " are not the first piece's");
+    for (size_t i = 0; i < into.size(); ++i)
+      into[i].values.insert(into[i].values.end(), from[i].values.begin(), from[i].values.end());
+  };
+  same_arrays(whole.fields, part.fields, "PointData arrays");
+  same_arrays(whole.cell_fields, part.cell_fields, "CellData arrays");
+  const auto same_labels = [&](std::map<std::string, std::vector<int32_t>>& into,
+                               std::map<std::string, std::vector<int32_t>>& from) {
+    if (first) {
+      into = std::move(from);
+      return;
+    }
+    for (auto it = into.begin(); it != into.end();) {
+      const auto there = from.find(it->first);
+      if (there == from.end()) {
+        whole.left_out.push_back("the integer cell array '" + it->first + "' (not in every piece)");
+        it = into.erase(it);
+        continue;
+      }
+      it->second.insert(it->second.end(), there->second.begin(), there->second.end());
+      ++it;
+    }
+  };
+  same_labels(whole.tet_arrays, part.tet_arrays);
+  same_labels(whole.triangle_arrays, part.triangle_arrays);
+  if (first) whole.tet_array_types = std::move(part.tet_array_types);
+  for (std::string& what : part.left_out)
+    if (std::find(whole.left_out.begin(), whole.left_out.end(), what) == whole.left_out.end())
+      whole.left_out.push_back(std::move(what));
+}
+
+}  // namespace
+
+InputMesh read_pvtu(const std::string& path) {
+  VtuParser p(path);
+  p.parse();
+  const Element& root = p.root();
+  if (root.name != "VTKFile") p.fail_at(root.offset, "root element is <" + root.name + ">, not <VTKFile>");
+  if (const auto* t = root.attr("type"); !t || *t != "PUnstructuredGrid")
+    p.fail_at(root.offset, "a .pvtu is type=\"PUnstructuredGrid\", got \"" + (t ? *t : "") + "\"");
+  std::vector<std::pair<std::string, size_t>> sources;
+  for (size_t id : root.children) {
+    const Element& grid = p.element(id);
+    if (grid.name != "PUnstructuredGrid") continue;
+    for (size_t piece : grid.children)
+      if (p.element(piece).name == "Piece") {
+        const std::string* source = p.element(piece).attr("Source");
+        if (!source || source->empty()) p.fail_at(p.element(piece).offset, "<Piece> without a Source");
+        sources.emplace_back(*source, p.element(piece).offset);
+      }
+  }
+  if (sources.empty()) p.fail_at(root.offset, "no <PUnstructuredGrid> with a <Piece Source=...>");
+  // The pieces' paths are relative to the .pvtu's folder. Points a parallel
+  // writer repeats on the pieces' borders are merged by quantization, as
+  // any coincident points are.
+  const size_t slash = path.find_last_of('/');
+  const std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+  InputMesh whole;
+  for (size_t k = 0; k < sources.size(); ++k) {
+    const std::string piece = sources[k].first.front() == '/' ? sources[k].first : folder + sources[k].first;
+    append_piece(whole, read_vtu(piece), k == 0, piece);
+  }
+  return whole;
+}
+
 }  // namespace dtm

@@ -12,11 +12,18 @@
 
 namespace dtm {
 
-// Points, VTK_TETRA cells and the PointData arrays, of every <Piece> (one
-// mesh: the pieces' points one after the other). Other cell types (checked)
-// and CellData arrays are named in InputMesh::left_out. Throws FormatError
-// naming the file and the line of the offending element (the byte offset
-// inside raw appended data).
+// Points, VTK_TETRA cells, the PointData arrays and the CellData arrays
+// (InputMesh::tet_arrays, cell_fields), of every <Piece> (one mesh: the
+// pieces' points one after the other); VTK_TRIANGLE cells as candidate
+// tagged faces. Other cell types (checked) are named in
+// InputMesh::left_out. Throws FormatError naming the file and the line of
+// the offending element (the byte offset inside raw appended data).
 InputMesh read_vtu(const std::string& path);
+
+// A parallel unstructured grid (.pvtu, as ParaView's and VTK's parallel
+// writers and meshdec write one): its pieces (.vtu files, paths relative to
+// it) read as read_vtu reads them and put together as one mesh; every
+// piece must hold the same arrays.
+InputMesh read_pvtu(const std::string& path);
 
 }  // namespace dtm
