@@ -584,12 +584,13 @@ int run(Command& c) {
     print_reference_line(r);
     uint64_t value_bytes = r.field_table_bytes;
     for (const auto& f : r.fields) value_bytes += f.bytes;
-    value_bytes += r.cell_field_table_bytes + r.cell_value_bytes;
+    // (What is not the levels: the values, level 0's cell data and vertex order.)
+    value_bytes += r.cell_field_table_bytes + r.cell_value_bytes + r.order_bytes;
     if (!c.output.empty())
       std::printf("%s: %llu bytes, %.2f bits per vertex for the levels (%zu vertices, %zu levels)%s\n",
                   c.output.c_str(), static_cast<unsigned long long>(r.stream_bytes),
                   8.0 * (r.stream_bytes - value_bytes) / vertices, vertices, r.streamed_levels.size(),
-                  r.fields.empty() && r.cell_fields.empty() ? "" : ", and the values:");
+                  r.fields.empty() && r.cell_fields.empty() && r.order_bytes == 0 ? "" : ", and:");
     print_fields(r, vertices);
     if (!r.regions.empty()) {
       uint64_t region_bytes = r.region_table_bytes;
