@@ -484,8 +484,10 @@ int run(Command& c) {
   }
   // Whatever the stream will not hold, named on standard error (and in the
   // report); --strict refuses the input instead.
-  for (const std::string& what : in.left_out)
-    std::fprintf(stderr, "%s: left out (the stream does not hold it): %s\n", c.input.c_str(), what.c_str());
+  // (Under mpirun every rank reads the input: rank 0 says it once.)
+  if (mpi.rank() == 0)
+    for (const std::string& what : in.left_out)
+      std::fprintf(stderr, "%s: left out (the stream does not hold it): %s\n", c.input.c_str(), what.c_str());
   if (c.strict && !in.left_out.empty())
     throw std::runtime_error(c.input + ": --strict: the stream would leave out " +
                              std::to_string(in.left_out.size()) + " thing" +
