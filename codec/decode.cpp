@@ -7,7 +7,7 @@
 #include "codec/sections/carving_coder.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
-#include "codec/sections/vertex_order.h"
+#include "codec/sections/vertex_order_coder.h"
 #include "codec/stream/layer_coder.h"
 #include "common/parallel_for.h"
 #include "mesh/geometry.h"

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "codec/bricks/bricks.h"
-#include "codec/sections/cell_values.h"
+#include "codec/sections/cell_value_coder.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/value_fields.h"
 #include "codec/stream/format.h"

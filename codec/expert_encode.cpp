@@ -8,10 +8,10 @@
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/carving_coder.h"
-#include "codec/sections/cell_values.h"
+#include "codec/sections/cell_value_coder.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
-#include "codec/sections/vertex_order.h"
+#include "codec/sections/vertex_order_coder.h"
 #include "codec/stream/format.h"
 #include "codec/stream/layer_coder.h"
 #include "mesh/carving.h"

@@ -23,7 +23,7 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
-#include "codec/sections/cell_values.h"
+#include "codec/sections/cell_value_coder.h"
 #include "codec/stream/format.h"
 #include "core/quantize.h"
 #include "mesh/delaunay.h"

@@ -14,7 +14,7 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
-#include "codec/sections/vertex_order.h"
+#include "codec/sections/vertex_order_coder.h"
 #include "codec/stream/layer_coder.h"
 #include "common/csr.h"
 #include "core/quantize.h"

@@ -1,9 +1,9 @@
 // The vertex order section written (spec/FORMAT.md §3.9): the encoder's side
-// of vertex_order.h.
+// of vertex_order_coder.h.
 #include <algorithm>
 
-#include "codec/sections/vertex_order.h"
-#include "codec/sections/vertex_order_shared.h"
+#include "codec/sections/vertex_order_coder.h"
+#include "codec/sections/vertex_order_coder_shared.h"
 
 namespace dtm {
 

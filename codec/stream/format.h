@@ -75,10 +75,10 @@ inline constexpr uint16_t kFlagRegions = 16;
 inline constexpr uint16_t kFlagFaces = 32;
 // 10.0: a cell field table follows (the face tag table) and level 0's layer
 // carries a cell value section: per-cell arrays of the finest level
-// (codec/sections/cell_values.h); not with kFlagBricks.
+// (codec/sections/cell_value_coder.h); not with kFlagBricks.
 inline constexpr uint16_t kFlagCellData = 64;
 // 10.0: level 0's layer carries a vertex order section: level 0's vertices
-// in the input's numbering (codec/sections/vertex_order.h); not with
+// in the input's numbering (codec/sections/vertex_order_coder.h); not with
 // kFlagBricks.
 inline constexpr uint16_t kFlagVertexOrder = 128;
 inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues |

@@ -17,7 +17,7 @@
 #include <span>
 #include <vector>
 
-#include "codec/sections/cell_values.h"
+#include "codec/sections/cell_value_coder.h"
 #include "common/checksum.h"
 #include "fuzz_check.h"
 #include "fuzz_point_sets.h"

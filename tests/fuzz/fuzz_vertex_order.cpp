@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "codec/sections/vertex_order.h"
+#include "codec/sections/vertex_order_coder.h"
 #include "fuzz_check.h"
 #include "fuzz_point_sets.h"
 #include "mesh/delaunay.h"

@@ -1,10 +1,9 @@
 // The vertex order section read (spec/FORMAT.md §3.9), and the neighbour
 // lists both sides build.
-#include "codec/sections/vertex_order.h"
-
 #include <algorithm>
 
-#include "codec/sections/vertex_order_shared.h"
+#include "codec/sections/vertex_order_coder.h"
+#include "codec/sections/vertex_order_coder_shared.h"
 
 namespace dtm {
 

@@ -1,6 +1,6 @@
 // The cell value section read (spec/FORMAT.md §3.8), and where a cell
 // stands, which encoder and decoder share.
-#include "codec/sections/cell_values.h"
+#include "codec/sections/cell_value_coder.h"
 
 namespace dtm {
 
