@@ -92,6 +92,20 @@ Status check_options(const EncodeOptions& o) {
   return Status::Ok();
 }
 
+// How the stream's table describes an input array (a per-vertex field or a
+// cell array): lossy where --field-error names it.
+FieldDescription described(const EncodeInput::Field& f, const EncodeOptions& options) {
+  FieldDescription d;
+  d.name = f.name;
+  d.type = f.type;
+  d.components = f.components;
+  if (const auto e = options.field_errors.find(f.name); e != options.field_errors.end()) {
+    d.lossy = true;
+    d.error_bound = e->second;
+  }
+  return d;
+}
+
 // The fields' values per grid point (the first input point's, where
 // quantization merged several), checked against the points and the options.
 StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, const EncodeOptions& options,
@@ -105,14 +119,7 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
   std::vector<FieldDescription> descriptions;
   std::vector<size_t> value_counts;
   for (const auto& f : input.fields) {
-    FieldDescription& d = descriptions.emplace_back();
-    d.name = f.name;
-    d.type = f.type;
-    d.components = f.components;
-    if (const auto e = options.field_errors.find(f.name); e != options.field_errors.end()) {
-      d.lossy = true;
-      d.error_bound = e->second;
-    }
+    descriptions.push_back(described(f, options));
     value_counts.push_back(f.values.size());
   }
   DTM_RETURN_IF_ERROR(check_fields(descriptions, value_counts, q.input_to_point.size()));
@@ -291,20 +298,19 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   // data, when the encoder puts them on the grid itself).
   std::vector<int32_t> source;
   const bool with_cells = !input.cell_fields.empty();
+  std::vector<FieldDescription> cell_descriptions;  // checked here, before the long work
   if (with_cells) {
     if (input.tetrahedra.empty()) return invalid_input("cell data needs the tetrahedra it belongs to");
     if (options.bricks) return invalid_input("bricked streams do not carry cell data yet");
     if (!options.carve_to_reference)
       return invalid_input("cell data needs the levels carved to the input's solid (not the paper preset)");
-    std::vector<FieldDescription> descriptions;
     std::vector<size_t> value_counts;
     for (const auto& f : input.cell_fields) {
-      FieldDescription& d = descriptions.emplace_back();
-      d.name = f.name, d.type = f.type, d.components = f.components;
+      cell_descriptions.push_back(described(f, options));
       value_counts.push_back(f.values.size());
     }
     DTM_RETURN_IF_ERROR(
-        check_fields(descriptions, value_counts, input.tetrahedra.size()).with_context("cell data"));
+        check_fields(cell_descriptions, value_counts, input.tetrahedra.size()).with_context("cell data"));
   }
   const bool with_regions = !input.tetrahedron_regions.empty();
   if (with_regions) {
@@ -463,11 +469,9 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
       report.cells_from_input = from.exact;
       report.cells_from_nearest = from.nearest;
       std::vector<FieldValues> out;
-      for (const auto& f : input.cell_fields) {
-        FieldValues& v = out.emplace_back();
-        v.description.name = f.name, v.description.type = f.type, v.description.components = f.components;
-        if (const auto e = options.field_errors.find(f.name); e != options.field_errors.end())
-          v.description.lossy = true, v.description.error_bound = e->second;
+      for (size_t k = 0; k < input.cell_fields.size(); ++k) {
+        const auto& f = input.cell_fields[k];
+        FieldValues& v = out.emplace_back(FieldValues{cell_descriptions[k], {}});
         const size_t n = static_cast<size_t>(f.components);
         v.bits.reserve(cells.size() * n);
         for (uint32_t t : from.tetrahedron) {

@@ -250,34 +250,31 @@ void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::Re
     in.tets.shrink_to_fit();
 }
 
+// The input's arrays as the plan lists them: 'name' (type x components,
+// lossless or within E), ...
+std::string array_list(const std::vector<dtm::VertexField>& arrays,
+                       const std::map<std::string, double>& errors) {
+  std::string names;
+  for (const auto& f : arrays) {
+    names += (names.empty() ? "'" : ", '") + f.name + "' (" + dtm::scalar_name(f.type) +
+             (f.components > 1 ? " x " + std::to_string(f.components) : "");
+    const auto e = errors.find(f.name);
+    names += e == errors.end() ? ", lossless)" : ", within " + format_number(e->second) + ")";
+  }
+  return names;
+}
+
 void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePlan& plan) {
   const auto& q = plan.quantized;
   std::printf("%s: %zu points, %llu merged by quantization, q=%d, step=%.6g, Dmax=%g%s\n", c.input.c_str(),
               q.input_to_point.size(), static_cast<unsigned long long>(q.duplicates_merged), q.grid.qbits,
               q.grid.step, plan.dmax, in.on_grid ? " (the voxel lattice: lossless)" : "");
-  if (!in.fields.empty()) {
-    std::string names;
-    for (const auto& f : in.fields) {
-      names += (names.empty() ? "'" : ", '") + f.name + "' (" + dtm::scalar_name(f.type) +
-               (f.components > 1 ? " x " + std::to_string(f.components) : "");
-      const auto e = c.encode.field_errors.find(f.name);
-      names +=
-          e == c.encode.field_errors.end() ? ", lossless)" : ", within " + format_number(e->second) + ")";
-    }
+  if (!in.fields.empty())
     std::printf("%s: per-vertex fields %s: %s\n", c.input.c_str(), c.no_fields ? "left out" : "coded",
-                names.c_str());
-  }
-  if (!in.cell_fields.empty()) {
-    std::string names;
-    for (const auto& f : in.cell_fields) {
-      names += (names.empty() ? "'" : ", '") + f.name + "' (" + dtm::scalar_name(f.type) +
-               (f.components > 1 ? " x " + std::to_string(f.components) : "");
-      const auto e = c.encode.field_errors.find(f.name);
-      names +=
-          e == c.encode.field_errors.end() ? ", lossless)" : ", within " + format_number(e->second) + ")";
-    }
-    std::printf("%s: cell data (level 0's cells): %s\n", c.input.c_str(), names.c_str());
-  }
+                array_list(in.fields, c.encode.field_errors).c_str());
+  if (!in.cell_fields.empty())
+    std::printf("%s: cell data (level 0's cells): %s\n", c.input.c_str(),
+                array_list(in.cell_fields, c.encode.field_errors).c_str());
   if (!in.tet_regions.empty()) {
     std::map<int32_t, uint64_t> cells;
     for (int32_t r : in.tet_regions) ++cells[r];
@@ -324,15 +321,20 @@ void parse_field_errors(const std::vector<std::string>& args, dtm::EncodeOptions
   }
 }
 
+// One coded array's line after the table: its bytes and bits per value over
+// `items` (vertices, or level 0's cells).
+void print_array_bytes(const char* what, const dtm::FieldReport& f, uint64_t items) {
+  const auto& d = f.description;
+  std::printf("  %s '%s' (%s%s): %llu bytes, %.2f bits per value, %s\n", what, d.name.c_str(),
+              dtm::value_type_name(d.type),
+              d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
+              static_cast<unsigned long long>(f.bytes),
+              items ? 8.0 * static_cast<double>(f.bytes) / static_cast<double>(items * d.components) : 0.0,
+              d.lossy ? ("every value within " + format_number(d.error_bound)).c_str() : "lossless");
+}
+
 void print_fields(const dtm::EncodeReport& r, size_t vertices) {
-  for (const dtm::FieldReport& f : r.fields) {
-    const auto& d = f.description;
-    std::printf("  field '%s' (%s%s): %llu bytes, %.2f bits per value, %s\n", d.name.c_str(),
-                dtm::value_type_name(d.type),
-                d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
-                static_cast<unsigned long long>(f.bytes), 8.0 * f.bytes / (vertices * d.components),
-                d.lossy ? ("every value within " + format_number(d.error_bound)).c_str() : "lossless");
-  }
+  for (const dtm::FieldReport& f : r.fields) print_array_bytes("field", f, vertices);
   if (r.merged_points_with_other_values > 0)
     std::printf("  %llu vertices merged points with different values: each keeps its first point's\n",
                 static_cast<unsigned long long>(r.merged_points_with_other_values));
@@ -604,15 +606,7 @@ int run(Command& c) {
                   static_cast<unsigned long long>(r.region_bytes.empty() ? 0 : r.region_bytes.front()),
                   cells ? 8.0 * (r.region_bytes.empty() ? 0 : r.region_bytes.front()) / cells : 0.0);
     }
-    for (const dtm::FieldReport& f : r.cell_fields) {
-      const auto& d = f.description;
-      std::printf("  cell data '%s' (%s%s): %llu bytes, %.2f bits per value, %s\n", d.name.c_str(),
-                  dtm::value_type_name(d.type),
-                  d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
-                  static_cast<unsigned long long>(f.bytes),
-                  r.level0_cells ? 8.0 * f.bytes / (r.level0_cells * d.components) : 0.0,
-                  d.lossy ? ("every value within " + format_number(d.error_bound)).c_str() : "lossless");
-    }
+    for (const dtm::FieldReport& f : r.cell_fields) print_array_bytes("cell data", f, r.level0_cells);
     if (!r.cell_fields.empty() && r.cells_from_input == r.level0_cells)
       std::printf("  cell data on level 0's %llu cells: every one an input tetrahedron with its own values\n",
                   static_cast<unsigned long long>(r.level0_cells));

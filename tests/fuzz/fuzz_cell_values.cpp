@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "codec/sections/cell_value_coder.h"
-#include "common/checksum.h"
 #include "fuzz_check.h"
 #include "fuzz_point_sets.h"
+#include "fuzz_tables.h"
 #include "mesh/delaunay.h"
 #include "mesh/topology.h"
 
@@ -30,12 +30,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const dtm::TetMesh block_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value();
   static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value();
   const dtm::TetMesh& dt = cloud ? cloud_dt : block_dt;
-  const size_t body = std::min<size_t>(data[1] | size_t{data[2]} << 8, size - 3);
-  std::vector<uint8_t> table(4 + body + 8);
-  for (int k = 0; k < 4; ++k) table[k] = static_cast<uint8_t>(body >> (8 * k));
-  std::copy_n(data + 3, body, table.begin() + 4);
-  const uint64_t checksum = dtm::xxh3_64(std::span(table).first(4 + body));
-  for (int k = 0; k < 8; ++k) table[4 + body + k] = static_cast<uint8_t>(checksum >> (8 * k));
+  const FuzzTable framed = fuzz_table(data, size);
+  const std::vector<uint8_t>& table = framed.table;
   std::vector<dtm::FieldDescription> fields;
   size_t consumed = 0;
   const dtm::Status parsed = dtm::parse_field_table(table, fields, consumed);
@@ -51,7 +47,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (uint32_t c : dtm::canonical_cell_order(dt.cells))
     if ((data[0] & 2) || dt.cells[c][0] % 2 == 0) cells.push_back(dt.cells[c]);
   const std::vector<dtm::GridPoint> at = dtm::cell_positions(fuzz_point_set(cloud), cells);
-  const std::span<const uint8_t> section(data + 3 + body, size - 3 - body);
+  const std::span<const uint8_t> section = framed.after;
   std::vector<dtm::FieldValues> values;
   const dtm::Status s = dtm::decode_cell_values(fields, section, at, values);
   if (!s.ok()) {

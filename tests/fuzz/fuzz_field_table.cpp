@@ -13,19 +13,15 @@
 #include <vector>
 
 #include "codec/sections/value_fields.h"
-#include "common/checksum.h"
 #include "fuzz_check.h"
 #include "fuzz_point_sets.h"
+#include "fuzz_tables.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 3) return 0;
   const auto& points = fuzz_point_set(data[0] & 1);
-  const size_t body = std::min<size_t>(data[1] | size_t{data[2]} << 8, size - 3);
-  std::vector<uint8_t> table(4 + body + 8);
-  for (int k = 0; k < 4; ++k) table[k] = static_cast<uint8_t>(body >> (8 * k));
-  std::copy_n(data + 3, body, table.begin() + 4);
-  const uint64_t checksum = dtm::xxh3_64(std::span(table).first(4 + body));
-  for (int k = 0; k < 8; ++k) table[4 + body + k] = static_cast<uint8_t>(checksum >> (8 * k));
+  const FuzzTable framed = fuzz_table(data, size);
+  const std::vector<uint8_t>& table = framed.table;
   std::vector<dtm::FieldDescription> fields;
   size_t consumed = 0;
   const dtm::Status parsed = dtm::parse_field_table(table, fields, consumed);
@@ -36,7 +32,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   FUZZ_CHECK(consumed == table.size());
   FUZZ_CHECK(dtm::write_field_table(fields) == table);
 
-  const std::span<const uint8_t> section(data + 3 + body, size - 3 - body);
+  const std::span<const uint8_t> section = framed.after;
   std::vector<uint64_t> field_bytes;
   const dtm::Status sized = dtm::value_section_field_bytes(section, fields, field_bytes);
   dtm::FieldSectionDecoder decoder(fields);

@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "codec/sections/region_coder.h"
-#include "common/checksum.h"
 #include "fuzz_check.h"
 #include "fuzz_point_sets.h"
+#include "fuzz_tables.h"
 #include "mesh/delaunay.h"
 #include "mesh/topology.h"
 
@@ -27,12 +27,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value();
   const dtm::TetMesh& dt = (data[0] & 1) ? cloud_dt : block_dt;
   const size_t regions = 2 + (data[0] >> 2);
-  const size_t body = std::min<size_t>(data[1] | size_t{data[2]} << 8, size - 3);
-  std::vector<uint8_t> table(4 + body + 8);
-  for (int k = 0; k < 4; ++k) table[k] = static_cast<uint8_t>(body >> (8 * k));
-  std::copy_n(data + 3, body, table.begin() + 4);
-  const uint64_t checksum = dtm::xxh3_64(std::span(table).first(4 + body));
-  for (int k = 0; k < 8; ++k) table[4 + body + k] = static_cast<uint8_t>(checksum >> (8 * k));
+  const FuzzTable framed = fuzz_table(data, size);
+  const std::vector<uint8_t>& table = framed.table;
   std::vector<dtm::RegionLabel> labels;
   size_t consumed = 0;
   const dtm::Status parsed = dtm::parse_region_table(table, labels, consumed);
@@ -44,7 +40,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(parsed.code() == dtm::StatusCode::kCorrupt);
   }
 
-  const std::span<const uint8_t> section(data + 3 + body, size - 3 - body);
+  const std::span<const uint8_t> section = framed.after;
   static const std::vector<uint32_t> block_order = dtm::canonical_cell_order(block_dt.cells);
   static const std::vector<uint32_t> cloud_order = dtm::canonical_cell_order(cloud_dt.cells);
   const std::vector<uint32_t>& order = (data[0] & 1) ? cloud_order : block_order;
