@@ -5,6 +5,7 @@
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/carving_coder.h"
+#include "codec/sections/exact_cell_coder.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/sections/vertex_order_coder.h"
@@ -133,6 +134,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   face_section_.assign(layer.faces.begin(), layer.faces.end());
   cell_value_section_.assign(layer.cell_values.begin(), layer.cell_values.end());
   order_section_.assign(layer.order.begin(), layer.order.end());
+  exact_section_.assign(layer.exact.begin(), layer.exact.end());
   if (lh.bricked) {
     chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
     brick_depth_ = lh.brick_depth;
@@ -314,13 +316,40 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<
   std::vector<uint8_t> kept;
   Status s =
       decode_carving(carving_, dt, points_, alpha, carving_contexts(header_.version_major), kept, &order);
-  if (s.ok() && (header_.flags & kFlagRegions))
+  if (s.ok() && (header_.flags & kFlagRegions) && !exact_level())
     s = decode_regions(region_section_, dt, order, regions_.size(), kept);
   if (!s.ok()) {
     mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return {};
   }
   return kept;
+}
+
+ProgressiveDecoder::LevelCells ProgressiveDecoder::level_cells() const {
+  LevelCells out;
+  out.mesh = delaunay();
+  if (!mesh_status_.ok()) return {};
+  out.kept = carving(out.mesh, out.order);
+  if (!mesh_status_.ok()) return {};
+  if (!exact_level()) return out;
+  // The fill from the kept Delaunay cells, then the regions of the whole
+  // level (spec/FORMAT.md §3.10): the cells the exact section adds are kept.
+  ExactFill fill;
+  Status s =
+      decode_exact_cells(exact_section_, out.mesh, points_, levels_.back().alpha, out.kept, out.order, fill);
+  if (s.ok()) {
+    const auto first = static_cast<uint32_t>(out.mesh.cells.size());
+    extend_with_fill(out.mesh, fill);
+    out.kept.resize(out.mesh.cells.size(), 1);
+    for (uint32_t c = first; c < out.mesh.cells.size(); ++c) out.order.push_back(c);
+    if (header_.flags & kFlagRegions)
+      s = decode_regions(region_section_, out.mesh, out.order, regions_.size(), out.kept);
+  }
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level 0");
+    return {};
+  }
+  return out;
 }
 
 std::vector<uint8_t> ProgressiveDecoder::face_tags(const TetMesh& dt, std::span<const uint8_t> kept,
@@ -378,13 +407,11 @@ std::vector<uint32_t> ProgressiveDecoder::vertex_order(const TetMesh& dt) const 
 }
 
 std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {
-  const TetMesh dt = delaunay();
-  std::vector<uint32_t> order;
-  const std::vector<uint8_t> kept = carving(dt, order);
+  const LevelCells level = level_cells();
   if (!mesh_status_.ok()) return {};
   std::vector<std::array<uint32_t, 4>> out;
-  for (uint32_t c : order)
-    if (kept[c]) out.push_back(dt.cells[c]);
+  for (uint32_t c : level.order)
+    if (level.kept[c]) out.push_back(level.mesh.cells[c]);
   return out;
 }
 

@@ -113,7 +113,26 @@ class ProgressiveDecoder {
   // of one region).
   std::vector<uint8_t> carving(const TetMesh& dt) const;
   // The same, and the canonical order of dt's cells (found on the way).
+  // Level 0 of an exact stream (11.0, flag exact) is more than dt's cells:
+  // there carving() gives the Delaunay cells it keeps, without their
+  // regions; level_cells() gives the level.
   std::vector<uint8_t> carving(const TetMesh& dt, std::vector<uint32_t>& order) const;
+  // The finest decoded level, for a writer: `mesh` holds delaunay()'s cells
+  // and, at level 0 of an exact stream, the input's other cells after them
+  // (codec/sections/exact_cell_coder.h), every kept cell's neighbour across
+  // each face the cell now there; `kept` per cell of mesh as carving()
+  // gives it (the region); `order` the canonical order of mesh's cells (the
+  // exact cells last, as the section gives them). face_tags(), cell_data()
+  // and vertex_order() take these. Empty, and mesh_status() set, if a
+  // section is damaged.
+  struct LevelCells {
+    TetMesh mesh;
+    std::vector<uint8_t> kept;
+    std::vector<uint32_t> order;
+  };
+  LevelCells level_cells() const;
+  // Level 0 of this stream is the input's cells (11.0, flag exact).
+  bool exact_level() const { return (header_.flags & kFlagExact) && finest_level() == 0; }
   Status mesh_status() const { return mesh_status_; }
   // The stream's regions (9.0, flag regions; spec/FORMAT.md §2.2): the
   // label and name of each region index. Empty without regions.
@@ -168,6 +187,7 @@ class ProgressiveDecoder {
   std::vector<FieldDescription> cell_fields_;
   std::vector<uint8_t> cell_value_section_;  // level 0's
   std::vector<uint8_t> order_section_;       // level 0's
+  std::vector<uint8_t> exact_section_;       // level 0's
   StreamHeader header_;
   std::optional<FieldSectionDecoder> value_decoder_;
   std::vector<FieldValues> fields_;

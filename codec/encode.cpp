@@ -14,6 +14,7 @@
 #include "core/cell_sources.h"
 #include "core/reference_shape.h"
 #include "core/region_solid.h"
+#include "mesh/predicates.h"
 
 namespace dtm {
 namespace {
@@ -154,6 +155,17 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
   return out;
 }
 
+// Input cells that are flat on the grid, or turned the other way than most
+// (a mesh's cells all turn one way).
+uint64_t turned_cells(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets) {
+  uint64_t positive = 0, negative = 0, flat = 0;
+  for (const auto& t : tets) {
+    const int o = orientation(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
+    (o > 0 ? positive : o < 0 ? negative : flat) += 1;
+  }
+  return flat + std::min(positive, negative);
+}
+
 // A bricked stream: the levels built block by block, on the ranks of
 // options.exchange if given (codec/blocks/bricked_encoder.h).
 StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOptions& options,
@@ -244,6 +256,35 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
 }
 
 }  // namespace
+
+Status check_exact_grid(std::span<const InputPoint> points,
+                        std::span<const std::array<uint32_t, 4>> tetrahedra, const EncodePlan& plan) {
+  const QuantizedPoints& q = plan.quantized;
+  // What goes wrong on a grid of `bits` bits, if anything.
+  const auto problem = [&](const QuantizedPoints& grid) -> std::string {
+    if (grid.duplicates_merged > 0)
+      return std::to_string(grid.duplicates_merged) + " points share a grid point with another";
+    std::vector<std::array<uint32_t, 4>> tets(tetrahedra.begin(), tetrahedra.end());
+    grid_tetrahedra_in_place(tets, grid);
+    if (tets.size() != tetrahedra.size())
+      return std::to_string(tetrahedra.size() - tets.size()) + " input cells lose a corner";
+    if (const uint64_t turned = turned_cells(grid.points, tets); turned > 0)
+      return std::to_string(turned) + " input cells are flat or turned over";
+    return {};
+  };
+  const std::string now = problem(q);
+  if (now.empty()) return Status::Ok();
+  std::string fix = "no grid of up to 24 bits does";
+  for (int bits = q.grid.qbits + 1; bits <= 24; ++bits) {
+    const auto finer = quantize(points, bits, plan.scale);
+    if (finer.ok() && problem(*finer).empty()) {
+      fix = "--qbits " + std::to_string(bits) + " keeps them apart";
+      break;
+    }
+  }
+  return invalid_input(now + " on the grid of q=" + std::to_string(q.grid.qbits) +
+                       ": the input's cells cannot be kept exactly (" + fix + ")");
+}
 
 StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions& options) {
   DTM_RETURN_IF_ERROR(check_options(options));
@@ -364,6 +405,20 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
                            " points share a grid point with another at q=" + std::to_string(q.grid.qbits) +
                            ": the input's numbering cannot be kept (raise --qbits, or merge them first)");
   }
+  if (options.exact) {
+    if (options.bricks) return invalid_input("bricked streams do not keep the input's cells exactly yet");
+    if (!options.carve_to_reference)
+      return invalid_input("exact cells need the codec preset (not the paper preset)");
+    if (reference_tets.empty()) return invalid_input("--exact needs the input's tetrahedra");
+    if (input.tetrahedra_on_grid) {
+      // (The caller put them on the grid: it checked them there, check_exact_grid.)
+      if (q.duplicates_merged > 0 || turned_cells(q.points, reference_tets) > 0)
+        return invalid_input("the input's points or cells do not stay apart on the grid of q=" +
+                             std::to_string(q.grid.qbits) + ": they cannot be kept exactly (raise --qbits)");
+    } else {
+      DTM_RETURN_IF_ERROR(check_exact_grid(input.points, input.tetrahedra, plan));
+    }
+  }
   if (input.points_done) input.points_done();
   // The paper preset does not carve to the reference: it is only measured.
   std::optional<ReferenceShape> measured_only;
@@ -461,6 +516,10 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   stream_options.face_tags = report.face_tags;
   stream_options.faces = tagger ? &*tagger : nullptr;
   if (options.keep_order) stream_options.input_order = q.input_to_point;
+  if (options.exact) {
+    stream_options.exact_cells = reference_tets;
+    if (region_index.size() == reference_tets.size()) stream_options.exact_labels = region_index;
+  }
   if (with_cells)
     stream_options.cell_values =
         [&](std::span<const std::array<uint32_t, 4>> cells) -> StatusOr<std::vector<FieldValues>> {
@@ -502,6 +561,9 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   report.cell_field_table_bytes = stream.cell_field_table_bytes;
   report.cell_value_bytes = stream.cell_value_bytes;
   report.order_bytes = stream.order_bytes;
+  report.exact_bytes = stream.exact_bytes;
+  report.exact_delaunay_cells = stream.exact_delaunay_cells;
+  report.exact = stream.exact;
   report.streamed_levels = std::move(stream.streamed_levels);
   report.stream_bytes = stream.bytes.size();
   out.bytes = std::move(stream.bytes);

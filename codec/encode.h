@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "codec/sections/exact_cell_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/sections/value_fields.h"
 #include "common/exchange.h"
@@ -83,6 +84,12 @@ struct EncodeOptions {
   // input point its own grid point (no merge by quantization) and the codec
   // preset; not with bricks.
   bool keep_order = false;
+  // Level 0 equal to the input's tetrahedra (format 11.0; meshenc --exact):
+  // the same cells, positively oriented, coded as corrections to the
+  // Delaunay tetrahedralization the decoder builds. Needs the input's
+  // tetrahedra, a valid mesh on the grid (no point merged by quantization,
+  // no cell flat there) and the codec preset; not with bricks.
+  bool exact = false;
   // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.
@@ -243,6 +250,11 @@ struct EncodeReport {
   uint64_t cell_field_table_bytes = 0, cell_value_bytes = 0;
   uint64_t level0_cells = 0, cells_from_input = 0, cells_from_nearest = 0;
   uint64_t order_bytes = 0;  // the vertex order section (--keep-order), 0 without
+  // --exact: the exact cell section's bytes, the input cells that are
+  // level 0's Delaunay cells, and the fill's figures (the rest).
+  uint64_t exact_bytes = 0;
+  uint64_t exact_delaunay_cells = 0;
+  ExactStats exact;
   // Points merged by quantization whose values differed: each vertex keeps
   // its first point's values.
   uint64_t merged_points_with_other_values = 0;
@@ -268,6 +280,13 @@ struct EncodePlan {
   double dmax = 0;  // scaled input units
 };
 StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions& options);
+
+// --exact's check of a plan's grid: no two input points on one grid point,
+// no input cell losing a corner or turning flat or over there. kInvalidInput
+// says what goes wrong and the --qbits that would keep them apart, if a grid
+// of up to 24 bits does. `tetrahedra` index `points`.
+Status check_exact_grid(std::span<const InputPoint> points,
+                        std::span<const std::array<uint32_t, 4>> tetrahedra, const EncodePlan& plan);
 
 // Called once per hierarchy level as soon as it is built.
 using LevelReady = std::function<void(const LevelReport&)>;

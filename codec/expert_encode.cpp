@@ -103,6 +103,72 @@ LayerPoints code_layer_points(std::span<const GridPoint> fresh, std::span<const 
   return best;
 }
 
+// Level 0 of an exact stream (spec/FORMAT.md §3.10), in the decoder's
+// numbering: which Delaunay cells are input cells (the carving section's
+// verdicts), the exact cell section with the others, and the level as the
+// regions, faces, cell values and vertex order are then coded on.
+struct ExactLevel {
+  std::vector<uint8_t> delaunay_kept;  // per cell of dt: 1 when it is an input cell
+  std::vector<uint8_t> section;
+  TetMesh mesh;                 // dt's cells, then the fill's
+  std::vector<uint8_t> kept;    // per cell of mesh: its label, 0 if not kept
+  std::vector<uint32_t> order;  // mesh's canonical order (the fill last)
+  std::vector<uint32_t> input;  // per cell of mesh: its input cell, UINT32_MAX if none
+  uint64_t delaunay_cells = 0;  // input cells that are Delaunay cells
+  ExactStats stats;
+};
+
+StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
+                                 std::span<const MeshCell> input, std::span<const uint8_t> labels) {
+  constexpr uint32_t kNone = UINT32_MAX;
+  const auto label = [&](uint32_t i) -> uint8_t { return labels.empty() ? 1 : labels[i]; };
+  std::vector<std::pair<MeshCell, uint32_t>> sorted;
+  sorted.reserve(input.size());
+  for (uint32_t i = 0; i < input.size(); ++i) {
+    MeshCell c = input[i];
+    std::sort(c.begin(), c.end());
+    sorted.emplace_back(c, i);
+  }
+  std::sort(sorted.begin(), sorted.end());
+  for (size_t i = 1; i < sorted.size(); ++i)
+    if (sorted[i].first == sorted[i - 1].first)
+      return invalid_input("two input cells have the same four corners: --exact needs a valid mesh");
+  ExactLevel e;
+  e.delaunay_kept.assign(dt.cells.size(), 0);
+  e.input.assign(dt.cells.size(), kNone);
+  std::vector<uint8_t> used(input.size(), 0);
+  for (size_t c = 0; c < dt.cells.size(); ++c) {
+    MeshCell q = dt.cells[c];
+    std::sort(q.begin(), q.end());
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(q, uint32_t{0}));
+    if (it == sorted.end() || it->first != q) continue;
+    e.delaunay_kept[c] = 1;
+    e.input[c] = it->second;
+    used[it->second] = 1;
+  }
+  std::vector<MeshCell> rest;
+  std::vector<uint32_t> rest_index;
+  for (uint32_t i = 0; i < input.size(); ++i)
+    if (!used[i]) rest.push_back(input[i]), rest_index.push_back(i);
+  e.delaunay_cells = input.size() - rest.size();
+  e.order = canonical_cell_order(dt.cells);
+  ExactFill fill;
+  std::vector<uint32_t> source;
+  DTM_ASSIGN_OR_RETURN(e.section, encode_exact_cells(dt, points, alpha, e.delaunay_kept, e.order, rest, fill,
+                                                     source, &e.stats));
+  e.mesh = dt;
+  extend_with_fill(e.mesh, fill);
+  e.kept.resize(dt.cells.size());
+  for (size_t c = 0; c < dt.cells.size(); ++c) e.kept[c] = e.delaunay_kept[c] ? label(e.input[c]) : 0;
+  for (size_t j = 0; j < fill.cells.size(); ++j) {
+    const uint32_t i = rest_index[source[j]];
+    e.kept.push_back(label(i));
+    e.input.push_back(i);
+    e.order.push_back(static_cast<uint32_t>(dt.cells.size() + j));
+  }
+  return e;
+}
+
 }  // namespace
 
 StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<const GridPoint> points,
@@ -145,8 +211,23 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       return invalid_input("encode_stream: more than " + std::to_string(kMaxFaceTags) + " face tags");
     if (!corrections) return invalid_input("encode_stream: face tags need a hierarchy carved to a reference");
   }
+  const bool exact = !options.exact_cells.empty();
+  if (exact) {
+    if (!corrections)
+      return invalid_input("encode_stream: exact cells need a hierarchy carved to a reference");
+    if (!options.exact_labels.empty() && options.exact_labels.size() != options.exact_cells.size())
+      return invalid_input("encode_stream: a label is needed for every exact cell");
+    for (uint8_t r : options.exact_labels)
+      if (r == 0 || r > std::max<size_t>(options.regions.size(), 1))
+        return invalid_input("encode_stream: an exact cell's region is not in the table");
+    for (const auto& c : options.exact_cells)
+      for (uint32_t v : c)
+        if (v >= points.size())
+          return invalid_input("encode_stream: an exact cell names a point that does not exist");
+  }
   // Level 0's kept cells and their values, before the header: the cell
-  // field table's scales are the values'.
+  // field table's scales are the values'. (Of an exact level 0: the input's
+  // cells, in the order given.)
   const bool cell_data = static_cast<bool>(options.cell_values);
   std::optional<FieldSectionEncoder> cell_coder;
   std::vector<uint32_t> kept_rank;  // per cell of level 0's DT: its index among the kept, or UINT32_MAX
@@ -155,12 +236,16 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       return invalid_input("encode_stream: cell data needs a hierarchy carved to a reference");
     const Level& finest = hierarchy.levels[0];
     std::vector<std::array<uint32_t, 4>> kept_cells;
-    kept_rank.assign(finest.delaunay.cells.size(), UINT32_MAX);
-    for (size_t c = 0; c < finest.delaunay.cells.size(); ++c)
-      if (c < finest.kept.size() && finest.kept[c]) {
-        kept_rank[c] = static_cast<uint32_t>(kept_cells.size());
-        kept_cells.push_back(finest.delaunay.cells[c]);
-      }
+    if (exact) {
+      kept_cells.assign(options.exact_cells.begin(), options.exact_cells.end());
+    } else {
+      kept_rank.assign(finest.delaunay.cells.size(), UINT32_MAX);
+      for (size_t c = 0; c < finest.delaunay.cells.size(); ++c)
+        if (c < finest.kept.size() && finest.kept[c]) {
+          kept_rank[c] = static_cast<uint32_t>(kept_cells.size());
+          kept_cells.push_back(finest.delaunay.cells[c]);
+        }
+    }
     DTM_ASSIGN_OR_RETURN(std::vector<FieldValues> cell_values, options.cell_values(kept_cells));
     std::vector<FieldDescription> cell_descriptions;
     std::vector<size_t> cell_value_counts;
@@ -182,14 +267,15 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       if (p >= points.size() || seen[p]++)
         return invalid_input("encode_stream: the vertex order is not a permutation of the points");
   }
-  h.version_major = cell_data || keep_order ? kVersionMajorCellData
-                    : regions || faces      ? kVersionMajorRegions
-                    : corrections           ? kVersionMajorUnbricked
-                    : values                ? kVersionMajorWithValues
-                                            : kVersionMajorWithoutValues;
+  h.version_major = exact                     ? kVersionMajorExact
+                    : cell_data || keep_order ? kVersionMajorCellData
+                    : regions || faces        ? kVersionMajorRegions
+                    : corrections             ? kVersionMajorUnbricked
+                    : values                  ? kVersionMajorWithValues
+                                              : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
             (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0) |
-            (cell_data ? kFlagCellData : 0) | (keep_order ? kFlagVertexOrder : 0);
+            (cell_data ? kFlagCellData : 0) | (keep_order ? kFlagVertexOrder : 0) | (exact ? kFlagExact : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
@@ -255,25 +341,47 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       out.decode_order.push_back(i);
       decoded.push_back(points[i]);
     }
-    std::vector<uint8_t> carving, region_section, face_section, cell_section, order_section;
+    std::vector<uint8_t> carving, region_section, face_section, cell_section, order_section, exact_section;
     if (corrections) {
       if (level.kept.size() != level.delaunay.cells.size())
         return invalid_input("encode_stream: a level without its carving verdicts");
       TetMesh dt = level.delaunay;
       for (auto& c : dt.cells)
         for (uint32_t& v : c) v = decoder_index[v];
-      carving = encode_carving(dt, decoded, level.alpha, level.kept, carving_contexts(h.version_major));
+      // What the sections below see: the level's cells (an exact level 0's
+      // are the Delaunay cells that are input cells and the fill), each
+      // kept one's label, the canonical order, and per kept cell its rank
+      // among the cell values.
+      std::optional<ExactLevel> exact_cells;
+      if (exact && streamed[l] == 0) {
+        std::vector<MeshCell> input(options.exact_cells.begin(), options.exact_cells.end());
+        for (auto& c : input)
+          for (uint32_t& v : c) v = decoder_index[v];
+        DTM_ASSIGN_OR_RETURN(ExactLevel made,
+                             exact_level(dt, decoded, level.alpha, input, options.exact_labels));
+        exact_cells.emplace(std::move(made));
+        carving = encode_carving(dt, decoded, level.alpha, exact_cells->delaunay_kept,
+                                 carving_contexts(h.version_major));
+        exact_section = std::move(exact_cells->section);
+        out.exact_bytes = exact_section.size();
+        out.exact_delaunay_cells = exact_cells->delaunay_cells;
+        out.exact = exact_cells->stats;
+      } else {
+        carving = encode_carving(dt, decoded, level.alpha, level.kept, carving_contexts(h.version_major));
+      }
+      const TetMesh& cells_mesh = exact_cells ? exact_cells->mesh : dt;
+      const std::vector<uint8_t>& kept = exact_cells ? exact_cells->kept : level.kept;
+      const std::vector<uint32_t> order = exact_cells ? exact_cells->order : canonical_cell_order(dt.cells);
       if (regions) {
-        for (uint8_t r : level.kept)
+        for (uint8_t r : kept)
           if (r > options.regions.size())
             return invalid_input("encode_stream: a cell's region is not in the table");
-        region_section =
-            encode_regions(dt, canonical_cell_order(dt.cells), level.kept, options.regions.size());
+        region_section = encode_regions(cells_mesh, order, kept, options.regions.size());
       }
       if (faces) {
         // The level's surface in the decoder's numbering, its faces named by
         // grid ids for the tagger.
-        const SurfaceFaces surface = surface_faces(dt, level.kept);
+        const SurfaceFaces surface = surface_faces(cells_mesh, kept);
         std::vector<std::array<uint32_t, 3>> by_grid_id;
         by_grid_id.reserve(surface.faces.size());
         for (const SurfaceFace& f : surface.faces)
@@ -286,17 +394,19 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
         // The kept cells in the canonical order, each standing at its centroid.
         std::vector<uint32_t> ranks;
         std::vector<std::array<uint32_t, 4>> cells;
-        for (uint32_t c : canonical_cell_order(dt.cells))
-          if (level.kept[c]) ranks.push_back(kept_rank[c]), cells.push_back(dt.cells[c]);
+        for (uint32_t c : order)
+          if (kept[c])
+            ranks.push_back(exact_cells ? exact_cells->input[c] : kept_rank[c]),
+                cells.push_back(cells_mesh.cells[c]);
         cell_section = cell_coder->encode_layer(ranks, cell_positions(decoded, cells), out.cell_field_bytes);
         out.level0_cells = cells.size();
       }
       if (keep_order && streamed[l] == 0) {
         // Each input vertex's number in the decoder's order.
-        std::vector<uint32_t> order;
-        order.reserve(options.input_order.size());
-        for (uint32_t p : options.input_order) order.push_back(decoder_index[p]);
-        order_section = encode_vertex_order(vertex_neighbours(decoded.size(), dt.cells), order);
+        std::vector<uint32_t> numbering;
+        numbering.reserve(options.input_order.size());
+        for (uint32_t p : options.input_order) numbering.push_back(decoder_index[p]);
+        order_section = encode_vertex_order(vertex_neighbours(decoded.size(), cells_mesh.cells), numbering);
         out.order_bytes = order_section.size();
       }
     }
@@ -344,9 +454,11 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.new_vertices = static_cast<uint32_t>(added.size());
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
-    if (options.cell_hashes) lh.cell_hash = cell_set_hash(points, level.carved_cells());
+    if (options.cell_hashes)
+      lh.cell_hash = exact && streamed[l] == 0 ? cell_set_hash(points, options.exact_cells)
+                                               : cell_set_hash(points, level.carved_cells());
     const auto layer = write_layer(lh, payload, carving, value_section, candidate_section, region_section,
-                                   face_section, cell_section, order_section);
+                                   face_section, cell_section, order_section, exact_section);
     out.cell_value_bytes += cell_section.size();
     out.face_bytes[streamed[l]] = face_section.size();
     out.carving_bytes[streamed[l]] = carving.size();

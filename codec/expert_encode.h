@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/sections/exact_cell_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/sections/value_fields.h"
 #include "common/grid.h"
@@ -57,6 +58,15 @@ struct StreamOptions {
   // §3.9): the grid point of each input vertex, a permutation of `points`.
   // Empty: none. Needs a hierarchy carved to a reference.
   std::span<const uint32_t> input_order;
+  // Level 0 equal to the input's cells (format 11.0, spec/FORMAT.md §3.10):
+  // the input's tetrahedra (grid ids, indices into `points`, any
+  // orientation) and each one's label as Level::kept holds them (1 + its
+  // region's index; empty: 1 each). level 0 then keeps its Delaunay cells
+  // that are input cells and the exact cell section sends the others.
+  // Empty: level 0 as the hierarchy carved it. Needs a hierarchy carved to a
+  // reference; with cell_values, the cells given are these, in this order.
+  std::span<const std::array<uint32_t, 4>> exact_cells;
+  std::span<const uint8_t> exact_labels;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
@@ -95,6 +105,11 @@ struct EncodedStream {
   uint64_t cell_value_bytes = 0;
   uint64_t level0_cells = 0;  // level 0's kept cells
   uint64_t order_bytes = 0;   // the vertex order section (10.0)
+  // The exact cell section (11.0) and what it held: level 0's Delaunay
+  // cells that are input cells, and the fill's figures.
+  uint64_t exact_bytes = 0;
+  uint64_t exact_delaunay_cells = 0;
+  ExactStats exact;
   // The hierarchy level of each stream level (finest first).
   std::vector<int> streamed_levels;
   // The order in which a decoder produces the vertices (coarsest layer

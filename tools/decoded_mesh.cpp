@@ -39,11 +39,12 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
   OutputMesh mesh;
   mesh.grid = decoder.header().grid;
   mesh.points = decoder.points();
-  const TetMesh dt = decoder.delaunay();
+  // DT's cells, and at level 0 of an exact stream the input's other cells.
+  const ProgressiveDecoder::LevelCells level = decoder.level_cells();
   if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
-  std::vector<uint32_t> order;
-  const std::vector<uint8_t> in_mesh = decoder.carving(dt, order);
-  if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+  const TetMesh& dt = level.mesh;
+  const std::vector<uint32_t>& order = level.order;
+  const std::vector<uint8_t>& in_mesh = level.kept;
   // With regions (format 9.0), each cell's label from the region table.
   const std::vector<RegionLabel>& regions = decoder.regions();
   for (uint32_t k : order)
@@ -84,9 +85,9 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
   // With the input's numbering (10.0, --keep-order): vertex k of the output
   // is the input's vertex k.
   if (decoder.header().flags & kFlagVertexOrder) {
-    const std::vector<uint32_t> order = decoder.vertex_order(dt);
+    const std::vector<uint32_t> numbering = decoder.vertex_order(dt);
     if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
-    if (!order.empty()) renumber(mesh, order);
+    if (!numbering.empty()) renumber(mesh, numbering);
   }
   return mesh;
 }

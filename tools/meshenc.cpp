@@ -202,6 +202,9 @@ void add_options(CLI::App& app, Command& c) {
       "--keep-order", c.encode.keep_order,
       "decode level 0's vertices in the input's numbering (their order coded; needs every input point "
       "its own grid point)");
+  app.add_flag("--exact", c.encode.exact,
+               "decode level 0 as the input's own tetrahedra, cell for cell (the cells that are not Delaunay "
+               "cells coded beside the levels; needs a valid mesh whose points stay apart on the grid)");
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,
@@ -507,6 +510,11 @@ int run(Command& c) {
   if (in.voxels && !c.no_reference) input.voxels = &*in.voxels;
   auto plan = dtm::plan_encoding(input, c.encode);
   if (!plan.ok()) throw std::runtime_error(c.input + ": " + plan.status().message());
+  // --exact: the input's points and cells must stay apart on the grid (said
+  // now, with the --qbits that would do, before the long work).
+  if (c.encode.exact && !in.tets.empty())
+    if (const dtm::Status s = dtm::check_exact_grid(in.points, in.tets, *plan); !s.ok())
+      throw std::runtime_error(c.input + ": " + s.message());
   // Whether the input has tetrahedra (a rank's share may have none).
   const bool with_reference = !in.tets.empty() || !in.tetgen_ele.empty();
   std::optional<dtm::ReferenceShare> share;  // under mpirun, this rank's, handed to the encoder
@@ -620,6 +628,18 @@ int run(Command& c) {
                                   " of the nearest beside them: none of their vertices' holds it)")
                                      .c_str()
                                : "");
+    if (r.exact_bytes > 0 || r.exact_delaunay_cells > 0) {
+      const uint64_t cells = r.exact_delaunay_cells + r.exact.fill_cells;
+      std::printf(
+          "  exact cells: level 0 is the input's %llu cells: %llu of them Delaunay cells, %llu sent in %llu "
+          "bytes (%.2f bits each, %.2f bits per vertex; %llu apexes the first candidate, %llu sent by index, "
+          "%llu seeds)\n",
+          static_cast<unsigned long long>(cells), static_cast<unsigned long long>(r.exact_delaunay_cells),
+          static_cast<unsigned long long>(r.exact.fill_cells), static_cast<unsigned long long>(r.exact_bytes),
+          r.exact.fill_cells ? 8.0 * r.exact_bytes / r.exact.fill_cells : 0.0, 8.0 * r.exact_bytes / vertices,
+          static_cast<unsigned long long>(r.exact.rank_zero),
+          static_cast<unsigned long long>(r.exact.escapes), static_cast<unsigned long long>(r.exact.seeds));
+    }
     if (r.order_bytes > 0)
       std::printf("  vertex order (the input's numbering of level 0): %llu bytes, %.2f bits per vertex\n",
                   static_cast<unsigned long long>(r.order_bytes), 8.0 * r.order_bytes / vertices);

@@ -26,7 +26,12 @@ std::vector<QualityRow> decode_quality(const std::string& input, std::span<const
     if (!failed.ok()) return;
     // The canonical order: the figures' sums come out the same on every run.
     TetMesh dt = d.delaunay(IncrementalDelaunay::CellOrder::kCanonical);
-    const std::vector<uint8_t> kept = d.carving(dt);
+    std::vector<uint8_t> kept = d.carving(dt);
+    if (d.exact_level()) {  // level 0 of an exact stream: the input's cells, the fill's last
+      ProgressiveDecoder::LevelCells exact = d.level_cells();
+      dt = std::move(exact.mesh);
+      kept = std::move(exact.kept);
+    }
     if (!d.mesh_status().ok()) {
       failed = d.mesh_status();
       return;
@@ -120,6 +125,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                           {"face_bytes", l.header.face_bytes},
                           {"cell_value_bytes", l.header.cell_value_bytes},
                           {"order_bytes", l.header.order_bytes},
+                          {"exact_bytes", l.header.exact_bytes},
                           {"candidate_kinds", l.header.candidate_kinds},
                           {"candidate_bytes", l.header.candidate_bytes},
                           {"alpha", l.header.alpha * step},

@@ -69,9 +69,11 @@ LevelView LevelViewer::take_level() {
 
 void LevelViewer::make_view(const ProgressiveDecoder& d, const DecodedLevel& level) {
   if (!d.mesh_status().ok()) return;  // an earlier level's mesh failed: feed() reports it
-  const TetMesh dt = d.delaunay();
-  const std::vector<uint8_t> kept = d.carving(dt);
+  // DT's cells, and at level 0 of an exact stream the input's other cells.
+  const ProgressiveDecoder::LevelCells cells = d.level_cells();
   if (!d.mesh_status().ok()) return;
+  const TetMesh& dt = cells.mesh;
+  const std::vector<uint8_t>& kept = cells.kept;
 
   LevelView v;
   v.level = level.level;

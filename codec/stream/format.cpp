@@ -150,6 +150,12 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
     return corrupt("a vertex order flagged in a bricked stream");
   if ((h.flags & kFlagVertexOrder) && !(h.flags & kFlagCarvingCorrections))
     return corrupt("a vertex order flagged without carving corrections");
+  if ((h.flags & kFlagExact) && h.version_major < 11)
+    return corrupt("exact cells flagged in a stream before 11.0");
+  if ((h.flags & kFlagExact) && (h.flags & kFlagBricks))
+    return corrupt("exact cells flagged in a bricked stream");
+  if ((h.flags & kFlagExact) && !(h.flags & kFlagCarvingCorrections))
+    return corrupt("exact cells flagged without carving corrections");
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
   for (double o : h.grid.origin)
@@ -162,7 +168,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> carving, std::span<const uint8_t> values,
                                  std::span<const uint8_t> candidates, std::span<const uint8_t> regions,
                                  std::span<const uint8_t> faces, std::span<const uint8_t> cell_values,
-                                 std::span<const uint8_t> order) {
+                                 std::span<const uint8_t> order, std::span<const uint8_t> exact) {
   h.candidate_bytes = static_cast<uint32_t>(candidates.size());
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
@@ -171,6 +177,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   h.face_bytes = static_cast<uint32_t>(faces.size());
   h.cell_value_bytes = static_cast<uint32_t>(cell_values.size());
   h.order_bytes = static_cast<uint32_t>(order.size());
+  h.exact_bytes = static_cast<uint32_t>(exact.size());
   std::vector<uint8_t> body(candidates.begin(), candidates.end());
   body.insert(body.end(), payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
@@ -179,6 +186,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   body.insert(body.end(), values.begin(), values.end());
   body.insert(body.end(), cell_values.begin(), cell_values.end());
   body.insert(body.end(), order.begin(), order.end());
+  body.insert(body.end(), exact.begin(), exact.end());
   FieldWriter writer;
   writer.trailer = body;
   visit_fields(h, writer);
@@ -259,6 +267,11 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
   if (h.level != 0 && h.order_bytes != 0) return corrupt("a vertex order section in a layer but level 0's");
   if (h.level == 0 && (header_.flags & kFlagVertexOrder) && h.order_bytes == 0)
     return corrupt("level 0's layer without its vertex order section");
+  if (!(header_.flags & kFlagExact) && h.exact_bytes != 0)
+    return corrupt("an exact cell section present without its flag");
+  if (h.level != 0 && h.exact_bytes != 0) return corrupt("an exact cell section in a layer but level 0's");
+  if (h.level == 0 && (header_.flags & kFlagExact) && h.exact_bytes == 0)
+    return corrupt("level 0's layer without its exact cell section");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
     return corrupt("candidates at the base level, which has no coarser level");
@@ -322,7 +335,9 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   const uint64_t values_at = regions_at + lh.region_bytes + lh.face_bytes;
   layer.values = body.subspan(values_at, lh.value_bytes);
   layer.cell_values = body.subspan(values_at + lh.value_bytes, lh.cell_value_bytes);
-  layer.order = body.subspan(values_at + lh.value_bytes + lh.cell_value_bytes);
+  const uint64_t order_at = values_at + lh.value_bytes + lh.cell_value_bytes;
+  layer.order = body.subspan(order_at, lh.order_bytes);
+  layer.exact = body.subspan(order_at + lh.order_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();

@@ -19,6 +19,8 @@
 //              only: the values of level 0's kept cells)
 //            + vertex order section (10.0, kFlagVertexOrder, level 0's
 //              layer only: the input's numbering of level 0's vertices)
+//            + exact cell section (11.0, kFlagExact, level 0's layer only:
+//              the input's cells that are not Delaunay cells)
 //   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
 //            (codec/bricks/bricks.h: each brick's new points and corrections)
 #pragma once
@@ -45,8 +47,10 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // send points beside candidates; 6.0's correction contexts), else 5.0 when
 // it carries values, else 4.0; 8.0 when its layers are bricked (kFlagBricks);
 // 9.0 when its cells carry regions (kFlagRegions); 10.0 when level 0's cells
-// carry values (kFlagCellData); the decoder reads 2.x to 10.x.
-inline constexpr uint8_t kVersionMajor = 10;
+// carry values (kFlagCellData); 11.0 when level 0 is the input's cells
+// (kFlagExact); the decoder reads 2.x to 11.x.
+inline constexpr uint8_t kVersionMajor = 11;
+inline constexpr uint8_t kVersionMajorExact = 11;
 inline constexpr uint8_t kVersionMajorCellData = 10;
 inline constexpr uint8_t kVersionMajorRegions = 9;
 inline constexpr uint8_t kVersionMajorBricked = 8;
@@ -81,9 +85,13 @@ inline constexpr uint16_t kFlagCellData = 64;
 // in the input's numbering (codec/sections/vertex_order_coder.h); not with
 // kFlagBricks.
 inline constexpr uint16_t kFlagVertexOrder = 128;
+// 11.0: level 0's cells are the input's (codec/sections/exact_cell_coder.h):
+// its carving section keeps the Delaunay cells that are input cells and its
+// layer carries an exact cell section with the others; not with kFlagBricks.
+inline constexpr uint16_t kFlagExact = 256;
 inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues |
                                         kFlagBricks | kFlagRegions | kFlagFaces | kFlagCellData |
-                                        kFlagVertexOrder;
+                                        kFlagVertexOrder | kFlagExact;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -123,6 +131,9 @@ struct LayerHeader {
   // 10.0 and later: the vertex order section, after it (0 but in level 0's
   // layer).
   uint32_t order_bytes = 0;
+  // 11.0 and later: the exact cell section, after it (0 but in level 0's
+  // layer of a stream with kFlagExact).
+  uint32_t exact_bytes = 0;
   // Bricked layers (8.0): the largest circumradius of a kept cell (at least
   // alpha; larger cells carry no correction bit), the bricks' octree depth,
   // and the sizes of the index and of the chunks after it.
@@ -138,7 +149,7 @@ struct LayerHeader {
   uint64_t body_bytes() const {
     if (bricked) return uint64_t{index_bytes} + chunk_bytes;
     return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + face_bytes +
-           value_bytes + cell_value_bytes + order_bytes;
+           value_bytes + cell_value_bytes + order_bytes + exact_bytes;
   }
 };
 
@@ -197,6 +208,7 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
     v.template field<uint32_t>("cell_value_bytes", h.cell_value_bytes);
     v.template field<uint32_t>("order_bytes", h.order_bytes);
   }
+  if (h.format_major >= 11) v.template field<uint32_t>("exact_bytes", h.exact_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -243,7 +255,8 @@ inline constexpr size_t kRegionLayerHeaderSize = layer_header_size(kVersionMajor
 static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_size(4) == 42 &&
                   layer_header_size(6) == 46 && kLayerHeaderSize == 51 && kBrickedLayerHeaderSize == 55 &&
                   kRegionLayerHeaderSize == 59 && layer_header_size(9, true) == 55 &&
-                  layer_header_size(10) == 67 && layer_header_size(10, true) == 55,
+                  layer_header_size(10) == 67 && layer_header_size(10, true) == 55 &&
+                  layer_header_size(11) == 71 && layer_header_size(11, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -260,7 +273,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> candidates = {},
                                  std::span<const uint8_t> regions = {}, std::span<const uint8_t> faces = {},
                                  std::span<const uint8_t> cell_values = {},
-                                 std::span<const uint8_t> order = {});
+                                 std::span<const uint8_t> order = {}, std::span<const uint8_t> exact = {});
 
 // Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
 // the checksum computed), the index, the chunks.
@@ -278,6 +291,7 @@ struct Layer {
   std::span<const uint8_t> values;
   std::span<const uint8_t> cell_values;
   std::span<const uint8_t> order;
+  std::span<const uint8_t> exact;  // 11.0: the exact cell section
   // A bricked layer's index (checksummed with the header) and chunks (each
   // checked against its checksum in the index when it is decoded).
   std::span<const uint8_t> index;

@@ -1,0 +1,98 @@
+// Level 0 equal to the input's tetrahedra (format 11.0, kFlagExact,
+// spec/FORMAT.md §3.10; meshenc --exact), encoder and decoder side by side.
+//
+// A mesher's output is mostly Delaunay: the decoder's DT(V_0) already holds
+// 88-99% of its cells. Level 0's carving section then keeps exactly the
+// Delaunay cells that are input cells (any kept set can be coded there), and
+// this section fills what they leave open with the input's other cells,
+// grown face by face: every face of a kept cell with no kept cell across it
+// is open, visited in a queue (the kept cells in canonical order, then the
+// faces each new cell opens); an open face is either the mesh's boundary or
+// has an input cell across it, whose fourth corner (the apex) is coded as
+// its rank among the candidates near the face, ordered as the Delaunay
+// criterion ranks them (the apex whose sphere through the face holds none of
+// the others first). A mesher moves few points far from where Delaunay put
+// them: the apex is most often rank 0. An apex that is not a candidate is
+// sent by its index; a part of the mesh no open face reaches (no Delaunay
+// cell in it) starts from a seed cell sent whole.
+//
+// The decoder checks every cell it adds: its corners exist and are distinct,
+// it is positively oriented (its apex on the outer side of the face it
+// grows from), each of its faces is either new, or closes an open face from
+// the other side; a face never has three cells and no cell crosses a face
+// declared the boundary. The fill ends when every open face is closed or the
+// boundary. A hostile section is refused (kCorrupt) and never makes the
+// decoder hold more than kMaxFillCellsPerVertex cells a vertex.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/grid.h"
+#include "common/status.h"
+#include "mesh/delaunay.h"
+
+namespace dtm {
+
+using MeshCell = std::array<uint32_t, 4>;
+
+// The most fill cells a section may add, per vertex of the level (a mesh
+// has about 6.5 cells a vertex, the Delaunay tetrahedralization's own cap is
+// kMaxCellsPerVertex).
+inline constexpr uint64_t kMaxFillCellsPerVertex = kMaxCellsPerVertex;
+
+// What the fill adds to the kept Delaunay cells.
+struct ExactFill {
+  // Each positively oriented: corners 0-2 the face it grew from, seen from
+  // outside it, corner 3 its apex (a seed: ascending, but for the last two
+  // swapped when that would turn it inside out).
+  std::vector<MeshCell> cells;
+  // neighbours[i][k]: the cell across the face of cells[i] opposite corner k,
+  // in the extended numbering (a Delaunay cell's index, dt.cells.size() + j
+  // for fill cell j) or -1 (none: the mesh's boundary).
+  std::vector<std::array<int32_t, 4>> neighbours;
+  // Kept Delaunay cells whose face a fill cell now meets.
+  struct Link {
+    uint32_t cell = 0;
+    uint8_t corner = 0;  // the corner the face does not have
+    int32_t other = 0;   // the fill cell, extended numbering
+  };
+  std::vector<Link> links;
+};
+
+// What a section spent (the encoder's report).
+struct ExactStats {
+  uint64_t open_faces = 0;  // faces given a symbol
+  uint64_t fill_cells = 0;  // cells the fill added
+  uint64_t rank_zero = 0;   // of them, with the first candidate as apex
+  uint64_t escapes = 0;     // apex not among the candidates
+  uint64_t seeds = 0;       // cells sent whole
+};
+
+// Encoder. `dt`, `points`: level 0 in the decoder's numbering; `order`: dt's
+// canonical cell order; `kept`: per cell of dt, nonzero when it is an input
+// cell; `rest`: the input's other cells (any orientation). `fill` receives
+// the cells as the decoder will make them, `source` per fill cell its index
+// in `rest`. kInvalidInput, naming the problem, when the input is not a
+// valid mesh on the grid (a flat or inverted cell, two cells on one side of
+// a face, a face of three cells).
+StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<const GridPoint> points,
+                                                  double alpha, std::span<const uint8_t> kept,
+                                                  std::span<const uint32_t> order,
+                                                  std::span<const MeshCell> rest, ExactFill& fill,
+                                                  std::vector<uint32_t>& source, ExactStats* stats = nullptr);
+
+// Decoder: the fill the section describes, checked as the header says.
+Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
+                          std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
+                          std::span<const uint32_t> order, ExactFill& fill);
+
+// Level 0 as both sides then code its regions, faces and cell values: dt's
+// cells followed by the fill's, every kept cell's neighbour across each face
+// the cell that is there now. (A Delaunay cell the fill replaced keeps its
+// old neighbours; it is not kept.)
+void extend_with_fill(TetMesh& dt, const ExactFill& fill);
+
+}  // namespace dtm

@@ -1,0 +1,288 @@
+// What the exact cell coder's encoder (exact_cell_encoder.cpp) and decoder
+// (exact_cell_decoder.cpp) share: the fill both sides make, face by face
+// (spec/FORMAT.md §3.10), with the symbols left to a Side:
+//   bool filled(AdaptiveBit&, const OpenFace&)   an input cell across the face?
+//   Status apex(const OpenFace&, std::vector<uint32_t>& candidates,
+//               const ApexOrder&, RankModels&, uint32_t& apex)
+//   bool another_seed(AdaptiveBit&)              a cell no open face reaches?
+//   Status seed(MeshCell&)                       that cell
+//   Status check()                               the section not overrun
+//   void added(const MeshCell&)                  a cell was added
+// Both sides must visit the faces identically; it is written here once.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "bitstream/range_coder.h"
+#include "codec/sections/exact_cell_coder.h"
+#include "common/csr.h"
+#include "mesh/carving.h"
+#include "mesh/predicates.h"
+
+namespace dtm::exact_cells {
+
+using FaceKey = std::array<uint32_t, 3>;  // ascending
+struct FaceKeyHash {
+  size_t operator()(const FaceKey& k) const {
+    uint64_t h = k[0] * 0x9E3779B97F4A7C15ull;
+    h ^= (h >> 29) + k[1] * 0xBF58476D1CE4E5B9ull;
+    h ^= (h >> 31) + k[2] * 0x94D049BB133111EBull;
+    return static_cast<size_t>(h ^ (h >> 32));
+  }
+};
+inline FaceKey key_of(std::array<uint32_t, 3> f) {
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
+// The face of a positively oriented cell opposite corner k, ordered so that
+// the cell lies on its negative side (its right-hand normal points out).
+inline constexpr int kOutward[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+inline std::array<uint32_t, 3> outward_face(const MeshCell& c, int k) {
+  return {c[static_cast<size_t>(kOutward[k][0])], c[static_cast<size_t>(kOutward[k][1])],
+          c[static_cast<size_t>(kOutward[k][2])]};
+}
+// The same oriented face starting at its smallest corner: a triangulation
+// lists a cell's corners in any order (the encoder's and the decoder's
+// differ), the fill must not.
+inline std::array<uint32_t, 3> from_smallest(const std::array<uint32_t, 3>& f) {
+  const int s = f[0] < f[1] ? (f[0] < f[2] ? 0 : 2) : (f[1] < f[2] ? 1 : 2);
+  return {f[static_cast<size_t>(s)], f[static_cast<size_t>((s + 1) % 3)],
+          f[static_cast<size_t>((s + 2) % 3)]};
+}
+// True when b is a with the other orientation (the same three corners).
+inline bool reversed(const std::array<uint32_t, 3>& a, const std::array<uint32_t, 3>& b) {
+  for (int s = 0; s < 3; ++s)
+    if (b[0] == a[static_cast<size_t>(s)])
+      return b[1] == a[static_cast<size_t>((s + 2) % 3)] && b[2] == a[static_cast<size_t>((s + 1) % 3)];
+  return false;
+}
+
+// A face with one cell so far (open), or one the fill closed or declared the
+// boundary.
+struct OpenFace {
+  std::array<uint32_t, 3> outward{};  // seen from outside its cell
+  int32_t cell = 0;                   // extended numbering
+  uint8_t corner = 0;                 // of that cell, the one the face lacks
+  uint8_t state = 0;                  // kOpen, kClosed, kBoundary
+};
+inline constexpr uint8_t kOpen = 0, kClosed = 1, kBoundary = 2;
+
+// The contexts of the filled bit: a kept cell's face on the convex hull,
+// one whose Delaunay cell across alpha would carve away, one whose cell
+// across alpha would keep (a hole, most often), a fill cell's face.
+inline constexpr int kFilledContexts = 4;
+// The rank, per kind of face (kept / fill cell): unary over its first
+// kRankUnary values (adaptive bits: rank 0 is most of them), then
+// Exp-Golomb of the rest with adaptive prefix bits.
+inline constexpr int kRankUnary = 6;
+inline constexpr int kRankPrefix = 16;
+struct RankModels {
+  std::array<AdaptiveBit, kRankUnary> unary;
+  std::array<AdaptiveBit, kRankPrefix> prefix;
+};
+
+// Candidates ordered as the Delaunay criterion ranks them for the face
+// (a, b, c) (outward): q before p when q lies inside the sphere through a,
+// b, c, p; ties (cospherical) by vertex number. Exact, so a strict order.
+struct ApexOrder {
+  std::span<const GridPoint> points;
+  GridPoint a, b, c;
+  bool operator()(uint32_t q, uint32_t p) const {
+    if (q == p) return false;
+    const int s = side_of_sphere(a, b, c, points[p], points[q]);
+    return s > 0 || (s == 0 && q < p);
+  }
+};
+
+inline void put_rank(RangeEncoder& rc, RankModels& m, uint64_t rank) {
+  for (int i = 0; i < kRankUnary; ++i) {
+    rc.encode(m.unary[static_cast<size_t>(i)], rank > static_cast<uint64_t>(i));
+    if (rank == static_cast<uint64_t>(i)) return;
+  }
+  rank -= kRankUnary;
+  const int e = std::bit_width(rank + 1) - 1;
+  for (int i = 0; i < e; ++i) rc.encode(m.prefix[static_cast<size_t>(std::min(i, kRankPrefix - 1))], true);
+  rc.encode(m.prefix[static_cast<size_t>(std::min(e, kRankPrefix - 1))], false);
+  rc.encode_raw(rank + 1 - (uint64_t{1} << e), e);
+}
+inline Status get_rank(RangeDecoder& rc, RankModels& m, uint64_t& rank) {
+  for (int i = 0; i < kRankUnary; ++i)
+    if (!rc.decode(m.unary[static_cast<size_t>(i)])) {
+      rank = static_cast<uint64_t>(i);
+      return Status::Ok();
+    }
+  int e = 0;
+  while (rc.decode(m.prefix[static_cast<size_t>(std::min(e, kRankPrefix - 1))]))
+    if (++e > 32) return {StatusCode::kCorrupt, "exact cells: an apex rank out of range"};
+  rank = ((uint64_t{1} << e) | rc.decode_raw(e)) - 1 + kRankUnary;
+  return Status::Ok();
+}
+
+inline Status corrupt(const std::string& why) { return {StatusCode::kCorrupt, "exact cells: " + why}; }
+
+template <class Side>
+class Fill {
+ public:
+  Fill(const TetMesh& dt, std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
+       Side& side, ExactFill& out)
+      : dt_(dt), points_(points), alpha_(alpha), kept_(kept), side_(side), out_(out) {
+    incident_ = build_csr(points.size(), [&](auto&& add) {
+      for (uint32_t c = 0; c < dt.cells.size(); ++c)
+        for (uint32_t v : dt.cells[c]) add(v, c);
+    });
+  }
+
+  Status run(std::span<const uint32_t> order) {
+    out_ = {};
+    const auto cells = static_cast<uint32_t>(dt_.cells.size());
+    for (uint32_t c : order) {
+      if (c >= cells || !kept_[c]) continue;
+      // Its faces by the corner they lack, in vertex number order.
+      std::array<int, 4> corners = {0, 1, 2, 3};
+      std::sort(corners.begin(), corners.end(), [&](int x, int y) {
+        return dt_.cells[c][static_cast<size_t>(x)] < dt_.cells[c][static_cast<size_t>(y)];
+      });
+      for (int k : corners) {
+        const int32_t n = dt_.neighbors[c][static_cast<size_t>(k)];
+        if (n >= 0 && kept_[static_cast<size_t>(n)]) continue;
+        open(outward_face(dt_.cells[c], k), static_cast<int32_t>(c), static_cast<uint8_t>(k));
+      }
+    }
+    std::vector<uint32_t> candidates;
+    while (true) {
+      while (head_ < queue_.size()) {
+        OpenFace& f = faces_.find(queue_[head_++])->second;
+        if (f.state != kOpen) continue;
+        DTM_RETURN_IF_ERROR(side_.check());
+        if (!side_.filled(filled_[static_cast<size_t>(context(f))], f)) {
+          f.state = kBoundary;
+          continue;
+        }
+        gather(f, candidates);
+        const ApexOrder less{points_, points_[f.outward[0]], points_[f.outward[1]], points_[f.outward[2]]};
+        uint32_t apex = 0;
+        // f is in faces_, which add() may rehash: copy what it needs first.
+        const std::array<uint32_t, 3> face = f.outward;
+        DTM_RETURN_IF_ERROR(
+            side_.apex(f, candidates, less, rank_[static_cast<size_t>(f.cell >= int64_t{cells})], apex));
+        DTM_RETURN_IF_ERROR(add({face[0], face[1], face[2], apex}));
+      }
+      DTM_RETURN_IF_ERROR(side_.check());
+      if (!side_.another_seed(seed_)) break;
+      MeshCell s{};
+      DTM_RETURN_IF_ERROR(side_.seed(s));
+      DTM_RETURN_IF_ERROR(add(s));
+    }
+    return side_.check();
+  }
+
+ private:
+  void open(const std::array<uint32_t, 3>& outward, int32_t cell, uint8_t corner) {
+    const FaceKey key = key_of(outward);
+    faces_.emplace(key, OpenFace{from_smallest(outward), cell, corner, kOpen});
+    queue_.push_back(key);
+  }
+
+  int context(const OpenFace& f) const {
+    if (f.cell >= static_cast<int64_t>(dt_.cells.size())) return 3;
+    const int32_t n = dt_.neighbors[static_cast<size_t>(f.cell)][f.corner];
+    if (n < 0) return 0;
+    return kept_by_alpha(points_, dt_.cells[static_cast<size_t>(n)], alpha_) ? 2 : 1;
+  }
+
+  // The Delaunay neighbours of the face's corners on its outer side; of a
+  // kept cell's face, not the corner of the Delaunay cell across it (that
+  // cell is not an input cell, or it would be kept).
+  void gather(const OpenFace& open, std::vector<uint32_t>& out) const {
+    const std::array<uint32_t, 3>& f = open.outward;
+    out.clear();
+    for (uint32_t v : f)
+      for (uint32_t c : incident_.row(v))
+        for (uint32_t w : dt_.cells[c]) out.push_back(w);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    const GridPoint &a = points_[f[0]], &b = points_[f[1]], &c = points_[f[2]];
+    std::erase_if(out, [&](uint32_t w) { return orientation(a, b, c, points_[w]) <= 0; });
+    if (open.cell >= static_cast<int64_t>(dt_.cells.size())) return;
+    const int32_t n = dt_.neighbors[static_cast<size_t>(open.cell)][open.corner];
+    if (n < 0) return;
+    for (uint32_t w : dt_.cells[static_cast<size_t>(n)])
+      if (w != f[0] && w != f[1] && w != f[2]) std::erase(out, w);
+  }
+
+  // True when the face is one between two kept Delaunay cells.
+  bool kept_face(const FaceKey& key) const {
+    for (uint32_t c : incident_.row(key[0])) {
+      if (!kept_[c]) continue;
+      const MeshCell& cell = dt_.cells[c];
+      if (std::find(cell.begin(), cell.end(), key[1]) != cell.end() &&
+          std::find(cell.begin(), cell.end(), key[2]) != cell.end())
+        return true;
+    }
+    return false;
+  }
+
+  Status add(const MeshCell& cell) {
+    const uint64_t n = points_.size();
+    if (out_.cells.size() >= kMaxFillCellsPerVertex * n)
+      return corrupt("more cells than " + std::to_string(kMaxFillCellsPerVertex) + " a vertex");
+    for (int i = 0; i < 4; ++i) {
+      if (cell[static_cast<size_t>(i)] >= n) return corrupt("a cell names a vertex that does not exist");
+      for (int j = 0; j < i; ++j)
+        if (cell[static_cast<size_t>(i)] == cell[static_cast<size_t>(j)])
+          return corrupt("a cell names one vertex twice");
+    }
+    if (orientation(points_[cell[0]], points_[cell[1]], points_[cell[2]], points_[cell[3]]) <= 0)
+      return corrupt("a cell that is flat or on the inner side of its face");
+    const auto self = static_cast<int32_t>(dt_.cells.size() + out_.cells.size());
+    out_.cells.push_back(cell);
+    out_.neighbours.push_back({-1, -1, -1, -1});
+    const size_t i = out_.cells.size() - 1;
+    for (int k = 0; k < 4; ++k) {
+      const std::array<uint32_t, 3> face = outward_face(cell, k);
+      const FaceKey key = key_of(face);
+      const auto it = faces_.find(key);
+      if (it == faces_.end()) {
+        if (kept_face(key)) return corrupt("a face of three cells");
+        open(face, self, static_cast<uint8_t>(k));
+        continue;
+      }
+      OpenFace& g = it->second;
+      if (g.state == kClosed) return corrupt("a face of three cells");
+      if (g.state == kBoundary) return corrupt("a cell across a face given as the boundary");
+      if (!reversed(g.outward, face)) return corrupt("two cells on one side of a face");
+      g.state = kClosed;
+      out_.neighbours[i][static_cast<size_t>(k)] = g.cell;
+      if (g.cell < static_cast<int64_t>(dt_.cells.size()))
+        out_.links.push_back({static_cast<uint32_t>(g.cell), g.corner, self});
+      else
+        out_.neighbours[static_cast<size_t>(g.cell) - dt_.cells.size()][g.corner] = self;
+    }
+    side_.added(cell);
+    return Status::Ok();
+  }
+
+  const TetMesh& dt_;
+  std::span<const GridPoint> points_;
+  double alpha_;
+  std::span<const uint8_t> kept_;
+  Side& side_;
+  ExactFill& out_;
+  Csr incident_;  // per vertex, the Delaunay cells around it
+  std::unordered_map<FaceKey, OpenFace, FaceKeyHash> faces_;
+  std::vector<FaceKey> queue_;
+  size_t head_ = 0;
+  std::array<AdaptiveBit, kFilledContexts> filled_;
+  std::array<RankModels, 2> rank_;
+  AdaptiveBit seed_;
+};
+
+}  // namespace dtm::exact_cells

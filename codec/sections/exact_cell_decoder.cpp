@@ -1,0 +1,87 @@
+// The exact cell coder's decoder (spec/FORMAT.md §3.10); exact_cell_encoder.cpp
+// mirrors it, exact_cell_coder_shared.h holds the fill both make.
+#include <algorithm>
+
+#include "codec/sections/exact_cell_coder.h"
+#include "codec/sections/exact_cell_coder_shared.h"
+
+namespace dtm {
+namespace exact_cells {
+namespace {
+
+class Decoder {
+ public:
+  Decoder(std::span<const uint8_t> section, std::span<const GridPoint> points)
+      : rc_(section), points_(points) {}
+
+  // A section that runs past its end only reads zeros: stop at once.
+  Status check() const { return rc_.overran() ? corrupt("the section ends early") : Status::Ok(); }
+
+  bool filled(AdaptiveBit& model, const OpenFace&) { return rc_.decode(model); }
+
+  Status apex(const OpenFace&, std::vector<uint32_t>& candidates, const ApexOrder& less, RankModels& models,
+              uint32_t& apex) {
+    uint64_t rank = 0;
+    DTM_RETURN_IF_ERROR(get_rank(rc_, models, rank));
+    if (rank > candidates.size()) return corrupt("an apex rank past the candidates");
+    if (rank == candidates.size()) {
+      uint64_t v = 0;
+      DTM_RETURN_IF_ERROR(rc_.decode_index(points_.size(), v));
+      apex = static_cast<uint32_t>(v);
+      return Status::Ok();
+    }
+    const auto at = candidates.begin() + static_cast<std::ptrdiff_t>(rank);
+    std::nth_element(candidates.begin(), at, candidates.end(), less);
+    apex = *at;
+    return Status::Ok();
+  }
+
+  bool another_seed(AdaptiveBit& model) { return rc_.decode(model); }
+
+  Status seed(MeshCell& cell) {
+    for (uint32_t& v : cell) {
+      uint64_t i = 0;
+      DTM_RETURN_IF_ERROR(rc_.decode_index(points_.size(), i));
+      v = static_cast<uint32_t>(i);
+    }
+    return Status::Ok();
+  }
+
+  void added(const MeshCell&) {}
+
+  Status finish() const {
+    if (!rc_.finished_cleanly())
+      return corrupt(rc_.overran() ? "the section ends early"
+                                   : "the section does not end where its bytes do");
+    return Status::Ok();
+  }
+
+ private:
+  RangeDecoder rc_;
+  std::span<const GridPoint> points_;
+};
+
+}  // namespace
+}  // namespace exact_cells
+
+Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
+                          std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
+                          std::span<const uint32_t> order, ExactFill& fill) {
+  if (kept.size() != dt.cells.size()) return exact_cells::corrupt("the carving is not the level's");
+  exact_cells::Decoder side(section, points);
+  exact_cells::Fill<exact_cells::Decoder> walk(dt, points, alpha, kept, side, fill);
+  const Status s = walk.run(order);
+  if (!s.ok()) {
+    fill = {};
+    return s;
+  }
+  return side.finish();
+}
+
+void extend_with_fill(TetMesh& dt, const ExactFill& fill) {
+  dt.cells.insert(dt.cells.end(), fill.cells.begin(), fill.cells.end());
+  dt.neighbors.insert(dt.neighbors.end(), fill.neighbours.begin(), fill.neighbours.end());
+  for (const ExactFill::Link& l : fill.links) dt.neighbors[l.cell][l.corner] = l.other;
+}
+
+}  // namespace dtm

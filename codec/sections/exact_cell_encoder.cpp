@@ -1,0 +1,145 @@
+// The exact cell coder's encoder (spec/FORMAT.md §3.10); exact_cell_decoder.cpp
+// mirrors it, exact_cell_coder_shared.h holds the fill both make.
+#include <algorithm>
+#include <string>
+
+#include "codec/sections/exact_cell_coder.h"
+#include "codec/sections/exact_cell_coder_shared.h"
+
+namespace dtm {
+namespace exact_cells {
+namespace {
+
+// The symbols from the input: which of its cells lies across each open face.
+class Encoder {
+ public:
+  Encoder(std::span<const MeshCell> rest, std::span<const GridPoint> points, ExactStats& stats)
+      : rest_(rest), points_(points), placed_(rest.size(), 0), stats_(stats) {}
+
+  // The faces of the cells to place (a face of three is not a mesh's).
+  Status index() {
+    across_.reserve(rest_.size() * 4);
+    for (uint32_t i = 0; i < rest_.size(); ++i)
+      for (int k = 0; k < 4; ++k) {
+        const MeshCell& c = rest_[i];
+        const FaceKey key = key_of({c[static_cast<size_t>((k + 1) % 4)], c[static_cast<size_t>((k + 2) % 4)],
+                                    c[static_cast<size_t>((k + 3) % 4)]});
+        auto [it, fresh] = across_.emplace(key, std::array<uint32_t, 2>{i, kNone});
+        if (fresh) continue;
+        if (it->second[1] != kNone)
+          return invalid_input("three input cells share the face of corners " + std::to_string(key[0]) +
+                               ", " + std::to_string(key[1]) + ", " + std::to_string(key[2]));
+        it->second[1] = i;
+      }
+    return Status::Ok();
+  }
+
+  Status check() { return Status::Ok(); }
+
+  bool filled(AdaptiveBit& model, const OpenFace& f) {
+    ++stats_.open_faces;
+    pending_ = kNone;
+    const auto it = across_.find(key_of(f.outward));
+    if (it != across_.end())
+      for (uint32_t i : it->second)
+        if (i != kNone && !placed_[i]) pending_ = i;
+    rc_.encode(model, pending_ != kNone);
+    return pending_ != kNone;
+  }
+
+  Status apex(const OpenFace& f, std::vector<uint32_t>& candidates, const ApexOrder& less, RankModels& models,
+              uint32_t& apex) {
+    const MeshCell& c = rest_[pending_];
+    apex = c[0];
+    for (uint32_t v : c)
+      if (v != f.outward[0] && v != f.outward[1] && v != f.outward[2]) apex = v;
+    uint64_t rank = candidates.size();
+    if (std::find(candidates.begin(), candidates.end(), apex) != candidates.end())
+      rank = static_cast<uint64_t>(
+          std::count_if(candidates.begin(), candidates.end(), [&](uint32_t q) { return less(q, apex); }));
+    put_rank(rc_, models, rank);
+    if (rank == candidates.size()) {
+      rc_.encode_index(apex, points_.size());
+      ++stats_.escapes;
+    } else if (rank == 0) {
+      ++stats_.rank_zero;
+    }
+    source_.push_back(pending_);
+    placed_[pending_] = 1;
+    return Status::Ok();
+  }
+
+  bool another_seed(AdaptiveBit& model) {
+    while (next_seed_ < rest_.size() && placed_[next_seed_]) ++next_seed_;
+    const bool more = next_seed_ < rest_.size();
+    rc_.encode(model, more);
+    return more;
+  }
+
+  Status seed(MeshCell& cell) {
+    MeshCell c = rest_[next_seed_];
+    std::sort(c.begin(), c.end());
+    const int o = orientation(points_[c[0]], points_[c[1]], points_[c[2]], points_[c[3]]);
+    if (o == 0) return invalid_input("input cell " + describe(c) + " is flat on the grid");
+    if (o < 0) std::swap(c[2], c[3]);
+    for (uint32_t v : c) rc_.encode_index(v, points_.size());
+    cell = c;
+    source_.push_back(next_seed_);
+    placed_[next_seed_] = 1;
+    ++stats_.seeds;
+    return Status::Ok();
+  }
+
+  void added(const MeshCell&) { ++stats_.fill_cells; }
+
+  std::vector<uint8_t> finish() { return rc_.finish(); }
+  std::vector<uint32_t>& source() { return source_; }
+
+  static std::string describe(const MeshCell& c) {
+    return "(" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " + std::to_string(c[2]) + ", " +
+           std::to_string(c[3]) + ")";
+  }
+
+ private:
+  static constexpr uint32_t kNone = UINT32_MAX;
+  std::span<const MeshCell> rest_;
+  std::span<const GridPoint> points_;
+  std::vector<uint8_t> placed_;
+  ExactStats& stats_;
+  std::unordered_map<FaceKey, std::array<uint32_t, 2>, FaceKeyHash> across_;
+  uint32_t pending_ = kNone;
+  size_t next_seed_ = 0;
+  std::vector<uint32_t> source_;
+  RangeEncoder rc_;
+};
+
+}  // namespace
+}  // namespace exact_cells
+
+StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<const GridPoint> points,
+                                                  double alpha, std::span<const uint8_t> kept,
+                                                  std::span<const uint32_t> order,
+                                                  std::span<const MeshCell> rest, ExactFill& fill,
+                                                  std::vector<uint32_t>& source, ExactStats* stats) {
+  ExactStats local;
+  ExactStats& s = stats ? *stats : local;
+  s = {};
+  exact_cells::Encoder side(rest, points, s);
+  DTM_RETURN_IF_ERROR(side.index());
+  exact_cells::Fill<exact_cells::Encoder> walk(dt, points, alpha, kept, side, fill);
+  const Status status = walk.run(order);
+  if (status.code() == StatusCode::kInvalidInput) return status;
+  if (!status.ok()) {
+    // What the decoder would refuse is, from the encoder's side, an input
+    // that is not a valid mesh on the grid.
+    std::string why = status.message();
+    if (why.rfind("exact cells: ", 0) == 0) why = why.substr(13);
+    return invalid_input("the input is not a valid tetrahedral mesh on the grid (" + why +
+                         "): --exact needs positively oriented cells, each face shared by at most two, "
+                         "none flat after quantization (raise --qbits)");
+  }
+  source = std::move(side.source());
+  return side.finish();
+}
+
+}  // namespace dtm

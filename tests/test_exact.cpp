@@ -1,0 +1,370 @@
+// Level 0 equal to the input's tetrahedra (spec/FORMAT.md §3.10, meshenc
+// --exact): on every corpus model the decoded level 0 is the input cell for
+// cell, positively oriented, the coarser levels as without --exact; the
+// regions and cell data ride on the exact cells; inputs that cannot be kept
+// exactly are refused by name; hostile exact cell sections (cells that
+// overlap, cross the boundary, name a vertex twice, ranks past the
+// candidates, truncations, trailing bytes, bit flips) are refused or give a
+// checked fill, never a crash.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "bitstream/range_coder.h"
+#include "codec/decode.h"
+#include "codec/encode.h"
+#include "codec/sections/exact_cell_coder.h"
+#include "codec/sections/exact_cell_coder_shared.h"
+#include "codec/stream/format.h"
+#include "mesh/delaunay.h"
+#include "mesh/predicates.h"
+#include "mesh/topology.h"
+#include "test_support.h"
+#include "tools/decoded_mesh.h"
+#include "tools/formats/tetgen.h"
+
+namespace dtm {
+namespace {
+
+using Tet = std::array<uint32_t, 4>;
+
+struct Model {
+  std::vector<InputPoint> points;
+  std::vector<Tet> tets;
+};
+Model load(const std::string& name) {
+  const NodeFile node = read_tetgen_node(test::data_path(name + ".node"));
+  return {node.points, read_tetgen_ele(test::data_path(name + ".ele"), node.points.size(), node.index_base)};
+}
+
+EncodeOptions exact_options() {
+  EncodeOptions o;
+  o.box = 256;
+  o.dmax = 2;
+  o.exact = true;
+  return o;
+}
+
+Tet sorted_tet(Tet t) {
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
+// Level 0's cells in the input's numbering, as a set, and whether every one
+// is positively oriented on the decoded points.
+struct Level0 {
+  std::set<Tet> cells;
+  size_t positive = 0, count = 0;
+};
+Level0 level0_in_input_numbering(const ProgressiveDecoder& d, const EncodedMesh& e, size_t input_points) {
+  std::vector<uint32_t> input_of_vertex(d.points().size(), UINT32_MAX);
+  for (uint32_t i = 0; i < input_points; ++i) input_of_vertex[e.vertex_of_input[i]] = i;
+  Level0 out;
+  for (const auto& c : d.carved_cells()) {
+    ++out.count;
+    const auto& p = d.points();
+    out.positive += orientation(p[c[0]], p[c[1]], p[c[2]], p[c[3]]) > 0;
+    out.cells.insert(sorted_tet(
+        {input_of_vertex[c[0]], input_of_vertex[c[1]], input_of_vertex[c[2]], input_of_vertex[c[3]]}));
+  }
+  return out;
+}
+
+class ExactCorpus : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ExactCorpus, LevelZeroIsTheInputCellForCell) {
+  // torus_288's and the 10k models' own tetrahedra (TetGen's, 88-99% Delaunay).
+  const Model m = load(GetParam());
+  EncodeInput in;
+  in.points = m.points;
+  in.tetrahedra = m.tets;
+  EncodeOptions options = exact_options();
+  auto exact = encode(in, options);
+  if (!exact.ok()) {
+    // triceratops_10k has a sliver of 5e-8 the median cell's volume, flat
+    // on the default grid: refused, with the grid that keeps it.
+    const std::string& why = exact.status().message();
+    const size_t at = why.find("--qbits ");
+    ASSERT_NE(at, std::string::npos) << why;
+    options.qbits = std::stoi(why.substr(at + 8));
+    exact = encode(in, options);
+  }
+  ASSERT_TRUE(exact.ok()) << exact.status().message();
+  EXPECT_EQ(exact->report.exact_delaunay_cells + exact->report.exact.fill_cells, m.tets.size());
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(exact->bytes, d).ok());
+  const Level0 l0 = level0_in_input_numbering(d, *exact, m.points.size());
+  std::set<Tet> input;
+  for (const Tet& t : m.tets) input.insert(sorted_tet(t));
+  EXPECT_EQ(l0.count, m.tets.size());
+  EXPECT_EQ(l0.positive, l0.count);
+  EXPECT_TRUE(l0.cells == input);
+
+  // The coarser levels are those of the stream without --exact.
+  EncodeOptions plain = options;
+  plain.exact = false;
+  const auto without = encode(in, plain);
+  ASSERT_TRUE(without.ok());
+  std::vector<std::vector<Tet>> exact_levels, plain_levels;
+  ProgressiveDecoder a, b;
+  ASSERT_TRUE(a.feed(exact->bytes, [&](const ProgressiveDecoder& x, const DecodedLevel& l) {
+                 if (l.level > 0) exact_levels.push_back(x.carved_cells());
+               }).ok());
+  ASSERT_TRUE(b.feed(without->bytes, [&](const ProgressiveDecoder& x, const DecodedLevel& l) {
+                 if (l.level > 0) plain_levels.push_back(x.carved_cells());
+               }).ok());
+  EXPECT_EQ(exact_levels, plain_levels);
+  EXPECT_EQ(d.header().version_major, kVersionMajorExact);
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, ExactCorpus, ::testing::ValuesIn(test::kCorpus));
+
+TEST(Exact, RegionsAndCellDataRideOnTheExactCells) {
+  const Model m = load("bunny_10k");
+  // Two regions split by a plane, and each cell's own index as cell data.
+  std::vector<int32_t> region(m.tets.size());
+  std::vector<double> index(m.tets.size());
+  for (size_t t = 0; t < m.tets.size(); ++t) {
+    double x = 0;
+    for (uint32_t v : m.tets[t]) x += m.points[v].x;
+    region[t] = x / 4 < m.points[m.tets[0][0]].x ? 3 : 7;
+    index[t] = static_cast<double>(t);
+  }
+  const std::vector<EncodeInput::Field> cells = {{"cell", ValueType::kU32, 1, index}};
+  EncodeInput in;
+  in.points = m.points;
+  in.tetrahedra = m.tets;
+  in.tetrahedron_regions = region;
+  in.cell_fields = cells;
+  const auto e = encode(in, exact_options());
+  ASSERT_TRUE(e.ok()) << e.status().message();
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(e->bytes, d).ok());
+  const OutputMesh out = decoded_mesh(d, "bunny");
+  ASSERT_EQ(out.cells.size(), m.tets.size());
+  ASSERT_EQ(out.region.size(), m.tets.size());
+  ASSERT_EQ(out.cell_fields.size(), 1u);
+  std::vector<uint32_t> input_of_vertex(d.points().size());
+  for (uint32_t i = 0; i < m.points.size(); ++i) input_of_vertex[e->vertex_of_input[i]] = i;
+  std::set<uint64_t> seen;
+  for (size_t c = 0; c < out.cells.size(); ++c) {
+    const uint64_t t = out.cell_fields[0].bits[c];
+    ASSERT_LT(t, m.tets.size());
+    EXPECT_TRUE(seen.insert(t).second);
+    Tet named;
+    for (int k = 0; k < 4; ++k)
+      named[static_cast<size_t>(k)] = input_of_vertex[out.cells[c][static_cast<size_t>(k)]];
+    EXPECT_EQ(sorted_tet(named), sorted_tet(m.tets[t])) << c;  // its own values
+    EXPECT_EQ(out.region[c], region[t]) << c;                  // its own region
+  }
+}
+
+TEST(Exact, RefusesWhatItCannotKeep) {
+  const Model m = load("bunny_10k");
+  EncodeInput in;
+  in.points = m.points;
+  in.tetrahedra = m.tets;
+  // Points merged by a coarse grid: named, with the grid that keeps them apart.
+  EncodeOptions coarse = exact_options();
+  coarse.qbits = 6;
+  auto r = encode(in, coarse);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("--qbits"), std::string::npos) << r.status().message();
+  EXPECT_NE(r.status().message().find("keeps them apart"), std::string::npos) << r.status().message();
+  EncodeOptions bricks = exact_options();
+  bricks.bricks = true;
+  EXPECT_FALSE(encode(in, bricks).ok());
+  EncodeOptions paper = EncodeOptions::paper();
+  paper.exact = true;
+  EXPECT_FALSE(encode(in, paper).ok());
+  EncodeInput points_only;
+  points_only.points = m.points;
+  EXPECT_FALSE(encode(points_only, exact_options()).ok());
+  // A cell twice, and a cell that overlaps its neighbour (one corner moved
+  // across a face): not a mesh.
+  std::vector<Tet> twice = m.tets;
+  twice.push_back(m.tets[100]);
+  in.tetrahedra = twice;
+  r = encode(in, exact_options());
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("same four corners"), std::string::npos) << r.status().message();
+  // Two cells on one side of a face: the cell across an interior face
+  // (a, b, c) of t1 = (a, b, c, d) replaced by (a, b, c, f), f on d's side.
+  const auto side = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+    const InputPoint &pa = m.points[a], &pb = m.points[b], &pc = m.points[c], &pd = m.points[d];
+    const double ux = pb.x - pa.x, uy = pb.y - pa.y, uz = pb.z - pa.z, vx = pc.x - pa.x, vy = pc.y - pa.y,
+                 vz = pc.z - pa.z, wx = pd.x - pa.x, wy = pd.y - pa.y, wz = pd.z - pa.z;
+    return ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
+  };
+  std::map<std::array<uint32_t, 3>, std::vector<size_t>> cells_of_face;
+  for (size_t t = 0; t < m.tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) {
+      std::array<uint32_t, 3> f;
+      for (int j = 0, i = 0; j < 4; ++j)
+        if (j != k) f[static_cast<size_t>(i++)] = m.tets[t][static_cast<size_t>(j)];
+      std::sort(f.begin(), f.end());
+      cells_of_face[f].push_back(t);
+    }
+  std::vector<Tet> overlapping;
+  for (const auto& [f, cells] : cells_of_face) {
+    if (cells.size() != 2) continue;
+    const Tet& t1 = m.tets[cells[0]];
+    uint32_t d = 0;
+    for (uint32_t v : t1)
+      if (v != f[0] && v != f[1] && v != f[2]) d = v;
+    // f: a corner of a cell around d, on d's side of the face, well off it.
+    for (const Tet& t : m.tets) {
+      if (std::find(t.begin(), t.end(), d) == t.end()) continue;
+      for (uint32_t g : t) {
+        if (g == d || g == f[0] || g == f[1] || g == f[2]) continue;
+        if (side(f[0], f[1], f[2], g) * side(f[0], f[1], f[2], d) <= 0) continue;
+        Tet added = {f[0], f[1], f[2], g};
+        if ((side(f[0], f[1], f[2], g) > 0) != (side(t1[0], t1[1], t1[2], t1[3]) > 0))
+          std::swap(added[0], added[1]);
+        overlapping = m.tets;
+        overlapping[cells[1]] = added;
+        break;
+      }
+      if (!overlapping.empty()) break;
+    }
+    if (!overlapping.empty()) break;
+  }
+  ASSERT_FALSE(overlapping.empty());
+  in.tetrahedra = overlapping;
+  r = encode(in, exact_options());
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("not a valid tetrahedral mesh"), std::string::npos)
+      << r.status().message();
+}
+
+// A small level whose Delaunay cells are all kept: every open face is on the
+// convex hull, so a hand-made section knows its symbols.
+struct Hull {
+  std::vector<GridPoint> points;
+  TetMesh dt;
+  std::vector<uint8_t> kept;
+  std::vector<uint32_t> order;
+  size_t hull_faces = 0;
+};
+Hull hull() {
+  Hull h;
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int32_t> u(0, 1000);
+  for (int i = 0; i < 40; ++i) h.points.push_back({u(rng), u(rng), u(rng)});
+  auto dt = delaunay_tetrahedralize(h.points);
+  EXPECT_TRUE(dt.ok());
+  h.dt = std::move(*dt);
+  h.kept.assign(h.dt.cells.size(), 1);
+  h.order = canonical_cell_order(h.dt.cells);
+  for (const auto& n : h.dt.neighbors)
+    for (int32_t x : n) h.hull_faces += x < 0;
+  return h;
+}
+
+// Every hull face the boundary, then a seed cell.
+std::vector<uint8_t> seed_section(const Hull& h, const Tet& seed) {
+  RangeEncoder rc;
+  AdaptiveBit boundary, more;
+  for (size_t i = 0; i < h.hull_faces; ++i) rc.encode(boundary, false);
+  rc.encode(more, true);
+  for (uint32_t v : seed) rc.encode_index(v, h.points.size());
+  rc.encode(more, false);
+  return rc.finish();
+}
+
+Status decode(const Hull& h, std::span<const uint8_t> section) {
+  ExactFill fill;
+  return decode_exact_cells(section, h.dt, h.points, 1e9, h.kept, h.order, fill);
+}
+
+TEST(ExactSection, HostileSectionsAreRefused) {
+  const Hull h = hull();
+  // Nothing to fill: every hull face the boundary, no seed.
+  RangeEncoder rc;
+  AdaptiveBit boundary, more;
+  for (size_t i = 0; i < h.hull_faces; ++i) rc.encode(boundary, false);
+  rc.encode(more, false);
+  const std::vector<uint8_t> empty = rc.finish();
+  EXPECT_TRUE(decode(h, empty).ok());
+  // Trailing bytes, and every truncation.
+  std::vector<uint8_t> longer = empty;
+  longer.push_back(0x5a);
+  EXPECT_FALSE(decode(h, longer).ok());
+  for (size_t n = 0; n < empty.size(); ++n) EXPECT_FALSE(decode(h, std::span(empty).first(n)).ok()) << n;
+
+  // A seed that is a kept cell: its faces have two cells already, or are
+  // the boundary.
+  Tet kept = h.dt.cells[h.order[0]];
+  Status s = decode(h, seed_section(h, kept));
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+  EXPECT_TRUE(s.message().find("three cells") != std::string::npos ||
+              s.message().find("given as the boundary") != std::string::npos)
+      << s.message();
+  // A seed naming a vertex twice, and one inside out.
+  s = decode(h, seed_section(h, {0, 0, 1, 2}));
+  EXPECT_NE(s.message().find("one vertex twice"), std::string::npos) << s.message();
+  Tet inverted = kept;
+  if (orientation(h.points[inverted[0]], h.points[inverted[1]], h.points[inverted[2]],
+                  h.points[inverted[3]]) > 0)
+    std::swap(inverted[0], inverted[1]);
+  s = decode(h, seed_section(h, inverted));
+  EXPECT_NE(s.message().find("flat or on the inner side"), std::string::npos) << s.message();
+
+  // The first face filled with an apex ranked past its candidates.
+  RangeEncoder far;
+  AdaptiveBit filled;
+  far.encode(filled, true);
+  exact_cells::RankModels models;
+  exact_cells::put_rank(far, models, 5000);
+  s = decode(h, far.finish());
+  EXPECT_NE(s.message().find("past the candidates"), std::string::npos) << s.message();
+}
+
+TEST(ExactSection, BitFlipsAreRefusedOrChecked) {
+  // A real section (bunny_10k's), every bit flipped in turn: refused, or a
+  // fill whose every cell passed the decoder's checks; never a crash.
+  const Model m = load("bunny_10k");
+  EncodeInput in;
+  in.points = m.points;
+  in.tetrahedra = m.tets;
+  const auto e = encode(in, exact_options());
+  ASSERT_TRUE(e.ok());
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(e->bytes, d).ok());
+  // The section is the layer's last bytes.
+  const auto& bytes = e->bytes;
+  const std::vector<uint8_t> section(bytes.end() - static_cast<std::ptrdiff_t>(e->report.exact_bytes),
+                                     bytes.end());
+  const TetMesh dt = d.delaunay();
+  std::vector<uint32_t> order;
+  const std::vector<uint8_t> kept = d.carving(dt, order);
+  ExactFill fill;
+  ASSERT_TRUE(decode_exact_cells(section, dt, d.points(), d.levels().back().alpha, kept, order, fill).ok());
+  EXPECT_EQ(fill.cells.size(), e->report.exact.fill_cells);
+  size_t refused = 0, flips = 0;
+  for (size_t i = 0; i < section.size(); i += 3)
+    for (int b = 0; b < 8; b += 3) {
+      std::vector<uint8_t> bad = section;
+      bad[i] ^= static_cast<uint8_t>(1u << b);
+      ++flips;
+      ExactFill f;
+      const Status s = decode_exact_cells(bad, dt, d.points(), d.levels().back().alpha, kept, order, f);
+      if (!s.ok()) {
+        EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+        ++refused;
+        continue;
+      }
+      for (const Tet& c : f.cells)
+        EXPECT_GT(orientation(d.points()[c[0]], d.points()[c[1]], d.points()[c[2]], d.points()[c[3]]), 0);
+    }
+  EXPECT_GT(refused, flips / 2);
+}
+
+}  // namespace
+}  // namespace dtm
