@@ -7,7 +7,7 @@
 # back as gmsh physical groups, VTU cell data and Medit refs, which gmsh and
 # meshio read; a Netgen
 # CSG part exported as gmsh 2.0 ("2.000000") is read with its domain (Netgen
-# tags a domain d 100000 + d).
+# tags a domain d 100000 + d). With --exact both decode cell for cell.
 set -euo pipefail
 meshenc=$1
 meshdec=$(dirname "$meshenc")/meshdec
@@ -146,5 +146,76 @@ for name in ("quality_out.msh", "quality_out.vtu"):
 if not np.array_equal(values["quality_out.msh"], values["quality_out.vtu"]):
     sys.exit("the .msh and the .vtu give other values")
 PY
+# --exact: the gmsh part (regions, tagged faces, the quality view as cell
+# data) and the fine Netgen part decode cell for cell, with their regions
+# and cell data on the input's own cells, positively oriented (--keep-order:
+# the input's numbering, so the cells compare as they are).
+"$meshenc" quality.msh -q --exact --keep-order -o exact_gmsh.dtm --report exact_gmsh.json || failed=1
+"$meshenc" fine_netgen.msh -q --exact --keep-order -o exact_netgen.dtm --report exact_netgen.json || failed=1
+"$meshdec" exact_gmsh.dtm -o exact_gmsh_out.msh 2>/dev/null || failed=1
+"$meshdec" exact_netgen.dtm -o exact_netgen_out.msh 2>/dev/null || failed=1
+"$py" - <<'PY' || failed=1
+import json, sys
+import meshio
+import numpy as np
+def read_msh41(path):
+    """gmsh's own .msh 4.1 (meshio cannot read its quality view): the nodes in file order, the
+    tetrahedra as indices into them with their physical tag, and the $ElementData per tetrahedron."""
+    lines = open(path).read().split("\n")
+    at = lambda name: lines.index(name) + 1
+    i = at("$Nodes"); blocks = int(lines[i].split()[0]); i += 1; index = {}
+    for _ in range(blocks):
+        n = int(lines[i].split()[3]); i += 1
+        for k in range(n): index[int(lines[i + k])] = len(index)
+        i += 2 * n
+    physical = {}
+    j = at("$Entities"); counts = list(map(int, lines[j].split())); j += 1 + sum(counts[:3])
+    for k in range(counts[3]):
+        f = lines[j + k].split(); tags = int(f[7]); physical[int(f[0])] = int(f[8]) if tags else 0
+    i = at("$Elements"); blocks = int(lines[i].split()[0]); i += 1; tets, tags, region = [], [], []
+    for _ in range(blocks):
+        dim, entity, kind, n = map(int, lines[i].split()); i += 1
+        for k in range(n):
+            f = list(map(int, lines[i + k].split()))
+            if kind == 4:
+                tags.append(f[0]); tets.append([index[v] for v in f[1:5]]); region.append(physical[entity])
+        i += n
+    data = {}
+    if "$ElementData" in lines:
+        i = at("$ElementData"); i += 1 + int(lines[i]); i += 1 + int(lines[i]); n = int(lines[i + 3]); i += 1 + int(lines[i])
+        data = {int(f[0]): float(f[1]) for f in (lines[i + k].split() for k in range(n))}
+    return np.array(tets), np.array(region), np.array([data.get(t, np.nan) for t in tags])
+def decoded(path):
+    m = meshio.read(path)
+    tetra = [k for k, c in enumerate(m.cells) if c.type == "tetra"]
+    get = lambda name: np.concatenate([m.cell_data[name][k] for k in tetra]) if name in m.cell_data else None
+    return m.points, np.concatenate([m.cells[k].data for k in tetra]), get("gmsh:physical"), get("ICN 3D")
+for given, out, report, icn in (("quality.msh", "exact_gmsh_out.msh", "exact_gmsh.json", True),
+                                ("fine_netgen.msh", "exact_netgen_out.msh", "exact_netgen.json", False)):
+    if icn:
+        a, ar, av = read_msh41(given)
+    else:
+        m = meshio.read(given)
+        tetra = [k for k, c in enumerate(m.cells) if c.type == "tetra"]
+        a = np.concatenate([m.cells[k].data for k in tetra])
+        ar = np.concatenate([m.cell_data["gmsh:physical"][k] for k in tetra])
+    p, b, br, bv = decoded(out)
+    ka = {tuple(sorted(t)): i for i, t in enumerate(a)}
+    kb = {tuple(sorted(t)): i for i, t in enumerate(b)}
+    if set(ka) != set(kb):
+        sys.exit("%s: level 0 is not the input cell for cell (%d / %d cells, %d differ)"
+                 % (given, len(a), len(b), len(set(ka) ^ set(kb))))
+    if any(ar[ka[k]] != br[kb[k]] for k in ka):
+        sys.exit("%s: a cell's region is not its own" % given)
+    if icn and any(av[ka[k]] != bv[kb[k]] for k in ka):
+        sys.exit("%s: a cell's ICN is not its own" % given)
+    v = np.einsum("ij,ij->i", p[b[:, 1]] - p[b[:, 0]], np.cross(p[b[:, 2]] - p[b[:, 0]], p[b[:, 3]] - p[b[:, 0]]))
+    if not (v > 0).all():
+        sys.exit("%s: %d cells not positively oriented" % (out, (v <= 0).sum()))
+    r = json.load(open(report))["exact"]
+    if r["delaunay_cells"] + r["fill_cells"] != len(a) or r["fill_cells"] == 0:
+        sys.exit("%s: the report's exact cells do not add up: %s" % (given, r))
+PY
+
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed

@@ -237,6 +237,7 @@ def encode(
     face_tag_names: Optional[Mapping[int, str]] = None,
     cell_data: Optional[Mapping[str, Any]] = None,
     keep_order: bool = False,
+    exact: bool = False,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -278,6 +279,12 @@ def encode(
             (meshenc's ``--keep-order``; the order is coded, about log2(N)
             bits a vertex for a random one); every point must quantize to
             its own grid point.
+        exact: decode level 0 as ``tetrahedra`` themselves, cell for cell
+            (meshenc's ``--exact``; the cells that are not Delaunay cells are
+            coded beside the levels, about 1-1.6 bits a vertex on gmsh and
+            Netgen meshes); every point must quantize to its own grid point
+            and every cell stay a tetrahedron there (the error names the
+            ``qbits`` that would do).
         threads: threads to use for this call (meshenc's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
             The stream is the same for any number.
@@ -317,7 +324,7 @@ def encode(
     with _threads_for_call(threads):
         stream, report, vertex_of_input = _dtmesh.encode(
             p, t, r, names, f, ft, face_names, field_list, cell_list, int(qbits), box, scale, dmax, preset,
-            dict(field_errors or {}), bool(keep_order))
+            dict(field_errors or {}), bool(keep_order), bool(exact))
     return Encoded(stream, json.loads(report), vertex_of_input)
 
 

@@ -31,6 +31,7 @@ def encode(
     preset: str,
     field_errors: Mapping[str, float],
     keep_order: bool,
+    exact: bool,
 ) -> Tuple[bytes, str, npt.NDArray[np.uint32]]: ...
 
 class Decoder:

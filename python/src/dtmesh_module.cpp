@@ -90,7 +90,7 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
                  const std::map<int32_t, std::string>& face_tag_names, const std::vector<FieldIn>& fields,
                  const std::vector<FieldIn>& cell_fields, int qbits, std::optional<double> box,
                  std::optional<double> scale, std::optional<double> dmax, const std::string& preset,
-                 const std::map<std::string, double>& field_errors, bool keep_order) {
+                 const std::map<std::string, double>& field_errors, bool keep_order, bool exact) {
   if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must be an N x 3 array");
   const size_t n = static_cast<size_t>(points.shape(0));
   std::vector<dtm::InputPoint> in_points(n);
@@ -170,6 +170,7 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
   }
   dtm::EncodeOptions options = encode_options(qbits, box, scale, dmax, preset, field_errors);
   options.keep_order = keep_order;
+  options.exact = exact;
   dtm::EncodeInput input;
   input.points = in_points;
   input.tetrahedra = tets;
@@ -372,7 +373,7 @@ PYBIND11_MODULE(_dtmesh, m) {
   m.def("encode", &encode, py::arg("points"), py::arg("tetrahedra"), py::arg("regions"),
         py::arg("region_names"), py::arg("faces"), py::arg("face_tags"), py::arg("face_tag_names"),
         py::arg("fields"), py::arg("cell_fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"),
-        py::arg("dmax"), py::arg("preset"), py::arg("field_errors"), py::arg("keep_order"));
+        py::arg("dmax"), py::arg("preset"), py::arg("field_errors"), py::arg("keep_order"), py::arg("exact"));
   py::class_<Decoder>(m, "Decoder")
       .def(py::init<int, uint64_t>(), py::arg("stop_after_level"), py::arg("max_vertices"))
       .def("feed", &Decoder::feed, py::arg("chunk"), py::arg("meshes"))

@@ -290,6 +290,22 @@ def test_cell_data_through_numpy_meshio_and_vtk(corpus, tmp_path):
     assert grid.GetCellData().GetArray("velocity").GetNumberOfComponents() == 3
 
 
+def test_exact_level_zero_is_the_input_cell_for_cell(corpus):
+    """exact=True: level 0 is the input's tetrahedra, with the input's numbering (keep_order),
+    cell for cell; the cell data on them is each cell's own."""
+    points, tets, _ = read_tetgen(corpus["bunny_10k"][0])
+    own = np.arange(len(tets), dtype=np.uint32)
+    encoded = dtmesh.encode(points, tets, exact=True, keep_order=True, cell_data={"own": own}, box=256, dmax=2)
+    assert dtmesh.info(encoded.bytes)["version"] == "11.0"
+    assert encoded.report["exact"]["delaunay_cells"] + encoded.report["exact"]["fill_cells"] == len(tets)
+    level0 = dtmesh.decode(encoded.bytes)
+    assert level0.tetrahedra.shape == tets.shape
+    assert sorted(map(tuple, np.sort(level0.tetrahedra, axis=1))) == sorted(map(tuple, np.sort(tets, axis=1)))
+    assert (np.sort(level0.tetrahedra, axis=1) == np.sort(tets[level0.cell_data["own"]], axis=1)).all()
+    with pytest.raises(dtmesh.Error, match="--qbits"):
+        dtmesh.encode(points, tets, exact=True, qbits=6, box=256, dmax=2)
+
+
 def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
     """A gmsh part of two materials: its physical volumes are the regions on every level, its
     physical surfaces the tagged faces."""

@@ -1,0 +1,96 @@
+// The exact cell section (spec/FORMAT.md §3.10) on arbitrary bytes, below
+// the layer checksum that keeps the stream targets from reaching it
+// damaged: never a crash; a section that decodes gives cells that are
+// positively oriented, with every face of the kept cells and the fill shared
+// by at most two cells on opposite sides, and the fill coded again as the
+// input's cells decodes to the same cells.
+//
+// Input: byte 0: bit 0 the point set (fuzz_point_sets.h); bits 1-3 which
+// Delaunay cells are kept (0: all; k: all but every cell whose index is 0
+// mod k + 1); then the section.
+#include <algorithm>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <span>
+#include <vector>
+
+#include "codec/sections/exact_cell_coder.h"
+#include "codec/sections/exact_cell_coder_shared.h"
+#include "fuzz_check.h"
+#include "fuzz_point_sets.h"
+#include "mesh/delaunay.h"
+#include "mesh/predicates.h"
+#include "mesh/topology.h"
+
+namespace {
+
+struct Level {
+  std::span<const dtm::GridPoint> points;
+  dtm::TetMesh dt;
+  std::vector<uint32_t> order;
+};
+const Level& level(bool random) {
+  static const auto make = [](bool r) {
+    Level l;
+    l.points = fuzz_point_set(r);
+    l.dt = dtm::delaunay_tetrahedralize(l.points).value();
+    l.order = dtm::canonical_cell_order(l.dt.cells);
+    return l;
+  };
+  static const Level block = make(false), cloud = make(true);
+  return random ? cloud : block;
+}
+
+std::set<dtm::MeshCell> sorted_cells(const std::vector<dtm::MeshCell>& cells) {
+  std::set<dtm::MeshCell> out;
+  for (dtm::MeshCell c : cells) {
+    std::sort(c.begin(), c.end());
+    out.insert(c);
+  }
+  return out;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  const Level& l = level(data[0] & 1);
+  const unsigned skip = (data[0] >> 1) & 7;
+  std::vector<uint8_t> kept(l.dt.cells.size(), 1);
+  if (skip)
+    for (size_t c = 0; c < kept.size(); c += skip + 1) kept[c] = 0;
+  constexpr double kAlpha = 3.0;
+  dtm::ExactFill fill;
+  const dtm::Status s =
+      dtm::decode_exact_cells(std::span(data + 1, size - 1), l.dt, l.points, kAlpha, kept, l.order, fill);
+  if (!s.ok()) {
+    FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
+    return 0;
+  }
+  // Every cell positive, every face of the level in at most two cells, on
+  // opposite sides (the outward faces of two cells sharing it are reversed).
+  std::map<dtm::exact_cells::FaceKey, std::vector<std::array<uint32_t, 3>>> faces;
+  const auto add = [&](const dtm::MeshCell& c) {
+    FUZZ_CHECK(dtm::orientation(l.points[c[0]], l.points[c[1]], l.points[c[2]], l.points[c[3]]) > 0);
+    for (int k = 0; k < 4; ++k) {
+      const auto f = dtm::exact_cells::outward_face(c, k);
+      faces[dtm::exact_cells::key_of(f)].push_back(f);
+    }
+  };
+  for (size_t c = 0; c < kept.size(); ++c)
+    if (kept[c]) add(l.dt.cells[c]);
+  for (const auto& c : fill.cells) add(c);
+  for (const auto& [key, sides] : faces) {
+    FUZZ_CHECK(sides.size() <= 2);
+    if (sides.size() == 2) FUZZ_CHECK(dtm::exact_cells::reversed(sides[0], sides[1]));
+  }
+  // Coded again as the input's cells beside the kept ones: the same cells.
+  dtm::ExactFill again, back;
+  std::vector<uint32_t> source;
+  const auto section = dtm::encode_exact_cells(l.dt, l.points, kAlpha, kept, l.order, fill.cells, again, source);
+  FUZZ_CHECK(section.ok());
+  FUZZ_CHECK(dtm::decode_exact_cells(*section, l.dt, l.points, kAlpha, kept, l.order, back).ok());
+  FUZZ_CHECK(sorted_cells(back.cells) == sorted_cells(fill.cells));
+  return 0;
+}
