@@ -134,6 +134,7 @@ class Fill {
   Fill(const TetMesh& dt, std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
        Side& side, ExactFill& out)
       : dt_(dt), points_(points), alpha_(alpha), kept_(kept), side_(side), out_(out) {
+    seen_.assign(points.size(), 0);
     incident_ = build_csr(points.size(), [&](auto&& add) {
       for (uint32_t c = 0; c < dt.cells.size(); ++c)
         for (uint32_t v : dt.cells[c]) add(v, c);
@@ -204,13 +205,18 @@ class Fill {
   void gather(const OpenFace& open, std::vector<uint32_t>& out) const {
     const std::array<uint32_t, 3>& f = open.outward;
     out.clear();
-    for (uint32_t v : f)
-      for (uint32_t c : incident_.row(v))
-        for (uint32_t w : dt_.cells[c]) out.push_back(w);
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+    // Each vertex once (a stamp per gathering; the order of the list is
+    // not the candidates' order, which ApexOrder alone sets).
+    if (++stamp_ == 0) std::fill(seen_.begin(), seen_.end(), 0), stamp_ = 1;
+    for (uint32_t v : f) seen_[v] = stamp_;
     const GridPoint &a = points_[f[0]], &b = points_[f[1]], &c = points_[f[2]];
-    std::erase_if(out, [&](uint32_t w) { return orientation(a, b, c, points_[w]) <= 0; });
+    for (uint32_t v : f)
+      for (uint32_t cell : incident_.row(v))
+        for (uint32_t w : dt_.cells[cell]) {
+          if (seen_[w] == stamp_) continue;
+          seen_[w] = stamp_;
+          if (orientation(a, b, c, points_[w]) > 0) out.push_back(w);
+        }
     if (open.cell >= static_cast<int64_t>(dt_.cells.size())) return;
     const int32_t n = dt_.neighbors[static_cast<size_t>(open.cell)][open.corner];
     if (n < 0) return;
@@ -277,6 +283,8 @@ class Fill {
   Side& side_;
   ExactFill& out_;
   Csr incident_;  // per vertex, the Delaunay cells around it
+  mutable std::vector<uint32_t> seen_;  // per vertex, the gathering that saw it last
+  mutable uint32_t stamp_ = 0;
   std::unordered_map<FaceKey, OpenFace, FaceKeyHash> faces_;
   std::vector<FaceKey> queue_;
   size_t head_ = 0;

@@ -30,6 +30,11 @@ class Decoder {
       apex = static_cast<uint32_t>(v);
       return Status::Ok();
     }
+    // Rank 0, the Delaunay-like apex, is most of them: one pass finds it.
+    if (rank == 0) {
+      apex = *std::min_element(candidates.begin(), candidates.end(), less);
+      return Status::Ok();
+    }
     const auto at = candidates.begin() + static_cast<std::ptrdiff_t>(rank);
     std::nth_element(candidates.begin(), at, candidates.end(), less);
     apex = *at;

@@ -114,3 +114,6 @@ zone = (np.arange(len(tets)) % 9 - 4).astype(np.int16)
 meshio.write(out, meshio.Mesh(points, [("tetra", tets)], cell_data={"heat": [heat], "zone": [zone]}))
 PY
 make_one torus_288_cells torus_288_cells.vtu --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3 --keep-order
+# 11.0: the gmsh part with --exact: level 0 is its own tetrahedra (the cell
+# hash of level 0 is theirs), with its regions and tagged faces on them.
+make_one two_materials_exact two_materials.msh --quality-floor 0 --dmax 0.2 --exact
