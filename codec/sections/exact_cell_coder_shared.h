@@ -282,7 +282,7 @@ class Fill {
   std::span<const uint8_t> kept_;
   Side& side_;
   ExactFill& out_;
-  Csr incident_;  // per vertex, the Delaunay cells around it
+  Csr incident_;                        // per vertex, the Delaunay cells around it
   mutable std::vector<uint32_t> seen_;  // per vertex, the gathering that saw it last
   mutable uint32_t stamp_ = 0;
   std::unordered_map<FaceKey, OpenFace, FaceKeyHash> faces_;

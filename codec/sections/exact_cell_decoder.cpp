@@ -75,7 +75,7 @@ Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
   if (kept.size() != dt.cells.size()) return exact_cells::corrupt("the carving is not the level's");
   exact_cells::Decoder side(section, points);
   exact_cells::Fill<exact_cells::Decoder> walk(dt, points, alpha, kept, side, fill);
-  const Status s = walk.run(order);
+  Status s = walk.run(order);
   if (!s.ok()) {
     fill = {};
     return s;

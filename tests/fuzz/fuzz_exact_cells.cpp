@@ -88,7 +88,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // Coded again as the input's cells beside the kept ones: the same cells.
   dtm::ExactFill again, back;
   std::vector<uint32_t> source;
-  const auto section = dtm::encode_exact_cells(l.dt, l.points, kAlpha, kept, l.order, fill.cells, again, source);
+  const auto section =
+      dtm::encode_exact_cells(l.dt, l.points, kAlpha, kept, l.order, fill.cells, again, source);
   FUZZ_CHECK(section.ok());
   FUZZ_CHECK(dtm::decode_exact_cells(*section, l.dt, l.points, kAlpha, kept, l.order, back).ok());
   FUZZ_CHECK(sorted_cells(back.cells) == sorted_cells(fill.cells));
