@@ -361,7 +361,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
                              exact_level(dt, decoded, level.alpha, input, options.exact_labels));
         exact_cells.emplace(std::move(made));
         carving = encode_carving(dt, decoded, level.alpha, exact_cells->delaunay_kept,
-                                 carving_contexts(h.version_major));
+                                 CarvingContexts::kExactMargin);
         exact_section = std::move(exact_cells->section);
         out.exact_bytes = exact_section.size();
         out.exact_delaunay_cells = exact_cells->delaunay_cells;

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 
 #include "codec/sections/carving_coder_shared.h"
 #include "common/parallel_for.h"
 #include "mesh/carving.h"
+#include "mesh/geometry.h"
 #include "mesh/topology.h"
 
 namespace dtm {
@@ -73,7 +75,7 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
       },
       2);
   // The context from alpha's verdicts: the whole of 4.0's, the start of 6.0's.
-  const bool half_octaves = contexts == CarvingContexts::kDecodedNeighbours;
+  const bool half_octaves = contexts != CarvingContexts::kAlphaNeighbours;
   p.context.resize(m);
   parallel_for(
       blocks,
@@ -90,7 +92,45 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
       },
       2);
   p.order = canonical_cell_order(dt.cells);  // the identity for an exported triangulation
+  if (contexts == CarvingContexts::kExactMargin) {
+    p.margin.resize(m);
+    parallel_for(
+        blocks,
+        [&](size_t block) {
+          for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c)
+            p.margin[c] = margin_bucket(dt, points, c);
+        },
+        2);
+  }
   return p;
+}
+
+uint8_t margin_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell) {
+  // The corners ascending (the encoder's and the decoder's triangulations
+  // list them in any order), the centre relative to the first: centre - a
+  // = num / (2 det), so |p - centre|^2 / R^2 - 1 = |2 det (p - a) - num|^2 /
+  // |num|^2 - 1, one formula in doubles on both sides.
+  std::array<GridPoint, 4> c;
+  for (int k = 0; k < 4; ++k) c[static_cast<size_t>(k)] = points[dt.cells[cell][static_cast<size_t>(k)]];
+  std::sort(c.begin(), c.end());
+  const Vec3 a = to_vec(c[0]), u = to_vec(c[1]) - a, v = to_vec(c[2]) - a, w = to_vec(c[3]) - a;
+  const double det2 = 2 * dot(u, cross(v, w));
+  const Vec3 num = cross(v, w) * dot(u, u) + cross(w, u) * dot(v, v) + cross(u, v) * dot(w, w);
+  const double r2 = dot(num, num);
+  if (det2 == 0 || r2 == 0) return 0;
+  double least = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 4; ++k) {
+    const int32_t n = dt.neighbors[cell][static_cast<size_t>(k)];
+    if (n < 0) continue;
+    for (uint32_t q : dt.cells[static_cast<size_t>(n)]) {
+      if (std::find(dt.cells[cell].begin(), dt.cells[cell].end(), q) != dt.cells[cell].end()) continue;
+      const Vec3 d = (to_vec(points[q]) - a) * det2 - num;
+      least = std::min(least, dot(d, d) / r2 - 1);
+    }
+  }
+  uint8_t b = 0;
+  for (double step : kMarginSteps) b += least > step;
+  return b;
 }
 
 }  // namespace dtm

@@ -31,6 +31,13 @@ enum class CarvingContexts {
   // decoded verdict where decoded already, alpha's otherwise) and how many
   // of the decoded ones alpha got wrong, 0, 1 or 2+ (120 models).
   kDecodedNeighbours,
+  // 11.0, level 0 of an exact stream (exact_cell_coder.h): 6.0's, each
+  // split by the cell's Delaunay margin (480 models). There the carving
+  // keeps the Delaunay cells that are input cells; those that are not lie
+  // where the mesher moved off Delaunay, where a neighbour's far corner
+  // is nearly on the cell's circumsphere (on the Netgen part of
+  // bench/results/EXACT.md, a median margin of 0.087 against 0.305).
+  kExactMargin,
 };
 CarvingContexts carving_contexts(uint8_t format_major);
 
@@ -45,10 +52,19 @@ struct CarvingPrediction {
   // neighbours, which the decoded verdicts then change.
   std::vector<uint8_t> context;
   std::vector<uint32_t> order;  // cell indices in coding order
+  std::vector<uint8_t> margin;  // kExactMargin: per cell, its margin bucket
 };
 inline constexpr int kCarvingRatioBuckets = 16;
 inline constexpr int kAlphaNeighbourContexts = kCarvingRatioBuckets * 5;
 inline constexpr int kDecodedNeighbourContexts = kCarvingRatioBuckets / 2 * 5 * 3;
+// A cell's Delaunay margin: over its face neighbours, the least
+// |p - centre|^2 / R^2 - 1 of the neighbour's corner p across the face (0 on
+// the circumsphere; +infinity with no neighbour), in buckets split at these
+// values (spec/FORMAT.md §3.2).
+inline constexpr double kMarginSteps[] = {0.06, 0.17, 0.39};
+inline constexpr int kMarginBuckets = 4;
+inline constexpr int kExactMarginContexts = kDecodedNeighbourContexts * kMarginBuckets;
+uint8_t margin_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell);
 // With `chunk_of_cell` (bricked layers), the kept neighbours counted are
 // those of the same chunk only.
 CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,

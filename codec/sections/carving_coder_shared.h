@@ -32,11 +32,14 @@ void visit_corrections(const TetMesh& dt, const CarvingPrediction& p, CarvingCon
   // from alpha's verdicts alone (bucket and kept neighbours); a cell decoded
   // as wrong tells each neighbour (those decoded already do not look again),
   // so the pass costs a neighbour walk per wrong cell only.
-  std::array<AdaptiveBit, kDecodedNeighbourContexts> models;
+  // (kExactMargin: each of these split by the cell's margin bucket.)
+  const bool margin = contexts == CarvingContexts::kExactMargin;
+  std::vector<AdaptiveBit> models(margin ? kExactMarginContexts : kDecodedNeighbourContexts);
   std::vector<int8_t> kept_change(dt.cells.size(), 0);  // kept neighbours gained (lost)
   std::vector<uint8_t> wrong(dt.cells.size(), 0);       // neighbours decoded as wrong
   for (uint32_t c : p.order) {
-    const int context = (p.context[c] + kept_change[c]) * 3 + std::min<int>(wrong[c], 2);
+    int context = (p.context[c] + kept_change[c]) * 3 + std::min<int>(wrong[c], 2);
+    if (margin) context = context * kMarginBuckets + p.margin[c];
     if (!code_bit(models[static_cast<size_t>(context)], c)) continue;
     kept[c] ^= 1;
     for (int32_t n : dt.neighbors[c]) {

@@ -4,8 +4,9 @@
 // verdict per cell, which re-encodes to the same section.
 //
 // Input: byte 0: which point set (a 4x4x4 block, or 300 pseudo-random
-// points of a 7-bit grid, by bit 0), which contexts (6.0's by bit 1, else
-// 4.0's) and alpha (its other bits, in quarter grid steps); then the section.
+// points of a 7-bit grid, by bit 0), which contexts (6.0's by bit 1, and
+// with bit 7 11.0's exact level 0's; else 4.0's) and alpha (bits 2-6, in
+// quarter grid steps); then the section.
 #include <algorithm>
 #include <cstdint>
 #include <span>
@@ -22,9 +23,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const dtm::TetMesh block_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value();
   static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value();
   const dtm::TetMesh& dt = (data[0] & 1) ? cloud_dt : block_dt;
-  const dtm::CarvingContexts contexts =
-      (data[0] & 2) ? dtm::CarvingContexts::kDecodedNeighbours : dtm::CarvingContexts::kAlphaNeighbours;
-  const double alpha = 0.25 * (data[0] >> 2) + 0.25;
+  // Bit 1: 6.0's contexts (with bit 7 too: 11.0's exact level 0's, split
+  // by the margin); bits 2-6: alpha.
+  const dtm::CarvingContexts contexts = !(data[0] & 2)    ? dtm::CarvingContexts::kAlphaNeighbours
+                                        : (data[0] & 128) ? dtm::CarvingContexts::kExactMargin
+                                                          : dtm::CarvingContexts::kDecodedNeighbours;
+  const double alpha = 0.25 * ((data[0] >> 2) & 31) + 0.25;
   const std::span<const uint8_t> section(data + 1, size - 1);
   std::vector<uint8_t> kept;
   const dtm::Status s = dtm::decode_carving(section, dt, points, alpha, contexts, kept);
