@@ -95,16 +95,18 @@ out = ["# --exact: level 0 as the input's own tetrahedra", "",
        "non-Delaunay cells are less often the Delaunay-like apex (54-63%) and some apexes are not Delaunay "
        "neighbours of their face at all (130-146 sent by index).",
        "* **Against the targets** (#42: at most 1.5 bits a vertex; decode at most 1.3x one construction): "
-       "see the table; the carving's share is where to work next. Measured while building it: the hole "
-       "cells' Delaunay margin (how far the nearest neighbour's opposite corner lies outside the cell's "
-       "circumsphere, over its radius) has a median of 0.087 against 0.305 for the cells that are the "
-       "input's (Netgen part), a context the carving section does not use yet. Ordering the candidates by "
-       "the new cell's shape instead of the in-sphere test was tried and is worse everywhere (rank 0 for "
-       "34-85% of the cells against 54-95%).",
+       "met on 8 of the 10 meshes for the bits (not on hand_10k and triceratops_10k, whose slivers make "
+       "the fill itself expensive); not met for the decoding time (below). The carving's contexts are "
+       "split by each cell's Delaunay margin (spec/FORMAT.md §3.2): the Delaunay cells that are not the "
+       "input's have a median margin of 0.087 (how far the nearest neighbour's far corner lies outside the "
+       "circumsphere, over its radius) against 0.305 for those that are (Netgen part); the split took "
+       "the Netgen part from 1.58 to 1.37 extra bits a vertex, the gmsh part from 1.36 to 1.23. "
+       "Ordering the candidates by the new cell's shape instead of the in-sphere test was tried and is "
+       "worse everywhere (rank 0 for 34-85% of the cells against 54-95%).",
        "* **Decoding.** The fill walks the open faces with a hash of faces and a per-vertex list of "
        "Delaunay cells; its in-sphere tests are CGAL's exact predicates. Its cost over the default decode "
        "is the \"decode / construction\" against \"decode without\" columns; on this 2-core machine the "
-       "default decode of these small meshes is itself 1.8-4.9x one sequential construction (at 1M "
+       "default decode of these meshes is itself 1.4-2.4x one sequential construction (at 1M "
        "vertices it is 1.20x, bench/results/RESULTS.md)."]
 open("EXACT.md", "w").write("\n".join(out) + "\n")
 print("\n".join(out))

@@ -72,6 +72,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
   j["carving_corrections"] = (h.flags & kFlagCarvingCorrections) != 0;
   j["bricks"] = (h.flags & kFlagBricks) != 0;
   j["vertex_order"] = (h.flags & kFlagVertexOrder) != 0;
+  j["exact"] = (h.flags & kFlagExact) != 0;
   j["level_count"] = h.level_count;
   j["vertices"] = h.vertex_count;
   j["bytes"] = s.bytes;
