@@ -90,7 +90,7 @@ out = ["# --exact: level 0 as the input's own tetrahedra", "",
        "* **Where the bits go.** The exact cell section is cheap where the mesher kept close to Delaunay: "
        "on the gmsh and Netgen parts the first candidate is the apex for 93-95% of the non-Delaunay cells "
        "(0.11-0.13 bits a vertex). Most of the extra is the carving: saying which Delaunay cells are not "
-       "the input's (alpha keeps them: they lie inside the solid) costs 4-6 bits per non-Delaunay cell. "
+       "the input's (alpha keeps them: they lie inside the solid) costs 3-5 bits per non-Delaunay cell on these two parts. "
        "The TetGen models with many slivers (hand_10k, triceratops_10k) are the other way round: their "
        "non-Delaunay cells are less often the Delaunay-like apex (54-63%) and some apexes are not Delaunay "
        "neighbours of their face at all (130-146 sent by index).",
