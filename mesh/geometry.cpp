@@ -3,16 +3,14 @@
 #include <algorithm>
 #include <limits>
 
+#include "mesh/predicates.h"
+
 namespace dtm {
 
 std::array<uint32_t, 4> sorted_positive(std::array<uint32_t, 4> cell, std::span<const GridPoint> points) {
   std::sort(cell.begin(), cell.end());
-  const GridPoint &a = points[cell[0]], &b = points[cell[1]], &c = points[cell[2]], &d = points[cell[3]];
-  const Int128 ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
-  const Int128 vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
-  const Int128 wx = d.x - a.x, wy = d.y - a.y, wz = d.z - a.z;
-  const Int128 det = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
-  if (det < 0) std::swap(cell[2], cell[3]);
+  if (orientation(points[cell[0]], points[cell[1]], points[cell[2]], points[cell[3]]) < 0)
+    std::swap(cell[2], cell[3]);
   return cell;
 }
 
