@@ -293,10 +293,10 @@ void ProgressiveDecoder::insert_pending() const {
   layers_pending_ = 0;
 }
 
-TetMesh ProgressiveDecoder::delaunay(IncrementalDelaunay::CellOrder order) const {
+TetMesh ProgressiveDecoder::delaunay(IncrementalDelaunay::CellOrder order, double spare) const {
   insert_pending();
   if (!mesh_status_.ok()) return {};
-  return dt_.mesh(order);
+  return dt_.mesh(order, spare);
 }
 
 std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt) const {
@@ -329,7 +329,10 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<
 
 ProgressiveDecoder::LevelCells ProgressiveDecoder::level_cells() const {
   LevelCells out;
-  out.mesh = delaunay();
+  // An exact level grows by its fill, a few percent of the cells (11.6% on
+  // the corpus's worst): room for a quarter more, so that adding them does
+  // not copy the arrays.
+  out.mesh = delaunay(IncrementalDelaunay::CellOrder::kAsBuilt, exact_level() ? 0.25 : 0);
   if (!mesh_status_.ok()) return {};
   out.kept = carving(out.mesh, out.order);
   if (!mesh_status_.ok()) return {};
@@ -343,6 +346,7 @@ ProgressiveDecoder::LevelCells ProgressiveDecoder::level_cells() const {
     const auto first = static_cast<uint32_t>(out.mesh.cells.size());
     extend_with_fill(out.mesh, fill);
     out.kept.resize(out.mesh.cells.size(), 1);
+    out.order.reserve(out.mesh.cells.size());
     for (uint32_t c = first; c < out.mesh.cells.size(); ++c) out.order.push_back(c);
     if (header_.flags & kFlagRegions)
       s = decode_regions(region_section_, out.mesh, out.order, regions_.size(), out.kept);

@@ -105,7 +105,8 @@ class ProgressiveDecoder {
   // them (built on every core, their order varies from run to run) unless
   // asked for in the canonical order (sorted vertex ids; it costs a sort);
   // carved_cells() are in the canonical order.
-  TetMesh delaunay(IncrementalDelaunay::CellOrder order = IncrementalDelaunay::CellOrder::kAsBuilt) const;
+  TetMesh delaunay(IncrementalDelaunay::CellOrder order = IncrementalDelaunay::CellOrder::kAsBuilt,
+                   double spare = 0) const;
   std::vector<std::array<uint32_t, 4>> carved_cells() const;
   // Per cell of `dt` (delaunay()'s result): whether the finest level keeps
   // it, alpha's verdict corrected by the stream's (spec/FORMAT.md §3.2):

@@ -280,9 +280,11 @@ void write_cell(DT::Cell_handle c, const Corners& p, TetMesh& out, size_t k) {
 // (each handle's tag already set to its position, -1 for infinite cells),
 // each cell's corners in the order corners_of gives.
 template <class CornersOf>
-TetMesh cells_of(const std::vector<DT::Cell_handle>& handles, CornersOf corners_of) {
+TetMesh cells_of(const std::vector<DT::Cell_handle>& handles, CornersOf corners_of, double spare = 0) {
   TetMesh out;
   const size_t m = handles.size();
+  out.cells.reserve(m + static_cast<size_t>(spare * static_cast<double>(m)));
+  out.neighbors.reserve(out.cells.capacity());
   out.cells.resize(m);
   out.neighbors.resize(m);
   constexpr size_t kBlock = 4096;
@@ -298,7 +300,7 @@ TetMesh cells_of(const std::vector<DT::Cell_handle>& handles, CornersOf corners_
 // The finite cells in the order the triangulation holds them (after a
 // parallel insertion, the threads' order: it varies from run to run), each
 // cell's tag its index.
-TetMesh export_as_built(DT& dt) {
+TetMesh export_as_built(DT& dt, double spare) {
   if (dt.dimension() < 3) return {};
   std::vector<DT::Cell_handle> handles;
   handles.reserve(dt.number_of_finite_cells());
@@ -306,7 +308,7 @@ TetMesh export_as_built(DT& dt) {
     c->info().index = dt.is_infinite(c) ? -1 : static_cast<int32_t>(handles.size());
     if (!dt.is_infinite(c)) handles.push_back(c);
   }
-  return cells_of(handles, corners_as_built);
+  return cells_of(handles, corners_as_built, spare);
 }
 
 // The finite cells in the canonical order (topology.h: by their sorted vertex
@@ -317,7 +319,7 @@ TetMesh export_as_built(DT& dt) {
 // vertex as CGAL lists them (a counting sort), each vertex's few sorted on
 // every core, and written out in that order. Each cell's tag becomes its
 // index; `previous`, if given, receives each cell's tag before (-1: new).
-TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
+TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
   if (previous) previous->clear();
   if (dt.dimension() < 3) return {};
   const size_t m = dt.number_of_finite_cells();
@@ -370,7 +372,7 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous) {
                  }
                },
                2);
-  return cells_of(handles, canonical_corners);
+  return cells_of(handles, canonical_corners, spare);
 }
 
 // The canonical export again after local edits, given `before`, the last
@@ -533,8 +535,9 @@ Status IncrementalDelaunay::remove(std::span<const GridPoint> points) {
 
 int IncrementalDelaunay::dimension() const { return impl_->dt.dimension(); }
 size_t IncrementalDelaunay::number_of_vertices() const { return impl_->dt.number_of_vertices(); }
-TetMesh IncrementalDelaunay::mesh(CellOrder order) const {
-  return order == CellOrder::kCanonical ? export_mesh(impl_->dt, nullptr) : export_as_built(impl_->dt);
+TetMesh IncrementalDelaunay::mesh(CellOrder order, double spare) const {
+  return order == CellOrder::kCanonical ? export_mesh(impl_->dt, nullptr, spare)
+                                        : export_as_built(impl_->dt, spare);
 }
 std::vector<std::array<uint32_t, 4>> IncrementalDelaunay::finite_cells() const {
   std::vector<std::array<uint32_t, 4>> out;

@@ -74,8 +74,10 @@ class IncrementalDelaunay {
   // The current finite cells, vertices named by their ids: in the canonical
   // order, or as the triangulation holds them (cheaper; after a parallel
   // insertion the order varies from run to run).
+  // `spare`: room for that fraction more cells in the arrays, for a caller
+  // that will add some (reserved: no memory is touched until it is used).
   enum class CellOrder { kCanonical, kAsBuilt };
-  TetMesh mesh(CellOrder order = CellOrder::kCanonical) const;
+  TetMesh mesh(CellOrder order = CellOrder::kCanonical, double spare = 0) const;
   // Only the finite cells' vertex ids, as built: the cheapest export, for
   // what depends on the cell set alone (format 7.0's candidates).
   std::vector<std::array<uint32_t, 4>> finite_cells() const;

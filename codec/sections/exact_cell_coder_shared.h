@@ -18,11 +18,13 @@
 #include <span>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "bitstream/range_coder.h"
 #include "codec/sections/exact_cell_coder.h"
 #include "common/csr.h"
+#include "common/parallel_for.h"
 #include "mesh/carving.h"
 #include "mesh/predicates.h"
 
@@ -68,12 +70,14 @@ inline bool reversed(const std::array<uint32_t, 3>& a, const std::array<uint32_t
 // A face with one cell so far (open), or one the fill closed or declared the
 // boundary.
 struct OpenFace {
-  std::array<uint32_t, 3> outward{};  // seen from outside its cell
+  std::array<uint32_t, 3> outward{};  // seen from outside its cell, smallest corner first
   int32_t cell = 0;                   // extended numbering
   uint8_t corner = 0;                 // of that cell, the one the face lacks
   uint8_t state = 0;                  // kOpen, kClosed, kBoundary
+  uint32_t next = 0;                  // the next face with the same smallest corner
 };
 inline constexpr uint8_t kOpen = 0, kClosed = 1, kBoundary = 2;
+inline constexpr uint32_t kNoFace = UINT32_MAX;
 
 // The contexts of the filled bit: a kept cell's face on the convex hull,
 // one whose Delaunay cell across alpha would carve away, one whose cell
@@ -135,6 +139,7 @@ class Fill {
        Side& side, ExactFill& out)
       : dt_(dt), points_(points), alpha_(alpha), kept_(kept), side_(side), out_(out) {
     seen_.assign(points.size(), 0);
+    first_face_.assign(points.size(), kNoFace);
     incident_ = build_csr(points.size(), [&](auto&& add) {
       for (uint32_t c = 0; c < dt.cells.size(); ++c)
         for (uint32_t v : dt.cells[c]) add(v, c);
@@ -144,23 +149,38 @@ class Fill {
   Status run(std::span<const uint32_t> order) {
     out_ = {};
     const auto cells = static_cast<uint32_t>(dt_.cells.size());
+    // Per kept cell, the faces it opens (bit k: the cell across the face
+    // opposite corner k is not kept): each cell on its own, on every core;
+    // most open none.
+    std::vector<uint8_t> opens(cells, 0);
+    constexpr size_t kBlock = 4096;
+    parallel_for(
+        (cells + kBlock - 1) / kBlock,
+        [&](size_t block) {
+          for (size_t c = block * kBlock; c < std::min<size_t>(cells, block * kBlock + kBlock); ++c) {
+            if (!kept_[c]) continue;
+            for (int k = 0; k < 4; ++k) {
+              const int32_t n = dt_.neighbors[c][static_cast<size_t>(k)];
+              if (n < 0 || !kept_[static_cast<size_t>(n)]) opens[c] |= static_cast<uint8_t>(1 << k);
+            }
+          }
+        },
+        2);
     for (uint32_t c : order) {
-      if (c >= cells || !kept_[c]) continue;
+      if (c >= cells || !opens[c]) continue;
       // Its faces by the corner they lack, in vertex number order.
       std::array<int, 4> corners = {0, 1, 2, 3};
       std::sort(corners.begin(), corners.end(), [&](int x, int y) {
         return dt_.cells[c][static_cast<size_t>(x)] < dt_.cells[c][static_cast<size_t>(y)];
       });
-      for (int k : corners) {
-        const int32_t n = dt_.neighbors[c][static_cast<size_t>(k)];
-        if (n >= 0 && kept_[static_cast<size_t>(n)]) continue;
-        open(outward_face(dt_.cells[c], k), static_cast<int32_t>(c), static_cast<uint8_t>(k));
-      }
+      for (int k : corners)
+        if (opens[c] >> k & 1)
+          open(outward_face(dt_.cells[c], k), static_cast<int32_t>(c), static_cast<uint8_t>(k));
     }
     std::vector<uint32_t> candidates;
     while (true) {
       while (head_ < queue_.size()) {
-        OpenFace& f = faces_.find(queue_[head_++])->second;
+        OpenFace& f = faces_[queue_[head_++]];
         if (f.state != kOpen) continue;
         DTM_RETURN_IF_ERROR(side_.check());
         if (!side_.filled(filled_[static_cast<size_t>(context(f))], f)) {
@@ -170,7 +190,7 @@ class Fill {
         gather(f, candidates);
         const ApexOrder less{points_, points_[f.outward[0]], points_[f.outward[1]], points_[f.outward[2]]};
         uint32_t apex = 0;
-        // f is in faces_, which add() may rehash: copy what it needs first.
+        // f is in faces_, which add() may grow: copy what it needs first.
         const std::array<uint32_t, 3> face = f.outward;
         DTM_RETURN_IF_ERROR(
             side_.apex(f, candidates, less, rank_[static_cast<size_t>(f.cell >= int64_t{cells})], apex));
@@ -186,10 +206,22 @@ class Fill {
   }
 
  private:
+  // Faces are found by their smallest corner: a list per vertex, a few
+  // faces long, in one array (a hash map of the faces, a node each, was
+  // slower).
   void open(const std::array<uint32_t, 3>& outward, int32_t cell, uint8_t corner) {
-    const FaceKey key = key_of(outward);
-    faces_.emplace(key, OpenFace{from_smallest(outward), cell, corner, kOpen});
-    queue_.push_back(key);
+    OpenFace f{from_smallest(outward), cell, corner, kOpen, 0};
+    const auto id = static_cast<uint32_t>(faces_.size());
+    f.next = std::exchange(first_face_[f.outward[0]], id);
+    faces_.push_back(f);
+    queue_.push_back(id);
+  }
+  uint32_t find(const FaceKey& key) const {
+    for (uint32_t id = first_face_[key[0]]; id != kNoFace; id = faces_[id].next) {
+      const std::array<uint32_t, 3>& o = faces_[id].outward;
+      if ((o[1] == key[1] && o[2] == key[2]) || (o[1] == key[2] && o[2] == key[1])) return id;
+    }
+    return kNoFace;
   }
 
   int context(const OpenFace& f) const {
@@ -255,13 +287,13 @@ class Fill {
     for (int k = 0; k < 4; ++k) {
       const std::array<uint32_t, 3> face = outward_face(cell, k);
       const FaceKey key = key_of(face);
-      const auto it = faces_.find(key);
-      if (it == faces_.end()) {
+      const uint32_t id = find(key);
+      if (id == kNoFace) {
         if (kept_face(key)) return corrupt("a face of three cells");
         open(face, self, static_cast<uint8_t>(k));
         continue;
       }
-      OpenFace& g = it->second;
+      OpenFace& g = faces_[id];
       if (g.state == kClosed) return corrupt("a face of three cells");
       if (g.state == kBoundary) return corrupt("a cell across a face given as the boundary");
       if (!reversed(g.outward, face)) return corrupt("two cells on one side of a face");
@@ -285,8 +317,9 @@ class Fill {
   Csr incident_;                        // per vertex, the Delaunay cells around it
   mutable std::vector<uint32_t> seen_;  // per vertex, the gathering that saw it last
   mutable uint32_t stamp_ = 0;
-  std::unordered_map<FaceKey, OpenFace, FaceKeyHash> faces_;
-  std::vector<FaceKey> queue_;
+  std::vector<OpenFace> faces_;        // every face opened, by number
+  std::vector<uint32_t> first_face_;  // per vertex, its list's first face (kNoFace: none)
+  std::vector<uint32_t> queue_;       // faces to visit, first opened first
   size_t head_ = 0;
   std::array<AdaptiveBit, kFilledContexts> filled_;
   std::array<RankModels, 2> rank_;
