@@ -12,6 +12,7 @@ namespace dtm {
 namespace {
 
 std::atomic<int> chosen{0};  // 0: cores_given()
+thread_local int share = 0;  // 0: none (ThreadShare)
 
 }  // namespace
 
@@ -28,10 +29,14 @@ int cores_given() {
 }
 
 int thread_count() {
+  if (share > 0) return share;
   const int n = chosen.load(std::memory_order_relaxed);
   return n > 0 ? n : cores_given();
 }
 
 void set_thread_count(int n) { chosen.store(std::max(0, n), std::memory_order_relaxed); }
+
+ThreadShare::ThreadShare(int n) : before_(share) { share = std::max(1, n); }
+ThreadShare::~ThreadShare() { share = before_; }
 
 }  // namespace dtm

@@ -18,4 +18,18 @@ int thread_count();
 // n >= 1 sets it for the whole process; n <= 0 goes back to cores_given().
 void set_thread_count(int n);
 
+// While it lives, the work the calling thread starts uses n threads
+// (n >= 1): for two pieces of work run side by side, each on its share of
+// the threads, so that together they start no more than thread_count().
+class ThreadShare {
+ public:
+  explicit ThreadShare(int n);
+  ~ThreadShare();
+  ThreadShare(const ThreadShare&) = delete;
+  ThreadShare& operator=(const ThreadShare&) = delete;
+
+ private:
+  int before_;
+};
+
 }  // namespace dtm

@@ -154,18 +154,18 @@ class Fill {
     // most open none.
     std::vector<uint8_t> opens(cells, 0);
     constexpr size_t kBlock = 4096;
-    parallel_for(
-        (cells + kBlock - 1) / kBlock,
-        [&](size_t block) {
-          for (size_t c = block * kBlock; c < std::min<size_t>(cells, block * kBlock + kBlock); ++c) {
-            if (!kept_[c]) continue;
-            for (int k = 0; k < 4; ++k) {
-              const int32_t n = dt_.neighbors[c][static_cast<size_t>(k)];
-              if (n < 0 || !kept_[static_cast<size_t>(n)]) opens[c] |= static_cast<uint8_t>(1 << k);
-            }
-          }
-        },
-        2);
+    parallel_for((cells + kBlock - 1) / kBlock,
+                 [&](size_t block) {
+                   for (size_t c = block * kBlock; c < std::min<size_t>(cells, block * kBlock + kBlock);
+                        ++c) {
+                     if (!kept_[c]) continue;
+                     for (int k = 0; k < 4; ++k) {
+                       const int32_t n = dt_.neighbors[c][static_cast<size_t>(k)];
+                       if (n < 0 || !kept_[static_cast<size_t>(n)]) opens[c] |= static_cast<uint8_t>(1 << k);
+                     }
+                   }
+                 },
+                 2);
     for (uint32_t c : order) {
       if (c >= cells || !opens[c]) continue;
       // Its faces by the corner they lack, in vertex number order.
@@ -317,7 +317,7 @@ class Fill {
   Csr incident_;                        // per vertex, the Delaunay cells around it
   mutable std::vector<uint32_t> seen_;  // per vertex, the gathering that saw it last
   mutable uint32_t stamp_ = 0;
-  std::vector<OpenFace> faces_;        // every face opened, by number
+  std::vector<OpenFace> faces_;       // every face opened, by number
   std::vector<uint32_t> first_face_;  // per vertex, its list's first face (kNoFace: none)
   std::vector<uint32_t> queue_;       // faces to visit, first opened first
   size_t head_ = 0;

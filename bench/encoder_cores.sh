@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# bench/encoder_cores.sh [BUILD_DIR] -- how much of the encoder uses the
+# cores it is given (#40 part 2): meshenc on bunny_1m (--box 256 --dmax 2,
+# its .ele the reference solid), whole processes, on every core of this
+# machine and on one (taskset -c 0), with the time of each phase (meshenc
+# -v) summed over the levels. The target: the time on one core at least
+# 1.8x the time on two (under 11% of the work serial). Writes
+# bench/results/ENCODER_CORES.md. bunny_1m comes from BUILD_DIR/bench-data/
+# (bench/run.sh's), made by data/make_large.sh (~70 s) when absent.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-build}
+case $build in /*) ;; *) build=$root/$build ;; esac
+enc=$build/tools/meshenc
+data=$build/bench-data
+[ -x "$enc" ] || { echo "encoder_cores.sh: $enc not built" >&2; exit 2; }
+if [ ! -s "$data/bunny_1m.ele" ]; then
+  mkdir -p "$data"
+  "$root/data/make_large.sh" -o "$data" bunny_1m >&2
+fi
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cores=$(nproc)
+commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+cd "$data"
+/usr/bin/time -f "%e %M" -o "$work/all.time" "$enc" bunny_1m.node --box 256 --dmax 2 -v -o "$work/all.dtm" \
+  > "$work/all.log" 2>&1
+/usr/bin/time -f "%e %M" -o "$work/one.time" taskset -c 0 "$enc" bunny_1m.node --box 256 --dmax 2 -v \
+  -o "$work/one.dtm" > "$work/one.log" 2>&1
+cmp -s "$work/all.dtm" "$work/one.dtm" || { echo "encoder_cores.sh: the streams differ" >&2; exit 1; }
+/usr/bin/python3 - "$work" "$cores" "$commit" > "$root/bench/results/ENCODER_CORES.md" <<'PY'
+import re, sys
+work, cores, commit = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+def phases(path):
+    d = {}
+    for line in open(path):
+        m = re.match(r"\s+([0-9.]+) s\s+\d+ MiB\s+\d+ MiB peak  (.*)", line)
+        if not m or m.group(2).startswith(("in all", "writing /", "writing " + work)):
+            continue
+        name = re.sub(r"^level \d+: ", "", m.group(2))
+        name = re.sub(r" \(\d+ threads?\)", "", name)
+        name = re.sub(r"^reading .*", "reading the input", name)
+        d[name] = d.get(name, 0.0) + float(m.group(1))
+    return d
+def whole(path):
+    t, kb = open(path).read().split()[-2:]
+    return float(t), int(kb) / 1024
+many, one = phases(work + "/all.log"), phases(work + "/one.log")
+(t_many, m_many), (t_one, m_one) = whole(work + "/all.time"), whole(work + "/one.time")
+ratio = t_one / t_many
+serial = max(0.0, (cores / ratio - 1) / (cores - 1)) if cores > 1 else 1.0
+print("# The encoder on %d cores and on one\n" % cores)
+print("Made by `bench/encoder_cores.sh` at %s (one run each, this project's %d-core machine): `meshenc "
+      "bunny_1m.node --box 256 --dmax 2 -v` (975,953 vertices, TetGen's .ele the reference solid), whole "
+      "processes, on every core and under `taskset -c 0`; the same bytes both ways. Each phase's seconds "
+      "are summed over the levels.\n" % (commit, cores))
+print("| | %d cores | 1 core |\n|---|---:|---:|" % cores)
+print("| wall | %.1f s | %.1f s |" % (t_many, t_one))
+print("| peak memory | %.0f MiB | %.0f MiB |" % (m_many, m_one))
+print("\nOne core over %d: **%.2fx** (target 1.8x); by Amdahl's law %.0f%% of the work is serial "
+      "(target under 11%%).\n" % (cores, ratio, 100 * serial))
+print("| phase | %d cores | 1 core | 1 core / %d |\n|---|---:|---:|---:|" % (cores, cores))
+for name in sorted(set(many) | set(one), key=lambda k: -one.get(k, 0)):
+    a, b = many.get(name, 0), one.get(name, 0)
+    print("| %s | %.2f | %.2f | %s |" % (name, a, b, "%.2f" % (b / a) if a > 0.05 else ""))
+PY
+cat "$root/bench/results/ENCODER_CORES.md"
