@@ -27,6 +27,7 @@
 #include "common/parallel_for.h"
 #include "mesh/carving.h"
 #include "mesh/predicates.h"
+#include "mesh/topology.h"
 
 namespace dtm::exact_cells {
 
@@ -140,10 +141,7 @@ class Fill {
       : dt_(dt), points_(points), alpha_(alpha), kept_(kept), side_(side), out_(out) {
     seen_.assign(points.size(), 0);
     first_face_.assign(points.size(), kNoFace);
-    incident_ = build_csr(points.size(), [&](auto&& add) {
-      for (uint32_t c = 0; c < dt.cells.size(); ++c)
-        for (uint32_t v : dt.cells[c]) add(v, c);
-    });
+    incident_ = vertex_cells(dt.cells, points.size());
   }
 
   Status run(std::span<const uint32_t> order) {
