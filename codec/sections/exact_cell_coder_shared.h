@@ -75,7 +75,7 @@ struct OpenFace {
   int32_t cell = 0;                   // extended numbering
   uint8_t corner = 0;                 // of that cell, the one the face lacks
   uint8_t state = 0;                  // kOpen, kClosed, kBoundary
-  uint32_t next = 0;                  // the next face with the same smallest corner
+  uint32_t next = 0;                  // the next face in its hash bucket
 };
 inline constexpr uint8_t kOpen = 0, kClosed = 1, kBoundary = 2;
 inline constexpr uint32_t kNoFace = UINT32_MAX;
@@ -140,7 +140,7 @@ class Fill {
        Side& side, ExactFill& out)
       : dt_(dt), points_(points), alpha_(alpha), kept_(kept), side_(side), out_(out) {
     seen_.assign(points.size(), 0);
-    first_face_.assign(points.size(), kNoFace);
+    bucket_.assign(1024, kNoFace);
     incident_ = vertex_cells(dt.cells, points.size());
   }
 
@@ -204,20 +204,29 @@ class Fill {
   }
 
  private:
-  // Faces are found by their smallest corner: a list per vertex, a few
-  // faces long, in one array (a hash map of the faces, a node each, was
-  // slower).
+  // The faces in one array, found through a hash of their corners with
+  // its chains in the faces themselves (a node-based hash map, an
+  // allocation a face, was a third of the fill's time at a million
+  // vertices; a list per smallest corner was as fast, but a hostile section
+  // could make one vertex's list as long as the level).
+  size_t bucket_of(const FaceKey& key) const { return FaceKeyHash{}(key) & (bucket_.size() - 1); }
   void open(const std::array<uint32_t, 3>& outward, int32_t cell, uint8_t corner) {
+    if (faces_.size() >= bucket_.size()) {  // at most one face a bucket on average
+      bucket_.assign(2 * bucket_.size(), kNoFace);
+      for (uint32_t id = 0; id < faces_.size(); ++id)
+        faces_[id].next = std::exchange(bucket_[bucket_of(key_of(faces_[id].outward))], id);
+    }
     OpenFace f{from_smallest(outward), cell, corner, kOpen, 0};
     const auto id = static_cast<uint32_t>(faces_.size());
-    f.next = std::exchange(first_face_[f.outward[0]], id);
+    f.next = std::exchange(bucket_[bucket_of(key_of(outward))], id);
     faces_.push_back(f);
     queue_.push_back(id);
   }
   uint32_t find(const FaceKey& key) const {
-    for (uint32_t id = first_face_[key[0]]; id != kNoFace; id = faces_[id].next) {
+    for (uint32_t id = bucket_[bucket_of(key)]; id != kNoFace; id = faces_[id].next) {
       const std::array<uint32_t, 3>& o = faces_[id].outward;
-      if ((o[1] == key[1] && o[2] == key[2]) || (o[1] == key[2] && o[2] == key[1])) return id;
+      if (o[0] == key[0] && ((o[1] == key[1] && o[2] == key[2]) || (o[1] == key[2] && o[2] == key[1])))
+        return id;
     }
     return kNoFace;
   }
@@ -315,9 +324,9 @@ class Fill {
   Csr incident_;                        // per vertex, the Delaunay cells around it
   mutable std::vector<uint32_t> seen_;  // per vertex, the gathering that saw it last
   mutable uint32_t stamp_ = 0;
-  std::vector<OpenFace> faces_;       // every face opened, by number
-  std::vector<uint32_t> first_face_;  // per vertex, its list's first face (kNoFace: none)
-  std::vector<uint32_t> queue_;       // faces to visit, first opened first
+  std::vector<OpenFace> faces_;   // every face opened, by number
+  std::vector<uint32_t> bucket_;  // per hash bucket, its chain's first face (kNoFace: none)
+  std::vector<uint32_t> queue_;   // faces to visit, first opened first
   size_t head_ = 0;
   std::array<AdaptiveBit, kFilledContexts> filled_;
   std::array<RankModels, 2> rank_;
