@@ -318,10 +318,10 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   std::vector<uint32_t> decoder_index(points.size(), UINT32_MAX);
   std::vector<GridPoint> decoded;
   out.streamed_levels = streamed;
+  // Per layer, where its new points lie in `decoded` (and their grid ids in
+  // out.decode_order).
   struct Layer {
-    std::vector<GridPoint> points;  // the new points, in the decoder's order
-    std::vector<uint32_t> indices;  // the same, as grid point ids
-    size_t first = 0;               // the first one's decoder index
+    size_t first = 0, count = 0;
   };
   std::vector<Layer> layers(streamed.size());
   {
@@ -337,12 +337,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       by_code.reserve(added.size());
       for (uint32_t i : added) by_code.emplace_back(morton_encode(points[i], grid.qbits), i);
       std::sort(by_code.begin(), by_code.end());
-      Layer& layer = layers[l];
-      layer.first = decoded.size();
-      layer.points.reserve(added.size());
+      layers[l] = {decoded.size(), added.size()};
       for (const auto& [code, i] : by_code) {
-        layer.points.push_back(points[i]);
-        layer.indices.push_back(i);
         decoder_index[i] = static_cast<uint32_t>(out.decode_order.size());
         out.decode_order.push_back(i);
         decoded.push_back(points[i]);
@@ -368,7 +364,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     const Level& level = hierarchy.levels[streamed[l]];
     LayerSections& out_l = sections[l];
     // The decoder's points up to this level's.
-    const std::span<const GridPoint> level_points(decoded.data(), layers[l].first + layers[l].points.size());
+    const std::span<const GridPoint> level_points(decoded.data(), layers[l].first + layers[l].count);
     if (options.cell_hashes)
       out_l.cell_hash = exact && streamed[l] == 0 ? cell_set_hash(points, options.exact_cells)
                                                   : cell_set_hash(points, level.carved_cells());
@@ -445,7 +441,10 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   };
   const auto values_of = [&](size_t l) {
     std::vector<uint64_t> layer_field_bytes;
-    sections[l].values = value_coder->encode_layer(layers[l].indices, layers[l].points, layer_field_bytes);
+    const Layer& layer = layers[l];
+    sections[l].values = value_coder->encode_layer(
+        std::span<const uint32_t>(out.decode_order).subspan(layer.first, layer.count),
+        std::span<const GridPoint>(decoded).subspan(layer.first, layer.count), layer_field_bytes);
     out.field_bytes.resize(layer_field_bytes.size(), 0);
     for (size_t f = 0; f < layer_field_bytes.size(); ++f) out.field_bytes[f] += layer_field_bytes[f];
     out.level_field_bytes.resize(hierarchy.levels.size());
@@ -462,6 +461,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     for (size_t l = streamed.size(); l-- > 0;) {
       const Layer& layer = layers[l];
       const std::span<const GridPoint> coarse_points(decoded.data(), layer.first);
+      const std::span<const GridPoint> layer_points(decoded.data() + layer.first, layer.count);
       std::vector<std::array<uint32_t, 4>> coarse_cells;
       // Only the finest layer: there the mesh generator's last refinement
       // round put its points, and only there is the decoder's price one more
@@ -480,8 +480,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
         }
       }
       sections[l].points =
-          code_layer_points(layer.points, coarse_points, coarse_cells, known, grid.qbits, models);
-      merge_known(known, layer.points, grid.qbits);
+          code_layer_points(layer_points, coarse_points, coarse_cells, known, grid.qbits, models);
+      merge_known(known, layer_points, grid.qbits);
     }
     if (value_coder)
       for (size_t l = streamed.size(); l-- > 0;) values_of(l);
@@ -514,7 +514,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.format_major = h.version_major;
     lh.candidate_kinds = s.points.kinds;
     lh.level = static_cast<uint16_t>(l);
-    lh.new_vertices = static_cast<uint32_t>(layers[l].points.size());
+    lh.new_vertices = static_cast<uint32_t>(layers[l].count);
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
     lh.cell_hash = s.cell_hash;
