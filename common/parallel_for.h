@@ -34,4 +34,27 @@ void parallel_for(size_t n, const Body& body, size_t serial_below = 2) {
   for (auto& w : workers) w.join();
 }
 
+// Runs body(first, last) on consecutive ranges of at most `block` of [0, n),
+// on every core.
+template <typename Body>
+void parallel_ranges(size_t n, size_t block, const Body& body) {
+  parallel_for((n + block - 1) / block, [&](size_t b) { body(b * block, std::min(n, b * block + block)); },
+               2);
+}
+
+// What a loop over [0, n) in order would append to one vector, made on every
+// core: body(first, last, out) appends a range's items to its own `out`;
+// the ranges' vectors are joined in order.
+template <typename T, typename Body>
+std::vector<T> collect_in_order(size_t n, size_t block, const Body& body) {
+  std::vector<std::vector<T>> parts((n + block - 1) / block);
+  parallel_ranges(n, block, [&](size_t first, size_t last) { body(first, last, parts[first / block]); });
+  size_t total = 0;
+  for (const auto& p : parts) total += p.size();
+  std::vector<T> out;
+  out.reserve(total);
+  for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  return out;
+}
+
 }  // namespace dtm

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "common/parallel_for.h"
+#include "common/parallel_sort.h"
 #include "common/release.h"
 #include "core/nearest_points.h"
 #include "mesh/carving.h"
@@ -268,15 +269,26 @@ Status repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<c
   std::vector<uint8_t> counted(mesh.cells.size(), 1);
   if (owned)
     for (uint32_t c = 0; c < mesh.cells.size(); ++c) counted[c] = owns(owned, points, mesh.cells[c]);
+  // The surplus over the floor and the cells below it, on every core: the
+  // sums of fixed ranges, added in order, are the same for any number of
+  // threads.
+  constexpr size_t kRange = 16384;
+  std::vector<double> partial((mesh.cells.size() + kRange - 1) / kRange, 0);
+  using Scored = std::pair<double, uint32_t>;
+  std::vector<Scored> worst =
+      collect_in_order<Scored>(mesh.cells.size(), kRange, [&](size_t first, size_t last, auto& out) {
+        double sum = 0;
+        for (size_t c = first; c < last; ++c) {
+          if (!cells.kept[c] || !counted[c]) continue;
+          sum += cells.angle[c] - floor;
+          if (cells.angle[c] < floor) out.emplace_back(cells.angle[c], static_cast<uint32_t>(c));
+        }
+        partial[first / kRange] = sum;
+      });
   double surplus = 0;
-  std::vector<std::pair<double, uint32_t>> worst;
-  for (uint32_t c = 0; c < mesh.cells.size(); ++c) {
-    if (!cells.kept[c] || !counted[c]) continue;
-    surplus += cells.angle[c] - floor;
-    if (cells.angle[c] < floor) worst.emplace_back(cells.angle[c], c);
-  }
+  for (double p : partial) surplus += p;
   if (surplus >= 0) return Status::Ok();
-  std::sort(worst.begin(), worst.end());
+  parallel_sort(worst.begin(), worst.end());  // distinct: by cell
   // Enough of the worst cells (at least 64) to find candidates for several
   // times the deficit.
   size_t searched = 0;
@@ -295,7 +307,7 @@ Status repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<c
   for (size_t i = 0; i < searched; ++i)
     for (uint32_t k : near[i]) candidates.emplace_back(k, worst[i].second);
   release(near);
-  std::sort(candidates.begin(), candidates.end());
+  parallel_sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end(),
                                [](const auto& a, const auto& b) { return a.first == b.first; }),
                    candidates.end());
@@ -349,10 +361,26 @@ Status repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<c
 CarvedSurface carved_surface(const TetMesh& dt, std::span<const uint8_t> kept,
                              std::span<const GridPoint> points) {
   CarvedSurface s;
-  for (const BoundaryFace& f : boundary_faces(dt, kept)) {
-    s.triangles.push_back(outward_triangle(dt, points, f));
-    s.cells.push_back({static_cast<int32_t>(f.cell), dt.neighbors[f.cell][f.opposite]});
-  }
+  // The boundary faces in cell order, found on every core.
+  const std::vector<BoundaryFace> faces =
+      collect_in_order<BoundaryFace>(dt.cells.size(), 16384, [&](size_t first, size_t last, auto& out) {
+        for (size_t c = first; c < last; ++c) {
+          if (!kept[c]) continue;
+          for (uint8_t i = 0; i < 4; ++i) {
+            const int32_t n = dt.neighbors[c][i];
+            if (n < 0 || !kept[static_cast<size_t>(n)]) out.push_back({static_cast<uint32_t>(c), i});
+          }
+        }
+      });
+  s.triangles.resize(faces.size());
+  s.cells.resize(faces.size());
+  parallel_ranges(faces.size(), 8192, [&](size_t first, size_t last) {
+    for (size_t i = first; i < last; ++i) {
+      const BoundaryFace& f = faces[i];
+      s.triangles[i] = outward_triangle(dt, points, f);
+      s.cells[i] = {static_cast<int32_t>(f.cell), dt.neighbors[f.cell][f.opposite]};
+    }
+  });
   // The interfaces between regions, each face once (from its cell of the
   // lower index), are measured as the boundary is. Without regions (no
   // cell's region above 1) there are none: no pass over the cells.

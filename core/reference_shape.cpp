@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "common/parallel_for.h"
+#include "common/parallel_sort.h"
 #include "core/region_solid.h"
 #include "mesh/topology.h"
 
@@ -131,7 +132,15 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   m.to_level = boundary_points_.empty() ? DistanceSummary{} : to_level_.measure(points, ids, triangles);
   m.reference_squared = to_level_.squared();
   m.reference_nearest = to_level_.nearest_triangles();
-  m.surface_vertices = vertex_ids_of(triangles);
+  {
+    // The triangles' corners, ascending and each once (vertex_ids_of's
+    // answer, by a mark per point instead of a sort).
+    std::vector<uint8_t> corner(points.size(), 0);
+    for (const auto& t : triangles)
+      for (uint32_t v : t) corner[v] = 1;
+    for (uint32_t v = 0; v < corner.size(); ++v)
+      if (corner[v]) m.surface_vertices.push_back(v);
+  }
   // Grid points not measured before, on every core.
   std::vector<uint32_t> unmeasured;
   for (uint32_t v : m.surface_vertices) {
@@ -149,34 +158,49 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   // measured once: a repair round's surface is mostly the one before it,
   // whose figures are kept by the triangle's ids.
   using Measured = std::pair<std::array<uint32_t, 3>, double>;
-  std::vector<std::array<double, 3>> centroids;
-  std::vector<std::pair<uint32_t, std::array<uint32_t, 3>>> searched;  // (triangle, key)
-  std::vector<Measured> measured;
-  measured.reserve(triangles.size());
-  m.centroid_squared.assign(triangles.size(), 0);
-  for (uint32_t i = 0; i < triangles.size(); ++i) {
-    const auto& t = triangles[i];
-    std::array<uint32_t, 3> key = ids.empty() ? t : std::array<uint32_t, 3>{ids[t[0]], ids[t[1]], ids[t[2]]};
-    std::sort(key.begin(), key.end());
-    if (std::binary_search(boundary_keys_.begin(), boundary_keys_.end(), key)) continue;
-    const auto known =
-        std::lower_bound(centroid_squared_.begin(), centroid_squared_.end(), Measured{key, -1.0});
-    if (known != centroid_squared_.end() && known->first == key) {
-      m.centroid_squared[i] = known->second;
-      measured.push_back(*known);
-      continue;
+  // Per triangle, on every core: its key, and whether it is the
+  // reference's (0), measured before (1: the figure is in centroid_squared)
+  // or to be searched (2).
+  const size_t n = triangles.size();
+  std::vector<std::array<uint32_t, 3>> keys(n);
+  std::vector<uint8_t> kind(n);
+  m.centroid_squared.assign(n, 0);
+  parallel_ranges(n, 8192, [&](size_t first, size_t last) {
+    for (size_t i = first; i < last; ++i) {
+      const auto& t = triangles[i];
+      std::array<uint32_t, 3> key =
+          ids.empty() ? t : std::array<uint32_t, 3>{ids[t[0]], ids[t[1]], ids[t[2]]};
+      std::sort(key.begin(), key.end());
+      keys[i] = key;
+      if (std::binary_search(boundary_keys_.begin(), boundary_keys_.end(), key)) {
+        kind[i] = 0;
+        continue;
+      }
+      const auto known =
+          std::lower_bound(centroid_squared_.begin(), centroid_squared_.end(), Measured{key, -1.0});
+      kind[i] = known != centroid_squared_.end() && known->first == key ? 1 : 2;
+      if (kind[i] == 1) m.centroid_squared[i] = known->second;
     }
+  });
+  std::vector<std::array<double, 3>> centroids;
+  std::vector<uint32_t> searched;  // triangles
+  std::vector<Measured> measured;
+  measured.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (kind[i] == 1) measured.emplace_back(keys[i], m.centroid_squared[i]);
+    if (kind[i] != 2) continue;
+    const auto& t = triangles[i];
     const GridPoint &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
     centroids.push_back({(double{1} * a.x + b.x + c.x) / 3, (double{1} * a.y + b.y + c.y) / 3,
                          (double{1} * a.z + b.z + c.z) / 3});
-    searched.emplace_back(i, key);
+    searched.push_back(i);
   }
   const std::vector<double> found = reference_surface_.squared_distances(centroids);
   for (size_t k = 0; k < searched.size(); ++k) {
-    m.centroid_squared[searched[k].first] = found[k];
-    measured.emplace_back(searched[k].second, found[k]);
+    m.centroid_squared[searched[k]] = found[k];
+    measured.emplace_back(keys[searched[k]], found[k]);
   }
-  std::sort(measured.begin(), measured.end());
+  parallel_sort(measured.begin(), measured.end());  // distinct keys
   centroid_squared_ = std::move(measured);
   std::vector<double> squared = m.vertex_squared;
   squared.insert(squared.end(), m.centroid_squared.begin(), m.centroid_squared.end());

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/parallel_for.h"
+#include "common/parallel_sort.h"
 #include "common/release.h"
 #include "common/status.h"
 
@@ -27,18 +28,12 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 K::Point_3 to_point(const GridPoint& p) { return {double(p.x), double(p.y), double(p.z)}; }
 
+// Items per range of the loops on every core.
+constexpr size_t kRange = 8192;
+
 DistanceSummary no_surface() {
   const double inf = std::numeric_limits<double>::infinity();
   return {inf, inf};
-}
-
-std::vector<Triangle> triangle_soup(std::span<const GridPoint> vertices,
-                                    std::span<const std::array<uint32_t, 3>> triangles) {
-  std::vector<Triangle> soup;
-  soup.reserve(triangles.size());
-  for (const auto& t : triangles)
-    soup.emplace_back(to_point(vertices[t[0]]), to_point(vertices[t[1]]), to_point(vertices[t[2]]));
-  return soup;
 }
 
 using TriangleKey = std::array<uint32_t, 3>;  // sorted vertex ids
@@ -178,6 +173,7 @@ struct SurfaceDistanceTracker::State {
   bool measured = false;
   std::vector<TriangleKey> previous;  // the last surface's keys, sorted
   std::vector<uint32_t> query_ids;    // empty: queries have no names
+  size_t names = 0;                   // the largest name + 1
 };
 
 SurfaceDistanceTracker::SurfaceDistanceTracker(std::span<const GridPoint> queries,
@@ -185,6 +181,7 @@ SurfaceDistanceTracker::SurfaceDistanceTracker(std::span<const GridPoint> querie
     : state_(std::make_unique<State>()) {
   DTM_CHECK(query_ids.empty() || query_ids.size() == queries.size());
   state_->query_ids.assign(query_ids.begin(), query_ids.end());
+  if (!query_ids.empty()) state_->names = size_t{*std::max_element(query_ids.begin(), query_ids.end())} + 1;
   for (const GridPoint& q : queries) state_->queries.push_back(to_point(q));
   state_->squared.resize(queries.size());
   state_->nearest.resize(queries.size());
@@ -205,52 +202,66 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
     std::fill(s.squared.begin(), s.squared.end(), std::numeric_limits<double>::infinity());
     return no_surface();
   }
-  const std::vector<Triangle> soup = triangle_soup(vertices, triangles);
-  std::vector<TriangleKey> keys;
-  keys.reserve(triangles.size());
-  for (const auto& t : triangles) {
-    TriangleKey k = ids.empty() ? t : TriangleKey{ids[t[0]], ids[t[1]], ids[t[2]]};
-    std::sort(k.begin(), k.end());
-    keys.push_back(k);
-  }
+  // Per triangle, its key and whether the previous surface had it; per
+  // query, whether it is a vertex of this surface (the first triangle that
+  // has it) and else whether its nearest triangle is still there: on every
+  // core, the lists built from them in order.
+  const size_t n = triangles.size();
+  std::vector<Triangle> soup(n);
+  std::vector<TriangleKey> keys(n);
+  std::vector<uint8_t> is_added(n);
+  parallel_ranges(n, kRange, [&](size_t first, size_t last) {
+    for (size_t i = first; i < last; ++i) {
+      const auto& t = triangles[i];
+      soup[i] = Triangle(to_point(vertices[t[0]]), to_point(vertices[t[1]]), to_point(vertices[t[2]]));
+      TriangleKey k = ids.empty() ? t : TriangleKey{ids[t[0]], ids[t[1]], ids[t[2]]};
+      std::sort(k.begin(), k.end());
+      keys[i] = k;
+      is_added[i] = !s.measured || !std::binary_search(s.previous.begin(), s.previous.end(), k);
+    }
+  });
   std::vector<TriangleKey> sorted_keys = keys;
-  std::sort(sorted_keys.begin(), sorted_keys.end());
-  const auto present = [](const std::vector<TriangleKey>& set, const TriangleKey& k) {
-    return std::binary_search(set.begin(), set.end(), k);
-  };
+  parallel_sort(sorted_keys.begin(), sorted_keys.end());  // distinct keys
 
   // The triangles this surface adds to the previous one.
   std::vector<Triangle> added;
   std::vector<uint32_t> added_index;
-  for (uint32_t i = 0; i < keys.size(); ++i)
-    if (!s.measured || !present(s.previous, keys[i])) {
+  for (uint32_t i = 0; i < n; ++i)
+    if (is_added[i]) {
       added.push_back(soup[i]);
       added_index.push_back(i);
     }
   // A named query that is a vertex of the surface is on it. The other
   // queries whose nearest triangle is gone are searched in full, the rest
   // against the added triangles only.
-  std::vector<std::pair<uint32_t, uint32_t>> triangle_at;  // (vertex name, a triangle of it), sorted
-  if (!s.query_ids.empty()) {
-    triangle_at.reserve(3 * triangles.size());
-    for (uint32_t i = 0; i < triangles.size(); ++i)
-      for (uint32_t v : triangles[i]) triangle_at.emplace_back(ids.empty() ? v : ids[v], i);
-    std::sort(triangle_at.begin(), triangle_at.end());
-  }
-  std::vector<uint32_t> full, check;
-  for (uint32_t q = 0; q < s.queries.size(); ++q) {
-    if (!triangle_at.empty()) {
-      const auto it = std::lower_bound(triangle_at.begin(), triangle_at.end(),
-                                       std::pair<uint32_t, uint32_t>{s.query_ids[q], 0});
-      if (it != triangle_at.end() && it->first == s.query_ids[q]) {
+  constexpr uint32_t kNone = UINT32_MAX;
+  std::vector<uint32_t> first_triangle(s.names, kNone);  // per name, the first triangle it is a corner of
+  for (uint32_t i = 0; i < n; ++i)
+    for (uint32_t v : triangles[i]) {
+      const uint32_t name = ids.empty() ? v : ids[v];
+      if (name < s.names && first_triangle[name] == kNone) first_triangle[name] = i;
+    }
+  enum : uint8_t { kOnSurface, kCheck, kFull };
+  std::vector<uint8_t> kind(s.queries.size());
+  parallel_ranges(s.queries.size(), kRange, [&](size_t first, size_t last) {
+    for (size_t q = first; q < last; ++q) {
+      const uint32_t at = s.query_ids.empty() ? kNone : first_triangle[s.query_ids[q]];
+      if (at != kNone) {
         s.squared[q] = 0;
         s.nearest[q] = s.queries[q];
-        s.nearest_triangle[q] = keys[it->second];
-        continue;
+        s.nearest_triangle[q] = keys[at];
+        kind[q] = kOnSurface;
+      } else {
+        kind[q] =
+            s.measured && std::binary_search(sorted_keys.begin(), sorted_keys.end(), s.nearest_triangle[q])
+                ? kCheck
+                : kFull;
       }
     }
-    (s.measured && present(sorted_keys, s.nearest_triangle[q]) ? check : full).push_back(q);
-  }
+  });
+  std::vector<uint32_t> full, check;
+  for (uint32_t q = 0; q < s.queries.size(); ++q)
+    if (kind[q] != kOnSurface) (kind[q] == kCheck ? check : full).push_back(q);
 
   if (!full.empty()) {
     Tree tree(soup.cbegin(), soup.cend());

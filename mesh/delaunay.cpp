@@ -383,86 +383,103 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
 // of less memory than a whole export (no handle per cell).
 TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& previous) {
   const size_t old_count = before.cells.size();
-  // Which cells of `before` are left (their new index, later), and the new
-  // ones by their keys.
+  // One walk of the triangulation: the cells of `before` that are left
+  // (their handles, by tag), and the new ones by their keys.
   using Keyed = std::pair<std::array<uint32_t, 4>, DT::Cell_handle>;
-  std::vector<int32_t> new_of_old(old_count, -1);
+  std::vector<DT::Cell_handle> handle_of_old(old_count);  // a null handle: gone
   std::vector<Keyed> made;
   for (auto c : dt.finite_cell_handles()) {
     const int32_t tag = c->info().index;
     if (tag >= 0) {
-      DTM_CHECK(static_cast<size_t>(tag) < old_count && new_of_old[static_cast<size_t>(tag)] == -1);
-      new_of_old[static_cast<size_t>(tag)] = 0;
+      DTM_CHECK(static_cast<size_t>(tag) < old_count && handle_of_old[static_cast<size_t>(tag)] == nullptr);
+      handle_of_old[static_cast<size_t>(tag)] = c;
     } else {
       made.emplace_back(sorted_ids(c), c);
     }
   }
   std::sort(made.begin(), made.end(), [](const Keyed& a, const Keyed& b) { return a.first < b.first; });
 
-  // The merge, writing the cells as it goes. A new cell's tag becomes
-  // -2 - its index for now: told apart from the old tags (>= 0) and the
-  // infinite cells' (-1) until every tag is final.
+  // The merge of the two key orders, on every core: each range of old
+  // cells knows how many kept cells come before it (a prefix sum of the
+  // ranges' counts) and where its keys fall among the new ones, so it
+  // writes its kept cells, and the new ones whose keys fall before its
+  // last, at their final places. Every tag is final after it; the old
+  // cells next to something new (or to the hull) are kept to read their
+  // neighbours from.
   const size_t m = dt.number_of_finite_cells();
   TetMesh out;
   out.cells.resize(m);
   out.neighbors.resize(m);
   previous.assign(m, -1);
-  size_t k = 0, j = 0;
-  auto take_made = [&] {
-    const DT::Cell_handle c = made[j++].second;
+  std::vector<int32_t> new_of_old(old_count, -1);
+  constexpr size_t kRange = 16384;
+  const size_t ranges = (old_count + kRange - 1) / kRange;
+  std::vector<size_t> kept_before(ranges + 1, 0);
+  parallel_ranges(old_count, kRange, [&](size_t first, size_t last) {
+    kept_before[first / kRange + 1] =
+        static_cast<size_t>(std::count_if(handle_of_old.begin() + static_cast<std::ptrdiff_t>(first),
+                                          handle_of_old.begin() + static_cast<std::ptrdiff_t>(last),
+                                          [](DT::Cell_handle h) { return h != nullptr; }));
+  });
+  for (size_t r = 0; r < ranges; ++r) kept_before[r + 1] += kept_before[r];
+  DTM_CHECK(kept_before[ranges] + made.size() == m);
+  const auto first_made_from = [&](size_t i) {  // the first new cell whose key is not below old cell i's
+    if (i == old_count) return made.size();
+    const std::array<uint32_t, 4> key = sorted_ids(before.cells[i]);
+    return static_cast<size_t>(std::lower_bound(made.begin(), made.end(), key,
+                                                [](const Keyed& a, const auto& k) { return a.first < k; }) -
+                               made.begin());
+  };
+  auto place_made = [&](size_t j, size_t kept) {
+    const size_t k = kept + j;
+    const DT::Cell_handle c = made[j].second;
     const Corners p = canonical_corners(c);
     for (int f = 0; f < 4; ++f) out.cells[k][f] = c->vertex(p[f])->info();
-    c->info().index = -2 - static_cast<int32_t>(k++);
+    c->info().index = static_cast<int32_t>(k);
   };
-  for (size_t i = 0; i < old_count; ++i) {
-    if (new_of_old[i] < 0) continue;
-    const std::array<uint32_t, 4> key = sorted_ids(before.cells[i]);
-    while (j < made.size() && made[j].first < key) take_made();
-    out.cells[k] = before.cells[i];
-    previous[k] = static_cast<int32_t>(i);
-    new_of_old[i] = static_cast<int32_t>(k++);
-  }
-  while (j < made.size()) take_made();
-  DTM_CHECK(k == m);
-
-  // Every tag final; the old cells next to something new (or to the hull)
-  // are kept to read their neighbours from.
-  std::vector<DT::Cell_handle> bordering;
-  for (auto c : dt.finite_cell_handles()) {
-    int32_t& tag = c->info().index;
-    if (tag <= -2) {
-      tag = -2 - tag;
-      continue;
+  std::vector<std::vector<DT::Cell_handle>> bordering(std::max<size_t>(ranges, 1));
+  parallel_ranges(old_count, kRange, [&](size_t first, size_t last) {
+    size_t kept = kept_before[first / kRange];
+    size_t j = first == 0 ? 0 : first_made_from(first);
+    for (size_t i = first; i < last; ++i) {
+      const DT::Cell_handle c = handle_of_old[i];
+      if (c == nullptr) continue;
+      const std::array<uint32_t, 4> key = sorted_ids(before.cells[i]);
+      for (; j < made.size() && made[j].first < key; ++j) place_made(j, kept);
+      const size_t k = kept++ + j;
+      out.cells[k] = before.cells[i];
+      previous[k] = static_cast<int32_t>(i);
+      new_of_old[i] = static_cast<int32_t>(k);
+      c->info().index = static_cast<int32_t>(k);
+      for (int32_t n : before.neighbors[i])
+        if (n < 0 || handle_of_old[static_cast<size_t>(n)] == nullptr) {
+          bordering[first / kRange].push_back(c);
+          break;
+        }
     }
-    const auto i = static_cast<size_t>(tag);
-    tag = new_of_old[i];
-    for (int32_t n : before.neighbors[i])
-      if (n < 0 || new_of_old[static_cast<size_t>(n)] < 0) {
-        bordering.push_back(c);
-        break;
-      }
-  }
+    for (const size_t end = first_made_from(last); j < end; ++j) place_made(j, kept);
+  });
+  if (old_count == 0)
+    for (size_t j = 0; j < made.size(); ++j) place_made(j, 0);
   // Neighbours: a kept cell's are as before where they were kept too; the
   // rest are read.
-  constexpr size_t kBlock = 4096;
-  parallel_for((m + kBlock - 1) / kBlock,
-               [&](size_t block) {
-                 for (size_t at = block * kBlock; at < std::min(m, block * kBlock + kBlock); ++at) {
-                   if (previous[at] < 0) continue;
-                   const auto i = static_cast<size_t>(previous[at]);
-                   for (int f = 0; f < 4; ++f) {
-                     const int32_t n = before.neighbors[i][f];
-                     out.neighbors[at][f] = n >= 0 ? new_of_old[static_cast<size_t>(n)] : -1;
-                   }
-                 }
-               },
-               2);
+  parallel_ranges(m, 4096, [&](size_t first, size_t last) {
+    for (size_t at = first; at < last; ++at) {
+      if (previous[at] < 0) continue;
+      const auto i = static_cast<size_t>(previous[at]);
+      for (int f = 0; f < 4; ++f) {
+        const int32_t n = before.neighbors[i][f];
+        out.neighbors[at][f] = n >= 0 ? new_of_old[static_cast<size_t>(n)] : -1;
+      }
+    }
+  });
   // (An old cell's corners in `before` are in the canonical rotation too,
   // which is a function of the cell alone.)
   for (const auto& [key, c] : made)
     write_cell(c, canonical_corners(c), out, static_cast<size_t>(c->info().index));
-  for (DT::Cell_handle c : bordering)
-    write_cell(c, canonical_corners(c), out, static_cast<size_t>(c->info().index));
+  for (const auto& part : bordering)
+    for (DT::Cell_handle c : part)
+      write_cell(c, canonical_corners(c), out, static_cast<size_t>(c->info().index));
   return out;
 }
 

@@ -1,9 +1,14 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 
 #include "test_support.h"
 #include "tools/formats/tetgen.h"
+#include "tools/formats/text_records.h"
 
 namespace dtm {
 namespace {
@@ -84,6 +89,146 @@ TEST(TetgenReader, EleIndicesOutOfRangeAreRejected) {
   EXPECT_THROW(read_tetgen_ele(path, 4), FormatError);
   std::ofstream(path) << "1 4 0\n0 0 1 2 3\n";
   EXPECT_EQ(read_tetgen_ele(path, 4).size(), 1u);
+}
+
+// A file of several of the reader's pieces (a megabyte of text each, parsed
+// on their own threads), with comments and blank lines among the records:
+// every record in its place, every line counted.
+struct LargeTetgenFiles {
+  std::string node, ele;
+  size_t points = 0, tets = 0;
+  // The line of the .node where point i is.
+  std::vector<size_t> line_of;
+};
+LargeTetgenFiles large_tetgen_files(const std::string& name, size_t points) {
+  LargeTetgenFiles f;
+  f.points = points;
+  f.node = ::testing::TempDir() + "/" + name + ".node";
+  f.ele = ::testing::TempDir() + "/" + name + ".ele";
+  std::ofstream node(f.node);
+  node << "# " << name << "\n" << points << " 3 0 1\n";
+  size_t line = 2;
+  for (size_t i = 0; i < points; ++i) {
+    if (i % 1000 == 7) node << "# a comment\n\n", line += 2;
+    node << i << " " << i * 0.5 << ", " << -double(i) << " " << i % 97 << " " << i % 2 << "\n";
+    f.line_of.push_back(++line);
+  }
+  f.tets = points - 3;
+  std::ofstream ele(f.ele);
+  ele << f.tets << " 4 1\n";
+  for (size_t i = 0; i < f.tets; ++i)
+    ele << i << " " << i << " " << i + 1 << " " << i + 2 << " " << i + 3 << " " << i % 5 << "\n";
+  return f;
+}
+
+TEST(TetgenReader, ALargeFileReadsAsOneLoopWould) {
+  const LargeTetgenFiles f = large_tetgen_files("large", 150000);
+  const NodeFile n = read_tetgen_node(f.node);
+  ASSERT_EQ(n.points.size(), f.points);
+  ASSERT_EQ(n.markers.size(), f.points);
+  for (size_t i = 0; i < f.points; ++i) {
+    ASSERT_EQ(n.points[i].x, i * 0.5) << i;
+    ASSERT_EQ(n.points[i].y, -double(i)) << i;
+    ASSERT_EQ(n.points[i].z, double(i % 97)) << i;
+    ASSERT_EQ(n.markers[i], int(i % 2)) << i;
+  }
+  std::vector<int32_t> regions;
+  const auto tets = read_tetgen_ele(f.ele, f.points, 0, {}, &regions);
+  ASSERT_EQ(tets.size(), f.tets);
+  ASSERT_EQ(regions.size(), f.tets);
+  for (size_t i = 0; i < f.tets; ++i) {
+    ASSERT_EQ(tets[i],
+              (std::array<uint32_t, 4>{uint32_t(i), uint32_t(i + 1), uint32_t(i + 2), uint32_t(i + 3)}));
+    ASSERT_EQ(regions[i], int32_t(i % 5));
+  }
+  // Those a rank keeps: the same tetrahedra, in the same order.
+  const auto odd = [](const std::array<uint32_t, 4>& t) { return t[0] % 3 == 1; };
+  std::vector<std::array<uint32_t, 4>> want;
+  std::copy_if(tets.begin(), tets.end(), std::back_inserter(want), odd);
+  EXPECT_EQ(read_tetgen_ele(f.ele, f.points, 0, odd), want);
+}
+
+TEST(TetgenReader, AnErrorDeepInALargeFileNamesItsLine) {
+  const LargeTetgenFiles f = large_tetgen_files("deep", 150000);
+  std::ifstream in(f.node);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  in.close();
+  const auto rewrite = [&](size_t point, const std::string& text) {
+    std::vector<std::string> changed = lines;
+    changed[f.line_of[point] - 1] = text;
+    std::ofstream out(f.node);
+    for (const auto& l : changed) out << l << "\n";
+  };
+  const auto error_of = [&]() -> std::string {
+    try {
+      read_tetgen_node(f.node);
+    } catch (const FormatError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  // Past several pieces; two errors, the earlier one is told.
+  rewrite(140000, "140000 1 two 3 0");
+  EXPECT_NE(error_of().find(":" + std::to_string(f.line_of[140000]) + ": expected a coordinate, found 'two'"),
+            std::string::npos)
+      << error_of();
+  rewrite(101234, "101235 1 2 3 0");
+  EXPECT_NE(error_of().find(":" + std::to_string(f.line_of[101234]) + ": point index 101235 out of sequence"),
+            std::string::npos)
+      << error_of();
+  // A record past those the header counts.
+  {
+    std::ofstream out(f.node);
+    for (const auto& l : lines) out << l << "\n";
+    out << "# after\n150000 1 2 3 0\n";
+  }
+  EXPECT_NE(
+      error_of().find(":" + std::to_string(lines.size() + 2) + ": unexpected data after the 150000 points"),
+      std::string::npos)
+      << error_of();
+  // Fewer than it counts.
+  {
+    std::ofstream out(f.node);
+    for (size_t i = 0; i + 1000 < lines.size(); ++i) out << lines[i] << "\n";
+  }
+  EXPECT_NE(error_of().find("file ends after"), std::string::npos) << error_of();
+}
+
+// Blocks far smaller than the lines: every line end falls between reads.
+TEST(TextRecords, SmallBlocksReadEveryRecordWithItsLine) {
+  const std::string path = ::testing::TempDir() + "/records.txt";
+  std::vector<std::pair<size_t, std::string>> want;  // (line, first field)
+  {
+    std::ofstream out(path);
+    out << "header 1\n";
+    size_t line = 1;
+    for (int i = 0; i < 3000; ++i) {
+      if (i % 7 == 3) out << "  # only a comment\n\n", line += 2;
+      const std::string first = std::string(static_cast<size_t>(i % 40), 'x') + std::to_string(i);
+      out << first << " , " << i << (i % 11 == 0 ? " # note" : "") << "\n";
+      want.emplace_back(++line, first);
+    }
+    out << "tail";  // no line end
+    want.emplace_back(line + 1, "tail");
+  }
+  for (size_t block : {size_t{1}, size_t{16}, size_t{1000}, size_t{1} << 20}) {
+    TextRecords r(path, block);
+    TextRecords::Fields fields;
+    ASSERT_TRUE(r.next(fields));
+    EXPECT_EQ(r.line(), 1u);
+    std::vector<std::pair<size_t, std::string>> got;
+    size_t first = 0;
+    const TextRecords::Found found = r.records(
+        want.size(), [&](size_t n) { first = got.size(), got.resize(got.size() + n); },
+        [&](size_t i, size_t line, const TextRecords::Fields& f) {
+          got[first + i] = {line, std::string(f[0])};
+        },
+        [] {});
+    EXPECT_EQ(found.records, want.size()) << block;
+    EXPECT_EQ(found.extra_line, 0u) << block;
+    EXPECT_EQ(got, want) << block;
+  }
 }
 
 }  // namespace

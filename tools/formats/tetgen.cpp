@@ -4,124 +4,108 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string_view>
 
+#include "text_records.h"
+
 namespace dtm {
-namespace {
-
-// Reads the non-comment, non-blank lines of a file, remembering line numbers.
-class LineReader {
- public:
-  explicit LineReader(const std::string& path) : path_(path), in_(path) {
-    if (!in_) throw FormatError(path + ": cannot open file");
-  }
-  // The next meaningful line split into tokens; false at end of file.
-  bool next(std::vector<std::string_view>& tokens) {
-    while (std::getline(in_, line_)) {
-      ++number_;
-      if (auto hash = line_.find('#'); hash != std::string::npos) line_.resize(hash);
-      tokens.clear();
-      std::string_view rest(line_);
-      while (true) {
-        const size_t b = rest.find_first_not_of(" \t\r,");
-        if (b == std::string_view::npos) break;
-        rest.remove_prefix(b);
-        const size_t e = rest.find_first_of(" \t\r,");
-        tokens.push_back(rest.substr(0, e));
-        if (e == std::string_view::npos) break;
-        rest.remove_prefix(e);
-      }
-      if (!tokens.empty()) return true;
-    }
-    return false;
-  }
-  [[noreturn]] void fail(const std::string& problem) const {
-    throw FormatError(path_ + ":" + std::to_string(number_) + ": " + problem);
-  }
-  template <class T>
-  T parse(std::string_view token, const char* what) const {
-    T value{};
-    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-    if (ec != std::errc() || end != token.data() + token.size())
-      fail(std::string("expected ") + what + ", found '" + std::string(token) + "'");
-    return value;
-  }
-
- private:
-  std::string path_;
-  std::ifstream in_;
-  std::string line_;
-  size_t number_ = 0;
-};
-
-}  // namespace
 
 NodeFile read_tetgen_node(const std::string& path) {
-  LineReader r(path);
-  std::vector<std::string_view> tok;
+  TextRecords r(path);
+  TextRecords::Fields tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected a .node header");
+  const size_t header = r.line();
   if (tok.size() < 2 || tok.size() > 4)
-    r.fail("expected a header '<points> <dimension> [<attributes> <markers>]'");
-  const auto count = r.parse<uint64_t>(tok[0], "a point count");
-  const auto dim = r.parse<int>(tok[1], "a dimension");
-  const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count") : 0;
-  const int has_marker = tok.size() > 3 ? r.parse<int>(tok[3], "0 or 1 boundary markers") : 0;
-  if (dim != 3) r.fail("dimension must be 3, got " + std::to_string(dim));
-  if (attributes < 0 || has_marker < 0 || has_marker > 1) r.fail("bad attribute or marker count");
-  if (count > (uint64_t{1} << 31)) r.fail("point count " + std::to_string(count) + " is too large");
+    r.fail(header, "expected a header '<points> <dimension> [<attributes> <markers>]'");
+  const auto count = r.parse<uint64_t>(tok[0], "a point count", header);
+  const auto dim = r.parse<int>(tok[1], "a dimension", header);
+  const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count", header) : 0;
+  const int has_marker = tok.size() > 3 ? r.parse<int>(tok[3], "0 or 1 boundary markers", header) : 0;
+  if (dim != 3) r.fail(header, "dimension must be 3, got " + std::to_string(dim));
+  if (attributes < 0 || has_marker < 0 || has_marker > 1) r.fail(header, "bad attribute or marker count");
+  if (count > (uint64_t{1} << 31)) r.fail(header, "point count " + std::to_string(count) + " is too large");
 
   NodeFile out;
-  out.points.reserve(std::min<uint64_t>(count, 1 << 20));  // grow with the data, not the claim
-  const size_t expected = 4 + attributes + has_marker;
+  const auto per_point = static_cast<size_t>(attributes);
+  const size_t expected = 4 + per_point + static_cast<size_t>(has_marker);
   int64_t first_index = 0;
-  for (uint64_t i = 0; i < count; ++i) {
-    if (!r.next(tok))
-      throw FormatError(path + ": file ends after " + std::to_string(i) + " of " + std::to_string(count) +
-                        " points");
+  // Room for n more points: the vectors grow by what the file holds, never
+  // by what its header claims.
+  const auto grow = [&](size_t n) {
+    out.points.resize(out.points.size() + n);
+    out.attributes.resize(out.points.size() * per_point);
+    if (has_marker) out.markers.resize(out.points.size());
+  };
+  const auto point = [&](size_t at, size_t line, const TextRecords::Fields& f) {
+    if (f.size() != expected)
+      r.fail(line, "expected " + std::to_string(expected) + " fields, found " + std::to_string(f.size()));
+    const auto index = r.parse<int64_t>(f[0], "a point index", line);
+    if (at > 0 && index != first_index + static_cast<int64_t>(at))
+      r.fail(line, "point index " + std::to_string(index) + " out of sequence");
+    const InputPoint p{r.parse<double>(f[1], "a coordinate", line),
+                       r.parse<double>(f[2], "a coordinate", line),
+                       r.parse<double>(f[3], "a coordinate", line)};
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      r.fail(line, "coordinate is not finite");
+    out.points[at] = p;
+    for (size_t a = 0; a < per_point; ++a)
+      out.attributes[at * per_point + a] = r.parse<double>(f[4 + a], "an attribute", line);
+    if (has_marker) out.markers[at] = r.parse<int>(f[expected - 1], "a boundary marker", line);
+  };
+  // The first point on its own (its index, 0 or 1, numbers the rest), the
+  // others a block at a time on every core.
+  uint64_t read = 0;
+  size_t extra = 0;  // the line of a record past `count`
+  const auto none = [](size_t, size_t, const TextRecords::Fields&) {};
+  if (count == 0) {
+    extra = r.records(
+                 0, [](size_t) {}, none, [] {})
+                .extra_line;
+  } else if (r.next(tok)) {
     if (tok.size() != expected)
-      r.fail("expected " + std::to_string(expected) + " fields, found " + std::to_string(tok.size()));
-    const auto index = r.parse<int64_t>(tok[0], "a point index");
-    if (i == 0) {
-      if (index != 0 && index != 1) r.fail("the first point index must be 0 or 1");
-      first_index = index;
-    } else if (index != first_index + static_cast<int64_t>(i)) {
-      r.fail("point index " + std::to_string(index) + " out of sequence");
-    }
-    InputPoint p{r.parse<double>(tok[1], "a coordinate"), r.parse<double>(tok[2], "a coordinate"),
-                 r.parse<double>(tok[3], "a coordinate")};
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) r.fail("coordinate is not finite");
-    out.points.push_back(p);
-    for (int a = 0; a < attributes; ++a)
-      out.attributes.push_back(r.parse<double>(tok[4 + a], "an attribute"));
-    if (has_marker) out.markers.push_back(r.parse<int>(tok[expected - 1], "a boundary marker"));
+      r.fail(r.line(),
+             "expected " + std::to_string(expected) + " fields, found " + std::to_string(tok.size()));
+    first_index = r.parse<int64_t>(tok[0], "a point index", r.line());
+    if (first_index != 0 && first_index != 1) r.fail(r.line(), "the first point index must be 0 or 1");
+    grow(1);
+    point(0, r.line(), tok);
+    size_t first = 0;
+    const TextRecords::Found rest = r.records(
+        count - 1, [&](size_t n) { first = out.points.size(), grow(n); },
+        [&](size_t i, size_t line, const TextRecords::Fields& f) { point(first + i, line, f); }, [] {});
+    read = 1 + rest.records;
+    extra = rest.extra_line;
   }
+  if (read < count)
+    throw FormatError(path + ": file ends after " + std::to_string(read) + " of " + std::to_string(count) +
+                      " points");
+  if (extra) r.fail(extra, "unexpected data after the " + std::to_string(count) + " points");
   out.index_base = static_cast<int>(first_index);
   out.attribute_count = attributes;
-  if (r.next(tok)) r.fail("unexpected data after the " + std::to_string(count) + " points");
   return out;
 }
 
 int tetgen_ele_attributes(const std::string& path) {
-  LineReader r(path);
-  std::vector<std::string_view> tok;
+  TextRecords r(path);
+  TextRecords::Fields tok;
   if (!r.next(tok) || tok.size() < 3) return 0;
-  return std::max(0, r.parse<int>(tok[2], "an attribute count"));
+  return std::max(0, r.parse<int>(tok[2], "an attribute count", r.line()));
 }
 
 std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::string& path, size_t num_points, int index_base,
     const std::function<bool(const std::array<uint32_t, 4>&)>& keep, std::vector<int32_t>* regions) {
-  LineReader r(path);
-  std::vector<std::string_view> tok;
+  TextRecords r(path);
+  TextRecords::Fields tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected an .ele header");
+  const size_t header = r.line();
   if (tok.size() < 2 || tok.size() > 3)
-    r.fail("expected a header '<tetrahedra> <nodes per tet> [<attributes>]'");
-  const auto count = r.parse<uint64_t>(tok[0], "a tetrahedron count");
-  const auto per = r.parse<int>(tok[1], "nodes per tetrahedron");
-  const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count") : 0;
-  if (per != 4) r.fail("only linear tetrahedra (4 nodes) are supported, got " + std::to_string(per));
-  if (attributes < 0) r.fail("bad attribute count");
+    r.fail(header, "expected a header '<tetrahedra> <nodes per tet> [<attributes>]'");
+  const auto count = r.parse<uint64_t>(tok[0], "a tetrahedron count", header);
+  const auto per = r.parse<int>(tok[1], "nodes per tetrahedron", header);
+  const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count", header) : 0;
+  if (per != 4) r.fail(header, "only linear tetrahedra (4 nodes) are supported, got " + std::to_string(per));
+  if (attributes < 0) r.fail(header, "bad attribute count");
   using Tet = std::array<uint32_t, 4>;
   std::vector<Tet> out;
   // Room for all at once (growing by doubling held 1.5x the tetrahedra
@@ -134,34 +118,56 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
   std::error_code size_error;
   const uint64_t bytes = std::filesystem::file_size(path, size_error);
   if (!keep) out.reserve(std::min<uint64_t>(count, size_error ? uint64_t{1} << 20 : bytes / 10));
+  const bool with_regions = regions && attributes > 0 && !keep;
+  std::vector<Tet> block;                     // with `keep`: the block's tetrahedra, before the choice
   constexpr size_t kPiece = size_t{1} << 17;  // tetrahedra: 2 MiB
   std::vector<std::vector<Tet>> pieces;
-  for (uint64_t i = 0; i < count; ++i) {
-    if (!r.next(tok))
-      throw FormatError(path + ": file ends after " + std::to_string(i) + " of " + std::to_string(count) +
-                        " tetrahedra");
-    if (tok.size() != 5 + static_cast<size_t>(attributes))
-      r.fail("expected " + std::to_string(5 + attributes) + " fields");
-    Tet t;
-    for (int k = 0; k < 4; ++k) {
-      const auto v = r.parse<int64_t>(tok[1 + k], "a vertex index") - index_base;
-      if (v < 0 || static_cast<uint64_t>(v) >= num_points)
-        r.fail("vertex index " + std::string(tok[1 + k]) + " out of range");
-      t[k] = static_cast<uint32_t>(v);
-    }
-    if (regions && attributes > 0 && !keep) {
-      const auto a = r.parse<double>(tok[5], "a region attribute");
-      if (a != std::floor(a) || a < INT32_MIN || a > INT32_MAX)
-        r.fail("a region attribute that is not a 32-bit integer: " + std::string(tok[5]));
-      regions->push_back(static_cast<int32_t>(a));
-    }
-    if (!keep) {
-      out.push_back(t);
-    } else if (keep(t)) {
-      if (pieces.empty() || pieces.back().size() == kPiece) pieces.emplace_back().reserve(kPiece);
-      pieces.back().push_back(t);
-    }
-  }
+  Tet* at = nullptr;  // where the block's tetrahedra go
+  int32_t* region_at = nullptr;
+  const TextRecords::Found found = r.records(
+      count,
+      [&](size_t n) {
+        if (keep) {
+          block.resize(n);
+          at = block.data();
+          return;
+        }
+        out.resize(out.size() + n);
+        at = out.data() + (out.size() - n);
+        if (with_regions) {
+          regions->resize(regions->size() + n);
+          region_at = regions->data() + (regions->size() - n);
+        }
+      },
+      [&](size_t i, size_t line, const TextRecords::Fields& f) {
+        if (f.size() != 5 + static_cast<size_t>(attributes))
+          r.fail(line, "expected " + std::to_string(5 + attributes) + " fields");
+        Tet t;
+        for (size_t k = 0; k < 4; ++k) {
+          const auto v = r.parse<int64_t>(f[1 + k], "a vertex index", line) - index_base;
+          if (v < 0 || static_cast<uint64_t>(v) >= num_points)
+            r.fail(line, "vertex index " + std::string(f[1 + k]) + " out of range");
+          t[k] = static_cast<uint32_t>(v);
+        }
+        if (with_regions) {
+          const auto a = r.parse<double>(f[5], "a region attribute", line);
+          if (a != std::floor(a) || a < INT32_MIN || a > INT32_MAX)
+            r.fail(line, "a region attribute that is not a 32-bit integer: " + std::string(f[5]));
+          region_at[i] = static_cast<int32_t>(a);
+        }
+        at[i] = t;
+      },
+      [&] {
+        if (keep)
+          for (const Tet& t : block)
+            if (keep(t)) {
+              if (pieces.empty() || pieces.back().size() == kPiece) pieces.emplace_back().reserve(kPiece);
+              pieces.back().push_back(t);
+            }
+      });
+  if (found.records < count)
+    throw FormatError(path + ": file ends after " + std::to_string(found.records) + " of " +
+                      std::to_string(count) + " tetrahedra");
   if (keep) {
     // Reserved room is memory only once written to: it grows as the
     // pieces, each large enough to be a mapping of its own, are returned.

@@ -1,0 +1,72 @@
+// A text file of one record a line (TetGen's .node and .ele), its fields
+// split and parsed on every core: the file is read in blocks of whole
+// lines, each block cut into pieces at line ends, and each piece parsed on
+// its own thread, each record told its number and its line's. '#' starts a
+// comment; blank lines (and commas between fields) are skipped, as TetGen
+// reads them.
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "format_error.h"
+
+namespace dtm {
+
+class TextRecords {
+ public:
+  using Fields = std::vector<std::string_view>;
+  // Throws FormatError when the file cannot be opened. `block_bytes`: the
+  // text read at once (a test's small blocks cross many line ends).
+  explicit TextRecords(const std::string& path, size_t block_bytes = size_t{32} << 20);
+
+  // The next meaningful line's fields, on the calling thread (a header);
+  // false at the end of the file.
+  bool next(Fields& fields);
+  // The line number of the last line next() returned.
+  size_t line() const { return line_; }
+
+  struct Found {
+    uint64_t records = 0;   // records parsed (at most `count`)
+    size_t extra_line = 0;  // the line of a meaningful line past them (0: none)
+  };
+  // The next `count` meaningful lines: for each block, start(n) on the
+  // calling thread with the n records it holds, then parse(i, line, fields)
+  // for i in [0, n) on every core, then finish() on the calling thread.
+  // An exception parse throws stops the reading; the one of the earliest
+  // line is thrown again here, as a loop over the lines would throw it.
+  Found records(uint64_t count, const std::function<void(size_t)>& start,
+                const std::function<void(size_t, size_t, const Fields&)>& parse,
+                const std::function<void()>& finish);
+
+  [[noreturn]] void fail(size_t line, const std::string& problem) const;
+  // A field as a T, the whole of it, or fail(line, "expected WHAT, ...").
+  template <class T>
+  T parse(std::string_view token, const char* what, size_t line) const {
+    T value{};
+    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec != std::errc() || end != token.data() + token.size())
+      fail(line, std::string("expected ") + what + ", found '" + std::string(token) + "'");
+    return value;
+  }
+
+ private:
+  // Reads the next block of whole lines into text_ (false at the end).
+  bool read_block();
+
+  std::string path_;
+  std::ifstream in_;
+  size_t block_bytes_;
+  std::string text_;   // the block: whole lines
+  std::string carry_;  // a line begun at the end of the last read
+  size_t at_ = 0;      // next() and records() go on from here in text_
+  size_t line_ = 0;    // the line of text_[at_ - 1]'s line (lines before at_)
+  bool eof_ = false;
+};
+
+}  // namespace dtm
