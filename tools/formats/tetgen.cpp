@@ -86,7 +86,7 @@ NodeFile read_tetgen_node(const std::string& path) {
 }
 
 int tetgen_ele_attributes(const std::string& path) {
-  TextRecords r(path);
+  TextRecords r(path, 4096);  // the header only: not a whole block of records
   TextRecords::Fields tok;
   if (!r.next(tok) || tok.size() < 3) return 0;
   return std::max(0, r.parse<int>(tok[2], "an attribute count", r.line()));
