@@ -87,6 +87,31 @@ TEST(MeshWriters, Base64MatchesRfc4648) {
   EXPECT_EQ(base64_encode(std::string("\xff\xfe\x00\x80", 4)), "//4AgA==");  // high bytes, no sign spill
 }
 
+// A large array (the encoding runs in ranges on every core): each 4
+// characters are their 3 bytes, decoded back, whatever the length's rest.
+TEST(MeshWriters, Base64OfALargeArrayDecodesBack) {
+  const auto value = [](char c) -> uint32_t {
+    const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    return static_cast<uint32_t>(alphabet.find(c));
+  };
+  for (size_t size : {size_t{3} << 19, (size_t{3} << 19) + 1, (size_t{3} << 19) + 2}) {
+    std::string bytes(size, '\0');
+    for (size_t i = 0; i < size; ++i) bytes[i] = static_cast<char>((i * 2654435761u) >> 13);
+    const std::string text = base64_encode(bytes);
+    ASSERT_EQ(text.size(), (size + 2) / 3 * 4);
+    std::string back;
+    for (size_t g = 0; g < text.size(); g += 4) {
+      const uint32_t w = value(text[g]) << 18 | value(text[g + 1]) << 12 |
+                         (text[g + 2] == '=' ? 0 : value(text[g + 2]) << 6) |
+                         (text[g + 3] == '=' ? 0 : value(text[g + 3]));
+      back += static_cast<char>(w >> 16);
+      if (text[g + 2] != '=') back += static_cast<char>((w >> 8) & 0xff);
+      if (text[g + 3] != '=') back += static_cast<char>(w & 0xff);
+    }
+    EXPECT_EQ(back, bytes) << size;
+  }
+}
+
 // --- TetGen ------------------------------------------------------------------
 
 void expect_tetgen_round_trip(const OutputMesh& m, const std::string& name) {
@@ -108,6 +133,19 @@ void expect_tetgen_round_trip(const OutputMesh& m, const std::string& name) {
   }
   const std::string ele_path = ::testing::TempDir() + "/" + name + ".ele";
   EXPECT_EQ(read_tetgen_ele(ele_path, n.points.size()), m.cells);
+}
+
+// More records than one batch of the writer's ranges (they are rendered on
+// every core and joined in order): read back the same.
+TEST(MeshWriters, ALargeTetgenMeshRoundTrips) {
+  OutputMesh m = small_mesh();
+  m.points.clear();
+  m.cells.clear();
+  for (int32_t i = 0; i < 200003; ++i) m.points.push_back({i % 97, (i / 97) % 89, i / (97 * 89)});
+  for (uint32_t i = 0; i + 3 < m.points.size(); i += 2) m.cells.push_back({i, i + 1, i + 2, i + 3});
+  m.boundary.assign(m.points.size(), 0);
+  for (size_t i = 0; i < m.boundary.size(); i += 3) m.boundary[i] = 1;
+  expect_tetgen_round_trip(m, "large");
 }
 
 TEST(MeshWriters, TetgenRendersTwoFilesWithTheCorpusHeaders) {

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "common/parallel_for.h"
 #include "mesh/carving.h"
 #include "mesh/topology.h"
 #include "tools/field_types.h"
@@ -47,11 +48,17 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
   const std::vector<uint8_t>& in_mesh = level.kept;
   // With regions (format 9.0), each cell's label from the region table.
   const std::vector<RegionLabel>& regions = decoder.regions();
-  for (uint32_t k : order)
-    if (in_mesh[k]) {
-      mesh.cells.push_back(sorted_positive(dt.cells[k], mesh.points));
-      if (!regions.empty()) mesh.region.push_back(regions[in_mesh[k] - 1u].label);
-    }
+  // (Each cell's corners in a positive order: an orientation test a cell,
+  // on every core.)
+  constexpr size_t kRange = size_t{1} << 16;
+  mesh.cells =
+      collect_in_order<std::array<uint32_t, 4>>(order.size(), kRange, [&](size_t a, size_t b, auto& out) {
+        for (size_t i = a; i < b; ++i)
+          if (in_mesh[order[i]]) out.push_back(sorted_positive(dt.cells[order[i]], mesh.points));
+      });
+  if (!regions.empty())
+    for (uint32_t k : order)
+      if (in_mesh[k]) mesh.region.push_back(regions[in_mesh[k] - 1u].label);
   for (const RegionLabel& r : regions)
     if (!r.name.empty()) mesh.region_names[r.label] = r.name;
   // With tagged faces (9.0): the surface's faces that have a tag.

@@ -2,12 +2,16 @@
 // same value, and fixed-width binary values in a chosen byte order.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cstdint>
 #include <string>
 #include <type_traits>
+#include <vector>
 
+#include "common/parallel_for.h"
+#include "common/threads.h"
 #include "tools/formats/scalar_type.h"
 
 namespace dtm {
@@ -22,6 +26,26 @@ void append_number(std::string& out, T value) {
   } else {
     const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
     out.append(buf, end);
+  }
+}
+
+// Appends line(0, s), ..., line(n - 1, s) to `out`, each writing one record
+// to the string it is given: ranges of records on every core, appended in
+// order a batch at a time (so that a large file's text is held about once,
+// not twice).
+template <class Line>
+void append_lines(std::string& out, size_t n, const Line& line) {
+  constexpr size_t kRecords = 16384;  // a range
+  const size_t batch = 4 * static_cast<size_t>(std::max(1, thread_count())) * kRecords;
+  std::vector<std::string> parts(batch / kRecords);
+  for (size_t first = 0; first < n; first += batch) {
+    const size_t count = std::min(batch, n - first);
+    parallel_ranges(count, kRecords, [&](size_t a, size_t b) {
+      std::string& part = parts[a / kRecords];
+      part.clear();
+      for (size_t i = a; i < b; ++i) line(first + i, part);
+    });
+    for (size_t p = 0; p < (count + kRecords - 1) / kRecords; ++p) out += parts[p];
   }
 }
 
