@@ -14,6 +14,18 @@ std::array<uint32_t, 4> sorted_positive(std::array<uint32_t, 4> cell, std::span<
   return cell;
 }
 
+std::array<uint32_t, 4> sorted_positive(std::array<uint32_t, 4> cell) {
+  // Sorted by swaps, each one turning the cell inside out once.
+  bool odd = false;
+  for (int i = 1; i < 4; ++i)
+    for (int j = i; j > 0 && cell[static_cast<size_t>(j - 1)] > cell[static_cast<size_t>(j)]; --j) {
+      std::swap(cell[static_cast<size_t>(j - 1)], cell[static_cast<size_t>(j)]);
+      odd = !odd;
+    }
+  if (odd) std::swap(cell[2], cell[3]);
+  return cell;
+}
+
 bool spans_three_dimensions(std::span<const GridPoint> points) {
   // Find two points that differ, then a third off their line, then a fourth
   // off their plane; cross products of integer differences are exact in 128 bits.

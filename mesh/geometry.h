@@ -53,6 +53,9 @@ inline Int128 abs_six_volume(const GridPoint& a, const GridPoint& b, const GridP
 // two swapped when that order would turn it inside out (exact): one way of
 // writing a cell, whatever order a triangulation lists its corners in.
 std::array<uint32_t, 4> sorted_positive(std::array<uint32_t, 4> cell, std::span<const GridPoint> points);
+// The same for a cell known to be positively oriented (a TetMesh's): the
+// parity of the sort tells the orientation, no point is read.
+std::array<uint32_t, 4> sorted_positive(std::array<uint32_t, 4> cell);
 
 // True if the points do not all lie in one plane (exact).
 bool spans_three_dimensions(std::span<const GridPoint> points);

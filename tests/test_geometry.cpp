@@ -1,8 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "mesh/geometry.h"
+#include "mesh/predicates.h"
 
 namespace dtm {
 namespace {
@@ -45,4 +49,23 @@ TEST(Geometry, VolumeAndCircumradius) {
 }
 
 }  // namespace
+// A positively oriented cell, its corners listed in any of their 24 orders
+// (12 of which keep it positive): the parity of the sort gives what the
+// exact orientation test gives.
+TEST(Geometry, SortedPositiveByParityIsTheOrientationTests) {
+  const std::vector<GridPoint> points = {{0, 0, 0}, {7, 1, 0}, {2, 9, 1}, {3, 2, 8}, {5, 5, 5}};
+  std::array<uint32_t, 4> cell = {0, 1, 2, 3};
+  if (orientation(points[0], points[1], points[2], points[3]) < 0) std::swap(cell[2], cell[3]);
+  std::array<int, 4> order = {0, 1, 2, 3};
+  int positive = 0;
+  do {
+    const std::array<uint32_t, 4> listed = {cell[order[0]], cell[order[1]], cell[order[2]], cell[order[3]]};
+    if (orientation(points[listed[0]], points[listed[1]], points[listed[2]], points[listed[3]]) <= 0)
+      continue;
+    ++positive;
+    EXPECT_EQ(sorted_positive(listed), sorted_positive(listed, points));
+  } while (std::next_permutation(order.begin(), order.end()));
+  EXPECT_EQ(positive, 12);
+}
+
 }  // namespace dtm

@@ -48,13 +48,14 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
   const std::vector<uint8_t>& in_mesh = level.kept;
   // With regions (format 9.0), each cell's label from the region table.
   const std::vector<RegionLabel>& regions = decoder.regions();
-  // (Each cell's corners in a positive order: an orientation test a cell,
-  // on every core.)
+  // (Each cell's corners ascending but for the last two, in a positive
+  // order: the level's cells are positively oriented, so the parity of the
+  // sort tells it; on every core.)
   constexpr size_t kRange = size_t{1} << 16;
   mesh.cells =
       collect_in_order<std::array<uint32_t, 4>>(order.size(), kRange, [&](size_t a, size_t b, auto& out) {
         for (size_t i = a; i < b; ++i)
-          if (in_mesh[order[i]]) out.push_back(sorted_positive(dt.cells[order[i]], mesh.points));
+          if (in_mesh[order[i]]) out.push_back(sorted_positive(dt.cells[order[i]]));
       });
   if (!regions.empty())
     for (uint32_t k : order)
