@@ -220,7 +220,7 @@ TEST(TextRecords, SmallBlocksReadEveryRecordWithItsLine) {
     std::vector<std::pair<size_t, std::string>> got;
     size_t first = 0;
     const TextRecords::Found found = r.records(
-        want.size(), [&](size_t n) { first = got.size(), got.resize(got.size() + n); },
+        want.size(), [&](size_t n, size_t) { first = got.size(), got.resize(got.size() + n); },
         [&](size_t i, size_t line, const TextRecords::Fields& f) {
           got[first + i] = {line, std::string(f[0])};
         },
@@ -228,6 +228,31 @@ TEST(TextRecords, SmallBlocksReadEveryRecordWithItsLine) {
     EXPECT_EQ(found.records, want.size()) << block;
     EXPECT_EQ(found.extra_line, 0u) << block;
     EXPECT_EQ(got, want) << block;
+  }
+}
+
+// The smallest records there can be, the last without its line end: every
+// one read. And a header of many attributes over lines of one character
+// each: an error, not room for what the header claims.
+TEST(TetgenReader, ShortestRecordsAndAClaimOfManyFields) {
+  const std::string path = ::testing::TempDir() + "/shortest";
+  std::ofstream(path + ".node") << "3 3\n0 0 0 0\n1 1 0 0\n2 0 1 0";
+  EXPECT_EQ(read_tetgen_node(path + ".node").points.size(), 3u);
+  std::ofstream(path + ".ele") << "2 4\n0 0 1 2 3\n1 0 1 2 3";
+  EXPECT_EQ(read_tetgen_ele(path + ".ele", 4).size(), 2u);
+  {
+    std::ofstream out(path + "_many.node");
+    out << "100000 3 1000000 0\n0";
+    for (int a = 0; a < 1000003; ++a) out << " 1";
+    out << "\n";
+    for (int i = 1; i < 100000; ++i) out << "1\n";
+  }
+  try {
+    read_tetgen_node(path + "_many.node");
+    FAIL() << "accepted";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find(":3: expected 1000004 fields, found 1"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -29,8 +29,8 @@ NodeFile read_tetgen_node(const std::string& path) {
   const auto per_point = static_cast<size_t>(attributes);
   const size_t expected = 4 + per_point + static_cast<size_t>(has_marker);
   int64_t first_index = 0;
-  // Room for n more points: the vectors grow by what the file holds, never
-  // by what its header claims.
+  // Room for n more points: the vectors grow by what the file holds (room()),
+  // never by what its header claims.
   const auto grow = [&](size_t n) {
     out.points.resize(out.points.size() + n);
     out.attributes.resize(out.points.size() * per_point);
@@ -39,6 +39,7 @@ NodeFile read_tetgen_node(const std::string& path) {
   const auto point = [&](size_t at, size_t line, const TextRecords::Fields& f) {
     if (f.size() != expected)
       r.fail(line, "expected " + std::to_string(expected) + " fields, found " + std::to_string(f.size()));
+    if (at >= out.points.size()) return;  // past the block's room: an earlier line is wrong
     const auto index = r.parse<int64_t>(f[0], "a point index", line);
     if (at > 0 && index != first_index + static_cast<int64_t>(at))
       r.fail(line, "point index " + std::to_string(index) + " out of sequence");
@@ -59,7 +60,7 @@ NodeFile read_tetgen_node(const std::string& path) {
   const auto none = [](size_t, size_t, const TextRecords::Fields&) {};
   if (count == 0) {
     extra = r.records(
-                 0, [](size_t) {}, none, [] {})
+                 0, [](size_t, size_t) {}, none, [] {})
                 .extra_line;
   } else if (r.next(tok)) {
     if (tok.size() != expected)
@@ -71,7 +72,10 @@ NodeFile read_tetgen_node(const std::string& path) {
     point(0, r.line(), tok);
     size_t first = 0;
     const TextRecords::Found rest = r.records(
-        count - 1, [&](size_t n) { first = out.points.size(), grow(n); },
+        count - 1,
+        [&](size_t n, size_t bytes) {
+          first = out.points.size(), grow(TextRecords::room(n, bytes, expected));
+        },
         [&](size_t i, size_t line, const TextRecords::Fields& f) { point(first + i, line, f); }, [] {});
     read = 1 + rest.records;
     extra = rest.extra_line;
@@ -122,11 +126,15 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
   std::vector<Tet> block;                     // with `keep`: the block's tetrahedra, before the choice
   constexpr size_t kPiece = size_t{1} << 17;  // tetrahedra: 2 MiB
   std::vector<std::vector<Tet>> pieces;
+  const size_t fields = 5 + static_cast<size_t>(attributes);
+  size_t room = 0;    // the block's tetrahedra that can be whole
   Tet* at = nullptr;  // where the block's tetrahedra go
   int32_t* region_at = nullptr;
   const TextRecords::Found found = r.records(
       count,
-      [&](size_t n) {
+      [&](size_t n, size_t bytes) {
+        n = TextRecords::room(n, bytes, fields);
+        room = n;
         if (keep) {
           block.resize(n);
           at = block.data();
@@ -140,8 +148,8 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
         }
       },
       [&](size_t i, size_t line, const TextRecords::Fields& f) {
-        if (f.size() != 5 + static_cast<size_t>(attributes))
-          r.fail(line, "expected " + std::to_string(5 + attributes) + " fields");
+        if (f.size() != fields) r.fail(line, "expected " + std::to_string(fields) + " fields");
+        if (i >= room) return;  // past the block's room: an earlier line is wrong
         Tet t;
         for (size_t k = 0; k < 4; ++k) {
           const auto v = r.parse<int64_t>(f[1 + k], "a vertex index", line) - index_base;

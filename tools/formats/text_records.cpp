@@ -95,7 +95,7 @@ bool TextRecords::next(Fields& fields) {
   }
 }
 
-TextRecords::Found TextRecords::records(uint64_t count, const std::function<void(size_t)>& start,
+TextRecords::Found TextRecords::records(uint64_t count, const std::function<void(size_t, size_t)>& start,
                                         const std::function<void(size_t, size_t, const Fields&)>& parse,
                                         const std::function<void()>& finish) {
   Found found;
@@ -120,7 +120,7 @@ TextRecords::Found TextRecords::records(uint64_t count, const std::function<void
     for (size_t p = 0; p < pieces; ++p) lines[p + 1] += lines[p], records[p + 1] += records[p];
     // The records of this block that are wanted.
     const uint64_t wanted = std::min<uint64_t>(records[pieces], count - found.records);
-    start(static_cast<size_t>(wanted));
+    start(static_cast<size_t>(wanted), text.size() - cut.front());
     std::vector<std::exception_ptr> error(pieces);
     std::vector<size_t> extra(pieces, 0);
     parallel_for(pieces, [&](size_t p) {

@@ -6,6 +6,7 @@
 // reads them.
 #pragma once
 
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
 #include <fstream>
@@ -35,16 +36,27 @@ class TextRecords {
     uint64_t records = 0;   // records parsed (at most `count`)
     size_t extra_line = 0;  // the line of a meaningful line past them (0: none)
   };
-  // The next `count` meaningful lines: for each block, start(n) on the
-  // calling thread with the n records it holds, then parse(i, line, fields)
-  // for i in [0, n) on every core, then finish() on the calling thread.
-  // An exception parse throws stops the reading; the one of the earliest
-  // line is thrown again here, as a loop over the lines would throw it.
-  Found records(uint64_t count, const std::function<void(size_t)>& start,
+  // The next `count` meaningful lines: for each block, start(n, bytes) on
+  // the calling thread with the n records it holds in its bytes of text,
+  // then parse(i, line, fields) for i in [0, n) on every core, then
+  // finish() on the calling thread. An exception parse throws stops the
+  // reading; the one of the earliest line is thrown again here, as a loop
+  // over the lines would throw it.
+  Found records(uint64_t count, const std::function<void(size_t, size_t)>& start,
                 const std::function<void(size_t, size_t, const Fields&)>& parse,
                 const std::function<void()>& finish);
 
   [[noreturn]] void fail(size_t line, const std::string& problem) const;
+  // Of n records of `fields` fields each in `bytes` of text, how many can
+  // be whole: each takes two bytes a field at least (a character and a
+  // separator or the line end; the last line of a file may lack its end,
+  // hence the byte added). Room for that many is all a block needs: when
+  // record i is past it and has its fields, a record before i has not, and
+  // the error is that record's (an earlier line). So a line of one
+  // character cannot claim room for a record of many fields.
+  static size_t room(size_t n, size_t bytes, size_t fields) {
+    return std::min(n, (bytes + 1) / (2 * std::max<size_t>(fields, 1)));
+  }
   // A field as a T, the whole of it, or fail(line, "expected WHAT, ...").
   template <class T>
   T parse(std::string_view token, const char* what, size_t line) const {
