@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <filesystem>
 #include <string_view>
 
 #include "common/parallel_for.h"
@@ -53,6 +54,10 @@ std::string_view line_at(std::string_view text, size_t at, size_t& next) {
 TextRecords::TextRecords(const std::string& path, size_t block_bytes)
     : path_(path), in_(path, std::ios::binary), block_bytes_(std::max<size_t>(block_bytes, 1)) {
   if (!in_) throw FormatError(path + ": cannot open file");
+  // A small file in one small block (a block is allocated whole).
+  std::error_code error;
+  const uintmax_t size = std::filesystem::file_size(path, error);
+  if (!error) block_bytes_ = std::min<size_t>(block_bytes_, std::max<uintmax_t>(size + 1, 64));
 }
 
 void TextRecords::fail(size_t line, const std::string& problem) const {
