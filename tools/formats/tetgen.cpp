@@ -1,9 +1,7 @@
 #include "tetgen.h"
 
-#include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <string_view>
 
 #include "text_records.h"
