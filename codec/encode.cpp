@@ -214,6 +214,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   o.hierarchy = hierarchy_options(options, q.grid, plan.dmax);
   o.brick_points = options.brick_points;
   o.block_points = options.block_points;
+  o.blocks_at_once = options.blocks_at_once;
   o.cell_hashes = options.cell_hashes;
   o.exchange = options.exchange;
   DTM_ASSIGN_OR_RETURN(BrickedEncoding encoded, encode_bricked(in, o, [&](const LevelStats& stats) {

@@ -97,6 +97,10 @@ struct EncodeOptions {
   bool bricks = false;
   uint64_t brick_points = 2048;
   uint64_t block_points = uint64_t{1} << 18;
+  // Blocks built at once by this process (each on its share of the
+  // threads); 0: one per thread. Memory grows with it, the stream does not
+  // change.
+  int blocks_at_once = 0;
   // The ranks of an MPI run making one bricked stream together (every rank
   // calls encode() with the same input and options, but for the
   // tetrahedra: each needs only its share, EncodeInput::tetrahedra);

@@ -111,25 +111,33 @@ ReferenceShape ReferenceShape::from_boundary(std::span<const GridPoint> points,
   return ReferenceShape(points, std::move(boundary));
 }
 
+ReferenceBoundary::ReferenceBoundary(std::span<const GridPoint> grid,
+                                     std::vector<std::array<uint32_t, 3>> boundary)
+    : triangles(std::move(boundary)),
+      keys(triangles),
+      ids(vertex_ids_of(triangles)),
+      points(gather(grid, ids)),
+      surface(grid, triangles) {
+  for (auto& k : keys) std::sort(k.begin(), k.end());
+  std::sort(keys.begin(), keys.end());
+}
+
 ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
                                std::vector<std::array<uint32_t, 3>> boundary)
+    : ReferenceShape(std::make_shared<const ReferenceBoundary>(points, std::move(boundary))) {}
+
+ReferenceShape::ReferenceShape(std::shared_ptr<const ReferenceBoundary> boundary)
     : boundary_(std::move(boundary)),
-      boundary_ids_(vertex_ids_of(boundary_)),
-      boundary_points_(gather(points, boundary_ids_)),
-      reference_surface_(points, boundary_),
-      to_level_(boundary_points_, boundary_ids_),
-      to_reference_(boundary_ids_.size()) {
+      to_level_(boundary_->points, boundary_->ids),
+      to_reference_(boundary_->ids.size()) {
   // On the reference's surface: its own vertices and triangles.
-  for (uint32_t v : boundary_ids_) to_reference_[v] = 0;
-  boundary_keys_ = boundary_;
-  for (auto& k : boundary_keys_) std::sort(k.begin(), k.end());
-  std::sort(boundary_keys_.begin(), boundary_keys_.end());
+  for (uint32_t v : boundary_->ids) to_reference_[v] = 0;
 }
 
 ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std::span<const uint32_t> ids,
                                          std::span<const std::array<uint32_t, 3>> triangles) {
   ShapeMeasurement m;
-  m.to_level = boundary_points_.empty() ? DistanceSummary{} : to_level_.measure(points, ids, triangles);
+  m.to_level = boundary_->points.empty() ? DistanceSummary{} : to_level_.measure(points, ids, triangles);
   m.reference_squared = to_level_.squared();
   m.reference_nearest = to_level_.nearest_triangles();
   {
@@ -146,7 +154,7 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   for (uint32_t v : m.surface_vertices) {
     if (!to_reference_.contains(ids.empty() ? v : ids[v])) unmeasured.push_back(v);
   }
-  const std::vector<double> fresh = reference_surface_.squared_distances(gather(points, unmeasured));
+  const std::vector<double> fresh = boundary_->surface.squared_distances(gather(points, unmeasured));
   for (size_t i = 0; i < unmeasured.size(); ++i)
     to_reference_[ids.empty() ? unmeasured[i] : ids[unmeasured[i]]] = fresh[i];
   m.vertex_squared.reserve(m.surface_vertices.size());
@@ -172,7 +180,7 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
           ids.empty() ? t : std::array<uint32_t, 3>{ids[t[0]], ids[t[1]], ids[t[2]]};
       std::sort(key.begin(), key.end());
       keys[i] = key;
-      if (std::binary_search(boundary_keys_.begin(), boundary_keys_.end(), key)) {
+      if (std::binary_search(boundary_->keys.begin(), boundary_->keys.end(), key)) {
         kind[i] = 0;
         continue;
       }
@@ -195,7 +203,7 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
                          (double{1} * a.z + b.z + c.z) / 3});
     searched.push_back(i);
   }
-  const std::vector<double> found = reference_surface_.squared_distances(centroids);
+  const std::vector<double> found = boundary_->surface.squared_distances(centroids);
   for (size_t k = 0; k < searched.size(); ++k) {
     m.centroid_squared[searched[k]] = found[k];
     measured.emplace_back(keys[searched[k]], found[k]);
@@ -206,7 +214,7 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   squared.insert(squared.end(), m.centroid_squared.begin(), m.centroid_squared.end());
   m.to_reference = summarize_squared(squared);
   const double n_level = static_cast<double>(squared.size());
-  const double n_reference = static_cast<double>(boundary_points_.size());
+  const double n_reference = static_cast<double>(boundary_->points.size());
   m.both.max = std::max(m.to_level.max, m.to_reference.max);
   m.both.mean = n_level + n_reference > 0 ? (m.to_level.mean * n_reference + m.to_reference.mean * n_level) /
                                                 (n_level + n_reference)

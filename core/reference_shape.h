@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <unordered_map>
 #include <utility>
@@ -53,6 +54,21 @@ struct ShapeMeasurement {
   std::vector<double> centroid_squared;
 };
 
+// What a reference shape measures against and never changes: its boundary
+// triangles, their keys, its boundary vertices and the search structure of
+// its surface. Shared (read only, by any thread) by the shapes of blocks
+// whose regions meet the whole boundary (codec/blocks/rank_reference.h):
+// building it once is most of what such a block's shape costs.
+struct ReferenceBoundary {
+  ReferenceBoundary(std::span<const GridPoint> points, std::vector<std::array<uint32_t, 3>> boundary);
+
+  std::vector<std::array<uint32_t, 3>> triangles;
+  std::vector<std::array<uint32_t, 3>> keys;  // each triangle's ids sorted, the list sorted
+  std::vector<uint32_t> ids;                  // grid ids of points, ascending
+  std::vector<GridPoint> points;
+  FixedSurface surface;
+};
+
 class ReferenceShape {
  public:
   // `tets` index `points` (the grid points); their orientation does not matter.
@@ -66,12 +82,15 @@ class ReferenceShape {
   // built block by block.
   static ReferenceShape from_boundary(std::span<const GridPoint> points,
                                       std::vector<std::array<uint32_t, 3>> boundary);
+  // The same on a boundary built before: what it measures is the shape's
+  // own, as though made from the boundary's triangles.
+  explicit ReferenceShape(std::shared_ptr<const ReferenceBoundary> boundary);
 
-  size_t boundary_vertices() const { return boundary_points_.size(); }
-  std::span<const GridPoint> boundary_points() const { return boundary_points_; }
+  size_t boundary_vertices() const { return boundary_->points.size(); }
+  std::span<const GridPoint> boundary_points() const { return boundary_->points; }
   // The grid ids of boundary_points(), ascending.
-  std::span<const uint32_t> boundary_ids() const { return boundary_ids_; }
-  std::span<const std::array<uint32_t, 3>> boundary_triangles() const { return boundary_; }
+  std::span<const uint32_t> boundary_ids() const { return boundary_->ids; }
+  std::span<const std::array<uint32_t, 3>> boundary_triangles() const { return boundary_->triangles; }
 
   // Measures the surface `triangles` (indices into `points`), whose points
   // are named across calls by `ids` (grid-point indices): meant to be
@@ -89,12 +108,8 @@ class ReferenceShape {
  private:
   ReferenceShape(std::span<const GridPoint> points, std::vector<std::array<uint32_t, 3>> boundary);
 
-  std::vector<std::array<uint32_t, 3>> boundary_;
-  std::vector<std::array<uint32_t, 3>> boundary_keys_;  // each triangle's ids sorted, the list sorted
-  std::vector<uint32_t> boundary_ids_;                  // grid ids of boundary_points_
-  std::vector<GridPoint> boundary_points_;
-  FixedSurface reference_surface_;
-  SurfaceDistanceTracker to_level_;  // from boundary_points_
+  std::shared_ptr<const ReferenceBoundary> boundary_;
+  SurfaceDistanceTracker to_level_;  // from the boundary's points
   // Squared distance of a grid point to the reference surface, once
   // measured (0 from the start for the reference's own boundary vertices): a
   // level's surface vertices are mostly the previous level's.

@@ -229,6 +229,30 @@ TEST(BrickedStream, TheSameBytesForAnyNumberOfRanks) {
   }
 }
 
+// Blocks built side by side on a process's threads (run_blocks' at_once),
+// one at a time or more at once than there are cores: the same stream.
+TEST(BrickedStream, TheSameBytesWhateverBlocksAreBuiltAtOnce) {
+  for (const std::string model : {"hand_10k", "bunny_10k"}) {
+    SCOPED_TRACE(model);
+    const InputMesh in = read_input(test::data_path(model + ".node"));
+    EncodeInput input;
+    input.points = in.points;
+    input.tetrahedra = in.tets;
+    std::vector<uint8_t> first;
+    for (int at_once : {1, 3, 8}) {
+      EncodeOptions options = bricked_options(64);
+      options.blocks_at_once = at_once;
+      auto encoded = encode(input, options);
+      ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+      if (first.empty()) {
+        first = encoded->bytes;
+        ASSERT_FALSE(first.empty());
+      }
+      EXPECT_TRUE(encoded->bytes == first) << at_once << " blocks at once";
+    }
+  }
+}
+
 // Every level within D_max of the input's boundary both ways, measured on
 // the decoded levels against the whole input (not block by block): the
 // checks the blocks make at their own places add up to the whole level's,

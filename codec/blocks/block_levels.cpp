@@ -138,14 +138,6 @@ std::vector<std::array<uint32_t, 3>> TriangleIndex::meeting(const GridBox& box) 
   return out;
 }
 
-BlockReference block_reference(std::span<const GridPoint> points, const Solid* solid,
-                               const TriangleIndex* faces, const GridBox& region) {
-  BlockReference r;
-  r.solid = solid;
-  if (faces) r.shape.emplace(ReferenceShape::from_boundary(points, faces->meeting(region)));
-  return r;
-}
-
 void DistanceSums::add(double squared) {
   const double d = std::sqrt(squared);
   max = std::max(max, d);

@@ -88,10 +88,6 @@ struct BlockReference {
   const Solid* solid = nullptr;
   std::optional<ReferenceShape> shape;
 };
-// `faces`: null when the reference has no shape yet (level 0 carved by
-// alpha or voxels is its own).
-BlockReference block_reference(std::span<const GridPoint> points, const Solid* solid,
-                               const TriangleIndex* faces, const GridBox& region);
 
 // A block of level l: its box, its region, and V_l's points in the region.
 struct BlockRegion {

@@ -1,12 +1,15 @@
 #include "codec/blocks/block_runs.h"
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
 #include <new>
 #include <string>
+#include <thread>
 
 #include "codec/bricks/bricks.h"
 #include "common/release.h"
+#include "common/threads.h"
 
 namespace dtm {
 
@@ -110,28 +113,62 @@ DistanceSums BlockReader::sums() {
 
 std::vector<std::vector<uint8_t>> run_blocks(
     const BlockPlan& plan, RankExchange& exchange,
-    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status) {
+    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status, int at_once) {
+  std::vector<size_t> mine;
+  for (size_t k = 0; k < plan.blocks.size(); ++k)
+    if (plan.rank[k] == exchange.rank()) mine.push_back(k);
+  const auto run_one = [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
+    try {
+      return work(k);
+    } catch (const std::bad_alloc&) {
+      return Status{StatusCode::kLimitExceeded, "out of memory building a block"};
+    } catch (const std::exception& e) {
+      return Status{StatusCode::kInternal, e.what()};
+    }
+  };
+  // Each of this rank's blocks' results, by its place in `mine`.
+  std::vector<StatusOr<std::vector<uint8_t>>> done(mine.size(), Status{StatusCode::kInternal, "not run"});
+  std::vector<uint8_t> ran(mine.size(), 0);
+  const size_t workers = std::min<size_t>(static_cast<size_t>(std::max(1, at_once)), mine.size());
+  if (workers <= 1) {
+    for (size_t i = 0; i < mine.size(); ++i) {
+      done[i] = run_one(mine[i]);
+      ran[i] = 1;
+      if (!done[i].ok()) break;
+    }
+  } else {
+    // The blocks dealt out in order to whichever worker is free (their
+    // sizes differ); once one fails, no other starts.
+    const int share = std::max(1, thread_count() / static_cast<int>(workers));
+    std::atomic<size_t> next{0};
+    std::atomic<bool> failed{false};
+    std::vector<std::thread> threads;
+    for (size_t t = 0; t < workers; ++t)
+      threads.emplace_back([&] {
+        const ThreadShare threads_of_block(share);
+        for (size_t i = next++; i < mine.size() && !failed; i = next++) {
+          done[i] = run_one(mine[i]);
+          ran[i] = 1;
+          if (!done[i].ok()) failed = true;
+        }
+      });
+    for (auto& t : threads) t.join();
+  }
   // 1 and the results, or 0, the failure's code and its message.
   ByteWriter sent;
   sent.u8(1);
   Status local = Status::Ok();
-  for (size_t k = 0; k < plan.blocks.size() && local.ok(); ++k) {
-    if (plan.rank[k] != exchange.rank()) continue;
-    StatusOr<std::vector<uint8_t>> done = Status{StatusCode::kInternal, "no result"};
-    try {
-      done = work(k);
-    } catch (const std::bad_alloc&) {
-      done = Status{StatusCode::kLimitExceeded, "out of memory building a block"};
-    } catch (const std::exception& e) {
-      done = Status{StatusCode::kInternal, e.what()};
-    }
-    if (!done.ok()) {
-      local = done.status();
+  for (size_t i = 0; i < mine.size(); ++i) {
+    if (!ran[i]) continue;  // after a failure (the first that ran is told)
+    if (!done[i].ok()) {
+      local = done[i].status();
       break;
     }
-    sent.u64(k);
-    put(sent, std::span<const uint8_t>(*done));
+    sent.u64(mine[i]);
+    put(sent, std::span<const uint8_t>(*done[i]));
+    release(*done[i]);
   }
+  release(done);
   if (!local.ok()) {
     sent = ByteWriter();
     sent.u8(0);

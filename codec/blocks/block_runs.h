@@ -37,14 +37,17 @@ BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int max_dept
 // about equal point counts.
 void assign_ranks(BlockPlan& plan, int ranks);
 
-// Runs `work` on every block of `plan` this rank builds (in block order),
-// each result serialized by the work, and returns every block's bytes,
-// indexed by block, on every rank. A failure on any rank (a Status, or an
-// exception, which would otherwise leave the other ranks waiting in the
-// exchange) is every rank's: `status` says it.
+// Runs `work` on every block of `plan` this rank builds, each result
+// serialized by the work, and returns every block's bytes, indexed by
+// block, on every rank. A failure on any rank (a Status, or an exception,
+// which would otherwise leave the other ranks waiting in the exchange) is
+// every rank's: `status` says it (the first block's, in block order).
+// `at_once` > 1: up to that many of this rank's blocks are worked on side
+// by side, each on its share of the threads (common/threads.h), so `work`
+// must be safe to run on several blocks at once; the results are the same.
 std::vector<std::vector<uint8_t>> run_blocks(
     const BlockPlan& plan, RankExchange& exchange,
-    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status);
+    const std::function<StatusOr<std::vector<uint8_t>>(size_t)>& work, Status& status, int at_once = 1);
 
 void put(ByteWriter& w, std::span<const uint32_t> v);
 void put(ByteWriter& w, std::span<const uint8_t> v);

@@ -15,6 +15,7 @@
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
+#include "common/threads.h"
 #include "core/nearest_spacing.h"
 
 namespace dtm {
@@ -68,7 +69,8 @@ class BrickedEncoder {
         q_(in.grid.qbits),
         index_(in.points, q_),
         level_of_(in.points.size(), 0),
-        reference_(in.points, q_, exchange, in.voxels, o.hierarchy.on_phase) {
+        reference_(in.points, q_, exchange, in.voxels, o.hierarchy.on_phase),
+        at_once_(o.blocks_at_once > 0 ? o.blocks_at_once : thread_count()) {
     if (x_.size() > 1)
       reference_.set_in_parts(in.reference_tets, in.share, [this] { tets_done(); });
     else if (!in.reference_tets.empty())
@@ -128,6 +130,7 @@ class BrickedEncoder {
   bool last_ = false;             // the coarser level is to be the coarsest
   uint64_t reference_boundary_vertices_ = 0;
   bool tets_done_ = false;
+  int at_once_;  // blocks built side by side (run_blocks)
 };
 
 BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const {
@@ -158,7 +161,7 @@ StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, cons
         w.f64(sum);
         return w.take();
       },
-      status);
+      status, at_once_);
   DTM_RETURN_IF_ERROR(status);
   double total = 0;
   for (const auto& s : sums) total += BlockReader(s).f64();
@@ -177,7 +180,7 @@ Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
                              analyse_block(block, reference ? &*reference : nullptr, options));
         return serialize(a);
       },
-      status);
+      status, at_once_);
   DTM_RETURN_IF_ERROR(status);
   out.clear();
   for (auto& r : results) {
@@ -240,7 +243,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           put(w, std::span<const uint32_t>(back));
           return w.take();
         },
-        status);
+        status, at_once_);
     DTM_RETURN_IF_ERROR(status);
     for (size_t k = 0; k < results.size(); ++k) {
       BlockReader r(results[k]);
@@ -264,7 +267,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
             for (uint32_t id : index_.inside(seen(k), level_of_, level)) now += coarser_[id];
             return std::vector<uint8_t>{static_cast<uint8_t>(now > left[k] ? 1 : 0)};
           },
-          s2);
+          s2, at_once_);
       DTM_RETURN_IF_ERROR(s2);
       for (size_t k = 0; k < changed.size(); ++k) next[k] = changed[k].at(0), again = again || next[k];
     }

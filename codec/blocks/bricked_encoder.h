@@ -46,6 +46,11 @@ struct BrickedEncodeOptions {
   // levels are built in blocks of about block_points points.
   uint64_t brick_points = 2048;
   uint64_t block_points = uint64_t{1} << 18;
+  // How many blocks a process builds at once, each on its share of the
+  // threads; 0: one per thread. Each holds its region's tetrahedralization
+  // (about 1.2 KB a point of the region at 2^18 points), so the memory a
+  // process needs grows with it; the stream does not depend on it.
+  int blocks_at_once = 0;
   bool cell_hashes = false;
   // The ranks of the run; nullptr: this process alone.
   RankExchange* exchange = nullptr;

@@ -70,6 +70,7 @@ void RankReference::set_whole(std::span<const std::array<uint32_t, 4>> tets) {
   tet_solid_.emplace(points_, tets, boundary);
   if (!voxels_) solid_ = &*tet_solid_;
   faces_.emplace(points_, std::move(boundary), qbits_);
+  whole_.reset();
 }
 
 void RankReference::set_in_parts(std::span<const std::array<uint32_t, 4>> given, const ReferenceShare* share,
@@ -112,22 +113,40 @@ void RankReference::set_in_parts(std::span<const std::array<uint32_t, 4>> given,
   release(near);
   if (!voxels_) solid_ = &*tet_solid_, parts_ = true;
   faces_.emplace(points_, std::move(boundary), qbits_);
+  whole_.reset();
 }
 
 std::optional<BlockReference> RankReference::for_region(const GridBox& region, const Solid* solid) const {
   if (!solid_) return std::nullopt;
-  return block_reference(points_, solid, faces_ ? &*faces_ : nullptr, region);
+  BlockReference r;
+  r.solid = solid;
+  if (!faces_) return r;
+  std::vector<std::array<uint32_t, 3>> meeting = faces_->meeting(region);
+  if (meeting.size() < faces_->size()) {
+    r.shape.emplace(ReferenceShape::from_boundary(points_, std::move(meeting)));
+    return r;
+  }
+  // All of it, in the index's order: the boundary built before, if any
+  // (the same triangles in the same order, so the same measurements).
+  std::shared_ptr<const ReferenceBoundary> whole;
+  {
+    std::lock_guard lock(whole_mutex_);
+    if (!whole_) whole_ = std::make_shared<const ReferenceBoundary>(points_, std::move(meeting));
+    whole = whole_;
+  }
+  r.shape.emplace(std::move(whole));
+  return r;
 }
 
 std::vector<std::vector<uint8_t>> RankReference::run_carving(
     const BlockPlan& plan, const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid*)>& work,
-    Status& status) {
+    Status& status, int at_once) {
   if (!parts_)
     return run_blocks(
-        plan, x_, [&](size_t k) { return work(k, solid_); }, status);
+        plan, x_, [&](size_t k) { return work(k, solid_); }, status, at_once);
   return run_blocks_asking(
       plan, x_, *tet_solid_, book_, [&](size_t k, const Solid& asking) { return work(k, &asking); }, status,
-      questions_);
+      questions_, at_once);
 }
 
 }  // namespace dtm

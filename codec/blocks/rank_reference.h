@@ -10,6 +10,8 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -51,13 +53,15 @@ class RankReference {
   // built when level 0, carved by alpha or voxels, is the reference).
   bool has_boundary() const { return faces_.has_value(); }
   // What a block of `region` is carved to (`solid`: the one run_carving()
-  // handed its work) and measured against; none without a solid.
+  // handed its work) and measured against; none without a solid. Safe to
+  // call from several threads.
   std::optional<BlockReference> for_region(const GridBox& region, const Solid* solid) const;
   // run_blocks() of work carving to the reference: with the reference in
   // parts, each block's work run again until the ranks answered all it asked.
+  // `at_once`: run_blocks'.
   std::vector<std::vector<uint8_t>> run_carving(
       const BlockPlan& plan, const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid*)>& work,
-      Status& status);
+      Status& status, int at_once);
   // A level's questions are of its own cells: the answers of the level
   // before are forgotten.
   void start_level() { book_ = {}; }
@@ -75,6 +79,10 @@ class RankReference {
   AnswerBook book_;                          // what the ranks answered of this level's questions
   QuestionCount questions_;
   std::optional<TriangleIndex> faces_;
+  // The boundary whole, made the first time a block's region meets all of
+  // it (a level of one block, level after level) and kept for the next.
+  mutable std::mutex whole_mutex_;
+  mutable std::shared_ptr<const ReferenceBoundary> whole_;
 };
 
 }  // namespace dtm

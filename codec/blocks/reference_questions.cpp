@@ -69,7 +69,7 @@ std::vector<AnswerBook::Point4> get_points(BlockReader& r) {
 std::vector<std::vector<uint8_t>> run_blocks_asking(
     const BlockPlan& plan, RankExchange& exchange, const ReferenceSolid& part, AnswerBook& book,
     const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid&)>& work, Status& status,
-    QuestionCount& count) {
+    QuestionCount& count, int at_once) {
   std::vector<std::vector<uint8_t>> out(plan.blocks.size());
   std::vector<uint8_t> done(plan.blocks.size(), 0);
   // Each round settles at least the next question of every block's work
@@ -103,7 +103,7 @@ std::vector<std::vector<uint8_t>> run_blocks_asking(
           put(w, std::span<const uint8_t>(*result));
           return w.take();
         },
-        status);
+        status, at_once);
     if (!status.ok()) return out;
     // Every rank has every block's bytes: the questions, all of them.
     std::vector<AnswerBook::Point4> asked;

@@ -62,10 +62,10 @@ struct QuestionCount {
 };
 // run_blocks() of work carving to `part` (the solid it is handed), each
 // block run again until it asks nothing; `book` keeps what was answered.
-// Every rank must call it with the same plan.
+// Every rank must call it with the same plan. `at_once`: run_blocks'.
 std::vector<std::vector<uint8_t>> run_blocks_asking(
     const BlockPlan& plan, RankExchange& exchange, const ReferenceSolid& part, AnswerBook& book,
     const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid&)>& work, Status& status,
-    QuestionCount& count);
+    QuestionCount& count, int at_once = 1);
 
 }  // namespace dtm
