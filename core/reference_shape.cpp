@@ -47,18 +47,21 @@ void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const 
   tets.resize(kept);
   auto smallest = [](const Tet& t) { return std::min({t[0], t[1], t[2], t[3]}); };
   if (labels) {
-    // With labels, a permutation sorted once (a mesh with regions is rarely
-    // of the size the in-place order below is for): the same order.
+    // With labels, a permutation sorted once, on every core (its order is
+    // total, so whatever the sort): the same order as below, in twice the
+    // memory of the tetrahedra.
     labels->resize(kept);
     std::vector<uint32_t> order(kept);
     for (uint32_t i = 0; i < kept; ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    parallel_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
       const uint32_t sa = smallest(tets[a]), sb = smallest(tets[b]);
       return sa != sb ? sa < sb : (tets[a] != tets[b] ? tets[a] < tets[b] : a < b);
     });
     std::vector<Tet> sorted(kept);
     std::vector<int32_t> sorted_labels(kept);
-    for (size_t i = 0; i < kept; ++i) sorted[i] = tets[order[i]], sorted_labels[i] = (*labels)[order[i]];
+    parallel_ranges(kept, size_t{1} << 16, [&](size_t first, size_t last) {
+      for (size_t i = first; i < last; ++i) sorted[i] = tets[order[i]], sorted_labels[i] = (*labels)[order[i]];
+    });
     tets = std::move(sorted);
     *labels = std::move(sorted_labels);
     return;

@@ -289,6 +289,68 @@ TEST(InputFormats, GmshSparseTagsAndNodeData) {
   EXPECT_EQ(m.fields[0].type, ScalarType::kFloat64);  // gmsh's node data are doubles
 }
 
+// A 4.1 element block of many lines is parsed in pieces on every core:
+// every element lands in its place, with its block's region, and a bad line
+// deep in the block is told by its line; of two, the earlier.
+TEST(InputFormats, GmshElementBlocksReadInPiecesKeepOrderAndTellTheFirstBadLine) {
+  constexpr int kTets = 40000;
+  const auto file = [&](int bad_late, int bad_early) {
+    std::string s = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 8 1 8\n3 1 0 8\n";
+    for (int i = 1; i <= 8; ++i) s += std::to_string(i) + "\n";
+    for (int i = 0; i < 8; ++i) s += std::to_string(i & 1) + " " + std::to_string(i >> 1 & 1) + " " +
+                                     std::to_string(i >> 2) + "\n";
+    s += "$EndNodes\n$Elements\n2 " + std::to_string(kTets + 1) + " 1 " + std::to_string(kTets + 1) + "\n";
+    s += "3 7 4 " + std::to_string(kTets) + "\n";
+    for (int e = 0; e < kTets; ++e) {
+      s += std::to_string(e + 1);
+      for (int k = 0; k < 4; ++k) s += " " + std::to_string(e == bad_late && k == 2 ? 99 : (e + k) % 8 + 1);
+      if (e == bad_early) s += " x";
+      s += "\r\n";  // a file written on Windows
+    }
+    s += "2 3 2 1\n" + std::to_string(kTets + 1) + " 1 2 3\n$EndElements\n";
+    return s;
+  };
+  // Line 27 is the block's first element.
+  const InputMesh m = read_input(write_temp("pieces.msh", file(-1, -1)));
+  ASSERT_EQ(m.tets.size(), static_cast<size_t>(kTets));
+  for (int e : {0, 16383, 16384, 30001, kTets - 1})
+    EXPECT_EQ(m.tets[e], (std::array<uint32_t, 4>{static_cast<uint32_t>(e % 8), static_cast<uint32_t>((e + 1) % 8),
+                                                  static_cast<uint32_t>((e + 2) % 8),
+                                                  static_cast<uint32_t>((e + 3) % 8)}))
+        << e;
+  ASSERT_EQ(m.tet_regions.size(), static_cast<size_t>(kTets));
+  EXPECT_EQ(m.tet_regions[kTets - 1], 7);
+  EXPECT_EQ(m.tagged_faces.size(), 1u);
+  const auto error_of = [&](const std::string& text) {
+    try {
+      read_input(write_temp("bad_pieces.msh", text));
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of(file(30000, -1)).find("bad_pieces.msh:" + std::to_string(27 + 30000) +
+                                          ": node tag 99 out of range"),
+            std::string::npos)
+      << error_of(file(30000, -1));
+  EXPECT_NE(error_of(file(30000, 100)).find("bad_pieces.msh:" + std::to_string(27 + 100) +
+                                           ": expected a node tag, found 'x'"),
+            std::string::npos)
+      << error_of(file(30000, 100));
+  // A file cut inside the block: its counts are more than it can hold.
+  std::string cut = file(-1, -1);
+  cut.resize(cut.find("\n20000 ") + 1);
+  EXPECT_NE(error_of(cut).find(":25: an element count 40001 is more than the file can hold"), std::string::npos)
+      << error_of(cut);
+  // A block that claims a line more than it has: its next block's header
+  // (4 fields) read as a tetrahedron.
+  std::string short_block = file(-1, -1);
+  short_block.replace(short_block.find("3 7 4 40000"), 11, "3 7 4 40001");
+  EXPECT_NE(error_of(short_block).find(":" + std::to_string(27 + kTets) + ": a tetrahedron with 3 nodes"),
+            std::string::npos)
+      << error_of(short_block);
+}
+
 TEST(InputFormats, PointDataKeepTheTypeTheFileStoresThemIn) {
   const std::string path = ::testing::TempDir() + "/typed.vtk";
   std::ofstream(path) << "# vtk DataFile Version 3.0\ntyped\nASCII\nDATASET UNSTRUCTURED_GRID\n"

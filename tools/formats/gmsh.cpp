@@ -8,6 +8,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "common/release.h"
 #include "render_util.h"
 #include "text_cursor.h"
 
@@ -29,6 +30,23 @@ std::vector<std::string_view> split(std::string_view line) {
     if (e == std::string_view::npos) return out;
     p = e;
   }
+}
+
+// The next whitespace-separated field of `line` from `at`, `at` moved past
+// it ("" at the end of the line).
+std::string_view next_field(std::string_view line, size_t& at) {
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (at < line.size() && blank(line[at])) ++at;
+  const size_t b = at;
+  while (at < line.size() && !blank(line[at])) ++at;
+  return line.substr(b, at - b);
+}
+
+// A whole field as a number.
+template <class T>
+bool parse_field(std::string_view f, T& value) {
+  const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), value);
+  return !f.empty() && ec == std::errc() && end == f.data() + f.size();
 }
 
 // gmsh's element types by name, the usual ones.
@@ -124,6 +142,8 @@ class GmshReader {
       c_.expect("$End" + section.substr(1));
     }
     if (!have_nodes) throw FormatError(c_.path() + ": no $Nodes section");
+    index_element_tags();
+    release(by_element_);
     set_regions();
     set_face_tags();
     note_left_out();
@@ -295,6 +315,7 @@ class GmshReader {
   void nodes_v4() {
     const uint64_t blocks = c_.count("a block count", c_.remaining() / 8);
     const uint64_t n = c_.count("a node count", c_.remaining() / 8);
+    const std::string announced = c_.where();  // the count's line
     c_.number<int64_t>("the smallest node tag");
     c_.number<int64_t>("the largest node tag");
     out_.points.reserve(n);
@@ -305,17 +326,38 @@ class GmshReader {
       const uint64_t in_block = c_.count("a node count", c_.remaining() / 8);
       if (dim < 0 || dim > 3 || parametric < 0 || parametric > 1) c_.fail("bad node block header");
       const size_t first = out_.points.size();
-      for (uint64_t i = 0; i < in_block; ++i) add_node(c_.number<int64_t>("a node tag"), first + i);
-      for (uint64_t i = 0; i < in_block; ++i) {
-        const double x = c_.coordinate(), y = c_.coordinate(), z = c_.coordinate();
-        out_.points.push_back({x, y, z});
-        for (int k = 0; k < dim * parametric; ++k) c_.coordinate();
-      }
-      if (out_.points.size() - first != in_block) c_.fail("node block size mismatch");
+      // The tags, then the coordinates: a line each, parsed on every core.
+      c_.skip_to_next_line();
+      std::vector<int64_t> tags(in_block);
+      c_.lines(in_block, [&](uint64_t i, std::string_view line) {
+        size_t at = 0;
+        const std::string_view f = next_field(line, at);
+        if (!parse_field(f, tags[i]) || !next_field(line, at).empty())
+          c_.fail_line(i, "expected a node tag, found '" + std::string(line) + "'");
+      });
+      for (uint64_t i = 0; i < in_block; ++i) add_node(tags[i], first + i);
+      release(tags);
+      out_.points.resize(first + in_block);
+      const int fields = 3 + dim * parametric;
+      c_.lines(in_block, [&](uint64_t i, std::string_view line) {
+        size_t at = 0;
+        double xyz[3] = {0, 0, 0};
+        for (int k = 0; k < fields; ++k) {
+          const std::string_view f = next_field(line, at);
+          double v = 0;
+          if (!parse_field(f, v))
+            c_.fail_line(i, f.empty() ? "expected " + std::to_string(fields) + " coordinates"
+                                      : "expected a coordinate, found '" + std::string(f) + "'");
+          if (!std::isfinite(v)) c_.fail_line(i, "coordinate is not finite");
+          if (k < 3) xyz[k] = v;
+        }
+        if (!next_field(line, at).empty()) c_.fail_line(i, "more than " + std::to_string(fields) + " coordinates");
+        out_.points[first + i] = {xyz[0], xyz[1], xyz[2]};
+      });
     }
     if (out_.points.size() != n)
-      c_.fail("$Nodes announces " + std::to_string(n) + " nodes, its blocks hold " +
-              std::to_string(out_.points.size()));
+      throw FormatError(announced + ": $Nodes announces " + std::to_string(n) + " nodes, its blocks hold " +
+                        std::to_string(out_.points.size()));
   }
 
   uint32_t node(std::string_view tag_text) {
@@ -353,9 +395,34 @@ class GmshReader {
   }
 
   // The element tag of the tetrahedron about to be added ($ElementData names it).
-  void note_tetrahedron(int64_t element_tag) {
-    if (!tet_of_element_.emplace(element_tag, static_cast<uint32_t>(out_.tets.size())).second)
-      c_.fail("two elements are tagged " + std::to_string(element_tag));
+  void note_tetrahedron(int64_t element_tag) { tet_element_.push_back(element_tag); }
+
+  // Fails when two tetrahedra share an element tag; afterwards tet_of()
+  // finds a tetrahedron by its tag. gmsh numbers its elements in order, so
+  // the tags mostly ascend and are searched where they are.
+  void index_element_tags() {
+    if (indexed_ == tet_element_.size()) return;
+    indexed_ = tet_element_.size();
+    by_element_.clear();
+    tags_ascend_ = std::adjacent_find(tet_element_.begin(), tet_element_.end(),
+                                      [](int64_t a, int64_t b) { return a >= b; }) == tet_element_.end();
+    if (tags_ascend_) return;
+    by_element_.reserve(tet_element_.size());
+    for (uint32_t t = 0; t < tet_element_.size(); ++t) by_element_.emplace_back(tet_element_[t], t);
+    std::sort(by_element_.begin(), by_element_.end());
+    const auto twice = std::adjacent_find(by_element_.begin(), by_element_.end(),
+                                          [](const auto& a, const auto& b) { return a.first == b.first; });
+    if (twice != by_element_.end())
+      throw FormatError(c_.path() + ": two elements are tagged " + std::to_string(twice->first));
+  }
+  // The tetrahedron of an element tag, or -1 (another element's).
+  int64_t tet_of(int64_t tag) const {
+    if (tags_ascend_) {
+      const auto it = std::lower_bound(tet_element_.begin(), tet_element_.end(), tag);
+      return it != tet_element_.end() && *it == tag ? it - tet_element_.begin() : -1;
+    }
+    const auto it = std::lower_bound(by_element_.begin(), by_element_.end(), std::pair<int64_t, uint32_t>{tag, 0});
+    return it != by_element_.end() && it->first == tag ? int64_t{it->second} : -1;
   }
 
   // The tag of the tetrahedron read next: its physical tag (2.x: the first
@@ -387,6 +454,7 @@ class GmshReader {
   void elements_v4() {
     const uint64_t blocks = c_.count("a block count", c_.remaining() / 8);
     const uint64_t n = c_.count("an element count", c_.remaining() / 8);
+    const std::string announced = c_.where();  // the count's line
     c_.number<int64_t>("the smallest element tag");
     c_.number<int64_t>("the largest element tag");
     uint64_t seen = 0;
@@ -397,16 +465,64 @@ class GmshReader {
       if (type == kGmshTetrahedron || type == kGmshTriangle) note_volume_tag(entity);
       const uint64_t in_block = c_.count("an element count", c_.remaining() / 4);
       c_.skip_to_next_line();
-      for (uint64_t i = 0; i < in_block; ++i) {
-        const auto f = split(c_.rest_of_line());
-        if (f.empty()) c_.fail("file ends or blank line inside an element block");
-        element(f, 1, type);
-      }
+      element_block(in_block, type);
       seen += in_block;
     }
     if (seen != n)
-      c_.fail("$Elements announces " + std::to_string(n) + " elements, its blocks hold " +
-              std::to_string(seen));
+      throw FormatError(announced + ": $Elements announces " + std::to_string(n) + " elements, its blocks hold " +
+                        std::to_string(seen));
+  }
+
+  // A node's index by its tag, read by the threads of an element block
+  // (line i of it).
+  uint32_t node_on_line(std::string_view tag_text, uint64_t i) const {
+    int64_t tag = 0;
+    const auto [end, ec] = std::from_chars(tag_text.data(), tag_text.data() + tag_text.size(), tag);
+    if (ec != std::errc() || end != tag_text.data() + tag_text.size())
+      c_.fail_line(i, "expected a node tag, found '" + std::string(tag_text) + "'");
+    const auto it = index_of_.find(tag);
+    if (it == index_of_.end()) c_.fail_line(i, "node tag " + std::to_string(tag) + " out of range (no such node)");
+    return it->second;
+  }
+
+  // 4.1's element lines of one block ("tag node node ..."), all of one
+  // type, parsed on every core, each into its place.
+  void element_block(uint64_t in_block, int type) {
+    const bool tet = type == kGmshTetrahedron, tri = type == kGmshTriangle;
+    const size_t first = tet ? out_.tets.size() : triangles_.size();
+    if (tet) {
+      out_.tets.resize(first + in_block);
+      tet_tag_.resize(first + in_block, tag_);
+      tet_element_.resize(first + in_block);
+    } else if (tri) {
+      triangles_.resize(first + in_block);
+      tri_tag_.resize(first + in_block, tag_);
+    }
+    c_.lines(in_block, [&](uint64_t i, std::string_view line) {
+      size_t at = 0;
+      const std::string_view element_tag = next_field(line, at);
+      if (element_tag.empty()) c_.fail_line(i, "file ends or blank line inside an element block");
+      std::array<uint32_t, 4> t{};
+      size_t nodes = 0;
+      for (std::string_view f = next_field(line, at); !f.empty(); f = next_field(line, at), ++nodes) {
+        const uint32_t v = node_on_line(f, i);
+        if (nodes < 4) t[nodes] = v;
+      }
+      if (nodes == 0) c_.fail_line(i, "element without nodes");
+      if (tet) {
+        if (nodes != 4) c_.fail_line(i, "a tetrahedron with " + std::to_string(nodes) + " nodes");
+        int64_t tag = 0;
+        const auto [end, ec] = std::from_chars(element_tag.data(), element_tag.data() + element_tag.size(), tag);
+        if (ec != std::errc() || end != element_tag.data() + element_tag.size())
+          c_.fail_line(i, "expected an element tag, found '" + std::string(element_tag) + "'");
+        out_.tets[first + i] = t;
+        tet_element_[first + i] = tag;
+      } else if (tri) {
+        if (nodes != 3) c_.fail_line(i, "a triangle with " + std::to_string(nodes) + " nodes");
+        triangles_[first + i] = {t[0], t[1], t[2]};
+      }
+    });
+    if (!tet && !tri && in_block > 0) other_elements_[type] += in_block;
   }
 
   // Binary sections (file type 1): little-endian ints (4 bytes), size_t
@@ -636,12 +752,13 @@ class GmshReader {
     f.values.assign(tets * f.components, 0.0);
     std::vector<uint8_t> seen(tets, 0);
     uint64_t distinct = 0;
+    index_element_tags();
     const auto take = [&](int64_t tag, auto&& value) {
-      const auto it = tet_of_element_.find(tag);
-      if (it == tet_of_element_.end()) return;  // another element's
-      distinct += !seen[it->second];
-      seen[it->second] = 1;
-      for (int k = 0; k < f.components; ++k) f.values[it->second * f.components + k] = value(k);
+      const int64_t t = tet_of(tag);
+      if (t < 0) return;  // another element's
+      distinct += !seen[t];
+      seen[t] = 1;
+      for (int k = 0; k < f.components; ++k) f.values[t * f.components + k] = value(k);
     };
     if (binary_) {
       const uint64_t record = 4 + 8 * static_cast<uint64_t>(f.components);
@@ -685,7 +802,10 @@ class GmshReader {
   std::vector<std::string> physical_names_, partial_node_data_, partial_element_data_;
   std::set<std::string> skipped_data_;
   std::unordered_map<int64_t, uint32_t> index_of_;
-  std::unordered_map<int64_t, uint32_t> tet_of_element_;  // element tag -> tetrahedron
+  std::vector<int64_t> tet_element_;  // per tetrahedron: its element tag
+  size_t indexed_ = 0;                // tetrahedra index_element_tags() has seen
+  bool tags_ascend_ = true;
+  std::vector<std::pair<int64_t, uint32_t>> by_element_;  // (tag, tetrahedron) ascending, unless they ascend
   InputMesh out_;
 };
 

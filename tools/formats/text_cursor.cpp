@@ -1,9 +1,15 @@
 #include "text_cursor.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
+#include <exception>
 #include <fstream>
 #include <sstream>
+#include <vector>
+
+#include "common/parallel_for.h"
 
 namespace dtm {
 
@@ -89,6 +95,62 @@ void TextCursor::skip_to_next_line() {
     ++pos_;
     ++line_;
   }
+}
+
+void TextCursor::lines(uint64_t n, const std::function<void(uint64_t, std::string_view)>& parse) {
+  // Pieces of this many lines, each parsed on one thread.
+  constexpr uint64_t kPiece = 16384;
+  lines_first_ = line_;
+  token_line_ = line_;
+  token_offset_ = pos_;
+  const std::string_view all(data_);
+  // The line from `at` (without '\r\n'); `at` moves past its end. Past the
+  // end of the file, empty lines.
+  const auto next_line = [&](size_t& at) {
+    const size_t b = at;
+    const void* nl = std::memchr(all.data() + b, '\n', all.size() - b);
+    size_t e = nl ? static_cast<size_t>(static_cast<const char*>(nl) - all.data()) : all.size();
+    at = nl ? e + 1 : all.size();
+    if (e > b && all[e - 1] == '\r') --e;
+    return all.substr(b, e - b);
+  };
+  // Where each piece starts, and where the lines end.
+  std::vector<size_t> starts;
+  size_t at = pos_;
+  size_t ends = 0;  // line ends passed
+  for (uint64_t i = 0; i < n; ++i) {
+    if (i % kPiece == 0) starts.push_back(at);
+    if (at == all.size()) break;  // the rest are empty
+    next_line(at);
+    ends += all[at - 1] == '\n';
+  }
+  if (starts.empty()) starts.push_back(at);
+  const size_t pieces = (n + kPiece - 1) / kPiece;
+  starts.resize(pieces, at);
+  // Per piece: what its first failure threw.
+  std::vector<std::exception_ptr> failure(pieces);
+  const auto run = [&](size_t p) {
+    size_t from = starts[p];
+    const uint64_t first = p * kPiece, last = std::min<uint64_t>(n, first + kPiece);
+    try {
+      for (uint64_t i = first; i < last; ++i) parse(i, next_line(from));
+    } catch (...) {
+      failure[p] = std::current_exception();
+    }
+  };
+  if (pieces < 2) {
+    for (size_t p = 0; p < pieces; ++p) run(p);
+  } else {
+    parallel_for(pieces, run);
+  }
+  for (const std::exception_ptr& e : failure)
+    if (e) std::rethrow_exception(e);
+  pos_ = at;
+  line_ += ends;
+}
+
+void TextCursor::fail_line(uint64_t i, const std::string& problem) const {
+  throw FormatError(path_ + ":" + std::to_string(lines_first_ + i) + ": " + problem);
 }
 
 std::string_view TextCursor::bytes(uint64_t n, const char* what) {

@@ -7,6 +7,7 @@
 
 #include <charconv>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -38,6 +39,14 @@ class TextCursor {
   std::string_view rest_of_line();
   // Skips whitespace up to and including the end of the current line.
   void skip_to_next_line();
+  // The next `n` lines, as n calls of rest_of_line() would give them, each
+  // handed to parse(i, line) on one of every core's threads (the lines cut
+  // into pieces at line ends first, in one pass). parse() fails with
+  // fail_line(i, ...); the failure of the earliest line is the one thrown
+  // here, as a loop over the lines would throw it.
+  void lines(uint64_t n, const std::function<void(uint64_t, std::string_view)>& parse);
+  // For lines()' parse(): "path:L: problem", L the line of its line i.
+  [[noreturn]] void fail_line(uint64_t i, const std::string& problem) const;
   // `n` raw bytes from the current position.
   std::string_view bytes(uint64_t n, const char* what);
   size_t offset() const { return pos_; }
@@ -75,6 +84,7 @@ class TextCursor {
   size_t line_ = 1;        // line of pos_
   size_t token_line_ = 1;  // line where the last token started
   size_t token_offset_ = 0;
+  size_t lines_first_ = 1;  // the line of lines()' first line
   bool binary_ = false;  // binary bytes have been read: report offsets
 };
 
