@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -16,6 +17,7 @@
 #include "format_test_support.h"
 #include "test_support.h"
 #include "tools/formats/input.h"
+#include "tools/formats/mesh_writers.h"
 #include "tools/formats/tetgen.h"
 
 namespace dtm {
@@ -480,6 +482,42 @@ TEST(InputFormats, VtuPiecesAreOneMeshAndCellDataIsNamed) {
   EXPECT_EQ(m.tet_arrays.at("material"), (std::vector<int32_t>{1, 2}));
   choose_regions(m, "", "two.vtu");
   EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
+}
+
+// Base64 is decoded fast, on every core, in runs of plain quanta; blanks
+// (a line break between quanta, another inside one) are the careful
+// loop's, and the runs after them are fast again: the same values.
+TEST(InputFormats, VtuBase64ReadsTheSameWithBlanksAnywhere) {
+  constexpr size_t kPoints = 30000;  // 720 KB: four ranges of 2^16 quanta
+  std::string bytes(8 + 24 * kPoints, '\0');
+  const uint64_t count = 24 * kPoints;
+  std::memcpy(bytes.data(), &count, 8);
+  std::vector<double> xyz(3 * kPoints);
+  for (size_t i = 0; i < xyz.size(); ++i) xyz[i] = 0.25 * static_cast<double>(i % 977) - 3.0;
+  std::memcpy(bytes.data() + 8, xyz.data(), 24 * kPoints);
+  const std::string plain = base64_encode(bytes);
+  for (const std::vector<size_t>& breaks :
+       {std::vector<size_t>{}, std::vector<size_t>{4 * 100000}, std::vector<size_t>{4 * 150000 + 2, 4 * 20},
+        std::vector<size_t>{4 * 65536, 4 * 65536 - 1}}) {
+    std::string text = plain;
+    std::vector<size_t> at = breaks;
+    std::sort(at.rbegin(), at.rend());  // from the end: the places before stay
+    for (size_t p : at) text.insert(p, "\n  ");
+    const InputMesh m = read_input(write_temp(
+        "base64.vtu", "<VTKFile type=\"UnstructuredGrid\" header_type=\"UInt64\"><UnstructuredGrid><Piece "
+                      "NumberOfPoints=\"" +
+                          std::to_string(kPoints) +
+                          "\" NumberOfCells=\"0\"><Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" "
+                          "format=\"binary\">" +
+                          text + "</DataArray></Points></Piece></UnstructuredGrid></VTKFile>"));
+    ASSERT_EQ(m.points.size(), kPoints) << breaks.size();
+    for (size_t i : {size_t{0}, size_t{21845}, kPoints / 2, kPoints - 1})
+      EXPECT_EQ(m.points[i].y, xyz[3 * i + 1]) << i << ", " << breaks.size() << " breaks";
+    bool all = true;
+    for (size_t i = 0; i < kPoints; ++i)
+      all = all && m.points[i].x == xyz[3 * i] && m.points[i].y == xyz[3 * i + 1] && m.points[i].z == xyz[3 * i + 2];
+    EXPECT_TRUE(all) << breaks.size() << " breaks";
+  }
 }
 
 }  // namespace

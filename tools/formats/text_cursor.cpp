@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -16,6 +17,16 @@ namespace dtm {
 std::string read_whole_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FormatError(path + ": cannot open file");
+  // A file of known size read into its string at once (a stream's copy
+  // would hold it twice and copy it twice: 0.3 s at 350 MB).
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && std::filesystem::is_regular_file(path, ec) && !ec) {
+    std::string bytes(size, '\0');
+    in.read(bytes.data(), static_cast<std::streamsize>(size));
+    if (static_cast<uint64_t>(in.gcount()) != size) throw FormatError(path + ": cannot read file");
+    return bytes;
+  }
   std::ostringstream s;
   s << in.rdbuf();
   if (in.bad()) throw FormatError(path + ": cannot read file");
