@@ -351,6 +351,29 @@ TEST(InputFormats, GmshElementBlocksReadInPiecesKeepOrderAndTellTheFirstBadLine)
   EXPECT_NE(error_of(short_block).find(":" + std::to_string(27 + kTets) + ": a tetrahedron with 3 nodes"),
             std::string::npos)
       << error_of(short_block);
+  // 2.x: each line its own type and tags; the same elements, the same line told.
+  const auto file2 = [&](int bad) {
+    std::string s = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n";
+    for (int i = 0; i < 8; ++i)
+      s += std::to_string(i + 1) + " " + std::to_string(i & 1) + " " + std::to_string(i >> 1 & 1) + " " +
+           std::to_string(i >> 2) + "\n";
+    s += "$EndNodes\n$Elements\n" + std::to_string(kTets + 1) + "\n1 2 2 5 3 1 2 3\n";
+    for (int e = 0; e < kTets; ++e) {
+      s += std::to_string(e + 2) + " 4 2 7 1";
+      for (int k = 0; k < 4; ++k) s += " " + std::to_string(e == bad && k == 1 ? 99 : (e + k) % 8 + 1);
+      s += "\n";
+    }
+    return s + "$EndElements\n";
+  };
+  const InputMesh m2 = read_input(write_temp("pieces22.msh", file2(-1)));
+  EXPECT_TRUE(m2.tets == m.tets);
+  EXPECT_EQ(m2.tet_regions, m.tet_regions);
+  EXPECT_EQ(m2.tagged_faces.size(), 1u);
+  // Line 18 is the first tetrahedron's (after the count and a triangle).
+  EXPECT_NE(error_of(file2(30000)).find("bad_pieces.msh:" + std::to_string(18 + 30000) +
+                                        ": node tag 99 out of range"),
+            std::string::npos)
+      << error_of(file2(30000));
 }
 
 TEST(InputFormats, PointDataKeepTheTypeTheFileStoresThemIn) {

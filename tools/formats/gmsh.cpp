@@ -370,30 +370,6 @@ class GmshReader {
     return it->second;
   }
 
-  // One element's node tags (the fields after `skip` leading ones).
-  void element(const std::vector<std::string_view>& f, size_t skip, int type) {
-    if (f.size() <= skip) c_.fail("element without nodes");
-    std::array<uint32_t, 4> t{};
-    for (size_t k = skip; k < f.size(); ++k) {
-      const uint32_t v = node(f[k]);
-      if (k - skip < 4) t[k - skip] = v;
-    }
-    if (type == kGmshTetrahedron) {
-      if (f.size() - skip != 4) c_.fail("a tetrahedron with " + std::to_string(f.size() - skip) + " nodes");
-      int64_t tag = 0;
-      const auto [end, ec] = std::from_chars(f[0].data(), f[0].data() + f[0].size(), tag);
-      if (ec != std::errc()) c_.fail("expected an element tag, found '" + std::string(f[0]) + "'");
-      note_tetrahedron(tag);
-      out_.tets.push_back(t);
-      tet_tag_.push_back(tag_);
-    } else if (type == kGmshTriangle && f.size() - skip == 3) {
-      triangles_.push_back({t[0], t[1], t[2]});
-      tri_tag_.push_back(tag_);
-    } else {
-      ++other_elements_[type];
-    }
-  }
-
   // The element tag of the tetrahedron about to be added ($ElementData names it).
   void note_tetrahedron(int64_t element_tag) { tet_element_.push_back(element_tag); }
 
@@ -429,25 +405,74 @@ class GmshReader {
   // tag), or its volume entity (4.1); set_regions() makes it its region.
   void note_volume_tag(int64_t tag) { tag_ = tag; }
 
+  // 2.x's element lines ("tag type ntags tags... nodes..."), parsed on every
+  // core a chunk at a time (each line into its record), then added in order.
   void elements_v2() {
     const uint64_t n = c_.count("an element count", c_.remaining() / 8);
     c_.skip_to_next_line();
-    for (uint64_t i = 0; i < n; ++i) {
-      const auto f = split(c_.rest_of_line());
-      if (f.empty())
-        c_.fail("file ends after " + std::to_string(i) + " of " + std::to_string(n) + " elements");
-      if (f.size() < 3) c_.fail("expected 'tag type ntags ...'");
-      int type = 0, tags = 0;
-      std::from_chars(f[1].data(), f[1].data() + f[1].size(), type);
-      const auto [end, ec] = std::from_chars(f[2].data(), f[2].data() + f[2].size(), tags);
-      if (ec != std::errc() || tags < 0 || f.size() < 3 + static_cast<size_t>(tags))
-        c_.fail("bad element tag count");
-      if (type == kGmshTetrahedron || type == kGmshTriangle) {
-        int64_t physical = 0;
-        if (tags > 0) std::from_chars(f[3].data(), f[3].data() + f[3].size(), physical), tagged_ = true;
-        note_volume_tag(physical);
+    struct Line {
+      std::array<uint32_t, 4> nodes;
+      int64_t physical;  // the first tag (0: none)
+      int64_t tag;       // a tetrahedron's element tag
+      int32_t type;      // -2: a triangle of other than 3 nodes
+      bool tagged;
+    };
+    constexpr uint64_t kChunk = uint64_t{1} << 20;  // lines held at once (40 MB)
+    std::vector<Line> chunk;
+    for (uint64_t done = 0; done < n; done += chunk.size()) {
+      chunk.assign(std::min(kChunk, n - done), Line{});
+      c_.lines(chunk.size(), [&](uint64_t i, std::string_view line) {
+        size_t at = 0;
+        const std::string_view tag = next_field(line, at), type_text = next_field(line, at),
+                               count = next_field(line, at);
+        if (tag.empty())
+          c_.fail_line(i, "file ends after " + std::to_string(done + i) + " of " + std::to_string(n) + " elements");
+        if (count.empty()) c_.fail_line(i, "expected 'tag type ntags ...'");
+        Line& r = chunk[i];
+        r.type = 0;
+        std::from_chars(type_text.data(), type_text.data() + type_text.size(), r.type);
+        int tags = 0;
+        const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), tags);
+        if (ec != std::errc() || tags < 0) c_.fail_line(i, "bad element tag count");
+        const bool kept = r.type == kGmshTetrahedron || r.type == kGmshTriangle;
+        r.physical = 0;
+        for (int k = 0; k < tags; ++k) {
+          const std::string_view t = next_field(line, at);
+          if (t.empty()) c_.fail_line(i, "bad element tag count");
+          if (k == 0 && kept) std::from_chars(t.data(), t.data() + t.size(), r.physical);
+        }
+        r.tagged = kept && tags > 0;
+        size_t nodes = 0;
+        r.nodes = {};
+        for (std::string_view f = next_field(line, at); !f.empty(); f = next_field(line, at), ++nodes) {
+          const uint32_t v = node_on_line(f, i);
+          if (nodes < 4) r.nodes[nodes] = v;
+        }
+        if (nodes == 0) c_.fail_line(i, "element without nodes");
+        if (r.type == kGmshTetrahedron) {
+          if (nodes != 4) c_.fail_line(i, "a tetrahedron with " + std::to_string(nodes) + " nodes");
+          const auto [tend, tec] = std::from_chars(tag.data(), tag.data() + tag.size(), r.tag);
+          if (tec != std::errc()) c_.fail_line(i, "expected an element tag, found '" + std::string(tag) + "'");
+        } else if (r.type == kGmshTriangle && nodes != 3) {
+          r.type = -2;
+        }
+      });
+      for (const Line& r : chunk) {
+        if (r.type == kGmshTetrahedron || r.type == kGmshTriangle) {
+          tagged_ = tagged_ || r.tagged;
+          note_volume_tag(r.physical);
+        }
+        if (r.type == kGmshTetrahedron) {
+          note_tetrahedron(r.tag);
+          out_.tets.push_back(r.nodes);
+          tet_tag_.push_back(tag_);
+        } else if (r.type == kGmshTriangle) {
+          triangles_.push_back({r.nodes[0], r.nodes[1], r.nodes[2]});
+          tri_tag_.push_back(tag_);
+        } else {
+          ++other_elements_[r.type == -2 ? kGmshTriangle : r.type];
+        }
       }
-      element(f, 3 + tags, type);
     }
   }
 
