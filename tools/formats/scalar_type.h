@@ -50,6 +50,14 @@ constexpr bool is_integer(ScalarType t) { return t != ScalarType::kFloat32 && t 
 
 // The value at `p` (scalar_size(t) bytes) as a double. 64-bit integers above
 // 2^53 lose precision; indices that large are rejected by range checks anyway.
+// The `size`-byte unsigned integer at p (a header word: a count that may
+// be anything in a damaged file, so never read through a double).
+inline uint64_t unsigned_at(const char* p, int size, bool big_endian) {
+  uint64_t u = 0;
+  for (int k = 0; k < size; ++k) u |= uint64_t{static_cast<uint8_t>(p[big_endian ? k : size - 1 - k])} << (8 * (size - 1 - k));
+  return u;
+}
+
 inline double scalar_at(const char* p, ScalarType t, bool big_endian) {
   uint8_t b[8];
   const int n = scalar_size(t);

@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <optional>
@@ -205,6 +206,13 @@ std::optional<ScalarType> xml_type(std::string_view name) {
   const auto it = kTypes.find(name);
   if (it == kTypes.end()) return std::nullopt;
   return it->second;
+}
+
+// A value as it reads (whole numbers without a fraction; any size, NaN too).
+std::string number_text(double v) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
 }
 
 int base64_value(char c) {
@@ -593,7 +601,7 @@ class VtuReader {
       return bytes.size() >= want;
     };
     const auto word = [&](uint64_t i) {
-      return static_cast<uint64_t>(scalar_at(bytes.data() + i * hsize, header_type_, big_endian_));
+      return unsigned_at(bytes.data() + i * hsize, hsize, big_endian_);
     };
     const uint64_t left = is_raw ? raw.size() : text.size();  // an upper bound on the bytes present
     if (!compressor_) {
@@ -680,8 +688,7 @@ class VtuReader {
       for (uint64_t k = b; k < e; ++k)
         if (!(conn[k] >= 0 && conn[k] < static_cast<double>(points)))
           p_.fail_at(conn_element.offset, "cell " + std::to_string(c) + ": point index " +
-                                              std::to_string(static_cast<int64_t>(conn[k])) +
-                                              " out of range");
+                                              number_text(conn[k]) + " out of range");
       const auto at = [&](uint64_t i) {
         return static_cast<uint32_t>(first + static_cast<uint64_t>(conn[i]));
       };
