@@ -60,7 +60,8 @@ void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const 
     std::vector<Tet> sorted(kept);
     std::vector<int32_t> sorted_labels(kept);
     parallel_ranges(kept, size_t{1} << 16, [&](size_t first, size_t last) {
-      for (size_t i = first; i < last; ++i) sorted[i] = tets[order[i]], sorted_labels[i] = (*labels)[order[i]];
+      for (size_t i = first; i < last; ++i)
+        sorted[i] = tets[order[i]], sorted_labels[i] = (*labels)[order[i]];
     });
     tets = std::move(sorted);
     *labels = std::move(sorted_labels);

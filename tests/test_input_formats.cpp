@@ -299,8 +299,8 @@ TEST(InputFormats, GmshElementBlocksReadInPiecesKeepOrderAndTellTheFirstBadLine)
   const auto file = [&](int bad_late, int bad_early) {
     std::string s = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 8 1 8\n3 1 0 8\n";
     for (int i = 1; i <= 8; ++i) s += std::to_string(i) + "\n";
-    for (int i = 0; i < 8; ++i) s += std::to_string(i & 1) + " " + std::to_string(i >> 1 & 1) + " " +
-                                     std::to_string(i >> 2) + "\n";
+    for (int i = 0; i < 8; ++i)
+      s += std::to_string(i & 1) + " " + std::to_string(i >> 1 & 1) + " " + std::to_string(i >> 2) + "\n";
     s += "$EndNodes\n$Elements\n2 " + std::to_string(kTets + 1) + " 1 " + std::to_string(kTets + 1) + "\n";
     s += "3 7 4 " + std::to_string(kTets) + "\n";
     for (int e = 0; e < kTets; ++e) {
@@ -316,9 +316,9 @@ TEST(InputFormats, GmshElementBlocksReadInPiecesKeepOrderAndTellTheFirstBadLine)
   const InputMesh m = read_input(write_temp("pieces.msh", file(-1, -1)));
   ASSERT_EQ(m.tets.size(), static_cast<size_t>(kTets));
   for (int e : {0, 16383, 16384, 30001, kTets - 1})
-    EXPECT_EQ(m.tets[e], (std::array<uint32_t, 4>{static_cast<uint32_t>(e % 8), static_cast<uint32_t>((e + 1) % 8),
-                                                  static_cast<uint32_t>((e + 2) % 8),
-                                                  static_cast<uint32_t>((e + 3) % 8)}))
+    EXPECT_EQ(m.tets[e], (std::array<uint32_t, 4>{
+                             static_cast<uint32_t>(e % 8), static_cast<uint32_t>((e + 1) % 8),
+                             static_cast<uint32_t>((e + 2) % 8), static_cast<uint32_t>((e + 3) % 8)}))
         << e;
   ASSERT_EQ(m.tet_regions.size(), static_cast<size_t>(kTets));
   EXPECT_EQ(m.tet_regions[kTets - 1], 7);
@@ -331,18 +331,19 @@ TEST(InputFormats, GmshElementBlocksReadInPiecesKeepOrderAndTellTheFirstBadLine)
     }
     return std::string("no error");
   };
-  EXPECT_NE(error_of(file(30000, -1)).find("bad_pieces.msh:" + std::to_string(27 + 30000) +
-                                          ": node tag 99 out of range"),
+  EXPECT_NE(error_of(file(30000, -1))
+                .find("bad_pieces.msh:" + std::to_string(27 + 30000) + ": node tag 99 out of range"),
             std::string::npos)
       << error_of(file(30000, -1));
-  EXPECT_NE(error_of(file(30000, 100)).find("bad_pieces.msh:" + std::to_string(27 + 100) +
-                                           ": expected a node tag, found 'x'"),
+  EXPECT_NE(error_of(file(30000, 100))
+                .find("bad_pieces.msh:" + std::to_string(27 + 100) + ": expected a node tag, found 'x'"),
             std::string::npos)
       << error_of(file(30000, 100));
   // A file cut inside the block: its counts are more than it can hold.
   std::string cut = file(-1, -1);
   cut.resize(cut.find("\n20000 ") + 1);
-  EXPECT_NE(error_of(cut).find(":25: an element count 40001 is more than the file can hold"), std::string::npos)
+  EXPECT_NE(error_of(cut).find(":25: an element count 40001 is more than the file can hold"),
+            std::string::npos)
       << error_of(cut);
   // A block that claims a line more than it has: its next block's header
   // (4 fields) read as a tetrahedron.
@@ -370,8 +371,8 @@ TEST(InputFormats, GmshElementBlocksReadInPiecesKeepOrderAndTellTheFirstBadLine)
   EXPECT_EQ(m2.tet_regions, m.tet_regions);
   EXPECT_EQ(m2.tagged_faces.size(), 1u);
   // Line 18 is the first tetrahedron's (after the count and a triangle).
-  EXPECT_NE(error_of(file2(30000)).find("bad_pieces.msh:" + std::to_string(18 + 30000) +
-                                        ": node tag 99 out of range"),
+  EXPECT_NE(error_of(file2(30000))
+                .find("bad_pieces.msh:" + std::to_string(18 + 30000) + ": node tag 99 out of range"),
             std::string::npos)
       << error_of(file2(30000));
 }
@@ -526,19 +527,21 @@ TEST(InputFormats, VtuBase64ReadsTheSameWithBlanksAnywhere) {
     std::vector<size_t> at = breaks;
     std::sort(at.rbegin(), at.rend());  // from the end: the places before stay
     for (size_t p : at) text.insert(p, "\n  ");
-    const InputMesh m = read_input(write_temp(
-        "base64.vtu", "<VTKFile type=\"UnstructuredGrid\" header_type=\"UInt64\"><UnstructuredGrid><Piece "
-                      "NumberOfPoints=\"" +
-                          std::to_string(kPoints) +
-                          "\" NumberOfCells=\"0\"><Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" "
-                          "format=\"binary\">" +
-                          text + "</DataArray></Points></Piece></UnstructuredGrid></VTKFile>"));
+    const InputMesh m = read_input(
+        write_temp("base64.vtu",
+                   "<VTKFile type=\"UnstructuredGrid\" header_type=\"UInt64\"><UnstructuredGrid><Piece "
+                   "NumberOfPoints=\"" +
+                       std::to_string(kPoints) +
+                       "\" NumberOfCells=\"0\"><Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" "
+                       "format=\"binary\">" +
+                       text + "</DataArray></Points></Piece></UnstructuredGrid></VTKFile>"));
     ASSERT_EQ(m.points.size(), kPoints) << breaks.size();
     for (size_t i : {size_t{0}, size_t{21845}, kPoints / 2, kPoints - 1})
       EXPECT_EQ(m.points[i].y, xyz[3 * i + 1]) << i << ", " << breaks.size() << " breaks";
     bool all = true;
     for (size_t i = 0; i < kPoints; ++i)
-      all = all && m.points[i].x == xyz[3 * i] && m.points[i].y == xyz[3 * i + 1] && m.points[i].z == xyz[3 * i + 2];
+      all = all && m.points[i].x == xyz[3 * i] && m.points[i].y == xyz[3 * i + 1] &&
+            m.points[i].z == xyz[3 * i + 2];
     EXPECT_TRUE(all) << breaks.size() << " breaks";
   }
 }

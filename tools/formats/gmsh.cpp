@@ -351,7 +351,8 @@ class GmshReader {
           if (!std::isfinite(v)) c_.fail_line(i, "coordinate is not finite");
           if (k < 3) xyz[k] = v;
         }
-        if (!next_field(line, at).empty()) c_.fail_line(i, "more than " + std::to_string(fields) + " coordinates");
+        if (!next_field(line, at).empty())
+          c_.fail_line(i, "more than " + std::to_string(fields) + " coordinates");
         out_.points[first + i] = {xyz[0], xyz[1], xyz[2]};
       });
     }
@@ -397,7 +398,8 @@ class GmshReader {
       const auto it = std::lower_bound(tet_element_.begin(), tet_element_.end(), tag);
       return it != tet_element_.end() && *it == tag ? it - tet_element_.begin() : -1;
     }
-    const auto it = std::lower_bound(by_element_.begin(), by_element_.end(), std::pair<int64_t, uint32_t>{tag, 0});
+    const auto it =
+        std::lower_bound(by_element_.begin(), by_element_.end(), std::pair<int64_t, uint32_t>{tag, 0});
     return it != by_element_.end() && it->first == tag ? int64_t{it->second} : -1;
   }
 
@@ -426,7 +428,8 @@ class GmshReader {
         const std::string_view tag = next_field(line, at), type_text = next_field(line, at),
                                count = next_field(line, at);
         if (tag.empty())
-          c_.fail_line(i, "file ends after " + std::to_string(done + i) + " of " + std::to_string(n) + " elements");
+          c_.fail_line(
+              i, "file ends after " + std::to_string(done + i) + " of " + std::to_string(n) + " elements");
         if (count.empty()) c_.fail_line(i, "expected 'tag type ntags ...'");
         Line& r = chunk[i];
         r.type = 0;
@@ -452,7 +455,8 @@ class GmshReader {
         if (r.type == kGmshTetrahedron) {
           if (nodes != 4) c_.fail_line(i, "a tetrahedron with " + std::to_string(nodes) + " nodes");
           const auto [tend, tec] = std::from_chars(tag.data(), tag.data() + tag.size(), r.tag);
-          if (tec != std::errc()) c_.fail_line(i, "expected an element tag, found '" + std::string(tag) + "'");
+          if (tec != std::errc())
+            c_.fail_line(i, "expected an element tag, found '" + std::string(tag) + "'");
         } else if (r.type == kGmshTriangle && nodes != 3) {
           r.type = -2;
         }
@@ -494,8 +498,8 @@ class GmshReader {
       seen += in_block;
     }
     if (seen != n)
-      throw FormatError(announced + ": $Elements announces " + std::to_string(n) + " elements, its blocks hold " +
-                        std::to_string(seen));
+      throw FormatError(announced + ": $Elements announces " + std::to_string(n) +
+                        " elements, its blocks hold " + std::to_string(seen));
   }
 
   // A node's index by its tag, read by the threads of an element block
@@ -506,7 +510,8 @@ class GmshReader {
     if (ec != std::errc() || end != tag_text.data() + tag_text.size())
       c_.fail_line(i, "expected a node tag, found '" + std::string(tag_text) + "'");
     const auto it = index_of_.find(tag);
-    if (it == index_of_.end()) c_.fail_line(i, "node tag " + std::to_string(tag) + " out of range (no such node)");
+    if (it == index_of_.end())
+      c_.fail_line(i, "node tag " + std::to_string(tag) + " out of range (no such node)");
     return it->second;
   }
 
@@ -537,7 +542,8 @@ class GmshReader {
       if (tet) {
         if (nodes != 4) c_.fail_line(i, "a tetrahedron with " + std::to_string(nodes) + " nodes");
         int64_t tag = 0;
-        const auto [end, ec] = std::from_chars(element_tag.data(), element_tag.data() + element_tag.size(), tag);
+        const auto [end, ec] =
+            std::from_chars(element_tag.data(), element_tag.data() + element_tag.size(), tag);
         if (ec != std::errc() || end != element_tag.data() + element_tag.size())
           c_.fail_line(i, "expected an element tag, found '" + std::string(element_tag) + "'");
         out_.tets[first + i] = t;

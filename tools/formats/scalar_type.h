@@ -54,7 +54,8 @@ constexpr bool is_integer(ScalarType t) { return t != ScalarType::kFloat32 && t 
 // be anything in a damaged file, so never read through a double).
 inline uint64_t unsigned_at(const char* p, int size, bool big_endian) {
   uint64_t u = 0;
-  for (int k = 0; k < size; ++k) u |= uint64_t{static_cast<uint8_t>(p[big_endian ? k : size - 1 - k])} << (8 * (size - 1 - k));
+  for (int k = 0; k < size; ++k)
+    u |= uint64_t{static_cast<uint8_t>(p[big_endian ? k : size - 1 - k])} << (8 * (size - 1 - k));
   return u;
 }
 

@@ -85,7 +85,7 @@ class TextCursor {
   size_t token_line_ = 1;  // line where the last token started
   size_t token_offset_ = 0;
   size_t lines_first_ = 1;  // the line of lines()' first line
-  bool binary_ = false;  // binary bytes have been read: report offsets
+  bool binary_ = false;     // binary bytes have been read: report offsets
 };
 
 }  // namespace dtm

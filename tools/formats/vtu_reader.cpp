@@ -224,11 +224,14 @@ int base64_value(char c) {
   return -1;
 }
 
-// Each byte's base64 value, or -1 (a blank, '=', anything else).
-const std::array<int8_t, 256>& base64_values() {
-  static const std::array<int8_t, 256> table = [] {
-    std::array<int8_t, 256> t{};
-    for (int c = 0; c < 256; ++c) t[c] = static_cast<int8_t>(base64_value(static_cast<char>(c)));
+// Each byte's base64 value, or 255 (a blank, '=', anything else).
+const std::array<uint8_t, 256>& base64_values() {
+  static const std::array<uint8_t, 256> table = [] {
+    std::array<uint8_t, 256> t{};
+    for (int c = 0; c < 256; ++c) {
+      const int v = base64_value(static_cast<char>(c));
+      t[c] = static_cast<uint8_t>(v < 0 ? 255 : v);
+    }
     return t;
   }();
   return table;
@@ -253,10 +256,9 @@ void decode_plain_quanta(std::string_view text, size_t& pos, uint64_t quanta, st
     uint64_t q = first;
     for (; q < last; ++q) {
       const unsigned char* c = in + 4 * q;
-      const int a = value[c[0]], b = value[c[1]], d = value[c[2]], e = value[c[3]];
-      if ((a | b | d | e) < 0) break;
-      const uint32_t w = static_cast<uint32_t>(a) << 18 | static_cast<uint32_t>(b) << 12 |
-                         static_cast<uint32_t>(d) << 6 | static_cast<uint32_t>(e);
+      const uint32_t a = value[c[0]], b = value[c[1]], d = value[c[2]], e = value[c[3]];
+      if ((a | b | d | e) > 63) break;
+      const uint32_t w = a << 18 | b << 12 | d << 6 | e;
       to[3 * q] = static_cast<unsigned char>(w >> 16);
       to[3 * q + 1] = static_cast<unsigned char>(w >> 8);
       to[3 * q + 2] = static_cast<unsigned char>(w);
@@ -288,7 +290,8 @@ std::string base64_decode(std::string_view text, size_t& pos, size_t want, std::
     // Between quanta, the plain ones that follow decoded fast.
     if (have == 0 && want - out.size() >= 3 && text.size() - pos >= 4) {
       const size_t before = pos;
-      decode_plain_quanta(text, pos, std::min<uint64_t>((want - out.size()) / 3, (text.size() - pos) / 4), out);
+      decode_plain_quanta(text, pos, std::min<uint64_t>((want - out.size()) / 3, (text.size() - pos) / 4),
+                          out);
       if (pos != before) continue;
     }
     const char c = text[pos++];
@@ -600,9 +603,7 @@ class VtuReader {
       if (const std::string e = base64_decode(text, pos, want, bytes); !e.empty()) fail(e);
       return bytes.size() >= want;
     };
-    const auto word = [&](uint64_t i) {
-      return unsigned_at(bytes.data() + i * hsize, hsize, big_endian_);
-    };
+    const auto word = [&](uint64_t i) { return unsigned_at(bytes.data() + i * hsize, hsize, big_endian_); };
     const uint64_t left = is_raw ? raw.size() : text.size();  // an upper bound on the bytes present
     if (!compressor_) {
       if (!fetch(hsize)) fail(is_raw ? "file ends in its header" : "data ends in its header");
@@ -687,8 +688,8 @@ class VtuReader {
       previous = offsets[c];
       for (uint64_t k = b; k < e; ++k)
         if (!(conn[k] >= 0 && conn[k] < static_cast<double>(points)))
-          p_.fail_at(conn_element.offset, "cell " + std::to_string(c) + ": point index " +
-                                              number_text(conn[k]) + " out of range");
+          p_.fail_at(conn_element.offset,
+                     "cell " + std::to_string(c) + ": point index " + number_text(conn[k]) + " out of range");
       const auto at = [&](uint64_t i) {
         return static_cast<uint32_t>(first + static_cast<uint64_t>(conn[i]));
       };
