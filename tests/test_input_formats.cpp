@@ -508,6 +508,50 @@ TEST(InputFormats, VtuPiecesAreOneMeshAndCellDataIsNamed) {
   EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
 }
 
+// A 4.1 binary block of tetrahedra is read on every core (ranges of 2^16
+// elements): each in its place, and of two bad node tags the earlier told.
+TEST(InputFormats, GmshBinaryBlocksReadInRangesTellTheFirstBadTag) {
+  constexpr uint64_t kTets = 70000;
+  const auto file = [&](uint64_t bad_early, uint64_t bad_late) {
+    std::string s = "$MeshFormat\n4.1 1 8\n";
+    const auto put = [&](auto v) { s.append(reinterpret_cast<const char*>(&v), sizeof v); };
+    put(int32_t{1});
+    s += "\n$EndMeshFormat\n$Nodes\n";
+    for (uint64_t v : {uint64_t{1}, uint64_t{8}, uint64_t{1}, uint64_t{8}}) put(v);
+    put(int32_t{3}), put(int32_t{1}), put(int32_t{0}), put(uint64_t{8});
+    for (uint64_t t = 1; t <= 8; ++t) put(t);
+    for (int i = 0; i < 8; ++i) put(double(i & 1)), put(double(i >> 1 & 1)), put(double(i >> 2));
+    s += "\n$EndNodes\n$Elements\n";
+    for (uint64_t v : {uint64_t{1}, kTets, uint64_t{1}, kTets}) put(v);
+    put(int32_t{3}), put(int32_t{5}), put(int32_t{4}), put(kTets);
+    for (uint64_t e = 0; e < kTets; ++e) {
+      put(e + 1);
+      for (uint64_t k = 0; k < 4; ++k) put(e == bad_early ? 98 : e == bad_late ? 99 : (e + k) % 8 + 1);
+    }
+    return s + "\n$EndElements\n";
+  };
+  const InputMesh m = read_input(write_temp("binary_ranges.msh", file(kTets, kTets)));
+  ASSERT_EQ(m.tets.size(), kTets);
+  for (uint64_t e : {uint64_t{0}, uint64_t{65535}, uint64_t{65536}, kTets - 1})
+    EXPECT_EQ(m.tets[e], (std::array<uint32_t, 4>{
+                             static_cast<uint32_t>(e % 8), static_cast<uint32_t>((e + 1) % 8),
+                             static_cast<uint32_t>((e + 2) % 8), static_cast<uint32_t>((e + 3) % 8)}))
+        << e;
+  EXPECT_EQ(m.tet_regions.at(kTets - 1), 5);
+  const auto error_of = [&](const std::string& text) {
+    try {
+      read_input(write_temp("binary_ranges_bad.msh", text));
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of(file(kTets, 68000)).find("node tag 99 out of range"), std::string::npos)
+      << error_of(file(kTets, 68000));
+  EXPECT_NE(error_of(file(100, 68000)).find("node tag 98 out of range"), std::string::npos)
+      << error_of(file(100, 68000));
+}
+
 // Base64 is decoded fast, on every core, in runs of plain quanta; blanks
 // (a line break between quanta, another inside one) are the careful
 // loop's, and the runs after them are fast again: the same values.

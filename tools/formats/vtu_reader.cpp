@@ -550,8 +550,10 @@ class VtuReader {
     }
     const int size = scalar_size(*type);
     const std::string bytes = binary_payload(da, what, n * size);
-    out.reserve(n);
-    for (uint64_t i = 0; i < n; ++i) out.push_back(scalar_at(bytes.data() + i * size, *type, big_endian_));
+    out.resize(n);
+    parallel_ranges(n, size_t{1} << 16, [&](size_t first, size_t last) {
+      for (size_t i = first; i < last; ++i) out[i] = scalar_at(bytes.data() + i * size, *type, big_endian_);
+    });
     return out;
   }
 
