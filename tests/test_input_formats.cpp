@@ -564,13 +564,20 @@ TEST(InputFormats, VtuBase64ReadsTheSameWithBlanksAnywhere) {
   for (size_t i = 0; i < xyz.size(); ++i) xyz[i] = 0.25 * static_cast<double>(i % 977) - 3.0;
   std::memcpy(bytes.data() + 8, xyz.data(), 24 * kPoints);
   const std::string plain = base64_encode(bytes);
-  for (const std::vector<size_t>& breaks :
-       {std::vector<size_t>{}, std::vector<size_t>{4 * 100000}, std::vector<size_t>{4 * 150000 + 2, 4 * 20},
-        std::vector<size_t>{4 * 65536, 4 * 65536 - 1}}) {
+  // Where blanks go; the last case wraps the whole text at 76 characters,
+  // as MIME writes base64.
+  const std::vector<std::vector<size_t>> cases = {
+      {}, {4 * 100000}, {4 * 150000 + 2, 4 * 20}, {4 * 65536, 4 * 65536 - 1}, {}};
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const std::vector<size_t>& breaks = cases[k];
     std::string text = plain;
     std::vector<size_t> at = breaks;
     std::sort(at.rbegin(), at.rend());  // from the end: the places before stay
     for (size_t p : at) text.insert(p, "\n  ");
+    if (k + 1 == cases.size()) {
+      text.clear();
+      for (size_t p = 0; p < plain.size(); p += 76) text += plain.substr(p, 76) + "\n";
+    }
     const InputMesh m = read_input(
         write_temp("base64.vtu",
                    "<VTKFile type=\"UnstructuredGrid\" header_type=\"UInt64\"><UnstructuredGrid><Piece "

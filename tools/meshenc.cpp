@@ -182,10 +182,12 @@ void add_options(CLI::App& app, Command& c) {
                  "smaller takes less memory and more time; the stream depends on it, not on the ranks")
       ->capture_default_str()
       ->check(CLI::Range(uint64_t{64}, uint64_t{1} << 32));
-  app.add_option("--blocks-at-once", e.blocks_at_once,
-                 "with --bricks: build up to N blocks side by side in each process, each on its share of the "
-                 "threads (default: one per thread); each holds its region's tetrahedralization, so 1 takes "
-                 "the least memory; the stream is the same")
+  app.add_option(
+         "--blocks-at-once", e.blocks_at_once,
+         "with --bricks: build up to N blocks side by side in each process, each on its share of the "
+         "threads (default: one per thread, as many as a quarter of the memory holds at about 1 KB a block "
+         "point); each holds its region's tetrahedralization, so 1 takes "
+         "the least memory; the stream is the same")
       ->check(CLI::Range(1, 4096));
   app.add_option("--level-step", e.level_step,
                  "stream every N-th level (and the coarsest): fewer levels of detail, fewer bits")

@@ -5,6 +5,7 @@
 #include <exception>
 #include <new>
 #include <string>
+#include <system_error>
 #include <thread>
 
 #include "codec/bricks/bricks.h"
@@ -138,20 +139,36 @@ std::vector<std::vector<uint8_t>> run_blocks(
     }
   } else {
     // The blocks dealt out in order to whichever worker is free (their
-    // sizes differ); once one fails, no other starts.
+    // sizes differ). After a failure no later block starts, and every
+    // earlier one still runs: the failure told is the first in block
+    // order, as one at a time would tell it.
     const int share = std::max(1, thread_count() / static_cast<int>(workers));
     std::atomic<size_t> next{0};
-    std::atomic<bool> failed{false};
-    std::vector<std::thread> threads;
-    for (size_t t = 0; t < workers; ++t)
-      threads.emplace_back([&] {
-        const ThreadShare threads_of_block(share);
-        for (size_t i = next++; i < mine.size() && !failed; i = next++) {
-          done[i] = run_one(mine[i]);
-          ran[i] = 1;
-          if (!done[i].ok()) failed = true;
+    std::atomic<size_t> first_failed{mine.size()};
+    const auto worker = [&] {
+      const ThreadShare threads_of_block(share);
+      for (size_t i = next++; i < mine.size(); i = next++) {
+        if (i > first_failed.load()) continue;
+        done[i] = run_one(mine[i]);
+        ran[i] = 1;
+        if (done[i].ok()) continue;
+        size_t f = first_failed.load();
+        while (i < f && !first_failed.compare_exchange_weak(f, i)) {
+          // f is now the index another worker set: lower it again if i is lower.
         }
-      });
+      }
+    };
+    // The calling thread is one of the workers; a thread the system will
+    // not start leaves its share to the others.
+    std::vector<std::thread> threads;
+    for (size_t t = 1; t < workers; ++t) {
+      try {
+        threads.emplace_back(worker);
+      } catch (const std::system_error&) {
+        break;
+      }
+    }
+    worker();
     for (auto& t : threads) t.join();
   }
   // 1 and the results, or 0, the failure's code and its message.

@@ -5,6 +5,11 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
+
+#if defined(__linux__) && !defined(__EMSCRIPTEN__)
+#include <unistd.h>
+#endif
 
 #include "codec/blocks/block_levels.h"
 #include "codec/blocks/block_runs.h"
@@ -35,6 +40,25 @@ constexpr double kAlphaPerSpacing = 1.5;
 // 10^4 alpha) would make every region the whole level.
 constexpr double kKeptRadiusPerFinerAlpha = 2.5;
 constexpr double kKeptRadiusOfLevel0 = 2.0;
+// Blocks built at once unless told: one per thread, as many as a quarter of
+// this process's share of the machine's memory holds at about 1 KB a block
+// point (bunny_1m's blocks of up to 228,640 points took about 230 MiB each),
+// so that a process with many threads does not run out of memory on a
+// machine with little.
+int default_blocks_at_once(uint64_t block_points) {
+  const int threads = thread_count();
+#if defined(__linux__) && !defined(__EMSCRIPTEN__)
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  const unsigned machine_threads = std::max(1u, std::thread::hardware_concurrency());
+  if (pages > 0 && page > 0) {
+    const double memory = static_cast<double>(pages) * static_cast<double>(page) * threads / machine_threads;
+    const double fit = memory / 4 / (1024.0 * static_cast<double>(block_points));
+    return std::clamp(static_cast<int>(std::min(fit, double{1 << 20})), 1, threads);
+  }
+#endif
+  return threads;
+}
+
 // Whether one octree node holds the other.
 bool nested(uint64_t a, int depth_a, uint64_t b, int depth_b) {
   return depth_a <= depth_b ? (b >> (3 * (depth_b - depth_a))) == a : (a >> (3 * (depth_a - depth_b))) == b;
@@ -70,7 +94,7 @@ class BrickedEncoder {
         index_(in.points, q_),
         level_of_(in.points.size(), 0),
         reference_(in.points, q_, exchange, in.voxels, o.hierarchy.on_phase),
-        at_once_(o.blocks_at_once > 0 ? o.blocks_at_once : thread_count()) {
+        at_once_(o.blocks_at_once > 0 ? o.blocks_at_once : default_blocks_at_once(o.block_points)) {
     if (x_.size() > 1)
       reference_.set_in_parts(in.reference_tets, in.share, [this] { tets_done(); });
     else if (!in.reference_tets.empty())

@@ -47,9 +47,11 @@ struct BrickedEncodeOptions {
   uint64_t brick_points = 2048;
   uint64_t block_points = uint64_t{1} << 18;
   // How many blocks a process builds at once, each on its share of the
-  // threads; 0: one per thread. Each holds its region's tetrahedralization
-  // (about 1.2 KB a point of the region at 2^18 points), so the memory a
-  // process needs grows with it; the stream does not depend on it.
+  // threads; 0: one per thread, as many as a quarter of the process's share
+  // of the machine's memory holds. Each holds its region's work (about 1 KB
+  // a block point: bunny_1m's blocks of up to 228,640 points, about 230
+  // MiB), so the memory a process needs grows with it; the stream does not
+  // depend on it.
   int blocks_at_once = 0;
   bool cell_hashes = false;
   // The ranks of the run; nullptr: this process alone.

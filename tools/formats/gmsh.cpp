@@ -337,7 +337,9 @@ class GmshReader {
         if (!parse_field(f, tags[i]) || !next_field(line, at).empty())
           c_.fail_line(i, "expected a node tag, found '" + std::string(line) + "'");
       });
-      for (uint64_t i = 0; i < in_block; ++i) add_node(tags[i], first + i);
+      for (uint64_t i = 0; i < in_block; ++i)
+        if (!index_of_.emplace(tags[i], static_cast<uint32_t>(first + i)).second)
+          c_.fail_line(i, "node tag " + std::to_string(tags[i]) + " defined twice");
       release(tags);
       out_.points.resize(first + in_block);
       const int fields = 3 + dim * parametric;
@@ -418,8 +420,9 @@ class GmshReader {
       std::array<uint32_t, 4> nodes;
       int64_t physical;  // the first tag (0: none)
       int64_t tag;       // a tetrahedron's element tag
-      int32_t type;      // -2: a triangle of other than 3 nodes
+      int32_t type;
       bool tagged;
+      bool odd_triangle;  // a triangle of other than 3 nodes (counted, not kept)
     };
     constexpr uint64_t kChunk = uint64_t{1} << 20;  // lines held at once (40 MB)
     std::vector<Line> chunk;
@@ -435,6 +438,7 @@ class GmshReader {
         if (count.empty()) c_.fail_line(i, "expected 'tag type ntags ...'");
         Line& r = chunk[i];
         r.type = 0;
+        r.odd_triangle = false;
         std::from_chars(type_text.data(), type_text.data() + type_text.size(), r.type);
         int tags = 0;
         const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), tags);
@@ -460,7 +464,7 @@ class GmshReader {
           if (tec != std::errc())
             c_.fail_line(i, "expected an element tag, found '" + std::string(tag) + "'");
         } else if (r.type == kGmshTriangle && nodes != 3) {
-          r.type = -2;
+          r.odd_triangle = true;
         }
       });
       for (const Line& r : chunk) {
@@ -472,11 +476,11 @@ class GmshReader {
           note_tetrahedron(r.tag);
           out_.tets.push_back(r.nodes);
           tet_tag_.push_back(tag_);
-        } else if (r.type == kGmshTriangle) {
+        } else if (r.type == kGmshTriangle && !r.odd_triangle) {
           triangles_.push_back({r.nodes[0], r.nodes[1], r.nodes[2]});
           tri_tag_.push_back(tag_);
         } else {
-          ++other_elements_[r.type == -2 ? kGmshTriangle : r.type];
+          ++other_elements_[r.type];
         }
       }
     }
@@ -521,6 +525,10 @@ class GmshReader {
   // type, parsed on every core, each into its place.
   void element_block(uint64_t in_block, int type) {
     const bool tet = type == kGmshTetrahedron, tri = type == kGmshTriangle;
+    // Room is made before the lines are read: no more than their bytes can
+    // hold (a field and its separator take two bytes at least).
+    if ((tet && in_block > c_.remaining() / 10) || (tri && in_block > c_.remaining() / 8))
+      c_.fail("an element count " + std::to_string(in_block) + " is more than the file can hold");
     const size_t first = tet ? out_.tets.size() : triangles_.size();
     if (tet) {
       out_.tets.resize(first + in_block);

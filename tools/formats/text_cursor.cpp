@@ -21,7 +21,7 @@ std::string read_whole_file(const std::string& path) {
   // would hold it twice and copy it twice: 0.3 s at 350 MB).
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
-  if (!ec && std::filesystem::is_regular_file(path, ec) && !ec) {
+  if (!ec && size > 0 && std::filesystem::is_regular_file(path, ec) && !ec) {
     std::string bytes(size, '\0');
     in.read(bytes.data(), static_cast<std::streamsize>(size));
     if (static_cast<uint64_t>(in.gcount()) != size) throw FormatError(path + ": cannot read file");

@@ -238,43 +238,48 @@ const std::array<uint8_t, 256>& base64_values() {
 }
 
 // Decodes up to `quanta` whole 4-character quanta of plain base64 (no
-// blank, no padding) from text[pos], on every core, appending 3 bytes each
-// to `out`; stops before the first quantum holding anything else, and
-// moves `pos` past those decoded. The rest is the careful loop's below.
+// blank, no padding) from text[pos], appending 3 bytes each to `out`;
+// stops before the first quantum holding anything else, and moves `pos`
+// past those decoded. The rest is the careful loop's below. Windows of
+// quanta, each twice the last, are decoded in ranges on every core: `out`
+// grows by a window at a time, so text broken into lines (a blank every 76
+// characters) costs what it decodes, not what is left.
 void decode_plain_quanta(std::string_view text, size_t& pos, uint64_t quanta, std::string& out) {
   constexpr uint64_t kRange = uint64_t{1} << 16;  // quanta a thread decodes at once
   const auto& value = base64_values();
-  const size_t at = out.size();
-  out.resize(at + 3 * quanta);
-  const uint64_t ranges = (quanta + kRange - 1) / kRange;
-  // Per range: the quanta it decoded before a quantum it could not.
-  std::vector<uint64_t> done(ranges, 0);
-  const auto decode = [&](size_t r) {
-    const uint64_t first = r * kRange, last = std::min(quanta, first + kRange);
-    const auto* in = reinterpret_cast<const unsigned char*>(text.data() + pos);
-    auto* to = reinterpret_cast<unsigned char*>(out.data() + at);
-    uint64_t q = first;
-    for (; q < last; ++q) {
-      const unsigned char* c = in + 4 * q;
-      const uint32_t a = value[c[0]], b = value[c[1]], d = value[c[2]], e = value[c[3]];
-      if ((a | b | d | e) > 63) break;
-      const uint32_t w = a << 18 | b << 12 | d << 6 | e;
-      to[3 * q] = static_cast<unsigned char>(w >> 16);
-      to[3 * q + 1] = static_cast<unsigned char>(w >> 8);
-      to[3 * q + 2] = static_cast<unsigned char>(w);
-    }
-    done[r] = q - first;
-  };
-  // The first range alone: text broken into lines stops in it, and the
-  // careful loop takes the blank before this is called again.
-  if (ranges > 0) decode(0);
-  if (ranges > 1 && done[0] == kRange) parallel_for(ranges - 1, [&](size_t r) { decode(r + 1); });
+  const auto* in = reinterpret_cast<const unsigned char*>(text.data() + pos);
   uint64_t decoded = 0;
-  for (uint64_t r = 0; r < ranges; ++r) {
-    decoded += done[r];
-    if (done[r] < std::min(quanta, (r + 1) * kRange) - r * kRange) break;
+  for (uint64_t window = 1024; decoded < quanta; window *= 2) {
+    const uint64_t first = decoded, count = std::min(window, quanta - decoded);
+    const size_t at = out.size();
+    out.resize(at + 3 * count);
+    auto* to = reinterpret_cast<unsigned char*>(out.data() + at);
+    const uint64_t ranges = (count + kRange - 1) / kRange;
+    // Per range: the quanta it decoded before a quantum it could not.
+    std::vector<uint64_t> done(ranges, 0);
+    parallel_for(ranges, [&](size_t r) {
+      const uint64_t lo = r * kRange, hi = std::min(count, lo + kRange);
+      uint64_t q = lo;
+      for (; q < hi; ++q) {
+        const unsigned char* c = in + 4 * (first + q);
+        const uint32_t a = value[c[0]], b = value[c[1]], d = value[c[2]], e = value[c[3]];
+        if ((a | b | d | e) > 63) break;
+        const uint32_t w = a << 18 | b << 12 | d << 6 | e;
+        to[3 * q] = static_cast<unsigned char>(w >> 16);
+        to[3 * q + 1] = static_cast<unsigned char>(w >> 8);
+        to[3 * q + 2] = static_cast<unsigned char>(w);
+      }
+      done[r] = q - lo;
+    });
+    uint64_t plain = 0;  // of this window, up to its first stop
+    for (uint64_t r = 0; r < ranges; ++r) {
+      plain += done[r];
+      if (done[r] < std::min(count, (r + 1) * kRange) - r * kRange) break;
+    }
+    out.resize(at + 3 * plain);
+    decoded += plain;
+    if (plain < count) break;
   }
-  out.resize(at + 3 * decoded);
   pos += 4 * decoded;
 }
 
