@@ -9,21 +9,9 @@
 # memory). Writes bench/results/BRICKED_ONE_RANK.md. bunny_1m comes from
 # BUILD_DIR/bench-data/, made by data/make_large.sh (~70 s) when absent.
 set -euo pipefail
-root=$(cd "$(dirname "$0")/.." && pwd)
-build=${1:-build}
-case $build in /*) ;; *) build=$root/$build ;; esac
-enc=$build/tools/meshenc
-data=$build/bench-data
-[ -x "$enc" ] || { echo "bricked_one_rank.sh: $enc not built" >&2; exit 2; }
-if [ ! -s "$data/bunny_1m.ele" ]; then
-  mkdir -p "$data"
-  "$root/data/make_large.sh" -o "$data" bunny_1m >&2
-fi
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cores=$(nproc)
-commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
-cd "$data"
+script=bricked_one_rank.sh
+# shellcheck source=bench/bunny_1m_env.sh
+source "$(dirname "$0")/bunny_1m_env.sh"
 run() {
   local name=$1
   shift
