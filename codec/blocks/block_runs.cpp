@@ -176,7 +176,7 @@ std::vector<std::vector<uint8_t>> run_blocks(
   sent.u8(1);
   Status local = Status::Ok();
   for (size_t i = 0; i < mine.size(); ++i) {
-    if (!ran[i]) continue;  // after a failure (the first that ran is told)
+    if (!ran[i]) continue;  // after the first failure: not run
     if (!done[i].ok()) {
       local = done[i].status();
       break;
