@@ -273,6 +273,16 @@ std::string write_temp(const std::string& name, const std::string& text) {
   return path;
 }
 
+// What reading `text` as the file `name` fails with ("no error" if it reads).
+std::string read_error(const std::string& name, const std::string& text) {
+  try {
+    read_input(write_temp(name, text));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 TEST(InputFormats, GmshSparseTagsAndNodeData) {
   const std::string path = write_temp(
       "sparse.msh",
@@ -323,14 +333,7 @@ TEST(InputFormats, GmshElementBlocksReadInPiecesKeepOrderAndTellTheFirstBadLine)
   ASSERT_EQ(m.tet_regions.size(), static_cast<size_t>(kTets));
   EXPECT_EQ(m.tet_regions[kTets - 1], 7);
   EXPECT_EQ(m.tagged_faces.size(), 1u);
-  const auto error_of = [&](const std::string& text) {
-    try {
-      read_input(write_temp("bad_pieces.msh", text));
-    } catch (const std::exception& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  const auto error_of = [](const std::string& text) { return read_error("bad_pieces.msh", text); };
   EXPECT_NE(error_of(file(30000, -1))
                 .find("bad_pieces.msh:" + std::to_string(27 + 30000) + ": node tag 99 out of range"),
             std::string::npos)
@@ -538,14 +541,7 @@ TEST(InputFormats, GmshBinaryBlocksReadInRangesTellTheFirstBadTag) {
                              static_cast<uint32_t>((e + 2) % 8), static_cast<uint32_t>((e + 3) % 8)}))
         << e;
   EXPECT_EQ(m.tet_regions.at(kTets - 1), 5);
-  const auto error_of = [&](const std::string& text) {
-    try {
-      read_input(write_temp("binary_ranges_bad.msh", text));
-    } catch (const std::exception& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  const auto error_of = [](const std::string& text) { return read_error("binary_ranges_bad.msh", text); };
   EXPECT_NE(error_of(file(kTets, 68000)).find("node tag 99 out of range"), std::string::npos)
       << error_of(file(kTets, 68000));
   EXPECT_NE(error_of(file(100, 68000)).find("node tag 98 out of range"), std::string::npos)

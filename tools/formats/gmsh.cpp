@@ -21,19 +21,6 @@ constexpr int kGmshTriangle = 2;
 constexpr int kGmshTetrahedron = 4;
 
 // Whitespace-separated fields of one line.
-std::vector<std::string_view> split(std::string_view line) {
-  std::vector<std::string_view> out;
-  size_t p = 0;
-  while (true) {
-    p = line.find_first_not_of(" \t\r", p);
-    if (p == std::string_view::npos) return out;
-    const size_t e = line.find_first_of(" \t\r", p);
-    out.push_back(line.substr(p, e == std::string_view::npos ? e : e - p));
-    if (e == std::string_view::npos) return out;
-    p = e;
-  }
-}
-
 // The next whitespace-separated field of `line` from `at`, `at` moved past
 // it ("" at the end of the line).
 std::string_view next_field(std::string_view line, size_t& at) {
@@ -42,6 +29,14 @@ std::string_view next_field(std::string_view line, size_t& at) {
   const size_t b = at;
   while (at < line.size() && !blank(line[at])) ++at;
   return line.substr(b, at - b);
+}
+
+// Whitespace-separated fields of one line.
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> out;
+  size_t at = 0;
+  for (std::string_view f = next_field(line, at); !f.empty(); f = next_field(line, at)) out.push_back(f);
+  return out;
 }
 
 // A whole field as a number.
@@ -365,14 +360,24 @@ class GmshReader {
                         std::to_string(out_.points.size()));
   }
 
-  uint32_t node(std::string_view tag_text) {
-    int64_t tag = 0;
-    const auto [end, ec] = std::from_chars(tag_text.data(), tag_text.data() + tag_text.size(), tag);
-    if (ec != std::errc() || end != tag_text.data() + tag_text.size())
-      c_.fail("expected a node tag, found '" + std::string(tag_text) + "'");
+  // A node's index by its tag (its text), or fail(problem), which throws.
+  template <class Fail>
+  uint32_t node_of(int64_t tag, const Fail& fail) const {
     const auto it = index_of_.find(tag);
-    if (it == index_of_.end()) c_.fail("node tag " + std::to_string(tag) + " out of range (no such node)");
+    if (it == index_of_.end()) fail("node tag " + std::to_string(tag) + " out of range (no such node)");
     return it->second;
+  }
+  template <class Fail>
+  uint32_t node_of(std::string_view tag_text, const Fail& fail) const {
+    int64_t tag = 0;
+    if (!parse_field(tag_text, tag)) fail("expected a node tag, found '" + std::string(tag_text) + "'");
+    return node_of(tag, fail);
+  }
+  uint32_t node(std::string_view tag_text) const {
+    return node_of(tag_text, [&](const std::string& problem) { c_.fail(problem); });
+  }
+  uint32_t node(int64_t tag) const {
+    return node_of(tag, [&](const std::string& problem) { c_.fail(problem); });
   }
 
   // The element tag of the tetrahedron about to be added ($ElementData names it).
@@ -511,14 +516,7 @@ class GmshReader {
   // A node's index by its tag, read by the threads of an element block
   // (line i of it).
   uint32_t node_on_line(std::string_view tag_text, uint64_t i) const {
-    int64_t tag = 0;
-    const auto [end, ec] = std::from_chars(tag_text.data(), tag_text.data() + tag_text.size(), tag);
-    if (ec != std::errc() || end != tag_text.data() + tag_text.size())
-      c_.fail_line(i, "expected a node tag, found '" + std::string(tag_text) + "'");
-    const auto it = index_of_.find(tag);
-    if (it == index_of_.end())
-      c_.fail_line(i, "node tag " + std::to_string(tag) + " out of range (no such node)");
-    return it->second;
+    return node_of(tag_text, [&](const std::string& problem) { c_.fail_line(i, problem); });
   }
 
   // 4.1's element lines of one block ("tag node node ..."), all of one
@@ -552,9 +550,7 @@ class GmshReader {
       if (tet) {
         if (nodes != 4) c_.fail_line(i, "a tetrahedron with " + std::to_string(nodes) + " nodes");
         int64_t tag = 0;
-        const auto [end, ec] =
-            std::from_chars(element_tag.data(), element_tag.data() + element_tag.size(), tag);
-        if (ec != std::errc() || end != element_tag.data() + element_tag.size())
+        if (!parse_field(element_tag, tag))
           c_.fail_line(i, "expected an element tag, found '" + std::string(element_tag) + "'");
         out_.tets[first + i] = t;
         tet_element_[first + i] = tag;
@@ -594,10 +590,8 @@ class GmshReader {
     std::array<uint32_t, 4> t{};
     for (int k = 0; k < per; ++k) {
       const std::string_view b = nodes.substr(static_cast<size_t>(k) * size);
-      const int64_t tag = size == 4 ? int64_t{int32(b)} : static_cast<int64_t>(size_t64(b));
-      const auto it = index_of_.find(tag);
-      if (it == index_of_.end()) c_.fail("node tag " + std::to_string(tag) + " out of range (no such node)");
-      if (k < 4) t[k] = it->second;
+      const uint32_t v = node(size == 4 ? int64_t{int32(b)} : static_cast<int64_t>(size_t64(b)));
+      if (k < 4) t[k] = v;
     }
     if (type == kGmshTetrahedron) {
       note_tetrahedron(element_tag);
@@ -632,11 +626,7 @@ class GmshReader {
           const std::string_view r = b.substr(e * record, record);
           std::array<uint32_t, 4> t{};
           for (int k = 0; k < (tet ? 4 : 3); ++k) {
-            const auto tag = static_cast<int64_t>(size_t64(r.substr(8 * (k + 1))));
-            const auto it = index_of_.find(tag);
-            if (it == index_of_.end())
-              c_.fail("node tag " + std::to_string(tag) + " out of range (no such node)");
-            t[k] = it->second;
+            t[k] = node(static_cast<int64_t>(size_t64(r.substr(8 * (k + 1)))));
           }
           if (tet) {
             out_.tets[first + e] = t;
