@@ -248,6 +248,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   report.reference_boundary_vertices = encoded.reference_boundary_vertices;
   report.reference_questions = encoded.reference_questions;
   report.reference_question_runs = encoded.reference_question_runs;
+  report.reference_questions_at_once = encoded.reference_questions_at_once;
   out.bytes = std::move(encoded.bytes);
   std::vector<uint32_t> vertex_of_point(q.points.size());
   for (uint32_t v = 0; v < encoded.decode_order.size(); ++v) vertex_of_point[encoded.decode_order[v]] = v;

@@ -221,9 +221,11 @@ struct EncodeReport {
   uint64_t reference_voxels = 0;      // the voxels of the solid carved to, 0 without
   uint64_t reference_boundary_vertices = 0;
   // Bricked on MPI ranks, the reference in parts: the points whose place in
-  // it the ranks answered together, and the blocks' runs that asked them
-  // (each run again once answered).
-  uint64_t reference_questions = 0, reference_question_runs = 0;
+  // it the ranks answered in their exchanges, and the blocks' runs that
+  // asked them (each run again once answered); the points the ranks
+  // answered while they worked (the blocks' passes run again, not the
+  // blocks).
+  uint64_t reference_questions = 0, reference_question_runs = 0, reference_questions_at_once = 0;
   // With tetrahedra in the input: level 0's solid against the input's, grid
   // units cubed (core/solid_difference.h).
   std::optional<SolidDifference> level0_difference;

@@ -90,18 +90,19 @@ struct CellResults {
         fresh.push_back(c);
       }
     }
-    parallel_for(
-        fresh.size(),
-        [&](size_t i) {
-          const auto& k = mesh.cells[fresh[i]];
-          const uint8_t region =
-              solid.region_of_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
-          const bool in = region != 0 && (kept_radius <= 0 || carving_radius(points, k) <= kept_radius);
-          new_kept[fresh[i]] = in ? region : 0;
-          if (in) new_angle[fresh[i]] = smallest_solid_angle(points, k);
-        },
-        1024);
-    DTM_RETURN_IF_ERROR(solid.settle());
+    DTM_RETURN_IF_ERROR(settled_pass(solid, [&] {
+      parallel_for(
+          fresh.size(),
+          [&](size_t i) {
+            const auto& k = mesh.cells[fresh[i]];
+            const uint8_t region =
+                solid.region_of_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
+            const bool in = region != 0 && (kept_radius <= 0 || carving_radius(points, k) <= kept_radius);
+            new_kept[fresh[i]] = in ? region : 0;
+            new_angle[fresh[i]] = in ? smallest_solid_angle(points, k) : 0;
+          },
+          1024);
+    }));
     kept = std::move(new_kept);
     angle = std::move(new_angle);
     return Status::Ok();
@@ -317,28 +318,30 @@ Status repair_quality(const TetMesh& mesh, const CellResults& cells, std::span<c
     std::vector<int32_t> cells;
   };
   std::vector<Option> options(candidates.size());
-  parallel_for(
-      candidates.size(),
-      [&](size_t i) {
-        thread_local std::vector<std::array<uint32_t, 3>> faces;
-        Option& o = options[i];
-        o.k = candidates[i].first;
-        const uint32_t v = removed.vertex(o.k);
-        if (!conflict_region(mesh, points, points[v], candidates[i].second, o.cells, faces)) {
-          o.cells.clear();
-          return;
-        }
-        for (int32_t c : o.cells)
-          if (cells.kept[static_cast<size_t>(c)] && counted[static_cast<size_t>(c)])
-            o.gain -= cells.angle[static_cast<size_t>(c)] - floor;
-        for (const auto& f : faces)
-          if (solid.contains_centroid(points[v], points[f[0]], points[f[1]], points[f[2]]) &&
-              (kept_radius <= 0 || carving_radius(points, {v, f[0], f[1], f[2]}) <= kept_radius) &&
-              owns(owned, points, std::array<uint32_t, 4>{v, f[0], f[1], f[2]}))
-            o.gain += smallest_solid_angle(points, {v, f[0], f[1], f[2]}) - floor;
-      },
-      32);
-  DTM_RETURN_IF_ERROR(solid.settle());
+  DTM_RETURN_IF_ERROR(settled_pass(solid, [&] {
+    parallel_for(
+        candidates.size(),
+        [&](size_t i) {
+          thread_local std::vector<std::array<uint32_t, 3>> faces;
+          Option& o = options[i];
+          o = Option{};
+          o.k = candidates[i].first;
+          const uint32_t v = removed.vertex(o.k);
+          if (!conflict_region(mesh, points, points[v], candidates[i].second, o.cells, faces)) {
+            o.cells.clear();
+            return;
+          }
+          for (int32_t c : o.cells)
+            if (cells.kept[static_cast<size_t>(c)] && counted[static_cast<size_t>(c)])
+              o.gain -= cells.angle[static_cast<size_t>(c)] - floor;
+          for (const auto& f : faces)
+            if (solid.contains_centroid(points[v], points[f[0]], points[f[1]], points[f[2]]) &&
+                (kept_radius <= 0 || carving_radius(points, {v, f[0], f[1], f[2]}) <= kept_radius) &&
+                owns(owned, points, std::array<uint32_t, 4>{v, f[0], f[1], f[2]}))
+              o.gain += smallest_solid_angle(points, {v, f[0], f[1], f[2]}) - floor;
+        },
+        32);
+  }));
   std::erase_if(options, [](const Option& o) { return o.cells.empty() || o.gain <= 0; });
   std::stable_sort(options.begin(), options.end(),
                    [](const Option& a, const Option& b) { return a.gain > b.gain; });

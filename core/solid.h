@@ -50,6 +50,20 @@ class Solid {
   // them (codec/blocks/reference_questions.h) says so with a status that is
   // not ok, and the work returns it at once: the rest would run on guesses.
   virtual Status settle() const { return Status::Ok(); }
+  // Gets the answers to what the last pass could only guess, where the
+  // solid can ask for them at once (the ranks of a run answering while
+  // they work): true when it did, and the pass must be run again.
+  virtual bool ask() const { return false; }
 };
+
+// Runs `pass`, a pass of questions to `solid` whose answers decide what the
+// work does next, again while the solid gets answers it had only guessed,
+// then settles it (above).
+template <class Pass>
+Status settled_pass(const Solid& solid, Pass&& pass) {
+  pass();
+  while (solid.ask()) pass();
+  return solid.settle();
+}
 
 }  // namespace dtm

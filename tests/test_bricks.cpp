@@ -163,6 +163,36 @@ TEST(BlockPlan, SplitsWherePointsCrowdUntilEveryBlockIsBounded) {
   }
 }
 
+// A level of fewer blocks than ranks goes to the rank given the fewest
+// points so far, so that the coarse levels (one block each) do not all
+// fall to the same rank; a level of many blocks keeps its Morton runs.
+TEST(BlockPlan, LevelsOfFewBlocksGoToTheLeastLoadedRank) {
+  const auto plan_of = [](std::vector<size_t> first, int ranks) {
+    BlockPlan p;
+    p.first = std::move(first);
+    for (size_t k = 0; k + 1 < p.first.size(); ++k) p.blocks.push_back(k), p.depth.push_back(1);
+    assign_ranks(p, ranks);
+    return p;
+  };
+  RankLoads loads(4);
+  BlockPlan many = plan_of({0, 100, 200, 300, 400, 500, 600, 700, 1000}, 4);
+  const std::vector<int> runs = many.rank;
+  loads.balance(many);
+  EXPECT_EQ(many.rank, runs);
+  EXPECT_EQ(std::vector<uint64_t>(loads.points().begin(), loads.points().end()),
+            (std::vector<uint64_t>{200, 300, 200, 300}));
+  // One block a level: the least loaded rank each time (the lowest on a
+  // tie), where assign_ranks would give every one to the middle rank.
+  std::vector<int> given;
+  for (size_t points : {150, 120, 90, 60, 30}) {
+    BlockPlan one = plan_of({0, points}, 4);
+    EXPECT_EQ(one.rank[0], 2);
+    loads.balance(one);
+    given.push_back(one.rank[0]);
+  }
+  EXPECT_EQ(given, (std::vector<int>{0, 2, 1, 3, 2}));
+}
+
 TEST(BrickedStream, DecodesToTheEncodersMeshesAtEveryLevel) {
   const std::vector<uint8_t> bytes = bricked_stream("hand_10k", 64, true);
   StreamHeader h;
@@ -196,34 +226,48 @@ TEST(BrickedStream, DecodesToTheEncodersMeshesAtEveryLevel) {
 // The levels are built block by block, each block's part a function of its
 // region only: one process, or 2 or 3 ranks sharing the blocks, write the
 // same bytes. On ranks, each holds a part of the reference, and a block's
-// work is run again where it asked what only the ranks together know
-// (bunny_10k's blocks ask).
+// work asks what only the ranks together know (bunny_10k's blocks ask):
+// the ranks answer while they work and the pass that asked runs again, or,
+// where the exchange cannot (an MPI without threads), they answer in their
+// next exchange and the block's work runs again.
 TEST(BrickedStream, TheSameBytesForAnyNumberOfRanks) {
   for (const std::string model : {"hand_10k", "bunny_10k"}) {
     SCOPED_TRACE(model);
     const std::vector<uint8_t> alone = bricked_stream(model, 64, true);
     ASSERT_FALSE(alone.empty());
-    for (int ranks : {1, 2, 3}) {
-      ThreadRanks all(ranks);
-      std::vector<std::vector<uint8_t>> made(static_cast<size_t>(ranks));
-      std::vector<EncodeReport> reports(static_cast<size_t>(ranks));
-      std::vector<std::thread> threads;
-      for (int r = 0; r < ranks; ++r)
-        threads.emplace_back([&, r] {
-          ThreadRanks::Rank rank(all, r);
-          made[static_cast<size_t>(r)] =
-              bricked_stream(model, 64, true, &rank, &reports[static_cast<size_t>(r)]);
-        });
-      for (auto& t : threads) t.join();
-      for (int r = 0; r < ranks; ++r) {
-        EXPECT_TRUE(made[static_cast<size_t>(r)] == alone) << ranks << " ranks, rank " << r;
-        EXPECT_EQ(reports[static_cast<size_t>(r)].reference_questions, reports[0].reference_questions);
-      }
-      if (ranks == 1) {
-        EXPECT_EQ(reports[0].reference_question_runs, 0u);
-      } else if (model == "bunny_10k") {
-        EXPECT_GT(reports[0].reference_questions, 0u) << ranks;
-        EXPECT_GT(reports[0].reference_question_runs, 0u) << ranks;
+    for (const bool at_once : {true, false}) {
+      for (int ranks : {1, 2, 3}) {
+        SCOPED_TRACE(at_once ? "answered while working" : "answered in the exchanges");
+        ThreadRanks all(ranks);
+        all.answer_while_working(at_once);
+        std::vector<std::vector<uint8_t>> made(static_cast<size_t>(ranks));
+        std::vector<EncodeReport> reports(static_cast<size_t>(ranks));
+        std::vector<std::thread> threads;
+        for (int r = 0; r < ranks; ++r)
+          threads.emplace_back([&, r] {
+            ThreadRanks::Rank rank(all, r);
+            made[static_cast<size_t>(r)] =
+                bricked_stream(model, 64, true, &rank, &reports[static_cast<size_t>(r)]);
+          });
+        for (auto& t : threads) t.join();
+        for (int r = 0; r < ranks; ++r) {
+          const EncodeReport& report = reports[static_cast<size_t>(r)];
+          EXPECT_TRUE(made[static_cast<size_t>(r)] == alone) << ranks << " ranks, rank " << r;
+          EXPECT_EQ(report.reference_questions, reports[0].reference_questions);
+          EXPECT_EQ(report.reference_questions_at_once, reports[0].reference_questions_at_once);
+        }
+        const EncodeReport& report = reports[0];
+        if (ranks == 1) {
+          EXPECT_EQ(report.reference_question_runs + report.reference_questions_at_once, 0u);
+        } else if (model == "bunny_10k" && at_once) {
+          // Every question answered in the pass that asked it: no block run again.
+          EXPECT_GT(report.reference_questions_at_once, 0u) << ranks;
+          EXPECT_EQ(report.reference_question_runs, 0u) << ranks;
+        } else if (model == "bunny_10k") {
+          EXPECT_GT(report.reference_questions, 0u) << ranks;
+          EXPECT_GT(report.reference_question_runs, 0u) << ranks;
+          EXPECT_EQ(report.reference_questions_at_once, 0u) << ranks;
+        }
       }
     }
   }

@@ -3,7 +3,10 @@
 #pragma once
 
 #include <barrier>
+#include <condition_variable>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -27,15 +30,67 @@ class ThreadRanks {
       all_.sync_.arrive_and_wait();  // nobody writes again before everyone has read
       return out;
     }
+    // Asked on the asking thread: each rank's answerer called there, once
+    // every rank has set one (as MPI holds a question until the rank
+    // answering it has started).
+    std::unique_ptr<RankAnswers> answer_while_working(Answerer answer) override {
+      if (!all_.answering_) return nullptr;
+      return std::make_unique<Answers>(all_, rank_, std::move(answer));
+    }
 
    private:
     ThreadRanks& all_;
     int rank_;
   };
 
+  // Whether ranks answer while they work (answer_while_working()); when
+  // not, they hear each other only in all_gather(), as on an MPI without
+  // threads.
+  void answer_while_working(bool on) { answering_ = on; }
+
  private:
+  class Answers final : public RankAnswers {
+   public:
+    Answers(ThreadRanks& all, int rank, Answerer answer) : all_(all), rank_(rank) {
+      const std::lock_guard lock(all_.mutex_);
+      all_.answerers_.resize(all_.slots_.size());
+      all_.answerers_[static_cast<size_t>(rank_)] = std::move(answer);
+      all_.answerer_set_.notify_all();
+    }
+    ~Answers() override {
+      all_.sync_.arrive_and_wait();  // nobody asks any more
+      const std::lock_guard lock(all_.mutex_);
+      all_.answerers_[static_cast<size_t>(rank_)] = nullptr;
+    }
+    Answers(const Answers&) = delete;
+    Answers& operator=(const Answers&) = delete;
+    int rank() const override { return rank_; }
+    std::vector<std::vector<uint8_t>> ask_others(std::span<const uint8_t> question) override {
+      std::vector<std::vector<uint8_t>> out(all_.slots_.size());
+      for (size_t r = 0; r < out.size(); ++r) {
+        if (static_cast<int>(r) == rank_) continue;
+        Answerer answer;
+        {
+          std::unique_lock lock(all_.mutex_);
+          all_.answerer_set_.wait(lock, [&] { return all_.answerers_.size() > r && all_.answerers_[r]; });
+          answer = all_.answerers_[r];
+        }
+        out[r] = answer(question);
+      }
+      return out;
+    }
+
+   private:
+    ThreadRanks& all_;
+    int rank_;
+  };
+
   std::vector<std::vector<uint8_t>> slots_;
   std::barrier<> sync_;
+  bool answering_ = true;
+  std::mutex mutex_;
+  std::condition_variable answerer_set_;
+  std::vector<Answerer> answerers_;
 };
 
 }  // namespace dtm::test

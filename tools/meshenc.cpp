@@ -382,6 +382,9 @@ void print_reference_line(const dtm::EncodeReport& r) {
         d.second_volume > 0 ? 100 * d.symmetric() / d.second_volume : 0.0, d.only_first * step * step * step,
         d.only_second * step * step * step);
   }
+  if (r.reference_questions_at_once > 0)
+    std::printf("reference in parts on the ranks: %llu points answered by the ranks while they worked\n",
+                static_cast<unsigned long long>(r.reference_questions_at_once));
   if (r.reference_question_runs > 0)
     std::printf(
         "reference in parts on the ranks: %llu points answered by the ranks together, for %llu block runs "
@@ -414,8 +417,11 @@ void write_outputs(const Command& c, const dtm::EncodedMesh& encoded,
 int run(Command& c) {
   // Under mpirun every rank reads the input and builds its share of the
   // blocks; rank 0 writes the stream, the same bytes as one process writes.
+  // A rank lends its cores to the others on its node while it only waits,
+  // unless the user set the threads.
   dtm::MpiSession& mpi = dtm::mpi_session();
-  const dtm::ThreadBudget threads(c.threads, mpi.cores_share());
+  mpi.lend_cores(c.threads == 0);
+  const dtm::ThreadBudget threads(c.threads, mpi.cores_share(), mpi.cores_lent_at_most());
   if (mpi.size() > 1) {
     if (!c.encode.bricks)
       throw std::invalid_argument("under mpirun, meshenc writes a bricked stream: add --bricks");

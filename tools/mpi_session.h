@@ -4,8 +4,10 @@
 // of 1 and never calls MPI (no MPI start-up cost, no MPI messages).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <vector>
@@ -15,6 +17,8 @@
 
 #ifdef DTM_WITH_MPI
 #include <mpi.h>
+
+#include "tools/mpi_answers.h"
 #ifdef __linux__
 #include <sched.h>
 #endif
@@ -28,11 +32,13 @@ class MpiSession : public RankExchange {
 #ifdef DTM_WITH_MPI
     // Open MPI's and MPICH's (PMI) launchers say so in the environment.
     if (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK")) {
-      MPI_Init(argc, argv);
+      int provided = MPI_THREAD_SINGLE;
+      MPI_Init_thread(argc, argv, MPI_THREAD_MULTIPLE, &provided);
+      threads_ = provided >= MPI_THREAD_MULTIPLE;
       active_ = true;
       MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
       MPI_Comm_size(MPI_COMM_WORLD, &size_);
-      cores_share_ = node_share();
+      find_node();
     }
 #else
     (void)argc, (void)argv;
@@ -53,6 +59,23 @@ class MpiSession : public RankExchange {
   // `--bind-to none` every rank has the node's cores: each gets 1/P of
   // them; bound to a core, each its core); cores_given() when alone.
   int cores_share() const { return cores_share_ > 0 ? cores_share_ : cores_given(); }
+  // The most threads threads_while_busy() gives this rank: the cores it may
+  // run on (TBB's limit; the work itself starts thread_count()).
+  int cores_lent_at_most() const {
+    return active_ && lend_ ? std::max(cores_share(), mask_cores_) : cores_share();
+  }
+  // Off: a rank keeps to its share (the user gave --threads).
+  void lend_cores(bool on) { lend_ = on; }
+  // RankExchange: the cores this rank shares with others over those of
+  // them at work: while the rest of its node's ranks only wait (a level
+  // of fewer blocks than ranks), a rank at work takes their cores.
+  int threads_while_busy(std::span<const uint8_t> busy) const override {
+    const int share = thread_count();
+    if (!active_ || !lend_) return share;
+    int working = 0;
+    for (int r : neighbours_) working += r < static_cast<int>(busy.size()) && busy[static_cast<size_t>(r)];
+    return std::max(share, mask_cores_ / std::max(1, working));
+  }
   // RankExchange: MPI_Allgatherv of every rank's bytes (at most 2 GiB from
   // one rank at a time: MPI counts are ints).
   std::vector<std::vector<uint8_t>> all_gather(std::span<const uint8_t> mine) override {
@@ -62,7 +85,9 @@ class MpiSession : public RankExchange {
         throw std::runtime_error("MPI: over 2 GiB from one rank");
       const int count = static_cast<int>(mine.size());
       std::vector<int> counts(static_cast<size_t>(size_)), offsets(static_cast<size_t>(size_), 0);
-      MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+      MPI_Request request = MPI_REQUEST_NULL;
+      MPI_Iallgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request);
+      wait_for(request);
       size_t total = 0;
       for (int r = 0; r < size_; ++r) {
         if (total > static_cast<size_t>(INT32_MAX)) throw std::runtime_error("MPI: over 2 GiB gathered");
@@ -71,8 +96,9 @@ class MpiSession : public RankExchange {
       }
       if (total > static_cast<size_t>(INT32_MAX)) throw std::runtime_error("MPI: over 2 GiB gathered");
       std::vector<uint8_t> all(total);
-      MPI_Allgatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
-                     MPI_COMM_WORLD);
+      MPI_Iallgatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
+                      MPI_COMM_WORLD, &request);
+      wait_for(request);
       std::vector<std::vector<uint8_t>> out(static_cast<size_t>(size_));
       for (int r = 0; r < size_; ++r) {
         const auto first = all.begin() + offsets[static_cast<size_t>(r)];
@@ -83,12 +109,24 @@ class MpiSession : public RankExchange {
 #endif
     return {std::vector<uint8_t>(mine.begin(), mine.end())};
   }
+  // A thread that answers the other ranks, where MPI lets several threads
+  // call it (MPI_THREAD_MULTIPLE); else nullptr.
+  std::unique_ptr<RankAnswers> answer_while_working(Answerer answer) override {
+#ifdef DTM_WITH_MPI
+    if (active_ && threads_ && size_ > 1)
+      return std::make_unique<MpiAnswers>(MPI_COMM_WORLD, std::move(answer));
+#endif
+    (void)answer;
+    return nullptr;
+  }
   // Whether `ok` holds on every rank.
   bool all(bool ok) const {
 #ifdef DTM_WITH_MPI
     if (active_) {
       int mine = ok ? 1 : 0, every = 0;
-      MPI_Allreduce(&mine, &every, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+      MPI_Request request = MPI_REQUEST_NULL;
+      MPI_Iallreduce(&mine, &every, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD, &request);
+      wait_for(request);
       return every == 1;
     }
 #endif
@@ -99,7 +137,9 @@ class MpiSession : public RankExchange {
 #ifdef DTM_WITH_MPI
     if (active_) {
       unsigned long long mine = v, total = 0;
-      MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+      MPI_Request request = MPI_REQUEST_NULL;
+      MPI_Iallreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD, &request);
+      wait_for(request);
       return total;
     }
 #endif
@@ -108,12 +148,18 @@ class MpiSession : public RankExchange {
 
  private:
 #ifdef DTM_WITH_MPI
-  static int node_share() {
+  // This rank's share of its node's cores, and the ranks it shares them
+  // with.
+  void find_node() {
     MPI_Comm node;
     MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
     int ranks = 1;
     MPI_Comm_size(node, &ranks);
-    int share = cores_given();
+    std::vector<int> world(static_cast<size_t>(ranks));
+    MPI_Allgather(&rank_, 1, MPI_INT, world.data(), 1, MPI_INT, node);
+    mask_cores_ = cores_given();
+    int share = cores_given() / std::max(1, ranks);
+    neighbours_ = world;
 #ifdef __linux__
     cpu_set_t mine;
     CPU_ZERO(&mine);
@@ -121,23 +167,26 @@ class MpiSession : public RankExchange {
       for (int c = 0; c < cores_given(); ++c) CPU_SET(c, &mine);
     std::vector<cpu_set_t> all(static_cast<size_t>(ranks));
     MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, node);
-    int meeting = 0;
-    for (cpu_set_t& other : all) {
+    neighbours_.clear();
+    for (int r = 0; r < ranks; ++r) {
       cpu_set_t both;
-      CPU_AND(&both, &mine, &other);
-      meeting += CPU_COUNT(&both) > 0;
+      CPU_AND(&both, &mine, &all[static_cast<size_t>(r)]);
+      if (CPU_COUNT(&both) > 0) neighbours_.push_back(world[static_cast<size_t>(r)]);
     }
-    share = CPU_COUNT(&mine) / std::max(1, meeting);
-#else
-    share /= ranks;
+    mask_cores_ = CPU_COUNT(&mine);
+    share = mask_cores_ / std::max<int>(1, static_cast<int>(neighbours_.size()));
 #endif
     MPI_Comm_free(&node);
-    return std::max(1, share);
+    cores_share_ = std::max(1, share);
   }
 #endif
 
   int cores_share_ = 0;
+  int mask_cores_ = 0;           // the cores this rank may run on
+  std::vector<int> neighbours_;  // the ranks (this one too) whose cores meet this one's
+  bool lend_ = true;             // threads_while_busy() lends the idle ranks' cores
   bool active_ = false;
+  bool threads_ = false;  // MPI_THREAD_MULTIPLE
   int rank_ = 0;
   int size_ = 1;
 };

@@ -8,6 +8,7 @@
 #include <oneapi/tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <optional>
 
 #include "common/threads.h"
@@ -17,10 +18,13 @@ namespace dtm {
 class ThreadBudget {
  public:
   // `asked`: --threads, 0 when not given; `share`: the process's share of
-  // its cores.
-  ThreadBudget(int asked, int share) {
+  // its cores; `lent`: the most threads its work may be lent for a while
+  // (an MPI rank at work while the others on its node wait:
+  // RankExchange::threads_while_busy()), TBB's limit.
+  ThreadBudget(int asked, int share, int lent = 0) {
     set_thread_count(asked > 0 ? asked : share);
-    limit_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(thread_count()));
+    const int most = asked > 0 ? asked : std::max(share, lent);
+    limit_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(most));
   }
   ~ThreadBudget() { set_thread_count(0); }
   ThreadBudget(const ThreadBudget&) = delete;

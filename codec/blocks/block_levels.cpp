@@ -158,8 +158,8 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
   DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(block.points));
   std::vector<uint8_t> verdicts;
   if (reference) {
-    verdicts = reference->solid->verdicts(dt, block.points);
-    DTM_RETURN_IF_ERROR(reference->solid->settle());
+    DTM_RETURN_IF_ERROR(
+        settled_pass(*reference->solid, [&] { verdicts = reference->solid->verdicts(dt, block.points); }));
   }
   AlphaPolicy policy;
   policy.kind = AlphaKind::kFixed;

@@ -60,6 +60,19 @@ void assign_ranks(BlockPlan& p, int ranks) {
   }
 }
 
+void RankLoads::balance(BlockPlan& plan) {
+  const int ranks = static_cast<int>(points_.size());
+  const bool few = plan.blocks.size() < points_.size();
+  for (size_t k = 0; k < plan.blocks.size(); ++k) {
+    if (few) {
+      // The least loaded; the lowest such rank on a tie.
+      plan.rank[k] = static_cast<int>(std::min_element(points_.begin(), points_.end()) - points_.begin());
+    }
+    const int r = std::clamp(plan.rank[k], 0, ranks - 1);
+    points_[static_cast<size_t>(r)] += plan.first[k + 1] - plan.first[k];
+  }
+}
+
 void put(ByteWriter& w, std::span<const uint32_t> v) {
   w.u64(v.size());
   for (uint32_t x : v) w.u32(x);
@@ -118,6 +131,12 @@ std::vector<std::vector<uint8_t>> run_blocks(
   std::vector<size_t> mine;
   for (size_t k = 0; k < plan.blocks.size(); ++k)
     if (plan.rank[k] == exchange.rank()) mine.push_back(k);
+  // A level of fewer blocks than ranks leaves ranks waiting: those at work
+  // take their cores (the blocks' results do not depend on the threads).
+  std::vector<uint8_t> busy(static_cast<size_t>(exchange.size()), 0);
+  for (int r : plan.rank)
+    if (r >= 0 && r < exchange.size()) busy[static_cast<size_t>(r)] = 1;
+  const ThreadShare lent(exchange.threads_while_busy(busy));
   const auto run_one = [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
     try {
       return work(k);

@@ -36,6 +36,21 @@ BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int max_dept
 // Ranks for a plan's blocks, given their `first` points: contiguous runs of
 // about equal point counts.
 void assign_ranks(BlockPlan& plan, int ranks);
+// The ranks' shares of the work over a run's plans (the same on every
+// rank): a plan of fewer blocks than ranks (the coarse levels, one block
+// each) would leave its blocks to the same middle ranks level after level;
+// each of its blocks goes instead to the rank given the fewest points so
+// far. Other plans keep assign_ranks' runs (the reference's shares follow
+// Morton order too). Either way the plan's points are counted.
+class RankLoads {
+ public:
+  explicit RankLoads(int ranks) : points_(static_cast<size_t>(std::max(1, ranks)), 0) {}
+  void balance(BlockPlan& plan);
+  std::span<const uint64_t> points() const { return points_; }
+
+ private:
+  std::vector<uint64_t> points_;  // per rank, of the blocks it was given
+};
 
 // Runs `work` on every block of `plan` this rank builds, each result
 // serialized by the work, and returns every block's bytes, indexed by

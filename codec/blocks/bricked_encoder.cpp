@@ -142,6 +142,7 @@ class BrickedEncoder {
   const BrickedEncodeInput& in_;
   const BrickedEncodeOptions& o_;
   RankExchange& x_;
+  RankLoads loads_{x_.size()};  // which rank builds the blocks of a level of few
   int q_;
   MortonIndex index_;
   std::vector<uint8_t> level_of_;  // per grid point: the coarsest level that holds it
@@ -346,7 +347,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     BrickedLevel out;
     out.brick_depth =
         std::min(finest_depth, choose_brick_depth(codes, q_, std::max<uint64_t>(1, o_.brick_points / 4)));
-    const BlockPlan plan = plan_blocks(codes, q_, out.brick_depth, o_.block_points, x_.size());
+    BlockPlan plan = plan_blocks(codes, q_, out.brick_depth, o_.block_points, x_.size());
+    loads_.balance(plan);
     release(codes);  // 16 bytes a point, not held while the blocks are built
     size_t largest = 0;
     for (size_t k = 0; k < plan.blocks.size(); ++k)
@@ -438,6 +440,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   encoding.reference_boundary_vertices = reference_boundary_vertices_;
   encoding.reference_questions = reference_.questions().questions;
   encoding.reference_question_runs = reference_.questions().runs;
+  encoding.reference_questions_at_once = reference_.questions().answered_at_once;
   return encoding;
 }
 

@@ -14,8 +14,8 @@
 // checks are made block by block. The input's tetrahedra are held in
 // shares (codec/blocks/reference_share.h): each rank finds its own part of the
 // boundary (the ranks gather the boundary) and keeps its tetrahedra near it
-// as its part of the solid; what a block's part cannot answer, the ranks
-// answer together (codec/blocks/reference_questions.h).
+// as its part of the solid; what a block's part cannot answer, the other
+// ranks answer while they work (codec/blocks/reference_questions.h).
 #pragma once
 
 #include <array>
@@ -86,7 +86,8 @@ struct BrickedEncoding {
   std::vector<int> brick_depth;        // per level
   std::vector<uint32_t> decode_order;  // as EncodedStream's
   uint64_t reference_boundary_vertices = 0;
-  uint64_t reference_questions = 0, reference_question_runs = 0;  // as EncodeReport's
+  uint64_t reference_questions = 0, reference_question_runs = 0,
+           reference_questions_at_once = 0;  // as EncodeReport's
 };
 
 StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const BrickedEncodeOptions& options,

@@ -111,7 +111,12 @@ void RankReference::set_in_parts(std::span<const std::array<uint32_t, 4>> given,
   tets_done();
   tet_solid_.emplace(points_, near, own, boundary, whole, x_);
   release(near);
-  if (!voxels_) solid_ = &*tet_solid_, parts_ = true;
+  if (!voxels_) {
+    solid_ = &*tet_solid_, parts_ = true;
+    const ReferenceSolid& part = *tet_solid_;
+    answers_ = x_.answer_while_working(
+        [&part](std::span<const uint8_t> question) { return answer_questions(part, question); });
+  }
   faces_.emplace(points_, std::move(boundary), qbits_);
   whole_.reset();
 }
@@ -145,8 +150,8 @@ std::vector<std::vector<uint8_t>> RankReference::run_carving(
     return run_blocks(
         plan, x_, [&](size_t k) { return work(k, solid_); }, status, at_once);
   return run_blocks_asking(
-      plan, x_, *tet_solid_, book_, [&](size_t k, const Solid& asking) { return work(k, &asking); }, status,
-      questions_, at_once);
+      plan, x_, *tet_solid_, book_, answers_.get(),
+      [&](size_t k, const Solid& asking) { return work(k, &asking); }, status, questions_, at_once);
 }
 
 }  // namespace dtm

@@ -3,7 +3,7 @@
 // level 0's carving, or a scan's voxels) and its boundary triangles by
 // place, whole on one process; on ranks, the boundary whole and the solid
 // in parts (codec/blocks/reference_share.h), a block's questions about the
-// parts answered by the ranks together (codec/blocks/reference_questions.h).
+// parts answered by the other ranks (codec/blocks/reference_questions.h).
 // Either way a block is carved to the same verdicts.
 #pragma once
 
@@ -57,7 +57,9 @@ class RankReference {
   // call from several threads.
   std::optional<BlockReference> for_region(const GridBox& region, const Solid* solid) const;
   // run_blocks() of work carving to the reference: with the reference in
-  // parts, each block's work run again until the ranks answered all it asked.
+  // parts, the other ranks answer what a block's part cannot, while they
+  // work (else each block's work is run again until they answered all it
+  // asked).
   // `at_once`: run_blocks'.
   std::vector<std::vector<uint8_t>> run_carving(
       const BlockPlan& plan, const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid*)>& work,
@@ -79,6 +81,10 @@ class RankReference {
   AnswerBook book_;                          // what the ranks answered of this level's questions
   QuestionCount questions_;
   std::optional<TriangleIndex> faces_;
+  // The other ranks' questions answered from this rank's part while it
+  // works, and its own asked (null where the exchange cannot: then asked
+  // in the exchanges). Made last, so gone before the part it reads.
+  std::unique_ptr<RankAnswers> answers_;
   // The boundary whole, made the first time a block's region meets all of
   // it (a level of one block, level after level) and kept for the next.
   mutable std::mutex whole_mutex_;

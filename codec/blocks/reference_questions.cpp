@@ -1,6 +1,7 @@
 #include "codec/blocks/reference_questions.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 
 namespace dtm {
@@ -27,7 +28,8 @@ bool AskingSolid::contains_point4(const std::array<int64_t, 3>& p) const {
     case ReferenceSolid::Answer::kUnknown:
       break;
   }
-  const int known = book_.find(p);
+  int known = book_.find(p);
+  if (known < 0) known = asked_.find(p);
   if (known >= 0) return known == 1;
   const std::lock_guard<std::mutex> lock(mutex_);
   questions_.push_back(p);
@@ -64,12 +66,52 @@ std::vector<AnswerBook::Point4> get_points(BlockReader& r) {
   return points;
 }
 
+// A bit per point: whether one of the part's cells holds it.
+std::vector<uint8_t> held_bits(const ReferenceSolid& part, std::span<const AnswerBook::Point4> points) {
+  std::vector<uint8_t> bits((points.size() + 7) / 8, 0);
+  for (size_t i = 0; i < points.size(); ++i)
+    if (part.holds4(points[i])) bits[i / 8] |= static_cast<uint8_t>(1u << (i % 8));
+  return bits;
+}
+
+// ORs each rank's bits (of `n` points) into `inside`, a byte per point,
+// but rank `skip`'s.
+void or_bits(std::span<const std::vector<uint8_t>> ranks, int skip, size_t n, std::vector<uint8_t>& inside) {
+  for (size_t r = 0; r < ranks.size(); ++r) {
+    if (static_cast<int>(r) == skip) continue;
+    const std::vector<uint8_t>& bits = ranks[r];
+    if (bits.size() < (n + 7) / 8) throw std::runtime_error("a rank's answers are short");
+    for (size_t i = 0; i < n; ++i) inside[i] |= (bits[i / 8] >> (i % 8)) & 1;
+  }
+}
+
 }  // namespace
+
+std::vector<uint8_t> answer_questions(const ReferenceSolid& part, std::span<const uint8_t> question) {
+  BlockReader r(question);
+  return held_bits(part, get_points(r));
+}
+
+bool AskingSolid::ask() const {
+  if (!ranks_ || questions_.empty()) return false;
+  const std::vector<AnswerBook::Point4> q = questions();
+  ByteWriter w;
+  put_points(w, q);
+  const std::vector<uint8_t> question = w.take();
+  std::vector<uint8_t> inside(q.size(), 0);
+  const std::vector<uint8_t> mine = held_bits(part_, q);
+  or_bits(std::span(&mine, 1), -1, q.size(), inside);
+  or_bits(ranks_->ask_others(question), ranks_->rank(), q.size(), inside);
+  asked_.add(q, inside);
+  answered_ += q.size();
+  questions_.clear();
+  return true;
+}
 
 std::vector<std::vector<uint8_t>> run_blocks_asking(
     const BlockPlan& plan, RankExchange& exchange, const ReferenceSolid& part, AnswerBook& book,
-    const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid&)>& work, Status& status,
-    QuestionCount& count, int at_once) {
+    RankAnswers* ranks, const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid&)>& work,
+    Status& status, QuestionCount& count, int at_once) {
   std::vector<std::vector<uint8_t>> out(plan.blocks.size());
   std::vector<uint8_t> done(plan.blocks.size(), 0);
   // Each round settles at least the next question of every block's work
@@ -89,17 +131,19 @@ std::vector<std::vector<uint8_t>> run_blocks_asking(
             w.u8(kSkipped);
             return w.take();
           }
-          AskingSolid asking(part, book);
+          AskingSolid asking(part, book, ranks);
           StatusOr<std::vector<uint8_t>> result = work(k, asking);
           // Work that asked ran on guesses: whatever it made (or the status
           // its settle() ended it with) is dropped.
           if (asking.asked()) {
             w.u8(kAsked);
+            w.u64(asking.answered());
             put_points(w, asking.questions());
             return w.take();
           }
           DTM_RETURN_IF_ERROR(result.status());
           w.u8(kDone);
+          w.u64(asking.answered());
           put(w, std::span<const uint8_t>(*result));
           return w.take();
         },
@@ -112,6 +156,7 @@ std::vector<std::vector<uint8_t>> run_blocks_asking(
       first[k] = asked.size();
       BlockReader r(results[k]);
       const uint8_t kind = r.u8();
+      if (kind != kSkipped) count.answered_at_once += r.u64();
       if (kind == kDone) {
         out[k] = r.bytes();
         done[k] = 1;
@@ -125,12 +170,8 @@ std::vector<std::vector<uint8_t>> run_blocks_asking(
     if (asked.empty()) return out;
     count.questions += asked.size();
     // Each rank: whether its own cells hold each point; OR-ed.
-    std::vector<uint8_t> bits((asked.size() + 7) / 8, 0);
-    for (size_t i = 0; i < asked.size(); ++i)
-      if (part.holds4(asked[i])) bits[i / 8] |= static_cast<uint8_t>(1u << (i % 8));
     std::vector<uint8_t> inside(asked.size(), 0);
-    for (const auto& other : exchange.all_gather(bits))
-      for (size_t i = 0; i < asked.size(); ++i) inside[i] |= (other[i / 8] >> (i % 8)) & 1;
+    or_bits(exchange.all_gather(held_bits(part, asked)), -1, asked.size(), inside);
     // This rank keeps the answers to its own blocks' questions.
     std::vector<std::pair<AnswerBook::Point4, uint8_t>> mine;
     for (size_t k = 0; k < plan.blocks.size(); ++k)

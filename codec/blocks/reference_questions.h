@@ -1,9 +1,12 @@
 // The reference in parts on the ranks of a run (core/reference_solid.h):
 // no rank holds every cell near the boundary, so a block's work may ask
-// whether a point is in the solid where its rank's part does not know. The
-// work is then run again once the ranks have answered every such question
-// (each rank whether its own cells hold the point, OR-ed), until it asks
-// nothing: its result is then the one the whole reference gives, on any
+// whether a point is in the solid where its rank's part does not know.
+// Where the ranks answer while they work (RankAnswers), the work asks them
+// after each pass of questions and runs that pass again with the answers
+// (settled_pass(), core/solid.h). Else the work is run again once the ranks
+// have answered every such question in their next exchange (each rank
+// whether its own cells hold the point, OR-ed), until it asks nothing.
+// Either way its result is the one the whole reference gives, on any
 // number of ranks.
 #pragma once
 
@@ -33,39 +36,53 @@ class AnswerBook {
 };
 
 // A part of the reference as one block's work sees it: what the part knows,
-// then what the book says; a point neither knows is noted as a question and
-// called outside, and the work ends at its next settle(), which returns a
+// then what the books say; a point none knows is noted as a question and
+// called outside. With `ranks`, ask() gets the answers and the work's pass
+// runs again; without, the work ends at its next settle(), which returns a
 // status that is not ok (its result would be thrown away).
 class AskingSolid final : public Solid {
  public:
-  AskingSolid(const ReferenceSolid& part, const AnswerBook& book) : part_(part), book_(book) {}
+  AskingSolid(const ReferenceSolid& part, const AnswerBook& book, RankAnswers* ranks)
+      : part_(part), book_(book), ranks_(ranks) {}
   bool contains_point4(const std::array<int64_t, 3>& p) const override;
   // kNeedMoreInput when there are questions: the rest of the work would run
   // on guesses.
   Status settle() const override;
+  bool ask() const override;
   bool asked() const { return !questions_.empty(); }
   // The questions, ascending, each once.
   std::vector<AnswerBook::Point4> questions() const;
+  // How many points ask() had answered.
+  uint64_t answered() const { return answered_; }
 
  private:
   const ReferenceSolid& part_;
   const AnswerBook& book_;
+  RankAnswers* ranks_;
+  mutable AnswerBook asked_;  // what ask() had answered (added between passes)
+  mutable uint64_t answered_ = 0;
   mutable std::mutex mutex_;
   mutable std::vector<AnswerBook::Point4> questions_;
 };
 
+// A rank's answer to a question of the points in `question` (put by
+// AskingSolid::ask()): per point, whether one of `part`'s cells holds it.
+std::vector<uint8_t> answer_questions(const ReferenceSolid& part, std::span<const uint8_t> question);
+
 // What run_blocks_asking() asked, added up over its calls (the same on
 // every rank).
 struct QuestionCount {
-  uint64_t questions = 0;  // points the ranks answered together
-  uint64_t runs = 0;       // blocks' runs that asked them (each run again)
+  uint64_t questions = 0;         // points the ranks answered in their exchanges
+  uint64_t runs = 0;              // blocks' runs that asked them (each run again)
+  uint64_t answered_at_once = 0;  // points the ranks answered while they worked
 };
-// run_blocks() of work carving to `part` (the solid it is handed), each
-// block run again until it asks nothing; `book` keeps what was answered.
-// Every rank must call it with the same plan. `at_once`: run_blocks'.
+// run_blocks() of work carving to `part` (the solid it is handed), asking
+// `ranks` (when not null) at once, else each block run again until it asks
+// nothing; `book` keeps what was answered in the exchanges. Every rank must
+// call it with the same plan. `at_once`: run_blocks'.
 std::vector<std::vector<uint8_t>> run_blocks_asking(
     const BlockPlan& plan, RankExchange& exchange, const ReferenceSolid& part, AnswerBook& book,
-    const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid&)>& work, Status& status,
-    QuestionCount& count, int at_once = 1);
+    RankAnswers* ranks, const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid&)>& work,
+    Status& status, QuestionCount& count, int at_once = 1);
 
 }  // namespace dtm
