@@ -593,5 +593,61 @@ TEST(InputFormats, VtuBase64ReadsTheSameWithBlanksAnywhere) {
   }
 }
 
+// Medit records one a line, as meshers write them, are read in pieces on
+// every core; a section written otherwise (records over several lines or
+// joined, comments among them) is read token by token: the same mesh, and
+// an error at the same line either way.
+TEST(InputFormats, MeditReadsTheSameOneRecordALineOrFreeForm) {
+  constexpr int kVertices = 20000, kTets = 40000, kTriangles = 3000;
+  // `split`: every 1000th record of a section over two lines, a comment and
+  // a blank line after it; `bad`: the tetrahedron of that number names
+  // vertex kVertices + 1.
+  const auto file = [&](bool split, int bad) {
+    std::string s = "MeshVersionFormatted 2\nDimension 3\nVertices\n" + std::to_string(kVertices) + "\n";
+    const auto record = [&](int i, const std::string& first, const std::string& rest) {
+      s += first + (split && i % 1000 == 999 ? "\n# a comment\n\n" : " ") + rest + "\n";
+    };
+    for (int v = 0; v < kVertices; ++v)
+      record(v, std::to_string(v % 97) + " " + std::to_string(v % 89 * 0.5),
+             std::to_string(v / 9173.0) + " " + std::to_string(v % 5 - 2));
+    s += "Triangles\n" + std::to_string(kTriangles) + "\n";
+    for (int f = 0; f < kTriangles; ++f)
+      record(f, std::to_string(f + 1) + " " + std::to_string(f + 2),
+             std::to_string(f + 3) + " " + std::to_string(f % 7));
+    s += "Tetrahedra\n" + std::to_string(kTets) + "\n";
+    for (int t = 0; t < kTets; ++t) {
+      const int a = t % (kVertices - 3) + 1;
+      record(t, std::to_string(a) + " " + std::to_string(a + 1),
+             std::to_string(a + 2) + " " + std::to_string(t == bad ? kVertices + 1 : a + 3) + " " +
+                 std::to_string(t % 3 + 1));
+    }
+    return s + "End\n";
+  };
+  const InputMesh lines = read_input(write_temp("lines.mesh", file(false, -1)));
+  const InputMesh free = read_input(write_temp("free.mesh", file(true, -1)));
+  ASSERT_EQ(lines.points.size(), size_t{kVertices});
+  ASSERT_EQ(lines.tets.size(), size_t{kTets});
+  EXPECT_EQ(lines.tets[39999], (std::array<uint32_t, 4>{5, 6, 7, 8}));  // a = 39999 mod 19997 + 1
+  for (const InputMesh* m : {&lines, &free}) {
+    EXPECT_EQ(m->tets, lines.tets);
+    EXPECT_EQ(m->tet_regions, lines.tet_regions);
+    EXPECT_EQ(m->tagged_faces, lines.tagged_faces);
+    EXPECT_EQ(m->face_tags, lines.face_tags);
+    ASSERT_EQ(m->fields.size(), 1u);
+    EXPECT_EQ(m->fields[0].values, lines.fields[0].values);
+    ASSERT_EQ(m->points.size(), lines.points.size());
+    for (size_t i = 0; i < m->points.size(); ++i)
+      ASSERT_TRUE(m->points[i].x == lines.points[i].x && m->points[i].y == lines.points[i].y &&
+                  m->points[i].z == lines.points[i].z)
+          << i;
+  }
+  EXPECT_EQ(lines.tet_regions[4], 2);
+  EXPECT_EQ(lines.face_tags[9], 2);
+  // Tetrahedron 30000 is on line 3 + 1 + 20000 + 2 + 3000 + 2 + 30000 + 1.
+  const std::string error = read_error("bad.mesh", file(false, 30000));
+  EXPECT_NE(error.find("bad.mesh:53009: vertex index 20001 out of range 1..20000"), std::string::npos)
+      << error;
+}
+
 }  // namespace
 }  // namespace dtm

@@ -1,7 +1,13 @@
 #include "medit.h"
 
+#include <array>
+#include <atomic>
+#include <charconv>
+#include <cmath>
+#include <functional>
 #include <map>
 #include <set>
+#include <span>
 
 #include "render_util.h"
 #include "text_cursor.h"
@@ -40,6 +46,66 @@ const std::map<std::string, SectionLayout, std::less<>>& sections() {
   return kSections;
 }
 
+// A record's first N vertex indices (1-based, checked against the vertex
+// count) as 0-based ids.
+template <size_t N>
+std::array<uint32_t, N> zero_based(const std::array<int64_t, 8>& v) {
+  std::array<uint32_t, N> out{};
+  for (size_t k = 0; k < N; ++k) out[k] = static_cast<uint32_t>(v[k] - 1);
+  return out;
+}
+
+// A field of a record as a T, the whole of it.
+template <class T>
+bool parse_field(std::string_view token, T& value) {
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  return ec == std::errc() && end == token.data() + token.size();
+}
+
+// A section's `n` records one a line, as Netgen, MMG, gmsh and meshio write
+// them, parsed on every core: record(i, fields) for each, its `count`
+// fields split at blanks. False, with the cursor where it was, when a line
+// is not one whole record that record() takes (records split over lines or
+// joined on one, a comment, a blank line, a value out of range): then the
+// caller reads the section token by token, as the format allows, with its
+// checks and its errors at their lines.
+bool read_one_a_line(TextCursor& c, uint64_t n, size_t count,
+                     const std::function<bool(uint64_t, std::span<const std::string_view>)>& record) {
+  constexpr size_t kMostFields = 12;
+  if (count > kMostFields) return false;
+  const TextCursor::Mark start = c.mark();
+  // The count's line ends after the count.
+  if (c.rest_of_line().find_first_not_of(" \t\f\v") != std::string_view::npos) {
+    c.restore(start);
+    return false;
+  }
+  std::atomic<bool> whole{true};
+  c.lines(n, [&](uint64_t i, std::string_view line) {
+    if (!whole.load(std::memory_order_relaxed)) return;
+    std::array<std::string_view, kMostFields + 1> fields;
+    size_t k = 0;
+    for (size_t at = 0; at < line.size() && k <= count;) {
+      const char ch = line[at];
+      if (ch == ' ' || ch == '\t' || ch == '\f' || ch == '\v') {
+        ++at;
+        continue;
+      }
+      size_t end = at;
+      while (end < line.size() && line[end] != ' ' && line[end] != '\t' && line[end] != '\f' &&
+             line[end] != '\v')
+        ++end;
+      fields[k++] = line.substr(at, end - at);
+      at = end;
+    }
+    if (k != count || line.find('#') != std::string_view::npos ||
+        !record(i, std::span<const std::string_view>(fields.data(), count)))
+      whole.store(false, std::memory_order_relaxed);
+  });
+  if (whole.load()) return true;
+  c.restore(start);
+  return false;
+}
+
 }  // namespace
 
 InputMesh read_medit(const std::string& path) {
@@ -50,7 +116,6 @@ InputMesh read_medit(const std::string& path) {
   if (version < 1 || version > 4) c.fail("unknown MeshVersionFormatted " + std::to_string(version));
   InputMesh out;
   bool have_dimension = false, have_vertices = false;
-  std::vector<std::array<int64_t, 4>> tets;       // 1-based until the vertex count is known
   std::map<std::string, uint64_t> other_records;  // records of other sections, by keyword
   while (true) {
     if (c.at_end()) c.fail("file ends without 'End'");
@@ -68,13 +133,27 @@ InputMesh read_medit(const std::string& path) {
       if (have_vertices) c.fail("a second 'Vertices' section");
       have_vertices = true;
       const uint64_t n = c.count("a vertex count", limit / 4);
-      out.points.reserve(n);
       VertexField ref{"ref", 1, {}, ScalarType::kInt32};
-      ref.values.reserve(n);
-      for (uint64_t i = 0; i < n; ++i) {
-        const double x = c.coordinate(), y = c.coordinate(), z = c.coordinate();
-        out.points.push_back({x, y, z});
-        ref.values.push_back(static_cast<double>(c.number<int64_t>("a vertex ref")));
+      out.points.resize(n);
+      ref.values.resize(n);
+      const bool fast = read_one_a_line(c, n, 4, [&](uint64_t i, std::span<const std::string_view> f) {
+        double x = 0, y = 0, z = 0;
+        int64_t r = 0;
+        if (!parse_field(f[0], x) || !parse_field(f[1], y) || !parse_field(f[2], z) ||
+            !parse_field(f[3], r) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+          return false;
+        out.points[i] = {x, y, z};
+        ref.values[i] = static_cast<double>(r);
+        return true;
+      });
+      if (!fast) {
+        out.points.clear();
+        ref.values.clear();
+        for (uint64_t i = 0; i < n; ++i) {
+          const double x = c.coordinate(), y = c.coordinate(), z = c.coordinate();
+          out.points.push_back({x, y, z});
+          ref.values.push_back(static_cast<double>(c.number<int64_t>("a vertex ref")));
+        }
       }
       out.fields.push_back(std::move(ref));
       continue;
@@ -85,6 +164,40 @@ InputMesh read_medit(const std::string& path) {
     if (indices > 0 && !have_vertices) c.fail("'" + keyword + "' before 'Vertices'");
     const uint64_t n = c.count("a record count", limit / (indices + integers + reals));
     if (keyword != "Tetrahedra" && keyword != "Triangles" && n > 0) other_records[keyword] += n;
+    const bool is_tets = keyword == "Tetrahedra", is_faces = keyword == "Triangles";
+    const size_t tets_before = out.tets.size(), regions_before = out.tet_regions.size();
+    const size_t faces_before = out.tagged_faces.size(), tags_before = out.face_tags.size();
+    if (is_tets) out.tets.resize(tets_before + n), out.tet_regions.resize(regions_before + n);
+    if (is_faces) out.tagged_faces.resize(faces_before + n), out.face_tags.resize(tags_before + n);
+    const uint64_t vertices = out.points.size();
+    const auto fields = static_cast<size_t>(indices + integers + reals);
+    const bool fast = read_one_a_line(c, n, fields, [&](uint64_t i, std::span<const std::string_view> f) {
+      std::array<int64_t, 8> v{};
+      for (int k = 0; k < indices; ++k)
+        if (!parse_field(f[static_cast<size_t>(k)], v[static_cast<size_t>(k)]) ||
+            v[static_cast<size_t>(k)] < 1 || static_cast<uint64_t>(v[static_cast<size_t>(k)]) > vertices)
+          return false;
+      for (int k = 0; k < integers; ++k) {
+        int64_t value = 0;
+        if (!parse_field(f[static_cast<size_t>(indices + k)], value)) return false;
+        if (k == 0 && (is_tets || is_faces)) {
+          if (value < INT32_MIN || value > INT32_MAX) return false;
+          (is_tets ? out.tet_regions[regions_before + i] : out.face_tags[tags_before + i]) =
+              static_cast<int32_t>(value);
+        }
+      }
+      for (int k = 0; k < reals; ++k) {
+        double x = 0;
+        if (!parse_field(f[static_cast<size_t>(indices + integers + k)], x) || !std::isfinite(x))
+          return false;
+      }
+      if (is_tets) out.tets[tets_before + i] = zero_based<4>(v);
+      if (is_faces) out.tagged_faces[faces_before + i] = zero_based<3>(v);
+      return true;
+    });
+    if (fast) continue;
+    out.tets.resize(tets_before), out.tet_regions.resize(regions_before);
+    out.tagged_faces.resize(faces_before), out.face_tags.resize(tags_before);
     for (uint64_t i = 0; i < n; ++i) {
       std::array<int64_t, 8> v{};
       for (int k = 0; k < indices; ++k) {
@@ -107,10 +220,8 @@ InputMesh read_medit(const std::string& path) {
         }
       }
       for (int k = 0; k < reals; ++k) c.coordinate();
-      if (keyword == "Tetrahedra") tets.push_back({v[0], v[1], v[2], v[3]});
-      if (keyword == "Triangles")
-        out.tagged_faces.push_back({static_cast<uint32_t>(v[0] - 1), static_cast<uint32_t>(v[1] - 1),
-                                    static_cast<uint32_t>(v[2] - 1)});
+      if (is_tets) out.tets.push_back(zero_based<4>(v));
+      if (is_faces) out.tagged_faces.push_back(zero_based<3>(v));
     }
   }
   if (!other_records.empty()) {
@@ -123,9 +234,6 @@ InputMesh read_medit(const std::string& path) {
   if (!out.tet_regions.empty()) out.region_source = "tetrahedron refs";
   if (!out.tagged_faces.empty()) out.face_tag_source = "triangle refs";
   if (!have_vertices) throw FormatError(path + ": no 'Vertices' section");
-  for (const auto& t : tets)
-    out.tets.push_back({static_cast<uint32_t>(t[0] - 1), static_cast<uint32_t>(t[1] - 1),
-                        static_cast<uint32_t>(t[2] - 1), static_cast<uint32_t>(t[3] - 1)});
   return out;
 }
 

@@ -47,6 +47,13 @@ class TextCursor {
   void lines(uint64_t n, const std::function<void(uint64_t, std::string_view)>& parse);
   // For lines()' parse(): "path:L: problem", L the line of its line i.
   [[noreturn]] void fail_line(uint64_t i, const std::string& problem) const;
+  // A place to come back to (restore()): a reader that tried a fast way
+  // through a section reads it again the strict way.
+  struct Mark {
+    size_t pos, line;
+  };
+  Mark mark() const { return {pos_, line_}; }
+  void restore(const Mark& m) { pos_ = m.pos, line_ = m.line; }
   // `n` raw bytes from the current position.
   std::string_view bytes(uint64_t n, const char* what);
   size_t offset() const { return pos_; }
