@@ -160,7 +160,9 @@ InputMesh read_medit(const std::string& path) {
     }
     const auto layout = sections().find(keyword);
     if (layout == sections().end()) c.fail("unknown or unsupported section '" + keyword + "'");
-    const auto [indices, integers, reals] = layout->second;
+    // (Not a structured binding: the record's lambda below reads them.)
+    const int indices = layout->second.indices, integers = layout->second.integers,
+              reals = layout->second.reals;
     if (indices > 0 && !have_vertices) c.fail("'" + keyword + "' before 'Vertices'");
     const uint64_t n = c.count("a record count", limit / (indices + integers + reals));
     if (keyword != "Tetrahedra" && keyword != "Triangles" && n > 0) other_records[keyword] += n;
