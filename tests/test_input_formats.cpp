@@ -649,5 +649,49 @@ TEST(InputFormats, MeditReadsTheSameOneRecordALineOrFreeForm) {
       << error;
 }
 
+// A VTK legacy ASCII array is read in pieces on every core, cut between
+// values however the lines break them: the same values with nine to a line
+// or one, blanks and tabs between; a bad value deep in it is named at its
+// line, as one value after another would name it.
+TEST(InputFormats, VtkAsciiArraysReadInPiecesWhateverTheLinesAre) {
+  constexpr int kPoints = 150000;  // 450,000 coordinates, several pieces
+  const auto file = [&](int per_line, const char* blank, int bad) {
+    std::string s = "# vtk DataFile Version 4.2\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS " +
+                    std::to_string(kPoints) + " double\n";
+    for (int i = 0; i < 3 * kPoints; ++i) {
+      s += i == bad ? "1.5.5" : std::to_string(i % 1013) + "." + std::to_string(i % 7);
+      s += (i + 1) % per_line == 0 ? "\n" : blank;
+    }
+    return s + "\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\nPOINT_DATA " + std::to_string(kPoints) +
+           "\nSCALARS id int 1\nLOOKUP_TABLE default\n" +
+           [&] {
+             std::string ids;
+             for (int i = 0; i < kPoints; ++i) ids += std::to_string(i - 7) + (i % 9 == 8 ? "\n" : " ");
+             return ids;
+           }() +
+           "\n";
+  };
+  const InputMesh nine = read_input(write_temp("nine.vtk", file(9, " ", -1)));
+  const InputMesh one = read_input(write_temp("one.vtk", file(1, " ", -1)));
+  const InputMesh tabs = read_input(write_temp("tabs.vtk", file(7, " \t  ", -1)));
+  ASSERT_EQ(nine.points.size(), size_t{kPoints});
+  EXPECT_EQ(nine.points[100000].y, 300001 % 1013 + (300001 % 7) / 10.0);
+  ASSERT_EQ(nine.fields.size(), 1u);
+  EXPECT_EQ(nine.fields[0].values[123456], 123456 - 7);
+  for (const InputMesh* m : {&one, &tabs}) {
+    ASSERT_EQ(m->points.size(), nine.points.size());
+    for (size_t i = 0; i < nine.points.size(); ++i)
+      ASSERT_TRUE(m->points[i].x == nine.points[i].x && m->points[i].y == nine.points[i].y &&
+                  m->points[i].z == nine.points[i].z)
+          << i;
+    ASSERT_EQ(m->fields.size(), 1u);
+    EXPECT_EQ(m->fields[0].values, nine.fields[0].values);
+    EXPECT_EQ(m->tets, nine.tets);
+  }
+  // Value 400,000, nine to a line: line 5 + 1 + 400000 / 9.
+  const std::string error = read_error("bad.vtk", file(9, " ", 400000));
+  EXPECT_NE(error.find("bad.vtk:44450: expected a number, found '1.5.5'"), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace dtm

@@ -160,6 +160,85 @@ void TextCursor::lines(uint64_t n, const std::function<void(uint64_t, std::strin
   line_ += ends;
 }
 
+bool TextCursor::tokens(uint64_t n, const std::function<bool(uint64_t, std::string_view)>& parse) {
+  if (comment_ != '\0') return false;
+  if (n == 0) return true;
+  const Mark start = mark();
+  skip_space();
+  const std::string_view all(data_);
+  const size_t size = all.size();
+  // std::isspace in the C locale, without its call.
+  const auto space = [&](size_t at) {
+    const char c = all[at];
+    return c == ' ' || (c >= '\t' && c <= '\r');
+  };
+  // Pieces of about a megabyte, each cut after a token, a batch of them at
+  // a time until they hold n tokens; per piece, the tokens that start in it.
+  constexpr size_t kPiece = size_t{1} << 20;
+  std::vector<size_t> cut = {pos_};
+  std::vector<uint64_t> first = {0};  // tokens before each piece
+  // (A batch is many pieces: parallel_for runs its first alone.)
+  const size_t batch = 16 * static_cast<size_t>(std::max(1, thread_count()));
+  while (first.back() < n && cut.back() < size) {
+    const size_t before = cut.size() - 1;
+    for (size_t k = 0; k < batch && cut.back() < size; ++k) {
+      size_t end = std::min(size, cut.back() + kPiece);
+      while (end < size && !space(end)) ++end;
+      cut.push_back(end);
+    }
+    const size_t pieces = cut.size() - 1 - before;
+    std::vector<uint64_t> counts(pieces, 0);
+    parallel_for(pieces, [&](size_t p) {
+      uint64_t c = 0;
+      for (size_t at = cut[before + p], end = cut[before + p + 1]; at < end; ++at)
+        c += !space(at) && (at == cut[before + p] || space(at - 1));
+      counts[p] = c;
+    });
+    for (uint64_t c : counts) first.push_back(first.back() + c);
+  }
+  if (first.back() < n) {
+    restore(start);
+    return false;
+  }
+  // Parse each piece's tokens (up to the n-th), and count its line ends up
+  // to where the n-th token ends.
+  const size_t pieces = cut.size() - 1;
+  std::vector<uint8_t> refused(pieces, 0);
+  std::vector<size_t> ends(pieces, 0), stop(pieces, 0);
+  parallel_for(pieces, [&](size_t p) {
+    if (first[p] >= n) return;
+    uint64_t i = first[p];
+    size_t at = cut[p];
+    const size_t end = cut[p + 1];
+    while (at < end && i < n) {
+      if (space(at)) {
+        ends[p] += all[at] == '\n';
+        ++at;
+        continue;
+      }
+      const size_t b = at;
+      while (at < size && !space(at)) ++at;
+      if (!parse(i++, all.substr(b, at - b))) {
+        refused[p] = 1;
+        return;
+      }
+    }
+    stop[p] = at;
+  });
+  for (size_t p = 0; p < pieces; ++p)
+    if (refused[p]) {
+      restore(start);
+      return false;
+    }
+  size_t lines = 0, last = 0;
+  for (size_t p = 0; p < pieces && first[p] < n; ++p) lines += ends[p], last = stop[p];
+  line_ += lines;
+  pos_ = last;
+  token_line_ = line_;
+  token_offset_ = pos_;
+  return true;
+}
+
 void TextCursor::fail_line(uint64_t i, const std::string& problem) const {
   throw FormatError(path_ + ":" + std::to_string(lines_first_ + i) + ": " + problem);
 }

@@ -45,6 +45,12 @@ class TextCursor {
   // fail_line(i, ...); the failure of the earliest line is the one thrown
   // here, as a loop over the lines would throw it.
   void lines(uint64_t n, const std::function<void(uint64_t, std::string_view)>& parse);
+  // The next `n` tokens (as n calls of token() would give them), each
+  // handed to parse(i, token) on one of every core's threads, the text cut
+  // into pieces between tokens first. False, with the cursor where it was,
+  // when parse() refuses one or the file has fewer (or the cursor skips
+  // comments): the caller then reads them one by one, with their errors.
+  bool tokens(uint64_t n, const std::function<bool(uint64_t, std::string_view)>& parse);
   // For lines()' parse(): "path:L: problem", L the line of its line i.
   [[noreturn]] void fail_line(uint64_t i, const std::string& problem) const;
   // A place to come back to (restore()): a reader that tried a fast way

@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 
+#include "common/parallel_for.h"
 #include "render_util.h"
 #include "scalar_type.h"
 #include "text_cursor.h"
@@ -242,11 +243,30 @@ class LegacyReader {
         c_.fail("file ends: " + std::to_string(n) + " values of type " + std::string(type_name) + " need " +
                 std::to_string(n * size) + " bytes, " + std::to_string(c_.remaining()) + " left");
       const std::string_view raw = c_.bytes(n * size, "binary data");
-      out.reserve(n);
-      for (uint64_t i = 0; i < n; ++i) out.push_back(scalar_at(raw.data() + i * size, *type, true));
+      out.resize(n);
+      parallel_for(
+          n, [&](size_t i) { out[i] = scalar_at(raw.data() + i * size, *type, true); }, 65536);
     } else {
       if (n > c_.remaining() / 2)
         c_.fail("file ends before the " + std::to_string(n) + " values it announces");
+      // On every core; where a value does not parse (or the file ends), one
+      // by one for the error at its line.
+      out.resize(n);
+      const bool integer = is_integer(*type);
+      if (c_.tokens(n, [&](uint64_t i, std::string_view t) {
+            if (integer) {
+              int64_t v = 0;
+              const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+              out[i] = static_cast<double>(v);
+              return ec == std::errc() && end == t.data() + t.size();
+            }
+            double v = 0;
+            const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+            out[i] = v;
+            return ec == std::errc() && end == t.data() + t.size();
+          }))
+        return out;
+      out.clear();
       out.reserve(n);
       for (uint64_t i = 0; i < n; ++i) {
         if (is_integer(*type))
