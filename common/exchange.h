@@ -49,7 +49,7 @@ class RankExchange {
   // all_gather()). Every rank must call it, and destroy what it returned,
   // at the same step of the work: the destructor waits until every rank
   // has come to its own, after which nobody asks.
-  virtual std::unique_ptr<RankAnswers> answer_while_working(Answerer answer) {
+  virtual std::unique_ptr<RankAnswers> answer_while_working(const Answerer& answer) {
     (void)answer;
     return nullptr;
   }

@@ -33,9 +33,9 @@ class ThreadRanks {
     // Asked on the asking thread: each rank's answerer called there, once
     // every rank has set one (as MPI holds a question until the rank
     // answering it has started).
-    std::unique_ptr<RankAnswers> answer_while_working(Answerer answer) override {
+    std::unique_ptr<RankAnswers> answer_while_working(const Answerer& answer) override {
       if (!all_.answering_) return nullptr;
-      return std::make_unique<Answers>(all_, rank_, std::move(answer));
+      return std::make_unique<Answers>(all_, rank_, answer);
     }
 
    private:

@@ -111,10 +111,9 @@ class MpiSession : public RankExchange {
   }
   // A thread that answers the other ranks, where MPI lets several threads
   // call it (MPI_THREAD_MULTIPLE); else nullptr.
-  std::unique_ptr<RankAnswers> answer_while_working(Answerer answer) override {
+  std::unique_ptr<RankAnswers> answer_while_working(const Answerer& answer) override {
 #ifdef DTM_WITH_MPI
-    if (active_ && threads_ && size_ > 1)
-      return std::make_unique<MpiAnswers>(MPI_COMM_WORLD, std::move(answer));
+    if (active_ && threads_ && size_ > 1) return std::make_unique<MpiAnswers>(MPI_COMM_WORLD, answer);
 #endif
     (void)answer;
     return nullptr;

@@ -172,26 +172,26 @@ InputMesh read_medit(const std::string& path) {
     if (is_tets) out.tets.resize(tets_before + n), out.tet_regions.resize(regions_before + n);
     if (is_faces) out.tagged_faces.resize(faces_before + n), out.face_tags.resize(tags_before + n);
     const uint64_t vertices = out.points.size();
-    const auto fields = static_cast<size_t>(indices + integers + reals);
+    // The record's fields: its indices, then its integers, then its reals.
+    const auto first_integer = static_cast<size_t>(indices),
+               first_real = first_integer + static_cast<size_t>(integers);
+    const size_t fields = first_real + static_cast<size_t>(reals);
     const bool fast = read_one_a_line(c, n, fields, [&](uint64_t i, std::span<const std::string_view> f) {
       std::array<int64_t, 8> v{};
-      for (int k = 0; k < indices; ++k)
-        if (!parse_field(f[static_cast<size_t>(k)], v[static_cast<size_t>(k)]) ||
-            v[static_cast<size_t>(k)] < 1 || static_cast<uint64_t>(v[static_cast<size_t>(k)]) > vertices)
-          return false;
-      for (int k = 0; k < integers; ++k) {
+      for (size_t k = 0; k < first_integer; ++k)
+        if (!parse_field(f[k], v[k]) || v[k] < 1 || static_cast<uint64_t>(v[k]) > vertices) return false;
+      for (size_t k = first_integer; k < first_real; ++k) {
         int64_t value = 0;
-        if (!parse_field(f[static_cast<size_t>(indices + k)], value)) return false;
-        if (k == 0 && (is_tets || is_faces)) {
+        if (!parse_field(f[k], value)) return false;
+        if (k == first_integer && (is_tets || is_faces)) {
           if (value < INT32_MIN || value > INT32_MAX) return false;
           (is_tets ? out.tet_regions[regions_before + i] : out.face_tags[tags_before + i]) =
               static_cast<int32_t>(value);
         }
       }
-      for (int k = 0; k < reals; ++k) {
+      for (size_t k = first_real; k < fields; ++k) {
         double x = 0;
-        if (!parse_field(f[static_cast<size_t>(indices + integers + k)], x) || !std::isfinite(x))
-          return false;
+        if (!parse_field(f[k], x) || !std::isfinite(x)) return false;
       }
       if (is_tets) out.tets[tets_before + i] = zero_based<4>(v);
       if (is_faces) out.tagged_faces[faces_before + i] = zero_based<3>(v);
