@@ -193,6 +193,31 @@ TEST(TetgenReader, AnErrorDeepInALargeFileNamesItsLine) {
     for (size_t i = 0; i + 1000 < lines.size(); ++i) out << lines[i] << "\n";
   }
   EXPECT_NE(error_of().find("file ends after"), std::string::npos) << error_of();
+  // The .ele too: a tetrahedron past those its header counts is an error at
+  // its line (comments after them are not), with or without a share kept.
+  {
+    std::ofstream out(f.ele, std::ios::app);
+    out << "# after the tetrahedra\n";
+  }
+  EXPECT_EQ(read_tetgen_ele(f.ele, f.points, 0).size(), f.tets);
+  {
+    std::ofstream out(f.ele, std::ios::app);
+    out << f.tets << " 0 1 2 3\n";
+  }
+  for (const bool share : {false, true}) {
+    try {
+      read_tetgen_ele(f.ele, f.points, 0,
+                      share ? std::function<bool(const std::array<uint32_t, 4>&)>(
+                                  [](const std::array<uint32_t, 4>& t) { return t[0] % 2 == 0; })
+                            : nullptr);
+      ADD_FAILURE() << "a tetrahedron past the count accepted";
+    } catch (const FormatError& e) {
+      EXPECT_NE(
+          std::string(e.what()).find("unexpected data after the " + std::to_string(f.tets) + " tetrahedra"),
+          std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 // Blocks far smaller than the lines: every line end falls between reads.

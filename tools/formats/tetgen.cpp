@@ -174,6 +174,9 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
   if (found.records < count)
     throw FormatError(path + ": file ends after " + std::to_string(found.records) + " of " +
                       std::to_string(count) + " tetrahedra");
+  // Tetrahedra past the header's count are not dropped in silence.
+  if (found.extra_line)
+    r.fail(found.extra_line, "unexpected data after the " + std::to_string(count) + " tetrahedra");
   if (keep) {
     // Reserved room is memory only once written to: it grows as the
     // pieces, each large enough to be a mapping of its own, are returned.
