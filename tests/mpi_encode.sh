@@ -5,7 +5,10 @@
 # the stream one process writes, whose levels decode to the encoder's
 # (meshdec --verify against the cell hashes); only rank 0 writes; an input
 # that does not exist fails every rank with the file's name and leaves no
-# file; without --bricks, mpirun meshenc says what to add.
+# file; without --bricks, mpirun meshenc says what to add. The ranks answer
+# each other's questions about the reference while they work (no block run
+# again), or, asked to take MPI without threads, in their exchanges (blocks
+# run again): the same bytes.
 set -euo pipefail
 meshenc=$1 meshdec=$2 data=$3
 command -v mpirun >/dev/null || { echo "mpi_encode: mpirun missing (apt-get install openmpi-bin)"; exit 1; }
@@ -35,6 +38,14 @@ for p in 1 2 4; do
     if grep -q "each run again" "$work/report$p"; then echo "blocks run again"; failed=1; fi
   fi
 done
+# An MPI without threads (asked for as one): the ranks answer each other in
+# their exchanges, blocks run again, and the bytes are the same.
+mkdir -p "$work/funneled"
+DTM_MPI_ONE_THREAD=1 mpirun --oversubscribe "${as_root[@]}" -x DTM_MPI_ONE_THREAD -n 2 "$meshenc" \
+  "$data/bunny_10k.node" "${options[@]}" -o "$work/funneled/b.dtm" >"$work/report_funneled"
+grep "reference in parts" "$work/report_funneled" || true
+cmp -s "$work/one.dtm" "$work/funneled/b.dtm" || { echo "mpirun -n 2 without threads: not the same bytes"; failed=1; }
+grep -q "each run again" "$work/report_funneled" || { echo "without threads, no block run again"; failed=1; }
 # A missing input: every rank fails, naming it; nothing is written.
 mkdir -p "$work/missing"
 if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$work/nothing.node" "${options[@]}" -q \
