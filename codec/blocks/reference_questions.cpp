@@ -74,15 +74,14 @@ std::vector<uint8_t> held_bits(const ReferenceSolid& part, std::span<const Answe
   return bits;
 }
 
-// ORs each rank's bits (of `n` points) into `inside`, a byte per point,
-// but rank `skip`'s.
-void or_bits(std::span<const std::vector<uint8_t>> ranks, int skip, size_t n, std::vector<uint8_t>& inside) {
-  for (size_t r = 0; r < ranks.size(); ++r) {
-    if (static_cast<int>(r) == skip) continue;
-    const std::vector<uint8_t>& bits = ranks[r];
+// Every rank's bits (of `n` points) OR-ed: a byte per point.
+std::vector<uint8_t> or_bits(std::span<const std::vector<uint8_t>> ranks, size_t n) {
+  std::vector<uint8_t> inside(n, 0);
+  for (const std::vector<uint8_t>& bits : ranks) {
     if (bits.size() < (n + 7) / 8) throw std::runtime_error("a rank's answers are short");
     for (size_t i = 0; i < n; ++i) inside[i] |= (bits[i / 8] >> (i % 8)) & 1;
   }
+  return inside;
 }
 
 }  // namespace
@@ -98,11 +97,10 @@ bool AskingSolid::ask() const {
   ByteWriter w;
   put_points(w, q);
   const std::vector<uint8_t> question = w.take();
-  std::vector<uint8_t> inside(q.size(), 0);
-  const std::vector<uint8_t> mine = held_bits(part_, q);
-  or_bits(std::span(&mine, 1), -1, q.size(), inside);
-  or_bits(ranks_->ask_others(question), ranks_->rank(), q.size(), inside);
-  asked_.add(q, inside);
+  // The others' answers, and this rank's own in its place.
+  std::vector<std::vector<uint8_t>> answers = ranks_->ask_others(question);
+  answers.at(static_cast<size_t>(ranks_->rank())) = held_bits(part_, q);
+  asked_.add(q, or_bits(answers, q.size()));
   answered_ += q.size();
   questions_.clear();
   return true;
@@ -170,8 +168,7 @@ std::vector<std::vector<uint8_t>> run_blocks_asking(
     if (asked.empty()) return out;
     count.questions += asked.size();
     // Each rank: whether its own cells hold each point; OR-ed.
-    std::vector<uint8_t> inside(asked.size(), 0);
-    or_bits(exchange.all_gather(held_bits(part, asked)), -1, asked.size(), inside);
+    const std::vector<uint8_t> inside = or_bits(exchange.all_gather(held_bits(part, asked)), asked.size());
     // This rank keeps the answers to its own blocks' questions.
     std::vector<std::pair<AnswerBook::Point4, uint8_t>> mine;
     for (size_t k = 0; k < plan.blocks.size(); ++k)

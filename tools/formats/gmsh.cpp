@@ -21,29 +21,11 @@ constexpr int kGmshTriangle = 2;
 constexpr int kGmshTetrahedron = 4;
 
 // Whitespace-separated fields of one line.
-// The next whitespace-separated field of `line` from `at`, `at` moved past
-// it ("" at the end of the line).
-std::string_view next_field(std::string_view line, size_t& at) {
-  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
-  while (at < line.size() && blank(line[at])) ++at;
-  const size_t b = at;
-  while (at < line.size() && !blank(line[at])) ++at;
-  return line.substr(b, at - b);
-}
-
-// Whitespace-separated fields of one line.
 std::vector<std::string_view> split(std::string_view line) {
   std::vector<std::string_view> out;
   size_t at = 0;
   for (std::string_view f = next_field(line, at); !f.empty(); f = next_field(line, at)) out.push_back(f);
   return out;
-}
-
-// A whole field as a number.
-template <class T>
-bool parse_field(std::string_view f, T& value) {
-  const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), value);
-  return !f.empty() && ec == std::errc() && end == f.data() + f.size();
 }
 
 // gmsh's element types by name, the usual ones.
@@ -329,7 +311,7 @@ class GmshReader {
       c_.lines(in_block, [&](uint64_t i, std::string_view line) {
         size_t at = 0;
         const std::string_view f = next_field(line, at);
-        if (!parse_field(f, tags[i]) || !next_field(line, at).empty())
+        if (!parse_whole(f, tags[i]) || !next_field(line, at).empty())
           c_.fail_line(i, "expected a node tag, found '" + std::string(line) + "'");
       });
       for (uint64_t i = 0; i < in_block; ++i)
@@ -344,7 +326,7 @@ class GmshReader {
         for (int k = 0; k < fields; ++k) {
           const std::string_view f = next_field(line, at);
           double v = 0;
-          if (!parse_field(f, v))
+          if (!parse_whole(f, v))
             c_.fail_line(i, f.empty() ? "expected " + std::to_string(fields) + " coordinates"
                                       : "expected a coordinate, found '" + std::string(f) + "'");
           if (!std::isfinite(v)) c_.fail_line(i, "coordinate is not finite");
@@ -370,7 +352,7 @@ class GmshReader {
   template <class Fail>
   uint32_t node_of(std::string_view tag_text, const Fail& fail) const {
     int64_t tag = 0;
-    if (!parse_field(tag_text, tag)) fail("expected a node tag, found '" + std::string(tag_text) + "'");
+    if (!parse_whole(tag_text, tag)) fail("expected a node tag, found '" + std::string(tag_text) + "'");
     return node_of(tag, fail);
   }
   uint32_t node(std::string_view tag_text) const {
@@ -550,7 +532,7 @@ class GmshReader {
       if (tet) {
         if (nodes != 4) c_.fail_line(i, "a tetrahedron with " + std::to_string(nodes) + " nodes");
         int64_t tag = 0;
-        if (!parse_field(element_tag, tag))
+        if (!parse_whole(element_tag, tag))
           c_.fail_line(i, "expected an element tag, found '" + std::string(element_tag) + "'");
         out_.tets[first + i] = t;
         tet_element_[first + i] = tag;

@@ -2,7 +2,6 @@
 
 #include <array>
 #include <atomic>
-#include <charconv>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -55,13 +54,6 @@ std::array<uint32_t, N> zero_based(const std::array<int64_t, 8>& v) {
   return out;
 }
 
-// A field of a record as a T, the whole of it.
-template <class T>
-bool parse_field(std::string_view token, T& value) {
-  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-  return ec == std::errc() && end == token.data() + token.size();
-}
-
 // A section's `n` records one a line, as Netgen, MMG, gmsh and meshio write
 // them, parsed on every core: record(i, fields) for each, its `count`
 // fields split at blanks. False, with the cursor where it was, when a line
@@ -75,7 +67,8 @@ bool read_one_a_line(TextCursor& c, uint64_t n, size_t count,
   if (count > kMostFields) return false;
   const TextCursor::Mark start = c.mark();
   // The count's line ends after the count.
-  if (c.rest_of_line().find_first_not_of(" \t\f\v") != std::string_view::npos) {
+  size_t after_count = 0;
+  if (!next_field(c.rest_of_line(), after_count).empty()) {
     c.restore(start);
     return false;
   }
@@ -83,20 +76,9 @@ bool read_one_a_line(TextCursor& c, uint64_t n, size_t count,
   c.lines(n, [&](uint64_t i, std::string_view line) {
     if (!whole.load(std::memory_order_relaxed)) return;
     std::array<std::string_view, kMostFields + 1> fields;
-    size_t k = 0;
-    for (size_t at = 0; at < line.size() && k <= count;) {
-      const char ch = line[at];
-      if (ch == ' ' || ch == '\t' || ch == '\f' || ch == '\v') {
-        ++at;
-        continue;
-      }
-      size_t end = at;
-      while (end < line.size() && line[end] != ' ' && line[end] != '\t' && line[end] != '\f' &&
-             line[end] != '\v')
-        ++end;
-      fields[k++] = line.substr(at, end - at);
-      at = end;
-    }
+    size_t k = 0, at = 0;
+    for (std::string_view f = next_field(line, at); !f.empty() && k <= count; f = next_field(line, at))
+      fields[k++] = f;
     if (k != count || line.find('#') != std::string_view::npos ||
         !record(i, std::span<const std::string_view>(fields.data(), count)))
       whole.store(false, std::memory_order_relaxed);
@@ -139,8 +121,8 @@ InputMesh read_medit(const std::string& path) {
       const bool fast = read_one_a_line(c, n, 4, [&](uint64_t i, std::span<const std::string_view> f) {
         double x = 0, y = 0, z = 0;
         int64_t r = 0;
-        if (!parse_field(f[0], x) || !parse_field(f[1], y) || !parse_field(f[2], z) ||
-            !parse_field(f[3], r) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+        if (!parse_whole(f[0], x) || !parse_whole(f[1], y) || !parse_whole(f[2], z) ||
+            !parse_whole(f[3], r) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
           return false;
         out.points[i] = {x, y, z};
         ref.values[i] = static_cast<double>(r);
@@ -179,10 +161,10 @@ InputMesh read_medit(const std::string& path) {
     const bool fast = read_one_a_line(c, n, fields, [&](uint64_t i, std::span<const std::string_view> f) {
       std::array<int64_t, 8> v{};
       for (size_t k = 0; k < first_integer; ++k)
-        if (!parse_field(f[k], v[k]) || v[k] < 1 || static_cast<uint64_t>(v[k]) > vertices) return false;
+        if (!parse_whole(f[k], v[k]) || v[k] < 1 || static_cast<uint64_t>(v[k]) > vertices) return false;
       for (size_t k = first_integer; k < first_real; ++k) {
         int64_t value = 0;
-        if (!parse_field(f[k], value)) return false;
+        if (!parse_whole(f[k], value)) return false;
         if (k == first_integer && (is_tets || is_faces)) {
           if (value < INT32_MIN || value > INT32_MAX) return false;
           (is_tets ? out.tet_regions[regions_before + i] : out.face_tags[tags_before + i]) =
@@ -191,7 +173,7 @@ InputMesh read_medit(const std::string& path) {
       }
       for (size_t k = first_real; k < fields; ++k) {
         double x = 0;
-        if (!parse_field(f[k], x) || !std::isfinite(x)) return false;
+        if (!parse_whole(f[k], x) || !std::isfinite(x)) return false;
       }
       if (is_tets) out.tets[tets_before + i] = zero_based<4>(v);
       if (is_faces) out.tagged_faces[faces_before + i] = zero_based<3>(v);

@@ -18,6 +18,23 @@ namespace dtm {
 // The bytes of `path`; throws FormatError "path: cannot open file".
 std::string read_whole_file(const std::string& path);
 
+// The whole of `text` as a T (from_chars: no sign '+', no blanks).
+template <class T>
+bool parse_whole(std::string_view text, T& value) {
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  return ec == std::errc() && end == text.data() + text.size();
+}
+
+// The next field of a line, split at blanks (' ', '\t', '\r'), from `at`,
+// `at` moved past it ("" at the end of the line).
+inline std::string_view next_field(std::string_view line, size_t& at) {
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (at < line.size() && blank(line[at])) ++at;
+  const size_t b = at;
+  while (at < line.size() && !blank(line[at])) ++at;
+  return line.substr(b, at - b);
+}
+
 class TextCursor {
  public:
   // `comment`: a character that starts a comment running to the end of the
@@ -71,9 +88,7 @@ class TextCursor {
   T number(const char* what) {
     const std::string_view t = token(what);
     T value{};
-    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
-    if (ec != std::errc() || end != t.data() + t.size())
-      fail(std::string("expected ") + what + ", found '" + std::string(t) + "'");
+    if (!parse_whole(t, value)) fail(std::string("expected ") + what + ", found '" + std::string(t) + "'");
     return value;
   }
   // A finite double.

@@ -256,14 +256,11 @@ class LegacyReader {
       if (c_.tokens(n, [&](uint64_t i, std::string_view t) {
             if (integer) {
               int64_t v = 0;
-              const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+              if (!parse_whole(t, v)) return false;
               out[i] = static_cast<double>(v);
-              return ec == std::errc() && end == t.data() + t.size();
+              return true;
             }
-            double v = 0;
-            const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-            out[i] = v;
-            return ec == std::errc() && end == t.data() + t.size();
+            return parse_whole(t, out[i]);
           }))
         return out;
       out.clear();
