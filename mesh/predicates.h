@@ -5,6 +5,8 @@
 // decide alike.
 #pragma once
 
+#include <array>
+
 #include "common/grid.h"
 
 namespace dtm {
@@ -18,5 +20,13 @@ int orientation(const GridPoint& a, const GridPoint& b, const GridPoint& c, cons
 // circumsphere, -1 outside, 0 on it (CGAL's exact predicate).
 int side_of_sphere(const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d,
                    const GridPoint& e);
+
+// True when the interiors of the tetrahedra a and b (each with positive
+// volume, either orientation) have a point in common; false when they are
+// apart or only touch (a shared corner, edge or face, or one lying on the
+// other's face). Exact, for grid coordinates below 2^kMaxQBits: two convex
+// polytopes' interiors are disjoint exactly when a plane with a face's
+// normal or the cross product of an edge of each separates them.
+bool interiors_meet(const std::array<GridPoint, 4>& a, const std::array<GridPoint, 4>& b);
 
 }  // namespace dtm

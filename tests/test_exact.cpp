@@ -245,6 +245,47 @@ TEST(Exact, RefusesWhatItCannotKeep) {
       << r.status().message();
 }
 
+// A cell across the mesh that shares no face with any other: every face
+// check passes, and it still overlaps the cells it crosses.
+TEST(Exact, RefusesCellsThatOverlapWithoutSharingAFace) {
+  const Model m = load("bunny_10k");
+  EncodeInput in;
+  in.points = m.points;
+  in.tetrahedra = m.tets;
+  Tet across = {m.tets[0][0], m.tets[9000][1], m.tets[27000][2], m.tets[45000][3]};
+  const auto volume = [&](const Tet& t) {
+    const InputPoint &a = m.points[t[0]], &b = m.points[t[1]], &c = m.points[t[2]], &d = m.points[t[3]];
+    const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z, vx = c.x - a.x, vy = c.y - a.y,
+                 vz = c.z - a.z, wx = d.x - a.x, wy = d.y - a.y, wz = d.z - a.z;
+    return ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
+  };
+  // Turned as the mesh's cells are.
+  if ((volume(across) > 0) != (volume(m.tets[0]) > 0)) std::swap(across[0], across[1]);
+  std::set<std::array<uint32_t, 3>> faces;
+  for (const Tet& t : m.tets)
+    for (int k = 0; k < 4; ++k) {
+      std::array<uint32_t, 3> f;
+      for (int j = 0, i = 0; j < 4; ++j)
+        if (j != k) f[static_cast<size_t>(i++)] = t[static_cast<size_t>(j)];
+      std::sort(f.begin(), f.end());
+      faces.insert(f);
+    }
+  for (int k = 0; k < 4; ++k) {
+    std::array<uint32_t, 3> f;
+    for (int j = 0, i = 0; j < 4; ++j)
+      if (j != k) f[static_cast<size_t>(i++)] = across[static_cast<size_t>(j)];
+    std::sort(f.begin(), f.end());
+    ASSERT_EQ(faces.count(f), 0u);
+  }
+  std::vector<Tet> with = m.tets;
+  with.push_back(across);
+  in.tetrahedra = with;
+  const auto r = encode(in, exact_options());
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(r.status().message().find("overlaps"), std::string::npos) << r.status().message();
+}
+
 // A small level whose Delaunay cells are all kept: every open face is on the
 // convex hull, so a hand-made section knows its symbols.
 struct Hull {
@@ -327,6 +368,89 @@ TEST(ExactSection, HostileSectionsAreRefused) {
   exact_cells::put_rank(far, models, 5000);
   s = decode(h, far.finish());
   EXPECT_NE(s.message().find("past the candidates"), std::string::npos) << s.message();
+}
+
+// Seed cells in a level none of whose Delaunay cells is kept: each seed's
+// faces the boundary.
+std::vector<uint8_t> seeds_section(const Hull& h, std::span<const Tet> seeds) {
+  RangeEncoder rc;
+  AdaptiveBit more, fill_face;
+  for (const Tet& s : seeds) {
+    rc.encode(more, true);
+    for (uint32_t v : s) rc.encode_index(v, h.points.size());
+    for (int k = 0; k < 4; ++k) rc.encode(fill_face, false);
+  }
+  rc.encode(more, false);
+  return rc.finish();
+}
+
+// Cells whose every face is new (none of the level's) pass the face checks;
+// where they overlap, a kept cell or each other, the section is refused.
+TEST(ExactSection, CellsThatOverlapWithoutSharingAFaceAreRefused) {
+  Hull h = hull();
+  std::set<std::array<uint32_t, 3>> faces;
+  for (const Tet& t : h.dt.cells)
+    for (int k = 0; k < 4; ++k) faces.insert(exact_cells::key_of(exact_cells::outward_face(t, k)));
+  const auto positive = [&](Tet t) {
+    if (orientation(h.points[t[0]], h.points[t[1]], h.points[t[2]], h.points[t[3]]) < 0)
+      std::swap(t[0], t[1]);
+    return t;
+  };
+  const auto corners = [&](const Tet& t) {
+    return std::array<GridPoint, 4>{h.points[t[0]], h.points[t[1]], h.points[t[2]], h.points[t[3]]};
+  };
+  // Tetrahedra of the level's points with no face of the level's and none
+  // in common with each other.
+  std::vector<Tet> apart;
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<uint32_t> pick(0, static_cast<uint32_t>(h.points.size() - 1));
+  while (apart.size() < 40) {
+    const Tet t = positive({pick(rng), pick(rng), pick(rng), pick(rng)});
+    if (orientation(h.points[t[0]], h.points[t[1]], h.points[t[2]], h.points[t[3]]) <= 0) continue;
+    bool fresh = true;
+    for (int k = 0; k < 4 && fresh; ++k)
+      fresh = !faces.count(exact_cells::key_of(exact_cells::outward_face(t, k)));
+    for (const Tet& o : apart)
+      for (int k = 0; k < 4 && fresh; ++k)
+        for (int j = 0; j < 4 && fresh; ++j)
+          fresh = exact_cells::key_of(exact_cells::outward_face(t, k)) !=
+                  exact_cells::key_of(exact_cells::outward_face(o, j));
+    if (fresh) apart.push_back(t);
+  }
+  // Every cell kept: one such cell overlaps the kept cells it crosses.
+  RangeEncoder rc;
+  AdaptiveBit boundary, more, fill_face;
+  for (size_t i = 0; i < h.hull_faces; ++i) rc.encode(boundary, false);
+  rc.encode(more, true);
+  for (uint32_t v : apart[0]) rc.encode_index(v, h.points.size());
+  for (int k = 0; k < 4; ++k) rc.encode(fill_face, false);
+  rc.encode(more, false);
+  Status s = decode(h, rc.finish());
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+  EXPECT_NE(s.message().find("overlaps a kept Delaunay cell"), std::string::npos) << s.message();
+
+  // None kept: two cells that overlap each other are refused, two apart are
+  // not.
+  h.kept.assign(h.dt.cells.size(), 0);
+  bool overlapping = false, disjoint = false;
+  for (size_t i = 0; i < apart.size() && !(overlapping && disjoint); ++i)
+    for (size_t j = i + 1; j < apart.size(); ++j) {
+      const bool meet = interiors_meet(corners(apart[i]), corners(apart[j]));
+      if ((meet && overlapping) || (!meet && disjoint)) continue;
+      const std::array<Tet, 2> pair = {apart[i], apart[j]};
+      s = decode(h, seeds_section(h, pair));
+      if (meet) {
+        overlapping = true;
+        EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+        EXPECT_NE(s.message().find("two cells overlap"), std::string::npos) << s.message();
+      } else {
+        disjoint = true;
+        EXPECT_TRUE(s.ok()) << s.message();
+      }
+    }
+  EXPECT_TRUE(overlapping);
+  EXPECT_TRUE(disjoint);
 }
 
 TEST(ExactSection, BitFlipsAreRefusedOrChecked) {

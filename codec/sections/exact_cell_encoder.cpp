@@ -134,9 +134,10 @@ StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<c
     // that is not a valid mesh on the grid.
     std::string why = status.message();
     if (why.rfind("exact cells: ", 0) == 0) why = why.substr(13);
-    return invalid_input("the input is not a valid tetrahedral mesh on the grid (" + why +
-                         "): --exact needs positively oriented cells, each face shared by at most two, "
-                         "none flat after quantization (raise --qbits)");
+    return invalid_input(
+        "the input is not a valid tetrahedral mesh on the grid (" + why +
+        "): --exact needs positively oriented cells that do not overlap, each face shared by "
+        "at most two, none flat after quantization (raise --qbits)");
   }
   source = std::move(side.source());
   return side.finish();

@@ -2,7 +2,8 @@
 // the layer checksum that keeps the stream targets from reaching it
 // damaged: never a crash; a section that decodes gives cells that are
 // positively oriented, with every face of the kept cells and the fill shared
-// by at most two cells on opposite sides, and the fill coded again as the
+// by at most two cells on opposite sides, no two cells overlapping, and the
+// fill coded again as the
 // input's cells decodes to the same cells.
 //
 // Input: byte 0: bit 0 the point set (fuzz_point_sets.h); bits 1-3 which
@@ -84,6 +85,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (const auto& [key, sides] : faces) {
     FUZZ_CHECK(sides.size() <= 2);
     if (sides.size() == 2) FUZZ_CHECK(dtm::exact_cells::reversed(sides[0], sides[1]));
+  }
+  // No two cells overlap (every pair of a fill cell with another cell).
+  const auto corners = [&](const dtm::MeshCell& c) {
+    return std::array<dtm::GridPoint, 4>{l.points[c[0]], l.points[c[1]], l.points[c[2]], l.points[c[3]]};
+  };
+  for (size_t i = 0; i < fill.cells.size(); ++i) {
+    for (size_t c = 0; c < kept.size(); ++c)
+      if (kept[c]) FUZZ_CHECK(!dtm::interiors_meet(corners(fill.cells[i]), corners(l.dt.cells[c])));
+    for (size_t j = i + 1; j < fill.cells.size(); ++j)
+      FUZZ_CHECK(!dtm::interiors_meet(corners(fill.cells[i]), corners(fill.cells[j])));
   }
   // Coded again as the input's cells beside the kept ones: the same cells.
   dtm::ExactFill again, back;
