@@ -54,6 +54,19 @@ if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$work/nothing.node" "
 fi
 grep -q "nothing.node" "$work/err" || { cat "$work/err"; failed=1; }
 [ -z "$(ls "$work/missing")" ] || { echo "files left behind: $(ls "$work/missing")"; failed=1; }
+# The .ele is read in parts, a range of its bytes on each rank: a line
+# broken in the last rank's part fails every rank, naming the file and that
+# line, and leaves no file.
+cp "$data/bunny_10k.node" "$work/broken.node"
+lines=$(wc -l < "$data/bunny_10k.ele")
+bad=$((lines * 9 / 10))
+awk -v bad="$bad" 'NR == bad { $5 = "x" } { print }' "$data/bunny_10k.ele" > "$work/broken.ele"
+if mpirun --oversubscribe "${as_root[@]}" -n 3 "$meshenc" "$work/broken.node" "${options[@]}" -q \
+  -o "$work/missing/b.dtm" 2>"$work/err"; then
+  echo "a broken .ele encoded"; failed=1
+fi
+grep -q "broken.ele:$bad: expected a vertex index, found 'x'" "$work/err" || { echo "the broken line not named:"; cat "$work/err"; failed=1; }
+[ -z "$(ls "$work/missing")" ] || { echo "files left behind: $(ls "$work/missing")"; failed=1; }
 # Without --bricks: a clear error.
 if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$data/bunny_10k.node" --no-fields -q \
   -o "$work/missing/p.dtm" 2>"$work/err"; then

@@ -119,6 +119,70 @@ TEST(TetgenEle, KeepsWhatItIsToldAndStillChecksTheRest) {
   EXPECT_EQ(read_tetgen_ele(dir + "/many.ele", 100, 0, not_last), kept);
 }
 
+// MPI ranks read an .ele in parts (each a range of its bytes): joined in
+// part order, the parts' records are the file's, whatever the number of
+// parts, with comments, blank lines and long lines where the cuts fall; an
+// error is found by the one part that holds its line, named by that line
+// in the whole file.
+TEST(TetgenEle, PartsJoinedAreTheFile) {
+  const std::string dir = ::testing::TempDir() + "/tetgen_parts";
+  std::filesystem::create_directories(dir);
+  constexpr uint32_t kCount = 5000;
+  std::vector<std::string> lines = {"# made by a test", "", std::to_string(kCount) + " 4 0"};
+  for (uint32_t i = 0; i < kCount; ++i) {
+    if (i % 97 == 0) lines.push_back("# a comment" + std::string(i % 300, 'x'));
+    if (i % 89 == 0) lines.push_back("   ");
+    lines.push_back(std::to_string(i) + "  " + std::to_string(i % 61) + " " + std::to_string(i % 59) + " " +
+                    std::to_string(i % 53) + " " + std::to_string(i % 51) + (i % 7 ? "" : "   # note"));
+  }
+  const auto write = [&](const std::string& name, const std::vector<std::string>& text, bool last_end) {
+    std::ofstream f(dir + "/" + name);
+    for (size_t i = 0; i < text.size(); ++i) f << text[i] << (i + 1 < text.size() || last_end ? "\n" : "");
+  };
+  write("all.ele", lines, false);
+  const auto all = read_tetgen_ele(dir + "/all.ele", 64, 0);
+  ASSERT_EQ(all.size(), kCount);
+  for (int parts : {1, 2, 3, 5, 16, 97}) {
+    std::vector<std::array<uint32_t, 4>> joined;
+    uint64_t records = 0;
+    for (int part = 0; part < parts; ++part) {
+      const ElePart p = read_tetgen_ele_part(dir + "/all.ele", 64, 0, part, parts,
+                                             [&](std::span<const std::array<uint32_t, 4>> block) {
+                                               joined.insert(joined.end(), block.begin(), block.end());
+                                             });
+      EXPECT_EQ(p.header_count, kCount);
+      records += p.records;
+    }
+    EXPECT_EQ(records, kCount) << parts;
+    EXPECT_EQ(joined, all) << parts;
+  }
+  // A vertex out of range on one line: the whole file's message, from the
+  // one part that holds that line.
+  std::vector<std::string> bad = lines;
+  const size_t line = 3 * bad.size() / 5;
+  bad[line] = "7 1 2 3 64";
+  write("bad.ele", bad, true);
+  std::string whole;
+  try {
+    read_tetgen_ele(dir + "/bad.ele", 64, 0);
+  } catch (const FormatError& e) {
+    whole = e.what();
+  }
+  ASSERT_NE(whole.find(":" + std::to_string(line + 1) + ": vertex index 64 out of range"), std::string::npos)
+      << whole;
+  for (int parts : {2, 3, 7}) {
+    int failed = 0;
+    for (int part = 0; part < parts; ++part) try {
+        read_tetgen_ele_part(dir + "/bad.ele", 64, 0, part, parts,
+                             [](std::span<const std::array<uint32_t, 4>>) {});
+      } catch (const FormatError& e) {
+        ++failed;
+        EXPECT_EQ(std::string(e.what()), whole);
+      }
+    EXPECT_EQ(failed, 1) << parts;
+  }
+}
+
 // A mesh read from pieces: its points those of `points`, some more than
 // once, each with its marker, and its tetrahedra `tets`, by their corners'
 // places.

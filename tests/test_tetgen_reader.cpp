@@ -256,6 +256,67 @@ TEST(TextRecords, SmallBlocksReadEveryRecordWithItsLine) {
   }
 }
 
+// The same file read in parts (MPI ranks' ranges of its bytes), with blocks
+// smaller and larger than a part: the parts' records joined in part order
+// are the file's, each with its line in the whole file.
+TEST(TextRecords, PartsJoinedReadEveryRecordWithItsLine) {
+  const std::string path = ::testing::TempDir() + "/records_parts.txt";
+  std::vector<std::pair<size_t, std::string>> want;  // (line, first field)
+  {
+    std::ofstream out(path);
+    out << "# a comment first\nheader 1\n";
+    size_t line = 2;
+    for (int i = 0; i < 2000; ++i) {
+      if (i % 5 == 2) out << "  # only a comment\n\n", line += 2;
+      const std::string first = std::string(static_cast<size_t>(i % 70), 'y') + std::to_string(i);
+      out << first << " " << i << "\n";
+      want.emplace_back(++line, first);
+    }
+    out << "tail";  // no line end
+    want.emplace_back(line + 1, "tail");
+  }
+  for (size_t block : {size_t{1}, size_t{50}, size_t{3000}, size_t{1} << 20})
+    for (int parts : {1, 2, 3, 8, 1000}) {
+      std::vector<std::pair<size_t, std::string>> got;
+      const auto& [error_line, error_field] = want[want.size() * 2 / 3];
+      std::vector<std::string> errors;
+      for (int part = 0; part < parts; ++part) {
+        TextRecords r(path, block);
+        TextRecords::Fields fields;
+        ASSERT_TRUE(r.next(fields));
+        ASSERT_EQ(r.line(), 2u);
+        r.keep_to_part(part, parts);
+        size_t first = 0;
+        r.records(
+            want.size(), [&](size_t n, size_t) { first = got.size(), got.resize(got.size() + n); },
+            [&](size_t i, size_t, const TextRecords::Fields& f) {
+              got[first + i] = {0, std::string(f[0])};
+            },
+            [] {});
+        // The lines a part numbers are its own, but an error names the
+        // line in the whole file.
+        TextRecords again(path, block);
+        ASSERT_TRUE(again.next(fields));
+        again.keep_to_part(part, parts);
+        try {
+          again.records(
+              want.size(), [](size_t, size_t) {},
+              [&](size_t, size_t line, const TextRecords::Fields& f) {
+                if (f[0] == error_field) again.fail(line, "here");
+              },
+              [] {});
+        } catch (const FormatError& e) {
+          errors.push_back(e.what());
+        }
+      }
+      ASSERT_EQ(got.size(), want.size()) << block << " " << parts;
+      for (size_t i = 0; i < want.size(); ++i)
+        ASSERT_EQ(got[i].second, want[i].second) << block << " " << parts;
+      ASSERT_EQ(errors.size(), 1u) << block << " " << parts;
+      EXPECT_EQ(errors[0], path + ":" + std::to_string(error_line) + ": here") << block << " " << parts;
+    }
+}
+
 // The smallest records there can be, the last without its line end: every
 // one read. And a header of many attributes over lines of one character
 // each: an error, not room for what the header claims.

@@ -6,12 +6,14 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <map>
 #include <optional>
 
 #include "codec/blocks/reference_share.h"
 #include "codec/encode.h"
+#include "common/parallel_for.h"
 #include "common/release.h"
 #include "core/reference_shape.h"
 #include "tools/atomic_file.h"
@@ -244,15 +246,90 @@ dtm::InputMesh read(const Command& c) {
   return in;
 }
 
+using Tet = std::array<uint32_t, 4>;
+
+// Under mpirun, a TetGen .ele read in parts: each rank parses its range of
+// the file's bytes and sends each tetrahedron to the ranks that hold it
+// (ReferenceShare::holders()), so that the ranks share the parsing and
+// none holds more than its share. Each rank gets its tetrahedra in the
+// file's order, as reading the whole file keeping them would give.
+std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::QuantizedPoints& q,
+                                   const dtm::ReferenceShare& share, dtm::MpiSession& mpi) {
+  // Each grid point's rank, found once on every core: a tetrahedron goes
+  // to the ranks of its two least corners.
+  std::vector<uint32_t> rank_of(q.points.size());
+  dtm::parallel_ranges(rank_of.size(), size_t{1} << 16, [&](size_t first, size_t last) {
+    for (size_t p = first; p < last; ++p)
+      rank_of[p] = static_cast<uint32_t>(share.rank_of(static_cast<uint32_t>(p)));
+  });
+  std::vector<std::vector<uint8_t>> to(static_cast<size_t>(mpi.size()));
+  const auto send = [&](uint32_t rank, const Tet& t) {
+    auto& bytes = to[rank];
+    bytes.resize(bytes.size() + sizeof t);
+    std::memcpy(bytes.data() + bytes.size() - sizeof t, t.data(), sizeof t);
+  };
+  std::vector<std::array<uint32_t, 2>> ranks;
+  dtm::ElePart counts;
+  std::string problem;
+  try {
+    counts = dtm::read_tetgen_ele_part(in.tetgen_ele, q.input_to_point.size(), in.tetgen_index_base,
+                                       mpi.rank(), mpi.size(), [&](std::span<const Tet> block) {
+                                         ranks.resize(block.size());
+                                         dtm::parallel_ranges(block.size(), size_t{1} << 14,
+                                                              [&](size_t first, size_t last) {
+                                                                for (size_t i = first; i < last; ++i) {
+                                                                  // The two least corners on the grid
+                                                                  // (ReferenceShare::holders()).
+                                                                  uint32_t a = UINT32_MAX, b = UINT32_MAX;
+                                                                  for (uint32_t v : block[i]) {
+                                                                    const uint32_t g = q.input_to_point[v];
+                                                                    if (g < a)
+                                                                      b = a, a = g;
+                                                                    else if (g < b)
+                                                                      b = g;
+                                                                  }
+                                                                  ranks[i] = {rank_of[a], rank_of[b]};
+                                                                }
+                                                              });
+                                         for (size_t i = 0; i < block.size(); ++i) {
+                                           send(ranks[i][0], block[i]);
+                                           if (ranks[i][1] != ranks[i][0]) send(ranks[i][1], block[i]);
+                                         }
+                                       });
+  } catch (const std::exception& e) {
+    problem = e.what();
+  }
+  // A rank's error is every rank's (the first in the file: the lowest
+  // rank's), so that none waits for the others in vain.
+  for (const auto& p : mpi.all_gather({reinterpret_cast<const uint8_t*>(problem.data()), problem.size()}))
+    if (!p.empty()) throw dtm::FormatError(std::string(p.begin(), p.end()));
+  const uint64_t total = mpi.sum(counts.records);
+  if (total < counts.header_count)
+    throw dtm::FormatError(in.tetgen_ele + ": file ends after " + std::to_string(total) + " of " +
+                           std::to_string(counts.header_count) + " tetrahedra");
+  if (total > counts.header_count)
+    throw dtm::FormatError(in.tetgen_ele + ": unexpected data after the " +
+                           std::to_string(counts.header_count) + " tetrahedra (the file holds " +
+                           std::to_string(total) + ")");
+  const std::vector<uint8_t> held = mpi.all_to_all(std::move(to));
+
+  std::vector<Tet> out(held.size() / sizeof(Tet));
+  std::memcpy(out.data(), held.data(), out.size() * sizeof(Tet));
+  return out;
+}
+
 // Under mpirun: the input's tetrahedra this rank holds for the reference
-// (codec/blocks/reference_share.h), on the grid. A TetGen .ele is read keeping
-// them only (no rank holds them all); other formats' are filtered in place.
+// (codec/blocks/reference_share.h), on the grid. A TetGen .ele is read in
+// parts, or (one rank) keeping them only; other formats' are filtered in
+// place.
 void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::ReferenceShare& share) {
   const auto on_grid = [&](const std::array<uint32_t, 4>& t) {
     return std::array<uint32_t, 4>{q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
                                    q.input_to_point[t[3]]};
   };
-  if (!in.tetgen_ele.empty())
+  if (!in.tetgen_ele.empty() && dtm::mpi_session().size() > 1)
+    in.tets = read_ele_in_parts(in, q, share, dtm::mpi_session());
+  else if (!in.tetgen_ele.empty())
     in.tets = dtm::read_tetgen_ele(in.tetgen_ele, q.input_to_point.size(), in.tetgen_index_base,
                                    [&](const std::array<uint32_t, 4>& t) { return share.holds(on_grid(t)); });
   else if (std::erase_if(in.tets,
@@ -536,7 +613,7 @@ int run(Command& c) {
     // are freed before the tetrahedra are read.
     input.points = {};
     dtm::release(in.points);
-    if (!in.tetgen_ele.empty()) display.start("reading this rank's share of " + in.tetgen_ele);
+    if (!in.tetgen_ele.empty()) display.start("reading " + in.tetgen_ele + ", a part on each rank");
     share.emplace(plan->quantized.points, plan->quantized.grid.qbits, mpi.rank(), mpi.size());
     c.encode.reference_share = &*share;
     hold_share(in, plan->quantized, *share);

@@ -10,6 +10,7 @@
 #include <memory>
 #include <span>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "common/exchange.h"
@@ -111,6 +112,42 @@ class MpiSession : public RankExchange {
     }
 #endif
     return {std::vector<uint8_t>(mine.begin(), mine.end())};
+  }
+  // Every rank's to_each[r] goes to rank r; returns what the ranks sent
+  // this one, joined in rank order (each part at most 2 GiB). Sent from
+  // to_each itself, point to point, so that nothing is copied to be sent.
+  std::vector<uint8_t> all_to_all(std::vector<std::vector<uint8_t>> to_each) {
+#ifdef DTM_WITH_MPI
+    if (active_) {
+      const auto n = static_cast<size_t>(size_);
+      std::vector<int> sizes(n), counts(n);
+      for (size_t r = 0; r < n; ++r) {
+        if (to_each[r].size() > static_cast<size_t>(INT32_MAX))
+          throw std::runtime_error("MPI: over 2 GiB to one rank");
+        sizes[r] = static_cast<int>(to_each[r].size());
+      }
+      MPI_Request request = MPI_REQUEST_NULL;
+      MPI_Ialltoall(sizes.data(), 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request);
+      wait_for(request);
+      size_t total = 0;
+      for (int c : counts) total += static_cast<size_t>(c);
+      std::vector<uint8_t> all(total);
+      std::vector<MPI_Request> requests(2 * n, MPI_REQUEST_NULL);
+      constexpr int kTag = 7;
+      for (size_t r = 0, at = 0; r < n; at += static_cast<size_t>(counts[r]), ++r) {
+        if (counts[r] > 0)
+          MPI_Irecv(all.data() + at, counts[r], MPI_BYTE, static_cast<int>(r), kTag, MPI_COMM_WORLD,
+                    &requests[r]);
+        if (sizes[r] > 0)
+          MPI_Isend(to_each[r].data(), sizes[r], MPI_BYTE, static_cast<int>(r), kTag, MPI_COMM_WORLD,
+                    &requests[n + r]);
+      }
+      for (MPI_Request& r : requests)
+        if (r != MPI_REQUEST_NULL) wait_for(r);
+      return all;
+    }
+#endif
+    return to_each.empty() ? std::vector<uint8_t>{} : std::move(to_each[0]);
   }
   // A thread that answers the other ranks, where MPI lets several threads
   // call it (MPI_THREAD_MULTIPLE); else nullptr.

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <span>
 #include <utility>
+#include <vector>
 
 #include "common/grid.h"
 
@@ -37,6 +38,16 @@ class ReferenceShare {
     return mine(least) || mine(second);
   }
   bool owns(const std::array<uint32_t, 4>& t) const { return mine(two_least(t).first); }
+  // The ranks that hold t (one twice when one holds both of its two least
+  // corners): where a rank that read t sends it.
+  std::array<int, 2> holders(const std::array<uint32_t, 4>& t) const {
+    const auto [least, second] = two_least(t);
+    return {rank_of(least), rank_of(second)};
+  }
+  int rank_of(uint32_t point) const {
+    return static_cast<int>(std::upper_bound(cuts_.begin(), cuts_.end(), key(points_[point])) -
+                            cuts_.begin());
+  }
 
  private:
   // A point's place in Morton order: its code's top 64 bits (points that
@@ -54,7 +65,8 @@ class ReferenceShare {
 
   std::span<const GridPoint> points_;
   int qbits_;
-  uint64_t lo_ = 0, hi_ = 0;  // this rank's keys: [lo_, hi_), or from lo_ on for the last
+  uint64_t lo_ = 0, hi_ = 0;    // this rank's keys: [lo_, hi_), or from lo_ on for the last
+  std::vector<uint64_t> cuts_;  // where ranks 1, 2, ... begin
   bool last_ = true;
 };
 

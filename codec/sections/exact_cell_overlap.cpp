@@ -141,7 +141,8 @@ Status check_cells_apart(const TetMesh& dt, std::span<const GridPoint> points, s
               const int32_t d = dt.neighbors[found[i]][k];
               // Across a face of the fill cell itself lies what the fill
               // cell does not reach.
-              if (d < 0 || own_face(fill.cells[j], m, k) || !tested.insert(static_cast<uint32_t>(d))) continue;
+              if (d < 0 || own_face(fill.cells[j], m, k) || !tested.insert(static_cast<uint32_t>(d)))
+                continue;
               if (meets(static_cast<uint32_t>(d))) found.push_back(static_cast<uint32_t>(d));
             }
             if (found.size() > kMaxMeetings) return refuse("a cell crosses too many Delaunay cells");

@@ -94,9 +94,17 @@ int tetgen_ele_attributes(const std::string& path) {
   return std::max(0, r.parse<int>(tok[2], "an attribute count", r.line()));
 }
 
-std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
-    const std::string& path, size_t num_points, int index_base,
-    const std::function<bool(const std::array<uint32_t, 4>&)>& keep, std::vector<int32_t>* regions) {
+namespace {
+
+using Tet = std::array<uint32_t, 4>;
+
+// read_tetgen_ele() of part `part` of `parts` of the records (all of them
+// when parts is 1), the counts in `counts`.
+std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t num_points, int index_base,
+                                              const std::function<bool(const std::array<uint32_t, 4>&)>& keep,
+                                              std::vector<int32_t>* regions, int part, int parts,
+                                              ElePart& counts,
+                                              const std::function<void(std::span<const Tet>)>& take = {}) {
   TextRecords r(path);
   TextRecords::Fields tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected an .ele header");
@@ -108,7 +116,7 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
   const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count", header) : 0;
   if (per != 4) r.fail(header, "only linear tetrahedra (4 nodes) are supported, got " + std::to_string(per));
   if (attributes < 0) r.fail(header, "bad attribute count");
-  using Tet = std::array<uint32_t, 4>;
+  r.keep_to_part(part, parts);
   std::vector<Tet> out;
   // Room for all at once (growing by doubling held 1.5x the tetrahedra
   // while copying, and up to twice as many): no more than the file's bytes
@@ -164,14 +172,17 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
         at[i] = t;
       },
       [&] {
-        if (keep)
+        if (take)
+          take(block);
+        else if (keep)
           for (const Tet& t : block)
             if (keep(t)) {
               if (pieces.empty() || pieces.back().size() == kPiece) pieces.emplace_back().reserve(kPiece);
               pieces.back().push_back(t);
             }
       });
-  if (found.records < count)
+  counts = {count, found.records};
+  if (found.records < count && parts == 1)
     throw FormatError(path + ": file ends after " + std::to_string(found.records) + " of " +
                       std::to_string(count) + " tetrahedra");
   // Tetrahedra past the header's count are not dropped in silence.
@@ -187,6 +198,24 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     }
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
+    const std::string& path, size_t num_points, int index_base,
+    const std::function<bool(const std::array<uint32_t, 4>&)>& keep, std::vector<int32_t>* regions) {
+  ElePart counts;
+  return read_ele(path, num_points, index_base, keep, regions, 0, 1, counts);
+}
+
+ElePart read_tetgen_ele_part(const std::string& path, size_t num_points, int index_base, int part, int parts,
+                             const std::function<void(std::span<const Tet>)>& take) {
+  ElePart counts;
+  // (keep: the block's tetrahedra held apart, which `take` then gets.)
+  read_ele(
+      path, num_points, index_base, [](const Tet&) { return false; }, nullptr, part, parts, counts, take);
+  return counts;
 }
 
 }  // namespace dtm

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,5 +40,18 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::string& path, size_t num_points, int index_base = 0,
     const std::function<bool(const std::array<uint32_t, 4>&)>& keep = {},
     std::vector<int32_t>* regions = nullptr);
+
+// Part `part` of `parts` of an .ele's records (an MPI rank's range of the
+// file, TextRecords::keep_to_part()): passed to `take` a block at a time,
+// in file order, on the calling thread; errors named by their line in the
+// whole file.
+// Returns the header's count of tetrahedra and the part's; the parts'
+// counts must add up to the header's (the caller checks, having them all).
+struct ElePart {
+  uint64_t header_count = 0;
+  uint64_t records = 0;
+};
+ElePart read_tetgen_ele_part(const std::string& path, size_t num_points, int index_base, int part, int parts,
+                             const std::function<void(std::span<const std::array<uint32_t, 4>>)>& take);
 
 }  // namespace dtm

@@ -1,6 +1,7 @@
 #include "text_records.h"
 
 #include <algorithm>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <string_view>
@@ -51,6 +52,43 @@ std::string_view line_at(std::string_view text, size_t at, size_t& next) {
 
 }  // namespace
 
+namespace {
+
+constexpr size_t kScanBytes = size_t{1} << 20;
+
+// The first line start at or after `at` (> 0): the byte after the first
+// '\n' at or after at - 1, or the file's end.
+uint64_t next_line_start(const std::string& path, uint64_t at) {
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(at - 1));
+  std::vector<char> buffer(kScanBytes);
+  uint64_t offset = at - 1;
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    const auto got = static_cast<size_t>(in.gcount());
+    if (const void* end = std::memchr(buffer.data(), '\n', got))
+      return offset + static_cast<uint64_t>(static_cast<const char*>(end) - buffer.data()) + 1;
+    offset += got;
+  }
+  return offset;
+}
+
+// The lines that end before byte `end`.
+uint64_t lines_before(const std::string& path, uint64_t end) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> buffer(kScanBytes);
+  uint64_t lines = 0;
+  for (uint64_t offset = 0; offset < end && in;) {
+    in.read(buffer.data(), static_cast<std::streamsize>(std::min<uint64_t>(buffer.size(), end - offset)));
+    const auto got = static_cast<size_t>(in.gcount());
+    lines += static_cast<uint64_t>(std::count(buffer.data(), buffer.data() + got, '\n'));
+    offset += got;
+  }
+  return lines;
+}
+
+}  // namespace
+
 TextRecords::TextRecords(const std::string& path, size_t block_bytes)
     : path_(path), in_(path, std::ios::binary), block_bytes_(std::max<size_t>(block_bytes, 1)) {
   if (!in_) throw FormatError(path + ": cannot open file");
@@ -61,6 +99,8 @@ TextRecords::TextRecords(const std::string& path, size_t block_bytes)
 }
 
 void TextRecords::fail(size_t line, const std::string& problem) const {
+  if (skipped_.second > skipped_.first)
+    line += lines_before(path_, skipped_.second) - lines_before(path_, skipped_.first);
   throw FormatError(path_ + ":" + std::to_string(line) + ": " + problem);
 }
 
@@ -73,10 +113,14 @@ bool TextRecords::read_block() {
   // line longer than a block grows the block until it ends).
   while (true) {
     const size_t had = text_.size();
-    text_.resize(had + block_bytes_);
-    in_.read(text_.data() + had, static_cast<std::streamsize>(block_bytes_));
-    text_.resize(had + static_cast<size_t>(in_.gcount()));
-    if (!in_) {
+    const auto want = static_cast<size_t>(std::min<uint64_t>(block_bytes_, left_));
+    text_.resize(had + want);
+    in_.read(text_.data() + had, static_cast<std::streamsize>(want));
+    const auto got = static_cast<size_t>(in_.gcount());
+    text_.resize(had + got);
+    read_ += got;
+    left_ -= std::min<uint64_t>(left_, got);
+    if (!in_ || left_ == 0) {
       eof_ = true;
       return !text_.empty();
     }
@@ -87,6 +131,33 @@ bool TextRecords::read_block() {
       return true;
     }
   }
+}
+
+void TextRecords::keep_to_part(int part, int parts) {
+  if (parts <= 1) return;
+  // Where the records begin: what next() has not yet taken.
+  const uint64_t from = read_ - carry_.size() - (text_.size() - at_);
+  std::error_code error;
+  const uint64_t size = std::filesystem::file_size(path_, error);
+  if (error) throw FormatError(path_ + ": cannot tell the file's size");
+  const uint64_t span = size - from;
+  const auto cut = [&](int p) {
+    const uint64_t at = from + static_cast<uint64_t>(static_cast<unsigned __int128>(span) *
+                                                     static_cast<unsigned>(p) / static_cast<unsigned>(parts));
+    return at == from ? from : next_line_start(path_, at);
+  };
+  const uint64_t first = cut(part), last = part + 1 == parts ? size : cut(part + 1);
+  // The lines of the parts before this one are counted only for a message
+  // (fail()): the last part's count would read almost the whole file.
+  skipped_ = {from, first};
+  in_.clear();
+  in_.seekg(static_cast<std::streamoff>(first));
+  read_ = first;
+  left_ = last - first;
+  text_.clear();
+  carry_.clear();
+  at_ = 0;
+  eof_ = left_ == 0;
 }
 
 bool TextRecords::next(Fields& fields) {

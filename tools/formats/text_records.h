@@ -13,6 +13,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "format_error.h"
@@ -31,6 +32,15 @@ class TextRecords {
   bool next(Fields& fields);
   // The line number of the last line next() returned.
   size_t line() const { return line_; }
+
+  // Restricts what records() reads to part `part` of `parts` of the rest
+  // of the file (an MPI rank's range): the lines whose first byte lies in
+  // that part of its bytes. Call it after next() has read the header,
+  // before records(); the parts' records, joined in part order, are the
+  // file's. The lines records() numbers skip the earlier parts' (counting
+  // them would read almost the whole file on the last rank), which fail()
+  // adds back: its message names the line in the whole file.
+  void keep_to_part(int part, int parts);
 
   struct Found {
     uint64_t records = 0;   // records parsed (at most `count`)
@@ -79,6 +89,9 @@ class TextRecords {
   size_t at_ = 0;      // next() and records() go on from here in text_
   size_t line_ = 0;    // the line of text_[at_ - 1]'s line (lines before at_)
   bool eof_ = false;
+  uint64_t read_ = 0;                      // bytes read from in_
+  uint64_t left_ = UINT64_MAX;             // bytes read_block() may still read (keep_to_part())
+  std::pair<uint64_t, uint64_t> skipped_;  // bytes keep_to_part() skipped, lines uncounted
 };
 
 }  // namespace dtm
