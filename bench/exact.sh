@@ -117,13 +117,15 @@ out = ["# --exact: level 0 as the input's own tetrahedra", "",
        "* **Decoding.** The fill walks the open faces, found through a hash of their corners (chained in "
        "the faces' own array), with a per-vertex list of Delaunay cells for the candidates; its in-sphere "
        "tests are CGAL's exact predicates. Its cost over the default decode is the \"decode / "
-       "construction\" against \"decode without\" columns: 0.2-0.6x one construction (bunny_1m 0.38x: "
-       "the carving's margin contexts about 0.7 s, the fill 1.0 s, the per-vertex cell lists 0.4 s, the "
-       "opening of the kept cells' faces 0.2 s, measured apart). The default decode of these meshes is "
-       "itself 1.3-2.7x one sequential construction on this 2-core machine (the construction here is "
-       "CGAL's of the input points, one core; this run's machine was slower than the last's: bunny_1m's "
-       "construction 7.2 s against 5.4 s), so the target of 1.3x is out of reach for the exact decode "
-       "as long as the default one is at or above it."]
+       "construction\" against \"decode without\" columns: 0.2-0.5x one construction where the "
+       "times are long enough to tell (bunny_1m 0.41x: the carving's margin contexts about 0.7 s, the fill "
+       "1.0 s, the per-vertex cell lists 0.4 s, the opening of the kept cells' faces 0.2 s, and since "
+       "2026-12-02 the check that no two cells overlap (spec/FORMAT.md §3.10) 0.4-0.5 s on 2 cores: 1.0M "
+       "tests of a Delaunay cell against a fill cell and 0.36M comparisons of fill cells, measured apart; "
+       "the 10k models' columns, at constructions of 0.05 s, move by up to 0.6x from one run to the "
+       "next). The default decode of these meshes is itself 1.6-2.5x one sequential construction on "
+       "this 2-core machine (the construction here is CGAL's of the input points, one core), so the "
+       "target of 1.3x is out of reach for the exact decode as long as the default one is above it."]
 open("EXACT.md", "w").write("\n".join(out) + "\n")
 print("\n".join(out))
 PY
