@@ -116,7 +116,7 @@ class MpiSession : public RankExchange {
   // Every rank's to_each[r] goes to rank r; returns what the ranks sent
   // this one, joined in rank order (each part at most 2 GiB). Sent from
   // to_each itself, point to point, so that nothing is copied to be sent.
-  std::vector<uint8_t> all_to_all(std::vector<std::vector<uint8_t>> to_each) {
+  std::vector<uint8_t> all_to_all(std::vector<std::vector<uint8_t>> to_each) const {
 #ifdef DTM_WITH_MPI
     if (active_) {
       const auto n = static_cast<size_t>(size_);
