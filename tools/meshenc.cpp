@@ -250,7 +250,7 @@ using Tet = std::array<uint32_t, 4>;
 
 // Under mpirun, a TetGen .ele read in parts: each rank parses its range of
 // the file's bytes and sends each tetrahedron to the ranks that hold it
-// (ReferenceShare::holders()), so that the ranks share the parsing and
+// (those of its two least corners, ReferenceShare), so that the ranks share the parsing and
 // none holds more than its share. Each rank gets its tetrahedra in the
 // file's order, as reading the whole file keeping them would give.
 std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::QuantizedPoints& q,
@@ -268,34 +268,35 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
     bytes.resize(bytes.size() + sizeof t);
     std::memcpy(bytes.data() + bytes.size() - sizeof t, t.data(), sizeof t);
   };
+  // A block of the part: each tetrahedron's ranks found on every core, then
+  // the tetrahedra put in order in what goes to each rank.
   std::vector<std::array<uint32_t, 2>> ranks;
+  const auto take = [&](std::span<const Tet> block) {
+    ranks.resize(block.size());
+    dtm::parallel_ranges(block.size(), size_t{1} << 14, [&](size_t first, size_t last) {
+      for (size_t i = first; i < last; ++i) {
+        // The two least corners on the grid (ReferenceShare::holds()).
+        uint32_t a = UINT32_MAX, b = UINT32_MAX;
+        for (uint32_t v : block[i]) {
+          const uint32_t g = q.input_to_point[v];
+          if (g < a)
+            b = a, a = g;
+          else if (g < b)
+            b = g;
+        }
+        ranks[i] = {rank_of[a], rank_of[b]};
+      }
+    });
+    for (size_t i = 0; i < block.size(); ++i) {
+      send(ranks[i][0], block[i]);
+      if (ranks[i][1] != ranks[i][0]) send(ranks[i][1], block[i]);
+    }
+  };
   dtm::ElePart counts;
   std::string problem;
   try {
     counts = dtm::read_tetgen_ele_part(in.tetgen_ele, q.input_to_point.size(), in.tetgen_index_base,
-                                       mpi.rank(), mpi.size(), [&](std::span<const Tet> block) {
-                                         ranks.resize(block.size());
-                                         dtm::parallel_ranges(block.size(), size_t{1} << 14,
-                                                              [&](size_t first, size_t last) {
-                                                                for (size_t i = first; i < last; ++i) {
-                                                                  // The two least corners on the grid
-                                                                  // (ReferenceShare::holders()).
-                                                                  uint32_t a = UINT32_MAX, b = UINT32_MAX;
-                                                                  for (uint32_t v : block[i]) {
-                                                                    const uint32_t g = q.input_to_point[v];
-                                                                    if (g < a)
-                                                                      b = a, a = g;
-                                                                    else if (g < b)
-                                                                      b = g;
-                                                                  }
-                                                                  ranks[i] = {rank_of[a], rank_of[b]};
-                                                                }
-                                                              });
-                                         for (size_t i = 0; i < block.size(); ++i) {
-                                           send(ranks[i][0], block[i]);
-                                           if (ranks[i][1] != ranks[i][0]) send(ranks[i][1], block[i]);
-                                         }
-                                       });
+                                       mpi.rank(), mpi.size(), take);
   } catch (const std::exception& e) {
     problem = e.what();
   }
@@ -312,26 +313,21 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
                            std::to_string(counts.header_count) + " tetrahedra (the file holds " +
                            std::to_string(total) + ")");
   const std::vector<uint8_t> held = mpi.all_to_all(std::move(to));
-
   std::vector<Tet> out(held.size() / sizeof(Tet));
   std::memcpy(out.data(), held.data(), out.size() * sizeof(Tet));
   return out;
 }
 
-// Under mpirun: the input's tetrahedra this rank holds for the reference
-// (codec/blocks/reference_share.h), on the grid. A TetGen .ele is read in
-// parts, or (one rank) keeping them only; other formats' are filtered in
-// place.
+// Under mpirun, on 2 ranks or more: the input's tetrahedra this rank holds
+// for the reference (codec/blocks/reference_share.h), on the grid. A TetGen
+// .ele is read in parts; other formats' are filtered in place.
 void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::ReferenceShare& share) {
   const auto on_grid = [&](const std::array<uint32_t, 4>& t) {
     return std::array<uint32_t, 4>{q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
                                    q.input_to_point[t[3]]};
   };
-  if (!in.tetgen_ele.empty() && dtm::mpi_session().size() > 1)
+  if (!in.tetgen_ele.empty())
     in.tets = read_ele_in_parts(in, q, share, dtm::mpi_session());
-  else if (!in.tetgen_ele.empty())
-    in.tets = dtm::read_tetgen_ele(in.tetgen_ele, q.input_to_point.size(), in.tetgen_index_base,
-                                   [&](const std::array<uint32_t, 4>& t) { return share.holds(on_grid(t)); });
   else if (std::erase_if(in.tets,
                          [&](const std::array<uint32_t, 4>& t) { return !share.holds(on_grid(t)); }) > 0)
     in.tets.shrink_to_fit();

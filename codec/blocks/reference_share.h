@@ -38,12 +38,9 @@ class ReferenceShare {
     return mine(least) || mine(second);
   }
   bool owns(const std::array<uint32_t, 4>& t) const { return mine(two_least(t).first); }
-  // The ranks that hold t (one twice when one holds both of its two least
-  // corners): where a rank that read t sends it.
-  std::array<int, 2> holders(const std::array<uint32_t, 4>& t) const {
-    const auto [least, second] = two_least(t);
-    return {rank_of(least), rank_of(second)};
-  }
+  // The rank whose run holds the point (every rank computes the same cuts):
+  // a tetrahedron is held by the ranks of its two least corners, where a
+  // rank that read it sends it (meshenc reads an .ele in parts).
   int rank_of(uint32_t point) const {
     return static_cast<int>(std::upper_bound(cuts_.begin(), cuts_.end(), key(points_[point])) -
                             cuts_.begin());

@@ -50,10 +50,6 @@ std::string_view line_at(std::string_view text, size_t at, size_t& next) {
   return text.substr(at, (end == std::string_view::npos ? text.size() : end) - at);
 }
 
-}  // namespace
-
-namespace {
-
 constexpr size_t kScanBytes = size_t{1} << 20;
 
 // The first line start at or after `at` (> 0): the byte after the first
