@@ -57,7 +57,7 @@ constexpr size_t kScanBytes = size_t{1} << 20;
 uint64_t next_line_start(const std::string& path, uint64_t at) {
   std::ifstream in(path, std::ios::binary);
   in.seekg(static_cast<std::streamoff>(at - 1));
-  std::vector<char> buffer(kScanBytes);
+  std::vector<char> buffer(4096);  // a line is most often far shorter
   uint64_t offset = at - 1;
   while (in) {
     in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
