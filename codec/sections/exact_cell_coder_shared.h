@@ -25,7 +25,6 @@
 #include "codec/sections/exact_cell_coder.h"
 #include "common/csr.h"
 #include "common/parallel_for.h"
-#include "common/parallel_sort.h"
 #include "mesh/carving.h"
 #include "mesh/predicates.h"
 #include "mesh/topology.h"

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "codec/sections/exact_cell_coder_shared.h"
+#include "common/parallel_sort.h"
 
 namespace dtm::exact_cells {
 namespace {
