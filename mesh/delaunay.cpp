@@ -92,6 +92,16 @@ Status guarded(F&& f) {
   }
 }
 
+// The number of finite cells: all of them but the hull's, which are the
+// infinite vertex's. (CGAL's number_of_finite_cells() walks every cell, a
+// pass over the whole triangulation's memory; this walks the hull.)
+size_t finite_cell_count(const DT& dt) {
+  if (dt.dimension() < 3) return 0;
+  size_t infinite = 0;
+  dt.incident_cells(dt.infinite_vertex(), CGAL::Counting_output_iterator(&infinite));
+  return dt.number_of_cells() - infinite;
+}
+
 // kLimitExceeded once the triangulation holds more cells than
 // kMaxCellsPerVertex per vertex: checked every few insertions, so the excess
 // it can allocate is bounded.
@@ -303,7 +313,7 @@ TetMesh cells_of(const std::vector<DT::Cell_handle>& handles, CornersOf corners_
 TetMesh export_as_built(DT& dt, double spare) {
   if (dt.dimension() < 3) return {};
   std::vector<DT::Cell_handle> handles;
-  handles.reserve(dt.number_of_finite_cells());
+  handles.reserve(finite_cell_count(dt));
   for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
     c->info().index = dt.is_infinite(c) ? -1 : static_cast<int32_t>(handles.size());
     if (!dt.is_infinite(c)) handles.push_back(c);
@@ -322,7 +332,7 @@ TetMesh export_as_built(DT& dt, double spare) {
 TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
   if (previous) previous->clear();
   if (dt.dimension() < 3) return {};
-  const size_t m = dt.number_of_finite_cells();
+  const size_t m = finite_cell_count(dt);
   uint32_t top = 0;
   for (auto v : dt.finite_vertex_handles()) top = std::max(top, v->info());
   std::vector<uint32_t> start(size_t{top} + 2, 0);
@@ -406,7 +416,7 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   // last, at their final places. Every tag is final after it; the old
   // cells next to something new (or to the hull) are kept to read their
   // neighbours from.
-  const size_t m = dt.number_of_finite_cells();
+  const size_t m = finite_cell_count(dt);
   TetMesh out;
   out.cells.resize(m);
   out.neighbors.resize(m);
@@ -559,7 +569,7 @@ TetMesh IncrementalDelaunay::mesh(CellOrder order, double spare) const {
 std::vector<std::array<uint32_t, 4>> IncrementalDelaunay::finite_cells() const {
   std::vector<std::array<uint32_t, 4>> out;
   if (impl_->dt.dimension() < 3) return out;
-  out.reserve(impl_->dt.number_of_finite_cells());
+  out.reserve(finite_cell_count(impl_->dt));
   for (auto c : impl_->dt.finite_cell_handles())
     out.push_back({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()});
   return out;
