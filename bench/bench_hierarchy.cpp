@@ -51,6 +51,7 @@
 #include "codec/encode.h"
 #include "mesh/delaunay.h"
 #include "tools/formats/tetgen.h"
+#include "tools/huge_pages.h"
 
 namespace {
 
@@ -332,6 +333,9 @@ int peak_memory(const std::string& path, const std::string& what) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // As the tools run (tools/huge_pages.h), the CGAL construction it is
+  // compared with too.
+  dtm::ask_for_huge_pages(argv);
   // Our own flags are taken out of argv before Google Benchmark sees it.
   std::string data = std::getenv("DTM_BENCH_DATA") ? std::getenv("DTM_BENCH_DATA") : ".";
   std::vector<char*> rest = {argv[0]};

@@ -16,6 +16,7 @@
 #include "tools/formats/gltf_writer.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
+#include "tools/huge_pages.h"
 #include "tools/mpi_session.h"
 #include "tools/stream_input.h"
 #include "tools/thread_budget.h"
@@ -352,6 +353,7 @@ MpiSession& mpi_session() { return *the_session; }
 }  // namespace dtm
 
 int main(int argc, char** argv) {
+  dtm::ask_for_huge_pages(argv);  // before MPI and any thread: it may start the tool again
   dtm::MpiSession mpi(&argc, &argv);
   dtm::the_session = &mpi;
   return dtm::tool_main<Command>("meshdec", "decode a .dtm stream to a tetrahedral mesh", kExamples, argc,

@@ -20,6 +20,7 @@
 #include "tools/field_types.h"
 #include "tools/formats/input.h"
 #include "tools/formats/tetgen.h"
+#include "tools/huge_pages.h"
 #include "tools/mpi_session.h"
 #include "tools/phase_display.h"
 #include "tools/report.h"
@@ -760,6 +761,7 @@ MpiSession& mpi_session() { return *the_session; }
 }  // namespace dtm
 
 int main(int argc, char** argv) {
+  dtm::ask_for_huge_pages(argv);  // before MPI and any thread: it may start the tool again
   dtm::MpiSession mpi(&argc, &argv);
   dtm::the_session = &mpi;
   return dtm::tool_main<Command>("meshenc",

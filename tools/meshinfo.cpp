@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "codec/stream/format.h"
+#include "tools/huge_pages.h"
 #include "tools/stream_info.h"
 #include "tools/stream_input.h"
 #include "tools/thread_budget.h"
@@ -128,6 +129,7 @@ int run(const Command& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  dtm::ask_for_huge_pages(argv);  // before MPI and any thread: it may start the tool again
   return dtm::tool_main<Command>("meshinfo", "describe a .dtm stream", kExamples, argc, argv, add_options,
                                  run);
 }
