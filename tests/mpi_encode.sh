@@ -4,7 +4,7 @@
 # cores; as root, Open MPI wants --allow-run-as-root) writes byte for byte
 # the stream one process writes, whose levels decode to the encoder's
 # (meshdec --verify against the cell hashes); only rank 0 writes; an input
-# that does not exist fails every rank with the file's name and leaves no
+# that does not exist fails every rank, named once, and leaves no
 # file; without --bricks, mpirun meshenc says what to add. The ranks answer
 # each other's questions about the reference while they work (no block run
 # again), or, asked to take MPI without threads, in their exchanges (blocks
@@ -53,6 +53,7 @@ if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$work/nothing.node" "
   echo "a missing input encoded"; failed=1
 fi
 grep -q "nothing.node" "$work/err" || { cat "$work/err"; failed=1; }
+[ "$(grep -c "meshenc: error:" "$work/err")" -eq 1 ] || { echo "a missing input: not said once:"; cat "$work/err"; failed=1; }
 [ -z "$(ls "$work/missing")" ] || { echo "files left behind: $(ls "$work/missing")"; failed=1; }
 # The .ele is read in parts, a range of its bytes on each rank: a line
 # broken in the last rank's part fails every rank, naming the file and that
@@ -67,6 +68,35 @@ if mpirun --oversubscribe "${as_root[@]}" -n 3 "$meshenc" "$work/broken.node" "$
 fi
 grep -q "broken.ele:$bad: expected a vertex index, found 'x'" "$work/err" || { echo "the broken line not named:"; cat "$work/err"; failed=1; }
 [ -z "$(ls "$work/missing")" ] || { echo "files left behind: $(ls "$work/missing")"; failed=1; }
+# The .node is read in parts too, joined on every rank: with its boundary
+# markers as a field, 3 ranks write what one process writes.
+with_fields=(--box 256 --dmax 2 --bricks --brick-points 64 --block-points 1000)
+"$meshenc" "$data/bunny_10k.node" "${with_fields[@]}" -q -o "$work/fields1.dtm"
+mpirun --oversubscribe "${as_root[@]}" -n 3 "$meshenc" "$data/bunny_10k.node" "${with_fields[@]}" -q \
+  -o "$work/fields3.dtm"
+cmp -s "$work/fields1.dtm" "$work/fields3.dtm" || { echo "the .node's field read in parts: not the same bytes"; failed=1; }
+# What no part can tell alone: a point past the header's count, a count
+# the parts do not reach, an index out of sequence in another rank's part.
+points=$(awk '!/^#/ && NF { print $1; exit }' "$data/bunny_10k.node")
+first=$(grep -n -m1 -v '^#' "$data/bunny_10k.node" | cut -d: -f1)
+awk -v h="$first" -v n=$((points - 1)) 'NR == h { $1 = n } { print }' "$data/bunny_10k.node" > "$work/extra.node"
+awk -v h="$first" -v n=$((points + 5)) 'NR == h { $1 = n } { print }' "$data/bunny_10k.node" > "$work/short.node"
+bad=$((first + points * 2 / 3))
+awk -v bad="$bad" 'NR == bad { $1 = 5 } { print }' "$data/bunny_10k.node" > "$work/sequence.node"
+for ext in extra short sequence; do cp "$data/bunny_10k.ele" "$work/$ext.ele"; done
+expect_error() {  # expect_error NAME MESSAGE
+  if mpirun --oversubscribe "${as_root[@]}" -n 3 "$meshenc" "$work/$1.node" "${options[@]}" -q \
+    -o "$work/missing/n.dtm" 2>"$work/err"; then
+    echo "$1.node encoded"; failed=1
+  fi
+  grep -q -- "$2" "$work/err" || { echo "$1.node: expected '$2':"; cat "$work/err"; failed=1; }
+  # Every rank meets it; one prints it.
+  [ "$(grep -c "meshenc: error:" "$work/err")" -eq 1 ] || { echo "$1.node: not said once:"; cat "$work/err"; failed=1; }
+  [ -z "$(ls "$work/missing")" ] || { echo "files left behind: $(ls "$work/missing")"; failed=1; }
+}
+expect_error extra "extra.node:$((first + points)): unexpected data after the $((points - 1)) points"
+expect_error short "short.node: file ends after $points of $((points + 5)) points"
+expect_error sequence "sequence.node:$bad: point index 5 out of sequence"
 # Without --bricks: a clear error.
 if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$data/bunny_10k.node" --no-fields -q \
   -o "$work/missing/p.dtm" 2>"$work/err"; then

@@ -183,6 +183,103 @@ TEST(TetgenEle, PartsJoinedAreTheFile) {
   }
 }
 
+// MPI ranks read a .node in parts too (meshenc's read_node_in_parts()
+// joins them): the parts' points, attributes and markers, joined in part
+// order, are the file's, each part's first index the base plus the points
+// before it; fail_at_node_record() names a record's line in the whole file.
+TEST(TetgenNode, PartsJoinedAreTheFile) {
+  const std::string dir = ::testing::TempDir() + "/tetgen_node_parts";
+  std::filesystem::create_directories(dir);
+  constexpr uint32_t kCount = 3000;
+  std::vector<std::string> lines = {"# made by a test", std::to_string(kCount) + " 3 2 1"};
+  std::vector<size_t> line_of;  // per point, its line (1-based)
+  for (uint32_t i = 0; i < kCount; ++i) {
+    if (i % 83 == 0) lines.push_back("# a comment" + std::string(i % 400, 'y'));
+    if (i % 71 == 0) lines.push_back("");
+    lines.push_back(std::to_string(i + 1) + " " + std::to_string(i * 0.25) + " " + std::to_string(i % 37) +
+                    " " + std::to_string(-1.5 * (i % 11)) + " " + std::to_string(i % 5) + " " +
+                    std::to_string(i * 2) + " " + std::to_string(i % 2));
+    line_of.push_back(lines.size());
+  }
+  {
+    std::ofstream f(dir + "/all.node");
+    for (const std::string& l : lines) f << l << "\n";
+  }
+  const std::string path = dir + "/all.node";
+  const NodeFile all = read_tetgen_node(path);
+  ASSERT_EQ(all.points.size(), kCount);
+  ASSERT_EQ(all.index_base, 1);
+  for (int parts : {1, 2, 3, 5, 16, 97}) {
+    NodeFile joined;
+    uint64_t start = 0;
+    for (int part = 0; part < parts; ++part) {
+      const NodePart p = read_tetgen_node_part(path, part, parts);
+      EXPECT_EQ(p.header_count, kCount);
+      EXPECT_TRUE(p.has_markers);
+      EXPECT_EQ(p.node.attribute_count, 2);
+      if (!p.node.points.empty()) {
+        EXPECT_EQ(p.first_index, 1 + static_cast<int64_t>(start)) << part;
+      }
+      start += p.node.points.size();
+      joined.points.insert(joined.points.end(), p.node.points.begin(), p.node.points.end());
+      joined.attributes.insert(joined.attributes.end(), p.node.attributes.begin(), p.node.attributes.end());
+      joined.markers.insert(joined.markers.end(), p.node.markers.begin(), p.node.markers.end());
+    }
+    ASSERT_EQ(joined.points.size(), all.points.size()) << parts;
+    for (size_t i = 0; i < all.points.size(); ++i) {
+      ASSERT_EQ(joined.points[i].x, all.points[i].x) << i;
+      ASSERT_EQ(joined.points[i].y, all.points[i].y) << i;
+      ASSERT_EQ(joined.points[i].z, all.points[i].z) << i;
+    }
+    EXPECT_EQ(joined.attributes, all.attributes) << parts;
+    EXPECT_EQ(joined.markers, all.markers) << parts;
+    // A record of a part, named by its line in the whole file.
+    if (parts == 5) {
+      uint64_t before = 0;
+      for (int part = 0; part < 3; ++part)
+        before += read_tetgen_node_part(path, part, parts).node.points.size();
+      try {
+        fail_at_node_record(path, 3, parts, 7, "a problem");
+        ADD_FAILURE() << "no error";
+      } catch (const FormatError& e) {
+        EXPECT_EQ(std::string(e.what()), path + ":" + std::to_string(line_of[before + 7]) + ": a problem");
+      }
+    }
+  }
+  // Inside a part, an index out of sequence is that part's error, named
+  // by its line in the whole file, as reading the whole file names it.
+  std::vector<std::string> bad = lines;
+  const size_t at = line_of[2 * kCount / 3] - 1;
+  bad[at] = "5" + bad[at].substr(bad[at].find(' '));
+  {
+    std::ofstream f(dir + "/bad.node");
+    for (const std::string& l : bad) f << l << "\n";
+  }
+  std::string whole;
+  try {
+    read_tetgen_node(dir + "/bad.node");
+  } catch (const FormatError& e) {
+    whole = e.what();
+  }
+  ASSERT_NE(whole.find(":" + std::to_string(at + 1) + ": point index 5 out of sequence"), std::string::npos)
+      << whole;
+  for (int parts : {2, 3, 7, 1000}) {
+    int failed = 0;
+    bool first_of_a_part = false;  // then the joining finds it
+    uint64_t start = 0;
+    for (int part = 0; part < parts; ++part) try {
+        const NodePart p = read_tetgen_node_part(dir + "/bad.node", part, parts);
+        first_of_a_part |=
+            failed == 0 && !p.node.points.empty() && p.first_index != 1 + static_cast<int64_t>(start);
+        start += p.node.points.size();
+      } catch (const FormatError& e) {
+        ++failed;
+        EXPECT_EQ(std::string(e.what()), whole);
+      }
+    EXPECT_EQ(failed + first_of_a_part, 1) << parts;
+  }
+}
+
 // A mesh read from pieces: its points those of `points`, some more than
 // once, each with its marker, and its tetrahedra `tets`, by their corners'
 // places.

@@ -228,6 +228,89 @@ void add_options(CLI::App& app, Command& c) {
   dtm::add_threads_option(app, c.threads);
 }
 
+// The first error of the ranks' (the lowest rank's: the earliest in the
+// file), thrown on every rank, so that none waits for the others in vain,
+// and printed by rank 0 alone.
+void agree_on_errors(dtm::MpiSession& mpi, const std::string& problem) {
+  for (const auto& p : mpi.all_gather({reinterpret_cast<const uint8_t*>(problem.data()), problem.size()}))
+    if (!p.empty()) throw dtm::AgreedError(std::string(p.begin(), p.end()), mpi.rank() == 0);
+}
+
+// Every rank's part of `values` (trivially copyable), joined in rank order.
+template <class T>
+std::vector<T> joined(dtm::MpiSession& mpi, const std::vector<T>& values) {
+  const std::vector<uint8_t> all = mpi.all_gather_joined(
+      {reinterpret_cast<const uint8_t*>(values.data()), values.size() * sizeof(T)}, sizeof(T));
+  std::vector<T> out(all.size() / sizeof(T));
+  std::memcpy(out.data(), all.data(), out.size() * sizeof(T));
+  return out;
+}
+
+// Under mpirun, a TetGen .node read in parts: each rank parses its range of
+// the file's bytes, and the parts, joined in rank order, are every rank's
+// points, as reading the whole file would give them. The joining checks
+// what no part can alone: that each part's first index follows the parts
+// before it (the first part's is 0 or 1), and that the parts hold the
+// header's count. Errors inside a part come first (the lowest rank's), then
+// those of the joining (the earliest part's): each a real error at the line
+// named, though of a file with several not always the one a single process
+// names.
+dtm::NodeFile read_node_in_parts(const std::string& path, dtm::MpiSession& mpi) {
+  dtm::NodePart part;
+  std::string problem;
+  try {
+    part = dtm::read_tetgen_node_part(path, mpi.rank(), mpi.size());
+  } catch (const std::exception& e) {
+    problem = e.what();
+  }
+  agree_on_errors(mpi, problem);
+  struct Head {
+    uint64_t records;
+    int64_t first_index;
+  };
+  const std::vector<Head> heads = joined(mpi, std::vector<Head>{{part.node.points.size(), part.first_index}});
+  int64_t base = 0;
+  for (const Head& h : heads)
+    if (h.records > 0) {
+      base = h.first_index;
+      break;
+    }
+  // The first part (in file order) whose joining fails, and where: each
+  // rank finds the same and re-reads that part for the line.
+  uint64_t start = 0;
+  try {
+    for (size_t r = 0; r < heads.size(); ++r) {
+      const Head& h = heads[r];
+      const int p = static_cast<int>(r);
+      if (h.records > 0 && start == 0 && base != 0 && base != 1)
+        dtm::fail_at_node_record(path, p, mpi.size(), 0, "the first point index must be 0 or 1");
+      if (h.records > 0 && h.first_index != base + static_cast<int64_t>(start))
+        dtm::fail_at_node_record(path, p, mpi.size(), 0,
+                                 "point index " + std::to_string(h.first_index) + " out of sequence");
+      if (start + h.records > part.header_count)
+        dtm::fail_at_node_record(
+            path, p, mpi.size(), part.header_count - start,
+            "unexpected data after the " + std::to_string(part.header_count) + " points");
+      start += h.records;
+    }
+  } catch (const std::exception& e) {
+    problem = e.what();
+  }
+  agree_on_errors(mpi, problem);
+  if (start < part.header_count)
+    throw dtm::FormatError(path + ": file ends after " + std::to_string(start) + " of " +
+                           std::to_string(part.header_count) + " points");
+  dtm::NodeFile out;
+  out.points = joined(mpi, part.node.points);
+  dtm::release(part.node.points);
+  out.attributes = joined(mpi, part.node.attributes);
+  dtm::release(part.node.attributes);
+  if (part.has_markers) out.markers = joined(mpi, part.node.markers);
+  out.attribute_count = part.node.attribute_count;
+  out.index_base = static_cast<int>(base);
+  return out;
+}
+
 dtm::InputMesh read(const Command& c) {
   std::optional<dtm::InputFormat> format;
   if (!c.format_name.empty()) {
@@ -240,9 +323,28 @@ dtm::InputMesh read(const Command& c) {
   if (volume_options && (format ? *format : dtm::input_format_for_path(c.input)) != dtm::InputFormat::kNrrd)
     throw std::invalid_argument(
         c.input + ": --threshold, --label and --voxel-interior-step apply to voxel volumes only");
-  // Under mpirun a TetGen .ele is read after the points are on the grid,
-  // each rank keeping its share (read_share()).
-  auto in = dtm::read_input(c.input, format, c.volume, !c.no_reference && dtm::mpi_session().size() == 1);
+  // Under mpirun a TetGen .node is read in parts (read_node_in_parts()), its
+  // .ele after the points are on the grid, each rank keeping its share
+  // (hold_share()).
+  dtm::MpiSession& mpi = dtm::mpi_session();
+  if (mpi.size() == 1) {
+    auto in = dtm::read_input(c.input, format, c.volume, !c.no_reference);
+    if (c.no_reference) in.tets.clear(), in.tetgen_ele.clear();
+    return in;
+  }
+  // Every rank reads the input, and meets the same error: agreed on, it is
+  // printed once. (Those of the .node's parts are agreed on already.)
+  dtm::InputMesh in;
+  std::string problem;
+  try {
+    in = dtm::read_input(c.input, format, c.volume, false,
+                         [&mpi](const std::string& path) { return read_node_in_parts(path, mpi); });
+  } catch (const dtm::AgreedError&) {
+    throw;
+  } catch (const std::exception& e) {
+    problem = e.what();
+  }
+  agree_on_errors(mpi, problem);
   if (c.no_reference) in.tets.clear(), in.tetgen_ele.clear();
   return in;
 }
@@ -301,10 +403,7 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
   } catch (const std::exception& e) {
     problem = e.what();
   }
-  // A rank's error is every rank's (the first in the file: the lowest
-  // rank's), so that none waits for the others in vain.
-  for (const auto& p : mpi.all_gather({reinterpret_cast<const uint8_t*>(problem.data()), problem.size()}))
-    if (!p.empty()) throw dtm::FormatError(std::string(p.begin(), p.end()));
+  agree_on_errors(mpi, problem);
   const uint64_t total = mpi.sum(counts.records);
   if (total < counts.header_count)
     throw dtm::FormatError(in.tetgen_ele + ": file ends after " + std::to_string(total) + " of " +

@@ -83,35 +83,64 @@ class MpiSession : public RankExchange {
   // RankExchange: MPI_Allgatherv of every rank's bytes (at most 2 GiB from
   // one rank at a time: MPI counts are ints).
   std::vector<std::vector<uint8_t>> all_gather(std::span<const uint8_t> mine) override {
+    std::vector<size_t> sizes;
+    const std::vector<uint8_t> all = all_gather_joined(mine, 1, &sizes);
+    std::vector<std::vector<uint8_t>> out(sizes.size());
+    size_t at = 0;
+    for (size_t r = 0; r < sizes.size(); ++r) {
+      out[r].assign(all.begin() + static_cast<std::ptrdiff_t>(at),
+                    all.begin() + static_cast<std::ptrdiff_t>(at + sizes[r]));
+      at += sizes[r];
+    }
+    return out;
+  }
+  // The same, every rank's bytes joined in rank order in one buffer (no
+  // copy a rank), `sizes` (if given) each rank's count. Counted in elements
+  // of `element_bytes` (MPI's counts and offsets are ints): up to 2^31 of
+  // them in all, 48 GiB of 24-byte points.
+  std::vector<uint8_t> all_gather_joined(std::span<const uint8_t> mine, size_t element_bytes = 1,
+                                         std::vector<size_t>* sizes = nullptr) const {
 #ifdef DTM_WITH_MPI
     if (active_) {
-      if (mine.size() > static_cast<size_t>(INT32_MAX))
-        throw std::runtime_error("MPI: over 2 GiB from one rank");
-      const int count = static_cast<int>(mine.size());
+      const size_t elements = mine.size() / element_bytes;
+      if (elements * element_bytes != mine.size()) throw std::logic_error("MPI: not whole elements");
+      if (elements > static_cast<size_t>(INT32_MAX))
+        throw std::runtime_error("MPI: over 2^31 elements from one rank");
+      const int count = static_cast<int>(elements);
       std::vector<int> counts(static_cast<size_t>(size_)), offsets(static_cast<size_t>(size_), 0);
       MPI_Request request = MPI_REQUEST_NULL;
       MPI_Iallgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request);
       wait_for(request);
       size_t total = 0;
       for (int r = 0; r < size_; ++r) {
-        if (total > static_cast<size_t>(INT32_MAX)) throw std::runtime_error("MPI: over 2 GiB gathered");
+        if (total > static_cast<size_t>(INT32_MAX))
+          throw std::runtime_error("MPI: over 2^31 elements gathered");
         offsets[static_cast<size_t>(r)] = static_cast<int>(total);
         total += static_cast<size_t>(counts[static_cast<size_t>(r)]);
       }
-      if (total > static_cast<size_t>(INT32_MAX)) throw std::runtime_error("MPI: over 2 GiB gathered");
-      std::vector<uint8_t> all(total);
-      MPI_Iallgatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
+      if (total > static_cast<size_t>(INT32_MAX))
+        throw std::runtime_error("MPI: over 2^31 elements gathered");
+      MPI_Datatype type = MPI_BYTE;
+      if (element_bytes > 1) {
+        MPI_Type_contiguous(static_cast<int>(element_bytes), MPI_BYTE, &type);
+        MPI_Type_commit(&type);
+      }
+      std::vector<uint8_t> all(total * element_bytes);
+      MPI_Iallgatherv(mine.data(), count, type, all.data(), counts.data(), offsets.data(), type,
                       MPI_COMM_WORLD, &request);
       wait_for(request);
-      std::vector<std::vector<uint8_t>> out(static_cast<size_t>(size_));
-      for (int r = 0; r < size_; ++r) {
-        const auto first = all.begin() + offsets[static_cast<size_t>(r)];
-        out[static_cast<size_t>(r)].assign(first, first + counts[static_cast<size_t>(r)]);
+      if (element_bytes > 1) MPI_Type_free(&type);
+      if (sizes) {
+        sizes->resize(counts.size());
+        for (size_t r = 0; r < counts.size(); ++r)
+          (*sizes)[r] = static_cast<size_t>(counts[r]) * element_bytes;
       }
-      return out;
+      return all;
     }
 #endif
-    return {std::vector<uint8_t>(mine.begin(), mine.end())};
+    (void)element_bytes;
+    if (sizes) *sizes = {mine.size()};
+    return {mine.begin(), mine.end()};
   }
   // Every rank's to_each[r] goes to rank r; returns what the ranks sent
   // this one, joined in rank order (each part at most 2 GiB). Sent from

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <stdexcept>
 #include <string>
 #ifdef __GLIBC__  // (the standard headers above say)
 #include <malloc.h>
@@ -40,6 +41,17 @@ inline void return_freed_memory() {
 #endif
 }
 
+// An error every rank of an MPI job throws alike, having agreed on it: only
+// the rank told to prints it (rank 0), so that the user reads it once.
+class AgreedError : public std::runtime_error {
+ public:
+  AgreedError(const std::string& what, bool print) : std::runtime_error(what), print_(print) {}
+  bool print() const { return print_; }
+
+ private:
+  bool print_;
+};
+
 template <class Command, class AddOptions, class Run>
 int tool_main(const char* tool, const char* description, const char* examples, int argc, char** argv,
               AddOptions add_options, Run run) {
@@ -52,6 +64,9 @@ int tool_main(const char* tool, const char* description, const char* examples, i
     add_options(app, command);
     CLI11_PARSE(app, argc, argv);
     return run(command);
+  } catch (const AgreedError& e) {
+    if (e.print()) std::fprintf(stderr, "%s: error: %s\n", tool, e.what());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: error: %s\n", tool, e.what());
     return 1;

@@ -48,8 +48,9 @@ InputFormat input_format_for_path(const std::string& path) {
 
 namespace {
 
-InputMesh read_tetgen(const std::string& path, bool with_ele) {
-  NodeFile node = read_tetgen_node(path);
+InputMesh read_tetgen(const std::string& path, bool with_ele,
+                      const std::function<NodeFile(const std::string&)>& read_node) {
+  NodeFile node = read_node ? read_node(path) : read_tetgen_node(path);
   InputMesh out;
   out.points = std::move(node.points);
   if (node.attribute_count > 0)
@@ -75,11 +76,11 @@ InputMesh read_tetgen(const std::string& path, bool with_ele) {
   return out;
 }
 
-InputMesh read_any(const std::string& path, InputFormat format, const VolumeOptions& volume,
-                   bool tetgen_ele) {
+InputMesh read_any(const std::string& path, InputFormat format, const VolumeOptions& volume, bool tetgen_ele,
+                   const std::function<NodeFile(const std::string&)>& read_node) {
   switch (format) {
     case InputFormat::kTetgen:
-      return read_tetgen(path, tetgen_ele);
+      return read_tetgen(path, tetgen_ele, read_node);
     case InputFormat::kMedit:
       return read_medit(path);
     case InputFormat::kVtk:
@@ -107,9 +108,10 @@ InputMesh read_any(const std::string& path, InputFormat format, const VolumeOpti
 }  // namespace
 
 InputMesh read_input(const std::string& path, std::optional<InputFormat> format, const VolumeOptions& volume,
-                     bool tetgen_ele) {
+                     bool tetgen_ele, const std::function<NodeFile(const std::string&)>& read_node) {
   if (!std::filesystem::exists(path)) throw FormatError(path + ": cannot open file (it does not exist)");
-  InputMesh mesh = read_any(path, format ? *format : input_format_for_path(path), volume, tetgen_ele);
+  InputMesh mesh =
+      read_any(path, format ? *format : input_format_for_path(path), volume, tetgen_ele, read_node);
   check_spans_3d(mesh.points, path);
   return mesh;
 }

@@ -6,12 +6,14 @@
 //   voxel volumes          .nrrd .nhdr                  (ours; needs VolumeOptions)
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include "format_error.h"
 #include "input_mesh.h"
+#include "tetgen.h"
 #include "voxel_points.h"
 
 namespace dtm {
@@ -33,8 +35,11 @@ InputFormat input_format_for_path(const std::string& path);
 // `tetgen_ele` is false (a large .ele costs time to read; InputMesh then
 // says where it is, to be read later, or in part). Throws FormatError
 // naming the file, where, and the problem.
+// `read_node`, when given, reads a TetGen .node in its stead (meshenc under
+// mpirun: each rank a part, joined).
 InputMesh read_input(const std::string& path, std::optional<InputFormat> format = {},
-                     const VolumeOptions& volume = {}, bool tetgen_ele = true);
+                     const VolumeOptions& volume = {}, bool tetgen_ele = true,
+                     const std::function<NodeFile(const std::string&)>& read_node = {});
 
 // The names of cell arrays taken as the regions when the user names none,
 // in this order: what gmsh, Medit and meshio's converters write, and the

@@ -8,22 +8,45 @@
 
 namespace dtm {
 
-NodeFile read_tetgen_node(const std::string& path) {
-  TextRecords r(path);
+namespace {
+
+// The header of a .node: read by next(), checked.
+struct NodeHeader {
+  uint64_t count = 0;
+  int attributes = 0;
+  int has_marker = 0;
+};
+NodeHeader node_header(TextRecords& r, const std::string& path) {
   TextRecords::Fields tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected a .node header");
   const size_t header = r.line();
   if (tok.size() < 2 || tok.size() > 4)
     r.fail(header, "expected a header '<points> <dimension> [<attributes> <markers>]'");
-  const auto count = r.parse<uint64_t>(tok[0], "a point count", header);
+  NodeHeader h;
+  h.count = r.parse<uint64_t>(tok[0], "a point count", header);
   const auto dim = r.parse<int>(tok[1], "a dimension", header);
-  const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count", header) : 0;
-  const int has_marker = tok.size() > 3 ? r.parse<int>(tok[3], "0 or 1 boundary markers", header) : 0;
+  h.attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count", header) : 0;
+  h.has_marker = tok.size() > 3 ? r.parse<int>(tok[3], "0 or 1 boundary markers", header) : 0;
   if (dim != 3) r.fail(header, "dimension must be 3, got " + std::to_string(dim));
-  if (attributes < 0 || has_marker < 0 || has_marker > 1) r.fail(header, "bad attribute or marker count");
-  if (count > (uint64_t{1} << 31)) r.fail(header, "point count " + std::to_string(count) + " is too large");
+  if (h.attributes < 0 || h.has_marker < 0 || h.has_marker > 1)
+    r.fail(header, "bad attribute or marker count");
+  if (h.count > (uint64_t{1} << 31))
+    r.fail(header, "point count " + std::to_string(h.count) + " is too large");
+  return h;
+}
 
-  NodeFile out;
+// read_tetgen_node() of part `part` of `parts` of the records (all of them
+// when parts is 1): in a part, each record's index follows its first's.
+NodePart read_node(const std::string& path, int part, int parts) {
+  TextRecords r(path);
+  TextRecords::Fields tok;
+  const NodeHeader h = node_header(r, path);
+  r.keep_to_part(part, parts);
+  const uint64_t count = h.count;
+  const int attributes = h.attributes, has_marker = h.has_marker;
+
+  NodePart result;
+  NodeFile& out = result.node;
   const auto per_point = static_cast<size_t>(attributes);
   const size_t expected = 4 + per_point + static_cast<size_t>(has_marker);
   int64_t first_index = 0;
@@ -65,7 +88,9 @@ NodeFile read_tetgen_node(const std::string& path) {
       r.fail(r.line(),
              "expected " + std::to_string(expected) + " fields, found " + std::to_string(tok.size()));
     first_index = r.parse<int64_t>(tok[0], "a point index", r.line());
-    if (first_index != 0 && first_index != 1) r.fail(r.line(), "the first point index must be 0 or 1");
+    // (A part's first record may be any point: joining the parts checks it.)
+    if (parts == 1 && first_index != 0 && first_index != 1)
+      r.fail(r.line(), "the first point index must be 0 or 1");
     grow(1);
     point(0, r.line(), tok);
     size_t first = 0;
@@ -78,13 +103,38 @@ NodeFile read_tetgen_node(const std::string& path) {
     read = 1 + rest.records;
     extra = rest.extra_line;
   }
-  if (read < count)
+  if (read < count && parts == 1)
     throw FormatError(path + ": file ends after " + std::to_string(read) + " of " + std::to_string(count) +
                       " points");
   if (extra) r.fail(extra, "unexpected data after the " + std::to_string(count) + " points");
-  out.index_base = static_cast<int>(first_index);
+  out.points.resize(read);  // a part's room may exceed what it holds
+  out.attributes.resize(read * per_point);
+  if (has_marker) out.markers.resize(read);
+  out.index_base = static_cast<int>(read > 0 ? first_index : 0);
   out.attribute_count = attributes;
-  return out;
+  result.header_count = count;
+  result.has_markers = has_marker != 0;
+  result.first_index = read > 0 ? first_index : -1;
+  return result;
+}
+
+}  // namespace
+
+NodeFile read_tetgen_node(const std::string& path) { return read_node(path, 0, 1).node; }
+
+NodePart read_tetgen_node_part(const std::string& path, int part, int parts) {
+  return read_node(path, part, parts);
+}
+
+void fail_at_node_record(const std::string& path, int part, int parts, uint64_t record,
+                         const std::string& problem) {
+  TextRecords r(path);
+  node_header(r, path);
+  r.keep_to_part(part, parts);
+  TextRecords::Fields tok;
+  for (uint64_t i = 0; i <= record; ++i)
+    if (!r.next(tok)) throw FormatError(path + ": " + problem);  // not reached: the part holds the record
+  r.fail(r.line(), problem);
 }
 
 int tetgen_ele_attributes(const std::string& path) {

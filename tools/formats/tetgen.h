@@ -26,6 +26,25 @@ struct NodeFile {
 
 NodeFile read_tetgen_node(const std::string& path);
 
+// Part `part` of `parts` of a .node's points (an MPI rank's range of the
+// file, TextRecords::keep_to_part()), errors named by their line in the
+// whole file. Each record's index must follow the part's first record's;
+// whether that one follows the parts before it, and whether the parts hold
+// the header's count, only the parts joined can tell (the caller checks,
+// fail_at_node_record() names the line). node.index_base is the part's
+// first index.
+struct NodePart {
+  uint64_t header_count = 0;
+  bool has_markers = false;
+  int64_t first_index = -1;  // the index of the part's first point; -1 if it holds none
+  NodeFile node;             // the part's points, their attributes and markers
+};
+NodePart read_tetgen_node_part(const std::string& path, int part, int parts);
+// Throws FormatError("path:LINE: problem"), LINE that of record `record`
+// (0: the first) of part `part` of `parts` (re-read to find it).
+[[noreturn]] void fail_at_node_record(const std::string& path, int part, int parts, uint64_t record,
+                                      const std::string& problem);
+
 // The attributes per tetrahedron an .ele's header announces (TetGen's
 // region attribute, -A), 0 if none.
 int tetgen_ele_attributes(const std::string& path);
