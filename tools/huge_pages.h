@@ -1,8 +1,8 @@
 // Transparent huge pages for the tools' large arrays. Decoding or encoding a
 // million vertices touches about a gigabyte of fresh memory, and with 4 KiB
 // pages every page costs a fault: on this project's 2-core machine (a VM)
-// faults took a fifth of meshdec's time, and a sequential CGAL construction
-// gains 9% too (bench/results/HUGE_PAGES.md). Linux gives huge pages to
+// faults took a quarter of meshdec's time, and a sequential CGAL
+// construction runs 1.15x faster too (bench/results/HUGE_PAGES.md). Linux gives huge pages to
 // every allocation only where /sys/kernel/mm/transparent_hugepage/enabled is
 // "always"; Debian's default, "madvise", gives them to memory that asks,
 // which glibc's malloc does when its tunable glibc.malloc.hugetlb=1 is set.
