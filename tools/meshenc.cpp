@@ -327,24 +327,23 @@ dtm::InputMesh read(const Command& c) {
   // .ele after the points are on the grid, each rank keeping its share
   // (hold_share()).
   dtm::MpiSession& mpi = dtm::mpi_session();
-  if (mpi.size() == 1) {
-    auto in = dtm::read_input(c.input, format, c.volume, !c.no_reference);
-    if (c.no_reference) in.tets.clear(), in.tetgen_ele.clear();
-    return in;
-  }
-  // Every rank reads the input, and meets the same error: agreed on, it is
-  // printed once. (Those of the .node's parts are agreed on already.)
   dtm::InputMesh in;
-  std::string problem;
-  try {
-    in = dtm::read_input(c.input, format, c.volume, false,
-                         [&mpi](const std::string& path) { return read_node_in_parts(path, mpi); });
-  } catch (const dtm::AgreedError&) {
-    throw;
-  } catch (const std::exception& e) {
-    problem = e.what();
+  if (mpi.size() == 1) {
+    in = dtm::read_input(c.input, format, c.volume, !c.no_reference);
+  } else {
+    // Every rank reads the input, and meets the same error: agreed on, it
+    // is printed once. (Those of the .node's parts are agreed on already.)
+    std::string problem;
+    try {
+      in = dtm::read_input(c.input, format, c.volume, false,
+                           [&mpi](const std::string& path) { return read_node_in_parts(path, mpi); });
+    } catch (const dtm::AgreedError&) {
+      throw;
+    } catch (const std::exception& e) {
+      problem = e.what();
+    }
+    agree_on_errors(mpi, problem);
   }
-  agree_on_errors(mpi, problem);
   if (c.no_reference) in.tets.clear(), in.tetgen_ele.clear();
   return in;
 }

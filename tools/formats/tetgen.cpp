@@ -110,7 +110,7 @@ NodePart read_node(const std::string& path, int part, int parts) {
   out.points.resize(read);  // a part's room may exceed what it holds
   out.attributes.resize(read * per_point);
   if (has_marker) out.markers.resize(read);
-  out.index_base = static_cast<int>(read > 0 ? first_index : 0);
+  out.index_base = parts == 1 && read > 0 ? static_cast<int>(first_index) : 0;
   out.attribute_count = attributes;
   result.header_count = count;
   result.has_markers = has_marker != 0;

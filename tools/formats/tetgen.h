@@ -31,8 +31,8 @@ NodeFile read_tetgen_node(const std::string& path);
 // whole file. Each record's index must follow the part's first record's;
 // whether that one follows the parts before it, and whether the parts hold
 // the header's count, only the parts joined can tell (the caller checks,
-// fail_at_node_record() names the line). node.index_base is the part's
-// first index.
+// fail_at_node_record() names the line). first_index is the part's first
+// index (node.index_base, an int, is left 0).
 struct NodePart {
   uint64_t header_count = 0;
   bool has_markers = false;
