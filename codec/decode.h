@@ -114,7 +114,7 @@ class ProgressiveDecoder {
   // of one region).
   std::vector<uint8_t> carving(const TetMesh& dt) const;
   // The same, and the canonical order of dt's cells (found on the way).
-  // Level 0 of an exact stream (11.0, flag exact) is more than dt's cells:
+  // Level 0 of an exact stream (11.0 and 12.0, flag exact) is more than dt's cells:
   // there carving() gives the Delaunay cells it keeps, without their
   // regions; level_cells() gives the level.
   std::vector<uint8_t> carving(const TetMesh& dt, std::vector<uint32_t>& order) const;
@@ -132,7 +132,7 @@ class ProgressiveDecoder {
     std::vector<uint32_t> order;
   };
   LevelCells level_cells() const;
-  // Level 0 of this stream is the input's cells (11.0, flag exact).
+  // Level 0 of this stream is the input's cells (11.0 and 12.0, flag exact).
   bool exact_level() const { return (header_.flags & kFlagExact) && finest_level() == 0; }
   Status mesh_status() const { return mesh_status_; }
   // The stream's regions (9.0, flag regions; spec/FORMAT.md §2.2): the

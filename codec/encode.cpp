@@ -520,6 +520,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   if (options.keep_order) stream_options.input_order = q.input_to_point;
   if (options.exact) {
     stream_options.exact_cells = reference_tets;
+    stream_options.exact_ranks = options.exact_ranks;
     if (region_index.size() == reference_tets.size()) stream_options.exact_labels = region_index;
   }
   if (with_cells)

@@ -84,12 +84,15 @@ struct EncodeOptions {
   // input point its own grid point (no merge by quantization) and the codec
   // preset; not with bricks.
   bool keep_order = false;
-  // Level 0 equal to the input's tetrahedra (format 11.0; meshenc --exact):
+  // Level 0 equal to the input's tetrahedra (format 12.0; meshenc --exact):
   // the same cells, positively oriented, coded as corrections to the
   // Delaunay tetrahedralization the decoder builds. Needs the input's
   // tetrahedra, a valid mesh on the grid (no point merged by quantization,
   // no cell flat there) and the codec preset; not with bricks.
   bool exact = false;
+  // How the exact cells' apexes are ranked: kAmongCandidates writes 11.0,
+  // which decoders before 12.0 read, at more bits (StreamOptions).
+  ApexRanks exact_ranks = ApexRanks::kAmongFitting;
   // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.

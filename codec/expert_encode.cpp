@@ -121,7 +121,8 @@ struct ExactLevel {
 };
 
 StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
-                                 std::span<const MeshCell> input, std::span<const uint8_t> labels) {
+                                 std::span<const MeshCell> input, std::span<const uint8_t> labels,
+                                 ApexRanks& ranks) {
   constexpr uint32_t kNone = UINT32_MAX;
   const auto label = [&](uint32_t i) -> uint8_t { return labels.empty() ? 1 : labels[i]; };
   std::vector<std::pair<MeshCell, uint32_t>> sorted;
@@ -156,8 +157,8 @@ StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> p
   e.order = canonical_cell_order(dt.cells);
   ExactFill fill;
   std::vector<uint32_t> source;
-  DTM_ASSIGN_OR_RETURN(e.section, encode_exact_cells(dt, points, alpha, e.delaunay_kept, e.order, rest, fill,
-                                                     source, &e.stats));
+  DTM_ASSIGN_OR_RETURN(e.section, encode_exact_cells(dt, points, alpha, e.delaunay_kept, e.order, rest, ranks,
+                                                     fill, source, &e.stats));
   e.mesh = dt;
   extend_with_fill(e.mesh, fill);
   e.kept.resize(dt.cells.size());
@@ -269,6 +270,9 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       if (p >= points.size() || seen[p]++)
         return invalid_input("encode_stream: the vertex order is not a permutation of the points");
   }
+  // (An exact stream's version is settled when its section is: 11.0 where
+  // its apexes are ranked among all the candidates.)
+  ApexRanks exact_ranks = options.exact_ranks;
   h.version_major = exact                     ? kVersionMajorExact
                     : cell_data || keep_order ? kVersionMajorCellData
                     : regions || faces        ? kVersionMajorRegions
@@ -383,8 +387,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       std::vector<MeshCell> input(options.exact_cells.begin(), options.exact_cells.end());
       for (auto& c : input)
         for (uint32_t& v : c) v = decoder_index[v];
-      DTM_ASSIGN_OR_RETURN(ExactLevel made,
-                           exact_level(dt, level_points, level.alpha, input, options.exact_labels));
+      DTM_ASSIGN_OR_RETURN(ExactLevel made, exact_level(dt, level_points, level.alpha, input,
+                                                        options.exact_labels, exact_ranks));
       exact_cells.emplace(std::move(made));
       out_l.carving = encode_carving(dt, level_points, level.alpha, exact_cells->delaunay_kept,
                                      CarvingContexts::kExactMargin);
@@ -503,6 +507,11 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     }
     DTM_RETURN_IF_ERROR(cells_done.get());
     DTM_RETURN_IF_ERROR(points_status);
+  }
+  if (exact && exact_ranks == ApexRanks::kAmongCandidates) {
+    h.version_major = kVersionMajorExactAllRanked;
+    const std::vector<uint8_t> header = write_header(h);
+    std::copy(header.begin(), header.end(), out.bytes.begin());
   }
 
   for (size_t l = streamed.size(); l-- > 0;) {

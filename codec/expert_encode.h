@@ -58,7 +58,7 @@ struct StreamOptions {
   // §3.9): the grid point of each input vertex, a permutation of `points`.
   // Empty: none. Needs a hierarchy carved to a reference.
   std::span<const uint32_t> input_order;
-  // Level 0 equal to the input's cells (format 11.0, spec/FORMAT.md §3.10):
+  // Level 0 equal to the input's cells (format 12.0, spec/FORMAT.md §3.10):
   // the input's tetrahedra (grid ids, indices into `points`, any
   // orientation) and each one's label as Level::kept holds them (1 + its
   // region's index; empty: 1 each). level 0 then keeps its Delaunay cells
@@ -67,6 +67,10 @@ struct StreamOptions {
   // reference; with cell_values, the cells given are these, in this order.
   std::span<const std::array<uint32_t, 4>> exact_cells;
   std::span<const uint8_t> exact_labels;
+  // How the exact cells' apexes are ranked: among the candidates that fit
+  // (12.0), or among them all (11.0, which older decoders read; also what
+  // the encoder falls back to where the fit tests pass their budget).
+  ApexRanks exact_ranks = ApexRanks::kAmongFitting;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
@@ -105,7 +109,7 @@ struct EncodedStream {
   uint64_t cell_value_bytes = 0;
   uint64_t level0_cells = 0;  // level 0's kept cells
   uint64_t order_bytes = 0;   // the vertex order section (10.0)
-  // The exact cell section (11.0) and what it held: level 0's Delaunay
+  // The exact cell section (11.0, 12.0) and what it held: level 0's Delaunay
   // cells that are input cells, and the fill's figures.
   uint64_t exact_bytes = 0;
   uint64_t exact_delaunay_cells = 0;

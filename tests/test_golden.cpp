@@ -167,9 +167,11 @@ TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
 
 INSTANTIATE_TEST_SUITE_P(Format9_0, GoldenStream, ::testing::Values("two_materials"));
 INSTANTIATE_TEST_SUITE_P(Format10_0, GoldenStream, ::testing::Values("torus_288_cells"));
-// 11.0: level 0 is the gmsh part's own tetrahedra (its recorded cell hash is
-// theirs, as the encoder hashed the input's cells).
-INSTANTIATE_TEST_SUITE_P(Format11_0, GoldenStream, ::testing::Values("two_materials_exact"));
+// 12.0 and 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
+// cell hash is theirs, as the encoder hashed the input's cells), its apexes
+// ranked among the candidates that fit (12.0) or among them all (11.0).
+INSTANTIATE_TEST_SUITE_P(Format12_0, GoldenStream, ::testing::Values("two_materials_exact"));
+INSTANTIATE_TEST_SUITE_P(Format11_0, GoldenStream, ::testing::Values("v11/two_materials_exact"));
 
 // 10.0's vertex order: the torus's level 0 decodes in its .node's numbering
 // (each point where the stream's grid puts the input's, scaled by 25).

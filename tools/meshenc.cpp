@@ -215,6 +215,14 @@ void add_options(CLI::App& app, Command& c) {
   app.add_flag("--exact", c.encode.exact,
                "decode level 0 as the input's own tetrahedra, cell for cell (the cells that are not Delaunay "
                "cells coded beside the levels; needs a valid mesh whose points stay apart on the grid)");
+  app.add_flag_function(
+      "--exact-v11",
+      [&c](int64_t) {
+        c.encode.exact = true;
+        c.encode.exact_ranks = dtm::ApexRanks::kAmongCandidates;
+      },
+      "--exact, written as format 11.0 for decoders older than 12.0 (the apexes ranked among all their "
+      "candidates: more bits, a faster decode)");
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,
@@ -817,12 +825,13 @@ int run(Command& c) {
       const uint64_t cells = r.exact_delaunay_cells + r.exact.fill_cells;
       std::printf(
           "  exact cells: level 0 is the input's %llu cells: %llu of them Delaunay cells, %llu sent in %llu "
-          "bytes (%.2f bits each, %.2f bits per vertex; %llu apexes the first candidate, %llu sent by index, "
+          "bytes (%.2f bits each, %.2f bits per vertex; %llu apexes the first candidate%s, %llu sent by "
+          "index, "
           "%llu seeds)\n",
           static_cast<unsigned long long>(cells), static_cast<unsigned long long>(r.exact_delaunay_cells),
           static_cast<unsigned long long>(r.exact.fill_cells), static_cast<unsigned long long>(r.exact_bytes),
           r.exact.fill_cells ? 8.0 * r.exact_bytes / r.exact.fill_cells : 0.0, 8.0 * r.exact_bytes / vertices,
-          static_cast<unsigned long long>(r.exact.rank_zero),
+          static_cast<unsigned long long>(r.exact.rank_zero), r.exact.fit_work ? " that fits" : "",
           static_cast<unsigned long long>(r.exact.escapes), static_cast<unsigned long long>(r.exact.seeds));
     }
     if (r.order_bytes > 0)

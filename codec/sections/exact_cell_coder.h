@@ -1,4 +1,4 @@
-// Level 0 equal to the input's tetrahedra (format 11.0, kFlagExact,
+// Level 0 equal to the input's tetrahedra (format 11.0 and 12.0, kFlagExact,
 // spec/FORMAT.md §3.10; meshenc --exact), encoder and decoder side by side.
 //
 // A mesher's output is mostly Delaunay: the decoder's DT(V_0) already holds
@@ -62,6 +62,14 @@ struct ExactFill {
   std::vector<Link> links;
 };
 
+// How an apex's rank counts the candidates before it (spec/FORMAT.md
+// §3.10): 11.0 counts them all; 12.0 only those whose cell with the face
+// fits, its interior meeting no cell the fill has added at one of the
+// face's corners (the apex itself always fits). Both sides know those
+// cells, and a candidate that does not fit cannot be the apex: the ranks
+// fall, the section by 26% on the corpus's sliver-heavy meshes.
+enum class ApexRanks : uint8_t { kAmongCandidates, kAmongFitting };
+
 // What a section spent (the encoder's report).
 struct ExactStats {
   uint64_t open_faces = 0;  // faces given a symbol
@@ -69,25 +77,30 @@ struct ExactStats {
   uint64_t rank_zero = 0;   // of them, with the first candidate as apex
   uint64_t escapes = 0;     // apex not among the candidates
   uint64_t seeds = 0;       // cells sent whole
+  uint64_t fit_work = 0;    // 12.0: the fit tests' work (spec/FORMAT.md §3.10), as a decoder counts it
 };
 
 // Encoder. `dt`, `points`: level 0 in the decoder's numbering; `order`: dt's
 // canonical cell order; `kept`: per cell of dt, nonzero when it is an input
-// cell; `rest`: the input's other cells (any orientation). `fill` receives
-// the cells as the decoder will make them, `source` per fill cell its index
-// in `rest`. kInvalidInput, naming the problem, when the input is not a
-// valid mesh on the grid (a flat or inverted cell, two cells on one side of
-// a face, a face of three cells).
+// cell; `rest`: the input's other cells (any orientation). `ranks`: the
+// ranks asked for; kAmongFitting falls back to kAmongCandidates (and says
+// so in `ranks`) where its tests would pass the budget a decoder allows.
+// `fill` receives the cells as the decoder will make them, `source` per
+// fill cell its index in `rest`. kInvalidInput, naming the problem, when
+// the input is not a valid mesh on the grid (a flat or inverted cell, two
+// cells on one side of a face, a face of three cells, cells that overlap).
 StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<const GridPoint> points,
                                                   double alpha, std::span<const uint8_t> kept,
                                                   std::span<const uint32_t> order,
-                                                  std::span<const MeshCell> rest, ExactFill& fill,
-                                                  std::vector<uint32_t>& source, ExactStats* stats = nullptr);
+                                                  std::span<const MeshCell> rest, ApexRanks& ranks,
+                                                  ExactFill& fill, std::vector<uint32_t>& source,
+                                                  ExactStats* stats = nullptr);
 
-// Decoder: the fill the section describes, checked as the header says.
+// Decoder: the fill the section describes, checked as the header says;
+// `ranks` as the stream's version says (kAmongFitting from 12.0).
 Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
                           std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
-                          std::span<const uint32_t> order, ExactFill& fill);
+                          std::span<const uint32_t> order, ApexRanks ranks, ExactFill& fill);
 
 // Level 0 as both sides then code its regions, faces and cell values: dt's
 // cells followed by the fill's, every kept cell's neighbour across each face

@@ -3,7 +3,7 @@
 // (spec/FORMAT.md §3.10), with the symbols left to a Side:
 //   bool filled(AdaptiveBit&, const OpenFace&)   an input cell across the face?
 //   Status apex(const OpenFace&, std::vector<uint32_t>& candidates,
-//               const ApexOrder&, RankModels&, uint32_t& apex)
+//               const ApexOrder&, RankModels&, const CandidateFit&, uint32_t& apex)
 //   bool another_seed(AdaptiveBit&)              a cell no open face reaches?
 //   Status seed(MeshCell&)                       that cell
 //   Status check()                               the section not overrun
@@ -26,6 +26,7 @@
 #include "common/csr.h"
 #include "common/parallel_for.h"
 #include "mesh/carving.h"
+#include "mesh/geometry.h"
 #include "mesh/predicates.h"
 #include "mesh/topology.h"
 
@@ -146,6 +147,15 @@ inline constexpr size_t kMaxMeetings = 1024;
 inline constexpr uint64_t kComparisonsPerMeeting = 32;
 inline constexpr uint64_t kTestsPerCell = 64;
 
+// 12.0: what ranking the apex among the candidates that fit (spec/FORMAT.md
+// §3.10) lets a section cost. Testing a candidate q for the face (a, b, c)
+// costs, as both sides count it, the fill cells at a, b and c (each at most
+// one test of the cell (a, b, c, q) against it): at most kFitWorkPerFace a
+// face given a cell on average, plus kFitWorkSlack. The corpus's meshes,
+// gmsh's and Netgen's spend 2.5-42 a face.
+inline constexpr uint64_t kFitWorkPerFace = 1024;
+inline constexpr uint64_t kFitWorkSlack = uint64_t{1} << 20;
+
 // Refuses a fill whose cells overlap each other or a kept Delaunay cell
 // without sharing a face (exact_cell_overlap.cpp). `incident`: per vertex,
 // dt's cells around it.
@@ -155,13 +165,39 @@ Status check_cells_apart(const TetMesh& dt, std::span<const GridPoint> points, s
 template <class Side>
 class Fill {
  public:
+  // only_fitting (12.0): an apex's rank counts only the candidates that fit.
   Fill(const TetMesh& dt, std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
-       Side& side, ExactFill& out)
-      : dt_(dt), points_(points), alpha_(alpha), kept_(kept), side_(side), out_(out) {
+       Side& side, ExactFill& out, bool only_fitting)
+      : dt_(dt),
+        points_(points),
+        alpha_(alpha),
+        kept_(kept),
+        side_(side),
+        out_(out),
+        only_fitting_(only_fitting) {
     seen_.assign(points.size(), 0);
     bucket_.assign(1024, kNoFace);
     incident_ = vertex_cells(dt.cells, points.size());
+    if (only_fitting_) fill_at_.assign(points.size(), kNoSlot), fill_count_.assign(points.size(), 0);
   }
+
+  // What a side asks of one face's candidates: whether the candidate's
+  // cell fits (12.0), or, in 11.0 (on() false), nothing.
+  class CandidateFit {
+   public:
+    CandidateFit(Fill& fill, const std::array<uint32_t, 3>& face) : fill_(fill), face_(face) {}
+    bool on() const { return fill_.only_fitting_; }
+    Status operator()(uint32_t q, bool& fits) const { return fill_.fits(face_, q, fits); }
+
+   private:
+    Fill& fill_;
+    std::array<uint32_t, 3> face_;
+  };
+
+  // True when the last run stopped at the fit tests' budget (the encoder
+  // then writes the section without them).
+  bool over_fit_budget() const { return over_fit_budget_; }
+  uint64_t fit_work() const { return fit_work_; }
 
   Status run(std::span<const uint32_t> order) {
     out_ = {};
@@ -209,8 +245,10 @@ class Fill {
         uint32_t apex = 0;
         // f is in faces_, which add() may grow: copy what it needs first.
         const std::array<uint32_t, 3> face = f.outward;
-        DTM_RETURN_IF_ERROR(
-            side_.apex(f, candidates, less, rank_[static_cast<size_t>(f.cell >= int64_t{cells})], apex));
+        ++faces_given_cells_;
+        DTM_RETURN_IF_ERROR(side_.apex(f, candidates, less,
+                                       rank_[static_cast<size_t>(f.cell >= int64_t{cells})],
+                                       CandidateFit(*this, face), apex));
         DTM_RETURN_IF_ERROR(add({face[0], face[1], face[2], apex}));
       }
       DTM_RETURN_IF_ERROR(side_.check());
@@ -283,6 +321,79 @@ class Fill {
       if (w != f[0] && w != f[1] && w != f[2]) std::erase(out, w);
   }
 
+  // 12.0 (spec/FORMAT.md §3.10): true when the interior of the cell
+  // (a, b, c, q) meets no cell the fill has added at a, b or c. (Testing
+  // the kept Delaunay cells at a, b, c and q too took hand_10k's section
+  // from 1319 to 1221 bytes, but made bunny_100k's decode 9% slower: they
+  // are ten times as many.) Its work is counted by the cells at the face's
+  // corners, the same on both sides whatever order they test them.
+  Status fits(const std::array<uint32_t, 3>& face, uint32_t q, bool& fits) {
+    for (uint32_t v : face) fit_work_ += fill_count_[v];
+    if (fit_work_ > kFitWorkPerFace * faces_given_cells_ + kFitWorkSlack) {
+      over_fit_budget_ = true;
+      return corrupt("its apexes' candidates cost too many overlap tests");
+    }
+    if (face_cells_for_ != faces_given_cells_) gather_face_cells(face);
+    fits = true;
+    if (face_cells_.empty()) return Status::Ok();
+    const std::array<GridPoint, 4> cell = {points_[face[0]], points_[face[1]], points_[face[2]], points_[q]};
+    // Most cells beside the new one lie on the outer side of one of its
+    // faces through q (a plane a few products decide), the rest are tested
+    // whole.
+    const std::array<FacePlane, 3> sides = {FacePlane(cell[1], cell[2], cell[3]),
+                                            FacePlane(cell[0], cell[3], cell[2]),
+                                            FacePlane(cell[0], cell[1], cell[3])};
+    for (const auto& m : face_cells_) {
+      bool apart = false;
+      for (const FacePlane& side : sides)
+        apart = apart || (side.height(m[0]) >= 0 && side.height(m[1]) >= 0 && side.height(m[2]) >= 0 &&
+                          side.height(m[3]) >= 0);
+      if (!apart && interiors_meet(cell, m)) {
+        fits = false;
+        return Status::Ok();
+      }
+    }
+    return Status::Ok();
+  }
+
+  // The face's plane, heights above it scaled by its normal's length
+  // (exact: the normal's components are below 2^51, a height below 2^77).
+  struct FacePlane {
+    GridPoint origin;
+    int64_t nx = 0, ny = 0, nz = 0;
+    FacePlane() = default;
+    FacePlane(const GridPoint& a, const GridPoint& b, const GridPoint& c) : origin(a) {
+      const int64_t ux = int64_t{b.x} - a.x, uy = int64_t{b.y} - a.y, uz = int64_t{b.z} - a.z;
+      const int64_t vx = int64_t{c.x} - a.x, vy = int64_t{c.y} - a.y, vz = int64_t{c.z} - a.z;
+      nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    }
+    Int128 height(const GridPoint& p) const {
+      return Int128{nx} * (int64_t{p.x} - origin.x) + Int128{ny} * (int64_t{p.y} - origin.y) +
+             Int128{nz} * (int64_t{p.z} - origin.z);
+    }
+  };
+
+  // The fill cells at the face's corners that reach past its plane, where
+  // every candidate's cell lies (the others cannot meet it), each once:
+  // gathered once a face, tested for each candidate.
+  void gather_face_cells(const std::array<uint32_t, 3>& face) {
+    face_cells_for_ = faces_given_cells_;
+    const FacePlane plane(points_[face[0]], points_[face[1]], points_[face[2]]);
+    face_cells_.clear();
+    for (size_t k = 0; k < 3; ++k)
+      for (uint32_t s = fill_at_[face[k]]; s != kNoSlot; s = fill_next_[s]) {
+        const MeshCell& m = out_.cells[s / 4];
+        std::array<GridPoint, 4> corners{};
+        bool above = false, earlier = false;
+        for (size_t i = 0; i < 4; ++i) {
+          for (size_t j = 0; j < k; ++j) earlier = earlier || m[i] == face[j];  // gathered already
+          corners[i] = points_[m[i]];
+          above = above || plane.height(corners[i]) > 0;
+        }
+        if (above && !earlier) face_cells_.push_back(corners);
+      }
+  }
+
   // True when the face is one between two kept Delaunay cells.
   bool kept_face(const FaceKey& key) const {
     for (uint32_t c : incident_.row(key[0])) {
@@ -331,6 +442,15 @@ class Fill {
       else
         out_.neighbours[static_cast<size_t>(g.cell) - dt_.cells.size()][g.corner] = self;
     }
+    if (only_fitting_) {
+      // The new cell at each of its corners, a list through slots 4i + k.
+      fill_next_.resize(4 * out_.cells.size());
+      for (size_t k = 0; k < 4; ++k) {
+        const uint32_t v = cell[k];
+        fill_next_[4 * i + k] = std::exchange(fill_at_[v], static_cast<uint32_t>(4 * i + k));
+        ++fill_count_[v];
+      }
+    }
     side_.added(cell);
     return Status::Ok();
   }
@@ -348,6 +468,18 @@ class Fill {
   std::vector<uint32_t> bucket_;  // per hash bucket, its chain's first face (kNoFace: none)
   std::vector<uint32_t> queue_;   // faces to visit, first opened first
   size_t head_ = 0;
+  // 12.0's fit tests: per vertex, the fill cells at it (a list through
+  // fill_next_, by slot 4 x cell + corner; kNoSlot ends it) and their count;
+  // the work spent and the faces it is measured against.
+  static constexpr uint32_t kNoSlot = UINT32_MAX;
+  bool only_fitting_ = false;
+  std::vector<uint32_t> fill_at_, fill_next_, fill_count_;
+  uint64_t fit_work_ = 0, faces_given_cells_ = 0;
+  bool over_fit_budget_ = false;
+  // The face whose cells face_cells_ holds (by faces_given_cells_), and
+  // those cells' corners.
+  uint64_t face_cells_for_ = 0;
+  std::vector<std::array<GridPoint, 4>> face_cells_;
   std::array<AdaptiveBit, kFilledContexts> filled_;
   std::array<RankModels, 2> rank_;
   AdaptiveBit seed_;

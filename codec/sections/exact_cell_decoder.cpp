@@ -19,17 +19,14 @@ class Decoder {
 
   bool filled(AdaptiveBit& model, const OpenFace&) { return rc_.decode(model); }
 
+  template <class Fit>
   Status apex(const OpenFace&, std::vector<uint32_t>& candidates, const ApexOrder& less, RankModels& models,
-              uint32_t& apex) {
+              const Fit& fit, uint32_t& apex) {
     uint64_t rank = 0;
     DTM_RETURN_IF_ERROR(get_rank(rc_, models, rank));
     if (rank > candidates.size()) return corrupt("an apex rank past the candidates");
-    if (rank == candidates.size()) {
-      uint64_t v = 0;
-      DTM_RETURN_IF_ERROR(rc_.decode_index(points_.size(), v));
-      apex = static_cast<uint32_t>(v);
-      return Status::Ok();
-    }
+    if (fit.on()) return fitting_apex(candidates, less, fit, rank, apex);
+    if (rank == candidates.size()) return escaped(apex);
     // Rank 0, the Delaunay-like apex, is most of them: one pass finds it.
     if (rank == 0) {
       apex = *std::min_element(candidates.begin(), candidates.end(), less);
@@ -42,6 +39,44 @@ class Decoder {
   }
 
   bool another_seed(AdaptiveBit& model) { return rc_.decode(model); }
+
+  // 12.0: the candidates in their order, tested until the rank-th that
+  // fits; one past the last that fits, an index. Most apexes are the
+  // first candidate that fits: picking the next in order costs a pass,
+  // and past a few the rest are sorted at once.
+  template <class Fit>
+  Status fitting_apex(std::vector<uint32_t>& candidates, const ApexOrder& less, const Fit& fit, uint64_t rank,
+                      uint32_t& apex) {
+    constexpr size_t kPicks = 8;
+    uint64_t fitting = 0;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      if (i < kPicks) {
+        std::iter_swap(
+            candidates.begin() + static_cast<std::ptrdiff_t>(i),
+            std::min_element(candidates.begin() + static_cast<std::ptrdiff_t>(i), candidates.end(), less));
+      } else if (i == kPicks) {
+        std::sort(candidates.begin() + static_cast<std::ptrdiff_t>(i), candidates.end(), less);
+      }
+      bool fits = false;
+      DTM_RETURN_IF_ERROR(fit(candidates[i], fits));
+      if (!fits) continue;
+      if (fitting == rank) {
+        apex = candidates[i];
+        return Status::Ok();
+      }
+      ++fitting;
+    }
+    if (rank > fitting) return corrupt("an apex rank past the candidates that fit");
+    return escaped(apex);
+  }
+
+  // An apex that is not a candidate: its index.
+  Status escaped(uint32_t& apex) {
+    uint64_t v = 0;
+    DTM_RETURN_IF_ERROR(rc_.decode_index(points_.size(), v));
+    apex = static_cast<uint32_t>(v);
+    return Status::Ok();
+  }
 
   Status seed(MeshCell& cell) {
     for (uint32_t& v : cell) {
@@ -71,10 +106,11 @@ class Decoder {
 
 Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
                           std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
-                          std::span<const uint32_t> order, ExactFill& fill) {
+                          std::span<const uint32_t> order, ApexRanks ranks, ExactFill& fill) {
   if (kept.size() != dt.cells.size()) return exact_cells::corrupt("the carving is not the level's");
   exact_cells::Decoder side(section, points);
-  exact_cells::Fill<exact_cells::Decoder> walk(dt, points, alpha, kept, side, fill);
+  exact_cells::Fill<exact_cells::Decoder> walk(dt, points, alpha, kept, side, fill,
+                                               ranks == ApexRanks::kAmongFitting);
   Status s = walk.run(order);
   if (!s.ok()) {
     fill = {};

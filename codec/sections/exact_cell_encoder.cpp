@@ -47,18 +47,31 @@ class Encoder {
     return pending_ != kNone;
   }
 
+  template <class Fit>
   Status apex(const OpenFace& f, std::vector<uint32_t>& candidates, const ApexOrder& less, RankModels& models,
-              uint32_t& apex) {
+              const Fit& fit, uint32_t& apex) {
     const MeshCell& c = rest_[pending_];
     apex = c[0];
     for (uint32_t v : c)
       if (v != f.outward[0] && v != f.outward[1] && v != f.outward[2]) apex = v;
-    uint64_t rank = candidates.size();
-    if (std::find(candidates.begin(), candidates.end(), apex) != candidates.end())
-      rank = static_cast<uint64_t>(
-          std::count_if(candidates.begin(), candidates.end(), [&](uint32_t q) { return less(q, apex); }));
+    const bool candidate = std::find(candidates.begin(), candidates.end(), apex) != candidates.end();
+    // The candidates ranked before the apex (all of them when it is not
+    // one) and, in 12.0, of those only the ones that fit: the decoder tests
+    // the same ones, and the apex.
+    uint64_t rank = 0;
+    for (uint32_t q : candidates) {
+      if (candidate && !less(q, apex)) continue;
+      bool fits = true;
+      if (fit.on()) DTM_RETURN_IF_ERROR(fit(q, fits));
+      rank += fits;
+    }
+    if (candidate && fit.on()) {
+      bool fits = false;
+      DTM_RETURN_IF_ERROR(fit(apex, fits));
+      if (!fits) return invalid_input("input cell " + describe(c) + " overlaps another input cell");
+    }
     put_rank(rc_, models, rank);
-    if (rank == candidates.size()) {
+    if (!candidate) {
       rc_.encode_index(apex, points_.size());
       ++stats_.escapes;
     } else if (rank == 0) {
@@ -119,15 +132,22 @@ class Encoder {
 StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<const GridPoint> points,
                                                   double alpha, std::span<const uint8_t> kept,
                                                   std::span<const uint32_t> order,
-                                                  std::span<const MeshCell> rest, ExactFill& fill,
-                                                  std::vector<uint32_t>& source, ExactStats* stats) {
+                                                  std::span<const MeshCell> rest, ApexRanks& ranks,
+                                                  ExactFill& fill, std::vector<uint32_t>& source,
+                                                  ExactStats* stats) {
   ExactStats local;
   ExactStats& s = stats ? *stats : local;
   s = {};
   exact_cells::Encoder side(rest, points, s);
   DTM_RETURN_IF_ERROR(side.index());
-  exact_cells::Fill<exact_cells::Encoder> walk(dt, points, alpha, kept, side, fill);
+  exact_cells::Fill<exact_cells::Encoder> walk(dt, points, alpha, kept, side, fill,
+                                               ranks == ApexRanks::kAmongFitting);
   const Status status = walk.run(order);
+  if (walk.over_fit_budget()) {
+    // Where a decoder would give up testing, every candidate counts.
+    ranks = ApexRanks::kAmongCandidates;
+    return encode_exact_cells(dt, points, alpha, kept, order, rest, ranks, fill, source, stats);
+  }
   if (status.code() == StatusCode::kInvalidInput) return status;
   if (!status.ok()) {
     // What the decoder would refuse is, from the encoder's side, an input
@@ -139,6 +159,7 @@ StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<c
         "): --exact needs positively oriented cells that do not overlap, each face shared by "
         "at most two, none flat after quantization (raise --qbits)");
   }
+  s.fit_work = walk.fit_work();
   source = std::move(side.source());
   return side.finish();
 }

@@ -8,7 +8,8 @@
 //
 // Input: byte 0: bit 0 the point set (fuzz_point_sets.h); bits 1-3 which
 // Delaunay cells are kept (0: all; k: all but every cell whose index is 0
-// mod k + 1); then the section.
+// mod k + 1); bit 4 how apexes are ranked (0: among the candidates that
+// fit, 12.0; 1: among them all, 11.0); then the section.
 #include <algorithm>
 #include <cstdint>
 #include <map>
@@ -58,13 +59,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const Level& l = level(data[0] & 1);
   const unsigned skip = (data[0] >> 1) & 7;
+  dtm::ApexRanks ranks =
+      (data[0] >> 4) & 1 ? dtm::ApexRanks::kAmongCandidates : dtm::ApexRanks::kAmongFitting;
   std::vector<uint8_t> kept(l.dt.cells.size(), 1);
   if (skip)
     for (size_t c = 0; c < kept.size(); c += skip + 1) kept[c] = 0;
   constexpr double kAlpha = 3.0;
   dtm::ExactFill fill;
-  const dtm::Status s =
-      dtm::decode_exact_cells(std::span(data + 1, size - 1), l.dt, l.points, kAlpha, kept, l.order, fill);
+  const dtm::Status s = dtm::decode_exact_cells(std::span(data + 1, size - 1), l.dt, l.points, kAlpha, kept,
+                                                l.order, ranks, fill);
   if (!s.ok()) {
     FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
     return 0;
@@ -100,9 +103,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   dtm::ExactFill again, back;
   std::vector<uint32_t> source;
   const auto section =
-      dtm::encode_exact_cells(l.dt, l.points, kAlpha, kept, l.order, fill.cells, again, source);
+      dtm::encode_exact_cells(l.dt, l.points, kAlpha, kept, l.order, fill.cells, ranks, again, source);
   FUZZ_CHECK(section.ok());
-  FUZZ_CHECK(dtm::decode_exact_cells(*section, l.dt, l.points, kAlpha, kept, l.order, back).ok());
+  FUZZ_CHECK(dtm::decode_exact_cells(*section, l.dt, l.points, kAlpha, kept, l.order, ranks, back).ok());
   FUZZ_CHECK(sorted_cells(back.cells) == sorted_cells(fill.cells));
   return 0;
 }

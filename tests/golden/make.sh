@@ -2,7 +2,7 @@
 # tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
 # current format version and their expected levels. Run it only when the
 # format's major version changes (spec/FORMAT.md §6), after moving the
-# previous version's streams to v<major>/ (as v2/ to v6/ hold formats 2.0 to 6.0) if
+# previous version's streams to v<major>/ (as v2/ to v6/ and v11/ hold formats 2.0 to 6.0 and 11.0) if
 # decoders still read it: a golden stream is a promise that every later
 # decoder decodes it identically or refuses its version.
 set -euo pipefail
@@ -114,6 +114,8 @@ zone = (np.arange(len(tets)) % 9 - 4).astype(np.int16)
 meshio.write(out, meshio.Mesh(points, [("tetra", tets)], cell_data={"heat": [heat], "zone": [zone]}))
 PY
 make_one torus_288_cells torus_288_cells.vtu --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3 --keep-order
-# 11.0: the gmsh part with --exact: level 0 is its own tetrahedra (the cell
+# 12.0: the gmsh part with --exact: level 0 is its own tetrahedra (the cell
 # hash of level 0 is theirs), with its regions and tagged faces on them.
+# (v11/ holds its 11.0 stream, made so before 12.0 ranked the apexes among
+# the candidates that fit.)
 make_one two_materials_exact two_materials.msh --quality-floor 0 --dmax 0.2 --exact
