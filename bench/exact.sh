@@ -49,6 +49,8 @@ for input in "${models[@]/%/.node}" gmsh_part.msh netgen_fine.msh; do
     /usr/bin/time -f "%e %M" -o $m.exact.time "$enc" $input -q -o $m.exact.dtm --report $m.exact.json --exact "${extra[@]}"
   fi
   /usr/bin/time -f "%e %M" -o $m.plain.time "$enc" $input -q -o $m.plain.dtm --report $m.plain.json "${extra[@]}"
+  # Format 11.0's section (the apexes ranked among all their candidates).
+  "$enc" $input -q -o $m.v11.dtm --report $m.v11.json --exact-v11 "${extra[@]}"
   # The points as the decoder has them, for the construction; each stream
   # decoded in a process of its own.
   [ $input = $m.node ] || "$dec" $m.plain.dtm -q -o $m.node
@@ -67,20 +69,21 @@ def wall(path):
     return float(open(path).read().split()[-2])
 what = {"gmsh_part": "gmsh part, 2 materials (gmsh 4.8.4)", "netgen_fine": "Netgen part (Netgen 6.2, maxh 0.03)"}
 rows = ["| mesh | vertices | cells | Delaunay cells | non-Delaunay cells | stream | with --exact | extra bits/vertex "
-        "| exact section bits/vertex | carving bits/vertex | bits per non-Delaunay cell | apex rank 0 | decode / construction "
-        "| decode without | encode time x |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        "| exact section bits/vertex | 11.0's | carving bits/vertex | bits per non-Delaunay cell | apex rank 0 | 11.0's "
+        "| decode / construction | decode without | encode time x |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
 for m in sys.argv[1:]:
     p, e = json.load(open(m + ".plain.json")), json.load(open(m + ".exact.json"))
-    x = e["exact"]
+    x, v11 = e["exact"], json.load(open(m + ".v11.json"))["exact"]
     n, cells = e["input_points"], x["delaunay_cells"] + x["fill_cells"]
     extra = 8.0 * (e["stream_bytes"] - p["stream_bytes"])
     carving = 8.0 * (e["levels"][0]["carving_bytes"] - p["levels"][0]["carving_bytes"])
     construction = seconds(m + ".cgal.txt")
-    rows.append("| %s%s | %d | %d | %.1f%% | %d | %d | %d | %.2f | %.2f | %.2f | %.2f | %.0f%% | %.2fx (%.2f s / %.2f s) | %.2fx | %.2fx |" % (
+    rows.append("| %s%s | %d | %d | %.1f%% | %d | %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f%% | %.0f%% | %.2fx (%.2f s / %.2f s) | %.2fx | %.2fx |" % (
         what.get(m, m), " (q=%d)" % e["qbits"] if e["qbits"] != 14 and m not in what else "", n, cells,
         100.0 * x["delaunay_cells"] / cells, x["fill_cells"], p["stream_bytes"], e["stream_bytes"], extra / n,
-        8.0 * x["bytes"] / n, carving / n, extra / max(x["fill_cells"], 1), 100.0 * x["rank_zero"] / max(x["fill_cells"], 1),
+        8.0 * x["bytes"] / n, 8.0 * v11["bytes"] / n, carving / n, extra / max(x["fill_cells"], 1),
+        100.0 * x["rank_zero"] / max(x["fill_cells"], 1), 100.0 * v11["rank_zero"] / max(x["fill_cells"], 1),
         seconds(m + ".exact.decode.txt") / construction, seconds(m + ".exact.decode.txt"), construction,
         seconds(m + ".plain.decode.txt") / construction, wall(m + ".exact.time") / wall(m + ".plain.time")))
 out = ["# --exact: level 0 as the input's own tetrahedra", "",

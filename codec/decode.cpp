@@ -317,7 +317,8 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<
   // (Level 0 of an exact stream: its own contexts, spec/FORMAT.md §3.2.)
   Status s = decode_carving(
       carving_, dt, points_, alpha,
-      exact_level() ? CarvingContexts::kExactMargin : carving_contexts(header_.version_major), kept, &order);
+      exact_level() ? exact_carving_contexts(header_.version_major) : carving_contexts(header_.version_major),
+      kept, &order);
   if (s.ok() && (header_.flags & kFlagRegions) && !exact_level())
     s = decode_regions(region_section_, dt, order, regions_.size(), kept);
   if (!s.ok()) {

@@ -390,8 +390,12 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       DTM_ASSIGN_OR_RETURN(ExactLevel made, exact_level(dt, level_points, level.alpha, input,
                                                         options.exact_labels, exact_ranks));
       exact_cells.emplace(std::move(made));
-      out_l.carving = encode_carving(dt, level_points, level.alpha, exact_cells->delaunay_kept,
-                                     CarvingContexts::kExactMargin);
+      // (Its version as its exact cell section settled it: 11.0's contexts
+      // where that fell back to 11.0's ranks.)
+      out_l.carving = encode_carving(
+          dt, level_points, level.alpha, exact_cells->delaunay_kept,
+          exact_carving_contexts(exact_ranks == ApexRanks::kAmongFitting ? kVersionMajorExact
+                                                                         : kVersionMajorExactAllRanked));
       out_l.exact = std::move(exact_cells->section);
       out.exact_bytes = out_l.exact.size();
       out.exact_delaunay_cells = exact_cells->delaunay_cells;

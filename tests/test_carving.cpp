@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <boost/multiprecision/cpp_int.hpp>
 #include <optional>
 #include <random>
 #include <set>
@@ -400,6 +401,56 @@ INSTANTIATE_TEST_SUITE_P(BothRules, CarvingCoderContexts,
                            return info.param == CarvingContexts::kAlphaNeighbours ? std::string("Format4")
                                                                                   : std::string("Format6");
                          });
+// An exact level 0's: 11.0's split by the margin, 12.0's by the shape too.
+INSTANTIATE_TEST_SUITE_P(ExactLevel, CarvingCoderContexts,
+                         ::testing::Values(CarvingContexts::kExactMargin, CarvingContexts::kExactMarginShape),
+                         [](const auto& info) {
+                           return info.param == CarvingContexts::kExactMargin ? std::string("Format11")
+                                                                              : std::string("Format12");
+                         });
+
+// 12.0's shape bucket: the regular tetrahedron's quality is 1, a flat one's
+// 0; cells whose quality is exactly 0.05 or 0.2 (where doubles cannot
+// decide) are not above it; on random cells the bucket is the exact
+// comparison's, 432 D^2 against t^2 S^3 (D six times the volume, S the
+// squared edges' sum), in integers.
+TEST(CarvingCoder, ShapeBucketsAreExact) {
+  EXPECT_EQ(shape_bucket({GridPoint{0, 0, 0}, {2, 2, 0}, {2, 0, 2}, {0, 2, 2}}), 2);
+  EXPECT_EQ(shape_bucket({GridPoint{0, 0, 0}, {100, 0, 0}, {0, 100, 0}, {50, 50, 1}}), 0);
+  // D = 100, S = 1200: 172800 D^2 = S^3, quality 0.05.
+  EXPECT_EQ(shape_bucket({GridPoint{10, 10, 10}, {4, 14, 7}, {6, 12, 5}, {16, 2, 20}}), 0);
+  // D = -400, S = 1200: 10800 D^2 = S^3, quality 0.2.
+  EXPECT_EQ(shape_bucket({GridPoint{10, 10, 10}, {15, 11, 6}, {4, 14, 2}, {19, 1, 14}}), 1);
+  using Big = boost::multiprecision::int256_t;
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int32_t> u(0, 60);
+  size_t seen[3] = {0, 0, 0};
+  for (int i = 0; i < 20000; ++i) {
+    std::array<GridPoint, 4> c;
+    for (auto& p : c) p = {u(rng), u(rng), u(rng) / (i % 3 + 1)};
+    Big d = 0;
+    {
+      const Big ux = c[1].x - c[0].x, uy = c[1].y - c[0].y, uz = c[1].z - c[0].z;
+      const Big vx = c[2].x - c[0].x, vy = c[2].y - c[0].y, vz = c[2].z - c[0].z;
+      const Big wx = c[3].x - c[0].x, wy = c[3].y - c[0].y, wz = c[3].z - c[0].z;
+      d = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
+    }
+    Big s = 0;
+    for (size_t a = 0; a < 4; ++a)
+      for (size_t b = a + 1; b < 4; ++b) {
+        const Big x = c[a].x - c[b].x, y = c[a].y - c[b].y, z = c[a].z - c[b].z;
+        s += x * x + y * y + z * z;
+      }
+    // t = 0.05: t^2 = 1/400; t = 0.2: 1/25.
+    const int expected = (Big{432 * 400} * d * d > s * s * s) + (Big{432 * 25} * d * d > s * s * s);
+    const int got = shape_bucket(c);
+    ASSERT_EQ(got, expected) << i;
+    ++seen[got];
+  }
+  EXPECT_GT(seen[0], 100u);
+  EXPECT_GT(seen[1], 100u);
+  EXPECT_GT(seen[2], 100u);
+}
 
 // 6.0's contexts see that wrong predictions come in patches: a patch of
 // wrong verdicts (every cell near one corner of the block) costs fewer bytes

@@ -127,10 +127,11 @@ TEST_P(ExactCorpus, LevelZeroIsTheInputCellForCell) {
 
 INSTANTIATE_TEST_SUITE_P(Corpus, ExactCorpus, ::testing::ValuesIn(test::kCorpus));
 
-// 12.0 ranks an apex among the candidates that fit, 11.0 among them all:
-// the same level 0 either way, hand_10k's (the corpus's sliver-heavy mesh,
-// its apexes the first candidate for 63% of the faces in 11.0) in fewer
-// bits with more apexes of rank 0.
+// 12.0 ranks an apex among the candidates that fit, 11.0 among them all,
+// and splits level 0's carving contexts by the cells' shape: the same level
+// 0 either way, hand_10k's (the corpus's sliver-heavy mesh, its apexes the
+// first candidate for 63% of the faces in 11.0) in fewer bits with more
+// apexes of rank 0.
 TEST(Exact, RanksAmongTheCandidatesThatFitCostLess) {
   const Model m = load("hand_10k");
   EncodeInput in;
@@ -153,8 +154,10 @@ TEST(Exact, RanksAmongTheCandidatesThatFitCostLess) {
   EXPECT_EQ(fitting->report.exact.fill_cells, all->report.exact.fill_cells);
   EXPECT_GT(fitting->report.exact.rank_zero, all->report.exact.rank_zero);
   EXPECT_LT(fitting->report.exact_bytes * 10, all->report.exact_bytes * 8);  // 20% fewer at least
-  // Only the header and the exact section differ.
-  EXPECT_EQ(all->bytes.size() - all->report.exact_bytes, fitting->bytes.size() - fitting->report.exact_bytes);
+  // The carving of level 0 is smaller too; nothing else changes.
+  EXPECT_LT(fitting->report.carving_bytes[0], all->report.carving_bytes[0]);
+  EXPECT_EQ(all->bytes.size() - all->report.exact_bytes - all->report.carving_bytes[0],
+            fitting->bytes.size() - fitting->report.exact_bytes - fitting->report.carving_bytes[0]);
 }
 
 TEST(Exact, RegionsAndCellDataRideOnTheExactCells) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <boost/multiprecision/cpp_int.hpp>
 #include <limits>
 
 #include "codec/sections/carving_coder_shared.h"
@@ -53,6 +54,10 @@ CarvingContexts carving_contexts(uint8_t format_major) {
   return format_major >= 6 ? CarvingContexts::kDecodedNeighbours : CarvingContexts::kAlphaNeighbours;
 }
 
+CarvingContexts exact_carving_contexts(uint8_t format_major) {
+  return format_major >= 12 ? CarvingContexts::kExactMarginShape : CarvingContexts::kExactMargin;
+}
+
 CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
                                   CarvingContexts contexts, std::span<const uint32_t> chunk_of_cell) {
   const size_t m = dt.cells.size();
@@ -92,17 +97,60 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
       },
       2);
   p.order = canonical_cell_order(dt.cells);  // the identity for an exported triangulation
-  if (contexts == CarvingContexts::kExactMargin) {
+  if (contexts == CarvingContexts::kExactMargin || contexts == CarvingContexts::kExactMarginShape) {
+    const bool shape = contexts == CarvingContexts::kExactMarginShape;
     p.margin.resize(m);
     parallel_for(
         blocks,
         [&](size_t block) {
-          for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c)
+          for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c) {
             p.margin[c] = margin_bucket(dt, points, c);
+            if (shape) {
+              const auto& v = dt.cells[c];
+              p.margin[c] = static_cast<uint8_t>(
+                  p.margin[c] * kShapeBuckets +
+                  shape_bucket({points[v[0]], points[v[1]], points[v[2]], points[v[3]]}));
+            }
+          }
         },
         2);
   }
   return p;
+}
+
+uint8_t shape_bucket(const std::array<GridPoint, 4>& c) {
+  // With D = 6V and S the sum of the squared edge lengths (l^2 = S / 6),
+  // quality > t exactly when 432 D^2 > t^2 S^3: t = 0.05 and 0.2 give the
+  // integer factors 172800 and 10800. D^2 S^3 reach 2^165: decided in
+  // doubles where they are clearly apart (their relative error is below
+  // 1e-15), in 256-bit integers otherwise.
+  using boost::multiprecision::int256_t;
+  Int128 d = 0;
+  {
+    const Int128 ux = c[1].x - c[0].x, uy = c[1].y - c[0].y, uz = c[1].z - c[0].z;
+    const Int128 vx = c[2].x - c[0].x, vy = c[2].y - c[0].y, vz = c[2].z - c[0].z;
+    const Int128 wx = c[3].x - c[0].x, wy = c[3].y - c[0].y, wz = c[3].z - c[0].z;
+    d = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
+  }
+  int64_t s = 0;
+  for (size_t i = 0; i < 4; ++i)
+    for (size_t j = i + 1; j < 4; ++j) {
+      const int64_t x = int64_t{c[i].x} - c[j].x, y = int64_t{c[i].y} - c[j].y, z = int64_t{c[i].z} - c[j].z;
+      s += x * x + y * y + z * z;
+    }
+  const double dd = static_cast<double>(d) * static_cast<double>(d);
+  const double s3 = static_cast<double>(s) * static_cast<double>(s) * static_cast<double>(s);
+  const auto above = [&](int64_t factor) {
+    const double lhs = static_cast<double>(factor) * dd;
+    if (lhs > s3 * (1 + 1e-9)) return true;
+    if (lhs < s3 * (1 - 1e-9)) return false;
+    const int256_t big_d = static_cast<int256_t>(static_cast<int64_t>(d >> 64)) * (int256_t{1} << 64) +
+                           static_cast<int256_t>(static_cast<uint64_t>(d));
+    const int256_t big_s = s;
+    return int256_t{factor} * big_d * big_d > big_s * big_s * big_s;
+  };
+  static_assert(kShapeSteps[0] == 0.05 && kShapeSteps[1] == 0.2, "the factors below are theirs");
+  return static_cast<uint8_t>(above(172800) + above(10800));
 }
 
 uint8_t margin_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell) {

@@ -12,6 +12,7 @@
 // sections of the levels it shows and no other.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -38,8 +39,15 @@ enum class CarvingContexts {
   // is nearly on the cell's circumsphere (on the Netgen part of
   // bench/results/EXACT.md, a median margin of 0.087 against 0.305).
   kExactMargin,
+  // 12.0, level 0 of an exact stream: 11.0's, each split by the cell's
+  // shape (1440 models). A mesher's optimiser flips its flattest Delaunay
+  // cells away: on hand_10k the cells alpha got wrong have a median
+  // quality of 0.45, the kept ones it got right 0.76.
+  kExactMarginShape,
 };
 CarvingContexts carving_contexts(uint8_t format_major);
+// Level 0 of an exact stream's (flag exact, 11.0 and later).
+CarvingContexts exact_carving_contexts(uint8_t format_major);
 
 // Per cell of `dt` (vertex ids index `points`): alpha's verdict and what
 // the context of its correction starts from; and the canonical order of the
@@ -52,7 +60,9 @@ struct CarvingPrediction {
   // neighbours, which the decoded verdicts then change.
   std::vector<uint8_t> context;
   std::vector<uint32_t> order;  // cell indices in coding order
-  std::vector<uint8_t> margin;  // kExactMargin: per cell, its margin bucket
+  // kExactMargin: per cell, its margin bucket; kExactMarginShape: that
+  // times kShapeBuckets plus its shape bucket.
+  std::vector<uint8_t> margin;
 };
 inline constexpr int kCarvingRatioBuckets = 16;
 inline constexpr int kAlphaNeighbourContexts = kCarvingRatioBuckets * 5;
@@ -65,6 +75,13 @@ inline constexpr double kMarginSteps[] = {0.06, 0.17, 0.39};
 inline constexpr int kMarginBuckets = 4;
 inline constexpr int kExactMarginContexts = kDecodedNeighbourContexts * kMarginBuckets;
 uint8_t margin_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell);
+// A cell's shape: its quality 6 sqrt(2) V / l^3 (V its volume, l its edges'
+// root mean square length; 1 for the regular tetrahedron, 0 flat) above
+// none, one or both of these values, decided exactly (spec/FORMAT.md §3.2).
+inline constexpr double kShapeSteps[] = {0.05, 0.2};
+inline constexpr int kShapeBuckets = 3;
+inline constexpr int kExactMarginShapeContexts = kExactMarginContexts * kShapeBuckets;
+uint8_t shape_bucket(const std::array<GridPoint, 4>& corners);
 // With `chunk_of_cell` (bricked layers), the kept neighbours counted are
 // those of the same chunk only.
 CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,

@@ -32,14 +32,17 @@ void visit_corrections(const TetMesh& dt, const CarvingPrediction& p, CarvingCon
   // from alpha's verdicts alone (bucket and kept neighbours); a cell decoded
   // as wrong tells each neighbour (those decoded already do not look again),
   // so the pass costs a neighbour walk per wrong cell only.
-  // (kExactMargin: each of these split by the cell's margin bucket.)
-  const bool margin = contexts == CarvingContexts::kExactMargin;
-  std::vector<AdaptiveBit> models(margin ? kExactMarginContexts : kDecodedNeighbourContexts);
+  // (kExactMargin: each of these split by the cell's margin bucket;
+  // kExactMarginShape: by its margin and shape buckets.)
+  const int splits = contexts == CarvingContexts::kExactMargin        ? kMarginBuckets
+                     : contexts == CarvingContexts::kExactMarginShape ? kMarginBuckets * kShapeBuckets
+                                                                      : 1;
+  std::vector<AdaptiveBit> models(static_cast<size_t>(kDecodedNeighbourContexts * splits));
   std::vector<int8_t> kept_change(dt.cells.size(), 0);  // kept neighbours gained (lost)
   std::vector<uint8_t> wrong(dt.cells.size(), 0);       // neighbours decoded as wrong
   for (uint32_t c : p.order) {
     int context = (p.context[c] + kept_change[c]) * 3 + std::min<int>(wrong[c], 2);
-    if (margin) context = context * kMarginBuckets + p.margin[c];
+    if (splits > 1) context = context * splits + p.margin[c];
     if (!code_bit(models[static_cast<size_t>(context)], c)) continue;
     kept[c] ^= 1;
     for (int32_t n : dt.neighbors[c]) {

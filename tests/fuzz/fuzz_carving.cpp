@@ -5,8 +5,8 @@
 //
 // Input: byte 0: which point set (a 4x4x4 block, or 300 pseudo-random
 // points of a 7-bit grid, by bit 0), which contexts (6.0's by bit 1, and
-// with bit 7 11.0's exact level 0's; else 4.0's) and alpha (bits 2-6, in
-// quarter grid steps); then the section.
+// with bit 7 an exact level 0's, 12.0's by bit 2, else 11.0's; else 4.0's)
+// and alpha (bits 2-6, in quarter grid steps); then the section.
 #include <algorithm>
 #include <cstdint>
 #include <span>
@@ -23,11 +23,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const dtm::TetMesh block_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value();
   static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value();
   const dtm::TetMesh& dt = (data[0] & 1) ? cloud_dt : block_dt;
-  // Bit 1: 6.0's contexts (with bit 7 too: 11.0's exact level 0's, split
-  // by the margin); bits 2-6: alpha.
-  const dtm::CarvingContexts contexts = !(data[0] & 2)    ? dtm::CarvingContexts::kAlphaNeighbours
-                                        : (data[0] & 128) ? dtm::CarvingContexts::kExactMargin
-                                                          : dtm::CarvingContexts::kDecodedNeighbours;
+  // Bit 1: 6.0's contexts (with bit 7 too: an exact level 0's, split by
+  // the margin, and by the shape too with bit 2: 12.0's); bits 2-6: alpha.
+  const dtm::CarvingContexts contexts =
+      !(data[0] & 2) ? dtm::CarvingContexts::kAlphaNeighbours
+      : (data[0] & 128)
+          ? ((data[0] & 4) ? dtm::CarvingContexts::kExactMarginShape : dtm::CarvingContexts::kExactMargin)
+          : dtm::CarvingContexts::kDecodedNeighbours;
   const double alpha = 0.25 * ((data[0] >> 2) & 31) + 0.25;
   const std::span<const uint8_t> section(data + 1, size - 1);
   std::vector<uint8_t> kept;
