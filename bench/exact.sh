@@ -97,38 +97,10 @@ out = ["# --exact: level 0 as the input's own tetrahedra", "",
        "every layer inserted, the carving, the exact cells) over one sequential CGAL construction of the "
        "same points (`... cgal`). *Encode time x*: whole `meshenc` processes, with over without.", ""] + rows + [
        "", "## What it shows", "",
-       "* **Where the bits go.** The exact cell section is cheap where the mesher kept close to Delaunay: "
-       "on the gmsh and Netgen parts the first candidate is the apex for 93-95% of the non-Delaunay cells "
-       "(0.11-0.13 bits a vertex). Most of the extra is the carving: saying which Delaunay cells are not "
-       "the input's (alpha keeps them: they lie inside the solid) costs 3-5 bits per non-Delaunay cell on these two parts. "
-       "The TetGen models with many slivers (hand_10k, triceratops_10k) are the other way round: their "
-       "non-Delaunay cells are less often the Delaunay-like apex (54-63%) and some apexes are not Delaunay "
-       "neighbours of their face at all (130-146 sent by index).",
-       "* **Against the targets** (#42: at most 1.5 bits a vertex; decode at most 1.3x one construction): "
-       "met on 9 of the 11 meshes for the bits (not on hand_10k and triceratops_10k, whose slivers make "
-       "the fill itself expensive); not met for the decoding time (below). The carving's contexts are "
-       "split by each cell's Delaunay margin (spec/FORMAT.md §3.2): the Delaunay cells that are not the "
-       "input's have a median margin of 0.087 (how far the nearest neighbour's far corner lies outside the "
-       "circumsphere, over its radius) against 0.305 for those that are (Netgen part); the split took "
-       "the Netgen part from 1.58 to 1.37 extra bits a vertex, the gmsh part from 1.36 to 1.23. "
-       "Ordering the candidates by the new cell's shape instead of the in-sphere test was tried and is "
-       "worse everywhere (rank 0 for 34-85% of the cells against 54-95%). Putting first the "
-       "candidates that are corners of the removed Delaunay cells around the face (the cavity the input's "
-       "cells refill) was tried too, and moves the exact section by 3% at most either way: 1779 -> "
-       "1810-1817 bytes on hand_10k, 3060 -> 3070-3154 on triceratops_10k, 455 -> 446-452 on bunny_10k, "
-       "799 -> 789-797 on fandisk_11k: the in-sphere order already holds what the cavity tells.",
-       "* **Decoding.** The fill walks the open faces, found through a hash of their corners (chained in "
-       "the faces' own array), with a per-vertex list of Delaunay cells for the candidates; its in-sphere "
-       "tests are CGAL's exact predicates. Its cost over the default decode is the \"decode / "
-       "construction\" against \"decode without\" columns: 0.2-0.5x one construction where the "
-       "times are long enough to tell (bunny_1m 0.41x: the carving's margin contexts about 0.7 s, the fill "
-       "1.0 s, the per-vertex cell lists 0.4 s, the opening of the kept cells' faces 0.2 s, and since "
-       "2026-12-02 the check that no two cells overlap (spec/FORMAT.md §3.10) 0.4-0.5 s on 2 cores: 1.0M "
-       "tests of a Delaunay cell against a fill cell and 0.36M comparisons of fill cells, measured apart; "
-       "the 10k models' columns, at constructions of 0.05 s, move by up to 0.6x from one run to the "
-       "next). The default decode of these meshes is itself 1.6-2.5x one sequential construction on "
-       "this 2-core machine (the construction here is CGAL's of the input points, one core), so the "
-       "target of 1.3x is out of reach for the exact decode as long as the default one is above it."]
+       "* **Where the bits go.** The exact cell section is cheap where the mesher kept close to Delaunay: on the gmsh and Netgen parts the first candidate that fits is the apex for 97-98% of the non-Delaunay cells (0.05-0.06 bits a vertex). Most of the extra is the carving: saying which Delaunay cells are not the input's (alpha keeps them: they lie inside the solid) costs 3-4 bits per non-Delaunay cell on these two parts. The TetGen models with many slivers (hand_10k, triceratops_10k) are the other way round: their non-Delaunay cells are less often the Delaunay-like apex (77-82% the first candidate that fits) and some apexes are not Delaunay neighbours of their face at all (130-146 sent by index).",
+       "* **12.0 against 11.0** (format 12.0, 2026-12-02; the \"11.0's\" columns are `meshenc --exact-v11` of the same mesh). An apex is ranked among the candidates whose cell overlaps none of the cells the fill has already added at the face's corners (spec/FORMAT.md \u00a73.10): the exact section shrinks by 26% on hand_10k and triceratops_10k, 24% on bunny_10k, 54-58% on the gmsh and Netgen parts, 0-17% on the rest. Level 0's carving contexts are split by each cell's shape too (\u00a73.2: a mesher's optimiser flips its flattest Delaunay cells away, so the cells alpha gets wrong are flatter): against the 11.0 table of this file (2026-12-02, same grids) the carving's extra fell from 0.95 to 0.86 bits a vertex on hand_10k, 0.77 to 0.65 on bunny_10k, 0.54 to 0.42 on bunny_100k, 0.69 to 0.54 on bunny_1m, 1.12 to 0.99 on the gmsh part (whose mesh gmsh makes a little differently each run). Together, the extra bits a vertex fell by 4-21%: hand_10k 2.40 to 1.95, triceratops_10k 3.68 to 2.99, bunny_1m 0.87 to 0.69, the gmsh part 1.24 to 1.05, the Netgen part 1.37 to 1.28.",
+       "* **Against the targets** (#42: at most 1.5 bits a vertex; decode at most 1.3x one construction): met on 9 of the 11 meshes for the bits (not on hand_10k, 1.95, and triceratops_10k, 2.99, whose slivers make the fill itself expensive: 1.03 and 1.81 bits a vertex for the section alone); not met for the decoding time (below). The carving's contexts are split by each cell's Delaunay margin (11.0, spec/FORMAT.md \u00a73.2): the Delaunay cells that are not the input's have a median margin of 0.087 (how far the nearest neighbour's far corner lies outside the circumsphere, over its radius) against 0.305 for those that are (Netgen part); the split took the Netgen part from 1.58 to 1.37 extra bits a vertex, the gmsh part from 1.36 to 1.23. Ordering the candidates by the new cell's shape instead of the in-sphere test was tried (11.0) and is worse everywhere (rank 0 for 34-85% of the cells against 54-95%). Putting first the candidates that are corners of the removed Delaunay cells around the face (the cavity the input's cells refill) was tried too (11.0), and moves the exact section by 3% at most either way: the in-sphere order already holds what the cavity tells. Testing the kept Delaunay cells at the candidate's corners as well as the fill cells took hand_10k's section from 1319 to 1221 bytes but bunny_100k's decode 9% slower (research/exact_apex_filter.md).",
+       "* **Decoding.** The fill walks the open faces, found through a hash of their corners (chained in the faces' own array), with a per-vertex list of Delaunay cells for the candidates; its in-sphere tests are CGAL's exact predicates. Its cost over the default decode is the \"decode / construction\" against \"decode without\" columns: 0.1-0.7x one construction where the times are long enough to tell (bunny_1m 0.69x, 2.7 s: the carving's margin and shape contexts, the fill, the per-vertex cell lists, the opening of the kept cells' faces and the check that no two cells overlap, spec/FORMAT.md \u00a73.10; the 10k models' columns, at constructions of 0.04 s, move by up to 0.6x from one run to the next). 12.0's fit tests cost about 1% of the decoder's CPU (perf, bunny_100k): bunny_1m's level 0 decoded in 9.00-9.93 s from its 12.0 stream against 9.35-10.02 s from its 11.0 stream (three alternating runs each, medians 9.35 and 9.49 s). The default decode of these meshes is itself 1.6-2.4x one sequential construction on this 2-core machine (the construction here is CGAL's of the input points, one core), so the target of 1.3x is out of reach for the exact decode as long as the default one is above it."]
 open("EXACT.md", "w").write("\n".join(out) + "\n")
 print("\n".join(out))
 PY
