@@ -489,6 +489,59 @@ TEST(ExactSection, CellsThatOverlapWithoutSharingAFaceAreRefused) {
   EXPECT_TRUE(disjoint);
 }
 
+// 12.0's fit tests stop at their budget (spec/FORMAT.md §3.10): bunny_10k's
+// section, decoded with none to spend, is refused; encoded with none, the
+// encoder falls back to 11.0's ranks, the section 11.0's encoder writes.
+TEST(ExactSection, FitTestsPastTheirBudgetAreRefusedAndTheEncoderFallsBack) {
+  const Model m = load("bunny_10k");
+  EncodeInput in;
+  in.points = m.points;
+  in.tetrahedra = m.tets;
+  const auto e = encode(in, exact_options());
+  ASSERT_TRUE(e.ok());
+  ASSERT_GT(e->report.exact.fit_work, 0u);
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(e->bytes, d).ok());
+  ASSERT_EQ(d.header().version_major, kVersionMajorExact);
+  const std::vector<uint8_t> section(e->bytes.end() - static_cast<std::ptrdiff_t>(e->report.exact_bytes),
+                                     e->bytes.end());
+  const TetMesh dt = d.delaunay();
+  std::vector<uint32_t> order;
+  const std::vector<uint8_t> kept = d.carving(dt, order);
+  const double alpha = d.levels().back().alpha;
+  ExactFill fill;
+  ASSERT_TRUE(
+      decode_exact_cells(section, dt, d.points(), alpha, kept, order, ApexRanks::kAmongFitting, fill).ok());
+  const FitBudget none{0, 0};
+  ExactFill refused;
+  const Status s = decode_exact_cells(section, dt, d.points(), alpha, kept, order, ApexRanks::kAmongFitting,
+                                      refused, none);
+  EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+  EXPECT_NE(s.message().find("too many overlap tests"), std::string::npos) << s.message();
+
+  // The fill's cells coded again: with the budget, 12.0's section as the
+  // stream has it; without, 11.0's.
+  ExactFill again;
+  std::vector<uint32_t> source;
+  ApexRanks ranks = ApexRanks::kAmongFitting;
+  const auto fitting =
+      encode_exact_cells(dt, d.points(), alpha, kept, order, fill.cells, ranks, again, source);
+  ASSERT_TRUE(fitting.ok());
+  EXPECT_EQ(ranks, ApexRanks::kAmongFitting);
+  EXPECT_EQ(*fitting, section);
+  const auto fell_back =
+      encode_exact_cells(dt, d.points(), alpha, kept, order, fill.cells, ranks, again, source, nullptr, none);
+  ASSERT_TRUE(fell_back.ok());
+  EXPECT_EQ(ranks, ApexRanks::kAmongCandidates);
+  ApexRanks all = ApexRanks::kAmongCandidates;
+  const auto v11 = encode_exact_cells(dt, d.points(), alpha, kept, order, fill.cells, all, again, source);
+  ASSERT_TRUE(v11.ok());
+  EXPECT_EQ(*fell_back, *v11);
+  ExactFill back;
+  ASSERT_TRUE(decode_exact_cells(*fell_back, dt, d.points(), alpha, kept, order, ranks, back, none).ok());
+  EXPECT_EQ(back.cells, fill.cells);
+}
+
 TEST(ExactSection, BitFlipsAreRefusedOrChecked) {
   // A real section (bunny_10k's), every bit flipped in turn: refused, or a
   // fill whose every cell passed the decoder's checks; never a crash.

@@ -70,6 +70,14 @@ struct ExactFill {
 // fall, the section by 26% on the corpus's sliver-heavy meshes.
 enum class ApexRanks : uint8_t { kAmongCandidates, kAmongFitting };
 
+// 12.0's bound on the fit tests' work (spec/FORMAT.md §3.10): per face
+// given a cell on average, plus a slack. The defaults are the format's;
+// tests lower them to reach the refusal and the encoder's fall back.
+struct FitBudget {
+  uint64_t per_face = 1024;
+  uint64_t slack = uint64_t{1} << 20;
+};
+
 // What a section spent (the encoder's report).
 struct ExactStats {
   uint64_t open_faces = 0;  // faces given a symbol
@@ -94,13 +102,14 @@ StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<c
                                                   std::span<const uint32_t> order,
                                                   std::span<const MeshCell> rest, ApexRanks& ranks,
                                                   ExactFill& fill, std::vector<uint32_t>& source,
-                                                  ExactStats* stats = nullptr);
+                                                  ExactStats* stats = nullptr, const FitBudget& budget = {});
 
 // Decoder: the fill the section describes, checked as the header says;
 // `ranks` as the stream's version says (kAmongFitting from 12.0).
 Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
                           std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
-                          std::span<const uint32_t> order, ApexRanks ranks, ExactFill& fill);
+                          std::span<const uint32_t> order, ApexRanks ranks, ExactFill& fill,
+                          const FitBudget& budget = {});
 
 // Level 0 as both sides then code its regions, faces and cell values: dt's
 // cells followed by the fill's, every kept cell's neighbour across each face

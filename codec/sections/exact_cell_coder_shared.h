@@ -148,13 +148,11 @@ inline constexpr uint64_t kComparisonsPerMeeting = 32;
 inline constexpr uint64_t kTestsPerCell = 64;
 
 // 12.0: what ranking the apex among the candidates that fit (spec/FORMAT.md
-// §3.10) lets a section cost. Testing a candidate q for the face (a, b, c)
-// costs, as both sides count it, the fill cells at a, b and c (each at most
-// one test of the cell (a, b, c, q) against it): at most kFitWorkPerFace a
-// face given a cell on average, plus kFitWorkSlack. The corpus's meshes,
-// gmsh's and Netgen's spend 2.5-42 a face.
-inline constexpr uint64_t kFitWorkPerFace = 1024;
-inline constexpr uint64_t kFitWorkSlack = uint64_t{1} << 20;
+// §3.10) lets a section cost (FitBudget, exact_cell_coder.h). Testing a
+// candidate q for the face (a, b, c) costs, as both sides count it, the
+// fill cells at a, b and c (each at most one test of the cell (a, b, c, q)
+// against it). The corpus's meshes, gmsh's and Netgen's spend 2.5-42 a
+// face against the 1024 allowed.
 
 // Refuses a fill whose cells overlap each other or a kept Delaunay cell
 // without sharing a face (exact_cell_overlap.cpp). `incident`: per vertex,
@@ -167,14 +165,15 @@ class Fill {
  public:
   // only_fitting (12.0): an apex's rank counts only the candidates that fit.
   Fill(const TetMesh& dt, std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
-       Side& side, ExactFill& out, bool only_fitting)
+       Side& side, ExactFill& out, bool only_fitting, const FitBudget& budget = {})
       : dt_(dt),
         points_(points),
         alpha_(alpha),
         kept_(kept),
         side_(side),
         out_(out),
-        only_fitting_(only_fitting) {
+        only_fitting_(only_fitting),
+        budget_(budget) {
     seen_.assign(points.size(), 0);
     bucket_.assign(1024, kNoFace);
     incident_ = vertex_cells(dt.cells, points.size());
@@ -329,7 +328,7 @@ class Fill {
   // corners, the same on both sides whatever order they test them.
   Status fits(const std::array<uint32_t, 3>& face, uint32_t q, bool& fits) {
     for (uint32_t v : face) fit_work_ += fill_count_[v];
-    if (fit_work_ > kFitWorkPerFace * faces_given_cells_ + kFitWorkSlack) {
+    if (fit_work_ > budget_.per_face * faces_given_cells_ + budget_.slack) {
       over_fit_budget_ = true;
       return corrupt("its apexes' candidates cost too many overlap tests");
     }
@@ -473,6 +472,7 @@ class Fill {
   // the work spent and the faces it is measured against.
   static constexpr uint32_t kNoSlot = UINT32_MAX;
   bool only_fitting_ = false;
+  FitBudget budget_;
   std::vector<uint32_t> fill_at_, fill_next_, fill_count_;
   uint64_t fit_work_ = 0, faces_given_cells_ = 0;
   bool over_fit_budget_ = false;

@@ -106,11 +106,12 @@ class Decoder {
 
 Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
                           std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
-                          std::span<const uint32_t> order, ApexRanks ranks, ExactFill& fill) {
+                          std::span<const uint32_t> order, ApexRanks ranks, ExactFill& fill,
+                          const FitBudget& budget) {
   if (kept.size() != dt.cells.size()) return exact_cells::corrupt("the carving is not the level's");
   exact_cells::Decoder side(section, points);
   exact_cells::Fill<exact_cells::Decoder> walk(dt, points, alpha, kept, side, fill,
-                                               ranks == ApexRanks::kAmongFitting);
+                                               ranks == ApexRanks::kAmongFitting, budget);
   Status s = walk.run(order);
   if (!s.ok()) {
     fill = {};

@@ -134,14 +134,14 @@ StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<c
                                                   std::span<const uint32_t> order,
                                                   std::span<const MeshCell> rest, ApexRanks& ranks,
                                                   ExactFill& fill, std::vector<uint32_t>& source,
-                                                  ExactStats* stats) {
+                                                  ExactStats* stats, const FitBudget& budget) {
   ExactStats local;
   ExactStats& s = stats ? *stats : local;
   s = {};
   exact_cells::Encoder side(rest, points, s);
   DTM_RETURN_IF_ERROR(side.index());
   exact_cells::Fill<exact_cells::Encoder> walk(dt, points, alpha, kept, side, fill,
-                                               ranks == ApexRanks::kAmongFitting);
+                                               ranks == ApexRanks::kAmongFitting, budget);
   const Status status = walk.run(order);
   if (walk.over_fit_budget()) {
     // Where a decoder would give up testing, every candidate counts.
