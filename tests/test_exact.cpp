@@ -489,33 +489,51 @@ TEST(ExactSection, CellsThatOverlapWithoutSharingAFaceAreRefused) {
   EXPECT_TRUE(disjoint);
 }
 
-// 12.0's fit tests stop at their budget (spec/FORMAT.md §3.10): bunny_10k's
-// section, decoded with none to spend, is refused; encoded with none, the
-// encoder falls back to 11.0's ranks, the section 11.0's encoder writes.
-TEST(ExactSection, FitTestsPastTheirBudgetAreRefusedAndTheEncoderFallsBack) {
+// bunny_10k's exact stream and its level 0 as the exact cell section sees
+// it: the section (the layer's last bytes), DT(V_0), its canonical order
+// and the carving's verdicts.
+struct BunnyExactLevel {
+  EncodedMesh encoded;
+  ProgressiveDecoder decoder;
+  std::vector<uint8_t> section;
+  TetMesh dt;
+  std::vector<uint32_t> order;
+  std::vector<uint8_t> kept;
+  double alpha = 0;
+  std::span<const GridPoint> points() const { return decoder.points(); }
+};
+void load_bunny_exact_level(BunnyExactLevel& b) {
   const Model m = load("bunny_10k");
   EncodeInput in;
   in.points = m.points;
   in.tetrahedra = m.tets;
-  const auto e = encode(in, exact_options());
+  auto e = encode(in, exact_options());
   ASSERT_TRUE(e.ok());
-  ASSERT_GT(e->report.exact.fit_work, 0u);
-  ProgressiveDecoder d;
-  ASSERT_TRUE(decode_stream(e->bytes, d).ok());
-  ASSERT_EQ(d.header().version_major, kVersionMajorExact);
-  const std::vector<uint8_t> section(e->bytes.end() - static_cast<std::ptrdiff_t>(e->report.exact_bytes),
-                                     e->bytes.end());
-  const TetMesh dt = d.delaunay();
-  std::vector<uint32_t> order;
-  const std::vector<uint8_t> kept = d.carving(dt, order);
-  const double alpha = d.levels().back().alpha;
+  b.encoded = std::move(*e);
+  ASSERT_TRUE(decode_stream(b.encoded.bytes, b.decoder).ok());
+  ASSERT_EQ(b.decoder.header().version_major, kVersionMajorExact);
+  const auto& bytes = b.encoded.bytes;
+  b.section.assign(bytes.end() - static_cast<std::ptrdiff_t>(b.encoded.report.exact_bytes), bytes.end());
+  b.dt = b.decoder.delaunay();
+  b.kept = b.decoder.carving(b.dt, b.order);
+  b.alpha = b.decoder.levels().back().alpha;
+}
+
+// 12.0's fit tests stop at their budget (spec/FORMAT.md §3.10): bunny_10k's
+// section, decoded with none to spend, is refused; encoded with none, the
+// encoder falls back to 11.0's ranks, the section 11.0's encoder writes.
+TEST(ExactSection, FitTestsPastTheirBudgetAreRefusedAndTheEncoderFallsBack) {
+  BunnyExactLevel b;
+  ASSERT_NO_FATAL_FAILURE(load_bunny_exact_level(b));
+  ASSERT_GT(b.encoded.report.exact.fit_work, 0u);
   ExactFill fill;
-  ASSERT_TRUE(
-      decode_exact_cells(section, dt, d.points(), alpha, kept, order, ApexRanks::kAmongFitting, fill).ok());
+  ASSERT_TRUE(decode_exact_cells(b.section, b.dt, b.points(), b.alpha, b.kept, b.order,
+                                 ApexRanks::kAmongFitting, fill)
+                  .ok());
   const FitBudget none{0, 0};
   ExactFill refused;
-  const Status s = decode_exact_cells(section, dt, d.points(), alpha, kept, order, ApexRanks::kAmongFitting,
-                                      refused, none);
+  const Status s = decode_exact_cells(b.section, b.dt, b.points(), b.alpha, b.kept, b.order,
+                                      ApexRanks::kAmongFitting, refused, none);
   EXPECT_EQ(s.code(), StatusCode::kCorrupt);
   EXPECT_NE(s.message().find("too many overlap tests"), std::string::npos) << s.message();
 
@@ -523,65 +541,52 @@ TEST(ExactSection, FitTestsPastTheirBudgetAreRefusedAndTheEncoderFallsBack) {
   // stream has it; without, 11.0's.
   ExactFill again;
   std::vector<uint32_t> source;
+  const auto code_again = [&](ApexRanks& ranks, const FitBudget& budget) {
+    return encode_exact_cells(b.dt, b.points(), b.alpha, b.kept, b.order, fill.cells, ranks, again, source,
+                              nullptr, budget);
+  };
   ApexRanks ranks = ApexRanks::kAmongFitting;
-  const auto fitting =
-      encode_exact_cells(dt, d.points(), alpha, kept, order, fill.cells, ranks, again, source);
+  const auto fitting = code_again(ranks, {});
   ASSERT_TRUE(fitting.ok());
   EXPECT_EQ(ranks, ApexRanks::kAmongFitting);
-  EXPECT_EQ(*fitting, section);
-  const auto fell_back =
-      encode_exact_cells(dt, d.points(), alpha, kept, order, fill.cells, ranks, again, source, nullptr, none);
+  EXPECT_EQ(*fitting, b.section);
+  const auto fell_back = code_again(ranks, none);
   ASSERT_TRUE(fell_back.ok());
   EXPECT_EQ(ranks, ApexRanks::kAmongCandidates);
   ApexRanks all = ApexRanks::kAmongCandidates;
-  const auto v11 = encode_exact_cells(dt, d.points(), alpha, kept, order, fill.cells, all, again, source);
+  const auto v11 = code_again(all, {});
   ASSERT_TRUE(v11.ok());
   EXPECT_EQ(*fell_back, *v11);
   ExactFill back;
-  ASSERT_TRUE(decode_exact_cells(*fell_back, dt, d.points(), alpha, kept, order, ranks, back, none).ok());
+  ASSERT_TRUE(
+      decode_exact_cells(*fell_back, b.dt, b.points(), b.alpha, b.kept, b.order, ranks, back, none).ok());
   EXPECT_EQ(back.cells, fill.cells);
 }
 
 TEST(ExactSection, BitFlipsAreRefusedOrChecked) {
   // A real section (bunny_10k's), every bit flipped in turn: refused, or a
   // fill whose every cell passed the decoder's checks; never a crash.
-  const Model m = load("bunny_10k");
-  EncodeInput in;
-  in.points = m.points;
-  in.tetrahedra = m.tets;
-  const auto e = encode(in, exact_options());
-  ASSERT_TRUE(e.ok());
-  ProgressiveDecoder d;
-  ASSERT_TRUE(decode_stream(e->bytes, d).ok());
-  // The section is the layer's last bytes.
-  const auto& bytes = e->bytes;
-  const std::vector<uint8_t> section(bytes.end() - static_cast<std::ptrdiff_t>(e->report.exact_bytes),
-                                     bytes.end());
-  const TetMesh dt = d.delaunay();
-  std::vector<uint32_t> order;
-  const std::vector<uint8_t> kept = d.carving(dt, order);
-  ExactFill fill;
-  ASSERT_EQ(d.header().version_major, kVersionMajorExact);
+  BunnyExactLevel b;
+  ASSERT_NO_FATAL_FAILURE(load_bunny_exact_level(b));
   const ApexRanks ranks = ApexRanks::kAmongFitting;
-  ASSERT_TRUE(
-      decode_exact_cells(section, dt, d.points(), d.levels().back().alpha, kept, order, ranks, fill).ok());
-  EXPECT_EQ(fill.cells.size(), e->report.exact.fill_cells);
+  ExactFill fill;
+  ASSERT_TRUE(decode_exact_cells(b.section, b.dt, b.points(), b.alpha, b.kept, b.order, ranks, fill).ok());
+  EXPECT_EQ(fill.cells.size(), b.encoded.report.exact.fill_cells);
   size_t refused = 0, flips = 0;
-  for (size_t i = 0; i < section.size(); i += 3)
-    for (int b = 0; b < 8; b += 3) {
-      std::vector<uint8_t> bad = section;
-      bad[i] ^= static_cast<uint8_t>(1u << b);
+  for (size_t i = 0; i < b.section.size(); i += 3)
+    for (int bit = 0; bit < 8; bit += 3) {
+      std::vector<uint8_t> bad = b.section;
+      bad[i] ^= static_cast<uint8_t>(1u << bit);
       ++flips;
       ExactFill f;
-      const Status s =
-          decode_exact_cells(bad, dt, d.points(), d.levels().back().alpha, kept, order, ranks, f);
+      const Status s = decode_exact_cells(bad, b.dt, b.points(), b.alpha, b.kept, b.order, ranks, f);
       if (!s.ok()) {
         EXPECT_EQ(s.code(), StatusCode::kCorrupt);
         ++refused;
         continue;
       }
-      for (const Tet& c : f.cells)
-        EXPECT_GT(orientation(d.points()[c[0]], d.points()[c[1]], d.points()[c[2]], d.points()[c[3]]), 0);
+      const auto p = b.points();
+      for (const Tet& c : f.cells) EXPECT_GT(orientation(p[c[0]], p[c[1]], p[c[2]], p[c[3]]), 0);
     }
   EXPECT_GT(refused, flips / 2);
 }

@@ -125,13 +125,7 @@ uint8_t shape_bucket(const std::array<GridPoint, 4>& c) {
   // doubles where they are clearly apart (their relative error is below
   // 1e-15), in 256-bit integers otherwise.
   using boost::multiprecision::int256_t;
-  Int128 d = 0;
-  {
-    const Int128 ux = c[1].x - c[0].x, uy = c[1].y - c[0].y, uz = c[1].z - c[0].z;
-    const Int128 vx = c[2].x - c[0].x, vy = c[2].y - c[0].y, vz = c[2].z - c[0].z;
-    const Int128 wx = c[3].x - c[0].x, wy = c[3].y - c[0].y, wz = c[3].z - c[0].z;
-    d = ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx);
-  }
+  const Int128 d = abs_six_volume(c[0], c[1], c[2], c[3]);
   int64_t s = 0;
   for (size_t i = 0; i < 4; ++i)
     for (size_t j = i + 1; j < 4; ++j) {
