@@ -100,10 +100,22 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
   if (contexts == CarvingContexts::kExactMargin || contexts == CarvingContexts::kExactMarginShape) {
     const bool shape = contexts == CarvingContexts::kExactMarginShape;
     p.margin.resize(m);
+    // A cell's neighbours lie anywhere in the arrays: their corners are
+    // asked for some cells ahead, as this pass otherwise waits on memory
+    // most of its time (bunny_1m's level 0 on 2 cores: 1.0 s, 0.5-0.6 s so).
+    constexpr size_t kAhead = 16;
     parallel_for(
         blocks,
         [&](size_t block) {
-          for (size_t c = block * kBlock; c < std::min(m, block * kBlock + kBlock); ++c) {
+          const size_t end = std::min(m, block * kBlock + kBlock);
+          for (size_t c = block * kBlock; c < end; ++c) {
+            if (c + kAhead < end)
+              for (int32_t n : dt.neighbors[c + kAhead])
+                if (n >= 0) __builtin_prefetch(&dt.cells[static_cast<size_t>(n)]);
+            if (c + kAhead / 2 < end)
+              for (int32_t n : dt.neighbors[c + kAhead / 2])
+                if (n >= 0)
+                  for (uint32_t q : dt.cells[static_cast<size_t>(n)]) __builtin_prefetch(&points[q]);
             p.margin[c] = margin_bucket(dt, points, c);
             if (shape) {
               const auto& v = dt.cells[c];
