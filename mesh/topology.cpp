@@ -217,15 +217,29 @@ std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::arr
     if (start[pass_end] - base > entries.capacity()) release(entries);
     entries.resize(start[pass_end] - base);
     {
+      // The pass's faces found in slices of the cells on every core (each
+      // pass reads every cell: serial, the passes took 1.2 s of bunny_1m's
+      // encoder), then put in their buckets in slice order. (A bucket's
+      // order does not matter: each is sorted below, and a face of it is
+      // on the boundary when its key is there once.)
+      constexpr size_t kSlices = 16;
+      std::vector<std::vector<std::pair<uint32_t, Entry>>> sliced(kSlices);
+      parallel_for(kSlices, [&](size_t slice) {
+        const size_t from = cells.size() * slice / kSlices, to = cells.size() * (slice + 1) / kSlices;
+        for (size_t c = from; c < to; ++c)
+          for (int f = 0; f < 4; ++f) {
+            const auto key = key_of(c, f);
+            if (key[0] < pass_first || key[0] >= pass_end) continue;
+            sliced[slice].push_back(
+                {key[0], {key[1], key[2], static_cast<uint32_t>(4 * c + static_cast<size_t>(f))}});
+          }
+      });
       std::vector<uint32_t> fill(start.begin() + static_cast<std::ptrdiff_t>(pass_first),
                                  start.begin() + static_cast<std::ptrdiff_t>(pass_end));
-      for (size_t c = 0; c < cells.size(); ++c)
-        for (int f = 0; f < 4; ++f) {
-          const auto key = key_of(c, f);
-          if (key[0] < pass_first || key[0] >= pass_end) continue;
-          entries[fill[key[0] - pass_first]++ - base] = {
-              key[1], key[2], static_cast<uint32_t>(4 * c + static_cast<size_t>(f))};
-        }
+      for (auto& part : sliced) {
+        for (const auto& [smallest, entry] : part) entries[fill[smallest - pass_first]++ - base] = entry;
+        release(part);
+      }
     }
     // Each block of buckets finds its boundary faces on its own; the
     // blocks' lists are joined in order.
