@@ -194,24 +194,33 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
       if (kind[i] == 1) m.centroid_squared[i] = known->second;
     }
   });
-  std::vector<std::array<double, 3>> centroids;
-  std::vector<uint32_t> searched;  // triangles
-  std::vector<Measured> measured;
-  measured.reserve(n);
-  for (uint32_t i = 0; i < n; ++i) {
-    if (kind[i] == 1) measured.emplace_back(keys[i], m.centroid_squared[i]);
-    if (kind[i] != 2) continue;
-    const auto& t = triangles[i];
-    const GridPoint &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
-    centroids.push_back({(double{1} * a.x + b.x + c.x) / 3, (double{1} * a.y + b.y + c.y) / 3,
-                         (double{1} * a.z + b.z + c.z) / 3});
-    searched.push_back(i);
-  }
+  // The triangles searched, their centroids, and the figures kept for the
+  // next call (kinds 1 and 2), each on every core.
+  const auto triangles_where = [&](auto&& wanted) {
+    return collect_in_order<uint32_t>(n, 8192, [&](size_t first, size_t last, std::vector<uint32_t>& out) {
+      for (size_t i = first; i < last; ++i)
+        if (wanted(kind[i])) out.push_back(static_cast<uint32_t>(i));
+    });
+  };
+  const std::vector<uint32_t> searched = triangles_where([](uint8_t k) { return k == 2; });
+  std::vector<std::array<double, 3>> centroids(searched.size());
+  parallel_ranges(searched.size(), 8192, [&](size_t first, size_t last) {
+    for (size_t j = first; j < last; ++j) {
+      const auto& t = triangles[searched[j]];
+      const GridPoint &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
+      centroids[j] = {(double{1} * a.x + b.x + c.x) / 3, (double{1} * a.y + b.y + c.y) / 3,
+                      (double{1} * a.z + b.z + c.z) / 3};
+    }
+  });
   const std::vector<double> found = boundary_->surface.squared_distances(centroids);
-  for (size_t k = 0; k < searched.size(); ++k) {
-    m.centroid_squared[searched[k]] = found[k];
-    measured.emplace_back(keys[searched[k]], found[k]);
-  }
+  parallel_ranges(searched.size(), 8192, [&](size_t first, size_t last) {
+    for (size_t j = first; j < last; ++j) m.centroid_squared[searched[j]] = found[j];
+  });
+  const std::vector<uint32_t> kept = triangles_where([](uint8_t k) { return k != 0; });
+  std::vector<Measured> measured(kept.size());
+  parallel_ranges(kept.size(), 8192, [&](size_t first, size_t last) {
+    for (size_t j = first; j < last; ++j) measured[j] = {keys[kept[j]], m.centroid_squared[kept[j]]};
+  });
   parallel_sort(measured.begin(), measured.end());  // distinct keys
   centroid_squared_ = std::move(measured);
   std::vector<double> squared = m.vertex_squared;

@@ -7,6 +7,7 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
+#include <atomic>
 #include <boost/iterator/counting_iterator.hpp>
 #include <cmath>
 #include <limits>
@@ -224,23 +225,31 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
   parallel_sort(sorted_keys.begin(), sorted_keys.end());  // distinct keys
 
   // The triangles this surface adds to the previous one.
-  std::vector<Triangle> added;
-  std::vector<uint32_t> added_index;
-  for (uint32_t i = 0; i < n; ++i)
-    if (is_added[i]) {
-      added.push_back(soup[i]);
-      added_index.push_back(i);
-    }
+  const std::vector<uint32_t> added_index =
+      collect_in_order<uint32_t>(n, kRange, [&](size_t first, size_t last, std::vector<uint32_t>& out) {
+        for (size_t i = first; i < last; ++i)
+          if (is_added[i]) out.push_back(static_cast<uint32_t>(i));
+      });
+  std::vector<Triangle> added(added_index.size());
+  for (size_t j = 0; j < added.size(); ++j) added[j] = soup[added_index[j]];
   // A named query that is a vertex of the surface is on it. The other
   // queries whose nearest triangle is gone are searched in full, the rest
   // against the added triangles only.
   constexpr uint32_t kNone = UINT32_MAX;
-  std::vector<uint32_t> first_triangle(s.names, kNone);  // per name, the first triangle it is a corner of
-  for (uint32_t i = 0; i < n; ++i)
-    for (uint32_t v : triangles[i]) {
-      const uint32_t name = ids.empty() ? v : ids[v];
-      if (name < s.names && first_triangle[name] == kNone) first_triangle[name] = i;
-    }
+  // Per name, the first triangle it is a corner of: the least, on every
+  // core (an atomic minimum; the loop in order was serial).
+  std::vector<uint32_t> first_triangle(s.names, kNone);
+  parallel_ranges(n, kRange, [&](size_t first, size_t last) {
+    for (size_t i = first; i < last; ++i)
+      for (uint32_t v : triangles[i]) {
+        const uint32_t name = ids.empty() ? v : ids[v];
+        if (name >= s.names) continue;
+        std::atomic_ref<uint32_t> at(first_triangle[name]);
+        for (uint32_t seen = at.load(std::memory_order_relaxed);
+             i < seen && !at.compare_exchange_weak(seen, static_cast<uint32_t>(i), std::memory_order_relaxed);) {
+        }
+      }
+  });
   enum : uint8_t { kOnSurface, kCheck, kFull };
   std::vector<uint8_t> kind(s.queries.size());
   parallel_ranges(s.queries.size(), kRange, [&](size_t first, size_t last) {
@@ -259,9 +268,14 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
       }
     }
   });
-  std::vector<uint32_t> full, check;
-  for (uint32_t q = 0; q < s.queries.size(); ++q)
-    if (kind[q] != kOnSurface) (kind[q] == kCheck ? check : full).push_back(q);
+  const auto queries_of = [&](uint8_t wanted) {
+    return collect_in_order<uint32_t>(s.queries.size(), kRange,
+                                      [&](size_t first, size_t last, std::vector<uint32_t>& out) {
+                                        for (size_t q = first; q < last; ++q)
+                                          if (kind[q] == wanted) out.push_back(static_cast<uint32_t>(q));
+                                      });
+  };
+  const std::vector<uint32_t> full = queries_of(kFull), check = queries_of(kCheck);
 
   if (!full.empty()) {
     Tree tree(soup.cbegin(), soup.cend());

@@ -1,19 +1,47 @@
 #include "mesh/topology.h"
 
 #include <algorithm>
+#include <atomic>
 #include <tuple>
 
 #include "common/parallel_for.h"
+#include "common/threads.h"
 #include "common/release.h"
 #include "mesh/geometry.h"
 
 namespace dtm {
 
 Csr vertex_cells(std::span<const std::array<uint32_t, 4>> cells, size_t num_vertices) {
-  return build_csr(num_vertices, [&](auto&& emit) {
-    for (uint32_t c = 0; c < cells.size(); ++c)
-      for (uint32_t v : cells[c]) emit(v, c);
+  constexpr size_t kBlock = 1 << 15;
+  if (thread_count() == 1 || cells.size() < kBlock)
+    return build_csr(num_vertices, [&](auto&& emit) {
+      for (uint32_t c = 0; c < cells.size(); ++c)
+        for (uint32_t v : cells[c]) emit(v, c);
+    });
+  // On every core (one pass in cell order took 0.3 s of bunny_1m's level 0
+  // in the encoder, 0.2 s of its exact decode): the counts and the cursors
+  // are atomic (two threads seldom meet at one vertex), and each row is
+  // sorted after, so that it lists its cells ascending as that pass would.
+  Csr out;
+  out.offsets.assign(num_vertices + 1, 0);
+  parallel_ranges(cells.size(), kBlock, [&](size_t first, size_t last) {
+    for (size_t c = first; c < last; ++c)
+      for (uint32_t v : cells[c]) std::atomic_ref<uint32_t>(out.offsets[v + 1]).fetch_add(1, std::memory_order_relaxed);
   });
+  for (size_t v = 0; v < num_vertices; ++v) out.offsets[v + 1] += out.offsets[v];
+  out.items.resize(out.offsets.back());
+  std::vector<uint32_t> cursor(out.offsets.begin(), out.offsets.end() - 1);
+  parallel_ranges(cells.size(), kBlock, [&](size_t first, size_t last) {
+    for (size_t c = first; c < last; ++c)
+      for (uint32_t v : cells[c])
+        out.items[std::atomic_ref<uint32_t>(cursor[v]).fetch_add(1, std::memory_order_relaxed)] =
+            static_cast<uint32_t>(c);
+  });
+  parallel_ranges(num_vertices, 4096, [&](size_t first, size_t last) {
+    for (size_t v = first; v < last; ++v)
+      std::sort(out.items.begin() + out.offsets[v], out.items.begin() + out.offsets[v + 1]);
+  });
+  return out;
 }
 
 Csr vertex_neighbors(std::span<const std::array<uint32_t, 4>> cells, const Csr& cells_of_vertex) {

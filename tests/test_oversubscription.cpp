@@ -18,6 +18,7 @@
 
 #include "common/threads.h"
 #include "mesh/delaunay.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 namespace {
@@ -107,6 +108,32 @@ TEST(Oversubscribed, APatchedExportIsTheWholeExport) {
   const TetMesh before = dt.mesh(previous);
   ASSERT_TRUE(dt.insert(p.subspan(half), id.subspan(half)).ok());
   expect_same_mesh(dt.mesh(before, previous), alone);
+}
+
+// The per-vertex cell lists (atomic counts and cursors, each row sorted
+// after) and the boundary (its passes' faces found in slices): on any
+// number of threads what one pass in cell order gives.
+TEST(Oversubscribed, CellListsAndTheBoundaryAreThoseOfOnePassInOrder) {
+  const auto points = random_points(40000, 9);
+  const TetMesh dt = delaunay_tetrahedralize(points).value();
+  std::vector<std::vector<uint32_t>> rows(points.size());
+  for (uint32_t c = 0; c < dt.cells.size(); ++c)
+    for (uint32_t v : dt.cells[c]) rows[v].push_back(c);
+  std::vector<std::array<uint32_t, 3>> one_thread_boundary;
+  {
+    const Threads one(1);
+    one_thread_boundary = boundary_triangles(dt.cells, 20000);  // several passes
+  }
+  ASSERT_FALSE(one_thread_boundary.empty());
+  const Threads many(4 * cores_given() + 2);
+  const Csr incident = vertex_cells(dt, points.size());
+  ASSERT_EQ(incident.rows(), points.size());
+  for (size_t v = 0; v < points.size(); ++v) {
+    const auto row = incident.row(v);
+    ASSERT_TRUE(std::equal(row.begin(), row.end(), rows[v].begin(), rows[v].end())) << "vertex " << v;
+  }
+  EXPECT_EQ(boundary_triangles(dt.cells, 20000), one_thread_boundary);
+  EXPECT_EQ(boundary_triangles(dt.cells), one_thread_boundary);
 }
 
 }  // namespace
