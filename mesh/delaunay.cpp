@@ -288,6 +288,19 @@ void write_cell(DT::Cell_handle c, const Corners& p, TetMesh& out, size_t k) {
   }
 }
 
+// Asks for what write_cell (and the corners' order) reads of a cell: its
+// vertices' ids and its neighbours' tags, anywhere in memory. Asked for
+// some cells ahead, a pass over the cells no longer waits on them: the
+// export of bunny_1m's level 0 in the decoder took 1.1-1.7 s on 2 cores
+// without, 0.5-0.9 s with (alternating runs).
+void prefetch_corners(DT::Cell_handle c) {
+  for (int i = 0; i < 4; ++i) {
+    __builtin_prefetch(&c->vertex(i)->info());
+    __builtin_prefetch(&c->neighbor(i)->info());
+  }
+}
+constexpr size_t kAhead = 8;
+
 // The cells of `handles`, in that order, as vertex ids and neighbour tags
 // (each handle's tag already set to its position, -1 for infinite cells),
 // each cell's corners in the order corners_of gives.
@@ -302,8 +315,11 @@ TetMesh cells_of(const std::vector<DT::Cell_handle>& handles, CornersOf corners_
   constexpr size_t kBlock = 4096;
   parallel_for((m + kBlock - 1) / kBlock,
                [&](size_t block) {
-                 for (size_t k = block * kBlock; k < std::min(m, block * kBlock + kBlock); ++k)
+                 const size_t end = std::min(m, block * kBlock + kBlock);
+                 for (size_t k = block * kBlock; k < end; ++k) {
+                   if (k + kAhead < end) prefetch_corners(handles[k + kAhead]);
                    write_cell(handles[k], corners_of(handles[k]), out, k);
+                 }
                },
                2);
   return out;
@@ -356,7 +372,10 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
   }
   std::vector<uint32_t> least(found.size());
   parallel_ranges(found.size(), kBlock, [&](size_t first, size_t last) {
-    for (size_t k = first; k < last; ++k) least[k] = smallest(found[k]);
+    for (size_t k = first; k < last; ++k) {
+      if (k + kAhead < last) prefetch_corners(found[k + kAhead]);
+      least[k] = smallest(found[k]);
+    }
   });
   for (uint32_t v : least) ++start[v + 1];
   for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
@@ -425,7 +444,10 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   // the keys are distinct, so any sort gives the one order.
   std::vector<Keyed> made(fresh.size());
   parallel_ranges(fresh.size(), 4096, [&](size_t first, size_t last) {
-    for (size_t j = first; j < last; ++j) made[j] = {sorted_ids(fresh[j]), fresh[j]};
+    for (size_t j = first; j < last; ++j) {
+      if (j + kAhead < last) prefetch_corners(fresh[j + kAhead]);
+      made[j] = {sorted_ids(fresh[j]), fresh[j]};
+    }
   });
   release(fresh);
   parallel_sort(made.begin(), made.end(), [](const Keyed& a, const Keyed& b) { return a.first < b.first; });
