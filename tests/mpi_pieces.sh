@@ -56,6 +56,8 @@ if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshdec" "$work/plain.dtm" -o "
   echo "a stream that is not bricked made pieces"; failed=1
 fi
 grep -q "bricked stream" "$work/err" || { cat "$work/err"; failed=1; }
+# Every rank met that error alike: it is printed once, not once a rank.
+[ "$(grep -c "meshdec: error" "$work/err")" -eq 1 ] || { echo "the error printed more than once:"; cat "$work/err"; failed=1; }
 [ -z "$(ls "$work/plain")" ] || { echo "files left behind: $(ls "$work/plain")"; failed=1; }
 [ $failed -eq 0 ] && echo "mpi_pieces: ok"
 exit $failed

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -208,7 +209,7 @@ bool ends_with(const std::string& s, const std::string& end) {
 // its own (ranks take pieces in turn), rank 0 the .pvtu once every piece is
 // written. Any rank's failure fails them all and leaves no file.
 int run_pieces(const Command& c) {
-  const dtm::MpiSession& mpi = dtm::mpi_session();
+  dtm::MpiSession& mpi = dtm::mpi_session();
   if (c.input == "-")
     throw std::invalid_argument("-o X.pvtu reads the stream by offset: give a file, not '-'");
   if (!c.box.empty() || c.verify) throw std::invalid_argument("-o X.pvtu: no --box or --verify");
@@ -249,7 +250,14 @@ int run_pieces(const Command& c) {
   }
   if (!mpi.all(error.empty())) {
     for (const std::string& path : written) std::remove(path.c_str());
-    if (!error.empty()) throw std::runtime_error(error);
+    // An error every rank met alike (a stream that is not there, damaged,
+    // not bricked) is printed once, by rank 0; the others each by their
+    // rank, named.
+    const auto errors = mpi.all_gather({reinterpret_cast<const uint8_t*>(error.data()), error.size()});
+    const bool alike = std::all_of(errors.begin(), errors.end(),
+                                   [&](const std::vector<uint8_t>& e) { return e == errors.front(); });
+    if (alike) throw dtm::AgreedError(error, mpi.rank() == 0);
+    if (!error.empty()) throw std::runtime_error("rank " + std::to_string(mpi.rank()) + ": " + error);
     return 1;  // another rank's error, which that rank reports
   }
   const uint64_t all_cells = mpi.sum(cells), all_read = mpi.sum(bytes_read);
