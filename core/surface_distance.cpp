@@ -246,7 +246,8 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
         if (name >= s.names) continue;
         std::atomic_ref<uint32_t> at(first_triangle[name]);
         for (uint32_t seen = at.load(std::memory_order_relaxed);
-             i < seen && !at.compare_exchange_weak(seen, static_cast<uint32_t>(i), std::memory_order_relaxed);) {
+             i < seen &&
+             !at.compare_exchange_weak(seen, static_cast<uint32_t>(i), std::memory_order_relaxed);) {
         }
       }
   });

@@ -450,7 +450,8 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
     }
   });
   release(fresh);
-  parallel_sort(made.begin(), made.end(), [](const Keyed& a, const Keyed& b) { return a.first < b.first; });
+  dtm::parallel_sort(made.begin(), made.end(),
+                     [](const Keyed& a, const Keyed& b) { return a.first < b.first; });
 
   // The merge of the two key orders, on every core: each range of old
   // cells knows how many kept cells come before it (a prefix sum of the

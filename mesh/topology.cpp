@@ -5,8 +5,8 @@
 #include <tuple>
 
 #include "common/parallel_for.h"
-#include "common/threads.h"
 #include "common/release.h"
+#include "common/threads.h"
 #include "mesh/geometry.h"
 
 namespace dtm {
@@ -26,7 +26,8 @@ Csr vertex_cells(std::span<const std::array<uint32_t, 4>> cells, size_t num_vert
   out.offsets.assign(num_vertices + 1, 0);
   parallel_ranges(cells.size(), kBlock, [&](size_t first, size_t last) {
     for (size_t c = first; c < last; ++c)
-      for (uint32_t v : cells[c]) std::atomic_ref<uint32_t>(out.offsets[v + 1]).fetch_add(1, std::memory_order_relaxed);
+      for (uint32_t v : cells[c])
+        std::atomic_ref<uint32_t>(out.offsets[v + 1]).fetch_add(1, std::memory_order_relaxed);
   });
   for (size_t v = 0; v < num_vertices; ++v) out.offsets[v + 1] += out.offsets[v];
   out.items.resize(out.offsets.back());
