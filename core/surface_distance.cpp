@@ -7,7 +7,6 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
-#include <atomic>
 #include <boost/iterator/counting_iterator.hpp>
 #include <cmath>
 #include <limits>
@@ -15,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/atomic_counts.h"
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/release.h"
@@ -244,11 +244,7 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
       for (uint32_t v : triangles[i]) {
         const uint32_t name = ids.empty() ? v : ids[v];
         if (name >= s.names) continue;
-        std::atomic_ref<uint32_t> at(first_triangle[name]);
-        for (uint32_t seen = at.load(std::memory_order_relaxed);
-             i < seen &&
-             !at.compare_exchange_weak(seen, static_cast<uint32_t>(i), std::memory_order_relaxed);) {
-        }
+        atomic_store_min(first_triangle[name], static_cast<uint32_t>(i));
       }
   });
   enum : uint8_t { kOnSurface, kCheck, kFull };

@@ -1,9 +1,9 @@
 #include "mesh/topology.h"
 
 #include <algorithm>
-#include <atomic>
 #include <tuple>
 
+#include "common/atomic_counts.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
 #include "common/threads.h"
@@ -26,17 +26,14 @@ Csr vertex_cells(std::span<const std::array<uint32_t, 4>> cells, size_t num_vert
   out.offsets.assign(num_vertices + 1, 0);
   parallel_ranges(cells.size(), kBlock, [&](size_t first, size_t last) {
     for (size_t c = first; c < last; ++c)
-      for (uint32_t v : cells[c])
-        std::atomic_ref<uint32_t>(out.offsets[v + 1]).fetch_add(1, std::memory_order_relaxed);
+      for (uint32_t v : cells[c]) atomic_fetch_add(out.offsets[v + 1], 1);
   });
   for (size_t v = 0; v < num_vertices; ++v) out.offsets[v + 1] += out.offsets[v];
   out.items.resize(out.offsets.back());
   std::vector<uint32_t> cursor(out.offsets.begin(), out.offsets.end() - 1);
   parallel_ranges(cells.size(), kBlock, [&](size_t first, size_t last) {
     for (size_t c = first; c < last; ++c)
-      for (uint32_t v : cells[c])
-        out.items[std::atomic_ref<uint32_t>(cursor[v]).fetch_add(1, std::memory_order_relaxed)] =
-            static_cast<uint32_t>(c);
+      for (uint32_t v : cells[c]) out.items[atomic_fetch_add(cursor[v], 1)] = static_cast<uint32_t>(c);
   });
   parallel_ranges(num_vertices, 4096, [&](size_t first, size_t last) {
     for (size_t v = first; v < last; ++v)
