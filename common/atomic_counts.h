@@ -11,7 +11,9 @@ namespace dtm {
 
 // x += v; returns x before. Relaxed: the callers join their threads before
 // they read the results.
-inline uint32_t atomic_fetch_add(uint32_t& x, uint32_t v) { return __atomic_fetch_add(&x, v, __ATOMIC_RELAXED); }
+inline uint32_t atomic_fetch_add(uint32_t& x, uint32_t v) {
+  return __atomic_fetch_add(&x, v, __ATOMIC_RELAXED);
+}
 
 // x = min(x, v).
 inline void atomic_store_min(uint32_t& x, uint32_t v) {
