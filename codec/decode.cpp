@@ -341,9 +341,8 @@ ProgressiveDecoder::LevelCells ProgressiveDecoder::level_cells() const {
   // The fill from the kept Delaunay cells, then the regions of the whole
   // level (spec/FORMAT.md §3.10): the cells the exact section adds are kept.
   ExactFill fill;
-  Status s = decode_exact_cells(
-      exact_section_, out.mesh, points_, levels_.back().alpha, out.kept, out.order,
-      header_.version_major >= 12 ? ApexRanks::kAmongFitting : ApexRanks::kAmongCandidates, fill);
+  Status s = decode_exact_cells(exact_section_, out.mesh, points_, levels_.back().alpha, out.kept, out.order,
+                                apex_ranks_of(header_.version_major), fill);
   if (s.ok()) {
     const auto first = static_cast<uint32_t>(out.mesh.cells.size());
     extend_with_fill(out.mesh, fill);

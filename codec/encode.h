@@ -90,9 +90,10 @@ struct EncodeOptions {
   // tetrahedra, a valid mesh on the grid (no point merged by quantization,
   // no cell flat there) and the codec preset; not with bricks.
   bool exact = false;
-  // How the exact cells' apexes are ranked: kAmongCandidates writes 11.0,
-  // which decoders before 12.0 read, at more bits (StreamOptions).
-  ApexRanks exact_ranks = ApexRanks::kAmongFitting;
+  // How the exact cells are coded: kAmongCandidates writes 11.0,
+  // kAmongFitting 12.0, which older decoders read, at more bits
+  // (StreamOptions).
+  ApexRanks exact_ranks = ApexRanks::kAmongFittingInContext;
   // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.

@@ -392,10 +392,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       exact_cells.emplace(std::move(made));
       // (Its version as its exact cell section settled it: 11.0's contexts
       // where that fell back to 11.0's ranks.)
-      out_l.carving = encode_carving(
-          dt, level_points, level.alpha, exact_cells->delaunay_kept,
-          exact_carving_contexts(exact_ranks == ApexRanks::kAmongFitting ? kVersionMajorExact
-                                                                         : kVersionMajorExactAllRanked));
+      out_l.carving = encode_carving(dt, level_points, level.alpha, exact_cells->delaunay_kept,
+                                     exact_carving_contexts(format_major_of(exact_ranks)));
       out_l.exact = std::move(exact_cells->section);
       out.exact_bytes = out_l.exact.size();
       out.exact_delaunay_cells = exact_cells->delaunay_cells;
@@ -512,8 +510,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     DTM_RETURN_IF_ERROR(cells_done.get());
     DTM_RETURN_IF_ERROR(points_status);
   }
-  if (exact && exact_ranks == ApexRanks::kAmongCandidates) {
-    h.version_major = kVersionMajorExactAllRanked;
+  if (exact && format_major_of(exact_ranks) != h.version_major) {
+    h.version_major = format_major_of(exact_ranks);
     const std::vector<uint8_t> header = write_header(h);
     std::copy(header.begin(), header.end(), out.bytes.begin());
   }

@@ -128,11 +128,13 @@ TEST_P(ExactCorpus, LevelZeroIsTheInputCellForCell) {
 INSTANTIATE_TEST_SUITE_P(Corpus, ExactCorpus, ::testing::ValuesIn(test::kCorpus));
 
 // 12.0 ranks an apex among the candidates that fit, 11.0 among them all,
-// and splits level 0's carving contexts by the cells' shape: the same level
-// 0 either way, hand_10k's (the corpus's sliver-heavy mesh, its apexes the
-// first candidate for 63% of the faces in 11.0) in fewer bits with more
-// apexes of rank 0.
-TEST(Exact, RanksAmongTheCandidatesThatFitCostLess) {
+// and splits level 0's carving contexts by the cells' shape; 13.0 codes the
+// filled bits in the context of the Delaunay cell across the face and ranks
+// an apex that is not a candidate in the second ring. The same level 0 every
+// way, hand_10k's (the corpus's sliver-heavy mesh, its apexes the first
+// candidate for 63% of the faces in 11.0, 130 not candidates) in fewer bits
+// at each step.
+TEST(Exact, EachVersionCodesTheSameCellsInFewerBits) {
   const Model m = load("hand_10k");
   EncodeInput in;
   in.points = m.points;
@@ -140,24 +142,38 @@ TEST(Exact, RanksAmongTheCandidatesThatFitCostLess) {
   std::set<Tet> input;
   for (const Tet& t : m.tets) input.insert(sorted_tet(t));
   EncodeOptions options = exact_options();
+  const auto in_context = encode(in, options);
+  options.exact_ranks = ApexRanks::kAmongFitting;
   const auto fitting = encode(in, options);
   options.exact_ranks = ApexRanks::kAmongCandidates;
   const auto all = encode(in, options);
+  ASSERT_TRUE(in_context.ok()) << in_context.status().message();
   ASSERT_TRUE(fitting.ok()) << fitting.status().message();
   ASSERT_TRUE(all.ok()) << all.status().message();
-  for (const auto* e : {&*fitting, &*all}) {
+  for (const auto& [e, version] :
+       {std::pair{&*in_context, kVersionMajorExact}, std::pair{&*fitting, kVersionMajorExactFitting},
+        std::pair{&*all, kVersionMajorExactAllRanked}}) {
     ProgressiveDecoder d;
     ASSERT_TRUE(decode_stream(e->bytes, d).ok());
-    EXPECT_EQ(d.header().version_major, e == &*all ? kVersionMajorExactAllRanked : kVersionMajorExact);
+    EXPECT_EQ(d.header().version_major, version);
     EXPECT_TRUE(level0_in_input_numbering(d, *e, m.points.size()).cells == input);
+    EXPECT_EQ(e->report.exact.fill_cells, all->report.exact.fill_cells);
+    EXPECT_EQ(e->report.exact.escapes, all->report.exact.escapes);
   }
-  EXPECT_EQ(fitting->report.exact.fill_cells, all->report.exact.fill_cells);
   EXPECT_GT(fitting->report.exact.rank_zero, all->report.exact.rank_zero);
-  EXPECT_LT(fitting->report.exact_bytes * 10, all->report.exact_bytes * 8);  // 20% fewer at least
-  // The carving of level 0 is smaller too; nothing else changes.
+  EXPECT_EQ(in_context->report.exact.rank_zero, fitting->report.exact.rank_zero);
+  EXPECT_LT(fitting->report.exact_bytes * 10, all->report.exact_bytes * 8);         // 20% fewer at least
+  EXPECT_LT(in_context->report.exact_bytes * 10, fitting->report.exact_bytes * 9);  // 10% fewer at least
+  // Nearly every apex that is not a candidate is in the second ring.
+  EXPECT_GT(in_context->report.exact.escapes, 0u);
+  EXPECT_GE(in_context->report.exact.second_ring * 10, in_context->report.exact.escapes * 9);
+  EXPECT_EQ(fitting->report.exact.second_ring, 0u);
+  // The carving of level 0 is smaller from 12.0 on; nothing else changes.
   EXPECT_LT(fitting->report.carving_bytes[0], all->report.carving_bytes[0]);
-  EXPECT_EQ(all->bytes.size() - all->report.exact_bytes - all->report.carving_bytes[0],
-            fitting->bytes.size() - fitting->report.exact_bytes - fitting->report.carving_bytes[0]);
+  EXPECT_EQ(in_context->report.carving_bytes[0], fitting->report.carving_bytes[0]);
+  for (const auto* e : {&*in_context, &*fitting})
+    EXPECT_EQ(all->bytes.size() - all->report.exact_bytes - all->report.carving_bytes[0],
+              e->bytes.size() - e->report.exact_bytes - e->report.carving_bytes[0]);
 }
 
 TEST(Exact, RegionsAndCellDataRideOnTheExactCells) {
@@ -354,7 +370,8 @@ std::vector<uint8_t> seed_section(const Hull& h, const Tet& seed) {
   return rc.finish();
 }
 
-Status decode(const Hull& h, std::span<const uint8_t> section, ApexRanks ranks = ApexRanks::kAmongFitting) {
+Status decode(const Hull& h, std::span<const uint8_t> section,
+              ApexRanks ranks = ApexRanks::kAmongFittingInContext) {
   ExactFill fill;
   return decode_exact_cells(section, h.dt, h.points, 1e9, h.kept, h.order, ranks, fill);
 }
@@ -400,9 +417,32 @@ TEST(ExactSection, HostileSectionsAreRefused) {
   exact_cells::RankModels models;
   exact_cells::put_rank(far, models, 5000);
   const std::vector<uint8_t> past = far.finish();
-  for (const ApexRanks ranks : {ApexRanks::kAmongFitting, ApexRanks::kAmongCandidates}) {
+  for (const ApexRanks ranks :
+       {ApexRanks::kAmongFittingInContext, ApexRanks::kAmongFitting, ApexRanks::kAmongCandidates}) {
     s = decode(h, past, ranks);
     EXPECT_NE(s.message().find("past the candidates"), std::string::npos) << s.message();
+  }
+
+  // 13.0: the first face filled, its apex not a candidate (a hull face has
+  // none on its outer side, nor a second ring there), and ranked 1 in the
+  // empty second ring; ranked 0 there, its index follows (a vertex of the
+  // level: the cell is then refused as inside out).
+  for (const uint64_t second : {1, 0}) {
+    RangeEncoder rc;
+    AdaptiveBit face;
+    rc.encode(face, true);
+    exact_cells::RankModels first_ring, second_ring;
+    exact_cells::put_rank(rc, first_ring, 0);
+    exact_cells::put_rank(rc, second_ring, second);
+    if (second == 0) rc.encode_index(0, h.points.size());
+    s = decode(h, rc.finish());
+    EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+    if (second)
+      EXPECT_NE(s.message().find("past the second ring"), std::string::npos) << s.message();
+    else  // vertex 0 lies on the inner side of every hull face, or is a corner of it
+      EXPECT_TRUE(s.message().find("inner side") != std::string::npos ||
+                  s.message().find("one vertex twice") != std::string::npos)
+          << s.message();
   }
 }
 
@@ -519,25 +559,26 @@ void load_bunny_exact_level(BunnyExactLevel& b) {
   b.alpha = b.decoder.levels().back().alpha;
 }
 
-// 12.0's fit tests stop at their budget (spec/FORMAT.md §3.10): bunny_10k's
-// section, decoded with none to spend, is refused; encoded with none, the
-// encoder falls back to 11.0's ranks, the section 11.0's encoder writes.
+// The fit tests (12.0 and 13.0) stop at their budget (spec/FORMAT.md §3.10):
+// bunny_10k's section, decoded with none to spend, is refused; encoded with
+// none, the encoder falls back to 11.0's ranks, the section 11.0's encoder
+// writes.
 TEST(ExactSection, FitTestsPastTheirBudgetAreRefusedAndTheEncoderFallsBack) {
   BunnyExactLevel b;
   ASSERT_NO_FATAL_FAILURE(load_bunny_exact_level(b));
   ASSERT_GT(b.encoded.report.exact.fit_work, 0u);
   ExactFill fill;
   ASSERT_TRUE(decode_exact_cells(b.section, b.dt, b.points(), b.alpha, b.kept, b.order,
-                                 ApexRanks::kAmongFitting, fill)
+                                 ApexRanks::kAmongFittingInContext, fill)
                   .ok());
   const FitBudget none{0, 0};
   ExactFill refused;
   const Status s = decode_exact_cells(b.section, b.dt, b.points(), b.alpha, b.kept, b.order,
-                                      ApexRanks::kAmongFitting, refused, none);
+                                      ApexRanks::kAmongFittingInContext, refused, none);
   EXPECT_EQ(s.code(), StatusCode::kCorrupt);
   EXPECT_NE(s.message().find("too many overlap tests"), std::string::npos) << s.message();
 
-  // The fill's cells coded again: with the budget, 12.0's section as the
+  // The fill's cells coded again: with the budget, 13.0's section as the
   // stream has it; without, 11.0's.
   ExactFill again;
   std::vector<uint32_t> source;
@@ -545,10 +586,10 @@ TEST(ExactSection, FitTestsPastTheirBudgetAreRefusedAndTheEncoderFallsBack) {
     return encode_exact_cells(b.dt, b.points(), b.alpha, b.kept, b.order, fill.cells, ranks, again, source,
                               nullptr, budget);
   };
-  ApexRanks ranks = ApexRanks::kAmongFitting;
+  ApexRanks ranks = ApexRanks::kAmongFittingInContext;
   const auto fitting = code_again(ranks, {});
   ASSERT_TRUE(fitting.ok());
-  EXPECT_EQ(ranks, ApexRanks::kAmongFitting);
+  EXPECT_EQ(ranks, ApexRanks::kAmongFittingInContext);
   EXPECT_EQ(*fitting, b.section);
   const auto fell_back = code_again(ranks, none);
   ASSERT_TRUE(fell_back.ok());
@@ -568,7 +609,7 @@ TEST(ExactSection, BitFlipsAreRefusedOrChecked) {
   // fill whose every cell passed the decoder's checks; never a crash.
   BunnyExactLevel b;
   ASSERT_NO_FATAL_FAILURE(load_bunny_exact_level(b));
-  const ApexRanks ranks = ApexRanks::kAmongFitting;
+  const ApexRanks ranks = ApexRanks::kAmongFittingInContext;
   ExactFill fill;
   ASSERT_TRUE(decode_exact_cells(b.section, b.dt, b.points(), b.alpha, b.kept, b.order, ranks, fill).ok());
   EXPECT_EQ(fill.cells.size(), b.encoded.report.exact.fill_cells);

@@ -89,6 +89,25 @@ TEST(Meshenc, RejectsBadOptions) {
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --scale 2 --box 3").status, 0);
 }
 
+// --exact's stream for the newest decoders and, asked for, for older ones
+// (spec/FORMAT.md §7): the version each says, and the same level 0 (the
+// cell hash meshdec checks) from each.
+TEST(Meshenc, ExactStreamsForOlderDecoders) {
+  const std::string input = test::data_path("torus_288.node") + " --scale 25 --dmax 3 --hash-cells -q";
+  for (const auto& [flag, version] :
+       {std::pair{"--exact", "13.0"}, std::pair{"--exact-v12", "12.0"}, std::pair{"--exact-v11", "11.0"}}) {
+    const std::string out = ::testing::TempDir() + "/torus_exact.dtm";
+    const CommandRun r = meshenc(input + " " + flag + " -o " + out);
+    ASSERT_EQ(r.status, 0) << flag << ": " << r.output;
+    const CommandRun info = run_command(kMeshinfo + " " + out + " --json");
+    ASSERT_EQ(info.status, 0) << info.output;
+    EXPECT_EQ(nlohmann::json::parse(info.output)["version"], version) << flag;
+    const CommandRun decoded =
+        run_command(kMeshdec + " " + out + " -q -o " + ::testing::TempDir() + "/e.node");
+    EXPECT_EQ(decoded.status, 0) << flag << ": " << decoded.output;
+  }
+}
+
 // The three tools end to end, as the README shows them.
 class Tools : public ::testing::Test {
  protected:

@@ -99,10 +99,15 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   }
   if (r.order_bytes > 0) j["order_bytes"] = r.order_bytes;
   if (r.exact_bytes > 0 || r.exact_delaunay_cells > 0)
-    j["exact"] = {{"bytes", r.exact_bytes},           {"delaunay_cells", r.exact_delaunay_cells},
-                  {"fill_cells", r.exact.fill_cells}, {"open_faces", r.exact.open_faces},
-                  {"rank_zero", r.exact.rank_zero},   {"escapes", r.exact.escapes},
-                  {"seeds", r.exact.seeds},           {"fit_work", r.exact.fit_work}};
+    j["exact"] = {{"bytes", r.exact_bytes},
+                  {"delaunay_cells", r.exact_delaunay_cells},
+                  {"fill_cells", r.exact.fill_cells},
+                  {"open_faces", r.exact.open_faces},
+                  {"rank_zero", r.exact.rank_zero},
+                  {"escapes", r.exact.escapes},
+                  {"second_ring", r.exact.second_ring},
+                  {"seeds", r.exact.seeds},
+                  {"fit_work", r.exact.fit_work}};
   if (!r.regions.empty()) {
     j["regions"] = nlohmann::json::array();
     for (const RegionLabel& region : r.regions)

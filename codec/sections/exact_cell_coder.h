@@ -1,4 +1,4 @@
-// Level 0 equal to the input's tetrahedra (format 11.0 and 12.0, kFlagExact,
+// Level 0 equal to the input's tetrahedra (format 11.0 to 13.0, kFlagExact,
 // spec/FORMAT.md §3.10; meshenc --exact), encoder and decoder side by side.
 //
 // A mesher's output is mostly Delaunay: the decoder's DT(V_0) already holds
@@ -62,13 +62,26 @@ struct ExactFill {
   std::vector<Link> links;
 };
 
-// How an apex's rank counts the candidates before it (spec/FORMAT.md
-// §3.10): 11.0 counts them all; 12.0 only those whose cell with the face
-// fits, its interior meeting no cell the fill has added at one of the
-// face's corners (the apex itself always fits). Both sides know those
-// cells, and a candidate that does not fit cannot be the apex: the ranks
-// fall, the section by 26% on the corpus's sliver-heavy meshes.
-enum class ApexRanks : uint8_t { kAmongCandidates, kAmongFitting };
+// How a section codes its symbols (spec/FORMAT.md §3.10), by the stream's
+// version. 11.0 ranks an apex among all its candidates; 12.0 only among
+// those whose cell with the face fits, its interior meeting no cell the
+// fill has added at one of the face's corners (the apex itself always
+// fits): both sides know those cells, and a candidate that does not fit
+// cannot be the apex, so the ranks fall (the section by 26% on the corpus's
+// sliver-heavy meshes). 13.0 ranks as 12.0 does, and also codes whether a
+// face is filled in the context of the Delaunay cell across it (alpha's
+// verdict, its shape, whether a neighbour of it is kept), and an apex that
+// is not a candidate by its rank in the face's second ring before its
+// index (bench/results/EXACT.md measures both).
+enum class ApexRanks : uint8_t { kAmongCandidates, kAmongFitting, kAmongFittingInContext };
+inline ApexRanks apex_ranks_of(uint8_t format_major) {
+  return format_major >= 13   ? ApexRanks::kAmongFittingInContext
+         : format_major >= 12 ? ApexRanks::kAmongFitting
+                              : ApexRanks::kAmongCandidates;
+}
+inline uint8_t format_major_of(ApexRanks ranks) {
+  return ranks == ApexRanks::kAmongFittingInContext ? 13 : ranks == ApexRanks::kAmongFitting ? 12 : 11;
+}
 
 // 12.0's bound on the fit tests' work (spec/FORMAT.md §3.10): per face
 // given a cell on average, plus a slack. The defaults are the format's;
@@ -80,12 +93,13 @@ struct FitBudget {
 
 // What a section spent (the encoder's report).
 struct ExactStats {
-  uint64_t open_faces = 0;  // faces given a symbol
-  uint64_t fill_cells = 0;  // cells the fill added
-  uint64_t rank_zero = 0;   // of them, with the first candidate as apex
-  uint64_t escapes = 0;     // apex not among the candidates
-  uint64_t seeds = 0;       // cells sent whole
-  uint64_t fit_work = 0;    // 12.0: the fit tests' work (spec/FORMAT.md §3.10), as a decoder counts it
+  uint64_t open_faces = 0;   // faces given a symbol
+  uint64_t fill_cells = 0;   // cells the fill added
+  uint64_t rank_zero = 0;    // of them, with the first candidate as apex
+  uint64_t escapes = 0;      // apex not among the candidates
+  uint64_t second_ring = 0;  // 13.0: of those, ranked in the second ring
+  uint64_t seeds = 0;        // cells sent whole
+  uint64_t fit_work = 0;     // 12.0: the fit tests' work (spec/FORMAT.md §3.10), as a decoder counts it
 };
 
 // Encoder. `dt`, `points`: level 0 in the decoder's numbering; `order`: dt's
@@ -105,7 +119,7 @@ StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<c
                                                   ExactStats* stats = nullptr, const FitBudget& budget = {});
 
 // Decoder: the fill the section describes, checked as the header says;
-// `ranks` as the stream's version says (kAmongFitting from 12.0).
+// `ranks` as the stream's version says (apex_ranks_of()).
 Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
                           std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
                           std::span<const uint32_t> order, ApexRanks ranks, ExactFill& fill,

@@ -3,7 +3,8 @@
 // (spec/FORMAT.md §3.10), with the symbols left to a Side:
 //   bool filled(AdaptiveBit&, const OpenFace&)   an input cell across the face?
 //   Status apex(const OpenFace&, std::vector<uint32_t>& candidates,
-//               const ApexOrder&, RankModels&, const CandidateFit&, uint32_t& apex)
+//               const ApexOrder&, RankModels&, const CandidateFit&,
+//               const SecondRing&, uint32_t& apex)
 //   bool another_seed(AdaptiveBit&)              a cell no open face reaches?
 //   Status seed(MeshCell&)                       that cell
 //   Status check()                               the section not overrun
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "bitstream/range_coder.h"
+#include "codec/sections/carving_coder.h"
 #include "codec/sections/exact_cell_coder.h"
 #include "common/csr.h"
 #include "common/parallel_for.h"
@@ -81,10 +83,22 @@ struct OpenFace {
 inline constexpr uint8_t kOpen = 0, kClosed = 1, kBoundary = 2;
 inline constexpr uint32_t kNoFace = UINT32_MAX;
 
-// The contexts of the filled bit: a kept cell's face on the convex hull,
-// one whose Delaunay cell across alpha would carve away, one whose cell
-// across alpha would keep (a hole, most often), a fill cell's face.
-inline constexpr int kFilledContexts = 4;
+// The contexts of the filled bit. 11.0 and 12.0: a kept cell's face on the
+// convex hull, one whose Delaunay cell across alpha would carve away, one
+// whose cell across alpha would keep (a hole, most often), a fill cell's
+// face. 13.0 (context_by_cell_across()): 0 for a kept cell's face on the
+// hull; for a face with a Delaunay cell n across it (a kept cell's face, or
+// a fill cell's face that is a Delaunay face), 1 + 6 x (2 x fill cell's face
+// + alpha keeps n) + 3 x (a neighbour of n beside the face is kept) + n's
+// shape bucket (carving_coder.h); 25 for a fill cell's face with no
+// Delaunay cell across. On hand_10k (TetGen, many slivers) half the kept
+// cells' faces whose cell across alpha carves away are filled, but nearly
+// none of those whose cell across is flat: those lie outside the solid,
+// along its surface.
+inline constexpr int kFilledContexts11 = 4;
+inline constexpr int kFilledContextsByCell = 2 * kShapeBuckets;
+inline constexpr int kFilledContexts13 = 2 + 4 * kFilledContextsByCell;
+inline constexpr int kFilledContexts = std::max(kFilledContexts11, kFilledContexts13);
 // The rank, per kind of face (kept / fill cell): unary over its first
 // kRankUnary values (adaptive bits: rank 0 is most of them), then
 // Exp-Golomb of the rest with adaptive prefix bits.
@@ -94,6 +108,9 @@ struct RankModels {
   std::array<AdaptiveBit, kRankUnary> unary;
   std::array<AdaptiveBit, kRankPrefix> prefix;
 };
+// 13.0: the rank models of kept cells' faces, fill cells' faces, and of an
+// apex in the second ring.
+inline constexpr size_t kSecondRingRanks = 2;
 
 // Candidates ordered as the Delaunay criterion ranks them for the face
 // (a, b, c) (outward): q before p when q lies inside the sphere through a,
@@ -163,16 +180,17 @@ Status check_cells_apart(const TetMesh& dt, std::span<const GridPoint> points, s
 template <class Side>
 class Fill {
  public:
-  // only_fitting (12.0): an apex's rank counts only the candidates that fit.
+  // `ranks`: the stream's version's symbols (ApexRanks, exact_cell_coder.h).
   Fill(const TetMesh& dt, std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
-       Side& side, ExactFill& out, bool only_fitting, const FitBudget& budget = {})
+       Side& side, ExactFill& out, ApexRanks ranks, const FitBudget& budget = {})
       : dt_(dt),
         points_(points),
         alpha_(alpha),
         kept_(kept),
         side_(side),
         out_(out),
-        only_fitting_(only_fitting),
+        only_fitting_(ranks != ApexRanks::kAmongCandidates),
+        in_context_(ranks == ApexRanks::kAmongFittingInContext),
         budget_(budget) {
     seen_.assign(points.size(), 0);
     bucket_.assign(1024, kNoFace);
@@ -187,6 +205,19 @@ class Fill {
     CandidateFit(Fill& fill, const std::array<uint32_t, 3>& face) : fill_(fill), face_(face) {}
     bool on() const { return fill_.only_fitting_; }
     Status operator()(uint32_t q, bool& fits) const { return fill_.fits(face_, q, fits); }
+
+   private:
+    Fill& fill_;
+    std::array<uint32_t, 3> face_;
+  };
+
+  // 13.0: where an apex that is not a candidate is ranked (second_ring()).
+  class SecondRing {
+   public:
+    SecondRing(Fill& fill, const std::array<uint32_t, 3>& face) : fill_(fill), face_(face) {}
+    bool on() const { return fill_.in_context_; }
+    RankModels& models() const { return fill_.rank_[kSecondRingRanks]; }
+    Status operator()(std::vector<uint32_t>& out) const { return fill_.second_ring(face_, out); }
 
    private:
     Fill& fill_;
@@ -235,7 +266,8 @@ class Fill {
         OpenFace& f = faces_[queue_[head_++]];
         if (f.state != kOpen) continue;
         DTM_RETURN_IF_ERROR(side_.check());
-        if (!side_.filled(filled_[static_cast<size_t>(context(f))], f)) {
+        const int x = in_context_ ? context_by_cell_across(f) : context(f);
+        if (!side_.filled(filled_[static_cast<size_t>(x)], f)) {
           f.state = kBoundary;
           continue;
         }
@@ -247,7 +279,7 @@ class Fill {
         ++faces_given_cells_;
         DTM_RETURN_IF_ERROR(side_.apex(f, candidates, less,
                                        rank_[static_cast<size_t>(f.cell >= int64_t{cells})],
-                                       CandidateFit(*this, face), apex));
+                                       CandidateFit(*this, face), SecondRing(*this, face), apex));
         DTM_RETURN_IF_ERROR(add({face[0], face[1], face[2], apex}));
       }
       DTM_RETURN_IF_ERROR(side_.check());
@@ -286,6 +318,78 @@ class Fill {
         return id;
     }
     return kNoFace;
+  }
+
+  // 13.0's context (kFilledContexts13): from the Delaunay cell across the
+  // face, when there is one.
+  int context_by_cell_across(const OpenFace& f) const {
+    const auto cells = static_cast<int64_t>(dt_.cells.size());
+    const std::array<uint32_t, 3>& face = f.outward;
+    const bool of_fill = f.cell >= cells;
+    const int32_t across =
+        of_fill ? delaunay_cell_beyond(face) : dt_.neighbors[static_cast<size_t>(f.cell)][f.corner];
+    if (across < 0) return of_fill ? kFilledContexts13 - 1 : 0;
+    const MeshCell& n = dt_.cells[static_cast<size_t>(across)];
+    // Its neighbours across its faces through its corner off the face.
+    bool kept_beside = false;
+    for (size_t k = 0; k < 4; ++k) {
+      if (n[k] != face[0] && n[k] != face[1] && n[k] != face[2]) continue;
+      const int32_t m = dt_.neighbors[static_cast<size_t>(across)][k];
+      kept_beside = kept_beside || (m >= 0 && kept_[static_cast<size_t>(m)]);
+    }
+    const int alpha_keeps = kept_by_alpha(points_, n, alpha_) ? 1 : 0;
+    const int shape = shape_bucket({points_[n[0]], points_[n[1]], points_[n[2]], points_[n[3]]});
+    return 1 + kFilledContextsByCell * (2 * of_fill + alpha_keeps) + kShapeBuckets * kept_beside + shape;
+  }
+
+  // The Delaunay cell with the face (a, b, c) (outward) on its outer side,
+  // or -1 when the face is not one of DT(V_0)'s (or lies on its hull).
+  int32_t delaunay_cell_beyond(const std::array<uint32_t, 3>& face) const {
+    for (uint32_t c : incident_.row(face[0])) {
+      const MeshCell& cell = dt_.cells[c];
+      uint32_t off = 0;
+      int on = 0;
+      for (uint32_t v : cell) {
+        if (v == face[0] || v == face[1] || v == face[2])
+          ++on;
+        else
+          off = v;
+      }
+      if (on == 3 && orientation(points_[face[0]], points_[face[1]], points_[face[2]], points_[off]) > 0)
+        return static_cast<int32_t>(c);
+    }
+    return -1;
+  }
+
+  // 13.0 (spec/FORMAT.md §3.10): the face's second ring, where an apex that
+  // is not a candidate is ranked. The first ring is the corners of the
+  // Delaunay cells at a, b or c (both sides of the face); the second, the
+  // corners of the Delaunay cells at a vertex of the first that are not in
+  // it, on the face's outer side. Its work (the cells read) counts against
+  // the fit tests' budget: a hostile section may ask for it at every face.
+  Status second_ring(const std::array<uint32_t, 3>& face, std::vector<uint32_t>& out) {
+    out.clear();
+    if (++stamp_ == 0) std::fill(seen_.begin(), seen_.end(), 0), stamp_ = 1;
+    ring_.clear();
+    for (uint32_t v : face) seen_[v] = stamp_;
+    for (uint32_t v : face)
+      for (uint32_t cell : incident_.row(v))
+        for (uint32_t w : dt_.cells[cell])
+          if (seen_[w] != stamp_) seen_[w] = stamp_, ring_.push_back(w);
+    for (uint32_t w : ring_) fit_work_ += incident_.row(w).size();
+    if (fit_work_ > budget_.per_face * faces_given_cells_ + budget_.slack) {
+      over_fit_budget_ = true;
+      return corrupt("its apexes' second rings cost too much");
+    }
+    const GridPoint &a = points_[face[0]], &b = points_[face[1]], &c = points_[face[2]];
+    for (uint32_t w : ring_)
+      for (uint32_t cell : incident_.row(w))
+        for (uint32_t u : dt_.cells[cell]) {
+          if (seen_[u] == stamp_) continue;
+          seen_[u] = stamp_;
+          if (orientation(a, b, c, points_[u]) > 0) out.push_back(u);
+        }
+    return Status::Ok();
   }
 
   int context(const OpenFace& f) const {
@@ -472,6 +576,8 @@ class Fill {
   // the work spent and the faces it is measured against.
   static constexpr uint32_t kNoSlot = UINT32_MAX;
   bool only_fitting_ = false;
+  bool in_context_ = false;     // 13.0
+  std::vector<uint32_t> ring_;  // second_ring()'s first ring
   FitBudget budget_;
   std::vector<uint32_t> fill_at_, fill_next_, fill_count_;
   uint64_t fit_work_ = 0, faces_given_cells_ = 0;
@@ -481,7 +587,7 @@ class Fill {
   uint64_t face_cells_for_ = 0;
   std::vector<std::array<GridPoint, 4>> face_cells_;
   std::array<AdaptiveBit, kFilledContexts> filled_;
-  std::array<RankModels, 2> rank_;
+  std::array<RankModels, kSecondRingRanks + 1> rank_;
   AdaptiveBit seed_;
 };
 

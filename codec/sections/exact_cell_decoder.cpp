@@ -19,14 +19,14 @@ class Decoder {
 
   bool filled(AdaptiveBit& model, const OpenFace&) { return rc_.decode(model); }
 
-  template <class Fit>
+  template <class Fit, class Ring>
   Status apex(const OpenFace&, std::vector<uint32_t>& candidates, const ApexOrder& less, RankModels& models,
-              const Fit& fit, uint32_t& apex) {
+              const Fit& fit, const Ring& ring, uint32_t& apex) {
     uint64_t rank = 0;
     DTM_RETURN_IF_ERROR(get_rank(rc_, models, rank));
     if (rank > candidates.size()) return corrupt("an apex rank past the candidates");
-    if (fit.on()) return fitting_apex(candidates, less, fit, rank, apex);
-    if (rank == candidates.size()) return escaped(apex);
+    if (fit.on()) return fitting_apex(candidates, less, fit, ring, rank, apex);
+    if (rank == candidates.size()) return escaped(ring, less, apex);
     // Rank 0, the Delaunay-like apex, is most of them: one pass finds it.
     if (rank == 0) {
       apex = *std::min_element(candidates.begin(), candidates.end(), less);
@@ -44,9 +44,9 @@ class Decoder {
   // fits; one past the last that fits, an index. Most apexes are the
   // first candidate that fits: picking the next in order costs a pass,
   // and past a few the rest are sorted at once.
-  template <class Fit>
-  Status fitting_apex(std::vector<uint32_t>& candidates, const ApexOrder& less, const Fit& fit, uint64_t rank,
-                      uint32_t& apex) {
+  template <class Fit, class Ring>
+  Status fitting_apex(std::vector<uint32_t>& candidates, const ApexOrder& less, const Fit& fit,
+                      const Ring& ring, uint64_t rank, uint32_t& apex) {
     constexpr size_t kPicks = 8;
     uint64_t fitting = 0;
     for (size_t i = 0; i < candidates.size(); ++i) {
@@ -67,11 +67,25 @@ class Decoder {
       ++fitting;
     }
     if (rank > fitting) return corrupt("an apex rank past the candidates that fit");
-    return escaped(apex);
+    return escaped(ring, less, apex);
   }
 
-  // An apex that is not a candidate: its index.
-  Status escaped(uint32_t& apex) {
+  // An apex that is not a candidate: in 13.0 its rank in the second ring,
+  // one past the ring's end for its index; before, its index.
+  template <class Ring>
+  Status escaped(const Ring& ring, const ApexOrder& less, uint32_t& apex) {
+    if (ring.on()) {
+      DTM_RETURN_IF_ERROR(ring(second_));
+      uint64_t rank = 0;
+      DTM_RETURN_IF_ERROR(get_rank(rc_, ring.models(), rank));
+      if (rank > second_.size()) return corrupt("an apex rank past the second ring");
+      if (rank < second_.size()) {
+        const auto at = second_.begin() + static_cast<std::ptrdiff_t>(rank);
+        std::nth_element(second_.begin(), at, second_.end(), less);
+        apex = *at;
+        return Status::Ok();
+      }
+    }
     uint64_t v = 0;
     DTM_RETURN_IF_ERROR(rc_.decode_index(points_.size(), v));
     apex = static_cast<uint32_t>(v);
@@ -99,6 +113,7 @@ class Decoder {
  private:
   RangeDecoder rc_;
   std::span<const GridPoint> points_;
+  std::vector<uint32_t> second_;  // a face's second ring
 };
 
 }  // namespace
@@ -110,8 +125,7 @@ Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
                           const FitBudget& budget) {
   if (kept.size() != dt.cells.size()) return exact_cells::corrupt("the carving is not the level's");
   exact_cells::Decoder side(section, points);
-  exact_cells::Fill<exact_cells::Decoder> walk(dt, points, alpha, kept, side, fill,
-                                               ranks == ApexRanks::kAmongFitting, budget);
+  exact_cells::Fill<exact_cells::Decoder> walk(dt, points, alpha, kept, side, fill, ranks, budget);
   Status s = walk.run(order);
   if (!s.ok()) {
     fill = {};

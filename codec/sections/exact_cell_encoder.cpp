@@ -47,9 +47,9 @@ class Encoder {
     return pending_ != kNone;
   }
 
-  template <class Fit>
+  template <class Fit, class Ring>
   Status apex(const OpenFace& f, std::vector<uint32_t>& candidates, const ApexOrder& less, RankModels& models,
-              const Fit& fit, uint32_t& apex) {
+              const Fit& fit, const Ring& ring, uint32_t& apex) {
     const MeshCell& c = rest_[pending_];
     apex = c[0];
     for (uint32_t v : c)
@@ -72,8 +72,20 @@ class Encoder {
     }
     put_rank(rc_, models, rank);
     if (!candidate) {
-      rc_.encode_index(apex, points_.size());
       ++stats_.escapes;
+      // 13.0: its rank in the second ring, one past it for an index.
+      bool in_ring = false;
+      if (ring.on()) {
+        DTM_RETURN_IF_ERROR(ring(second_));
+        in_ring = std::find(second_.begin(), second_.end(), apex) != second_.end();
+        const uint64_t second_rank =
+            in_ring ? static_cast<uint64_t>(std::count_if(second_.begin(), second_.end(),
+                                                          [&](uint32_t q) { return less(q, apex); }))
+                    : second_.size();
+        put_rank(rc_, ring.models(), second_rank);
+        stats_.second_ring += in_ring;
+      }
+      if (!in_ring) rc_.encode_index(apex, points_.size());
     } else if (rank == 0) {
       ++stats_.rank_zero;
     }
@@ -123,6 +135,7 @@ class Encoder {
   uint32_t pending_ = kNone;
   size_t next_seed_ = 0;
   std::vector<uint32_t> source_;
+  std::vector<uint32_t> second_;  // a face's second ring
   RangeEncoder rc_;
 };
 
@@ -140,8 +153,7 @@ StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<c
   s = {};
   exact_cells::Encoder side(rest, points, s);
   DTM_RETURN_IF_ERROR(side.index());
-  exact_cells::Fill<exact_cells::Encoder> walk(dt, points, alpha, kept, side, fill,
-                                               ranks == ApexRanks::kAmongFitting, budget);
+  exact_cells::Fill<exact_cells::Encoder> walk(dt, points, alpha, kept, side, fill, ranks, budget);
   const Status status = walk.run(order);
   if (walk.over_fit_budget()) {
     // Where a decoder would give up testing, every candidate counts.

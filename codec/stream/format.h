@@ -19,7 +19,7 @@
 //              only: the values of level 0's kept cells)
 //            + vertex order section (10.0, kFlagVertexOrder, level 0's
 //              layer only: the input's numbering of level 0's vertices)
-//            + exact cell section (11.0 and 12.0, kFlagExact, level 0's layer only:
+//            + exact cell section (11.0 to 13.0, kFlagExact, level 0's layer only:
 //              the input's cells that are not Delaunay cells)
 //   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
 //            (codec/bricks/bricks.h: each brick's new points and corrections)
@@ -49,10 +49,13 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // 9.0 when its cells carry regions (kFlagRegions); 10.0 when level 0's cells
 // carry values (kFlagCellData); 11.0 when level 0 is the input's cells
 // (kFlagExact) and its exact cells' apexes are ranked among all their
-// candidates, 12.0 when among those that fit (spec/FORMAT.md §3.10); the
-// decoder reads 2.x to 12.x.
-inline constexpr uint8_t kVersionMajor = 12;
-inline constexpr uint8_t kVersionMajorExact = 12;
+// candidates, 12.0 when among those that fit, 13.0 when its filled bits
+// also have the Delaunay cell across as context and its apexes a second
+// ring (spec/FORMAT.md §3.10: the exact section's version,
+// apex_ranks_of()); the decoder reads 2.x to 13.x.
+inline constexpr uint8_t kVersionMajor = 13;
+inline constexpr uint8_t kVersionMajorExact = 13;
+inline constexpr uint8_t kVersionMajorExactFitting = 12;
 inline constexpr uint8_t kVersionMajorExactAllRanked = 11;
 inline constexpr uint8_t kVersionMajorCellData = 10;
 inline constexpr uint8_t kVersionMajorRegions = 9;

@@ -8,8 +8,11 @@
 //
 // Input: byte 0: bit 0 the point set (fuzz_point_sets.h); bits 1-3 which
 // Delaunay cells are kept (0: all; k: all but every cell whose index is 0
-// mod k + 1); bit 4 how apexes are ranked (0: among the candidates that
-// fit, 12.0; 1: among them all, 11.0); then the section.
+// mod k + 1); bits 4-5 the section's version (0: 12.0, the apexes ranked
+// among the candidates that fit; 1: 11.0, among them all; 2 or 3: 13.0,
+// 12.0's ranks with the filled bits in the context of the Delaunay cell
+// across and an apex outside the candidates ranked in the second ring);
+// then the section.
 #include <algorithm>
 #include <cstdint>
 #include <map>
@@ -59,8 +62,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const Level& l = level(data[0] & 1);
   const unsigned skip = (data[0] >> 1) & 7;
-  dtm::ApexRanks ranks =
-      (data[0] >> 4) & 1 ? dtm::ApexRanks::kAmongCandidates : dtm::ApexRanks::kAmongFitting;
+  dtm::ApexRanks ranks = (data[0] >> 5) & 1   ? dtm::ApexRanks::kAmongFittingInContext
+                         : (data[0] >> 4) & 1 ? dtm::ApexRanks::kAmongCandidates
+                                              : dtm::ApexRanks::kAmongFitting;
   std::vector<uint8_t> kept(l.dt.cells.size(), 1);
   if (skip)
     for (size_t c = 0; c < kept.size(); c += skip + 1) kept[c] = 0;
