@@ -401,12 +401,16 @@ INSTANTIATE_TEST_SUITE_P(BothRules, CarvingCoderContexts,
                            return info.param == CarvingContexts::kAlphaNeighbours ? std::string("Format4")
                                                                                   : std::string("Format6");
                          });
-// An exact level 0's: 11.0's split by the margin, 12.0's by the shape too.
+// An exact level 0's: 11.0's split by the margin, 12.0's by the shape too,
+// 13.0's by the flip too.
 INSTANTIATE_TEST_SUITE_P(ExactLevel, CarvingCoderContexts,
-                         ::testing::Values(CarvingContexts::kExactMargin, CarvingContexts::kExactMarginShape),
+                         ::testing::Values(CarvingContexts::kExactMargin, CarvingContexts::kExactMarginShape,
+                                           CarvingContexts::kExactMarginShapeFlip),
                          [](const auto& info) {
                            return info.param == CarvingContexts::kExactMargin ? std::string("Format11")
-                                                                              : std::string("Format12");
+                                  : info.param == CarvingContexts::kExactMarginShape
+                                      ? std::string("Format12")
+                                      : std::string("Format13");
                          });
 
 // 12.0's shape bucket: the regular tetrahedron's quality is 1, a flat one's

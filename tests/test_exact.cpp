@@ -130,7 +130,8 @@ INSTANTIATE_TEST_SUITE_P(Corpus, ExactCorpus, ::testing::ValuesIn(test::kCorpus)
 // 12.0 ranks an apex among the candidates that fit, 11.0 among them all,
 // and splits level 0's carving contexts by the cells' shape; 13.0 codes the
 // filled bits in the context of the Delaunay cell across the face and ranks
-// an apex that is not a candidate in the second ring. The same level 0 every
+// an apex that is not a candidate in the second ring, and splits level 0's
+// carving contexts by the cells' flips. The same level 0 every
 // way, hand_10k's (the corpus's sliver-heavy mesh, its apexes the first
 // candidate for 63% of the faces in 11.0, 130 not candidates) in fewer bits
 // at each step.
@@ -168,9 +169,14 @@ TEST(Exact, EachVersionCodesTheSameCellsInFewerBits) {
   EXPECT_GT(in_context->report.exact.escapes, 0u);
   EXPECT_GE(in_context->report.exact.second_ring * 10, in_context->report.exact.escapes * 9);
   EXPECT_EQ(fitting->report.exact.second_ring, 0u);
-  // The carving of level 0 is smaller from 12.0 on; nothing else changes.
+  // The carving of level 0 is smaller from 12.0 on. 13.0 splits its
+  // contexts by the cells' flips too, which halves it on Netgen's meshes
+  // (bench/results/EXACT.md) and costs hand_10k's a little in learning:
+  // with the exact section, still 5% fewer. Nothing else changes.
   EXPECT_LT(fitting->report.carving_bytes[0], all->report.carving_bytes[0]);
-  EXPECT_EQ(in_context->report.carving_bytes[0], fitting->report.carving_bytes[0]);
+  EXPECT_LT(in_context->report.carving_bytes[0] * 100, fitting->report.carving_bytes[0] * 103);
+  EXPECT_LT((in_context->report.carving_bytes[0] + in_context->report.exact_bytes) * 100,
+            (fitting->report.carving_bytes[0] + fitting->report.exact_bytes) * 95);
   for (const auto* e : {&*in_context, &*fitting})
     EXPECT_EQ(all->bytes.size() - all->report.exact_bytes - all->report.carving_bytes[0],
               e->bytes.size() - e->report.exact_bytes - e->report.carving_bytes[0]);

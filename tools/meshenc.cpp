@@ -229,8 +229,8 @@ void add_options(CLI::App& app, Command& c) {
         c.encode.exact = true;
         c.encode.exact_ranks = dtm::ApexRanks::kAmongFitting;
       },
-      "--exact, written as format 12.0 for decoders older than 13.0 (the filled faces without the "
-      "context of the Delaunay cell across, no second ring: up to 0.3 bits a vertex more)");
+      "--exact, written as format 12.0 for decoders older than 13.0 (without 13.0's contexts of the "
+      "filled faces and of the carving's flips, no second ring: up to 0.5 bits a vertex more)");
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,

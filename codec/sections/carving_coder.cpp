@@ -9,6 +9,7 @@
 #include "common/parallel_for.h"
 #include "mesh/carving.h"
 #include "mesh/geometry.h"
+#include "mesh/predicates.h"
 #include "mesh/topology.h"
 
 namespace dtm {
@@ -55,7 +56,9 @@ CarvingContexts carving_contexts(uint8_t format_major) {
 }
 
 CarvingContexts exact_carving_contexts(uint8_t format_major) {
-  return format_major >= 12 ? CarvingContexts::kExactMarginShape : CarvingContexts::kExactMargin;
+  return format_major >= 13   ? CarvingContexts::kExactMarginShapeFlip
+         : format_major >= 12 ? CarvingContexts::kExactMarginShape
+                              : CarvingContexts::kExactMargin;
 }
 
 CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,
@@ -97,8 +100,10 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
       },
       2);
   p.order = canonical_cell_order(dt.cells);  // the identity for an exported triangulation
-  if (contexts == CarvingContexts::kExactMargin || contexts == CarvingContexts::kExactMarginShape) {
-    const bool shape = contexts == CarvingContexts::kExactMarginShape;
+  if (contexts == CarvingContexts::kExactMargin || contexts == CarvingContexts::kExactMarginShape ||
+      contexts == CarvingContexts::kExactMarginShapeFlip) {
+    const bool shape = contexts != CarvingContexts::kExactMargin;
+    const bool flip = contexts == CarvingContexts::kExactMarginShapeFlip;
     p.margin.resize(m);
     // A cell's neighbours lie anywhere in the arrays: their corners are
     // asked for some cells ahead, as this pass otherwise waits on memory
@@ -123,6 +128,8 @@ CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> 
                   p.margin[c] * kShapeBuckets +
                   shape_bucket({points[v[0]], points[v[1]], points[v[2]], points[v[3]]}));
             }
+            if (flip)
+              p.margin[c] = static_cast<uint8_t>(p.margin[c] * kFlipBuckets + flip_bucket(dt, points, c));
           }
         },
         2);
@@ -157,6 +164,54 @@ uint8_t shape_bucket(const std::array<GridPoint, 4>& c) {
   };
   static_assert(kShapeSteps[0] == 0.05 && kShapeSteps[1] == 0.2, "the factors below are theirs");
   return static_cast<uint8_t>(above(172800) + above(10800));
+}
+
+namespace {
+// D^2 / S^3 of a tetrahedron in binary64 (spec/FORMAT.md §3.2): its quality
+// 6 sqrt(2) V / l^3 squared, over 7776, in any order of its corners.
+double squared_quality(const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d) {
+  const std::array<GridPoint, 4> t = {a, b, c, d};
+  int64_t s = 0;
+  for (size_t i = 0; i < 4; ++i)
+    for (size_t j = i + 1; j < 4; ++j) {
+      const int64_t x = int64_t{t[i].x} - t[j].x, y = int64_t{t[i].y} - t[j].y, z = int64_t{t[i].z} - t[j].z;
+      s += x * x + y * y + z * z;
+    }
+  const auto dd = static_cast<double>(abs_six_volume(a, b, c, d));
+  const auto ss = static_cast<double>(s);
+  return ss == 0 ? 0 : (dd * dd) / (ss * ss * ss);
+}
+}  // namespace
+
+uint8_t flip_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell) {
+  // Across the faces opposite corners x and y, the neighbours (p, q, y, z)
+  // and (p, q, x, z') close the ring around the edge (p, q) when z = z':
+  // the edge then has these three cells only.
+  constexpr uint32_t kNone = UINT32_MAX;
+  const std::array<uint32_t, 4>& c = dt.cells[cell];
+  std::array<uint32_t, 4> far{kNone, kNone, kNone, kNone};
+  for (size_t k = 0; k < 4; ++k) {
+    const int32_t n = dt.neighbors[cell][k];
+    if (n < 0) continue;
+    for (uint32_t v : dt.cells[static_cast<size_t>(n)])
+      if (std::find(c.begin(), c.end(), v) == c.end()) far[k] = v;
+  }
+  for (size_t kx = 0; kx < 4; ++kx)
+    for (size_t ky = kx + 1; ky < 4; ++ky) {
+      if (far[kx] == kNone || far[kx] != far[ky]) continue;
+      std::array<uint32_t, 2> edge{};
+      for (size_t k = 0, e = 0; k < 4; ++k)
+        if (k != kx && k != ky) edge[e++] = c[k];
+      const GridPoint &p = points[edge[0]], &q = points[edge[1]];
+      const GridPoint &x = points[c[kx]], &y = points[c[ky]], &z = points[far[kx]];
+      const int op = orientation(x, y, z, p), oq = orientation(x, y, z, q);
+      if (op == 0 || oq == 0 || (op > 0) == (oq > 0)) continue;  // the edge does not cross the triangle
+      const double before =
+          std::min({squared_quality(p, q, x, y), squared_quality(p, q, y, z), squared_quality(p, q, x, z)});
+      const double after = std::min(squared_quality(x, y, z, p), squared_quality(x, y, z, q));
+      if (after > before) return 1;
+    }
+  return 0;
 }
 
 uint8_t margin_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell) {

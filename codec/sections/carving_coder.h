@@ -44,6 +44,13 @@ enum class CarvingContexts {
   // cells away: on hand_10k the cells alpha got wrong have a median
   // quality of 0.45, the kept ones it got right 0.76.
   kExactMarginShape,
+  // 13.0, level 0 of an exact stream: 12.0's, each split by whether the
+  // cell is one of three around an edge whose 3-2 flip raises their least
+  // quality (2880 models; flip_bucket()). Netgen's and gmsh's optimisers
+  // remove such edges: on the Netgen part of bench/results/EXACT.md, 82% of
+  // the Delaunay cells alpha keeps that are not input cells are such cells,
+  // 3% of those that are.
+  kExactMarginShapeFlip,
 };
 CarvingContexts carving_contexts(uint8_t format_major);
 // Level 0 of an exact stream's (flag exact, 11.0 and later).
@@ -61,7 +68,8 @@ struct CarvingPrediction {
   std::vector<uint8_t> context;
   std::vector<uint32_t> order;  // cell indices in coding order
   // kExactMargin: per cell, its margin bucket; kExactMarginShape: that
-  // times kShapeBuckets plus its shape bucket.
+  // times kShapeBuckets plus its shape bucket; kExactMarginShapeFlip: that
+  // times 2 plus its flip bucket.
   std::vector<uint8_t> margin;
 };
 inline constexpr int kCarvingRatioBuckets = 16;
@@ -82,6 +90,13 @@ inline constexpr double kShapeSteps[] = {0.05, 0.2};
 inline constexpr int kShapeBuckets = 3;
 inline constexpr int kExactMarginShapeContexts = kExactMarginContexts * kShapeBuckets;
 uint8_t shape_bucket(const std::array<GridPoint, 4>& corners);
+// 1 when the cell is one of the three cells around an edge of dt (no other
+// cell has it) whose 3-2 flip, the three replaced by the two through the
+// triangle of their other corners, is valid and raises their least quality
+// (D^2 / S^3 in binary64, D = 6V and S the sum of the squared edge lengths,
+// exact integers rounded once); else 0 (spec/FORMAT.md §3.2).
+inline constexpr int kFlipBuckets = 2;
+uint8_t flip_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell);
 // With `chunk_of_cell` (bricked layers), the kept neighbours counted are
 // those of the same chunk only.
 CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,

@@ -33,10 +33,13 @@ void visit_corrections(const TetMesh& dt, const CarvingPrediction& p, CarvingCon
   // as wrong tells each neighbour (those decoded already do not look again),
   // so the pass costs a neighbour walk per wrong cell only.
   // (kExactMargin: each of these split by the cell's margin bucket;
-  // kExactMarginShape: by its margin and shape buckets.)
+  // kExactMarginShape: by its margin and shape buckets; kExactMarginShapeFlip:
+  // and its flip bucket.)
   const int splits = contexts == CarvingContexts::kExactMargin        ? kMarginBuckets
                      : contexts == CarvingContexts::kExactMarginShape ? kMarginBuckets * kShapeBuckets
-                                                                      : 1;
+                     : contexts == CarvingContexts::kExactMarginShapeFlip
+                         ? kMarginBuckets * kShapeBuckets * kFlipBuckets
+                         : 1;
   std::vector<AdaptiveBit> models(static_cast<size_t>(kDecodedNeighbourContexts * splits));
   std::vector<int8_t> kept_change(dt.cells.size(), 0);  // kept neighbours gained (lost)
   std::vector<uint8_t> wrong(dt.cells.size(), 0);       // neighbours decoded as wrong

@@ -72,7 +72,8 @@ struct ExactFill {
 // face is filled in the context of the Delaunay cell across it (alpha's
 // verdict, its shape, whether a neighbour of it is kept), and an apex that
 // is not a candidate by its rank in the face's second ring before its
-// index (bench/results/EXACT.md measures both).
+// index (bench/results/EXACT.md measures both; 13.0's level 0 carving
+// contexts change too, carving_coder.h).
 enum class ApexRanks : uint8_t { kAmongCandidates, kAmongFitting, kAmongFittingInContext };
 inline ApexRanks apex_ranks_of(uint8_t format_major) {
   return format_major >= 13   ? ApexRanks::kAmongFittingInContext

@@ -24,12 +24,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value();
   const dtm::TetMesh& dt = (data[0] & 1) ? cloud_dt : block_dt;
   // Bit 1: 6.0's contexts (with bit 7 too: an exact level 0's, split by
-  // the margin, and by the shape too with bit 2: 12.0's); bits 2-6: alpha.
+  // the margin, by the shape too with bit 2: 12.0's, and by the flip too
+  // with bits 2 and 3: 13.0's); bits 2-6: alpha.
   const dtm::CarvingContexts contexts =
-      !(data[0] & 2) ? dtm::CarvingContexts::kAlphaNeighbours
-      : (data[0] & 128)
-          ? ((data[0] & 4) ? dtm::CarvingContexts::kExactMarginShape : dtm::CarvingContexts::kExactMargin)
-          : dtm::CarvingContexts::kDecodedNeighbours;
+      !(data[0] & 2)    ? dtm::CarvingContexts::kAlphaNeighbours
+      : (data[0] & 128) ? ((data[0] & 12) == 12 ? dtm::CarvingContexts::kExactMarginShapeFlip
+                           : (data[0] & 4)      ? dtm::CarvingContexts::kExactMarginShape
+                                                : dtm::CarvingContexts::kExactMargin)
+                        : dtm::CarvingContexts::kDecodedNeighbours;
   const double alpha = 0.25 * ((data[0] >> 2) & 31) + 0.25;
   const std::span<const uint8_t> section(data + 1, size - 1);
   std::vector<uint8_t> kept;
