@@ -510,6 +510,7 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     report.level0_difference = solid_difference(q.points, h.levels.front().carved_cells(), reference_tets);
 
   report_phase(options.on_phase, "writing the stream");
+  give_back_free_heap();  // what the levels' builds freed
   StreamOptions stream_options;
   stream_options.cell_hashes = options.cell_hashes;
   stream_options.level_step = options.level_step;

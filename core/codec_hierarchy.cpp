@@ -170,6 +170,8 @@ StatusOr<Hierarchy> build_codec_hierarchy(std::span<const GridPoint> points, con
   for (int level = 1;; ++level) {
     if (opt.max_levels > 0 && level > opt.max_levels) break;
     const size_t finer = vertices.size();
+    // The finer level's build freed more than the coarser one will need.
+    give_back_free_heap();
     // A level that breaks a bound (or comes out thin) is tried once more
     // choosing fewer to remove (kRetryShare of the share): coarse levels,
     // where the boundary dominates, often hold the bounds that way. The second try needs the finer level,

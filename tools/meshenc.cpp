@@ -618,6 +618,9 @@ int run(Command& c) {
     if (mpi.rank() != 0) c.quiet = true;
   }
   if (c.output == "-") c.quiet = true;  // standard output carries the stream
+  // Whole levels are a few large phases, each faster with the pages the
+  // last one freed; bricks keep the lean default, their point being memory.
+  if (!c.encode.bricks) dtm::keep_freed_memory_between_phases();
   if (c.preset == "paper") {
     const dtm::EncodeOptions paper = dtm::EncodeOptions::paper();
     c.encode.carve_to_reference = paper.carve_to_reference;

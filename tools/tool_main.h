@@ -41,6 +41,26 @@ inline void return_freed_memory() {
 #endif
 }
 
+// The other side of that trade, for work that runs as one piece of a few
+// large phases (meshenc's whole levels): every block of 1 MiB and more
+// mapped on its own makes each phase's arrays fresh pages, every page a
+// fault on the thread that touches it first, and on bunny_1m those faults
+// were a seventh of meshenc's time (8 s of system time in 60 s of CPU),
+// most of it on the main thread between the parallel parts. Blocks up to
+// 32 MiB then come from the arenas, whose free tops are trimmed beyond
+// 32 MiB, and the encoder hands the free pages back where each level ends
+// (give_back_free_heap(), common/release.h): bunny_1m whole-level in
+// 32.5-35.0 s against 37.7-39.5 s (2 cores, alternating runs), its peak
+// 1.17-1.19 GB against 1.13-1.14. The bricked encoder keeps the lean
+// setting: its blocks' tetrahedralizations, freed one after another, held
+// 27% more (868 MB against 683) for 10% less time.
+inline void keep_freed_memory_between_phases() {
+#ifdef __GLIBC__
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 32 << 20);
+#endif
+}
+
 // An error every rank of an MPI job throws alike, having agreed on it: only
 // the rank told to prints it (rank 0), so that the user reads it once.
 class AgreedError : public std::runtime_error {
