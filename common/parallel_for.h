@@ -34,6 +34,19 @@ void parallel_for(size_t n, const Body& body, size_t serial_below = 2) {
   for (auto& w : workers) w.join();
 }
 
+// Runs body(part, parts) once for each part in [0, parts), parts being the
+// threads (at most 8), all at once: for a pass that each thread makes in
+// full, doing its share of it (the rows of a range of vertices, say),
+// where parallel_for's first item alone would keep the others waiting.
+template <typename Body>
+void on_every_thread(const Body& body) {
+  const size_t parts = std::clamp<size_t>(static_cast<size_t>(thread_count()), 1, 8);
+  std::vector<std::thread> workers;
+  for (size_t part = 1; part < parts; ++part) workers.emplace_back([&, part] { body(part, parts); });
+  body(size_t{0}, parts);
+  for (auto& w : workers) w.join();
+}
+
 // Runs body(first, last) on consecutive ranges of at most `block` of [0, n),
 // on every core.
 template <typename Body>

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <random>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -10,6 +11,9 @@
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/threads.h"
+#include "mesh/delaunay.h"
+#include "mesh/topology.h"
+#include "test_support.h"
 
 namespace dtm {
 namespace {
@@ -57,6 +61,44 @@ TEST(ParallelHelpers, ParallelSortIsStdSort) {
   std::sort(want.begin(), want.end());
   parallel_sort(items.begin(), items.end());
   EXPECT_EQ(items, want);
+}
+
+// Each vertex's cells ascending and its neighbours ascending, as one pass
+// in cell order lists them, on any number of threads: for a mesh in the
+// canonical order (a thread's corners in long runs) and for its cells
+// shuffled (every cell anywhere).
+TEST(ParallelHelpers, VertexCellsAndNeighboursAreOnePassesOnAnyNumberOfThreads) {
+  const std::vector<GridPoint> points = test::random_grid_points(12000, 10, 7);
+  TetMesh mesh = delaunay_tetrahedralize(points).value();
+  ASSERT_GT(mesh.cells.size(), size_t{1} << 15);  // the threads' path
+  for (const bool shuffled : {false, true}) {
+    if (shuffled) std::shuffle(mesh.cells.begin(), mesh.cells.end(), std::mt19937(3));
+    const Csr want_cells = build_csr(points.size(), [&](auto&& emit) {
+      for (uint32_t c = 0; c < mesh.cells.size(); ++c)
+        for (uint32_t v : mesh.cells[c]) emit(v, c);
+    });
+    const Csr want_neighbours = build_csr(points.size(), [&](auto&& emit) {
+      for (uint32_t v = 0; v < points.size(); ++v) {
+        std::vector<uint32_t> around;
+        for (uint32_t c : want_cells.row(v))
+          for (uint32_t u : mesh.cells[c])
+            if (u != v) around.push_back(u);
+        std::sort(around.begin(), around.end());
+        around.erase(std::unique(around.begin(), around.end()), around.end());
+        for (uint32_t u : around) emit(v, u);
+      }
+    });
+    for (const int threads : {1, 2, 3, 8}) {
+      set_thread_count(threads);
+      const Csr cells = vertex_cells(mesh, points.size());
+      EXPECT_EQ(cells.offsets, want_cells.offsets) << threads << " threads, shuffled " << shuffled;
+      EXPECT_EQ(cells.items, want_cells.items) << threads << " threads, shuffled " << shuffled;
+      const Csr neighbours = vertex_neighbors(mesh, cells);
+      EXPECT_EQ(neighbours.offsets, want_neighbours.offsets) << threads << " threads";
+      EXPECT_EQ(neighbours.items, want_neighbours.items) << threads << " threads";
+    }
+    set_thread_count(0);
+  }
 }
 
 }  // namespace
