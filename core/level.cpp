@@ -57,13 +57,16 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
   L.mesh_volume6.assign(n, 0);
   // A chunk of cells at a time: their angles and volumes on every core,
   // then added to their vertices in cell order (the sums' bits do not
-  // depend on the split).
+  // depend on the split). Chunks of 2^18 cells (16 MB of results): with
+  // 2^16 the threads' starts, the first block alone and the last blocks'
+  // imbalance cost a fifth of the pass (bunny_1m's level 0 in 0.53-0.55 s
+  // against 0.64 s on 2 cores).
   struct Measured {
     std::array<uint32_t, 4> corners;  // lexicographic order of their coordinates
     std::array<double, 4> angles;
     Int128 volume6;
   };
-  constexpr size_t kChunk = 1 << 16, kBlock = 1024;
+  constexpr size_t kChunk = 1 << 18, kBlock = 1024;
   std::vector<Measured> measured(std::min(m, kChunk));
   for (size_t first = 0; first < m; first += kChunk) {
     const size_t count = std::min(kChunk, m - first);
