@@ -46,17 +46,19 @@ inline void return_freed_memory() {
 // mapped on its own makes each phase's arrays fresh pages, every page a
 // fault on the thread that touches it first, and on bunny_1m those faults
 // were a seventh of meshenc's time (8 s of system time in 60 s of CPU),
-// most of it on the main thread between the parallel parts. Blocks up to
-// 32 MiB then come from the arenas, whose free tops are trimmed beyond
-// 32 MiB, and the encoder hands the free pages back where each level ends
-// (give_back_free_heap(), common/release.h): bunny_1m whole-level in
-// 32.5-35.0 s against 37.7-39.5 s (2 cores, alternating runs), its peak
-// 1.17-1.19 GB against 1.13-1.14. The bricked encoder keeps the lean
-// setting: its blocks' tetrahedralizations, freed one after another, held
-// 27% more (868 MB against 683) for 10% less time.
+// most of it on the main thread between the parallel parts. Here no block
+// is mapped on its own: all come from malloc's arenas, whose free tops are
+// trimmed beyond 32 MiB, and the encoder hands the free pages back where
+// each level ends (give_back_free_heap(), common/release.h). bunny_1m
+// whole-level on 2 cores in 30.3-30.7 s against 37.7-39.5 s, on one in
+// 46.0 s against 55.5 s, its peak 1.15-1.24 GB against 1.13-1.14 GB
+// (docs/SPEED_AND_MEMORY.md). The bricked encoder keeps the lean setting:
+// its blocks' tetrahedralizations, freed one after another, held 27% more
+// (868 MB against 683) for 10% less time with arenas keeping blocks up to
+// 32 MiB.
 inline void keep_freed_memory_between_phases() {
 #ifdef __GLIBC__
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 32 << 20);
 #endif
 }
