@@ -46,16 +46,32 @@ std::vector<double> local_spacing(const LevelGeometry& L) {
   const size_t n = L.size();
   std::vector<double> sum(n, 0);
   std::vector<uint32_t> count(n, 0);
-  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
-    if (!L.in_mesh[c]) continue;
-    const auto& k = L.dt.cells[c];
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) {
-        const double d = norm(to_vec(L.points[k[i]]) - to_vec(L.points[k[j]]));
-        sum[k[i]] += d, sum[k[j]] += d;
-        ++count[k[i]], ++count[k[j]];
-      }
-  }
+  // Each thread adds the edges' lengths to the vertices of its own range of
+  // ids, the cells in order and each cell's pairs in order: every sum is
+  // added up as one pass would, to the bit. (A level's cells are listed by
+  // their least corner: a thread's cells come in long runs.)
+  const auto add = [&](size_t part, size_t parts) {
+    const auto lo = static_cast<uint32_t>(uint64_t{n} * part / parts);
+    const auto hi = static_cast<uint32_t>(uint64_t{n} * (part + 1) / parts);
+    const auto mine = [&](uint32_t v) { return v - lo < hi - lo; };
+    for (size_t c = 0; c < L.dt.cells.size(); ++c) {
+      if (!L.in_mesh[c]) continue;
+      const auto& k = L.dt.cells[c];
+      if (!mine(k[0]) && !mine(k[1]) && !mine(k[2]) && !mine(k[3])) continue;
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) {
+          const bool first = mine(k[i]), second = mine(k[j]);
+          if (!first && !second) continue;
+          const double d = norm(to_vec(L.points[k[i]]) - to_vec(L.points[k[j]]));
+          if (first) sum[k[i]] += d, ++count[k[i]];
+          if (second) sum[k[j]] += d, ++count[k[j]];
+        }
+    }
+  };
+  if (L.dt.cells.size() < (size_t{1} << 15))
+    add(0, 1);
+  else
+    on_every_thread(add);
   std::vector<double> h(n);
   parallel_for(
       n,
