@@ -52,10 +52,11 @@ inline void return_freed_memory() {
 // each level ends (give_back_free_heap(), common/release.h). bunny_1m
 // whole-level on 2 cores in 30.3-30.7 s against 37.7-39.5 s, on one in
 // 46.0 s against 55.5 s, its peak 1.15-1.24 GB against 1.13-1.14 GB
-// (docs/SPEED_AND_MEMORY.md). The bricked encoder keeps the lean setting:
-// its blocks' tetrahedralizations, freed one after another, held 27% more
-// (868 MB against 683) for 10% less time with arenas keeping blocks up to
-// 32 MiB.
+// (docs/SPEED_AND_MEMORY.md). The bricked encoder keeps the lean setting,
+// its point being memory: its blocks' tetrahedralizations, freed one after
+// another, held 10% more with this setting (755 MB against 683 MB, 50.9 s
+// against 57.5 s), 27% more with arenas keeping blocks up to 32 MiB, and
+// handing the free pages back after each block made it slower (61.4 s).
 inline void keep_freed_memory_between_phases() {
 #ifdef __GLIBC__
   mallopt(M_MMAP_MAX, 0);
