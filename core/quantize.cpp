@@ -5,6 +5,8 @@
 #include <numeric>
 #include <string>
 
+#include "common/parallel_sort.h"
+
 namespace dtm {
 
 double largest_extent(std::span<const InputPoint> points) {
@@ -58,8 +60,9 @@ StatusOr<QuantizedPoints> quantize(std::span<const InputPoint> input, int qbits,
 
   std::vector<uint32_t> order(input.size());
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(),
-            [&](uint32_t a, uint32_t b) { return cells[a] != cells[b] ? cells[a] < cells[b] : a < b; });
+  // A total order (ties by index): the same on any number of threads.
+  parallel_sort(order.begin(), order.end(),
+                [&](uint32_t a, uint32_t b) { return cells[a] != cells[b] ? cells[a] < cells[b] : a < b; });
   out.input_to_point.resize(input.size());
   // As many as are distinct, at once: growing by doubling held up to twice
   // the points while copying them.

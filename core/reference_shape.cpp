@@ -15,7 +15,7 @@ namespace {
 std::vector<uint32_t> vertex_ids_of(std::span<const std::array<uint32_t, 3>> triangles) {
   std::vector<uint32_t> ids;
   for (const auto& t : triangles) ids.insert(ids.end(), t.begin(), t.end());
-  std::sort(ids.begin(), ids.end());
+  parallel_sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   return ids;
 }
@@ -123,7 +123,7 @@ ReferenceBoundary::ReferenceBoundary(std::span<const GridPoint> grid,
       points(gather(grid, ids)),
       surface(grid, triangles) {
   for (auto& k : keys) std::sort(k.begin(), k.end());
-  std::sort(keys.begin(), keys.end());
+  parallel_sort(keys.begin(), keys.end());
 }
 
 ReferenceShape::ReferenceShape(std::span<const GridPoint> points,

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/parallel_for.h"
+#include "common/parallel_sort.h"
 #include "common/release.h"
 #include "mesh/geometry.h"
 #include "mesh/topology.h"
@@ -141,7 +142,7 @@ void ReferenceSolid::mark_complete(std::span<const std::array<uint32_t, 4>> cell
 
 void ReferenceSolid::keep_listed(std::span<const std::array<uint32_t, 4>> cells) {
   std::vector<uint32_t> listed(mixed_.items.begin(), mixed_.items.end());
-  std::sort(listed.begin(), listed.end());
+  parallel_sort(listed.begin(), listed.end());
   listed.erase(std::unique(listed.begin(), listed.end()), listed.end());
   kept_.resize(listed.size());
   std::vector<uint8_t> orientation(listed.size());
