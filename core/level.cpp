@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/first_touch.h"
 #include "common/parallel_for.h"
 #include "mesh/carving.h"
 #include "mesh/geometry.h"
@@ -51,8 +52,8 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
       break;
   }
 
-  L.in_mesh.assign(m, 0);
-  L.cell_min_solid_angle.assign(m, 0);
+  assign_on_every_core(L.in_mesh, m, uint8_t{0});
+  assign_on_every_core(L.cell_min_solid_angle, m, 0.0);
   L.solid_angle_sum.assign(n, 0);
   L.mesh_volume6.assign(n, 0);
   // A chunk of cells at a time: their angles and volumes on every core,

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "common/csr.h"
+#include "common/first_touch.h"
 #include "common/parallel_for.h"
 #include "core/reference_solid.h"
 #include "mesh/geometry.h"
@@ -165,7 +166,8 @@ std::vector<int32_t> matching_tetrahedra(const TetMesh& dt, size_t points, std::
   const Csr by_corner = build_csr(points, [&](auto&& emit) {
     for (uint32_t k = 0; k < tets.size(); ++k) emit(*std::min_element(tets[k].begin(), tets[k].end()), k);
   });
-  std::vector<int32_t> match(dt.cells.size(), -1);
+  std::vector<int32_t> match;
+  assign_on_every_core(match, dt.cells.size(), -1);
   parallel_for((dt.cells.size() + 4095) / 4096,
                [&](size_t block) {
                  for (size_t c = block * 4096; c < std::min(dt.cells.size(), block * 4096 + 4096); ++c) {

@@ -17,6 +17,7 @@
 #include <thread>
 #include <utility>
 
+#include "common/first_touch.h"
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/release.h"
@@ -310,8 +311,8 @@ TetMesh cells_of(const std::vector<DT::Cell_handle>& handles, CornersOf corners_
   const size_t m = handles.size();
   out.cells.reserve(m + static_cast<size_t>(spare * static_cast<double>(m)));
   out.neighbors.reserve(out.cells.capacity());
-  out.cells.resize(m);
-  out.neighbors.resize(m);
+  resize_on_every_core(out.cells, m);
+  resize_on_every_core(out.neighbors, m);
   constexpr size_t kBlock = 4096;
   parallel_for((m + kBlock - 1) / kBlock,
                [&](size_t block) {
@@ -370,7 +371,8 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
     else
       found.push_back(c);
   }
-  std::vector<uint32_t> least(found.size());
+  std::vector<uint32_t> least;
+  resize_on_every_core(least, found.size());
   parallel_ranges(found.size(), kBlock, [&](size_t first, size_t last) {
     for (size_t k = first; k < last; ++k) {
       if (k + kAhead < last) prefetch_corners(found[k + kAhead]);
@@ -406,7 +408,7 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
                },
                2);
   // Each cell is its own thread's alone: the tags are written in parallel.
-  if (previous) previous->resize(m);
+  if (previous) resize_on_every_core(*previous, m);
   parallel_for((m + kBlock - 1) / kBlock,
                [&](size_t block) {
                  for (size_t k = block * kBlock; k < std::min(m, block * kBlock + kBlock); ++k) {
@@ -462,10 +464,11 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   // neighbours from.
   const size_t m = finite_cell_count(dt);
   TetMesh out;
-  out.cells.resize(m);
-  out.neighbors.resize(m);
-  previous.assign(m, -1);
-  std::vector<int32_t> new_of_old(old_count, -1);
+  resize_on_every_core(out.cells, m);
+  resize_on_every_core(out.neighbors, m);
+  assign_on_every_core(previous, m, -1);
+  std::vector<int32_t> new_of_old;
+  assign_on_every_core(new_of_old, old_count, -1);
   constexpr size_t kRange = 16384;
   const size_t ranges = (old_count + kRange - 1) / kRange;
   std::vector<size_t> kept_before(ranges + 1, 0);

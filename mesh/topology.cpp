@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <tuple>
 
+#include "common/first_touch.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
 #include "common/threads.h"
@@ -40,7 +41,7 @@ Csr vertex_cells(std::span<const std::array<uint32_t, 4>> cells, size_t num_vert
         if (v - lo < hi - lo) ++out.offsets[v + 1];
   });
   for (size_t v = 0; v < num_vertices; ++v) out.offsets[v + 1] += out.offsets[v];
-  out.items.resize(out.offsets.back());
+  resize_on_every_core(out.items, out.offsets.back());
   std::vector<uint32_t> cursor(out.offsets.begin(), out.offsets.end() - 1);
   each_part([&](size_t part, size_t parts) {
     const auto [lo, hi] = range_of(part, parts);
@@ -87,9 +88,9 @@ Csr vertex_neighbors(std::span<const std::array<uint32_t, 4>> cells, const Csr& 
   std::vector<size_t> block_start(blocks + 1, 0);
   for (size_t b = 0; b < blocks; ++b) block_start[b + 1] = block_start[b] + items[b].size();
   Csr out;
-  out.offsets.resize(n + 1);
+  resize_on_every_core(out.offsets, n + 1);
   out.offsets[0] = 0;
-  out.items.resize(block_start[blocks]);
+  resize_on_every_core(out.items, block_start[blocks]);
   parallel_for(
       blocks,
       [&](size_t b) {
@@ -156,11 +157,14 @@ std::array<uint32_t, 4> sorted4(std::array<uint32_t, 4> c) {
 
 std::vector<uint32_t> canonical_cell_order(std::span<const std::array<uint32_t, 4>> cells) {
   const size_t m = cells.size();
-  std::vector<uint32_t> order(m);
+  std::vector<uint32_t> order;
+  resize_on_every_core(order, m);
   bool in_order = true;
   for (size_t k = 1; k < m && in_order; ++k) in_order = sorted4(cells[k - 1]) < sorted4(cells[k]);
   if (in_order) {
-    for (uint32_t k = 0; k < m; ++k) order[k] = k;
+    parallel_ranges(m, size_t{1} << 16, [&](size_t first, size_t last) {
+      for (size_t k = first; k < last; ++k) order[k] = static_cast<uint32_t>(k);
+    });
     return order;
   }
   // Each cell's other three vertices (sorted) and its index go straight to

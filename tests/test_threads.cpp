@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/first_touch.h"
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/threads.h"
@@ -99,6 +100,37 @@ TEST(ParallelHelpers, VertexCellsAndNeighboursAreOnePassesOnAnyNumberOfThreads) 
     }
     set_thread_count(0);
   }
+}
+
+// Growing with the pages touched on every core is resize() and assign():
+// what the vector held stays, the new elements are zeros (or the value),
+// whether the storage is grown or reserved already, below the threshold
+// and past it, on any number of threads (the touched storage starts right
+// after the last element, on no page boundary).
+TEST(ParallelHelpers, GrowingOnEveryCoreIsResizeAndAssign) {
+  const size_t big = 3 * kFirstTouchInParallelFrom / sizeof(uint32_t) + 13;
+  for (const int threads : {1, 2, 3, 8})
+    for (const bool reserved : {false, true})
+      for (const size_t n : {size_t{0}, size_t{1000}, big}) {
+        set_thread_count(threads);
+        std::vector<uint32_t> v(777);
+        for (uint32_t i = 0; i < v.size(); ++i) v[i] = i * 2654435761u | 1;
+        const std::vector<uint32_t> before = v;
+        if (reserved) v.reserve(n + 5000);
+        resize_on_every_core(v, v.size() + n);
+        ASSERT_EQ(v.size(), before.size() + n);
+        EXPECT_TRUE(std::equal(before.begin(), before.end(), v.begin()));
+        EXPECT_TRUE(std::all_of(v.begin() + static_cast<std::ptrdiff_t>(before.size()), v.end(),
+                                [](uint32_t x) { return x == 0; }))
+            << threads << " threads, " << n << " more";
+        assign_on_every_core(v, n, uint32_t{0xDEADBEEF});
+        ASSERT_EQ(v.size(), n);
+        EXPECT_TRUE(std::all_of(v.begin(), v.end(), [](uint32_t x) { return x == 0xDEADBEEF; }));
+        // Shrinking is resize's.
+        resize_on_every_core(v, n / 2);
+        EXPECT_EQ(v.size(), n / 2);
+      }
+  set_thread_count(0);
 }
 
 }  // namespace

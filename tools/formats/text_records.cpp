@@ -101,7 +101,11 @@ void TextRecords::fail(size_t line, const std::string& problem) const {
 }
 
 bool TextRecords::read_block() {
-  text_.swap(carry_);
+  // The line begun at the end of the last block starts this one, in the
+  // buffer the blocks share: swapping in the carry's buffer instead made
+  // every block grow a fresh one, whose new pages (32 MB a block) were then
+  // faulted on this thread while the parsing threads waited.
+  text_.assign(carry_);
   carry_.clear();
   at_ = 0;
   if (eof_) return !text_.empty();
