@@ -36,24 +36,29 @@ inline constexpr size_t kFirstTouchInParallelFrom = size_t{8} << 20;
 inline void touch_on_every_core(void* first, size_t bytes) {
   // The parts meet on 2 MiB boundaries: two threads faulting one
   // transparent huge page at once left the process 40-80 MB larger
-  // (bunny_1m's encoding, where glibc asks for huge pages).
+  // (bunny_1m's encoding, where glibc asks for huge pages). Offsets from
+  // `first`, rounded by the addresses they stand for.
   constexpr uintptr_t kPage = 4096, kHugePage = uintptr_t{2} << 20;
-  const auto begin = reinterpret_cast<uintptr_t>(first), end = begin + bytes;
+  auto* const base = static_cast<std::byte*>(first);
+  const auto address = reinterpret_cast<uintptr_t>(first);
+  const auto down = [address](size_t offset, uintptr_t unit) -> size_t {
+    const uintptr_t at = (address + offset) & ~(unit - 1);
+    return at > address ? at - address : 0;
+  };
   on_every_thread([&](size_t part, size_t parts) {
-    const auto cut = [&](size_t k) {
-      if (k == 0) return begin;
-      if (k == parts) return end;
-      return std::clamp((begin + bytes / parts * k) & ~(kHugePage - 1), begin, end);
+    const auto cut = [&](size_t k) -> size_t {
+      if (k == parts) return bytes;
+      return k == 0 ? 0 : std::min(bytes, down(bytes / parts * k, kHugePage));
     };
-    const uintptr_t lo = cut(part), hi = cut(part + 1);
+    const size_t lo = cut(part), hi = cut(part + 1);
     if (hi <= lo) return;
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
     // madvise takes whole pages: the partial pages at the ends are left to
     // whoever writes them.
-    const uintptr_t a = (lo + kPage - 1) & ~(kPage - 1), b = hi & ~(kPage - 1);
-    if (b <= a || madvise(reinterpret_cast<void*>(a), b - a, MADV_POPULATE_WRITE) == 0) return;
+    const size_t a = down(lo + kPage - 1, kPage), b = down(hi, kPage);
+    if (b <= a || madvise(base + a, b - a, MADV_POPULATE_WRITE) == 0) return;
 #endif
-    std::memset(reinterpret_cast<void*>(lo), 0, hi - lo);
+    std::memset(base + lo, 0, hi - lo);
   });
 }
 
