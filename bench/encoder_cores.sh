@@ -3,7 +3,7 @@
 # cores it is given (#40 part 2): meshenc on bunny_1m (--box 256 --dmax 2,
 # its .ele the reference solid), whole processes, on every core of this
 # machine and on one (taskset -c 0), with the time of each phase (meshenc
-# -v) summed over the levels; each twice (RUNS=N), the faster run kept (a
+# -v) summed over the levels; each twice (RUNS=N: N times), the fastest run kept (a
 # shared virtual machine's runs vary by 10-20%). The target: the time on one
 # core at least 1.8x the time on two (under 11% of the work serial). Writes
 # bench/results/ENCODER_CORES.md. bunny_1m comes from BUILD_DIR/bench-data/
@@ -28,9 +28,9 @@ fastest() {
 fastest all "$enc"
 fastest one taskset -c 0 "$enc"
 cmp -s "$work/all.dtm" "$work/one.dtm" || { echo "encoder_cores.sh: the streams differ" >&2; exit 1; }
-/usr/bin/python3 - "$work" "$cores" "$commit" > "$root/bench/results/ENCODER_CORES.md" <<'PY'
+/usr/bin/python3 - "$work" "$cores" "$commit" "${RUNS:-2}" > "$root/bench/results/ENCODER_CORES.md" <<'PY'
 import re, sys
-work, cores, commit = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+work, cores, commit, runs = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 def phases(path):
     d = {}
     for line in open(path):
@@ -50,10 +50,10 @@ many, one = phases(work + "/all.log"), phases(work + "/one.log")
 ratio = t_one / t_many
 serial = max(0.0, (cores / ratio - 1) / (cores - 1)) if cores > 1 else 1.0
 print("# The encoder on %d cores and on one\n" % cores)
-print("Made by `bench/encoder_cores.sh` at %s (the faster of two runs each, this project's %d-core machine): `meshenc "
+print("Made by `bench/encoder_cores.sh` at %s (the fastest of %d runs each, this project's %d-core machine): `meshenc "
       "bunny_1m.node --box 256 --dmax 2 -v` (975,953 vertices, TetGen's .ele the reference solid), whole "
       "processes, on every core and under `taskset -c 0`; the same bytes both ways. Each phase's seconds "
-      "are summed over the levels.\n" % (commit, cores))
+      "are summed over the levels.\n" % (commit, runs, cores))
 print("| | %d cores | 1 core |\n|---|---:|---:|" % cores)
 print("| wall | %.1f s | %.1f s |" % (t_many, t_one))
 print("| peak memory | %.0f MiB | %.0f MiB |" % (m_many, m_one))
