@@ -538,9 +538,21 @@ class Fill {
     out_.cells.push_back(cell);
     out_.neighbours.push_back({-1, -1, -1, -1});
     const size_t i = out_.cells.size() - 1;
+    // The four faces' hash buckets, then their chains' first faces, asked
+    // for together before they are looked up one by one (both anywhere in
+    // memory: 60% of this function's samples at bunny_1m's level 0 waited
+    // on them).
+    std::array<FaceKey, 4> keys{};
+    for (size_t k = 0; k < 4; ++k) {
+      keys[k] = key_of(outward_face(cell, static_cast<int>(k)));
+      __builtin_prefetch(&bucket_[bucket_of(keys[k])]);
+    }
+    for (const FaceKey& key : keys)
+      if (const uint32_t first = bucket_[bucket_of(key)]; first != kNoFace)
+        __builtin_prefetch(&faces_[first]);
     for (int k = 0; k < 4; ++k) {
       const std::array<uint32_t, 3> face = outward_face(cell, k);
-      const FaceKey key = key_of(face);
+      const FaceKey& key = keys[static_cast<size_t>(k)];
       const uint32_t id = find(key);
       if (id == kNoFace) {
         if (kept_face(key)) return corrupt("a face of three cells");
