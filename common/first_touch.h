@@ -34,10 +34,10 @@ inline constexpr size_t kFirstTouchInParallelFrom = size_t{8} << 20;
 // so bytes already there are kept) or, where the kernel cannot, writes
 // zeros over it. For storage that holds no object yet.
 inline void touch_on_every_core(void* first, size_t bytes) {
-  // The parts meet on 2 MiB boundaries: two threads faulting one
-  // transparent huge page at once left the process 40-80 MB larger
-  // (bunny_1m's encoding, where glibc asks for huge pages). Offsets from
-  // `first`, rounded by the addresses they stand for.
+  // The parts meet on 2 MiB boundaries, so that no two threads fault one
+  // transparent huge page (the tools ask glibc for them:
+  // tools/huge_pages.h). Offsets from `first`, rounded by the addresses
+  // they stand for.
   constexpr uintptr_t kPage = 4096, kHugePage = uintptr_t{2} << 20;
   auto* const base = static_cast<std::byte*>(first);
   const auto address = reinterpret_cast<uintptr_t>(first);
