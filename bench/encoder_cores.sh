@@ -3,7 +3,7 @@
 # cores it is given (#40 part 2): meshenc on bunny_1m (--box 256 --dmax 2,
 # its .ele the reference solid), whole processes, on every core of this
 # machine and on one (taskset -c 0), with the time of each phase (meshenc
-# -v) summed over the levels; each twice (RUNS=N: N times), the fastest run kept (a
+# -v) summed over the levels; each RUNS times (2 unless set), the fastest kept (a
 # shared virtual machine's runs vary by 10-20%). The target: the time on one
 # core at least 1.8x the time on two (under 11% of the work serial). Writes
 # bench/results/ENCODER_CORES.md. bunny_1m comes from BUILD_DIR/bench-data/
