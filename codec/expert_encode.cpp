@@ -1,6 +1,7 @@
 #include "codec/expert_encode.h"
 
 #include <algorithm>
+#include <atomic>
 #include <future>
 #include <iterator>
 #include <optional>
@@ -456,15 +457,36 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     out.level_field_bytes.resize(hierarchy.levels.size());
     out.level_field_bytes[streamed[l]] = std::move(layer_field_bytes);
   };
+  // The cells' sections on one side, the points' and then the values' on
+  // the other, each on its share of the threads; once one side is done, the
+  // other takes every thread for each level it has left (the finest layer's
+  // values, whose neighbour searches are most of their time, come last and
+  // would otherwise run on half of them, on one thread of two).
+  const int threads = thread_count();
+  const int cells_share = threads - threads / 2, points_share = std::max(1, threads / 2);
+  std::atomic<bool> cells_done{false}, points_done{false};
+  const auto share = [&](const std::atomic<bool>& other_done, int own) {
+    return other_done.load(std::memory_order_acquire) ? threads : own;
+  };
+  struct Done {
+    std::atomic<bool>& flag;
+    ~Done() { flag.store(true, std::memory_order_release); }
+  };
   const auto every_level_cells = [&]() -> Status {
-    for (size_t l = streamed.size(); l-- > 0;) DTM_RETURN_IF_ERROR(cell_sections(l));
+    const Done done{cells_done};
+    for (size_t l = streamed.size(); l-- > 0;) {
+      const ThreadShare mine(share(points_done, cells_share));
+      DTM_RETURN_IF_ERROR(cell_sections(l));
+    }
     return Status::Ok();
   };
   const auto points_then_values = [&]() -> Status {
+    const Done done{points_done};
     std::vector<MortonCode> known;  // Morton codes of V_{l+1}, ascending
     SetCoderModels models;          // adapted layer after layer, as the decoder's
     models.enable_coordinate_reuse(grid.qbits);
     for (size_t l = streamed.size(); l-- > 0;) {
+      const ThreadShare mine(share(cells_done, points_share));
       const Layer& layer = layers[l];
       const std::span<const GridPoint> coarse_points(decoded.data(), layer.first);
       const std::span<const GridPoint> layer_points(decoded.data() + layer.first, layer.count);
@@ -490,24 +512,19 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       merge_known(known, layer_points, grid.qbits);
     }
     if (value_coder)
-      for (size_t l = streamed.size(); l-- > 0;) values_of(l);
+      for (size_t l = streamed.size(); l-- > 0;) {
+        const ThreadShare mine(share(cells_done, points_share));
+        values_of(l);
+      }
     return Status::Ok();
   };
-  const int threads = thread_count();
   if (threads < 2) {
     DTM_RETURN_IF_ERROR(every_level_cells());
     DTM_RETURN_IF_ERROR(points_then_values());
   } else {
-    auto cells_done = std::async(std::launch::async, [&, share = threads - threads / 2] {
-      const ThreadShare mine(share);
-      return every_level_cells();
-    });
-    Status points_status;
-    {
-      const ThreadShare mine(threads / 2);
-      points_status = points_then_values();
-    }
-    DTM_RETURN_IF_ERROR(cells_done.get());
+    auto cells = std::async(std::launch::async, every_level_cells);
+    const Status points_status = points_then_values();
+    DTM_RETURN_IF_ERROR(cells.get());
     DTM_RETURN_IF_ERROR(points_status);
   }
   if (exact && format_major_of(exact_ranks) != h.version_major) {

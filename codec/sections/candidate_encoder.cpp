@@ -7,6 +7,8 @@
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/candidate_coder_shared.h"
+#include "common/parallel_for.h"
+#include "common/parallel_sort.h"
 
 namespace dtm {
 namespace {
@@ -48,26 +50,32 @@ std::vector<CandidateHit> points_beside(const CandidateList& candidates, std::sp
   const CandidateGroups groups(candidates);
   const int q = candidates.qbits;
   const int32_t top = (1 << q) - 1;
-  std::vector<CandidateHit> out;
-  for (uint32_t p = 0; p < points.size(); ++p) {
-    const GridPoint& x = points[p];
-    // The groups of the places x - 1 .. x + 1 on each axis, clamped to the grid.
-    int32_t lo[3], hi[3];
-    const int32_t c[3] = {x.x, x.y, x.z};
-    for (int a = 0; a < 3; ++a) lo[a] = std::max(0, c[a] - 1) >> 1, hi[a] = std::min(top, c[a] + 1) >> 1;
-    for (int32_t gx = lo[0]; gx <= hi[0]; ++gx)
-      for (int32_t gy = lo[1]; gy <= hi[1]; ++gy)
-        for (int32_t gz = lo[2]; gz <= hi[2]; ++gz) {
-          const uint64_t key = static_cast<uint64_t>(morton_encode({gx, gy, gz}, q));
-          for (uint32_t i = groups.first(key); i < candidates.size() && candidates.code(i) >> 3 == key; ++i) {
-            const GridPoint at = candidates.at(i);
-            const int dx = x.x - at.x, dy = x.y - at.y, dz = x.z - at.z;
-            if (std::abs(dx) > 1 || std::abs(dy) > 1 || std::abs(dz) > 1) continue;
-            out.push_back({i, static_cast<uint8_t>((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)), p});
-          }
+  // Each point's hits on its own (on every core), then sorted: the hits
+  // are the same, in the same order, for any number of threads.
+  std::vector<CandidateHit> out = collect_in_order<CandidateHit>(
+      points.size(), 16384, [&](size_t first, size_t last, std::vector<CandidateHit>& hits) {
+        for (auto p = static_cast<uint32_t>(first); p < last; ++p) {
+          const GridPoint& x = points[p];
+          // The groups of the places x - 1 .. x + 1 on each axis, clamped to the grid.
+          int32_t lo[3], hi[3];
+          const int32_t c[3] = {x.x, x.y, x.z};
+          for (int a = 0; a < 3; ++a)
+            lo[a] = std::max(0, c[a] - 1) >> 1, hi[a] = std::min(top, c[a] + 1) >> 1;
+          for (int32_t gx = lo[0]; gx <= hi[0]; ++gx)
+            for (int32_t gy = lo[1]; gy <= hi[1]; ++gy)
+              for (int32_t gz = lo[2]; gz <= hi[2]; ++gz) {
+                const uint64_t key = static_cast<uint64_t>(morton_encode({gx, gy, gz}, q));
+                for (uint32_t i = groups.first(key); i < candidates.size() && candidates.code(i) >> 3 == key;
+                     ++i) {
+                  const GridPoint at = candidates.at(i);
+                  const int dx = x.x - at.x, dy = x.y - at.y, dz = x.z - at.z;
+                  if (std::abs(dx) > 1 || std::abs(dy) > 1 || std::abs(dz) > 1) continue;
+                  hits.push_back({i, static_cast<uint8_t>((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)), p});
+                }
+              }
         }
-  }
-  std::sort(out.begin(), out.end());
+      });
+  parallel_sort(out.begin(), out.end());
   return out;
 }
 
