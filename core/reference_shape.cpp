@@ -6,6 +6,7 @@
 
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
+#include "common/release.h"
 #include "core/region_solid.h"
 #include "mesh/topology.h"
 
@@ -32,19 +33,31 @@ std::vector<std::array<uint32_t, 4>> grid_tetrahedra(std::span<const std::array<
 void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const QuantizedPoints& q,
                               std::vector<int32_t>* labels) {
   using Tet = std::array<uint32_t, 4>;
-  // On the grid, those quantization collapsed dropped.
-  size_t kept = 0;
-  for (size_t i = 0; i < tets.size(); ++i) {
-    const Tet& t = tets[i];
-    const Tet g = {q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
-                   q.input_to_point[t[3]]};
-    Tet s = g;
-    std::sort(s.begin(), s.end());
-    if (std::adjacent_find(s.begin(), s.end()) != s.end()) continue;
-    if (labels) (*labels)[kept] = (*labels)[i];
-    tets[kept++] = g;
+  const auto collapsed = [](Tet t) {
+    std::sort(t.begin(), t.end());
+    return std::adjacent_find(t.begin(), t.end()) != t.end();
+  };
+  // On the grid (on every core), then those quantization collapsed dropped
+  // (when there are any: in order, on one thread).
+  constexpr size_t kRange = size_t{1} << 16;
+  std::vector<uint8_t> range_collapsed((tets.size() + kRange - 1) / kRange, 0);
+  parallel_ranges(tets.size(), kRange, [&](size_t first, size_t last) {
+    for (size_t i = first; i < last; ++i) {
+      Tet& t = tets[i];
+      t = {q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]], q.input_to_point[t[3]]};
+      if (collapsed(t)) range_collapsed[first / kRange] = 1;
+    }
+  });
+  size_t kept = tets.size();
+  if (std::find(range_collapsed.begin(), range_collapsed.end(), 1) != range_collapsed.end()) {
+    kept = 0;
+    for (size_t i = 0; i < tets.size(); ++i) {
+      if (collapsed(tets[i])) continue;
+      if (labels) (*labels)[kept] = (*labels)[i];
+      tets[kept++] = tets[i];
+    }
+    tets.resize(kept);
   }
-  tets.resize(kept);
   auto smallest = [](const Tet& t) { return std::min({t[0], t[1], t[2], t[3]}); };
   if (labels) {
     // With labels, a permutation sorted once, on every core (its order is
@@ -79,8 +92,17 @@ void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const 
   int shift = 0;
   while ((q.points.size() >> shift) >= 1024) ++shift;
   const size_t partitions = (q.points.size() >> shift) + 1;
+  // The partitions' sizes counted range by range on every core, added in order.
+  std::vector<std::vector<size_t>> counts((tets.size() + kRange - 1) / kRange);
+  parallel_ranges(tets.size(), kRange, [&](size_t first, size_t last) {
+    std::vector<size_t>& count = counts[first / kRange];
+    count.assign(partitions, 0);
+    for (size_t i = first; i < last; ++i) ++count[smallest(tets[i]) >> shift];
+  });
   std::vector<size_t> start(partitions + 1, 0);
-  for (const Tet& t : tets) ++start[(smallest(t) >> shift) + 1];
+  for (const auto& count : counts)
+    for (size_t p = 0; p < partitions; ++p) start[p + 1] += count[p];
+  release(counts);
   for (size_t p = 0; p < partitions; ++p) start[p + 1] += start[p];
   std::vector<size_t> next(start.begin(), start.end() - 1);
   for (size_t p = 0; p < partitions; ++p)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <tuple>
 
+#include "common/atomic_counts.h"
 #include "common/first_touch.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
@@ -235,11 +236,24 @@ std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::arr
     if (key[0] > key[1]) std::swap(key[0], key[1]);
     return key;
   };
-  uint32_t top = 0;
-  for (const auto& c : cells) top = std::max({top, c[0], c[1], c[2], c[3]});
+  // The buckets' sizes and, below, their entries, on every core: a face's
+  // place in its bucket is taken by an atomic count, so a bucket's order
+  // varies from run to run, which nothing below sees.
+  constexpr size_t kRange = size_t{1} << 16;
+  const auto count_at = [](uint32_t& count) { return atomic_fetch_add(count, 1); };
+  std::vector<uint32_t> range_top((cells.size() + kRange - 1) / kRange, 0);
+  parallel_ranges(cells.size(), kRange, [&](size_t first, size_t last) {
+    uint32_t t = 0;
+    for (size_t c = first; c < last; ++c)
+      t = std::max({t, cells[c][0], cells[c][1], cells[c][2], cells[c][3]});
+    range_top[first / kRange] = t;
+  });
+  const uint32_t top = *std::max_element(range_top.begin(), range_top.end());
   std::vector<uint32_t> start(size_t{top} + 2, 0);
-  for (size_t c = 0; c < cells.size(); ++c)
-    for (int f = 0; f < 4; ++f) ++start[size_t{key_of(c, f)[0]} + 1];
+  parallel_ranges(cells.size(), kRange, [&](size_t first, size_t last) {
+    for (size_t c = first; c < last; ++c)
+      for (int f = 0; f < 4; ++f) count_at(start[size_t{key_of(c, f)[0]} + 1]);
+  });
   for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
   struct Entry {
     uint32_t second, third, face;  // the key's other two vertices; 4 * cell + face
@@ -263,29 +277,20 @@ std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::arr
     if (start[pass_end] - base > entries.capacity()) release(entries);
     entries.resize(start[pass_end] - base);
     {
-      // The pass's faces found in slices of the cells on every core (each
+      // The pass's faces found in ranges of the cells on every core (each
       // pass reads every cell: serial, the passes took 1.2 s of bunny_1m's
-      // encoder), then put in their buckets in slice order. (A bucket's
-      // order does not matter: each is sorted below, and a face of it is
-      // on the boundary when its key is there once.)
-      constexpr size_t kSlices = 16;
-      std::vector<std::vector<std::pair<uint32_t, Entry>>> sliced(kSlices);
-      parallel_for(kSlices, [&](size_t slice) {
-        const size_t from = cells.size() * slice / kSlices, to = cells.size() * (slice + 1) / kSlices;
-        for (size_t c = from; c < to; ++c)
+      // encoder), each put in its bucket where it is found.
+      std::vector<uint32_t> fill(start.begin() + static_cast<std::ptrdiff_t>(pass_first),
+                                 start.begin() + static_cast<std::ptrdiff_t>(pass_end));
+      parallel_ranges(cells.size(), kRange, [&](size_t first, size_t last) {
+        for (size_t c = first; c < last; ++c)
           for (int f = 0; f < 4; ++f) {
             const auto key = key_of(c, f);
             if (key[0] < pass_first || key[0] >= pass_end) continue;
-            sliced[slice].push_back(
-                {key[0], {key[1], key[2], static_cast<uint32_t>(4 * c + static_cast<size_t>(f))}});
+            entries[count_at(fill[key[0] - pass_first]) - base] = {
+                key[1], key[2], static_cast<uint32_t>(4 * c + static_cast<size_t>(f))};
           }
       });
-      std::vector<uint32_t> fill(start.begin() + static_cast<std::ptrdiff_t>(pass_first),
-                                 start.begin() + static_cast<std::ptrdiff_t>(pass_end));
-      for (auto& part : sliced) {
-        for (const auto& [smallest, entry] : part) entries[fill[smallest - pass_first]++ - base] = entry;
-        release(part);
-      }
     }
     // Each block of buckets finds its boundary faces on its own; the
     // blocks' lists are joined in order.
