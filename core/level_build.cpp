@@ -502,12 +502,16 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
         ++inside_faces[static_cast<size_t>(inside)];
         if (outside >= 0) ++outside_faces[static_cast<size_t>(outside)];
       }
-      for (uint32_t c = 0; c < mesh.cells.size(); ++c)
-        if (!owns(bounds.owned, points, mesh.cells[c])) {
-          continue;
-        } else if ((inside_faces[c] >= 3 && cells.angle[c] < kFinSolidAngle) ||
-                   (outside_faces[c] >= 3 && smallest_solid_angle(points, mesh.cells[c]) < kFinSolidAngle))
-          fins.push_back(c);
+      fins = collect_in_order<uint32_t>(
+          mesh.cells.size(), 16384, [&](size_t first, size_t last, std::vector<uint32_t>& found) {
+            for (auto c = static_cast<uint32_t>(first); c < last; ++c)
+              if (!owns(bounds.owned, points, mesh.cells[c])) {
+                continue;
+              } else if ((inside_faces[c] >= 3 && cells.angle[c] < kFinSolidAngle) ||
+                         (outside_faces[c] >= 3 &&
+                          smallest_solid_angle(points, mesh.cells[c]) < kFinSolidAngle))
+                found.push_back(c);
+          });
     }
     if (broken == 0 && out.quality_met && fins.empty()) break;
     if (round == bounds.repair_rounds) break;
@@ -566,19 +570,26 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
   std::vector<uint32_t> local(points.size(), UINT32_MAX);
   std::vector<uint32_t> members;
   {
+    // Marked on every core (every thread writes the same 1).
     std::vector<uint8_t> in_level(points.size(), 0);
-    for (const auto& c : mesh.cells)
-      for (uint32_t v : c) in_level[v] = 1;
+    parallel_ranges(mesh.cells.size(), 16384, [&](size_t first, size_t last) {
+      for (size_t c = first; c < last; ++c)
+        for (uint32_t v : mesh.cells[c]) __atomic_store_n(&in_level[v], uint8_t{1}, __ATOMIC_RELAXED);
+    });
     for (uint32_t v = 0; v < points.size(); ++v)
       if (in_level[v]) {
         local[v] = static_cast<uint32_t>(members.size());
         members.push_back(v);
       }
   }
-  for (auto& c : mesh.cells)
-    for (uint32_t& v : c) v = local[v];
-  for (auto& t : surface.triangles)
-    for (uint32_t& v : t) v = local[v];
+  parallel_ranges(mesh.cells.size(), 16384, [&](size_t first, size_t last) {
+    for (size_t c = first; c < last; ++c)
+      for (uint32_t& v : mesh.cells[c]) v = local[v];
+  });
+  parallel_ranges(surface.triangles.size(), 16384, [&](size_t first, size_t last) {
+    for (size_t t = first; t < last; ++t)
+      for (uint32_t& v : surface.triangles[t]) v = local[v];
+  });
   out.vertices.reserve(members.size());
   for (uint32_t v : members) out.vertices.push_back(fine_vertices[v]);
   if (!bounds.analyze) return out;
