@@ -1,5 +1,5 @@
 // Atomic updates of plain integers shared by the threads of a parallel_for:
-// counts, cursors and minima over arrays that are ordinary vectors the rest
+// counts, cursors, minima and flags over arrays that are ordinary vectors the rest
 // of the time. (std::atomic_ref would say the same; Debian's emscripten
 // 3.1.6 libc++, the WebAssembly build's, lacks it. The compilers' builtins
 // are what it is made of.)
@@ -21,5 +21,8 @@ inline void atomic_store_min(uint32_t& x, uint32_t v) {
   while (v < seen && !__atomic_compare_exchange_n(&x, &seen, v, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
   }
 }
+
+// x = v, where every thread that stores writes the same v (a mark).
+inline void atomic_store(uint8_t& x, uint8_t v) { __atomic_store_n(&x, v, __ATOMIC_RELAXED); }
 
 }  // namespace dtm

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 
+#include "common/atomic_counts.h"
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/release.h"
@@ -574,7 +575,7 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     std::vector<uint8_t> in_level(points.size(), 0);
     parallel_ranges(mesh.cells.size(), 16384, [&](size_t first, size_t last) {
       for (size_t c = first; c < last; ++c)
-        for (uint32_t v : mesh.cells[c]) __atomic_store_n(&in_level[v], uint8_t{1}, __ATOMIC_RELAXED);
+        for (uint32_t v : mesh.cells[c]) atomic_store(in_level[v], 1);
     });
     for (uint32_t v = 0; v < points.size(); ++v)
       if (in_level[v]) {

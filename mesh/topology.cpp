@@ -240,7 +240,6 @@ std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::arr
   // place in its bucket is taken by an atomic count, so a bucket's order
   // varies from run to run, which nothing below sees.
   constexpr size_t kRange = size_t{1} << 16;
-  const auto count_at = [](uint32_t& count) { return atomic_fetch_add(count, 1); };
   std::vector<uint32_t> range_top((cells.size() + kRange - 1) / kRange, 0);
   parallel_ranges(cells.size(), kRange, [&](size_t first, size_t last) {
     uint32_t t = 0;
@@ -252,7 +251,7 @@ std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::arr
   std::vector<uint32_t> start(size_t{top} + 2, 0);
   parallel_ranges(cells.size(), kRange, [&](size_t first, size_t last) {
     for (size_t c = first; c < last; ++c)
-      for (int f = 0; f < 4; ++f) count_at(start[size_t{key_of(c, f)[0]} + 1]);
+      for (int f = 0; f < 4; ++f) atomic_fetch_add(start[size_t{key_of(c, f)[0]} + 1], 1);
   });
   for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
   struct Entry {
@@ -287,7 +286,7 @@ std::vector<std::array<uint32_t, 3>> boundary_triangles(std::span<const std::arr
           for (int f = 0; f < 4; ++f) {
             const auto key = key_of(c, f);
             if (key[0] < pass_first || key[0] >= pass_end) continue;
-            entries[count_at(fill[key[0] - pass_first]) - base] = {
+            entries[atomic_fetch_add(fill[key[0] - pass_first], 1) - base] = {
                 key[1], key[2], static_cast<uint32_t>(4 * c + static_cast<size_t>(f))};
           }
       });
