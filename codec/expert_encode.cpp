@@ -459,34 +459,23 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   };
   // The cells' sections on one side, the points' and then the values' on
   // the other, each on its share of the threads; once one side is done, the
-  // other takes every thread for each level it has left (the finest layer's
-  // values, whose neighbour searches are most of their time, come last and
-  // would otherwise run on half of them, on one thread of two).
+  // other takes its threads too (the finest layer's values, whose neighbour
+  // searches are most of their time, come last and would otherwise run on
+  // half of them, on one thread of two).
   const int threads = thread_count();
-  const int cells_share = threads - threads / 2, points_share = std::max(1, threads / 2);
-  std::atomic<bool> cells_done{false}, points_done{false};
-  const auto share = [&](const std::atomic<bool>& other_done, int own) {
-    return other_done.load(std::memory_order_acquire) ? threads : own;
-  };
-  struct Done {
-    std::atomic<bool>& flag;
-    ~Done() { flag.store(true, std::memory_order_release); }
-  };
+  ThreadShares shares(threads, 2);
+  constexpr int kCellsSide = 0, kPointsSide = 1;
   const auto every_level_cells = [&]() -> Status {
-    const Done done{cells_done};
-    for (size_t l = streamed.size(); l-- > 0;) {
-      const ThreadShare mine(share(points_done, cells_share));
-      DTM_RETURN_IF_ERROR(cell_sections(l));
-    }
+    const ThreadShares::Use mine(shares, kCellsSide);
+    for (size_t l = streamed.size(); l-- > 0;) DTM_RETURN_IF_ERROR(cell_sections(l));
     return Status::Ok();
   };
   const auto points_then_values = [&]() -> Status {
-    const Done done{points_done};
+    const ThreadShares::Use mine(shares, kPointsSide);
     std::vector<MortonCode> known;  // Morton codes of V_{l+1}, ascending
     SetCoderModels models;          // adapted layer after layer, as the decoder's
     models.enable_coordinate_reuse(grid.qbits);
     for (size_t l = streamed.size(); l-- > 0;) {
-      const ThreadShare mine(share(cells_done, points_share));
       const Layer& layer = layers[l];
       const std::span<const GridPoint> coarse_points(decoded.data(), layer.first);
       const std::span<const GridPoint> layer_points(decoded.data() + layer.first, layer.count);
@@ -512,10 +501,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       merge_known(known, layer_points, grid.qbits);
     }
     if (value_coder)
-      for (size_t l = streamed.size(); l-- > 0;) {
-        const ThreadShare mine(share(cells_done, points_share));
-        values_of(l);
-      }
+      for (size_t l = streamed.size(); l-- > 0;) values_of(l);
     return Status::Ok();
   };
   if (threads < 2) {

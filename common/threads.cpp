@@ -11,8 +11,10 @@
 namespace dtm {
 namespace {
 
-std::atomic<int> chosen{0};  // 0: cores_given()
-thread_local int share = 0;  // 0: none (ThreadShare)
+std::atomic<int> chosen{0};        // 0: cores_given()
+thread_local int fixed_share = 0;  // 0: none (ThreadShare)
+// A ThreadShares piece's share, when the innermost share the thread holds is one.
+thread_local const std::atomic<int>* growing = nullptr;
 
 }  // namespace
 
@@ -29,14 +31,63 @@ int cores_given() {
 }
 
 int thread_count() {
-  if (share > 0) return share;
+  if (growing) return std::max(1, growing->load(std::memory_order_relaxed));
+  if (fixed_share > 0) return fixed_share;
   const int n = chosen.load(std::memory_order_relaxed);
   return n > 0 ? n : cores_given();
 }
 
 void set_thread_count(int n) { chosen.store(std::max(0, n), std::memory_order_relaxed); }
 
-ThreadShare::ThreadShare(int n) : before_(share) { share = std::max(1, n); }
-ThreadShare::~ThreadShare() { share = before_; }
+ThreadShare::ThreadShare(int n) : before_(fixed_share), before_growing_(growing) {
+  fixed_share = std::max(1, n);
+  growing = nullptr;
+}
+ThreadShare::~ThreadShare() {
+  fixed_share = before_;
+  growing = before_growing_;
+}
+
+ThreadShares::ThreadShares(int threads, int pieces)
+    : threads_(std::make_unique<std::atomic<int>[]>(static_cast<size_t>(std::max(1, pieces)))),
+      working_(static_cast<size_t>(std::max(1, pieces)), true),
+      total_(std::max(1, threads)) {
+  pieces = std::max(1, pieces);
+  for (int k = 0; k < pieces; ++k)
+    threads_[static_cast<size_t>(k)] = std::max(1, total_ / pieces + (k < total_ % pieces ? 1 : 0));
+}
+
+int ThreadShares::share(int piece) const {
+  return threads_[static_cast<size_t>(piece)].load(std::memory_order_relaxed);
+}
+
+void ThreadShares::end(int piece) {
+  const std::lock_guard<std::mutex> lock(handing_over_);
+  const auto k = static_cast<size_t>(piece);
+  working_[k] = false;
+  threads_[k] = 0;
+  // The threads no piece at work holds (none where there are more pieces
+  // than threads, each holding one) go to the one holding the fewest.
+  int held = 0;
+  size_t fewest = working_.size();
+  for (size_t j = 0; j < working_.size(); ++j) {
+    if (!working_[j]) continue;
+    held += threads_[j];
+    if (fewest == working_.size() || threads_[j] < threads_[fewest]) fewest = j;
+  }
+  if (fewest < working_.size() && held < total_) threads_[fewest] += total_ - held;
+}
+
+ThreadShares::Use::Use(ThreadShares& shares, int piece)
+    : shares_(shares), piece_(piece), before_(fixed_share), before_growing_(growing) {
+  fixed_share = 0;
+  growing = &shares.threads_[static_cast<size_t>(piece)];
+}
+
+ThreadShares::Use::~Use() {
+  fixed_share = before_;
+  growing = before_growing_;
+  shares_.end(piece_);
+}
 
 }  // namespace dtm

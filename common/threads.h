@@ -8,6 +8,11 @@
 // other (docs/ARCHITECTURE.md §5.9).
 #pragma once
 
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <vector>
+
 namespace dtm {
 
 // The cores in this process's affinity mask (at least 1; 1 in WebAssembly).
@@ -30,6 +35,48 @@ class ThreadShare {
 
  private:
   int before_;
+  const std::atomic<int>* before_growing_;
+};
+
+// `threads` split among `pieces` of work run side by side (a level's blocks,
+// the stream writer's two sides), as evenly as they go and at least one
+// each. A piece's share is read afresh at each parallel call its work makes,
+// and when a piece ends, the threads no piece at work holds go to the one
+// holding the fewest: the last pieces running take the cores of those done,
+// instead of keeping their first share while those cores idle. The shares
+// at work never add up to more than `threads` (or one each).
+class ThreadShares {
+ public:
+  ThreadShares(int threads, int pieces);
+  ThreadShares(const ThreadShares&) = delete;
+  ThreadShares& operator=(const ThreadShares&) = delete;
+
+  // While it lives, the work the calling thread starts uses piece k's
+  // share; when it ends, piece k is done and its threads go on.
+  class Use {
+   public:
+    Use(ThreadShares& shares, int piece);
+    ~Use();
+    Use(const Use&) = delete;
+    Use& operator=(const Use&) = delete;
+
+   private:
+    ThreadShares& shares_;
+    int piece_;
+    int before_;
+    const std::atomic<int>* before_growing_;
+  };
+
+  // Piece k's share now (0 once it has ended).
+  int share(int piece) const;
+  // Piece k has ended, or will not run: its threads go on (Use's end calls it).
+  void end(int piece);
+
+ private:
+  std::mutex handing_over_;
+  std::unique_ptr<std::atomic<int>[]> threads_;  // per piece
+  std::vector<bool> working_;                    // per piece, under handing_over_
+  int total_;
 };
 
 }  // namespace dtm

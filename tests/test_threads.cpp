@@ -37,6 +37,52 @@ TEST(ThreadShare, HoldsForItsThreadWhileItLives) {
   EXPECT_EQ(thread_count(), before);
 }
 
+// Pieces side by side: even shares; a piece that ends gives its threads to
+// the one at work holding the fewest, never making the shares at work more
+// than the threads; a piece's share is its thread's while its Use lives.
+TEST(ThreadShares, APieceThatEndsGivesItsThreadsToThoseAtWork) {
+  ThreadShares shares(7, 3);
+  EXPECT_EQ(shares.share(0), 3);
+  EXPECT_EQ(shares.share(1), 2);
+  EXPECT_EQ(shares.share(2), 2);
+  {
+    const ThreadShares::Use first(shares, 1);
+    EXPECT_EQ(thread_count(), 2);
+    {
+      const ThreadShare inner(1);  // the innermost share holds
+      EXPECT_EQ(thread_count(), 1);
+    }
+    shares.end(2);
+    EXPECT_EQ(thread_count(), 4);  // piece 1 held the fewest
+    EXPECT_EQ(shares.share(0), 3);
+    EXPECT_EQ(shares.share(2), 0);
+  }
+  EXPECT_EQ(shares.share(1), 0);
+  EXPECT_EQ(shares.share(0), 7);
+  shares.end(0);
+  EXPECT_EQ(shares.share(0), 0);
+
+  // More pieces than threads: one each, and none grows while the others
+  // still hold more than the threads.
+  ThreadShares crowded(2, 4);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(crowded.share(k), 1);
+  crowded.end(0);
+  crowded.end(1);
+  EXPECT_EQ(crowded.share(2), 1);
+  EXPECT_EQ(crowded.share(3), 1);
+  crowded.end(2);
+  EXPECT_EQ(crowded.share(3), 2);
+}
+
+// Two pieces one after the other on one thread (the stream writer with one
+// thread): the second never gets more than the one.
+TEST(ThreadShares, PiecesInTurnOnOneThreadKeepOne) {
+  ThreadShares shares(1, 2);
+  { const ThreadShares::Use first(shares, 0); }
+  const ThreadShares::Use second(shares, 1);
+  EXPECT_EQ(thread_count(), 1);
+}
+
 TEST(ParallelHelpers, CollectInOrderIsWhatALoopAppends) {
   for (size_t n : {size_t{0}, size_t{1}, size_t{5}, size_t{100000}})
     for (size_t block : {size_t{1}, size_t{7}, size_t{4096}}) {

@@ -158,14 +158,15 @@ std::vector<std::vector<uint8_t>> run_blocks(
     }
   } else {
     // The blocks dealt out in order to whichever worker is free (their
-    // sizes differ). After a failure no later block starts, and every
-    // earlier one still runs: the failure told is the first in block
-    // order, as one at a time would tell it.
-    const int share = std::max(1, thread_count() / static_cast<int>(workers));
+    // sizes differ), each worker on its share of the threads; a worker left
+    // without a block gives its share to those still building. After a
+    // failure no later block starts, and every earlier one still runs: the
+    // failure told is the first in block order, as one at a time would tell it.
+    ThreadShares shares(thread_count(), static_cast<int>(workers));
     std::atomic<size_t> next{0};
     std::atomic<size_t> first_failed{mine.size()};
-    const auto worker = [&] {
-      const ThreadShare threads_of_block(share);
+    const auto worker = [&](int w) {
+      const ThreadShares::Use threads_of_blocks(shares, w);
       for (size_t i = next++; i < mine.size(); i = next++) {
         if (i > first_failed.load()) continue;
         done[i] = run_one(mine[i]);
@@ -178,16 +179,17 @@ std::vector<std::vector<uint8_t>> run_blocks(
       }
     };
     // The calling thread is one of the workers; a thread the system will
-    // not start leaves its share to the others.
+    // not start gives its share to the others at once.
     std::vector<std::thread> threads;
     for (size_t t = 1; t < workers; ++t) {
       try {
-        threads.emplace_back(worker);
+        threads.emplace_back(worker, static_cast<int>(t));
       } catch (const std::system_error&) {
+        for (size_t never = t; never < workers; ++never) shares.end(static_cast<int>(never));
         break;
       }
     }
-    worker();
+    worker(0);
     for (auto& t : threads) t.join();
   }
   // 1 and the results, or 0, the failure's code and its message.
