@@ -11,10 +11,11 @@ with meshdec, and matches their vertices by their decoded coordinates (the
 same grid). The cells only one side has make regions: two such cells are in
 one region when they share a face. A region that trades 3 Delaunay cells for
 2 input cells is one 3-2 flip, 2 for 3 a 2-3 flip. Prints the regions' sizes
-and how many of their input cells have a corner on the input's boundary.
-Needs python3 alone.
+how many of their input cells have a corner on the input's boundary, and
+how many 2 -> 2 regions are ties (four coplanar corners). Needs python3 alone.
 """
 import collections
+import itertools
 import os
 import subprocess
 import sys
@@ -101,6 +102,29 @@ def main():
               f"{100 * on_boundary / max(1, len(members)):5.1f}% at the boundary")
     everywhere = sum(1 for c in inputs if any(v in boundary for v in c))
     print(f"    (of all input cells, {100 * everywhere / len(inputs):.1f}% have a corner on the boundary)")
+
+    # The 2 -> 2 regions: how flat the flattest four corners of their
+    # Delaunay cells are (|orientation| over the cube of the longest edge);
+    # 0 (below 1e-12: the decoded coordinates are rounded) is a tie, both
+    # diagonals of a coplanar quad being Delaunay.
+    points = {v: tuple(float(x) for x in c) for v, c in exact_coords.items()}
+
+    def volume(a, b, c, d):
+        u, v, w = ([points[q][i] - points[a][i] for i in range(3)] for q in (b, c, d))
+        return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                u[2] * (v[0] * w[1] - v[1] * w[0]))
+
+    flatness = []
+    for r in regions.values():
+        if len(r["delaunay"]) != 2 or len(r["input"]) != 2:
+            continue
+        corners = sorted(set(r["delaunay"][0]) | set(r["delaunay"][1]))
+        longest = max(sum((points[a][i] - points[b][i]) ** 2 for i in range(3)) for a in corners for b in corners)
+        flatness.append(min(abs(volume(*q)) for q in itertools.combinations(corners, 4)) / longest ** 1.5)
+    if flatness:
+        flatness.sort()
+        print(f"  2 -> 2 regions: {sum(1 for f in flatness if f < 1e-12)} of {len(flatness)} have four coplanar "
+              f"corners; median flatness {flatness[len(flatness) // 2]:.3g}")
 
 
 if __name__ == "__main__":
