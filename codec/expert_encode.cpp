@@ -1,7 +1,6 @@
 #include "codec/expert_encode.h"
 
 #include <algorithm>
-#include <atomic>
 #include <future>
 #include <iterator>
 #include <optional>

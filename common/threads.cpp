@@ -50,11 +50,11 @@ ThreadShare::~ThreadShare() {
 
 ThreadShares::ThreadShares(int threads, int pieces)
     : threads_(std::make_unique<std::atomic<int>[]>(static_cast<size_t>(std::max(1, pieces)))),
-      working_(static_cast<size_t>(std::max(1, pieces)), true),
+      pieces_(static_cast<size_t>(std::max(1, pieces))),
       total_(std::max(1, threads)) {
-  pieces = std::max(1, pieces);
-  for (int k = 0; k < pieces; ++k)
-    threads_[static_cast<size_t>(k)] = std::max(1, total_ / pieces + (k < total_ % pieces ? 1 : 0));
+  const int n = static_cast<int>(pieces_);
+  for (int k = 0; k < n; ++k)
+    threads_[static_cast<size_t>(k)] = std::max(1, total_ / n + (k < total_ % n ? 1 : 0));
 }
 
 int ThreadShares::share(int piece) const {
@@ -63,19 +63,18 @@ int ThreadShares::share(int piece) const {
 
 void ThreadShares::end(int piece) {
   const std::lock_guard<std::mutex> lock(handing_over_);
-  const auto k = static_cast<size_t>(piece);
-  working_[k] = false;
-  threads_[k] = 0;
+  threads_[static_cast<size_t>(piece)] = 0;
   // The threads no piece at work holds (none where there are more pieces
   // than threads, each holding one) go to the one holding the fewest.
   int held = 0;
-  size_t fewest = working_.size();
-  for (size_t j = 0; j < working_.size(); ++j) {
-    if (!working_[j]) continue;
-    held += threads_[j];
-    if (fewest == working_.size() || threads_[j] < threads_[fewest]) fewest = j;
+  size_t fewest = pieces_;
+  for (size_t j = 0; j < pieces_; ++j) {
+    const int n = threads_[j];
+    if (n == 0) continue;  // ended
+    held += n;
+    if (fewest == pieces_ || n < threads_[fewest]) fewest = j;
   }
-  if (fewest < working_.size() && held < total_) threads_[fewest] += total_ - held;
+  if (fewest < pieces_ && held < total_) threads_[fewest] += total_ - held;
 }
 
 ThreadShares::Use::Use(ThreadShares& shares, int piece)

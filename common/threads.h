@@ -11,7 +11,6 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
-#include <vector>
 
 namespace dtm {
 
@@ -74,8 +73,8 @@ class ThreadShares {
 
  private:
   std::mutex handing_over_;
-  std::unique_ptr<std::atomic<int>[]> threads_;  // per piece
-  std::vector<bool> working_;                    // per piece, under handing_over_
+  std::unique_ptr<std::atomic<int>[]> threads_;  // per piece: at least 1 while it works, 0 once it has ended
+  size_t pieces_;
   int total_;
 };
 
