@@ -91,9 +91,9 @@ struct EncodeOptions {
   // no cell flat there) and the codec preset; not with bricks.
   bool exact = false;
   // How the exact cells are coded: kAmongCandidates writes 11.0,
-  // kAmongFitting 12.0, which older decoders read, at more bits
-  // (StreamOptions).
-  ApexRanks exact_ranks = ApexRanks::kAmongFittingInContext;
+  // kAmongFitting 12.0, kAmongFittingInContext 13.0, which older decoders
+  // read, at more bits (StreamOptions).
+  ApexRanks exact_ranks = ApexRanks::kAfterFlips;
   // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.

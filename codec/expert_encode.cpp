@@ -110,7 +110,9 @@ LayerPoints code_layer_points(std::span<const GridPoint> fresh, std::span<const 
 // verdicts), the exact cell section with the others, and the level as the
 // regions, faces, cell values and vertex order are then coded on.
 struct ExactLevel {
-  std::vector<uint8_t> delaunay_kept;  // per cell of dt: 1 when it is an input cell
+  // Per cell of dt, the carving's verdict: 1 when it is an input cell or,
+  // in 14.0, one of the three that a flip of the section replaces.
+  std::vector<uint8_t> delaunay_kept;
   std::vector<uint8_t> section;
   TetMesh mesh;                 // dt's cells, then the fill's
   std::vector<uint8_t> kept;    // per cell of mesh: its label, 0 if not kept
@@ -157,12 +159,30 @@ StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> p
   e.order = canonical_cell_order(dt.cells);
   ExactFill fill;
   std::vector<uint32_t> source;
-  DTM_ASSIGN_OR_RETURN(e.section, encode_exact_cells(dt, points, alpha, e.delaunay_kept, e.order, rest, ranks,
-                                                     fill, source, &e.stats));
+  // 14.0: the carving keeps the cells the section's flips replace; the
+  // fill's verdicts are those after the flips.
+  const std::vector<uint8_t> input_cells = e.delaunay_kept;
+  const ApexRanks asked = ranks;
+  const uint64_t flips =
+      ranks == ApexRanks::kAfterFlips ? keep_flipped_cells(dt, points, rest, e.delaunay_kept) : 0;
+  std::vector<uint8_t> filled = e.delaunay_kept;
+  DTM_ASSIGN_OR_RETURN(
+      e.section, encode_exact_cells(dt, points, alpha, filled, e.order, rest, ranks, fill, source, &e.stats));
+  // Each flip replaced the three cells it was meant to, none an input cell
+  // (an input whose cells overlap could ask for either); where the section
+  // fell back to a version without flips (the fit tests' budget), it grew
+  // their cells instead, and the carving keeps the input cells alone.
+  bool apart = ranks != asked || e.stats.flips == flips;
+  for (size_t c = 0; c < dt.cells.size() && apart; ++c) apart = filled[c] == input_cells[c];
+  if (!apart)
+    return invalid_input(
+        "the input's cells overlap where two of them fill the place of three Delaunay "
+        "cells: --exact needs a valid mesh");
+  if (ranks != asked) e.delaunay_kept = input_cells;
   e.mesh = dt;
   extend_with_fill(e.mesh, fill);
   e.kept.resize(dt.cells.size());
-  for (size_t c = 0; c < dt.cells.size(); ++c) e.kept[c] = e.delaunay_kept[c] ? label(e.input[c]) : 0;
+  for (size_t c = 0; c < dt.cells.size(); ++c) e.kept[c] = filled[c] ? label(e.input[c]) : 0;
   for (size_t j = 0; j < fill.cells.size(); ++j) {
     const uint32_t i = rest_index[source[j]];
     e.kept.push_back(label(i));

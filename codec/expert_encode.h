@@ -67,10 +67,10 @@ struct StreamOptions {
   // reference; with cell_values, the cells given are these, in this order.
   std::span<const std::array<uint32_t, 4>> exact_cells;
   std::span<const uint8_t> exact_labels;
-  // How the exact cells are coded (ApexRanks): 13.0, or for older
-  // decoders 12.0 or 11.0 (11.0 is also what the encoder falls back to
-  // where the fit tests pass their budget).
-  ApexRanks exact_ranks = ApexRanks::kAmongFittingInContext;
+  // How the exact cells are coded (ApexRanks): 14.0, or for older
+  // decoders 13.0, 12.0 or 11.0 (11.0 is also what the encoder falls back
+  // to where the fit tests pass their budget).
+  ApexRanks exact_ranks = ApexRanks::kAfterFlips;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };

@@ -131,10 +131,10 @@ INSTANTIATE_TEST_SUITE_P(Corpus, ExactCorpus, ::testing::ValuesIn(test::kCorpus)
 // and splits level 0's carving contexts by the cells' shape; 13.0 codes the
 // filled bits in the context of the Delaunay cell across the face and ranks
 // an apex that is not a candidate in the second ring, and splits level 0's
-// carving contexts by the cells' flips. The same level 0 every
-// way, hand_10k's (the corpus's sliver-heavy mesh, its apexes the first
-// candidate for 63% of the faces in 11.0, 130 not candidates) in fewer bits
-// at each step.
+// carving contexts by the cells' flips; 14.0 flags the 3-2 flips of the
+// kept cells before the fill. The same level 0 every way, hand_10k's (the
+// corpus's sliver-heavy mesh, its apexes the first candidate for 63% of the
+// faces in 11.0, 130 not candidates) in fewer bits at each step.
 TEST(Exact, EachVersionCodesTheSameCellsInFewerBits) {
   const Model m = load("hand_10k");
   EncodeInput in;
@@ -143,24 +143,35 @@ TEST(Exact, EachVersionCodesTheSameCellsInFewerBits) {
   std::set<Tet> input;
   for (const Tet& t : m.tets) input.insert(sorted_tet(t));
   EncodeOptions options = exact_options();
+  const auto flips = encode(in, options);
+  options.exact_ranks = ApexRanks::kAmongFittingInContext;
   const auto in_context = encode(in, options);
   options.exact_ranks = ApexRanks::kAmongFitting;
   const auto fitting = encode(in, options);
   options.exact_ranks = ApexRanks::kAmongCandidates;
   const auto all = encode(in, options);
+  ASSERT_TRUE(flips.ok()) << flips.status().message();
   ASSERT_TRUE(in_context.ok()) << in_context.status().message();
   ASSERT_TRUE(fitting.ok()) << fitting.status().message();
   ASSERT_TRUE(all.ok()) << all.status().message();
   for (const auto& [e, version] :
-       {std::pair{&*in_context, kVersionMajorExact}, std::pair{&*fitting, kVersionMajorExactFitting},
-        std::pair{&*all, kVersionMajorExactAllRanked}}) {
+       {std::pair{&*flips, kVersionMajorExact}, std::pair{&*in_context, kVersionMajorExactInContext},
+        std::pair{&*fitting, kVersionMajorExactFitting}, std::pair{&*all, kVersionMajorExactAllRanked}}) {
     ProgressiveDecoder d;
     ASSERT_TRUE(decode_stream(e->bytes, d).ok());
     EXPECT_EQ(d.header().version_major, version);
     EXPECT_TRUE(level0_in_input_numbering(d, *e, m.points.size()).cells == input);
+    if (e == &*flips) continue;
     EXPECT_EQ(e->report.exact.fill_cells, all->report.exact.fill_cells);
     EXPECT_EQ(e->report.exact.escapes, all->report.exact.escapes);
   }
+  // 14.0: the flips' cells are fill cells too; the carving keeps the three
+  // each replaces (hand_10k: 675 flips among 7,222 candidates).
+  EXPECT_EQ(flips->report.exact.fill_cells, all->report.exact.fill_cells);
+  EXPECT_GT(flips->report.exact.flips * 20, flips->report.exact.fill_cells);
+  EXPECT_GT(flips->report.exact.flip_candidates, flips->report.exact.flips * 5);
+  EXPECT_LT(flips->report.exact.rank_zero, in_context->report.exact.rank_zero);
+  EXPECT_LT(flips->bytes.size() * 100, in_context->bytes.size() * 99);  // 1% of the whole stream at least
   EXPECT_GT(fitting->report.exact.rank_zero, all->report.exact.rank_zero);
   EXPECT_EQ(in_context->report.exact.rank_zero, fitting->report.exact.rank_zero);
   EXPECT_LT(fitting->report.exact_bytes * 10, all->report.exact_bytes * 8);         // 20% fewer at least
@@ -379,7 +390,8 @@ std::vector<uint8_t> seed_section(const Hull& h, const Tet& seed) {
 Status decode(const Hull& h, std::span<const uint8_t> section,
               ApexRanks ranks = ApexRanks::kAmongFittingInContext) {
   ExactFill fill;
-  return decode_exact_cells(section, h.dt, h.points, 1e9, h.kept, h.order, ranks, fill);
+  std::vector<uint8_t> kept = h.kept;
+  return decode_exact_cells(section, h.dt, h.points, 1e9, kept, h.order, ranks, fill);
 }
 
 TEST(ExactSection, HostileSectionsAreRefused) {
@@ -468,6 +480,83 @@ std::vector<uint8_t> seeds_section(const Hull& h, std::span<const Tet> seeds) {
 
 // Cells whose every face is new (none of the level's) pass the face checks;
 // where they overlap, a kept cell or each other, the section is refused.
+// 14.0 (spec/FORMAT.md §3.10): the input has the two cells of some 3-2 flips
+// of the kept cells. Their section decodes to exactly those cells in the
+// place of the three each replaces, and no flag is sent for a flip whose
+// cells an earlier one took; every truncation is refused.
+TEST(ExactSection, FlipsTradeThreeKeptCellsForTwo) {
+  const Hull h = hull();
+  // Valid flips found from scratch: an edge of exactly three cells whose
+  // ring triangle it crosses; those whose cells are apart.
+  std::map<std::array<uint32_t, 2>, std::vector<uint32_t>> around;
+  for (uint32_t c = 0; c < h.dt.cells.size(); ++c)
+    for (size_t i = 0; i < 4; ++i)
+      for (size_t j = i + 1; j < 4; ++j) {
+        std::array<uint32_t, 2> e = {h.dt.cells[c][i], h.dt.cells[c][j]};
+        std::sort(e.begin(), e.end());
+        around[e].push_back(c);
+      }
+  std::vector<uint8_t> taken(h.dt.cells.size(), 0);
+  std::vector<MeshCell> rest;
+  size_t valid = 0;
+  for (const auto& [edge, cells] : around) {
+    if (cells.size() != 3) continue;
+    std::set<uint32_t> ring;
+    for (uint32_t c : cells)
+      for (uint32_t v : h.dt.cells[c])
+        if (v != edge[0] && v != edge[1]) ring.insert(v);
+    if (ring.size() != 3) continue;
+    const std::vector<uint32_t> r(ring.begin(), ring.end());
+    const auto o = [&](uint32_t v) {
+      return orientation(h.points[r[0]], h.points[r[1]], h.points[r[2]], h.points[v]);
+    };
+    if (o(edge[0]) == 0 || o(edge[1]) == 0 || (o(edge[0]) > 0) == (o(edge[1]) > 0)) continue;
+    ++valid;
+    if (taken[cells[0]] || taken[cells[1]] || taken[cells[2]] || valid % 2) continue;
+    for (uint32_t c : cells) taken[c] = 1;
+    for (uint32_t v : edge) rest.push_back({r[0], r[1], r[2], v});
+  }
+  ASSERT_GE(rest.size(), 4u) << "the level has too few flips to test";
+  std::vector<uint8_t> kept = h.kept;
+  ApexRanks ranks = ApexRanks::kAfterFlips;
+  ExactFill fill;
+  std::vector<uint32_t> source;
+  ExactStats stats;
+  const auto section =
+      encode_exact_cells(h.dt, h.points, 1e9, kept, h.order, rest, ranks, fill, source, &stats);
+  ASSERT_TRUE(section.ok()) << section.status().message();
+  EXPECT_EQ(ranks, ApexRanks::kAfterFlips);
+  EXPECT_EQ(stats.flips * 2, rest.size());
+  EXPECT_LT(stats.flip_candidates, valid);  // those whose cells a flip took get no flag
+  std::vector<uint8_t> left(taken.size());
+  for (size_t c = 0; c < left.size(); ++c) left[c] = !taken[c];
+  EXPECT_EQ(kept, left);
+  std::vector<uint8_t> decoded_kept = h.kept;
+  ExactFill back;
+  ASSERT_TRUE(decode_exact_cells(*section, h.dt, h.points, 1e9, decoded_kept, h.order, ranks, back).ok());
+  EXPECT_EQ(decoded_kept, kept);
+  std::set<Tet> got, want;
+  for (const MeshCell& c : back.cells) {
+    EXPECT_GT(orientation(h.points[c[0]], h.points[c[1]], h.points[c[2]], h.points[c[3]]), 0);
+    got.insert(sorted_tet(c));
+  }
+  for (const MeshCell& c : rest) want.insert(sorted_tet(c));
+  EXPECT_EQ(got, want);
+  // Read as 13.0, the same bytes are not these cells.
+  std::vector<uint8_t> as13 = h.kept;
+  ExactFill other;
+  const Status s13 = decode_exact_cells(*section, h.dt, h.points, 1e9, as13, h.order,
+                                        ApexRanks::kAmongFittingInContext, other);
+  EXPECT_TRUE(!s13.ok() || other.cells != back.cells);
+  for (size_t n = 0; n < section->size(); ++n) {
+    std::vector<uint8_t> k = h.kept;
+    ExactFill f;
+    const Status s =
+        decode_exact_cells(std::span(*section).first(n), h.dt, h.points, 1e9, k, h.order, ranks, f);
+    EXPECT_EQ(s.code(), StatusCode::kCorrupt) << n;
+  }
+}
+
 TEST(ExactSection, CellsThatOverlapWithoutSharingAFaceAreRefused) {
   Hull h = hull();
   std::set<std::array<uint32_t, 3>> faces;
@@ -565,49 +654,62 @@ void load_bunny_exact_level(BunnyExactLevel& b) {
   b.alpha = b.decoder.levels().back().alpha;
 }
 
-// The fit tests (12.0 and 13.0) stop at their budget (spec/FORMAT.md §3.10):
+// The fit tests (12.0 to 14.0) stop at their budget (spec/FORMAT.md §3.10):
 // bunny_10k's section, decoded with none to spend, is refused; encoded with
 // none, the encoder falls back to 11.0's ranks, the section 11.0's encoder
-// writes.
+// writes for the cells the flips did not replace (the flips' cells grown by
+// the fill).
 TEST(ExactSection, FitTestsPastTheirBudgetAreRefusedAndTheEncoderFallsBack) {
   BunnyExactLevel b;
   ASSERT_NO_FATAL_FAILURE(load_bunny_exact_level(b));
   ASSERT_GT(b.encoded.report.exact.fit_work, 0u);
+  ASSERT_GT(b.encoded.report.exact.flips, 0u);
   ExactFill fill;
-  ASSERT_TRUE(decode_exact_cells(b.section, b.dt, b.points(), b.alpha, b.kept, b.order,
-                                 ApexRanks::kAmongFittingInContext, fill)
-                  .ok());
+  std::vector<uint8_t> flipped = b.kept;
+  ASSERT_TRUE(
+      decode_exact_cells(b.section, b.dt, b.points(), b.alpha, flipped, b.order, ApexRanks::kAfterFlips, fill)
+          .ok());
+  EXPECT_EQ(std::count(b.kept.begin(), b.kept.end(), 1) - std::count(flipped.begin(), flipped.end(), 1),
+            3 * static_cast<std::ptrdiff_t>(b.encoded.report.exact.flips));
   const FitBudget none{0, 0};
   ExactFill refused;
-  const Status s = decode_exact_cells(b.section, b.dt, b.points(), b.alpha, b.kept, b.order,
-                                      ApexRanks::kAmongFittingInContext, refused, none);
+  std::vector<uint8_t> kept = b.kept;
+  const Status s = decode_exact_cells(b.section, b.dt, b.points(), b.alpha, kept, b.order,
+                                      ApexRanks::kAfterFlips, refused, none);
   EXPECT_EQ(s.code(), StatusCode::kCorrupt);
   EXPECT_NE(s.message().find("too many overlap tests"), std::string::npos) << s.message();
 
-  // The fill's cells coded again: with the budget, 13.0's section as the
-  // stream has it; without, 11.0's.
+  // The fill's cells coded again: with the budget, 14.0's section as the
+  // stream has it; without, 11.0's of the kept cells the flips left.
   ExactFill again;
   std::vector<uint32_t> source;
-  const auto code_again = [&](ApexRanks& ranks, const FitBudget& budget) {
-    return encode_exact_cells(b.dt, b.points(), b.alpha, b.kept, b.order, fill.cells, ranks, again, source,
+  const auto code_again = [&](std::vector<uint8_t> kept, ApexRanks& ranks, const FitBudget& budget) {
+    return encode_exact_cells(b.dt, b.points(), b.alpha, kept, b.order, fill.cells, ranks, again, source,
                               nullptr, budget);
   };
-  ApexRanks ranks = ApexRanks::kAmongFittingInContext;
-  const auto fitting = code_again(ranks, {});
+  ApexRanks ranks = ApexRanks::kAfterFlips;
+  const auto fitting = code_again(b.kept, ranks, {});
   ASSERT_TRUE(fitting.ok());
-  EXPECT_EQ(ranks, ApexRanks::kAmongFittingInContext);
+  EXPECT_EQ(ranks, ApexRanks::kAfterFlips);
   EXPECT_EQ(*fitting, b.section);
-  const auto fell_back = code_again(ranks, none);
+  const auto fell_back = code_again(b.kept, ranks, none);
   ASSERT_TRUE(fell_back.ok());
   EXPECT_EQ(ranks, ApexRanks::kAmongCandidates);
   ApexRanks all = ApexRanks::kAmongCandidates;
-  const auto v11 = code_again(all, {});
+  const auto v11 = code_again(flipped, all, {});
   ASSERT_TRUE(v11.ok());
   EXPECT_EQ(*fell_back, *v11);
   ExactFill back;
+  kept = flipped;
   ASSERT_TRUE(
-      decode_exact_cells(*fell_back, b.dt, b.points(), b.alpha, b.kept, b.order, ranks, back, none).ok());
-  EXPECT_EQ(back.cells, fill.cells);
+      decode_exact_cells(*fell_back, b.dt, b.points(), b.alpha, kept, b.order, ranks, back, none).ok());
+  EXPECT_EQ(kept, flipped);
+  const auto sorted = [](std::vector<MeshCell> cells) {
+    for (MeshCell& c : cells) std::sort(c.begin(), c.end());
+    std::sort(cells.begin(), cells.end());
+    return cells;
+  };
+  EXPECT_EQ(sorted(back.cells), sorted(fill.cells));
 }
 
 TEST(ExactSection, BitFlipsAreRefusedOrChecked) {
@@ -615,9 +717,10 @@ TEST(ExactSection, BitFlipsAreRefusedOrChecked) {
   // fill whose every cell passed the decoder's checks; never a crash.
   BunnyExactLevel b;
   ASSERT_NO_FATAL_FAILURE(load_bunny_exact_level(b));
-  const ApexRanks ranks = ApexRanks::kAmongFittingInContext;
+  const ApexRanks ranks = ApexRanks::kAfterFlips;
   ExactFill fill;
-  ASSERT_TRUE(decode_exact_cells(b.section, b.dt, b.points(), b.alpha, b.kept, b.order, ranks, fill).ok());
+  std::vector<uint8_t> kept = b.kept;
+  ASSERT_TRUE(decode_exact_cells(b.section, b.dt, b.points(), b.alpha, kept, b.order, ranks, fill).ok());
   EXPECT_EQ(fill.cells.size(), b.encoded.report.exact.fill_cells);
   size_t refused = 0, flips = 0;
   for (size_t i = 0; i < b.section.size(); i += 3)
@@ -626,7 +729,8 @@ TEST(ExactSection, BitFlipsAreRefusedOrChecked) {
       bad[i] ^= static_cast<uint8_t>(1u << bit);
       ++flips;
       ExactFill f;
-      const Status s = decode_exact_cells(bad, b.dt, b.points(), b.alpha, b.kept, b.order, ranks, f);
+      kept = b.kept;
+      const Status s = decode_exact_cells(bad, b.dt, b.points(), b.alpha, kept, b.order, ranks, f);
       if (!s.ok()) {
         EXPECT_EQ(s.code(), StatusCode::kCorrupt);
         ++refused;

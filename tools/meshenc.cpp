@@ -231,6 +231,14 @@ void add_options(CLI::App& app, Command& c) {
       },
       "--exact, written as format 12.0 for decoders older than 13.0 (without 13.0's contexts of the "
       "filled faces and of the carving's flips, no second ring: up to 0.5 bits a vertex more)");
+  app.add_flag_function(
+      "--exact-v13",
+      [&c](int64_t) {
+        c.encode.exact = true;
+        c.encode.exact_ranks = dtm::ApexRanks::kAmongFittingInContext;
+      },
+      "--exact, written as format 13.0 for decoders older than 14.0 (without 14.0's flip flags: up to "
+      "0.2 bits a vertex more)");
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,
@@ -836,11 +844,14 @@ int run(Command& c) {
       const uint64_t cells = r.exact_delaunay_cells + r.exact.fill_cells;
       std::printf(
           "  exact cells: level 0 is the input's %llu cells: %llu of them Delaunay cells, %llu sent in %llu "
-          "bytes (%.2f bits each, %.2f bits per vertex; %llu apexes the first candidate%s, %llu not "
-          "candidates, %llu of those ranked in the second ring, %llu seeds)\n",
+          "bytes (%.2f bits each, %.2f bits per vertex; %llu of them made by %llu 3-2 flips of the %llu "
+          "given a flag, %llu apexes the first candidate%s, %llu not candidates, %llu of those ranked in "
+          "the second ring, %llu seeds)\n",
           static_cast<unsigned long long>(cells), static_cast<unsigned long long>(r.exact_delaunay_cells),
           static_cast<unsigned long long>(r.exact.fill_cells), static_cast<unsigned long long>(r.exact_bytes),
           r.exact.fill_cells ? 8.0 * r.exact_bytes / r.exact.fill_cells : 0.0, 8.0 * r.exact_bytes / vertices,
+          2 * static_cast<unsigned long long>(r.exact.flips), static_cast<unsigned long long>(r.exact.flips),
+          static_cast<unsigned long long>(r.exact.flip_candidates),
           static_cast<unsigned long long>(r.exact.rank_zero), r.exact.fit_work ? " that fits" : "",
           static_cast<unsigned long long>(r.exact.escapes),
           static_cast<unsigned long long>(r.exact.second_ring),

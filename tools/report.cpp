@@ -107,7 +107,9 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
                   {"escapes", r.exact.escapes},
                   {"second_ring", r.exact.second_ring},
                   {"seeds", r.exact.seeds},
-                  {"fit_work", r.exact.fit_work}};
+                  {"fit_work", r.exact.fit_work},
+                  {"flip_candidates", r.exact.flip_candidates},
+                  {"flips", r.exact.flips}};
   if (!r.regions.empty()) {
     j["regions"] = nlohmann::json::array();
     for (const RegionLabel& region : r.regions)

@@ -49,7 +49,8 @@ enum class CarvingContexts {
   // quality (2880 models; flip_bucket()). Netgen's and gmsh's optimisers
   // remove such edges: on the Netgen part of bench/results/EXACT.md, 82% of
   // the Delaunay cells alpha keeps that are not input cells are such cells,
-  // 3% of those that are.
+  // 3% of those that are. (14.0 goes back to 12.0's: its exact cell
+  // section flags the flips themselves.)
   kExactMarginShapeFlip,
 };
 CarvingContexts carving_contexts(uint8_t format_major);
@@ -96,6 +97,10 @@ uint8_t shape_bucket(const std::array<GridPoint, 4>& corners);
 // (D^2 / S^3 in binary64, D = 6V and S the sum of the squared edge lengths,
 // exact integers rounded once); else 0 (spec/FORMAT.md §3.2).
 inline constexpr int kFlipBuckets = 2;
+// D^2 / S^3 of a tetrahedron in binary64 (spec/FORMAT.md §3.2): its quality
+// 6 sqrt(2) V / l^3 squared, over 7776, the same in any order of its
+// corners (exact integers, each rounded once).
+double squared_quality(const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d);
 uint8_t flip_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell);
 // With `chunk_of_cell` (bricked layers), the kept neighbours counted are
 // those of the same chunk only.

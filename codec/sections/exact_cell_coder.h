@@ -1,4 +1,4 @@
-// Level 0 equal to the input's tetrahedra (format 11.0 to 13.0, kFlagExact,
+// Level 0 equal to the input's tetrahedra (format 11.0 to 14.0, kFlagExact,
 // spec/FORMAT.md §3.10; meshenc --exact), encoder and decoder side by side.
 //
 // A mesher's output is mostly Delaunay: the decoder's DT(V_0) already holds
@@ -14,7 +14,12 @@
 // the others first). A mesher moves few points far from where Delaunay put
 // them: the apex is most often rank 0. An apex that is not a candidate is
 // sent by its index; a part of the mesh no open face reaches (no Delaunay
-// cell in it) starts from a seed cell sent whole.
+// cell in it) starts from a seed cell sent whole. From 14.0 the section
+// starts with a flag per valid 3-2 flip of the kept cells: the commonest
+// place a TetGen mesh leaves the Delaunay cells is one such flip (26-48% of
+// the non-Delaunay cells of the corpus's TetGen models, research/
+// exact_regions.md), whose three cells the carving then keeps and the flag
+// trades for the input's two, where the carving and the fill spent 5-7 bits.
 //
 // The decoder checks every cell it adds: its corners exist and are distinct,
 // it is positively oriented (its apex on the outer side of the face it
@@ -73,15 +78,27 @@ struct ExactFill {
 // verdict, its shape, whether a neighbour of it is kept), and an apex that
 // is not a candidate by its rank in the face's second ring before its
 // index (bench/results/EXACT.md measures both; 13.0's level 0 carving
-// contexts change too, carving_coder.h).
-enum class ApexRanks : uint8_t { kAmongCandidates, kAmongFitting, kAmongFittingInContext };
+// contexts change too, carving_coder.h). 14.0 codes as 13.0 does after the
+// flip flags (flip_context()).
+enum class ApexRanks : uint8_t { kAmongCandidates, kAmongFitting, kAmongFittingInContext, kAfterFlips };
 inline ApexRanks apex_ranks_of(uint8_t format_major) {
-  return format_major >= 13   ? ApexRanks::kAmongFittingInContext
+  return format_major >= 14   ? ApexRanks::kAfterFlips
+         : format_major >= 13 ? ApexRanks::kAmongFittingInContext
          : format_major >= 12 ? ApexRanks::kAmongFitting
                               : ApexRanks::kAmongCandidates;
 }
 inline uint8_t format_major_of(ApexRanks ranks) {
-  return ranks == ApexRanks::kAmongFittingInContext ? 13 : ranks == ApexRanks::kAmongFitting ? 12 : 11;
+  switch (ranks) {
+    case ApexRanks::kAfterFlips:
+      return 14;
+    case ApexRanks::kAmongFittingInContext:
+      return 13;
+    case ApexRanks::kAmongFitting:
+      return 12;
+    case ApexRanks::kAmongCandidates:
+      break;
+  }
+  return 11;
 }
 
 // 12.0's bound on the fit tests' work (spec/FORMAT.md §3.10): per face
@@ -94,35 +111,48 @@ struct FitBudget {
 
 // What a section spent (the encoder's report).
 struct ExactStats {
-  uint64_t open_faces = 0;   // faces given a symbol
-  uint64_t fill_cells = 0;   // cells the fill added
-  uint64_t rank_zero = 0;    // of them, with the first candidate as apex
-  uint64_t escapes = 0;      // apex not among the candidates
-  uint64_t second_ring = 0;  // 13.0: of those, ranked in the second ring
-  uint64_t seeds = 0;        // cells sent whole
-  uint64_t fit_work = 0;     // 12.0: the fit tests' work (spec/FORMAT.md §3.10), as a decoder counts it
+  uint64_t open_faces = 0;       // faces given a symbol
+  uint64_t fill_cells = 0;       // cells the fill added
+  uint64_t rank_zero = 0;        // of them, with the first candidate as apex
+  uint64_t escapes = 0;          // apex not among the candidates
+  uint64_t second_ring = 0;      // 13.0: of those, ranked in the second ring
+  uint64_t seeds = 0;            // cells sent whole
+  uint64_t fit_work = 0;         // 12.0: the fit tests' work (spec/FORMAT.md §3.10), as a decoder counts it
+  uint64_t flip_candidates = 0;  // 14.0: the flips given a flag
+  uint64_t flips = 0;            // of them, made (2 fill cells each)
 };
 
 // Encoder. `dt`, `points`: level 0 in the decoder's numbering; `order`: dt's
 // canonical cell order; `kept`: per cell of dt, nonzero when it is an input
-// cell; `rest`: the input's other cells (any orientation). `ranks`: the
-// ranks asked for; kAmongFitting falls back to kAmongCandidates (and says
-// so in `ranks`) where its tests would pass the budget a decoder allows.
+// cell (14.0: and the Delaunay cells to flip, keep_flipped_cells()); on
+// return, the cells the flips replaced are 0. `rest`: the input's other
+// cells (any orientation). `ranks`: the ranks asked for; kAmongFitting and
+// later fall back to kAmongCandidates (and say so in `ranks`; `kept` then
+// without the cells 14.0's flips would have replaced, whose carving
+// verdicts must change) where their tests would pass the budget a decoder
+// allows.
 // `fill` receives the cells as the decoder will make them, `source` per
 // fill cell its index in `rest`. kInvalidInput, naming the problem, when
 // the input is not a valid mesh on the grid (a flat or inverted cell, two
 // cells on one side of a face, a face of three cells, cells that overlap).
 StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<const GridPoint> points,
-                                                  double alpha, std::span<const uint8_t> kept,
+                                                  double alpha, std::span<uint8_t> kept,
                                                   std::span<const uint32_t> order,
                                                   std::span<const MeshCell> rest, ApexRanks& ranks,
                                                   ExactFill& fill, std::vector<uint32_t>& source,
                                                   ExactStats* stats = nullptr, const FitBudget& budget = {});
 
+// 14.0's encoder: marks in `kept` (the carving's verdicts) the three cells
+// around every edge of dt whose 3-2 flip makes two cells of `rest`, which
+// the section's flags then trade for them. Returns how many flips.
+uint64_t keep_flipped_cells(const TetMesh& dt, std::span<const GridPoint> points,
+                            std::span<const MeshCell> rest, std::span<uint8_t> kept);
+
 // Decoder: the fill the section describes, checked as the header says;
-// `ranks` as the stream's version says (apex_ranks_of()).
+// `ranks` as the stream's version says (apex_ranks_of()); `kept` loses the
+// cells 14.0's flips replace.
 Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
-                          std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
+                          std::span<const GridPoint> points, double alpha, std::span<uint8_t> kept,
                           std::span<const uint32_t> order, ApexRanks ranks, ExactFill& fill,
                           const FitBudget& budget = {});
 

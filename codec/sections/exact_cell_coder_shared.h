@@ -9,15 +9,19 @@
 //   Status seed(MeshCell&)                       that cell
 //   Status check()                               the section not overrun
 //   void added(const MeshCell&)                  a cell was added
+//   bool flipped(AdaptiveBit&, const FlipCandidate&)
+//                                                14.0: the flip made?
 // Both sides must visit the faces identically; it is written here once.
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -149,6 +153,32 @@ inline Status get_rank(RangeDecoder& rc, RankModels& m, uint64_t& rank) {
   return Status::Ok();
 }
 
+// 14.0 (spec/FORMAT.md §3.10): a 3-2 flip of kept cells, the three cells
+// around `edge` (ascending) traded for the two through `ring` (ascending)
+// with an edge corner each.
+struct FlipCandidate {
+  std::array<uint32_t, 2> edge;
+  std::array<uint32_t, 3> ring;
+};
+// Its flag's context: the least squared quality of the three cells before
+// (D^2 / S^3 times 7776, squared_quality() in carving_coder.h) in octaves
+// of the quality, 0 (at least 1/2) to 5 (below 1/32); and the least of the
+// two after over it, 0 when not larger, else 1 to 4 for below 2, 4, 8 and
+// more times the quality. A mesher's optimiser flips to lift a sliver:
+// hand_10k's flips are rare among its candidates (675 of 7,222) but not
+// among those that lift a flat cell much (research/exact_regions.md).
+inline constexpr int kFlipLiftBuckets = 5;
+inline constexpr int kFlipContexts = 6 * kFlipLiftBuckets;
+inline int flip_context(double before, double after) {
+  int e = 0;
+  std::frexp(7776 * before, &e);
+  const int low = before > 0 ? std::min(5, std::max(0, -e) / 2) : 5;
+  if (!(after > before)) return low * kFlipLiftBuckets;
+  if (before <= 0) return low * kFlipLiftBuckets + kFlipLiftBuckets - 1;
+  std::frexp(after / before, &e);  // e >= 1: the squared ratio is in [2^(e-1), 2^e)
+  return low * kFlipLiftBuckets + std::min(kFlipLiftBuckets - 1, (e - 1) / 2 + 1);
+}
+
 inline Status corrupt(const std::string& why) { return {StatusCode::kCorrupt, "exact cells: " + why}; }
 
 // What the overlap check (exact_cell_overlap.cpp) lets a fill cost
@@ -181,7 +211,7 @@ template <class Side>
 class Fill {
  public:
   // `ranks`: the stream's version's symbols (ApexRanks, exact_cell_coder.h).
-  Fill(const TetMesh& dt, std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
+  Fill(const TetMesh& dt, std::span<const GridPoint> points, double alpha, std::span<uint8_t> kept,
        Side& side, ExactFill& out, ApexRanks ranks, const FitBudget& budget = {})
       : dt_(dt),
         points_(points),
@@ -190,7 +220,8 @@ class Fill {
         side_(side),
         out_(out),
         only_fitting_(ranks != ApexRanks::kAmongCandidates),
-        in_context_(ranks == ApexRanks::kAmongFittingInContext),
+        in_context_(ranks == ApexRanks::kAmongFittingInContext || ranks == ApexRanks::kAfterFlips),
+        flips_(ranks == ApexRanks::kAfterFlips),
         budget_(budget) {
     seen_.assign(points.size(), 0);
     bucket_.assign(1024, kNoFace);
@@ -232,6 +263,10 @@ class Fill {
   Status run(std::span<const uint32_t> order) {
     out_ = {};
     const auto cells = static_cast<uint32_t>(dt_.cells.size());
+    // 14.0: the flips first; their cells join the fill once the kept
+    // cells' faces are open, closing the faces they meet.
+    std::vector<MeshCell> flipped;
+    if (flips_) DTM_RETURN_IF_ERROR(flip(order, flipped));
     // Per kept cell, the faces it opens (bit k: the cell across the face
     // opposite corner k is not kept): each cell on its own, on every core;
     // most open none.
@@ -266,6 +301,7 @@ class Fill {
         if (opens[c] >> k & 1)
           open(outward_face(dt_.cells[c], k), static_cast<int32_t>(c), static_cast<uint8_t>(k));
     }
+    for (const MeshCell& c : flipped) DTM_RETURN_IF_ERROR(add(c));
     std::vector<uint32_t> candidates;
     while (true) {
       while (head_ < queue_.size()) {
@@ -299,6 +335,117 @@ class Fill {
   }
 
  private:
+  // 14.0 (spec/FORMAT.md §3.10): a flag for every valid 3-2 flip of the
+  // kept cells, visited in the kept cells' order (each edge at the first of
+  // its three cells, a cell's edges by their corners); a flip whose cells
+  // an earlier flip took is passed over. A flipped edge's three cells are
+  // no longer kept; `flipped` receives its two cells, the one with the
+  // lesser edge corner first, each as (the ring seen from outside it, the
+  // corner).
+  Status flip(std::span<const uint32_t> order, std::vector<MeshCell>& flipped) {
+    const size_t cells = dt_.cells.size();
+    // Per kept cell, bit j set when the j-th pair of its corners (kPairs) is
+    // the ring's side of a flip: each cell on its own, on every core.
+    // (A cell's neighbours lie anywhere in memory: asked for some cells
+    // ahead, as the carving's margin pass does.)
+    std::vector<uint8_t> rings(cells, 0);
+    constexpr size_t kBlock = 4096, kAhead = 16;
+    parallel_for((cells + kBlock - 1) / kBlock,
+                 [&](size_t block) {
+                   const size_t end = std::min(cells, block * kBlock + kBlock);
+                   for (size_t c = block * kBlock; c < end; ++c) {
+                     if (c + kAhead < end)
+                       for (int32_t n : dt_.neighbors[c + kAhead])
+                         if (n >= 0) __builtin_prefetch(&dt_.cells[static_cast<size_t>(n)]);
+                     if (kept_[c]) rings[c] = flip_pairs(c);
+                   }
+                 },
+                 2);
+    constexpr uint8_t kVisited = 0x80;
+    std::vector<std::pair<FlipCandidate, std::array<uint32_t, 3>>> here;  // with its three cells
+    for (uint32_t c : order) {
+      if (c >= cells || !rings[c]) continue;
+      here.clear();
+      const MeshCell& v = dt_.cells[c];
+      for (size_t j = 0; j < kPairs.size(); ++j) {
+        if (!(rings[c] >> j & 1)) continue;
+        const auto [x, y] = kPairs[j];
+        const auto nx = static_cast<uint32_t>(dt_.neighbors[c][x]),
+                   ny = static_cast<uint32_t>(dt_.neighbors[c][y]);
+        if ((rings[nx] | rings[ny]) & kVisited) continue;  // given its flag at an earlier cell
+        FlipCandidate f{};
+        for (size_t k = 0, e = 0; k < 4; ++k)
+          if (k != x && k != y) f.edge[e++] = v[k];
+        f.ring = {v[x], v[y], far_corner(c, x)};
+        std::sort(f.edge.begin(), f.edge.end());
+        std::sort(f.ring.begin(), f.ring.end());
+        here.push_back({f, {c, nx, ny}});
+      }
+      rings[c] |= kVisited;
+      std::sort(here.begin(), here.end(), [](const auto& a, const auto& b) {
+        return std::tie(a.first.edge, a.first.ring) < std::tie(b.first.edge, b.first.ring);
+      });
+      for (const auto& [f, three] : here) {
+        if (!kept_[three[0]] || !kept_[three[1]] || !kept_[three[2]]) continue;
+        DTM_RETURN_IF_ERROR(side_.check());
+        const std::array<GridPoint, 3> r = {points_[f.ring[0]], points_[f.ring[1]], points_[f.ring[2]]};
+        const GridPoint &p = points_[f.edge[0]], &q = points_[f.edge[1]];
+        double before = squared_quality(p, q, r[0], r[1]);
+        before = std::min({before, squared_quality(p, q, r[1], r[2]), squared_quality(p, q, r[0], r[2])});
+        const double after =
+            std::min(squared_quality(r[0], r[1], r[2], p), squared_quality(r[0], r[1], r[2], q));
+        if (!side_.flipped(flip_[static_cast<size_t>(flip_context(before, after))], f)) continue;
+        for (uint32_t t : three) kept_[t] = 0;
+        for (uint32_t corner : f.edge) {
+          const bool above = orientation(r[0], r[1], r[2], points_[corner]) > 0;
+          flipped.push_back(above ? MeshCell{f.ring[0], f.ring[1], f.ring[2], corner}
+                                  : MeshCell{f.ring[0], f.ring[2], f.ring[1], corner});
+        }
+      }
+    }
+    return Status::Ok();
+  }
+
+  // The pairs of a cell's corners (x, y); with the edge of its other two
+  // corners, the cell (edge, x, y) is one of three around the edge when the
+  // neighbours across the faces opposite x and y share their far corner.
+  static constexpr std::array<std::pair<size_t, size_t>, 6> kPairs = {
+      {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+
+  // The corner of the neighbour across the face opposite corner k that the
+  // cell lacks (UINT32_MAX: no neighbour).
+  uint32_t far_corner(size_t cell, size_t k) const {
+    const int32_t n = dt_.neighbors[cell][k];
+    if (n < 0) return UINT32_MAX;
+    const MeshCell& c = dt_.cells[cell];
+    for (uint32_t v : dt_.cells[static_cast<size_t>(n)])
+      if (std::find(c.begin(), c.end(), v) == c.end()) return v;
+    return UINT32_MAX;
+  }
+
+  // The bits of flip(): the pairs whose edge has three cells, all kept, and
+  // crosses the triangle of their other corners (the flip is valid).
+  uint8_t flip_pairs(size_t cell) const {
+    std::array<uint32_t, 4> far{};
+    for (size_t k = 0; k < 4; ++k) far[k] = far_corner(cell, k);
+    const MeshCell& c = dt_.cells[cell];
+    uint8_t bits = 0;
+    for (size_t j = 0; j < kPairs.size(); ++j) {
+      const auto [x, y] = kPairs[j];
+      if (far[x] == UINT32_MAX || far[x] != far[y]) continue;
+      if (!kept_[static_cast<size_t>(dt_.neighbors[cell][x])] ||
+          !kept_[static_cast<size_t>(dt_.neighbors[cell][y])])
+        continue;
+      std::array<uint32_t, 2> edge{};
+      for (size_t k = 0, e = 0; k < 4; ++k)
+        if (k != x && k != y) edge[e++] = c[k];
+      const GridPoint &a = points_[c[x]], &b = points_[c[y]], &z = points_[far[x]];
+      const int op = orientation(a, b, z, points_[edge[0]]), oq = orientation(a, b, z, points_[edge[1]]);
+      if (op != 0 && oq != 0 && (op > 0) != (oq > 0)) bits |= static_cast<uint8_t>(1 << j);
+    }
+    return bits;
+  }
+
   // The faces in one array, found through a hash of their corners with
   // its chains in the faces themselves (with a node-based hash map, an
   // allocation a face, opening and filling took 2.3 s at a million
@@ -588,7 +735,7 @@ class Fill {
   const TetMesh& dt_;
   std::span<const GridPoint> points_;
   double alpha_;
-  std::span<const uint8_t> kept_;
+  std::span<uint8_t> kept_;
   Side& side_;
   ExactFill& out_;
   Csr incident_;                        // per vertex, the Delaunay cells around it
@@ -604,6 +751,7 @@ class Fill {
   static constexpr uint32_t kNoSlot = UINT32_MAX;
   bool only_fitting_ = false;
   bool in_context_ = false;     // 13.0
+  bool flips_ = false;          // 14.0
   std::vector<uint32_t> ring_;  // second_ring()'s first ring
   FitBudget budget_;
   std::vector<uint32_t> fill_at_, fill_next_, fill_count_;
@@ -614,6 +762,7 @@ class Fill {
   uint64_t face_cells_for_ = 0;
   std::vector<std::array<GridPoint, 4>> face_cells_;
   std::array<AdaptiveBit, kFilledContexts> filled_;
+  std::array<AdaptiveBit, kFlipContexts> flip_;
   std::array<RankModels, kSecondRingRanks + 1> rank_;
   AdaptiveBit seed_;
 };

@@ -40,6 +40,8 @@ class Decoder {
 
   bool another_seed(AdaptiveBit& model) { return rc_.decode(model); }
 
+  bool flipped(AdaptiveBit& model, const FlipCandidate&) { return rc_.decode(model); }
+
   // 12.0: the candidates in their order, tested until the rank-th that
   // fits; one past the last that fits, an index. Most apexes are the
   // first candidate that fits: picking the next in order costs a pass,
@@ -120,7 +122,7 @@ class Decoder {
 }  // namespace exact_cells
 
 Status decode_exact_cells(std::span<const uint8_t> section, const TetMesh& dt,
-                          std::span<const GridPoint> points, double alpha, std::span<const uint8_t> kept,
+                          std::span<const GridPoint> points, double alpha, std::span<uint8_t> kept,
                           std::span<const uint32_t> order, ApexRanks ranks, ExactFill& fill,
                           const FitBudget& budget) {
   if (kept.size() != dt.cells.size()) return exact_cells::corrupt("the carving is not the level's");

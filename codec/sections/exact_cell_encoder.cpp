@@ -94,6 +94,20 @@ class Encoder {
     return Status::Ok();
   }
 
+  // 14.0: a flip is the input's when both its cells are input cells not
+  // placed yet (the carving kept the three it replaces:
+  // keep_flipped_cells()).
+  bool flipped(AdaptiveBit& model, const FlipCandidate& f) {
+    ++stats_.flip_candidates;
+    const uint32_t a = unplaced(f.ring, f.edge[0]), b = unplaced(f.ring, f.edge[1]);
+    const bool flip = a != kNone && b != kNone;
+    rc_.encode(model, flip);
+    if (!flip) return false;
+    ++stats_.flips;
+    for (uint32_t i : {a, b}) placed_[i] = 1, source_.push_back(i);
+    return true;
+  }
+
   bool another_seed(AdaptiveBit& model) {
     while (next_seed_ < rest_.size() && placed_[next_seed_]) ++next_seed_;
     const bool more = next_seed_ < rest_.size();
@@ -118,6 +132,15 @@ class Encoder {
   void added(const MeshCell&) { ++stats_.fill_cells; }
 
   std::vector<uint8_t> finish() { return rc_.finish(); }
+  // The input cell not placed yet of the face and the corner, or kNone.
+  uint32_t unplaced(const std::array<uint32_t, 3>& face, uint32_t corner) const {
+    const auto it = across_.find(key_of(face));
+    if (it == across_.end()) return kNone;
+    for (uint32_t i : it->second)
+      if (i != kNone && !placed_[i] && std::find(rest_[i].begin(), rest_[i].end(), corner) != rest_[i].end())
+        return i;
+    return kNone;
+  }
   std::vector<uint32_t>& source() { return source_; }
 
   static std::string describe(const MeshCell& c) {
@@ -143,7 +166,7 @@ class Encoder {
 }  // namespace exact_cells
 
 StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<const GridPoint> points,
-                                                  double alpha, std::span<const uint8_t> kept,
+                                                  double alpha, std::span<uint8_t> kept,
                                                   std::span<const uint32_t> order,
                                                   std::span<const MeshCell> rest, ApexRanks& ranks,
                                                   ExactFill& fill, std::vector<uint32_t>& source,
@@ -156,7 +179,9 @@ StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<c
   exact_cells::Fill<exact_cells::Encoder> walk(dt, points, alpha, kept, side, fill, ranks, budget);
   const Status status = walk.run(order);
   if (walk.over_fit_budget()) {
-    // Where a decoder would give up testing, every candidate counts.
+    // Where a decoder would give up testing, every candidate counts. (14.0's
+    // flips come before any fit test: `kept` is as they left it, and 11.0's
+    // fill grows their cells.)
     ranks = ApexRanks::kAmongCandidates;
     return encode_exact_cells(dt, points, alpha, kept, order, rest, ranks, fill, source, stats);
   }
@@ -174,6 +199,49 @@ StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<c
   s.fit_work = walk.fit_work();
   source = std::move(side.source());
   return side.finish();
+}
+
+uint64_t keep_flipped_cells(const TetMesh& dt, std::span<const GridPoint> points,
+                            std::span<const MeshCell> rest, std::span<uint8_t> kept) {
+  using exact_cells::FaceKey;
+  // Two input cells on the two sides of a face (x, y, z), with the corners
+  // a and b off it, are a 3-2 flip of dt when dt's cells around the edge
+  // (a, b) are the three (a, b) with two of x, y, z.
+  std::unordered_map<FaceKey, std::array<uint32_t, 2>, exact_cells::FaceKeyHash> sides;
+  sides.reserve(rest.size() * 4);
+  const auto off = [](const MeshCell& c, const FaceKey& f) {
+    for (uint32_t v : c)
+      if (v != f[0] && v != f[1] && v != f[2]) return v;
+    return c[0];
+  };
+  for (uint32_t i = 0; i < rest.size(); ++i)
+    for (size_t k = 0; k < 4; ++k) {
+      const MeshCell& c = rest[i];
+      const FaceKey key = exact_cells::key_of({c[(k + 1) % 4], c[(k + 2) % 4], c[(k + 3) % 4]});
+      auto [it, fresh] = sides.emplace(key, std::array<uint32_t, 2>{i, UINT32_MAX});
+      if (!fresh) it->second[1] = i;
+    }
+  const Csr incident = vertex_cells(dt.cells, points.size());
+  uint64_t flips = 0;
+  std::vector<uint32_t> around;
+  for (const auto& [face, two] : sides) {
+    if (two[1] == UINT32_MAX) continue;
+    const uint32_t a = off(rest[two[0]], face), b = off(rest[two[1]], face);
+    around.clear();
+    for (uint32_t c : incident.row(a))
+      if (std::find(dt.cells[c].begin(), dt.cells[c].end(), b) != dt.cells[c].end()) around.push_back(c);
+    if (around.size() != 3) continue;
+    bool ring = true;
+    for (uint32_t c : around)
+      for (uint32_t v : dt.cells[c])
+        ring = ring && !kept[c] && (v == a || v == b || v == face[0] || v == face[1] || v == face[2]);
+    const GridPoint &x = points[face[0]], &y = points[face[1]], &z = points[face[2]];
+    const int oa = orientation(x, y, z, points[a]), ob = orientation(x, y, z, points[b]);
+    if (!ring || oa == 0 || ob == 0 || (oa > 0) == (ob > 0)) continue;
+    for (uint32_t c : around) kept[c] = 1;
+    ++flips;
+  }
+  return flips;
 }
 
 }  // namespace dtm

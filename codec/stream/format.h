@@ -51,11 +51,13 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // (kFlagExact) and its exact cells' apexes are ranked among all their
 // candidates, 12.0 when among those that fit, 13.0 when its filled bits
 // also have the Delaunay cell across as context, its apexes a second ring
-// and its level 0's carving the cells' flips as context (spec/FORMAT.md
-// §3.10, §3.2: apex_ranks_of(), exact_carving_contexts()); the decoder
-// reads 2.x to 13.x.
-inline constexpr uint8_t kVersionMajor = 13;
-inline constexpr uint8_t kVersionMajorExact = 13;
+// and its level 0's carving the cells' flips as context, 14.0 when its
+// exact cell section starts with a flag per 3-2 flip of the kept cells
+// (spec/FORMAT.md §3.10, §3.2: apex_ranks_of(), exact_carving_contexts());
+// the decoder reads 2.x to 14.x.
+inline constexpr uint8_t kVersionMajor = 14;
+inline constexpr uint8_t kVersionMajorExact = 14;
+inline constexpr uint8_t kVersionMajorExactInContext = 13;
 inline constexpr uint8_t kVersionMajorExactFitting = 12;
 inline constexpr uint8_t kVersionMajorExactAllRanked = 11;
 inline constexpr uint8_t kVersionMajorCellData = 10;

@@ -296,7 +296,7 @@ def test_exact_level_zero_is_the_input_cell_for_cell(corpus):
     points, tets, _ = read_tetgen(corpus["bunny_10k"][0])
     own = np.arange(len(tets), dtype=np.uint32)
     encoded = dtmesh.encode(points, tets, exact=True, keep_order=True, cell_data={"own": own}, box=256, dmax=2)
-    assert dtmesh.info(encoded.bytes)["version"] == "13.0"
+    assert dtmesh.info(encoded.bytes)["version"] == "14.0"
     assert encoded.report["exact"]["delaunay_cells"] + encoded.report["exact"]["fill_cells"] == len(tets)
     level0 = dtmesh.decode(encoded.bytes)
     assert level0.tetrahedra.shape == tets.shape

@@ -12,6 +12,7 @@
 // among the candidates that fit; 1: 11.0, among them all; 2 or 3: 13.0,
 // 12.0's ranks with the filled bits in the context of the Delaunay cell
 // across and an apex outside the candidates ranked in the second ring);
+// bit 6 set: 14.0 (13.0's after a flag per 3-2 flip of the kept cells);
 // then the section.
 #include <algorithm>
 #include <cstdint>
@@ -62,13 +63,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const Level& l = level(data[0] & 1);
   const unsigned skip = (data[0] >> 1) & 7;
-  dtm::ApexRanks ranks = (data[0] >> 5) & 1   ? dtm::ApexRanks::kAmongFittingInContext
+  dtm::ApexRanks ranks = (data[0] >> 6) & 1   ? dtm::ApexRanks::kAfterFlips
+                         : (data[0] >> 5) & 1 ? dtm::ApexRanks::kAmongFittingInContext
                          : (data[0] >> 4) & 1 ? dtm::ApexRanks::kAmongCandidates
                                               : dtm::ApexRanks::kAmongFitting;
   std::vector<uint8_t> kept(l.dt.cells.size(), 1);
   if (skip)
     for (size_t c = 0; c < kept.size(); c += skip + 1) kept[c] = 0;
   constexpr double kAlpha = 3.0;
+  const std::vector<uint8_t> carved = kept;  // 14.0's flips take cells from kept
   dtm::ExactFill fill;
   const dtm::Status s = dtm::decode_exact_cells(std::span(data + 1, size - 1), l.dt, l.points, kAlpha, kept,
                                                 l.order, ranks, fill);
@@ -103,13 +106,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (size_t j = i + 1; j < fill.cells.size(); ++j)
       FUZZ_CHECK(!dtm::interiors_meet(corners(fill.cells[i]), corners(fill.cells[j])));
   }
-  // Coded again as the input's cells beside the kept ones: the same cells.
+  // Coded again as the input's cells beside the carving's: the same cells,
+  // the same flips.
   dtm::ExactFill again, back;
   std::vector<uint32_t> source;
-  const auto section =
-      dtm::encode_exact_cells(l.dt, l.points, kAlpha, kept, l.order, fill.cells, ranks, again, source);
+  std::vector<uint8_t> encoded_kept = carved, decoded_kept = carved;
+  const auto section = dtm::encode_exact_cells(l.dt, l.points, kAlpha, encoded_kept, l.order, fill.cells,
+                                               ranks, again, source);
   FUZZ_CHECK(section.ok());
-  FUZZ_CHECK(dtm::decode_exact_cells(*section, l.dt, l.points, kAlpha, kept, l.order, ranks, back).ok());
+  FUZZ_CHECK(
+      dtm::decode_exact_cells(*section, l.dt, l.points, kAlpha, decoded_kept, l.order, ranks, back).ok());
   FUZZ_CHECK(sorted_cells(back.cells) == sorted_cells(fill.cells));
+  FUZZ_CHECK(encoded_kept == kept && decoded_kept == kept);
   return 0;
 }

@@ -2,7 +2,7 @@
 # tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
 # current format version and their expected levels. Run it only when the
 # format's major version changes (spec/FORMAT.md §6), after moving the
-# previous version's streams to v<major>/ (as v2/ to v6/, v11/ and v12/ hold formats 2.0 to 6.0, 11.0 and 12.0) if
+# previous version's streams to v<major>/ (as v2/ to v6/ and v11/ to v13/ hold formats 2.0 to 6.0 and 11.0 to 13.0) if
 # decoders still read it: a golden stream is a promise that every later
 # decoder decodes it identically or refuses its version. The streams of
 # older versions it writes too need not come out the same (the encoder
