@@ -238,7 +238,7 @@ void add_options(CLI::App& app, Command& c) {
         c.encode.exact_ranks = dtm::ApexRanks::kAmongFittingInContext;
       },
       "--exact, written as format 13.0 for decoders older than 14.0 (without 14.0's flip flags: up to "
-      "0.2 bits a vertex more)");
+      "0.4 bits a vertex more)");
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,
