@@ -215,30 +215,28 @@ void add_options(CLI::App& app, Command& c) {
   app.add_flag("--exact", c.encode.exact,
                "decode level 0 as the input's own tetrahedra, cell for cell (the cells that are not Delaunay "
                "cells coded beside the levels; needs a valid mesh whose points stay apart on the grid)");
-  app.add_flag_function(
-      "--exact-v11",
-      [&c](int64_t) {
-        c.encode.exact = true;
-        c.encode.exact_ranks = dtm::ApexRanks::kAmongCandidates;
-      },
-      "--exact, written as format 11.0 for decoders older than 12.0 (the apexes ranked among all their "
-      "candidates, and the carving without the cells' shapes: 0.02-0.69 bits a vertex more)");
-  app.add_flag_function(
-      "--exact-v12",
-      [&c](int64_t) {
-        c.encode.exact = true;
-        c.encode.exact_ranks = dtm::ApexRanks::kAmongFitting;
-      },
+  // An older decoder's format: --exact with that version's symbols.
+  const auto exact_for_older = [&app, &c](const char* flag, dtm::ApexRanks ranks, const char* help) {
+    app.add_flag_function(
+        flag,
+        [&c, ranks](int64_t) {
+          c.encode.exact = true;
+          c.encode.exact_ranks = ranks;
+        },
+        help);
+  };
+  exact_for_older(
+      "--exact-v11", dtm::ApexRanks::kAmongCandidates,
+      "--exact, written as format 11.0 for decoders older than 12.0 (the apexes ranked among all "
+      "their candidates, and the carving without the cells' shapes: 0.02-0.69 bits a vertex more)");
+  exact_for_older(
+      "--exact-v12", dtm::ApexRanks::kAmongFitting,
       "--exact, written as format 12.0 for decoders older than 13.0 (without 13.0's contexts of the "
       "filled faces and of the carving's flips, no second ring: up to 0.5 bits a vertex more)");
-  app.add_flag_function(
-      "--exact-v13",
-      [&c](int64_t) {
-        c.encode.exact = true;
-        c.encode.exact_ranks = dtm::ApexRanks::kAmongFittingInContext;
-      },
-      "--exact, written as format 13.0 for decoders older than 14.0 (without 14.0's flip flags: up to "
-      "0.4 bits a vertex more)");
+  exact_for_older(
+      "--exact-v13", dtm::ApexRanks::kAmongFittingInContext,
+      "--exact, written as format 13.0 for decoders older than 14.0 (without 14.0's flip flags: up "
+      "to 0.4 bits a vertex more)");
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,

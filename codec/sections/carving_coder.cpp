@@ -182,34 +182,50 @@ double squared_quality(const GridPoint& a, const GridPoint& b, const GridPoint& 
   return ss == 0 ? 0 : (dd * dd) / (ss * ss * ss);
 }
 
-uint8_t flip_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell) {
+uint8_t valid_flips(const TetMesh& dt, std::span<const GridPoint> points, size_t cell,
+                    std::array<uint32_t, 4>& far) {
   // Across the faces opposite corners x and y, the neighbours (p, q, y, z)
   // and (p, q, x, z') close the ring around the edge (p, q) when z = z':
   // the edge then has these three cells only.
-  constexpr uint32_t kNone = UINT32_MAX;
   const std::array<uint32_t, 4>& c = dt.cells[cell];
-  std::array<uint32_t, 4> far{kNone, kNone, kNone, kNone};
+  far.fill(UINT32_MAX);
   for (size_t k = 0; k < 4; ++k) {
     const int32_t n = dt.neighbors[cell][k];
     if (n < 0) continue;
     for (uint32_t v : dt.cells[static_cast<size_t>(n)])
       if (std::find(c.begin(), c.end(), v) == c.end()) far[k] = v;
   }
-  for (size_t kx = 0; kx < 4; ++kx)
-    for (size_t ky = kx + 1; ky < 4; ++ky) {
-      if (far[kx] == kNone || far[kx] != far[ky]) continue;
-      std::array<uint32_t, 2> edge{};
-      for (size_t k = 0, e = 0; k < 4; ++k)
-        if (k != kx && k != ky) edge[e++] = c[k];
-      const GridPoint &p = points[edge[0]], &q = points[edge[1]];
-      const GridPoint &x = points[c[kx]], &y = points[c[ky]], &z = points[far[kx]];
-      const int op = orientation(x, y, z, p), oq = orientation(x, y, z, q);
-      if (op == 0 || oq == 0 || (op > 0) == (oq > 0)) continue;  // the edge does not cross the triangle
-      const double before =
-          std::min({squared_quality(p, q, x, y), squared_quality(p, q, y, z), squared_quality(p, q, x, z)});
-      const double after = std::min(squared_quality(x, y, z, p), squared_quality(x, y, z, q));
-      if (after > before) return 1;
-    }
+  uint8_t bits = 0;
+  for (size_t j = 0; j < kCornerPairs.size(); ++j) {
+    const auto [kx, ky] = kCornerPairs[j];
+    if (far[kx] == UINT32_MAX || far[kx] != far[ky]) continue;
+    std::array<uint32_t, 2> edge{};
+    for (size_t k = 0, e = 0; k < 4; ++k)
+      if (k != kx && k != ky) edge[e++] = c[k];
+    const GridPoint &x = points[c[kx]], &y = points[c[ky]], &z = points[far[kx]];
+    const int op = orientation(x, y, z, points[edge[0]]), oq = orientation(x, y, z, points[edge[1]]);
+    if (op != 0 && oq != 0 && (op > 0) != (oq > 0)) bits |= static_cast<uint8_t>(1 << j);
+  }
+  return bits;
+}
+
+uint8_t flip_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell) {
+  std::array<uint32_t, 4> far{};
+  const uint8_t valid = valid_flips(dt, points, cell, far);
+  const std::array<uint32_t, 4>& c = dt.cells[cell];
+  for (size_t j = 0; j < kCornerPairs.size(); ++j) {
+    if (!(valid >> j & 1)) continue;
+    const auto [kx, ky] = kCornerPairs[j];
+    std::array<uint32_t, 2> edge{};
+    for (size_t k = 0, e = 0; k < 4; ++k)
+      if (k != kx && k != ky) edge[e++] = c[k];
+    const GridPoint &p = points[edge[0]], &q = points[edge[1]];
+    const GridPoint &x = points[c[kx]], &y = points[c[ky]], &z = points[far[kx]];
+    const double before =
+        std::min({squared_quality(p, q, x, y), squared_quality(p, q, y, z), squared_quality(p, q, x, z)});
+    const double after = std::min(squared_quality(x, y, z, p), squared_quality(x, y, z, q));
+    if (after > before) return 1;
+  }
   return 0;
 }
 

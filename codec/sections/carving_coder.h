@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "common/grid.h"
@@ -102,6 +103,16 @@ inline constexpr int kFlipBuckets = 2;
 // corners (exact integers, each rounded once).
 double squared_quality(const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d);
 uint8_t flip_bucket(const TetMesh& dt, std::span<const GridPoint> points, size_t cell);
+// The pairs (x, y) of a cell's corners, in this order, with its other two
+// corners the edge; and per pair j, bit j of valid_flips(): the cell is one
+// of the three around that edge (the neighbours across the faces opposite x
+// and y have the same corner far[x] = far[y] the cell lacks) and the edge's
+// 3-2 flip is valid (it crosses the triangle x, y, far[x]). `far[k]`: that
+// corner of the neighbour across the face opposite k (UINT32_MAX: none).
+inline constexpr std::array<std::pair<size_t, size_t>, 6> kCornerPairs = {
+    {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+uint8_t valid_flips(const TetMesh& dt, std::span<const GridPoint> points, size_t cell,
+                    std::array<uint32_t, 4>& far);
 // With `chunk_of_cell` (bricked layers), the kept neighbours counted are
 // those of the same chunk only.
 CarvingPrediction predict_carving(const TetMesh& dt, std::span<const GridPoint> points, double alpha,

@@ -344,8 +344,9 @@ class Fill {
   // corner).
   Status flip(std::span<const uint32_t> order, std::vector<MeshCell>& flipped) {
     const size_t cells = dt_.cells.size();
-    // Per kept cell, bit j set when the j-th pair of its corners (kPairs) is
-    // the ring's side of a flip: each cell on its own, on every core.
+    // Per kept cell, bit j set when the j-th pair of its corners
+    // (kCornerPairs) is the ring's side of a flip: each cell on its own, on
+    // every core.
     // (A cell's neighbours lie anywhere in memory: asked for some cells
     // ahead, as the carving's margin pass does.)
     std::vector<uint8_t> rings(cells, 0);
@@ -367,16 +368,18 @@ class Fill {
       if (c >= cells || !rings[c]) continue;
       here.clear();
       const MeshCell& v = dt_.cells[c];
-      for (size_t j = 0; j < kPairs.size(); ++j) {
+      std::array<uint32_t, 4> far{};
+      valid_flips(dt_, points_, c, far);
+      for (size_t j = 0; j < kCornerPairs.size(); ++j) {
         if (!(rings[c] >> j & 1)) continue;
-        const auto [x, y] = kPairs[j];
+        const auto [x, y] = kCornerPairs[j];
         const auto nx = static_cast<uint32_t>(dt_.neighbors[c][x]),
                    ny = static_cast<uint32_t>(dt_.neighbors[c][y]);
         if ((rings[nx] | rings[ny]) & kVisited) continue;  // given its flag at an earlier cell
         FlipCandidate f{};
         for (size_t k = 0, e = 0; k < 4; ++k)
           if (k != x && k != y) f.edge[e++] = v[k];
-        f.ring = {v[x], v[y], far_corner(c, x)};
+        f.ring = {v[x], v[y], far[x]};
         std::sort(f.edge.begin(), f.edge.end());
         std::sort(f.ring.begin(), f.ring.end());
         here.push_back({f, {c, nx, ny}});
@@ -406,42 +409,15 @@ class Fill {
     return Status::Ok();
   }
 
-  // The pairs of a cell's corners (x, y); with the edge of its other two
-  // corners, the cell (edge, x, y) is one of three around the edge when the
-  // neighbours across the faces opposite x and y share their far corner.
-  static constexpr std::array<std::pair<size_t, size_t>, 6> kPairs = {
-      {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
-
-  // The corner of the neighbour across the face opposite corner k that the
-  // cell lacks (UINT32_MAX: no neighbour).
-  uint32_t far_corner(size_t cell, size_t k) const {
-    const int32_t n = dt_.neighbors[cell][k];
-    if (n < 0) return UINT32_MAX;
-    const MeshCell& c = dt_.cells[cell];
-    for (uint32_t v : dt_.cells[static_cast<size_t>(n)])
-      if (std::find(c.begin(), c.end(), v) == c.end()) return v;
-    return UINT32_MAX;
-  }
-
-  // The bits of flip(): the pairs whose edge has three cells, all kept, and
-  // crosses the triangle of their other corners (the flip is valid).
+  // The bits of flip(): the valid flips whose three cells are all kept.
   uint8_t flip_pairs(size_t cell) const {
     std::array<uint32_t, 4> far{};
-    for (size_t k = 0; k < 4; ++k) far[k] = far_corner(cell, k);
-    const MeshCell& c = dt_.cells[cell];
-    uint8_t bits = 0;
-    for (size_t j = 0; j < kPairs.size(); ++j) {
-      const auto [x, y] = kPairs[j];
-      if (far[x] == UINT32_MAX || far[x] != far[y]) continue;
-      if (!kept_[static_cast<size_t>(dt_.neighbors[cell][x])] ||
-          !kept_[static_cast<size_t>(dt_.neighbors[cell][y])])
-        continue;
-      std::array<uint32_t, 2> edge{};
-      for (size_t k = 0, e = 0; k < 4; ++k)
-        if (k != x && k != y) edge[e++] = c[k];
-      const GridPoint &a = points_[c[x]], &b = points_[c[y]], &z = points_[far[x]];
-      const int op = orientation(a, b, z, points_[edge[0]]), oq = orientation(a, b, z, points_[edge[1]]);
-      if (op != 0 && oq != 0 && (op > 0) != (oq > 0)) bits |= static_cast<uint8_t>(1 << j);
+    uint8_t bits = valid_flips(dt_, points_, cell, far);
+    for (size_t j = 0; j < kCornerPairs.size(); ++j) {
+      const auto [x, y] = kCornerPairs[j];
+      if ((bits >> j & 1) && (!kept_[static_cast<size_t>(dt_.neighbors[cell][x])] ||
+                              !kept_[static_cast<size_t>(dt_.neighbors[cell][y])]))
+        bits = static_cast<uint8_t>(bits & ~(1 << j));
     }
     return bits;
   }
