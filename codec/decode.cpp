@@ -416,10 +416,14 @@ std::vector<uint32_t> ProgressiveDecoder::vertex_order(const TetMesh& dt) const 
 std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {
   const LevelCells level = level_cells();
   if (!mesh_status_.ok()) return {};
-  std::vector<std::array<uint32_t, 4>> out;
-  for (uint32_t c : level.order)
-    if (level.kept[c]) out.push_back(level.mesh.cells[c]);
-  return out;
+  // On every core, each range of the order gathered on its own (the cells
+  // lie anywhere in memory).
+  return collect_in_order<std::array<uint32_t, 4>>(
+      level.order.size(), size_t{1} << 16,
+      [&](size_t first, size_t last, std::vector<std::array<uint32_t, 4>>& out) {
+        for (size_t i = first; i < last; ++i)
+          if (level.kept[level.order[i]]) out.push_back(level.mesh.cells[level.order[i]]);
+      });
 }
 
 Status decode_stream(std::span<const uint8_t> bytes, ProgressiveDecoder& decoder) {
