@@ -3,7 +3,7 @@
 boundary regions, and what would a decoder pay to be told which flips?
 (issue 42, research/exact_flip_chains.md)
 
-Usage: research/exact_flip_chains.py MODEL.node [BUILD_DIR] [-- MESHENC OPTIONS]
+Usage: research/exact_flip_chains.py [--dihedral] MODEL.node [BUILD_DIR] [-- MESHENC OPTIONS]
 
 With the regions of exact_regions.py (the input's cells against the default
 stream's carved Delaunay cells, in the input's numbering):
@@ -20,7 +20,8 @@ stream's carved Delaunay cells, in the input's numbering):
 * Its cost: the decoder would list the same candidates (every valid flip
   of the region's cells to rework, and of the cells flips made) and rank
   them by how much the flip raises the least quality (volume over the cube
-  of the mean squared edge length) of its cells; the encoder picks, among
+  of the mean squared edge length; with --dihedral, the least dihedral
+  angle) of its cells; the encoder picks, among
   the flips that make progress, the one ranked first. The ranks' histogram
   and their cost are printed.
 Needs python3 alone; slow (a minute at 10k vertices).
@@ -52,8 +53,9 @@ def ring_triangulations(polygon):
 
 
 class FlipChains:
-    def __init__(self, m):
+    def __init__(self, m, by_dihedral=False):
         self.m, self.points, self.inputs = m, m.points, m.inputs
+        self.by_dihedral = by_dihedral
         self.input_edges = {e for c in self.inputs for e in itertools.combinations(c, 2)}
         self.edges, self.faces = collections.defaultdict(set), collections.defaultdict(set)
         self.current = set()
@@ -141,8 +143,31 @@ class FlipChains:
         new = {e for e in kept if not self.edges.get(e)}
         return any(x in self.inputs for x in made) or bool(new & self.input_edges)
 
+    def least_dihedral(self, c):
+        """The cell's least dihedral angle (radians)."""
+        p = [self.points[v] for v in c]
+
+        def sub(a, b):
+            return [a[i] - b[i] for i in range(3)]
+
+        def cross(a, b):
+            return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+        least = math.pi
+        for i, j in itertools.combinations(range(4), 2):
+            k, l = [x for x in range(4) if x not in (i, j)]
+            e = sub(p[j], p[i])
+            n1, n2 = cross(e, sub(p[k], p[i])), cross(e, sub(p[l], p[i]))
+            d1, d2 = math.sqrt(sum(x * x for x in n1)), math.sqrt(sum(x * x for x in n2))
+            if d1 == 0 or d2 == 0:
+                return 0.0
+            cosine = max(-1.0, min(1.0, sum(a * b for a, b in zip(n1, n2)) / (d1 * d2)))
+            least = min(least, math.acos(cosine))
+        return least
+
     def gain(self, removed, made):
-        return min(self.quality(x) for x in made) - min(self.quality(x) for x in removed)
+        measure = self.least_dihedral if self.by_dihedral else self.quality
+        return min(measure(x) for x in made) - min(measure(x) for x in removed)
 
     def run(self):
         ranks, regions, seen = [], 0, set()
@@ -186,9 +211,12 @@ def exp_golomb_bits(r):
 
 
 def main():
-    model, build, extra = split_arguments(sys.argv[1:])
+    argv = sys.argv[1:]
+    by_dihedral = "--dihedral" in argv
+    argv = [a for a in argv if a != "--dihedral"]
+    model, build, extra = split_arguments(argv)
     m = Comparison(model, build, extra)
-    chains = FlipChains(m)
+    chains = FlipChains(m, by_dihedral)
     missing_before = len(m.inputs - chains.current)
     ranks, regions = chains.run()
     missing_after = len(m.inputs - chains.current)
