@@ -1,5 +1,5 @@
-// Runs independent work on the cores the process was given (at most 8
-// threads; common/threads.h; one in a WebAssembly build).
+// Runs independent work on the cores the process was given
+// (common/threads.h; one thread in a WebAssembly build).
 #pragma once
 
 #include <algorithm>
@@ -11,6 +11,13 @@
 
 namespace dtm {
 
+// The threads a loop below starts: thread_count(), at most kMostLoopThreads.
+// (Until 2026-12-03 at most 8, which left half of a 16-core machine idle in
+// every loop; the bound now only keeps `--threads 4096` from starting
+// thousands of threads a loop.)
+inline constexpr size_t kMostLoopThreads = 256;
+inline size_t loop_threads() { return std::clamp<size_t>(static_cast<size_t>(thread_count()), 1, kMostLoopThreads); }
+
 // Runs body(i) for i in [0, n), each once, on thread_count() threads. body(0) runs
 // first, alone: a CGAL tree builds its search structures on its first
 // query, after which it is read-only and safe to share. The others are
@@ -21,7 +28,7 @@ template <typename Body>
 void parallel_for(size_t n, const Body& body, size_t serial_below = 2) {
   if (n == 0) return;
   body(0);
-  const size_t threads = std::clamp<size_t>(static_cast<size_t>(thread_count()), 1, 8);
+  const size_t threads = loop_threads();
   if (threads == 1 || n < serial_below) {
     for (size_t i = 1; i < n; ++i) body(i);
     return;
@@ -35,12 +42,12 @@ void parallel_for(size_t n, const Body& body, size_t serial_below = 2) {
 }
 
 // Runs body(part, parts) once for each part in [0, parts), parts being the
-// threads (at most 8), all at once: for a pass that each thread makes in
+// threads (loop_threads()), all at once: for a pass that each thread makes in
 // full, doing its share of it (the rows of a range of vertices, say),
 // where parallel_for's first item alone would keep the others waiting.
 template <typename Body>
 void on_every_thread(const Body& body) {
-  const size_t parts = std::clamp<size_t>(static_cast<size_t>(thread_count()), 1, 8);
+  const size_t parts = loop_threads();
   std::vector<std::thread> workers;
   for (size_t part = 1; part < parts; ++part) workers.emplace_back([&, part] { body(part, parts); });
   body(size_t{0}, parts);

@@ -4,6 +4,7 @@
 #include <thread>
 #include <tuple>
 
+#include "common/parallel_for.h"
 #include "common/threads.h"
 
 namespace dtm {
@@ -82,7 +83,7 @@ std::vector<CavityFill> cavity_fills(std::span<const uint32_t> removed_list, con
   std::vector<CavityFill> fills(removed_list.size());
   std::vector<uint8_t> dependent(removed_list.size(), 0);
   const size_t threads =
-      removed_list.size() < 2048 ? 1 : std::clamp<size_t>(static_cast<size_t>(thread_count()), 1, 8);
+      removed_list.size() < 2048 ? size_t{1} : loop_threads();
   auto compute = [&](size_t t) {
     std::vector<GridPoint> link;
     std::vector<uint32_t> link_ids;

@@ -135,7 +135,7 @@ TEST(ParallelHelpers, VertexCellsAndNeighboursAreOnePassesOnAnyNumberOfThreads) 
         for (uint32_t u : around) emit(v, u);
       }
     });
-    for (const int threads : {1, 2, 3, 8}) {
+    for (const int threads : {1, 2, 3, 8, 16}) {
       set_thread_count(threads);
       const Csr cells = vertex_cells(mesh, points.size());
       EXPECT_EQ(cells.offsets, want_cells.offsets) << threads << " threads, shuffled " << shuffled;
@@ -148,6 +148,36 @@ TEST(ParallelHelpers, VertexCellsAndNeighboursAreOnePassesOnAnyNumberOfThreads) 
   }
 }
 
+// The canonical cell order (cells ascending by their sorted corners) is one
+// sort's on any number of threads: its buckets are filled through atomic
+// cursors, in any order, and sorted after. For cells in that order already
+// (the identity) and shuffled, and for a list with a cell twice (ties go to
+// the lower index, as a stable sort's).
+TEST(ParallelHelpers, CanonicalCellOrderIsOneSortsOnAnyNumberOfThreads) {
+  const std::vector<GridPoint> points = test::random_grid_points(30000, 10, 5);
+  TetMesh mesh = delaunay_tetrahedralize(points).value();
+  ASSERT_GT(mesh.cells.size(), size_t{1} << 17);  // more than one range of the passes
+  auto sorted = [](std::array<uint32_t, 4> c) {
+    std::sort(c.begin(), c.end());
+    return c;
+  };
+  std::vector<std::array<uint32_t, 4>> cells = mesh.cells;
+  std::sort(cells.begin(), cells.end(), [&](const auto& a, const auto& b) { return sorted(a) < sorted(b); });
+  for (const int variant : {0, 1, 2}) {
+    if (variant == 1) std::shuffle(cells.begin(), cells.end(), std::mt19937(5));
+    if (variant == 2) cells.push_back(cells[cells.size() / 3]);
+    std::vector<uint32_t> want(cells.size());
+    for (uint32_t k = 0; k < want.size(); ++k) want[k] = k;
+    std::stable_sort(want.begin(), want.end(),
+                     [&](uint32_t a, uint32_t b) { return sorted(cells[a]) < sorted(cells[b]); });
+    for (const int threads : {1, 2, 3, 8, 16}) {
+      set_thread_count(threads);
+      EXPECT_EQ(canonical_cell_order(cells), want) << threads << " threads, variant " << variant;
+    }
+    set_thread_count(0);
+  }
+}
+
 // Growing with the pages touched on every core is resize() and assign():
 // what the vector held stays, the new elements are zeros (or the value),
 // whether the storage is grown or reserved already, below the threshold
@@ -155,7 +185,7 @@ TEST(ParallelHelpers, VertexCellsAndNeighboursAreOnePassesOnAnyNumberOfThreads) 
 // after the last element, on no page boundary).
 TEST(ParallelHelpers, GrowingOnEveryCoreIsResizeAndAssign) {
   const size_t big = 3 * kFirstTouchInParallelFrom / sizeof(uint32_t) + 13;
-  for (const int threads : {1, 2, 3, 8})
+  for (const int threads : {1, 2, 3, 8, 16})
     for (const bool reserved : {false, true})
       for (const size_t n : {size_t{0}, size_t{1000}, big}) {
         set_thread_count(threads);
