@@ -16,7 +16,9 @@ namespace dtm {
 // every loop; the bound now only keeps `--threads 4096` from starting
 // thousands of threads a loop.)
 inline constexpr size_t kMostLoopThreads = 256;
-inline size_t loop_threads() { return std::clamp<size_t>(static_cast<size_t>(thread_count()), 1, kMostLoopThreads); }
+inline size_t loop_threads() {
+  return std::clamp<size_t>(static_cast<size_t>(thread_count()), 1, kMostLoopThreads);
+}
 
 // Runs body(i) for i in [0, n), each once, on thread_count() threads. body(0) runs
 // first, alone: a CGAL tree builds its search structures on its first

@@ -82,8 +82,7 @@ std::vector<CavityFill> cavity_fills(std::span<const uint32_t> removed_list, con
                                      std::span<const uint32_t> new_id) {
   std::vector<CavityFill> fills(removed_list.size());
   std::vector<uint8_t> dependent(removed_list.size(), 0);
-  const size_t threads =
-      removed_list.size() < 2048 ? size_t{1} : loop_threads();
+  const size_t threads = removed_list.size() < 2048 ? size_t{1} : loop_threads();
   auto compute = [&](size_t t) {
     std::vector<GridPoint> link;
     std::vector<uint32_t> link_ids;

@@ -36,7 +36,8 @@ double total_volume(std::span<const GridPoint> points, std::span<const Cell> cel
   parallel_ranges(cells.size(), kRange, [&](size_t first, size_t last) {
     Int128 sum = 0;
     for (size_t k = first; k < last; ++k)
-      sum += abs_six_volume(points[cells[k][0]], points[cells[k][1]], points[cells[k][2]], points[cells[k][3]]);
+      sum +=
+          abs_six_volume(points[cells[k][0]], points[cells[k][1]], points[cells[k][2]], points[cells[k][3]]);
     per_range[first / kRange] = sum;
   });
   Int128 sum = 0;
@@ -208,8 +209,8 @@ SolidDifference carved_difference(std::span<const GridPoint> points, const TetMe
   constexpr size_t kRange = size_t{1} << 16;
   std::vector<uint8_t> tet_shared(tets.size(), 0);
   SolidDifference d;
-  const std::vector<uint32_t> only_dt =
-      collect_in_order<uint32_t>(dt.cells.size(), kRange, [&](size_t first, size_t last, std::vector<uint32_t>& out) {
+  const std::vector<uint32_t> only_dt = collect_in_order<uint32_t>(
+      dt.cells.size(), kRange, [&](size_t first, size_t last, std::vector<uint32_t>& out) {
         for (size_t c = first; c < last; ++c) {
           if (!kept[c]) continue;
           if (match[c] >= 0)
@@ -218,8 +219,8 @@ SolidDifference carved_difference(std::span<const GridPoint> points, const TetMe
             out.push_back(static_cast<uint32_t>(c));
         }
       });
-  const std::vector<uint32_t> only_tets =
-      collect_in_order<uint32_t>(tets.size(), kRange, [&](size_t first, size_t last, std::vector<uint32_t>& out) {
+  const std::vector<uint32_t> only_tets = collect_in_order<uint32_t>(
+      tets.size(), kRange, [&](size_t first, size_t last, std::vector<uint32_t>& out) {
         for (size_t k = first; k < last; ++k)
           if (!tet_shared[k]) out.push_back(static_cast<uint32_t>(k));
       });

@@ -358,29 +358,30 @@ class Fill {
     constexpr size_t kBlock = 4096, kAhead = 16;
     const size_t blocks = (order.size() + kBlock - 1) / kBlock;
     std::vector<std::vector<PairGeometry>> geometry(blocks);
-    parallel_for(blocks,
-                 [&](size_t block) {
-                   const size_t end = std::min(order.size(), block * kBlock + kBlock);
-                   for (size_t i = block * kBlock; i < end; ++i) {
-                     if (i + 2 * kAhead < end && order[i + 2 * kAhead] < cells) {
-                       __builtin_prefetch(&dt_.neighbors[order[i + 2 * kAhead]]);
-                       __builtin_prefetch(&dt_.cells[order[i + 2 * kAhead]]);
-                     }
-                     if (i + kAhead < end && order[i + kAhead] < cells)
-                       for (int32_t n : dt_.neighbors[order[i + kAhead]])
-                         if (n >= 0) __builtin_prefetch(&dt_.cells[static_cast<size_t>(n)]);
-                     const uint32_t c = order[i];
-                     if (c >= cells || !kept_[c]) continue;
-                     std::array<uint32_t, 4> far{};
-                     rings[c] = flip_pairs(c, far);
-                     for (size_t j = 0; j < kCornerPairs.size(); ++j)
-                       if (rings[c] >> j & 1) {
-                         const FlipCandidate f = flip_candidate(c, j, far);
-                         geometry[block].push_back({f.ring, flip_context_of(f)});
-                       }
-                   }
-                 },
-                 2);
+    parallel_for(
+        blocks,
+        [&](size_t block) {
+          const size_t end = std::min(order.size(), block * kBlock + kBlock);
+          for (size_t i = block * kBlock; i < end; ++i) {
+            if (i + 2 * kAhead < end && order[i + 2 * kAhead] < cells) {
+              __builtin_prefetch(&dt_.neighbors[order[i + 2 * kAhead]]);
+              __builtin_prefetch(&dt_.cells[order[i + 2 * kAhead]]);
+            }
+            if (i + kAhead < end && order[i + kAhead] < cells)
+              for (int32_t n : dt_.neighbors[order[i + kAhead]])
+                if (n >= 0) __builtin_prefetch(&dt_.cells[static_cast<size_t>(n)]);
+            const uint32_t c = order[i];
+            if (c >= cells || !kept_[c]) continue;
+            std::array<uint32_t, 4> far{};
+            rings[c] = flip_pairs(c, far);
+            for (size_t j = 0; j < kCornerPairs.size(); ++j)
+              if (rings[c] >> j & 1) {
+                const FlipCandidate f = flip_candidate(c, j, far);
+                geometry[block].push_back({f.ring, flip_context_of(f)});
+              }
+          }
+        },
+        2);
     constexpr uint8_t kVisited = 0x80;
     struct Here {
       FlipCandidate f;
