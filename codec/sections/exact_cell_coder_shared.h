@@ -284,14 +284,18 @@ class Fill {
                    }
                  },
                  2);
-    for (size_t i = 0; i < order.size(); ++i) {
-      // The few cells that open faces lie anywhere in memory: each asked
-      // for some cells ahead.
-      constexpr size_t kAhead = 64;
-      if (i + kAhead < order.size() && order[i + kAhead] < cells && opens[order[i + kAhead]])
-        __builtin_prefetch(&dt_.cells[order[i + kAhead]]);
-      const uint32_t c = order[i];
-      if (c >= cells || !opens[c]) continue;
+    // The few cells that open faces, in the order, found on every core (a
+    // pass over every cell's flag, anywhere in memory); each then asked for
+    // some cells ahead.
+    const std::vector<uint32_t> opening = collect_in_order<uint32_t>(
+        order.size(), size_t{1} << 16, [&](size_t first, size_t last, std::vector<uint32_t>& out) {
+          for (size_t i = first; i < last; ++i)
+            if (order[i] < cells && opens[order[i]]) out.push_back(order[i]);
+        });
+    for (size_t i = 0; i < opening.size(); ++i) {
+      constexpr size_t kAhead = 16;
+      if (i + kAhead < opening.size()) __builtin_prefetch(&dt_.cells[opening[i + kAhead]]);
+      const uint32_t c = opening[i];
       // Its faces by the corner they lack, in vertex number order.
       std::array<int, 4> corners = {0, 1, 2, 3};
       std::sort(corners.begin(), corners.end(), [&](int x, int y) {
@@ -358,6 +362,7 @@ class Fill {
     constexpr size_t kBlock = 4096, kAhead = 16;
     const size_t blocks = (order.size() + kBlock - 1) / kBlock;
     std::vector<std::vector<PairGeometry>> geometry(blocks);
+    std::vector<std::vector<uint32_t>> ringed(blocks);  // per block, its cells with bits, in order
     parallel_for(
         blocks,
         [&](size_t block) {
@@ -374,6 +379,7 @@ class Fill {
             if (c >= cells || !kept_[c]) continue;
             std::array<uint32_t, 4> far{};
             rings[c] = flip_pairs(c, far);
+            if (rings[c]) ringed[block].push_back(c);
             for (size_t j = 0; j < kCornerPairs.size(); ++j)
               if (rings[c] >> j & 1) {
                 const FlipCandidate f = flip_candidate(c, j, far);
@@ -389,47 +395,47 @@ class Fill {
       uint8_t context;
     };
     std::vector<Here> here;
-    size_t block = SIZE_MAX, next = 0;
-    for (size_t i = 0; i < order.size(); ++i) {
-      if (i + kAhead < order.size() && order[i + kAhead] < cells && rings[order[i + kAhead]]) {
-        __builtin_prefetch(&dt_.cells[order[i + kAhead]]);
-        __builtin_prefetch(&dt_.neighbors[order[i + kAhead]]);
-      }
-      const uint32_t c = order[i];
-      if (c >= cells || !rings[c]) continue;
-      // This cell's pairs' geometry: next in its block's list.
-      if (i / kBlock != block) block = i / kBlock, next = 0;
-      const std::vector<PairGeometry>& listed = geometry[block];
-      here.clear();
-      const MeshCell& v = dt_.cells[c];
-      for (size_t j = 0; j < kCornerPairs.size(); ++j) {
-        if (!(rings[c] >> j & 1)) continue;
-        const PairGeometry g = listed[next++];
-        const auto [x, y] = kCornerPairs[j];
-        const auto nx = static_cast<uint32_t>(dt_.neighbors[c][x]),
-                   ny = static_cast<uint32_t>(dt_.neighbors[c][y]);
-        if ((rings[nx] | rings[ny]) & kVisited) continue;  // given its flag at an earlier cell
-        FlipCandidate f{};
-        for (size_t k = 0, e = 0; k < 4; ++k)
-          if (k != x && k != y) f.edge[e++] = v[k];
-        std::sort(f.edge.begin(), f.edge.end());
-        f.ring = g.ring;
-        here.push_back({f, {c, nx, ny}, g.context});
-      }
-      rings[c] |= kVisited;
-      std::sort(here.begin(), here.end(), [](const Here& a, const Here& b) {
-        return std::tie(a.f.edge, a.f.ring) < std::tie(b.f.edge, b.f.ring);
-      });
-      for (const auto& [f, three, context] : here) {
-        if (!kept_[three[0]] || !kept_[three[1]] || !kept_[three[2]]) continue;
-        DTM_RETURN_IF_ERROR(side_.check());
-        if (!side_.flipped(flip_[context], f)) continue;
-        for (uint32_t t : three) kept_[t] = 0;
-        const std::array<GridPoint, 3> r = {points_[f.ring[0]], points_[f.ring[1]], points_[f.ring[2]]};
-        for (uint32_t corner : f.edge) {
-          const bool above = orientation(r[0], r[1], r[2], points_[corner]) > 0;
-          flipped.push_back(above ? MeshCell{f.ring[0], f.ring[1], f.ring[2], corner}
-                                  : MeshCell{f.ring[0], f.ring[2], f.ring[1], corner});
+    for (size_t block = 0; block < blocks; ++block) {
+      const std::vector<uint32_t>& cells_here = ringed[block];
+      const std::vector<PairGeometry>& listed = geometry[block];  // their pairs', in turn
+      size_t next = 0;
+      for (size_t i = 0; i < cells_here.size(); ++i) {
+        if (i + kAhead < cells_here.size()) {
+          __builtin_prefetch(&dt_.cells[cells_here[i + kAhead]]);
+          __builtin_prefetch(&dt_.neighbors[cells_here[i + kAhead]]);
+        }
+        const uint32_t c = cells_here[i];
+        here.clear();
+        const MeshCell& v = dt_.cells[c];
+        for (size_t j = 0; j < kCornerPairs.size(); ++j) {
+          if (!(rings[c] >> j & 1)) continue;
+          const PairGeometry g = listed[next++];
+          const auto [x, y] = kCornerPairs[j];
+          const auto nx = static_cast<uint32_t>(dt_.neighbors[c][x]),
+                     ny = static_cast<uint32_t>(dt_.neighbors[c][y]);
+          if ((rings[nx] | rings[ny]) & kVisited) continue;  // given its flag at an earlier cell
+          FlipCandidate f{};
+          for (size_t k = 0, e = 0; k < 4; ++k)
+            if (k != x && k != y) f.edge[e++] = v[k];
+          std::sort(f.edge.begin(), f.edge.end());
+          f.ring = g.ring;
+          here.push_back({f, {c, nx, ny}, g.context});
+        }
+        rings[c] |= kVisited;
+        std::sort(here.begin(), here.end(), [](const Here& a, const Here& b) {
+          return std::tie(a.f.edge, a.f.ring) < std::tie(b.f.edge, b.f.ring);
+        });
+        for (const auto& [f, three, context] : here) {
+          if (!kept_[three[0]] || !kept_[three[1]] || !kept_[three[2]]) continue;
+          DTM_RETURN_IF_ERROR(side_.check());
+          if (!side_.flipped(flip_[context], f)) continue;
+          for (uint32_t t : three) kept_[t] = 0;
+          const std::array<GridPoint, 3> r = {points_[f.ring[0]], points_[f.ring[1]], points_[f.ring[2]]};
+          for (uint32_t corner : f.edge) {
+            const bool above = orientation(r[0], r[1], r[2], points_[corner]) > 0;
+            flipped.push_back(above ? MeshCell{f.ring[0], f.ring[1], f.ring[2], corner}
+                                    : MeshCell{f.ring[0], f.ring[2], f.ring[1], corner});
+          }
         }
       }
     }
