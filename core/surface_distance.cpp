@@ -19,6 +19,7 @@
 #include "common/parallel_sort.h"
 #include "common/release.h"
 #include "common/status.h"
+#include "core/aabb_on_every_core.h"
 
 namespace dtm {
 namespace {
@@ -92,6 +93,8 @@ DistanceSummary summarize_squared(std::span<const double> squared) {
 struct FixedSurface::State {
   CompactSurface surface;  // the tree's property maps point here (State does not move)
   std::optional<IdTree> tree;
+  std::optional<DistanceHints<IdTree>> hints;  // the queries' first guesses
+  IdTree::Point_and_primitive_id hint(const K::Point_3& q) const { return hints->nearest(q); }
 };
 
 FixedSurface::FixedSurface(std::span<const GridPoint> vertices,
@@ -116,7 +119,14 @@ FixedSurface::FixedSurface(std::span<const GridPoint> vertices,
   const auto count = static_cast<uint32_t>(s.triangles.size());
   state_->tree.emplace(boost::counting_iterator<uint32_t>(0), boost::counting_iterator<uint32_t>(count),
                        TriangleById{&s}, FirstCornerById{&s});
-  state_->tree->accelerate_distance_queries();
+  // Each triangle's reference point is its first corner (FirstCornerById).
+  std::vector<IdTree::Point_and_primitive_id> references(count);
+  parallel_ranges(count, kRange, [&](size_t first, size_t last) {
+    for (size_t t = first; t < last; ++t)
+      references[t] = {to_point(s.corners[s.triangles[t][0]]), static_cast<uint32_t>(t)};
+  });
+  state_->hints.emplace(references);
+  build_on_every_core(*state_->tree);
 }
 FixedSurface::~FixedSurface() = default;
 FixedSurface::FixedSurface(FixedSurface&&) noexcept = default;
@@ -126,7 +136,10 @@ std::vector<double> FixedSurface::squared_distances(std::span<const GridPoint> q
   std::vector<double> squared(queries.size(), std::numeric_limits<double>::infinity());
   if (!state_->tree) return squared;
   const IdTree& tree = *state_->tree;
-  parallel_for(queries.size(), [&](size_t i) { squared[i] = tree.squared_distance(to_point(queries[i])); });
+  parallel_for(queries.size(), [&](size_t i) {
+    const K::Point_3 q = to_point(queries[i]);
+    squared[i] = tree.squared_distance(q, state_->hint(q).first);
+  });
   return squared;
 }
 
@@ -135,7 +148,8 @@ std::vector<double> FixedSurface::squared_distances(std::span<const std::array<d
   if (!state_->tree) return squared;
   const IdTree& tree = *state_->tree;
   parallel_for(queries.size(), [&](size_t i) {
-    squared[i] = tree.squared_distance(K::Point_3(queries[i][0], queries[i][1], queries[i][2]));
+    const K::Point_3 q(queries[i][0], queries[i][1], queries[i][2]);
+    squared[i] = tree.squared_distance(q, state_->hint(q).first);
   });
   return squared;
 }
@@ -145,15 +159,16 @@ std::vector<uint32_t> FixedSurface::nearest_triangles(std::span<const std::array
   std::vector<uint32_t> nearest(queries.size());
   const IdTree& tree = *state_->tree;
   parallel_for(queries.size(), [&](size_t i) {
-    nearest[i] =
-        tree.closest_point_and_primitive(K::Point_3(queries[i][0], queries[i][1], queries[i][2])).second;
+    const K::Point_3 q(queries[i][0], queries[i][1], queries[i][2]);
+    nearest[i] = tree.closest_point_and_primitive(q, state_->hint(q)).second;
   });
   return nearest;
 }
 
 double FixedSurface::squared_distance(const GridPoint& query) const {
   if (!state_->tree) return std::numeric_limits<double>::infinity();
-  return state_->tree->squared_distance(to_point(query));
+  const K::Point_3 q = to_point(query);
+  return state_->tree->squared_distance(q, state_->hint(q).first);
 }
 
 DistanceSummary distance_to_surface(std::span<const GridPoint> vertices,
@@ -276,10 +291,18 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
 
   if (!full.empty()) {
     Tree tree(soup.cbegin(), soup.cend());
-    tree.accelerate_distance_queries();
+    // A triangle's reference point is its first corner (AABB_triangle_primitive).
+    std::vector<Tree::Point_and_primitive_id> references(n);
+    parallel_ranges(n, kRange, [&](size_t first, size_t last) {
+      for (size_t i = first; i < last; ++i)
+        references[i] = {soup[i].vertex(0), soup.cbegin() + static_cast<std::ptrdiff_t>(i)};
+    });
+    const DistanceHints<Tree> hints(references);
+    release(references);
+    build_on_every_core(tree);
     parallel_for(full.size(), [&](size_t j) {
       const uint32_t q = full[j];
-      const auto hit = tree.closest_point_and_primitive(s.queries[q]);
+      const auto hit = tree.closest_point_and_primitive(s.queries[q], hints.nearest(s.queries[q]));
       s.squared[q] = CGAL::squared_distance(s.queries[q], hit.first);
       s.nearest[q] = hit.first;
       s.nearest_triangle[q] = keys[static_cast<size_t>(hit.second - soup.cbegin())];
@@ -287,7 +310,7 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
   }
   if (!check.empty() && !added.empty()) {
     Tree tree(added.cbegin(), added.cend());
-    tree.build();
+    build_on_every_core(tree);
     parallel_for(check.size(), [&](size_t j) {
       const uint32_t q = check[j];
       // The current nearest point bounds the search: the traversal returns
