@@ -156,6 +156,41 @@ class RemovedVertices {
     for (size_t i = 0; i < taken; ++i) out.push_back(near[i].second);
     return out;
   }
+  // What seek() found for a ball: its nearest as marked then, and whether
+  // they are all the ball holds.
+  struct Sought {
+    std::vector<uint32_t> near;
+    bool whole = false;
+  };
+  // The searches of take_nearest(ball, count) for several balls, made on
+  // every core before any of them takes: each ball's count + kSeekMore
+  // nearest as marked now. take_sought() then takes as take_nearest()
+  // would at its turn: the nearest ones still unmarked are the first of
+  // this list still unmarked (those beyond it are farther than all in it),
+  // unless the marks between took so many that fewer than `count` are left
+  // of a list that was cut short; then it searches again.
+  std::vector<Sought> seek(std::span<const Ball> balls, size_t count,
+                           std::span<const GridPoint> fine_points) {
+    if (stale_ * 2 > live_.size() && live_.size() >= 1024) index_live(fine_points);
+    std::vector<Sought> out(balls.size());
+    parallel_for(
+        balls.size(),
+        [&](size_t i) {
+          out[i].near = nearest(balls[i], count + kSeekMore, fine_points);
+          out[i].whole = out[i].near.size() < count + kSeekMore;
+        },
+        16);
+    return out;
+  }
+  size_t take_sought(const Sought& sought, const Ball& b, size_t count,
+                     std::span<const GridPoint> fine_points) {
+    std::vector<uint32_t> left;
+    for (uint32_t k : sought.near)
+      if (!marked(k) && left.size() < count) left.push_back(k);
+    if (left.size() < count && !sought.whole) return take_nearest(b, count, fine_points);
+    for (uint32_t k : left) mark(k);
+    return left.size();
+  }
   size_t take_nearest(const Ball& b, size_t count, std::span<const GridPoint> fine_points) {
     // A search walks past the marked vertices nearer than what it finds:
     // where a round marks most of a region, later searches there (the
@@ -201,6 +236,8 @@ class RemovedVertices {
     stale_ = 0;
   }
 
+  // How many more than asked seek() finds, for the marks made between.
+  static constexpr size_t kSeekMore = 4;
   std::vector<uint32_t> vertex_;  // fine vertex of each removed one
   std::vector<uint8_t> chosen_;   // 0: still removed, 1: marked this round, 2: put back
   std::optional<NearestPoints> index_;
@@ -521,16 +558,24 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     // Where a place stays broken round after round, more of what is near it
     // comes back each time: 2, 3, 4, ... vertices per cell at fault.
     const size_t per_place = 2 + static_cast<size_t>(round);
-    for (uint32_t c : fins) removed->take_nearest(circumball(points, mesh.cells[c]), per_place, points);
-    // A far triangle: what the cells on both sides of it are in conflict
-    // with (each vertex put back destroys the cell). A far reference
-    // vertex: the same for the triangle nearest it.
+    // The balls whose nearest removed vertices come back, in the order they
+    // take them: each fin's; for a far triangle, those of the cells on both
+    // sides of it (what they are in conflict with: each vertex put back
+    // destroys the cell); for a far reference vertex, those of the cells
+    // beside the triangle nearest it (`reference_of` says whose: the balls
+    // of one reference vertex follow each other), or if they take nothing,
+    // the removed vertex nearest it, however far: progress. Their searches
+    // are made on every core first (seek()), the taking in order after.
+    std::vector<Ball> balls;
+    std::vector<uint32_t> reference_of;
+    balls.reserve(fins.size());
+    for (uint32_t c : fins) balls.push_back(circumball(points, mesh.cells[c]));
     for (size_t t = 0; t < surface.triangles.size(); ++t) {
       if (!far_triangle[t]) continue;
       for (int32_t c : surface.cells[t])
-        if (c >= 0)
-          removed->take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]), per_place, points);
+        if (c >= 0) balls.push_back(circumball(points, mesh.cells[static_cast<size_t>(c)]));
     }
+    const size_t before_references = balls.size();
     if (!far_reference.empty()) {
       // The triangle nearest each far reference vertex, by its grid ids.
       std::vector<std::pair<Key, uint32_t>> by_key;
@@ -541,17 +586,25 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
       for (uint32_t i : far_reference) {
         const Key& key = out.shape.reference_nearest[i];
         const auto it = std::lower_bound(by_key.begin(), by_key.end(), std::pair<Key, uint32_t>{key, 0});
-        size_t taken = 0;
         if (it != by_key.end() && it->first == key)
           for (int32_t c : surface.cells[it->second])
-            if (c >= 0)
-              taken += removed->take_nearest(circumball(points, mesh.cells[static_cast<size_t>(c)]),
-                                             per_place, points);
-        // Else the removed vertex nearest it, however far: progress.
-        const GridPoint& p = reference_points[i];
-        for (double r = 2 * std::sqrt(out.shape.reference_squared[i]); taken == 0 && r < 1e8; r *= 4)
-          taken = removed->take_nearest({{double(p.x), double(p.y), double(p.z)}, r}, per_place / 2, points);
+            if (c >= 0) {
+              balls.push_back(circumball(points, mesh.cells[static_cast<size_t>(c)]));
+              reference_of.push_back(i);
+            }
       }
+    }
+    const std::vector<RemovedVertices::Sought> sought = removed->seek(balls, per_place, points);
+    for (size_t j = 0; j < before_references; ++j)
+      removed->take_sought(sought[j], balls[j], per_place, points);
+    for (size_t j = before_references, at = 0; at < far_reference.size(); ++at) {
+      const uint32_t i = far_reference[at];
+      size_t taken = 0;
+      for (; j < balls.size() && reference_of[j - before_references] == i; ++j)
+        taken += removed->take_sought(sought[j], balls[j], per_place, points);
+      const GridPoint& p = reference_points[i];
+      for (double r = 2 * std::sqrt(out.shape.reference_squared[i]); taken == 0 && r < 1e8; r *= 4)
+        taken = removed->take_nearest({{double(p.x), double(p.y), double(p.z)}, r}, per_place / 2, points);
     }
     if (!out.quality_met)
       DTM_RETURN_IF_ERROR(repair_quality(mesh, cells, points, *ref.solid, bounds.quality_floor,
