@@ -7,8 +7,8 @@
 // middle (nth_element) and makes its two halves the same way. A distance
 // query starts from a guess, the nearest primitive's reference point in a
 // k-d tree, which CGAL also builds on one thread
-// (accelerate_distance_queries()). Together about 1.2 s of one thread in a
-// 35 s encode of bunny_1m, the shape measure's trees remade each repair
+// (accelerate_distance_queries()). Together about 1.5 s of one thread in a
+// 40 s encode of bunny_1m, the shape measure's trees remade each repair
 // round (docs/SPEED_AND_MEMORY.md).
 //
 // build_on_every_core(tree) computes every node's box and split first, the
