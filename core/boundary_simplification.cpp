@@ -3,6 +3,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "common/parallel_for.h"
 #include "mesh/geometry.h"
 
 namespace dtm {
@@ -57,22 +58,24 @@ std::vector<BoundaryCandidate> boundary_candidates(const LevelGeometry& L, const
   const auto& triangles = surface.triangles;
   const Csr& around = surface.around;
 
-  std::vector<BoundaryCandidate> out;
-  std::vector<std::array<uint32_t, 3>> umbrella;
-  for (uint32_t v = 0; v < L.size(); ++v) {
-    if (!surface.holds(L.boundary, v)) continue;
-    umbrella.clear();
-    for (uint32_t i : around.row(v)) umbrella.push_back(triangles[i]);
-    const Umbrella u = umbrella_of(v, umbrella, L.points);
-    const double area = norm(u.vector_area);
-    if (!u.is_disk || area == 0) continue;
-    const Vec3 normal = u.vector_area * (1.0 / area);
-    double error = std::abs(dot(normal, to_vec(L.points[v]) - u.link_centroid));
-    for (uint32_t k : represented.row(v))
-      error = std::max(error, std::abs(dot(normal, to_vec(originals[k]) - u.link_centroid)));
-    if (error <= dmax) out.push_back({v, error});
-  }
-  return out;
+  // Each vertex's candidacy is its own: on every core, in vertex order.
+  return collect_in_order<BoundaryCandidate>(
+      L.size(), 4096, [&](size_t first, size_t last, std::vector<BoundaryCandidate>& out) {
+        std::vector<std::array<uint32_t, 3>> umbrella;
+        for (auto v = static_cast<uint32_t>(first); v < last; ++v) {
+          if (!surface.holds(L.boundary, v)) continue;
+          umbrella.clear();
+          for (uint32_t i : around.row(v)) umbrella.push_back(triangles[i]);
+          const Umbrella u = umbrella_of(v, umbrella, L.points);
+          const double area = norm(u.vector_area);
+          if (!u.is_disk || area == 0) continue;
+          const Vec3 normal = u.vector_area * (1.0 / area);
+          double error = std::abs(dot(normal, to_vec(L.points[v]) - u.link_centroid));
+          for (uint32_t k : represented.row(v))
+            error = std::max(error, std::abs(dot(normal, to_vec(originals[k]) - u.link_centroid)));
+          if (error <= dmax) out.push_back({v, error});
+        }
+      });
 }
 
 }  // namespace dtm
