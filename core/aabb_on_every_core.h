@@ -19,6 +19,9 @@
 // functor on the same range in the same state: the same primitive order and
 // the same boxes as tree.build().
 //
+// build_kd_tree_on_every_core(tree) is CGAL's parallel k-d tree build (its
+// splits are the sequential build's), here and for core/nearest_points.cpp.
+//
 // DistanceHints is the k-d tree accelerate_distance_queries() makes: its
 // search tree's type over the primitives' reference points in the order
 // they were inserted, built by CGAL's parallel build, whose splits are the
@@ -107,6 +110,21 @@ void build_on_every_core(Tree& tree) {
 #endif
 }
 
+// tree.build() of a CGAL k-d tree on thread_count() threads: CGAL's parallel
+// build, whose splits are its sequential build's (a node's two halves
+// apart), so searches walk the same tree.
+template <class KdTree>
+void build_kd_tree_on_every_core(KdTree& tree) {
+#ifdef CGAL_LINKED_WITH_TBB
+  if (const int threads = thread_count(); threads > 1) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] { tree.template build<CGAL::Parallel_tag>(); });
+    return;
+  }
+#endif
+  tree.build();
+}
+
 // The guesses CGAL's distance queries start from, found as CGAL finds them.
 template <class Tree>
 class DistanceHints {
@@ -123,16 +141,7 @@ class DistanceHints {
     for (const Hint& r : references) points.emplace_back(r.first, r.second);
     empty_ = points.empty();
     tree_.insert(points.begin(), points.end());
-    if (empty_) return;
-#ifdef CGAL_LINKED_WITH_TBB
-    const int threads = thread_count();
-    if (threads > 1) {
-      tbb::task_arena arena(threads);
-      arena.execute([&] { tree_.template build<CGAL::Parallel_tag>(); });
-      return;
-    }
-#endif
-    tree_.build();
+    if (!empty_) build_kd_tree_on_every_core(tree_);
   }
 
   // The reference point nearest q, and its primitive (not for no primitives).

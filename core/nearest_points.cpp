@@ -10,11 +10,7 @@
 #include <utility>
 #include <vector>
 
-#ifdef CGAL_LINKED_WITH_TBB
-#include <tbb/task_arena.h>
-#endif
-
-#include "common/threads.h"
+#include "core/aabb_on_every_core.h"
 
 namespace dtm {
 namespace {
@@ -48,17 +44,7 @@ NearestPoints::NearestPoints(std::span<const GridPoint> points) : state_(std::ma
   const PointOf point_of = CGAL::make_property_map(std::as_const(s.points));
   s.tree = std::make_unique<Tree>(ids.begin(), ids.end(), Tree::Splitter(), Traits(point_of));
   // Built now, not lazily by the first search: searches may run at once.
-  // On every core where it has more than one: CGAL's parallel build makes
-  // the splits of its sequential one (the two halves of a node apart), so
-  // the searches walk the same tree.
-#ifdef CGAL_LINKED_WITH_TBB
-  if (const int threads = thread_count(); threads > 1) {
-    tbb::task_arena arena(threads);
-    arena.execute([&] { s.tree->template build<CGAL::Parallel_tag>(); });
-    return;
-  }
-#endif
-  s.tree->build();
+  build_kd_tree_on_every_core(*s.tree);
 }
 
 NearestPoints::~NearestPoints() = default;
