@@ -5,6 +5,9 @@
 #include <limits>
 #include <numeric>
 
+#include "common/parallel_for.h"
+#include "common/parallel_sort.h"
+
 namespace dtm {
 
 NearestSpacing::NearestSpacing(std::span<const GridPoint> points) : NearestSpacing(points, {}) {}
@@ -24,14 +27,22 @@ NearestSpacing::NearestSpacing(std::span<const GridPoint> points, std::span<cons
   const double volume = (hi.x - lo.x + 1.0) * (hi.y - lo.y + 1.0) * (hi.z - lo.z + 1.0);
   side_ = std::max<int64_t>(1, static_cast<int64_t>(std::cbrt(volume / static_cast<double>(n))));
   rings_ = (std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) + side_) / side_ + 1;
-  order_.resize(n);
-  std::iota(order_.begin(), order_.end(), 0u);
-  std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
-    const Cell ca = cell_of(at(a)), cb = cell_of(at(b));
-    return ca != cb ? ca < cb : a < b;
+  // The points by cell (then index: the keys are distinct, so any sort
+  // gives this order), each one's cell found once, sorted on every core.
+  struct Keyed {
+    Cell cell;
+    uint32_t i;
+    bool operator<(const Keyed& o) const { return cell != o.cell ? cell < o.cell : i < o.i; }
+  };
+  std::vector<Keyed> keyed(n);
+  parallel_ranges(n, 16384, [&](size_t first, size_t last) {
+    for (size_t i = first; i < last; ++i) keyed[i] = {cell_of(at(i)), static_cast<uint32_t>(i)};
   });
-  for (uint32_t k = 0; k < order_.size(); ++k) {
-    const Cell c = cell_of(at(order_[k]));
+  parallel_sort(keyed.begin(), keyed.end());
+  order_.resize(n);
+  for (uint32_t k = 0; k < n; ++k) {
+    order_[k] = keyed[k].i;
+    const Cell& c = keyed[k].cell;
     if (cells_.empty() || cells_.back() != c) cells_.push_back(c), first_.push_back(k);
   }
   first_.push_back(static_cast<uint32_t>(order_.size()));

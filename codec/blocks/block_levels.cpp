@@ -7,6 +7,8 @@
 #include "codec/bricks/bricks.h"
 #include "codec/sections/carving_coder.h"
 #include "codec/stream/format.h"
+#include "common/parallel_for.h"
+#include "common/parallel_sort.h"
 #include "common/release.h"
 #include "mesh/carving.h"
 #include "mesh/topology.h"
@@ -35,6 +37,35 @@ std::vector<std::pair<MortonCode, MortonCode>> ranges_covering(const GridBox& bo
   return out;
 }
 
+// Stretches [begin, end) of a sorted array, seen as one run of positions
+// 0 .. size(): what a scan of several ranges hands out to every core.
+class Stretches {
+ public:
+  void add(size_t begin, size_t end) {
+    if (begin >= end) return;
+    stretches_.emplace_back(begin, end);
+    before_.push_back(before_.back() + (end - begin));
+  }
+  size_t size() const { return before_.back(); }
+  // f(array position) for the run's positions [first, last), in order.
+  template <class F>
+  void for_each(size_t first, size_t last, const F& f) const {
+    size_t s =
+        static_cast<size_t>(std::upper_bound(before_.begin(), before_.end(), first) - before_.begin()) - 1;
+    for (size_t k = first; k < last; ++k) {
+      while (k >= before_[s + 1]) ++s;
+      f(stretches_[s].first + (k - before_[s]));
+    }
+  }
+
+ private:
+  std::vector<std::pair<size_t, size_t>> stretches_;
+  std::vector<size_t> before_{0};  // positions in the run before each stretch
+};
+
+// Items a thread scans at a time.
+constexpr size_t kScan = 16384;
+
 template <size_t N>
 bool owns(const GridBox& owned, std::span<const GridPoint> points, const std::array<uint32_t, N>& corners) {
   GridPoint least = points[corners[0]];
@@ -57,16 +88,27 @@ MortonIndex::MortonIndex(std::span<const GridPoint> points, int qbits) : qbits_(
 
 std::vector<uint32_t> MortonIndex::inside(const GridBox& box, std::span<const uint8_t> level_of,
                                           int level) const {
-  std::vector<uint32_t> out;
+  // The index's stretches the box's bricks cover, each found by two binary
+  // searches (a code made a step, not a point: a code made for every point
+  // scanned was a second of one thread at bunny_1m's level 0).
+  Stretches stretches;
   for (const auto& [first, last] : ranges_covering(box, qbits_)) {
-    const size_t begin = static_cast<size_t>(
-        std::lower_bound(ids_.begin(), ids_.end(), first,
-                         [&](uint32_t id, MortonCode code) { return code_of(id) < code; }) -
-        ids_.begin());
-    for (size_t i = begin; i < ids_.size() && code_of(ids_[i]) < last; ++i)
-      if (level_of[ids_[i]] >= level && box.contains(points_[ids_[i]])) out.push_back(ids_[i]);
+    const auto at = [&](MortonCode code) {
+      return static_cast<size_t>(
+          std::lower_bound(ids_.begin(), ids_.end(), code,
+                           [&](uint32_t id, MortonCode c) { return code_of(id) < c; }) -
+          ids_.begin());
+    };
+    stretches.add(at(first), at(last));
   }
-  std::sort(out.begin(), out.end());
+  std::vector<uint32_t> out = collect_in_order<uint32_t>(
+      stretches.size(), kScan, [&](size_t first, size_t last, std::vector<uint32_t>& part) {
+        stretches.for_each(first, last, [&](size_t i) {
+          const uint32_t id = ids_[i];
+          if (level_of[id] >= level && box.contains(points_[id])) part.push_back(id);
+        });
+      });
+  parallel_sort(out.begin(), out.end());
   return out;
 }
 
@@ -125,16 +167,22 @@ std::vector<std::array<uint32_t, 3>> TriangleIndex::meeting(const GridBox& box) 
   // down by the largest extent.
   GridBox anchors = box;
   for (int a = 0; a < 3; ++a) anchors.lo[a] -= extent_[a];
-  std::vector<uint32_t> found;
+  Stretches stretches;
   for (const auto& [first, last] : ranges_covering(anchors, qbits_))
-    for (size_t k = static_cast<size_t>(std::lower_bound(anchors_.begin(), anchors_.end(), first) -
-                                        anchors_.begin());
-         k < anchors_.size() && anchors_[k] < last; ++k)
-      if (box_of(points_, triangles_[k]).meets(box)) found.push_back(static_cast<uint32_t>(k));
-  std::sort(found.begin(), found.end());  // one order whatever the ranges
-  std::vector<std::array<uint32_t, 3>> out;
-  out.reserve(found.size());
-  for (uint32_t k : found) out.push_back(triangles_[k]);
+    stretches.add(
+        static_cast<size_t>(std::lower_bound(anchors_.begin(), anchors_.end(), first) - anchors_.begin()),
+        static_cast<size_t>(std::lower_bound(anchors_.begin(), anchors_.end(), last) - anchors_.begin()));
+  std::vector<uint32_t> found = collect_in_order<uint32_t>(
+      stretches.size(), kScan, [&](size_t first, size_t last, std::vector<uint32_t>& part) {
+        stretches.for_each(first, last, [&](size_t k) {
+          if (box_of(points_, triangles_[k]).meets(box)) part.push_back(static_cast<uint32_t>(k));
+        });
+      });
+  parallel_sort(found.begin(), found.end());  // one order whatever the ranges
+  std::vector<std::array<uint32_t, 3>> out(found.size());
+  parallel_ranges(found.size(), kScan, [&](size_t first, size_t last) {
+    for (size_t i = first; i < last; ++i) out[i] = triangles_[found[i]];
+  });
   return out;
 }
 
@@ -171,18 +219,27 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
   const std::span<const uint32_t> ids = block.ids;
 
   BlockFigures& f = out.figures;
-  std::vector<std::array<uint32_t, 4>> owned_cells;
   for (uint32_t v = 0; v < n; ++v)
     if (block.owned.contains(points[v])) {
       ++f.vertices;
       if (L.boundary[v]) ++f.boundary_vertices, out.boundary.push_back(ids[v]);
     }
-  for (size_t c = 0; c < L.dt.cells.size(); ++c) {
-    if (!L.in_mesh[c] || !owns(block.owned, points, L.dt.cells[c])) continue;
+  // The cells the block owns, found on every core; their figures added in
+  // cell order, as one loop would (the sums are the stream's figures).
+  const std::vector<uint32_t> owned = collect_in_order<uint32_t>(
+      L.dt.cells.size(), kScan, [&](size_t first, size_t last, std::vector<uint32_t>& part) {
+        for (size_t c = first; c < last; ++c)
+          if (L.in_mesh[c] && owns(block.owned, points, L.dt.cells[c]))
+            part.push_back(static_cast<uint32_t>(c));
+      });
+  std::vector<std::array<uint32_t, 4>> owned_cells(owned.size());
+  parallel_ranges(owned.size(), kScan, [&](size_t first, size_t last) {
+    for (size_t i = first; i < last; ++i) owned_cells[i] = L.dt.cells[owned[i]];
+  });
+  for (uint32_t c : owned) {
     ++f.cells;
     f.quality_sum += L.cell_min_solid_angle[c];
     f.quality_min = std::min(f.quality_min, L.cell_min_solid_angle[c]);
-    owned_cells.push_back(L.dt.cells[c]);
   }
   f.cell_hash = cell_hash_sum(points, owned_cells);
   if (o.collect_cells) {
@@ -195,14 +252,20 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
   // The surface: what the block owns of it, and its distance to the reference.
   const LevelSurface surface = level_surface(L);
   std::vector<uint8_t> on_surface(n, 0);
-  for (const auto& t : surface.triangles) {
+  for (const auto& t : surface.triangles)
     for (uint32_t v : t) on_surface[v] = 1;
-    if (!owns(block.owned, points, t)) continue;
-    std::array<uint32_t, 3> key = {ids[t[0]], ids[t[1]], ids[t[2]]};
-    std::sort(key.begin(), key.end());
-    out.surface_triangles.push_back(key);
-  }
-  std::sort(out.surface_triangles.begin(), out.surface_triangles.end());
+  out.surface_triangles = collect_in_order<std::array<uint32_t, 3>>(
+      surface.triangles.size(), kScan,
+      [&](size_t first, size_t last, std::vector<std::array<uint32_t, 3>>& part) {
+        for (size_t k = first; k < last; ++k) {
+          const auto& t = surface.triangles[k];
+          if (!owns(block.owned, points, t)) continue;
+          std::array<uint32_t, 3> key = {ids[t[0]], ids[t[1]], ids[t[2]]};
+          std::sort(key.begin(), key.end());
+          part.push_back(key);
+        }
+      });
+  parallel_sort(out.surface_triangles.begin(), out.surface_triangles.end());
   for (uint32_t v = 0; v < n; ++v)
     if (on_surface[v] && block.owned.contains(points[v])) out.surface_vertices.push_back(ids[v]);
   if (reference && reference->shape) {
@@ -225,7 +288,9 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
   // cells coded in the order of their vertices' Morton codes (§3.5).
   if (o.brick_depth >= 0) {
     std::vector<MortonCode> codes(n);
-    for (uint32_t v = 0; v < n; ++v) codes[v] = morton_encode(points[v], o.qbits);
+    parallel_ranges(n, kScan, [&](size_t first, size_t last) {
+      for (size_t v = first; v < last; ++v) codes[v] = morton_encode(points[v], o.qbits);
+    });
     const std::vector<uint64_t> owner =
         carving_bricks_of_cells(L.dt, points, codes, o.qbits, o.brick_depth, o.kept_radius);
     std::vector<uint64_t> bricks;
@@ -236,11 +301,13 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
     std::sort(bricks.begin(), bricks.end());
     bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
     std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
-    for (size_t c = 0; c < owner.size(); ++c) {
-      const auto it = std::lower_bound(bricks.begin(), bricks.end(), owner[c]);
-      if (owner[c] != kNoBrick && it != bricks.end() && *it == owner[c])
-        chunk_of_cell[c] = static_cast<uint32_t>(it - bricks.begin());
-    }
+    parallel_ranges(owner.size(), kScan, [&](size_t first, size_t last) {
+      for (size_t c = first; c < last; ++c) {
+        const auto it = std::lower_bound(bricks.begin(), bricks.end(), owner[c]);
+        if (owner[c] != kNoBrick && it != bricks.end() && *it == owner[c])
+          chunk_of_cell[c] = static_cast<uint32_t>(it - bricks.begin());
+      }
+    });
     std::vector<std::vector<uint8_t>> sections = encode_carving_chunks(
         L.dt, points, o.alpha, L.in_mesh, chunk_of_cell, bricks.size(), morton_ranks(codes));
     for (size_t i = 0; i < bricks.size(); ++i)
@@ -263,16 +330,32 @@ StatusOr<BlockBuild> build_block(const BlockRegion& fine, std::span<const uint8_
     return std::binary_search(fine.ids.begin(), fine.ids.end(), id);
   };
   // The finer level's record where the block can see it.
+  // (The whole level's record, searched on every core.)
   SurfaceRecord local;
-  for (const auto& t : record.triangles)
-    if (in_region(t[0]) && in_region(t[1]) && in_region(t[2])) local.triangles.push_back(t);
-  for (uint32_t v : record.vertices)
-    if (in_region(v)) local.vertices.push_back(v);
-  for (uint32_t id : reference.shape->boundary_ids()) {
-    const auto it = std::lower_bound(reference_squared.begin(), reference_squared.end(),
-                                     std::pair<uint32_t, double>{id, -INFINITY});
-    local.reference_squared.push_back(it != reference_squared.end() && it->first == id ? it->second : 0.0);
-  }
+  local.triangles = collect_in_order<std::array<uint32_t, 3>>(
+      record.triangles.size(), kScan,
+      [&](size_t first, size_t last, std::vector<std::array<uint32_t, 3>>& part) {
+        for (size_t k = first; k < last; ++k) {
+          const auto& t = record.triangles[k];
+          if (in_region(t[0]) && in_region(t[1]) && in_region(t[2])) part.push_back(t);
+        }
+      });
+  local.vertices = collect_in_order<uint32_t>(record.vertices.size(), kScan,
+                                              [&](size_t first, size_t last, std::vector<uint32_t>& part) {
+                                                for (size_t k = first; k < last; ++k)
+                                                  if (in_region(record.vertices[k]))
+                                                    part.push_back(record.vertices[k]);
+                                              });
+  const std::span<const uint32_t> boundary_ids = reference.shape->boundary_ids();
+  local.reference_squared.resize(boundary_ids.size());
+  parallel_ranges(boundary_ids.size(), kScan, [&](size_t first, size_t last) {
+    for (size_t k = first; k < last; ++k) {
+      const uint32_t id = boundary_ids[k];
+      const auto it = std::lower_bound(reference_squared.begin(), reference_squared.end(),
+                                       std::pair<uint32_t, double>{id, -INFINITY});
+      local.reference_squared[k] = it != reference_squared.end() && it->first == id ? it->second : 0.0;
+    }
+  });
   LevelBounds b = bounds;
   b.owned = &fine.owned;
   b.analyze = false;

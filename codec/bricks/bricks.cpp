@@ -5,6 +5,7 @@
 
 #include "common/checksum.h"
 #include "common/parallel_for.h"
+#include "common/parallel_sort.h"
 #include "mesh/carving.h"
 
 namespace dtm {
@@ -125,11 +126,16 @@ const BrickChunk* find_chunk(std::span<const BrickChunk> chunks, uint64_t brick)
 }
 
 std::vector<uint32_t> morton_ranks(std::span<const MortonCode> codes) {
+  // (On every core; the points are distinct, so are their codes, and the
+  // index breaks a tie all the same.)
   std::vector<uint32_t> by_code(codes.size());
   for (uint32_t i = 0; i < by_code.size(); ++i) by_code[i] = i;
-  std::sort(by_code.begin(), by_code.end(), [&](uint32_t a, uint32_t b) { return codes[a] < codes[b]; });
+  parallel_sort(by_code.begin(), by_code.end(),
+                [&](uint32_t a, uint32_t b) { return codes[a] != codes[b] ? codes[a] < codes[b] : a < b; });
   std::vector<uint32_t> rank(codes.size());
-  for (uint32_t r = 0; r < by_code.size(); ++r) rank[by_code[r]] = r;
+  parallel_ranges(by_code.size(), 16384, [&](size_t first, size_t last) {
+    for (size_t r = first; r < last; ++r) rank[by_code[r]] = static_cast<uint32_t>(r);
+  });
   return rank;
 }
 

@@ -46,8 +46,10 @@ ChunkCells group_by_chunk(std::span<const uint32_t> order, std::span<const uint3
 // them by vertex number.
 std::vector<uint32_t> ranked_order(const TetMesh& dt, std::span<const uint32_t> vertex_rank) {
   std::vector<std::array<uint32_t, 4>> ranked(dt.cells.size());
-  for (size_t c = 0; c < ranked.size(); ++c)
-    for (int i = 0; i < 4; ++i) ranked[c][i] = vertex_rank[dt.cells[c][i]];
+  parallel_ranges(ranked.size(), 16384, [&](size_t first, size_t last) {
+    for (size_t c = first; c < last; ++c)
+      for (int i = 0; i < 4; ++i) ranked[c][i] = vertex_rank[dt.cells[c][i]];
+  });
   return canonical_cell_order(ranked);
 }
 
