@@ -222,13 +222,17 @@ std::vector<uint8_t> ProgressiveDecoder::bricked_carving(const TetMesh& dt,
                                                          std::vector<uint32_t>& order) const {
   const int qbits = header_.grid.qbits;
   std::vector<MortonCode> codes(points_.size());
-  for (size_t v = 0; v < codes.size(); ++v) codes[v] = morton_encode(points_[v], qbits);
+  parallel_ranges(codes.size(), 16384, [&](size_t first, size_t last) {
+    for (size_t v = first; v < last; ++v) codes[v] = morton_encode(points_[v], qbits);
+  });
   const std::vector<uint64_t> owner =
       carving_bricks_of_cells(dt, points_, codes, qbits, brick_depth_, kept_radius_);
   std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
-  for (size_t c = 0; c < owner.size(); ++c)
-    if (const BrickChunk* chunk = owner[c] == kNoBrick ? nullptr : find_chunk(chunks_, owner[c]))
-      chunk_of_cell[c] = static_cast<uint32_t>(chunk - chunks_.data());
+  parallel_ranges(owner.size(), 16384, [&](size_t first, size_t last) {
+    for (size_t c = first; c < last; ++c)
+      if (const BrickChunk* chunk = owner[c] == kNoBrick ? nullptr : find_chunk(chunks_, owner[c]))
+        chunk_of_cell[c] = static_cast<uint32_t>(chunk - chunks_.data());
+  });
   std::vector<std::span<const uint8_t>> sections;
   sections.reserve(chunks_.size());
   for (const BrickChunk& c : chunks_)

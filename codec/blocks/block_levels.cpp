@@ -293,13 +293,15 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
     });
     const std::vector<uint64_t> owner =
         carving_bricks_of_cells(L.dt, points, codes, o.qbits, o.brick_depth, o.kept_radius);
-    std::vector<uint64_t> bricks;
-    for (uint64_t b : owner)
-      if (b != kNoBrick &&
-          block.owned.contains(morton_decode(MortonCode{b} << (3 * (o.qbits - o.brick_depth)), o.qbits)))
-        bricks.push_back(b);
-    std::sort(bricks.begin(), bricks.end());
+    // The bricks the cells name, each once (sorted on every core: a brick
+    // a cell), then those whose corner the block owns.
+    std::vector<uint64_t> bricks(owner);
+    parallel_sort(bricks.begin(), bricks.end());
     bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
+    std::erase_if(bricks, [&](uint64_t b) {
+      return b == kNoBrick ||
+             !block.owned.contains(morton_decode(MortonCode{b} << (3 * (o.qbits - o.brick_depth)), o.qbits));
+    });
     std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
     parallel_ranges(owner.size(), kScan, [&](size_t first, size_t last) {
       for (size_t c = first; c < last; ++c) {
