@@ -1,0 +1,144 @@
+// The bricked encoder's searches by place (codec/blocks/block_levels.h):
+// MortonIndex::inside and TriangleIndex::meeting against a scan of every
+// point and triangle, and cell_hash_sum against one cell's hash at a time,
+// on 1, 2 and 3 threads. Their scans and sorts run on every core; what they
+// return (the level's bytes depend on it) must not.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "codec/blocks/block_levels.h"
+#include "codec/stream/format.h"
+#include "common/byte_io.h"
+#include "common/checksum.h"
+#include "common/threads.h"
+
+namespace dtm {
+namespace {
+
+constexpr int kIndexQBits = 9;
+
+struct IndexThreads {
+  explicit IndexThreads(int n) { set_thread_count(n); }
+  ~IndexThreads() { set_thread_count(0); }
+  IndexThreads(const IndexThreads&) = delete;
+  IndexThreads& operator=(const IndexThreads&) = delete;
+};
+
+// Distinct points on the grid, clustered in one corner as a mesh's are
+// (so that boxes meet many and few of them), and a level for each.
+std::vector<GridPoint> index_points(size_t n, std::mt19937& random) {
+  std::uniform_int_distribution<int32_t> any(0, (1 << kIndexQBits) - 1), corner(0, 63);
+  std::set<GridPoint> seen;
+  std::vector<GridPoint> out;
+  while (out.size() < n) {
+    const bool dense = out.size() % 2 == 0;
+    const GridPoint p = dense ? GridPoint{corner(random), corner(random), corner(random)}
+                              : GridPoint{any(random), any(random), any(random)};
+    if (seen.insert(p).second) out.push_back(p);
+  }
+  return out;
+}
+
+GridBox random_box(std::mt19937& random) {
+  std::uniform_int_distribution<int64_t> at(-20, (1 << kIndexQBits) + 20), side(0, 200);
+  GridBox b;
+  for (int a = 0; a < 3; ++a) {
+    b.lo[a] = at(random);
+    b.hi[a] = b.lo[a] + side(random);
+  }
+  return b;
+}
+
+TEST(BlockIndex, InsideIsEveryPointOfTheLevelInTheBoxAscendingOnAnyNumberOfThreads) {
+  std::mt19937 random(7);
+  const std::vector<GridPoint> points = index_points(60000, random);
+  std::vector<uint8_t> level_of(points.size());
+  for (uint8_t& l : level_of) l = static_cast<uint8_t>(random() % 4);
+  const MortonIndex index(points, kIndexQBits);
+  std::vector<GridBox> boxes;
+  for (int k = 0; k < 40; ++k) boxes.push_back(random_box(random));
+  boxes.push_back({{0, 0, 0}, {(1 << kIndexQBits) - 1, (1 << kIndexQBits) - 1, (1 << kIndexQBits) - 1}});
+  boxes.push_back({{0, 0, 0}, {63, 63, 63}});  // the dense corner: 30,000 points, more than a scan's range
+  boxes.push_back({{5, 5, 5}, {4, 4, 4}});     // empty
+  for (int threads : {1, 2, 3}) {
+    const IndexThreads use(threads);
+    for (const GridBox& box : boxes)
+      for (int level : {0, 2}) {
+        std::vector<uint32_t> expected;
+        for (uint32_t id = 0; id < points.size(); ++id)
+          if (level_of[id] >= level && box.contains(points[id])) expected.push_back(id);
+        EXPECT_EQ(index.inside(box, level_of, level), expected) << threads << " threads, level " << level;
+      }
+  }
+}
+
+TEST(BlockIndex, MeetingIsEveryTriangleWhoseBoxMeetsTheBoxInOneOrderOnAnyNumberOfThreads) {
+  std::mt19937 random(11);
+  const std::vector<GridPoint> points = index_points(20000, random);
+  // Triangles of nearby points (as a surface's are) and a few long ones.
+  std::vector<std::array<uint32_t, 3>> triangles;
+  for (uint32_t i = 0; i + 2 < points.size(); i += 2) triangles.push_back({i, i + 2, (i + 4) % 20000});
+  for (uint32_t i = 1; i + 100 < points.size(); i += 997) triangles.push_back({i, i + 50, i + 100});
+  const TriangleIndex index(points, triangles, kIndexQBits);
+  const auto box_meets = [&](const std::array<uint32_t, 3>& t, const GridBox& box) {
+    GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
+    for (uint32_t v : t) {
+      const int64_t c[3] = {points[v].x, points[v].y, points[v].z};
+      for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], c[a]), b.hi[a] = std::max(b.hi[a], c[a]);
+    }
+    return b.meets(box);
+  };
+  std::vector<GridBox> boxes;
+  for (int k = 0; k < 40; ++k) boxes.push_back(random_box(random));
+  boxes.push_back({{0, 0, 0}, {63, 63, 63}});
+  std::vector<std::vector<std::array<uint32_t, 3>>> first;
+  for (int threads : {1, 2, 3}) {
+    const IndexThreads use(threads);
+    for (size_t k = 0; k < boxes.size(); ++k) {
+      const std::vector<std::array<uint32_t, 3>> found = index.meeting(boxes[k]);
+      std::multiset<std::array<uint32_t, 3>> expected, got(found.begin(), found.end());
+      for (const auto& t : triangles)
+        if (box_meets(t, boxes[k])) expected.insert(t);
+      EXPECT_EQ(got, expected) << threads << " threads, box " << k;
+      if (threads == 1)
+        first.push_back(found);
+      else
+        EXPECT_EQ(found, first[k]) << threads << " threads, box " << k;  // the same order
+    }
+  }
+}
+
+TEST(BlockIndex, CellHashSumIsTheSumOfEachCellsHashOnAnyNumberOfThreads) {
+  std::mt19937 random(3);
+  const std::vector<GridPoint> points = index_points(5000, random);
+  std::vector<std::array<uint32_t, 4>> cells(70000);  // more than one range of the sum
+  for (auto& c : cells)
+    for (uint32_t& v : c) v = static_cast<uint32_t>(random() % points.size());
+  // Each cell's corners in coordinate order, written as little-endian words.
+  uint64_t expected = 0;
+  for (const auto& c : cells) {
+    std::array<GridPoint, 4> q = {points[c[0]], points[c[1]], points[c[2]], points[c[3]]};
+    std::sort(q.begin(), q.end());
+    ByteWriter w;
+    for (const GridPoint& p : q) {
+      w.u32(static_cast<uint32_t>(p.x));
+      w.u32(static_cast<uint32_t>(p.y));
+      w.u32(static_cast<uint32_t>(p.z));
+    }
+    expected += xxh3_64(w.data());
+  }
+  for (int threads : {1, 2, 3}) {
+    const IndexThreads use(threads);
+    EXPECT_EQ(cell_hash_sum(points, cells), expected) << threads << " threads";
+    // Any corner order: the same hash.
+    std::vector<std::array<uint32_t, 4>> turned = cells;
+    for (auto& c : turned) std::reverse(c.begin(), c.end());
+    EXPECT_EQ(cell_hash_sum(points, turned), expected) << threads << " threads";
+  }
+}
+
+}  // namespace
+}  // namespace dtm
