@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/carving_coder.h"
@@ -20,7 +21,7 @@ namespace {
 constexpr size_t kParallelLayer = 20000;
 }  // namespace
 
-ProgressiveDecoder::ProgressiveDecoder(DecoderOptions options) : options_(options) {}
+ProgressiveDecoder::ProgressiveDecoder(DecoderOptions options) : options_(std::move(options)) {}
 ProgressiveDecoder::~ProgressiveDecoder() = default;
 
 Status ProgressiveDecoder::fail(Status s) {
@@ -97,12 +98,15 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   DTM_RETURN_IF_ERROR(walk_->next(avail, layer));
   const std::string where = "level " + std::to_string(level) + " at byte " + std::to_string(layer.offset);
   const LayerHeader& lh = layer.header;
+  report_phase(options_.on_phase,
+               "level " + std::to_string(level) + ": its " + std::to_string(lh.new_vertices) + " new points");
 
   std::vector<GridPoint> added;
   DTM_RETURN_IF_ERROR(decode_layer_points(layer, added).with_context(where));
   if (levels_.empty() && !spans_three_dimensions(added))
     return {StatusCode::kCorrupt, where + ": the base level does not span three dimensions"};
   if (value_decoder_) {
+    report_phase(options_.on_phase, "level " + std::to_string(level) + ": their values");
     uint64_t components = 0;
     for (const FieldValues& f : fields_) components += f.description.components;
     if (uint64_t{lh.level_vertices} * components > options_.max_values)
@@ -160,6 +164,8 @@ Status ProgressiveDecoder::decode_layer_points(const Layer& layer, std::vector<G
   // 7.0: the candidates come from DT(V_{l+1}), the points decoded so far.
   insert_pending();
   DTM_RETURN_IF_ERROR(mesh_status_);
+  report_phase(options_.on_phase, "level " + std::to_string(lh.level) + ": its " +
+                                      std::to_string(lh.new_vertices) + " new points, from candidates");
   const CandidateList candidates =
       layer_candidates(dt_.finite_cells(), points_, known_, qbits, lh.candidate_kinds);
   std::vector<GridPoint> sent;
@@ -286,6 +292,8 @@ void ProgressiveDecoder::insert_pending() const {
   // previous one, it goes ~12% faster than re-sorted. A large one, where
   // several cores can share it, and anything else (the base layer, several
   // layers at once) get the batch insertion (spatially sorted, on every core).
+  report_phase(options_.on_phase, "level " + std::to_string(finest_level()) + ": inserting " +
+                                      std::to_string(batch.size()) + " points");
   const bool one_layer = inserted_ > 0 && layers_pending_ == 1;
   const bool shared = parallel_delaunay_available() && batch.size() >= kParallelLayer;
   const Status s = one_layer && !shared ? dt_.insert_one_by_one(batch, ids) : dt_.insert(batch, ids);
@@ -300,6 +308,7 @@ void ProgressiveDecoder::insert_pending() const {
 TetMesh ProgressiveDecoder::delaunay(IncrementalDelaunay::CellOrder order, double spare) const {
   insert_pending();
   if (!mesh_status_.ok()) return {};
+  report_phase(options_.on_phase, "level " + std::to_string(finest_level()) + ": its cells");
   return dt_.mesh(order, spare);
 }
 
@@ -311,6 +320,7 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt) const {
 std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<uint32_t>& order) const {
   order.clear();
   if (levels_.empty() || !mesh_status_.ok()) return {};
+  report_phase(options_.on_phase, "level " + std::to_string(finest_level()) + ": carving");
   const double alpha = levels_.back().alpha;
   if (!(header_.flags & kFlagCarvingCorrections)) {
     order = canonical_cell_order(dt.cells);
@@ -344,6 +354,7 @@ ProgressiveDecoder::LevelCells ProgressiveDecoder::level_cells() const {
   if (!exact_level()) return out;
   // The fill from the kept Delaunay cells, then the regions of the whole
   // level (spec/FORMAT.md §3.10): the cells the exact section adds are kept.
+  report_phase(options_.on_phase, "level 0: the input's cells (the exact section)");
   ExactFill fill;
   Status s = decode_exact_cells(exact_section_, out.mesh, points_, levels_.back().alpha, out.kept, out.order,
                                 apex_ranks_of(header_.version_major), fill);

@@ -28,6 +28,7 @@
 #include "codec/sections/value_fields.h"
 #include "codec/stream/format.h"
 #include "codec/stream/layer_coder.h"
+#include "common/progress.h"
 #include "common/status.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
@@ -43,6 +44,9 @@ struct DecoderOptions {
   uint64_t max_values = 1'000'000'000;
   // Stop after this level (0 = finest; -1 = decode every level present).
   int stop_after_level = -1;
+  // Named as each phase of the work starts ("level 0: carving"), for a
+  // tool's status line or timings (common/progress.h).
+  PhaseCallback on_phase;
 };
 
 struct DecodedLevel {

@@ -151,6 +151,20 @@ TEST_F(Tools, MeshdecWritesEveryFormatAndVerifiesTheLevels) {
   EXPECT_TRUE(std::filesystem::exists(dir_ + "/l3.vtu"));
 }
 
+TEST_F(Tools, MeshdecVerboseTimesEachPhaseAndQuietSaysNothing) {
+  const CommandRun r = run_command(kMeshdec + " " + stream_ + " -v -o " + dir_ + "/v.vtu");
+  ASSERT_EQ(r.status, 0) << r.output;
+  // A line per phase as it ends: its seconds, the memory now and at the peak, its name.
+  const std::vector<std::string> phases = {
+      "level 0: its ",    "level 0: inserting ",        "level 0: its cells",
+      "level 0: carving", "writing " + dir_ + "/v.vtu", "in all"};
+  for (const std::string& phase : phases)
+    EXPECT_NE(r.output.find(" MiB peak  " + phase), std::string::npos) << phase << "\n" << r.output;
+  const CommandRun quiet = run_command(kMeshdec + " " + stream_ + " -v -q -o " + dir_ + "/q.vtu");
+  ASSERT_EQ(quiet.status, 0) << quiet.output;
+  EXPECT_EQ(quiet.output, "");
+}
+
 TEST_F(Tools, ALevelTheStreamDoesNotHaveIsAnError) {
   const CommandRun r =
       run_command(kMeshdec + " " + stream_ + " -o " + dir_ + "/none.vtu --level " + std::to_string(levels_));

@@ -4,7 +4,6 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <string>
 
@@ -19,6 +18,7 @@
 #include "tools/formats/surface_writers.h"
 #include "tools/huge_pages.h"
 #include "tools/mpi_session.h"
+#include "tools/phase_display.h"
 #include "tools/stream_input.h"
 #include "tools/thread_budget.h"
 #include "tools/tool_main.h"
@@ -51,7 +51,7 @@ a note on stderr); a damaged or foreign one is an error and writes nothing.)";
 struct Command {
   std::string input, output, format_name;
   int level = -1;
-  bool verify = false, quiet = false;
+  bool verify = false, quiet = false, verbose = false;
   dtm::SurfaceStyle style;
   bool no_draco = false;
   uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
@@ -93,7 +93,10 @@ void add_options(CLI::App& app, Command& c) {
          "with -o X.pvtu: decode the level in this many pieces, X_0.vtu ... (default: one per MPI rank "
          "under mpirun, else 1); every cell is in exactly one piece (a bricked stream: meshenc --bricks)")
       ->check(CLI::Range(1, 1 << 20));
-  app.add_flag("-q,--quiet", c.quiet, "no notes on stderr");
+  app.add_flag("-q,--quiet", c.quiet, "no notes on stderr (nor the progress line on a terminal)");
+  app.add_flag("-v,--verbose", c.verbose,
+               "print each phase of the work as it ends, with its time and the memory in use (now and at "
+               "the peak so far)");
   dtm::add_threads_option(app, c.threads);
 }
 
@@ -144,22 +147,16 @@ class Verifier {
 
 // Feeds the input to the decoder as it is read; throws on anything but a
 // whole or truncated stream with at least one level.
-void decode(const Command& c, dtm::ProgressiveDecoder& decoder, Verifier& verifier) {
-  const bool progress = !c.quiet && isatty(STDERR_FILENO);
-  const auto start = std::chrono::steady_clock::now();
+void decode(const Command& c, dtm::ProgressiveDecoder& decoder, Verifier& verifier,
+            dtm::PhaseDisplay& display) {
   auto on_level = [&](const dtm::ProgressiveDecoder& d, const dtm::DecodedLevel& l) {
-    if (progress) {
-      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::fprintf(stderr, "\r  level %d decoded: %u vertices, %.0f vertices/s\033[K", l.level, l.vertices,
-                   l.vertices / std::max(s, 1e-9));
-    }
     if (c.verify) verifier.check(d, l);
   };
   dtm::read_in_chunks(c.input, [&](std::span<const uint8_t> chunk) {
     // Read to the end: trailing bytes are an error.
     return decoder.feed(chunk, on_level).ok() && !decoder.stopped();
   });
-  if (progress) std::fprintf(stderr, "\r\033[K");
+  display.clear();
   const dtm::Status status = decoder.finish();
   if (status.code() != dtm::StatusCode::kOk && status.code() != dtm::StatusCode::kTruncated)
     throw std::runtime_error(c.input + ": " + status.message());
@@ -223,12 +220,16 @@ int run_pieces(const Command& c) {
   std::string error;
   uint64_t cells = 0, bytes_read = 0, largest_read = 0, size = 0;
   dtm::Grid grid;
+  dtm::PhaseDisplay display(
+      !c.quiet && isatty(STDERR_FILENO), c.verbose && !c.quiet,
+      mpi.size() > 1 ? "rank " + std::to_string(mpi.rank()) + "/" + std::to_string(mpi.size()) + ": " : "");
   try {
     auto source = dtm::FileSource::open(c.input);
     if (!source.ok()) throw std::runtime_error(source.status().message());
     size = source->size();
     dtm::DecoderOptions options;
     options.max_vertices = c.max_vertices;
+    options.on_phase = [&](std::string_view phase) { display.start(phase); };
     // The grid the pieces' points map back through (decode_piece says what
     // is wrong with a header that does not parse).
     std::vector<uint8_t> head(dtm::kHeaderSize);
@@ -239,6 +240,7 @@ int run_pieces(const Command& c) {
       const auto piece = dtm::decode_piece(*source, level, i, pieces, options);
       if (!piece.ok()) throw std::runtime_error(c.input + ": " + piece.status().message());
       const std::string path = (slash == std::string::npos ? "" : stem.substr(0, slash + 1)) + names[i];
+      display.start("writing " + path);
       dtm::write_files_atomically(dtm::render_mesh(region_output(*piece, grid), dtm::MeshFormat::kVtu, path));
       written.push_back(path);
       cells += piece->cells.size();
@@ -260,6 +262,7 @@ int run_pieces(const Command& c) {
     if (!error.empty()) throw std::runtime_error("rank " + std::to_string(mpi.rank()) + ": " + error);
     return 1;  // another rank's error, which that rank reports
   }
+  display.finish();
   const uint64_t all_cells = mpi.sum(cells), all_read = mpi.sum(bytes_read);
   if (mpi.rank() == 0) {
     dtm::OutputMesh like;
@@ -317,14 +320,21 @@ int run(const Command& c) {
   if (c.pieces > 0) throw std::invalid_argument("--pieces writes a .pvtu: -o X.pvtu");
   const dtm::MeshFormat format = output_format(c);
   if (!c.box.empty()) return run_region(c, format);
+  // What the work is doing, on standard error: a status line on a terminal,
+  // each phase's time with --verbose (the insertions, the carving, the exact
+  // cells and the writing are most of a large level's).
+  dtm::PhaseDisplay display(!c.quiet && isatty(STDERR_FILENO), c.verbose && !c.quiet);
   dtm::DecoderOptions options;
   options.max_vertices = c.max_vertices;
   options.stop_after_level = c.level;
+  options.on_phase = [&](std::string_view phase) { display.start(phase); };
   dtm::ProgressiveDecoder decoder(options);
   Verifier verifier;
-  decode(c, decoder, verifier);
+  decode(c, decoder, verifier, display);
   const dtm::OutputMesh mesh = dtm::decoded_mesh(decoder, c.input);
+  display.start("writing " + c.output);
   write_output(c, mesh, format);
+  display.finish();
   if (!c.quiet) {
     std::string note = c.verify ? ", verified " + std::to_string(verifier.verified()) + " levels" : "";
     const bool draco = format == dtm::MeshFormat::kDrc ||

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cinttypes>
 #include <cstdio>
+#include <utility>
 
 #include "common/checksum.h"
 #include "mesh/topology.h"
@@ -46,7 +47,7 @@ std::array<double, 3> grid_centre(const Grid& grid) {
   return {grid.origin[0] + half, grid.origin[1] + half, grid.origin[2] + half};
 }
 
-LevelViewer::LevelViewer(DecoderOptions options) : decoder_(options) {}
+LevelViewer::LevelViewer(DecoderOptions options) : decoder_(std::move(options)) {}
 
 Status LevelViewer::feed(std::span<const uint8_t> bytes) {
   if (!error_.ok()) return error_;
