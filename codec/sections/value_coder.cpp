@@ -60,13 +60,22 @@ std::vector<Neighbours> NeighbourSearch::layer(std::span<const GridPoint> points
   const auto first = static_cast<uint32_t>(points_.size());
   for (const GridPoint& p : points) add(p);
   std::vector<Neighbours> out(points.size());
-  constexpr size_t kBlock = 1024;
-  parallel_for((points.size() + kBlock - 1) / kBlock,
-               [&](size_t block) {
-                 for (size_t i = block * kBlock; i < std::min(points.size(), block * kBlock + kBlock); ++i)
-                   out[i] = nearest(points[i], first + static_cast<uint32_t>(i));
-               },
-               2);
+  // A run of points at a time, each on the threads the work holds then:
+  // the encoder codes the values beside the cells' sections, on its share
+  // of the threads, and when the cells are done their threads come to the
+  // next run (common/threads.h). In one call, bunny_1m's finest layer kept
+  // the one thread it started with, 0.4 s alone on 2 cores.
+  constexpr size_t kBlock = 1024, kRun = 64 * kBlock;
+  for (size_t run = 0; run < points.size(); run += kRun) {
+    const size_t end = std::min(points.size(), run + kRun);
+    parallel_for((end - run + kBlock - 1) / kBlock,
+                 [&](size_t block) {
+                   const size_t from = run + block * kBlock;
+                   for (size_t i = from; i < std::min(end, from + kBlock); ++i)
+                     out[i] = nearest(points[i], first + static_cast<uint32_t>(i));
+                 },
+                 2);
+  }
   return out;
 }
 
