@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <numeric>
 
 #include "codec/bricks/bricks.h"
@@ -293,10 +294,17 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
     });
     const std::vector<uint64_t> owner =
         carving_bricks_of_cells(L.dt, points, codes, o.qbits, o.brick_depth, o.kept_radius);
-    // The bricks the cells name, each once (sorted on every core: a brick
-    // a cell), then those whose corner the block owns.
-    std::vector<uint64_t> bricks(owner);
-    parallel_sort(bricks.begin(), bricks.end());
+    // The bricks the cells name, each once (each range of cells' own first,
+    // on every core: a copy of a brick a cell would be 8 bytes a cell more
+    // at the block's peak), then those whose corner the block owns.
+    std::vector<uint64_t> bricks = collect_in_order<uint64_t>(
+        owner.size(), kScan, [&](size_t first, size_t last, std::vector<uint64_t>& part) {
+          part.assign(owner.begin() + static_cast<std::ptrdiff_t>(first),
+                      owner.begin() + static_cast<std::ptrdiff_t>(last));
+          std::sort(part.begin(), part.end());
+          part.erase(std::unique(part.begin(), part.end()), part.end());
+        });
+    std::sort(bricks.begin(), bricks.end());
     bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
     std::erase_if(bricks, [&](uint64_t b) {
       return b == kNoBrick ||
