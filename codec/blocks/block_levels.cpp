@@ -299,10 +299,10 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
     // at the block's peak), then those whose corner the block owns.
     std::vector<uint64_t> bricks = collect_in_order<uint64_t>(
         owner.size(), kScan, [&](size_t first, size_t last, std::vector<uint64_t>& part) {
-          part.assign(owner.begin() + static_cast<std::ptrdiff_t>(first),
-                      owner.begin() + static_cast<std::ptrdiff_t>(last));
-          std::sort(part.begin(), part.end());
-          part.erase(std::unique(part.begin(), part.end()), part.end());
+          std::vector<uint64_t> range(owner.begin() + static_cast<std::ptrdiff_t>(first),
+                                      owner.begin() + static_cast<std::ptrdiff_t>(last));
+          std::sort(range.begin(), range.end());
+          part.assign(range.begin(), std::unique(range.begin(), range.end()));  // kept: the few distinct
         });
     std::sort(bricks.begin(), bricks.end());
     bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
