@@ -215,6 +215,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   o.brick_points = options.brick_points;
   o.block_points = options.block_points;
   o.blocks_at_once = options.blocks_at_once;
+  o.check_parts = options.check_parts;
   o.cell_hashes = options.cell_hashes;
   o.exchange = options.exchange;
   DTM_ASSIGN_OR_RETURN(BrickedEncoding encoded, encode_bricked(in, o, [&](const LevelStats& stats) {
@@ -248,6 +249,8 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   report.reference_boundary_vertices = encoded.reference_boundary_vertices;
   report.reference_questions = encoded.reference_questions;
   report.reference_question_runs = encoded.reference_question_runs;
+  report.blocks_built_again = encoded.blocks_built_again;
+  report.blocks_checked_in_parts = encoded.blocks_checked_in_parts;
   report.reference_questions_at_once = encoded.reference_questions_at_once;
   out.bytes = std::move(encoded.bytes);
   std::vector<uint32_t> vertex_of_point(q.points.size());

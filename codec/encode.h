@@ -105,6 +105,10 @@ struct EncodeOptions {
   // threads); 0: one per thread. Memory grows with it, the stream does not
   // change.
   int blocks_at_once = 0;
+  // A block a neighbour changed is checked where it changed rather than
+  // built again when its last build was clean (codec/blocks/block_levels.h,
+  // check_part()); false: built again. The stream is the same either way.
+  bool check_parts = true;
   // The ranks of an MPI run making one bricked stream together (every rank
   // calls encode() with the same input and options, but for the
   // tetrahedra: each needs only its share, EncodeInput::tetrahedra);
@@ -230,6 +234,9 @@ struct EncodeReport {
   // answered while they worked (the blocks' passes run again, not the
   // blocks).
   uint64_t reference_questions = 0, reference_question_runs = 0, reference_questions_at_once = 0;
+  // Bricked: the blocks a neighbour changed (summed over the levels'
+  // passes), built again and checked where they changed instead.
+  uint64_t blocks_built_again = 0, blocks_checked_in_parts = 0;
   // With tetrahedra in the input: level 0's solid against the input's, grid
   // units cubed (core/solid_difference.h).
   std::optional<SolidDifference> level0_difference;

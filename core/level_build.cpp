@@ -495,6 +495,8 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
     for (size_t c = 0; c < mesh.cells.size(); ++c)
       if (cells.kept[c] && owns(bounds.owned, points, mesh.cells[c])) sum += cells.angle[c], ++count;
     out.quality = count ? sum / static_cast<double>(count) : 0;
+    out.quality_sum = sum;
+    out.quality_cells = count;
     // A block owning no kept cell has no quality of its own to keep.
     out.quality_met =
         bounds.quality_floor <= 0 || (bounds.owned && count == 0) || out.quality >= bounds.quality_floor;
@@ -551,6 +553,7 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
                 found.push_back(c);
           });
     }
+    out.fins_left = fins.size();
     if (broken == 0 && out.quality_met && fins.empty()) break;
     if (round == bounds.repair_rounds) break;
 

@@ -92,6 +92,15 @@ struct BuiltLevel {
   int repair_rounds = 0;    // rounds that put some back
   uint64_t shape_left = 0;  // places still beyond D_max when the rounds ran out
   bool quality_met = true;
+  // The last check's: the sum of the smallest solid angles of the kept
+  // cells the quality is taken over and their count (quality is their
+  // ratio), and the fins and slots left. A build whose last check found
+  // nothing to repair (shape_left and fins_left 0, quality_met) is clean:
+  // a block built block by block can then be checked again where a
+  // neighbour changed it, rather than built again (codec/blocks/block_levels.h).
+  double quality_sum = 0;
+  uint64_t quality_cells = 0;
+  uint64_t fins_left = 0;
 };
 
 // `fine_points`: the finer level's points (its vertices `fine_vertices`,

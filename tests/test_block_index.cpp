@@ -2,7 +2,9 @@
 // MortonIndex::inside and TriangleIndex::meeting against a scan of every
 // point and triangle, and cell_hash_sum against one cell's hash at a time,
 // on 1, 2 and 3 threads. Their scans and sorts run on every core; what they
-// return (the level's bytes depend on it) must not.
+// return (the level's bytes depend on it) must not. And parts_near, the
+// parts of a block a neighbour changed that are checked again, against a
+// scan of the grid.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -137,6 +139,43 @@ TEST(BlockIndex, CellHashSumIsTheSumOfEachCellsHashOnAnyNumberOfThreads) {
     std::vector<std::array<uint32_t, 4>> turned = cells;
     for (auto& c : turned) std::reverse(c.begin(), c.end());
     EXPECT_EQ(cell_hash_sum(points, turned), expected) << threads << " threads";
+  }
+}
+
+// Every grid point of the box within reach (per axis) of a point is in
+// exactly one part, and nothing else is: the parts are disjoint and miss
+// no place the points can change.
+TEST(BlockIndex, PartsNearArePiecesOfTheBoxCoveringEveryPlaceWithinReachOfThePoints) {
+  constexpr int kQ = 6;
+  std::mt19937 random(7);
+  std::uniform_int_distribution<int32_t> any(0, (1 << kQ) - 1);
+  const GridBox box{{10, 20, 5}, {40, 50, 45}};
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<GridPoint> points;
+    const int n = trial % 9;
+    for (int i = 0; i < n; ++i) points.push_back({any(random), any(random), any(random)});
+    std::vector<uint32_t> ids(points.size());
+    for (uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
+    const int64_t reach = 1 + trial % 7;
+    const std::vector<GridBox> parts = parts_near(ids, points, box, reach, kQ);
+    for (const GridBox& g : parts) {
+      EXPECT_FALSE(g.empty());
+      for (int a = 0; a < 3; ++a) EXPECT_TRUE(g.lo[a] >= box.lo[a] && g.hi[a] <= box.hi[a]);
+    }
+    for (int32_t x = 0; x < (1 << kQ); ++x)
+      for (int32_t y = 0; y < (1 << kQ); ++y)
+        for (int32_t z = 0; z < (1 << kQ); ++z) {
+          const GridPoint q{x, y, z};
+          bool near = false;
+          for (const GridPoint& p : points)
+            near = near || (std::abs(int64_t{p.x} - x) <= reach && std::abs(int64_t{p.y} - y) <= reach &&
+                            std::abs(int64_t{p.z} - z) <= reach);
+          const auto holding =
+              std::count_if(parts.begin(), parts.end(), [&](const GridBox& g) { return g.contains(q); });
+          EXPECT_LE(holding, 1) << x << " " << y << " " << z;
+          if (near && box.contains(q)) EXPECT_EQ(holding, 1) << x << " " << y << " " << z;
+          if (!box.contains(q)) EXPECT_EQ(holding, 0);
+        }
   }
 }
 

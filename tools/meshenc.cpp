@@ -585,6 +585,10 @@ void print_reference_line(const dtm::EncodeReport& r) {
         "(each run again)\n",
         static_cast<unsigned long long>(r.reference_questions),
         static_cast<unsigned long long>(r.reference_question_runs));
+  if (r.blocks_built_again + r.blocks_checked_in_parts > 0)
+    std::printf("blocks a neighbour put points back in: %llu checked where it did, %llu built again\n",
+                static_cast<unsigned long long>(r.blocks_checked_in_parts),
+                static_cast<unsigned long long>(r.blocks_built_again));
 }
 
 // The stream and the report are written together or not at all.

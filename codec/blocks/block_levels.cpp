@@ -377,7 +377,62 @@ StatusOr<BlockBuild> build_block(const BlockRegion& fine, std::span<const uint8_
   out.broken = built.shape_left;
   out.quality_met = built.quality_met;
   out.rounds = built.repair_rounds;
+  out.clean = built.shape_left == 0 && built.fins_left == 0 && built.quality_met;
+  out.quality_sum = built.quality_sum;
+  out.quality_cells = built.quality_cells;
   return out;
+}
+
+StatusOr<PartCheck> check_part(const BlockRegion& part, std::span<const uint8_t> before,
+                               std::span<const uint8_t> now, const SurfaceRecord& record,
+                               std::span<const std::pair<uint32_t, double>> reference_squared,
+                               BlockReference& reference, const LevelBounds& bounds) {
+  // One check each, no repair; the quality is judged over the whole box by
+  // the caller.
+  LevelBounds b = bounds;
+  b.repair_rounds = 0;
+  b.quality_floor = 0;
+  PartCheck out;
+  DTM_ASSIGN_OR_RETURN(BlockBuild then, build_block(part, before, record, reference_squared, reference, b));
+  out.quality_sum_before = then.quality_sum;
+  out.quality_cells_before = then.quality_cells;
+  DTM_ASSIGN_OR_RETURN(BlockBuild built, build_block(part, now, record, reference_squared, reference, b));
+  out.clean = built.clean;
+  out.quality_sum_now = built.quality_sum;
+  out.quality_cells_now = built.quality_cells;
+  return out;
+}
+
+std::vector<GridBox> parts_near(std::span<const uint32_t> points, std::span<const GridPoint> all,
+                                const GridBox& box, int64_t reach, int qbits) {
+  std::vector<GridBox> cubes;
+  for (uint32_t id : points) {
+    const GridPoint& p = all[id];
+    GridBox c;
+    c.lo = c.hi = {p.x, p.y, p.z};
+    c = c.grown(reach, qbits);
+    if (c.meets(box)) cubes.push_back(c);
+  }
+  // Merged while two meet (few points: the seams' put-backs).
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (size_t i = 0; i < cubes.size(); ++i)
+      for (size_t j = i + 1; j < cubes.size(); ++j) {
+        if (!cubes[i].meets(cubes[j])) continue;
+        for (int a = 0; a < 3; ++a) {
+          cubes[i].lo[a] = std::min(cubes[i].lo[a], cubes[j].lo[a]);
+          cubes[i].hi[a] = std::max(cubes[i].hi[a], cubes[j].hi[a]);
+        }
+        cubes[j] = cubes.back();
+        cubes.pop_back();
+        merged = true;
+        --j;
+      }
+  }
+  for (GridBox& c : cubes)
+    for (int a = 0; a < 3; ++a)
+      c.lo[a] = std::max(c.lo[a], box.lo[a]), c.hi[a] = std::min(c.hi[a], box.hi[a]);
+  return cubes;
 }
 
 }  // namespace dtm

@@ -148,6 +148,11 @@ struct BlockBuild {
   uint64_t broken = 0;             // owned places still beyond D_max
   bool quality_met = true;
   int rounds = 0;
+  // The last check found nothing to repair (BuiltLevel: clean), and the
+  // quality's sum and cells it took.
+  bool clean = false;
+  double quality_sum = 0;
+  uint64_t quality_cells = 0;
 };
 // `fine`: V_l in the region; `keep`: per point of it, whether the coarser
 // level holds it now; `record`: the finer level's surface record, its
@@ -156,5 +161,34 @@ StatusOr<BlockBuild> build_block(const BlockRegion& fine, std::span<const uint8_
                                  const SurfaceRecord& record,
                                  std::span<const std::pair<uint32_t, double>> reference_squared,
                                  BlockReference& reference, const LevelBounds& bounds);
+
+// A block built again where a neighbour put points back need not be: the
+// points put back change only the places within reach of them (the
+// circumspheres of the cells the level keeps are within two kept radii of
+// their corners, and D_max farther for a reference vertex), so a block
+// whose last build was clean is built again only if a check of the parts
+// of its box within reach of the new points, each in a region of its own
+// grown by the halo, finds something to repair there, or the quality over
+// the whole box, changed by what those parts hold now against before,
+// falls below the floor. Each part is checked as a block is (build_block()
+// with no repair round): with the points before and with them now.
+struct PartCheck {
+  bool clean = false;  // now: nothing beyond D_max, no fin or slot in the part
+  double quality_sum_before = 0, quality_sum_now = 0;
+  uint64_t quality_cells_before = 0, quality_cells_now = 0;
+};
+// `part`: V_l in the part's region, owned = the part; `before`, `now`: per
+// point of it, whether the coarser level held it at the block's last build
+// and holds it now.
+StatusOr<PartCheck> check_part(const BlockRegion& part, std::span<const uint8_t> before,
+                               std::span<const uint8_t> now, const SurfaceRecord& record,
+                               std::span<const std::pair<uint32_t, double>> reference_squared,
+                               BlockReference& reference, const LevelBounds& bounds);
+
+// The parts of `box` within `reach` of `points` (grid ids into `all`): the
+// cubes of that reach around the points, merged while two meet, each then
+// cut to the box; none where no cube meets it. Disjoint.
+std::vector<GridBox> parts_near(std::span<const uint32_t> points, std::span<const GridPoint> all,
+                                const GridBox& box, int64_t reach, int qbits);
 
 }  // namespace dtm

@@ -156,6 +156,8 @@ class BrickedEncoder {
   uint64_t reference_boundary_vertices_ = 0;
   bool tets_done_ = false;
   int at_once_;  // blocks built side by side (run_blocks)
+  // Blocks a neighbour changed: built again, checked in parts (build()).
+  uint64_t blocks_built_again_ = 0, blocks_checked_in_parts_ = 0;
 };
 
 BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const {
@@ -225,6 +227,16 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
   std::vector<uint64_t> left(plan.blocks.size(), 0), block_broken(plan.blocks.size(), 0);
   std::vector<uint8_t> met(plan.blocks.size(), 1), to_build(plan.blocks.size(), 1);
   std::vector<int> block_rounds(plan.blocks.size(), 0);
+  // Per block, for a check where it changed instead of a build
+  // (check_part()): whether its last build was clean, the quality's sum and
+  // cells then, the pass it was last built or checked in and what it put
+  // back then; per pass, every point put back in it.
+  std::vector<uint8_t> clean(plan.blocks.size(), 0);
+  std::vector<double> quality_sum(plan.blocks.size(), 0);
+  std::vector<uint64_t> quality_cells(plan.blocks.size(), 0);
+  std::vector<int> last_pass(plan.blocks.size(), 0);
+  std::vector<std::vector<uint32_t>> own_back(plan.blocks.size());
+  std::vector<std::vector<uint32_t>> added;
   // What a block's checks see: its box grown by 2 kept radii and D_max.
   // A point put back farther away changes none of the cells it owns that
   // the level keeps (their circumspheres lie within 2 kept radii of the box),
@@ -232,8 +244,66 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
   // makes no surface within D_max of a reference vertex of the box.
   const int64_t reach = static_cast<int64_t>(std::ceil(2 * kept_radius + o_.hierarchy.dmax)) + 1;
   const auto seen = [&](size_t k) { return plan.box(k, q_).grown(reach, q_); };
+  // Block k's check where it changed, on the points put back since its last
+  // build that it sees: clean and the quality met (PartCheck), or nullopt:
+  // build it again.
+  struct Checked {
+    double quality_sum = 0;
+    uint64_t quality_cells = 0;
+  };
+  const auto check_again = [&](size_t k, int pass, const BlockRegion& fine, const Solid* solid,
+                               const LevelBounds& b) -> StatusOr<std::optional<Checked>> {
+    if (!clean[k] || !o_.check_parts) return std::optional<Checked>{};
+    const GridBox box = plan.box(k, q_), sees = seen(k);
+    std::vector<uint32_t> fresh;
+    for (int p = last_pass[k]; p < pass; ++p)
+      for (uint32_t id : added[static_cast<size_t>(p)])
+        if (sees.contains(in_.points[id]) &&
+            (p != last_pass[k] || !std::binary_search(own_back[k].begin(), own_back[k].end(), id)))
+          fresh.push_back(id);
+    std::sort(fresh.begin(), fresh.end());
+    fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
+    // Many: a seam's worth of checks would cost what building again does.
+    if (fresh.size() > 4096) return std::optional<Checked>{};
+    const std::vector<GridBox> parts = parts_near(fresh, in_.points, box, reach, q_);
+    double volume = 0;
+    const auto size = [](const GridBox& g) {
+      double v = 1;
+      for (int a = 0; a < 3; ++a) v *= static_cast<double>(g.hi[a] - g.lo[a] + 1);
+      return v;
+    };
+    for (const GridBox& g : parts) volume += size(g.grown(halo, q_));
+    if (volume > 0.5 * size(fine.region)) return std::optional<Checked>{};
+    Checked out{quality_sum[k], quality_cells[k]};
+    for (const GridBox& g : parts) {
+      BlockRegion part;
+      part.owned = g;
+      part.region = g.grown(halo, q_);
+      part.ids = index_.inside(part.region, level_of_, level);
+      part.points = gather(in_.points, part.ids);
+      std::vector<uint8_t> before(part.ids.size()), now(part.ids.size());
+      for (size_t i = 0; i < part.ids.size(); ++i) {
+        now[i] = coarser_[part.ids[i]];
+        before[i] = now[i] && !std::binary_search(fresh.begin(), fresh.end(), part.ids[i]);
+      }
+      std::optional<BlockReference> reference = reference_.for_region(part.region, solid);
+      DTM_ASSIGN_OR_RETURN(PartCheck c,
+                           check_part(part, before, now, record_, reference_squared_, *reference, b));
+      if (!c.clean) return std::optional<Checked>{};
+      out.quality_sum += c.quality_sum_now - c.quality_sum_before;
+      out.quality_cells = out.quality_cells + c.quality_cells_now - c.quality_cells_before;
+    }
+    // The quality as a build would sum it, but for rounding: too near the
+    // floor to tell, build.
+    if (b.quality_floor > 0 && out.quality_cells > 0) {
+      const double q = out.quality_sum / static_cast<double>(out.quality_cells);
+      if (q < b.quality_floor * (1 + 1e-9) + 1e-12) return std::optional<Checked>{};
+    }
+    return std::optional<Checked>{out};
+  };
   for (int pass = 0;; ++pass) {
-    phase(level + 1, pass == 0 ? "building the blocks" : "building again where a neighbour put points back");
+    phase(level + 1,
+          pass == 0 ? "building the blocks" : "checking or building again where a neighbour put points back");
     Status status = Status::Ok();
     const auto results = reference_.run_carving(
         plan,
@@ -244,17 +314,36 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
             return w.take();
           }
           const BlockRegion fine = region_of(plan, k, level, halo);
+          LevelBounds b = bounds;
+          b.quality_floor = floors.floor(plan.blocks[k], plan.depth[k]);
+          const GridBox checked = seen(k);
+          if (pass > 0) {
+            DTM_ASSIGN_OR_RETURN(std::optional<Checked> same, check_again(k, pass, fine, solid, b));
+            if (same) {
+              // What building it again would give: nothing put back.
+              uint64_t in_sight = 0;
+              for (uint32_t id : fine.ids) in_sight += coarser_[id] && checked.contains(in_.points[id]);
+              w.u8(1);
+              w.u64(in_sight);
+              w.u64(0);
+              w.u8(1);
+              w.u32(0);
+              put(w, std::span<const uint32_t>());
+              w.u8(1);
+              w.f64(same->quality_sum);
+              w.u64(same->quality_cells);
+              w.u8(1);  // checked in parts
+              return w.take();
+            }
+          }
           std::vector<uint8_t> keep(fine.ids.size());
           for (size_t i = 0; i < keep.size(); ++i) keep[i] = coarser_[fine.ids[i]];
           std::optional<BlockReference> reference = reference_.for_region(fine.region, solid);
-          LevelBounds b = bounds;
-          b.quality_floor = floors.floor(plan.blocks[k], plan.depth[k]);
           DTM_ASSIGN_OR_RETURN(BlockBuild built,
                                build_block(fine, keep, record_, reference_squared_, *reference, b));
           // What it put back (the rest was chosen already), and how much of
           // the coarser level its checks saw.
           std::vector<uint32_t> back;
-          const GridBox checked = seen(k);
           uint64_t in_sight = 0;
           for (uint32_t id : built.vertices) {
             if (!coarser_[id]) back.push_back(id);
@@ -266,10 +355,15 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           w.u8(built.quality_met ? 1 : 0);
           w.u32(static_cast<uint32_t>(built.rounds));
           put(w, std::span<const uint32_t>(back));
+          w.u8(built.clean ? 1 : 0);
+          w.f64(built.quality_sum);
+          w.u64(built.quality_cells);
+          w.u8(0);  // built
           return w.take();
         },
         status, at_once_);
     DTM_RETURN_IF_ERROR(status);
+    added.emplace_back();
     for (size_t k = 0; k < results.size(); ++k) {
       BlockReader r(results[k]);
       if (!r.u8()) continue;
@@ -277,7 +371,14 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
       block_broken[k] = r.u64();
       met[k] = r.u8();
       block_rounds[k] = std::max(block_rounds[k], static_cast<int>(r.u32()));
-      for (uint32_t id : r.u32s()) coarser_[id] = 1;
+      own_back[k] = r.u32s();  // ascending: built.vertices are
+      for (uint32_t id : own_back[k]) coarser_[id] = 1;
+      added.back().insert(added.back().end(), own_back[k].begin(), own_back[k].end());
+      clean[k] = r.u8();
+      quality_sum[k] = r.f64();
+      quality_cells[k] = r.u64();
+      last_pass[k] = pass;
+      if (pass > 0) (r.u8() ? blocks_checked_in_parts_ : blocks_built_again_) += 1;
     }
     // A block that now sees more of the coarser level than it left (a
     // neighbour put points back there) is built again.
@@ -441,6 +542,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   encoding.reference_questions = reference_.questions().questions;
   encoding.reference_question_runs = reference_.questions().runs;
   encoding.reference_questions_at_once = reference_.questions().answered_at_once;
+  encoding.blocks_built_again = blocks_built_again_;
+  encoding.blocks_checked_in_parts = blocks_checked_in_parts_;
   return encoding;
 }
 

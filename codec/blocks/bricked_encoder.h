@@ -54,6 +54,10 @@ struct BrickedEncodeOptions {
   // depend on it.
   int blocks_at_once = 0;
   bool cell_hashes = false;
+  // A block whose last build was clean is checked where a neighbour put
+  // points back rather than built again (check_part(), block_levels.h);
+  // false: built again (the same stream, slower; for tests).
+  bool check_parts = true;
   // The ranks of the run; nullptr: this process alone.
   RankExchange* exchange = nullptr;
 };
@@ -87,7 +91,8 @@ struct BrickedEncoding {
   std::vector<uint32_t> decode_order;  // as EncodedStream's
   uint64_t reference_boundary_vertices = 0;
   uint64_t reference_questions = 0, reference_question_runs = 0,
-           reference_questions_at_once = 0;  // as EncodeReport's
+           reference_questions_at_once = 0;                      // as EncodeReport's
+  uint64_t blocks_built_again = 0, blocks_checked_in_parts = 0;  // as EncodeReport's
 };
 
 StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const BrickedEncodeOptions& options,
