@@ -287,11 +287,15 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
         before[i] = now[i] && !std::binary_search(fresh.begin(), fresh.end(), part.ids[i]);
       }
       std::optional<BlockReference> reference = reference_.for_region(part.region, solid);
-      DTM_ASSIGN_OR_RETURN(PartCheck c,
-                           check_part(part, before, now, record_, reference_squared_, *reference, b));
-      if (!c.clean) return std::optional<Checked>{};
-      out.quality_sum += c.quality_sum_now - c.quality_sum_before;
-      out.quality_cells = out.quality_cells + c.quality_cells_now - c.quality_cells_before;
+      // A part the check cannot make (its coarser points too few or flat,
+      // where the block's are not): build the block again, which can. (A
+      // reference in parts that asks the ranks is answered first, as for a
+      // build: reference_questions.h.)
+      const StatusOr<PartCheck> c = check_part(part, before, now, record_, reference_squared_, *reference, b);
+      if (!c.ok() && c.status().code() == StatusCode::kNeedMoreInput) return c.status();
+      if (!c.ok() || !c->clean) return std::optional<Checked>{};
+      out.quality_sum += c->quality_sum_now - c->quality_sum_before;
+      out.quality_cells = out.quality_cells + c->quality_cells_now - c->quality_cells_before;
     }
     // The quality as a build would sum it, but for rounding: too near the
     // floor to tell, build.
@@ -318,7 +322,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           b.quality_floor = floors.floor(plan.blocks[k], plan.depth[k]);
           const GridBox checked = seen(k);
           if (pass > 0) {
-            DTM_ASSIGN_OR_RETURN(std::optional<Checked> same, check_again(k, pass, fine, solid, b));
+            DTM_ASSIGN_OR_RETURN(const std::optional<Checked> same, check_again(k, pass, fine, solid, b));
             if (same) {
               // What building it again would give: nothing put back.
               uint64_t in_sight = 0;
