@@ -17,10 +17,14 @@
 //   puts back may lie anywhere in the region.
 // A block owns the vertices in its box, a cell or surface triangle by its
 // lexicographically smallest corner, a brick's cells as §3.5 says. The halo
-// is three times the level's kept_radius: every cell a block owns whose
-// circumradius is at most kept_radius has its circumsphere inside the
-// region, so it is a cell of the whole level's tetrahedralization, and so
-// are the neighbours its carving contexts read.
+// is 2 kept_radius + D_max (and 2 grid units), kept_radius the level's
+// for analyse() and the coarser level's for build(): every cell a block
+// owns whose circumradius is at most kept_radius has its circumsphere
+// inside the region, so it is a cell of the whole level's
+// tetrahedralization, and so are the neighbours its carving contexts read
+// (owned by the same brick); so is a kept cell of a surface triangle
+// within D_max of a reference vertex in the box; and a build's checks see
+// no farther (bricked_encoder.cpp).
 #pragma once
 
 #include <array>

@@ -26,8 +26,14 @@
 namespace dtm {
 namespace {
 
-// The halo of a block: three kept radii (block_levels.h).
-constexpr double kHaloKeptRadii = 3.0;
+// The halo of a block's region for the work on a level of that kept
+// radius (block_levels.h): every cell it owns that the level may keep has
+// its circumsphere within 2 kept radii of the box, a surface triangle
+// within D_max of a reference vertex in the box its cells' within D_max
+// more, and the checks of a build see that far (build()). Grid units.
+int64_t halo_for(double kept_radius, double dmax) {
+  return static_cast<int64_t>(std::ceil(2 * kept_radius + dmax)) + 2;
+}
 // alpha of a bricked level (spec/HIERARCHY.md §6.5): this many times the
 // mean distance from a vertex to its nearest neighbour.
 constexpr double kAlphaPerSpacing = 1.5;
@@ -124,10 +130,11 @@ class BrickedEncoder {
   // built and repaired; once more removing less where that fails. False
   // when neither is good enough (`level` is then the coarsest); else
   // level_of_ says the coarser level and built_stats_ its figures.
+  // `halo`: the analysis's (a choice made again), `build_halo` the build's.
   StatusOr<bool> coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan, int64_t halo,
-                               BlockAnalysisOptions options, const std::vector<BlockAnalysis>& analysis,
-                               std::span<const uint32_t> boundary, double kept_radius,
-                               const QualityFloors& floors);
+                               int64_t build_halo, BlockAnalysisOptions options,
+                               const std::vector<BlockAnalysis>& analysis, std::span<const uint32_t> boundary,
+                               double kept_radius, const QualityFloors& floors);
   // The coarser level from the choice: builds, repairs, and merges until no
   // block's region changes. Sets coarser_ (per grid point).
   Status build(int level, const BlockPlan& plan, int64_t halo, double kept_radius,
@@ -466,8 +473,9 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     out.alpha = std::min(out.alpha, out.kept_radius);
     const double kept_radius = out.kept_radius;
     next_kept_radius = kKeptRadiusPerFinerAlpha * out.alpha;
-    const int64_t halo =
-        static_cast<int64_t>(std::ceil(kHaloKeptRadii * std::max(kept_radius, next_kept_radius))) + 1;
+    // The analysis of this level sees its own cells; the build of the
+    // coarser one (in this level's blocks) the coarser level's.
+    const int64_t halo = halo_for(kept_radius, h.dmax), build_halo = halo_for(next_kept_radius, h.dmax);
     const bool may_choose = !last_ && !(h.max_levels > 0 && level >= h.max_levels);
 
     BlockAnalysisOptions options;
@@ -513,8 +521,9 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     if (on_level) on_level(out.stats);
     levels.push_back(std::move(out));
     if (!may_choose) break;
-    DTM_ASSIGN_OR_RETURN(const bool built, coarser_level(level, ids, plan, halo, options, analysis,
-                                                         merged.boundary, next_kept_radius, floors));
+    DTM_ASSIGN_OR_RETURN(const bool built,
+                         coarser_level(level, ids, plan, halo, build_halo, options, analysis, merged.boundary,
+                                       next_kept_radius, floors));
     if (!built) break;
   }
   release(coarser_);
@@ -552,7 +561,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
 }
 
 StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan,
-                                             int64_t halo, BlockAnalysisOptions options,
+                                             int64_t halo, int64_t build_halo, BlockAnalysisOptions options,
                                              const std::vector<BlockAnalysis>& analysis,
                                              std::span<const uint32_t> boundary, double kept_radius,
                                              const QualityFloors& floors) {
@@ -579,7 +588,7 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
     uint64_t broken = 0;
     bool quality_met = true;
     int rounds = 0;
-    DTM_RETURN_IF_ERROR(build(level, plan, halo, kept_radius, floors, broken, quality_met, rounds));
+    DTM_RETURN_IF_ERROR(build(level, plan, build_halo, kept_radius, floors, broken, quality_met, rounds));
     uint64_t coarser = 0, removed_boundary = 0;
     for (uint32_t id : ids) coarser += coarser_[id];
     for (uint32_t id : boundary) removed_boundary += !coarser_[id];
@@ -612,7 +621,7 @@ StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const 
   if (options.brick_points == 0 || options.block_points == 0)
     return invalid_input("brick and block points must be positive");
   if (options.hierarchy.alpha.kind == AlphaKind::kConvexHull)
-    return invalid_input("bricked layers need a finite alpha (the halo of a region is a multiple of it)");
+    return invalid_input("bricked layers need a finite alpha (the halo of a region is made from it)");
   if (options.hierarchy.alpha.kind == AlphaKind::kFixed && !(options.hierarchy.alpha.fixed_value > 0))
     return invalid_input("a fixed alpha must be positive");
   SingleProcess alone;
