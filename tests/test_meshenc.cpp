@@ -83,6 +83,29 @@ TEST(Meshenc, WhatIsLeftOutIsSaidAndStrictRefusesIt) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// A bricked level keeps no cell above its kept radius: hand_10k's solid
+// holds such cells (nearly flat, between its fine surface and coarse
+// inside), so its bricked level 0 lacks them, far beyond D_max: meshenc says
+// so. bunny_10k's level 0 keeps the input's solid: nothing is said.
+TEST(Meshenc, ABrickedLevelZeroThatLacksCellsOfTheInputsSolidIsSaid) {
+  const std::string dir = ::testing::TempDir() + "/bricked_level0";
+  std::filesystem::create_directories(dir);
+  for (const std::string model : {"hand_10k", "bunny_10k"}) {
+    std::filesystem::copy_file(test::data_path(model + ".node"), dir + "/" + model + ".node",
+                               std::filesystem::copy_options::overwrite_existing);
+    const std::string ele = model == "hand_10k" ? "cells/" + model + ".ele" : model + ".ele";
+    std::filesystem::copy_file(test::data_path(ele), dir + "/" + model + ".ele",
+                               std::filesystem::copy_options::overwrite_existing);
+    const CommandRun run =
+        run_command("(" + std::string(DTM_MESHENC) + " " + dir + "/" + model +
+                    ".node --box 256 --dmax 2 --bricks --no-fields -q -o " + dir + "/" + model + ".dtm)");
+    ASSERT_EQ(run.status, 0) << run.output;
+    const bool said = run.output.find("level 0's surface is up to") != std::string::npos;
+    EXPECT_EQ(said, model == "hand_10k") << model << ": " << run.output;
+    if (said) EXPECT_NE(run.output.find("against the input's 61919"), std::string::npos) << run.output;
+  }
+}
+
 TEST(Meshenc, RejectsBadOptions) {
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --qbits 25").status, 0);
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --alpha nonsense").status, 0);

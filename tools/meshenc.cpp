@@ -802,6 +802,26 @@ int run(Command& c) {
         dtm::print_table_row(stdout, level, grid);
       });
   if (!encoded.ok()) throw std::runtime_error(c.input + ": " + encoded.status().message());
+  // A bricked level keeps no cell above its kept radius (region decoding
+  // needs the bound): where the input's solid holds such cells (nearly flat
+  // ones, between a graded mesh's fine surface and its coarse inside),
+  // level 0 lacks them and its surface is farther from the input's than
+  // D_max. Said, not left for the table to show.
+  if (c.encode.bricks && mpi.rank() == 0 && !encoded->report.levels.empty()) {
+    const dtm::LevelReport& l0 = encoded->report.levels.front();
+    const double step = encoded->report.grid.step, dmax = encoded->report.dmax;
+    const double far = std::max(l0.reference_to_level ? l0.reference_to_level->max : 0.0,
+                                l0.level_to_reference ? l0.level_to_reference->max : 0.0) *
+                       step;
+    if (far > dmax * (1 + 1e-9))
+      std::fprintf(
+          stderr,
+          "%s: level 0's surface is up to %.4g from the input's (D_max %.4g): a bricked stream keeps "
+          "no cell of circumradius above its kept radius, and the input's solid holds such cells "
+          "(level 0 has %llu cells against the input's %llu); without --bricks level 0 keeps them\n",
+          c.input.c_str(), far, dmax, static_cast<unsigned long long>(l0.stats.tetrahedra),
+          static_cast<unsigned long long>(encoded->report.reference_tetrahedra));
+  }
   if (!c.output.empty() || !c.report_path.empty())
     display.start("writing " + (c.output.empty() ? c.report_path : c.output));
   const dtm::EncodeReport& r = encoded->report;
