@@ -83,10 +83,10 @@ TEST(Meshenc, WhatIsLeftOutIsSaidAndStrictRefusesIt) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
-// A bricked level keeps no cell above its kept radius: hand_10k's solid
-// holds such cells (nearly flat, between its fine surface and coarse
-// inside), so its bricked level 0 lacks them, far beyond D_max: meshenc says
-// so. bunny_10k's level 0 keeps the input's solid: nothing is said.
+// A bricked level keeps no cell above its kept radius (twice alpha, from
+// the mean spacing): hand_10k's coarse inside holds larger cells, so its
+// bricked level 0 lacks them, far beyond D_max: meshenc says so. bunny_10k's
+// level 0 keeps the input's solid: nothing is said.
 TEST(Meshenc, ABrickedLevelZeroThatLacksCellsOfTheInputsSolidIsSaid) {
   const std::string dir = ::testing::TempDir() + "/bricked_level0";
   std::filesystem::create_directories(dir);

@@ -803,10 +803,10 @@ int run(Command& c) {
       });
   if (!encoded.ok()) throw std::runtime_error(c.input + ": " + encoded.status().message());
   // A bricked level keeps no cell above its kept radius (region decoding
-  // needs the bound): where the input's solid holds such cells (nearly flat
-  // ones, between a graded mesh's fine surface and its coarse inside),
-  // level 0 lacks them and its surface is farther from the input's than
-  // D_max. Said, not left for the table to show.
+  // needs the bound, and it follows the mean spacing): where the input's
+  // solid holds larger cells (a graded mesh's coarse inside), level 0 lacks
+  // them and its surface is farther from the input's than D_max. Said, not
+  // left for the table to show.
   if (c.encode.bricks && mpi.rank() == 0 && !encoded->report.levels.empty()) {
     const dtm::LevelReport& l0 = encoded->report.levels.front();
     const double step = encoded->report.grid.step, dmax = encoded->report.dmax;
