@@ -393,13 +393,14 @@ StatusOr<PartCheck> check_part(const BlockRegion& part, std::span<const uint8_t>
   b.repair_rounds = 0;
   b.quality_floor = 0;
   PartCheck out;
-  DTM_ASSIGN_OR_RETURN(BlockBuild then, build_block(part, before, record, reference_squared, reference, b));
-  out.quality_sum_before = then.quality_sum;
-  out.quality_cells_before = then.quality_cells;
   DTM_ASSIGN_OR_RETURN(BlockBuild built, build_block(part, now, record, reference_squared, reference, b));
   out.clean = built.clean;
   out.quality_sum_now = built.quality_sum;
   out.quality_cells_now = built.quality_cells;
+  if (!out.clean) return out;  // the block is built again: its sums before are not needed
+  DTM_ASSIGN_OR_RETURN(BlockBuild then, build_block(part, before, record, reference_squared, reference, b));
+  out.quality_sum_before = then.quality_sum;
+  out.quality_cells_before = then.quality_cells;
   return out;
 }
 

@@ -175,7 +175,7 @@ StatusOr<BlockBuild> build_block(const BlockRegion& fine, std::span<const uint8_
 // grown by the halo, finds something to repair there, or the quality over
 // the whole box, changed by what those parts hold now against before,
 // falls below the floor. Each part is checked as a block is (build_block()
-// with no repair round): with the points before and with them now.
+// with no repair round): with the points now, and if clean, before.
 struct PartCheck {
   bool clean = false;  // now: nothing beyond D_max, no fin or slot in the part
   double quality_sum_before = 0, quality_sum_now = 0;

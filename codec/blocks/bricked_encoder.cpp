@@ -26,14 +26,18 @@
 namespace dtm {
 namespace {
 
-// The halo of a block's region for the work on a level of that kept
-// radius (block_levels.h): every cell it owns that the level may keep has
+// How far from a block's box the work on a level of that kept radius
+// looks (block_levels.h): every cell it owns that the level may keep has
 // its circumsphere within 2 kept radii of the box, a surface triangle
 // within D_max of a reference vertex in the box its cells' within D_max
-// more, and the checks of a build see that far (build()). Grid units.
-int64_t halo_for(double kept_radius, double dmax) {
-  return static_cast<int64_t>(std::ceil(2 * kept_radius + dmax)) + 2;
+// more; so a point put back farther changes nothing a build checks there
+// (build()). Grid units.
+int64_t reach_for(double kept_radius, double dmax) {
+  return static_cast<int64_t>(std::ceil(2 * kept_radius + dmax)) + 1;
 }
+// The halo of its region: one unit past the reach, so what a build's
+// checks see lies in the region.
+int64_t halo_for(double kept_radius, double dmax) { return reach_for(kept_radius, dmax) + 1; }
 // alpha of a bricked level (spec/HIERARCHY.md §6.5): this many times the
 // mean distance from a vertex to its nearest neighbour.
 constexpr double kAlphaPerSpacing = 1.5;
@@ -249,7 +253,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
   // the level keeps (their circumspheres lie within 2 kept radii of the box),
   // so none of its surface triangles nor the quality of its cells, and it
   // makes no surface within D_max of a reference vertex of the box.
-  const int64_t reach = static_cast<int64_t>(std::ceil(2 * kept_radius + o_.hierarchy.dmax)) + 1;
+  const int64_t reach = reach_for(kept_radius, o_.hierarchy.dmax);
   const auto seen = [&](size_t k) { return plan.box(k, q_).grown(reach, q_); };
   // Block k's check where it changed, on the points put back since its last
   // build that it sees: clean and the quality met (PartCheck), or nullopt:
@@ -328,23 +332,33 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           LevelBounds b = bounds;
           b.quality_floor = floors.floor(plan.blocks[k], plan.depth[k]);
           const GridBox checked = seen(k);
+          // The block's result, as the merge below reads it.
+          const auto result = [&](uint64_t in_sight, const BlockBuild& r, std::span<const uint32_t> back,
+                                  bool checked_in_parts) {
+            w.u8(1);
+            w.u64(in_sight);
+            w.u64(r.broken);
+            w.u8(r.quality_met ? 1 : 0);
+            w.u32(static_cast<uint32_t>(r.rounds));
+            put(w, back);
+            w.u8(r.clean ? 1 : 0);
+            w.f64(r.quality_sum);
+            w.u64(r.quality_cells);
+            w.u8(checked_in_parts ? 1 : 0);
+            return w.take();
+          };
           if (pass > 0) {
             DTM_ASSIGN_OR_RETURN(const std::optional<Checked> same, check_again(k, pass, fine, solid, b));
             if (same) {
-              // What building it again would give: nothing put back.
+              // What building it again would give: nothing put back,
+              // nothing broken, clean.
               uint64_t in_sight = 0;
               for (uint32_t id : fine.ids) in_sight += coarser_[id] && checked.contains(in_.points[id]);
-              w.u8(1);
-              w.u64(in_sight);
-              w.u64(0);
-              w.u8(1);
-              w.u32(0);
-              put(w, std::span<const uint32_t>());
-              w.u8(1);
-              w.f64(same->quality_sum);
-              w.u64(same->quality_cells);
-              w.u8(1);  // checked in parts
-              return w.take();
+              BlockBuild r;
+              r.clean = true;
+              r.quality_sum = same->quality_sum;
+              r.quality_cells = same->quality_cells;
+              return result(in_sight, r, {}, true);
             }
           }
           std::vector<uint8_t> keep(fine.ids.size());
@@ -360,17 +374,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
             if (!coarser_[id]) back.push_back(id);
             in_sight += checked.contains(in_.points[id]);
           }
-          w.u8(1);
-          w.u64(in_sight);
-          w.u64(built.broken);
-          w.u8(built.quality_met ? 1 : 0);
-          w.u32(static_cast<uint32_t>(built.rounds));
-          put(w, std::span<const uint32_t>(back));
-          w.u8(built.clean ? 1 : 0);
-          w.f64(built.quality_sum);
-          w.u64(built.quality_cells);
-          w.u8(0);  // built
-          return w.take();
+          return result(in_sight, built, back, false);
         },
         status, at_once_);
     DTM_RETURN_IF_ERROR(status);
