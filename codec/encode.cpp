@@ -251,6 +251,9 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   report.reference_question_runs = encoded.reference_question_runs;
   report.blocks_built_again = encoded.blocks_built_again;
   report.blocks_checked_in_parts = encoded.blocks_checked_in_parts;
+  report.level0_spacing_kept_radius = encoded.level0_spacing_kept_radius;
+  report.level0_kept_radius = encoded.level0_kept_radius;
+  report.level0_cells_dropped = encoded.level0_cells_dropped;
   report.reference_questions_at_once = encoded.reference_questions_at_once;
   out.bytes = std::move(encoded.bytes);
   std::vector<uint32_t> vertex_of_point(q.points.size());

@@ -237,6 +237,13 @@ struct EncodeReport {
   // Bricked: the blocks a neighbour changed (summed over the levels'
   // passes), built again and checked where they changed instead.
   uint64_t blocks_built_again = 0, blocks_checked_in_parts = 0;
+  // Bricked, carved to the input's solid: level 0's kept radius (grid
+  // units) as its mean spacing sets it, and as the encoder raised it where
+  // the solid holds larger cells (a graded mesh's coarse inside) that level
+  // 0 would otherwise lack, beyond D_max (equal when not raised); the cells
+  // of the solid level 0 still lacks (0 once raised).
+  double level0_spacing_kept_radius = 0, level0_kept_radius = 0;
+  uint64_t level0_cells_dropped = 0;
   // With tetrahedra in the input: level 0's solid against the input's, grid
   // units cubed (core/solid_difference.h).
   std::optional<SolidDifference> level0_difference;

@@ -7,7 +7,8 @@
 # back as gmsh physical groups, VTU cell data and Medit refs, which gmsh and
 # meshio read; a Netgen
 # CSG part exported as gmsh 2.0 ("2.000000") is read with its domain (Netgen
-# tags a domain d 100000 + d). With --exact both decode cell for cell.
+# tags a domain d 100000 + d). With --exact both decode cell for cell. A
+# graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
 set -euo pipefail
 meshenc=$1
 meshdec=$(dirname "$meshenc")/meshdec
@@ -215,6 +216,47 @@ for given, out, report, icn in (("quality.msh", "exact_gmsh_out.msh", "exact_gms
     r = json.load(open(report))["exact"]
     if r["delaunay_cells"] + r["fill_cells"] != len(a) or r["fill_cells"] == 0:
         sys.exit("%s: the report's exact cells do not add up: %s" % (given, r))
+PY
+
+# A graded gmsh mesh (cells of 0.06 at a hole's surface, 1.2 far from it)
+# encoded in blocks: the kept radius its mean spacing gives would drop its
+# coarse inside's large cells (level 0 was 98.8 from the input's surface,
+# D_max 2, and the only level); the encoder raises it, so its bricked level
+# 0 is as near the input as the whole-level encoder's, with levels under it.
+cat > graded.geo <<'GEO'
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 10, 6, 4};
+Sphere(2) = {3, 3, 2, 0.5};
+BooleanDifference{ Volume{1}; Delete; }{ Volume{2}; Delete; }
+Field[1] = Distance;
+Field[1].SurfacesList = {7};
+Field[2] = Threshold;
+Field[2].InField = 1;
+Field[2].SizeMin = 0.06;
+Field[2].SizeMax = 1.2;
+Field[2].DistMin = 0.1;
+Field[2].DistMax = 5;
+Background Field = 2;
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+GEO
+gmsh graded.geo -3 -format msh41 -o graded.msh >/dev/null
+"$meshenc" graded.msh --box 256 --dmax 2 -q -o graded_whole.dtm --report graded_whole.json 2>/dev/null || failed=1
+"$meshenc" graded.msh --box 256 --dmax 2 -q --bricks --block-points 1500 -o graded.dtm --report graded.json \
+  2>graded.err || failed=1
+grep -q "level 0's surface is up to" graded.err && { echo "graded.msh: bricked level 0 lacks cells"; failed=1; }
+"$py" - <<'PY' || failed=1
+import json, sys
+whole, bricked = json.load(open("graded_whole.json")), json.load(open("graded.json"))
+w, b = whole["levels"][0], bricked["levels"][0]
+if b["reference_max_error"] > max(w["reference_max_error"], bricked["dmax"]) + 1e-9 or b["tetrahedra"] != w["tetrahedra"]:
+    sys.exit("graded.msh: bricked level 0 (%s) is not the whole-level encoder's (%s)" % (b, w))
+r = bricked["level0_kept_radius"]
+if not r["used"] > 1.5 * r["from_spacing"] or r["cells_of_the_solid_dropped"] != 0:
+    sys.exit("graded.msh: level 0's kept radius was not raised: %s" % r)
+if len(bricked["levels"]) < 3 or any(l["reference_max_error"] > bricked["dmax"] + 1e-9 for l in bricked["levels"][1:]):
+    sys.exit("graded.msh: %d bricked levels, or one beyond D_max" % len(bricked["levels"]))
 PY
 
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"

@@ -585,6 +585,11 @@ void print_reference_line(const dtm::EncodeReport& r) {
         "(each run again)\n",
         static_cast<unsigned long long>(r.reference_questions),
         static_cast<unsigned long long>(r.reference_question_runs));
+  if (r.level0_kept_radius > r.level0_spacing_kept_radius)
+    std::printf(
+        "level 0's kept radius raised from %.4g to %.4g to keep the input's larger cells (a graded "
+        "mesh's coarse inside): every block's region and every region read grow with it\n",
+        r.level0_spacing_kept_radius * r.grid.step, r.level0_kept_radius * r.grid.step);
   if (r.blocks_built_again + r.blocks_checked_in_parts > 0)
     std::printf("blocks a neighbour put points back in: %llu checked where it did, %llu built again\n",
                 static_cast<unsigned long long>(r.blocks_checked_in_parts),
@@ -803,24 +808,25 @@ int run(Command& c) {
       });
   if (!encoded.ok()) throw std::runtime_error(c.input + ": " + encoded.status().message());
   // A bricked level keeps no cell above its kept radius (region decoding
-  // needs the bound, and it follows the mean spacing): where the input's
-  // solid holds larger cells (a graded mesh's coarse inside), level 0 lacks
-  // them and its surface is farther from the input's than D_max. Said, not
-  // left for the table to show.
+  // needs the bound). The encoder raises level 0's where its spacing would
+  // drop cells of the input's solid (a graded mesh's coarse inside); where
+  // some are still dropped, level 0 lacks them and its surface is farther
+  // from the input's than D_max. Said, not left for the table to show.
   if (c.encode.bricks && mpi.rank() == 0 && !encoded->report.levels.empty()) {
-    const dtm::LevelReport& l0 = encoded->report.levels.front();
-    const double step = encoded->report.grid.step, dmax = encoded->report.dmax;
+    const dtm::EncodeReport& r = encoded->report;
+    const dtm::LevelReport& l0 = r.levels.front();
+    const double step = r.grid.step, dmax = r.dmax;
     const double far = std::max(l0.reference_to_level ? l0.reference_to_level->max : 0.0,
                                 l0.level_to_reference ? l0.level_to_reference->max : 0.0) *
                        step;
-    if (far > dmax * (1 + 1e-9))
+    if (r.level0_cells_dropped > 0 && far > dmax * (1 + 1e-9))
       std::fprintf(
           stderr,
           "%s: level 0's surface is up to %.4g from the input's (D_max %.4g): a bricked stream keeps "
-          "no cell of circumradius above its kept radius, and the input's solid holds such cells "
-          "(level 0 has %llu cells against the input's %llu); without --bricks level 0 keeps them\n",
-          c.input.c_str(), far, dmax, static_cast<unsigned long long>(l0.stats.tetrahedra),
-          static_cast<unsigned long long>(encoded->report.reference_tetrahedra));
+          "no cell of circumradius above its kept radius (%.4g), and the input's solid holds %llu "
+          "such cells; without --bricks level 0 keeps them\n",
+          c.input.c_str(), far, dmax, r.level0_kept_radius * step,
+          static_cast<unsigned long long>(r.level0_cells_dropped));
   }
   if (!c.output.empty() || !c.report_path.empty())
     display.start("writing " + (c.output.empty() ? c.report_path : c.output));

@@ -57,6 +57,10 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   j["input_points"] = r.input_points;
   if (r.reference_tetrahedra > 0) j["reference_tetrahedra"] = r.reference_tetrahedra;
   if (r.reference_voxels > 0) j["reference_voxels"] = r.reference_voxels;
+  if (r.level0_kept_radius > 0)  // bricked, input units
+    j["level0_kept_radius"] = {{"from_spacing", r.level0_spacing_kept_radius * g.step},
+                               {"used", r.level0_kept_radius * g.step},
+                               {"cells_of_the_solid_dropped", r.level0_cells_dropped}};
   if (r.level0_difference) {
     const SolidDifference& d = *r.level0_difference;
     const double cube = g.step * g.step * g.step;

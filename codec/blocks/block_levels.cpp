@@ -12,6 +12,7 @@
 #include "common/parallel_sort.h"
 #include "common/release.h"
 #include "mesh/carving.h"
+#include "mesh/geometry.h"
 #include "mesh/topology.h"
 
 namespace dtm {
@@ -200,6 +201,21 @@ void DistanceSums::add(const DistanceSums& o) {
   count += o.count;
 }
 
+namespace {
+
+// The distance from a cell's corner to the plane of the face across, the
+// least of the four: the cell's thickness.
+double smallest_height(std::span<const GridPoint> points, const std::array<uint32_t, 4>& cell) {
+  const Vec3 a = to_vec(points[cell[0]]), b = to_vec(points[cell[1]]), c = to_vec(points[cell[2]]),
+             d = to_vec(points[cell[3]]);
+  const double six_volume = std::abs(dot(b - a, cross(c - a, d - a)));
+  const double largest = std::max({norm(cross(c - b, d - b)), norm(cross(c - a, d - a)),
+                                   norm(cross(b - a, d - a)), norm(cross(b - a, c - a))});
+  return largest > 0 ? six_volume / largest : 0;
+}
+
+}  // namespace
+
 StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* reference,
                                       const BlockAnalysisOptions& o) {
   BlockAnalysis out;
@@ -215,11 +231,23 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
   policy.fixed_value = o.alpha;
   policy.kept_radius_ratio = o.kept_radius / o.alpha;
   DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze_level(block.points, std::move(dt), policy, verdicts));
-  release(verdicts);
   const std::span<const GridPoint> points = L.points;
   const std::span<const uint32_t> ids = block.ids;
 
   BlockFigures& f = out.figures;
+  // The cells the solid holds that the kept radius drops (in the solid, not
+  // in the level): few, so each one's radius is taken only when dropped.
+  for (size_t c = 0; c < verdicts.size(); ++c)
+    if (verdicts[c] != 0 && !L.in_mesh[c] && owns(block.owned, points, L.dt.cells[c])) {
+      ++f.dropped_inside;
+      const double radius = carving_radius(points, L.dt.cells[c]);
+      f.dropped_radius = std::max(f.dropped_radius, radius);
+      if (smallest_height(points, L.dt.cells[c]) > o.dmax) {
+        ++f.dropped_thick;
+        f.dropped_thick_radius = std::max(f.dropped_thick_radius, radius);
+      }
+    }
+  release(verdicts);
   for (uint32_t v = 0; v < n; ++v)
     if (block.owned.contains(points[v])) {
       ++f.vertices;

@@ -113,11 +113,20 @@ struct BlockFigures {
   double quality_sum = 0, quality_min = INFINITY;
   DistanceSums to_level, to_reference;
   uint64_t cell_hash = 0;  // the wrapping sum of the owned cells' hashes (codec/stream/format.h)
+  // The owned cells inside the reference solid that the kept radius drops:
+  // how many, and the largest circumradius among them and among those
+  // thicker than D_max (0: none). A graded mesh's coarse inside holds cells
+  // far larger than its mean spacing says; a flat cell on the solid's
+  // surface may have any circumradius, and dropping it moves the surface by
+  // its thickness.
+  uint64_t dropped_inside = 0, dropped_thick = 0;
+  double dropped_radius = 0, dropped_thick_radius = 0;
 };
 
 struct BlockAnalysisOptions {
   int qbits = 0;
   double alpha = 0, kept_radius = 0;
+  double dmax = 0;  // grid units: a dropped cell thicker than this counts as thick (BlockFigures)
   // Bricks of the layer whose carving sections the block codes (the
   // stream's brick depth for this level); -1: none.
   int brick_depth = -1;

@@ -50,6 +50,13 @@ constexpr double kAlphaPerSpacing = 1.5;
 // 10^4 alpha) would make every region the whole level.
 constexpr double kKeptRadiusPerFinerAlpha = 2.5;
 constexpr double kKeptRadiusOfLevel0 = 2.0;
+// Level 0 analysed again with a larger kept radius at most this many times
+// (run()); the raised radius this much above the largest cell it must keep,
+// so that a cell at the bound is kept however the product rounds.
+constexpr int kKeptRadiusRounds = 3;
+constexpr double kKeptRadiusMargin = 1e-6;
+// Beyond D_max: by more than a rounding of the distance.
+constexpr double kBeyondDmax = 1e-9;
 // Blocks built at once unless told: one per thread, as many as a quarter of
 // this process's share of the machine's memory holds at about 1 KB a block
 // point (bunny_1m's blocks of up to 228,640 points took about 230 MiB each),
@@ -169,6 +176,10 @@ class BrickedEncoder {
   int at_once_;  // blocks built side by side (run_blocks)
   // Blocks a neighbour changed: built again, checked in parts (build()).
   uint64_t blocks_built_again_ = 0, blocks_checked_in_parts_ = 0;
+  // Level 0's kept radius from its spacing, as used, and the cells of the
+  // solid it still drops (run()).
+  double level0_spacing_kept_radius_ = 0, level0_kept_radius_ = 0;
+  uint64_t level0_cells_dropped_ = 0;
 };
 
 BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const {
@@ -473,33 +484,69 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     DTM_ASSIGN_OR_RETURN(out.alpha, level_alpha(ids, plan));
     if (!(out.alpha > 0)) return invalid_input("the level's points do not span three dimensions");
     // kept_radius is the build's, alpha (a prediction) at most that (§3.5).
-    out.kept_radius = level == 0 ? kKeptRadiusOfLevel0 * out.alpha : next_kept_radius;
-    out.alpha = std::min(out.alpha, out.kept_radius);
-    const double kept_radius = out.kept_radius;
-    next_kept_radius = kKeptRadiusPerFinerAlpha * out.alpha;
-    // The analysis of this level sees its own cells; the build of the
-    // coarser one (in this level's blocks) the coarser level's.
-    const int64_t halo = halo_for(kept_radius, h.dmax), build_halo = halo_for(next_kept_radius, h.dmax);
+    double kept_radius = level == 0 ? kKeptRadiusOfLevel0 * out.alpha : next_kept_radius;
+    out.alpha = std::min(out.alpha, kept_radius);
     const bool may_choose = !last_ && !(h.max_levels > 0 && level >= h.max_levels);
 
     BlockAnalysisOptions options;
     options.qbits = q_;
     options.alpha = out.alpha;
-    options.kept_radius = kept_radius;
     options.brick_depth = out.brick_depth;
+    options.dmax = h.dmax;
     options.collect_cells = level == 0 && !reference_.has_boundary();
     if (may_choose) options.choice = CoarseningOptions{1 - removal_share(), h.dmax};
-    phase(level, "Delaunay tetrahedralization, carving and choice in " + std::to_string(plan.blocks.size()) +
-                     " blocks of at most " + std::to_string(largest) + " points");
     std::vector<BlockAnalysis> analysis;
-    DTM_RETURN_IF_ERROR(analyse(level, plan, halo, options, analysis));
+    MergedLevel merged;
+    int64_t halo = 0;
+    if (level == 0) level0_spacing_kept_radius_ = kept_radius;
+    for (int round = 0;; ++round) {
+      // The analysis of this level sees its own cells.
+      halo = halo_for(kept_radius, h.dmax);
+      options.kept_radius = kept_radius;
+      phase(level, "Delaunay tetrahedralization, carving and choice in " +
+                       std::to_string(plan.blocks.size()) + " blocks of at most " + std::to_string(largest) +
+                       " points");
+      DTM_RETURN_IF_ERROR(analyse(level, plan, halo, options, analysis));
 
-    // The level's figures, carving and surface record, merged in block order.
-    out.stats = built_stats_;
-    out.stats.level = level;
-    out.stats.vertices = ids.size();
-    out.stats.alpha = out.alpha;
-    MergedLevel merged = merge_blocks(analysis, level, out);
+      // The level's figures, carving and surface record, merged in block order.
+      out.stats = built_stats_;
+      out.stats.level = level;
+      out.stats.vertices = ids.size();
+      out.stats.alpha = out.alpha;
+      out.cell_hash = 0;
+      out.carving.clear();
+      merged = merge_blocks(analysis, level, out);
+      // Level 0 keeps the input's solid: where the solid holds cells above
+      // the kept radius its spacing sets (a graded mesh's coarse inside,
+      // whose cells are many times its fine surface's), level 0 would lack
+      // them, its surface beyond D_max from the input's. The kept radius is
+      // then raised to cover them, and level 0 analysed again (spec/HIERARCHY.md
+      // §6.5): every block's region grows with it, and every region read.
+      // Only cells thicker than D_max count: a flat cell on the solid's
+      // surface may have any circumradius (hand_10k's reach 400 units in the
+      // 256 box), and dropping it moves the surface by its thickness. A
+      // block's largest dropped cell may be one its region makes up (a
+      // circumsphere reaching past the halo), so the radius can overshoot;
+      // the rounds are bounded.
+      const bool beyond =
+          out.stats.reference_shape && out.stats.reference_shape->both.max > h.dmax * (1 + kBeyondDmax);
+      if (level > 0 || !reference_.has_boundary() || merged.dropped_thick == 0 || !beyond ||
+          round == kKeptRadiusRounds || !(merged.dropped_thick_radius > kept_radius))
+        break;
+      kept_radius = merged.dropped_thick_radius * (1 + kKeptRadiusMargin);
+    }
+    out.kept_radius = kept_radius;
+    if (level == 0) {
+      level0_kept_radius_ = kept_radius;
+      level0_cells_dropped_ = merged.dropped_thick;
+    }
+    // A coarser level's cells are larger than the finer level's: once level
+    // 0's was raised, no coarser level's kept radius is below the finer one's.
+    const bool raised = level0_kept_radius_ > level0_spacing_kept_radius_;
+    next_kept_radius = std::max(kKeptRadiusPerFinerAlpha * out.alpha, raised ? kept_radius : 0.0);
+    // The build of the coarser level (in this level's blocks) sees the
+    // coarser level's cells.
+    const int64_t build_halo = halo_for(next_kept_radius, h.dmax);
     record_ = std::move(merged.record);
     reference_squared_ = std::move(merged.reference_squared);
     if (merged.reference_boundary_vertices)
@@ -561,6 +608,9 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   encoding.reference_questions_at_once = reference_.questions().answered_at_once;
   encoding.blocks_built_again = blocks_built_again_;
   encoding.blocks_checked_in_parts = blocks_checked_in_parts_;
+  encoding.level0_spacing_kept_radius = level0_spacing_kept_radius_;
+  encoding.level0_kept_radius = level0_kept_radius_;
+  encoding.level0_cells_dropped = level0_cells_dropped_;
   return encoding;
 }
 

@@ -91,8 +91,10 @@ struct BrickedEncoding {
   std::vector<uint32_t> decode_order;  // as EncodedStream's
   uint64_t reference_boundary_vertices = 0;
   uint64_t reference_questions = 0, reference_question_runs = 0,
-           reference_questions_at_once = 0;                      // as EncodeReport's
-  uint64_t blocks_built_again = 0, blocks_checked_in_parts = 0;  // as EncodeReport's
+           reference_questions_at_once = 0;                       // as EncodeReport's
+  uint64_t blocks_built_again = 0, blocks_checked_in_parts = 0;   // as EncodeReport's
+  double level0_spacing_kept_radius = 0, level0_kept_radius = 0;  // as EncodeReport's
+  uint64_t level0_cells_dropped = 0;                              // as EncodeReport's
 };
 
 StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const BrickedEncodeOptions& options,
