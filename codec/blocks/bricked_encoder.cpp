@@ -57,6 +57,10 @@ constexpr int kKeptRadiusRounds = 3;
 constexpr double kKeptRadiusMargin = 1e-6;
 // Beyond D_max: by more than a rounding of the distance.
 constexpr double kBeyondDmax = 1e-9;
+// With a raised kept radius, the blocks' regions hold at most about this
+// many times the level's points (fewer_blocks_for()). Not applied otherwise:
+// bunny_1m's blocks of 2^18 points have regions of about 2.5 times theirs.
+constexpr double kRegionsPerLevel = 3;
 // Blocks built at once unless told: one per thread, as many as a quarter of
 // this process's share of the machine's memory holds at about 1 KB a block
 // point (bunny_1m's blocks of up to 228,640 points took about 230 MiB each),
@@ -134,6 +138,14 @@ class BrickedEncoder {
     tets_done_ = true;
   }
   BlockRegion region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const;
+  // Level `level`'s plan again in blocks of 8, 64, ... times the points
+  // while the blocks' regions (grown by the halo of `kept_radius`) hold
+  // more than kRegionsPerLevel times the level's points: a raised kept
+  // radius (run()) makes halos that span most of the level, and each block
+  // would do most of the level's work again. Sets the blocks built at once
+  // for the blocks' size. `codes` and `ids` as index_.level() gives them.
+  void fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth, BlockPlan& plan,
+                        std::vector<MortonCode>& codes, std::vector<uint32_t>& ids);
   StatusOr<double> level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan);
   Status analyse(int level, const BlockPlan& plan, int64_t halo, const BlockAnalysisOptions& options,
                  std::vector<BlockAnalysis>& out);
@@ -181,6 +193,27 @@ class BrickedEncoder {
   double level0_spacing_kept_radius_ = 0, level0_kept_radius_ = 0;
   uint64_t level0_cells_dropped_ = 0;
 };
+
+void BrickedEncoder::fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth,
+                                      BlockPlan& plan, std::vector<MortonCode>& codes,
+                                      std::vector<uint32_t>& ids) {
+  uint64_t block_points = o_.block_points;
+  for (;;) {
+    at_once_ = o_.blocks_at_once > 0 ? o_.blocks_at_once : default_blocks_at_once(block_points);
+    if (plan.blocks.size() <= 1) return;
+    const int64_t halo = halo_for(kept_radius, o_.hierarchy.dmax);
+    uint64_t held = 0;
+    for (size_t k = 0; k < plan.blocks.size(); ++k)
+      held += index_.inside(plan.box(k, q_).grown(halo, q_), level_of_, level).size();
+    if (static_cast<double>(held) <= kRegionsPerLevel * static_cast<double>(level_points)) return;
+    if (block_points >= (uint64_t{1} << 40)) return;
+    block_points *= 8;
+    index_.level(level_of_, level, codes, &ids);
+    plan = plan_blocks(codes, q_, brick_depth, block_points, x_.size());
+    loads_.balance(plan);
+    release(codes);
+  }
+}
 
 BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const {
   BlockRegion b;
@@ -500,6 +533,13 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     int64_t halo = 0;
     if (level == 0) level0_spacing_kept_radius_ = kept_radius;
     for (int round = 0;; ++round) {
+      // Once level 0's kept radius was raised, the blocks are made larger
+      // until their regions stop holding the level many times over.
+      if (level0_kept_radius_ > level0_spacing_kept_radius_ || round > 0)
+        fewer_blocks_for(level, kept_radius, ids.size(), out.brick_depth, plan, codes, ids);
+      largest = 0;
+      for (size_t k = 0; k < plan.blocks.size(); ++k)
+        largest = std::max(largest, plan.first[k + 1] - plan.first[k]);
       // The analysis of this level sees its own cells.
       halo = halo_for(kept_radius, h.dmax);
       options.kept_radius = kept_radius;
