@@ -140,6 +140,13 @@ TEST(Meshenc, RejectsBadOptions) {
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --qbits 25").status, 0);
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --alpha nonsense").status, 0);
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --scale 2 --box 3").status, 0);
+  // What bricked streams cannot do yet is refused before any work: no table.
+  for (const char* flag : {"--exact", "--keep-order"}) {
+    const CommandRun run = meshenc(test::data_path("torus_288.node") + " --bricks " + flag + " -o -");
+    EXPECT_NE(run.status, 0) << flag;
+    EXPECT_NE(run.output.find(flag), std::string::npos) << run.output;
+    EXPECT_EQ(run.output.find("level  vertices"), std::string::npos) << run.output;
+  }
 }
 
 // --exact's stream for the newest decoders and, asked for, for older ones

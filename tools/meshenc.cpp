@@ -654,6 +654,13 @@ int run(Command& c) {
   parse_field_errors(c.field_errors, c.encode);
   if (c.no_fields && !c.encode.field_errors.empty())
     throw std::invalid_argument("--field-error and --no-fields contradict each other");
+  // Said before the input is read, not after its table's header.
+  if (c.encode.bricks && c.encode.exact)
+    throw std::invalid_argument(
+        "--exact: bricked streams (--bricks) do not keep the input's cells exactly yet");
+  if (c.encode.bricks && c.encode.keep_order)
+    throw std::invalid_argument(
+        "--keep-order: bricked streams (--bricks) do not keep the input's vertex order yet");
   // What the work is doing, on standard error: a status line on a terminal.
   dtm::PhaseDisplay display(
       !c.quiet && isatty(STDERR_FILENO), c.verbose,
