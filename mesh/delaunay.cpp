@@ -15,6 +15,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <utility>
 
 #include "common/first_touch.h"
@@ -53,9 +54,16 @@ using Concurrency = CGAL::Parallel_tag;
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb, Concurrency>;
 using DT =
     CGAL::Delaunay_triangulation_3<K, Tds, CGAL::Default, CGAL::Spatial_lock_grid_3<CGAL::Tag_non_blocking>>;
+// A construction made on one thread (delaunay_tetrahedralize() given one:
+// a block among others, a process on one core) takes CGAL's sequential
+// type, whose cells need no lock and no concurrent container: 250k of
+// bunny_1m's points went in 10-20% faster.
+using SeqTds = CGAL::Triangulation_data_structure_3<Vb, Cb, CGAL::Sequential_tag>;
+using SeqDT = CGAL::Delaunay_triangulation_3<K, SeqTds>;
 #else
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb, CGAL::Sequential_tag>;
 using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
+using SeqDT = DT;
 #endif
 // The small triangulations of cavity_fill stay sequential: a few dozen points.
 using SmallTds = CGAL::Triangulation_data_structure_3<
@@ -98,7 +106,8 @@ Status guarded(F&& f) {
 // The number of finite cells: all of them but the hull's, which are the
 // infinite vertex's. (CGAL's number_of_finite_cells() walks every cell, a
 // pass over the whole triangulation's memory; this walks the hull.)
-size_t finite_cell_count(const DT& dt) {
+template <class Tri>
+size_t finite_cell_count(const Tri& dt) {
   if (dt.dimension() < 3) return 0;
   size_t infinite = 0;
   dt.incident_cells(dt.infinite_vertex(), CGAL::Counting_output_iterator(&infinite));
@@ -108,7 +117,8 @@ size_t finite_cell_count(const DT& dt) {
 // kLimitExceeded once the triangulation holds more cells than
 // kMaxCellsPerVertex per vertex: checked every few insertions, so the excess
 // it can allocate is bounded.
-Status check_cells(const DT& dt) {
+template <class Tri>
+Status check_cells(const Tri& dt) {
   const size_t v = dt.number_of_vertices();
   if (dt.number_of_cells() <= kMaxCellsPerVertex * v + 4096) return Status::Ok();
   return {StatusCode::kLimitExceeded,
@@ -120,9 +130,9 @@ Status check_cells(const DT& dt) {
 
 // Inserts item_of(0), ..., item_of(n - 1) (point and id) in that order, each
 // located from the previous one, with the cell check every 256 insertions.
-template <class ItemOf>
-Status insert_in_order(DT& dt, size_t n, ItemOf&& item_of) {
-  DT::Cell_handle hint;
+template <class Tri, class ItemOf>
+Status insert_in_order(Tri& dt, size_t n, ItemOf&& item_of) {
+  typename Tri::Cell_handle hint;
   for (size_t i = 0; i < n; ++i) {
     const auto [point, id] = item_of(i);
     auto v = dt.insert(point, hint);
@@ -198,7 +208,8 @@ void insert_sorted_in_parallel(DT& dt, std::span<const Item> items) {
 // Hilbert order of random samples) every slice is spread over the whole
 // batch, so a degenerate configuration shows while its cells are still a
 // fraction of the limit.
-Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const uint32_t> ids) {
+template <class Tri>
+Status insert_batch(Tri& dt, std::span<const GridPoint> points, std::span<const uint32_t> ids) {
   DTM_CHECK(points.size() == ids.size());
   using Item = std::pair<Point, uint32_t>;
   std::vector<Item> batch;
@@ -207,38 +218,40 @@ Status insert_batch(DT& dt, std::span<const GridPoint> points, std::span<const u
   using SortTraits = CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<Item>>;
 #ifdef CGAL_LINKED_WITH_TBB
   const int threads = thread_count();
-  if (batch.size() >= kParallelBatch && threads > 1 && !getenv("DTM_SEQ_DT")) {
-    // TBB's threads, as many as the process was given (common/threads.h).
-    tbb::task_arena arena(threads);
-    return arena.execute([&]() -> Status {
-      CGAL::spatial_sort<CGAL::Parallel_tag>(batch.begin(), batch.end(), SortTraits());
-      // The first points one by one, while the triangulation is small or flat:
-      // the threads need a 3D triangulation to lock, with room for both.
-      const size_t held = dt.number_of_vertices();
-      size_t done = held >= kParallelStart ? 0 : std::min(batch.size(), kParallelStart - held);
-      DTM_RETURN_IF_ERROR(insert_in_order(dt, done, [&](size_t i) { return batch[i]; }));
-      for (; done < batch.size() && dt.dimension() < 3; ++done)
-        DTM_RETURN_IF_ERROR(insert_in_order(dt, 1, [&](size_t) { return batch[done]; }));
-      CGAL::Bbox_3 box;
-      for (const GridPoint& p : points) box += to_point(p).bbox();
-      for (auto v : dt.finite_vertex_handles()) box += v->point().bbox();
-      typename DT::Lock_data_structure locks(box, 50);
-      // The triangulation must not keep the locks past this scope, even when
-      // CGAL throws (out of memory).
-      struct Unlock {
-        DT& dt;
-        ~Unlock() { dt.set_lock_data_structure(nullptr); }
-      } unlock{dt};
-      dt.set_lock_data_structure(&locks);
-      while (done < batch.size()) {
-        const size_t slice =
-            std::min(batch.size() - done, std::max<size_t>(kParallelStart, dt.number_of_vertices() / 8));
-        insert_sorted_in_parallel(dt, std::span<const Item>(batch).subspan(done, slice));
-        done += slice;
-        DTM_RETURN_IF_ERROR(check_cells(dt));
-      }
-      return Status::Ok();
-    });
+  if constexpr (std::is_same_v<Tri, DT>) {
+    if (batch.size() >= kParallelBatch && threads > 1 && !getenv("DTM_SEQ_DT")) {
+      // TBB's threads, as many as the process was given (common/threads.h).
+      tbb::task_arena arena(threads);
+      return arena.execute([&]() -> Status {
+        CGAL::spatial_sort<CGAL::Parallel_tag>(batch.begin(), batch.end(), SortTraits());
+        // The first points one by one, while the triangulation is small or flat:
+        // the threads need a 3D triangulation to lock, with room for both.
+        const size_t held = dt.number_of_vertices();
+        size_t done = held >= kParallelStart ? 0 : std::min(batch.size(), kParallelStart - held);
+        DTM_RETURN_IF_ERROR(insert_in_order(dt, done, [&](size_t i) { return batch[i]; }));
+        for (; done < batch.size() && dt.dimension() < 3; ++done)
+          DTM_RETURN_IF_ERROR(insert_in_order(dt, 1, [&](size_t) { return batch[done]; }));
+        CGAL::Bbox_3 box;
+        for (const GridPoint& p : points) box += to_point(p).bbox();
+        for (auto v : dt.finite_vertex_handles()) box += v->point().bbox();
+        typename DT::Lock_data_structure locks(box, 50);
+        // The triangulation must not keep the locks past this scope, even when
+        // CGAL throws (out of memory).
+        struct Unlock {
+          DT& dt;
+          ~Unlock() { dt.set_lock_data_structure(nullptr); }
+        } unlock{dt};
+        dt.set_lock_data_structure(&locks);
+        while (done < batch.size()) {
+          const size_t slice =
+              std::min(batch.size() - done, std::max<size_t>(kParallelStart, dt.number_of_vertices() / 8));
+          insert_sorted_in_parallel(dt, std::span<const Item>(batch).subspan(done, slice));
+          done += slice;
+          DTM_RETURN_IF_ERROR(check_cells(dt));
+        }
+        return Status::Ok();
+      });
+    }
   }
 #endif
   CGAL::spatial_sort(batch.begin(), batch.end(), SortTraits());
@@ -250,7 +263,8 @@ std::array<uint32_t, 4> sorted_ids(std::array<uint32_t, 4> ids) {
   std::sort(ids.begin(), ids.end());
   return ids;
 }
-std::array<uint32_t, 4> sorted_ids(DT::Cell_handle c) {
+template <class Handle>
+std::array<uint32_t, 4> sorted_ids(Handle c) {
   return sorted_ids({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()});
 }
 
@@ -262,7 +276,8 @@ std::array<uint32_t, 4> sorted_ids(DT::Cell_handle c) {
 // insertion varies; what is computed in floating point on a cell's corners
 // in their order (a circumcentre, a triangle's distance) must not.
 using Corners = std::array<int, 4>;
-Corners canonical_corners(DT::Cell_handle c) {
+template <class Handle>
+Corners canonical_corners(Handle c) {
   std::array<uint32_t, 4> id;
   for (int i = 0; i < 4; ++i) id[i] = c->vertex(i)->info();
   Corners p = {0, 1, 2, 3};
@@ -279,10 +294,14 @@ Corners canonical_corners(DT::Cell_handle c) {
     p = {p[0], p[3], p[1], p[2]};
   return p;
 }
-Corners corners_as_built(DT::Cell_handle) { return {0, 1, 2, 3}; }
+template <class Handle>
+Corners corners_as_built(Handle) {
+  return {0, 1, 2, 3};
+}
 
 // Writes cell c into out at index k, its corners in the order `p` gives.
-void write_cell(DT::Cell_handle c, const Corners& p, TetMesh& out, size_t k) {
+template <class Handle>
+void write_cell(Handle c, const Corners& p, TetMesh& out, size_t k) {
   for (int i = 0; i < 4; ++i) {
     out.cells[k][i] = c->vertex(p[i])->info();
     out.neighbors[k][i] = c->neighbor(p[i])->info().index;
@@ -294,14 +313,16 @@ void write_cell(DT::Cell_handle c, const Corners& p, TetMesh& out, size_t k) {
 // some cells ahead, a pass over the cells no longer waits on them: the
 // export of bunny_1m's level 0 in the decoder took 1.1-1.7 s on 2 cores
 // without, 0.5-0.9 s with (alternating runs).
-void prefetch_corners(DT::Cell_handle c) {
+template <class Handle>
+void prefetch_corners(Handle c) {
   for (int i = 0; i < 4; ++i) {
     __builtin_prefetch(&c->vertex(i)->info());
     __builtin_prefetch(&c->neighbor(i)->info());
   }
 }
 // The same for a pass that reads only the cell's vertex ids.
-void prefetch_vertex_ids(DT::Cell_handle c) {
+template <class Handle>
+void prefetch_vertex_ids(Handle c) {
   for (int i = 0; i < 4; ++i) __builtin_prefetch(&c->vertex(i)->info());
 }
 constexpr size_t kAhead = 8;
@@ -309,8 +330,8 @@ constexpr size_t kAhead = 8;
 // The cells of `handles`, in that order, as vertex ids and neighbour tags
 // (each handle's tag already set to its position, -1 for infinite cells),
 // each cell's corners in the order corners_of gives.
-template <class CornersOf>
-TetMesh cells_of(const std::vector<DT::Cell_handle>& handles, CornersOf corners_of, double spare = 0) {
+template <class Handle, class CornersOf>
+TetMesh cells_of(const std::vector<Handle>& handles, CornersOf corners_of, double spare = 0) {
   TetMesh out;
   const size_t m = handles.size();
   out.cells.reserve(m + static_cast<size_t>(spare * static_cast<double>(m)));
@@ -341,7 +362,7 @@ TetMesh export_as_built(DT& dt, double spare) {
     c->info().index = dt.is_infinite(c) ? -1 : static_cast<int32_t>(handles.size());
     if (!dt.is_infinite(c)) handles.push_back(c);
   }
-  return cells_of(handles, corners_as_built, spare);
+  return cells_of(handles, corners_as_built<DT::Cell_handle>, spare);
 }
 
 // The finite cells in the canonical order (topology.h: by their sorted vertex
@@ -352,14 +373,16 @@ TetMesh export_as_built(DT& dt, double spare) {
 // vertex as CGAL lists them (a counting sort), each vertex's few sorted on
 // every core, and written out in that order. Each cell's tag becomes its
 // index; `previous`, if given, receives each cell's tag before (-1: new).
-TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
+template <class Tri>
+TetMesh export_mesh(Tri& dt, std::vector<int32_t>* previous, double spare = 0) {
+  using Handle = typename Tri::Cell_handle;
   if (previous) previous->clear();
   if (dt.dimension() < 3) return {};
   const size_t m = finite_cell_count(dt);
   uint32_t top = 0;
   for (auto v : dt.finite_vertex_handles()) top = std::max(top, v->info());
   std::vector<uint32_t> start(size_t{top} + 2, 0);
-  auto smallest = [](DT::Cell_handle c) {
+  auto smallest = [](Handle c) {
     return std::min({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()});
   };
   constexpr size_t kBlock = 4096;
@@ -367,7 +390,7 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
   // quick), each one's smallest corner on every core (four vertices
   // anywhere in memory: the slow part, which took 1.4 s on one core at
   // bunny_1m's level 0), then the counting sort by them.
-  std::vector<DT::Cell_handle> found;
+  std::vector<Handle> found;
   found.reserve(m);
   for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
     if (dt.is_infinite(c))
@@ -385,7 +408,7 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
   });
   for (uint32_t v : least) ++start[v + 1];
   for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
-  std::vector<DT::Cell_handle> handles(m);
+  std::vector<Handle> handles(m);
   {
     std::vector<uint32_t> fill(start.begin(), start.end() - 1);
     for (size_t k = 0; k < found.size(); ++k) handles[fill[least[k]]++] = found[k];
@@ -395,7 +418,7 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
   // Each group's keys are read once into a small buffer and sorted there:
   // comparing through the handles would chase four vertex pointers per
   // comparison (this sort was a tenth of the encoder's time).
-  using Keyed = std::pair<std::array<uint32_t, 4>, DT::Cell_handle>;
+  using Keyed = std::pair<std::array<uint32_t, 4>, Handle>;
   parallel_for((start.size() - 1 + kBlock - 1) / kBlock,
                [&](size_t block) {
                  std::vector<Keyed> group;
@@ -421,7 +444,7 @@ TetMesh export_mesh(DT& dt, std::vector<int32_t>* previous, double spare = 0) {
                  }
                },
                2);
-  return cells_of(handles, canonical_corners, spare);
+  return cells_of(handles, canonical_corners<Handle>, spare);
 }
 
 // The canonical export again after local edits, given `before`, the last
@@ -551,10 +574,11 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
 }
 
 // delaunay_tetrahedralize without the release of the freed memory.
+template <class Tri>
 StatusOr<TetMesh> tetrahedralize_in(std::span<const GridPoint> points) {
   std::vector<uint32_t> ids(points.size());
   for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<uint32_t>(i);
-  DT dt;
+  Tri dt;
   DTM_RETURN_IF_ERROR(guarded([&] { return insert_batch(dt, points, ids); }));
   if (dt.number_of_vertices() != points.size())
     return Status{StatusCode::kInvalidInput, "the points to tetrahedralize are not distinct"};
@@ -569,7 +593,11 @@ StatusOr<TetMesh> tetrahedralize_in(std::span<const GridPoint> points) {
 }  // namespace
 
 StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
-  StatusOr<TetMesh> out = tetrahedralize_in(points);
+  // One thread (at this call: a block's share may grow later) inserts
+  // into the sequential type; the cells, and so the export, are the same.
+  StatusOr<TetMesh> out = thread_count() > 1 && points.size() >= kParallelBatch
+                              ? tetrahedralize_in<DT>(points)
+                              : tetrahedralize_in<SeqDT>(points);
   release_freed_memory();
   return out;
 }

@@ -7,6 +7,7 @@
 #include <random>
 #include <set>
 
+#include "common/threads.h"
 #include "mesh/delaunay.h"
 #include "mesh/topology.h"
 #include "test_support.h"
@@ -128,6 +129,23 @@ TEST(DelaunayUniqueness, ParallelBatchesGiveTheSameCells) {
     ASSERT_TRUE(two_batches.insert(rest, rest_ids).ok());
     EXPECT_EQ(cells_by_coords(two_batches.mesh(), pts), parallel) << "a 1/" << share << " share first";
   }
+}
+
+// A construction given one thread takes CGAL's sequential type (no locks,
+// no concurrent container), given more the parallel one: the same export,
+// cell for cell and neighbour for neighbour, on the lattice.
+TEST(DelaunayUniqueness, OneThreadsSequentialTypeGivesTheParallelTypesExport) {
+  ASSERT_TRUE(parallel_delaunay_available()) << "the native build links TBB";
+  const auto pts = test::full_grid(33);
+  ASSERT_GE(pts.size(), 20000u) << "a batch the threads share";
+  set_thread_count(2);
+  const StatusOr<TetMesh> parallel = delaunay_tetrahedralize(pts);
+  set_thread_count(1);
+  const StatusOr<TetMesh> sequential = delaunay_tetrahedralize(pts);
+  set_thread_count(0);
+  ASSERT_TRUE(parallel.ok() && sequential.ok());
+  EXPECT_EQ(parallel->cells, sequential->cells);
+  EXPECT_EQ(parallel->neighbors, sequential->neighbors);
 }
 
 // A triangulation built on every core holds its cells in the order the
