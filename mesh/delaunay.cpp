@@ -17,6 +17,7 @@
 #include <thread>
 #include <type_traits>
 #include <utility>
+#include <variant>
 
 #include "common/first_touch.h"
 #include "common/parallel_for.h"
@@ -354,15 +355,17 @@ TetMesh cells_of(const std::vector<Handle>& handles, CornersOf corners_of, doubl
 // The finite cells in the order the triangulation holds them (after a
 // parallel insertion, the threads' order: it varies from run to run), each
 // cell's tag its index.
-TetMesh export_as_built(DT& dt, double spare) {
+template <class Tri>
+TetMesh export_as_built(Tri& dt, double spare) {
+  using Handle = typename Tri::Cell_handle;
   if (dt.dimension() < 3) return {};
-  std::vector<DT::Cell_handle> handles;
+  std::vector<Handle> handles;
   handles.reserve(finite_cell_count(dt));
   for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
     c->info().index = dt.is_infinite(c) ? -1 : static_cast<int32_t>(handles.size());
     if (!dt.is_infinite(c)) handles.push_back(c);
   }
-  return cells_of(handles, corners_as_built<DT::Cell_handle>, spare);
+  return cells_of(handles, corners_as_built<Handle>, spare);
 }
 
 // The finite cells in the canonical order (topology.h: by their sorted vertex
@@ -453,13 +456,15 @@ TetMesh export_mesh(Tri& dt, std::vector<int32_t>* previous, double spare = 0) {
 // cells made since are read and sorted, and the two sorted runs are merged:
 // the result is export_mesh's, at the cost of a pass over the arrays, and
 // of less memory than a whole export (no handle per cell).
-TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& previous) {
+template <class Tri>
+TetMesh export_patched(Tri& dt, const TetMesh& before, std::vector<int32_t>& previous) {
+  using Handle = typename Tri::Cell_handle;
   const size_t old_count = before.cells.size();
   // One walk of the triangulation: the cells of `before` that are left
   // (their handles, by tag), and the new ones by their keys.
-  using Keyed = std::pair<std::array<uint32_t, 4>, DT::Cell_handle>;
-  std::vector<DT::Cell_handle> handle_of_old(old_count);  // a null handle: gone
-  std::vector<DT::Cell_handle> fresh;
+  using Keyed = std::pair<std::array<uint32_t, 4>, Handle>;
+  std::vector<Handle> handle_of_old(old_count);  // a null handle: gone
+  std::vector<Handle> fresh;
   for (auto c : dt.finite_cell_handles()) {
     const int32_t tag = c->info().index;
     if (tag >= 0) {
@@ -500,10 +505,9 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   const size_t ranges = (old_count + kRange - 1) / kRange;
   std::vector<size_t> kept_before(ranges + 1, 0);
   parallel_ranges(old_count, kRange, [&](size_t first, size_t last) {
-    kept_before[first / kRange + 1] =
-        static_cast<size_t>(std::count_if(handle_of_old.begin() + static_cast<std::ptrdiff_t>(first),
-                                          handle_of_old.begin() + static_cast<std::ptrdiff_t>(last),
-                                          [](DT::Cell_handle h) { return h != nullptr; }));
+    kept_before[first / kRange + 1] = static_cast<size_t>(std::count_if(
+        handle_of_old.begin() + static_cast<std::ptrdiff_t>(first),
+        handle_of_old.begin() + static_cast<std::ptrdiff_t>(last), [](Handle h) { return h != nullptr; }));
   });
   for (size_t r = 0; r < ranges; ++r) kept_before[r + 1] += kept_before[r];
   DTM_CHECK(kept_before[ranges] + made.size() == m);
@@ -516,17 +520,17 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   };
   auto place_made = [&](size_t j, size_t kept) {
     const size_t k = kept + j;
-    const DT::Cell_handle c = made[j].second;
+    const Handle c = made[j].second;
     const Corners p = canonical_corners(c);
     for (int f = 0; f < 4; ++f) out.cells[k][f] = c->vertex(p[f])->info();
     c->info().index = static_cast<int32_t>(k);
   };
-  std::vector<std::vector<DT::Cell_handle>> bordering(std::max<size_t>(ranges, 1));
+  std::vector<std::vector<Handle>> bordering(std::max<size_t>(ranges, 1));
   parallel_ranges(old_count, kRange, [&](size_t first, size_t last) {
     size_t kept = kept_before[first / kRange];
     size_t j = first == 0 ? 0 : first_made_from(first);
     for (size_t i = first; i < last; ++i) {
-      const DT::Cell_handle c = handle_of_old[i];
+      const Handle c = handle_of_old[i];
       if (c == nullptr) continue;
       const std::array<uint32_t, 4> key = sorted_ids(before.cells[i]);
       for (; j < made.size() && made[j].first < key; ++j) place_made(j, kept);
@@ -562,12 +566,12 @@ TetMesh export_patched(DT& dt, const TetMesh& before, std::vector<int32_t>& prev
   // Every tag is final: each cell writes its own row, on every core.
   parallel_ranges(made.size(), 4096, [&](size_t first, size_t last) {
     for (size_t j = first; j < last; ++j) {
-      const DT::Cell_handle c = made[j].second;
+      const Handle c = made[j].second;
       write_cell(c, canonical_corners(c), out, static_cast<size_t>(c->info().index));
     }
   });
   parallel_for(bordering.size(), [&](size_t r) {
-    for (DT::Cell_handle c : bordering[r])
+    for (Handle c : bordering[r])
       write_cell(c, canonical_corners(c), out, static_cast<size_t>(c->info().index));
   });
   return out;
@@ -590,6 +594,29 @@ StatusOr<TetMesh> tetrahedralize_in(std::span<const GridPoint> points) {
   return export_mesh(dt, nullptr);
 }
 
+template <class Tri>
+std::vector<std::array<uint32_t, 4>> finite_cells_of(const Tri& dt) {
+  using Handle = typename Tri::Cell_handle;
+  std::vector<std::array<uint32_t, 4>> out;
+  if (dt.dimension() < 3) return out;
+  // The handles in one walk of the container (quick: its blocks in memory
+  // order), their corners read on every core (four vertices anywhere in
+  // memory: the slow part, 0.15-0.2 s on one core at bunny_1m's level 1,
+  // which the decoder's layer candidates wait for).
+  std::vector<Handle> handles;
+  handles.reserve(finite_cell_count(dt));
+  for (auto c : dt.finite_cell_handles()) handles.push_back(c);
+  resize_on_every_core(out, handles.size());
+  parallel_ranges(handles.size(), 4096, [&](size_t first, size_t last) {
+    for (size_t k = first; k < last; ++k) {
+      if (k + kAhead < last) prefetch_vertex_ids(handles[k + kAhead]);
+      const Handle c = handles[k];
+      out[k] = {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()};
+    }
+  });
+  return out;
+}
+
 }  // namespace
 
 StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
@@ -610,74 +637,83 @@ bool parallel_delaunay_available() {
 #endif
 }
 
+// Made on one thread (a block among others, a process on one core), the
+// triangulation is CGAL's sequential type, as delaunay_tetrahedralize()'s
+// is: its insertions stay on one thread, whatever the thread count later.
 struct IncrementalDelaunay::Impl {
-  DT dt;
+  std::variant<DT, SeqDT> dt;
+  explicit Impl(bool sequential) {
+    if (sequential) dt.emplace<SeqDT>();
+  }
+  template <class F>
+  decltype(auto) with(F&& f) {
+    return std::visit(std::forward<F>(f), dt);
+  }
+  template <class F>
+  decltype(auto) with(F&& f) const {
+    return std::visit(std::forward<F>(f), dt);
+  }
 };
 
-IncrementalDelaunay::IncrementalDelaunay() : impl_(std::make_unique<Impl>()) {}
+IncrementalDelaunay::IncrementalDelaunay()
+    : impl_(std::make_unique<Impl>(!std::is_same_v<DT, SeqDT> && thread_count() == 1)) {}
 IncrementalDelaunay::~IncrementalDelaunay() {
   impl_.reset();
   release_freed_memory();
 }
 
 Status IncrementalDelaunay::insert(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
-  return guarded([&] { return insert_batch(impl_->dt, points, ids); });
+  return guarded([&] { return impl_->with([&](auto& dt) { return insert_batch(dt, points, ids); }); });
 }
 
 Status IncrementalDelaunay::insert_one_by_one(std::span<const GridPoint> points,
                                               std::span<const uint32_t> ids) {
   DTM_CHECK(points.size() == ids.size());
   return guarded([&] {
-    return insert_in_order(impl_->dt, points.size(),
-                           [&](size_t i) { return std::make_pair(to_point(points[i]), ids[i]); });
+    return impl_->with([&](auto& dt) {
+      return insert_in_order(dt, points.size(),
+                             [&](size_t i) { return std::make_pair(to_point(points[i]), ids[i]); });
+    });
   });
 }
 
 Status IncrementalDelaunay::remove(std::span<const GridPoint> points) {
   return guarded([&] {
-    for (const GridPoint& p : points) {
-      DT::Vertex_handle v;
-      if (!impl_->dt.is_vertex(to_point(p), v))
-        return Status{StatusCode::kInvalidInput, "remove: a point is not a vertex"};
-      impl_->dt.remove(v);
-    }
-    return Status::Ok();
+    return impl_->with([&](auto& dt) {
+      for (const GridPoint& p : points) {
+        typename std::remove_reference_t<decltype(dt)>::Vertex_handle v;
+        if (!dt.is_vertex(to_point(p), v))
+          return Status{StatusCode::kInvalidInput, "remove: a point is not a vertex"};
+        dt.remove(v);
+      }
+      return Status::Ok();
+    });
   });
 }
 
-int IncrementalDelaunay::dimension() const { return impl_->dt.dimension(); }
-size_t IncrementalDelaunay::number_of_vertices() const { return impl_->dt.number_of_vertices(); }
+int IncrementalDelaunay::dimension() const {
+  return impl_->with([](const auto& dt) { return dt.dimension(); });
+}
+size_t IncrementalDelaunay::number_of_vertices() const {
+  return impl_->with([](const auto& dt) { return dt.number_of_vertices(); });
+}
 TetMesh IncrementalDelaunay::mesh(CellOrder order, double spare) const {
-  return order == CellOrder::kCanonical ? export_mesh(impl_->dt, nullptr, spare)
-                                        : export_as_built(impl_->dt, spare);
+  return impl_->with([&](auto& dt) {
+    return order == CellOrder::kCanonical ? export_mesh(dt, nullptr, spare) : export_as_built(dt, spare);
+  });
 }
 std::vector<std::array<uint32_t, 4>> IncrementalDelaunay::finite_cells() const {
-  std::vector<std::array<uint32_t, 4>> out;
-  if (impl_->dt.dimension() < 3) return out;
-  // The handles in one walk of the container (quick: its blocks in memory
-  // order), their corners read on every core (four vertices anywhere in
-  // memory: the slow part, 0.15-0.2 s on one core at bunny_1m's level 1,
-  // which the decoder's layer candidates wait for).
-  std::vector<DT::Cell_handle> handles;
-  handles.reserve(finite_cell_count(impl_->dt));
-  for (auto c : impl_->dt.finite_cell_handles()) handles.push_back(c);
-  resize_on_every_core(out, handles.size());
-  parallel_ranges(handles.size(), 4096, [&](size_t first, size_t last) {
-    for (size_t k = first; k < last; ++k) {
-      if (k + kAhead < last) prefetch_vertex_ids(handles[k + kAhead]);
-      const DT::Cell_handle c = handles[k];
-      out[k] = {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()};
-    }
-  });
-  return out;
+  return impl_->with([](const auto& dt) { return finite_cells_of(dt); });
 }
 
 TetMesh IncrementalDelaunay::mesh(std::vector<int32_t>& previous_index) {
-  return export_mesh(impl_->dt, &previous_index);
+  return impl_->with([&](auto& dt) { return export_mesh(dt, &previous_index); });
 }
 TetMesh IncrementalDelaunay::mesh(const TetMesh& before, std::vector<int32_t>& previous_index) {
-  if (before.cells.empty()) return export_mesh(impl_->dt, &previous_index);
-  return export_patched(impl_->dt, before, previous_index);
+  return impl_->with([&](auto& dt) {
+    return before.cells.empty() ? export_mesh(dt, &previous_index)
+                                : export_patched(dt, before, previous_index);
+  });
 }
 
 CavityFill cavity_fill(std::span<const GridPoint> link, std::span<const uint32_t> link_ids,

@@ -146,6 +146,23 @@ TEST(DelaunayUniqueness, OneThreadsSequentialTypeGivesTheParallelTypesExport) {
   ASSERT_TRUE(parallel.ok() && sequential.ok());
   EXPECT_EQ(parallel->cells, sequential->cells);
   EXPECT_EQ(parallel->neighbors, sequential->neighbors);
+
+  // An IncrementalDelaunay made on one thread: two batches, a removal and
+  // the patched export give the whole export of what it holds.
+  set_thread_count(1);
+  IncrementalDelaunay one;
+  const std::vector<uint32_t> ids = iota_ids(pts.size());
+  const size_t half = pts.size() / 2;
+  ASSERT_TRUE(one.insert(std::span(pts).first(half), std::span(ids).first(half)).ok());
+  std::vector<int32_t> previous;
+  const TetMesh before = one.mesh(previous);
+  ASSERT_TRUE(one.insert(std::span(pts).subspan(half), std::span(ids).subspan(half)).ok());
+  ASSERT_TRUE(one.remove(std::span(pts).subspan(half, 1)).ok());
+  ASSERT_TRUE(one.insert(std::span(pts).subspan(half, 1), std::span(ids).subspan(half, 1)).ok());
+  const TetMesh patched = one.mesh(before, previous);
+  set_thread_count(0);
+  EXPECT_EQ(patched.cells, parallel->cells);
+  EXPECT_EQ(patched.neighbors, parallel->neighbors);
 }
 
 // A triangulation built on every core holds its cells in the order the
