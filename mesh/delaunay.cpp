@@ -622,9 +622,10 @@ std::vector<std::array<uint32_t, 4>> finite_cells_of(const Tri& dt) {
 StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
   // One thread (at this call: a block's share may grow later) inserts
   // into the sequential type; the cells, and so the export, are the same.
-  StatusOr<TetMesh> out = thread_count() > 1 && points.size() >= kParallelBatch
-                              ? tetrahedralize_in<DT>(points)
-                              : tetrahedralize_in<SeqDT>(points);
+  if (thread_count() == 1 || points.size() < kParallelBatch) return tetrahedralize_in<SeqDT>(points);
+  StatusOr<TetMesh> out = tetrahedralize_in<DT>(points);
+  // (Only what TBB's allocator gave: with nothing from it yet, asking it to
+  // clean up crashed under ASan.)
   release_freed_memory();
   return out;
 }
@@ -658,8 +659,9 @@ struct IncrementalDelaunay::Impl {
 IncrementalDelaunay::IncrementalDelaunay()
     : impl_(std::make_unique<Impl>(!std::is_same_v<DT, SeqDT> && thread_count() == 1)) {}
 IncrementalDelaunay::~IncrementalDelaunay() {
+  const bool from_tbb = std::holds_alternative<DT>(impl_->dt) && !std::is_same_v<DT, SeqDT>;
   impl_.reset();
-  release_freed_memory();
+  if (from_tbb) release_freed_memory();
 }
 
 Status IncrementalDelaunay::insert(std::span<const GridPoint> points, std::span<const uint32_t> ids) {
