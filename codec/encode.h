@@ -241,7 +241,8 @@ struct EncodeReport {
   // units) as its mean spacing sets it, and as the encoder raised it where
   // the solid holds larger cells (a graded mesh's coarse inside) that level
   // 0 would otherwise lack, beyond D_max (equal when not raised); the cells
-  // of the solid level 0 still lacks (0 once raised).
+  // of the solid thicker than D_max that level 0 leaves out all the same
+  // (a few, within D_max, are not worth a raise; more once its rounds end).
   double level0_spacing_kept_radius = 0, level0_kept_radius = 0;
   uint64_t level0_cells_dropped = 0;
   // With tetrahedra in the input: level 0's solid against the input's, grid

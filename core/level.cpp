@@ -76,11 +76,11 @@ StatusOr<LevelGeometry> analyze_level(std::vector<GridPoint> points, TetMesh dt,
         [&](size_t block) {
           for (size_t i = block * kBlock; i < std::min(count, block * kBlock + kBlock); ++i) {
             const size_t c = first + i;
-            const bool kept = verdicts.empty()
-                                  ? kept_by_alpha(L.points, L.dt.cells[c], L.alpha)
-                                  : verdicts[c] != 0 && (policy.kept_radius_ratio <= 0 ||
-                                                         carving_radius(L.points, L.dt.cells[c]) <=
-                                                             policy.kept_radius_ratio * L.alpha);
+            const bool kept =
+                verdicts.empty()
+                    ? kept_by_alpha(L.points, L.dt.cells[c], L.alpha)
+                    : verdicts[c] != 0 && (policy.kept_radius <= 0 ||
+                                           carving_radius(L.points, L.dt.cells[c]) <= policy.kept_radius);
             // A solid of several regions gives the cell's region (1 + its index).
             L.in_mesh[c] = kept ? (verdicts.empty() ? 1 : verdicts[c]) : 0;
             if (!kept) continue;

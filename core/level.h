@@ -25,12 +25,14 @@ struct AlphaPolicy {
   Kind kind = Kind::kPaper;
   double fixed_value = 0;  // grid units, for kFixed
   // A level carved to a reference keeps no cell whose circumradius exceeds
-  // this multiple of alpha (0: no bound). Bricked streams (spec/FORMAT.md
-  // §3.5) need the bound: a region reader decodes the points within twice
-  // the largest kept circumradius of the region. The cells above it are
+  // this (grid units; 0: no bound). Bricked streams (spec/FORMAT.md §3.5)
+  // need the bound: a region reader decodes the points within twice the
+  // largest kept circumradius of the region. The cells above it are mostly
   // nearly flat (slivers on the solid's flat faces): dropping them moves the
-  // boundary by their thickness.
-  double kept_radius_ratio = 0;
+  // boundary by their thickness. The very number the layer header holds,
+  // compared as the decoder compares it (not a multiple of alpha, whose
+  // product may round a unit in the last place away).
+  double kept_radius = 0;
 };
 
 // A vertex is interior when the solid angles of its mesh cells add up to 4*pi

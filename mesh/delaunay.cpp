@@ -9,6 +9,7 @@
 #include <CGAL/spatial_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <exception>
@@ -84,10 +85,15 @@ Point to_point(const GridPoint& p) { return Point(p.x, p.y, p.z); }
 // With TBB, the triangulation's cells come from TBB's scalable allocator,
 // which keeps what is freed in its own pools: a finished triangulation would
 // stay in the process's memory through every later phase. Handed back here
-// once a triangulation is gone.
+// once a triangulation is gone (any triangulation: the pools a parallel
+// one left are handed back after the next sequential one too). Not before
+// the allocator has been used: asked to clean up with nothing from it yet,
+// it crashed under ASan.
+std::atomic<bool> tbb_allocator_used{false};
 void release_freed_memory() {
 #ifdef CGAL_LINKED_WITH_TBB
-  scalable_allocation_command(TBBMALLOC_CLEAN_ALL_BUFFERS, nullptr);
+  if (tbb_allocator_used.load(std::memory_order_relaxed))
+    scalable_allocation_command(TBBMALLOC_CLEAN_ALL_BUFFERS, nullptr);
 #endif
 }
 
@@ -622,10 +628,9 @@ std::vector<std::array<uint32_t, 4>> finite_cells_of(const Tri& dt) {
 StatusOr<TetMesh> delaunay_tetrahedralize(std::span<const GridPoint> points) {
   // One thread (at this call: a block's share may grow later) inserts
   // into the sequential type; the cells, and so the export, are the same.
-  if (thread_count() == 1 || points.size() < kParallelBatch) return tetrahedralize_in<SeqDT>(points);
-  StatusOr<TetMesh> out = tetrahedralize_in<DT>(points);
-  // (Only what TBB's allocator gave: with nothing from it yet, asking it to
-  // clean up crashed under ASan.)
+  const bool sequential = thread_count() == 1 || points.size() < kParallelBatch;
+  if (!sequential) tbb_allocator_used = true;
+  StatusOr<TetMesh> out = sequential ? tetrahedralize_in<SeqDT>(points) : tetrahedralize_in<DT>(points);
   release_freed_memory();
   return out;
 }
@@ -642,9 +647,19 @@ bool parallel_delaunay_available() {
 // triangulation is CGAL's sequential type, as delaunay_tetrahedralize()'s
 // is: its insertions stay on one thread, whatever the thread count later.
 struct IncrementalDelaunay::Impl {
-  std::variant<DT, SeqDT> dt;
-  explicit Impl(bool sequential) {
-    if (sequential) dt.emplace<SeqDT>();
+#ifdef CGAL_LINKED_WITH_TBB
+  using Held = std::variant<DT, SeqDT>;
+#else
+  using Held = std::variant<DT>;  // DT is the sequential type
+#endif
+  Held dt;
+  // Made in place: a parallel triangulation made first and then replaced
+  // would have taken its first cells from TBB's allocator.
+  explicit Impl(bool sequential) : dt(made(sequential)) {}
+  static Held made(bool sequential) {
+    if (sequential) return Held(std::in_place_type<SeqDT>);
+    tbb_allocator_used = true;
+    return Held(std::in_place_type<DT>);
   }
   template <class F>
   decltype(auto) with(F&& f) {
@@ -656,12 +671,14 @@ struct IncrementalDelaunay::Impl {
   }
 };
 
-IncrementalDelaunay::IncrementalDelaunay()
-    : impl_(std::make_unique<Impl>(!std::is_same_v<DT, SeqDT> && thread_count() == 1)) {}
+IncrementalDelaunay::IncrementalDelaunay() : impl_(std::make_unique<Impl>(thread_count() == 1)) {}
 IncrementalDelaunay::~IncrementalDelaunay() {
-  const bool from_tbb = std::holds_alternative<DT>(impl_->dt) && !std::is_same_v<DT, SeqDT>;
   impl_.reset();
-  if (from_tbb) release_freed_memory();
+  release_freed_memory();
+}
+
+bool IncrementalDelaunay::parallel() const {
+  return !std::is_same_v<DT, SeqDT> && std::holds_alternative<DT>(impl_->dt);
 }
 
 Status IncrementalDelaunay::insert(std::span<const GridPoint> points, std::span<const uint32_t> ids) {

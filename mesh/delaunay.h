@@ -71,6 +71,11 @@ class IncrementalDelaunay {
 
   int dimension() const;
   size_t number_of_vertices() const;
+  // Whether its batches may be inserted on several threads: made where the
+  // work had more than one (common/threads.h), and TBB linked. Made on one
+  // thread it is CGAL's sequential type (no locks, no concurrent
+  // container), and stays so.
+  bool parallel() const;
   // The current finite cells, vertices named by their ids: in the canonical
   // order, or as the triangulation holds them (cheaper; after a parallel
   // insertion the order varies from run to run).

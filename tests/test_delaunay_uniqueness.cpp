@@ -134,23 +134,32 @@ TEST(DelaunayUniqueness, ParallelBatchesGiveTheSameCells) {
 // A construction given one thread takes CGAL's sequential type (no locks,
 // no concurrent container), given more the parallel one: the same export,
 // cell for cell and neighbour for neighbour, on the lattice.
+// Sets the process's thread count while it lives.
+struct DelaunayThreads {
+  explicit DelaunayThreads(int n) { set_thread_count(n); }
+  ~DelaunayThreads() { set_thread_count(0); }
+};
+
 TEST(DelaunayUniqueness, OneThreadsSequentialTypeGivesTheParallelTypesExport) {
   ASSERT_TRUE(parallel_delaunay_available()) << "the native build links TBB";
   const auto pts = test::full_grid(33);
   ASSERT_GE(pts.size(), 20000u) << "a batch the threads share";
-  set_thread_count(2);
-  const StatusOr<TetMesh> parallel = delaunay_tetrahedralize(pts);
-  set_thread_count(1);
+  const StatusOr<TetMesh> parallel = [&] {
+    const DelaunayThreads two(2);
+    IncrementalDelaunay made_on_two;
+    EXPECT_TRUE(made_on_two.parallel());
+    return delaunay_tetrahedralize(pts);
+  }();
+  const DelaunayThreads one_thread(1);
   const StatusOr<TetMesh> sequential = delaunay_tetrahedralize(pts);
-  set_thread_count(0);
   ASSERT_TRUE(parallel.ok() && sequential.ok());
   EXPECT_EQ(parallel->cells, sequential->cells);
   EXPECT_EQ(parallel->neighbors, sequential->neighbors);
 
   // An IncrementalDelaunay made on one thread: two batches, a removal and
   // the patched export give the whole export of what it holds.
-  set_thread_count(1);
   IncrementalDelaunay one;
+  EXPECT_FALSE(one.parallel());
   const std::vector<uint32_t> ids = iota_ids(pts.size());
   const size_t half = pts.size() / 2;
   ASSERT_TRUE(one.insert(std::span(pts).first(half), std::span(ids).first(half)).ok());
@@ -160,7 +169,6 @@ TEST(DelaunayUniqueness, OneThreadsSequentialTypeGivesTheParallelTypesExport) {
   ASSERT_TRUE(one.remove(std::span(pts).subspan(half, 1)).ok());
   ASSERT_TRUE(one.insert(std::span(pts).subspan(half, 1), std::span(ids).subspan(half, 1)).ok());
   const TetMesh patched = one.mesh(before, previous);
-  set_thread_count(0);
   EXPECT_EQ(patched.cells, parallel->cells);
   EXPECT_EQ(patched.neighbors, parallel->neighbors);
 }

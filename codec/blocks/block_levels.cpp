@@ -229,7 +229,7 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
   AlphaPolicy policy;
   policy.kind = AlphaKind::kFixed;
   policy.fixed_value = o.alpha;
-  policy.kept_radius_ratio = o.kept_radius / o.alpha;
+  policy.kept_radius = o.kept_radius;
   DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze_level(block.points, std::move(dt), policy, verdicts));
   const std::span<const GridPoint> points = L.points;
   const std::span<const uint32_t> ids = block.ids;

@@ -138,14 +138,16 @@ class BrickedEncoder {
     tets_done_ = true;
   }
   BlockRegion region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const;
-  // Level `level`'s plan again in blocks of 8, 64, ... times the points
+  // Level `level`'s plan again in blocks of 8, 64, ... times its points
   // while the blocks' regions (grown by the halo of `kept_radius`) hold
   // more than kRegionsPerLevel times the level's points: a raised kept
   // radius (run()) makes halos that span most of the level, and each block
   // would do most of the level's work again. Sets the blocks built at once
   // for the blocks' size. `codes` and `ids` as index_.level() gives them.
-  void fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth, BlockPlan& plan,
-                        std::vector<MortonCode>& codes, std::vector<uint32_t>& ids);
+  // `block_points`: the plan's, raised with it.
+  void fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth,
+                        uint64_t& block_points, BlockPlan& plan, std::vector<MortonCode>& codes,
+                        std::vector<uint32_t>& ids);
   StatusOr<double> level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan);
   Status analyse(int level, const BlockPlan& plan, int64_t halo, const BlockAnalysisOptions& options,
                  std::vector<BlockAnalysis>& out);
@@ -195,24 +197,24 @@ class BrickedEncoder {
 };
 
 void BrickedEncoder::fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth,
-                                      BlockPlan& plan, std::vector<MortonCode>& codes,
+                                      uint64_t& block_points, BlockPlan& plan, std::vector<MortonCode>& codes,
                                       std::vector<uint32_t>& ids) {
-  uint64_t block_points = o_.block_points;
-  for (;;) {
-    at_once_ = o_.blocks_at_once > 0 ? o_.blocks_at_once : default_blocks_at_once(block_points);
-    if (plan.blocks.size() <= 1) return;
-    const int64_t halo = halo_for(kept_radius, o_.hierarchy.dmax);
+  const int64_t halo = halo_for(kept_radius, o_.hierarchy.dmax);
+  bool planned_again = false;
+  while (plan.blocks.size() > 1 && block_points < (uint64_t{1} << 40)) {
     uint64_t held = 0;
     for (size_t k = 0; k < plan.blocks.size(); ++k)
       held += index_.inside(plan.box(k, q_).grown(halo, q_), level_of_, level).size();
-    if (static_cast<double>(held) <= kRegionsPerLevel * static_cast<double>(level_points)) return;
-    if (block_points >= (uint64_t{1} << 40)) return;
+    if (static_cast<double>(held) <= kRegionsPerLevel * static_cast<double>(level_points)) break;
     block_points *= 8;
     index_.level(level_of_, level, codes, &ids);
     plan = plan_blocks(codes, q_, brick_depth, block_points, x_.size());
-    loads_.balance(plan);
     release(codes);
+    planned_again = true;
   }
+  // Only the plan that runs counts in the ranks' loads.
+  if (planned_again) loads_.balance(plan);
+  at_once_ = o_.blocks_at_once > 0 ? o_.blocks_at_once : default_blocks_at_once(block_points);
 }
 
 BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const {
@@ -269,6 +271,12 @@ Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
     out.push_back(deserialize_analysis(r));
     release(r);
   }
+  // The blocks' triangulations, made on one thread each in CGAL's
+  // sequential type, came from malloc's arenas (one per thread), which
+  // keep what is freed: handed back once the level's blocks are done, not
+  // after each block (slower, tools/tool_main.h). A graded mesh of 325k
+  // vertices held 120 MiB more after level 0's first round without.
+  give_back_free_heap();
   return Status::Ok();
 }
 
@@ -510,9 +518,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     BlockPlan plan = plan_blocks(codes, q_, out.brick_depth, o_.block_points, x_.size());
     loads_.balance(plan);
     release(codes);  // 16 bytes a point, not held while the blocks are built
-    size_t largest = 0;
-    for (size_t k = 0; k < plan.blocks.size(); ++k)
-      largest = std::max(largest, plan.first[k + 1] - plan.first[k]);
+    uint64_t block_points = o_.block_points;
     phase(level, "alpha");
     DTM_ASSIGN_OR_RETURN(out.alpha, level_alpha(ids, plan));
     if (!(out.alpha > 0)) return invalid_input("the level's points do not span three dimensions");
@@ -536,8 +542,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       // Once level 0's kept radius was raised, the blocks are made larger
       // until their regions stop holding the level many times over.
       if (level0_kept_radius_ > level0_spacing_kept_radius_ || round > 0)
-        fewer_blocks_for(level, kept_radius, ids.size(), out.brick_depth, plan, codes, ids);
-      largest = 0;
+        fewer_blocks_for(level, kept_radius, ids.size(), out.brick_depth, block_points, plan, codes, ids);
+      size_t largest = 0;
       for (size_t k = 0; k < plan.blocks.size(); ++k)
         largest = std::max(largest, plan.first[k + 1] - plan.first[k]);
       // The analysis of this level sees its own cells.
