@@ -14,9 +14,12 @@
 #include "common/threads.h"
 #include "core/aabb_on_every_core.h"
 #include "core/nearest_points.h"
+#include "test_support.h"
 
 namespace dtm {
 namespace {
+
+using test::Threads;
 
 using K = CGAL::Simple_cartesian<double>;
 using Triangle = K::Triangle_3;
@@ -36,12 +39,6 @@ std::vector<Triangle> grid_triangles(size_t n, int side, uint32_t seed) {
   }
   return out;
 }
-
-// Sets the process's thread count while it lives.
-struct Threads {
-  explicit Threads(int n) { set_thread_count(n); }
-  ~Threads() { set_thread_count(0); }
-};
 
 TEST(AabbOnEveryCore, AnswersAsCgalsOwnTreeOnAnyNumberOfThreads) {
   const std::vector<Triangle> soup = grid_triangles(40000, 120, 7);

@@ -16,18 +16,12 @@
 #include "common/byte_io.h"
 #include "common/checksum.h"
 #include "common/threads.h"
+#include "test_support.h"
 
 namespace dtm {
 namespace {
 
 constexpr int kIndexQBits = 9;
-
-struct IndexThreads {
-  explicit IndexThreads(int n) { set_thread_count(n); }
-  ~IndexThreads() { set_thread_count(0); }
-  IndexThreads(const IndexThreads&) = delete;
-  IndexThreads& operator=(const IndexThreads&) = delete;
-};
 
 // Distinct points on the grid, clustered in one corner as a mesh's are
 // (so that boxes meet many and few of them), and a level for each.
@@ -66,7 +60,7 @@ TEST(BlockIndex, InsideIsEveryPointOfTheLevelInTheBoxAscendingOnAnyNumberOfThrea
   boxes.push_back({{0, 0, 0}, {63, 63, 63}});  // the dense corner: 30,000 points, more than a scan's range
   boxes.push_back({{5, 5, 5}, {4, 4, 4}});     // empty
   for (int threads : {1, 2, 3}) {
-    const IndexThreads use(threads);
+    const test::Threads use(threads);
     for (const GridBox& box : boxes)
       for (int level : {0, 2}) {
         std::vector<uint32_t> expected;
@@ -98,7 +92,7 @@ TEST(BlockIndex, MeetingIsEveryTriangleWhoseBoxMeetsTheBoxInOneOrderOnAnyNumberO
   boxes.push_back({{0, 0, 0}, {63, 63, 63}});
   std::vector<std::vector<std::array<uint32_t, 3>>> first;
   for (int threads : {1, 2, 3}) {
-    const IndexThreads use(threads);
+    const test::Threads use(threads);
     for (size_t k = 0; k < boxes.size(); ++k) {
       const std::vector<std::array<uint32_t, 3>> found = index.meeting(boxes[k]);
       std::multiset<std::array<uint32_t, 3>> expected, got(found.begin(), found.end());
@@ -133,7 +127,7 @@ TEST(BlockIndex, CellHashSumIsTheSumOfEachCellsHashOnAnyNumberOfThreads) {
     expected += xxh3_64(w.data());
   }
   for (int threads : {1, 2, 3}) {
-    const IndexThreads use(threads);
+    const test::Threads use(threads);
     EXPECT_EQ(cell_hash_sum(points, cells), expected) << threads << " threads";
     // Any corner order: the same hash.
     std::vector<std::array<uint32_t, 4>> turned = cells;

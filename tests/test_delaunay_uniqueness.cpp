@@ -134,23 +134,17 @@ TEST(DelaunayUniqueness, ParallelBatchesGiveTheSameCells) {
 // A construction given one thread takes CGAL's sequential type (no locks,
 // no concurrent container), given more the parallel one: the same export,
 // cell for cell and neighbour for neighbour, on the lattice.
-// Sets the process's thread count while it lives.
-struct DelaunayThreads {
-  explicit DelaunayThreads(int n) { set_thread_count(n); }
-  ~DelaunayThreads() { set_thread_count(0); }
-};
-
 TEST(DelaunayUniqueness, OneThreadsSequentialTypeGivesTheParallelTypesExport) {
   ASSERT_TRUE(parallel_delaunay_available()) << "the native build links TBB";
   const auto pts = test::full_grid(33);
   ASSERT_GE(pts.size(), 20000u) << "a batch the threads share";
   const StatusOr<TetMesh> parallel = [&] {
-    const DelaunayThreads two(2);
+    const test::Threads two(2);
     IncrementalDelaunay made_on_two;
     EXPECT_TRUE(made_on_two.parallel());
     return delaunay_tetrahedralize(pts);
   }();
-  const DelaunayThreads one_thread(1);
+  const test::Threads one_thread(1);
   const StatusOr<TetMesh> sequential = delaunay_tetrahedralize(pts);
   ASSERT_TRUE(parallel.ok() && sequential.ok());
   EXPECT_EQ(parallel->cells, sequential->cells);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/grid.h"
+#include "common/threads.h"
 #include "core/quantize.h"
 #include "mesh/delaunay.h"
 #include "tools/formats/tetgen.h"
@@ -20,6 +21,14 @@ inline const std::vector<std::string> kCorpus = {"torus_288", "bunny_10k", "elep
                                                  "hand_10k",  "knot1_10k", "torus_10k",    "triceratops_10k"};
 
 inline std::string data_path(const std::string& name) { return std::string(DTM_TEST_DATA_DIR) + "/" + name; }
+
+// Sets the process's thread count (common/threads.h) while it lives.
+struct Threads {
+  explicit Threads(int n) { set_thread_count(n); }
+  ~Threads() { set_thread_count(0); }
+  Threads(const Threads&) = delete;
+  Threads& operator=(const Threads&) = delete;
+};
 
 // A command run through the shell, as a user runs the tools: its exit
 // status (pclose's; -1 if it could not start) and what it printed.

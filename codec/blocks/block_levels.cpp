@@ -236,16 +236,13 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
 
   BlockFigures& f = out.figures;
   // The cells the solid holds that the kept radius drops (in the solid, not
-  // in the level): few, so each one's radius is taken only when dropped.
+  // in the level), thicker than D_max: few, so each one's shape is taken
+  // only when dropped.
   for (size_t c = 0; c < verdicts.size(); ++c)
-    if (verdicts[c] != 0 && !L.in_mesh[c] && owns(block.owned, points, L.dt.cells[c])) {
-      ++f.dropped_inside;
-      const double radius = carving_radius(points, L.dt.cells[c]);
-      f.dropped_radius = std::max(f.dropped_radius, radius);
-      if (smallest_height(points, L.dt.cells[c]) > o.dmax) {
-        ++f.dropped_thick;
-        f.dropped_thick_radius = std::max(f.dropped_thick_radius, radius);
-      }
+    if (verdicts[c] != 0 && !L.in_mesh[c] && owns(block.owned, points, L.dt.cells[c]) &&
+        smallest_height(points, L.dt.cells[c]) > o.dmax) {
+      ++f.dropped_thick;
+      f.dropped_thick_radius = std::max(f.dropped_thick_radius, carving_radius(points, L.dt.cells[c]));
     }
   release(verdicts);
   for (uint32_t v = 0; v < n; ++v)

@@ -113,14 +113,14 @@ struct BlockFigures {
   double quality_sum = 0, quality_min = INFINITY;
   DistanceSums to_level, to_reference;
   uint64_t cell_hash = 0;  // the wrapping sum of the owned cells' hashes (codec/stream/format.h)
-  // The owned cells inside the reference solid that the kept radius drops:
-  // how many, and the largest circumradius among them and among those
-  // thicker than D_max (0: none). A graded mesh's coarse inside holds cells
-  // far larger than its mean spacing says; a flat cell on the solid's
-  // surface may have any circumradius, and dropping it moves the surface by
-  // its thickness.
-  uint64_t dropped_inside = 0, dropped_thick = 0;
-  double dropped_radius = 0, dropped_thick_radius = 0;
+  // The owned cells inside the reference solid, thicker than D_max, that
+  // the kept radius drops: how many, and the largest circumradius among
+  // them (0: none). A graded mesh's coarse inside holds cells far larger
+  // than its mean spacing says; a flat cell on the solid's surface may have
+  // any circumradius, and dropping it moves the surface by its thickness,
+  // so thinner cells are not counted.
+  uint64_t dropped_thick = 0;
+  double dropped_thick_radius = 0;
 };
 
 struct BlockAnalysisOptions {

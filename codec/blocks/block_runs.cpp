@@ -247,9 +247,7 @@ std::vector<uint8_t> serialize(const BlockAnalysis& a) {
   put(w, f.to_level);
   put(w, f.to_reference);
   w.u64(f.cell_hash);
-  w.u64(f.dropped_inside);
   w.u64(f.dropped_thick);
-  w.f64(f.dropped_radius);
   w.f64(f.dropped_thick_radius);
   w.u64(a.surface_triangles.size());
   for (const auto& t : a.surface_triangles)
@@ -282,9 +280,7 @@ BlockAnalysis deserialize_analysis(std::span<const uint8_t> bytes) {
   f.to_level = r.sums();
   f.to_reference = r.sums();
   f.cell_hash = r.u64();
-  f.dropped_inside = r.u64();
   f.dropped_thick = r.u64();
-  f.dropped_radius = r.f64();
   f.dropped_thick_radius = r.f64();
   a.surface_triangles.resize(r.u64());
   for (auto& t : a.surface_triangles)

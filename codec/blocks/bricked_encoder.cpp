@@ -194,6 +194,7 @@ class BrickedEncoder {
   // solid it still drops (run()).
   double level0_spacing_kept_radius_ = 0, level0_kept_radius_ = 0;
   uint64_t level0_cells_dropped_ = 0;
+  bool level0_radius_raised() const { return level0_kept_radius_ > level0_spacing_kept_radius_; }
 };
 
 void BrickedEncoder::fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth,
@@ -541,7 +542,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     for (int round = 0;; ++round) {
       // Once level 0's kept radius was raised, the blocks are made larger
       // until their regions stop holding the level many times over.
-      if (level0_kept_radius_ > level0_spacing_kept_radius_ || round > 0)
+      if (level0_radius_raised() || round > 0)
         fewer_blocks_for(level, kept_radius, ids.size(), out.brick_depth, block_points, plan, codes, ids);
       size_t largest = 0;
       for (size_t k = 0; k < plan.blocks.size(); ++k)
@@ -588,8 +589,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     }
     // A coarser level's cells are larger than the finer level's: once level
     // 0's was raised, no coarser level's kept radius is below the finer one's.
-    const bool raised = level0_kept_radius_ > level0_spacing_kept_radius_;
-    next_kept_radius = std::max(kKeptRadiusPerFinerAlpha * out.alpha, raised ? kept_radius : 0.0);
+    next_kept_radius =
+        std::max(kKeptRadiusPerFinerAlpha * out.alpha, level0_radius_raised() ? kept_radius : 0.0);
     // The build of the coarser level (in this level's blocks) sees the
     // coarser level's cells.
     const int64_t build_halo = halo_for(next_kept_radius, h.dmax);

@@ -30,9 +30,7 @@ MergedLevel merge_blocks(std::vector<BlockAnalysis>& analysis, int level, Bricke
     to_level.add(f.to_level);
     to_reference.add(f.to_reference);
     out.cell_hash += f.cell_hash;
-    m.dropped_inside += f.dropped_inside;
     m.dropped_thick += f.dropped_thick;
-    m.dropped_radius = std::max(m.dropped_radius, f.dropped_radius);
     m.dropped_thick_radius = std::max(m.dropped_thick_radius, f.dropped_thick_radius);
     for (auto& [brick, bytes] : a.carving) out.carving[brick] = std::move(bytes);
     m.record.triangles.insert(m.record.triangles.end(), a.surface_triangles.begin(),

@@ -23,10 +23,10 @@ struct MergedLevel {
   // The reference's boundary vertices measured, when the level was
   // measured against a reference.
   std::optional<uint64_t> reference_boundary_vertices;
-  // The cells inside the reference solid that the kept radius dropped, and
-  // the largest circumradius among them and among the thick (BlockFigures).
-  uint64_t dropped_inside = 0, dropped_thick = 0;
-  double dropped_radius = 0, dropped_thick_radius = 0;
+  // The cells inside the reference solid thicker than D_max that the kept
+  // radius dropped, and the largest circumradius among them (BlockFigures).
+  uint64_t dropped_thick = 0;
+  double dropped_thick_radius = 0;
 };
 
 // Adds the blocks' figures to `out` (its stats' boundary vertices,
