@@ -34,7 +34,7 @@ work, cores, commit, runs = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.
 def phases(path):
     d = {}
     for line in open(path):
-        m = re.match(r"\s+([0-9.]+) s\s+\d+ MiB\s+\d+ MiB peak  (.*)", line)
+        m = re.match(r"\s+([0-9.]+) s\s+[0-9.]+ cores\s+\d+ MiB\s+\d+ MiB peak  (.*)", line)
         if not m or m.group(2).startswith(("in all", "writing /", "writing " + work)):
             continue
         name = re.sub(r"^level \d+: ", "", m.group(2))
