@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <thread>
 #include <vector>
@@ -23,23 +24,32 @@ inline size_t loop_threads() {
 // Runs body(i) for i in [0, n), each once, on thread_count() threads. body(0) runs
 // first, alone: a CGAL tree builds its search structures on its first
 // query, after which it is read-only and safe to share. The others are
-// dealt out in turn (thread t takes t + 1, t + 1 + threads, ...), so that
-// items of uneven cost spread evenly. Below `serial_below` items it all runs
-// on the calling thread (starting threads costs more than the work).
+// handed out in runs of consecutive items, each thread taking the next run
+// when it is done with its last (about kRunsPerThread runs a thread), so
+// that items of uneven cost, and cores that another process slows, leave no
+// thread waiting long on the others; the calling thread works too. Below
+// `serial_below` items it all runs on the calling thread (starting threads
+// costs more than the work).
+inline constexpr size_t kRunsPerThread = 16;
 template <typename Body>
 void parallel_for(size_t n, const Body& body, size_t serial_below = 2) {
   if (n == 0) return;
   body(0);
-  const size_t threads = loop_threads();
-  if (threads == 1 || n < serial_below) {
+  const size_t threads = std::min(loop_threads(), n - 1);
+  if (threads <= 1 || n < serial_below) {
     for (size_t i = 1; i < n; ++i) body(i);
     return;
   }
+  const size_t run = std::max<size_t>(1, (n - 1) / (threads * kRunsPerThread));
+  std::atomic<size_t> next{1};
+  const auto work = [&] {
+    for (size_t first; (first = next.fetch_add(run, std::memory_order_relaxed)) < n;)
+      for (size_t i = first, last = std::min(n, first + run); i < last; ++i) body(i);
+  };
   std::vector<std::thread> workers;
-  for (size_t t = 0; t < threads; ++t)
-    workers.emplace_back([&, t] {
-      for (size_t i = 1 + t; i < n; i += threads) body(i);
-    });
+  workers.reserve(threads - 1);
+  for (size_t t = 1; t < threads; ++t) workers.emplace_back(work);
+  work();
   for (auto& w : workers) w.join();
 }
 

@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <random>
+#include <set>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -13,6 +16,7 @@
 #include "common/parallel_sort.h"
 #include "common/threads.h"
 #include "mesh/delaunay.h"
+#include "mesh/owned_lock_grid.h"
 #include "mesh/topology.h"
 #include "test_support.h"
 
@@ -95,6 +99,102 @@ TEST(ParallelHelpers, CollectInOrderIsWhatALoopAppends) {
       });
       EXPECT_EQ(got, want) << n << " by " << block;
     }
+}
+
+// Every item once, item 0 before any other, on any number of threads and
+// items (the runs handed out and the last short one).
+TEST(ParallelHelpers, ParallelForRunsEachItemOnceAndTheFirstAlone) {
+  for (int threads : {1, 2, 3, 7})
+    for (size_t n : {size_t{0}, size_t{1}, size_t{2}, size_t{3}, size_t{17}, size_t{1000}, size_t{100003}}) {
+      const test::Threads use(threads);
+      std::vector<std::atomic<int>> runs(n);
+      std::atomic<bool> first_done{false};
+      std::atomic<int> before_first{0};
+      std::mutex seen_lock;
+      std::set<std::thread::id> seen;
+      parallel_for(n, [&](size_t i) {
+        if (i == 0) {
+          first_done = true;
+        } else if (!first_done) {
+          ++before_first;
+        }
+        ++runs[i];
+        if (i % 97 == 0) {
+          const std::lock_guard<std::mutex> hold(seen_lock);
+          seen.insert(std::this_thread::get_id());
+        }
+      });
+      for (size_t i = 0; i < n; ++i) ASSERT_EQ(runs[i], 1) << i << " of " << n << " on " << threads;
+      EXPECT_EQ(before_first, 0) << n << " on " << threads;
+      EXPECT_LE(seen.size(), static_cast<size_t>(threads)) << n << " on " << threads;
+    }
+}
+
+// The parallel insertion's locks (mesh/owned_lock_grid.h): a grid cell one
+// thread holds fails another's attempt until the holder lets go; "but one"
+// keeps that one; a thread's list follows it from one grid to the next.
+TEST(OwnedLockGrid, ACellHeldByOneThreadIsRefusedToAnotherUntilLetGo) {
+  struct P {
+    double px, py, pz;
+    double x() const { return px; }
+    double y() const { return py; }
+    double z() const { return pz; }
+  };
+  OwnedLockGrid grid(CGAL::Bbox_3(0, 0, 0, 10, 10, 10), 10);
+  const P a{0.5, 0.5, 0.5}, a_too{0.9, 0.1, 0.2}, b{5.5, 5.5, 5.5}, c{9.99, 9.99, 9.99};
+  const auto elsewhere = [&](auto&& f) {
+    bool r = false;
+    std::thread t([&] { r = f(); });
+    t.join();
+    return r;
+  };
+  ASSERT_TRUE(grid.try_lock(a));
+  EXPECT_TRUE(grid.try_lock(a_too));  // the same grid cell, held already
+  EXPECT_TRUE(grid.is_locked_by_this_thread(a_too));
+  EXPECT_FALSE(grid.is_locked_by_this_thread(b));
+  ASSERT_TRUE(grid.try_lock(b));
+  EXPECT_FALSE(elsewhere([&] { return grid.try_lock(a); }));
+  EXPECT_FALSE(elsewhere([&] { return grid.is_locked_by_this_thread(a); }));
+  // A radius takes the cells around: c's is free, b's is held.
+  EXPECT_FALSE(elsewhere([&] {
+    const bool got = grid.try_lock(P{6.5, 6.5, 6.5}, 1);
+    grid.unlock_all_points_locked_by_this_thread();
+    return got;
+  }));
+  EXPECT_TRUE(elsewhere([&] {
+    const bool got = grid.try_lock(c, 1);
+    grid.unlock_all_points_locked_by_this_thread();
+    return got;
+  }));
+  grid.unlock_all_tls_locked_locations_but_one_point(b);
+  EXPECT_TRUE(elsewhere([&] {
+    const bool got = grid.try_lock(a);
+    grid.unlock_all_points_locked_by_this_thread();
+    return got;
+  }));
+  EXPECT_FALSE(elsewhere([&] { return grid.try_lock(b); }));
+  EXPECT_TRUE(grid.is_locked_by_this_thread(b));
+  grid.unlock_all_points_locked_by_this_thread();
+  EXPECT_TRUE(elsewhere([&] {
+    const bool got = grid.try_lock(b);
+    grid.unlock_all_points_locked_by_this_thread();
+    return got;
+  }));
+  // Points outside the box lock the nearest border cell.
+  ASSERT_TRUE(grid.try_lock(P{-3, -3, -3}));
+  EXPECT_FALSE(elsewhere([&] { return grid.try_lock(a); }));
+  grid.unlock_all_points_locked_by_this_thread();
+  // Another grid, then this one again: nothing is held over.
+  OwnedLockGrid other(CGAL::Bbox_3(0, 0, 0, 1, 1, 1), 4);
+  ASSERT_TRUE(other.try_lock(P{0.1, 0.1, 0.1}));
+  other.unlock_all_points_locked_by_this_thread();
+  ASSERT_TRUE(grid.try_lock(c));
+  grid.unlock_all_points_locked_by_this_thread();
+  EXPECT_TRUE(elsewhere([&] {
+    const bool got = grid.try_lock(c);
+    grid.unlock_all_points_locked_by_this_thread();
+    return got;
+  }));
 }
 
 TEST(ParallelHelpers, ParallelSortIsStdSort) {
