@@ -25,6 +25,7 @@
 #include "common/parallel_sort.h"
 #include "common/release.h"
 #include "common/threads.h"
+#include "mesh/owned_lock_grid.h"
 
 #ifdef CGAL_LINKED_WITH_TBB
 #include <oneapi/tbb/blocked_range.h>
@@ -51,11 +52,12 @@ using Cb = CGAL::Triangulation_cell_base_with_info_3<CellTag, K, CGAL::Delaunay_
 // thread spin, yielding, until a lower-priority holder lets go, and with
 // more threads than cores the holder is the one not running
 // (insert_sorted_in_parallel() says what that cost). A lock that is taken
-// fails at once, and the inserting thread backs off (retry_backoff()).
+// fails at once, and the inserting thread backs off (retry_backoff()); the
+// grid is ours (mesh/owned_lock_grid.h), CGAL's non-blocking one spending
+// a sixth of the insertion's time finding which locks a thread holds.
 using Concurrency = CGAL::Parallel_tag;
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb, Concurrency>;
-using DT =
-    CGAL::Delaunay_triangulation_3<K, Tds, CGAL::Default, CGAL::Spatial_lock_grid_3<CGAL::Tag_non_blocking>>;
+using DT = CGAL::Delaunay_triangulation_3<K, Tds, CGAL::Default, OwnedLockGrid>;
 // A construction made on one thread (delaunay_tetrahedralize() given one:
 // a block among others, a process on one core) takes CGAL's sequential
 // type, whose cells need no lock and no concurrent container: 250k of
