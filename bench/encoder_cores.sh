@@ -31,21 +31,24 @@ cmp -s "$work/all.dtm" "$work/one.dtm" || { echo "encoder_cores.sh: the streams 
 /usr/bin/python3 - "$work" "$cores" "$commit" "${RUNS:-2}" > "$root/bench/results/ENCODER_CORES.md" <<'PY'
 import re, sys
 work, cores, commit, runs = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
+# Per phase, summed over the levels: seconds, and CPU seconds (the line's
+# cores kept busy times its seconds).
 def phases(path):
-    d = {}
+    d, cpu = {}, {}
     for line in open(path):
-        m = re.match(r"\s+([0-9.]+) s\s+[0-9.]+ cores\s+\d+ MiB\s+\d+ MiB peak  (.*)", line)
-        if not m or m.group(2).startswith(("in all", "writing /", "writing " + work)):
+        m = re.match(r"\s+([0-9.]+) s\s+([0-9.]+) cores\s+\d+ MiB\s+\d+ MiB peak  (.*)", line)
+        if not m or m.group(3).startswith(("in all", "writing /", "writing " + work)):
             continue
-        name = re.sub(r"^level \d+: ", "", m.group(2))
+        name = re.sub(r"^level \d+: ", "", m.group(3))
         name = re.sub(r" \(\d+ threads?\)", "", name)
         name = re.sub(r"^reading .*", "reading the input", name)
         d[name] = d.get(name, 0.0) + float(m.group(1))
-    return d
+        cpu[name] = cpu.get(name, 0.0) + float(m.group(1)) * float(m.group(2))
+    return d, cpu
 def whole(path):
     t, kb = open(path).read().split()[-2:]
     return float(t), int(kb) / 1024
-many, one = phases(work + "/all.log"), phases(work + "/one.log")
+(many, many_cpu), (one, one_cpu) = phases(work + "/all.log"), phases(work + "/one.log")
 (t_many, m_many), (t_one, m_one) = whole(work + "/all.time"), whole(work + "/one.time")
 ratio = t_one / t_many
 serial = max(0.0, (cores / ratio - 1) / (cores - 1)) if cores > 1 else 1.0
@@ -59,9 +62,20 @@ print("| wall | %.1f s | %.1f s |" % (t_many, t_one))
 print("| peak memory | %.0f MiB | %.0f MiB |" % (m_many, m_one))
 print("\nOne core over %d: **%.2fx** (target 1.8x); by Amdahl's law %.0f%% of the work is serial "
       "(target under 11%%).\n" % (cores, ratio, 100 * serial))
-print("| phase | %d cores | 1 core | 1 core / %d |\n|---|---:|---:|---:|" % (cores, cores))
+busy, spent = sum(many_cpu.values()), sum(one_cpu.values())
+print("Where the %d cores' time goes (meshenc -v: each phase's CPU time over its wall time): of %.1f "
+      "core-seconds, the phases kept %.1f busy, %.2fx the one core's %.1f CPU seconds; %.1f were idle.\n"
+      % (cores, cores * sum(many.values()), busy, busy / spent if spent else 0, spent,
+         cores * sum(many.values()) - busy))
+print("| phase | %d cores | 1 core | 1 core / %d | cores busy | CPU x |\n|---|---:|---:|---:|---:|---:|"
+      % (cores, cores))
 for name in sorted(set(many) | set(one), key=lambda k: -one.get(k, 0)):
     a, b = many.get(name, 0), one.get(name, 0)
-    print("| %s | %.2f | %.2f | %s |" % (name, a, b, "%.2f" % (b / a) if a > 0.05 else ""))
+    c, d = many_cpu.get(name, 0), one_cpu.get(name, 0)
+    print("| %s | %.2f | %.2f | %s | %s | %s |" % (name, a, b, "%.2f" % (b / a) if a > 0.05 else "",
+          "%.2f" % (c / a) if a > 0.05 else "", "%.2f" % (c / d) if a > 0.05 and d > 0 else ""))
+print("\n*cores busy*: the phase's CPU seconds on %d cores over its seconds; *CPU x*: its CPU seconds on "
+      "%d cores over those on one (above 1: work the threads add, such as the parallel insertion's locks, "
+      "or that runs slower beside another thread)." % (cores, cores))
 PY
 cat "$root/bench/results/ENCODER_CORES.md"
