@@ -7,8 +7,12 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <random>
+#include <set>
+#include <tuple>
 
 #include "core/boundary_simplification.h"
+#include "core/coarsening.h"
 #include "core/hierarchy.h"
 #include "core/importance.h"
 #include "mesh/geometry.h"
@@ -333,6 +337,47 @@ TEST_P(CorpusHierarchy, BuildsToTheEnd) {
 
 INSTANTIATE_TEST_SUITE_P(Corpus, CorpusHierarchy, ::testing::ValuesIn(test::kCorpus),
                          [](const auto& info) { return info.param; });
+
+}  // namespace
+}  // namespace dtm
+
+namespace dtm {
+namespace {
+
+// The choice of a coarser level's vertices (core/coarsening.cpp: the
+// boundary's chord errors and the local spacing found on every core, the
+// greedy passes on one) is the same on any number of threads, with boundary
+// vertices fixed and free.
+TEST(Coarsening, TheChoiceIsTheSameOnAnyNumberOfThreads) {
+  std::mt19937 random(2026);
+  std::uniform_int_distribution<int32_t> coordinate(0, 119);
+  std::set<std::tuple<int32_t, int32_t, int32_t>> seen;
+  std::vector<GridPoint> pts;
+  while (pts.size() < 40000) {
+    const GridPoint p{coordinate(random), coordinate(random), coordinate(random) / 2};
+    if (seen.emplace(p.x, p.y, p.z).second) pts.push_back(p);
+  }
+  std::sort(pts.begin(), pts.end());
+  const LevelGeometry L = analyze_level(pts, {AlphaPolicy::Kind::kConvexHull, 0}).value();
+  const LevelSurface surface = level_surface(L);
+  for (const double dmax : {0.25, 4.0}) {
+    Coarsening one;
+    {
+      const test::Threads use(1);
+      one = choose_coarser(L, surface, {0.5, dmax, kFirstBetaGuess});
+    }
+    ASSERT_GT(one.kept, L.size() / 4);
+    ASSERT_LT(one.kept, L.size());
+    for (int threads : {2, 3, 7}) {
+      const test::Threads use(threads);
+      const Coarsening many = choose_coarser(L, surface, {0.5, dmax, kFirstBetaGuess});
+      EXPECT_EQ(many.keep, one.keep) << threads << " threads, D_max " << dmax;
+      EXPECT_EQ(many.kept, one.kept);
+      EXPECT_EQ(many.fixed, one.fixed);
+      EXPECT_EQ(many.beta, one.beta);
+    }
+  }
+}
 
 }  // namespace
 }  // namespace dtm
