@@ -23,6 +23,8 @@
 #include <memory>
 #include <vector>
 
+#include "common/status.h"
+
 namespace dtm {
 
 class OwnedLockGrid {
@@ -50,10 +52,18 @@ class OwnedLockGrid {
     const int x = axis(p.x(), 0, box_.xmin()), y = axis(p.y(), 1, box_.ymin()),
               z = axis(p.z(), 2, box_.zmin());
     if (lock_radius == 0) return try_lock_cell(index(x, y, z));
+    // On a failure, what this call took is let go (as CGAL's grid does);
+    // what the thread held before stays held.
+    std::vector<int>& held = held_here();
+    const size_t before = held.size();
     for (int i = std::max(0, x - lock_radius); i <= std::min(n_ - 1, x + lock_radius); ++i)
       for (int j = std::max(0, y - lock_radius); j <= std::min(n_ - 1, y + lock_radius); ++j)
         for (int k = std::max(0, z - lock_radius); k <= std::min(n_ - 1, z + lock_radius); ++k)
-          if (!try_lock_cell(index(i, j, k))) return false;  // what it took is let go with the rest
+          if (!try_lock_cell(index(i, j, k))) {
+            for (size_t t = before; t < held.size(); ++t) owner_[held[t]].store(0, std::memory_order_release);
+            held.resize(before);
+            return false;
+          }
     return true;
   }
 
@@ -98,7 +108,7 @@ class OwnedLockGrid {
     thread_local std::vector<int> held;
     thread_local const OwnedLockGrid* grid = nullptr;
     if (grid != this) {
-      held.clear();
+      DTM_CHECK(held.empty());
       grid = this;
     }
     return held;

@@ -166,6 +166,22 @@ TEST(OwnedLockGrid, ACellHeldByOneThreadIsRefusedToAnotherUntilLetGo) {
     grid.unlock_all_points_locked_by_this_thread();
     return got;
   }));
+  // A failed attempt with a radius lets go of what it took, not of what the
+  // thread held before: this thread holds (3,3,3), the last cell of the
+  // cube around (2,2,2) taken; the other thread keeps its (8,8,8) and frees
+  // the 26 cells it took.
+  ASSERT_TRUE(grid.try_lock(P{3.5, 3.5, 3.5}));
+  EXPECT_TRUE(elsewhere([&] {
+    const bool before = grid.try_lock(P{8.5, 8.5, 8.5});
+    const bool failed = !grid.try_lock(P{2.5, 2.5, 2.5}, 1);
+    const bool kept = grid.is_locked_by_this_thread(P{8.5, 8.5, 8.5});
+    const bool freed =
+        !grid.is_locked_by_this_thread(P{1.5, 1.5, 1.5}) && !grid.is_locked_by_this_thread(P{3.5, 3.5, 2.5});
+    grid.unlock_all_points_locked_by_this_thread();
+    return before && failed && kept && freed;
+  }));
+  EXPECT_TRUE(grid.try_lock(P{1.5, 1.5, 1.5}));
+  EXPECT_TRUE(grid.try_lock(P{3.5, 3.5, 2.5}));
   grid.unlock_all_tls_locked_locations_but_one_point(b);
   EXPECT_TRUE(elsewhere([&] {
     const bool got = grid.try_lock(a);
