@@ -32,13 +32,12 @@ class OwnedLockGrid {
   OwnedLockGrid(const CGAL::Bbox_3& box, int cells_per_axis)
       : box_(box),
         n_(std::max(1, cells_per_axis)),
+        // (value-initialized: every cell free)
         owner_(std::make_unique<std::atomic<uint32_t>[]>(static_cast<size_t>(n_) * n_ * n_)) {
     const double n = n_;
     scale_[0] = n / std::max(box.xmax() - box.xmin(), 1e-300);
     scale_[1] = n / std::max(box.ymax() - box.ymin(), 1e-300);
     scale_[2] = n / std::max(box.zmax() - box.zmin(), 1e-300);
-    for (size_t i = 0, m = static_cast<size_t>(n_) * n_ * n_; i < m; ++i)
-      owner_[i].store(0, std::memory_order_relaxed);
   }
   OwnedLockGrid(const OwnedLockGrid&) = delete;
   OwnedLockGrid& operator=(const OwnedLockGrid&) = delete;

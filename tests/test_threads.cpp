@@ -148,6 +148,14 @@ TEST(OwnedLockGrid, ACellHeldByOneThreadIsRefusedToAnotherUntilLetGo) {
     t.join();
     return r;
   };
+  // Whether another thread can take the cells around p (letting go at once).
+  const auto lockable_elsewhere = [&](const P& p, int radius) {
+    return elsewhere([&] {
+      const bool got = grid.try_lock(p, radius);
+      grid.unlock_all_points_locked_by_this_thread();
+      return got;
+    });
+  };
   ASSERT_TRUE(grid.try_lock(a));
   EXPECT_TRUE(grid.try_lock(a_too));  // the same grid cell, held already
   EXPECT_TRUE(grid.is_locked_by_this_thread(a_too));
@@ -156,16 +164,8 @@ TEST(OwnedLockGrid, ACellHeldByOneThreadIsRefusedToAnotherUntilLetGo) {
   EXPECT_FALSE(elsewhere([&] { return grid.try_lock(a); }));
   EXPECT_FALSE(elsewhere([&] { return grid.is_locked_by_this_thread(a); }));
   // A radius takes the cells around: c's is free, b's is held.
-  EXPECT_FALSE(elsewhere([&] {
-    const bool got = grid.try_lock(P{6.5, 6.5, 6.5}, 1);
-    grid.unlock_all_points_locked_by_this_thread();
-    return got;
-  }));
-  EXPECT_TRUE(elsewhere([&] {
-    const bool got = grid.try_lock(c, 1);
-    grid.unlock_all_points_locked_by_this_thread();
-    return got;
-  }));
+  EXPECT_FALSE(lockable_elsewhere(P{6.5, 6.5, 6.5}, 1));
+  EXPECT_TRUE(lockable_elsewhere(c, 1));
   // A failed attempt with a radius lets go of what it took, not of what the
   // thread held before: this thread holds (3,3,3), the last cell of the
   // cube around (2,2,2) taken; the other thread keeps its (8,8,8) and frees
@@ -183,19 +183,11 @@ TEST(OwnedLockGrid, ACellHeldByOneThreadIsRefusedToAnotherUntilLetGo) {
   EXPECT_TRUE(grid.try_lock(P{1.5, 1.5, 1.5}));
   EXPECT_TRUE(grid.try_lock(P{3.5, 3.5, 2.5}));
   grid.unlock_all_tls_locked_locations_but_one_point(b);
-  EXPECT_TRUE(elsewhere([&] {
-    const bool got = grid.try_lock(a);
-    grid.unlock_all_points_locked_by_this_thread();
-    return got;
-  }));
+  EXPECT_TRUE(lockable_elsewhere(a, 0));
   EXPECT_FALSE(elsewhere([&] { return grid.try_lock(b); }));
   EXPECT_TRUE(grid.is_locked_by_this_thread(b));
   grid.unlock_all_points_locked_by_this_thread();
-  EXPECT_TRUE(elsewhere([&] {
-    const bool got = grid.try_lock(b);
-    grid.unlock_all_points_locked_by_this_thread();
-    return got;
-  }));
+  EXPECT_TRUE(lockable_elsewhere(b, 0));
   // Points outside the box lock the nearest border cell.
   ASSERT_TRUE(grid.try_lock(P{-3, -3, -3}));
   EXPECT_FALSE(elsewhere([&] { return grid.try_lock(a); }));
@@ -206,11 +198,7 @@ TEST(OwnedLockGrid, ACellHeldByOneThreadIsRefusedToAnotherUntilLetGo) {
   other.unlock_all_points_locked_by_this_thread();
   ASSERT_TRUE(grid.try_lock(c));
   grid.unlock_all_points_locked_by_this_thread();
-  EXPECT_TRUE(elsewhere([&] {
-    const bool got = grid.try_lock(c);
-    grid.unlock_all_points_locked_by_this_thread();
-    return got;
-  }));
+  EXPECT_TRUE(lockable_elsewhere(c, 0));
 }
 
 TEST(ParallelHelpers, ParallelSortIsStdSort) {
