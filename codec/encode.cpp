@@ -216,6 +216,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   o.block_points = options.block_points;
   o.blocks_at_once = options.blocks_at_once;
   o.check_parts = options.check_parts;
+  o.reuse_build_mesh = options.reuse_build_mesh;
   o.cell_hashes = options.cell_hashes;
   o.exchange = options.exchange;
   DTM_ASSIGN_OR_RETURN(BrickedEncoding encoded, encode_bricked(in, o, [&](const LevelStats& stats) {
@@ -251,6 +252,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   report.reference_question_runs = encoded.reference_question_runs;
   report.blocks_built_again = encoded.blocks_built_again;
   report.blocks_checked_in_parts = encoded.blocks_checked_in_parts;
+  report.levels_analysed_from_build = encoded.levels_analysed_from_build;
   report.level0_spacing_kept_radius = encoded.level0_spacing_kept_radius;
   report.level0_kept_radius = encoded.level0_kept_radius;
   report.level0_cells_dropped = encoded.level0_cells_dropped;

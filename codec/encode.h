@@ -109,6 +109,10 @@ struct EncodeOptions {
   // built again when its last build was clean (codec/blocks/block_levels.h,
   // check_part()); false: built again. The stream is the same either way.
   bool check_parts = true;
+  // A level built in one block is analysed from the build's
+  // tetrahedralization rather than one made again; false: made again. The
+  // stream is the same either way.
+  bool reuse_build_mesh = true;
   // The ranks of an MPI run making one bricked stream together (every rank
   // calls encode() with the same input and options, but for the
   // tetrahedra: each needs only its share, EncodeInput::tetrahedra);
@@ -237,6 +241,9 @@ struct EncodeReport {
   // Bricked: the blocks a neighbour changed (summed over the levels'
   // passes), built again and checked where they changed instead.
   uint64_t blocks_built_again = 0, blocks_checked_in_parts = 0;
+  // Bricked: the levels analysed from their build's tetrahedralization
+  // (built in one block, analysed in one, on this rank).
+  uint64_t levels_analysed_from_build = 0;
   // Bricked, carved to the input's solid: level 0's kept radius (grid
   // units) as its mean spacing sets it, and as the encoder raised it where
   // the solid holds larger cells (a graded mesh's coarse inside) that level

@@ -76,10 +76,11 @@ double smallest_solid_angle(std::span<const GridPoint> points, std::array<uint32
 struct CellResults {
   std::vector<uint8_t> kept;
   std::vector<double> angle;
+  std::vector<uint8_t> region;  // the solid's at the centroid, kept or not (Solid::verdicts)
 
   Status update(const TetMesh& mesh, std::span<const int32_t> previous, std::span<const GridPoint> points,
                 const Solid& solid, double kept_radius) {
-    std::vector<uint8_t> new_kept(mesh.cells.size());
+    std::vector<uint8_t> new_kept(mesh.cells.size()), new_region(mesh.cells.size());
     std::vector<double> new_angle(mesh.cells.size(), 0);
     std::vector<uint32_t> fresh;
     for (uint32_t c = 0; c < mesh.cells.size(); ++c) {
@@ -87,6 +88,7 @@ struct CellResults {
       if (p >= 0) {
         new_kept[c] = kept[static_cast<size_t>(p)];
         new_angle[c] = angle[static_cast<size_t>(p)];
+        new_region[c] = region[static_cast<size_t>(p)];
       } else {
         fresh.push_back(c);
       }
@@ -100,12 +102,14 @@ struct CellResults {
                 solid.region_of_centroid(points[k[0]], points[k[1]], points[k[2]], points[k[3]]);
             const bool in = region != 0 && (kept_radius <= 0 || carving_radius(points, k) <= kept_radius);
             new_kept[fresh[i]] = in ? region : 0;
+            new_region[fresh[i]] = region;
             new_angle[fresh[i]] = in ? smallest_solid_angle(points, k) : 0;
           },
           1024);
     }));
     kept = std::move(new_kept);
     angle = std::move(new_angle);
+    region = std::move(new_region);
     return Status::Ok();
   }
 };
@@ -649,7 +653,12 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
   });
   out.vertices.reserve(members.size());
   for (uint32_t v : members) out.vertices.push_back(fine_vertices[v]);
-  if (!bounds.analyze) return out;
+  if (!bounds.analyze) {
+    // In the level's numbering: what a caller may analyse later.
+    out.geometry.dt = std::move(mesh);
+    out.solid_regions = std::move(cells.region);
+    return out;
+  }
   for (uint32_t& v : out.shape.surface_vertices) v = local[v];
   out.surface = record_surface(out.vertices, surface.triangles, out.shape);
   DTM_ASSIGN_OR_RETURN(out.geometry,

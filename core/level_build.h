@@ -49,8 +49,9 @@ struct LevelBounds {
   // The level keeps no cell of circumradius (carving_radius) above this: a
   // bricked stream's kept_radius (spec/FORMAT.md §3.5). 0: no bound.
   double kept_radius = 0;
-  // false: the built level is not analysed (BuiltLevel::geometry and
-  // ::surface stay empty), its vertex set and checks are all the caller needs.
+  // false: the built level is not analysed (BuiltLevel::surface and all of
+  // ::geometry but its dt stay empty), its vertex set, checks,
+  // tetrahedralization and solid_regions are all the caller needs.
   bool analyze = true;
 };
 
@@ -101,6 +102,10 @@ struct BuiltLevel {
   double quality_sum = 0;
   uint64_t quality_cells = 0;
   uint64_t fins_left = 0;
+  // Not analysed (LevelBounds::analyze false): per cell of geometry.dt,
+  // the reference solid's region at its centroid (Solid::verdicts), kept
+  // or not.
+  std::vector<uint8_t> solid_regions;
 };
 
 // `fine_points`: the finer level's points (its vertices `fine_vertices`,

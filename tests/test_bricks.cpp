@@ -366,6 +366,27 @@ TEST(BrickedStream, ABlockCheckedWhereANeighbourChangedItGivesTheBytesOfOneBuilt
   EXPECT_TRUE(checked->bytes == built->bytes);
 }
 
+// A level whose choice fits in one block is built in one, and its
+// analysis takes the build's tetrahedralization and the solid's verdicts
+// on its cells (BlockBuild::mesh) rather than making them again: the
+// stream must be the one making them again gives. elephant_10k in blocks
+// of 1,500 points has levels of several blocks and levels of one.
+TEST(BrickedStream, ALevelAnalysedFromItsBuildGivesTheBytesOfOneMadeAgain) {
+  const InputMesh in = read_input(test::data_path("elephant_10k.node"));
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  EncodeOptions options = bricked_options(64, kSmallBlocks);
+  const auto reused = encode(input, options);
+  ASSERT_TRUE(reused.ok()) << reused.status().message();
+  options.reuse_build_mesh = false;
+  const auto made = encode(input, options);
+  ASSERT_TRUE(made.ok()) << made.status().message();
+  EXPECT_GT(reused->report.levels_analysed_from_build, 0u);
+  EXPECT_EQ(made->report.levels_analysed_from_build, 0u);
+  EXPECT_TRUE(reused->bytes == made->bytes);
+}
+
 // Every level within D_max of the input's boundary both ways, measured on
 // the decoded levels against the whole input (not block by block): the
 // checks the blocks make at their own places add up to the whole level's,

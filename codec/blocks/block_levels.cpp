@@ -217,12 +217,18 @@ double smallest_height(std::span<const GridPoint> points, const std::array<uint3
 }  // namespace
 
 StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* reference,
-                                      const BlockAnalysisOptions& o) {
+                                      const BlockAnalysisOptions& o, MadeMesh* made) {
   BlockAnalysis out;
   const size_t n = block.points.size();
-  DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(block.points));
+  TetMesh dt;
   std::vector<uint8_t> verdicts;
-  if (reference) {
+  if (made && reference) {
+    dt = std::move(made->dt);
+    verdicts = std::move(made->regions);
+  } else {
+    DTM_ASSIGN_OR_RETURN(dt, delaunay_tetrahedralize(block.points));
+  }
+  if (reference && verdicts.empty()) {
     DTM_RETURN_IF_ERROR(
         settled_pass(*reference->solid, [&] { verdicts = reference->solid->verdicts(dt, block.points); }));
   }
@@ -399,6 +405,8 @@ StatusOr<BlockBuild> build_block(const BlockRegion& fine, std::span<const uint8_
                                                              AlphaPolicy{}, [](const char*) {}));
   BlockBuild out;
   out.vertices = std::move(built.vertices);
+  out.mesh.dt = std::move(built.geometry.dt);
+  out.mesh.regions = std::move(built.solid_regions);
   out.broken = built.shape_left;
   out.quality_met = built.quality_met;
   out.rounds = built.repair_rounds;

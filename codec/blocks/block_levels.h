@@ -152,13 +152,27 @@ struct BlockAnalysis {
   std::vector<std::array<uint32_t, 4>> carved;  // with collect_cells: owned kept cells (grid ids)
 };
 
-// `reference`: null for level 0 carved by alpha.
+// A block's Delaunay tetrahedralization and, per cell, the reference
+// solid's region at its centroid (Solid::verdicts), made by a build.
+struct MadeMesh {
+  TetMesh dt;
+  std::vector<uint8_t> regions;
+};
+// `reference`: null for level 0 carved by alpha. `made`: the Delaunay
+// tetrahedralization of block.points and its regions when a build made
+// them already (BlockBuild::mesh; with a reference), taken; null: made
+// here. The tetrahedralization is unique and exported in one order
+// (mesh/delaunay.h), so the analysis is the same either way.
 StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* reference,
-                                      const BlockAnalysisOptions& options);
+                                      const BlockAnalysisOptions& options, MadeMesh* made = nullptr);
 
 struct BlockBuild {
   std::vector<uint32_t> vertices;  // the coarser level in the region, as the block leaves it (grid ids)
-  uint64_t broken = 0;             // owned places still beyond D_max
+  // Its Delaunay tetrahedralization, vertex i being vertices[i], and per
+  // cell the reference solid's region at its centroid: what analysing
+  // these points would make again (analyse_block's `made`).
+  MadeMesh mesh;
+  uint64_t broken = 0;  // owned places still beyond D_max
   bool quality_met = true;
   int rounds = 0;
   // The last check found nothing to repair (BuiltLevel: clean), and the

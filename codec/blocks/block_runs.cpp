@@ -60,11 +60,13 @@ void assign_ranks(BlockPlan& p, int ranks) {
   }
 }
 
-void RankLoads::balance(BlockPlan& plan) {
+void RankLoads::balance(BlockPlan& plan, int prefer) {
   const int ranks = static_cast<int>(points_.size());
   const bool few = plan.blocks.size() < points_.size();
   for (size_t k = 0; k < plan.blocks.size(); ++k) {
-    if (few) {
+    if (plan.blocks.size() == 1 && prefer >= 0 && prefer < ranks) {
+      plan.rank[k] = prefer;
+    } else if (few) {
       // The least loaded; the lowest such rank on a tie.
       plan.rank[k] = static_cast<int>(std::min_element(points_.begin(), points_.end()) - points_.begin());
     }

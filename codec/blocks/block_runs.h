@@ -41,11 +41,12 @@ void assign_ranks(BlockPlan& plan, int ranks);
 // each) would leave its blocks to the same middle ranks level after level;
 // each of its blocks goes instead to the rank given the fewest points so
 // far. Other plans keep assign_ranks' runs (the reference's shares follow
-// Morton order too). Either way the plan's points are counted.
+// Morton order too). Either way the plan's points are counted. `prefer`:
+// the rank a plan of one block goes to (-1: the least loaded).
 class RankLoads {
  public:
   explicit RankLoads(int ranks) : points_(static_cast<size_t>(std::max(1, ranks)), 0) {}
-  void balance(BlockPlan& plan);
+  void balance(BlockPlan& plan, int prefer = -1);
   std::span<const uint64_t> points() const { return points_; }
 
  private:

@@ -156,10 +156,13 @@ class BrickedEncoder {
   // when neither is good enough (`level` is then the coarsest); else
   // level_of_ says the coarser level and built_stats_ its figures.
   // `halo`: the analysis's (a choice made again), `build_halo` the build's.
-  StatusOr<bool> coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan, int64_t halo,
-                               int64_t build_halo, BlockAnalysisOptions options,
-                               const std::vector<BlockAnalysis>& analysis, std::span<const uint32_t> boundary,
-                               double kept_radius, const QualityFloors& floors);
+  // `block_points`: the plan's largest block (a choice that fits is
+  // built in one block).
+  StatusOr<bool> coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan,
+                               uint64_t block_points, int64_t halo, int64_t build_halo,
+                               BlockAnalysisOptions options, const std::vector<BlockAnalysis>& analysis,
+                               std::span<const uint32_t> boundary, double kept_radius,
+                               const QualityFloors& floors);
   // The coarser level from the choice: builds, repairs, and merges until no
   // block's region changes. Sets coarser_ (per grid point).
   Status build(int level, const BlockPlan& plan, int64_t halo, double kept_radius,
@@ -195,6 +198,16 @@ class BrickedEncoder {
   double level0_spacing_kept_radius_ = 0, level0_kept_radius_ = 0;
   uint64_t level0_cells_dropped_ = 0;
   bool level0_radius_raised() const { return level0_kept_radius_ > level0_spacing_kept_radius_; }
+  // The tetrahedralization a build in one block left (on the rank that
+  // built it): the coarser level's whole, which its analysis, one block
+  // too, takes rather than making it again (analyse()).
+  struct HeldMesh {
+    std::vector<uint32_t> ids;  // its vertices' grid ids, ascending
+    MadeMesh mesh;
+  };
+  std::optional<HeldMesh> held_;
+  int built_in_one_by_ = -1;  // the rank that built the coarser level in one block; -1: not in one
+  uint64_t levels_analysed_from_build_ = 0;
 };
 
 void BrickedEncoder::fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth,
@@ -261,11 +274,21 @@ Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
       [&](size_t k, const Solid* solid) -> StatusOr<std::vector<uint8_t>> {
         const BlockRegion block = region_of(plan, k, level, halo);
         std::optional<BlockReference> reference = reference_.for_region(block.region, solid);
-        DTM_ASSIGN_OR_RETURN(BlockAnalysis a,
-                             analyse_block(block, reference ? &*reference : nullptr, options));
+        // The build's tetrahedralization of these very points, when one
+        // block built them (one block here: no other thread reads held_),
+        // taken once (a run asking the ranks about the reference runs again).
+        std::optional<MadeMesh> made;
+        if (plan.blocks.size() == 1 && reference && held_ && held_->ids == block.ids) {
+          made = std::move(held_->mesh);
+          held_.reset();
+          ++levels_analysed_from_build_;
+        }
+        DTM_ASSIGN_OR_RETURN(BlockAnalysis a, analyse_block(block, reference ? &*reference : nullptr, options,
+                                                            made ? &*made : nullptr));
         return serialize(a);
       },
       status, at_once_);
+  held_.reset();
   DTM_RETURN_IF_ERROR(status);
   out.clear();
   for (auto& r : results) {
@@ -283,6 +306,8 @@ Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
 
 Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, double kept_radius,
                              const QualityFloors& floors, uint64_t& broken, bool& quality_met, int& rounds) {
+  held_.reset();
+  built_in_one_by_ = plan.blocks.size() == 1 ? plan.rank[0] : -1;
   LevelBounds bounds;
   bounds.dmax = o_.hierarchy.dmax;
   bounds.kept_radius = kept_radius;
@@ -419,6 +444,10 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           std::optional<BlockReference> reference = reference_.for_region(fine.region, solid);
           DTM_ASSIGN_OR_RETURN(BlockBuild built,
                                build_block(fine, keep, record_, reference_squared_, *reference, b));
+          // One block: the coarser level's whole tetrahedralization, kept
+          // for its analysis (no other thread writes held_).
+          if (plan.blocks.size() == 1 && o_.reuse_build_mesh)
+            held_ = HeldMesh{built.vertices, std::move(built.mesh)};
           // What it put back (the rest was chosen already), and how much of
           // the coarser level its checks saw.
           std::vector<uint32_t> back;
@@ -517,7 +546,9 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     out.brick_depth =
         std::min(finest_depth, choose_brick_depth(codes, q_, std::max<uint64_t>(1, o_.brick_points / 4)));
     BlockPlan plan = plan_blocks(codes, q_, out.brick_depth, o_.block_points, x_.size());
-    loads_.balance(plan);
+    // A level of one block built in one is analysed by the rank holding
+    // its tetrahedralization (held_).
+    loads_.balance(plan, built_in_one_by_);
     release(codes);  // 16 bytes a point, not held while the blocks are built
     uint64_t block_points = o_.block_points;
     phase(level, "alpha");
@@ -620,8 +651,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     levels.push_back(std::move(out));
     if (!may_choose) break;
     DTM_ASSIGN_OR_RETURN(const bool built,
-                         coarser_level(level, ids, plan, halo, build_halo, options, analysis, merged.boundary,
-                                       next_kept_radius, floors));
+                         coarser_level(level, ids, plan, block_points, halo, build_halo, options, analysis,
+                                       merged.boundary, next_kept_radius, floors));
     if (!built) break;
   }
   release(coarser_);
@@ -655,6 +686,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   encoding.reference_questions_at_once = reference_.questions().answered_at_once;
   encoding.blocks_built_again = blocks_built_again_;
   encoding.blocks_checked_in_parts = blocks_checked_in_parts_;
+  encoding.levels_analysed_from_build = levels_analysed_from_build_;
   encoding.level0_spacing_kept_radius = level0_spacing_kept_radius_;
   encoding.level0_kept_radius = level0_kept_radius_;
   encoding.level0_cells_dropped = level0_cells_dropped_;
@@ -662,7 +694,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
 }
 
 StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan,
-                                             int64_t halo, int64_t build_halo, BlockAnalysisOptions options,
+                                             uint64_t block_points, int64_t halo, int64_t build_halo,
+                                             BlockAnalysisOptions options,
                                              const std::vector<BlockAnalysis>& analysis,
                                              std::span<const uint32_t> boundary, double kept_radius,
                                              const QualityFloors& floors) {
@@ -686,14 +719,31 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
     }
     uint64_t chosen = 0;
     for (uint32_t id : ids) chosen += coarser_[id];
+    // A choice that fits in one block is built in one, over the whole
+    // finer level (spec/HIERARCHY.md §6.5): its analysis, one block too,
+    // then takes the build's tetrahedralization rather than making it
+    // again, and no seam of the finer level's blocks is built twice.
+    BlockPlan whole;
+    const bool in_one = plan.blocks.size() > 1 && chosen <= block_points;
+    if (in_one) {
+      whole.blocks = {0};
+      whole.depth = {0};
+      whole.first = {0, finer};
+      whole.rank = {0};
+      loads_.balance(whole);
+    }
     uint64_t broken = 0;
     bool quality_met = true;
     int rounds = 0;
-    DTM_RETURN_IF_ERROR(build(level, plan, build_halo, kept_radius, floors, broken, quality_met, rounds));
+    DTM_RETURN_IF_ERROR(
+        build(level, in_one ? whole : plan, build_halo, kept_radius, floors, broken, quality_met, rounds));
     uint64_t coarser = 0, removed_boundary = 0;
     for (uint32_t id : ids) coarser += coarser_[id];
     for (uint32_t id : boundary) removed_boundary += !coarser_[id];
-    if (coarser < h.min_base_vertices) return false;
+    if (coarser < h.min_base_vertices) {
+      held_.reset();
+      return false;
+    }
     if (static_cast<double>(finer - coarser) < kThinLevelShare * share * static_cast<double>(finer) ||
         !quality_met || broken > 0)
       continue;
@@ -709,6 +759,7 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
       if (coarser_[id]) level_of_[id] = static_cast<uint8_t>(level + 1);
     return true;
   }
+  held_.reset();
   return false;
 }
 

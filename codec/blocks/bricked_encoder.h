@@ -58,6 +58,9 @@ struct BrickedEncodeOptions {
   // points back rather than built again (check_part(), block_levels.h);
   // false: built again (the same stream, slower; for tests).
   bool check_parts = true;
+  // A level built in one block is analysed from the build's
+  // tetrahedralization (the same stream; false, for tests: made again).
+  bool reuse_build_mesh = true;
   // The ranks of the run; nullptr: this process alone.
   RankExchange* exchange = nullptr;
 };
@@ -93,6 +96,7 @@ struct BrickedEncoding {
   uint64_t reference_questions = 0, reference_question_runs = 0,
            reference_questions_at_once = 0;                       // as EncodeReport's
   uint64_t blocks_built_again = 0, blocks_checked_in_parts = 0;   // as EncodeReport's
+  uint64_t levels_analysed_from_build = 0;                        // as EncodeReport's
   double level0_spacing_kept_radius = 0, level0_kept_radius = 0;  // as EncodeReport's
   uint64_t level0_cells_dropped = 0;                              // as EncodeReport's
 };
