@@ -128,8 +128,9 @@ TEST(BrickGeometry, BricksMeetingABoxCoverIt) {
 TEST(BlockPlan, SplitsWherePointsCrowdUntilEveryBlockIsBounded) {
   // A dense cluster in one corner, sparse points elsewhere: the cluster's
   // blocks are deeper than the rest, none holds more than the bound unless
-  // it is at the deepest allowed, and the blocks are disjoint octree nodes in
-  // Morton order covering every point once.
+  // it is at the deepest allowed, none could have been left whole with its
+  // sibling (the two would hold more than the bound), and the blocks are
+  // disjoint boxes in Morton order covering every point once.
   constexpr int kQbits = 10;
   std::mt19937 rng(7);
   std::uniform_int_distribution<int32_t> anywhere(0, 1023), corner(0, 63);
@@ -145,16 +146,35 @@ TEST(BlockPlan, SplitsWherePointsCrowdUntilEveryBlockIsBounded) {
     ASSERT_EQ(plan.first.size(), plan.blocks.size() + 1);
     EXPECT_EQ(plan.first.front(), 0u);
     EXPECT_EQ(plan.first.back(), codes.size());
-    int shallowest = max_depth, deepest = 0;
+    int shallowest = 3 * max_depth, deepest = 0;
     for (size_t k = 0; k < plan.blocks.size(); ++k) {
       const size_t count = plan.first[k + 1] - plan.first[k];
       EXPECT_GT(count, 0u);
-      EXPECT_TRUE(count <= 300 || plan.depth[k] == max_depth) << k;
-      shallowest = std::min(shallowest, plan.depth[k]);
-      deepest = std::max(deepest, plan.depth[k]);
+      EXPECT_TRUE(count <= 300 || plan.bits[k] == 3 * max_depth) << k;
+      shallowest = std::min(shallowest, plan.bits[k]);
+      deepest = std::max(deepest, plan.bits[k]);
       const GridBox box = plan.box(k, kQbits);
       for (size_t i = plan.first[k]; i < plan.first[k + 1]; ++i)
         EXPECT_TRUE(box.contains(morton_decode(codes[i], kQbits)));
+      // The box is the prefix's: every grid point in it has the prefix,
+      // and its volume is 2^(3 qbits - bits) grid points.
+      const int free = 3 * kQbits - plan.bits[k];
+      for (const std::array<int64_t, 3>& corner : {box.lo, box.hi})
+        EXPECT_EQ(static_cast<uint64_t>(
+                      morton_encode({static_cast<int32_t>(corner[0]), static_cast<int32_t>(corner[1]),
+                                     static_cast<int32_t>(corner[2])},
+                                    kQbits) >>
+                      free),
+                  plan.blocks[k]);
+      EXPECT_EQ((box.hi[0] - box.lo[0] + 1) * (box.hi[1] - box.lo[1] + 1) * (box.hi[2] - box.lo[2] + 1),
+                int64_t{1} << free);
+      // Its parent (one bit fewer) holds more than the bound.
+      if (plan.bits[k] > 0) {
+        const uint64_t parent = plan.blocks[k] >> 1;
+        size_t held = 0;
+        for (const MortonCode c : codes) held += static_cast<uint64_t>(c >> (free + 1)) == parent;
+        EXPECT_GT(held, 300u) << k;
+      }
       if (k > 0) {
         EXPECT_LE(plan.rank[k - 1], plan.rank[k]);
       }
@@ -171,7 +191,7 @@ TEST(BlockPlan, LevelsOfFewBlocksGoToTheLeastLoadedRank) {
   const auto plan_of = [](std::vector<size_t> first, int ranks) {
     BlockPlan p;
     p.first = std::move(first);
-    for (size_t k = 0; k + 1 < p.first.size(); ++k) p.blocks.push_back(k), p.depth.push_back(1);
+    for (size_t k = 0; k + 1 < p.first.size(); ++k) p.blocks.push_back(k), p.bits.push_back(3);
     assign_ranks(p, ranks);
     return p;
   };

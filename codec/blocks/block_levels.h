@@ -1,6 +1,6 @@
 // The codec preset's levels built block by block (spec/HIERARCHY.md §6.5),
-// for bricked streams: the work of one level is split into the octree nodes
-// of one depth (blocks), and each block's part is a function of the level's
+// for bricked streams: the work of one level is split into boxes of the
+// grid (blocks, codec/blocks/block_runs.h), and each block's part is a function of the level's
 // points and the reference inside the block grown by a halo, nothing else.
 // So the levels and the stream are the same whichever process builds which
 // block, in whatever order: one process, or any number of MPI ranks

@@ -16,36 +16,41 @@ namespace dtm {
 
 namespace {
 
-// Appends the blocks of the node (depth, prefix) holding codes[begin, end).
-void split_node(std::span<const MortonCode> codes, int qbits, int max_depth, uint64_t max_points, int depth,
-                uint64_t prefix, size_t begin, size_t end, BlockPlan& p) {
-  if (end - begin <= max_points || depth >= max_depth) {
+// Appends the blocks of the box (bits, prefix) holding codes[begin, end),
+// none empty.
+void split_box(std::span<const MortonCode> codes, int qbits, int max_bits, uint64_t max_points, int bits,
+               uint64_t prefix, size_t begin, size_t end, BlockPlan& p) {
+  if (end - begin <= max_points || bits >= max_bits) {
     p.blocks.push_back(prefix);
-    p.depth.push_back(depth);
+    p.bits.push_back(bits);
     p.first.push_back(begin);
     return;
   }
-  const int shift = 3 * (qbits - depth - 1);
-  for (size_t i = begin; i < end;) {
-    const uint64_t child = static_cast<uint64_t>(codes[i] >> shift);
-    const auto last =
-        std::lower_bound(codes.begin() + static_cast<std::ptrdiff_t>(i),
-                         codes.begin() + static_cast<std::ptrdiff_t>(end), MortonCode{child + 1} << shift);
-    const auto next = static_cast<size_t>(last - codes.begin());
-    split_node(codes, qbits, max_depth, max_points, depth + 1, child, i, next, p);
-    i = next;
-  }
+  const int shift = 3 * qbits - bits - 1;
+  const auto half = static_cast<size_t>(std::lower_bound(codes.begin() + static_cast<std::ptrdiff_t>(begin),
+                                                         codes.begin() + static_cast<std::ptrdiff_t>(end),
+                                                         MortonCode{2 * prefix + 1} << shift) -
+                                        codes.begin());
+  if (half > begin) split_box(codes, qbits, max_bits, max_points, bits + 1, 2 * prefix, begin, half, p);
+  if (end > half) split_box(codes, qbits, max_bits, max_points, bits + 1, 2 * prefix + 1, half, end, p);
 }
 
 }  // namespace
 
-GridBox BlockPlan::box(size_t k, int qbits) const { return brick_box(blocks[k], qbits, depth[k]); }
+GridBox BlockPlan::box(size_t k, int qbits) const {
+  // The codes with this prefix are a box: its first and last corners.
+  const int free = 3 * qbits - bits[k];
+  const MortonCode first = MortonCode{blocks[k]} << free;
+  const GridPoint lo = morton_decode(first, qbits),
+                  hi = morton_decode(first + ((MortonCode{1} << free) - 1), qbits);
+  return {{lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z}};
+}
 
 BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int max_depth, uint64_t max_points,
                       int ranks) {
   BlockPlan p;
   if (!codes.empty())
-    split_node(codes, qbits, max_depth, std::max<uint64_t>(1, max_points), 0, 0, 0, codes.size(), p);
+    split_box(codes, qbits, 3 * max_depth, std::max<uint64_t>(1, max_points), 0, 0, 0, codes.size(), p);
   p.first.push_back(codes.size());
   assign_ranks(p, ranks);
   return p;

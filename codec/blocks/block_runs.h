@@ -17,20 +17,24 @@
 
 namespace dtm {
 
-// The blocks of one level: non-empty octree nodes, in Morton order, and
-// the rank that builds each (contiguous runs of about equal point counts).
+// The blocks of one level: non-empty boxes of the grid halved one Morton
+// bit at a time, in Morton order, and the rank that builds each
+// (contiguous runs of about equal point counts).
 struct BlockPlan {
-  std::vector<uint64_t> blocks;  // each node's Morton prefix (3 x its depth bits)
-  std::vector<int> depth;        // of each node
+  std::vector<uint64_t> blocks;  // each block's Morton prefix: the first `bits` bits of its points' codes
+  std::vector<int> bits;         // of each prefix (3 x the depth of an octree node)
   std::vector<size_t> first;     // of each block's points in the level's Morton order; one more at the end
   std::vector<int> rank;
   GridBox box(size_t k, int qbits) const;
 };
-// The octree nodes split from the root until none holds more than
-// `max_points` of the level's points or it has depth `max_depth`: the
-// largest block, and so what building it holds in memory, is bounded by
-// the points wherever they crowd, not by their average. `codes`: the
-// level's Morton codes, ascending.
+// The grid's box halved (across x, y, z in turn: one Morton bit each
+// time, so that every block is a box and a block of 3d bits an octree node
+// of depth d) until no block holds more than `max_points` of the level's
+// points or its prefix has 3 `max_depth` bits: the largest block, and so
+// what building it holds in memory, is bounded by the points wherever they
+// crowd, not by their average; halving rather than splitting in eight
+// leaves blocks of between about half and all of `max_points`, whose
+// halos add less. `codes`: the level's Morton codes, ascending.
 BlockPlan plan_blocks(std::span<const MortonCode> codes, int qbits, int max_depth, uint64_t max_points,
                       int ranks);
 // Ranks for a plan's blocks, given their `first` points: contiguous runs of

@@ -80,9 +80,9 @@ int default_blocks_at_once(uint64_t block_points) {
   return threads;
 }
 
-// Whether one octree node holds the other.
-bool nested(uint64_t a, int depth_a, uint64_t b, int depth_b) {
-  return depth_a <= depth_b ? (b >> (3 * (depth_b - depth_a))) == a : (a >> (3 * (depth_a - depth_b))) == b;
+// Whether one block (Morton prefix, its bits) holds the other.
+bool nested(uint64_t a, int bits_a, uint64_t b, int bits_b) {
+  return bits_a <= bits_b ? (b >> (bits_b - bits_a)) == a : (a >> (bits_a - bits_b)) == b;
 }
 
 // The level's quality floor over each level-0 block: average_quality_floor
@@ -90,17 +90,17 @@ bool nested(uint64_t a, int depth_a, uint64_t b, int depth_b) {
 // blocks of level 0 inside it, or around it).
 struct QualityFloors {
   std::vector<uint64_t> blocks;
-  std::vector<int> depth;
+  std::vector<int> bits;
   std::vector<double> sum;
   std::vector<uint64_t> count;
   double factor = 0, whole = 0;
 
-  double floor(uint64_t block, int depth_of_block) const {
+  double floor(uint64_t block, int bits_of_block) const {
     if (factor <= 0) return 0;
     double s = 0;
     uint64_t c = 0;
     for (size_t i = 0; i < blocks.size(); ++i)
-      if (nested(blocks[i], depth[i], block, depth_of_block)) s += sum[i], c += count[i];
+      if (nested(blocks[i], bits[i], block, bits_of_block)) s += sum[i], c += count[i];
     return factor * (c > 0 ? s / static_cast<double>(c) : whole);
   }
 };
@@ -408,7 +408,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           }
           const BlockRegion fine = region_of(plan, k, level, halo);
           LevelBounds b = bounds;
-          b.quality_floor = floors.floor(plan.blocks[k], plan.depth[k]);
+          b.quality_floor = floors.floor(plan.blocks[k], plan.bits[k]);
           const GridBox checked = seen(k);
           // The block's result, as the merge below reads it.
           const auto result = [&](uint64_t in_sight, const BlockBuild& r, std::span<const uint32_t> back,
@@ -514,7 +514,7 @@ StatusOr<std::vector<uint8_t>> BrickedEncoder::base_carving(int level, const Bri
   // whole coarsest level, on rank 0, sent to every rank.
   BlockPlan one;
   one.blocks = {0};
-  one.depth = {0};
+  one.bits = {0};
   one.first = {0, 0};
   one.rank = {0};
   BlockAnalysisOptions options;
@@ -631,7 +631,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       reference_boundary_vertices_ = *merged.reference_boundary_vertices;
     if (level == 0) {
       floors.blocks = plan.blocks;
-      floors.depth = plan.depth;
+      floors.bits = plan.bits;
       for (const BlockAnalysis& a : analysis) {
         floors.sum.push_back(a.figures.quality_sum);
         floors.count.push_back(a.figures.cells);
@@ -727,7 +727,7 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
     const bool in_one = plan.blocks.size() > 1 && chosen <= block_points;
     if (in_one) {
       whole.blocks = {0};
-      whole.depth = {0};
+      whole.bits = {0};
       whole.first = {0, finer};
       whole.rank = {0};
       loads_.balance(whole);

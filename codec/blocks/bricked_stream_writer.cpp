@@ -134,7 +134,7 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   const LayerBricks b = bricks_of(fresh, q_, depth);
   BlockPlan plan;  // the bricks, shared out among the ranks
   plan.blocks = b.bricks;
-  plan.depth.assign(b.bricks.size(), depth);
+  plan.bits.assign(b.bricks.size(), 3 * depth);
   plan.first = b.first;
   assign_ranks(plan, x_.size());
   std::vector<std::vector<uint8_t>> payload, value;
