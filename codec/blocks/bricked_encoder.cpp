@@ -722,9 +722,12 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
     // A choice that fits in one block is built in one, over the whole
     // finer level (spec/HIERARCHY.md §6.5): its analysis, one block too,
     // then takes the build's tetrahedralization rather than making it
-    // again, and no seam of the finer level's blocks is built twice.
+    // again, and no seam of the finer level's blocks is built twice. The
+    // rank given the fewest points so far builds it (and so analyses it),
+    // so that the coarse levels, one block each, are shared among the
+    // ranks rather than each built where the finer one was analysed.
     BlockPlan whole;
-    const bool in_one = plan.blocks.size() > 1 && chosen <= block_points;
+    const bool in_one = chosen <= block_points;
     if (in_one) {
       whole.blocks = {0};
       whole.bits = {0};
