@@ -156,8 +156,8 @@ class BrickedEncoder {
   // when neither is good enough (`level` is then the coarsest); else
   // level_of_ says the coarser level and built_stats_ its figures.
   // `halo`: the analysis's (a choice made again), `build_halo` the build's.
-  // `block_points`: the plan's largest block (a choice that fits is
-  // built in one block).
+  // `block_points`: the most points the plan let a block hold (a choice
+  // of no more is built in one block).
   StatusOr<bool> coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan,
                                uint64_t block_points, int64_t halo, int64_t build_halo,
                                BlockAnalysisOptions options, const std::vector<BlockAnalysis>& analysis,
