@@ -180,8 +180,8 @@ void add_options(CLI::App& app, Command& c) {
       ->capture_default_str()
       ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 32));
   app.add_option("--block-points", e.block_points,
-                 "with --bricks: the levels are built in blocks of at most this many points (octree nodes "
-                 "split where points crowd), each on its own (and, under mpirun, on the ranks in turn): "
+                 "with --bricks: the levels are built in blocks of at most this many points (boxes halved "
+                 "where points crowd), each on its own (and, under mpirun, on the ranks in turn): "
                  "smaller takes less memory and more time; the stream depends on it, not on the ranks")
       ->capture_default_str()
       ->check(CLI::Range(uint64_t{64}, uint64_t{1} << 32));

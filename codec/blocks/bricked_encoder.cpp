@@ -581,9 +581,16 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       // The analysis of this level sees its own cells.
       halo = halo_for(kept_radius, h.dmax);
       options.kept_radius = kept_radius;
-      phase(level, "Delaunay tetrahedralization, carving and choice in " +
-                       std::to_string(plan.blocks.size()) + " blocks of at most " + std::to_string(largest) +
-                       " points");
+      // One block built in one on this rank: its build's tetrahedralization
+      // is taken (analyse()).
+      const bool from_build = plan.blocks.size() == 1 && held_ && held_->ids.size() == ids.size();
+      phase(
+          level,
+          (from_build
+               ? std::string("carving and choice in 1 block, from its build's tetrahedralization, of ")
+               : "Delaunay tetrahedralization, carving and choice in " + std::to_string(plan.blocks.size()) +
+                     (plan.blocks.size() == 1 ? " block of " : " blocks of at most ")) +
+              std::to_string(largest) + " points");
       DTM_RETURN_IF_ERROR(analyse(level, plan, halo, options, analysis));
 
       // The level's figures, carving and surface record, merged in block order.
