@@ -5,7 +5,7 @@
 // from the level's surface (its vertices and its triangles' centroids) to the
 // reference's. The hierarchy builder checks every level with this one
 // measurement and repairs where it exceeds D_max; the report shows its
-// figures. Distances are inexact (CGAL's AABB tree, doubles): a measurement.
+// figures. Distances are inexact (CGAL's projections, doubles): a measurement.
 #pragma once
 
 #include <array>
@@ -19,6 +19,7 @@
 #include "common/grid.h"
 #include "core/quantize.h"
 #include "core/surface_distance.h"
+#include "core/triangle_distance_tree.h"
 
 namespace dtm {
 
@@ -58,7 +59,9 @@ struct ShapeMeasurement {
 // triangles, their keys, its boundary vertices and the search structure of
 // its surface. Shared (read only, by any thread) by the shapes of blocks
 // whose regions meet the whole boundary (codec/blocks/rank_reference.h):
-// building it once is most of what such a block's shape costs.
+// building it once is most of what such a block's shape costs, and every
+// rank that builds such a block holds it (its search structure is
+// core/triangle_distance_tree.h's for that: about 30 bytes a triangle).
 struct ReferenceBoundary {
   ReferenceBoundary(std::span<const GridPoint> points, std::vector<std::array<uint32_t, 3>> boundary);
 
@@ -66,7 +69,7 @@ struct ReferenceBoundary {
   std::vector<std::array<uint32_t, 3>> keys;  // each triangle's ids sorted, the list sorted
   std::vector<uint32_t> ids;                  // grid ids of points, ascending
   std::vector<GridPoint> points;
-  FixedSurface surface;
+  TriangleDistanceTree surface;
 };
 
 class ReferenceShape {

@@ -20,6 +20,7 @@
 #include "common/release.h"
 #include "common/status.h"
 #include "core/aabb_on_every_core.h"
+#include "core/surface_corners.h"
 
 namespace dtm {
 namespace {
@@ -41,15 +42,11 @@ DistanceSummary no_surface() {
 using TriangleKey = std::array<uint32_t, 3>;  // sorted vertex ids
 
 // A fixed surface's tree holds 4-byte triangle ids and makes each triangle
-// from its corners when a query reaches it: a soup of Triangle_3 beside the
-// tree (72 bytes a triangle) was the largest part of the reference a level
-// built as one block holds (the whole input boundary: 1.4M triangles at
-// bunny_10m). The distances are the same: the same triangles, the same
-// arithmetic.
-struct CompactSurface {
-  std::vector<GridPoint> corners;                  // the triangles' vertices
-  std::vector<std::array<uint32_t, 3>> triangles;  // into corners
-};
+// from its corners when a query reaches it, rather than a soup of
+// Triangle_3 beside the tree (72 bytes a triangle). (The reference's
+// boundary, which a level built as one block holds whole, is searched by
+// core/triangle_distance_tree.h, smaller still.)
+using CompactSurface = SurfaceCorners;
 struct TriangleById {
   using key_type = uint32_t;
   using value_type = K::Triangle_3;
@@ -101,29 +98,9 @@ FixedSurface::FixedSurface(std::span<const GridPoint> vertices,
                            std::span<const std::array<uint32_t, 3>> triangles)
     : state_(std::make_unique<State>()) {
   if (triangles.empty()) return;
-  // The corners the triangles use, each once (a part of a larger point set).
-  CompactSurface& s = state_->surface;
   // (On every core: a block's surface has some 10^5 triangles.)
-  std::vector<uint32_t> used(3 * triangles.size());
-  parallel_ranges(triangles.size(), kRange, [&](size_t first, size_t last) {
-    for (size_t t = first; t < last; ++t)
-      for (size_t i = 0; i < 3; ++i) used[3 * t + i] = triangles[t][i];
-  });
-  parallel_sort(used.begin(), used.end());
-  used.erase(std::unique(used.begin(), used.end()), used.end());
-  s.corners.resize(used.size());
-  parallel_ranges(used.size(), kRange, [&](size_t first, size_t last) {
-    for (size_t k = first; k < last; ++k) s.corners[k] = vertices[used[k]];
-  });
-  s.triangles.resize(triangles.size());
-  const auto corner = [&](uint32_t v) {
-    return static_cast<uint32_t>(std::lower_bound(used.begin(), used.end(), v) - used.begin());
-  };
-  parallel_ranges(triangles.size(), kRange, [&](size_t first, size_t last) {
-    for (size_t t = first; t < last; ++t)
-      s.triangles[t] = {corner(triangles[t][0]), corner(triangles[t][1]), corner(triangles[t][2])};
-  });
-  release(used);
+  state_->surface = surface_corners(vertices, triangles);
+  const CompactSurface& s = state_->surface;
   const auto count = static_cast<uint32_t>(s.triangles.size());
   state_->tree.emplace(boost::counting_iterator<uint32_t>(0), boost::counting_iterator<uint32_t>(count),
                        TriangleById{&s}, FirstCornerById{&s});

@@ -27,8 +27,11 @@ DistanceSummary distance_to_surface(std::span<const GridPoint> vertices,
 // on how the distances were computed in parallel).
 DistanceSummary summarize_squared(std::span<const double> squared);
 
-// One fixed surface asked about many times: its search structure is built
-// once. No triangle: every distance is +infinity.
+// One fixed surface asked about many times: its search structure (CGAL's
+// AABB tree) is built once. No triangle: every distance is +infinity.
+// (Where only distances are asked of a surface held long, as the
+// reference's boundary, core/triangle_distance_tree.h holds it in a
+// quarter of the memory.)
 class FixedSurface {
  public:
   FixedSurface(std::span<const GridPoint> vertices, std::span<const std::array<uint32_t, 3>> triangles);

@@ -2,18 +2,23 @@
 // must give what a search from scratch gives on every surface, the fast
 // boundary extraction what a plain global sort gives, and the hierarchy's
 // and the reference shape's per-level errors must not depend on either.
+#include <CGAL/Simple_cartesian.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 
 #include "core/hierarchy.h"
 #include "core/reference_shape.h"
 #include "core/surface_distance.h"
+#include "core/triangle_distance_tree.h"
+#include "mesh/topology.h"
 #include "test_support.h"
 #include "tools/formats/surface_writers.h"
+#include "tools/formats/tetgen.h"
 
 namespace dtm {
 namespace {
@@ -104,6 +109,147 @@ TEST(SurfaceDistanceTracker, HierarchyErrorsAreTheFullSearchs) {
     EXPECT_NEAR(level.stats.mean_boundary_error, d.mean, 1e-9 * std::max(1.0, d.mean)) << level.stats.level;
   }
   EXPECT_GT(h.levels.back().stats.max_boundary_error, 0.0);
+}
+
+// The least squared distance from x to the triangles, each measured as
+// CGAL's AABB tree measures it (to CGAL's projection onto the triangle).
+double nearest_of_every_triangle(std::span<const GridPoint> points,
+                                 std::span<const std::array<uint32_t, 3>> triangles,
+                                 const std::array<double, 3>& x) {
+  using K = CGAL::Simple_cartesian<double>;
+  const K::Point_3 query(x[0], x[1], x[2]);
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : triangles) {
+    const auto at = [&](uint32_t v) { return K::Point_3(points[v].x, points[v].y, points[v].z); };
+    const K::Triangle_3 tri(at(t[0]), at(t[1]), at(t[2]));
+    best =
+        std::min(best, CGAL::squared_distance(query, K().construct_projected_point_3_object()(tri, query)));
+  }
+  return best;
+}
+
+// The compact tree's distances (a reference's boundary, held whole by many
+// ranks) against every triangle tried: the same doubles, bit for bit,
+// whatever order the triangles come in; and within rounding of CGAL's AABB
+// tree's (FixedSurface), which the shape measure used before.
+TEST(TriangleDistanceTree, IsTheLeastOverEveryTriangleInAnyOrder) {
+  const auto q = test::load_quantized("bunny_10k");
+  const NodeFile node = read_tetgen_node(test::data_path("bunny_10k.node"));
+  auto tets = read_tetgen_ele(test::data_path("bunny_10k.ele"), node.points.size(), node.index_base);
+  grid_tetrahedra_in_place(tets, q);
+  const std::vector<std::array<uint32_t, 3>> surface = boundary_triangles(tets);
+  ASSERT_GT(surface.size(), 3000u);
+  // Queries: the surface's own corners (at 0), grid points all over the
+  // box and beyond it, and points between grid points.
+  std::vector<std::array<double, 3>> queries;
+  for (size_t t = 0; t < surface.size(); t += 7) {
+    const GridPoint& p = q.points[surface[t][0]];
+    queries.push_back({double(p.x), double(p.y), double(p.z)});
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> anywhere(-2000, 18384);
+  std::uniform_int_distribution<int> grid(-500, 16884);
+  for (int i = 0; i < 1500; ++i) {
+    queries.push_back({anywhere(rng), anywhere(rng), anywhere(rng)});
+    queries.push_back({double(grid(rng)), double(grid(rng)), double(grid(rng))});
+  }
+  const auto every_triangle = [&](const std::array<double, 3>& x) {
+    return nearest_of_every_triangle(q.points, surface, x);
+  };
+  const TriangleDistanceTree tree(q.points, surface);
+  EXPECT_EQ(tree.triangles(), surface.size());
+  EXPECT_LT(tree.bytes(), 40 * surface.size());
+  std::vector<std::array<uint32_t, 3>> shuffled = surface;
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  const TriangleDistanceTree other(q.points, shuffled);
+  const std::vector<double> found = tree.squared_distances(queries), again = other.squared_distances(queries);
+  const std::vector<double> cgal = FixedSurface(q.points, surface).squared_distances(queries);
+  size_t zero = 0, same_as_cgal = 0;
+  for (size_t i = 0; i < queries.size(); ++i) {
+    const double expected = every_triangle(queries[i]);
+    ASSERT_EQ(found[i], expected) << "query " << i;
+    ASSERT_EQ(again[i], expected) << "query " << i;
+    EXPECT_EQ(tree.squared_distance(queries[i]), expected);
+    EXPECT_NEAR(cgal[i], expected, 1e-12 * std::max(1.0, expected)) << "query " << i;
+    zero += expected == 0;
+    same_as_cgal += cgal[i] == expected;
+  }
+  EXPECT_GE(zero, surface.size() / 7);
+  EXPECT_GE(same_as_cgal, queries.size() * 99 / 100);
+  // Grid points: the same as their doubles.
+  std::vector<GridPoint> on_grid;
+  for (int i = 0; i < 200; ++i) on_grid.push_back({grid(rng), grid(rng), grid(rng)});
+  const std::vector<double> grid_found = tree.squared_distances(on_grid);
+  for (size_t i = 0; i < on_grid.size(); ++i)
+    EXPECT_EQ(grid_found[i],
+              every_triangle({double(on_grid[i].x), double(on_grid[i].y), double(on_grid[i].z)}));
+  // No triangle: infinitely far.
+  EXPECT_TRUE(std::isinf(TriangleDistanceTree(q.points, {}).squared_distances(on_grid).at(0)));
+  // A part of the surface holding a query's nearest triangle (as a block's
+  // region holds it) gives the whole's double.
+  std::vector<std::array<uint32_t, 3>> part;
+  for (const auto& t : surface)
+    if (q.points[t[0]].x < 8192) part.push_back(t);
+  const TriangleDistanceTree of_part(q.points, part);
+  size_t in_part = 0;
+  for (size_t i = 0; i < queries.size(); ++i) {
+    if (nearest_of_every_triangle(q.points, part, queries[i]) != found[i]) continue;
+    ++in_part;
+    EXPECT_EQ(of_part.squared_distance(queries[i]), found[i]) << "query " << i;
+  }
+  EXPECT_GE(in_part, queries.size() / 4);
+}
+
+// Triangles in planes x = c and z = c, and queries a third of a unit apart
+// over their edges and corners: CGAL's projection onto such a triangle may
+// round the plane's coordinate toward the query, below the distance to the
+// triangle's box. Nothing that could be the least is skipped.
+TEST(TriangleDistanceTree, KeepsTrianglesInAxisPlanesAsEveryTriangleDoes) {
+  std::vector<GridPoint> points;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  // Rows and columns unevenly spaced, so that the triangles' normals (and
+  // so the projection's rounding) differ from one to the next.
+  constexpr int kSide = 24;
+  const auto at = [](int32_t i) { return i * (i + 3) / 2 + 1; };
+  const auto tile = [&](bool vertical, int32_t c) {
+    const auto first = static_cast<uint32_t>(points.size());
+    for (int32_t i = 0; i <= kSide; ++i)
+      for (int32_t j = 0; j <= kSide; ++j)
+        points.push_back(vertical ? GridPoint{c, at(i), at(j)} : GridPoint{at(i), at(j), c});
+    for (uint32_t i = 0; i < kSide; ++i)
+      for (uint32_t j = 0; j < kSide; ++j) {
+        const uint32_t a = first + i * (kSide + 1) + j, b = a + 1, d = a + kSide + 1, e = d + 1;
+        if ((i + j) % 2 == 0) {
+          triangles.push_back({a, b, e});
+          triangles.push_back({a, e, d});
+        } else {
+          triangles.push_back({a, b, d});
+          triangles.push_back({b, e, d});
+        }
+      }
+  };
+  tile(false, 37);
+  tile(true, 41);
+  tile(false, 1001);
+  // Over the triangles' shared edges and corners (a row or column of the
+  // tiling), a third of a unit from anything else.
+  std::vector<std::array<double, 3>> queries;
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<int> line(0, kSide), thirds(-30, 3 * at(kSide) + 30);
+  for (int i = 0; i < 20000; ++i) {
+    const double u = at(line(rng)), v = thirds(rng) / 3.0, w = thirds(rng) / 3.0;
+    if (i % 3 == 0) queries.push_back({u, v, w});
+    if (i % 3 == 1) queries.push_back({v, u, w});
+    if (i % 3 == 2) queries.push_back({v, w, u});
+  }
+  const TriangleDistanceTree tree(points, triangles);
+  std::vector<std::array<uint32_t, 3>> reversed(triangles.rbegin(), triangles.rend());
+  const TriangleDistanceTree other(points, reversed);
+  for (size_t i = 0; i < queries.size(); ++i) {
+    const double expected = nearest_of_every_triangle(points, triangles, queries[i]);
+    ASSERT_EQ(tree.squared_distance(queries[i]), expected) << "query " << i;
+    ASSERT_EQ(other.squared_distance(queries[i]), expected) << "query " << i;
+  }
 }
 
 TEST(ReferenceShape, RemembersNothingThatChangesItsAnswers) {
