@@ -8,6 +8,7 @@
 #include "codec/bricks/bricks.h"
 #include "codec/stream/format.h"
 #include "common/byte_io.h"
+#include "common/release.h"
 
 namespace dtm {
 namespace {
@@ -124,13 +125,18 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   const int depth = depth_ = lo.brick_depth;
   // The layer's points in Morton order (their codes are not kept: at
   // level 0 they were the largest thing every rank held).
-  const std::vector<uint32_t> ids = in_.index->level_ids(in_.level_of, level);
+  std::vector<uint32_t> ids = in_.index->level_ids(in_.level_of, level);
   std::vector<GridPoint> fresh;
   for (uint32_t id : ids)
     if (in_.level_of[id] == level) {
       fresh.push_back(in_.points[id]);
       out_.decode_order.push_back(id);
     }
+  // Without values the level's ids are read no more: not held while the
+  // bricks are coded (level 0's were the largest part of the peak that
+  // writing its layer set on bunny_10m's ranks, with the coarser level's codes).
+  const size_t level_vertices = ids.size();
+  if (!in_.values) release(ids);
   const LayerBricks b = bricks_of(fresh, q_, depth);
   BlockPlan plan;  // the bricks, shared out among the ranks
   plan.blocks = b.bricks;
@@ -140,6 +146,8 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   std::vector<std::vector<uint8_t>> payload, value;
   DTM_RETURN_IF_ERROR(payloads(plan, fresh, b, payload));
   DTM_RETURN_IF_ERROR(values(level, plan, ids, fresh, b, value));
+  // The finest layer's coarser codes are read no more.
+  if (level == 0) release(known_);
 
   // The chunks: every brick with points or corrections, ascending.
   std::vector<BrickParts> parts;
@@ -174,7 +182,7 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   lh.bricked = true;
   lh.level = static_cast<uint16_t>(level);
   lh.new_vertices = static_cast<uint32_t>(fresh.size());
-  lh.level_vertices = static_cast<uint32_t>(ids.size());
+  lh.level_vertices = static_cast<uint32_t>(level_vertices);
   lh.alpha = lo.alpha;
   lh.kept_radius = lo.kept_radius;
   lh.brick_depth = static_cast<uint8_t>(depth);
