@@ -118,6 +118,12 @@ void MortonIndex::level(std::span<const uint8_t> level_of, int level, std::vecto
                         std::vector<uint32_t>* ids) const {
   codes.clear();
   if (ids) ids->clear();
+  // Made to size: grown by doubling, level 0's codes (16 bytes a point)
+  // would be held up to three times over while copied.
+  size_t count = 0;
+  for (uint32_t id : ids_) count += level_of[id] >= level;
+  codes.reserve(count);
+  if (ids) ids->reserve(count);
   for (uint32_t id : ids_)
     if (level_of[id] >= level) {
       codes.push_back(code_of(id));
@@ -126,7 +132,10 @@ void MortonIndex::level(std::span<const uint8_t> level_of, int level, std::vecto
 }
 
 std::vector<uint32_t> MortonIndex::level_ids(std::span<const uint8_t> level_of, int level) const {
+  size_t count = 0;
+  for (uint32_t id : ids_) count += level_of[id] >= level;
   std::vector<uint32_t> ids;
+  ids.reserve(count);
   for (uint32_t id : ids_)
     if (level_of[id] >= level) ids.push_back(id);
   return ids;

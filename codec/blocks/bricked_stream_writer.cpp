@@ -127,6 +127,12 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   // level 0 they were the largest thing every rank held).
   std::vector<uint32_t> ids = in_.index->level_ids(in_.level_of, level);
   std::vector<GridPoint> fresh;
+  // (Made to size, as the decode order: grown by doubling, level 0's
+  // would be held up to three times over while copied.)
+  size_t new_points = 0;
+  for (uint32_t id : ids) new_points += in_.level_of[id] == level;
+  fresh.reserve(new_points);
+  if (out_.decode_order.capacity() < in_.points.size()) out_.decode_order.reserve(in_.points.size());
   for (uint32_t id : ids)
     if (in_.level_of[id] == level) {
       fresh.push_back(in_.points[id]);
