@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "common/bits_by_three.h"
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/release.h"
@@ -36,19 +37,10 @@ constexpr float kInfinityF = std::numeric_limits<float>::infinity();
 // points use, interleaved. It only orders the triangles (neighbours near
 // in the order lie near in space), so the bits dropped cost nothing but a
 // looser tree.
-uint64_t spread21(uint64_t v) {
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffULL;
-  v = (v | v << 16) & 0x1f0000ff0000ffULL;
-  v = (v | v << 8) & 0x100f00f00f00f00fULL;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-  v = (v | v << 2) & 0x1249249249249249ULL;
-  return v;
-}
 uint64_t morton63(const std::array<int64_t, 3>& twice_centre, int shift) {
-  return spread21(static_cast<uint64_t>(twice_centre[0]) >> shift) |
-         spread21(static_cast<uint64_t>(twice_centre[1]) >> shift) << 1 |
-         spread21(static_cast<uint64_t>(twice_centre[2]) >> shift) << 2;
+  return spread_by_three(static_cast<uint64_t>(twice_centre[0]) >> shift) |
+         spread_by_three(static_cast<uint64_t>(twice_centre[1]) >> shift) << 1 |
+         spread_by_three(static_cast<uint64_t>(twice_centre[2]) >> shift) << 2;
 }
 
 }  // namespace

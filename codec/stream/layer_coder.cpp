@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "codec/stream/layer_coder_shared.h"
+#include "common/bits_by_three.h"
 
 namespace dtm {
 
@@ -25,32 +26,6 @@ SetCoderModels SetCoderModels::clone() const {
 SetCoderModels::~SetCoderModels() = default;
 SetCoderModels::SetCoderModels(SetCoderModels&&) noexcept = default;
 SetCoderModels& SetCoderModels::operator=(SetCoderModels&&) noexcept = default;
-
-namespace {
-
-// The 21 low bits of v moved to every third bit (bit i to bit 3i).
-uint64_t spread_by_three(uint64_t v) {
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffull;
-  v = (v | v << 16) & 0x1f0000ff0000ffull;
-  v = (v | v << 8) & 0x100f00f00f00f00full;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
-
-// The inverse: every third bit (from bit 0) gathered into the low 21.
-uint64_t gather_by_three(uint64_t v) {
-  v &= 0x1249249249249249ull;
-  v = (v ^ (v >> 2)) & 0x10c30c30c30c30c3ull;
-  v = (v ^ (v >> 4)) & 0x100f00f00f00f00full;
-  v = (v ^ (v >> 8)) & 0x1f0000ff0000ffull;
-  v = (v ^ (v >> 16)) & 0x1f00000000ffffull;
-  v = (v ^ (v >> 32)) & 0x1fffffull;
-  return v;
-}
-
-}  // namespace
 
 MortonCode morton_encode(const GridPoint& p, int qbits) {
   if (qbits <= 21) {  // the common grids: three 64-bit spreads
