@@ -139,8 +139,7 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
       out_.decode_order.push_back(id);
     }
   // Without values the level's ids are read no more: not held while the
-  // bricks are coded (level 0's were the largest part of the peak that
-  // writing its layer set on bunny_10m's ranks, with the coarser level's codes).
+  // bricks are coded (4 bytes a vertex of the level).
   const size_t level_vertices = ids.size();
   if (!in_.values) release(ids);
   const LayerBricks b = bricks_of(fresh, q_, depth);
