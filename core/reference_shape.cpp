@@ -7,6 +7,7 @@
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/release.h"
+#include "common/status.h"
 #include "core/region_solid.h"
 #include "mesh/topology.h"
 
@@ -142,8 +143,8 @@ ReferenceBoundary::ReferenceBoundary(std::span<const GridPoint> grid,
     : triangles(std::move(boundary)),
       keys(triangles),
       ids(vertex_ids_of(triangles)),
-      points(gather(grid, ids)),
       surface(grid, triangles) {
+  DTM_CHECK(surface.corners().size() == ids.size());
   for (auto& k : keys) std::sort(k.begin(), k.end());
   parallel_sort(keys.begin(), keys.end());
 }
@@ -154,7 +155,7 @@ ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
 
 ReferenceShape::ReferenceShape(std::shared_ptr<const ReferenceBoundary> boundary)
     : boundary_(std::move(boundary)),
-      to_level_(boundary_->points, boundary_->ids),
+      to_level_(boundary_->points(), boundary_->ids),
       to_reference_(boundary_->ids.size()) {
   // On the reference's surface: its own vertices and triangles.
   for (uint32_t v : boundary_->ids) to_reference_[v] = 0;
@@ -163,7 +164,7 @@ ReferenceShape::ReferenceShape(std::shared_ptr<const ReferenceBoundary> boundary
 ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std::span<const uint32_t> ids,
                                          std::span<const std::array<uint32_t, 3>> triangles) {
   ShapeMeasurement m;
-  m.to_level = boundary_->points.empty() ? DistanceSummary{} : to_level_.measure(points, ids, triangles);
+  m.to_level = boundary_->points().empty() ? DistanceSummary{} : to_level_.measure(points, ids, triangles);
   m.reference_squared = to_level_.squared();
   m.reference_nearest = to_level_.nearest_triangles();
   {
@@ -249,7 +250,7 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   squared.insert(squared.end(), m.centroid_squared.begin(), m.centroid_squared.end());
   m.to_reference = summarize_squared(squared);
   const double n_level = static_cast<double>(squared.size());
-  const double n_reference = static_cast<double>(boundary_->points.size());
+  const double n_reference = static_cast<double>(boundary_->points().size());
   m.both.max = std::max(m.to_level.max, m.to_reference.max);
   m.both.mean = n_level + n_reference > 0 ? (m.to_level.mean * n_reference + m.to_reference.mean * n_level) /
                                                 (n_level + n_reference)

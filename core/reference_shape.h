@@ -67,9 +67,11 @@ struct ReferenceBoundary {
 
   std::vector<std::array<uint32_t, 3>> triangles;
   std::vector<std::array<uint32_t, 3>> keys;  // each triangle's ids sorted, the list sorted
-  std::vector<uint32_t> ids;                  // grid ids of points, ascending
-  std::vector<GridPoint> points;
+  std::vector<uint32_t> ids;                  // grid ids of points(), ascending
   TriangleDistanceTree surface;
+  // The boundary's vertices, as `ids` names them: the tree's corners (the
+  // same points in the same order), not held twice.
+  std::span<const GridPoint> points() const { return surface.corners(); }
 };
 
 class ReferenceShape {
@@ -89,8 +91,8 @@ class ReferenceShape {
   // own, as though made from the boundary's triangles.
   explicit ReferenceShape(std::shared_ptr<const ReferenceBoundary> boundary);
 
-  size_t boundary_vertices() const { return boundary_->points.size(); }
-  std::span<const GridPoint> boundary_points() const { return boundary_->points; }
+  size_t boundary_vertices() const { return boundary_->points().size(); }
+  std::span<const GridPoint> boundary_points() const { return boundary_->points(); }
   // The grid ids of boundary_points(), ascending.
   std::span<const uint32_t> boundary_ids() const { return boundary_->ids; }
   std::span<const std::array<uint32_t, 3>> boundary_triangles() const { return boundary_->triangles; }

@@ -4,15 +4,14 @@
 
 #include <algorithm>
 #include <bit>
-#include <cassert>
 #include <limits>
-#include <stdexcept>
 #include <utility>
 
 #include "common/bits_by_three.h"
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/release.h"
+#include "common/status.h"
 #include "core/surface_corners.h"
 
 namespace dtm {
@@ -49,8 +48,7 @@ TriangleDistanceTree::TriangleDistanceTree(std::span<const GridPoint> vertices,
                                            std::span<const std::array<uint32_t, 3>> triangles) {
   if (triangles.empty()) return;
   // Node numbers (at most twice the triangles) are 32 bits.
-  if (triangles.size() >= (size_t{1} << 31))
-    throw std::length_error("TriangleDistanceTree: 2^31 triangles or more");
+  DTM_CHECK(triangles.size() < (size_t{1} << 31));
   SurfaceCorners surface = surface_corners(vertices, triangles);
   corners_ = std::move(surface.corners);
   // Each triangle's place along the Morton curve of its box's centre (twice
@@ -192,7 +190,7 @@ double TriangleDistanceTree::squared_distance(const std::array<double, 3>& q) co
     const Entry& far = a.d2 <= b.d2 ? b : a;
     if (far.d2 <= best) stack[top++] = far;
     if (near.d2 <= best) stack[top++] = near;
-    assert(top <= stack.size());
+    DTM_CHECK(top <= stack.size());
   }
   return best;
 }

@@ -46,6 +46,9 @@ class TriangleDistanceTree {
   double squared_distance(const std::array<double, 3>& query) const;
 
   size_t triangles() const { return triangles_.size(); }
+  // The corners the triangles use, ascending by their index in `vertices`
+  // (surface_corners()'s order).
+  std::span<const GridPoint> corners() const { return corners_; }
   // What it holds, in bytes.
   size_t bytes() const;
 

@@ -120,8 +120,7 @@ void MortonIndex::level(std::span<const uint8_t> level_of, int level, std::vecto
   if (ids) ids->clear();
   // Made to size: grown by doubling, level 0's codes (16 bytes a point)
   // would be held up to three times over while copied.
-  size_t count = 0;
-  for (uint32_t id : ids_) count += level_of[id] >= level;
+  const size_t count = count_at(level_of, level);
   codes.reserve(count);
   if (ids) ids->reserve(count);
   for (uint32_t id : ids_)
@@ -131,11 +130,15 @@ void MortonIndex::level(std::span<const uint8_t> level_of, int level, std::vecto
     }
 }
 
-std::vector<uint32_t> MortonIndex::level_ids(std::span<const uint8_t> level_of, int level) const {
+size_t MortonIndex::count_at(std::span<const uint8_t> level_of, int level) const {
   size_t count = 0;
   for (uint32_t id : ids_) count += level_of[id] >= level;
+  return count;
+}
+
+std::vector<uint32_t> MortonIndex::level_ids(std::span<const uint8_t> level_of, int level) const {
   std::vector<uint32_t> ids;
-  ids.reserve(count);
+  ids.reserve(count_at(level_of, level));
   for (uint32_t id : ids_)
     if (level_of[id] >= level) ids.push_back(id);
   return ids;

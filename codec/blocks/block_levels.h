@@ -62,6 +62,8 @@ class MortonIndex {
 
  private:
   MortonCode code_of(uint32_t id) const { return morton_encode(points_[id], qbits_); }
+  // How many points have level_of >= level (what level() and level_ids() make).
+  size_t count_at(std::span<const uint8_t> level_of, int level) const;
 
   int qbits_;
   std::span<const GridPoint> points_;  // the caller's, which must outlive the index
