@@ -155,6 +155,17 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
   return out;
 }
 
+// Each input point's vertex in the decoder's order (`decode_order`: the
+// grid point of each decoded vertex).
+std::vector<uint32_t> vertex_of_input(const QuantizedPoints& q, std::span<const uint32_t> decode_order) {
+  std::vector<uint32_t> vertex_of_point(q.points.size());
+  for (uint32_t v = 0; v < decode_order.size(); ++v) vertex_of_point[decode_order[v]] = v;
+  std::vector<uint32_t> out;
+  out.reserve(q.input_to_point.size());
+  for (uint32_t p : q.input_to_point) out.push_back(vertex_of_point[p]);
+  return out;
+}
+
 // Input cells that are flat on the grid, or turned the other way than most
 // (a mesh's cells all turn one way).
 uint64_t turned_cells(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets) {
@@ -218,6 +229,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   o.check_parts = options.check_parts;
   o.reuse_build_mesh = options.reuse_build_mesh;
   o.cell_hashes = options.cell_hashes;
+  o.decode_order = options.vertex_of_input;  // what it is made for
   o.exchange = options.exchange;
   DTM_ASSIGN_OR_RETURN(BrickedEncoding encoded, encode_bricked(in, o, [&](const LevelStats& stats) {
                          LevelReport r;
@@ -258,10 +270,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   report.level0_cells_dropped = encoded.level0_cells_dropped;
   report.reference_questions_at_once = encoded.reference_questions_at_once;
   out.bytes = std::move(encoded.bytes);
-  std::vector<uint32_t> vertex_of_point(q.points.size());
-  for (uint32_t v = 0; v < encoded.decode_order.size(); ++v) vertex_of_point[encoded.decode_order[v]] = v;
-  out.vertex_of_input.reserve(q.input_to_point.size());
-  for (uint32_t p : q.input_to_point) out.vertex_of_input.push_back(vertex_of_point[p]);
+  if (options.vertex_of_input) out.vertex_of_input = vertex_of_input(q, encoded.decode_order);
   return out;
 }
 
@@ -317,14 +326,14 @@ StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions
   return plan;
 }
 
-StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options,
-                             const LevelReady& on_level) {
-  DTM_ASSIGN_OR_RETURN(EncodePlan plan, plan_encoding(input, options));
-  return encode(input, options, plan, on_level);
-}
+namespace {
 
-StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, const EncodePlan& plan,
-                             const LevelReady& on_level) {
+// encode() from `plan`; `input_map`: the plan's map from input points, to
+// free once it is read no more when the caller wants no vertex_of_input
+// (null: kept).
+StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptions& options,
+                                     const EncodePlan& plan, std::vector<uint32_t>* input_map,
+                                     const LevelReady& on_level) {
   const QuantizedPoints& q = plan.quantized;
   EncodedMesh out;
   EncodeReport& report = out.report;
@@ -488,6 +497,9 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
     report.reference_voxels = static_cast<uint64_t>(
         std::count(input.voxels->inside.begin(), input.voxels->inside.end(), uint8_t{1}));
   }
+  // The map from input points is read no more unless it makes the caller's
+  // vertex_of_input, or the stream keeps the input's order.
+  if (input_map && !options.vertex_of_input && !options.keep_order) release(*input_map);
   if (options.bricks)
     return encode_in_bricks(input, options, plan, reference_tets, voxels ? &*voxels : nullptr,
                             std::move(fields), std::move(out), on_level);
@@ -580,11 +592,26 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
   report.stream_bytes = stream.bytes.size();
   out.bytes = std::move(stream.bytes);
 
-  std::vector<uint32_t> vertex_of_point(q.points.size());
-  for (uint32_t v = 0; v < stream.decode_order.size(); ++v) vertex_of_point[stream.decode_order[v]] = v;
-  out.vertex_of_input.reserve(q.input_to_point.size());
-  for (uint32_t p : q.input_to_point) out.vertex_of_input.push_back(vertex_of_point[p]);
+  if (options.vertex_of_input) out.vertex_of_input = vertex_of_input(q, stream.decode_order);
   return out;
+}
+
+}  // namespace
+
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options,
+                             const LevelReady& on_level) {
+  DTM_ASSIGN_OR_RETURN(EncodePlan plan, plan_encoding(input, options));
+  return encode(input, options, std::move(plan), on_level);
+}
+
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, const EncodePlan& plan,
+                             const LevelReady& on_level) {
+  return encode_planned(input, options, plan, nullptr, on_level);
+}
+
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, EncodePlan&& plan,
+                             const LevelReady& on_level) {
+  return encode_planned(input, options, plan, &plan.quantized.input_to_point, on_level);
 }
 
 }  // namespace dtm

@@ -90,6 +90,10 @@ struct EncodeOptions {
   // tetrahedra, a valid mesh on the grid (no point merged by quantization,
   // no cell flat there) and the codec preset; not with bricks.
   bool exact = false;
+  // EncodedMesh::vertex_of_input made (false: left empty, for a caller that
+  // does not need it; encode() given its plan to keep then frees the plan's
+  // map from input points once it is read no more, 4 bytes an input point).
+  bool vertex_of_input = true;
   // How the exact cells are coded: kAmongCandidates writes 11.0,
   // kAmongFitting 12.0, kAmongFittingInContext 13.0, which older decoders
   // read, at more bits (StreamOptions).
@@ -333,6 +337,11 @@ StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& opti
 // points on the grid: `input.points` is read no more (and may be empty), so
 // a caller may free them before reading what remains of the input.
 StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, const EncodePlan& plan,
+                             const LevelReady& on_level = {});
+// The same, handed the plan: with options.vertex_of_input false, its map
+// from input points (plan.quantized.input_to_point) is freed once read, before
+// the levels are built.
+StatusOr<EncodedMesh> encode(const EncodeInput& input, const EncodeOptions& options, EncodePlan&& plan,
                              const LevelReady& on_level = {});
 
 }  // namespace dtm

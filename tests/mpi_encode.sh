@@ -38,6 +38,13 @@ for p in 1 2 4; do
     if grep -q "each run again" "$work/report$p"; then echo "blocks run again"; failed=1; fi
   fi
 done
+# The .ele's tetrahedra sent to the ranks that hold them in pieces of 1000
+# (each rank sends and receives several, a piece to each rank at a time):
+# the same bytes.
+mkdir -p "$work/pieces"
+DTM_MPI_PIECE=1000 mpirun --oversubscribe "${as_root[@]}" -x DTM_MPI_PIECE -n 3 "$meshenc" \
+  "$data/bunny_10k.node" "${options[@]}" -q -o "$work/pieces/b.dtm"
+cmp -s "$work/one.dtm" "$work/pieces/b.dtm" || { echo "mpirun -n 3, the .ele sent in pieces: not the same bytes"; failed=1; }
 # An MPI without threads (asked for as one): the ranks answer each other in
 # their exchanges, blocks run again, and the bytes are the same.
 mkdir -p "$work/funneled"

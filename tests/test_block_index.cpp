@@ -1,5 +1,5 @@
 // The bricked encoder's searches by place (codec/blocks/block_levels.h):
-// MortonIndex::inside and TriangleIndex::meeting against a scan of every
+// MortonIndex::inside and between, TriangleIndex::meeting against a scan of every
 // point and triangle, and cell_hash_sum against one cell's hash at a time,
 // on 1, 2 and 3 threads. Their scans and sorts run on every core; what they
 // return (the level's bytes depend on it) must not. And parts_near, the
@@ -68,6 +68,50 @@ TEST(BlockIndex, InsideIsEveryPointOfTheLevelInTheBoxAscendingOnAnyNumberOfThrea
           if (level_of[id] >= level && box.contains(points[id])) expected.push_back(id);
         EXPECT_EQ(index.inside(box, level_of, level), expected) << threads << " threads, level " << level;
       }
+  }
+}
+
+// A brick's points (the stream writer's): between() is the level's codes
+// in the range, in order, with their ids, for any range, an octree node's
+// or not, empty or past every point.
+TEST(BlockIndex, BetweenIsTheLevelsCodesInTheRangeAscendingWithTheirIds) {
+  std::mt19937 random(11);
+  const std::vector<GridPoint> points = index_points(20000, random);
+  std::vector<uint8_t> level_of(points.size());
+  for (uint8_t& l : level_of) l = static_cast<uint8_t>(random() % 4);
+  const MortonIndex index(points, kIndexQBits);
+  const MortonCode end = MortonCode{1} << (3 * kIndexQBits);
+  for (int level = 0; level < 5; ++level) {
+    std::vector<MortonCode> all;
+    std::vector<uint32_t> all_ids;
+    index.level(level_of, level, all, &all_ids);
+    std::vector<std::pair<MortonCode, MortonCode>> ranges = {{0, end}, {0, 0}, {end, end + 5}, {5, 3}};
+    for (int depth = 1; depth <= 3; ++depth)  // octree nodes, as bricks are
+      for (int k = 0; k < 6; ++k) {
+        const MortonCode node = random() % (uint64_t{1} << (3 * depth));
+        const int shift = 3 * (kIndexQBits - depth);
+        ranges.push_back({node << shift, (node + 1) << shift});
+      }
+    for (int k = 0; k < 6; ++k) {
+      const MortonCode a = random() % static_cast<uint64_t>(end), b = random() % static_cast<uint64_t>(end);
+      ranges.push_back({std::min(a, b), std::max(a, b)});
+    }
+    for (const auto& [first, last] : ranges) {
+      std::vector<MortonCode> expected;
+      std::vector<uint32_t> expected_ids;
+      for (size_t i = 0; i < all.size(); ++i)
+        if (all[i] >= first && all[i] < last) expected.push_back(all[i]), expected_ids.push_back(all_ids[i]);
+      std::vector<MortonCode> codes = {7};  // replaced, not added to
+      std::vector<uint32_t> ids = {7};
+      index.between(first, last, level_of, level, codes, &ids);
+      EXPECT_EQ(codes, expected);
+      EXPECT_EQ(ids, expected_ids);
+      index.between(first, last, level_of, level, codes);
+      EXPECT_EQ(codes, expected);
+      if (first == 0 && last == end) {
+        EXPECT_EQ(codes.size(), all.size());
+      }
+    }
   }
 }
 

@@ -407,6 +407,39 @@ TEST(BrickedStream, ALevelAnalysedFromItsBuildGivesTheBytesOfOneMadeAgain) {
   EXPECT_TRUE(reused->bytes == made->bytes);
 }
 
+// A caller that wants no vertex_of_input (meshenc) gets the same bytes
+// without it; handed its plan, the encoder frees the plan's map from input
+// points (4 bytes an input point held while the levels are built). Bricked
+// and whole levels, with and without values.
+TEST(BrickedStream, WithoutVertexOfInputTheSameBytesAndThePlansMapFreed) {
+  const InputMesh in = read_input(test::data_path("bunny_10k.node"));
+  std::vector<double> height(in.points.size());
+  for (size_t i = 0; i < height.size(); ++i) height[i] = in.points[i].z;
+  for (const bool bricks : {true, false})
+    for (const bool with_values : {false, true}) {
+      EncodeInput input;
+      input.points = in.points;
+      input.tetrahedra = in.tets;
+      const std::vector<EncodeInput::Field> fields = {{"height", ValueType::kF64, 1, height}};
+      if (with_values) input.fields = fields;
+      EncodeOptions options = bricked_options(64, 2000);
+      options.bricks = bricks;
+      StatusOr<EncodePlan> plan = plan_encoding(input, options);
+      ASSERT_TRUE(plan.ok()) << plan.status().message();
+      const auto kept = encode(input, options, *plan);  // the plan kept
+      ASSERT_TRUE(kept.ok()) << kept.status().message();
+      EXPECT_EQ(kept->vertex_of_input.size(), in.points.size());
+      EXPECT_EQ(plan->quantized.input_to_point.size(), in.points.size());
+      options.vertex_of_input = false;
+      const auto without = encode(input, options, std::move(*plan));
+      ASSERT_TRUE(without.ok()) << without.status().message();
+      EXPECT_TRUE(without->bytes == kept->bytes) << bricks << with_values;
+      EXPECT_TRUE(without->vertex_of_input.empty());
+      EXPECT_EQ(without->report.input_points, in.points.size());
+      EXPECT_TRUE(plan->quantized.input_to_point.empty());  // NOLINT(bugprone-use-after-move): freed, as said
+    }
+}
+
 // Every level within D_max of the input's boundary both ways, measured on
 // the decoded levels against the whole input (not block by block): the
 // checks the blocks make at their own places add up to the whole level's,

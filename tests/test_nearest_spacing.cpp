@@ -1,6 +1,7 @@
 // NearestSpacing (core/nearest_spacing.h), a bricked level's alpha, against
 // every pair: clustered points, a lone far point (many rings out), points
-// on one plane (cells far from cubic) and coordinates at the grid's edge.
+// on one plane (cells far from cubic) and coordinates at the grid's edge;
+// and points on a line across the grid, more cells than 8 bytes hold.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -66,6 +67,22 @@ TEST(NearestSpacing, EqualsTheNearestOfEveryPair) {
     const NearestSpacing nearest(sets[s]);
     for (size_t i = 0; i < sets[s].size(); ++i)
       ASSERT_EQ(nearest.nearest(i), brute_force(sets[s], i)) << "set " << s << ", point " << i;
+  }
+  {
+    // Points on a line across the whole 24-bit grid, 8 apart give or take
+    // 3: cells too many to pack in 8 bytes (2^21 a side), sorted by the
+    // whole cell instead. The nearest on a line is a neighbour in x.
+    std::vector<int32_t> xs;
+    for (int32_t k = 0; k < (1 << 21); ++k) xs.push_back(8 * k + (k * 7) % 4);
+    std::vector<GridPoint> line;
+    for (int32_t x : xs) line.push_back({x, 0, 0});
+    const NearestSpacing nearest(line);
+    for (size_t i = 0; i < line.size(); i += 997) {
+      int64_t best = std::numeric_limits<int64_t>::max();
+      if (i > 0) best = std::min<int64_t>(best, xs[i] - xs[i - 1]);
+      if (i + 1 < xs.size()) best = std::min<int64_t>(best, xs[i + 1] - xs[i]);
+      ASSERT_EQ(nearest.nearest(i), static_cast<double>(best)) << "line point " << i;
+    }
   }
   // A subset named by ids (a level's points among the grid's), in any order.
   const std::vector<GridPoint>& all = sets[0];

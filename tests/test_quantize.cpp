@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -48,6 +49,35 @@ TEST(Quantize, DuplicatesAreMergedAndCounted) {
   EXPECT_EQ(q.input_to_point[0], q.input_to_point[2]);
   EXPECT_EQ(q.input_to_point[1], q.input_to_point[3]);
   EXPECT_NE(q.input_to_point[0], q.input_to_point[4]);
+}
+
+// The grid points are the input's cells, distinct and ascending, each one
+// some input point's, and each input point names its own cell: with most
+// points merged, in an order the sort must undo.
+TEST(Quantize, PointsAreTheDistinctCellsAscendingEachInputNamingItsOwn) {
+  std::vector<InputPoint> in;
+  for (int i = 0; i < 20000; ++i)
+    in.push_back({std::sin(i * 7.1) * 3, std::cos(i * 1.3), (i * 37 % 1000) * 0.001});
+  for (int bits : {3, 6, 14}) {
+    const auto q = quantize(in, bits).value();
+    EXPECT_EQ(q.points.size() + q.duplicates_merged, in.size());
+    if (bits == 3) {
+      EXPECT_GT(q.duplicates_merged, in.size() / 2);
+    }
+    for (size_t k = 1; k < q.points.size(); ++k) ASSERT_LT(q.points[k - 1], q.points[k]) << k;
+    std::vector<uint8_t> named(q.points.size(), 0);
+    ASSERT_EQ(q.input_to_point.size(), in.size());
+    for (size_t i = 0; i < in.size(); ++i) {
+      const uint32_t p = q.input_to_point[i];
+      ASSERT_LT(p, q.points.size());
+      named[p] = 1;
+      const InputPoint back = q.grid.to_input(q.points[p]);
+      EXPECT_LE(std::abs(back.x - in[i].x), q.grid.step * 0.5 + 1e-12) << i;
+      EXPECT_LE(std::abs(back.y - in[i].y), q.grid.step * 0.5 + 1e-12) << i;
+      EXPECT_LE(std::abs(back.z - in[i].z), q.grid.step * 0.5 + 1e-12) << i;
+    }
+    EXPECT_EQ(std::count(named.begin(), named.end(), 0), 0);
+  }
 }
 
 TEST(Quantize, RoundTripErrorIsHalfAStep) {

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <map>
@@ -76,7 +77,13 @@ struct Command {
   int threads = 0;                        // --threads; 0: the process's share of its cores
   std::vector<std::string> field_errors;  // NAME=E
   dtm::VolumeOptions volume;
-  dtm::EncodeOptions encode;
+  // meshenc writes the stream alone: no caller of its wants each input
+  // point's vertex, and the encoder frees its map from input points early.
+  dtm::EncodeOptions encode = [] {
+    dtm::EncodeOptions o;
+    o.vertex_of_input = false;
+    return o;
+  }();
 };
 
 // --alpha paper|hull|VALUE into the options.
@@ -261,11 +268,7 @@ void agree_on_errors(dtm::MpiSession& mpi, const std::string& problem) {
 // Every rank's part of `values` (trivially copyable), joined in rank order.
 template <class T>
 std::vector<T> joined(dtm::MpiSession& mpi, const std::vector<T>& values) {
-  const std::vector<uint8_t> all = mpi.all_gather_joined(
-      {reinterpret_cast<const uint8_t*>(values.data()), values.size() * sizeof(T)}, sizeof(T));
-  std::vector<T> out(all.size() / sizeof(T));
-  std::memcpy(out.data(), all.data(), out.size() * sizeof(T));
-  return out;
+  return mpi.all_gather_of(std::span<const T>(values));
 }
 
 // Under mpirun, a TetGen .node read in parts: each rank parses its range of
@@ -386,11 +389,18 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
     for (size_t p = first; p < last; ++p)
       rank_of[p] = static_cast<uint32_t>(share.rank_of(static_cast<uint32_t>(p)));
   });
-  std::vector<std::vector<uint8_t>> to(static_cast<size_t>(mpi.size()));
+  // What goes to each rank, in pieces of a size (grown by doubling, a
+  // rank's share was held up to twice, and three times while copied),
+  // sent a piece at a time. DTM_MPI_PIECE sets the tetrahedra a piece
+  // (tests/mpi_encode.sh: many pieces of a small input).
+  size_t piece = size_t{1} << 16;  // tetrahedra: 1 MiB
+  if (const char* e = std::getenv("DTM_MPI_PIECE"); e && std::atoll(e) > 0)
+    piece = static_cast<size_t>(std::atoll(e));
+  std::vector<std::vector<std::vector<Tet>>> to(static_cast<size_t>(mpi.size()));
   const auto send = [&](uint32_t rank, const Tet& t) {
-    auto& bytes = to[rank];
-    bytes.resize(bytes.size() + sizeof t);
-    std::memcpy(bytes.data() + bytes.size() - sizeof t, t.data(), sizeof t);
+    auto& pieces = to[rank];
+    if (pieces.empty() || pieces.back().size() == piece) pieces.emplace_back().reserve(piece);
+    pieces.back().push_back(t);
   };
   // A block of the part: each tetrahedron's ranks found on every core, then
   // the tetrahedra put in order in what goes to each rank.
@@ -433,10 +443,9 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
     throw dtm::FormatError(in.tetgen_ele + ": unexpected data after the " +
                            std::to_string(counts.header_count) + " tetrahedra (the file holds " +
                            std::to_string(total) + ")");
-  const std::vector<uint8_t> held = mpi.all_to_all(std::move(to));
-  std::vector<Tet> out(held.size() / sizeof(Tet));
-  std::memcpy(out.data(), held.data(), out.size() * sizeof(Tet));
-  return out;
+  // Each point's rank is read no more: not held while the pieces are sent.
+  dtm::release(rank_of);
+  return mpi.all_to_all_in_pieces(std::move(to), piece);
 }
 
 // Under mpirun, on 2 ranks or more: the input's tetrahedra this rank holds

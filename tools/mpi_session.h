@@ -7,9 +7,12 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <functional>
 #include <memory>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -100,83 +103,110 @@ class MpiSession : public RankExchange {
   // them in all, 48 GiB of 24-byte points.
   std::vector<uint8_t> all_gather_joined(std::span<const uint8_t> mine, size_t element_bytes = 1,
                                          std::vector<size_t>* sizes = nullptr) const {
-#ifdef DTM_WITH_MPI
-    if (active_) {
-      const size_t elements = mine.size() / element_bytes;
-      if (elements * element_bytes != mine.size()) throw std::logic_error("MPI: not whole elements");
-      if (elements > static_cast<size_t>(INT32_MAX))
-        throw std::runtime_error("MPI: over 2^31 elements from one rank");
-      const int count = static_cast<int>(elements);
-      std::vector<int> counts(static_cast<size_t>(size_)), offsets(static_cast<size_t>(size_), 0);
-      MPI_Request request = MPI_REQUEST_NULL;
-      MPI_Iallgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request);
-      wait_for(request);
-      size_t total = 0;
-      for (int r = 0; r < size_; ++r) {
-        if (total > static_cast<size_t>(INT32_MAX))
-          throw std::runtime_error("MPI: over 2^31 elements gathered");
-        offsets[static_cast<size_t>(r)] = static_cast<int>(total);
-        total += static_cast<size_t>(counts[static_cast<size_t>(r)]);
-      }
-      if (total > static_cast<size_t>(INT32_MAX))
-        throw std::runtime_error("MPI: over 2^31 elements gathered");
-      MPI_Datatype type = MPI_BYTE;
-      if (element_bytes > 1) {
-        MPI_Type_contiguous(static_cast<int>(element_bytes), MPI_BYTE, &type);
-        MPI_Type_commit(&type);
-      }
-      std::vector<uint8_t> all(total * element_bytes);
-      MPI_Iallgatherv(mine.data(), count, type, all.data(), counts.data(), offsets.data(), type,
-                      MPI_COMM_WORLD, &request);
-      wait_for(request);
-      if (element_bytes > 1) MPI_Type_free(&type);
-      if (sizes) {
-        sizes->resize(counts.size());
-        for (size_t r = 0; r < counts.size(); ++r)
-          (*sizes)[r] = static_cast<size_t>(counts[r]) * element_bytes;
-      }
-      return all;
-    }
-#endif
-    (void)element_bytes;
-    if (sizes) *sizes = {mine.size()};
-    return {mine.begin(), mine.end()};
+    std::vector<uint8_t> all;
+    gather_joined(
+        mine, element_bytes,
+        [&](size_t elements) {
+          all.resize(elements * element_bytes);
+          return all.data();
+        },
+        sizes);
+    return all;
   }
-  // Every rank's to_each[r] goes to rank r; returns what the ranks sent
-  // this one, joined in rank order (each part at most 2 GiB). Sent from
-  // to_each itself, point to point, so that nothing is copied to be sent.
-  std::vector<uint8_t> all_to_all(std::vector<std::vector<uint8_t>> to_each) const {
+  // The same of values (trivially copyable), gathered into the vector
+  // returned: no second copy of them all to convert the bytes.
+  template <class T>
+  std::vector<T> all_gather_of(std::span<const T> mine) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::vector<T> all;
+    gather_joined(
+        {reinterpret_cast<const uint8_t*>(mine.data()), mine.size_bytes()}, sizeof(T),
+        [&](size_t elements) {
+          all.resize(elements);
+          return reinterpret_cast<uint8_t*>(all.data());
+        },
+        nullptr);
+    return all;
+  }
+  // Every rank's pieces_to[r] go to rank r, each piece `piece` values
+  // (trivially copyable) but the last; returns what the ranks sent this
+  // one, joined in rank order, each rank's pieces in order. Sent a piece to
+  // each rank at a time, each freed once sent, and received into a part
+  // per rank joined at the end, each part freed once joined: a rank holds
+  // about what it sends or what it receives, not both (a TetGen .ele's
+  // tetrahedra, sent to the ranks that hold them, are most of the memory
+  // of reading it).
+  template <class T>
+  std::vector<T> all_to_all_in_pieces(std::vector<std::vector<std::vector<T>>> pieces_to,
+                                      size_t piece) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (piece == 0 || piece * sizeof(T) > static_cast<size_t>(INT32_MAX))
+      throw std::logic_error("MPI: a piece of no values or over 2 GiB");
+    for (const auto& pieces : pieces_to)
+      for (size_t k = 0; k + 1 < pieces.size(); ++k)
+        if (pieces[k].size() != piece) throw std::logic_error("MPI: a piece short of its size");
 #ifdef DTM_WITH_MPI
     if (active_) {
       const auto n = static_cast<size_t>(size_);
-      std::vector<int> sizes(n), counts(n);
-      for (size_t r = 0; r < n; ++r) {
-        if (to_each[r].size() > static_cast<size_t>(INT32_MAX))
-          throw std::runtime_error("MPI: over 2 GiB to one rank");
-        sizes[r] = static_cast<int>(to_each[r].size());
-      }
+      if (pieces_to.size() != n) throw std::logic_error("MPI: pieces for another number of ranks");
+      // How many values each rank sends this one, and in how many pieces.
+      std::vector<uint64_t> sending(n, 0), coming(n, 0);
+      for (size_t r = 0; r < n; ++r)
+        for (const auto& p : pieces_to[r]) sending[r] += p.size();
       MPI_Request request = MPI_REQUEST_NULL;
-      MPI_Ialltoall(sizes.data(), 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request);
+      MPI_Ialltoall(sending.data(), 1, MPI_UINT64_T, coming.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD,
+                    &request);
       wait_for(request);
-      size_t total = 0;
-      for (int c : counts) total += static_cast<size_t>(c);
-      std::vector<uint8_t> all(total);
+      const auto pieces_of = [piece](uint64_t values) {
+        return static_cast<size_t>((values + piece - 1) / piece);
+      };
+      uint64_t rounds = 0;
+      for (size_t r = 0; r < n; ++r)
+        rounds = std::max<uint64_t>(rounds, std::max(pieces_of(sending[r]), pieces_of(coming[r])));
+      MPI_Iallreduce(MPI_IN_PLACE, &rounds, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD, &request);
+      wait_for(request);
+      std::vector<std::vector<T>> from(n);
+      for (size_t r = 0; r < n; ++r) from[r].reserve(coming[r]);  // room, not memory, until received
+      std::vector<std::vector<T>> landing(n);
       std::vector<MPI_Request> requests(2 * n, MPI_REQUEST_NULL);
-      constexpr int kTag = 7;
-      for (size_t r = 0, at = 0; r < n; at += static_cast<size_t>(counts[r]), ++r) {
-        if (counts[r] > 0)
-          MPI_Irecv(all.data() + at, counts[r], MPI_BYTE, static_cast<int>(r), kTag, MPI_COMM_WORLD,
-                    &requests[r]);
-        if (sizes[r] > 0)
-          MPI_Isend(to_each[r].data(), sizes[r], MPI_BYTE, static_cast<int>(r), kTag, MPI_COMM_WORLD,
-                    &requests[n + r]);
+      constexpr int kTag = 8;
+      for (size_t k = 0; k < rounds; ++k) {
+        for (size_t r = 0; r < n; ++r) {
+          const uint64_t left = coming[r] - std::min<uint64_t>(coming[r], k * piece);
+          if (left > 0) {
+            landing[r].resize(static_cast<size_t>(std::min<uint64_t>(left, piece)));
+            MPI_Irecv(landing[r].data(), static_cast<int>(landing[r].size() * sizeof(T)), MPI_BYTE,
+                      static_cast<int>(r), kTag, MPI_COMM_WORLD, &requests[r]);
+          }
+          if (k < pieces_to[r].size() && !pieces_to[r][k].empty())
+            MPI_Isend(pieces_to[r][k].data(), static_cast<int>(pieces_to[r][k].size() * sizeof(T)), MPI_BYTE,
+                      static_cast<int>(r), kTag, MPI_COMM_WORLD, &requests[n + r]);
+        }
+        for (MPI_Request& q : requests)
+          if (q != MPI_REQUEST_NULL) wait_for(q);
+        for (size_t r = 0; r < n; ++r) {
+          if (k * piece < coming[r]) from[r].insert(from[r].end(), landing[r].begin(), landing[r].end());
+          if (k < pieces_to[r].size()) std::vector<T>().swap(pieces_to[r][k]);
+        }
       }
-      for (MPI_Request& r : requests)
-        if (r != MPI_REQUEST_NULL) wait_for(r);
+      uint64_t total = 0;
+      for (uint64_t c : coming) total += c;
+      std::vector<T> all;
+      all.reserve(total);
+      for (auto& part : from) {
+        all.insert(all.end(), part.begin(), part.end());
+        std::vector<T>().swap(part);
+      }
       return all;
     }
 #endif
-    return to_each.empty() ? std::vector<uint8_t>{} : std::move(to_each[0]);
+    std::vector<T> all;
+    for (auto& pieces : pieces_to)
+      for (auto& p : pieces) {
+        all.insert(all.end(), p.begin(), p.end());
+        std::vector<T>().swap(p);
+      }
+    return all;
   }
   // A thread that answers the other ranks, where MPI lets several threads
   // call it (MPI_THREAD_MULTIPLE); else nullptr.
@@ -215,6 +245,54 @@ class MpiSession : public RankExchange {
   }
 
  private:
+  // all_gather_joined()'s work: every rank's elements gathered at
+  // room(total elements), in rank order.
+  void gather_joined(std::span<const uint8_t> mine, size_t element_bytes,
+                     const std::function<uint8_t*(size_t)>& room, std::vector<size_t>* sizes) const {
+    const size_t elements = mine.size() / element_bytes;
+    if (elements * element_bytes != mine.size()) throw std::logic_error("MPI: not whole elements");
+#ifdef DTM_WITH_MPI
+    if (active_) {
+      if (elements > static_cast<size_t>(INT32_MAX))
+        throw std::runtime_error("MPI: over 2^31 elements from one rank");
+      const int count = static_cast<int>(elements);
+      std::vector<int> counts(static_cast<size_t>(size_)), offsets(static_cast<size_t>(size_), 0);
+      MPI_Request request = MPI_REQUEST_NULL;
+      MPI_Iallgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request);
+      wait_for(request);
+      size_t total = 0;
+      for (int r = 0; r < size_; ++r) {
+        if (total > static_cast<size_t>(INT32_MAX))
+          throw std::runtime_error("MPI: over 2^31 elements gathered");
+        offsets[static_cast<size_t>(r)] = static_cast<int>(total);
+        total += static_cast<size_t>(counts[static_cast<size_t>(r)]);
+      }
+      if (total > static_cast<size_t>(INT32_MAX))
+        throw std::runtime_error("MPI: over 2^31 elements gathered");
+      MPI_Datatype type = MPI_BYTE;
+      if (element_bytes > 1) {
+        MPI_Type_contiguous(static_cast<int>(element_bytes), MPI_BYTE, &type);
+        MPI_Type_commit(&type);
+      }
+      uint8_t* all = room(total);
+      MPI_Iallgatherv(mine.data(), count, type, all, counts.data(), offsets.data(), type, MPI_COMM_WORLD,
+                      &request);
+      wait_for(request);
+      if (element_bytes > 1) MPI_Type_free(&type);
+      if (sizes) {
+        sizes->resize(counts.size());
+        for (size_t r = 0; r < counts.size(); ++r)
+          (*sizes)[r] = static_cast<size_t>(counts[r]) * element_bytes;
+      }
+      return;
+    }
+#endif
+    if (elements > 0)
+      std::memcpy(room(elements), mine.data(), mine.size());
+    else
+      room(0);
+    if (sizes) *sizes = {mine.size()};
+  }
 #ifdef DTM_WITH_MPI
   // This rank's share of its node's cores, and the ranks it shares them
   // with.

@@ -78,14 +78,22 @@ bool owns(const GridBox& owned, std::span<const GridPoint> points, const std::ar
 }  // namespace
 
 MortonIndex::MortonIndex(std::span<const GridPoint> points, int qbits) : qbits_(qbits), points_(points) {
-  // The codes for the sort only: 12 bytes a point while sorting, 4 after
-  // (the codes and ids of every point were 16 while sorting, then 12).
-  std::vector<MortonCode> codes(points.size());
-  for (uint32_t i = 0; i < points.size(); ++i) codes[i] = morton_encode(points[i], qbits);
+  // The codes for the sort only, in 8 bytes where they fit (3 qbits of 64:
+  // a code takes 16), 4 bytes a point after.
   ids_.resize(points.size());
   std::iota(ids_.begin(), ids_.end(), 0u);
-  std::sort(ids_.begin(), ids_.end(),
-            [&](uint32_t a, uint32_t b) { return codes[a] != codes[b] ? codes[a] < codes[b] : a < b; });
+  const auto sort_by = [&](auto code_type) {
+    using Code = decltype(code_type);
+    std::vector<Code> codes(points.size());
+    for (uint32_t i = 0; i < points.size(); ++i)
+      codes[i] = static_cast<Code>(morton_encode(points[i], qbits));
+    std::sort(ids_.begin(), ids_.end(),
+              [&](uint32_t a, uint32_t b) { return codes[a] != codes[b] ? codes[a] < codes[b] : a < b; });
+  };
+  if (3 * qbits <= 64)
+    sort_by(uint64_t{});
+  else
+    sort_by(MortonCode{});
 }
 
 std::vector<uint32_t> MortonIndex::inside(const GridBox& box, std::span<const uint8_t> level_of,
@@ -112,6 +120,22 @@ std::vector<uint32_t> MortonIndex::inside(const GridBox& box, std::span<const ui
       });
   parallel_sort(out.begin(), out.end());
   return out;
+}
+
+void MortonIndex::between(MortonCode first, MortonCode last, std::span<const uint8_t> level_of, int level,
+                          std::vector<MortonCode>& codes, std::vector<uint32_t>* ids) const {
+  codes.clear();
+  if (ids) ids->clear();
+  const auto at = [&](MortonCode code) {
+    return std::lower_bound(ids_.begin(), ids_.end(), code,
+                            [&](uint32_t id, MortonCode c) { return code_of(id) < c; });
+  };
+  const auto end = at(last);
+  for (auto i = at(first); i != end; ++i)
+    if (level_of[*i] >= level) {
+      codes.push_back(code_of(*i));
+      if (ids) ids->push_back(*i);
+    }
 }
 
 void MortonIndex::level(std::span<const uint8_t> level_of, int level, std::vector<MortonCode>& codes,

@@ -58,6 +58,11 @@ class MortonIndex {
              std::vector<uint32_t>* ids = nullptr) const;
   // Their ids alone (a code takes 16 bytes, an id 4).
   std::vector<uint32_t> level_ids(std::span<const uint8_t> level_of, int level) const;
+  // The codes in [first, last) of the points with level_of >= level,
+  // ascending, and their ids in that order (a brick's points, found by two
+  // binary searches, not held for the whole level).
+  void between(MortonCode first, MortonCode last, std::span<const uint8_t> level_of, int level,
+               std::vector<MortonCode>& codes, std::vector<uint32_t>* ids = nullptr) const;
   int qbits() const { return qbits_; }
 
  private:

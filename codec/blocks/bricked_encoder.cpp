@@ -268,6 +268,9 @@ StatusOr<double> BrickedEncoder::level_alpha(std::span<const uint32_t> ids, cons
 
 Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
                                const BlockAnalysisOptions& options, std::vector<BlockAnalysis>& out) {
+  // What `out` held (the finer level's blocks, their choices and surfaces)
+  // is not held while these blocks work.
+  release(out);
   Status status = Status::Ok();
   auto results = reference_.run_carving(
       plan,
@@ -676,6 +679,15 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
     if (!base.empty()) levels[coarsest].carving[0] = std::move(base);
   }
   levels[coarsest].brick_depth = 0;
+  // No block carves any more: the reference (this rank's part of the solid,
+  // the boundary's index, and the whole boundary where a level of one block
+  // was built here) and the finest surface's record are not held while the
+  // stream is written.
+  reference_.release_all();
+  release(record_.triangles);
+  release(record_.vertices);
+  release(record_.reference_squared);
+  release(reference_squared_);
   BrickedStreamInput stream;
   stream.points = in_.points;
   stream.grid = in_.grid;
@@ -684,6 +696,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   stream.values = in_.values;
   stream.index = &index_;
   stream.level_of = level_of_;
+  stream.decode_order = o_.decode_order;
   stream.exchange = &x_;
   stream.on_phase = h.on_phase;
   DTM_ASSIGN_OR_RETURN(BrickedEncoding encoding, write_bricked_stream(stream, levels));
@@ -767,6 +780,7 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
     last_ = h.stop_when_boundary_is_final && removed_boundary == 0;
     for (uint32_t id : ids)
       if (coarser_[id]) level_of_[id] = static_cast<uint8_t>(level + 1);
+    release(coarser_);  // level_of_ says it now
     return true;
   }
   held_.reset();

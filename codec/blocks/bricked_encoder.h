@@ -61,6 +61,9 @@ struct BrickedEncodeOptions {
   // A level built in one block is analysed from the build's
   // tetrahedralization (the same stream; false, for tests: made again).
   bool reuse_build_mesh = true;
+  // BrickedEncoding::decode_order made (false: left empty, 4 bytes a point
+  // less while the finest layer is written).
+  bool decode_order = true;
   // The ranks of the run; nullptr: this process alone.
   RankExchange* exchange = nullptr;
 };

@@ -39,25 +39,36 @@ class LayerWriter {
 
  private:
   // The bricks' payloads, made by the ranks in turn.
-  Status payloads(const BlockPlan& plan, std::span<const GridPoint> fresh, const LayerBricks& b,
+  Status payloads(int level, const BlockPlan& plan, std::span<const GridPoint> fresh, const LayerBricks& b,
                   std::vector<std::vector<uint8_t>>& out);
   // Their values, each chunk's from the coarser levels' in its brick.
-  Status values(int level, const BlockPlan& plan, std::span<const uint32_t> ids,
+  // `fresh_ids`: the new points' grid ids.
+  Status values(int level, const BlockPlan& plan, std::span<const uint32_t> fresh_ids,
                 std::span<const GridPoint> fresh, const LayerBricks& b,
                 std::vector<std::vector<uint8_t>>& out);
+  // V_{l+1} in brick k's box, ascending (the points a chunk of layer l is
+  // coded against), and their ids if asked: found in the index for each
+  // brick rather than held for the level (16 bytes a code: level 1's were
+  // the largest thing a rank held while level 0's bricks were coded).
+  void coarser_in(int level, const LayerBricks& b, size_t k, std::vector<MortonCode>& codes,
+                  std::vector<uint32_t>* ids) const {
+    const int shift = 3 * (q_ - depth_);
+    in_.index->between(MortonCode{b.bricks[k]} << shift, MortonCode{b.bricks[k] + 1} << shift, in_.level_of,
+                       level + 1, codes, ids);
+  }
 
   const BrickedStreamInput& in_;
   BrickedEncoding& out_;
   int q_;
   RankExchange& x_;
-  SetCoderModels models_;          // as the base layer leaves them
-  std::vector<MortonCode> known_;  // V_{l+1}, ascending
-  int depth_ = 0;                  // the layer's brick depth
+  SetCoderModels models_;  // as the base layer leaves them
+  bool base_ = true;       // the next layer written is the base layer
+  int depth_ = 0;          // the layer's brick depth
 };
 
-Status LayerWriter::payloads(const BlockPlan& plan, std::span<const GridPoint> fresh, const LayerBricks& b,
-                             std::vector<std::vector<uint8_t>>& out) {
-  if (known_.empty()) {  // the base layer: one chunk, the stream's models
+Status LayerWriter::payloads(int level, const BlockPlan& plan, std::span<const GridPoint> fresh,
+                             const LayerBricks& b, std::vector<std::vector<uint8_t>>& out) {
+  if (base_) {  // the base layer: one chunk, the stream's models
     out.assign(1, encode_point_set({}, fresh, q_, models_, brick_node(0, q_, 0)));
     return Status::Ok();
   }
@@ -65,41 +76,32 @@ Status LayerWriter::payloads(const BlockPlan& plan, std::span<const GridPoint> f
   out = run_blocks(
       plan, x_,
       [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
-        return encode_chunk_points(fresh.subspan(b.first[k], b.first[k + 1] - b.first[k]), known_,
-                                   b.bricks[k], q_, depth_, models_);
+        std::vector<MortonCode> known;
+        coarser_in(level, b, k, known, nullptr);
+        return encode_chunk_points(fresh.subspan(b.first[k], b.first[k + 1] - b.first[k]), known, b.bricks[k],
+                                   q_, depth_, models_);
       },
       status);
   return status;
 }
 
-Status LayerWriter::values(int level, const BlockPlan& plan, std::span<const uint32_t> ids,
+Status LayerWriter::values(int level, const BlockPlan& plan, std::span<const uint32_t> fresh_ids,
                            std::span<const GridPoint> fresh, const LayerBricks& b,
                            std::vector<std::vector<uint8_t>>& out) {
   out.assign(b.bricks.size(), {});
   if (!in_.values) return Status::Ok();
-  std::vector<uint32_t> coarser_ids;  // V_{l+1} in Morton order, as `known_`
-  std::vector<GridPoint> coarser_points;
-  std::vector<uint32_t> fresh_ids;
-  for (uint32_t id : ids)
-    if (in_.level_of[id] > level)
-      coarser_ids.push_back(id), coarser_points.push_back(in_.points[id]);
-    else if (in_.level_of[id] == level)
-      fresh_ids.push_back(id);
   Status status = Status::Ok();
   const auto coded = run_blocks(
       plan, x_,
       [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
-        const int shift = 3 * (q_ - depth_);
-        const auto lo = std::lower_bound(known_.begin(), known_.end(), MortonCode{b.bricks[k]} << shift);
-        const auto hi = std::lower_bound(known_.begin(), known_.end(), MortonCode{b.bricks[k] + 1} << shift);
-        const size_t from = static_cast<size_t>(lo - known_.begin()),
-                     to = static_cast<size_t>(hi - known_.begin());
+        std::vector<MortonCode> codes;
+        std::vector<uint32_t> coarser_ids;  // V_{l+1} in the brick, in Morton order
+        if (!base_) coarser_in(level, b, k, codes, &coarser_ids);
+        const std::vector<GridPoint> coarser_points = gather(in_.points, coarser_ids);
         std::vector<uint64_t> field_bytes;
-        const std::vector<uint8_t> section =
-            in_.values->encode_chunk(std::span(coarser_ids).subspan(from, to - from),
-                                     std::span(coarser_points).subspan(from, to - from),
-                                     std::span(fresh_ids).subspan(b.first[k], b.first[k + 1] - b.first[k]),
-                                     fresh.subspan(b.first[k], b.first[k + 1] - b.first[k]), field_bytes);
+        const std::vector<uint8_t> section = in_.values->encode_chunk(
+            coarser_ids, coarser_points, fresh_ids.subspan(b.first[k], b.first[k + 1] - b.first[k]),
+            fresh.subspan(b.first[k], b.first[k + 1] - b.first[k]), field_bytes);
         ByteWriter w;
         put(w, std::span<const uint8_t>(section));
         w.u64(field_bytes.size());
@@ -124,24 +126,29 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   const auto l = static_cast<size_t>(level);
   const int depth = depth_ = lo.brick_depth;
   // The layer's points in Morton order (their codes are not kept: at
-  // level 0 they were the largest thing every rank held).
+  // level 0 they were the largest thing every rank held), and their ids
+  // where the values or the decode order need them.
   std::vector<uint32_t> ids = in_.index->level_ids(in_.level_of, level);
-  std::vector<GridPoint> fresh;
+  const size_t level_vertices = ids.size();
   // (Made to size, as the decode order: grown by doubling, level 0's
   // would be held up to three times over while copied.)
   size_t new_points = 0;
   for (uint32_t id : ids) new_points += in_.level_of[id] == level;
+  std::vector<GridPoint> fresh;
+  std::vector<uint32_t> fresh_ids;
+  const bool with_ids = in_.values || in_.decode_order;
   fresh.reserve(new_points);
-  if (out_.decode_order.capacity() < in_.points.size()) out_.decode_order.reserve(in_.points.size());
+  if (with_ids) fresh_ids.reserve(new_points);
   for (uint32_t id : ids)
     if (in_.level_of[id] == level) {
       fresh.push_back(in_.points[id]);
-      out_.decode_order.push_back(id);
+      if (with_ids) fresh_ids.push_back(id);
     }
-  // Without values the level's ids are read no more: not held while the
-  // bricks are coded (4 bytes a vertex of the level).
-  const size_t level_vertices = ids.size();
-  if (!in_.values) release(ids);
+  release(ids);
+  if (in_.decode_order) {
+    if (out_.decode_order.capacity() < in_.points.size()) out_.decode_order.reserve(in_.points.size());
+    out_.decode_order.insert(out_.decode_order.end(), fresh_ids.begin(), fresh_ids.end());
+  }
   const LayerBricks b = bricks_of(fresh, q_, depth);
   BlockPlan plan;  // the bricks, shared out among the ranks
   plan.blocks = b.bricks;
@@ -149,10 +156,9 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   plan.first = b.first;
   assign_ranks(plan, x_.size());
   std::vector<std::vector<uint8_t>> payload, value;
-  DTM_RETURN_IF_ERROR(payloads(plan, fresh, b, payload));
-  DTM_RETURN_IF_ERROR(values(level, plan, ids, fresh, b, value));
-  // The finest layer's coarser codes are read no more.
-  if (level == 0) release(known_);
+  DTM_RETURN_IF_ERROR(payloads(level, plan, fresh, b, payload));
+  DTM_RETURN_IF_ERROR(values(level, plan, fresh_ids, fresh, b, value));
+  release(fresh_ids);
 
   // The chunks: every brick with points or corrections, ascending.
   std::vector<BrickParts> parts;
@@ -198,7 +204,7 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   out_.index_bytes[l] = index.size();
   out_.brick_depth[l] = depth;
   out_.bytes.insert(out_.bytes.end(), layer.begin(), layer.end());
-  if (level > 0) merge_known(known_, fresh, q_);  // V_l, for the finer layer
+  base_ = false;
   return Status::Ok();
 }
 
@@ -230,7 +236,6 @@ StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
   out.index_bytes.assign(count, 0);
   out.brick_depth.assign(count, 0);
   for (const BrickedLevel& l : levels) out.levels.push_back(l.stats);
-  out.decode_order.reserve(in.points.size());
   LayerWriter writer(in, out);
   for (int level = static_cast<int>(count) - 1; level >= 0; --level)
     DTM_RETURN_IF_ERROR(writer.write(level, levels[static_cast<size_t>(level)]));

@@ -38,6 +38,7 @@ struct BrickedStreamInput {
   const FieldSectionEncoder* values = nullptr;  // or none
   const MortonIndex* index = nullptr;           // of `points`
   std::span<const uint8_t> level_of;            // per grid point: the coarsest level that holds it
+  bool decode_order = true;                     // BrickedEncoding::decode_order made (else empty)
   RankExchange* exchange = nullptr;
   PhaseCallback on_phase;
 };

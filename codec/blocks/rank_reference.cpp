@@ -121,6 +121,17 @@ void RankReference::set_in_parts(std::span<const std::array<uint32_t, 4>> given,
   whole_.reset();
 }
 
+void RankReference::release_all() {
+  answers_.reset();  // first: it reads the part
+  tet_solid_.reset();
+  solid_ = voxels_;
+  parts_ = false;
+  book_ = {};
+  faces_.reset();
+  std::lock_guard lock(whole_mutex_);
+  whole_.reset();
+}
+
 std::optional<BlockReference> RankReference::for_region(const GridBox& region, const Solid* solid) const {
   if (!solid_) return std::nullopt;
   BlockReference r;

@@ -68,6 +68,10 @@ class RankReference {
   // before are forgotten.
   void start_level() { book_ = {}; }
   const QuestionCount& questions() const { return questions_; }
+  // What it holds freed, once no block carves any more (before the stream
+  // is written): called on every rank at once (the thread answering the
+  // other ranks stops at a barrier).
+  void release_all();
 
  private:
   std::span<const GridPoint> points_;
