@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <unordered_map>
 #include <utility>
@@ -116,9 +117,10 @@ class ReferenceShape {
   std::shared_ptr<const ReferenceBoundary> boundary_;
   SurfaceDistanceTracker to_level_;  // from the boundary's points
   // Squared distance of a grid point to the reference surface, once
-  // measured (0 from the start for the reference's own boundary vertices): a
-  // level's surface vertices are mostly the previous level's.
+  // measured (a level's surface vertices are mostly the previous level's);
+  // 0 for the reference's own boundary vertices, not held here.
   std::unordered_map<uint32_t, double> to_reference_;
+  std::optional<double> known_squared(uint32_t id) const;
   // The last measured surface's triangles off the reference (ids sorted)
   // and their centroids' squared distances to it, sorted by the ids.
   std::vector<std::pair<std::array<uint32_t, 3>, double>> centroid_squared_;
