@@ -38,6 +38,13 @@ std::vector<GridPoint> index_points(size_t n, std::mt19937& random) {
   return out;
 }
 
+// A level from 0 to 3 for each of n points.
+std::vector<uint8_t> random_levels(size_t n, std::mt19937& random) {
+  std::vector<uint8_t> level_of(n);
+  for (uint8_t& l : level_of) l = static_cast<uint8_t>(random() % 4);
+  return level_of;
+}
+
 GridBox random_box(std::mt19937& random) {
   std::uniform_int_distribution<int64_t> at(-20, (1 << kIndexQBits) + 20), side(0, 200);
   GridBox b;
@@ -51,8 +58,7 @@ GridBox random_box(std::mt19937& random) {
 TEST(BlockIndex, InsideIsEveryPointOfTheLevelInTheBoxAscendingOnAnyNumberOfThreads) {
   std::mt19937 random(7);
   const std::vector<GridPoint> points = index_points(60000, random);
-  std::vector<uint8_t> level_of(points.size());
-  for (uint8_t& l : level_of) l = static_cast<uint8_t>(random() % 4);
+  const std::vector<uint8_t> level_of = random_levels(points.size(), random);
   const MortonIndex index(points, kIndexQBits);
   std::vector<GridBox> boxes;
   for (int k = 0; k < 40; ++k) boxes.push_back(random_box(random));
@@ -77,8 +83,7 @@ TEST(BlockIndex, InsideIsEveryPointOfTheLevelInTheBoxAscendingOnAnyNumberOfThrea
 TEST(BlockIndex, BetweenIsTheLevelsCodesInTheRangeAscendingWithTheirIds) {
   std::mt19937 random(11);
   const std::vector<GridPoint> points = index_points(20000, random);
-  std::vector<uint8_t> level_of(points.size());
-  for (uint8_t& l : level_of) l = static_cast<uint8_t>(random() % 4);
+  const std::vector<uint8_t> level_of = random_levels(points.size(), random);
   const MortonIndex index(points, kIndexQBits);
   const MortonCode end = MortonCode{1} << (3 * kIndexQBits);
   for (int level = 0; level < 5; ++level) {
