@@ -45,6 +45,15 @@ mkdir -p "$work/pieces"
 DTM_MPI_PIECE=1000 mpirun --oversubscribe "${as_root[@]}" -x DTM_MPI_PIECE -n 3 "$meshenc" \
   "$data/bunny_10k.node" "${options[@]}" -q -o "$work/pieces/b.dtm"
 cmp -s "$work/one.dtm" "$work/pieces/b.dtm" || { echo "mpirun -n 3, the .ele sent in pieces: not the same bytes"; failed=1; }
+# Ranks whose pieces differ in size refuse on every rank (a receiver sizes
+# each piece by its own), said once, and write nothing.
+if DTM_MPI_PIECE=1000 mpirun --oversubscribe "${as_root[@]}" -x DTM_MPI_PIECE -n 2 sh -c \
+  '[ "$OMPI_COMM_WORLD_RANK" = 1 ] && export DTM_MPI_PIECE=2000; exec "$@"' sh "$meshenc" \
+  "$data/bunny_10k.node" "${options[@]}" -q -o "$work/pieces/c.dtm" 2>"$work/err"; then
+  echo "pieces of two sizes encoded"; failed=1
+fi
+[ "$(grep -c "bunny_10k.ele: MPI: the ranks' pieces differ" "$work/err")" -eq 1 ] || { echo "pieces of two sizes: not said once:"; cat "$work/err"; failed=1; }
+[ ! -e "$work/pieces/c.dtm" ] || { echo "pieces of two sizes: a file written"; failed=1; }
 # An MPI without threads (asked for as one): the ranks answer each other in
 # their exchanges, blocks run again, and the bytes are the same.
 mkdir -p "$work/funneled"

@@ -391,11 +391,15 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
   });
   // What goes to each rank, in pieces of a size (grown by doubling, a
   // rank's share was held up to twice, and three times while copied),
-  // sent a piece at a time. DTM_MPI_PIECE sets the tetrahedra a piece
-  // (tests/mpi_encode.sh: many pieces of a small input).
+  // sent a piece at a time. DTM_MPI_PIECE sets the tetrahedra a piece,
+  // 1 to 2^24, the same on every rank (tests/mpi_encode.sh: many pieces of
+  // a small input); another value is not taken.
   size_t piece = size_t{1} << 16;  // tetrahedra: 1 MiB
-  if (const char* e = std::getenv("DTM_MPI_PIECE"); e && std::atoll(e) > 0)
-    piece = static_cast<size_t>(std::atoll(e));
+  if (const char* e = std::getenv("DTM_MPI_PIECE")) {
+    char* end = nullptr;
+    const unsigned long long asked = std::strtoull(e, &end, 10);
+    if (end != e && *end == '\0' && asked >= 1 && asked <= (1ull << 24)) piece = static_cast<size_t>(asked);
+  }
   std::vector<std::vector<std::vector<Tet>>> to(static_cast<size_t>(mpi.size()));
   const auto send = [&](uint32_t rank, const Tet& t) {
     auto& pieces = to[rank];
@@ -445,7 +449,12 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
                            std::to_string(total) + ")");
   // Each point's rank is read no more: not held while the pieces are sent.
   dtm::release(rank_of);
-  return mpi.all_to_all_in_pieces(std::move(to), piece);
+  try {
+    return mpi.all_to_all_in_pieces(std::move(to), piece);
+  } catch (const std::runtime_error& e) {  // on every rank alike: said once
+    throw dtm::AgreedError(
+        in.tetgen_ele + ": " + e.what() + " (DTM_MPI_PIECE must be the same on every rank)", mpi.rank() == 0);
+  }
 }
 
 // Under mpirun, on 2 ranks or more: the input's tetrahedra this rank holds

@@ -157,6 +157,12 @@ class MpiSession : public RankExchange {
       MPI_Ialltoall(sending.data(), 1, MPI_UINT64_T, coming.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD,
                     &request);
       wait_for(request);
+      // A receiver sizes each piece by its own `piece`: every rank's must
+      // be the same (said on every rank, so that none waits in vain).
+      uint64_t sizes[2] = {piece, ~uint64_t { piece }};  // the largest, and the smallest
+      MPI_Iallreduce(MPI_IN_PLACE, sizes, 2, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD, &request);
+      wait_for(request);
+      if (sizes[0] != ~sizes[1]) throw std::runtime_error("MPI: the ranks' pieces differ in size");
       const auto pieces_of = [piece](uint64_t values) {
         return static_cast<size_t>((values + piece - 1) / piece);
       };
