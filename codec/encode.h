@@ -91,8 +91,9 @@ struct EncodeOptions {
   // no cell flat there) and the codec preset; not with bricks.
   bool exact = false;
   // EncodedMesh::vertex_of_input made (false: left empty, for a caller that
-  // does not need it; encode() given its plan to keep then frees the plan's
-  // map from input points once it is read no more, 4 bytes an input point).
+  // does not need it; encode() handed the plan by rvalue then frees the
+  // plan's map from input points once it is read no more, 4 bytes an input
+  // point).
   bool vertex_of_input = true;
   // How the exact cells are coded: kAmongCandidates writes 11.0,
   // kAmongFitting 12.0, kAmongFittingInContext 13.0, which older decoders

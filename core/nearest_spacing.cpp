@@ -36,8 +36,9 @@ NearestSpacing::NearestSpacing(std::span<const GridPoint> points, std::span<cons
   if (std::min({lo.x, lo.y, lo.z}) >= 0 && top < (int64_t{1} << 21)) {
     // Each cell packed in 8 bytes (x, then y, then z: the same order), the
     // indices sorted by them: 12 bytes a point while sorting, where the
-    // cell and index side by side took 16 and the order 4 more (bunny_10m's
-    // level 0 on each MPI rank: 265 MiB over what the rank held).
+    // cell and index side by side took 16 and the order 4 more (with the
+    // cells grown by doubling, bunny_10m's level 0 alpha added 265 MiB to
+    // what each MPI rank held).
     const auto pack = [](const Cell& c) {
       return static_cast<uint64_t>(c.x) << 42 | static_cast<uint64_t>(c.y) << 21 | static_cast<uint64_t>(c.z);
     };
