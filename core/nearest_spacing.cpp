@@ -29,8 +29,18 @@ NearestSpacing::NearestSpacing(std::span<const GridPoint> points, std::span<cons
   // The points by cell (then index: the keys are distinct, so any sort
   // gives this order), each one's cell found once, sorted on every core.
   order_.resize(n);
-  const auto add = [&](uint32_t k, const Cell& c) {
-    if (cells_.empty() || cells_.back() != c) cells_.push_back(c), first_.push_back(k);
+  // The cells and each one's first place in order_, given the cell of each
+  // place in order: as many cells as are occupied, reserved at once (grown
+  // by doubling, about one a point, they were held up to three times over
+  // while copied).
+  const auto fill_cells = [&](const auto& cell_at) {
+    size_t occupied = 0;
+    for (uint32_t k = 0; k < n; ++k) occupied += k == 0 || cell_at(k) != cell_at(k - 1);
+    cells_.reserve(occupied);
+    first_.reserve(occupied + 1);
+    for (uint32_t k = 0; k < n; ++k)
+      if (const Cell c = cell_at(k); cells_.empty() || cells_.back() != c)
+        cells_.push_back(c), first_.push_back(k);
   };
   const int64_t top = std::max({hi.x, hi.y, hi.z}) / side_;
   if (std::min({lo.x, lo.y, lo.z}) >= 0 && top < (int64_t{1} << 21)) {
@@ -39,27 +49,23 @@ NearestSpacing::NearestSpacing(std::span<const GridPoint> points, std::span<cons
     // cell and index side by side took 16 and the order 4 more (with the
     // cells grown by doubling, bunny_10m's level 0 alpha added 265 MiB to
     // what each MPI rank held).
-    const auto pack = [](const Cell& c) {
-      return static_cast<uint64_t>(c.x) << 42 | static_cast<uint64_t>(c.y) << 21 | static_cast<uint64_t>(c.z);
-    };
+    constexpr uint64_t kMask = (uint64_t{1} << 21) - 1;
     std::vector<uint64_t> key(n);
     parallel_ranges(n, 16384, [&](size_t first, size_t last) {
-      for (size_t i = first; i < last; ++i) key[i] = pack(cell_of(at(i)));
+      for (size_t i = first; i < last; ++i) {
+        const Cell c = cell_of(at(i));
+        key[i] =
+            static_cast<uint64_t>(c.x) << 42 | static_cast<uint64_t>(c.y) << 21 | static_cast<uint64_t>(c.z);
+      }
     });
     for (uint32_t k = 0; k < n; ++k) order_[k] = k;
     parallel_sort(order_.begin(), order_.end(),
                   [&](uint32_t a, uint32_t b) { return key[a] != key[b] ? key[a] < key[b] : a < b; });
-    // As many cells as are occupied, at once (grown by doubling, about one
-    // a point, they were held up to three times over while copied).
-    size_t occupied = 0;
-    for (uint32_t k = 0; k < n; ++k) occupied += k == 0 || key[order_[k]] != key[order_[k - 1]];
-    cells_.reserve(occupied);
-    first_.reserve(occupied + 1);
-    for (uint32_t k = 0; k < n; ++k) {
-      const uint64_t c = key[order_[k]], mask = (uint64_t{1} << 21) - 1;
-      add(k, {static_cast<int32_t>(c >> 42), static_cast<int32_t>((c >> 21) & mask),
-              static_cast<int32_t>(c & mask)});
-    }
+    fill_cells([&](uint32_t k) {
+      const uint64_t c = key[order_[k]];
+      return Cell{static_cast<int32_t>(c >> 42), static_cast<int32_t>((c >> 21) & kMask),
+                  static_cast<int32_t>(c & kMask)};
+    });
   } else {
     struct Keyed {
       Cell cell;
@@ -71,14 +77,8 @@ NearestSpacing::NearestSpacing(std::span<const GridPoint> points, std::span<cons
       for (size_t i = first; i < last; ++i) keyed[i] = {cell_of(at(i)), static_cast<uint32_t>(i)};
     });
     parallel_sort(keyed.begin(), keyed.end());
-    size_t occupied = 0;
-    for (uint32_t k = 0; k < n; ++k) occupied += k == 0 || keyed[k].cell != keyed[k - 1].cell;
-    cells_.reserve(occupied);
-    first_.reserve(occupied + 1);
-    for (uint32_t k = 0; k < n; ++k) {
-      order_[k] = keyed[k].i;
-      add(k, keyed[k].cell);
-    }
+    for (uint32_t k = 0; k < n; ++k) order_[k] = keyed[k].i;
+    fill_cells([&](uint32_t k) { return keyed[k].cell; });
   }
   first_.push_back(static_cast<uint32_t>(order_.size()));
 }

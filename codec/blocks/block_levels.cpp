@@ -96,6 +96,12 @@ MortonIndex::MortonIndex(std::span<const GridPoint> points, int qbits) : qbits_(
     sort_by(MortonCode{});
 }
 
+size_t MortonIndex::first_at(MortonCode code) const {
+  return static_cast<size_t>(std::lower_bound(ids_.begin(), ids_.end(), code,
+                                              [&](uint32_t id, MortonCode c) { return code_of(id) < c; }) -
+                             ids_.begin());
+}
+
 std::vector<uint32_t> MortonIndex::inside(const GridBox& box, std::span<const uint8_t> level_of,
                                           int level) const {
   // The index's stretches the box's bricks cover, each found by two binary
@@ -103,13 +109,7 @@ std::vector<uint32_t> MortonIndex::inside(const GridBox& box, std::span<const ui
   // scanned was a second of one thread at bunny_1m's level 0).
   Stretches stretches;
   for (const auto& [first, last] : ranges_covering(box, qbits_)) {
-    const auto at = [&](MortonCode code) {
-      return static_cast<size_t>(
-          std::lower_bound(ids_.begin(), ids_.end(), code,
-                           [&](uint32_t id, MortonCode c) { return code_of(id) < c; }) -
-          ids_.begin());
-    };
-    stretches.add(at(first), at(last));
+    stretches.add(first_at(first), first_at(last));
   }
   std::vector<uint32_t> out = collect_in_order<uint32_t>(
       stretches.size(), kScan, [&](size_t first, size_t last, std::vector<uint32_t>& part) {
@@ -126,15 +126,10 @@ void MortonIndex::between(MortonCode first, MortonCode last, std::span<const uin
                           std::vector<MortonCode>& codes, std::vector<uint32_t>* ids) const {
   codes.clear();
   if (ids) ids->clear();
-  const auto at = [&](MortonCode code) {
-    return std::lower_bound(ids_.begin(), ids_.end(), code,
-                            [&](uint32_t id, MortonCode c) { return code_of(id) < c; });
-  };
-  const auto end = at(last);
-  for (auto i = at(first); i != end; ++i)
-    if (level_of[*i] >= level) {
-      codes.push_back(code_of(*i));
-      if (ids) ids->push_back(*i);
+  for (size_t i = first_at(first), end = first_at(last); i < end; ++i)
+    if (const uint32_t id = ids_[i]; level_of[id] >= level) {
+      codes.push_back(code_of(id));
+      if (ids) ids->push_back(id);
     }
 }
 

@@ -67,6 +67,9 @@ class MortonIndex {
 
  private:
   MortonCode code_of(uint32_t id) const { return morton_encode(points_[id], qbits_); }
+  // Where the first point of code `code` or above is in ids_ (two binary
+  // searches make a stretch of the index).
+  size_t first_at(MortonCode code) const;
   // How many points have level_of >= level (what level() and level_ids() make).
   size_t count_at(std::span<const uint8_t> level_of, int level) const;
 
