@@ -12,6 +12,7 @@
 #include <set>
 
 #include "codec/blocks/block_levels.h"
+#include "codec/blocks/level_merge.h"
 #include "codec/stream/format.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
@@ -220,6 +221,33 @@ TEST(BlockIndex, PartsNearArePiecesOfTheBoxCoveringEveryPlaceWithinReachOfThePoi
           if (!box.contains(q)) EXPECT_EQ(holding, 0);
         }
   }
+}
+
+// A level built in blocks keeps its quality floor when every block met its
+// own, or when its cells together do: a block of few cells below its
+// floor does not make the finer level the coarsest; a level whose cells
+// fall short together does not pass, whichever blocks met.
+TEST(BlockQuality, ALevelKeepsItsFloorInEveryBlockOrOverAllItsCells) {
+  // 50 blocks of 1000 cells at 0.26 against floors of 0.22, and one of 3
+  // cells at 0.19 against 0.22 (bunny_1m's level 2 in blocks of 2^14).
+  std::vector<BlockQuality> blocks(50, BlockQuality{true, 260.0, 1000, 0.22});
+  blocks.push_back({false, 3 * 0.19, 3, 0.22});
+  EXPECT_TRUE(level_quality_met(blocks));
+  // Every block met: met, even with a sum that rounds below (the block's
+  // own test is its average).
+  EXPECT_TRUE(level_quality_met(std::vector<BlockQuality>{{true, 0.3 * 3, 3, 0.3}}));
+  // A block missing its floor by more than the others' surplus: not met.
+  // (the others' surplus is 50 x 40 = 2000; this one's deficit 20000 x 0.12)
+  blocks.push_back({false, 20000 * 0.1, 20000, 0.22});
+  EXPECT_FALSE(level_quality_met(blocks));
+  // Each block's floor counts once per cell: a block of high floor and
+  // many cells weighs as many.
+  const std::vector<BlockQuality> weighted = {{false, 0.20 * 2000, 2000, 0.25},
+                                              {true, 0.40 * 1000, 1000, 0.10}};
+  EXPECT_TRUE(level_quality_met(weighted));  // 800 against 600
+  const std::vector<BlockQuality> short_of = {{false, 0.20 * 2000, 2000, 0.40},
+                                              {true, 0.40 * 1000, 1000, 0.10}};
+  EXPECT_FALSE(level_quality_met(short_of));  // 800 against 900
 }
 
 }  // namespace

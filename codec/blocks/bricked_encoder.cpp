@@ -499,13 +499,15 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
     }
     if (!again || pass >= 6) {
       broken = 0;
-      quality_met = true;
       rounds = 0;
+      std::vector<BlockQuality> quality(plan.blocks.size());
       for (size_t k = 0; k < plan.blocks.size(); ++k) {
         broken += block_broken[k] + (next[k] ? 1 : 0);  // a block left unchecked counts as broken
-        quality_met = quality_met && met[k];
         rounds = std::max(rounds, block_rounds[k]);
+        quality[k] = {met[k] != 0, quality_sum[k], quality_cells[k],
+                      floors.floor(plan.blocks[k], plan.bits[k])};
       }
+      quality_met = level_quality_met(quality);
       return Status::Ok();
     }
     to_build = next;

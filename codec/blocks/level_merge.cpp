@@ -68,4 +68,14 @@ MergedLevel merge_blocks(std::vector<BlockAnalysis>& analysis, int level, Bricke
   return m;
 }
 
+bool level_quality_met(std::span<const BlockQuality> blocks) {
+  if (std::all_of(blocks.begin(), blocks.end(), [](const BlockQuality& b) { return b.met; })) return true;
+  double sum = 0, floor_sum = 0;
+  for (const BlockQuality& b : blocks) {
+    sum += b.sum;
+    floor_sum += b.floor * static_cast<double>(b.cells);
+  }
+  return sum >= floor_sum;
+}
+
 }  // namespace dtm
