@@ -22,6 +22,9 @@ inline void atomic_store_min(uint32_t& x, uint32_t v) {
   }
 }
 
+// x |= v (bits of a word that other threads set bits of too).
+inline void atomic_fetch_or(uint64_t& x, uint64_t v) { __atomic_fetch_or(&x, v, __ATOMIC_RELAXED); }
+
 // x = v, where every thread that stores writes the same v (a mark).
 inline void atomic_store(uint8_t& x, uint8_t v) { __atomic_store_n(&x, v, __ATOMIC_RELAXED); }
 

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 
+#include "common/atomic_counts.h"
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/release.h"
@@ -201,6 +202,25 @@ std::vector<std::array<uint32_t, 4>> ReferenceSolid::near_boundary(
   return near;
 }
 
+namespace {
+
+// Sets bits [first, last) of `words`, on one of several threads that set
+// disjoint ranges: a word wholly in the range is this thread's alone, the
+// two at its ends may hold another's bits.
+void set_bits(std::vector<uint64_t>& words, size_t first, size_t last) {
+  while (first < last) {
+    const size_t w = first / 64, lo = first % 64, hi = std::min<size_t>(64, lo + (last - first));
+    const uint64_t mask = hi - lo == 64 ? ~uint64_t{0} : ((uint64_t{1} << (hi - lo)) - 1) << lo;
+    if (mask == ~uint64_t{0})
+      words[w] = mask;
+    else
+      atomic_fetch_or(words[w], mask);
+    first += hi - lo;
+  }
+}
+
+}  // namespace
+
 bool ReferenceSolid::frame(const Extent& whole) {
   tetrahedra_ = whole.tetrahedra;
   if (!whole.any) {
@@ -237,12 +257,6 @@ void ReferenceSolid::orient(std::span<const std::array<uint32_t, 4>> cells) {
       4096);
 }
 
-namespace {
-
-constexpr uint8_t kOutside = 0, kInside = 1, kMixed = 2, kUnknown = 3;
-
-}  // namespace
-
 void ReferenceSolid::cell_range(const P4& bl, const P4& bh, std::array<int64_t, 3>& c0,
                                 std::array<int64_t, 3>& c1) const {
   for (int a = 0; a < 3; ++a) {
@@ -272,13 +286,16 @@ void ReferenceSolid::for_each_cell_box(const std::array<int64_t, 3>& c0, const s
       }
 }
 
-std::vector<uint8_t> ReferenceSolid::mark_mixed(std::span<const std::array<uint32_t, 3>> boundary) {
+void ReferenceSolid::mark_mixed(std::span<const std::array<uint32_t, 3>> boundary) {
   const size_t total = static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
-  // Each cell's state while building, a byte: then two bits (inside,
-  // mixed) and a count of the mixed cells before each 64 (a mixed cell's
-  // row in mixed_): 268 MB of 32-bit states at 60M tetrahedra became 21 MB.
-  std::vector<uint8_t> state(total, kUnknown);
-  // Mixed: the cells a boundary triangle meets (its box, then its plane).
+  // Which cells are mixed, one bit each (marked straight here: a byte per
+  // cell while building took 64 MiB at bunny_10m's 2^26 cells, on every
+  // rank); a few MiB that stay in cache while every tetrahedron's cells
+  // are looked up (most are not mixed). Mixed: the cells a boundary
+  // triangle meets (its box, then its plane).
+  const size_t words = (total + 63) / 64;
+  mixed_cells_.assign(words, 0);
+  const auto mixed = [&](size_t cell) { return (mixed_cells_[cell / 64] >> (cell % 64)) & 1; };
   for (const auto& t : boundary) {
     P4 bl, bh;
     box_of(t, bl, bh);
@@ -286,24 +303,17 @@ std::vector<uint8_t> ReferenceSolid::mark_mixed(std::span<const std::array<uint3
     cell_range(bl, bh, c0, c1);
     const P4 a = times4(points_[t[0]]), b = times4(points_[t[1]]), c = times4(points_[t[2]]);
     for_each_cell_box(c0, c1, [&](size_t cell, const P4& cl, const P4& ch) {
-      if (state[cell] == kMixed) return;
+      if (mixed(cell)) return;
       if (small_ ? plane_meets_box<int64_t>(a, b, c, cl, ch) : plane_meets_box<Int128>(a, b, c, cl, ch))
-        state[cell] = kMixed;
+        mixed_cells_[cell / 64] |= uint64_t{1} << (cell % 64);
     });
   }
-  // Which cells are mixed, one bit each: a few MiB that stay in cache while
-  // every tetrahedron's cells are looked up (most are not mixed).
-  const size_t words = (total + 63) / 64;
-  mixed_cells_.assign(words, 0);
-  for (size_t cell = 0; cell < total; ++cell)
-    if (state[cell] == kMixed) mixed_cells_[cell / 64] |= uint64_t{1} << (cell % 64);
   mixed_before_.resize(words);
-  uint32_t mixed = 0;
+  uint32_t count = 0;
   for (size_t w = 0; w < words; ++w) {
-    mixed_before_[w] = mixed;
-    mixed += static_cast<uint32_t>(std::popcount(mixed_cells_[w]));
+    mixed_before_[w] = count;
+    count += static_cast<uint32_t>(std::popcount(mixed_cells_[w]));
   }
-  return state;
 }
 
 void ReferenceSolid::for_each_meeting(
@@ -354,7 +364,7 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
                            RankExchange* exchange) {
   if (!frame(whole)) return;
   orient(cells);
-  std::vector<uint8_t> state = mark_mixed(boundary);
+  mark_mixed(boundary);
 
   // Mixed cells list the tetrahedra that may meet them, counted out in
   // block order, so that every row lists its tetrahedra ascending (the
@@ -383,14 +393,17 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
   std::vector<uint8_t> found;       // per run
   const auto for_each_run = [&](size_t row, auto&& f) {
     const size_t row_start = row * static_cast<size_t>(dims_[0]);
-    const uint8_t* const states = state.data() + row_start;
+    const auto mixed = [&](int64_t x) {
+      const size_t cell = row_start + static_cast<size_t>(x);
+      return (mixed_cells_[cell / 64] >> (cell % 64)) & 1;
+    };
     for (int64_t x = 0; x < dims_[0];) {
-      if (states[x] != kUnknown) {
+      if (mixed(x)) {
         ++x;
         continue;
       }
       int64_t end = x;
-      while (end < dims_[0] && states[end] == kUnknown) ++end;
+      while (end < dims_[0] && !mixed(end)) ++end;
       f(x, end);
       x = end;
     }
@@ -423,20 +436,21 @@ void ReferenceSolid::build(std::span<const std::array<uint32_t, 4>> cells,
     for (const auto& other : exchange->all_gather(bits))
       for (size_t i = 0; i < found.size(); ++i) found[i] |= (other[i / 8] >> (i % 8)) & 1;
   }
+  // The inside runs' bits set on every core: rows that share a word set
+  // theirs with an atomic OR.
+  inside_.assign(mixed_cells_.size(), 0);
   parallel_for(
       grid_rows,
       [&](size_t row) {
-        uint8_t* const states = state.data() + row * static_cast<size_t>(dims_[0]);
+        const size_t row_start = row * static_cast<size_t>(dims_[0]);
         uint32_t run = exchange ? first_run[row] : 0;
         for_each_run(row, [&](int64_t x, int64_t end) {
           const bool inside = exchange ? found[run++] != 0 : end < dims_[0] && holds_centre(row, x);
-          for (int64_t i = x; i < end; ++i) states[i] = inside ? kInside : kOutside;
+          if (inside)
+            set_bits(inside_, row_start + static_cast<size_t>(x), row_start + static_cast<size_t>(end));
         });
       },
       64);
-  inside_.assign(mixed_cells_.size(), 0);
-  for (size_t cell = 0; cell < state.size(); ++cell)
-    if (state[cell] == kInside) inside_[cell / 64] |= uint64_t{1} << (cell % 64);
 }
 
 uint32_t ReferenceSolid::mixed_row(size_t cell) const {

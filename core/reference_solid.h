@@ -116,9 +116,8 @@ class ReferenceSolid : public Solid {
   // The grid over the whole's box; false when it has no corner.
   bool frame(const Extent& whole);
   void orient(std::span<const std::array<uint32_t, 4>> cells);
-  // Per grid cell, a byte: mixed (the boundary meets it) or unknown; sets
-  // mixed_cells_ and mixed_before_.
-  std::vector<uint8_t> mark_mixed(std::span<const std::array<uint32_t, 3>> boundary);
+  // Sets mixed_cells_ (the grid cells the boundary meets) and mixed_before_.
+  void mark_mixed(std::span<const std::array<uint32_t, 3>> boundary);
   // take(pairs) per block of cells, in order: (mixed row, cell) for each
   // mixed grid cell each cell may meet (box and face planes), of the cells
   // `mine` takes (all when null).
