@@ -191,8 +191,25 @@ TriangleIndex::TriangleIndex(std::span<const GridPoint> points,
   }
   std::sort(by_anchor.begin(), by_anchor.end());
   triangles_.reserve(triangles.size());
-  anchors_.reserve(triangles.size());
-  for (const auto& [code, k] : by_anchor) triangles_.push_back(triangles[k]), anchors_.push_back(code);
+  for (const auto& [code, k] : by_anchor) triangles_.push_back(triangles[k]);
+}
+
+MortonCode TriangleIndex::anchor_of(size_t k) const {
+  const GridBox b = box_of(points_, triangles_[k]);
+  return morton_encode(
+      {static_cast<int32_t>(b.lo[0]), static_cast<int32_t>(b.lo[1]), static_cast<int32_t>(b.lo[2])}, qbits_);
+}
+
+size_t TriangleIndex::first_at(MortonCode code) const {
+  size_t lo = 0, hi = triangles_.size();
+  while (lo < hi) {
+    const size_t mid = lo + (hi - lo) / 2;
+    if (anchor_of(mid) < code)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
 }
 
 std::vector<std::array<uint32_t, 3>> TriangleIndex::meeting(const GridBox& box) const {
@@ -202,9 +219,7 @@ std::vector<std::array<uint32_t, 3>> TriangleIndex::meeting(const GridBox& box) 
   for (int a = 0; a < 3; ++a) anchors.lo[a] -= extent_[a];
   Stretches stretches;
   for (const auto& [first, last] : ranges_covering(anchors, qbits_))
-    stretches.add(
-        static_cast<size_t>(std::lower_bound(anchors_.begin(), anchors_.end(), first) - anchors_.begin()),
-        static_cast<size_t>(std::lower_bound(anchors_.begin(), anchors_.end(), last) - anchors_.begin()));
+    stretches.add(first_at(first), first_at(last));
   std::vector<uint32_t> found = collect_in_order<uint32_t>(
       stretches.size(), kScan, [&](size_t first, size_t last, std::vector<uint32_t>& part) {
         stretches.for_each(first, last, [&](size_t k) {

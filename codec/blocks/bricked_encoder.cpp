@@ -112,8 +112,6 @@ class BrickedEncoder {
         o_(o),
         x_(exchange),
         q_(in.grid.qbits),
-        index_(in.points, q_),
-        level_of_(in.points.size(), 0),
         reference_(in.points, q_, exchange, in.voxels, o.hierarchy.on_phase),
         at_once_(o.blocks_at_once > 0 ? o.blocks_at_once : default_blocks_at_once(o.block_points)) {
     if (x_.size() > 1)
@@ -121,6 +119,13 @@ class BrickedEncoder {
     else if (!in.reference_tets.empty())
       reference_.set_whole(in.reference_tets);
     tets_done();
+    // Made once the reference is: not held (5 bytes a point, 47 MiB at
+    // bunny_10m, on every rank) beside the tetrahedra while the reference's
+    // boundary and solid are found, the largest of a rank's phases before
+    // the levels.
+    report_phase(o_.hierarchy.on_phase, "the points by Morton code");
+    index_.emplace(in.points, q_);
+    level_of_.assign(in.points.size(), 0);
   }
 
   StatusOr<BrickedEncoding> run(const std::function<void(const LevelStats&)>& on_level);
@@ -143,7 +148,7 @@ class BrickedEncoder {
   // more than kRegionsPerLevel times the level's points: a raised kept
   // radius (run()) makes halos that span most of the level, and each block
   // would do most of the level's work again. Sets the blocks built at once
-  // for the blocks' size. `codes` and `ids` as index_.level() gives them.
+  // for the blocks' size. `codes` and `ids` as index_->level() gives them.
   // `block_points`: the plan's, raised with it.
   void fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth,
                         uint64_t& block_points, BlockPlan& plan, std::vector<MortonCode>& codes,
@@ -179,8 +184,8 @@ class BrickedEncoder {
   RankExchange& x_;
   RankLoads loads_{x_.size()};  // which rank builds the blocks of a level of few
   int q_;
-  MortonIndex index_;
-  std::vector<uint8_t> level_of_;  // per grid point: the coarsest level that holds it
+  std::optional<MortonIndex> index_;  // made once the reference is (the constructor)
+  std::vector<uint8_t> level_of_;     // per grid point: the coarsest level that holds it
   // The reference (none before level 0 is built, when level 0 is the reference).
   RankReference reference_;
   SurfaceRecord record_;  // the finer level's
@@ -218,10 +223,10 @@ void BrickedEncoder::fewer_blocks_for(int level, double kept_radius, size_t leve
   while (plan.blocks.size() > 1 && block_points < (uint64_t{1} << 40)) {
     uint64_t held = 0;
     for (size_t k = 0; k < plan.blocks.size(); ++k)
-      held += index_.inside(plan.box(k, q_).grown(halo, q_), level_of_, level).size();
+      held += index_->inside(plan.box(k, q_).grown(halo, q_), level_of_, level).size();
     if (static_cast<double>(held) <= kRegionsPerLevel * static_cast<double>(level_points)) break;
     block_points *= 8;
-    index_.level(level_of_, level, codes, &ids);
+    index_->level(level_of_, level, codes, &ids);
     plan = plan_blocks(codes, q_, brick_depth, block_points, x_.size());
     release(codes);
     planned_again = true;
@@ -235,7 +240,7 @@ BlockRegion BrickedEncoder::region_of(const BlockPlan& plan, size_t k, int level
   BlockRegion b;
   b.owned = plan.box(k, q_);
   b.region = b.owned.grown(halo, q_);
-  b.ids = index_.inside(b.region, level_of_, level);
+  b.ids = index_->inside(b.region, level_of_, level);
   b.points = gather(in_.points, b.ids);
   return b;
 }
@@ -371,7 +376,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
       BlockRegion part;
       part.owned = g;
       part.region = g.grown(halo, q_);
-      part.ids = index_.inside(part.region, level_of_, level);
+      part.ids = index_->inside(part.region, level_of_, level);
       part.points = gather(in_.points, part.ids);
       std::vector<uint8_t> before(part.ids.size()), now(part.ids.size());
       for (size_t i = 0; i < part.ids.size(); ++i) {
@@ -490,7 +495,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
           plan, x_,
           [&](size_t k) -> StatusOr<std::vector<uint8_t>> {
             uint64_t now = 0;
-            for (uint32_t id : index_.inside(seen(k), level_of_, level)) now += coarser_[id];
+            for (uint32_t id : index_->inside(seen(k), level_of_, level)) now += coarser_[id];
             return std::vector<uint8_t>{static_cast<uint8_t>(now > left[k] ? 1 : 0)};
           },
           s2, at_once_);
@@ -537,7 +542,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
   const HierarchyOptions& h = o_.hierarchy;
   std::vector<MortonCode> codes;
   std::vector<uint32_t> ids;
-  index_.level(level_of_, 0, codes, &ids);
+  index_->level(level_of_, 0, codes, &ids);
   const int finest_depth = choose_brick_depth(codes, q_, 2 * o_.brick_points);
   QualityFloors floors;
   floors.factor = h.average_quality_floor;
@@ -546,7 +551,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
   for (int level = 0;; ++level) {
     if (level > 250) return invalid_input("more than 250 levels");
     reference_.start_level();
-    index_.level(level_of_, level, codes, &ids);
+    index_->level(level_of_, level, codes, &ids);
     BrickedLevel out;
     out.brick_depth =
         std::min(finest_depth, choose_brick_depth(codes, q_, std::max<uint64_t>(1, o_.brick_points / 4)));
@@ -696,7 +701,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   stream.alpha_policy = h.alpha.kind;
   stream.cell_hashes = o_.cell_hashes;
   stream.values = in_.values;
-  stream.index = &index_;
+  stream.index = &*index_;
   stream.level_of = level_of_;
   stream.decode_order = o_.decode_order;
   stream.exchange = &x_;
