@@ -127,19 +127,19 @@ void grid_tetrahedra_in_place(std::vector<std::array<uint32_t, 4>>& tets, const 
 // Orientation does not matter for distances: no need to fix the input's.
 ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
                                std::span<const std::array<uint32_t, 4>> tets)
-    : ReferenceShape(points, dtm::boundary_triangles(tets)) {}
+    : ReferenceShape(points, dtm::boundary_triangles(tets), true) {}
 
 ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
                                std::span<const std::array<uint32_t, 4>> tets, std::span<const uint8_t> region)
-    : ReferenceShape(points, region_surface_triangles(tets, region)) {}
+    : ReferenceShape(points, region_surface_triangles(tets, region), true) {}
 
 ReferenceShape ReferenceShape::from_boundary(std::span<const GridPoint> points,
                                              std::vector<std::array<uint32_t, 3>> boundary) {
-  return ReferenceShape(points, std::move(boundary));
+  return ReferenceShape(points, std::move(boundary), false);
 }
 
 ReferenceBoundary::ReferenceBoundary(std::span<const GridPoint> grid,
-                                     std::vector<std::array<uint32_t, 3>> boundary)
+                                     std::vector<std::array<uint32_t, 3>> boundary, bool keep_triangles)
     : triangles(std::move(boundary)),
       keys(triangles),
       ids(vertex_ids_of(triangles)),
@@ -147,11 +147,13 @@ ReferenceBoundary::ReferenceBoundary(std::span<const GridPoint> grid,
   DTM_CHECK(surface.corners().size() == ids.size());
   for (auto& k : keys) std::sort(k.begin(), k.end());
   parallel_sort(keys.begin(), keys.end());
+  if (!keep_triangles) release(triangles);
 }
 
 ReferenceShape::ReferenceShape(std::span<const GridPoint> points,
-                               std::vector<std::array<uint32_t, 3>> boundary)
-    : ReferenceShape(std::make_shared<const ReferenceBoundary>(points, std::move(boundary))) {}
+                               std::vector<std::array<uint32_t, 3>> boundary, bool keep_triangles)
+    : ReferenceShape(std::make_shared<const ReferenceBoundary>(points, std::move(boundary), keep_triangles)) {
+}
 
 ReferenceShape::ReferenceShape(std::shared_ptr<const ReferenceBoundary> boundary)
     : boundary_(std::move(boundary)), to_level_(boundary_->points(), boundary_->ids) {}

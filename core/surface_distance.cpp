@@ -165,25 +165,28 @@ DistanceSummary distance_to_surface(std::span<const GridPoint> vertices,
 }
 
 struct SurfaceDistanceTracker::State {
-  std::vector<K::Point_3> queries;
+  std::span<const GridPoint> queries;  // the caller's
+  K::Point_3 query(size_t q) const { return to_point(queries[q]); }
   // Per query, after a measure(): the squared distance, the nearest point
   // and the key of the triangle it lies on.
   std::vector<double> squared;
   std::vector<K::Point_3> nearest;
   std::vector<TriangleKey> nearest_triangle;
   bool measured = false;
-  std::vector<TriangleKey> previous;  // the last surface's keys, sorted
-  std::vector<uint32_t> query_ids;    // empty: queries have no names
-  size_t names = 0;                   // the largest name + 1
+  std::vector<TriangleKey> previous;    // the last surface's keys, sorted
+  std::span<const uint32_t> query_ids;  // the caller's; empty: queries have no names
+  size_t names = 0;                     // the largest name + 1
+  bool ids_ascending = false;           // query_ids are
 };
 
 SurfaceDistanceTracker::SurfaceDistanceTracker(std::span<const GridPoint> queries,
                                                std::span<const uint32_t> query_ids)
     : state_(std::make_unique<State>()) {
   DTM_CHECK(query_ids.empty() || query_ids.size() == queries.size());
-  state_->query_ids.assign(query_ids.begin(), query_ids.end());
+  state_->query_ids = query_ids;
   if (!query_ids.empty()) state_->names = size_t{*std::max_element(query_ids.begin(), query_ids.end())} + 1;
-  for (const GridPoint& q : queries) state_->queries.push_back(to_point(q));
+  state_->ids_ascending = std::is_sorted(query_ids.begin(), query_ids.end());
+  state_->queries = queries;
   state_->squared.resize(queries.size());
   state_->nearest.resize(queries.size());
   state_->nearest_triangle.resize(queries.size());
@@ -236,25 +239,52 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
   // queries whose nearest triangle is gone are searched in full, the rest
   // against the added triangles only.
   constexpr uint32_t kNone = UINT32_MAX;
-  // Per name, the first triangle it is a corner of: the least, on every
-  // core (an atomic minimum; the loop in order was serial).
-  std::vector<uint32_t> first_triangle(s.names, kNone);
-  parallel_ranges(n, kRange, [&](size_t first, size_t last) {
-    for (size_t i = first; i < last; ++i)
-      for (uint32_t v : triangles[i]) {
-        const uint32_t name = ids.empty() ? v : ids[v];
-        if (name >= s.names) continue;
-        atomic_store_min(first_triangle[name], static_cast<uint32_t>(i));
-      }
-  });
+  // Per named query, the first triangle it is a corner of: the least, on
+  // every core (an atomic minimum; the loop in order was serial). When the
+  // vertices' names and the queries' both ascend, each vertex's query is
+  // found by one merge of the two and the minimum is kept per query; else
+  // it is kept per name, in an array as long as the largest name (a
+  // bricked level built in one block is measured against the whole
+  // reference boundary, whose names reach the largest grid id: 38 MiB at
+  // bunny_10m, for its 698k queries).
+  std::vector<uint32_t> first_triangle;
+  const bool merged =
+      !s.query_ids.empty() && s.ids_ascending && !ids.empty() && std::is_sorted(ids.begin(), ids.end());
+  if (merged) {
+    std::vector<uint32_t> query_of(vertices.size(), kNone);
+    for (size_t v = 0, q = 0; v < ids.size() && q < s.query_ids.size();) {
+      if (ids[v] < s.query_ids[q])
+        ++v;
+      else if (s.query_ids[q] < ids[v])
+        ++q;
+      else
+        query_of[v++] = static_cast<uint32_t>(q++);
+    }
+    first_triangle.assign(s.query_ids.size(), kNone);
+    parallel_ranges(n, kRange, [&](size_t first, size_t last) {
+      for (size_t i = first; i < last; ++i)
+        for (uint32_t v : triangles[i])
+          if (query_of[v] != kNone) atomic_store_min(first_triangle[query_of[v]], static_cast<uint32_t>(i));
+    });
+  } else if (!s.query_ids.empty()) {
+    first_triangle.assign(s.names, kNone);
+    parallel_ranges(n, kRange, [&](size_t first, size_t last) {
+      for (size_t i = first; i < last; ++i)
+        for (uint32_t v : triangles[i]) {
+          const uint32_t name = ids.empty() ? v : ids[v];
+          if (name >= s.names) continue;
+          atomic_store_min(first_triangle[name], static_cast<uint32_t>(i));
+        }
+    });
+  }
   enum : uint8_t { kOnSurface, kCheck, kFull };
   std::vector<uint8_t> kind(s.queries.size());
   parallel_ranges(s.queries.size(), kRange, [&](size_t first, size_t last) {
     for (size_t q = first; q < last; ++q) {
-      const uint32_t at = s.query_ids.empty() ? kNone : first_triangle[s.query_ids[q]];
+      const uint32_t at = s.query_ids.empty() ? kNone : first_triangle[merged ? q : s.query_ids[q]];
       if (at != kNone) {
         s.squared[q] = 0;
-        s.nearest[q] = s.queries[q];
+        s.nearest[q] = s.query(q);
         s.nearest_triangle[q] = keys[at];
         kind[q] = kOnSurface;
       } else {
@@ -287,8 +317,9 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
     build_on_every_core(tree);
     parallel_for(full.size(), [&](size_t j) {
       const uint32_t q = full[j];
-      const auto hit = tree.closest_point_and_primitive(s.queries[q], hints.nearest(s.queries[q]));
-      s.squared[q] = CGAL::squared_distance(s.queries[q], hit.first);
+      const K::Point_3 p = s.query(q);
+      const auto hit = tree.closest_point_and_primitive(p, hints.nearest(p));
+      s.squared[q] = CGAL::squared_distance(p, hit.first);
       s.nearest[q] = hit.first;
       s.nearest_triangle[q] = keys[static_cast<size_t>(hit.second - soup.cbegin())];
     });
@@ -300,8 +331,9 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
       const uint32_t q = check[j];
       // The current nearest point bounds the search: the traversal returns
       // it unless an added triangle is closer.
-      const auto hit = tree.closest_point_and_primitive(s.queries[q], {s.nearest[q], added.cbegin()});
-      const double d2 = CGAL::squared_distance(s.queries[q], hit.first);
+      const K::Point_3 p = s.query(q);
+      const auto hit = tree.closest_point_and_primitive(p, {s.nearest[q], added.cbegin()});
+      const double d2 = CGAL::squared_distance(p, hit.first);
       if (d2 < s.squared[q]) {
         s.squared[q] = d2;
         s.nearest[q] = hit.first;

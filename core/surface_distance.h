@@ -65,7 +65,9 @@ class SurfaceDistanceTracker {
  public:
   // `query_ids`, if given, names each query as measure()'s `ids` name the
   // surface's points: a query that is a vertex of the surface is at
-  // distance 0 without a search.
+  // distance 0 without a search. Both are the caller's, read in place
+  // (a reference boundary's vertices and their ids: not held twice), and
+  // must outlive the tracker.
   explicit SurfaceDistanceTracker(std::span<const GridPoint> queries,
                                   std::span<const uint32_t> query_ids = {});
   ~SurfaceDistanceTracker();

@@ -95,6 +95,68 @@ TEST(SurfaceDistanceTracker, NamesMakeTrianglesTheSameAcrossRenumbering) {
   }
 }
 
+// Named queries (a reference's boundary vertices by grid id): a query that
+// is a vertex of the surface is at 0, found by merging the names when the
+// surface's names ascend as the queries' do, and by name otherwise; both
+// give the same doubles and nearest triangles, and a full search's figures.
+TEST(SurfaceDistanceTracker, NamedQueriesAreTheSameWhetherTheSurfacesNamesAscendOrNot) {
+  const auto points = test::load_quantized("bunny_10k").points;
+  HierarchyOptions options;
+  options.dmax = 128;
+  options.measure_boundary_error = false;
+  const Hierarchy h = build_hierarchy(points, options).value();
+  ASSERT_GE(h.levels.size(), 4u);
+  const auto fine = boundary_triangles(h.levels[0].carved_cells());
+  std::vector<uint32_t> query_ids;
+  for (const auto& t : fine) query_ids.insert(query_ids.end(), t.begin(), t.end());
+  std::sort(query_ids.begin(), query_ids.end());
+  query_ids.erase(std::unique(query_ids.begin(), query_ids.end()), query_ids.end());
+  std::vector<GridPoint> queries;
+  for (uint32_t id : query_ids) queries.push_back(points[id]);
+  SurfaceDistanceTracker ascending(queries, query_ids), shuffled(queries, query_ids);
+  std::mt19937 random(7);
+  for (size_t l = 0; l < h.levels.size(); ++l) {
+    const Level& level = h.levels[l];
+    const auto surface = boundary_triangles(level.carved_cells());
+    // The level's vertices by ascending grid id, then the same in a random order.
+    std::vector<uint32_t> ids = level.vertices;
+    std::sort(ids.begin(), ids.end());
+    std::vector<uint32_t> order(ids.size());
+    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), random);
+    std::map<uint32_t, uint32_t> at_sorted, at_shuffled;
+    std::vector<GridPoint> sorted_points, shuffled_points;
+    std::vector<uint32_t> shuffled_ids;
+    for (uint32_t i = 0; i < ids.size(); ++i) {
+      at_sorted[ids[i]] = i;
+      sorted_points.push_back(points[ids[i]]);
+      at_shuffled[ids[order[i]]] = i;
+      shuffled_points.push_back(points[ids[order[i]]]);
+      shuffled_ids.push_back(ids[order[i]]);
+    }
+    std::vector<std::array<uint32_t, 3>> by_sorted, by_shuffled;
+    for (const auto& t : surface) {
+      by_sorted.push_back({at_sorted[t[0]], at_sorted[t[1]], at_sorted[t[2]]});
+      by_shuffled.push_back({at_shuffled[t[0]], at_shuffled[t[1]], at_shuffled[t[2]]});
+    }
+    const std::string where = "level " + std::to_string(l);
+    const DistanceSummary a = ascending.measure(sorted_points, ids, by_sorted);
+    const DistanceSummary b = shuffled.measure(shuffled_points, shuffled_ids, by_shuffled);
+    EXPECT_EQ(ascending.squared(), shuffled.squared()) << where;
+    EXPECT_EQ(ascending.nearest_triangles(), shuffled.nearest_triangles()) << where;
+    expect_same(a, distance_to_surface(points, surface, queries), where);
+    expect_same(b, a, where);
+    // The queries on the level's surface are at 0, the others not.
+    const std::vector<double> squared = ascending.squared();
+    std::vector<uint32_t> on_surface;
+    for (const auto& t : surface) on_surface.insert(on_surface.end(), t.begin(), t.end());
+    std::sort(on_surface.begin(), on_surface.end());
+    for (size_t q = 0; q < query_ids.size(); ++q)
+      if (std::binary_search(on_surface.begin(), on_surface.end(), query_ids[q]))
+        EXPECT_EQ(squared[q], 0.0) << where;
+  }
+}
+
 TEST(SurfaceDistanceTracker, HierarchyErrorsAreTheFullSearchs) {
   const auto points = test::load_quantized("bunny_10k").points;
   HierarchyOptions options;

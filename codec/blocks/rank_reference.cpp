@@ -147,7 +147,7 @@ std::optional<BlockReference> RankReference::for_region(const GridBox& region, c
   std::shared_ptr<const ReferenceBoundary> whole;
   {
     std::lock_guard lock(whole_mutex_);
-    if (!whole_) whole_ = std::make_shared<const ReferenceBoundary>(points_, std::move(meeting));
+    if (!whole_) whole_ = std::make_shared<const ReferenceBoundary>(points_, std::move(meeting), false);
     whole = whole_;
   }
   r.shape.emplace(std::move(whole));
