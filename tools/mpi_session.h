@@ -139,6 +139,15 @@ class MpiSession : public RankExchange {
   template <class T>
   std::vector<T> all_to_all_in_pieces(std::vector<std::vector<std::vector<T>>> pieces_to,
                                       size_t piece) const {
+    return joined(exchange_pieces(std::move(pieces_to), piece));
+  }
+  // The exchange of all_to_all_in_pieces() without the join: per rank, the
+  // pieces it sent this one, in order (the last of each may be short).
+  // Called again and again, a round at a time, it lets a rank send what it
+  // has while it reads more (every rank must make as many calls).
+  template <class T>
+  std::vector<std::vector<std::vector<T>>> exchange_pieces(std::vector<std::vector<std::vector<T>>> pieces_to,
+                                                           size_t piece) const {
     static_assert(std::is_trivially_copyable_v<T>);
     if (piece == 0 || piece * sizeof(T) > static_cast<size_t>(INT32_MAX))
       throw std::logic_error("MPI: a piece of no values or over 2 GiB");
@@ -171,10 +180,9 @@ class MpiSession : public RankExchange {
         rounds = std::max<uint64_t>(rounds, std::max(pieces_of(sending[r]), pieces_of(coming[r])));
       MPI_Iallreduce(MPI_IN_PLACE, &rounds, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD, &request);
       wait_for(request);
-      // What each rank sent, piece by piece as it came: joined at the end a
-      // piece at a time, each freed once copied, so that the join holds
-      // one piece beside the whole, not a rank's part (a quarter of a
-      // rank's tetrahedra on 4 ranks, 60 MiB at bunny_10m).
+      // What each rank sent, piece by piece as it came, so that a join
+      // holds one piece beside the whole, not a rank's part (a quarter of
+      // a rank's tetrahedra on 4 ranks, 60 MiB at bunny_10m).
       std::vector<std::vector<std::vector<T>>> from(n);
       std::vector<std::vector<T>> landing(n);
       std::vector<MPI_Request> requests(2 * n, MPI_REQUEST_NULL);
@@ -198,26 +206,26 @@ class MpiSession : public RankExchange {
           if (k < pieces_to[r].size()) std::vector<T>().swap(pieces_to[r][k]);
         }
       }
-      uint64_t total = 0;
-      for (uint64_t c : coming) total += c;
-      std::vector<T> all;
-      all.reserve(total);
-      for (auto& part : from) {
-        for (auto& p : part) {
-          all.insert(all.end(), p.begin(), p.end());
-          std::vector<T>().swap(p);
-        }
-        std::vector<std::vector<T>>().swap(part);
-      }
-      return all;
+      return from;
     }
 #endif
+    return pieces_to;  // alone: what it sends itself
+  }
+  // Per rank its pieces, joined in rank order, each piece freed once copied.
+  template <class T>
+  static std::vector<T> joined(std::vector<std::vector<std::vector<T>>> from) {
+    size_t total = 0;
+    for (const auto& part : from)
+      for (const auto& p : part) total += p.size();
     std::vector<T> all;
-    for (auto& pieces : pieces_to)
-      for (auto& p : pieces) {
+    all.reserve(total);
+    for (auto& part : from) {
+      for (auto& p : part) {
         all.insert(all.end(), p.begin(), p.end());
         std::vector<T>().swap(p);
       }
+      std::vector<std::vector<T>>().swap(part);
+    }
     return all;
   }
   // A thread that answers the other ranks, where MPI lets several threads
