@@ -591,7 +591,7 @@ StatusOr<BuiltLevel> build_coarser_level(std::span<const GridPoint> fine_points,
         by_key.emplace_back(sorted_key(fine_vertices, surface.triangles[t]), t);
       std::sort(by_key.begin(), by_key.end());
       for (uint32_t i : far_reference) {
-        const Key& key = out.shape.reference_nearest[i];
+        const Key key = ref.shape->nearest_triangle(i);
         const auto it = std::lower_bound(by_key.begin(), by_key.end(), std::pair<Key, uint32_t>{key, 0});
         if (it != by_key.end() && it->first == key)
           for (int32_t c : surface.cells[it->second])

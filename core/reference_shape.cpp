@@ -173,7 +173,6 @@ ShapeMeasurement ReferenceShape::measure(std::span<const GridPoint> points, std:
   ShapeMeasurement m;
   m.to_level = boundary_->points().empty() ? DistanceSummary{} : to_level_.measure(points, ids, triangles);
   m.reference_squared = to_level_.squared();
-  m.reference_nearest = to_level_.nearest_triangles();
   {
     // The triangles' corners, ascending and each once (vertex_ids_of's
     // answer, by a mark per point instead of a sort).

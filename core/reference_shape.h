@@ -45,10 +45,9 @@ struct ShapeMeasurement {
   DistanceSummary to_reference;  // the level's surface to the reference's
   DistanceSummary both;          // the larger max; the mean over every point measured
   // Per reference boundary vertex (ReferenceShape::boundary_points()): its
-  // squared distance to the level's surface and the triangle nearest it
-  // (its ids, sorted).
+  // squared distance to the level's surface (the triangle nearest it:
+  // ReferenceShape::nearest_triangle(), not copied here).
   std::vector<double> reference_squared;
-  std::vector<std::array<uint32_t, 3>> reference_nearest;
   // The level's surface vertices (indices into the measured points) and
   // each one's squared distance; each triangle's centroid's.
   std::vector<uint32_t> surface_vertices;
@@ -110,6 +109,9 @@ class ReferenceShape {
   // again. No triangle: every distance to the level is +infinity.
   ShapeMeasurement measure(std::span<const GridPoint> points, std::span<const uint32_t> ids,
                            std::span<const std::array<uint32_t, 3>> triangles);
+  // The surface triangle the last measure() found nearest reference
+  // boundary vertex i (its ids, sorted).
+  std::array<uint32_t, 3> nearest_triangle(size_t i) const { return to_level_.nearest_triangle(i); }
 
   // The same for a level given by its carved cells (indices into the grid
   // points the reference was made with), figures only.

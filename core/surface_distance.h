@@ -84,6 +84,7 @@ class SurfaceDistanceTracker {
   std::vector<double> squared() const;
   // Each query's nearest triangle then, by its ids (sorted).
   std::vector<std::array<uint32_t, 3>> nearest_triangles() const;
+  std::array<uint32_t, 3> nearest_triangle(size_t query) const;
 
  private:
   struct State;
