@@ -148,11 +148,10 @@ class BrickedEncoder {
   // more than kRegionsPerLevel times the level's points: a raised kept
   // radius (run()) makes halos that span most of the level, and each block
   // would do most of the level's work again. Sets the blocks built at once
-  // for the blocks' size. `codes` and `ids` as index_->level() gives them.
+  // for the blocks' size. `codes`: room for index_->level()'s.
   // `block_points`: the plan's, raised with it.
   void fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth,
-                        uint64_t& block_points, BlockPlan& plan, std::vector<MortonCode>& codes,
-                        std::vector<uint32_t>& ids);
+                        uint64_t& block_points, BlockPlan& plan, std::vector<MortonCode>& codes);
   StatusOr<double> level_alpha(std::span<const uint32_t> ids, const BlockPlan& plan);
   Status analyse(int level, const BlockPlan& plan, int64_t halo, const BlockAnalysisOptions& options,
                  std::vector<BlockAnalysis>& out);
@@ -163,11 +162,10 @@ class BrickedEncoder {
   // `halo`: the analysis's (a choice made again), `build_halo` the build's.
   // `block_points`: the most points the plan let a block hold (a choice
   // of no more is built in one block).
-  StatusOr<bool> coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan,
-                               uint64_t block_points, int64_t halo, int64_t build_halo,
-                               BlockAnalysisOptions options, const std::vector<BlockAnalysis>& analysis,
-                               std::span<const uint32_t> boundary, double kept_radius,
-                               const QualityFloors& floors);
+  StatusOr<bool> coarser_level(int level, size_t finer, const BlockPlan& plan, uint64_t block_points,
+                               int64_t halo, int64_t build_halo, BlockAnalysisOptions options,
+                               const std::vector<BlockAnalysis>& analysis, std::span<const uint32_t> boundary,
+                               double kept_radius, const QualityFloors& floors);
   // The coarser level from the choice: builds, repairs, and merges until no
   // block's region changes. Sets coarser_ (per grid point).
   Status build(int level, const BlockPlan& plan, int64_t halo, double kept_radius,
@@ -216,8 +214,8 @@ class BrickedEncoder {
 };
 
 void BrickedEncoder::fewer_blocks_for(int level, double kept_radius, size_t level_points, int brick_depth,
-                                      uint64_t& block_points, BlockPlan& plan, std::vector<MortonCode>& codes,
-                                      std::vector<uint32_t>& ids) {
+                                      uint64_t& block_points, BlockPlan& plan,
+                                      std::vector<MortonCode>& codes) {
   const int64_t halo = halo_for(kept_radius, o_.hierarchy.dmax);
   bool planned_again = false;
   while (plan.blocks.size() > 1 && block_points < (uint64_t{1} << 40)) {
@@ -226,7 +224,7 @@ void BrickedEncoder::fewer_blocks_for(int level, double kept_radius, size_t leve
       held += index_->inside(plan.box(k, q_).grown(halo, q_), level_of_, level).size();
     if (static_cast<double>(held) <= kRegionsPerLevel * static_cast<double>(level_points)) break;
     block_points *= 8;
-    index_->level(level_of_, level, codes, &ids);
+    index_->level(level_of_, level, codes);
     plan = plan_blocks(codes, q_, brick_depth, block_points, x_.size());
     release(codes);
     planned_again = true;
@@ -542,7 +540,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
   const HierarchyOptions& h = o_.hierarchy;
   std::vector<MortonCode> codes;
   std::vector<uint32_t> ids;
-  index_->level(level_of_, 0, codes, &ids);
+  index_->level(level_of_, 0, codes);
   const int finest_depth = choose_brick_depth(codes, q_, 2 * o_.brick_points);
   QualityFloors floors;
   floors.factor = h.average_quality_floor;
@@ -563,6 +561,10 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     uint64_t block_points = o_.block_points;
     phase(level, "alpha");
     DTM_ASSIGN_OR_RETURN(out.alpha, level_alpha(ids, plan));
+    // The level's ids (4 bytes a point) are not held while its blocks work:
+    // level_of_ says them.
+    const size_t level_points = ids.size();
+    release(ids);
     if (!(out.alpha > 0)) return invalid_input("the level's points do not span three dimensions");
     // kept_radius is the build's, alpha (a prediction) at most that (§3.5).
     double kept_radius = level == 0 ? kKeptRadiusOfLevel0 * out.alpha : next_kept_radius;
@@ -584,7 +586,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       // Once level 0's kept radius was raised, the blocks are made larger
       // until their regions stop holding the level many times over.
       if (level0_radius_raised() || round > 0)
-        fewer_blocks_for(level, kept_radius, ids.size(), out.brick_depth, block_points, plan, codes, ids);
+        fewer_blocks_for(level, kept_radius, level_points, out.brick_depth, block_points, plan, codes);
       size_t largest = 0;
       for (size_t k = 0; k < plan.blocks.size(); ++k)
         largest = std::max(largest, plan.first[k + 1] - plan.first[k]);
@@ -593,7 +595,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       options.kept_radius = kept_radius;
       // One block built in one on this rank: its build's tetrahedralization
       // is taken (analyse()).
-      const bool from_build = plan.blocks.size() == 1 && held_ && held_->ids.size() == ids.size();
+      const bool from_build = plan.blocks.size() == 1 && held_ && held_->ids.size() == level_points;
       phase(
           level,
           (from_build
@@ -606,7 +608,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       // The level's figures, carving and surface record, merged in block order.
       out.stats = built_stats_;
       out.stats.level = level;
-      out.stats.vertices = ids.size();
+      out.stats.vertices = level_points;
       out.stats.alpha = out.alpha;
       out.cell_hash = 0;
       out.carving.clear();
@@ -668,8 +670,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     levels.push_back(std::move(out));
     if (!may_choose) break;
     DTM_ASSIGN_OR_RETURN(const bool built,
-                         coarser_level(level, ids, plan, block_points, halo, build_halo, options, analysis,
-                                       merged.boundary, next_kept_radius, floors));
+                         coarser_level(level, level_points, plan, block_points, halo, build_halo, options,
+                                       analysis, merged.boundary, next_kept_radius, floors));
     if (!built) break;
   }
   release(coarser_);
@@ -720,7 +722,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   return encoding;
 }
 
-StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t> ids, const BlockPlan& plan,
+StatusOr<bool> BrickedEncoder::coarser_level(int level, size_t finer, const BlockPlan& plan,
                                              uint64_t block_points, int64_t halo, int64_t build_halo,
                                              BlockAnalysisOptions options,
                                              const std::vector<BlockAnalysis>& analysis,
@@ -728,7 +730,8 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
                                              const QualityFloors& floors) {
   const HierarchyOptions& h = o_.hierarchy;
   const double share = removal_share();
-  const size_t finer = ids.size();
+  // The finer level: the points of level_of_ `level` or above.
+  const auto in_finer = [&](size_t id) { return level_of_[id] >= level; };
   for (const double attempt : {share, kRetryShare * share}) {
     coarser_.assign(in_.points.size(), 0);
     if (attempt == share) {
@@ -745,7 +748,7 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
         for (uint32_t id : a.chosen) coarser_[id] = 1;
     }
     uint64_t chosen = 0;
-    for (uint32_t id : ids) chosen += coarser_[id];
+    for (size_t id = 0; id < coarser_.size(); ++id) chosen += in_finer(id) && coarser_[id];
     // A choice that fits in one block is built in one, over the whole
     // finer level (spec/HIERARCHY.md §6.5): its analysis, one block too,
     // then takes the build's tetrahedralization rather than making it
@@ -768,7 +771,7 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
     DTM_RETURN_IF_ERROR(
         build(level, in_one ? whole : plan, build_halo, kept_radius, floors, broken, quality_met, rounds));
     uint64_t coarser = 0, removed_boundary = 0;
-    for (uint32_t id : ids) coarser += coarser_[id];
+    for (size_t id = 0; id < coarser_.size(); ++id) coarser += in_finer(id) && coarser_[id];
     for (uint32_t id : boundary) removed_boundary += !coarser_[id];
     if (coarser < h.min_base_vertices) {
       held_.reset();
@@ -785,8 +788,8 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, std::span<const uint32_t
     built_stats_.put_back = coarser - chosen;
     built_stats_.repair_rounds = rounds;
     last_ = h.stop_when_boundary_is_final && removed_boundary == 0;
-    for (uint32_t id : ids)
-      if (coarser_[id]) level_of_[id] = static_cast<uint8_t>(level + 1);
+    for (size_t id = 0; id < coarser_.size(); ++id)
+      if (in_finer(id) && coarser_[id]) level_of_[id] = static_cast<uint8_t>(level + 1);
     release(coarser_);  // level_of_ says it now
     return true;
   }
