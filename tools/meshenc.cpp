@@ -11,7 +11,6 @@
 #include <iostream>
 #include <map>
 #include <optional>
-#include <utility>
 
 #include "codec/blocks/reference_share.h"
 #include "codec/encode.h"
@@ -390,48 +389,22 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
     for (size_t p = first; p < last; ++p)
       rank_of[p] = static_cast<uint32_t>(share.rank_of(static_cast<uint32_t>(p)));
   });
-  // What goes to each rank, in pieces of a size, sent in rounds while the
-  // part is read: a round whenever this rank holds kRoundPieces pieces, and
-  // once it is done, rounds until every rank is (each round is every
-  // rank's: one that has read its part sends nothing more). A rank holds
-  // what it received and a round's worth of what it sends, not its whole
-  // part to send beside it (at 10M on 4 ranks, the part parsed was
-  // about 250 MiB, held whole until sent). DTM_MPI_PIECE sets the
-  // tetrahedra a piece, 1 to 2^24, the same on every rank
-  // (tests/mpi_encode.sh: many pieces and rounds of a small input); another
-  // value is not taken.
+  // What goes to each rank, in pieces of a size (grown by doubling, a
+  // rank's share was held up to twice, and three times while copied),
+  // sent a piece at a time. DTM_MPI_PIECE sets the tetrahedra a piece,
+  // 1 to 2^24, the same on every rank (tests/mpi_encode.sh: many pieces of
+  // a small input); another value is not taken.
   size_t piece = size_t{1} << 16;  // tetrahedra: 1 MiB
   if (const char* e = std::getenv("DTM_MPI_PIECE")) {
     char* end = nullptr;
     const unsigned long long asked = std::strtoull(e, &end, 10);
     if (end != e && *end == '\0' && asked >= 1 && asked <= (1ull << 24)) piece = static_cast<size_t>(asked);
   }
-  constexpr size_t kRoundPieces = 16;
-  const auto ranks_count = static_cast<size_t>(mpi.size());
-  // The pieces' size must be every rank's (a receiver sizes each piece by
-  // its own): said on every rank alike, before any round.
-  try {
-    (void)mpi.exchange_pieces(std::vector<std::vector<std::vector<Tet>>>(ranks_count), piece);
-  } catch (const std::runtime_error& e) {
-    throw dtm::AgreedError(
-        in.tetgen_ele + ": " + e.what() + " (DTM_MPI_PIECE must be the same on every rank)", mpi.rank() == 0);
-  }
-  std::vector<std::vector<std::vector<Tet>>> to(ranks_count), from(ranks_count);
-  size_t pieces_held = 0;
+  std::vector<std::vector<std::vector<Tet>>> to(static_cast<size_t>(mpi.size()));
   const auto send = [&](uint32_t rank, const Tet& t) {
     auto& pieces = to[rank];
-    if (pieces.empty() || pieces.back().size() == piece) pieces.emplace_back().reserve(piece), ++pieces_held;
+    if (pieces.empty() || pieces.back().size() == piece) pieces.emplace_back().reserve(piece);
     pieces.back().push_back(t);
-  };
-  // One round: what this rank holds goes out, what comes is kept per
-  // sender in order; true when every rank has read its part.
-  const auto round = [&](bool done) {
-    auto came = mpi.exchange_pieces(
-        std::exchange(to, std::vector<std::vector<std::vector<Tet>>>(ranks_count)), piece);
-    pieces_held = 0;
-    for (size_t r = 0; r < ranks_count; ++r)
-      for (auto& p : came[r]) from[r].push_back(std::move(p));
-    return mpi.sum(done ? 0 : 1) == 0;
   };
   // A block of the part: each tetrahedron's ranks found on every core, then
   // the tetrahedra put in order in what goes to each rank.
@@ -456,11 +429,7 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
       send(ranks[i][0], block[i]);
       if (ranks[i][1] != ranks[i][0]) send(ranks[i][1], block[i]);
     }
-    if (pieces_held >= kRoundPieces * ranks_count) round(false);
   };
-  // A part that cannot be read stops this rank's reading, not its rounds:
-  // the other ranks' rounds go on until theirs are read, then every rank
-  // says what failed.
   dtm::ElePart counts;
   std::string problem;
   try {
@@ -469,11 +438,6 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
   } catch (const std::exception& e) {
     problem = e.what();
   }
-  if (!problem.empty()) to.assign(ranks_count, {});
-  while (!round(true)) {
-  }
-  // Each point's rank is read no more.
-  dtm::release(rank_of);
   agree_on_errors(mpi, problem);
   const uint64_t total = mpi.sum(counts.records);
   if (total < counts.header_count)
@@ -483,7 +447,14 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
     throw dtm::FormatError(in.tetgen_ele + ": unexpected data after the " +
                            std::to_string(counts.header_count) + " tetrahedra (the file holds " +
                            std::to_string(total) + ")");
-  return dtm::MpiSession::joined(std::move(from));
+  // Each point's rank is read no more: not held while the pieces are sent.
+  dtm::release(rank_of);
+  try {
+    return mpi.all_to_all_in_pieces(std::move(to), piece);
+  } catch (const std::runtime_error& e) {  // on every rank alike: said once
+    throw dtm::AgreedError(
+        in.tetgen_ele + ": " + e.what() + " (DTM_MPI_PIECE must be the same on every rank)", mpi.rank() == 0);
+  }
 }
 
 // Under mpirun, on 2 ranks or more: the input's tetrahedra this rank holds

@@ -131,23 +131,14 @@ class MpiSession : public RankExchange {
   // Every rank's pieces_to[r] go to rank r, each piece `piece` values
   // (trivially copyable) but the last; returns what the ranks sent this
   // one, joined in rank order, each rank's pieces in order. Sent a piece to
-  // each rank at a time, each freed once sent, and received piece by
-  // piece, joined at the end, each piece freed once joined: a rank holds
+  // each rank at a time, each freed once sent, and received into a part
+  // per rank joined at the end, each part freed once joined: a rank holds
   // about what it sends or what it receives, not both (a TetGen .ele's
   // tetrahedra, sent to the ranks that hold them, are most of the memory
   // of reading it).
   template <class T>
   std::vector<T> all_to_all_in_pieces(std::vector<std::vector<std::vector<T>>> pieces_to,
                                       size_t piece) const {
-    return joined(exchange_pieces(std::move(pieces_to), piece));
-  }
-  // The exchange of all_to_all_in_pieces() without the join: per rank, the
-  // pieces it sent this one, in order (the last of each may be short).
-  // Called again and again, a round at a time, it lets a rank send what it
-  // has while it reads more (every rank must make as many calls).
-  template <class T>
-  std::vector<std::vector<std::vector<T>>> exchange_pieces(std::vector<std::vector<std::vector<T>>> pieces_to,
-                                                           size_t piece) const {
     static_assert(std::is_trivially_copyable_v<T>);
     if (piece == 0 || piece * sizeof(T) > static_cast<size_t>(INT32_MAX))
       throw std::logic_error("MPI: a piece of no values or over 2 GiB");
@@ -180,10 +171,8 @@ class MpiSession : public RankExchange {
         rounds = std::max<uint64_t>(rounds, std::max(pieces_of(sending[r]), pieces_of(coming[r])));
       MPI_Iallreduce(MPI_IN_PLACE, &rounds, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD, &request);
       wait_for(request);
-      // What each rank sent, piece by piece as it came, so that a join
-      // holds one piece beside the whole, not a rank's part (a quarter of
-      // a rank's tetrahedra on 4 ranks, 60 MiB at bunny_10m).
-      std::vector<std::vector<std::vector<T>>> from(n);
+      std::vector<std::vector<T>> from(n);
+      for (size_t r = 0; r < n; ++r) from[r].reserve(coming[r]);  // room, not memory, until received
       std::vector<std::vector<T>> landing(n);
       std::vector<MPI_Request> requests(2 * n, MPI_REQUEST_NULL);
       constexpr int kTag = 8;
@@ -202,30 +191,27 @@ class MpiSession : public RankExchange {
         for (MPI_Request& q : requests)
           if (q != MPI_REQUEST_NULL) wait_for(q);
         for (size_t r = 0; r < n; ++r) {
-          if (k * piece < coming[r]) from[r].push_back(std::move(landing[r])), landing[r] = {};
+          if (k * piece < coming[r]) from[r].insert(from[r].end(), landing[r].begin(), landing[r].end());
           if (k < pieces_to[r].size()) std::vector<T>().swap(pieces_to[r][k]);
         }
       }
-      return from;
+      uint64_t total = 0;
+      for (uint64_t c : coming) total += c;
+      std::vector<T> all;
+      all.reserve(total);
+      for (auto& part : from) {
+        all.insert(all.end(), part.begin(), part.end());
+        std::vector<T>().swap(part);
+      }
+      return all;
     }
 #endif
-    return pieces_to;  // alone: what it sends itself
-  }
-  // Per rank its pieces, joined in rank order, each piece freed once copied.
-  template <class T>
-  static std::vector<T> joined(std::vector<std::vector<std::vector<T>>> from) {
-    size_t total = 0;
-    for (const auto& part : from)
-      for (const auto& p : part) total += p.size();
     std::vector<T> all;
-    all.reserve(total);
-    for (auto& part : from) {
-      for (auto& p : part) {
+    for (auto& pieces : pieces_to)
+      for (auto& p : pieces) {
         all.insert(all.end(), p.begin(), p.end());
         std::vector<T>().swap(p);
       }
-      std::vector<std::vector<T>>().swap(part);
-    }
     return all;
   }
   // A thread that answers the other ranks, where MPI lets several threads
