@@ -382,13 +382,10 @@ using Tet = std::array<uint32_t, 4>;
 // file's order, as reading the whole file keeping them would give.
 std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::QuantizedPoints& q,
                                    const dtm::ReferenceShare& share, dtm::MpiSession& mpi) {
-  // Each grid point's rank, found once on every core: a tetrahedron goes
-  // to the ranks of its two least corners.
-  std::vector<uint32_t> rank_of(q.points.size());
-  dtm::parallel_ranges(rank_of.size(), size_t{1} << 16, [&](size_t first, size_t last) {
-    for (size_t p = first; p < last; ++p)
-      rank_of[p] = static_cast<uint32_t>(share.rank_of(static_cast<uint32_t>(p)));
-  });
+  // A tetrahedron goes to the ranks of its two least corners, each found
+  // when asked (a search of the ranks' cuts), not held for every point (4
+  // bytes a point, 38 MiB at bunny_10m, held while the part was read: the
+  // .ele phase's peak).
   // What goes to each rank, in pieces of a size (grown by doubling, a
   // rank's share was held up to twice, and three times while copied),
   // sent a piece at a time. DTM_MPI_PIECE sets the tetrahedra a piece,
@@ -422,7 +419,7 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
           else if (g < b)
             b = g;
         }
-        ranks[i] = {rank_of[a], rank_of[b]};
+        ranks[i] = {static_cast<uint32_t>(share.rank_of(a)), static_cast<uint32_t>(share.rank_of(b))};
       }
     });
     for (size_t i = 0; i < block.size(); ++i) {
@@ -447,8 +444,6 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
     throw dtm::FormatError(in.tetgen_ele + ": unexpected data after the " +
                            std::to_string(counts.header_count) + " tetrahedra (the file holds " +
                            std::to_string(total) + ")");
-  // Each point's rank is read no more: not held while the pieces are sent.
-  dtm::release(rank_of);
   try {
     return mpi.all_to_all_in_pieces(std::move(to), piece);
   } catch (const std::runtime_error& e) {  // on every rank alike: said once
