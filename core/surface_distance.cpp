@@ -340,6 +340,7 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
       // (as when the nearest point itself bounded it: the same answers).
       const auto at = std::lower_bound(by_key.begin(), by_key.end(),
                                        std::pair<TriangleKey, uint32_t>{s.nearest_triangle[q], 0});
+      DTM_CHECK(at != by_key.end() && at->first == s.nearest_triangle[q]);  // a check's triangle is there
       const K::Point_3 corner = soup[at->second].vertex(0);
       const K::Point_3 p = s.query(q);
       const auto hit = tree.closest_point_and_primitive(p, {corner, added.cbegin()});
