@@ -258,6 +258,9 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
       rep.owner.push_back(vertices[v]);
     }
 
+  // The tracker reads rep.originals in place: they never change (a
+  // removal hands over their owners only, and a level undone below takes
+  // back its owners, not their buffer).
   std::optional<SurfaceDistanceTracker> error;
   if (opt.measure_boundary_error) error.emplace(rep.originals);
 
@@ -331,7 +334,7 @@ StatusOr<Hierarchy> build_hierarchy(std::span<const GridPoint> points, const Hie
                       kThinLevelShare * opt.removal_share * static_cast<double>(finer)) {
       L = std::move(before->level);
       vertices = std::move(before->vertices);
-      rep = std::move(before->rep);
+      rep.owner = std::move(before->rep.owner);
       break;
     }
   }

@@ -33,6 +33,15 @@ K::Point_3 to_point(const GridPoint& p) { return {double(p.x), double(p.y), doub
 
 // Items per range of the loops on every core.
 constexpr size_t kRange = 8192;
+// How much farther than a query's nearest point the point that bounds its
+// check lies (grid units; grid coordinates are below 2^24, where a
+// double's rounding is under 4e-9).
+constexpr double kHintMargin = 1e-6;
+// Names each once, ascending.
+bool strictly_ascending(std::span<const uint32_t> names) {
+  return std::adjacent_find(names.begin(), names.end(), [](uint32_t a, uint32_t b) { return a >= b; }) ==
+         names.end();
+}
 
 DistanceSummary no_surface() {
   const double inf = std::numeric_limits<double>::infinity();
@@ -170,14 +179,14 @@ struct SurfaceDistanceTracker::State {
   // Per query, after a measure(): the squared distance and the key of the
   // triangle nearest it (not the nearest point: 24 bytes a query, 16 MiB
   // for a reference boundary of 698k vertices; a check needs only a point
-  // no nearer than it, which a corner of that triangle is).
+  // a little farther, measure() says why).
   std::vector<double> squared;
   std::vector<TriangleKey> nearest_triangle;
   bool measured = false;
   std::vector<TriangleKey> previous;    // the last surface's keys, sorted
   std::span<const uint32_t> query_ids;  // the caller's; empty: queries have no names
   size_t names = 0;                     // the largest name + 1
-  bool ids_ascending = false;           // query_ids are
+  bool ids_ascending = false;           // query_ids are, each once
 };
 
 SurfaceDistanceTracker::SurfaceDistanceTracker(std::span<const GridPoint> queries,
@@ -186,7 +195,7 @@ SurfaceDistanceTracker::SurfaceDistanceTracker(std::span<const GridPoint> querie
   DTM_CHECK(query_ids.empty() || query_ids.size() == queries.size());
   state_->query_ids = query_ids;
   if (!query_ids.empty()) state_->names = size_t{*std::max_element(query_ids.begin(), query_ids.end())} + 1;
-  state_->ids_ascending = std::is_sorted(query_ids.begin(), query_ids.end());
+  state_->ids_ascending = strictly_ascending(query_ids);
   state_->queries = queries;
   state_->squared.resize(queries.size());
   state_->nearest_triangle.resize(queries.size());
@@ -241,15 +250,14 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
   constexpr uint32_t kNone = UINT32_MAX;
   // Per named query, the first triangle it is a corner of: the least, on
   // every core (an atomic minimum; the loop in order was serial). When the
-  // vertices' names and the queries' both ascend, each vertex's query is
+  // vertices' names and the queries' both ascend (each once), each vertex's query is
   // found by one merge of the two and the minimum is kept per query; else
   // it is kept per name, in an array as long as the largest name (a
   // bricked level built in one block is measured against the whole
   // reference boundary, whose names reach the largest grid id: 38 MiB at
   // bunny_10m, for its 698k queries).
   std::vector<uint32_t> first_triangle;
-  const bool merged =
-      !s.query_ids.empty() && s.ids_ascending && !ids.empty() && std::is_sorted(ids.begin(), ids.end());
+  const bool merged = !s.query_ids.empty() && s.ids_ascending && !ids.empty() && strictly_ascending(ids);
   if (merged) {
     std::vector<uint32_t> query_of(vertices.size(), kNone);
     for (size_t v = 0, q = 0; v < ids.size() && q < s.query_ids.size();) {
@@ -325,26 +333,19 @@ DistanceSummary SurfaceDistanceTracker::measure(std::span<const GridPoint> verti
   if (!check.empty() && !added.empty()) {
     Tree tree(added.cbegin(), added.cend());
     build_on_every_core(tree);
-    // Each triangle by its key: a check query's nearest triangle (still
-    // there) is found in the soup.
-    std::vector<std::pair<TriangleKey, uint32_t>> by_key(n);
-    parallel_ranges(n, kRange, [&](size_t first, size_t last) {
-      for (size_t i = first; i < last; ++i) by_key[i] = {keys[i], static_cast<uint32_t>(i)};
-    });
-    parallel_sort(by_key.begin(), by_key.end());  // distinct keys
     parallel_for(check.size(), [&](size_t j) {
       const uint32_t q = check[j];
-      // A corner of the nearest triangle, no nearer than the nearest point,
-      // bounds the search: the traversal returns it unless an added triangle
-      // is nearer than it; only one nearer than the nearest point counts
-      // (as when the nearest point itself bounded it: the same answers).
-      const auto at = std::lower_bound(by_key.begin(), by_key.end(),
-                                       std::pair<TriangleKey, uint32_t>{s.nearest_triangle[q], 0});
-      DTM_CHECK(at != by_key.end() && at->first == s.nearest_triangle[q]);  // a check's triangle is there
-      const K::Point_3 corner = soup[at->second].vertex(0);
+      // A point a little farther than the nearest one bounds the search
+      // (kHintMargin past it, far more than its rounding): the traversal
+      // returns it unless an added triangle is nearer than it, and only one
+      // nearer than the nearest point counts, as when the nearest point
+      // itself bounded the search (a corner of the nearest triangle would
+      // not: CGAL's projection onto a vertex can round a few ulps past the
+      // vertex, which an added triangle at that vertex then ties).
       const K::Point_3 p = s.query(q);
-      const auto hit = tree.closest_point_and_primitive(p, {corner, added.cbegin()});
-      if (hit.first == corner && hit.second == added.cbegin()) return;
+      const K::Point_3 bound(p.x() + std::sqrt(s.squared[q]) + kHintMargin, p.y(), p.z());
+      const auto hit = tree.closest_point_and_primitive(p, {bound, added.cbegin()});
+      if (hit.first == bound) return;
       const double d2 = CGAL::squared_distance(p, hit.first);
       if (d2 < s.squared[q]) {
         s.squared[q] = d2;

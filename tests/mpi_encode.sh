@@ -84,8 +84,8 @@ if mpirun --oversubscribe "${as_root[@]}" -n 3 "$meshenc" "$work/broken.node" "$
 fi
 grep -q "broken.ele:$bad: expected a vertex index, found 'x'" "$work/err" || { echo "the broken line not named:"; cat "$work/err"; failed=1; }
 [ -z "$(ls "$work/missing")" ] || { echo "files left behind: $(ls "$work/missing")"; failed=1; }
-# Broken in the first rank's part, the others read in small pieces: every
-# rank ends, the line is named once, no file is left.
+# Broken in the first rank's part, the tetrahedra sent in pieces of 100:
+# every rank ends, the line is named once, no file is left.
 bad=$((lines / 10))
 awk -v bad="$bad" 'NR == bad { $5 = "x" } { print }' "$data/bunny_10k.ele" > "$work/broken.ele"
 if DTM_MPI_PIECE=100 timeout 120 mpirun --oversubscribe "${as_root[@]}" -x DTM_MPI_PIECE -n 3 "$meshenc" \

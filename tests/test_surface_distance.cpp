@@ -144,6 +144,13 @@ TEST(SurfaceDistanceTracker, NamedQueriesAreTheSameWhetherTheSurfacesNamesAscend
     const DistanceSummary b = shuffled.measure(shuffled_points, shuffled_ids, by_shuffled);
     EXPECT_EQ(ascending.squared(), shuffled.squared()) << where;
     EXPECT_EQ(ascending.nearest_triangles(), shuffled.nearest_triangles()) << where;
+    // Level after level, each distance is the double a search from
+    // scratch finds (checks against the added triangles only, bounded by a
+    // point beyond the nearest: nothing nearer is missed, nothing farther
+    // taken).
+    SurfaceDistanceTracker fresh(queries, query_ids);
+    fresh.measure(sorted_points, ids, by_sorted);
+    EXPECT_EQ(ascending.squared(), fresh.squared()) << where;
     expect_same(a, distance_to_surface(points, surface, queries), where);
     expect_same(b, a, where);
     // The queries on the level's surface are at 0, the others not.
@@ -151,9 +158,11 @@ TEST(SurfaceDistanceTracker, NamedQueriesAreTheSameWhetherTheSurfacesNamesAscend
     std::vector<uint32_t> on_surface;
     for (const auto& t : surface) on_surface.insert(on_surface.end(), t.begin(), t.end());
     std::sort(on_surface.begin(), on_surface.end());
-    for (size_t q = 0; q < query_ids.size(); ++q)
-      if (std::binary_search(on_surface.begin(), on_surface.end(), query_ids[q]))
+    for (size_t q = 0; q < query_ids.size(); ++q) {
+      if (std::binary_search(on_surface.begin(), on_surface.end(), query_ids[q])) {
         EXPECT_EQ(squared[q], 0.0) << where;
+      }
+    }
   }
 }
 
