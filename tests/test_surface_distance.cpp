@@ -23,15 +23,29 @@
 namespace dtm {
 namespace {
 
-std::vector<GridPoint> boundary_vertices(std::span<const std::array<uint32_t, 3>> triangles,
-                                         std::span<const GridPoint> points) {
+// The triangles' corners, ascending, each once.
+std::vector<uint32_t> corner_ids(std::span<const std::array<uint32_t, 3>> triangles) {
   std::vector<uint32_t> ids;
   for (const auto& t : triangles) ids.insert(ids.end(), t.begin(), t.end());
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+std::vector<GridPoint> boundary_vertices(std::span<const std::array<uint32_t, 3>> triangles,
+                                         std::span<const GridPoint> points) {
   std::vector<GridPoint> out;
-  for (uint32_t v : ids) out.push_back(points[v]);
+  for (uint32_t v : corner_ids(triangles)) out.push_back(points[v]);
   return out;
+}
+
+// bunny_10k's paper hierarchy with a loose D_max: many levels, each
+// surface straying farther from level 0's.
+Hierarchy many_levels(std::span<const GridPoint> points) {
+  HierarchyOptions options;
+  options.dmax = 128;
+  options.measure_boundary_error = false;
+  return build_hierarchy(points, options).value();
 }
 
 void expect_same(const DistanceSummary& a, const DistanceSummary& b, const std::string& where) {
@@ -43,10 +57,7 @@ void expect_same(const DistanceSummary& a, const DistanceSummary& b, const std::
 
 TEST(SurfaceDistanceTracker, EqualsAFullSearchOnEveryLevelInAnyOrder) {
   const auto points = test::load_quantized("bunny_10k").points;
-  HierarchyOptions options;
-  options.dmax = 128;
-  options.measure_boundary_error = false;
-  const Hierarchy h = build_hierarchy(points, options).value();
+  const Hierarchy h = many_levels(points);
   ASSERT_GE(h.levels.size(), 10u);
   std::vector<std::vector<std::array<uint32_t, 3>>> surfaces;
   for (const Level& level : h.levels) surfaces.push_back(boundary_triangles(level.carved_cells()));
@@ -101,16 +112,9 @@ TEST(SurfaceDistanceTracker, NamesMakeTrianglesTheSameAcrossRenumbering) {
 // give the same doubles and nearest triangles, and a full search's figures.
 TEST(SurfaceDistanceTracker, NamedQueriesAreTheSameWhetherTheSurfacesNamesAscendOrNot) {
   const auto points = test::load_quantized("bunny_10k").points;
-  HierarchyOptions options;
-  options.dmax = 128;
-  options.measure_boundary_error = false;
-  const Hierarchy h = build_hierarchy(points, options).value();
+  const Hierarchy h = many_levels(points);
   ASSERT_GE(h.levels.size(), 4u);
-  const auto fine = boundary_triangles(h.levels[0].carved_cells());
-  std::vector<uint32_t> query_ids;
-  for (const auto& t : fine) query_ids.insert(query_ids.end(), t.begin(), t.end());
-  std::sort(query_ids.begin(), query_ids.end());
-  query_ids.erase(std::unique(query_ids.begin(), query_ids.end()), query_ids.end());
+  const std::vector<uint32_t> query_ids = corner_ids(boundary_triangles(h.levels[0].carved_cells()));
   std::vector<GridPoint> queries;
   for (uint32_t id : query_ids) queries.push_back(points[id]);
   SurfaceDistanceTracker ascending(queries, query_ids), shuffled(queries, query_ids);
@@ -155,9 +159,7 @@ TEST(SurfaceDistanceTracker, NamedQueriesAreTheSameWhetherTheSurfacesNamesAscend
     expect_same(b, a, where);
     // The queries on the level's surface are at 0, the others not.
     const std::vector<double> squared = ascending.squared();
-    std::vector<uint32_t> on_surface;
-    for (const auto& t : surface) on_surface.insert(on_surface.end(), t.begin(), t.end());
-    std::sort(on_surface.begin(), on_surface.end());
+    const std::vector<uint32_t> on_surface = corner_ids(surface);
     for (size_t q = 0; q < query_ids.size(); ++q) {
       if (std::binary_search(on_surface.begin(), on_surface.end(), query_ids[q])) {
         EXPECT_EQ(squared[q], 0.0) << where;
