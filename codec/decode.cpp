@@ -244,8 +244,17 @@ std::vector<uint8_t> ProgressiveDecoder::bricked_carving(const TetMesh& dt,
   for (const BrickChunk& c : chunks_)
     sections.push_back(split_chunk(c, std::span(chunk_bytes_).subspan(c.offset, c.size())).carving);
   std::vector<uint8_t> kept;
-  const Status s = decode_carving_chunks(sections, dt, points_, levels_.back().alpha, chunk_of_cell,
-                                         morton_ranks(codes), kept, &order);
+  ChunkCells cells;
+  Status s = decode_carving_chunks(sections, dt, points_, levels_.back().alpha, chunk_of_cell,
+                                   morton_ranks(codes), kept, &order, &cells);
+  // (15.0: the kept cells' regions, each chunk's after its carving.)
+  if (s.ok() && (header_.flags & kFlagRegions)) {
+    std::vector<std::span<const uint8_t>> regions;
+    regions.reserve(chunks_.size());
+    for (const BrickChunk& c : chunks_)
+      regions.push_back(split_chunk(c, std::span(chunk_bytes_).subspan(c.offset, c.size())).regions);
+    s = decode_region_chunks(regions, dt, cells, chunk_of_cell, regions_.size(), kept);
+  }
   if (!s.ok()) {
     mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return {};

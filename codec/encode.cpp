@@ -181,7 +181,8 @@ uint64_t turned_cells(std::span<const GridPoint> points, std::span<const std::ar
 // options.exchange if given (codec/blocks/bricked_encoder.h).
 StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOptions& options,
                                        const EncodePlan& plan, std::span<const std::array<uint32_t, 4>> tets,
-                                       const Solid* voxels, std::vector<FieldValues> fields, EncodedMesh out,
+                                       std::span<const uint8_t> tet_regions, const Solid* voxels,
+                                       std::vector<FieldValues> fields, EncodedMesh out,
                                        const LevelReady& on_level) {
   if (!options.carve_to_reference)
     return invalid_input(
@@ -212,6 +213,8 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   in.points = q.points;
   in.grid = q.grid;
   in.reference_tets = tets;
+  in.reference_regions = tet_regions;
+  in.regions = report.regions;
   in.reference_tets_done = input.tetrahedra_done;
   in.voxels = voxels;
   in.share = share;
@@ -245,6 +248,8 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   const size_t L = encoded.levels.size();
   report.layer_bytes = std::move(encoded.layer_bytes);
   report.carving_bytes = std::move(encoded.carving_bytes);
+  if (!report.regions.empty()) report.region_bytes = std::move(encoded.region_bytes);
+  report.region_table_bytes = encoded.region_table_bytes;
   report.candidate_bytes.assign(L, 0);
   report.candidate_points.assign(L, 0);
   report.value_bytes = std::move(encoded.value_bytes);
@@ -376,7 +381,6 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   if (with_regions) {
     if (input.tetrahedron_regions.size() != input.tetrahedra.size())
       return invalid_input("a region is needed for every tetrahedron");
-    if (options.bricks) return invalid_input("bricked streams do not carry regions yet");
     if (!options.carve_to_reference)
       return invalid_input("regions need the levels carved to the input's solid (not the paper preset)");
   }
@@ -501,7 +505,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   // vertex_of_input, or the stream keeps the input's order.
   if (input_map && !options.vertex_of_input && !options.keep_order) release(*input_map);
   if (options.bricks)
-    return encode_in_bricks(input, options, plan, reference_tets, voxels ? &*voxels : nullptr,
+    return encode_in_bricks(input, options, plan, reference_tets, region_index, voxels ? &*voxels : nullptr,
                             std::move(fields), std::move(out), on_level);
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;

@@ -161,8 +161,9 @@ struct EncodeInput {
   std::span<const std::array<uint32_t, 4>> tetrahedra;
   // Per tetrahedron, its region (material): the input's own label (a gmsh
   // physical volume, a Medit ref, ...); empty: none. Every level's cells
-  // then carry the region that holds their centroid (format 9.0). At most
-  // 255 distinct labels; not with bricks or the paper preset. With
+  // then carry the region that holds their centroid (format 9.0; bricked,
+  // 15.0, on one process). At most 255 distinct labels; not with the paper
+  // preset. With
   // tetrahedra_on_grid, in the order of `tetrahedra` (grid_tetrahedra_in_place
   // with the labels).
   std::span<const int32_t> tetrahedron_regions;

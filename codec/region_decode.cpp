@@ -86,7 +86,7 @@ bool cell_meets(std::span<const GridPoint> points, const std::array<uint32_t, 4>
 // cells' vertices, ascending number; cells in canonical order.
 void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
              std::span<const int32_t> levels, std::span<const FieldValues> values,
-             std::vector<std::array<uint32_t, 4>> cells, RegionMesh& out) {
+             std::vector<std::array<uint32_t, 4>> cells, std::vector<uint8_t> cell_regions, RegionMesh& out) {
   std::vector<uint8_t> in_a_cell(points.size(), 0);
   for (const auto& c : cells)
     for (uint32_t v : c) in_a_cell[v] = 1;
@@ -111,8 +111,15 @@ void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
     for (uint32_t& v : c) v = local[v];
     std::sort(c.begin(), c.end());
   }
-  std::sort(cells.begin(), cells.end());
-  out.cells = std::move(cells);
+  // The cells ascending, each with its region (if any).
+  std::vector<uint32_t> by_cell(cells.size());
+  std::iota(by_cell.begin(), by_cell.end(), 0u);
+  std::sort(by_cell.begin(), by_cell.end(), [&](uint32_t a, uint32_t b) { return cells[a] < cells[b]; });
+  out.cells.reserve(cells.size());
+  for (uint32_t k : by_cell) {
+    out.cells.push_back(cells[k]);
+    if (!cell_regions.empty()) out.cell_regions.push_back(cell_regions[k]);
+  }
 }
 
 // What the walk over the layers' headers and indexes keeps of each.
@@ -137,11 +144,26 @@ RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box) {
   out.level = decoder.finest_level();
   const auto& points = decoder.points();
   std::vector<std::array<uint32_t, 4>> cells;
-  for (const auto& c : decoder.carved_cells())
-    if (cell_meets(points, c, box)) cells.push_back(c);
+  std::vector<uint8_t> cell_regions;
+  out.regions = decoder.regions();
+  const ProgressiveDecoder::LevelCells level = decoder.level_cells();
+  if (decoder.mesh_status().ok())
+    for (uint32_t c : level.order)
+      if (level.kept[c] && cell_meets(points, level.mesh.cells[c], box)) {
+        cells.push_back(level.mesh.cells[c]);
+        if (!out.regions.empty()) cell_regions.push_back(level.kept[c]);
+      }
   std::vector<uint32_t> ids(points.size());
   std::iota(ids.begin(), ids.end(), 0u);
-  compact(points, ids, decoder.vertex_levels(), decoder.fields(), std::move(cells), out);
+  // With the input's numbering (flag vertex_order, level 0), a vertex's id is
+  // its number there, as the whole level is written.
+  if (decoder.mesh_status().ok() && (decoder.header().flags & kFlagVertexOrder) && out.level == 0) {
+    const std::vector<uint32_t> numbering = decoder.vertex_order(level.mesh);
+    if (numbering.size() == ids.size())
+      for (uint32_t k = 0; k < numbering.size(); ++k) ids[numbering[k]] = k;
+  }
+  compact(points, ids, decoder.vertex_levels(), decoder.fields(), std::move(cells), std::move(cell_regions),
+          out);
   out.points_decoded = points.size();
   return out;
 }
@@ -153,8 +175,9 @@ namespace {
 struct StreamPlan {
   StreamHeader header;
   std::vector<FieldDescription> fields;  // with flag values: the field table
-  uint64_t table_bytes = 0;
-  std::vector<LayerPlan> layers;  // coarsest first; the last is the level's
+  std::vector<RegionLabel> regions;      // with flag regions: the region table
+  uint64_t table_bytes = 0;              // the tables' (where the first layer starts)
+  std::vector<LayerPlan> layers;         // coarsest first; the last is the level's
 };
 
 class Reader {
@@ -207,10 +230,30 @@ Status read_field_table(Reader& reader, StreamPlan& plan) {
   return Status::Ok();
 }
 
+// The region table (flag regions), after the field table: its length, then
+// all of it (at most kMaxRegionCount short entries).
+Status read_region_table(Reader& reader, StreamPlan& plan) {
+  constexpr uint64_t kMaxTableBytes = 1 << 16;
+  const uint64_t at = kHeaderSize + plan.table_bytes;
+  std::vector<uint8_t> bytes;
+  DTM_RETURN_IF_ERROR(reader.read(at, 4, bytes, "the region table's length"));
+  const uint64_t length = bytes[0] | (bytes[1] << 8) | (bytes[2] << 16) | (uint64_t{bytes[3]} << 24);
+  if (length > kMaxTableBytes) return {StatusCode::kCorrupt, "region table: longer than any table can be"};
+  std::vector<uint8_t> rest;
+  DTM_RETURN_IF_ERROR(reader.read(at + 4, length + 8, rest, "the region table's end"));
+  bytes.insert(bytes.end(), rest.begin(), rest.end());
+  size_t consumed = 0;
+  DTM_RETURN_IF_ERROR(parse_region_table(bytes, plan.regions, consumed));
+  plan.table_bytes += consumed;
+  return Status::Ok();
+}
+
 Status read_plan(Reader& reader, int level, const DecoderOptions& options, StreamPlan& plan) {
   const int q = plan.header.grid.qbits;
   std::vector<uint8_t> bytes;
   if (plan.header.flags & kFlagValues) DTM_RETURN_IF_ERROR(read_field_table(reader, plan));
+  // (A bricked stream carries no face or cell tables: format.cpp refuses them.)
+  if (plan.header.flags & kFlagRegions) DTM_RETURN_IF_ERROR(read_region_table(reader, plan));
   LayerWalk walk(plan.header, options.max_vertices, plan.table_bytes);
   while (walk.next_level() >= level) {
     const int at = walk.next_level();
@@ -368,7 +411,11 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
       local_values[f].bits.insert(local_values[f].bits.end(), first, first + static_cast<std::ptrdiff_t>(n));
     }
   }
-  if (!spans_three_dimensions(local_points)) return Status::Ok();  // no cell at all
+  if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
+  if (!spans_three_dimensions(local_points)) {  // no cell at all: the arrays, empty
+    for (const FieldDescription& f : plan.fields) out.fields.push_back({f, {}});
+    return Status::Ok();
+  }
   DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(local_points));
 
   // Each cell's owner brick; the carving of the owners' chunks.
@@ -376,7 +423,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   std::vector<MortonCode> codes(local_points.size());
   for (size_t v = 0; v < codes.size(); ++v) codes[v] = morton_encode(local_points[v], q);
   const std::vector<uint64_t> owner = carving_bricks_of_cells(dt, local_points, codes, q, depth, r);
-  std::vector<uint8_t> kept;
+  std::vector<uint8_t> kept, cell_regions;
   if (plan.header.flags & kFlagCarvingCorrections) {
     std::vector<std::span<const uint8_t>> sections;
     std::vector<uint64_t> section_bricks;
@@ -392,18 +439,41 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
       if (owner[c] != kNoBrick && it != section_bricks.end() && *it == owner[c])
         chunk_of_cell[c] = static_cast<uint32_t>(it - section_bricks.begin());
     }
+    ChunkCells chunks;
     DTM_RETURN_IF_ERROR(decode_carving_chunks(sections, dt, local_points, finest.header.alpha, chunk_of_cell,
-                                              morton_ranks(codes), kept)
+                                              morton_ranks(codes), kept, nullptr, &chunks)
                             .with_context("level " + std::to_string(level)));
+    // (15.0) The owners' cells' regions, from the same chunks.
+    if (plan.header.flags & kFlagRegions) {
+      std::vector<std::span<const uint8_t>> regions;
+      for (const auto& [chunk, at] : finest_read)
+        if (owners.owns(chunk->brick))
+          regions.push_back(
+              split_chunk(*chunk, std::span<const uint8_t>(finest_chunks).subspan(at, chunk->size()))
+                  .regions);
+      // Only the owners' cells are decoded (the others are some other
+      // region's or piece's: their bricks' chunks were not all read).
+      std::vector<uint8_t> owned = kept;
+      for (size_t c = 0; c < owned.size(); ++c)
+        if (chunk_of_cell[c] == kNoCarvingChunk && !(owner[c] != kNoBrick && owners.owns(owner[c])))
+          owned[c] = 0;
+      DTM_RETURN_IF_ERROR(decode_region_chunks(regions, dt, chunks, chunk_of_cell, plan.regions.size(), owned)
+                              .with_context("level " + std::to_string(level)));
+      cell_regions = std::move(owned);
+    }
   } else {
     kept = carve(dt, local_points, finest.header.alpha);
   }
   std::vector<std::array<uint32_t, 4>> cells;
+  std::vector<uint8_t> regions_of_cells;
   for (size_t c = 0; c < dt.cells.size(); ++c)
     if (kept[c] && owner[c] != kNoBrick && owners.owns(owner[c]) &&
-        (!box || cell_meets(local_points, dt.cells[c], *box)))
+        (!box || cell_meets(local_points, dt.cells[c], *box))) {
       cells.push_back(dt.cells[c]);
-  compact(local_points, local_ids, local_levels, local_values, std::move(cells), out);
+      if (!cell_regions.empty()) regions_of_cells.push_back(cell_regions[c]);
+    }
+  compact(local_points, local_ids, local_levels, local_values, std::move(cells), std::move(regions_of_cells),
+          out);
   return Status::Ok();
 }
 
@@ -502,6 +572,9 @@ StatusOr<RegionMesh> decode_piece(ByteSource& source, int level, int piece, int 
     owners.cubes = morton_range_cubes(first, last, q, depth);
     owners.owns = [&](uint64_t b) { return b >= first && b < last; };
     DTM_RETURN_IF_ERROR(decode_owned(reader, plan, owners, nullptr, options, out));
+  } else {  // no brick: no cell, but the level's arrays (empty)
+    for (const FieldDescription& f : plan.fields) out.fields.push_back({f, {}});
+    if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
   }
   out.bytes_read = reader.bytes_read;
   return out;

@@ -30,6 +30,7 @@
 
 #include "codec/bricks/bricks.h"
 #include "codec/decode.h"
+#include "codec/sections/region_coder.h"
 #include "common/grid.h"
 #include "common/status.h"
 
@@ -75,11 +76,18 @@ class FileSource : public ByteSource {
 // points) meets it.
 struct RegionMesh {
   int level = 0;
-  std::vector<GridPoint> points;               // the cells' vertices, ascending vertex_ids
-  std::vector<uint32_t> vertex_ids;            // each one's number in the whole level (decoding order)
+  std::vector<GridPoint> points;  // the cells' vertices, ascending vertex_ids
+  // Each one's number in the whole level as it is written: its decoding
+  // order, or with the input's numbering kept (level 0, flag vertex_order)
+  // its number there.
+  std::vector<uint32_t> vertex_ids;
   std::vector<int32_t> vertex_levels;          // each one's coarsest level
   std::vector<std::array<uint32_t, 4>> cells;  // indexing points; in the level's canonical order
   std::vector<FieldValues> fields;             // the points' values, per field (the stream's)
+  // With regions (flag regions): the region table, and per cell 1 + the
+  // index of its region in it.
+  std::vector<RegionLabel> regions;
+  std::vector<uint8_t> cell_regions;
   // What it took: bytes read from the source, chunks decoded, points decoded.
   uint64_t bytes_read = 0;
   uint64_t chunks_read = 0;

@@ -4,8 +4,10 @@
 # fewer cores; as root, Open MPI wants --allow-run-as-root): each rank writes
 # its pieces, and they are byte for byte the pieces one process writes with
 # --pieces P; the pieces' cells add up to the whole level's; ParaView's
-# reader opens the .pvtu to the same count (where pvpython is installed),
-# and meshenc reads it back as one mesh of level 0's vertices. The
+# reader opens the .pvtu to the same count with no complaint (where pvpython
+# is installed), every piece declaring the arrays the .pvtu lists, empty
+# pieces too, and a stream's regions as cell data; and meshenc reads it back
+# as one mesh of level 0's vertices. The
 # pieces' exact partition (every cell in one piece) is tests/test_bricks.cpp's
 # BrickedStream.PiecesPartitionTheLevel.
 set -euo pipefail
@@ -15,11 +17,35 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 as_root=()
 [ "$(id -u)" -eq 0 ] && as_root=(--allow-run-as-root)
-"$meshenc" "$data/bunny_10k.node" --bricks --brick-points 16 --no-fields -q -o "$work/b.dtm"
+"$meshenc" "$data/bunny_10k.node" --bricks --brick-points 16 -q -o "$work/b.dtm"
 "$meshdec" "$work/b.dtm" -o "$work/whole.vtu" -q
 cells_of() { grep -oh 'NumberOfCells="[0-9]*"' "$@" | grep -o '[0-9]*' | awk '{s += $1} END {print s}'; }
 whole=$(cells_of "$work/whole.vtu")
 echo "whole level 0: $whole cells"
+# ParaView's count of a grid's cells (with ARRAY: and per value of that
+# cell array), or nothing when its reader complains (an array a piece lacks).
+paraview_cells() {
+  pvpython -c "
+import sys
+from paraview.simple import *
+from paraview import servermanager
+r = OpenDataFile('$1')
+r.UpdatePipeline()
+d = servermanager.Fetch(r)
+if '${2:-}':
+    a = d.GetCellData().GetArray('${2:-}')
+    counts = {}
+    for i in range(d.GetNumberOfCells()):
+        counts[int(a.GetTuple1(i))] = counts.get(int(a.GetTuple1(i)), 0) + 1
+    print(sorted(counts.items()))
+else:
+    print(d.GetNumberOfCells())" >"$work/pv.out" 2>"$work/pv.err" || true
+  if grep -q 'ERR|' "$work/pv.err"; then
+    grep 'ERR|' "$work/pv.err" | head -3 >&2
+    return 0
+  fi
+  tail -1 "$work/pv.out"
+}
 failed=0
 for p in 1 2 4; do
   mkdir -p "$work/mpi$p" "$work/one$p"
@@ -33,15 +59,34 @@ for p in 1 2 4; do
   echo "mpirun -n $p: $pieces pieces listed $listed times, $sum cells; the same files as --pieces $p: $same"
   [ "$pieces" -eq "$p" ] && [ "$listed" -eq "$p" ] && [ "$sum" -eq "$whole" ] && [ "$same" = yes ] || failed=1
   if command -v pvpython >/dev/null; then
-    pv=$(pvpython -c "
-from paraview.simple import *
-r = XMLPartitionedUnstructuredGridReader(FileName=['$work/mpi$p/b.pvtu'])
-r.UpdatePipeline()
-print(r.GetDataInformation().GetNumberOfCells())" 2>/dev/null | tail -1)
+    pv=$(paraview_cells "$work/mpi$p/b.pvtu")
     echo "  ParaView reads $pv cells"
     [ "$pv" = "$whole" ] || failed=1
   fi
 done
+# A stream with regions (format 15.0, the gmsh part of two materials) in
+# more pieces than some levels have bricks: every piece, the empty ones
+# too, declares the arrays the .pvtu lists, and the cells' regions add up
+# to the whole level's.
+xz -dc "$(dirname "$0")/../data/two_materials.msh.xz" >"$work/two.msh"
+"$meshenc" "$work/two.msh" --bricks --brick-points 16 --block-points 200 --no-face-tags -q -o "$work/two.dtm" 2>/dev/null
+"$meshdec" "$work/two.dtm" --level 1 -o "$work/two_whole.vtu" -q
+mkdir -p "$work/two"
+"$meshdec" "$work/two.dtm" --level 1 -o "$work/two/p.pvtu" --pieces 9 -q
+grep -q '<PDataArray type="Int32" Name="region"/>' "$work/two/p.pvtu" || { echo "no region array listed"; failed=1; }
+for f in "$work/two"/p_*.vtu; do
+  grep -q 'Name="level"' "$f" && grep -q 'Name="region"' "$f" || { echo "$(basename "$f") lacks level or region"; failed=1; }
+done
+two_whole=$(cells_of "$work/two_whole.vtu")
+two_sum=$(cells_of "$work/two"/p_*.vtu)
+echo "regions in 9 pieces of level 1: $two_sum cells, the level $two_whole"
+[ "$two_sum" = "$two_whole" ] || failed=1
+if command -v pvpython >/dev/null; then
+  regions=$(paraview_cells "$work/two/p.pvtu" region)
+  whole_regions=$(paraview_cells "$work/two_whole.vtu" region)
+  echo "  ParaView: cells by region $regions (the whole level: $whole_regions)"
+  [ -n "$regions" ] && [ "$regions" = "$whole_regions" ] || failed=1
+fi
 # meshenc reads the 4 pieces back as one mesh: the points the pieces share
 # merged, every vertex of level 0 there.
 "$meshenc" "$work/mpi4/b.pvtu" -o "$work/again.dtm" --no-fields >"$work/again.out" 2>&1 || { cat "$work/again.out"; failed=1; }

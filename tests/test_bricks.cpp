@@ -76,7 +76,7 @@ void expect_same_region(const RegionMesh& got, const RegionMesh& want, const std
 
 TEST(BrickIndex, RoundTripsAndRefusesWhatDoesNotAddUp) {
   std::vector<BrickChunk> chunks = {{3, 10, 20, 5, 0, 0xDEADBEEF}, {9, 0, 0, 7, 0, 1}, {63, 4, 6, 0, 0, 2}};
-  const std::vector<uint8_t> index = write_brick_index(chunks);
+  const std::vector<uint8_t> index = write_brick_index(chunks, false);
   std::vector<BrickChunk> back;
   ASSERT_TRUE(parse_brick_index(index, 2, 14, 14, 38, kFlagCarvingCorrections, back).ok());
   ASSERT_EQ(back.size(), 3u);
@@ -101,14 +101,25 @@ TEST(BrickIndex, RoundTripsAndRefusesWhatDoesNotAddUp) {
   valued[0].value_bytes = 3;
   valued[2].value_bytes = 2;
   const uint16_t both = kFlagCarvingCorrections | kFlagValues;
-  EXPECT_TRUE(parse_brick_index(write_brick_index(valued), 2, 14, 14, 43, both, back).ok());
+  EXPECT_TRUE(parse_brick_index(write_brick_index(valued, false), 2, 14, 14, 43, both, back).ok());
   EXPECT_FALSE(
-      parse_brick_index(write_brick_index(valued), 2, 14, 14, 43, kFlagCarvingCorrections, back).ok());
+      parse_brick_index(write_brick_index(valued, false), 2, 14, 14, 43, kFlagCarvingCorrections, back).ok());
   valued[1].value_bytes = 1;  // values in a chunk without points
-  EXPECT_FALSE(parse_brick_index(write_brick_index(valued), 2, 14, 14, 44, both, back).ok());
+  EXPECT_FALSE(parse_brick_index(write_brick_index(valued, false), 2, 14, 14, 44, both, back).ok());
+  // 15.0's region bytes, listed only with the stream's flag regions.
+  std::vector<BrickChunk> regioned = chunks;
+  regioned[1].region_bytes = 6;
+  const uint16_t regions = kFlagCarvingCorrections | kFlagRegions;
+  ASSERT_TRUE(parse_brick_index(write_brick_index(regioned, true), 2, 14, 14, 44, regions, back).ok());
+  EXPECT_EQ(back[1].region_bytes, 6u);
+  EXPECT_EQ(back[2].offset, 38u);
+  EXPECT_FALSE(
+      parse_brick_index(write_brick_index(regioned, true), 2, 14, 14, 44, kFlagCarvingCorrections, back)
+          .ok());
+  EXPECT_FALSE(parse_brick_index(write_brick_index(chunks, false), 2, 14, 14, 38, regions, back).ok());
   chunks[1].carving_bytes = 0;  // an empty chunk is not listed
   EXPECT_FALSE(
-      parse_brick_index(write_brick_index(chunks), 2, 14, 14, 31, kFlagCarvingCorrections, back).ok());
+      parse_brick_index(write_brick_index(chunks, false), 2, 14, 14, 31, kFlagCarvingCorrections, back).ok());
 }
 
 TEST(BrickGeometry, BricksMeetingABoxCoverIt) {

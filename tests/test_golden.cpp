@@ -167,6 +167,8 @@ TEST(GoldenValues, EveryVertexCarriesItsInputPointsMarker) {
 
 INSTANTIATE_TEST_SUITE_P(Format9_0, GoldenStream, ::testing::Values("two_materials"));
 INSTANTIATE_TEST_SUITE_P(Format10_0, GoldenStream, ::testing::Values("torus_288_cells"));
+// 15.0: the gmsh part's regions in bricked layers, a region section a chunk.
+INSTANTIATE_TEST_SUITE_P(Format15_0, GoldenStream, ::testing::Values("two_materials_bricks"));
 // 14.0 to 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
 // cell hash is theirs, as the encoder hashed the input's cells), its apexes
 // ranked among the candidates that fit (12.0), with the filled bits in the

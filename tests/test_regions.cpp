@@ -15,18 +15,22 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include "codec/decode.h"
 #include "codec/encode.h"
+#include "codec/region_decode.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/stream/format.h"
 #include "core/quantize.h"
 #include "core/reference_shape.h"
+#include "mesh/carving.h"
 #include "mesh/delaunay.h"
 #include "mesh/topology.h"
 #include "test_support.h"
+#include "thread_ranks.h"
 #include "tools/decoded_mesh.h"
 #include "tools/formats/input.h"
 #include "tools/formats/mesh_writers.h"
@@ -129,13 +133,13 @@ struct Encoded {
   EncodeReport report;
 };
 
-Encoded encode_regions(const RegionInput& in, std::map<int32_t, std::string> names = {}) {
+Encoded encode_regions(const RegionInput& in, std::map<int32_t, std::string> names = {},
+                       EncodeOptions options = {}) {
   EncodeInput input;
   input.points = in.points;
   input.tetrahedra = in.tets;
   input.tetrahedron_regions = in.labels;
   input.region_names = std::move(names);
-  EncodeOptions options;
   options.dmax = 8;
   auto encoded = encode(input, options);
   EXPECT_TRUE(encoded.ok()) << encoded.status().message();
@@ -143,16 +147,11 @@ Encoded encode_regions(const RegionInput& in, std::map<int32_t, std::string> nam
   return {encoded->bytes, encoded->report};
 }
 
-TEST(Regions, EveryLevelsCellsTakeTheRegionHoldingTheirCentroids) {
-  const RegionInput in = three_materials(2500, 11);
-  const Encoded e = encode_regions(in, {{7, "steel"}});
-  ASSERT_FALSE(e.bytes.empty());
-  ASSERT_EQ(e.report.regions.size(), 3u);
-  EXPECT_EQ(e.report.regions[0].label, -2);
-  EXPECT_EQ(e.report.regions[2].label, 7);
-  EXPECT_EQ(e.report.regions[2].name, "steel");
-  ASSERT_GE(e.report.levels.size(), 3u) << "too few levels to test coarse ones";
-
+// Every decoded level's cells carry the region of the input tetrahedra
+// holding their centroids (all three materials on every level), level 0's
+// input cells their own labels, and every level is within D_max of the
+// interfaces.
+void expect_regions_of_centroids(const RegionInput& in, const Encoded& e) {
   // The input's tetrahedra on the grid, labels alongside (the encoder's
   // own plan: the same grid).
   const QuantizedPoints q = quantize(in.points, 14).value();
@@ -191,6 +190,10 @@ TEST(Regions, EveryLevelsCellsTakeTheRegionHoldingTheirCentroids) {
                               k[static_cast<size_t>(i)] = p;
                             }
                             const std::optional<int32_t> expected = locate.label(centroid);
+                            // (A bricked level keeps no cell above its kept radius.)
+                            if (!region[c] && expected &&
+                                carving_radius(d.points(), dt.cells[c]) > level.kept_radius)
+                              continue;
                             ASSERT_EQ(region[c] != 0, expected.has_value()) << "level " << level.level;
                             if (!expected) continue;
                             const int32_t got = d.regions()[region[c] - 1u].label;
@@ -216,6 +219,81 @@ TEST(Regions, EveryLevelsCellsTakeTheRegionHoldingTheirCentroids) {
   for (const LevelReport& l : e.report.levels) {
     ASSERT_TRUE(l.reference_error.has_value());
     EXPECT_LE(l.reference_error->max, 8 / e.report.grid.step * (1 + 1e-9));
+  }
+}
+
+TEST(Regions, EveryLevelsCellsTakeTheRegionHoldingTheirCentroids) {
+  const RegionInput in = three_materials(2500, 11);
+  const Encoded e = encode_regions(in, {{7, "steel"}});
+  ASSERT_FALSE(e.bytes.empty());
+  ASSERT_EQ(e.report.regions.size(), 3u);
+  EXPECT_EQ(e.report.regions[0].label, -2);
+  EXPECT_EQ(e.report.regions[2].label, 7);
+  EXPECT_EQ(e.report.regions[2].name, "steel");
+  ASSERT_GE(e.report.levels.size(), 3u) << "too few levels to test coarse ones";
+
+  expect_regions_of_centroids(in, e);
+}
+
+// A bricked stream (15.0) on one process: each chunk carries its kept
+// cells' regions, decoded whole, by region and in pieces alike.
+TEST(Regions, BrickedLevelsCarryThemInEveryChunk) {
+  const RegionInput in = three_materials(2500, 11);
+  EncodeOptions options;
+  options.bricks = true;
+  options.brick_points = 64;
+  options.block_points = 600;
+  const Encoded e = encode_regions(in, {{7, "steel"}}, options);
+  ASSERT_FALSE(e.bytes.empty());
+  EXPECT_EQ(e.bytes[8], kVersionMajorBrickedRegions);
+  // A bricked stream of regions from before 15.0 is refused.
+  StreamHeader h;
+  ASSERT_TRUE(parse_header(e.bytes, h).ok());
+  EXPECT_TRUE((h.flags & kFlagBricks) && (h.flags & kFlagRegions));
+  h.version_major = kVersionMajorBrickedRegions - 1;
+  EXPECT_EQ(parse_header(write_header(h), h).code(), StatusCode::kCorrupt);
+  ASSERT_EQ(e.report.regions.size(), 3u);
+  ASSERT_GE(e.report.levels.size(), 3u) << "too few levels to test coarse ones";
+  expect_regions_of_centroids(in, e);
+
+  // The region reader's cells (pieces of each level, a box) have the whole
+  // decoder's regions.
+  for (int level = 0; level < 2; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    DecoderOptions stop;
+    stop.stop_after_level = level;
+    ProgressiveDecoder whole(stop);
+    ASSERT_TRUE(whole.feed(e.bytes).ok());
+    const ProgressiveDecoder::LevelCells cells = whole.level_cells();
+    ASSERT_TRUE(whole.mesh_status().ok()) << whole.mesh_status().message();
+    std::map<std::array<GridPoint, 4>, uint8_t> region_of;
+    for (uint32_t c : cells.order)
+      if (cells.kept[c]) {
+        std::array<GridPoint, 4> k;
+        for (int i = 0; i < 4; ++i)
+          k[static_cast<size_t>(i)] = whole.points()[cells.mesh.cells[c][static_cast<size_t>(i)]];
+        std::sort(k.begin(), k.end());
+        region_of[k] = cells.kept[c];
+      }
+    MemorySource source(e.bytes);
+    size_t in_pieces = 0;
+    for (int piece = 0; piece < 3; ++piece) {
+      const auto got = decode_piece(source, level, piece, 3);
+      ASSERT_TRUE(got.ok()) << got.status().message();
+      ASSERT_EQ(got->cell_regions.size(), got->cells.size());
+      ASSERT_EQ(got->regions.size(), 3u);
+      for (size_t c = 0; c < got->cells.size(); ++c) {
+        std::array<GridPoint, 4> k;
+        for (int i = 0; i < 4; ++i)
+          k[static_cast<size_t>(i)] = got->points[got->cells[c][static_cast<size_t>(i)]];
+        std::sort(k.begin(), k.end());
+        const auto it = region_of.find(k);
+        ASSERT_NE(it, region_of.end());
+        EXPECT_EQ(got->cell_regions[c], it->second);
+      }
+      in_pieces += got->cells.size();
+    }
+    EXPECT_EQ(in_pieces, region_of.size());
   }
 }
 
@@ -254,9 +332,22 @@ TEST(Regions, RefusedWhereTheStreamCannotCarryThem) {
   input.points = in.points;
   input.tetrahedra = in.tets;
   input.tetrahedron_regions = in.labels;
+  // (A bricked stream carries them from one process, not yet from ranks.)
   EncodeOptions bricks;
   bricks.bricks = true;
-  EXPECT_EQ(encode(input, bricks).status().code(), StatusCode::kInvalidInput);
+  EXPECT_TRUE(encode(input, bricks).ok());
+  test::ThreadRanks all(2);
+  std::vector<StatusCode> codes(2, StatusCode::kOk);
+  std::vector<std::thread> threads;
+  for (int r = 0; r < 2; ++r)
+    threads.emplace_back([&, r] {
+      test::ThreadRanks::Rank rank(all, r);
+      EncodeOptions on_rank = bricks;
+      on_rank.exchange = &rank;
+      codes[static_cast<size_t>(r)] = encode(input, on_rank).status().code();
+    });
+  for (auto& t : threads) t.join();
+  for (StatusCode code : codes) EXPECT_EQ(code, StatusCode::kUnsupported);
   EXPECT_EQ(encode(input, EncodeOptions::paper()).status().code(), StatusCode::kInvalidInput);
   std::vector<int32_t> short_labels(in.labels.begin(), in.labels.end() - 1);
   input.tetrahedron_regions = short_labels;
@@ -329,6 +420,120 @@ TEST(Regions, DamagedSectionsGiveRegionsInTheTableOrAnError) {
   }
   std::vector<uint8_t> out(dt.cells.size(), 1);
   EXPECT_EQ(decode_regions(section, dt, order, 1, out).code(), StatusCode::kCorrupt);
+}
+
+// The same for a bricked layer's sections, a chunk each (15.0): below the
+// chunks' checksums, a damaged or cut section is refused, naming its
+// chunk, or gives regions in the table; a section where a chunk owns no
+// kept cell, or none where it does, is refused.
+TEST(Regions, DamagedChunkSectionsGiveRegionsInTheTableOrAnError) {
+  const std::vector<GridPoint> g = test::random_grid_points(400, 8, 2);
+  const TetMesh dt = delaunay_tetrahedralize(g).value();
+  std::vector<uint32_t> rank(g.size());
+  for (uint32_t v = 0; v < rank.size(); ++v) rank[v] = v;
+  std::vector<uint32_t> chunk_of_cell(dt.cells.size());
+  std::vector<uint8_t> region(dt.cells.size());
+  std::mt19937 rng(4);
+  for (size_t c = 0; c < region.size(); ++c) {
+    chunk_of_cell[c] = g[dt.cells[c][0]].y < 100 ? 0 : g[dt.cells[c][0]].y < 180 ? 1 : 2;
+    region[c] = g[dt.cells[c][0]].z < 60 ? 0 : (g[dt.cells[c][0]].x < 128) ? 1 : 2 + rng() % 3;
+  }
+  const ChunkCells chunks = chunk_cells(dt, chunk_of_cell, 3, rank);
+  const std::vector<std::vector<uint8_t>> sections =
+      encode_region_chunks(dt, chunks, chunk_of_cell, region, 4);
+  ASSERT_EQ(sections.size(), 3u);
+  const auto decode = [&](const std::vector<std::vector<uint8_t>>& bytes, size_t count,
+                          std::vector<uint8_t>& out) {
+    std::vector<std::span<const uint8_t>> spans(bytes.begin(), bytes.end());
+    out.assign(region.size(), 0);
+    for (size_t c = 0; c < region.size(); ++c) out[c] = region[c] != 0;
+    return decode_region_chunks(spans, dt, chunks, chunk_of_cell, count, out);
+  };
+  std::vector<uint8_t> out;
+  ASSERT_TRUE(decode(sections, 4, out).ok());
+  EXPECT_EQ(out, region);
+  // Each chunk alone: its cells' regions do not depend on the others.
+  for (size_t k = 0; k < 3; ++k) {
+    ASSERT_FALSE(sections[k].empty());
+    int refused = 0;
+    for (size_t byte = 0; byte < sections[k].size(); ++byte)
+      for (int bit = 0; bit < 8; ++bit) {
+        std::vector<std::vector<uint8_t>> damaged = sections;
+        damaged[k][byte] ^= static_cast<uint8_t>(1 << bit);
+        const Status st = decode(damaged, 4, out);
+        if (!st.ok()) {
+          EXPECT_EQ(st.code(), StatusCode::kCorrupt);
+          EXPECT_NE(st.message().find("chunk " + std::to_string(k)), std::string::npos) << st.message();
+          ++refused;
+          continue;
+        }
+        for (size_t c = 0; c < out.size(); ++c) {
+          EXPECT_EQ(out[c] != 0, region[c] != 0);
+          EXPECT_LE(out[c], 4);
+          if (chunk_of_cell[c] != k) EXPECT_EQ(out[c], region[c]);
+        }
+      }
+    EXPECT_GT(refused, 0);
+    for (size_t len = 0; len < sections[k].size(); ++len) {
+      std::vector<std::vector<uint8_t>> cut = sections;
+      cut[k].resize(len);
+      EXPECT_EQ(decode(cut, 4, out).code(), StatusCode::kCorrupt) << k << " " << len;
+    }
+  }
+  // A section of one region's stream, or for a chunk with nothing kept.
+  EXPECT_EQ(decode(sections, 1, out).code(), StatusCode::kCorrupt);
+  std::vector<uint8_t> none = region;
+  for (size_t c = 0; c < none.size(); ++c)
+    if (chunk_of_cell[c] == 1) none[c] = 0;
+  std::vector<std::span<const uint8_t>> spans(sections.begin(), sections.end());
+  std::vector<uint8_t> kept(none.size());
+  for (size_t c = 0; c < none.size(); ++c) kept[c] = none[c] != 0;
+  EXPECT_EQ(decode_region_chunks(spans, dt, chunks, chunk_of_cell, 4, kept).code(), StatusCode::kCorrupt);
+  // A kept cell whose brick has no chunk.
+  std::vector<uint32_t> orphan = chunk_of_cell;
+  for (size_t c = 0; c < orphan.size(); ++c)
+    if (region[c]) {
+      orphan[c] = kNoCarvingChunk;
+      break;
+    }
+  for (size_t c = 0; c < region.size(); ++c) kept[c] = region[c] != 0;
+  EXPECT_EQ(decode_region_chunks(spans, dt, chunk_cells(dt, orphan, 3, rank), orphan, 4, kept).code(),
+            StatusCode::kCorrupt);
+}
+
+// A bricked stream with regions: every prefix decodes to whole levels or
+// ends as truncated, their cells each with a region; a bit flipped in a
+// chunk is caught by its checksum.
+TEST(Regions, BrickedStreamsEndCleanlyWhenCutOrDamaged) {
+  const RegionInput in = three_materials(700, 9);
+  EncodeOptions options;
+  options.bricks = true;
+  options.brick_points = 64;
+  options.block_points = 400;
+  const Encoded e = encode_regions(in, {{3, "a"}, {7, "b"}}, options);
+  ASSERT_FALSE(e.bytes.empty());
+  for (size_t len = 0; len < e.bytes.size(); len += (len < 300 ? 3 : 53)) {
+    ProgressiveDecoder d;
+    const Status fed = d.feed(std::span(e.bytes).first(len));
+    ASSERT_TRUE(fed.ok()) << len << ": " << fed.message();
+    EXPECT_EQ(d.finish().code(), StatusCode::kTruncated) << len;
+    if (d.finest_level() >= 0) {
+      const OutputMesh m = decoded_mesh(d, "prefix");
+      EXPECT_EQ(m.region.size(), m.cells.size());
+    }
+  }
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<uint8_t> damaged = e.bytes;
+    const size_t byte = kHeaderSize + rng() % (damaged.size() - kHeaderSize);
+    damaged[byte] ^= static_cast<uint8_t>(1 << (rng() % 8));
+    ProgressiveDecoder d;
+    const Status s = d.feed(damaged);
+    if (s.ok() && d.finish().ok()) {
+      (void)d.level_cells();
+      EXPECT_FALSE(d.mesh_status().ok()) << "byte " << byte;
+    }
+  }
 }
 
 TEST(Regions, TableRoundTripsAndRefusesWhatIsNotATable) {
@@ -598,7 +803,9 @@ TEST(Faces, ReadersAndWritersCarryTheTags) {
   m.faces = {{0, 2, 1}, {0, 1, 3}};
   m.face_tags = {21, 22};
   m.face_tag_names = {{21, "base"}};
-  for (const char* ext : {".msh", ".mesh", ".vtu"}) {
+  // (.vtk, ASCII and binary: the triangles after the tetrahedra, tagged by
+  // CELL_DATA region, as the .vtu.)
+  for (const char* ext : {".msh", ".mesh", ".vtu", ".vtk"}) {
     const std::string path = (dir / (std::string("tagged") + ext)).string();
     for (const auto& [file, text] : render_mesh(m, format_for_path(path), path, {}))
       std::ofstream(file, std::ios::binary) << text;

@@ -67,7 +67,7 @@ void add_options(CLI::App& app, Command& c) {
                  "X.off, X.glb, X.gltf (+ X.bin) or X.drc; the points as X.xyz; '-' = standard output")
       ->required();
   app.add_option("--level", c.level, "level of detail to write (0 = finest; default: the finest present)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 65535));
   app.add_option("--format", c.format_name,
                  std::string(dtm::kOutputFormatNames) + " (default: from the output's extension)")
       ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "ply", "off",
@@ -166,6 +166,11 @@ void decode(const Command& c, dtm::ProgressiveDecoder& decoder, Verifier& verifi
                              " asked, the stream has levels 0 to " +
                              std::to_string(decoder.header().level_count - 1));
   if (decoder.finest_level() < 0) throw std::runtime_error(c.input + ": " + status.message());
+  // A level asked for that a truncated stream does not reach is an error,
+  // as one the stream never had is: not a coarser level in its place.
+  if (c.level >= 0 && decoder.finest_level() > c.level)
+    throw std::runtime_error(c.input + ": --level " + std::to_string(c.level) + " asked, but " +
+                             status.message());
   if (status.code() == dtm::StatusCode::kTruncated && !c.quiet)
     std::fprintf(stderr, "meshdec: %s: truncated: %s; writing level %d\n", c.input.c_str(),
                  status.message().c_str(), decoder.finest_level());
@@ -182,10 +187,14 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
 }
 
 // A region or piece as the writers take it: its points, cells, each vertex's
-// coarsest level and its number in the whole level (point data vertex_id).
+// coarsest level and its number in the whole level (point data vertex_id),
+// its cells' regions. (No `boundary`: a piece's or a box's own surface is
+// not the level's, and the rest of the level is not decoded to tell.)
 dtm::OutputMesh region_output(const dtm::RegionMesh& region, const dtm::Grid& grid) {
   dtm::OutputMesh mesh;
   mesh.grid = grid;
+  mesh.declare_level = true;
+  mesh.declare_region = !region.regions.empty();
   mesh.points = region.points;
   for (const auto& cell : region.cells) mesh.cells.push_back(dtm::sorted_positive(cell, mesh.points));
   mesh.level = region.vertex_levels;
@@ -195,6 +204,10 @@ dtm::OutputMesh region_output(const dtm::RegionMesh& region, const dtm::Grid& gr
   for (const dtm::FieldValues& f : region.fields)
     mesh.fields.push_back(
         {f.description.name, dtm::scalar_type(f.description.type), f.description.components, f.bits});
+  // With regions, each cell's label and the labels' names.
+  for (uint8_t r : region.cell_regions) mesh.region.push_back(region.regions.at(r - 1u).label);
+  for (const dtm::RegionLabel& r : region.regions)
+    if (!r.name.empty()) mesh.region_names[r.label] = r.name;
   return mesh;
 }
 
@@ -220,6 +233,7 @@ int run_pieces(const Command& c) {
   std::string error;
   uint64_t cells = 0, bytes_read = 0, largest_read = 0, size = 0;
   dtm::Grid grid;
+  dtm::OutputMesh like;  // the arrays of the first piece written here (every piece has them)
   dtm::PhaseDisplay display(
       !c.quiet && isatty(STDERR_FILENO), c.verbose && !c.quiet,
       mpi.size() > 1 ? "rank " + std::to_string(mpi.rank()) + "/" + std::to_string(mpi.size()) + ": " : "");
@@ -241,7 +255,14 @@ int run_pieces(const Command& c) {
       if (!piece.ok()) throw std::runtime_error(c.input + ": " + piece.status().message());
       const std::string path = (slash == std::string::npos ? "" : stem.substr(0, slash + 1)) + names[i];
       display.start("writing " + path);
-      dtm::write_files_atomically(dtm::render_mesh(region_output(*piece, grid), dtm::MeshFormat::kVtu, path));
+      dtm::OutputMesh mesh = region_output(*piece, grid);
+      dtm::write_files_atomically(dtm::render_mesh(mesh, dtm::MeshFormat::kVtu, path));
+      if (written.empty()) {
+        like.declare_level = true;
+        like.declare_region = mesh.declare_region;
+        like.fields = std::move(mesh.fields);
+        like.cell_fields = std::move(mesh.cell_fields);
+      }
       written.push_back(path);
       cells += piece->cells.size();
       bytes_read += piece->bytes_read;
@@ -265,9 +286,7 @@ int run_pieces(const Command& c) {
   display.finish();
   const uint64_t all_cells = mpi.sum(cells), all_read = mpi.sum(bytes_read);
   if (mpi.rank() == 0) {
-    dtm::OutputMesh like;
-    like.level = {0};
-    like.fields.push_back({"vertex_id", dtm::ScalarType::kUInt32, 1, {}});
+    // (Rank 0 wrote piece 0: its arrays are every piece's.)
     dtm::write_files_atomically({{c.output, dtm::render_pvtu(like, names)}});
     if (!c.quiet)
       std::fprintf(

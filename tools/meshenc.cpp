@@ -131,9 +131,12 @@ void add_options(CLI::App& app, Command& c) {
   app.add_option("--dmax", e.dmax,
                  "boundary tolerance Dmax in input units (default: 0.5% of the largest extent)")
       ->check(CLI::PositiveNumber);
-  auto* scale_opt = app.add_option("--scale", e.scale, "multiply input coordinates by this first")
-                        ->check(CLI::PositiveNumber);
-  app.add_option("--box", e.box, "scale the input so that its largest extent is this")
+  auto* scale_opt =
+      app.add_option("--scale", e.scale,
+                     "multiply input coordinates by this first (the decoded mesh is scaled too)")
+          ->check(CLI::PositiveNumber);
+  app.add_option("--box", e.box,
+                 "scale the input so that its largest extent is this (the decoded mesh is scaled too)")
       ->check(CLI::PositiveNumber)
       ->excludes(scale_opt);
   app.add_option("--levels", e.max_levels, "build at most this many coarser levels (0 = no limit)")
@@ -645,7 +648,12 @@ int run(Command& c) {
     // Rank 0 prints the table; with -v every rank its phases (its memory).
     if (mpi.rank() != 0) c.quiet = true;
   }
-  if (c.output == "-") c.quiet = true;  // standard output carries the stream
+  if (c.output == "-") {
+    if (isatty(STDOUT_FILENO))
+      throw std::invalid_argument(
+          "-o -: standard output is a terminal; a stream is binary (pipe or redirect it)");
+    c.quiet = true;  // standard output carries the stream
+  }
   // Whole levels are a few large phases, each faster with the pages the
   // last one freed; bricks keep the lean default, their point being memory.
   if (!c.encode.bricks) dtm::keep_freed_memory_between_phases();
@@ -674,6 +682,11 @@ int run(Command& c) {
   if (c.encode.bricks && c.encode.keep_order)
     throw std::invalid_argument(
         "--keep-order: bricked streams (--bricks) do not keep the input's vertex order yet");
+  if (c.encode.bricks && c.encode.level_step != 1)
+    throw std::invalid_argument("--level-step: bricked streams (--bricks) stream every level");
+  if (!c.encode.carve_to_reference && (c.encode.exact || c.encode.keep_order))
+    throw std::invalid_argument(std::string(c.encode.exact ? "--exact" : "--keep-order") +
+                                " needs the codec preset (not --preset paper)");
   // What the work is doing, on standard error: a status line on a terminal.
   dtm::PhaseDisplay display(
       !c.quiet && isatty(STDERR_FILENO), c.verbose,
@@ -685,11 +698,13 @@ int run(Command& c) {
   dtm::choose_regions(in, c.region_array, c.input);
   // The regions, where the stream can carry them; else named as left out.
   if (!in.tet_regions.empty()) {
-    const char* why = c.no_regions                        ? "--no-regions"
-                      : c.encode.bricks || mpi.size() > 1 ? "bricked streams do not carry them yet"
-                      : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
-                      : c.no_reference                    ? "--no-reference"
-                                                          : nullptr;
+    // (A bricked stream carries them from one process: on several ranks
+    // the reference is held in parts, not yet by region.)
+    const char* why = c.no_regions     ? "--no-regions"
+                      : mpi.size() > 1 ? "bricked streams made on several ranks do not carry them yet"
+                      : !c.encode.carve_to_reference ? "the paper preset carves by alpha alone"
+                      : c.no_reference               ? "--no-reference"
+                                                     : nullptr;
     if (why) {
       in.left_out.push_back("the tetrahedra's regions, " + in.region_source + " (" + why + ")");
       dtm::release(in.tet_regions);

@@ -146,6 +146,9 @@ struct BlockAnalysisOptions {
   // Bricks of the layer whose carving sections the block codes (the
   // stream's brick depth for this level); -1: none.
   int brick_depth = -1;
+  // The reference's regions (spec/FORMAT.md §3.5, 15.0): with 2 or more,
+  // the bricks' region sections are coded too.
+  size_t region_count = 0;
   // Choose the coarser level's vertices (else the level is the coarsest).
   std::optional<CoarseningOptions> choice;
   // Level 0 without reference tetrahedra: its owned cells (carved by
@@ -161,8 +164,10 @@ struct BlockAnalysis {
   std::vector<std::array<uint32_t, 3>> surface_triangles;
   std::vector<uint32_t> surface_vertices;
   std::vector<std::pair<uint32_t, double>> reference_squared;
-  // Carving sections of the bricks inside the block (brick, bytes), ascending.
-  std::vector<std::pair<uint64_t, std::vector<uint8_t>>> carving;
+  // Carving sections of the bricks inside the block (brick, bytes),
+  // ascending; and with regions, the region sections of those that own a
+  // kept cell.
+  std::vector<std::pair<uint64_t, std::vector<uint8_t>>> carving, regions;
   std::vector<uint32_t> chosen;                 // owned vertices the coarser level keeps (grid ids)
   std::vector<uint32_t> boundary;               // owned boundary vertices (grid ids)
   std::vector<std::array<uint32_t, 4>> carved;  // with collect_cells: owned kept cells (grid ids)

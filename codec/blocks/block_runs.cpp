@@ -262,10 +262,12 @@ std::vector<uint8_t> serialize(const BlockAnalysis& a) {
   put(w, std::span<const uint32_t>(a.surface_vertices));
   w.u64(a.reference_squared.size());
   for (const auto& [id, d2] : a.reference_squared) w.u32(id), w.f64(d2);
-  w.u64(a.carving.size());
-  for (const auto& [brick, bytes] : a.carving) {
-    w.u64(brick);
-    put(w, std::span<const uint8_t>(bytes));
+  for (const auto* sections : {&a.carving, &a.regions}) {
+    w.u64(sections->size());
+    for (const auto& [brick, bytes] : *sections) {
+      w.u64(brick);
+      put(w, std::span<const uint8_t>(bytes));
+    }
   }
   put(w, std::span<const uint32_t>(a.chosen));
   put(w, std::span<const uint32_t>(a.boundary));
@@ -295,8 +297,10 @@ BlockAnalysis deserialize_analysis(std::span<const uint8_t> bytes) {
   a.surface_vertices = r.u32s();
   a.reference_squared.resize(r.u64());
   for (auto& [id, d2] : a.reference_squared) id = r.u32(), d2 = r.f64();
-  a.carving.resize(r.u64());
-  for (auto& [brick, section] : a.carving) brick = r.u64(), section = r.bytes();
+  for (auto* sections : {&a.carving, &a.regions}) {
+    sections->resize(r.u64());
+    for (auto& [brick, section] : *sections) brick = r.u64(), section = r.bytes();
+  }
   a.chosen = r.u32s();
   a.boundary = r.u32s();
   a.carved.resize(r.u64());

@@ -117,7 +117,7 @@ class BrickedEncoder {
     if (x_.size() > 1)
       reference_.set_in_parts(in.reference_tets, in.share, [this] { tets_done(); });
     else if (!in.reference_tets.empty())
-      reference_.set_whole(in.reference_tets);
+      reference_.set_whole(in.reference_tets, in.reference_regions);
     tets_done();
     // Made once the reference is: not held (5 bytes a point, 47 MiB at
     // bunny_10m, on every rank) beside the tetrahedra while the reference's
@@ -170,9 +170,9 @@ class BrickedEncoder {
   // block's region changes. Sets coarser_ (per grid point).
   Status build(int level, const BlockPlan& plan, int64_t halo, double kept_radius,
                const QualityFloors& floors, uint64_t& broken, bool& quality_met, int& rounds);
-  // The base layer is one chunk of depth 0 (§3.5): its carving over the
-  // whole coarsest level, on rank 0, sent to every rank.
-  StatusOr<std::vector<uint8_t>> base_carving(int level, const BrickedLevel& out);
+  // The base layer is one chunk of depth 0 (§3.5): its carving (and
+  // regions) over the whole coarsest level, on rank 0, sent to every rank.
+  Status base_carving(int level, BrickedLevel& out);
   // The stream of the levels built (codec/blocks/bricked_stream_writer.h),
   // the coarsest one's carving made one chunk first.
   StatusOr<BrickedEncoding> write(std::vector<BrickedLevel>& levels);
@@ -517,9 +517,7 @@ Status BrickedEncoder::build(int level, const BlockPlan& plan, int64_t halo, dou
   }
 }
 
-StatusOr<std::vector<uint8_t>> BrickedEncoder::base_carving(int level, const BrickedLevel& out) {
-  // The base layer is one chunk of depth 0 (§3.5): its carving over the
-  // whole coarsest level, on rank 0, sent to every rank.
+Status BrickedEncoder::base_carving(int level, BrickedLevel& out) {
   BlockPlan one;
   one.blocks = {0};
   one.bits = {0};
@@ -530,10 +528,14 @@ StatusOr<std::vector<uint8_t>> BrickedEncoder::base_carving(int level, const Bri
   options.alpha = out.alpha;
   options.kept_radius = out.kept_radius;
   options.brick_depth = 0;
+  options.region_count = in_.regions.size();
   std::vector<BlockAnalysis> a;
   DTM_RETURN_IF_ERROR(analyse(level, one, 0, options, a));
-  if (a.at(0).carving.empty()) return std::vector<uint8_t>{};
-  return std::move(a[0].carving[0].second);
+  out.carving.clear();
+  out.regions.clear();
+  for (auto& [brick, bytes] : a.at(0).carving) out.carving[brick] = std::move(bytes);
+  for (auto& [brick, bytes] : a.at(0).regions) out.regions[brick] = std::move(bytes);
+  return Status::Ok();
 }
 
 StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const LevelStats&)>& on_level) {
@@ -575,6 +577,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     options.qbits = q_;
     options.alpha = out.alpha;
     options.brick_depth = out.brick_depth;
+    options.region_count = in_.regions.size();
     options.dmax = h.dmax;
     options.collect_cells = level == 0 && !reference_.has_boundary();
     if (may_choose) options.choice = CoarseningOptions{1 - removal_share(), h.dmax};
@@ -681,11 +684,10 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
 StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& levels) {
   const HierarchyOptions& h = o_.hierarchy;
   const int coarsest = static_cast<int>(levels.size()) - 1;
-  if (levels[coarsest].brick_depth != 0 || levels[coarsest].carving.size() > 1) {
+  if (levels[coarsest].brick_depth != 0 || levels[coarsest].carving.size() > 1 ||
+      levels[coarsest].regions.size() > 1) {
     report_phase(h.on_phase, "the base layer's carving");
-    DTM_ASSIGN_OR_RETURN(std::vector<uint8_t> base, base_carving(coarsest, levels[coarsest]));
-    levels[coarsest].carving.clear();
-    if (!base.empty()) levels[coarsest].carving[0] = std::move(base);
+    DTM_RETURN_IF_ERROR(base_carving(coarsest, levels[coarsest]));
   }
   levels[coarsest].brick_depth = 0;
   // No block carves any more: the reference (this rank's part of the solid,
@@ -703,6 +705,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   stream.alpha_policy = h.alpha.kind;
   stream.cell_hashes = o_.cell_hashes;
   stream.values = in_.values;
+  stream.regions = in_.regions;
   stream.index = &*index_;
   stream.level_of = level_of_;
   stream.decode_order = o_.decode_order;
@@ -810,6 +813,20 @@ StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const 
     return invalid_input("bricked layers need a finite alpha (the halo of a region is made from it)");
   if (options.hierarchy.alpha.kind == AlphaKind::kFixed && !(options.hierarchy.alpha.fixed_value > 0))
     return invalid_input("a fixed alpha must be positive");
+  if (!input.reference_regions.empty()) {
+    if (input.regions.size() < 2) return invalid_input("tetrahedra in regions without a table of them");
+    if (input.reference_regions.size() != input.reference_tets.size())
+      return invalid_input("each reference tetrahedron needs its region");
+    for (uint8_t r : input.reference_regions)
+      if (r == 0 || r > input.regions.size())
+        return invalid_input("a tetrahedron's region is not in the table");
+    if (options.exchange && options.exchange->size() > 1)
+      return Status{StatusCode::kUnsupported,
+                    "regions in a bricked stream on several ranks are not built yet"};
+  } else if (input.regions.size() > 1) {
+    return invalid_input("a table of regions without the tetrahedra's");
+  }
+  if (!input.regions.empty()) DTM_RETURN_IF_ERROR(check_region_table(input.regions));
   SingleProcess alone;
   RankExchange& exchange = options.exchange ? *options.exchange : alone;
   BrickedEncoder encoder(input, options, exchange);

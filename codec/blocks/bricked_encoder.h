@@ -24,6 +24,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/sections/region_coder.h"
 #include "codec/sections/value_fields.h"
 #include "common/exchange.h"
 #include "common/grid.h"
@@ -73,6 +74,13 @@ struct BrickedEncodeInput {
   Grid grid;
   // The reference solid's tetrahedra (indices into points), or none.
   std::span<const std::array<uint32_t, 4>> reference_tets;
+  // Their regions (materials): per tetrahedron 1 + the index of its region
+  // in `regions`, the stream's region table (spec/FORMAT.md §2.2; format
+  // 15.0: every level's kept cells carry theirs). Empty: one region, no
+  // table; with one region, `regions` may name it (every section empty).
+  // Two or more on one process only (kUnsupported on ranks: not built yet).
+  std::span<const uint8_t> reference_regions;
+  std::span<const RegionLabel> regions;
   // Called once reference_tets are read no more (the encoder's solid and
   // boundary hold what it needs of them), before the levels are built.
   std::function<void()> reference_tets_done;
@@ -90,9 +98,10 @@ struct BrickedEncodeInput {
 struct BrickedEncoding {
   std::vector<uint8_t> bytes;      // the stream, on every rank
   std::vector<LevelStats> levels;  // finest first
-  std::vector<uint64_t> layer_bytes, carving_bytes, value_bytes, chunk_count, index_bytes;  // per level
+  std::vector<uint64_t> layer_bytes, carving_bytes, value_bytes, region_bytes, chunk_count,
+      index_bytes;                                       // per level
   std::vector<std::vector<uint64_t>> level_field_bytes;  // per level, per field
-  uint64_t field_table_bytes = 0;
+  uint64_t field_table_bytes = 0, region_table_bytes = 0;
   std::vector<int> brick_depth;        // per level
   std::vector<uint32_t> decode_order;  // as EncodedStream's
   uint64_t reference_boundary_vertices = 0;

@@ -160,14 +160,16 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   DTM_RETURN_IF_ERROR(values(level, plan, fresh_ids, fresh, b, value));
   release(fresh_ids);
 
-  // The chunks: every brick with points or corrections, ascending.
+  // The chunks: every brick with points, corrections or regions, ascending.
   std::vector<BrickParts> parts;
   auto carving = lo.carving.begin();
+  auto regions = lo.regions.begin();
   size_t p = 0;
-  while (p < b.bricks.size() || carving != lo.carving.end()) {
+  while (p < b.bricks.size() || carving != lo.carving.end() || regions != lo.regions.end()) {
     BrickParts& part = parts.emplace_back();
-    part.brick = std::min(p < b.bricks.size() ? b.bricks[p] : UINT64_MAX,
-                          carving != lo.carving.end() ? carving->first : UINT64_MAX);
+    part.brick = std::min({p < b.bricks.size() ? b.bricks[p] : UINT64_MAX,
+                           carving != lo.carving.end() ? carving->first : UINT64_MAX,
+                           regions != lo.regions.end() ? regions->first : UINT64_MAX});
     const bool points = p < b.bricks.size() && b.bricks[p] == part.brick;
     if (points) {
       part.new_points = static_cast<uint32_t>(b.first[p + 1] - b.first[p]);
@@ -178,6 +180,11 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
       part.carving = std::move(carving->second);
       ++carving;
     }
+    if (regions != lo.regions.end() && regions->first == part.brick) {
+      out_.region_bytes[l] += regions->second.size();
+      part.regions = std::move(regions->second);
+      ++regions;
+    }
     if (points) {
       out_.value_bytes[l] += value[p].size();
       part.values = std::move(value[p]);
@@ -187,9 +194,9 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   std::vector<uint8_t> chunk_bytes;
   const std::vector<BrickChunk> chunks = write_chunks(parts, chunk_bytes);
   parts.clear();
-  const std::vector<uint8_t> index = write_brick_index(chunks);
+  const std::vector<uint8_t> index = write_brick_index(chunks, !in_.regions.empty());
   LayerHeader lh;
-  lh.format_major = kVersionMajorBricked;
+  lh.format_major = in_.regions.empty() ? kVersionMajorBricked : kVersionMajorBrickedRegions;
   lh.bricked = true;
   lh.level = static_cast<uint16_t>(level);
   lh.new_vertices = static_cast<uint32_t>(fresh.size());
@@ -215,9 +222,11 @@ StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
   StreamHeader header;
   header.grid = in.grid;
   header.alpha_policy = in.alpha_policy;
-  header.version_major = kVersionMajorBricked;
-  header.flags = static_cast<uint16_t>((in.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections |
-                                       kFlagBricks | (in.values ? kFlagValues : 0));
+  // (15.0 with regions: each chunk carries its kept cells', §3.5.)
+  header.version_major = in.regions.empty() ? kVersionMajorBricked : kVersionMajorBrickedRegions;
+  header.flags =
+      static_cast<uint16_t>((in.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections | kFlagBricks |
+                            (in.values ? kFlagValues : 0) | (in.regions.empty() ? 0 : kFlagRegions));
   header.level_count = static_cast<uint16_t>(levels.size());
   header.vertex_count = static_cast<uint32_t>(in.points.size());
   BrickedEncoding out;
@@ -227,11 +236,18 @@ StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
     out.field_table_bytes = table.size();
     out.bytes.insert(out.bytes.end(), table.begin(), table.end());
   }
+  if (!in.regions.empty()) {
+    DTM_RETURN_IF_ERROR(check_region_table(in.regions));
+    const std::vector<uint8_t> table = write_region_table(in.regions);
+    out.region_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
   const size_t count = levels.size();
   out.value_bytes.assign(count, 0);
   out.level_field_bytes.assign(count, {});
   out.layer_bytes.assign(count, 0);
   out.carving_bytes.assign(count, 0);
+  out.region_bytes.assign(count, 0);
   out.chunk_count.assign(count, 0);
   out.index_bytes.assign(count, 0);
   out.brick_depth.assign(count, 0);

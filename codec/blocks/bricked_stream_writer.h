@@ -12,6 +12,7 @@
 
 #include "codec/blocks/block_levels.h"
 #include "codec/blocks/bricked_encoder.h"
+#include "codec/sections/region_coder.h"
 #include "codec/sections/value_fields.h"
 #include "common/exchange.h"
 #include "common/grid.h"
@@ -26,6 +27,7 @@ struct BrickedLevel {
   double alpha = 0, kept_radius = 0;
   int brick_depth = 0;
   std::map<uint64_t, std::vector<uint8_t>> carving;  // per brick
+  std::map<uint64_t, std::vector<uint8_t>> regions;  // per brick owning a kept cell, with regions
   uint64_t cell_hash = 0;
   LevelStats stats;
 };
@@ -36,6 +38,7 @@ struct BrickedStreamInput {
   AlphaKind alpha_policy = AlphaKind::kPaper;
   bool cell_hashes = false;
   const FieldSectionEncoder* values = nullptr;  // or none
+  std::span<const RegionLabel> regions;         // the region table (2 or more: flag regions), or none
   const MortonIndex* index = nullptr;           // of `points`
   std::span<const uint8_t> level_of;            // per grid point: the coarsest level that holds it
   bool decode_order = true;                     // BrickedEncoding::decode_order made (else empty)
@@ -44,8 +47,8 @@ struct BrickedStreamInput {
 };
 
 // The stream of `levels` (finest first; the coarsest one chunk of depth 0),
-// on every rank; with every level's byte counts. The levels' carving is
-// moved from.
+// on every rank; with every level's byte counts. The levels' carving and
+// regions are moved from.
 StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
                                                std::vector<BrickedLevel>& levels);
 

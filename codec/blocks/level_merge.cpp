@@ -33,6 +33,7 @@ MergedLevel merge_blocks(std::vector<BlockAnalysis>& analysis, int level, Bricke
     m.dropped_thick += f.dropped_thick;
     m.dropped_thick_radius = std::max(m.dropped_thick_radius, f.dropped_thick_radius);
     for (auto& [brick, bytes] : a.carving) out.carving[brick] = std::move(bytes);
+    for (auto& [brick, bytes] : a.regions) out.regions[brick] = std::move(bytes);
     m.record.triangles.insert(m.record.triangles.end(), a.surface_triangles.begin(),
                               a.surface_triangles.end());
     m.record.vertices.insert(m.record.vertices.end(), a.surface_vertices.begin(), a.surface_vertices.end());

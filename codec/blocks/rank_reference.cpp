@@ -63,12 +63,17 @@ RankReference::RankReference(std::span<const GridPoint> points, int qbits, RankE
   solid_ = voxels;
 }
 
-void RankReference::set_whole(std::span<const std::array<uint32_t, 4>> tets) {
+void RankReference::set_whole(std::span<const std::array<uint32_t, 4>> tets,
+                              std::span<const uint8_t> regions) {
   report_phase(on_phase_, "the reference's boundary");
-  std::vector<std::array<uint32_t, 3>> boundary = boundary_triangles(tets);
+  std::vector<std::array<uint32_t, 3>> boundary =
+      regions.empty() ? boundary_triangles(tets) : region_surface_triangles(tets, regions);
   report_phase(on_phase_, "the reference solid");
-  tet_solid_.emplace(points_, tets, boundary);
-  if (!voxels_) solid_ = &*tet_solid_;
+  if (regions.empty())
+    tet_solid_.emplace(points_, tets, boundary);
+  else
+    region_solid_.emplace(points_, tets, regions);
+  if (!voxels_) solid_ = region_solid_ ? static_cast<const Solid*>(&*region_solid_) : &*tet_solid_;
   faces_.emplace(points_, std::move(boundary), qbits_);
   whole_.reset();
 }
@@ -124,6 +129,7 @@ void RankReference::set_in_parts(std::span<const std::array<uint32_t, 4>> given,
 void RankReference::release_all() {
   answers_.reset();  // first: it reads the part
   tet_solid_.reset();
+  region_solid_.reset();
   solid_ = voxels_;
   parts_ = false;
   book_ = {};

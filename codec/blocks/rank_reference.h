@@ -25,6 +25,7 @@
 #include "common/progress.h"
 #include "common/status.h"
 #include "core/reference_solid.h"
+#include "core/region_solid.h"
 #include "core/solid.h"
 
 namespace dtm {
@@ -38,8 +39,10 @@ class RankReference {
                 PhaseCallback on_phase);
 
   // The reference from its tetrahedra, on this process alone. `tets` are
-  // read while this runs only.
-  void set_whole(std::span<const std::array<uint32_t, 4>> tets);
+  // read while this runs only. With `regions` (per tetrahedron, 1 + its
+  // region's index; core/region_solid.h) a cell's verdict is its region,
+  // and the boundary holds the interfaces between regions too.
+  void set_whole(std::span<const std::array<uint32_t, 4>> tets, std::span<const uint8_t> regions = {});
   // The same on the ranks of a run, each given at least its share of the
   // tetrahedra (`share`, or one made from the exchange when null): each
   // finds the boundary faces and the tetrahedra near the boundary that are
@@ -80,6 +83,7 @@ class RankReference {
   const Solid* voxels_;
   PhaseCallback on_phase_;
   std::optional<ReferenceSolid> tet_solid_;  // whole, or this rank's part
+  std::optional<RegionSolid> region_solid_;  // whole, with regions
   const Solid* solid_ = nullptr;             // tet_solid_ or the voxels
   bool parts_ = false;                       // solid_ is tet_solid_, a part
   AnswerBook book_;                          // what the ranks answered of this level's questions

@@ -51,12 +51,14 @@ ChunkBytes split_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes) 
   c.payload = bytes.first(chunk.payload_bytes);
   c.carving = bytes.subspan(chunk.payload_bytes, chunk.carving_bytes);
   c.values = bytes.subspan(uint64_t{chunk.payload_bytes} + chunk.carving_bytes, chunk.value_bytes);
+  c.regions = bytes.subspan(uint64_t{chunk.payload_bytes} + chunk.carving_bytes + chunk.value_bytes,
+                            chunk.region_bytes);
   return c;
 }
 
 uint32_t chunk_checksum(std::span<const uint8_t> bytes) { return static_cast<uint32_t>(xxh3_64(bytes)); }
 
-std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks) {
+std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, bool regions) {
   std::vector<uint8_t> out;
   put_varint(out, chunks.size());
   for (size_t i = 0; i < chunks.size(); ++i) {
@@ -66,6 +68,7 @@ std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks) {
     put_varint(out, c.payload_bytes);
     put_varint(out, c.carving_bytes);
     put_varint(out, c.value_bytes);
+    if (regions) put_varint(out, c.region_bytes);
     for (int b = 0; b < 4; ++b) out.push_back(static_cast<uint8_t>(c.checksum >> (8 * b)));
   }
   return out;
@@ -88,7 +91,9 @@ Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, u
     uint64_t delta = 0;
     if (!get_varint(index, pos, delta) || !get_u32_varint(index, pos, c.new_points) ||
         !get_u32_varint(index, pos, c.payload_bytes) || !get_u32_varint(index, pos, c.carving_bytes) ||
-        !get_u32_varint(index, pos, c.value_bytes) || index.size() - pos < 4)
+        !get_u32_varint(index, pos, c.value_bytes) ||
+        ((stream_flags & kFlagRegions) && !get_u32_varint(index, pos, c.region_bytes)) ||
+        index.size() - pos < 4)
       return index_corrupt("entry " + std::to_string(i) + " is cut short");
     for (int b = 0; b < 4; ++b) c.checksum |= static_cast<uint32_t>(index[pos++]) << (8 * b);
     const uint64_t previous = out.empty() ? 0 : out.back().brick + 1;

@@ -27,32 +27,35 @@ struct BrickChunk {
   uint32_t new_points = 0;
   uint32_t payload_bytes = 0;
   uint32_t carving_bytes = 0;
-  uint32_t value_bytes = 0;  // with the stream's flag values: the chunk's value section
-  uint32_t checksum = 0;     // low 32 bits of XXH3-64 of the chunk's bytes
+  uint32_t value_bytes = 0;   // with the stream's flag values: the chunk's value section
+  uint32_t checksum = 0;      // low 32 bits of XXH3-64 of the chunk's bytes
+  uint32_t region_bytes = 0;  // with the stream's flag regions (15.0): its cells' regions
   // Not stored, derived while parsing:
   uint64_t offset = 0;         // of the chunk from the start of the layer's chunk area
   uint64_t points_before = 0;  // new points of the layer in the chunks before this one
-  uint64_t size() const { return uint64_t{payload_bytes} + carving_bytes + value_bytes; }
+  uint64_t size() const { return uint64_t{payload_bytes} + carving_bytes + value_bytes + region_bytes; }
 };
 
 // A chunk's bytes: its payload (the layer coder from the brick's node), its
-// carving corrections, its values.
+// carving corrections, its values, its kept cells' regions.
 struct ChunkBytes {
-  std::span<const uint8_t> payload, carving, values;
+  std::span<const uint8_t> payload, carving, values, regions;
 };
 ChunkBytes split_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes);
 
 // The index: varint chunk count, then per chunk varint (brick - previous
 // brick - 1; the first: brick), new_points, payload_bytes, carving_bytes,
-// value_bytes, and the u32 checksum. Offsets are not stored.
-std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks);
+// value_bytes, with `regions` (the stream's flag regions) region_bytes, and
+// the u32 checksum. Offsets are not stored.
+std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, bool regions);
 // Parses and checks an index against its layer: bricks ascending and below
 // 8^depth, the new points adding up to new_vertices and the chunk sizes to
 // chunk_bytes, no empty chunk, a payload of at least the range coder's flush
 // for a chunk of points, and none for a chunk without; carving bytes only
 // with the stream's flag carving_corrections; with flag values, value bytes
-// in every chunk with points and in no other, without it in none. Allocates
-// in proportion to the index's bytes only.
+// in every chunk with points and in no other, without it in none; region
+// bytes only with flag regions. Allocates in proportion to the index's
+// bytes only.
 Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, uint64_t new_vertices,
                          uint64_t chunk_bytes, uint16_t stream_flags, std::vector<BrickChunk>& out);
 // The chunk of `brick`, or nullptr.
@@ -145,15 +148,17 @@ std::vector<uint8_t> encode_chunk_points(std::span<const GridPoint> points, std:
                                          const SetCoderModels& after_base);
 // What the encoder made of one brick of a layer: its new points' count,
 // payload and value section (empty without points), its carving
-// corrections (empty when alpha is right there).
+// corrections (empty when alpha is right there), its kept cells' regions
+// (empty with one region, or none kept).
 struct BrickParts {
   uint64_t brick = 0;
   uint32_t new_points = 0;
-  std::vector<uint8_t> payload, carving, values;
+  std::vector<uint8_t> payload, carving, values, regions;
 };
 // The layer's chunks from its bricks' parts (ascending bricks, each once):
-// one chunk, with its checksum, for every brick with points or corrections,
-// its bytes (payload, carving, values) appended to `chunk_bytes`.
+// one chunk, with its checksum, for every brick with points, corrections
+// or regions, its bytes (payload, carving, values, regions) appended to
+// `chunk_bytes`.
 std::vector<BrickChunk> write_chunks(std::span<const BrickParts> parts, std::vector<uint8_t>& chunk_bytes);
 
 }  // namespace dtm

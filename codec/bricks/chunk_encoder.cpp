@@ -39,11 +39,13 @@ std::vector<BrickChunk> write_chunks(std::span<const BrickParts> parts, std::vec
     chunk.payload_bytes = static_cast<uint32_t>(p.payload.size());
     chunk.carving_bytes = static_cast<uint32_t>(p.carving.size());
     chunk.value_bytes = static_cast<uint32_t>(p.values.size());
+    chunk.region_bytes = static_cast<uint32_t>(p.regions.size());
     if (chunk.size() == 0) continue;
     const size_t start = chunk_bytes.size();
     chunk_bytes.insert(chunk_bytes.end(), p.payload.begin(), p.payload.end());
     chunk_bytes.insert(chunk_bytes.end(), p.carving.begin(), p.carving.end());
     chunk_bytes.insert(chunk_bytes.end(), p.values.begin(), p.values.end());
+    chunk_bytes.insert(chunk_bytes.end(), p.regions.begin(), p.regions.end());
     chunk.checksum = chunk_checksum(std::span(chunk_bytes).subspan(start));
     chunks.push_back(chunk);
   }

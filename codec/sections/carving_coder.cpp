@@ -53,6 +53,11 @@ std::vector<uint32_t> ranked_order(const TetMesh& dt, std::span<const uint32_t> 
   return canonical_cell_order(ranked);
 }
 
+ChunkCells chunk_cells(const TetMesh& dt, std::span<const uint32_t> chunk_of_cell, size_t chunk_count,
+                       std::span<const uint32_t> vertex_rank) {
+  return group_by_chunk(ranked_order(dt, vertex_rank), chunk_of_cell, chunk_count);
+}
+
 CarvingContexts carving_contexts(uint8_t format_major) {
   return format_major >= 6 ? CarvingContexts::kDecodedNeighbours : CarvingContexts::kAlphaNeighbours;
 }

@@ -143,6 +143,14 @@ Status decode_carving(std::span<const uint8_t> section, const TetMesh& dt, std::
 // vertex number: an order of places, which a block of the encoder knows
 // before the coarser levels that number the vertices are built.
 inline constexpr uint32_t kNoCarvingChunk = UINT32_MAX;
+// The cells of each chunk in its coding order: cells[first[i] ..
+// first[i + 1]) are chunk i's (a bricked layer's region sections visit
+// them in this order too, region_coder.h).
+struct ChunkCells {
+  std::vector<uint32_t> cells, first;
+};
+ChunkCells chunk_cells(const TetMesh& dt, std::span<const uint32_t> chunk_of_cell, size_t chunk_count,
+                       std::span<const uint32_t> vertex_rank);
 std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::span<const GridPoint> points,
                                                         double alpha, std::span<const uint8_t> kept,
                                                         std::span<const uint32_t> chunk_of_cell,
@@ -151,10 +159,12 @@ std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::
 // `sections[i]`: chunk i's section (empty: no correction). kCorrupt names
 // the chunk (its index) whose section does not end where its bytes do.
 // `order`, if given, receives the canonical order of dt's cells (by vertex
-// number, as decode_carving's).
+// number, as decode_carving's); `cells`, if given, the chunks' cells
+// (chunk_cells()).
 Status decode_carving_chunks(std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
                              std::span<const GridPoint> points, double alpha,
                              std::span<const uint32_t> chunk_of_cell, std::span<const uint32_t> vertex_rank,
-                             std::vector<uint8_t>& kept, std::vector<uint32_t>* order = nullptr);
+                             std::vector<uint8_t>& kept, std::vector<uint32_t>* order = nullptr,
+                             ChunkCells* cells = nullptr);
 
 }  // namespace dtm

@@ -57,11 +57,8 @@ void visit_corrections(const TetMesh& dt, const CarvingPrediction& p, CarvingCon
   }
 }
 
-// The cells of each chunk, in canonical order: chunk_cells[first[i] ..
-// first[i + 1]) are chunk i's.
-struct ChunkCells {
-  std::vector<uint32_t> cells, first;
-};
+// The cells of each chunk, in `order` (chunk_cells() with a layer's ranked
+// order).
 ChunkCells group_by_chunk(std::span<const uint32_t> order, std::span<const uint32_t> chunk_of_cell,
                           size_t chunk_count);
 

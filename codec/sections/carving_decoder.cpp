@@ -12,10 +12,10 @@ namespace dtm {
 Status decode_carving_chunks(std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
                              std::span<const GridPoint> points, double alpha,
                              std::span<const uint32_t> chunk_of_cell, std::span<const uint32_t> vertex_rank,
-                             std::vector<uint8_t>& kept, std::vector<uint32_t>* order) {
+                             std::vector<uint8_t>& kept, std::vector<uint32_t>* order, ChunkCells* cells) {
   CarvingPrediction p =
       predict_carving(dt, points, alpha, CarvingContexts::kDecodedNeighbours, chunk_of_cell);
-  const ChunkCells g = group_by_chunk(ranked_order(dt, vertex_rank), chunk_of_cell, sections.size());
+  ChunkCells g = chunk_cells(dt, chunk_of_cell, sections.size(), vertex_rank);
   kept = p.kept;
   std::vector<int8_t> kept_change(dt.cells.size(), 0);
   std::vector<uint8_t> wrong(dt.cells.size(), 0);
@@ -37,6 +37,7 @@ Status decode_carving_chunks(std::span<const std::span<const uint8_t>> sections,
                                         ": carving corrections do not end where "
                                         "their bytes do"};
   if (order) *order = std::move(p.order);
+  if (cells) *cells = std::move(g);
   return Status::Ok();
 }
 

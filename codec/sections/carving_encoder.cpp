@@ -15,7 +15,7 @@ std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::
                                                         std::span<const uint32_t> vertex_rank) {
   const CarvingPrediction p =
       predict_carving(dt, points, alpha, CarvingContexts::kDecodedNeighbours, chunk_of_cell);
-  const ChunkCells g = group_by_chunk(ranked_order(dt, vertex_rank), chunk_of_cell, chunk_count);
+  const ChunkCells g = chunk_cells(dt, chunk_of_cell, chunk_count, vertex_rank);
   std::vector<std::vector<uint8_t>> out(chunk_count);
   std::vector<uint8_t> verdicts = p.kept;
   std::vector<int8_t> kept_change(dt.cells.size(), 0);

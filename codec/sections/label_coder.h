@@ -119,26 +119,47 @@ inline uint8_t decode_label(RangeDecoder& rc, LabelModels& m, const NeighbourLab
   return static_cast<uint8_t>(index + 1);
 }
 
-// The traversal: the nodes of `order` that `coded` flags, each coded by
-// `code(models, neighbour labels, previous label, node)`, which returns its
-// label (the encoder's writes it, the decoder's reads it), or 0 when the
-// stream is damaged (the walk stops, false). `neighbours_of(node)` gives
-// the node's neighbours (negative: none). `decoded` receives the labels (0
-// for nodes not coded).
+// A cell's face neighbours in its own chunk of a bricked layer (others -1):
+// what its region's context reads (region_coder.h).
+template <class Mesh>
+std::array<int32_t, 4> same_chunk_neighbours(const Mesh& dt, std::span<const uint32_t> chunk_of_cell,
+                                             uint32_t c) {
+  std::array<int32_t, 4> out = dt.neighbors[c];
+  for (int32_t& n : out)
+    if (n >= 0 && chunk_of_cell[static_cast<size_t>(n)] != chunk_of_cell[c]) n = -1;
+  return out;
+}
+
+// One run of nodes with fresh models: the nodes of `order` that `coded`
+// flags, each coded by `code(models, neighbour labels, previous label,
+// node)`, which returns its label (the encoder's writes it, the decoder's
+// reads it), or 0 when the stream is damaged (the walk stops, false).
+// `neighbours_of(node)` gives the node's neighbours (negative: none).
+// Writes only the run's entries of `decoded`, which must be 0 before; where
+// `neighbours_of` gives only nodes of the run (a chunk of a bricked layer,
+// region_coder.h), runs over disjoint nodes may go at once.
 template <class NeighboursOf, class Code>
-bool visit_labels(size_t nodes, std::span<const uint32_t> order, std::span<const uint8_t> coded,
-                  const NeighboursOf& neighbours_of, std::vector<uint8_t>& decoded, Code&& code) {
+bool visit_label_run(std::span<const uint32_t> order, std::span<const uint8_t> coded,
+                     const NeighboursOf& neighbours_of, std::span<uint8_t> decoded, Code&& code) {
   LabelModels models;
-  decoded.assign(nodes, 0);
   uint8_t previous = 1;  // a node with no decoded neighbour: guess the last label coded
   for (uint32_t c : order) {
     if (!coded.empty() && !coded[c]) continue;
-    const NeighbourLabels n = neighbour_labels(neighbours_of(c), decoded);
+    const NeighbourLabels n = neighbour_labels(neighbours_of(c), std::span<const uint8_t>(decoded));
     const uint8_t label = code(models, n, previous, c);
     if (label == 0) return false;
     decoded[c] = previous = label;
   }
   return true;
+}
+
+// The traversal of a whole level: one run over all its nodes; `decoded`
+// receives the labels (0 for nodes not coded).
+template <class NeighboursOf, class Code>
+bool visit_labels(size_t nodes, std::span<const uint32_t> order, std::span<const uint8_t> coded,
+                  const NeighboursOf& neighbours_of, std::vector<uint8_t>& decoded, Code&& code) {
+  decoded.assign(nodes, 0);
+  return visit_label_run(order, coded, neighbours_of, std::span<uint8_t>(decoded), code);
 }
 
 }  // namespace dtm

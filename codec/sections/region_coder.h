@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "codec/sections/carving_coder.h"
 #include "common/status.h"
 #include "mesh/delaunay.h"
 
@@ -46,5 +47,22 @@ std::vector<uint8_t> encode_regions(const TetMesh& dt, std::span<const uint32_t>
 // end where its bytes do.
 Status decode_regions(std::span<const uint8_t> section, const TetMesh& dt, std::span<const uint32_t> order,
                       size_t region_count, std::vector<uint8_t>& region);
+
+// Bricked layers (15.0, spec/FORMAT.md §3.5): a section per chunk, over the
+// kept cells its brick owns, in its carving section's order (`chunks`,
+// chunk_cells()), each cell's decoded neighbours those of the same chunk:
+// chunks code alone, and a region reader decodes those it reads. One
+// section for each chunk; with one region every one empty, else one with
+// bytes for each chunk that owns a kept cell.
+std::vector<std::vector<uint8_t>> encode_region_chunks(const TetMesh& dt, const ChunkCells& chunks,
+                                                       std::span<const uint32_t> chunk_of_cell,
+                                                       std::span<const uint8_t> region, size_t region_count);
+// `region` holds the kept cells (non-zero) and leaves with their regions, on
+// every core. kCorrupt, naming the chunk (its index), if a section is not
+// one region_count allows, does not end where its bytes do, or a kept
+// cell's brick has no chunk (`chunk_of_cell`: kNoCarvingChunk).
+Status decode_region_chunks(std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
+                            const ChunkCells& chunks, std::span<const uint32_t> chunk_of_cell,
+                            size_t region_count, std::vector<uint8_t>& region);
 
 }  // namespace dtm

@@ -8,6 +8,7 @@
 #include "codec/stream/table_framing.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
+#include "common/parallel_for.h"
 
 namespace dtm {
 
@@ -49,6 +50,32 @@ std::vector<uint8_t> encode_regions(const TetMesh& dt, std::span<const uint32_t>
         return region[c];
       });
   return rc.finish();
+}
+
+std::vector<std::vector<uint8_t>> encode_region_chunks(const TetMesh& dt, const ChunkCells& chunks,
+                                                       std::span<const uint32_t> chunk_of_cell,
+                                                       std::span<const uint8_t> region, size_t region_count) {
+  const size_t count = chunks.first.empty() ? 0 : chunks.first.size() - 1;
+  std::vector<std::vector<uint8_t>> out(count);
+  if (region_count < 2) return out;
+  std::vector<uint8_t> decoded(dt.cells.size(), 0);
+  parallel_for(
+      count,
+      [&](size_t i) {
+        const std::span<const uint32_t> cells(chunks.cells.data() + chunks.first[i],
+                                              chunks.first[i + 1] - chunks.first[i]);
+        if (std::none_of(cells.begin(), cells.end(), [&](uint32_t c) { return region[c] != 0; })) return;
+        RangeEncoder rc;
+        visit_label_run(
+            cells, region, [&](uint32_t c) { return same_chunk_neighbours(dt, chunk_of_cell, c); }, decoded,
+            [&](LabelModels& m, const NeighbourLabels& n, uint8_t previous, uint32_t c) {
+              encode_label(rc, m, n, previous, region[c]);
+              return region[c];
+            });
+        out[i] = rc.finish();
+      },
+      2);
+  return out;
 }
 
 }  // namespace dtm

@@ -131,8 +131,8 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   if ((h.flags & kFlagBricks) && h.version_major < 8) return corrupt("bricks flagged in a stream before 8.0");
   if ((h.flags & kFlagRegions) && h.version_major < 9)
     return corrupt("regions flagged in a stream before 9.0");
-  if ((h.flags & kFlagRegions) && (h.flags & kFlagBricks))
-    return corrupt("regions flagged in a bricked stream");
+  if ((h.flags & kFlagRegions) && (h.flags & kFlagBricks) && h.version_major < 15)
+    return corrupt("regions flagged in a bricked stream before 15.0");
   if ((h.flags & kFlagRegions) && !(h.flags & kFlagCarvingCorrections))
     return corrupt("regions flagged without carving corrections");
   if ((h.flags & kFlagFaces) && h.version_major < 9) return corrupt("faces flagged in a stream before 9.0");
@@ -426,7 +426,7 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
             return s;
         for (const BrickChunk& c : chunks) {
           lh.payload_bytes += c.payload_bytes, lh.carving_bytes += c.carving_bytes,
-              lh.value_bytes += c.value_bytes;
+              lh.value_bytes += c.value_bytes, lh.region_bytes += c.region_bytes;
           if (s.fields.empty() || c.value_bytes == 0) continue;
           // Each chunk's value section, its fields' shares added up.
           std::vector<uint64_t> shares;

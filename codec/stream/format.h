@@ -54,8 +54,10 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // and its level 0's carving the cells' flips as context, 14.0 when its
 // exact cell section starts with a flag per 3-2 flip of the kept cells
 // (spec/FORMAT.md §3.10, §3.2: apex_ranks_of(), exact_carving_contexts());
-// the decoder reads 2.x to 14.x.
-inline constexpr uint8_t kVersionMajor = 14;
+// 15.0 when a bricked stream's cells carry regions (each chunk a region
+// section, spec/FORMAT.md §3.5); the decoder reads 2.x to 15.x.
+inline constexpr uint8_t kVersionMajor = 15;
+inline constexpr uint8_t kVersionMajorBrickedRegions = 15;
 inline constexpr uint8_t kVersionMajorExact = 14;
 inline constexpr uint8_t kVersionMajorExactInContext = 13;
 inline constexpr uint8_t kVersionMajorExactFitting = 12;
@@ -81,7 +83,8 @@ inline constexpr uint16_t kFlagBricks = 8;
 // than any layer has points (codec/bricks/bricks.h).
 inline constexpr int kMaxBrickDepth = 16;
 // 9.0: a region table follows the field table and layers carry region
-// sections (codec/sections/region_coder.h); not with kFlagBricks.
+// sections (codec/sections/region_coder.h); with kFlagBricks from 15.0,
+// each chunk carrying its cells' (codec/bricks/bricks.h).
 inline constexpr uint16_t kFlagRegions = 16;
 // 9.0: a face tag table follows (the region table) and layers carry face
 // sections (codec/sections/face_coder.h); not with kFlagBricks.

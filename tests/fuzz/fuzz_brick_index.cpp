@@ -10,13 +10,14 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // 6 parameter bytes: qbits, depth (and in its high part the stream's
-  // flags carving_corrections and values), the layer's points and chunk
-  // bytes (u16 each).
+  // flags carving_corrections, values and regions), the layer's points and
+  // chunk bytes (u16 each).
   if (size < 6) return 0;
   const int qbits = 1 + data[0] % 24;
   const int depth = data[1] % 18;  // 17: beyond the format's 16
   const uint16_t flags = static_cast<uint16_t>(((data[1] / 18) & 1 ? dtm::kFlagCarvingCorrections : 0) |
-                                               ((data[1] / 36) & 1 ? dtm::kFlagValues : 0));
+                                               ((data[1] / 36) & 1 ? dtm::kFlagValues : 0) |
+                                               ((data[1] / 72) & 1 ? dtm::kFlagRegions : 0));
   const uint64_t new_vertices = data[2] | (data[3] << 8);
   const uint64_t chunk_bytes = data[4] | (data[5] << 8);
   const std::span<const uint8_t> index(data + 6, size - 6);
@@ -31,11 +32,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(chunks[i].size() > 0);
     FUZZ_CHECK(chunks[i].carving_bytes == 0 || (flags & dtm::kFlagCarvingCorrections));
     FUZZ_CHECK((chunks[i].value_bytes > 0) == ((flags & dtm::kFlagValues) && chunks[i].new_points > 0));
+    FUZZ_CHECK(chunks[i].region_bytes == 0 || (flags & dtm::kFlagRegions));
     points += chunks[i].new_points;
     bytes += chunks[i].size();
   }
   FUZZ_CHECK(points == new_vertices && bytes == chunk_bytes);
-  const std::vector<uint8_t> again = dtm::write_brick_index(chunks);
+  const std::vector<uint8_t> again = dtm::write_brick_index(chunks, flags & dtm::kFlagRegions);
   FUZZ_CHECK(std::equal(again.begin(), again.end(), index.begin(), index.end()));
   return 0;
 }

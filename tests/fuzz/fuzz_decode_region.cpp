@@ -2,7 +2,8 @@
 // bytes pick the level and the box, the rest is the stream. Never a crash, a
 // hang or an allocation the bytes do not justify; what decodes is a mesh
 // over its own points, numbered within the level, having read no byte twice,
-// with every field's values for every point.
+// with every field's values for every point and, with regions (15.0), every
+// cell's region one of the table's.
 // (That the region equals the whole level filtered holds for the streams the
 // encoder writes, tests/test_bricks.cpp: a hostile stream may claim a kept
 // radius its cells break, which only the whole decode can see.)
@@ -35,5 +36,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (uint32_t v : c) FUZZ_CHECK(v < region->points.size());
   for (const auto& f : region->fields)  // values in chunks: every point's, whole
     FUZZ_CHECK(f.bits.size() == region->points.size() * static_cast<size_t>(f.description.components));
+  if (!region->cell_regions.empty() || !region->regions.empty()) {
+    FUZZ_CHECK(region->cell_regions.size() == region->cells.size() || region->regions.size() < 2);
+    for (uint8_t r : region->cell_regions) FUZZ_CHECK(r >= 1 && r <= region->regions.size());
+  }
   return 0;
 }

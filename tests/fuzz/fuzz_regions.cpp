@@ -5,10 +5,13 @@
 // the table, and those regions re-encode to the same section.
 //
 // Input: byte 0: which point set (fuzz_point_sets.h, by bit 0), which cells
-// are kept (all, by bit 1, else every cell whose first vertex is even), and
-// the region count (2 + its other bits); bytes 1-2: the table's body length
-// n (little-endian); then n bytes of body (the target adds the length word
-// and the checksum), then the section.
+// are kept (all, by bit 1, else every cell whose first vertex is even), the
+// region count (2 + bits 2-6), and by bit 7 whether the section is a
+// bricked layer's (15.0, spec/FORMAT.md §3.5: three chunks, each cell's by
+// its second vertex; the section's first two bytes give the first two
+// chunks' lengths, the rest the third's); bytes 1-2: the table's body
+// length n (little-endian); then n bytes of body (the target adds the
+// length word and the checksum), then the section.
 #include <algorithm>
 #include <cstdint>
 #include <span>
@@ -26,7 +29,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const dtm::TetMesh block_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value();
   static const dtm::TetMesh cloud_dt = dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value();
   const dtm::TetMesh& dt = (data[0] & 1) ? cloud_dt : block_dt;
-  const size_t regions = 2 + (data[0] >> 2);
+  const size_t regions = 2 + ((data[0] >> 2) & 31);
+  const bool chunked = data[0] & 128;
   const FuzzTable framed = fuzz_table(data, size);
   const std::vector<uint8_t>& table = framed.table;
   std::vector<dtm::RegionLabel> labels;
@@ -47,6 +51,29 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<uint8_t> kept(dt.cells.size());
   for (size_t c = 0; c < kept.size(); ++c) kept[c] = (data[0] & 2) || dt.cells[c][0] % 2 == 0;
   std::vector<uint8_t> region = kept;
+  if (chunked) {
+    std::vector<uint32_t> chunk_of_cell(dt.cells.size()), rank(dt.cells.size() * 4);
+    for (size_t c = 0; c < chunk_of_cell.size(); ++c) chunk_of_cell[c] = dt.cells[c][1] % 3;
+    for (uint32_t v = 0; v < rank.size(); ++v) rank[v] = v;
+    const dtm::ChunkCells chunks = dtm::chunk_cells(dt, chunk_of_cell, 3, rank);
+    if (section.size() < 2) return 0;
+    const size_t first = std::min<size_t>(section[0], section.size() - 2);
+    const size_t second = std::min<size_t>(section[1], section.size() - 2 - first);
+    const std::span<const uint8_t> bytes = section.subspan(2);
+    const std::vector<std::span<const uint8_t>> parts = {bytes.first(first), bytes.subspan(first, second),
+                                                         bytes.subspan(first + second)};
+    const dtm::Status s = dtm::decode_region_chunks(parts, dt, chunks, chunk_of_cell, regions, region);
+    if (!s.ok()) {
+      FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
+      return 0;
+    }
+    for (size_t c = 0; c < region.size(); ++c)
+      FUZZ_CHECK((region[c] != 0) == (kept[c] != 0) && region[c] <= regions);
+    const auto again = dtm::encode_region_chunks(dt, chunks, chunk_of_cell, region, regions);
+    for (size_t k = 0; k < 3; ++k)
+      FUZZ_CHECK(again[k] == std::vector<uint8_t>(parts[k].begin(), parts[k].end()));
+    return 0;
+  }
   const dtm::Status s = dtm::decode_regions(section, dt, order, regions, region);
   if (!s.ok()) {
     FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);

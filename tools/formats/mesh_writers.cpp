@@ -258,16 +258,18 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
       "  <UnstructuredGrid>\n"
       "    <Piece NumberOfPoints=\"" +
       std::to_string(m.points.size()) + "\" NumberOfCells=\"" + std::to_string(types.size()) + "\">\n";
-  if (!m.level.empty() || !m.boundary.empty() || !m.fields.empty()) {
+  const bool level = !m.level.empty() || m.declare_level;
+  if (level || !m.boundary.empty() || !m.fields.empty()) {
     out += "      <PointData>\n";
-    if (!m.level.empty()) data_array(out, "Int32", "level", 1, 1, m.level, binary);
+    if (level) data_array(out, "Int32", "level", 1, 1, m.level, binary);
     if (!m.boundary.empty()) data_array(out, "UInt8", "boundary", 1, 1, m.boundary, binary);
     for (const OutputField& f : m.fields) field_array(out, f, binary);
     out += "      </PointData>\n";
   }
-  if (!physical.empty() || !m.cell_fields.empty()) {
-    out += physical.empty() ? "      <CellData>\n" : "      <CellData Scalars=\"region\">\n";
-    if (!physical.empty()) data_array(out, "Int32", "region", 1, 1, physical, binary);
+  const bool region = !physical.empty() || m.declare_region;
+  if (region || !m.cell_fields.empty()) {
+    out += region ? "      <CellData Scalars=\"region\">\n" : "      <CellData>\n";
+    if (region) data_array(out, "Int32", "region", 1, 1, physical, binary);
     for (const OutputField& f : cell_and_face_fields(m)) field_array(out, f, binary);
     out += "      </CellData>\n";
   }
@@ -293,17 +295,26 @@ std::string render_pvtu(const OutputMesh& like, std::span<const std::string> pie
       "<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" "
       "header_type=\"UInt64\">\n"
       "  <PUnstructuredGrid GhostLevel=\"0\">\n";
-  if (!like.level.empty() || !like.boundary.empty() || !like.fields.empty()) {
+  const auto declare = [&](const OutputField& f) {
+    out += "      <PDataArray type=\"" + std::string(vtu_type(f.type)) + "\" Name=\"" + xml_escaped(f.name) +
+           "\"";
+    if (f.components > 1) out += " NumberOfComponents=\"" + std::to_string(f.components) + "\"";
+    out += "/>\n";
+  };
+  const bool level = !like.level.empty() || like.declare_level;
+  if (level || !like.boundary.empty() || !like.fields.empty()) {
     out += "    <PPointData>\n";
-    if (!like.level.empty()) out += "      <PDataArray type=\"Int32\" Name=\"level\"/>\n";
+    if (level) out += "      <PDataArray type=\"Int32\" Name=\"level\"/>\n";
     if (!like.boundary.empty()) out += "      <PDataArray type=\"UInt8\" Name=\"boundary\"/>\n";
-    for (const OutputField& f : like.fields) {
-      out += "      <PDataArray type=\"" + std::string(vtu_type(f.type)) + "\" Name=\"" +
-             xml_escaped(f.name) + "\"";
-      if (f.components > 1) out += " NumberOfComponents=\"" + std::to_string(f.components) + "\"";
-      out += "/>\n";
-    }
+    for (const OutputField& f : like.fields) declare(f);
     out += "    </PPointData>\n";
+  }
+  const bool region = !like.region.empty() || !like.faces.empty() || like.declare_region;
+  if (region || !like.cell_fields.empty()) {
+    out += region ? "    <PCellData Scalars=\"region\">\n" : "    <PCellData>\n";
+    if (region) out += "      <PDataArray type=\"Int32\" Name=\"region\"/>\n";
+    for (const OutputField& f : like.cell_fields) declare(f);
+    out += "    </PCellData>\n";
   }
   out +=
       "    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n    "

@@ -58,6 +58,11 @@ struct OutputMesh {
   // row 0) and gmsh $ElementData (1, 3 or 9 components); Medit, TetGen
   // and the surface formats have no place for them.
   std::vector<OutputField> cell_fields;
+  // A piece of a parallel grid (.pvtu) declares the arrays every piece
+  // holds, even with no point or cell of its own (ParaView warns of a
+  // piece that lacks one): `level`, and `region` when the stream has
+  // regions.
+  bool declare_level = false, declare_region = false;
 };
 
 // The cell arrays padded to the cells and the faces after them (a face's
@@ -121,8 +126,8 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
 
 // A VTK parallel unstructured grid (.pvtu) naming `pieces` (.vtu files,
 // paths relative to the .pvtu) written by render_mesh as kVtu from meshes
-// with the point data of `like` (level, boundary, fields: the same names,
-// types and components in every piece).
+// with the point and cell data of `like` (level, boundary, fields; region,
+// cell fields: the same names, types and components in every piece).
 std::string render_pvtu(const OutputMesh& like, std::span<const std::string> pieces);
 
 // Standard base64 (RFC 4648, with '=' padding), as VTK's binary format wants.
