@@ -9,6 +9,7 @@
 # CSG part exported as gmsh 2.0 ("2.000000") is read with its domain (Netgen
 # tags a domain d 100000 + d). With --exact both decode cell for cell. A
 # graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
+# gmsh -save_all's volumes and surfaces in no physical group join none.
 set -euo pipefail
 meshenc=$1
 meshdec=$(dirname "$meshenc")/meshdec
@@ -45,6 +46,35 @@ for ext in msh vtu mesh; do "$meshdec" a41.dtm -o out.$ext 2>/dev/null || failed
 gmsh out.msh -0 -format msh22 -o again.msh >/dev/null 2>&1 || { echo "gmsh does not read out.msh"; failed=1; }
 grep -A4 '^\$PhysicalNames' again.msh | grep -q '3 2 "steel"' || { echo "gmsh lost the regions"; failed=1; }
 grep -A4 '^\$PhysicalNames' again.msh | grep -q '2 3 "base"' || { echo "gmsh lost the tagged faces"; failed=1; }
+
+# gmsh -save_all writes the volumes and surfaces in no physical group too,
+# under their entity numbers, which may be a group's tag: they must not
+# join that group. Here volume 2 and every surface but 5 are in none, and
+# the groups are tagged 2.
+cat > saveall.geo <<'GEO'
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 1, 1, 1};
+Box(2) = {1, 0, 0, 1, 1, 1};
+BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }
+Physical Volume("left", 2) = {1};
+Physical Surface("base", 2) = {5};
+Mesh.MeshSizeMax = 0.15;
+GEO
+gmsh saveall.geo -3 -format msh41 -o grouped.msh >/dev/null
+"$meshenc" grouped.msh -o grouped.dtm >grouped.out 2>&1
+left=$(grep -o '2 "left" ([0-9]* tetrahedra)' grouped.out | grep -o '([0-9]*' | tr -d '(')
+base=$(grep -o '2 "base" ([0-9]* triangles)' grouped.out | grep -o '([0-9]*' | tr -d '(')
+# (gmsh 2.2's -save_all drops the groups: every element's physical tag 0.)
+for v in 41; do
+  gmsh saveall.geo -3 -save_all -format msh$v -o all$v.msh >/dev/null
+  "$meshenc" all$v.msh -o all$v.dtm >all$v.out 2>&1 || { cat all$v.out; failed=1; }
+  grep -q "2 \"left\" ($left tetrahedra)" all$v.out && grep -q "tagged faces ([^)]*), 1: 2 \"base\" ($base triangles)" all$v.out ||
+    { echo "all$v.msh (-save_all): entities in no group joined a group's tag (alone: $left, $base)"; cat all$v.out; failed=1; }
+  grep -q "left out.*triangles of surfaces in no physical group" all$v.out ||
+    { echo "all$v.msh: the surfaces in no group are not named as left out"; cat all$v.out; failed=1; }
+done
+grep -q 'regions (physical volumes; [0-9]* tetrahedra of 1 volume in no physical group as region 0), 2: 0 "no physical group"' all41.out ||
+  { echo "all41.msh: volume 2 is not a region of its own"; cat all41.out; failed=1; }
 
 # Debian's own Python, where python3-netgen is (not a user's pyenv or venv).
 py=/usr/bin/python3

@@ -82,6 +82,8 @@ INSTANTIATE_TEST_SUITE_P(
         // VTU
         BadInput{"bad_root.vtu", ":2: root element is <VTKFiles>"},
         BadInput{"truncated.vtu", ":6: unterminated tag <DataArray>"},
+        BadInput{"cut_inside_data.vtu", ":8: file ends inside <DataArray>"},
+        BadInput{"not_xml.vtu", ":1: no XML element: not a VTK XML file"},
         BadInput{"truncated_appended.vtu", ": byte 377: a DataArray: 96 bytes announced, 83 left"},
         BadInput{"count_mismatch.vtu", ":6: a DataArray holds 12 values, expected 15"},
         BadInput{"field_count_mismatch.vtu", ":6: DataArray \"pressure\" holds 4 values, expected 5"},

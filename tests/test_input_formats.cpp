@@ -620,7 +620,8 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
   EXPECT_EQ(m.face_tags, (std::vector<int32_t>{4}));
   EXPECT_TRUE(m.left_out.empty());
   // VTK legacy CELL_DATA and a triangle: an integer array may be the
-  // regions, a float array is cell data, both on the tetrahedron.
+  // regions, a float array is cell data, both on the tetrahedron; the
+  // triangle is held as a face the integer array may tag (choose_regions).
   m = read_input(write_temp(
       "cells.vtk", "# vtk DataFile Version 3.0\nc\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n" +
                        tet +
@@ -632,7 +633,9 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
   ASSERT_EQ(m.cell_fields.size(), 1u);
   EXPECT_EQ(m.cell_fields[0].name, "von mises");
   EXPECT_EQ(m.cell_fields[0].values, (std::vector<double>{0.5}));
-  EXPECT_TRUE(has(m, "cells other than tetrahedra (1 triangles)"));
+  ASSERT_EQ(m.tagged_faces.size(), 1u);
+  EXPECT_EQ(m.triangle_arrays["material"], (std::vector<int32_t>{2}));
+  EXPECT_FALSE(has(m, "cells other than tetrahedra"));
   // A TetGen .ele with a region attribute.
   write_temp("regions.node", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 1 1 1\n");
   write_temp("regions.ele", "2 4 1\n0 0 1 2 3 1\n1 1 2 3 4 2\n");

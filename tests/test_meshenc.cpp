@@ -241,6 +241,12 @@ TEST_F(Tools, TruncatedInputDecodesWhatItHolds) {
   EXPECT_NE(r.output.find("truncated"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("writing level 1"), std::string::npos) << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir_ + "/cut.vtu"));
+  // Level 0 asked for by name: an error, not level 1 in its place.
+  const CommandRun asked = run_command("head -c " + std::to_string(half_finest_) + " " + stream_ + " | " +
+                                       kMeshdec + " - -o " + dir_ + "/cut0.vtu --level 0");
+  EXPECT_NE(asked.status, 0) << asked.output;
+  EXPECT_NE(asked.output.find("--level 0 asked"), std::string::npos) << asked.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/cut0.vtu"));
 }
 
 TEST_F(Tools, DamagedOrForeignInputFailsAndWritesNothing) {

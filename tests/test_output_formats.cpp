@@ -3,11 +3,15 @@
 // (write -> read -> the same vertices and tetrahedra, bit for bit) and by an
 // independent one: meshio for every format, VTK itself for .vtk and .vtu.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <charconv>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
+#include <thread>
 
 #include "format_test_support.h"
 #include "mesh/geometry.h"
@@ -310,6 +314,43 @@ TEST(OutputFormats, MeshdecWritesEveryFormatByExtensionAndByName) {
   r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " -o " + dir + "/x.stl");
   EXPECT_NE(r.status, 0);
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.stl"));
+}
+
+// An output path that is a symbolic link writes its target (the link
+// stays); a device or a named pipe is written into, never replaced by a
+// plain file (`meshdec ... -o /dev/null` as root would otherwise break the
+// system).
+TEST(OutputFormats, LinksDevicesAndPipesAreWrittenThroughNotReplaced) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("dtm_targets_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path file = dir / "real.vtu", link = dir / "link.vtu";
+  fs::create_symlink(file.filename(), link);
+  write_files_atomically({{link.string(), "through the link"}});
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(link)));
+  std::ifstream in(file);
+  std::string got((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(got, "through the link");
+  // A character device (/dev/null) stays one.
+  ASSERT_TRUE(fs::is_character_file("/dev/null"));
+  write_files_atomically({{"/dev/null", "into the device"}});
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  // A named pipe: its reader gets the bytes, and it stays a pipe.
+  const fs::path fifo = dir / "pipe.vtu";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string read_back;
+  std::thread reader([&] {
+    std::ifstream p(fifo);
+    read_back.assign((std::istreambuf_iterator<char>(p)), std::istreambuf_iterator<char>());
+  });
+  write_files_atomically({{fifo.string(), "down the pipe"}});
+  reader.join();
+  EXPECT_EQ(read_back, "down the pipe");
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+  fs::remove_all(dir);
 }
 
 }  // namespace

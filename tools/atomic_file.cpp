@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 namespace dtm {
@@ -13,36 +14,85 @@ namespace {
 
 std::string temporary_for(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
 
-void write_temporary(const std::string& path, std::string_view bytes) {
+// `name`: the path as the caller gave it, for the message.
+void write_temporary(const std::string& name, const std::string& path, std::string_view bytes) {
   const std::string tmp = temporary_for(path);
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  if (!f) throw std::runtime_error(name + ": cannot write: " + std::strerror(errno));
   const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && std::fflush(f) == 0;
   const int saved = errno;
   if (std::fclose(f) != 0 || !ok) {
     std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write: " + std::strerror(saved));
+    throw std::runtime_error(name + ": cannot write: " + std::strerror(saved));
   }
+}
+
+// Where a path's bytes go: a symbolic link's target (the link stays), and
+// whether that is a file to replace or one to write into as it is (a
+// device such as /dev/null, a FIFO, a socket: replacing it with a plain
+// file would break the system, or leave the reader at the other end
+// nothing).
+struct Target {
+  std::string path;
+  bool in_place = false;
+};
+Target target_of(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  Target t{path, false};
+  // (Followed link by link: a link whose target does not exist yet names
+  // the file to make.)
+  fs::path p = path;
+  for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec) break;
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  t.path = p.string();
+  const fs::file_status st = fs::status(t.path, ec);
+  t.in_place = !ec && fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st);
+  return t;
+}
+
+void write_in_place(const std::string& name, const std::string& path, std::string_view bytes) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throw std::runtime_error(name + ": cannot write: " + std::strerror(errno));
+  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && std::fflush(f) == 0;
+  const int saved = errno;
+  if (std::fclose(f) != 0 || !ok) throw std::runtime_error(name + ": cannot write: " + std::strerror(saved));
 }
 
 }  // namespace
 
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<Target> targets;
+  targets.reserve(files.size());
+  for (const auto& [path, bytes] : files) targets.push_back(target_of(path));
   size_t written = 0;
+  const auto remove_temporaries = [&](size_t from, size_t to) {
+    for (size_t i = from; i < to; ++i)
+      if (!targets[i].in_place) std::remove(temporary_for(targets[i].path).c_str());
+  };
   try {
-    for (; written < files.size(); ++written) write_temporary(files[written].first, files[written].second);
+    for (; written < files.size(); ++written)
+      if (!targets[written].in_place)
+        write_temporary(files[written].first, targets[written].path, files[written].second);
   } catch (...) {
-    for (size_t i = 0; i < written; ++i) std::remove(temporary_for(files[i].first).c_str());
+    remove_temporaries(0, written);
     throw;
   }
   for (size_t i = 0; i < files.size(); ++i) {
-    const std::string& path = files[i].first;
+    if (targets[i].in_place) continue;
+    const std::string& path = targets[i].path;
     if (std::rename(temporary_for(path).c_str(), path.c_str()) != 0) {
       const int e = errno;
-      for (size_t j = i; j < files.size(); ++j) std::remove(temporary_for(files[j].first).c_str());
-      throw std::runtime_error(path + ": cannot replace: " + std::strerror(e));
+      remove_temporaries(i, files.size());
+      throw std::runtime_error(files[i].first + ": cannot replace: " + std::strerror(e));
     }
   }
+  // Devices and pipes last: written into, not replaced (not atomically).
+  for (size_t i = 0; i < files.size(); ++i)
+    if (targets[i].in_place) write_in_place(files[i].first, targets[i].path, files[i].second);
 }
 
 }  // namespace dtm

@@ -1,5 +1,7 @@
 // Writes a whole file or nothing: the bytes go to a temporary file beside the
-// target, which is renamed over it only once complete.
+// target, which is renamed over it only once complete. A symbolic link's
+// target is written (the link stays); a device, FIFO or socket (/dev/null,
+// a named pipe) is written into as it is, after the files.
 #pragma once
 
 #include <string>

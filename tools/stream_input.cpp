@@ -18,8 +18,9 @@ void read_in_chunks(const std::string& path, const std::function<bool(std::span<
     if (n > 0) more = consume({chunk.data(), n});
     if (n < chunk.size()) {
       if (std::ferror(f)) {
+        const int e = errno;  // (a directory: "Is a directory")
         if (f != stdin) std::fclose(f);
-        throw std::runtime_error(path + ": read error");
+        throw std::runtime_error(path + ": cannot read: " + std::strerror(e));
       }
       break;
     }

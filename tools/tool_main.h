@@ -7,6 +7,7 @@
 #include <exception>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #ifdef __GLIBC__  // (the standard headers above say)
 #include <malloc.h>
 #endif
@@ -15,13 +16,21 @@
 
 namespace dtm {
 
-// The project's version (CMake's project(VERSION)) and the stream versions it writes and reads.
+// The project's version (CMake's project(VERSION)) and the stream versions
+// it reads; meshenc also says which it writes (the oldest that holds what a
+// stream carries, codec/stream/format.h).
 inline std::string version_text(const char* tool) {
-  return std::string(tool) + " (dtmesh " DTM_VERSION "): writes .dtm " +
-         std::to_string(kVersionMajorUnbricked) + "." + std::to_string(kVersionMinor) + " (" +
-         std::to_string(kVersionMajor) + "." + std::to_string(kVersionMinor) +
-         " with bricked layers), reads .dtm " + std::to_string(kOldestVersionMajor) + ".x to " +
-         std::to_string(kVersionMajor) + ".x";
+  const auto v = [](int major) { return std::to_string(major) + "." + std::to_string(kVersionMinor); };
+  std::string text = std::string(tool) + " (dtmesh " DTM_VERSION "): reads .dtm " +
+                     std::to_string(kOldestVersionMajor) + ".x to " + std::to_string(kVersionMajor) + ".x";
+  if (std::string_view(tool) == "meshenc")
+    text += "; writes .dtm " + v(kVersionMajorUnbricked) + ", " + v(kVersionMajorBricked) +
+            " with --bricks, " + v(kVersionMajorRegions) + " with regions or tagged faces, " +
+            v(kVersionMajorCellData) + " with cell data or --keep-order, " + v(kVersionMajorExact) +
+            " with --exact, " + v(kVersionMajorBrickedRegions) +
+            " with --bricks and regions; --preset paper " + v(kVersionMajorWithoutValues) + ", or " +
+            v(kVersionMajorWithValues) + " with values";
+  return text;
 }
 
 // Parses the command line into a Command (filled by add_options(app, command))

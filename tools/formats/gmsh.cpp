@@ -198,32 +198,47 @@ class GmshReader {
   }
 
   // Each tetrahedron's region: 2.x its physical tag (the first tag); 4.1
-  // its volume entity's physical group where $Entities gives one, else the
-  // entity itself.
+  // its volume entity's physical group where $Entities gives one, else (no
+  // volume in a physical group) the entity itself. A volume in no physical
+  // group beside others in one (gmsh -save_all) is not theirs: an entity's
+  // number may be a group's tag. Its tetrahedra are one region of their own,
+  // label 0 as gmsh 2.2 writes them (below the groups' if 0 is one).
   void set_regions() {
     if (tet_tag_.size() != out_.tets.size() || tet_tag_.empty() || (!v4_ && !tagged_)) return;
     std::set<int64_t> unnamed_entities;
+    int32_t unassigned = 0;
+    for (const auto& [entity, physical] : volume_physical_)
+      if (physical <= unassigned) unassigned = physical - 1;
+    uint64_t unassigned_tets = 0;
     out_.tet_regions.reserve(tet_tag_.size());
     for (int64_t tag : tet_tag_) {
       int64_t region = tag;
       if (v4_) {
         const auto it = volume_physical_.find(static_cast<int>(tag));
-        if (it != volume_physical_.end())
+        if (it != volume_physical_.end()) {
           region = it->second;
-        else
+        } else {
           unnamed_entities.insert(tag);
+          if (!volume_physical_.empty()) region = unassigned, ++unassigned_tets;
+        }
       }
       if (region < INT32_MIN || region > INT32_MAX) c_.fail("a region tag out of the 32-bit range");
       out_.tet_regions.push_back(static_cast<int32_t>(region));
     }
     out_.region_names = volume_names_;
-    if (!v4_)
+    if (!v4_) {
       out_.region_source = "physical tags";
-    else if (unnamed_entities.empty())
+    } else if (unnamed_entities.empty()) {
       out_.region_source = "physical volumes";
-    else
-      out_.region_source =
-          volume_physical_.empty() ? "volume entities" : "physical volumes and volume entities";
+    } else if (volume_physical_.empty()) {
+      out_.region_source = "volume entities";
+    } else {
+      out_.region_names.emplace(unassigned, "no physical group");
+      out_.region_source = "physical volumes; " + std::to_string(unassigned_tets) + " tetrahedra of " +
+                           std::to_string(unnamed_entities.size()) + " volume" +
+                           (unnamed_entities.size() == 1 ? "" : "s") + " in no physical group as region " +
+                           std::to_string(unassigned);
+    }
   }
 
   // Each triangle's tag: 2.x its physical tag; 4.1 its surface entity's
@@ -234,15 +249,32 @@ class GmshReader {
       out_.left_out.push_back(std::to_string(triangles_.size()) + " triangles without tags");
       return;
     }
-    for (int64_t tag : tri_tag_) {
-      int64_t t = tag;
-      if (v4_)
-        if (const auto it = surface_physical_.find(static_cast<int>(tag)); it != surface_physical_.end())
+    // A triangle of a surface in no physical group beside others in one
+    // (gmsh -save_all: 4.1's entity, 2.x's physical tag 0) is no boundary
+    // condition: not tagged (an entity's number may be a group's tag).
+    uint64_t untagged = 0;
+    std::vector<std::array<uint32_t, 3>> tagged;
+    for (size_t i = 0; i < tri_tag_.size(); ++i) {
+      int64_t t = tri_tag_[i];
+      bool in_no_group = !v4_ && t == 0;
+      if (v4_) {
+        if (const auto it = surface_physical_.find(static_cast<int>(t)); it != surface_physical_.end())
           t = it->second;
+        else
+          in_no_group = !surface_physical_.empty();
+      }
+      if (in_no_group) {
+        ++untagged;
+        continue;
+      }
       if (t < INT32_MIN || t > INT32_MAX) c_.fail("a surface tag out of the 32-bit range");
       out_.face_tags.push_back(static_cast<int32_t>(t));
+      tagged.push_back(triangles_[i]);
     }
-    out_.tagged_faces = std::move(triangles_);
+    if (untagged > 0)
+      out_.left_out.push_back(std::to_string(untagged) + " triangles of surfaces in no physical group");
+    release(triangles_);
+    out_.tagged_faces = std::move(tagged);
     out_.face_tag_names = surface_names_;
     out_.face_tag_source = v4_ ? "physical surfaces" : "physical tags";
   }

@@ -110,6 +110,7 @@ InputMesh read_any(const std::string& path, InputFormat format, const VolumeOpti
 InputMesh read_input(const std::string& path, std::optional<InputFormat> format, const VolumeOptions& volume,
                      bool tetgen_ele, const std::function<NodeFile(const std::string&)>& read_node) {
   if (!std::filesystem::exists(path)) throw FormatError(path + ": cannot open file (it does not exist)");
+  if (std::filesystem::is_directory(path)) throw FormatError(path + ": a directory, not a mesh file");
   InputMesh mesh =
       read_any(path, format ? *format : input_format_for_path(path), volume, tetgen_ele, read_node);
   check_spans_3d(mesh.points, path);

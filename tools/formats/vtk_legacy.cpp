@@ -138,7 +138,8 @@ class LegacyReader {
     }
     if (!have_points) throw FormatError(c_.path() + ": no POINTS section");
     const size_t cells = cell_offsets.empty() ? 0 : cell_offsets.size() - 1;
-    std::vector<size_t> tet_cells;  // the VTK cell index of each tetrahedron
+    std::vector<size_t> tet_cells;       // the VTK cell index of each tetrahedron
+    std::vector<size_t> triangle_cells;  // and of each triangle
     if (cell_offsets.size() > 1 || !cell_types.empty()) {
       if (cell_types.size() != cells)
         throw FormatError(c_.path() + ": " + std::to_string(cell_types.size()) + " CELL_TYPES for " +
@@ -149,6 +150,16 @@ class LegacyReader {
           if (connectivity[k] < 0 || static_cast<uint64_t>(connectivity[k]) >= out_.points.size())
             throw FormatError(c_.path() + ": cell " + std::to_string(i) + ": point index " +
                               std::to_string(connectivity[k]) + " out of range");
+        // Triangles may carry tags (InputMesh::tagged_faces, as meshdec
+        // writes them after the tetrahedra): held, tagged or named by
+        // choose_regions().
+        if (cell_types[i] == kVtkTriangle && e - b == 3) {
+          out_.tagged_faces.push_back({static_cast<uint32_t>(connectivity[b]),
+                                       static_cast<uint32_t>(connectivity[b + 1]),
+                                       static_cast<uint32_t>(connectivity[b + 2])});
+          triangle_cells.push_back(i);
+          continue;
+        }
         if (cell_types[i] != kVtkTetra) {
           ++other_cells_[cell_types[i]];
           continue;
@@ -162,7 +173,13 @@ class LegacyReader {
         tet_cells.push_back(i);
       }
     }
-    keep_cell_data(cells, tet_cells);
+    keep_cell_data(cells, tet_cells, triangle_cells);
+    // Triangles without tetrahedra are a surface, not tagged faces.
+    if (tet_cells.empty() && !triangle_cells.empty()) {
+      other_cells_[kVtkTriangle] += triangle_cells.size();
+      out_.tagged_faces.clear();
+      out_.triangle_arrays.clear();
+    }
     note_left_out();
     return std::move(out_);
   }
@@ -186,8 +203,10 @@ class LegacyReader {
   }
 
   // CELL_DATA on the tetrahedra: an integer array of one component may be
-  // the regions (InputMesh::tet_arrays), any other is cell data.
-  void keep_cell_data(size_t cells, const std::vector<size_t>& tet_cells) {
+  // the regions (InputMesh::tet_arrays, and on the triangles their tags),
+  // any other is cell data.
+  void keep_cell_data(size_t cells, const std::vector<size_t>& tet_cells,
+                      const std::vector<size_t>& triangle_cells) {
     for (VertexField& f : cell_data_) {
       if (f.values.size() != cells * static_cast<size_t>(f.components))
         throw FormatError(c_.path() + ": CELL_DATA array '" + f.name + "' has " +
@@ -207,6 +226,13 @@ class LegacyReader {
           into.push_back(static_cast<int32_t>(v));
         }
         out_.tet_array_types[f.name] = f.type;
+        std::vector<int32_t>& on_triangles = out_.triangle_arrays[f.name];
+        for (size_t c : triangle_cells) {
+          const double v = f.values[c];
+          if (!(v >= INT32_MIN && v <= INT32_MAX))
+            throw FormatError(c_.path() + ": CELL_DATA '" + f.name + "': a value out of the 32-bit range");
+          on_triangles.push_back(static_cast<int32_t>(v));
+        }
         continue;
       }
       VertexField& kept = out_.cell_fields.emplace_back();

@@ -67,6 +67,9 @@ class VtuParser {
     while (true) {
       const size_t lt = data_.find('<', pos);
       if (lt == std::string::npos) {
+        // (Cut short inside an element, or not XML at all, says so.)
+        if (!stack.empty()) fail_at(data_.size(), "file ends inside <" + elements_[stack.back()].name + ">");
+        if (elements_.empty()) fail_at(0, "no XML element: not a VTK XML file");
         if (data_.find_first_not_of(" \t\r\n", pos) != std::string::npos)
           fail_at(pos, "text after the last element");
         break;
