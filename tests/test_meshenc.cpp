@@ -249,6 +249,27 @@ TEST_F(Tools, TruncatedInputDecodesWhatItHolds) {
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/cut0.vtu"));
 }
 
+// An error quoting a file's bytes prints its control bytes escaped, never
+// as they are (a terminal would take them as commands).
+TEST_F(Tools, AnErrorQuotingBinaryBytesEscapesThem) {
+  const std::string path = dir_ + "/binary.msh";
+  std::ofstream(path, std::ios::binary) << std::string("garbage\x01\x1b[31m\x7f", 14);
+  const CommandRun r = meshenc(path + " -o " + dir_ + "/binary.dtm");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("garbage\\x01\\x1b[31m\\x7f"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find('\x1b'), std::string::npos) << r.output;
+}
+
+// What an output format has no place for is named, not dropped silently.
+TEST_F(Tools, WhatAFormatCannotHoldIsNamed) {
+  const CommandRun r = run_command(kMeshdec + " " + std::string(DTM_TEST_SOURCE_DIR) +
+                                   "/golden/torus_288_cells.dtm" + " -o " + dir_ + "/cells.mesh");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("not written (the format has no place for it): the cell arrays 'heat', 'zone'"),
+            std::string::npos)
+      << r.output;
+}
+
 TEST_F(Tools, DamagedOrForeignInputFailsAndWritesNothing) {
   const std::string out = dir_ + "/never.vtu";
   std::filesystem::remove(out);

@@ -180,6 +180,11 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
   dtm::SurfaceStyle style = c.style;
   style.draco = !c.no_draco;
   const auto files = dtm::render_mesh(mesh, format, c.output == "-" ? "out.vtu" : c.output, style);
+  // Nothing of the stream's data dropped without a word.
+  if (!c.quiet)
+    for (const std::string& what : dtm::not_written(mesh, format))
+      std::fprintf(stderr, "meshdec: %s: not written (the format has no place for it): %s\n",
+                   c.output.c_str(), what.c_str());
   if (c.output != "-") return dtm::write_files_atomically(files);
   const std::string& bytes = files.front().second;
   if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() || std::fflush(stdout) != 0)

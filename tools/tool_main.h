@@ -84,6 +84,24 @@ class AgreedError : public std::runtime_error {
   bool print_;
 };
 
+// An error as printed: a message may quote a file's bytes (a binary file
+// taken for text), which must not reach a terminal as they are.
+inline std::string printable(std::string_view message) {
+  std::string out;
+  for (const char ch : message) {
+    const auto c = static_cast<unsigned char>(ch);
+    if ((c >= 0x20 && c != 0x7f) || c == '\n' || c == '\t') {
+      out += ch;  // (UTF-8's bytes above 0x7f pass: names may be in any script)
+    } else {
+      static constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out;
+}
+
 template <class Command, class AddOptions, class Run>
 int tool_main(const char* tool, const char* description, const char* examples, int argc, char** argv,
               AddOptions add_options, Run run) {
@@ -97,10 +115,10 @@ int tool_main(const char* tool, const char* description, const char* examples, i
     CLI11_PARSE(app, argc, argv);
     return run(command);
   } catch (const AgreedError& e) {
-    if (e.print()) std::fprintf(stderr, "%s: error: %s\n", tool, e.what());
+    if (e.print()) std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: error: %s\n", tool, e.what());
+    std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());
     return 1;
   }
 }

@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <set>
 #include <sstream>
 
@@ -176,6 +177,28 @@ void check_ply_header(const std::string& path) {
   throw FormatError(path + ": the PLY header has no 'end_header' line");
 }
 
+// std::cerr held while CGAL reads: its readers print what stopped them
+// there, which our message then carries (not two messages, one of them
+// without the tool's name).
+class HeldCerr {
+ public:
+  HeldCerr() : was_(std::cerr.rdbuf(said_.rdbuf())) {}
+  ~HeldCerr() { std::cerr.rdbuf(was_); }
+  HeldCerr(const HeldCerr&) = delete;
+  HeldCerr& operator=(const HeldCerr&) = delete;
+  // The first line said, or nothing.
+  std::string first_line() const {
+    const std::string s = said_.str();
+    const size_t start = s.find_first_not_of(" \t\r\n");
+    if (start == std::string::npos) return {};
+    return s.substr(start, s.find('\n', start) - start);
+  }
+
+ private:
+  std::ostringstream said_;
+  std::streambuf* was_;
+};
+
 }  // namespace
 
 InputMesh read_point_set(const std::string& path, PointSetFormat format) {
@@ -184,40 +207,46 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
   if (in.peek() == std::ifstream::traits_type::eof()) throw FormatError(path + ": empty file");
   InputMesh out;
   bool ok = false;
-  // CGAL's readers print their own complaints on std::cerr; ours follows.
-  if (format == PointSetFormat::kObj) {
-    std::vector<Kernel::Point_3> points;
-    std::vector<std::vector<std::size_t>> faces;
-    ok = CGAL::IO::read_OBJ(in, points, faces, CGAL::parameters::verbose(false));
-    // CGAL wants a polygon soup and refuses an OBJ without faces, after
-    // reading it whole; a point cloud is what we want here.
-    if (!ok && faces.empty() && !points.empty() && in.eof() && !in.bad()) ok = true;
-    for (const auto& p : points) out.points.push_back({p.x(), p.y(), p.z()});
-    for (const auto& f : faces)
-      for (std::size_t v : f)
-        if (v >= points.size())
-          throw FormatError(path + ": a face names vertex " + std::to_string(v + 1) + " of " +
-                            std::to_string(points.size()));
-  } else {
-    PointSet ps;
-    switch (format) {
-      case PointSetFormat::kPly:
-        check_ply_header(path);
-        ok = CGAL::IO::read_PLY(in, ps);
-        break;
-      case PointSetFormat::kOff:
-        ok = CGAL::IO::read_OFF(in, ps);
-        break;
-      default:
-        ok = CGAL::IO::read_XYZ(in, ps);
-        break;
+  std::string cgal_said;
+  {
+    const HeldCerr held;
+    if (format == PointSetFormat::kObj) {
+      std::vector<Kernel::Point_3> points;
+      std::vector<std::vector<std::size_t>> faces;
+      ok = CGAL::IO::read_OBJ(in, points, faces, CGAL::parameters::verbose(false));
+      // CGAL wants a polygon soup and refuses an OBJ without faces, after
+      // reading it whole; a point cloud is what we want here.
+      if (!ok && faces.empty() && !points.empty() && in.eof() && !in.bad()) ok = true;
+      for (const auto& p : points) out.points.push_back({p.x(), p.y(), p.z()});
+      for (const auto& f : faces)
+        for (std::size_t v : f)
+          if (v >= points.size())
+            throw FormatError(path + ": a face names vertex " + std::to_string(v + 1) + " of " +
+                              std::to_string(points.size()));
+    } else {
+      PointSet ps;
+      switch (format) {
+        case PointSetFormat::kPly:
+          check_ply_header(path);
+          ok = CGAL::IO::read_PLY(in, ps);
+          break;
+        case PointSetFormat::kOff:
+          ok = CGAL::IO::read_OFF(in, ps);
+          break;
+        default:
+          ok = CGAL::IO::read_XYZ(in, ps);
+          break;
+      }
+      if (ok) out = from_point_set(ps);
     }
-    if (ok) out = from_point_set(ps);
-    if (ok && format == PointSetFormat::kOff) check_off_count(path, out.points.size());
+    cgal_said = held.first_line();
   }
+  if (ok && format == PointSetFormat::kOff) check_off_count(path, out.points.size());
   if (!ok)
     throw FormatError(path + ": not a valid " + std::string(name_of(format)) +
-                      " file (CGAL's reader stopped; expected " + expectations(format) + ")");
+                      " file (CGAL's reader stopped" +
+                      (cgal_said.empty() ? std::string() : ": \"" + cgal_said + "\"") + "; expected " +
+                      expectations(format) + ")");
   if (out.points.empty()) throw FormatError(path + ": no vertices");
   for (size_t i = 0; i < out.points.size(); ++i) {
     const InputPoint& p = out.points[i];

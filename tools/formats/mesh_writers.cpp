@@ -218,6 +218,56 @@ std::vector<int32_t> physical_tags(const OutputMesh& m) {
   return out;
 }
 
+std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
+  std::vector<std::string> out;
+  const auto names = [](const std::vector<OutputField>& fields, const auto& dropped) {
+    std::string list;
+    for (const OutputField& f : fields)
+      if (dropped(f)) list += (list.empty() ? "'" : ", '") + f.name + "'";
+    return list;
+  };
+  // (vertex_id: meshdec's numbering of a box or a piece, derived too.)
+  const auto all = [](const OutputField& f) { return f.name != "vertex_id"; };
+  // gmsh's $NodeData and $ElementData: scalars, vectors, tensors.
+  const auto not_gmsh = [](const OutputField& f) {
+    return f.components != 1 && f.components != 3 && f.components != 9 && f.name != "vertex_id";
+  };
+  const auto add = [&](const std::string& what, const std::string& list) {
+    if (!list.empty()) out.push_back(what + " " + list);
+  };
+  const bool surface = format == MeshFormat::kPly || format == MeshFormat::kOff ||
+                       format == MeshFormat::kXyz || format == MeshFormat::kGlb ||
+                       format == MeshFormat::kGltf || format == MeshFormat::kDrc;
+  switch (format) {
+    case MeshFormat::kVtu:
+    case MeshFormat::kVtuAscii:
+    case MeshFormat::kVtk:
+    case MeshFormat::kVtkAscii:
+      break;
+    case MeshFormat::kGmsh:
+      add("the point fields (gmsh holds 1, 3 or 9 components)", names(m.fields, not_gmsh));
+      add("the cell arrays (gmsh holds 1, 3 or 9 components)", names(m.cell_fields, not_gmsh));
+      break;
+    case MeshFormat::kMedit:
+      add("the point fields", names(m.fields, all));
+      add("the cell arrays", names(m.cell_fields, all));
+      break;
+    case MeshFormat::kTetgen:
+      if (!m.faces.empty()) out.push_back(std::to_string(m.faces.size()) + " tagged faces");
+      add("the cell arrays", names(m.cell_fields, all));
+      break;
+    default:
+      break;
+  }
+  // (A surface's point fields are PLY's properties, glTF's colour.)
+  if (surface) {
+    if (!m.region.empty()) out.push_back("the cells' regions");
+    if (!m.faces.empty()) out.push_back(std::to_string(m.faces.size()) + " tagged faces");
+    add("the cell arrays", names(m.cell_fields, all));
+  }
+  return out;
+}
+
 std::vector<OutputField> cell_and_face_fields(const OutputMesh& m) {
   std::vector<OutputField> out = m.cell_fields;
   for (OutputField& f : out) f.bits.resize((m.cells.size() + m.faces.size()) * f.components, 0);

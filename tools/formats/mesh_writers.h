@@ -90,6 +90,12 @@ enum class MeshFormat {
   kDrc,       // boundary surface, Draco's own file
 };
 
+// What of the stream's data `format` has no place for, named for a
+// "not written" line (the fields, regions, tagged faces and cell data a
+// user gave; `level` and `boundary`, which meshdec derives, are not named).
+// Empty when it holds everything.
+std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format);
+
 // How the surface formats that carry colours draw them (glTF, .drc;
 // tools/formats/gltf_writer.h says what each means).
 struct SurfaceStyle {
