@@ -516,6 +516,9 @@ StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int l
     ProgressiveDecoder decoder(o);
     DTM_RETURN_IF_ERROR(decode_whole(reader, level, decoder));
     out = region_of(decoder, box);
+    // (Its carving, regions and numbering are decoded there: a damaged one
+    // is an error, not an empty box.)
+    DTM_RETURN_IF_ERROR(decoder.mesh_status());
     out.bytes_read = reader.bytes_read;
     return out;
   }
@@ -532,6 +535,9 @@ StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int l
     owners.cubes = {cover};
     owners.owns = [&](uint64_t b) { return std::binary_search(bricks.begin(), bricks.end(), b); };
     DTM_RETURN_IF_ERROR(decode_owned(reader, plan, owners, &box, options, out));
+  } else {  // no brick: no cell, but the level's arrays (empty)
+    for (const FieldDescription& f : plan.fields) out.fields.push_back({f, {}});
+    if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
   }
   out.bytes_read = reader.bytes_read;
   return out;

@@ -332,6 +332,22 @@ TEST(OutputFormats, LinksDevicesAndPipesAreWrittenThroughNotReplaced) {
   std::ifstream in(file);
   std::string got((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(got, "through the link");
+  // A link to a pipe's /proc entry (what /dev/stdout is in a pipeline)
+  // names no path: written through the link as given.
+  {
+    int ends[2];
+    ASSERT_EQ(::pipe(ends), 0);
+    const std::string proc = "/proc/self/fd/" + std::to_string(ends[1]);
+    const fs::path to_pipe = dir / "stdout_like";
+    fs::create_symlink(proc, to_pipe);
+    write_files_atomically({{to_pipe.string(), "into a pipe"}});
+    ::close(ends[1]);
+    char got_pipe[32] = {};
+    const ssize_t n = ::read(ends[0], got_pipe, sizeof(got_pipe) - 1);
+    ::close(ends[0]);
+    EXPECT_EQ(std::string(got_pipe, n > 0 ? static_cast<size_t>(n) : 0), "into a pipe");
+    fs::remove(to_pipe);
+  }
   // A character device (/dev/null) stays one.
   ASSERT_TRUE(fs::is_character_file("/dev/null"));
   write_files_atomically({{"/dev/null", "into the device"}});

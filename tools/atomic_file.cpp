@@ -39,19 +39,20 @@ struct Target {
 Target target_of(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  Target t{path, false};
-  // (Followed link by link: a link whose target does not exist yet names
-  // the file to make.)
+  // What the path is, the kernel following every link (/dev/stdout to a
+  // pipe too, whose /proc link names no path): a device, FIFO or socket is
+  // written into through the path as given.
+  const fs::file_status st = fs::status(path, ec);
+  if (!ec && fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st)) return {path, true};
+  // A file to replace: found link by link (a link whose target does not
+  // exist yet names the file to make).
   fs::path p = path;
   for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
     const fs::path to = fs::read_symlink(p, ec);
     if (ec) break;
     p = to.is_absolute() ? to : p.parent_path() / to;
   }
-  t.path = p.string();
-  const fs::file_status st = fs::status(t.path, ec);
-  t.in_place = !ec && fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st);
-  return t;
+  return {p.string(), false};
 }
 
 void write_in_place(const std::string& name, const std::string& path, std::string_view bytes) {

@@ -615,6 +615,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       out.stats.alpha = out.alpha;
       out.cell_hash = 0;
       out.carving.clear();
+      out.regions.clear();
       merged = merge_blocks(analysis, level, out);
       // Level 0 keeps the input's solid: where the solid holds cells above
       // the kept radius its spacing sets (a graded mesh's coarse inside,

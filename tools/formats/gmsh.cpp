@@ -202,13 +202,15 @@ class GmshReader {
   // volume in a physical group) the entity itself. A volume in no physical
   // group beside others in one (gmsh -save_all) is not theirs: an entity's
   // number may be a group's tag. Its tetrahedra are one region of their own,
-  // label 0 as gmsh 2.2 writes them (below the groups' if 0 is one).
+  // labelled one above the groups' largest tag (a label gmsh takes back as a
+  // physical group), named "no physical group".
   void set_regions() {
     if (tet_tag_.size() != out_.tets.size() || tet_tag_.empty() || (!v4_ && !tagged_)) return;
     std::set<int64_t> unnamed_entities;
-    int32_t unassigned = 0;
-    for (const auto& [entity, physical] : volume_physical_)
-      if (physical <= unassigned) unassigned = physical - 1;
+    int64_t largest = 0;
+    for (const auto& [entity, physical] : volume_physical_) largest = std::max<int64_t>(largest, physical);
+    if (largest >= INT32_MAX) c_.fail("a region tag out of the 32-bit range");
+    const auto unassigned = static_cast<int32_t>(largest + 1);
     uint64_t unassigned_tets = 0;
     out_.tet_regions.reserve(tet_tag_.size());
     for (int64_t tag : tet_tag_) {
@@ -260,8 +262,8 @@ class GmshReader {
       if (v4_) {
         if (const auto it = surface_physical_.find(static_cast<int>(t)); it != surface_physical_.end())
           t = it->second;
-        else
-          in_no_group = !surface_physical_.empty();
+        else  // (with -save_all beside any physical group, volumes' too)
+          in_no_group = !surface_physical_.empty() || !volume_physical_.empty();
       }
       if (in_no_group) {
         ++untagged;

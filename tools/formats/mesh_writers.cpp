@@ -259,7 +259,9 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
     default:
       break;
   }
-  // (A surface's point fields are PLY's properties, glTF's colour.)
+  // (A surface's point fields are PLY's properties, glTF's colour; OFF and
+  // XYZ hold none.)
+  if (format == MeshFormat::kOff || format == MeshFormat::kXyz) add("the point fields", names(m.fields, all));
   if (surface) {
     if (!m.region.empty()) out.push_back("the cells' regions");
     if (!m.faces.empty()) out.push_back(std::to_string(m.faces.size()) + " tagged faces");
