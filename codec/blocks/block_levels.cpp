@@ -396,16 +396,16 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
           chunk_of_cell[c] = static_cast<uint32_t>(it - bricks.begin());
       }
     });
-    const std::vector<uint32_t> ranks = morton_ranks(codes);
+    // The bricks' cells in their coding order, for the carving and the regions.
+    const ChunkCells cells = chunk_cells(L.dt, chunk_of_cell, bricks.size(), morton_ranks(codes));
     std::vector<std::vector<uint8_t>> sections =
-        encode_carving_chunks(L.dt, points, o.alpha, L.in_mesh, chunk_of_cell, bricks.size(), ranks);
+        encode_carving_chunks(L.dt, points, o.alpha, L.in_mesh, chunk_of_cell, cells);
     for (size_t i = 0; i < bricks.size(); ++i)
       if (!sections[i].empty()) out.carving.emplace_back(bricks[i], std::move(sections[i]));
     // The kept cells' regions (in_mesh holds them: Solid::verdicts), in
     // the carving sections' order.
     if (o.region_count >= 2) {
-      sections = encode_region_chunks(L.dt, chunk_cells(L.dt, chunk_of_cell, bricks.size(), ranks),
-                                      chunk_of_cell, L.in_mesh, o.region_count);
+      sections = encode_region_chunks(L.dt, cells, chunk_of_cell, L.in_mesh, o.region_count);
       for (size_t i = 0; i < bricks.size(); ++i)
         if (!sections[i].empty()) out.regions.emplace_back(bricks[i], std::move(sections[i]));
     }

@@ -151,11 +151,12 @@ struct ChunkCells {
 };
 ChunkCells chunk_cells(const TetMesh& dt, std::span<const uint32_t> chunk_of_cell, size_t chunk_count,
                        std::span<const uint32_t> vertex_rank);
+// `cells`: chunk_cells() of chunk_of_cell (made once where the region
+// sections visit them too).
 std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::span<const GridPoint> points,
                                                         double alpha, std::span<const uint8_t> kept,
                                                         std::span<const uint32_t> chunk_of_cell,
-                                                        size_t chunk_count,
-                                                        std::span<const uint32_t> vertex_rank);
+                                                        const ChunkCells& cells);
 // `sections[i]`: chunk i's section (empty: no correction). kCorrupt names
 // the chunk (its index) whose section does not end where its bytes do.
 // `order`, if given, receives the canonical order of dt's cells (by vertex

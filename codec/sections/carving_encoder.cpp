@@ -11,11 +11,11 @@ namespace dtm {
 std::vector<std::vector<uint8_t>> encode_carving_chunks(const TetMesh& dt, std::span<const GridPoint> points,
                                                         double alpha, std::span<const uint8_t> kept,
                                                         std::span<const uint32_t> chunk_of_cell,
-                                                        size_t chunk_count,
-                                                        std::span<const uint32_t> vertex_rank) {
+                                                        const ChunkCells& cells) {
   const CarvingPrediction p =
       predict_carving(dt, points, alpha, CarvingContexts::kDecodedNeighbours, chunk_of_cell);
-  const ChunkCells g = chunk_cells(dt, chunk_of_cell, chunk_count, vertex_rank);
+  const ChunkCells& g = cells;
+  const size_t chunk_count = g.first.empty() ? 0 : g.first.size() - 1;
   std::vector<std::vector<uint8_t>> out(chunk_count);
   std::vector<uint8_t> verdicts = p.kept;
   std::vector<int8_t> kept_change(dt.cells.size(), 0);

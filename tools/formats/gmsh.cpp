@@ -244,7 +244,8 @@ class GmshReader {
   }
 
   // Each triangle's tag: 2.x its physical tag; 4.1 its surface entity's
-  // physical group where $Entities gives one, else the entity.
+  // physical group where $Entities gives one, else (no physical group in
+  // the file) the entity.
   void set_face_tags() {
     if (tri_tag_.empty()) return;
     if (!v4_ && !tagged_) {  // 2.x elements without tags: nothing to tag them with
