@@ -213,37 +213,23 @@ Status read_header(Reader& reader, int level, StreamHeader& header) {
   return Status::Ok();
 }
 
-// The field table (flag values): its length, then all of it, which the
-// table's own limits bound (kMaxTableBytes).
-Status read_field_table(Reader& reader, StreamPlan& plan) {
-  constexpr uint64_t kMaxTableBytes = 1 << 20;
-  std::vector<uint8_t> bytes;
-  DTM_RETURN_IF_ERROR(reader.read(kHeaderSize, 4, bytes, "the field table's length"));
-  const uint64_t length = bytes[0] | (bytes[1] << 8) | (bytes[2] << 16) | (uint64_t{bytes[3]} << 24);
-  if (length > kMaxTableBytes) return {StatusCode::kCorrupt, "field table: longer than any table can be"};
-  std::vector<uint8_t> rest;
-  DTM_RETURN_IF_ERROR(reader.read(kHeaderSize + 4, length + 8, rest, "the field table's end"));
-  bytes.insert(bytes.end(), rest.begin(), rest.end());
-  size_t consumed = 0;
-  DTM_RETURN_IF_ERROR(parse_field_table(bytes, plan.fields, consumed));
-  plan.table_bytes = consumed;
-  return Status::Ok();
-}
-
-// The region table (flag regions), after the field table: its length, then
-// all of it (at most kMaxRegionCount short entries).
-Status read_region_table(Reader& reader, StreamPlan& plan) {
-  constexpr uint64_t kMaxTableBytes = 1 << 16;
+// A table after the header and the tables before it (plan.table_bytes):
+// its length, then all of it, which `max_bytes` bounds; `parse` reads it
+// (its whole size returned through `consumed`), and the plan's table bytes
+// grow by it.
+template <class Parse>
+Status read_framed_table(Reader& reader, StreamPlan& plan, const std::string& name, uint64_t max_bytes,
+                         Parse&& parse) {
   const uint64_t at = kHeaderSize + plan.table_bytes;
   std::vector<uint8_t> bytes;
-  DTM_RETURN_IF_ERROR(reader.read(at, 4, bytes, "the region table's length"));
+  DTM_RETURN_IF_ERROR(reader.read(at, 4, bytes, "the " + name + "'s length"));
   const uint64_t length = bytes[0] | (bytes[1] << 8) | (bytes[2] << 16) | (uint64_t{bytes[3]} << 24);
-  if (length > kMaxTableBytes) return {StatusCode::kCorrupt, "region table: longer than any table can be"};
+  if (length > max_bytes) return {StatusCode::kCorrupt, name + ": longer than any table can be"};
   std::vector<uint8_t> rest;
-  DTM_RETURN_IF_ERROR(reader.read(at + 4, length + 8, rest, "the region table's end"));
+  DTM_RETURN_IF_ERROR(reader.read(at + 4, length + 8, rest, "the " + name + "'s end"));
   bytes.insert(bytes.end(), rest.begin(), rest.end());
   size_t consumed = 0;
-  DTM_RETURN_IF_ERROR(parse_region_table(bytes, plan.regions, consumed));
+  DTM_RETURN_IF_ERROR(parse(bytes, consumed));
   plan.table_bytes += consumed;
   return Status::Ok();
 }
@@ -251,9 +237,18 @@ Status read_region_table(Reader& reader, StreamPlan& plan) {
 Status read_plan(Reader& reader, int level, const DecoderOptions& options, StreamPlan& plan) {
   const int q = plan.header.grid.qbits;
   std::vector<uint8_t> bytes;
-  if (plan.header.flags & kFlagValues) DTM_RETURN_IF_ERROR(read_field_table(reader, plan));
-  // (A bricked stream carries no face or cell tables: format.cpp refuses them.)
-  if (plan.header.flags & kFlagRegions) DTM_RETURN_IF_ERROR(read_region_table(reader, plan));
+  // The field table (flag values), then the region table (flag regions);
+  // a bricked stream carries no face or cell tables (format.cpp refuses them).
+  if (plan.header.flags & kFlagValues)
+    DTM_RETURN_IF_ERROR(read_framed_table(reader, plan, "field table", uint64_t{1} << 20,
+                                          [&](std::span<const uint8_t> b, size_t& consumed) {
+                                            return parse_field_table(b, plan.fields, consumed);
+                                          }));
+  if (plan.header.flags & kFlagRegions)
+    DTM_RETURN_IF_ERROR(read_framed_table(reader, plan, "region table", uint64_t{1} << 16,
+                                          [&](std::span<const uint8_t> b, size_t& consumed) {
+                                            return parse_region_table(b, plan.regions, consumed);
+                                          }));
   LayerWalk walk(plan.header, options.max_vertices, plan.table_bytes);
   while (walk.next_level() >= level) {
     const int at = walk.next_level();
