@@ -183,7 +183,8 @@ def quantized_input(pts, j):
     return {tuple(min(max(math.floor((p[a] - lo[a]) * inv + 0.5), 0), mc) for a in range(3)) for p in pts}
 
 def decoded_grid(pts, j):
-    o, st = j['origin'], j['step']
+    # the stream holds the grid in the input's units: the report's over the scale
+    o, st = [c / j['scale'] for c in j['origin']], j['step'] / j['scale']
     out, worst = set(), 0.0
     for p in pts:
         c = []

@@ -40,7 +40,7 @@ std::vector<RegionLabel> label_table(std::span<const int32_t> distinct,
 }
 
 // The input's lattice as the grid: positions stay exact.
-StatusOr<QuantizedPoints> lattice_grid(const QuantizedPoints& lattice, int qbits, double scale) {
+StatusOr<QuantizedPoints> lattice_grid(const QuantizedPoints& lattice, int qbits) {
   QuantizedPoints q = lattice;
   const int needed = q.grid.qbits;
   if (qbits > 0) {
@@ -49,9 +49,19 @@ StatusOr<QuantizedPoints> lattice_grid(const QuantizedPoints& lattice, int qbits
                            " or more points on an axis: qbits must be at least " + std::to_string(needed));
     q.grid.qbits = qbits;
   }
-  for (double& o : q.grid.origin) o *= scale;
-  q.grid.step *= scale;
   return q;
+}
+
+// `grid` with its origin and step multiplied by `scale`, or divided by it.
+Grid scaled(Grid grid, double scale) {
+  for (double& o : grid.origin) o *= scale;
+  grid.step *= scale;
+  return grid;
+}
+Grid unscaled(Grid grid, double scale) {
+  for (double& o : grid.origin) o /= scale;
+  grid.step /= scale;
+  return grid;
 }
 
 HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, double dmax) {
@@ -211,7 +221,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   const bool has_tets = report.reference_tetrahedra > 0;
   BrickedEncodeInput in;
   in.points = q.points;
-  in.grid = q.grid;
+  in.grid = plan.stream_grid;
   in.reference_tets = tets;
   in.reference_regions = tet_regions;
   in.regions = report.regions;
@@ -321,10 +331,14 @@ StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions
     plan.scale = extent > 0 ? options.box / extent : 1.0;
   }
   if (input.lattice) {
-    DTM_ASSIGN_OR_RETURN(plan.quantized, lattice_grid(*input.lattice, options.qbits, plan.scale));
+    // The lattice's own grid is the stream's: its positions stay exact.
+    DTM_ASSIGN_OR_RETURN(plan.quantized, lattice_grid(*input.lattice, options.qbits));
+    plan.stream_grid = plan.quantized.grid;
+    plan.quantized.grid = scaled(plan.stream_grid, plan.scale);
   } else {
     DTM_ASSIGN_OR_RETURN(plan.quantized,
                          quantize(input.points, options.qbits > 0 ? options.qbits : 14, plan.scale));
+    plan.stream_grid = unscaled(plan.quantized.grid, plan.scale);
   }
   const Grid& grid = plan.quantized.grid;
   plan.dmax = options.dmax > 0 ? options.dmax : 0.005 * grid.step * ((1u << grid.qbits) - 1);
@@ -568,8 +582,8 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
       }
       return out;
     };
-  DTM_ASSIGN_OR_RETURN(EncodedStream stream,
-                       encode_stream(h, q.points, q.grid, options.alpha, stream_options, std::move(fields)));
+  DTM_ASSIGN_OR_RETURN(EncodedStream stream, encode_stream(h, q.points, plan.stream_grid, options.alpha,
+                                                           stream_options, std::move(fields)));
   report.layer_bytes = std::move(stream.layer_bytes);
   report.carving_bytes = std::move(stream.carving_bytes);
   report.region_bytes = std::move(stream.region_bytes);

@@ -46,7 +46,8 @@ struct EncodeOptions {
   int qbits = 0;
   // Input coordinates are multiplied by `scale` first, or, if box > 0, by
   // whatever makes their largest extent `box`. Every length below and in
-  // the report is in these scaled input units.
+  // the report is in these scaled input units; the stream is not (it holds
+  // the grid in the input's units: the decoded mesh is the input's size).
   double scale = 1.0;
   double box = 0;
 
@@ -229,7 +230,7 @@ struct LevelReport {
 };
 
 struct EncodeReport {
-  Grid grid;             // origin and step in scaled input units
+  Grid grid;             // origin and step in scaled input units (the stream's: EncodePlan::stream_grid)
   double scale = 1.0;    // what the input coordinates were multiplied by
   double dmax = 0;       // scaled input units
   bool lattice = false;  // the input's lattice is the grid: lossless
@@ -313,7 +314,11 @@ struct EncodedMesh {
 // The grid `input` and `options` make, and D_max in its units: what encode()
 // uses, for callers who want to say it before the (long) work starts.
 struct EncodePlan {
-  QuantizedPoints quantized;
+  QuantizedPoints quantized;  // its grid in scaled input units: the encoder measures in them
+  // The same grid in the input's own units (origin and step divided by the
+  // scale; a lattice's own): what the stream's header holds, so that the
+  // decoded mesh is in the input's units whatever --scale or --box said.
+  Grid stream_grid;
   double scale = 1.0;
   double dmax = 0;  // scaled input units
 };

@@ -217,8 +217,12 @@ TEST(BlockIndex, PartsNearArePiecesOfTheBoxCoveringEveryPlaceWithinReachOfThePoi
           const auto holding =
               std::count_if(parts.begin(), parts.end(), [&](const GridBox& g) { return g.contains(q); });
           EXPECT_LE(holding, 1) << x << " " << y << " " << z;
-          if (near && box.contains(q)) EXPECT_EQ(holding, 1) << x << " " << y << " " << z;
-          if (!box.contains(q)) EXPECT_EQ(holding, 0);
+          if (near && box.contains(q)) {
+            EXPECT_EQ(holding, 1) << x << " " << y << " " << z;
+          }
+          if (!box.contains(q)) {
+            EXPECT_EQ(holding, 0);
+          }
         }
   }
 }

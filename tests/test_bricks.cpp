@@ -3,6 +3,7 @@
 // the box, whatever the box, and reads only the chunks around it.
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -663,6 +664,32 @@ TEST(BrickedStream, PiecesPartitionTheLevel) {
   }
   MemorySource source(bytes);
   EXPECT_FALSE(decode_piece(source, 0, 4, 4).ok());
+}
+
+// --box sets the units the encoder measures in; a bricked stream, like a
+// whole one, keeps the input's: level 0 decodes with the input's bounding
+// box, to within half a grid step.
+TEST(BrickedStream, KeepsTheInputsUnitsWhateverTheBoxSays) {
+  EncodeReport report;
+  const std::vector<uint8_t> bytes = bricked_stream("bunny_10k", 256, false, nullptr, &report);
+  ProgressiveDecoder decoder;
+  ASSERT_TRUE(decode_stream(bytes, decoder).ok());
+  const Grid& grid = decoder.header().grid;
+  ASSERT_GT(report.scale, 10.0);
+  EXPECT_NEAR(grid.step * report.scale, report.grid.step, 1e-12 * report.grid.step);
+  const auto box_of = [](const auto& points, const auto& position) {
+    std::array<double, 6> b{DBL_MAX, DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX, -DBL_MAX};
+    for (const auto& p : points) {
+      const InputPoint q = position(p);
+      const double c[3] = {q.x, q.y, q.z};
+      for (int a = 0; a < 3; ++a) b[a] = std::min(b[a], c[a]), b[a + 3] = std::max(b[a + 3], c[a]);
+    }
+    return b;
+  };
+  const auto decoded = box_of(decoder.points(), [&](const GridPoint& p) { return grid.to_input(p); });
+  const auto input =
+      box_of(read_input(test::data_path("bunny_10k.node")).points, [](const InputPoint& p) { return p; });
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(decoded[i], input[i], grid.step * 0.5 * (1 + 1e-9)) << i;
 }
 
 TEST(BrickedStream, RegionOfAStreamNotBrickedIsDecodedWhole) {

@@ -41,7 +41,11 @@ TEST(EncodeApi, IsQuantizeThenBuildThenEncodeStream) {
   const Hierarchy hierarchy = build_hierarchy(q.points, h).value();
   StreamOptions s;
   s.cell_hashes = true;
-  const EncodedStream expert = encode_stream(hierarchy, q.points, q.grid, AlphaKind::kPaper, s).value();
+  // The stream holds the grid in the input's units (the scale measures).
+  Grid stream_grid = q.grid;
+  for (double& o : stream_grid.origin) o /= 25;
+  stream_grid.step /= 25;
+  const EncodedStream expert = encode_stream(hierarchy, q.points, stream_grid, AlphaKind::kPaper, s).value();
   EXPECT_EQ(encoded->bytes, expert.bytes);
   EXPECT_EQ(encoded->report.levels.size(), hierarchy.levels.size());
   EXPECT_EQ(encoded->report.stream_bytes, expert.bytes.size());
@@ -67,13 +71,19 @@ TEST(EncodeApi, SaysWhereTheDecoderPutsEachInputPoint) {
   EXPECT_GT(encoded->report.reference_tetrahedra, 0u);
   ProgressiveDecoder decoder;
   ASSERT_TRUE(decode_stream(encoded->bytes, decoder).ok());
-  const Grid& grid = encoded->report.grid;
+  // The box sets the units the encoder measures in, not the stream's: the
+  // header's grid is the report's divided by the scale, and every point
+  // decodes within half a step of its own input position.
+  const Grid& grid = decoder.header().grid;
   const double scale = encoded->report.scale;
+  ASSERT_GT(scale, 10.0);
+  EXPECT_NEAR(grid.step * scale, encoded->report.grid.step, 1e-12 * encoded->report.grid.step);
+  const double half = grid.step * 0.5 * (1 + 1e-9);
   for (size_t i = 0; i < in.points.size(); ++i) {
     const InputPoint p = grid.to_input(decoder.points().at(encoded->vertex_of_input[i]));
-    EXPECT_LE(std::abs(p.x - in.points[i].x * scale), grid.step * 0.5 + 1e-9) << i;
-    EXPECT_LE(std::abs(p.y - in.points[i].y * scale), grid.step * 0.5 + 1e-9) << i;
-    EXPECT_LE(std::abs(p.z - in.points[i].z * scale), grid.step * 0.5 + 1e-9) << i;
+    EXPECT_LE(std::abs(p.x - in.points[i].x), half) << i;
+    EXPECT_LE(std::abs(p.y - in.points[i].y), half) << i;
+    EXPECT_LE(std::abs(p.z - in.points[i].z), half) << i;
   }
   for (const LevelReport& level : encoded->report.levels) EXPECT_TRUE(level.reference_error.has_value());
 }

@@ -470,7 +470,9 @@ TEST(Regions, DamagedChunkSectionsGiveRegionsInTheTableOrAnError) {
         for (size_t c = 0; c < out.size(); ++c) {
           EXPECT_EQ(out[c] != 0, region[c] != 0);
           EXPECT_LE(out[c], 4);
-          if (chunk_of_cell[c] != k) EXPECT_EQ(out[c], region[c]);
+          if (chunk_of_cell[c] != k) {
+            EXPECT_EQ(out[c], region[c]);
+          }
         }
       }
     EXPECT_GT(refused, 0);

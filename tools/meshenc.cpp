@@ -59,7 +59,8 @@ is the quantization grid (qbits = just enough for the selected extent, or
 spacing: voxel centres are placed at their physical positions and quantized
 like any point set (lossy).
 
-Dmax and --alpha values are in input units, after --scale/--box.)";
+Dmax and --alpha values are in input units, after --scale/--box; the stream
+and the decoded mesh are in the input's own units whatever they say.)";
 
 std::string format_number(double v) {
   char text[32];
@@ -132,11 +133,14 @@ void add_options(CLI::App& app, Command& c) {
                  "boundary tolerance Dmax in input units (default: 0.5% of the largest extent)")
       ->check(CLI::PositiveNumber);
   auto* scale_opt =
-      app.add_option("--scale", e.scale,
-                     "multiply input coordinates by this first (the decoded mesh is scaled too)")
+      app.add_option(
+             "--scale", e.scale,
+             "measure in the input's coordinates times this: the units of --dmax, --alpha and the table "
+             "(the stream keeps the input's units)")
           ->check(CLI::PositiveNumber);
   app.add_option("--box", e.box,
-                 "scale the input so that its largest extent is this (the decoded mesh is scaled too)")
+                 "measure as if the input's largest extent were this: the units of --dmax, --alpha and the "
+                 "table (the stream keeps the input's units)")
       ->check(CLI::PositiveNumber)
       ->excludes(scale_opt);
   app.add_option("--levels", e.max_levels, "build at most this many coarser levels (0 = no limit)")

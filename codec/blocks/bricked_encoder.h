@@ -71,7 +71,7 @@ struct BrickedEncodeOptions {
 
 struct BrickedEncodeInput {
   std::span<const GridPoint> points;  // distinct grid points, ascending (quantize()'s order)
-  Grid grid;
+  Grid grid;                          // as the stream holds it (the input's units)
   // The reference solid's tetrahedra (indices into points), or none.
   std::span<const std::array<uint32_t, 4>> reference_tets;
   // Their regions (materials): per tetrahedron 1 + the index of its region

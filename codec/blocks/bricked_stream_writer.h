@@ -34,7 +34,7 @@ struct BrickedLevel {
 
 struct BrickedStreamInput {
   std::span<const GridPoint> points;  // every grid point
-  Grid grid;
+  Grid grid;                          // as the stream holds it (the input's units)
   AlphaKind alpha_policy = AlphaKind::kPaper;
   bool cell_hashes = false;
   const FieldSectionEncoder* values = nullptr;  // or none

@@ -100,7 +100,8 @@ class Mesh:
     """One level of detail of a stream, as numpy arrays.
 
     Attributes:
-        points: float64, N x 3, in the encoder's (scaled) input units.
+        points: float64, N x 3, in the input's units (``box`` and ``scale`` set
+            only the units the encoder measures in).
         tetrahedra: uint32, M x 4, indices into ``points``, positively oriented,
             in the canonical order (the same arrays on every run).
         fields: the stream's per-vertex fields by name, each in its stored
@@ -254,8 +255,10 @@ def encode(
             losslessly unless named in ``field_errors``. Their order is the
             stream's.
         qbits: quantization bits per axis, 1 to 24.
-        box: scale the points so that their largest extent is this (excludes ``scale``).
-        scale: multiply the coordinates by this first.
+        box: measure as if the points' largest extent were this (excludes
+            ``scale``): the units of ``dmax`` and the report. The stream keeps
+            the input's units.
+        scale: measure in the coordinates times this.
         dmax: boundary tolerance in (scaled) input units; default 0.5% of the largest extent.
         preset: "codec" (levels carved to the input's solid, about half the
             vertices each) or "paper" (the seed paper's hierarchy).
