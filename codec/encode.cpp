@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "codec/blocks/block_runs.h"
 #include "codec/blocks/bricked_encoder.h"
 #include "codec/blocks/reference_share.h"
 #include "codec/expert_encode.h"
@@ -25,6 +26,20 @@ std::vector<int32_t> distinct_labels(std::span<const int32_t> labels) {
   std::sort(distinct.begin(), distinct.end());
   distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
   return distinct;
+}
+
+// The labels of every rank's tetrahedra (`mine`: this rank's share's,
+// distinct), distinct and ascending: the same table on every rank.
+std::vector<int32_t> labels_of_every_rank(RankExchange& exchange, std::span<const int32_t> mine) {
+  ByteWriter w;
+  w.u64(mine.size());
+  for (int32_t label : mine) w.u32(static_cast<uint32_t>(label));
+  std::vector<int32_t> all;
+  for (const auto& bytes : exchange.all_gather(w.take())) {
+    BlockReader r(bytes);
+    for (uint64_t i = r.u64(); i > 0; --i) all.push_back(static_cast<int32_t>(r.u32()));
+  }
+  return distinct_labels(all);
 }
 
 // A region or face tag table: each label with its name, if the input has
@@ -466,8 +481,12 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   // tetrahedron holds its label's index + 1. One region needs no solid of
   // its own: every kept cell is in it.
   std::vector<uint8_t> region_index;
-  if (with_regions) {
-    const std::vector<int32_t> distinct = distinct_labels(labels);
+  std::vector<int32_t> distinct = distinct_labels(labels);
+  // Each rank of a bricked run holds a share of the tetrahedra: the table
+  // is of all of them (every rank asks, holding regions or not).
+  if (options.bricks && options.exchange && options.exchange->size() > 1)
+    distinct = labels_of_every_rank(*options.exchange, distinct);
+  if (!distinct.empty()) {
     if (distinct.size() > kMaxRegionCount)
       return invalid_input("the input has " + std::to_string(distinct.size()) +
                            " regions; a stream holds at most " + std::to_string(kMaxRegionCount));

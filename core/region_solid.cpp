@@ -48,6 +48,10 @@ std::vector<std::array<uint32_t, 3>> region_surface_triangles(std::span<const st
     auto b = boundary_triangles(part);
     all.insert(all.end(), b.begin(), b.end());
   }
+  return merged_region_boundaries(std::move(all));
+}
+
+std::vector<std::array<uint32_t, 3>> merged_region_boundaries(std::vector<std::array<uint32_t, 3>> all) {
   sort_as_boundary_triangles(all);
   auto key = [](std::array<uint32_t, 3> f) {
     std::sort(f.begin(), f.end());

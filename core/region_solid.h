@@ -49,5 +49,8 @@ class RegionSolid : public Solid {
 // boundary_triangles() sorts them. Without regions, boundary_triangles().
 std::vector<std::array<uint32_t, 3>> region_surface_triangles(std::span<const std::array<uint32_t, 4>> cells,
                                                               std::span<const uint8_t> region);
+// The same from each region's boundary_triangles(), concatenated in the
+// regions' order (as the ranks of a run find them, a region at a time).
+std::vector<std::array<uint32_t, 3>> merged_region_boundaries(std::vector<std::array<uint32_t, 3>> all);
 
 }  // namespace dtm

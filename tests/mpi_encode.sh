@@ -8,10 +8,12 @@
 # file; without --bricks, mpirun meshenc says what to add. The ranks answer
 # each other's questions about the reference while they work (no block run
 # again), or, asked to take MPI without threads, in their exchanges (blocks
-# run again): the same bytes.
+# run again): the same bytes. With regions (a TetGen .ele's attribute, a
+# gmsh part's materials made here by gmsh), the same bytes too.
 set -euo pipefail
 meshenc=$1 meshdec=$2 data=$3
 command -v mpirun >/dev/null || { echo "mpi_encode: mpirun missing (apt-get install openmpi-bin)"; exit 1; }
+command -v gmsh >/dev/null || { echo "mpi_encode: gmsh missing (scripts/setup.sh --all)"; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 as_root=()
@@ -123,6 +125,41 @@ expect_error() {  # expect_error NAME MESSAGE
 expect_error extra "extra.node:$((first + points)): unexpected data after the $((points - 1)) points"
 expect_error short "short.node: file ends after $points of $((points + 5)) points"
 expect_error sequence "sequence.node:$bad: point index 5 out of sequence"
+# Regions (materials) on ranks: each rank holds the reference in parts a
+# region at a time, and they answer which region holds a point; the same
+# bytes as one process, with the same count of tetrahedra per region said.
+# A TetGen .ele's region attribute (TetGen -A: bunny_10k cut in two at
+# x = 0), read in parts and sent with each tetrahedron, and a gmsh part of
+# two materials (each rank reading the file, keeping its share).
+cp "$data/bunny_10k.node" "$work/halves.node"
+awk 'FNR == NR { if ($1 ~ /^#/ || NF < 4) next; if (!h++) next; x[$1] = $2; next }
+     $1 ~ /^#/ || NF == 0 { next }
+     !e++ { print $1, $2, 1; next }
+     { print $0, (x[$2] + x[$3] + x[$4] + x[$5] > 0 ? 2 : 1) }' "$work/halves.node" "$data/bunny_10k.ele" > "$work/halves.ele"
+cat > "$work/part.geo" <<'GEO'
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 1, 1, 1};
+Box(2) = {1, 0, 0, 1, 1, 1};
+BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }
+Physical Volume("aluminium", 1) = {1};
+Physical Volume("steel", 2) = {2};
+Mesh.MeshSizeMax = 0.12;
+GEO
+gmsh "$work/part.geo" -3 -format msh41 -o "$work/part.msh" >/dev/null
+for input in halves.node part.msh; do
+  "$meshenc" "$work/$input" "${options[@]}" -o "$work/one_$input.dtm" > "$work/said1"
+  grep -q "regions (.*), 2: " "$work/said1" || { echo "$input: no regions:"; cat "$work/said1"; failed=1; }
+  for p in 2 3; do
+    mpirun --oversubscribe "${as_root[@]}" -n "$p" "$meshenc" "$work/$input" "${options[@]}" \
+      -o "$work/mpi_$input.dtm" > "$work/said$p" 2>"$work/err"
+    cmp -s "$work/one_$input.dtm" "$work/mpi_$input.dtm" || { echo "$input on $p ranks: not the same bytes"; failed=1; }
+    [ "$(grep "regions (" "$work/said1")" = "$(grep "regions (" "$work/said$p")" ] ||
+      { echo "$input on $p ranks: other region counts:"; grep "regions (" "$work/said1" "$work/said$p"; failed=1; }
+    if grep -q "left out.*regions" "$work/err"; then echo "$input on $p ranks: regions left out:"; cat "$work/err"; failed=1; fi
+  done
+  "$meshdec" "$work/mpi_$input.dtm" -o "$work/regions.vtu" --verify -q || failed=1
+  echo "$input: $(grep "regions (" "$work/said1"); on 2 and 3 ranks the same bytes"
+done
 # Without --bricks: a clear error.
 if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$data/bunny_10k.node" --no-fields -q \
   -o "$work/missing/p.dtm" 2>"$work/err"; then

@@ -128,33 +128,51 @@ TEST(TetgenEle, PartsJoinedAreTheFile) {
   const std::string dir = ::testing::TempDir() + "/tetgen_parts";
   std::filesystem::create_directories(dir);
   constexpr uint32_t kCount = 5000;
-  std::vector<std::string> lines = {"# made by a test", "", std::to_string(kCount) + " 4 0"};
-  for (uint32_t i = 0; i < kCount; ++i) {
-    if (i % 97 == 0) lines.push_back("# a comment" + std::string(i % 300, 'x'));
-    if (i % 89 == 0) lines.push_back("   ");
-    lines.push_back(std::to_string(i) + "  " + std::to_string(i % 61) + " " + std::to_string(i % 59) + " " +
-                    std::to_string(i % 53) + " " + std::to_string(i % 51) + (i % 7 ? "" : "   # note"));
-  }
+  // With a region attribute (TetGen -A) or none.
+  const auto ele_lines = [&](bool regions) {
+    std::vector<std::string> lines = {"# made by a test", "",
+                                      std::to_string(kCount) + " 4 " + (regions ? "1" : "0")};
+    for (uint32_t i = 0; i < kCount; ++i) {
+      if (i % 97 == 0) lines.push_back("# a comment" + std::string(i % 300, 'x'));
+      if (i % 89 == 0) lines.push_back("   ");
+      lines.push_back(std::to_string(i) + "  " + std::to_string(i % 61) + " " + std::to_string(i % 59) + " " +
+                      std::to_string(i % 53) + " " + std::to_string(i % 51) +
+                      (regions ? " " + std::to_string(static_cast<int>(i % 5) - 2) : "") +
+                      (i % 7 ? "" : "   # note"));
+    }
+    return lines;
+  };
+  const std::vector<std::string> lines = ele_lines(false);
   const auto write = [&](const std::string& name, const std::vector<std::string>& text, bool last_end) {
     std::ofstream f(dir + "/" + name);
     for (size_t i = 0; i < text.size(); ++i) f << text[i] << (i + 1 < text.size() || last_end ? "\n" : "");
   };
   write("all.ele", lines, false);
-  const auto all = read_tetgen_ele(dir + "/all.ele", 64, 0);
-  ASSERT_EQ(all.size(), kCount);
-  for (int parts : {1, 2, 3, 5, 16, 97}) {
-    std::vector<std::array<uint32_t, 4>> joined;
-    uint64_t records = 0;
-    for (int part = 0; part < parts; ++part) {
-      const ElePart p = read_tetgen_ele_part(dir + "/all.ele", 64, 0, part, parts,
-                                             [&](std::span<const std::array<uint32_t, 4>> block) {
-                                               joined.insert(joined.end(), block.begin(), block.end());
-                                             });
-      EXPECT_EQ(p.header_count, kCount);
-      records += p.records;
+  write("regions.ele", ele_lines(true), false);
+  for (const std::string name : {"all.ele", "regions.ele"}) {
+    SCOPED_TRACE(name);
+    std::vector<int32_t> regions;
+    const auto all = read_tetgen_ele(dir + "/" + name, 64, 0, {}, &regions);
+    ASSERT_EQ(all.size(), kCount);
+    ASSERT_EQ(regions.size(), name == "all.ele" ? 0u : kCount);
+    for (int parts : {1, 2, 3, 5, 16, 97}) {
+      std::vector<std::array<uint32_t, 4>> joined;
+      std::vector<int32_t> joined_regions;
+      uint64_t records = 0;
+      for (int part = 0; part < parts; ++part) {
+        const ElePart p = read_tetgen_ele_part(
+            dir + "/" + name, 64, 0, part, parts, true,
+            [&](std::span<const std::array<uint32_t, 4>> block, std::span<const int32_t> block_regions) {
+              joined.insert(joined.end(), block.begin(), block.end());
+              joined_regions.insert(joined_regions.end(), block_regions.begin(), block_regions.end());
+            });
+        EXPECT_EQ(p.header_count, kCount);
+        records += p.records;
+      }
+      EXPECT_EQ(records, kCount) << parts;
+      EXPECT_EQ(joined, all) << parts;
+      EXPECT_EQ(joined_regions, regions) << parts;
     }
-    EXPECT_EQ(records, kCount) << parts;
-    EXPECT_EQ(joined, all) << parts;
   }
   // A vertex out of range on one line: the whole file's message, from the
   // one part that holds that line.
@@ -173,8 +191,8 @@ TEST(TetgenEle, PartsJoinedAreTheFile) {
   for (int parts : {2, 3, 7}) {
     int failed = 0;
     for (int part = 0; part < parts; ++part) try {
-        read_tetgen_ele_part(dir + "/bad.ele", 64, 0, part, parts,
-                             [](std::span<const std::array<uint32_t, 4>>) {});
+        read_tetgen_ele_part(dir + "/bad.ele", 64, 0, part, parts, false,
+                             [](std::span<const std::array<uint32_t, 4>>, std::span<const int32_t>) {});
       } catch (const FormatError& e) {
         ++failed;
         EXPECT_EQ(std::string(e.what()), whole);

@@ -14,6 +14,7 @@
 
 #include "codec/blocks/reference_share.h"
 #include "codec/encode.h"
+#include "common/byte_io.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
 #include "core/reference_shape.h"
@@ -388,7 +389,8 @@ using Tet = std::array<uint32_t, 4>;
 // none holds more than its share. Each rank gets its tetrahedra in the
 // file's order, as reading the whole file keeping them would give.
 std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::QuantizedPoints& q,
-                                   const dtm::ReferenceShare& share, dtm::MpiSession& mpi) {
+                                   const dtm::ReferenceShare& share, dtm::MpiSession& mpi,
+                                   std::vector<int32_t>* regions) {
   // A tetrahedron goes to the ranks of its two least corners, each found
   // when asked (a search of the ranks' cuts), not held for every point (4
   // bytes a point, 38 MiB at bunny_10m, held while the part was read: the
@@ -405,15 +407,22 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
     if (end != e && *end == '\0' && asked >= 1 && asked <= (1ull << 24)) piece = static_cast<size_t>(asked);
   }
   std::vector<std::vector<std::vector<Tet>>> to(static_cast<size_t>(mpi.size()));
-  const auto send = [&](uint32_t rank, const Tet& t) {
+  // With regions (TetGen -A), each tetrahedron's goes with it, in pieces
+  // of the same sizes.
+  std::vector<std::vector<std::vector<int32_t>>> regions_to(regions ? static_cast<size_t>(mpi.size()) : 0);
+  const auto send = [&](uint32_t rank, const Tet& t, std::span<const int32_t> region) {
     auto& pieces = to[rank];
-    if (pieces.empty() || pieces.back().size() == piece) pieces.emplace_back().reserve(piece);
+    if (pieces.empty() || pieces.back().size() == piece) {
+      pieces.emplace_back().reserve(piece);
+      if (regions) regions_to[rank].emplace_back().reserve(piece);
+    }
     pieces.back().push_back(t);
+    if (regions) regions_to[rank].back().push_back(region.empty() ? 0 : region.front());
   };
   // A block of the part: each tetrahedron's ranks found on every core, then
   // the tetrahedra put in order in what goes to each rank.
   std::vector<std::array<uint32_t, 2>> ranks;
-  const auto take = [&](std::span<const Tet> block) {
+  const auto take = [&](std::span<const Tet> block, std::span<const int32_t> block_regions) {
     ranks.resize(block.size());
     dtm::parallel_ranges(block.size(), size_t{1} << 14, [&](size_t first, size_t last) {
       for (size_t i = first; i < last; ++i) {
@@ -430,15 +439,17 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
       }
     });
     for (size_t i = 0; i < block.size(); ++i) {
-      send(ranks[i][0], block[i]);
-      if (ranks[i][1] != ranks[i][0]) send(ranks[i][1], block[i]);
+      const std::span<const int32_t> region =
+          block_regions.empty() ? block_regions : block_regions.subspan(i, 1);
+      send(ranks[i][0], block[i], region);
+      if (ranks[i][1] != ranks[i][0]) send(ranks[i][1], block[i], region);
     }
   };
   dtm::ElePart counts;
   std::string problem;
   try {
     counts = dtm::read_tetgen_ele_part(in.tetgen_ele, q.input_to_point.size(), in.tetgen_index_base,
-                                       mpi.rank(), mpi.size(), take);
+                                       mpi.rank(), mpi.size(), regions != nullptr, take);
   } catch (const std::exception& e) {
     problem = e.what();
   }
@@ -452,7 +463,9 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
                            std::to_string(counts.header_count) + " tetrahedra (the file holds " +
                            std::to_string(total) + ")");
   try {
-    return mpi.all_to_all_in_pieces(std::move(to), piece);
+    std::vector<Tet> tets = mpi.all_to_all_in_pieces(std::move(to), piece);
+    if (regions) *regions = mpi.all_to_all_in_pieces(std::move(regions_to), piece);
+    return tets;
   } catch (const std::runtime_error& e) {  // on every rank alike: said once
     throw dtm::AgreedError(
         in.tetgen_ele + ": " + e.what() + " (DTM_MPI_PIECE must be the same on every rank)", mpi.rank() == 0);
@@ -460,18 +473,31 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
 }
 
 // Under mpirun, on 2 ranks or more: the input's tetrahedra this rank holds
-// for the reference (codec/blocks/reference_share.h), on the grid. A TetGen
-// .ele is read in parts; other formats' are filtered in place.
-void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::ReferenceShare& share) {
+// for the reference (codec/blocks/reference_share.h), on the grid, and
+// their regions. A TetGen .ele is read in parts (its regions unless
+// `regions` is false); other formats' are filtered in place.
+void hold_share(dtm::InputMesh& in, const dtm::QuantizedPoints& q, const dtm::ReferenceShare& share,
+                bool regions) {
   const auto on_grid = [&](const std::array<uint32_t, 4>& t) {
     return std::array<uint32_t, 4>{q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
                                    q.input_to_point[t[3]]};
   };
-  if (!in.tetgen_ele.empty())
-    in.tets = read_ele_in_parts(in, q, share, dtm::mpi_session());
-  else if (std::erase_if(in.tets,
-                         [&](const std::array<uint32_t, 4>& t) { return !share.holds(on_grid(t)); }) > 0)
-    in.tets.shrink_to_fit();
+  if (!in.tetgen_ele.empty()) {
+    const bool with_regions = regions && dtm::tetgen_ele_attributes(in.tetgen_ele) > 0;
+    in.tets = read_ele_in_parts(in, q, share, dtm::mpi_session(), with_regions ? &in.tet_regions : nullptr);
+    return;
+  }
+  const bool with_regions = !in.tet_regions.empty();
+  size_t held = 0;
+  for (size_t i = 0; i < in.tets.size(); ++i) {
+    if (!share.holds(on_grid(in.tets[i]))) continue;
+    if (with_regions) in.tet_regions[held] = in.tet_regions[i];
+    in.tets[held++] = in.tets[i];
+  }
+  if (held == in.tets.size()) return;
+  in.tets.resize(held);
+  in.tets.shrink_to_fit();
+  if (with_regions) in.tet_regions.resize(held), in.tet_regions.shrink_to_fit();
 }
 
 // The input's arrays as the plan lists them: 'name' (type x components,
@@ -488,7 +514,32 @@ std::string array_list(const std::vector<dtm::VertexField>& arrays,
   return names;
 }
 
-void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePlan& plan) {
+// Each region's tetrahedra; under mpirun (`share`) each counted by the one
+// rank that owns it, added over the ranks (every rank must call this).
+std::map<int32_t, uint64_t> region_cells(const dtm::InputMesh& in, const dtm::QuantizedPoints& q,
+                                         const dtm::ReferenceShare* share) {
+  std::map<int32_t, uint64_t> cells;
+  for (size_t i = 0; i < in.tet_regions.size(); ++i) {
+    const Tet& t = in.tets[i];
+    if (!share || share->owns({q.input_to_point[t[0]], q.input_to_point[t[1]], q.input_to_point[t[2]],
+                               q.input_to_point[t[3]]}))
+      ++cells[in.tet_regions[i]];
+  }
+  if (!share) return cells;
+  dtm::ByteWriter w;
+  for (const auto& [label, count] : cells) w.u32(static_cast<uint32_t>(label)), w.u64(count);
+  std::map<int32_t, uint64_t> all;
+  for (const auto& bytes : dtm::mpi_session().all_gather(w.take())) {
+    dtm::ByteReader r(bytes);
+    uint32_t label = 0;
+    uint64_t count = 0;
+    while (r.u32(label) && r.u64(count)) all[static_cast<int32_t>(label)] += count;
+  }
+  return all;
+}
+
+void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePlan& plan,
+                const std::map<int32_t, uint64_t>& regions) {
   const auto& q = plan.quantized;
   std::printf("%s: %zu points, %llu merged by quantization, q=%d, step=%.6g, Dmax=%g%s\n", c.input.c_str(),
               q.input_to_point.size(), static_cast<unsigned long long>(q.duplicates_merged), q.grid.qbits,
@@ -499,17 +550,15 @@ void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePla
   if (!in.cell_fields.empty())
     std::printf("%s: cell data (level 0's cells): %s\n", c.input.c_str(),
                 array_list(in.cell_fields, c.encode.field_errors).c_str());
-  if (!in.tet_regions.empty()) {
-    std::map<int32_t, uint64_t> cells;
-    for (int32_t r : in.tet_regions) ++cells[r];
+  if (!regions.empty()) {
     std::string list;
-    for (const auto& [label, count] : cells) {
+    for (const auto& [label, count] : regions) {
       const auto name = in.region_names.find(label);
       list += (list.empty() ? "" : ", ") + std::to_string(label) +
               (name == in.region_names.end() ? "" : " \"" + name->second + "\"") + " (" +
               std::to_string(count) + " tetrahedra)";
     }
-    std::printf("%s: regions (%s), %zu: %s\n", c.input.c_str(), in.region_source.c_str(), cells.size(),
+    std::printf("%s: regions (%s), %zu: %s\n", c.input.c_str(), in.region_source.c_str(), regions.size(),
                 list.c_str());
   }
   if (!in.face_tags.empty()) {
@@ -701,17 +750,17 @@ int run(Command& c) {
   dtm::InputMesh in = read(c);
   dtm::choose_regions(in, c.region_array, c.input);
   // The regions, where the stream can carry them; else named as left out.
-  if (!in.tet_regions.empty()) {
-    // (A bricked stream carries them from one process: on several ranks
-    // the reference is held in parts, not yet by region.)
-    const char* why = c.no_regions     ? "--no-regions"
-                      : mpi.size() > 1 ? "bricked streams made on several ranks do not carry them yet"
+  // (Under mpirun a TetGen .ele's are read with its tetrahedra, later.)
+  bool regions_kept = true;
+  if (!in.tet_regions.empty() || (!in.tetgen_ele.empty() && !in.region_source.empty())) {
+    const char* why = c.no_regions                   ? "--no-regions"
                       : !c.encode.carve_to_reference ? "the paper preset carves by alpha alone"
                       : c.no_reference               ? "--no-reference"
                                                      : nullptr;
     if (why) {
       in.left_out.push_back("the tetrahedra's regions, " + in.region_source + " (" + why + ")");
       dtm::release(in.tet_regions);
+      regions_kept = false;
     }
   }
   if (!in.tagged_faces.empty()) {
@@ -784,12 +833,13 @@ int run(Command& c) {
     if (!in.tetgen_ele.empty()) display.start("reading " + in.tetgen_ele + ", a part on each rank");
     share.emplace(plan->quantized.points, plan->quantized.grid.qbits, mpi.rank(), mpi.size());
     c.encode.reference_share = &*share;
-    hold_share(in, plan->quantized, *share);
+    hold_share(in, plan->quantized, *share, regions_kept);
   }
   input.tetrahedra = in.tets;
+  const std::map<int32_t, uint64_t> regions = region_cells(in, plan->quantized, share ? &*share : nullptr);
   if (!c.quiet) {
     display.clear();
-    print_plan(c, in, *plan);
+    print_plan(c, in, *plan, regions);
     dtm::print_table_header(stdout, with_reference);
   }
   const dtm::Grid grid = plan->quantized.grid;

@@ -115,7 +115,8 @@ class BrickedEncoder {
         reference_(in.points, q_, exchange, in.voxels, o.hierarchy.on_phase),
         at_once_(o.blocks_at_once > 0 ? o.blocks_at_once : default_blocks_at_once(o.block_points)) {
     if (x_.size() > 1)
-      reference_.set_in_parts(in.reference_tets, in.share, [this] { tets_done(); });
+      reference_.set_in_parts(in.reference_tets, in.reference_regions, in.regions.size(), in.share,
+                              [this] { tets_done(); });
     else if (!in.reference_tets.empty())
       reference_.set_whole(in.reference_tets, in.reference_regions);
     tets_done();
@@ -821,9 +822,6 @@ StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const 
     for (uint8_t r : input.reference_regions)
       if (r == 0 || r > input.regions.size())
         return invalid_input("a tetrahedron's region is not in the table");
-    if (options.exchange && options.exchange->size() > 1)
-      return Status{StatusCode::kUnsupported,
-                    "regions in a bricked stream on several ranks are not built yet"};
   } else if (input.regions.size() > 1) {
     return invalid_input("a table of regions without the tetrahedra's");
   }

@@ -78,60 +78,107 @@ void RankReference::set_whole(std::span<const std::array<uint32_t, 4>> tets,
   whole_.reset();
 }
 
-void RankReference::set_in_parts(std::span<const std::array<uint32_t, 4>> given, const ReferenceShare* share,
-                                 const std::function<void()>& tets_done) {
+void RankReference::set_in_parts(std::span<const std::array<uint32_t, 4>> given,
+                                 std::span<const uint8_t> regions, size_t region_count,
+                                 const ReferenceShare* share, const std::function<void()>& tets_done) {
+  using Tet = std::array<uint32_t, 4>;
   std::optional<ReferenceShare> made;
   const ReferenceShare& s = share ? *share : made.emplace(points_, qbits_, x_.rank(), x_.size());
-  // What this rank holds of what it was given (all, when given its share).
-  std::vector<std::array<uint32_t, 4>> kept;
-  std::span<const std::array<uint32_t, 4>> held = given;
-  const auto holds = [&](const std::array<uint32_t, 4>& t) { return s.holds(t); };
+  // (The same on every rank, whatever it holds.)
+  const bool by_region = region_count > 1;
+  const size_t count = by_region ? region_count : 1;
+  // What this rank holds of what it was given (all, when given its share),
+  // and their regions.
+  std::vector<Tet> kept;
+  std::vector<uint8_t> kept_regions;
+  std::span<const Tet> held = given;
+  std::span<const uint8_t> held_regions = regions;
+  const auto holds = [&](const Tet& t) { return s.holds(t); };
   if (!std::all_of(given.begin(), given.end(), holds)) {
-    std::copy_if(given.begin(), given.end(), std::back_inserter(kept), holds);
-    held = kept;
+    for (size_t i = 0; i < given.size(); ++i) {
+      if (!holds(given[i])) continue;
+      kept.push_back(given[i]);
+      if (by_region) kept_regions.push_back(regions[i]);
+    }
+    held = kept, held_regions = kept_regions;
   }
-  const auto owns = [&](const std::array<uint32_t, 4>& t) { return s.owns(t); };
-  const ReferenceSolid::Extent whole = whole_extent(
-      x_, ReferenceSolid::Extent::of(points_, held,
-                                     static_cast<uint64_t>(std::count_if(held.begin(), held.end(), owns))));
-  if (whole.tetrahedra == 0) return;  // no rank has any
-  // The faces of exactly one tetrahedron whose least corner is this rank's,
-  // gathered and put in the order one process finds them.
+  const auto owns = [&](const Tet& t) { return s.owns(t); };
+  const std::function<bool(const Tet&)> held_here = holds, own = owns;
+  // Per region (one without regions), as RegionSolid holds them: the
+  // extent of all its cells, the faces of exactly one of them (each found
+  // by the rank of its least corner, gathered and put in the order one
+  // process finds them), and this rank's cells near them (no rank gathers
+  // them all; the blocks ask the ranks what a part does not know).
+  struct Region {
+    ReferenceSolid::Extent whole;
+    std::vector<std::array<uint32_t, 3>> boundary;
+    std::vector<Tet> near;
+  };
+  std::vector<Region> parts(count);
   report_phase(on_phase_, "the reference's boundary");
-  std::vector<std::array<uint32_t, 3>> boundary = boundary_triangles(held);
-  std::erase_if(boundary, [&](const std::array<uint32_t, 3>& t) {
-    return !s.mine(std::min({t[0], t[1], t[2]}));
-  });
-  boundary = gather_all(x_, std::move(boundary));
-  sort_as_boundary_triangles(boundary);
-  report_phase(on_phase_, "the reference solid");
-  // This rank's part: the tetrahedra near the boundary that it holds (no
-  // rank gathers them all; the blocks ask the ranks what a part does not know).
-  const std::function<bool(const std::array<uint32_t, 4>&)> held_here = holds, own = owns;
-  std::vector<std::array<uint32_t, 4>> near =
-      ReferenceSolid::near_boundary(points_, held, boundary, whole, held_here);
+  for (size_t r = 0; r < count; ++r) {
+    std::vector<Tet> of_region;
+    std::span<const Tet> cells = held;
+    if (by_region) {
+      for (size_t i = 0; i < held.size(); ++i)
+        if (held_regions[i] == r + 1) of_region.push_back(held[i]);
+      cells = of_region;
+    }
+    Region& part = parts[r];
+    part.whole = whole_extent(
+        x_, ReferenceSolid::Extent::of(
+                points_, cells, static_cast<uint64_t>(std::count_if(cells.begin(), cells.end(), owns))));
+    if (part.whole.tetrahedra == 0) continue;  // no rank has any
+    part.boundary = boundary_triangles(cells);
+    std::erase_if(part.boundary, [&](const std::array<uint32_t, 3>& t) {
+      return !s.mine(std::min({t[0], t[1], t[2]}));
+    });
+    part.boundary = gather_all(x_, std::move(part.boundary));
+    sort_as_boundary_triangles(part.boundary);
+    part.near = ReferenceSolid::near_boundary(points_, cells, part.boundary, part.whole, held_here);
+  }
+  if (std::none_of(parts.begin(), parts.end(), [](const Region& p) { return p.whole.tetrahedra > 0; }))
+    return;
   // The tetrahedra are read no more.
   release(kept);
-  held = {};
+  release(kept_regions);
+  held = {}, held_regions = {};
   tets_done();
-  tet_solid_.emplace(points_, near, own, boundary, whole, x_);
-  release(near);
-  if (!voxels_) {
-    solid_ = &*tet_solid_, parts_ = true;
-    const ReferenceSolid& part = *tet_solid_;
-    answers_ = x_.answer_while_working(
-        [&part](std::span<const uint8_t> question) { return answer_questions(part, question); });
+  report_phase(on_phase_, "the reference solid");
+  std::vector<std::array<uint32_t, 3>> surface;
+  ReferenceParts& made_parts = parts_.emplace();
+  made_parts.regions.resize(count);
+  for (size_t r = 0; r < count; ++r) {
+    Region& part = parts[r];
+    if (part.whole.tetrahedra == 0) continue;  // on every rank alike
+    made_parts.regions[r].emplace(points_, part.near, own, part.boundary, part.whole, x_);
+    release(part.near);
+    if (surface.empty())
+      surface = std::move(part.boundary);
+    else
+      surface.insert(surface.end(), part.boundary.begin(), part.boundary.end());
+    release(part.boundary);
   }
-  faces_.emplace(points_, std::move(boundary), qbits_);
+  // With regions, the boundary holds the interfaces (each face once), as
+  // region_surface_triangles() makes it.
+  if (by_region) surface = merged_region_boundaries(std::move(surface));
+  if (voxels_) {
+    parts_.reset();  // the voxels are the solid
+  } else {
+    const ReferenceParts& asked = *parts_;
+    answers_ = x_.answer_while_working(
+        [&asked](std::span<const uint8_t> question) { return answer_questions(asked, question); });
+  }
+  faces_.emplace(points_, std::move(surface), qbits_);
   whole_.reset();
 }
 
 void RankReference::release_all() {
-  answers_.reset();  // first: it reads the part
+  answers_.reset();  // first: it reads the parts
+  parts_.reset();
   tet_solid_.reset();
   region_solid_.reset();
   solid_ = voxels_;
-  parts_ = false;
   book_ = {};
   faces_.reset();
   std::lock_guard lock(whole_mutex_);
@@ -139,7 +186,7 @@ void RankReference::release_all() {
 }
 
 std::optional<BlockReference> RankReference::for_region(const GridBox& region, const Solid* solid) const {
-  if (!solid_) return std::nullopt;
+  if (!solid_ && !parts_) return std::nullopt;
   BlockReference r;
   r.solid = solid;
   if (!faces_) return r;
@@ -167,7 +214,7 @@ std::vector<std::vector<uint8_t>> RankReference::run_carving(
     return run_blocks(
         plan, x_, [&](size_t k) { return work(k, solid_); }, status, at_once);
   return run_blocks_asking(
-      plan, x_, *tet_solid_, book_, answers_.get(),
+      plan, x_, *parts_, book_, answers_.get(),
       [&](size_t k, const Solid& asking) { return work(k, &asking); }, status, questions_, at_once);
 }
 

@@ -44,13 +44,15 @@ class RankReference {
   // and the boundary holds the interfaces between regions too.
   void set_whole(std::span<const std::array<uint32_t, 4>> tets, std::span<const uint8_t> regions = {});
   // The same on the ranks of a run, each given at least its share of the
-  // tetrahedra (`share`, or one made from the exchange when null): each
-  // finds the boundary faces and the tetrahedra near the boundary that are
-  // its own, and every rank gets the boundary whole. The solid and the
-  // boundary are the same as one process makes. `tets_done` is called once
+  // tetrahedra (`share`, or one made from the exchange when null), with
+  // their `regions` as set_whole() takes them (or none) from a table of
+  // `region_count` (the same on every rank): each finds the boundary faces
+  // and the tetrahedra near the boundary that are its own, a region at a
+  // time, and every rank gets the boundary whole. The verdicts and the
+  // boundary are the ones one process makes. `tets_done` is called once
   // `given` is read no more.
-  void set_in_parts(std::span<const std::array<uint32_t, 4>> given, const ReferenceShare* share,
-                    const std::function<void()>& tets_done);
+  void set_in_parts(std::span<const std::array<uint32_t, 4>> given, std::span<const uint8_t> regions,
+                    size_t region_count, const ReferenceShare* share, const std::function<void()>& tets_done);
 
   // Whether there is a boundary to measure against (none before level 0 is
   // built when level 0, carved by alpha or voxels, is the reference).
@@ -82,10 +84,10 @@ class RankReference {
   RankExchange& x_;
   const Solid* voxels_;
   PhaseCallback on_phase_;
-  std::optional<ReferenceSolid> tet_solid_;  // whole, or this rank's part
+  std::optional<ReferenceSolid> tet_solid_;  // whole
   std::optional<RegionSolid> region_solid_;  // whole, with regions
-  const Solid* solid_ = nullptr;             // tet_solid_ or the voxels
-  bool parts_ = false;                       // solid_ is tet_solid_, a part
+  const Solid* solid_ = nullptr;             // one of them, or the voxels
+  std::optional<ReferenceParts> parts_;      // on ranks: this rank's parts (no solid_ then)
   AnswerBook book_;                          // what the ranks answered of this level's questions
   QuestionCount questions_;
   std::optional<TriangleIndex> faces_;

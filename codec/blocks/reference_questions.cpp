@@ -6,34 +6,58 @@
 
 namespace dtm {
 
+int ReferenceParts::answer4(const Point4& p) const {
+  for (size_t r = 0; r < regions.size(); ++r) {
+    if (!regions[r]) continue;
+    switch (regions[r]->answer4(p)) {
+      case ReferenceSolid::Answer::kInside:
+        return static_cast<int>(r + 1);
+      case ReferenceSolid::Answer::kOutside:
+        continue;
+      case ReferenceSolid::Answer::kUnknown:
+        // (A higher region's answer would not do: this one may hold p.)
+        return -1;
+    }
+  }
+  return 0;
+}
+
+uint8_t ReferenceParts::region_here4(const Point4& p) const {
+  // A region holds p when one rank knows it does or holds a cell holding
+  // it (a part that knows is right; one that does not holds no such cell
+  // unless the whole's region holds p).
+  for (size_t r = 0; r < regions.size(); ++r) {
+    if (!regions[r]) continue;
+    const ReferenceSolid::Answer a = regions[r]->answer4(p);
+    if (a == ReferenceSolid::Answer::kInside ||
+        (a == ReferenceSolid::Answer::kUnknown && regions[r]->holds4(p)))
+      return static_cast<uint8_t>(r + 1);
+  }
+  return 0;
+}
+
 int AnswerBook::find(const Point4& p) const {
   const auto it = std::lower_bound(answers_.begin(), answers_.end(), p,
                                    [](const auto& a, const Point4& q) { return a.first < q; });
   return it != answers_.end() && it->first == p ? it->second : -1;
 }
 
-void AnswerBook::add(std::span<const Point4> points, std::span<const uint8_t> inside) {
+void AnswerBook::add(std::span<const Point4> points, std::span<const uint8_t> regions) {
   const size_t before = answers_.size();
-  for (size_t i = 0; i < points.size(); ++i) answers_.emplace_back(points[i], inside[i]);
+  for (size_t i = 0; i < points.size(); ++i) answers_.emplace_back(points[i], regions[i]);
   std::inplace_merge(answers_.begin(), answers_.begin() + static_cast<std::ptrdiff_t>(before),
                      answers_.end());
 }
 
-bool AskingSolid::contains_point4(const std::array<int64_t, 3>& p) const {
-  switch (part_.answer4(p)) {
-    case ReferenceSolid::Answer::kInside:
-      return true;
-    case ReferenceSolid::Answer::kOutside:
-      return false;
-    case ReferenceSolid::Answer::kUnknown:
-      break;
-  }
+uint8_t AskingSolid::region_point4(const std::array<int64_t, 3>& p) const {
+  const int here = parts_.answer4(p);
+  if (here >= 0) return static_cast<uint8_t>(here);
   int known = book_.find(p);
   if (known < 0) known = asked_.find(p);
-  if (known >= 0) return known == 1;
+  if (known >= 0) return static_cast<uint8_t>(known);
   const std::lock_guard<std::mutex> lock(mutex_);
   questions_.push_back(p);
-  return false;
+  return 0;
 }
 
 Status AskingSolid::settle() const {
@@ -66,29 +90,30 @@ std::vector<AnswerBook::Point4> get_points(BlockReader& r) {
   return points;
 }
 
-// A bit per point: whether one of the part's cells holds it.
-std::vector<uint8_t> held_bits(const ReferenceSolid& part, std::span<const AnswerBook::Point4> points) {
-  std::vector<uint8_t> bits((points.size() + 7) / 8, 0);
-  for (size_t i = 0; i < points.size(); ++i)
-    if (part.holds4(points[i])) bits[i / 8] |= static_cast<uint8_t>(1u << (i % 8));
-  return bits;
+// A byte per point: the lowest region this rank finds holding it.
+std::vector<uint8_t> regions_here(const ReferenceParts& parts, std::span<const AnswerBook::Point4> points) {
+  std::vector<uint8_t> regions(points.size(), 0);
+  for (size_t i = 0; i < points.size(); ++i) regions[i] = parts.region_here4(points[i]);
+  return regions;
 }
 
-// Every rank's bits (of `n` points) OR-ed: a byte per point.
-std::vector<uint8_t> or_bits(std::span<const std::vector<uint8_t>> ranks, size_t n) {
-  std::vector<uint8_t> inside(n, 0);
-  for (const std::vector<uint8_t>& bits : ranks) {
-    if (bits.size() < (n + 7) / 8) throw std::runtime_error("a rank's answers are short");
-    for (size_t i = 0; i < n; ++i) inside[i] |= (bits[i / 8] >> (i % 8)) & 1;
+// Every rank's answers (of `n` points) together: per point the least
+// nonzero region, 0 where no rank found one.
+std::vector<uint8_t> least_regions(std::span<const std::vector<uint8_t>> ranks, size_t n) {
+  std::vector<uint8_t> least(n, 0);
+  for (const std::vector<uint8_t>& regions : ranks) {
+    if (regions.size() < n) throw std::runtime_error("a rank's answers are short");
+    for (size_t i = 0; i < n; ++i)
+      if (regions[i] != 0 && (least[i] == 0 || regions[i] < least[i])) least[i] = regions[i];
   }
-  return inside;
+  return least;
 }
 
 }  // namespace
 
-std::vector<uint8_t> answer_questions(const ReferenceSolid& part, std::span<const uint8_t> question) {
+std::vector<uint8_t> answer_questions(const ReferenceParts& parts, std::span<const uint8_t> question) {
   BlockReader r(question);
-  return held_bits(part, get_points(r));
+  return regions_here(parts, get_points(r));
 }
 
 bool AskingSolid::ask() const {
@@ -99,15 +124,15 @@ bool AskingSolid::ask() const {
   const std::vector<uint8_t> question = w.take();
   // The others' answers, and this rank's own in its place.
   std::vector<std::vector<uint8_t>> answers = ranks_->ask_others(question);
-  answers.at(static_cast<size_t>(ranks_->rank())) = held_bits(part_, q);
-  asked_.add(q, or_bits(answers, q.size()));
+  answers.at(static_cast<size_t>(ranks_->rank())) = regions_here(parts_, q);
+  asked_.add(q, least_regions(answers, q.size()));
   answered_ += q.size();
   questions_.clear();
   return true;
 }
 
 std::vector<std::vector<uint8_t>> run_blocks_asking(
-    const BlockPlan& plan, RankExchange& exchange, const ReferenceSolid& part, AnswerBook& book,
+    const BlockPlan& plan, RankExchange& exchange, const ReferenceParts& parts, AnswerBook& book,
     RankAnswers* ranks, const std::function<StatusOr<std::vector<uint8_t>>(size_t, const Solid&)>& work,
     Status& status, QuestionCount& count, int at_once) {
   std::vector<std::vector<uint8_t>> out(plan.blocks.size());
@@ -129,7 +154,7 @@ std::vector<std::vector<uint8_t>> run_blocks_asking(
             w.u8(kSkipped);
             return w.take();
           }
-          AskingSolid asking(part, book, ranks);
+          AskingSolid asking(parts, book, ranks);
           StatusOr<std::vector<uint8_t>> result = work(k, asking);
           // Work that asked ran on guesses: whatever it made (or the status
           // its settle() ended it with) is dropped.
@@ -167,13 +192,14 @@ std::vector<std::vector<uint8_t>> run_blocks_asking(
     first.back() = asked.size();
     if (asked.empty()) return out;
     count.questions += asked.size();
-    // Each rank: whether its own cells hold each point; OR-ed.
-    const std::vector<uint8_t> inside = or_bits(exchange.all_gather(held_bits(part, asked)), asked.size());
+    // Each rank: the lowest region it finds holding each point; the least.
+    const std::vector<uint8_t> region =
+        least_regions(exchange.all_gather(regions_here(parts, asked)), asked.size());
     // This rank keeps the answers to its own blocks' questions.
     std::vector<std::pair<AnswerBook::Point4, uint8_t>> mine;
     for (size_t k = 0; k < plan.blocks.size(); ++k)
       if (plan.rank[k] == exchange.rank())
-        for (size_t i = first[k]; i < first[k + 1]; ++i) mine.emplace_back(asked[i], inside[i]);
+        for (size_t i = first[k]; i < first[k + 1]; ++i) mine.emplace_back(asked[i], region[i]);
     std::sort(mine.begin(), mine.end());
     mine.erase(std::unique(mine.begin(), mine.end(),
                            [](const auto& a, const auto& b) { return a.first == b.first; }),

@@ -69,7 +69,8 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
       out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base, {}, &out.tet_regions);
       if (!out.tet_regions.empty()) out.region_source = "region attributes (TetGen -A)";
     } else {
-      if (a > 0) out.left_out.push_back(ele.string() + "'s region attributes (TetGen -A): not read by ranks");
+      // (Its tetrahedra and their regions are read by the ranks in parts.)
+      if (a > 0) out.region_source = "region attributes (TetGen -A)";
       out.tetgen_ele = ele.string(), out.tetgen_index_base = node.index_base;
     }
   }

@@ -153,8 +153,7 @@ using Tet = std::array<uint32_t, 4>;
 std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t num_points, int index_base,
                                               const std::function<bool(const std::array<uint32_t, 4>&)>& keep,
                                               std::vector<int32_t>* regions, int part, int parts,
-                                              ElePart& counts,
-                                              const std::function<void(std::span<const Tet>)>& take = {}) {
+                                              ElePart& counts, const EleBlock& take = {}) {
   TextRecords r(path);
   TextRecords::Fields tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected an .ele header");
@@ -178,8 +177,10 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
   std::error_code size_error;
   const uint64_t bytes = std::filesystem::file_size(path, size_error);
   if (!keep) out.reserve(std::min<uint64_t>(count, size_error ? uint64_t{1} << 20 : bytes / 10));
-  const bool with_regions = regions && attributes > 0 && !keep;
+  // (With `take`, the block's regions go with its tetrahedra.)
+  const bool with_regions = regions && attributes > 0 && (!keep || take);
   std::vector<Tet> block;                     // with `keep`: the block's tetrahedra, before the choice
+  std::vector<int32_t> block_regions;         // with `take`: theirs
   constexpr size_t kPiece = size_t{1} << 17;  // tetrahedra: 2 MiB
   std::vector<std::vector<Tet>> pieces;
   const size_t fields = 5 + static_cast<size_t>(attributes);
@@ -194,6 +195,7 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
         if (keep) {
           block.resize(n);
           at = block.data();
+          if (with_regions) block_regions.resize(n), region_at = block_regions.data();
           return;
         }
         out.resize(out.size() + n);
@@ -223,7 +225,7 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
       },
       [&] {
         if (take)
-          take(block);
+          take(block, block_regions);
         else if (keep)
           for (const Tet& t : block)
             if (keep(t)) {
@@ -260,11 +262,14 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
 }
 
 ElePart read_tetgen_ele_part(const std::string& path, size_t num_points, int index_base, int part, int parts,
-                             const std::function<void(std::span<const Tet>)>& take) {
+                             bool regions, const EleBlock& take) {
   ElePart counts;
-  // (keep: the block's tetrahedra held apart, which `take` then gets.)
+  // (keep: the block's tetrahedra held apart, which `take` then gets; the
+  // vector only says that regions are wanted.)
+  std::vector<int32_t> wanted;
   read_ele(
-      path, num_points, index_base, [](const Tet&) { return false; }, nullptr, part, parts, counts, take);
+      path, num_points, index_base, [](const Tet&) { return false; }, regions ? &wanted : nullptr, part,
+      parts, counts, take);
   return counts;
 }
 

@@ -62,15 +62,17 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
 
 // Part `part` of `parts` of an .ele's records (an MPI rank's range of the
 // file, TextRecords::keep_to_part()): passed to `take` a block at a time,
-// in file order, on the calling thread; errors named by their line in the
-// whole file.
+// in file order, on the calling thread, with each one's region (its first
+// attribute, TetGen -A; none when the file has no attributes or `regions`
+// is false); errors named by their line in the whole file.
 // Returns the header's count of tetrahedra and the part's; the parts'
 // counts must add up to the header's (the caller checks, having them all).
 struct ElePart {
   uint64_t header_count = 0;
   uint64_t records = 0;
 };
+using EleBlock = std::function<void(std::span<const std::array<uint32_t, 4>>, std::span<const int32_t>)>;
 ElePart read_tetgen_ele_part(const std::string& path, size_t num_points, int index_base, int part, int parts,
-                             const std::function<void(std::span<const std::array<uint32_t, 4>>)>& take);
+                             bool regions, const EleBlock& take);
 
 }  // namespace dtm
