@@ -130,22 +130,16 @@ expect_error sequence "sequence.node:$bad: point index 5 out of sequence"
 # bytes as one process, with the same count of tetrahedra per region said.
 # A TetGen .ele's region attribute (TetGen -A: bunny_10k cut in two at
 # x = 0), read in parts and sent with each tetrahedron, and a gmsh part of
-# two materials (each rank reading the file, keeping its share).
+# two materials made here (each rank reading the file, keeping its share).
 cp "$data/bunny_10k.node" "$work/halves.node"
 awk 'FNR == NR { if ($1 ~ /^#/ || NF < 4) next; if (!h++) next; x[$1] = $2; next }
      $1 ~ /^#/ || NF == 0 { next }
      !e++ { print $1, $2, 1; next }
      { print $0, (x[$2] + x[$3] + x[$4] + x[$5] > 0 ? 2 : 1) }' "$work/halves.node" "$data/bunny_10k.ele" > "$work/halves.ele"
-cat > "$work/part.geo" <<'GEO'
-SetFactory("OpenCASCADE");
-Box(1) = {0, 0, 0, 1, 1, 1};
-Box(2) = {1, 0, 0, 1, 1, 1};
-BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }
-Physical Volume("aluminium", 1) = {1};
-Physical Volume("steel", 2) = {2};
-Mesh.MeshSizeMax = 0.12;
-GEO
-gmsh "$work/part.geo" -3 -format msh41 -o "$work/part.msh" >/dev/null
+# (The repository's part, data/two_materials.geo: an aluminium block with
+# a steel pin, coarse.)
+geo="$(cd "$(dirname "$0")/.." && pwd)/data/two_materials.geo"
+gmsh "$geo" -3 -clscale 0.5 -format msh41 -o "$work/part.msh" >/dev/null
 for input in halves.node part.msh; do
   "$meshenc" "$work/$input" "${options[@]}" -o "$work/one_$input.dtm" > "$work/said1"
   grep -q "regions (.*), 2: " "$work/said1" || { echo "$input: no regions:"; cat "$work/said1"; failed=1; }

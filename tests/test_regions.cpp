@@ -128,6 +128,16 @@ class RegionLocator {
   std::vector<std::vector<uint32_t>> buckets_;
 };
 
+// Bricks of 64 points, levels built in blocks of `block_points`: many
+// chunks and seams for a few thousand points.
+EncodeOptions small_bricks(uint64_t block_points) {
+  EncodeOptions options;
+  options.bricks = true;
+  options.brick_points = 64;
+  options.block_points = block_points;
+  return options;
+}
+
 struct Encoded {
   std::vector<uint8_t> bytes;
   EncodeReport report;
@@ -239,10 +249,7 @@ TEST(Regions, EveryLevelsCellsTakeTheRegionHoldingTheirCentroids) {
 // cells' regions, decoded whole, by region and in pieces alike.
 TEST(Regions, BrickedLevelsCarryThemInEveryChunk) {
   const RegionInput in = three_materials(2500, 11);
-  EncodeOptions options;
-  options.bricks = true;
-  options.brick_points = 64;
-  options.block_points = 600;
+  EncodeOptions options = small_bricks(600);
   const Encoded e = encode_regions(in, {{7, "steel"}}, options);
   ASSERT_FALSE(e.bytes.empty());
   EXPECT_EQ(e.bytes[8], kVersionMajorBrickedRegions);
@@ -332,10 +339,7 @@ TEST(Regions, WithoutRegionsTheStreamIsAsBefore) {
 // their exchanges, write the same bytes.
 TEST(Regions, BrickedStreamsAreTheSameBytesOnAnyNumberOfRanks) {
   const RegionInput in = three_materials(2500, 11);
-  EncodeOptions options;
-  options.bricks = true;
-  options.brick_points = 64;
-  options.block_points = 600;
+  EncodeOptions options = small_bricks(600);
   options.cell_hashes = true;
   const std::map<int32_t, std::string> names = {{7, "steel"}};
   const Encoded alone = encode_regions(in, names, options);
@@ -531,10 +535,7 @@ TEST(Regions, DamagedChunkSectionsGiveRegionsInTheTableOrAnError) {
 // chunk is caught by its checksum.
 TEST(Regions, BrickedStreamsEndCleanlyWhenCutOrDamaged) {
   const RegionInput in = three_materials(700, 9);
-  EncodeOptions options;
-  options.bricks = true;
-  options.brick_points = 64;
-  options.block_points = 400;
+  EncodeOptions options = small_bricks(400);
   const Encoded e = encode_regions(in, {{3, "a"}, {7, "b"}}, options);
   ASSERT_FALSE(e.bytes.empty());
   for (size_t len = 0; len < e.bytes.size(); len += (len < 300 ? 3 : 53)) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <span>
 
 #include "common/parallel_for.h"
 #include "render_util.h"
@@ -218,21 +219,19 @@ class LegacyReader {
       }
       const auto n = static_cast<size_t>(f.components);
       if (n == 1 && is_integer(f.type)) {
-        std::vector<int32_t>& into = out_.tet_arrays[f.name];
-        for (size_t c : tet_cells) {
-          const double v = f.values[c];
-          if (!(v >= INT32_MIN && v <= INT32_MAX))
-            throw FormatError(c_.path() + ": CELL_DATA '" + f.name + "': a value out of the 32-bit range");
-          into.push_back(static_cast<int32_t>(v));
-        }
+        // The array on the tetrahedra (their regions) and on the triangles
+        // (the faces' tags), each value a 32-bit integer.
+        const auto labels = [&](std::span<const size_t> of, std::vector<int32_t>& into) {
+          for (size_t c : of) {
+            const double v = f.values[c];
+            if (!(v >= INT32_MIN && v <= INT32_MAX))
+              throw FormatError(c_.path() + ": CELL_DATA '" + f.name + "': a value out of the 32-bit range");
+            into.push_back(static_cast<int32_t>(v));
+          }
+        };
+        labels(tet_cells, out_.tet_arrays[f.name]);
         out_.tet_array_types[f.name] = f.type;
-        std::vector<int32_t>& on_triangles = out_.triangle_arrays[f.name];
-        for (size_t c : triangle_cells) {
-          const double v = f.values[c];
-          if (!(v >= INT32_MIN && v <= INT32_MAX))
-            throw FormatError(c_.path() + ": CELL_DATA '" + f.name + "': a value out of the 32-bit range");
-          on_triangles.push_back(static_cast<int32_t>(v));
-        }
+        labels(triangle_cells, out_.triangle_arrays[f.name]);
         continue;
       }
       VertexField& kept = out_.cell_fields.emplace_back();
