@@ -15,6 +15,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <set>
 #include <thread>
 #include <vector>
 
@@ -777,6 +778,127 @@ TEST(Faces, EveryLevelsSurfaceCarriesTheTagsOfItsPatches) {
                   .ok());
   EXPECT_TRUE(decoder.finish().ok());
   EXPECT_EQ(levels, static_cast<int>(r.levels.size()));
+}
+
+// meshdec --box of a stream that is not bricked: the level decoded whole,
+// the box cut from it with what it carries. Every cell of the whole level
+// meeting the box is there with its region and cell data, every tagged face
+// of those cells with its tag, each vertex with its number in the whole
+// level and its `boundary`; nothing else.
+TEST(Faces, ABoxOfAWholeStreamKeepsTheTagsCellDataAndBoundary) {
+  const RegionInput in = three_materials(1500, 5);
+  const TaggedFaces tagged = tag_sides(in);
+  std::vector<double> load(in.tets.size());
+  for (size_t t = 0; t < load.size(); ++t) load[t] = static_cast<double>(t % 97) + 0.25;
+  const std::vector<EncodeInput::Field> cell_fields = {{"load", ValueType::kF64, 1, load}};
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  input.tetrahedron_regions = in.labels;
+  input.tagged_faces = tagged.faces;
+  input.face_tags = tagged.tags;
+  input.cell_fields = cell_fields;
+  EncodeOptions options;
+  options.dmax = 8;
+  const auto encoded = encode(input, options);
+  ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+  const std::string dir = ::testing::TempDir() + "/whole_box";
+  std::filesystem::create_directories(dir);
+  const std::string stream = dir + "/s.dtm", box = dir + "/box.vtu";
+  std::ofstream(stream, std::ios::binary)
+      .write(reinterpret_cast<const char*>(encoded->bytes.data()),
+             static_cast<std::streamsize>(encoded->bytes.size()));
+  // The lower half in x, in the input's units.
+  const auto r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " -o " + box +
+                                   " --box -1 -1 -1 500 2000 2000");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("not a bricked stream: decoded whole"), std::string::npos) << r.output;
+
+  ProgressiveDecoder decoder;
+  ASSERT_TRUE(decoder.feed(encoded->bytes).ok());
+  ASSERT_TRUE(decoder.finish().ok());
+  const OutputMesh whole = decoded_mesh(decoder, "whole");
+  ASSERT_FALSE(whole.faces.empty());
+  ASSERT_EQ(whole.cell_fields.size(), 1u);
+  using Key3 = std::array<std::array<double, 3>, 3>;
+  using Key4 = std::array<std::array<double, 3>, 4>;
+  const auto at = [](const Grid& g, const GridPoint& p) {
+    const InputPoint q = g.to_input(p);
+    return std::array<double, 3>{q.x, q.y, q.z};
+  };
+  std::map<Key4, std::pair<int32_t, uint64_t>> want_cells;  // region, load bits
+  std::set<std::array<uint32_t, 3>> sides;
+  for (size_t c = 0; c < whole.cells.size(); ++c) {
+    Key4 k;
+    bool meets = false;
+    for (size_t i = 0; i < 4; ++i) {
+      k[i] = at(whole.grid, whole.points[whole.cells[c][i]]);
+      meets = meets || k[i][0] <= 500;
+    }
+    if (!meets) continue;
+    std::sort(k.begin(), k.end());
+    want_cells[k] = {whole.region[c], whole.cell_fields[0].bits[c]};
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<uint32_t, 3> f{};
+      for (int i = 0, j = 0; i < 4; ++i)
+        if (i != skip) f[static_cast<size_t>(j++)] = whole.cells[c][static_cast<size_t>(i)];
+      std::sort(f.begin(), f.end());
+      sides.insert(f);
+    }
+  }
+  std::map<Key3, int32_t> want_faces;
+  for (size_t f = 0; f < whole.faces.size(); ++f) {
+    std::array<uint32_t, 3> s3 = whole.faces[f];
+    std::sort(s3.begin(), s3.end());
+    if (!sides.contains(s3)) continue;
+    Key3 k;
+    for (size_t i = 0; i < 3; ++i) k[i] = at(whole.grid, whole.points[whole.faces[f][i]]);
+    std::sort(k.begin(), k.end());
+    want_faces[k] = whole.face_tags[f];
+  }
+  ASSERT_GT(want_faces.size(), 10u);
+  ASSERT_LT(want_cells.size(), whole.cells.size());
+
+  InputMesh got = read_input(box);
+  choose_regions(got, "", box);  // the integer cell array "region", as meshenc takes it
+  const auto point = [&](uint32_t v) {
+    return std::array<double, 3>{got.points[v].x, got.points[v].y, got.points[v].z};
+  };
+  ASSERT_EQ(got.tets.size(), want_cells.size());
+  ASSERT_EQ(got.tet_regions.size(), got.tets.size());
+  ASSERT_EQ(got.cell_fields.size(), 1u);
+  for (size_t c = 0; c < got.tets.size(); ++c) {
+    Key4 k;
+    for (size_t i = 0; i < 4; ++i) k[i] = point(got.tets[c][i]);
+    std::sort(k.begin(), k.end());
+    const auto it = want_cells.find(k);
+    ASSERT_NE(it, want_cells.end()) << c;
+    EXPECT_EQ(got.tet_regions[c], it->second.first) << c;
+    EXPECT_EQ(bits_of(got.cell_fields[0].values[c], ValueType::kF64), it->second.second) << c;
+  }
+  ASSERT_EQ(got.tagged_faces.size(), want_faces.size());
+  for (size_t f = 0; f < got.tagged_faces.size(); ++f) {
+    Key3 k;
+    for (size_t i = 0; i < 3; ++i) k[i] = point(got.tagged_faces[f][i]);
+    std::sort(k.begin(), k.end());
+    const auto it = want_faces.find(k);
+    ASSERT_NE(it, want_faces.end()) << f;
+    EXPECT_EQ(got.face_tags[f], it->second) << f;
+  }
+  // vertex_id names each vertex in the whole level; boundary is the level's.
+  const VertexField* ids = nullptr;
+  const VertexField* boundary = nullptr;
+  for (const VertexField& f : got.fields) {
+    if (f.name == "vertex_id") ids = &f;
+    if (f.name == "boundary") boundary = &f;
+  }
+  ASSERT_TRUE(ids && boundary);
+  for (size_t v = 0; v < got.points.size(); ++v) {
+    const auto w = static_cast<uint32_t>(ids->values[v]);
+    ASSERT_LT(w, whole.points.size());
+    EXPECT_EQ(point(static_cast<uint32_t>(v)), at(whole.grid, whole.points[w])) << v;
+    EXPECT_EQ(boundary->values[v], whole.boundary[w]) << v;
+  }
 }
 
 TEST(Faces, DamagedSectionsGiveTagsInTheTableOrAnError) {

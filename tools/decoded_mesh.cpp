@@ -1,5 +1,7 @@
 #include "tools/decoded_mesh.h"
 
+#include <algorithm>
+#include <set>
 #include <stdexcept>
 
 #include "common/parallel_for.h"
@@ -98,6 +100,72 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
     if (!numbering.empty()) renumber(mesh, numbering);
   }
   return mesh;
+}
+
+OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
+  constexpr uint32_t kNone = UINT32_MAX;
+  OutputMesh out;
+  out.grid = whole.grid;
+  out.region_names = whole.region_names;
+  out.face_tag_names = whole.face_tag_names;
+  std::vector<uint32_t> index(whole.points.size(), kNone);
+  std::vector<size_t> cells;
+  for (size_t c = 0; c < whole.cells.size(); ++c) {
+    GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
+    for (uint32_t v : whole.cells[c]) {
+      const GridPoint& p = whole.points[v];
+      const int64_t x[3] = {p.x, p.y, p.z};
+      for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], x[a]), b.hi[a] = std::max(b.hi[a], x[a]);
+    }
+    if (!b.meets(box)) continue;
+    cells.push_back(c);
+    for (uint32_t v : whole.cells[c]) index[v] = 0;
+  }
+  OutputField ids{"vertex_id", ScalarType::kUInt32, 1, {}};
+  for (uint32_t v = 0; v < whole.points.size(); ++v) {
+    if (index[v] == kNone) continue;
+    index[v] = static_cast<uint32_t>(out.points.size());
+    out.points.push_back(whole.points[v]);
+    ids.bits.push_back(v);
+    if (!whole.level.empty()) out.level.push_back(whole.level[v]);
+    if (!whole.boundary.empty()) out.boundary.push_back(whole.boundary[v]);
+  }
+  // Rows `rows` of a field of `count` rows.
+  const auto rows_of = [](const OutputField& f, const auto& rows) {
+    OutputField kept{f.name, f.type, f.components, {}};
+    const auto n = static_cast<size_t>(f.components);
+    for (const size_t r : rows)
+      kept.bits.insert(kept.bits.end(), f.bits.begin() + static_cast<std::ptrdiff_t>(r * n),
+                       f.bits.begin() + static_cast<std::ptrdiff_t>((r + 1) * n));
+    return kept;
+  };
+  std::vector<size_t> vertices;
+  for (const uint64_t v : ids.bits) vertices.push_back(static_cast<size_t>(v));
+  out.fields.push_back(std::move(ids));
+  for (const OutputField& f : whole.fields) out.fields.push_back(rows_of(f, vertices));
+  std::set<std::array<uint32_t, 3>> faces;  // the kept cells' faces, corners ascending (whole's numbers)
+  for (const size_t c : cells) {
+    const std::array<uint32_t, 4>& t = whole.cells[c];
+    out.cells.push_back({index[t[0]], index[t[1]], index[t[2]], index[t[3]]});
+    if (!whole.region.empty()) out.region.push_back(whole.region[c]);
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<uint32_t, 3> f{};
+      for (int k = 0, j = 0; k < 4; ++k)
+        if (k != skip) f[static_cast<size_t>(j++)] = t[static_cast<size_t>(k)];
+      std::sort(f.begin(), f.end());
+      faces.insert(f);
+    }
+  }
+  for (const OutputField& f : whole.cell_fields) out.cell_fields.push_back(rows_of(f, cells));
+  for (size_t i = 0; i < whole.faces.size(); ++i) {
+    std::array<uint32_t, 3> key = whole.faces[i];
+    std::sort(key.begin(), key.end());
+    if (!faces.contains(key)) continue;
+    const std::array<uint32_t, 3>& f = whole.faces[i];
+    out.faces.push_back({index[f[0]], index[f[1]], index[f[2]]});
+    out.face_tags.push_back(whole.face_tags[i]);
+  }
+  return out;
 }
 
 }  // namespace dtm

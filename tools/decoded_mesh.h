@@ -18,4 +18,11 @@ namespace dtm {
 // level's triangulation (a hostile stream).
 OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input);
 
+// The cells of `whole` whose bounding box (of grid points) meets `box`,
+// with what the level carries on them: their vertices in the whole's order
+// with each one's number there (point data vertex_id, first), its fields,
+// level and `boundary` (the level's own surface), the cells' regions and
+// cell data, and the tagged faces of those cells.
+OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box);
+
 }  // namespace dtm

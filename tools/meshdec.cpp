@@ -319,6 +319,28 @@ int run_region(const Command& c, dtm::MeshFormat format) {
     throw std::invalid_argument("--box: each of X0 Y0 Z0 must be at most X1 Y1 Z1");
   dtm::DecoderOptions options;
   options.max_vertices = c.max_vertices;
+  if (header.level_count > 0 && !(header.flags & dtm::kFlagBricks)) {
+    // Not bricked: the level is decoded whole, as meshdec writes it, and
+    // the box cut from it with all it carries (tagged faces, cell data,
+    // `boundary`).
+    dtm::PhaseDisplay display(!c.quiet && isatty(STDERR_FILENO), c.verbose && !c.quiet);
+    options.stop_after_level = c.level;
+    options.on_phase = [&](std::string_view phase) { display.start(phase); };
+    dtm::ProgressiveDecoder decoder(options);
+    Verifier verifier;
+    decode(c, decoder, verifier, display);
+    const dtm::OutputMesh mesh =
+        dtm::cut_to_box(dtm::decoded_mesh(decoder, c.input), dtm::grid_box_of(header.grid, lo, hi));
+    display.start("writing " + c.output);
+    write_output(c, mesh, format);
+    display.finish();
+    if (!c.quiet)
+      std::fprintf(
+          stderr,
+          "meshdec: level %d, box: %zu vertices, %zu tetrahedra (not a bricked stream: decoded whole)\n",
+          decoder.finest_level(), mesh.points.size(), mesh.cells.size());
+    return 0;
+  }
   const int level = std::max(c.level, 0);
   const auto region = dtm::decode_region(*source, dtm::grid_box_of(header.grid, lo, hi), level, options);
   if (!region.ok()) throw std::runtime_error(c.input + ": " + region.status().message());
