@@ -101,9 +101,10 @@ HierarchyOptions hierarchy_options(const EncodeOptions& o, const Grid& grid, dou
 Status check_options(const EncodeOptions& o) {
   if (o.qbits != 0 && (o.qbits < kMinQBits || o.qbits > kMaxQBits))
     return invalid_input("qbits must be in [1, 24], got " + std::to_string(o.qbits));
-  if (!(o.scale > 0)) return invalid_input("the scale must be positive");
-  if (o.box < 0) return invalid_input("the box must be positive");
-  if (o.dmax < 0) return invalid_input("D_max must be positive");
+  if (!(o.scale > 0) || !std::isfinite(o.scale))
+    return invalid_input("the scale must be positive and finite");
+  if (!(o.box >= 0) || !std::isfinite(o.box)) return invalid_input("the box must be positive and finite");
+  if (!(o.dmax >= 0) || !std::isfinite(o.dmax)) return invalid_input("D_max must be positive and finite");
   if (o.alpha == AlphaKind::kFixed && !(o.fixed_alpha > 0))
     return invalid_input("a fixed alpha must be positive");
   if (o.max_levels < 0) return invalid_input("the level count must not be negative");
@@ -372,6 +373,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   EncodedMesh out;
   EncodeReport& report = out.report;
   report.grid = q.grid;
+  report.stream_grid = plan.stream_grid;
   report.scale = plan.scale;
   report.dmax = plan.dmax;
   report.lattice = input.lattice != nullptr;

@@ -230,7 +230,8 @@ struct LevelReport {
 };
 
 struct EncodeReport {
-  Grid grid;             // origin and step in scaled input units (the stream's: EncodePlan::stream_grid)
+  Grid grid;             // origin and step in scaled input units
+  Grid stream_grid;      // the same in the input's units: the stream's (EncodePlan::stream_grid)
   double scale = 1.0;    // what the input coordinates were multiplied by
   double dmax = 0;       // scaled input units
   bool lattice = false;  // the input's lattice is the grid: lossless

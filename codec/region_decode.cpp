@@ -59,9 +59,15 @@ Status FileSource::read(uint64_t offset, std::span<uint8_t> out) {
 GridBox grid_box_of(const Grid& grid, const std::array<double, 3>& lo, const std::array<double, 3>& hi) {
   GridBox b;
   const double top = std::ldexp(1.0, grid.qbits);
+  // A corner a rounding away from a grid point (a decoded vertex's own
+  // coordinate, origin + k step in doubles, divided back) is that point.
+  const auto on_grid = [](double t, double (*round_away)(double)) {
+    const double nearest = std::nearbyint(t);
+    return std::abs(t - nearest) <= 1e-6 ? nearest : round_away(t);
+  };
   for (int a = 0; a < 3; ++a) {
-    const double l = std::ceil((lo[a] - grid.origin[a]) / grid.step);
-    const double h = std::floor((hi[a] - grid.origin[a]) / grid.step);
+    const double l = on_grid((lo[a] - grid.origin[a]) / grid.step, std::ceil);
+    const double h = on_grid((hi[a] - grid.origin[a]) / grid.step, std::floor);
     b.lo[a] = static_cast<int64_t>(std::clamp(std::isnan(l) ? top : l, -1.0, top));
     b.hi[a] = static_cast<int64_t>(std::clamp(std::isnan(h) ? -1.0 : h, -1.0, top));
   }

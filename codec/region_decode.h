@@ -117,7 +117,9 @@ StatusOr<RegionMesh> decode_piece(ByteSource& source, int level, int piece, int 
 RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box);
 
 // The grid points a box of the input's units holds: a cell's bounding box
-// of grid points meets the world box exactly when it meets this one.
+// of grid points meets the world box exactly when it meets this one. A
+// corner within 1e-6 steps of a grid point (a decoded vertex's coordinate,
+// origin + k step in doubles) is on it.
 GridBox grid_box_of(const Grid& grid, const std::array<double, 3>& lo, const std::array<double, 3>& hi);
 
 }  // namespace dtm

@@ -104,5 +104,12 @@ grep -q "bricked stream" "$work/err" || { cat "$work/err"; failed=1; }
 # Every rank met that error alike: it is printed once, not once a rank.
 [ "$(grep -c "meshdec: error" "$work/err")" -eq 1 ] || { echo "the error printed more than once:"; cat "$work/err"; failed=1; }
 [ -z "$(ls "$work/plain")" ] || { echo "files left behind: $(ls "$work/plain")"; failed=1; }
+# Under mpirun an output other than a .pvtu: refused (every rank would
+# decode the level and write the same file), said once, no file.
+if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshdec" "$work/plain.dtm" -o "$work/plain/p.vtu" 2>"$work/err"; then
+  echo "mpirun meshdec -o p.vtu decoded"; failed=1
+fi
+grep -q -- "-o X.pvtu" "$work/err" || { cat "$work/err"; failed=1; }
+[ -z "$(ls "$work/plain")" ] || { echo "files left behind: $(ls "$work/plain")"; failed=1; }
 [ $failed -eq 0 ] && echo "mpi_pieces: ok"
 exit $failed

@@ -692,6 +692,28 @@ TEST(BrickedStream, KeepsTheInputsUnitsWhateverTheBoxSays) {
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(decoded[i], input[i], grid.step * 0.5 * (1 + 1e-9)) << i;
 }
 
+// A box whose corners are decoded vertices' coordinates holds those
+// vertices, whatever the rounding of origin + k step divided back.
+TEST(BrickedStream, ABoxCornerOnADecodedVertexHoldsIt) {
+  Grid grid;
+  grid.qbits = 14;
+  grid.origin = {-4.958475, -0.003149, -3.729833};
+  grid.step = 9.90733 / 16383;
+  for (int64_t k = 0; k < 16384; k += 7) {
+    const InputPoint p = grid.to_input({static_cast<int32_t>(k), static_cast<int32_t>(16383 - k), 5});
+    const GridBox b = grid_box_of(grid, {p.x, p.y, p.z}, {p.x, p.y, p.z});
+    ASSERT_EQ(b.lo[0], k);
+    ASSERT_EQ(b.hi[0], k);
+    ASSERT_EQ(b.lo[1], 16383 - k);
+    ASSERT_EQ(b.hi[1], 16383 - k);
+    ASSERT_EQ(b.lo[2], 5);
+  }
+  // Between grid points: the points inside only.
+  const GridBox between =
+      grid_box_of(grid, {grid.origin[0] + 2.5 * grid.step, 0, 0}, {grid.origin[0] + 2.6 * grid.step, 1, 1});
+  EXPECT_GT(between.lo[0], between.hi[0]);
+}
+
 TEST(BrickedStream, RegionOfAStreamNotBrickedIsDecodedWhole) {
   const InputMesh in = read_input(test::data_path("bunny_10k.node"));
   EncodeInput input;

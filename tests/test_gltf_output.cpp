@@ -10,12 +10,14 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "format_test_support.h"
 #include "test_support.h"
+#include "tools/formats/input.h"
 
 namespace dtm {
 namespace {
@@ -206,9 +208,14 @@ TEST_F(GltfOutput, PlainGlbHoldsTheSurfaceExactlyWithOutwardUnitNormals) {
   const std::vector<uint32_t> index = indices(glb, primitive["indices"].get<int>());
   ASSERT_EQ(positions.size(), 3 * surface.points.size());
   ASSERT_EQ(index.size(), 3 * surface.triangles.size());
-  // The same points, in the same order, as float32 of the decoded doubles.
+  // The same points, in the same order, as float32 of the decoded doubles
+  // less the node's translation (the surface's least corner).
+  const json& node = glb.gltf["nodes"][0];
+  ASSERT_TRUE(node.contains("translation"));
+  const std::array<double, 3> anchor = node["translation"].get<std::array<double, 3>>();
   for (size_t v = 0; v < surface.points.size(); ++v)
-    for (int k = 0; k < 3; ++k) ASSERT_EQ(positions[3 * v + k], static_cast<float>(surface.points[v][k]));
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(positions[3 * v + k], static_cast<float>(surface.points[v][k] - anchor[k]));
   // Unit normals; each triangle's own normal agrees with its corners' (the
   // surface is oriented outward: BoundarySurfaceIsClosedAndOrientedOutward).
   size_t agreeing = 0;
@@ -226,6 +233,46 @@ TEST_F(GltfOutput, PlainGlbHoldsTheSurfaceExactlyWithOutwardUnitNormals) {
   for (size_t v = 0; v < surface.points.size(); ++v)
     EXPECT_NEAR(std::hypot(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]), 1.0, 1e-5);
   EXPECT_GT(agreeing, 0.97 * surface.triangles.size());
+}
+
+// Far from the origin float32 cannot hold a position to the grid's step
+// (the bunny moved by 2.5e6: float32 steps 0.25 there). A glTF file holds
+// offsets from its node's translation, within half a grid step; a .drc
+// holds positions whole, and meshdec's stated bound says what float32 adds.
+TEST_F(GltfOutput, FarFromTheOriginGlbKeepsTheStepAndDrcSaysWhatItLoses) {
+  const std::string node = dir_ + "/far.node", far = dir_ + "/far.dtm";
+  {
+    const InputMesh in = read_input(test::data_path("bunny_10k.node"));
+    std::ofstream f(node);
+    f.precision(17);
+    f << in.points.size() << " 3 0 0\n";
+    for (size_t i = 0; i < in.points.size(); ++i)
+      f << i << " " << in.points[i].x + 1e6 << " " << in.points[i].y - 2.5e6 << " " << in.points[i].z + 37
+        << "\n";
+  }
+  auto r = test::run_command(std::string(DTM_MESHENC) + " " + node + " --box 256 --dmax 2 -q -o " + far);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string base = std::string(DTM_MESHDEC) + " " + far + " --level 1 ";
+  ASSERT_EQ(test::run_command(base + "-o " + dir_ + "/far.off").status, 0);
+  ASSERT_EQ(test::run_command(base + "--no-draco -o " + dir_ + "/far.glb").status, 0);
+  const Off surface = read_off(dir_ + "/far.off");
+  const Glb glb = read_glb(dir_ + "/far.glb");
+  const std::vector<float> positions =
+      floats(glb, glb.gltf["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>());
+  const std::array<double, 3> anchor = glb.gltf["nodes"][0]["translation"].get<std::array<double, 3>>();
+  ASSERT_EQ(positions.size(), 3 * surface.points.size());
+  double worst = 0;
+  for (size_t v = 0; v < surface.points.size(); ++v)
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(positions[3 * v + k] + anchor[k] - surface.points[v][k]));
+  const double step = 9.92 / 16383;  // the bunny's extent over the grid
+  EXPECT_LT(worst, step / 100);
+  r = test::run_command(base + "-o " + dir_ + "/far.drc");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("float32 so far from the origin"), std::string::npos) << r.output;
+  r = test::run_command(base + "-o " + dir_ + "/far_draco.glb");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find("float32 so far from the origin"), std::string::npos) << r.output;
 }
 
 TEST_F(GltfOutput, GltfWritesItsBinBesideIt) {

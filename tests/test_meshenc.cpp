@@ -251,6 +251,76 @@ TEST_F(Tools, TruncatedInputDecodesWhatItHolds) {
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/cut0.vtu"));
 }
 
+// A region or the pieces of a truncated stream, without --level: its
+// finest whole level, as the whole decode gives, and said so.
+TEST_F(Tools, ATruncatedStreamsBoxAndPiecesAreOfItsFinestWholeLevel) {
+  const std::string bricked = dir_ + "/bricked.dtm", cut = dir_ + "/bricked_cut.dtm";
+  CommandRun r = meshenc(test::data_path("bunny_10k.node") +
+                         " --box 256 --dmax 2 --bricks --brick-points 256 -q -o " + bricked);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const size_t size = std::filesystem::file_size(bricked);
+  ASSERT_EQ(run_command("head -c " + std::to_string(size - size / 6) + " " + bricked + " > " + cut).status,
+            0);
+  r = run_command(kMeshdec + " " + cut + " -o " + dir_ + "/cut_box.vtu --box -10 -10 -10 10 10 10");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("truncated"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("writing level 1"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir_ + "/cut_box.vtu"));
+  r = run_command(kMeshdec + " " + cut + " -o " + dir_ + "/cut_pieces.pvtu --pieces 2");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("level 1: 2 pieces"), std::string::npos) << r.output;
+  // Level 0 asked for: an error.
+  r = run_command(kMeshdec + " " + cut + " -o " + dir_ +
+                  "/cut_box0.vtu --box -10 -10 -10 10 10 10 --level 0");
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/cut_box0.vtu"));
+}
+
+// An output that cannot be written, or that is the input, is refused before
+// any work, the input left as it was.
+TEST_F(Tools, AnOutputThatCannotBeWrittenOrIsTheInputIsRefusedFirst) {
+  const std::string copy = dir_ + "/mine.node";
+  std::filesystem::copy_file(test::data_path("bunny_10k.node"), copy,
+                             std::filesystem::copy_options::overwrite_existing);
+  const std::string before = test::slurp(copy);
+  CommandRun r = meshenc(copy + " --no-reference -o " + copy);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("is the input"), std::string::npos) << r.output;
+  EXPECT_EQ(test::slurp(copy), before);
+  r = meshenc(copy + " --no-reference -o " + dir_ + "/no/such/folder/x.dtm");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("no folder"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("level"), std::string::npos) << "said after the work: " << r.output;
+  r = run_command(kMeshdec + " " + stream_ + " -o " + stream_);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("is the input"), std::string::npos) << r.output;
+  EXPECT_GT(std::filesystem::file_size(stream_), 1000u);
+  r = run_command(kMeshdec + " " + stream_ + " -o " + dir_ + "/no/such/folder/x.vtu");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("no folder"), std::string::npos) << r.output;
+}
+
+// A mesh meshdec wrote, encoded again: its point arrays level, boundary
+// and vertex_id are meshdec's own, made again by the decoder; they are
+// left out (and said so), not coded as fields and written twice.
+TEST_F(Tools, MeshdecsOwnArraysAreNotCodedAgain) {
+  const std::string vtu = dir_ + "/again_in.vtu", again = dir_ + "/again.dtm", out = dir_ + "/again_out.vtu";
+  ASSERT_EQ(run_command(kMeshdec + " " + stream_ + " -q -o " + vtu).status, 0);
+  CommandRun r = meshenc(vtu + " --box 256 --dmax 2 -o " + again);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("the point arrays 'level', 'boundary' (meshdec's own"), std::string::npos)
+      << r.output;
+  ASSERT_EQ(run_command(kMeshdec + " " + again + " -q -o " + out).status, 0);
+  const std::string text = test::slurp(out);
+  for (const std::string name : {"\"level\"", "\"boundary\""}) {
+    size_t count = 0;
+    for (size_t at = text.find("Name=" + name); at != std::string::npos;
+         at = text.find("Name=" + name, at + 1))
+      ++count;
+    EXPECT_EQ(count, 1u) << name;
+  }
+}
+
 // An error quoting a file's bytes prints its control bytes escaped, never
 // as they are (a terminal would take them as commands).
 TEST_F(Tools, AnErrorQuotingBinaryBytesEscapesThem) {

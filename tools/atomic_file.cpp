@@ -96,4 +96,26 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
     if (targets[i].in_place) write_in_place(files[i].first, targets[i].path, files[i].second);
 }
 
+void check_writable(const std::string& path, const std::vector<std::string>& inputs) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (const std::string& input : inputs)
+    if (input != "-" && fs::exists(input, ec) && fs::exists(path, ec) && fs::equivalent(input, path, ec))
+      throw std::invalid_argument(path + ": is the input: write the output elsewhere");
+  if (fs::is_directory(path, ec)) throw std::invalid_argument(path + ": is a directory");
+  const Target t = target_of(path);
+  if (t.in_place) {
+    if (::access(t.path.c_str(), W_OK) != 0)
+      throw std::invalid_argument(path + ": cannot write: " + std::strerror(errno));
+    return;
+  }
+  // The temporary file goes beside the target.
+  const fs::path folder =
+      fs::path(t.path).parent_path().empty() ? fs::path(".") : fs::path(t.path).parent_path();
+  if (!fs::is_directory(folder, ec))
+    throw std::invalid_argument(path + ": cannot write: no folder " + folder.string());
+  if (::access(folder.c_str(), W_OK) != 0)
+    throw std::invalid_argument(path + ": cannot write in " + folder.string() + ": " + std::strerror(errno));
+}
+
 }  // namespace dtm

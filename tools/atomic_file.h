@@ -17,4 +17,10 @@ namespace dtm {
 // left as they were.
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files);
 
+// Said before the work rather than after it: throws std::invalid_argument
+// naming `path` if write_files_atomically() could not write it (its folder
+// missing or not writable, a directory in its place) or if it is one of
+// `inputs` (which the work reads: replacing it would lose it).
+void check_writable(const std::string& path, const std::vector<std::string>& inputs = {});
+
 }  // namespace dtm

@@ -220,6 +220,23 @@ bool ends_with(const std::string& s, const std::string& end) {
   return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
 }
 
+// A region or a piece of the level asked for; without --level, of a
+// truncated stream's finest whole level, as the whole decode gives (level
+// 0 tried, then each coarser one while the stream ends before the one
+// tried; `levels`: the header's count, 0 if it did not parse). Says so.
+template <class Decode>
+auto of_finest_whole_level(const Command& c, int levels, Decode&& decode) {
+  int level = std::max(c.level, 0);
+  auto got = decode(level);
+  const dtm::Status first = got.status();
+  while (c.level < 0 && !got.ok() && got.status().code() == dtm::StatusCode::kTruncated && level + 1 < levels)
+    got = decode(++level);
+  if (got.ok() && level > 0 && c.level < 0 && !c.quiet)
+    std::fprintf(stderr, "meshdec: %s: truncated: %s; writing level %d\n", c.input.c_str(),
+                 first.message().c_str(), level);
+  return std::pair{level, std::move(got)};
+}
+
 // -o X.pvtu: the level in pieces X_0.vtu, X_1.vtu, ..., each rank writing
 // its own (ranks take pieces in turn), rank 0 the .pvtu once every piece is
 // written. Any rank's failure fails them all and leaves no file.
@@ -229,7 +246,7 @@ int run_pieces(const Command& c) {
     throw std::invalid_argument("-o X.pvtu reads the stream by offset: give a file, not '-'");
   if (!c.box.empty() || c.verify) throw std::invalid_argument("-o X.pvtu: no --box or --verify");
   const int pieces = c.pieces > 0 ? c.pieces : mpi.size();
-  const int level = std::max(c.level, 0);
+  int level = std::max(c.level, 0);
   const std::string stem = c.output.substr(0, c.output.size() - 5);
   const size_t slash = stem.find_last_of('/');
   const std::string base = slash == std::string::npos ? stem : stem.substr(slash + 1);
@@ -256,7 +273,16 @@ int run_pieces(const Command& c) {
     if (size >= head.size() && source->read(0, head).ok() && dtm::parse_header(head, header).ok())
       grid = header.grid;
     for (int i = mpi.rank(); i < pieces; i += mpi.size()) {
-      const auto piece = dtm::decode_piece(*source, level, i, pieces, options);
+      // (This rank's first piece finds the level of a truncated stream;
+      // every rank finds the same, and rank 0 says so.)
+      Command finding = c;
+      finding.quiet = c.quiet || mpi.rank() != 0;
+      if (i != mpi.rank()) finding.level = level;
+      auto found = of_finest_whole_level(finding, header.level_count, [&](int l) {
+        return dtm::decode_piece(*source, l, i, pieces, options);
+      });
+      level = found.first;
+      auto& piece = found.second;
       if (!piece.ok()) throw std::runtime_error(c.input + ": " + piece.status().message());
       const std::string path = (slash == std::string::npos ? "" : stem.substr(0, slash + 1)) + names[i];
       display.start("writing " + path);
@@ -341,8 +367,9 @@ int run_region(const Command& c, dtm::MeshFormat format) {
           decoder.finest_level(), mesh.points.size(), mesh.cells.size());
     return 0;
   }
-  const int level = std::max(c.level, 0);
-  const auto region = dtm::decode_region(*source, dtm::grid_box_of(header.grid, lo, hi), level, options);
+  const dtm::GridBox box = dtm::grid_box_of(header.grid, lo, hi);
+  const auto [level, region] = of_finest_whole_level(
+      c, header.level_count, [&](int l) { return dtm::decode_region(*source, box, l, options); });
   if (!region.ok()) throw std::runtime_error(c.input + ": " + region.status().message());
   const dtm::OutputMesh mesh = region_output(*region, header.grid);
   write_output(c, mesh, format);
@@ -362,7 +389,13 @@ int run_region(const Command& c, dtm::MeshFormat format) {
 
 int run(const Command& c) {
   const dtm::ThreadBudget threads(c.threads, dtm::mpi_session().cores_share());
+  // An output that cannot be written is said now, not after the decoding.
+  if (!c.output.empty() && c.output != "-") dtm::check_writable(c.output, {c.input});
   if (ends_with(c.output, ".pvtu")) return run_pieces(c);
+  // (Each rank would decode the same level and write the same file.)
+  if (dtm::mpi_session().size() > 1)
+    throw dtm::AgreedError("under mpirun, meshdec writes a level in pieces, one a rank: -o X.pvtu",
+                           dtm::mpi_session().rank() == 0);
   if (c.pieces > 0) throw std::invalid_argument("--pieces writes a .pvtu: -o X.pvtu");
   const dtm::MeshFormat format = output_format(c);
   if (!c.box.empty()) return run_region(c, format);
@@ -393,13 +426,17 @@ int run(const Command& c) {
               std::to_string(s.triangles.size()) + " triangles";
       if (draco) {
         // The quantization Draco was given, and what it costs the positions.
-        const dtm::SurfaceQuantization q = dtm::surface_quantization(mesh, s);
-        char text[256];
-        std::snprintf(text, sizeof text,
-                      "; Draco: positions %d bits (step %.6g, the stream's grid %.6g: within %.6g of the "
-                      "decoded positions), normals %d bits, colours %d bits",
-                      q.position_bits, q.draco_step, q.grid_step, q.draco_step / 2, dtm::kNormalBits,
-                      dtm::kColourBits);
+        // (float32 positions add their rounding: a .drc holds them whole,
+        // a glTF file from its node's translation.)
+        const dtm::SurfaceQuantization q = dtm::surface_quantization(mesh, s, format);
+        char text[320];
+        std::snprintf(
+            text, sizeof text,
+            "; Draco: positions %d bits (step %.6g, the stream's grid %.6g: within %.6g of the "
+            "decoded positions%s), normals %d bits, colours %d bits",
+            q.position_bits, q.draco_step, q.grid_step, q.draco_step / 2 + q.float_error,
+            q.float_error > q.grid_step / 2 ? ", float32 so far from the origin rounding the most" : "",
+            dtm::kNormalBits, dtm::kColourBits);
         note += text;
       }
     }

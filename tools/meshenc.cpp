@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -35,7 +36,7 @@ constexpr const char* kExamples = R"(
 Examples:
   meshenc torus_288.node --scale 25 --dmax 3
   meshenc bunny_10k.node -o bunny.dtm --box 256 --dmax 2 --report bunny.json
-  meshenc mesh.node -o mesh.dtm --qbits 16 --levels 4 --quality-guard 0.05
+  meshenc mesh.node -o mesh.dtm --preset paper --qbits 16 --levels 4 --quality-guard 0.05
   meshenc scan.ply -o scan.dtm --qbits 12
   meshenc ct.nhdr --threshold 300 --voxel-interior-step 2 -o ct.dtm --dmax 1.5
   meshenc flow.vtu -o flow.dtm --field-error pressure=0.01
@@ -186,8 +187,9 @@ void add_options(CLI::App& app, Command& c) {
       "finest level decodes faster");
   app.add_flag(
       "--bricks", e.bricks,
-      "bricked layers (format 8.0): each layer's points and corrections in one chunk per octree "
-      "brick, so that meshdec --box decodes a region from the chunks around it, values included; the "
+      "bricked layers (format 8.0; 15.0 with regions): each layer's points and corrections in one "
+      "chunk per octree brick, so that meshdec --box decodes a region from the chunks around it, values "
+      "and regions included; the "
       "levels are built in blocks, the same bytes alone or under mpirun (no candidates)");
   app.add_option("--brick-points", e.brick_points,
                  "with --bricks: each layer's bricks are the smallest that hold this many of its new points "
@@ -707,6 +709,9 @@ int run(Command& c) {
           "-o -: standard output is a terminal; a stream is binary (pipe or redirect it)");
     c.quiet = true;  // standard output carries the stream
   }
+  // An output that cannot be written is said now, not after the encoding.
+  if (!c.output.empty() && c.output != "-") dtm::check_writable(c.output, {c.input});
+  if (!c.report_path.empty() && c.report_path != "-") dtm::check_writable(c.report_path, {c.input});
   // Whole levels are a few large phases, each faster with the pages the
   // last one freed; bricks keep the lean default, their point being memory.
   if (!c.encode.bricks) dtm::keep_freed_memory_between_phases();
@@ -787,6 +792,25 @@ int run(Command& c) {
       for (const auto& f : in.cell_fields) names += (names.empty() ? "'" : ", '") + f.name + "'";
       in.left_out.push_back("the cell arrays " + names + " (" + why + ")");
       in.cell_fields.clear();
+    }
+  }
+  // meshdec's own point arrays (each vertex's coarsest level, whether it is
+  // on the boundary, its number in the whole level): the decoder makes them
+  // again, so a decoded mesh encoded again holds them once, not twice.
+  {
+    const auto meshdecs = [](const dtm::VertexField& f) {
+      if (f.components != 1 || (f.name != "level" && f.name != "boundary" && f.name != "vertex_id"))
+        return false;
+      return std::all_of(f.values.begin(), f.values.end(), [&](double v) {
+        return v >= 0 && v == std::floor(v) && (f.name != "boundary" || v <= 1);
+      });
+    };
+    std::string names;
+    for (const auto& f : in.fields)
+      if (meshdecs(f)) names += (names.empty() ? "'" : ", '") + f.name + "'";
+    if (!names.empty()) {
+      in.left_out.push_back("the point arrays " + names + " (meshdec's own: the decoder makes them again)");
+      std::erase_if(in.fields, meshdecs);
     }
   }
   if (c.no_fields && !in.fields.empty()) {

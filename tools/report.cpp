@@ -51,13 +51,16 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   j["qbits"] = g.qbits;
   j["origin"] = {g.origin[0], g.origin[1], g.origin[2]};
   j["step"] = g.step;
+  // The stream's grid, in the input's units (the decoded mesh's).
+  j["stream_origin"] = {r.stream_grid.origin[0], r.stream_grid.origin[1], r.stream_grid.origin[2]};
+  j["stream_step"] = r.stream_grid.step;
   j["scale"] = r.scale;
   j["dmax"] = r.dmax;
   j["duplicates_merged"] = r.duplicates_merged;
   j["input_points"] = r.input_points;
   if (r.reference_tetrahedra > 0) j["reference_tetrahedra"] = r.reference_tetrahedra;
   if (r.reference_voxels > 0) j["reference_voxels"] = r.reference_voxels;
-  if (r.level0_kept_radius > 0)  // bricked, input units
+  if (r.level0_kept_radius > 0)  // bricked, scaled input units
     j["level0_kept_radius"] = {{"from_spacing", r.level0_spacing_kept_radius * g.step},
                                {"used", r.level0_kept_radius * g.step},
                                {"cells_of_the_solid_dropped", r.level0_cells_dropped}};

@@ -93,14 +93,35 @@ int add_attribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, draco:
   return id;
 }
 
-// The surface as a Draco mesh: positions (input units), normals, colours.
-std::unique_ptr<draco::Mesh> draco_surface(const OutputMesh& m, const BoundarySurface& s,
-                                           const SurfaceStyle& style) {
+// The surface's least grid corner, in input units: what a glTF file's
+// positions are offsets from.
+InputPoint anchor_of(const OutputMesh& m, const BoundarySurface& s) {
+  if (s.vertices.empty()) return {0, 0, 0};
+  GridPoint low = m.points[s.vertices[0]];
+  for (const uint32_t v : s.vertices) {
+    const GridPoint& p = m.points[v];
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+  }
+  return m.grid.to_input(low);
+}
+
+// Each surface vertex's position less `anchor`, in float32.
+std::vector<std::array<float, 3>> float_positions(const OutputMesh& m, const BoundarySurface& s,
+                                                  const InputPoint& anchor) {
   std::vector<std::array<float, 3>> positions(s.vertices.size());
   for (size_t i = 0; i < s.vertices.size(); ++i) {
     const InputPoint p = m.grid.to_input(m.points[s.vertices[i]]);
-    positions[i] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+    positions[i] = {static_cast<float>(p.x - anchor.x), static_cast<float>(p.y - anchor.y),
+                    static_cast<float>(p.z - anchor.z)};
   }
+  return positions;
+}
+
+// The surface as a Draco mesh: positions (input units, less `anchor`),
+// normals, colours.
+std::unique_ptr<draco::Mesh> draco_surface(const OutputMesh& m, const BoundarySurface& s,
+                                           const SurfaceStyle& style, const InputPoint& anchor) {
+  const std::vector<std::array<float, 3>> positions = float_positions(m, s, anchor);
   // Area-weighted: each triangle adds its cross product (twice its area
   // along its normal), in grid units, where the points are exact.
   std::vector<Vec3> sums(s.vertices.size(), Vec3{0, 0, 0});
@@ -183,10 +204,19 @@ std::string assemble_glb(const nlohmann::json& json, const std::string& bin) {
 
 }  // namespace
 
-SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundarySurface& s) {
+SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundarySurface& s,
+                                         MeshFormat format) {
   SurfaceQuantization q;
   q.grid_step = mesh.grid.step;
   if (s.vertices.empty()) return q;
+  const InputPoint anchor = format == MeshFormat::kDrc ? InputPoint{0, 0, 0} : anchor_of(mesh, s);
+  const std::vector<std::array<float, 3>> positions = float_positions(mesh, s, anchor);
+  for (size_t i = 0; i < s.vertices.size(); ++i) {
+    const InputPoint p = mesh.grid.to_input(mesh.points[s.vertices[i]]);
+    const double d[3] = {p.x - anchor.x, p.y - anchor.y, p.z - anchor.z};
+    for (int a = 0; a < 3; ++a)
+      q.float_error = std::max(q.float_error, std::abs(static_cast<double>(positions[i][a]) - d[a]));
+  }
   GridPoint low = mesh.points[s.vertices[0]], high = low;
   for (const uint32_t v : s.vertices) {
     const GridPoint& p = mesh.points[v];
@@ -209,8 +239,9 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
   if (s.triangles.empty())
     throw std::invalid_argument(
         path + ": the level's boundary surface is empty (no carved tetrahedron): nothing to write");
-  const SurfaceQuantization q = surface_quantization(m, s);
-  std::unique_ptr<draco::Mesh> mesh = draco_surface(m, s, style);
+  const SurfaceQuantization q = surface_quantization(m, s, format);
+  const InputPoint anchor = format == MeshFormat::kDrc ? InputPoint{0, 0, 0} : anchor_of(m, s);
+  std::unique_ptr<draco::Mesh> mesh = draco_surface(m, s, style, anchor);
 
   if (format == MeshFormat::kDrc) {
     draco::Encoder encoder;
@@ -242,6 +273,9 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
   nlohmann::json& json = parts.first;
   const std::string& bin = parts.second;
   json["asset"]["generator"] = std::string("dtmesh meshdec ") + DTM_VERSION;
+  // The positions are offsets from the anchor: the node puts them back.
+  for (auto& node : json["nodes"])
+    if (node.contains("mesh")) node["translation"] = {anchor.x, anchor.y, anchor.z};
   for (auto& material : json["materials"]) material["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1, 1, 1};
   // Plain buffers: say which views hold indices and which vertices, as the
   // glTF validator advises (GPU uploads can then be typed ahead of use).

@@ -24,11 +24,16 @@ namespace dtm {
 
 // Draco's position quantization for this surface: just enough bits that
 // Draco's step over the surface's extent is at most the stream's grid step,
-// so that every position stays within half a grid step of the decoded one.
+// so that every position stays within half a grid step of the decoded one,
+// and what float32 positions add. A glTF file holds them from the anchor
+// (the surface's least corner), which its node's translation adds back, so
+// float32 rounds only the offsets; a .drc holds them whole, and far from
+// the origin float32 rounds more than a grid step (float_error).
 struct SurfaceQuantization {
   int position_bits = 0;
-  double draco_step = 0;  // input units
-  double grid_step = 0;   // the stream's, input units
+  double draco_step = 0;   // input units
+  double grid_step = 0;    // the stream's, input units
+  double float_error = 0;  // the most float32 moves a position as the file holds it, input units
 };
 inline constexpr int kNormalBits = 10;
 inline constexpr int kColourBits = 8;
@@ -42,7 +47,9 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
                                                                      const SurfaceStyle& style);
 
 // What render_surface_gltf uses for `mesh`, whose boundary_surface
-// (surface_writers.h) is `surface` (empty surface: position_bits 0).
-SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundarySurface& surface);
+// (surface_writers.h) is `surface` (empty surface: position_bits 0), in
+// `format` (kDrc: positions whole, else from the anchor).
+SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundarySurface& surface,
+                                         MeshFormat format);
 
 }  // namespace dtm
