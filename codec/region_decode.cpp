@@ -1,6 +1,7 @@
 #include "codec/region_decode.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -61,13 +62,17 @@ GridBox grid_box_of(const Grid& grid, const std::array<double, 3>& lo, const std
   const double top = std::ldexp(1.0, grid.qbits);
   // A corner a rounding away from a grid point (a decoded vertex's own
   // coordinate, origin + k step in doubles, divided back) is that point.
-  const auto on_grid = [](double t, double (*round_away)(double)) {
+  // (The rounding grows with the coordinates' size: far from the origin
+  // a double's last bit may be many millionths of a step.)
+  const auto on_grid = [&](double x, int a, double (*round_away)(double)) {
+    const double t = (x - grid.origin[a]) / grid.step;
     const double nearest = std::nearbyint(t);
-    return std::abs(t - nearest) <= 1e-6 ? nearest : round_away(t);
+    const double rounding = 1e-6 + 8 * DBL_EPSILON * (std::abs(x) + std::abs(grid.origin[a])) / grid.step;
+    return std::abs(t - nearest) <= rounding ? nearest : round_away(t);
   };
   for (int a = 0; a < 3; ++a) {
-    const double l = on_grid((lo[a] - grid.origin[a]) / grid.step, std::ceil);
-    const double h = on_grid((hi[a] - grid.origin[a]) / grid.step, std::floor);
+    const double l = on_grid(lo[a], a, std::ceil);
+    const double h = on_grid(hi[a], a, std::floor);
     b.lo[a] = static_cast<int64_t>(std::clamp(std::isnan(l) ? top : l, -1.0, top));
     b.hi[a] = static_cast<int64_t>(std::clamp(std::isnan(h) ? -1.0 : h, -1.0, top));
   }
@@ -134,6 +139,12 @@ struct LayerPlan {
   std::vector<BrickChunk> chunks;
   uint64_t chunk_area = 0;    // stream offset of the first chunk
   uint32_t first_vertex = 0;  // the level's vertices before this layer's
+  // Where a damage in it is said to be: the layer's level and offset, as
+  // the whole decoder says.
+  std::string where() const {
+    return "level " + std::to_string(header.level) + " at byte " +
+           std::to_string(chunk_area - kBrickedLayerHeaderSize - header.index_bytes);
+  }
 };
 
 // A margin of `factor` x r grid steps and a little more, or the whole grid.
@@ -281,6 +292,13 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
     DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, layer.header.brick_depth, q, layer.header.new_vertices,
                                           layer.header.chunk_bytes, plan.header.flags, p.chunks)
                             .with_context(what + " at byte " + std::to_string(offset)));
+    // A layer the stream cuts is not there for any region or piece, whichever
+    // chunks it reads: the levels a prefix holds are its whole layers', as for
+    // the whole decoder (and every piece of a cut stream finds the same).
+    const uint64_t size = reader.source().size();
+    if (p.chunk_area > size || layer.header.chunk_bytes > size - p.chunk_area)
+      return {StatusCode::kTruncated,
+              "the stream ends at byte " + std::to_string(size) + ", before the end of " + what};
     plan.layers.push_back(std::move(p));
   }
   return Status::Ok();
@@ -366,8 +384,8 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
     }
     out.chunks_read += inputs.size();
     std::vector<GridPoint> added;
-    DTM_RETURN_IF_ERROR(decode_bricked_points(inputs, known, q, p.header.brick_depth, models, added)
-                            .with_context("level " + std::to_string(at)));
+    DTM_RETURN_IF_ERROR(
+        decode_bricked_points(inputs, known, q, p.header.brick_depth, models, added).with_context(p.where()));
     if (i + 1 == plan.layers.size())
       for (size_t k = 0; k < inputs.size(); ++k) {
         finest_read.emplace_back(inputs[k].chunk, finest_chunks.size());
@@ -376,7 +394,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
     if (!plan.fields.empty()) {
       DTM_RETURN_IF_ERROR(decode_bricked_values(inputs, q, p.header.brick_depth, plan.fields, points, values,
                                                 added, layer_values)
-                              .with_context("level " + std::to_string(at)));
+                              .with_context(p.where()));
       for (size_t f = 0; f < values.size(); ++f)
         values[f].bits.insert(values[f].bits.end(), layer_values[f].bits.begin(), layer_values[f].bits.end());
     }
@@ -443,7 +461,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
     ChunkCells chunks;
     DTM_RETURN_IF_ERROR(decode_carving_chunks(sections, dt, local_points, finest.header.alpha, chunk_of_cell,
                                               morton_ranks(codes), kept, nullptr, &chunks)
-                            .with_context("level " + std::to_string(level)));
+                            .with_context(finest.where()));
     // (15.0) The owners' cells' regions, from the same chunks.
     if (plan.header.flags & kFlagRegions) {
       std::vector<std::span<const uint8_t>> regions;
@@ -459,7 +477,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
         if (chunk_of_cell[c] == kNoCarvingChunk && !(owner[c] != kNoBrick && owners.owns(owner[c])))
           owned[c] = 0;
       DTM_RETURN_IF_ERROR(decode_region_chunks(regions, dt, chunks, chunk_of_cell, plan.regions.size(), owned)
-                              .with_context("level " + std::to_string(level)));
+                              .with_context(finest.where()));
       cell_regions = std::move(owned);
     }
   } else {

@@ -764,6 +764,10 @@ TEST(BrickedStream, ADamagedChunkFailsTheRegionsThatReadIt) {
   ASSERT_FALSE(touching.ok());
   EXPECT_NE(touching.status().message().find("brick " + std::to_string(victim.brick)), std::string::npos)
       << touching.status().message();
+  // The level and its layer's offset, as the whole decoder names them.
+  EXPECT_NE(touching.status().message().find("level 0 at byte " + std::to_string(finest.offset)),
+            std::string::npos)
+      << touching.status().message();
   // A box far from it: a corner of the grid away from the victim.
   const int64_t top = (int64_t{1} << s.header.grid.qbits) - 1;
   GridBox far;

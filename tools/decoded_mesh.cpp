@@ -148,6 +148,7 @@ OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
     const std::array<uint32_t, 4>& t = whole.cells[c];
     out.cells.push_back({index[t[0]], index[t[1]], index[t[2]], index[t[3]]});
     if (!whole.region.empty()) out.region.push_back(whole.region[c]);
+    if (whole.faces.empty()) continue;
     for (int skip = 0; skip < 4; ++skip) {
       std::array<uint32_t, 3> f{};
       for (int k = 0, j = 0; k < 4; ++k)

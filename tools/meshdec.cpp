@@ -389,13 +389,26 @@ int run_region(const Command& c, dtm::MeshFormat format) {
 
 int run(const Command& c) {
   const dtm::ThreadBudget threads(c.threads, dtm::mpi_session().cores_share());
-  // An output that cannot be written is said now, not after the decoding.
-  if (!c.output.empty() && c.output != "-") dtm::check_writable(c.output, {c.input});
+  // An output that cannot be written is said now, not after the decoding
+  // (under mpirun by every rank, whose pieces go beside it, and said once).
+  dtm::MpiSession& mpi = dtm::mpi_session();
+  std::string problem;
+  try {
+    if (!c.output.empty() && c.output != "-") dtm::check_writable(c.output, {c.input});
+  } catch (const std::invalid_argument& e) {
+    problem = e.what();
+  }
+  if (mpi.size() > 1) {
+    for (const auto& p : mpi.all_gather({reinterpret_cast<const uint8_t*>(problem.data()), problem.size()}))
+      if (!p.empty()) throw dtm::AgreedError(std::string(p.begin(), p.end()), mpi.rank() == 0);
+  } else if (!problem.empty()) {
+    throw std::invalid_argument(problem);
+  }
   if (ends_with(c.output, ".pvtu")) return run_pieces(c);
   // (Each rank would decode the same level and write the same file.)
-  if (dtm::mpi_session().size() > 1)
+  if (mpi.size() > 1 && !c.output.empty())
     throw dtm::AgreedError("under mpirun, meshdec writes a level in pieces, one a rank: -o X.pvtu",
-                           dtm::mpi_session().rank() == 0);
+                           mpi.rank() == 0);
   if (c.pieces > 0) throw std::invalid_argument("--pieces writes a .pvtu: -o X.pvtu");
   const dtm::MeshFormat format = output_format(c);
   if (!c.box.empty()) return run_region(c, format);

@@ -709,9 +709,22 @@ int run(Command& c) {
           "-o -: standard output is a terminal; a stream is binary (pipe or redirect it)");
     c.quiet = true;  // standard output carries the stream
   }
-  // An output that cannot be written is said now, not after the encoding.
-  if (!c.output.empty() && c.output != "-") dtm::check_writable(c.output, {c.input});
-  if (!c.report_path.empty() && c.report_path != "-") dtm::check_writable(c.report_path, {c.input});
+  // An output that cannot be written is said now, not after the encoding
+  // (rank 0 writes; every rank stops with it, and it is said once).
+  {
+    std::string problem;
+    try {
+      if (mpi.rank() == 0 && !c.output.empty() && c.output != "-") dtm::check_writable(c.output, {c.input});
+      if (mpi.rank() == 0 && !c.report_path.empty() && c.report_path != "-")
+        dtm::check_writable(c.report_path, {c.input});
+    } catch (const std::invalid_argument& e) {
+      problem = e.what();
+    }
+    if (mpi.size() > 1)
+      agree_on_errors(mpi, problem);
+    else if (!problem.empty())
+      throw std::invalid_argument(problem);
+  }
   // Whole levels are a few large phases, each faster with the pages the
   // last one freed; bricks keep the lean default, their point being memory.
   if (!c.encode.bricks) dtm::keep_freed_memory_between_phases();
@@ -805,9 +818,16 @@ int run(Command& c) {
         return v >= 0 && v == std::floor(v) && (f.name != "boundary" || v <= 1);
       });
     };
+    // (Only with both level and boundary, as meshdec writes them: a
+    // user's own vertex_id alone, global node numbers say, is kept.)
+    const auto has = [&](const char* name) {
+      return std::any_of(in.fields.begin(), in.fields.end(),
+                         [&](const dtm::VertexField& f) { return f.name == name && meshdecs(f); });
+    };
     std::string names;
-    for (const auto& f : in.fields)
-      if (meshdecs(f)) names += (names.empty() ? "'" : ", '") + f.name + "'";
+    if (has("level") && has("boundary"))
+      for (const auto& f : in.fields)
+        if (meshdecs(f)) names += (names.empty() ? "'" : ", '") + f.name + "'";
     if (!names.empty()) {
       in.left_out.push_back("the point arrays " + names + " (meshdec's own: the decoder makes them again)");
       std::erase_if(in.fields, meshdecs);

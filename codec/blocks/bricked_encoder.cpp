@@ -822,7 +822,8 @@ StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const 
     for (uint8_t r : input.reference_regions)
       if (r == 0 || r > input.regions.size())
         return invalid_input("a tetrahedron's region is not in the table");
-  } else if (input.regions.size() > 1) {
+  } else if (input.regions.size() > 1 && !input.reference_tets.empty()) {
+    // (A rank of a run may hold no tetrahedron, and the table be every rank's.)
     return invalid_input("a table of regions without the tetrahedra's");
   }
   if (!input.regions.empty()) DTM_RETURN_IF_ERROR(check_region_table(input.regions));

@@ -209,7 +209,8 @@ SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundaryS
   SurfaceQuantization q;
   q.grid_step = mesh.grid.step;
   if (s.vertices.empty()) return q;
-  const InputPoint anchor = format == MeshFormat::kDrc ? InputPoint{0, 0, 0} : anchor_of(mesh, s);
+  q.anchor = format == MeshFormat::kDrc ? InputPoint{0, 0, 0} : anchor_of(mesh, s);
+  const InputPoint& anchor = q.anchor;
   const std::vector<std::array<float, 3>> positions = float_positions(mesh, s, anchor);
   for (size_t i = 0; i < s.vertices.size(); ++i) {
     const InputPoint p = mesh.grid.to_input(mesh.points[s.vertices[i]]);
@@ -240,7 +241,7 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
     throw std::invalid_argument(
         path + ": the level's boundary surface is empty (no carved tetrahedron): nothing to write");
   const SurfaceQuantization q = surface_quantization(m, s, format);
-  const InputPoint anchor = format == MeshFormat::kDrc ? InputPoint{0, 0, 0} : anchor_of(m, s);
+  const InputPoint& anchor = q.anchor;
   std::unique_ptr<draco::Mesh> mesh = draco_surface(m, s, style, anchor);
 
   if (format == MeshFormat::kDrc) {

@@ -34,6 +34,7 @@ struct SurfaceQuantization {
   double draco_step = 0;   // input units
   double grid_step = 0;    // the stream's, input units
   double float_error = 0;  // the most float32 moves a position as the file holds it, input units
+  InputPoint anchor;       // what the file's positions are offsets from (a .drc: the origin)
 };
 inline constexpr int kNormalBits = 10;
 inline constexpr int kColourBits = 8;
