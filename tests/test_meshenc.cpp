@@ -287,6 +287,14 @@ TEST_F(Tools, AnOutputThatCannotBeWrittenOrIsTheInputIsRefusedFirst) {
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("is the input"), std::string::npos) << r.output;
   EXPECT_EQ(test::slurp(copy), before);
+  // Nor the .ele beside a .node, which is read too.
+  std::filesystem::copy_file(test::data_path("bunny_10k.ele"), dir_ + "/mine.ele",
+                             std::filesystem::copy_options::overwrite_existing);
+  const std::string ele = test::slurp(dir_ + "/mine.ele");
+  r = meshenc(copy + " -o " + dir_ + "/mine.ele");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("is the input"), std::string::npos) << r.output;
+  EXPECT_EQ(test::slurp(dir_ + "/mine.ele"), ele);
   r = meshenc(copy + " --no-reference -o " + dir_ + "/no/such/folder/x.dtm");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("no folder"), std::string::npos) << r.output;

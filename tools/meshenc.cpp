@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -713,10 +714,13 @@ int run(Command& c) {
   // (rank 0 writes; every rank stops with it, and it is said once).
   {
     std::string problem;
+    // (A TetGen .node's .ele is read too.)
+    const std::vector<std::string> inputs = {
+        c.input, std::filesystem::path(c.input).replace_extension(".ele").string()};
     try {
-      if (mpi.rank() == 0 && !c.output.empty() && c.output != "-") dtm::check_writable(c.output, {c.input});
+      if (mpi.rank() == 0 && !c.output.empty() && c.output != "-") dtm::check_writable(c.output, inputs);
       if (mpi.rank() == 0 && !c.report_path.empty() && c.report_path != "-")
-        dtm::check_writable(c.report_path, {c.input});
+        dtm::check_writable(c.report_path, inputs);
     } catch (const std::invalid_argument& e) {
       problem = e.what();
     }
