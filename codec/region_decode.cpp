@@ -79,8 +79,6 @@ GridBox grid_box_of(const Grid& grid, const std::array<double, 3>& lo, const std
   return b;
 }
 
-namespace {
-
 bool cell_meets(std::span<const GridPoint> points, const std::array<uint32_t, 4>& cell, const GridBox& box) {
   std::array<int64_t, 3> lo = {INT64_MAX, INT64_MAX, INT64_MAX}, hi = {INT64_MIN, INT64_MIN, INT64_MIN};
   for (uint32_t v : cell) {
@@ -92,6 +90,8 @@ bool cell_meets(std::span<const GridPoint> points, const std::array<uint32_t, 4>
     if (hi[a] < box.lo[a] || lo[a] > box.hi[a]) return false;
   return true;
 }
+
+namespace {
 
 // The region's result from cells over vertices numbered globally: only the
 // cells' vertices, ascending number; cells in canonical order.

@@ -122,4 +122,8 @@ RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box);
 // origin + k step in doubles) is on it.
 GridBox grid_box_of(const Grid& grid, const std::array<double, 3>& lo, const std::array<double, 3>& hi);
 
+// Whether the cell's bounding box (of its grid points) meets `box`: the
+// cells a region holds.
+bool cell_meets(std::span<const GridPoint> points, const std::array<uint32_t, 4>& cell, const GridBox& box);
+
 }  // namespace dtm

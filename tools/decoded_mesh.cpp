@@ -4,6 +4,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "codec/region_decode.h"
 #include "common/parallel_for.h"
 #include "mesh/carving.h"
 #include "mesh/topology.h"
@@ -111,13 +112,7 @@ OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
   std::vector<uint32_t> index(whole.points.size(), kNone);
   std::vector<size_t> cells;
   for (size_t c = 0; c < whole.cells.size(); ++c) {
-    GridBox b{{INT64_MAX, INT64_MAX, INT64_MAX}, {INT64_MIN, INT64_MIN, INT64_MIN}};
-    for (uint32_t v : whole.cells[c]) {
-      const GridPoint& p = whole.points[v];
-      const int64_t x[3] = {p.x, p.y, p.z};
-      for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], x[a]), b.hi[a] = std::max(b.hi[a], x[a]);
-    }
-    if (!b.meets(box)) continue;
+    if (!cell_meets(whole.points, whole.cells[c], box)) continue;
     cells.push_back(c);
     for (uint32_t v : whole.cells[c]) index[v] = 0;
   }
@@ -130,7 +125,7 @@ OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
     if (!whole.level.empty()) out.level.push_back(whole.level[v]);
     if (!whole.boundary.empty()) out.boundary.push_back(whole.boundary[v]);
   }
-  // Rows `rows` of a field of `count` rows.
+  // The rows `rows` of a field.
   const auto rows_of = [](const OutputField& f, const auto& rows) {
     OutputField kept{f.name, f.type, f.components, {}};
     const auto n = static_cast<size_t>(f.components);
@@ -139,10 +134,9 @@ OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
                        f.bits.begin() + static_cast<std::ptrdiff_t>((r + 1) * n));
     return kept;
   };
-  std::vector<size_t> vertices;
-  for (const uint64_t v : ids.bits) vertices.push_back(static_cast<size_t>(v));
-  out.fields.push_back(std::move(ids));
-  for (const OutputField& f : whole.fields) out.fields.push_back(rows_of(f, vertices));
+  out.fields.reserve(whole.fields.size() + 1);
+  out.fields.push_back(std::move(ids));  // first, as region_output() puts it
+  for (const OutputField& f : whole.fields) out.fields.push_back(rows_of(f, out.fields.front().bits));
   std::set<std::array<uint32_t, 3>> faces;  // the kept cells' faces, corners ascending (whole's numbers)
   for (const size_t c : cells) {
     const std::array<uint32_t, 4>& t = whole.cells[c];

@@ -93,18 +93,6 @@ int add_attribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, draco:
   return id;
 }
 
-// The surface's least grid corner, in input units: what a glTF file's
-// positions are offsets from.
-InputPoint anchor_of(const OutputMesh& m, const BoundarySurface& s) {
-  if (s.vertices.empty()) return {0, 0, 0};
-  GridPoint low = m.points[s.vertices[0]];
-  for (const uint32_t v : s.vertices) {
-    const GridPoint& p = m.points[v];
-    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
-  }
-  return m.grid.to_input(low);
-}
-
 // Each surface vertex's position less `anchor`, in float32.
 std::vector<std::array<float, 3>> float_positions(const OutputMesh& m, const BoundarySurface& s,
                                                   const InputPoint& anchor) {
@@ -209,7 +197,14 @@ SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundaryS
   SurfaceQuantization q;
   q.grid_step = mesh.grid.step;
   if (s.vertices.empty()) return q;
-  q.anchor = format == MeshFormat::kDrc ? InputPoint{0, 0, 0} : anchor_of(mesh, s);
+  GridPoint low = mesh.points[s.vertices[0]], high = low;
+  for (const uint32_t v : s.vertices) {
+    const GridPoint& p = mesh.points[v];
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+  }
+  // A glTF file's positions are offsets from the surface's least corner.
+  q.anchor = format == MeshFormat::kDrc ? InputPoint{0, 0, 0} : mesh.grid.to_input(low);
   const InputPoint& anchor = q.anchor;
   const std::vector<std::array<float, 3>> positions = float_positions(mesh, s, anchor);
   for (size_t i = 0; i < s.vertices.size(); ++i) {
@@ -217,12 +212,6 @@ SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundaryS
     const double d[3] = {p.x - anchor.x, p.y - anchor.y, p.z - anchor.z};
     for (int a = 0; a < 3; ++a)
       q.float_error = std::max(q.float_error, std::abs(static_cast<double>(positions[i][a]) - d[a]));
-  }
-  GridPoint low = mesh.points[s.vertices[0]], high = low;
-  for (const uint32_t v : s.vertices) {
-    const GridPoint& p = mesh.points[v];
-    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
-    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
   }
   const int64_t extent =
       std::max({int64_t{high.x} - low.x, int64_t{high.y} - low.y, int64_t{high.z} - low.z});
