@@ -13,8 +13,9 @@
 # tagged triangles. Per array: the stream's bytes and bits per value,
 # lossless and (stress) within 1e-3 of its range, against zstd -19 and xz -9
 # of the same values stored raw in the input's element order; encode and
-# decode time with and without them. Whole processes, GNU time. Writes
-# bench/results/CELL_DATA.md.
+# decode time with and without them; the same in bricked layers (format
+# 16.0, `--bricks`), and what a box of level 0 reads there. Whole
+# processes, GNU time. Writes bench/results/CELL_DATA.md.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-build}
@@ -60,6 +61,10 @@ meshio.write("cells.vtu", meshio.Mesh(p, cells, cell_data=cell_data))
 for name, v in arrays.items():
     v.tofile(name + ".raw")
 np.save("range.npy", np.array([stress.min(), stress.max()]))
+# A box around the middle, a fifth of the part's extent on each axis.
+lo, hi = p.min(axis=0), p.max(axis=0)
+mid, half = (lo + hi) / 2, (hi - lo) / 10
+open("box.txt", "w").write(" ".join("%.6g" % v for v in list(mid - half) + list(mid + half)) + "\n")
 # The lossy rows' baseline: the values a bound E lets a coder keep,
 # round(v / 2E), as int32, raw.
 error = 1e-3 * (stress.max() - stress.min())
@@ -82,6 +87,19 @@ run cells.lossy "$enc" cells.vtu -o cells.lossy.dtm --report cells.lossy.json --
 run cells.without "$enc" cells.vtu -o cells.without.dtm --report cells.without.json --no-cell-data
 run cells.decode "$dec" cells.with.dtm -o cells.decoded.vtu -q
 run cells.decode_without "$dec" cells.without.dtm -o cells.decoded_without.vtu -q
+# In bricks (16.0; a bricked stream carries no tagged faces yet).
+run bricks.with "$enc" cells.vtu --bricks -o bricks.with.dtm --report bricks.with.json --no-face-tags
+run bricks.without "$enc" cells.vtu --bricks -o bricks.without.dtm --report bricks.without.json --no-cell-data \
+  --no-face-tags
+run bricks.decode "$dec" bricks.with.dtm -o bricks.decoded.vtu -q
+run bricks.decode_without "$dec" bricks.without.dtm -o bricks.decoded_without.vtu -q
+# A box, from streams of bricks of 256 points (what region reading wants;
+# the default 2,048 makes level 0 about 24 chunks here).
+run small.with "$enc" cells.vtu --bricks --brick-points 256 -o small.with.dtm --no-face-tags
+run small.without "$enc" cells.vtu --bricks --brick-points 256 -o small.without.dtm --no-cell-data --no-face-tags
+read -r -a box < box.txt
+run bricks.box "$dec" small.with.dtm --box "${box[@]}" -o bricks.box.vtu
+run bricks.box_without "$dec" small.without.dtm --box "${box[@]}" -o bricks.box_without.vtu
 
 "$py" - "$error" <<'PY'
 import json, os, sys
@@ -125,6 +143,32 @@ out += ["", "The whole stream: %d bytes with the four arrays (%d of them the arr
         "| | encode | decode to .vtu |", "|---|---:|---:|",
         "| with the arrays | %.2f s, %.0f MiB | %.2f s, %.0f MiB |" % (te[0], te[1], td[0], td[1]),
         "| without (`--no-cell-data`) | %.2f s, %.0f MiB | %.2f s, %.0f MiB |" % (tw[0], tw[1], tdw[0], tdw[1]), ""]
+# In bricks: each of level 0's chunks codes its own cells' values.
+b = json.load(open("bricks.with.json"))
+bo = json.load(open("bricks.without.json"))
+whole_bytes = {f["name"]: f["bytes"] for f in w["cell_fields"]}
+out += ["## In bricked layers (format 16.0, `meshenc --bricks`)", "",
+        "Each of level 0's chunks codes the values of the cells its brick owns, with only the chunk's "
+        "earlier cells as neighbours (spec/FORMAT.md §3.5); level 0 has %d cells, %d of them input "
+        "tetrahedra." % (b["level0_cells"], b["cells_from_input"]), "",
+        "| array | bytes in bricks | bytes whole | bricks / whole |", "|---|---:|---:|---:|"]
+for f in b["cell_fields"]:
+    out.append("| %s (%s) | %d | %d | %.3f |" % (f["name"], f["type"], f["bytes"], whole_bytes[f["name"]],
+                                                 f["bytes"] / whole_bytes[f["name"]]))
+be, bw, bd, bdw = (time_of(n) for n in ("bricks.with", "bricks.without", "bricks.decode", "bricks.decode_without"))
+def box_read(name):  # meshdec's "read X of Y bytes (P%)" line
+    for line in open(name + ".out"):
+        if " read " in line:
+            return line.split(";")[-1].strip()
+    return "?"
+out += ["", "| | encode | decode to .vtu |", "|---|---:|---:|",
+        "| bricks, with the arrays | %.2f s, %.0f MiB | %.2f s, %.0f MiB |" % (be[0], be[1], bd[0], bd[1]),
+        "| bricks, without (`--no-cell-data`) | %.2f s, %.0f MiB | %.2f s, %.0f MiB |" % (bw[0], bw[1], bdw[0], bdw[1]),
+        "", "A box a fifth of the part's extent on each axis around its middle (`meshdec --box %s`), level 0 "
+        "of streams in bricks of 256 points (`--brick-points 256`): with the arrays, %s; without, %s. (A "
+        "chunk read only for its points, in the box's halo, is read without its cell values, which have "
+        "their own checksum.)" % (
+            open("box.txt").read().strip(), box_read("bricks.box"), box_read("bricks.box_without")), ""]
 open(os.environ.get("CELL_DATA_OUT", "CELL_DATA.md"), "w").write("\n".join(out))
 print("\n".join(out))
 PY

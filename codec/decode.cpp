@@ -202,7 +202,7 @@ Status ProgressiveDecoder::decode_bricked_layer(const Layer& layer, std::vector<
   const int qbits = header_.grid.qbits;
   std::vector<BrickChunk> chunks;
   DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, lh.brick_depth, qbits, lh.new_vertices, lh.chunk_bytes,
-                                        header_.flags, chunks));
+                                        header_.flags, lh.level, chunks));
   std::vector<ChunkInput> inputs;
   inputs.reserve(chunks.size());
   for (const BrickChunk& c : chunks) inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size())});
@@ -216,7 +216,7 @@ Status ProgressiveDecoder::decode_bricked_values(const Layer& layer, std::span<c
   const LayerHeader& lh = layer.header;
   std::vector<BrickChunk> chunks;
   DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, lh.brick_depth, header_.grid.qbits, lh.new_vertices,
-                                        lh.chunk_bytes, header_.flags, chunks));
+                                        lh.chunk_bytes, header_.flags, lh.level, chunks));
   std::vector<ChunkInput> inputs;
   inputs.reserve(chunks.size());
   for (const BrickChunk& c : chunks) inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size())});
@@ -224,8 +224,7 @@ Status ProgressiveDecoder::decode_bricked_values(const Layer& layer, std::span<c
                                     value_decoder_->descriptions(), points_, fields_, added, layer_values_);
 }
 
-std::vector<uint8_t> ProgressiveDecoder::bricked_carving(const TetMesh& dt,
-                                                         std::vector<uint32_t>& order) const {
+ProgressiveDecoder::BrickedCells ProgressiveDecoder::bricked_cells(const TetMesh& dt) const {
   const int qbits = header_.grid.qbits;
   std::vector<MortonCode> codes(points_.size());
   parallel_ranges(codes.size(), 16384, [&](size_t first, size_t last) {
@@ -233,28 +232,37 @@ std::vector<uint8_t> ProgressiveDecoder::bricked_carving(const TetMesh& dt,
   });
   const std::vector<uint64_t> owner =
       carving_bricks_of_cells(dt, points_, codes, qbits, brick_depth_, kept_radius_);
-  std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
+  BrickedCells out;
+  out.chunk_of_cell.assign(owner.size(), kNoCarvingChunk);
   parallel_ranges(owner.size(), 16384, [&](size_t first, size_t last) {
     for (size_t c = first; c < last; ++c)
       if (const BrickChunk* chunk = owner[c] == kNoBrick ? nullptr : find_chunk(chunks_, owner[c]))
-        chunk_of_cell[c] = static_cast<uint32_t>(chunk - chunks_.data());
+        out.chunk_of_cell[c] = static_cast<uint32_t>(chunk - chunks_.data());
   });
+  out.vertex_rank = morton_ranks(codes);
+  return out;
+}
+
+std::vector<std::span<const uint8_t>> ProgressiveDecoder::chunk_sections(
+    std::span<const uint8_t> ChunkBytes::*part) const {
   std::vector<std::span<const uint8_t>> sections;
   sections.reserve(chunks_.size());
   for (const BrickChunk& c : chunks_)
-    sections.push_back(split_chunk(c, std::span(chunk_bytes_).subspan(c.offset, c.size())).carving);
+    sections.push_back(split_chunk(c, std::span(chunk_bytes_).subspan(c.offset, c.size())).*part);
+  return sections;
+}
+
+std::vector<uint8_t> ProgressiveDecoder::bricked_carving(const TetMesh& dt,
+                                                         std::vector<uint32_t>& order) const {
+  const BrickedCells b = bricked_cells(dt);
   std::vector<uint8_t> kept;
   ChunkCells cells;
-  Status s = decode_carving_chunks(sections, dt, points_, levels_.back().alpha, chunk_of_cell,
-                                   morton_ranks(codes), kept, &order, &cells);
+  Status s = decode_carving_chunks(chunk_sections(&ChunkBytes::carving), dt, points_, levels_.back().alpha,
+                                   b.chunk_of_cell, b.vertex_rank, kept, &order, &cells);
   // (15.0: the kept cells' regions, each chunk's after its carving.)
-  if (s.ok() && (header_.flags & kFlagRegions)) {
-    std::vector<std::span<const uint8_t>> regions;
-    regions.reserve(chunks_.size());
-    for (const BrickChunk& c : chunks_)
-      regions.push_back(split_chunk(c, std::span(chunk_bytes_).subspan(c.offset, c.size())).regions);
-    s = decode_region_chunks(regions, dt, cells, chunk_of_cell, regions_.size(), kept);
-  }
+  if (s.ok() && (header_.flags & kFlagRegions))
+    s = decode_region_chunks(chunk_sections(&ChunkBytes::regions), dt, cells, b.chunk_of_cell,
+                             regions_.size(), kept);
   if (!s.ok()) {
     mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return {};
@@ -413,12 +421,31 @@ std::vector<FieldValues> ProgressiveDecoder::cell_data(const TetMesh& dt, std::s
   uint64_t components = 0;
   for (const FieldDescription& f : cell_fields_) components += f.components;
   Status s = Status::Ok();
-  if (cells.size() * components > options_.max_values)
+  if (cells.size() * components > options_.max_values) {
     s = {StatusCode::kLimitExceeded, std::to_string(cells.size()) + " cells of " +
                                          std::to_string(components) + " values each exceed the limit of " +
                                          std::to_string(options_.max_values) + " values"};
-  else
+  } else if (header_.flags & kFlagBricks) {
+    // (16.0: each chunk's kept cells' values, after its regions; given
+    // here per cell of dt, then in the canonical order.)
+    const BrickedCells b = bricked_cells(dt);
+    const ChunkCells chunks = chunk_cells(dt, b.chunk_of_cell, chunks_.size(), b.vertex_rank);
+    std::vector<FieldValues> per_cell;
+    s = decode_cell_value_chunks(cell_fields_, chunk_sections(&ChunkBytes::cell_values), dt, points_, chunks,
+                                 b.chunk_of_cell, kept, per_cell);
+    if (s.ok())
+      for (const FieldValues& f : per_cell) {
+        const auto n = static_cast<size_t>(f.description.components);
+        FieldValues& o = out.emplace_back(FieldValues{f.description, {}});
+        o.bits.reserve(cells.size() * n);
+        for (uint32_t c : order)
+          if (kept[c])
+            o.bits.insert(o.bits.end(), f.bits.begin() + static_cast<std::ptrdiff_t>(c * n),
+                          f.bits.begin() + static_cast<std::ptrdiff_t>((c + 1) * n));
+      }
+  } else {
     s = decode_cell_values(cell_fields_, cell_value_section_, cell_positions(points_, cells), out);
+  }
   if (!s.ok()) {
     mesh_status_ = s.with_context("level 0's cell values");
     return {};

@@ -175,6 +175,15 @@ class ProgressiveDecoder {
   // A bricked layer's values, chunk by chunk (spec/FORMAT.md §3.5), into layer_values_.
   Status decode_bricked_values(const Layer& layer, std::span<const GridPoint> added);
   std::vector<uint8_t> bricked_carving(const TetMesh& dt, std::vector<uint32_t>& order) const;
+  // A bricked level's cells by chunk: each cell's chunk of the finest
+  // layer (kNoCarvingChunk: none codes it), and each point's Morton rank
+  // (§3.5).
+  struct BrickedCells {
+    std::vector<uint32_t> chunk_of_cell, vertex_rank;
+  };
+  BrickedCells bricked_cells(const TetMesh& dt) const;
+  // The sections of the finest layer's chunks that `part` picks.
+  std::vector<std::span<const uint8_t>> chunk_sections(std::span<const uint8_t> ChunkBytes::*part) const;
 
   DecoderOptions options_;
   std::vector<uint8_t> pending_;  // bytes received and not yet consumed

@@ -208,8 +208,8 @@ uint64_t turned_cells(std::span<const GridPoint> points, std::span<const std::ar
 StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOptions& options,
                                        const EncodePlan& plan, std::span<const std::array<uint32_t, 4>> tets,
                                        std::span<const uint8_t> tet_regions, const Solid* voxels,
-                                       std::vector<FieldValues> fields, EncodedMesh out,
-                                       const LevelReady& on_level) {
+                                       std::vector<FieldValues> fields, std::vector<FieldValues> cell_fields,
+                                       EncodedMesh out, const LevelReady& on_level) {
   if (!options.carve_to_reference)
     return invalid_input(
         "bricked layers (--bricks) need the codec preset: its levels carve to the input's solid");
@@ -250,6 +250,12 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
     values.emplace(std::move(made));
     in.values = &*values;
   }
+  std::optional<FieldSectionEncoder> cell_values;  // per reference tetrahedron
+  if (!cell_fields.empty()) {
+    DTM_ASSIGN_OR_RETURN(FieldSectionEncoder made, FieldSectionEncoder::make(std::move(cell_fields)));
+    cell_values.emplace(std::move(made));
+    in.cell_values = &*cell_values;
+  }
   BrickedEncodeOptions o;
   o.hierarchy = hierarchy_options(options, q.grid, plan.dmax);
   o.brick_points = options.brick_points;
@@ -281,6 +287,16 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   report.value_bytes = std::move(encoded.value_bytes);
   report.level_field_bytes = std::move(encoded.level_field_bytes);
   report.field_table_bytes = encoded.field_table_bytes;
+  if (cell_values) {
+    for (size_t f = 0; f < cell_values->descriptions().size(); ++f)
+      report.cell_fields.push_back({cell_values->descriptions()[f],
+                                    f < encoded.cell_field_bytes.size() ? encoded.cell_field_bytes[f] : 0});
+    report.cell_field_table_bytes = encoded.cell_field_table_bytes;
+    report.cell_value_bytes = encoded.cell_value_bytes;
+    report.level0_cells = encoded.levels.empty() ? 0 : encoded.levels[0].tetrahedra;
+    report.cells_from_input = encoded.cells_from_input;
+    report.cells_from_nearest = encoded.cells_from_nearest;
+  }
   if (values)
     for (size_t f = 0; f < values->descriptions().size(); ++f) {
       uint64_t bytes = 0;
@@ -397,7 +413,9 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   std::vector<FieldDescription> cell_descriptions;  // checked here, before the long work
   if (with_cells) {
     if (input.tetrahedra.empty()) return invalid_input("cell data needs the tetrahedra it belongs to");
-    if (options.bricks) return invalid_input("bricked streams do not carry cell data yet");
+    if (options.bricks && options.exchange && options.exchange->size() > 1)
+      return Status{StatusCode::kUnsupported,
+                    "cell data in a stream made on several ranks (each holds a share of the tetrahedra)"};
     if (!options.carve_to_reference)
       return invalid_input("cell data needs the levels carved to the input's solid (not the paper preset)");
     std::vector<size_t> value_counts;
@@ -539,9 +557,23 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   // The map from input points is read no more unless it makes the caller's
   // vertex_of_input, or the stream keeps the input's order.
   if (input_map && !options.vertex_of_input && !options.keep_order) release(*input_map);
-  if (options.bricks)
+  if (options.bricks) {
+    // Cell data travels with the tetrahedra: each reference tetrahedron's
+    // values, which the blocks give the level-0 cells they own.
+    std::vector<FieldValues> tet_values;
+    for (size_t k = 0; k < input.cell_fields.size(); ++k) {
+      const auto& f = input.cell_fields[k];
+      FieldValues& v = tet_values.emplace_back(FieldValues{cell_descriptions[k], {}});
+      const size_t n = static_cast<size_t>(f.components);
+      v.bits.reserve(reference_tets.size() * n);
+      for (size_t t = 0; t < reference_tets.size(); ++t) {
+        const size_t i = source.empty() ? t : static_cast<size_t>(source[t]);
+        for (size_t c = 0; c < n; ++c) v.bits.push_back(bits_of(f.values[i * n + c], f.type));
+      }
+    }
     return encode_in_bricks(input, options, plan, reference_tets, region_index, voxels ? &*voxels : nullptr,
-                            std::move(fields), std::move(out), on_level);
+                            std::move(fields), std::move(tet_values), std::move(out), on_level);
+  }
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;
                          r.stats = level.stats;

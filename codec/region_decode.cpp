@@ -95,9 +95,11 @@ namespace {
 
 // The region's result from cells over vertices numbered globally: only the
 // cells' vertices, ascending number; cells in canonical order.
+// `cell_regions` and `cell_values`: per cell, or none.
 void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
              std::span<const int32_t> levels, std::span<const FieldValues> values,
-             std::vector<std::array<uint32_t, 4>> cells, std::vector<uint8_t> cell_regions, RegionMesh& out) {
+             std::vector<std::array<uint32_t, 4>> cells, std::vector<uint8_t> cell_regions,
+             std::span<const FieldValues> cell_values, RegionMesh& out) {
   std::vector<uint8_t> in_a_cell(points.size(), 0);
   for (const auto& c : cells)
     for (uint32_t v : c) in_a_cell[v] = 1;
@@ -127,9 +129,25 @@ void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
   std::iota(by_cell.begin(), by_cell.end(), 0u);
   std::sort(by_cell.begin(), by_cell.end(), [&](uint32_t a, uint32_t b) { return cells[a] < cells[b]; });
   out.cells.reserve(cells.size());
+  for (const FieldValues& f : cell_values) out.cell_fields.push_back({f.description, {}});
   for (uint32_t k : by_cell) {
     out.cells.push_back(cells[k]);
     if (!cell_regions.empty()) out.cell_regions.push_back(cell_regions[k]);
+    for (size_t f = 0; f < cell_values.size(); ++f) {
+      const auto n = static_cast<size_t>(cell_values[f].description.components);
+      const auto first = cell_values[f].bits.begin() + static_cast<std::ptrdiff_t>(k * n);
+      out.cell_fields[f].bits.insert(out.cell_fields[f].bits.end(), first,
+                                     first + static_cast<std::ptrdiff_t>(n));
+    }
+  }
+}
+
+// Appends to `out`'s, per field, the values of cell `c` of `from` (cell-major).
+void append_cell(std::span<const FieldValues> from, size_t c, std::vector<FieldValues>& out) {
+  for (size_t f = 0; f < from.size(); ++f) {
+    const auto n = static_cast<size_t>(from[f].description.components);
+    const auto first = from[f].bits.begin() + static_cast<std::ptrdiff_t>(c * n);
+    out[f].bits.insert(out[f].bits.end(), first, first + static_cast<std::ptrdiff_t>(n));
   }
 }
 
@@ -164,12 +182,24 @@ RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box) {
   std::vector<uint8_t> cell_regions;
   out.regions = decoder.regions();
   const ProgressiveDecoder::LevelCells level = decoder.level_cells();
-  if (decoder.mesh_status().ok())
-    for (uint32_t c : level.order)
-      if (level.kept[c] && cell_meets(points, level.mesh.cells[c], box)) {
+  // Level 0's cell data, in the canonical order of the kept cells.
+  const std::vector<FieldValues> all_values = decoder.mesh_status().ok()
+                                                  ? decoder.cell_data(level.mesh, level.kept, level.order)
+                                                  : std::vector<FieldValues>{};
+  std::vector<FieldValues> cell_values;
+  for (const FieldValues& f : all_values) cell_values.push_back({f.description, {}});
+  if (decoder.mesh_status().ok()) {
+    size_t k = 0;  // the cell's place among the kept ones
+    for (uint32_t c : level.order) {
+      if (!level.kept[c]) continue;
+      if (cell_meets(points, level.mesh.cells[c], box)) {
         cells.push_back(level.mesh.cells[c]);
         if (!out.regions.empty()) cell_regions.push_back(level.kept[c]);
+        append_cell(all_values, k, cell_values);
       }
+      ++k;
+    }
+  }
   std::vector<uint32_t> ids(points.size());
   std::iota(ids.begin(), ids.end(), 0u);
   // With the input's numbering (flag vertex_order, level 0), a vertex's id is
@@ -180,7 +210,7 @@ RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box) {
       for (uint32_t k = 0; k < numbering.size(); ++k) ids[numbering[k]] = k;
   }
   compact(points, ids, decoder.vertex_levels(), decoder.fields(), std::move(cells), std::move(cell_regions),
-          out);
+          cell_values, out);
   out.points_decoded = points.size();
   return out;
 }
@@ -191,10 +221,11 @@ namespace {
 // read by offset.
 struct StreamPlan {
   StreamHeader header;
-  std::vector<FieldDescription> fields;  // with flag values: the field table
-  std::vector<RegionLabel> regions;      // with flag regions: the region table
-  uint64_t table_bytes = 0;              // the tables' (where the first layer starts)
-  std::vector<LayerPlan> layers;         // coarsest first; the last is the level's
+  std::vector<FieldDescription> fields;       // with flag values: the field table
+  std::vector<RegionLabel> regions;           // with flag regions: the region table
+  std::vector<FieldDescription> cell_fields;  // with flag cell_data: the cell field table
+  uint64_t table_bytes = 0;                   // the tables' (where the first layer starts)
+  std::vector<LayerPlan> layers;              // coarsest first; the last is the level's
 };
 
 class Reader {
@@ -254,8 +285,9 @@ Status read_framed_table(Reader& reader, StreamPlan& plan, const std::string& na
 Status read_plan(Reader& reader, int level, const DecoderOptions& options, StreamPlan& plan) {
   const int q = plan.header.grid.qbits;
   std::vector<uint8_t> bytes;
-  // The field table (flag values), then the region table (flag regions);
-  // a bricked stream carries no face or cell tables (format.cpp refuses them).
+  // The field table (flag values), the region table (flag regions), then
+  // the cell field table (flag cell_data, 16.0); a bricked stream carries
+  // no face tag table (format.cpp refuses it).
   if (plan.header.flags & kFlagValues)
     DTM_RETURN_IF_ERROR(read_framed_table(reader, plan, "field table", uint64_t{1} << 20,
                                           [&](std::span<const uint8_t> b, size_t& consumed) {
@@ -265,6 +297,11 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
     DTM_RETURN_IF_ERROR(read_framed_table(reader, plan, "region table", uint64_t{1} << 16,
                                           [&](std::span<const uint8_t> b, size_t& consumed) {
                                             return parse_region_table(b, plan.regions, consumed);
+                                          }));
+  if (plan.header.flags & kFlagCellData)
+    DTM_RETURN_IF_ERROR(read_framed_table(reader, plan, "cell field table", uint64_t{1} << 20,
+                                          [&](std::span<const uint8_t> b, size_t& consumed) {
+                                            return parse_field_table(b, plan.cell_fields, consumed);
                                           }));
   LayerWalk walk(plan.header, options.max_vertices, plan.table_bytes);
   while (walk.next_level() >= level) {
@@ -290,7 +327,8 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
     p.chunk_area = offset + kBrickedLayerHeaderSize + layer.header.index_bytes;
     p.first_vertex = layer.header.level_vertices - layer.header.new_vertices;
     DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, layer.header.brick_depth, q, layer.header.new_vertices,
-                                          layer.header.chunk_bytes, plan.header.flags, p.chunks)
+                                          layer.header.chunk_bytes, plan.header.flags, layer.header.level,
+                                          p.chunks)
                             .with_context(what + " at byte " + std::to_string(offset)));
     // A layer the stream cuts is not there for any region or piece, whichever
     // chunks it reads: the levels a prefix holds are its whole layers', as for
@@ -302,6 +340,15 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
     plan.layers.push_back(std::move(p));
   }
   return Status::Ok();
+}
+
+// A region or piece without cells still has the level's arrays, empty:
+// the points' fields, the region table, level 0's cell fields.
+void declare_arrays(const StreamPlan& plan, int level, RegionMesh& out) {
+  for (const FieldDescription& f : plan.fields) out.fields.push_back({f, {}});
+  if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
+  if (level == 0)
+    for (const FieldDescription& f : plan.cell_fields) out.cell_fields.push_back({f, {}});
 }
 
 bool meets_any(const GridBox& a, std::span<const GridBox> boxes) {
@@ -373,8 +420,11 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
     std::vector<ChunkInput> inputs;
     for (size_t k = 0; k < needed[i].size(); ++k) {
       const BrickChunk& chunk = *needed[i][k];
+      // (Level 0's cell values only of the owners' chunks: the others are
+      // read for their points, and checked without them, §3.5.)
+      const bool whole = i + 1 == plan.layers.size() && owners.owns(chunk.brick);
       DTM_RETURN_IF_ERROR(
-          reader.read(p.chunk_area + chunk.offset, chunk.size(), chunk_bytes[k],
+          reader.read(p.chunk_area + chunk.offset, whole ? chunk.size() : chunk.points_size(), chunk_bytes[k],
                       "level " + std::to_string(at) + ", brick " + std::to_string(chunk.brick)));
       inputs.push_back({&chunk, chunk_bytes[k]});
       for (uint32_t n = 0; n < chunk.new_points; ++n) {
@@ -430,11 +480,11 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
       local_values[f].bits.insert(local_values[f].bits.end(), first, first + static_cast<std::ptrdiff_t>(n));
     }
   }
-  if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
   if (!spans_three_dimensions(local_points)) {  // no cell at all: the arrays, empty
-    for (const FieldDescription& f : plan.fields) out.fields.push_back({f, {}});
+    declare_arrays(plan, level, out);
     return Status::Ok();
   }
+  if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
   DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(local_points));
 
   // Each cell's owner brick; the carving of the owners' chunks.
@@ -443,15 +493,20 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   for (size_t v = 0; v < codes.size(); ++v) codes[v] = morton_encode(local_points[v], q);
   const std::vector<uint64_t> owner = carving_bricks_of_cells(dt, local_points, codes, q, depth, r);
   std::vector<uint8_t> kept, cell_regions;
+  std::vector<FieldValues> cell_values;  // per cell of dt, with cell data
   if (plan.header.flags & kFlagCarvingCorrections) {
-    std::vector<std::span<const uint8_t>> sections;
+    // The owners' chunks' sections that `part` picks.
+    const auto owned_sections = [&](std::span<const uint8_t> ChunkBytes::*part) {
+      std::vector<std::span<const uint8_t>> sections;
+      for (const auto& [chunk, at] : finest_read)
+        if (owners.owns(chunk->brick))
+          sections.push_back(
+              split_chunk(*chunk, std::span<const uint8_t>(finest_chunks).subspan(at, chunk->size())).*part);
+      return sections;
+    };
     std::vector<uint64_t> section_bricks;
     for (const auto& [chunk, at] : finest_read)
-      if (owners.owns(chunk->brick)) {
-        sections.push_back(
-            split_chunk(*chunk, std::span<const uint8_t>(finest_chunks).subspan(at, chunk->size())).carving);
-        section_bricks.push_back(chunk->brick);
-      }
+      if (owners.owns(chunk->brick)) section_bricks.push_back(chunk->brick);
     std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
     for (size_t c = 0; c < owner.size(); ++c) {
       const auto it = std::lower_bound(section_bricks.begin(), section_bricks.end(), owner[c]);
@@ -459,24 +514,27 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
         chunk_of_cell[c] = static_cast<uint32_t>(it - section_bricks.begin());
     }
     ChunkCells chunks;
-    DTM_RETURN_IF_ERROR(decode_carving_chunks(sections, dt, local_points, finest.header.alpha, chunk_of_cell,
-                                              morton_ranks(codes), kept, nullptr, &chunks)
+    DTM_RETURN_IF_ERROR(decode_carving_chunks(owned_sections(&ChunkBytes::carving), dt, local_points,
+                                              finest.header.alpha, chunk_of_cell, morton_ranks(codes), kept,
+                                              nullptr, &chunks)
                             .with_context(finest.where()));
+    // Only the owners' cells' regions and values are decoded (the others
+    // are some other region's or piece's: their bricks' chunks were not all
+    // read).
+    std::vector<uint8_t> owned = kept;
+    for (size_t c = 0; c < owned.size(); ++c)
+      if (chunk_of_cell[c] == kNoCarvingChunk && !(owner[c] != kNoBrick && owners.owns(owner[c])))
+        owned[c] = 0;
+    // (16.0) Level 0's cell values, from the same chunks.
+    if (level == 0 && (plan.header.flags & kFlagCellData))
+      DTM_RETURN_IF_ERROR(decode_cell_value_chunks(plan.cell_fields, owned_sections(&ChunkBytes::cell_values),
+                                                   dt, local_points, chunks, chunk_of_cell, owned,
+                                                   cell_values)
+                              .with_context(finest.where()));
     // (15.0) The owners' cells' regions, from the same chunks.
     if (plan.header.flags & kFlagRegions) {
-      std::vector<std::span<const uint8_t>> regions;
-      for (const auto& [chunk, at] : finest_read)
-        if (owners.owns(chunk->brick))
-          regions.push_back(
-              split_chunk(*chunk, std::span<const uint8_t>(finest_chunks).subspan(at, chunk->size()))
-                  .regions);
-      // Only the owners' cells are decoded (the others are some other
-      // region's or piece's: their bricks' chunks were not all read).
-      std::vector<uint8_t> owned = kept;
-      for (size_t c = 0; c < owned.size(); ++c)
-        if (chunk_of_cell[c] == kNoCarvingChunk && !(owner[c] != kNoBrick && owners.owns(owner[c])))
-          owned[c] = 0;
-      DTM_RETURN_IF_ERROR(decode_region_chunks(regions, dt, chunks, chunk_of_cell, plan.regions.size(), owned)
+      DTM_RETURN_IF_ERROR(decode_region_chunks(owned_sections(&ChunkBytes::regions), dt, chunks,
+                                               chunk_of_cell, plan.regions.size(), owned)
                               .with_context(finest.where()));
       cell_regions = std::move(owned);
     }
@@ -485,14 +543,17 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   }
   std::vector<std::array<uint32_t, 4>> cells;
   std::vector<uint8_t> regions_of_cells;
+  std::vector<FieldValues> values_of_cells;
+  for (const FieldValues& f : cell_values) values_of_cells.push_back({f.description, {}});
   for (size_t c = 0; c < dt.cells.size(); ++c)
     if (kept[c] && owner[c] != kNoBrick && owners.owns(owner[c]) &&
         (!box || cell_meets(local_points, dt.cells[c], *box))) {
       cells.push_back(dt.cells[c]);
       if (!cell_regions.empty()) regions_of_cells.push_back(cell_regions[c]);
+      append_cell(cell_values, c, values_of_cells);
     }
   compact(local_points, local_ids, local_levels, local_values, std::move(cells), std::move(regions_of_cells),
-          out);
+          values_of_cells, out);
   return Status::Ok();
 }
 
@@ -555,8 +616,7 @@ StatusOr<RegionMesh> decode_region(ByteSource& source, const GridBox& box, int l
     owners.owns = [&](uint64_t b) { return std::binary_search(bricks.begin(), bricks.end(), b); };
     DTM_RETURN_IF_ERROR(decode_owned(reader, plan, owners, &box, options, out));
   } else {  // no brick: no cell, but the level's arrays (empty)
-    for (const FieldDescription& f : plan.fields) out.fields.push_back({f, {}});
-    if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
+    declare_arrays(plan, level, out);
   }
   out.bytes_read = reader.bytes_read;
   return out;
@@ -598,8 +658,7 @@ StatusOr<RegionMesh> decode_piece(ByteSource& source, int level, int piece, int 
     owners.owns = [&](uint64_t b) { return b >= first && b < last; };
     DTM_RETURN_IF_ERROR(decode_owned(reader, plan, owners, nullptr, options, out));
   } else {  // no brick: no cell, but the level's arrays (empty)
-    for (const FieldDescription& f : plan.fields) out.fields.push_back({f, {}});
-    if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
+    declare_arrays(plan, level, out);
   }
   out.bytes_read = reader.bytes_read;
   return out;

@@ -88,6 +88,9 @@ struct RegionMesh {
   // index of its region in it.
   std::vector<RegionLabel> regions;
   std::vector<uint8_t> cell_regions;
+  // At level 0 of a stream with cell data (flag cell_data): each array's
+  // values, cell-major in the order of `cells`.
+  std::vector<FieldValues> cell_fields;
   // What it took: bytes read from the source, chunks decoded, points decoded.
   uint64_t bytes_read = 0;
   uint64_t chunks_read = 0;

@@ -16,6 +16,7 @@
 #include <span>
 #include <vector>
 
+#include "common/csr.h"
 #include "common/grid.h"
 
 namespace dtm {
@@ -26,8 +27,28 @@ struct CellSources {
   uint64_t nearest = 0;               // cells given the nearest of their vertices' tetrahedra
 };
 
-// `cells` and `reference` name `points` (grid ids); every cell must share a
-// vertex with some reference tetrahedron (a kept cell of level 0 does).
+// The reference tetrahedra by vertex, asked cell by cell (from any thread):
+// what a bricked encoder's blocks ask for the level-0 cells they own
+// (codec/blocks/block_levels.h). Holds 4 bytes per corner of a reference
+// tetrahedron and one per point; the points and tetrahedra are the caller's.
+class CellSourceIndex {
+ public:
+  CellSourceIndex(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> reference);
+  enum class Found : uint8_t { kExact, kHolding, kNearest };
+  // The reference tetrahedron that gives `cell` its values (the least index
+  // among equals), and how it was found. `cell` names `points` and shares a
+  // vertex with some reference tetrahedron.
+  uint32_t source(const std::array<uint32_t, 4>& cell, Found& found) const;
+
+ private:
+  std::span<const GridPoint> points_;
+  std::span<const std::array<uint32_t, 4>> reference_;
+  Csr incident_;  // per point, the reference tetrahedra at it, ascending
+};
+
+// Every cell's, on every core. `cells` and `reference` name `points` (grid
+// ids); every cell must share a vertex with some reference tetrahedron (a
+// kept cell of level 0 does).
 CellSources cell_sources(std::span<const GridPoint> points,
                          std::span<const std::array<uint32_t, 4>> reference,
                          std::span<const std::array<uint32_t, 4>> cells);

@@ -73,54 +73,79 @@ void expect_same_region(const RegionMesh& got, const RegionMesh& want, const std
   for (size_t f = 0; f < got.fields.size(); ++f)
     EXPECT_TRUE(got.fields[f].bits == want.fields[f].bits)
         << what << ", field " << got.fields[f].description.name;
+  EXPECT_TRUE(got.cell_regions == want.cell_regions) << what;
+  ASSERT_EQ(got.cell_fields.size(), want.cell_fields.size()) << what;
+  for (size_t f = 0; f < got.cell_fields.size(); ++f)
+    EXPECT_TRUE(got.cell_fields[f].bits == want.cell_fields[f].bits)
+        << what << ", cell array " << got.cell_fields[f].description.name;
 }
 
 TEST(BrickIndex, RoundTripsAndRefusesWhatDoesNotAddUp) {
   std::vector<BrickChunk> chunks = {{3, 10, 20, 5, 0, 0xDEADBEEF}, {9, 0, 0, 7, 0, 1}, {63, 4, 6, 0, 0, 2}};
-  const std::vector<uint8_t> index = write_brick_index(chunks, false);
+  const std::vector<uint8_t> index = write_brick_index(chunks, {});
   std::vector<BrickChunk> back;
-  ASSERT_TRUE(parse_brick_index(index, 2, 14, 14, 38, kFlagCarvingCorrections, back).ok());
+  ASSERT_TRUE(parse_brick_index(index, 2, 14, 14, 38, kFlagCarvingCorrections, 0, back).ok());
   ASSERT_EQ(back.size(), 3u);
   EXPECT_EQ(back[1].brick, 9u);
   EXPECT_EQ(back[1].offset, 25u);
   EXPECT_EQ(back[2].points_before, 10u);
   EXPECT_EQ(back[0].checksum, 0xDEADBEEFu);
+  EXPECT_FALSE(parse_brick_index(index, 2, 14, 15, 38, kFlagCarvingCorrections, 0, back)
+                   .ok());  // points do not add up
   EXPECT_FALSE(
-      parse_brick_index(index, 2, 14, 15, 38, kFlagCarvingCorrections, back).ok());  // points do not add up
-  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 39, kFlagCarvingCorrections, back).ok());  // nor the bytes
-  EXPECT_FALSE(parse_brick_index(index, 1, 14, 14, 38, kFlagCarvingCorrections, back)
+      parse_brick_index(index, 2, 14, 14, 39, kFlagCarvingCorrections, 0, back).ok());  // nor the bytes
+  EXPECT_FALSE(parse_brick_index(index, 1, 14, 14, 38, kFlagCarvingCorrections, 0, back)
                    .ok());  // brick 63 is outside depth 1's 8
   for (size_t cut = 0; cut < index.size(); ++cut)
     EXPECT_FALSE(
-        parse_brick_index(std::span(index).first(cut), 2, 14, 14, 38, kFlagCarvingCorrections, back).ok())
+        parse_brick_index(std::span(index).first(cut), 2, 14, 14, 38, kFlagCarvingCorrections, 0, back).ok())
         << cut;
   // The sections the stream's flags allow: carving bytes only with
   // carving_corrections, value bytes in every chunk of points with values.
-  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 38, 0, back).ok());
-  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 38, kFlagCarvingCorrections | kFlagValues, back).ok());
+  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 38, 0, 0, back).ok());
+  EXPECT_FALSE(parse_brick_index(index, 2, 14, 14, 38, kFlagCarvingCorrections | kFlagValues, 0, back).ok());
   std::vector<BrickChunk> valued = chunks;
   valued[0].value_bytes = 3;
   valued[2].value_bytes = 2;
   const uint16_t both = kFlagCarvingCorrections | kFlagValues;
-  EXPECT_TRUE(parse_brick_index(write_brick_index(valued, false), 2, 14, 14, 43, both, back).ok());
+  EXPECT_TRUE(parse_brick_index(write_brick_index(valued, {}), 2, 14, 14, 43, both, 0, back).ok());
   EXPECT_FALSE(
-      parse_brick_index(write_brick_index(valued, false), 2, 14, 14, 43, kFlagCarvingCorrections, back).ok());
+      parse_brick_index(write_brick_index(valued, {}), 2, 14, 14, 43, kFlagCarvingCorrections, 0, back).ok());
   valued[1].value_bytes = 1;  // values in a chunk without points
-  EXPECT_FALSE(parse_brick_index(write_brick_index(valued, false), 2, 14, 14, 44, both, back).ok());
+  EXPECT_FALSE(parse_brick_index(write_brick_index(valued, {}), 2, 14, 14, 44, both, 0, back).ok());
   // 15.0's region bytes, listed only with the stream's flag regions.
   std::vector<BrickChunk> regioned = chunks;
   regioned[1].region_bytes = 6;
   const uint16_t regions = kFlagCarvingCorrections | kFlagRegions;
-  ASSERT_TRUE(parse_brick_index(write_brick_index(regioned, true), 2, 14, 14, 44, regions, back).ok());
+  ASSERT_TRUE(
+      parse_brick_index(write_brick_index(regioned, {.regions = true}), 2, 14, 14, 44, regions, 0, back)
+          .ok());
   EXPECT_EQ(back[1].region_bytes, 6u);
   EXPECT_EQ(back[2].offset, 38u);
-  EXPECT_FALSE(
-      parse_brick_index(write_brick_index(regioned, true), 2, 14, 14, 44, kFlagCarvingCorrections, back)
-          .ok());
-  EXPECT_FALSE(parse_brick_index(write_brick_index(chunks, false), 2, 14, 14, 38, regions, back).ok());
+  EXPECT_FALSE(parse_brick_index(write_brick_index(regioned, {.regions = true}), 2, 14, 14, 44,
+                                 kFlagCarvingCorrections, 0, back)
+                   .ok());
+  EXPECT_FALSE(parse_brick_index(write_brick_index(chunks, {}), 2, 14, 14, 38, regions, 0, back).ok());
+  // 16.0's cell value bytes, listed only in level 0's index with the
+  // stream's flag cell_data.
+  std::vector<BrickChunk> celled = chunks;
+  celled[2].cell_value_bytes = 5;
+  celled[2].cell_value_checksum = 0xC0FFEE;
+  const uint16_t cell_data = kFlagCarvingCorrections | kFlagCellData;
+  const std::vector<uint8_t> with_cells = write_brick_index(celled, index_fields(cell_data, 0));
+  ASSERT_TRUE(parse_brick_index(with_cells, 2, 14, 14, 43, cell_data, 0, back).ok());
+  EXPECT_EQ(back[2].cell_value_bytes, 5u);
+  EXPECT_EQ(back[2].cell_value_checksum, 0xC0FFEEu);
+  celled[0].cell_value_checksum = 1;  // a checksum of no cell values
+  EXPECT_FALSE(parse_brick_index(write_brick_index(celled, index_fields(cell_data, 0)), 2, 14, 14, 43,
+                                 cell_data, 0, back)
+                   .ok());
+  EXPECT_FALSE(parse_brick_index(with_cells, 2, 14, 14, 43, cell_data, 1, back).ok());
+  EXPECT_FALSE(parse_brick_index(with_cells, 2, 14, 14, 43, kFlagCarvingCorrections, 0, back).ok());
+  EXPECT_TRUE(index_fields(cell_data, 1).cell_values == false);
   chunks[1].carving_bytes = 0;  // an empty chunk is not listed
   EXPECT_FALSE(
-      parse_brick_index(write_brick_index(chunks, false), 2, 14, 14, 31, kFlagCarvingCorrections, back).ok());
+      parse_brick_index(write_brick_index(chunks, {}), 2, 14, 14, 31, kFlagCarvingCorrections, 0, back).ok());
 }
 
 TEST(BrickGeometry, BricksMeetingABoxCoverIt) {
@@ -615,7 +640,7 @@ TEST(BrickedStream, RegionsCarryTheValuesOfTheWholeDecode) {
   std::vector<BrickChunk> chunks;
   ASSERT_TRUE(parse_brick_index(std::span(bytes).subspan(index_at, finest.header.index_bytes),
                                 finest.header.brick_depth, h.grid.qbits, finest.header.new_vertices,
-                                finest.header.chunk_bytes, h.flags, chunks)
+                                finest.header.chunk_bytes, h.flags, finest.header.level, chunks)
                   .ok());
   const BrickChunk& victim = chunks[chunks.size() / 3];
   ASSERT_GT(victim.value_bytes, 0u);
@@ -746,7 +771,8 @@ TEST(BrickedStream, ADamagedChunkFailsTheRegionsThatReadIt) {
   const uint64_t index_at = finest.offset + kBrickedLayerHeaderSize;
   std::vector<BrickChunk> chunks;
   ASSERT_TRUE(parse_brick_index(std::span(bytes).subspan(index_at, lh.index_bytes), lh.brick_depth,
-                                s.header.grid.qbits, lh.new_vertices, lh.chunk_bytes, s.header.flags, chunks)
+                                s.header.grid.qbits, lh.new_vertices, lh.chunk_bytes, s.header.flags,
+                                lh.level, chunks)
                   .ok());
   ASSERT_GT(chunks.size(), 4u);
   const BrickChunk& victim = chunks[chunks.size() / 2];

@@ -19,16 +19,19 @@
 #include <numeric>
 #include <random>
 #include <set>
+#include <thread>
 #include <vector>
 
 #include "codec/decode.h"
 #include "codec/encode.h"
+#include "codec/region_decode.h"
 #include "codec/sections/cell_value_coder.h"
 #include "codec/stream/format.h"
 #include "core/quantize.h"
 #include "mesh/delaunay.h"
 #include "mesh/topology.h"
 #include "test_support.h"
+#include "thread_ranks.h"
 #include "tools/decoded_mesh.h"
 #include "tools/field_types.h"
 #include "tools/formats/input.h"
@@ -114,10 +117,32 @@ P4 times4(const GridPoint& p) { return {4 * int64_t{p.x}, 4 * int64_t{p.y}, 4 * 
 // names it (t / 2 + 1/4, exact in float64).
 uint32_t named(double pressure) { return static_cast<uint32_t>(std::lround((pressure - 0.25) * 2)); }
 
-TEST(CellData, LevelZeroCarriesTheInputsValuesAndCoarserLevelsNone) {
+// In bricks of a few points, built in blocks of a few hundred: many chunks
+// at level 0, each coding its cells' values alone (16.0, spec/FORMAT.md §3.5).
+EncodeOptions coarse_grid_bricks() {
+  EncodeOptions o = coarse_grid();
+  o.bricks = true;
+  o.brick_points = 24;
+  o.block_points = 300;
+  return o;
+}
+
+class CellDataStreams : public ::testing::TestWithParam<bool> {};
+INSTANTIATE_TEST_SUITE_P(WholeAndBricked, CellDataStreams, ::testing::Bool(),
+                         [](const auto& info) { return info.param ? "Bricked" : "Whole"; });
+
+TEST_P(CellDataStreams, LevelZeroCarriesTheInputsValuesAndCoarserLevelsNone) {
+  const bool bricked = GetParam();
   const CellInput in = block(1500, 5);
-  const Encoded e = encode_cells(in, coarse_grid());
+  const Encoded e = encode_cells(in, bricked ? coarse_grid_bricks() : coarse_grid());
   ASSERT_FALSE(e.bytes.empty());
+  if (bricked) {
+    const StreamSummary s = scan_stream(e.bytes);
+    ASSERT_TRUE(s.status.ok()) << s.status.message();
+    EXPECT_EQ(s.header.version_major, kVersionMajorBrickedCellData);
+    EXPECT_GT(s.layers.back().chunks, 4u) << "level 0 in a few chunks: nothing to test";
+    EXPECT_EQ(s.layers.back().header.cell_value_bytes, e.report.cell_value_bytes);
+  }
   ASSERT_EQ(e.report.cell_fields.size(), 3u);
   EXPECT_GT(e.report.cells_from_input, 0u);
   ASSERT_LT(e.report.cells_from_input, e.report.level0_cells) << "every cell an input one: nothing to test";
@@ -246,9 +271,23 @@ TEST(CellData, RefusedWhereTheStreamCannotCarryThem) {
   input.points = in.points;
   input.tetrahedra = in.tets;
   input.cell_fields = fields;
+  // In bricks on one process, yes (16.0); on ranks, each holding a share of
+  // the tetrahedra, not yet, and every rank says so.
   EncodeOptions bricks;
   bricks.bricks = true;
-  EXPECT_EQ(encode(input, bricks).status().code(), StatusCode::kInvalidInput);
+  EXPECT_TRUE(encode(input, bricks).ok());
+  test::ThreadRanks all(2);
+  std::vector<StatusCode> codes(2);
+  std::vector<std::thread> threads;
+  for (int r = 0; r < 2; ++r)
+    threads.emplace_back([&, r] {
+      test::ThreadRanks::Rank rank(all, r);
+      EncodeOptions on_rank = bricks;
+      on_rank.exchange = &rank;
+      codes[static_cast<size_t>(r)] = encode(input, on_rank).status().code();
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(codes, std::vector<StatusCode>(2, StatusCode::kUnsupported));
   EXPECT_EQ(encode(input, EncodeOptions::paper()).status().code(), StatusCode::kInvalidInput);
   std::vector<double> short_values(3);
   fields[0].values = short_values;
@@ -272,12 +311,78 @@ TEST(CellData, RefusedWhereTheStreamCannotCarryThem) {
   EXPECT_EQ(encode(input, lossy).status().code(), StatusCode::kInvalidInput);
 }
 
+// A bricked level 0 read by box and in pieces (spec/FORMAT.md §4.1): each
+// cell with the values the whole decoder gives it; the pieces' cells are the
+// level's, each once, with its values; a coarser level's box has none.
+TEST(CellData, BricksGiveABoxOrAPieceItsCellsValues) {
+  const CellInput in = block(1500, 5);
+  const Encoded e = encode_cells(in, coarse_grid_bricks());
+  ASSERT_FALSE(e.bytes.empty());
+  ProgressiveDecoder whole;
+  ASSERT_TRUE(whole.feed(e.bytes).ok());
+  ASSERT_TRUE(whole.finish().ok());
+  // The whole level 0: each cell (by its corners) and its values.
+  using Corners = std::array<GridPoint, 4>;
+  const auto by_corners = [](const RegionMesh& m) {
+    std::map<Corners, std::vector<uint64_t>> out;
+    for (size_t c = 0; c < m.cells.size(); ++c) {
+      Corners k;
+      for (size_t i = 0; i < 4; ++i) k[i] = m.points[m.cells[c][i]];
+      std::sort(k.begin(), k.end());
+      std::vector<uint64_t>& bits = out[k];
+      EXPECT_TRUE(bits.empty()) << "a cell twice";
+      for (const FieldValues& f : m.cell_fields) {
+        const auto n = static_cast<size_t>(f.description.components);
+        bits.insert(bits.end(), f.bits.begin() + static_cast<std::ptrdiff_t>(c * n),
+                    f.bits.begin() + static_cast<std::ptrdiff_t>((c + 1) * n));
+      }
+    }
+    return out;
+  };
+  const GridBox everything{{0, 0, 0}, {127, 127, 127}};
+  const RegionMesh all = region_of(whole, everything);
+  ASSERT_EQ(all.cell_fields.size(), 3u);
+  ASSERT_EQ(all.cells.size(), e.report.level0_cells);
+  const auto want = by_corners(all);
+  for (const GridBox& box :
+       {GridBox{{0, 0, 0}, {63, 63, 63}}, GridBox{{40, 20, 30}, {90, 100, 70}}, everything}) {
+    MemorySource source(e.bytes);
+    const auto got = decode_region(source, box, 0);
+    ASSERT_TRUE(got.ok()) << got.status().message();
+    EXPECT_TRUE(got->bricked);
+    ASSERT_EQ(got->cell_fields.size(), 3u);
+    const RegionMesh expected = region_of(whole, box);
+    EXPECT_TRUE(got->cells == expected.cells);
+    for (size_t f = 0; f < 3; ++f) EXPECT_TRUE(got->cell_fields[f].bits == expected.cell_fields[f].bits) << f;
+  }
+  std::map<Corners, std::vector<uint64_t>> pieces;
+  for (int piece = 0; piece < 4; ++piece) {
+    MemorySource source(e.bytes);
+    const auto got = decode_piece(source, 0, piece, 4);
+    ASSERT_TRUE(got.ok()) << got.status().message();
+    ASSERT_EQ(got->cell_fields.size(), 3u) << "an empty piece declares the arrays too";
+    for (auto& [k, bits] : by_corners(*got))
+      EXPECT_TRUE(pieces.emplace(k, bits).second) << "a cell in two pieces";
+  }
+  EXPECT_TRUE(pieces == want);
+  // Level 1 has no cell data.
+  MemorySource source(e.bytes);
+  const auto coarser = decode_region(source, everything, 1);
+  ASSERT_TRUE(coarser.ok()) << coarser.status().message();
+  EXPECT_GT(coarser->cells.size(), 0u);
+  EXPECT_TRUE(coarser->cell_fields.empty());
+}
+
 // Every prefix decodes to whole levels (level 0 only whole, with its
 // values) or stops as truncated; every bit flipped in the cell field table
 // is caught; the decoder's value limit holds for the cells too.
-TEST(CellData, TruncatedDamagedAndOversizedStreamsEndCleanly) {
+TEST_P(CellDataStreams, TruncatedDamagedAndOversizedStreamsEndCleanly) {
   const CellInput in = block(400, 9);
-  const Encoded e = encode_cells(in, EncodeOptions{});
+  EncodeOptions options;  // (the default grid: level 0 in many chunks)
+  options.bricks = GetParam();
+  options.brick_points = 24;
+  options.block_points = 300;
+  const Encoded e = encode_cells(in, options);
   ASSERT_FALSE(e.bytes.empty());
   for (size_t len = 0; len < e.bytes.size(); len += (len < 300 ? 1 : 53)) {
     ProgressiveDecoder d;
@@ -353,6 +458,60 @@ TEST(CellData, DamagedSectionsGiveValuesOrAnError) {
     EXPECT_EQ(decode_cell_values(coder->descriptions(), std::span(section).first(len), at, out).code(),
               StatusCode::kCorrupt)
         << len;
+
+  // A bricked level 0's chunks (16.0): three, each cell's by its second
+  // vertex, every other cell kept.
+  std::vector<uint32_t> chunk_of_cell(dt.cells.size()), rank(g.size());
+  std::iota(rank.begin(), rank.end(), 0u);
+  std::vector<uint8_t> kept(dt.cells.size());
+  for (size_t c = 0; c < dt.cells.size(); ++c) chunk_of_cell[c] = dt.cells[c][1] % 3, kept[c] = c % 2;
+  const ChunkCells chunks = chunk_cells(dt, chunk_of_cell, 3, rank);
+  FieldValues per_cell = f;  // the cells' values by their index in dt
+  per_cell.bits.clear();
+  for (size_t c = 0; c < dt.cells.size(); ++c)
+    per_cell.bits.push_back(bits_of(0.5 * double(c), f.description.type));
+  auto cell_coder = FieldSectionEncoder::make({per_cell});
+  ASSERT_TRUE(cell_coder.ok());
+  const auto sections = encode_cell_value_chunks(
+      *cell_coder, dt, g, chunks, kept, [](uint32_t c) { return c; }, bytes);
+  ASSERT_EQ(sections.size(), 3u);
+  std::vector<std::span<const uint8_t>> parts(sections.begin(), sections.end());
+  ASSERT_TRUE(
+      decode_cell_value_chunks(cell_coder->descriptions(), parts, dt, g, chunks, chunk_of_cell, kept, out)
+          .ok());
+  for (size_t c = 0; c < dt.cells.size(); ++c)
+    EXPECT_EQ(out[0].bits[c], kept[c] ? per_cell.bits[c] : 0u) << c;
+  const auto is_refused = [&](std::span<const std::span<const uint8_t>> p, std::span<const uint32_t> of,
+                              std::span<const uint8_t> k) {
+    return decode_cell_value_chunks(cell_coder->descriptions(), p, dt, g, chunks, of, k, out).code() ==
+           StatusCode::kCorrupt;
+  };
+  // Kept cells without a section, a section without kept cells, a kept
+  // cell whose brick has no chunk, every truncation and some bit flips.
+  std::vector<std::span<const uint8_t>> missing = parts;
+  missing[1] = {};
+  EXPECT_TRUE(is_refused(missing, chunk_of_cell, kept));
+  std::vector<uint8_t> none_kept = kept;
+  for (size_t c = 0; c < dt.cells.size(); ++c)
+    if (chunk_of_cell[c] == 2) none_kept[c] = 0;
+  EXPECT_TRUE(is_refused(parts, chunk_of_cell, none_kept));
+  std::vector<uint32_t> orphan = chunk_of_cell;
+  orphan[1] = kNoCarvingChunk;  // cell 1 is kept
+  EXPECT_TRUE(is_refused(parts, orphan, kept));
+  for (size_t len = 0; len < sections[0].size(); ++len) {
+    std::vector<std::span<const uint8_t>> cut = parts;
+    cut[0] = cut[0].first(len);
+    EXPECT_TRUE(is_refused(cut, chunk_of_cell, kept)) << len;
+  }
+  for (size_t byte = 0; byte < sections[2].size(); byte += 3) {
+    std::vector<uint8_t> damaged = sections[2];
+    damaged[byte] ^= 0x21;
+    std::vector<std::span<const uint8_t>> flipped = parts;
+    flipped[2] = damaged;
+    const Status s = decode_cell_value_chunks(cell_coder->descriptions(), flipped, dt, g, chunks,
+                                              chunk_of_cell, kept, out);
+    EXPECT_TRUE(s.ok() || s.code() == StatusCode::kCorrupt) << byte;
+  }
 }
 
 // The writers put the arrays where their formats hold cell data, and the

@@ -193,7 +193,7 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
 
 // A region or piece as the writers take it: its points, cells, each vertex's
 // coarsest level and its number in the whole level (point data vertex_id),
-// its cells' regions. (No `boundary`: a piece's or a box's own surface is
+// its cells' regions and, at level 0, their values. (No `boundary`: a piece's or a box's own surface is
 // not the level's, and the rest of the level is not decoded to tell.)
 dtm::OutputMesh region_output(const dtm::RegionMesh& region, const dtm::Grid& grid) {
   dtm::OutputMesh mesh;
@@ -213,6 +213,9 @@ dtm::OutputMesh region_output(const dtm::RegionMesh& region, const dtm::Grid& gr
   for (uint8_t r : region.cell_regions) mesh.region.push_back(region.regions.at(r - 1u).label);
   for (const dtm::RegionLabel& r : region.regions)
     if (!r.name.empty()) mesh.region_names[r.label] = r.name;
+  for (const dtm::FieldValues& f : region.cell_fields)
+    mesh.cell_fields.push_back(
+        {f.description.name, dtm::scalar_type(f.description.type), f.description.components, f.bits});
   return mesh;
 }
 

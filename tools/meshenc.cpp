@@ -188,10 +188,10 @@ void add_options(CLI::App& app, Command& c) {
       "finest level decodes faster");
   app.add_flag(
       "--bricks", e.bricks,
-      "bricked layers (format 8.0; 15.0 with regions): each layer's points and corrections in one "
-      "chunk per octree brick, so that meshdec --box decodes a region from the chunks around it, values "
-      "and regions included; the "
-      "levels are built in blocks, the same bytes alone or under mpirun (no candidates)");
+      "bricked layers (format 8.0; 15.0 with regions, 16.0 with cell data): each layer's points and "
+      "corrections in one chunk per octree brick, so that meshdec --box decodes a region from the chunks "
+      "around it, values, regions and level 0's cell data included; the levels are built in blocks, the "
+      "same bytes alone or under mpirun (no candidates; cell data on one process only)");
   app.add_option("--brick-points", e.brick_points,
                  "with --bricks: each layer's bricks are the smallest that hold this many of its new points "
                  "on average (smaller: regions read fewer bytes, the stream grows)")
@@ -799,9 +799,9 @@ int run(Command& c) {
     }
   }
   if (!in.cell_fields.empty()) {
-    const char* why = c.no_cell_data                      ? "--no-cell-data"
-                      : c.encode.bricks || mpi.size() > 1 ? "bricked streams do not carry them yet"
-                      : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
+    const char* why = c.no_cell_data                 ? "--no-cell-data"
+                      : mpi.size() > 1               ? "streams made on several ranks do not carry them yet"
+                      : !c.encode.carve_to_reference ? "the paper preset carves by alpha alone"
                       : c.no_reference || in.tets.empty() ? "no tetrahedra to hold them"
                                                           : nullptr;
     if (why) {

@@ -7,6 +7,7 @@
 
 #include "codec/bricks/bricks.h"
 #include "codec/sections/carving_coder.h"
+#include "codec/sections/cell_value_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/stream/format.h"
 #include "common/parallel_for.h"
@@ -408,6 +409,28 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
       sections = encode_region_chunks(L.dt, cells, chunk_of_cell, L.in_mesh, o.region_count);
       for (size_t i = 0; i < bricks.size(); ++i)
         if (!sections[i].empty()) out.regions.emplace_back(bricks[i], std::move(sections[i]));
+    }
+    // Level 0's kept cells' values (16.0), in the same order, each cell's
+    // from the input tetrahedron it stands for.
+    if (o.cell_values && o.cell_sources) {
+      std::vector<uint8_t> found(L.dt.cells.size(), 0);  // 1 + CellSourceIndex::Found
+      sections = encode_cell_value_chunks(
+          *o.cell_values, L.dt, points, cells, L.in_mesh,
+          [&](uint32_t c) {
+            const auto& cell = L.dt.cells[c];
+            CellSourceIndex::Found how{};
+            const uint32_t t =
+                o.cell_sources->source({ids[cell[0]], ids[cell[1]], ids[cell[2]], ids[cell[3]]}, how);
+            found[c] = static_cast<uint8_t>(1 + static_cast<int>(how));
+            return t;
+          },
+          out.cell_field_bytes);
+      for (size_t i = 0; i < bricks.size(); ++i)
+        if (!sections[i].empty()) out.cell_values.emplace_back(bricks[i], std::move(sections[i]));
+      for (uint8_t how : found) {
+        f.cells_from_input += how == 1 + static_cast<int>(CellSourceIndex::Found::kExact);
+        f.cells_from_nearest += how == 1 + static_cast<int>(CellSourceIndex::Found::kNearest);
+      }
     }
   }
 

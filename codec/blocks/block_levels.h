@@ -35,9 +35,11 @@
 #include <utility>
 #include <vector>
 
+#include "codec/sections/value_fields.h"
 #include "codec/stream/layer_coder.h"
 #include "common/grid.h"
 #include "common/status.h"
+#include "core/cell_sources.h"
 #include "core/coarsening.h"
 #include "core/level_build.h"
 #include "core/reference_shape.h"
@@ -137,6 +139,9 @@ struct BlockFigures {
   // so thinner cells are not counted.
   uint64_t dropped_thick = 0;
   double dropped_thick_radius = 0;
+  // With cell values: the owned kept cells that are input tetrahedra, and
+  // those given the nearest of their vertices' (core/cell_sources.h).
+  uint64_t cells_from_input = 0, cells_from_nearest = 0;
 };
 
 struct BlockAnalysisOptions {
@@ -154,6 +159,11 @@ struct BlockAnalysisOptions {
   // Level 0 without reference tetrahedra: its owned cells (carved by
   // alpha, or by the voxels) are the reference of the coarser levels.
   bool collect_cells = false;
+  // Level 0 with cell data (spec/FORMAT.md §3.5, 16.0): the bricks' cell
+  // value sections are coded too, each kept cell taking the values of the
+  // input tetrahedron `sources` finds for it (its points' indices).
+  const CellSourceIndex* cell_sources = nullptr;
+  const FieldSectionEncoder* cell_values = nullptr;
 };
 
 struct BlockAnalysis {
@@ -165,9 +175,11 @@ struct BlockAnalysis {
   std::vector<uint32_t> surface_vertices;
   std::vector<std::pair<uint32_t, double>> reference_squared;
   // Carving sections of the bricks inside the block (brick, bytes),
-  // ascending; and with regions, the region sections of those that own a
-  // kept cell.
-  std::vector<std::pair<uint64_t, std::vector<uint8_t>>> carving, regions;
+  // ascending; with regions, the region sections of those that own a kept
+  // cell, and with cell values their cell value sections, and each cell
+  // field's bytes in them.
+  std::vector<std::pair<uint64_t, std::vector<uint8_t>>> carving, regions, cell_values;
+  std::vector<uint64_t> cell_field_bytes;
   std::vector<uint32_t> chosen;                 // owned vertices the coarser level keeps (grid ids)
   std::vector<uint32_t> boundary;               // owned boundary vertices (grid ids)
   std::vector<std::array<uint32_t, 4>> carved;  // with collect_cells: owned kept cells (grid ids)

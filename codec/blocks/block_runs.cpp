@@ -256,19 +256,23 @@ std::vector<uint8_t> serialize(const BlockAnalysis& a) {
   w.u64(f.cell_hash);
   w.u64(f.dropped_thick);
   w.f64(f.dropped_thick_radius);
+  w.u64(f.cells_from_input);
+  w.u64(f.cells_from_nearest);
   w.u64(a.surface_triangles.size());
   for (const auto& t : a.surface_triangles)
     for (uint32_t v : t) w.u32(v);
   put(w, std::span<const uint32_t>(a.surface_vertices));
   w.u64(a.reference_squared.size());
   for (const auto& [id, d2] : a.reference_squared) w.u32(id), w.f64(d2);
-  for (const auto* sections : {&a.carving, &a.regions}) {
+  for (const auto* sections : {&a.carving, &a.regions, &a.cell_values}) {
     w.u64(sections->size());
     for (const auto& [brick, bytes] : *sections) {
       w.u64(brick);
       put(w, std::span<const uint8_t>(bytes));
     }
   }
+  w.u64(a.cell_field_bytes.size());
+  for (uint64_t b : a.cell_field_bytes) w.u64(b);
   put(w, std::span<const uint32_t>(a.chosen));
   put(w, std::span<const uint32_t>(a.boundary));
   w.u64(a.carved.size());
@@ -291,16 +295,20 @@ BlockAnalysis deserialize_analysis(std::span<const uint8_t> bytes) {
   f.cell_hash = r.u64();
   f.dropped_thick = r.u64();
   f.dropped_thick_radius = r.f64();
+  f.cells_from_input = r.u64();
+  f.cells_from_nearest = r.u64();
   a.surface_triangles.resize(r.u64());
   for (auto& t : a.surface_triangles)
     for (uint32_t& v : t) v = r.u32();
   a.surface_vertices = r.u32s();
   a.reference_squared.resize(r.u64());
   for (auto& [id, d2] : a.reference_squared) id = r.u32(), d2 = r.f64();
-  for (auto* sections : {&a.carving, &a.regions}) {
+  for (auto* sections : {&a.carving, &a.regions, &a.cell_values}) {
     sections->resize(r.u64());
     for (auto& [brick, section] : *sections) brick = r.u64(), section = r.bytes();
   }
+  a.cell_field_bytes.resize(r.u64());
+  for (uint64_t& b : a.cell_field_bytes) b = r.u64();
   a.chosen = r.u32s();
   a.boundary = r.u32s();
   a.carved.resize(r.u64());

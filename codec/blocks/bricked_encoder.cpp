@@ -119,7 +119,12 @@ class BrickedEncoder {
                               [this] { tets_done(); });
     else if (!in.reference_tets.empty())
       reference_.set_whole(in.reference_tets, in.reference_regions);
-    tets_done();
+    // With cell data, level 0's blocks find each kept cell's input
+    // tetrahedron: the tetrahedra are read until level 0 is coded.
+    if (in.cell_values && !in.reference_tets.empty())
+      cell_sources_.emplace(in.points, in.reference_tets);
+    else
+      tets_done();
     // Made once the reference is: not held (5 bytes a point, 47 MiB at
     // bunny_10m, on every rank) beside the tetrahedra while the reference's
     // boundary and solid are found, the largest of a rank's phases before
@@ -142,6 +147,12 @@ class BrickedEncoder {
   void tets_done() {
     if (in_.reference_tets_done && !tets_done_) in_.reference_tets_done();
     tets_done_ = true;
+  }
+  // Level 0's cell values are coded: the tetrahedra by vertex are held no
+  // more, nor the tetrahedra.
+  void cells_done() {
+    cell_sources_.reset();
+    tets_done();
   }
   BlockRegion region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const;
   // Level `level`'s plan again in blocks of 8, 64, ... times its points
@@ -194,7 +205,8 @@ class BrickedEncoder {
   bool last_ = false;             // the coarser level is to be the coarsest
   uint64_t reference_boundary_vertices_ = 0;
   bool tets_done_ = false;
-  int at_once_;  // blocks built side by side (run_blocks)
+  std::optional<CellSourceIndex> cell_sources_;  // with cell data, until level 0 is coded
+  int at_once_;                                  // blocks built side by side (run_blocks)
   // Blocks a neighbour changed: built again, checked in parts (build()).
   uint64_t blocks_built_again_ = 0, blocks_checked_in_parts_ = 0;
   // Level 0's kept radius from its spacing, as used, and the cells of the
@@ -530,12 +542,14 @@ Status BrickedEncoder::base_carving(int level, BrickedLevel& out) {
   options.kept_radius = out.kept_radius;
   options.brick_depth = 0;
   options.region_count = in_.regions.size();
+  if (level == 0 && cell_sources_) {
+    options.cell_sources = &*cell_sources_;
+    options.cell_values = in_.cell_values;
+  }
   std::vector<BlockAnalysis> a;
   DTM_RETURN_IF_ERROR(analyse(level, one, 0, options, a));
-  out.carving.clear();
-  out.regions.clear();
-  for (auto& [brick, bytes] : a.at(0).carving) out.carving[brick] = std::move(bytes);
-  for (auto& [brick, bytes] : a.at(0).regions) out.regions[brick] = std::move(bytes);
+  out.clear_sections();
+  out.take_sections(a.at(0));
   return Status::Ok();
 }
 
@@ -581,6 +595,10 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     options.region_count = in_.regions.size();
     options.dmax = h.dmax;
     options.collect_cells = level == 0 && !reference_.has_boundary();
+    if (level == 0 && cell_sources_) {
+      options.cell_sources = &*cell_sources_;
+      options.cell_values = in_.cell_values;
+    }
     if (may_choose) options.choice = CoarseningOptions{1 - removal_share(), h.dmax};
     std::vector<BlockAnalysis> analysis;
     MergedLevel merged;
@@ -615,8 +633,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       out.stats.vertices = level_points;
       out.stats.alpha = out.alpha;
       out.cell_hash = 0;
-      out.carving.clear();
-      out.regions.clear();
+      out.clear_sections();
       merged = merge_blocks(analysis, level, out);
       // Level 0 keeps the input's solid: where the solid holds cells above
       // the kept radius its spacing sets (a graded mesh's coarse inside,
@@ -674,6 +691,9 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     if (on_level) on_level(out.stats);
     levels.push_back(std::move(out));
     if (!may_choose) break;
+    if (level == 0) cells_done();
+    options.cell_sources = nullptr;
+    options.cell_values = nullptr;
     DTM_ASSIGN_OR_RETURN(const bool built,
                          coarser_level(level, level_points, plan, block_points, halo, build_halo, options,
                                        analysis, merged.boundary, next_kept_radius, floors));
@@ -687,10 +707,11 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   const HierarchyOptions& h = o_.hierarchy;
   const int coarsest = static_cast<int>(levels.size()) - 1;
   if (levels[coarsest].brick_depth != 0 || levels[coarsest].carving.size() > 1 ||
-      levels[coarsest].regions.size() > 1) {
+      levels[coarsest].regions.size() > 1 || levels[coarsest].cell_values.size() > 1) {
     report_phase(h.on_phase, "the base layer's carving");
     DTM_RETURN_IF_ERROR(base_carving(coarsest, levels[coarsest]));
   }
+  cells_done();
   levels[coarsest].brick_depth = 0;
   // No block carves any more: the reference (this rank's part of the solid,
   // the boundary's index, and the whole boundary where a level of one block
@@ -708,6 +729,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   stream.cell_hashes = o_.cell_hashes;
   stream.values = in_.values;
   stream.regions = in_.regions;
+  stream.cell_values = in_.cell_values;
   stream.index = &*index_;
   stream.level_of = level_of_;
   stream.decode_order = o_.decode_order;
@@ -827,6 +849,12 @@ StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const 
     return invalid_input("a table of regions without the tetrahedra's");
   }
   if (!input.regions.empty()) DTM_RETURN_IF_ERROR(check_region_table(input.regions));
+  if (input.cell_values) {
+    if (input.reference_tets.empty()) return invalid_input("cell data without the tetrahedra it belongs to");
+    if (options.exchange && options.exchange->size() > 1)
+      return Status{StatusCode::kUnsupported,
+                    "cell data on several ranks (each holds a share of the tetrahedra): not built yet"};
+  }
   SingleProcess alone;
   RankExchange& exchange = options.exchange ? *options.exchange : alone;
   BrickedEncoder encoder(input, options, exchange);

@@ -93,6 +93,12 @@ struct BrickedEncodeInput {
   // The per-vertex values (indexed by point), or nullptr: each chunk then
   // carries its points' values (spec/FORMAT.md §3.5).
   const FieldSectionEncoder* values = nullptr;
+  // Per-cell values (indexed by reference tetrahedron), or nullptr: each of
+  // level 0's chunks then carries its kept cells' values, each cell taking
+  // those of the input tetrahedron core/cell_sources.h finds for it
+  // (format 16.0, spec/FORMAT.md §3.5). One process only (kUnsupported on
+  // ranks: each holds a share of the tetrahedra).
+  const FieldSectionEncoder* cell_values = nullptr;
 };
 
 struct BrickedEncoding {
@@ -101,7 +107,12 @@ struct BrickedEncoding {
   std::vector<uint64_t> layer_bytes, carving_bytes, value_bytes, region_bytes, chunk_count,
       index_bytes;                                       // per level
   std::vector<std::vector<uint64_t>> level_field_bytes;  // per level, per field
-  uint64_t field_table_bytes = 0, region_table_bytes = 0;
+  uint64_t field_table_bytes = 0, region_table_bytes = 0, cell_field_table_bytes = 0;
+  // With cell data: level 0's cell value sections' bytes, each field's
+  // share, and where the kept cells' values came from (BlockFigures).
+  uint64_t cell_value_bytes = 0;
+  std::vector<uint64_t> cell_field_bytes;
+  uint64_t cells_from_input = 0, cells_from_nearest = 0;
   std::vector<int> brick_depth;        // per level
   std::vector<uint32_t> decode_order;  // as EncodedStream's
   uint64_t reference_boundary_vertices = 0;

@@ -29,6 +29,21 @@ LayerBricks bricks_of(std::span<const GridPoint> fresh, int qbits, int depth) {
   return b;
 }
 
+// The oldest version that says all the stream holds: 16.0 with cell data
+// (level 0's chunks carry their cells' values), 15.0 with regions (each
+// chunk its kept cells'), else 8.0 (§3.5).
+uint8_t stream_version(const BrickedStreamInput& in) {
+  return in.cell_values        ? kVersionMajorBrickedCellData
+         : !in.regions.empty() ? kVersionMajorBrickedRegions
+                               : kVersionMajorBricked;
+}
+uint16_t stream_flags(const BrickedStreamInput& in) {
+  return static_cast<uint16_t>((in.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections |
+                               kFlagBricks | (in.values ? kFlagValues : 0) |
+                               (in.regions.empty() ? 0 : kFlagRegions) |
+                               (in.cell_values ? kFlagCellData : 0));
+}
+
 class LayerWriter {
  public:
   LayerWriter(const BrickedStreamInput& in, BrickedEncoding& out)
@@ -160,16 +175,20 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   DTM_RETURN_IF_ERROR(values(level, plan, fresh_ids, fresh, b, value));
   release(fresh_ids);
 
-  // The chunks: every brick with points, corrections or regions, ascending.
+  // The chunks: every brick with points, corrections, regions or cell
+  // values, ascending.
   std::vector<BrickParts> parts;
   auto carving = lo.carving.begin();
   auto regions = lo.regions.begin();
+  auto cells = lo.cell_values.begin();
   size_t p = 0;
-  while (p < b.bricks.size() || carving != lo.carving.end() || regions != lo.regions.end()) {
+  while (p < b.bricks.size() || carving != lo.carving.end() || regions != lo.regions.end() ||
+         cells != lo.cell_values.end()) {
     BrickParts& part = parts.emplace_back();
     part.brick = std::min({p < b.bricks.size() ? b.bricks[p] : UINT64_MAX,
                            carving != lo.carving.end() ? carving->first : UINT64_MAX,
-                           regions != lo.regions.end() ? regions->first : UINT64_MAX});
+                           regions != lo.regions.end() ? regions->first : UINT64_MAX,
+                           cells != lo.cell_values.end() ? cells->first : UINT64_MAX});
     const bool points = p < b.bricks.size() && b.bricks[p] == part.brick;
     if (points) {
       part.new_points = static_cast<uint32_t>(b.first[p + 1] - b.first[p]);
@@ -185,6 +204,11 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
       part.regions = std::move(regions->second);
       ++regions;
     }
+    if (cells != lo.cell_values.end() && cells->first == part.brick) {
+      out_.cell_value_bytes += cells->second.size();
+      part.cell_values = std::move(cells->second);
+      ++cells;
+    }
     if (points) {
       out_.value_bytes[l] += value[p].size();
       part.values = std::move(value[p]);
@@ -194,9 +218,15 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   std::vector<uint8_t> chunk_bytes;
   const std::vector<BrickChunk> chunks = write_chunks(parts, chunk_bytes);
   parts.clear();
-  const std::vector<uint8_t> index = write_brick_index(chunks, !in_.regions.empty());
+  const uint16_t flags = stream_flags(in_);
+  const std::vector<uint8_t> index = write_brick_index(chunks, index_fields(flags, level));
+  if (level == 0 && in_.cell_values) {
+    out_.cell_field_bytes = std::move(lo.cell_field_bytes);
+    out_.cells_from_input = lo.cells_from_input;
+    out_.cells_from_nearest = lo.cells_from_nearest;
+  }
   LayerHeader lh;
-  lh.format_major = in_.regions.empty() ? kVersionMajorBricked : kVersionMajorBrickedRegions;
+  lh.format_major = stream_version(in_);
   lh.bricked = true;
   lh.level = static_cast<uint16_t>(level);
   lh.new_vertices = static_cast<uint32_t>(fresh.size());
@@ -217,16 +247,31 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
 
 }  // namespace
 
+void BrickedLevel::take_sections(BlockAnalysis& a) {
+  for (auto& [brick, bytes] : a.carving) carving[brick] = std::move(bytes);
+  for (auto& [brick, bytes] : a.regions) regions[brick] = std::move(bytes);
+  for (auto& [brick, bytes] : a.cell_values) cell_values[brick] = std::move(bytes);
+  cell_field_bytes.resize(std::max(cell_field_bytes.size(), a.cell_field_bytes.size()), 0);
+  for (size_t k = 0; k < a.cell_field_bytes.size(); ++k) cell_field_bytes[k] += a.cell_field_bytes[k];
+  cells_from_input += a.figures.cells_from_input;
+  cells_from_nearest += a.figures.cells_from_nearest;
+}
+
+void BrickedLevel::clear_sections() {
+  carving.clear();
+  regions.clear();
+  cell_values.clear();
+  cell_field_bytes.clear();
+  cells_from_input = cells_from_nearest = 0;
+}
+
 StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
                                                std::vector<BrickedLevel>& levels) {
   StreamHeader header;
   header.grid = in.grid;
   header.alpha_policy = in.alpha_policy;
-  // (15.0 with regions: each chunk carries its kept cells', §3.5.)
-  header.version_major = in.regions.empty() ? kVersionMajorBricked : kVersionMajorBrickedRegions;
-  header.flags =
-      static_cast<uint16_t>((in.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections | kFlagBricks |
-                            (in.values ? kFlagValues : 0) | (in.regions.empty() ? 0 : kFlagRegions));
+  header.version_major = stream_version(in);
+  header.flags = stream_flags(in);
   header.level_count = static_cast<uint16_t>(levels.size());
   header.vertex_count = static_cast<uint32_t>(in.points.size());
   BrickedEncoding out;
@@ -240,6 +285,11 @@ StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
     DTM_RETURN_IF_ERROR(check_region_table(in.regions));
     const std::vector<uint8_t> table = write_region_table(in.regions);
     out.region_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
+  if (in.cell_values) {  // (no face tag table: a bricked stream has none)
+    const std::vector<uint8_t> table = write_field_table(in.cell_values->descriptions());
+    out.cell_field_table_bytes = table.size();
     out.bytes.insert(out.bytes.end(), table.begin(), table.end());
   }
   const size_t count = levels.size();

@@ -28,8 +28,19 @@ struct BrickedLevel {
   int brick_depth = 0;
   std::map<uint64_t, std::vector<uint8_t>> carving;  // per brick
   std::map<uint64_t, std::vector<uint8_t>> regions;  // per brick owning a kept cell, with regions
+  // Level 0 with cell data: per brick owning a kept cell, its cell value
+  // section; each field's bytes in them, and where the cells' values came
+  // from (BlockFigures).
+  std::map<uint64_t, std::vector<uint8_t>> cell_values;
+  std::vector<uint64_t> cell_field_bytes;
+  uint64_t cells_from_input = 0, cells_from_nearest = 0;
   uint64_t cell_hash = 0;
   LevelStats stats;
+
+  // Adds a block's sections (moved from), its cell fields' bytes and its
+  // cells' sources.
+  void take_sections(BlockAnalysis& a);
+  void clear_sections();
 };
 
 struct BrickedStreamInput {
@@ -39,9 +50,12 @@ struct BrickedStreamInput {
   bool cell_hashes = false;
   const FieldSectionEncoder* values = nullptr;  // or none
   std::span<const RegionLabel> regions;         // the region table (2 or more: flag regions), or none
-  const MortonIndex* index = nullptr;           // of `points`
-  std::span<const uint8_t> level_of;            // per grid point: the coarsest level that holds it
-  bool decode_order = true;                     // BrickedEncoding::decode_order made (else empty)
+  // With cell data, the cell field table's (level 0's chunks carry their
+  // cells' values, made by the blocks: BrickedLevel::cell_values), or none.
+  const FieldSectionEncoder* cell_values = nullptr;
+  const MortonIndex* index = nullptr;  // of `points`
+  std::span<const uint8_t> level_of;   // per grid point: the coarsest level that holds it
+  bool decode_order = true;            // BrickedEncoding::decode_order made (else empty)
   RankExchange* exchange = nullptr;
   PhaseCallback on_phase;
 };

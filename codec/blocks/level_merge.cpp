@@ -32,8 +32,7 @@ MergedLevel merge_blocks(std::vector<BlockAnalysis>& analysis, int level, Bricke
     out.cell_hash += f.cell_hash;
     m.dropped_thick += f.dropped_thick;
     m.dropped_thick_radius = std::max(m.dropped_thick_radius, f.dropped_thick_radius);
-    for (auto& [brick, bytes] : a.carving) out.carving[brick] = std::move(bytes);
-    for (auto& [brick, bytes] : a.regions) out.regions[brick] = std::move(bytes);
+    out.take_sections(a);
     m.record.triangles.insert(m.record.triangles.end(), a.surface_triangles.begin(),
                               a.surface_triangles.end());
     m.record.vertices.insert(m.record.vertices.end(), a.surface_vertices.begin(), a.surface_vertices.end());

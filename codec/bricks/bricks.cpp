@@ -53,12 +53,18 @@ ChunkBytes split_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes) 
   c.values = bytes.subspan(uint64_t{chunk.payload_bytes} + chunk.carving_bytes, chunk.value_bytes);
   c.regions = bytes.subspan(uint64_t{chunk.payload_bytes} + chunk.carving_bytes + chunk.value_bytes,
                             chunk.region_bytes);
+  if (bytes.size() >= chunk.size())
+    c.cell_values = bytes.subspan(chunk.points_size(), chunk.cell_value_bytes);
   return c;
+}
+
+IndexFields index_fields(uint16_t stream_flags, int level) {
+  return {(stream_flags & kFlagRegions) != 0, (stream_flags & kFlagCellData) != 0 && level == 0};
 }
 
 uint32_t chunk_checksum(std::span<const uint8_t> bytes) { return static_cast<uint32_t>(xxh3_64(bytes)); }
 
-std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, bool regions) {
+std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, IndexFields fields) {
   std::vector<uint8_t> out;
   put_varint(out, chunks.size());
   for (size_t i = 0; i < chunks.size(); ++i) {
@@ -68,15 +74,20 @@ std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, bool 
     put_varint(out, c.payload_bytes);
     put_varint(out, c.carving_bytes);
     put_varint(out, c.value_bytes);
-    if (regions) put_varint(out, c.region_bytes);
+    if (fields.regions) put_varint(out, c.region_bytes);
+    if (fields.cell_values) put_varint(out, c.cell_value_bytes);
     for (int b = 0; b < 4; ++b) out.push_back(static_cast<uint8_t>(c.checksum >> (8 * b)));
+    if (fields.cell_values)
+      for (int b = 0; b < 4; ++b) out.push_back(static_cast<uint8_t>(c.cell_value_checksum >> (8 * b)));
   }
   return out;
 }
 
 Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, uint64_t new_vertices,
-                         uint64_t chunk_bytes, uint16_t stream_flags, std::vector<BrickChunk>& out) {
+                         uint64_t chunk_bytes, uint16_t stream_flags, int level,
+                         std::vector<BrickChunk>& out) {
   out.clear();
+  const IndexFields fields = index_fields(stream_flags, level);
   if (depth < 0 || depth > kMaxBrickDepth || depth > qbits) return index_corrupt("brick depth out of range");
   size_t pos = 0;
   uint64_t count = 0;
@@ -92,10 +103,15 @@ Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, u
     if (!get_varint(index, pos, delta) || !get_u32_varint(index, pos, c.new_points) ||
         !get_u32_varint(index, pos, c.payload_bytes) || !get_u32_varint(index, pos, c.carving_bytes) ||
         !get_u32_varint(index, pos, c.value_bytes) ||
-        ((stream_flags & kFlagRegions) && !get_u32_varint(index, pos, c.region_bytes)) ||
-        index.size() - pos < 4)
+        (fields.regions && !get_u32_varint(index, pos, c.region_bytes)) ||
+        (fields.cell_values && !get_u32_varint(index, pos, c.cell_value_bytes)) ||
+        index.size() - pos < (fields.cell_values ? 8u : 4u))
       return index_corrupt("entry " + std::to_string(i) + " is cut short");
     for (int b = 0; b < 4; ++b) c.checksum |= static_cast<uint32_t>(index[pos++]) << (8 * b);
+    if (fields.cell_values)
+      for (int b = 0; b < 4; ++b) c.cell_value_checksum |= static_cast<uint32_t>(index[pos++]) << (8 * b);
+    if (c.cell_value_bytes == 0 && c.cell_value_checksum != 0)
+      return index_corrupt("a cell value checksum without cell values");
     const uint64_t previous = out.empty() ? 0 : out.back().brick + 1;
     if (previous >= bricks || delta >= bricks - previous) return index_corrupt("a brick outside the grid");
     c.brick = previous + delta;

@@ -27,37 +27,58 @@ struct BrickChunk {
   uint32_t new_points = 0;
   uint32_t payload_bytes = 0;
   uint32_t carving_bytes = 0;
-  uint32_t value_bytes = 0;   // with the stream's flag values: the chunk's value section
-  uint32_t checksum = 0;      // low 32 bits of XXH3-64 of the chunk's bytes
+  uint32_t value_bytes = 0;  // with the stream's flag values: the chunk's value section
+  // Low 32 bits of XXH3-64 of the chunk's bytes before its cell values.
+  uint32_t checksum = 0;
   uint32_t region_bytes = 0;  // with the stream's flag regions (15.0): its cells' regions
+  // With flag cell_data, in level 0's layer (16.0): its cells' values and
+  // their own checksum (0 without them), so that a reader that needs only
+  // the chunk's points reads and checks the bytes before them.
+  uint32_t cell_value_bytes = 0, cell_value_checksum = 0;
   // Not stored, derived while parsing:
   uint64_t offset = 0;         // of the chunk from the start of the layer's chunk area
   uint64_t points_before = 0;  // new points of the layer in the chunks before this one
-  uint64_t size() const { return uint64_t{payload_bytes} + carving_bytes + value_bytes + region_bytes; }
+  uint64_t size() const { return points_size() + cell_value_bytes; }
+  // The bytes before its cell values: what a reader of its points reads.
+  uint64_t points_size() const {
+    return uint64_t{payload_bytes} + carving_bytes + value_bytes + region_bytes;
+  }
 };
 
 // A chunk's bytes: its payload (the layer coder from the brick's node), its
-// carving corrections, its values, its kept cells' regions.
+// carving corrections, its values, its kept cells' regions, their values.
+// `bytes`: the whole chunk, or its points_size() bytes (cell values empty).
 struct ChunkBytes {
-  std::span<const uint8_t> payload, carving, values, regions;
+  std::span<const uint8_t> payload, carving, values, regions, cell_values;
 };
 ChunkBytes split_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes);
 
+// Which of the optional sizes a layer's index entries hold: region_bytes
+// with the stream's flag regions, cell_value_bytes with flag cell_data in
+// level 0's layer.
+struct IndexFields {
+  bool regions = false, cell_values = false;
+};
+IndexFields index_fields(uint16_t stream_flags, int level);
+
 // The index: varint chunk count, then per chunk varint (brick - previous
 // brick - 1; the first: brick), new_points, payload_bytes, carving_bytes,
-// value_bytes, with `regions` (the stream's flag regions) region_bytes, and
-// the u32 checksum. Offsets are not stored.
-std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, bool regions);
-// Parses and checks an index against its layer: bricks ascending and below
-// 8^depth, the new points adding up to new_vertices and the chunk sizes to
-// chunk_bytes, no empty chunk, a payload of at least the range coder's flush
-// for a chunk of points, and none for a chunk without; carving bytes only
-// with the stream's flag carving_corrections; with flag values, value bytes
-// in every chunk with points and in no other, without it in none; region
-// bytes only with flag regions. Allocates in proportion to the index's
-// bytes only.
+// value_bytes, region_bytes and cell_value_bytes where `fields` says, the
+// u32 checksum, and with cell_value_bytes the u32 cell_value_checksum.
+// Offsets are not stored.
+std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, IndexFields fields);
+// Parses and checks an index against its layer (of level `level`): bricks
+// ascending and below 8^depth, the new points adding up to new_vertices and
+// the chunk sizes to chunk_bytes, no empty chunk, a payload of at least the
+// range coder's flush for a chunk of points, and none for a chunk without;
+// carving bytes only with the stream's flag carving_corrections; with flag
+// values, value bytes in every chunk with points and in no other, without
+// it in none; region bytes only with flag regions, cell value bytes only
+// with flag cell_data in level 0's layer, and a cell value checksum of 0
+// without them. Allocates in proportion to the index's bytes only.
 Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, uint64_t new_vertices,
-                         uint64_t chunk_bytes, uint16_t stream_flags, std::vector<BrickChunk>& out);
+                         uint64_t chunk_bytes, uint16_t stream_flags, int level,
+                         std::vector<BrickChunk>& out);
 // The chunk of `brick`, or nullptr.
 const BrickChunk* find_chunk(std::span<const BrickChunk> chunks, uint64_t brick);
 // Low 32 bits of XXH3-64 of a chunk's bytes.
@@ -101,8 +122,8 @@ SetCoderModels chunk_models(const SetCoderModels& after_base, std::span<const Mo
 std::span<const MortonCode> known_in_brick(std::span<const MortonCode> known, uint64_t brick, int qbits,
                                            int depth);
 
-// Decoder: checks a chunk's bytes against its checksum (kCorrupt, naming the
-// brick).
+// Decoder: checks a chunk's bytes against its checksums (kCorrupt, naming
+// the brick): the whole chunk, or its points_size() bytes alone.
 Status check_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes);
 // Decodes one chunk's new points (ascending Morton code), appending them to
 // `out`. `known`: every point of V_{l+1} the caller holds in the brick (at
@@ -149,16 +170,17 @@ std::vector<uint8_t> encode_chunk_points(std::span<const GridPoint> points, std:
 // What the encoder made of one brick of a layer: its new points' count,
 // payload and value section (empty without points), its carving
 // corrections (empty when alpha is right there), its kept cells' regions
-// (empty with one region, or none kept).
+// (empty with one region, or none kept) and values (level 0's, with cell
+// data; empty when none is kept).
 struct BrickParts {
   uint64_t brick = 0;
   uint32_t new_points = 0;
-  std::vector<uint8_t> payload, carving, values, regions;
+  std::vector<uint8_t> payload, carving, values, regions, cell_values;
 };
 // The layer's chunks from its bricks' parts (ascending bricks, each once):
-// one chunk, with its checksum, for every brick with points, corrections
-// or regions, its bytes (payload, carving, values, regions) appended to
-// `chunk_bytes`.
+// one chunk, with its checksum, for every brick with points, corrections,
+// regions or cell values, its bytes (payload, carving, values, regions,
+// cell values) appended to `chunk_bytes`.
 std::vector<BrickChunk> write_chunks(std::span<const BrickParts> parts, std::vector<uint8_t>& chunk_bytes);
 
 }  // namespace dtm

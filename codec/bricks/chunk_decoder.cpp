@@ -9,8 +9,12 @@
 namespace dtm {
 
 Status check_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes) {
-  if (chunk_checksum(bytes) != chunk.checksum)
+  const uint64_t head = chunk.points_size();
+  if (bytes.size() < head || chunk_checksum(bytes.first(head)) != chunk.checksum)
     return {StatusCode::kCorrupt, "brick " + std::to_string(chunk.brick) + ": chunk checksum mismatch"};
+  if (bytes.size() > head && chunk_checksum(bytes.subspan(head)) != chunk.cell_value_checksum)
+    return {StatusCode::kCorrupt,
+            "brick " + std::to_string(chunk.brick) + ": the chunk's cell values' checksum mismatch"};
   return Status::Ok();
 }
 

@@ -12,12 +12,15 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
+#include "codec/sections/carving_coder.h"
 #include "codec/sections/value_fields.h"
 #include "common/grid.h"
 #include "common/status.h"
+#include "mesh/delaunay.h"
 
 namespace dtm {
 
@@ -35,5 +38,32 @@ std::vector<GridPoint> cell_positions(std::span<const GridPoint> points,
 // bytes do.
 Status decode_cell_values(std::span<const FieldDescription> fields, std::span<const uint8_t> section,
                           std::span<const GridPoint> positions, std::vector<FieldValues>& out);
+
+// Bricked streams (16.0, spec/FORMAT.md §3.5): each of level 0's chunks
+// carries a cell value section for the kept cells its brick owns, in its
+// carving section's order (`chunks`, chunk_cells()), coded as a chunk's
+// point values are with nothing known: fresh models, and as neighbours only
+// the chunk's earlier cells. So chunks code alone, and a region reader
+// decodes those it reads.
+//
+// Encoder (cell_value_encoder.cpp): one section for each chunk, with bytes
+// for each chunk owning a kept cell (`kept`, per cell of dt). `source_of`
+// gives a kept cell's index into `values`' points (the input tetrahedron
+// whose values it takes); `field_bytes` gains each field's share.
+std::vector<std::vector<uint8_t>> encode_cell_value_chunks(
+    const FieldSectionEncoder& values, const TetMesh& dt, std::span<const GridPoint> points,
+    const ChunkCells& chunks, std::span<const uint8_t> kept,
+    const std::function<uint32_t(uint32_t cell)>& source_of, std::vector<uint64_t>& field_bytes);
+// Decoder: the values of the kept cells (`kept`, per cell of dt) from
+// their chunks' sections, on every core: `out`, one FieldValues per field,
+// cell-major per cell of dt (a cell not kept holds zeros). kCorrupt, naming
+// the chunk (its index), if a section is damaged, does not end where its
+// bytes do, is there without kept cells or missing with them, or a kept
+// cell's brick has no chunk (`chunk_of_cell`: kNoCarvingChunk).
+Status decode_cell_value_chunks(std::span<const FieldDescription> fields,
+                                std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
+                                std::span<const GridPoint> points, const ChunkCells& chunks,
+                                std::span<const uint32_t> chunk_of_cell, std::span<const uint8_t> kept,
+                                std::vector<FieldValues>& out);
 
 }  // namespace dtm

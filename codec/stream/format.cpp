@@ -141,8 +141,8 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
     return corrupt("faces flagged without carving corrections");
   if ((h.flags & kFlagCellData) && h.version_major < 10)
     return corrupt("cell data flagged in a stream before 10.0");
-  if ((h.flags & kFlagCellData) && (h.flags & kFlagBricks))
-    return corrupt("cell data flagged in a bricked stream");
+  if ((h.flags & kFlagCellData) && (h.flags & kFlagBricks) && h.version_major < 16)
+    return corrupt("cell data flagged in a bricked stream before 16.0");
   if ((h.flags & kFlagCellData) && !(h.flags & kFlagCarvingCorrections))
     return corrupt("cell data flagged without carving corrections");
   if ((h.flags & kFlagVertexOrder) && h.version_major < 10)
@@ -414,7 +414,7 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
         std::vector<BrickChunk> chunks;
         s.status =
             parse_brick_index(layer.index, lh.brick_depth, s.header.grid.qbits, lh.new_vertices,
-                              lh.chunk_bytes, s.header.flags, chunks)
+                              lh.chunk_bytes, s.header.flags, lh.level, chunks)
                 .with_context("level " + std::to_string(level) + " at byte " + std::to_string(layer.offset));
         if (!s.status.ok()) return s;
         s.layers.back().chunks = chunks.size();
@@ -426,18 +426,25 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
             return s;
         for (const BrickChunk& c : chunks) {
           lh.payload_bytes += c.payload_bytes, lh.carving_bytes += c.carving_bytes,
-              lh.value_bytes += c.value_bytes, lh.region_bytes += c.region_bytes;
-          if (s.fields.empty() || c.value_bytes == 0) continue;
-          // Each chunk's value section, its fields' shares added up.
-          std::vector<uint64_t> shares;
-          s.status =
-              value_section_field_bytes(split_chunk(c, layer.chunks.subspan(c.offset, c.size())).values,
-                                        s.fields, shares)
-                  .with_context("level " + std::to_string(level) + ", brick " + std::to_string(c.brick));
-          if (!s.status.ok()) return s;
-          std::vector<uint64_t>& field_bytes = s.layers.back().field_bytes;
-          field_bytes.resize(shares.size(), 0);
-          for (size_t f = 0; f < shares.size(); ++f) field_bytes[f] += shares[f];
+              lh.value_bytes += c.value_bytes, lh.region_bytes += c.region_bytes,
+              lh.cell_value_bytes += c.cell_value_bytes;
+          // Each chunk's value sections, their fields' shares added up.
+          const ChunkBytes parts = split_chunk(c, layer.chunks.subspan(c.offset, c.size()));
+          const auto add_shares = [&](std::span<const uint8_t> section,
+                                      std::span<const FieldDescription> table,
+                                      std::vector<uint64_t>& field_bytes) {
+            if (table.empty() || section.empty()) return true;
+            std::vector<uint64_t> shares;
+            s.status =
+                value_section_field_bytes(section, table, shares)
+                    .with_context("level " + std::to_string(level) + ", brick " + std::to_string(c.brick));
+            field_bytes.resize(shares.size(), 0);
+            for (size_t f = 0; f < shares.size(); ++f) field_bytes[f] += shares[f];
+            return s.status.ok();
+          };
+          if (!add_shares(parts.values, s.fields, s.layers.back().field_bytes) ||
+              !add_shares(parts.cell_values, s.cell_fields, s.layers.back().cell_field_bytes))
+            return s;
         }
       } else if (!s.fields.empty()) {
         s.status = value_section_field_bytes(layer.values, s.fields, s.layers.back().field_bytes);

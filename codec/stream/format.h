@@ -55,8 +55,11 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // exact cell section starts with a flag per 3-2 flip of the kept cells
 // (spec/FORMAT.md §3.10, §3.2: apex_ranks_of(), exact_carving_contexts());
 // 15.0 when a bricked stream's cells carry regions (each chunk a region
-// section, spec/FORMAT.md §3.5); the decoder reads 2.x to 15.x.
-inline constexpr uint8_t kVersionMajor = 15;
+// section, spec/FORMAT.md §3.5); 16.0 when a bricked stream's level 0
+// carries cell data (each of its chunks a cell value section); the decoder
+// reads 2.x to 16.x.
+inline constexpr uint8_t kVersionMajor = 16;
+inline constexpr uint8_t kVersionMajorBrickedCellData = 16;
 inline constexpr uint8_t kVersionMajorBrickedRegions = 15;
 inline constexpr uint8_t kVersionMajorExact = 14;
 inline constexpr uint8_t kVersionMajorExactInContext = 13;
@@ -91,7 +94,8 @@ inline constexpr uint16_t kFlagRegions = 16;
 inline constexpr uint16_t kFlagFaces = 32;
 // 10.0: a cell field table follows (the face tag table) and level 0's layer
 // carries a cell value section: per-cell arrays of the finest level
-// (codec/sections/cell_value_coder.h); not with kFlagBricks.
+// (codec/sections/cell_value_coder.h); with kFlagBricks from 16.0, each of
+// level 0's chunks carrying its cells' (codec/bricks/bricks.h).
 inline constexpr uint16_t kFlagCellData = 64;
 // 10.0: level 0's layer carries a vertex order section: level 0's vertices
 // in the input's numbering (codec/sections/vertex_order_coder.h); not with

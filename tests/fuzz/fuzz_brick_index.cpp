@@ -15,14 +15,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 6) return 0;
   const int qbits = 1 + data[0] % 24;
   const int depth = data[1] % 18;  // 17: beyond the format's 16
-  const uint16_t flags = static_cast<uint16_t>(((data[1] / 18) & 1 ? dtm::kFlagCarvingCorrections : 0) |
-                                               ((data[1] / 36) & 1 ? dtm::kFlagValues : 0) |
-                                               ((data[1] / 72) & 1 ? dtm::kFlagRegions : 0));
+  const uint16_t flags = static_cast<uint16_t>(
+      ((data[1] / 18) & 1 ? dtm::kFlagCarvingCorrections : 0) | ((data[1] / 36) & 1 ? dtm::kFlagValues : 0) |
+      ((data[1] / 72) & 1 ? dtm::kFlagRegions : 0) | ((data[1] / 144) & 1 ? dtm::kFlagCellData : 0));
+  const int level = data[0] / 24 % 2;  // level 0's index holds the cell value bytes
   const uint64_t new_vertices = data[2] | (data[3] << 8);
   const uint64_t chunk_bytes = data[4] | (data[5] << 8);
   const std::span<const uint8_t> index(data + 6, size - 6);
   std::vector<dtm::BrickChunk> chunks;
-  if (!dtm::parse_brick_index(index, depth, qbits, new_vertices, chunk_bytes, flags, chunks).ok()) return 0;
+  if (!dtm::parse_brick_index(index, depth, qbits, new_vertices, chunk_bytes, flags, level, chunks).ok())
+    return 0;
   FUZZ_CHECK(depth <= qbits && depth <= dtm::kMaxBrickDepth);
   uint64_t points = 0, bytes = 0;
   for (size_t i = 0; i < chunks.size(); ++i) {
@@ -33,11 +35,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(chunks[i].carving_bytes == 0 || (flags & dtm::kFlagCarvingCorrections));
     FUZZ_CHECK((chunks[i].value_bytes > 0) == ((flags & dtm::kFlagValues) && chunks[i].new_points > 0));
     FUZZ_CHECK(chunks[i].region_bytes == 0 || (flags & dtm::kFlagRegions));
+    FUZZ_CHECK(chunks[i].cell_value_bytes == 0 || ((flags & dtm::kFlagCellData) && level == 0));
+    FUZZ_CHECK(chunks[i].cell_value_checksum == 0 || chunks[i].cell_value_bytes > 0);
     points += chunks[i].new_points;
     bytes += chunks[i].size();
   }
   FUZZ_CHECK(points == new_vertices && bytes == chunk_bytes);
-  const std::vector<uint8_t> again = dtm::write_brick_index(chunks, flags & dtm::kFlagRegions);
+  const std::vector<uint8_t> again = dtm::write_brick_index(chunks, dtm::index_fields(flags, level));
   FUZZ_CHECK(std::equal(again.begin(), again.end(), index.begin(), index.end()));
   return 0;
 }

@@ -5,11 +5,14 @@
 // bytes, and a section that decodes gives every cell its values, which the
 // encoder codes again into a section that decodes to the same values.
 //
-// Input: byte 0: which point set (fuzz_point_sets.h, by bit 0) and which of
+// Input: byte 0: which point set (fuzz_point_sets.h, by bit 0), which of
 // its Delaunay cells are kept (all, by bit 1, else every cell whose first
-// vertex is even); bytes 1-2: the table's body length n (little-endian);
-// then n bytes of body (the target adds the length word and the checksum),
-// then the section.
+// vertex is even), and by bit 2 whether the section is a bricked level 0's
+// (16.0, spec/FORMAT.md §3.5: three chunks, each cell's by its second
+// vertex; the section's first two bytes give the first two chunks'
+// lengths, the rest the third's); bytes 1-2: the table's body length n
+// (little-endian); then n bytes of body (the target adds the length word
+// and the checksum), then the section.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -42,12 +45,52 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   FUZZ_CHECK(consumed == table.size());
   FUZZ_CHECK(dtm::write_field_table(fields) == table);
 
+  const std::span<const uint8_t> section = framed.after;
+  const std::span<const dtm::GridPoint> points = fuzz_point_set(cloud);
+  if (data[0] & 4) {  // a bricked level 0's chunks
+    std::vector<uint8_t> kept(dt.cells.size());
+    for (size_t c = 0; c < kept.size(); ++c) kept[c] = (data[0] & 2) || dt.cells[c][0] % 2 == 0;
+    std::vector<uint32_t> chunk_of_cell(dt.cells.size()), rank(points.size());
+    for (size_t c = 0; c < chunk_of_cell.size(); ++c) chunk_of_cell[c] = dt.cells[c][1] % 3;
+    std::iota(rank.begin(), rank.end(), 0u);
+    const dtm::ChunkCells chunks = dtm::chunk_cells(dt, chunk_of_cell, 3, rank);
+    if (section.size() < 2) return 0;
+    const size_t first = std::min<size_t>(section[0], section.size() - 2);
+    const size_t second = std::min<size_t>(section[1], section.size() - 2 - first);
+    const std::span<const uint8_t> bytes = section.subspan(2);
+    const std::vector<std::span<const uint8_t>> parts = {bytes.first(first), bytes.subspan(first, second),
+                                                         bytes.subspan(first + second)};
+    std::vector<dtm::FieldValues> values;
+    const dtm::Status s =
+        dtm::decode_cell_value_chunks(fields, parts, dt, points, chunks, chunk_of_cell, kept, values);
+    if (!s.ok()) {
+      FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
+      return 0;
+    }
+    FUZZ_CHECK(values.size() == fields.size());
+    for (size_t f = 0; f < fields.size(); ++f)
+      FUZZ_CHECK(values[f].bits.size() == dt.cells.size() * fields[f].components);
+    if (std::any_of(fields.begin(), fields.end(), [](const auto& f) { return f.lossy; })) return 0;
+    // Coded again chunk by chunk (each cell its own source), the same values.
+    auto again = dtm::FieldSectionEncoder::make(values);
+    FUZZ_CHECK(again.ok());
+    std::vector<uint64_t> field_bytes;
+    const auto recoded = dtm::encode_cell_value_chunks(
+        *again, dt, points, chunks, kept, [](uint32_t c) { return c; }, field_bytes);
+    const std::vector<std::span<const uint8_t>> recoded_parts(recoded.begin(), recoded.end());
+    std::vector<dtm::FieldValues> back;
+    FUZZ_CHECK(dtm::decode_cell_value_chunks(again->descriptions(), recoded_parts, dt, points, chunks,
+                                             chunk_of_cell, kept, back)
+                   .ok());
+    for (size_t f = 0; f < fields.size(); ++f) FUZZ_CHECK(back[f].bits == values[f].bits);
+    return 0;
+  }
+
   // The kept cells in canonical order, where the decoder puts them.
   std::vector<std::array<uint32_t, 4>> cells;
   for (uint32_t c : dtm::canonical_cell_order(dt.cells))
     if ((data[0] & 2) || dt.cells[c][0] % 2 == 0) cells.push_back(dt.cells[c]);
-  const std::vector<dtm::GridPoint> at = dtm::cell_positions(fuzz_point_set(cloud), cells);
-  const std::span<const uint8_t> section = framed.after;
+  const std::vector<dtm::GridPoint> at = dtm::cell_positions(points, cells);
   std::vector<dtm::FieldValues> values;
   const dtm::Status s = dtm::decode_cell_values(fields, section, at, values);
   if (!s.ok()) {

@@ -2,8 +2,9 @@
 // bytes pick the level and the box, the rest is the stream. Never a crash, a
 // hang or an allocation the bytes do not justify; what decodes is a mesh
 // over its own points, numbered within the level, having read no byte twice,
-// with every field's values for every point and, with regions (15.0), every
-// cell's region one of the table's.
+// with every field's values for every point, with regions (15.0) every
+// cell's region one of the table's, and with cell data (16.0) every cell's
+// values at level 0, none at another.
 // (That the region equals the whole level filtered holds for the streams the
 // encoder writes, tests/test_bricks.cpp: a hostile stream may claim a kept
 // radius its cells break, which only the whole decode can see.)
@@ -40,5 +41,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(region->cell_regions.size() == region->cells.size() || region->regions.size() < 2);
     for (uint8_t r : region->cell_regions) FUZZ_CHECK(r >= 1 && r <= region->regions.size());
   }
+  FUZZ_CHECK(region->cell_fields.empty() || level == 0);
+  for (const auto& f : region->cell_fields)
+    FUZZ_CHECK(f.bits.size() == region->cells.size() * static_cast<size_t>(f.description.components));
   return 0;
 }

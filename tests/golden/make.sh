@@ -63,11 +63,11 @@ for entry in expected["levels"]:
 json.dump(expected, open(path, "w"), indent=1)
 PY
   fi
-  # With cell data (10.0): level 0's arrays as meshdec writes them (.vtu),
+  # With cell data (10.0, 16.0): level 0's arrays as meshdec writes them (.vtu),
   # each as its count and an order-sensitive checksum of its values' bits:
   # the sum over k of (k + 1) x bits_k modulo 2^64, bits_k the k-th value's
   # bits in its own type, zero-extended.
-  if [ "$format" = "dtm 10.0" ]; then
+  if [ "$format" = "dtm 10.0" ] || [ "$format" = "dtm 16.0" ]; then
     "$dec" "$here/$name.dtm" -q -o "$tmp/level0.vtu"
     /usr/bin/python3 - "$here/$name.expected.json" "$tmp/level0.vtu" <<'PY'
 import json, sys
@@ -121,6 +121,9 @@ zone = (np.arange(len(tets)) % 9 - 4).astype(np.int16)
 meshio.write(out, meshio.Mesh(points, [("tetra", tets)], cell_data={"heat": [heat], "zone": [zone]}))
 PY
 make_one torus_288_cells torus_288_cells.vtu --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3 --keep-order
+# 16.0: the same cell data in bricked layers (several chunks at level 0).
+make_one torus_288_cells_bricks torus_288_cells.vtu --scale 25 --dmax 3 --quality-floor 0 --removal-share 0.3 \
+  --bricks --brick-points 8 --block-points 64
 # 13.0: the gmsh part with --exact: level 0 is its own tetrahedra (the cell
 # hash of level 0 is theirs), with its regions and tagged faces on them.
 # (v11/ and v12/ hold its 11.0 and 12.0 streams, made so before 12.0 ranked
