@@ -427,22 +427,28 @@ std::vector<FieldValues> ProgressiveDecoder::cell_data(const TetMesh& dt, std::s
                                          std::to_string(options_.max_values) + " values"};
   } else if (header_.flags & kFlagBricks) {
     // (16.0: each chunk's kept cells' values, after its regions; given
-    // here per cell of dt, then in the canonical order.)
+    // here in the kept cells' index order, then in the canonical order.)
     const BrickedCells b = bricked_cells(dt);
     const ChunkCells chunks = chunk_cells(dt, b.chunk_of_cell, chunks_.size(), b.vertex_rank);
-    std::vector<FieldValues> per_cell;
+    std::vector<FieldValues> by_index;
     s = decode_cell_value_chunks(cell_fields_, chunk_sections(&ChunkBytes::cell_values), dt, points_, chunks,
-                                 b.chunk_of_cell, kept, per_cell);
-    if (s.ok())
-      for (const FieldValues& f : per_cell) {
+                                 b.chunk_of_cell, kept, by_index);
+    if (s.ok()) {
+      std::vector<uint32_t> slot(kept.size(), 0);  // each kept cell's place in by_index
+      uint32_t next = 0;
+      for (size_t c = 0; c < kept.size(); ++c)
+        if (kept[c]) slot[c] = next++;
+      for (const FieldValues& f : by_index) {
         const auto n = static_cast<size_t>(f.description.components);
         FieldValues& o = out.emplace_back(FieldValues{f.description, {}});
         o.bits.reserve(cells.size() * n);
         for (uint32_t c : order)
-          if (kept[c])
-            o.bits.insert(o.bits.end(), f.bits.begin() + static_cast<std::ptrdiff_t>(c * n),
-                          f.bits.begin() + static_cast<std::ptrdiff_t>((c + 1) * n));
+          if (kept[c]) {
+            const auto first = f.bits.begin() + static_cast<std::ptrdiff_t>(size_t{slot[c]} * n);
+            o.bits.insert(o.bits.end(), first, first + static_cast<std::ptrdiff_t>(n));
+          }
       }
+    }
   } else {
     s = decode_cell_values(cell_fields_, cell_value_section_, cell_positions(points_, cells), out);
   }

@@ -142,6 +142,14 @@ void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
   }
 }
 
+// The arrays of `from`, without values.
+std::vector<FieldValues> empty_like(std::span<const FieldValues> from) {
+  std::vector<FieldValues> out;
+  out.reserve(from.size());
+  for (const FieldValues& f : from) out.push_back({f.description, {}});
+  return out;
+}
+
 // Appends to `out`'s, per field, the values of cell `c` of `from` (cell-major).
 void append_cell(std::span<const FieldValues> from, size_t c, std::vector<FieldValues>& out) {
   for (size_t f = 0; f < from.size(); ++f) {
@@ -186,8 +194,7 @@ RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box) {
   const std::vector<FieldValues> all_values = decoder.mesh_status().ok()
                                                   ? decoder.cell_data(level.mesh, level.kept, level.order)
                                                   : std::vector<FieldValues>{};
-  std::vector<FieldValues> cell_values;
-  for (const FieldValues& f : all_values) cell_values.push_back({f.description, {}});
+  std::vector<FieldValues> cell_values = empty_like(all_values);
   if (decoder.mesh_status().ok()) {
     size_t k = 0;  // the cell's place among the kept ones
     for (uint32_t c : level.order) {
@@ -493,7 +500,8 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   for (size_t v = 0; v < codes.size(); ++v) codes[v] = morton_encode(local_points[v], q);
   const std::vector<uint64_t> owner = carving_bricks_of_cells(dt, local_points, codes, q, depth, r);
   std::vector<uint8_t> kept, cell_regions;
-  std::vector<FieldValues> cell_values;  // per cell of dt, with cell data
+  std::vector<FieldValues> cell_values;  // per owned kept cell of dt (ascending), with cell data
+  std::vector<uint32_t> cell_slot;       // each owned kept cell's place in cell_values
   if (plan.header.flags & kFlagCarvingCorrections) {
     // The owners' chunks' sections that `part` picks.
     const auto owned_sections = [&](std::span<const uint8_t> ChunkBytes::*part) {
@@ -525,12 +533,23 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
     for (size_t c = 0; c < owned.size(); ++c)
       if (chunk_of_cell[c] == kNoCarvingChunk && !(owner[c] != kNoBrick && owners.owns(owner[c])))
         owned[c] = 0;
-    // (16.0) Level 0's cell values, from the same chunks.
-    if (level == 0 && (plan.header.flags & kFlagCellData))
+    // (16.0) Level 0's cell values, from the same chunks (as many as the
+    // decoder's value limit allows).
+    if (level == 0 && (plan.header.flags & kFlagCellData)) {
+      uint64_t components = 0, cells = 0;
+      for (const FieldDescription& f : plan.cell_fields) components += static_cast<uint64_t>(f.components);
+      cell_slot.assign(owned.size(), 0);
+      for (size_t c = 0; c < owned.size(); ++c)
+        if (owned[c]) cell_slot[c] = static_cast<uint32_t>(cells++);
+      if (cells * components > options.max_values)
+        return {StatusCode::kLimitExceeded,
+                std::to_string(cells) + " cells of " + std::to_string(components) +
+                    " values each exceed the limit of " + std::to_string(options.max_values) + " values"};
       DTM_RETURN_IF_ERROR(decode_cell_value_chunks(plan.cell_fields, owned_sections(&ChunkBytes::cell_values),
                                                    dt, local_points, chunks, chunk_of_cell, owned,
                                                    cell_values)
                               .with_context(finest.where()));
+    }
     // (15.0) The owners' cells' regions, from the same chunks.
     if (plan.header.flags & kFlagRegions) {
       DTM_RETURN_IF_ERROR(decode_region_chunks(owned_sections(&ChunkBytes::regions), dt, chunks,
@@ -543,14 +562,13 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   }
   std::vector<std::array<uint32_t, 4>> cells;
   std::vector<uint8_t> regions_of_cells;
-  std::vector<FieldValues> values_of_cells;
-  for (const FieldValues& f : cell_values) values_of_cells.push_back({f.description, {}});
+  std::vector<FieldValues> values_of_cells = empty_like(cell_values);
   for (size_t c = 0; c < dt.cells.size(); ++c)
     if (kept[c] && owner[c] != kNoBrick && owners.owns(owner[c]) &&
         (!box || cell_meets(local_points, dt.cells[c], *box))) {
       cells.push_back(dt.cells[c]);
       if (!cell_regions.empty()) regions_of_cells.push_back(cell_regions[c]);
-      append_cell(cell_values, c, values_of_cells);
+      if (!cell_values.empty()) append_cell(cell_values, cell_slot[c], values_of_cells);
     }
   compact(local_points, local_ids, local_levels, local_values, std::move(cells), std::move(regions_of_cells),
           values_of_cells, out);

@@ -414,6 +414,39 @@ TEST_P(CellDataStreams, TruncatedDamagedAndOversizedStreamsEndCleanly) {
   const std::vector<uint8_t> kept = limited.carving(dt, order);
   EXPECT_TRUE(limited.cell_data(dt, kept, order).empty());
   EXPECT_EQ(limited.mesh_status().code(), StatusCode::kLimitExceeded);
+  if (GetParam()) {  // a bricked level 0 read by box holds the limit too, and no more
+    const GridBox everything{{0, 0, 0}, {1 << 20, 1 << 20, 1 << 20}};
+    MemorySource source(e.bytes);
+    EXPECT_EQ(decode_region(source, everything, 0, small).status().code(), StatusCode::kLimitExceeded);
+    small.max_values += 1;
+    const auto whole = decode_region(source, everything, 0, small);
+    ASSERT_TRUE(whole.ok()) << whole.status().message();
+    EXPECT_EQ(whole->cells.size(), e.report.level0_cells);
+  }
+}
+
+// Level 0 alone (no coarser level is built): its base layer, one chunk,
+// codes its cells' values again (BrickedEncoder::write), from the input's
+// tetrahedra still held.
+TEST(CellData, ABrickedStreamOfOneLevelKeepsThem) {
+  const CellInput in = block(600, 4);
+  EncodeOptions o = coarse_grid_bricks();
+  o.min_base_vertices = size_t{1} << 30;
+  const Encoded e = encode_cells(in, o);
+  ASSERT_EQ(e.report.levels.size(), 1u);
+  ProgressiveDecoder d;
+  ASSERT_TRUE(d.feed(e.bytes).ok());
+  ASSERT_TRUE(d.finish().ok());
+  const ProgressiveDecoder::LevelCells level = d.level_cells();
+  const std::vector<FieldValues> values = d.cell_data(level.mesh, level.kept, level.order);
+  ASSERT_TRUE(d.mesh_status().ok()) << d.mesh_status().message();
+  ASSERT_EQ(values.size(), 3u);
+  ASSERT_EQ(values[0].bits.size(), e.report.level0_cells);
+  for (size_t k = 0; k < values[0].bits.size(); ++k) {
+    const uint32_t t = named(values[0].value(k, 0));
+    ASSERT_LT(t, in.tets.size());
+    EXPECT_EQ(values[2].value(k, 0), static_cast<double>(t % 7));
+  }
 }
 
 // Below the layer checksum: a damaged cell value section is refused or
@@ -479,8 +512,11 @@ TEST(CellData, DamagedSectionsGiveValuesOrAnError) {
   ASSERT_TRUE(
       decode_cell_value_chunks(cell_coder->descriptions(), parts, dt, g, chunks, chunk_of_cell, kept, out)
           .ok());
+  // The kept cells' values, in their index order.
+  std::vector<uint64_t> kept_bits;
   for (size_t c = 0; c < dt.cells.size(); ++c)
-    EXPECT_EQ(out[0].bits[c], kept[c] ? per_cell.bits[c] : 0u) << c;
+    if (kept[c]) kept_bits.push_back(per_cell.bits[c]);
+  EXPECT_EQ(out[0].bits, kept_bits);
   const auto is_refused = [&](std::span<const std::span<const uint8_t>> p, std::span<const uint32_t> of,
                               std::span<const uint8_t> k) {
     return decode_cell_value_chunks(cell_coder->descriptions(), p, dt, g, chunks, of, k, out).code() ==

@@ -691,13 +691,15 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     if (on_level) on_level(out.stats);
     levels.push_back(std::move(out));
     if (!may_choose) break;
-    if (level == 0) cells_done();
     options.cell_sources = nullptr;
     options.cell_values = nullptr;
     DTM_ASSIGN_OR_RETURN(const bool built,
                          coarser_level(level, level_points, plan, block_points, halo, build_halo, options,
                                        analysis, merged.boundary, next_kept_radius, floors));
     if (!built) break;
+    // (Held until level 1 is: were level 0 the only level, its base layer
+    // would code its cells' values again, write().)
+    if (level == 0) cells_done();
   }
   release(coarser_);
   return write(levels);

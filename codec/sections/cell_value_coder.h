@@ -56,7 +56,8 @@ std::vector<std::vector<uint8_t>> encode_cell_value_chunks(
     const std::function<uint32_t(uint32_t cell)>& source_of, std::vector<uint64_t>& field_bytes);
 // Decoder: the values of the kept cells (`kept`, per cell of dt) from
 // their chunks' sections, on every core: `out`, one FieldValues per field,
-// cell-major per cell of dt (a cell not kept holds zeros). kCorrupt, naming
+// cell-major over the kept cells in ascending index of dt (the memory the
+// kept cells' count justifies, which the caller bounds). kCorrupt, naming
 // the chunk (its index), if a section is damaged, does not end where its
 // bytes do, is there without kept cells or missing with them, or a kept
 // cell's brick has no chunk (`chunk_of_cell`: kNoCarvingChunk).

@@ -38,9 +38,14 @@ Status decode_cell_value_chunks(std::span<const FieldDescription> fields,
   for (size_t c = 0; c < kept.size(); ++c)
     if (kept[c] && chunk_of_cell[c] == kNoCarvingChunk)
       return {StatusCode::kCorrupt, "a kept cell whose brick has no chunk for its values"};
+  // Each kept cell's place among them.
+  std::vector<uint32_t> slot(kept.size(), 0);
+  uint32_t kept_count = 0;
+  for (size_t c = 0; c < kept.size(); ++c)
+    if (kept[c]) slot[c] = kept_count++;
   out.clear();
   for (const FieldDescription& f : fields)
-    out.push_back({f, std::vector<uint64_t>(dt.cells.size() * static_cast<size_t>(f.components), 0)});
+    out.push_back({f, std::vector<uint64_t>(size_t{kept_count} * static_cast<size_t>(f.components), 0)});
   std::vector<Status> status(count);
   parallel_for(
       count,
@@ -68,7 +73,7 @@ Status decode_cell_value_chunks(std::span<const FieldDescription> fields,
           const auto n = static_cast<size_t>(fields[f].components);
           for (size_t k = 0; k < ids.size(); ++k)
             std::copy_n(decoded[f].bits.begin() + static_cast<std::ptrdiff_t>(k * n), n,
-                        out[f].bits.begin() + static_cast<std::ptrdiff_t>(ids[k] * n));
+                        out[f].bits.begin() + static_cast<std::ptrdiff_t>(size_t{slot[ids[k]]} * n));
         }
       },
       2);

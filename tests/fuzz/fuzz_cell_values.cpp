@@ -67,16 +67,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
       return 0;
     }
+    // The kept cells' values, in their index order.
+    std::vector<uint32_t> slot(kept.size(), 0);
+    uint32_t kept_count = 0;
+    for (size_t c = 0; c < kept.size(); ++c)
+      if (kept[c]) slot[c] = kept_count++;
     FUZZ_CHECK(values.size() == fields.size());
     for (size_t f = 0; f < fields.size(); ++f)
-      FUZZ_CHECK(values[f].bits.size() == dt.cells.size() * fields[f].components);
+      FUZZ_CHECK(values[f].bits.size() == size_t{kept_count} * fields[f].components);
     if (std::any_of(fields.begin(), fields.end(), [](const auto& f) { return f.lossy; })) return 0;
     // Coded again chunk by chunk (each cell its own source), the same values.
     auto again = dtm::FieldSectionEncoder::make(values);
     FUZZ_CHECK(again.ok());
     std::vector<uint64_t> field_bytes;
     const auto recoded = dtm::encode_cell_value_chunks(
-        *again, dt, points, chunks, kept, [](uint32_t c) { return c; }, field_bytes);
+        *again, dt, points, chunks, kept, [&](uint32_t c) { return slot[c]; }, field_bytes);
     const std::vector<std::span<const uint8_t>> recoded_parts(recoded.begin(), recoded.end());
     std::vector<dtm::FieldValues> back;
     FUZZ_CHECK(dtm::decode_cell_value_chunks(again->descriptions(), recoded_parts, dt, points, chunks,
