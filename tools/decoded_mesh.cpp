@@ -163,4 +163,30 @@ OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
   return out;
 }
 
+OutputMesh region_output(const RegionMesh& region, const Grid& grid) {
+  OutputMesh mesh;
+  mesh.grid = grid;
+  mesh.declare_level = true;
+  mesh.declare_region = !region.regions.empty();
+  mesh.points = region.points;
+  mesh.cells.reserve(region.cells.size());
+  for (const auto& cell : region.cells) mesh.cells.push_back(sorted_positive(cell, mesh.points));
+  mesh.level = region.vertex_levels;
+  OutputField ids{"vertex_id", ScalarType::kUInt32, 1, {}};
+  ids.bits.assign(region.vertex_ids.begin(), region.vertex_ids.end());
+  mesh.fields.push_back(std::move(ids));
+  for (const FieldValues& f : region.fields)
+    mesh.fields.push_back(
+        {f.description.name, scalar_type(f.description.type), f.description.components, f.bits});
+  // With regions, each cell's label and the labels' names.
+  mesh.region.reserve(region.cell_regions.size());
+  for (uint8_t r : region.cell_regions) mesh.region.push_back(region.regions.at(r - 1u).label);
+  for (const RegionLabel& r : region.regions)
+    if (!r.name.empty()) mesh.region_names[r.label] = r.name;
+  for (const FieldValues& f : region.cell_fields)
+    mesh.cell_fields.push_back(
+        {f.description.name, scalar_type(f.description.type), f.description.components, f.bits});
+  return mesh;
+}
+
 }  // namespace dtm

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "codec/decode.h"
+#include "codec/region_decode.h"
 #include "tools/formats/mesh_writers.h"
 
 namespace dtm {
@@ -24,5 +25,14 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
 // level and `boundary` (the level's own surface), the cells' regions and
 // cell data, and the tagged faces of those cells.
 OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box);
+
+// A box or piece a region reader decoded (codec/region_decode.h), as
+// meshdec --box, the pieces of -o X.pvtu and the Python package write it:
+// its points, cells, each vertex's coarsest level and its number in the
+// whole level (point data vertex_id, first), the fields, the cells' regions
+// and, at level 0, their cell data; every piece declares `level` and, with
+// regions, `region`. No `boundary`: a part's own surface is not the level's,
+// and the rest of the level is not decoded to tell.
+OutputMesh region_output(const RegionMesh& region, const Grid& grid);
 
 }  // namespace dtm

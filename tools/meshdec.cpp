@@ -191,34 +191,6 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
     throw std::runtime_error("cannot write to standard output");
 }
 
-// A region or piece as the writers take it: its points, cells, each vertex's
-// coarsest level and its number in the whole level (point data vertex_id),
-// its cells' regions and, at level 0, their values. (No `boundary`: a piece's or a box's own surface is
-// not the level's, and the rest of the level is not decoded to tell.)
-dtm::OutputMesh region_output(const dtm::RegionMesh& region, const dtm::Grid& grid) {
-  dtm::OutputMesh mesh;
-  mesh.grid = grid;
-  mesh.declare_level = true;
-  mesh.declare_region = !region.regions.empty();
-  mesh.points = region.points;
-  for (const auto& cell : region.cells) mesh.cells.push_back(dtm::sorted_positive(cell, mesh.points));
-  mesh.level = region.vertex_levels;
-  dtm::OutputField ids{"vertex_id", dtm::ScalarType::kUInt32, 1, {}};
-  ids.bits.assign(region.vertex_ids.begin(), region.vertex_ids.end());
-  mesh.fields.push_back(std::move(ids));
-  for (const dtm::FieldValues& f : region.fields)
-    mesh.fields.push_back(
-        {f.description.name, dtm::scalar_type(f.description.type), f.description.components, f.bits});
-  // With regions, each cell's label and the labels' names.
-  for (uint8_t r : region.cell_regions) mesh.region.push_back(region.regions.at(r - 1u).label);
-  for (const dtm::RegionLabel& r : region.regions)
-    if (!r.name.empty()) mesh.region_names[r.label] = r.name;
-  for (const dtm::FieldValues& f : region.cell_fields)
-    mesh.cell_fields.push_back(
-        {f.description.name, dtm::scalar_type(f.description.type), f.description.components, f.bits});
-  return mesh;
-}
-
 bool ends_with(const std::string& s, const std::string& end) {
   return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
 }
@@ -289,7 +261,7 @@ int run_pieces(const Command& c) {
       if (!piece.ok()) throw std::runtime_error(c.input + ": " + piece.status().message());
       const std::string path = (slash == std::string::npos ? "" : stem.substr(0, slash + 1)) + names[i];
       display.start("writing " + path);
-      dtm::OutputMesh mesh = region_output(*piece, grid);
+      dtm::OutputMesh mesh = dtm::region_output(*piece, grid);
       dtm::write_files_atomically(dtm::render_mesh(mesh, dtm::MeshFormat::kVtu, path));
       if (written.empty()) {
         like.declare_level = true;
@@ -374,7 +346,7 @@ int run_region(const Command& c, dtm::MeshFormat format) {
   const auto [level, region] = of_finest_whole_level(
       c, header.level_count, [&](int l) { return dtm::decode_region(*source, box, l, options); });
   if (!region.ok()) throw std::runtime_error(c.input + ": " + region.status().message());
-  const dtm::OutputMesh mesh = region_output(*region, header.grid);
+  const dtm::OutputMesh mesh = dtm::region_output(*region, header.grid);
   write_output(c, mesh, format);
   if (!c.quiet)
     std::fprintf(stderr,

@@ -18,6 +18,10 @@ out (the same bytes as the ``meshenc`` tool, the same meshes as ``meshdec``)::
         for level in decoder.feed(chunk):
             show(level)
 
+    big = dtmesh.encode(points, tetrahedra, bricks=True)  # bricked: read a part by offset
+    box = dtmesh.decode_box("big.dtm", (0, 0, 0, 1, 1, 1))    # the cells meeting a box
+    part = dtmesh.decode_piece("big.dtm", rank, ranks)      # one of P pieces of a level
+
 Importing dtmesh registers the ``.dtm`` format with meshio (``meshio.read`` and
 ``meshio.write``) and, when PyVista is installed, with ``pyvista.read``.
 """
@@ -34,8 +38,8 @@ import numpy as np
 
 from . import _dtmesh
 
-__all__ = ["Error", "Mesh", "Encoded", "Decoder", "encode", "decode", "info", "set_threads", "threads",
-           "to_vtk", "to_pyvista", "paraview_plugin"]
+__all__ = ["Error", "Mesh", "Encoded", "Decoder", "encode", "decode", "decode_box", "decode_piece", "info",
+           "set_threads", "threads", "to_vtk", "to_pyvista", "paraview_plugin"]
 __version__ = _dtmesh.version
 
 _threads_asked = 0  # set_threads()'s, 0: the cores the process was given
@@ -109,7 +113,9 @@ class Mesh:
         level: which level of detail this is (0 = the finest of the stream).
         level_count: how many levels the stream has.
         vertex_levels: int32 per vertex, the coarsest level that contains it.
-        boundary: bool per vertex, True on the mesh's boundary surface.
+        boundary: bool per vertex, True on the mesh's boundary surface; empty
+            for a part read by :func:`decode_box` from a bricked stream or
+            by :func:`decode_piece` (a part's own surface is not the level's).
         regions: int32 per tetrahedron, its region (material) label as the
             input gave it, when the stream has regions; else empty.
         region_names: region label -> name, where the input named them.
@@ -145,7 +151,8 @@ class Mesh:
 
         point_data = dict(self.fields)
         point_data["level"] = self.vertex_levels
-        point_data["boundary"] = self.boundary.astype(np.uint8)
+        if self.boundary.size:  # (a part read by box or piece has none)
+            point_data["boundary"] = self.boundary.astype(np.uint8)
         cells = [("tetra", self.tetrahedra.astype(np.int64))]
         cell_data = {}
         field_data = {}
@@ -239,6 +246,8 @@ def encode(
     cell_data: Optional[Mapping[str, Any]] = None,
     keep_order: bool = False,
     exact: bool = False,
+    bricks: bool = False,
+    brick_points: int = 2048,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -288,6 +297,15 @@ def encode(
             Netgen meshes); every point must quantize to its own grid point
             and every cell stay a tetrahedron there (the error names the
             ``qbits`` that would do).
+        bricks: bricked layers (meshenc's ``--bricks``): each layer's points
+            and corrections in one chunk per octree brick, so that
+            :func:`decode_box` and :func:`decode_piece` read only the chunks
+            around a part; the levels are built in blocks, in less memory
+            (the codec preset only; not with ``exact`` or ``keep_order``,
+            nor tagged faces yet).
+        brick_points: with ``bricks``, each layer's bricks hold about this
+            many of its new points (smaller: a part reads fewer bytes, the
+            stream grows).
         threads: threads to use for this call (meshenc's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
             The stream is the same for any number.
@@ -327,7 +345,7 @@ def encode(
     with _threads_for_call(threads):
         stream, report, vertex_of_input = _dtmesh.encode(
             p, t, r, names, f, ft, face_names, field_list, cell_list, int(qbits), box, scale, dmax, preset,
-            dict(field_errors or {}), bool(keep_order), bool(exact))
+            dict(field_errors or {}), bool(keep_order), bool(exact), bool(bricks), int(brick_points))
     return Encoded(stream, json.loads(report), vertex_of_input)
 
 
@@ -453,6 +471,93 @@ def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None, *,
         return _mesh_of(decoder.mesh())
 
 
+def _part_source(data: Union[Bytes, str, os.PathLike]):
+    # A path is read by offset (only the bytes a part needs); bytes as they are.
+    if isinstance(data, (str, os.PathLike)):
+        path = os.fsdecode(data)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"{path}: no such file")
+        return path
+    return bytes(data)
+
+
+def _part_mesh(d: Dict[str, Any]) -> Mesh:
+    if "truncated" in d:
+        warnings.warn(f"truncated stream: {d['truncated']}; decoding level {d['level']}", stacklevel=3)
+    return _mesh_of(d)
+
+
+def decode_box(data: Union[Bytes, str, os.PathLike], box: Any, level: Optional[int] = None, *,
+               max_vertices: int = _dtmesh.default_max_vertices, threads: Optional[int] = None) -> Mesh:
+    """The cells of one level that meet a box, as ``meshdec --box`` writes them.
+
+    From a bricked stream (``encode(..., bricks=True)``, ``meshenc --bricks``)
+    only the chunks around the box are read, by offset when ``data`` is a
+    path: a part of a stream far larger than memory. The cells are exactly
+    the whole level's that meet the box (a cell meets it when the bounding
+    box of its corners does), with their regions, the vertices' fields,
+    level and number in the whole level (field ``vertex_id``) and, at level
+    0, the cells' ``cell_data``; ``boundary`` is empty (the box's own surface
+    is not the level's). A stream that is not bricked is decoded whole and
+    the box cut from it, with everything it carries.
+
+    Args:
+        data: the stream's path (read by offset), or its bytes.
+        box: (x0, y0, z0, x1, y1, z1) in the input's units, bounds included.
+        level: 0 = the finest; None: the finest whole level (of a truncated
+            stream, with a warning).
+        max_vertices: refuse a stream claiming more vertices than this.
+        threads: threads to use for this call; None: :func:`set_threads`'s.
+
+    Raises:
+        Error: the stream is damaged, foreign or too short for the level.
+        ValueError: a box that is not six numbers with x0 <= x1, y0 <= y1, z0 <= z1.
+    """
+    b = tuple(float(v) for v in np.asarray(box, dtype=np.float64).reshape(-1))
+    if len(b) != 6 or not all(np.isfinite(b)) or b[0] > b[3] or b[1] > b[4] or b[2] > b[5]:
+        raise ValueError(f"box must be (x0, y0, z0, x1, y1, z1), finite, with each low corner at most its high one; got {box!r}")
+    if level is not None and level < 0:
+        raise ValueError("level must be >= 0")
+    with _threads_for_call(threads):
+        d = _dtmesh.decode_part(_part_source(data), b, 0, 1, -1 if level is None else int(level), int(max_vertices))
+    return _part_mesh(d)
+
+
+def decode_piece(data: Union[Bytes, str, os.PathLike], piece: int, pieces: int, level: Optional[int] = None, *,
+                 max_vertices: int = _dtmesh.default_max_vertices, threads: Optional[int] = None) -> Mesh:
+    """Piece ``piece`` of ``pieces`` of one level of a bricked stream, as ``mpirun meshdec -o X.pvtu``
+    gives each rank its own.
+
+    The pieces are contiguous ranges of the level's bricks holding about as
+    many of its points each; every cell of the level is in exactly one
+    piece, with the arrays :func:`decode_box` gives. Each reads only the
+    chunks around its bricks (by offset when ``data`` is a path), so that P
+    processes together hold the level once.
+
+    Args:
+        data: the stream's path (read by offset), or its bytes.
+        piece: 0 to ``pieces`` - 1.
+        pieces: how many pieces the level is cut into.
+        level: 0 = the finest; None: the finest whole level (of a truncated
+            stream, with a warning).
+        max_vertices: refuse a stream claiming more vertices than this.
+        threads: threads to use for this call; None: :func:`set_threads`'s.
+
+    Raises:
+        Error: the stream is not bricked, is damaged, or is too short for the level.
+        ValueError: no such piece.
+    """
+    if not (isinstance(pieces, (int, np.integer)) and pieces >= 1 and isinstance(piece, (int, np.integer))
+            and 0 <= piece < pieces):
+        raise ValueError(f"piece must be 0 to pieces - 1 and pieces at least 1; got piece {piece!r} of {pieces!r}")
+    if level is not None and level < 0:
+        raise ValueError("level must be >= 0")
+    with _threads_for_call(threads):
+        d = _dtmesh.decode_part(_part_source(data), None, int(piece), int(pieces), -1 if level is None else int(level),
+                                int(max_vertices))
+    return _part_mesh(d)
+
+
 def info(data: Union[Bytes, str, os.PathLike], stats: bool = False) -> Dict[str, Any]:
     """What a stream holds, as ``meshinfo --json`` gives it (``--stats`` with ``stats=True``).
 
@@ -485,7 +590,8 @@ def to_vtk(mesh: Mesh):
     grid.SetCells(VTK_TETRA, cells)
     arrays = dict(mesh.fields)
     arrays["level"] = mesh.vertex_levels
-    arrays["boundary"] = mesh.boundary.astype(np.uint8)
+    if mesh.boundary.size:  # (a part read by box or piece has none)
+        arrays["boundary"] = mesh.boundary.astype(np.uint8)
     for name, values in arrays.items():
         a = numpy_to_vtk(np.ascontiguousarray(values), deep=True)
         a.SetName(name)

@@ -1,6 +1,6 @@
 # Types of the extension module under dtmesh (python/src/dtmesh_module.cpp).
 # Use the package's functions (dtmesh.encode, dtmesh.decode, dtmesh.Decoder,
-# dtmesh.info): they check and shape what they hand this module.
+# dtmesh.decode_box, dtmesh.decode_piece, dtmesh.info): they check and shape what they hand this module.
 from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
 
 import numpy as np
@@ -32,6 +32,8 @@ def encode(
     field_errors: Mapping[str, float],
     keep_order: bool,
     exact: bool,
+    bricks: bool,
+    brick_points: int,
 ) -> Tuple[bytes, str, npt.NDArray[np.uint32]]: ...
 
 class Decoder:
@@ -43,6 +45,14 @@ class Decoder:
     def level_count(self) -> int: ...
     def mesh(self) -> Dict[str, Any]: ...
 
+def decode_part(
+    data: Union[bytes, str],
+    box: Optional[Tuple[float, float, float, float, float, float]],
+    piece: int,
+    pieces: int,
+    level: int,
+    max_vertices: int,
+) -> Dict[str, Any]: ...
 def info(data: bytes, stats: bool) -> str: ...
 def set_threads(threads: int) -> None: ...
 def threads() -> int: ...

@@ -19,6 +19,7 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
+#include "codec/region_decode.h"
 #include "common/threads.h"
 #include "tools/decoded_mesh.h"
 #include "tools/field_types.h"
@@ -90,7 +91,8 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
                  const std::map<int32_t, std::string>& face_tag_names, const std::vector<FieldIn>& fields,
                  const std::vector<FieldIn>& cell_fields, int qbits, std::optional<double> box,
                  std::optional<double> scale, std::optional<double> dmax, const std::string& preset,
-                 const std::map<std::string, double>& field_errors, bool keep_order, bool exact) {
+                 const std::map<std::string, double>& field_errors, bool keep_order, bool exact, bool bricks,
+                 uint64_t brick_points) {
   if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must be an N x 3 array");
   const size_t n = static_cast<size_t>(points.shape(0));
   std::vector<dtm::InputPoint> in_points(n);
@@ -171,6 +173,9 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
   dtm::EncodeOptions options = encode_options(qbits, box, scale, dmax, preset, field_errors);
   options.keep_order = keep_order;
   options.exact = exact;
+  options.bricks = bricks;
+  if (brick_points < 1) throw py::value_error("brick_points must be positive");
+  options.brick_points = brick_points;
   dtm::EncodeInput input;
   input.points = in_points;
   input.tetrahedra = tets;
@@ -232,8 +237,9 @@ py::dict level_dict(const dtm::OutputMesh& mesh, int level, int level_count) {
   py::dict d;
   d["points"] = xyz;
   d["tetrahedra"] = cells;
-  d["vertex_levels"] = array_of(mesh.level, {static_cast<py::ssize_t>(n)});
-  d["boundary"] = array_of(mesh.boundary, {static_cast<py::ssize_t>(n)});
+  // (A box's or piece's boundary is absent: empty, as the mesh has it.)
+  d["vertex_levels"] = array_of(mesh.level, {static_cast<py::ssize_t>(mesh.level.size())});
+  d["boundary"] = array_of(mesh.boundary, {static_cast<py::ssize_t>(mesh.boundary.size())});
   d["fields"] = fields;
   d["cell_data"] = arrays(mesh.cell_fields);
   d["regions"] = array_of(mesh.region, {static_cast<py::ssize_t>(mesh.region.size())});
@@ -332,6 +338,105 @@ class Decoder {
   std::unique_ptr<dtm::ProgressiveDecoder> decoder_;
 };
 
+// Where a box or a piece is read from: a file by offset (only the bytes it
+// needs), or a stream in memory (Python's bytes object, immutable, held
+// while it reads: not copied).
+class PartSource {
+ public:
+  explicit PartSource(const py::object& data) {
+    if (py::isinstance<py::bytes>(data)) {
+      bytes_ = py::reinterpret_borrow<py::bytes>(data);
+      const std::string_view view = bytes_;
+      held_ = {reinterpret_cast<const uint8_t*>(view.data()), view.size()};
+      memory_.emplace(held_);
+      return;
+    }
+    const std::string path = py::str(data);
+    auto opened = dtm::FileSource::open(path);
+    if (!opened.ok()) raise_error(opened.status().message());
+    file_.emplace(std::move(*opened));
+  }
+  dtm::ByteSource& get() { return file_ ? static_cast<dtm::ByteSource&>(*file_) : *memory_; }
+  // The stream whole: the bytes in memory, or the file read.
+  std::span<const uint8_t> whole(std::vector<uint8_t>& read) {
+    if (memory_) return held_;
+    read.resize(file_->size());
+    if (const dtm::Status s = file_->read(0, read); !s.ok()) throw std::runtime_error(s.message());
+    return read;
+  }
+
+ private:
+  py::bytes bytes_;
+  std::span<const uint8_t> held_;  // its bytes
+  std::optional<dtm::MemorySource> memory_;
+  std::optional<dtm::FileSource> file_;
+};
+
+// A box (input units: x0 y0 z0 x1 y1 z1) or piece `piece` of `pieces` of a
+// level, as meshdec --box and -o X.pvtu write them: level_dict()'s dict
+// with, where a truncated stream gave a coarser level than 0, "truncated"
+// (why). level -1: the finest whole level. A box of a stream
+// that is not bricked is cut from the level decoded whole, with all it
+// carries; a piece needs a bricked stream.
+py::dict decode_part(const py::object& data, std::optional<std::array<double, 6>> box, int piece, int pieces,
+                     int level, uint64_t max_vertices) {
+  PartSource holder(data);
+  std::optional<dtm::OutputMesh> mesh;
+  std::string failure, truncated;
+  int found = level, level_count = 0;
+  {
+    py::gil_scoped_release release;
+    try {
+      dtm::ByteSource& source = holder.get();
+      std::vector<uint8_t> head(dtm::kHeaderSize);
+      dtm::StreamHeader header;
+      if (source.size() < head.size() || !source.read(0, head).ok() || !dtm::parse_header(head, header).ok())
+        header = {};  // decode_region and decode_piece say what is wrong
+      level_count = header.level_count;
+      dtm::DecoderOptions options;
+      options.max_vertices = max_vertices;
+      std::array<double, 3> lo{}, hi{};
+      if (box) lo = {(*box)[0], (*box)[1], (*box)[2]}, hi = {(*box)[3], (*box)[4], (*box)[5]};
+      if (box && level_count > 0 && !(header.flags & dtm::kFlagBricks)) {
+        std::vector<uint8_t> read;
+        const std::span<const uint8_t> bytes = holder.whole(read);
+        options.stop_after_level = level;
+        dtm::ProgressiveDecoder decoder(options);
+        const dtm::Status fed = decoder.feed(bytes);
+        const dtm::Status s = fed.ok() ? decoder.finish() : fed;
+        if (!s.ok() && s.code() != dtm::StatusCode::kTruncated) throw std::runtime_error(s.message());
+        if (decoder.finest_level() < 0 || (level >= 0 && decoder.finest_level() != level))
+          throw std::runtime_error(s.ok() ? "no such level" : s.message());
+        if (!s.ok()) truncated = s.message();
+        found = decoder.finest_level();
+        mesh.emplace(
+            dtm::cut_to_box(dtm::decoded_mesh(decoder, "stream"), dtm::grid_box_of(header.grid, lo, hi)));
+      } else {
+        const auto part = [&](int l) {
+          return box ? dtm::decode_region(source, dtm::grid_box_of(header.grid, lo, hi), l, options)
+                     : dtm::decode_piece(source, l, piece, pieces, options);
+        };
+        // Without a level, a truncated stream's finest whole level, as meshdec.
+        found = std::max(level, 0);
+        auto got = part(found);
+        const dtm::Status first = got.status();
+        while (level < 0 && !got.ok() && got.status().code() == dtm::StatusCode::kTruncated &&
+               found + 1 < level_count)
+          got = part(++found);
+        if (!got.ok()) throw std::runtime_error(got.status().message());
+        if (found > 0 && level < 0) truncated = first.message();
+        mesh.emplace(dtm::region_output(*got, header.grid));
+      }
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+  }
+  if (!failure.empty()) raise_error(failure);
+  py::dict d = level_dict(*mesh, found, level_count);
+  if (!truncated.empty()) d["truncated"] = truncated;
+  return d;
+}
+
 // meshinfo --json [--stats] as JSON text.
 std::string info(py::bytes data, bool stats) {
   const std::string_view view = data;
@@ -373,7 +478,10 @@ PYBIND11_MODULE(_dtmesh, m) {
   m.def("encode", &encode, py::arg("points"), py::arg("tetrahedra"), py::arg("regions"),
         py::arg("region_names"), py::arg("faces"), py::arg("face_tags"), py::arg("face_tag_names"),
         py::arg("fields"), py::arg("cell_fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"),
-        py::arg("dmax"), py::arg("preset"), py::arg("field_errors"), py::arg("keep_order"), py::arg("exact"));
+        py::arg("dmax"), py::arg("preset"), py::arg("field_errors"), py::arg("keep_order"), py::arg("exact"),
+        py::arg("bricks"), py::arg("brick_points"));
+  m.def("decode_part", &decode_part, py::arg("data"), py::arg("box"), py::arg("piece"), py::arg("pieces"),
+        py::arg("level"), py::arg("max_vertices"));
   py::class_<Decoder>(m, "Decoder")
       .def(py::init<int, uint64_t>(), py::arg("stop_after_level"), py::arg("max_vertices"))
       .def("feed", &Decoder::feed, py::arg("chunk"), py::arg("meshes"))

@@ -290,6 +290,78 @@ def test_cell_data_through_numpy_meshio_and_vtk(corpus, tmp_path):
     assert grid.GetCellData().GetArray("velocity").GetNumberOfComponents() == 3
 
 
+def cells_by_corners(mesh):
+    """Each cell of a Mesh, by its corners' coordinates, with its cell data row."""
+    out = {}
+    for k, cell in enumerate(mesh.tetrahedra):
+        key = tuple(sorted(tuple(mesh.points[v]) for v in cell))
+        assert key not in out, "a cell twice"
+        out[key] = tuple(np.asarray(values[k]).tobytes() for _, values in sorted(mesh.cell_data.items()))
+    return out
+
+
+def test_bricked_streams_read_by_box_and_in_pieces(corpus, tmp_path):
+    """bricks=True writes meshenc --bricks' bytes; decode_box gives meshdec --box's cells, read by
+    offset from a file; decode_piece's pieces hold every cell of the level once, with its cell data."""
+    node, _ = corpus["bunny_10k"]
+    points, tets, fields = read_tetgen(node)
+    plain = dtmesh.encode(points, tets, fields, box=256, dmax=2, bricks=True, brick_points=256)
+    made = tmp_path / "meshenc.dtm"
+    run(tool("meshenc"), node, "-q", "-o", made, *ENCODE_ARGS, "--bricks", "--brick-points", "256")
+    assert plain.bytes == made.read_bytes()
+    # With cell data (format 16.0): each cell's number, so that a cell names its input tetrahedron.
+    own = np.arange(len(tets), dtype=np.uint32)
+    encoded = dtmesh.encode(points, tets, fields, box=256, dmax=2, bricks=True, brick_points=256,
+                            cell_data={"own": own})
+    assert dtmesh.info(encoded.bytes)["version"] == "16.0"
+    stream = tmp_path / "cells.dtm"
+    stream.write_bytes(encoded.bytes)
+    whole = dtmesh.decode(stream)
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    box = tuple(lo + 0.3 * (hi - lo)) + tuple(lo + 0.6 * (hi - lo))
+    part = dtmesh.decode_box(stream, box)
+    assert 0 < len(part.tetrahedra) < len(whole.tetrahedra)
+    out = tmp_path / "box.vtu"
+    run(tool("meshdec"), stream, "-q", "--box", *box, "-o", out)
+    reference = meshio.read(out)
+    np.testing.assert_array_equal(part.points, reference.points)
+    np.testing.assert_array_equal(part.tetrahedra, reference.cells_dict["tetra"])
+    np.testing.assert_array_equal(part.fields["vertex_id"], reference.point_data["vertex_id"])
+    np.testing.assert_array_equal(part.cell_data["own"], reference.cell_data["own"][0])
+    assert part.boundary.size == 0  # a box's own surface is not the level's
+    assert dtmesh.decode_box(encoded.bytes, box).tetrahedra.shape == part.tetrahedra.shape  # bytes too
+    everything = cells_by_corners(whole)
+    assert set(cells_by_corners(part).items()) <= set(everything.items())
+    pieces = {}
+    for k in range(3):
+        piece = dtmesh.decode_piece(stream, k, 3)
+        for key, values in cells_by_corners(piece).items():
+            assert key not in pieces, "a cell in two pieces"
+            pieces[key] = values
+    assert pieces == everything
+    # A part converts as a level does (without boundary: it has none).
+    assert "boundary" not in piece.to_meshio().point_data
+    assert piece.to_vtk().GetNumberOfCells() == len(piece.tetrahedra)
+    assert dtmesh.decode_piece(stream, 0, 2, level=1).cell_data == {}  # level 1 has none
+    with pytest.raises(ValueError, match="piece"):
+        dtmesh.decode_piece(stream, 3, 3)
+    with pytest.raises(ValueError, match="box"):
+        dtmesh.decode_box(stream, (1, 1, 1, 0, 0, 0))
+    with pytest.raises(dtmesh.Error, match="bricked"):
+        dtmesh.decode_piece(corpus["bunny_10k"][1], 0, 2)
+    with pytest.raises(FileNotFoundError):
+        dtmesh.decode_box(tmp_path / "absent.dtm", box)
+    with pytest.raises(dtmesh.Error, match="level 9"):
+        dtmesh.decode_box(stream, box, level=9)
+    # A stream that is not bricked: the box cut from the whole level, boundary and all.
+    cut = dtmesh.decode_box(corpus["bunny_10k"][1], box)
+    assert len(cut.tetrahedra) > 0 and cut.boundary.size == len(cut.points)
+    # A truncated stream: its finest whole level, said.
+    with pytest.warns(UserWarning, match="truncated"):
+        coarser = dtmesh.decode_box(encoded.bytes[: len(encoded.bytes) - 100], box)
+    assert coarser.level == 1
+
+
 def test_exact_level_zero_is_the_input_cell_for_cell(corpus):
     """exact=True: level 0 is the input's tetrahedra, with the input's numbering (keep_order),
     cell for cell; the cell data on them is each cell's own."""
