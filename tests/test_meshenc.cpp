@@ -1,6 +1,7 @@
 // meshenc as a user runs it: the table, the JSON report and its field names,
 // and clear failures on bad input with no report left behind.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -139,7 +140,16 @@ TEST(Meshenc, ABrickedLevelZeroKeepsTheLargeCellsOfAGradedMeshsSolid) {
 }
 
 TEST(Meshenc, RejectsBadOptions) {
-  EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --qbits 25").status, 0);
+  // A command line the tool cannot take exits with 2, an input it cannot
+  // use with 1 (docs/CLI.md).
+  const CommandRun range = meshenc(test::data_path("torus_288.node") + " --qbits 25");
+  EXPECT_TRUE(WIFEXITED(range.status) && WEXITSTATUS(range.status) == 2) << range.output;
+  const CommandRun unknown = meshenc(test::data_path("torus_288.node") + " --no-such-option");
+  EXPECT_TRUE(WIFEXITED(unknown.status) && WEXITSTATUS(unknown.status) == 2) << unknown.output;
+  const CommandRun missing = meshenc("/no/such/file.node -o -");
+  EXPECT_TRUE(WIFEXITED(missing.status) && WEXITSTATUS(missing.status) == 1) << missing.output;
+  const CommandRun help = meshenc("--help");
+  EXPECT_TRUE(WIFEXITED(help.status) && WEXITSTATUS(help.status) == 0) << help.output;
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --alpha nonsense").status, 0);
   EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --scale 2 --box 3").status, 0);
   // What bricked streams cannot do yet is refused before any work: no table.
@@ -348,6 +358,15 @@ TEST_F(Tools, WhatAFormatCannotHoldIsNamed) {
   EXPECT_NE(r.output.find("not written (the format has no place for it): the cell arrays 'heat', 'zone'"),
             std::string::npos)
       << r.output;
+  // An option the output does not use is said too.
+  const CommandRun coloured =
+      run_command(kMeshdec + " " + std::string(DTM_TEST_SOURCE_DIR) +
+                  "/golden/torus_288.dtm --color boundary --no-draco -o " + dir_ + "/coloured.vtu");
+  EXPECT_EQ(coloured.status, 0) << coloured.output;
+  EXPECT_NE(coloured.output.find("--color: only glTF and .drc outputs carry vertex colours"),
+            std::string::npos)
+      << coloured.output;
+  EXPECT_NE(coloured.output.find("--no-draco: only a glTF output"), std::string::npos) << coloured.output;
 }
 
 TEST_F(Tools, DamagedOrForeignInputFailsAndWritesNothing) {

@@ -53,7 +53,7 @@ struct Command {
   int level = -1;
   bool verify = false, quiet = false, verbose = false;
   dtm::SurfaceStyle style;
-  bool no_draco = false;
+  bool no_draco = false, colour_given = false;
   uint64_t max_vertices = dtm::DecoderOptions{}.max_vertices;
   std::vector<double> box;
   int pieces = 0;
@@ -76,7 +76,8 @@ void add_options(CLI::App& app, Command& c) {
          "--color", c.style.colour,
          "glTF and .drc vertex colours: level (dark = coarsest), boundary, or a field's name (a vector by "
          "its length), on a colour ramp")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->each([&c](const std::string&) { c.colour_given = true; });
   app.add_flag("--no-draco", c.no_draco, "glTF: plain buffers instead of Draco compression");
   app.add_flag("--verify", c.verify,
                "check every decoded level against the cell-set hashes in the stream (meshenc --hash-cells)");
@@ -386,6 +387,15 @@ int run(const Command& c) {
                            mpi.rank() == 0);
   if (c.pieces > 0) throw std::invalid_argument("--pieces writes a .pvtu: -o X.pvtu");
   const dtm::MeshFormat format = output_format(c);
+  // An option the output does not use is said, not silently dropped.
+  const bool gltf = format == dtm::MeshFormat::kGlb || format == dtm::MeshFormat::kGltf;
+  if (!c.quiet && c.colour_given && !gltf && format != dtm::MeshFormat::kDrc)
+    std::fprintf(stderr, "meshdec: --color: only glTF and .drc outputs carry vertex colours; %s has none\n",
+                 c.output.empty() ? "the output" : c.output.c_str());
+  if (!c.quiet && c.no_draco && !gltf)
+    std::fprintf(stderr,
+                 "meshdec: --no-draco: only a glTF output can be Draco-compressed or not; %s is as it is\n",
+                 c.output.empty() ? "the output" : c.output.c_str());
   if (!c.box.empty()) return run_region(c, format);
   // What the work is doing, on standard error: a status line on a terminal,
   // each phase's time with --verbose (the insertions, the carving, the exact

@@ -112,7 +112,13 @@ int tool_main(const char* tool, const char* description, const char* examples, i
     app.set_version_flag("--version", version_text(tool));
     Command command;
     add_options(app, command);
-    CLI11_PARSE(app, argc, argv);
+    // A command line the tool cannot take exits with 2 (as GNU tools and
+    // argparse do), after CLI11's message; --help and --version with 0.
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      return app.exit(e) == 0 ? 0 : 2;
+    }
     return run(command);
   } catch (const AgreedError& e) {
     if (e.print()) std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());
