@@ -298,10 +298,11 @@ int run_pieces(const Command& c) {
     if (!c.quiet)
       std::fprintf(
           stderr,
-          "meshdec: level %d: %d pieces (%d ranks), %llu tetrahedra; the pieces read %llu bytes of a "
+          "meshdec: level %d: %d piece%s (%d rank%s), %llu tetrahedra; the pieces read %llu bytes of a "
           "%llu-byte stream in all\n",
-          level, pieces, mpi.size(), static_cast<unsigned long long>(all_cells),
-          static_cast<unsigned long long>(all_read), static_cast<unsigned long long>(size));
+          level, pieces, pieces == 1 ? "" : "s", mpi.size(), mpi.size() == 1 ? "" : "s",
+          static_cast<unsigned long long>(all_cells), static_cast<unsigned long long>(all_read),
+          static_cast<unsigned long long>(size));
   }
   return 0;
 }
