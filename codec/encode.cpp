@@ -203,6 +203,30 @@ uint64_t turned_cells(std::span<const GridPoint> points, std::span<const std::ar
   return flat + std::min(positive, negative);
 }
 
+// The input's cell data of `count` reference tetrahedra, the k-th being
+// tet_at(k) (`source` maps a reference tetrahedron to the input's own
+// numbering, or is empty), one FieldValues per array, cell-major.
+template <class TetAt>
+std::vector<FieldValues> reference_cell_values(const EncodeInput& input,
+                                               std::span<const FieldDescription> descriptions,
+                                               std::span<const int32_t> source, size_t count,
+                                               TetAt&& tet_at) {
+  std::vector<FieldValues> out;
+  out.reserve(input.cell_fields.size());
+  for (size_t k = 0; k < input.cell_fields.size(); ++k) {
+    const auto& f = input.cell_fields[k];
+    FieldValues& v = out.emplace_back(FieldValues{descriptions[k], {}});
+    const size_t n = static_cast<size_t>(f.components);
+    v.bits.reserve(count * n);
+    for (size_t j = 0; j < count; ++j) {
+      const size_t t = tet_at(j);
+      const size_t i = source.empty() ? t : static_cast<size_t>(source[t]);
+      for (size_t c = 0; c < n; ++c) v.bits.push_back(bits_of(f.values[i * n + c], f.type));
+    }
+  }
+  return out;
+}
+
 // A bricked stream: the levels built block by block, on the ranks of
 // options.exchange if given (codec/blocks/bricked_encoder.h).
 StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOptions& options,
@@ -560,17 +584,8 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   if (options.bricks) {
     // Cell data travels with the tetrahedra: each reference tetrahedron's
     // values, which the blocks give the level-0 cells they own.
-    std::vector<FieldValues> tet_values;
-    for (size_t k = 0; k < input.cell_fields.size(); ++k) {
-      const auto& f = input.cell_fields[k];
-      FieldValues& v = tet_values.emplace_back(FieldValues{cell_descriptions[k], {}});
-      const size_t n = static_cast<size_t>(f.components);
-      v.bits.reserve(reference_tets.size() * n);
-      for (size_t t = 0; t < reference_tets.size(); ++t) {
-        const size_t i = source.empty() ? t : static_cast<size_t>(source[t]);
-        for (size_t c = 0; c < n; ++c) v.bits.push_back(bits_of(f.values[i * n + c], f.type));
-      }
-    }
+    std::vector<FieldValues> tet_values = reference_cell_values(
+        input, cell_descriptions, source, reference_tets.size(), [](size_t t) { return t; });
     return encode_in_bricks(input, options, plan, reference_tets, region_index, voxels ? &*voxels : nullptr,
                             std::move(fields), std::move(tet_values), std::move(out), on_level);
   }
@@ -622,17 +637,8 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
       report.level0_cells = cells.size();
       report.cells_from_input = from.exact;
       report.cells_from_nearest = from.nearest;
-      std::vector<FieldValues> out;
-      for (size_t k = 0; k < input.cell_fields.size(); ++k) {
-        const auto& f = input.cell_fields[k];
-        FieldValues& v = out.emplace_back(FieldValues{cell_descriptions[k], {}});
-        const size_t n = static_cast<size_t>(f.components);
-        v.bits.reserve(cells.size() * n);
-        for (uint32_t t : from.tetrahedron) {
-          const size_t i = source.empty() ? t : static_cast<size_t>(source[t]);
-          for (size_t c = 0; c < n; ++c) v.bits.push_back(bits_of(f.values[i * n + c], f.type));
-        }
-      }
+      std::vector<FieldValues> out = reference_cell_values(input, cell_descriptions, source, cells.size(),
+                                                           [&](size_t k) { return from.tetrahedron[k]; });
       return out;
     };
   DTM_ASSIGN_OR_RETURN(EncodedStream stream, encode_stream(h, q.points, plan.stream_grid, options.alpha,

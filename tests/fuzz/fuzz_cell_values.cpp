@@ -22,6 +22,7 @@
 
 #include "codec/sections/cell_value_coder.h"
 #include "fuzz_check.h"
+#include "fuzz_chunks.h"
 #include "fuzz_point_sets.h"
 #include "fuzz_tables.h"
 #include "mesh/delaunay.h"
@@ -50,19 +51,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (data[0] & 4) {  // a bricked level 0's chunks
     std::vector<uint8_t> kept(dt.cells.size());
     for (size_t c = 0; c < kept.size(); ++c) kept[c] = (data[0] & 2) || dt.cells[c][0] % 2 == 0;
-    std::vector<uint32_t> chunk_of_cell(dt.cells.size()), rank(points.size());
-    for (size_t c = 0; c < chunk_of_cell.size(); ++c) chunk_of_cell[c] = dt.cells[c][1] % 3;
-    std::iota(rank.begin(), rank.end(), 0u);
-    const dtm::ChunkCells chunks = dtm::chunk_cells(dt, chunk_of_cell, 3, rank);
-    if (section.size() < 2) return 0;
-    const size_t first = std::min<size_t>(section[0], section.size() - 2);
-    const size_t second = std::min<size_t>(section[1], section.size() - 2 - first);
-    const std::span<const uint8_t> bytes = section.subspan(2);
-    const std::vector<std::span<const uint8_t>> parts = {bytes.first(first), bytes.subspan(first, second),
-                                                         bytes.subspan(first + second)};
+    FuzzChunks chunked;
+    if (!fuzz_chunks(dt, points.size(), section, chunked)) return 0;
+    const dtm::ChunkCells& chunks = chunked.cells;
+    const std::vector<uint32_t>& chunk_of_cell = chunked.chunk_of_cell;
     std::vector<dtm::FieldValues> values;
-    const dtm::Status s =
-        dtm::decode_cell_value_chunks(fields, parts, dt, points, chunks, chunk_of_cell, kept, values);
+    const dtm::Status s = dtm::decode_cell_value_chunks(fields, chunked.sections, dt, points, chunks,
+                                                        chunk_of_cell, kept, values);
     if (!s.ok()) {
       FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
       return 0;

@@ -19,6 +19,7 @@
 
 #include "codec/sections/region_coder.h"
 #include "fuzz_check.h"
+#include "fuzz_chunks.h"
 #include "fuzz_point_sets.h"
 #include "fuzz_tables.h"
 #include "mesh/delaunay.h"
@@ -52,16 +53,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (size_t c = 0; c < kept.size(); ++c) kept[c] = (data[0] & 2) || dt.cells[c][0] % 2 == 0;
   std::vector<uint8_t> region = kept;
   if (chunked) {
-    std::vector<uint32_t> chunk_of_cell(dt.cells.size()), rank(dt.cells.size() * 4);
-    for (size_t c = 0; c < chunk_of_cell.size(); ++c) chunk_of_cell[c] = dt.cells[c][1] % 3;
-    for (uint32_t v = 0; v < rank.size(); ++v) rank[v] = v;
-    const dtm::ChunkCells chunks = dtm::chunk_cells(dt, chunk_of_cell, 3, rank);
-    if (section.size() < 2) return 0;
-    const size_t first = std::min<size_t>(section[0], section.size() - 2);
-    const size_t second = std::min<size_t>(section[1], section.size() - 2 - first);
-    const std::span<const uint8_t> bytes = section.subspan(2);
-    const std::vector<std::span<const uint8_t>> parts = {bytes.first(first), bytes.subspan(first, second),
-                                                         bytes.subspan(first + second)};
+    FuzzChunks chunked;
+    if (!fuzz_chunks(dt, fuzz_point_set(data[0] & 1).size(), section, chunked)) return 0;
+    const dtm::ChunkCells& chunks = chunked.cells;
+    const std::vector<uint32_t>& chunk_of_cell = chunked.chunk_of_cell;
+    const std::span<const std::span<const uint8_t>> parts = chunked.sections;
     const dtm::Status s = dtm::decode_region_chunks(parts, dt, chunks, chunk_of_cell, regions, region);
     if (!s.ok()) {
       FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
