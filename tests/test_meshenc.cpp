@@ -367,6 +367,12 @@ TEST_F(Tools, WhatAFormatCannotHoldIsNamed) {
             std::string::npos)
       << coloured.output;
   EXPECT_NE(coloured.output.find("--no-draco: only a glTF output"), std::string::npos) << coloured.output;
+  // And pieces left empty (more pieces than level 0's chunks).
+  const CommandRun pieces =
+      run_command(kMeshdec + " " + std::string(DTM_TEST_SOURCE_DIR) +
+                  "/golden/torus_288_cells_bricks.dtm -o " + dir_ + "/many.pvtu --pieces 20");
+  EXPECT_EQ(pieces.status, 0) << pieces.output;
+  EXPECT_NE(pieces.output.find("of the 20 pieces hold no cell"), std::string::npos) << pieces.output;
 }
 
 TEST_F(Tools, DamagedOrForeignInputFailsAndWritesNothing) {

@@ -229,7 +229,7 @@ int run_pieces(const Command& c) {
   std::vector<std::string> names, written;
   for (int i = 0; i < pieces; ++i) names.push_back(base + "_" + std::to_string(i) + ".vtu");
   std::string error;
-  uint64_t cells = 0, bytes_read = 0, largest_read = 0, size = 0;
+  uint64_t cells = 0, bytes_read = 0, largest_read = 0, size = 0, empty = 0;
   dtm::Grid grid;
   dtm::OutputMesh like;  // the arrays of the first piece written here (every piece has them)
   dtm::PhaseDisplay display(
@@ -272,6 +272,7 @@ int run_pieces(const Command& c) {
       }
       written.push_back(path);
       cells += piece->cells.size();
+      empty += piece->cells.empty();
       bytes_read += piece->bytes_read;
       largest_read = std::max(largest_read, piece->bytes_read);
     }
@@ -291,7 +292,7 @@ int run_pieces(const Command& c) {
     return 1;  // another rank's error, which that rank reports
   }
   display.finish();
-  const uint64_t all_cells = mpi.sum(cells), all_read = mpi.sum(bytes_read);
+  const uint64_t all_cells = mpi.sum(cells), all_read = mpi.sum(bytes_read), all_empty = mpi.sum(empty);
   if (mpi.rank() == 0) {
     // (Rank 0 wrote piece 0: its arrays are every piece's.)
     dtm::write_files_atomically({{c.output, dtm::render_pvtu(like, names)}});
@@ -303,6 +304,13 @@ int run_pieces(const Command& c) {
           level, pieces, pieces == 1 ? "" : "s", mpi.size(), mpi.size() == 1 ? "" : "s",
           static_cast<unsigned long long>(all_cells), static_cast<unsigned long long>(all_read),
           static_cast<unsigned long long>(size));
+    // (A piece is a range of whole chunks: more pieces than the level has
+    // chunks leave some empty.)
+    if (!c.quiet && all_empty > 0)
+      std::fprintf(stderr,
+                   "meshdec: %llu of the %d pieces hold no cell (the level has fewer chunks than pieces, or "
+                   "none there)\n",
+                   static_cast<unsigned long long>(all_empty), pieces);
   }
   return 0;
 }

@@ -318,6 +318,8 @@ def encode(
             distinct, all coplanar), or a field that cannot be coded as asked.
         ValueError, TypeError: arguments of the wrong shape, type or range.
     """
+    if not isinstance(brick_points, (int, np.integer)) or not 1 <= brick_points <= 2**32:
+        raise ValueError(f"brick_points must be an int from 1 to 2**32 (meshenc's --brick-points), got {brick_points!r}")
     p = np.ascontiguousarray(np.asarray(points, dtype=np.float64))
     if p.ndim != 2 or p.shape[1] != 3:
         raise ValueError(f"points must be N x 3, got shape {p.shape}")

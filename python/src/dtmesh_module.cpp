@@ -352,11 +352,14 @@ class PartSource {
       return;
     }
     const std::string path = py::str(data);
+    name_ = path;
     auto opened = dtm::FileSource::open(path);
     if (!opened.ok()) raise_error(opened.status().message());
     file_.emplace(std::move(*opened));
   }
   dtm::ByteSource& get() { return file_ ? static_cast<dtm::ByteSource&>(*file_) : *memory_; }
+  // What an error names: the file's path, or nothing for bytes.
+  std::string prefix() const { return name_.empty() ? "" : name_ + ": "; }
   // The stream whole: the bytes in memory, or the file read.
   std::span<const uint8_t> whole(std::vector<uint8_t>& read) {
     if (memory_) return held_;
@@ -366,6 +369,7 @@ class PartSource {
   }
 
  private:
+  std::string name_;
   py::bytes bytes_;
   std::span<const uint8_t> held_;  // its bytes
   std::optional<dtm::MemorySource> memory_;
@@ -431,7 +435,7 @@ py::dict decode_part(const py::object& data, std::optional<std::array<double, 6>
       failure = e.what();
     }
   }
-  if (!failure.empty()) raise_error(failure);
+  if (!failure.empty()) raise_error(holder.prefix() + failure);
   py::dict d = level_dict(*mesh, found, level_count);
   if (!truncated.empty()) d["truncated"] = truncated;
   return d;

@@ -347,8 +347,11 @@ def test_bricked_streams_read_by_box_and_in_pieces(corpus, tmp_path):
         dtmesh.decode_piece(stream, 3, 3)
     with pytest.raises(ValueError, match="box"):
         dtmesh.decode_box(stream, (1, 1, 1, 0, 0, 0))
-    with pytest.raises(dtmesh.Error, match="bricked"):
+    with pytest.raises(dtmesh.Error, match="bunny_10k.dtm: pieces need a bricked"):  # the file named
         dtmesh.decode_piece(corpus["bunny_10k"][1], 0, 2)
+    for bad in (0, -5, 2**33, 2.5):
+        with pytest.raises(ValueError, match="brick_points"):
+            dtmesh.encode(points, tets, bricks=True, brick_points=bad)
     with pytest.raises(FileNotFoundError):
         dtmesh.decode_box(tmp_path / "absent.dtm", box)
     with pytest.raises(dtmesh.Error, match="level 9"):
