@@ -25,9 +25,9 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
                  const std::vector<dtm::QualityRow>& quality, bool stats) {
   const auto& h = s.header;
   const double step = h.grid.step;
-  std::printf("%s: .dtm %u.%u, %u vertices in %u levels, q=%d, step=%.6g, alpha policy %s%s%s%s%s%s\n",
-              input.c_str(), h.version_major, h.version_minor, h.vertex_count, h.level_count, h.grid.qbits,
-              step, dtm::to_string(h.alpha_policy),
+  std::printf("%s: .dtm %u.%u, %u vertices in %u level%s, q=%d, step=%.6g, alpha policy %s%s%s%s%s%s\n",
+              input.c_str(), h.version_major, h.version_minor, h.vertex_count, h.level_count,
+              h.level_count == 1 ? "" : "s", h.grid.qbits, step, dtm::to_string(h.alpha_policy),
               (h.flags & dtm::kFlagCarvingCorrections) ? ", carving corrections" : ", alpha carving (paper)",
               (h.flags & dtm::kFlagCellHashes) ? ", cell hashes" : "",
               (h.flags & dtm::kFlagBricks) ? ", bricked layers" : "",
@@ -64,18 +64,19 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
   }
   const bool regions = !s.regions.empty();
   const bool faces = !s.face_tags.empty();
+  const bool cells = !s.cell_fields.empty();  // level 0's cell values (in its layer's bytes)
   // 7.0: the candidate section's bytes (points sent beside the coarser
   // level's circumcentres and edge midpoints).
   // 8.0 bricked: each layer's chunks and its index's bytes instead.
   const bool bricks = s.header.flags & dtm::kFlagBricks;
   const bool candidates = s.header.version_major >= 7 && !bricks;
-  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s%s%s\n", "level", "vertices", "new", "alpha", "layer_bytes",
-              "bits/new", "carving",
+  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s%s%s%s\n", "level", "vertices", "new", "alpha",
+              "layer_bytes", "bits/new", "carving",
               candidates ? " candidate"
               : bricks   ? "    chunks     index"
                          : "",
               s.fields.empty() ? "" : "    values", regions ? "   regions" : "", faces ? "     faces" : "",
-              stats ? "      tets  boundary avg_minSA    min_SA" : "");
+              cells ? " cell_data" : "", stats ? "      tets  boundary avg_minSA    min_SA" : "");
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
     const uint64_t layer_bytes = l.size();
@@ -87,6 +88,7 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
     if (!s.fields.empty()) std::printf(" %9u", l.header.value_bytes);
     if (regions) std::printf(" %9u", l.header.region_bytes);
     if (faces) std::printf(" %9u", l.header.face_bytes);
+    if (cells) std::printf(" %9u", l.header.cell_value_bytes);
     if (i < quality.size())
       std::printf(" %9llu %9llu %9.6f %9.3g", static_cast<unsigned long long>(quality[i].tetrahedra),
                   static_cast<unsigned long long>(quality[i].quality.boundary_vertices),
