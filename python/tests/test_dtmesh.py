@@ -357,6 +357,8 @@ def test_bricked_streams_read_by_box_and_in_pieces(corpus, tmp_path):
     with pytest.raises(dtmesh.Error, match="level 9"):
         dtmesh.decode_box(stream, box, level=9)
     # A stream that is not bricked: the box cut from the whole level, boundary and all.
+    with pytest.raises(dtmesh.Error, match="level 9: the stream has levels 0 to"):
+        dtmesh.decode_box(corpus["bunny_10k"][1], box, level=9)
     cut = dtmesh.decode_box(corpus["bunny_10k"][1], box)
     assert len(cut.tetrahedra) > 0 and cut.boundary.size == len(cut.points)
     # A truncated stream: its finest whole level, said.
