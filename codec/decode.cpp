@@ -205,7 +205,10 @@ Status ProgressiveDecoder::decode_bricked_layer(const Layer& layer, std::vector<
                                         header_.flags, lh.level, chunks));
   std::vector<ChunkInput> inputs;
   inputs.reserve(chunks.size());
-  for (const BrickChunk& c : chunks) inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size())});
+  const uint64_t area =
+      layer.offset + kBrickedLayerHeaderSize + layer.index.size();  // the chunks' first byte
+  for (const BrickChunk& c : chunks)
+    inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size()), area + c.offset});
   DTM_RETURN_IF_ERROR(decode_bricked_points(inputs, known_, qbits, lh.brick_depth, models_, added));
   merge_known(known_, added, qbits);
   chunks_ = std::move(chunks);
@@ -219,7 +222,10 @@ Status ProgressiveDecoder::decode_bricked_values(const Layer& layer, std::span<c
                                         lh.chunk_bytes, header_.flags, lh.level, chunks));
   std::vector<ChunkInput> inputs;
   inputs.reserve(chunks.size());
-  for (const BrickChunk& c : chunks) inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size())});
+  const uint64_t area =
+      layer.offset + kBrickedLayerHeaderSize + layer.index.size();  // the chunks' first byte
+  for (const BrickChunk& c : chunks)
+    inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size()), area + c.offset});
   return dtm::decode_bricked_values(inputs, header_.grid.qbits, lh.brick_depth,
                                     value_decoder_->descriptions(), points_, fields_, added, layer_values_);
 }

@@ -433,7 +433,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
       DTM_RETURN_IF_ERROR(
           reader.read(p.chunk_area + chunk.offset, whole ? chunk.size() : chunk.points_size(), chunk_bytes[k],
                       "level " + std::to_string(at) + ", brick " + std::to_string(chunk.brick)));
-      inputs.push_back({&chunk, chunk_bytes[k]});
+      inputs.push_back({&chunk, chunk_bytes[k], p.chunk_area + chunk.offset});
       for (uint32_t n = 0; n < chunk.new_points; ++n) {
         ids.push_back(static_cast<uint32_t>(p.first_vertex + chunk.points_before + n));
         levels.push_back(at);

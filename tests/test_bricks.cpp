@@ -782,6 +782,10 @@ TEST(BrickedStream, ADamagedChunkFailsTheRegionsThatReadIt) {
   const Status status = decode_stream(bytes, whole);
   EXPECT_EQ(status.code(), StatusCode::kCorrupt);
   EXPECT_NE(status.message().find("chunk checksum mismatch"), std::string::npos) << status.message();
+  // (It names the damaged chunk's first byte in the stream, not only its layer's.)
+  const std::string chunk_at =
+      "its chunk at byte " + std::to_string(index_at + lh.index_bytes + victim.offset) + ":";
+  EXPECT_NE(status.message().find(chunk_at), std::string::npos) << status.message();
   EXPECT_EQ(whole.finest_level(), 1);  // the coarser levels stand
 
   const GridBox inside = brick_box(victim.brick, s.header.grid.qbits, lh.brick_depth);
@@ -790,10 +794,11 @@ TEST(BrickedStream, ADamagedChunkFailsTheRegionsThatReadIt) {
   ASSERT_FALSE(touching.ok());
   EXPECT_NE(touching.status().message().find("brick " + std::to_string(victim.brick)), std::string::npos)
       << touching.status().message();
-  // The level and its layer's offset, as the whole decoder names them.
+  // The level and its layer's offset, as the whole decoder names them, and the chunk's.
   EXPECT_NE(touching.status().message().find("level 0 at byte " + std::to_string(finest.offset)),
             std::string::npos)
       << touching.status().message();
+  EXPECT_NE(touching.status().message().find(chunk_at), std::string::npos) << touching.status().message();
   // A box far from it: a corner of the grid away from the victim.
   const int64_t top = (int64_t{1} << s.header.grid.qbits) - 1;
   GridBox far;

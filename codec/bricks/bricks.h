@@ -123,8 +123,9 @@ std::span<const MortonCode> known_in_brick(std::span<const MortonCode> known, ui
                                            int depth);
 
 // Decoder: checks a chunk's bytes against its checksums (kCorrupt, naming
-// the brick): the whole chunk, or its points_size() bytes alone.
-Status check_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes);
+// the brick and `at`, the chunk's first byte in the stream): the whole
+// chunk, or its points_size() bytes alone.
+Status check_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes, uint64_t at);
 // Decodes one chunk's new points (ascending Morton code), appending them to
 // `out`. `known`: every point of V_{l+1} the caller holds in the brick (at
 // least); `after_base`: the models as the base layer left them.
@@ -136,6 +137,7 @@ Status decode_chunk_points(const BrickChunk& chunk, std::span<const uint8_t> pay
 struct ChunkInput {
   const BrickChunk* chunk = nullptr;
   std::span<const uint8_t> bytes;
+  uint64_t at = 0;  // its first byte in the stream (what a damage names)
 };
 // The chunks checked, then decoded on every core; their points appended to
 // `out` in ascending Morton order. The base layer (known empty) decodes with

@@ -8,13 +8,15 @@
 
 namespace dtm {
 
-Status check_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes) {
+Status check_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes, uint64_t at) {
+  const std::string where =
+      "brick " + std::to_string(chunk.brick) + ", its chunk at byte " + std::to_string(at);
   const uint64_t head = chunk.points_size();
   if (bytes.size() < head || chunk_checksum(bytes.first(head)) != chunk.checksum)
-    return {StatusCode::kCorrupt, "brick " + std::to_string(chunk.brick) + ": chunk checksum mismatch"};
+    return {StatusCode::kCorrupt, where + ": chunk checksum mismatch"};
   if (bytes.size() > head && chunk_checksum(bytes.subspan(head)) != chunk.cell_value_checksum)
-    return {StatusCode::kCorrupt,
-            "brick " + std::to_string(chunk.brick) + ": the chunk's cell values' checksum mismatch"};
+    return {StatusCode::kCorrupt, where + ": the chunk's cell values' checksum mismatch (at byte " +
+                                      std::to_string(at + head) + ")"};
   return Status::Ok();
 }
 
@@ -31,7 +33,7 @@ Status decode_chunk_points(const BrickChunk& chunk, std::span<const uint8_t> pay
 
 Status decode_bricked_points(std::span<const ChunkInput> chunks, std::span<const MortonCode> known, int qbits,
                              int depth, SetCoderModels& models, std::vector<GridPoint>& out) {
-  for (const ChunkInput& c : chunks) DTM_RETURN_IF_ERROR(check_chunk(*c.chunk, c.bytes));
+  for (const ChunkInput& c : chunks) DTM_RETURN_IF_ERROR(check_chunk(*c.chunk, c.bytes, c.at));
   if (known.empty()) {  // the base layer: one chunk, depth 0, the stream's models
     for (const ChunkInput& c : chunks)
       DTM_RETURN_IF_ERROR(decode_point_set(split_chunk(*c.chunk, c.bytes).payload, {}, qbits,

@@ -419,7 +419,8 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
         if (!s.status.ok()) return s;
         s.layers.back().chunks = chunks.size();
         for (const BrickChunk& c : chunks)
-          if (s.status = check_chunk(c, layer.chunks.subspan(c.offset, c.size()))
+          if (s.status = check_chunk(c, layer.chunks.subspan(c.offset, c.size()),
+                                     layer.offset + kBrickedLayerHeaderSize + layer.index.size() + c.offset)
                              .with_context("level " + std::to_string(level) + " at byte " +
                                            std::to_string(layer.offset));
               !s.status.ok())
