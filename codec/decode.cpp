@@ -19,6 +19,19 @@ namespace dtm {
 namespace {
 // A layer this large is inserted on every core (where the build has them).
 constexpr size_t kParallelLayer = 20000;
+
+// A bricked layer's chunks with their bytes and where each begins in the
+// stream (what a damage names).
+std::vector<ChunkInput> chunk_inputs(const Layer& layer, std::span<const BrickChunk> chunks) {
+  const uint64_t area =
+      layer.offset + kBrickedLayerHeaderSize + layer.index.size();  // the chunks' first byte
+  std::vector<ChunkInput> inputs;
+  inputs.reserve(chunks.size());
+  for (const BrickChunk& c : chunks)
+    inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size()), area + c.offset});
+  return inputs;
+}
+
 }  // namespace
 
 ProgressiveDecoder::ProgressiveDecoder(DecoderOptions options) : options_(std::move(options)) {}
@@ -203,12 +216,7 @@ Status ProgressiveDecoder::decode_bricked_layer(const Layer& layer, std::vector<
   std::vector<BrickChunk> chunks;
   DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, lh.brick_depth, qbits, lh.new_vertices, lh.chunk_bytes,
                                         header_.flags, lh.level, chunks));
-  std::vector<ChunkInput> inputs;
-  inputs.reserve(chunks.size());
-  const uint64_t area =
-      layer.offset + kBrickedLayerHeaderSize + layer.index.size();  // the chunks' first byte
-  for (const BrickChunk& c : chunks)
-    inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size()), area + c.offset});
+  const std::vector<ChunkInput> inputs = chunk_inputs(layer, chunks);
   DTM_RETURN_IF_ERROR(decode_bricked_points(inputs, known_, qbits, lh.brick_depth, models_, added));
   merge_known(known_, added, qbits);
   chunks_ = std::move(chunks);
@@ -220,12 +228,7 @@ Status ProgressiveDecoder::decode_bricked_values(const Layer& layer, std::span<c
   std::vector<BrickChunk> chunks;
   DTM_RETURN_IF_ERROR(parse_brick_index(layer.index, lh.brick_depth, header_.grid.qbits, lh.new_vertices,
                                         lh.chunk_bytes, header_.flags, lh.level, chunks));
-  std::vector<ChunkInput> inputs;
-  inputs.reserve(chunks.size());
-  const uint64_t area =
-      layer.offset + kBrickedLayerHeaderSize + layer.index.size();  // the chunks' first byte
-  for (const BrickChunk& c : chunks)
-    inputs.push_back({&c, layer.chunks.subspan(c.offset, c.size()), area + c.offset});
+  const std::vector<ChunkInput> inputs = chunk_inputs(layer, chunks);
   return dtm::decode_bricked_values(inputs, header_.grid.qbits, lh.brick_depth,
                                     value_decoder_->descriptions(), points_, fields_, added, layer_values_);
 }
