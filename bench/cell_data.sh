@@ -14,8 +14,8 @@
 # lossless and (stress) within 1e-3 of its range, against zstd -19 and xz -9
 # of the same values stored raw in the input's element order; encode and
 # decode time with and without them; the same in bricked layers (format
-# 16.0, `--bricks`), and what a box of level 0 reads there. Whole
-# processes, GNU time. Writes bench/results/CELL_DATA.md.
+# 16.0, `--bricks`), on one process and on two MPI ranks, and what a box
+# of level 0 reads there. Whole processes, GNU time. Writes bench/results/CELL_DATA.md.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-build}
@@ -97,6 +97,14 @@ run bricks.decode_without "$dec" bricks.without.dtm -o bricks.decoded_without.vt
 # the default 2,048 makes level 0 about 24 chunks here).
 run small.with "$enc" cells.vtu --bricks --brick-points 256 -o small.with.dtm --no-face-tags
 run small.without "$enc" cells.vtu --bricks --brick-points 256 -o small.without.dtm --no-cell-data --no-face-tags
+# On two MPI ranks (every rank keeps every tetrahedron and its values:
+# a cell's source may be any at its corners): the bytes of one process.
+as_root=()
+[ "$(id -u)" -eq 0 ] && as_root=(--allow-run-as-root)
+run mpi.with mpirun --oversubscribe "${as_root[@]}" -n 2 "$enc" cells.vtu --bricks -o mpi.with.dtm --no-face-tags
+run mpi.without mpirun --oversubscribe "${as_root[@]}" -n 2 "$enc" cells.vtu --bricks -o mpi.without.dtm \
+  --no-cell-data --no-face-tags
+{ cmp -s bricks.with.dtm mpi.with.dtm && cmp -s bricks.without.dtm mpi.without.dtm && echo yes || echo no; } > mpi.same
 read -r -a box < box.txt
 run bricks.box "$dec" small.with.dtm --box "${box[@]}" -o bricks.box.vtu
 run bricks.box_without "$dec" small.without.dtm --box "${box[@]}" -o bricks.box_without.vtu
@@ -164,6 +172,13 @@ def box_read(name):  # meshdec's "read X of Y bytes (P%)" line
 out += ["", "| | encode | decode to .vtu |", "|---|---:|---:|",
         "| bricks, with the arrays | %.2f s, %.0f MiB | %.2f s, %.0f MiB |" % (be[0], be[1], bd[0], bd[1]),
         "| bricks, without (`--no-cell-data`) | %.2f s, %.0f MiB | %.2f s, %.0f MiB |" % (bw[0], bw[1], bdw[0], bdw[1]),
+        "| bricks on 2 MPI ranks, with the arrays | %.2f s, %.0f MiB | |" % time_of("mpi.with"),
+        "| bricks on 2 MPI ranks, without | %.2f s, %.0f MiB | |" % time_of("mpi.without"),
+        "", "On ranks (`mpirun -n 2 meshenc --bricks`, oversubscribed on this machine's 2 cores, a rank's peak "
+        "the largest process's): the same bytes as one process: %s. Each rank reads the whole .vtu, and "
+        "with cell data keeps every tetrahedron and its values until level 0 is coded (a cell's source may "
+        "be any tetrahedron at its corners), so a rank's memory is about one process's." %
+        open("mpi.same").read().strip(),
         "", "A box a fifth of the part's extent on each axis around its middle (`meshdec --box %s`), level 0 "
         "of streams in bricks of 256 points (`--brick-points 256`): with the arrays, %s; without, %s. (A "
         "chunk read only for its points, in the box's halo, is read without its cell values, which have "

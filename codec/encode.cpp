@@ -437,9 +437,6 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   std::vector<FieldDescription> cell_descriptions;  // checked here, before the long work
   if (with_cells) {
     if (input.tetrahedra.empty()) return invalid_input("cell data needs the tetrahedra it belongs to");
-    if (options.bricks && options.exchange && options.exchange->size() > 1)
-      return Status{StatusCode::kUnsupported,
-                    "cell data in a stream made on several ranks (each holds a share of the tetrahedra)"};
     if (!options.carve_to_reference)
       return invalid_input("cell data needs the levels carved to the input's solid (not the paper preset)");
     std::vector<size_t> value_counts;

@@ -158,7 +158,8 @@ struct EncodeInput {
   // the reference shape each level's boundary is measured against. Under
   // an exchange of several ranks, each rank may be given only the
   // tetrahedra its share holds (codec/blocks/reference_share.h, on the plan's grid
-  // ids): a rank never holds them all (the others, when given, are ignored).
+  // ids): a rank never needs them all (the others, when given, are
+  // ignored), but with cell_fields, which need them all.
   std::span<const std::array<uint32_t, 4>> tetrahedra;
   // Per tetrahedron, its region (material): the input's own label (a gmsh
   // physical volume, a Medit ref, ...); empty: none. Every level's cells
@@ -210,7 +211,10 @@ struct EncodeInput {
   // tetrahedra_on_grid), `components` each. Level 0's cells carry them
   // (format 10.0; core/cell_sources.h says which input tetrahedron gives a
   // cell its values), lossless or within EncodeOptions::field_errors;
-  // coarser levels carry none. Not with bricks or the paper preset.
+  // coarser levels carry none. In bricks too (format 16.0), on ranks as
+  // well, where every rank must then be given every tetrahedron and its
+  // values, not its share (kInvalidInput otherwise). Not with the paper
+  // preset.
   std::span<const Field> cell_fields;
 };
 

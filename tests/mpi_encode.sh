@@ -9,7 +9,8 @@
 # each other's questions about the reference while they work (no block run
 # again), or, asked to take MPI without threads, in their exchanges (blocks
 # run again): the same bytes. With regions (a TetGen .ele's attribute, a
-# gmsh part's materials made here by gmsh), the same bytes too.
+# gmsh part's materials made here by gmsh), and with cell data (that
+# part's, given an $ElementData here), the same bytes too.
 set -euo pipefail
 meshenc=$1 meshdec=$2 data=$3
 command -v mpirun >/dev/null || { echo "mpi_encode: mpirun missing (apt-get install openmpi-bin)"; exit 1; }
@@ -154,6 +155,39 @@ for input in halves.node part.msh; do
   "$meshdec" "$work/mpi_$input.dtm" -o "$work/regions.vtu" --verify -q || failed=1
   echo "$input: $(grep "regions (" "$work/said1"); on 2 and 3 ranks the same bytes"
 done
+# Cell data on ranks (format 16.0): the gmsh part with a pressure and a
+# stress on every tetrahedron ($ElementData, added here). Every rank keeps
+# every tetrahedron and its values (a cell's source may be any at its
+# corners): the same bytes as one process, the same report of where the
+# cells' values came from, and the arrays in the decoded level.
+awk '{ print }
+  $0 == "$Elements" { inel = 1; head = 1; next }
+  $0 == "$EndElements" { inel = 0; next }
+  inel && head { head = 0; next }
+  inel && left == 0 { type = $3; left = $4; next }
+  inel { left--; if (type == 4) tag[n++] = $1 }
+  END {
+    print "$ElementData\n1\n\"pressure\"\n1\n0\n3\n0\n1\n" n
+    for (i = 0; i < n; i++) printf "%d %.17g\n", tag[i], tag[i] * 0.5 + 0.25
+    print "$EndElementData\n$ElementData\n1\n\"stress\"\n1\n0\n3\n0\n3\n" n
+    for (i = 0; i < n; i++) printf "%d %d %d %.17g\n", tag[i], tag[i] % 7, -tag[i], tag[i] / 8
+    print "$EndElementData"
+  }' "$work/part.msh" > "$work/cells.msh"
+"$meshenc" "$work/cells.msh" "${options[@]}" -o "$work/cells1.dtm" > "$work/said1"
+grep -q "cell data on level 0" "$work/said1" || { echo "cells.msh: no cell data:"; cat "$work/said1"; failed=1; }
+for p in 2 3; do
+  mpirun --oversubscribe "${as_root[@]}" -n "$p" "$meshenc" "$work/cells.msh" "${options[@]}" \
+    -o "$work/cells$p.dtm" > "$work/said$p" 2>"$work/err"
+  cmp -s "$work/cells1.dtm" "$work/cells$p.dtm" || { echo "cells.msh on $p ranks: not the same bytes"; failed=1; }
+  [ "$(grep "cell data on level 0" "$work/said1")" = "$(grep "cell data on level 0" "$work/said$p")" ] ||
+    { echo "cells.msh on $p ranks: another report:"; grep "cell data on level 0" "$work/said1" "$work/said$p"; failed=1; }
+  if grep -q "left out.*cell arrays" "$work/err"; then echo "cells.msh on $p ranks: cell data left out:"; cat "$work/err"; failed=1; fi
+done
+"$meshdec" "$work/cells3.dtm" -o "$work/cells.vtu" --verify -q || failed=1
+for name in pressure stress; do
+  grep -q "Name=\"$name\"" "$work/cells.vtu" || { echo "cells.vtu: no cell array $name"; failed=1; }
+done
+echo "cells.msh: $(grep "cell data on level 0" "$work/said1" | sed 's/^ *//'); on 2 and 3 ranks the same bytes"
 # Without --bricks: a clear error.
 if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$data/bunny_10k.node" --no-fields -q \
   -o "$work/missing/p.dtm" 2>"$work/err"; then

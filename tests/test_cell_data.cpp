@@ -271,23 +271,30 @@ TEST(CellData, RefusedWhereTheStreamCannotCarryThem) {
   input.points = in.points;
   input.tetrahedra = in.tets;
   input.cell_fields = fields;
-  // In bricks on one process, yes (16.0); on ranks, each holding a share of
-  // the tetrahedra, not yet, and every rank says so.
+  // In bricks, yes (16.0); on ranks each must be given every tetrahedron
+  // (a cell's source may be any at its corners), and a rank given only
+  // some makes every rank refuse.
   EncodeOptions bricks;
   bricks.bricks = true;
   EXPECT_TRUE(encode(input, bricks).ok());
   test::ThreadRanks all(2);
   std::vector<StatusCode> codes(2);
   std::vector<std::thread> threads;
+  const std::vector<Tet> half(in.tets.begin(),
+                              in.tets.begin() + static_cast<std::ptrdiff_t>(in.tets.size() / 2));
+  std::vector<EncodeInput::Field> half_fields = in.fields();
+  for (auto& f : half_fields) f.values = f.values.first(half.size() * static_cast<size_t>(f.components));
   for (int r = 0; r < 2; ++r)
     threads.emplace_back([&, r] {
       test::ThreadRanks::Rank rank(all, r);
       EncodeOptions on_rank = bricks;
       on_rank.exchange = &rank;
-      codes[static_cast<size_t>(r)] = encode(input, on_rank).status().code();
+      EncodeInput given = input;
+      if (r == 1) given.tetrahedra = half, given.cell_fields = half_fields;
+      codes[static_cast<size_t>(r)] = encode(given, on_rank).status().code();
     });
   for (auto& t : threads) t.join();
-  EXPECT_EQ(codes, std::vector<StatusCode>(2, StatusCode::kUnsupported));
+  EXPECT_EQ(codes, std::vector<StatusCode>(2, StatusCode::kInvalidInput));
   EXPECT_EQ(encode(input, EncodeOptions::paper()).status().code(), StatusCode::kInvalidInput);
   std::vector<double> short_values(3);
   fields[0].values = short_values;
@@ -371,6 +378,40 @@ TEST(CellData, BricksGiveABoxOrAPieceItsCellsValues) {
   ASSERT_TRUE(coarser.ok()) << coarser.status().message();
   EXPECT_GT(coarser->cells.size(), 0u);
   EXPECT_TRUE(coarser->cell_fields.empty());
+}
+
+// On the ranks of a run (each given every tetrahedron and its values), the
+// bytes one process writes, whichever way the ranks answer each other.
+TEST(CellData, BrickedStreamsAreTheSameBytesOnAnyNumberOfRanks) {
+  const CellInput in = block(1500, 12);
+  EncodeOptions options = coarse_grid_bricks();
+  options.field_errors["pressure"] = 0.75;  // a lossy array's scales are every tetrahedron's too
+  const Encoded alone = encode_cells(in, options);
+  ASSERT_FALSE(alone.bytes.empty());
+  ASSERT_GT(alone.report.cell_value_bytes, 0u);
+  ASSERT_GT(alone.report.level0_cells, alone.report.cells_from_input) << "no cell takes another's values";
+  for (const bool at_once : {true, false}) {
+    for (int ranks : {2, 3}) {
+      SCOPED_TRACE(std::to_string(ranks) + (at_once ? " ranks answering while they work" : " ranks"));
+      test::ThreadRanks all(ranks);
+      all.answer_while_working(at_once);
+      std::vector<Encoded> made(static_cast<size_t>(ranks));
+      std::vector<std::thread> threads;
+      for (int r = 0; r < ranks; ++r)
+        threads.emplace_back([&, r] {
+          test::ThreadRanks::Rank rank(all, r);
+          EncodeOptions on_rank = options;
+          on_rank.exchange = &rank;
+          made[static_cast<size_t>(r)] = encode_cells(in, on_rank);
+        });
+      for (auto& t : threads) t.join();
+      for (const Encoded& e : made) {
+        EXPECT_TRUE(e.bytes == alone.bytes);
+        EXPECT_EQ(e.report.cells_from_input, alone.report.cells_from_input);
+        EXPECT_EQ(e.report.cell_value_bytes, alone.report.cell_value_bytes);
+      }
+    }
+  }
 }
 
 // Every prefix decodes to whole levels (level 0 only whole, with its

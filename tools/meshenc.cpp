@@ -191,7 +191,7 @@ void add_options(CLI::App& app, Command& c) {
       "bricked layers (format 8.0; 15.0 with regions, 16.0 with cell data): each layer's points and "
       "corrections in one chunk per octree brick, so that meshdec --box decodes a region from the chunks "
       "around it, values, regions and level 0's cell data included; the levels are built in blocks, the "
-      "same bytes alone or under mpirun (no candidates; cell data on one process only)");
+      "same bytes alone or under mpirun (no candidates)");
   app.add_option("--brick-points", e.brick_points,
                  "with --bricks: each layer's bricks are the smallest that hold this many of its new points "
                  "on average (smaller: regions read fewer bytes, the stream grows)")
@@ -799,9 +799,8 @@ int run(Command& c) {
     }
   }
   if (!in.cell_fields.empty()) {
-    const char* why = c.no_cell_data                 ? "--no-cell-data"
-                      : mpi.size() > 1               ? "streams made on several ranks do not carry them yet"
-                      : !c.encode.carve_to_reference ? "the paper preset carves by alpha alone"
+    const char* why = c.no_cell_data                      ? "--no-cell-data"
+                      : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
                       : c.no_reference || in.tets.empty() ? "no tetrahedra to hold them"
                                                           : nullptr;
     if (why) {
@@ -881,7 +880,11 @@ int run(Command& c) {
     if (!in.tetgen_ele.empty()) display.start("reading " + in.tetgen_ele + ", a part on each rank");
     share.emplace(plan->quantized.points, plan->quantized.grid.qbits, mpi.rank(), mpi.size());
     c.encode.reference_share = &*share;
-    hold_share(in, plan->quantized, *share, regions_kept);
+    // With cell data (never from a TetGen .ele) every rank keeps every
+    // tetrahedron, as it read them: a cell's source may be any one at its
+    // corners (codec/encode.h).
+    if (in.cell_fields.empty() || !in.tetgen_ele.empty())
+      hold_share(in, plan->quantized, *share, regions_kept);
   }
   input.tetrahedra = in.tets;
   const std::map<int32_t, uint64_t> regions = region_cells(in, plan->quantized, share ? &*share : nullptr);

@@ -16,6 +16,7 @@
 #include "codec/blocks/bricked_stream_writer.h"
 #include "codec/blocks/level_merge.h"
 #include "codec/blocks/rank_reference.h"
+#include "codec/blocks/reference_share.h"
 #include "codec/bricks/bricks.h"
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
@@ -114,17 +115,16 @@ class BrickedEncoder {
         q_(in.grid.qbits),
         reference_(in.points, q_, exchange, in.voxels, o.hierarchy.on_phase),
         at_once_(o.blocks_at_once > 0 ? o.blocks_at_once : default_blocks_at_once(o.block_points)) {
+    // With cell data, level 0's blocks find each kept cell's input
+    // tetrahedron: the tetrahedra are read until level 0 is coded (on
+    // ranks too, where every rank is given them all: encode_bricked()).
+    if (in.cell_values && !in.reference_tets.empty()) cell_sources_.emplace(in.points, in.reference_tets);
     if (x_.size() > 1)
       reference_.set_in_parts(in.reference_tets, in.reference_regions, in.regions.size(), in.share,
                               [this] { tets_done(); });
     else if (!in.reference_tets.empty())
       reference_.set_whole(in.reference_tets, in.reference_regions);
-    // With cell data, level 0's blocks find each kept cell's input
-    // tetrahedron: the tetrahedra are read until level 0 is coded.
-    if (in.cell_values && !in.reference_tets.empty())
-      cell_sources_.emplace(in.points, in.reference_tets);
-    else
-      tets_done();
+    tets_done();
     // Made once the reference is: not held (5 bytes a point, 47 MiB at
     // bunny_10m, on every rank) beside the tetrahedra while the reference's
     // boundary and solid are found, the largest of a rank's phases before
@@ -143,8 +143,10 @@ class BrickedEncoder {
   void phase(int level, const std::string& what) const {
     report_phase(o_.hierarchy.on_phase, "level " + std::to_string(level) + ": " + what);
   }
-  // Tells the caller, once, that the reference's tetrahedra are read no more.
+  // Tells the caller, once, that the reference's tetrahedra are read no more
+  // (not while level 0's cell values are still to find: cells_done()).
   void tets_done() {
+    if (cell_sources_) return;
     if (in_.reference_tets_done && !tets_done_) in_.reference_tets_done();
     tets_done_ = true;
   }
@@ -851,14 +853,36 @@ StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const 
     return invalid_input("a table of regions without the tetrahedra's");
   }
   if (!input.regions.empty()) DTM_RETURN_IF_ERROR(check_region_table(input.regions));
-  if (input.cell_values) {
-    if (input.reference_tets.empty()) return invalid_input("cell data without the tetrahedra it belongs to");
-    if (options.exchange && options.exchange->size() > 1)
-      return Status{StatusCode::kUnsupported,
-                    "cell data on several ranks (each holds a share of the tetrahedra): not built yet"};
-  }
   SingleProcess alone;
   RankExchange& exchange = options.exchange ? *options.exchange : alone;
+  if (input.cell_values) {
+    if (input.reference_tets.empty()) return invalid_input("cell data without the tetrahedra it belongs to");
+    // On ranks, a cell's source may be any tetrahedron around its corners,
+    // and the table's scales are every tetrahedron's: every rank must be
+    // given them all (not its share), so that the ranks own, together, as
+    // many as each was given.
+    if (exchange.size() > 1) {
+      std::optional<ReferenceShare> made;
+      const ReferenceShare& share =
+          input.share ? *input.share
+                      : made.emplace(input.points, input.grid.qbits, exchange.rank(), exchange.size());
+      uint64_t owned = 0;
+      for (const auto& t : input.reference_tets) owned += share.owns(t);
+      ByteWriter w;
+      w.u64(owned);
+      w.u64(input.reference_tets.size());
+      uint64_t all = 0;
+      bool same = true;
+      for (const auto& bytes : exchange.all_gather(w.take())) {
+        BlockReader r(bytes);
+        const uint64_t owned_there = r.u64(), given_there = r.u64();
+        all += owned_there;
+        same = same && given_there == input.reference_tets.size();
+      }
+      if (!same || all != input.reference_tets.size())
+        return invalid_input("cell data on ranks needs every input tetrahedron on every rank");
+    }
+  }
   BrickedEncoder encoder(input, options, exchange);
   return encoder.run(on_level);
 }

@@ -78,7 +78,7 @@ struct BrickedEncodeInput {
   // in `regions`, the stream's region table (spec/FORMAT.md §2.2; format
   // 15.0: every level's kept cells carry theirs). Empty: one region, no
   // table; with one region, `regions` may name it (every section empty).
-  // Two or more on one process only (kUnsupported on ranks: not built yet).
+  // On ranks, each rank's share of them (its reference in parts).
   std::span<const uint8_t> reference_regions;
   std::span<const RegionLabel> regions;
   // Called once reference_tets are read no more (the encoder's solid and
@@ -96,8 +96,11 @@ struct BrickedEncodeInput {
   // Per-cell values (indexed by reference tetrahedron), or nullptr: each of
   // level 0's chunks then carries its kept cells' values, each cell taking
   // those of the input tetrahedron core/cell_sources.h finds for it
-  // (format 16.0, spec/FORMAT.md §3.5). One process only (kUnsupported on
-  // ranks: each holds a share of the tetrahedra).
+  // (format 16.0, spec/FORMAT.md §3.5). On ranks, every rank must be given
+  // every tetrahedron and these values of them all (kInvalidInput if the
+  // ranks' tetrahedra do not add up so), not its share: a cell's source is
+  // looked for among all the tetrahedra at its corners, which are held until
+  // level 0 is coded.
   const FieldSectionEncoder* cell_values = nullptr;
 };
 
