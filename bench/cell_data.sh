@@ -176,7 +176,7 @@ out += ["", "| | encode | decode to .vtu |", "|---|---:|---:|",
         "| bricks on 2 MPI ranks, without | %.2f s, %.0f MiB | |" % time_of("mpi.without"),
         "", "On ranks (`mpirun -n 2 meshenc --bricks`, oversubscribed on this machine's 2 cores, a rank's peak "
         "the largest process's): the same bytes as one process: %s. Each rank reads the whole .vtu, and "
-        "with cell data keeps every tetrahedron and its values until level 0 is coded (a cell's source may "
+        "with cell data keeps every tetrahedron until level 1 is built and their values to the end (a cell's source may "
         "be any tetrahedron at its corners), so a rank's memory is about one process's." %
         open("mpi.same").read().strip(),
         "", "A box a fifth of the part's extent on each axis around its middle (`meshdec --box %s`), level 0 "

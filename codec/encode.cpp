@@ -268,18 +268,31 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   in.reference_tets_done = input.tetrahedra_done;
   in.voxels = voxels;
   in.share = share;
+  // The value tables (a lossy field's bound may be too small for its values:
+  // on ranks, refused by all of them together).
+  Status tables = Status::Ok();
   std::optional<FieldSectionEncoder> values;
   if (!fields.empty()) {
-    DTM_ASSIGN_OR_RETURN(FieldSectionEncoder made, FieldSectionEncoder::make(std::move(fields)));
-    values.emplace(std::move(made));
-    in.values = &*values;
+    auto made = FieldSectionEncoder::make(std::move(fields));
+    if (made.ok()) {
+      values.emplace(std::move(made).value());
+      in.values = &*values;
+    } else {
+      tables = made.status();
+    }
   }
   std::optional<FieldSectionEncoder> cell_values;  // per reference tetrahedron
-  if (!cell_fields.empty()) {
-    DTM_ASSIGN_OR_RETURN(FieldSectionEncoder made, FieldSectionEncoder::make(std::move(cell_fields)));
-    cell_values.emplace(std::move(made));
-    in.cell_values = &*cell_values;
+  if (!cell_fields.empty() && tables.ok()) {
+    auto made = FieldSectionEncoder::make(std::move(cell_fields));
+    if (made.ok()) {
+      cell_values.emplace(std::move(made).value());
+      in.cell_values = &*cell_values;
+    } else {
+      tables = made.status();
+    }
   }
+  if (options.exchange && options.exchange->size() > 1) tables = agreed(*options.exchange, tables);
+  DTM_RETURN_IF_ERROR(tables);
   BrickedEncodeOptions o;
   o.hierarchy = hierarchy_options(options, q.grid, plan.dmax);
   o.brick_points = options.brick_points;
@@ -434,84 +447,95 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   // data, when the encoder puts them on the grid itself).
   std::vector<int32_t> source;
   const bool with_cells = !input.cell_fields.empty();
-  std::vector<FieldDescription> cell_descriptions;  // checked here, before the long work
-  if (with_cells) {
-    if (input.tetrahedra.empty()) return invalid_input("cell data needs the tetrahedra it belongs to");
-    if (!options.carve_to_reference)
-      return invalid_input("cell data needs the levels carved to the input's solid (not the paper preset)");
-    std::vector<size_t> value_counts;
-    for (const auto& f : input.cell_fields) {
-      cell_descriptions.push_back(described(f, options));
-      value_counts.push_back(f.values.size());
-    }
-    DTM_RETURN_IF_ERROR(
-        check_fields(cell_descriptions, value_counts, input.tetrahedra.size()).with_context("cell data"));
-  }
   const bool with_regions = !input.tetrahedron_regions.empty();
-  if (with_regions) {
-    if (input.tetrahedron_regions.size() != input.tetrahedra.size())
-      return invalid_input("a region is needed for every tetrahedron");
-    if (!options.carve_to_reference)
-      return invalid_input("regions need the levels carved to the input's solid (not the paper preset)");
-  }
   const bool with_faces = !input.tagged_faces.empty();
-  if (with_faces) {
-    if (input.face_tags.size() != input.tagged_faces.size())
-      return invalid_input("a tag is needed for every face");
-    if (input.tetrahedra.empty()) return invalid_input("tagged faces need the tetrahedra they bound");
-    if (options.bricks) return invalid_input("bricked streams do not carry tagged faces yet");
-    if (!options.carve_to_reference)
-      return invalid_input("tagged faces need the levels carved to the input's solid (not the paper preset)");
-  }
-  if (!input.tetrahedra.empty()) {
-    const size_t points = input.tetrahedra_on_grid ? q.points.size() : q.input_to_point.size();
-    for (const auto& t : input.tetrahedra)
-      for (uint32_t v : t)
-        if (v >= points) return invalid_input("a tetrahedron names a point that does not exist");
-    if (with_regions) labels.assign(input.tetrahedron_regions.begin(), input.tetrahedron_regions.end());
-    if (input.tetrahedra_on_grid) {
-      reference_tets = input.tetrahedra;
-    } else {
-      converted.assign(input.tetrahedra.begin(), input.tetrahedra.end());
-      if (with_cells) {
-        // The index travels (and the regions follow it).
-        source.resize(converted.size());
-        for (size_t i = 0; i < source.size(); ++i) source[i] = static_cast<int32_t>(i);
-        grid_tetrahedra_in_place(converted, q, &source);
-        if (with_regions)
-          for (size_t i = 0; i < source.size(); ++i)
-            labels[i] = input.tetrahedron_regions[static_cast<size_t>(source[i])];
-        if (with_regions) labels.resize(source.size());
-      } else {
-        grid_tetrahedra_in_place(converted, q, with_regions ? &labels : nullptr);
+  std::vector<FieldDescription> cell_descriptions;  // checked here, before the long work
+  // The input checked, and on the ranks of a bricked run every rank's
+  // verdict shared (a rank given other tetrahedra or arrays than the others
+  // may refuse alone, and leave them waiting in their next exchange).
+  Status checked = [&]() -> Status {
+    if (with_cells) {
+      if (input.tetrahedra.empty()) return invalid_input("cell data needs the tetrahedra it belongs to");
+      if (!options.carve_to_reference)
+        return invalid_input("cell data needs the levels carved to the input's solid (not the paper preset)");
+      std::vector<size_t> value_counts;
+      for (const auto& f : input.cell_fields) {
+        cell_descriptions.push_back(described(f, options));
+        value_counts.push_back(f.values.size());
       }
-      reference_tets = converted;
+      DTM_RETURN_IF_ERROR(
+          check_fields(cell_descriptions, value_counts, input.tetrahedra.size()).with_context("cell data"));
     }
-    report.reference_tetrahedra = reference_tets.size();
-  }
-  if (options.keep_order) {
-    if (options.bricks) return invalid_input("bricked streams do not keep the input's vertex order yet");
-    if (!options.carve_to_reference)
-      return invalid_input("keeping the vertex order needs the codec preset (not the paper preset)");
-    if (q.duplicates_merged > 0)
-      return invalid_input(std::to_string(q.duplicates_merged) +
-                           " points share a grid point with another at q=" + std::to_string(q.grid.qbits) +
-                           ": the input's numbering cannot be kept (raise --qbits, or merge them first)");
-  }
-  if (options.exact) {
-    if (options.bricks) return invalid_input("bricked streams do not keep the input's cells exactly yet");
-    if (!options.carve_to_reference)
-      return invalid_input("exact cells need the codec preset (not the paper preset)");
-    if (reference_tets.empty()) return invalid_input("--exact needs the input's tetrahedra");
-    if (input.tetrahedra_on_grid) {
-      // (The caller put them on the grid: it checked them there, check_exact_grid.)
-      if (q.duplicates_merged > 0 || turned_cells(q.points, reference_tets) > 0)
-        return invalid_input("the input's points or cells do not stay apart on the grid of q=" +
-                             std::to_string(q.grid.qbits) + ": they cannot be kept exactly (raise --qbits)");
-    } else {
-      DTM_RETURN_IF_ERROR(check_exact_grid(input.points, input.tetrahedra, plan));
+    if (with_regions) {
+      if (input.tetrahedron_regions.size() != input.tetrahedra.size())
+        return invalid_input("a region is needed for every tetrahedron");
+      if (!options.carve_to_reference)
+        return invalid_input("regions need the levels carved to the input's solid (not the paper preset)");
     }
-  }
+    if (with_faces) {
+      if (input.face_tags.size() != input.tagged_faces.size())
+        return invalid_input("a tag is needed for every face");
+      if (input.tetrahedra.empty()) return invalid_input("tagged faces need the tetrahedra they bound");
+      if (options.bricks) return invalid_input("bricked streams do not carry tagged faces yet");
+      if (!options.carve_to_reference)
+        return invalid_input(
+            "tagged faces need the levels carved to the input's solid (not the paper preset)");
+    }
+    if (!input.tetrahedra.empty()) {
+      const size_t points = input.tetrahedra_on_grid ? q.points.size() : q.input_to_point.size();
+      for (const auto& t : input.tetrahedra)
+        for (uint32_t v : t)
+          if (v >= points) return invalid_input("a tetrahedron names a point that does not exist");
+      if (with_regions) labels.assign(input.tetrahedron_regions.begin(), input.tetrahedron_regions.end());
+      if (input.tetrahedra_on_grid) {
+        reference_tets = input.tetrahedra;
+      } else {
+        converted.assign(input.tetrahedra.begin(), input.tetrahedra.end());
+        if (with_cells) {
+          // The index travels (and the regions follow it).
+          source.resize(converted.size());
+          for (size_t i = 0; i < source.size(); ++i) source[i] = static_cast<int32_t>(i);
+          grid_tetrahedra_in_place(converted, q, &source);
+          if (with_regions)
+            for (size_t i = 0; i < source.size(); ++i)
+              labels[i] = input.tetrahedron_regions[static_cast<size_t>(source[i])];
+          if (with_regions) labels.resize(source.size());
+        } else {
+          grid_tetrahedra_in_place(converted, q, with_regions ? &labels : nullptr);
+        }
+        reference_tets = converted;
+      }
+      report.reference_tetrahedra = reference_tets.size();
+    }
+    if (options.keep_order) {
+      if (options.bricks) return invalid_input("bricked streams do not keep the input's vertex order yet");
+      if (!options.carve_to_reference)
+        return invalid_input("keeping the vertex order needs the codec preset (not the paper preset)");
+      if (q.duplicates_merged > 0)
+        return invalid_input(std::to_string(q.duplicates_merged) +
+                             " points share a grid point with another at q=" + std::to_string(q.grid.qbits) +
+                             ": the input's numbering cannot be kept (raise --qbits, or merge them first)");
+    }
+    if (options.exact) {
+      if (options.bricks) return invalid_input("bricked streams do not keep the input's cells exactly yet");
+      if (!options.carve_to_reference)
+        return invalid_input("exact cells need the codec preset (not the paper preset)");
+      if (reference_tets.empty()) return invalid_input("--exact needs the input's tetrahedra");
+      if (input.tetrahedra_on_grid) {
+        // (The caller put them on the grid: it checked them there, check_exact_grid.)
+        if (q.duplicates_merged > 0 || turned_cells(q.points, reference_tets) > 0)
+          return invalid_input("the input's points or cells do not stay apart on the grid of q=" +
+                               std::to_string(q.grid.qbits) +
+                               ": they cannot be kept exactly (raise --qbits)");
+      } else {
+        DTM_RETURN_IF_ERROR(check_exact_grid(input.points, input.tetrahedra, plan));
+      }
+    }
+    return Status::Ok();
+  }();
+  if (options.bricks && options.exchange && options.exchange->size() > 1)
+    checked = agreed(*options.exchange, checked);
+  DTM_RETURN_IF_ERROR(checked);
   if (input.points_done) input.points_done();
   // The paper preset does not carve to the reference: it is only measured.
   std::optional<ReferenceShape> measured_only;

@@ -164,7 +164,7 @@ struct EncodeInput {
   // Per tetrahedron, its region (material): the input's own label (a gmsh
   // physical volume, a Medit ref, ...); empty: none. Every level's cells
   // then carry the region that holds their centroid (format 9.0; bricked,
-  // 15.0, on one process). At most 255 distinct labels; not with the paper
+  // 15.0, on one process or on ranks). At most 255 distinct labels; not with the paper
   // preset. With
   // tetrahedra_on_grid, in the order of `tetrahedra` (grid_tetrahedra_in_place
   // with the labels).
@@ -182,10 +182,12 @@ struct EncodeInput {
   // of the input's, core/reference_shape.h): a caller short of memory frees
   // its own before encoding (meshenc does, for meshes of 10M vertices).
   bool tetrahedra_on_grid = false;
-  // Called once the encoder reads `tetrahedra` no more, before its levels
-  // are built, so that the caller may free them: the bricked encoder
-  // (EncodeOptions::bricks) keeps its own copy of the few it tests again;
-  // the whole-level encoder reads them to the end and does not call it.
+  // Called once the encoder reads `tetrahedra` no more, so that the caller
+  // may free them: the bricked encoder (EncodeOptions::bricks) calls it
+  // before its levels are built (keeping its own copy of the few it tests
+  // again), or with cell_fields once level 1 is built (level 0's cells then
+  // have their values); the whole-level encoder reads them to the end and
+  // does not call it.
   std::function<void()> tetrahedra_done;
   // Called once the encoder reads `points` and the fields' values no more
   // (it holds them on its grid), before its levels are built, so that the

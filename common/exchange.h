@@ -17,6 +17,7 @@
 #include <span>
 #include <vector>
 
+#include "common/status.h"
 #include "common/threads.h"
 
 namespace dtm {
@@ -61,6 +62,22 @@ class RankExchange {
     return thread_count();
   }
 };
+
+// Every rank's `mine` shared: the first refusal in rank order, on every rank
+// (or Ok where none refused). A check of a rank's own input is agreed on
+// before the next exchange: a rank that returned alone would leave the others
+// waiting in it. Every rank must call it at the same step.
+inline Status agreed(RankExchange& exchange, const Status& mine) {
+  std::vector<uint8_t> bytes;
+  if (!mine.ok()) {
+    bytes.push_back(static_cast<uint8_t>(mine.code()));
+    bytes.insert(bytes.end(), mine.message().begin(), mine.message().end());
+  }
+  for (const auto& theirs : exchange.all_gather(bytes))
+    if (!theirs.empty())
+      return Status{static_cast<StatusCode>(theirs[0]), std::string(theirs.begin() + 1, theirs.end())};
+  return Status::Ok();
+}
 
 // One process: rank 0 of 1.
 class SingleProcess final : public RankExchange {

@@ -295,6 +295,27 @@ TEST(CellData, RefusedWhereTheStreamCannotCarryThem) {
     });
   for (auto& t : threads) t.join();
   EXPECT_EQ(codes, std::vector<StatusCode>(2, StatusCode::kInvalidInput));
+  // A rank given no tetrahedron (nor values), or no cell data at all, where
+  // the other has them: every rank refuses, none waits for the others.
+  for (const bool without_arrays : {false, true}) {
+    SCOPED_TRACE(without_arrays ? "a rank without cell data" : "a rank without tetrahedra");
+    std::vector<EncodeInput::Field> none = in.fields();
+    for (auto& f : none) f.values = {};
+    threads.clear();
+    codes.assign(2, StatusCode::kOk);
+    for (int r = 0; r < 2; ++r)
+      threads.emplace_back([&, r] {
+        test::ThreadRanks::Rank rank(all, r);
+        EncodeOptions on_rank = bricks;
+        on_rank.exchange = &rank;
+        EncodeInput given = input;
+        if (r == 1 && without_arrays) given.cell_fields = {};
+        if (r == 1 && !without_arrays) given.tetrahedra = {}, given.cell_fields = none;
+        codes[static_cast<size_t>(r)] = encode(given, on_rank).status().code();
+      });
+    for (auto& t : threads) t.join();
+    EXPECT_EQ(codes, std::vector<StatusCode>(2, StatusCode::kInvalidInput));
+  }
   EXPECT_EQ(encode(input, EncodeOptions::paper()).status().code(), StatusCode::kInvalidInput);
   std::vector<double> short_values(3);
   fields[0].values = short_values;

@@ -114,16 +114,18 @@ class BrickedEncoder {
         x_(exchange),
         q_(in.grid.qbits),
         reference_(in.points, q_, exchange, in.voxels, o.hierarchy.on_phase),
-        at_once_(o.blocks_at_once > 0 ? o.blocks_at_once : default_blocks_at_once(o.block_points)) {
-    // With cell data, level 0's blocks find each kept cell's input
-    // tetrahedron: the tetrahedra are read until level 0 is coded (on
-    // ranks too, where every rank is given them all: encode_bricked()).
-    if (in.cell_values && !in.reference_tets.empty()) cell_sources_.emplace(in.points, in.reference_tets);
+        at_once_(o.blocks_at_once > 0 ? o.blocks_at_once : default_blocks_at_once(o.block_points)),
+        cells_need_tets_(in.cell_values && !in.reference_tets.empty()) {
     if (x_.size() > 1)
       reference_.set_in_parts(in.reference_tets, in.reference_regions, in.regions.size(), in.share,
                               [this] { tets_done(); });
     else if (!in.reference_tets.empty())
       reference_.set_whole(in.reference_tets, in.reference_regions);
+    // With cell data, level 0's blocks find each kept cell's input
+    // tetrahedron: the tetrahedra are read until level 0's cells are coded,
+    // once level 1 is built (on ranks too, where every rank is given them
+    // all: encode_bricked()). Made once the reference is, not beside it.
+    if (cells_need_tets_) cell_sources_.emplace(in.points, in.reference_tets);
     tets_done();
     // Made once the reference is: not held (5 bytes a point, 47 MiB at
     // bunny_10m, on every rank) beside the tetrahedra while the reference's
@@ -146,7 +148,7 @@ class BrickedEncoder {
   // Tells the caller, once, that the reference's tetrahedra are read no more
   // (not while level 0's cell values are still to find: cells_done()).
   void tets_done() {
-    if (cell_sources_) return;
+    if (cells_need_tets_) return;
     if (in_.reference_tets_done && !tets_done_) in_.reference_tets_done();
     tets_done_ = true;
   }
@@ -154,6 +156,7 @@ class BrickedEncoder {
   // more, nor the tetrahedra.
   void cells_done() {
     cell_sources_.reset();
+    cells_need_tets_ = false;
     tets_done();
   }
   BlockRegion region_of(const BlockPlan& plan, size_t k, int level, int64_t halo) const;
@@ -207,8 +210,9 @@ class BrickedEncoder {
   bool last_ = false;             // the coarser level is to be the coarsest
   uint64_t reference_boundary_vertices_ = 0;
   bool tets_done_ = false;
-  std::optional<CellSourceIndex> cell_sources_;  // with cell data, until level 0 is coded
+  std::optional<CellSourceIndex> cell_sources_;  // with cell data, until level 0's cells are coded
   int at_once_;                                  // blocks built side by side (run_blocks)
+  bool cells_need_tets_;                         // cell_sources_ is (or is to be) made of the tetrahedra
   // Blocks a neighbour changed: built again, checked in parts (build()).
   uint64_t blocks_built_again_ = 0, blocks_checked_in_parts_ = 0;
   // Level 0's kept radius from its spacing, as used, and the cells of the
@@ -832,56 +836,65 @@ StatusOr<bool> BrickedEncoder::coarser_level(int level, size_t finer, const Bloc
 
 StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const BrickedEncodeOptions& options,
                                          const std::function<void(const LevelStats&)>& on_level) {
-  if (input.points.size() < 4) return invalid_input("fewer than four points make no tetrahedron");
-  if (input.points.size() > (size_t{1} << 31))
-    return invalid_input("bricked streams hold at most 2^31 points");
-  if (options.brick_points == 0 || options.block_points == 0)
-    return invalid_input("brick and block points must be positive");
-  if (options.hierarchy.alpha.kind == AlphaKind::kConvexHull)
-    return invalid_input("bricked layers need a finite alpha (the halo of a region is made from it)");
-  if (options.hierarchy.alpha.kind == AlphaKind::kFixed && !(options.hierarchy.alpha.fixed_value > 0))
-    return invalid_input("a fixed alpha must be positive");
-  if (!input.reference_regions.empty()) {
-    if (input.regions.size() < 2) return invalid_input("tetrahedra in regions without a table of them");
-    if (input.reference_regions.size() != input.reference_tets.size())
-      return invalid_input("each reference tetrahedron needs its region");
-    for (uint8_t r : input.reference_regions)
-      if (r == 0 || r > input.regions.size())
-        return invalid_input("a tetrahedron's region is not in the table");
-  } else if (input.regions.size() > 1 && !input.reference_tets.empty()) {
-    // (A rank of a run may hold no tetrahedron, and the table be every rank's.)
-    return invalid_input("a table of regions without the tetrahedra's");
-  }
-  if (!input.regions.empty()) DTM_RETURN_IF_ERROR(check_region_table(input.regions));
   SingleProcess alone;
   RankExchange& exchange = options.exchange ? *options.exchange : alone;
-  if (input.cell_values) {
-    if (input.reference_tets.empty()) return invalid_input("cell data without the tetrahedra it belongs to");
-    // On ranks, a cell's source may be any tetrahedron around its corners,
-    // and the table's scales are every tetrahedron's: every rank must be
-    // given them all (not its share), so that the ranks own, together, as
-    // many as each was given.
-    if (exchange.size() > 1) {
-      std::optional<ReferenceShare> made;
-      const ReferenceShare& share =
-          input.share ? *input.share
-                      : made.emplace(input.points, input.grid.qbits, exchange.rank(), exchange.size());
-      uint64_t owned = 0;
-      for (const auto& t : input.reference_tets) owned += share.owns(t);
-      ByteWriter w;
-      w.u64(owned);
-      w.u64(input.reference_tets.size());
-      uint64_t all = 0;
-      bool same = true;
-      for (const auto& bytes : exchange.all_gather(w.take())) {
-        BlockReader r(bytes);
-        const uint64_t owned_there = r.u64(), given_there = r.u64();
-        all += owned_there;
-        same = same && given_there == input.reference_tets.size();
-      }
-      if (!same || all != input.reference_tets.size())
-        return invalid_input("cell data on ranks needs every input tetrahedron on every rank");
+  const Status checked = [&]() -> Status {
+    if (input.points.size() < 4) return invalid_input("fewer than four points make no tetrahedron");
+    if (input.points.size() > (size_t{1} << 31))
+      return invalid_input("bricked streams hold at most 2^31 points");
+    if (options.brick_points == 0 || options.block_points == 0)
+      return invalid_input("brick and block points must be positive");
+    if (options.hierarchy.alpha.kind == AlphaKind::kConvexHull)
+      return invalid_input("bricked layers need a finite alpha (the halo of a region is made from it)");
+    if (options.hierarchy.alpha.kind == AlphaKind::kFixed && !(options.hierarchy.alpha.fixed_value > 0))
+      return invalid_input("a fixed alpha must be positive");
+    if (!input.reference_regions.empty()) {
+      if (input.regions.size() < 2) return invalid_input("tetrahedra in regions without a table of them");
+      if (input.reference_regions.size() != input.reference_tets.size())
+        return invalid_input("each reference tetrahedron needs its region");
+      for (uint8_t r : input.reference_regions)
+        if (r == 0 || r > input.regions.size())
+          return invalid_input("a tetrahedron's region is not in the table");
+    } else if (input.regions.size() > 1 && !input.reference_tets.empty()) {
+      // (A rank of a run may hold no tetrahedron, and the table be every rank's.)
+      return invalid_input("a table of regions without the tetrahedra's");
     }
+    if (!input.regions.empty()) DTM_RETURN_IF_ERROR(check_region_table(input.regions));
+    if (input.cell_values && input.reference_tets.empty())
+      return invalid_input("cell data without the tetrahedra it belongs to");
+    return Status::Ok();
+  }();
+  if (exchange.size() > 1) {
+    // Every rank's verdict (one refusing alone would leave the others
+    // waiting in their first exchange), then, with cell data, whether every
+    // rank was given every tetrahedron: a cell's source may be any
+    // tetrahedron around its corners, and the table's scales are every
+    // tetrahedron's. Then the ranks own, together, as many as each holds.
+    DTM_RETURN_IF_ERROR(agreed(exchange, checked));
+    std::optional<ReferenceShare> made;
+    const ReferenceShare& share =
+        input.share ? *input.share
+                    : made.emplace(input.points, input.grid.qbits, exchange.rank(), exchange.size());
+    uint64_t owned = 0;
+    for (const auto& t : input.reference_tets) owned += share.owns(t);
+    ByteWriter w;
+    w.u8(input.cell_values != nullptr);
+    w.u64(owned);
+    w.u64(input.reference_tets.size());
+    uint64_t all = 0;
+    bool same = true;
+    for (const auto& bytes : exchange.all_gather(w.take())) {
+      BlockReader r(bytes);
+      const bool values_there = r.u8() != 0;
+      const uint64_t owned_there = r.u64(), given_there = r.u64();
+      all += owned_there;
+      same = same && values_there == (input.cell_values != nullptr) &&
+             (!input.cell_values || given_there == input.reference_tets.size());
+    }
+    if (!same || (input.cell_values && all != input.reference_tets.size()))
+      return invalid_input("cell data on ranks needs every input tetrahedron and its values on every rank");
+  } else {
+    DTM_RETURN_IF_ERROR(checked);
   }
   BrickedEncoder encoder(input, options, exchange);
   return encoder.run(on_level);

@@ -78,11 +78,14 @@ struct BrickedEncodeInput {
   // in `regions`, the stream's region table (spec/FORMAT.md §2.2; format
   // 15.0: every level's kept cells carry theirs). Empty: one region, no
   // table; with one region, `regions` may name it (every section empty).
-  // On ranks, each rank's share of them (its reference in parts).
+  // On ranks, those of the tetrahedra the rank was given (its share, or all
+  // of them with cell_values), of which it keeps its share for its
+  // reference in parts.
   std::span<const uint8_t> reference_regions;
   std::span<const RegionLabel> regions;
   // Called once reference_tets are read no more (the encoder's solid and
-  // boundary hold what it needs of them), before the levels are built.
+  // boundary hold what it needs of them): before the levels are built, or
+  // with cell_values once level 1 is (level 0's cells then coded).
   std::function<void()> reference_tets_done;
   // On ranks: the share the tetrahedra were cut by (codec/blocks/reference_share.h,
   // its points these), or nullptr: made from the exchange.
@@ -100,7 +103,8 @@ struct BrickedEncodeInput {
   // every tetrahedron and these values of them all (kInvalidInput if the
   // ranks' tetrahedra do not add up so), not its share: a cell's source is
   // looked for among all the tetrahedra at its corners, which are held until
-  // level 0 is coded.
+  // level 1 is built (level 0's cells then coded); these values are read
+  // until the stream is written.
   const FieldSectionEncoder* cell_values = nullptr;
 };
 
