@@ -410,7 +410,19 @@ StatusOr<EncodePlan> plan_encoding(const EncodeInput& input, const EncodeOptions
     plan.stream_grid = unscaled(plan.quantized.grid, plan.scale);
   }
   const Grid& grid = plan.quantized.grid;
-  plan.dmax = options.dmax > 0 ? options.dmax : 0.005 * grid.step * ((1u << grid.qbits) - 1);
+  // By default 0.5% of the input's largest extent: a point set's spans the
+  // grid; a lattice's grid is the volume's (and --qbits may widen it), so
+  // there the extent is that of its points, the solid's voxels.
+  double extent = (1u << grid.qbits) - 1;
+  if (input.lattice && !plan.quantized.points.empty()) {
+    GridPoint lo = plan.quantized.points.front(), hi = lo;
+    for (const GridPoint& p : plan.quantized.points) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1});
+  }
+  plan.dmax = options.dmax > 0 ? options.dmax : 0.005 * grid.step * extent;
   return plan;
 }
 

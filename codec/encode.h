@@ -53,7 +53,9 @@ struct EncodeOptions {
 
   // The hierarchy (spec/HIERARCHY.md). The defaults are the codec's levels;
   // EncodeOptions::paper() the seed paper's.
-  double dmax = 0;  // boundary tolerance; 0 = 0.5% of the grid's extent
+  // Boundary tolerance; 0 = 0.5% of the input's largest extent (of a
+  // voxel lattice's points, the solid's, not its grid's: plan_encoding()).
+  double dmax = 0;
   // Every level keeps the cells inside the reference solid (the input's
   // tetrahedra, or level 0's alpha carving), alpha only predicting them and
   // the stream correcting it; false: alpha alone carves (the paper).

@@ -327,6 +327,24 @@ TEST_F(Volumes, QbitsMayGrowButNotShrink) {
   const auto j = nlohmann::json::parse(test::slurp(report));
   EXPECT_EQ(j["qbits"], 12);
   EXPECT_EQ(j["step"], kSpacing);
+  // The default D_max is 0.5% of the solid's largest extent, whatever the
+  // grid's (it was the grid's: 4095 steps here, 13 times the torus's).
+  std::array<int, 3> lo{kSize, kSize, kSize}, hi{-1, -1, -1};
+  for (int k = 0; k < kSize; ++k)
+    for (int jj = 0; jj < kSize; ++jj)
+      for (int i = 0; i < kSize; ++i)
+        if (depth(i, jj, k) >= 0) {
+          const std::array<int, 3> at{i, jj, k};
+          for (size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], at[a]), hi[a] = std::max(hi[a], at[a]);
+        }
+  const int extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  const double expected = 0.005 * extent * kSpacing;
+  EXPECT_NEAR(j["dmax"].get<double>(), expected, 1e-12);
+  const std::string default_q = path("q_default.json");
+  r = test::run_command(std::string(DTM_MESHENC) + " " + path("torus_u8.nrrd") +
+                        " --threshold 100 --levels 2 -q --report " + default_q);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NEAR(nlohmann::json::parse(test::slurp(default_q))["dmax"].get<double>(), expected, 1e-12);
 }
 
 TEST_F(Volumes, LabelSelectsOneValue) {

@@ -132,8 +132,10 @@ void add_options(CLI::App& app, Command& c) {
   app.add_option("--qbits", e.qbits,
                  "quantization bits per axis (1..24; default 14; voxel lattices: just enough)")
       ->check(CLI::Range(1, 24));
-  app.add_option("--dmax", e.dmax,
-                 "boundary tolerance Dmax in input units (default: 0.5% of the largest extent)")
+  app.add_option(
+         "--dmax", e.dmax,
+         "boundary tolerance Dmax in input units (default: 0.5% of the largest extent; a volume's: its "
+         "solid's)")
       ->check(CLI::PositiveNumber);
   auto* scale_opt =
       app.add_option(
