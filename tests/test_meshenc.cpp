@@ -150,12 +150,22 @@ TEST(Meshenc, RejectsBadOptions) {
   EXPECT_TRUE(WIFEXITED(missing.status) && WEXITSTATUS(missing.status) == 1) << missing.output;
   const CommandRun help = meshenc("--help");
   EXPECT_TRUE(WIFEXITED(help.status) && WEXITSTATUS(help.status) == 0) << help.output;
-  EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --alpha nonsense").status, 0);
-  EXPECT_NE(meshenc(test::data_path("torus_288.node") + " --scale 2 --box 3").status, 0);
+  // Options that contradict each other, or a value of the wrong form,
+  // found after parsing: 2 too.
+  for (const char* options : {" --alpha nonsense", " --scale 2 --box 3", " --field-error pressure",
+                              " --bricks --level-step 2", " --no-fields --field-error a=1"}) {
+    const CommandRun run = meshenc(test::data_path("torus_288.node") + options + " -o -");
+    EXPECT_TRUE(WIFEXITED(run.status) && WEXITSTATUS(run.status) == 2) << options << ": " << run.output;
+  }
+  const std::string golden = std::string(DTM_TEST_SOURCE_DIR) + "/golden/torus_288_cells_bricks.dtm";
+  for (const char* options : {" --pieces 2 -o x.vtu", " --box 1 1 1 0 0 0 -o x.vtu", " -o - --format node"}) {
+    const CommandRun run = run_command(kMeshdec + " " + golden + options);
+    EXPECT_TRUE(WIFEXITED(run.status) && WEXITSTATUS(run.status) == 2) << options << ": " << run.output;
+  }
   // What bricked streams cannot do yet is refused before any work: no table.
   for (const char* flag : {"--exact", "--keep-order"}) {
     const CommandRun run = meshenc(test::data_path("torus_288.node") + " --bricks " + flag + " -o -");
-    EXPECT_NE(run.status, 0) << flag;
+    EXPECT_TRUE(WIFEXITED(run.status) && WEXITSTATUS(run.status) == 2) << flag << ": " << run.output;
     EXPECT_NE(run.output.find(flag), std::string::npos) << run.output;
     EXPECT_EQ(run.output.find("level  vertices"), std::string::npos) << run.output;
   }
@@ -337,6 +347,16 @@ TEST_F(Tools, MeshdecsOwnArraysAreNotCodedAgain) {
       ++count;
     EXPECT_EQ(count, 1u) << name;
   }
+  // A box of a bricked level (or a piece of one) has level and vertex_id,
+  // no boundary: meshdec's own too.
+  const std::string box = dir_ + "/again_box.vtu";
+  r = run_command(kMeshdec + " " + std::string(DTM_TEST_SOURCE_DIR) +
+                  "/golden/torus_288_bricks.dtm -q --box -100 -100 -100 100 100 100 -o " + box);
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = meshenc(box + " -o " + dir_ + "/again_box.dtm");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("the point arrays 'level', 'vertex_id' (meshdec's own"), std::string::npos)
+      << r.output;
 }
 
 // An error quoting a file's bytes prints its control bytes escaped, never

@@ -110,9 +110,9 @@ dtm::MeshFormat output_format(const Command& c) {
   else
     format = dtm::format_for_path(c.output);
   if (c.output == "-" && format == dtm::MeshFormat::kTetgen)
-    throw std::invalid_argument("TetGen output is two files; it cannot go to standard output");
+    throw dtm::UsageError("TetGen output is two files; it cannot go to standard output");
   if (c.output == "-" && format == dtm::MeshFormat::kGltf)
-    throw std::invalid_argument("glTF output is two files (.gltf and .bin); write .glb to standard output");
+    throw dtm::UsageError("glTF output is two files (.gltf and .bin); write .glb to standard output");
   return format;
 }
 
@@ -218,9 +218,8 @@ auto of_finest_whole_level(const Command& c, int levels, Decode&& decode) {
 // written. Any rank's failure fails them all and leaves no file.
 int run_pieces(const Command& c) {
   dtm::MpiSession& mpi = dtm::mpi_session();
-  if (c.input == "-")
-    throw std::invalid_argument("-o X.pvtu reads the stream by offset: give a file, not '-'");
-  if (!c.box.empty() || c.verify) throw std::invalid_argument("-o X.pvtu: no --box or --verify");
+  if (c.input == "-") throw dtm::UsageError("-o X.pvtu reads the stream by offset: give a file, not '-'");
+  if (!c.box.empty() || c.verify) throw dtm::UsageError("-o X.pvtu: no --box or --verify");
   const int pieces = c.pieces > 0 ? c.pieces : mpi.size();
   int level = std::max(c.level, 0);
   const std::string stem = c.output.substr(0, c.output.size() - 5);
@@ -317,8 +316,8 @@ int run_pieces(const Command& c) {
 
 // --box: the region's cells, from the chunks it needs.
 int run_region(const Command& c, dtm::MeshFormat format) {
-  if (c.input == "-") throw std::invalid_argument("--box reads the stream by offset: give a file, not '-'");
-  if (c.verify) throw std::invalid_argument("--box and --verify: verify the whole stream instead");
+  if (c.input == "-") throw dtm::UsageError("--box reads the stream by offset: give a file, not '-'");
+  if (c.verify) throw dtm::UsageError("--box and --verify: verify the whole stream instead");
   auto source = dtm::FileSource::open(c.input);
   if (!source.ok()) throw std::runtime_error(source.status().message());
   std::vector<uint8_t> head(dtm::kHeaderSize);
@@ -327,7 +326,7 @@ int run_region(const Command& c, dtm::MeshFormat format) {
     header = {};  // decode_region says what is wrong
   const std::array<double, 3> lo = {c.box[0], c.box[1], c.box[2]}, hi = {c.box[3], c.box[4], c.box[5]};
   if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2])
-    throw std::invalid_argument("--box: each of X0 Y0 Z0 must be at most X1 Y1 Z1");
+    throw dtm::UsageError("--box: each of X0 Y0 Z0 must be at most X1 Y1 Z1");
   dtm::DecoderOptions options;
   options.max_vertices = c.max_vertices;
   if (header.level_count > 0 && !(header.flags & dtm::kFlagBricks)) {
@@ -394,7 +393,7 @@ int run(const Command& c) {
   if (mpi.size() > 1 && !c.output.empty())
     throw dtm::AgreedError("under mpirun, meshdec writes a level in pieces, one a rank: -o X.pvtu",
                            mpi.rank() == 0);
-  if (c.pieces > 0) throw std::invalid_argument("--pieces writes a .pvtu: -o X.pvtu");
+  if (c.pieces > 0) throw dtm::UsageError("--pieces writes a .pvtu: -o X.pvtu");
   const dtm::MeshFormat format = output_format(c);
   // An option the output does not use is said, not silently dropped.
   const bool gltf = format == dtm::MeshFormat::kGlb || format == dtm::MeshFormat::kGltf;

@@ -43,7 +43,7 @@ Examples:
   meshenc flow.vtu -o flow.dtm --field-error pressure=0.01
 
 Inputs (by extension, or --format): TetGen .node (+ .ele), Medit .mesh, VTK
-.vtk and .vtu, gmsh .msh (2.2, 4.1), PLY, OFF, OBJ, XYZ, NRRD .nrrd/.nhdr.
+.vtk, .vtu and .pvtu, gmsh .msh (2.0, 2.2, 4.1), PLY, OFF, OBJ, XYZ, NRRD .nrrd/.nhdr.
 The vertices are encoded with every per-vertex field of the file (VTK/VTU
 PointData, gmsh $NodeData, PLY vertex properties, TetGen .node attributes and
 markers, a volume's voxel values): losslessly, or a float field within
@@ -104,14 +104,15 @@ void parse_alpha(const std::string& text, dtm::EncodeOptions& o) {
     used = 0;
   }
   if (used != text.size() || !(v > 0))
-    throw std::invalid_argument("--alpha must be 'paper', 'hull' or a positive number, got '" + text + "'");
+    throw dtm::UsageError("--alpha must be 'paper', 'hull' or a positive number, got '" + text + "'");
   o.alpha = dtm::AlphaKind::kFixed;
   o.fixed_alpha = v;
 }
 
 void add_options(CLI::App& app, Command& c) {
   dtm::EncodeOptions& e = c.encode;
-  app.add_option("input", c.input, "input file: .node .mesh .vtk .vtu .msh .nrrd .nhdr .ply .off .obj .xyz")
+  app.add_option("input", c.input,
+                 "input file: .node .mesh .vtk .vtu .pvtu .msh .nrrd .nhdr .ply .off .obj .xyz")
       ->required();
   app.add_option("--format", c.format_name,
                  std::string("input format, overriding the extension: ") + dtm::kInputFormatNames);
@@ -354,13 +355,13 @@ dtm::InputMesh read(const Command& c) {
   if (!c.format_name.empty()) {
     format = dtm::input_format_named(c.format_name);
     if (!format)
-      throw std::invalid_argument("--format " + c.format_name +
-                                  ": unknown (known: " + dtm::kInputFormatNames + ")");
+      throw dtm::UsageError("--format " + c.format_name + ": unknown (known: " + dtm::kInputFormatNames +
+                            ")");
   }
   const bool volume_options = c.volume.threshold || c.volume.label || c.volume.interior_step != 1;
   if (volume_options && (format ? *format : dtm::input_format_for_path(c.input)) != dtm::InputFormat::kNrrd)
-    throw std::invalid_argument(
-        c.input + ": --threshold, --label and --voxel-interior-step apply to voxel volumes only");
+    throw dtm::UsageError(c.input +
+                          ": --threshold, --label and --voxel-interior-step apply to voxel volumes only");
   // Under mpirun a TetGen .node is read in parts (read_node_in_parts()), its
   // .ele after the points are on the grid, each rank keeping its share
   // (hold_share()).
@@ -594,7 +595,7 @@ void parse_field_errors(const std::vector<std::string>& args, dtm::EncodeOptions
       }
     if (eq == std::string::npos || eq == 0 || used == 0 || used != a.size() - eq - 1 || !(e > 0) ||
         !std::isfinite(e))
-      throw std::invalid_argument("--field-error expects NAME=E with E a positive number, got '" + a + "'");
+      throw dtm::UsageError("--field-error expects NAME=E with E a positive number, got '" + a + "'");
     o.field_errors[a.substr(0, eq)] = e;
   }
 }
@@ -701,7 +702,7 @@ int run(Command& c) {
   const dtm::ThreadBudget threads(c.threads, mpi.cores_share(), mpi.cores_lent_at_most());
   if (mpi.size() > 1) {
     if (!c.encode.bricks)
-      throw std::invalid_argument("under mpirun, meshenc writes a bricked stream: add --bricks");
+      throw dtm::UsageError("under mpirun, meshenc writes a bricked stream: add --bricks");
     c.encode.exchange = &mpi;
     // Rank 0 prints the table; with -v every rank its phases (its memory).
     if (mpi.rank() != 0) c.quiet = true;
@@ -751,19 +752,18 @@ int run(Command& c) {
   parse_alpha(c.alpha_text, c.encode);
   parse_field_errors(c.field_errors, c.encode);
   if (c.no_fields && !c.encode.field_errors.empty())
-    throw std::invalid_argument("--field-error and --no-fields contradict each other");
+    throw dtm::UsageError("--field-error and --no-fields contradict each other");
   // Said before the input is read, not after its table's header.
   if (c.encode.bricks && c.encode.exact)
-    throw std::invalid_argument(
-        "--exact: bricked streams (--bricks) do not keep the input's cells exactly yet");
+    throw dtm::UsageError("--exact: bricked streams (--bricks) do not keep the input's cells exactly yet");
   if (c.encode.bricks && c.encode.keep_order)
-    throw std::invalid_argument(
+    throw dtm::UsageError(
         "--keep-order: bricked streams (--bricks) do not keep the input's vertex order yet");
   if (c.encode.bricks && c.encode.level_step != 1)
-    throw std::invalid_argument("--level-step: bricked streams (--bricks) stream every level");
+    throw dtm::UsageError("--level-step: bricked streams (--bricks) stream every level");
   if (!c.encode.carve_to_reference && (c.encode.exact || c.encode.keep_order))
-    throw std::invalid_argument(std::string(c.encode.exact ? "--exact" : "--keep-order") +
-                                " needs the codec preset (not --preset paper)");
+    throw dtm::UsageError(std::string(c.encode.exact ? "--exact" : "--keep-order") +
+                          " needs the codec preset (not --preset paper)");
   // What the work is doing, on standard error: a status line on a terminal.
   dtm::PhaseDisplay display(
       !c.quiet && isatty(STDERR_FILENO), c.verbose,
@@ -823,14 +823,15 @@ int run(Command& c) {
         return v >= 0 && v == std::floor(v) && (f.name != "boundary" || v <= 1);
       });
     };
-    // (Only with both level and boundary, as meshdec writes them: a
-    // user's own vertex_id alone, global node numbers say, is kept.)
+    // (Only with level and boundary, or level and vertex_id, as meshdec
+    // writes a whole level and a box or a piece of one: a user's own
+    // vertex_id alone, global node numbers say, is kept.)
     const auto has = [&](const char* name) {
       return std::any_of(in.fields.begin(), in.fields.end(),
                          [&](const dtm::VertexField& f) { return f.name == name && meshdecs(f); });
     };
     std::string names;
-    if (has("level") && has("boundary"))
+    if (has("level") && (has("boundary") || has("vertex_id")))
       for (const auto& f : in.fields)
         if (meshdecs(f)) names += (names.empty() ? "'" : ", '") + f.name + "'";
     if (!names.empty()) {

@@ -1,5 +1,6 @@
 // What every tool shares around its own work: --help with its examples,
-// --version, and one answer to any error (a message naming the tool, exit 1).
+// --version, and one answer to any error (a message naming the tool, exit 1;
+// 2 for a command line it cannot take).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -27,9 +28,9 @@ inline std::string version_text(const char* tool) {
     text += "; writes .dtm " + v(kVersionMajorUnbricked) + ", " + v(kVersionMajorBricked) +
             " with --bricks, " + v(kVersionMajorRegions) + " with regions or tagged faces, " +
             v(kVersionMajorCellData) + " with cell data or --keep-order, " + v(kVersionMajorExact) +
-            " with --exact, " + v(kVersionMajorBrickedRegions) +
-            " with --bricks and regions; --preset paper " + v(kVersionMajorWithoutValues) + ", or " +
-            v(kVersionMajorWithValues) + " with values";
+            " with --exact, " + v(kVersionMajorBrickedRegions) + " with --bricks and regions, " +
+            v(kVersionMajorBrickedCellData) + " with --bricks and cell data; --preset paper " +
+            v(kVersionMajorWithoutValues) + ", or " + v(kVersionMajorWithValues) + " with values";
   return text;
 }
 
@@ -75,6 +76,13 @@ inline void keep_freed_memory_between_phases() {
 
 // An error every rank of an MPI job throws alike, having agreed on it: only
 // the rank told to prints it (rank 0), so that the user reads it once.
+// A command line the tool cannot take, found after parsing (options that
+// contradict each other, a value of the wrong form): exit 2, as CLI11's own.
+class UsageError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
 class AgreedError : public std::runtime_error {
  public:
   AgreedError(const std::string& what, bool print) : std::runtime_error(what), print_(print) {}
@@ -120,6 +128,9 @@ int tool_main(const char* tool, const char* description, const char* examples, i
       return app.exit(e) == 0 ? 0 : 2;
     }
     return run(command);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());
+    return 2;
   } catch (const AgreedError& e) {
     if (e.print()) std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());
     return 1;

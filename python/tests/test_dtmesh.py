@@ -465,6 +465,25 @@ def test_vtk_grid_has_the_level_and_its_point_data(corpus):
     assert names == {"boundary_marker", "level", "boundary"}
 
 
+def test_meshio_reads_meshdecs_surfaces_with_their_types(tmp_path):
+    # An MRI's uint16 values on a level's surface, as .ply (uint16, not
+    # ushort: meshio reads only that name) and .off. (meshio reads no name
+    # of int16.)
+    stream = tmp_path / "mri.dtm"
+    run(tool("meshenc"), DATA / "fields" / "mri_s0.nrrd", "--threshold", "150", "-q", "-o", stream)
+    level = dtmesh.decode(stream.read_bytes(), level=2)
+    for ext in ("ply", "off"):
+        run(tool("meshdec"), stream, "--level", "2", "-q", "-o", tmp_path / f"s.{ext}")
+        m = meshio.read(tmp_path / f"s.{ext}")
+        assert len(m.cells_dict["triangle"]) > 0
+        assert set(map(tuple, m.points)) <= set(map(tuple, level.points)), ext
+    m = meshio.read(tmp_path / "s.ply")
+    assert m.point_data["value"].dtype == np.uint16
+    assert m.point_data["level"].dtype == np.int32
+    values = {tuple(p): v for p, v in zip(level.points, level.fields["value"])}
+    assert all(values[tuple(p)] == v for p, v in zip(m.points, m.point_data["value"]))
+
+
 def test_encoding_and_decoding_release_the_gil():
     # While one thread is inside a long library call, Python code runs in
     # another at a good share of its own pace; were the GIL held through the

@@ -32,8 +32,10 @@ std::string render_ply(const OutputMesh& m) {
   out += "property double x\nproperty double y\nproperty double z\n";
   if (level) out += "property int level\n";
   // Fields as properties in their own type (PLY has no 64-bit integers:
-  // those become doubles), one per component.
-  constexpr const char* kTypeNames[] = {"char", "uchar",  "short",  "ushort", "int",
+  // those become doubles), one per component. Of PLY's two names for a
+  // type, the one meshio's binary reader knows: it knows neither of int16's
+  // (short, int16) and takes uchar for signed.
+  constexpr const char* kTypeNames[] = {"int8", "uint8",  "short",  "uint16", "int",
                                         "uint", "double", "double", "float",  "double"};
   for (const OutputField& f : m.fields)
     for (int c = 0; c < f.components; ++c) {
@@ -43,7 +45,7 @@ std::string render_ply(const OutputMesh& m) {
       out += std::string("property ") + kTypeNames[static_cast<int>(f.type)] + " " + name + "\n";
     }
   out += "element face " + std::to_string(s.triangles.size()) + "\n";
-  out += "property list uchar int vertex_indices\nend_header\n";
+  out += "property list uint8 int vertex_indices\nend_header\n";
   for (uint32_t v : s.vertices) {
     const InputPoint p = m.grid.to_input(m.points[v]);
     append_binary(out, p.x);
