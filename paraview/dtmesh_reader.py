@@ -1,8 +1,11 @@
 """A ParaView reader for .dtm streams (progressive tetrahedral meshes, dtmesh).
 
 Load it once: Tools > Manage Plugins > Load New... and pick this file (tick
-"Auto Load" to keep it), or in pvpython / pvbatch:
+"Auto Load" to keep it), or in a pvpython / pvbatch script (on Debian 12's
+ParaView 5.11, first `import inspect; inspect.getargspec =
+inspect.getfullargspec`: load_dtmesh.py says why):
 
+    from paraview.simple import *
     LoadPlugin("/path/to/paraview/dtmesh_reader.py", ns=globals())
     mesh = OpenDataFile("part.dtm")
     mesh.Level = 3          # a coarser level of detail (0 = the finest)

@@ -2,9 +2,10 @@
 
     paraview --script=/path/to/paraview/load_dtmesh.py     # the GUI, then File > Open a .dtm
 
-In pvpython or pvbatch, the same in two lines of your script:
+In pvpython or pvbatch, the same in three lines of your script:
 
     import inspect; inspect.getargspec = inspect.getfullargspec
+    from paraview.simple import *
     LoadPlugin("/path/to/paraview/dtmesh_reader.py", ns=globals())
 
 Why a script and not only Tools > Manage Plugins: Debian 12's ParaView 5.11
