@@ -443,10 +443,8 @@ std::vector<FieldValues> ProgressiveDecoder::cell_data(const TetMesh& dt, std::s
     s = decode_cell_value_chunks(cell_fields_, chunk_sections(&ChunkBytes::cell_values), dt, points_, chunks,
                                  b.chunk_of_cell, kept, by_index);
     if (s.ok()) {
-      std::vector<uint32_t> slot(kept.size(), 0);  // each kept cell's place in by_index
-      uint32_t next = 0;
-      for (size_t c = 0; c < kept.size(); ++c)
-        if (kept[c]) slot[c] = next++;
+      uint64_t kept_count = 0;
+      const std::vector<uint32_t> slot = kept_cell_slots(kept, kept_count);  // each one's place in by_index
       for (const FieldValues& f : by_index) {
         const auto n = static_cast<size_t>(f.description.components);
         FieldValues& o = out.emplace_back(FieldValues{f.description, {}});

@@ -538,9 +538,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
     if (level == 0 && (plan.header.flags & kFlagCellData)) {
       uint64_t components = 0, cells = 0;
       for (const FieldDescription& f : plan.cell_fields) components += static_cast<uint64_t>(f.components);
-      cell_slot.assign(owned.size(), 0);
-      for (size_t c = 0; c < owned.size(); ++c)
-        if (owned[c]) cell_slot[c] = static_cast<uint32_t>(cells++);
+      cell_slot = kept_cell_slots(owned, cells);
       if (cells * components > options.max_values)
         return {StatusCode::kLimitExceeded,
                 std::to_string(cells) + " cells of " + std::to_string(components) +

@@ -26,6 +26,14 @@ Status decode_cell_values(std::span<const FieldDescription> fields, std::span<co
   return decoder.decode_layer(section, positions, out);
 }
 
+std::vector<uint32_t> kept_cell_slots(std::span<const uint8_t> kept, uint64_t& count) {
+  std::vector<uint32_t> slot(kept.size(), 0);
+  count = 0;
+  for (size_t c = 0; c < kept.size(); ++c)
+    if (kept[c]) slot[c] = static_cast<uint32_t>(count++);
+  return slot;
+}
+
 Status decode_cell_value_chunks(std::span<const FieldDescription> fields,
                                 std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
                                 std::span<const GridPoint> points, const ChunkCells& chunks,
@@ -38,14 +46,11 @@ Status decode_cell_value_chunks(std::span<const FieldDescription> fields,
   for (size_t c = 0; c < kept.size(); ++c)
     if (kept[c] && chunk_of_cell[c] == kNoCarvingChunk)
       return {StatusCode::kCorrupt, "a kept cell whose brick has no chunk for its values"};
-  // Each kept cell's place among them.
-  std::vector<uint32_t> slot(kept.size(), 0);
-  uint32_t kept_count = 0;
-  for (size_t c = 0; c < kept.size(); ++c)
-    if (kept[c]) slot[c] = kept_count++;
+  uint64_t kept_count = 0;
+  const std::vector<uint32_t> slot = kept_cell_slots(kept, kept_count);
   out.clear();
   for (const FieldDescription& f : fields)
-    out.push_back({f, std::vector<uint64_t>(size_t{kept_count} * static_cast<size_t>(f.components), 0)});
+    out.push_back({f, std::vector<uint64_t>(kept_count * static_cast<size_t>(f.components), 0)});
   std::vector<Status> status(count);
   parallel_for(
       count,
