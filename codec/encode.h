@@ -105,7 +105,8 @@ struct EncodeOptions {
   // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.
-  // The codec preset only; no fields, no level_step yet.
+  // The codec preset only; every level (no level_step), no candidates, no
+  // exact cells, vertex order or tagged faces yet.
   bool bricks = false;
   uint64_t brick_points = 2048;
   uint64_t block_points = uint64_t{1} << 18;
