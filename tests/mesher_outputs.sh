@@ -7,7 +7,8 @@
 # back as gmsh physical groups, VTU cell data and Medit refs, which gmsh and
 # meshio read; a Netgen
 # CSG part exported as gmsh 2.0 ("2.000000") is read with its domain (Netgen
-# tags a domain d 100000 + d). With --exact both decode cell for cell. A
+# tags a domain d 100000 + d), and a Netgen .vol (and .vol.gz) with its
+# named materials and boundary conditions. With --exact both decode cell for cell. A
 # graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
 # gmsh -save_all's volumes and surfaces in no physical group join none.
 set -euo pipefail
@@ -90,6 +91,34 @@ head -2 netgen.msh | tail -1 | grep -q "^2\.0" || { echo "Netgen no longer write
 "$meshenc" netgen.msh -o netgen.dtm >netgen.out || { cat netgen.out; failed=1; }
 grep -q "netgen.dtm: [0-9]* bytes" netgen.out || { echo "netgen.msh not encoded"; failed=1; }
 grep -q "regions (physical tags), 1: 10000[0-9] (" netgen.out || { echo "netgen.msh: its domain is not a region"; cat netgen.out; failed=1; }
+# Netgen's own file, as its GUI and Mesh.Save() write it (.vol, and .vol.gz
+# gzipped): a part of two named materials with named boundary conditions
+# read with them, as regions and tagged faces with their names; the same
+# points and tetrahedra as its gmsh 2.0 export (the same levels), the .gz
+# the same bytes; what it holds besides (edge segments, the geometry after
+# endmesh) named as left out.
+"$py" - <<'PY'
+from netgen.csg import CSGeometry, OrthoBrick, Cylinder, Pnt
+geo = CSGeometry()
+box = OrthoBrick(Pnt(0, 0, 0), Pnt(1, 1, 1)).bc("outer")
+pin = Cylinder(Pnt(0.5, 0.5, -1), Pnt(0.5, 0.5, 2), 0.2).bc("pin")
+geo.Add((box - pin).mat("aluminium"))
+geo.Add((box * pin).mat("steel"))
+mesh = geo.GenerateMesh(maxh=0.2)
+mesh.Save("ng.vol")
+mesh.Save("ng.vol.gz")
+mesh.Export("ng.msh", "Gmsh2 Format")
+PY
+"$meshenc" ng.vol -o ng_vol.dtm >ng_vol.out 2>ng_vol.err || { cat ng_vol.out ng_vol.err; failed=1; }
+"$meshenc" ng.vol.gz -q -o ng_volgz.dtm 2>/dev/null || failed=1
+"$meshenc" ng.msh -o ng_msh.dtm >ng_msh.out 2>/dev/null || failed=1
+cmp -s ng_vol.dtm ng_volgz.dtm || { echo "ng.vol.gz: not the bytes of ng.vol"; failed=1; }
+grep -q 'regions (materials (Netgen domains)), 2: 1 "aluminium" ([0-9]* tetrahedra), 2 "steel" ([0-9]* tetrahedra)' ng_vol.out ||
+  { echo "ng.vol: the materials are not its regions"; cat ng_vol.out; failed=1; }
+grep -q 'tagged faces (.*Netgen bcnr.*"outer" (.*"pin" (' ng_vol.out || { echo "ng.vol: no named boundary conditions"; cat ng_vol.out; failed=1; }
+grep -q "left out.*edgesegmentsgi2" ng_vol.err || { echo "ng.vol: its edge segments are not named as left out"; cat ng_vol.err; failed=1; }
+[ "$(grep -E '^ +[0-9]+ +[0-9]+ ' ng_vol.out | cut -c1-70)" = "$(grep -E '^ +[0-9]+ +[0-9]+ ' ng_msh.out | cut -c1-70)" ] ||
+  { echo "ng.vol and its gmsh export give other levels"; cat ng_vol.out ng_msh.out; failed=1; }
 # A best-shaped mesh (Netgen's, average smallest solid angle 0.34) gets
 # coarser levels: the quality floor is 0.85x level 0's but at most 0.25
 # (--quality-floor-cap), each level within D_max and above the floor;

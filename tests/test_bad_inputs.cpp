@@ -70,6 +70,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"nan.mesh", ":6: coordinate is not finite"},
         BadInput{"three_points.mesh", "3 distinct points (of 4); a tetrahedral mesh needs at least 4"},
         BadInput{"coplanar.mesh", "all 5 distinct points are coplanar"},
+        // Netgen .vol
+        BadInput{"bad_header.vol", ":1: expected 'mesh3d', found 'mesh2d'"},
+        BadInput{"wrong_dimension.vol", ":3: a 2D mesh: only 3D (volume) meshes are read"},
+        BadInput{"index_out_of_range.vol", ":11: point index 7 out of range 1..5"},
+        BadInput{"short_element.vol", ":6: a volume element of 4 points needs as many indices"},
+        BadInput{"nan.vol", ":10: coordinate is not a finite number: 'nan'"},
+        BadInput{"truncated.vol", ":13: expected the 3 coordinates of a point"},
+        BadInput{"no_endmesh.vol", ":9: file ends without 'endmesh'"},
         // VTK legacy
         BadInput{"bad_header.vtk", ":1: not a VTK legacy file"},
         BadInput{"wrong_dataset.vtk", ":4: only UNSTRUCTURED_GRID datasets are supported"},

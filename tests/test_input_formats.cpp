@@ -435,6 +435,10 @@ TEST(InputFormats, NamesAndExtensions) {
   EXPECT_EQ(input_format_for_path("x.nhdr"), InputFormat::kNrrd);
   EXPECT_EQ(input_format_for_path("x.msh"), InputFormat::kGmsh);
   EXPECT_EQ(input_format_named("medit"), InputFormat::kMedit);
+  EXPECT_EQ(input_format_for_path("part.vol"), InputFormat::kNetgen);
+  EXPECT_EQ(input_format_for_path("part.VOL.gz"), InputFormat::kNetgen);  // Netgen's gzipped save
+  EXPECT_EQ(input_format_named("netgen"), InputFormat::kNetgen);
+  EXPECT_THROW(input_format_for_path("x.tar.gz"), FormatError);
   EXPECT_FALSE(input_format_named("stl").has_value());
   EXPECT_THROW(input_format_for_path("x"), FormatError);
   try {
@@ -597,6 +601,53 @@ TEST(InputFormats, MeditSkipsOtherSectionsAndKeepsRefs) {
   EXPECT_EQ(m.tets.size(), 1u);
   ASSERT_EQ(m.fields.size(), 1u);
   EXPECT_EQ(m.fields[0].values, (std::vector<double>{5, 6, 7, 8}));
+}
+
+// Netgen's .vol as Mesh.Save() writes it (the elements before the points,
+// comments, then the names; the geometry after endmesh), and gzipped: the
+// tetrahedra with their materials, the triangles with their boundary
+// conditions, the names; a second-order element and the other sections
+// named as left out.
+TEST(InputFormats, NetgenVolKeepsMaterialsAndBoundaryConditions) {
+  const std::string text =
+      "mesh3d\ndimension\n3\ngeomtype\n0\n\n# surfnr    bcnr   domin  domout      np      p1      p2      "
+      "p3\n"
+      "surfaceelements\n3\n 1 1 1 0 3 1 3 2\n 2 7 1 2 3 2 3 4\n 3 2 1 0 6 1 2 4 5 5 5\n\n"
+      "#  matnr      np      p1      p2      p3      p4\nvolumeelements\n3\n1 4 1 2 3 4\n2 4 2 3 4 5\n"
+      "2 10 1 2 3 4 5 5 5 5 5 5\n\n"
+      "edgesegmentsgi2\n1\n 1 0 1 2 0 0 1 1 1 0 0 0\n\n"
+      "points\n5\n 0 0 0\n 1 0 0\n 0 1 0\n 0 0 1\n 1 1 1\n"
+      "materials\n2\n1 aluminium\n2 steel\n\nbcnames\n2\n1\touter\n7\tpin\n\nendmesh\n\n"
+      "csgsurfaces 1\nplane 6\n0 0 0 0 0 -1\n";
+  const InputMesh m = read_input(write_temp("part.vol", text));
+  ASSERT_EQ(m.points.size(), 5u);
+  EXPECT_EQ(m.points[4].x, 1.0);
+  EXPECT_EQ(m.tets, (std::vector<std::array<uint32_t, 4>>{{0, 1, 2, 3}, {1, 2, 3, 4}}));
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
+  EXPECT_EQ(m.region_names, (std::map<int32_t, std::string>{{1, "aluminium"}, {2, "steel"}}));
+  EXPECT_EQ(m.tagged_faces, (std::vector<std::array<uint32_t, 3>>{{0, 2, 1}, {1, 2, 3}}));
+  EXPECT_EQ(m.face_tags, (std::vector<int32_t>{1, 7}));
+  EXPECT_EQ(m.face_tag_names, (std::map<int32_t, std::string>{{1, "outer"}, {7, "pin"}}));
+  std::string left_out;
+  for (const std::string& l : m.left_out) left_out += l + "\n";
+  for (const char* what :
+       {"1 volume elements that are not 4-node tetrahedra (1 of them second-order",
+        "1 surface elements that are not 3-node triangles", "1 edgesegmentsgi2", "what follows 'endmesh'"})
+    EXPECT_NE(left_out.find(what), std::string::npos) << what << " in:\n" << left_out;
+  // Gzipped, as Netgen saves x.vol.gz: the same.
+  write_temp("gz_part.vol", text);
+  ASSERT_EQ(test::run_command("gzip -c " + ::testing::TempDir() + "/gz_part.vol > " + ::testing::TempDir() +
+                              "/gz_part.vol.gz")
+                .status,
+            0);
+  const InputMesh z = read_input(::testing::TempDir() + "/gz_part.vol.gz");
+  EXPECT_EQ(z.tets, m.tets);
+  EXPECT_EQ(z.face_tags, m.face_tags);
+  EXPECT_EQ(z.region_names, m.region_names);
+  // Cut short, the gzip data says so.
+  const std::string gz = test::slurp(::testing::TempDir() + "/gz_part.vol.gz");
+  EXPECT_NE(read_error("cut.vol.gz", gz.substr(0, gz.size() / 2)).find("gzip data is damaged or truncated"),
+            std::string::npos);
 }
 
 // What a reader does not keep is named, not dropped in silence.

@@ -42,7 +42,7 @@ Examples:
   meshenc ct.nhdr --threshold 300 --voxel-interior-step 2 -o ct.dtm --dmax 1.5
   meshenc flow.vtu -o flow.dtm --field-error pressure=0.01
 
-Inputs (by extension, or --format): TetGen .node (+ .ele), Medit .mesh, VTK
+Inputs (by extension, or --format): TetGen .node (+ .ele), Medit .mesh, Netgen .vol(.gz), VTK
 .vtk, .vtu and .pvtu, gmsh .msh (2.0, 2.2, 4.1), PLY, OFF, OBJ, XYZ, NRRD .nrrd/.nhdr.
 The vertices are encoded with every per-vertex field of the file (VTK/VTU
 PointData, gmsh $NodeData, PLY vertex properties, TetGen .node attributes and
@@ -112,7 +112,7 @@ void parse_alpha(const std::string& text, dtm::EncodeOptions& o) {
 void add_options(CLI::App& app, Command& c) {
   dtm::EncodeOptions& e = c.encode;
   app.add_option("input", c.input,
-                 "input file: .node .mesh .vtk .vtu .pvtu .msh .nrrd .nhdr .ply .off .obj .xyz")
+                 "input file: .node .mesh .vtk .vtu .pvtu .msh .vol .nrrd .nhdr .ply .off .obj .xyz")
       ->required();
   app.add_option("--format", c.format_name,
                  std::string("input format, overriding the extension: ") + dtm::kInputFormatNames);

@@ -6,6 +6,7 @@
 
 #include "gmsh.h"
 #include "medit.h"
+#include "netgen_vol.h"
 #include "nrrd.h"
 #include "point_sets.h"
 #include "tetgen.h"
@@ -23,6 +24,7 @@ std::optional<InputFormat> input_format_named(std::string_view name) {
   if (n == "vtu") return InputFormat::kVtu;
   if (n == "pvtu") return InputFormat::kPvtu;
   if (n == "msh" || n == "gmsh") return InputFormat::kGmsh;
+  if (n == "vol" || n == "netgen") return InputFormat::kNetgen;
   if (n == "nrrd" || n == "nhdr") return InputFormat::kNrrd;
   if (n == "ply") return InputFormat::kPly;
   if (n == "off") return InputFormat::kOff;
@@ -36,6 +38,12 @@ InputFormat input_format_for_path(const std::string& path) {
   if (const auto f = ext.size() > 1 ? input_format_named(ext.substr(1)) : std::nullopt) return *f;
   std::string lower = ext;
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (lower == ".gz") {
+    std::string inner = std::filesystem::path(path).stem().extension().string();
+    std::transform(inner.begin(), inner.end(), inner.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    if (inner == ".vol") return InputFormat::kNetgen;  // Netgen saves x.vol.gz so
+  }
   if (lower == ".e" || lower == ".exo" || lower == ".ex2")
     // Exodus II goes through the Python package's meshio route (docs/FORMATS.md).
     throw FormatError(path +
@@ -92,6 +100,8 @@ InputMesh read_any(const std::string& path, InputFormat format, const VolumeOpti
       return read_pvtu(path);
     case InputFormat::kGmsh:
       return read_gmsh(path);
+    case InputFormat::kNetgen:
+      return read_netgen_vol(path);
     case InputFormat::kNrrd:
       return voxel_points(read_nrrd(path), volume, path);
     case InputFormat::kPly:

@@ -1,0 +1,249 @@
+#include "netgen_vol.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <string_view>
+#include <vector>
+
+#include "format_error.h"
+#include "text_cursor.h"
+
+namespace dtm {
+namespace {
+
+// The file's text: as it is, or inflated when it is gzip (Netgen saves
+// "x.vol.gz" so), in steps, so that memory follows the data present.
+std::string vol_text(const std::string& path) {
+  std::string bytes = read_whole_file(path);
+  if (bytes.size() < 2 || static_cast<unsigned char>(bytes[0]) != 0x1f ||
+      static_cast<unsigned char>(bytes[1]) != 0x8b)
+    return bytes;
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 16) != Z_OK) throw FormatError(path + ": cannot start zlib");
+  z.next_in = reinterpret_cast<Bytef*>(bytes.data());
+  z.avail_in = static_cast<uInt>(std::min<size_t>(bytes.size(), UINT32_MAX));
+  std::string out;
+  int r = Z_OK;
+  while (r == Z_OK) {
+    const size_t have = out.size();
+    const size_t room = std::max<size_t>(size_t{1} << 20, have / 2);
+    out.resize(have + room);
+    z.next_out = reinterpret_cast<Bytef*>(out.data() + have);
+    z.avail_out = static_cast<uInt>(room);
+    r = inflate(&z, Z_NO_FLUSH);
+    out.resize(have + room - z.avail_out);
+    if (r == Z_BUF_ERROR && z.avail_in == 0) break;  // the input ends inside the stream
+  }
+  inflateEnd(&z);
+  if (r != Z_STREAM_END)
+    throw FormatError(path + ": gzip data is damaged or truncated (after " + std::to_string(out.size()) +
+                      " bytes)" + (z.msg ? std::string(": ") + z.msg : ""));
+  return out;
+}
+
+// A record's fields, split at blanks, at most `most` (one more: too many).
+size_t split(std::string_view line, std::span<std::string_view> out) {
+  size_t k = 0, at = 0;
+  for (std::string_view f = next_field(line, at); !f.empty() && k < out.size(); f = next_field(line, at))
+    out[k++] = f;
+  return k;
+}
+
+int32_t label(const TextCursor& c, uint64_t i, std::string_view field, const char* what) {
+  int64_t v = 0;
+  if (!parse_whole(field, v) || v < INT32_MIN || v > INT32_MAX)
+    c.fail_line(i, std::string("expected ") + what + ", found '" + std::string(field) + "'");
+  return static_cast<int32_t>(v);
+}
+
+// "number name" records (materials, bcnames): the names by number (the
+// first name a number is given; a record without a name names nothing).
+void read_names(TextCursor& c, uint64_t n, std::map<int32_t, std::string>& names) {
+  c.rest_of_line();
+  std::vector<std::pair<int32_t, std::string>> read(n);
+  c.lines(n, [&](uint64_t i, std::string_view line) {
+    std::array<std::string_view, 3> f;
+    const size_t k = split(line, f);
+    if (k == 0) c.fail_line(i, "expected a number and a name");
+    read[i] = {label(c, i, f[0], "a number"), k > 1 ? std::string(f[1]) : std::string()};
+  });
+  for (auto& [number, name] : read)
+    if (!name.empty()) names.emplace(number, std::move(name));
+}
+
+}  // namespace
+
+InputMesh read_netgen_vol(const std::string& path) {
+  TextCursor c(path, vol_text(path), '#');
+  if (c.at_end()) c.fail("empty file, expected 'mesh3d'");
+  c.expect("mesh3d");
+  InputMesh out;
+  bool have_points = false;
+  uint64_t second_order_tets = 0, other_volume = 0, second_order_faces = 0, other_faces = 0;
+  std::map<std::string, uint64_t> other_records;  // records of other sections, by keyword
+  // The elements' corners as read, and each one's line: Netgen writes the
+  // elements before the points, so their indices are checked at the end.
+  std::vector<std::array<int64_t, 4>> raw_tets;
+  std::vector<std::array<int64_t, 3>> raw_faces;
+  std::vector<uint64_t> tet_lines, face_lines;
+  while (true) {
+    if (c.at_end()) c.fail("file ends without 'endmesh'");
+    const std::string keyword(c.token("a section keyword"));
+    if (keyword == "endmesh") break;
+    if (keyword == "dimension") {
+      const int dim = c.number<int>("a dimension");
+      if (dim != 3) c.fail("a " + std::to_string(dim) + "D mesh: only 3D (volume) meshes are read");
+      continue;
+    }
+    if (keyword == "geomtype") {
+      c.number<int>("a geometry type");
+      continue;
+    }
+    const uint64_t limit = c.remaining() / 2;  // every record takes two bytes at least
+    const uint64_t n = c.count("a record count", limit);
+    if (keyword == "points") {
+      if (have_points) c.fail("a second 'points' section");
+      have_points = true;
+      c.rest_of_line();
+      out.points.resize(n);
+      c.lines(n, [&](uint64_t i, std::string_view line) {
+        std::array<std::string_view, 4> f;
+        double xyz[3] = {0, 0, 0};
+        if (split(line, f) != 3) c.fail_line(i, "expected the 3 coordinates of a point");
+        for (int a = 0; a < 3; ++a)
+          if (!parse_whole(f[static_cast<size_t>(a)], xyz[a]) || !std::isfinite(xyz[a]))
+            c.fail_line(
+                i, "coordinate is not a finite number: '" + std::string(f[static_cast<size_t>(a)]) + "'");
+        out.points[i] = {xyz[0], xyz[1], xyz[2]};
+      });
+      continue;
+    }
+    if (keyword == "volumeelements") {
+      c.rest_of_line();
+      const uint64_t first_line = c.mark().line;
+      std::vector<std::array<int64_t, 5>> read(n);  // matnr, then 4 corners (0: not a 4-node tetrahedron)
+      std::vector<uint8_t> kind(n);                 // 0 tetrahedron, 1 second-order tetrahedron, 2 other
+      c.lines(n, [&](uint64_t i, std::string_view line) {
+        std::array<std::string_view, 24> f;
+        const size_t k = split(line, f);
+        if (k < 2) c.fail_line(i, "expected a material, a point count and the points");
+        const int32_t mat = label(c, i, f[0], "a material number");
+        const int32_t np = label(c, i, f[1], "a point count");
+        if (np < 4 || np > 20 || k != 2 + static_cast<size_t>(np))
+          c.fail_line(i, "a volume element of " + std::string(f[1]) + " points needs as many indices");
+        read[i][0] = mat;
+        for (size_t p = 0; p < static_cast<size_t>(np); ++p) {
+          int64_t v = 0;
+          if (!parse_whole(f[2 + p], v) || v < 1)
+            c.fail_line(i, "expected a point index, found '" + std::string(f[2 + p]) + "'");
+          if (p < 4) read[i][1 + p] = v;
+        }
+        kind[i] = np == 4 ? 0 : np == 10 ? 1 : 2;
+      });
+      for (uint64_t i = 0; i < n; ++i) {
+        if (kind[i] == 1) ++second_order_tets;
+        if (kind[i] == 2) ++other_volume;
+        if (kind[i] != 0) continue;
+        raw_tets.push_back({read[i][1], read[i][2], read[i][3], read[i][4]});
+        tet_lines.push_back(first_line + i);
+        out.tet_regions.push_back(static_cast<int32_t>(read[i][0]));
+      }
+      continue;
+    }
+    if (keyword == "surfaceelements" || keyword == "surfaceelementsgi" || keyword == "surfaceelementsuv") {
+      c.rest_of_line();
+      const uint64_t first_line = c.mark().line;
+      std::vector<std::array<int64_t, 4>> read(n);  // bcnr, then 3 corners
+      std::vector<uint8_t> kind(n);
+      c.lines(n, [&](uint64_t i, std::string_view line) {
+        std::array<std::string_view, 40> f;
+        const size_t k = split(line, f);
+        if (k < 5) c.fail_line(i, "expected surfnr, bcnr, domin, domout, a point count and the points");
+        label(c, i, f[0], "a surface number");
+        read[i][0] = label(c, i, f[1], "a boundary condition number");
+        label(c, i, f[2], "a domain number");
+        label(c, i, f[3], "a domain number");
+        const int32_t np = label(c, i, f[4], "a point count");
+        // (gi and uv records carry each point's geometry after the points.)
+        if (np < 3 || np > 8 || k < 5 + static_cast<size_t>(np))
+          c.fail_line(i, "a surface element of " + std::string(f[4]) + " points needs as many indices");
+        for (size_t p = 0; p < static_cast<size_t>(np); ++p) {
+          int64_t v = 0;
+          if (!parse_whole(f[5 + p], v) || v < 1)
+            c.fail_line(i, "expected a point index, found '" + std::string(f[5 + p]) + "'");
+          if (p < 3) read[i][1 + p] = v;
+        }
+        kind[i] = np == 3 ? 0 : np == 6 ? 1 : 2;
+      });
+      for (uint64_t i = 0; i < n; ++i) {
+        if (kind[i] == 1) ++second_order_faces;
+        if (kind[i] == 2) ++other_faces;
+        if (kind[i] != 0) continue;
+        raw_faces.push_back({read[i][1], read[i][2], read[i][3]});
+        face_lines.push_back(first_line + i);
+        out.face_tags.push_back(static_cast<int32_t>(read[i][0]));
+      }
+      continue;
+    }
+    if (keyword == "materials") {
+      read_names(c, n, out.region_names);
+      continue;
+    }
+    if (keyword == "bcnames") {
+      read_names(c, n, out.face_tag_names);
+      continue;
+    }
+    // Any other section (edge segments, face colours, identifications,
+    // singular points, codimension names, ...): its records, one a line.
+    c.rest_of_line();
+    c.lines(n, [](uint64_t, std::string_view) {});
+    if (n > 0) other_records[keyword] += n;
+  }
+  if (!have_points) c.fail("'endmesh' without a 'points' section");
+  // The elements' corners, checked against the points.
+  const uint64_t points = out.points.size();
+  const auto corner = [&](int64_t v, uint64_t line) {
+    if (static_cast<uint64_t>(v) > points)
+      throw FormatError(path + ":" + std::to_string(line) + ": point index " + std::to_string(v) +
+                        " out of range 1.." + std::to_string(points));
+    return static_cast<uint32_t>(v - 1);
+  };
+  out.tets.reserve(raw_tets.size());
+  for (size_t t = 0; t < raw_tets.size(); ++t) {
+    const auto& v = raw_tets[t];
+    const uint64_t line = tet_lines[t];
+    out.tets.push_back({corner(v[0], line), corner(v[1], line), corner(v[2], line), corner(v[3], line)});
+  }
+  out.tagged_faces.reserve(raw_faces.size());
+  for (size_t f = 0; f < raw_faces.size(); ++f) {
+    const auto& v = raw_faces[f];
+    const uint64_t line = face_lines[f];
+    out.tagged_faces.push_back({corner(v[0], line), corner(v[1], line), corner(v[2], line)});
+  }
+  if (!out.tets.empty()) out.region_source = "materials (Netgen domains)";
+  if (!out.tagged_faces.empty()) out.face_tag_source = "surface elements' boundary conditions (Netgen bcnr)";
+  if (second_order_tets + other_volume > 0)
+    out.left_out.push_back(std::to_string(second_order_tets + other_volume) +
+                           " volume elements that are not 4-node tetrahedra (" +
+                           std::to_string(second_order_tets) + " of them second-order tetrahedra)");
+  if (second_order_faces + other_faces > 0)
+    out.left_out.push_back(std::to_string(second_order_faces + other_faces) +
+                           " surface elements that are not 3-node triangles");
+  if (!other_records.empty()) {
+    std::string list;
+    for (const auto& [keyword, count] : other_records)
+      list += (list.empty() ? "" : ", ") + std::to_string(count) + " " + keyword;
+    out.left_out.push_back(
+        "sections other than points, volumeelements, surfaceelements, materials and "
+        "bcnames (" +
+        list + ")");
+  }
+  if (!c.at_end()) out.left_out.push_back("what follows 'endmesh' (Netgen's geometry)");
+  return out;
+}
+
+}  // namespace dtm

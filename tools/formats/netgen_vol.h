@@ -1,0 +1,25 @@
+// Netgen's own mesh file, .vol (what Netgen's GUI and Mesh.Save() write;
+// .vol.gz gzipped), ASCII: "mesh3d", then sections of a keyword, a count
+// and one record a line: "points" (x y z), "volumeelements" (matnr np
+// p1..p_np, 1-based), "surfaceelements" (surfnr bcnr domin domout np
+// p1..p_np), "materials" (domain name), "bcnames" (bcnr name), others
+// (edge segments, face colours, identifications, ...) read past, until
+// "endmesh" (the geometry Netgen may append after it is not read).
+// https://github.com/NGSolve/netgen/blob/master/libsrc/meshing/meshclass.cpp
+// (Mesh::Save, Mesh::Load)
+#pragma once
+
+#include <string>
+
+#include "input_mesh.h"
+
+namespace dtm {
+
+// Points, the 4-node tetrahedra with their material (the regions, named by
+// "materials") and the 3-node surface elements with their boundary
+// condition number (the tagged faces, named by "bcnames"); second-order and
+// other elements, and the other sections, named as left out. Throws
+// FormatError naming the file and line.
+InputMesh read_netgen_vol(const std::string& path);
+
+}  // namespace dtm
