@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <random>
@@ -277,45 +278,28 @@ TEST(CellData, RefusedWhereTheStreamCannotCarryThem) {
   EncodeOptions bricks;
   bricks.bricks = true;
   EXPECT_TRUE(encode(input, bricks).ok());
-  test::ThreadRanks all(2);
-  std::vector<StatusCode> codes(2);
-  std::vector<std::thread> threads;
   const std::vector<Tet> half(in.tets.begin(),
                               in.tets.begin() + static_cast<std::ptrdiff_t>(in.tets.size() / 2));
   std::vector<EncodeInput::Field> half_fields = in.fields();
   for (auto& f : half_fields) f.values = f.values.first(half.size() * static_cast<size_t>(f.components));
-  for (int r = 0; r < 2; ++r)
-    threads.emplace_back([&, r] {
-      test::ThreadRanks::Rank rank(all, r);
+  // (Rank 1's input made by `given`.)
+  const auto codes = [&](const std::function<void(EncodeInput&)>& given) {
+    return test::on_ranks(2, true, [&](RankExchange& rank, int r) {
       EncodeOptions on_rank = bricks;
       on_rank.exchange = &rank;
-      EncodeInput given = input;
-      if (r == 1) given.tetrahedra = half, given.cell_fields = half_fields;
-      codes[static_cast<size_t>(r)] = encode(given, on_rank).status().code();
+      EncodeInput mine = input;
+      if (r == 1) given(mine);
+      return encode(mine, on_rank).status().code();
     });
-  for (auto& t : threads) t.join();
-  EXPECT_EQ(codes, std::vector<StatusCode>(2, StatusCode::kInvalidInput));
+  };
+  const std::vector<StatusCode> refused(2, StatusCode::kInvalidInput);
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.tetrahedra = half, i.cell_fields = half_fields; }), refused);
   // A rank given no tetrahedron (nor values), or no cell data at all, where
   // the other has them: every rank refuses, none waits for the others.
-  for (const bool without_arrays : {false, true}) {
-    SCOPED_TRACE(without_arrays ? "a rank without cell data" : "a rank without tetrahedra");
-    std::vector<EncodeInput::Field> none = in.fields();
-    for (auto& f : none) f.values = {};
-    threads.clear();
-    codes.assign(2, StatusCode::kOk);
-    for (int r = 0; r < 2; ++r)
-      threads.emplace_back([&, r] {
-        test::ThreadRanks::Rank rank(all, r);
-        EncodeOptions on_rank = bricks;
-        on_rank.exchange = &rank;
-        EncodeInput given = input;
-        if (r == 1 && without_arrays) given.cell_fields = {};
-        if (r == 1 && !without_arrays) given.tetrahedra = {}, given.cell_fields = none;
-        codes[static_cast<size_t>(r)] = encode(given, on_rank).status().code();
-      });
-    for (auto& t : threads) t.join();
-    EXPECT_EQ(codes, std::vector<StatusCode>(2, StatusCode::kInvalidInput));
-  }
+  std::vector<EncodeInput::Field> none = in.fields();
+  for (auto& f : none) f.values = {};
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.tetrahedra = {}, i.cell_fields = none; }), refused);
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.cell_fields = {}; }), refused);
   EXPECT_EQ(encode(input, EncodeOptions::paper()).status().code(), StatusCode::kInvalidInput);
   std::vector<double> short_values(3);
   fields[0].values = short_values;
@@ -414,18 +398,11 @@ TEST(CellData, BrickedStreamsAreTheSameBytesOnAnyNumberOfRanks) {
   for (const bool at_once : {true, false}) {
     for (int ranks : {2, 3}) {
       SCOPED_TRACE(std::to_string(ranks) + (at_once ? " ranks answering while they work" : " ranks"));
-      test::ThreadRanks all(ranks);
-      all.answer_while_working(at_once);
-      std::vector<Encoded> made(static_cast<size_t>(ranks));
-      std::vector<std::thread> threads;
-      for (int r = 0; r < ranks; ++r)
-        threads.emplace_back([&, r] {
-          test::ThreadRanks::Rank rank(all, r);
-          EncodeOptions on_rank = options;
-          on_rank.exchange = &rank;
-          made[static_cast<size_t>(r)] = encode_cells(in, on_rank);
-        });
-      for (auto& t : threads) t.join();
+      const std::vector<Encoded> made = test::on_ranks(ranks, at_once, [&](RankExchange& rank, int) {
+        EncodeOptions on_rank = options;
+        on_rank.exchange = &rank;
+        return encode_cells(in, on_rank);
+      });
       for (const Encoded& e : made) {
         EXPECT_TRUE(e.bytes == alone.bytes);
         EXPECT_EQ(e.report.cells_from_input, alone.report.cells_from_input);

@@ -350,18 +350,11 @@ TEST(Regions, BrickedStreamsAreTheSameBytesOnAnyNumberOfRanks) {
   for (const bool at_once : {true, false}) {
     for (int ranks : {2, 3}) {
       SCOPED_TRACE(std::to_string(ranks) + (at_once ? " ranks answering while they work" : " ranks"));
-      test::ThreadRanks all(ranks);
-      all.answer_while_working(at_once);
-      std::vector<Encoded> made(static_cast<size_t>(ranks));
-      std::vector<std::thread> threads;
-      for (int r = 0; r < ranks; ++r)
-        threads.emplace_back([&, r] {
-          test::ThreadRanks::Rank rank(all, r);
-          EncodeOptions on_rank = options;
-          on_rank.exchange = &rank;
-          made[static_cast<size_t>(r)] = encode_regions(in, names, on_rank);
-        });
-      for (auto& t : threads) t.join();
+      const std::vector<Encoded> made = test::on_ranks(ranks, at_once, [&](RankExchange& rank, int) {
+        EncodeOptions on_rank = options;
+        on_rank.exchange = &rank;
+        return encode_regions(in, names, on_rank);
+      });
       for (const Encoded& e : made) EXPECT_TRUE(e.bytes == alone.bytes);
       asked += made[0].report.reference_questions + made[0].report.reference_questions_at_once;
     }

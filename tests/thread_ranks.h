@@ -8,6 +8,8 @@
 #include <memory>
 #include <mutex>
 #include <span>
+#include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "common/exchange.h"
@@ -92,5 +94,24 @@ class ThreadRanks {
   std::condition_variable answerer_set_;
   std::vector<Answerer> answerers_;
 };
+
+// Runs work(rank, r) on `ranks` threads, each given its rank's exchange
+// (the ranks answering each other while they work, or only in their
+// exchanges), and returns what each returned, in rank order.
+template <class Work>
+auto on_ranks(int ranks, bool answering, const Work& work) {
+  using Result = std::invoke_result_t<const Work&, RankExchange&, int>;
+  ThreadRanks all(ranks);
+  all.answer_while_working(answering);
+  std::vector<Result> out(static_cast<size_t>(ranks));
+  std::vector<std::thread> threads;
+  for (int r = 0; r < ranks; ++r)
+    threads.emplace_back([&, r] {
+      ThreadRanks::Rank rank(all, r);
+      out[static_cast<size_t>(r)] = work(rank, r);
+    });
+  for (auto& t : threads) t.join();
+  return out;
+}
 
 }  // namespace dtm::test
