@@ -262,7 +262,7 @@ void add_options(CLI::App& app, Command& c) {
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,
                  "a .vtu's integer cell array holding the regions (default: the first of gmsh:physical, "
-                 "medit:ref, region, material, MaterialIds, CellEntityIds it has)");
+                 "medit:ref, netgen:index, region, material, MaterialIds, CellEntityIds it has)");
   app.add_option("--report", c.report_path, "write the level table as JSON to this file");
   app.add_flag("-q,--quiet", c.quiet, "do not print the table (nor the progress line on a terminal)");
   app.add_flag("-v,--verbose", c.verbose,

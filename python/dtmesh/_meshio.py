@@ -5,8 +5,8 @@ per-vertex ``level`` and ``boundary`` as point data. Writing encodes the
 mesh's points, its tetrahedra (the reference solid) and its point data as
 fields, with dtmesh.encode's options as keyword arguments. The tetrahedra's
 regions come from the first cell data array of gmsh:physical, medit:ref,
-region, material, MaterialIds, CellEntityIds (meshenc's default), their
-names from gmsh's field data; the other numeric cell data on the
+netgen:index, region, material, MaterialIds, CellEntityIds (meshenc's
+default), their names from the field data (gmsh's, Netgen's); the other numeric cell data on the
 tetrahedra becomes the stream's cell data, and a cell set that is a named
 region's or tag's cells is held by them; what the stream does not hold
 (other cell sets, other cells, an array not on every tetrahedron block) is
@@ -24,7 +24,7 @@ def read(filename, level=None):
     return decode(filename, level).to_meshio()
 
 
-REGION_ARRAYS = ("gmsh:physical", "medit:ref", "region", "material", "MaterialIds", "CellEntityIds")
+REGION_ARRAYS = ("gmsh:physical", "medit:ref", "netgen:index", "region", "material", "MaterialIds", "CellEntityIds")
 
 
 def write(filename, mesh, **options):

@@ -442,6 +442,68 @@ def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
     assert grid.GetNumberOfCells() == level0.tetrahedra.shape[0] + level0.faces.shape[0]
 
 
+NETGEN_VOL = """mesh3d
+dimension
+3
+geomtype
+0
+
+# surfnr    bcnr   domin  domout      np      p1      p2      p3
+surfaceelements
+2
+ 1 1 1 0 3 1 3 2
+ 2 7 1 2 3 2 3 4
+
+#  matnr      np      p1      p2      p3      p4
+volumeelements
+3
+1 4 1 2 3 4
+2 4 2 3 4 5
+2 4 2 4 6 5
+
+edgesegmentsgi2
+1
+ 1 0 1 2 0 0 1 1 1 0 0 0
+
+points
+6
+ 0 0 0
+ 1 0 0
+ 0 1 0
+ 0 0 1
+ 1 1 1
+ 1.5 -0.5 1
+materials
+2
+1 aluminium
+2 steel
+
+bcnames
+2
+1\touter
+7\tpin
+
+endmesh
+"""
+
+
+def test_netgen_vol_through_meshio_is_meshencs_stream(tmp_path):
+    """Netgen's .vol as meshio reads it (netgen:index, names in its field data): the materials are
+    the regions and the boundary conditions the tagged faces, with their names, the bytes meshenc
+    writes from the file itself."""
+    vol = tmp_path / "part.vol"
+    vol.write_text(NETGEN_VOL)
+    out = tmp_path / "part.dtm"
+    with pytest.warns(UserWarning, match="left out.*line"):
+        meshio.write(out, meshio.read(vol))
+    info = dtmesh.info(out)
+    assert [(r["label"], r["name"]) for r in info["regions"]] == [(1, "aluminium"), (2, "steel")]
+    assert [(t["label"], t["name"]) for t in info["face_tags"]] == [(1, "outer"), (7, "pin")]
+    by_meshenc = tmp_path / "by_meshenc.dtm"
+    run(tool("meshenc"), vol, "-q", "-o", by_meshenc)
+    assert out.read_bytes() == by_meshenc.read_bytes()
+
+
 def test_exodus_through_meshio(corpus, tmp_path):
     """Exodus II (a simulation's mesh) goes through meshio's reader (python3-netcdf4)."""
     pytest.importorskip("netCDF4", reason="apt-get install python3-netcdf4 (scripts/setup.sh --all)")

@@ -47,7 +47,7 @@ InputMesh read_input(const std::string& path, std::optional<InputFormat> format 
 // The names of cell arrays taken as the regions when the user names none,
 // in this order: what gmsh, Medit and meshio's converters write, and the
 // usual names.
-inline constexpr const char* kRegionArrayNames[] = {"gmsh:physical", "medit:ref",   "region",
+inline constexpr const char* kRegionArrayNames[] = {"gmsh:physical", "medit:ref",   "netgen:index", "region",
                                                     "material",      "MaterialIds", "CellEntityIds"};
 // Makes `name` (empty: the first of kRegionArrayNames the file has) of
 // in.tet_arrays the regions, and the other arrays cell data (cell_fields).
