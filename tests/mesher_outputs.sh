@@ -8,7 +8,8 @@
 # meshio read; a Netgen
 # CSG part exported as gmsh 2.0 ("2.000000") is read with its domain (Netgen
 # tags a domain d 100000 + d), and a Netgen .vol (and .vol.gz) with its
-# named materials and boundary conditions. With --exact both decode cell for cell. A
+# named materials and boundary conditions, which meshdec's .vol gives back
+# to Netgen. With --exact both decode cell for cell. A
 # graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
 # gmsh -save_all's volumes and surfaces in no physical group join none.
 set -euo pipefail
@@ -119,6 +120,27 @@ grep -q 'tagged faces (.*Netgen bcnr.*"outer" (.*"pin" (' ng_vol.out || { echo "
 grep -q "left out.*edgesegmentsgi2" ng_vol.err || { echo "ng.vol: its edge segments are not named as left out"; cat ng_vol.err; failed=1; }
 [ "$(grep -E '^ +[0-9]+ +[0-9]+ ' ng_vol.out | cut -c1-70)" = "$(grep -E '^ +[0-9]+ +[0-9]+ ' ng_msh.out | cut -c1-70)" ] ||
   { echo "ng.vol and its gmsh export give other levels"; cat ng_vol.out ng_msh.out; failed=1; }
+# meshdec writes a level back as .vol: Netgen loads it with the materials
+# and the boundary conditions' names, its tetrahedra turned as its own.
+"$meshdec" ng_vol.dtm -o back.vol --level 1 -q || failed=1
+"$py" - <<'PY' || failed=1
+import sys
+from netgen.meshing import Mesh
+def names(path):
+    m = Mesh()
+    m.Load(path)
+    els = m.Elements3D()
+    def volume(e):
+        p = [m.Points()[v].p for v in e.vertices]
+        u, v, w = ([p[k][i] - p[0][i] for i in range(3)] for k in (1, 2, 3))
+        return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0])
+    if any(volume(e) >= 0 for e in els):
+        sys.exit(path + ": tetrahedra not turned as Netgen's")
+    return (sorted(set(m.GetMaterial(e.index) for e in els)),
+            sorted(set(m.GetBCName(e.index - 1) for e in m.Elements2D())))
+if names("back.vol") != names("ng.vol"):
+    sys.exit("back.vol: %s, ng.vol: %s" % (names("back.vol"), names("ng.vol")))
+PY
 # A best-shaped mesh (Netgen's, average smallest solid angle 0.34) gets
 # coarser levels: the quality floor is 0.85x level 0's but at most 0.25
 # (--quality-floor-cap), each level within D_max and above the floor;

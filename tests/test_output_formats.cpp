@@ -288,7 +288,7 @@ TEST(OutputFormats, MeshdecWritesEveryFormatByExtensionAndByName) {
                              stream);
   ASSERT_EQ(r.status, 0) << r.output;
   size_t tets = 0, points = 0;
-  for (const char* ext : {".vtu", ".vtk", ".mesh", ".msh", ".node"}) {
+  for (const char* ext : {".vtu", ".vtk", ".mesh", ".msh", ".node", ".vol"}) {
     const std::string out = dir + "/level1" + ext;
     r = test::run_command(std::string(DTM_MESHDEC) + " " + stream + " --level 1 -o " + out);
     ASSERT_EQ(r.status, 0) << r.output;

@@ -964,5 +964,62 @@ TEST(Faces, ReadersAndWritersCarryTheTags) {
   std::filesystem::remove_all(dir);
 }
 
+// Netgen's .vol: the regions are its materials 1..K (in the labels' order,
+// named), every face of the surface a surface element (the 6 outer faces of
+// two tetrahedra and their interface), each with its tag (0: none) and its
+// domains, facing out of its domain; the tetrahedra turned as Netgen's.
+TEST(Faces, NetgenVolHoldsEverySurfaceFaceWithItsDomains) {
+  OutputMesh m;
+  m.grid.step = 0.5;
+  m.grid.qbits = 6;
+  m.points = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}, {4, 4, 4}};
+  m.cells = {{0, 1, 2, 3}, {1, 2, 3, 4}};
+  const auto at = [&](uint32_t v) { return P4{m.points[v].x, m.points[v].y, m.points[v].z}; };
+  for (auto& c : m.cells)
+    if (orientation(at(c[0]), at(c[1]), at(c[2]), at(c[3])) < 0) std::swap(c[0], c[1]);
+  m.region = {5, -3};
+  m.region_names = {{5, "steel core"}};
+  m.faces = {{0, 2, 1}, {1, 2, 3}};  // an outer face and the interface
+  m.face_tags = {21, 30};
+  m.face_tag_names = {{21, "base"}};
+  const std::string path = ::testing::TempDir() + "/two.vol";
+  for (const auto& [file, text] : render_mesh(m, format_for_path(path), path, {}))
+    std::ofstream(file, std::ios::binary) << text;
+  const InputMesh back = read_input(path);
+  ASSERT_EQ(back.points.size(), 5u);
+  ASSERT_EQ(back.tets.size(), 2u);
+  for (size_t c = 0; c < 2; ++c) {
+    auto a = back.tets[c], b = m.cells[c];
+    EXPECT_LT(orientation(at(a[0]), at(a[1]), at(a[2]), at(a[3])), 0) << "Netgen's turn";
+    std::sort(a.begin(), a.end()), std::sort(b.begin(), b.end());
+    EXPECT_EQ(a, b);
+  }
+  EXPECT_EQ(back.tet_regions, (std::vector<int32_t>{2, 1}));  // -3 is domain 1, 5 domain 2
+  EXPECT_EQ(back.region_names, (std::map<int32_t, std::string>{{1, "region_-3"}, {2, "steel_core"}}));
+  EXPECT_EQ(back.face_tag_names, (std::map<int32_t, std::string>{{21, "base"}}));
+  ASSERT_EQ(back.tagged_faces.size(), 7u);
+  std::map<std::array<uint32_t, 3>, int32_t> tags;
+  for (size_t f = 0; f < 7; ++f) {
+    const auto& t = back.tagged_faces[f];
+    // Away from the cell it bounds (the interface: from domain 1's, cell 1).
+    const auto corners = [&](const std::array<uint32_t, 4>& cell) {
+      return std::count_if(cell.begin(), cell.end(),
+                           [&](uint32_t v) { return v == t[0] || v == t[1] || v == t[2]; });
+    };
+    const size_t from = corners(m.cells[0]) == 3 && corners(m.cells[1]) != 3 ? 0 : 1;
+    const auto& cell = m.cells[from];
+    const uint32_t far = *std::find_if(cell.begin(), cell.end(),
+                                       [&](uint32_t v) { return v != t[0] && v != t[1] && v != t[2]; });
+    EXPECT_LT(orientation(at(t[0]), at(t[1]), at(t[2]), at(far)), 0) << f;
+    auto key = t;
+    std::sort(key.begin(), key.end());
+    tags[key] = back.face_tags[f];
+  }
+  EXPECT_EQ(tags.at({0, 1, 2}), 21);
+  EXPECT_EQ(tags.at({1, 2, 3}), 30);
+  EXPECT_EQ(tags.at({0, 1, 3}), 0);
+  EXPECT_EQ(std::count(back.face_tags.begin(), back.face_tags.end(), 0), 5);
+}
+
 }  // namespace
 }  // namespace dtm

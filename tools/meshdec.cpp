@@ -29,7 +29,7 @@ constexpr const char* kExamples = R"(
 Examples:
   meshdec bunny.dtm -o bunny.vtu                 # finest level, for ParaView
   meshdec bunny.dtm -o coarse.node --level 3     # TetGen .node + .ele
-  meshdec bunny.dtm -o bunny.msh                 # gmsh 4.1 (also .vtk, .mesh)
+  meshdec bunny.dtm -o bunny.msh                 # gmsh 4.1 (also .vtk, .mesh, Netgen's .vol)
   meshdec bunny.dtm -o surface.ply --level 5     # the boundary surface, normals out
   meshdec bunny.dtm -o bunny.glb --level 2       # the same as glTF 2.0, Draco-compressed (web, AR, Blender)
   meshdec ct.dtm -o ct.glb --color value         # coloured by the field 'value'
@@ -62,9 +62,10 @@ struct Command {
 
 void add_options(CLI::App& app, Command& c) {
   app.add_option("input", c.input, ".dtm stream ('-' = standard input)")->required();
-  app.add_option("-o,--output", c.output,
-                 "output: X.vtu, X.vtk, X.mesh, X.msh, X.node (+ X.ele); the boundary surface as X.ply, "
-                 "X.off, X.glb, X.gltf (+ X.bin) or X.drc; the points as X.xyz; '-' = standard output")
+  app.add_option(
+         "-o,--output", c.output,
+         "output: X.vtu, X.vtk, X.mesh, X.msh, X.vol, X.node (+ X.ele); the boundary surface as X.ply, "
+         "X.off, X.glb, X.gltf (+ X.bin) or X.drc; the points as X.xyz; '-' = standard output")
       ->required();
   app.add_option("--level", c.level, "level of detail to write (0 = finest; default: the finest present)")
       ->check(CLI::Range(0, 65535));

@@ -9,6 +9,7 @@
 #include "gltf_writer.h"
 #include "gmsh.h"
 #include "medit.h"
+#include "netgen_vol.h"
 #include "render_util.h"
 #include "surface_writers.h"
 #include "vtk_cells.h"
@@ -249,6 +250,7 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
       add("the cell arrays (gmsh holds 1, 3 or 9 components)", names(m.cell_fields, not_gmsh));
       break;
     case MeshFormat::kMedit:
+    case MeshFormat::kNetgen:
       add("the point fields", names(m.fields, all));
       add("the cell arrays", names(m.cell_fields, all));
       break;
@@ -410,16 +412,17 @@ MeshFormat format_for_path(const std::string& path) {
   if (ext == ".vtk") return MeshFormat::kVtk;
   if (ext == ".mesh") return MeshFormat::kMedit;
   if (ext == ".msh") return MeshFormat::kGmsh;
+  if (ext == ".vol") return MeshFormat::kNetgen;
   if (ext == ".ply") return MeshFormat::kPly;
   if (ext == ".off") return MeshFormat::kOff;
   if (ext == ".xyz") return MeshFormat::kXyz;
   if (ext == ".glb") return MeshFormat::kGlb;
   if (ext == ".gltf") return MeshFormat::kGltf;
   if (ext == ".drc") return MeshFormat::kDrc;
-  throw std::invalid_argument(
-      path +
-      ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .ply, .off, .xyz, .glb, .gltf or "
-      ".drc file name)");
+  throw std::invalid_argument(path +
+                              ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .vol, "
+                              ".ply, .off, .xyz, .glb, .gltf "
+                              "or .drc file name)");
 }
 
 MeshFormat format_named(const std::string& name) {
@@ -430,6 +433,7 @@ MeshFormat format_named(const std::string& name) {
                                                               {"vtk-ascii", MeshFormat::kVtkAscii},
                                                               {"mesh", MeshFormat::kMedit},
                                                               {"msh", MeshFormat::kGmsh},
+                                                              {"vol", MeshFormat::kNetgen},
                                                               {"ply", MeshFormat::kPly},
                                                               {"off", MeshFormat::kOff},
                                                               {"xyz", MeshFormat::kXyz},
@@ -464,6 +468,8 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
       return {{path, render_medit(mesh)}};
     case MeshFormat::kGmsh:
       return {{path, render_gmsh(mesh)}};
+    case MeshFormat::kNetgen:
+      return {{path, render_netgen_vol(mesh)}};
     case MeshFormat::kPly:
       return {{path, render_ply(mesh)}};
     case MeshFormat::kOff:

@@ -82,6 +82,7 @@ enum class MeshFormat {
   kVtkAscii,  // VTK legacy 4.2, ASCII
   kMedit,     // Medit .mesh, ASCII; `boundary` becomes the vertex ref
   kGmsh,      // gmsh .msh 4.1 ASCII; $NodeData level, boundary
+  kNetgen,    // Netgen .vol; every surface face a surface element, the regions the materials
   kPly,       // boundary surface, binary PLY, outward normals
   kOff,       // boundary surface, ASCII OFF, outward normals
   kXyz,       // the points only
@@ -113,11 +114,11 @@ struct SurfaceStyle {
 MeshFormat format_for_path(const std::string& path);
 
 // The format meshdec --format names: node, vtu, vtu-ascii, vtk, vtk-ascii,
-// mesh, msh, ply, off, xyz, glb, gltf, drc. Throws std::invalid_argument for
+// mesh, msh, vol, ply, off, xyz, glb, gltf, drc. Throws std::invalid_argument for
 // anything else.
 MeshFormat format_named(const std::string& name);
 inline constexpr const char* kOutputFormatNames =
-    "node, vtu, vtu-ascii, vtk, vtk-ascii, mesh, msh, ply, off, xyz, glb, gltf, drc";
+    "node, vtu, vtu-ascii, vtk, vtk-ascii, mesh, msh, vol, ply, off, xyz, glb, gltf, drc";
 
 // The files of `mesh` in `format` as (path, bytes) pairs: two for kTetgen
 // (`path`, which must end in ".node", and the .ele beside it) and kGltf (the

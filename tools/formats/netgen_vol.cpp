@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "format_error.h"
+#include "render_util.h"
 #include "text_cursor.h"
 
 namespace dtm {
@@ -243,6 +244,167 @@ InputMesh read_netgen_vol(const std::string& path) {
         list + ")");
   }
   if (!c.at_end()) out.left_out.push_back("what follows 'endmesh' (Netgen's geometry)");
+  return out;
+}
+
+namespace {
+
+// A name as one word (Netgen reads names with >>).
+std::string one_word(std::string name) {
+  for (char& ch : name)
+    if (ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r') ch = '_';
+  return name.empty() ? "_" : name;
+}
+
+}  // namespace
+
+std::string render_netgen_vol(const OutputMesh& m) {
+  using Face = std::array<uint32_t, 3>;
+  // The regions as Netgen's domains 1..K, in the labels' order.
+  std::vector<int32_t> labels(m.region.begin(), m.region.end());
+  std::sort(labels.begin(), labels.end());
+  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+  const auto domain = [&](size_t cell) -> int {
+    if (m.region.empty()) return 1;
+    return 1 +
+           static_cast<int>(std::lower_bound(labels.begin(), labels.end(), m.region[cell]) - labels.begin());
+  };
+  // The surface: each face of one cell, or of two cells of two domains
+  // (then from the lower's side), turned to face away from its cell.
+  struct Side {
+    Face sorted;
+    uint32_t cell;
+    uint8_t corner;  // the cell's corner the face does not have
+  };
+  std::vector<Side> sides;
+  sides.reserve(m.cells.size() * 4);
+  for (uint32_t c = 0; c < m.cells.size(); ++c)
+    for (uint8_t k = 0; k < 4; ++k) {
+      Face f;
+      for (uint8_t i = 0, j = 0; i < 4; ++i)
+        if (i != k) f[j++] = m.cells[c][i];
+      std::sort(f.begin(), f.end());
+      sides.push_back({f, c, k});
+    }
+  std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) {
+    return a.sorted != b.sorted ? a.sorted < b.sorted : a.cell < b.cell;
+  });
+  std::map<Face, int32_t> tag_of;
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    Face key = m.faces[f];
+    std::sort(key.begin(), key.end());
+    tag_of.emplace(key, m.face_tags[f]);
+  }
+  struct Element {
+    int32_t bc;
+    int domin, domout;
+    Face corners;
+  };
+  std::vector<Element> surface;
+  for (size_t i = 0; i < sides.size();) {
+    size_t j = i + 1;
+    while (j < sides.size() && sides[j].sorted == sides[i].sorted) ++j;
+    const Side* in = &sides[i];
+    int domout = 0;
+    if (j - i == 2) {
+      const int a = domain(sides[i].cell), b = domain(sides[i + 1].cell);
+      if (a == b) {
+        i = j;
+        continue;
+      }
+      if (b < a) in = &sides[i + 1];
+      domout = std::max(a, b);
+    }
+    // The cell's corners without `corner`, in an order whose normal points
+    // away from it (Netgen's: out of domin). Our cells are positively
+    // oriented: (1,2,3) from corner 0 faces away; each other corner's face
+    // follows by an even permutation.
+    static constexpr std::array<std::array<uint8_t, 3>, 4> kAway = {
+        {{{1, 2, 3}}, {{0, 3, 2}}, {{0, 1, 3}}, {{0, 2, 1}}}};
+    const auto& cell = m.cells[in->cell];
+    const auto& order = kAway[in->corner];
+    const auto tag = tag_of.find(in->sorted);
+    surface.push_back({tag == tag_of.end() ? 0 : tag->second,
+                       domain(in->cell),
+                       domout,
+                       {cell[order[0]], cell[order[1]], cell[order[2]]}});
+    i = j;
+  }
+  // One surface number a kind of face (its condition and its two domains),
+  // as Netgen's face descriptors group them.
+  std::map<std::array<int64_t, 3>, int> surface_number;
+  for (const Element& e : surface) surface_number.emplace(std::array<int64_t, 3>{e.bc, e.domin, e.domout}, 0);
+  int next = 0;
+  for (auto& [kind, number] : surface_number) number = ++next;
+
+  std::string out =
+      "mesh3d\ndimension\n3\ngeomtype\n0\n\n# surfnr    bcnr   domin  domout      np      p1      p2      "
+      "p3\n"
+      "surfaceelements\n";
+  append_number(out, surface.size());
+  out += '\n';
+  append_lines(out, surface.size(), [&](size_t f, std::string& line) {
+    const Element& e = surface[f];
+    for (const int64_t v : {int64_t{surface_number.at({e.bc, e.domin, e.domout})}, int64_t{e.bc},
+                            int64_t{e.domin}, int64_t{e.domout}, int64_t{3}}) {
+      line += ' ';
+      append_number(line, v);
+    }
+    for (uint32_t v : e.corners) {
+      line += ' ';
+      append_number(line, uint64_t{v} + 1);
+    }
+    line += '\n';
+  });
+  out += "\n#  matnr      np      p1      p2      p3      p4\nvolumeelements\n";
+  append_number(out, m.cells.size());
+  out += '\n';
+  // Netgen's tetrahedra turn the other way: two corners swapped.
+  append_lines(out, m.cells.size(), [&](size_t c, std::string& line) {
+    append_number(line, domain(c));
+    line += " 4";
+    const auto& t = m.cells[c];
+    for (uint32_t v : {t[1], t[0], t[2], t[3]}) {
+      line += ' ';
+      append_number(line, uint64_t{v} + 1);
+    }
+    line += '\n';
+  });
+  out += "\n#          X             Y             Z\npoints\n";
+  append_number(out, m.points.size());
+  out += '\n';
+  append_lines(out, m.points.size(),
+               [&](size_t v, std::string& line) { append_xyz_line(line, m.grid.to_input(m.points[v])); });
+  out += "\nmaterials\n";
+  const size_t domains = m.region.empty() ? 1 : labels.size();
+  append_number(out, domains);
+  out += '\n';
+  for (size_t d = 0; d < domains; ++d) {
+    append_number(out, d + 1);
+    out += ' ';
+    if (m.region.empty()) {
+      out += "default";
+    } else {
+      const auto name = m.region_names.find(labels[d]);
+      out += one_word(name != m.region_names.end() ? name->second : "region_" + std::to_string(labels[d]));
+    }
+    out += '\n';
+  }
+  // The conditions' names (the tags'), by number.
+  std::map<int32_t, std::string> named;
+  for (const Element& e : surface)
+    if (const auto name = m.face_tag_names.find(e.bc); name != m.face_tag_names.end())
+      named.emplace(e.bc, one_word(name->second));
+  if (!named.empty()) {
+    out += "\nbcnames\n";
+    append_number(out, named.size());
+    out += '\n';
+    for (const auto& [bc, name] : named) {
+      append_number(out, bc);
+      out += ' ' + name + '\n';
+    }
+  }
+  out += "\nendmesh\n";
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "input_mesh.h"
+#include "mesh_writers.h"
 
 namespace dtm {
 
@@ -21,5 +22,15 @@ namespace dtm {
 // other elements, and the other sections, named as left out. Throws
 // FormatError naming the file and line.
 InputMesh read_netgen_vol(const std::string& path);
+
+// What Netgen (and NGSolve's Mesh("x.vol")) loads: the points, the
+// tetrahedra in Netgen's orientation with their region as the material
+// (numbered 1..K in the labels' order, named by the region's name or
+// "region_L"), and every face of the level's surface (its boundary and its
+// interfaces between regions) as a surface element from its domain to the
+// one outside (0) or the higher region, its boundary condition number the
+// face's tag (0 where it has none), named by the tag's name. Names lose
+// their blanks (Netgen reads a name as one word).
+std::string render_netgen_vol(const OutputMesh& mesh);
 
 }  // namespace dtm
