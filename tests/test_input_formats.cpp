@@ -617,7 +617,8 @@ TEST(InputFormats, NetgenVolKeepsMaterialsAndBoundaryConditions) {
       "2 10 1 2 3 4 5 5 5 5 5 5\n\n"
       "edgesegmentsgi2\n1\n 1 0 1 2 0 0 1 1 1 0 0 0\n\n"
       "points\n5\n 0 0 0\n 1 0 0\n 0 1 0\n 0 0 1\n 1 1 1\n"
-      "materials\n2\n1 aluminium\n2 steel\n\nbcnames\n2\n1\touter\n7\tpin\n\nendmesh\n\n"
+      "identificationtypes\n2\n 2 2\n"
+      "materials\n2\n1 aluminium\n\n2 steel\n\nbcnames\n2\n1\touter box\n7\tpin\n\nendmesh\n\n"
       "csgsurfaces 1\nplane 6\n0 0 0 0 0 -1\n";
   const InputMesh m = read_input(write_temp("part.vol", text));
   ASSERT_EQ(m.points.size(), 5u);
@@ -627,12 +628,12 @@ TEST(InputFormats, NetgenVolKeepsMaterialsAndBoundaryConditions) {
   EXPECT_EQ(m.region_names, (std::map<int32_t, std::string>{{1, "aluminium"}, {2, "steel"}}));
   EXPECT_EQ(m.tagged_faces, (std::vector<std::array<uint32_t, 3>>{{0, 2, 1}, {1, 2, 3}}));
   EXPECT_EQ(m.face_tags, (std::vector<int32_t>{1, 7}));
-  EXPECT_EQ(m.face_tag_names, (std::map<int32_t, std::string>{{1, "outer"}, {7, "pin"}}));
+  EXPECT_EQ(m.face_tag_names, (std::map<int32_t, std::string>{{1, "outer box"}, {7, "pin"}}));
   std::string left_out;
   for (const std::string& l : m.left_out) left_out += l + "\n";
-  for (const char* what :
-       {"1 volume elements that are not 4-node tetrahedra (1 of them second-order",
-        "1 surface elements that are not 3-node triangles", "1 edgesegmentsgi2", "what follows 'endmesh'"})
+  for (const char* what : {"1 volume elements that are not 4-node tetrahedra (1 of them second-order",
+                           "1 surface elements that are not 3-node triangles", "1 edgesegmentsgi2",
+                           "2 identificationtypes", "what follows 'endmesh'"})
     EXPECT_NE(left_out.find(what), std::string::npos) << what << " in:\n" << left_out;
   // Gzipped, as Netgen saves x.vol.gz: the same.
   write_temp("gz_part.vol", text);
@@ -644,6 +645,13 @@ TEST(InputFormats, NetgenVolKeepsMaterialsAndBoundaryConditions) {
   EXPECT_EQ(z.tets, m.tets);
   EXPECT_EQ(z.face_tags, m.face_tags);
   EXPECT_EQ(z.region_names, m.region_names);
+  // A section of another layout than one record a line (here 2 records on
+  // one) ends with an error, not with the next section taken for records.
+  EXPECT_NE(read_error("odd.vol",
+                       "mesh3d\ndimension\n3\nsingular_points\n2\n 1 0.5 2 0.5\npoints\n4\n0 0 0\n1 0 "
+                       "0\n0 1 0\n0 0 1\nendmesh\n")
+                .find("section 'singular_points' ends before its 2 records"),
+            std::string::npos);
   // Cut short, the gzip data says so.
   const std::string gz = test::slurp(::testing::TempDir() + "/gz_part.vol.gz");
   EXPECT_NE(read_error("cut.vol.gz", gz.substr(0, gz.size() / 2)).find("gzip data is damaged or truncated"),

@@ -996,7 +996,7 @@ TEST(Faces, NetgenVolHoldsEverySurfaceFaceWithItsDomains) {
   }
   EXPECT_EQ(back.tet_regions, (std::vector<int32_t>{2, 1}));  // -3 is domain 1, 5 domain 2
   EXPECT_EQ(back.region_names, (std::map<int32_t, std::string>{{1, "region_-3"}, {2, "steel_core"}}));
-  EXPECT_EQ(back.face_tag_names, (std::map<int32_t, std::string>{{21, "base"}}));
+  // A condition a kind of face (its tag and domains), named by its tag.
   ASSERT_EQ(back.tagged_faces.size(), 7u);
   std::map<std::array<uint32_t, 3>, int32_t> tags;
   for (size_t f = 0; f < 7; ++f) {
@@ -1015,10 +1015,20 @@ TEST(Faces, NetgenVolHoldsEverySurfaceFaceWithItsDomains) {
     std::sort(key.begin(), key.end());
     tags[key] = back.face_tags[f];
   }
-  EXPECT_EQ(tags.at({0, 1, 2}), 21);
-  EXPECT_EQ(tags.at({1, 2, 3}), 30);
-  EXPECT_EQ(tags.at({0, 1, 3}), 0);
-  EXPECT_EQ(std::count(back.face_tags.begin(), back.face_tags.end(), 0), 5);
+  EXPECT_EQ(back.face_tag_names.at(tags.at({0, 1, 2})), "base");
+  EXPECT_EQ(back.face_tag_names.at(tags.at({1, 2, 3})), "bc_30");
+  for (const auto& [face, tag] : tags)
+    if (face != std::array<uint32_t, 3>{0, 1, 2} && face != std::array<uint32_t, 3>{1, 2, 3})
+      EXPECT_EQ(back.face_tag_names.at(tag), "default");
+  // In one region, the face between the tetrahedra is a surface element
+  // only while it is tagged.
+  m.region = {5, 5};
+  for (const bool tagged : {true, false}) {
+    if (!tagged) m.faces.pop_back(), m.face_tags.pop_back();
+    for (const auto& [file, text] : render_mesh(m, format_for_path(path), path, {}))
+      std::ofstream(file, std::ios::binary) << text;
+    EXPECT_EQ(read_input(path).tagged_faces.size(), tagged ? 7u : 6u);
+  }
 }
 
 }  // namespace

@@ -38,6 +38,11 @@ std::string vol_text(const std::string& path) {
     r = inflate(&z, Z_NO_FLUSH);
     out.resize(have + room - z.avail_out);
     if (r == Z_BUF_ERROR && z.avail_in == 0) break;  // the input ends inside the stream
+    // (A mesh's text inflates some 4-10 times: far more is not one.)
+    if (out.size() > (size_t{1} << 20) + 256 * bytes.size()) {
+      inflateEnd(&z);
+      throw FormatError(path + ": gzip data inflates to more than 256 times its size: not a Netgen mesh");
+    }
   }
   inflateEnd(&z);
   if (r != Z_STREAM_END)
@@ -61,19 +66,28 @@ int32_t label(const TextCursor& c, uint64_t i, std::string_view field, const cha
   return static_cast<int32_t>(v);
 }
 
-// "number name" records (materials, bcnames): the names by number (the
-// first name a number is given; a record without a name names nothing).
+// "number name" records (materials, bcnames), as Netgen reads them: a
+// number, then the rest of its line the name (blanks inside it kept; blank
+// lines between records skipped). The names by number, the first a number
+// is given; a record without a name names nothing.
 void read_names(TextCursor& c, uint64_t n, std::map<int32_t, std::string>& names) {
-  c.rest_of_line();
-  std::vector<std::pair<int32_t, std::string>> read(n);
-  c.lines(n, [&](uint64_t i, std::string_view line) {
-    std::array<std::string_view, 3> f;
-    const size_t k = split(line, f);
-    if (k == 0) c.fail_line(i, "expected a number and a name");
-    read[i] = {label(c, i, f[0], "a number"), k > 1 ? std::string(f[1]) : std::string()};
-  });
-  for (auto& [number, name] : read)
-    if (!name.empty()) names.emplace(number, std::move(name));
+  for (uint64_t i = 0; i < n; ++i) {
+    const int64_t number = c.number<int64_t>("a number");
+    if (number < INT32_MIN || number > INT32_MAX) c.fail("a number out of the 32-bit range");
+    std::string_view name = c.rest_of_line();
+    const size_t b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t\r");
+    name = b == std::string_view::npos ? std::string_view() : name.substr(b, e - b + 1);
+    if (!name.empty()) names.emplace(static_cast<int32_t>(number), std::string(name));
+  }
+}
+
+// The keywords of the sections read here: a line of another section that is
+// one of them means that section's records are not one a line.
+bool known_keyword(std::string_view word) {
+  for (const char* k : {"points", "volumeelements", "surfaceelements", "surfaceelementsgi",
+                        "surfaceelementsuv", "materials", "bcnames", "endmesh", "dimension", "geomtype"})
+    if (word == k) return true;
+  return false;
 }
 
 }  // namespace
@@ -104,8 +118,20 @@ InputMesh read_netgen_vol(const std::string& path) {
       c.number<int>("a geometry type");
       continue;
     }
-    const uint64_t limit = c.remaining() / 2;  // every record takes two bytes at least
-    const uint64_t n = c.count("a record count", limit);
+    if (keyword == "curvedelements") {
+      // (Netgen's curved geometry, an archive without a record count: read
+      // past up to endmesh.)
+      while (!c.at_end() && c.peek() != "endmesh") c.token("curved elements");
+      other_records[keyword] += 1;
+      continue;
+    }
+    // The fewest bytes a record takes: no section claims more records than
+    // the file can hold before they are read.
+    const uint64_t least = keyword == "points"                        ? 6
+                           : keyword == "volumeelements"              ? 12
+                           : keyword.rfind("surfaceelements", 0) == 0 ? 16
+                                                                      : 2;
+    const uint64_t n = c.count("a record count", c.remaining() / least);
     if (keyword == "points") {
       if (have_points) c.fail("a second 'points' section");
       have_points = true;
@@ -198,10 +224,24 @@ InputMesh read_netgen_vol(const std::string& path) {
       read_names(c, n, out.face_tag_names);
       continue;
     }
+    if (keyword == "identificationtypes") {
+      // (Netgen writes its n types on one line.)
+      for (uint64_t i = 0; i < n; ++i) c.number<int64_t>("an identification type");
+      if (n > 0) other_records[keyword] += n;
+      continue;
+    }
     // Any other section (edge segments, face colours, identifications,
-    // singular points, codimension names, ...): its records, one a line.
+    // singular points, codimension names, ...): its records, one a line,
+    // as Netgen writes them; one that is not ends with an error, not with
+    // the next section taken for its records.
     c.rest_of_line();
-    c.lines(n, [](uint64_t, std::string_view) {});
+    c.lines(n, [&](uint64_t i, std::string_view line) {
+      size_t at = 0;
+      const std::string_view first = next_field(line, at);
+      if (known_keyword(first))
+        c.fail_line(i, "section '" + keyword + "' ends before its " + std::to_string(n) +
+                           " records (its records are not one a line)");
+    });
     if (n > 0) other_records[keyword] += n;
   }
   if (!have_points) c.fail("'endmesh' without a 'points' section");
@@ -289,26 +329,30 @@ std::string render_netgen_vol(const OutputMesh& m) {
   std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) {
     return a.sorted != b.sorted ? a.sorted < b.sorted : a.cell < b.cell;
   });
-  std::map<Face, int32_t> tag_of;
+  std::map<Face, int32_t> tag_of;  // the tagged faces' tags
   for (size_t f = 0; f < m.faces.size(); ++f) {
     Face key = m.faces[f];
     std::sort(key.begin(), key.end());
     tag_of.emplace(key, m.face_tags[f]);
   }
   struct Element {
-    int32_t bc;
+    int64_t tag;  // kUntagged: none
     int domin, domout;
     Face corners;
   };
+  constexpr int64_t kUntagged = int64_t{INT32_MAX} + 1;
   std::vector<Element> surface;
   for (size_t i = 0; i < sides.size();) {
     size_t j = i + 1;
     while (j < sides.size() && sides[j].sorted == sides[i].sorted) ++j;
     const Side* in = &sides[i];
     int domout = 0;
+    const auto tag = tag_of.find(sides[i].sorted);
     if (j - i == 2) {
       const int a = domain(sides[i].cell), b = domain(sides[i + 1].cell);
-      if (a == b) {
+      // (A face inside a domain is a surface element only when tagged:
+      // Netgen keeps such faces with the domain on both sides.)
+      if (a == b && tag == tag_of.end()) {
         i = j;
         continue;
       }
@@ -323,19 +367,22 @@ std::string render_netgen_vol(const OutputMesh& m) {
         {{{1, 2, 3}}, {{0, 3, 2}}, {{0, 1, 3}}, {{0, 2, 1}}}};
     const auto& cell = m.cells[in->cell];
     const auto& order = kAway[in->corner];
-    const auto tag = tag_of.find(in->sorted);
-    surface.push_back({tag == tag_of.end() ? 0 : tag->second,
+    surface.push_back({tag == tag_of.end() ? kUntagged : int64_t{tag->second},
                        domain(in->cell),
                        domout,
                        {cell[order[0]], cell[order[1]], cell[order[2]]}});
     i = j;
   }
-  // One surface number a kind of face (its condition and its two domains),
-  // as Netgen's face descriptors group them.
-  std::map<std::array<int64_t, 3>, int> surface_number;
-  for (const Element& e : surface) surface_number.emplace(std::array<int64_t, 3>{e.bc, e.domin, e.domout}, 0);
-  int next = 0;
-  for (auto& [kind, number] : surface_number) number = ++next;
+  // One number a kind of face (its tag and its two domains), in the order
+  // the kinds first appear: Netgen makes a face descriptor of each kind in
+  // that order, and Netgen 6.2 names face descriptor i by the i-th name of
+  // bcnames where later versions name boundary condition b by the b-th:
+  // with surfnr = bcnr = the descriptor's number, both read the same names.
+  std::map<std::array<int64_t, 3>, int> kind_number;
+  std::vector<int64_t> kind_tag;  // per number - 1
+  for (const Element& e : surface)
+    if (kind_number.emplace(std::array<int64_t, 3>{e.tag, e.domin, e.domout}, kind_tag.size() + 1).second)
+      kind_tag.push_back(e.tag);
 
   std::string out =
       "mesh3d\ndimension\n3\ngeomtype\n0\n\n# surfnr    bcnr   domin  domout      np      p1      p2      "
@@ -345,8 +392,8 @@ std::string render_netgen_vol(const OutputMesh& m) {
   out += '\n';
   append_lines(out, surface.size(), [&](size_t f, std::string& line) {
     const Element& e = surface[f];
-    for (const int64_t v : {int64_t{surface_number.at({e.bc, e.domin, e.domout})}, int64_t{e.bc},
-                            int64_t{e.domin}, int64_t{e.domout}, int64_t{3}}) {
+    const int64_t kind = kind_number.at({e.tag, e.domin, e.domout});
+    for (const int64_t v : {kind, kind, int64_t{e.domin}, int64_t{e.domout}, int64_t{3}}) {
       line += ' ';
       append_number(line, v);
     }
@@ -390,19 +437,21 @@ std::string render_netgen_vol(const OutputMesh& m) {
     }
     out += '\n';
   }
-  // The conditions' names (the tags'), by number.
-  std::map<int32_t, std::string> named;
-  for (const Element& e : surface)
-    if (const auto name = m.face_tag_names.find(e.bc); name != m.face_tag_names.end())
-      named.emplace(e.bc, one_word(name->second));
-  if (!named.empty()) {
-    out += "\nbcnames\n";
-    append_number(out, named.size());
-    out += '\n';
-    for (const auto& [bc, name] : named) {
-      append_number(out, bc);
-      out += ' ' + name + '\n';
+  // Each kind's name: its tag's, "bc_" and its label, or "default" for
+  // the faces without a tag.
+  out += "\nbcnames\n";
+  append_number(out, kind_tag.size());
+  out += '\n';
+  for (size_t k = 0; k < kind_tag.size(); ++k) {
+    append_number(out, k + 1);
+    out += ' ';
+    if (kind_tag[k] == kUntagged) {
+      out += "default";
+    } else {
+      const auto name = m.face_tag_names.find(static_cast<int32_t>(kind_tag[k]));
+      out += one_word(name != m.face_tag_names.end() ? name->second : "bc_" + std::to_string(kind_tag[k]));
     }
+    out += '\n';
   }
   out += "\nendmesh\n";
   return out;

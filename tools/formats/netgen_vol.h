@@ -18,7 +18,8 @@ namespace dtm {
 
 // Points, the 4-node tetrahedra with their material (the regions, named by
 // "materials") and the 3-node surface elements with their boundary
-// condition number (the tagged faces, named by "bcnames"); second-order and
+// condition number (the tagged faces, named by "bcnames"; a name is the
+// rest of its line); second-order and
 // other elements, and the other sections, named as left out. Throws
 // FormatError naming the file and line.
 InputMesh read_netgen_vol(const std::string& path);
@@ -28,9 +29,12 @@ InputMesh read_netgen_vol(const std::string& path);
 // (numbered 1..K in the labels' order, named by the region's name or
 // "region_L"), and every face of the level's surface (its boundary and its
 // interfaces between regions) as a surface element from its domain to the
-// one outside (0) or the higher region, its boundary condition number the
-// face's tag (0 where it has none), named by the tag's name. Names lose
-// their blanks (Netgen reads a name as one word).
+// one outside (0) or the higher region (a tagged face inside a region: that
+// region on both sides); one boundary condition a kind of face (its tag
+// and its two domains), numbered as Netgen numbers its face descriptors and
+// named by the tag's name ("bc_L" without one, "default" for the faces
+// without a tag). Names lose their blanks (Netgen 6.2 reads a name as one
+// word).
 std::string render_netgen_vol(const OutputMesh& mesh);
 
 }  // namespace dtm
