@@ -74,8 +74,6 @@ inline void keep_freed_memory_between_phases() {
 #endif
 }
 
-// An error every rank of an MPI job throws alike, having agreed on it: only
-// the rank told to prints it (rank 0), so that the user reads it once.
 // A command line the tool cannot take, found after parsing (options that
 // contradict each other, a value of the wrong form): exit 2, as CLI11's own.
 class UsageError : public std::invalid_argument {
@@ -83,6 +81,8 @@ class UsageError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+// An error every rank of an MPI job throws alike, having agreed on it: only
+// the rank told to prints it (rank 0), so that the user reads it once.
 class AgreedError : public std::runtime_error {
  public:
   AgreedError(const std::string& what, bool print) : std::runtime_error(what), print_(print) {}
