@@ -357,6 +357,16 @@ TEST_F(Tools, MeshdecsOwnArraysAreNotCodedAgain) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("the point arrays 'level', 'vertex_id' (meshdec's own"), std::string::npos)
       << r.output;
+  // A surface meshdec wrote as PLY has its 'level' alone: meshdec's too
+  // (by the file's comment); its surface decoded again as PLY reads back.
+  const std::string ply = dir_ + "/again.ply", ply_again = dir_ + "/again2.ply";
+  ASSERT_EQ(run_command(kMeshdec + " " + stream_ + " -q -o " + ply).status, 0);
+  r = meshenc(ply + " -o " + dir_ + "/again_ply.dtm");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("the point property 'level' (meshdec's own"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("'level' (float64"), std::string::npos) << r.output;
+  ASSERT_EQ(run_command(kMeshdec + " " + dir_ + "/again_ply.dtm -q -o " + ply_again).status, 0);
+  EXPECT_EQ(meshenc(ply_again + " -q -o " + dir_ + "/again_ply2.dtm").status, 0);
 }
 
 // An error quoting a file's bytes prints its control bytes escaped, never

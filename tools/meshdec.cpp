@@ -71,8 +71,8 @@ void add_options(CLI::App& app, Command& c) {
       ->check(CLI::Range(0, 65535));
   app.add_option("--format", c.format_name,
                  std::string(dtm::kOutputFormatNames) + " (default: from the output's extension)")
-      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "ply", "off",
-                             "xyz", "glb", "gltf", "drc"}));
+      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "vol", "ply",
+                             "off", "xyz", "glb", "gltf", "drc"}));
   app.add_option(
          "--color", c.style.colour,
          "glTF and .drc vertex colours: level (dark = coarsest), boundary, or a field's name (a vector by "
@@ -392,8 +392,8 @@ int run(const Command& c) {
   if (ends_with(c.output, ".pvtu")) return run_pieces(c);
   // (Each rank would decode the same level and write the same file.)
   if (mpi.size() > 1 && !c.output.empty())
-    throw dtm::AgreedError("under mpirun, meshdec writes a level in pieces, one a rank: -o X.pvtu",
-                           mpi.rank() == 0);
+    throw dtm::UsageError("under mpirun, meshdec writes a level in pieces, one a rank: -o X.pvtu",
+                          mpi.rank() == 0);
   if (c.pieces > 0) throw dtm::UsageError("--pieces writes a .pvtu: -o X.pvtu");
   const dtm::MeshFormat format = output_format(c);
   // An option the output does not use is said, not silently dropped.

@@ -702,7 +702,7 @@ int run(Command& c) {
   const dtm::ThreadBudget threads(c.threads, mpi.cores_share(), mpi.cores_lent_at_most());
   if (mpi.size() > 1) {
     if (!c.encode.bricks)
-      throw dtm::UsageError("under mpirun, meshenc writes a bricked stream: add --bricks");
+      throw dtm::UsageError("under mpirun, meshenc writes a bricked stream: add --bricks", mpi.rank() == 0);
     c.encode.exchange = &mpi;
     // Rank 0 prints the table; with -v every rank its phases (its memory).
     if (mpi.rank() != 0) c.quiet = true;

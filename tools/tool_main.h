@@ -76,9 +76,15 @@ inline void keep_freed_memory_between_phases() {
 
 // A command line the tool cannot take, found after parsing (options that
 // contradict each other, a value of the wrong form): exit 2, as CLI11's own.
+// Under mpirun every rank throws it; `print`: this one says it (rank 0).
 class UsageError : public std::invalid_argument {
  public:
-  using std::invalid_argument::invalid_argument;
+  explicit UsageError(const std::string& what, bool print = true)
+      : std::invalid_argument(what), print_(print) {}
+  bool print() const { return print_; }
+
+ private:
+  bool print_;
 };
 
 // An error every rank of an MPI job throws alike, having agreed on it: only
@@ -129,7 +135,7 @@ int tool_main(const char* tool, const char* description, const char* examples, i
     }
     return run(command);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());
+    if (e.print()) std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());
     return 2;
   } catch (const AgreedError& e) {
     if (e.print()) std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());

@@ -61,14 +61,14 @@ std::vector<std::vector<uint8_t>> encode_cell_value_chunks(
 // the chunk (its index), if a section is damaged, does not end where its
 // bytes do, is there without kept cells or missing with them, or a kept
 // cell's brick has no chunk (`chunk_of_cell`: kNoCarvingChunk).
-// Each kept cell's place among the kept cells in index order (0 for a cell
-// not kept), the order decode_cell_value_chunks() gives their values in;
-// `count`: how many are kept.
-std::vector<uint32_t> kept_cell_slots(std::span<const uint8_t> kept, uint64_t& count);
 Status decode_cell_value_chunks(std::span<const FieldDescription> fields,
                                 std::span<const std::span<const uint8_t>> sections, const TetMesh& dt,
                                 std::span<const GridPoint> points, const ChunkCells& chunks,
                                 std::span<const uint32_t> chunk_of_cell, std::span<const uint8_t> kept,
                                 std::vector<FieldValues>& out);
+// Each kept cell's place among the kept cells in index order (0 for a cell
+// not kept), the order decode_cell_value_chunks() gives their values in;
+// `count`: how many are kept.
+std::vector<uint32_t> kept_cell_slots(std::span<const uint8_t> kept, uint64_t& count);
 
 }  // namespace dtm

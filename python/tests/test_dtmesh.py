@@ -544,6 +544,8 @@ def test_meshio_reads_meshdecs_surfaces_with_their_types(tmp_path):
     assert m.point_data["level"].dtype == np.int32
     values = {tuple(p): v for p, v in zip(level.points, level.fields["value"])}
     assert all(values[tuple(p)] == v for p, v in zip(m.points, m.point_data["value"]))
+    levels = {tuple(p): v for p, v in zip(level.points, level.vertex_levels)}
+    assert all(levels[tuple(p)] == v for p, v in zip(m.points, m.point_data["level"]))
 
 
 def test_encoding_and_decoding_release_the_gil():

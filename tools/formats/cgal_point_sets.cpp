@@ -110,7 +110,8 @@ void check_off_count(const std::string& path, size_t read) {
 // pointer (undefined behaviour, both found by fuzzing); an element count is
 // reserved as announced (a few bytes can announce 4 billion vertices). The
 // header is checked here first; the data stays CGAL's to read.
-void check_ply_header(const std::string& path) {
+// Checks the header; true when meshdec wrote the file (its comment line).
+bool check_ply_header(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   in.seekg(0, std::ios::end);
   const auto file_size = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
@@ -122,6 +123,7 @@ void check_ply_header(const std::string& path) {
   std::string line, element;
   std::set<std::string> property_names;  // "element.property"
   int vertex_elements = 0, coordinates = 0;
+  bool by_meshdec = false;
   for (int number = 1; std::getline(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::string where = path + ":" + std::to_string(number) + ": ";
@@ -135,8 +137,9 @@ void check_ply_header(const std::string& path) {
     if (keyword == "end_header") {
       if (vertex_elements != 1 || coordinates != 3)
         throw FormatError(path + ": the PLY header needs one 'vertex' element with float or double x, y, z");
-      return;
+      return by_meshdec;
     }
+    if (keyword == "comment" && line.rfind("comment written by dtmesh", 0) == 0) by_meshdec = true;
     if (keyword == "comment" || keyword == "obj_info" || keyword == "format") continue;
     if (keyword == "element") {
       std::string name, count_text, extra;
@@ -206,7 +209,7 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
   if (!in) throw FormatError(path + ": cannot open file");
   if (in.peek() == std::ifstream::traits_type::eof()) throw FormatError(path + ": empty file");
   InputMesh out;
-  bool ok = false;
+  bool ok = false, by_meshdec = false;
   std::string cgal_said;
   {
     const HeldCerr held;
@@ -227,7 +230,7 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
       PointSet ps;
       switch (format) {
         case PointSetFormat::kPly:
-          check_ply_header(path);
+          by_meshdec = check_ply_header(path);
           ok = CGAL::IO::read_PLY(in, ps);
           break;
         case PointSetFormat::kOff:
@@ -248,6 +251,11 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
                       (cgal_said.empty() ? std::string() : ": \"" + cgal_said + "\"") + "; expected " +
                       expectations(format) + ")");
   if (out.points.empty()) throw FormatError(path + ": no vertices");
+  // A surface meshdec wrote carries its own 'level' (each vertex's coarsest
+  // level), which a decoder makes again: not a field of the input's (else a
+  // decoded mesh would hold two).
+  if (by_meshdec && std::erase_if(out.fields, [](const VertexField& f) { return f.name == "level"; }) > 0)
+    out.left_out.push_back("the point property 'level' (meshdec's own: the decoder makes it again)");
   for (size_t i = 0; i < out.points.size(); ++i) {
     const InputPoint& p = out.points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))

@@ -22,7 +22,7 @@ struct BoundarySurface {
 BoundarySurface boundary_surface(const OutputMesh& mesh);
 
 // binary_little_endian PLY: float64 x y z (+ int level when present), faces
-// as "list uchar int vertex_indices".
+// as "list uint8 int vertex_indices".
 std::string render_ply(const OutputMesh& mesh);
 // ASCII OFF, coordinates that read back to the same doubles.
 std::string render_off(const OutputMesh& mesh);
