@@ -24,7 +24,7 @@ namespace dtm {
 // FormatError naming the file and line.
 InputMesh read_netgen_vol(const std::string& path);
 
-// What Netgen (and NGSolve's Mesh("x.vol")) loads: the points, the
+// What Netgen loads (and NGSolve's Mesh("x.vol") through it): the points, the
 // tetrahedra in Netgen's orientation with their region as the material
 // (numbered 1..K in the labels' order, named by the region's name or
 // "region_L"), and every face of the level's surface (its boundary and its
