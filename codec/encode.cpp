@@ -271,26 +271,20 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   // The value tables (a lossy field's bound may be too small for its values:
   // on ranks, refused by all of them together).
   Status tables = Status::Ok();
-  std::optional<FieldSectionEncoder> values;
-  if (!fields.empty()) {
-    auto made = FieldSectionEncoder::make(std::move(fields));
-    if (made.ok()) {
-      values.emplace(std::move(made).value());
-      in.values = &*values;
-    } else {
+  const auto make_table = [&](std::vector<FieldValues> of, std::optional<FieldSectionEncoder>& table,
+                              const FieldSectionEncoder*& used) {
+    if (of.empty() || !tables.ok()) return;
+    auto made = FieldSectionEncoder::make(std::move(of));
+    if (!made.ok()) {
       tables = made.status();
+      return;
     }
-  }
-  std::optional<FieldSectionEncoder> cell_values;  // per reference tetrahedron
-  if (!cell_fields.empty() && tables.ok()) {
-    auto made = FieldSectionEncoder::make(std::move(cell_fields));
-    if (made.ok()) {
-      cell_values.emplace(std::move(made).value());
-      in.cell_values = &*cell_values;
-    } else {
-      tables = made.status();
-    }
-  }
+    table.emplace(std::move(made).value());
+    used = &*table;
+  };
+  std::optional<FieldSectionEncoder> values, cell_values;  // cell_values: per reference tetrahedron
+  make_table(std::move(fields), values, in.values);
+  make_table(std::move(cell_fields), cell_values, in.cell_values);
   if (options.exchange && options.exchange->size() > 1) tables = agreed(*options.exchange, tables);
   DTM_RETURN_IF_ERROR(tables);
   BrickedEncodeOptions o;

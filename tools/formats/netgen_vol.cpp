@@ -66,6 +66,74 @@ int32_t label(const TextCursor& c, uint64_t i, std::string_view field, const cha
   return static_cast<int32_t>(v);
 }
 
+// An element section's record layout: the integers before the point count
+// (what each is; the one at `label` kept), then the points.
+struct ElementLayout {
+  std::array<const char*, 4> head;  // nullptr after the last
+  size_t label;
+  const char* what;          // "a volume element"
+  int least, most;           // the point counts Netgen writes
+  int linear, second_order;  // the point counts of a linear and a second-order element
+  bool exact;                // no fields after the points (surface records may carry geometry)
+};
+constexpr ElementLayout kVolumeElement{
+    {"a material number", nullptr, nullptr, nullptr}, 0, "a volume element", 4, 20, 4, 10, true};
+constexpr ElementLayout kSurfaceElement{
+    {"a surface number", "a boundary condition number", "a domain number", "a domain number"},
+    1,
+    "a surface element",
+    3,
+    8,
+    3,
+    6,
+    false};
+
+// An element section's records, one a line, read on every core: of each
+// linear element its first N points (1-based, checked against the points
+// once they are read) with its line, and its label; the second-order and
+// other elements counted.
+template <size_t N>
+void read_elements(TextCursor& c, uint64_t n, const ElementLayout& l,
+                   std::vector<std::array<int64_t, N>>& corners, std::vector<uint64_t>& lines,
+                   std::vector<int32_t>& labels, uint64_t& second_order, uint64_t& other) {
+  c.rest_of_line();
+  const uint64_t first_line = c.mark().line;
+  size_t head = 0;
+  while (head < l.head.size() && l.head[head]) ++head;
+  std::vector<std::array<int64_t, N>> read(n);
+  std::vector<int32_t> label_of(n);
+  std::vector<uint8_t> kind(n);  // 0 linear, 1 second-order, 2 other
+  c.lines(n, [&](uint64_t i, std::string_view line) {
+    std::array<std::string_view, 40> f;
+    const size_t k = split(line, f);
+    if (k < head + 1)
+      c.fail_line(i, std::string("expected ") + l.what + "'s numbers, a point count and the points");
+    for (size_t h = 0; h < head; ++h) {
+      const int32_t v = label(c, i, f[h], l.head[h]);
+      if (h == l.label) label_of[i] = v;
+    }
+    const int32_t np = label(c, i, f[head], "a point count");
+    const size_t fields = head + 1 + static_cast<size_t>(std::max(np, 0));
+    if (np < l.least || np > l.most || (l.exact ? k != fields : k < fields))
+      c.fail_line(i, std::string(l.what) + " of " + std::string(f[head]) + " points needs as many indices");
+    for (size_t p = 0; p < static_cast<size_t>(np); ++p) {
+      int64_t v = 0;
+      if (!parse_whole(f[head + 1 + p], v) || v < 1)
+        c.fail_line(i, "expected a point index, found '" + std::string(f[head + 1 + p]) + "'");
+      if (p < N) read[i][p] = v;
+    }
+    kind[i] = np == l.linear ? 0 : np == l.second_order ? 1 : 2;
+  });
+  for (uint64_t i = 0; i < n; ++i) {
+    second_order += kind[i] == 1;
+    other += kind[i] == 2;
+    if (kind[i] != 0) continue;
+    corners.push_back(read[i]);
+    lines.push_back(first_line + i);
+    labels.push_back(label_of[i]);
+  }
+}
+
 // "number name" records (materials, bcnames), as Netgen reads them: a
 // number, then the rest of its line the name (blanks inside it kept; blank
 // lines between records skipped). The names by number, the first a number
@@ -150,70 +218,13 @@ InputMesh read_netgen_vol(const std::string& path) {
       continue;
     }
     if (keyword == "volumeelements") {
-      c.rest_of_line();
-      const uint64_t first_line = c.mark().line;
-      std::vector<std::array<int64_t, 5>> read(n);  // matnr, then 4 corners (0: not a 4-node tetrahedron)
-      std::vector<uint8_t> kind(n);                 // 0 tetrahedron, 1 second-order tetrahedron, 2 other
-      c.lines(n, [&](uint64_t i, std::string_view line) {
-        std::array<std::string_view, 24> f;
-        const size_t k = split(line, f);
-        if (k < 2) c.fail_line(i, "expected a material, a point count and the points");
-        const int32_t mat = label(c, i, f[0], "a material number");
-        const int32_t np = label(c, i, f[1], "a point count");
-        if (np < 4 || np > 20 || k != 2 + static_cast<size_t>(np))
-          c.fail_line(i, "a volume element of " + std::string(f[1]) + " points needs as many indices");
-        read[i][0] = mat;
-        for (size_t p = 0; p < static_cast<size_t>(np); ++p) {
-          int64_t v = 0;
-          if (!parse_whole(f[2 + p], v) || v < 1)
-            c.fail_line(i, "expected a point index, found '" + std::string(f[2 + p]) + "'");
-          if (p < 4) read[i][1 + p] = v;
-        }
-        kind[i] = np == 4 ? 0 : np == 10 ? 1 : 2;
-      });
-      for (uint64_t i = 0; i < n; ++i) {
-        if (kind[i] == 1) ++second_order_tets;
-        if (kind[i] == 2) ++other_volume;
-        if (kind[i] != 0) continue;
-        raw_tets.push_back({read[i][1], read[i][2], read[i][3], read[i][4]});
-        tet_lines.push_back(first_line + i);
-        out.tet_regions.push_back(static_cast<int32_t>(read[i][0]));
-      }
+      read_elements<4>(c, n, kVolumeElement, raw_tets, tet_lines, out.tet_regions, second_order_tets,
+                       other_volume);
       continue;
     }
     if (keyword == "surfaceelements" || keyword == "surfaceelementsgi" || keyword == "surfaceelementsuv") {
-      c.rest_of_line();
-      const uint64_t first_line = c.mark().line;
-      std::vector<std::array<int64_t, 4>> read(n);  // bcnr, then 3 corners
-      std::vector<uint8_t> kind(n);
-      c.lines(n, [&](uint64_t i, std::string_view line) {
-        std::array<std::string_view, 40> f;
-        const size_t k = split(line, f);
-        if (k < 5) c.fail_line(i, "expected surfnr, bcnr, domin, domout, a point count and the points");
-        label(c, i, f[0], "a surface number");
-        read[i][0] = label(c, i, f[1], "a boundary condition number");
-        label(c, i, f[2], "a domain number");
-        label(c, i, f[3], "a domain number");
-        const int32_t np = label(c, i, f[4], "a point count");
-        // (gi and uv records carry each point's geometry after the points.)
-        if (np < 3 || np > 8 || k < 5 + static_cast<size_t>(np))
-          c.fail_line(i, "a surface element of " + std::string(f[4]) + " points needs as many indices");
-        for (size_t p = 0; p < static_cast<size_t>(np); ++p) {
-          int64_t v = 0;
-          if (!parse_whole(f[5 + p], v) || v < 1)
-            c.fail_line(i, "expected a point index, found '" + std::string(f[5 + p]) + "'");
-          if (p < 3) read[i][1 + p] = v;
-        }
-        kind[i] = np == 3 ? 0 : np == 6 ? 1 : 2;
-      });
-      for (uint64_t i = 0; i < n; ++i) {
-        if (kind[i] == 1) ++second_order_faces;
-        if (kind[i] == 2) ++other_faces;
-        if (kind[i] != 0) continue;
-        raw_faces.push_back({read[i][1], read[i][2], read[i][3]});
-        face_lines.push_back(first_line + i);
-        out.face_tags.push_back(static_cast<int32_t>(read[i][0]));
-      }
+      read_elements<3>(c, n, kSurfaceElement, raw_faces, face_lines, out.face_tags, second_order_faces,
+                       other_faces);
       continue;
     }
     if (keyword == "materials") {
