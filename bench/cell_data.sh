@@ -87,7 +87,8 @@ run cells.lossy "$enc" cells.vtu -o cells.lossy.dtm --report cells.lossy.json --
 run cells.without "$enc" cells.vtu -o cells.without.dtm --report cells.without.json --no-cell-data
 run cells.decode "$dec" cells.with.dtm -o cells.decoded.vtu -q
 run cells.decode_without "$dec" cells.without.dtm -o cells.decoded_without.vtu -q
-# In bricks (16.0; a bricked stream carries no tagged faces yet).
+# In bricks (16.0; without the tagged faces, so that the bytes are the cell
+# data's and the cells').
 run bricks.with "$enc" cells.vtu --bricks -o bricks.with.dtm --report bricks.with.json --no-face-tags
 run bricks.without "$enc" cells.vtu --bricks -o bricks.without.dtm --report bricks.without.json --no-cell-data \
   --no-face-tags

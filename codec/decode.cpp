@@ -410,12 +410,42 @@ std::vector<uint8_t> ProgressiveDecoder::face_tags(const TetMesh& dt, std::span<
     tag.assign(surface.faces.size(), 1);
     return tag;
   }
-  const Status s = decode_face_tags(face_section_, surface, face_tags_.size(), tag);
+  const Status s = header_.flags & kFlagBricks
+                       ? bricked_face_tags(dt, kept, surface, tag)
+                       : decode_face_tags(face_section_, surface, face_tags_.size(), tag);
   if (!s.ok()) {
     mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
     return {};
   }
   return tag;
+}
+
+Status ProgressiveDecoder::bricked_face_tags(const TetMesh& dt, std::span<const uint8_t> kept,
+                                             const SurfaceFaces& surface, std::vector<uint8_t>& tag) const {
+  // (17.0: each chunk's faces' tags, after its regions; a surface face's
+  // tag is in the chunk of the cell the surface takes it from.)
+  const BrickedCells b = bricked_cells(dt);
+  const ChunkCells cells = chunk_cells(dt, b.chunk_of_cell, chunks_.size(), b.vertex_rank);
+  const ChunkFaces faces = chunk_faces(dt, cells, b.chunk_of_cell, kept, b.vertex_rank);
+  std::vector<uint8_t> label;
+  DTM_RETURN_IF_ERROR(
+      decode_face_chunks(chunk_sections(&ChunkBytes::faces), faces, face_tags_.size(), label));
+  // The tagged ones by their cell's face, and the surface's.
+  std::vector<std::pair<uint64_t, uint8_t>> tagged;
+  for (size_t f = 0; f < faces.faces.size(); ++f)
+    if (label[f] > 1)
+      tagged.emplace_back(uint64_t{faces.faces[f].cell} * 4 + faces.faces[f].opposite, label[f]);
+  std::sort(tagged.begin(), tagged.end());
+  tag.assign(surface.faces.size(), 1);
+  size_t found = 0;
+  for (size_t f = 0; f < surface.faces.size(); ++f) {
+    const uint64_t key = uint64_t{surface.faces[f].cell} * 4 + surface.faces[f].opposite;
+    const auto it = std::lower_bound(tagged.begin(), tagged.end(), std::pair<uint64_t, uint8_t>{key, 0});
+    if (it != tagged.end() && it->first == key) tag[f] = it->second, ++found;
+  }
+  if (found != tagged.size())
+    return {StatusCode::kCorrupt, "a tag on a face that the level's surface does not take from its chunk"};
+  return Status::Ok();
 }
 
 std::vector<FieldValues> ProgressiveDecoder::cell_data(const TetMesh& dt, std::span<const uint8_t> kept,

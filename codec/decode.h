@@ -143,7 +143,8 @@ class ProgressiveDecoder {
   // label and name of each region index. Empty without regions.
   const std::vector<RegionLabel>& regions() const { return regions_; }
   // The finest level's surface (`kept`: carving()'s result for `dt`) and
-  // each face's tag (9.0, flag faces; spec/FORMAT.md §3.7): 1 + its index
+  // each face's tag (9.0, flag faces; spec/FORMAT.md §3.7; bricked, 17.0:
+  // §3.5): 1 + its index
   // in face_tag_table(), 1 = no tag (every face, without the flag). Empty
   // and mesh_status() set if the section is damaged.
   std::vector<uint8_t> face_tags(const TetMesh& dt, std::span<const uint8_t> kept,
@@ -184,6 +185,9 @@ class ProgressiveDecoder {
   BrickedCells bricked_cells(const TetMesh& dt) const;
   // The sections of the finest layer's chunks that `part` picks.
   std::vector<std::span<const uint8_t>> chunk_sections(std::span<const uint8_t> ChunkBytes::*part) const;
+  // A bricked level's tags of `surface` (17.0), from its chunks' faces.
+  Status bricked_face_tags(const TetMesh& dt, std::span<const uint8_t> kept, const SurfaceFaces& surface,
+                           std::vector<uint8_t>& tag) const;
 
   DecoderOptions options_;
   std::vector<uint8_t> pending_;  // bytes received and not yet consumed

@@ -233,7 +233,7 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
                                        const EncodePlan& plan, std::span<const std::array<uint32_t, 4>> tets,
                                        std::span<const uint8_t> tet_regions, const Solid* voxels,
                                        std::vector<FieldValues> fields, std::vector<FieldValues> cell_fields,
-                                       EncodedMesh out, const LevelReady& on_level) {
+                                       const FaceTagger* faces, EncodedMesh out, const LevelReady& on_level) {
   if (!options.carve_to_reference)
     return invalid_input(
         "bricked layers (--bricks) need the codec preset: its levels carve to the input's solid");
@@ -268,6 +268,8 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   in.reference_tets_done = input.tetrahedra_done;
   in.voxels = voxels;
   in.share = share;
+  in.faces = faces;
+  if (faces) in.face_tags = report.face_tags;
   // The value tables (a lossy field's bound may be too small for its values:
   // on ranks, refused by all of them together).
   Status tables = Status::Ok();
@@ -313,6 +315,11 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
   report.carving_bytes = std::move(encoded.carving_bytes);
   if (!report.regions.empty()) report.region_bytes = std::move(encoded.region_bytes);
   report.region_table_bytes = encoded.region_table_bytes;
+  if (faces) {
+    report.face_bytes = std::move(encoded.face_bytes);
+    report.face_table_bytes = encoded.face_table_bytes;
+    report.tagged_faces_kept = encoded.tagged_faces_kept;
+  }
   report.candidate_bytes.assign(L, 0);
   report.candidate_points.assign(L, 0);
   report.value_bytes = std::move(encoded.value_bytes);
@@ -482,7 +489,6 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
       if (input.face_tags.size() != input.tagged_faces.size())
         return invalid_input("a tag is needed for every face");
       if (input.tetrahedra.empty()) return invalid_input("tagged faces need the tetrahedra they bound");
-      if (options.bricks) return invalid_input("bricked streams do not carry tagged faces yet");
       if (!options.carve_to_reference)
         return invalid_input(
             "tagged faces need the levels carved to the input's solid (not the paper preset)");
@@ -574,8 +580,14 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   // The tagged faces: the tags in ascending order make the table; each face
   // is labelled 2 + its tag's index (1: no tag), on the grid.
   std::optional<FaceTagger> tagger;
+  std::vector<int32_t> face_distinct = distinct_labels(input.face_tags);
+  // (On the ranks of a bricked run, the table is of every rank's tags, and
+  // every rank asks: one given no tagged face refuses with the others, in
+  // encode_bricked()'s check.)
+  if (options.bricks && options.exchange && options.exchange->size() > 1)
+    face_distinct = labels_of_every_rank(*options.exchange, face_distinct);
   if (with_faces) {
-    const std::vector<int32_t> distinct = distinct_labels(input.face_tags);
+    const std::vector<int32_t>& distinct = face_distinct;
     if (distinct.size() > kMaxFaceTags)
       return invalid_input("the input's faces have " + std::to_string(distinct.size()) +
                            " tags; a stream holds at most " + std::to_string(kMaxFaceTags));
@@ -614,7 +626,8 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
     std::vector<FieldValues> tet_values = reference_cell_values(
         input, cell_descriptions, source, reference_tets.size(), [](size_t t) { return t; });
     return encode_in_bricks(input, options, plan, reference_tets, region_index, voxels ? &*voxels : nullptr,
-                            std::move(fields), std::move(tet_values), std::move(out), on_level);
+                            std::move(fields), std::move(tet_values), tagger ? &*tagger : nullptr,
+                            std::move(out), on_level);
   }
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;

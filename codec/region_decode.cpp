@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "codec/sections/carving_coder.h"
+#include "codec/sections/face_coder.h"
 #include "codec/stream/layer_coder.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
@@ -95,11 +96,16 @@ namespace {
 
 // The region's result from cells over vertices numbered globally: only the
 // cells' vertices, ascending number; cells in canonical order.
-// `cell_regions` and `cell_values`: per cell, or none.
+// `cell_regions` and `cell_values`: per cell, or none. `faces` (corners
+// among the cells') and `face_labels`: the tagged faces, ascending.
+struct TaggedFaces {
+  std::vector<std::array<uint32_t, 3>> faces;
+  std::vector<uint8_t> labels;
+};
 void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
              std::span<const int32_t> levels, std::span<const FieldValues> values,
              std::vector<std::array<uint32_t, 4>> cells, std::vector<uint8_t> cell_regions,
-             std::span<const FieldValues> cell_values, RegionMesh& out) {
+             std::span<const FieldValues> cell_values, TaggedFaces faces, RegionMesh& out) {
   std::vector<uint8_t> in_a_cell(points.size(), 0);
   for (const auto& c : cells)
     for (uint32_t v : c) in_a_cell[v] = 1;
@@ -123,6 +129,19 @@ void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
   for (auto& c : cells) {
     for (uint32_t& v : c) v = local[v];
     std::sort(c.begin(), c.end());
+  }
+  // The faces in the new numbering, turned as they were, ascending.
+  for (auto& f : faces.faces) {
+    for (uint32_t& v : f) v = local[v];
+    std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+  }
+  std::vector<uint32_t> by_face(faces.faces.size());
+  std::iota(by_face.begin(), by_face.end(), 0u);
+  std::sort(by_face.begin(), by_face.end(),
+            [&](uint32_t a, uint32_t b) { return faces.faces[a] < faces.faces[b]; });
+  for (uint32_t k : by_face) {
+    out.faces.push_back(faces.faces[k]);
+    out.face_labels.push_back(faces.labels[k]);
   }
   // The cells ascending, each with its region (if any).
   std::vector<uint32_t> by_cell(cells.size());
@@ -216,8 +235,21 @@ RegionMesh region_of(const ProgressiveDecoder& decoder, const GridBox& box) {
     if (numbering.size() == ids.size())
       for (uint32_t k = 0; k < numbering.size(); ++k) ids[numbering[k]] = k;
   }
+  // The tagged faces of those cells.
+  TaggedFaces faces;
+  if (decoder.mesh_status().ok() && (decoder.header().flags & kFlagFaces)) {
+    out.face_tags = decoder.face_tag_table();
+    SurfaceFaces surface;
+    const std::vector<uint8_t> tag = decoder.face_tags(level.mesh, level.kept, surface);
+    for (size_t f = 0; f < tag.size(); ++f)
+      if (tag[f] > 1 && cell_meets(points, level.mesh.cells[surface.faces[f].cell], box)) {
+        faces.faces.push_back(
+            outward_triangle(level.mesh, points, {surface.faces[f].cell, surface.faces[f].opposite}));
+        faces.labels.push_back(tag[f]);
+      }
+  }
   compact(points, ids, decoder.vertex_levels(), decoder.fields(), std::move(cells), std::move(cell_regions),
-          cell_values, out);
+          cell_values, std::move(faces), out);
   out.points_decoded = points.size();
   return out;
 }
@@ -230,6 +262,7 @@ struct StreamPlan {
   StreamHeader header;
   std::vector<FieldDescription> fields;       // with flag values: the field table
   std::vector<RegionLabel> regions;           // with flag regions: the region table
+  std::vector<RegionLabel> face_tags;         // with flag faces (17.0): the face tag table
   std::vector<FieldDescription> cell_fields;  // with flag cell_data: the cell field table
   uint64_t table_bytes = 0;                   // the tables' (where the first layer starts)
   std::vector<LayerPlan> layers;              // coarsest first; the last is the level's
@@ -292,9 +325,9 @@ Status read_framed_table(Reader& reader, StreamPlan& plan, const std::string& na
 Status read_plan(Reader& reader, int level, const DecoderOptions& options, StreamPlan& plan) {
   const int q = plan.header.grid.qbits;
   std::vector<uint8_t> bytes;
-  // The field table (flag values), the region table (flag regions), then
-  // the cell field table (flag cell_data, 16.0); a bricked stream carries
-  // no face tag table (format.cpp refuses it).
+  // The field table (flag values), the region table (flag regions), the
+  // face tag table (flag faces, 17.0), then the cell field table (flag
+  // cell_data, 16.0).
   if (plan.header.flags & kFlagValues)
     DTM_RETURN_IF_ERROR(read_framed_table(reader, plan, "field table", uint64_t{1} << 20,
                                           [&](std::span<const uint8_t> b, size_t& consumed) {
@@ -305,6 +338,15 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
                                           [&](std::span<const uint8_t> b, size_t& consumed) {
                                             return parse_region_table(b, plan.regions, consumed);
                                           }));
+  if (plan.header.flags & kFlagFaces)
+    DTM_RETURN_IF_ERROR(read_framed_table(
+        reader, plan, "face tag table", uint64_t{1} << 16, [&](std::span<const uint8_t> b, size_t& consumed) {
+          const Status s = parse_region_table(b, plan.face_tags, consumed);
+          if (s.ok() && plan.face_tags.size() > kMaxFaceTags)
+            return Status{StatusCode::kCorrupt,
+                          "face tag table: more than " + std::to_string(kMaxFaceTags) + " tags"};
+          return s.with_context("face tags");
+        }));
   if (plan.header.flags & kFlagCellData)
     DTM_RETURN_IF_ERROR(read_framed_table(reader, plan, "cell field table", uint64_t{1} << 20,
                                           [&](std::span<const uint8_t> b, size_t& consumed) {
@@ -354,6 +396,7 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
 void declare_arrays(const StreamPlan& plan, int level, RegionMesh& out) {
   for (const FieldDescription& f : plan.fields) out.fields.push_back({f, {}});
   if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
+  if (plan.header.flags & kFlagFaces) out.face_tags = plan.face_tags;
   if (level == 0)
     for (const FieldDescription& f : plan.cell_fields) out.cell_fields.push_back({f, {}});
 }
@@ -492,6 +535,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
     return Status::Ok();
   }
   if (plan.header.flags & kFlagRegions) out.regions = plan.regions;
+  if (plan.header.flags & kFlagFaces) out.face_tags = plan.face_tags;
   DTM_ASSIGN_OR_RETURN(TetMesh dt, delaunay_tetrahedralize(local_points));
 
   // Each cell's owner brick; the carving of the owners' chunks.
@@ -502,6 +546,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
   std::vector<uint8_t> kept, cell_regions;
   std::vector<FieldValues> cell_values;  // per owned kept cell of dt (ascending), with cell data
   std::vector<uint32_t> cell_slot;       // each owned kept cell's place in cell_values
+  std::vector<uint8_t> face_label;       // per cell of dt x 4 + corner: its face's tag, with tagged faces
   if (plan.header.flags & kFlagCarvingCorrections) {
     // The owners' chunks' sections that `part` picks.
     const auto owned_sections = [&](std::span<const uint8_t> ChunkBytes::*part) {
@@ -553,23 +598,40 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
       DTM_RETURN_IF_ERROR(decode_region_chunks(owned_sections(&ChunkBytes::regions), dt, chunks,
                                                chunk_of_cell, plan.regions.size(), owned)
                               .with_context(finest.where()));
-      cell_regions = std::move(owned);
     }
+    // (17.0) The owners' cells' faces' tags, from the same chunks.
+    if (plan.header.flags & kFlagFaces) {
+      const ChunkFaces faces = chunk_faces(dt, chunks, chunk_of_cell, owned, morton_ranks(codes));
+      std::vector<uint8_t> label;
+      DTM_RETURN_IF_ERROR(
+          decode_face_chunks(owned_sections(&ChunkBytes::faces), faces, plan.face_tags.size(), label)
+              .with_context(finest.where()));
+      face_label.assign(dt.cells.size() * 4, 1);
+      for (size_t f = 0; f < faces.faces.size(); ++f)
+        face_label[size_t{faces.faces[f].cell} * 4 + faces.faces[f].opposite] = label[f];
+    }
+    if (plan.header.flags & kFlagRegions) cell_regions = std::move(owned);
   } else {
     kept = carve(dt, local_points, finest.header.alpha);
   }
   std::vector<std::array<uint32_t, 4>> cells;
   std::vector<uint8_t> regions_of_cells;
   std::vector<FieldValues> values_of_cells = empty_like(cell_values);
+  TaggedFaces faces;
   for (size_t c = 0; c < dt.cells.size(); ++c)
     if (kept[c] && owner[c] != kNoBrick && owners.owns(owner[c]) &&
         (!box || cell_meets(local_points, dt.cells[c], *box))) {
       cells.push_back(dt.cells[c]);
       if (!cell_regions.empty()) regions_of_cells.push_back(cell_regions[c]);
       if (!cell_values.empty()) append_cell(cell_values, cell_slot[c], values_of_cells);
+      for (uint8_t k = 0; k < 4 && !face_label.empty(); ++k)
+        if (face_label[c * 4 + k] > 1) {
+          faces.faces.push_back(outward_triangle(dt, local_points, {static_cast<uint32_t>(c), k}));
+          faces.labels.push_back(face_label[c * 4 + k]);
+        }
     }
   compact(local_points, local_ids, local_levels, local_values, std::move(cells), std::move(regions_of_cells),
-          values_of_cells, out);
+          values_of_cells, std::move(faces), out);
   return Status::Ok();
 }
 

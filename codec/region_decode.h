@@ -91,6 +91,12 @@ struct RegionMesh {
   // At level 0 of a stream with cell data (flag cell_data): each array's
   // values, cell-major in the order of `cells`.
   std::vector<FieldValues> cell_fields;
+  // With tagged faces (flag faces; bricked streams 17.0): the face tag
+  // table, and the level's tagged surface faces of `cells` (indexing
+  // points, turned out of their cell), each with 1 + its tag's index.
+  std::vector<RegionLabel> face_tags;
+  std::vector<std::array<uint32_t, 3>> faces;
+  std::vector<uint8_t> face_labels;
   // What it took: bytes read from the source, chunks decoded, points decoded.
   uint64_t bytes_read = 0;
   uint64_t chunks_read = 0;

@@ -172,6 +172,9 @@ INSTANTIATE_TEST_SUITE_P(Format15_0, GoldenStream, ::testing::Values("two_materi
 // 16.0: the torus's cell data in bricked layers, a cell value section in
 // each of level 0's chunks.
 INSTANTIATE_TEST_SUITE_P(Format16_0, GoldenStream, ::testing::Values("torus_288_cells_bricks"));
+// 17.0: the gmsh part's tagged faces in bricked layers, a face section in
+// each chunk.
+INSTANTIATE_TEST_SUITE_P(Format17_0, GoldenStream, ::testing::Values("two_materials_bricks_faces"));
 // 14.0 to 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
 // cell hash is theirs, as the encoder hashed the input's cells), its apexes
 // ranked among the candidates that fit (12.0), with the filled bits in the

@@ -29,6 +29,7 @@
 #include "core/reference_shape.h"
 #include "mesh/carving.h"
 #include "mesh/delaunay.h"
+#include "mesh/predicates.h"
 #include "mesh/topology.h"
 #include "test_support.h"
 #include "thread_ranks.h"
@@ -689,10 +690,83 @@ TaggedFaces tag_sides(const RegionInput& in) {
   return t;
 }
 
-TEST(Faces, EveryLevelsSurfaceCarriesTheTagsOfItsPatches) {
-  const RegionInput in = three_materials(2500, 11);
-  const TaggedFaces tagged = tag_sides(in);
-  ASSERT_GT(tagged.faces.size(), 100u);
+// The input's tagged triangles: on the grid (sorted corners) with their
+// tags, and in the input's units for distances.
+struct TagPatches {
+  std::map<std::array<GridPoint, 3>, int32_t> tag_of;
+  std::vector<std::pair<std::array<Vec, 3>, int32_t>> surface;
+};
+TagPatches tag_patches(const RegionInput& in, const TaggedFaces& tagged) {
+  const QuantizedPoints q = quantize(in.points, 14).value();
+  TagPatches p;
+  for (size_t i = 0; i < tagged.faces.size(); ++i) {
+    std::array<GridPoint, 3> k;
+    std::array<Vec, 3> corners;
+    for (size_t j = 0; j < 3; ++j) {
+      k[j] = q.points[q.input_to_point[tagged.faces[i][j]]];
+      const InputPoint pt = in.points[tagged.faces[i][j]];
+      corners[j] = {pt.x, pt.y, pt.z};
+    }
+    std::sort(k.begin(), k.end());
+    p.tag_of[k] = tagged.tags[i];
+    p.surface.push_back({corners, tagged.tags[i]});
+  }
+  return p;
+}
+
+// Every level of `bytes` decoded: a tagged input triangle that is a face
+// keeps its own tag, any other tagged face lies within `reach` of a
+// triangle of its tag's patch, every level has all three tags, and level 0
+// has `tagged` tagged triangles among its faces (and, `only`, no other
+// tagged face).
+void expect_tags_on_patches(const std::vector<uint8_t>& bytes, const TagPatches& patches, double reach,
+                            size_t tagged, bool only, size_t level_count) {
+  ProgressiveDecoder decoder;
+  size_t levels = 0;
+  ASSERT_TRUE(decoder
+                  .feed(bytes,
+                        [&](const ProgressiveDecoder& d, const DecodedLevel& level) {
+                          ++levels;
+                          const OutputMesh m = decoded_mesh(d, "faces");
+                          ASSERT_EQ(m.faces.size(), m.face_tags.size());
+                          std::map<int32_t, size_t> count;
+                          size_t own = 0;  // tagged triangles among the faces
+                          for (size_t f = 0; f < m.faces.size(); ++f) {
+                            ++count[m.face_tags[f]];
+                            std::array<GridPoint, 3> k = {m.points[m.faces[f][0]], m.points[m.faces[f][1]],
+                                                          m.points[m.faces[f][2]]};
+                            std::sort(k.begin(), k.end());
+                            if (const auto it = patches.tag_of.find(k); it != patches.tag_of.end()) {
+                              EXPECT_EQ(m.face_tags[f], it->second) << "level " << level.level;
+                              ++own;
+                              continue;
+                            }
+                            Vec c{0, 0, 0};
+                            for (const GridPoint& g : k) {
+                              const InputPoint p = m.grid.to_input(g);
+                              c = {c[0] + p.x / 3, c[1] + p.y / 3, c[2] + p.z / 3};
+                            }
+                            double best = INFINITY;
+                            for (const auto& [t, tag] : patches.surface)
+                              if (tag == m.face_tags[f])
+                                best = std::min(best, squared_distance(c, t[0], t[1], t[2]));
+                            EXPECT_LE(std::sqrt(best), reach)
+                                << "level " << level.level << " tag " << m.face_tags[f];
+                          }
+                          EXPECT_EQ(count.size(), 3u) << "level " << level.level;
+                          if (level.level == 0) {
+                            EXPECT_EQ(own, tagged);
+                            if (only) {
+                              EXPECT_EQ(m.faces.size(), tagged);
+                            }
+                          }
+                        })
+                  .ok());
+  EXPECT_TRUE(decoder.finish().ok());
+  EXPECT_EQ(levels, level_count);
+}
+
+EncodeInput tagged_input(const RegionInput& in, const TaggedFaces& tagged) {
   EncodeInput input;
   input.points = in.points;
   input.tetrahedra = in.tets;
@@ -700,9 +774,16 @@ TEST(Faces, EveryLevelsSurfaceCarriesTheTagsOfItsPatches) {
   input.tagged_faces = tagged.faces;
   input.face_tags = tagged.tags;
   input.face_tag_names = {{11, "west"}, {13, "ball"}};
+  return input;
+}
+
+TEST(Faces, EveryLevelsSurfaceCarriesTheTagsOfItsPatches) {
+  const RegionInput in = three_materials(2500, 11);
+  const TaggedFaces tagged = tag_sides(in);
+  ASSERT_GT(tagged.faces.size(), 100u);
   EncodeOptions options;
   options.dmax = 8;
-  const auto encoded = encode(input, options);
+  const auto encoded = encode(tagged_input(in, tagged), options);
   ASSERT_TRUE(encoded.ok()) << encoded.status().message();
   const EncodeReport& r = encoded->report;
   ASSERT_EQ(r.face_tags.size(), 3u);
@@ -711,66 +792,251 @@ TEST(Faces, EveryLevelsSurfaceCarriesTheTagsOfItsPatches) {
   EXPECT_EQ(r.tagged_faces, tagged.faces.size());
   EXPECT_EQ(r.tagged_faces_kept, tagged.faces.size());
   ASSERT_GE(r.levels.size(), 3u);
-
-  // The input's surface (boundary and interfaces) with its tags, in input
-  // units (the grid maps onto them affinely: distances scale by step).
-  const QuantizedPoints q = quantize(in.points, 14).value();
-  std::map<std::array<GridPoint, 3>, int32_t> tag_of;
-  std::vector<std::pair<std::array<Vec, 3>, int32_t>> surface;
-  for (size_t i = 0; i < tagged.faces.size(); ++i) {
-    std::array<GridPoint, 3> k;
-    std::array<Vec, 3> corners;
-    for (size_t j = 0; j < 3; ++j) {
-      k[j] = q.points[q.input_to_point[tagged.faces[i][j]]];
-      const InputPoint p = in.points[tagged.faces[i][j]];
-      corners[j] = {p.x, p.y, p.z};
-    }
-    std::sort(k.begin(), k.end());
-    tag_of[k] = tagged.tags[i];
-    surface.push_back({corners, tagged.tags[i]});
-  }
   const double reach = 8 * (1 + 1e-6) + 2 * r.grid.step;
-  ProgressiveDecoder decoder;
-  int levels = 0;
-  ASSERT_TRUE(decoder
-                  .feed(encoded->bytes,
-                        [&](const ProgressiveDecoder& d, const DecodedLevel& level) {
-                          ++levels;
-                          const OutputMesh m = decoded_mesh(d, "faces");
-                          ASSERT_EQ(m.faces.size(), m.face_tags.size());
-                          std::map<int32_t, size_t> count;
-                          for (size_t f = 0; f < m.faces.size(); ++f) {
-                            ++count[m.face_tags[f]];
-                            std::array<GridPoint, 3> k = {m.points[m.faces[f][0]], m.points[m.faces[f][1]],
-                                                          m.points[m.faces[f][2]]};
-                            std::sort(k.begin(), k.end());
-                            // A tagged input triangle keeps its own tag.
-                            if (const auto it = tag_of.find(k); it != tag_of.end()) {
-                              EXPECT_EQ(m.face_tags[f], it->second) << "level " << level.level;
-                              continue;
-                            }
-                            // Any other tagged face lies on its tag's patch:
-                            // within D_max of one of its triangles.
-                            Vec c{0, 0, 0};
-                            for (const GridPoint& g : k) {
-                              const InputPoint p = m.grid.to_input(g);
-                              c = {c[0] + p.x / 3, c[1] + p.y / 3, c[2] + p.z / 3};
-                            }
-                            double best = INFINITY;
-                            for (const auto& [t, tag] : surface)
-                              if (tag == m.face_tags[f])
-                                best = std::min(best, squared_distance(c, t[0], t[1], t[2]));
-                            EXPECT_LE(std::sqrt(best), reach)
-                                << "level " << level.level << " tag " << m.face_tags[f];
-                          }
-                          EXPECT_EQ(count.size(), 3u) << "level " << level.level;
-                          if (level.level == 0) {
-                            EXPECT_EQ(m.faces.size(), tagged.faces.size());
-                          }
-                        })
-                  .ok());
-  EXPECT_TRUE(decoder.finish().ok());
-  EXPECT_EQ(levels, static_cast<int>(r.levels.size()));
+  expect_tags_on_patches(encoded->bytes, tag_patches(in, tagged), reach, tagged.faces.size(), true,
+                         r.levels.size());
+}
+
+// A level's tagged faces as (corners, the outward one first turned to
+// start at the least; tag), from a whole decoder or a region reader.
+using OrientedFace = std::array<GridPoint, 3>;
+OrientedFace oriented(std::array<GridPoint, 3> f) {
+  std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+  return f;
+}
+std::map<OrientedFace, int32_t> faces_of(const OutputMesh& m) {
+  std::map<OrientedFace, int32_t> out;
+  for (size_t f = 0; f < m.faces.size(); ++f)
+    out[oriented({m.points[m.faces[f][0]], m.points[m.faces[f][1]], m.points[m.faces[f][2]]})] =
+        m.face_tags[f];
+  return out;
+}
+
+// Bricked streams (17.0): each chunk codes the tags of its brick's kept
+// cells' faces. Every level's tagged faces lie on their patches (level 0
+// keeps every tagged triangle); the tags change no cell; pieces hold the
+// whole level's tagged faces, each once, turned the same way, and a box
+// those of its cells; one process and 2 or 3 ranks write the same bytes.
+TEST(Faces, BrickedLevelsTagTheirSurfaceInEveryChunk) {
+  const RegionInput in = three_materials(2500, 11);
+  const TaggedFaces tagged = tag_sides(in);
+  EncodeOptions options = small_bricks(600);
+  options.dmax = 8;
+  const auto encoded = encode(tagged_input(in, tagged), options);
+  ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+  const std::vector<uint8_t>& bytes = encoded->bytes;
+  const EncodeReport& r = encoded->report;
+  EXPECT_EQ(bytes[8], kVersionMajorBrickedFaces);
+  StreamHeader h;
+  ASSERT_TRUE(parse_header(bytes, h).ok());
+  EXPECT_TRUE((h.flags & kFlagBricks) && (h.flags & kFlagFaces));
+  h.version_major = kVersionMajorBrickedFaces - 1;  // bricked faces before 17.0: refused
+  EXPECT_EQ(parse_header(write_header(h), h).code(), StatusCode::kCorrupt);
+  // (Level 0 keeps no cell above its kept radius: a few large cells on the
+  // convex hull of these random points are not in it, and their tagged
+  // sides with them.)
+  EXPECT_GT(r.tagged_faces_kept, tagged.faces.size() * 9 / 10);
+  ASSERT_GE(r.levels.size(), 3u);
+  ASSERT_EQ(r.face_bytes.size(), r.levels.size());
+  for (uint64_t b : r.face_bytes) EXPECT_GT(b, 0u);
+  const double reach = 8 * (1 + 1e-6) + 2 * r.grid.step;
+  expect_tags_on_patches(bytes, tag_patches(in, tagged), reach, r.tagged_faces_kept, false, r.levels.size());
+
+  // Without the tags, the same levels.
+  EncodeInput untagged = tagged_input(in, tagged);
+  untagged.tagged_faces = {};
+  untagged.face_tags = {};
+  const auto plain = encode(untagged, options);
+  ASSERT_TRUE(plain.ok()) << plain.status().message();
+  ASSERT_EQ(plain->report.levels.size(), r.levels.size());
+  for (int level = 0; level < static_cast<int>(r.levels.size()); ++level) {
+    DecoderOptions stop;
+    stop.stop_after_level = level;
+    ProgressiveDecoder a(stop), b(stop);
+    ASSERT_TRUE(a.feed(bytes).ok() && b.feed(plain->bytes).ok());
+    EXPECT_TRUE(a.points() == b.points()) << level;
+    EXPECT_TRUE(a.carved_cells() == b.carved_cells()) << level;
+  }
+
+  MemorySource source(bytes);
+  for (int level = 0; level < 2; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    DecoderOptions stop;
+    stop.stop_after_level = level;
+    ProgressiveDecoder whole(stop);
+    ASSERT_TRUE(whole.feed(bytes).ok());
+    const OutputMesh all = decoded_mesh(whole, "whole");
+    const std::map<OrientedFace, int32_t> want = faces_of(all);
+    ASSERT_GT(want.size(), 50u);
+    std::map<OrientedFace, int32_t> pieces;
+    size_t in_pieces = 0;
+    for (int piece = 0; piece < 3; ++piece) {
+      const auto got = decode_piece(source, level, piece, 3);
+      ASSERT_TRUE(got.ok()) << got.status().message();
+      ASSERT_EQ(got->face_tags.size(), 3u);
+      const OutputMesh m = region_output(*got, all.grid);
+      in_pieces += m.faces.size();
+      const std::map<OrientedFace, int32_t> here = faces_of(m);
+      pieces.insert(here.begin(), here.end());
+    }
+    EXPECT_EQ(in_pieces, want.size());
+    EXPECT_TRUE(pieces == want);
+    // A box (the lower half in x): the tagged faces of the cells that meet it.
+    GridBox box;
+    box.lo = {0, 0, 0};
+    box.hi = {int64_t{1} << 13, (int64_t{1} << 14) - 1, (int64_t{1} << 14) - 1};
+    std::set<OrientedFace> of_box_cells;
+    for (const auto& cell : all.cells) {
+      if (!cell_meets(all.points, cell, box)) continue;
+      for (int skip = 0; skip < 4; ++skip) {
+        std::array<GridPoint, 3> f{};
+        for (int i = 0, j = 0; i < 4; ++i)
+          if (i != skip) f[static_cast<size_t>(j++)] = all.points[cell[static_cast<size_t>(i)]];
+        // Turned out of the cell (the cell behind it).
+        if (dtm::orientation(f[0], f[1], f[2], all.points[cell[static_cast<size_t>(skip)]]) > 0)
+          std::swap(f[1], f[2]);
+        of_box_cells.insert(oriented(f));
+      }
+    }
+    std::map<OrientedFace, int32_t> want_box;
+    for (const auto& [f, tag] : want)
+      if (of_box_cells.contains(f)) want_box[f] = tag;
+    const auto got = decode_region(source, box, level);
+    ASSERT_TRUE(got.ok()) << got.status().message();
+    EXPECT_TRUE(faces_of(region_output(*got, all.grid)) == want_box);
+    EXPECT_GT(want_box.size(), 10u);
+    EXPECT_LT(want_box.size(), want.size());
+  }
+
+  // Every rank given every tetrahedron and triangle: the same bytes.
+  for (int ranks : {2, 3}) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks");
+    const auto made = test::on_ranks(ranks, true, [&](RankExchange& rank, int) {
+      EncodeOptions on_rank = options;
+      on_rank.exchange = &rank;
+      const auto e = encode(tagged_input(in, tagged), on_rank);
+      return e.ok() ? e->bytes : std::vector<uint8_t>{};
+    });
+    for (const auto& b : made) EXPECT_TRUE(b == bytes);
+  }
+}
+
+// Below the chunks' checksums: a damaged or cut face section of a chunk is
+// refused, naming it, or gives tags in the table, the other chunks' as
+// they were; a chunk codes the faces of its kept cells but those inside
+// it (and an interface from its higher side).
+TEST(Faces, DamagedChunkSectionsGiveTagsInTheTableOrAnError) {
+  const std::vector<GridPoint> g = test::random_grid_points(500, 8, 6);
+  const TetMesh dt = delaunay_tetrahedralize(g).value();
+  std::vector<uint32_t> rank(g.size());
+  for (uint32_t v = 0; v < rank.size(); ++v) rank[v] = v;
+  std::vector<uint32_t> chunk_of_cell(dt.cells.size());
+  std::vector<uint8_t> kept(dt.cells.size());
+  for (size_t c = 0; c < kept.size(); ++c) {
+    const GridPoint& p = g[dt.cells[c][0]];
+    chunk_of_cell[c] = p.y < 100 ? 0 : p.y < 180 ? 1 : 2;
+    kept[c] = p.z < 60 ? 0 : p.x < 128 ? 1 : 2;
+  }
+  const ChunkCells chunks = chunk_cells(dt, chunk_of_cell, 3, rank);
+  const ChunkFaces faces = chunk_faces(dt, chunks, chunk_of_cell, kept, rank);
+  ASSERT_EQ(faces.first.size(), 4u);
+  // Which faces: each kept cell's, but for a kept cell of its chunk across
+  // whose region is not above its own.
+  size_t want = 0;
+  for (size_t c = 0; c < kept.size(); ++c)
+    for (int k = 0; kept[c] && k < 4; ++k) {
+      const int32_t n = dt.neighbors[c][static_cast<size_t>(k)];
+      want += !(n >= 0 && chunk_of_cell[static_cast<size_t>(n)] == chunk_of_cell[c] &&
+                kept[static_cast<size_t>(n)] != 0 && kept[static_cast<size_t>(n)] <= kept[c]);
+    }
+  EXPECT_EQ(faces.faces.size(), want);
+  std::vector<uint8_t> label(faces.faces.size());
+  for (size_t f = 0; f < label.size(); ++f) {
+    const GridPoint& p = g[dt.cells[faces.faces[f].cell][0]];
+    label[f] = p.x < 100 ? 2 : p.z > 200 ? 3 : 1;
+  }
+  const std::vector<std::vector<uint8_t>> sections = encode_face_chunks(faces, label, 2);
+  ASSERT_EQ(sections.size(), 3u);
+  const auto decode = [&](const std::vector<std::vector<uint8_t>>& bytes, std::vector<uint8_t>& out) {
+    std::vector<std::span<const uint8_t>> spans(bytes.begin(), bytes.end());
+    return decode_face_chunks(spans, faces, 2, out);
+  };
+  std::vector<uint8_t> out;
+  ASSERT_TRUE(decode(sections, out).ok());
+  EXPECT_EQ(out, label);
+  for (size_t k = 0; k < 3; ++k) {
+    ASSERT_FALSE(sections[k].empty());
+    int refused = 0;
+    for (size_t byte = 0; byte < sections[k].size(); ++byte)
+      for (int bit = 0; bit < 8; ++bit) {
+        std::vector<std::vector<uint8_t>> damaged = sections;
+        damaged[k][byte] ^= static_cast<uint8_t>(1 << bit);
+        const Status st = decode(damaged, out);
+        if (!st.ok()) {
+          EXPECT_EQ(st.code(), StatusCode::kCorrupt);
+          EXPECT_NE(st.message().find("chunk " + std::to_string(k)), std::string::npos) << st.message();
+          ++refused;
+          continue;
+        }
+        for (size_t f = 0; f < out.size(); ++f) {
+          EXPECT_TRUE(out[f] >= 1 && out[f] <= 3);
+          if (f < faces.first[k] || f >= faces.first[k + 1]) {
+            EXPECT_EQ(out[f], label[f]);
+          }
+        }
+      }
+    EXPECT_GT(refused, 0);
+    for (size_t len = 0; len < sections[k].size(); ++len) {
+      std::vector<std::vector<uint8_t>> cut = sections;
+      cut[k].resize(len);
+      const Status st = decode(cut, out);
+      // (Cut to nothing, a chunk's faces have no tag: a whole decoder then
+      // finds them no different; cut inside, refused.)
+      if (len == 0) {
+        EXPECT_TRUE(st.ok());
+      } else {
+        EXPECT_EQ(st.code(), StatusCode::kCorrupt) << k << " " << len;
+      }
+    }
+  }
+  // No tag anywhere: no section.
+  for (const auto& s : encode_face_chunks(faces, std::vector<uint8_t>(faces.faces.size(), 1), 2))
+    EXPECT_TRUE(s.empty());
+}
+
+// A bricked stream with tagged faces: every prefix decodes to whole levels
+// or ends as truncated, their faces each with a tag of the table; a bit
+// flipped in the stream is caught.
+TEST(Faces, BrickedStreamsEndCleanlyWhenCutOrDamaged) {
+  const RegionInput in = three_materials(700, 9);
+  const TaggedFaces tagged = tag_sides(in);
+  EncodeOptions options = small_bricks(400);
+  options.dmax = 8;
+  const auto e = encode(tagged_input(in, tagged), options);
+  ASSERT_TRUE(e.ok()) << e.status().message();
+  const std::vector<uint8_t>& bytes = e->bytes;
+  for (size_t len = 0; len < bytes.size(); len += (len < 300 ? 3 : 53)) {
+    ProgressiveDecoder d;
+    const Status fed = d.feed(std::span(bytes).first(len));
+    ASSERT_TRUE(fed.ok()) << len << ": " << fed.message();
+    EXPECT_EQ(d.finish().code(), StatusCode::kTruncated) << len;
+    if (d.finest_level() >= 0) {
+      const OutputMesh m = decoded_mesh(d, "prefix");
+      EXPECT_EQ(m.face_tags.size(), m.faces.size());
+    }
+  }
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<uint8_t> damaged = bytes;
+    const size_t byte = kHeaderSize + rng() % (damaged.size() - kHeaderSize);
+    damaged[byte] ^= static_cast<uint8_t>(1 << (rng() % 8));
+    ProgressiveDecoder d;
+    const Status s = d.feed(damaged);
+    if (s.ok() && d.finish().ok()) {
+      (void)d.level_cells();
+      EXPECT_FALSE(d.mesh_status().ok()) << "byte " << byte;
+    }
+  }
 }
 
 // meshdec --box of a stream that is not bricked: the level decoded whole,
@@ -1018,8 +1284,9 @@ TEST(Faces, NetgenVolHoldsEverySurfaceFaceWithItsDomains) {
   EXPECT_EQ(back.face_tag_names.at(tags.at({0, 1, 2})), "base");
   EXPECT_EQ(back.face_tag_names.at(tags.at({1, 2, 3})), "bc_30");
   for (const auto& [face, tag] : tags)
-    if (face != std::array<uint32_t, 3>{0, 1, 2} && face != std::array<uint32_t, 3>{1, 2, 3})
+    if (face != std::array<uint32_t, 3>{0, 1, 2} && face != std::array<uint32_t, 3>{1, 2, 3}) {
       EXPECT_EQ(back.face_tag_names.at(tag), "default");
+    }
   // In one region, the face between the tetrahedra is a surface element
   // only while it is tagged.
   m.region = {5, 5};

@@ -167,7 +167,8 @@ OutputMesh region_output(const RegionMesh& region, const Grid& grid) {
   OutputMesh mesh;
   mesh.grid = grid;
   mesh.declare_level = true;
-  mesh.declare_region = !region.regions.empty();
+  // (A tagged face is written as a cell whose region is its tag.)
+  mesh.declare_region = !region.regions.empty() || !region.face_tags.empty();
   mesh.points = region.points;
   mesh.cells.reserve(region.cells.size());
   for (const auto& cell : region.cells) mesh.cells.push_back(sorted_positive(cell, mesh.points));
@@ -186,6 +187,11 @@ OutputMesh region_output(const RegionMesh& region, const Grid& grid) {
   for (const FieldValues& f : region.cell_fields)
     mesh.cell_fields.push_back(
         {f.description.name, scalar_type(f.description.type), f.description.components, f.bits});
+  // With tagged faces, the cells' tagged surface faces and the tags' names.
+  mesh.faces = region.faces;
+  for (uint8_t t : region.face_labels) mesh.face_tags.push_back(region.face_tags.at(t - 2u).label);
+  for (const RegionLabel& t : region.face_tags)
+    if (!t.name.empty()) mesh.face_tag_names[t.label] = t.name;
   return mesh;
 }
 

@@ -191,10 +191,10 @@ void add_options(CLI::App& app, Command& c) {
       "finest level decodes faster");
   app.add_flag(
       "--bricks", e.bricks,
-      "bricked layers (format 8.0; 15.0 with regions, 16.0 with cell data): each layer's points and "
-      "corrections in one chunk per octree brick, so that meshdec --box decodes a region from the chunks "
-      "around it, values, regions and level 0's cell data included; the levels are built in blocks, the "
-      "same bytes alone or under mpirun (no candidates)");
+      "bricked layers (format 8.0; 15.0 with regions, 16.0 with cell data, 17.0 with tagged faces): each "
+      "layer's points and corrections in one chunk per octree brick, so that meshdec --box decodes a region "
+      "from the chunks around it, values, regions, tagged faces and level 0's cell data included; the levels "
+      "are built in blocks, the same bytes alone or under mpirun (no candidates)");
   app.add_option("--brick-points", e.brick_points,
                  "with --bricks: each layer's bricks are the smallest that hold this many of its new points "
                  "on average (smaller: regions read fewer bytes, the stream grows)")
@@ -789,7 +789,6 @@ int run(Command& c) {
   }
   if (!in.tagged_faces.empty()) {
     const char* why = c.no_face_tags                      ? "--no-face-tags"
-                      : c.encode.bricks || mpi.size() > 1 ? "bricked streams do not carry them yet"
                       : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
                       : c.no_reference || in.tets.empty() ? "no tetrahedra to bound"
                                                           : nullptr;
@@ -883,10 +882,11 @@ int run(Command& c) {
     if (!in.tetgen_ele.empty()) display.start("reading " + in.tetgen_ele + ", a part on each rank");
     share.emplace(plan->quantized.points, plan->quantized.grid.qbits, mpi.rank(), mpi.size());
     c.encode.reference_share = &*share;
-    // With cell data (never from a TetGen .ele) every rank keeps every
-    // tetrahedron, as it read them: a cell's source may be any one at its
-    // corners (codec/encode.h).
-    if (in.cell_fields.empty() || !in.tetgen_ele.empty())
+    // With cell data or tagged faces (never from a TetGen .ele) every rank
+    // keeps every tetrahedron, as it read them: a cell's source may be any
+    // one at its corners, and a face's tag any surface triangle's near it
+    // (codec/encode.h).
+    if ((in.cell_fields.empty() && in.tagged_faces.empty()) || !in.tetgen_ele.empty())
       hold_share(in, plan->quantized, *share, regions_kept);
   }
   input.tetrahedra = in.tets;

@@ -8,6 +8,7 @@
 #include "codec/bricks/bricks.h"
 #include "codec/sections/carving_coder.h"
 #include "codec/sections/cell_value_coder.h"
+#include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/stream/format.h"
 #include "common/parallel_for.h"
@@ -398,7 +399,8 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
       }
     });
     // The bricks' cells in their coding order, for the carving and the regions.
-    const ChunkCells cells = chunk_cells(L.dt, chunk_of_cell, bricks.size(), morton_ranks(codes));
+    const std::vector<uint32_t> ranks = morton_ranks(codes);
+    const ChunkCells cells = chunk_cells(L.dt, chunk_of_cell, bricks.size(), ranks);
     std::vector<std::vector<uint8_t>> sections =
         encode_carving_chunks(L.dt, points, o.alpha, L.in_mesh, chunk_of_cell, cells);
     for (size_t i = 0; i < bricks.size(); ++i)
@@ -409,6 +411,36 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
       sections = encode_region_chunks(L.dt, cells, chunk_of_cell, L.in_mesh, o.region_count);
       for (size_t i = 0; i < bricks.size(); ++i)
         if (!sections[i].empty()) out.regions.emplace_back(bricks[i], std::move(sections[i]));
+    }
+    // The tags of the faces the bricks code (17.0): a face the level's
+    // surface takes from its cell (the cell across not kept, or of a
+    // higher region) gets the tagger's label, any other 1. The region
+    // reaches far enough for the cell across to be the level's (the
+    // options' note).
+    if (o.faces) {
+      const ChunkFaces faces = chunk_faces(L.dt, cells, chunk_of_cell, L.in_mesh, ranks);
+      std::vector<uint8_t> label(faces.faces.size(), 1);
+      std::vector<uint32_t> surface;  // the faces the surface takes from their cell
+      std::vector<std::array<uint32_t, 3>> by_grid_id;
+      for (uint32_t k = 0; k < faces.faces.size(); ++k) {
+        const SurfaceFace& face = faces.faces[k];
+        const int32_t n = L.dt.neighbors[face.cell][face.opposite];
+        if (n >= 0 && L.in_mesh[static_cast<size_t>(n)] != 0 &&
+            L.in_mesh[static_cast<size_t>(n)] <= L.in_mesh[face.cell])
+          continue;
+        std::array<uint32_t, 3> g{};
+        for (int j = 0, at = 0; j < 4; ++j)
+          if (j != face.opposite)
+            g[static_cast<size_t>(at++)] = ids[L.dt.cells[face.cell][static_cast<size_t>(j)]];
+        surface.push_back(k);
+        by_grid_id.push_back(g);
+      }
+      const std::vector<uint8_t> tags = o.faces->labels(by_grid_id);
+      for (size_t i = 0; i < surface.size(); ++i) label[surface[i]] = tags[i];
+      f.tagged_faces_kept += o.faces->tagged_among(by_grid_id);
+      sections = encode_face_chunks(faces, label, o.face_tags);
+      for (size_t i = 0; i < bricks.size(); ++i)
+        if (!sections[i].empty()) out.faces.emplace_back(bricks[i], std::move(sections[i]));
     }
     // Level 0's kept cells' values (16.0), in the same order, each cell's
     // from the input tetrahedron it stands for.

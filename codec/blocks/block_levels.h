@@ -41,6 +41,7 @@
 #include "common/status.h"
 #include "core/cell_sources.h"
 #include "core/coarsening.h"
+#include "core/face_tags.h"
 #include "core/level_build.h"
 #include "core/reference_shape.h"
 #include "core/solid.h"
@@ -142,6 +143,9 @@ struct BlockFigures {
   // With cell values: the owned kept cells that are input tetrahedra, and
   // those given the nearest of their vertices' (core/cell_sources.h).
   uint64_t cells_from_input = 0, cells_from_nearest = 0;
+  // With tagged faces: the input's tagged triangles among the tagged
+  // surface faces the block's bricks code.
+  uint64_t tagged_faces_kept = 0;
 };
 
 struct BlockAnalysisOptions {
@@ -164,6 +168,13 @@ struct BlockAnalysisOptions {
   // input tetrahedron `sources` finds for it (its points' indices).
   const CellSourceIndex* cell_sources = nullptr;
   const FieldSectionEncoder* cell_values = nullptr;
+  // With tagged faces (spec/FORMAT.md §3.5, 17.0): the bricks' face
+  // sections are coded too, each surface face tagged as `faces` says, of a
+  // table of `face_tags` tags. The block's region must then reach twice
+  // the kept radius farther (a cell across an owned cell's face, whether
+  // the level keeps it, is known exactly: bricked_encoder.cpp).
+  const FaceTagger* faces = nullptr;
+  size_t face_tags = 0;
 };
 
 struct BlockAnalysis {
@@ -176,9 +187,10 @@ struct BlockAnalysis {
   std::vector<std::pair<uint32_t, double>> reference_squared;
   // Carving sections of the bricks inside the block (brick, bytes),
   // ascending; with regions, the region sections of those that own a kept
-  // cell, and with cell values their cell value sections, and each cell
-  // field's bytes in them.
-  std::vector<std::pair<uint64_t, std::vector<uint8_t>>> carving, regions, cell_values;
+  // cell, with tagged faces the face sections of those that tag a face,
+  // and with cell values their cell value sections, and each cell field's
+  // bytes in them.
+  std::vector<std::pair<uint64_t, std::vector<uint8_t>>> carving, regions, faces, cell_values;
   std::vector<uint64_t> cell_field_bytes;
   std::vector<uint32_t> chosen;                 // owned vertices the coarser level keeps (grid ids)
   std::vector<uint32_t> boundary;               // owned boundary vertices (grid ids)

@@ -258,13 +258,14 @@ std::vector<uint8_t> serialize(const BlockAnalysis& a) {
   w.f64(f.dropped_thick_radius);
   w.u64(f.cells_from_input);
   w.u64(f.cells_from_nearest);
+  w.u64(f.tagged_faces_kept);
   w.u64(a.surface_triangles.size());
   for (const auto& t : a.surface_triangles)
     for (uint32_t v : t) w.u32(v);
   put(w, std::span<const uint32_t>(a.surface_vertices));
   w.u64(a.reference_squared.size());
   for (const auto& [id, d2] : a.reference_squared) w.u32(id), w.f64(d2);
-  for (const auto* sections : {&a.carving, &a.regions, &a.cell_values}) {
+  for (const auto* sections : {&a.carving, &a.regions, &a.faces, &a.cell_values}) {
     w.u64(sections->size());
     for (const auto& [brick, bytes] : *sections) {
       w.u64(brick);
@@ -297,13 +298,14 @@ BlockAnalysis deserialize_analysis(std::span<const uint8_t> bytes) {
   f.dropped_thick_radius = r.f64();
   f.cells_from_input = r.u64();
   f.cells_from_nearest = r.u64();
+  f.tagged_faces_kept = r.u64();
   a.surface_triangles.resize(r.u64());
   for (auto& t : a.surface_triangles)
     for (uint32_t& v : t) v = r.u32();
   a.surface_vertices = r.u32s();
   a.reference_squared.resize(r.u64());
   for (auto& [id, d2] : a.reference_squared) id = r.u32(), d2 = r.f64();
-  for (auto* sections : {&a.carving, &a.regions, &a.cell_values}) {
+  for (auto* sections : {&a.carving, &a.regions, &a.faces, &a.cell_values}) {
     sections->resize(r.u64());
     for (auto& [brick, section] : *sections) brick = r.u64(), section = r.bytes();
   }

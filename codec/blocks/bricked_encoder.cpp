@@ -18,6 +18,7 @@
 #include "codec/blocks/rank_reference.h"
 #include "codec/blocks/reference_share.h"
 #include "codec/bricks/bricks.h"
+#include "codec/sections/face_coder.h"
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
@@ -548,6 +549,8 @@ Status BrickedEncoder::base_carving(int level, BrickedLevel& out) {
   options.kept_radius = out.kept_radius;
   options.brick_depth = 0;
   options.region_count = in_.regions.size();
+  options.faces = in_.faces;
+  options.face_tags = in_.face_tags.size();
   if (level == 0 && cell_sources_) {
     options.cell_sources = &*cell_sources_;
     options.cell_values = in_.cell_values;
@@ -599,6 +602,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     options.alpha = out.alpha;
     options.brick_depth = out.brick_depth;
     options.region_count = in_.regions.size();
+    options.faces = in_.faces;
+    options.face_tags = in_.face_tags.size();
     options.dmax = h.dmax;
     options.collect_cells = level == 0 && !reference_.has_boundary();
     if (level == 0 && cell_sources_) {
@@ -618,8 +623,12 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       size_t largest = 0;
       for (size_t k = 0; k < plan.blocks.size(); ++k)
         largest = std::max(largest, plan.first[k + 1] - plan.first[k]);
-      // The analysis of this level sees its own cells.
-      halo = halo_for(kept_radius, h.dmax);
+      // The analysis of this level sees its own cells; with tagged faces,
+      // also the cells across their faces whole (whether the level keeps
+      // such a cell decides whether the face is on its surface): their
+      // circumspheres reach two kept radii beyond the owned cells'.
+      halo =
+          halo_for(kept_radius, h.dmax) + (in_.faces ? static_cast<int64_t>(std::ceil(2 * kept_radius)) : 0);
       options.kept_radius = kept_radius;
       // One block built in one on this rank: its build's tetrahedralization
       // is taken (analyse()).
@@ -715,7 +724,8 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   const HierarchyOptions& h = o_.hierarchy;
   const int coarsest = static_cast<int>(levels.size()) - 1;
   if (levels[coarsest].brick_depth != 0 || levels[coarsest].carving.size() > 1 ||
-      levels[coarsest].regions.size() > 1 || levels[coarsest].cell_values.size() > 1) {
+      levels[coarsest].regions.size() > 1 || levels[coarsest].faces.size() > 1 ||
+      levels[coarsest].cell_values.size() > 1) {
     report_phase(h.on_phase, "the base layer's carving");
     DTM_RETURN_IF_ERROR(base_carving(coarsest, levels[coarsest]));
   }
@@ -737,6 +747,7 @@ StatusOr<BrickedEncoding> BrickedEncoder::write(std::vector<BrickedLevel>& level
   stream.cell_hashes = o_.cell_hashes;
   stream.values = in_.values;
   stream.regions = in_.regions;
+  stream.face_tags = in_.face_tags;
   stream.cell_values = in_.cell_values;
   stream.index = &*index_;
   stream.level_of = level_of_;
@@ -862,6 +873,11 @@ StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const 
     if (!input.regions.empty()) DTM_RETURN_IF_ERROR(check_region_table(input.regions));
     if (input.cell_values && input.reference_tets.empty())
       return invalid_input("cell data without the tetrahedra it belongs to");
+    if (input.faces && input.face_tags.empty()) return invalid_input("tagged faces without a table of tags");
+    if (!input.face_tags.empty()) {
+      DTM_RETURN_IF_ERROR(check_region_table(input.face_tags).with_context("face tags"));
+      if (input.face_tags.size() > kMaxFaceTags) return invalid_input("more face tags than a stream holds");
+    }
     return Status::Ok();
   }();
   if (exchange.size() > 1) {
@@ -877,22 +893,25 @@ StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const 
                     : made.emplace(input.points, input.grid.qbits, exchange.rank(), exchange.size());
     uint64_t owned = 0;
     for (const auto& t : input.reference_tets) owned += share.owns(t);
+    // (Bit 0: cell data; bit 1: tagged faces. Either needs every tetrahedron.)
+    const uint8_t needs = static_cast<uint8_t>((input.cell_values ? 1 : 0) | (input.faces ? 2 : 0));
     ByteWriter w;
-    w.u8(input.cell_values != nullptr);
+    w.u8(needs);
     w.u64(owned);
     w.u64(input.reference_tets.size());
     uint64_t all = 0;
     bool same = true;
     for (const auto& bytes : exchange.all_gather(w.take())) {
       BlockReader r(bytes);
-      const bool values_there = r.u8() != 0;
+      const uint8_t needs_there = r.u8();
       const uint64_t owned_there = r.u64(), given_there = r.u64();
       all += owned_there;
-      same = same && values_there == (input.cell_values != nullptr) &&
-             (!input.cell_values || given_there == input.reference_tets.size());
+      same = same && needs_there == needs && (!needs || given_there == input.reference_tets.size());
     }
-    if (!same || (input.cell_values && all != input.reference_tets.size()))
-      return invalid_input("cell data on ranks needs every input tetrahedron and its values on every rank");
+    if (!same || (needs && all != input.reference_tets.size()))
+      return invalid_input(std::string(input.cell_values ? "cell data" : "tagged faces") +
+                           " on ranks need every input tetrahedron" +
+                           (input.cell_values ? " and its values" : "") + " on every rank");
   } else {
     DTM_RETURN_IF_ERROR(checked);
   }

@@ -29,6 +29,7 @@
 #include "common/exchange.h"
 #include "common/grid.h"
 #include "common/status.h"
+#include "core/face_tags.h"
 #include "core/hierarchy.h"
 #include "core/solid.h"
 #include "mesh/carving.h"
@@ -106,15 +107,23 @@ struct BrickedEncodeInput {
   // level 1 is built (level 0's cells then coded); these values are read
   // until the stream is written.
   const FieldSectionEncoder* cell_values = nullptr;
+  // Tagged faces: what tags each level's surface faces (core/face_tags.h:
+  // made of every input tetrahedron's surface and every tagged triangle)
+  // and the table of the tags, or nullptr: each chunk then codes its kept
+  // cells' surface faces' tags (format 17.0, spec/FORMAT.md §3.5). On
+  // ranks, as cell_values: every rank given every tetrahedron.
+  const FaceTagger* faces = nullptr;
+  std::span<const RegionLabel> face_tags;
 };
 
 struct BrickedEncoding {
   std::vector<uint8_t> bytes;      // the stream, on every rank
   std::vector<LevelStats> levels;  // finest first
-  std::vector<uint64_t> layer_bytes, carving_bytes, value_bytes, region_bytes, chunk_count,
+  std::vector<uint64_t> layer_bytes, carving_bytes, value_bytes, region_bytes, face_bytes, chunk_count,
       index_bytes;                                       // per level
   std::vector<std::vector<uint64_t>> level_field_bytes;  // per level, per field
-  uint64_t field_table_bytes = 0, region_table_bytes = 0, cell_field_table_bytes = 0;
+  uint64_t field_table_bytes = 0, region_table_bytes = 0, face_table_bytes = 0, cell_field_table_bytes = 0;
+  uint64_t tagged_faces_kept = 0;  // with tagged faces: the input's among level 0's tagged faces
   // With cell data: level 0's cell value sections' bytes, each field's
   // share, and where the kept cells' values came from (BlockFigures).
   uint64_t cell_value_bytes = 0;

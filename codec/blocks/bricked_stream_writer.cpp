@@ -29,19 +29,21 @@ LayerBricks bricks_of(std::span<const GridPoint> fresh, int qbits, int depth) {
   return b;
 }
 
-// The oldest version that says all the stream holds: 16.0 with cell data
+// The oldest version that says all the stream holds: 17.0 with tagged
+// faces (each chunk its kept cells' faces' tags), 16.0 with cell data
 // (level 0's chunks carry their cells' values), 15.0 with regions (each
 // chunk its kept cells'), else 8.0 (§3.5).
 uint8_t stream_version(const BrickedStreamInput& in) {
-  return in.cell_values        ? kVersionMajorBrickedCellData
+  return !in.face_tags.empty() ? kVersionMajorBrickedFaces
+         : in.cell_values      ? kVersionMajorBrickedCellData
          : !in.regions.empty() ? kVersionMajorBrickedRegions
                                : kVersionMajorBricked;
 }
 uint16_t stream_flags(const BrickedStreamInput& in) {
-  return static_cast<uint16_t>((in.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections |
-                               kFlagBricks | (in.values ? kFlagValues : 0) |
-                               (in.regions.empty() ? 0 : kFlagRegions) |
-                               (in.cell_values ? kFlagCellData : 0));
+  return static_cast<uint16_t>(
+      (in.cell_hashes ? kFlagCellHashes : 0) | kFlagCarvingCorrections | kFlagBricks |
+      (in.values ? kFlagValues : 0) | (in.regions.empty() ? 0 : kFlagRegions) |
+      (in.face_tags.empty() ? 0 : kFlagFaces) | (in.cell_values ? kFlagCellData : 0));
 }
 
 class LayerWriter {
@@ -180,14 +182,16 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   std::vector<BrickParts> parts;
   auto carving = lo.carving.begin();
   auto regions = lo.regions.begin();
+  auto faces = lo.faces.begin();
   auto cells = lo.cell_values.begin();
   size_t p = 0;
   while (p < b.bricks.size() || carving != lo.carving.end() || regions != lo.regions.end() ||
-         cells != lo.cell_values.end()) {
+         faces != lo.faces.end() || cells != lo.cell_values.end()) {
     BrickParts& part = parts.emplace_back();
     part.brick = std::min({p < b.bricks.size() ? b.bricks[p] : UINT64_MAX,
                            carving != lo.carving.end() ? carving->first : UINT64_MAX,
                            regions != lo.regions.end() ? regions->first : UINT64_MAX,
+                           faces != lo.faces.end() ? faces->first : UINT64_MAX,
                            cells != lo.cell_values.end() ? cells->first : UINT64_MAX});
     const bool points = p < b.bricks.size() && b.bricks[p] == part.brick;
     if (points) {
@@ -203,6 +207,11 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
       out_.region_bytes[l] += regions->second.size();
       part.regions = std::move(regions->second);
       ++regions;
+    }
+    if (faces != lo.faces.end() && faces->first == part.brick) {
+      out_.face_bytes[l] += faces->second.size();
+      part.faces = std::move(faces->second);
+      ++faces;
     }
     if (cells != lo.cell_values.end() && cells->first == part.brick) {
       out_.cell_value_bytes += cells->second.size();
@@ -220,6 +229,7 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
   parts.clear();
   const uint16_t flags = stream_flags(in_);
   const std::vector<uint8_t> index = write_brick_index(chunks, index_fields(flags, level));
+  if (level == 0) out_.tagged_faces_kept = lo.tagged_faces_kept;
   if (level == 0 && in_.cell_values) {
     out_.cell_field_bytes = std::move(lo.cell_field_bytes);
     out_.cells_from_input = lo.cells_from_input;
@@ -250,19 +260,22 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
 void BrickedLevel::take_sections(BlockAnalysis& a) {
   for (auto& [brick, bytes] : a.carving) carving[brick] = std::move(bytes);
   for (auto& [brick, bytes] : a.regions) regions[brick] = std::move(bytes);
+  for (auto& [brick, bytes] : a.faces) faces[brick] = std::move(bytes);
   for (auto& [brick, bytes] : a.cell_values) cell_values[brick] = std::move(bytes);
   cell_field_bytes.resize(std::max(cell_field_bytes.size(), a.cell_field_bytes.size()), 0);
   for (size_t k = 0; k < a.cell_field_bytes.size(); ++k) cell_field_bytes[k] += a.cell_field_bytes[k];
   cells_from_input += a.figures.cells_from_input;
   cells_from_nearest += a.figures.cells_from_nearest;
+  tagged_faces_kept += a.figures.tagged_faces_kept;
 }
 
 void BrickedLevel::clear_sections() {
   carving.clear();
   regions.clear();
+  faces.clear();
   cell_values.clear();
   cell_field_bytes.clear();
-  cells_from_input = cells_from_nearest = 0;
+  cells_from_input = cells_from_nearest = tagged_faces_kept = 0;
 }
 
 StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
@@ -287,7 +300,13 @@ StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
     out.region_table_bytes = table.size();
     out.bytes.insert(out.bytes.end(), table.begin(), table.end());
   }
-  if (in.cell_values) {  // (no face tag table: a bricked stream has none)
+  if (!in.face_tags.empty()) {
+    DTM_RETURN_IF_ERROR(check_region_table(in.face_tags));
+    const std::vector<uint8_t> table = write_region_table(in.face_tags);
+    out.face_table_bytes = table.size();
+    out.bytes.insert(out.bytes.end(), table.begin(), table.end());
+  }
+  if (in.cell_values) {
     const std::vector<uint8_t> table = write_field_table(in.cell_values->descriptions());
     out.cell_field_table_bytes = table.size();
     out.bytes.insert(out.bytes.end(), table.begin(), table.end());
@@ -298,6 +317,7 @@ StatusOr<BrickedEncoding> write_bricked_stream(const BrickedStreamInput& in,
   out.layer_bytes.assign(count, 0);
   out.carving_bytes.assign(count, 0);
   out.region_bytes.assign(count, 0);
+  out.face_bytes.assign(count, 0);
   out.chunk_count.assign(count, 0);
   out.index_bytes.assign(count, 0);
   out.brick_depth.assign(count, 0);

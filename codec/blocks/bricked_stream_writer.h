@@ -28,12 +28,14 @@ struct BrickedLevel {
   int brick_depth = 0;
   std::map<uint64_t, std::vector<uint8_t>> carving;  // per brick
   std::map<uint64_t, std::vector<uint8_t>> regions;  // per brick owning a kept cell, with regions
+  std::map<uint64_t, std::vector<uint8_t>> faces;    // per brick tagging a face, with tagged faces
   // Level 0 with cell data: per brick owning a kept cell, its cell value
   // section; each field's bytes in them, and where the cells' values came
   // from (BlockFigures).
   std::map<uint64_t, std::vector<uint8_t>> cell_values;
   std::vector<uint64_t> cell_field_bytes;
   uint64_t cells_from_input = 0, cells_from_nearest = 0;
+  uint64_t tagged_faces_kept = 0;  // the input's tagged triangles among its tagged faces
   uint64_t cell_hash = 0;
   LevelStats stats;
 
@@ -50,6 +52,7 @@ struct BrickedStreamInput {
   bool cell_hashes = false;
   const FieldSectionEncoder* values = nullptr;  // or none
   std::span<const RegionLabel> regions;         // the region table (2 or more: flag regions), or none
+  std::span<const RegionLabel> face_tags;       // the face tag table (flag faces), or none
   // With cell data, the cell field table's (level 0's chunks carry their
   // cells' values, made by the blocks: BrickedLevel::cell_values), or none.
   const FieldSectionEncoder* cell_values = nullptr;

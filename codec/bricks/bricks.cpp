@@ -51,15 +51,17 @@ ChunkBytes split_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes) 
   c.payload = bytes.first(chunk.payload_bytes);
   c.carving = bytes.subspan(chunk.payload_bytes, chunk.carving_bytes);
   c.values = bytes.subspan(uint64_t{chunk.payload_bytes} + chunk.carving_bytes, chunk.value_bytes);
-  c.regions = bytes.subspan(uint64_t{chunk.payload_bytes} + chunk.carving_bytes + chunk.value_bytes,
-                            chunk.region_bytes);
+  const uint64_t regions_at = uint64_t{chunk.payload_bytes} + chunk.carving_bytes + chunk.value_bytes;
+  c.regions = bytes.subspan(regions_at, chunk.region_bytes);
+  c.faces = bytes.subspan(regions_at + chunk.region_bytes, chunk.face_bytes);
   if (bytes.size() >= chunk.size())
     c.cell_values = bytes.subspan(chunk.points_size(), chunk.cell_value_bytes);
   return c;
 }
 
 IndexFields index_fields(uint16_t stream_flags, int level) {
-  return {(stream_flags & kFlagRegions) != 0, (stream_flags & kFlagCellData) != 0 && level == 0};
+  return {(stream_flags & kFlagRegions) != 0, (stream_flags & kFlagFaces) != 0,
+          (stream_flags & kFlagCellData) != 0 && level == 0};
 }
 
 uint32_t chunk_checksum(std::span<const uint8_t> bytes) { return static_cast<uint32_t>(xxh3_64(bytes)); }
@@ -75,6 +77,7 @@ std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, Index
     put_varint(out, c.carving_bytes);
     put_varint(out, c.value_bytes);
     if (fields.regions) put_varint(out, c.region_bytes);
+    if (fields.faces) put_varint(out, c.face_bytes);
     if (fields.cell_values) put_varint(out, c.cell_value_bytes);
     for (int b = 0; b < 4; ++b) out.push_back(static_cast<uint8_t>(c.checksum >> (8 * b)));
     if (fields.cell_values)
@@ -104,6 +107,7 @@ Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, u
         !get_u32_varint(index, pos, c.payload_bytes) || !get_u32_varint(index, pos, c.carving_bytes) ||
         !get_u32_varint(index, pos, c.value_bytes) ||
         (fields.regions && !get_u32_varint(index, pos, c.region_bytes)) ||
+        (fields.faces && !get_u32_varint(index, pos, c.face_bytes)) ||
         (fields.cell_values && !get_u32_varint(index, pos, c.cell_value_bytes)) ||
         index.size() - pos < (fields.cell_values ? 8u : 4u))
       return index_corrupt("entry " + std::to_string(i) + " is cut short");

@@ -31,6 +31,7 @@ struct BrickChunk {
   // Low 32 bits of XXH3-64 of the chunk's bytes before its cell values.
   uint32_t checksum = 0;
   uint32_t region_bytes = 0;  // with the stream's flag regions (15.0): its cells' regions
+  uint32_t face_bytes = 0;    // with the stream's flag faces (17.0): its cells' faces' tags
   // With flag cell_data, in level 0's layer (16.0): its cells' values and
   // their own checksum (0 without them), so that a reader that needs only
   // the chunk's points reads and checks the bytes before them.
@@ -41,29 +42,30 @@ struct BrickChunk {
   uint64_t size() const { return points_size() + cell_value_bytes; }
   // The bytes before its cell values: what a reader of its points reads.
   uint64_t points_size() const {
-    return uint64_t{payload_bytes} + carving_bytes + value_bytes + region_bytes;
+    return uint64_t{payload_bytes} + carving_bytes + value_bytes + region_bytes + face_bytes;
   }
 };
 
 // A chunk's bytes: its payload (the layer coder from the brick's node), its
-// carving corrections, its values, its kept cells' regions, their values.
+// carving corrections, its values, its kept cells' regions, their faces'
+// tags, their values.
 // `bytes`: the whole chunk, or its points_size() bytes (cell values empty).
 struct ChunkBytes {
-  std::span<const uint8_t> payload, carving, values, regions, cell_values;
+  std::span<const uint8_t> payload, carving, values, regions, faces, cell_values;
 };
 ChunkBytes split_chunk(const BrickChunk& chunk, std::span<const uint8_t> bytes);
 
 // Which of the optional sizes a layer's index entries hold: region_bytes
-// with the stream's flag regions, cell_value_bytes with flag cell_data in
-// level 0's layer.
+// with the stream's flag regions, face_bytes with flag faces,
+// cell_value_bytes with flag cell_data in level 0's layer.
 struct IndexFields {
-  bool regions = false, cell_values = false;
+  bool regions = false, faces = false, cell_values = false;
 };
 IndexFields index_fields(uint16_t stream_flags, int level);
 
 // The index: varint chunk count, then per chunk varint (brick - previous
 // brick - 1; the first: brick), new_points, payload_bytes, carving_bytes,
-// value_bytes, region_bytes and cell_value_bytes where `fields` says, the
+// value_bytes, region_bytes, face_bytes and cell_value_bytes where `fields` says, the
 // u32 checksum, and with cell_value_bytes the u32 cell_value_checksum.
 // Offsets are not stored.
 std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, IndexFields fields);
@@ -73,7 +75,8 @@ std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, Index
 // range coder's flush for a chunk of points, and none for a chunk without;
 // carving bytes only with the stream's flag carving_corrections; with flag
 // values, value bytes in every chunk with points and in no other, without
-// it in none; region bytes only with flag regions, cell value bytes only
+// it in none; region bytes only with flag regions, face bytes only with
+// flag faces, cell value bytes only
 // with flag cell_data in level 0's layer, and a cell value checksum of 0
 // without them. Allocates in proportion to the index's bytes only.
 Status parse_brick_index(std::span<const uint8_t> index, int depth, int qbits, uint64_t new_vertices,
@@ -172,17 +175,18 @@ std::vector<uint8_t> encode_chunk_points(std::span<const GridPoint> points, std:
 // What the encoder made of one brick of a layer: its new points' count,
 // payload and value section (empty without points), its carving
 // corrections (empty when alpha is right there), its kept cells' regions
-// (empty with one region, or none kept) and values (level 0's, with cell
-// data; empty when none is kept).
+// (empty with one region, or none kept), their faces' tags (empty when
+// none has a tag) and values (level 0's, with cell data; empty when none
+// is kept).
 struct BrickParts {
   uint64_t brick = 0;
   uint32_t new_points = 0;
-  std::vector<uint8_t> payload, carving, values, regions, cell_values;
+  std::vector<uint8_t> payload, carving, values, regions, faces, cell_values;
 };
 // The layer's chunks from its bricks' parts (ascending bricks, each once):
 // one chunk, with its checksum, for every brick with points, corrections,
-// regions or cell values, its bytes (payload, carving, values, regions,
-// cell values) appended to `chunk_bytes`.
+// regions, tagged faces or cell values, its bytes (payload, carving,
+// values, regions, faces, cell values) appended to `chunk_bytes`.
 std::vector<BrickChunk> write_chunks(std::span<const BrickParts> parts, std::vector<uint8_t>& chunk_bytes);
 
 }  // namespace dtm

@@ -40,6 +40,7 @@ std::vector<BrickChunk> write_chunks(std::span<const BrickParts> parts, std::vec
     chunk.carving_bytes = static_cast<uint32_t>(p.carving.size());
     chunk.value_bytes = static_cast<uint32_t>(p.values.size());
     chunk.region_bytes = static_cast<uint32_t>(p.regions.size());
+    chunk.face_bytes = static_cast<uint32_t>(p.faces.size());
     chunk.cell_value_bytes = static_cast<uint32_t>(p.cell_values.size());
     if (chunk.size() == 0) continue;
     const size_t start = chunk_bytes.size();
@@ -47,6 +48,7 @@ std::vector<BrickChunk> write_chunks(std::span<const BrickParts> parts, std::vec
     chunk_bytes.insert(chunk_bytes.end(), p.carving.begin(), p.carving.end());
     chunk_bytes.insert(chunk_bytes.end(), p.values.begin(), p.values.end());
     chunk_bytes.insert(chunk_bytes.end(), p.regions.begin(), p.regions.end());
+    chunk_bytes.insert(chunk_bytes.end(), p.faces.begin(), p.faces.end());
     chunk.checksum = chunk_checksum(std::span(chunk_bytes).subspan(start));
     chunk_bytes.insert(chunk_bytes.end(), p.cell_values.begin(), p.cell_values.end());
     if (!p.cell_values.empty()) chunk.cell_value_checksum = chunk_checksum(p.cell_values);

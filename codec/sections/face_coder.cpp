@@ -2,11 +2,51 @@
 #include "codec/sections/face_coder.h"
 
 #include <algorithm>
+#include <compare>
+#include <vector>
+
+#include "common/parallel_for.h"
+#include "common/release.h"
 
 namespace dtm {
+namespace {
+
+constexpr int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+
+// Per face, the faces of its group that share one of its edges (a chunk's
+// faces, or, without `group`, the level's).
+Csr faces_sharing_edges(std::span<const SurfaceFace> faces, std::span<const uint32_t> group) {
+  struct Edge {
+    uint32_t group, a, b, face;
+    auto operator<=>(const Edge&) const = default;
+  };
+  std::vector<Edge> edges;
+  edges.reserve(3 * faces.size());
+  for (uint32_t f = 0; f < faces.size(); ++f) {
+    const auto& k = faces[f].key;
+    const uint32_t g = group.empty() ? 0 : group[f];
+    edges.push_back({g, k[0], k[1], f});
+    edges.push_back({g, k[0], k[2], f});
+    edges.push_back({g, k[1], k[2], f});
+  }
+  std::sort(edges.begin(), edges.end());
+  return build_csr(faces.size(), [&](auto&& add) {
+    for (size_t a = 0; a < edges.size();) {
+      size_t b = a;
+      while (b < edges.size() && edges[b].group == edges[a].group && edges[b].a == edges[a].a &&
+             edges[b].b == edges[a].b)
+        ++b;
+      for (size_t i = a; i < b; ++i)
+        for (size_t j = a; j < b; ++j)
+          if (i != j) add(edges[i].face, edges[j].face);
+      a = b;
+    }
+  });
+}
+
+}  // namespace
 
 SurfaceFaces surface_faces(const TetMesh& dt, std::span<const uint8_t> kept) {
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
   SurfaceFaces s;
   for (uint32_t c = 0; c < dt.cells.size(); ++c) {
     if (!kept[c]) continue;
@@ -26,27 +66,56 @@ SurfaceFaces surface_faces(const TetMesh& dt, std::span<const uint8_t> kept) {
   }
   std::sort(s.faces.begin(), s.faces.end(),
             [](const SurfaceFace& a, const SurfaceFace& b) { return a.key < b.key; });
-  // Faces sharing an edge: each face's three edges, sorted by edge.
-  std::vector<std::pair<std::array<uint32_t, 2>, uint32_t>> edges;
-  edges.reserve(3 * s.faces.size());
-  for (uint32_t f = 0; f < s.faces.size(); ++f) {
-    const auto& k = s.faces[f].key;
-    edges.push_back({{k[0], k[1]}, f});
-    edges.push_back({{k[0], k[2]}, f});
-    edges.push_back({{k[1], k[2]}, f});
-  }
-  std::sort(edges.begin(), edges.end());
-  s.neighbours = build_csr(s.faces.size(), [&](auto&& add) {
-    for (size_t a = 0; a < edges.size();) {
-      size_t b = a;
-      while (b < edges.size() && edges[b].first == edges[a].first) ++b;
-      for (size_t i = a; i < b; ++i)
-        for (size_t j = a; j < b; ++j)
-          if (i != j) add(edges[i].second, edges[j].second);
-      a = b;
-    }
-  });
+  s.neighbours = faces_sharing_edges(s.faces, {});
   return s;
+}
+
+ChunkFaces chunk_faces(const TetMesh& dt, const ChunkCells& chunks, std::span<const uint32_t> chunk_of_cell,
+                       std::span<const uint8_t> kept, std::span<const uint32_t> vertex_rank) {
+  const size_t count = chunks.first.empty() ? 0 : chunks.first.size() - 1;
+  // Each chunk's faces on its own, on every core, then one after another.
+  std::vector<std::vector<SurfaceFace>> per_chunk(count);
+  parallel_for(
+      count,
+      [&](size_t i) {
+        std::vector<SurfaceFace>& out = per_chunk[i];
+        for (size_t at = chunks.first[i]; at < chunks.first[i + 1]; ++at) {
+          const uint32_t c = chunks.cells[at];
+          if (!kept[c]) continue;
+          for (int k = 0; k < 4; ++k) {
+            const int32_t n = dt.neighbors[c][static_cast<size_t>(k)];
+            // Inside the chunk's kept cells, or an interface it codes from
+            // the other side.
+            if (n >= 0 && chunk_of_cell[static_cast<size_t>(n)] == i && kept[static_cast<size_t>(n)] != 0 &&
+                kept[static_cast<size_t>(n)] <= kept[c])
+              continue;
+            SurfaceFace f;
+            f.cell = c;
+            f.opposite = static_cast<uint8_t>(k);
+            for (int j = 0; j < 3; ++j)
+              f.key[static_cast<size_t>(j)] = vertex_rank[dt.cells[c][static_cast<size_t>(kFace[k][j])]];
+            std::sort(f.key.begin(), f.key.end());
+            out.push_back(f);
+          }
+        }
+        std::sort(out.begin(), out.end(),
+                  [](const SurfaceFace& a, const SurfaceFace& b) { return a.key < b.key; });
+      },
+      2);
+  ChunkFaces out;
+  out.first.assign(count + 1, 0);
+  for (size_t i = 0; i < count; ++i)
+    out.first[i + 1] = out.first[i] + static_cast<uint32_t>(per_chunk[i].size());
+  out.faces.reserve(out.first[count]);
+  std::vector<uint32_t> group;
+  group.reserve(out.first[count]);
+  for (size_t i = 0; i < count; ++i) {
+    out.faces.insert(out.faces.end(), per_chunk[i].begin(), per_chunk[i].end());
+    group.insert(group.end(), per_chunk[i].size(), static_cast<uint32_t>(i));
+    release(per_chunk[i]);
+  }
+  out.neighbours = faces_sharing_edges(out.faces, group);
+  return out;
 }
 
 }  // namespace dtm

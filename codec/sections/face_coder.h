@@ -15,6 +15,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/sections/carving_coder.h"
 #include "common/csr.h"
 #include "common/status.h"
 #include "mesh/delaunay.h"
@@ -49,5 +50,34 @@ std::vector<uint8_t> encode_face_tags(const SurfaceFaces& surface, std::span<con
 // its bytes do.
 Status decode_face_tags(std::span<const uint8_t> section, const SurfaceFaces& surface, size_t tags,
                         std::vector<uint8_t>& tag);
+
+// Bricked layers (17.0, spec/FORMAT.md §3.5): a face section per chunk,
+// over the faces of the kept cells its brick owns that may be on the
+// level's surface as far as the chunk can tell: every face but those whose
+// cell across is kept, of the same chunk, and of a region not above the
+// cell's (the chunk's insides, and its interfaces coded from their lower
+// side). A face whose cell across is another chunk's is coded by both
+// chunks; an encoder gives it its tag only in the chunk whose cell the
+// surface takes it from (the kept cell, or the lower region's), 1 in the
+// other. So a reader of some chunks knows every tagged surface face of
+// the cells they own, and each once.
+struct ChunkFaces {
+  std::vector<SurfaceFace> faces;  // per chunk, its faces by key (vertex ranks ascending), ascending
+  std::vector<uint32_t> first;     // chunk i's faces: faces[first[i] .. first[i + 1])
+  Csr neighbours;                  // per face, the faces of its chunk that share one of its edges
+};
+// `kept`: per cell, 0 or its region (1 without regions); `chunks`,
+// `chunk_of_cell` and `vertex_rank` as the carving's (chunk_cells()).
+ChunkFaces chunk_faces(const TetMesh& dt, const ChunkCells& chunks, std::span<const uint32_t> chunk_of_cell,
+                       std::span<const uint8_t> kept, std::span<const uint32_t> vertex_rank);
+// One section per chunk for `label` (per face of `faces`: 1 + the tag's
+// index, 1 = no tag); empty for a chunk none of whose faces has a tag.
+std::vector<std::vector<uint8_t>> encode_face_chunks(const ChunkFaces& faces, std::span<const uint8_t> label,
+                                                     size_t tags);
+// Each face's label (1: none), each chunk on its own, on every core.
+// kCorrupt, naming the chunk (its index), if a label is not in the table
+// or a section does not end where its bytes do.
+Status decode_face_chunks(std::span<const std::span<const uint8_t>> sections, const ChunkFaces& faces,
+                          size_t tags, std::vector<uint8_t>& label);
 
 }  // namespace dtm

@@ -136,7 +136,8 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   if ((h.flags & kFlagRegions) && !(h.flags & kFlagCarvingCorrections))
     return corrupt("regions flagged without carving corrections");
   if ((h.flags & kFlagFaces) && h.version_major < 9) return corrupt("faces flagged in a stream before 9.0");
-  if ((h.flags & kFlagFaces) && (h.flags & kFlagBricks)) return corrupt("faces flagged in a bricked stream");
+  if ((h.flags & kFlagFaces) && (h.flags & kFlagBricks) && h.version_major < 17)
+    return corrupt("faces flagged in a bricked stream before 17.0");
   if ((h.flags & kFlagFaces) && !(h.flags & kFlagCarvingCorrections))
     return corrupt("faces flagged without carving corrections");
   if ((h.flags & kFlagCellData) && h.version_major < 10)
@@ -428,7 +429,7 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
         for (const BrickChunk& c : chunks) {
           lh.payload_bytes += c.payload_bytes, lh.carving_bytes += c.carving_bytes,
               lh.value_bytes += c.value_bytes, lh.region_bytes += c.region_bytes,
-              lh.cell_value_bytes += c.cell_value_bytes;
+              lh.face_bytes += c.face_bytes, lh.cell_value_bytes += c.cell_value_bytes;
           // Each chunk's value sections, their fields' shares added up.
           const ChunkBytes parts = split_chunk(c, layer.chunks.subspan(c.offset, c.size()));
           const auto add_shares = [&](std::span<const uint8_t> section,

@@ -56,9 +56,11 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // (spec/FORMAT.md §3.10, §3.2: apex_ranks_of(), exact_carving_contexts());
 // 15.0 when a bricked stream's cells carry regions (each chunk a region
 // section, spec/FORMAT.md §3.5); 16.0 when a bricked stream's level 0
-// carries cell data (each of its chunks a cell value section); the decoder
-// reads 2.x to 16.x.
-inline constexpr uint8_t kVersionMajor = 16;
+// carries cell data (each of its chunks a cell value section); 17.0 when a
+// bricked stream's levels carry tagged faces (each chunk a face section);
+// the decoder reads 2.x to 17.x.
+inline constexpr uint8_t kVersionMajor = 17;
+inline constexpr uint8_t kVersionMajorBrickedFaces = 17;
 inline constexpr uint8_t kVersionMajorBrickedCellData = 16;
 inline constexpr uint8_t kVersionMajorBrickedRegions = 15;
 inline constexpr uint8_t kVersionMajorExact = 14;
@@ -90,7 +92,8 @@ inline constexpr int kMaxBrickDepth = 16;
 // each chunk carrying its cells' (codec/bricks/bricks.h).
 inline constexpr uint16_t kFlagRegions = 16;
 // 9.0: a face tag table follows (the region table) and layers carry face
-// sections (codec/sections/face_coder.h); not with kFlagBricks.
+// sections (codec/sections/face_coder.h); with kFlagBricks from 17.0, each
+// chunk carrying its cells' faces' (codec/bricks/bricks.h).
 inline constexpr uint16_t kFlagFaces = 32;
 // 10.0: a cell field table follows (the face tag table) and level 0's layer
 // carries a cell value section: per-cell arrays of the finest level

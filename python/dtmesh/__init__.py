@@ -301,8 +301,7 @@ def encode(
             and corrections in one chunk per octree brick, so that
             :func:`decode_box` and :func:`decode_piece` read only the chunks
             around a part; the levels are built in blocks, in less memory
-            (the codec preset only; not with ``exact`` or ``keep_order``,
-            nor tagged faces yet).
+            (the codec preset only; not with ``exact`` or ``keep_order``).
         brick_points: with ``bricks``, each layer's bricks hold about this
             many of its new points (smaller: a part reads fewer bytes, the
             stream grows).

@@ -418,6 +418,23 @@ def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
     finest = dtmesh.decode(out.read_bytes())
     assert sorted(set(finest.face_tags.tolist())) == [3, 4]
     assert finest.faces.shape == (finest.face_tags.shape[0], 3)
+    # In bricks (17.0): the same tags on every level, and the pieces hold the whole level's tagged
+    # faces, each once.
+    bricked = dtmesh.encode(mesh.points, tets, regions=labels, region_names={1: "aluminium", 2: "steel"},
+                            faces=triangles, face_tags=tags, face_tag_names={3: "base", 4: "load"},
+                            bricks=True, brick_points=256)
+    assert dtmesh.info(bricked.bytes)["version"] == "17.0"
+    whole = dtmesh.decode(bricked.bytes)
+    assert whole.face_tag_names == {3: "base", 4: "load"}
+
+    def tagged(level):
+        return sorted((tuple(sorted(map(tuple, level.points[f].tolist()))), int(t))
+                      for f, t in zip(level.faces, level.face_tags))
+
+    in_pieces = []
+    for k in range(3):
+        in_pieces += tagged(dtmesh.decode_piece(bricked.bytes, k, 3))
+    assert len(in_pieces) > 100 and sorted(in_pieces) == tagged(whole)
     with pytest.raises(ValueError, match="one label per tetrahedron"):
         dtmesh.encode(mesh.points, tets, regions=labels[:-1])
     # Back through meshio's gmsh writer: gmsh's physical groups and names.

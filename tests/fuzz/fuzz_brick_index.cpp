@@ -9,15 +9,17 @@
 #include "fuzz_check.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  // 6 parameter bytes: qbits, depth (and in its high part the stream's
-  // flags carving_corrections, values and regions), the layer's points and
-  // chunk bytes (u16 each).
+  // 6 parameter bytes: qbits (and in its high part whether the layer is
+  // level 0's and the stream's flag faces), depth (and in its high part the
+  // stream's flags carving_corrections, values, regions and cell_data), the
+  // layer's points and chunk bytes (u16 each).
   if (size < 6) return 0;
   const int qbits = 1 + data[0] % 24;
   const int depth = data[1] % 18;  // 17: beyond the format's 16
   const uint16_t flags = static_cast<uint16_t>(
       ((data[1] / 18) & 1 ? dtm::kFlagCarvingCorrections : 0) | ((data[1] / 36) & 1 ? dtm::kFlagValues : 0) |
-      ((data[1] / 72) & 1 ? dtm::kFlagRegions : 0) | ((data[1] / 144) & 1 ? dtm::kFlagCellData : 0));
+      ((data[1] / 72) & 1 ? dtm::kFlagRegions : 0) | ((data[1] / 144) & 1 ? dtm::kFlagCellData : 0) |
+      ((data[0] / 48) & 1 ? dtm::kFlagFaces : 0));
   const int level = data[0] / 24 % 2;  // level 0's index holds the cell value bytes
   const uint64_t new_vertices = data[2] | (data[3] << 8);
   const uint64_t chunk_bytes = data[4] | (data[5] << 8);
@@ -35,6 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(chunks[i].carving_bytes == 0 || (flags & dtm::kFlagCarvingCorrections));
     FUZZ_CHECK((chunks[i].value_bytes > 0) == ((flags & dtm::kFlagValues) && chunks[i].new_points > 0));
     FUZZ_CHECK(chunks[i].region_bytes == 0 || (flags & dtm::kFlagRegions));
+    FUZZ_CHECK(chunks[i].face_bytes == 0 || (flags & dtm::kFlagFaces));
     FUZZ_CHECK(chunks[i].cell_value_bytes == 0 || ((flags & dtm::kFlagCellData) && level == 0));
     FUZZ_CHECK(chunks[i].cell_value_checksum == 0 || chunks[i].cell_value_bytes > 0);
     points += chunks[i].new_points;

@@ -2,7 +2,8 @@
 // bytes pick the level and the box, the rest is the stream. Never a crash, a
 // hang or an allocation the bytes do not justify; what decodes is a mesh
 // over its own points, numbered within the level, having read no byte twice,
-// with every field's values for every point, with regions (15.0) every
+// with every field's values for every point, with tagged faces (17.0) every
+// face's label one of the table's, with regions (15.0) every
 // cell's region one of the table's, and with cell data (16.0) every cell's
 // values at level 0, none at another.
 // (That the region equals the whole level filtered holds for the streams the
@@ -40,6 +41,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (!region->cell_regions.empty() || !region->regions.empty()) {
     FUZZ_CHECK(region->cell_regions.size() == region->cells.size() || region->regions.size() < 2);
     for (uint8_t r : region->cell_regions) FUZZ_CHECK(r >= 1 && r <= region->regions.size());
+  }
+  // With tagged faces (17.0): each a face of a cell here, its label one of the table's.
+  FUZZ_CHECK(region->face_labels.size() == region->faces.size());
+  FUZZ_CHECK(region->faces.empty() || !region->face_tags.empty());
+  for (size_t f = 0; f < region->faces.size(); ++f) {
+    for (uint32_t v : region->faces[f]) FUZZ_CHECK(v < region->points.size());
+    FUZZ_CHECK(region->face_labels[f] >= 2 && region->face_labels[f] <= region->face_tags.size() + 1);
   }
   FUZZ_CHECK(region->cell_fields.empty() || level == 0);
   for (const auto& f : region->cell_fields)

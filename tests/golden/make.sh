@@ -103,9 +103,12 @@ make_one torus_288_bricks torus_288.node --scale 25 --dmax 3 --bricks --brick-po
 xz -dc "$root/data/two_materials.msh.xz" >"$tmp/two_materials.msh"
 make_one two_materials two_materials.msh --quality-floor 0 --dmax 0.2
 # 15.0: its regions in bricked layers (several chunks in the finer layers;
-# a bricked stream carries no tagged faces).
+# without its tagged faces).
 make_one two_materials_bricks two_materials.msh --quality-floor 0 --dmax 0.2 --bricks --brick-points 64 \
   --block-points 400 --no-face-tags
+# 17.0: with them, a face section in each chunk.
+make_one two_materials_bricks_faces two_materials.msh --quality-floor 0 --dmax 0.2 --bricks --brick-points 64 \
+  --block-points 400
 # 10.0: the torus with cell data (a float32 of each tetrahedron's centroid
 # and an int16 of its index), as a .vtu, and its vertex numbering
 # (--keep-order) (small: every bit of it is flipped by the tests).
