@@ -492,6 +492,10 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
       if (!options.carve_to_reference)
         return invalid_input(
             "tagged faces need the levels carved to the input's solid (not the paper preset)");
+      for (const auto& f : input.tagged_faces)
+        for (uint32_t v : f)
+          if (v >= q.input_to_point.size())
+            return invalid_input("a tagged face names a point that does not exist");
     }
     if (!input.tetrahedra.empty()) {
       const size_t points = input.tetrahedra_on_grid ? q.points.size() : q.input_to_point.size();
@@ -586,22 +590,19 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   // encode_bricked()'s check.)
   if (options.bricks && options.exchange && options.exchange->size() > 1)
     face_distinct = labels_of_every_rank(*options.exchange, face_distinct);
+  // (The same on every rank: all of them refuse, none waits.)
+  if (face_distinct.size() > kMaxFaceTags)
+    return invalid_input("the input's faces have " + std::to_string(face_distinct.size()) +
+                         " tags; a stream holds at most " + std::to_string(kMaxFaceTags));
   if (with_faces) {
     const std::vector<int32_t>& distinct = face_distinct;
-    if (distinct.size() > kMaxFaceTags)
-      return invalid_input("the input's faces have " + std::to_string(distinct.size()) +
-                           " tags; a stream holds at most " + std::to_string(kMaxFaceTags));
     report.face_tags = label_table(distinct, input.face_tag_names);
     std::vector<std::array<uint32_t, 3>> faces;
     std::vector<uint8_t> face_label;
     for (size_t i = 0; i < input.tagged_faces.size(); ++i) {
       std::array<uint32_t, 3> g;
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t v = input.tagged_faces[i][static_cast<size_t>(k)];
-        if (v >= q.input_to_point.size())
-          return invalid_input("a tagged face names a point that does not exist");
-        g[static_cast<size_t>(k)] = q.input_to_point[v];
-      }
+      for (int k = 0; k < 3; ++k)  // (each point checked above)
+        g[static_cast<size_t>(k)] = q.input_to_point[input.tagged_faces[i][static_cast<size_t>(k)]];
       if (g[0] == g[1] || g[1] == g[2] || g[0] == g[2]) continue;  // collapsed by quantization
       faces.push_back(g);
       face_label.push_back(static_cast<uint8_t>(

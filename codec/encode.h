@@ -106,7 +106,7 @@ struct EncodeOptions {
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.
   // The codec preset only; every level (no level_step), no candidates, no
-  // exact cells, vertex order or tagged faces yet.
+  // exact cells or vertex order yet.
   bool bricks = false;
   uint64_t brick_points = 2048;
   uint64_t block_points = uint64_t{1} << 18;
@@ -176,8 +176,11 @@ struct EncodeInput {
   std::map<int32_t, std::string> region_names;
   // The input's tagged triangles (indices into `points`: gmsh physical
   // surfaces, Medit triangle refs) and each one's tag: every level's surface
-  // faces carry a tag (core/face_tags.h; format 9.0). At most 254 distinct
-  // tags; needs the tetrahedra; not with bricks or the paper preset.
+  // faces carry a tag (core/face_tags.h; format 9.0, in bricks 17.0). At
+  // most 254 distinct tags; needs the tetrahedra; not with the paper
+  // preset. On the ranks of a bricked run, every rank must be given every
+  // tetrahedron and the same tagged triangles (kInvalidInput on every rank
+  // otherwise).
   std::span<const std::array<uint32_t, 3>> tagged_faces;
   std::span<const int32_t> face_tags;
   std::map<int32_t, std::string> face_tag_names;

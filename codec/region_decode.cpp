@@ -607,8 +607,19 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
           decode_face_chunks(owned_sections(&ChunkBytes::faces), faces, plan.face_tags.size(), label)
               .with_context(finest.where()));
       face_label.assign(dt.cells.size() * 4, 1);
-      for (size_t f = 0; f < faces.faces.size(); ++f)
-        face_label[size_t{faces.faces[f].cell} * 4 + faces.faces[f].opposite] = label[f];
+      for (size_t f = 0; f < faces.faces.size(); ++f) {
+        const SurfaceFace& face = faces.faces[f];
+        // A tag where the cell across is another owner's kept cell of a
+        // region not above this one's: the surface does not take the face
+        // from this cell (§3.5; the whole decoder refuses it too).
+        const int32_t n = dt.neighbors[face.cell][face.opposite];
+        if (label[f] > 1 && n >= 0 && chunk_of_cell[static_cast<size_t>(n)] != kNoCarvingChunk &&
+            owned[static_cast<size_t>(n)] != 0 && owned[static_cast<size_t>(n)] <= owned[face.cell])
+          return Status{StatusCode::kCorrupt,
+                        "a tag on a face that the level's surface does not take from its chunk"}
+              .with_context(finest.where());
+        face_label[size_t{face.cell} * 4 + face.opposite] = label[f];
+      }
     }
     if (plan.header.flags & kFlagRegions) cell_regions = std::move(owned);
   } else {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "common/checksum.h"
+
 namespace dtm {
 namespace {
 
@@ -55,6 +57,18 @@ std::vector<uint8_t> FaceTagger::labels(std::span<const std::array<uint32_t, 3>>
   const std::vector<uint32_t> nearest = surface_.nearest_triangles(centroids);
   for (size_t i = 0; i < nearest.size(); ++i) out[other[i]] = surface_label_[nearest[i]];
   return out;
+}
+
+uint64_t FaceTagger::fingerprint() const {
+  std::vector<uint8_t> bytes;
+  bytes.reserve(tagged_.size() * 13 + surface_label_.size());
+  for (const auto& [key, label] : tagged_) {
+    for (uint32_t v : key)
+      for (int b = 0; b < 4; ++b) bytes.push_back(static_cast<uint8_t>(v >> (8 * b)));
+    bytes.push_back(label);
+  }
+  bytes.insert(bytes.end(), surface_label_.begin(), surface_label_.end());
+  return xxh3_64(bytes);
 }
 
 size_t FaceTagger::tagged_among(std::span<const std::array<uint32_t, 3>> faces) const {

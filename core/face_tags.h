@@ -36,6 +36,10 @@ class FaceTagger {
   // exactly.
   size_t tagged_among(std::span<const std::array<uint32_t, 3>> faces) const;
   size_t tagged() const { return tagged_.size(); }
+  // A hash of what the tagger was made of (the tagged triangles and their
+  // labels, the surface's triangles' labels): the ranks of a run compare
+  // theirs, which must be equal for the stream to be one process's.
+  uint64_t fingerprint() const;
 
  private:
   uint8_t own_label(std::array<uint32_t, 3> key) const;  // 0: not a tagged triangle

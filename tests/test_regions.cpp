@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <random>
 #include <set>
@@ -814,9 +815,8 @@ std::map<OrientedFace, int32_t> faces_of(const OutputMesh& m) {
 
 // Bricked streams (17.0): each chunk codes the tags of its brick's kept
 // cells' faces. Every level's tagged faces lie on their patches (level 0
-// keeps every tagged triangle); the tags change no cell; pieces hold the
-// whole level's tagged faces, each once, turned the same way, and a box
-// those of its cells; one process and 2 or 3 ranks write the same bytes.
+// keeps those of its faces); pieces hold the whole level's tagged faces, each once, turned the same way, and
+// a box those of its cells; one process and 2 or 3 ranks write the same bytes.
 TEST(Faces, BrickedLevelsTagTheirSurfaceInEveryChunk) {
   const RegionInput in = three_materials(2500, 11);
   const TaggedFaces tagged = tag_sides(in);
@@ -841,22 +841,6 @@ TEST(Faces, BrickedLevelsTagTheirSurfaceInEveryChunk) {
   for (uint64_t b : r.face_bytes) EXPECT_GT(b, 0u);
   const double reach = 8 * (1 + 1e-6) + 2 * r.grid.step;
   expect_tags_on_patches(bytes, tag_patches(in, tagged), reach, r.tagged_faces_kept, false, r.levels.size());
-
-  // Without the tags, the same levels.
-  EncodeInput untagged = tagged_input(in, tagged);
-  untagged.tagged_faces = {};
-  untagged.face_tags = {};
-  const auto plain = encode(untagged, options);
-  ASSERT_TRUE(plain.ok()) << plain.status().message();
-  ASSERT_EQ(plain->report.levels.size(), r.levels.size());
-  for (int level = 0; level < static_cast<int>(r.levels.size()); ++level) {
-    DecoderOptions stop;
-    stop.stop_after_level = level;
-    ProgressiveDecoder a(stop), b(stop);
-    ASSERT_TRUE(a.feed(bytes).ok() && b.feed(plain->bytes).ok());
-    EXPECT_TRUE(a.points() == b.points()) << level;
-    EXPECT_TRUE(a.carved_cells() == b.carved_cells()) << level;
-  }
 
   MemorySource source(bytes);
   for (int level = 0; level < 2; ++level) {
@@ -919,6 +903,90 @@ TEST(Faces, BrickedLevelsTagTheirSurfaceInEveryChunk) {
     });
     for (const auto& b : made) EXPECT_TRUE(b == bytes);
   }
+}
+
+// The tags change no level: the gmsh part of two materials
+// (data/two_materials.msh) in blocks far smaller than it, with and without
+// its tagged faces, has the same points and cells on every level (the
+// faces' tags look farther than the blocks' analysis: in a pass of their
+// own).
+TEST(Faces, BrickedLevelsAreTheSameWithoutTheTags) {
+  const InputMesh part = read_input(test::data_path("two_materials.msh"));
+  ASSERT_FALSE(part.tagged_faces.empty());
+  EncodeInput input;
+  input.points = part.points;
+  input.tetrahedra = part.tets;
+  input.tetrahedron_regions = part.tet_regions;
+  input.tagged_faces = part.tagged_faces;
+  input.face_tags = part.face_tags;
+  EncodeOptions options = small_bricks(400);
+  options.dmax = 0.2;
+  options.average_quality_floor = 0;
+  const auto with = encode(input, options);
+  ASSERT_TRUE(with.ok()) << with.status().message();
+  EXPECT_EQ(with->report.tagged_faces_kept, with->report.tagged_faces);
+  EncodeInput untagged = input;
+  untagged.tagged_faces = {};
+  untagged.face_tags = {};
+  const auto without = encode(untagged, options);
+  ASSERT_TRUE(without.ok()) << without.status().message();
+  ASSERT_EQ(without->report.levels.size(), with->report.levels.size());
+  ASSERT_GE(with->report.levels.size(), 3u);
+  for (int level = 0; level < static_cast<int>(with->report.levels.size()); ++level) {
+    DecoderOptions stop;
+    stop.stop_after_level = level;
+    ProgressiveDecoder a(stop), b(stop);
+    ASSERT_TRUE(a.feed(with->bytes).ok() && b.feed(without->bytes).ok());
+    EXPECT_TRUE(a.points() == b.points()) << level;
+    // (The same cells; their order follows the chunks, which a brick's
+    // face section alone may add.)
+    std::vector<std::array<uint32_t, 4>> ca = a.carved_cells(), cb = b.carved_cells();
+    for (auto* cells : {&ca, &cb}) {
+      for (auto& c : *cells) std::sort(c.begin(), c.end());
+      std::sort(cells->begin(), cells->end());
+    }
+    EXPECT_TRUE(ca == cb) << level;
+  }
+}
+
+// On ranks, tagged faces need every tetrahedron and the same tagged
+// triangles on every rank: a rank given half the tetrahedra, other
+// triangles, none, a tag of its own or a triangle naming no point makes
+// every rank refuse, none waiting for the others.
+TEST(Faces, RanksGivenOtherFacesRefuseTogether) {
+  const RegionInput in = three_materials(600, 4);
+  const TaggedFaces tagged = tag_sides(in);
+  EncodeOptions options = small_bricks(300);
+  options.dmax = 8;
+  const EncodeInput input = tagged_input(in, tagged);
+  ASSERT_TRUE(encode(input, options).ok());
+  const std::vector<Tet> half(in.tets.begin(),
+                              in.tets.begin() + static_cast<std::ptrdiff_t>(in.tets.size() / 2));
+  const std::vector<int32_t> half_labels(in.labels.begin(),
+                                         in.labels.begin() + static_cast<std::ptrdiff_t>(half.size()));
+  const std::vector<Tri> fewer(tagged.faces.begin() + 1, tagged.faces.end());
+  const std::vector<int32_t> fewer_tags(tagged.tags.begin() + 1, tagged.tags.end());
+  std::vector<int32_t> own_tag = tagged.tags;
+  own_tag[0] = 99;
+  std::vector<Tri> beyond = tagged.faces;
+  beyond[0][0] = static_cast<uint32_t>(in.points.size());
+  // (Rank 1's input made by `given`.)
+  const auto codes = [&](const std::function<void(EncodeInput&)>& given) {
+    return test::on_ranks(2, true, [&](RankExchange& rank, int r) {
+      EncodeOptions on_rank = options;
+      on_rank.exchange = &rank;
+      EncodeInput mine = input;
+      if (r == 1) given(mine);
+      return encode(mine, on_rank).status().code();
+    });
+  };
+  const std::vector<StatusCode> refused(2, StatusCode::kInvalidInput);
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.tetrahedra = half, i.tetrahedron_regions = half_labels; }),
+            refused);
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.tagged_faces = fewer, i.face_tags = fewer_tags; }), refused);
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.tagged_faces = {}, i.face_tags = {}; }), refused);
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.face_tags = own_tag; }), refused);
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.tagged_faces = beyond; }), refused);
 }
 
 // Below the chunks' checksums: a damaged or cut face section of a chunk is
@@ -1086,6 +1154,12 @@ TEST(Faces, ABoxOfAWholeStreamKeepsTheTagsCellDataAndBoundary) {
     return std::array<double, 3>{q.x, q.y, q.z};
   };
   std::map<Key4, std::pair<int32_t, uint64_t>> want_cells;  // region, load bits
+  // The box's cells' faces turned out of them, from their least corner: a
+  // tagged face goes with the cell the surface takes it from.
+  const auto from_least = [](std::array<uint32_t, 3> f) {
+    std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+    return f;
+  };
   std::set<std::array<uint32_t, 3>> sides;
   for (size_t c = 0; c < whole.cells.size(); ++c) {
     Key4 k;
@@ -1097,25 +1171,33 @@ TEST(Faces, ABoxOfAWholeStreamKeepsTheTagsCellDataAndBoundary) {
     if (!meets) continue;
     std::sort(k.begin(), k.end());
     want_cells[k] = {whole.region[c], whole.cell_fields[0].bits[c]};
+    const auto& t = whole.cells[c];
     for (int skip = 0; skip < 4; ++skip) {
       std::array<uint32_t, 3> f{};
       for (int i = 0, j = 0; i < 4; ++i)
-        if (i != skip) f[static_cast<size_t>(j++)] = whole.cells[c][static_cast<size_t>(i)];
-      std::sort(f.begin(), f.end());
-      sides.insert(f);
+        if (i != skip) f[static_cast<size_t>(j++)] = t[static_cast<size_t>(i)];
+      if (dtm::orientation(whole.points[f[0]], whole.points[f[1]], whole.points[f[2]],
+                           whole.points[t[static_cast<size_t>(skip)]]) > 0)
+        std::swap(f[1], f[2]);
+      sides.insert(from_least(f));
     }
   }
   std::map<Key3, int32_t> want_faces;
+  size_t across = 0;  // tagged faces of the box's cells that go with a cell outside it
   for (size_t f = 0; f < whole.faces.size(); ++f) {
-    std::array<uint32_t, 3> s3 = whole.faces[f];
-    std::sort(s3.begin(), s3.end());
-    if (!sides.contains(s3)) continue;
+    if (!sides.contains(from_least(whole.faces[f]))) {
+      std::array<uint32_t, 3> reversed = whole.faces[f];
+      std::swap(reversed[1], reversed[2]);
+      across += sides.contains(from_least(reversed));
+      continue;
+    }
     Key3 k;
     for (size_t i = 0; i < 3; ++i) k[i] = at(whole.grid, whole.points[whole.faces[f][i]]);
     std::sort(k.begin(), k.end());
     want_faces[k] = whole.face_tags[f];
   }
   ASSERT_GT(want_faces.size(), 10u);
+  EXPECT_GT(across, 0u);  // (the ball's interface crosses the cut: some go with cells outside)
   ASSERT_LT(want_cells.size(), whole.cells.size());
 
   InputMesh got = read_input(box);

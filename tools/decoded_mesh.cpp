@@ -137,25 +137,28 @@ OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
   out.fields.reserve(whole.fields.size() + 1);
   out.fields.push_back(std::move(ids));  // first, as region_output() puts it
   for (const OutputField& f : whole.fields) out.fields.push_back(rows_of(f, out.fields.front().bits));
-  std::set<std::array<uint32_t, 3>> faces;  // the kept cells' faces, corners ascending (whole's numbers)
+  // The box's cells' faces, each turned out of its cell and starting at its
+  // least corner (whole's numbers): a tagged face goes with the cell the
+  // level's surface takes it from (out of which it is turned), as a bricked
+  // stream's box and pieces give it (spec/FORMAT.md §3.5).
+  static constexpr int kOutward[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  const auto from_least = [](std::array<uint32_t, 3> f) {
+    std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+    return f;
+  };
+  std::set<std::array<uint32_t, 3>> faces;
   for (const size_t c : cells) {
-    const std::array<uint32_t, 4>& t = whole.cells[c];
+    const std::array<uint32_t, 4>& t = whole.cells[c];  // positively oriented
     out.cells.push_back({index[t[0]], index[t[1]], index[t[2]], index[t[3]]});
     if (!whole.region.empty()) out.region.push_back(whole.region[c]);
     if (whole.faces.empty()) continue;
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<uint32_t, 3> f{};
-      for (int k = 0, j = 0; k < 4; ++k)
-        if (k != skip) f[static_cast<size_t>(j++)] = t[static_cast<size_t>(k)];
-      std::sort(f.begin(), f.end());
-      faces.insert(f);
-    }
+    for (const auto& o : kOutward)
+      faces.insert(from_least(
+          {t[static_cast<size_t>(o[0])], t[static_cast<size_t>(o[1])], t[static_cast<size_t>(o[2])]}));
   }
   for (const OutputField& f : whole.cell_fields) out.cell_fields.push_back(rows_of(f, cells));
   for (size_t i = 0; i < whole.faces.size(); ++i) {
-    std::array<uint32_t, 3> key = whole.faces[i];
-    std::sort(key.begin(), key.end());
-    if (!faces.contains(key)) continue;
+    if (!faces.contains(from_least(whole.faces[i]))) continue;
     const std::array<uint32_t, 3>& f = whole.faces[i];
     out.faces.push_back({index[f[0]], index[f[1]], index[f[2]]});
     out.face_tags.push_back(whole.face_tags[i]);

@@ -23,7 +23,9 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
 // with what the level carries on them: their vertices in the whole's order
 // with each one's number there (point data vertex_id, first), its fields,
 // level and `boundary` (the level's own surface), the cells' regions and
-// cell data, and the tagged faces of those cells.
+// cell data, and the tagged faces of those cells (each with the cell the
+// level's surface takes it from: the kept one, at an interface the lower
+// region's).
 OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box);
 
 // A box or piece a region reader decoded (codec/region_decode.h), as

@@ -263,6 +263,87 @@ double smallest_height(std::span<const GridPoint> points, const std::array<uint3
   return largest > 0 ? six_volume / largest : 0;
 }
 
+// The bricks of the layer whose cells the block codes (those whose corner
+// it owns), each cell's chunk among them (§3.5's owner; kNoCarvingChunk:
+// none of them), the vertices' Morton ranks and each chunk's cells in
+// their coding order.
+struct BlockBricks {
+  std::vector<uint64_t> bricks;
+  std::vector<uint32_t> chunk_of_cell;
+  std::vector<uint32_t> ranks;
+  ChunkCells cells;
+};
+BlockBricks block_bricks(const LevelGeometry& L, const BlockRegion& block, const BlockAnalysisOptions& o) {
+  const std::span<const GridPoint> points = L.points;
+  const size_t n = points.size();
+  BlockBricks out;
+  std::vector<MortonCode> codes(n);
+  parallel_ranges(n, kScan, [&](size_t first, size_t last) {
+    for (size_t v = first; v < last; ++v) codes[v] = morton_encode(points[v], o.qbits);
+  });
+  const std::vector<uint64_t> owner =
+      carving_bricks_of_cells(L.dt, points, codes, o.qbits, o.brick_depth, o.kept_radius);
+  // The bricks the cells name, each once (each range of cells' own first,
+  // on every core: a copy of a brick a cell would be 8 bytes a cell more
+  // at the block's peak), then those whose corner the block owns.
+  std::vector<uint64_t>& bricks = out.bricks;
+  bricks = collect_in_order<uint64_t>(
+      owner.size(), kScan, [&](size_t first, size_t last, std::vector<uint64_t>& part) {
+        std::vector<uint64_t> range(owner.begin() + static_cast<std::ptrdiff_t>(first),
+                                    owner.begin() + static_cast<std::ptrdiff_t>(last));
+        std::sort(range.begin(), range.end());
+        part.assign(range.begin(), std::unique(range.begin(), range.end()));  // kept: the few distinct
+      });
+  std::sort(bricks.begin(), bricks.end());
+  bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
+  std::erase_if(bricks, [&](uint64_t b) {
+    return b == kNoBrick ||
+           !block.owned.contains(morton_decode(MortonCode{b} << (3 * (o.qbits - o.brick_depth)), o.qbits));
+  });
+  out.chunk_of_cell.assign(owner.size(), kNoCarvingChunk);
+  parallel_ranges(owner.size(), kScan, [&](size_t first, size_t last) {
+    for (size_t c = first; c < last; ++c) {
+      const auto it = std::lower_bound(bricks.begin(), bricks.end(), owner[c]);
+      if (owner[c] != kNoBrick && it != bricks.end() && *it == owner[c])
+        out.chunk_of_cell[c] = static_cast<uint32_t>(it - bricks.begin());
+    }
+  });
+  out.ranks = morton_ranks(codes);
+  out.cells = chunk_cells(L.dt, out.chunk_of_cell, bricks.size(), out.ranks);
+  return out;
+}
+
+// The face sections of the block's bricks (17.0): a face the level's
+// surface takes from its cell (the cell across not kept, or of a higher
+// region) gets the tagger's label, any other 1. The cell across must be
+// the level's (the block's region reaching far enough: the options' note).
+void tag_faces(const LevelGeometry& L, std::span<const uint32_t> ids, const BlockBricks& b,
+               const BlockAnalysisOptions& o, BlockAnalysis& out) {
+  const ChunkFaces faces = chunk_faces(L.dt, b.cells, b.chunk_of_cell, L.in_mesh, b.ranks);
+  std::vector<uint8_t> label(faces.faces.size(), 1);
+  std::vector<uint32_t> surface;  // the faces the surface takes from their cell
+  std::vector<std::array<uint32_t, 3>> by_grid_id;
+  for (uint32_t k = 0; k < faces.faces.size(); ++k) {
+    const SurfaceFace& face = faces.faces[k];
+    const int32_t n = L.dt.neighbors[face.cell][face.opposite];
+    if (n >= 0 && L.in_mesh[static_cast<size_t>(n)] != 0 &&
+        L.in_mesh[static_cast<size_t>(n)] <= L.in_mesh[face.cell])
+      continue;
+    std::array<uint32_t, 3> g{};
+    for (int j = 0, at = 0; j < 4; ++j)
+      if (j != face.opposite)
+        g[static_cast<size_t>(at++)] = ids[L.dt.cells[face.cell][static_cast<size_t>(j)]];
+    surface.push_back(k);
+    by_grid_id.push_back(g);
+  }
+  const std::vector<uint8_t> tags = o.faces->labels(by_grid_id);
+  for (size_t i = 0; i < surface.size(); ++i) label[surface[i]] = tags[i];
+  out.figures.tagged_faces_kept += o.faces->tagged_among(by_grid_id);
+  std::vector<std::vector<uint8_t>> sections = encode_face_chunks(faces, label, o.face_tags);
+  for (size_t i = 0; i < b.bricks.size(); ++i)
+    if (!sections[i].empty()) out.faces.emplace_back(b.bricks[i], std::move(sections[i]));
+}
+
 }  // namespace
 
 StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* reference,
@@ -288,6 +369,10 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
   DTM_ASSIGN_OR_RETURN(LevelGeometry L, analyze_level(block.points, std::move(dt), policy, verdicts));
   const std::span<const GridPoint> points = L.points;
   const std::span<const uint32_t> ids = block.ids;
+  if (o.faces_only) {
+    if (o.faces && o.brick_depth >= 0) tag_faces(L, ids, block_bricks(L, block, o), o, out);
+    return out;
+  }
 
   BlockFigures& f = out.figures;
   // The cells the solid holds that the kept radius drops (in the solid, not
@@ -368,39 +453,10 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
   // The carving sections of the layer's bricks inside the block, their
   // cells coded in the order of their vertices' Morton codes (§3.5).
   if (o.brick_depth >= 0) {
-    std::vector<MortonCode> codes(n);
-    parallel_ranges(n, kScan, [&](size_t first, size_t last) {
-      for (size_t v = first; v < last; ++v) codes[v] = morton_encode(points[v], o.qbits);
-    });
-    const std::vector<uint64_t> owner =
-        carving_bricks_of_cells(L.dt, points, codes, o.qbits, o.brick_depth, o.kept_radius);
-    // The bricks the cells name, each once (each range of cells' own first,
-    // on every core: a copy of a brick a cell would be 8 bytes a cell more
-    // at the block's peak), then those whose corner the block owns.
-    std::vector<uint64_t> bricks = collect_in_order<uint64_t>(
-        owner.size(), kScan, [&](size_t first, size_t last, std::vector<uint64_t>& part) {
-          std::vector<uint64_t> range(owner.begin() + static_cast<std::ptrdiff_t>(first),
-                                      owner.begin() + static_cast<std::ptrdiff_t>(last));
-          std::sort(range.begin(), range.end());
-          part.assign(range.begin(), std::unique(range.begin(), range.end()));  // kept: the few distinct
-        });
-    std::sort(bricks.begin(), bricks.end());
-    bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
-    std::erase_if(bricks, [&](uint64_t b) {
-      return b == kNoBrick ||
-             !block.owned.contains(morton_decode(MortonCode{b} << (3 * (o.qbits - o.brick_depth)), o.qbits));
-    });
-    std::vector<uint32_t> chunk_of_cell(owner.size(), kNoCarvingChunk);
-    parallel_ranges(owner.size(), kScan, [&](size_t first, size_t last) {
-      for (size_t c = first; c < last; ++c) {
-        const auto it = std::lower_bound(bricks.begin(), bricks.end(), owner[c]);
-        if (owner[c] != kNoBrick && it != bricks.end() && *it == owner[c])
-          chunk_of_cell[c] = static_cast<uint32_t>(it - bricks.begin());
-      }
-    });
-    // The bricks' cells in their coding order, for the carving and the regions.
-    const std::vector<uint32_t> ranks = morton_ranks(codes);
-    const ChunkCells cells = chunk_cells(L.dt, chunk_of_cell, bricks.size(), ranks);
+    const BlockBricks b = block_bricks(L, block, o);
+    const std::vector<uint64_t>& bricks = b.bricks;
+    const std::vector<uint32_t>& chunk_of_cell = b.chunk_of_cell;
+    const ChunkCells& cells = b.cells;
     std::vector<std::vector<uint8_t>> sections =
         encode_carving_chunks(L.dt, points, o.alpha, L.in_mesh, chunk_of_cell, cells);
     for (size_t i = 0; i < bricks.size(); ++i)
@@ -412,36 +468,7 @@ StatusOr<BlockAnalysis> analyse_block(const BlockRegion& block, BlockReference* 
       for (size_t i = 0; i < bricks.size(); ++i)
         if (!sections[i].empty()) out.regions.emplace_back(bricks[i], std::move(sections[i]));
     }
-    // The tags of the faces the bricks code (17.0): a face the level's
-    // surface takes from its cell (the cell across not kept, or of a
-    // higher region) gets the tagger's label, any other 1. The region
-    // reaches far enough for the cell across to be the level's (the
-    // options' note).
-    if (o.faces) {
-      const ChunkFaces faces = chunk_faces(L.dt, cells, chunk_of_cell, L.in_mesh, ranks);
-      std::vector<uint8_t> label(faces.faces.size(), 1);
-      std::vector<uint32_t> surface;  // the faces the surface takes from their cell
-      std::vector<std::array<uint32_t, 3>> by_grid_id;
-      for (uint32_t k = 0; k < faces.faces.size(); ++k) {
-        const SurfaceFace& face = faces.faces[k];
-        const int32_t n = L.dt.neighbors[face.cell][face.opposite];
-        if (n >= 0 && L.in_mesh[static_cast<size_t>(n)] != 0 &&
-            L.in_mesh[static_cast<size_t>(n)] <= L.in_mesh[face.cell])
-          continue;
-        std::array<uint32_t, 3> g{};
-        for (int j = 0, at = 0; j < 4; ++j)
-          if (j != face.opposite)
-            g[static_cast<size_t>(at++)] = ids[L.dt.cells[face.cell][static_cast<size_t>(j)]];
-        surface.push_back(k);
-        by_grid_id.push_back(g);
-      }
-      const std::vector<uint8_t> tags = o.faces->labels(by_grid_id);
-      for (size_t i = 0; i < surface.size(); ++i) label[surface[i]] = tags[i];
-      f.tagged_faces_kept += o.faces->tagged_among(by_grid_id);
-      sections = encode_face_chunks(faces, label, o.face_tags);
-      for (size_t i = 0; i < bricks.size(); ++i)
-        if (!sections[i].empty()) out.faces.emplace_back(bricks[i], std::move(sections[i]));
-    }
+    if (o.faces) tag_faces(L, ids, b, o, out);
     // Level 0's kept cells' values (16.0), in the same order, each cell's
     // from the input tetrahedron it stands for.
     if (o.cell_values && o.cell_sources) {

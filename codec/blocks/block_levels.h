@@ -171,10 +171,17 @@ struct BlockAnalysisOptions {
   // With tagged faces (spec/FORMAT.md §3.5, 17.0): the bricks' face
   // sections are coded too, each surface face tagged as `faces` says, of a
   // table of `face_tags` tags. The block's region must then reach twice
-  // the kept radius farther (a cell across an owned cell's face, whether
-  // the level keeps it, is known exactly: bricked_encoder.cpp).
+  // the kept radius farther than the halo above says, or hold the whole
+  // level: whether the level keeps the cell across an owned cell's face
+  // decides whether the face is on its surface, and that cell's
+  // circumsphere may reach two kept radii beyond the owned cell's.
+  // `faces_only`: only the face sections (BlockAnalysis::faces and
+  // figures.tagged_faces_kept), in a region grown so, apart from the
+  // analysis whose choice and build the halo above bounds
+  // (bricked_encoder.cpp).
   const FaceTagger* faces = nullptr;
   size_t face_tags = 0;
+  bool faces_only = false;
 };
 
 struct BlockAnalysis {

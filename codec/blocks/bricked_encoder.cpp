@@ -602,7 +602,6 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
     options.alpha = out.alpha;
     options.brick_depth = out.brick_depth;
     options.region_count = in_.regions.size();
-    options.faces = in_.faces;
     options.face_tags = in_.face_tags.size();
     options.dmax = h.dmax;
     options.collect_cells = level == 0 && !reference_.has_boundary();
@@ -623,13 +622,12 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
       size_t largest = 0;
       for (size_t k = 0; k < plan.blocks.size(); ++k)
         largest = std::max(largest, plan.first[k + 1] - plan.first[k]);
-      // The analysis of this level sees its own cells; with tagged faces,
-      // also the cells across their faces whole (whether the level keeps
-      // such a cell decides whether the face is on its surface): their
-      // circumspheres reach two kept radii beyond the owned cells'.
-      halo =
-          halo_for(kept_radius, h.dmax) + (in_.faces ? static_cast<int64_t>(std::ceil(2 * kept_radius)) : 0);
+      // The analysis of this level sees its own cells.
+      halo = halo_for(kept_radius, h.dmax);
       options.kept_radius = kept_radius;
+      // Tagged faces in the same pass where one block holds the whole
+      // level, else in a pass of their own (below).
+      options.faces = plan.blocks.size() == 1 ? in_.faces : nullptr;
       // One block built in one on this rank: its build's tetrahedralization
       // is taken (analyse()).
       const bool from_build = plan.blocks.size() == 1 && held_ && held_->ids.size() == level_points;
@@ -702,6 +700,26 @@ StatusOr<BrickedEncoding> BrickedEncoder::run(const std::function<void(const Lev
         release(merged.carved);
         reference_squared_.clear();
       }
+    }
+    // The faces' tags of a level in several blocks: each block's region
+    // grown by two kept radii more, so that the cell across each face its
+    // bricks code is the level's (block_levels.h); apart from the analysis,
+    // whose choice and build depend on its halo (the levels do not depend
+    // on the tags).
+    if (in_.faces && plan.blocks.size() > 1) {
+      BlockAnalysisOptions faces = options;
+      faces.kept_radius = kept_radius;
+      faces.faces = in_.faces;
+      faces.faces_only = true;
+      faces.choice.reset();
+      faces.collect_cells = false;
+      faces.cell_sources = nullptr;
+      faces.cell_values = nullptr;
+      phase(level, "the tagged faces in " + std::to_string(plan.blocks.size()) + " blocks");
+      std::vector<BlockAnalysis> tagged;
+      DTM_RETURN_IF_ERROR(
+          analyse(level, plan, halo + static_cast<int64_t>(std::ceil(2 * kept_radius)) + 1, faces, tagged));
+      for (BlockAnalysis& a : tagged) out.take_faces(a);
     }
     if (on_level) on_level(out.stats);
     levels.push_back(std::move(out));
@@ -893,25 +911,34 @@ StatusOr<BrickedEncoding> encode_bricked(const BrickedEncodeInput& input, const 
                     : made.emplace(input.points, input.grid.qbits, exchange.rank(), exchange.size());
     uint64_t owned = 0;
     for (const auto& t : input.reference_tets) owned += share.owns(t);
-    // (Bit 0: cell data; bit 1: tagged faces. Either needs every tetrahedron.)
+    // (Bit 0: cell data; bit 1: tagged faces. Either needs every
+    // tetrahedron; the tagged faces, the same ones on every rank.)
     const uint8_t needs = static_cast<uint8_t>((input.cell_values ? 1 : 0) | (input.faces ? 2 : 0));
+    const uint64_t faces = input.faces ? input.faces->fingerprint() : 0;
     ByteWriter w;
     w.u8(needs);
     w.u64(owned);
     w.u64(input.reference_tets.size());
+    w.u64(faces);
     uint64_t all = 0;
-    bool same = true;
+    bool same_needs = true, same_faces = true;
     for (const auto& bytes : exchange.all_gather(w.take())) {
       BlockReader r(bytes);
       const uint8_t needs_there = r.u8();
-      const uint64_t owned_there = r.u64(), given_there = r.u64();
+      const uint64_t owned_there = r.u64(), given_there = r.u64(), faces_there = r.u64();
       all += owned_there;
-      same = same && needs_there == needs && (!needs || given_there == input.reference_tets.size());
+      same_needs =
+          same_needs && needs_there == needs && (!needs || given_there == input.reference_tets.size());
+      same_faces = same_faces && faces_there == faces;
     }
-    if (!same || (needs && all != input.reference_tets.size()))
-      return invalid_input(std::string(input.cell_values ? "cell data" : "tagged faces") +
-                           " on ranks need every input tetrahedron" +
-                           (input.cell_values ? " and its values" : "") + " on every rank");
+    if (!same_needs || (needs && all != input.reference_tets.size())) {
+      static constexpr const char* kWhat[] = {"cell data or tagged faces", "cell data", "tagged faces",
+                                              "cell data and tagged faces"};
+      const std::string what = kWhat[needs];
+      return invalid_input(what + " on ranks need every input tetrahedron (and its values) on every rank");
+    }
+    if (!same_faces)
+      return invalid_input("tagged faces on ranks need the same tagged triangles on every rank");
   } else {
     DTM_RETURN_IF_ERROR(checked);
   }

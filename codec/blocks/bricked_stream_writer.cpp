@@ -257,16 +257,20 @@ Status LayerWriter::write(int level, BrickedLevel& lo) {
 
 }  // namespace
 
+void BrickedLevel::take_faces(BlockAnalysis& a) {
+  for (auto& [brick, bytes] : a.faces) faces[brick] = std::move(bytes);
+  tagged_faces_kept += a.figures.tagged_faces_kept;
+}
+
 void BrickedLevel::take_sections(BlockAnalysis& a) {
   for (auto& [brick, bytes] : a.carving) carving[brick] = std::move(bytes);
   for (auto& [brick, bytes] : a.regions) regions[brick] = std::move(bytes);
-  for (auto& [brick, bytes] : a.faces) faces[brick] = std::move(bytes);
   for (auto& [brick, bytes] : a.cell_values) cell_values[brick] = std::move(bytes);
   cell_field_bytes.resize(std::max(cell_field_bytes.size(), a.cell_field_bytes.size()), 0);
   for (size_t k = 0; k < a.cell_field_bytes.size(); ++k) cell_field_bytes[k] += a.cell_field_bytes[k];
   cells_from_input += a.figures.cells_from_input;
   cells_from_nearest += a.figures.cells_from_nearest;
-  tagged_faces_kept += a.figures.tagged_faces_kept;
+  take_faces(a);
 }
 
 void BrickedLevel::clear_sections() {

@@ -42,6 +42,8 @@ struct BrickedLevel {
   // Adds a block's sections (moved from), its cell fields' bytes and its
   // cells' sources.
   void take_sections(BlockAnalysis& a);
+  // Adds a block's face sections (moved from) and its tagged triangles kept.
+  void take_faces(BlockAnalysis& a);
   void clear_sections();
 };
 

@@ -496,10 +496,12 @@ def decode_box(data: Union[Bytes, str, os.PathLike], box: Any, level: Optional[i
     only the chunks around the box are read, by offset when ``data`` is a
     path: a part of a stream far larger than memory. The cells are exactly
     the whole level's that meet the box (a cell meets it when the bounding
-    box of its corners does), with their regions, the vertices' fields,
-    level and number in the whole level (field ``vertex_id``) and, at level
-    0, the cells' ``cell_data``; ``boundary`` is empty (the box's own surface
-    is not the level's). A stream that is not bricked is decoded whole and
+    box of its corners does), with their regions, their tagged faces (each
+    with the cell the level's surface takes it from: the kept one, at an
+    interface the lower region's), the vertices' fields, level and number in
+    the whole level (field ``vertex_id``) and, at level 0, the cells'
+    ``cell_data``; ``boundary`` is empty (the box's own surface is not the
+    level's). A stream that is not bricked is decoded whole and
     the box cut from it, with everything it carries.
 
     Args:
