@@ -2,7 +2,7 @@
 #include "codec/sections/face_coder.h"
 
 #include <algorithm>
-#include <compare>
+#include <tuple>
 #include <vector>
 
 #include "common/parallel_for.h"
@@ -18,7 +18,6 @@ constexpr int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
 Csr faces_sharing_edges(std::span<const SurfaceFace> faces, std::span<const uint32_t> group) {
   struct Edge {
     uint32_t group, a, b, face;
-    auto operator<=>(const Edge&) const = default;
   };
   std::vector<Edge> edges;
   edges.reserve(3 * faces.size());
@@ -29,7 +28,9 @@ Csr faces_sharing_edges(std::span<const SurfaceFace> faces, std::span<const uint
     edges.push_back({g, k[0], k[2], f});
     edges.push_back({g, k[1], k[2], f});
   }
-  std::sort(edges.begin(), edges.end());
+  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+    return std::tie(x.group, x.a, x.b, x.face) < std::tie(y.group, y.a, y.b, y.face);
+  });
   return build_csr(faces.size(), [&](auto&& add) {
     for (size_t a = 0; a < edges.size();) {
       size_t b = a;
