@@ -29,7 +29,8 @@ inline std::string version_text(const char* tool) {
             " with --bricks, " + v(kVersionMajorRegions) + " with regions or tagged faces, " +
             v(kVersionMajorCellData) + " with cell data or --keep-order, " + v(kVersionMajorExact) +
             " with --exact, " + v(kVersionMajorBrickedRegions) + " with --bricks and regions, " +
-            v(kVersionMajorBrickedCellData) + " with --bricks and cell data; --preset paper " +
+            v(kVersionMajorBrickedCellData) + " with --bricks and cell data, " +
+            v(kVersionMajorBrickedFaces) + " with --bricks and tagged faces; --preset paper " +
             v(kVersionMajorWithoutValues) + ", or " + v(kVersionMajorWithValues) + " with values";
   return text;
 }
