@@ -50,4 +50,15 @@ for ((l = 0; l < levels; ++l)); do
   parts+=("$work/level_$l.vtu")
 done
 xvfb-run -a pvbatch "$root/scripts/render_regions.py" "$root/docs/two_materials_levels.png" "${parts[@]}"
+# The same part in bricked layers (format 17.0), built in blocks: its
+# regions and tagged faces on every level, from the chunks.
+"$bin/meshenc" "$work/two_materials.msh" -q --bricks --brick-points 256 --block-points 2000 \
+  -o "$work/two_materials_bricks.dtm"
+levels=$("$bin/meshinfo" "$work/two_materials_bricks.dtm" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['level_count'])")
+parts=()
+for ((l = 0; l < levels; ++l)); do
+  "$bin/meshdec" "$work/two_materials_bricks.dtm" --level $l -o "$work/bricks_level_$l.vtu" -q
+  parts+=("$work/bricks_level_$l.vtu")
+done
+xvfb-run -a pvbatch "$root/scripts/render_regions.py" "$root/docs/two_materials_bricks_levels.png" "${parts[@]}"
 echo "$root/docs/bunny_levels.png $root/docs/elephant_levels.png $root/docs/mri_values.png"
