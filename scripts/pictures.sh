@@ -42,23 +42,22 @@ for l in 0 2 4; do "$bin/meshdec" "$work/mri.dtm" --level $l -o "$work/mri_level
 sed "s/Mesh.CharacteristicLengthMax = .*/Mesh.CharacteristicLengthMax = 0.3;/" "$corpus/two_materials.geo" \
   > "$work/two_materials.geo"
 gmsh -3 "$work/two_materials.geo" -format msh41 -o "$work/two_materials.msh" >/dev/null
+# Every level of a stream (STREAM, its .vtu files named PREFIX_L.vtu) cut
+# open by region and tag into PNG.
+render_region_levels() {  # STREAM PREFIX PNG
+  local levels l parts=()
+  levels=$("$bin/meshinfo" "$1" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['level_count'])")
+  for ((l = 0; l < levels; ++l)); do
+    "$bin/meshdec" "$1" --level $l -o "$work/$2_$l.vtu" -q
+    parts+=("$work/$2_$l.vtu")
+  done
+  xvfb-run -a pvbatch "$root/scripts/render_regions.py" "$3" "${parts[@]}"
+}
 "$bin/meshenc" "$work/two_materials.msh" -q -o "$work/two_materials.dtm"
-levels=$("$bin/meshinfo" "$work/two_materials.dtm" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['level_count'])")
-parts=()
-for ((l = 0; l < levels; ++l)); do
-  "$bin/meshdec" "$work/two_materials.dtm" --level $l -o "$work/level_$l.vtu" -q
-  parts+=("$work/level_$l.vtu")
-done
-xvfb-run -a pvbatch "$root/scripts/render_regions.py" "$root/docs/two_materials_levels.png" "${parts[@]}"
+render_region_levels "$work/two_materials.dtm" level "$root/docs/two_materials_levels.png"
 # The same part in bricked layers (format 17.0), built in blocks: its
 # regions and tagged faces on every level, from the chunks.
 "$bin/meshenc" "$work/two_materials.msh" -q --bricks --brick-points 256 --block-points 2000 \
   -o "$work/two_materials_bricks.dtm"
-levels=$("$bin/meshinfo" "$work/two_materials_bricks.dtm" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['level_count'])")
-parts=()
-for ((l = 0; l < levels; ++l)); do
-  "$bin/meshdec" "$work/two_materials_bricks.dtm" --level $l -o "$work/bricks_level_$l.vtu" -q
-  parts+=("$work/bricks_level_$l.vtu")
-done
-xvfb-run -a pvbatch "$root/scripts/render_regions.py" "$root/docs/two_materials_bricks_levels.png" "${parts[@]}"
+render_region_levels "$work/two_materials_bricks.dtm" bricks_level "$root/docs/two_materials_bricks_levels.png"
 echo "$root/docs/bunny_levels.png $root/docs/elephant_levels.png $root/docs/mri_values.png"
