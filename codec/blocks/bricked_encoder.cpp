@@ -299,7 +299,9 @@ Status BrickedEncoder::analyse(int level, const BlockPlan& plan, int64_t halo,
       plan,
       [&](size_t k, const Solid* solid) -> StatusOr<std::vector<uint8_t>> {
         const BlockRegion block = region_of(plan, k, level, halo);
-        std::optional<BlockReference> reference = reference_.for_region(block.region, solid);
+        // (The faces' pass measures nothing: no boundary for its shape.)
+        std::optional<BlockReference> reference =
+            reference_.for_region(block.region, solid, !options.faces_only);
         // The build's tetrahedralization of these very points, when one
         // block built them (one block here: no other thread reads held_),
         // taken once (a run asking the ranks about the reference runs again).

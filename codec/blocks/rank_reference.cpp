@@ -185,11 +185,12 @@ void RankReference::release_all() {
   whole_.reset();
 }
 
-std::optional<BlockReference> RankReference::for_region(const GridBox& region, const Solid* solid) const {
+std::optional<BlockReference> RankReference::for_region(const GridBox& region, const Solid* solid,
+                                                        bool measured) const {
   if (!solid_ && !parts_) return std::nullopt;
   BlockReference r;
   r.solid = solid;
-  if (!faces_) return r;
+  if (!faces_ || !measured) return r;
   std::vector<std::array<uint32_t, 3>> meeting = faces_->meeting(region);
   if (meeting.size() < faces_->size()) {
     r.shape.emplace(ReferenceShape::from_boundary(points_, std::move(meeting)));

@@ -58,9 +58,10 @@ class RankReference {
   // built when level 0, carved by alpha or voxels, is the reference).
   bool has_boundary() const { return faces_.has_value(); }
   // What a block of `region` is carved to (`solid`: the one run_carving()
-  // handed its work) and measured against; none without a solid. Safe to
-  // call from several threads.
-  std::optional<BlockReference> for_region(const GridBox& region, const Solid* solid) const;
+  // handed its work) and, `measured`, measured against (the boundary near
+  // it); none without a solid. Safe to call from several threads.
+  std::optional<BlockReference> for_region(const GridBox& region, const Solid* solid,
+                                           bool measured = true) const;
   // run_blocks() of work carving to the reference: with the reference in
   // parts, the other ranks answer what a block's part cannot, while they
   // work (else each block's work is run again until they answered all it
