@@ -614,7 +614,7 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
         // from this cell (§3.5; the whole decoder refuses it too).
         const int32_t n = dt.neighbors[face.cell][face.opposite];
         if (label[f] > 1 && n >= 0 && chunk_of_cell[static_cast<size_t>(n)] != kNoCarvingChunk &&
-            owned[static_cast<size_t>(n)] != 0 && owned[static_cast<size_t>(n)] <= owned[face.cell])
+            !surface_takes_face(owned[face.cell], owned[static_cast<size_t>(n)]))
           return Status{StatusCode::kCorrupt,
                         "a tag on a face that the level's surface does not take from its chunk"}
               .with_context(finest.where());

@@ -445,6 +445,45 @@ TEST(Regions, DamagedSectionsGiveRegionsInTheTableOrAnError) {
   EXPECT_EQ(decode_regions(section, dt, order, 1, out).code(), StatusCode::kCorrupt);
 }
 
+// Each chunk's section of a bricked layer damaged bit by bit, then cut
+// short, the others whole: `decode(sections, out)` refuses (kCorrupt,
+// naming the chunk) or gives `out`, of which `check(chunk, out)` must hold;
+// some flips are refused, and every cut is (but a cut to nothing where
+// `empty_decodes`: then it decodes).
+template <class Decode, class Check>
+void expect_chunk_damage_refused_or_checked(const std::vector<std::vector<uint8_t>>& sections,
+                                            const Decode& decode, const Check& check, bool empty_decodes) {
+  std::vector<uint8_t> out;
+  for (size_t k = 0; k < sections.size(); ++k) {
+    ASSERT_FALSE(sections[k].empty());
+    int refused = 0;
+    for (size_t byte = 0; byte < sections[k].size(); ++byte)
+      for (int bit = 0; bit < 8; ++bit) {
+        std::vector<std::vector<uint8_t>> damaged = sections;
+        damaged[k][byte] ^= static_cast<uint8_t>(1 << bit);
+        const Status st = decode(damaged, out);
+        if (!st.ok()) {
+          EXPECT_EQ(st.code(), StatusCode::kCorrupt);
+          EXPECT_NE(st.message().find("chunk " + std::to_string(k)), std::string::npos) << st.message();
+          ++refused;
+          continue;
+        }
+        check(k, out);
+      }
+    EXPECT_GT(refused, 0);
+    for (size_t len = 0; len < sections[k].size(); ++len) {
+      std::vector<std::vector<uint8_t>> cut = sections;
+      cut[k].resize(len);
+      const Status st = decode(cut, out);
+      if (len == 0 && empty_decodes) {
+        EXPECT_TRUE(st.ok());
+      } else {
+        EXPECT_EQ(st.code(), StatusCode::kCorrupt) << k << " " << len;
+      }
+    }
+  }
+}
+
 // The same for a bricked layer's sections, a chunk each (15.0): below the
 // chunks' checksums, a damaged or cut section is refused, naming its
 // chunk, or gives regions in the table; a section where a chunk owns no
@@ -476,35 +515,18 @@ TEST(Regions, DamagedChunkSectionsGiveRegionsInTheTableOrAnError) {
   ASSERT_TRUE(decode(sections, 4, out).ok());
   EXPECT_EQ(out, region);
   // Each chunk alone: its cells' regions do not depend on the others.
-  for (size_t k = 0; k < 3; ++k) {
-    ASSERT_FALSE(sections[k].empty());
-    int refused = 0;
-    for (size_t byte = 0; byte < sections[k].size(); ++byte)
-      for (int bit = 0; bit < 8; ++bit) {
-        std::vector<std::vector<uint8_t>> damaged = sections;
-        damaged[k][byte] ^= static_cast<uint8_t>(1 << bit);
-        const Status st = decode(damaged, 4, out);
-        if (!st.ok()) {
-          EXPECT_EQ(st.code(), StatusCode::kCorrupt);
-          EXPECT_NE(st.message().find("chunk " + std::to_string(k)), std::string::npos) << st.message();
-          ++refused;
-          continue;
-        }
-        for (size_t c = 0; c < out.size(); ++c) {
-          EXPECT_EQ(out[c] != 0, region[c] != 0);
-          EXPECT_LE(out[c], 4);
+  expect_chunk_damage_refused_or_checked(
+      sections, [&](const auto& bytes, std::vector<uint8_t>& got) { return decode(bytes, 4, got); },
+      [&](size_t k, const std::vector<uint8_t>& got) {
+        for (size_t c = 0; c < got.size(); ++c) {
+          EXPECT_EQ(got[c] != 0, region[c] != 0);
+          EXPECT_LE(got[c], 4);
           if (chunk_of_cell[c] != k) {
-            EXPECT_EQ(out[c], region[c]);
+            EXPECT_EQ(got[c], region[c]);
           }
         }
-      }
-    EXPECT_GT(refused, 0);
-    for (size_t len = 0; len < sections[k].size(); ++len) {
-      std::vector<std::vector<uint8_t>> cut = sections;
-      cut[k].resize(len);
-      EXPECT_EQ(decode(cut, 4, out).code(), StatusCode::kCorrupt) << k << " " << len;
-    }
-  }
+      },
+      false);
   // A section of one region's stream, or for a chunk with nothing kept.
   EXPECT_EQ(decode(sections, 1, out).code(), StatusCode::kCorrupt);
   std::vector<uint8_t> none = region;
@@ -1038,41 +1060,19 @@ TEST(Faces, DamagedChunkSectionsGiveTagsInTheTableOrAnError) {
   std::vector<uint8_t> out;
   ASSERT_TRUE(decode(sections, out).ok());
   EXPECT_EQ(out, label);
-  for (size_t k = 0; k < 3; ++k) {
-    ASSERT_FALSE(sections[k].empty());
-    int refused = 0;
-    for (size_t byte = 0; byte < sections[k].size(); ++byte)
-      for (int bit = 0; bit < 8; ++bit) {
-        std::vector<std::vector<uint8_t>> damaged = sections;
-        damaged[k][byte] ^= static_cast<uint8_t>(1 << bit);
-        const Status st = decode(damaged, out);
-        if (!st.ok()) {
-          EXPECT_EQ(st.code(), StatusCode::kCorrupt);
-          EXPECT_NE(st.message().find("chunk " + std::to_string(k)), std::string::npos) << st.message();
-          ++refused;
-          continue;
-        }
-        for (size_t f = 0; f < out.size(); ++f) {
-          EXPECT_TRUE(out[f] >= 1 && out[f] <= 3);
+  // (Cut to nothing, a chunk's faces have no tag: a whole decoder then
+  // finds them no different; cut inside, refused.)
+  expect_chunk_damage_refused_or_checked(
+      sections, decode,
+      [&](size_t k, const std::vector<uint8_t>& got) {
+        for (size_t f = 0; f < got.size(); ++f) {
+          EXPECT_TRUE(got[f] >= 1 && got[f] <= 3);
           if (f < faces.first[k] || f >= faces.first[k + 1]) {
-            EXPECT_EQ(out[f], label[f]);
+            EXPECT_EQ(got[f], label[f]);
           }
         }
-      }
-    EXPECT_GT(refused, 0);
-    for (size_t len = 0; len < sections[k].size(); ++len) {
-      std::vector<std::vector<uint8_t>> cut = sections;
-      cut[k].resize(len);
-      const Status st = decode(cut, out);
-      // (Cut to nothing, a chunk's faces have no tag: a whole decoder then
-      // finds them no different; cut inside, refused.)
-      if (len == 0) {
-        EXPECT_TRUE(st.ok());
-      } else {
-        EXPECT_EQ(st.code(), StatusCode::kCorrupt) << k << " " << len;
-      }
-    }
-  }
+      },
+      true);
   // No tag anywhere: no section.
   for (const auto& s : encode_face_chunks(faces, std::vector<uint8_t>(faces.faces.size(), 1), 2))
     EXPECT_TRUE(s.empty());

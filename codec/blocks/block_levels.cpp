@@ -326,9 +326,7 @@ void tag_faces(const LevelGeometry& L, std::span<const uint32_t> ids, const Bloc
   for (uint32_t k = 0; k < faces.faces.size(); ++k) {
     const SurfaceFace& face = faces.faces[k];
     const int32_t n = L.dt.neighbors[face.cell][face.opposite];
-    if (n >= 0 && L.in_mesh[static_cast<size_t>(n)] != 0 &&
-        L.in_mesh[static_cast<size_t>(n)] <= L.in_mesh[face.cell])
-      continue;
+    if (n >= 0 && !surface_takes_face(L.in_mesh[face.cell], L.in_mesh[static_cast<size_t>(n)])) continue;
     std::array<uint32_t, 3> g{};
     for (int j = 0, at = 0; j < 4; ++j)
       if (j != face.opposite)

@@ -54,8 +54,7 @@ SurfaceFaces surface_faces(const TetMesh& dt, std::span<const uint8_t> kept) {
     for (int i = 0; i < 4; ++i) {
       const int32_t n = dt.neighbors[c][static_cast<size_t>(i)];
       const uint8_t other = n < 0 ? 0 : kept[static_cast<size_t>(n)];
-      // The boundary, and each interface once (from its lower region).
-      if (other != 0 && other <= kept[c]) continue;
+      if (!surface_takes_face(kept[c], other)) continue;
       SurfaceFace f;
       f.cell = c;
       f.opposite = static_cast<uint8_t>(i);
@@ -87,8 +86,8 @@ ChunkFaces chunk_faces(const TetMesh& dt, const ChunkCells& chunks, std::span<co
             const int32_t n = dt.neighbors[c][static_cast<size_t>(k)];
             // Inside the chunk's kept cells, or an interface it codes from
             // the other side.
-            if (n >= 0 && chunk_of_cell[static_cast<size_t>(n)] == i && kept[static_cast<size_t>(n)] != 0 &&
-                kept[static_cast<size_t>(n)] <= kept[c])
+            if (n >= 0 && chunk_of_cell[static_cast<size_t>(n)] == i &&
+                !surface_takes_face(kept[c], kept[static_cast<size_t>(n)]))
               continue;
             SurfaceFace f;
             f.cell = c;

@@ -38,6 +38,12 @@ struct SurfaceFaces {
   std::vector<SurfaceFace> faces;
   Csr neighbours;  // per face, the other faces that share one of its edges
 };
+// Whether the level's surface takes a face from the kept cell of region
+// `mine` (1 + its index) on one side, `across` being the cell on the other
+// side (0: not kept, or none): the boundary, and each interface once, from
+// its lower region.
+inline bool surface_takes_face(uint8_t mine, uint8_t across) { return across == 0 || across > mine; }
+
 // `kept`: per cell of `dt`, 0 if the level does not keep it, else its
 // region (1 without regions).
 SurfaceFaces surface_faces(const TetMesh& dt, std::span<const uint8_t> kept);
