@@ -12,6 +12,8 @@
 # to Netgen. With --exact both decode cell for cell. A
 # graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
 # gmsh -save_all's volumes and surfaces in no physical group join none.
+# Second-order meshes (gmsh -order 2, Netgen's SecondOrder()) give their
+# linear mesh's stream.
 set -euo pipefail
 meshenc=$1
 meshdec=$(dirname "$meshenc")/meshdec
@@ -44,6 +46,33 @@ for f in a22 b22 a41 b41; do
     { echo "$f.msh: the physical surface is not the tagged faces"; cat $f.out; failed=1; }
   grep -q "left out" $f.out && { echo "$f.msh: something left out"; cat $f.out; failed=1; }
 done
+# The same part meshed to second order (10-node tetrahedra, 6-node
+# triangles) is read as its linear cells: the stream of the linear mesh
+# from each .msh flavour and from meshio's .vtu of it (VTK's quadratic
+# cells), the regions and tagged faces kept, the edge nodes named.
+for v in 22 41; do
+  gmsh part.geo -3 -order 2 -format msh$v -o q$v.msh >/dev/null
+  gmsh part.geo -3 -order 2 -bin -format msh$v -o qb$v.msh >/dev/null
+done
+# (meshio's .vtu of each, its cells and their physical tags: the same
+# stream as each other, the names being gmsh's only.)
+/usr/bin/python3 - <<'PY' || { echo "meshio does not convert the .msh files"; failed=1; }
+import meshio
+for given, written in (("a41.msh", "l.vtu"), ("q41.msh", "q.vtu")):
+    m = meshio.read(given)
+    meshio.write(written, meshio.Mesh(m.points, m.cells, cell_data={"gmsh:physical": m.cell_data["gmsh:physical"]}))
+PY
+"$meshenc" l.vtu -o l.vtu.dtm >/dev/null 2>&1 || failed=1
+for f in q22.msh qb22.msh q41.msh qb41.msh q.vtu; do
+  "$meshenc" $f -o $f.dtm >$f.out 2>&1 || { cat $f.out; failed=1; }
+  linear=a22.dtm
+  [ $f = q.vtu ] && linear=l.vtu.dtm
+  cmp -s $linear $f.dtm || { echo "$f: not the linear mesh's stream"; cat $f.out; failed=1; }
+  grep -q "left out.*[0-9]* nodes on the edges of second-order elements ([0-9]* second-order tetrahedra)" $f.out ||
+    { echo "$f: the edge nodes are not named as left out"; cat $f.out; failed=1; }
+done
+grep -q 'tagged faces (physical [a-z]*), 1: 3 "base" ([0-9]* triangles)' q41.msh.out ||
+  { echo "q41.msh: the 6-node triangles are not the tagged faces"; cat q41.msh.out; failed=1; }
 for ext in msh vtu mesh; do "$meshdec" a41.dtm -o out.$ext 2>/dev/null || failed=1; done
 gmsh out.msh -0 -format msh22 -o again.msh >/dev/null 2>&1 || { echo "gmsh does not read out.msh"; failed=1; }
 grep -A4 '^\$PhysicalNames' again.msh | grep -q '3 2 "steel"' || { echo "gmsh lost the regions"; failed=1; }
@@ -109,11 +138,18 @@ mesh = geo.GenerateMesh(maxh=0.2)
 mesh.Save("ng.vol")
 mesh.Save("ng.vol.gz")
 mesh.Export("ng.msh", "Gmsh2 Format")
+mesh.SecondOrder()
+mesh.Save("ng2.vol")
 PY
 "$meshenc" ng.vol -o ng_vol.dtm >ng_vol.out 2>ng_vol.err || { cat ng_vol.out ng_vol.err; failed=1; }
 "$meshenc" ng.vol.gz -q -o ng_volgz.dtm 2>/dev/null || failed=1
 "$meshenc" ng.msh -o ng_msh.dtm >ng_msh.out 2>/dev/null || failed=1
 cmp -s ng_vol.dtm ng_volgz.dtm || { echo "ng.vol.gz: not the bytes of ng.vol"; failed=1; }
+# Its second-order mesh (the edge nodes of the pin's curved faces moved
+# onto them): the linear mesh's stream, the edge nodes named.
+"$meshenc" ng2.vol -o ng2_vol.dtm >ng2_vol.out 2>&1 || { cat ng2_vol.out; failed=1; }
+cmp -s ng_vol.dtm ng2_vol.dtm || { echo "ng2.vol: not the linear mesh's stream"; cat ng2_vol.out; failed=1; }
+grep -q "nodes on the edges of second-order elements" ng2_vol.out || { echo "ng2.vol: edge nodes not named"; failed=1; }
 grep -q 'regions (materials (Netgen domains)), 2: 1 "aluminium" ([0-9]* tetrahedra), 2 "steel" ([0-9]* tetrahedra)' ng_vol.out ||
   { echo "ng.vol: the materials are not its regions"; cat ng_vol.out; failed=1; }
 grep -q 'tagged faces (.*Netgen bcnr.*"outer" (.*"pin" (' ng_vol.out || { echo "ng.vol: no named boundary conditions"; cat ng_vol.out; failed=1; }

@@ -18,6 +18,7 @@
 #include "test_support.h"
 #include "tools/formats/input.h"
 #include "tools/formats/mesh_writers.h"
+#include "tools/formats/second_order.h"
 #include "tools/formats/tetgen.h"
 
 namespace dtm {
@@ -623,17 +624,18 @@ TEST(InputFormats, NetgenVolKeepsMaterialsAndBoundaryConditions) {
   const InputMesh m = read_input(write_temp("part.vol", text));
   ASSERT_EQ(m.points.size(), 5u);
   EXPECT_EQ(m.points[4].x, 1.0);
-  EXPECT_EQ(m.tets, (std::vector<std::array<uint32_t, 4>>{{0, 1, 2, 3}, {1, 2, 3, 4}}));
-  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
+  // (The second-order elements, whose edge nodes here are all point 5, a
+  // corner: read as linear ones, nothing set aside.)
+  EXPECT_EQ(m.tets, (std::vector<std::array<uint32_t, 4>>{{0, 1, 2, 3}, {1, 2, 3, 4}, {0, 1, 2, 3}}));
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2, 2}));
   EXPECT_EQ(m.region_names, (std::map<int32_t, std::string>{{1, "aluminium"}, {2, "steel"}}));
-  EXPECT_EQ(m.tagged_faces, (std::vector<std::array<uint32_t, 3>>{{0, 2, 1}, {1, 2, 3}}));
-  EXPECT_EQ(m.face_tags, (std::vector<int32_t>{1, 7}));
+  EXPECT_EQ(m.tagged_faces, (std::vector<std::array<uint32_t, 3>>{{0, 2, 1}, {1, 2, 3}, {0, 1, 3}}));
+  EXPECT_EQ(m.face_tags, (std::vector<int32_t>{1, 7, 2}));
   EXPECT_EQ(m.face_tag_names, (std::map<int32_t, std::string>{{1, "outer box"}, {7, "pin"}}));
+  EXPECT_TRUE(m.edge_points.empty());
   std::string left_out;
   for (const std::string& l : m.left_out) left_out += l + "\n";
-  for (const char* what : {"1 volume elements that are not 4-node tetrahedra (1 of them second-order",
-                           "1 surface elements that are not 3-node triangles", "1 edgesegmentsgi2",
-                           "2 identificationtypes", "what follows 'endmesh'"})
+  for (const char* what : {"1 edgesegmentsgi2", "2 identificationtypes", "what follows 'endmesh'"})
     EXPECT_NE(left_out.find(what), std::string::npos) << what << " in:\n" << left_out;
   // Gzipped, as Netgen saves x.vol.gz: the same.
   write_temp("gz_part.vol", text);
@@ -656,6 +658,141 @@ TEST(InputFormats, NetgenVolKeepsMaterialsAndBoundaryConditions) {
   const std::string gz = test::slurp(::testing::TempDir() + "/gz_part.vol.gz");
   EXPECT_NE(read_error("cut.vol.gz", gz.substr(0, gz.size() / 2)).find("gzip data is damaged or truncated"),
             std::string::npos);
+}
+
+// A second-order mesh (gmsh -order 2, VTK's quadratic cells, Netgen's
+// SecondOrder()) is read as its linear cells in every format: the corners
+// are the points, in file order, with their fields; the nodes on the edges
+// are set aside (each on its edge, here its midpoint) and named as left out.
+TEST(InputFormats, SecondOrderElementsAreReadAsTheirLinearCells) {
+  // Points in file order: corners c0..c3 with edge nodes between them, and
+  // a fifth corner c4, of a linear tetrahedron beside the quadratic one.
+  const std::vector<InputPoint> corner = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 2}, {2, 2, 2}};
+  const auto mid = [&](int a, int b) {
+    return InputPoint{(corner[a].x + corner[b].x) / 2, (corner[a].y + corner[b].y) / 2,
+                      (corner[a].z + corner[b].z) / 2};
+  };
+  // File order: c0, m01, c1, m12, c2, m02, m03, c3, m23, m13, c4.
+  const std::vector<InputPoint> file = {corner[0], mid(0, 1), corner[1], mid(1, 2), corner[2], mid(0, 2),
+                                        mid(0, 3), corner[3], mid(2, 3), mid(1, 3), corner[4]};
+  // 0-based file indices of the quadratic tetrahedron's nodes in gmsh's
+  // order (corners, then (0,1) (1,2) (0,2) (0,3) (2,3) (1,3)), VTK's
+  // (... (1,3) (2,3)) and Netgen's ((0,1) (0,2) (0,3) (1,2) (1,3) (2,3)),
+  // and of the 6-node triangle (0, 1, 2) and the linear tetrahedron.
+  const std::vector<int> gmsh = {0, 2, 4, 7, 1, 3, 5, 6, 8, 9}, vtk = {0, 2, 4, 7, 1, 3, 5, 6, 9, 8},
+                         netgen = {0, 2, 4, 7, 1, 5, 6, 3, 9, 8}, triangle = {0, 2, 4, 1, 3, 5},
+                         linear = {2, 4, 7, 10};
+  const auto listed = [](const std::vector<int>& nodes, int base) {
+    std::string s;
+    for (int v : nodes) s += " " + std::to_string(v + base);
+    return s;
+  };
+  std::string points_text;
+  for (const InputPoint& p : file)
+    points_text += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+  std::string numbered_points;  // "tag x y z", 1-based
+  for (size_t i = 0; i < file.size(); ++i)
+    numbered_points += std::to_string(i + 1) + " " + std::to_string(file[i].x) + " " +
+                       std::to_string(file[i].y) + " " + std::to_string(file[i].z) + "\n";
+  std::string node_data;  // a field: each node's file index
+  for (size_t i = 0; i < file.size(); ++i)
+    node_data += std::to_string(i + 1) + " " + std::to_string(i) + "\n";
+  const std::string n = std::to_string(file.size());
+  const std::map<std::string, std::string> files = {
+      {"quadratic22.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" + n + "\n" + numbered_points +
+                              "$EndNodes\n$Elements\n3\n1 11 2 1 1" + listed(gmsh, 1) + "\n2 9 2 5 1" +
+                              listed(triangle, 1) + "\n3 4 2 1 1" + listed(linear, 1) +
+                              "\n$EndElements\n$NodeData\n1\n\"index\"\n1\n0.0\n3\n0\n1\n" + n + "\n" +
+                              node_data + "$EndNodeData\n"},
+      {"quadratic41.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 " + n + " 1 " + n + "\n3 1 0 " +
+                              n + "\n" +
+                              [&] {
+                                std::string t;
+                                for (size_t i = 0; i < file.size(); ++i) t += std::to_string(i + 1) + "\n";
+                                return t;
+                              }() +
+                              points_text + "$EndNodes\n$Elements\n3 3 1 3\n3 1 11 1\n1" + listed(gmsh, 1) +
+                              "\n2 5 9 1\n2" + listed(triangle, 1) + "\n3 1 4 1\n3" + listed(linear, 1) +
+                              "\n$EndElements\n"
+                              "$NodeData\n1\n\"index\"\n1\n0.0\n3\n0\n1\n" +
+                              n + "\n" + node_data + "$EndNodeData\n"},
+      {"quadratic.vtk", "# vtk DataFile Version 3.0\nq\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS " + n +
+                            " double\n" + points_text + "CELLS 3 23\n10" + listed(vtk, 0) + "\n6" +
+                            listed(triangle, 0) + "\n4" + listed(linear, 0) +
+                            "\nCELL_TYPES 3\n24\n22\n10\n"
+                            "POINT_DATA " +
+                            n + "\nSCALARS index double 1\nLOOKUP_TABLE default\n0 1 2 3 4 5 6 7 8 9 10\n"},
+      {"quadratic.vtu",
+       "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+       "byte_order=\"LittleEndian\">"
+       "<UnstructuredGrid><Piece NumberOfPoints=\"" +
+           n +
+           "\" NumberOfCells=\"3\"><PointData>"
+           "<DataArray type=\"Float64\" Name=\"index\" format=\"ascii\">0 1 2 3 4 5 6 7 8 9 "
+           "10</DataArray></PointData>"
+           "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">" +
+           points_text +
+           "</DataArray></Points><Cells><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">" +
+           listed(vtk, 0) + listed(triangle, 0) + listed(linear, 0) +
+           "</DataArray><DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">10 16 20</DataArray>"
+           "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">24 22 10</DataArray></Cells>"
+           "</Piece></UnstructuredGrid></VTKFile>\n"},
+      {"quadratic.vol", "mesh3d\ndimension\n3\ngeomtype\n0\nsurfaceelements\n1\n 1 1 1 0 6" +
+                            listed(triangle, 1) + "\nvolumeelements\n2\n1 10" + listed(netgen, 1) + "\n1 4" +
+                            listed(linear, 1) + "\npoints\n" + n + "\n" + points_text + "endmesh\n"}};
+  for (const auto& [name, text] : files) {
+    SCOPED_TRACE(name);
+    const InputMesh m = read_input(write_temp(name, text));
+    ASSERT_EQ(m.points.size(), 5u);
+    for (size_t i = 0; i < 5; ++i) {
+      EXPECT_EQ(m.points[i].x, corner[i].x);
+      EXPECT_EQ(m.points[i].z, corner[i].z);
+    }
+    ASSERT_EQ(m.tets.size(), 2u);
+    EXPECT_EQ(m.tets[0], (std::array<uint32_t, 4>{0, 1, 2, 3}));
+    EXPECT_EQ(m.tets[1], (std::array<uint32_t, 4>{1, 2, 3, 4}));
+    ASSERT_EQ(m.tagged_faces.size(), 1u);
+    EXPECT_EQ(m.tagged_faces[0], (std::array<uint32_t, 3>{0, 1, 2}));
+    ASSERT_EQ(m.edge_points.size(), 6u);
+    ASSERT_EQ(m.tet_edge_nodes.size(), 2u);
+    for (size_t k = 0; k < 6; ++k) {
+      const auto [a, b] = std::pair{kTetEdges[k][0], kTetEdges[k][1]};
+      const InputPoint p = m.edge_points.at(m.tet_edge_nodes[0][k]), q = mid(a, b);
+      EXPECT_TRUE(p.x == q.x && p.y == q.y && p.z == q.z) << "edge (" << a << "," << b << ")";
+      EXPECT_EQ(m.tet_edge_nodes[1][k], InputMesh::kNoEdgeNode);
+    }
+    if (name.find(".vol") == std::string::npos) {
+      ASSERT_EQ(m.fields.size(), 1u);
+      EXPECT_EQ(m.fields[0].values, (std::vector<double>{0, 2, 4, 7, 10}));
+    }
+    const bool named = std::any_of(m.left_out.begin(), m.left_out.end(), [](const std::string& l) {
+      return l.find("6 nodes on the edges of second-order elements (1 second-order tetrahedra)") !=
+             std::string::npos;
+    });
+    EXPECT_TRUE(named) << (m.left_out.empty() ? "" : m.left_out[0]);
+    EXPECT_EQ(m.left_out.size(), 1u);
+  }
+  // The linear tetrahedron first: the quadratic one's edge nodes stay its
+  // own (the linear one's none).
+  const InputMesh m = read_input(write_temp(
+      "linear_first.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" + n + "\n" + numbered_points +
+                              "$EndNodes\n$Elements\n2\n1 4 2 1 1" + listed(linear, 1) + "\n2 11 2 1 1" +
+                              listed(gmsh, 1) + "\n$EndElements\n"));
+  ASSERT_EQ(m.tets.size(), 2u);
+  EXPECT_EQ(m.tets[1], (std::array<uint32_t, 4>{0, 1, 2, 3}));
+  ASSERT_EQ(m.tet_edge_nodes.size(), 2u);
+  EXPECT_EQ(m.tet_edge_nodes[0], kNoEdgeNodes);
+  for (size_t k = 0; k < 6; ++k) {
+    const InputPoint p = m.edge_points.at(m.tet_edge_nodes[1][k]), q = mid(kTetEdges[k][0], kTetEdges[k][1]);
+    EXPECT_TRUE(p.x == q.x && p.y == q.y && p.z == q.z) << k;
+  }
+  // A surface of 6-node triangles alone: no cell is kept, so no point is
+  // set aside (all 11 are the point set).
+  const InputMesh surface = read_input(write_temp(
+      "surface.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" + n + "\n" + numbered_points +
+                         "$EndNodes\n$Elements\n1\n1 9 2 5 1" + listed(triangle, 1) + "\n$EndElements\n"));
+  EXPECT_EQ(surface.points.size(), file.size());
+  EXPECT_TRUE(surface.edge_points.empty());
 }
 
 // What a reader does not keep is named, not dropped in silence.

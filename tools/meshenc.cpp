@@ -383,7 +383,7 @@ dtm::InputMesh read(const Command& c) {
     }
     agree_on_errors(mpi, problem);
   }
-  if (c.no_reference) in.tets.clear(), in.tetgen_ele.clear();
+  if (c.no_reference) in.tets.clear(), in.tet_edge_nodes.clear(), in.tetgen_ele.clear();
   return in;
 }
 

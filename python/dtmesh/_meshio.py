@@ -8,7 +8,8 @@ regions come from the first cell data array of gmsh:physical, medit:ref,
 netgen:index, region, material, MaterialIds, CellEntityIds (meshenc's
 default), their names from the field data (gmsh's, Netgen's); the other numeric cell data on the
 tetrahedra becomes the stream's cell data, and a cell set that is a named
-region's or tag's cells is held by them; what the stream does not hold
+region's or tag's cells is held by them. A second-order mesh (tetra10,
+triangle6) is written as its linear cells, as meshenc reads one. What the stream does not hold
 (other cell sets, other cells, an array not on every tetrahedron block) is
 named in a warning.
 """
@@ -27,7 +28,53 @@ def read(filename, level=None):
 REGION_ARRAYS = ("gmsh:physical", "medit:ref", "netgen:index", "region", "material", "MaterialIds", "CellEntityIds")
 
 
+# A second-order cell's linear cell and its corner count (meshio's tetra10
+# and triangle6 list their corners first, as gmsh and VTK do).
+QUADRATIC = {"tetra10": ("tetra", 4), "triangle6": ("triangle", 3)}
+
+
+def _linear(mesh):
+    """A second-order mesh as its linear cells, as meshenc reads one: the points that are only nodes
+    on the cells' edges set aside (with their point data), the rest renumbered; with what that
+    leaves out, in words (None for a linear mesh)."""
+    # (Without tetrahedra no cell is kept, and every point is the stream's.)
+    if not any(block.type in QUADRATIC for block in mesh.cells) or \
+            not any(block.type in ("tetra", "tetra10") for block in mesh.cells):
+        return mesh, None
+    points = len(mesh.points)
+    corner = np.zeros(points, dtype=bool)
+    on_edge = np.zeros(points, dtype=bool)
+    blocks = []
+    for block in mesh.cells:
+        data = np.asarray(block.data)
+        if block.type in QUADRATIC:
+            kind, corners = QUADRATIC[block.type]
+            on_edge[data[:, corners:].reshape(-1)] = True
+            block = meshio.CellBlock(kind, data[:, :corners])
+        if block.type in ("tetra", "triangle"):
+            corner[np.asarray(block.data).reshape(-1)] = True
+        blocks.append(block)
+    keep = ~(on_edge & ~corner)
+    if keep.all():
+        return mesh, None
+    index = np.cumsum(keep) - 1
+    cells = [meshio.CellBlock(b.type, index[np.asarray(b.data)]) if b.type in ("tetra", "triangle") else b
+             for b in blocks]
+    linear = meshio.Mesh(mesh.points[keep], cells, point_data={k: np.asarray(v)[keep] for k, v in
+                                                               mesh.point_data.items()},
+                         cell_data=mesh.cell_data, field_data=mesh.field_data,
+                         cell_sets=getattr(mesh, "cell_sets", None), info=mesh.info)
+    tetra10 = sum(len(b.data) for b in mesh.cells if b.type == "tetra10")
+    what = (f"{points - int(keep.sum())} nodes on the edges of second-order elements "
+            f"({f'{tetra10} second-order tetrahedra' if tetra10 else 'triangles'}): "
+            "the stream holds the linear cells through their corners")
+    if mesh.point_data:
+        what += ", and the fields' values at their corners only"
+    return linear, what
+
+
 def write(filename, mesh, **options):
+    mesh, set_aside = _linear(mesh)
     tetrahedra = None
     others = {}
     tetra_blocks = []
@@ -58,7 +105,7 @@ def write(filename, mesh, **options):
                 break
     # What the stream does not hold yet is named, as meshenc names it:
     # nothing of a user's mesh is left out without a word.
-    left_out = []
+    left_out = [set_aside] if set_aside else []
     if others:
         left_out.append("cells other than tetrahedra (" + ", ".join(f"{n} {t}" for t, n in others.items()) + ")")
     # Copies of the regions (a decoded mesh gives them under several names) are kept with them.

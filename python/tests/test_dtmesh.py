@@ -504,6 +504,38 @@ endmesh
 """
 
 
+def test_meshio_writes_a_second_order_mesh_as_its_linear_cells(tmp_path):
+    """The gmsh part made second-order (a node on each edge, tetra10 and triangle6): the stream
+    of the linear mesh, the edge nodes named as left out."""
+    msh = tmp_path / "two_materials.msh"
+    msh.write_bytes(lzma.open(DATA / "two_materials.msh.xz").read())
+    mesh = meshio.read(msh)
+    mesh.point_data.clear()
+    linear = tmp_path / "linear.dtm"
+    meshio.write(linear, mesh)
+    tets = [b for b in mesh.cells if b.type == "tetra"]
+    edges = np.unique(np.sort(np.vstack([b.data[:, pair] for b in tets for pair in
+                                         ([0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3])]), axis=1), axis=0)
+    node = {tuple(e): len(mesh.points) + i for i, e in enumerate(edges.tolist())}
+    points = np.vstack([mesh.points, (mesh.points[edges[:, 0]] + mesh.points[edges[:, 1]]) / 2])
+    def quadratic(block):
+        if block.type == "tetra":
+            pairs, kind = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)), "tetra10"
+        elif block.type == "triangle":
+            pairs, kind = ((0, 1), (1, 2), (0, 2)), "triangle6"
+        else:
+            return block
+        mids = [[node[tuple(sorted((c[a], c[b])))] for a, b in pairs] for c in block.data.tolist()]
+        return meshio.CellBlock(kind, np.hstack([block.data, np.array(mids)]))
+    second = meshio.Mesh(points, [quadratic(b) for b in mesh.cells], cell_data=mesh.cell_data,
+                         field_data=mesh.field_data)
+    out = tmp_path / "second.dtm"
+    with pytest.warns(UserWarning, match=f"left out.*{len(edges)} nodes on the edges of second-order elements "
+                                         f"\\({sum(len(b.data) for b in tets)} second-order tetrahedra\\)"):
+        meshio.write(out, second)
+    assert out.read_bytes() == linear.read_bytes()
+
+
 def test_netgen_vol_through_meshio_is_meshencs_stream(tmp_path):
     """Netgen's .vol as meshio reads it (netgen:index, names in its field data): the materials are
     the regions and the boundary conditions the tagged faces, with their names, the bytes meshenc

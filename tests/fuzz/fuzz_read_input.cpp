@@ -1,6 +1,7 @@
 // Every input reader on arbitrary bytes: a FormatError naming the problem,
 // or points that can make a tetrahedral mesh (finite, at least 4, not all
-// coplanar), never a crash. The first byte's low 4 bits pick the format,
+// coplanar), every cell and tagged face on them, a second-order mesh's
+// edge nodes set aside, never a crash. The first byte's low 4 bits pick the format,
 // its high 4 bits the voxel threshold and interior step; the rest is the file.
 #include <unistd.h>
 
@@ -33,6 +34,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       FUZZ_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
     for (const auto& t : in.tets)
       for (auto v : t) FUZZ_CHECK(v < in.points.size());
+    for (const auto& f : in.tagged_faces)
+      for (auto v : f) FUZZ_CHECK(v < in.points.size());
+    // A second-order mesh's edge nodes: set aside, each indexing them.
+    FUZZ_CHECK(in.tet_edge_nodes.empty() || in.tet_edge_nodes.size() == in.tets.size());
+    for (const auto& e : in.tet_edge_nodes)
+      for (auto v : e) FUZZ_CHECK(v == dtm::InputMesh::kNoEdgeNode || v < in.edge_points.size());
+    FUZZ_CHECK(in.triangle_edge_nodes.empty());
+    for (const auto& field : in.fields)
+      FUZZ_CHECK(field.values.size() == static_cast<size_t>(field.components) * in.points.size());
   } catch (const dtm::FormatError&) {
   }
   std::remove(path.c_str());

@@ -12,6 +12,7 @@
 #include "common/parallel_for.h"
 #include "common/release.h"
 #include "render_util.h"
+#include "second_order.h"
 #include "text_cursor.h"
 
 namespace dtm {
@@ -19,6 +20,32 @@ namespace {
 
 constexpr int kGmshTriangle = 2;
 constexpr int kGmshTetrahedron = 4;
+constexpr int kGmshTriangle6 = 9;
+constexpr int kGmshTetrahedron10 = 11;
+
+bool is_tetrahedron(int type) { return type == kGmshTetrahedron || type == kGmshTetrahedron10; }
+bool is_triangle(int type) { return type == kGmshTriangle || type == kGmshTriangle6; }
+// The nodes gmsh gives an element of a type read here.
+size_t kept_element_nodes(int type) {
+  return type == kGmshTetrahedron ? 4 : type == kGmshTetrahedron10 ? 10 : type == kGmshTriangle ? 3 : 6;
+}
+// gmsh's 10-node tetrahedron numbers its edge nodes 4 (0,1), 5 (1,2),
+// 6 (0,2), 7 (0,3), 8 (2,3), 9 (1,3): theirs in kTetEdges' order.
+constexpr std::array<int, 6> kGmshTetEdgeNodes = {4, 6, 7, 5, 9, 8};
+// One element of a type read here, in words.
+const char* element_kind(int type) {
+  return type == kGmshTetrahedron     ? "tetrahedron"
+         : type == kGmshTetrahedron10 ? "10-node tetrahedron"
+         : type == kGmshTriangle      ? "triangle"
+                                      : "6-node triangle";
+}
+// An element's nodes as read (up to a 10-node tetrahedron's).
+using ElementNodes = std::array<uint32_t, 10>;
+std::array<uint32_t, 6> tet_edge_nodes(const ElementNodes& n) {
+  std::array<uint32_t, 6> e;
+  for (size_t k = 0; k < 6; ++k) e[k] = n[kGmshTetEdgeNodes[k]];
+  return e;
+}
 
 // Whitespace-separated fields of one line.
 std::vector<std::string_view> split(std::string_view line) {
@@ -123,6 +150,10 @@ class GmshReader {
     if (!have_nodes) throw FormatError(c_.path() + ": no $Nodes section");
     index_element_tags();
     release(by_element_);
+    for (const auto& e : triangle_edge_nodes_)
+      for (uint32_t v : e)
+        if (v != InputMesh::kNoEdgeNode) out_.triangle_edge_nodes.push_back(v);
+    release(triangle_edge_nodes_);
     set_regions();
     set_face_tags();
     note_left_out();
@@ -400,6 +431,42 @@ class GmshReader {
   // The element tag of the tetrahedron about to be added ($ElementData names it).
   void note_tetrahedron(int64_t element_tag) { tet_element_.push_back(element_tag); }
 
+  // Room for the tetrahedra up to `count` (their tags, element tags and,
+  // for 10-node ones or once the mesh has some, edge nodes), filled by
+  // put_element() on every core.
+  void make_room_for_tetrahedra(int type, size_t count) {
+    out_.tets.resize(count);
+    tet_tag_.resize(count, tag_);
+    tet_element_.resize(count);
+    if (type == kGmshTetrahedron10 || !out_.tet_edge_nodes.empty())
+      out_.tet_edge_nodes.resize(count, kNoEdgeNodes);
+  }
+  void make_room_for_triangles(int type, size_t count) {
+    triangles_.resize(count);
+    tri_tag_.resize(count, tag_);
+    if (type == kGmshTriangle6 || !triangle_edge_nodes_.empty())
+      triangle_edge_nodes_.resize(count,
+                                  {InputMesh::kNoEdgeNode, InputMesh::kNoEdgeNode, InputMesh::kNoEdgeNode});
+  }
+  // Element `at` of the room made above, from its nodes as read.
+  void put_element(int type, size_t at, const ElementNodes& n) {
+    if (is_tetrahedron(type)) {
+      out_.tets[at] = {n[0], n[1], n[2], n[3]};
+      if (type == kGmshTetrahedron10) out_.tet_edge_nodes[at] = tet_edge_nodes(n);
+    } else {
+      triangles_[at] = {n[0], n[1], n[2]};
+      if (type == kGmshTriangle6) triangle_edge_nodes_[at] = {n[3], n[4], n[5]};
+    }
+  }
+  void add_tetrahedron(int type, const ElementNodes& n) {
+    make_room_for_tetrahedra(type, out_.tets.size() + 1);
+    put_element(type, out_.tets.size() - 1, n);
+  }
+  void add_triangle(int type, const ElementNodes& n) {
+    make_room_for_triangles(type, triangles_.size() + 1);
+    put_element(type, triangles_.size() - 1, n);
+  }
+
   // Fails when two tetrahedra share an element tag; afterwards tet_of()
   // finds a tetrahedron by its tag. gmsh numbers its elements in order, so
   // the tags mostly ascend and are searched where they are.
@@ -439,12 +506,12 @@ class GmshReader {
     const uint64_t n = c_.count("an element count", c_.remaining() / 8);
     c_.skip_to_next_line();
     struct Line {
-      std::array<uint32_t, 4> nodes;
+      ElementNodes nodes;
       int64_t physical;  // the first tag (0: none)
       int64_t tag;       // a tetrahedron's element tag
       int32_t type;
       bool tagged;
-      bool odd_triangle;  // a triangle of other than 3 nodes (counted, not kept)
+      bool odd_triangle;  // a triangle of other than 3 or 6 nodes (counted, not kept)
     };
     constexpr uint64_t kChunk = uint64_t{1} << 20;  // lines held at once (40 MB)
     std::vector<Line> chunk;
@@ -465,7 +532,7 @@ class GmshReader {
         int tags = 0;
         const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), tags);
         if (ec != std::errc() || tags < 0) c_.fail_line(i, "bad element tag count");
-        const bool kept = r.type == kGmshTetrahedron || r.type == kGmshTriangle;
+        const bool kept = is_tetrahedron(r.type) || is_triangle(r.type);
         r.physical = 0;
         for (int k = 0; k < tags; ++k) {
           const std::string_view t = next_field(line, at);
@@ -477,30 +544,30 @@ class GmshReader {
         r.nodes = {};
         for (std::string_view f = next_field(line, at); !f.empty(); f = next_field(line, at), ++nodes) {
           const uint32_t v = node_on_line(f, i);
-          if (nodes < 4) r.nodes[nodes] = v;
+          if (nodes < r.nodes.size()) r.nodes[nodes] = v;
         }
         if (nodes == 0) c_.fail_line(i, "element without nodes");
-        if (r.type == kGmshTetrahedron) {
-          if (nodes != 4) c_.fail_line(i, "a tetrahedron with " + std::to_string(nodes) + " nodes");
+        if (is_tetrahedron(r.type)) {
+          if (nodes != kept_element_nodes(r.type))
+            c_.fail_line(
+                i, std::string("a ") + element_kind(r.type) + " with " + std::to_string(nodes) + " nodes");
           const auto [tend, tec] = std::from_chars(tag.data(), tag.data() + tag.size(), r.tag);
           if (tec != std::errc())
             c_.fail_line(i, "expected an element tag, found '" + std::string(tag) + "'");
-        } else if (r.type == kGmshTriangle && nodes != 3) {
+        } else if (is_triangle(r.type) && nodes != kept_element_nodes(r.type)) {
           r.odd_triangle = true;
         }
       });
       for (const Line& r : chunk) {
-        if (r.type == kGmshTetrahedron || r.type == kGmshTriangle) {
+        if (is_tetrahedron(r.type) || is_triangle(r.type)) {
           tagged_ = tagged_ || r.tagged;
           note_volume_tag(r.physical);
         }
-        if (r.type == kGmshTetrahedron) {
+        if (is_tetrahedron(r.type)) {
           note_tetrahedron(r.tag);
-          out_.tets.push_back(r.nodes);
-          tet_tag_.push_back(tag_);
-        } else if (r.type == kGmshTriangle && !r.odd_triangle) {
-          triangles_.push_back({r.nodes[0], r.nodes[1], r.nodes[2]});
-          tri_tag_.push_back(tag_);
+          add_tetrahedron(r.type, r.nodes);
+        } else if (is_triangle(r.type) && !r.odd_triangle) {
+          add_triangle(r.type, r.nodes);
         } else {
           ++other_elements_[r.type];
         }
@@ -519,7 +586,7 @@ class GmshReader {
       c_.number<int>("an entity dimension");
       const int entity = c_.number<int>("an entity tag");
       const int type = c_.number<int>("an element type");
-      if (type == kGmshTetrahedron || type == kGmshTriangle) note_volume_tag(entity);
+      if (is_tetrahedron(type) || is_triangle(type)) note_volume_tag(entity);
       const uint64_t in_block = c_.count("an element count", c_.remaining() / 4);
       c_.skip_to_next_line();
       element_block(in_block, type);
@@ -539,42 +606,35 @@ class GmshReader {
   // 4.1's element lines of one block ("tag node node ..."), all of one
   // type, parsed on every core, each into its place.
   void element_block(uint64_t in_block, int type) {
-    const bool tet = type == kGmshTetrahedron, tri = type == kGmshTriangle;
+    const bool tet = is_tetrahedron(type), tri = is_triangle(type);
     // Room is made before the lines are read: no more than their bytes can
     // hold (a field and its separator take two bytes at least).
-    if ((tet && in_block > c_.remaining() / 10) || (tri && in_block > c_.remaining() / 8))
+    const size_t per = tet || tri ? kept_element_nodes(type) : 0;
+    if ((tet || tri) && in_block > c_.remaining() / (2 * (1 + per)))
       c_.fail("an element count " + std::to_string(in_block) + " is more than the file can hold");
     const size_t first = tet ? out_.tets.size() : triangles_.size();
-    if (tet) {
-      out_.tets.resize(first + in_block);
-      tet_tag_.resize(first + in_block, tag_);
-      tet_element_.resize(first + in_block);
-    } else if (tri) {
-      triangles_.resize(first + in_block);
-      tri_tag_.resize(first + in_block, tag_);
-    }
+    if (tet) make_room_for_tetrahedra(type, first + in_block);
+    if (tri) make_room_for_triangles(type, first + in_block);
     c_.lines(in_block, [&](uint64_t i, std::string_view line) {
       size_t at = 0;
       const std::string_view element_tag = next_field(line, at);
       if (element_tag.empty()) c_.fail_line(i, "file ends or blank line inside an element block");
-      std::array<uint32_t, 4> t{};
+      ElementNodes t{};
       size_t nodes = 0;
       for (std::string_view f = next_field(line, at); !f.empty(); f = next_field(line, at), ++nodes) {
         const uint32_t v = node_on_line(f, i);
-        if (nodes < 4) t[nodes] = v;
+        if (nodes < t.size()) t[nodes] = v;
       }
       if (nodes == 0) c_.fail_line(i, "element without nodes");
+      if ((tet || tri) && nodes != per)
+        c_.fail_line(i, std::string("a ") + element_kind(type) + " with " + std::to_string(nodes) + " nodes");
       if (tet) {
-        if (nodes != 4) c_.fail_line(i, "a tetrahedron with " + std::to_string(nodes) + " nodes");
         int64_t tag = 0;
         if (!parse_whole(element_tag, tag))
           c_.fail_line(i, "expected an element tag, found '" + std::string(element_tag) + "'");
-        out_.tets[first + i] = t;
         tet_element_[first + i] = tag;
-      } else if (tri) {
-        if (nodes != 3) c_.fail_line(i, "a triangle with " + std::to_string(nodes) + " nodes");
-        triangles_[first + i] = {t[0], t[1], t[2]};
       }
+      if (tet || tri) put_element(type, first + i, t);
     });
     if (!tet && !tri && in_block > 0) other_elements_[type] += in_block;
   }
@@ -604,19 +664,17 @@ class GmshReader {
   }
   // A binary element's node tags, `per` of them `size` bytes each.
   void binary_element(int64_t element_tag, std::string_view nodes, int type, int per, int size) {
-    std::array<uint32_t, 4> t{};
+    ElementNodes t{};
     for (int k = 0; k < per; ++k) {
       const std::string_view b = nodes.substr(static_cast<size_t>(k) * size);
       const uint32_t v = node(size == 4 ? int64_t{int32(b)} : static_cast<int64_t>(size_t64(b)));
-      if (k < 4) t[k] = v;
+      if (static_cast<size_t>(k) < t.size()) t[k] = v;
     }
-    if (type == kGmshTetrahedron) {
+    if (is_tetrahedron(type)) {
       note_tetrahedron(element_tag);
-      out_.tets.push_back(t);
-      tet_tag_.push_back(tag_);
-    } else if (type == kGmshTriangle) {
-      triangles_.push_back({t[0], t[1], t[2]});
-      tri_tag_.push_back(tag_);
+      add_tetrahedron(type, t);
+    } else if (is_triangle(type)) {
+      add_triangle(type, t);
     } else {
       ++other_elements_[type];
     }
@@ -625,32 +683,23 @@ class GmshReader {
   // A 4.1 binary block of tetrahedra or triangles (element tag, then node
   // tags, 8 bytes each), on every core, each element into its place.
   void binary_block(std::string_view b, uint64_t in_block, uint64_t record, int type) {
-    const bool tet = type == kGmshTetrahedron;
+    const bool tet = is_tetrahedron(type);
     const size_t first = tet ? out_.tets.size() : triangles_.size();
-    if (tet) {
-      out_.tets.resize(first + in_block);
-      tet_tag_.resize(first + in_block, tag_);
-      tet_element_.resize(first + in_block);
-    } else {
-      triangles_.resize(first + in_block);
-      tri_tag_.resize(first + in_block, tag_);
-    }
+    const size_t per = kept_element_nodes(type);
+    if (tet)
+      make_room_for_tetrahedra(type, first + in_block);
+    else
+      make_room_for_triangles(type, first + in_block);
     constexpr uint64_t kRange = uint64_t{1} << 16;
     std::vector<std::exception_ptr> failure((in_block + kRange - 1) / kRange);
     parallel_ranges(in_block, kRange, [&](size_t lo, size_t hi) {
       try {
         for (size_t e = lo; e < hi; ++e) {
           const std::string_view r = b.substr(e * record, record);
-          std::array<uint32_t, 4> t{};
-          for (int k = 0; k < (tet ? 4 : 3); ++k) {
-            t[k] = node(static_cast<int64_t>(size_t64(r.substr(8 * (k + 1)))));
-          }
-          if (tet) {
-            out_.tets[first + e] = t;
-            tet_element_[first + e] = static_cast<int64_t>(size_t64(r));
-          } else {
-            triangles_[first + e] = {t[0], t[1], t[2]};
-          }
+          ElementNodes t{};
+          for (size_t k = 0; k < per; ++k) t[k] = node(static_cast<int64_t>(size_t64(r.substr(8 * (k + 1)))));
+          if (tet) tet_element_[first + e] = static_cast<int64_t>(size_t64(r));
+          put_element(type, first + e, t);
         }
       } catch (...) {
         failure[lo / kRange] = std::current_exception();
@@ -688,9 +737,9 @@ class GmshReader {
       const std::string_view b = c_.bytes(count * record, "the elements");
       for (int64_t e = 0; e < count; ++e) {
         const std::string_view r = b.substr(e * record, record);
-        if (type == kGmshTetrahedron || type == kGmshTriangle)
-          note_volume_tag(tags > 0 ? int32(r.substr(4)) : 0);
-        tagged_ = tagged_ || ((type == kGmshTetrahedron || type == kGmshTriangle) && tags > 0);
+        const bool kept = is_tetrahedron(type) || is_triangle(type);
+        if (kept) note_volume_tag(tags > 0 ? int32(r.substr(4)) : 0);
+        tagged_ = tagged_ || (kept && tags > 0);
         binary_element(int32(r), r.substr(4 * (1 + tags)), type, per, 4);
       }
       seen += count;
@@ -736,9 +785,9 @@ class GmshReader {
       const int per = nodes_per_element(type);
       const uint64_t record = 8 * (1 + static_cast<uint64_t>(per));
       if (in_block > c_.remaining() / record) c_.fail("file ends inside an element block");
-      if (type == kGmshTetrahedron || type == kGmshTriangle) note_volume_tag(entity);
+      if (is_tetrahedron(type) || is_triangle(type)) note_volume_tag(entity);
       const std::string_view b = c_.bytes(in_block * record, "the elements");
-      if (type == kGmshTetrahedron || type == kGmshTriangle) {
+      if (is_tetrahedron(type) || is_triangle(type)) {
         binary_block(b, in_block, record, type);
       } else {
         for (uint64_t e = 0; e < in_block; ++e)
@@ -890,7 +939,8 @@ class GmshReader {
   std::map<int, int> volume_physical_;  // 4.1: volume entity -> its first physical group
   std::map<int32_t, std::string> volume_names_;
   std::vector<std::array<uint32_t, 3>> triangles_;
-  std::vector<int64_t> tri_tag_;         // per triangle
+  std::vector<int64_t> tri_tag_;                              // per triangle
+  std::vector<std::array<uint32_t, 3>> triangle_edge_nodes_;  // per triangle, once a 6-node one is read
   std::map<int, int> surface_physical_;  // 4.1: surface entity -> its first physical group
   std::map<int32_t, std::string> surface_names_;
   std::vector<std::string> physical_names_, partial_node_data_, partial_element_data_;

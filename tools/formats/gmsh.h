@@ -13,9 +13,12 @@
 
 namespace dtm {
 
-// Points (in the order of the file), 4-node tetrahedra (element type 4;
-// other types are checked and ignored) and $NodeData fields that cover every
-// node. Throws FormatError naming the file and the line.
+// Points (in the order of the file), tetrahedra (element type 4, and 11,
+// the 10-node ones, as their corners with their edge nodes in
+// InputMesh::tet_edge_nodes; other types are checked and ignored), their
+// regions and cell data, tagged triangles (types 2 and 9) and $NodeData
+// fields that cover every node. Throws FormatError naming the file and the
+// line.
 InputMesh read_gmsh(const std::string& path);
 
 // Version 4.1 ASCII: one volume entity, nodes tagged 1..n, tetrahedra,

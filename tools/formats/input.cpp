@@ -9,6 +9,7 @@
 #include "netgen_vol.h"
 #include "nrrd.h"
 #include "point_sets.h"
+#include "second_order.h"
 #include "tetgen.h"
 #include "vtk_legacy.h"
 #include "vtu_reader.h"
@@ -124,6 +125,7 @@ InputMesh read_input(const std::string& path, std::optional<InputFormat> format,
   if (std::filesystem::is_directory(path)) throw FormatError(path + ": a directory, not a mesh file");
   InputMesh mesh =
       read_any(path, format ? *format : input_format_for_path(path), volume, tetgen_ele, read_node);
+  set_edge_nodes_aside(mesh);
   check_spans_3d(mesh.points, path);
   return mesh;
 }

@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string_view>
 #include <vector>
 
 #include "format_error.h"
 #include "render_util.h"
+#include "second_order.h"
 #include "text_cursor.h"
 
 namespace dtm {
@@ -89,18 +91,21 @@ constexpr ElementLayout kSurfaceElement{
     false};
 
 // An element section's records, one a line, read on every core: of each
-// linear element its first N points (1-based, checked against the points
-// once they are read) with its line, and its label; the second-order and
-// other elements counted.
-template <size_t N>
+// linear or second-order element its N corners (1-based, checked against
+// the points once they are read) with its line, and its label; of a
+// second-order one, its E edge nodes too (in Netgen's order, which is
+// kTetEdges': 0 for a linear element's); the other elements counted.
+template <size_t N, size_t E>
 void read_elements(TextCursor& c, uint64_t n, const ElementLayout& l,
-                   std::vector<std::array<int64_t, N>>& corners, std::vector<uint64_t>& lines,
-                   std::vector<int32_t>& labels, uint64_t& second_order, uint64_t& other) {
+                   std::vector<std::array<uint32_t, N>>& corners, std::vector<std::array<uint32_t, E>>& edges,
+                   std::vector<uint64_t>& lines, std::vector<int32_t>& labels, uint64_t& other) {
   c.rest_of_line();
   const uint64_t first_line = c.mark().line;
   size_t head = 0;
   while (head < l.head.size() && l.head[head]) ++head;
-  std::vector<std::array<int64_t, N>> read(n);
+  // (Point numbers in 32 bits: a second-order element's ten take 40 bytes,
+  // a linear one's four were 32 as 64-bit numbers.)
+  std::vector<std::array<uint32_t, N + E>> read(n);
   std::vector<int32_t> label_of(n);
   std::vector<uint8_t> kind(n);  // 0 linear, 1 second-order, 2 other
   c.lines(n, [&](uint64_t i, std::string_view line) {
@@ -120,15 +125,20 @@ void read_elements(TextCursor& c, uint64_t n, const ElementLayout& l,
       int64_t v = 0;
       if (!parse_whole(f[head + 1 + p], v) || v < 1)
         c.fail_line(i, "expected a point index, found '" + std::string(f[head + 1 + p]) + "'");
-      if (p < N) read[i][p] = v;
+      if (v > UINT32_MAX) c.fail_line(i, "point index " + std::string(f[head + 1 + p]) + " out of range");
+      if (p < N + E) read[i][p] = static_cast<uint32_t>(v);
     }
     kind[i] = np == l.linear ? 0 : np == l.second_order ? 1 : 2;
   });
   for (uint64_t i = 0; i < n; ++i) {
-    second_order += kind[i] == 1;
     other += kind[i] == 2;
-    if (kind[i] != 0) continue;
-    corners.push_back(read[i]);
+    if (kind[i] == 2) continue;
+    std::array<uint32_t, N> corner;
+    std::array<uint32_t, E> edge{};
+    std::copy_n(read[i].begin(), N, corner.begin());
+    if (kind[i] == 1) std::copy_n(read[i].begin() + N, E, edge.begin());
+    corners.push_back(corner);
+    edges.push_back(edge);
     lines.push_back(first_line + i);
     labels.push_back(label_of[i]);
   }
@@ -166,12 +176,14 @@ InputMesh read_netgen_vol(const std::string& path) {
   c.expect("mesh3d");
   InputMesh out;
   bool have_points = false;
-  uint64_t second_order_tets = 0, other_volume = 0, second_order_faces = 0, other_faces = 0;
+  uint64_t other_volume = 0, other_faces = 0;
   std::map<std::string, uint64_t> other_records;  // records of other sections, by keyword
   // The elements' corners as read, and each one's line: Netgen writes the
   // elements before the points, so their indices are checked at the end.
-  std::vector<std::array<int64_t, 4>> raw_tets;
-  std::vector<std::array<int64_t, 3>> raw_faces;
+  std::vector<std::array<uint32_t, 4>> raw_tets;
+  std::vector<std::array<uint32_t, 3>> raw_faces;
+  std::vector<std::array<uint32_t, 6>> raw_tet_edges;   // a second-order tetrahedron's edge nodes
+  std::vector<std::array<uint32_t, 3>> raw_face_edges;  // and a second-order triangle's
   std::vector<uint64_t> tet_lines, face_lines;
   while (true) {
     if (c.at_end()) c.fail("file ends without 'endmesh'");
@@ -218,13 +230,13 @@ InputMesh read_netgen_vol(const std::string& path) {
       continue;
     }
     if (keyword == "volumeelements") {
-      read_elements<4>(c, n, kVolumeElement, raw_tets, tet_lines, out.tet_regions, second_order_tets,
-                       other_volume);
+      read_elements<4, 6>(c, n, kVolumeElement, raw_tets, raw_tet_edges, tet_lines, out.tet_regions,
+                          other_volume);
       continue;
     }
     if (keyword == "surfaceelements" || keyword == "surfaceelementsgi" || keyword == "surfaceelementsuv") {
-      read_elements<3>(c, n, kSurfaceElement, raw_faces, face_lines, out.face_tags, second_order_faces,
-                       other_faces);
+      read_elements<3, 3>(c, n, kSurfaceElement, raw_faces, raw_face_edges, face_lines, out.face_tags,
+                          other_faces);
       continue;
     }
     if (keyword == "materials") {
@@ -269,22 +281,29 @@ InputMesh read_netgen_vol(const std::string& path) {
     const auto& v = raw_tets[t];
     const uint64_t line = tet_lines[t];
     out.tets.push_back({corner(v[0], line), corner(v[1], line), corner(v[2], line), corner(v[3], line)});
+    if (const auto& e = raw_tet_edges[t]; e[0] != 0) {
+      std::array<uint32_t, 6> edge;
+      for (size_t k = 0; k < 6; ++k) edge[k] = corner(e[k], line);
+      add_tet_edge_nodes(out, edge);
+    }
   }
   out.tagged_faces.reserve(raw_faces.size());
   for (size_t f = 0; f < raw_faces.size(); ++f) {
     const auto& v = raw_faces[f];
     const uint64_t line = face_lines[f];
     out.tagged_faces.push_back({corner(v[0], line), corner(v[1], line), corner(v[2], line)});
+    if (const auto& e = raw_face_edges[f]; e[0] != 0)
+      for (uint32_t node : e) out.triangle_edge_nodes.push_back(corner(node, line));
   }
   if (!out.tets.empty()) out.region_source = "materials (Netgen domains)";
   if (!out.tagged_faces.empty()) out.face_tag_source = "surface elements' boundary conditions (Netgen bcnr)";
-  if (second_order_tets + other_volume > 0)
-    out.left_out.push_back(std::to_string(second_order_tets + other_volume) +
-                           " volume elements that are not 4-node tetrahedra (" +
-                           std::to_string(second_order_tets) + " of them second-order tetrahedra)");
-  if (second_order_faces + other_faces > 0)
-    out.left_out.push_back(std::to_string(second_order_faces + other_faces) +
-                           " surface elements that are not 3-node triangles");
+  // (Second-order elements are read as linear ones: second_order.h.)
+  if (other_volume > 0)
+    out.left_out.push_back(std::to_string(other_volume) +
+                           " volume elements that are not tetrahedra of 4 or 10 nodes");
+  if (other_faces > 0)
+    out.left_out.push_back(std::to_string(other_faces) +
+                           " surface elements that are not triangles of 3 or 6 nodes");
   if (!other_records.empty()) {
     std::string list;
     for (const auto& [keyword, count] : other_records)

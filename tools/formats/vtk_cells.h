@@ -1,12 +1,19 @@
 // VTK's cell types, as the .vtk and .vtu readers and writers name them.
 #pragma once
 
+#include <array>
 #include <string>
 
 namespace dtm {
 
 inline constexpr int kVtkTriangle = 5;
 inline constexpr int kVtkTetra = 10;
+inline constexpr int kVtkQuadraticTriangle = 22;
+inline constexpr int kVtkQuadraticTetra = 24;
+// VTK's quadratic tetrahedron numbers its edge nodes 4 (0,1), 5 (1,2),
+// 6 (0,2), 7 (0,3), 8 (1,3), 9 (2,3): theirs in kTetEdges' order
+// (second_order.h).
+inline constexpr std::array<int, 6> kVtkTetEdgeNodes = {4, 6, 7, 5, 8, 9};
 
 // A cell type by name, the usual ones (for what a reader leaves out).
 inline std::string vtk_cell_name(int type) {
@@ -25,6 +32,8 @@ inline std::string vtk_cell_name(int type) {
       return "wedges";
     case 14:
       return "pyramids";
+    case 22:
+      return "quadratic triangles";
     case 24:
       return "quadratic tetrahedra";
     default:

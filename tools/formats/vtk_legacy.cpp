@@ -9,6 +9,7 @@
 #include "common/parallel_for.h"
 #include "render_util.h"
 #include "scalar_type.h"
+#include "second_order.h"
 #include "text_cursor.h"
 #include "vtk_cells.h"
 
@@ -154,31 +155,39 @@ class LegacyReader {
         // Triangles may carry tags (InputMesh::tagged_faces, as meshdec
         // writes them after the tetrahedra): held, tagged or named by
         // choose_regions().
-        if (cell_types[i] == kVtkTriangle && e - b == 3) {
-          out_.tagged_faces.push_back({static_cast<uint32_t>(connectivity[b]),
-                                       static_cast<uint32_t>(connectivity[b + 1]),
-                                       static_cast<uint32_t>(connectivity[b + 2])});
+        // (A quadratic one's edge nodes go aside: second_order.h.)
+        const auto at = [&](int64_t k) { return static_cast<uint32_t>(connectivity[k]); };
+        if ((cell_types[i] == kVtkTriangle && e - b == 3) ||
+            (cell_types[i] == kVtkQuadraticTriangle && e - b == 6)) {
+          out_.tagged_faces.push_back({at(b), at(b + 1), at(b + 2)});
+          for (int64_t k = b + 3; k < e; ++k) out_.triangle_edge_nodes.push_back(at(k));
           triangle_cells.push_back(i);
           continue;
         }
-        if (cell_types[i] != kVtkTetra) {
+        if (cell_types[i] != kVtkTetra && cell_types[i] != kVtkQuadraticTetra) {
           ++other_cells_[cell_types[i]];
           continue;
         }
-        if (e - b != 4)
-          throw FormatError(c_.path() + ": cell " + std::to_string(i) + " is a VTK_TETRA with " +
+        const bool quadratic = cell_types[i] == kVtkQuadraticTetra;
+        if (e - b != (quadratic ? 10 : 4))
+          throw FormatError(c_.path() + ": cell " + std::to_string(i) + " is a " +
+                            (quadratic ? "VTK_QUADRATIC_TETRA" : "VTK_TETRA") + " with " +
                             std::to_string(e - b) + " points");
-        out_.tets.push_back(
-            {static_cast<uint32_t>(connectivity[b]), static_cast<uint32_t>(connectivity[b + 1]),
-             static_cast<uint32_t>(connectivity[b + 2]), static_cast<uint32_t>(connectivity[b + 3])});
+        out_.tets.push_back({at(b), at(b + 1), at(b + 2), at(b + 3)});
+        if (quadratic) {
+          std::array<uint32_t, 6> edge;
+          for (size_t k = 0; k < 6; ++k) edge[k] = at(b + kVtkTetEdgeNodes[k]);
+          add_tet_edge_nodes(out_, edge);
+        }
         tet_cells.push_back(i);
       }
     }
     keep_cell_data(cells, tet_cells, triangle_cells);
     // Triangles without tetrahedra are a surface, not tagged faces.
     if (tet_cells.empty() && !triangle_cells.empty()) {
-      other_cells_[kVtkTriangle] += triangle_cells.size();
+      for (size_t i : triangle_cells) ++other_cells_[cell_types[i]];
       out_.tagged_faces.clear();
+      out_.triangle_edge_nodes.clear();
       out_.triangle_arrays.clear();
     }
     note_left_out();

@@ -12,6 +12,7 @@
 
 #include "common/parallel_for.h"
 #include "scalar_type.h"
+#include "second_order.h"
 #include "text_cursor.h"
 #include "vtk_cells.h"
 #include "vtk_compression.h"
@@ -705,19 +706,28 @@ class VtuReader {
       };
       // Triangles may carry tags (InputMesh::tagged_faces): held, tagged
       // or named by choose_regions().
-      if (types[c] == kVtkTriangle && e - b == 3) {
+      // (A quadratic one's edge nodes go aside: second_order.h.)
+      if ((types[c] == kVtkTriangle && e - b == 3) || (types[c] == kVtkQuadraticTriangle && e - b == 6)) {
         out.tagged_faces.push_back({at(b), at(b + 1), at(b + 2)});
+        for (uint64_t k = b + 3; k < e; ++k) out.triangle_edge_nodes.push_back(at(k));
         triangles.push_back(c);
         continue;
       }
-      if (types[c] != kVtkTetra) {
+      if (types[c] != kVtkTetra && types[c] != kVtkQuadraticTetra) {
         ++other_cells_[static_cast<int>(types[c])];
         continue;
       }
-      if (e - b != 4)
-        p_.fail_at(ce->offset,
-                   "cell " + std::to_string(c) + " is a VTK_TETRA with " + std::to_string(e - b) + " points");
+      const bool quadratic = types[c] == kVtkQuadraticTetra;
+      if (e - b != (quadratic ? 10u : 4u))
+        p_.fail_at(ce->offset, "cell " + std::to_string(c) + " is a " +
+                                   (quadratic ? "VTK_QUADRATIC_TETRA" : "VTK_TETRA") + " with " +
+                                   std::to_string(e - b) + " points");
       out.tets.push_back({at(b), at(b + 1), at(b + 2), at(b + 3)});
+      if (quadratic) {
+        std::array<uint32_t, 6> edge;
+        for (size_t k = 0; k < 6; ++k) edge[k] = at(b + kVtkTetEdgeNodes[k]);
+        add_tet_edge_nodes(out, edge);
+      }
       tets.push_back(c);
     }
     return tets;
@@ -751,6 +761,16 @@ void append_piece(InputMesh& whole, InputMesh part, bool first, const std::strin
     for (uint32_t& v : f) v += offset;
     whole.tagged_faces.push_back(f);
   }
+  if (!part.tet_edge_nodes.empty()) {
+    part.tet_edge_nodes.resize(part.tets.size(), kNoEdgeNodes);
+    whole.tet_edge_nodes.resize(whole.tets.size() - part.tets.size(), kNoEdgeNodes);
+    for (auto& e : part.tet_edge_nodes) {
+      for (uint32_t& v : e)
+        if (v != InputMesh::kNoEdgeNode) v += offset;
+      whole.tet_edge_nodes.push_back(e);
+    }
+  }
+  for (uint32_t v : part.triangle_edge_nodes) whole.triangle_edge_nodes.push_back(v + offset);
   const auto same_arrays = [&](std::vector<VertexField>& into, std::vector<VertexField>& from,
                                const char* what) {
     if (first) {

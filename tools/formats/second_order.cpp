@@ -1,0 +1,81 @@
+#include "second_order.h"
+
+#include <string>
+#include <vector>
+
+namespace dtm {
+
+void add_tet_edge_nodes(InputMesh& mesh, const std::array<uint32_t, 6>& nodes) {
+  mesh.tet_edge_nodes.resize(mesh.tets.size() - 1, kNoEdgeNodes);
+  mesh.tet_edge_nodes.push_back(nodes);
+}
+
+void set_edge_nodes_aside(InputMesh& mesh) {
+  if (mesh.tet_edge_nodes.empty() && mesh.triangle_edge_nodes.empty()) return;
+  if (mesh.tets.empty()) {
+    // A surface mesh: no cell of it is kept (its triangles are not tagged
+    // faces of a volume), so its points are all the stream has of it.
+    mesh.tet_edge_nodes.clear();
+    mesh.triangle_edge_nodes.clear();
+    return;
+  }
+  if (!mesh.tet_edge_nodes.empty()) mesh.tet_edge_nodes.resize(mesh.tets.size(), kNoEdgeNodes);
+  const size_t n = mesh.points.size();
+  constexpr uint8_t kCorner = 1, kOnEdge = 2;
+  std::vector<uint8_t> role(n, 0);
+  for (const auto& t : mesh.tets)
+    for (uint32_t v : t) role[v] |= kCorner;
+  for (const auto& f : mesh.tagged_faces)
+    for (uint32_t v : f) role[v] |= kCorner;
+  uint64_t second_order_tets = 0;
+  for (const auto& e : mesh.tet_edge_nodes) {
+    second_order_tets += e[0] != InputMesh::kNoEdgeNode;
+    for (uint32_t v : e)
+      if (v != InputMesh::kNoEdgeNode) role[v] |= kOnEdge;
+  }
+  for (uint32_t v : mesh.triangle_edge_nodes) role[v] |= kOnEdge;
+  // New indices: the kept points' among the kept, the set-aside nodes'
+  // among them.
+  std::vector<uint32_t> index(n);
+  std::vector<InputPoint> kept;
+  kept.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (role[i] == kOnEdge) {
+      index[i] = static_cast<uint32_t>(mesh.edge_points.size());
+      mesh.edge_points.push_back(mesh.points[i]);
+    } else {
+      index[i] = static_cast<uint32_t>(kept.size());
+      kept.push_back(mesh.points[i]);
+    }
+  }
+  const size_t aside = mesh.edge_points.size();
+  for (auto& t : mesh.tets)
+    for (uint32_t& v : t) v = index[v];
+  for (auto& f : mesh.tagged_faces)
+    for (uint32_t& v : f) v = index[v];
+  for (auto& e : mesh.tet_edge_nodes)
+    for (uint32_t& v : e)
+      if (v != InputMesh::kNoEdgeNode) v = role[v] == kOnEdge ? index[v] : InputMesh::kNoEdgeNode;
+  for (VertexField& f : mesh.fields) {
+    const size_t c = static_cast<size_t>(f.components);
+    std::vector<double> values;
+    values.reserve(c * kept.size());
+    for (size_t i = 0; i < n; ++i)
+      if (role[i] != kOnEdge)
+        values.insert(values.end(), f.values.begin() + c * i, f.values.begin() + c * (i + 1));
+    f.values = std::move(values);
+  }
+  mesh.points = std::move(kept);
+  mesh.triangle_edge_nodes.clear();
+  mesh.triangle_edge_nodes.shrink_to_fit();
+  if (aside == 0) return;
+  std::string elements;
+  if (second_order_tets > 0) elements = std::to_string(second_order_tets) + " second-order tetrahedra";
+  std::string what = std::to_string(aside) + " nodes on the edges of second-order elements (" +
+                     (elements.empty() ? std::string("triangles") : elements) +
+                     "): the stream holds the linear cells through their corners";
+  if (!mesh.fields.empty()) what += ", and the fields' values at their corners only";
+  mesh.left_out.push_back(what);
+}
+
+}  // namespace dtm

@@ -1,0 +1,39 @@
+// Second-order meshes (gmsh -order 2, VTK's quadratic cells, Netgen's
+// SecondOrder()) read as their linear cells: the nodes on the elements'
+// edges are not vertices of any level, so they are set aside before the
+// tools see the points.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "input_mesh.h"
+
+namespace dtm {
+
+// Corners (a, b) of a tetrahedron's six edges, in the order of
+// InputMesh::tet_edge_nodes.
+inline constexpr std::array<std::array<int, 2>, 6> kTetEdges = {
+    {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+
+// A linear tetrahedron's entry of InputMesh::tet_edge_nodes.
+inline constexpr std::array<uint32_t, 6> kNoEdgeNodes = {InputMesh::kNoEdgeNode, InputMesh::kNoEdgeNode,
+                                                         InputMesh::kNoEdgeNode, InputMesh::kNoEdgeNode,
+                                                         InputMesh::kNoEdgeNode, InputMesh::kNoEdgeNode};
+
+// For readers that add tetrahedra one at a time: the edge nodes (in
+// kTetEdges' order) of the one just added, the linear ones before it given
+// none. set_edge_nodes_aside() gives none to the linear ones after the last.
+void add_tet_edge_nodes(InputMesh& mesh, const std::array<uint32_t, 6>& nodes);
+
+// Moves the points that the readers found on second-order elements' edges
+// and that are no element's corner from mesh.points to mesh.edge_points (in
+// file order), renumbering the tetrahedra, the tagged faces and the
+// per-vertex fields (whose values at those nodes are dropped) and making
+// tet_edge_nodes index edge_points (kNoEdgeNode where a node is some
+// element's corner). Names what that leaves out in mesh.left_out. Does
+// nothing to a linear mesh, and to one without tetrahedra but forgets its
+// edge nodes (a surface's points are all kept: its cells are not).
+void set_edge_nodes_aside(InputMesh& mesh);
+
+}  // namespace dtm
