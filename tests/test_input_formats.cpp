@@ -795,6 +795,53 @@ TEST(InputFormats, SecondOrderElementsAreReadAsTheirLinearCells) {
   EXPECT_TRUE(surface.edge_points.empty());
 }
 
+// TetGen -o2's .ele (10 nodes a tetrahedron, its own order of the edge
+// nodes): made here by Debian's tetgen from torus_288.node, read as the
+// linear mesh tetgen makes of it without -o2, each edge node on its edge;
+// refused where only a share of it is read (MPI ranks).
+TEST(InputFormats, TetgenSecondOrderEleIsReadAsItsLinearMesh) {
+  const std::string dir = ::testing::TempDir() + "/tetgen_o2";
+  std::filesystem::create_directories(dir + "/linear");
+  std::filesystem::create_directories(dir + "/quadratic");
+  for (const char* kind : {"linear", "quadratic"}) {
+    std::filesystem::copy_file(test::data_path("torus_288.node"), dir + "/" + kind + "/torus.node",
+                               std::filesystem::copy_options::overwrite_existing);
+    const auto r = test::run_command("cd " + dir + "/" + kind + " && tetgen -Q " +
+                                     (std::string(kind) == "quadratic" ? "-o2 " : "") + "torus.node");
+    ASSERT_EQ(r.status, 0) << "tetgen (scripts/setup.sh --all installs it):\n" << r.output;
+  }
+  const InputMesh linear = read_input(dir + "/linear/torus.1.node");
+  const InputMesh quadratic = read_input(dir + "/quadratic/torus.1.node");
+  ASSERT_EQ(quadratic.points.size(), linear.points.size());
+  for (size_t i = 0; i < linear.points.size(); ++i)
+    ASSERT_TRUE(quadratic.points[i].x == linear.points[i].x && quadratic.points[i].z == linear.points[i].z)
+        << i;
+  EXPECT_EQ(quadratic.tets, linear.tets);
+  ASSERT_EQ(quadratic.tet_edge_nodes.size(), quadratic.tets.size());
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  for (size_t t = 0; t < quadratic.tets.size(); ++t)
+    for (size_t k = 0; k < 6; ++k) {
+      const uint32_t a = quadratic.tets[t][kTetEdges[k][0]], b = quadratic.tets[t][kTetEdges[k][1]];
+      edges.insert(std::minmax(a, b));
+      const InputPoint p = quadratic.edge_points.at(quadratic.tet_edge_nodes[t][k]);
+      const InputPoint& pa = quadratic.points[a];
+      const InputPoint& pb = quadratic.points[b];
+      ASSERT_NEAR(p.x, (pa.x + pb.x) / 2, 1e-9) << t << " " << k;
+      ASSERT_NEAR(p.y, (pa.y + pb.y) / 2, 1e-9) << t << " " << k;
+      ASSERT_NEAR(p.z, (pa.z + pb.z) / 2, 1e-9) << t << " " << k;
+    }
+  EXPECT_EQ(quadratic.edge_points.size(), edges.size());
+  // A rank's share of it cannot be read.
+  const NodeFile node = read_tetgen_node(dir + "/quadratic/torus.1.node");
+  try {
+    read_tetgen_ele_part(dir + "/quadratic/torus.1.ele", node.points.size(), node.index_base, 0, 2, false,
+                         [](auto, auto) {});
+    ADD_FAILURE() << "a share of a second-order .ele was read";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("read whole, on one process"), std::string::npos) << e.what();
+  }
+}
+
 // What a reader does not keep is named, not dropped in silence.
 TEST(InputFormats, WhatIsNotReadIsNamed) {
   const auto has = [](const InputMesh& m, const std::string& part) {

@@ -1,11 +1,13 @@
 // The TetGen reader on arbitrary bytes: a FormatError or a valid point set,
-// never a crash. The first byte picks .node or .ele.
+// never a crash. The first byte picks .node or .ele (and, for an .ele, the
+// index base and whether a second-order one may be read).
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "fuzz_check.h"
 #include "tools/formats/tetgen.h"
@@ -20,8 +22,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::fclose(f);
   try {
     if (ele) {
-      for (const auto& t : dtm::read_tetgen_ele(path, 64, data[0] >> 7))
+      // (Bit 1: with room for a second-order .ele's edge nodes.)
+      std::vector<std::array<uint32_t, 6>> edge_nodes;
+      const auto tets =
+          dtm::read_tetgen_ele(path, 64, data[0] >> 7, {}, nullptr, (data[0] & 2) ? &edge_nodes : nullptr);
+      for (const auto& t : tets)
         for (uint32_t v : t) FUZZ_CHECK(v < 64);
+      FUZZ_CHECK(edge_nodes.empty() || edge_nodes.size() == tets.size());
+      for (const auto& e : edge_nodes)
+        for (uint32_t v : e) FUZZ_CHECK(v < 64);
     } else {
       const auto node = dtm::read_tetgen_node(path);
       for (const auto& p : node.points)

@@ -75,7 +75,8 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
       out.left_out.push_back(ele.string() + "'s attributes after the first (" + std::to_string(a - 1) +
                              " per tetrahedron; the first is the region)");
     if (with_ele) {
-      out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base, {}, &out.tet_regions);
+      out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base, {}, &out.tet_regions,
+                                 &out.tet_edge_nodes);
       if (!out.tet_regions.empty()) out.region_source = "region attributes (TetGen -A)";
     } else {
       // (Its tetrahedra and their regions are read by the ranks in parts.)

@@ -150,10 +150,16 @@ using Tet = std::array<uint32_t, 4>;
 
 // read_tetgen_ele() of part `part` of `parts` of the records (all of them
 // when parts is 1), the counts in `counts`.
+// TetGen -o2's 10-node tetrahedron numbers its edge nodes 4 (2,3), 5 (0,3),
+// 6 (0,1), 7 (1,2), 8 (1,3), 9 (0,2): theirs in kTetEdges' order
+// (second_order.h).
+constexpr std::array<size_t, 6> kTetgenTetEdgeNodes = {6, 9, 5, 7, 8, 4};
+
 std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t num_points, int index_base,
                                               const std::function<bool(const std::array<uint32_t, 4>&)>& keep,
                                               std::vector<int32_t>* regions, int part, int parts,
-                                              ElePart& counts, const EleBlock& take = {}) {
+                                              ElePart& counts, const EleBlock& take = {},
+                                              std::vector<std::array<uint32_t, 6>>* edge_nodes = nullptr) {
   TextRecords r(path);
   TextRecords::Fields tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected an .ele header");
@@ -163,7 +169,13 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
   const auto count = r.parse<uint64_t>(tok[0], "a tetrahedron count", header);
   const auto per = r.parse<int>(tok[1], "nodes per tetrahedron", header);
   const int attributes = tok.size() > 2 ? r.parse<int>(tok[2], "an attribute count", header) : 0;
-  if (per != 4) r.fail(header, "only linear tetrahedra (4 nodes) are supported, got " + std::to_string(per));
+  if (per != 4 && per != 10)
+    r.fail(header, "tetrahedra of 4 or 10 nodes (TetGen -o2) are read, not of " + std::to_string(per));
+  // (A second-order .ele is read whole: its edge nodes go with its tetrahedra.)
+  if (per == 10 && (!edge_nodes || keep || parts != 1))
+    r.fail(header,
+           "a second-order .ele (10 nodes per tetrahedron, TetGen -o2) is read whole, on one process "
+           "(not under mpirun)");
   if (attributes < 0) r.fail(header, "bad attribute count");
   r.keep_to_part(part, parts);
   std::vector<Tet> out;
@@ -183,10 +195,11 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
   std::vector<int32_t> block_regions;         // with `take`: theirs
   constexpr size_t kPiece = size_t{1} << 17;  // tetrahedra: 2 MiB
   std::vector<std::vector<Tet>> pieces;
-  const size_t fields = 5 + static_cast<size_t>(attributes);
+  const size_t fields = 1 + static_cast<size_t>(per) + static_cast<size_t>(attributes);
   size_t room = 0;    // the block's tetrahedra that can be whole
   Tet* at = nullptr;  // where the block's tetrahedra go
   int32_t* region_at = nullptr;
+  std::array<uint32_t, 6>* edge_at = nullptr;  // and their edge nodes (10 nodes per tetrahedron)
   const TextRecords::Found found = r.records(
       count,
       [&](size_t n, size_t bytes) {
@@ -200,6 +213,10 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
         }
         out.resize(out.size() + n);
         at = out.data() + (out.size() - n);
+        if (per == 10) {
+          edge_nodes->resize(edge_nodes->size() + n);
+          edge_at = edge_nodes->data() + (edge_nodes->size() - n);
+        }
         if (with_regions) {
           regions->resize(regions->size() + n);
           region_at = regions->data() + (regions->size() - n);
@@ -208,17 +225,21 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
       [&](size_t i, size_t line, const TextRecords::Fields& f) {
         if (f.size() != fields) r.fail(line, "expected " + std::to_string(fields) + " fields");
         if (i >= room) return;  // past the block's room: an earlier line is wrong
-        Tet t;
-        for (size_t k = 0; k < 4; ++k) {
+        const auto node = [&](size_t k) {
           const auto v = r.parse<int64_t>(f[1 + k], "a vertex index", line) - index_base;
           if (v < 0 || static_cast<uint64_t>(v) >= num_points)
             r.fail(line, "vertex index " + std::string(f[1 + k]) + " out of range");
-          t[k] = static_cast<uint32_t>(v);
-        }
+          return static_cast<uint32_t>(v);
+        };
+        Tet t;
+        for (size_t k = 0; k < 4; ++k) t[k] = node(k);
+        if (per == 10)
+          for (size_t k = 0; k < 6; ++k) edge_at[i][k] = node(kTetgenTetEdgeNodes[k]);
         if (with_regions) {
-          const auto a = r.parse<double>(f[5], "a region attribute", line);
+          const std::string_view first = f[1 + static_cast<size_t>(per)];
+          const auto a = r.parse<double>(first, "a region attribute", line);
           if (a != std::floor(a) || a < INT32_MIN || a > INT32_MAX)
-            r.fail(line, "a region attribute that is not a 32-bit integer: " + std::string(f[5]));
+            r.fail(line, "a region attribute that is not a 32-bit integer: " + std::string(first));
           region_at[i] = static_cast<int32_t>(a);
         }
         at[i] = t;
@@ -256,9 +277,10 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
 
 std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::string& path, size_t num_points, int index_base,
-    const std::function<bool(const std::array<uint32_t, 4>&)>& keep, std::vector<int32_t>* regions) {
+    const std::function<bool(const std::array<uint32_t, 4>&)>& keep, std::vector<int32_t>* regions,
+    std::vector<std::array<uint32_t, 6>>* edge_nodes) {
   ElePart counts;
-  return read_ele(path, num_points, index_base, keep, regions, 0, 1, counts);
+  return read_ele(path, num_points, index_base, keep, regions, 0, 1, counts, {}, edge_nodes);
 }
 
 ElePart read_tetgen_ele_part(const std::string& path, size_t num_points, int index_base, int part, int parts,

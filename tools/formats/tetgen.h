@@ -55,10 +55,14 @@ int tetgen_ele_attributes(const std::string& path);
 // the same): an MPI rank holds its share of a large mesh only.
 // `regions`, when given (and no `keep`), receives each tetrahedron's first
 // attribute, TetGen's region (an integer), if the file has attributes.
+// A second-order .ele (10 nodes per tetrahedron, TetGen -o2) is read as its
+// linear tetrahedra with each one's edge nodes in `edge_nodes` (in
+// kTetEdges' order, second_order.h), which must then be given (and no
+// `keep`); refused otherwise.
 std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::string& path, size_t num_points, int index_base = 0,
     const std::function<bool(const std::array<uint32_t, 4>&)>& keep = {},
-    std::vector<int32_t>* regions = nullptr);
+    std::vector<int32_t>* regions = nullptr, std::vector<std::array<uint32_t, 6>>* edge_nodes = nullptr);
 
 // Part `part` of `parts` of an .ele's records (an MPI rank's range of the
 // file, TextRecords::keep_to_part()): passed to `take` a block at a time,
