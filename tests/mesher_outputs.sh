@@ -13,7 +13,7 @@
 # graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
 # gmsh -save_all's volumes and surfaces in no physical group join none.
 # Second-order meshes (gmsh -order 2, Netgen's SecondOrder()) give their
-# linear mesh's stream.
+# linear mesh's stream; prisms and hexahedra are read as tetrahedra.
 set -euo pipefail
 meshenc=$1
 meshdec=$(dirname "$meshenc")/meshdec
@@ -73,6 +73,77 @@ for f in q22.msh qb22.msh q41.msh qb41.msh q.vtu; do
 done
 grep -q 'tagged faces (physical [a-z]*), 1: 3 "base" ([0-9]* triangles)' q41.msh.out ||
   { echo "q41.msh: the 6-node triangles are not the tagged faces"; cat q41.msh.out; failed=1; }
+# Cells of other shapes: a boundary layer of prisms (a triangulated surface
+# extruded in layers) under a core of tetrahedra, and a block of
+# hexahedra. The prisms are read as the solid and regions gmsh's own
+# extrusion into tetrahedra gives (the same stream: the levels depend on
+# the solid, not on how its cells are cut); with --exact their .vtu
+# (meshio's wedges, VTK's other turn) gives the .msh's very tetrahedra; the
+# hexahedra's solid (a 1 x 1 x 0.5 block) is level 0's, cell for cell with
+# --exact, its quadrangles tagged.
+cat > layer.geo <<'GEO'
+Point(1) = {0, 0, 0, 0.2}; Point(2) = {1, 0, 0, 0.2}; Point(3) = {1, 1, 0, 0.2}; Point(4) = {0, 1, 0, 0.2};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+layer[] = Extrude {0, 0, 0.2} { Surface{1}; Layers{3}; Recombine; };
+core[] = Extrude {0, 0, 0.8} { Surface{layer[0]}; };
+Physical Volume("layer", 1) = {layer[1]};
+Physical Volume("core", 2) = {core[1]};
+Physical Surface("bottom", 3) = {1};
+GEO
+sed 's/Layers{3}; Recombine; }/Layers{3}; }/' layer.geo > layer_tets.geo
+cat > block.geo <<'GEO'
+Point(1) = {0, 0, 0, 0.2}; Point(2) = {1, 0, 0, 0.2}; Point(3) = {1, 1, 0, 0.2}; Point(4) = {0, 1, 0, 0.2};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Transfinite Curve{1, 2, 3, 4} = 6; Transfinite Surface{1}; Recombine Surface{1};
+block[] = Extrude {0, 0, 0.5} { Surface{1}; Layers{4}; Recombine; };
+Physical Volume("block", 1) = {block[1]};
+Physical Surface("bottom", 3) = {1};
+GEO
+for g in layer layer_tets block; do gmsh $g.geo -3 -format msh41 -o $g.msh >/dev/null; done
+"$meshenc" layer.msh -o layer.dtm >layer.out 2>&1 || { cat layer.out; failed=1; }
+"$meshenc" layer_tets.msh -q -o layer_tets.dtm || failed=1
+cmp -s layer.dtm layer_tets.dtm || { echo "layer.msh: its prisms are not gmsh's solid"; cat layer.out; failed=1; }
+grep -q "left out.*the shapes of its [0-9]* prisms: each is read as the tetrahedra that split it" layer.out ||
+  { echo "layer.msh: the prisms are not named"; cat layer.out; failed=1; }
+/usr/bin/python3 - <<'PY' || { echo "meshio does not convert layer.msh"; failed=1; }
+import meshio
+m = meshio.read("layer.msh")
+meshio.write("layer.vtu", meshio.Mesh(m.points, m.cells, cell_data={"gmsh:physical": m.cell_data["gmsh:physical"]}))
+PY
+"$meshenc" layer.vtu -o layer_vtu.dtm >layer_vtu.out 2>&1 || failed=1
+for f in layer.msh layer.vtu; do
+  "$meshenc" $f --exact -q -o $f.exact.dtm && "$meshdec" $f.exact.dtm -o $f.exact.vtu 2>/dev/null || failed=1
+done
+/usr/bin/python3 - <<'PY' || failed=1
+import sys
+import meshio
+import numpy as np
+def cells(path):
+    m = meshio.read(path)
+    tets = np.concatenate([c.data for c in m.cells if c.type == "tetra"])
+    return {tuple(sorted(map(tuple, np.round(m.points[t], 9)))) for t in tets}
+a, b = cells("layer.msh.exact.vtu"), cells("layer.vtu.exact.vtu")
+if a != b or len(a) != 1173:
+    sys.exit("layer.vtu: its wedges are not split as the .msh's prisms (%d and %d cells, %d differ)" % (len(a), len(b), len(a ^ b)))
+PY
+"$meshenc" block.msh --exact -o block.dtm >block.out 2>&1 || { cat block.out; failed=1; }
+"$meshdec" block.dtm -o block_out.vtu 2>/dev/null || failed=1
+/usr/bin/python3 - <<'PY' || failed=1
+import sys
+import meshio
+import numpy as np
+m = meshio.read("block_out.vtu")
+p = m.points
+tets = np.concatenate([c.data for c in m.cells if c.type == "tetra"])
+v = np.einsum("ij,ij->i", p[tets[:, 1]] - p[tets[:, 0]], np.cross(p[tets[:, 2]] - p[tets[:, 0]], p[tets[:, 3]] - p[tets[:, 0]])) / 6
+# (Within the grid's rounding: a tetrahedron less would take 8e-4.)
+faces = sum(len(c.data) for c in m.cells if c.type == "triangle")
+if len(tets) != 600 or abs(v.sum() - 0.5) > 2e-4 or (v <= 0).any() or faces != 50:
+    sys.exit("block.msh: level 0 is not its 100 hexahedra's 600 tetrahedra (%d cells, volume %g, %d tagged faces)"
+             % (len(tets), v.sum(), faces))
+PY
 for ext in msh vtu mesh; do "$meshdec" a41.dtm -o out.$ext 2>/dev/null || failed=1; done
 gmsh out.msh -0 -format msh22 -o again.msh >/dev/null 2>&1 || { echo "gmsh does not read out.msh"; failed=1; }
 grep -A4 '^\$PhysicalNames' again.msh | grep -q '3 2 "steel"' || { echo "gmsh lost the regions"; failed=1; }

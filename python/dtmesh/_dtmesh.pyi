@@ -10,6 +10,9 @@ version: str
 default_max_vertices: int
 
 def set_error_type(type: type) -> None: ...
+def split_cells(
+    cells: npt.NDArray[np.int64], points: npt.NDArray[np.float64]
+) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]: ...
 
 class FieldIn:
     def __init__(self, name: str, type: int, components: int, values: npt.NDArray[np.float64]) -> None: ...

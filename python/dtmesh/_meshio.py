@@ -9,7 +9,9 @@ netgen:index, region, material, MaterialIds, CellEntityIds (meshenc's
 default), their names from the field data (gmsh's, Netgen's); the other numeric cell data on the
 tetrahedra becomes the stream's cell data, and a cell set that is a named
 region's or tag's cells is held by them. A second-order mesh (tetra10,
-triangle6) is written as its linear cells, as meshenc reads one. What the stream does not hold
+triangle6) is written as its linear cells, hexahedra, wedges and pyramids
+as the tetrahedra that split them (quads as triangles), as meshenc reads
+them. What the stream does not hold
 (other cell sets, other cells, an array not on every tetrahedron block) is
 named in a warning.
 """
@@ -18,7 +20,7 @@ import warnings
 import meshio
 import numpy as np
 
-from . import decode, encode
+from . import _dtmesh, decode, encode
 
 
 def read(filename, level=None):
@@ -73,7 +75,48 @@ def _linear(mesh):
     return linear, what
 
 
+# Cells read as the tetrahedra (quadrilaterals as the triangles) meshenc's
+# readers split them into (tools/formats/cell_split.h), by corner count.
+SPLIT = {"hexahedron": "tetra", "wedge": "tetra", "pyramid": "tetra", "quad": "triangle"}
+SPLIT_NAMES = {"hexahedron": "hexahedra", "wedge": "prisms", "pyramid": "pyramids"}
+
+
+def _tetrahedral(mesh):
+    """Hexahedra, wedges and pyramids as tetrahedra, quadrilaterals as triangles, each with its
+    cell's data and sets, as meshenc reads them; with what that says, in words (None if none)."""
+    if not any(block.type in SPLIT for block in mesh.cells):
+        return mesh, None
+    cells, of_cell = [], []
+    for block in mesh.cells:
+        if block.type in SPLIT:
+            data, cell_of = _dtmesh.split_cells(np.asarray(block.data, dtype=np.int64), np.asarray(mesh.points))
+            cells.append(meshio.CellBlock(SPLIT[block.type], data))
+            of_cell.append(cell_of)
+        else:
+            cells.append(block)
+            of_cell.append(None)
+    spread = lambda arrays: [a if of is None else np.asarray(a)[of] for a, of in zip(arrays, of_cell)]
+    cell_data = {name: spread(arrays) if len(arrays) == len(mesh.cells) else arrays
+                 for name, arrays in mesh.cell_data.items()}
+    cell_sets = {name: [s if of is None else np.flatnonzero(np.isin(of, np.asarray(s)))
+                        for s, of in zip(sets, of_cell)] if len(sets) == len(mesh.cells) else sets
+                 for name, sets in (getattr(mesh, "cell_sets", None) or {}).items()}
+    split = {}
+    for block in mesh.cells:
+        if block.type in SPLIT_NAMES:
+            split[SPLIT_NAMES[block.type]] = split.get(SPLIT_NAMES[block.type], 0) + len(block.data)
+    out = meshio.Mesh(mesh.points, cells, point_data=mesh.point_data, cell_data=cell_data,
+                      field_data=mesh.field_data, cell_sets=cell_sets, info=mesh.info)
+    if not split:
+        return out, None
+    # (meshenc's order, by corner count.)
+    shapes = ", ".join(f"{split[n]} {n}" for n in ("pyramids", "prisms", "hexahedra") if n in split)
+    return out, (f"the shapes of its {shapes}: each is read as the tetrahedra that split it "
+                 "(its quadrilaterals by their diagonals through their least node)")
+
+
 def write(filename, mesh, **options):
+    mesh, split = _tetrahedral(mesh)
     mesh, set_aside = _linear(mesh)
     tetrahedra = None
     others = {}
@@ -105,7 +148,7 @@ def write(filename, mesh, **options):
                 break
     # What the stream does not hold yet is named, as meshenc names it:
     # nothing of a user's mesh is left out without a word.
-    left_out = [set_aside] if set_aside else []
+    left_out = [what for what in (split, set_aside) if what]
     if others:
         left_out.append("cells other than tetrahedra (" + ", ".join(f"{n} {t}" for t, n in others.items()) + ")")
     # Copies of the regions (a decoded mesh gives them under several names) are kept with them.

@@ -13,8 +13,10 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "codec/decode.h"
@@ -23,6 +25,7 @@
 #include "common/threads.h"
 #include "tools/decoded_mesh.h"
 #include "tools/field_types.h"
+#include "tools/formats/cell_split.h"
 #include "tools/report.h"
 #include "tools/stream_info.h"
 
@@ -473,6 +476,46 @@ void set_threads(int n) {
   if (n > 0) limit->emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(n));
 }
 
+// Hexahedra, wedges or pyramids (cells: n x 8, 6 or 5 corners) or
+// quadrilaterals (n x 4) as meshenc's readers split them
+// (tools/formats/cell_split.h): the tetrahedra (or triangles) and each
+// one's cell.
+py::tuple split_cells(py::array_t<int64_t, py::array::c_style | py::array::forcecast> cells,
+                      py::array_t<double, py::array::c_style | py::array::forcecast> points) {
+  if (cells.ndim() != 2 || points.ndim() != 2 || points.shape(1) != 3)
+    throw py::value_error("split_cells: cells must be n x k, points n x 3");
+  const auto n = static_cast<size_t>(cells.shape(0)), k = static_cast<size_t>(cells.shape(1));
+  if (k != 4 && k != 5 && k != 6 && k != 8)
+    throw py::value_error("split_cells: cells of 4, 5, 6 or 8 corners, not " + std::to_string(k));
+  const int64_t* c = cells.data();
+  const auto m = static_cast<size_t>(points.shape(0));
+  for (size_t i = 0; i < n * k; ++i)
+    if (c[i] < 0 || static_cast<size_t>(c[i]) >= m)
+      throw py::value_error("split_cells: a corner out of range");
+  // (The points as they are, not copied for each block of cells: rows of
+  // three doubles are InputPoints.)
+  static_assert(sizeof(dtm::InputPoint) == 3 * sizeof(double) && std::is_standard_layout_v<dtm::InputPoint>);
+  const std::span<const dtm::InputPoint> at(reinterpret_cast<const dtm::InputPoint*>(points.data()), m);
+  std::vector<int64_t> out, cell_of;
+  std::vector<std::array<uint32_t, 4>> tets;
+  std::array<uint32_t, 8> corners{};
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = 0; j < k; ++j) corners[j] = static_cast<uint32_t>(c[i * k + j]);
+    if (k == 4) {
+      for (const auto& t : dtm::split_quad({corners[0], corners[1], corners[2], corners[3]}))
+        out.insert(out.end(), t.begin(), t.end()), cell_of.push_back(static_cast<int64_t>(i));
+      continue;
+    }
+    tets.clear();
+    dtm::split_cell(std::span(corners).first(k), at, tets);
+    for (const auto& t : tets)
+      out.insert(out.end(), t.begin(), t.end()), cell_of.push_back(static_cast<int64_t>(i));
+  }
+  const py::ssize_t per = k == 4 ? 3 : 4;
+  return py::make_tuple(array_of(out, {static_cast<py::ssize_t>(cell_of.size()), per}),
+                        array_of(cell_of, {static_cast<py::ssize_t>(cell_of.size())}));
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_dtmesh, m) {
@@ -498,6 +541,7 @@ PYBIND11_MODULE(_dtmesh, m) {
       .def("level_count", &Decoder::level_count)
       .def("mesh", &Decoder::mesh);
   m.def("info", &info, py::arg("data"), py::arg("stats"));
+  m.def("split_cells", &split_cells, py::arg("cells"), py::arg("points"));
   m.def("set_threads", &set_threads, py::arg("threads"));
   m.def("threads", &dtm::thread_count);
   m.attr("default_max_vertices") = dtm::DecoderOptions{}.max_vertices;

@@ -536,6 +536,48 @@ def test_meshio_writes_a_second_order_mesh_as_its_linear_cells(tmp_path):
     assert out.read_bytes() == linear.read_bytes()
 
 
+def test_meshio_writes_prisms_and_hexahedra_as_meshenc_reads_them(tmp_path):
+    """A boundary layer of prisms under tetrahedra, and a block of hexahedra with tagged quads, made
+    by gmsh: meshio.write gives meshenc's bytes for the same .msh, with exact=True too (the cells
+    split into the very same tetrahedra, each with its cell's region), and names the shapes."""
+    geo = tmp_path / "hybrid.geo"
+    geo.write_text("""
+Point(1) = {0, 0, 0, 0.25}; Point(2) = {1, 0, 0, 0.25}; Point(3) = {1, 1, 0, 0.25}; Point(4) = {0, 1, 0, 0.25};
+Point(5) = {2, 0, 0, 0.25}; Point(6) = {2, 1, 0, 0.25};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1}; Line(5) = {2, 5}; Line(6) = {5, 6};
+Line(7) = {6, 3};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Curve Loop(2) = {5, 6, 7, -2}; Plane Surface(2) = {2};
+Transfinite Curve{2, 5, 6, 7} = 5; Transfinite Surface{2}; Recombine Surface{2};
+layer[] = Extrude {0, 0, 0.2} { Surface{1}; Layers{2}; Recombine; };
+core[] = Extrude {0, 0, 0.5} { Surface{layer[0]}; };
+block[] = Extrude {0, 0, 0.2} { Surface{2}; Layers{2}; Recombine; };
+Physical Volume("layer", 1) = {layer[1]};
+Physical Volume("core", 2) = {core[1]};
+Physical Volume("block", 3) = {block[1]};
+Physical Surface("bottom", 4) = {1, 2};
+""")
+    msh = tmp_path / "hybrid.msh"
+    run("gmsh", geo, "-3", "-format", "msh41", "-o", msh)
+    mesh = meshio.read(msh)
+    mesh.point_data.clear()  # meshio's gmsh:dim_tags, which meshenc does not read
+    kinds = {block.type for block in mesh.cells}
+    assert {"wedge", "hexahedron", "quad", "tetra"} <= kinds, kinds
+    out = tmp_path / "hybrid.dtm"
+    with pytest.warns(UserWarning, match=r"left out.*the shapes of its [0-9]+ prisms, [0-9]+ hexahedra: each is read "
+                                         r"as the tetrahedra that split it"):
+        meshio.write(out, mesh)
+    by_meshenc = tmp_path / "by_meshenc.dtm"
+    run(tool("meshenc"), msh, "-q", "-o", by_meshenc)
+    assert out.read_bytes() == by_meshenc.read_bytes()
+    assert [(r["label"], r["name"]) for r in dtmesh.info(out)["regions"]] == [(1, "layer"), (2, "core"), (3, "block")]
+    exact, exact_by_meshenc = tmp_path / "exact.dtm", tmp_path / "exact_by_meshenc.dtm"
+    with pytest.warns(UserWarning, match="the shapes of its"):
+        meshio.write(exact, mesh, exact=True)
+    run(tool("meshenc"), msh, "-q", "--exact", "-o", exact_by_meshenc)
+    assert exact.read_bytes() == exact_by_meshenc.read_bytes()
+
+
 def test_netgen_vol_through_meshio_is_meshencs_stream(tmp_path):
     """Netgen's .vol as meshio reads it (netgen:index, names in its field data): the materials are
     the regions and the boundary conditions the tagged faces, with their names, the bytes meshenc

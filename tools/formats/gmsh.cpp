@@ -9,6 +9,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "cell_split.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
 #include "render_util.h"
@@ -22,22 +23,65 @@ constexpr int kGmshTriangle = 2;
 constexpr int kGmshTetrahedron = 4;
 constexpr int kGmshTriangle6 = 9;
 constexpr int kGmshTetrahedron10 = 11;
+constexpr int kGmshQuadrangle = 3;
+constexpr int kGmshHexahedron = 5;
+constexpr int kGmshPrism = 6;
+constexpr int kGmshPyramid = 7;
 
-bool is_tetrahedron(int type) { return type == kGmshTetrahedron || type == kGmshTetrahedron10; }
-bool is_triangle(int type) { return type == kGmshTriangle || type == kGmshTriangle6; }
+// The volume elements read (hexahedra, prisms and pyramids as the
+// tetrahedra that split them: cell_split.h), and the faces (a
+// quadrangle as two triangles).
+bool is_split_cell(int type) { return type == kGmshHexahedron || type == kGmshPrism || type == kGmshPyramid; }
+bool is_tetrahedron(int type) {
+  return type == kGmshTetrahedron || type == kGmshTetrahedron10 || is_split_cell(type);
+}
+bool is_triangle(int type) {
+  return type == kGmshTriangle || type == kGmshTriangle6 || type == kGmshQuadrangle;
+}
 // The nodes gmsh gives an element of a type read here.
 size_t kept_element_nodes(int type) {
-  return type == kGmshTetrahedron ? 4 : type == kGmshTetrahedron10 ? 10 : type == kGmshTriangle ? 3 : 6;
+  switch (type) {
+    case kGmshTetrahedron:
+      return 4;
+    case kGmshTetrahedron10:
+      return 10;
+    case kGmshTriangle:
+      return 3;
+    case kGmshQuadrangle:
+      return 4;
+    case kGmshHexahedron:
+      return 8;
+    case kGmshPrism:
+      return 6;
+    case kGmshPyramid:
+      return 5;
+    default:
+      return 6;  // kGmshTriangle6
+  }
 }
 // gmsh's 10-node tetrahedron numbers its edge nodes 4 (0,1), 5 (1,2),
 // 6 (0,2), 7 (0,3), 8 (2,3), 9 (1,3): theirs in kTetEdges' order.
 constexpr std::array<int, 6> kGmshTetEdgeNodes = {4, 6, 7, 5, 9, 8};
 // One element of a type read here, in words.
 const char* element_kind(int type) {
-  return type == kGmshTetrahedron     ? "tetrahedron"
-         : type == kGmshTetrahedron10 ? "10-node tetrahedron"
-         : type == kGmshTriangle      ? "triangle"
-                                      : "6-node triangle";
+  switch (type) {
+    case kGmshTetrahedron:
+      return "tetrahedron";
+    case kGmshTetrahedron10:
+      return "10-node tetrahedron";
+    case kGmshTriangle:
+      return "triangle";
+    case kGmshQuadrangle:
+      return "quadrangle";
+    case kGmshHexahedron:
+      return "hexahedron";
+    case kGmshPrism:
+      return "prism";
+    case kGmshPyramid:
+      return "pyramid";
+    default:
+      return "6-node triangle";
+  }
 }
 // An element's nodes as read (up to a 10-node tetrahedron's).
 using ElementNodes = std::array<uint32_t, 10>;
@@ -111,7 +155,7 @@ class GmshReader {
         c_.fail("the int after the header is not 1 (a big-endian or damaged binary .msh)");
     }
     c_.expect("$EndMeshFormat");
-    bool have_nodes = false;
+    bool have_nodes = false, have_elements = false;
     while (!c_.at_end()) {
       const std::string section(c_.token("a section"));
       if (section.size() < 2 || section[0] != '$') c_.fail("expected a $Section, found '" + section + "'");
@@ -124,6 +168,9 @@ class GmshReader {
           v4_ ? nodes_v4() : nodes_v2();
       } else if (section == "$Elements") {
         if (!have_nodes) c_.fail("$Elements before $Nodes");
+        // (Element data and regions are per element of the one section.)
+        if (have_elements) c_.fail("a second $Elements section");
+        have_elements = true;
         if (binary_)
           v4_ ? elements_v4_binary() : elements_v2_binary();
         else
@@ -156,6 +203,7 @@ class GmshReader {
     release(triangle_edge_nodes_);
     set_regions();
     set_face_tags();
+    split_cells();
     note_left_out();
     return std::move(out_);
   }
@@ -302,6 +350,15 @@ class GmshReader {
         continue;
       }
       if (t < INT32_MIN || t > INT32_MAX) c_.fail("a surface tag out of the 32-bit range");
+      if (!quad_fourth_.empty() && quad_fourth_[i] != InputMesh::kNoEdgeNode) {
+        // A quadrangle: its two triangles, as its cell splits it.
+        const auto& q = triangles_[i];
+        for (const auto& half : split_quad({q[0], q[1], q[2], quad_fourth_[i]})) {
+          out_.face_tags.push_back(static_cast<int32_t>(t));
+          tagged.push_back(half);
+        }
+        continue;
+      }
       out_.face_tags.push_back(static_cast<int32_t>(t));
       tagged.push_back(triangles_[i]);
     }
@@ -311,6 +368,40 @@ class GmshReader {
     out_.tagged_faces = std::move(tagged);
     out_.face_tag_names = surface_names_;
     out_.face_tag_source = v4_ ? "physical surfaces" : "physical tags";
+  }
+
+  // The hexahedra, prisms and pyramids as their tetrahedra (cell_split.h),
+  // each with the cell's region, cell data and no edge nodes.
+  void split_cells() {
+    if (split_cells_.empty()) return;
+    std::map<size_t, uint64_t> split;  // cells by corner count
+    std::vector<std::array<uint32_t, 4>> tets;
+    std::vector<uint32_t> cell_of;  // each new tetrahedron's cell
+    size_t next = 0;                // the next cell to split, in split_cells_
+    for (size_t t = 0; t < out_.tets.size(); ++t) {
+      const size_t before = tets.size();
+      if (next < split_cells_.size() && split_cells_[next].slot == t) {
+        const SplitCell& c = split_cells_[next++];
+        split_cell(std::span(c.corners).first(c.count), out_.points, tets), ++split[c.count];
+      } else {
+        tets.push_back(out_.tets[t]);
+      }
+      cell_of.insert(cell_of.end(), tets.size() - before, static_cast<uint32_t>(t));
+    }
+    const auto spread = [&](auto& per_cell, size_t per) {
+      if (per_cell.empty()) return;
+      std::remove_reference_t<decltype(per_cell)> out;
+      out.reserve(cell_of.size() * per);
+      for (size_t c : cell_of)
+        out.insert(out.end(), per_cell.begin() + c * per, per_cell.begin() + (c + 1) * per);
+      per_cell = std::move(out);
+    };
+    spread(out_.tet_regions, 1);
+    spread(out_.tet_edge_nodes, 1);
+    for (VertexField& f : out_.cell_fields) spread(f.values, static_cast<size_t>(f.components));
+    out_.tets = std::move(tets);
+    release(split_cells_);
+    out_.left_out.push_back(split_cells_note(split));
   }
 
   void note_left_out() {
@@ -435,11 +526,18 @@ class GmshReader {
   // for 10-node ones or once the mesh has some, edge nodes), filled by
   // put_element() on every core.
   void make_room_for_tetrahedra(int type, size_t count) {
+    const size_t first = out_.tets.size();
     out_.tets.resize(count);
     tet_tag_.resize(count, tag_);
     tet_element_.resize(count);
     if (type == kGmshTetrahedron10 || !out_.tet_edge_nodes.empty())
       out_.tet_edge_nodes.resize(count, kNoEdgeNodes);
+    if (is_split_cell(type)) {
+      // (Blocks are read one after the other: put_element() finds each
+      // cell's place from the block's first.)
+      split_block_ = {split_cells_.size(), first};
+      split_cells_.resize(split_cells_.size() + (count - first));
+    }
   }
   void make_room_for_triangles(int type, size_t count) {
     triangles_.resize(count);
@@ -447,15 +545,25 @@ class GmshReader {
     if (type == kGmshTriangle6 || !triangle_edge_nodes_.empty())
       triangle_edge_nodes_.resize(count,
                                   {InputMesh::kNoEdgeNode, InputMesh::kNoEdgeNode, InputMesh::kNoEdgeNode});
+    if (type == kGmshQuadrangle || !quad_fourth_.empty()) quad_fourth_.resize(count, InputMesh::kNoEdgeNode);
   }
   // Element `at` of the room made above, from its nodes as read.
   void put_element(int type, size_t at, const ElementNodes& n) {
     if (is_tetrahedron(type)) {
+      // (A hexahedron's, prism's or pyramid's place holds its first four
+      // corners until split_cells() splits it.)
       out_.tets[at] = {n[0], n[1], n[2], n[3]};
       if (type == kGmshTetrahedron10) out_.tet_edge_nodes[at] = tet_edge_nodes(n);
+      if (is_split_cell(type)) {
+        SplitCell& c = split_cells_[split_block_.first + (at - split_block_.second)];
+        c.slot = static_cast<uint32_t>(at);
+        c.count = static_cast<uint8_t>(kept_element_nodes(type));
+        std::copy_n(n.begin(), c.count, c.corners.begin());
+      }
     } else {
       triangles_[at] = {n[0], n[1], n[2]};
       if (type == kGmshTriangle6) triangle_edge_nodes_[at] = {n[3], n[4], n[5]};
+      if (type == kGmshQuadrangle) quad_fourth_[at] = n[3];
     }
   }
   void add_tetrahedron(int type, const ElementNodes& n) {
@@ -941,6 +1049,18 @@ class GmshReader {
   std::vector<std::array<uint32_t, 3>> triangles_;
   std::vector<int64_t> tri_tag_;                              // per triangle
   std::vector<std::array<uint32_t, 3>> triangle_edge_nodes_;  // per triangle, once a 6-node one is read
+  std::vector<uint32_t> quad_fourth_;  // per triangle, once a quadrangle is read: its fourth corner
+  // Each hexahedron, prism and pyramid read: its place in out_.tets, which
+  // holds its first four corners, and all its corners, for split_cells();
+  // in the order of their places. split_block_: where the block being read
+  // starts in split_cells_ and in out_.tets.
+  struct SplitCell {
+    uint32_t slot = 0;
+    uint8_t count = 0;
+    std::array<uint32_t, 8> corners{};
+  };
+  std::vector<SplitCell> split_cells_;
+  std::pair<size_t, size_t> split_block_;
   std::map<int, int> surface_physical_;  // 4.1: surface entity -> its first physical group
   std::map<int32_t, std::string> surface_names_;
   std::vector<std::string> physical_names_, partial_node_data_, partial_element_data_;

@@ -8,7 +8,17 @@ namespace dtm {
 
 inline constexpr int kVtkTriangle = 5;
 inline constexpr int kVtkTetra = 10;
+inline constexpr int kVtkQuad = 9;
+inline constexpr int kVtkHexahedron = 12;
+inline constexpr int kVtkWedge = 13;
+inline constexpr int kVtkPyramid = 14;
 inline constexpr int kVtkQuadraticTriangle = 22;
+// The corners of a hexahedron, wedge or pyramid, read as the tetrahedra
+// that split it (cell_split.h); 0 for another type. (A double: a .vtu's
+// types array may be of any type, and hold anything.)
+inline size_t split_cell_corners(double type) {
+  return type == kVtkHexahedron ? 8 : type == kVtkWedge ? 6 : type == kVtkPyramid ? 5 : 0;
+}
 inline constexpr int kVtkQuadraticTetra = 24;
 // VTK's quadratic tetrahedron numbers its edge nodes 4 (0,1), 5 (1,2),
 // 6 (0,2), 7 (0,3), 8 (1,3), 9 (2,3): theirs in kTetEdges' order

@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 
+#include "cell_split.h"
 #include "common/parallel_for.h"
 #include "render_util.h"
 #include "scalar_type.h"
@@ -164,6 +165,25 @@ class LegacyReader {
           triangle_cells.push_back(i);
           continue;
         }
+        // A quadrilateral as two triangles, a hexahedron, wedge or pyramid
+        // as its tetrahedra (cell_split.h), each with the cell's data.
+        if (cell_types[i] == kVtkQuad && e - b == 4) {
+          for (const auto& half : split_quad({at(b), at(b + 1), at(b + 2), at(b + 3)})) {
+            out_.tagged_faces.push_back(half);
+            triangle_cells.push_back(i);
+          }
+          continue;
+        }
+        if (const size_t corners = split_cell_corners(static_cast<double>(cell_types[i]));
+            corners > 0 && static_cast<size_t>(e - b) == corners) {
+          std::array<uint32_t, 8> v{};
+          for (size_t k = 0; k < corners; ++k) v[k] = at(b + static_cast<int64_t>(k));
+          const size_t before = out_.tets.size();
+          split_cell(std::span(v).first(corners), out_.points, out_.tets);
+          tet_cells.insert(tet_cells.end(), out_.tets.size() - before, i);
+          ++split_cells_[corners];
+          continue;
+        }
         if (cell_types[i] != kVtkTetra && cell_types[i] != kVtkQuadraticTetra) {
           ++other_cells_[cell_types[i]];
           continue;
@@ -185,7 +205,9 @@ class LegacyReader {
     keep_cell_data(cells, tet_cells, triangle_cells);
     // Triangles without tetrahedra are a surface, not tagged faces.
     if (tet_cells.empty() && !triangle_cells.empty()) {
-      for (size_t i : triangle_cells) ++other_cells_[cell_types[i]];
+      for (size_t k = 0; k < triangle_cells.size(); ++k)  // (a quadrilateral's two halves: one cell)
+        if (k == 0 || triangle_cells[k] != triangle_cells[k - 1])
+          ++other_cells_[cell_types[triangle_cells[k]]];
       out_.tagged_faces.clear();
       out_.triangle_edge_nodes.clear();
       out_.triangle_arrays.clear();
@@ -262,6 +284,7 @@ class LegacyReader {
       others +=
           (others.empty() ? "" : ", ") + std::to_string(count) + " " + vtk_cell_name(static_cast<int>(type));
     if (!others.empty()) out_.left_out.push_back("cells other than tetrahedra (" + others + ")");
+    if (!split_cells_.empty()) out_.left_out.push_back(split_cells_note(split_cells_));
   }
 
   // `n` values of the named type: text tokens, or big-endian bytes after the
@@ -357,6 +380,7 @@ class LegacyReader {
   std::vector<std::string> cell_arrays_;     // CELL_DATA arrays left out, quoted
   std::vector<VertexField> cell_data_;       // CELL_DATA arrays, per cell
   std::map<int64_t, uint64_t> other_cells_;  // cells that are not tetrahedra, by VTK type
+  std::map<size_t, uint64_t> split_cells_;   // hexahedra, wedges and pyramids, by corner count
 };
 
 }  // namespace

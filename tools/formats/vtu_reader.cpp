@@ -10,6 +10,7 @@
 #include <optional>
 #include <set>
 
+#include "cell_split.h"
 #include "common/parallel_for.h"
 #include "scalar_type.h"
 #include "second_order.h"
@@ -485,6 +486,7 @@ class VtuReader {
     for (const auto& [type, count] : other_cells_)
       others += (others.empty() ? "" : ", ") + std::to_string(count) + " " + vtk_cell_name(type);
     if (!others.empty()) out.left_out.push_back("cells other than tetrahedra (" + others + ")");
+    if (!split_cells_.empty()) out.left_out.push_back(split_cells_note(split_cells_));
   }
 
   const Element* optional_child(const Element& parent, std::string_view name) const {
@@ -713,8 +715,27 @@ class VtuReader {
         triangles.push_back(c);
         continue;
       }
+      // A quadrilateral as two triangles, a hexahedron, wedge or pyramid as
+      // its tetrahedra (cell_split.h), each with the cell's data.
+      if (types[c] == kVtkQuad && e - b == 4) {
+        for (const auto& half : split_quad({at(b), at(b + 1), at(b + 2), at(b + 3)})) {
+          out.tagged_faces.push_back(half);
+          triangles.push_back(c);
+        }
+        continue;
+      }
+      if (const size_t corners = split_cell_corners(types[c]); corners > 0 && e - b == corners) {
+        std::array<uint32_t, 8> v{};
+        for (size_t k = 0; k < corners; ++k) v[k] = at(b + k);
+        const size_t before = out.tets.size();
+        split_cell(std::span(v).first(corners), out.points, out.tets);
+        tets.insert(tets.end(), out.tets.size() - before, c);
+        ++split_cells_[corners];
+        continue;
+      }
       if (types[c] != kVtkTetra && types[c] != kVtkQuadraticTetra) {
-        ++other_cells_[static_cast<int>(types[c])];
+        // (VTK's types are bytes; a damaged file's may be anything.)
+        ++other_cells_[types[c] >= 0 && types[c] < 256 ? static_cast<int>(types[c]) : -1];
         continue;
       }
       const bool quadratic = types[c] == kVtkQuadraticTetra;
@@ -737,8 +758,9 @@ class VtuReader {
   bool big_endian_ = false;
   ScalarType header_type_ = ScalarType::kUInt32;
   std::optional<VtkCompressor> compressor_;
-  std::set<std::string> cell_arrays_;    // CellData arrays seen, by name
-  std::map<int, uint64_t> other_cells_;  // cells that are not tetrahedra, by VTK type
+  std::set<std::string> cell_arrays_;       // CellData arrays seen, by name
+  std::map<int, uint64_t> other_cells_;     // cells that are not tetrahedra, by VTK type
+  std::map<size_t, uint64_t> split_cells_;  // hexahedra, wedges and pyramids, by corner count
 };
 
 }  // namespace
