@@ -102,6 +102,9 @@ Physical Volume("block", 1) = {block[1]};
 Physical Surface("bottom", 3) = {1};
 GEO
 for g in layer layer_tets block; do gmsh $g.geo -3 -format msh41 -o $g.msh >/dev/null; done
+# (And both made second-order: 18-node prisms, 27-node hexahedra, read
+# as the linear ones.)
+for g in layer block; do gmsh $g.geo -3 -order 2 -format msh41 -o ${g}_2.msh >/dev/null; done
 "$meshenc" layer.msh -o layer.dtm >layer.out 2>&1 || { cat layer.out; failed=1; }
 "$meshenc" layer_tets.msh -q -o layer_tets.dtm || failed=1
 cmp -s layer.dtm layer_tets.dtm || { echo "layer.msh: its prisms are not gmsh's solid"; cat layer.out; failed=1; }
@@ -113,6 +116,20 @@ m = meshio.read("layer.msh")
 meshio.write("layer.vtu", meshio.Mesh(m.points, m.cells, cell_data={"gmsh:physical": m.cell_data["gmsh:physical"]}))
 PY
 "$meshenc" layer.vtu -o layer_vtu.dtm >layer_vtu.out 2>&1 || failed=1
+for g in layer block; do
+  "$meshenc" $g.msh -q -o $g.linear.dtm && "$meshenc" ${g}_2.msh -o ${g}_2.dtm >${g}_2.out 2>&1 || failed=1
+  cmp -s $g.linear.dtm ${g}_2.dtm || { echo "${g}_2.msh: not the linear mesh's stream"; cat ${g}_2.out; failed=1; }
+  grep -q "nodes on the edges of second-order elements (.*[0-9]* second-order hexahedra, prisms and pyramids)" ${g}_2.out ||
+    { echo "${g}_2.msh: its second-order cells' other nodes are not named"; cat ${g}_2.out; failed=1; }
+done
+/usr/bin/python3 - <<'PY' || { echo "meshio does not convert block_2.msh"; failed=1; }
+import meshio
+for given, written in (("block.msh", "block.vtu"), ("block_2.msh", "block_2.vtu")):
+    m = meshio.read(given)
+    meshio.write(written, meshio.Mesh(m.points, m.cells, cell_data={"gmsh:physical": m.cell_data["gmsh:physical"]}))
+PY
+"$meshenc" block.vtu -q -o block_vtu.dtm && "$meshenc" block_2.vtu -q -o block_2_vtu.dtm 2>/dev/null || failed=1
+cmp -s block_vtu.dtm block_2_vtu.dtm || { echo "block_2.vtu (VTK's 27-node hexahedra): not the linear one's stream"; failed=1; }
 for f in layer.msh layer.vtu; do
   "$meshenc" $f --exact -q -o $f.exact.dtm && "$meshdec" $f.exact.dtm -o $f.exact.vtu 2>/dev/null || failed=1
 done

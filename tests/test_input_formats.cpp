@@ -786,6 +786,16 @@ TEST(InputFormats, SecondOrderElementsAreReadAsTheirLinearCells) {
     const InputPoint p = m.edge_points.at(m.tet_edge_nodes[1][k]), q = mid(kTetEdges[k][0], kTetEdges[k][1]);
     EXPECT_TRUE(p.x == q.x && p.y == q.y && p.z == q.z) << k;
   }
+  // An 8-node quadrilateral tagging a linear tetrahedron's mesh: its 4
+  // other nodes, which no cell holds, are set aside too.
+  const InputMesh quad8 = read_input(
+      write_temp("quad8.msh",
+                 "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n9\n1 0 0 0\n2 2 0 0\n3 0 2 0\n4 0 0 2\n"
+                 "5 2 2 0\n6 1 0 0\n7 2 1 0\n8 1 2 0\n9 0 1 0\n$EndNodes\n$Elements\n3\n1 4 2 1 1 1 2 3 4\n"
+                 "2 4 2 1 1 2 5 3 4\n3 16 2 7 1 1 2 5 3 6 7 8 9\n$EndElements\n"));
+  EXPECT_EQ(quad8.points.size(), 5u);
+  EXPECT_EQ(quad8.edge_points.size(), 4u);
+  EXPECT_EQ(quad8.tagged_faces.size(), 2u);
   // A surface of 6-node triangles alone: no cell is kept, so no point is
   // set aside (all 11 are the point set).
   const InputMesh surface = read_input(write_temp(

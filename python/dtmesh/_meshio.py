@@ -30,18 +30,23 @@ def read(filename, level=None):
 REGION_ARRAYS = ("gmsh:physical", "medit:ref", "netgen:index", "region", "material", "MaterialIds", "CellEntityIds")
 
 
-# A second-order cell's linear cell and its corner count (meshio's tetra10
-# and triangle6 list their corners first, as gmsh and VTK do).
-QUADRATIC = {"tetra10": ("tetra", 4), "triangle6": ("triangle", 3)}
+# A second-order cell's linear cell and its corner count (meshio's
+# second-order cells list their corners first, as gmsh and VTK do).
+QUADRATIC = {"tetra10": ("tetra", 4), "triangle6": ("triangle", 3), "hexahedron20": ("hexahedron", 8),
+             "hexahedron27": ("hexahedron", 8), "wedge15": ("wedge", 6), "wedge18": ("wedge", 6),
+             "pyramid13": ("pyramid", 5), "pyramid14": ("pyramid", 5), "quad8": ("quad", 4), "quad9": ("quad", 4)}
+# The linear cells the stream reads: volumes, and faces that may be tagged.
+VOLUMES = ("tetra", "hexahedron", "wedge", "pyramid")
+KEPT = VOLUMES + ("triangle", "quad")
 
 
 def _linear(mesh):
     """A second-order mesh as its linear cells, as meshenc reads one: the points that are only nodes
-    on the cells' edges set aside (with their point data), the rest renumbered; with what that
-    leaves out, in words (None for a linear mesh)."""
-    # (Without tetrahedra no cell is kept, and every point is the stream's.)
+    on the cells' edges (or faces) set aside (with their point data), the rest renumbered; with what
+    that leaves out, in words (None for a linear mesh)."""
+    # (Without volumes no cell is kept, and every point is the stream's.)
     if not any(block.type in QUADRATIC for block in mesh.cells) or \
-            not any(block.type in ("tetra", "tetra10") for block in mesh.cells):
+            not any(QUADRATIC.get(block.type, (block.type,))[0] in VOLUMES for block in mesh.cells):
         return mesh, None
     points = len(mesh.points)
     corner = np.zeros(points, dtype=bool)
@@ -53,22 +58,25 @@ def _linear(mesh):
             kind, corners = QUADRATIC[block.type]
             on_edge[data[:, corners:].reshape(-1)] = True
             block = meshio.CellBlock(kind, data[:, :corners])
-        if block.type in ("tetra", "triangle"):
+        if block.type in KEPT:
             corner[np.asarray(block.data).reshape(-1)] = True
         blocks.append(block)
     keep = ~(on_edge & ~corner)
-    if keep.all():
-        return mesh, None
+    if keep.all():  # (every other node some cell's corner: the linear cells, nothing set aside)
+        return meshio.Mesh(mesh.points, blocks, point_data=mesh.point_data, cell_data=mesh.cell_data,
+                           field_data=mesh.field_data, cell_sets=getattr(mesh, "cell_sets", None),
+                           info=mesh.info), None
     index = np.cumsum(keep) - 1
-    cells = [meshio.CellBlock(b.type, index[np.asarray(b.data)]) if b.type in ("tetra", "triangle") else b
-             for b in blocks]
+    cells = [meshio.CellBlock(b.type, index[np.asarray(b.data)]) if b.type in KEPT else b for b in blocks]
     linear = meshio.Mesh(mesh.points[keep], cells, point_data={k: np.asarray(v)[keep] for k, v in
                                                                mesh.point_data.items()},
                          cell_data=mesh.cell_data, field_data=mesh.field_data,
                          cell_sets=getattr(mesh, "cell_sets", None), info=mesh.info)
     tetra10 = sum(len(b.data) for b in mesh.cells if b.type == "tetra10")
-    what = (f"{points - int(keep.sum())} nodes on the edges of second-order elements "
-            f"({f'{tetra10} second-order tetrahedra' if tetra10 else 'triangles'}): "
+    others = sum(len(b.data) for b in mesh.cells if b.type in QUADRATIC and QUADRATIC[b.type][0] in VOLUMES[1:])
+    elements = ", ".join([f"{tetra10} second-order tetrahedra"] * bool(tetra10) +
+                         [f"{others} second-order hexahedra, prisms and pyramids"] * bool(others)) or "triangles"
+    what = (f"{points - int(keep.sum())} nodes on the edges of second-order elements ({elements}): "
             "the stream holds the linear cells through their corners")
     if mesh.point_data:
         what += ", and the fields' values at their corners only"
@@ -116,8 +124,8 @@ def _tetrahedral(mesh):
 
 
 def write(filename, mesh, **options):
-    mesh, split = _tetrahedral(mesh)
     mesh, set_aside = _linear(mesh)
+    mesh, split = _tetrahedral(mesh)
     tetrahedra = None
     others = {}
     tetra_blocks = []

@@ -576,6 +576,16 @@ Physical Surface("bottom", 4) = {1, 2};
         meshio.write(exact, mesh, exact=True)
     run(tool("meshenc"), msh, "-q", "--exact", "-o", exact_by_meshenc)
     assert exact.read_bytes() == exact_by_meshenc.read_bytes()
+    # Made second-order (wedge18, hexahedron27, quad9, tetra10): the linear mesh's bytes.
+    second = tmp_path / "second.msh"
+    run("gmsh", geo, "-3", "-order", "2", "-format", "msh41", "-o", second)
+    mesh2 = meshio.read(second)
+    mesh2.point_data.clear()
+    assert {"wedge18", "hexahedron27", "tetra10"} <= {block.type for block in mesh2.cells}
+    out2 = tmp_path / "second.dtm"
+    with pytest.warns(UserWarning, match=r"second-order tetrahedra, [0-9]+ second-order hexahedra, prisms and pyramids"):
+        meshio.write(out2, mesh2)
+    assert out2.read_bytes() == out.read_bytes()
 
 
 def test_netgen_vol_through_meshio_is_meshencs_stream(tmp_path):

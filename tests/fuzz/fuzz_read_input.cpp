@@ -40,7 +40,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(in.tet_edge_nodes.empty() || in.tet_edge_nodes.size() == in.tets.size());
     for (const auto& e : in.tet_edge_nodes)
       for (auto v : e) FUZZ_CHECK(v == dtm::InputMesh::kNoEdgeNode || v < in.edge_points.size());
-    FUZZ_CHECK(in.triangle_edge_nodes.empty());
+    FUZZ_CHECK(in.other_edge_nodes.empty());
     for (const auto& field : in.fields)
       FUZZ_CHECK(field.values.size() == static_cast<size_t>(field.components) * in.points.size());
   } catch (const dtm::FormatError&) {

@@ -28,18 +28,42 @@ constexpr int kGmshHexahedron = 5;
 constexpr int kGmshPrism = 6;
 constexpr int kGmshPyramid = 7;
 
+// gmsh's hexahedra, prisms, pyramids and quadrangles, linear and of second
+// order (their corners first): type, nodes, corners.
+struct CellType {
+  int type;
+  size_t nodes, corners;
+};
+constexpr std::array<CellType, 12> kSplitTypes = {{{kGmshHexahedron, 8, 8},
+                                                   {17, 20, 8},
+                                                   {12, 27, 8},
+                                                   {kGmshPrism, 6, 6},
+                                                   {18, 15, 6},
+                                                   {13, 18, 6},
+                                                   {kGmshPyramid, 5, 5},
+                                                   {19, 13, 5},
+                                                   {14, 14, 5},
+                                                   {kGmshQuadrangle, 4, 4},
+                                                   {16, 8, 4},
+                                                   {10, 9, 4}}};
+const CellType* split_type(int type) {
+  for (const CellType& t : kSplitTypes)
+    if (t.type == type) return &t;
+  return nullptr;
+}
+
 // The volume elements read (hexahedra, prisms and pyramids as the
 // tetrahedra that split them: cell_split.h), and the faces (a
 // quadrangle as two triangles).
-bool is_split_cell(int type) { return type == kGmshHexahedron || type == kGmshPrism || type == kGmshPyramid; }
+bool is_split_cell(int type) { return split_type(type) && split_type(type)->corners > 4; }
+bool is_quadrangle(int type) { return split_type(type) && split_type(type)->corners == 4; }
 bool is_tetrahedron(int type) {
   return type == kGmshTetrahedron || type == kGmshTetrahedron10 || is_split_cell(type);
 }
-bool is_triangle(int type) {
-  return type == kGmshTriangle || type == kGmshTriangle6 || type == kGmshQuadrangle;
-}
+bool is_triangle(int type) { return type == kGmshTriangle || type == kGmshTriangle6 || is_quadrangle(type); }
 // The nodes gmsh gives an element of a type read here.
 size_t kept_element_nodes(int type) {
+  if (const CellType* t = split_type(type)) return t->nodes;
   switch (type) {
     case kGmshTetrahedron:
       return 4;
@@ -47,14 +71,6 @@ size_t kept_element_nodes(int type) {
       return 10;
     case kGmshTriangle:
       return 3;
-    case kGmshQuadrangle:
-      return 4;
-    case kGmshHexahedron:
-      return 8;
-    case kGmshPrism:
-      return 6;
-    case kGmshPyramid:
-      return 5;
     default:
       return 6;  // kGmshTriangle6
   }
@@ -64,6 +80,11 @@ size_t kept_element_nodes(int type) {
 constexpr std::array<int, 6> kGmshTetEdgeNodes = {4, 6, 7, 5, 9, 8};
 // One element of a type read here, in words.
 const char* element_kind(int type) {
+  if (const CellType* t = split_type(type); t && t->nodes > t->corners)
+    return t->corners == 8   ? "second-order hexahedron"
+           : t->corners == 6 ? "second-order prism"
+           : t->corners == 5 ? "second-order pyramid"
+                             : "second-order quadrangle";
   switch (type) {
     case kGmshTetrahedron:
       return "tetrahedron";
@@ -84,7 +105,7 @@ const char* element_kind(int type) {
   }
 }
 // An element's nodes as read (up to a 10-node tetrahedron's).
-using ElementNodes = std::array<uint32_t, 10>;
+using ElementNodes = std::array<uint32_t, 27>;
 std::array<uint32_t, 6> tet_edge_nodes(const ElementNodes& n) {
   std::array<uint32_t, 6> e;
   for (size_t k = 0; k < 6; ++k) e[k] = n[kGmshTetEdgeNodes[k]];
@@ -197,10 +218,10 @@ class GmshReader {
     if (!have_nodes) throw FormatError(c_.path() + ": no $Nodes section");
     index_element_tags();
     release(by_element_);
-    for (const auto& e : triangle_edge_nodes_)
+    for (const auto& e : face_edge_nodes_)
       for (uint32_t v : e)
-        if (v != InputMesh::kNoEdgeNode) out_.triangle_edge_nodes.push_back(v);
-    release(triangle_edge_nodes_);
+        if (v != InputMesh::kNoEdgeNode) out_.other_edge_nodes.push_back(v);
+    release(face_edge_nodes_);
     set_regions();
     set_face_tags();
     split_cells();
@@ -383,6 +404,10 @@ class GmshReader {
       if (next < split_cells_.size() && split_cells_[next].slot == t) {
         const SplitCell& c = split_cells_[next++];
         split_cell(std::span(c.corners).first(c.count), out_.points, tets), ++split[c.count];
+        // A second-order cell's other nodes are set aside (second_order.h).
+        out_.other_edge_nodes.insert(out_.other_edge_nodes.end(), c.extras.begin(),
+                                     c.extras.begin() + c.extra);
+        out_.second_order_cells += c.extra > 0;
       } else {
         tets.push_back(out_.tets[t]);
       }
@@ -542,10 +567,14 @@ class GmshReader {
   void make_room_for_triangles(int type, size_t count) {
     triangles_.resize(count);
     tri_tag_.resize(count, tag_);
-    if (type == kGmshTriangle6 || !triangle_edge_nodes_.empty())
-      triangle_edge_nodes_.resize(count,
-                                  {InputMesh::kNoEdgeNode, InputMesh::kNoEdgeNode, InputMesh::kNoEdgeNode});
-    if (type == kGmshQuadrangle || !quad_fourth_.empty()) quad_fourth_.resize(count, InputMesh::kNoEdgeNode);
+    // (A second-order face's nodes past its corners, set aside with the
+    // cells' unless they are some cell's corners: second_order.h.)
+    if (kept_element_nodes(type) > (is_quadrangle(type) ? 4u : 3u) || !face_edge_nodes_.empty()) {
+      std::array<uint32_t, 5> none;
+      none.fill(InputMesh::kNoEdgeNode);
+      face_edge_nodes_.resize(count, none);
+    }
+    if (is_quadrangle(type) || !quad_fourth_.empty()) quad_fourth_.resize(count, InputMesh::kNoEdgeNode);
   }
   // Element `at` of the room made above, from its nodes as read.
   void put_element(int type, size_t at, const ElementNodes& n) {
@@ -556,14 +585,18 @@ class GmshReader {
       if (type == kGmshTetrahedron10) out_.tet_edge_nodes[at] = tet_edge_nodes(n);
       if (is_split_cell(type)) {
         SplitCell& c = split_cells_[split_block_.first + (at - split_block_.second)];
+        const CellType& t = *split_type(type);
         c.slot = static_cast<uint32_t>(at);
-        c.count = static_cast<uint8_t>(kept_element_nodes(type));
-        std::copy_n(n.begin(), c.count, c.corners.begin());
+        c.count = static_cast<uint8_t>(t.corners);
+        c.extra = static_cast<uint8_t>(t.nodes - t.corners);
+        std::copy_n(n.begin(), t.corners, c.corners.begin());
+        std::copy_n(n.begin() + static_cast<std::ptrdiff_t>(t.corners), c.extra, c.extras.begin());
       }
     } else {
       triangles_[at] = {n[0], n[1], n[2]};
-      if (type == kGmshTriangle6) triangle_edge_nodes_[at] = {n[3], n[4], n[5]};
-      if (type == kGmshQuadrangle) quad_fourth_[at] = n[3];
+      const size_t corners = is_quadrangle(type) ? 4 : 3;
+      for (size_t k = corners; k < kept_element_nodes(type); ++k) face_edge_nodes_[at][k - corners] = n[k];
+      if (is_quadrangle(type)) quad_fourth_[at] = n[3];
     }
   }
   void add_tetrahedron(int type, const ElementNodes& n) {
@@ -621,7 +654,7 @@ class GmshReader {
       bool tagged;
       bool odd_triangle;  // a triangle of other than 3 or 6 nodes (counted, not kept)
     };
-    constexpr uint64_t kChunk = uint64_t{1} << 20;  // lines held at once (40 MB)
+    constexpr uint64_t kChunk = uint64_t{1} << 19;  // lines held at once (70 MB)
     std::vector<Line> chunk;
     for (uint64_t done = 0; done < n; done += chunk.size()) {
       chunk.assign(std::min(kChunk, n - done), Line{});
@@ -1047,8 +1080,10 @@ class GmshReader {
   std::map<int, int> volume_physical_;  // 4.1: volume entity -> its first physical group
   std::map<int32_t, std::string> volume_names_;
   std::vector<std::array<uint32_t, 3>> triangles_;
-  std::vector<int64_t> tri_tag_;                              // per triangle
-  std::vector<std::array<uint32_t, 3>> triangle_edge_nodes_;  // per triangle, once a 6-node one is read
+  std::vector<int64_t> tri_tag_;  // per triangle
+  // Per triangle (or quadrangle), once a second-order one is read: its
+  // nodes past its corners (kNoEdgeNode past its count).
+  std::vector<std::array<uint32_t, 5>> face_edge_nodes_;
   std::vector<uint32_t> quad_fourth_;  // per triangle, once a quadrangle is read: its fourth corner
   // Each hexahedron, prism and pyramid read: its place in out_.tets, which
   // holds its first four corners, and all its corners, for split_cells();
@@ -1056,8 +1091,9 @@ class GmshReader {
   // starts in split_cells_ and in out_.tets.
   struct SplitCell {
     uint32_t slot = 0;
-    uint8_t count = 0;
+    uint8_t count = 0, extra = 0;  // corners, and other nodes (second order)
     std::array<uint32_t, 8> corners{};
+    std::array<uint32_t, 19> extras{};
   };
   std::vector<SplitCell> split_cells_;
   std::pair<size_t, size_t> split_block_;

@@ -16,8 +16,9 @@ namespace dtm {
 // Points (in the order of the file), tetrahedra (element type 4, and 11,
 // the 10-node ones, as their corners with their edge nodes in
 // InputMesh::tet_edge_nodes; hexahedra, prisms and pyramids, types 5 to 7,
-// as the tetrahedra that split them, cell_split.h; other types are checked
-// and ignored), their regions and cell data, tagged triangles (types 2 and
+// as the tetrahedra that split them, cell_split.h, and their second-order
+// types as those, their other nodes in InputMesh::other_edge_nodes; other
+// types are checked and ignored), their regions and cell data, tagged triangles (types 2 and
 // 9, and quadrangles, 3, as two triangles) and $NodeData fields that cover
 // every node. Throws FormatError naming the file and the
 // line.

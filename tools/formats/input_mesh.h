@@ -61,19 +61,22 @@ struct InputMesh {
   std::map<int32_t, std::string> face_tag_names;
   std::string face_tag_source;
   std::map<std::string, std::vector<int32_t>> triangle_arrays;  // a .vtu's, as tet_arrays
-  // Second-order elements (gmsh's 10-node tetrahedra and 6-node triangles,
-  // VTK's quadratic ones, Netgen's second-order elements) are read as their
-  // linear cells: their corners in `tets` and the triangles above. The
-  // nodes on their edges, as the readers leave them: per tetrahedron (in
-  // the order of `tets`, every one once any has them; kNoEdgeNode for a
-  // linear one) its six, on the edges (0,1) (0,2) (0,3) (1,2) (1,3) (2,3)
-  // of its corners, indices into `points`; the triangles' in
-  // triangle_edge_nodes, three an element. set_edge_nodes_aside()
-  // (second_order.h) then moves the points that are only such nodes to
-  // edge_points, tet_edge_nodes indexing them.
+  // Second-order elements (gmsh's 10-node tetrahedra, 6-node triangles and
+  // 20- or 27-node hexahedra, VTK's quadratic ones, Netgen's second-order
+  // elements) are read as their linear cells: their corners in `tets` (a
+  // hexahedron's split, cell_split.h) and the triangles above. The nodes
+  // on their edges (and faces, and a 27-node hexahedron's centre), as the
+  // readers leave them: per tetrahedron (in the order of `tets`, every one
+  // once any has them; kNoEdgeNode for a linear one) its six, on the edges
+  // (0,1) (0,2) (0,3) (1,2) (1,3) (2,3) of its corners, indices into
+  // `points`; the other elements' in other_edge_nodes, in no order, and
+  // how many second-order cells other than tetrahedra they came from.
+  // set_edge_nodes_aside() (second_order.h) then moves the points that are
+  // only such nodes to edge_points, tet_edge_nodes indexing them.
   static constexpr uint32_t kNoEdgeNode = UINT32_MAX;
   std::vector<std::array<uint32_t, 6>> tet_edge_nodes;
-  std::vector<uint32_t> triangle_edge_nodes;
+  std::vector<uint32_t> other_edge_nodes;
+  uint64_t second_order_cells = 0;
   std::vector<InputPoint> edge_points;
   // Voxel inputs on an isotropic lattice: the lattice itself as the
   // quantization grid, so that positions are coded losslessly. `points` then

@@ -293,7 +293,7 @@ InputMesh read_netgen_vol(const std::string& path) {
     const uint64_t line = face_lines[f];
     out.tagged_faces.push_back({corner(v[0], line), corner(v[1], line), corner(v[2], line)});
     if (const auto& e = raw_face_edges[f]; e[0] != 0)
-      for (uint32_t node : e) out.triangle_edge_nodes.push_back(corner(node, line));
+      for (uint32_t node : e) out.other_edge_nodes.push_back(corner(node, line));
   }
   if (!out.tets.empty()) out.region_source = "materials (Netgen domains)";
   if (!out.tagged_faces.empty()) out.face_tag_source = "surface elements' boundary conditions (Netgen bcnr)";

@@ -11,12 +11,12 @@ void add_tet_edge_nodes(InputMesh& mesh, const std::array<uint32_t, 6>& nodes) {
 }
 
 void set_edge_nodes_aside(InputMesh& mesh) {
-  if (mesh.tet_edge_nodes.empty() && mesh.triangle_edge_nodes.empty()) return;
+  if (mesh.tet_edge_nodes.empty() && mesh.other_edge_nodes.empty()) return;
   if (mesh.tets.empty()) {
     // A surface mesh: no cell of it is kept (its triangles are not tagged
     // faces of a volume), so its points are all the stream has of it.
     mesh.tet_edge_nodes.clear();
-    mesh.triangle_edge_nodes.clear();
+    mesh.other_edge_nodes.clear();
     return;
   }
   if (!mesh.tet_edge_nodes.empty()) mesh.tet_edge_nodes.resize(mesh.tets.size(), kNoEdgeNodes);
@@ -33,7 +33,7 @@ void set_edge_nodes_aside(InputMesh& mesh) {
     for (uint32_t v : e)
       if (v != InputMesh::kNoEdgeNode) role[v] |= kOnEdge;
   }
-  for (uint32_t v : mesh.triangle_edge_nodes) role[v] |= kOnEdge;
+  for (uint32_t v : mesh.other_edge_nodes) role[v] |= kOnEdge;
   // New indices: the kept points' among the kept, the set-aside nodes'
   // among them.
   std::vector<uint32_t> index(n);
@@ -66,11 +66,14 @@ void set_edge_nodes_aside(InputMesh& mesh) {
     f.values = std::move(values);
   }
   mesh.points = std::move(kept);
-  mesh.triangle_edge_nodes.clear();
-  mesh.triangle_edge_nodes.shrink_to_fit();
+  mesh.other_edge_nodes.clear();
+  mesh.other_edge_nodes.shrink_to_fit();
   if (aside == 0) return;
   std::string elements;
   if (second_order_tets > 0) elements = std::to_string(second_order_tets) + " second-order tetrahedra";
+  if (mesh.second_order_cells > 0)
+    elements += (elements.empty() ? "" : ", ") + std::to_string(mesh.second_order_cells) +
+                " second-order hexahedra, prisms and pyramids";
   std::string what = std::to_string(aside) + " nodes on the edges of second-order elements (" +
                      (elements.empty() ? std::string("triangles") : elements) +
                      "): the stream holds the linear cells through their corners";

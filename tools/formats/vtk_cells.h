@@ -13,11 +13,28 @@ inline constexpr int kVtkHexahedron = 12;
 inline constexpr int kVtkWedge = 13;
 inline constexpr int kVtkPyramid = 14;
 inline constexpr int kVtkQuadraticTriangle = 22;
-// The corners of a hexahedron, wedge or pyramid, read as the tetrahedra
-// that split it (cell_split.h); 0 for another type. (A double: a .vtu's
-// types array may be of any type, and hold anything.)
-inline size_t split_cell_corners(double type) {
-  return type == kVtkHexahedron ? 8 : type == kVtkWedge ? 6 : type == kVtkPyramid ? 5 : 0;
+// A hexahedron, wedge, pyramid or quadrilateral, linear or of second order
+// (its corners first), read as the tetrahedra (triangles) that split it
+// (cell_split.h): its nodes and corners; {0, 0} for another type. (A
+// double: a .vtu's types array may be of any type, and hold anything.)
+struct VtkSplitType {
+  size_t nodes = 0, corners = 0;
+};
+inline VtkSplitType vtk_split_type(double type) {
+  constexpr std::array<std::array<int, 3>, 11> kTypes = {{{kVtkHexahedron, 8, 8},
+                                                          {25, 20, 8},
+                                                          {29, 27, 8},
+                                                          {kVtkWedge, 6, 6},
+                                                          {26, 15, 6},
+                                                          {32, 18, 6},
+                                                          {kVtkPyramid, 5, 5},
+                                                          {27, 13, 5},
+                                                          {kVtkQuad, 4, 4},
+                                                          {23, 8, 4},
+                                                          {28, 9, 4}}};
+  for (const auto& [t, nodes, corners] : kTypes)
+    if (type == t) return {static_cast<size_t>(nodes), static_cast<size_t>(corners)};
+  return {};
 }
 inline constexpr int kVtkQuadraticTetra = 24;
 // VTK's quadratic tetrahedron numbers its edge nodes 4 (0,1), 5 (1,2),

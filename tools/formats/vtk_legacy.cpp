@@ -161,27 +161,32 @@ class LegacyReader {
         if ((cell_types[i] == kVtkTriangle && e - b == 3) ||
             (cell_types[i] == kVtkQuadraticTriangle && e - b == 6)) {
           out_.tagged_faces.push_back({at(b), at(b + 1), at(b + 2)});
-          for (int64_t k = b + 3; k < e; ++k) out_.triangle_edge_nodes.push_back(at(k));
+          for (int64_t k = b + 3; k < e; ++k) out_.other_edge_nodes.push_back(at(k));
           triangle_cells.push_back(i);
           continue;
         }
         // A quadrilateral as two triangles, a hexahedron, wedge or pyramid
         // as its tetrahedra (cell_split.h), each with the cell's data.
-        if (cell_types[i] == kVtkQuad && e - b == 4) {
-          for (const auto& half : split_quad({at(b), at(b + 1), at(b + 2), at(b + 3)})) {
-            out_.tagged_faces.push_back(half);
-            triangle_cells.push_back(i);
+        // (A second-order one's other nodes go aside: second_order.h.)
+        if (const VtkSplitType split = vtk_split_type(static_cast<double>(cell_types[i]));
+            split.corners > 0 && static_cast<size_t>(e - b) == split.nodes) {
+          if (split.corners == 4) {
+            for (const auto& half : split_quad({at(b), at(b + 1), at(b + 2), at(b + 3)})) {
+              out_.tagged_faces.push_back(half);
+              triangle_cells.push_back(i);
+            }
+            for (int64_t k = b + 4; k < e; ++k) out_.other_edge_nodes.push_back(at(k));
+            continue;
           }
-          continue;
-        }
-        if (const size_t corners = split_cell_corners(static_cast<double>(cell_types[i]));
-            corners > 0 && static_cast<size_t>(e - b) == corners) {
           std::array<uint32_t, 8> v{};
-          for (size_t k = 0; k < corners; ++k) v[k] = at(b + static_cast<int64_t>(k));
+          for (size_t k = 0; k < split.corners; ++k) v[k] = at(b + static_cast<int64_t>(k));
           const size_t before = out_.tets.size();
-          split_cell(std::span(v).first(corners), out_.points, out_.tets);
+          split_cell(std::span(v).first(split.corners), out_.points, out_.tets);
           tet_cells.insert(tet_cells.end(), out_.tets.size() - before, i);
-          ++split_cells_[corners];
+          ++split_cells_[split.corners];
+          for (int64_t k = b + static_cast<int64_t>(split.corners); k < e; ++k)
+            out_.other_edge_nodes.push_back(at(k));
+          out_.second_order_cells += split.nodes > split.corners;
           continue;
         }
         if (cell_types[i] != kVtkTetra && cell_types[i] != kVtkQuadraticTetra) {
@@ -209,7 +214,7 @@ class LegacyReader {
         if (k == 0 || triangle_cells[k] != triangle_cells[k - 1])
           ++other_cells_[cell_types[triangle_cells[k]]];
       out_.tagged_faces.clear();
-      out_.triangle_edge_nodes.clear();
+      out_.other_edge_nodes.clear();
       out_.triangle_arrays.clear();
     }
     note_left_out();

@@ -711,26 +711,30 @@ class VtuReader {
       // (A quadratic one's edge nodes go aside: second_order.h.)
       if ((types[c] == kVtkTriangle && e - b == 3) || (types[c] == kVtkQuadraticTriangle && e - b == 6)) {
         out.tagged_faces.push_back({at(b), at(b + 1), at(b + 2)});
-        for (uint64_t k = b + 3; k < e; ++k) out.triangle_edge_nodes.push_back(at(k));
+        for (uint64_t k = b + 3; k < e; ++k) out.other_edge_nodes.push_back(at(k));
         triangles.push_back(c);
         continue;
       }
       // A quadrilateral as two triangles, a hexahedron, wedge or pyramid as
       // its tetrahedra (cell_split.h), each with the cell's data.
-      if (types[c] == kVtkQuad && e - b == 4) {
-        for (const auto& half : split_quad({at(b), at(b + 1), at(b + 2), at(b + 3)})) {
-          out.tagged_faces.push_back(half);
-          triangles.push_back(c);
+      // (A second-order one's other nodes go aside: second_order.h.)
+      if (const VtkSplitType split = vtk_split_type(types[c]); split.corners > 0 && e - b == split.nodes) {
+        if (split.corners == 4) {
+          for (const auto& half : split_quad({at(b), at(b + 1), at(b + 2), at(b + 3)})) {
+            out.tagged_faces.push_back(half);
+            triangles.push_back(c);
+          }
+          for (uint64_t k = b + 4; k < e; ++k) out.other_edge_nodes.push_back(at(k));
+          continue;
         }
-        continue;
-      }
-      if (const size_t corners = split_cell_corners(types[c]); corners > 0 && e - b == corners) {
         std::array<uint32_t, 8> v{};
-        for (size_t k = 0; k < corners; ++k) v[k] = at(b + k);
+        for (size_t k = 0; k < split.corners; ++k) v[k] = at(b + k);
         const size_t before = out.tets.size();
-        split_cell(std::span(v).first(corners), out.points, out.tets);
+        split_cell(std::span(v).first(split.corners), out.points, out.tets);
         tets.insert(tets.end(), out.tets.size() - before, c);
-        ++split_cells_[corners];
+        ++split_cells_[split.corners];
+        for (uint64_t k = b + split.corners; k < e; ++k) out.other_edge_nodes.push_back(at(k));
+        out.second_order_cells += split.nodes > split.corners;
         continue;
       }
       if (types[c] != kVtkTetra && types[c] != kVtkQuadraticTetra) {
@@ -792,7 +796,8 @@ void append_piece(InputMesh& whole, InputMesh part, bool first, const std::strin
       whole.tet_edge_nodes.push_back(e);
     }
   }
-  for (uint32_t v : part.triangle_edge_nodes) whole.triangle_edge_nodes.push_back(v + offset);
+  for (uint32_t v : part.other_edge_nodes) whole.other_edge_nodes.push_back(v + offset);
+  whole.second_order_cells += part.second_order_cells;
   const auto same_arrays = [&](std::vector<VertexField>& into, std::vector<VertexField>& from,
                                const char* what) {
     if (first) {
