@@ -75,7 +75,7 @@ def _linear(mesh):
     tetra10 = sum(len(b.data) for b in mesh.cells if b.type == "tetra10")
     others = sum(len(b.data) for b in mesh.cells if b.type in QUADRATIC and QUADRATIC[b.type][0] in VOLUMES[1:])
     elements = ", ".join([f"{tetra10} second-order tetrahedra"] * bool(tetra10) +
-                         [f"{others} second-order hexahedra, prisms and pyramids"] * bool(others)) or "triangles"
+                         [f"{others} second-order hexahedra, prisms and pyramids"] * bool(others)) or "faces"
     what = (f"{points - int(keep.sum())} nodes on the edges of second-order elements ({elements}): "
             "the stream holds the linear cells through their corners")
     if mesh.point_data:

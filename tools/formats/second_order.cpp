@@ -75,7 +75,7 @@ void set_edge_nodes_aside(InputMesh& mesh) {
     elements += (elements.empty() ? "" : ", ") + std::to_string(mesh.second_order_cells) +
                 " second-order hexahedra, prisms and pyramids";
   std::string what = std::to_string(aside) + " nodes on the edges of second-order elements (" +
-                     (elements.empty() ? std::string("triangles") : elements) +
+                     (elements.empty() ? std::string("faces") : elements) +
                      "): the stream holds the linear cells through their corners";
   if (!mesh.fields.empty()) what += ", and the fields' values at their corners only";
   mesh.left_out.push_back(what);
