@@ -73,6 +73,20 @@ void split_cell(std::span<const uint32_t> corners, std::span<const InputPoint> p
   }
 }
 
+size_t add_split_cell(std::span<const uint32_t> nodes, size_t corners, InputMesh& mesh) {
+  mesh.other_edge_nodes.insert(mesh.other_edge_nodes.end(),
+                               nodes.begin() + static_cast<std::ptrdiff_t>(corners), nodes.end());
+  if (corners == 4) {
+    for (const auto& half : split_quad({nodes[0], nodes[1], nodes[2], nodes[3]}))
+      mesh.tagged_faces.push_back(half);
+    return 2;
+  }
+  mesh.second_order_cells += nodes.size() > corners;
+  const size_t before = mesh.tets.size();
+  split_cell(nodes.first(corners), mesh.points, mesh.tets);
+  return mesh.tets.size() - before;
+}
+
 std::string split_cells_note(const std::map<size_t, uint64_t>& cells_by_corners) {
   std::string cells;
   for (const auto& [corners, count] : cells_by_corners)

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/grid.h"
+#include "input_mesh.h"
 
 namespace dtm {
 
@@ -34,6 +35,15 @@ void split_cell(std::span<const uint32_t> corners, std::span<const InputPoint> p
 // its diagonal through its corner of least index, as split_cell() splits
 // it.
 std::array<std::array<uint32_t, 3>, 2> split_quad(const std::array<uint32_t, 4>& q);
+
+// For a reader of cells one at a time: appends the quadrilateral or cell
+// whose nodes are `nodes` (corners first, `corners` of them: 4, 5, 6 or 8)
+// to `mesh`, a quadrilateral's two triangles to tagged_faces, another
+// cell's tetrahedra to tets, and its nodes past its corners (a second-order
+// one's) to other_edge_nodes, second_order_cells counting a cell that has
+// some (second_order.h). Returns how many triangles or tetrahedra it
+// added, each the cell's (its data, its tag).
+size_t add_split_cell(std::span<const uint32_t> nodes, size_t corners, InputMesh& mesh);
 
 // What a reader says of the cells it split, by corner count (5, 6, 8): "the
 // shapes of its 12 hexahedra, 3 prisms: each is read as the tetrahedra

@@ -170,23 +170,12 @@ class LegacyReader {
         // (A second-order one's other nodes go aside: second_order.h.)
         if (const VtkSplitType split = vtk_split_type(static_cast<double>(cell_types[i]));
             split.corners > 0 && static_cast<size_t>(e - b) == split.nodes) {
-          if (split.corners == 4) {
-            for (const auto& half : split_quad({at(b), at(b + 1), at(b + 2), at(b + 3)})) {
-              out_.tagged_faces.push_back(half);
-              triangle_cells.push_back(i);
-            }
-            for (int64_t k = b + 4; k < e; ++k) out_.other_edge_nodes.push_back(at(k));
-            continue;
-          }
-          std::array<uint32_t, 8> v{};
-          for (size_t k = 0; k < split.corners; ++k) v[k] = at(b + static_cast<int64_t>(k));
-          const size_t before = out_.tets.size();
-          split_cell(std::span(v).first(split.corners), out_.points, out_.tets);
-          tet_cells.insert(tet_cells.end(), out_.tets.size() - before, i);
-          ++split_cells_[split.corners];
-          for (int64_t k = b + static_cast<int64_t>(split.corners); k < e; ++k)
-            out_.other_edge_nodes.push_back(at(k));
-          out_.second_order_cells += split.nodes > split.corners;
+          std::array<uint32_t, 27> nodes{};
+          for (size_t k = 0; k < split.nodes; ++k) nodes[k] = at(b + static_cast<int64_t>(k));
+          const size_t added = add_split_cell(std::span(nodes).first(split.nodes), split.corners, out_);
+          auto& cells_of = split.corners == 4 ? triangle_cells : tet_cells;
+          cells_of.insert(cells_of.end(), added, i);
+          if (split.corners > 4) ++split_cells_[split.corners];
           continue;
         }
         if (cell_types[i] != kVtkTetra && cell_types[i] != kVtkQuadraticTetra) {

@@ -719,22 +719,12 @@ class VtuReader {
       // its tetrahedra (cell_split.h), each with the cell's data.
       // (A second-order one's other nodes go aside: second_order.h.)
       if (const VtkSplitType split = vtk_split_type(types[c]); split.corners > 0 && e - b == split.nodes) {
-        if (split.corners == 4) {
-          for (const auto& half : split_quad({at(b), at(b + 1), at(b + 2), at(b + 3)})) {
-            out.tagged_faces.push_back(half);
-            triangles.push_back(c);
-          }
-          for (uint64_t k = b + 4; k < e; ++k) out.other_edge_nodes.push_back(at(k));
-          continue;
-        }
-        std::array<uint32_t, 8> v{};
-        for (size_t k = 0; k < split.corners; ++k) v[k] = at(b + k);
-        const size_t before = out.tets.size();
-        split_cell(std::span(v).first(split.corners), out.points, out.tets);
-        tets.insert(tets.end(), out.tets.size() - before, c);
-        ++split_cells_[split.corners];
-        for (uint64_t k = b + split.corners; k < e; ++k) out.other_edge_nodes.push_back(at(k));
-        out.second_order_cells += split.nodes > split.corners;
+        std::array<uint32_t, 27> nodes{};
+        for (size_t k = 0; k < split.nodes; ++k) nodes[k] = at(b + k);
+        const size_t added = add_split_cell(std::span(nodes).first(split.nodes), split.corners, out);
+        auto& cells_of = split.corners == 4 ? triangles : tets;
+        cells_of.insert(cells_of.end(), added, c);
+        if (split.corners > 4) ++split_cells_[split.corners];
         continue;
       }
       if (types[c] != kVtkTetra && types[c] != kVtkQuadraticTetra) {
