@@ -13,7 +13,8 @@
 # graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
 # gmsh -save_all's volumes and surfaces in no physical group join none.
 # Second-order meshes (gmsh -order 2, Netgen's SecondOrder()) give their
-# linear mesh's stream; prisms and hexahedra are read as tetrahedra.
+# linear mesh's stream; prisms and hexahedra (gmsh's, VTK's, Netgen's
+# boundary layer, Medit's) are read as tetrahedra.
 set -euo pipefail
 meshenc=$1
 meshdec=$(dirname "$meshenc")/meshdec
@@ -161,6 +162,23 @@ if len(tets) != 600 or abs(v.sum() - 0.5) > 2e-4 or (v <= 0).any() or faces != 5
     sys.exit("block.msh: level 0 is not its 100 hexahedra's 600 tetrahedra (%d cells, volume %g, %d tagged faces)"
              % (len(tets), v.sum(), faces))
 PY
+# gmsh's Medit .mesh of the block (Hexahedra, Quadrilaterals): the .msh's
+# very tetrahedra and tagged triangles with --exact.
+gmsh block.geo -3 -o block.mesh >/dev/null
+"$meshenc" block.mesh --exact -o block_mesh.dtm >block_mesh.out 2>&1 || { cat block_mesh.out; failed=1; }
+"$meshdec" block_mesh.dtm -o block_mesh_out.vtu 2>/dev/null || failed=1
+/usr/bin/python3 - <<'PY' || failed=1
+import sys
+import meshio
+import numpy as np
+def cells(path, kind):
+    m = meshio.read(path)
+    return {tuple(sorted(map(tuple, np.round(m.points[t], 9)))) for t in m.cells_dict[kind]}
+for kind, n in (("tetra", 600), ("triangle", 50)):
+    a, b = cells("block_out.vtu", kind), cells("block_mesh_out.vtu", kind)
+    if a != b or len(a) != n:
+        sys.exit("block.mesh (gmsh's Medit hexahedra): %d and %d %s cells, %d differ" % (len(a), len(b), kind, len(a ^ b)))
+PY
 for ext in msh vtu mesh; do "$meshdec" a41.dtm -o out.$ext 2>/dev/null || failed=1; done
 gmsh out.msh -0 -format msh22 -o again.msh >/dev/null 2>&1 || { echo "gmsh does not read out.msh"; failed=1; }
 grep -A4 '^\$PhysicalNames' again.msh | grep -q '3 2 "steel"' || { echo "gmsh lost the regions"; failed=1; }
@@ -264,6 +282,52 @@ def names(path):
             sorted(set(m.GetBCName(e.index - 1) for e in m.Elements2D())))
 if names("back.vol") != names("ng.vol"):
     sys.exit("back.vol: %s, ng.vol: %s" % (names("back.vol"), names("ng.vol")))
+PY
+# Netgen's boundary layer (prisms on the sphere, pyramids where they meet
+# the tetrahedra), in its .vol and in meshio's .vtu and Medit .mesh of it:
+# with --exact the three decode to the same tetrahedra with the same
+# regions, 3 a prism and 2 a pyramid; its second-order .vol (Netgen's
+# 12-node prisms, 13-node pyramids) gives the linear one's stream.
+"$py" - <<'PY'
+from netgen.csg import CSGeometry, Sphere, Pnt
+import meshio
+geo = CSGeometry()
+geo.Add(Sphere(Pnt(0, 0, 0), 1).bc("wall").mat("core"))
+mesh = geo.GenerateMesh(maxh=0.4)
+mesh.BoundaryLayer(1, 0.05, 1, "layer")
+mesh.Save("bl.vol")
+mesh.SecondOrder()
+mesh.Save("bl2.vol")
+m = meshio.read("bl.vol")
+m.field_data = {}
+meshio.write("bl.vtu", m)
+meshio.write("bl.mesh", m)
+PY
+"$meshenc" bl.vol -o bl.dtm >bl.out 2>&1 || { cat bl.out; failed=1; }
+grep -q "left out.*the shapes of its [0-9]* pyramids, [0-9]* prisms: each is read as the tetrahedra" bl.out ||
+  { echo "bl.vol: its prisms and pyramids are not named"; cat bl.out; failed=1; }
+"$meshenc" bl2.vol -q -o bl2.dtm 2>/dev/null || failed=1
+cmp -s bl.dtm bl2.dtm || { echo "bl2.vol (Netgen's second-order prisms): not the linear mesh's stream"; failed=1; }
+for f in bl.vol bl.vtu bl.mesh; do
+  "$meshenc" $f --exact -q -o $f.exact.dtm 2>/dev/null && "$meshdec" $f.exact.dtm -o $f.exact.vtu 2>/dev/null || failed=1
+done
+"$py" - <<'PY' || failed=1
+import sys
+import meshio
+import numpy as np
+given = meshio.read("bl.vol")
+count = {c.type: len(c.data) for c in given.cells}
+expected = count["tetra"] + 3 * count["wedge"] + 2 * count["pyramid"]
+def cells(path):
+    m = meshio.read(path)
+    return {(tuple(sorted(map(tuple, np.round(m.points[t], 9)))), r)
+            for t, r in zip(m.cells_dict["tetra"], m.cell_data_dict["region"]["tetra"])}
+a = cells("bl.vol.exact.vtu")
+for other in ("bl.vtu", "bl.mesh"):
+    b = cells(other + ".exact.vtu")
+    if a != b or len(a) != expected or count["wedge"] == 0:
+        sys.exit("%s: its prisms and pyramids are not split as the .vol's (%d and %d cells, %d expected, %d differ)"
+                 % (other, len(a), len(b), expected, len(a ^ b)))
 PY
 # A best-shaped mesh (Netgen's, average smallest solid angle 0.34) gets
 # coarser levels: the quality floor is 0.85x level 0's but at most 0.25

@@ -660,6 +660,87 @@ TEST(InputFormats, NetgenVolKeepsMaterialsAndBoundaryConditions) {
             std::string::npos);
 }
 
+// Medit's and Netgen's hexahedra, prisms and pyramids (a cube, a pyramid
+// on its top, a prism at its side) and quadrilaterals are read as the
+// tetrahedra and triangles that split them, each with its cell's ref or
+// material: the same cells from both (Medit's records one a line or split
+// over lines; Netgen's second-order hexahedron as its corners), turned as
+// each format turns its tetrahedra, filling the cells' volume.
+TEST(InputFormats, MeditAndNetgenCellsOfOtherShapesAreSplit) {
+  const std::string points =
+      "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n0.5 0.5 1.5\n2 0.5 0\n2 0.5 1\n";
+  std::string medit_points;
+  for (size_t at = 0, end = 0; (end = points.find('\n', at)) != std::string::npos; at = end + 1)
+    medit_points += points.substr(at, end - at) + " 0\n";
+  const auto medit = [&](const std::string& hexahedron) {
+    return "MeshVersionFormatted 2\nDimension 3\nVertices\n11\n" + medit_points +
+           "Quadrilaterals\n1\n1 4 3 2 7\nTetrahedra\n0\nHexahedra\n1\n" + hexahedron +
+           "\nPyramids\n1\n5 6 7 8 9 2\nPrisms\n1\n2 3 10 6 7 11 3\nEnd\n";
+  };
+  const InputMesh m = read_input(write_temp("shapes.mesh", medit("1 2 3 4 5 6 7 8 1")));
+  const InputMesh free = read_input(write_temp("shapes_free.mesh", medit("1 2 3 4\n# split\n5 6 7 8 1")));
+  // (Netgen: the hexahedron second-order, its other 12 nodes named corners
+  // here, so that nothing is set aside.)
+  const InputMesh n = read_input(
+      write_temp("shapes.vol",
+                 "mesh3d\ndimension\n3\nsurfaceelements\n1\n 1 7 1 0 4 1 4 3 2\nvolumeelements\n3\n"
+                 "1 20 1 2 3 4 5 6 7 8 1 2 3 4 5 6 7 8 1 2 3 4\n2 5 5 6 7 8 9\n3 6 2 3 10 6 7 11\n"
+                 "points\n11\n" +
+                     points + "endmesh\n"));
+  const auto cells = [](const InputMesh& mesh) {
+    std::set<std::pair<std::array<uint32_t, 4>, int32_t>> out;
+    for (size_t t = 0; t < mesh.tets.size(); ++t) {
+      auto sorted = mesh.tets[t];
+      std::sort(sorted.begin(), sorted.end());
+      out.insert({sorted, mesh.tet_regions.at(t)});
+    }
+    return out;
+  };
+  const auto signed_volume = [](const InputMesh& mesh, const std::array<uint32_t, 4>& t) {
+    const InputPoint &a = mesh.points[t[0]], &b = mesh.points[t[1]], &c = mesh.points[t[2]],
+                     &d = mesh.points[t[3]];
+    const double u[3] = {b.x - a.x, b.y - a.y, b.z - a.z}, v[3] = {c.x - a.x, c.y - a.y, c.z - a.z},
+                 w[3] = {d.x - a.x, d.y - a.y, d.z - a.z};
+    return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+            u[2] * (v[0] * w[1] - v[1] * w[0])) /
+           6;
+  };
+  ASSERT_EQ(m.tets.size(), 6u + 2u + 3u);
+  EXPECT_EQ(cells(free), cells(m));
+  EXPECT_EQ(cells(n), cells(m));
+  EXPECT_EQ(std::count(m.tet_regions.begin(), m.tet_regions.end(), 1), 6);
+  EXPECT_EQ(std::count(m.tet_regions.begin(), m.tet_regions.end(), 2), 2);
+  EXPECT_EQ(std::count(m.tet_regions.begin(), m.tet_regions.end(), 3), 3);
+  // Medit's tetrahedra are positive, Netgen's the other way; either way
+  // the cells' volume: the cube's 1, the pyramid's 1/6, the prism's 1/2.
+  double medit_volume = 0, netgen_volume = 0;
+  for (const auto& t : m.tets) {
+    EXPECT_GT(signed_volume(m, t), 0);
+    medit_volume += signed_volume(m, t);
+  }
+  for (const auto& t : n.tets) {
+    EXPECT_LT(signed_volume(n, t), 0);
+    netgen_volume -= signed_volume(n, t);
+  }
+  EXPECT_NEAR(medit_volume, 1 + 1.0 / 6 + 0.5, 1e-12);
+  EXPECT_NEAR(netgen_volume, 1 + 1.0 / 6 + 0.5, 1e-12);
+  // The quadrilateral: two triangles through its least corner, tagged.
+  const std::vector<std::array<uint32_t, 3>> bottom{{0, 3, 2}, {0, 2, 1}};
+  for (const InputMesh* mesh : {&m, &free, &n}) {
+    EXPECT_EQ(mesh->tagged_faces, bottom);
+    EXPECT_EQ(mesh->face_tags, (std::vector<int32_t>{7, 7}));
+    EXPECT_TRUE(mesh->edge_points.empty());
+    std::string left_out;
+    for (const std::string& l : mesh->left_out) left_out += l + "\n";
+    EXPECT_NE(
+        left_out.find("the shapes of its 1 pyramids, 1 prisms, 1 hexahedra: each is read as the tetrahedra"),
+        std::string::npos)
+        << left_out;
+  }
+  EXPECT_EQ(m.region_source, "cell refs");
+  EXPECT_EQ(m.face_tag_source, "triangle and quadrilateral refs");
+}
+
 // A second-order mesh (gmsh -order 2, VTK's quadratic cells, Netgen's
 // SecondOrder()) is read as its linear cells in every format: the corners
 // are the points, in file order, with their fields; the nodes on the edges

@@ -1,7 +1,8 @@
 // Every input reader on arbitrary bytes: a FormatError naming the problem,
 // or points that can make a tetrahedral mesh (finite, at least 4, not all
 // coplanar), every cell and tagged face on them, a second-order mesh's
-// edge nodes set aside, never a crash. The first byte's low 4 bits pick the format,
+// edge nodes set aside, a label for each cell and face that has labels,
+// never a crash. The first byte's low 4 bits pick the format,
 // its high 4 bits the voxel threshold and interior step; the rest is the file.
 #include <unistd.h>
 
@@ -15,9 +16,9 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  static const char* kExtensions[] = {".node", ".mesh", ".vtk", ".vtu", ".msh",
-                                      ".nrrd", ".ply",  ".off", ".obj", ".xyz"};
-  const char* ext = kExtensions[(data[0] & 15) % 10];
+  static const char* kExtensions[] = {".node", ".mesh", ".vtk", ".vtu", ".msh", ".nrrd",
+                                      ".ply",  ".off",  ".obj", ".xyz", ".vol"};
+  const char* ext = kExtensions[(data[0] & 15) % 11];
   const std::string path = "/tmp/dtm_fuzz_input_" + std::to_string(getpid()) + ext;
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return 0;
@@ -36,6 +37,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       for (auto v : t) FUZZ_CHECK(v < in.points.size());
     for (const auto& f : in.tagged_faces)
       for (auto v : f) FUZZ_CHECK(v < in.points.size());
+    // Labels, one a cell (a split cell's on each of its tetrahedra).
+    FUZZ_CHECK(in.tet_regions.empty() || in.tet_regions.size() == in.tets.size());
+    FUZZ_CHECK(in.face_tags.empty() || in.face_tags.size() == in.tagged_faces.size());
     // A second-order mesh's edge nodes: set aside, each indexing them.
     FUZZ_CHECK(in.tet_edge_nodes.empty() || in.tet_edge_nodes.size() == in.tets.size());
     for (const auto& e : in.tet_edge_nodes)

@@ -8,6 +8,7 @@
 #include <set>
 #include <span>
 
+#include "cell_split.h"
 #include "render_util.h"
 #include "text_cursor.h"
 
@@ -99,6 +100,8 @@ InputMesh read_medit(const std::string& path) {
   InputMesh out;
   bool have_dimension = false, have_vertices = false;
   std::map<std::string, uint64_t> other_records;  // records of other sections, by keyword
+  std::map<size_t, uint64_t> split_cells;         // the cells split into tetrahedra, by corners
+  bool had_quads = false;
   while (true) {
     if (c.at_end()) c.fail("file ends without 'End'");
     const std::string keyword(c.token("a section keyword"));
@@ -147,8 +150,14 @@ InputMesh read_medit(const std::string& path) {
               reals = layout->second.reals;
     if (indices > 0 && !have_vertices) c.fail("'" + keyword + "' before 'Vertices'");
     const uint64_t n = c.count("a record count", limit / (indices + integers + reals));
-    if (keyword != "Tetrahedra" && keyword != "Triangles" && n > 0) other_records[keyword] += n;
     const bool is_tets = keyword == "Tetrahedra", is_faces = keyword == "Triangles";
+    // Quadrilaterals, pyramids, prisms and hexahedra: read whole, then split
+    // (cell_split.h), each piece with the record's ref.
+    const bool is_split = keyword == "Quadrilaterals" || keyword == "Pyramids" || keyword == "Prisms" ||
+                          keyword == "Hexahedra" || keyword == "Hexaedra";
+    if (!is_tets && !is_faces && !is_split && n > 0) other_records[keyword] += n;
+    std::vector<std::array<uint32_t, 8>> split_nodes(is_split ? n : 0);
+    std::vector<int32_t> split_refs(is_split ? n : 0);
     const size_t tets_before = out.tets.size(), regions_before = out.tet_regions.size();
     const size_t faces_before = out.tagged_faces.size(), tags_before = out.face_tags.size();
     if (is_tets) out.tets.resize(tets_before + n), out.tet_regions.resize(regions_before + n);
@@ -165,10 +174,11 @@ InputMesh read_medit(const std::string& path) {
       for (size_t k = first_integer; k < first_real; ++k) {
         int64_t value = 0;
         if (!parse_whole(f[k], value)) return false;
-        if (k == first_integer && (is_tets || is_faces)) {
+        if (k == first_integer && (is_tets || is_faces || is_split)) {
           if (value < INT32_MIN || value > INT32_MAX) return false;
-          (is_tets ? out.tet_regions[regions_before + i] : out.face_tags[tags_before + i]) =
-              static_cast<int32_t>(value);
+          (is_tets    ? out.tet_regions[regions_before + i]
+           : is_faces ? out.face_tags[tags_before + i]
+                      : split_refs[i]) = static_cast<int32_t>(value);
         }
       }
       for (size_t k = first_real; k < fields; ++k) {
@@ -177,9 +187,23 @@ InputMesh read_medit(const std::string& path) {
       }
       if (is_tets) out.tets[tets_before + i] = zero_based<4>(v);
       if (is_faces) out.tagged_faces[faces_before + i] = zero_based<3>(v);
+      if (is_split) split_nodes[i] = zero_based<8>(v);
       return true;
     });
-    if (fast) continue;
+    const auto add_split_cells = [&] {
+      for (uint64_t i = 0; i < split_nodes.size(); ++i) {
+        const size_t corners = static_cast<size_t>(indices);
+        const size_t added = add_split_cell(std::span(split_nodes[i]).first(corners), corners, out);
+        auto& labels = corners == 4 ? out.face_tags : out.tet_regions;
+        labels.insert(labels.end(), added, split_refs[i]);
+        if (corners > 4) ++split_cells[corners];
+        had_quads |= corners == 4;
+      }
+    };
+    if (fast) {
+      add_split_cells();
+      continue;
+    }
     out.tets.resize(tets_before), out.tet_regions.resize(regions_before);
     out.tagged_faces.resize(faces_before), out.face_tags.resize(tags_before);
     for (uint64_t i = 0; i < n; ++i) {
@@ -202,21 +226,33 @@ InputMesh read_medit(const std::string& path) {
           if (value < INT32_MIN || value > INT32_MAX) c.fail("a triangle's ref out of the 32-bit range");
           out.face_tags.push_back(static_cast<int32_t>(value));
         }
+        // Another cell's is its region, a quadrilateral's its tag.
+        if (is_split && k == 0) {
+          if (value < INT32_MIN || value > INT32_MAX) c.fail("a cell's ref out of the 32-bit range");
+          split_refs[i] = static_cast<int32_t>(value);
+        }
       }
       for (int k = 0; k < reals; ++k) c.coordinate();
       if (is_tets) out.tets.push_back(zero_based<4>(v));
       if (is_faces) out.tagged_faces.push_back(zero_based<3>(v));
+      if (is_split) split_nodes[i] = zero_based<8>(v);
     }
+    add_split_cells();
   }
   if (!other_records.empty()) {
     std::string list;
     for (const auto& [keyword, count] : other_records)
       list += (list.empty() ? "" : ", ") + std::to_string(count) + " " + keyword;
-    out.left_out.push_back("sections other than Vertices, Triangles and Tetrahedra (" + list + ")");
+    out.left_out.push_back(
+        "sections other than Vertices, Triangles, Quadrilaterals, Tetrahedra, Pyramids, Prisms and "
+        "Hexahedra (" +
+        list + ")");
   }
+  if (!split_cells.empty()) out.left_out.push_back(split_cells_note(split_cells));
   if (!c.at_end()) c.fail("unexpected data after 'End'");
-  if (!out.tet_regions.empty()) out.region_source = "tetrahedron refs";
-  if (!out.tagged_faces.empty()) out.face_tag_source = "triangle refs";
+  if (!out.tet_regions.empty()) out.region_source = split_cells.empty() ? "tetrahedron refs" : "cell refs";
+  if (!out.tagged_faces.empty())
+    out.face_tag_source = had_quads ? "triangle and quadrilateral refs" : "triangle refs";
   if (!have_vertices) throw FormatError(path + ": no 'Vertices' section");
   return out;
 }

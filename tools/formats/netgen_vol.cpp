@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <mutex>
 #include <string_view>
 #include <vector>
 
+#include "cell_split.h"
 #include "format_error.h"
 #include "render_util.h"
 #include "second_order.h"
@@ -77,9 +79,32 @@ struct ElementLayout {
   int least, most;           // the point counts Netgen writes
   int linear, second_order;  // the point counts of a linear and a second-order element
   bool exact;                // no fields after the points (surface records may carry geometry)
+  // The elements read as the tetrahedra or triangles that split them
+  // (cell_split.h): by point count, how many are corners (the rest a
+  // second-order one's other nodes); 0 for none.
+  std::array<uint8_t, 21> split_corners;
 };
-constexpr ElementLayout kVolumeElement{
-    {"a material number", nullptr, nullptr, nullptr}, 0, "a volume element", 4, 20, 4, 10, true};
+constexpr std::array<uint8_t, 21> kVolumeSplits = [] {
+  std::array<uint8_t, 21> c{};
+  c[5] = c[13] = 5;          // pyramids
+  c[6] = c[12] = c[15] = 6;  // prisms (12: Netgen's second-order one, its edges on the triangles)
+  c[8] = c[20] = 8;          // hexahedra
+  return c;
+}();
+constexpr std::array<uint8_t, 21> kSurfaceSplits = [] {
+  std::array<uint8_t, 21> c{};
+  c[4] = c[8] = 4;  // quadrilaterals
+  return c;
+}();
+constexpr ElementLayout kVolumeElement{{"a material number", nullptr, nullptr, nullptr},
+                                       0,
+                                       "a volume element",
+                                       4,
+                                       20,
+                                       4,
+                                       10,
+                                       true,
+                                       kVolumeSplits};
 constexpr ElementLayout kSurfaceElement{
     {"a surface number", "a boundary condition number", "a domain number", "a domain number"},
     1,
@@ -88,17 +113,30 @@ constexpr ElementLayout kSurfaceElement{
     8,
     3,
     6,
-    false};
+    false,
+    kSurfaceSplits};
+
+// An element read as the tetrahedra or triangles that split it: its points
+// (corners first, `corners` of them), its line and its label.
+struct SplitElement {
+  std::vector<uint32_t> points;
+  size_t corners;
+  uint64_t line;
+  int32_t label;
+};
 
 // An element section's records, one a line, read on every core: of each
 // linear or second-order element its N corners (1-based, checked against
 // the points once they are read) with its line, and its label; of a
 // second-order one, its E edge nodes too (in Netgen's order, which is
-// kTetEdges': 0 for a linear element's); the other elements counted.
+// kTetEdges': 0 for a linear element's); the elements that are split
+// whole to `whole` (1-based, kept apart: there are few); the other
+// elements counted.
 template <size_t N, size_t E>
 void read_elements(TextCursor& c, uint64_t n, const ElementLayout& l,
                    std::vector<std::array<uint32_t, N>>& corners, std::vector<std::array<uint32_t, E>>& edges,
-                   std::vector<uint64_t>& lines, std::vector<int32_t>& labels, uint64_t& other) {
+                   std::vector<uint64_t>& lines, std::vector<int32_t>& labels,
+                   std::vector<SplitElement>& whole, uint64_t& other) {
   c.rest_of_line();
   const uint64_t first_line = c.mark().line;
   size_t head = 0;
@@ -107,7 +145,9 @@ void read_elements(TextCursor& c, uint64_t n, const ElementLayout& l,
   // a linear one's four were 32 as 64-bit numbers.)
   std::vector<std::array<uint32_t, N + E>> read(n);
   std::vector<int32_t> label_of(n);
-  std::vector<uint8_t> kind(n);  // 0 linear, 1 second-order, 2 other
+  std::vector<uint8_t> kind(n);  // 0 linear, 1 second-order, 2 other, 3 split
+  const size_t whole_before = whole.size();
+  std::mutex split_mutex;
   c.lines(n, [&](uint64_t i, std::string_view line) {
     std::array<std::string_view, 40> f;
     const size_t k = split(line, f);
@@ -119,6 +159,8 @@ void read_elements(TextCursor& c, uint64_t n, const ElementLayout& l,
     }
     const int32_t np = label(c, i, f[head], "a point count");
     const size_t fields = head + 1 + static_cast<size_t>(std::max(np, 0));
+    const bool kind_split = np >= 0 && np <= l.most && l.split_corners[static_cast<size_t>(np)] > 0;
+    std::vector<uint32_t> points;
     if (np < l.least || np > l.most || (l.exact ? k != fields : k < fields))
       c.fail_line(i, std::string(l.what) + " of " + std::string(f[head]) + " points needs as many indices");
     for (size_t p = 0; p < static_cast<size_t>(np); ++p) {
@@ -127,12 +169,24 @@ void read_elements(TextCursor& c, uint64_t n, const ElementLayout& l,
         c.fail_line(i, "expected a point index, found '" + std::string(f[head + 1 + p]) + "'");
       if (v > UINT32_MAX) c.fail_line(i, "point index " + std::string(f[head + 1 + p]) + " out of range");
       if (p < N + E) read[i][p] = static_cast<uint32_t>(v);
+      if (kind_split) points.push_back(static_cast<uint32_t>(v));
     }
-    kind[i] = np == l.linear ? 0 : np == l.second_order ? 1 : 2;
+    if (kind_split) {
+      const std::lock_guard lock(split_mutex);
+      whole.push_back(
+          {std::move(points), l.split_corners[static_cast<size_t>(np)], first_line + i, label_of[i]});
+    }
+    kind[i] = np == l.linear                             ? 0
+              : np == l.second_order                     ? 1
+              : l.split_corners[static_cast<size_t>(np)] ? 3
+                                                         : 2;
   });
+  // (In the file's order, whichever core read them.)
+  std::sort(whole.begin() + static_cast<std::ptrdiff_t>(whole_before), whole.end(),
+            [](const SplitElement& a, const SplitElement& b) { return a.line < b.line; });
   for (uint64_t i = 0; i < n; ++i) {
     other += kind[i] == 2;
-    if (kind[i] == 2) continue;
+    if (kind[i] >= 2) continue;
     std::array<uint32_t, N> corner;
     std::array<uint32_t, E> edge{};
     std::copy_n(read[i].begin(), N, corner.begin());
@@ -185,6 +239,7 @@ InputMesh read_netgen_vol(const std::string& path) {
   std::vector<std::array<uint32_t, 6>> raw_tet_edges;   // a second-order tetrahedron's edge nodes
   std::vector<std::array<uint32_t, 3>> raw_face_edges;  // and a second-order triangle's
   std::vector<uint64_t> tet_lines, face_lines;
+  std::vector<SplitElement> split_volume, split_faces;  // pyramids, prisms, hexahedra; quadrilaterals
   while (true) {
     if (c.at_end()) c.fail("file ends without 'endmesh'");
     const std::string keyword(c.token("a section keyword"));
@@ -231,12 +286,12 @@ InputMesh read_netgen_vol(const std::string& path) {
     }
     if (keyword == "volumeelements") {
       read_elements<4, 6>(c, n, kVolumeElement, raw_tets, raw_tet_edges, tet_lines, out.tet_regions,
-                          other_volume);
+                          split_volume, other_volume);
       continue;
     }
     if (keyword == "surfaceelements" || keyword == "surfaceelementsgi" || keyword == "surfaceelementsuv") {
       read_elements<3, 3>(c, n, kSurfaceElement, raw_faces, raw_face_edges, face_lines, out.face_tags,
-                          other_faces);
+                          split_faces, other_faces);
       continue;
     }
     if (keyword == "materials") {
@@ -295,15 +350,35 @@ InputMesh read_netgen_vol(const std::string& path) {
     if (const auto& e = raw_face_edges[f]; e[0] != 0)
       for (uint32_t node : e) out.other_edge_nodes.push_back(corner(node, line));
   }
+  // The pyramids, prisms, hexahedra and quadrilaterals as the tetrahedra
+  // and triangles that split them (cell_split.h), each with its element's
+  // label: after the file's own, as gmsh's are.
+  std::map<size_t, uint64_t> split_cells;  // by corners
+  for (auto* elements : {&split_volume, &split_faces})
+    for (SplitElement& e : *elements) {
+      for (uint32_t& v : e.points) v = corner(v, e.line);
+      const size_t added = add_split_cell(e.points, e.corners, out);
+      // (Turned as Netgen turns its own tetrahedra, the other way from
+      // split_cell()'s: --exact wants one orientation throughout.)
+      if (e.corners > 4)
+        for (size_t t = out.tets.size() - added; t < out.tets.size(); ++t)
+          std::swap(out.tets[t][0], out.tets[t][1]);
+      auto& labels = e.corners == 4 ? out.face_tags : out.tet_regions;
+      labels.insert(labels.end(), added, e.label);
+      if (e.corners > 4) ++split_cells[e.corners];
+    }
   if (!out.tets.empty()) out.region_source = "materials (Netgen domains)";
   if (!out.tagged_faces.empty()) out.face_tag_source = "surface elements' boundary conditions (Netgen bcnr)";
   // (Second-order elements are read as linear ones: second_order.h.)
+  if (!split_cells.empty()) out.left_out.push_back(split_cells_note(split_cells));
   if (other_volume > 0)
     out.left_out.push_back(std::to_string(other_volume) +
-                           " volume elements that are not tetrahedra of 4 or 10 nodes");
+                           " volume elements that are not tetrahedra (4 or 10 nodes), pyramids (5, 13), "
+                           "prisms (6, 12, 15) or hexahedra (8, 20)");
   if (other_faces > 0)
-    out.left_out.push_back(std::to_string(other_faces) +
-                           " surface elements that are not triangles of 3 or 6 nodes");
+    out.left_out.push_back(
+        std::to_string(other_faces) +
+        " surface elements that are not triangles (3 or 6 nodes) or quadrilaterals (4, 8)");
   if (!other_records.empty()) {
     std::string list;
     for (const auto& [keyword, count] : other_records)
