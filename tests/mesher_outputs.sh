@@ -49,8 +49,9 @@ for f in a22 b22 a41 b41; do
 done
 # The same part meshed to second order (10-node tetrahedra, 6-node
 # triangles) is read as its linear cells: the stream of the linear mesh
-# from each .msh flavour and from meshio's .vtu of it (VTK's quadratic
-# cells), the regions and tagged faces kept, the edge nodes named.
+# from each .msh flavour, from meshio's .vtu of it (VTK's quadratic
+# cells) and from gmsh's Medit .mesh (TetrahedraP2), the regions and
+# tagged faces kept, the edge nodes named.
 for v in 22 41; do
   gmsh part.geo -3 -order 2 -format msh$v -o q$v.msh >/dev/null
   gmsh part.geo -3 -order 2 -bin -format msh$v -o qb$v.msh >/dev/null
@@ -64,10 +65,15 @@ for given, written in (("a41.msh", "l.vtu"), ("q41.msh", "q.vtu")):
     meshio.write(written, meshio.Mesh(m.points, m.cells, cell_data={"gmsh:physical": m.cell_data["gmsh:physical"]}))
 PY
 "$meshenc" l.vtu -o l.vtu.dtm >/dev/null 2>&1 || failed=1
-for f in q22.msh qb22.msh q41.msh qb41.msh q.vtu; do
+# (And gmsh's Medit .mesh of each: TetrahedraP2 and TrianglesP2, the refs
+# gmsh's elementary entities.)
+gmsh part.geo -3 -o l.mesh >/dev/null && gmsh part.geo -3 -order 2 -o q.mesh >/dev/null
+"$meshenc" l.mesh -o l.mesh.dtm >/dev/null 2>&1 || failed=1
+for f in q22.msh qb22.msh q41.msh qb41.msh q.vtu q.mesh; do
   "$meshenc" $f -o $f.dtm >$f.out 2>&1 || { cat $f.out; failed=1; }
   linear=a22.dtm
   [ $f = q.vtu ] && linear=l.vtu.dtm
+  [ $f = q.mesh ] && linear=l.mesh.dtm
   cmp -s $linear $f.dtm || { echo "$f: not the linear mesh's stream"; cat $f.out; failed=1; }
   grep -q "left out.*[0-9]* nodes on the edges of second-order elements ([0-9]* second-order tetrahedra)" $f.out ||
     { echo "$f: the edge nodes are not named as left out"; cat $f.out; failed=1; }

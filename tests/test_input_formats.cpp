@@ -742,7 +742,7 @@ TEST(InputFormats, MeditAndNetgenCellsOfOtherShapesAreSplit) {
 }
 
 // A second-order mesh (gmsh -order 2, VTK's quadratic cells, Netgen's
-// SecondOrder()) is read as its linear cells in every format: the corners
+// SecondOrder(), gmsh's Medit TetrahedraP2) is read as its linear cells in every format: the corners
 // are the points, in file order, with their fields; the nodes on the edges
 // are set aside (each on its edge, here its midpoint) and named as left out.
 TEST(InputFormats, SecondOrderElementsAreReadAsTheirLinearCells) {
@@ -818,6 +818,17 @@ TEST(InputFormats, SecondOrderElementsAreReadAsTheirLinearCells) {
            "</DataArray><DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">10 16 20</DataArray>"
            "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">24 22 10</DataArray></Cells>"
            "</Piece></UnstructuredGrid></VTKFile>\n"},
+      // (Medit's refs are the nodes' file indices, its field.)
+      {"quadratic.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n" + n + "\n" +
+                             [&] {
+                               std::string t;
+                               for (size_t i = 0; i < file.size(); ++i)
+                                 t += std::to_string(file[i].x) + " " + std::to_string(file[i].y) + " " +
+                                      std::to_string(file[i].z) + " " + std::to_string(i) + "\n";
+                               return t;
+                             }() +
+                             "TrianglesP2\n1\n" + listed(triangle, 1) + " 5\nTetrahedraP2\n1\n" +
+                             listed(vtk, 1) + " 1\nTetrahedra\n1\n" + listed(linear, 1) + " 1\nEnd\n"},
       {"quadratic.vol", "mesh3d\ndimension\n3\ngeomtype\n0\nsurfaceelements\n1\n 1 1 1 0 6" +
                             listed(triangle, 1) + "\nvolumeelements\n2\n1 10" + listed(netgen, 1) + "\n1 4" +
                             listed(linear, 1) + "\npoints\n" + n + "\n" + points_text + "endmesh\n"}};

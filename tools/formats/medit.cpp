@@ -10,28 +10,42 @@
 
 #include "cell_split.h"
 #include "render_util.h"
+#include "second_order.h"
 #include "text_cursor.h"
 
 namespace dtm {
 namespace {
 
-// Sections other than Vertices that we read past: how many vertex indices and
-// how many trailing integers (refs) each record has, or reals for vectors.
+// What a section's records are read as: tetrahedra (the regions by their
+// refs), triangles (tagged faces by their refs), cells split into
+// tetrahedra or triangles (cell_split.h), or records read past.
+enum class Kept { kNo, kTetrahedra, kTriangles, kSplit };
+
+// Sections other than Vertices: how many vertex indices and how many
+// trailing integers (refs) each record has, or reals for vectors; what it
+// is read as, and how many of its indices are corners (the rest a
+// second-order element's other nodes, as gmsh writes TetrahedraP2: the
+// edges (0,1) (1,2) (0,2) (0,3) (1,3) (2,3), VTK's order).
 struct SectionLayout {
   int indices;   // vertex indices (checked against the vertex count)
   int integers;  // other integers (refs, element numbers)
   int reals;
+  Kept kept = Kept::kNo;
+  int corners = 0;
 };
 const std::map<std::string, SectionLayout, std::less<>>& sections() {
   static const std::map<std::string, SectionLayout, std::less<>> kSections = {
       {"Edges", {2, 1, 0}},
-      {"Triangles", {3, 1, 0}},
-      {"Quadrilaterals", {4, 1, 0}},
-      {"Tetrahedra", {4, 1, 0}},
-      {"Pyramids", {5, 1, 0}},
-      {"Prisms", {6, 1, 0}},
-      {"Hexahedra", {8, 1, 0}},
-      {"Hexaedra", {8, 1, 0}},
+      {"EdgesP2", {3, 1, 0}},
+      {"Triangles", {3, 1, 0, Kept::kTriangles, 3}},
+      {"TrianglesP2", {6, 1, 0, Kept::kTriangles, 3}},
+      {"Quadrilaterals", {4, 1, 0, Kept::kSplit, 4}},
+      {"Tetrahedra", {4, 1, 0, Kept::kTetrahedra, 4}},
+      {"TetrahedraP2", {10, 1, 0, Kept::kTetrahedra, 4}},
+      {"Pyramids", {5, 1, 0, Kept::kSplit, 5}},
+      {"Prisms", {6, 1, 0, Kept::kSplit, 6}},
+      {"Hexahedra", {8, 1, 0, Kept::kSplit, 8}},
+      {"Hexaedra", {8, 1, 0, Kept::kSplit, 8}},
       {"Corners", {1, 0, 0}},
       {"RequiredVertices", {1, 0, 0}},
       {"Ridges", {0, 1, 0}},
@@ -46,14 +60,8 @@ const std::map<std::string, SectionLayout, std::less<>>& sections() {
   return kSections;
 }
 
-// A record's first N vertex indices (1-based, checked against the vertex
-// count) as 0-based ids.
-template <size_t N>
-std::array<uint32_t, N> zero_based(const std::array<int64_t, 8>& v) {
-  std::array<uint32_t, N> out{};
-  for (size_t k = 0; k < N; ++k) out[k] = static_cast<uint32_t>(v[k] - 1);
-  return out;
-}
+// A TetrahedraP2 record's edge nodes in kTetEdges' order (second_order.h).
+constexpr std::array<size_t, 6> kP2TetEdgeNodes = {4, 6, 7, 5, 8, 9};
 
 // A section's `n` records one a line, as Netgen, MMG, gmsh and meshio write
 // them, parsed on every core: record(i, fields) for each, its `count`
@@ -148,104 +156,101 @@ InputMesh read_medit(const std::string& path) {
     // (Not a structured binding: the record's lambda below reads them.)
     const int indices = layout->second.indices, integers = layout->second.integers,
               reals = layout->second.reals;
+    const Kept kept = layout->second.kept;
+    const auto corners = static_cast<size_t>(layout->second.corners);
     if (indices > 0 && !have_vertices) c.fail("'" + keyword + "' before 'Vertices'");
     const uint64_t n = c.count("a record count", limit / (indices + integers + reals));
-    const bool is_tets = keyword == "Tetrahedra", is_faces = keyword == "Triangles";
-    // Quadrilaterals, pyramids, prisms and hexahedra: read whole, then split
-    // (cell_split.h), each piece with the record's ref.
-    const bool is_split = keyword == "Quadrilaterals" || keyword == "Pyramids" || keyword == "Prisms" ||
-                          keyword == "Hexahedra" || keyword == "Hexaedra";
-    if (!is_tets && !is_faces && !is_split && n > 0) other_records[keyword] += n;
-    std::vector<std::array<uint32_t, 8>> split_nodes(is_split ? n : 0);
-    std::vector<int32_t> split_refs(is_split ? n : 0);
-    const size_t tets_before = out.tets.size(), regions_before = out.tet_regions.size();
-    const size_t faces_before = out.tagged_faces.size(), tags_before = out.face_tags.size();
-    if (is_tets) out.tets.resize(tets_before + n), out.tet_regions.resize(regions_before + n);
-    if (is_faces) out.tagged_faces.resize(faces_before + n), out.face_tags.resize(tags_before + n);
+    if (kept == Kept::kNo && n > 0) other_records[keyword] += n;
+    // The records kept: their vertices (0-based) and refs, added to the
+    // mesh once the section is read.
+    const auto width = static_cast<size_t>(indices);
+    std::vector<uint32_t> nodes(kept == Kept::kNo ? 0 : n * width);
+    std::vector<int32_t> refs(kept == Kept::kNo ? 0 : n);
     const uint64_t vertices = out.points.size();
     // The record's fields: its indices, then its integers, then its reals.
     const auto first_integer = static_cast<size_t>(indices),
                first_real = first_integer + static_cast<size_t>(integers);
     const size_t fields = first_real + static_cast<size_t>(reals);
     const bool fast = read_one_a_line(c, n, fields, [&](uint64_t i, std::span<const std::string_view> f) {
-      std::array<int64_t, 8> v{};
-      for (size_t k = 0; k < first_integer; ++k)
-        if (!parse_whole(f[k], v[k]) || v[k] < 1 || static_cast<uint64_t>(v[k]) > vertices) return false;
+      for (size_t k = 0; k < first_integer; ++k) {
+        int64_t v = 0;
+        if (!parse_whole(f[k], v) || v < 1 || static_cast<uint64_t>(v) > vertices) return false;
+        if (kept != Kept::kNo) nodes[i * width + k] = static_cast<uint32_t>(v - 1);
+      }
       for (size_t k = first_integer; k < first_real; ++k) {
         int64_t value = 0;
         if (!parse_whole(f[k], value)) return false;
-        if (k == first_integer && (is_tets || is_faces || is_split)) {
+        if (k == first_integer && kept != Kept::kNo) {
           if (value < INT32_MIN || value > INT32_MAX) return false;
-          (is_tets    ? out.tet_regions[regions_before + i]
-           : is_faces ? out.face_tags[tags_before + i]
-                      : split_refs[i]) = static_cast<int32_t>(value);
+          refs[i] = static_cast<int32_t>(value);
         }
       }
       for (size_t k = first_real; k < fields; ++k) {
         double x = 0;
         if (!parse_whole(f[k], x) || !std::isfinite(x)) return false;
       }
-      if (is_tets) out.tets[tets_before + i] = zero_based<4>(v);
-      if (is_faces) out.tagged_faces[faces_before + i] = zero_based<3>(v);
-      if (is_split) split_nodes[i] = zero_based<8>(v);
       return true;
     });
-    const auto add_split_cells = [&] {
-      for (uint64_t i = 0; i < split_nodes.size(); ++i) {
-        const size_t corners = static_cast<size_t>(indices);
-        const size_t added = add_split_cell(std::span(split_nodes[i]).first(corners), corners, out);
-        auto& labels = corners == 4 ? out.face_tags : out.tet_regions;
-        labels.insert(labels.end(), added, split_refs[i]);
-        if (corners > 4) ++split_cells[corners];
-        had_quads |= corners == 4;
+    if (!fast) {
+      for (uint64_t i = 0; i < n; ++i) {
+        for (size_t k = 0; k < width; ++k) {
+          const auto v = c.number<int64_t>("a vertex index");
+          if (v < 1 || static_cast<uint64_t>(v) > out.points.size())
+            c.fail("vertex index " + std::to_string(v) + " out of range 1.." +
+                   std::to_string(out.points.size()));
+          if (kept != Kept::kNo) nodes[i * width + k] = static_cast<uint32_t>(v - 1);
+        }
+        for (int k = 0; k < integers; ++k) {
+          const int64_t value = c.number<int64_t>("an integer");
+          // A cell's first integer is its ref: a tetrahedron's (and a
+          // split cell's) its region, a triangle's (and a
+          // quadrilateral's) its tag, a boundary condition's patch.
+          if (kept != Kept::kNo && k == 0) {
+            if (value < INT32_MIN || value > INT32_MAX) c.fail("a cell's ref out of the 32-bit range");
+            refs[i] = static_cast<int32_t>(value);
+          }
+        }
+        for (int k = 0; k < reals; ++k) c.coordinate();
       }
-    };
-    if (fast) {
-      add_split_cells();
-      continue;
     }
-    out.tets.resize(tets_before), out.tet_regions.resize(regions_before);
-    out.tagged_faces.resize(faces_before), out.face_tags.resize(tags_before);
-    for (uint64_t i = 0; i < n; ++i) {
-      std::array<int64_t, 8> v{};
-      for (int k = 0; k < indices; ++k) {
-        v[k] = c.number<int64_t>("a vertex index");
-        if (v[k] < 1 || static_cast<uint64_t>(v[k]) > out.points.size())
-          c.fail("vertex index " + std::to_string(v[k]) + " out of range 1.." +
-                 std::to_string(out.points.size()));
+    for (uint64_t i = 0; i < refs.size(); ++i) {
+      const std::span<const uint32_t> record(nodes.data() + i * width, width);
+      switch (kept) {
+        case Kept::kTetrahedra:
+          out.tets.push_back({record[0], record[1], record[2], record[3]});
+          out.tet_regions.push_back(refs[i]);
+          // (A second-order one's edge nodes go aside: second_order.h.)
+          if (width == 10) {
+            std::array<uint32_t, 6> edge;
+            for (size_t e = 0; e < 6; ++e) edge[e] = record[kP2TetEdgeNodes[e]];
+            add_tet_edge_nodes(out, edge);
+          }
+          break;
+        case Kept::kTriangles:
+          out.tagged_faces.push_back({record[0], record[1], record[2]});
+          out.face_tags.push_back(refs[i]);
+          out.other_edge_nodes.insert(out.other_edge_nodes.end(), record.begin() + 3, record.end());
+          break;
+        case Kept::kSplit: {
+          const size_t added = add_split_cell(record, corners, out);
+          auto& labels = corners == 4 ? out.face_tags : out.tet_regions;
+          labels.insert(labels.end(), added, refs[i]);
+          if (corners > 4) ++split_cells[corners];
+          had_quads |= corners == 4;
+          break;
+        }
+        case Kept::kNo:
+          break;
       }
-      for (int k = 0; k < integers; ++k) {
-        const int64_t value = c.number<int64_t>("an integer");
-        // A tetrahedron's integer is its ref: its region.
-        if (keyword == "Tetrahedra" && k == 0) {
-          if (value < INT32_MIN || value > INT32_MAX) c.fail("a tetrahedron's ref out of the 32-bit range");
-          out.tet_regions.push_back(static_cast<int32_t>(value));
-        }
-        // A triangle's is its tag (a boundary condition's patch).
-        if (keyword == "Triangles" && k == 0) {
-          if (value < INT32_MIN || value > INT32_MAX) c.fail("a triangle's ref out of the 32-bit range");
-          out.face_tags.push_back(static_cast<int32_t>(value));
-        }
-        // Another cell's is its region, a quadrilateral's its tag.
-        if (is_split && k == 0) {
-          if (value < INT32_MIN || value > INT32_MAX) c.fail("a cell's ref out of the 32-bit range");
-          split_refs[i] = static_cast<int32_t>(value);
-        }
-      }
-      for (int k = 0; k < reals; ++k) c.coordinate();
-      if (is_tets) out.tets.push_back(zero_based<4>(v));
-      if (is_faces) out.tagged_faces.push_back(zero_based<3>(v));
-      if (is_split) split_nodes[i] = zero_based<8>(v);
     }
-    add_split_cells();
   }
   if (!other_records.empty()) {
     std::string list;
     for (const auto& [keyword, count] : other_records)
       list += (list.empty() ? "" : ", ") + std::to_string(count) + " " + keyword;
     out.left_out.push_back(
-        "sections other than Vertices, Triangles, Quadrilaterals, Tetrahedra, Pyramids, Prisms and "
-        "Hexahedra (" +
+        "sections other than Vertices, Triangles, Quadrilaterals, Tetrahedra, Pyramids, Prisms, "
+        "Hexahedra, TrianglesP2 and TetrahedraP2 (" +
         list + ")");
   }
   if (!split_cells.empty()) out.left_out.push_back(split_cells_note(split_cells));
