@@ -152,6 +152,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   cell_value_section_.assign(layer.cell_values.begin(), layer.cell_values.end());
   order_section_.assign(layer.order.begin(), layer.order.end());
   exact_section_.assign(layer.exact.begin(), layer.exact.end());
+  edge_node_section_.assign(layer.edge_nodes.begin(), layer.edge_nodes.end());
   if (lh.bricked) {
     chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
     brick_depth_ = lh.brick_depth;
@@ -505,6 +506,28 @@ std::vector<uint32_t> ProgressiveDecoder::vertex_order(const TetMesh& dt) const 
     return {};
   }
   return order;
+}
+
+ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& level) const {
+  EdgeNodes out;
+  if (!has_edge_nodes() || !mesh_status_.ok() || level.kept.size() != level.mesh.cells.size()) return out;
+  out.edges = level_edges(level.mesh, level.kept, level.order);
+  EdgeNodeOffsets nodes;
+  const Status s = decode_edge_nodes(edge_node_section_, out.edges, header_.grid.qbits, nodes);
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level 0's edge nodes");
+    return {};
+  }
+  out.present = std::move(nodes.present);
+  out.points.resize(out.edges.corners.size());
+  for (size_t e = 0; e < out.points.size(); ++e) {
+    const GridPoint &a = points_[out.edges.corners[e][0]], &b = points_[out.edges.corners[e][1]];
+    const auto& d = nodes.offset[e];
+    out.points[e] = {(double(a.x) + double(b.x) + double(d[0])) / 2,
+                     (double(a.y) + double(b.y) + double(d[1])) / 2,
+                     (double(a.z) + double(b.z) + double(d[2])) / 2};
+  }
+  return out;
 }
 
 std::vector<std::array<uint32_t, 4>> ProgressiveDecoder::carved_cells() const {

@@ -24,6 +24,7 @@
 
 #include "codec/bricks/bricks.h"
 #include "codec/sections/cell_value_coder.h"
+#include "codec/sections/edge_node_coder.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/value_fields.h"
 #include "codec/stream/format.h"
@@ -164,6 +165,18 @@ class ProgressiveDecoder {
   // (`dt`: delaunay()'s result). Empty otherwise, and mesh_status() set if
   // the section is damaged.
   std::vector<uint32_t> vertex_order(const TetMesh& dt) const;
+  // With flag edge nodes (18.0, spec/FORMAT.md §3.11) and level 0 decoded:
+  // the nodes on its kept cells' edges (`level`: level_cells()' result):
+  // the edges (level_edges()), whether each has a node, and where, in grid
+  // units (a midpoint lies halfway between grid points). Empty otherwise,
+  // and mesh_status() set if the section is damaged.
+  struct EdgeNodes {
+    LevelEdges edges;
+    std::vector<uint8_t> present;
+    std::vector<std::array<double, 3>> points;
+  };
+  bool has_edge_nodes() const { return (header_.flags & kFlagEdgeNodes) && finest_level() == 0; }
+  EdgeNodes edge_nodes(const LevelCells& level) const;
 
  private:
   Status tables_read();
@@ -206,6 +219,7 @@ class ProgressiveDecoder {
   std::vector<uint8_t> cell_value_section_;  // level 0's
   std::vector<uint8_t> order_section_;       // level 0's
   std::vector<uint8_t> exact_section_;       // level 0's
+  std::vector<uint8_t> edge_node_section_;   // level 0's
   StreamHeader header_;
   std::optional<FieldSectionDecoder> value_decoder_;
   std::vector<FieldValues> fields_;

@@ -361,6 +361,51 @@ StatusOr<EncodedMesh> encode_in_bricks(const EncodeInput& input, const EncodeOpt
 
 }  // namespace
 
+namespace {
+
+// The input's edge nodes (a second-order mesh's) named by their corners'
+// grid ids, in `grid`'s units.
+StatusOr<std::vector<GridEdgeNode>> edge_nodes_on_grid(const EncodeInput& input, const QuantizedPoints& q,
+                                                       const Grid& grid) {
+  // Each corner's grid id and input point (exact mode: no two points share
+  // a grid point, so the grid ids name the input's points one to one).
+  const size_t n = q.input_to_point.size();
+  std::vector<uint32_t> input_of_grid;
+  if (input.tetrahedra_on_grid) {
+    input_of_grid.assign(q.points.size(), UINT32_MAX);
+    for (size_t i = 0; i < n; ++i) input_of_grid[q.input_to_point[i]] = static_cast<uint32_t>(i);
+  }
+  std::vector<GridEdgeNode> out;
+  out.reserve(input.edge_nodes.size());
+  for (const EncodeInput::EdgeNode& e : input.edge_nodes) {
+    GridEdgeNode g;
+    std::array<InputPoint, 2> ends;
+    for (size_t k = 0; k < 2; ++k) {
+      const uint32_t v = e.corners[k];
+      const uint32_t in =
+          input.tetrahedra_on_grid ? (v < input_of_grid.size() ? input_of_grid[v] : UINT32_MAX) : v;
+      if (in >= n || in >= input.points.size())
+        return invalid_input("an edge node on an edge whose corner is not a point");
+      g.corners[k] = q.input_to_point[in];
+      ends[k] = input.points[in];
+    }
+    const std::array<double, 3> at = {e.at.x, e.at.y, e.at.z};
+    const std::array<double, 3> a = {ends[0].x, ends[0].y, ends[0].z}, b = {ends[1].x, ends[1].y, ends[1].z};
+    // (The midpoint as a mesher computes it, to within rounding.)
+    double length = 0, off = 0;
+    for (size_t axis = 0; axis < 3; ++axis) {
+      length = std::max(length, std::abs(b[axis] - a[axis]));
+      off = std::max(off, std::abs(at[axis] - (a[axis] + b[axis]) / 2));
+      g.at[axis] = (at[axis] - grid.origin[axis]) / grid.step;
+    }
+    g.midpoint = off <= 1e-9 * length;
+    out.push_back(g);
+  }
+  return out;
+}
+
+}  // namespace
+
 Status check_exact_grid(std::span<const InputPoint> points,
                         std::span<const std::array<uint32_t, 4>> tetrahedra, const EncodePlan& plan) {
   const QuantizedPoints& q = plan.quantized;
@@ -552,6 +597,12 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   if (options.bricks && options.exchange && options.exchange->size() > 1)
     checked = agreed(*options.exchange, checked);
   DTM_RETURN_IF_ERROR(checked);
+  // --exact of a second-order mesh: its edge nodes on the grid, read
+  // before the points may be let go.
+  std::vector<GridEdgeNode> grid_edge_nodes;
+  if (options.exact && !input.edge_nodes.empty()) {
+    DTM_ASSIGN_OR_RETURN(grid_edge_nodes, edge_nodes_on_grid(input, q, plan.stream_grid));
+  }
   if (input.points_done) input.points_done();
   // The paper preset does not carve to the reference: it is only measured.
   std::optional<ReferenceShape> measured_only;
@@ -670,6 +721,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
     stream_options.exact_cells = reference_tets;
     stream_options.exact_ranks = options.exact_ranks;
     if (region_index.size() == reference_tets.size()) stream_options.exact_labels = region_index;
+    stream_options.edge_nodes = grid_edge_nodes;
   }
   if (with_cells)
     stream_options.cell_values =
@@ -704,6 +756,10 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   report.cell_value_bytes = stream.cell_value_bytes;
   report.order_bytes = stream.order_bytes;
   report.exact_bytes = stream.exact_bytes;
+  report.edge_node_bytes = stream.edge_node_bytes;
+  report.edge_nodes = stream.edge_nodes;
+  report.moved_edge_nodes = stream.moved_edge_nodes;
+  report.edge_nodes_dropped = stream.edge_nodes_dropped;
   report.exact_delaunay_cells = stream.exact_delaunay_cells;
   report.exact = stream.exact;
   report.streamed_levels = std::move(stream.streamed_levels);

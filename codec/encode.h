@@ -164,6 +164,16 @@ struct EncodeInput {
   // ids): a rank never needs them all (the others, when given, are
   // ignored), but with cell_fields, which need them all.
   std::span<const std::array<uint32_t, 4>> tetrahedra;
+  // A second-order mesh's nodes on its tetrahedra's edges
+  // (tools/formats/second_order.h), each edge once: its corners (as
+  // `tetrahedra` names points) and where the node lies. Kept with
+  // EncodeOptions::exact (format 18.0, spec/FORMAT.md §3.11: level 0's
+  // cells are the input's, and so are its edges); unused without it.
+  struct EdgeNode {
+    std::array<uint32_t, 2> corners;
+    InputPoint at;
+  };
+  std::span<const EdgeNode> edge_nodes;
   // Per tetrahedron, its region (material): the input's own label (a gmsh
   // physical volume, a Medit ref, ...); empty: none. Every level's cells
   // then carry the region that holds their centroid (format 9.0; bricked,
@@ -305,6 +315,13 @@ struct EncodeReport {
   // --exact: the exact cell section's bytes, the input cells that are
   // level 0's Delaunay cells, and the fill's figures (the rest).
   uint64_t exact_bytes = 0;
+  // --exact of a second-order mesh (18.0): the edge node section's bytes,
+  // the edges of level 0 with a node, and the nodes off their edge's
+  // midpoint (a curved boundary's).
+  uint64_t edge_node_bytes = 0;
+  uint64_t edge_nodes = 0;
+  uint64_t moved_edge_nodes = 0;
+  uint64_t edge_nodes_dropped = 0;  // given, not written (the exact cells fell back to 11.0's coding)
   uint64_t exact_delaunay_cells = 0;
   ExactStats exact;
   // Points merged by quantization whose values differed: each vertex keeps

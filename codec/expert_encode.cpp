@@ -1,15 +1,18 @@
 #include "codec/expert_encode.h"
 
 #include <algorithm>
+#include <cmath>
 #include <future>
 #include <iterator>
 #include <optional>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/carving_coder.h"
 #include "codec/sections/cell_value_coder.h"
+#include "codec/sections/edge_node_coder.h"
 #include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/sections/vertex_order_coder.h"
@@ -192,6 +195,56 @@ StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> p
   return e;
 }
 
+// Level 0's edge node section (18.0, spec/FORMAT.md §3.11): its edges as the
+// decoder walks them (`mesh`, `kept`, `order`: the exact level's cells, in
+// the decoder's numbering; `level_points` its points), each one's node
+// looked up by its corners' grid ids (`decode_order`), given as its offset
+// from the edge's midpoint in half grid steps.
+StatusOr<std::vector<uint8_t>> edge_node_section(const TetMesh& mesh, std::span<const uint8_t> kept,
+                                                 std::span<const uint32_t> order,
+                                                 std::span<const GridPoint> level_points,
+                                                 std::span<const GridEdgeNode> nodes,
+                                                 std::span<const uint32_t> decode_order, int qbits,
+                                                 EncodedStream& out) {
+  const auto key = [](uint32_t a, uint32_t b) {
+    return a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a;
+  };
+  std::unordered_map<uint64_t, uint32_t> node_of;  // by the edge's grid ids, the first given
+  node_of.reserve(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i)
+    node_of.try_emplace(key(nodes[i].corners[0], nodes[i].corners[1]), static_cast<uint32_t>(i));
+  const LevelEdges edges = level_edges(mesh, kept, order);
+  EdgeNodeOffsets offsets;
+  offsets.present.assign(edges.corners.size(), 0);
+  offsets.offset.assign(edges.corners.size(), {0, 0, 0});
+  const int64_t reach = edge_node_reach(qbits);
+  for (size_t e = 0; e < edges.corners.size(); ++e) {
+    const uint32_t a = edges.corners[e][0], b = edges.corners[e][1];
+    const auto it = node_of.find(key(decode_order[a], decode_order[b]));
+    if (it == node_of.end()) continue;
+    const GridEdgeNode& node = nodes[it->second];
+    offsets.present[e] = 1;
+    ++out.edge_nodes;
+    if (node.midpoint) continue;
+    const std::array<int64_t, 3> sum = {int64_t{level_points[a].x} + level_points[b].x,
+                                        int64_t{level_points[a].y} + level_points[b].y,
+                                        int64_t{level_points[a].z} + level_points[b].z};
+    auto& d = offsets.offset[e];
+    for (size_t axis = 0; axis < 3; ++axis) {
+      const double twice = 2 * node.at[axis];
+      if (!std::isfinite(twice) ||
+          std::abs(twice - static_cast<double>(sum[axis])) >= static_cast<double>(reach - 1))
+        return invalid_input(
+            "encode_stream: an edge node lies twice the grid's extent or more from its edge");
+      d[axis] = std::llround(twice) - sum[axis];
+    }
+    out.moved_edge_nodes += d != std::array<int64_t, 3>{0, 0, 0};
+  }
+  std::vector<uint8_t> section = encode_edge_nodes(edges, offsets, qbits);
+  out.edge_node_bytes = section.size();
+  return section;
+}
+
 }  // namespace
 
 StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<const GridPoint> points,
@@ -235,6 +288,15 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     if (!corrections) return invalid_input("encode_stream: face tags need a hierarchy carved to a reference");
   }
   const bool exact = !options.exact_cells.empty();
+  const bool edge_nodes = exact && !options.edge_nodes.empty();
+  if (!options.edge_nodes.empty()) {
+    if (!exact) return invalid_input("encode_stream: edge nodes need exact cells");
+    if (options.exact_ranks != ApexRanks::kAfterFlips)
+      return invalid_input("encode_stream: edge nodes need format 14.0's exact cells (format 18.0)");
+    for (const GridEdgeNode& e : options.edge_nodes)
+      if (e.corners[0] >= points.size() || e.corners[1] >= points.size() || e.corners[0] == e.corners[1])
+        return invalid_input("encode_stream: an edge node on an edge whose corners are not two points");
+  }
   if (exact) {
     if (!corrections)
       return invalid_input("encode_stream: exact cells need a hierarchy carved to a reference");
@@ -293,7 +355,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // (An exact stream's version is settled when its section is: 11.0 where
   // its apexes are ranked among all the candidates.)
   ApexRanks exact_ranks = options.exact_ranks;
-  h.version_major = exact                     ? kVersionMajorExact
+  h.version_major = edge_nodes                ? kVersionMajorEdgeNodes
+                    : exact                   ? kVersionMajorExact
                     : cell_data || keep_order ? kVersionMajorCellData
                     : regions || faces        ? kVersionMajorRegions
                     : corrections             ? kVersionMajorUnbricked
@@ -301,7 +364,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
                                               : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
             (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0) |
-            (cell_data ? kFlagCellData : 0) | (keep_order ? kFlagVertexOrder : 0) | (exact ? kFlagExact : 0);
+            (cell_data ? kFlagCellData : 0) | (keep_order ? kFlagVertexOrder : 0) | (exact ? kFlagExact : 0) |
+            (edge_nodes ? kFlagEdgeNodes : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
@@ -379,7 +443,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // sections, and the point coder followed by the value coder (on
   // bunny_1m, 2 cores: 5.4 s against 4.6 + 2.2 s).
   struct LayerSections {
-    std::vector<uint8_t> carving, regions, faces, cells, order, exact, values;
+    std::vector<uint8_t> carving, regions, faces, cells, order, exact, edge_nodes, values;
     uint64_t cell_hash = 0;
     LayerPoints points;
   };
@@ -454,6 +518,13 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       out_l.cells =
           cell_coder->encode_layer(ranks, cell_positions(level_points, cells), out.cell_field_bytes);
       out.level0_cells = cells.size();
+    }
+    // (Written whatever the exact cells' coding; dropped below if that
+    // fell back to 11.0's.)
+    if (edge_nodes && streamed[l] == 0 && exact_cells) {
+      DTM_ASSIGN_OR_RETURN(out_l.edge_nodes,
+                           edge_node_section(cells_mesh, kept, order, level_points, options.edge_nodes,
+                                             out.decode_order, grid.qbits, out));
     }
     if (keep_order && streamed[l] == 0) {
       // Each input vertex's number in the decoder's order.
@@ -532,10 +603,22 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     DTM_RETURN_IF_ERROR(cells.get());
     DTM_RETURN_IF_ERROR(points_status);
   }
-  if (exact && format_major_of(exact_ranks) != h.version_major) {
-    h.version_major = format_major_of(exact_ranks);
-    const std::vector<uint8_t> header = write_header(h);
-    std::copy(header.begin(), header.end(), out.bytes.begin());
+  // (The exact cells fell back to 11.0's coding, which has no edge nodes:
+  // the stream is 11.0's, without them, and says so.)
+  if (edge_nodes && format_major_of(exact_ranks) != kVersionMajorExact) {
+    out.edge_nodes_dropped = out.edge_nodes;
+    out.edge_nodes = out.moved_edge_nodes = out.edge_node_bytes = 0;
+    sections[0].edge_nodes.clear();
+    h.flags = static_cast<uint16_t>(h.flags & ~kFlagEdgeNodes);
+  }
+  // (An exact stream's version, and flags, as its sections settled them.)
+  if (exact) {
+    const uint8_t major = (h.flags & kFlagEdgeNodes) ? kVersionMajorEdgeNodes : format_major_of(exact_ranks);
+    if (major != h.version_major || (edge_nodes && !(h.flags & kFlagEdgeNodes))) {
+      h.version_major = major;
+      const std::vector<uint8_t> header = write_header(h);
+      std::copy(header.begin(), header.end(), out.bytes.begin());
+    }
   }
 
   for (size_t l = streamed.size(); l-- > 0;) {
@@ -552,7 +635,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.alpha = level.alpha;
     lh.cell_hash = s.cell_hash;
     const auto layer = write_layer(lh, s.points.payload, s.carving, s.values, s.points.section, s.regions,
-                                   s.faces, s.cells, s.order, s.exact);
+                                   s.faces, s.cells, s.order, s.exact, s.edge_nodes);
     out.cell_value_bytes += s.cells.size();
     out.face_bytes[streamed[l]] = s.faces.size();
     out.carving_bytes[streamed[l]] = s.carving.size();

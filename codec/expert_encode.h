@@ -25,6 +25,17 @@
 
 namespace dtm {
 
+// A node on an edge of the exact cells (a second-order mesh's): the edge's
+// corners (indices into `points`), where the node lies in the grid's units
+// (not rounded), and whether it is the midpoint of its edge in the input
+// (then it is the midpoint of the corners' grid points, whatever their
+// rounding).
+struct GridEdgeNode {
+  std::array<uint32_t, 2> corners;
+  std::array<double, 3> at;
+  bool midpoint = false;
+};
+
 struct StreamOptions {
   // Store each level's canonical cell-set hash, so that a decoder built
   // against another CGAL can prove it rebuilt the same meshes (meshdec --verify).
@@ -71,6 +82,10 @@ struct StreamOptions {
   // decoders 13.0, 12.0 or 11.0 (11.0 is also what the encoder falls back
   // to where the fit tests pass their budget).
   ApexRanks exact_ranks = ApexRanks::kAfterFlips;
+  // With exact_cells, of a second-order input (format 18.0, spec/FORMAT.md
+  // §3.11): the nodes on the exact cells' edges, each edge once; empty:
+  // none. Needs exact_ranks 14.0's.
+  std::span<const GridEdgeNode> edge_nodes;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
@@ -114,6 +129,14 @@ struct EncodedStream {
   uint64_t exact_bytes = 0;
   uint64_t exact_delaunay_cells = 0;
   ExactStats exact;
+  // The edge node section (18.0): its bytes, level 0's edges that have a
+  // node, and of those the nodes off their edge's midpoint.
+  uint64_t edge_node_bytes = 0;
+  uint64_t edge_nodes = 0;
+  uint64_t moved_edge_nodes = 0;
+  // Edge nodes given and not written: the exact cells fell back to 11.0's
+  // coding (its fit tests over their budget), which has none.
+  uint64_t edge_nodes_dropped = 0;
   // The hierarchy level of each stream level (finest first).
   std::vector<int> streamed_levels;
   // The order in which a decoder produces the vertices (coarsest layer

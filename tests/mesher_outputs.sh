@@ -13,7 +13,7 @@
 # graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
 # gmsh -save_all's volumes and surfaces in no physical group join none.
 # Second-order meshes (gmsh -order 2, Netgen's SecondOrder()) give their
-# linear mesh's stream; prisms and hexahedra (gmsh's, VTK's, Netgen's
+# linear mesh's stream (with --exact, their 10-node tetrahedra back); prisms and hexahedra (gmsh's, VTK's, Netgen's
 # boundary layer, Medit's) are read as tetrahedra.
 set -euo pipefail
 meshenc=$1
@@ -534,5 +534,68 @@ if len(bricked["levels"]) < 3 or any(l["reference_max_error"] > bricked["dmax"] 
     sys.exit("graded.msh: %d bricked levels, or one beyond D_max" % len(bricked["levels"]))
 PY
 
+# --exact keeps a second-order mesh's edge nodes (format 18.0): a gmsh ball
+# of 10-node tetrahedra (its boundary's nodes on the sphere, off their
+# edges' midpoints) and Netgen's second-order part (the pin's curved faces)
+# decode to the same 10-node tetrahedra, each node within half a grid step
+# of the input's, in .msh (which gmsh reads back), .vtu and .vtk; a format
+# of linear cells says what it does not write.
+cat > ball.geo <<'GEO'
+SetFactory("OpenCASCADE");
+Sphere(1) = {0, 0, 0, 1};
+Mesh.MeshSizeMax = 0.5;
+Physical Volume("ball", 1) = {1};
+GEO
+gmsh ball.geo -3 -order 2 -format msh41 -o ball2.msh >/dev/null
+for f in ball2.msh ng2.vol; do
+  "$meshenc" $f --exact -o $f.exact.dtm >$f.exact.out 2>&1 || { cat $f.exact.out; failed=1; }
+  grep -q "edge nodes: level 0's [0-9]* second-order edges' nodes" $f.exact.out ||
+    { echo "$f --exact: its edge nodes are not kept"; cat $f.exact.out; failed=1; }
+  grep -q "nodes on the edges of second-order elements" $f.exact.out &&
+    { echo "$f --exact: its kept edge nodes are named as left out"; cat $f.exact.out; failed=1; }
+  for ext in msh vtu vtk; do "$meshdec" $f.exact.dtm -o $f.out.$ext 2>/dev/null || failed=1; done
+  "$meshdec" $f.exact.dtm -o $f.out.mesh 2>$f.mesh.err || failed=1
+  grep -q "are not written: this format holds linear cells" $f.mesh.err || { echo "$f: .mesh's linear cells not said"; failed=1; }
+done
+gmsh ball2.msh.out.msh -0 -format msh22 -o ball_again.msh >/dev/null 2>&1 || { echo "gmsh does not read ball2.msh.out.msh"; failed=1; }
+# (--exact-v13, for older decoders: the linear cells, the nodes named.)
+"$meshenc" ball2.msh --exact-v13 -o ball_v13.dtm >ball_v13.out 2>&1 || { cat ball_v13.out; failed=1; }
+grep -q "left out.*nodes on the edges of second-order elements" ball_v13.out ||
+  { echo "ball2.msh --exact-v13: the edge nodes are not named as left out"; cat ball_v13.out; failed=1; }
+meshinfo=$(dirname "$meshenc")/meshinfo
+"$py" - "$("$meshinfo" ball2.msh.exact.dtm --json)" "$("$meshinfo" ng2.vol.exact.dtm --json)" <<'PY' || failed=1
+import json, sys
+import meshio
+import numpy as np
+def tetra10(path):
+    m = meshio.read(path)
+    return m.points, np.concatenate([c.data for c in m.cells if c.type == "tetra10"])
+pairs = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]  # meshio's (VTK's) order
+for given, info in (("ball2.msh", sys.argv[1]), ("ng2.vol", sys.argv[2])):
+    step = json.loads(info)["step"]
+    p, t = tetra10(given)
+    corners = np.unique(t[:, :4])
+    node = {}
+    for c in t:
+        for k, (a, b) in enumerate(pairs):
+            node[frozenset((c[a], c[b]))] = p[c[4 + k]]
+    for ext in ("msh", "vtu", "vtk"):
+        q, u = tetra10(given + ".out." + ext)
+        if len(u) != len(t):
+            sys.exit("%s.out.%s: %d 10-node tetrahedra, the input %d" % (given, ext, len(u), len(t)))
+        # Each decoded corner's input corner (the nearest: within half a
+        # step), each decoded node against its edge's in the input.
+        nearest = {i: corners[np.argmin(np.abs(p[corners] - q[i]).max(axis=1))] for i in np.unique(u[:, :4])}
+        worst, moved = 0.0, 0
+        for c in u:
+            for k, (a, b) in enumerate(pairs):
+                x = q[c[4 + k]]
+                worst = max(worst, np.abs(x - node[frozenset((nearest[c[a]], nearest[c[b]]))]).max())
+                moved += np.abs(x - (q[c[a]] + q[c[b]]) / 2).max() > 1e-6 * step
+        if worst > 0.5 * step * (1 + 1e-6):
+            sys.exit("%s.out.%s: an edge node %.3g steps from the input's" % (given, ext, worst / step))
+        if moved == 0:
+            sys.exit("%s.out.%s: no node off its edge's midpoint (the curved boundary's)" % (given, ext))
+PY
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed

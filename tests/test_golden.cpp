@@ -77,6 +77,28 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
                      EXPECT_EQ(hex(sum), w["checksum"].get<std::string>()) << f.description.name;
                    }
                  }
+                 // 18.0: level 0's edge nodes, their count, the moved ones'
+                 // and a checksum of their places in the section's order
+                 // (tests/golden/make.sh).
+                 if (want.contains("edge_nodes")) {
+                   const ProgressiveDecoder::LevelCells level = d.level_cells();
+                   const ProgressiveDecoder::EdgeNodes nodes = d.edge_nodes(level);
+                   ASSERT_TRUE(d.mesh_status().ok()) << d.mesh_status().message();
+                   const auto& w = want["edge_nodes"];
+                   uint64_t count = 0, moved = 0, sum = 0;
+                   for (size_t e = 0; e < nodes.present.size(); ++e) {
+                     if (!nodes.present[e]) continue;
+                     const GridPoint &a = d.points()[nodes.edges.corners[e][0]],
+                                     &b = d.points()[nodes.edges.corners[e][1]];
+                     const auto& x = nodes.points[e];
+                     moved += 2 * x[0] != a.x + b.x || 2 * x[1] != a.y + b.y || 2 * x[2] != a.z + b.z;
+                     const auto twice = [](double v) { return static_cast<uint64_t>(std::llround(2 * v)); };
+                     sum += ++count * (twice(x[0]) + 3 * twice(x[1]) + 5 * twice(x[2]));
+                   }
+                   EXPECT_EQ(count, w["nodes"].get<uint64_t>());
+                   EXPECT_EQ(moved, w["moved"].get<uint64_t>());
+                   EXPECT_EQ(hex(sum), w["checksum"].get<std::string>());
+                 }
                  // 9.0: the level's cells per region label.
                  if (!want.contains("region_cells")) return;
                  // (An exact level 0's cells are more than DT's: level_cells().)
@@ -175,6 +197,9 @@ INSTANTIATE_TEST_SUITE_P(Format16_0, GoldenStream, ::testing::Values("torus_288_
 // 17.0: the gmsh part's tagged faces in bricked layers, a face section in
 // each chunk.
 INSTANTIATE_TEST_SUITE_P(Format17_0, GoldenStream, ::testing::Values("two_materials_bricks_faces"));
+// 18.0: a second-order gmsh ball's own 10-node tetrahedra, their edge nodes
+// in an edge node section.
+INSTANTIATE_TEST_SUITE_P(Format18_0, GoldenStream, ::testing::Values("ball_order2_exact"));
 // 14.0 to 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
 // cell hash is theirs, as the encoder hashed the input's cells), its apexes
 // ranked among the candidates that fit (12.0), with the filled bits in the

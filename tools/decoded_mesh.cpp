@@ -1,8 +1,12 @@
 #include "tools/decoded_mesh.h"
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <set>
 #include <stdexcept>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "codec/region_decode.h"
 #include "common/parallel_for.h"
@@ -37,9 +41,105 @@ void renumber(OutputMesh& mesh, std::span<const uint32_t> order) {
     for (uint32_t& v : f) v = new_of_old[v];
 }
 
+// The nodes on level 0's edges (18.0), found before the vertices may be
+// renumbered: per cell and tagged face of `mesh`, each edge's node as its
+// rank among the nodes (kNone: none), and per node its edge's corners (the
+// decoder's numbering), where it lies (grid units) and whether its edge is
+// on the level's boundary (an edge of a face of a kept cell of `dt` with no
+// kept cell across: as boundary_vertices() finds the corners'; not the
+// interfaces between regions, which the section's surface has too).
+struct EdgeNodeParts {
+  std::vector<std::array<uint32_t, 6>> cells;
+  std::vector<std::array<uint32_t, 3>> faces;
+  std::vector<std::array<uint32_t, 2>> corners;
+  std::vector<std::array<double, 3>> at;
+  std::vector<uint8_t> on_boundary;
+};
+
+constexpr uint32_t kNone = UINT32_MAX;
+
+EdgeNodeParts edge_node_parts(const ProgressiveDecoder::EdgeNodes& nodes, const OutputMesh& mesh,
+                              const TetMesh& dt, std::span<const uint8_t> kept) {
+  EdgeNodeParts out;
+  const auto key = [](uint32_t a, uint32_t b) {
+    return a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a;
+  };
+  std::unordered_set<uint64_t> boundary;
+  for (size_t c = 0; c < dt.cells.size(); ++c) {
+    if (!kept[c]) continue;
+    for (size_t k = 0; k < 4; ++k) {
+      const int64_t across = dt.neighbors[c][k];
+      if (across >= 0 && kept[static_cast<size_t>(across)]) continue;
+      for (size_t i = 0; i < 4; ++i)
+        for (size_t j = i + 1; j < 4; ++j)
+          if (i != k && j != k) boundary.insert(key(dt.cells[c][i], dt.cells[c][j]));
+    }
+  }
+  std::unordered_map<uint64_t, uint32_t> rank;  // of each node, by its edge's corners
+  rank.reserve(nodes.edges.corners.size());
+  for (size_t e = 0; e < nodes.edges.corners.size(); ++e) {
+    if (!nodes.present[e]) continue;
+    const auto& c = nodes.edges.corners[e];
+    rank.emplace(key(c[0], c[1]), static_cast<uint32_t>(out.corners.size()));
+    out.corners.push_back(c);
+    out.at.push_back(nodes.points[e]);
+    out.on_boundary.push_back(boundary.count(key(c[0], c[1])) != 0);
+  }
+  const auto node = [&](uint32_t a, uint32_t b) {
+    const auto it = rank.find(key(a, b));
+    return it == rank.end() ? kNone : it->second;
+  };
+  out.cells.reserve(mesh.cells.size());
+  for (const auto& c : mesh.cells) {
+    std::array<uint32_t, 6> n;
+    for (size_t k = 0; k < 6; ++k) n[k] = node(c[kCellEdges[k][0]], c[kCellEdges[k][1]]);
+    out.cells.push_back(n);
+  }
+  for (const auto& f : mesh.faces)
+    out.faces.push_back({node(f[0], f[1]), node(f[1], f[2]), node(f[2], f[0])});
+  return out;
+}
+
+// The nodes as points of `mesh`, after its vertices (`new_of_old`: the
+// vertices' new numbers, empty for none), on a grid of half the step (an
+// edge's midpoint is a point of it; every coordinate the same double): each
+// at level 0, on the boundary with its edge, each field's value there its
+// edge's corners' mean (a float field's; an integer field's the lesser).
+void append_edge_nodes(OutputMesh& mesh, const EdgeNodeParts& parts, std::span<const uint32_t> new_of_old) {
+  mesh.grid.step /= 2;
+  for (GridPoint& p : mesh.points) p = {2 * p.x, 2 * p.y, 2 * p.z};
+  const auto base = static_cast<uint32_t>(mesh.points.size());
+  const auto vertex = [&](uint32_t v) { return new_of_old.empty() ? v : new_of_old[v]; };
+  for (size_t n = 0; n < parts.at.size(); ++n) {
+    const auto& at = parts.at[n];
+    mesh.points.push_back({static_cast<int32_t>(std::llround(2 * at[0])),
+                           static_cast<int32_t>(std::llround(2 * at[1])),
+                           static_cast<int32_t>(std::llround(2 * at[2]))});
+    if (!mesh.level.empty()) mesh.level.push_back(0);
+    if (!mesh.boundary.empty()) mesh.boundary.push_back(parts.on_boundary[n]);
+    const uint32_t a = vertex(parts.corners[n][0]), b = vertex(parts.corners[n][1]);
+    for (OutputField& f : mesh.fields) {
+      const auto components = static_cast<size_t>(f.components);
+      const ValueType type = value_type(f.type);
+      for (size_t c = 0; c < components; ++c) {
+        const double va = value_of(f.bits[a * components + c], type),
+                     vb = value_of(f.bits[b * components + c], type);
+        f.bits.push_back(bits_of(is_float(type) ? (va + vb) / 2 : std::min(va, vb), type));
+      }
+    }
+  }
+  const auto point = [&](uint32_t rank) { return rank == kNone ? kNoEdgePoint : base + rank; };
+  mesh.edge_nodes = parts.at.size();
+  mesh.cell_edge_nodes.reserve(parts.cells.size());
+  for (const auto& c : parts.cells)
+    mesh.cell_edge_nodes.push_back(
+        {point(c[0]), point(c[1]), point(c[2]), point(c[3]), point(c[4]), point(c[5])});
+  for (const auto& f : parts.faces) mesh.face_edge_nodes.push_back({point(f[0]), point(f[1]), point(f[2])});
+}
+
 }  // namespace
 
-OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input) {
+OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input, bool with_edge_nodes) {
   OutputMesh mesh;
   mesh.grid = decoder.header().grid;
   mesh.points = decoder.points();
@@ -93,13 +193,27 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
   for (const FieldValues& f : decoder.fields())
     mesh.fields.push_back(
         {f.description.name, scalar_type(f.description.type), f.description.components, f.bits});
+  // With the nodes on level 0's edges (18.0, a second-order input's), which
+  // edges have them, in the decoder's numbering.
+  std::optional<EdgeNodeParts> edge_nodes;
+  if (with_edge_nodes && decoder.has_edge_nodes()) {
+    const ProgressiveDecoder::EdgeNodes nodes = decoder.edge_nodes(level);
+    if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+    edge_nodes = edge_node_parts(nodes, mesh, dt, in_mesh);
+  }
   // With the input's numbering (10.0, --keep-order): vertex k of the output
   // is the input's vertex k.
+  std::vector<uint32_t> new_of_old;
   if (decoder.header().flags & kFlagVertexOrder) {
     const std::vector<uint32_t> numbering = decoder.vertex_order(dt);
     if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
-    if (!numbering.empty()) renumber(mesh, numbering);
+    if (!numbering.empty()) {
+      renumber(mesh, numbering);
+      new_of_old.resize(numbering.size());
+      for (uint32_t k = 0; k < numbering.size(); ++k) new_of_old[numbering[k]] = k;
+    }
   }
+  if (edge_nodes) append_edge_nodes(mesh, *edge_nodes, new_of_old);
   return mesh;
 }
 

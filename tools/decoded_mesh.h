@@ -16,8 +16,12 @@
 namespace dtm {
 
 // Throws std::runtime_error naming `input` if the points cannot make the
-// level's triangulation (a hostile stream).
-OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input);
+// level's triangulation (a hostile stream). `with_edge_nodes`: level 0 of
+// an 18.0 stream (meshenc --exact of a second-order mesh) with the nodes on
+// its cells' edges (OutputMesh::edge_nodes: second-order cells), for the
+// writers that hold them; without, its linear cells.
+OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input,
+                        bool with_edge_nodes = false);
 
 // The cells of `whole` whose bounding box (of grid points) meets `box`,
 // with what the level carries on them: their vertices in the whole's order

@@ -342,6 +342,11 @@ int run_region(const Command& c, dtm::MeshFormat format) {
     decode(c, decoder, verifier, display);
     const dtm::OutputMesh mesh =
         dtm::cut_to_box(dtm::decoded_mesh(decoder, c.input), dtm::grid_box_of(header.grid, lo, hi));
+    if (decoder.has_edge_nodes() && !c.quiet)
+      std::fprintf(
+          stderr,
+          "meshdec: the nodes on level 0's edges (a second-order mesh's) are not written: a box holds "
+          "the linear cells\n");
     display.start("writing " + c.output);
     write_output(c, mesh, format);
     display.finish();
@@ -417,7 +422,14 @@ int run(const Command& c) {
   dtm::ProgressiveDecoder decoder(options);
   Verifier verifier;
   decode(c, decoder, verifier, display);
-  const dtm::OutputMesh mesh = dtm::decoded_mesh(decoder, c.input);
+  const dtm::OutputMesh mesh = dtm::decoded_mesh(decoder, c.input, dtm::writes_edge_nodes(format));
+  // (Level 0 of a second-order input's exact stream, in a format of linear
+  // cells: said.)
+  if (decoder.has_edge_nodes() && !dtm::writes_edge_nodes(format) && !c.quiet)
+    std::fprintf(
+        stderr,
+        "meshdec: the nodes on level 0's edges (a second-order mesh's) are not written: this format holds "
+        "linear cells (.vtu, .vtk and .msh hold 10-node tetrahedra)\n");
   display.start("writing " + c.output);
   write_output(c, mesh, format);
   display.finish();
@@ -447,8 +459,9 @@ int run(const Command& c) {
         note += text;
       }
     }
+    if (mesh.edge_nodes > 0) note = ", " + std::to_string(mesh.edge_nodes) + " nodes on their edges" + note;
     std::fprintf(stderr, "meshdec: level %d: %zu vertices, %zu tetrahedra%s\n", decoder.finest_level(),
-                 mesh.points.size(), mesh.cells.size(), note.c_str());
+                 mesh.points.size() - mesh.edge_nodes, mesh.cells.size(), note.c_str());
   }
   return 0;
 }

@@ -13,6 +13,7 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <unordered_set>
 
 #include "codec/blocks/reference_share.h"
 #include "codec/encode.h"
@@ -23,6 +24,7 @@
 #include "tools/atomic_file.h"
 #include "tools/field_types.h"
 #include "tools/formats/input.h"
+#include "tools/formats/second_order.h"
 #include "tools/formats/tetgen.h"
 #include "tools/huge_pages.h"
 #include "tools/mpi_session.h"
@@ -388,6 +390,25 @@ dtm::InputMesh read(const Command& c) {
 }
 
 using Tet = std::array<uint32_t, 4>;
+
+// --exact of a second-order mesh: the nodes on its tetrahedra's edges, each
+// edge once (the first tetrahedron's that names it), its corners the grid
+// ids the encoder's tetrahedra name (`input_to_point`).
+std::vector<dtm::EncodeInput::EdgeNode> tetrahedra_edge_nodes(const dtm::InputMesh& in,
+                                                              std::span<const uint32_t> input_to_point) {
+  std::vector<dtm::EncodeInput::EdgeNode> out;
+  std::unordered_set<uint64_t> seen;
+  for (size_t t = 0; t < in.tet_edge_nodes.size() && t < in.tets.size(); ++t)
+    for (size_t k = 0; k < 6; ++k) {
+      const uint32_t node = in.tet_edge_nodes[t][k];
+      if (node == dtm::InputMesh::kNoEdgeNode) continue;
+      const uint32_t a = input_to_point[in.tets[t][static_cast<size_t>(dtm::kTetEdges[k][0])]],
+                     b = input_to_point[in.tets[t][static_cast<size_t>(dtm::kTetEdges[k][1])]];
+      if (seen.insert(a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a).second)
+        out.push_back({{a, b}, in.edge_points[node]});
+    }
+  return out;
+}
 
 // Under mpirun, a TetGen .ele read in parts: each rank parses its range of
 // the file's bytes and sends each tetrahedron to the ranks that hold it
@@ -843,6 +864,24 @@ int run(Command& c) {
     for (const auto& f : in.fields) names += (names.empty() ? "'" : ", '") + f.name + "'";
     in.left_out.push_back("the per-vertex fields " + names + " (--no-fields)");
   }
+  // --exact keeps a second-order mesh's tetrahedra's edge nodes (format
+  // 18.0): what is left out of them says so.
+  // (Not --exact-v13 and older: their streams have none.)
+  const bool keep_edge_nodes = c.encode.exact && c.encode.exact_ranks == dtm::ApexRanks::kAfterFlips &&
+                               !in.tet_edge_nodes.empty() && !in.tets.empty();
+  if (keep_edge_nodes) {
+    const std::string was =
+        std::to_string(in.edge_points.size()) + " nodes on the edges of second-order elements";
+    for (auto it = in.left_out.begin(); it != in.left_out.end(); ++it)
+      if (it->rfind(was, 0) == 0) {
+        if (const std::string now = dtm::edge_nodes_note(in, true, !c.no_fields && !in.fields.empty());
+            now.empty())
+          in.left_out.erase(it);
+        else
+          *it = now;
+        break;
+      }
+  }
   // Whatever the stream will not hold, named on standard error (and in the
   // report); --strict refuses the input instead.
   // (Under mpirun every rank reads the input: rank 0 says it once.)
@@ -871,6 +910,14 @@ int run(Command& c) {
   if (c.encode.exact && !in.tets.empty())
     if (const dtm::Status s = dtm::check_exact_grid(in.points, in.tets, *plan); !s.ok())
       throw std::runtime_error(c.input + ": " + s.message());
+  // --exact of a second-order mesh: its tetrahedra's edge nodes ride on
+  // level 0's cells (format 18.0), named by their corners' grid ids, before
+  // the tetrahedra are put on the grid.
+  std::vector<dtm::EncodeInput::EdgeNode> edge_nodes;
+  if (keep_edge_nodes) {
+    edge_nodes = tetrahedra_edge_nodes(in, plan->quantized.input_to_point);
+    input.edge_nodes = edge_nodes;
+  }
   // Whether the input has tetrahedra (a rank's share may have none).
   const bool with_reference = !in.tets.empty() || !in.tetgen_ele.empty();
   std::optional<dtm::ReferenceShare> share;  // under mpirun, this rank's, handed to the encoder
@@ -1028,6 +1075,19 @@ int run(Command& c) {
           static_cast<unsigned long long>(r.exact.second_ring),
           static_cast<unsigned long long>(r.exact.seeds));
     }
+    if (r.edge_nodes_dropped > 0)
+      std::fprintf(
+          stderr,
+          "%s: left out (the stream does not hold it): the %llu nodes on level 0's edges: the exact "
+          "cells fell back to format 11.0's coding (its fit tests over their budget), which holds none\n",
+          c.input.c_str(), static_cast<unsigned long long>(r.edge_nodes_dropped));
+    if (r.edge_nodes > 0)
+      std::printf(
+          "  edge nodes: level 0's %llu second-order edges' nodes in %llu bytes (%.2f bits per vertex; %llu "
+          "off their edge's midpoint, %.2f bits each)\n",
+          static_cast<unsigned long long>(r.edge_nodes), static_cast<unsigned long long>(r.edge_node_bytes),
+          8.0 * r.edge_node_bytes / vertices, static_cast<unsigned long long>(r.moved_edge_nodes),
+          r.moved_edge_nodes ? 8.0 * r.edge_node_bytes / r.moved_edge_nodes : 0.0);
     if (r.order_bytes > 0)
       std::printf("  vertex order (the input's numbering of level 0): %llu bytes, %.2f bits per vertex\n",
                   static_cast<unsigned long long>(r.order_bytes), 8.0 * r.order_bytes / vertices);

@@ -73,6 +73,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
   j["bricks"] = (h.flags & kFlagBricks) != 0;
   j["vertex_order"] = (h.flags & kFlagVertexOrder) != 0;
   j["exact"] = (h.flags & kFlagExact) != 0;
+  j["edge_nodes"] = (h.flags & kFlagEdgeNodes) != 0;
   j["level_count"] = h.level_count;
   j["vertices"] = h.vertex_count;
   j["bytes"] = s.bytes;
@@ -127,6 +128,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                           {"cell_value_bytes", l.header.cell_value_bytes},
                           {"order_bytes", l.header.order_bytes},
                           {"exact_bytes", l.header.exact_bytes},
+                          {"edge_node_bytes", l.header.edge_node_bytes},
                           {"candidate_kinds", l.header.candidate_kinds},
                           {"candidate_bytes", l.header.candidate_bytes},
                           {"alpha", l.header.alpha * step},

@@ -158,6 +158,10 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
     return corrupt("exact cells flagged in a bricked stream");
   if ((h.flags & kFlagExact) && !(h.flags & kFlagCarvingCorrections))
     return corrupt("exact cells flagged without carving corrections");
+  if ((h.flags & kFlagEdgeNodes) && h.version_major < 18)
+    return corrupt("edge nodes flagged in a stream before 18.0");
+  if ((h.flags & kFlagEdgeNodes) && !(h.flags & kFlagExact))
+    return corrupt("edge nodes flagged without exact cells");
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
   for (double o : h.grid.origin)
@@ -170,7 +174,8 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> carving, std::span<const uint8_t> values,
                                  std::span<const uint8_t> candidates, std::span<const uint8_t> regions,
                                  std::span<const uint8_t> faces, std::span<const uint8_t> cell_values,
-                                 std::span<const uint8_t> order, std::span<const uint8_t> exact) {
+                                 std::span<const uint8_t> order, std::span<const uint8_t> exact,
+                                 std::span<const uint8_t> edge_nodes) {
   h.candidate_bytes = static_cast<uint32_t>(candidates.size());
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
@@ -180,6 +185,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   h.cell_value_bytes = static_cast<uint32_t>(cell_values.size());
   h.order_bytes = static_cast<uint32_t>(order.size());
   h.exact_bytes = static_cast<uint32_t>(exact.size());
+  h.edge_node_bytes = static_cast<uint32_t>(edge_nodes.size());
   std::vector<uint8_t> body(candidates.begin(), candidates.end());
   body.insert(body.end(), payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
@@ -189,6 +195,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   body.insert(body.end(), cell_values.begin(), cell_values.end());
   body.insert(body.end(), order.begin(), order.end());
   body.insert(body.end(), exact.begin(), exact.end());
+  body.insert(body.end(), edge_nodes.begin(), edge_nodes.end());
   FieldWriter writer;
   writer.trailer = body;
   visit_fields(h, writer);
@@ -274,6 +281,11 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
   if (h.level != 0 && h.exact_bytes != 0) return corrupt("an exact cell section in a layer but level 0's");
   if (h.level == 0 && (header_.flags & kFlagExact) && h.exact_bytes == 0)
     return corrupt("level 0's layer without its exact cell section");
+  if (!(header_.flags & kFlagEdgeNodes) && h.edge_node_bytes != 0)
+    return corrupt("an edge node section present without its flag");
+  if (h.level != 0 && h.edge_node_bytes != 0) return corrupt("an edge node section in a layer but level 0's");
+  if (h.level == 0 && (header_.flags & kFlagEdgeNodes) && h.edge_node_bytes == 0)
+    return corrupt("level 0's layer without its edge node section");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
     return corrupt("candidates at the base level, which has no coarser level");
@@ -339,7 +351,8 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   layer.cell_values = body.subspan(values_at + lh.value_bytes, lh.cell_value_bytes);
   const uint64_t order_at = values_at + lh.value_bytes + lh.cell_value_bytes;
   layer.order = body.subspan(order_at, lh.order_bytes);
-  layer.exact = body.subspan(order_at + lh.order_bytes);
+  layer.exact = body.subspan(order_at + lh.order_bytes, lh.exact_bytes);
+  layer.edge_nodes = body.subspan(order_at + lh.order_bytes + lh.exact_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();

@@ -21,6 +21,8 @@
 //              layer only: the input's numbering of level 0's vertices)
 //            + exact cell section (11.0 to 13.0, kFlagExact, level 0's layer only:
 //              the input's cells that are not Delaunay cells)
+//            + edge node section (18.0, kFlagEdgeNodes, level 0's layer
+//              only: the nodes on the edges of a second-order input's cells)
 //   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
 //            (codec/bricks/bricks.h: each brick's new points and corrections)
 #pragma once
@@ -58,8 +60,10 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // section, spec/FORMAT.md §3.5); 16.0 when a bricked stream's level 0
 // carries cell data (each of its chunks a cell value section); 17.0 when a
 // bricked stream's levels carry tagged faces (each chunk a face section);
-// the decoder reads 2.x to 17.x.
-inline constexpr uint8_t kVersionMajor = 17;
+// 18.0 when an exact level 0 carries its edges' nodes (kFlagEdgeNodes);
+// the decoder reads 2.x to 18.x.
+inline constexpr uint8_t kVersionMajor = 18;
+inline constexpr uint8_t kVersionMajorEdgeNodes = 18;
 inline constexpr uint8_t kVersionMajorBrickedFaces = 17;
 inline constexpr uint8_t kVersionMajorBrickedCellData = 16;
 inline constexpr uint8_t kVersionMajorBrickedRegions = 15;
@@ -108,9 +112,13 @@ inline constexpr uint16_t kFlagVertexOrder = 128;
 // its carving section keeps the Delaunay cells that are input cells and its
 // layer carries an exact cell section with the others; not with kFlagBricks.
 inline constexpr uint16_t kFlagExact = 256;
+// 18.0: level 0's layer carries an edge node section: the node on each
+// edge of the input's second-order cells (codec/sections/edge_node_coder.h);
+// only with kFlagExact, whose level 0's edges are the input's.
+inline constexpr uint16_t kFlagEdgeNodes = 512;
 inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues |
                                         kFlagBricks | kFlagRegions | kFlagFaces | kFlagCellData |
-                                        kFlagVertexOrder | kFlagExact;
+                                        kFlagVertexOrder | kFlagExact | kFlagEdgeNodes;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -153,6 +161,9 @@ struct LayerHeader {
   // 11.0 and later: the exact cell section, after it (0 but in level 0's
   // layer of a stream with kFlagExact).
   uint32_t exact_bytes = 0;
+  // 18.0 and later: the edge node section, after it (0 but in level 0's
+  // layer of a stream with kFlagEdgeNodes).
+  uint32_t edge_node_bytes = 0;
   // Bricked layers (8.0): the largest circumradius of a kept cell (at least
   // alpha; larger cells carry no correction bit), the bricks' octree depth,
   // and the sizes of the index and of the chunks after it.
@@ -168,7 +179,7 @@ struct LayerHeader {
   uint64_t body_bytes() const {
     if (bricked) return uint64_t{index_bytes} + chunk_bytes;
     return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + face_bytes +
-           value_bytes + cell_value_bytes + order_bytes + exact_bytes;
+           value_bytes + cell_value_bytes + order_bytes + exact_bytes + edge_node_bytes;
   }
 };
 
@@ -228,6 +239,7 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
     v.template field<uint32_t>("order_bytes", h.order_bytes);
   }
   if (h.format_major >= 11) v.template field<uint32_t>("exact_bytes", h.exact_bytes);
+  if (h.format_major >= 18) v.template field<uint32_t>("edge_node_bytes", h.edge_node_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -275,7 +287,9 @@ static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_si
                   layer_header_size(6) == 46 && kLayerHeaderSize == 51 && kBrickedLayerHeaderSize == 55 &&
                   kRegionLayerHeaderSize == 59 && layer_header_size(9, true) == 55 &&
                   layer_header_size(10) == 67 && layer_header_size(10, true) == 55 &&
-                  layer_header_size(11) == 71 && layer_header_size(11, true) == 55,
+                  layer_header_size(11) == 71 && layer_header_size(11, true) == 55 &&
+                  layer_header_size(17) == 71 && layer_header_size(18) == 75 &&
+                  layer_header_size(18, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -292,7 +306,8 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> candidates = {},
                                  std::span<const uint8_t> regions = {}, std::span<const uint8_t> faces = {},
                                  std::span<const uint8_t> cell_values = {},
-                                 std::span<const uint8_t> order = {}, std::span<const uint8_t> exact = {});
+                                 std::span<const uint8_t> order = {}, std::span<const uint8_t> exact = {},
+                                 std::span<const uint8_t> edge_nodes = {});
 
 // Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
 // the checksum computed), the index, the chunks.
@@ -310,7 +325,8 @@ struct Layer {
   std::span<const uint8_t> values;
   std::span<const uint8_t> cell_values;
   std::span<const uint8_t> order;
-  std::span<const uint8_t> exact;  // 11.0: the exact cell section
+  std::span<const uint8_t> exact;       // 11.0: the exact cell section
+  std::span<const uint8_t> edge_nodes;  // 18.0: the edge node section
   // A bricked layer's index (checksummed with the header) and chunks (each
   // checked against its checksum in the index when it is decoded).
   std::span<const uint8_t> index;

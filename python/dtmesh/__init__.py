@@ -126,6 +126,14 @@ class Mesh:
         cell_data: the stream's per-cell arrays by name, each in its stored
             dtype, shape (M,) or (M, components): level 0 only (coarser
             levels carry none, and have this empty).
+        edge_nodes: int64, M x 6, level 0 of an exact stream of a
+            second-order mesh (format 18.0, ``meshenc --exact``): per
+            tetrahedron the points on its edges (0,1) (0,2) (0,3) (1,2) (1,3)
+            (2,3), -1 where it has none; those points follow the vertices in
+            ``points`` (at level 0, with the fields' values there their
+            edge's corners' mean). Empty (0 x 6) otherwise.
+        face_edge_nodes: int64, F x 3, the same for the tagged faces' edges
+            (0,1) (1,2) (2,0).
     """
 
     points: np.ndarray
@@ -141,6 +149,8 @@ class Mesh:
     face_tags: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int32))
     face_tag_names: Dict[int, str] = field(default_factory=dict)
     cell_data: Dict[str, np.ndarray] = field(default_factory=dict)
+    edge_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 6), np.int64))
+    face_edge_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.int64))
 
     def to_meshio(self):
         """This level as a ``meshio.Mesh``: the fields, ``level`` and ``boundary`` as point data;
@@ -154,6 +164,11 @@ class Mesh:
         if self.boundary.size:  # (a part read by box or piece has none)
             point_data["boundary"] = self.boundary.astype(np.uint8)
         cells = [("tetra", self.tetrahedra.astype(np.int64))]
+        # (A second-order level whose every cell has its edge nodes: tetra10,
+        # the nodes in meshio's (VTK's) order.)
+        second_order = self.edge_nodes.size > 0 and bool((self.edge_nodes >= 0).all())
+        if second_order:
+            cells = [("tetra10", np.hstack([cells[0][1], self.edge_nodes[:, [0, 3, 1, 2, 4, 5]]]))]
         cell_data = {}
         field_data = {}
         cell_sets = {}
@@ -161,7 +176,10 @@ class Mesh:
             # As gmsh's physical tags: a tetrahedron's region, a face's tag.
             physical = [self.regions if self.regions.size else np.zeros(len(self.tetrahedra), np.int32)]
             if self.face_tags.size:
-                cells.append(("triangle", self.faces.astype(np.int64)))
+                if second_order and bool((self.face_edge_nodes >= 0).all()):
+                    cells.append(("triangle6", np.hstack([self.faces.astype(np.int64), self.face_edge_nodes])))
+                else:
+                    cells.append(("triangle", self.faces.astype(np.int64)))
                 physical.append(self.face_tags)
             # (gmsh:physical, as meshio names them for every format: a further
             # cell array beside it breaks meshio's own gmsh round trip.)
@@ -366,7 +384,8 @@ def _mesh_of(d: Dict[str, Any]) -> Mesh:
                 level_count=d["level_count"], vertex_levels=d["vertex_levels"],
                 boundary=d["boundary"].astype(bool), regions=d["regions"],
                 region_names=dict(d["region_names"]), faces=d["faces"], face_tags=d["face_tags"],
-                face_tag_names=dict(d["face_tag_names"]))
+                face_tag_names=dict(d["face_tag_names"]), edge_nodes=d["edge_nodes"],
+                face_edge_nodes=d["face_edge_nodes"])
 
 
 def _as_bytes(data: Union[Bytes, str, os.PathLike]) -> bytes:

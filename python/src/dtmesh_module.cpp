@@ -252,6 +252,17 @@ py::dict level_dict(const dtm::OutputMesh& mesh, int level, int level_count) {
   d["faces"] = faces;
   d["face_tags"] = array_of(mesh.face_tags, {static_cast<py::ssize_t>(mesh.face_tags.size())});
   d["face_tag_names"] = mesh.face_tag_names;
+  // (18.0, level 0 of a second-order mesh's exact stream: the points on
+  // each cell's and tagged face's edges, -1 for none; empty without.)
+  const auto nodes = [](const auto& per_element, size_t width) {
+    std::vector<int64_t> flat;
+    flat.reserve(per_element.size() * width);
+    for (const auto& e : per_element)
+      for (uint32_t v : e) flat.push_back(v == dtm::kNoEdgePoint ? -1 : int64_t{v});
+    return array_of(flat, {static_cast<py::ssize_t>(per_element.size()), static_cast<py::ssize_t>(width)});
+  };
+  d["edge_nodes"] = nodes(mesh.cell_edge_nodes, 6);
+  d["face_edge_nodes"] = nodes(mesh.face_edge_nodes, 3);
   d["level"] = level;
   d["level_count"] = level_count;
   return d;
@@ -264,7 +275,7 @@ py::dict finest_level_dict(const dtm::ProgressiveDecoder& decoder) {
   {
     py::gil_scoped_release release;
     try {
-      mesh.emplace(dtm::decoded_mesh(decoder, "stream"));
+      mesh.emplace(dtm::decoded_mesh(decoder, "stream", true));
     } catch (const std::exception& e) {
       failure = e.what();
     }
@@ -298,7 +309,7 @@ class Decoder {
       if (!failure.empty()) return;
       if (!meshes) return levels.emplace_back(l.level, dtm::OutputMesh{}), void();
       try {
-        levels.emplace_back(l.level, dtm::decoded_mesh(d, "stream"));
+        levels.emplace_back(l.level, dtm::decoded_mesh(d, "stream", true));
       } catch (const std::exception& e) {
         failure = e.what();
       }

@@ -25,7 +25,13 @@ def meshdec_level(stream, tmp_path, level=None):
 def assert_same_level(mesh, reference):
     assert mesh.points.dtype == np.float64
     np.testing.assert_array_equal(mesh.points, reference.points)
-    np.testing.assert_array_equal(mesh.tetrahedra, reference.cells_dict["tetra"])
+    if "tetra10" in reference.cells_dict:  # (18.0: a second-order level, meshio's order VTK's)
+        tetra10 = reference.cells_dict["tetra10"]
+        np.testing.assert_array_equal(mesh.tetrahedra, tetra10[:, :4])
+        np.testing.assert_array_equal(mesh.edge_nodes[:, [0, 3, 1, 2, 4, 5]], tetra10[:, 4:])
+    else:
+        np.testing.assert_array_equal(mesh.tetrahedra, reference.cells_dict["tetra"])
+        assert mesh.edge_nodes.shape == (0, 6)
     np.testing.assert_array_equal(mesh.vertex_levels, reference.point_data["level"])
     np.testing.assert_array_equal(mesh.boundary, reference.point_data["boundary"].astype(bool))
     assert sorted(mesh.fields) == sorted(k for k in reference.point_data if k not in ("level", "boundary"))
@@ -38,6 +44,18 @@ def assert_same_level(mesh, reference):
 @pytest.mark.parametrize("stream", GOLDEN, ids=lambda p: str(p.relative_to(p.parents[1])))
 def test_golden_streams_decode_as_meshdec_decodes_them(stream, tmp_path):
     assert_same_level(dtmesh.decode(stream.read_bytes()), meshdec_level(stream, tmp_path))
+
+
+def test_a_second_order_level_is_meshios_tetra10(tmp_path):
+    # (18.0: the gmsh ball's exact level 0, its edge nodes after its vertices.)
+    stream = next(p for p in GOLDEN if p.name == "ball_order2_exact.dtm")
+    mesh = dtmesh.decode(stream.read_bytes())
+    assert mesh.edge_nodes.shape == (len(mesh.tetrahedra), 6)
+    assert (mesh.edge_nodes > mesh.tetrahedra.max()).all() and mesh.edge_nodes.max() == len(mesh.points) - 1
+    as_meshio = mesh.to_meshio()
+    reference = meshdec_level(stream, tmp_path)
+    for kind in ("tetra10", "triangle6"):
+        np.testing.assert_array_equal(as_meshio.cells_dict[kind], reference.cells_dict[kind])
 
 
 def test_corpus_streams_decode_as_meshdec_decodes_them_at_every_level(corpus, tmp_path):
@@ -152,7 +170,7 @@ def test_progressive_decoder_gives_every_level_as_its_layer_completes(corpus):
 
 
 def test_every_truncation_ends_in_a_level_or_an_error():
-    data = GOLDEN[0].read_bytes()
+    data = next(p for p in GOLDEN if p.name == "ellipsoid_793.dtm").read_bytes()
     count = dtmesh.info(data)["level_count"]
     decoded = 0
     for end in range(len(data)):

@@ -133,3 +133,38 @@ make_one torus_288_cells_bricks torus_288_cells.vtu --scale 25 --dmax 3 --qualit
 # the apexes among the candidates that fit, and before 13.0 coded the filled
 # bits in context and ranked apexes in the second ring.)
 make_one two_materials_exact two_materials.msh --quality-floor 0 --dmax 0.2 --exact
+# 18.0: a second-order gmsh ball with --exact: level 0 is its own 10-node
+# tetrahedra, with their edge nodes (the sphere's off their edges'
+# midpoints), recorded as their count, the moved ones' and a checksum of
+# their places in the order the section gives them (meshdec's .vtu lists
+# them so after the vertices): the sum over k of (k + 1) x (X + 3Y + 5Z)
+# modulo 2^64, (X, Y, Z) the k-th node in half grid steps.
+cat >"$tmp/ball_order2.geo" <<'GEO'
+SetFactory("OpenCASCADE");
+Sphere(1) = {0, 0, 0, 1};
+Mesh.MeshSizeMin = 0.9;
+Mesh.MeshSizeMax = 0.9;
+Mesh.MeshSizeFromCurvature = 0;
+Physical Volume("ball", 1) = {1};
+Physical Surface("skin", 2) = {1};
+GEO
+gmsh "$tmp/ball_order2.geo" -3 -order 2 -format msh41 -o "$tmp/ball_order2.msh" >/dev/null
+make_one ball_order2_exact ball_order2.msh --exact
+"$dec" "$here/ball_order2_exact.dtm" -q -o "$tmp/ball.vtu"
+/usr/bin/python3 - "$here/ball_order2_exact.expected.json" "$tmp/ball.vtu" "$("$info" "$here/ball_order2_exact.dtm" --json)" <<'PY'
+import json, sys
+import meshio, numpy as np
+path, vtu, info = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
+expected = json.load(open(path))
+mesh = meshio.read(vtu)
+corners = expected["vertices"]
+nodes = mesh.points[corners:]
+x2 = np.rint(2 * (nodes - np.array(info["origin"])) / info["step"]).astype(np.int64)
+checksum = sum((k + 1) * int(x + 3 * y + 5 * z) for k, (x, y, z) in enumerate(x2)) % (1 << 64)
+t = mesh.cells_dict["tetra10"]
+moved = {int(n) for k, (a, b) in enumerate([(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)])
+         for n, ca, cb in zip(t[:, 4 + k], t[:, a], t[:, b])
+         if np.abs(2 * mesh.points[n] - mesh.points[ca] - mesh.points[cb]).max() > 1e-9 * info["step"]}
+expected["levels"][-1]["edge_nodes"] = {"nodes": len(nodes), "moved": len(moved), "checksum": "%016x" % checksum}
+json.dump(expected, open(path, "w"), indent=1)
+PY

@@ -1192,27 +1192,44 @@ std::string render_gmsh(const OutputMesh& m) {
   // The faces' blocks first (numbered after the cells), then the cells'.
   std::vector<std::vector<size_t>> face_blocks(surfaces);
   for (size_t f = 0; f < m.faces.size(); ++f) face_blocks[surface_of[m.face_tags[f]] - 1].push_back(f);
+  // (A block holds one element type: second-order cells, gmsh's 10-node
+  // tetrahedra and 6-node triangles, in blocks of their own.)
+  const auto of_order = [](const std::vector<size_t>& items, const auto& nodes_of, bool second) {
+    std::vector<std::pair<size_t, ListedNodes>> out;
+    for (size_t i : items)
+      if (const ListedNodes e = nodes_of(i); e.second_order() == second) out.emplace_back(i, e);
+    return out;
+  };
+  const auto cell_nodes_of = [&](size_t c) { return cell_nodes(m, c, kGmshEdgeSlots); };
+  const auto face_nodes_of = [&](size_t f) { return face_nodes(m, f); };
+  struct Block {
+    int dimension;
+    size_t entity;
+    int type;
+    std::vector<std::pair<size_t, ListedNodes>> elements;
+  };
+  std::vector<Block> written;
+  for (size_t e = 0; e < face_blocks.size(); ++e)
+    for (const bool second : {false, true})
+      if (auto items = of_order(face_blocks[e], face_nodes_of, second);
+          !items.empty() || (!second && m.edge_nodes == 0))
+        written.push_back({2, e + 1, second ? 9 : 2, std::move(items)});
+  for (size_t e = 0; e < blocks.size(); ++e)
+    for (const bool second : {false, true})
+      if (auto items = of_order(blocks[e], cell_nodes_of, second);
+          !items.empty() || (!second && m.edge_nodes == 0))
+        written.push_back({3, e + 1, second ? 11 : 4, std::move(items)});
   const size_t elements = t + m.faces.size();
-  out += std::to_string(blocks.size() + face_blocks.size()) + " " + std::to_string(elements) + " " +
+  out += std::to_string(written.size()) + " " + std::to_string(elements) + " " +
          std::to_string(elements ? 1 : 0) + " " + std::to_string(elements) + "\n";
-  for (size_t e = 0; e < face_blocks.size(); ++e) {
-    out += "2 " + std::to_string(e + 1) + " 2 " + std::to_string(face_blocks[e].size()) + "\n";
-    for (size_t f : face_blocks[e]) {
-      append_number(out, t + f + 1);
-      for (uint32_t v : m.faces[f]) {
+  for (const Block& b : written) {
+    out += std::to_string(b.dimension) + " " + std::to_string(b.entity) + " " + std::to_string(b.type) + " " +
+           std::to_string(b.elements.size()) + "\n";
+    for (const auto& [i, e] : b.elements) {
+      append_number(out, (b.dimension == 2 ? t : 0) + i + 1);
+      for (size_t k = 0; k < e.count; ++k) {
         out += ' ';
-        append_number(out, uint64_t{v} + 1);
-      }
-      out += '\n';
-    }
-  }
-  for (size_t e = 0; e < blocks.size(); ++e) {
-    out += "3 " + std::to_string(e + 1) + " 4 " + std::to_string(blocks[e].size()) + "\n";
-    for (size_t c : blocks[e]) {
-      append_number(out, c + 1);
-      for (uint32_t v : m.cells[c]) {
-        out += ' ';
-        append_number(out, uint64_t{v} + 1);
+        append_number(out, uint64_t{e.nodes[k]} + 1);
       }
       out += '\n';
     }

@@ -52,6 +52,17 @@ void validate(const OutputMesh& m) {
       if (v >= n)
         throw std::invalid_argument("mesh writer: cell " + std::to_string(c) + " names vertex " +
                                     std::to_string(v) + " of " + std::to_string(n));
+  if (m.edge_nodes > n || (!m.cell_edge_nodes.empty() && m.cell_edge_nodes.size() != m.cells.size()) ||
+      (!m.face_edge_nodes.empty() && m.face_edge_nodes.size() != m.faces.size()))
+    throw std::invalid_argument("mesh writer: edge nodes that are not the cells' and faces'");
+  for (const auto& e : m.cell_edge_nodes)
+    for (uint32_t v : e)
+      if (v != kNoEdgePoint && (v >= n || v < n - m.edge_nodes))
+        throw std::invalid_argument("mesh writer: a cell's edge node is not one of the edge nodes");
+  for (const auto& e : m.face_edge_nodes)
+    for (uint32_t v : e)
+      if (v != kNoEdgePoint && (v >= n || v < n - m.edge_nodes))
+        throw std::invalid_argument("mesh writer: a face's edge node is not one of the edge nodes");
 }
 
 bool has_node_extension(const std::string& path) {
@@ -272,6 +283,44 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
   return out;
 }
 
+ListedNodes cell_nodes(const OutputMesh& m, size_t cell, const std::array<uint8_t, 6>& edge_slots) {
+  ListedNodes out;
+  for (uint32_t v : m.cells[cell]) out.nodes[out.count++] = v;
+  if (m.cell_edge_nodes.empty()) return out;
+  const auto& e = m.cell_edge_nodes[cell];
+  if (std::find(e.begin(), e.end(), kNoEdgePoint) != e.end()) return out;
+  for (uint8_t slot : edge_slots) out.nodes[out.count++] = e[slot];
+  return out;
+}
+
+ListedNodes face_nodes(const OutputMesh& m, size_t face) {
+  ListedNodes out;
+  for (uint32_t v : m.faces[face]) out.nodes[out.count++] = v;
+  if (m.face_edge_nodes.empty()) return out;
+  const auto& e = m.face_edge_nodes[face];
+  if (std::find(e.begin(), e.end(), kNoEdgePoint) != e.end()) return out;
+  for (uint32_t v : e) out.nodes[out.count++] = v;
+  return out;
+}
+
+bool writes_edge_nodes(MeshFormat format) {
+  return format == MeshFormat::kVtu || format == MeshFormat::kVtuAscii || format == MeshFormat::kVtk ||
+         format == MeshFormat::kVtkAscii || format == MeshFormat::kGmsh;
+}
+
+OutputMesh without_edge_nodes(OutputMesh mesh) {
+  if (mesh.edge_nodes == 0) return mesh;
+  const size_t n = mesh.points.size() - mesh.edge_nodes;
+  mesh.points.resize(n);
+  if (!mesh.level.empty()) mesh.level.resize(n);
+  if (!mesh.boundary.empty()) mesh.boundary.resize(n);
+  for (OutputField& f : mesh.fields) f.bits.resize(n * static_cast<size_t>(f.components));
+  mesh.edge_nodes = 0;
+  mesh.cell_edge_nodes.clear();
+  mesh.face_edge_nodes.clear();
+  return mesh;
+}
+
 std::vector<OutputField> cell_and_face_fields(const OutputMesh& m) {
   std::vector<OutputField> out = m.cell_fields;
   for (OutputField& f : out) f.bits.resize((m.cells.size() + m.faces.size()) * f.components, 0);
@@ -289,20 +338,27 @@ std::string render_vtu(const OutputMesh& m, bool binary) {
   }
   // Our positive orientation (det(b-a, c-a, d-a) > 0) is VTK_TETRA's: the
   // fourth point lies on the right-hand normal side of the first three.
+  // (A second-order one's edge nodes after its corners: VTK_QUADRATIC_TETRA.)
   std::vector<int64_t> connectivity, offsets;
+  std::vector<uint8_t> types;
   connectivity.reserve(4 * m.cells.size());
-  offsets.reserve(m.cells.size());
-  for (const auto& c : m.cells) {
-    connectivity.insert(connectivity.end(), c.begin(), c.end());
+  offsets.reserve(m.cells.size() + m.faces.size());
+  types.reserve(m.cells.size() + m.faces.size());
+  for (size_t c = 0; c < m.cells.size(); ++c) {
+    const ListedNodes e = cell_nodes(m, c, kVtkEdgeSlots);
+    connectivity.insert(connectivity.end(), e.nodes.begin(),
+                        e.nodes.begin() + static_cast<std::ptrdiff_t>(e.count));
     offsets.push_back(static_cast<int64_t>(connectivity.size()));
+    types.push_back(e.second_order() ? kVtkQuadraticTetra : kVtkTetra);
   }
   // The tagged faces after the tetrahedra, as triangles.
-  for (const auto& f : m.faces) {
-    connectivity.insert(connectivity.end(), f.begin(), f.end());
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    const ListedNodes e = face_nodes(m, f);
+    connectivity.insert(connectivity.end(), e.nodes.begin(),
+                        e.nodes.begin() + static_cast<std::ptrdiff_t>(e.count));
     offsets.push_back(static_cast<int64_t>(connectivity.size()));
+    types.push_back(e.second_order() ? kVtkQuadraticTriangle : kVtkTriangle);
   }
-  std::vector<uint8_t> types(m.cells.size(), kVtkTetra);
-  types.resize(m.cells.size() + m.faces.size(), kVtkTriangle);
   const std::vector<int32_t> physical = physical_tags(m);
 
   std::string out =
@@ -449,6 +505,9 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
                                                              const std::string& path,
                                                              const SurfaceStyle& style) {
   validate(mesh);
+  // (The formats without second-order cells: the linear ones.)
+  if (mesh.edge_nodes > 0 && !writes_edge_nodes(format))
+    return render_mesh(without_edge_nodes(mesh), format, path, style);
   switch (format) {
     case MeshFormat::kTetgen: {
       if (!has_node_extension(path))

@@ -28,6 +28,8 @@ struct OutputField {
 };
 
 // A decoded level ready to write. Vertex i is at grid.to_input(points[i]).
+inline constexpr uint32_t kNoEdgePoint = UINT32_MAX;
+
 struct OutputMesh {
   Grid grid;  // dequantization
   std::vector<GridPoint> points;
@@ -63,6 +65,18 @@ struct OutputMesh {
   // piece that lacks one): `level`, and `region` when the stream has
   // regions.
   bool declare_level = false, declare_region = false;
+  // Optional (level 0 of an 18.0 stream, a second-order input's: meshenc
+  // --exact): the nodes on the cells' edges, the last `edge_nodes` of
+  // `points` (the grid then has half the stream's step, so that an edge's
+  // midpoint is one of its points: every coordinate the same double). Per
+  // cell, the points on its edges (0,1) (0,2) (0,3) (1,2) (1,3) (2,3);
+  // per tagged face, on its edges (0,1) (1,2) (2,0); kNoEdgePoint
+  // where there is none. Written as 10-node tetrahedra and 6-node
+  // triangles (VTU, VTK, gmsh); the formats without them write the linear
+  // cells (without_edge_nodes()).
+  size_t edge_nodes = 0;
+  std::vector<std::array<uint32_t, 6>> cell_edge_nodes;
+  std::vector<std::array<uint32_t, 3>> face_edge_nodes;
 };
 
 // The cell arrays padded to the cells and the faces after them (a face's
@@ -90,6 +104,26 @@ enum class MeshFormat {
   kGltf,      // boundary surface, glTF 2.0 JSON + its .bin beside it (same stem)
   kDrc,       // boundary surface, Draco's own file
 };
+
+// A cell's or tagged face's nodes as a format lists them: its corners, then,
+// when all its edges have nodes, those of the edges `edge_order` names
+// (slots of OutputMesh::cell_edge_nodes): 4 or 10 of a cell, 3 or 6 of a
+// face (in the order (0,1) (1,2) (2,0), VTK's and gmsh's alike).
+struct ListedNodes {
+  std::array<uint32_t, 10> nodes{};
+  size_t count = 0;
+  bool second_order() const { return count > 4; }
+};
+// VTK's and gmsh's 10-node tetrahedra: their edge nodes' slots.
+inline constexpr std::array<uint8_t, 6> kVtkEdgeSlots = {0, 3, 1, 2, 4, 5};
+inline constexpr std::array<uint8_t, 6> kGmshEdgeSlots = {0, 3, 1, 2, 5, 4};
+ListedNodes cell_nodes(const OutputMesh& m, size_t cell, const std::array<uint8_t, 6>& edge_slots);
+ListedNodes face_nodes(const OutputMesh& m, size_t face);
+
+// Whether a format writes second-order cells (OutputMesh::edge_nodes).
+bool writes_edge_nodes(MeshFormat format);
+// The mesh's linear cells: without the points on their edges.
+OutputMesh without_edge_nodes(OutputMesh mesh);
 
 // What of the stream's data `format` has no place for, named for a
 // "not written" line (the fields, regions, tagged faces and cell data a

@@ -1,5 +1,6 @@
 #include "second_order.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -69,16 +70,43 @@ void set_edge_nodes_aside(InputMesh& mesh) {
   mesh.other_edge_nodes.clear();
   mesh.other_edge_nodes.shrink_to_fit();
   if (aside == 0) return;
+  mesh.left_out.push_back(edge_nodes_note(mesh, false, !mesh.fields.empty()));
+}
+
+std::string edge_nodes_note(const InputMesh& mesh, bool tetrahedra_nodes_kept, bool with_fields) {
+  uint64_t second_order_tets = 0;
+  std::vector<uint8_t> on_tetrahedra(mesh.edge_points.size(), 0);
+  for (const auto& e : mesh.tet_edge_nodes) {
+    second_order_tets += e[0] != InputMesh::kNoEdgeNode;
+    for (uint32_t v : e)
+      if (v != InputMesh::kNoEdgeNode) on_tetrahedra[v] = 1;
+  }
+  const auto kept = static_cast<uint64_t>(std::count(on_tetrahedra.begin(), on_tetrahedra.end(), 1));
   std::string elements;
   if (second_order_tets > 0) elements = std::to_string(second_order_tets) + " second-order tetrahedra";
   if (mesh.second_order_cells > 0)
     elements += (elements.empty() ? "" : ", ") + std::to_string(mesh.second_order_cells) +
                 " second-order hexahedra, prisms and pyramids";
-  std::string what = std::to_string(aside) + " nodes on the edges of second-order elements (" +
-                     (elements.empty() ? std::string("faces") : elements) +
-                     "): the stream holds the linear cells through their corners";
-  if (!mesh.fields.empty()) what += ", and the fields' values at their corners only";
-  mesh.left_out.push_back(what);
+  if (!tetrahedra_nodes_kept) {
+    std::string what = std::to_string(mesh.edge_points.size()) +
+                       " nodes on the edges of second-order elements (" +
+                       (elements.empty() ? std::string("faces") : elements) +
+                       "): the stream holds the linear cells through their corners";
+    if (with_fields) what += ", and the fields' values at their corners only";
+    return what;
+  }
+  // (--exact: the tetrahedra's edge nodes are level 0's; the others, and
+  // the fields' values at all of them, are not.)
+  std::string what;
+  if (mesh.edge_points.size() > kept)
+    what =
+        std::to_string(mesh.edge_points.size() - kept) +
+        " nodes of second-order hexahedra, prisms, pyramids and faces that are no tetrahedron's edge nodes";
+  if (with_fields)
+    what += (what.empty() ? "" : "; ") + std::string("the point fields' values at the ") +
+            std::to_string(mesh.edge_points.size()) +
+            " nodes on second-order elements' edges (the stream holds them at the corners only)";
+  return what;
 }
 
 }  // namespace dtm

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 
 #include "input_mesh.h"
 
@@ -35,5 +36,12 @@ void add_tet_edge_nodes(InputMesh& mesh, const std::array<uint32_t, 6>& nodes);
 // nothing to a linear mesh, and to one without tetrahedra but forgets its
 // edge nodes (a surface's points are all kept: its cells are not).
 void set_edge_nodes_aside(InputMesh& mesh);
+
+// What set_edge_nodes_aside() says it leaves out (its left_out entry,
+// which starts "N nodes on the edges of second-order elements"), or,
+// when the tetrahedra's edge nodes are kept (meshenc --exact: format
+// 18.0), what still is: the other elements' nodes and, `with_fields`, the
+// point fields' values at the nodes; empty for nothing.
+std::string edge_nodes_note(const InputMesh& mesh, bool tetrahedra_nodes_kept, bool with_fields);
 
 }  // namespace dtm

@@ -405,21 +405,28 @@ std::string render_vtk_legacy(const OutputMesh& m, bool binary) {
     put(p.z, true);
   }
   end_section();
-  // The tetrahedra, then the tagged faces as triangles.
+  // The tetrahedra, then the tagged faces as triangles (second-order ones
+  // with their edge nodes after their corners).
   const size_t cells = m.cells.size() + m.faces.size();
-  out +=
-      "CELLS " + std::to_string(cells) + " " + std::to_string(5 * m.cells.size() + 4 * m.faces.size()) + "\n";
-  for (const auto& t : m.cells) {
-    put(int32_t{4}, false);
-    for (int k = 0; k < 4; ++k) put(static_cast<int32_t>(t[k]), k == 3);
-  }
-  for (const auto& f : m.faces) {
-    put(int32_t{3}, false);
-    for (int k = 0; k < 3; ++k) put(static_cast<int32_t>(f[k]), k == 2);
+  std::vector<ListedNodes> elements;
+  elements.reserve(cells);
+  size_t listed = 0;
+  for (size_t c = 0; c < m.cells.size(); ++c)
+    listed += 1 + elements.emplace_back(cell_nodes(m, c, kVtkEdgeSlots)).count;
+  for (size_t f = 0; f < m.faces.size(); ++f) listed += 1 + elements.emplace_back(face_nodes(m, f)).count;
+  out += "CELLS " + std::to_string(cells) + " " + std::to_string(listed) + "\n";
+  for (const ListedNodes& e : elements) {
+    put(static_cast<int32_t>(e.count), false);
+    for (size_t k = 0; k < e.count; ++k) put(static_cast<int32_t>(e.nodes[k]), k + 1 == e.count);
   }
   end_section();
   out += "CELL_TYPES " + std::to_string(cells) + "\n";
-  for (size_t i = 0; i < cells; ++i) put(int32_t{i < m.cells.size() ? kVtkTetra : kVtkTriangle}, true);
+  for (size_t i = 0; i < cells; ++i) {
+    const bool cell = i < m.cells.size(), second = elements[i].second_order();
+    put(int32_t{cell ? (second ? kVtkQuadraticTetra : kVtkTetra)
+                     : (second ? kVtkQuadraticTriangle : kVtkTriangle)},
+        true);
+  }
   end_section();
   constexpr const char* kTypeNames[] = {"char",  "unsigned_char", "short",        "unsigned_short",
                                         "int",   "unsigned_int",  "vtktypeint64", "vtktypeuint64",

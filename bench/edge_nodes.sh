@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# bench/edge_nodes.sh [BUILD_DIR] -- what keeping a second-order mesh's edge
+# nodes costs (meshenc --exact, format 18.0, spec/FORMAT.md §3.11), on
+# meshes gmsh and Netgen make here: the gmsh part of data/two_materials.geo
+# (a block and a cylinder) at two sizes, a gmsh ball, and Netgen's pin part
+# (python3-netgen). Per mesh: vertices, edge nodes, those off their edge's
+# midpoint (a curved boundary's), the exact stream of the linear mesh and
+# of the second-order one, the edge node section's bits per vertex and per
+# moved node, and how far the decoded nodes lie from the input's (meshdec's
+# .msh read back). Writes bench/results/EDGE_NODES.md.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-build}
+case $build in /*) ;; *) build=$root/$build ;; esac
+enc=$build/tools/meshenc
+dec=$build/tools/meshdec
+info=$build/tools/meshinfo
+py=/usr/bin/python3
+work=$build/edge-nodes-data
+mkdir -p "$work"
+cd "$work"
+sed 's/Mesh.CharacteristicLengthMax = 0.7;/Mesh.CharacteristicLengthMax = 0.35;/' "$root/data/two_materials.geo" >part_fine.geo
+cat >ball.geo <<'GEO'
+SetFactory("OpenCASCADE");
+Sphere(1) = {0, 0, 0, 1};
+Mesh.MeshSizeMax = 0.08;
+Physical Volume("ball", 1) = {1};
+GEO
+for g in "$root/data/two_materials.geo" part_fine.geo ball.geo; do
+  name=$(basename "$g" .geo)
+  gmsh "$g" -3 -nt 1 -format msh41 -o "$name.msh" >/dev/null
+  gmsh "$g" -3 -nt 1 -order 2 -format msh41 -o "${name}_2.msh" >/dev/null
+done
+"$py" - <<'PY'
+from netgen.csg import CSGeometry, OrthoBrick, Cylinder, Pnt
+geo = CSGeometry()
+box = OrthoBrick(Pnt(0, 0, 0), Pnt(1, 1, 1)).bc("outer")
+pin = Cylinder(Pnt(0.5, 0.5, -1), Pnt(0.5, 0.5, 2), 0.2).bc("pin")
+geo.Add((box - pin).mat("aluminium"))
+geo.Add((box * pin).mat("steel"))
+mesh = geo.GenerateMesh(maxh=0.06)
+mesh.Save("netgen.vol")
+mesh.SecondOrder()
+mesh.Save("netgen_2.vol")
+PY
+out=$root/bench/results/EDGE_NODES.md
+{
+  echo "# --exact of second-order meshes: the edge nodes"
+  echo
+  echo "Made by \`bench/edge_nodes.sh\` (one run each, this project's 2-core machine). Per mesh, \`meshenc M --exact\` of the linear mesh and of the second-order one (gmsh \`-order 2\`, Netgen's \`SecondOrder()\`: the same corners and cells), default grid (q=14). *Moved*: edge nodes off their edge's midpoint in the input (a curved boundary's). *Edge node section*: its bits per vertex of the mesh and per moved node. *Decoded*: meshdec's \`.msh\` read back (meshio), each node against the input's, in grid steps (at most 0.5: the corners' own rounding; 0.25 for a moved node). *float32*: the nodes as three float32 each, for scale."
+  echo
+  echo "| mesh | vertices | cells | edge nodes | moved | exact stream (linear) | with edge nodes | extra bits/vertex | bits per moved node | largest error (steps) | float32 bits/vertex |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+  for m in two_materials part_fine ball netgen; do
+    ext=msh
+    [ $m = netgen ] && ext=vol
+    "$enc" $m.$ext --exact -q -o $m.dtm --report $m.json >/dev/null
+    "$enc" ${m}_2.$ext --exact -q -o ${m}_2.dtm --report ${m}_2.json >/dev/null
+    "$dec" ${m}_2.dtm -q -o ${m}_2.out.msh >/dev/null
+    "$py" - "$m" "$ext" "$("$info" ${m}_2.dtm --json)" <<'PY'
+import contextlib, io, json, os, sys
+import meshio
+import numpy as np
+m, ext, info = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
+linear, second = json.load(open(m + ".json")), json.load(open(m + "_2.json"))
+step = info["step"]
+with contextlib.redirect_stdout(io.StringIO()):  # (meshio prints blank lines reading some)
+    a, b = meshio.read(m + "_2." + ext), meshio.read(m + "_2.out.msh")
+t = np.concatenate([c.data for c in a.cells if c.type == "tetra10"])
+u = np.concatenate([c.data for c in b.cells if c.type == "tetra10"])
+pairs = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+node = {}
+for c in t:
+    for k, (i, j) in enumerate(pairs):
+        node[frozenset((c[i], c[j]))] = a.points[c[4 + k]]
+corners = np.unique(t[:, :4])
+# Each decoded corner's input corner: the one in the same grid cell.
+key = lambda p: tuple(np.floor((p - np.array(info["origin"])) / step + 0.5).astype(np.int64))
+by_key = {key(a.points[i]): i for i in corners}
+near = {i: by_key[key(b.points[i])] for i in np.unique(u[:, :4])}
+worst = max(np.abs(b.points[c[4 + k]] - node[frozenset((near[c[i]], near[c[j]]))]).max()
+            for c in u for k, (i, j) in enumerate(pairs))
+n = len(corners)
+e = second["edge_nodes"]
+extra = second["stream_bytes"] - linear["stream_bytes"]
+name = {"two_materials": "gmsh part (data/two_materials.geo)", "part_fine": "the same at size 0.35",
+        "ball": "gmsh ball (size 0.08)", "netgen": "Netgen pin part (maxh 0.06)"}[m]
+print("| %s | %d | %d | %d | %d | %d | %d | %.2f | %.1f | %.3f | %.1f |" % (
+    name, n, len(t), e["nodes"], e["moved"], linear["stream_bytes"], second["stream_bytes"], 8.0 * extra / n,
+    8.0 * e["bytes"] / e["moved"] if e["moved"] else 0, worst / step, 96.0 * e["nodes"] / n))
+PY
+  done
+} >"$out"
+cat "$out"

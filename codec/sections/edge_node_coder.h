@@ -1,0 +1,68 @@
+// The nodes on level 0's edges (format 18.0, kFlagEdgeNodes, spec/FORMAT.md
+// §3.11; meshenc --exact of a second-order mesh), encoder and decoder side
+// by side.
+//
+// A second-order mesh (gmsh -order 2, Netgen's SecondOrder(), TetGen -o2:
+// 10-node tetrahedra, the default elements of most structural analysis)
+// has a node on every edge of its cells: at the edge's midpoint inside the
+// solid, moved onto the geometry on a curved boundary. An exact stream's
+// level 0 is the input's cells, so its edges are the input's: this section
+// gives each edge's node as its offset from the midpoint of the edge's
+// decoded corners, in half grid steps. Most nodes are midpoints (offset 0,
+// one bit that costs next to nothing away from the surface); a curved
+// boundary's are coded component by component.
+//
+// The edges are walked in one order both sides compute from level 0's kept
+// cells (level_edges()): the cells in the canonical order, each one's six
+// edges (kCellEdges of its corners in ascending order), each edge the
+// first time it is met.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/status.h"
+#include "mesh/delaunay.h"
+
+namespace dtm {
+
+// A cell's edges as pairs of its corners, in the order a second-order
+// tetrahedron's file lists their nodes once mapped (tools/formats/
+// second_order.h's kTetEdges).
+inline constexpr std::array<std::array<uint8_t, 2>, 6> kCellEdges = {
+    {{{0, 1}}, {{0, 2}}, {{0, 3}}, {{1, 2}}, {{1, 3}}, {{2, 3}}}};
+
+// The edges of a level's kept cells: each edge's corners (the lower first),
+// whether it is an edge of the level's surface, and per kept cell, in the
+// canonical order, its six edges (kCellEdges of its corners in ascending
+// order, however the cell lists them) as indices into `corners`.
+struct LevelEdges {
+  std::vector<std::array<uint32_t, 2>> corners;
+  std::vector<uint8_t> on_surface;
+  std::vector<std::array<uint32_t, 6>> cell_edges;
+};
+// `kept`: per cell of `mesh` whether the level keeps it (its region, or 0);
+// `order`: the canonical order of mesh's cells.
+LevelEdges level_edges(const TetMesh& mesh, std::span<const uint8_t> kept, std::span<const uint32_t> order);
+
+// Per edge of a LevelEdges, its node: none, or twice its position in grid
+// units less the sum of the edge's corners (0 for the midpoint).
+struct EdgeNodeOffsets {
+  std::vector<uint8_t> present;
+  std::vector<std::array<int64_t, 3>> offset;
+};
+
+// An offset's components lie strictly within +-edge_node_reach(qbits), in
+// half grid steps: a node less than twice the grid's extent from its edge's
+// midpoint on each axis.
+inline int64_t edge_node_reach(int qbits) { return int64_t{1} << (qbits + 2); }
+
+std::vector<uint8_t> encode_edge_nodes(const LevelEdges& edges, const EdgeNodeOffsets& nodes, int qbits);
+// kCorrupt unless the section gives every edge's node within reach, a
+// moved node with a nonzero offset, and ends where its bytes do.
+Status decode_edge_nodes(std::span<const uint8_t> section, const LevelEdges& edges, int qbits,
+                         EdgeNodeOffsets& nodes);
+
+}  // namespace dtm

@@ -1,0 +1,83 @@
+// The edge node section read (spec/FORMAT.md §3.11), and the walk of a
+// level's edges both sides make.
+#include <algorithm>
+#include <bit>
+#include <unordered_map>
+
+#include "codec/sections/edge_node_coder.h"
+#include "codec/sections/edge_node_coder_shared.h"
+#include "codec/sections/face_coder.h"
+
+namespace dtm {
+
+LevelEdges level_edges(const TetMesh& mesh, std::span<const uint8_t> kept, std::span<const uint32_t> order) {
+  LevelEdges out;
+  size_t kept_cells = 0;
+  for (uint32_t c : order) kept_cells += kept[c] != 0;
+  out.cell_edges.reserve(kept_cells);
+  // (A tetrahedral mesh has about 1.2 edges a cell.)
+  std::unordered_map<uint64_t, uint32_t> index;
+  index.reserve(kept_cells * 3 / 2);
+  out.corners.reserve(kept_cells * 3 / 2);
+  const auto key = [](uint32_t a, uint32_t b) {
+    return a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a;
+  };
+  for (uint32_t c : order) {
+    if (!kept[c]) continue;
+    // (Its corners ascending: the walk does not depend on how a cell
+    // lists them.)
+    std::array<uint32_t, 4> cell = mesh.cells[c];
+    std::sort(cell.begin(), cell.end());
+    std::array<uint32_t, 6> edges;
+    for (size_t k = 0; k < 6; ++k) {
+      const uint32_t a = cell[kCellEdges[k][0]], b = cell[kCellEdges[k][1]];
+      const auto [it, fresh] = index.try_emplace(key(a, b), static_cast<uint32_t>(out.corners.size()));
+      if (fresh) out.corners.push_back({std::min(a, b), std::max(a, b)});
+      edges[k] = it->second;
+    }
+    out.cell_edges.push_back(edges);
+  }
+  // The surface's edges: those of its faces.
+  out.on_surface.assign(out.corners.size(), 0);
+  for (const SurfaceFace& f : surface_faces(mesh, kept).faces)
+    for (size_t k = 0; k < 3; ++k)
+      if (const auto it = index.find(key(f.key[k], f.key[(k + 1) % 3])); it != index.end())
+        out.on_surface[it->second] = 1;
+  return out;
+}
+
+Status decode_edge_nodes(std::span<const uint8_t> section, const LevelEdges& edges, int qbits,
+                         EdgeNodeOffsets& nodes) {
+  const size_t n = edges.corners.size();
+  nodes.present.assign(n, 0);
+  nodes.offset.assign(n, {0, 0, 0});
+  RangeDecoder rc(section);
+  EdgeNodeModels m;
+  bool last_surface_moved = false;
+  // (Magnitudes below edge_node_reach(): at most qbits + 2 bits.)
+  const int longest = qbits + 1;
+  for (size_t e = 0; e < n; ++e) {
+    nodes.present[e] = rc.decode(m.present);
+    if (!nodes.present[e]) continue;
+    const bool moved = rc.decode(m.moved[moved_context(edges.on_surface[e], last_surface_moved)]);
+    if (edges.on_surface[e]) last_surface_moved = moved;
+    if (!moved) continue;
+    auto& d = nodes.offset[e];
+    for (size_t axis = 0; axis < 3; ++axis) {
+      if (!rc.decode(m.nonzero[axis])) continue;
+      const bool negative = rc.decode(m.negative[axis]);
+      int length = 0;
+      while (length < longest && rc.decode(m.longer[axis][static_cast<size_t>(length)])) ++length;
+      const int64_t magnitude =
+          (int64_t{1} << length) + static_cast<int64_t>(length > 0 ? rc.decode_raw(length) : 0);
+      d[axis] = negative ? -magnitude : magnitude;
+    }
+    if (d == std::array<int64_t, 3>{0, 0, 0})
+      return {StatusCode::kCorrupt, "edge nodes: a moved node without an offset"};
+    if (rc.overran()) return {StatusCode::kCorrupt, "edge nodes: the section ends early"};
+  }
+  if (!rc.finished_cleanly()) return {StatusCode::kCorrupt, "edge nodes: the section does not end with them"};
+  return Status::Ok();
+}
+
+}  // namespace dtm

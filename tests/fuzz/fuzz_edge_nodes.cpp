@@ -1,0 +1,54 @@
+// The edge node section (spec/FORMAT.md §3.11) on arbitrary bytes, below the
+// layer checksum that keeps the stream targets from reaching it damaged:
+// never a crash; a section that decodes gives every edge of the level a
+// node or none, each offset within reach and a moved node's nonzero, which
+// code again to a section that decodes to the same nodes.
+//
+// Input: byte 0: which point set (bit 0, fuzz_point_sets.h), which of its
+// Delaunay cells the level keeps (bits 1-2: all, every other, two in
+// three, one in five) and the grid's bits (bits 3-7: 4 + their value
+// modulo 21); then the section, over that level's edges.
+#include <array>
+#include <cstdint>
+#include <numeric>
+#include <span>
+#include <vector>
+
+#include "codec/sections/edge_node_coder.h"
+#include "fuzz_check.h"
+#include "fuzz_point_sets.h"
+#include "mesh/delaunay.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  const bool cloud = data[0] & 1;
+  const int pattern = (data[0] >> 1) & 3;
+  const int qbits = 4 + (data[0] >> 3) % 21;
+  static const std::array<dtm::TetMesh, 2> meshes = {
+      dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value(),
+      dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value()};
+  const dtm::TetMesh& mesh = meshes[cloud ? 1 : 0];
+  std::vector<uint8_t> kept(mesh.cells.size());
+  constexpr int kEvery[] = {1, 2, 3, 5};
+  for (size_t c = 0; c < kept.size(); ++c)
+    kept[c] = pattern == 2 ? c % 3 != 0 : c % static_cast<size_t>(kEvery[pattern]) == 0;
+  std::vector<uint32_t> order(mesh.cells.size());
+  std::iota(order.begin(), order.end(), 0u);
+  const dtm::LevelEdges edges = dtm::level_edges(mesh, kept, order);
+  dtm::EdgeNodeOffsets nodes;
+  const dtm::Status s = dtm::decode_edge_nodes(std::span(data + 1, size - 1), edges, qbits, nodes);
+  if (!s.ok()) {
+    FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
+    return 0;
+  }
+  FUZZ_CHECK(nodes.present.size() == edges.corners.size() && nodes.offset.size() == edges.corners.size());
+  for (size_t e = 0; e < edges.corners.size(); ++e)
+    for (int64_t d : nodes.offset[e]) {
+      FUZZ_CHECK(d > -dtm::edge_node_reach(qbits) && d < dtm::edge_node_reach(qbits));
+      FUZZ_CHECK(nodes.present[e] || d == 0);
+    }
+  dtm::EdgeNodeOffsets again;
+  FUZZ_CHECK(dtm::decode_edge_nodes(dtm::encode_edge_nodes(edges, nodes, qbits), edges, qbits, again).ok());
+  FUZZ_CHECK(again.present == nodes.present && again.offset == nodes.offset);
+  return 0;
+}
