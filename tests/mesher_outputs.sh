@@ -171,6 +171,11 @@ PY
 # gmsh's Medit .mesh of the block (Hexahedra, Quadrilaterals): the .msh's
 # very tetrahedra and tagged triangles with --exact.
 gmsh block.geo -3 -o block.mesh >/dev/null
+# (And its second-order .mesh, whose 27-node hexahedra and 9-node
+# quadrilaterals gmsh writes under the linear keywords: the linear stream.)
+gmsh block.geo -3 -order 2 -o block_2.mesh >/dev/null
+"$meshenc" block.mesh -q -o block_mesh_linear.dtm && "$meshenc" block_2.mesh -q -o block_2_mesh.dtm 2>/dev/null || failed=1
+cmp -s block_mesh_linear.dtm block_2_mesh.dtm || { echo "block_2.mesh (gmsh's second-order Medit): not the linear stream"; failed=1; }
 "$meshenc" block.mesh --exact -o block_mesh.dtm >block_mesh.out 2>&1 || { cat block_mesh.out; failed=1; }
 "$meshdec" block_mesh.dtm -o block_mesh_out.vtu 2>/dev/null || failed=1
 /usr/bin/python3 - <<'PY' || failed=1

@@ -679,6 +679,10 @@ TEST(InputFormats, MeditAndNetgenCellsOfOtherShapesAreSplit) {
   };
   const InputMesh m = read_input(write_temp("shapes.mesh", medit("1 2 3 4 5 6 7 8 1")));
   const InputMesh free = read_input(write_temp("shapes_free.mesh", medit("1 2 3 4\n# split\n5 6 7 8 1")));
+  // (gmsh's second-order hexahedron, 27 nodes under the linear keyword,
+  // its other 19 named corners here: nothing set aside.)
+  const InputMesh gmsh_q2 = read_input(
+      write_temp("shapes_q2.mesh", medit("1 2 3 4 5 6 7 8 1 2 3 4 5 6 7 8 1 2 3 4 5 6 7 8 1 2 3 1")));
   // (Netgen: the hexahedron second-order, its other 12 nodes named corners
   // here, so that nothing is set aside.)
   const InputMesh n = read_input(
@@ -707,6 +711,7 @@ TEST(InputFormats, MeditAndNetgenCellsOfOtherShapesAreSplit) {
   };
   ASSERT_EQ(m.tets.size(), 6u + 2u + 3u);
   EXPECT_EQ(cells(free), cells(m));
+  EXPECT_EQ(cells(gmsh_q2), cells(m));
   EXPECT_EQ(cells(n), cells(m));
   EXPECT_EQ(std::count(m.tet_regions.begin(), m.tet_regions.end(), 1), 6);
   EXPECT_EQ(std::count(m.tet_regions.begin(), m.tet_regions.end(), 2), 2);

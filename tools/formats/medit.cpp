@@ -32,6 +32,10 @@ struct SectionLayout {
   int reals;
   Kept kept = Kept::kNo;
   int corners = 0;
+  // gmsh writes its second-order quadrilaterals (9 nodes) and hexahedra
+  // (27) under the linear keywords: the records' other layout, corners
+  // first, tried when the first does not fit (0: none).
+  int second_order_indices = 0;
 };
 const std::map<std::string, SectionLayout, std::less<>>& sections() {
   static const std::map<std::string, SectionLayout, std::less<>> kSections = {
@@ -39,13 +43,13 @@ const std::map<std::string, SectionLayout, std::less<>>& sections() {
       {"EdgesP2", {3, 1, 0}},
       {"Triangles", {3, 1, 0, Kept::kTriangles, 3}},
       {"TrianglesP2", {6, 1, 0, Kept::kTriangles, 3}},
-      {"Quadrilaterals", {4, 1, 0, Kept::kSplit, 4}},
+      {"Quadrilaterals", {4, 1, 0, Kept::kSplit, 4, 9}},
       {"Tetrahedra", {4, 1, 0, Kept::kTetrahedra, 4}},
       {"TetrahedraP2", {10, 1, 0, Kept::kTetrahedra, 4}},
       {"Pyramids", {5, 1, 0, Kept::kSplit, 5}},
       {"Prisms", {6, 1, 0, Kept::kSplit, 6}},
-      {"Hexahedra", {8, 1, 0, Kept::kSplit, 8}},
-      {"Hexaedra", {8, 1, 0, Kept::kSplit, 8}},
+      {"Hexahedra", {8, 1, 0, Kept::kSplit, 8, 27}},
+      {"Hexaedra", {8, 1, 0, Kept::kSplit, 8, 27}},
       {"Corners", {1, 0, 0}},
       {"RequiredVertices", {1, 0, 0}},
       {"Ridges", {0, 1, 0}},
@@ -72,7 +76,7 @@ constexpr std::array<size_t, 6> kP2TetEdgeNodes = {4, 6, 7, 5, 8, 9};
 // checks and its errors at their lines.
 bool read_one_a_line(TextCursor& c, uint64_t n, size_t count,
                      const std::function<bool(uint64_t, std::span<const std::string_view>)>& record) {
-  constexpr size_t kMostFields = 12;
+  constexpr size_t kMostFields = 28;  // a 27-node hexahedron and its ref
   if (count > kMostFields) return false;
   const TextCursor::Mark start = c.mark();
   // The count's line ends after the count.
@@ -163,34 +167,48 @@ InputMesh read_medit(const std::string& path) {
     if (kept == Kept::kNo && n > 0) other_records[keyword] += n;
     // The records kept: their vertices (0-based) and refs, added to the
     // mesh once the section is read.
-    const auto width = static_cast<size_t>(indices);
+    auto width = static_cast<size_t>(indices);
     std::vector<uint32_t> nodes(kept == Kept::kNo ? 0 : n * width);
     std::vector<int32_t> refs(kept == Kept::kNo ? 0 : n);
     const uint64_t vertices = out.points.size();
     // The record's fields: its indices, then its integers, then its reals.
-    const auto first_integer = static_cast<size_t>(indices),
-               first_real = first_integer + static_cast<size_t>(integers);
-    const size_t fields = first_real + static_cast<size_t>(reals);
-    const bool fast = read_one_a_line(c, n, fields, [&](uint64_t i, std::span<const std::string_view> f) {
-      for (size_t k = 0; k < first_integer; ++k) {
-        int64_t v = 0;
-        if (!parse_whole(f[k], v) || v < 1 || static_cast<uint64_t>(v) > vertices) return false;
-        if (kept != Kept::kNo) nodes[i * width + k] = static_cast<uint32_t>(v - 1);
-      }
-      for (size_t k = first_integer; k < first_real; ++k) {
-        int64_t value = 0;
-        if (!parse_whole(f[k], value)) return false;
-        if (k == first_integer && kept != Kept::kNo) {
-          if (value < INT32_MIN || value > INT32_MAX) return false;
-          refs[i] = static_cast<int32_t>(value);
+    size_t first_integer = width, first_real = first_integer + static_cast<size_t>(integers);
+    size_t fields = first_real + static_cast<size_t>(reals);
+    const auto one_a_line = [&] {
+      return read_one_a_line(c, n, fields, [&](uint64_t i, std::span<const std::string_view> f) {
+        for (size_t k = 0; k < first_integer; ++k) {
+          int64_t v = 0;
+          if (!parse_whole(f[k], v) || v < 1 || static_cast<uint64_t>(v) > vertices) return false;
+          if (kept != Kept::kNo) nodes[i * width + k] = static_cast<uint32_t>(v - 1);
         }
+        for (size_t k = first_integer; k < first_real; ++k) {
+          int64_t value = 0;
+          if (!parse_whole(f[k], value)) return false;
+          if (k == first_integer && kept != Kept::kNo) {
+            if (value < INT32_MIN || value > INT32_MAX) return false;
+            refs[i] = static_cast<int32_t>(value);
+          }
+        }
+        for (size_t k = first_real; k < fields; ++k) {
+          double x = 0;
+          if (!parse_whole(f[k], x) || !std::isfinite(x)) return false;
+        }
+        return true;
+      });
+    };
+    bool fast = one_a_line();
+    if (!fast && layout->second.second_order_indices > 0) {
+      // (gmsh's second-order records under the linear keyword, one a line.)
+      width = static_cast<size_t>(layout->second.second_order_indices);
+      first_integer = width, first_real = width + static_cast<size_t>(integers);
+      fields = first_real + static_cast<size_t>(reals);
+      nodes.assign(n * width, 0);
+      fast = one_a_line();
+      if (!fast) {
+        width = static_cast<size_t>(indices);
+        nodes.assign(n * width, 0);
       }
-      for (size_t k = first_real; k < fields; ++k) {
-        double x = 0;
-        if (!parse_whole(f[k], x) || !std::isfinite(x)) return false;
-      }
-      return true;
-    });
+    }
     if (!fast) {
       for (uint64_t i = 0; i < n; ++i) {
         for (size_t k = 0; k < width; ++k) {

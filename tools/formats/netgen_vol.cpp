@@ -117,12 +117,15 @@ constexpr ElementLayout kSurfaceElement{
     kSurfaceSplits};
 
 // An element read as the tetrahedra or triangles that split it: its points
-// (corners first, `corners` of them), its line and its label.
+// (corners first, `corners` of them; in place, at most 20: no allocation
+// of its own), its line and its label.
 struct SplitElement {
-  std::vector<uint32_t> points;
-  size_t corners;
-  uint64_t line;
+  std::array<uint32_t, 20> points;
+  uint8_t count;
+  uint8_t corners;
   int32_t label;
+  uint64_t line;
+  std::span<uint32_t> nodes() { return std::span(points).first(count); }
 };
 
 // An element section's records, one a line, read on every core: of each
@@ -160,7 +163,7 @@ void read_elements(TextCursor& c, uint64_t n, const ElementLayout& l,
     const int32_t np = label(c, i, f[head], "a point count");
     const size_t fields = head + 1 + static_cast<size_t>(std::max(np, 0));
     const bool kind_split = np >= 0 && np <= l.most && l.split_corners[static_cast<size_t>(np)] > 0;
-    std::vector<uint32_t> points;
+    std::array<uint32_t, 20> points{};
     if (np < l.least || np > l.most || (l.exact ? k != fields : k < fields))
       c.fail_line(i, std::string(l.what) + " of " + std::string(f[head]) + " points needs as many indices");
     for (size_t p = 0; p < static_cast<size_t>(np); ++p) {
@@ -169,12 +172,12 @@ void read_elements(TextCursor& c, uint64_t n, const ElementLayout& l,
         c.fail_line(i, "expected a point index, found '" + std::string(f[head + 1 + p]) + "'");
       if (v > UINT32_MAX) c.fail_line(i, "point index " + std::string(f[head + 1 + p]) + " out of range");
       if (p < N + E) read[i][p] = static_cast<uint32_t>(v);
-      if (kind_split) points.push_back(static_cast<uint32_t>(v));
+      if (kind_split) points[p] = static_cast<uint32_t>(v);
     }
     if (kind_split) {
       const std::lock_guard lock(split_mutex);
-      whole.push_back(
-          {std::move(points), l.split_corners[static_cast<size_t>(np)], first_line + i, label_of[i]});
+      whole.push_back({points, static_cast<uint8_t>(np), l.split_corners[static_cast<size_t>(np)],
+                       label_of[i], first_line + i});
     }
     kind[i] = np == l.linear                             ? 0
               : np == l.second_order                     ? 1
@@ -356,8 +359,8 @@ InputMesh read_netgen_vol(const std::string& path) {
   std::map<size_t, uint64_t> split_cells;  // by corners
   for (auto* elements : {&split_volume, &split_faces})
     for (SplitElement& e : *elements) {
-      for (uint32_t& v : e.points) v = corner(v, e.line);
-      const size_t added = add_split_cell(e.points, e.corners, out);
+      for (uint32_t& v : e.nodes()) v = corner(v, e.line);
+      const size_t added = add_split_cell(e.nodes(), e.corners, out);
       // (Turned as Netgen turns its own tetrahedra, the other way from
       // split_cell()'s: --exact wants one orientation throughout.)
       if (e.corners > 4)
