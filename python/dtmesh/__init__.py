@@ -604,12 +604,18 @@ def to_vtk(mesh: Mesh):
     points.SetData(numpy_to_vtk(np.ascontiguousarray(mesh.points), deep=True))
     grid.SetPoints(points)
     m = mesh.tetrahedra.shape[0]
-    offsets = numpy_to_vtkIdTypeArray(np.arange(0, 4 * m + 1, 4, dtype=np.int64), deep=True)
-    connectivity = numpy_to_vtkIdTypeArray(np.ascontiguousarray(mesh.tetrahedra.reshape(-1), dtype=np.int64),
-                                           deep=True)
+    # (A second-order level whose every cell has its edge nodes: 10-node
+    # tetrahedra, VTK's node order, and 6-node tagged triangles.)
+    second_order = mesh.edge_nodes.size > 0 and bool((mesh.edge_nodes >= 0).all())
+    corners = mesh.tetrahedra.astype(np.int64)
+    if second_order:
+        corners = np.hstack([corners, mesh.edge_nodes[:, [0, 3, 1, 2, 4, 5]]])
+    width = corners.shape[1] if m else 4
+    offsets = numpy_to_vtkIdTypeArray(np.arange(0, width * m + 1, width, dtype=np.int64), deep=True)
+    connectivity = numpy_to_vtkIdTypeArray(np.ascontiguousarray(corners.reshape(-1)), deep=True)
     cells = vtkCellArray()
     cells.SetData(offsets, connectivity)
-    grid.SetCells(VTK_TETRA, cells)
+    grid.SetCells(24 if second_order else VTK_TETRA, cells)  # (24: VTK_QUADRATIC_TETRA)
     arrays = dict(mesh.fields)
     arrays["level"] = mesh.vertex_levels
     if mesh.boundary.size:  # (a part read by box or piece has none)
@@ -621,8 +627,11 @@ def to_vtk(mesh: Mesh):
     if mesh.face_tags.size:
         # The tagged faces after the tetrahedra, as meshdec's .vtu has them.
         from vtkmodules.vtkCommonDataModel import VTK_TRIANGLE
-        for face in mesh.faces:
-            grid.InsertNextCell(VTK_TRIANGLE, 3, [int(v) for v in face])
+        faces = mesh.faces.astype(np.int64)
+        if second_order and bool((mesh.face_edge_nodes >= 0).all()):
+            faces = np.hstack([faces, mesh.face_edge_nodes])
+        for face in faces:
+            grid.InsertNextCell(VTK_TRIANGLE if len(face) == 3 else 22, len(face), [int(v) for v in face])
     if mesh.regions.size or mesh.face_tags.size:
         # As gmsh's physical tags: a tetrahedron's region, a face's tag.
         regions = mesh.regions if mesh.regions.size else np.zeros(m, np.int32)

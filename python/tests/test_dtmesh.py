@@ -56,6 +56,12 @@ def test_a_second_order_level_is_meshios_tetra10(tmp_path):
     reference = meshdec_level(stream, tmp_path)
     for kind in ("tetra10", "triangle6"):
         np.testing.assert_array_equal(as_meshio.cells_dict[kind], reference.cells_dict[kind])
+    # (And as VTK's 10-node tetrahedra and 6-node triangles, where VTK is.)
+    vtk = pytest.importorskip("vtkmodules.vtkCommonDataModel")
+    grid = mesh.to_vtk()
+    types = [grid.GetCellType(c) for c in range(grid.GetNumberOfCells())]
+    assert types == [vtk.VTK_QUADRATIC_TETRA] * len(mesh.tetrahedra) + [vtk.VTK_QUADRATIC_TRIANGLE] * len(mesh.faces)
+    assert grid.GetNumberOfPoints() == len(mesh.points)
 
 
 def test_corpus_streams_decode_as_meshdec_decodes_them_at_every_level(corpus, tmp_path):
