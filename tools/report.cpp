@@ -107,6 +107,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   if (r.order_bytes > 0) j["order_bytes"] = r.order_bytes;
   if (r.edge_nodes > 0)
     j["edge_nodes"] = {{"bytes", r.edge_node_bytes}, {"nodes", r.edge_nodes}, {"moved", r.moved_edge_nodes}};
+  if (r.edge_nodes_dropped > 0) j["edge_nodes_dropped"] = r.edge_nodes_dropped;
   if (r.exact_bytes > 0 || r.exact_delaunay_cells > 0)
     j["exact"] = {{"bytes", r.exact_bytes},
                   {"delaunay_cells", r.exact_delaunay_cells},

@@ -266,6 +266,8 @@ def encode(
     exact: bool = False,
     bricks: bool = False,
     brick_points: int = 2048,
+    edge_points: Any = None,
+    edge_nodes: Any = None,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -323,6 +325,13 @@ def encode(
         brick_points: with ``bricks``, each layer's bricks hold about this
             many of its new points (smaller: a part reads fewer bytes, the
             stream grows).
+        edge_points, edge_nodes: a second-order mesh's nodes on the
+            tetrahedra's edges, not among ``points``: K x 3 positions, and per
+            tetrahedron M x 6 indices into them, its edges (0,1) (0,2) (0,3)
+            (1,2) (1,3) (2,3), -1 for none. Kept with ``exact`` (format 18.0:
+            :attr:`Mesh.edge_nodes` gives them back, each within half a grid
+            step); without it the stream holds the linear cells (a warning
+            says so).
         threads: threads to use for this call (meshenc's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
             The stream is the same for any number.
@@ -361,11 +370,25 @@ def encode(
         raise ValueError("cell_data belongs to tetrahedra: give the tetrahedra too")
     cell_list = [_field_in(name, values, t.shape[0] if t is not None and t.ndim == 2 else 0, "cell_data")
                  for name, values in (cell_data or {}).items()]
+    ep = en = None
+    if edge_nodes is not None:
+        if t is None:
+            raise ValueError("edge_nodes lie on tetrahedra's edges: give the tetrahedra too")
+        ep = np.ascontiguousarray(np.asarray(edge_points if edge_points is not None else np.zeros((0, 3)),
+                                             dtype=np.float64))
+        en = np.ascontiguousarray(np.asarray(edge_nodes, dtype=np.int64))
+        if not exact:
+            warnings.warn("left out (the stream does not hold it): the nodes on the tetrahedra's edges: "
+                          "only exact=True keeps them; the stream holds the linear cells", stacklevel=2)
     with _threads_for_call(threads):
         stream, report, vertex_of_input = _dtmesh.encode(
             p, t, r, names, f, ft, face_names, field_list, cell_list, int(qbits), box, scale, dmax, preset,
-            dict(field_errors or {}), bool(keep_order), bool(exact), bool(bricks), int(brick_points))
-    return Encoded(stream, json.loads(report), vertex_of_input)
+            dict(field_errors or {}), bool(keep_order), bool(exact), bool(bricks), int(brick_points), ep, en)
+    encoded = Encoded(stream, json.loads(report), vertex_of_input)
+    if encoded.report.get("edge_nodes_dropped"):
+        warnings.warn("left out (the stream does not hold it): the nodes on level 0's edges: the exact cells "
+                      "fell back to format 11.0's coding, which holds none", stacklevel=2)
+    return encoded
 
 
 def _arrays_of(arrays, n: int) -> Dict[str, np.ndarray]:

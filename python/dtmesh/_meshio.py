@@ -123,8 +123,38 @@ def _tetrahedral(mesh):
                  "(its quadrilaterals by their diagonals through their least node)")
 
 
+def _tetra10_edge_nodes(mesh):
+    """With exact=True, a mesh whose volume cells are all tetra10 keeps its edge nodes (format 18.0,
+    as meshenc --exact does): the points that are only such nodes (no kept cell's corner), and per
+    tetrahedron (the blocks' order) its edges' (0,1) (0,2) (0,3) (1,2) (1,3) (2,3) nodes, indices into
+    them, -1 for a node that is some cell's corner; None for any other mesh."""
+    volumes = [b for b in mesh.cells if QUADRATIC.get(b.type, (b.type,))[0] in VOLUMES]
+    if not volumes or any(b.type != "tetra10" for b in volumes):
+        return None
+    corner = np.zeros(len(mesh.points), dtype=bool)
+    for block in mesh.cells:
+        kind, corners = QUADRATIC.get(block.type, (block.type, None))
+        if kind in KEPT:
+            corner[np.asarray(block.data)[:, :corners].reshape(-1)] = True
+    # (meshio's tetra10 lists its edge nodes in VTK's order.)
+    nodes = np.vstack([np.asarray(b.data)[:, [4, 6, 7, 5, 8, 9]] for b in volumes])
+    aside = np.zeros(len(mesh.points), dtype=bool)
+    for block in mesh.cells:
+        if block.type in QUADRATIC:
+            aside[np.asarray(block.data)[:, QUADRATIC[block.type][1]:].reshape(-1)] = True
+    aside &= ~corner
+    index = np.cumsum(aside) - 1
+    return mesh.points[aside], np.where(aside[nodes], index[nodes], -1)
+
+
 def write(filename, mesh, **options):
+    edge = _tetra10_edge_nodes(mesh) if options.get("exact") else None
     mesh, set_aside = _linear(mesh)
+    if edge is not None and set_aside is not None:
+        # (Kept: what is left out is the fields' values there.)
+        options["edge_points"], options["edge_nodes"] = edge
+        set_aside = (f"the point data's values at the {len(edge[0])} nodes on the tetrahedra's edges "
+                     "(the stream holds them at the corners only)") if mesh.point_data else None
     mesh, split = _tetrahedral(mesh)
     tetrahedra = None
     others = {}

@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <unordered_set>
 #include <vector>
 
 #include "codec/decode.h"
@@ -95,7 +96,9 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
                  const std::vector<FieldIn>& cell_fields, int qbits, std::optional<double> box,
                  std::optional<double> scale, std::optional<double> dmax, const std::string& preset,
                  const std::map<std::string, double>& field_errors, bool keep_order, bool exact, bool bricks,
-                 uint64_t brick_points) {
+                 uint64_t brick_points,
+                 std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>> edge_points,
+                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> edge_nodes) {
   if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must be an N x 3 array");
   const size_t n = static_cast<size_t>(points.shape(0));
   std::vector<dtm::InputPoint> in_points(n);
@@ -173,6 +176,31 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
         {f.name, dtm::value_type(static_cast<dtm::ScalarType>(f.type)), f.components,
          std::span<const double>(f.values.data(), static_cast<size_t>(f.values.size()))});
   }
+  // A second-order mesh's edge nodes (kept with exact: format 18.0): each
+  // edge once, the first tetrahedron's that names it.
+  std::vector<dtm::EncodeInput::EdgeNode> in_edge_nodes;
+  if (edge_nodes) {
+    if (!edge_points || edge_points->ndim() != 2 || edge_points->shape(1) != 3)
+      throw py::value_error("edge_nodes need edge_points, a K x 3 array");
+    const auto& e = *edge_nodes;
+    if (e.ndim() != 2 || e.shape(1) != 6 || static_cast<size_t>(e.shape(0)) != tets.size())
+      throw py::value_error("edge_nodes must be an M x 6 array, a row per tetrahedron");
+    const auto k = static_cast<int64_t>(edge_points->shape(0));
+    const int64_t* v = e.data();
+    const double* q = edge_points->data();
+    std::unordered_set<uint64_t> seen;
+    for (size_t t = 0; t < tets.size(); ++t)
+      for (size_t s = 0; s < 6; ++s) {
+        const int64_t node = v[6 * t + s];
+        if (node < 0) continue;
+        if (node >= k)
+          throw py::value_error("edge_nodes[" + std::to_string(t) + "] names edge point " +
+                                std::to_string(node) + ", there are " + std::to_string(k));
+        const uint32_t a = tets[t][dtm::kCellEdges[s][0]], b = tets[t][dtm::kCellEdges[s][1]];
+        if (seen.insert(a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a).second)
+          in_edge_nodes.push_back({{a, b}, {q[3 * node], q[3 * node + 1], q[3 * node + 2]}});
+      }
+  }
   dtm::EncodeOptions options = encode_options(qbits, box, scale, dmax, preset, field_errors);
   options.keep_order = keep_order;
   options.exact = exact;
@@ -189,6 +217,7 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
   input.face_tag_names = face_tag_names;
   input.fields = in_fields;
   input.cell_fields = in_cell_fields;
+  input.edge_nodes = in_edge_nodes;
   std::optional<dtm::StatusOr<dtm::EncodedMesh>> encoded;
   {
     py::gil_scoped_release release;
@@ -540,7 +569,7 @@ PYBIND11_MODULE(_dtmesh, m) {
         py::arg("region_names"), py::arg("faces"), py::arg("face_tags"), py::arg("face_tag_names"),
         py::arg("fields"), py::arg("cell_fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"),
         py::arg("dmax"), py::arg("preset"), py::arg("field_errors"), py::arg("keep_order"), py::arg("exact"),
-        py::arg("bricks"), py::arg("brick_points"));
+        py::arg("bricks"), py::arg("brick_points"), py::arg("edge_points"), py::arg("edge_nodes"));
   m.def("decode_part", &decode_part, py::arg("data"), py::arg("box"), py::arg("piece"), py::arg("pieces"),
         py::arg("level"), py::arg("max_vertices"));
   py::class_<Decoder>(m, "Decoder")

@@ -560,6 +560,36 @@ def test_meshio_writes_a_second_order_mesh_as_its_linear_cells(tmp_path):
     assert out.read_bytes() == linear.read_bytes()
 
 
+def test_meshio_writes_a_second_order_mesh_exactly_as_meshenc_does(tmp_path):
+    """A gmsh ball of tetra10 (its surface's nodes on the sphere): meshio.write with exact=True keeps
+    the edge nodes (format 18.0), meshenc --exact's bytes for the same .msh; decoded, its to_meshio()
+    is the input's tetra10 within half a grid step; without exact a warning names them."""
+    geo = tmp_path / "ball.geo"
+    geo.write_text('SetFactory("OpenCASCADE");\nSphere(1) = {0, 0, 0, 1};\nMesh.MeshSizeMax = 0.5;\n'
+                   'Physical Volume("ball", 1) = {1};\n')
+    msh = tmp_path / "ball.msh"
+    run("gmsh", geo, "-3", "-order", "2", "-format", "msh41", "-o", msh)
+    mesh = meshio.read(msh)
+    mesh.point_data.clear()  # meshio's gmsh:dim_tags, which meshenc does not read
+    ours, theirs = tmp_path / "ours.dtm", tmp_path / "theirs.dtm"
+    meshio.write(ours, mesh, exact=True)
+    run(tool("meshenc"), msh, "-q", "--exact", "-o", theirs)
+    assert ours.read_bytes() == theirs.read_bytes()
+    decoded = dtmesh.decode(ours.read_bytes())
+    info = dtmesh.info(ours.read_bytes())
+    assert info["version"] == "18.0" and decoded.edge_nodes.shape == (len(mesh.cells_dict["tetra10"]), 6)
+    back = decoded.to_meshio()
+    t, u = mesh.cells_dict["tetra10"], back.cells_dict["tetra10"]
+    nearest = {i: int(np.argmin(np.abs(mesh.points - back.points[i]).max(axis=1))) for i in np.unique(u[:, :4])}
+    want = {frozenset((c[a], c[b])): mesh.points[c[4 + k]]
+            for c in t for k, (a, b) in enumerate([(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)])}
+    worst = max(np.abs(back.points[c[4 + k]] - want[frozenset((nearest[c[a]], nearest[c[b]]))]).max()
+                for c in u for k, (a, b) in enumerate([(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]))
+    assert worst <= 0.5 * info["step"] * (1 + 1e-6)
+    with pytest.warns(UserWarning, match="nodes on the edges of second-order elements"):
+        meshio.write(tmp_path / "linear.dtm", mesh)
+
+
 def test_meshio_writes_prisms_and_hexahedra_as_meshenc_reads_them(tmp_path):
     """A boundary layer of prisms under tetrahedra, and a block of hexahedra with tagged quads, made
     by gmsh: meshio.write gives meshenc's bytes for the same .msh, with exact=True too (the cells
