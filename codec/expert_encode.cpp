@@ -206,13 +206,10 @@ StatusOr<std::vector<uint8_t>> edge_node_section(const TetMesh& mesh, std::span<
                                                  std::span<const GridEdgeNode> nodes,
                                                  std::span<const uint32_t> decode_order, int qbits,
                                                  EncodedStream& out) {
-  const auto key = [](uint32_t a, uint32_t b) {
-    return a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a;
-  };
   std::unordered_map<uint64_t, uint32_t> node_of;  // by the edge's grid ids, the first given
   node_of.reserve(nodes.size());
   for (size_t i = 0; i < nodes.size(); ++i)
-    node_of.try_emplace(key(nodes[i].corners[0], nodes[i].corners[1]), static_cast<uint32_t>(i));
+    node_of.try_emplace(edge_key(nodes[i].corners[0], nodes[i].corners[1]), static_cast<uint32_t>(i));
   const LevelEdges edges = level_edges(mesh, kept, order);
   EdgeNodeOffsets offsets;
   offsets.present.assign(edges.corners.size(), 0);
@@ -220,7 +217,7 @@ StatusOr<std::vector<uint8_t>> edge_node_section(const TetMesh& mesh, std::span<
   const int64_t reach = edge_node_reach(qbits);
   for (size_t e = 0; e < edges.corners.size(); ++e) {
     const uint32_t a = edges.corners[e][0], b = edges.corners[e][1];
-    const auto it = node_of.find(key(decode_order[a], decode_order[b]));
+    const auto it = node_of.find(edge_key(decode_order[a], decode_order[b]));
     if (it == node_of.end()) continue;
     const GridEdgeNode& node = nodes[it->second];
     offsets.present[e] = 1;

@@ -63,6 +63,21 @@ SecondOrder second_order_torus(size_t linear) {
   return m;
 }
 
+// Its nodes as the encoder takes them, and the encoder's input (which
+// views them and the mesh).
+std::vector<EncodeInput::EdgeNode> nodes_of(const SecondOrder& m) {
+  std::vector<EncodeInput::EdgeNode> out;
+  for (const auto& [e, p] : m.nodes) out.push_back({e, p});
+  return out;
+}
+EncodeInput input_of(const SecondOrder& m, std::span<const EncodeInput::EdgeNode> nodes) {
+  EncodeInput in;
+  in.points = m.points;
+  in.tetrahedra = m.tets;
+  in.edge_nodes = nodes;
+  return in;
+}
+
 EncodeOptions exact_options() {
   EncodeOptions o;
   o.box = 256;
@@ -73,12 +88,8 @@ EncodeOptions exact_options() {
 
 TEST(EdgeNodes, AnExactSecondOrderMeshGivesBackEachNode) {
   const SecondOrder m = second_order_torus(10);
-  std::vector<EncodeInput::EdgeNode> given;
-  for (const auto& [e, p] : m.nodes) given.push_back({e, p});
-  EncodeInput in;
-  in.points = m.points;
-  in.tetrahedra = m.tets;
-  in.edge_nodes = given;
+  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
+  const EncodeInput in = input_of(m, given);
   const auto encoded = encode(in, exact_options());
   ASSERT_TRUE(encoded.ok()) << encoded.status().message();
   EXPECT_EQ(encoded->report.edge_nodes, m.nodes.size());
@@ -155,12 +166,8 @@ TEST(EdgeNodes, AnExactSecondOrderMeshGivesBackEachNode) {
 
 TEST(EdgeNodes, OnlyExactStreamsCarryThem) {
   const SecondOrder m = second_order_torus(0);
-  std::vector<EncodeInput::EdgeNode> given;
-  for (const auto& [e, p] : m.nodes) given.push_back({e, p});
-  EncodeInput in;
-  in.points = m.points;
-  in.tetrahedra = m.tets;
-  in.edge_nodes = given;
+  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
+  const EncodeInput in = input_of(m, given);
   // Without --exact they are not level 0's edges: unused, the stream as
   // the linear mesh's.
   EncodeOptions plain = exact_options();
@@ -197,12 +204,8 @@ TEST(EdgeNodes, OnlyExactStreamsCarryThem) {
 // decodes to them again.
 TEST(EdgeNodes, DamagedSectionsAreRefused) {
   const SecondOrder m = second_order_torus(0);
-  std::vector<EncodeInput::EdgeNode> given;
-  for (const auto& [e, p] : m.nodes) given.push_back({e, p});
-  EncodeInput in;
-  in.points = m.points;
-  in.tetrahedra = m.tets;
-  in.edge_nodes = given;
+  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
+  const EncodeInput in = input_of(m, given);
   const auto encoded = encode(in, exact_options());
   ASSERT_TRUE(encoded.ok());
   ProgressiveDecoder d;

@@ -61,9 +61,6 @@ constexpr uint32_t kNone = UINT32_MAX;
 EdgeNodeParts edge_node_parts(const ProgressiveDecoder::EdgeNodes& nodes, const OutputMesh& mesh,
                               const TetMesh& dt, std::span<const uint8_t> kept) {
   EdgeNodeParts out;
-  const auto key = [](uint32_t a, uint32_t b) {
-    return a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a;
-  };
   std::unordered_set<uint64_t> boundary;
   for (size_t c = 0; c < dt.cells.size(); ++c) {
     if (!kept[c]) continue;
@@ -72,7 +69,7 @@ EdgeNodeParts edge_node_parts(const ProgressiveDecoder::EdgeNodes& nodes, const 
       if (across >= 0 && kept[static_cast<size_t>(across)]) continue;
       for (size_t i = 0; i < 4; ++i)
         for (size_t j = i + 1; j < 4; ++j)
-          if (i != k && j != k) boundary.insert(key(dt.cells[c][i], dt.cells[c][j]));
+          if (i != k && j != k) boundary.insert(edge_key(dt.cells[c][i], dt.cells[c][j]));
     }
   }
   std::unordered_map<uint64_t, uint32_t> rank;  // of each node, by its edge's corners
@@ -80,13 +77,13 @@ EdgeNodeParts edge_node_parts(const ProgressiveDecoder::EdgeNodes& nodes, const 
   for (size_t e = 0; e < nodes.edges.corners.size(); ++e) {
     if (!nodes.present[e]) continue;
     const auto& c = nodes.edges.corners[e];
-    rank.emplace(key(c[0], c[1]), static_cast<uint32_t>(out.corners.size()));
+    rank.emplace(edge_key(c[0], c[1]), static_cast<uint32_t>(out.corners.size()));
     out.corners.push_back(c);
     out.at.push_back(nodes.points[e]);
-    out.on_boundary.push_back(boundary.count(key(c[0], c[1])) != 0);
+    out.on_boundary.push_back(boundary.count(edge_key(c[0], c[1])) != 0);
   }
   const auto node = [&](uint32_t a, uint32_t b) {
-    const auto it = rank.find(key(a, b));
+    const auto it = rank.find(edge_key(a, b));
     return it == rank.end() ? kNone : it->second;
   };
   out.cells.reserve(mesh.cells.size());

@@ -17,6 +17,7 @@
 
 #include "codec/blocks/reference_share.h"
 #include "codec/encode.h"
+#include "codec/sections/edge_node_coder.h"
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
@@ -404,8 +405,7 @@ std::vector<dtm::EncodeInput::EdgeNode> tetrahedra_edge_nodes(const dtm::InputMe
       if (node == dtm::InputMesh::kNoEdgeNode) continue;
       const uint32_t a = input_to_point[in.tets[t][static_cast<size_t>(dtm::kTetEdges[k][0])]],
                      b = input_to_point[in.tets[t][static_cast<size_t>(dtm::kTetEdges[k][1])]];
-      if (seen.insert(a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a).second)
-        out.push_back({{a, b}, in.edge_points[node]});
+      if (seen.insert(dtm::edge_key(a, b)).second) out.push_back({{a, b}, in.edge_points[node]});
     }
   return out;
 }

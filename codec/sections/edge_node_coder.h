@@ -34,6 +34,12 @@ namespace dtm {
 inline constexpr std::array<std::array<uint8_t, 2>, 6> kCellEdges = {
     {{{0, 1}}, {{0, 2}}, {{0, 3}}, {{1, 2}}, {{1, 3}}, {{2, 3}}}};
 
+// An edge's key whichever way round its corners are given: the lower in
+// the high 32 bits.
+inline uint64_t edge_key(uint32_t a, uint32_t b) {
+  return a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a;
+}
+
 // The edges of a level's kept cells: each edge's corners (the lower first),
 // whether it is an edge of the level's surface, and per kept cell, in the
 // canonical order, its six edges (kCellEdges of its corners in ascending

@@ -19,9 +19,6 @@ LevelEdges level_edges(const TetMesh& mesh, std::span<const uint8_t> kept, std::
   std::unordered_map<uint64_t, uint32_t> index;
   index.reserve(kept_cells * 3 / 2);
   out.corners.reserve(kept_cells * 3 / 2);
-  const auto key = [](uint32_t a, uint32_t b) {
-    return a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a;
-  };
   for (uint32_t c : order) {
     if (!kept[c]) continue;
     // (Its corners ascending: the walk does not depend on how a cell
@@ -31,7 +28,7 @@ LevelEdges level_edges(const TetMesh& mesh, std::span<const uint8_t> kept, std::
     std::array<uint32_t, 6> edges;
     for (size_t k = 0; k < 6; ++k) {
       const uint32_t a = cell[kCellEdges[k][0]], b = cell[kCellEdges[k][1]];
-      const auto [it, fresh] = index.try_emplace(key(a, b), static_cast<uint32_t>(out.corners.size()));
+      const auto [it, fresh] = index.try_emplace(edge_key(a, b), static_cast<uint32_t>(out.corners.size()));
       if (fresh) out.corners.push_back({std::min(a, b), std::max(a, b)});
       edges[k] = it->second;
     }
@@ -41,7 +38,7 @@ LevelEdges level_edges(const TetMesh& mesh, std::span<const uint8_t> kept, std::
   out.on_surface.assign(out.corners.size(), 0);
   for (const SurfaceFace& f : surface_faces(mesh, kept).faces)
     for (size_t k = 0; k < 3; ++k)
-      if (const auto it = index.find(key(f.key[k], f.key[(k + 1) % 3])); it != index.end())
+      if (const auto it = index.find(edge_key(f.key[k], f.key[(k + 1) % 3])); it != index.end())
         out.on_surface[it->second] = 1;
   return out;
 }

@@ -197,7 +197,7 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
           throw py::value_error("edge_nodes[" + std::to_string(t) + "] names edge point " +
                                 std::to_string(node) + ", there are " + std::to_string(k));
         const uint32_t a = tets[t][dtm::kCellEdges[s][0]], b = tets[t][dtm::kCellEdges[s][1]];
-        if (seen.insert(a < b ? uint64_t{a} << 32 | b : uint64_t{b} << 32 | a).second)
+        if (seen.insert(dtm::edge_key(a, b)).second)
           in_edge_nodes.push_back({{a, b}, {q[3 * node], q[3 * node + 1], q[3 * node + 2]}});
       }
   }
