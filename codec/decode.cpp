@@ -153,6 +153,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   order_section_.assign(layer.order.begin(), layer.order.end());
   exact_section_.assign(layer.exact.begin(), layer.exact.end());
   edge_node_section_.assign(layer.edge_nodes.begin(), layer.edge_nodes.end());
+  edge_value_section_.assign(layer.edge_values.begin(), layer.edge_values.end());
   if (lh.bricked) {
     chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
     brick_depth_ = lh.brick_depth;
@@ -517,6 +518,27 @@ ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& l
   if (!s.ok()) {
     mesh_status_ = s.with_context("level 0's edge nodes");
     return {};
+  }
+  // (19.0: their values, predicted from the vertices'.)
+  if (header_.version_major >= kVersionMajorEdgeValues && !fields_.empty()) {
+    const auto count = static_cast<uint64_t>(std::count(nodes.present.begin(), nodes.present.end(), 1));
+    uint64_t components = 0;
+    for (const FieldValues& f : fields_) components += static_cast<uint64_t>(f.description.components);
+    Status v = count * components > options_.max_values
+                   ? Status{StatusCode::kLimitExceeded, std::to_string(count) + " edge nodes of " +
+                                                            std::to_string(components) +
+                                                            " values each exceed the limit of " +
+                                                            std::to_string(options_.max_values) + " values"}
+                   : Status::Ok();
+    std::vector<FieldDescription> descriptions;
+    for (const FieldValues& f : fields_) descriptions.push_back(f.description);
+    if (v.ok())
+      v = decode_edge_node_values(edge_value_section_, descriptions, fields_, out.edges, nodes.present,
+                                  out.values);
+    if (!v.ok()) {
+      mesh_status_ = v.with_context("level 0's edge nodes");
+      return {};
+    }
   }
   out.present = std::move(nodes.present);
   out.points.resize(out.edges.corners.size());

@@ -168,12 +168,15 @@ class ProgressiveDecoder {
   // With flag edge nodes (18.0, spec/FORMAT.md §3.11) and level 0 decoded:
   // the nodes on its kept cells' edges (`level`: level_cells()' result):
   // the edges (level_edges()), whether each has a node, and where, in grid
-  // units (a midpoint lies halfway between grid points). Empty otherwise,
-  // and mesh_status() set if the section is damaged.
+  // units (a midpoint lies halfway between grid points); with fields (19.0),
+  // the nodes' values, one FieldValues per field, node-major over the
+  // present nodes in the edges' order (empty in an 18.0 stream, which has
+  // none). Empty otherwise, and mesh_status() set if a section is damaged.
   struct EdgeNodes {
     LevelEdges edges;
     std::vector<uint8_t> present;
     std::vector<std::array<double, 3>> points;
+    std::vector<FieldValues> values;
   };
   bool has_edge_nodes() const { return (header_.flags & kFlagEdgeNodes) && finest_level() == 0; }
   EdgeNodes edge_nodes(const LevelCells& level) const;
@@ -220,6 +223,7 @@ class ProgressiveDecoder {
   std::vector<uint8_t> order_section_;       // level 0's
   std::vector<uint8_t> exact_section_;       // level 0's
   std::vector<uint8_t> edge_node_section_;   // level 0's
+  std::vector<uint8_t> edge_value_section_;  // level 0's
   StreamHeader header_;
   std::optional<FieldSectionDecoder> value_decoder_;
   std::vector<FieldValues> fields_;

@@ -181,6 +181,44 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
   return out;
 }
 
+// The fields' values at the edge nodes (`nodes`: input.edge_nodes on the
+// grid), a row for each after the grid points' (the edge value section,
+// format 19.0): a field's edge_values, or where it has none its value at
+// the edge's corners' mean (a float field's; an integer field's the lesser,
+// as a decoder of an 18.0 stream makes it).
+Status append_edge_node_values(const EncodeInput& input, std::span<const GridEdgeNode> nodes,
+                               std::vector<FieldValues>& fields) {
+  for (size_t k = 0; k < fields.size(); ++k) {
+    const EncodeInput::Field& f = input.fields[k];
+    FieldValues& v = fields[k];
+    const auto n = static_cast<size_t>(f.components);
+    if (!f.edge_values.empty() && f.edge_values.size() != nodes.size() * n)
+      return invalid_input("field '" + f.name + "' has " + std::to_string(f.edge_values.size()) +
+                           " values for " + std::to_string(nodes.size()) + " edge nodes of " +
+                           std::to_string(n) + " components");
+    const size_t points = v.bits.size() / n;
+    v.bits.reserve(v.bits.size() + nodes.size() * n);
+    for (size_t e = 0; e < nodes.size(); ++e)
+      for (size_t c = 0; c < n; ++c) {
+        if (!f.edge_values.empty()) {
+          const double value = f.edge_values[e * n + c];
+          if (v.description.lossy && !std::isfinite(value))
+            return invalid_input("field '" + f.name + "': edge node " + std::to_string(e) + " holds " +
+                                 (std::isnan(value) ? "NaN" : "an infinity") +
+                                 ", which a lossy field cannot keep (code it losslessly)");
+          v.bits.push_back(bits_of(value, f.type));
+          continue;
+        }
+        const uint32_t a = nodes[e].corners[0], b = nodes[e].corners[1];
+        if (a >= points || b >= points)
+          return invalid_input("an edge node on an edge whose corner is not a point");
+        const double va = value_of(v.bits[a * n + c], f.type), vb = value_of(v.bits[b * n + c], f.type);
+        v.bits.push_back(bits_of(is_float(f.type) ? (va + vb) / 2 : std::min(va, vb), f.type));
+      }
+  }
+  return Status::Ok();
+}
+
 // Each input point's vertex in the decoder's order (`decode_order`: the
 // grid point of each decoded vertex).
 std::vector<uint32_t> vertex_of_input(const QuantizedPoints& q, std::span<const uint32_t> decode_order) {
@@ -602,6 +640,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   std::vector<GridEdgeNode> grid_edge_nodes;
   if (options.exact && !input.edge_nodes.empty()) {
     DTM_ASSIGN_OR_RETURN(grid_edge_nodes, edge_nodes_on_grid(input, q, plan.stream_grid));
+    DTM_RETURN_IF_ERROR(append_edge_node_values(input, grid_edge_nodes, fields));
   }
   if (input.points_done) input.points_done();
   // The paper preset does not carve to the reference: it is only measured.
@@ -748,7 +787,8 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   report.value_bytes = std::move(stream.value_bytes);
   report.level_field_bytes = std::move(stream.level_field_bytes);
   for (size_t f = 0; f < stream.fields.size(); ++f)
-    report.fields.push_back({stream.fields[f], stream.field_bytes[f]});
+    report.fields.push_back({stream.fields[f], stream.field_bytes[f],
+                             f < stream.edge_node_field_bytes.size() ? stream.edge_node_field_bytes[f] : 0});
   report.field_table_bytes = stream.field_table_bytes;
   for (size_t f = 0; f < stream.cell_fields.size(); ++f)
     report.cell_fields.push_back({stream.cell_fields[f], stream.cell_field_bytes[f]});
@@ -759,6 +799,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   report.edge_node_bytes = stream.edge_node_bytes;
   report.edge_nodes = stream.edge_nodes;
   report.moved_edge_nodes = stream.moved_edge_nodes;
+  report.edge_value_bytes = stream.edge_value_bytes;
   report.edge_nodes_dropped = stream.edge_nodes_dropped;
   report.exact_delaunay_cells = stream.exact_delaunay_cells;
   report.exact = stream.exact;

@@ -216,12 +216,17 @@ struct EncodeInput {
   // centres, core/quantize.h's form, in the same order as `points`): its
   // grid is used as it is, so positions are coded losslessly.
   const QuantizedPoints* lattice = nullptr;
-  // Per-vertex fields to code with the points (a 5.0 stream; none: 4.0).
+  // Per-vertex fields to code with the points (a 5.0 stream; none: 4.0),
+  // and at the edge nodes (19.0).
   struct Field {
     std::string name;
     ValueType type = ValueType::kF64;
     int components = 1;
     std::span<const double> values;  // per point, `components` each (point-major)
+    // With edge_nodes kept (exact): per edge node, in their order,
+    // `components` each; empty: each node's value is its edge's corners'
+    // mean (a float field's; an integer field's the lesser).
+    std::span<const double> edge_values{};
   };
   std::span<const Field> fields;
   // Per-cell arrays (element results, material properties): `values` per
@@ -239,6 +244,9 @@ struct EncodeInput {
 struct FieldReport {
   FieldDescription description;
   uint64_t bytes = 0;  // its value sections' bytes over every layer
+  // Of a per-vertex field of a stream with edge nodes (19.0): its share of
+  // the edge value section, length words included.
+  uint64_t edge_node_bytes = 0;
 };
 
 struct LevelReport {
@@ -321,6 +329,7 @@ struct EncodeReport {
   uint64_t edge_node_bytes = 0;
   uint64_t edge_nodes = 0;
   uint64_t moved_edge_nodes = 0;
+  uint64_t edge_value_bytes = 0;    // the nodes' values (19.0)
   uint64_t edge_nodes_dropped = 0;  // given, not written (the exact cells fell back to 11.0's coding)
   uint64_t exact_delaunay_cells = 0;
   ExactStats exact;

@@ -199,13 +199,19 @@ StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> p
 // decoder walks them (`mesh`, `kept`, `order`: the exact level's cells, in
 // the decoder's numbering; `level_points` its points), each one's node
 // looked up by its corners' grid ids (`decode_order`), given as its offset
-// from the edge's midpoint in half grid steps.
-StatusOr<std::vector<uint8_t>> edge_node_section(const TetMesh& mesh, std::span<const uint8_t> kept,
-                                                 std::span<const uint32_t> order,
-                                                 std::span<const GridPoint> level_points,
-                                                 std::span<const GridEdgeNode> nodes,
-                                                 std::span<const uint32_t> decode_order, int qbits,
-                                                 EncodedStream& out) {
+// from the edge's midpoint in half grid steps; and with `values`, the edge
+// value section (19.0, §3.12): the nodes' values, whose rows in `values`
+// follow the points' (the k-th node of `nodes` at row points + k).
+struct EdgeNodeSections {
+  std::vector<uint8_t> nodes, values;
+};
+StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<const uint8_t> kept,
+                                              std::span<const uint32_t> order,
+                                              std::span<const GridPoint> level_points,
+                                              std::span<const GridEdgeNode> nodes,
+                                              std::span<const uint32_t> decode_order, int qbits,
+                                              const FieldSectionEncoder* values, size_t points,
+                                              EncodedStream& out) {
   std::unordered_map<uint64_t, uint32_t> node_of;  // by the edge's grid ids, the first given
   node_of.reserve(nodes.size());
   for (size_t i = 0; i < nodes.size(); ++i)
@@ -214,6 +220,7 @@ StatusOr<std::vector<uint8_t>> edge_node_section(const TetMesh& mesh, std::span<
   EdgeNodeOffsets offsets;
   offsets.present.assign(edges.corners.size(), 0);
   offsets.offset.assign(edges.corners.size(), {0, 0, 0});
+  std::vector<uint32_t> node_rows;  // per present node, in the walk's order, its row in `values`
   const int64_t reach = edge_node_reach(qbits);
   for (size_t e = 0; e < edges.corners.size(); ++e) {
     const uint32_t a = edges.corners[e][0], b = edges.corners[e][1];
@@ -221,6 +228,7 @@ StatusOr<std::vector<uint8_t>> edge_node_section(const TetMesh& mesh, std::span<
     if (it == node_of.end()) continue;
     const GridEdgeNode& node = nodes[it->second];
     offsets.present[e] = 1;
+    node_rows.push_back(static_cast<uint32_t>(points + it->second));
     ++out.edge_nodes;
     if (node.midpoint) continue;
     const std::array<int64_t, 3> sum = {int64_t{level_points[a].x} + level_points[b].x,
@@ -237,9 +245,16 @@ StatusOr<std::vector<uint8_t>> edge_node_section(const TetMesh& mesh, std::span<
     }
     out.moved_edge_nodes += d != std::array<int64_t, 3>{0, 0, 0};
   }
-  std::vector<uint8_t> section = encode_edge_nodes(edges, offsets, qbits);
-  out.edge_node_bytes = section.size();
-  return section;
+  EdgeNodeSections sections;
+  sections.nodes = encode_edge_nodes(edges, offsets, qbits);
+  out.edge_node_bytes = sections.nodes.size();
+  if (values) {
+    std::vector<uint32_t> vertex_rows(decode_order.begin(), decode_order.begin() + level_points.size());
+    sections.values = values->encode_chunk(
+        vertex_rows, node_rows, edge_node_neighbours(edges, offsets.present), out.edge_node_field_bytes);
+    out.edge_value_bytes = sections.values.size();
+  }
+  return sections;
 }
 
 }  // namespace
@@ -265,7 +280,9 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   std::vector<size_t> value_counts;
   for (const FieldValues& f : fields)
     descriptions.push_back(f.description), value_counts.push_back(f.bits.size());
-  DTM_RETURN_IF_ERROR(check_fields(descriptions, value_counts, points.size()).with_context("encode_stream"));
+  // (With edge nodes, a row of values for each after the points'.)
+  DTM_RETURN_IF_ERROR(check_fields(descriptions, value_counts, points.size() + options.edge_nodes.size())
+                          .with_context("encode_stream"));
   std::optional<FieldSectionEncoder> value_coder;
   if (values) {
     auto made = FieldSectionEncoder::make(std::move(fields));
@@ -352,7 +369,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // (An exact stream's version is settled when its section is: 11.0 where
   // its apexes are ranked among all the candidates.)
   ApexRanks exact_ranks = options.exact_ranks;
-  h.version_major = edge_nodes                ? kVersionMajorEdgeNodes
+  h.version_major = edge_nodes && values      ? kVersionMajorEdgeValues
+                    : edge_nodes              ? kVersionMajorEdgeNodes
                     : exact                   ? kVersionMajorExact
                     : cell_data || keep_order ? kVersionMajorCellData
                     : regions || faces        ? kVersionMajorRegions
@@ -440,7 +458,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // sections, and the point coder followed by the value coder (on
   // bunny_1m, 2 cores: 5.4 s against 4.6 + 2.2 s).
   struct LayerSections {
-    std::vector<uint8_t> carving, regions, faces, cells, order, exact, edge_nodes, values;
+    std::vector<uint8_t> carving, regions, faces, cells, order, exact, edge_nodes, edge_values, values;
     uint64_t cell_hash = 0;
     LayerPoints points;
   };
@@ -519,9 +537,12 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     // (Written whatever the exact cells' coding; dropped below if that
     // fell back to 11.0's.)
     if (edge_nodes && streamed[l] == 0 && exact_cells) {
-      DTM_ASSIGN_OR_RETURN(out_l.edge_nodes,
-                           edge_node_section(cells_mesh, kept, order, level_points, options.edge_nodes,
-                                             out.decode_order, grid.qbits, out));
+      DTM_ASSIGN_OR_RETURN(
+          EdgeNodeSections edge,
+          edge_node_sections(cells_mesh, kept, order, level_points, options.edge_nodes, out.decode_order,
+                             grid.qbits, value_coder ? &*value_coder : nullptr, points.size(), out));
+      out_l.edge_nodes = std::move(edge.nodes);
+      out_l.edge_values = std::move(edge.values);
     }
     if (keep_order && streamed[l] == 0) {
       // Each input vertex's number in the decoder's order.
@@ -604,13 +625,17 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // the stream is 11.0's, without them, and says so.)
   if (edge_nodes && format_major_of(exact_ranks) != kVersionMajorExact) {
     out.edge_nodes_dropped = out.edge_nodes;
-    out.edge_nodes = out.moved_edge_nodes = out.edge_node_bytes = 0;
+    out.edge_nodes = out.moved_edge_nodes = out.edge_node_bytes = out.edge_value_bytes = 0;
+    out.edge_node_field_bytes.clear();
     sections[0].edge_nodes.clear();
+    sections[0].edge_values.clear();
     h.flags = static_cast<uint16_t>(h.flags & ~kFlagEdgeNodes);
   }
   // (An exact stream's version, and flags, as its sections settled them.)
   if (exact) {
-    const uint8_t major = (h.flags & kFlagEdgeNodes) ? kVersionMajorEdgeNodes : format_major_of(exact_ranks);
+    const uint8_t major = !(h.flags & kFlagEdgeNodes) ? format_major_of(exact_ranks)
+                          : values                    ? kVersionMajorEdgeValues
+                                                      : kVersionMajorEdgeNodes;
     if (major != h.version_major || (edge_nodes && !(h.flags & kFlagEdgeNodes))) {
       h.version_major = major;
       const std::vector<uint8_t> header = write_header(h);
@@ -632,7 +657,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.alpha = level.alpha;
     lh.cell_hash = s.cell_hash;
     const auto layer = write_layer(lh, s.points.payload, s.carving, s.values, s.points.section, s.regions,
-                                   s.faces, s.cells, s.order, s.exact, s.edge_nodes);
+                                   s.faces, s.cells, s.order, s.exact, s.edge_nodes, s.edge_values);
     out.cell_value_bytes += s.cells.size();
     out.face_bytes[streamed[l]] = s.faces.size();
     out.carving_bytes[streamed[l]] = s.carving.size();

@@ -84,7 +84,9 @@ struct StreamOptions {
   ApexRanks exact_ranks = ApexRanks::kAfterFlips;
   // With exact_cells, of a second-order input (format 18.0, spec/FORMAT.md
   // §3.11): the nodes on the exact cells' edges, each edge once; empty:
-  // none. Needs exact_ranks 14.0's.
+  // none. Needs exact_ranks 14.0's. With fields, each field's values hold a
+  // row for each node after the points' (the k-th node's at row
+  // points.size() + k): the edge value section (19.0, §3.12) carries them.
   std::span<const GridEdgeNode> edge_nodes;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
@@ -134,6 +136,10 @@ struct EncodedStream {
   uint64_t edge_node_bytes = 0;
   uint64_t edge_nodes = 0;
   uint64_t moved_edge_nodes = 0;
+  // The edge value section (19.0): its bytes, and each field's share of
+  // them (length words included).
+  uint64_t edge_value_bytes = 0;
+  std::vector<uint64_t> edge_node_field_bytes;
   // Edge nodes given and not written: the exact cells fell back to 11.0's
   // coding (its fit tests over their budget), which has none.
   uint64_t edge_nodes_dropped = 0;

@@ -1,9 +1,10 @@
 // The nodes on level 0's edges (format 18.0, codec/sections/edge_node_coder.h,
 // spec/FORMAT.md §3.11): an exact stream of a second-order mesh gives each
 // edge node back within half a grid step of the input's (a quarter where it
-// is moved off its edge's midpoint), an edge of linear cells none; a
-// damaged section is refused, never read past; meshdec's writers list them
-// as 10-node tetrahedra.
+// is moved off its edge's midpoint), an edge of linear cells none; with
+// fields, each node's values (19.0, §3.12) as a vertex's, lossless or
+// within the bound; a damaged section is refused, never read past;
+// meshdec's writers list them as 10-node tetrahedra.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include "codec/encode.h"
 #include "codec/sections/edge_node_coder.h"
 #include "codec/stream/format.h"
+#include "common/byte_io.h"
 #include "test_support.h"
 #include "tools/decoded_mesh.h"
 #include "tools/formats/tetgen.h"
@@ -243,6 +245,202 @@ TEST(EdgeNodes, DamagedSectionsAreRefused) {
       EXPECT_EQ(again.offset, got.offset);
     }
   EXPECT_GT(refused, flipped / 2);
+}
+
+// Fields at the nodes (19.0): a smooth float64 field and an int32 one
+// given at every node, a lossy float32 one, and one given at the vertices
+// alone (each node gets its edge's corners' mean).
+struct NodeFields {
+  std::vector<std::vector<double>> at_points, at_nodes;
+  std::vector<EncodeInput::Field> fields;
+};
+double smooth(const InputPoint& p, int component) { return std::sin(3 * p.x + component) + p.y * p.z; }
+NodeFields fields_of(const SecondOrder& m, std::span<const EncodeInput::EdgeNode> nodes) {
+  NodeFields f;
+  f.at_points.resize(4), f.at_nodes.resize(4);
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    f.at_points[0].push_back(smooth(m.points[i], 0));
+    f.at_points[1].push_back(static_cast<double>(i % 7));
+    for (int c = 0; c < 2; ++c) f.at_points[2].push_back(static_cast<float>(smooth(m.points[i], c + 1)));
+    f.at_points[3].push_back(smooth(m.points[i], 5));
+  }
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    f.at_nodes[0].push_back(smooth(nodes[k].at, 0));
+    f.at_nodes[1].push_back(static_cast<double>(k % 5));
+    for (int c = 0; c < 2; ++c) f.at_nodes[2].push_back(static_cast<float>(smooth(nodes[k].at, c + 1)));
+  }
+  f.fields = {{"smooth", ValueType::kF64, 1, f.at_points[0], f.at_nodes[0]},
+              {"label", ValueType::kI32, 1, f.at_points[1], f.at_nodes[1]},
+              {"lossy", ValueType::kF32, 2, f.at_points[2], f.at_nodes[2]},
+              {"vertices only", ValueType::kF64, 1, f.at_points[3], {}}};
+  return f;
+}
+EncodeOptions fields_options() {
+  EncodeOptions o = exact_options();
+  o.field_errors["lossy"] = 1e-3;
+  return o;
+}
+
+TEST(EdgeNodes, TheFieldsValuesAtTheNodesComeBack) {
+  const SecondOrder m = second_order_torus(10);
+  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
+  EncodeInput in = input_of(m, given);
+  const NodeFields f = fields_of(m, given);
+  in.fields = f.fields;
+  const auto encoded = encode(in, fields_options());
+  ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+  EXPECT_GT(encoded->report.edge_value_bytes, 0u);
+  ASSERT_EQ(encoded->report.fields.size(), 4u);
+  // A smooth field's nodes cost less than its vertices (predicted from
+  // their edge's corners).
+  EXPECT_LT(encoded->report.fields[2].edge_node_bytes * m.points.size(),
+            encoded->report.fields[2].bytes * m.nodes.size());
+
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
+  EXPECT_EQ(d.header().version_major, kVersionMajorEdgeValues);
+  const ProgressiveDecoder::LevelCells level = d.level_cells();
+  const ProgressiveDecoder::EdgeNodes nodes = d.edge_nodes(level);
+  ASSERT_TRUE(d.mesh_status().ok()) << d.mesh_status().message();
+  ASSERT_EQ(nodes.values.size(), 4u);
+  std::vector<uint32_t> input_of(d.points().size(), UINT32_MAX);
+  for (uint32_t i = 0; i < m.points.size(); ++i) input_of[encoded->vertex_of_input[i]] = i;
+  std::map<Edge, size_t> given_index;
+  for (size_t k = 0; k < given.size(); ++k)
+    given_index[edge_of(given[k].corners[0], given[k].corners[1])] = k;
+  size_t n = 0;  // the node's rank among the present
+  for (size_t e = 0; e < nodes.edges.corners.size(); ++e) {
+    if (!nodes.present[e]) continue;
+    const uint32_t a = input_of[nodes.edges.corners[e][0]], b = input_of[nodes.edges.corners[e][1]];
+    const size_t k = given_index.at(edge_of(a, b));
+    EXPECT_EQ(nodes.values[0].value(n, 0), f.at_nodes[0][k]) << e;  // lossless: the same double
+    EXPECT_EQ(nodes.values[1].value(n, 0), f.at_nodes[1][k]) << e;
+    for (int c = 0; c < 2; ++c)
+      EXPECT_LE(std::abs(nodes.values[2].value(n, c) - f.at_nodes[2][k * 2 + static_cast<size_t>(c)]),
+                1e-3 * (1 + 1e-6))
+          << e;
+    EXPECT_EQ(nodes.values[3].value(n, 0), (f.at_points[3][a] + f.at_points[3][b]) / 2) << e;
+    ++n;
+  }
+  EXPECT_EQ(n, m.nodes.size());
+  // meshdec's mesh holds them at the nodes' points.
+  const OutputMesh out = decoded_mesh(d, "torus", true);
+  ASSERT_EQ(out.fields.size(), 4u);
+  const size_t base = out.points.size() - out.edge_nodes;
+  for (size_t k = 0; k < out.edge_nodes; ++k) {
+    EXPECT_EQ(out.fields[0].bits[base + k], nodes.values[0].bits[k]);
+    EXPECT_EQ(out.fields[2].bits[2 * (base + k) + 1], nodes.values[2].bits[2 * k + 1]);
+  }
+}
+
+// A stream with its edge value section taken out, or kept in a layer of an
+// older version, as a function of the stream's bytes: its header with
+// `major`, each layer re-written with `major`'s fields and without an edge
+// value section where `drop` says so.
+std::vector<uint8_t> restreamed(std::span<const uint8_t> bytes, uint8_t major, bool drop) {
+  StreamHeader h;
+  EXPECT_TRUE(parse_header(bytes, h).ok());
+  std::vector<FieldDescription> fields;
+  size_t table = 0;
+  EXPECT_TRUE(parse_field_table(bytes.subspan(kHeaderSize), fields, table).ok());
+  LayerWalk walk(h, UINT64_MAX, table);
+  h.version_major = major;
+  std::vector<uint8_t> out = write_header(h);
+  out.insert(out.end(), bytes.begin() + kHeaderSize,
+             bytes.begin() + static_cast<std::ptrdiff_t>(kHeaderSize + table));
+  Layer l;
+  while (walk.next(bytes.subspan(walk.offset()), l).ok()) {
+    LayerHeader lh = l.header;
+    lh.format_major = major;
+    const std::vector<uint8_t> layer =
+        write_layer(lh, l.payload, l.carving, l.values, l.candidates, l.regions, l.faces, l.cell_values,
+                    l.order, l.exact, l.edge_nodes, drop ? std::span<const uint8_t>{} : l.edge_values);
+    out.insert(out.end(), layer.begin(), layer.end());
+  }
+  return out;
+}
+
+TEST(EdgeNodes, AnEighteenStreamGivesTheNodesTheirCornersMean) {
+  const SecondOrder m = second_order_torus(0);
+  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
+  EncodeInput in = input_of(m, given);
+  const NodeFields f = fields_of(m, given);
+  in.fields = f.fields;
+  const auto encoded = encode(in, fields_options());
+  ASSERT_TRUE(encoded.ok());
+  // The same stream as 18.0 wrote it: no edge value section.
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(restreamed(encoded->bytes, kVersionMajorEdgeNodes, true), d).ok());
+  const OutputMesh out = decoded_mesh(d, "torus", true);
+  ASSERT_GT(out.edge_nodes, 0u);
+  const size_t base = out.points.size() - out.edge_nodes;
+  for (size_t k = 0; k < out.edge_nodes; ++k) {
+    const uint32_t node = static_cast<uint32_t>(base + k);
+    for (size_t c = 0; c < out.cells.size(); ++c)
+      for (size_t e = 0; e < 6; ++e)
+        if (out.cell_edge_nodes[c][e] == node) {
+          const uint32_t a = out.cells[c][kCellEdges[e][0]], b = out.cells[c][kCellEdges[e][1]];
+          EXPECT_EQ(value_of(out.fields[0].bits[node], ValueType::kF64),
+                    (value_of(out.fields[0].bits[a], ValueType::kF64) +
+                     value_of(out.fields[0].bits[b], ValueType::kF64)) /
+                        2);
+          e = 6, c = out.cells.size();
+        }
+    if (k > 40) break;
+  }
+  // A 19.0 stream without it, or an 18.0 one with it, is refused.
+  for (const auto& [major, drop] :
+       {std::pair{kVersionMajorEdgeValues, true}, std::pair{kVersionMajorEdgeNodes, false}}) {
+    ProgressiveDecoder refused;
+    EXPECT_FALSE(decode_stream(restreamed(encoded->bytes, major, drop), refused).ok()) << int{major};
+  }
+  // The stream re-written as it is decodes as it did.
+  EXPECT_EQ(restreamed(encoded->bytes, kVersionMajorEdgeValues, false), encoded->bytes);
+}
+
+// The edge value section alone: every truncation is refused, and a flipped
+// bit is refused or decodes (never read past).
+TEST(EdgeNodes, DamagedValueSectionsAreRefused) {
+  const SecondOrder m = second_order_torus(0);
+  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
+  EncodeInput in = input_of(m, given);
+  const NodeFields f = fields_of(m, given);
+  in.fields = f.fields;
+  const auto encoded = encode(in, fields_options());
+  ASSERT_TRUE(encoded.ok());
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
+  const ProgressiveDecoder::LevelCells level = d.level_cells();
+  const ProgressiveDecoder::EdgeNodes nodes = d.edge_nodes(level);
+  ASSERT_TRUE(d.mesh_status().ok());
+  std::vector<FieldDescription> descriptions;
+  for (const FieldValues& v : d.fields()) descriptions.push_back(v.description);
+  // The section is the stream's last bytes.
+  const std::vector<uint8_t> section(
+      encoded->bytes.end() - static_cast<std::ptrdiff_t>(encoded->report.edge_value_bytes),
+      encoded->bytes.end());
+  std::vector<FieldValues> values;
+  ASSERT_TRUE(
+      decode_edge_node_values(section, descriptions, d.fields(), nodes.edges, nodes.present, values).ok());
+  for (size_t k = 0; k < values.size(); ++k) EXPECT_EQ(values[k].bits, nodes.values[k].bits);
+  // (Some 100 cuts and 400 flips, each decode costing a few milliseconds.)
+  const size_t step = std::max<size_t>(1, section.size() / 100);
+  for (size_t n = 0; n < section.size(); n += n < 16 ? 1 : step)
+    EXPECT_FALSE(decode_edge_node_values(std::span(section).first(n), descriptions, d.fields(), nodes.edges,
+                                         nodes.present, values)
+                     .ok())
+        << n;
+  size_t refused = 0, flipped = 0;
+  for (size_t i = 0; i < section.size(); i += i < 16 ? 1 : step * 2)
+    for (int b = 0; b < 8; ++b) {
+      std::vector<uint8_t> damaged = section;
+      damaged[i] ^= static_cast<uint8_t>(1 << b);
+      ++flipped;
+      refused +=
+          !decode_edge_node_values(damaged, descriptions, d.fields(), nodes.edges, nodes.present, values)
+               .ok();
+    }
+  EXPECT_GT(refused, flipped / 4);
 }
 
 }  // namespace

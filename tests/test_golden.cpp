@@ -38,6 +38,17 @@ std::string hex(uint64_t v) {
   return buf;
 }
 
+// The sum over k of (k + 1) x the k-th value's bits in its own type's width
+// (a negative integer's are sign-extended in FieldValues), modulo 2^64.
+uint64_t bits_checksum(const FieldValues& f) {
+  constexpr int kBytes[] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
+  const int bytes = kBytes[static_cast<int>(f.description.type)];
+  const uint64_t mask = bytes == 8 ? ~uint64_t{0} : (uint64_t{1} << (8 * bytes)) - 1;
+  uint64_t sum = 0;
+  for (size_t k = 0; k < f.bits.size(); ++k) sum += (k + 1) * (f.bits[k] & mask);
+  return sum;
+}
+
 class GoldenStream : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
@@ -67,14 +78,7 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
                      ASSERT_TRUE(want["cell_data"].contains(f.description.name)) << f.description.name;
                      const auto& w = want["cell_data"][f.description.name];
                      EXPECT_EQ(f.bits.size(), w["values"].get<size_t>());
-                     // Each value's bits in its own type's width (a
-                     // negative integer's are sign-extended in FieldValues).
-                     constexpr int kBytes[] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
-                     const int bytes = kBytes[static_cast<int>(f.description.type)];
-                     const uint64_t mask = bytes == 8 ? ~uint64_t{0} : (uint64_t{1} << (8 * bytes)) - 1;
-                     uint64_t sum = 0;
-                     for (size_t k = 0; k < f.bits.size(); ++k) sum += (k + 1) * (f.bits[k] & mask);
-                     EXPECT_EQ(hex(sum), w["checksum"].get<std::string>()) << f.description.name;
+                     EXPECT_EQ(hex(bits_checksum(f)), w["checksum"].get<std::string>()) << f.description.name;
                    }
                  }
                  // 18.0: level 0's edge nodes, their count, the moved ones'
@@ -98,6 +102,20 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
                    EXPECT_EQ(count, w["nodes"].get<uint64_t>());
                    EXPECT_EQ(moved, w["moved"].get<uint64_t>());
                    EXPECT_EQ(hex(sum), w["checksum"].get<std::string>());
+                 }
+                 // 19.0: each field's values at level 0's edge nodes, their
+                 // count and checksum as cell_data's (tests/golden/make.sh).
+                 if (want.contains("edge_values")) {
+                   const ProgressiveDecoder::LevelCells level = d.level_cells();
+                   const ProgressiveDecoder::EdgeNodes nodes = d.edge_nodes(level);
+                   ASSERT_TRUE(d.mesh_status().ok()) << d.mesh_status().message();
+                   ASSERT_EQ(nodes.values.size(), want["edge_values"].size());
+                   for (const FieldValues& f : nodes.values) {
+                     ASSERT_TRUE(want["edge_values"].contains(f.description.name)) << f.description.name;
+                     const auto& w = want["edge_values"][f.description.name];
+                     EXPECT_EQ(f.bits.size(), w["values"].get<size_t>());
+                     EXPECT_EQ(hex(bits_checksum(f)), w["checksum"].get<std::string>()) << f.description.name;
+                   }
                  }
                  // 9.0: the level's cells per region label.
                  if (!want.contains("region_cells")) return;
@@ -200,6 +218,9 @@ INSTANTIATE_TEST_SUITE_P(Format17_0, GoldenStream, ::testing::Values("two_materi
 // 18.0: a second-order gmsh ball's own 10-node tetrahedra, their edge nodes
 // in an edge node section.
 INSTANTIATE_TEST_SUITE_P(Format18_0, GoldenStream, ::testing::Values("ball_order2_exact"));
+// 19.0: the same ball with a float64 and an int32 field at every node, the
+// nodes' values in an edge value section.
+INSTANTIATE_TEST_SUITE_P(Format19_0, GoldenStream, ::testing::Values("ball_order2_fields_exact"));
 // 14.0 to 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
 // cell hash is theirs, as the encoder hashed the input's cells), its apexes
 // ranked among the candidates that fit (12.0), with the filled bits in the

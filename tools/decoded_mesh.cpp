@@ -47,20 +47,23 @@ void renumber(OutputMesh& mesh, std::span<const uint32_t> order) {
 // decoder's numbering), where it lies (grid units) and whether its edge is
 // on the level's boundary (an edge of a face of a kept cell of `dt` with no
 // kept cell across: as boundary_vertices() finds the corners'; not the
-// interfaces between regions, which the section's surface has too).
+// interfaces between regions, which the section's surface has too); with
+// a 19.0 stream's fields, their values at the nodes.
 struct EdgeNodeParts {
   std::vector<std::array<uint32_t, 6>> cells;
   std::vector<std::array<uint32_t, 3>> faces;
   std::vector<std::array<uint32_t, 2>> corners;
   std::vector<std::array<double, 3>> at;
   std::vector<uint8_t> on_boundary;
+  std::vector<FieldValues> values;
 };
 
 constexpr uint32_t kNone = UINT32_MAX;
 
-EdgeNodeParts edge_node_parts(const ProgressiveDecoder::EdgeNodes& nodes, const OutputMesh& mesh,
-                              const TetMesh& dt, std::span<const uint8_t> kept) {
+EdgeNodeParts edge_node_parts(ProgressiveDecoder::EdgeNodes nodes, const OutputMesh& mesh, const TetMesh& dt,
+                              std::span<const uint8_t> kept) {
   EdgeNodeParts out;
+  out.values = std::move(nodes.values);
   std::unordered_set<uint64_t> boundary;
   for (size_t c = 0; c < dt.cells.size(); ++c) {
     if (!kept[c]) continue;
@@ -100,8 +103,9 @@ EdgeNodeParts edge_node_parts(const ProgressiveDecoder::EdgeNodes& nodes, const 
 // The nodes as points of `mesh`, after its vertices (`new_of_old`: the
 // vertices' new numbers, empty for none), on a grid of half the step (an
 // edge's midpoint is a point of it; every coordinate the same double): each
-// at level 0, on the boundary with its edge, each field's value there its
-// edge's corners' mean (a float field's; an integer field's the lesser).
+// at level 0, on the boundary with its edge, each field's value there the
+// stream's (19.0) or else its edge's corners' mean (a float field's; an
+// integer field's the lesser).
 void append_edge_nodes(OutputMesh& mesh, const EdgeNodeParts& parts, std::span<const uint32_t> new_of_old) {
   mesh.grid.step /= 2;
   for (GridPoint& p : mesh.points) p = {2 * p.x, 2 * p.y, 2 * p.z};
@@ -115,8 +119,15 @@ void append_edge_nodes(OutputMesh& mesh, const EdgeNodeParts& parts, std::span<c
     if (!mesh.level.empty()) mesh.level.push_back(0);
     if (!mesh.boundary.empty()) mesh.boundary.push_back(parts.on_boundary[n]);
     const uint32_t a = vertex(parts.corners[n][0]), b = vertex(parts.corners[n][1]);
-    for (OutputField& f : mesh.fields) {
+    for (size_t k = 0; k < mesh.fields.size(); ++k) {
+      OutputField& f = mesh.fields[k];
       const auto components = static_cast<size_t>(f.components);
+      if (k < parts.values.size()) {
+        const auto& bits = parts.values[k].bits;
+        f.bits.insert(f.bits.end(), bits.begin() + static_cast<std::ptrdiff_t>(n * components),
+                      bits.begin() + static_cast<std::ptrdiff_t>((n + 1) * components));
+        continue;
+      }
       const ValueType type = value_type(f.type);
       for (size_t c = 0; c < components; ++c) {
         const double va = value_of(f.bits[a * components + c], type),
@@ -194,9 +205,9 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
   // edges have them, in the decoder's numbering.
   std::optional<EdgeNodeParts> edge_nodes;
   if (with_edge_nodes && decoder.has_edge_nodes()) {
-    const ProgressiveDecoder::EdgeNodes nodes = decoder.edge_nodes(level);
+    ProgressiveDecoder::EdgeNodes nodes = decoder.edge_nodes(level);
     if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
-    edge_nodes = edge_node_parts(nodes, mesh, dt, in_mesh);
+    edge_nodes = edge_node_parts(std::move(nodes), mesh, dt, in_mesh);
   }
   // With the input's numbering (10.0, --keep-order): vertex k of the output
   // is the input's vertex k.

@@ -394,10 +394,16 @@ using Tet = std::array<uint32_t, 4>;
 
 // --exact of a second-order mesh: the nodes on its tetrahedra's edges, each
 // edge once (the first tetrahedron's that names it), its corners the grid
-// ids the encoder's tetrahedra name (`input_to_point`).
-std::vector<dtm::EncodeInput::EdgeNode> tetrahedra_edge_nodes(const dtm::InputMesh& in,
-                                                              std::span<const uint32_t> input_to_point) {
-  std::vector<dtm::EncodeInput::EdgeNode> out;
+// ids the encoder's tetrahedra name (`input_to_point`), and each field's
+// values there (`fields`: in.fields', in their order).
+struct TetrahedraEdgeNodes {
+  std::vector<dtm::EncodeInput::EdgeNode> nodes;
+  std::vector<std::vector<double>> values;
+};
+TetrahedraEdgeNodes tetrahedra_edge_nodes(const dtm::InputMesh& in, std::span<const uint32_t> input_to_point,
+                                          bool fields) {
+  TetrahedraEdgeNodes out;
+  std::vector<uint32_t> points;  // each node's edge point
   std::unordered_set<uint64_t> seen;
   for (size_t t = 0; t < in.tet_edge_nodes.size() && t < in.tets.size(); ++t)
     for (size_t k = 0; k < 6; ++k) {
@@ -405,8 +411,21 @@ std::vector<dtm::EncodeInput::EdgeNode> tetrahedra_edge_nodes(const dtm::InputMe
       if (node == dtm::InputMesh::kNoEdgeNode) continue;
       const uint32_t a = input_to_point[in.tets[t][static_cast<size_t>(dtm::kTetEdges[k][0])]],
                      b = input_to_point[in.tets[t][static_cast<size_t>(dtm::kTetEdges[k][1])]];
-      if (seen.insert(dtm::edge_key(a, b)).second) out.push_back({{a, b}, in.edge_points[node]});
+      if (seen.insert(dtm::edge_key(a, b)).second) {
+        out.nodes.push_back({{a, b}, in.edge_points[node]});
+        points.push_back(node);
+      }
     }
+  if (!fields) return out;
+  for (const dtm::VertexField& f : in.fields) {
+    const auto n = static_cast<size_t>(f.components);
+    std::vector<double>& values = out.values.emplace_back();
+    if (f.edge_values.size() != in.edge_points.size() * n) continue;  // (none: the corners' mean)
+    values.reserve(points.size() * n);
+    for (uint32_t p : points)
+      values.insert(values.end(), f.edge_values.begin() + static_cast<std::ptrdiff_t>(p * n),
+                    f.edge_values.begin() + static_cast<std::ptrdiff_t>((p + 1) * n));
+  }
   return out;
 }
 
@@ -913,10 +932,11 @@ int run(Command& c) {
   // --exact of a second-order mesh: its tetrahedra's edge nodes ride on
   // level 0's cells (format 18.0), named by their corners' grid ids, before
   // the tetrahedra are put on the grid.
-  std::vector<dtm::EncodeInput::EdgeNode> edge_nodes;
+  TetrahedraEdgeNodes edge_nodes;
   if (keep_edge_nodes) {
-    edge_nodes = tetrahedra_edge_nodes(in, plan->quantized.input_to_point);
-    input.edge_nodes = edge_nodes;
+    edge_nodes = tetrahedra_edge_nodes(in, plan->quantized.input_to_point, !fields.empty());
+    input.edge_nodes = edge_nodes.nodes;
+    for (size_t f = 0; f < fields.size(); ++f) fields[f].edge_values = edge_nodes.values[f];
   }
   // Whether the input has tetrahedra (a rank's share may have none).
   const bool with_reference = !in.tets.empty() || !in.tetgen_ele.empty();
@@ -986,7 +1006,7 @@ int run(Command& c) {
     input.points = {};
     input.fields = {};
     dtm::release(in.points);
-    for (auto& f : in.fields) dtm::release(f.values);
+    for (auto& f : in.fields) dtm::release(f.values), dtm::release(f.edge_values);
   };
   c.encode.on_phase = [&](std::string_view phase) { display.start(phase); };
   // Without an output the stream is still made: the report gives its size.
@@ -1026,8 +1046,9 @@ int run(Command& c) {
     print_reference_line(r);
     uint64_t value_bytes = r.field_table_bytes;
     for (const auto& f : r.fields) value_bytes += f.bytes;
-    // (What is not the levels: the values, level 0's cell data and vertex order.)
-    value_bytes += r.cell_field_table_bytes + r.cell_value_bytes + r.order_bytes;
+    // (What is not the levels: the values, level 0's cell data and vertex
+    // order, the edge nodes' values.)
+    value_bytes += r.cell_field_table_bytes + r.cell_value_bytes + r.order_bytes + r.edge_value_bytes;
     if (!c.output.empty())
       std::printf("%s: %llu bytes, %.2f bits per vertex for the levels (%zu vertices, %zu levels)%s\n",
                   c.output.c_str(), static_cast<unsigned long long>(r.stream_bytes),
@@ -1088,6 +1109,9 @@ int run(Command& c) {
           static_cast<unsigned long long>(r.edge_nodes), static_cast<unsigned long long>(r.edge_node_bytes),
           8.0 * r.edge_node_bytes / vertices, static_cast<unsigned long long>(r.moved_edge_nodes),
           r.moved_edge_nodes ? 8.0 * r.edge_node_bytes / r.moved_edge_nodes : 0.0);
+    if (r.edge_value_bytes > 0)
+      for (const dtm::FieldReport& f : r.fields)
+        print_array_bytes("at the edge nodes, field", {f.description, f.edge_node_bytes}, r.edge_nodes);
     if (r.order_bytes > 0)
       std::printf("  vertex order (the input's numbering of level 0): %llu bytes, %.2f bits per vertex\n",
                   static_cast<unsigned long long>(r.order_bytes), 8.0 * r.order_bytes / vertices);

@@ -82,6 +82,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
                            {"mode", d.lossy ? "lossy" : "lossless"},
                            {"error_bound", d.error_bound},
                            {"bytes", f.bytes}});
+    if (r.edge_value_bytes > 0) j["fields"].back()["edge_node_bytes"] = f.edge_node_bytes;
   }
   if (!r.fields.empty()) {
     j["field_table_bytes"] = r.field_table_bytes;
@@ -106,7 +107,10 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   }
   if (r.order_bytes > 0) j["order_bytes"] = r.order_bytes;
   if (r.edge_nodes > 0)
-    j["edge_nodes"] = {{"bytes", r.edge_node_bytes}, {"nodes", r.edge_nodes}, {"moved", r.moved_edge_nodes}};
+    j["edge_nodes"] = {{"bytes", r.edge_node_bytes},
+                       {"nodes", r.edge_nodes},
+                       {"moved", r.moved_edge_nodes},
+                       {"value_bytes", r.edge_value_bytes}};
   if (r.edge_nodes_dropped > 0) j["edge_nodes_dropped"] = r.edge_nodes_dropped;
   if (r.exact_bytes > 0 || r.exact_delaunay_cells > 0)
     j["exact"] = {{"bytes", r.exact_bytes},

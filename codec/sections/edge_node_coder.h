@@ -16,6 +16,9 @@
 // cells (level_edges()): the cells in the canonical order, each one's six
 // edges (kCellEdges of its corners in ascending order), each edge the
 // first time it is met.
+//
+// With per-vertex fields, the edge value section (format 19.0, §3.12)
+// follows: each node's values, predicted from its edge's corners'.
 #pragma once
 
 #include <array>
@@ -23,6 +26,8 @@
 #include <span>
 #include <vector>
 
+#include "codec/sections/value_coder.h"
+#include "codec/sections/value_fields.h"
 #include "common/status.h"
 #include "mesh/delaunay.h"
 
@@ -70,5 +75,20 @@ std::vector<uint8_t> encode_edge_nodes(const LevelEdges& edges, const EdgeNodeOf
 // moved node with a nonzero offset, and ends where its bytes do.
 Status decode_edge_nodes(std::span<const uint8_t> section, const LevelEdges& edges, int qbits,
                          EdgeNodeOffsets& nodes);
+
+// The edge value section (19.0, §3.12) is a bricked chunk's value section
+// (FieldSectionEncoder::encode_chunk, decode_chunk_values) whose known
+// points are the level's vertices and whose points are the present nodes in
+// the walk's order, each predicted from its edge's two corners alone (the
+// rounded mean of their values, where the field is smooth within
+// O(length^2) of the node's): these are their neighbours.
+std::vector<Neighbours> edge_node_neighbours(const LevelEdges& edges, std::span<const uint8_t> present);
+
+// Read: the present nodes' values, one FieldValues per field of `fields`,
+// node-major in the walk's order, given the level's vertices' decoded values
+// (`vertex_values`, one per field). kCorrupt if the section is damaged.
+Status decode_edge_node_values(std::span<const uint8_t> section, std::span<const FieldDescription> fields,
+                               std::span<const FieldValues> vertex_values, const LevelEdges& edges,
+                               std::span<const uint8_t> present, std::vector<FieldValues>& out);
 
 }  // namespace dtm

@@ -43,6 +43,29 @@ LevelEdges level_edges(const TetMesh& mesh, std::span<const uint8_t> kept, std::
   return out;
 }
 
+std::vector<Neighbours> edge_node_neighbours(const LevelEdges& edges, std::span<const uint8_t> present) {
+  std::vector<Neighbours> out;
+  for (size_t e = 0; e < edges.corners.size(); ++e) {
+    if (!present[e]) continue;
+    // (Two neighbours at one distance: the prediction is their mean.)
+    Neighbours& n = out.emplace_back();
+    n.count = 2;
+    n.index[0] = edges.corners[e][0], n.index[1] = edges.corners[e][1];
+    n.d2[0] = n.d2[1] = 1;
+  }
+  return out;
+}
+
+Status decode_edge_node_values(std::span<const uint8_t> section, std::span<const FieldDescription> fields,
+                               std::span<const FieldValues> vertex_values, const LevelEdges& edges,
+                               std::span<const uint8_t> present, std::vector<FieldValues>& out) {
+  std::vector<std::vector<uint64_t>> known_bits;
+  known_bits.reserve(vertex_values.size());
+  for (const FieldValues& f : vertex_values) known_bits.push_back(f.bits);
+  return decode_chunk_values(fields, section, known_bits, edge_node_neighbours(edges, present), out)
+      .with_context("edge values");
+}
+
 Status decode_edge_nodes(std::span<const uint8_t> section, const LevelEdges& edges, int qbits,
                          EdgeNodeOffsets& nodes) {
   const size_t n = edges.corners.size();

@@ -96,6 +96,13 @@ class FieldSectionEncoder {
                                     std::span<const GridPoint> known_positions,
                                     std::span<const uint32_t> points, std::span<const GridPoint> positions,
                                     std::vector<uint64_t>& field_bytes) const;
+  // The same with each point's neighbours given rather than searched
+  // (indices: the known points 0.., then the chunk's points in order): the
+  // edge value section's (format 19.0, spec/FORMAT.md §3.12), each node
+  // predicted from its edge's corners.
+  std::vector<uint8_t> encode_chunk(std::span<const uint32_t> known, std::span<const uint32_t> points,
+                                    std::span<const Neighbours> neighbours,
+                                    std::vector<uint64_t>& field_bytes) const;
 
  private:
   std::vector<FieldDescription> descriptions_;
@@ -111,6 +118,10 @@ Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<c
                            std::span<const GridPoint> known_positions,
                            std::span<const std::vector<uint64_t>> known_bits,
                            std::span<const GridPoint> positions, std::vector<FieldValues>& out);
+// The same with each point's neighbours given (as encode_chunk's).
+Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<const uint8_t> section,
+                           std::span<const std::vector<uint64_t>> known_bits,
+                           std::span<const Neighbours> neighbours, std::vector<FieldValues>& out);
 
 class FieldSectionDecoder {
  public:

@@ -124,29 +124,36 @@ Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<c
                            std::span<const GridPoint> known_positions,
                            std::span<const std::vector<uint64_t>> known_bits,
                            std::span<const GridPoint> positions, std::vector<FieldValues>& out) {
-  out.clear();
   NeighbourSearch search;
   search.know(known_positions);
-  const std::vector<Neighbours> neighbours = search.layer(positions);
+  return decode_chunk_values(fields, section, known_bits, search.layer(positions), out);
+}
+
+Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<const uint8_t> section,
+                           std::span<const std::vector<uint64_t>> known_bits,
+                           std::span<const Neighbours> neighbours, std::vector<FieldValues>& out) {
+  out.clear();
+  const size_t count = neighbours.size();
   ByteReader r(section);
   std::vector<Int128> ordered, seeds;
   for (size_t f = 0; f < fields.size(); ++f) {
     const FieldDescription& d = fields[f];
     FieldValues& values = out.emplace_back(FieldValues{d, {}});
-    values.bits.resize(positions.size() * static_cast<size_t>(d.components));
+    values.bits.resize(count * static_cast<size_t>(d.components));
+    const size_t known = f < known_bits.size() ? known_bits[f].size() / static_cast<size_t>(d.components) : 0;
     for (int c = 0; c < d.components; ++c) {
       uint32_t length = 0;
       if (!r.u32(length) || length > r.remaining())
         return {StatusCode::kCorrupt, "the value section of field '" + d.name + "' ends early"};
       ValueDecoder decoder(d.scales[static_cast<size_t>(c)], max_scaled(d, c));
       seeds.clear();
-      for (size_t i = 0; i < known_positions.size(); ++i)
+      for (size_t i = 0; i < known; ++i)
         seeds.push_back(known_ordered(d, c, known_bits[f][i * static_cast<size_t>(d.components) + c]));
       decoder.know(seeds);
       DTM_RETURN_IF_ERROR(decoder.decode_layer(section.subspan(r.position(), length), neighbours, ordered)
                               .with_context("field '" + d.name + "'"));
       r.skip(length);
-      for (size_t i = 0; i < positions.size(); ++i)
+      for (size_t i = 0; i < count; ++i)
         values.bits[i * static_cast<size_t>(d.components) + c] =
             d.lossy ? bits_of(dequantize(ordered[i], d.lossy_scales[static_cast<size_t>(c)],
                                          d.type == ValueType::kF32),

@@ -130,10 +130,16 @@ std::vector<uint8_t> FieldSectionEncoder::encode_chunk(std::span<const uint32_t>
                                                        std::span<const uint32_t> points,
                                                        std::span<const GridPoint> positions,
                                                        std::vector<uint64_t>& field_bytes) const {
-  field_bytes.resize(descriptions_.size(), 0);
   NeighbourSearch search;
   search.know(known_positions);
-  const std::vector<Neighbours> neighbours = search.layer(positions);
+  return encode_chunk(known, points, search.layer(positions), field_bytes);
+}
+
+std::vector<uint8_t> FieldSectionEncoder::encode_chunk(std::span<const uint32_t> known,
+                                                       std::span<const uint32_t> points,
+                                                       std::span<const Neighbours> neighbours,
+                                                       std::vector<uint64_t>& field_bytes) const {
+  field_bytes.resize(descriptions_.size(), 0);
   ByteWriter w;
   size_t coder = 0;
   for (size_t f = 0; f < descriptions_.size(); ++f) {

@@ -175,7 +175,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> candidates, std::span<const uint8_t> regions,
                                  std::span<const uint8_t> faces, std::span<const uint8_t> cell_values,
                                  std::span<const uint8_t> order, std::span<const uint8_t> exact,
-                                 std::span<const uint8_t> edge_nodes) {
+                                 std::span<const uint8_t> edge_nodes, std::span<const uint8_t> edge_values) {
   h.candidate_bytes = static_cast<uint32_t>(candidates.size());
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
@@ -186,6 +186,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   h.order_bytes = static_cast<uint32_t>(order.size());
   h.exact_bytes = static_cast<uint32_t>(exact.size());
   h.edge_node_bytes = static_cast<uint32_t>(edge_nodes.size());
+  h.edge_value_bytes = static_cast<uint32_t>(edge_values.size());
   std::vector<uint8_t> body(candidates.begin(), candidates.end());
   body.insert(body.end(), payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
@@ -196,6 +197,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   body.insert(body.end(), order.begin(), order.end());
   body.insert(body.end(), exact.begin(), exact.end());
   body.insert(body.end(), edge_nodes.begin(), edge_nodes.end());
+  body.insert(body.end(), edge_values.begin(), edge_values.end());
   FieldWriter writer;
   writer.trailer = body;
   visit_fields(h, writer);
@@ -286,6 +288,14 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
   if (h.level != 0 && h.edge_node_bytes != 0) return corrupt("an edge node section in a layer but level 0's");
   if (h.level == 0 && (header_.flags & kFlagEdgeNodes) && h.edge_node_bytes == 0)
     return corrupt("level 0's layer without its edge node section");
+  // (19.0: the edge nodes' values come with both flags.)
+  const bool edge_values = (header_.flags & kFlagEdgeNodes) && (header_.flags & kFlagValues);
+  if (!edge_values && h.edge_value_bytes != 0)
+    return corrupt("an edge value section present without edge nodes and values");
+  if (h.level != 0 && h.edge_value_bytes != 0)
+    return corrupt("an edge value section in a layer but level 0's");
+  if (h.level == 0 && edge_values && h.format_major >= kVersionMajorEdgeValues && h.edge_value_bytes == 0)
+    return corrupt("level 0's layer without its edge value section");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
     return corrupt("candidates at the base level, which has no coarser level");
@@ -352,7 +362,9 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   const uint64_t order_at = values_at + lh.value_bytes + lh.cell_value_bytes;
   layer.order = body.subspan(order_at, lh.order_bytes);
   layer.exact = body.subspan(order_at + lh.order_bytes, lh.exact_bytes);
-  layer.edge_nodes = body.subspan(order_at + lh.order_bytes + lh.exact_bytes);
+  const uint64_t edge_nodes_at = order_at + lh.order_bytes + lh.exact_bytes;
+  layer.edge_nodes = body.subspan(edge_nodes_at, lh.edge_node_bytes);
+  layer.edge_values = body.subspan(edge_nodes_at + lh.edge_node_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();

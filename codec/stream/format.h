@@ -61,8 +61,11 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // carries cell data (each of its chunks a cell value section); 17.0 when a
 // bricked stream's levels carry tagged faces (each chunk a face section);
 // 18.0 when an exact level 0 carries its edges' nodes (kFlagEdgeNodes);
-// the decoder reads 2.x to 18.x.
-inline constexpr uint8_t kVersionMajor = 18;
+// 19.0 when those nodes carry the per-vertex fields' values too (flags
+// edge nodes and values: an edge value section in level 0's layer); the
+// decoder reads 2.x to 19.x.
+inline constexpr uint8_t kVersionMajor = 19;
+inline constexpr uint8_t kVersionMajorEdgeValues = 19;
 inline constexpr uint8_t kVersionMajorEdgeNodes = 18;
 inline constexpr uint8_t kVersionMajorBrickedFaces = 17;
 inline constexpr uint8_t kVersionMajorBrickedCellData = 16;
@@ -164,6 +167,9 @@ struct LayerHeader {
   // 18.0 and later: the edge node section, after it (0 but in level 0's
   // layer of a stream with kFlagEdgeNodes).
   uint32_t edge_node_bytes = 0;
+  // 19.0 and later: the edge value section, after it (0 but in level 0's
+  // layer of a stream with kFlagEdgeNodes and kFlagValues).
+  uint32_t edge_value_bytes = 0;
   // Bricked layers (8.0): the largest circumradius of a kept cell (at least
   // alpha; larger cells carry no correction bit), the bricks' octree depth,
   // and the sizes of the index and of the chunks after it.
@@ -179,7 +185,7 @@ struct LayerHeader {
   uint64_t body_bytes() const {
     if (bricked) return uint64_t{index_bytes} + chunk_bytes;
     return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + face_bytes +
-           value_bytes + cell_value_bytes + order_bytes + exact_bytes + edge_node_bytes;
+           value_bytes + cell_value_bytes + order_bytes + exact_bytes + edge_node_bytes + edge_value_bytes;
   }
 };
 
@@ -240,6 +246,7 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
   }
   if (h.format_major >= 11) v.template field<uint32_t>("exact_bytes", h.exact_bytes);
   if (h.format_major >= 18) v.template field<uint32_t>("edge_node_bytes", h.edge_node_bytes);
+  if (h.format_major >= 19) v.template field<uint32_t>("edge_value_bytes", h.edge_value_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -289,7 +296,8 @@ static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_si
                   layer_header_size(10) == 67 && layer_header_size(10, true) == 55 &&
                   layer_header_size(11) == 71 && layer_header_size(11, true) == 55 &&
                   layer_header_size(17) == 71 && layer_header_size(18) == 75 &&
-                  layer_header_size(18, true) == 55,
+                  layer_header_size(18, true) == 55 && layer_header_size(19) == 79 &&
+                  layer_header_size(19, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -307,7 +315,8 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> regions = {}, std::span<const uint8_t> faces = {},
                                  std::span<const uint8_t> cell_values = {},
                                  std::span<const uint8_t> order = {}, std::span<const uint8_t> exact = {},
-                                 std::span<const uint8_t> edge_nodes = {});
+                                 std::span<const uint8_t> edge_nodes = {},
+                                 std::span<const uint8_t> edge_values = {});
 
 // Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
 // the checksum computed), the index, the chunks.
@@ -325,8 +334,9 @@ struct Layer {
   std::span<const uint8_t> values;
   std::span<const uint8_t> cell_values;
   std::span<const uint8_t> order;
-  std::span<const uint8_t> exact;       // 11.0: the exact cell section
-  std::span<const uint8_t> edge_nodes;  // 18.0: the edge node section
+  std::span<const uint8_t> exact;        // 11.0: the exact cell section
+  std::span<const uint8_t> edge_nodes;   // 18.0: the edge node section
+  std::span<const uint8_t> edge_values;  // 19.0: the edge value section
   // A bricked layer's index (checksummed with the header) and chunks (each
   // checked against its checksum in the index when it is decoded).
   std::span<const uint8_t> index;

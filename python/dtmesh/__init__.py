@@ -130,8 +130,9 @@ class Mesh:
             second-order mesh (format 18.0, ``meshenc --exact``): per
             tetrahedron the points on its edges (0,1) (0,2) (0,3) (1,2) (1,3)
             (2,3), -1 where it has none; those points follow the vertices in
-            ``points`` (at level 0, with the fields' values there their
-            edge's corners' mean). Empty (0 x 6) otherwise.
+            ``points`` (at level 0, with the fields' values there: the
+            stream's in format 19.0, in 18.0 their edge's corners' mean).
+            Empty (0 x 6) otherwise.
         face_edge_nodes: int64, F x 3, the same for the tagged faces' edges
             (0,1) (1,2) (2,0).
     """
@@ -268,6 +269,7 @@ def encode(
     brick_points: int = 2048,
     edge_points: Any = None,
     edge_nodes: Any = None,
+    edge_fields: Optional[Mapping[str, Any]] = None,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -332,6 +334,10 @@ def encode(
             :attr:`Mesh.edge_nodes` gives them back, each within half a grid
             step); without it the stream holds the linear cells (a warning
             says so).
+        edge_fields: with ``edge_points``, fields' values there by name,
+            each (K,) or (K, components) of its field's dtype (format 19.0:
+            :attr:`Mesh.fields` give them back at the edge nodes, as at the
+            vertices); a field without them gets its edge's corners' mean.
         threads: threads to use for this call (meshenc's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
             The stream is the same for any number.
@@ -380,10 +386,23 @@ def encode(
         if not exact:
             warnings.warn("left out (the stream does not hold it): the nodes on the tetrahedra's edges: "
                           "only exact=True keeps them; the stream holds the linear cells", stacklevel=2)
+    edge_list = []
+    if edge_fields:
+        if en is None:
+            raise ValueError("edge_fields are values at edge_points: give edge_points and edge_nodes too")
+        for name, values in edge_fields.items():
+            if name not in (fields or {}):
+                raise ValueError(f"edge_fields {name!r}: not a field of fields")
+            field_dtype = np.asarray(fields[name]).dtype
+            if np.asarray(values).dtype != field_dtype and not (field_dtype == np.bool_ and
+                                                                np.asarray(values).dtype == np.bool_):
+                raise TypeError(f"edge_fields {name!r}: dtype {np.asarray(values).dtype}, its field's is {field_dtype}")
+            edge_list.append(_field_in(name, values, ep.shape[0], "edge_fields"))
     with _threads_for_call(threads):
         stream, report, vertex_of_input = _dtmesh.encode(
             p, t, r, names, f, ft, face_names, field_list, cell_list, int(qbits), box, scale, dmax, preset,
-            dict(field_errors or {}), bool(keep_order), bool(exact), bool(bricks), int(brick_points), ep, en)
+            dict(field_errors or {}), bool(keep_order), bool(exact), bool(bricks), int(brick_points), ep, en,
+            edge_list)
     encoded = Encoded(stream, json.loads(report), vertex_of_input)
     if encoded.report.get("edge_nodes_dropped"):
         warnings.warn("left out (the stream does not hold it): the nodes on level 0's edges: the exact cells "

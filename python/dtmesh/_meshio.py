@@ -125,9 +125,10 @@ def _tetrahedral(mesh):
 
 def _tetra10_edge_nodes(mesh):
     """With exact=True, a mesh whose volume cells are all tetra10 keeps its edge nodes (format 18.0,
-    as meshenc --exact does): the points that are only such nodes (no kept cell's corner), and per
-    tetrahedron (the blocks' order) its edges' (0,1) (0,2) (0,3) (1,2) (1,3) (2,3) nodes, indices into
-    them, -1 for a node that is some cell's corner; None for any other mesh."""
+    with the point data there 19.0, as meshenc --exact does): the points that are only such nodes (no
+    kept cell's corner), per tetrahedron (the blocks' order) its edges' (0,1) (0,2) (0,3) (1,2) (1,3)
+    (2,3) nodes, indices into them, -1 for a node that is some cell's corner, and which of the mesh's
+    points they are (a mask); None for any other mesh."""
     volumes = [b for b in mesh.cells if QUADRATIC.get(b.type, (b.type,))[0] in VOLUMES]
     if not volumes or any(b.type != "tetra10" for b in volumes):
         return None
@@ -144,17 +145,19 @@ def _tetra10_edge_nodes(mesh):
             aside[np.asarray(block.data)[:, QUADRATIC[block.type][1]:].reshape(-1)] = True
     aside &= ~corner
     index = np.cumsum(aside) - 1
-    return mesh.points[aside], np.where(aside[nodes], index[nodes], -1)
+    return mesh.points[aside], np.where(aside[nodes], index[nodes], -1), aside
 
 
 def write(filename, mesh, **options):
     edge = _tetra10_edge_nodes(mesh) if options.get("exact") else None
+    point_data = mesh.point_data
     mesh, set_aside = _linear(mesh)
+    edge_fields = {}
     if edge is not None and set_aside is not None:
-        # (Kept: what is left out is the fields' values there.)
-        options["edge_points"], options["edge_nodes"] = edge
-        set_aside = (f"the point data's values at the {len(edge[0])} nodes on the tetrahedra's edges "
-                     "(the stream holds them at the corners only)") if mesh.point_data else None
+        # (Kept, with the point data's values there.)
+        options["edge_points"], options["edge_nodes"], aside = edge
+        edge_fields = {name: np.asarray(values)[aside] for name, values in point_data.items()}
+        set_aside = None
     mesh, split = _tetrahedral(mesh)
     tetrahedra = None
     others = {}
@@ -239,6 +242,8 @@ def write(filename, mesh, **options):
     # every array it has.
     derived = mesh.info.get("dtmesh_derived", []) if isinstance(mesh.info, dict) else []
     fields = {name: values for name, values in mesh.point_data.items() if name not in derived}
+    if edge_fields and "edge_fields" not in options:
+        options["edge_fields"] = {name: values for name, values in edge_fields.items() if name in fields}
     encoded = encode(mesh.points, tetrahedra, fields, **options)
     with open(filename, "wb") as f:
         f.write(encoded.bytes)

@@ -98,7 +98,8 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
                  const std::map<std::string, double>& field_errors, bool keep_order, bool exact, bool bricks,
                  uint64_t brick_points,
                  std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>> edge_points,
-                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> edge_nodes) {
+                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> edge_nodes,
+                 const std::vector<FieldIn>& edge_fields) {
   if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must be an N x 3 array");
   const size_t n = static_cast<size_t>(points.shape(0));
   std::vector<dtm::InputPoint> in_points(n);
@@ -179,6 +180,7 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
   // A second-order mesh's edge nodes (kept with exact: format 18.0): each
   // edge once, the first tetrahedron's that names it.
   std::vector<dtm::EncodeInput::EdgeNode> in_edge_nodes;
+  std::vector<size_t> node_points;  // per node of in_edge_nodes, its edge point
   if (edge_nodes) {
     if (!edge_points || edge_points->ndim() != 2 || edge_points->shape(1) != 3)
       throw py::value_error("edge_nodes need edge_points, a K x 3 array");
@@ -197,9 +199,26 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
           throw py::value_error("edge_nodes[" + std::to_string(t) + "] names edge point " +
                                 std::to_string(node) + ", there are " + std::to_string(k));
         const uint32_t a = tets[t][dtm::kCellEdges[s][0]], b = tets[t][dtm::kCellEdges[s][1]];
-        if (seen.insert(dtm::edge_key(a, b)).second)
+        if (seen.insert(dtm::edge_key(a, b)).second) {
           in_edge_nodes.push_back({{a, b}, {q[3 * node], q[3 * node + 1], q[3 * node + 2]}});
+          node_points.push_back(static_cast<size_t>(node));
+        }
       }
+  }
+  // The fields' values there (19.0), in the order of in_edge_nodes.
+  std::vector<std::vector<double>> edge_values(fields.size());
+  for (const FieldIn& e : edge_fields) {
+    size_t f = 0;
+    while (f < fields.size() && fields[f].name != e.name) ++f;
+    if (f == fields.size()) throw py::value_error("edge_fields '" + e.name + "': not a field of fields");
+    const auto c = static_cast<size_t>(fields[f].components);
+    if (e.components != fields[f].components || e.type != fields[f].type || !edge_points ||
+        static_cast<size_t>(e.values.size()) != static_cast<size_t>(edge_points->shape(0)) * c)
+      throw py::value_error("edge_fields '" + e.name + "' must hold its field's values at each edge point");
+    const double* v = e.values.data();
+    for (size_t node : node_points)
+      edge_values[f].insert(edge_values[f].end(), v + node * c, v + (node + 1) * c);
+    in_fields[f].edge_values = edge_values[f];
   }
   dtm::EncodeOptions options = encode_options(qbits, box, scale, dmax, preset, field_errors);
   options.keep_order = keep_order;
@@ -569,7 +588,8 @@ PYBIND11_MODULE(_dtmesh, m) {
         py::arg("region_names"), py::arg("faces"), py::arg("face_tags"), py::arg("face_tag_names"),
         py::arg("fields"), py::arg("cell_fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"),
         py::arg("dmax"), py::arg("preset"), py::arg("field_errors"), py::arg("keep_order"), py::arg("exact"),
-        py::arg("bricks"), py::arg("brick_points"), py::arg("edge_points"), py::arg("edge_nodes"));
+        py::arg("bricks"), py::arg("brick_points"), py::arg("edge_points"), py::arg("edge_nodes"),
+        py::arg("edge_fields"));
   m.def("decode_part", &decode_part, py::arg("data"), py::arg("box"), py::arg("piece"), py::arg("pieces"),
         py::arg("level"), py::arg("max_vertices"));
   py::class_<Decoder>(m, "Decoder")

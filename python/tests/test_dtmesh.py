@@ -590,6 +590,39 @@ def test_meshio_writes_a_second_order_mesh_exactly_as_meshenc_does(tmp_path):
         meshio.write(tmp_path / "linear.dtm", mesh)
 
 
+def test_a_second_order_meshs_point_data_is_kept_at_its_edge_nodes(tmp_path):
+    """The ball with point data at every node (a simulation's results on tetra10): meshio.write with
+    exact=True keeps the values at the edge nodes too (format 19.0), meshenc --exact's bytes for the
+    same .vtu; decoded, to_meshio() gives every node its own values, bit for bit, or within a lossy
+    field's bound; encode(edge_fields=) refuses values that are not a field's."""
+    geo = tmp_path / "ball.geo"
+    geo.write_text('SetFactory("OpenCASCADE");\nSphere(1) = {0, 0, 0, 1};\nMesh.MeshSizeMax = 0.5;\n')
+    msh = tmp_path / "ball.msh"
+    run("gmsh", geo, "-3", "-order", "2", "-format", "msh41", "-o", msh)
+    read = meshio.read(msh)
+    p = read.points
+    data = {"temperature": np.sin(2 * p[:, 0]) + p[:, 1] * p[:, 2], "id": np.arange(len(p), dtype=np.int32),
+            "velocity": np.stack([p[:, 0] ** 2, np.cos(p[:, 1]), p[:, 2]], axis=1).astype(np.float32)}
+    mesh = meshio.Mesh(p, [b for b in read.cells if b.type == "tetra10"], point_data=data)
+    vtu = tmp_path / "ball.vtu"
+    mesh.write(vtu)
+    ours, theirs = tmp_path / "ours.dtm", tmp_path / "theirs.dtm"
+    meshio.write(ours, mesh, exact=True, field_errors={"velocity": 1e-3})
+    run(tool("meshenc"), vtu, "-q", "--exact", "--field-error", "velocity=1e-3", "-o", theirs)
+    assert ours.read_bytes() == theirs.read_bytes()
+    assert dtmesh.info(ours.read_bytes())["version"] == "19.0"
+    back = dtmesh.decode(ours.read_bytes()).to_meshio()
+    assert len(back.points) == len(p)
+    index = np.array([int(np.argmin(np.abs(p - q).max(axis=1))) for q in back.points])
+    np.testing.assert_array_equal(back.point_data["temperature"], data["temperature"][index])
+    np.testing.assert_array_equal(back.point_data["id"], data["id"][index])
+    assert np.abs(back.point_data["velocity"] - data["velocity"][index]).max() <= 1e-3 * (1 + 1e-6)
+    tets = np.asarray(mesh.cells_dict["tetra10"])
+    with pytest.raises(ValueError, match="not a field"):
+        dtmesh.encode(p, tets[:, :4], {"id": data["id"]}, exact=True, edge_points=p, edge_nodes=tets[:, 4:] * 0 - 1,
+                      edge_fields={"other": data["id"]})
+
+
 def test_meshio_writes_prisms_and_hexahedra_as_meshenc_reads_them(tmp_path):
     """A boundary layer of prisms under tetrahedra, and a block of hexahedra with tagged quads, made
     by gmsh: meshio.write gives meshenc's bytes for the same .msh, with exact=True too (the cells

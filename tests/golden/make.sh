@@ -168,3 +168,36 @@ moved = {int(n) for k, (a, b) in enumerate([(0, 1), (1, 2), (0, 2), (0, 3), (1, 
 expected["levels"][-1]["edge_nodes"] = {"nodes": len(nodes), "moved": len(moved), "checksum": "%016x" % checksum}
 json.dump(expected, open(path, "w"), indent=1)
 PY
+# 19.0: the same ball with a float64 and an int32 field at every node, the
+# nodes' values in an edge value section; its expected level 0 records, per
+# field, the nodes' values' count and the sum over k of (k + 1) x the k-th
+# value's bits (in its type's width) modulo 2^64, in the section's order.
+/usr/bin/python3 - "$tmp/ball_order2.msh" "$tmp/ball_order2_fields.vtu" <<'PY'
+import sys
+import meshio, numpy as np
+mesh = meshio.read(sys.argv[1])
+p = mesh.points
+cells = [b for b in mesh.cells if b.type == "tetra10"]
+meshio.Mesh(p, cells, point_data={"temperature": np.sin(2 * p[:, 0]) + p[:, 1] * p[:, 2],
+                                  "id": np.arange(len(p), dtype=np.int32)}).write(sys.argv[2])
+PY
+make_one ball_order2_fields_exact ball_order2_fields.vtu --exact
+"$dec" "$here/ball_order2_fields_exact.dtm" -q -o "$tmp/ball_fields.vtu"
+/usr/bin/python3 - "$here/ball_order2_fields_exact.expected.json" "$tmp/ball_fields.vtu" <<'PY'
+import json, sys
+import meshio, numpy as np
+path, vtu = sys.argv[1], sys.argv[2]
+expected = json.load(open(path))
+mesh = meshio.read(vtu)
+corners = expected["vertices"]
+sums = {}
+for name, values in mesh.point_data.items():
+    if name in ("level", "boundary"):
+        continue
+    nodes = np.ascontiguousarray(np.asarray(values)[corners:])
+    bits = nodes.view(np.uint64 if nodes.dtype.itemsize == 8 else np.uint32).reshape(-1)
+    sums[name] = {"values": int(bits.size),
+                  "checksum": "%016x" % (sum((k + 1) * int(b) for k, b in enumerate(bits)) % (1 << 64))}
+expected["levels"][-1]["edge_values"] = sums
+json.dump(expected, open(path, "w"), indent=1)
+PY

@@ -27,6 +27,9 @@ struct VertexField {
   int components = 1;
   std::vector<double> values;
   ScalarType type = ScalarType::kFloat64;
+  // At InputMesh::edge_points (set_edge_nodes_aside() moves them here),
+  // `components` each.
+  std::vector<double> edge_values{};
 };
 
 struct InputMesh {

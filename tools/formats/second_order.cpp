@@ -61,9 +61,11 @@ void set_edge_nodes_aside(InputMesh& mesh) {
     const size_t c = static_cast<size_t>(f.components);
     std::vector<double> values;
     values.reserve(c * kept.size());
-    for (size_t i = 0; i < n; ++i)
-      if (role[i] != kOnEdge)
-        values.insert(values.end(), f.values.begin() + c * i, f.values.begin() + c * (i + 1));
+    f.edge_values.reserve(c * (n - kept.size()));
+    for (size_t i = 0; i < n; ++i) {
+      std::vector<double>& to = role[i] == kOnEdge ? f.edge_values : values;
+      to.insert(to.end(), f.values.begin() + c * i, f.values.begin() + c * (i + 1));
+    }
     f.values = std::move(values);
   }
   mesh.points = std::move(kept);
@@ -95,17 +97,14 @@ std::string edge_nodes_note(const InputMesh& mesh, bool tetrahedra_nodes_kept, b
     if (with_fields) what += ", and the fields' values at their corners only";
     return what;
   }
-  // (--exact: the tetrahedra's edge nodes are level 0's; the others, and
-  // the fields' values at all of them, are not.)
+  // (--exact: the tetrahedra's edge nodes are level 0's, with the fields'
+  // values there; the others are not.)
   std::string what;
   if (mesh.edge_points.size() > kept)
     what =
         std::to_string(mesh.edge_points.size() - kept) +
         " nodes of second-order hexahedra, prisms, pyramids and faces that are no tetrahedron's edge nodes";
-  if (with_fields)
-    what += (what.empty() ? "" : "; ") + std::string("the point fields' values at the ") +
-            std::to_string(mesh.edge_points.size()) +
-            " nodes on second-order elements' edges (the stream holds them at the corners only)";
+  if (with_fields && mesh.edge_points.size() > kept) what += ", and the fields' values there";
   return what;
 }
 

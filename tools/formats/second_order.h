@@ -30,7 +30,7 @@ void add_tet_edge_nodes(InputMesh& mesh, const std::array<uint32_t, 6>& nodes);
 // Moves the points that the readers found on second-order elements' edges
 // and that are no element's corner from mesh.points to mesh.edge_points (in
 // file order), renumbering the tetrahedra, the tagged faces and the
-// per-vertex fields (whose values at those nodes are dropped) and making
+// per-vertex fields (whose values at those nodes go to their edge_values) and making
 // tet_edge_nodes index edge_points (kNoEdgeNode where a node is some
 // element's corner). Names what that leaves out in mesh.left_out. Does
 // nothing to a linear mesh, and to one without tetrahedra but forgets its
@@ -40,8 +40,9 @@ void set_edge_nodes_aside(InputMesh& mesh);
 // What set_edge_nodes_aside() says it leaves out (its left_out entry,
 // which starts "N nodes on the edges of second-order elements"), or,
 // when the tetrahedra's edge nodes are kept (meshenc --exact: format
-// 18.0), what still is: the other elements' nodes and, `with_fields`, the
-// point fields' values at the nodes; empty for nothing.
+// 18.0, with the fields' values there: 19.0), what still is: the other
+// elements' nodes and, `with_fields`, the fields' values at them; empty for
+// nothing.
 std::string edge_nodes_note(const InputMesh& mesh, bool tetrahedra_nodes_kept, bool with_fields);
 
 }  // namespace dtm
