@@ -13,7 +13,8 @@
 # graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
 # gmsh -save_all's volumes and surfaces in no physical group join none.
 # Second-order meshes (gmsh -order 2, Netgen's SecondOrder()) give their
-# linear mesh's stream (with --exact, their 10-node tetrahedra back); prisms and hexahedra (gmsh's, VTK's, Netgen's
+# linear mesh's stream (with --exact, their 10-node tetrahedra back, with
+# the point data at every node); prisms and hexahedra (gmsh's, VTK's, Netgen's
 # boundary layer, Medit's) are read as tetrahedra.
 set -euo pipefail
 meshenc=$1
@@ -601,6 +602,44 @@ for given, info in (("ball2.msh", sys.argv[1]), ("ng2.vol", sys.argv[2])):
             sys.exit("%s.out.%s: an edge node %.3g steps from the input's" % (given, ext, worst / step))
         if moved == 0:
             sys.exit("%s.out.%s: no node off its edge's midpoint (the curved boundary's)" % (given, ext))
+PY
+# With point data at every node (a simulation's results on 10-node
+# tetrahedra, as a solver's .msh or .vtu has them: written by meshio),
+# --exact keeps the values at the edge nodes too (format 19.0): the decoded
+# .msh, .vtu and .vtk give every node its own values, bit for bit.
+"$py" - <<'PY' || failed=1
+import meshio, numpy as np
+m = meshio.read("ball2.msh")
+p = m.points
+data = {"temperature": np.sin(2 * p[:, 0]) + p[:, 1] * p[:, 2],
+        "displacement": np.stack([p[:, 0] ** 2, np.cos(p[:, 1]), p[:, 2]], axis=1)}
+fields = meshio.Mesh(p, [c for c in m.cells if c.type == "tetra10"], point_data=data)
+fields.write("ball2_fields.vtu")
+meshio.write("ball2_fields.msh", fields, file_format="gmsh22", binary=False)
+PY
+for f in ball2_fields.msh ball2_fields.vtu; do
+  "$meshenc" $f --exact -o $f.dtm >$f.out 2>&1 || { cat $f.out; failed=1; }
+  grep -q "at the edge nodes, field 'displacement' (float64 x 3)" $f.out ||
+    { echo "$f --exact: the fields' values at the edge nodes are not kept"; cat $f.out; failed=1; }
+  grep -q "left out" $f.out && { echo "$f --exact: something is left out"; cat $f.out; failed=1; }
+  for ext in msh vtu vtk; do "$meshdec" $f.dtm -o $f.out.$ext 2>/dev/null || failed=1; done
+done
+"$py" - <<'PY' || failed=1
+import sys
+import meshio, numpy as np
+for given in ("ball2_fields.msh", "ball2_fields.vtu"):
+    m = meshio.read(given)
+    for ext in ("msh", "vtu", "vtk"):
+        out = meshio.read(given + ".out." + ext)
+        if len(out.points) != len(m.points):
+            sys.exit("%s.out.%s: %d points, the input %d" % (given, ext, len(out.points), len(m.points)))
+        index = np.array([np.argmin(np.abs(m.points - q).max(axis=1)) for q in out.points])
+        for name in ("temperature", "displacement"):
+            theirs = np.asarray(m.point_data[name])[index]
+            ours = np.asarray(out.point_data[name]).reshape(theirs.shape)
+            if not np.array_equal(ours, theirs):
+                sys.exit("%s.out.%s: field '%s' differs at %d nodes" % (given, ext, name,
+                                                                       int((ours != theirs).any(axis=-1).sum())))
 PY
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed
