@@ -138,7 +138,7 @@ for kind in ("fields", "lossy"):
     for f in ("temperature", "displacement"):
         d = next(x for x in r["fields"] if x["name"] == f)
         c = 3 if f == "displacement" else 1
-        cells.append("%.2f / %.2f" % (8.0 * d["bytes"] / (vertices * c), 8.0 * d["edge_node_bytes"] / (nodes * c)))
+        cells.append("%.2f / %.2f" % (8.0 * d["bytes"] / (vertices * c), 8.0 * d["edge_value_bytes"] / (nodes * c)))
 print("| %s | %d | %d | %s | %.2f / %.2f s |" % (name, vertices, nodes, " | ".join(cells), with_s, without_s))
 PY
   done

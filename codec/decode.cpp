@@ -524,8 +524,10 @@ ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& l
     const auto count = static_cast<uint64_t>(std::count(nodes.present.begin(), nodes.present.end(), 1));
     uint64_t components = 0;
     for (const FieldValues& f : fields_) components += static_cast<uint64_t>(f.description.components);
-    Status v = count * components > options_.max_values
-                   ? Status{StatusCode::kLimitExceeded, std::to_string(count) + " edge nodes of " +
+    // (The vertices' values are held already: the nodes' come beside them.)
+    Status v = (count + points_.size()) * components > options_.max_values
+                   ? Status{StatusCode::kLimitExceeded, std::to_string(points_.size()) + " vertices and " +
+                                                            std::to_string(count) + " edge nodes of " +
                                                             std::to_string(components) +
                                                             " values each exceed the limit of " +
                                                             std::to_string(options_.max_values) + " values"}

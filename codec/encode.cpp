@@ -203,7 +203,10 @@ Status append_edge_node_values(const EncodeInput& input, std::span<const GridEdg
         if (!f.edge_values.empty()) {
           const double value = f.edge_values[e * n + c];
           if (v.description.lossy && !std::isfinite(value))
-            return invalid_input("field '" + f.name + "': edge node " + std::to_string(e) + " holds " +
+            return invalid_input("field '" + f.name + "': the edge node at (" +
+                                 std::to_string(input.edge_nodes[e].at.x) + ", " +
+                                 std::to_string(input.edge_nodes[e].at.y) + ", " +
+                                 std::to_string(input.edge_nodes[e].at.z) + ") holds " +
                                  (std::isnan(value) ? "NaN" : "an infinity") +
                                  ", which a lossy field cannot keep (code it losslessly)");
           v.bits.push_back(bits_of(value, f.type));

@@ -246,7 +246,7 @@ struct FieldReport {
   uint64_t bytes = 0;  // its value sections' bytes over every layer
   // Of a per-vertex field of a stream with edge nodes (19.0): its share of
   // the edge value section, length words included.
-  uint64_t edge_node_bytes = 0;
+  uint64_t edge_value_bytes = 0;
 };
 
 struct LevelReport {

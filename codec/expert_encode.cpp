@@ -648,6 +648,23 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     LayerSections& s = sections[l];
     out.candidate_points[streamed[l]] = s.points.sent;
     out.candidate_bytes[streamed[l]] = s.points.section.size();
+    // (A section's length is a u32: a stream past it would not decode.)
+    for (const auto& [name, bytes] : {std::pair<const char*, size_t>{"payload", s.points.payload.size()},
+                                      {"carving", s.carving.size()},
+                                      {"value", s.values.size()},
+                                      {"candidate", s.points.section.size()},
+                                      {"region", s.regions.size()},
+                                      {"face", s.faces.size()},
+                                      {"cell value", s.cells.size()},
+                                      {"vertex order", s.order.size()},
+                                      {"exact cell", s.exact.size()},
+                                      {"edge node", s.edge_nodes.size()},
+                                      {"edge value", s.edge_values.size()}})
+      if (bytes > UINT32_MAX)
+        return Status{StatusCode::kLimitExceeded,
+                      "encode_stream: level " + std::to_string(l) + "'s " + name + " section of " +
+                          std::to_string(bytes) +
+                          " bytes is beyond the format's 4 GiB a section (fewer fields, or lossy ones)"};
     LayerHeader lh;
     lh.format_major = h.version_major;
     lh.candidate_kinds = s.points.kinds;

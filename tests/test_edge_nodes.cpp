@@ -293,7 +293,7 @@ TEST(EdgeNodes, TheFieldsValuesAtTheNodesComeBack) {
   ASSERT_EQ(encoded->report.fields.size(), 4u);
   // A smooth field's nodes cost less than its vertices (predicted from
   // their edge's corners).
-  EXPECT_LT(encoded->report.fields[2].edge_node_bytes * m.points.size(),
+  EXPECT_LT(encoded->report.fields[2].edge_value_bytes * m.points.size(),
             encoded->report.fields[2].bytes * m.nodes.size());
 
   ProgressiveDecoder d;
@@ -331,6 +331,28 @@ TEST(EdgeNodes, TheFieldsValuesAtTheNodesComeBack) {
     EXPECT_EQ(out.fields[0].bits[base + k], nodes.values[0].bits[k]);
     EXPECT_EQ(out.fields[2].bits[2 * (base + k) + 1], nodes.values[2].bits[2 * k + 1]);
   }
+
+  // With the input's numbering (--keep-order) too: each cell's nodes, named
+  // by the input's corners, hold the input's values.
+  EncodeOptions ordered = fields_options();
+  ordered.keep_order = true;
+  const auto kept = encode(in, ordered);
+  ASSERT_TRUE(kept.ok()) << kept.status().message();
+  ProgressiveDecoder k;
+  ASSERT_TRUE(decode_stream(kept->bytes, k).ok());
+  const OutputMesh numbered = decoded_mesh(k, "torus", true);
+  size_t checked = 0;
+  for (size_t c = 0; c < numbered.cells.size(); ++c)
+    for (size_t e = 0; e < 6; ++e) {
+      const uint32_t v = numbered.cell_edge_nodes[c][e];
+      if (v == kNoEdgePoint) continue;
+      const size_t node =
+          given_index.at(edge_of(numbered.cells[c][kCellEdges[e][0]], numbered.cells[c][kCellEdges[e][1]]));
+      EXPECT_EQ(value_of(numbered.fields[0].bits[v], ValueType::kF64), f.at_nodes[0][node]);
+      EXPECT_EQ(value_of(numbered.fields[1].bits[v], ValueType::kI32), f.at_nodes[1][node]);
+      ++checked;
+    }
+  EXPECT_GT(checked, m.nodes.size());
 }
 
 // A stream with its edge value section taken out, or kept in a layer of an
@@ -374,20 +396,17 @@ TEST(EdgeNodes, AnEighteenStreamGivesTheNodesTheirCornersMean) {
   const OutputMesh out = decoded_mesh(d, "torus", true);
   ASSERT_GT(out.edge_nodes, 0u);
   const size_t base = out.points.size() - out.edge_nodes;
-  for (size_t k = 0; k < out.edge_nodes; ++k) {
-    const uint32_t node = static_cast<uint32_t>(base + k);
-    for (size_t c = 0; c < out.cells.size(); ++c)
-      for (size_t e = 0; e < 6; ++e)
-        if (out.cell_edge_nodes[c][e] == node) {
-          const uint32_t a = out.cells[c][kCellEdges[e][0]], b = out.cells[c][kCellEdges[e][1]];
-          EXPECT_EQ(value_of(out.fields[0].bits[node], ValueType::kF64),
-                    (value_of(out.fields[0].bits[a], ValueType::kF64) +
-                     value_of(out.fields[0].bits[b], ValueType::kF64)) /
-                        2);
-          e = 6, c = out.cells.size();
-        }
-    if (k > 40) break;
-  }
+  size_t checked = 0;
+  for (size_t c = 0; c < out.cells.size() && checked < 200; ++c)
+    for (size_t e = 0; e < 6; ++e) {
+      const uint32_t node = out.cell_edge_nodes[c][e];
+      if (node == kNoEdgePoint || node < base) continue;
+      const uint32_t a = out.cells[c][kCellEdges[e][0]], b = out.cells[c][kCellEdges[e][1]];
+      const auto value = [&](uint32_t v) { return value_of(out.fields[0].bits[v], ValueType::kF64); };
+      EXPECT_EQ(value(node), (value(a) + value(b)) / 2);
+      ++checked;
+    }
+  EXPECT_GE(checked, 200u);
   // A 19.0 stream without it, or an 18.0 one with it, is refused.
   for (const auto& [major, drop] :
        {std::pair{kVersionMajorEdgeValues, true}, std::pair{kVersionMajorEdgeNodes, false}}) {
@@ -396,6 +415,70 @@ TEST(EdgeNodes, AnEighteenStreamGivesTheNodesTheirCornersMean) {
   }
   // The stream re-written as it is decodes as it did.
   EXPECT_EQ(restreamed(encoded->bytes, kVersionMajorEdgeValues, false), encoded->bytes);
+}
+
+// A layer's edge value section where the flags have none, or in a layer
+// but level 0's, is refused before its bytes are read.
+TEST(EdgeNodes, AnEdgeValueSectionOnlyWithEdgeNodesAndValuesAtLevel0) {
+  StreamHeader h;
+  h.version_major = kVersionMajorEdgeValues;
+  h.grid.qbits = 14;
+  h.level_count = 2;
+  h.vertex_count = 8;
+  const std::vector<uint8_t> payload(64, 0), one(1, 0), four(4, 0);
+  const auto refusal = [&](uint16_t flags, uint16_t level, std::span<const uint8_t> values) {
+    h.flags = flags;
+    LayerHeader lh;
+    lh.format_major = kVersionMajorEdgeValues;
+    lh.level = level;
+    lh.new_vertices = 4;
+    lh.level_vertices = level == 1 ? 4 : 8;
+    lh.alpha = 1;
+    const bool exact = flags & kFlagExact, level0 = level == 0;
+    const std::vector<uint8_t> layer = write_layer(
+        lh, payload, one, (flags & kFlagValues) ? std::span<const uint8_t>(four) : std::span<const uint8_t>{},
+        {}, {}, {}, {}, {}, exact && level0 ? std::span<const uint8_t>(one) : std::span<const uint8_t>{},
+        (flags & kFlagEdgeNodes) && level0 ? std::span<const uint8_t>(one) : std::span<const uint8_t>{},
+        values);
+    LayerWalk walk(h, UINT64_MAX, 0);
+    if (level == 0) {  // (the walk starts at the coarsest level)
+      LayerHeader base = lh;
+      base.level = 1, base.new_vertices = base.level_vertices = 4;
+      const std::vector<uint8_t> first =
+          write_layer(base, payload, one,
+                      (flags & kFlagValues) ? std::span<const uint8_t>(four) : std::span<const uint8_t>{});
+      Layer l;
+      EXPECT_TRUE(walk.next(first, l).ok());
+    }
+    Layer l;
+    return walk.next(layer, l).message();
+  };
+  const uint16_t all = kFlagCarvingCorrections | kFlagExact | kFlagEdgeNodes | kFlagValues;
+  EXPECT_NE(refusal(all & ~kFlagValues, 0, four)
+                .find("an edge value section present without edge nodes and values"),
+            std::string::npos);
+  EXPECT_NE(refusal(all, 1, four).find("an edge value section in a layer but level 0's"), std::string::npos);
+  EXPECT_NE(refusal(all, 0, {}).find("level 0's layer without its edge value section"), std::string::npos);
+  EXPECT_EQ(refusal(all, 0, four), "");
+}
+
+// The nodes' values count against the decoder's limit with the vertices'.
+TEST(EdgeNodes, TheNodesValuesCountAgainstTheLimit) {
+  const SecondOrder m = second_order_torus(0);
+  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
+  EncodeInput in = input_of(m, given);
+  const NodeFields f = fields_of(m, given);
+  in.fields = f.fields;
+  const auto encoded = encode(in, fields_options());
+  ASSERT_TRUE(encoded.ok());
+  // (5 components: the vertices' 1,440 values fit, with the nodes' not.)
+  DecoderOptions options;
+  options.max_values = 5 * m.points.size() + 10;
+  ProgressiveDecoder d(options);
+  ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
+  const ProgressiveDecoder::LevelCells level = d.level_cells();
+  EXPECT_TRUE(d.edge_nodes(level).values.empty());
+  EXPECT_EQ(d.mesh_status().code(), StatusCode::kLimitExceeded) << d.mesh_status().message();
 }
 
 // The edge value section alone: every truncation is refused, and a flipped

@@ -1100,8 +1100,9 @@ int run(Command& c) {
       std::fprintf(
           stderr,
           "%s: left out (the stream does not hold it): the %llu nodes on level 0's edges: the exact "
-          "cells fell back to format 11.0's coding (its fit tests over their budget), which holds none\n",
-          c.input.c_str(), static_cast<unsigned long long>(r.edge_nodes_dropped));
+          "cells fell back to format 11.0's coding (its fit tests over their budget), which holds none%s\n",
+          c.input.c_str(), static_cast<unsigned long long>(r.edge_nodes_dropped),
+          r.fields.empty() ? "" : ", and the fields' values there");
     if (r.edge_nodes > 0)
       std::printf(
           "  edge nodes: level 0's %llu second-order edges' nodes in %llu bytes (%.2f bits per vertex; %llu "
@@ -1111,7 +1112,7 @@ int run(Command& c) {
           r.moved_edge_nodes ? 8.0 * r.edge_node_bytes / r.moved_edge_nodes : 0.0);
     if (r.edge_value_bytes > 0)
       for (const dtm::FieldReport& f : r.fields)
-        print_array_bytes("at the edge nodes, field", {f.description, f.edge_node_bytes}, r.edge_nodes);
+        print_array_bytes("at the edge nodes, field", {f.description, f.edge_value_bytes}, r.edge_nodes);
     if (r.order_bytes > 0)
       std::printf("  vertex order (the input's numbering of level 0): %llu bytes, %.2f bits per vertex\n",
                   static_cast<unsigned long long>(r.order_bytes), 8.0 * r.order_bytes / vertices);

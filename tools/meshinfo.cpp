@@ -41,10 +41,15 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
   const std::vector<uint64_t> field_bytes = dtm::total_field_bytes(s);
   for (size_t f = 0; f < s.fields.size(); ++f) {
     const dtm::FieldDescription& d = s.fields[f];
-    std::printf("field '%s': %s%s, %s, %llu bytes\n", d.name.c_str(), dtm::value_type_name(d.type),
+    // (19.0: and its values at level 0's edge nodes.)
+    uint64_t edge = 0;
+    for (const auto& l : s.layers)
+      if (f < l.edge_field_bytes.size()) edge += l.edge_field_bytes[f];
+    std::printf("field '%s': %s%s, %s, %llu bytes%s\n", d.name.c_str(), dtm::value_type_name(d.type),
                 d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
                 d.lossy ? ("within " + std::to_string(d.error_bound)).c_str() : "lossless",
-                static_cast<unsigned long long>(field_bytes[f]));
+                static_cast<unsigned long long>(field_bytes[f]),
+                edge ? (", and " + std::to_string(edge) + " bytes at the edge nodes").c_str() : "");
   }
   // 9.0: the region table; each layer's region section in its own column.
   for (const dtm::RegionLabel& r : s.regions)

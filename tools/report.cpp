@@ -82,7 +82,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
                            {"mode", d.lossy ? "lossy" : "lossless"},
                            {"error_bound", d.error_bound},
                            {"bytes", f.bytes}});
-    if (r.edge_value_bytes > 0) j["fields"].back()["edge_node_bytes"] = f.edge_node_bytes;
+    if (r.edge_value_bytes > 0) j["fields"].back()["edge_value_bytes"] = f.edge_value_bytes;
   }
   if (!r.fields.empty()) {
     j["field_table_bytes"] = r.field_table_bytes;

@@ -90,6 +90,11 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                            {"mode", d.lossy ? "lossy" : "lossless"},
                            {"error_bound", d.error_bound},
                            {"bytes", field_bytes[f]}});
+    // (19.0: its values at level 0's edge nodes.)
+    uint64_t edge = 0;
+    for (const auto& l : s.layers)
+      if (f < l.edge_field_bytes.size()) edge += l.edge_field_bytes[f];
+    if (s.header.flags & kFlagEdgeNodes) j["fields"].back()["edge_value_bytes"] = edge;
   }
   j["field_table_bytes"] = s.field_table_bytes;
   j["regions"] = nlohmann::json::array();
@@ -129,6 +134,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                           {"order_bytes", l.header.order_bytes},
                           {"exact_bytes", l.header.exact_bytes},
                           {"edge_node_bytes", l.header.edge_node_bytes},
+                          {"edge_value_bytes", l.header.edge_value_bytes},
                           {"candidate_kinds", l.header.candidate_kinds},
                           {"candidate_bytes", l.header.candidate_bytes},
                           {"alpha", l.header.alpha * step},

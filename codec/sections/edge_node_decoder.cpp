@@ -59,9 +59,21 @@ std::vector<Neighbours> edge_node_neighbours(const LevelEdges& edges, std::span<
 Status decode_edge_node_values(std::span<const uint8_t> section, std::span<const FieldDescription> fields,
                                std::span<const FieldValues> vertex_values, const LevelEdges& edges,
                                std::span<const uint8_t> present, std::vector<FieldValues>& out) {
-  std::vector<std::vector<uint64_t>> known_bits;
-  known_bits.reserve(vertex_values.size());
-  for (const FieldValues& f : vertex_values) known_bits.push_back(f.bits);
+  // (The vertices' values, a row each per field: what every neighbour
+  // index refers to.)
+  if (vertex_values.size() != fields.size())
+    return {StatusCode::kInvalidInput, "edge values: the vertices' values are not the fields'"};
+  const size_t vertices =
+      fields.empty() ? 0 : vertex_values[0].bits.size() / static_cast<size_t>(fields[0].components);
+  std::vector<std::span<const uint64_t>> known_bits;
+  for (size_t f = 0; f < fields.size(); ++f) {
+    if (vertex_values[f].bits.size() != vertices * static_cast<size_t>(fields[f].components))
+      return {StatusCode::kInvalidInput, "edge values: the vertices' values are not one row per vertex"};
+    known_bits.emplace_back(vertex_values[f].bits);
+  }
+  for (size_t e = 0; e < edges.corners.size(); ++e)
+    if (present[e] && !fields.empty() && std::max(edges.corners[e][0], edges.corners[e][1]) >= vertices)
+      return {StatusCode::kInvalidInput, "edge values: an edge's corner has no values"};
   return decode_chunk_values(fields, section, known_bits, edge_node_neighbours(edges, present), out)
       .with_context("edge values");
 }

@@ -120,7 +120,7 @@ Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<c
                            std::span<const GridPoint> positions, std::vector<FieldValues>& out);
 // The same with each point's neighbours given (as encode_chunk's).
 Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<const uint8_t> section,
-                           std::span<const std::vector<uint64_t>> known_bits,
+                           std::span<const std::span<const uint64_t>> known_bits,
                            std::span<const Neighbours> neighbours, std::vector<FieldValues>& out);
 
 class FieldSectionDecoder {

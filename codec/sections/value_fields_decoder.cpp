@@ -126,11 +126,12 @@ Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<c
                            std::span<const GridPoint> positions, std::vector<FieldValues>& out) {
   NeighbourSearch search;
   search.know(known_positions);
-  return decode_chunk_values(fields, section, known_bits, search.layer(positions), out);
+  const std::vector<std::span<const uint64_t>> known(known_bits.begin(), known_bits.end());
+  return decode_chunk_values(fields, section, known, search.layer(positions), out);
 }
 
 Status decode_chunk_values(std::span<const FieldDescription> fields, std::span<const uint8_t> section,
-                           std::span<const std::vector<uint64_t>> known_bits,
+                           std::span<const std::span<const uint64_t>> known_bits,
                            std::span<const Neighbours> neighbours, std::vector<FieldValues>& out) {
   out.clear();
   const size_t count = neighbours.size();

@@ -477,6 +477,10 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
         s.status = value_section_field_bytes(layer.values, s.fields, s.layers.back().field_bytes);
         if (!s.status.ok()) return s;
       }
+      if (!s.fields.empty() && !layer.edge_values.empty()) {
+        s.status = value_section_field_bytes(layer.edge_values, s.fields, s.layers.back().edge_field_bytes);
+        if (!s.status.ok()) return s;
+      }
       if (!s.cell_fields.empty() && !layer.cell_values.empty()) {
         s.status =
             value_section_field_bytes(layer.cell_values, s.cell_fields, s.layers.back().cell_field_bytes);

@@ -401,6 +401,7 @@ struct LayerSummary {
   std::vector<uint64_t>
       field_bytes;  // complete layers of a 5.0 stream: each field's share of the value section
   std::vector<uint64_t> cell_field_bytes;  // 10.0, level 0: each cell field's share of its section
+  std::vector<uint64_t> edge_field_bytes;  // 19.0, level 0: each field's share of the edge value section
   uint64_t size() const {
     return layer_header_size(header.format_major, header.bricked) + header.body_bytes();
   }

@@ -394,8 +394,7 @@ def encode(
             if name not in (fields or {}):
                 raise ValueError(f"edge_fields {name!r}: not a field of fields")
             field_dtype = np.asarray(fields[name]).dtype
-            if np.asarray(values).dtype != field_dtype and not (field_dtype == np.bool_ and
-                                                                np.asarray(values).dtype == np.bool_):
+            if np.asarray(values).dtype != field_dtype:
                 raise TypeError(f"edge_fields {name!r}: dtype {np.asarray(values).dtype}, its field's is {field_dtype}")
             edge_list.append(_field_in(name, values, ep.shape[0], "edge_fields"))
     with _threads_for_call(threads):
@@ -406,7 +405,8 @@ def encode(
     encoded = Encoded(stream, json.loads(report), vertex_of_input)
     if encoded.report.get("edge_nodes_dropped"):
         warnings.warn("left out (the stream does not hold it): the nodes on level 0's edges: the exact cells "
-                      "fell back to format 11.0's coding, which holds none", stacklevel=2)
+                      "fell back to format 11.0's coding, which holds none" +
+                      (", and the fields' values there" if fields else ""), stacklevel=2)
     return encoded
 
 

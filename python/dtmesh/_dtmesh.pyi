@@ -37,6 +37,9 @@ def encode(
     exact: bool,
     bricks: bool,
     brick_points: int,
+    edge_points: Optional[npt.NDArray[np.float64]],
+    edge_nodes: Optional[npt.NDArray[np.int64]],
+    edge_fields: List[FieldIn],
 ) -> Tuple[bytes, str, npt.NDArray[np.uint32]]: ...
 
 class Decoder:
