@@ -514,13 +514,18 @@ ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& l
   if (!has_edge_nodes() || !mesh_status_.ok() || level.kept.size() != level.mesh.cells.size()) return out;
   out.edges = level_edges(level.mesh, level.kept, level.order);
   EdgeNodeOffsets nodes;
-  const Status s = decode_edge_nodes(edge_node_section_, out.edges, header_.grid.qbits, nodes);
+  // (19.0: each offset from where the surface's normals put the node.)
+  const Status s = decode_edge_nodes(
+      edge_node_section_, out.edges, header_.grid.qbits, nodes,
+      header_.version_major >= kVersionMajorPredictedEdgeNodes
+          ? predicted_edge_offsets(level.mesh, level.kept, out.edges, points_, header_.grid.qbits)
+          : std::vector<std::array<int64_t, 3>>{});
   if (!s.ok()) {
     mesh_status_ = s.with_context("level 0's edge nodes");
     return {};
   }
   // (19.0: their values, predicted from the vertices'.)
-  if (header_.version_major >= kVersionMajorEdgeValues && !fields_.empty()) {
+  if (header_.version_major >= kVersionMajorPredictedEdgeNodes && !fields_.empty()) {
     const auto count = static_cast<uint64_t>(std::count(nodes.present.begin(), nodes.present.end(), 1));
     uint64_t components = 0;
     for (const FieldValues& f : fields_) components += static_cast<uint64_t>(f.description.components);

@@ -762,6 +762,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   if (options.exact) {
     stream_options.exact_cells = reference_tets;
     stream_options.exact_ranks = options.exact_ranks;
+    stream_options.edge_nodes_v18 = options.edge_nodes_v18;
     if (region_index.size() == reference_tets.size()) stream_options.exact_labels = region_index;
     stream_options.edge_nodes = grid_edge_nodes;
   }

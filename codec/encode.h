@@ -102,6 +102,10 @@ struct EncodeOptions {
   // kAmongFitting 12.0, kAmongFittingInContext 13.0, which older decoders
   // read, at more bits (StreamOptions).
   ApexRanks exact_ranks = ApexRanks::kAfterFlips;
+  // A second-order input's edge nodes as format 18.0 coded them (each
+  // offset alone, no values there), for decoders of 18.0; false: 19.0
+  // (StreamOptions).
+  bool edge_nodes_v18 = false;
   // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.

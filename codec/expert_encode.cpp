@@ -209,7 +209,7 @@ StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<con
                                               std::span<const uint32_t> order,
                                               std::span<const GridPoint> level_points,
                                               std::span<const GridEdgeNode> nodes,
-                                              std::span<const uint32_t> decode_order, int qbits,
+                                              std::span<const uint32_t> decode_order, int qbits, bool predict,
                                               const FieldSectionEncoder* values, size_t points,
                                               EncodedStream& out) {
   std::unordered_map<uint64_t, uint32_t> node_of;  // by the edge's grid ids, the first given
@@ -246,7 +246,9 @@ StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<con
     out.moved_edge_nodes += d != std::array<int64_t, 3>{0, 0, 0};
   }
   EdgeNodeSections sections;
-  sections.nodes = encode_edge_nodes(edges, offsets, qbits);
+  sections.nodes = encode_edge_nodes(edges, offsets, qbits,
+                                     predict ? predicted_edge_offsets(mesh, kept, edges, level_points, qbits)
+                                             : std::vector<std::array<int64_t, 3>>{});
   out.edge_node_bytes = sections.nodes.size();
   if (values) {
     std::vector<uint32_t> vertex_rows(decode_order.begin(), decode_order.begin() + level_points.size());
@@ -369,14 +371,14 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // (An exact stream's version is settled when its section is: 11.0 where
   // its apexes are ranked among all the candidates.)
   ApexRanks exact_ranks = options.exact_ranks;
-  h.version_major = edge_nodes && values      ? kVersionMajorEdgeValues
-                    : edge_nodes              ? kVersionMajorEdgeNodes
-                    : exact                   ? kVersionMajorExact
-                    : cell_data || keep_order ? kVersionMajorCellData
-                    : regions || faces        ? kVersionMajorRegions
-                    : corrections             ? kVersionMajorUnbricked
-                    : values                  ? kVersionMajorWithValues
-                                              : kVersionMajorWithoutValues;
+  h.version_major = edge_nodes && options.edge_nodes_v18 ? kVersionMajorEdgeNodes
+                    : edge_nodes                         ? kVersionMajorPredictedEdgeNodes
+                    : exact                              ? kVersionMajorExact
+                    : cell_data || keep_order            ? kVersionMajorCellData
+                    : regions || faces                   ? kVersionMajorRegions
+                    : corrections                        ? kVersionMajorUnbricked
+                    : values                             ? kVersionMajorWithValues
+                                                         : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
             (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0) |
             (cell_data ? kFlagCellData : 0) | (keep_order ? kFlagVertexOrder : 0) | (exact ? kFlagExact : 0) |
@@ -540,7 +542,9 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       DTM_ASSIGN_OR_RETURN(
           EdgeNodeSections edge,
           edge_node_sections(cells_mesh, kept, order, level_points, options.edge_nodes, out.decode_order,
-                             grid.qbits, value_coder ? &*value_coder : nullptr, points.size(), out));
+                             grid.qbits, !options.edge_nodes_v18,
+                             value_coder && !options.edge_nodes_v18 ? &*value_coder : nullptr, points.size(),
+                             out));
       out_l.edge_nodes = std::move(edge.nodes);
       out_l.edge_values = std::move(edge.values);
     }
@@ -634,8 +638,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // (An exact stream's version, and flags, as its sections settled them.)
   if (exact) {
     const uint8_t major = !(h.flags & kFlagEdgeNodes) ? format_major_of(exact_ranks)
-                          : values                    ? kVersionMajorEdgeValues
-                                                      : kVersionMajorEdgeNodes;
+                          : options.edge_nodes_v18    ? kVersionMajorEdgeNodes
+                                                      : kVersionMajorPredictedEdgeNodes;
     if (major != h.version_major || (edge_nodes && !(h.flags & kFlagEdgeNodes))) {
       h.version_major = major;
       const std::vector<uint8_t> header = write_header(h);

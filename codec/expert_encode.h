@@ -88,6 +88,10 @@ struct StreamOptions {
   // row for each node after the points' (the k-th node's at row
   // points.size() + k): the edge value section (19.0, §3.12) carries them.
   std::span<const GridEdgeNode> edge_nodes;
+  // The edge nodes as 18.0 codes them: each offset from its edge's midpoint
+  // alone (19.0: from the offset the surface's normals predict), without
+  // the fields' values there.
+  bool edge_nodes_v18 = false;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };

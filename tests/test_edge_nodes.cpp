@@ -1,4 +1,4 @@
-// The nodes on level 0's edges (format 18.0, codec/sections/edge_node_coder.h,
+// The nodes on level 0's edges (format 18.0, 19.0: predicted; codec/sections/edge_node_coder.h,
 // spec/FORMAT.md §3.11): an exact stream of a second-order mesh gives each
 // edge node back within half a grid step of the input's (a quarter where it
 // is moved off its edge's midpoint), an edge of linear cells none; with
@@ -100,7 +100,7 @@ TEST(EdgeNodes, AnExactSecondOrderMeshGivesBackEachNode) {
 
   ProgressiveDecoder d;
   ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
-  EXPECT_EQ(d.header().version_major, kVersionMajorEdgeNodes);
+  EXPECT_EQ(d.header().version_major, kVersionMajorPredictedEdgeNodes);
   ASSERT_TRUE(d.has_edge_nodes());
   const ProgressiveDecoder::LevelCells level = d.level_cells();
   const ProgressiveDecoder::EdgeNodes nodes = d.edge_nodes(level);
@@ -208,43 +208,61 @@ TEST(EdgeNodes, DamagedSectionsAreRefused) {
   const SecondOrder m = second_order_torus(0);
   const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
   const EncodeInput in = input_of(m, given);
-  const auto encoded = encode(in, exact_options());
-  ASSERT_TRUE(encoded.ok());
-  ProgressiveDecoder d;
-  ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
-  const ProgressiveDecoder::LevelCells level = d.level_cells();
-  const LevelEdges edges = level_edges(level.mesh, level.kept, level.order);
-  const int qbits = d.header().grid.qbits;
-  // The section is the stream's last bytes.
-  const std::vector<uint8_t> section(
-      encoded->bytes.end() - static_cast<std::ptrdiff_t>(encoded->report.edge_node_bytes),
-      encoded->bytes.end());
-  EdgeNodeOffsets nodes;
-  ASSERT_TRUE(decode_edge_nodes(section, edges, qbits, nodes).ok());
-  EXPECT_EQ(encode_edge_nodes(edges, nodes, qbits), section);
-  for (size_t n = 0; n < section.size(); ++n) {
-    EdgeNodeOffsets cut;
-    EXPECT_FALSE(decode_edge_nodes(std::span(section).first(n), edges, qbits, cut).ok()) << n;
-  }
-  // (The first 64 bytes' bits, and every 13th byte's after: each decode
-  // reads the whole section.)
-  size_t refused = 0, flipped = 0;
-  for (size_t i = 0; i < section.size(); i += i < 64 ? 1 : 13)
-    for (int b = 0; b < 8; ++b) {
-      std::vector<uint8_t> damaged = section;
-      damaged[i] ^= static_cast<uint8_t>(1 << b);
-      ++flipped;
-      EdgeNodeOffsets got;
-      if (!decode_edge_nodes(damaged, edges, qbits, got).ok()) {
-        ++refused;
-        continue;
-      }
-      EdgeNodeOffsets again;
-      ASSERT_TRUE(decode_edge_nodes(encode_edge_nodes(edges, got, qbits), edges, qbits, again).ok());
-      EXPECT_EQ(again.present, got.present);
-      EXPECT_EQ(again.offset, got.offset);
+  // 18.0's offsets, and 19.0's differences from the predicted ones.
+  for (const bool v18 : {true, false}) {
+    EncodeOptions options = exact_options();
+    options.edge_nodes_v18 = v18;
+    const auto encoded = encode(in, options);
+    ASSERT_TRUE(encoded.ok());
+    ProgressiveDecoder d;
+    ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
+    EXPECT_EQ(d.header().version_major, v18 ? kVersionMajorEdgeNodes : kVersionMajorPredictedEdgeNodes);
+    const ProgressiveDecoder::LevelCells level = d.level_cells();
+    const LevelEdges edges = level_edges(level.mesh, level.kept, level.order);
+    const int qbits = d.header().grid.qbits;
+    const std::vector<std::array<int64_t, 3>> predicted =
+        v18 ? std::vector<std::array<int64_t, 3>>{}
+            : predicted_edge_offsets(level.mesh, level.kept, edges, d.points(), qbits);
+    // (The torus's surface is curved: most of its edges' nodes are predicted off their midpoints.)
+    if (!v18)
+      EXPECT_GT(std::count_if(predicted.begin(), predicted.end(),
+                              [](const auto& p) {
+                                return p != std::array<int64_t, 3>{0, 0, 0};
+                              }),
+                100);
+    // The section is the stream's last bytes.
+    const std::vector<uint8_t> section(
+        encoded->bytes.end() - static_cast<std::ptrdiff_t>(encoded->report.edge_node_bytes),
+        encoded->bytes.end());
+    EdgeNodeOffsets nodes;
+    ASSERT_TRUE(decode_edge_nodes(section, edges, qbits, nodes, predicted).ok());
+    EXPECT_EQ(encode_edge_nodes(edges, nodes, qbits, predicted), section);
+    for (size_t n = 0; n < section.size(); ++n) {
+      EdgeNodeOffsets cut;
+      EXPECT_FALSE(decode_edge_nodes(std::span(section).first(n), edges, qbits, cut, predicted).ok()) << n;
     }
-  EXPECT_GT(refused, flipped / 2);
+    // (The first 64 bytes' bits, and every 13th byte's after: each decode
+    // reads the whole section.)
+    size_t refused = 0, flipped = 0;
+    for (size_t i = 0; i < section.size(); i += i < 64 ? 1 : 13)
+      for (int b = 0; b < 8; ++b) {
+        std::vector<uint8_t> damaged = section;
+        damaged[i] ^= static_cast<uint8_t>(1 << b);
+        ++flipped;
+        EdgeNodeOffsets got;
+        if (!decode_edge_nodes(damaged, edges, qbits, got, predicted).ok()) {
+          ++refused;
+          continue;
+        }
+        EdgeNodeOffsets again;
+        ASSERT_TRUE(
+            decode_edge_nodes(encode_edge_nodes(edges, got, qbits, predicted), edges, qbits, again, predicted)
+                .ok());
+        EXPECT_EQ(again.present, got.present);
+        EXPECT_EQ(again.offset, got.offset);
+      }
+    EXPECT_GT(refused, flipped / 2) << v18;
+  }
 }
 
 // Fields at the nodes (19.0): a smooth float64 field and an int32 one
@@ -298,7 +316,7 @@ TEST(EdgeNodes, TheFieldsValuesAtTheNodesComeBack) {
 
   ProgressiveDecoder d;
   ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
-  EXPECT_EQ(d.header().version_major, kVersionMajorEdgeValues);
+  EXPECT_EQ(d.header().version_major, kVersionMajorPredictedEdgeNodes);
   const ProgressiveDecoder::LevelCells level = d.level_cells();
   const ProgressiveDecoder::EdgeNodes nodes = d.edge_nodes(level);
   ASSERT_TRUE(d.mesh_status().ok()) << d.mesh_status().message();
@@ -390,9 +408,15 @@ TEST(EdgeNodes, AnEighteenStreamGivesTheNodesTheirCornersMean) {
   in.fields = f.fields;
   const auto encoded = encode(in, fields_options());
   ASSERT_TRUE(encoded.ok());
-  // The same stream as 18.0 wrote it: no edge value section.
+  // The same mesh as 18.0 wrote it: its offsets alone, no edge value section.
+  EncodeOptions v18 = fields_options();
+  v18.edge_nodes_v18 = true;
+  const auto old = encode(in, v18);
+  ASSERT_TRUE(old.ok());
+  EXPECT_EQ(old->report.edge_value_bytes, 0u);
   ProgressiveDecoder d;
-  ASSERT_TRUE(decode_stream(restreamed(encoded->bytes, kVersionMajorEdgeNodes, true), d).ok());
+  ASSERT_TRUE(decode_stream(old->bytes, d).ok());
+  EXPECT_EQ(d.header().version_major, kVersionMajorEdgeNodes);
   const OutputMesh out = decoded_mesh(d, "torus", true);
   ASSERT_GT(out.edge_nodes, 0u);
   const size_t base = out.points.size() - out.edge_nodes;
@@ -407,21 +431,21 @@ TEST(EdgeNodes, AnEighteenStreamGivesTheNodesTheirCornersMean) {
       ++checked;
     }
   EXPECT_GE(checked, 200u);
-  // A 19.0 stream without it, or an 18.0 one with it, is refused.
-  for (const auto& [major, drop] :
-       {std::pair{kVersionMajorEdgeValues, true}, std::pair{kVersionMajorEdgeNodes, false}}) {
-    ProgressiveDecoder refused;
-    EXPECT_FALSE(decode_stream(restreamed(encoded->bytes, major, drop), refused).ok()) << int{major};
-  }
+  // A 19.0 stream without it is refused.
+  ProgressiveDecoder refused;
+  const Status status =
+      decode_stream(restreamed(encoded->bytes, kVersionMajorPredictedEdgeNodes, true), refused);
+  EXPECT_NE(status.message().find("level 0's layer without its edge value section"), std::string::npos)
+      << status.message();
   // The stream re-written as it is decodes as it did.
-  EXPECT_EQ(restreamed(encoded->bytes, kVersionMajorEdgeValues, false), encoded->bytes);
+  EXPECT_EQ(restreamed(encoded->bytes, kVersionMajorPredictedEdgeNodes, false), encoded->bytes);
 }
 
 // A layer's edge value section where the flags have none, or in a layer
 // but level 0's, is refused before its bytes are read.
 TEST(EdgeNodes, AnEdgeValueSectionOnlyWithEdgeNodesAndValuesAtLevel0) {
   StreamHeader h;
-  h.version_major = kVersionMajorEdgeValues;
+  h.version_major = kVersionMajorPredictedEdgeNodes;
   h.grid.qbits = 14;
   h.level_count = 2;
   h.vertex_count = 8;
@@ -429,7 +453,7 @@ TEST(EdgeNodes, AnEdgeValueSectionOnlyWithEdgeNodesAndValuesAtLevel0) {
   const auto refusal = [&](uint16_t flags, uint16_t level, std::span<const uint8_t> values) {
     h.flags = flags;
     LayerHeader lh;
-    lh.format_major = kVersionMajorEdgeValues;
+    lh.format_major = kVersionMajorPredictedEdgeNodes;
     lh.level = level;
     lh.new_vertices = 4;
     lh.level_vertices = level == 1 ? 4 : 8;

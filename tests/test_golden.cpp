@@ -217,10 +217,12 @@ INSTANTIATE_TEST_SUITE_P(Format16_0, GoldenStream, ::testing::Values("torus_288_
 INSTANTIATE_TEST_SUITE_P(Format17_0, GoldenStream, ::testing::Values("two_materials_bricks_faces"));
 // 18.0: a second-order gmsh ball's own 10-node tetrahedra, their edge nodes
 // in an edge node section.
-INSTANTIATE_TEST_SUITE_P(Format18_0, GoldenStream, ::testing::Values("ball_order2_exact"));
-// 19.0: the same ball with a float64 and an int32 field at every node, the
-// nodes' values in an edge value section.
-INSTANTIATE_TEST_SUITE_P(Format19_0, GoldenStream, ::testing::Values("ball_order2_fields_exact"));
+INSTANTIATE_TEST_SUITE_P(Format18_0, GoldenStream, ::testing::Values("v18/ball_order2_exact"));
+// 19.0: the same ball, its nodes coded from the surface's prediction, and
+// with a float64 and an int32 field at every node, the nodes' values in an
+// edge value section.
+INSTANTIATE_TEST_SUITE_P(Format19_0, GoldenStream,
+                         ::testing::Values("ball_order2_exact", "ball_order2_fields_exact"));
 // 14.0 to 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
 // cell hash is theirs, as the encoder hashed the input's cells), its apexes
 // ranked among the candidates that fit (12.0), with the filled bits in the

@@ -10,7 +10,9 @@
 // gives each edge's node as its offset from the midpoint of the edge's
 // decoded corners, in half grid steps. Most nodes are midpoints (offset 0,
 // one bit that costs next to nothing away from the surface); a curved
-// boundary's are coded component by component.
+// boundary's are coded component by component, from 19.0 as their
+// difference from where the surface's normals put them
+// (edge_node_prediction.cpp).
 //
 // The edges are walked in one order both sides compute from level 0's kept
 // cells (level_edges()): the cells in the canonical order, each one's six
@@ -70,11 +72,26 @@ struct EdgeNodeOffsets {
 // midpoint on each axis.
 inline int64_t edge_node_reach(int qbits) { return int64_t{1} << (qbits + 2); }
 
-std::vector<uint8_t> encode_edge_nodes(const LevelEdges& edges, const EdgeNodeOffsets& nodes, int qbits);
+// Format 19.0: where a curved surface's nodes are expected, per edge of
+// `edges` (`mesh`, `kept`: the level's cells, as level_edges() took them;
+// `points`: the level's): off a surface edge's midpoint as a curved (PN)
+// triangle's edge passes, from its corners' normals (the sum of their
+// surface faces' normals), in half grid steps, within +-2^(qbits + 1);
+// (0, 0, 0) off the surface. Exact integer arithmetic (spec/FORMAT.md
+// §3.11): both sides compute the same offsets.
+std::vector<std::array<int64_t, 3>> predicted_edge_offsets(const TetMesh& mesh, std::span<const uint8_t> kept,
+                                                           const LevelEdges& edges,
+                                                           std::span<const GridPoint> points, int qbits);
+
+// `predicted`: 19.0's predicted_edge_offsets(), each moved node coded as
+// its offset's difference from it; empty: 18.0's section, the offsets
+// themselves.
+std::vector<uint8_t> encode_edge_nodes(const LevelEdges& edges, const EdgeNodeOffsets& nodes, int qbits,
+                                       std::span<const std::array<int64_t, 3>> predicted = {});
 // kCorrupt unless the section gives every edge's node within reach, a
 // moved node with a nonzero offset, and ends where its bytes do.
 Status decode_edge_nodes(std::span<const uint8_t> section, const LevelEdges& edges, int qbits,
-                         EdgeNodeOffsets& nodes);
+                         EdgeNodeOffsets& nodes, std::span<const std::array<int64_t, 3>> predicted = {});
 
 // The edge value section (19.0, §3.12) is a bricked chunk's value section
 // (FieldSectionEncoder::encode_chunk, decode_chunk_values) whose known

@@ -79,33 +79,41 @@ Status decode_edge_node_values(std::span<const uint8_t> section, std::span<const
 }
 
 Status decode_edge_nodes(std::span<const uint8_t> section, const LevelEdges& edges, int qbits,
-                         EdgeNodeOffsets& nodes) {
+                         EdgeNodeOffsets& nodes, std::span<const std::array<int64_t, 3>> predicted) {
   const size_t n = edges.corners.size();
   nodes.present.assign(n, 0);
   nodes.offset.assign(n, {0, 0, 0});
   RangeDecoder rc(section);
   EdgeNodeModels m;
   bool last_surface_moved = false;
-  // (Magnitudes below edge_node_reach(): at most qbits + 2 bits.)
-  const int longest = qbits + 1;
+  const int longest = longest_length(qbits, !predicted.empty());
+  const int64_t reach = edge_node_reach(qbits);
+  constexpr std::array<int64_t, 3> kZero = {0, 0, 0};
   for (size_t e = 0; e < n; ++e) {
     nodes.present[e] = rc.decode(m.present);
     if (!nodes.present[e]) continue;
-    const bool moved = rc.decode(m.moved[moved_context(edges.on_surface[e], last_surface_moved)]);
+    const std::array<int64_t, 3>& p = predicted.empty() ? kZero : predicted[e];
+    const bool guessed = p != kZero;
+    const bool moved = rc.decode(m.moved[moved_context(edges.on_surface[e], last_surface_moved, guessed)]);
     if (edges.on_surface[e]) last_surface_moved = moved;
     if (!moved) continue;
+    const size_t set = guessed ? 1 : 0;
     auto& d = nodes.offset[e];
     for (size_t axis = 0; axis < 3; ++axis) {
-      if (!rc.decode(m.nonzero[axis])) continue;
-      const bool negative = rc.decode(m.negative[axis]);
-      int length = 0;
-      while (length < longest && rc.decode(m.longer[axis][static_cast<size_t>(length)])) ++length;
-      const int64_t magnitude =
-          (int64_t{1} << length) + static_cast<int64_t>(length > 0 ? rc.decode_raw(length) : 0);
-      d[axis] = negative ? -magnitude : magnitude;
+      int64_t r = 0;
+      if (rc.decode(m.nonzero[set][axis])) {
+        const bool negative = rc.decode(m.negative[set][axis]);
+        int length = 0;
+        while (length < longest && rc.decode(m.longer[set][axis][static_cast<size_t>(length)])) ++length;
+        const int64_t magnitude =
+            (int64_t{1} << length) + static_cast<int64_t>(length > 0 ? rc.decode_raw(length) : 0);
+        r = negative ? -magnitude : magnitude;
+      }
+      d[axis] = p[axis] + r;
+      if (d[axis] <= -reach || d[axis] >= reach)
+        return {StatusCode::kCorrupt, "edge nodes: a node twice the grid's extent or more from its edge"};
     }
-    if (d == std::array<int64_t, 3>{0, 0, 0})
-      return {StatusCode::kCorrupt, "edge nodes: a moved node without an offset"};
+    if (d == kZero) return {StatusCode::kCorrupt, "edge nodes: a moved node without an offset"};
     if (rc.overran()) return {StatusCode::kCorrupt, "edge nodes: the section ends early"};
   }
   if (!rc.finished_cleanly()) return {StatusCode::kCorrupt, "edge nodes: the section does not end with them"};

@@ -7,27 +7,33 @@
 
 namespace dtm {
 
-std::vector<uint8_t> encode_edge_nodes(const LevelEdges& edges, const EdgeNodeOffsets& nodes, int qbits) {
+std::vector<uint8_t> encode_edge_nodes(const LevelEdges& edges, const EdgeNodeOffsets& nodes, int qbits,
+                                       std::span<const std::array<int64_t, 3>> predicted) {
   RangeEncoder rc;
   EdgeNodeModels m;
   bool last_surface_moved = false;
-  const int longest = qbits + 1;
+  const int longest = longest_length(qbits, !predicted.empty());
+  constexpr std::array<int64_t, 3> kZero = {0, 0, 0};
   for (size_t e = 0; e < edges.corners.size(); ++e) {
     rc.encode(m.present, nodes.present[e] != 0);
     if (!nodes.present[e]) continue;
     const auto& d = nodes.offset[e];
-    const bool moved = d != std::array<int64_t, 3>{0, 0, 0};
-    rc.encode(m.moved[moved_context(edges.on_surface[e], last_surface_moved)], moved);
+    const std::array<int64_t, 3>& p = predicted.empty() ? kZero : predicted[e];
+    const bool guessed = p != kZero;
+    const bool moved = d != kZero;
+    rc.encode(m.moved[moved_context(edges.on_surface[e], last_surface_moved, guessed)], moved);
     if (edges.on_surface[e]) last_surface_moved = moved;
     if (!moved) continue;
+    const size_t set = guessed ? 1 : 0;
     for (size_t axis = 0; axis < 3; ++axis) {
-      rc.encode(m.nonzero[axis], d[axis] != 0);
-      if (d[axis] == 0) continue;
-      rc.encode(m.negative[axis], d[axis] < 0);
-      const auto magnitude = static_cast<uint64_t>(std::llabs(d[axis]));
+      const int64_t r = d[axis] - p[axis];
+      rc.encode(m.nonzero[set][axis], r != 0);
+      if (r == 0) continue;
+      rc.encode(m.negative[set][axis], r < 0);
+      const auto magnitude = static_cast<uint64_t>(std::llabs(r));
       const int length = static_cast<int>(std::bit_width(magnitude)) - 1;
-      for (int k = 0; k < length; ++k) rc.encode(m.longer[axis][static_cast<size_t>(k)], true);
-      if (length < longest) rc.encode(m.longer[axis][static_cast<size_t>(length)], false);
+      for (int k = 0; k < length; ++k) rc.encode(m.longer[set][axis][static_cast<size_t>(k)], true);
+      if (length < longest) rc.encode(m.longer[set][axis][static_cast<size_t>(length)], false);
       if (length > 0) rc.encode_raw(magnitude - (uint64_t{1} << length), length);
     }
   }

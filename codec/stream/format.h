@@ -65,7 +65,7 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // edge nodes and values: an edge value section in level 0's layer); the
 // decoder reads 2.x to 19.x.
 inline constexpr uint8_t kVersionMajor = 19;
-inline constexpr uint8_t kVersionMajorEdgeValues = 19;
+inline constexpr uint8_t kVersionMajorPredictedEdgeNodes = 19;
 inline constexpr uint8_t kVersionMajorEdgeNodes = 18;
 inline constexpr uint8_t kVersionMajorBrickedFaces = 17;
 inline constexpr uint8_t kVersionMajorBrickedCellData = 16;

@@ -1,5 +1,6 @@
 // The edge node section (spec/FORMAT.md §3.11) on arbitrary bytes, below the
-// layer checksum that keeps the stream targets from reaching it damaged:
+// layer checksum that keeps the stream targets from reaching it damaged,
+// read as 18.0's and as 19.0's (each offset from the surface's prediction):
 // never a crash; a section that decodes gives every edge of the level a
 // node or none, each offset within reach and a moved node's nonzero, which
 // code again to a section that decodes to the same nodes.
@@ -35,20 +36,28 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<uint32_t> order(mesh.cells.size());
   std::iota(order.begin(), order.end(), 0u);
   const dtm::LevelEdges edges = dtm::level_edges(mesh, kept, order);
-  dtm::EdgeNodeOffsets nodes;
-  const dtm::Status s = dtm::decode_edge_nodes(std::span(data + 1, size - 1), edges, qbits, nodes);
-  if (!s.ok()) {
-    FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
-    return 0;
-  }
-  FUZZ_CHECK(nodes.present.size() == edges.corners.size() && nodes.offset.size() == edges.corners.size());
-  for (size_t e = 0; e < edges.corners.size(); ++e)
-    for (int64_t d : nodes.offset[e]) {
-      FUZZ_CHECK(d > -dtm::edge_node_reach(qbits) && d < dtm::edge_node_reach(qbits));
-      FUZZ_CHECK(nodes.present[e] || d == 0);
+  // 18.0's offsets, and 19.0's differences from the surface's prediction.
+  const std::vector<std::array<int64_t, 3>> predicted =
+      dtm::predicted_edge_offsets(mesh, kept, edges, fuzz_point_set(cloud), qbits);
+  for (const bool v18 : {true, false}) {
+    const std::span<const std::array<int64_t, 3>> p =
+        v18 ? std::span<const std::array<int64_t, 3>>{} : predicted;
+    dtm::EdgeNodeOffsets nodes;
+    const dtm::Status s = dtm::decode_edge_nodes(std::span(data + 1, size - 1), edges, qbits, nodes, p);
+    if (!s.ok()) {
+      FUZZ_CHECK(s.code() == dtm::StatusCode::kCorrupt);
+      continue;
     }
-  dtm::EdgeNodeOffsets again;
-  FUZZ_CHECK(dtm::decode_edge_nodes(dtm::encode_edge_nodes(edges, nodes, qbits), edges, qbits, again).ok());
-  FUZZ_CHECK(again.present == nodes.present && again.offset == nodes.offset);
+    FUZZ_CHECK(nodes.present.size() == edges.corners.size() && nodes.offset.size() == edges.corners.size());
+    for (size_t e = 0; e < edges.corners.size(); ++e)
+      for (int64_t d : nodes.offset[e]) {
+        FUZZ_CHECK(d > -dtm::edge_node_reach(qbits) && d < dtm::edge_node_reach(qbits));
+        FUZZ_CHECK(nodes.present[e] || d == 0);
+      }
+    dtm::EdgeNodeOffsets again;
+    FUZZ_CHECK(
+        dtm::decode_edge_nodes(dtm::encode_edge_nodes(edges, nodes, qbits, p), edges, qbits, again, p).ok());
+    FUZZ_CHECK(again.present == nodes.present && again.offset == nodes.offset);
+  }
   return 0;
 }

@@ -2,7 +2,7 @@
 # tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
 # current format version and their expected levels. Run it only when the
 # format's major version changes (spec/FORMAT.md §6), after moving the
-# previous version's streams to v<major>/ (as v2/ to v6/ and v11/ to v13/ hold formats 2.0 to 6.0 and 11.0 to 13.0) if
+# previous version's streams to v<major>/ (as v2/ to v6/, v11/ to v13/ and v18/ hold formats 2.0 to 6.0, 11.0 to 13.0 and 18.0) if
 # decoders still read it: a golden stream is a promise that every later
 # decoder decodes it identically or refuses its version. The streams of
 # older versions it writes too need not come out the same (the encoder
@@ -133,7 +133,8 @@ make_one torus_288_cells_bricks torus_288_cells.vtu --scale 25 --dmax 3 --qualit
 # the apexes among the candidates that fit, and before 13.0 coded the filled
 # bits in context and ranked apexes in the second ring.)
 make_one two_materials_exact two_materials.msh --quality-floor 0 --dmax 0.2 --exact
-# 18.0: a second-order gmsh ball with --exact: level 0 is its own 10-node
+# 19.0 (v18/ holds its 18.0 stream, made before 19.0 predicted the
+# nodes from the surface's normals): a second-order gmsh ball with --exact: level 0 is its own 10-node
 # tetrahedra, with their edge nodes (the sphere's off their edges'
 # midpoints), recorded as their count, the moved ones' and a checksum of
 # their places in the order the section gives them (meshdec's .vtu lists
@@ -150,8 +151,9 @@ Physical Surface("skin", 2) = {1};
 GEO
 gmsh "$tmp/ball_order2.geo" -3 -order 2 -format msh41 -o "$tmp/ball_order2.msh" >/dev/null
 make_one ball_order2_exact ball_order2.msh --exact
-"$dec" "$here/ball_order2_exact.dtm" -q -o "$tmp/ball.vtu"
-/usr/bin/python3 - "$here/ball_order2_exact.expected.json" "$tmp/ball.vtu" "$("$info" "$here/ball_order2_exact.dtm" --json)" <<'PY'
+record_edge_nodes() {  # NAME
+"$dec" "$here/$1.dtm" -q -o "$tmp/ball.vtu"
+/usr/bin/python3 - "$here/$1.expected.json" "$tmp/ball.vtu" "$("$info" "$here/$1.dtm" --json)" <<'PY'
 import json, sys
 import meshio, numpy as np
 path, vtu, info = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
@@ -168,6 +170,8 @@ moved = {int(n) for k, (a, b) in enumerate([(0, 1), (1, 2), (0, 2), (0, 3), (1, 
 expected["levels"][-1]["edge_nodes"] = {"nodes": len(nodes), "moved": len(moved), "checksum": "%016x" % checksum}
 json.dump(expected, open(path, "w"), indent=1)
 PY
+}
+record_edge_nodes ball_order2_exact
 # 19.0: the same ball with a float64 and an int32 field at every node, the
 # nodes' values in an edge value section; its expected level 0 records, per
 # field, the nodes' values' count and the sum over k of (k + 1) x the k-th
@@ -182,6 +186,7 @@ meshio.Mesh(p, cells, point_data={"temperature": np.sin(2 * p[:, 0]) + p[:, 1] *
                                   "id": np.arange(len(p), dtype=np.int32)}).write(sys.argv[2])
 PY
 make_one ball_order2_fields_exact ball_order2_fields.vtu --exact
+record_edge_nodes ball_order2_fields_exact
 "$dec" "$here/ball_order2_fields_exact.dtm" -q -o "$tmp/ball_fields.vtu"
 # (The values are the input's, each decoded node's nearest input point's:
 # the stream is lossless, and the record does not lean on the decoder.)
