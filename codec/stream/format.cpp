@@ -294,7 +294,8 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
     return corrupt("an edge value section present without edge nodes and values");
   if (h.level != 0 && h.edge_value_bytes != 0)
     return corrupt("an edge value section in a layer but level 0's");
-  if (h.level == 0 && edge_values && h.format_major >= kVersionMajorPredictedEdgeNodes && h.edge_value_bytes == 0)
+  if (h.level == 0 && edge_values && h.format_major >= kVersionMajorPredictedEdgeNodes &&
+      h.edge_value_bytes == 0)
     return corrupt("level 0's layer without its edge value section");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
