@@ -515,11 +515,11 @@ ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& l
   out.edges = level_edges(level.mesh, level.kept, level.order);
   EdgeNodeOffsets nodes;
   // (19.0: each offset from where the surface's normals put the node.)
-  const Status s = decode_edge_nodes(
-      edge_node_section_, out.edges, header_.grid.qbits, nodes,
-      header_.version_major >= kVersionMajorPredictedEdgeNodes
-          ? predicted_edge_offsets(level.mesh, level.kept, out.edges, points_, header_.grid.qbits)
-          : std::vector<std::array<int64_t, 3>>{});
+  std::optional<EdgeNodePredictor> predictor;
+  if (header_.version_major >= kVersionMajorPredictedEdgeNodes)
+    predictor.emplace(level.mesh, level.kept, points_, header_.grid.qbits);
+  const Status s = decode_edge_nodes(edge_node_section_, out.edges, header_.grid.qbits, nodes,
+                                     predictor ? &*predictor : nullptr);
   if (!s.ok()) {
     mesh_status_ = s.with_context("level 0's edge nodes");
     return {};

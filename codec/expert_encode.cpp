@@ -246,9 +246,9 @@ StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<con
     out.moved_edge_nodes += d != std::array<int64_t, 3>{0, 0, 0};
   }
   EdgeNodeSections sections;
-  sections.nodes = encode_edge_nodes(edges, offsets, qbits,
-                                     predict ? predicted_edge_offsets(mesh, kept, edges, level_points, qbits)
-                                             : std::vector<std::array<int64_t, 3>>{});
+  std::optional<EdgeNodePredictor> predictor;
+  if (predict) predictor.emplace(mesh, kept, level_points, qbits);
+  sections.nodes = encode_edge_nodes(edges, offsets, qbits, predictor ? &*predictor : nullptr);
   out.edge_node_bytes = sections.nodes.size();
   if (values) {
     std::vector<uint32_t> vertex_rows(decode_order.begin(), decode_order.begin() + level_points.size());

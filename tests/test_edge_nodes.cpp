@@ -17,6 +17,7 @@
 #include "codec/decode.h"
 #include "codec/encode.h"
 #include "codec/sections/edge_node_coder.h"
+#include "codec/sections/face_coder.h"
 #include "codec/stream/format.h"
 #include "common/byte_io.h"
 #include "test_support.h"
@@ -220,16 +221,9 @@ TEST(EdgeNodes, DamagedSectionsAreRefused) {
     const ProgressiveDecoder::LevelCells level = d.level_cells();
     const LevelEdges edges = level_edges(level.mesh, level.kept, level.order);
     const int qbits = d.header().grid.qbits;
-    const std::vector<std::array<int64_t, 3>> predicted =
-        v18 ? std::vector<std::array<int64_t, 3>>{}
-            : predicted_edge_offsets(level.mesh, level.kept, edges, d.points(), qbits);
-    // (The torus's surface is curved: most of its edges' nodes are predicted off their midpoints.)
-    if (!v18)
-      EXPECT_GT(std::count_if(predicted.begin(), predicted.end(),
-                              [](const auto& p) {
-                                return p != std::array<int64_t, 3>{0, 0, 0};
-                              }),
-                100);
+    std::optional<EdgeNodePredictor> predictor;
+    if (!v18) predictor.emplace(level.mesh, level.kept, d.points(), qbits);
+    const EdgeNodePredictor* predicted = predictor ? &*predictor : nullptr;
     // The section is the stream's last bytes.
     const std::vector<uint8_t> section(
         encoded->bytes.end() - static_cast<std::ptrdiff_t>(encoded->report.edge_node_bytes),
@@ -263,6 +257,62 @@ TEST(EdgeNodes, DamagedSectionsAreRefused) {
       }
     EXPECT_GT(refused, flipped / 2) << v18;
   }
+}
+
+// 19.0's prediction against the formula in doubles (spec/FORMAT.md §3.11):
+// on the torus's level 0 cut into two regions (so that the surface has an
+// interface too), each surface edge's predicted offset is within a half
+// step of -(((b - a) . n_a) n_a + ((a - b) . n_b) n_b) / 4, n_v the unit
+// sum of v's surface faces' normals, each turned out of its cell.
+TEST(EdgeNodes, ThePredictionIsACurvedTrianglesEdgeMidpoint) {
+  const SecondOrder m = second_order_torus(0);
+  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
+  const auto encoded = encode(input_of(m, given), exact_options());
+  ASSERT_TRUE(encoded.ok());
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
+  const ProgressiveDecoder::LevelCells level = d.level_cells();
+  const std::vector<GridPoint>& p = d.points();
+  const auto at = [&](uint32_t v) {
+    return std::array<double, 3>{double(p[v].x), double(p[v].y), double(p[v].z)};
+  };
+  std::vector<uint8_t> kept(level.kept.size(), 0);
+  for (size_t c = 0; c < kept.size(); ++c)
+    if (level.kept[c]) kept[c] = at(level.mesh.cells[c][0])[0] < (1 << 13) ? 1 : 2;
+  const EdgeNodePredictor predictor(level.mesh, kept, p, d.header().grid.qbits);
+  const LevelEdges edges = level_edges(level.mesh, kept, level.order);
+  std::vector<std::array<double, 3>> normal(p.size(), {0, 0, 0});
+  for (const SurfaceFace& f : surface_faces(level.mesh, kept).faces) {
+    const auto a = at(f.key[0]), b = at(f.key[1]), c = at(f.key[2]);
+    std::array<double, 3> centroid{0, 0, 0};
+    for (uint32_t v : level.mesh.cells[f.cell])
+      for (size_t i = 0; i < 3; ++i) centroid[i] += at(v)[i] / 4;
+    std::array<double, 3> n = {(b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
+                               (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
+                               (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])};
+    double inward = 0;
+    for (size_t i = 0; i < 3; ++i) inward += n[i] * (centroid[i] - a[i]);
+    for (uint32_t v : f.key)
+      for (size_t i = 0; i < 3; ++i) normal[v][i] += inward > 0 ? -n[i] : n[i];
+  }
+  size_t surface = 0, bulging = 0;
+  for (size_t e = 0; e < edges.corners.size(); ++e) {
+    const uint32_t a = edges.corners[e][0], b = edges.corners[e][1];
+    const std::array<int64_t, 3> got = predictor.offset(a, b);
+    if (!edges.on_surface[e]) continue;
+    ++surface;
+    std::array<double, 3> want{0, 0, 0};
+    for (const auto& [v, w] : {std::pair{a, b}, std::pair{b, a}}) {
+      const double length = std::hypot(normal[v][0], normal[v][1], normal[v][2]);
+      double dot = 0;
+      for (size_t i = 0; i < 3; ++i) dot += (at(w)[i] - at(v)[i]) * normal[v][i] / length;
+      for (size_t i = 0; i < 3; ++i) want[i] -= dot * normal[v][i] / length / 4;
+    }
+    for (size_t i = 0; i < 3; ++i) EXPECT_LE(std::abs(double(got[i]) - want[i]), 0.5 + 1e-3) << e << " " << i;
+    bulging += std::abs(got[0]) + std::abs(got[1]) + std::abs(got[2]) >= 4;
+  }
+  EXPECT_GT(surface, 500u);
+  EXPECT_GT(bulging, surface / 4);
 }
 
 // Fields at the nodes (19.0): a smooth float64 field and an int32 one

@@ -72,26 +72,36 @@ struct EdgeNodeOffsets {
 // midpoint on each axis.
 inline int64_t edge_node_reach(int qbits) { return int64_t{1} << (qbits + 2); }
 
-// Format 19.0: where a curved surface's nodes are expected, per edge of
-// `edges` (`mesh`, `kept`: the level's cells, as level_edges() took them;
-// `points`: the level's): off a surface edge's midpoint as a curved (PN)
-// triangle's edge passes, from its corners' normals (the sum of their
-// surface faces' normals), in half grid steps, within +-2^(qbits + 1);
-// (0, 0, 0) off the surface. Exact integer arithmetic (spec/FORMAT.md
-// §3.11): both sides compute the same offsets.
-std::vector<std::array<int64_t, 3>> predicted_edge_offsets(const TetMesh& mesh, std::span<const uint8_t> kept,
-                                                           const LevelEdges& edges,
-                                                           std::span<const GridPoint> points, int qbits);
+// Format 19.0: where a curved surface's nodes are expected: off a surface
+// edge's midpoint as a curved (PN) triangle's edge passes, from its corners'
+// normals (the sum of their surface faces' normals), in half grid steps,
+// within +-2^(qbits + 1). Exact integer arithmetic (spec/FORMAT.md §3.11):
+// both sides predict alike. `mesh`, `kept`: the level's cells, as
+// level_edges() took them; `points`: the level's (viewed, not copied).
+class EdgeNodePredictor {
+ public:
+  EdgeNodePredictor(const TetMesh& mesh, std::span<const uint8_t> kept, std::span<const GridPoint> points,
+                    int qbits);
+  // The predicted offset of the node on the surface edge from a to b.
+  std::array<int64_t, 3> offset(uint32_t a, uint32_t b) const;
 
-// `predicted`: 19.0's predicted_edge_offsets(), each moved node coded as
-// its offset's difference from it; empty: 18.0's section, the offsets
-// themselves.
+ private:
+  static constexpr uint32_t kOffSurface = UINT32_MAX;
+  std::span<const GridPoint> points_;
+  int qbits_ = 0;
+  std::vector<uint32_t> slot_;                   // per point, its normal's index, or kOffSurface
+  std::vector<std::array<int64_t, 3>> normals_;  // per surface vertex
+};
+
+// `predictor`: 19.0's, each moved node coded as its offset's difference
+// from the predicted one on a surface edge; null: 18.0's section, the
+// offsets themselves. `nodes`' offsets lie within edge_node_reach().
 std::vector<uint8_t> encode_edge_nodes(const LevelEdges& edges, const EdgeNodeOffsets& nodes, int qbits,
-                                       std::span<const std::array<int64_t, 3>> predicted = {});
+                                       const EdgeNodePredictor* predictor = nullptr);
 // kCorrupt unless the section gives every edge's node within reach, a
 // moved node with a nonzero offset, and ends where its bytes do.
 Status decode_edge_nodes(std::span<const uint8_t> section, const LevelEdges& edges, int qbits,
-                         EdgeNodeOffsets& nodes, std::span<const std::array<int64_t, 3>> predicted = {});
+                         EdgeNodeOffsets& nodes, const EdgeNodePredictor* predictor = nullptr);
 
 // The edge value section (19.0, §3.12) is a bricked chunk's value section
 // (FieldSectionEncoder::encode_chunk, decode_chunk_values) whose known

@@ -79,20 +79,22 @@ Status decode_edge_node_values(std::span<const uint8_t> section, std::span<const
 }
 
 Status decode_edge_nodes(std::span<const uint8_t> section, const LevelEdges& edges, int qbits,
-                         EdgeNodeOffsets& nodes, std::span<const std::array<int64_t, 3>> predicted) {
+                         EdgeNodeOffsets& nodes, const EdgeNodePredictor* predictor) {
   const size_t n = edges.corners.size();
   nodes.present.assign(n, 0);
   nodes.offset.assign(n, {0, 0, 0});
   RangeDecoder rc(section);
   EdgeNodeModels m;
   bool last_surface_moved = false;
-  const int longest = longest_length(qbits, !predicted.empty());
+  const int longest = longest_length(qbits, predictor != nullptr);
   const int64_t reach = edge_node_reach(qbits);
   constexpr std::array<int64_t, 3> kZero = {0, 0, 0};
   for (size_t e = 0; e < n; ++e) {
     nodes.present[e] = rc.decode(m.present);
     if (!nodes.present[e]) continue;
-    const std::array<int64_t, 3>& p = predicted.empty() ? kZero : predicted[e];
+    const std::array<int64_t, 3> p = predictor && edges.on_surface[e]
+                                         ? predictor->offset(edges.corners[e][0], edges.corners[e][1])
+                                         : kZero;
     const bool guessed = p != kZero;
     const bool moved = rc.decode(m.moved[moved_context(edges.on_surface[e], last_surface_moved, guessed)]);
     if (edges.on_surface[e]) last_surface_moved = moved;

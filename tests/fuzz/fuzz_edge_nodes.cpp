@@ -37,11 +37,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::iota(order.begin(), order.end(), 0u);
   const dtm::LevelEdges edges = dtm::level_edges(mesh, kept, order);
   // 18.0's offsets, and 19.0's differences from the surface's prediction.
-  const std::vector<std::array<int64_t, 3>> predicted =
-      dtm::predicted_edge_offsets(mesh, kept, edges, fuzz_point_set(cloud), qbits);
+  const dtm::EdgeNodePredictor predictor(mesh, kept, fuzz_point_set(cloud), qbits);
   for (const bool v18 : {true, false}) {
-    const std::span<const std::array<int64_t, 3>> p =
-        v18 ? std::span<const std::array<int64_t, 3>>{} : predicted;
+    const dtm::EdgeNodePredictor* p = v18 ? nullptr : &predictor;
     dtm::EdgeNodeOffsets nodes;
     const dtm::Status s = dtm::decode_edge_nodes(std::span(data + 1, size - 1), edges, qbits, nodes, p);
     if (!s.ok()) {
