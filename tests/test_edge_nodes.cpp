@@ -349,12 +349,24 @@ EncodeOptions fields_options() {
   return o;
 }
 
+// The torus with its nodes (its first `linear` cells linear) and
+// fields_of()'s fields, as the encoder takes them: `in` views the others.
+struct TorusWithFields {
+  explicit TorusWithFields(size_t linear)
+      : m(second_order_torus(linear)), given(nodes_of(m)), f(fields_of(m, given)), in(input_of(m, given)) {
+    in.fields = f.fields;
+  }
+  TorusWithFields(const TorusWithFields&) = delete;
+  TorusWithFields& operator=(const TorusWithFields&) = delete;
+  SecondOrder m;
+  std::vector<EncodeInput::EdgeNode> given;
+  NodeFields f;
+  EncodeInput in;
+};
+
 TEST(EdgeNodes, TheFieldsValuesAtTheNodesComeBack) {
-  const SecondOrder m = second_order_torus(10);
-  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
-  EncodeInput in = input_of(m, given);
-  const NodeFields f = fields_of(m, given);
-  in.fields = f.fields;
+  const TorusWithFields torus(10);
+  const auto& [m, given, f, in] = torus;
   const auto encoded = encode(in, fields_options());
   ASSERT_TRUE(encoded.ok()) << encoded.status().message();
   EXPECT_GT(encoded->report.edge_value_bytes, 0u);
@@ -451,11 +463,8 @@ std::vector<uint8_t> restreamed(std::span<const uint8_t> bytes, uint8_t major, b
 }
 
 TEST(EdgeNodes, AnEighteenStreamGivesTheNodesTheirCornersMean) {
-  const SecondOrder m = second_order_torus(0);
-  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
-  EncodeInput in = input_of(m, given);
-  const NodeFields f = fields_of(m, given);
-  in.fields = f.fields;
+  const TorusWithFields torus(0);
+  const auto& [m, given, f, in] = torus;
   const auto encoded = encode(in, fields_options());
   ASSERT_TRUE(encoded.ok());
   // The same mesh as 18.0 wrote it: its offsets alone, no edge value section.
@@ -538,11 +547,8 @@ TEST(EdgeNodes, AnEdgeValueSectionOnlyWithEdgeNodesAndValuesAtLevel0) {
 
 // The nodes' values count against the decoder's limit with the vertices'.
 TEST(EdgeNodes, TheNodesValuesCountAgainstTheLimit) {
-  const SecondOrder m = second_order_torus(0);
-  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
-  EncodeInput in = input_of(m, given);
-  const NodeFields f = fields_of(m, given);
-  in.fields = f.fields;
+  const TorusWithFields torus(0);
+  const auto& [m, given, f, in] = torus;
   const auto encoded = encode(in, fields_options());
   ASSERT_TRUE(encoded.ok());
   // (5 components: the vertices' 1,440 values fit, with the nodes' not.)
@@ -558,11 +564,8 @@ TEST(EdgeNodes, TheNodesValuesCountAgainstTheLimit) {
 // The edge value section alone: every truncation is refused, and a flipped
 // bit is refused or decodes (never read past).
 TEST(EdgeNodes, DamagedValueSectionsAreRefused) {
-  const SecondOrder m = second_order_torus(0);
-  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
-  EncodeInput in = input_of(m, given);
-  const NodeFields f = fields_of(m, given);
-  in.fields = f.fields;
+  const TorusWithFields torus(0);
+  const auto& [m, given, f, in] = torus;
   const auto encoded = encode(in, fields_options());
   ASSERT_TRUE(encoded.ok());
   ProgressiveDecoder d;

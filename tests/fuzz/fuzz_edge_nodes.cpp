@@ -17,6 +17,7 @@
 
 #include "codec/sections/edge_node_coder.h"
 #include "fuzz_check.h"
+#include "fuzz_level_edges.h"
 #include "fuzz_point_sets.h"
 #include "mesh/delaunay.h"
 
@@ -25,17 +26,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool cloud = data[0] & 1;
   const int pattern = (data[0] >> 1) & 3;
   const int qbits = 4 + (data[0] >> 3) % 21;
-  static const std::array<dtm::TetMesh, 2> meshes = {
-      dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value(),
-      dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value()};
-  const dtm::TetMesh& mesh = meshes[cloud ? 1 : 0];
-  std::vector<uint8_t> kept(mesh.cells.size());
-  constexpr int kEvery[] = {1, 2, 3, 5};
-  for (size_t c = 0; c < kept.size(); ++c)
-    kept[c] = pattern == 2 ? c % 3 != 0 : c % static_cast<size_t>(kEvery[pattern]) == 0;
-  std::vector<uint32_t> order(mesh.cells.size());
-  std::iota(order.begin(), order.end(), 0u);
-  const dtm::LevelEdges edges = dtm::level_edges(mesh, kept, order);
+  const FuzzLevel level = fuzz_level(cloud, pattern);
+  const dtm::TetMesh& mesh = level.mesh;
+  const std::vector<uint8_t>& kept = level.kept;
+  const dtm::LevelEdges& edges = level.edges;
   // 18.0's offsets, and 19.0's differences from the surface's prediction.
   const dtm::EdgeNodePredictor predictor(mesh, kept, fuzz_point_set(cloud), qbits);
   for (const bool v18 : {true, false}) {

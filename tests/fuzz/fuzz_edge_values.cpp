@@ -22,6 +22,7 @@
 #include "codec/sections/edge_node_coder.h"
 #include "codec/sections/value_fields_shared.h"
 #include "fuzz_check.h"
+#include "fuzz_level_edges.h"
 #include "fuzz_point_sets.h"
 #include "fuzz_tables.h"
 #include "mesh/delaunay.h"
@@ -31,10 +32,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool cloud = data[0] & 1;
   const int pattern = (data[0] >> 1) & 3;
   const int nodes_every = std::array{1, 2, 3, 7}[(data[0] >> 3) & 3];
-  static const std::array<dtm::TetMesh, 2> meshes = {
-      dtm::delaunay_tetrahedralize(fuzz_point_set(false)).value(),
-      dtm::delaunay_tetrahedralize(fuzz_point_set(true)).value()};
-  const dtm::TetMesh& mesh = meshes[cloud ? 1 : 0];
   const size_t points = fuzz_point_set(cloud).size();
   const FuzzTable framed = fuzz_table(data, size);
   std::vector<dtm::FieldDescription> fields;
@@ -44,13 +41,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(parsed.code() == dtm::StatusCode::kCorrupt);
     return 0;
   }
-  std::vector<uint8_t> kept(mesh.cells.size());
-  constexpr int kEvery[] = {1, 2, 3, 5};
-  for (size_t c = 0; c < kept.size(); ++c)
-    kept[c] = pattern == 2 ? c % 3 != 0 : c % static_cast<size_t>(kEvery[pattern]) == 0;
-  std::vector<uint32_t> order(mesh.cells.size());
-  std::iota(order.begin(), order.end(), 0u);
-  const dtm::LevelEdges edges = dtm::level_edges(mesh, kept, order);
+  const FuzzLevel level = fuzz_level(cloud, pattern);
+  const dtm::LevelEdges& edges = level.edges;
   std::vector<uint8_t> present(edges.corners.size());
   for (size_t e = 0; e < present.size(); ++e) present[e] = e % static_cast<size_t>(nodes_every) == 0;
   const auto nodes = static_cast<size_t>(std::count(present.begin(), present.end(), 1));
