@@ -902,6 +902,45 @@ TEST(InputFormats, SecondOrderElementsAreReadAsTheirLinearCells) {
   EXPECT_TRUE(surface.edge_points.empty());
 }
 
+// A gmsh view given at the corners only (a solver's results on a
+// second-order mesh's linear cells) is kept, its values at the edge nodes
+// left to the stream (their corners' mean); one that misses a corner is
+// named as left out; one given at every node keeps its values there.
+TEST(InputFormats, GmshNodeDataAtTheCornersOnlyIsKept) {
+  // A 10-node tetrahedron (nodes 1-4 its corners, 5-10 its edges' midpoints
+  // in gmsh's order) and a linear one beside it (corner 11).
+  const std::string nodes =
+      "$Nodes\n11\n1 0 0 0\n2 2 0 0\n3 0 2 0\n4 0 0 2\n5 1 0 0\n6 1 1 0\n7 0 1 0\n8 0 0 1\n"
+      "9 0 1 1\n10 1 0 1\n11 2 2 2\n$EndNodes\n"
+      "$Elements\n2\n1 11 2 1 1 1 2 3 4 5 6 7 8 9 10\n2 4 2 1 1 2 3 4 11\n$EndElements\n";
+  const auto view = [](const std::string& name, const std::vector<int>& tags) {
+    std::string s = "$NodeData\n1\n\"" + name + "\"\n1\n0.0\n3\n0\n1\n" + std::to_string(tags.size()) + "\n";
+    for (int t : tags) s += std::to_string(t) + " " + std::to_string(10 * t) + "\n";
+    return s + "$EndNodeData\n";
+  };
+  const InputMesh m = read_input(write_temp(
+      "corner_views.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n" + nodes +
+                              view("every node", {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}) +
+                              view("corners", {11, 4, 3, 2, 1}) + view("a corner missing", {1, 2, 3, 4})));
+  ASSERT_EQ(m.points.size(), 5u);
+  ASSERT_EQ(m.edge_points.size(), 6u);
+  ASSERT_EQ(m.fields.size(), 2u);
+  EXPECT_EQ(m.fields[0].name, "every node");
+  EXPECT_EQ(m.fields[0].values, (std::vector<double>{10, 20, 30, 40, 110}));
+  EXPECT_EQ(m.fields[0].edge_values, (std::vector<double>{50, 60, 70, 80, 90, 100}));
+  EXPECT_FALSE(m.fields[0].at_corners_only);
+  EXPECT_EQ(m.fields[1].name, "corners");
+  EXPECT_EQ(m.fields[1].values, (std::vector<double>{10, 20, 30, 40, 110}));
+  EXPECT_TRUE(m.fields[1].edge_values.empty());
+  EXPECT_TRUE(m.fields[1].at_corners_only);
+  const bool named = std::any_of(m.left_out.begin(), m.left_out.end(), [](const std::string& l) {
+    return l.find("$NodeData not given at every node ('a corner missing' at 4 of 11 nodes)") !=
+           std::string::npos;
+  });
+  EXPECT_TRUE(named);
+  for (const std::string& l : m.left_out) EXPECT_EQ(l.find("'corners'"), std::string::npos) << l;
+}
+
 // TetGen -o2's .ele (10 nodes a tetrahedron, its own order of the edge
 // nodes): made here by Debian's tetgen from torus_288.node, read as the
 // linear mesh tetgen makes of it without -o2, each edge node on its edge;

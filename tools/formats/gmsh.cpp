@@ -225,6 +225,7 @@ class GmshReader {
     set_regions();
     set_face_tags();
     split_cells();
+    keep_node_views();
     note_left_out();
     return std::move(out_);
   }
@@ -1011,11 +1012,42 @@ class GmshReader {
         for (int k = 0; k < f.components; ++k) f.values[v * f.components + k] = c_.number<double>("a value");
       }
     }
-    if (distinct == out_.points.size())
-      out_.fields.push_back(std::move(f));
-    else
-      partial_node_data_.push_back("'" + f.name + "' at " + std::to_string(distinct) + " of " +
-                                   std::to_string(out_.points.size()) + " nodes");
+    if (distinct == out_.points.size()) release(seen);
+    node_views_.push_back({std::move(f), std::move(seen), distinct});
+  }
+
+  // The views given at some nodes only: kept when the nodes they miss are
+  // all second-order elements' edge nodes (a solver that writes its results
+  // at the linear cells' corners), the stream then giving those nodes their
+  // corners' mean; named as left out otherwise. Once the elements are read.
+  void keep_node_views() {
+    constexpr uint8_t kCorner = 1, kOnEdge = 2;
+    std::vector<uint8_t> role;
+    for (NodeView& view : node_views_) {
+      if (!view.seen.empty()) {
+        if (role.empty()) {
+          role.assign(out_.points.size(), 0);
+          for (const auto& t : out_.tets)
+            for (uint32_t v : t) role[v] |= kCorner;
+          for (const auto& t : out_.tagged_faces)
+            for (uint32_t v : t) role[v] |= kCorner;
+          for (const auto& e : out_.tet_edge_nodes)
+            for (uint32_t v : e)
+              if (v != InputMesh::kNoEdgeNode) role[v] |= kOnEdge;
+          for (uint32_t v : out_.other_edge_nodes) role[v] |= kOnEdge;
+        }
+        bool corners = true;
+        for (size_t v = 0; v < role.size() && corners; ++v) corners = view.seen[v] || role[v] == kOnEdge;
+        if (!corners) {
+          partial_node_data_.push_back("'" + view.field.name + "' at " + std::to_string(view.distinct) +
+                                       " of " + std::to_string(out_.points.size()) + " nodes");
+          continue;
+        }
+        view.field.at_corners_only = true;
+      }
+      out_.fields.push_back(std::move(view.field));
+    }
+    release(node_views_);
   }
 
   // A view's values on the elements: kept as cell data when it covers every
@@ -1099,6 +1131,14 @@ class GmshReader {
   std::pair<size_t, size_t> split_block_;
   std::map<int, int> surface_physical_;  // 4.1: surface entity -> its first physical group
   std::map<int32_t, std::string> surface_names_;
+  // $NodeData in file order, each with the nodes it gives (empty: every
+  // node) until keep_node_views().
+  struct NodeView {
+    VertexField field;
+    std::vector<uint8_t> seen;
+    uint64_t distinct = 0;
+  };
+  std::vector<NodeView> node_views_;
   std::vector<std::string> physical_names_, partial_node_data_, partial_element_data_;
   std::set<std::string> skipped_data_;
   std::unordered_map<int64_t, uint32_t> index_of_;

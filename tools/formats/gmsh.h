@@ -20,8 +20,9 @@ namespace dtm {
 // types as those, their other nodes in InputMesh::other_edge_nodes; other
 // types are checked and ignored), their regions and cell data, tagged triangles (types 2 and
 // 9, and quadrangles, 3, as two triangles) and $NodeData fields that cover
-// every node. Throws FormatError naming the file and the
-// line.
+// every node, or every node but the second-order elements' edge nodes
+// (VertexField::at_corners_only). Throws FormatError naming the file and
+// the line.
 InputMesh read_gmsh(const std::string& path);
 
 // Version 4.1 ASCII: one volume entity, nodes tagged 1..n, tetrahedra,

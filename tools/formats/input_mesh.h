@@ -30,6 +30,10 @@ struct VertexField {
   // At InputMesh::edge_points (set_edge_nodes_aside() moves them here),
   // `components` each.
   std::vector<double> edge_values{};
+  // Given at the corners only (a solver's results on a second-order mesh's
+  // linear cells): set_edge_nodes_aside() leaves edge_values empty, and the
+  // stream gives the edge nodes their corners' mean.
+  bool at_corners_only = false;
 };
 
 struct InputMesh {

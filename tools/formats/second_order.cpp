@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "common/release.h"
+
 namespace dtm {
 
 void add_tet_edge_nodes(InputMesh& mesh, const std::array<uint32_t, 6>& nodes) {
@@ -67,6 +69,7 @@ void set_edge_nodes_aside(InputMesh& mesh) {
       to.insert(to.end(), f.values.begin() + c * i, f.values.begin() + c * (i + 1));
     }
     f.values = std::move(values);
+    if (f.at_corners_only) release(f.edge_values);
   }
   mesh.points = std::move(kept);
   mesh.other_edge_nodes.clear();
