@@ -641,5 +641,70 @@ for given in ("ball2_fields.msh", "ball2_fields.vtu"):
                 sys.exit("%s.out.%s: field '%s' differs at %d nodes" % (given, ext, name,
                                                                        int((ours != theirs).any(axis=-1).sum())))
 PY
+# Abaqus/CalculiX .inp as gmsh writes it (its physical groups as *ELSET,
+# its entities as *ELEMENT ELSET=, the physical surface's 2D elements) and
+# as meshio writes it (R3D3 triangles, sets of ids like "12.0", a set of
+# gmsh:bounding_entities naming no element): the physical volumes are the
+# regions and the physical surface the tagged faces, as from the .msh; the
+# entities' sets are named as left out. With --exact, meshdec's .inp
+# (element sets, an element-based *SURFACE) gives meshio the input's
+# tetrahedra, linear and 10-node, each in its set, every node within half
+# a grid step.
+gmsh part.geo -3 -o g.inp >/dev/null && gmsh part.geo -3 -order 2 -o g2.inp >/dev/null
+"$py" - <<'PY' || { echo "meshio does not write the .inp files"; failed=1; }
+import meshio
+meshio.write("m.inp", meshio.read("a41.msh"))
+q = meshio.read("q41.msh")
+# (meshio reads no 6-node 2D element back: the 10-node tetrahedra alone.)
+keep = [k for k, c in enumerate(q.cells) if c.type == "tetra10"]
+sets = {n: [s[k] for k in keep] for n, s in q.cell_sets.items() if n in ("aluminium", "steel")}
+meshio.write("m2.inp", meshio.Mesh(q.points, [q.cells[k] for k in keep], cell_sets=sets))
+PY
+regions=$(grep -o '"aluminium" ([0-9]* tetrahedra), 2 "steel" ([0-9]* tetrahedra)' a41.out)
+for f in g.inp g2.inp m.inp m2.inp; do
+  "$meshenc" $f --exact -o $f.dtm >$f.out 2>&1 || { cat $f.out; failed=1; }
+  grep -qF "regions (element sets), 2: 1 $regions" $f.out ||
+    { echo "$f: the physical volumes are not the regions (${regions})"; cat $f.out; failed=1; }
+  case $f in
+    m2.inp) ;;
+    *) grep -q 'tagged faces (surfaces and 2D elements.* element sets), 1: 1 "base" ([0-9]* triangles)' $f.out ||
+         { echo "$f: the physical surface is not the tagged faces"; cat $f.out; failed=1; } ;;
+  esac
+  "$meshdec" $f.dtm -o $f.out.inp 2>/dev/null || failed=1
+done
+grep -q "left out.*element sets Surface5, Volume1, Volume2" g.inp.out || { echo "g.inp: its entities' sets not named"; failed=1; }
+grep -q "edge nodes: level 0's [0-9]* second-order edges' nodes" g2.inp.out ||
+  { echo "g2.inp --exact: its edge nodes are not kept"; cat g2.inp.out; failed=1; }
+"$py" - "$("$meshinfo" m.inp.dtm --json)" <<'PY' || failed=1
+import json, sys
+import meshio
+import numpy as np
+step = json.loads(sys.argv[1])["step"]
+pairs = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+# (meshio does not read its own .inp back, its sets' "12.0": the .msh it came from.)
+for source, given in (("a41.msh", "m.inp"), ("q41.msh", "m2.inp")):
+    a, b = meshio.read(source), meshio.read(given + ".out.inp")
+    # Each decoded node's input node: the nearest, within half a step.
+    index = np.array([np.argmin(np.abs(a.points - q).max(axis=1)) for q in b.points])
+    worst = np.abs(a.points[index] - b.points).max()
+    if len(b.points) != len(a.points) or len(set(index)) != len(index) or worst > 0.5 * step * (1 + 1e-9):
+        sys.exit("%s.out.inp: %d nodes for %d, %g apart (step %g)" % (given, len(b.points), len(a.points), worst, step))
+    def cells(m, to):
+        out = {}
+        for k, c in enumerate(m.cells):
+            if c.type not in ("tetra", "tetra10"):
+                continue
+            member = {n: set(s[k].tolist()) for n, s in m.cell_sets.items() if n in ("aluminium", "steel")}
+            for i, t in enumerate(c.data):
+                t = to[t]
+                edges = frozenset((frozenset((t[x], t[y])), t[4 + e]) for e, (x, y) in enumerate(pairs)) if len(t) > 4 else None
+                sets = frozenset(n for n, s in member.items() if i in s)
+                out[tuple(sorted(t[:4]))] = (edges, sets)
+        return out
+    want, got = cells(a, np.arange(len(a.points))), cells(b, index)
+    if want != got:
+        sys.exit("%s.out.inp: not the input's tetrahedra in their sets (%d / %d, %d differ)"
+                 % (given, len(want), len(got), len(set(want.items()) ^ set(got.items()))))
+PY
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed

@@ -46,7 +46,8 @@ Examples:
   meshenc flow.vtu -o flow.dtm --field-error pressure=0.01
 
 Inputs (by extension, or --format): TetGen .node (+ .ele), Medit .mesh, Netgen .vol(.gz), VTK
-.vtk, .vtu and .pvtu, gmsh .msh (2.0, 2.2, 4.1), PLY, OFF, OBJ, XYZ, NRRD .nrrd/.nhdr.
+.vtk, .vtu and .pvtu, gmsh .msh (2.0, 2.2, 4.1), Abaqus/CalculiX .inp, PLY, OFF, OBJ, XYZ,
+NRRD .nrrd/.nhdr.
 The vertices are encoded with every per-vertex field of the file (VTK/VTU
 PointData, gmsh $NodeData, PLY vertex properties, TetGen .node attributes and
 markers, a volume's voxel values): losslessly, or a float field within
@@ -115,7 +116,7 @@ void parse_alpha(const std::string& text, dtm::EncodeOptions& o) {
 void add_options(CLI::App& app, Command& c) {
   dtm::EncodeOptions& e = c.encode;
   app.add_option("input", c.input,
-                 "input file: .node .mesh .vtk .vtu .pvtu .msh .vol .nrrd .nhdr .ply .off .obj .xyz")
+                 "input file: .node .mesh .vtk .vtu .pvtu .msh .vol .inp .nrrd .nhdr .ply .off .obj .xyz")
       ->required();
   app.add_option("--format", c.format_name,
                  std::string("input format, overriding the extension: ") + dtm::kInputFormatNames);

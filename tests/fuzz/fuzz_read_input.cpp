@@ -17,8 +17,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   static const char* kExtensions[] = {".node", ".mesh", ".vtk", ".vtu", ".msh", ".nrrd",
-                                      ".ply",  ".off",  ".obj", ".xyz", ".vol"};
-  const char* ext = kExtensions[(data[0] & 15) % 11];
+                                      ".ply",  ".off",  ".obj", ".xyz", ".vol", ".inp"};
+  const char* ext = kExtensions[(data[0] & 15) % 12];
   const std::string path = "/tmp/dtm_fuzz_input_" + std::to_string(getpid()) + ext;
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return 0;

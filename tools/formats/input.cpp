@@ -4,6 +4,7 @@
 #include <cctype>
 #include <filesystem>
 
+#include "abaqus.h"
 #include "gmsh.h"
 #include "medit.h"
 #include "netgen_vol.h"
@@ -26,6 +27,7 @@ std::optional<InputFormat> input_format_named(std::string_view name) {
   if (n == "pvtu") return InputFormat::kPvtu;
   if (n == "msh" || n == "gmsh") return InputFormat::kGmsh;
   if (n == "vol" || n == "netgen") return InputFormat::kNetgen;
+  if (n == "inp" || n == "abaqus" || n == "calculix") return InputFormat::kAbaqus;
   if (n == "nrrd" || n == "nhdr") return InputFormat::kNrrd;
   if (n == "ply") return InputFormat::kPly;
   if (n == "off") return InputFormat::kOff;
@@ -92,6 +94,8 @@ InputMesh read_any(const std::string& path, InputFormat format, const VolumeOpti
   switch (format) {
     case InputFormat::kTetgen:
       return read_tetgen(path, tetgen_ele, read_node);
+    case InputFormat::kAbaqus:
+      return read_abaqus(path);
     case InputFormat::kMedit:
       return read_medit(path);
     case InputFormat::kVtk:

@@ -2,7 +2,7 @@
 // file's extension or by name (--format).
 //
 //   point sets, surfaces   .ply .off .obj .xyz          (CGAL's readers)
-//   volume meshes          .node(+.ele) .mesh .vtk .vtu .msh .vol   (ours)
+//   volume meshes          .node(+.ele) .mesh .vtk .vtu .msh .vol .inp   (ours)
 //   voxel volumes          .nrrd .nhdr                  (ours; needs VolumeOptions)
 #pragma once
 
@@ -18,15 +18,29 @@
 
 namespace dtm {
 
-enum class InputFormat { kTetgen, kMedit, kVtk, kVtu, kPvtu, kGmsh, kNetgen, kNrrd, kPly, kOff, kObj, kXyz };
+enum class InputFormat {
+  kTetgen,
+  kMedit,
+  kVtk,
+  kVtu,
+  kPvtu,
+  kGmsh,
+  kNetgen,
+  kAbaqus,
+  kNrrd,
+  kPly,
+  kOff,
+  kObj,
+  kXyz
+};
 
 // "node" (or "tetgen"), "mesh" ("medit"), "vtk", "vtu", "pvtu", "msh" ("gmsh"),
-// "vol" ("netgen"), "nrrd" ("nhdr"), "ply", "off", "obj", "xyz"; nullopt for
+// "vol" ("netgen"), "inp" ("abaqus", "calculix"), "nrrd" ("nhdr"), "ply", "off", "obj", "xyz"; nullopt for
 // anything else.
 std::optional<InputFormat> input_format_named(std::string_view name);
 // The names input_format_named accepts, for help texts.
 inline constexpr const char* kInputFormatNames =
-    "node, mesh, vtk, vtu, pvtu, msh, vol, nrrd, ply, off, obj, xyz";
+    "node, mesh, vtk, vtu, pvtu, msh, vol, inp, nrrd, ply, off, obj, xyz";
 
 // By extension, ignoring case (.vol.gz: Netgen's, gzipped). Throws
 // FormatError naming the path otherwise.

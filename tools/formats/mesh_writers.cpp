@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "abaqus.h"
 #include "gltf_writer.h"
 #include "gmsh.h"
 #include "medit.h"
@@ -260,6 +261,11 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
       add("the point fields (gmsh holds 1, 3 or 9 components)", names(m.fields, not_gmsh));
       add("the cell arrays (gmsh holds 1, 3 or 9 components)", names(m.cell_fields, not_gmsh));
       break;
+    case MeshFormat::kAbaqus:
+      add("the point fields (an .inp holds node sets only)",
+          names(m.fields, [&](const OutputField& f) { return all(f) && !is_node_set_field(f); }));
+      add("the cell arrays", names(m.cell_fields, all));
+      break;
     case MeshFormat::kMedit:
     case MeshFormat::kNetgen:
       add("the point fields", names(m.fields, all));
@@ -305,7 +311,7 @@ ListedNodes face_nodes(const OutputMesh& m, size_t face) {
 
 bool writes_edge_nodes(MeshFormat format) {
   return format == MeshFormat::kVtu || format == MeshFormat::kVtuAscii || format == MeshFormat::kVtk ||
-         format == MeshFormat::kVtkAscii || format == MeshFormat::kGmsh;
+         format == MeshFormat::kVtkAscii || format == MeshFormat::kGmsh || format == MeshFormat::kAbaqus;
 }
 
 OutputMesh without_edge_nodes(OutputMesh mesh) {
@@ -469,16 +475,18 @@ MeshFormat format_for_path(const std::string& path) {
   if (ext == ".mesh") return MeshFormat::kMedit;
   if (ext == ".msh") return MeshFormat::kGmsh;
   if (ext == ".vol") return MeshFormat::kNetgen;
+  if (ext == ".inp") return MeshFormat::kAbaqus;
   if (ext == ".ply") return MeshFormat::kPly;
   if (ext == ".off") return MeshFormat::kOff;
   if (ext == ".xyz") return MeshFormat::kXyz;
   if (ext == ".glb") return MeshFormat::kGlb;
   if (ext == ".gltf") return MeshFormat::kGltf;
   if (ext == ".drc") return MeshFormat::kDrc;
-  throw std::invalid_argument(path +
-                              ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .vol, "
-                              ".ply, .off, .xyz, .glb, .gltf "
-                              "or .drc file name)");
+  throw std::invalid_argument(
+      path +
+      ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .vol, .inp, "
+      ".ply, .off, .xyz, .glb, .gltf "
+      "or .drc file name)");
 }
 
 MeshFormat format_named(const std::string& name) {
@@ -490,6 +498,7 @@ MeshFormat format_named(const std::string& name) {
                                                               {"mesh", MeshFormat::kMedit},
                                                               {"msh", MeshFormat::kGmsh},
                                                               {"vol", MeshFormat::kNetgen},
+                                                              {"inp", MeshFormat::kAbaqus},
                                                               {"ply", MeshFormat::kPly},
                                                               {"off", MeshFormat::kOff},
                                                               {"xyz", MeshFormat::kXyz},
@@ -529,6 +538,8 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
       return {{path, render_gmsh(mesh)}};
     case MeshFormat::kNetgen:
       return {{path, render_netgen_vol(mesh)}};
+    case MeshFormat::kAbaqus:
+      return {{path, render_abaqus(mesh)}};
     case MeshFormat::kPly:
       return {{path, render_ply(mesh)}};
     case MeshFormat::kOff:
