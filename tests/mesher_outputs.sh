@@ -682,7 +682,7 @@ import numpy as np
 step = json.loads(sys.argv[1])["step"]
 pairs = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
 # (meshio does not read its own .inp back, its sets' "12.0": the .msh it came from.)
-for source, given in (("a41.msh", "m.inp"), ("q41.msh", "m2.inp")):
+for source, given in (("a41.msh", "m.inp"), ("q41.msh", "m2.inp"), ("a41.msh", "g.inp")):
     a, b = meshio.read(source), meshio.read(given + ".out.inp")
     # Each decoded node's input node: the nearest, within half a step.
     index = np.array([np.argmin(np.abs(a.points - q).max(axis=1)) for q in b.points])

@@ -56,7 +56,8 @@ std::set<std::array<uint32_t, 3>> sorted_faces(const std::vector<std::array<uint
 // a linear one, a hexahedron, a 3-node shell in a set; the nodes partly
 // from an included file; sets by number, by GENERATE and by name; two
 // solid sections; surfaces on a face of a set's elements and of one
-// element; the model's material and step. Keywords in either case.
+// element; the model's material and step. Keywords in either case, with or without
+// their blanks.
 const char* kModel = R"(** a model as CalculiX reads it
 *HEADING
  test model
@@ -97,7 +98,7 @@ Brick, S2
 *ELASTIC
 210000, 0.3
 *SOLID SECTION, ELSET=Tets, MATERIAL=Steel
-*SOLID SECTION, ELSET=Brick, MATERIAL=Steel
+*SolidSection, elset=Brick, material=Steel
 *STEP
 *STATIC
 *BOUNDARY
@@ -193,6 +194,148 @@ TEST(Abaqus, ElementSetsAsGmshAndMeshioWriteThem) {
   EXPECT_TRUE(names(plain, "elements other than solids and 2D elements (2 T3D2)"));
 }
 
+// An Abaqus/CAE file: the mesh in a *PART, the assembly's instance of it
+// unmoved, the assembly's reference point (numbered as the part's first
+// node) and its sets: an instance's set kept apart from the part's of the
+// same name, the reference point's named as left out. A set a surface
+// names, or one Abaqus/CAE made for itself, is no region.
+TEST(Abaqus, ReadsAnAbaqusCaeFile) {
+  const InputMesh m = read_input(inp_file("abaqus_cae.inp", R"(*Heading
+** Job name: Job-1 Model name: Model-1
+*Part, name=Part-1
+*Node
+      1,           0.,           0.,           0.
+      2,           1.,           0.,           0.
+      3,           0.,           1.,           0.
+      4,           0.,           0.,           1.
+      5,           1.,           1.,           1.
+*Element, type=C3D4
+1, 1, 2, 3, 4
+2, 2, 3, 4, 5
+*Nset, nset=Set-1, generate
+ 1,  5,  1
+*Elset, elset=Set-1, generate
+ 1,  2,  1
+*Elset, elset=_Surf-1_S1, internal
+ 1,
+*Surface, type=ELEMENT, name=Surf-1
+_Surf-1_S1, S1
+** Section: Section-1
+*Solid Section, elset=Set-1, material=Material-1
+,
+*End Part
+*Assembly, name=Assembly
+*Instance, name=Part-1-1, part=Part-1
+*End Instance
+*Node
+      1,           2.,           2.,           2.
+*Nset, nset=Set-1, instance=Part-1-1
+ 5,
+*Nset, nset=RP
+ 1,
+*End Assembly
+*Material, name=Material-1
+*Elastic
+210000., 0.3
+)"));
+  ASSERT_EQ(m.points.size(), 5u);
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 1}));
+  EXPECT_EQ(m.region_names, (std::map<int32_t, std::string>{{1, "Set-1"}}));
+  EXPECT_EQ(m.face_tag_names, (std::map<int32_t, std::string>{{1, "Surf-1"}}));
+  ASSERT_EQ(m.fields.size(), 2u);
+  EXPECT_EQ(m.fields[0].name, "nset:Set-1");
+  EXPECT_EQ(m.fields[0].values, (std::vector<double>{1, 1, 1, 1, 1}));
+  EXPECT_EQ(m.fields[1].name, "nset:assembly.Set-1");
+  EXPECT_EQ(m.fields[1].values, (std::vector<double>{0, 0, 0, 0, 1}));
+  EXPECT_TRUE(names(m, "1 nodes of the assembly (its reference points)"));
+  EXPECT_TRUE(names(m, "the assembly's sets of its own nodes and elements (RP)"));
+  EXPECT_TRUE(names(m, "the solid sections' materials (Set-1: Material-1)"));
+}
+
+// Forms real files use: a keyword line continued, numbers in Fortran's
+// notation, nodes with normals, quoted set names, GENERATE over numbers
+// not all defined, a node set of an element set's nodes, a surface named
+// twice in two cases, a shell's side, a surface line without a face.
+TEST(Abaqus, ReadsTheLessCommonForms) {
+  std::string includes;
+  for (int i = 0; i < 20; ++i) {
+    inp_file("abaqus_piece" + std::to_string(i) + ".inp", "** piece " + std::to_string(i) + "\n");
+    includes += "*INCLUDE, INPUT=abaqus_piece" + std::to_string(i) + ".inp\n";
+  }
+  const InputMesh m = read_input(inp_file("abaqus_forms.inp", includes + R"(*NODE,
+ NSET=All
+1, 0.0D0, 0, 0, 0, 0, 1
+2, 1.0d0, 0, 0
+3, 0, 1, 0
+4, 0, 0, 1
+5, 1, 1, 1
+7, 1, 1, 0
+*ELEMENT, TYPE=C3D4, ELSET="Solid one"
+1, 1, 2, 3, 4
+2, 2, 3, 4, 5
+*ELEMENT, TYPE=S3R, ELSET=Skin
+3, 2, 3, 7
+*NSET, NSET=Odd, GENERATE
+1, 1000000000000000, 2
+*NSET, NSET=OfSkin, ELSET=Skin
+*SURFACE, NAME=Top
+2, S3
+*SURFACE, NAME=TOP
+Skin, SPOS
+"Solid one"
+)"));
+  ASSERT_EQ(m.points.size(), 6u);
+  EXPECT_EQ(m.points[1].x, 1.0);
+  ASSERT_EQ(m.fields.size(), 3u);
+  EXPECT_EQ(m.fields[0].name, "nset:All");
+  EXPECT_EQ(m.fields[1].values, (std::vector<double>{1, 0, 1, 0, 1, 1}));  // 1, 3, 5, 7
+  EXPECT_EQ(m.fields[2].values, (std::vector<double>{0, 1, 1, 0, 0, 1}));  // 2, 3, 7
+  // One surface of two faces; the shell's set no region, its triangle the
+  // surface's.
+  EXPECT_EQ(m.face_tag_names, (std::map<int32_t, std::string>{{1, "Top"}}));
+  EXPECT_EQ(m.face_tags, (std::vector<int32_t>{1, 1}));
+  EXPECT_EQ(m.region_names, (std::map<int32_t, std::string>{{1, "Solid one"}}));
+  EXPECT_TRUE(names(m, "surface Top: 1 lines without a solid's face S1..S6"));
+  EXPECT_TRUE(names(m, "the normals of 1 nodes"));
+}
+
+// What a small file must not make the reader do: count past 2^63, hold a
+// range's every number, read a device, nest includes without end.
+TEST(Abaqus, HostileFilesEndCleanly) {
+  const std::string nodes = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n";
+  for (const char* range :
+       {"1, 9223372036854775807, 4611686018427387904", "9223372036854775800, 9223372036854775807, 5",
+        "1, 10, 9223372036854775807", "-9223372036854775807, 9223372036854775807, 1"}) {
+    SCOPED_TRACE(range);
+    const InputMesh m = read_input(
+        inp_file("abaqus_range.inp", nodes + "*NSET, NSET=A, GENERATE\n" + std::string(range) + "\n"));
+    ASSERT_EQ(m.fields.size(), 1u);
+    for (double v : m.fields[0].values) EXPECT_TRUE(v == 0 || v == 1);
+  }
+  EXPECT_NE(inp_error("abaqus_dev.inp", "*INCLUDE, INPUT=/dev/zero\n").find("not a file that can be read"),
+            std::string::npos);
+  EXPECT_NE(inp_error("abaqus_dir.inp", "*INCLUDE, INPUT=/tmp\n").find("not a file that can be read"),
+            std::string::npos);
+  EXPECT_NE(inp_error("abaqus_long.inp", "*INCLUDE, INPUT=" + std::string(5000, 'x') + "\n")
+                .find("not a file that can be read"),
+            std::string::npos);
+  EXPECT_NE(inp_error("abaqus_gen.inp", nodes + "*NGEN, NSET=X\n1, 4, 1\n").find("*NGEN makes nodes"),
+            std::string::npos);
+  EXPECT_NE(inp_error("abaqus_sys.inp", "*NODE, SYSTEM=C\n1, 1, 0, 0\n").find("rectangular coordinates only"),
+            std::string::npos);
+  // A chain of sets, each naming the one before.
+  std::string chain = nodes + "*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n*ELSET, ELSET=S0\n1\n";
+  for (int i = 1; i < 3000; ++i)
+    chain += "*ELSET, ELSET=S" + std::to_string(i) + "\nS" + std::to_string(i - 1) + "\n";
+  EXPECT_EQ(read_input(inp_file("abaqus_chain.inp", chain)).tets.size(), 1u);
+  // More node sets than a stream has fields: the first 32 kept.
+  std::string many = nodes;
+  for (int i = 0; i < 40; ++i) many += "*NSET, NSET=N" + std::to_string(i) + "\n1\n";
+  const InputMesh kept = read_input(inp_file("abaqus_many.inp", many));
+  EXPECT_EQ(kept.fields.size(), 32u);
+  EXPECT_TRUE(names(kept, "node sets N32, N33"));
+}
+
 TEST(Abaqus, BadFilesAreRefusedNamingTheLine) {
   const std::string nodes = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n";
   const auto error = [&](const std::string& text) { return inp_error("abaqus_bad.inp", text); };
@@ -213,7 +356,7 @@ TEST(Abaqus, BadFilesAreRefusedNamingTheLine) {
                 .find("an *INSTANCE moved or rotated"),
             std::string::npos);
   EXPECT_NE(error("*INCLUDE, INPUT=abaqus_nowhere.inp\n")
-                .find(":1: *INCLUDE, INPUT=abaqus_nowhere.inp: cannot open"),
+                .find(":1: *INCLUDE, INPUT=abaqus_nowhere.inp: not a file that can be read"),
             std::string::npos);
   EXPECT_NE(error(nodes + "*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n*SURFACE, NAME=S\nNOSET, S1\n")
                 .find("*SURFACE S names the element set NOSET"),
@@ -239,7 +382,7 @@ TEST(Abaqus, BadFilesAreRefusedNamingTheLine) {
 TEST(Abaqus, WrittenFilesReadBackToTheSameMesh) {
   OutputMesh m = test::torus_mesh();
   for (size_t c = 0; c < m.cells.size(); ++c) m.region.push_back(c % 3 == 0 ? 1 : 2);
-  m.region_names = {{1, "inner part"}, {2, "2nd"}};
+  m.region_names = {{1, "inner part"}, {2, "clamped"}};
   // Every boundary face of the cells, tagged by which way it faces.
   std::map<std::array<uint32_t, 3>, std::pair<std::array<uint32_t, 3>, int>> faces;
   static constexpr std::array<std::array<int, 3>, 4> kOutward = {
@@ -250,6 +393,13 @@ TEST(Abaqus, WrittenFilesReadBackToTheSameMesh) {
       std::sort(key.begin(), key.end());
       if (faces.erase(key) == 0) faces[key] = {f, 0};
     }
+  // And a face between two cells (of two regions: an interface).
+  {
+    const auto& t = m.cells[0];
+    std::array<uint32_t, 3> f = {t[0], t[1], t[2]}, key = f;
+    std::sort(key.begin(), key.end());
+    faces[key] = {f, 0};
+  }
   for (const auto& [key, face] : faces) {
     m.faces.push_back(face.first);
     m.face_tags.push_back(m.grid.to_input(m.points[key[0]]).z > 0 ? 7 : 9);
@@ -270,7 +420,8 @@ TEST(Abaqus, WrittenFilesReadBackToTheSameMesh) {
   }
   EXPECT_EQ(back.tets, m.cells);
   EXPECT_EQ(back.tet_regions, m.region);
-  EXPECT_EQ(back.region_names, (std::map<int32_t, std::string>{{1, "inner_part"}, {2, "N_2nd"}}));
+  // (An element set and a node set may share a name, as in Abaqus.)
+  EXPECT_EQ(back.region_names, (std::map<int32_t, std::string>{{1, "inner_part"}, {2, "clamped"}}));
   // The faces come back with their tags.
   ASSERT_EQ(back.tagged_faces.size(), m.faces.size());
   std::map<std::array<uint32_t, 3>, int32_t> want, got;

@@ -921,7 +921,8 @@ TEST(InputFormats, GmshNodeDataAtTheCornersOnlyIsKept) {
   const InputMesh m = read_input(write_temp(
       "corner_views.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n" + nodes +
                               view("every node", {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}) +
-                              view("corners", {11, 4, 3, 2, 1}) + view("a corner missing", {1, 2, 3, 4})));
+                              view("corners", {11, 4, 3, 2, 1}) + view("a corner missing", {1, 2, 3, 4}) +
+                              view("an edge node missing", {1, 2, 3, 4, 5, 6, 7, 8, 9, 11})));
   ASSERT_EQ(m.points.size(), 5u);
   ASSERT_EQ(m.edge_points.size(), 6u);
   ASSERT_EQ(m.fields.size(), 2u);
@@ -934,10 +935,15 @@ TEST(InputFormats, GmshNodeDataAtTheCornersOnlyIsKept) {
   EXPECT_TRUE(m.fields[1].edge_values.empty());
   EXPECT_TRUE(m.fields[1].at_corners_only);
   const bool named = std::any_of(m.left_out.begin(), m.left_out.end(), [](const std::string& l) {
-    return l.find("$NodeData not given at every node ('a corner missing' at 4 of 11 nodes)") !=
+    return l.find("$NodeData not given at every node ('a corner missing' at 4 of 11 nodes, ") !=
            std::string::npos;
   });
   EXPECT_TRUE(named);
+  // (Given at some edge nodes: not at the corners only, its values there
+  // would be lost.)
+  EXPECT_TRUE(std::any_of(m.left_out.begin(), m.left_out.end(), [](const std::string& l) {
+    return l.find("'an edge node missing' at 10 of 11 nodes") != std::string::npos;
+  }));
   for (const std::string& l : m.left_out) EXPECT_EQ(l.find("'corners'"), std::string::npos) << l;
 }
 

@@ -1036,8 +1036,11 @@ class GmshReader {
               if (v != InputMesh::kNoEdgeNode) role[v] |= kOnEdge;
           for (uint32_t v : out_.other_edge_nodes) role[v] |= kOnEdge;
         }
+        // (Every other node given, and no edge node: a view given at some
+        // edge nodes only would lose its values there.)
         bool corners = true;
-        for (size_t v = 0; v < role.size() && corners; ++v) corners = view.seen[v] || role[v] == kOnEdge;
+        for (size_t v = 0; v < role.size() && corners; ++v)
+          corners = (view.seen[v] != 0) == (role[v] != kOnEdge);
         if (!corners) {
           partial_node_data_.push_back("'" + view.field.name + "' at " + std::to_string(view.distinct) +
                                        " of " + std::to_string(out_.points.size()) + " nodes");
