@@ -514,10 +514,12 @@ ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& l
   if (!has_edge_nodes() || !mesh_status_.ok() || level.kept.size() != level.mesh.cells.size()) return out;
   out.edges = level_edges(level.mesh, level.kept, level.order);
   EdgeNodeOffsets nodes;
-  // (19.0: each offset from where the surface's normals put the node.)
+  // (19.0: each offset from where the surface's normals put the node;
+  // 20.0: its creases apart.)
   std::optional<EdgeNodePredictor> predictor;
   if (header_.version_major >= kVersionMajorPredictedEdgeNodes)
-    predictor.emplace(level.mesh, level.kept, points_, header_.grid.qbits);
+    predictor.emplace(level.mesh, level.kept, points_, header_.grid.qbits,
+                      header_.version_major >= kVersionMajorCreaseEdgeNodes);
   const Status s = decode_edge_nodes(edge_node_section_, out.edges, header_.grid.qbits, nodes,
                                      predictor ? &*predictor : nullptr);
   if (!s.ok()) {

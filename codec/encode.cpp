@@ -763,6 +763,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
     stream_options.exact_cells = reference_tets;
     stream_options.exact_ranks = options.exact_ranks;
     stream_options.edge_nodes_v18 = options.edge_nodes_v18;
+    stream_options.edge_nodes_v19 = options.edge_nodes_v19;
     if (region_index.size() == reference_tets.size()) stream_options.exact_labels = region_index;
     stream_options.edge_nodes = grid_edge_nodes;
   }

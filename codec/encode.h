@@ -103,9 +103,11 @@ struct EncodeOptions {
   // read, at more bits (StreamOptions).
   ApexRanks exact_ranks = ApexRanks::kAfterFlips;
   // A second-order input's edge nodes as format 18.0 coded them (each
-  // offset alone, no values there), for decoders of 18.0; false: 19.0
-  // (StreamOptions).
+  // offset alone, no values there), for decoders of 18.0; or as 19.0 did
+  // (the surface's normals summed across its creases), for decoders of
+  // 19.0; both false: 20.0 (StreamOptions).
   bool edge_nodes_v18 = false;
+  bool edge_nodes_v19 = false;
   // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.

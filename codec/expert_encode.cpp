@@ -202,6 +202,14 @@ StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> p
 // from the edge's midpoint in half grid steps; and with `values`, the edge
 // value section (19.0, §3.12): the nodes' values, whose rows in `values`
 // follow the points' (the k-th node of `nodes` at row points + k).
+// The format of a stream with edge nodes: 18.0's coding, 19.0's, or 20.0's
+// (the creases apart).
+uint8_t edge_nodes_major(const StreamOptions& options) {
+  return options.edge_nodes_v18   ? kVersionMajorEdgeNodes
+         : options.edge_nodes_v19 ? kVersionMajorPredictedEdgeNodes
+                                  : kVersionMajorCreaseEdgeNodes;
+}
+
 struct EdgeNodeSections {
   std::vector<uint8_t> nodes, values;
 };
@@ -209,8 +217,8 @@ StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<con
                                               std::span<const uint32_t> order,
                                               std::span<const GridPoint> level_points,
                                               std::span<const GridEdgeNode> nodes,
-                                              std::span<const uint32_t> decode_order, int qbits, bool predict,
-                                              const FieldSectionEncoder* values, size_t points,
+                                              std::span<const uint32_t> decode_order, int qbits,
+                                              uint8_t major, const FieldSectionEncoder* values, size_t points,
                                               EncodedStream& out) {
   std::unordered_map<uint64_t, uint32_t> node_of;  // by the edge's grid ids, the first given
   node_of.reserve(nodes.size());
@@ -247,7 +255,8 @@ StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<con
   }
   EdgeNodeSections sections;
   std::optional<EdgeNodePredictor> predictor;
-  if (predict) predictor.emplace(mesh, kept, level_points, qbits);
+  if (major >= kVersionMajorPredictedEdgeNodes)
+    predictor.emplace(mesh, kept, level_points, qbits, major >= kVersionMajorCreaseEdgeNodes);
   sections.nodes = encode_edge_nodes(edges, offsets, qbits, predictor ? &*predictor : nullptr);
   out.edge_node_bytes = sections.nodes.size();
   if (values) {
@@ -371,14 +380,13 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // (An exact stream's version is settled when its section is: 11.0 where
   // its apexes are ranked among all the candidates.)
   ApexRanks exact_ranks = options.exact_ranks;
-  h.version_major = edge_nodes && options.edge_nodes_v18 ? kVersionMajorEdgeNodes
-                    : edge_nodes                         ? kVersionMajorPredictedEdgeNodes
-                    : exact                              ? kVersionMajorExact
-                    : cell_data || keep_order            ? kVersionMajorCellData
-                    : regions || faces                   ? kVersionMajorRegions
-                    : corrections                        ? kVersionMajorUnbricked
-                    : values                             ? kVersionMajorWithValues
-                                                         : kVersionMajorWithoutValues;
+  h.version_major = edge_nodes                ? edge_nodes_major(options)
+                    : exact                   ? kVersionMajorExact
+                    : cell_data || keep_order ? kVersionMajorCellData
+                    : regions || faces        ? kVersionMajorRegions
+                    : corrections             ? kVersionMajorUnbricked
+                    : values                  ? kVersionMajorWithValues
+                                              : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
             (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0) |
             (cell_data ? kFlagCellData : 0) | (keep_order ? kFlagVertexOrder : 0) | (exact ? kFlagExact : 0) |
@@ -542,7 +550,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       DTM_ASSIGN_OR_RETURN(
           EdgeNodeSections edge,
           edge_node_sections(cells_mesh, kept, order, level_points, options.edge_nodes, out.decode_order,
-                             grid.qbits, !options.edge_nodes_v18,
+                             grid.qbits, edge_nodes_major(options),
                              value_coder && !options.edge_nodes_v18 ? &*value_coder : nullptr, points.size(),
                              out));
       out_l.edge_nodes = std::move(edge.nodes);
@@ -637,9 +645,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   }
   // (An exact stream's version, and flags, as its sections settled them.)
   if (exact) {
-    const uint8_t major = !(h.flags & kFlagEdgeNodes) ? format_major_of(exact_ranks)
-                          : options.edge_nodes_v18    ? kVersionMajorEdgeNodes
-                                                      : kVersionMajorPredictedEdgeNodes;
+    const uint8_t major =
+        !(h.flags & kFlagEdgeNodes) ? format_major_of(exact_ranks) : edge_nodes_major(options);
     if (major != h.version_major || (edge_nodes && !(h.flags & kFlagEdgeNodes))) {
       h.version_major = major;
       const std::vector<uint8_t> header = write_header(h);

@@ -90,8 +90,10 @@ struct StreamOptions {
   std::span<const GridEdgeNode> edge_nodes;
   // The edge nodes as 18.0 codes them: each offset from its edge's midpoint
   // alone (19.0: from the offset the surface's normals predict), without
-  // the fields' values there.
+  // the fields' values there; as 19.0 codes them: the surface's normals
+  // summed across its creases (20.0: the creases apart).
   bool edge_nodes_v18 = false;
+  bool edge_nodes_v19 = false;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };

@@ -569,6 +569,13 @@ gmsh ball2.msh.out.msh -0 -format msh22 -o ball_again.msh >/dev/null 2>&1 || { e
 grep -q "left out.*nodes on the edges of second-order elements" ball_v13.out ||
   { echo "ball2.msh --exact-v13: the edge nodes are not named as left out"; cat ball_v13.out; failed=1; }
 meshinfo=$(dirname "$meshenc")/meshinfo
+# (--exact-v19, for decoders older than 20.0: the same nodes in a 19.0 stream.)
+"$meshenc" ng2.vol --exact-v19 -q -o ng_v19.dtm && "$meshdec" ng_v19.dtm -q -o ng_v19.vtu || failed=1
+"$meshinfo" ng_v19.dtm | head -1 | grep -q "\.dtm 19\.0" || { echo "ng2.vol --exact-v19: not a 19.0 stream"; failed=1; }
+"$meshdec" ng2.vol.exact.dtm -q -o ng_v20.vtu || failed=1
+cmp -s <("$py" -c "import meshio; print(meshio.read('ng_v19.vtu').points.tobytes().hex())") \
+  <("$py" -c "import meshio; print(meshio.read('ng_v20.vtu').points.tobytes().hex())") ||
+  { echo "ng2.vol: the 19.0 and 20.0 streams decode to other nodes"; failed=1; }
 "$py" - "$("$meshinfo" ball2.msh.exact.dtm --json)" "$("$meshinfo" ng2.vol.exact.dtm --json)" <<'PY' || failed=1
 import json, sys
 import meshio

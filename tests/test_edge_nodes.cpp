@@ -101,7 +101,7 @@ TEST(EdgeNodes, AnExactSecondOrderMeshGivesBackEachNode) {
 
   ProgressiveDecoder d;
   ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
-  EXPECT_EQ(d.header().version_major, kVersionMajorPredictedEdgeNodes);
+  EXPECT_EQ(d.header().version_major, kVersionMajorCreaseEdgeNodes);
   ASSERT_TRUE(d.has_edge_nodes());
   const ProgressiveDecoder::LevelCells level = d.level_cells();
   const ProgressiveDecoder::EdgeNodes nodes = d.edge_nodes(level);
@@ -209,20 +209,24 @@ TEST(EdgeNodes, DamagedSectionsAreRefused) {
   const SecondOrder m = second_order_torus(0);
   const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
   const EncodeInput in = input_of(m, given);
-  // 18.0's offsets, and 19.0's differences from the predicted ones.
-  for (const bool v18 : {true, false}) {
+  // 18.0's offsets, 19.0's differences from the predicted ones, and
+  // 20.0's (the creases apart).
+  for (const uint8_t major :
+       {kVersionMajorEdgeNodes, kVersionMajorPredictedEdgeNodes, kVersionMajorCreaseEdgeNodes}) {
     EncodeOptions options = exact_options();
-    options.edge_nodes_v18 = v18;
+    options.edge_nodes_v18 = major == kVersionMajorEdgeNodes;
+    options.edge_nodes_v19 = major == kVersionMajorPredictedEdgeNodes;
     const auto encoded = encode(in, options);
     ASSERT_TRUE(encoded.ok());
     ProgressiveDecoder d;
     ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
-    EXPECT_EQ(d.header().version_major, v18 ? kVersionMajorEdgeNodes : kVersionMajorPredictedEdgeNodes);
+    EXPECT_EQ(d.header().version_major, major);
     const ProgressiveDecoder::LevelCells level = d.level_cells();
     const LevelEdges edges = level_edges(level.mesh, level.kept, level.order);
     const int qbits = d.header().grid.qbits;
     std::optional<EdgeNodePredictor> predictor;
-    if (!v18) predictor.emplace(level.mesh, level.kept, d.points(), qbits);
+    if (major >= kVersionMajorPredictedEdgeNodes)
+      predictor.emplace(level.mesh, level.kept, d.points(), qbits, major >= kVersionMajorCreaseEdgeNodes);
     const EdgeNodePredictor* predicted = predictor ? &*predictor : nullptr;
     // The section is the stream's last bytes.
     const std::vector<uint8_t> section(
@@ -255,7 +259,7 @@ TEST(EdgeNodes, DamagedSectionsAreRefused) {
         EXPECT_EQ(again.present, got.present);
         EXPECT_EQ(again.offset, got.offset);
       }
-    EXPECT_GT(refused, flipped / 2) << v18;
+    EXPECT_GT(refused, flipped / 2) << int{major};
   }
 }
 
@@ -279,7 +283,7 @@ TEST(EdgeNodes, ThePredictionIsACurvedTrianglesEdgeMidpoint) {
   std::vector<uint8_t> kept(level.kept.size(), 0);
   for (size_t c = 0; c < kept.size(); ++c)
     if (level.kept[c]) kept[c] = at(level.mesh.cells[c][0])[0] < (1 << 13) ? 1 : 2;
-  const EdgeNodePredictor predictor(level.mesh, kept, p, d.header().grid.qbits);
+  const EdgeNodePredictor predictor(level.mesh, kept, p, d.header().grid.qbits, false);
   const LevelEdges edges = level_edges(level.mesh, kept, level.order);
   std::vector<std::array<double, 3>> normal(p.size(), {0, 0, 0});
   for (const SurfaceFace& f : surface_faces(level.mesh, kept).faces) {
@@ -313,6 +317,123 @@ TEST(EdgeNodes, ThePredictionIsACurvedTrianglesEdgeMidpoint) {
   }
   EXPECT_GT(surface, 500u);
   EXPECT_GT(bulging, surface / 4);
+}
+
+// 20.0's prediction against the same formulas in doubles, the surface's
+// creases apart (spec/FORMAT.md §3.11): on the two-region torus (whose
+// interface meets the boundary along edges of three surface faces), a
+// crease edge's offset is within a half step of |d| (t_a - t_b) / 4, t_v
+// the unit tangent along the crease (from v's other crease neighbour c
+// past it, b - c at a and c - a at b, or the edge's own where v has other
+// than two crease edges or the crease turns there by more than 60
+// degrees); any other surface edge's of the curved triangle's, each
+// corner's normal the unit sum of its faces on the edge's side of the
+// creases about it.
+TEST(EdgeNodes, TwentyPredictsWithTheCreasesApart) {
+  const SecondOrder m = second_order_torus(0);
+  const std::vector<EncodeInput::EdgeNode> given = nodes_of(m);
+  const auto encoded = encode(input_of(m, given), exact_options());
+  ASSERT_TRUE(encoded.ok());
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
+  const ProgressiveDecoder::LevelCells level = d.level_cells();
+  const std::vector<GridPoint>& p = d.points();
+  using V = std::array<double, 3>;
+  const auto at = [&](uint32_t v) { return V{double(p[v].x), double(p[v].y), double(p[v].z)}; };
+  const auto sub = [](const V& a, const V& b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  const auto dot = [](const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  const auto cosine = [&](const V& a, const V& b) { return dot(a, b) / std::sqrt(dot(a, a) * dot(b, b)); };
+  std::vector<uint8_t> kept(level.kept.size(), 0);
+  for (size_t c = 0; c < kept.size(); ++c)
+    if (level.kept[c]) kept[c] = at(level.mesh.cells[c][0])[0] < (1 << 13) ? 1 : 2;
+  const EdgeNodePredictor predictor(level.mesh, kept, p, d.header().grid.qbits, true);
+  const LevelEdges edges = level_edges(level.mesh, kept, level.order);
+  // The surface's faces, each turned out of its cell, by edge and by vertex.
+  std::vector<std::pair<std::array<uint32_t, 3>, V>> faces;
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<size_t>> on_edge;
+  std::map<uint32_t, std::vector<size_t>> at_vertex;
+  for (const SurfaceFace& f : surface_faces(level.mesh, kept).faces) {
+    const V a = at(f.key[0]), u = sub(at(f.key[1]), a), v = sub(at(f.key[2]), a);
+    V n = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    if (dot(n, sub(at(level.mesh.cells[f.cell][f.opposite]), a)) > 0) n = {-n[0], -n[1], -n[2]};
+    for (size_t k = 0; k < 3; ++k) {
+      const uint32_t x = f.key[k], y = f.key[(k + 1) % 3];
+      on_edge[{std::min(x, y), std::max(x, y)}].push_back(faces.size());
+      at_vertex[x].push_back(faces.size());
+    }
+    faces.push_back({f.key, n});
+  }
+  // (An angle within 1e-4 of 60 degrees could go either way: an edge whose
+  // prediction meets one is not compared.)
+  std::set<std::pair<uint32_t, uint32_t>> unclear_edges;
+  bool unclear = false;
+  const auto crease = [&](uint32_t a, uint32_t b) {
+    const auto& f = on_edge.at({std::min(a, b), std::max(a, b)});
+    if (f.size() != 2) return true;
+    const double c = cosine(faces[f[0]].second, faces[f[1]].second);
+    if (std::abs(c - 0.5) < 1e-4) unclear = true, unclear_edges.insert({std::min(a, b), std::max(a, b)});
+    return c < 0.5;
+  };
+  std::map<uint32_t, std::vector<uint32_t>> crease_ends;
+  for (const auto& [e, f] : on_edge)
+    if (crease(e.first, e.second))
+      crease_ends[e.first].push_back(e.second), crease_ends[e.second].push_back(e.first);
+  // v's normal on the side of its faces that the face `start` is on.
+  const auto sector_normal = [&](uint32_t v, size_t start) {
+    std::set<size_t> seen = {start};
+    std::vector<size_t> todo = {start};
+    V n = {0, 0, 0};
+    while (!todo.empty()) {
+      const size_t f = todo.back();
+      todo.pop_back();
+      for (size_t i = 0; i < 3; ++i) n[i] += faces[f].second[i];
+      for (uint32_t w : faces[f].first)
+        if (w != v && !crease(v, w))
+          for (size_t g : on_edge.at({std::min(v, w), std::max(v, w)}))
+            if (seen.insert(g).second) todo.push_back(g);
+    }
+    const double length = std::sqrt(dot(n, n));
+    return V{n[0] / length, n[1] / length, n[2] / length};
+  };
+  size_t creases = 0, smooth = 0, bulging = 0;
+  for (size_t e = 0; e < edges.corners.size(); ++e) {
+    if (!edges.on_surface[e]) continue;
+    const uint32_t a = edges.corners[e][0], b = edges.corners[e][1];
+    const std::array<int64_t, 3> got = predictor.offset(a, b);
+    unclear = false;
+    const V d = sub(at(b), at(a));
+    V want{0, 0, 0};
+    if (crease(a, b)) {
+      ++creases;
+      const auto tangent = [&](uint32_t v, uint32_t other, bool at_a) {
+        const auto& ends = crease_ends.at(v);
+        if (ends.size() != 2) return d;
+        const uint32_t c = ends[0] == other ? ends[1] : ends[0];
+        const V in = at_a ? sub(at(v), at(c)) : d, out = at_a ? d : sub(at(c), at(v));
+        if (std::abs(cosine(in, out) - 0.5) < 1e-4) unclear = true, unclear_edges.insert({a, b});
+        if (cosine(in, out) < 0.5) return d;
+        return at_a ? sub(at(other), at(c)) : sub(at(c), at(other));
+      };
+      const V ta = tangent(a, b, true), tb = tangent(b, a, false);
+      const double length = std::sqrt(dot(d, d)), la = std::sqrt(dot(ta, ta)), lb = std::sqrt(dot(tb, tb));
+      for (size_t i = 0; i < 3; ++i) want[i] = length * (ta[i] / la - tb[i] / lb) / 4;
+    } else {
+      ++smooth;
+      const size_t f = on_edge.at({a, b})[0];
+      for (const auto& [v, w] : {std::pair{a, b}, std::pair{b, a}}) {
+        const V n = sector_normal(v, f);
+        const double along = dot(sub(at(w), at(v)), n);
+        for (size_t i = 0; i < 3; ++i) want[i] -= along * n[i] / 4;
+      }
+    }
+    if (unclear) continue;
+    for (size_t i = 0; i < 3; ++i) EXPECT_LE(std::abs(double(got[i]) - want[i]), 0.5 + 1e-3) << e << " " << i;
+    bulging += std::abs(got[0]) + std::abs(got[1]) + std::abs(got[2]) >= 4;
+  }
+  EXPECT_GT(creases, 50u);
+  EXPECT_GT(smooth, 500u);
+  EXPECT_GT(bulging, (creases + smooth) / 4);
+  EXPECT_LT(unclear_edges.size(), (creases + smooth) / 100);
 }
 
 // Fields at the nodes (19.0): a smooth float64 field and an int32 one
@@ -378,7 +499,7 @@ TEST(EdgeNodes, TheFieldsValuesAtTheNodesComeBack) {
 
   ProgressiveDecoder d;
   ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
-  EXPECT_EQ(d.header().version_major, kVersionMajorPredictedEdgeNodes);
+  EXPECT_EQ(d.header().version_major, kVersionMajorCreaseEdgeNodes);
   const ProgressiveDecoder::LevelCells level = d.level_cells();
   const ProgressiveDecoder::EdgeNodes nodes = d.edge_nodes(level);
   ASSERT_TRUE(d.mesh_status().ok()) << d.mesh_status().message();
@@ -493,11 +614,11 @@ TEST(EdgeNodes, AnEighteenStreamGivesTheNodesTheirCornersMean) {
   // A 19.0 stream without it is refused.
   ProgressiveDecoder refused;
   const Status status =
-      decode_stream(restreamed(encoded->bytes, kVersionMajorPredictedEdgeNodes, true), refused);
+      decode_stream(restreamed(encoded->bytes, kVersionMajorCreaseEdgeNodes, true), refused);
   EXPECT_NE(status.message().find("level 0's layer without its edge value section"), std::string::npos)
       << status.message();
   // The stream re-written as it is decodes as it did.
-  EXPECT_EQ(restreamed(encoded->bytes, kVersionMajorPredictedEdgeNodes, false), encoded->bytes);
+  EXPECT_EQ(restreamed(encoded->bytes, kVersionMajorCreaseEdgeNodes, false), encoded->bytes);
 }
 
 // A layer's edge value section where the flags have none, or in a layer

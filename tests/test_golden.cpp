@@ -222,7 +222,13 @@ INSTANTIATE_TEST_SUITE_P(Format18_0, GoldenStream, ::testing::Values("v18/ball_o
 // with a float64 and an int32 field at every node, the nodes' values in an
 // edge value section.
 INSTANTIATE_TEST_SUITE_P(Format19_0, GoldenStream,
-                         ::testing::Values("ball_order2_exact", "ball_order2_fields_exact"));
+                         ::testing::Values("v19/ball_order2_exact", "v19/ball_order2_fields_exact"));
+// 20.0: the two, and a two-region block with a pin through it, its nodes
+// along the pin's ends predicted on the creases' curves (every kind of
+// crease edge's tangent).
+INSTANTIATE_TEST_SUITE_P(Format20_0, GoldenStream,
+                         ::testing::Values("ball_order2_exact", "ball_order2_fields_exact",
+                                           "pin_order2_exact"));
 // 14.0 to 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
 // cell hash is theirs, as the encoder hashed the input's cells), its apexes
 // ranked among the candidates that fit (12.0), with the filled bits in the

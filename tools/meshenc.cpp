@@ -262,6 +262,14 @@ void add_options(CLI::App& app, Command& c) {
       "--exact-v13", dtm::ApexRanks::kAmongFittingInContext,
       "--exact, written as format 13.0 for decoders older than 14.0 (without 14.0's flip flags: up "
       "to 0.4 bits a vertex more)");
+  app.add_flag_function(
+      "--exact-v19",
+      [&c](int64_t) {
+        c.encode.exact = true;
+        c.encode.edge_nodes_v19 = true;
+      },
+      "--exact, a second-order mesh's edge nodes written as format 19.0 for decoders older than 20.0 "
+      "(without 20.0's creases: up to 2.4 bits a vertex more)");
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,

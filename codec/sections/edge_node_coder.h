@@ -32,6 +32,7 @@
 #include "codec/sections/value_fields.h"
 #include "common/status.h"
 #include "mesh/delaunay.h"
+#include "mesh/geometry.h"
 
 namespace dtm {
 
@@ -75,27 +76,49 @@ inline int64_t edge_node_reach(int qbits) { return int64_t{1} << (qbits + 2); }
 // Format 19.0: where a curved surface's nodes are expected: off a surface
 // edge's midpoint as a curved (PN) triangle's edge passes, from its corners'
 // normals (the sum of their surface faces' normals), in half grid steps,
-// within +-2^(qbits + 1). Exact integer arithmetic (spec/FORMAT.md §3.11):
-// both sides predict alike. `mesh`, `kept`: the level's cells, as
-// level_edges() took them; `points`: the level's (viewed, not copied).
+// within +-2^(qbits + 1). Format 20.0 (`creases`): the surface's creases
+// apart (its edges where it turns by more than 60 degrees, or where other
+// than two of its faces meet): each corner's normal is its faces' on the
+// edge's side of them, and a crease edge's node is expected where a curve
+// through its neighbours along the crease passes (a cubic with their
+// chords' directions as its tangents). Exact integer arithmetic
+// (spec/FORMAT.md §3.11): both sides predict alike. `mesh`, `kept`: the
+// level's cells, as level_edges() took them; `points`: the level's
+// (viewed, not copied).
 class EdgeNodePredictor {
  public:
   EdgeNodePredictor(const TetMesh& mesh, std::span<const uint8_t> kept, std::span<const GridPoint> points,
-                    int qbits);
+                    int qbits, bool creases);
   // The predicted offset of the node on the surface edge from a to b.
   std::array<int64_t, 3> offset(uint32_t a, uint32_t b) const;
 
  private:
+  using Vec = std::array<int64_t, 3>;
   static constexpr uint32_t kOffSurface = UINT32_MAX;
+  // Where the node of the edge a-b lies off its midpoint, in half steps, as
+  // the corners' normals na and nb put it (zero normals: no bulge there).
+  std::array<Int128, 3> normals_offset(uint32_t a, uint32_t b, const Vec& na, const Vec& nb) const;
+  // 20.0: a crease edge's, from the crease's curve through its corners.
+  std::array<Int128, 3> crease_offset(uint32_t a, uint32_t b) const;
+
   std::span<const GridPoint> points_;
   int qbits_ = 0;
-  std::vector<uint32_t> slot_;                   // per point, its normal's index, or kOffSurface
-  std::vector<std::array<int64_t, 3>> normals_;  // per surface vertex
+  bool creases_ = false;
+  std::vector<uint32_t> slot_;  // per point, its index among the surface's vertices, or kOffSurface
+  std::vector<Vec> normals_;    // 19.0: per surface vertex; 20.0: per sector about one (below)
+  // 20.0: per surface vertex (slot), its neighbours on the surface,
+  // ascending (neighbour_start_: where they start in neighbour_vertex_),
+  // each with its edge's sector at the vertex (an index into normals_: the
+  // faces about the vertex that meet across edges that are not creases),
+  // or kOffSurface for a crease; and its crease edges: how many, and the
+  // first two's other ends.
+  std::vector<uint32_t> neighbour_start_, neighbour_vertex_, neighbour_sector_;
+  std::vector<std::array<uint32_t, 3>> crease_ends_;
 };
 
-// `predictor`: 19.0's, each moved node coded as its offset's difference
-// from the predicted one on a surface edge; null: 18.0's section, the
-// offsets themselves. `nodes`' offsets lie within edge_node_reach().
+// `predictor`: 19.0's or 20.0's, each moved node coded as its offset's
+// difference from the predicted one on a surface edge; null: 18.0's
+// section, the offsets themselves. `nodes`' offsets lie within edge_node_reach().
 std::vector<uint8_t> encode_edge_nodes(const LevelEdges& edges, const EdgeNodeOffsets& nodes, int qbits,
                                        const EdgeNodePredictor* predictor = nullptr);
 // kCorrupt unless the section gives every edge's node within reach, a

@@ -62,9 +62,13 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // bricked stream's levels carry tagged faces (each chunk a face section);
 // 18.0 when an exact level 0 carries its edges' nodes (kFlagEdgeNodes);
 // 19.0 when those nodes carry the per-vertex fields' values too (flags
-// edge nodes and values: an edge value section in level 0's layer); the
-// decoder reads 2.x to 19.x.
-inline constexpr uint8_t kVersionMajor = 19;
+// edge nodes and values: an edge value section in level 0's layer), and
+// are predicted from the surface's normals; 20.0 when that prediction sets
+// the surface's creases apart (what meshenc --exact writes of a
+// second-order mesh; 19.0 and 18.0 on request); the decoder reads 2.x to
+// 20.x.
+inline constexpr uint8_t kVersionMajor = 20;
+inline constexpr uint8_t kVersionMajorCreaseEdgeNodes = 20;
 inline constexpr uint8_t kVersionMajorPredictedEdgeNodes = 19;
 inline constexpr uint8_t kVersionMajorEdgeNodes = 18;
 inline constexpr uint8_t kVersionMajorBrickedFaces = 17;

@@ -562,7 +562,7 @@ def test_meshio_writes_a_second_order_mesh_as_its_linear_cells(tmp_path):
 
 def test_meshio_writes_a_second_order_mesh_exactly_as_meshenc_does(tmp_path):
     """A gmsh ball of tetra10 (its surface's nodes on the sphere): meshio.write with exact=True keeps
-    the edge nodes (format 19.0), meshenc --exact's bytes for the same .msh; decoded, its to_meshio()
+    the edge nodes (format 20.0), meshenc --exact's bytes for the same .msh; decoded, its to_meshio()
     is the input's tetra10 within half a grid step; without exact a warning names them."""
     geo = tmp_path / "ball.geo"
     geo.write_text('SetFactory("OpenCASCADE");\nSphere(1) = {0, 0, 0, 1};\nMesh.MeshSizeMax = 0.5;\n'
@@ -577,7 +577,7 @@ def test_meshio_writes_a_second_order_mesh_exactly_as_meshenc_does(tmp_path):
     assert ours.read_bytes() == theirs.read_bytes()
     decoded = dtmesh.decode(ours.read_bytes())
     info = dtmesh.info(ours.read_bytes())
-    assert info["version"] == "19.0" and decoded.edge_nodes.shape == (len(mesh.cells_dict["tetra10"]), 6)
+    assert info["version"] == "20.0" and decoded.edge_nodes.shape == (len(mesh.cells_dict["tetra10"]), 6)
     back = decoded.to_meshio()
     t, u = mesh.cells_dict["tetra10"], back.cells_dict["tetra10"]
     nearest = {i: int(np.argmin(np.abs(mesh.points - back.points[i]).max(axis=1))) for i in np.unique(u[:, :4])}
@@ -610,7 +610,7 @@ def test_a_second_order_meshs_point_data_is_kept_at_its_edge_nodes(tmp_path):
     meshio.write(ours, mesh, exact=True, field_errors={"velocity": 1e-3})
     run(tool("meshenc"), vtu, "-q", "--exact", "--field-error", "velocity=1e-3", "-o", theirs)
     assert ours.read_bytes() == theirs.read_bytes()
-    assert dtmesh.info(ours.read_bytes())["version"] == "19.0"
+    assert dtmesh.info(ours.read_bytes())["version"] == "20.0"
     back = dtmesh.decode(ours.read_bytes()).to_meshio()
     assert len(back.points) == len(p)
     index = np.array([int(np.argmin(np.abs(p - q).max(axis=1))) for q in back.points])

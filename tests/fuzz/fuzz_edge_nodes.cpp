@@ -1,6 +1,7 @@
 // The edge node section (spec/FORMAT.md §3.11) on arbitrary bytes, below the
 // layer checksum that keeps the stream targets from reaching it damaged,
-// read as 18.0's and as 19.0's (each offset from the surface's prediction):
+// read as 18.0's, 19.0's and 20.0's (each offset from the surface's
+// prediction, 20.0's with the creases apart):
 // never a crash; a section that decodes gives every edge of the level a
 // node or none, each offset within reach and a moved node's nonzero, which
 // code again to a section that decodes to the same nodes.
@@ -30,10 +31,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const dtm::TetMesh& mesh = level.mesh;
   const std::vector<uint8_t>& kept = level.kept;
   const dtm::LevelEdges& edges = level.edges;
-  // 18.0's offsets, and 19.0's differences from the surface's prediction.
-  const dtm::EdgeNodePredictor predictor(mesh, kept, fuzz_point_set(cloud), qbits);
-  for (const bool v18 : {true, false}) {
-    const dtm::EdgeNodePredictor* p = v18 ? nullptr : &predictor;
+  // 18.0's offsets, 19.0's differences from the surface's prediction and
+  // 20.0's (the creases apart).
+  const dtm::EdgeNodePredictor v19(mesh, kept, fuzz_point_set(cloud), qbits, false),
+      v20(mesh, kept, fuzz_point_set(cloud), qbits, true);
+  for (const dtm::EdgeNodePredictor* p : {static_cast<const dtm::EdgeNodePredictor*>(nullptr), &v19, &v20}) {
     dtm::EdgeNodeOffsets nodes;
     const dtm::Status s = dtm::decode_edge_nodes(std::span(data + 1, size - 1), edges, qbits, nodes, p);
     if (!s.ok()) {

@@ -2,7 +2,7 @@
 # tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
 # current format version and their expected levels. Run it only when the
 # format's major version changes (spec/FORMAT.md §6), after moving the
-# previous version's streams to v<major>/ (as v2/ to v6/, v11/ to v13/ and v18/ hold formats 2.0 to 6.0, 11.0 to 13.0 and 18.0) if
+# previous version's streams to v<major>/ (as v2/ to v6/, v11/ to v13/, v18/ and v19/ hold formats 2.0 to 6.0, 11.0 to 13.0, 18.0 and 19.0) if
 # decoders still read it: a golden stream is a promise that every later
 # decoder decodes it identically or refuses its version. The streams of
 # older versions it writes too need not come out the same (the encoder
@@ -133,8 +133,11 @@ make_one torus_288_cells_bricks torus_288_cells.vtu --scale 25 --dmax 3 --qualit
 # the apexes among the candidates that fit, and before 13.0 coded the filled
 # bits in context and ranked apexes in the second ring.)
 make_one two_materials_exact two_materials.msh --quality-floor 0 --dmax 0.2 --exact
-# 19.0 (v18/ holds its 18.0 stream, made before 19.0 predicted the
-# nodes from the surface's normals): a second-order gmsh ball with --exact: level 0 is its own 10-node
+# 20.0 (v18/ holds its 18.0 stream, made before 19.0 predicted the nodes
+# from the surface's normals, and v19/ its 19.0 streams, made before 20.0
+# set the creases apart: this coarse a sphere's surface turns by more than
+# 60 degrees at some edges, so that the sections differ, not the nodes): a
+# second-order gmsh ball with --exact: level 0 is its own 10-node
 # tetrahedra, with their edge nodes (the sphere's off their edges'
 # midpoints), recorded as their count, the moved ones' and a checksum of
 # their places in the order the section gives them (meshdec's .vtu lists
@@ -172,7 +175,7 @@ json.dump(expected, open(path, "w"), indent=1)
 PY
 }
 record_edge_nodes ball_order2_exact
-# 19.0: the same ball with a float64 and an int32 field at every node, the
+# 20.0 (19.0 in v19/): the same ball with a float64 and an int32 field at every node, the
 # nodes' values in an edge value section; its expected level 0 records, per
 # field, the nodes' values' count and the sum over k of (k + 1) x the k-th
 # value's bits (in its type's width) modulo 2^64, in the section's order.
@@ -207,3 +210,25 @@ for name, values in source.point_data.items():
 expected["levels"][-1]["edge_values"] = sums
 json.dump(expected, open(path, "w"), indent=1)
 PY
+# 20.0: a second-order gmsh block with a pin through it, two regions, with
+# --exact: its edge nodes on the pin's side (an interface) and along the
+# circles where it meets the block's faces, which 4 points a circle make
+# creases that turn by 90 degrees at each vertex: every kind of crease
+# edge's prediction (§3.11, *20.0: the creases apart*: a tangent from the
+# crease's next vertex, the edge's own at a vertex of three creases or
+# where the crease turns sharply), recorded as the ball's.
+cat >"$tmp/pin_order2.geo" <<'GEO'
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 1, 1, 1};
+Cylinder(2) = {0.5, 0.5, 0, 0, 0, 1, 0.2};
+BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }
+Mesh.MeshSizeMin = 0.5;
+Mesh.MeshSizeMax = 0.5;
+Mesh.MeshSizeFromCurvature = 0;
+Mesh.MinimumCirclePoints = 4;
+Physical Volume("block", 1) = {3};
+Physical Volume("pin", 2) = {2};
+GEO
+gmsh "$tmp/pin_order2.geo" -3 -order 2 -format msh41 -o "$tmp/pin_order2.msh" >/dev/null
+make_one pin_order2_exact pin_order2.msh --exact
+record_edge_nodes pin_order2_exact
