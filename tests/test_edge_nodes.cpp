@@ -436,6 +436,37 @@ TEST(EdgeNodes, TwentyPredictsWithTheCreasesApart) {
   EXPECT_LT(unclear_edges.size(), (creases + smooth) / 100);
 }
 
+// 20.0's integers on one tetrahedron, as a reimplementation of §3.11 from
+// the spec alone computes them: its faces at the edge (0, 1) part by
+// exactly 60 degrees (outward normals along (1, 1, 0) and (1, 0, 1), whose
+// 4 (u.v)^2 equals |u|^2 |v|^2: not a crease), so that corners 0 and 1 have
+// two crease edges each and the crease edges (0, 2) and (0, 3) take a
+// tangent from the crease's next vertex at one end and the edge's own
+// where the crease turns sharply at the other; with corner 3 moved, every
+// edge is a crease, every corner has three, and no node is expected off
+// its edge's midpoint.
+TEST(EdgeNodes, TwentyOnATetrahedronAtSixtyDegrees) {
+  TetMesh mesh;
+  mesh.cells = {{0, 1, 2, 3}};
+  mesh.neighbors = {{-1, -1, -1, -1}};
+  const std::vector<uint8_t> kept = {1};
+  const std::vector<GridPoint> at_sixty = {
+      {10000, 10000, 10000}, {14000, 6000, 6000}, {12000, 8000, 15000}, {13000, 15000, 7000}};
+  const EdgeNodePredictor sixty(mesh, kept, at_sixty, 14, true);
+  using Offset = std::array<int64_t, 3>;
+  EXPECT_EQ(sixty.offset(0, 1), (Offset{0, 0, 0}));
+  EXPECT_EQ(sixty.offset(0, 2), (Offset{-635, -442, -174}));
+  EXPECT_EQ(sixty.offset(0, 3), (Offset{-596, -175, -478}));
+  EXPECT_EQ(sixty.offset(1, 2), (Offset{0, 0, 0}));
+  EXPECT_EQ(sixty.offset(1, 3), (Offset{0, 0, 0}));
+  EXPECT_EQ(sixty.offset(2, 3), (Offset{0, 0, 0}));
+  std::vector<GridPoint> moved = at_sixty;
+  moved[3].z = 8000;
+  const EdgeNodePredictor creases(mesh, kept, moved, 14, true);
+  for (const auto& [a, b] : {std::pair{0u, 1u}, {0u, 2u}, {0u, 3u}, {1u, 2u}, {1u, 3u}, {2u, 3u}})
+    EXPECT_EQ(creases.offset(a, b), (Offset{0, 0, 0})) << a << " " << b;
+}
+
 // Fields at the nodes (19.0): a smooth float64 field and an int32 one
 // given at every node, a lossy float32 one, and one given at the vertices
 // alone (each node gets its edge's corners' mean).
