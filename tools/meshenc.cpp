@@ -225,12 +225,14 @@ void add_options(CLI::App& app, Command& c) {
                  "code float field NAME lossily, every decoded value within E of its own (repeatable)")
       ->type_name("NAME=E");
   app.add_flag("--no-fields", c.no_fields, "leave the input's per-vertex fields out of the stream");
-  app.add_flag("--no-regions", c.no_regions,
-               "leave the input's regions (gmsh physical volumes, Medit refs, TetGen region attributes) out "
-               "of the stream");
-  app.add_flag("--no-face-tags", c.no_face_tags,
-               "leave the input's tagged triangles (gmsh physical surfaces, Medit triangle refs) out of the "
-               "stream");
+  app.add_flag(
+      "--no-regions", c.no_regions,
+      "leave the input's regions (gmsh physical volumes, Medit refs, TetGen region attributes, Abaqus "
+      "sections' element sets) out of the stream");
+  app.add_flag(
+      "--no-face-tags", c.no_face_tags,
+      "leave the input's tagged triangles (gmsh physical surfaces, Medit triangle refs, Abaqus surfaces) "
+      "out of the stream");
   app.add_flag("--no-cell-data", c.no_cell_data,
                "leave the input's per-cell arrays (VTU/VTK cell data, gmsh $ElementData) out of the stream");
   app.add_flag(
