@@ -195,13 +195,6 @@ StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> p
   return e;
 }
 
-// Level 0's edge node section (18.0, spec/FORMAT.md §3.11): its edges as the
-// decoder walks them (`mesh`, `kept`, `order`: the exact level's cells, in
-// the decoder's numbering; `level_points` its points), each one's node
-// looked up by its corners' grid ids (`decode_order`), given as its offset
-// from the edge's midpoint in half grid steps; and with `values`, the edge
-// value section (19.0, §3.12): the nodes' values, whose rows in `values`
-// follow the points' (the k-th node of `nodes` at row points + k).
 // The format of a stream with edge nodes: 18.0's coding, 19.0's, or 20.0's
 // (the creases apart).
 uint8_t edge_nodes_major(const StreamOptions& options) {
@@ -210,6 +203,15 @@ uint8_t edge_nodes_major(const StreamOptions& options) {
                                   : kVersionMajorCreaseEdgeNodes;
 }
 
+// Level 0's edge node section (18.0, spec/FORMAT.md §3.11): its edges as the
+// decoder walks them (`mesh`, `kept`, `order`: the exact level's cells, in
+// the decoder's numbering; `level_points` its points), each one's node
+// looked up by its corners' grid ids (`decode_order`), given as its offset
+// from the edge's midpoint in half grid steps; and with `values`, the edge
+// value section (19.0, §3.12): the nodes' values, whose rows in `values`
+// follow the points' (the k-th node of `nodes` at row points + k). `major`:
+// the stream's format (edge_nodes_major()), which says how the nodes are
+// predicted.
 struct EdgeNodeSections {
   std::vector<uint8_t> nodes, values;
 };

@@ -667,7 +667,8 @@ keep = [k for k, c in enumerate(q.cells) if c.type == "tetra10"]
 sets = {n: [s[k] for k in keep] for n, s in q.cell_sets.items() if n in ("aluminium", "steel")}
 meshio.write("m2.inp", meshio.Mesh(q.points, [q.cells[k] for k in keep], cell_sets=sets))
 PY
-regions=$(grep -o '"aluminium" ([0-9]* tetrahedra), 2 "steel" ([0-9]* tetrahedra)' a41.out)
+regions=$(grep -o '"aluminium" ([0-9]* tetrahedra), 2 "steel" ([0-9]* tetrahedra)' a41.out) ||
+  { echo "a41.msh: no regions to compare the .inp files' with"; failed=1; }
 for f in g.inp g2.inp m.inp m2.inp; do
   "$meshenc" $f --exact -o $f.dtm >$f.out 2>&1 || { cat $f.out; failed=1; }
   grep -qF "regions (element sets), 2: 1 $regions" $f.out ||

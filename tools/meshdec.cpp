@@ -429,7 +429,7 @@ int run(const Command& c) {
     std::fprintf(
         stderr,
         "meshdec: the nodes on level 0's edges (a second-order mesh's) are not written: this format holds "
-        "linear cells (.vtu, .vtk and .msh hold 10-node tetrahedra)\n");
+        "linear cells (.vtu, .vtk, .msh and .inp hold 10-node tetrahedra)\n");
   display.start("writing " + c.output);
   write_output(c, mesh, format);
   display.finish();

@@ -228,7 +228,7 @@ void add_options(CLI::App& app, Command& c) {
   app.add_flag(
       "--no-regions", c.no_regions,
       "leave the input's regions (gmsh physical volumes, Medit refs, TetGen region attributes, Abaqus "
-      "sections' element sets) out of the stream");
+      "element sets) out of the stream");
   app.add_flag(
       "--no-face-tags", c.no_face_tags,
       "leave the input's tagged triangles (gmsh physical surfaces, Medit triangle refs, Abaqus surfaces) "

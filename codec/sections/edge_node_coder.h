@@ -94,7 +94,9 @@ class EdgeNodePredictor {
 
  private:
   using Vec = std::array<int64_t, 3>;
-  static constexpr uint32_t kOffSurface = UINT32_MAX;
+  static constexpr uint32_t kOffSurface = UINT32_MAX;  // slot_: a point not on the surface
+  // neighbour_sector_: a crease edge; offset(): an edge not on the surface.
+  static constexpr uint32_t kCrease = UINT32_MAX, kNotSurfaceEdge = UINT32_MAX - 1;
   // Where the node of the edge a-b lies off its midpoint, in half steps, as
   // the corners' normals na and nb put it (zero normals: no bulge there).
   std::array<Int128, 3> normals_offset(uint32_t a, uint32_t b, const Vec& na, const Vec& nb) const;
@@ -110,7 +112,7 @@ class EdgeNodePredictor {
   // ascending (neighbour_start_: where they start in neighbour_vertex_),
   // each with its edge's sector at the vertex (an index into normals_: the
   // faces about the vertex that meet across edges that are not creases),
-  // or kOffSurface for a crease; and its crease edges: how many, and the
+  // or kCrease; and its crease edges: how many, and the
   // first two's other ends.
   std::vector<uint32_t> neighbour_start_, neighbour_vertex_, neighbour_sector_;
   std::vector<std::array<uint32_t, 3>> crease_ends_;

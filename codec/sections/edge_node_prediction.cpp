@@ -156,13 +156,13 @@ EdgeNodePredictor::EdgeNodePredictor(const TetMesh& mesh, std::span<const uint8_
     for (uint32_t i = 0; i < faces.size(); ++i)
       if (root(i) == i)
         sector[i] = static_cast<uint32_t>(normals_.size()), normals_.push_back(within_2_20(sums[i]));
-    // Its neighbours with their edge's sector at v (kOffSurface: a crease).
+    // Its neighbours with their edge's sector at v (kCrease: a crease).
     for (size_t b = 0, n = 0; b < edges.size(); ++n) {
       size_t e = b;
       while (e < edges.size() && edges[e].first == edges[b].first) ++e;
       const auto [w, crease] = neighbours[n];
       neighbour_vertex_.push_back(w);
-      neighbour_sector_.push_back(crease ? kOffSurface : sector[root(edges[b].second)]);
+      neighbour_sector_.push_back(crease ? kCrease : sector[root(edges[b].second)]);
       if (crease) {
         auto& ends = crease_ends_[s];
         if (ends[0] < 2) ends[1 + ends[0]] = w;
@@ -234,17 +234,17 @@ std::array<int64_t, 3> EdgeNodePredictor::offset(uint32_t a, uint32_t b) const {
     // neighbour there.)
     const auto sector_at = [&](uint32_t v, uint32_t w) {
       const uint32_t s = slot_[v];
-      if (s == kOffSurface) return kOffSurface - 1;
+      if (s == kOffSurface) return kNotSurfaceEdge;
       const auto first = neighbour_vertex_.begin() + neighbour_start_[s],
                  last = neighbour_vertex_.begin() + neighbour_start_[s + 1];
       const auto it = std::lower_bound(first, last, w);
-      return it == last || *it != w ? kOffSurface - 1
+      return it == last || *it != w ? kNotSurfaceEdge
                                     : neighbour_sector_[static_cast<size_t>(it - neighbour_vertex_.begin())];
     };
     const uint32_t sa = sector_at(a, b), sb = sector_at(b, a);
-    if (sa == kOffSurface - 1 || sb == kOffSurface - 1) return {0, 0, 0};
-    p = sa == kOffSurface || sb == kOffSurface ? crease_offset(a, b)
-                                               : normals_offset(a, b, normals_[sa], normals_[sb]);
+    if (sa == kNotSurfaceEdge || sb == kNotSurfaceEdge) return {0, 0, 0};
+    p = sa == kCrease || sb == kCrease ? crease_offset(a, b)
+                                       : normals_offset(a, b, normals_[sa], normals_[sb]);
   }
   // (Within +-2^(qbits + 1): a grid's edge makes less, and a node's
   // difference from it then stays within what the section codes.)

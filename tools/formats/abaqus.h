@@ -22,18 +22,23 @@ namespace dtm {
 // * tagged faces: the element-based *SURFACE faces (S1..S6) and the 2D
 //   elements' triangles and quadrilaterals, tagged by surface or set;
 // * each node set (*NSET, *NODE NSET=) a uint8 field "nset:NAME", 1 on its
-//   nodes, which render_abaqus() writes back as the set.
-// One *PART is read as the model; several parts, or an instance moved, are
-// refused. What else the file holds (other elements and sets, materials,
-// steps) is named in InputMesh::left_out. Throws FormatError naming the
-// file and the line.
+//   nodes, which render_abaqus() writes back as the set (the first 32).
+// Sets that a *SURFACE names, that Abaqus/CAE marks INTERNAL, or of an
+// *ASSEMBLY are no regions. One *PART is read as the model, with its one
+// *INSTANCE unmoved (the assembly's reference points named); several
+// parts or instances, a moved instance, *NGEN and the other keywords that
+// make or move nodes, and *NODE, SYSTEM= other than R are refused. What
+// else the file holds (other elements and sets, materials, steps) is named
+// in InputMesh::left_out. Throws FormatError naming the file, and the line
+// where one line is at fault.
 InputMesh read_abaqus(const std::string& path);
 
 // The prefix of a node set's field (read_abaqus, render_abaqus).
 inline constexpr const char* kNodeSetFieldPrefix = "nset:";
 
-// An input file of the mesh: *NODE, one *ELEMENT block of C3D4 (C3D10 with
-// edge nodes), an *ELSET a region (named by the region table, or
+// An input file of the mesh: *NODE (numbered 1..n), *ELEMENT blocks of C3D4
+// and of C3D10 (cells with edge nodes), numbered in the mesh's order, an
+// *ELSET a region (named by the region table, or
 // REGION_<label>), an element-based *SURFACE a face tag (FACES_<tag>
 // without a name), and an *NSET a node set field (kNodeSetFieldPrefix, 0/1
 // values). The other fields and the cell data have no place in it

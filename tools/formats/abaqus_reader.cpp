@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <map>
 #include <set>
-#include <span>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -21,10 +20,10 @@
 #include "abaqus_sets.h"
 #include "abaqus_syntax.h"
 #include "cell_split.h"
-#include "common/release.h"
 #include "format_error.h"
 #include "second_order.h"
 #include "text_cursor.h"
+#include "vtk_cells.h"
 
 namespace dtm {
 namespace {
@@ -34,7 +33,9 @@ using abaqus::ElementType;
 using abaqus::entries;
 using abaqus::face_slots;
 using abaqus::FaceSlots;
-using abaqus::kEdgeSlot;
+using abaqus::is_face;
+using abaqus::is_solid;
+
 using abaqus::Keyword;
 using abaqus::keyword_of;
 using abaqus::Range;
@@ -58,10 +59,10 @@ struct Element {
 // A *SURFACE line: an element or element set (its key), and its face:
 // 0..5 for S1..S6, kSides for a 2D element's SPOS or SNEG.
 struct SurfaceLine {
-  std::string element;
+  std::string element, written;  // (a set's key, and its name as written)
   bool is_set = false;
   int face = 0;
-  size_t line = 0;
+  std::string where;  // "file:line"
 };
 constexpr int kSides = 6;
 
@@ -79,16 +80,17 @@ class AbaqusReader {
     while (next_line(line)) {
       if (line[0] != '*') fail("expected a keyword line (starting with '*'), found '" + shown(line) + "'");
       const Keyword k = keyword_of(keyword_line(line));
-      if (k.name == "NODE" && !k.has("OUTPUT") && !k.has("PRINT") && !k.has("FILE")) {
+      // (*NODE PRINT, *NODE FILE and *ELEMENT OUTPUT are other keywords:
+      // the blanks do not count.)
+      if (k.name == "NODE") {
         nodes(k);
-      } else if (k.name == "ELEMENT" && !k.has("OUTPUT")) {
+      } else if (k.name == "ELEMENT") {
         elements(k);
       } else if (k.name == "ELSET" || k.name == "NSET") {
         set_lines(k);
       } else if (k.name == "SOLIDSECTION") {
         if (k.value("ELSET").empty()) fail("*SOLID SECTION without ELSET=");
-        sections_.push_back(
-            {reference(k.value("ELSET")), k.value("ELSET"), k.value("MATERIAL"), where_->line});
+        sections_.push_back({reference(k.value("ELSET")), k.value("ELSET"), k.value("MATERIAL"), here()});
         skip_data();
       } else if (k.name == "SURFACE") {
         surface(k);
@@ -134,10 +136,12 @@ class AbaqusReader {
   };
   struct Section {
     std::string key, name, material;
-    size_t line = 0;
+    std::string where;  // "file:line"
   };
-  static inline const std::set<std::string> kGenerators = {"NGEN",  "NFILL",  "NCOPY",  "NMAP",
-                                                           "ELGEN", "ELCOPY", "SYSTEM", "NODALTHICKNESS"};
+  // (Keywords that make, copy or move nodes and elements: what they make
+  // is not listed, and the mesh read would lack it.)
+  static inline const std::set<std::string> kGenerators = {"NGEN",  "NFILL",  "NCOPY", "NMAP",
+                                                           "ELGEN", "ELCOPY", "SYSTEM"};
 
   void open(const std::string& path, const std::string& named) {
     if (stack_.size() >= 16) fail("*INCLUDE nested more than 16 deep");
@@ -226,6 +230,8 @@ class AbaqusReader {
     if (!where_) throw FormatError(path_ + ": " + problem);
     throw FormatError(where_->path + ":" + std::to_string(line ? line : where_->line) + ": " + problem);
   }
+  // Where the line last read is: "file:line".
+  std::string here() const { return where_->path + ":" + std::to_string(where_->line); }
   static std::string shown(std::string_view s) {
     return s.size() > 60 ? std::string(s.substr(0, 57)) + "..." : std::string(s);
   }
@@ -301,7 +307,7 @@ class AbaqusReader {
     }
     const std::string system = upper(k.value("SYSTEM"));
     if (!system.empty() && system != "R")
-      fail("*NODE, SYSTEM=" + k.value("SYSTEM") + ": meshenc reads rectangular coordinates only");
+      fail("*NODE, SYSTEM=" + shown(k.value("SYSTEM")) + ": meshenc reads rectangular coordinates only");
     Set* nset = nullptr;
     if (!k.value("NSET").empty()) {
       const auto [key, name] = defined(k.value("NSET"));
@@ -375,10 +381,10 @@ class AbaqusReader {
         out_.tets.push_back({nodes[0], nodes[1], nodes[2], nodes[3]});
         if (t.nodes == 10) {
           std::array<uint32_t, 6> edge{};
-          for (size_t s = 0; s < 6; ++s) edge[s] = nodes[static_cast<size_t>(kEdgeSlot[s])];
+          for (size_t s = 0; s < 6; ++s) edge[s] = nodes[static_cast<size_t>(kVtkTetEdgeNodes[s])];
           add_tet_edge_nodes(out_, edge);
         }
-      } else if (t.solid()) {
+      } else if (is_solid(t.shape)) {
         e.first = static_cast<uint32_t>(out_.tets.size());
         e.count = static_cast<uint8_t>(add_split_cell(nodes, static_cast<size_t>(t.corners), out_));
         ++split_[static_cast<size_t>(t.corners)];
@@ -465,7 +471,8 @@ class AbaqusReader {
       int64_t id = 0;
       s.is_set = !parse_whole(e[0], id);
       s.element = s.is_set ? reference(std::string(e[0])) : std::string(e[0]);
-      s.line = where_->line;
+      s.written = std::string(e[0]);
+      s.where = here();
       const std::string face = e.size() > 1 ? upper(e[1]) : "";
       int f = 0;
       if (face == "SPOS" || face == "SNEG") {
@@ -496,11 +503,12 @@ class AbaqusReader {
     return elsets_.resolved(s, defined_elements_, path_);
   }
 
-  const Element& element(int64_t id, const std::string& named_by, size_t line = 0) const {
+  // `where`: "file:line" of the line that names it ("": the file's).
+  const Element& element(int64_t id, const std::string& named_by, const std::string& where = "") const {
     const auto it = element_index_.find(id);
     if (it == element_index_.end())
-      throw FormatError(path_ + (line ? ":" + std::to_string(line) : "") + ": " + named_by +
-                        " names element " + std::to_string(id) + ", which the file does not define");
+      throw FormatError((where.empty() ? path_ : where) + ": " + named_by + " names element " +
+                        std::to_string(id) + ", which the file does not define");
     return it->second;
   }
 
@@ -514,8 +522,8 @@ class AbaqusReader {
       const auto label = static_cast<int32_t>(k + 1);
       names[label] = family[k]->name;
       for (int64_t id : elements_of(*family[k])) {
-        const Element& e = element(id, "element set " + family[k]->name);
-        if (e.shape == Shape::kOther || solids != (e.shape <= Shape::kHexahedron)) continue;
+        const Element& e = element(id, "element set " + shown(family[k]->name));
+        if (solids ? !is_solid(e.shape) : !is_face(e.shape)) continue;
         for (uint32_t i = e.first; i < e.first + e.count; ++i) {
           if (labels[i] != 0)
             ++claimed_twice;
@@ -543,8 +551,7 @@ class AbaqusReader {
       const bool fits = !ids.empty() && std::all_of(ids.begin(), ids.end(), [&](int64_t id) {
         const auto it = element_index_.find(id);
         return it != element_index_.end() &&
-               (solids ? it->second.shape <= Shape::kHexahedron
-                       : it->second.shape == Shape::kTriangle || it->second.shape == Shape::kQuadrilateral);
+               (solids ? is_solid(it->second.shape) : is_face(it->second.shape));
       });
       if (fits) sets.push_back(&s), sizes.push_back(ids.size());
     }
@@ -579,9 +586,8 @@ class AbaqusReader {
       for (const Section& section : sections_) {
         const Set* s = elsets_.find(section.key);
         if (!s)
-          throw FormatError(path_ + ":" + std::to_string(section.line) +
-                            ": a *SOLID SECTION names the element set " + section.name +
-                            ", which the file does not define");
+          throw FormatError(section.where + ": a *SOLID SECTION names the element set " +
+                            shown(section.name) + ", which the file does not define");
         chosen.push_back(s);
       }
       out_.region_source = "solid sections' element sets";
@@ -611,29 +617,29 @@ class AbaqusReader {
         if (f.is_set) {
           const Set* s = elsets_.find(f.element);
           if (!s)
-            throw FormatError(path_ + ":" + std::to_string(f.line) + ": *SURFACE " + name +
-                              " names the element set " + f.element + ", which the file does not define");
+            throw FormatError(f.where + ": *SURFACE " + shown(name) + " names the element set " +
+                              shown(f.written) + ", which the file does not define");
           ids = elements_of(*s);
           used_sets_.insert(s);
         } else {
           ids.push_back(number<int64_t>(f.element, "an element number"));
         }
         for (int64_t id : ids) {
-          const Element& e = element(id, "*SURFACE " + name, f.line);
+          const Element& e = element(id, "*SURFACE " + shown(name), f.where);
           const uint32_t* n = node_pool_.data() + e.nodes_at;
           if (f.face == kSides) {
             // A 2D element's side: its own triangles.
-            if (e.shape != Shape::kTriangle && e.shape != Shape::kQuadrilateral)
-              throw FormatError(path_ + ":" + std::to_string(f.line) + ": *SURFACE " + name + ": element " +
-                                std::to_string(id) + " has no side SPOS or SNEG (not a 2D element)");
+            if (!is_face(e.shape))
+              throw FormatError(f.where + ": *SURFACE " + shown(name) + ": element " + std::to_string(id) +
+                                " has no side SPOS or SNEG (not a 2D element)");
             for (uint32_t i = e.first; i < e.first + e.count; ++i)
               faces.push_back(face_triangles_[i]), tags.push_back(tag);
             continue;
           }
           const FaceSlots s = face_slots(e.shape, f.face);
           if (s.count == 0)
-            throw FormatError(path_ + ":" + std::to_string(f.line) + ": *SURFACE " + name + ": element " +
-                              std::to_string(id) + " has no face S" + std::to_string(f.face + 1));
+            throw FormatError(f.where + ": *SURFACE " + shown(name) + ": element " + std::to_string(id) +
+                              " has no face S" + std::to_string(f.face + 1));
           if (s.count == 3) {
             faces.push_back({n[s.slots[0]], n[s.slots[1]], n[s.slots[2]]}), tags.push_back(tag);
           } else {
@@ -687,7 +693,7 @@ class AbaqusReader {
       for (int64_t id : nsets_.resolved(s, defined_nodes_, path_)) {
         const auto it = node_index_.find(id);
         if (it == node_index_.end())
-          throw FormatError(path_ + ": node set " + s.name + " names node " + std::to_string(id) +
+          throw FormatError(path_ + ": node set " + shown(s.name) + " names node " + std::to_string(id) +
                             ", which the file does not define");
         f.values[it->second] = 1;
       }
@@ -695,10 +701,10 @@ class AbaqusReader {
       for (const std::string& key : s.element_sets) {
         const Set* elements = elsets_.find(key);
         if (!elements)
-          throw FormatError(path_ + ": node set " + s.name + " names the element set " + key +
+          throw FormatError(path_ + ": node set " + shown(s.name) + " names the element set " + shown(key) +
                             ", which the file does not define");
         for (int64_t id : elements_of(*elements)) {
-          const Element& e = element(id, "element set " + elements->name);
+          const Element& e = element(id, "element set " + shown(elements->name));
           if (e.shape == Shape::kOther) ++other_element_nodes_;
           for (uint64_t i = e.nodes_at; i < e.nodes_at + e.nodes; ++i) f.values[node_pool_[i]] = 1;
         }
@@ -708,9 +714,14 @@ class AbaqusReader {
   }
 
   void note_left_out() {
+    // (At most 8 names a list: Abaqus/CAE files hold hundreds of sets.)
     const auto joined = [](const auto& items) {
       std::string s;
-      for (const auto& i : items) s += (s.empty() ? "" : ", ") + std::string(i);
+      size_t n = 0;
+      for (const auto& i : items) {
+        if (n++ == 8) return s + " and " + std::to_string(std::size(items) - 8) + " more";
+        s += (s.empty() ? "" : ", ") + shown(std::string(i));
+      }
       return s;
     };
     std::vector<std::string> others;

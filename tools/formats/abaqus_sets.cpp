@@ -63,7 +63,7 @@ const std::vector<int64_t>& Sets::resolved(const Set& s, std::span<const int64_t
     for (const std::string& key : t->includes) {
       const Set* u = find(key);
       if (!u)
-        throw FormatError(path + ": set " + s.name + " names a set " + key +
+        throw FormatError(path + ": set " + s.name.substr(0, 80) + " names a set " + key.substr(0, 80) +
                           " that the file does not define");
       if (seen.insert(u).second) todo.push_back(u);
     }

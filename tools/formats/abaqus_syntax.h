@@ -38,9 +38,9 @@ enum class Shape : uint8_t { kTetrahedron, kPyramid, kPrism, kHexahedron, kTrian
 struct ElementType {
   Shape shape = Shape::kOther;
   int nodes = 0, corners = 0;
-  bool solid() const { return shape <= Shape::kHexahedron; }
-  bool face() const { return shape == Shape::kTriangle || shape == Shape::kQuadrilateral; }
 };
+inline bool is_solid(Shape s) { return s <= Shape::kHexahedron; }
+inline bool is_face(Shape s) { return s == Shape::kTriangle || s == Shape::kQuadrilateral; }
 // By name (upper case): the solids C3D<n> (and heat transfer's DC3D<n>),
 // whatever letters follow (C3D10M, C3D8R, C3D4H); the 2D elements whose
 // corners can tag a face (shells S, STRI, membranes M3D, SFM3D, rigid R3D,
@@ -55,9 +55,6 @@ struct FaceSlots {
 };
 FaceSlots face_slots(Shape shape, int face);
 
-// A 10-node tetrahedron's edge nodes: Abaqus's slots 4-9, on the edges
-// (0,1) (1,2) (0,2) (0,3) (1,3) (2,3) (VTK's order), listed in the order of
-// InputMesh::tet_edge_nodes ((0,1) (0,2) (0,3) (1,2) (1,3) (2,3)).
-inline constexpr std::array<int, 6> kEdgeSlot = {4, 6, 7, 5, 8, 9};
+// (A C3D10's edge nodes are in VTK's order: kVtkTetEdgeNodes, vtk_cells.h.)
 
 }  // namespace dtm::abaqus

@@ -99,13 +99,13 @@ std::string render_abaqus(const OutputMesh& m) {
     std::unordered_map<std::array<uint32_t, 3>, uint32_t, FaceHash> face_of;
     for (uint32_t f = 0; f < m.faces.size(); ++f) face_of.emplace(sorted(m.faces[f]), f);
     std::vector<std::vector<std::pair<uint32_t, uint8_t>>> cells_of(m.faces.size());
-    // Outward from a positively turned cell: the faces opposite corners
-    // 3, 2, 0 and 1 are Abaqus's S1..S4.
-    static constexpr std::array<std::array<int, 3>, 4> kOutward = {
-        {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}}};
+    // Abaqus's S1..S4 as the reader takes them (face_slots) list a
+    // positively turned cell's faces turned inward: reversed, outward.
     const auto outward = [&](uint32_t c, uint8_t s) {
       const auto& t = m.cells[c];
-      return std::array<uint32_t, 3>{t[kOutward[s][0]], t[kOutward[s][1]], t[kOutward[s][2]]};
+      const abaqus::FaceSlots f = abaqus::face_slots(abaqus::Shape::kTetrahedron, s);
+      return std::array<uint32_t, 3>{t[static_cast<size_t>(f.slots[2])], t[static_cast<size_t>(f.slots[1])],
+                                     t[static_cast<size_t>(f.slots[0])]};
     };
     for (uint32_t c = 0; c < m.cells.size(); ++c)
       for (uint8_t s = 0; s < 4; ++s) {

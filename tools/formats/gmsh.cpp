@@ -1021,26 +1021,13 @@ class GmshReader {
   // at the linear cells' corners), the stream then giving those nodes their
   // corners' mean; named as left out otherwise. Once the elements are read.
   void keep_node_views() {
-    constexpr uint8_t kCorner = 1, kOnEdge = 2;
     std::vector<uint8_t> role;
     for (NodeView& view : node_views_) {
       if (!view.seen.empty()) {
-        if (role.empty()) {
-          role.assign(out_.points.size(), 0);
-          for (const auto& t : out_.tets)
-            for (uint32_t v : t) role[v] |= kCorner;
-          for (const auto& t : out_.tagged_faces)
-            for (uint32_t v : t) role[v] |= kCorner;
-          for (const auto& e : out_.tet_edge_nodes)
-            for (uint32_t v : e)
-              if (v != InputMesh::kNoEdgeNode) role[v] |= kOnEdge;
-          for (uint32_t v : out_.other_edge_nodes) role[v] |= kOnEdge;
-        }
-        // (Every other node given, and no edge node: a view given at some
-        // edge nodes only would lose its values there.)
+        if (role.empty()) role = node_roles(out_);
         bool corners = true;
         for (size_t v = 0; v < role.size() && corners; ++v)
-          corners = (view.seen[v] != 0) == (role[v] != kOnEdge);
+          corners = (view.seen[v] != 0) == (role[v] != kNodeOnEdge);
         if (!corners) {
           partial_node_data_.push_back("'" + view.field.name + "' at " + std::to_string(view.distinct) +
                                        " of " + std::to_string(out_.points.size()) + " nodes");

@@ -13,6 +13,19 @@ void add_tet_edge_nodes(InputMesh& mesh, const std::array<uint32_t, 6>& nodes) {
   mesh.tet_edge_nodes.push_back(nodes);
 }
 
+std::vector<uint8_t> node_roles(const InputMesh& mesh) {
+  std::vector<uint8_t> role(mesh.points.size(), 0);
+  for (const auto& t : mesh.tets)
+    for (uint32_t v : t) role[v] |= kNodeCorner;
+  for (const auto& f : mesh.tagged_faces)
+    for (uint32_t v : f) role[v] |= kNodeCorner;
+  for (const auto& e : mesh.tet_edge_nodes)
+    for (uint32_t v : e)
+      if (v != InputMesh::kNoEdgeNode) role[v] |= kNodeOnEdge;
+  for (uint32_t v : mesh.other_edge_nodes) role[v] |= kNodeOnEdge;
+  return role;
+}
+
 void set_edge_nodes_aside(InputMesh& mesh) {
   if (mesh.tet_edge_nodes.empty() && mesh.other_edge_nodes.empty()) return;
   if (mesh.tets.empty()) {
@@ -24,19 +37,8 @@ void set_edge_nodes_aside(InputMesh& mesh) {
   }
   if (!mesh.tet_edge_nodes.empty()) mesh.tet_edge_nodes.resize(mesh.tets.size(), kNoEdgeNodes);
   const size_t n = mesh.points.size();
-  constexpr uint8_t kCorner = 1, kOnEdge = 2;
-  std::vector<uint8_t> role(n, 0);
-  for (const auto& t : mesh.tets)
-    for (uint32_t v : t) role[v] |= kCorner;
-  for (const auto& f : mesh.tagged_faces)
-    for (uint32_t v : f) role[v] |= kCorner;
-  uint64_t second_order_tets = 0;
-  for (const auto& e : mesh.tet_edge_nodes) {
-    second_order_tets += e[0] != InputMesh::kNoEdgeNode;
-    for (uint32_t v : e)
-      if (v != InputMesh::kNoEdgeNode) role[v] |= kOnEdge;
-  }
-  for (uint32_t v : mesh.other_edge_nodes) role[v] |= kOnEdge;
+  constexpr uint8_t kOnEdge = kNodeOnEdge;
+  const std::vector<uint8_t> role = node_roles(mesh);
   // New indices: the kept points' among the kept, the set-aside nodes'
   // among them.
   std::vector<uint32_t> index(n);

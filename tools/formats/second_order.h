@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "input_mesh.h"
 
@@ -26,6 +27,12 @@ inline constexpr std::array<uint32_t, 6> kNoEdgeNodes = {InputMesh::kNoEdgeNode,
 // kTetEdges' order) of the one just added, the linear ones before it given
 // none. set_edge_nodes_aside() gives none to the linear ones after the last.
 void add_tet_edge_nodes(InputMesh& mesh, const std::array<uint32_t, 6>& nodes);
+
+// Per point of `mesh` as a reader leaves it: kNodeCorner where it is a
+// tetrahedron's or tagged face's corner, | kNodeOnEdge where it is a
+// second-order element's edge node (tet_edge_nodes, other_edge_nodes).
+inline constexpr uint8_t kNodeCorner = 1, kNodeOnEdge = 2;
+std::vector<uint8_t> node_roles(const InputMesh& mesh);
 
 // Moves the points that the readers found on second-order elements' edges
 // and that are no element's corner from mesh.points to mesh.edge_points (in
