@@ -35,7 +35,6 @@ using abaqus::face_slots;
 using abaqus::FaceSlots;
 using abaqus::is_face;
 using abaqus::is_solid;
-
 using abaqus::Keyword;
 using abaqus::keyword_of;
 using abaqus::Range;
