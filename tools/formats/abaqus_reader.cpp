@@ -298,6 +298,16 @@ class AbaqusReader {
           "(write the model with the instance's mesh in place)");
   }
 
+  // The set a *NODE's NSET= or an *ELEMENT's ELSET= puts its lines in, or
+  // null without one.
+  Set* line_set(Sets& sets, const Keyword& k, const char* parameter) const {
+    if (k.value(parameter).empty()) return nullptr;
+    const auto [key, name] = defined(k.value(parameter));
+    Set& s = sets.at(key, name);
+    s.from_element_lines = true;
+    return &s;
+  }
+
   void nodes(const Keyword& k) {
     if (scope_ == Scope::kAssembly) {
       // Reference points, numbered apart from the part's nodes.
@@ -307,12 +317,7 @@ class AbaqusReader {
     const std::string system = upper(k.value("SYSTEM"));
     if (!system.empty() && system != "R")
       fail("*NODE, SYSTEM=" + shown(k.value("SYSTEM")) + ": meshenc reads rectangular coordinates only");
-    Set* nset = nullptr;
-    if (!k.value("NSET").empty()) {
-      const auto [key, name] = defined(k.value("NSET"));
-      nset = &nsets_.at(key, name);
-      nset->from_element_lines = true;
-    }
+    Set* nset = line_set(nsets_, k, "NSET");
     std::string_view line;
     while (data_line(line)) {
       const auto e = entries(line);
@@ -339,12 +344,7 @@ class AbaqusReader {
       return;
     }
     const ElementType t = element_type(type);
-    Set* elset = nullptr;
-    if (!k.value("ELSET").empty()) {
-      const auto [key, name] = defined(k.value("ELSET"));
-      elset = &elsets_.at(key, name);
-      elset->from_element_lines = true;
-    }
+    Set* elset = line_set(elsets_, k, "ELSET");
     std::string_view line;
     std::vector<std::string_view> record;
     std::vector<uint32_t> nodes;
