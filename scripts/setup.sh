@@ -20,8 +20,10 @@ if [ "${1:-}" = "--all" ]; then
              # (vtk, vtkmodules): Debian makes it conflict with python3-vtk9,
              # so that one is not listed.
              python3-meshio gmsh draco tetgen python3-netgen
-             # Exodus II through meshio (python/tests: test_exodus_through_meshio)
-             python3-netcdf4
+             # Exodus II files in the tools (optional in the build, over netCDF,
+             # HDF5 and OpenMPI's libraries), and through meshio (python/tests:
+             # test_exodus_through_meshio; tests/mesher_outputs.sh: meshio's files)
+             libexodusii-dev python3-netcdf4
              # Draco's and zstd's sizes beside ours (bench/baselines.sh)
              zstd
              # The test "lint" (scripts/lint.sh)

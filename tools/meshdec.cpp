@@ -62,16 +62,17 @@ struct Command {
 
 void add_options(CLI::App& app, Command& c) {
   app.add_option("input", c.input, ".dtm stream ('-' = standard input)")->required();
-  app.add_option("-o,--output", c.output,
-                 "output: X.vtu, X.vtk, X.mesh, X.msh, X.vol, X.inp, X.node (+ X.ele); the boundary surface "
-                 "as X.ply, "
-                 "X.off, X.glb, X.gltf (+ X.bin) or X.drc; the points as X.xyz; '-' = standard output")
+  app.add_option(
+         "-o,--output", c.output,
+         "output: X.vtu, X.vtk, X.mesh, X.msh, X.vol, X.inp, X.e, X.node (+ X.ele); the boundary surface "
+         "as X.ply, "
+         "X.off, X.glb, X.gltf (+ X.bin) or X.drc; the points as X.xyz; '-' = standard output")
       ->required();
   app.add_option("--level", c.level, "level of detail to write (0 = finest; default: the finest present)")
       ->check(CLI::Range(0, 65535));
   app.add_option("--format", c.format_name,
                  std::string(dtm::kOutputFormatNames) + " (default: from the output's extension)")
-      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "vol", "inp",
+      ->check(CLI::IsMember({"node", "vtu", "vtu-ascii", "vtk", "vtk-ascii", "mesh", "msh", "vol", "inp", "e",
                              "ply", "off", "xyz", "glb", "gltf", "drc"}));
   app.add_option(
          "--color", c.style.colour,

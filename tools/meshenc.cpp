@@ -115,8 +115,9 @@ void parse_alpha(const std::string& text, dtm::EncodeOptions& o) {
 
 void add_options(CLI::App& app, Command& c) {
   dtm::EncodeOptions& e = c.encode;
-  app.add_option("input", c.input,
-                 "input file: .node .mesh .vtk .vtu .pvtu .msh .vol .inp .nrrd .nhdr .ply .off .obj .xyz")
+  app.add_option(
+         "input", c.input,
+         "input file: .node .mesh .vtk .vtu .pvtu .msh .vol .inp .e .exo .nrrd .nhdr .ply .off .obj .xyz")
       ->required();
   app.add_option("--format", c.format_name,
                  std::string("input format, overriding the extension: ") + dtm::kInputFormatNames);

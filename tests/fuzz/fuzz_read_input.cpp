@@ -16,9 +16,9 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  static const char* kExtensions[] = {".node", ".mesh", ".vtk", ".vtu", ".msh", ".nrrd",
-                                      ".ply",  ".off",  ".obj", ".xyz", ".vol", ".inp"};
-  const char* ext = kExtensions[(data[0] & 15) % 12];
+  static const char* kExtensions[] = {".node", ".mesh", ".vtk", ".vtu", ".msh", ".nrrd", ".ply",
+                                      ".off",  ".obj",  ".xyz", ".vol", ".inp", ".e"};
+  const char* ext = kExtensions[(data[0] & 15) % 13];
   const std::string path = "/tmp/dtm_fuzz_input_" + std::to_string(getpid()) + ext;
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return 0;
@@ -47,6 +47,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(in.other_edge_nodes.empty());
     for (const auto& field : in.fields)
       FUZZ_CHECK(field.values.size() == static_cast<size_t>(field.components) * in.points.size());
+    for (const auto& field : in.cell_fields)
+      FUZZ_CHECK(field.values.size() == static_cast<size_t>(field.components) * in.tets.size());
   } catch (const dtm::FormatError&) {
   }
   std::remove(path.c_str());

@@ -6,11 +6,11 @@
 #include <map>
 #include <set>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "abaqus.h"
 #include "abaqus_syntax.h"
+#include "face_sides.h"
 #include "render_util.h"
 
 namespace dtm {
@@ -85,46 +85,18 @@ std::string render_abaqus(const OutputMesh& m) {
   // A face tag an element-based surface: each face as the face S1..S4 of
   // the cell it faces out of.
   if (!m.faces.empty()) {
-    // The tagged faces by their corners, sorted; then each cell face that
-    // is one, as (cell, Abaqus's face number - 1).
-    struct FaceHash {
-      size_t operator()(const std::array<uint32_t, 3>& f) const {
-        return std::hash<uint64_t>()((uint64_t{f[0]} << 42) ^ (uint64_t{f[1]} << 21) ^ f[2]);
-      }
-    };
-    const auto sorted = [](std::array<uint32_t, 3> f) {
-      std::sort(f.begin(), f.end());
-      return f;
-    };
-    std::unordered_map<std::array<uint32_t, 3>, uint32_t, FaceHash> face_of;
-    for (uint32_t f = 0; f < m.faces.size(); ++f) face_of.emplace(sorted(m.faces[f]), f);
-    std::vector<std::vector<std::pair<uint32_t, uint8_t>>> cells_of(m.faces.size());
     // Abaqus's S1..S4 as the reader takes them (face_slots) list a
     // positively turned cell's faces turned inward: reversed, outward.
-    const auto outward = [&](uint32_t c, uint8_t s) {
+    const std::vector<CellSide> sides = tagged_face_sides(m, [&](uint32_t c, uint8_t s) {
       const auto& t = m.cells[c];
       const abaqus::FaceSlots f = abaqus::face_slots(abaqus::Shape::kTetrahedron, s);
       return std::array<uint32_t, 3>{t[static_cast<size_t>(f.slots[2])], t[static_cast<size_t>(f.slots[1])],
                                      t[static_cast<size_t>(f.slots[0])]};
-    };
-    for (uint32_t c = 0; c < m.cells.size(); ++c)
-      for (uint8_t s = 0; s < 4; ++s) {
-        const auto it = face_of.find(sorted(outward(c, s)));
-        if (it != face_of.end()) cells_of[it->second].emplace_back(c, s);
-      }
+    });
     std::map<int32_t, std::vector<std::pair<uint32_t, uint8_t>>> surfaces;
-    for (size_t f = 0; f < m.faces.size(); ++f) {
-      if (cells_of[f].empty()) continue;
-      // The cell the face turns out of (its outward face a cyclic turn of
-      // the tagged one), else the first.
-      std::pair<uint32_t, uint8_t> chosen = cells_of[f].front();
-      for (const auto& [c, s] : cells_of[f]) {
-        const auto o = outward(c, s);
-        for (int r = 0; r < 3; ++r)
-          if (o[r] == m.faces[f][0] && o[(r + 1) % 3] == m.faces[f][1]) chosen = {c, s};
-      }
-      surfaces[m.face_tags[f]].push_back(chosen);
-    }
+    for (size_t f = 0; f < m.faces.size(); ++f)
+      if (sides[f].cell != CellSide::kNoCell)
+        surfaces[m.face_tags[f]].emplace_back(sides[f].cell, sides[f].side);
     for (const auto& [tag, faces] : surfaces) {
       const auto name = m.face_tag_names.find(tag);
       const std::string fallback = "FACES_" + std::to_string(tag);

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "abaqus.h"
+#include "exodus.h"
 #include "gmsh.h"
 #include "medit.h"
 #include "netgen_vol.h"
@@ -28,6 +29,8 @@ std::optional<InputFormat> input_format_named(std::string_view name) {
   if (n == "msh" || n == "gmsh") return InputFormat::kGmsh;
   if (n == "vol" || n == "netgen") return InputFormat::kNetgen;
   if (n == "inp" || n == "abaqus" || n == "calculix") return InputFormat::kAbaqus;
+  if (n == "e" || n == "exo" || n == "ex2" || n == "g" || n == "gen" || n == "exodus")
+    return InputFormat::kExodus;
   if (n == "nrrd" || n == "nhdr") return InputFormat::kNrrd;
   if (n == "ply") return InputFormat::kPly;
   if (n == "off") return InputFormat::kOff;
@@ -47,12 +50,6 @@ InputFormat input_format_for_path(const std::string& path) {
                    [](unsigned char c) { return std::tolower(c); });
     if (inner == ".vol") return InputFormat::kNetgen;  // Netgen saves x.vol.gz so
   }
-  if (lower == ".e" || lower == ".exo" || lower == ".ex2")
-    // Exodus II goes through the Python package's meshio route (docs/FORMATS.md).
-    throw FormatError(path +
-                      ": Exodus II is read through Python: python3 -c \"import dtmesh, meshio; "
-                      "meshio.write('out.dtm', meshio.read('" +
-                      path + "'))\" (python3-netcdf4)");
   throw FormatError(path + ": unknown input format '" + ext + "' (known: " + kInputFormatNames +
                     "; or give --format)");
 }
@@ -96,6 +93,8 @@ InputMesh read_any(const std::string& path, InputFormat format, const VolumeOpti
       return read_tetgen(path, tetgen_ele, read_node);
     case InputFormat::kAbaqus:
       return read_abaqus(path);
+    case InputFormat::kExodus:
+      return read_exodus(path);
     case InputFormat::kMedit:
       return read_medit(path);
     case InputFormat::kVtk:

@@ -3,6 +3,7 @@
 //
 //   point sets, surfaces   .ply .off .obj .xyz          (CGAL's readers)
 //   volume meshes          .node(+.ele) .mesh .vtk .vtu .msh .vol .inp   (ours)
+//                          .e .exo .ex2 .g .gen           (libexodusii)
 //   voxel volumes          .nrrd .nhdr                  (ours; needs VolumeOptions)
 #pragma once
 
@@ -27,6 +28,7 @@ enum class InputFormat {
   kGmsh,
   kNetgen,
   kAbaqus,
+  kExodus,
   kNrrd,
   kPly,
   kOff,
@@ -35,12 +37,12 @@ enum class InputFormat {
 };
 
 // "node" (or "tetgen"), "mesh" ("medit"), "vtk", "vtu", "pvtu", "msh" ("gmsh"),
-// "vol" ("netgen"), "inp" ("abaqus", "calculix"), "nrrd" ("nhdr"), "ply", "off", "obj", "xyz"; nullopt for
-// anything else.
+// "vol" ("netgen"), "inp" ("abaqus", "calculix"), "e" ("exo", "ex2", "g", "gen", "exodus"), "nrrd" ("nhdr"),
+// "ply", "off", "obj", "xyz"; nullopt for anything else.
 std::optional<InputFormat> input_format_named(std::string_view name);
 // The names input_format_named accepts, for help texts.
 inline constexpr const char* kInputFormatNames =
-    "node, mesh, vtk, vtu, pvtu, msh, vol, inp, nrrd, ply, off, obj, xyz";
+    "node, mesh, vtk, vtu, pvtu, msh, vol, inp, e, nrrd, ply, off, obj, xyz";
 
 // By extension, ignoring case (.vol.gz: Netgen's, gzipped). Throws
 // FormatError naming the path otherwise.

@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "abaqus.h"
+#include "exodus.h"
 #include "gltf_writer.h"
 #include "gmsh.h"
 #include "medit.h"
@@ -311,7 +312,8 @@ ListedNodes face_nodes(const OutputMesh& m, size_t face) {
 
 bool writes_edge_nodes(MeshFormat format) {
   return format == MeshFormat::kVtu || format == MeshFormat::kVtuAscii || format == MeshFormat::kVtk ||
-         format == MeshFormat::kVtkAscii || format == MeshFormat::kGmsh || format == MeshFormat::kAbaqus;
+         format == MeshFormat::kVtkAscii || format == MeshFormat::kGmsh || format == MeshFormat::kAbaqus ||
+         format == MeshFormat::kExodus;
 }
 
 OutputMesh without_edge_nodes(OutputMesh mesh) {
@@ -476,6 +478,7 @@ MeshFormat format_for_path(const std::string& path) {
   if (ext == ".msh") return MeshFormat::kGmsh;
   if (ext == ".vol") return MeshFormat::kNetgen;
   if (ext == ".inp") return MeshFormat::kAbaqus;
+  if (ext == ".e" || ext == ".exo") return MeshFormat::kExodus;
   if (ext == ".ply") return MeshFormat::kPly;
   if (ext == ".off") return MeshFormat::kOff;
   if (ext == ".xyz") return MeshFormat::kXyz;
@@ -484,7 +487,7 @@ MeshFormat format_for_path(const std::string& path) {
   if (ext == ".drc") return MeshFormat::kDrc;
   throw std::invalid_argument(
       path +
-      ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .vol, .inp, "
+      ": unknown output format (expected a .node, .vtu, .vtk, .mesh, .msh, .vol, .inp, .e, .exo, "
       ".ply, .off, .xyz, .glb, .gltf "
       "or .drc file name)");
 }
@@ -499,6 +502,7 @@ MeshFormat format_named(const std::string& name) {
                                                               {"msh", MeshFormat::kGmsh},
                                                               {"vol", MeshFormat::kNetgen},
                                                               {"inp", MeshFormat::kAbaqus},
+                                                              {"e", MeshFormat::kExodus},
                                                               {"ply", MeshFormat::kPly},
                                                               {"off", MeshFormat::kOff},
                                                               {"xyz", MeshFormat::kXyz},
@@ -540,6 +544,8 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
       return {{path, render_netgen_vol(mesh)}};
     case MeshFormat::kAbaqus:
       return {{path, render_abaqus(mesh)}};
+    case MeshFormat::kExodus:
+      return {{path, render_exodus(mesh)}};
     case MeshFormat::kPly:
       return {{path, render_ply(mesh)}};
     case MeshFormat::kOff:

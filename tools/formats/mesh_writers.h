@@ -98,6 +98,7 @@ enum class MeshFormat {
   kGmsh,      // gmsh .msh 4.1 ASCII; $NodeData level, boundary
   kNetgen,    // Netgen .vol; every surface face a surface element, the regions the materials
   kAbaqus,    // Abaqus/CalculiX .inp; regions as element sets, face tags as surfaces, node set fields
+  kExodus,    // Exodus II .e; regions as element blocks, face tags as side sets, fields as variables
   kPly,       // boundary surface, binary PLY, outward normals
   kOff,       // boundary surface, ASCII OFF, outward normals
   kXyz,       // the points only
@@ -141,7 +142,8 @@ struct SurfaceStyle {
 
 // The format named by the output path's extension: ".node" -> kTetgen (the
 // .ele goes beside it, same stem), ".vtu" -> kVtu, ".vtk" -> kVtk, ".mesh"
-// -> kMedit, ".msh" -> kGmsh, ".vol" -> kNetgen, ".inp" -> kAbaqus, ".ply", ".off", ".xyz", ".glb", ".gltf",
+// -> kMedit, ".msh" -> kGmsh, ".vol" -> kNetgen, ".inp" -> kAbaqus, ".e" and ".exo" -> kExodus, ".ply",
+// ".off", ".xyz", ".glb", ".gltf",
 // ".drc". Extensions are
 // case-sensitive, as TetGen's own are: "X.NODE" would otherwise get an
 // "X.ele" that `tetgen X` cannot find. Throws std::invalid_argument naming the
@@ -149,11 +151,11 @@ struct SurfaceStyle {
 MeshFormat format_for_path(const std::string& path);
 
 // The format meshdec --format names: node, vtu, vtu-ascii, vtk, vtk-ascii,
-// mesh, msh, vol, inp, ply, off, xyz, glb, gltf, drc. Throws std::invalid_argument for
+// mesh, msh, vol, inp, e, ply, off, xyz, glb, gltf, drc. Throws std::invalid_argument for
 // anything else.
 MeshFormat format_named(const std::string& name);
 inline constexpr const char* kOutputFormatNames =
-    "node, vtu, vtu-ascii, vtk, vtk-ascii, mesh, msh, vol, inp, ply, off, xyz, glb, gltf, drc";
+    "node, vtu, vtu-ascii, vtk, vtk-ascii, mesh, msh, vol, inp, e, ply, off, xyz, glb, gltf, drc";
 
 // The files of `mesh` in `format` as (path, bytes) pairs: two for kTetgen
 // (`path`, which must end in ".node", and the .ele beside it) and kGltf (the

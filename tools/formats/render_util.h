@@ -104,4 +104,24 @@ inline void append_scalar_text(std::string& out, uint64_t bits, ScalarType t) {
   }
 }
 
+// The value of raw bits of type `t` as a double (64-bit integers above 2^53
+// rounded).
+inline double scalar_value(uint64_t bits, ScalarType t) {
+  switch (t) {
+    case ScalarType::kFloat32:
+      return static_cast<double>(std::bit_cast<float>(static_cast<uint32_t>(bits)));
+    case ScalarType::kFloat64:
+      return std::bit_cast<double>(bits);
+    case ScalarType::kUInt64:
+      return static_cast<double>(bits);
+    default: {
+      const int shift = 64 - 8 * scalar_size(t);
+      const bool is_signed = t == ScalarType::kInt8 || t == ScalarType::kInt16 || t == ScalarType::kInt32 ||
+                             t == ScalarType::kInt64;
+      if (is_signed) return static_cast<double>(static_cast<int64_t>(bits << shift) >> shift);
+      return static_cast<double>(bits);
+    }
+  }
+}
+
 }  // namespace dtm
