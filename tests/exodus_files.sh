@@ -105,5 +105,14 @@ for path, cell_type in (("a.out.e", 10), ("q.out.e", 24)):
     assert {"level", "boundary"} <= blocks["steel"][2], (path, blocks)
     assert blocks["base"][0] == faces, (path, blocks["base"], faces)
 PY
+# meshio reads meshdec's files too: its two blocks' cells, its variables
+# by name (no stale bytes in them).
+/usr/bin/python3 - <<'PY' || { echo "meshio does not read meshdec's .e files as written"; failed=1; }
+import meshio
+for path, kind in (("a.out.e", "tetra"), ("q.out.e", "tetra10")):
+    m = meshio.read(path)
+    assert [c.type for c in m.cells] == [kind, kind], (path, m.cells)
+    assert {"level", "boundary"} <= set(m.point_data), (path, list(m.point_data))
+PY
 [ $failed -eq 0 ] && echo "exodus_files: ok"
 exit $failed

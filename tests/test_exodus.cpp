@@ -285,6 +285,72 @@ TEST(Exodus, HeadersThatClaimMoreThanTheFileAreRefused) {
   EXPECT_EQ(data_cut.find(::testing::TempDir() + "/data_cut.e: "), 0u) << data_cut;
 }
 
+// What libexodusii 6.02 reads whole into buffers sized by the dimensions:
+// a variable shaped otherwise is refused (here a block's connectivity over
+// more elements than the block has).
+TEST(Exodus, VariablesNotShapedAsExodusAreRefused) {
+  const std::string path = exodus_file("reshaped.e", 3, 4, 1, 1, 0, 0, [](int id) {
+    const std::vector<double> x = {0, 1, 0, 0}, y = {0, 0, 1, 0}, z = {0, 0, 0, 1};
+    EXPECT_EQ(ex_put_coord(id, x.data(), y.data(), z.data()), 0);
+    EXPECT_EQ(ex_put_block(id, EX_ELEM_BLOCK, 1, "TETRA", 1, 4, 0, 0, 0), 0);
+    const std::vector<int64_t> conn = {1, 2, 3, 4};
+    EXPECT_EQ(ex_put_conn(id, EX_ELEM_BLOCK, 1, conn.data(), nullptr, nullptr), 0);
+  });
+  int nc = -1, old = -1, big = -1, per = -1, connect = -1;
+  ASSERT_EQ(nc_open(path.c_str(), NC_WRITE, &nc), NC_NOERR);
+  ASSERT_EQ(nc_redef(nc), NC_NOERR);
+  ASSERT_EQ(nc_inq_varid(nc, "connect1", &old), NC_NOERR);
+  ASSERT_EQ(nc_rename_var(nc, old, "connect_old"), NC_NOERR);
+  ASSERT_EQ(nc_def_dim(nc, "many", 1000, &big), NC_NOERR);
+  ASSERT_EQ(nc_inq_dimid(nc, "num_nod_per_el1", &per), NC_NOERR);
+  const int dims[2] = {big, per};
+  ASSERT_EQ(nc_def_var(nc, "connect1", NC_INT, 2, dims, &connect), NC_NOERR);
+  ASSERT_EQ(nc_put_att_text(nc, connect, "elem_type", 6, "TETRA"), NC_NOERR);
+  ASSERT_EQ(nc_close(nc), NC_NOERR);
+  EXPECT_NE(exodus_error(path).find("reshaped.e: its variable 'connect1' is not shaped as Exodus's "
+                                    "(num_el_in_blk1, num_nod_per_el1)"),
+            std::string::npos)
+      << exodus_error(path);
+}
+
+// Variables defined, no time step written (a run stopped before its
+// first): the mesh is read, the variables named; node sets of one name and
+// element variables beyond the stream's 32 kept apart or named; a QUAD's
+// sides are its edges.
+TEST(Exodus, TheStreamsLimitsAndTheLessCommonForms) {
+  const std::string path = exodus_file("forms.e", 3, 5, 2, 2, 2, 1, [](int id) {
+    const std::vector<double> x = {0, 1, 0, 0, 1}, y = {0, 0, 1, 0, 1}, z = {0, 0, 0, 1, 0};
+    EXPECT_EQ(ex_put_coord(id, x.data(), y.data(), z.data()), 0);
+    EXPECT_EQ(ex_put_block(id, EX_ELEM_BLOCK, 1, "TETRA", 1, 4, 0, 0, 0), 0);
+    EXPECT_EQ(ex_put_block(id, EX_ELEM_BLOCK, 2, "QUAD4", 1, 4, 0, 0, 0), 0);
+    const std::vector<int64_t> tet = {1, 2, 3, 4}, quad = {1, 2, 5, 3};
+    EXPECT_EQ(ex_put_conn(id, EX_ELEM_BLOCK, 1, tet.data(), nullptr, nullptr), 0);
+    EXPECT_EQ(ex_put_conn(id, EX_ELEM_BLOCK, 2, quad.data(), nullptr, nullptr), 0);
+    const std::vector<int64_t> a = {1}, b = {2};
+    for (int64_t s : {1, 2}) {
+      EXPECT_EQ(ex_put_set_param(id, EX_NODE_SET, s, 1, 0), 0);
+      EXPECT_EQ(ex_put_set(id, EX_NODE_SET, s, s == 1 ? a.data() : b.data(), nullptr), 0);
+    }
+    put_names(id, EX_NODE_SET, {"fixed", "fixed"});
+    const std::vector<int64_t> elements = {2}, sides = {2};
+    EXPECT_EQ(ex_put_set_param(id, EX_SIDE_SET, 5, 1, 0), 0);
+    EXPECT_EQ(ex_put_set(id, EX_SIDE_SET, 5, elements.data(), sides.data()), 0);
+    EXPECT_EQ(ex_put_variable_param(id, EX_NODAL, 1), 0);
+    std::string t = "T";
+    char* names[] = {t.data()};
+    EXPECT_EQ(ex_put_variable_names(id, EX_NODAL, 1, names), 0);
+  });
+  const InputMesh m = read_input(path);
+  EXPECT_EQ(m.tets.size(), 1u);
+  EXPECT_TRUE(leaves_out(m, "its variables' names (no time step holds values)"));
+  EXPECT_TRUE(leaves_out(m, "1 sides of 2D elements that are their edges"));
+  ASSERT_EQ(m.fields.size(), 2u);
+  EXPECT_EQ(m.fields[0].name, "nset:fixed");
+  EXPECT_EQ(m.fields[1].name, "nset:fixed_2");
+  // (The quadrilateral itself is a tagged face, by its block's id.)
+  EXPECT_EQ(std::set<int32_t>(m.face_tags.begin(), m.face_tags.end()), std::set<int32_t>{2});
+}
+
 TEST(Exodus, WrittenFilesReadBackToTheSameMesh) {
   OutputMesh m = test::torus_mesh();
   for (size_t c = 0; c < m.cells.size(); ++c) m.region.push_back(c % 3 == 0 ? 1 : -2);
@@ -317,6 +383,8 @@ TEST(Exodus, WrittenFilesReadBackToTheSameMesh) {
     pressure.bits.push_back(std::bit_cast<uint64_t>(1.0 / (c + 1.0)));
   m.cell_fields = {pressure};
   EXPECT_TRUE(not_written(m, MeshFormat::kExodus).empty());
+  EXPECT_EQ(exodus_renumbering(m),
+            std::vector<std::string>{"region -2 as element block 2 (Exodus ids are positive)"});
   const InputMesh back = read_input(test::write(m, MeshFormat::kExodus, "out.e"));
   ASSERT_EQ(back.points.size(), m.points.size());
   for (size_t i = 0; i < m.points.size(); ++i) {

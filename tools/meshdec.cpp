@@ -13,6 +13,7 @@
 #include "tools/atomic_file.h"
 #include "tools/decoded_mesh.h"
 #include "tools/field_types.h"
+#include "tools/formats/exodus.h"
 #include "tools/formats/gltf_writer.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
@@ -188,6 +189,9 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
     for (const std::string& what : dtm::not_written(mesh, format))
       std::fprintf(stderr, "meshdec: %s: not written (the format has no place for it): %s\n",
                    c.output.c_str(), what.c_str());
+  if (!c.quiet && format == dtm::MeshFormat::kExodus)
+    for (const std::string& what : dtm::exodus_renumbering(mesh))
+      std::fprintf(stderr, "meshdec: %s: written with another id: %s\n", c.output.c_str(), what.c_str());
   if (c.output != "-") return dtm::write_files_atomically(files);
   const std::string& bytes = files.front().second;
   if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() || std::fflush(stdout) != 0)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "input_mesh.h"
 #include "mesh_writers.h"
@@ -37,5 +38,11 @@ InputMesh read_exodus(const std::string& path);
 // field as X_x, X_y, X_z). Throws std::runtime_error if libexodusii
 // fails.
 std::string render_exodus(const OutputMesh& mesh);
+
+// Where render_exodus() gives a region or a face tag another id than its
+// label (a label of 0 or less: Exodus ids are positive; a region of linear
+// and second-order cells: two blocks), one phrase each, for the tool to
+// say ("region -4 as element block 3 (Exodus ids are positive)").
+std::vector<std::string> exodus_renumbering(const OutputMesh& mesh);
 
 }  // namespace dtm

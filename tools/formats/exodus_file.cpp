@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <set>
 #include <stdexcept>
 
@@ -26,12 +27,42 @@ std::string last_error() {
   return out;
 }
 
-// libexodusii 6.02 reads some attributes into buffers of a fixed size
-// without looking at their length first (a block's elem_type into 33
-// bytes, a property's name likewise, a global attribute such as
-// file_size into one number): a file that makes them longer would
-// overwrite its memory. Those are refused before it opens the file.
-void check_attributes(const std::string& path) {
+// The dimensions (by name) of the variables libexodusii 6.02 reads whole
+// (nc_get_var) into buffers its caller sizes from those dimensions; none
+// for the others (the variables' values and the times it reads in the
+// ranges it is asked for, which netCDF checks).
+std::vector<std::string> exodus_dimensions(const std::string& variable) {
+  // Whether the name is `prefix` and a number, and the number.
+  const auto numbered = [&](const std::string& prefix) {
+    if (variable.rfind(prefix, 0) != 0 || variable.size() == prefix.size() ||
+        variable.find_first_not_of("0123456789", prefix.size()) != std::string::npos)
+      return std::string();
+    return variable.substr(prefix.size());
+  };
+  if (variable == "coordx" || variable == "coordy" || variable == "coordz") return {"num_nodes"};
+  if (variable == "coord") return {"num_dim", "num_nodes"};
+  if (variable == "eb_status" || !numbered("eb_prop").empty()) return {"num_el_blk"};
+  if (variable == "ns_status" || !numbered("ns_prop").empty()) return {"num_node_sets"};
+  if (variable == "ss_status" || !numbered("ss_prop").empty()) return {"num_side_sets"};
+  if (variable == "node_num_map") return {"num_nodes"};
+  if (variable == "elem_num_map") return {"num_elem"};
+  if (variable == "elem_var_tab") return {"num_el_blk", "num_elem_var"};
+  if (const auto n = numbered("connect"); !n.empty()) return {"num_el_in_blk" + n, "num_nod_per_el" + n};
+  if (const auto n = numbered("elem_ss"); !n.empty()) return {"num_side_ss" + n};
+  if (const auto n = numbered("side_ss"); !n.empty()) return {"num_side_ss" + n};
+  if (const auto n = numbered("node_ns"); !n.empty()) return {"num_nod_ns" + n};
+  return {};
+}
+
+// Before libexodusii 6.02 opens a file:
+// * the variables it reads whole must have the shape of the dimensions
+//   that size its caller's buffers (a file that declares `connect1` over
+//   more elements than num_el_in_blk1 would have it write past them);
+// * the attributes it reads into buffers of a fixed size without looking
+//   at their length (a block's elem_type into 33 bytes, a property's name
+//   likewise, a global attribute such as file_size into one number) must
+//   fit them.
+void check_variables_and_attributes(const std::string& path) {
   int nc = -1;
   if (nc_open(path.c_str(), NC_NOWRITE, &nc) != NC_NOERR) return;  // (ex_open says why)
   struct Closer {
@@ -40,6 +71,31 @@ void check_attributes(const std::string& path) {
   } closer{nc};
   int variables = 0;
   if (nc_inq_nvars(nc, &variables) != NC_NOERR) return;
+  for (int v = 0; v < variables; ++v) {
+    char name[NC_MAX_NAME + 1] = {};
+    int dimensions = 0;
+    if (nc_inq_varname(nc, v, name) != NC_NOERR || nc_inq_varndims(nc, v, &dimensions) != NC_NOERR) continue;
+    const std::vector<std::string> expected = exodus_dimensions(name);
+    if (expected.empty()) continue;
+    std::vector<int> ids(static_cast<size_t>(std::max(dimensions, 0)));
+    if (nc_inq_vardimid(nc, v, ids.data()) != NC_NOERR) continue;
+    const auto length_of_dimension = [&](int id) {
+      size_t length = 0;
+      return nc_inq_dimlen(nc, id, &length) == NC_NOERR ? length : SIZE_MAX;
+    };
+    const auto length_named = [&](const std::string& dimension) {
+      int id = -1;
+      return nc_inq_dimid(nc, dimension.c_str(), &id) == NC_NOERR ? length_of_dimension(id) : SIZE_MAX - 1;
+    };
+    bool same = ids.size() == expected.size();
+    for (size_t k = 0; same && k < ids.size(); ++k)
+      same = length_of_dimension(ids[k]) == length_named(expected[k]);
+    if (!same) {
+      std::string want;
+      for (const std::string& e : expected) want += (want.empty() ? "" : ", ") + e;
+      throw FormatError(path + ": its variable '" + name + "' is not shaped as Exodus's (" + want + ")");
+    }
+  }
   static const std::set<std::string> kScalars = {"api_version",
                                                  "api version",
                                                  "version",
@@ -73,7 +129,7 @@ void check_attributes(const std::string& path) {
 
 File File::open(const std::string& path) {
   check_netcdf_header(path);
-  check_attributes(path);
+  check_variables_and_attributes(path);
   // (Quiet: errors reach the user through ours, naming the file.)
   ex_opts(EX_DEFAULT);
   int cpu_ws = 8, io_ws = 0;
@@ -125,16 +181,17 @@ ElementType element_type(std::string_view name, int64_t nodes) {
   const auto is = [&](std::initializer_list<const char*> names) {
     return std::any_of(names.begin(), names.end(), [&](const char* k) { return n == k; });
   };
-  const auto with = [&](Shape shape, int corners) {
-    return nodes >= corners ? ElementType{shape, corners} : ElementType{};
+  const auto with = [&](Shape shape, int corners, bool faces_are_sides = false) {
+    return nodes >= corners ? ElementType{shape, corners, faces_are_sides} : ElementType{};
   };
   if (is({"TETRA", "TET"})) return with(Shape::kTetrahedron, 4);
   if (is({"PYRAMID", "PYRA"})) return with(Shape::kPyramid, 5);
   if (is({"WEDGE"})) return with(Shape::kWedge, 6);
   if (is({"HEX", "HEXAHEDRON"})) return with(Shape::kHexahedron, 8);
-  if (is({"TRI", "TRIANGLE", "TRISHELL"})) return with(Shape::kTriangle, 3);
+  if (is({"TRI", "TRIANGLE", "TRISHELL"})) return with(Shape::kTriangle, 3, true);
   // (A 4-node SHELL or QUAD in a 3D mesh; SHELL2 and SHELL3 are 2D shells' edges.)
-  if (is({"SHELL", "QUAD", "QUADRILATERAL"}) && nodes >= 4) return with(Shape::kQuadrilateral, 4);
+  if (is({"SHELL"}) && nodes >= 4) return with(Shape::kQuadrilateral, 4, true);
+  if (is({"QUAD", "QUADRILATERAL"})) return with(Shape::kQuadrilateral, 4);
   return {};
 }
 

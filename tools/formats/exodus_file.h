@@ -62,6 +62,9 @@ enum class Shape { kTetrahedron, kPyramid, kWedge, kHexahedron, kTriangle, kQuad
 struct ElementType {
   Shape shape = Shape::kOther;
   int corners = 0;
+  // A triangle or a SHELL's sides 1 and 2 are its faces (side_of()); a
+  // QUAD's sides are its edges, as libexodusii's tables have them.
+  bool faces_are_sides = false;
 };
 ElementType element_type(std::string_view name, int64_t nodes_per_element);
 

@@ -39,6 +39,17 @@ std::string joined(const std::vector<std::string>& names) {
   return out;
 }
 
+// `name`, or where one of `fields` has it already, name_2, name_3, ...
+// (two node sets of one name, a scalar X beside a vector X_x X_y X_z).
+std::string unique_name(const std::vector<VertexField>& fields, const std::string& name) {
+  const auto taken = [&](const std::string& n) {
+    return std::any_of(fields.begin(), fields.end(), [&](const VertexField& f) { return f.name == n; });
+  };
+  std::string out = name;
+  for (int k = 2; taken(out); ++k) out = name + "_" + std::to_string(k);
+  return out;
+}
+
 // An element block as read: what the side sets and element variables refer to.
 struct Block {
   int64_t id = 0;
@@ -70,6 +81,7 @@ class Reader {
     in.read(magic, 4);
     const uint64_t size = std::filesystem::file_size(path);
     budget_ = (std::memcmp(magic + 1, "HDF", 3) == 0 ? 1100 : 1) * size + 4096;
+    objects_budget_ = size + 4096;
   }
 
   InputMesh read() {
@@ -89,6 +101,17 @@ class Reader {
 
  private:
   // Throws unless `count` items of `bytes` each could be in the file.
+  // Throws unless `count` blocks, sets or variables could be in the file:
+  // each takes 64 bytes of its header at least (its dimensions' and
+  // variables' names and shapes, which netCDF-4 does not compress either),
+  // and costs a name's buffer (256 bytes) here.
+  size_t counted_objects(int64_t count, const std::string& what) const {
+    if (count < 0 || static_cast<uint64_t>(count) > objects_budget_ / 64)
+      throw FormatError(path_ + ": " + what + ": " + std::to_string(count) +
+                        " claimed, more than the file can hold");
+    return static_cast<size_t>(count);
+  }
+
   size_t counted(int64_t count, size_t bytes, const std::string& what) const {
     if (count < 0 || static_cast<uint64_t>(count) > budget_ / bytes)
       throw FormatError(path_ + ": " + what + ": " + std::to_string(count) +
@@ -97,7 +120,7 @@ class Reader {
   }
 
   std::vector<int64_t> ids(ex_entity_type type, int64_t count, const std::string& what) {
-    std::vector<int64_t> out(counted(count, 4, what));
+    std::vector<int64_t> out(counted_objects(count, what));
     if (!out.empty()) file_.require(ex_get_ids(file_.id(), type, out.data()), what + "' ids");
     return out;
   }
@@ -275,9 +298,13 @@ class Reader {
           ++other_sides;
           continue;
         }
-        const exodus::Side side = exodus::side_of(b->shape.shape, sides[i]);
+        // (A QUAD's sides are its edges.)
+        const exodus::Side side = b->face() && !b->shape.faces_are_sides
+                                      ? exodus::Side{}
+                                      : exodus::side_of(b->shape.shape, sides[i]);
         if (side.count == 0) {
-          if (b->face() && sides[i] > 2 && sides[i] <= 2 + b->shape.corners) {
+          const int64_t first_edge = b->shape.faces_are_sides ? 3 : 1;
+          if (b->face() && sides[i] >= first_edge && sides[i] < first_edge + b->shape.corners) {
             ++edge_sides;
             continue;
           }
@@ -296,7 +323,8 @@ class Reader {
         }
       }
     }
-    if (edge_sides) notes_.push_back(std::to_string(edge_sides) + " sides of shells that are their edges");
+    if (edge_sides)
+      notes_.push_back(std::to_string(edge_sides) + " sides of 2D elements that are their edges");
     if (other_sides)
       notes_.push_back(std::to_string(other_sides) + " sides of elements other than solids and shells");
     if (factors) notes_.push_back("the distribution factors of " + std::to_string(factors) + " side sets");
@@ -338,6 +366,7 @@ class Reader {
     file_.check(ex_get_variable_param(file_.id(), EX_NODAL, &nodal), "its nodal variables");
     file_.check(ex_get_variable_param(file_.id(), EX_ELEM_BLOCK, &element), "its element variables");
     file_.check(ex_get_variable_param(file_.id(), EX_GLOBAL, &global), "its global variables");
+    counted_objects(int64_t{nodal} + element, "variables");
     if (global > 0) notes_.push_back(std::to_string(global) + " global variables");
     if (nodal + element == 0) return;
     if (steps <= 0) {
@@ -347,12 +376,13 @@ class Reader {
     const int step = static_cast<int>(std::min<int64_t>(steps, INT32_MAX));
     double time = 0;
     file_.require(ex_get_time(file_.id(), step, &time), "its last time step");
-    if (steps > 1) {
-      std::ostringstream last;
-      last << time;
+    std::ostringstream last;
+    last << time;
+    if (steps > 1)
       notes_.push_back("the variables at " + std::to_string(steps - 1) +
                        " earlier time steps (the last, time " + last.str() + ", is read)");
-    }
+    else if (time != 0)
+      notes_.push_back("the time of its one time step, " + last.str());
     const ScalarType type = file_.io_word_size() == 4 ? ScalarType::kFloat32 : ScalarType::kFloat64;
     // Nodal variables, X_x X_y X_z as one vector.
     const std::vector<std::string> nodal_names = var_names(EX_NODAL, nodal);
@@ -362,7 +392,7 @@ class Reader {
       const std::string vector = vector_at(nodal_names, j);
       const size_t components = vector.empty() ? 1 : 3;
       VertexField f;
-      f.name = vector.empty() ? nodal_names[j] : vector;
+      f.name = unique_name(out_.fields, vector.empty() ? nodal_names[j] : vector);
       f.components = static_cast<int>(components);
       f.type = type;
       if (out_.fields.size() >= kMaxFields || f.name.size() > kMaxFieldName || f.name.empty()) {
@@ -425,12 +455,15 @@ class Reader {
   void read_element_variables(int step, int count, ScalarType type) {
     if (count <= 0) return;
     const std::vector<std::string> var = var_names(EX_ELEM_BLOCK, count);
+    if (!blocks_.empty() && static_cast<uint64_t>(count) > budget_ / 4 / blocks_.size())
+      throw FormatError(path_ + ": the element variables' truth table: " + std::to_string(blocks_.size()) +
+                        " by " + std::to_string(count) + " claimed, more than the file can hold");
     std::vector<int> truth(blocks_.size() * static_cast<size_t>(count), 1);
     if (!blocks_.empty())
       file_.check(ex_get_truth_table(file_.id(), EX_ELEM_BLOCK, static_cast<int>(blocks_.size()), count,
                                      truth.data()),
                   "the element variables' truth table");
-    std::vector<std::string> partial, on_faces;
+    std::vector<std::string> partial, on_faces, unkept;
     const auto defined_on_every_solid = [&](size_t j) {
       bool everywhere = true;
       for (size_t b = 0; b < blocks_.size(); ++b)
@@ -439,7 +472,7 @@ class Reader {
     };
     for (size_t j = 0; j < var.size(); ++j)
       for (size_t b = 0; b < blocks_.size(); ++b)
-        if (!blocks_[b].solid() && blocks_[b].count > 0 && truth[b * var.size() + j] != 0) {
+        if (blocks_[b].face() && blocks_[b].count > 0 && truth[b * var.size() + j] != 0) {
           on_faces.push_back("'" + var[j] + "'");
           break;
         }
@@ -454,7 +487,12 @@ class Reader {
         continue;
       }
       VertexField f;
-      f.name = components == 3 ? vector : var[j];
+      f.name = unique_name(out_.cell_fields, components == 3 ? vector : var[j]);
+      if (out_.cell_fields.size() >= kMaxFields || f.name.size() > kMaxFieldName || f.name.empty()) {
+        unkept.push_back("'" + var[j] + "'");
+        j += components;
+        continue;
+      }
       f.components = static_cast<int>(components);
       f.type = type;
       f.values.resize(out_.tets.size() * components);
@@ -482,6 +520,9 @@ class Reader {
       notes_.push_back("element variables " + joined(partial) +
                        " (not on every solid block: the stream holds cell data on every cell)");
     if (!on_faces.empty()) notes_.push_back("element variables " + joined(on_faces) + " on the face blocks");
+    if (!unkept.empty())
+      notes_.push_back("element variables " + joined(unkept) +
+                       " (a stream holds 32 cell arrays, each named in 64 bytes)");
   }
 
   // Each node set a 0/1 field, as many as the stream holds.
@@ -494,7 +535,8 @@ class Reader {
       const std::string shown =
           "node set " + std::to_string(set_ids[s]) + (set_names[s].empty() ? "" : " '" + set_names[s] + "'");
       const std::string name =
-          kNodeSetFieldPrefix + (set_names[s].empty() ? std::to_string(set_ids[s]) : set_names[s]);
+          unique_name(out_.fields, kNodeSetFieldPrefix +
+                                       (set_names[s].empty() ? std::to_string(set_ids[s]) : set_names[s]));
       if (out_.fields.size() >= kMaxFields || name.size() > kMaxFieldName) {
         unkept.push_back(set_names[s].empty() ? std::to_string(set_ids[s]) : set_names[s]);
         continue;
@@ -546,6 +588,13 @@ class Reader {
       if (ex_get_variable_param(file_.id(), type, &vars) >= 0 && vars > 0)
         out_.left_out.push_back(std::to_string(vars) + (type == EX_NODE_SET ? " node set" : " side set") +
                                 " variables");
+    // (Each has its id as its first property.)
+    int64_t properties = 0;
+    for (const auto inquiry : {EX_INQ_EB_PROP, EX_INQ_NS_PROP, EX_INQ_SS_PROP})
+      properties += std::max<int64_t>(ex_inquire_int(file_.id(), inquiry) - 1, 0);
+    if (properties > 0)
+      out_.left_out.push_back(std::to_string(properties) +
+                              " properties of the element blocks, node sets and side sets besides their ids");
     const int64_t qa = ex_inquire_int(file_.id(), EX_INQ_QA), info = ex_inquire_int(file_.id(), EX_INQ_INFO);
     if (qa > 0 || info > 0)
       out_.left_out.push_back(std::to_string(std::max<int64_t>(qa, 0)) + " QA records and " +
@@ -568,7 +617,7 @@ class Reader {
 
   std::string path_;
   exodus::File file_;
-  uint64_t budget_ = 0;
+  uint64_t budget_ = 0, objects_budget_ = 0;
   InputMesh out_;
   std::vector<Block> blocks_;
   std::vector<const Block*> face_blocks_;

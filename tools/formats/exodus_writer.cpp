@@ -58,6 +58,7 @@ struct Names {
 
 // An element block: a region's cells of one kind (linear, or with edge nodes).
 struct OutBlock {
+  int32_t label = 0;  // the region's
   int64_t id = 0;
   std::string name;
   bool second_order = false;
@@ -89,35 +90,52 @@ std::vector<std::string> component_names(const OutputField& f) {
   return out;
 }
 
+// The blocks: by region, the linear cells apart from the second-order
+// ones (a block holds one kind of element), each with its id.
+std::vector<OutBlock> exodus_blocks(const OutputMesh& m) {
+  std::map<std::pair<int32_t, bool>, std::vector<uint32_t>> grouped;
+  for (uint32_t c = 0; c < m.cells.size(); ++c)
+    grouped[{m.region.empty() ? 1 : m.region[c], cell_nodes(m, c, kVtkEdgeSlots).second_order()}].push_back(
+        c);
+  std::vector<OutBlock> blocks;
+  std::vector<int64_t> labels;
+  for (auto& [key, cells] : grouped) {
+    OutBlock& b = blocks.emplace_back();
+    b.label = key.first;
+    b.second_order = key.second;
+    b.cells = std::move(cells);
+    labels.push_back(key.first);
+    const auto name = m.region_names.find(key.first);
+    if (name != m.region_names.end()) b.name = name->second;
+  }
+  const std::vector<int64_t> ids = exodus_ids(labels);
+  for (size_t b = 0; b < blocks.size(); ++b) blocks[b].id = ids[b];
+  return blocks;
+}
+
+// The side sets' tags, in order, and their ids.
+std::vector<std::pair<int32_t, int64_t>> side_set_ids(const OutputMesh& m) {
+  std::set<int32_t> tags(m.face_tags.begin(), m.face_tags.end());
+  const std::vector<int64_t> ids = exodus_ids(std::vector<int64_t>(tags.begin(), tags.end()));
+  std::vector<std::pair<int32_t, int64_t>> out;
+  out.reserve(tags.size());
+  size_t k = 0;
+  for (int32_t tag : tags) out.emplace_back(tag, ids[k++]);
+  return out;
+}
+
 }  // namespace
 
 std::string render_exodus(const OutputMesh& m) {
   TemporaryFile temporary;
   exodus::File file = exodus::File::create(temporary.path);
   const int id = file.id();
-  // Blocks: by region, the linear cells apart from the second-order ones.
-  std::map<std::pair<int32_t, bool>, std::vector<uint32_t>> grouped;
-  for (uint32_t c = 0; c < m.cells.size(); ++c)
-    grouped[{m.region.empty() ? 0 : m.region[c], cell_nodes(m, c, kVtkEdgeSlots).second_order()}].push_back(
-        c);
-  std::vector<OutBlock> blocks;
-  std::vector<int64_t> labels;
-  for (auto& [key, cells] : grouped) {
-    OutBlock& b = blocks.emplace_back();
-    b.second_order = key.second;
-    b.cells = std::move(cells);
-    labels.push_back(m.region.empty() ? 1 : key.first);
-    const auto name = m.region_names.find(key.first);
-    if (name != m.region_names.end()) b.name = name->second;
-  }
-  const std::vector<int64_t> block_ids = exodus_ids(labels);
+  std::vector<OutBlock> blocks = exodus_blocks(m);
   // Each cell's element number (1-based, block after block).
   std::vector<int64_t> element_of(m.cells.size());
   int64_t next = 1;
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    blocks[b].id = block_ids[b];
-    for (uint32_t c : blocks[b].cells) element_of[c] = next++;
-  }
+  for (const OutBlock& b : blocks)
+    for (uint32_t c : b.cells) element_of[c] = next++;
   // Side sets: a face tag's faces, each as its cell's side.
   std::map<int32_t, std::pair<std::vector<int64_t>, std::vector<int64_t>>> side_sets;
   if (!m.faces.empty()) {
@@ -178,14 +196,11 @@ std::string render_exodus(const OutputMesh& m) {
     file.check(ex_put_names(id, EX_ELEM_BLOCK, block_names.pointers().data()), "the blocks' names");
 
   // Side sets, by tag.
-  std::vector<int64_t> tags;
-  tags.reserve(side_sets.size());
-  for (const auto& [tag, sides] : side_sets) tags.push_back(tag);
-  const std::vector<int64_t> set_ids = exodus_ids(tags);
+  std::map<int32_t, int64_t> set_id;
+  for (const auto& [tag, set] : side_set_ids(m)) set_id[tag] = set;
   Names set_names;
-  size_t s = 0;
   for (const auto& [tag, sides] : side_sets) {
-    const int64_t set = set_ids[s++];
+    const int64_t set = set_id.at(tag);
     file.check(ex_put_set_param(id, EX_SIDE_SET, set, static_cast<int64_t>(sides.first.size()), 0),
                "side set " + std::to_string(set));
     file.check(ex_put_set(id, EX_SIDE_SET, set, sides.first.data(), sides.second.data()),
@@ -234,54 +249,77 @@ std::string render_exodus(const OutputMesh& m) {
     for (const std::string& n : component_names(*f)) nodal_names.names.push_back(n);
   for (const OutputField& f : m.cell_fields)
     for (const std::string& n : component_names(f)) element_names.names.push_back(n);
-  if (!nodal_names.names.empty() || !element_names.names.empty()) {
+  // (Every variable defined before any value is written: libexodusii
+  // writes without fill, and a definition after the values would move them
+  // and leave stale bytes in the names.)
+  const int nodal_count = static_cast<int>(nodal_names.names.size());
+  const int element_count = static_cast<int>(element_names.names.size());
+  if (nodal_count > 0) {
+    file.check(ex_put_variable_param(id, EX_NODAL, nodal_count), "the nodal variables");
+    file.check(ex_put_variable_names(id, EX_NODAL, nodal_count, nodal_names.pointers().data()),
+               "the nodal variables' names");
+  }
+  if (element_count > 0) {
+    file.check(ex_put_variable_param(id, EX_ELEM_BLOCK, element_count), "the element variables");
+    file.check(ex_put_variable_names(id, EX_ELEM_BLOCK, element_count, element_names.pointers().data()),
+               "the element variables' names");
+    std::vector<int> truth(blocks.size() * static_cast<size_t>(element_count), 1);
+    file.check(
+        ex_put_truth_table(id, EX_ELEM_BLOCK, static_cast<int>(blocks.size()), element_count, truth.data()),
+        "the element variables' truth table");
+  }
+  if (nodal_count + element_count > 0) {
     const double time = 0;
     file.check(ex_put_time(id, 1, &time), "the time step");
   }
-  if (!nodal_names.names.empty()) {
-    file.check(ex_put_variable_param(id, EX_NODAL, static_cast<int>(nodal_names.names.size())),
-               "the nodal variables");
-    file.check(ex_put_variable_names(id, EX_NODAL, static_cast<int>(nodal_names.names.size()),
-                                     nodal_names.pointers().data()),
-               "the nodal variables' names");
-    int index = 1;
-    for (const auto& [name, values] : derived)
-      file.check(ex_put_var(id, 1, EX_NODAL, index++, 1, static_cast<int64_t>(values.size()), values.data()),
-                 "nodal variable '" + name + "'");
-    std::vector<double> v(m.points.size());
-    for (const OutputField* f : nodal)
-      for (int c = 0; c < f->components; ++c, ++index) {
-        for (size_t i = 0; i < v.size(); ++i)
-          v[i] =
-              scalar_value(f->bits[i * static_cast<size_t>(f->components) + static_cast<size_t>(c)], f->type);
-        file.check(ex_put_var(id, 1, EX_NODAL, index, 1, static_cast<int64_t>(v.size()), v.data()),
-                   "nodal variable '" + f->name + "'");
-      }
-  }
-  if (!element_names.names.empty()) {
-    const int count = static_cast<int>(element_names.names.size());
-    file.check(ex_put_variable_param(id, EX_ELEM_BLOCK, count), "the element variables");
-    file.check(ex_put_variable_names(id, EX_ELEM_BLOCK, count, element_names.pointers().data()),
-               "the element variables' names");
-    std::vector<int> truth(blocks.size() * static_cast<size_t>(count), 1);
-    file.check(ex_put_truth_table(id, EX_ELEM_BLOCK, static_cast<int>(blocks.size()), count, truth.data()),
-               "the element variables' truth table");
-    for (const OutBlock& b : blocks) {
-      int index = 1;
-      std::vector<double> v(b.cells.size());
-      for (const OutputField& f : m.cell_fields)
-        for (int c = 0; c < f.components; ++c, ++index) {
-          for (size_t i = 0; i < v.size(); ++i)
-            v[i] = scalar_value(
-                f.bits[size_t{b.cells[i]} * static_cast<size_t>(f.components) + static_cast<size_t>(c)],
-                f.type);
-          file.check(ex_put_var(id, 1, EX_ELEM_BLOCK, index, b.id, static_cast<int64_t>(v.size()), v.data()),
-                     "element variable '" + f.name + "'");
-        }
+  int index = 1;
+  for (const auto& [name, values] : derived)
+    file.check(ex_put_var(id, 1, EX_NODAL, index++, 1, static_cast<int64_t>(values.size()), values.data()),
+               "nodal variable '" + name + "'");
+  std::vector<double> v(m.points.size());
+  for (const OutputField* f : nodal)
+    for (int c = 0; c < f->components; ++c, ++index) {
+      for (size_t i = 0; i < v.size(); ++i)
+        v[i] =
+            scalar_value(f->bits[i * static_cast<size_t>(f->components) + static_cast<size_t>(c)], f->type);
+      file.check(ex_put_var(id, 1, EX_NODAL, index, 1, static_cast<int64_t>(v.size()), v.data()),
+                 "nodal variable '" + f->name + "'");
     }
+  for (const OutBlock& b : blocks) {
+    int k = 1;
+    std::vector<double> w(b.cells.size());
+    for (const OutputField& f : m.cell_fields)
+      for (int c = 0; c < f.components; ++c, ++k) {
+        for (size_t i = 0; i < w.size(); ++i)
+          w[i] = scalar_value(
+              f.bits[size_t{b.cells[i]} * static_cast<size_t>(f.components) + static_cast<size_t>(c)],
+              f.type);
+        file.check(ex_put_var(id, 1, EX_ELEM_BLOCK, k, b.id, static_cast<int64_t>(w.size()), w.data()),
+                   "element variable '" + f.name + "'");
+      }
   }
   file.close();
   return temporary.bytes();
+}
+
+std::vector<std::string> exodus_renumbering(const OutputMesh& m) {
+  std::vector<std::string> out;
+  std::map<int32_t, std::vector<int64_t>> ids_of_region;
+  for (const OutBlock& b : exodus_blocks(m)) ids_of_region[b.label].push_back(b.id);
+  for (const auto& [label, ids] : ids_of_region) {
+    if (m.region.empty()) break;
+    if (ids.size() == 1 && ids[0] == label) continue;
+    std::string blocks;
+    for (int64_t id : ids) blocks += (blocks.empty() ? "" : " and ") + std::to_string(id);
+    out.push_back(
+        "region " + std::to_string(label) + " as element block" + (ids.size() > 1 ? "s " : " ") + blocks +
+        (ids.size() > 1 ? " (its linear and its second-order cells)" : " (Exodus ids are positive)"));
+  }
+  for (const auto& [tag, id] : side_set_ids(m))
+    if (id != tag)
+      out.push_back("face tag " + std::to_string(tag) + " as side set " + std::to_string(id) +
+                    " (Exodus ids are positive)");
+  return out;
 }
 
 }  // namespace dtm

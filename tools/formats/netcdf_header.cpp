@@ -73,19 +73,21 @@ class Header {
     // (0xFFFFFFFF records: a file still being written, its count unknown.)
     const bool streaming = records == (wide_ ? UINT64_MAX : UINT32_MAX);
     for (const Data& d : data) {
-      uint64_t end = d.begin;
-      if (!d.record) {
-        end = d.begin > size_ ? size_ + 1 : d.begin + d.bytes;
-      } else if (records > 0 && !streaming) {
-        if (record_bytes != 0 && records - 1 > size_ / record_bytes)
-          end = size_ + 1;
-        else
+      // (A record variable of a file without records yet holds no data.)
+      if (d.record && (records == 0 || streaming)) continue;
+      uint64_t end = size_ + 1;
+      if (d.begin <= size_) {
+        if (!d.record) {
+          end = d.begin + d.bytes;
+        } else if (record_bytes == 0 || records - 1 <= (size_ - d.begin) / record_bytes) {
           end = d.begin + (records - 1) * record_bytes + d.bytes;
+        }
       }
-      if (end > size_ || (d.record && streaming && d.begin > size_))
-        throw FormatError(path_ + ": cut short: its netCDF header puts data up to byte " +
-                          (end > size_ + 1 ? std::to_string(end) : std::string("beyond its end")) +
-                          ", the file has " + std::to_string(size_) + " bytes");
+      if (end > size_)
+        throw FormatError(
+            path_ + ": cut short: its netCDF header puts data " +
+            (end > size_ + 1 ? "up to byte " + std::to_string(end) : std::string("past its end")) +
+            ", the file has " + std::to_string(size_) + " bytes");
     }
   }
 
