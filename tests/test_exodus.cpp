@@ -164,11 +164,30 @@ TEST(Exodus, ReadsBlocksSideSetsNodeSetsAndTheLastTimeStep) {
   EXPECT_EQ(m.cell_fields[0].values, (std::vector<double>{2000, 2000, 2000, 2000, 2000, 2000, 4000, 4000}));
   // What is not kept is named.
   EXPECT_TRUE(leaves_out(m, "element block 30 'rod' (1 BEAM2)"));
-  EXPECT_TRUE(leaves_out(m, "1 earlier time steps"));
+  EXPECT_TRUE(leaves_out(m, "the variables at its 1 other time steps (time step 2 of 2, time 1, is read"));
   EXPECT_TRUE(leaves_out(m, "'core_only'"));
   EXPECT_TRUE(leaves_out(m, "'stress' on the face blocks"));
   EXPECT_TRUE(leaves_out(m, "1 pyramids, 1 hexahedra"));
   EXPECT_TRUE(leaves_out(m, "moved by 4"));
+}
+
+// --time-step: the first step's values instead; a step the file lacks
+// refused.
+TEST(Exodus, ReadsTheTimeStepAsked) {
+  const std::string path = hex_and_pyramid();
+  const InputMesh m = read_input(path, {}, {}, true, {}, 1);
+  ASSERT_EQ(m.fields.size(), 3u);
+  EXPECT_EQ(m.fields[0].values[4], 114.0);
+  EXPECT_EQ(m.cell_fields[0].values[0], 1000.0);
+  EXPECT_TRUE(leaves_out(m, "(time step 1 of 2, time 0.5, is read"));
+  try {
+    read_input(path, {}, {}, true, {}, 3);
+    ADD_FAILURE() << "time step 3 of 2 read";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("hex_pyramid.e: time step 3 asked, the file has 2"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Exodus, KeepsATenNodeTetrahedronsEdgeNodes) {

@@ -82,6 +82,7 @@ struct Command {
   bool quiet = false, no_reference = false, no_fields = false, no_regions = false, no_face_tags = false,
        no_cell_data = false, strict = false, verbose = false;
   std::string region_array;
+  int time_step = 0;                      // --time-step; 0: the last
   int threads = 0;                        // --threads; 0: the process's share of its cores
   std::vector<std::string> field_errors;  // NAME=E
   dtm::VolumeOptions volume;
@@ -234,6 +235,9 @@ void add_options(CLI::App& app, Command& c) {
       "--no-face-tags", c.no_face_tags,
       "leave the input's tagged triangles (gmsh physical surfaces, Medit triangle refs, Abaqus surfaces) "
       "out of the stream");
+  app.add_option("--time-step", c.time_step,
+                 "Exodus II: the time step whose variables to keep (1 = the first; default: the last)")
+      ->check(CLI::Range(1, INT32_MAX));
   app.add_flag("--no-cell-data", c.no_cell_data,
                "leave the input's per-cell arrays (VTU/VTK cell data, gmsh $ElementData) out of the stream");
   app.add_flag(
@@ -373,6 +377,9 @@ dtm::InputMesh read(const Command& c) {
       throw dtm::UsageError("--format " + c.format_name + ": unknown (known: " + dtm::kInputFormatNames +
                             ")");
   }
+  if (c.time_step > 0 &&
+      (format ? *format : dtm::input_format_for_path(c.input)) != dtm::InputFormat::kExodus)
+    throw dtm::UsageError(c.input + ": --time-step applies to Exodus II files only");
   const bool volume_options = c.volume.threshold || c.volume.label || c.volume.interior_step != 1;
   if (volume_options && (format ? *format : dtm::input_format_for_path(c.input)) != dtm::InputFormat::kNrrd)
     throw dtm::UsageError(c.input +
@@ -383,14 +390,15 @@ dtm::InputMesh read(const Command& c) {
   dtm::MpiSession& mpi = dtm::mpi_session();
   dtm::InputMesh in;
   if (mpi.size() == 1) {
-    in = dtm::read_input(c.input, format, c.volume, !c.no_reference);
+    in = dtm::read_input(c.input, format, c.volume, !c.no_reference, {}, c.time_step);
   } else {
     // Every rank reads the input, and meets the same error: agreed on, it
     // is printed once. (Those of the .node's parts are agreed on already.)
     std::string problem;
     try {
-      in = dtm::read_input(c.input, format, c.volume, false,
-                           [&mpi](const std::string& path) { return read_node_in_parts(path, mpi); });
+      in = dtm::read_input(
+          c.input, format, c.volume, false,
+          [&mpi](const std::string& path) { return read_node_in_parts(path, mpi); }, c.time_step);
     } catch (const dtm::AgreedError&) {
       throw;
     } catch (const std::exception& e) {

@@ -22,13 +22,13 @@ namespace dtm {
 //   tag, its name the tag's);
 // * node sets: a uint8 field "nset:NAME" each (kNodeSetFieldPrefix; the
 //   set's id where it has no name);
-// * the nodal variables at the last time step, point fields (X_x, X_y, X_z
-//   one 3-component field X), and the element variables defined on every
-//   solid block, cell data.
+// * the nodal variables at time step `time_step` (1 the first; 0, the
+//   last), point fields (X_x, X_y, X_z one 3-component field X), and the
+//   element variables defined on every solid block, cell data.
 // The rest (other elements, earlier time steps, global and set variables,
 // element sets, maps, QA and info records) is named in InputMesh::left_out.
 // A 2D mesh is refused. Throws FormatError naming the file.
-InputMesh read_exodus(const std::string& path);
+InputMesh read_exodus(const std::string& path, int time_step = 0);
 
 // The mesh as an Exodus II file (netCDF classic, 64-bit offsets): one
 // element block a region (TETRA, or TETRA10 with edge nodes; its label the

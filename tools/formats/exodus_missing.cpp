@@ -14,7 +14,7 @@ constexpr const char* kHow =
     "which keeps its tetrahedra and variables, not its blocks and side sets)";
 }
 
-InputMesh read_exodus(const std::string& path) { throw FormatError(path + ": " + kHow); }
+InputMesh read_exodus(const std::string& path, int) { throw FormatError(path + ": " + kHow); }
 
 std::string render_exodus(const OutputMesh&) { throw std::invalid_argument(kHow); }
 

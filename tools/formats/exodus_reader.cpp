@@ -73,7 +73,8 @@ struct Block {
 
 class Reader {
  public:
-  explicit Reader(const std::string& path) : path_(path), file_(exodus::File::open(path)) {
+  Reader(const std::string& path, int time_step)
+      : path_(path), file_(exodus::File::open(path)), time_step_(time_step) {
     // What a count may claim: the file's bytes, or 1100 times them where
     // netCDF-4 may have compressed them (zlib's most).
     std::ifstream in(path, std::ios::binary);
@@ -368,21 +369,25 @@ class Reader {
     file_.check(ex_get_variable_param(file_.id(), EX_GLOBAL, &global), "its global variables");
     counted_objects(int64_t{nodal} + element, "variables");
     if (global > 0) notes_.push_back(std::to_string(global) + " global variables");
+    if (time_step_ > 0 && time_step_ > steps)
+      throw FormatError(path_ + ": time step " + std::to_string(time_step_) + " asked, the file has " +
+                        std::to_string(std::max<int64_t>(steps, 0)));
     if (nodal + element == 0) return;
     if (steps <= 0) {
       notes_.push_back("its variables' names (no time step holds values)");
       return;
     }
-    const int step = static_cast<int>(std::min<int64_t>(steps, INT32_MAX));
+    const int step = time_step_ > 0 ? time_step_ : static_cast<int>(std::min<int64_t>(steps, INT32_MAX));
     double time = 0;
-    file_.require(ex_get_time(file_.id(), step, &time), "its last time step");
-    std::ostringstream last;
-    last << time;
+    file_.require(ex_get_time(file_.id(), step, &time), "its time step " + std::to_string(step));
+    std::ostringstream read;
+    read << time;
     if (steps > 1)
-      notes_.push_back("the variables at " + std::to_string(steps - 1) +
-                       " earlier time steps (the last, time " + last.str() + ", is read)");
+      notes_.push_back("the variables at its " + std::to_string(steps - 1) + " other time steps (time step " +
+                       std::to_string(step) + " of " + std::to_string(steps) + ", time " + read.str() +
+                       ", is read; --time-step chooses)");
     else if (time != 0)
-      notes_.push_back("the time of its one time step, " + last.str());
+      notes_.push_back("the time of its one time step, " + read.str());
     const ScalarType type = file_.io_word_size() == 4 ? ScalarType::kFloat32 : ScalarType::kFloat64;
     // Nodal variables, X_x X_y X_z as one vector.
     const std::vector<std::string> nodal_names = var_names(EX_NODAL, nodal);
@@ -617,6 +622,7 @@ class Reader {
 
   std::string path_;
   exodus::File file_;
+  int time_step_ = 0;  // asked for; 0: the last
   uint64_t budget_ = 0, objects_budget_ = 0;
   InputMesh out_;
   std::vector<Block> blocks_;
@@ -628,6 +634,6 @@ class Reader {
 
 }  // namespace
 
-InputMesh read_exodus(const std::string& path) { return Reader(path).read(); }
+InputMesh read_exodus(const std::string& path, int time_step) { return Reader(path, time_step).read(); }
 
 }  // namespace dtm

@@ -87,14 +87,14 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
 }
 
 InputMesh read_any(const std::string& path, InputFormat format, const VolumeOptions& volume, bool tetgen_ele,
-                   const std::function<NodeFile(const std::string&)>& read_node) {
+                   const std::function<NodeFile(const std::string&)>& read_node, int time_step) {
   switch (format) {
     case InputFormat::kTetgen:
       return read_tetgen(path, tetgen_ele, read_node);
     case InputFormat::kAbaqus:
       return read_abaqus(path);
     case InputFormat::kExodus:
-      return read_exodus(path);
+      return read_exodus(path, time_step);
     case InputFormat::kMedit:
       return read_medit(path);
     case InputFormat::kVtk:
@@ -124,11 +124,12 @@ InputMesh read_any(const std::string& path, InputFormat format, const VolumeOpti
 }  // namespace
 
 InputMesh read_input(const std::string& path, std::optional<InputFormat> format, const VolumeOptions& volume,
-                     bool tetgen_ele, const std::function<NodeFile(const std::string&)>& read_node) {
+                     bool tetgen_ele, const std::function<NodeFile(const std::string&)>& read_node,
+                     int time_step) {
   if (!std::filesystem::exists(path)) throw FormatError(path + ": cannot open file (it does not exist)");
   if (std::filesystem::is_directory(path)) throw FormatError(path + ": a directory, not a mesh file");
-  InputMesh mesh =
-      read_any(path, format ? *format : input_format_for_path(path), volume, tetgen_ele, read_node);
+  InputMesh mesh = read_any(path, format ? *format : input_format_for_path(path), volume, tetgen_ele,
+                            read_node, time_step);
   set_edge_nodes_aside(mesh);
   check_spans_3d(mesh.points, path);
   return mesh;

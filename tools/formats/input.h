@@ -55,10 +55,11 @@ InputFormat input_format_for_path(const std::string& path);
 // says where it is, to be read later, or in part). Throws FormatError
 // naming the file, where, and the problem.
 // `read_node`, when given, reads a TetGen .node in its stead (meshenc under
-// mpirun: each rank a part, joined).
+// mpirun: each rank a part, joined). `time_step`: an Exodus II file's time
+// step whose variables to read (1 the first; 0 the last).
 InputMesh read_input(const std::string& path, std::optional<InputFormat> format = {},
                      const VolumeOptions& volume = {}, bool tetgen_ele = true,
-                     const std::function<NodeFile(const std::string&)>& read_node = {});
+                     const std::function<NodeFile(const std::string&)>& read_node = {}, int time_step = 0);
 
 // The names of cell arrays taken as the regions when the user names none,
 // in this order: what gmsh, Medit and meshio's converters write, and the
