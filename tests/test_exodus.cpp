@@ -265,6 +265,19 @@ TEST(Exodus, BadFilesAreRefusedNamingTheFile) {
   EXPECT_NE(exodus_error(long_type).find("long_type.e: its attribute 'elem_type' holds 39 values"),
             std::string::npos)
       << exodus_error(long_type);
+  // 33 bytes without their end: 6.02's strcpy() of them would run on.
+  {
+    int nc = -1, connect = -1;
+    ASSERT_EQ(nc_open(long_type.c_str(), NC_WRITE, &nc), NC_NOERR);
+    ASSERT_EQ(nc_inq_varid(nc, "connect1", &connect), NC_NOERR);
+    ASSERT_EQ(nc_redef(nc), NC_NOERR);
+    ASSERT_EQ(nc_put_att_text(nc, connect, "elem_type", 33, "TETRA____________________________X"), NC_NOERR);
+    ASSERT_EQ(nc_close(nc), NC_NOERR);
+  }
+  EXPECT_NE(
+      exodus_error(long_type).find("long_type.e: its attribute 'elem_type' fills 33 bytes without its end"),
+      std::string::npos)
+      << exodus_error(long_type);
 }
 
 // libnetcdf allocates what a classic header claims: the reader looks first.

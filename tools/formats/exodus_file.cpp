@@ -115,6 +115,13 @@ void check_variables_and_attributes(const std::string& path) {
       if (nc_inq_attname(nc, v, a, name) != NC_NOERR || nc_inq_att(nc, v, name, &type, &length) != NC_NOERR)
         continue;
       const std::string n = name;
+      // (33 bytes fill the buffer: only with their terminator, which 6.02's
+      // strcpy() of it then finds.)
+      if ((n == "elem_type" || n == "name") && type == NC_CHAR && length == MAX_STR_LENGTH + 1) {
+        char text[MAX_STR_LENGTH + 1] = {};
+        if (nc_get_att_text(nc, v, name, text) == NC_NOERR && text[MAX_STR_LENGTH] != '\0')
+          throw FormatError(path + ": its attribute '" + n + "' fills 33 bytes without its end");
+      }
       if (((n == "elem_type" || n == "name") && length > MAX_STR_LENGTH + 1) ||
           (v == NC_GLOBAL && kScalars.count(n) && length > 1))
         throw FormatError(

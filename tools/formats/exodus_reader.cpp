@@ -291,7 +291,7 @@ class Reader {
       if (elements.empty()) continue;
       file_.require(ex_get_set(file_.id(), EX_SIDE_SET, set_ids[s], elements.data(), sides.data()), shown);
       for (size_t i = 0; i < elements.size(); ++i) {
-        const Block* b = block_of(elements[i] - 1);
+        const Block* b = elements[i] >= 1 ? block_of(elements[i] - 1) : nullptr;
         if (!b)
           throw FormatError(path_ + ": " + shown + " names element " + std::to_string(elements[i]) +
                             ", which the file does not define");
@@ -360,7 +360,8 @@ class Reader {
     if (!out_.tagged_faces.empty()) out_.face_tag_source = "side sets and face blocks";
   }
 
-  // The nodal and element variables at the last time step.
+  // The nodal and element variables at the time step asked (the last
+  // without --time-step).
   void read_variables() {
     const int64_t steps = ex_inquire_int(file_.id(), EX_INQ_TIME);
     int nodal = 0, element = 0, global = 0;
