@@ -70,6 +70,16 @@ void put_names(int id, ex_entity_type type, std::vector<std::string> names) {
   EXPECT_EQ(ex_put_names(id, type, p.data()), 0);
 }
 
+// The nodes of a unit tetrahedron and block 1 of one TETRA over nodes 1, 2,
+// 3 and `last` (5: a node the file lacks).
+void put_one_tetrahedron(int id, int64_t last) {
+  const std::vector<double> x = {0, 1, 0, 0}, y = {0, 0, 1, 0}, z = {0, 0, 0, 1};
+  EXPECT_EQ(ex_put_coord(id, x.data(), y.data(), z.data()), 0);
+  EXPECT_EQ(ex_put_block(id, EX_ELEM_BLOCK, 1, "TETRA", 1, 4, 0, 0, 0), 0);
+  const std::vector<int64_t> conn = {1, 2, 3, last};
+  EXPECT_EQ(ex_put_conn(id, EX_ELEM_BLOCK, 1, conn.data(), nullptr, nullptr), 0);
+}
+
 // A hexahedron (block 10 "core") under a pyramid (block 20 "cap"), a
 // triangle shell on a pyramid face (block 3 "skin", whose id a side set
 // has too), a beam (block 30); side sets 3 "bottom" (the hexahedron's
@@ -231,11 +241,7 @@ TEST(Exodus, BadFilesAreRefusedNamingTheFile) {
   });
   EXPECT_NE(exodus_error(flat).find("flat.e: a 2D mesh"), std::string::npos) << exodus_error(flat);
   const std::string beyond = exodus_file("beyond.e", 3, 4, 1, 1, 0, 1, [](int id) {
-    const std::vector<double> x = {0, 1, 0, 0}, y = {0, 0, 1, 0}, z = {0, 0, 0, 1};
-    EXPECT_EQ(ex_put_coord(id, x.data(), y.data(), z.data()), 0);
-    EXPECT_EQ(ex_put_block(id, EX_ELEM_BLOCK, 1, "TETRA", 1, 4, 0, 0, 0), 0);
-    const std::vector<int64_t> conn = {1, 2, 3, 5};
-    EXPECT_EQ(ex_put_conn(id, EX_ELEM_BLOCK, 1, conn.data(), nullptr, nullptr), 0);
+    put_one_tetrahedron(id, 5);
     const std::vector<int64_t> elements = {2}, sides = {1};
     EXPECT_EQ(ex_put_set_param(id, EX_SIDE_SET, 1, 1, 0), 0);
     EXPECT_EQ(ex_put_set(id, EX_SIDE_SET, 1, elements.data(), sides.data()), 0);
@@ -246,13 +252,8 @@ TEST(Exodus, BadFilesAreRefusedNamingTheFile) {
   // An element type longer than libexodusii 6.02's buffer for it (33
   // bytes), which it would overrun.
   // (libexodusii itself writes no such file: netCDF's calls do.)
-  const std::string long_type = exodus_file("long_type.e", 3, 4, 1, 1, 0, 0, [](int id) {
-    const std::vector<double> x = {0, 1, 0, 0}, y = {0, 0, 1, 0}, z = {0, 0, 0, 1};
-    EXPECT_EQ(ex_put_coord(id, x.data(), y.data(), z.data()), 0);
-    EXPECT_EQ(ex_put_block(id, EX_ELEM_BLOCK, 1, "TETRA", 1, 4, 0, 0, 0), 0);
-    const std::vector<int64_t> conn = {1, 2, 3, 4};
-    EXPECT_EQ(ex_put_conn(id, EX_ELEM_BLOCK, 1, conn.data(), nullptr, nullptr), 0);
-  });
+  const std::string long_type =
+      exodus_file("long_type.e", 3, 4, 1, 1, 0, 0, [](int id) { put_one_tetrahedron(id, 4); });
   {
     int nc = -1, connect = -1;
     ASSERT_EQ(nc_open(long_type.c_str(), NC_WRITE, &nc), NC_NOERR);
@@ -321,13 +322,8 @@ TEST(Exodus, HeadersThatClaimMoreThanTheFileAreRefused) {
 // a variable shaped otherwise is refused (here a block's connectivity over
 // more elements than the block has).
 TEST(Exodus, VariablesNotShapedAsExodusAreRefused) {
-  const std::string path = exodus_file("reshaped.e", 3, 4, 1, 1, 0, 0, [](int id) {
-    const std::vector<double> x = {0, 1, 0, 0}, y = {0, 0, 1, 0}, z = {0, 0, 0, 1};
-    EXPECT_EQ(ex_put_coord(id, x.data(), y.data(), z.data()), 0);
-    EXPECT_EQ(ex_put_block(id, EX_ELEM_BLOCK, 1, "TETRA", 1, 4, 0, 0, 0), 0);
-    const std::vector<int64_t> conn = {1, 2, 3, 4};
-    EXPECT_EQ(ex_put_conn(id, EX_ELEM_BLOCK, 1, conn.data(), nullptr, nullptr), 0);
-  });
+  const std::string path =
+      exodus_file("reshaped.e", 3, 4, 1, 1, 0, 0, [](int id) { put_one_tetrahedron(id, 4); });
   int nc = -1, old = -1, big = -1, per = -1, connect = -1;
   ASSERT_EQ(nc_open(path.c_str(), NC_WRITE, &nc), NC_NOERR);
   ASSERT_EQ(nc_redef(nc), NC_NOERR);

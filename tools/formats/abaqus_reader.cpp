@@ -22,6 +22,7 @@
 #include "cell_split.h"
 #include "format_error.h"
 #include "second_order.h"
+#include "tagged_faces.h"
 #include "text_cursor.h"
 #include "vtk_cells.h"
 
@@ -659,20 +660,8 @@ class AbaqusReader {
         faces.push_back(face_triangles_[i]), tags.push_back(labels[i] == 0 ? 0 : labels[i] + tag);
     }
     // A face tagged twice keeps its first tag.
-    std::set<std::array<uint32_t, 3>> seen;
-    uint64_t twice = 0;
-    for (size_t i = 0; i < faces.size(); ++i) {
-      auto key = faces[i];
-      std::sort(key.begin(), key.end());
-      if (!seen.insert(key).second) {
-        ++twice;
-        continue;
-      }
-      out_.tagged_faces.push_back(faces[i]);
-      out_.face_tags.push_back(tags[i]);
-    }
-    if (twice)
-      notes_.push_back(std::to_string(twice) + " faces tagged a second time (each keeps its first tag)");
+    if (std::string note = add_tagged_faces_once(out_, faces, tags); !note.empty())
+      notes_.push_back(std::move(note));
     if (!out_.tagged_faces.empty()) out_.face_tag_source = "surfaces and 2D elements' element sets";
   }
 

@@ -21,6 +21,7 @@
 #include "exodus_file.h"
 #include "format_error.h"
 #include "second_order.h"
+#include "tagged_faces.h"
 
 namespace dtm {
 namespace {
@@ -343,20 +344,8 @@ class Reader {
       if (!b->name.empty()) out_.face_tag_names.emplace(tag, b->name);
     }
     out_.tagged_faces.clear();
-    std::set<std::array<uint32_t, 3>> seen;
-    uint64_t twice = 0;
-    for (size_t i = 0; i < faces.size(); ++i) {
-      auto key = faces[i];
-      std::sort(key.begin(), key.end());
-      if (!seen.insert(key).second) {
-        ++twice;
-        continue;
-      }
-      out_.tagged_faces.push_back(faces[i]);
-      out_.face_tags.push_back(tags[i]);
-    }
-    if (twice)
-      notes_.push_back(std::to_string(twice) + " faces tagged a second time (each keeps its first tag)");
+    if (std::string note = add_tagged_faces_once(out_, faces, tags); !note.empty())
+      notes_.push_back(std::move(note));
     if (!out_.tagged_faces.empty()) out_.face_tag_source = "side sets and face blocks";
   }
 
