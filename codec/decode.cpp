@@ -8,6 +8,7 @@
 #include "codec/sections/carving_coder.h"
 #include "codec/sections/exact_cell_coder.h"
 #include "codec/sections/face_coder.h"
+#include "codec/sections/node_order_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/sections/vertex_order_coder.h"
 #include "codec/stream/layer_coder.h"
@@ -154,6 +155,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   exact_section_.assign(layer.exact.begin(), layer.exact.end());
   edge_node_section_.assign(layer.edge_nodes.begin(), layer.edge_nodes.end());
   edge_value_section_.assign(layer.edge_values.begin(), layer.edge_values.end());
+  node_order_section_.assign(layer.node_order.begin(), layer.node_order.end());
   if (lh.bricked) {
     chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
     brick_depth_ = lh.brick_depth;
@@ -507,6 +509,21 @@ std::vector<uint32_t> ProgressiveDecoder::vertex_order(const TetMesh& dt) const 
     return {};
   }
   return order;
+}
+
+std::vector<uint32_t> ProgressiveDecoder::node_order(const EdgeNodes& nodes) const {
+  std::vector<uint32_t> numbering;
+  if (!has_edge_nodes() || !(header_.flags & kFlagVertexOrder) ||
+      header_.version_major < kVersionMajorNodeOrder || !mesh_status_.ok() ||
+      nodes.present.size() != nodes.edges.corners.size())
+    return numbering;
+  const Status s = decode_node_order(node_order_section_, nodes.edges,
+                                     node_order_frame(nodes.edges, nodes.present), points_.size(), numbering);
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level 0's node order");
+    return {};
+  }
+  return numbering;
 }
 
 ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& level) const {

@@ -180,6 +180,14 @@ class ProgressiveDecoder {
   };
   bool has_edge_nodes() const { return (header_.flags & kFlagEdgeNodes) && finest_level() == 0; }
   EdgeNodes edge_nodes(const LevelCells& level) const;
+  // With edge nodes and the vertex order (21.0, spec/FORMAT.md §3.13) and
+  // level 0 decoded: the input's nodes in its numbering, each a vertex (an
+  // entry below points().size(): the vertices come in ascending order, the
+  // vertex order's) or the present node r of `nodes` (points().size() + r,
+  // r counting the present nodes in the edges' order). Empty otherwise (an
+  // 18.0 to 20.0 stream puts the nodes after the vertices), and
+  // mesh_status() set if the section is damaged.
+  std::vector<uint32_t> node_order(const EdgeNodes& nodes) const;
 
  private:
   Status tables_read();
@@ -224,6 +232,7 @@ class ProgressiveDecoder {
   std::vector<uint8_t> exact_section_;       // level 0's
   std::vector<uint8_t> edge_node_section_;   // level 0's
   std::vector<uint8_t> edge_value_section_;  // level 0's
+  std::vector<uint8_t> node_order_section_;  // level 0's
   StreamHeader header_;
   std::optional<FieldSectionDecoder> value_decoder_;
   std::vector<FieldValues> fields_;

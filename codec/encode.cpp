@@ -766,6 +766,10 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
     stream_options.edge_nodes_v19 = options.edge_nodes_v19;
     if (region_index.size() == reference_tets.size()) stream_options.exact_labels = region_index;
     stream_options.edge_nodes = grid_edge_nodes;
+    // (21.0's: 18.0 and 19.0 streams, asked for by name, put the nodes after
+    // the vertices.)
+    if (options.keep_order && !grid_edge_nodes.empty() && !options.edge_nodes_v18 && !options.edge_nodes_v19)
+      stream_options.node_numbering = input.node_numbering;
   }
   if (with_cells)
     stream_options.cell_values =
@@ -802,6 +806,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   report.order_bytes = stream.order_bytes;
   report.exact_bytes = stream.exact_bytes;
   report.edge_node_bytes = stream.edge_node_bytes;
+  report.node_order_bytes = stream.node_order_bytes;
   report.edge_nodes = stream.edge_nodes;
   report.moved_edge_nodes = stream.moved_edge_nodes;
   report.edge_value_bytes = stream.edge_value_bytes;

@@ -180,6 +180,14 @@ struct EncodeInput {
     InputPoint at;
   };
   std::span<const EdgeNode> edge_nodes;
+  // With EncodeOptions::keep_order and edge_nodes kept: the input's
+  // numbering of the points and edge nodes together (format 21.0,
+  // spec/FORMAT.md §3.13), entry k its node k: a point (an index into
+  // `points`, the points coming in ascending order) or an edge node
+  // (points.size() + its index in edge_nodes), each once. Empty, or with
+  // EncodeOptions::edge_nodes_v18 or edge_nodes_v19: the decoded edge
+  // nodes follow the vertices (20.0, 19.0, 18.0).
+  std::span<const uint32_t> node_numbering;
   // Per tetrahedron, its region (material): the input's own label (a gmsh
   // physical volume, a Medit ref, ...); empty: none. Every level's cells
   // then carry the region that holds their centroid (format 9.0; bricked,
@@ -336,6 +344,7 @@ struct EncodeReport {
   uint64_t edge_nodes = 0;
   uint64_t moved_edge_nodes = 0;
   uint64_t edge_value_bytes = 0;    // the nodes' values (19.0)
+  uint64_t node_order_bytes = 0;    // --keep-order: the nodes among the vertices (21.0)
   uint64_t edge_nodes_dropped = 0;  // given, not written (the exact cells fell back to 11.0's coding)
   uint64_t exact_delaunay_cells = 0;
   ExactStats exact;

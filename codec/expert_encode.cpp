@@ -14,6 +14,7 @@
 #include "codec/sections/cell_value_coder.h"
 #include "codec/sections/edge_node_coder.h"
 #include "codec/sections/face_coder.h"
+#include "codec/sections/node_order_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/sections/vertex_order_coder.h"
 #include "codec/stream/format.h"
@@ -196,11 +197,12 @@ StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> p
 }
 
 // The format of a stream with edge nodes: 18.0's coding, 19.0's, or 20.0's
-// (the creases apart).
+// (the creases apart); 21.0's with the input's node numbering.
 uint8_t edge_nodes_major(const StreamOptions& options) {
-  return options.edge_nodes_v18   ? kVersionMajorEdgeNodes
-         : options.edge_nodes_v19 ? kVersionMajorPredictedEdgeNodes
-                                  : kVersionMajorCreaseEdgeNodes;
+  return options.edge_nodes_v18           ? kVersionMajorEdgeNodes
+         : options.edge_nodes_v19         ? kVersionMajorPredictedEdgeNodes
+         : options.node_numbering.empty() ? kVersionMajorCreaseEdgeNodes
+                                          : kVersionMajorNodeOrder;
 }
 
 // Level 0's edge node section (18.0, spec/FORMAT.md §3.11): its edges as the
@@ -211,9 +213,10 @@ uint8_t edge_nodes_major(const StreamOptions& options) {
 // value section (19.0, §3.12): the nodes' values, whose rows in `values`
 // follow the points' (the k-th node of `nodes` at row points + k). `major`:
 // the stream's format (edge_nodes_major()), which says how the nodes are
-// predicted.
+// predicted. With `numbering` (StreamOptions::node_numbering), the node
+// order section (21.0, §3.13) too.
 struct EdgeNodeSections {
-  std::vector<uint8_t> nodes, values;
+  std::vector<uint8_t> nodes, values, order;
 };
 StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<const uint8_t> kept,
                                               std::span<const uint32_t> order,
@@ -221,7 +224,7 @@ StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<con
                                               std::span<const GridEdgeNode> nodes,
                                               std::span<const uint32_t> decode_order, int qbits,
                                               uint8_t major, const FieldSectionEncoder* values, size_t points,
-                                              EncodedStream& out) {
+                                              std::span<const uint32_t> numbering, EncodedStream& out) {
   std::unordered_map<uint64_t, uint32_t> node_of;  // by the edge's grid ids, the first given
   node_of.reserve(nodes.size());
   for (size_t i = 0; i < nodes.size(); ++i)
@@ -231,6 +234,7 @@ StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<con
   offsets.present.assign(edges.corners.size(), 0);
   offsets.offset.assign(edges.corners.size(), {0, 0, 0});
   std::vector<uint32_t> node_rows;  // per present node, in the walk's order, its row in `values`
+  std::vector<uint32_t> rank_of_node(nodes.size(), UINT32_MAX);  // each given node's among the present
   const int64_t reach = edge_node_reach(qbits);
   for (size_t e = 0; e < edges.corners.size(); ++e) {
     const uint32_t a = edges.corners[e][0], b = edges.corners[e][1];
@@ -238,6 +242,7 @@ StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<con
     if (it == node_of.end()) continue;
     const GridEdgeNode& node = nodes[it->second];
     offsets.present[e] = 1;
+    rank_of_node[it->second] = static_cast<uint32_t>(node_rows.size());
     node_rows.push_back(static_cast<uint32_t>(points + it->second));
     ++out.edge_nodes;
     if (node.midpoint) continue;
@@ -266,6 +271,31 @@ StatusOr<EdgeNodeSections> edge_node_sections(const TetMesh& mesh, std::span<con
     sections.values = values->encode_chunk(
         vertex_rows, node_rows, edge_node_neighbours(edges, offsets.present), out.edge_node_field_bytes);
     out.edge_value_bytes = sections.values.size();
+  }
+  if (!numbering.empty()) {
+    // Each entry as the decoder names it: a vertex by its number (the
+    // vertex order section's, the input's), a node by its rank.
+    std::vector<uint32_t> named;
+    named.reserve(numbering.size());
+    uint32_t next_vertex = 0;
+    for (const uint32_t entry : numbering) {
+      if (entry < points) {
+        if (entry != next_vertex++)
+          return invalid_input("encode_stream: the node numbering names the points out of their order");
+        named.push_back(entry);
+        continue;
+      }
+      const size_t node = entry - points;
+      if (node >= nodes.size() || rank_of_node[node] == UINT32_MAX)
+        return invalid_input(
+            "encode_stream: the node numbering names an edge node twice or one the level has not");
+      named.push_back(static_cast<uint32_t>(points + rank_of_node[node]));
+      rank_of_node[node] = UINT32_MAX;
+    }
+    if (next_vertex != points || level_points.size() != points || named.size() != points + node_rows.size())
+      return invalid_input("encode_stream: the node numbering does not name every vertex and edge node");
+    sections.order = encode_node_order(edges, node_order_frame(edges, offsets.present), points, named);
+    out.node_order_bytes = sections.order.size();
   }
   return sections;
 }
@@ -324,6 +354,10 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       if (e.corners[0] >= points.size() || e.corners[1] >= points.size() || e.corners[0] == e.corners[1])
         return invalid_input("encode_stream: an edge node on an edge whose corners are not two points");
   }
+  if (!options.node_numbering.empty() &&
+      (!edge_nodes || options.input_order.empty() || options.edge_nodes_v18 || options.edge_nodes_v19))
+    return invalid_input(
+        "encode_stream: a node numbering needs edge nodes of format 20.0 and a vertex order");
   if (exact) {
     if (!corrections)
       return invalid_input("encode_stream: exact cells need a hierarchy carved to a reference");
@@ -470,7 +504,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // sections, and the point coder followed by the value coder (on
   // bunny_1m, 2 cores: 5.4 s against 4.6 + 2.2 s).
   struct LayerSections {
-    std::vector<uint8_t> carving, regions, faces, cells, order, exact, edge_nodes, edge_values, values;
+    std::vector<uint8_t> carving, regions, faces, cells, order, exact, edge_nodes, edge_values, node_order,
+        values;
     uint64_t cell_hash = 0;
     LayerPoints points;
   };
@@ -554,9 +589,10 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
           edge_node_sections(cells_mesh, kept, order, level_points, options.edge_nodes, out.decode_order,
                              grid.qbits, edge_nodes_major(options),
                              value_coder && !options.edge_nodes_v18 ? &*value_coder : nullptr, points.size(),
-                             out));
+                             options.node_numbering, out));
       out_l.edge_nodes = std::move(edge.nodes);
       out_l.edge_values = std::move(edge.values);
+      out_l.node_order = std::move(edge.order);
     }
     if (keep_order && streamed[l] == 0) {
       // Each input vertex's number in the decoder's order.
@@ -640,9 +676,11 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   if (edge_nodes && format_major_of(exact_ranks) != kVersionMajorExact) {
     out.edge_nodes_dropped = out.edge_nodes;
     out.edge_nodes = out.moved_edge_nodes = out.edge_node_bytes = out.edge_value_bytes = 0;
+    out.node_order_bytes = 0;
     out.edge_node_field_bytes.clear();
     sections[0].edge_nodes.clear();
     sections[0].edge_values.clear();
+    sections[0].node_order.clear();
     h.flags = static_cast<uint16_t>(h.flags & ~kFlagEdgeNodes);
   }
   // (An exact stream's version, and flags, as its sections settled them.)
@@ -672,7 +710,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
                                       {"vertex order", s.order.size()},
                                       {"exact cell", s.exact.size()},
                                       {"edge node", s.edge_nodes.size()},
-                                      {"edge value", s.edge_values.size()}})
+                                      {"edge value", s.edge_values.size()},
+                                      {"node order", s.node_order.size()}})
       if (bytes > UINT32_MAX)
         return Status{StatusCode::kLimitExceeded,
                       "encode_stream: level " + std::to_string(l) + "'s " + name + " section of " +
@@ -686,8 +725,9 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.level_vertices = static_cast<uint32_t>(level.vertices.size());
     lh.alpha = level.alpha;
     lh.cell_hash = s.cell_hash;
-    const auto layer = write_layer(lh, s.points.payload, s.carving, s.values, s.points.section, s.regions,
-                                   s.faces, s.cells, s.order, s.exact, s.edge_nodes, s.edge_values);
+    const auto layer =
+        write_layer(lh, s.points.payload, s.carving, s.values, s.points.section, s.regions, s.faces, s.cells,
+                    s.order, s.exact, s.edge_nodes, s.edge_values, s.node_order);
     out.cell_value_bytes += s.cells.size();
     out.face_bytes[streamed[l]] = s.faces.size();
     out.carving_bytes[streamed[l]] = s.carving.size();

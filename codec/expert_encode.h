@@ -94,6 +94,13 @@ struct StreamOptions {
   // summed across its creases (20.0: the creases apart).
   bool edge_nodes_v18 = false;
   bool edge_nodes_v19 = false;
+  // With input_order and edge_nodes (format 21.0, spec/FORMAT.md §3.13):
+  // the input's numbering of its vertices and edge nodes together, entry k
+  // its node k: a vertex (below points.size(), in ascending order: the
+  // input vertex input_order names) or an edge node (points.size() + its
+  // index in edge_nodes), each once. Empty: the nodes after the vertices
+  // (20.0). Not with edge_nodes_v18 or edge_nodes_v19.
+  std::span<const uint32_t> node_numbering;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
@@ -146,6 +153,7 @@ struct EncodedStream {
   // them (length words included).
   uint64_t edge_value_bytes = 0;
   std::vector<uint64_t> edge_node_field_bytes;
+  uint64_t node_order_bytes = 0;  // the node order section (21.0)
   // Edge nodes given and not written: the exact cells fell back to 11.0's
   // coding (its fit tests over their budget), which has none.
   uint64_t edge_nodes_dropped = 0;

@@ -117,6 +117,20 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
                      EXPECT_EQ(hex(bits_checksum(f)), w["checksum"].get<std::string>()) << f.description.name;
                    }
                  }
+                 // 21.0: level 0's vertices and edge nodes in the input's
+                 // numbering, their count and a checksum of their places in
+                 // that order (tests/golden/make.sh).
+                 if (want.contains("numbered_nodes")) {
+                   const OutputMesh mesh = decoded_mesh(d, GetParam(), true);
+                   uint64_t sum = 0;
+                   for (size_t k = 0; k < mesh.points.size(); ++k) {
+                     const GridPoint& p = mesh.points[k];
+                     sum +=
+                         (k + 1) * static_cast<uint64_t>(int64_t{p.x} + 3 * int64_t{p.y} + 5 * int64_t{p.z});
+                   }
+                   EXPECT_EQ(mesh.points.size(), want["numbered_nodes"]["nodes"].get<uint64_t>());
+                   EXPECT_EQ(hex(sum), want["numbered_nodes"]["checksum"].get<std::string>());
+                 }
                  // 9.0: the level's cells per region label.
                  if (!want.contains("region_cells")) return;
                  // (An exact level 0's cells are more than DT's: level_cells().)
@@ -229,6 +243,9 @@ INSTANTIATE_TEST_SUITE_P(Format19_0, GoldenStream,
 INSTANTIATE_TEST_SUITE_P(Format20_0, GoldenStream,
                          ::testing::Values("ball_order2_exact", "ball_order2_fields_exact",
                                            "pin_order2_exact"));
+// 21.0: the ball in gmsh's numbering of its vertices and edge nodes
+// together, a node order section after its edge node section.
+INSTANTIATE_TEST_SUITE_P(Format21_0, GoldenStream, ::testing::Values("ball_order2_numbered_exact"));
 // 14.0 to 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
 // cell hash is theirs, as the encoder hashed the input's cells), its apexes
 // ranked among the candidates that fit (12.0), with the filled bits in the

@@ -18,9 +18,9 @@ namespace dtm {
 
 namespace {
 
-// Vertex k becomes order[k]'s: the points and every per-vertex array
-// gathered, the cells' and faces' corners renamed (their orientation is the
-// points', which do not move).
+// Point k becomes order[k]'s: the points and every per-point array
+// gathered, the cells' and faces' corners and edge nodes renamed (their
+// orientation is the points', which do not move).
 void renumber(OutputMesh& mesh, std::span<const uint32_t> order) {
   std::vector<uint32_t> new_of_old(order.size());
   for (uint32_t k = 0; k < order.size(); ++k) new_of_old[order[k]] = k;
@@ -39,6 +39,13 @@ void renumber(OutputMesh& mesh, std::span<const uint32_t> order) {
     for (uint32_t& v : c) v = new_of_old[v];
   for (auto& f : mesh.faces)
     for (uint32_t& v : f) v = new_of_old[v];
+  const auto rename_nodes = [&](auto& elements) {
+    for (auto& e : elements)
+      for (uint32_t& v : e)
+        if (v != kNoEdgePoint) v = new_of_old[v];
+  };
+  rename_nodes(mesh.cell_edge_nodes);
+  rename_nodes(mesh.face_edge_nodes);
 }
 
 // The nodes on level 0's edges (18.0), found before the vertices may be
@@ -203,9 +210,14 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
         {f.description.name, scalar_type(f.description.type), f.description.components, f.bits});
   // With the nodes on level 0's edges (18.0, a second-order input's), which
   // edges have them, in the decoder's numbering.
+  // With the input's numbering too (21.0), where the input put them among
+  // the vertices.
   std::optional<EdgeNodeParts> edge_nodes;
+  std::vector<uint32_t> node_numbering;
   if (with_edge_nodes && decoder.has_edge_nodes()) {
     ProgressiveDecoder::EdgeNodes nodes = decoder.edge_nodes(level);
+    if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+    node_numbering = decoder.node_order(nodes);
     if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
     edge_nodes = edge_node_parts(std::move(nodes), mesh, dt, in_mesh);
   }
@@ -222,6 +234,13 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
     }
   }
   if (edge_nodes) append_edge_nodes(mesh, *edge_nodes, new_of_old);
+  // (The numbering names the vertices in the order just given, and node r
+  // as the point after them that append_edge_nodes() made it.)
+  if (!node_numbering.empty()) {
+    if (new_of_old.empty() || node_numbering.size() != mesh.points.size())
+      throw std::runtime_error(input + ": the node order does not name the level's vertices and nodes");
+    renumber(mesh, node_numbering);
+  }
   return mesh;
 }
 

@@ -419,11 +419,12 @@ using Tet = std::array<uint32_t, 4>;
 struct TetrahedraEdgeNodes {
   std::vector<dtm::EncodeInput::EdgeNode> nodes;
   std::vector<std::vector<double>> values;
+  std::vector<uint32_t> points;  // each node's edge point
 };
 TetrahedraEdgeNodes tetrahedra_edge_nodes(const dtm::InputMesh& in, std::span<const uint32_t> input_to_point,
                                           bool fields) {
   TetrahedraEdgeNodes out;
-  std::vector<uint32_t> points;  // each node's edge point
+  std::vector<uint32_t>& points = out.points;
   std::unordered_set<uint64_t> seen;
   for (size_t t = 0; t < in.tet_edge_nodes.size() && t < in.tets.size(); ++t)
     for (size_t k = 0; k < 6; ++k) {
@@ -446,6 +447,30 @@ TetrahedraEdgeNodes tetrahedra_edge_nodes(const dtm::InputMesh& in, std::span<co
       values.insert(values.end(), f.edge_values.begin() + static_cast<std::ptrdiff_t>(p * n),
                     f.edge_values.begin() + static_cast<std::ptrdiff_t>((p + 1) * n));
   }
+  return out;
+}
+
+// --keep-order of a second-order mesh (format 21.0): the file's numbering
+// of its points and of the edge nodes the stream keeps, together
+// (EncodeInput::node_numbering); empty where the reader kept no record of
+// it.
+std::vector<uint32_t> node_numbering(const dtm::InputMesh& in, const TetrahedraEdgeNodes& kept) {
+  const auto on_edges =
+      static_cast<size_t>(std::count(in.node_is_edge_point.begin(), in.node_is_edge_point.end(), uint8_t{1}));
+  if (in.node_is_edge_point.empty() || on_edges != in.edge_points.size() ||
+      in.node_is_edge_point.size() - on_edges != in.points.size())
+    return {};
+  std::vector<uint32_t> node_of_point(in.edge_points.size(), UINT32_MAX);
+  for (size_t k = 0; k < kept.points.size(); ++k) node_of_point[kept.points[k]] = static_cast<uint32_t>(k);
+  std::vector<uint32_t> out;
+  out.reserve(in.points.size() + kept.points.size());
+  uint32_t point = 0, edge_point = 0;
+  const auto points = static_cast<uint32_t>(in.points.size());
+  for (const uint8_t is_edge_point : in.node_is_edge_point)
+    if (!is_edge_point)
+      out.push_back(point++);
+    else if (const uint32_t node = node_of_point[edge_point++]; node != UINT32_MAX)
+      out.push_back(points + node);
   return out;
 }
 
@@ -953,9 +978,12 @@ int run(Command& c) {
   // level 0's cells (format 18.0), named by their corners' grid ids, before
   // the tetrahedra are put on the grid.
   TetrahedraEdgeNodes edge_nodes;
+  std::vector<uint32_t> numbering;  // --keep-order: the file's, of the points and nodes together
   if (keep_edge_nodes) {
     edge_nodes = tetrahedra_edge_nodes(in, plan->quantized.input_to_point, !fields.empty());
     input.edge_nodes = edge_nodes.nodes;
+    if (c.encode.keep_order) numbering = node_numbering(in, edge_nodes);
+    input.node_numbering = numbering;
     for (size_t f = 0; f < fields.size(); ++f) fields[f].edge_values = edge_nodes.values[f];
   }
   // Whether the input has tetrahedra (a rank's share may have none).
@@ -1136,6 +1164,12 @@ int run(Command& c) {
     if (r.order_bytes > 0)
       std::printf("  vertex order (the input's numbering of level 0): %llu bytes, %.2f bits per vertex\n",
                   static_cast<unsigned long long>(r.order_bytes), 8.0 * r.order_bytes / vertices);
+    if (r.node_order_bytes > 0)
+      std::printf(
+          "  node order (the edge nodes among the vertices, as the input numbered them): %llu bytes, "
+          "%.2f bits per edge node\n",
+          static_cast<unsigned long long>(r.node_order_bytes),
+          8.0 * r.node_order_bytes / static_cast<double>(std::max<uint64_t>(r.edge_nodes, 1)));
     if (!r.face_tags.empty()) {
       uint64_t face_bytes = r.face_table_bytes;
       for (uint64_t b : r.face_bytes) face_bytes += b;

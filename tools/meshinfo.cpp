@@ -25,7 +25,9 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
                  const std::vector<dtm::QualityRow>& quality, bool stats) {
   const auto& h = s.header;
   const double step = h.grid.step;
-  std::printf("%s: .dtm %u.%u, %u vertices in %u level%s, q=%d, step=%.6g, alpha policy %s%s%s%s%s%s%s\n",
+  const bool numbered_nodes = (h.flags & dtm::kFlagEdgeNodes) && (h.flags & dtm::kFlagVertexOrder) &&
+                              h.version_major >= dtm::kVersionMajorNodeOrder;
+  std::printf("%s: .dtm %u.%u, %u vertices in %u level%s, q=%d, step=%.6g, alpha policy %s%s%s%s%s%s%s%s\n",
               input.c_str(), h.version_major, h.version_minor, h.vertex_count, h.level_count,
               h.level_count == 1 ? "" : "s", h.grid.qbits, step, dtm::to_string(h.alpha_policy),
               (h.flags & dtm::kFlagCarvingCorrections) ? ", carving corrections" : ", alpha carving (paper)",
@@ -33,7 +35,8 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
               (h.flags & dtm::kFlagBricks) ? ", bricked layers" : "",
               (h.flags & dtm::kFlagVertexOrder) ? ", the input's vertex order" : "",
               (h.flags & dtm::kFlagExact) ? ", level 0 the input's own cells (exact)" : "",
-              (h.flags & dtm::kFlagEdgeNodes) ? ", with their edges' nodes (second order)" : "");
+              (h.flags & dtm::kFlagEdgeNodes) ? ", with their edges' nodes (second order)" : "",
+              numbered_nodes ? ", in the input's numbering" : "");
   const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
   std::printf("%llu bytes, %.2f bits per vertex%s\n", static_cast<unsigned long long>(s.bytes),
               8.0 * s.bytes / h.vertex_count,

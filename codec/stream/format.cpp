@@ -175,7 +175,8 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> candidates, std::span<const uint8_t> regions,
                                  std::span<const uint8_t> faces, std::span<const uint8_t> cell_values,
                                  std::span<const uint8_t> order, std::span<const uint8_t> exact,
-                                 std::span<const uint8_t> edge_nodes, std::span<const uint8_t> edge_values) {
+                                 std::span<const uint8_t> edge_nodes, std::span<const uint8_t> edge_values,
+                                 std::span<const uint8_t> node_order) {
   h.candidate_bytes = static_cast<uint32_t>(candidates.size());
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
@@ -187,6 +188,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   h.exact_bytes = static_cast<uint32_t>(exact.size());
   h.edge_node_bytes = static_cast<uint32_t>(edge_nodes.size());
   h.edge_value_bytes = static_cast<uint32_t>(edge_values.size());
+  h.node_order_bytes = static_cast<uint32_t>(node_order.size());
   std::vector<uint8_t> body(candidates.begin(), candidates.end());
   body.insert(body.end(), payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
@@ -198,6 +200,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   body.insert(body.end(), exact.begin(), exact.end());
   body.insert(body.end(), edge_nodes.begin(), edge_nodes.end());
   body.insert(body.end(), edge_values.begin(), edge_values.end());
+  body.insert(body.end(), node_order.begin(), node_order.end());
   FieldWriter writer;
   writer.trailer = body;
   visit_fields(h, writer);
@@ -297,6 +300,14 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
   if (h.level == 0 && edge_values && h.format_major >= kVersionMajorPredictedEdgeNodes &&
       h.edge_value_bytes == 0)
     return corrupt("level 0's layer without its edge value section");
+  // (21.0: the edge nodes' place among the vertices comes with both flags.)
+  const bool node_order = (header_.flags & kFlagEdgeNodes) && (header_.flags & kFlagVertexOrder);
+  if (!node_order && h.node_order_bytes != 0)
+    return corrupt("a node order section present without edge nodes and a vertex order");
+  if (h.level != 0 && h.node_order_bytes != 0)
+    return corrupt("a node order section in a layer but level 0's");
+  if (h.level == 0 && node_order && h.format_major >= kVersionMajorNodeOrder && h.node_order_bytes == 0)
+    return corrupt("level 0's layer without its node order section");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
     return corrupt("candidates at the base level, which has no coarser level");
@@ -365,7 +376,8 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   layer.exact = body.subspan(order_at + lh.order_bytes, lh.exact_bytes);
   const uint64_t edge_nodes_at = order_at + lh.order_bytes + lh.exact_bytes;
   layer.edge_nodes = body.subspan(edge_nodes_at, lh.edge_node_bytes);
-  layer.edge_values = body.subspan(edge_nodes_at + lh.edge_node_bytes);
+  layer.edge_values = body.subspan(edge_nodes_at + lh.edge_node_bytes, lh.edge_value_bytes);
+  layer.node_order = body.subspan(edge_nodes_at + lh.edge_node_bytes + lh.edge_value_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();

@@ -23,6 +23,11 @@
 //              the input's cells that are not Delaunay cells)
 //            + edge node section (18.0, kFlagEdgeNodes, level 0's layer
 //              only: the nodes on the edges of a second-order input's cells)
+//            + edge value section (19.0, kFlagEdgeNodes and kFlagValues,
+//              level 0's layer only: the fields' values at those nodes)
+//            + node order section (21.0, kFlagVertexOrder and
+//              kFlagEdgeNodes, level 0's layer only: the input's numbering
+//              of the vertices and edge nodes together)
 //   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
 //            (codec/bricks/bricks.h: each brick's new points and corrections)
 #pragma once
@@ -65,9 +70,12 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // edge nodes and values: an edge value section in level 0's layer), and
 // are predicted from the surface's normals; 20.0 when that prediction sets
 // the surface's creases apart (what meshenc --exact writes of a
-// second-order mesh; 19.0 and 18.0 on request); the decoder reads 2.x to
-// 20.x.
-inline constexpr uint8_t kVersionMajor = 20;
+// second-order mesh; 19.0 and 18.0 on request); 21.0 when a stream with
+// edge nodes keeps the input's numbering (kFlagVertexOrder): a node order
+// section puts its edge nodes among its vertices where the input numbered
+// them (codec/sections/node_order_coder.h); the decoder reads 2.x to 21.x.
+inline constexpr uint8_t kVersionMajor = 21;
+inline constexpr uint8_t kVersionMajorNodeOrder = 21;
 inline constexpr uint8_t kVersionMajorCreaseEdgeNodes = 20;
 inline constexpr uint8_t kVersionMajorPredictedEdgeNodes = 19;
 inline constexpr uint8_t kVersionMajorEdgeNodes = 18;
@@ -121,7 +129,9 @@ inline constexpr uint16_t kFlagVertexOrder = 128;
 inline constexpr uint16_t kFlagExact = 256;
 // 18.0: level 0's layer carries an edge node section: the node on each
 // edge of the input's second-order cells (codec/sections/edge_node_coder.h);
-// only with kFlagExact, whose level 0's edges are the input's.
+// only with kFlagExact, whose level 0's edges are the input's. From 21.0,
+// with kFlagVertexOrder too, a node order section after it puts the nodes
+// among the vertices (codec/sections/node_order_coder.h).
 inline constexpr uint16_t kFlagEdgeNodes = 512;
 inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues |
                                         kFlagBricks | kFlagRegions | kFlagFaces | kFlagCellData |
@@ -174,6 +184,9 @@ struct LayerHeader {
   // 19.0 and later: the edge value section, after it (0 but in level 0's
   // layer of a stream with kFlagEdgeNodes and kFlagValues).
   uint32_t edge_value_bytes = 0;
+  // 21.0 and later: the node order section, after it (0 but in level 0's
+  // layer of a stream with kFlagVertexOrder and kFlagEdgeNodes).
+  uint32_t node_order_bytes = 0;
   // Bricked layers (8.0): the largest circumradius of a kept cell (at least
   // alpha; larger cells carry no correction bit), the bricks' octree depth,
   // and the sizes of the index and of the chunks after it.
@@ -189,7 +202,8 @@ struct LayerHeader {
   uint64_t body_bytes() const {
     if (bricked) return uint64_t{index_bytes} + chunk_bytes;
     return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + face_bytes +
-           value_bytes + cell_value_bytes + order_bytes + exact_bytes + edge_node_bytes + edge_value_bytes;
+           value_bytes + cell_value_bytes + order_bytes + exact_bytes + edge_node_bytes + edge_value_bytes +
+           node_order_bytes;
   }
 };
 
@@ -251,6 +265,7 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
   if (h.format_major >= 11) v.template field<uint32_t>("exact_bytes", h.exact_bytes);
   if (h.format_major >= 18) v.template field<uint32_t>("edge_node_bytes", h.edge_node_bytes);
   if (h.format_major >= 19) v.template field<uint32_t>("edge_value_bytes", h.edge_value_bytes);
+  if (h.format_major >= 21) v.template field<uint32_t>("node_order_bytes", h.node_order_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -301,7 +316,8 @@ static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_si
                   layer_header_size(11) == 71 && layer_header_size(11, true) == 55 &&
                   layer_header_size(17) == 71 && layer_header_size(18) == 75 &&
                   layer_header_size(18, true) == 55 && layer_header_size(19) == 79 &&
-                  layer_header_size(19, true) == 55,
+                  layer_header_size(19, true) == 55 && layer_header_size(21) == 83 &&
+                  layer_header_size(21, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -320,7 +336,8 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> cell_values = {},
                                  std::span<const uint8_t> order = {}, std::span<const uint8_t> exact = {},
                                  std::span<const uint8_t> edge_nodes = {},
-                                 std::span<const uint8_t> edge_values = {});
+                                 std::span<const uint8_t> edge_values = {},
+                                 std::span<const uint8_t> node_order = {});
 
 // Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
 // the checksum computed), the index, the chunks.
@@ -341,6 +358,7 @@ struct Layer {
   std::span<const uint8_t> exact;        // 11.0: the exact cell section
   std::span<const uint8_t> edge_nodes;   // 18.0: the edge node section
   std::span<const uint8_t> edge_values;  // 19.0: the edge value section
+  std::span<const uint8_t> node_order;   // 21.0: the node order section
   // A bricked layer's index (checksummed with the header) and chunks (each
   // checked against its checksum in the index when it is decoded).
   std::span<const uint8_t> index;

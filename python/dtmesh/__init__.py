@@ -270,6 +270,7 @@ def encode(
     edge_points: Any = None,
     edge_nodes: Any = None,
     edge_fields: Optional[Mapping[str, Any]] = None,
+    node_numbering: Any = None,
 ) -> Encoded:
     """Encodes a volume point set, and its tetrahedra when it has them, into a ``.dtm`` stream.
 
@@ -338,6 +339,13 @@ def encode(
             each (K,) or (K, components) of its field's dtype (format 19.0:
             :attr:`Mesh.fields` give them back at the edge nodes, as at the
             vertices); a field without them gets its edge's corners' mean.
+        node_numbering: with ``keep_order``, ``exact`` and ``edge_nodes``,
+            the file's numbering of the points and edge points together, an
+            (N + K,) array: entry k is the file's node k, i < N the point i
+            (ascending among the entries), N + j the edge point j (format
+            21.0: the decoded mesh's points then come in this order, the
+            edge nodes among the vertices; about 8 bits an edge node for a
+            mesher's numbering). None: the edge nodes after the vertices.
         threads: threads to use for this call (meshenc's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
             The stream is the same for any number.
@@ -401,7 +409,8 @@ def encode(
         stream, report, vertex_of_input = _dtmesh.encode(
             p, t, r, names, f, ft, face_names, field_list, cell_list, int(qbits), box, scale, dmax, preset,
             dict(field_errors or {}), bool(keep_order), bool(exact), bool(bricks), int(brick_points), ep, en,
-            edge_list)
+            edge_list, None if node_numbering is None else
+            np.ascontiguousarray(np.asarray(node_numbering, dtype=np.int64).reshape(-1)))
     encoded = Encoded(stream, json.loads(report), vertex_of_input)
     if encoded.report.get("edge_nodes_dropped"):
         warnings.warn("left out (the stream does not hold it): the nodes on level 0's edges: the exact cells "

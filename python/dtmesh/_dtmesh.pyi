@@ -40,6 +40,7 @@ def encode(
     edge_points: Optional[npt.NDArray[np.float64]],
     edge_nodes: Optional[npt.NDArray[np.int64]],
     edge_fields: List[FieldIn],
+    node_numbering: Optional[npt.NDArray[np.int64]],
 ) -> Tuple[bytes, str, npt.NDArray[np.uint32]]: ...
 
 class Decoder:

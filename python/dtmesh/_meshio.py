@@ -156,6 +156,12 @@ def write(filename, mesh, **options):
     if edge is not None and set_aside is not None:
         # (Kept, with the point data's values there.)
         options["edge_points"], options["edge_nodes"], aside = edge
+        if options.get("keep_order"):
+            # (The file's numbering of the corners and edge nodes together.)
+            numbering = np.empty(len(aside), dtype=np.int64)
+            numbering[~aside] = np.arange(int((~aside).sum()))
+            numbering[aside] = int((~aside).sum()) + np.arange(int(aside.sum()))
+            options["node_numbering"] = numbering
         edge_fields = {name: np.asarray(values)[aside] for name, values in point_data.items()}
         set_aside = None
     mesh, split = _tetrahedral(mesh)

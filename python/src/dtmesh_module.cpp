@@ -86,20 +86,22 @@ dtm::EncodeOptions encode_options(int qbits, std::optional<double> box, std::opt
 }
 
 // (stream bytes, meshenc --report's JSON text, each input point's vertex).
-py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> points,
-                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> tetrahedra,
-                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> regions,
-                 const std::map<int32_t, std::string>& region_names,
-                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> faces,
-                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> face_tags,
-                 const std::map<int32_t, std::string>& face_tag_names, const std::vector<FieldIn>& fields,
-                 const std::vector<FieldIn>& cell_fields, int qbits, std::optional<double> box,
-                 std::optional<double> scale, std::optional<double> dmax, const std::string& preset,
-                 const std::map<std::string, double>& field_errors, bool keep_order, bool exact, bool bricks,
-                 uint64_t brick_points,
-                 std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>> edge_points,
-                 std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> edge_nodes,
-                 const std::vector<FieldIn>& edge_fields) {
+py::tuple encode(
+    py::array_t<double, py::array::c_style | py::array::forcecast> points,
+    std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> tetrahedra,
+    std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> regions,
+    const std::map<int32_t, std::string>& region_names,
+    std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> faces,
+    std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> face_tags,
+    const std::map<int32_t, std::string>& face_tag_names, const std::vector<FieldIn>& fields,
+    const std::vector<FieldIn>& cell_fields, int qbits, std::optional<double> box,
+    std::optional<double> scale, std::optional<double> dmax, const std::string& preset,
+    const std::map<std::string, double>& field_errors, bool keep_order, bool exact, bool bricks,
+    uint64_t brick_points,
+    std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>> edge_points,
+    std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> edge_nodes,
+    const std::vector<FieldIn>& edge_fields,
+    std::optional<py::array_t<int64_t, py::array::c_style | py::array::forcecast>> node_numbering) {
   if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must be an N x 3 array");
   const size_t n = static_cast<size_t>(points.shape(0));
   std::vector<dtm::InputPoint> in_points(n);
@@ -220,6 +222,30 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
       edge_values[f].insert(edge_values[f].end(), v + node * c, v + (node + 1) * c);
     in_fields[f].edge_values = edge_values[f];
   }
+  // With keep_order (21.0): the file's numbering of the points and edge
+  // points together, each edge point named as the node the stream keeps of
+  // it (one a duplicate edge's is not).
+  std::vector<uint32_t> numbering;
+  if (node_numbering && keep_order && exact && edge_nodes) {
+    const auto& order = *node_numbering;
+    const auto k = static_cast<size_t>(edge_points->shape(0));
+    if (order.ndim() != 1 || static_cast<size_t>(order.shape(0)) != n + k)
+      throw py::value_error("node_numbering must hold one entry per point and edge point");
+    std::vector<uint32_t> node_of_point(k, UINT32_MAX);
+    for (size_t node = 0; node < node_points.size(); ++node)
+      node_of_point[node_points[node]] = static_cast<uint32_t>(node);
+    const int64_t* o = order.data();
+    for (size_t i = 0; i < n + k; ++i) {
+      if (o[i] < 0 || static_cast<size_t>(o[i]) >= n + k)
+        throw py::value_error("node_numbering[" + std::to_string(i) + "] = " + std::to_string(o[i]) +
+                              " names no point or edge point");
+      const auto entry = static_cast<size_t>(o[i]);
+      if (entry < n)
+        numbering.push_back(static_cast<uint32_t>(entry));
+      else if (node_of_point[entry - n] != UINT32_MAX)
+        numbering.push_back(static_cast<uint32_t>(n + node_of_point[entry - n]));
+    }
+  }
   dtm::EncodeOptions options = encode_options(qbits, box, scale, dmax, preset, field_errors);
   options.keep_order = keep_order;
   options.exact = exact;
@@ -237,6 +263,7 @@ py::tuple encode(py::array_t<double, py::array::c_style | py::array::forcecast> 
   input.fields = in_fields;
   input.cell_fields = in_cell_fields;
   input.edge_nodes = in_edge_nodes;
+  input.node_numbering = numbering;
   std::optional<dtm::StatusOr<dtm::EncodedMesh>> encoded;
   {
     py::gil_scoped_release release;
@@ -589,7 +616,7 @@ PYBIND11_MODULE(_dtmesh, m) {
         py::arg("fields"), py::arg("cell_fields"), py::arg("qbits"), py::arg("box"), py::arg("scale"),
         py::arg("dmax"), py::arg("preset"), py::arg("field_errors"), py::arg("keep_order"), py::arg("exact"),
         py::arg("bricks"), py::arg("brick_points"), py::arg("edge_points"), py::arg("edge_nodes"),
-        py::arg("edge_fields"));
+        py::arg("edge_fields"), py::arg("node_numbering"));
   m.def("decode_part", &decode_part, py::arg("data"), py::arg("box"), py::arg("piece"), py::arg("pieces"),
         py::arg("level"), py::arg("max_vertices"));
   py::class_<Decoder>(m, "Decoder")

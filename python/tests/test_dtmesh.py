@@ -590,6 +590,33 @@ def test_meshio_writes_a_second_order_mesh_exactly_as_meshenc_does(tmp_path):
         meshio.write(tmp_path / "linear.dtm", mesh)
 
 
+def test_a_second_order_mesh_keeps_gmshs_numbering_of_all_its_nodes(tmp_path):
+    """The ball with exact=True and keep_order=True: meshenc --exact --keep-order's bytes (format
+    21.0, the edge nodes where gmsh numbered them among the vertices); decoded, its to_meshio() has
+    the input's nodes in the input's order, within half a grid step, and the same tetra10."""
+    geo = tmp_path / "ball.geo"
+    geo.write_text('SetFactory("OpenCASCADE");\nSphere(1) = {0, 0, 0, 1};\nMesh.MeshSizeMax = 0.5;\n'
+                   'Physical Volume("ball", 1) = {1};\n')
+    msh = tmp_path / "ball.msh"
+    run("gmsh", geo, "-3", "-order", "2", "-format", "msh41", "-o", msh)
+    mesh = meshio.read(msh)
+    mesh.point_data.clear()
+    ours, theirs = tmp_path / "ours.dtm", tmp_path / "theirs.dtm"
+    meshio.write(ours, mesh, exact=True, keep_order=True)
+    run(tool("meshenc"), msh, "-q", "--exact", "--keep-order", "-o", theirs)
+    assert ours.read_bytes() == theirs.read_bytes()
+    info = dtmesh.info(ours.read_bytes())
+    assert info["version"] == "21.0"
+    back = dtmesh.decode(ours.read_bytes()).to_meshio()
+    assert back.points.shape == mesh.points.shape
+    assert np.abs(back.points - mesh.points).max() <= 0.5 * info["step"] * (1 + 1e-6)
+    def cells(m):  # each tetra10 as its corners and its edges' nodes, by number
+        pairs = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]  # (meshio's order, VTK's)
+        return {(frozenset(c[:4]), frozenset((frozenset((c[a], c[b])), c[4 + k]) for k, (a, b) in enumerate(pairs)))
+                for c in np.asarray(m.cells_dict["tetra10"]).tolist()}
+    assert cells(back) == cells(mesh)
+
+
 def test_a_second_order_meshs_point_data_is_kept_at_its_edge_nodes(tmp_path):
     """The ball with point data at every node (a simulation's results on tetra10): meshio.write with
     exact=True keeps the values at the edge nodes too (format 19.0), meshenc --exact's bytes for the

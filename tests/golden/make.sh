@@ -232,3 +232,25 @@ GEO
 gmsh "$tmp/pin_order2.geo" -3 -order 2 -format msh41 -o "$tmp/pin_order2.msh" >/dev/null
 make_one pin_order2_exact pin_order2.msh --exact
 record_edge_nodes pin_order2_exact
+# 21.0: the ball with --exact --keep-order: its vertices and edge nodes in
+# gmsh's numbering (the corners of each entity and their edge nodes
+# interleaved), a node order section after the edge node section; recorded
+# as the count of all nodes and the sum over k of (k + 1) x (X + 3Y + 5Z)
+# modulo 2^64, (X, Y, Z) the k-th node of meshdec's .vtu in half grid steps,
+# which is the input's k-th (checked here within half a step).
+make_one ball_order2_numbered_exact ball_order2.msh --exact --keep-order
+"$dec" "$here/ball_order2_numbered_exact.dtm" -q -o "$tmp/ball_numbered.vtu"
+/usr/bin/python3 - "$here/ball_order2_numbered_exact.expected.json" "$tmp/ball_numbered.vtu" "$tmp/ball_order2.msh" \
+  "$("$info" "$here/ball_order2_numbered_exact.dtm" --json)" <<'PY'
+import json, sys
+import meshio, numpy as np
+path, vtu, given, info = sys.argv[1], sys.argv[2], sys.argv[3], json.loads(sys.argv[4])
+expected = json.load(open(path))
+mesh, source = meshio.read(vtu), meshio.read(given)
+assert len(mesh.points) == len(source.points)
+assert np.abs(mesh.points - source.points).max() <= 0.5 * info["step"] * (1 + 1e-9)
+x2 = np.rint(2 * (mesh.points - np.array(info["origin"])) / info["step"]).astype(np.int64)
+checksum = sum((k + 1) * int(x + 3 * y + 5 * z) for k, (x, y, z) in enumerate(x2)) % (1 << 64)
+expected["levels"][-1]["numbered_nodes"] = {"nodes": len(mesh.points), "checksum": "%016x" % checksum}
+json.dump(expected, open(path, "w"), indent=1)
+PY

@@ -85,6 +85,11 @@ struct InputMesh {
   std::vector<uint32_t> other_edge_nodes;
   uint64_t second_order_cells = 0;
   std::vector<InputPoint> edge_points;
+  // Per node of the file in its order, once set_edge_nodes_aside() has
+  // moved some: 1 where it went to edge_points, 0 where it stayed in
+  // `points` (both keep the file's order): the file's numbering of the
+  // two kinds together, which meshenc --keep-order keeps (format 21.0).
+  std::vector<uint8_t> node_is_edge_point;
   // Voxel inputs on an isotropic lattice: the lattice itself as the
   // quantization grid, so that positions are coded losslessly. `points` then
   // holds the same positions as doubles.

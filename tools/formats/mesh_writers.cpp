@@ -57,13 +57,19 @@ void validate(const OutputMesh& m) {
   if (m.edge_nodes > n || (!m.cell_edge_nodes.empty() && m.cell_edge_nodes.size() != m.cells.size()) ||
       (!m.face_edge_nodes.empty() && m.face_edge_nodes.size() != m.faces.size()))
     throw std::invalid_argument("mesh writer: edge nodes that are not the cells' and faces'");
+  if (m.cell_edge_nodes.empty() && m.face_edge_nodes.empty()) return;
+  std::vector<uint8_t> corner(n, 0);
+  for (const auto& c : m.cells)
+    for (uint32_t v : c) corner[v] = 1;
+  for (const auto& f : m.faces)
+    for (uint32_t v : f) corner[v] = 1;
   for (const auto& e : m.cell_edge_nodes)
     for (uint32_t v : e)
-      if (v != kNoEdgePoint && (v >= n || v < n - m.edge_nodes))
+      if (v != kNoEdgePoint && (v >= n || corner[v]))
         throw std::invalid_argument("mesh writer: a cell's edge node is not one of the edge nodes");
   for (const auto& e : m.face_edge_nodes)
     for (uint32_t v : e)
-      if (v != kNoEdgePoint && (v >= n || v < n - m.edge_nodes))
+      if (v != kNoEdgePoint && (v >= n || corner[v]))
         throw std::invalid_argument("mesh writer: a face's edge node is not one of the edge nodes");
 }
 
@@ -318,11 +324,36 @@ bool writes_edge_nodes(MeshFormat format) {
 
 OutputMesh without_edge_nodes(OutputMesh mesh) {
   if (mesh.edge_nodes == 0) return mesh;
-  const size_t n = mesh.points.size() - mesh.edge_nodes;
-  mesh.points.resize(n);
-  if (!mesh.level.empty()) mesh.level.resize(n);
-  if (!mesh.boundary.empty()) mesh.boundary.resize(n);
-  for (OutputField& f : mesh.fields) f.bits.resize(n * static_cast<size_t>(f.components));
+  // The points that are no edge node keep their order (with --keep-order,
+  // the input's numbering of its corners).
+  const size_t all = mesh.points.size();
+  std::vector<uint8_t> node(all, 0);
+  for (const auto& e : mesh.cell_edge_nodes)
+    for (uint32_t v : e)
+      if (v < all) node[v] = 1;
+  for (const auto& e : mesh.face_edge_nodes)
+    for (uint32_t v : e)
+      if (v < all) node[v] = 1;
+  std::vector<uint32_t> index(all, kNoEdgePoint);
+  uint32_t n = 0;
+  for (size_t p = 0; p < all; ++p)
+    if (!node[p]) index[p] = n++;
+  const auto keep = [&](auto& values, size_t per) {
+    if (values.empty()) return;
+    size_t to = 0;
+    for (size_t p = 0; p < all; ++p)
+      if (!node[p])
+        for (size_t c = 0; c < per; ++c) values[to++] = values[p * per + c];
+    values.resize(to);
+  };
+  keep(mesh.points, 1);
+  keep(mesh.level, 1);
+  keep(mesh.boundary, 1);
+  for (OutputField& f : mesh.fields) keep(f.bits, static_cast<size_t>(f.components));
+  for (auto& c : mesh.cells)
+    for (uint32_t& v : c) v = index[v];
+  for (auto& f : mesh.faces)
+    for (uint32_t& v : f) v = index[v];
   mesh.edge_nodes = 0;
   mesh.cell_edge_nodes.clear();
   mesh.face_edge_nodes.clear();

@@ -66,8 +66,10 @@ struct OutputMesh {
   // regions.
   bool declare_level = false, declare_region = false;
   // Optional (level 0 of an 18.0 stream, a second-order input's: meshenc
-  // --exact): the nodes on the cells' edges, the last `edge_nodes` of
-  // `points` (the grid then has half the stream's step, so that an edge's
+  // --exact): the nodes on the cells' edges, `edge_nodes` of the points,
+  // after the vertices (with --keep-order, 21.0: where the input numbered
+  // them, among the vertices; no node is a cell's or face's corner) (the
+  // grid then has half the stream's step, so that an edge's
   // midpoint is one of its points: every coordinate the same double). Per
   // cell, the points on its edges (0,1) (0,2) (0,3) (1,2) (1,3) (2,3);
   // per tagged face, on its edges (0,1) (1,2) (2,0); kNoEdgePoint

@@ -44,8 +44,10 @@ void set_edge_nodes_aside(InputMesh& mesh) {
   std::vector<uint32_t> index(n);
   std::vector<InputPoint> kept;
   kept.reserve(n);
+  mesh.node_is_edge_point.assign(n, 0);
   for (size_t i = 0; i < n; ++i) {
     if (role[i] == kOnEdge) {
+      mesh.node_is_edge_point[i] = 1;
       index[i] = static_cast<uint32_t>(mesh.edge_points.size());
       mesh.edge_points.push_back(mesh.points[i]);
     } else {
@@ -76,7 +78,10 @@ void set_edge_nodes_aside(InputMesh& mesh) {
   mesh.points = std::move(kept);
   mesh.other_edge_nodes.clear();
   mesh.other_edge_nodes.shrink_to_fit();
-  if (aside == 0) return;
+  if (aside == 0) {
+    release(mesh.node_is_edge_point);
+    return;
+  }
   mesh.left_out.push_back(edge_nodes_note(mesh, false, !mesh.fields.empty()));
 }
 
