@@ -11,7 +11,8 @@
 # random numbering's bound, the exact stream without and with
 # --keep-order; and whether meshdec's .msh of the stream has every node at
 # the input's number (meshio, within half a grid step) and the same 10-node
-# tetrahedra. Writes bench/results/NODE_ORDER.md.
+# tetrahedra; then what the file's own node ids cost (format 22.0). Writes
+# bench/results/NODE_ORDER.md.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-build}
@@ -66,6 +67,57 @@ print("| %s | %d | %d | %d | %d (%.2f) | %d (%.2f) | %.0f%% | %.2f | %d | %d | %
 PY
 )")
 done
+# The node ids (format 22.0): part_finer_2.msh's nodes given ids as files
+# number them otherwise than 1 to n (gmsh 2.2 files written by meshio,
+# then each node tag t made: parts of 5,000 from their own offsets, every
+# tenth id, random ids below 10^9), each with --exact --keep-order.
+"$py" - <<'PY'
+import random
+import meshio
+meshio.write("ids_plain.msh", meshio.read("part_finer_2.msh"), file_format="gmsh22", binary=False)
+lines = open("ids_plain.msh").read().split("\n")
+def remap(path, tag):
+    out, i = [], 0
+    while i < len(lines):
+        out.append(lines[i])
+        if lines[i] in ("$Nodes", "$Elements"):
+            n = int(lines[i + 1])
+            out.append(lines[i + 1])
+            for line in lines[i + 2:i + 2 + n]:
+                f = line.split()
+                if lines[i] == "$Nodes":
+                    f[0] = tag(int(f[0]))
+                else:
+                    f = f[:3 + int(f[2])] + [tag(int(v)) for v in f[3 + int(f[2]):]]
+                out.append(" ".join(f))
+            i += 2 + n
+            continue
+        i += 1
+    open(path, "w").write("\n".join(out))
+remap("ids_offsets.msh", lambda t: str(t + 100000 * (t // 5000)))
+remap("ids_stride.msh", lambda t: str(10 * t))
+rnd, given, used = random.Random(3), {}, set()
+def random_id(t):
+    while t not in given:
+        v = rnd.randrange(1, 10**9)
+        if v not in used:
+            used.add(v)
+            given[t] = v
+    return str(given[t])
+remap("ids_random.msh", random_id)
+PY
+id_rows=()
+for m in ids_plain ids_offsets ids_stride ids_random; do
+  "$enc" $m.msh --exact --keep-order -q -o $m.dtm --report $m.json >/dev/null
+  id_rows+=("$("$py" -c "
+import json
+r = json.load(open('$m.json'))
+lines = open('$m.msh').read().split('\\n')
+nodes = int(lines[lines.index('\$Nodes') + 1])
+b = r.get('node_label_bytes', 0)
+print('| %s | %d | %d | %.3f | %d |' % ('$m'.replace('ids_', ''), nodes, b, 8.0 * b / nodes, r['stream_bytes']))
+")")
+done
 out=$root/bench/results/NODE_ORDER.md
 notes=$(sed -n '/^## What it shows/,$p' "$out" 2>/dev/null || true)
 {
@@ -76,6 +128,12 @@ notes=$(sed -n '/^## What it shows/,$p' "$out" 2>/dev/null || true)
   echo "| mesh | vertices | edge nodes | runs | vertex order bytes (bits/vertex) | node order bytes (bits/edge node) | near | random bound | exact stream | with --keep-order | increase | xz -9 of the file (stream / it) | same numbering |"
   echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
   printf '%s\n' "${rows[@]}"
+  echo
+  echo "The node ids (format 22.0): part_finer_2.msh written by meshio as gmsh 2.2 (its nodes numbered 1 to n: *plain*, no section), then each node tag t made t + 100000 x floor(t / 5000) (*offsets*: parts numbered from their own offsets), 10t (*stride*) and a random id below 10^9 (*random*); --exact --keep-order of each: the node label section's bytes and bits per node, and the whole stream."
+  echo
+  echo "| ids | nodes | node label bytes | bits per node | stream |"
+  echo "|---|---:|---:|---:|---:|"
+  printf '%s\n' "${id_rows[@]}"
   if [ -n "$notes" ]; then echo; echo "$notes"; fi
 } >"$out"
 cat "$out"

@@ -8,6 +8,7 @@
 #include "codec/sections/carving_coder.h"
 #include "codec/sections/exact_cell_coder.h"
 #include "codec/sections/face_coder.h"
+#include "codec/sections/node_label_coder.h"
 #include "codec/sections/node_order_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/sections/vertex_order_coder.h"
@@ -156,6 +157,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   edge_node_section_.assign(layer.edge_nodes.begin(), layer.edge_nodes.end());
   edge_value_section_.assign(layer.edge_values.begin(), layer.edge_values.end());
   node_order_section_.assign(layer.node_order.begin(), layer.node_order.end());
+  node_label_section_.assign(layer.node_labels.begin(), layer.node_labels.end());
   if (lh.bricked) {
     chunk_bytes_.assign(layer.chunks.begin(), layer.chunks.end());
     brick_depth_ = lh.brick_depth;
@@ -520,10 +522,21 @@ std::vector<uint32_t> ProgressiveDecoder::node_order(const EdgeNodes& nodes) con
   const Status s = decode_node_order(node_order_section_, nodes.edges,
                                      node_order_frame(nodes.edges, nodes.present), points_.size(), numbering);
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level 0's node order");
+    mesh_status_ = s.with_context("level 0");
     return {};
   }
   return numbering;
+}
+
+std::vector<int64_t> ProgressiveDecoder::node_labels(size_t nodes) const {
+  std::vector<int64_t> labels;
+  if (!(header_.flags & kFlagNodeLabels) || finest_level() != 0 || !mesh_status_.ok()) return labels;
+  const Status s = decode_node_labels(node_label_section_, nodes, labels);
+  if (!s.ok()) {
+    mesh_status_ = s.with_context("level 0");
+    return {};
+  }
+  return labels;
 }
 
 ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& level) const {

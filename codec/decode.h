@@ -188,6 +188,12 @@ class ProgressiveDecoder {
   // 18.0 to 20.0 stream puts the nodes after the vertices), and
   // mesh_status() set if the section is damaged.
   std::vector<uint32_t> node_order(const EdgeNodes& nodes) const;
+  // With flag node labels (22.0, spec/FORMAT.md §3.14) and level 0 decoded:
+  // the input's label of each of its `nodes` nodes (points().size(), and
+  // with edge nodes the present ones too), in the input's numbering
+  // (vertex_order()'s; with edge nodes, node_order()'s). Empty otherwise,
+  // and mesh_status() set if the section is damaged.
+  std::vector<int64_t> node_labels(size_t nodes) const;
 
  private:
   Status tables_read();
@@ -233,6 +239,7 @@ class ProgressiveDecoder {
   std::vector<uint8_t> edge_node_section_;   // level 0's
   std::vector<uint8_t> edge_value_section_;  // level 0's
   std::vector<uint8_t> node_order_section_;  // level 0's
+  std::vector<uint8_t> node_label_section_;  // level 0's
   StreamHeader header_;
   std::optional<FieldSectionDecoder> value_decoder_;
   std::vector<FieldValues> fields_;

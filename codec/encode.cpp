@@ -768,9 +768,15 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
     stream_options.edge_nodes = grid_edge_nodes;
     // (21.0's: 18.0 and 19.0 streams, asked for by name, put the nodes after
     // the vertices.)
-    if (options.keep_order && !grid_edge_nodes.empty() && !options.edge_nodes_v18 && !options.edge_nodes_v19)
+    if (options.keep_order && !grid_edge_nodes.empty() && !options.edge_nodes_v18 &&
+        !options.edge_nodes_v19 && !options.edge_nodes_v20)
       stream_options.node_numbering = input.node_numbering;
   }
+  // The input's node labels (22.0) where the stream keeps the nodes they
+  // name: the points, and the edge nodes only with their numbering.
+  if (options.keep_order && !input.node_labels.empty() &&
+      (stream_options.edge_nodes.empty() || !stream_options.node_numbering.empty()))
+    stream_options.node_labels = input.node_labels;
   if (with_cells)
     stream_options.cell_values =
         [&](std::span<const std::array<uint32_t, 4>> cells) -> StatusOr<std::vector<FieldValues>> {
@@ -807,6 +813,8 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   report.exact_bytes = stream.exact_bytes;
   report.edge_node_bytes = stream.edge_node_bytes;
   report.node_order_bytes = stream.node_order_bytes;
+  report.node_label_bytes = stream.node_label_bytes;
+  report.node_labels_dropped = stream.node_labels_dropped;
   report.edge_nodes = stream.edge_nodes;
   report.moved_edge_nodes = stream.moved_edge_nodes;
   report.edge_value_bytes = stream.edge_value_bytes;

@@ -108,6 +108,10 @@ struct EncodeOptions {
   // 19.0; both false: 20.0 (StreamOptions).
   bool edge_nodes_v18 = false;
   bool edge_nodes_v19 = false;
+  // With keep_order, a second-order mesh's edge nodes after the vertices, as
+  // 20.0 streams have them (21.0: where the input numbered them, with
+  // EncodeInput::node_numbering).
+  bool edge_nodes_v20 = false;
   // Bricked layers (format 8.0, codec/blocks/bricked_encoder.h): the levels built
   // block by block (blocks of about block_points points), each layer's
   // points and corrections in chunks of about brick_points new points.
@@ -188,6 +192,14 @@ struct EncodeInput {
   // EncodeOptions::edge_nodes_v18 or edge_nodes_v19: the decoded edge
   // nodes follow the vertices (20.0, 19.0, 18.0).
   std::span<const uint32_t> node_numbering;
+  // With EncodeOptions::keep_order: the input's label of each node (a file's
+  // node id: gmsh's node tag, an Abaqus node number, an Exodus node map's
+  // id), in the input's numbering (node_numbering's order where the stream
+  // keeps it, else the points'), each in [1, 2^62 - 1], no two alike
+  // (format 22.0, spec/FORMAT.md §3.14). Empty: the nodes are numbered 1
+  // to n. Not kept where the stream keeps edge nodes without their
+  // numbering.
+  std::span<const int64_t> node_labels;
   // Per tetrahedron, its region (material): the input's own label (a gmsh
   // physical volume, a Medit ref, ...); empty: none. Every level's cells
   // then carry the region that holds their centroid (format 9.0; bricked,
@@ -343,9 +355,11 @@ struct EncodeReport {
   uint64_t edge_node_bytes = 0;
   uint64_t edge_nodes = 0;
   uint64_t moved_edge_nodes = 0;
-  uint64_t edge_value_bytes = 0;    // the nodes' values (19.0)
-  uint64_t node_order_bytes = 0;    // --keep-order: the nodes among the vertices (21.0)
-  uint64_t edge_nodes_dropped = 0;  // given, not written (the exact cells fell back to 11.0's coding)
+  uint64_t edge_value_bytes = 0;     // the nodes' values (19.0)
+  uint64_t node_order_bytes = 0;     // --keep-order: the nodes among the vertices (21.0)
+  uint64_t node_label_bytes = 0;     // --keep-order: the input's node ids (22.0)
+  bool node_labels_dropped = false;  // given, not written (the exact cells fell back to 11.0's coding)
+  uint64_t edge_nodes_dropped = 0;   // given, not written (the exact cells fell back to 11.0's coding)
   uint64_t exact_delaunay_cells = 0;
   ExactStats exact;
   // Points merged by quantization whose values differed: each vertex keeps

@@ -14,6 +14,7 @@
 #include "codec/sections/cell_value_coder.h"
 #include "codec/sections/edge_node_coder.h"
 #include "codec/sections/face_coder.h"
+#include "codec/sections/node_label_coder.h"
 #include "codec/sections/node_order_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/sections/vertex_order_coder.h"
@@ -358,6 +359,19 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       (!edge_nodes || options.input_order.empty() || options.edge_nodes_v18 || options.edge_nodes_v19))
     return invalid_input(
         "encode_stream: a node numbering needs edge nodes of format 20.0 and a vertex order");
+  const bool labels = !options.node_labels.empty();
+  if (labels) {
+    if (options.input_order.empty()) return invalid_input("encode_stream: node labels need a vertex order");
+    if (edge_nodes && options.node_numbering.empty())
+      return invalid_input(
+          "encode_stream: the node labels of a mesh with edge nodes need its node numbering");
+    const size_t nodes = options.node_numbering.empty() ? points.size() : options.node_numbering.size();
+    if (options.node_labels.size() != nodes)
+      return invalid_input("encode_stream: " + std::to_string(options.node_labels.size()) +
+                           " node labels for " + std::to_string(nodes) + " nodes");
+    if (!valid_node_labels(options.node_labels))
+      return invalid_input("encode_stream: node labels out of [1, 2^62 - 1] or given twice");
+  }
   if (exact) {
     if (!corrections)
       return invalid_input("encode_stream: exact cells need a hierarchy carved to a reference");
@@ -416,7 +430,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // (An exact stream's version is settled when its section is: 11.0 where
   // its apexes are ranked among all the candidates.)
   ApexRanks exact_ranks = options.exact_ranks;
-  h.version_major = edge_nodes                ? edge_nodes_major(options)
+  h.version_major = labels                    ? kVersionMajorNodeLabels
+                    : edge_nodes              ? edge_nodes_major(options)
                     : exact                   ? kVersionMajorExact
                     : cell_data || keep_order ? kVersionMajorCellData
                     : regions || faces        ? kVersionMajorRegions
@@ -426,7 +441,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
             (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0) |
             (cell_data ? kFlagCellData : 0) | (keep_order ? kFlagVertexOrder : 0) | (exact ? kFlagExact : 0) |
-            (edge_nodes ? kFlagEdgeNodes : 0);
+            (edge_nodes ? kFlagEdgeNodes : 0) | (labels ? kFlagNodeLabels : 0);
   h.level_count = static_cast<uint16_t>(streamed.size());
   h.vertex_count = static_cast<uint32_t>(hierarchy.levels[0].vertices.size());
 
@@ -505,7 +520,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // bunny_1m, 2 cores: 5.4 s against 4.6 + 2.2 s).
   struct LayerSections {
     std::vector<uint8_t> carving, regions, faces, cells, order, exact, edge_nodes, edge_values, node_order,
-        values;
+        node_labels, values;
     uint64_t cell_hash = 0;
     LayerPoints points;
   };
@@ -602,6 +617,10 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
       out_l.order = encode_vertex_order(vertex_neighbours(level_points.size(), cells_mesh.cells), numbering);
       out.order_bytes = out_l.order.size();
     }
+    if (labels && streamed[l] == 0) {
+      out_l.node_labels = encode_node_labels(options.node_labels);
+      out.node_label_bytes = out_l.node_labels.size();
+    }
     return Status::Ok();
   };
   const auto values_of = [&](size_t l) {
@@ -683,11 +702,20 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     sections[0].node_order.clear();
     h.flags = static_cast<uint16_t>(h.flags & ~kFlagEdgeNodes);
   }
+  // (Nor node labels, which 22.0 brought: they are dropped, and said so.)
+  if (labels && exact && format_major_of(exact_ranks) != kVersionMajorExact) {
+    out.node_labels_dropped = true;
+    out.node_label_bytes = 0;
+    sections[0].node_labels.clear();
+    h.flags = static_cast<uint16_t>(h.flags & ~kFlagNodeLabels);
+  }
   // (An exact stream's version, and flags, as its sections settled them.)
   if (exact) {
-    const uint8_t major =
-        !(h.flags & kFlagEdgeNodes) ? format_major_of(exact_ranks) : edge_nodes_major(options);
-    if (major != h.version_major || (edge_nodes && !(h.flags & kFlagEdgeNodes))) {
+    const uint8_t major = (h.flags & kFlagNodeLabels)   ? kVersionMajorNodeLabels
+                          : !(h.flags & kFlagEdgeNodes) ? format_major_of(exact_ranks)
+                                                        : edge_nodes_major(options);
+    if (major != h.version_major || (edge_nodes && !(h.flags & kFlagEdgeNodes)) ||
+        (labels && !(h.flags & kFlagNodeLabels))) {
       h.version_major = major;
       const std::vector<uint8_t> header = write_header(h);
       std::copy(header.begin(), header.end(), out.bytes.begin());
@@ -711,7 +739,8 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
                                       {"exact cell", s.exact.size()},
                                       {"edge node", s.edge_nodes.size()},
                                       {"edge value", s.edge_values.size()},
-                                      {"node order", s.node_order.size()}})
+                                      {"node order", s.node_order.size()},
+                                      {"node label", s.node_labels.size()}})
       if (bytes > UINT32_MAX)
         return Status{StatusCode::kLimitExceeded,
                       "encode_stream: level " + std::to_string(l) + "'s " + name + " section of " +
@@ -727,7 +756,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     lh.cell_hash = s.cell_hash;
     const auto layer =
         write_layer(lh, s.points.payload, s.carving, s.values, s.points.section, s.regions, s.faces, s.cells,
-                    s.order, s.exact, s.edge_nodes, s.edge_values, s.node_order);
+                    s.order, s.exact, s.edge_nodes, s.edge_values, s.node_order, s.node_labels);
     out.cell_value_bytes += s.cells.size();
     out.face_bytes[streamed[l]] = s.faces.size();
     out.carving_bytes[streamed[l]] = s.carving.size();

@@ -101,6 +101,12 @@ struct StreamOptions {
   // index in edge_nodes), each once. Empty: the nodes after the vertices
   // (20.0). Not with edge_nodes_v18 or edge_nodes_v19.
   std::span<const uint32_t> node_numbering;
+  // With input_order (format 22.0, spec/FORMAT.md §3.14): the input's label
+  // of each node in its numbering (node_numbering's order where it is
+  // given, else input_order's), each in [1, kMaxNodeLabel], no two alike.
+  // Empty: the nodes numbered 1 to n. With edge_nodes, only with
+  // node_numbering.
+  std::span<const int64_t> node_labels;
   // (Bricked streams, format 8.0, come from codec/blocks/bricked_encoder.h: their
   // levels are built block by block.)
 };
@@ -154,6 +160,10 @@ struct EncodedStream {
   uint64_t edge_value_bytes = 0;
   std::vector<uint64_t> edge_node_field_bytes;
   uint64_t node_order_bytes = 0;  // the node order section (21.0)
+  uint64_t node_label_bytes = 0;  // the node label section (22.0)
+  // Node labels given and not written: the exact cells fell back to 11.0's
+  // coding, whose streams cannot hold them.
+  bool node_labels_dropped = false;
   // Edge nodes given and not written: the exact cells fell back to 11.0's
   // coding (its fit tests over their budget), which has none.
   uint64_t edge_nodes_dropped = 0;

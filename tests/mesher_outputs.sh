@@ -714,5 +714,111 @@ for source, given in (("a41.msh", "m.inp"), ("q41.msh", "m2.inp"), ("a41.msh", "
         sys.exit("%s.out.inp: not the input's tetrahedra in their sets (%d / %d, %d differ)"
                  % (given, len(want), len(got), len(set(want.items()) ^ set(got.items()))))
 PY
+
+# --exact --keep-order keeps every node's number (format 21.0) and the
+# file's own ids (22.0): ball2.msh with its node tags made to skip (tag t
+# as 3t + 100, and its nodes listed in reverse) comes back from meshdec's
+# .msh and .inp with each node under its id, within half a grid step, and
+# each 10-node tetrahedron naming the same ids; a box of it names its
+# vertices by their numbers; --exact-v20 writes 20.0; a mesh whose prisms'
+# nodes the stream does not hold is refused, naming the first.
+"$py" - <<'PY' || { echo "could not make ball_ids.msh"; failed=1; }
+import meshio
+m = meshio.read("ball2.msh")
+meshio.write("ball22.msh", m, file_format="gmsh22", binary=False)
+lines = open("ball22.msh").read().split("\n")
+tag = lambda t: str(3 * int(t) + 100)
+out, i = [], 0
+while i < len(lines):
+    out.append(lines[i])
+    if lines[i] in ("$Nodes", "$Elements"):
+        n = int(lines[i + 1])
+        out.append(lines[i + 1])
+        rows = []
+        for line in lines[i + 2:i + 2 + n]:
+            f = line.split()
+            if lines[i] == "$Nodes":
+                f[0] = tag(f[0])
+            else:
+                f = f[:3 + int(f[2])] + [tag(v) for v in f[3 + int(f[2]):]]
+            rows.append(" ".join(f))
+        out += rows[::-1] if lines[i] == "$Nodes" else rows
+        i += 2 + n
+        continue
+    i += 1
+open("ball_ids.msh", "w").write("\n".join(out))
+PY
+"$meshenc" ball_ids.msh --exact --keep-order -o ball_ids.dtm >ball_ids.out 2>&1 || { cat ball_ids.out; failed=1; }
+grep -q "node labels (the input's node ids)" ball_ids.out || { echo "ball_ids.msh: its ids are not kept"; cat ball_ids.out; failed=1; }
+grep -q "left out.*node ids" ball_ids.out && { echo "ball_ids.msh: kept ids named as left out"; failed=1; }
+"$meshenc" ball_ids.msh --exact -q -o ball_ids_plain.dtm 2>ball_ids_plain.err || failed=1
+grep -q "left out.*the node ids" ball_ids_plain.err || { echo "ball_ids.msh without --keep-order: its ids not named"; failed=1; }
+"$meshinfo" ball_ids.dtm | head -1 | grep -q "\.dtm 22\.0.*the input's node ids" || { echo "ball_ids.dtm: not 22.0"; failed=1; }
+"$meshenc" ball2.msh --exact-v20 --keep-order -q -o ball_v20.dtm || failed=1
+"$meshinfo" ball_v20.dtm | head -1 | grep -q "\.dtm 20\.0" || { echo "ball2.msh --exact-v20: not a 20.0 stream"; failed=1; }
+for ext in msh inp; do "$meshdec" ball_ids.dtm -q -o ball_ids.out.$ext || failed=1; done
+"$meshdec" ball_ids.dtm -q --box -0.5 -0.5 -0.5 0.5 0.5 0.5 -o ball_ids.box.vtu || failed=1
+"$py" - "$("$meshinfo" ball_ids.dtm --json)" <<'PY' || failed=1
+import json, sys
+import numpy as np
+step = json.loads(sys.argv[1])["step"]
+def nodes_and_tets(path):  # by id, as the file names them
+    lines = [l.strip() for l in open(path)]
+    nodes, tets = {}, []
+    if path.endswith(".inp"):
+        mode = None
+        for l in lines:
+            if l.startswith("*"):
+                mode = "n" if l.upper() == "*NODE" else "e" if l.upper().startswith("*ELEMENT, TYPE=C3D10") else None
+            elif l and mode == "n":
+                f = l.split(","); nodes[int(f[0])] = np.array([float(x) for x in f[1:4]])
+            elif l and mode == "e":
+                tets.append(frozenset(int(x) for x in l.split(",")[1:]))
+        return nodes, set(tets)
+    i = lines.index("$Nodes")
+    if lines[0:2] == ["$MeshFormat", "2.2 0 8"]:
+        n = int(lines[i + 1])
+        for l in lines[i + 2:i + 2 + n]:
+            f = l.split(); nodes[int(f[0])] = np.array([float(x) for x in f[1:4]])
+        j = lines.index("$Elements")
+        for l in lines[j + 2:j + 2 + int(lines[j + 1])]:
+            f = l.split()
+            if f[1] == "11": tets.append(frozenset(int(x) for x in f[3 + int(f[2]):]))
+        return nodes, set(tets)
+    blocks, k = int(lines[i + 1].split()[0]), i + 2
+    for _ in range(blocks):
+        c = int(lines[k].split()[3])
+        for t, xyz in zip(lines[k + 1:k + 1 + c], lines[k + 1 + c:k + 1 + 2 * c]):
+            nodes[int(t)] = np.array([float(x) for x in xyz.split()])
+        k += 1 + 2 * c
+    j = lines.index("$Elements")
+    blocks, k = int(lines[j + 1].split()[0]), j + 2
+    for _ in range(blocks):
+        d, e, kind, c = map(int, lines[k].split())
+        if kind == 11: tets += [frozenset(int(x) for x in l.split()[1:]) for l in lines[k + 1:k + 1 + c]]
+        k += 1 + c
+    return nodes, set(tets)
+given, given_tets = nodes_and_tets("ball_ids.msh")
+for out in ("ball_ids.out.msh", "ball_ids.out.inp"):
+    nodes, tets = nodes_and_tets(out)
+    if set(nodes) != set(given):
+        sys.exit("%s: not the input's node ids" % out)
+    worst = max(np.abs(nodes[t] - given[t]).max() for t in given)
+    if worst > 0.5 * step * (1 + 1e-9):
+        sys.exit("%s: a node %g from the input's of its id" % (out, worst))
+    if tets != given_tets:
+        sys.exit("%s: not the input's 10-node tetrahedra by id" % out)
+import meshio
+box = meshio.read("ball_ids.box.vtu")
+order = list(given)  # the file's order (dicts keep it): vertex_id k is its k-th node
+ids = box.point_data["vertex_id"].astype(int)
+worst = max(np.abs(box.points[i] - given[order[v]]).max() for i, v in enumerate(ids))
+if worst > 0.5 * step * (1 + 1e-9):
+    sys.exit("ball_ids.box.vtu: vertex_id is not the input's node number (%g away)" % worst)
+PY
+"$meshenc" layer_2.msh --exact --keep-order -q -o layer_2.dtm 2>layer_2.err && { echo "layer_2.msh --exact --keep-order: not refused"; failed=1; }
+grep -q "the nodes after them would not keep their numbers; the first is node [0-9]*" layer_2.err ||
+  { echo "layer_2.msh --exact --keep-order: refused without naming the node"; cat layer_2.err; failed=1; }
+
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed

@@ -95,7 +95,9 @@ TEST(FormatFields, LayerHeaderTableIsTheCodesFieldList) { expect_spec_matches<La
 
 TEST(FormatFields, ChecksumsCoverTheBytesBeforeThem) {
   EXPECT_EQ(sized<StreamHeader>().checksum_offset + 4, kHeaderSize);
-  EXPECT_EQ(sized<LayerHeader>().checksum_offset + 8, layer_header_size(kVersionMajorNodeOrder));
+  EXPECT_EQ(sized<LayerHeader>().checksum_offset + 8, layer_header_size(kVersionMajorNodeLabels));
+  EXPECT_EQ(sized<LayerHeader>(kVersionMajorNodeOrder).checksum_offset + 8,
+            layer_header_size(kVersionMajorNodeOrder));
   EXPECT_EQ(sized<LayerHeader>(kVersionMajorPredictedEdgeNodes).checksum_offset + 8,
             layer_header_size(kVersionMajorPredictedEdgeNodes));
   EXPECT_EQ(sized<LayerHeader>(kVersionMajorEdgeNodes).checksum_offset + 8,

@@ -131,6 +131,16 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
                    EXPECT_EQ(mesh.points.size(), want["numbered_nodes"]["nodes"].get<uint64_t>());
                    EXPECT_EQ(hex(sum), want["numbered_nodes"]["checksum"].get<std::string>());
                  }
+                 // 22.0: the input's node ids in its numbering, their count
+                 // and the sum of (k + 1) x the k-th (tests/golden/make.sh).
+                 if (want.contains("node_labels")) {
+                   const OutputMesh mesh = decoded_mesh(d, GetParam(), true);
+                   uint64_t sum = 0;
+                   for (size_t k = 0; k < mesh.node_labels.size(); ++k)
+                     sum += (k + 1) * static_cast<uint64_t>(mesh.node_labels[k]);
+                   EXPECT_EQ(mesh.node_labels.size(), want["node_labels"]["nodes"].get<uint64_t>());
+                   EXPECT_EQ(hex(sum), want["node_labels"]["checksum"].get<std::string>());
+                 }
                  // 9.0: the level's cells per region label.
                  if (!want.contains("region_cells")) return;
                  // (An exact level 0's cells are more than DT's: level_cells().)
@@ -246,6 +256,9 @@ INSTANTIATE_TEST_SUITE_P(Format20_0, GoldenStream,
 // 21.0: the ball in gmsh's numbering of its vertices and edge nodes
 // together, a node order section after its edge node section.
 INSTANTIATE_TEST_SUITE_P(Format21_0, GoldenStream, ::testing::Values("ball_order2_numbered_exact"));
+// 22.0: the ball with its node tags made to skip, a node label section
+// after its node order section.
+INSTANTIATE_TEST_SUITE_P(Format22_0, GoldenStream, ::testing::Values("ball_order2_labelled_exact"));
 // 14.0 to 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
 // cell hash is theirs, as the encoder hashed the input's cells), its apexes
 // ranked among the candidates that fit (12.0), with the filled bits in the

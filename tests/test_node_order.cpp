@@ -245,6 +245,39 @@ TEST(NodeOrder, ANumberingThatIsNotOneIsRefused) {
   EXPECT_EQ(d.header().version_major, kVersionMajorPredictedEdgeNodes);
 }
 
+// With the file's own node ids too (22.0): every node's, the edge nodes'
+// among the vertices', in the file's order.
+TEST(NodeOrder, TheNodesComeBackWithTheirIds) {
+  const NumberedSecondOrder m = numbered_torus(false);
+  std::vector<int64_t> ids(m.numbering.size());
+  for (size_t k = 0; k < ids.size(); ++k) ids[k] = 5 * static_cast<int64_t>(k) + 1 + (k > 100 ? 1000 : 0);
+  EncodeInput in;
+  in.points = m.points;
+  in.tetrahedra = m.tets;
+  in.edge_nodes = m.nodes;
+  in.node_numbering = m.numbering;
+  in.node_labels = ids;
+  const auto encoded = encode(in, exact_numbered_options());
+  ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+  ProgressiveDecoder d;
+  ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
+  EXPECT_EQ(d.header().version_major, kVersionMajorNodeLabels);
+  const OutputMesh mesh = decoded_mesh(d, "ids", true);
+  EXPECT_EQ(mesh.node_labels, ids);
+  // A writer of linear cells keeps the corners' ids.
+  std::vector<int64_t> corner_ids;
+  for (size_t k = 0; k < m.numbering.size(); ++k)
+    if (m.numbering[k] < m.points.size()) corner_ids.push_back(ids[k]);
+  EXPECT_EQ(without_edge_nodes(mesh).node_labels, corner_ids);
+  // The nodes' ids without their numbering (an 18.0 or 19.0 stream) are
+  // refused by the stream encoder; encode() keeps the numbering's or none.
+  EncodeOptions v19 = exact_numbered_options();
+  v19.edge_nodes_v19 = true;
+  const auto older = encode(in, v19);
+  ASSERT_TRUE(older.ok()) << older.status().message();
+  EXPECT_EQ(older->report.node_label_bytes, 0u);
+}
+
 // Below the layer checksum: a damaged section is refused or names every
 // vertex, in order, and every node once; every truncation is refused.
 TEST(NodeOrder, DamagedAndTruncatedSectionsAreRefusedOrANumbering) {

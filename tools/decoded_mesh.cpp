@@ -241,7 +241,20 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
       throw std::runtime_error(input + ": the node order does not name the level's vertices and nodes");
     renumber(mesh, node_numbering);
   }
+  // With the input's node ids (22.0), each node's, in the numbering just
+  // given: of all the nodes the stream labels (with edge nodes, only where
+  // they are written).
+  if ((decoder.header().flags & kFlagNodeLabels) && (!decoder.has_edge_nodes() || edge_nodes)) {
+    mesh.node_labels = decoder.node_labels(mesh.points.size());
+    if (!decoder.mesh_status().ok()) throw std::runtime_error(input + ": " + decoder.mesh_status().message());
+  }
   return mesh;
+}
+
+bool numbers_edge_nodes(const ProgressiveDecoder& decoder) {
+  const StreamHeader& h = decoder.header();
+  return decoder.has_edge_nodes() && (h.flags & kFlagVertexOrder) &&
+         h.version_major >= kVersionMajorNodeOrder;
 }
 
 OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
@@ -263,6 +276,7 @@ OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
     index[v] = static_cast<uint32_t>(out.points.size());
     out.points.push_back(whole.points[v]);
     ids.bits.push_back(v);
+    if (!whole.node_labels.empty()) out.node_labels.push_back(whole.node_labels[v]);
     if (!whole.level.empty()) out.level.push_back(whole.level[v]);
     if (!whole.boundary.empty()) out.boundary.push_back(whole.boundary[v]);
   }

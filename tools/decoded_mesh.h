@@ -23,6 +23,12 @@ namespace dtm {
 OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input,
                         bool with_edge_nodes = false);
 
+// Whether level 0 of `decoder`'s stream numbers its vertices among its edge
+// nodes (21.0, meshenc --exact --keep-order of a second-order mesh): a box
+// cut from it must be cut from the level with its nodes (decoded_mesh(...,
+// true)) for its vertices' numbers (vertex_id) to be the input's.
+bool numbers_edge_nodes(const ProgressiveDecoder& decoder);
+
 // The cells of `whole` whose bounding box (of grid points) meets `box`,
 // with what the level carries on them: their vertices in the whole's order
 // with each one's number there (point data vertex_id, first), its fields,

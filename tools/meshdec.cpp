@@ -346,7 +346,8 @@ int run_region(const Command& c, dtm::MeshFormat format) {
     Verifier verifier;
     decode(c, decoder, verifier, display);
     const dtm::OutputMesh mesh =
-        dtm::cut_to_box(dtm::decoded_mesh(decoder, c.input), dtm::grid_box_of(header.grid, lo, hi));
+        dtm::cut_to_box(dtm::decoded_mesh(decoder, c.input, dtm::numbers_edge_nodes(decoder)),
+                        dtm::grid_box_of(header.grid, lo, hi));
     if (decoder.has_edge_nodes() && !c.quiet)
       std::fprintf(
           stderr,

@@ -25,6 +25,7 @@
 #include "tools/atomic_file.h"
 #include "tools/field_types.h"
 #include "tools/formats/input.h"
+#include "tools/formats/node_labels.h"
 #include "tools/formats/second_order.h"
 #include "tools/formats/tetgen.h"
 #include "tools/huge_pages.h"
@@ -277,6 +278,14 @@ void add_options(CLI::App& app, Command& c) {
       },
       "--exact, a second-order mesh's edge nodes written as format 19.0 for decoders older than 20.0 "
       "(without 20.0's creases: up to 2.4 bits a vertex more)");
+  app.add_flag_function(
+      "--exact-v20",
+      [&c](int64_t) {
+        c.encode.exact = true;
+        c.encode.edge_nodes_v20 = true;
+      },
+      "--exact, written as format 20.0 for decoders older than 21.0: with --keep-order, a second-order "
+      "mesh's edge nodes after its vertices, not where it numbered them");
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,
@@ -471,6 +480,66 @@ std::vector<uint32_t> node_numbering(const dtm::InputMesh& in, const TetrahedraE
       out.push_back(point++);
     else if (const uint32_t node = node_of_point[edge_point++]; node != UINT32_MAX)
       out.push_back(points + node);
+  return out;
+}
+
+// --keep-order of a second-order mesh keeps its numbering only where the
+// stream holds every node of the file, each a vertex or the one node of a
+// tetrahedron's edge: else every node after one it does not hold would come
+// back at a number one less. Throws naming the first such node (its place
+// in the file, and its id where the file has its own) and why.
+void check_every_node_kept(const dtm::InputMesh& in, const TetrahedraEdgeNodes& kept,
+                           std::span<const uint32_t> numbering, const std::string& input) {
+  std::vector<uint32_t> held(in.edge_points.size(), 0);  // per edge point, the nodes it is
+  for (const uint32_t p : kept.points) ++held[p];
+  const auto unheld = static_cast<size_t>(std::count(held.begin(), held.end(), 0u));
+  const auto shared =
+      static_cast<size_t>(std::count_if(held.begin(), held.end(), [](uint32_t h) { return h > 1; }));
+  if (unheld == 0 && shared == 0 && numbering.size() == in.points.size() + kept.points.size()) return;
+  std::string first;
+  for (size_t k = 0, edge_point = 0; k < in.node_is_edge_point.size() && first.empty(); ++k) {
+    if (!in.node_is_edge_point[k]) continue;
+    if (held[edge_point++] != 1)
+      first = "node " + std::to_string(k + 1) + " of the file" +
+              (in.node_labels.size() == in.node_is_edge_point.size()
+                   ? " (id " + std::to_string(in.node_labels[k]) + ")"
+                   : "");
+  }
+  throw std::runtime_error(
+      input + ": --keep-order: " +
+      (unheld ? std::to_string(unheld) + (unheld == 1 ? " of its nodes is" : " of its nodes are") +
+                    " no tetrahedron's edge node the stream holds (nodes of second-order prisms, "
+                    "hexahedra, pyramids or faces alone, or a second node on one edge)"
+              : std::to_string(shared) + (shared == 1 ? " of its nodes is" : " of its nodes are") +
+                    " the node of more than one edge") +
+      ", so the nodes after them would not keep their numbers" +
+      (first.empty() ? "" : "; the first is " + first) +
+      ". --keep-order keeps the numbering of a mesh whose every node is a vertex or one edge's node: leave "
+      "it "
+      "out to encode this one");
+}
+
+// --keep-order of a file with its own node ids (format 22.0): each kept
+// node's id in the stream's numbering of them (`numbering`, node_numbering()'s,
+// or, empty, the points'); empty where the reader's record does not fit.
+std::vector<int64_t> node_labels_in_order(const dtm::InputMesh& in, std::span<const uint32_t> numbering,
+                                          const TetrahedraEdgeNodes& kept) {
+  std::vector<int64_t> point_label, edge_label;
+  if (in.node_is_edge_point.empty()) {
+    if (in.node_labels.size() != in.points.size()) return {};
+    point_label = in.node_labels;
+  } else {
+    if (in.node_labels.size() != in.node_is_edge_point.size()) return {};
+    for (size_t k = 0; k < in.node_labels.size(); ++k)
+      (in.node_is_edge_point[k] ? edge_label : point_label).push_back(in.node_labels[k]);
+    if (point_label.size() != in.points.size() || edge_label.size() != in.edge_points.size()) return {};
+  }
+  if (numbering.empty()) return point_label;
+  std::vector<int64_t> out;
+  out.reserve(numbering.size());
+  for (const uint32_t entry : numbering)
+    out.push_back(entry < in.points.size() ? point_label[entry]
+                                           : edge_label[kept.points[entry - in.points.size()]]);
   return out;
 }
 
@@ -946,6 +1015,18 @@ int run(Command& c) {
         break;
       }
   }
+  // --keep-order keeps the file's node ids (format 22.0) where the stream
+  // keeps the nodes they name: the points, and the edge nodes with their
+  // numbering (not in the 18.0 and 19.0 streams asked for by name).
+  const bool older_nodes = c.encode.edge_nodes_v18 || c.encode.edge_nodes_v19 || c.encode.edge_nodes_v20;
+  // (Not in the streams asked for older decoders: 22.0 brought them.)
+  const bool keep_labels = c.encode.keep_order && !in.node_labels.empty() && !older_nodes &&
+                           (!c.encode.exact || c.encode.exact_ranks == dtm::ApexRanks::kAfterFlips);
+  if (keep_labels) std::erase(in.left_out, std::string(dtm::kNodeIdsNote));
+  if (c.encode.keep_order && keep_edge_nodes && older_nodes)
+    in.left_out.emplace_back(
+        "where the file numbers its edge nodes among its vertices (format 21.0's node order: an older "
+        "format's stream has them after the vertices)");
   // Whatever the stream will not hold, named on standard error (and in the
   // report); --strict refuses the input instead.
   // (Under mpirun every rank reads the input: rank 0 says it once.)
@@ -982,9 +1063,21 @@ int run(Command& c) {
   if (keep_edge_nodes) {
     edge_nodes = tetrahedra_edge_nodes(in, plan->quantized.input_to_point, !fields.empty());
     input.edge_nodes = edge_nodes.nodes;
-    if (c.encode.keep_order) numbering = node_numbering(in, edge_nodes);
+    if (c.encode.keep_order && !c.encode.edge_nodes_v18 && !c.encode.edge_nodes_v19 &&
+        !c.encode.edge_nodes_v20) {
+      numbering = node_numbering(in, edge_nodes);
+      check_every_node_kept(in, edge_nodes, numbering, c.input);
+    }
     input.node_numbering = numbering;
     for (size_t f = 0; f < fields.size(); ++f) fields[f].edge_values = edge_nodes.values[f];
+  }
+  std::vector<int64_t> labels;
+  if (keep_labels) {
+    if (!keep_edge_nodes || !numbering.empty()) labels = node_labels_in_order(in, numbering, edge_nodes);
+    if (labels.empty())
+      std::fprintf(stderr, "%s: left out (the stream does not hold it): %s\n", c.input.c_str(),
+                   std::string(dtm::kNodeIdsNote).c_str());
+    input.node_labels = labels;
   }
   // Whether the input has tetrahedra (a rank's share may have none).
   const bool with_reference = !in.tets.empty() || !in.tetgen_ele.empty();
@@ -1164,6 +1257,14 @@ int run(Command& c) {
     if (r.order_bytes > 0)
       std::printf("  vertex order (the input's numbering of level 0): %llu bytes, %.2f bits per vertex\n",
                   static_cast<unsigned long long>(r.order_bytes), 8.0 * r.order_bytes / vertices);
+    if (r.node_label_bytes > 0)
+      std::printf("  node labels (the input's node ids): %llu bytes\n",
+                  static_cast<unsigned long long>(r.node_label_bytes));
+    if (r.node_labels_dropped)
+      std::fprintf(stderr,
+                   "%s: left out (the stream does not hold it): the node ids: the exact cells fell back to "
+                   "format 11.0's coding, which holds none\n",
+                   c.input.c_str());
     if (r.node_order_bytes > 0)
       std::printf(
           "  node order (the edge nodes among the vertices, as the input numbered them): %llu bytes, "

@@ -27,7 +27,7 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
   const double step = h.grid.step;
   const bool numbered_nodes = (h.flags & dtm::kFlagEdgeNodes) && (h.flags & dtm::kFlagVertexOrder) &&
                               h.version_major >= dtm::kVersionMajorNodeOrder;
-  std::printf("%s: .dtm %u.%u, %u vertices in %u level%s, q=%d, step=%.6g, alpha policy %s%s%s%s%s%s%s%s\n",
+  std::printf("%s: .dtm %u.%u, %u vertices in %u level%s, q=%d, step=%.6g, alpha policy %s%s%s%s%s%s%s%s%s\n",
               input.c_str(), h.version_major, h.version_minor, h.vertex_count, h.level_count,
               h.level_count == 1 ? "" : "s", h.grid.qbits, step, dtm::to_string(h.alpha_policy),
               (h.flags & dtm::kFlagCarvingCorrections) ? ", carving corrections" : ", alpha carving (paper)",
@@ -36,7 +36,8 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
               (h.flags & dtm::kFlagVertexOrder) ? ", the input's vertex order" : "",
               (h.flags & dtm::kFlagExact) ? ", level 0 the input's own cells (exact)" : "",
               (h.flags & dtm::kFlagEdgeNodes) ? ", with their edges' nodes (second order)" : "",
-              numbered_nodes ? ", in the input's numbering" : "");
+              numbered_nodes ? ", in the input's numbering" : "",
+              (h.flags & dtm::kFlagNodeLabels) ? ", the input's node ids" : "");
   const bool truncated = s.status.code() == dtm::StatusCode::kTruncated;
   std::printf("%llu bytes, %.2f bits per vertex%s\n", static_cast<unsigned long long>(s.bytes),
               8.0 * s.bytes / h.vertex_count,

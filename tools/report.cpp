@@ -107,6 +107,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
   }
   if (r.order_bytes > 0) j["order_bytes"] = r.order_bytes;
   if (r.node_order_bytes > 0) j["node_order_bytes"] = r.node_order_bytes;
+  if (r.node_label_bytes > 0) j["node_label_bytes"] = r.node_label_bytes;
   if (r.edge_nodes > 0)
     j["edge_nodes"] = {{"bytes", r.edge_node_bytes},
                        {"nodes", r.edge_nodes},

@@ -162,6 +162,10 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
     return corrupt("edge nodes flagged in a stream before 18.0");
   if ((h.flags & kFlagEdgeNodes) && !(h.flags & kFlagExact))
     return corrupt("edge nodes flagged without exact cells");
+  if ((h.flags & kFlagNodeLabels) && h.version_major < 22)
+    return corrupt("node labels flagged in a stream before 22.0");
+  if ((h.flags & kFlagNodeLabels) && !(h.flags & kFlagVertexOrder))
+    return corrupt("node labels flagged without a vertex order");
   if (h.level_count == 0) return corrupt("zero levels");
   if (h.vertex_count < 4) return corrupt("fewer than 4 vertices");
   for (double o : h.grid.origin)
@@ -176,7 +180,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> faces, std::span<const uint8_t> cell_values,
                                  std::span<const uint8_t> order, std::span<const uint8_t> exact,
                                  std::span<const uint8_t> edge_nodes, std::span<const uint8_t> edge_values,
-                                 std::span<const uint8_t> node_order) {
+                                 std::span<const uint8_t> node_order, std::span<const uint8_t> node_labels) {
   h.candidate_bytes = static_cast<uint32_t>(candidates.size());
   h.payload_bytes = static_cast<uint32_t>(payload.size());
   h.carving_bytes = static_cast<uint32_t>(carving.size());
@@ -189,6 +193,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   h.edge_node_bytes = static_cast<uint32_t>(edge_nodes.size());
   h.edge_value_bytes = static_cast<uint32_t>(edge_values.size());
   h.node_order_bytes = static_cast<uint32_t>(node_order.size());
+  h.node_label_bytes = static_cast<uint32_t>(node_labels.size());
   std::vector<uint8_t> body(candidates.begin(), candidates.end());
   body.insert(body.end(), payload.begin(), payload.end());
   body.insert(body.end(), carving.begin(), carving.end());
@@ -201,6 +206,7 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   body.insert(body.end(), edge_nodes.begin(), edge_nodes.end());
   body.insert(body.end(), edge_values.begin(), edge_values.end());
   body.insert(body.end(), node_order.begin(), node_order.end());
+  body.insert(body.end(), node_labels.begin(), node_labels.end());
   FieldWriter writer;
   writer.trailer = body;
   visit_fields(h, writer);
@@ -308,6 +314,12 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
     return corrupt("a node order section in a layer but level 0's");
   if (h.level == 0 && node_order && h.format_major >= kVersionMajorNodeOrder && h.node_order_bytes == 0)
     return corrupt("level 0's layer without its node order section");
+  if (!(header_.flags & kFlagNodeLabels) && h.node_label_bytes != 0)
+    return corrupt("a node label section present without its flag");
+  if (h.level != 0 && h.node_label_bytes != 0)
+    return corrupt("a node label section in a layer but level 0's");
+  if (h.level == 0 && (header_.flags & kFlagNodeLabels) && h.node_label_bytes == 0)
+    return corrupt("level 0's layer without its node label section");
   if (h.candidate_kinds & ~kKnownCandidateKinds) return corrupt("unknown candidate kinds");
   if (h.candidate_kinds != 0 && previous_vertices_ == 0)
     return corrupt("candidates at the base level, which has no coarser level");
@@ -377,7 +389,9 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   const uint64_t edge_nodes_at = order_at + lh.order_bytes + lh.exact_bytes;
   layer.edge_nodes = body.subspan(edge_nodes_at, lh.edge_node_bytes);
   layer.edge_values = body.subspan(edge_nodes_at + lh.edge_node_bytes, lh.edge_value_bytes);
-  layer.node_order = body.subspan(edge_nodes_at + lh.edge_node_bytes + lh.edge_value_bytes);
+  const uint64_t node_order_at = edge_nodes_at + lh.edge_node_bytes + lh.edge_value_bytes;
+  layer.node_order = body.subspan(node_order_at, lh.node_order_bytes);
+  layer.node_labels = body.subspan(node_order_at + lh.node_order_bytes);
   if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();

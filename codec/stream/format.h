@@ -28,6 +28,8 @@
 //            + node order section (21.0, kFlagVertexOrder and
 //              kFlagEdgeNodes, level 0's layer only: the input's numbering
 //              of the vertices and edge nodes together)
+//            + node label section (22.0, kFlagNodeLabels, level 0's layer
+//              only: the input's label of each node)
 //   bricked layer (8.0, kFlagBricks) = layer header + brick index + chunks
 //            (codec/bricks/bricks.h: each brick's new points and corrections)
 #pragma once
@@ -73,8 +75,11 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // second-order mesh; 19.0 and 18.0 on request); 21.0 when a stream with
 // edge nodes keeps the input's numbering (kFlagVertexOrder): a node order
 // section puts its edge nodes among its vertices where the input numbered
-// them (codec/sections/node_order_coder.h); the decoder reads 2.x to 21.x.
-inline constexpr uint8_t kVersionMajor = 21;
+// them (codec/sections/node_order_coder.h); 22.0 when it keeps the input's
+// node labels too (kFlagNodeLabels, codec/sections/node_label_coder.h);
+// the decoder reads 2.x to 22.x.
+inline constexpr uint8_t kVersionMajor = 22;
+inline constexpr uint8_t kVersionMajorNodeLabels = 22;
 inline constexpr uint8_t kVersionMajorNodeOrder = 21;
 inline constexpr uint8_t kVersionMajorCreaseEdgeNodes = 20;
 inline constexpr uint8_t kVersionMajorPredictedEdgeNodes = 19;
@@ -133,9 +138,13 @@ inline constexpr uint16_t kFlagExact = 256;
 // with kFlagVertexOrder too, a node order section after it puts the nodes
 // among the vertices (codec/sections/node_order_coder.h).
 inline constexpr uint16_t kFlagEdgeNodes = 512;
+// 22.0: level 0's layer carries a node label section: the input's label of
+// each node in the input's numbering (codec/sections/node_label_coder.h);
+// only with kFlagVertexOrder.
+inline constexpr uint16_t kFlagNodeLabels = 1024;
 inline constexpr uint16_t kKnownFlags = kFlagCellHashes | kFlagCarvingCorrections | kFlagValues |
                                         kFlagBricks | kFlagRegions | kFlagFaces | kFlagCellData |
-                                        kFlagVertexOrder | kFlagExact | kFlagEdgeNodes;
+                                        kFlagVertexOrder | kFlagExact | kFlagEdgeNodes | kFlagNodeLabels;
 
 struct StreamHeader {
   uint8_t version_major = kVersionMajor;
@@ -187,6 +196,9 @@ struct LayerHeader {
   // 21.0 and later: the node order section, after it (0 but in level 0's
   // layer of a stream with kFlagVertexOrder and kFlagEdgeNodes).
   uint32_t node_order_bytes = 0;
+  // 22.0 and later: the node label section, after it (0 but in level 0's
+  // layer of a stream with kFlagNodeLabels).
+  uint32_t node_label_bytes = 0;
   // Bricked layers (8.0): the largest circumradius of a kept cell (at least
   // alpha; larger cells carry no correction bit), the bricks' octree depth,
   // and the sizes of the index and of the chunks after it.
@@ -203,7 +215,7 @@ struct LayerHeader {
     if (bricked) return uint64_t{index_bytes} + chunk_bytes;
     return uint64_t{candidate_bytes} + payload_bytes + carving_bytes + region_bytes + face_bytes +
            value_bytes + cell_value_bytes + order_bytes + exact_bytes + edge_node_bytes + edge_value_bytes +
-           node_order_bytes;
+           node_order_bytes + node_label_bytes;
   }
 };
 
@@ -266,6 +278,7 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
   if (h.format_major >= 18) v.template field<uint32_t>("edge_node_bytes", h.edge_node_bytes);
   if (h.format_major >= 19) v.template field<uint32_t>("edge_value_bytes", h.edge_value_bytes);
   if (h.format_major >= 21) v.template field<uint32_t>("node_order_bytes", h.node_order_bytes);
+  if (h.format_major >= 22) v.template field<uint32_t>("node_label_bytes", h.node_label_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -317,7 +330,8 @@ static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_si
                   layer_header_size(17) == 71 && layer_header_size(18) == 75 &&
                   layer_header_size(18, true) == 55 && layer_header_size(19) == 79 &&
                   layer_header_size(19, true) == 55 && layer_header_size(21) == 83 &&
-                  layer_header_size(21, true) == 55,
+                  layer_header_size(21, true) == 55 && layer_header_size(22) == 87 &&
+                  layer_header_size(22, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -337,7 +351,8 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
                                  std::span<const uint8_t> order = {}, std::span<const uint8_t> exact = {},
                                  std::span<const uint8_t> edge_nodes = {},
                                  std::span<const uint8_t> edge_values = {},
-                                 std::span<const uint8_t> node_order = {});
+                                 std::span<const uint8_t> node_order = {},
+                                 std::span<const uint8_t> node_labels = {});
 
 // Writes a bricked layer (8.0): the header (index_bytes, chunk_bytes and
 // the checksum computed), the index, the chunks.
@@ -359,6 +374,7 @@ struct Layer {
   std::span<const uint8_t> edge_nodes;   // 18.0: the edge node section
   std::span<const uint8_t> edge_values;  // 19.0: the edge value section
   std::span<const uint8_t> node_order;   // 21.0: the node order section
+  std::span<const uint8_t> node_labels;  // 22.0: the node label section
   // A bricked layer's index (checksummed with the header) and chunks (each
   // checked against its checksum in the index when it is decoded).
   std::span<const uint8_t> index;

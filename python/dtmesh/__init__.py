@@ -130,7 +130,8 @@ class Mesh:
             second-order mesh (format 18.0, ``meshenc --exact``): per
             tetrahedron the points on its edges (0,1) (0,2) (0,3) (1,2) (1,3)
             (2,3), -1 where it has none; those points follow the vertices in
-            ``points`` (at level 0, with the fields' values there: the
+            ``points`` (format 21.0, ``--exact --keep-order``: lie among them
+            where the input numbered them) (at level 0, with the fields' values there: the
             stream's in format 19.0, in 18.0 their edge's corners' mean).
             Empty (0 x 6) otherwise.
         face_edge_nodes: int64, F x 3, the same for the tagged faces' edges
@@ -405,12 +406,21 @@ def encode(
             if np.asarray(values).dtype != field_dtype:
                 raise TypeError(f"edge_fields {name!r}: dtype {np.asarray(values).dtype}, its field's is {field_dtype}")
             edge_list.append(_field_in(name, values, ep.shape[0], "edge_fields"))
+    numbering = None
+    if node_numbering is not None:
+        if not (keep_order and exact and en is not None):
+            raise ValueError("node_numbering places edge_nodes among points: give keep_order=True, exact=True "
+                             "and edge_nodes too")
+        numbering = np.asarray(node_numbering)
+        if numbering.ndim != 1 or not np.issubdtype(numbering.dtype, np.integer):
+            raise TypeError(f"node_numbering must be a 1-D array of integers, got {numbering.dtype} "
+                            f"of shape {numbering.shape}")
+        numbering = np.ascontiguousarray(numbering, dtype=np.int64)
     with _threads_for_call(threads):
         stream, report, vertex_of_input = _dtmesh.encode(
             p, t, r, names, f, ft, face_names, field_list, cell_list, int(qbits), box, scale, dmax, preset,
             dict(field_errors or {}), bool(keep_order), bool(exact), bool(bricks), int(brick_points), ep, en,
-            edge_list, None if node_numbering is None else
-            np.ascontiguousarray(np.asarray(node_numbering, dtype=np.int64).reshape(-1)))
+            edge_list, numbering)
     encoded = Encoded(stream, json.loads(report), vertex_of_input)
     if encoded.report.get("edge_nodes_dropped"):
         warnings.warn("left out (the stream does not hold it): the nodes on level 0's edges: the exact cells "

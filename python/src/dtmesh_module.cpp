@@ -505,8 +505,8 @@ py::dict decode_part(const py::object& data, std::optional<std::array<double, 6>
                                        : s.message());
         if (!s.ok()) truncated = s.message();
         found = decoder.finest_level();
-        mesh.emplace(
-            dtm::cut_to_box(dtm::decoded_mesh(decoder, "stream"), dtm::grid_box_of(header.grid, lo, hi)));
+        mesh.emplace(dtm::cut_to_box(dtm::decoded_mesh(decoder, "stream", dtm::numbers_edge_nodes(decoder)),
+                                     dtm::grid_box_of(header.grid, lo, hi)));
       } else {
         const auto part = [&](int l) {
           return box ? dtm::decode_region(source, dtm::grid_box_of(header.grid, lo, hi), l, options)

@@ -254,3 +254,44 @@ checksum = sum((k + 1) * int(x + 3 * y + 5 * z) for k, (x, y, z) in enumerate(x2
 expected["levels"][-1]["numbered_nodes"] = {"nodes": len(mesh.points), "checksum": "%016x" % checksum}
 json.dump(expected, open(path, "w"), indent=1)
 PY
+# 22.0: the same ball in gmsh's 2.2 format with its node tags made to skip
+# (tag t as 3t + 100), --exact --keep-order: the ids in a node label
+# section; recorded as their count and the sum over k of (k + 1) x the
+# k-th node's id modulo 2^64, in the file's order (which the stream keeps).
+gmsh "$tmp/ball_order2.geo" -3 -order 2 -format msh22 -o "$tmp/ball_order2_22.msh" >/dev/null
+/usr/bin/python3 - "$tmp/ball_order2_22.msh" "$tmp/ball_order2_labelled.msh" "$here/ball_order2_labelled.ids" <<'PY'
+import sys
+src, dst, ids_path = sys.argv[1:]
+lines = open(src).read().split("\n")
+tag = lambda t: str(3 * int(t) + 100)
+out, ids, i = [], [], 0
+while i < len(lines):
+    out.append(lines[i])
+    if lines[i] in ("$Nodes", "$Elements"):
+        n = int(lines[i + 1])
+        out.append(lines[i + 1])
+        for line in lines[i + 2:i + 2 + n]:
+            f = line.split()
+            if lines[i] == "$Nodes":
+                f[0] = tag(f[0])
+                ids.append(int(f[0]))
+            else:
+                f = f[:3 + int(f[2])] + [tag(v) for v in f[3 + int(f[2]):]]
+            out.append(" ".join(f))
+        i += 2 + n
+        continue
+    i += 1
+open(dst, "w").write("\n".join(out))
+open(ids_path, "w").write(" ".join(map(str, ids)))
+PY
+make_one ball_order2_labelled_exact ball_order2_labelled.msh --exact --keep-order
+/usr/bin/python3 - "$here/ball_order2_labelled_exact.expected.json" "$here/ball_order2_labelled.ids" <<'PY'
+import json, sys
+path, ids_path = sys.argv[1:]
+ids = [int(v) for v in open(ids_path).read().split()]
+expected = json.load(open(path))
+checksum = sum((k + 1) * v for k, v in enumerate(ids)) % (1 << 64)
+expected["levels"][-1]["node_labels"] = {"nodes": len(ids), "checksum": "%016x" % checksum}
+json.dump(expected, open(path, "w"), indent=1)
+PY
+rm "$here/ball_order2_labelled.ids"

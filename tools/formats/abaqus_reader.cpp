@@ -21,6 +21,7 @@
 #include "abaqus_syntax.h"
 #include "cell_split.h"
 #include "format_error.h"
+#include "node_labels.h"
 #include "second_order.h"
 #include "tagged_faces.h"
 #include "text_cursor.h"
@@ -120,6 +121,7 @@ class AbaqusReader {
       }
     }
     if (out_.points.empty()) throw FormatError(path_ + ": no *NODE lines");
+    set_node_labels(out_, node_index_);
     defined_nodes_ = sorted_keys(node_index_);
     defined_elements_ = sorted_keys(element_index_);
     set_regions();

@@ -40,9 +40,13 @@ void append_list(std::string& out, const std::vector<size_t>& numbers) {
 
 std::string render_abaqus(const OutputMesh& m) {
   std::string out = "*HEADING\nwritten by meshdec\n*NODE\n";
+  // Each node's number: the input's (22.0, --keep-order), else its rank.
+  const auto number = [&](size_t i) {
+    return m.node_labels.empty() ? i + 1 : static_cast<size_t>(m.node_labels[i]);
+  };
   for (size_t i = 0; i < m.points.size(); ++i) {
     const InputPoint p = m.grid.to_input(m.points[i]);
-    append_number(out, i + 1);
+    append_number(out, number(i));
     for (double v : {p.x, p.y, p.z}) {
       out += ", ";
       append_number(out, v);
@@ -60,7 +64,7 @@ std::string render_abaqus(const OutputMesh& m) {
       append_number(out, c + 1);
       for (size_t k = 0; k < n.count; ++k) {
         out += ", ";
-        append_number(out, size_t{n.nodes[k]} + 1);
+        append_number(out, number(n.nodes[k]));
       }
       out += '\n';
     }
@@ -114,7 +118,7 @@ std::string render_abaqus(const OutputMesh& m) {
     if (!is_node_set_field(f)) continue;
     std::vector<size_t> nodes;
     for (size_t i = 0; i < f.bits.size(); ++i)
-      if (f.bits[i] != 0) nodes.push_back(i + 1);
+      if (f.bits[i] != 0) nodes.push_back(number(i));
     out += "*NSET, NSET=" +
            unique('n', abaqus_label(f.name.substr(std::string(kNodeSetFieldPrefix).size()), "NSET")) + "\n";
     append_list(out, nodes);

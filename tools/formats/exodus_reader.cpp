@@ -20,6 +20,7 @@
 #include "exodus.h"
 #include "exodus_file.h"
 #include "format_error.h"
+#include "node_labels.h"
 #include "second_order.h"
 #include "tagged_faces.h"
 
@@ -574,10 +575,11 @@ class Reader {
     some(p.num_edge_sets, "edge sets");
     some(p.num_face_sets, "face sets");
     some(p.num_node_maps + p.num_elem_maps + p.num_edge_maps + p.num_face_maps, "number maps");
-    for (const auto& [type, what] : {std::pair{EX_NODE_MAP, "node"}, std::pair{EX_ELEM_MAP, "element"}})
-      if (!identity_map(type, type == EX_NODE_MAP ? p.num_nodes : p.num_elem))
-        out_.left_out.push_back(std::string("the ") + what + " ids (its " + what +
-                                " number map; the mesh is numbered 1..n)");
+    // (The node ids are kept with --keep-order, node_labels.h.)
+    if (std::vector<int64_t> map = id_map(EX_NODE_MAP, p.num_nodes); !map.empty())
+      set_node_labels(out_, std::move(map));
+    if (!id_map(EX_ELEM_MAP, p.num_elem).empty())
+      out_.left_out.emplace_back("the element ids (its element number map; the mesh is numbered 1..n)");
     int vars = 0;
     for (const auto type : {EX_NODE_SET, EX_SIDE_SET})
       if (ex_get_variable_param(file_.id(), type, &vars) >= 0 && vars > 0)
@@ -602,12 +604,13 @@ class Reader {
     for (std::string& n : notes_) out_.left_out.push_back(std::move(n));
   }
 
-  bool identity_map(ex_entity_type type, int64_t count) {
+  // A number map, or empty where it is 1..n (as a file without one has it).
+  std::vector<int64_t> id_map(ex_entity_type type, int64_t count) {
     std::vector<int64_t> map(counted(count, 4, "a number map"));
-    if (map.empty() || ex_get_id_map(file_.id(), type, map.data()) < 0) return true;
+    if (map.empty() || ex_get_id_map(file_.id(), type, map.data()) < 0) return {};
     for (size_t i = 0; i < map.size(); ++i)
-      if (map[i] != static_cast<int64_t>(i + 1)) return false;
-    return true;
+      if (map[i] != static_cast<int64_t>(i + 1)) return map;
+    return {};
   }
 
   std::string path_;

@@ -12,6 +12,7 @@
 #include "cell_split.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
+#include "node_labels.h"
 #include "render_util.h"
 #include "second_order.h"
 #include "text_cursor.h"
@@ -216,6 +217,7 @@ class GmshReader {
       c_.expect("$End" + section.substr(1));
     }
     if (!have_nodes) throw FormatError(c_.path() + ": no $Nodes section");
+    set_node_labels(out_, index_of_);
     index_element_tags();
     release(by_element_);
     for (const auto& e : face_edge_nodes_)
@@ -1205,11 +1207,20 @@ std::string render_gmsh(const OutputMesh& m) {
     }
     out += " " + physical[e] + " 0\n";
   }
+  // Each node's tag: the input's (22.0, --keep-order), else its number.
+  const auto tag = [&](size_t i) {
+    return m.node_labels.empty() ? static_cast<uint64_t>(i + 1) : static_cast<uint64_t>(m.node_labels[i]);
+  };
+  uint64_t least_tag = n ? 1 : 0, most_tag = n;
+  if (!m.node_labels.empty()) {
+    least_tag = static_cast<uint64_t>(*std::min_element(m.node_labels.begin(), m.node_labels.end()));
+    most_tag = static_cast<uint64_t>(*std::max_element(m.node_labels.begin(), m.node_labels.end()));
+  }
   out += "$EndEntities\n$Nodes\n";
-  out += "1 " + std::to_string(n) + " " + std::to_string(n ? 1 : 0) + " " + std::to_string(n) + "\n";
+  out += "1 " + std::to_string(n) + " " + std::to_string(least_tag) + " " + std::to_string(most_tag) + "\n";
   out += "3 1 0 " + std::to_string(n) + "\n";
   for (size_t i = 0; i < n; ++i) {
-    append_number(out, i + 1);
+    append_number(out, tag(i));
     out += '\n';
   }
   for (const InputPoint& p : xyz) {
@@ -1259,7 +1270,7 @@ std::string render_gmsh(const OutputMesh& m) {
       append_number(out, (b.dimension == 2 ? t : 0) + i + 1);
       for (size_t k = 0; k < e.count; ++k) {
         out += ' ';
-        append_number(out, uint64_t{e.nodes[k]} + 1);
+        append_number(out, tag(e.nodes[k]));
       }
       out += '\n';
     }
@@ -1269,7 +1280,7 @@ std::string render_gmsh(const OutputMesh& m) {
     if (values.empty()) return;
     out += "$NodeData\n1\n\"" + std::string(name) + "\"\n1\n0\n3\n0\n1\n" + std::to_string(n) + "\n";
     for (size_t i = 0; i < n; ++i) {
-      append_number(out, i + 1);
+      append_number(out, tag(i));
       out += ' ';
       append_number(out, values[i]);
       out += '\n';
@@ -1284,7 +1295,7 @@ std::string render_gmsh(const OutputMesh& m) {
     out += "$NodeData\n1\n\"" + f.name + "\"\n1\n0\n3\n0\n" + std::to_string(f.components) + "\n" +
            std::to_string(n) + "\n";
     for (size_t i = 0; i < n; ++i) {
-      append_number(out, i + 1);
+      append_number(out, tag(i));
       for (int c = 0; c < f.components; ++c) {
         out += ' ';
         append_scalar_text(out, f.bits[i * f.components + c], f.type);

@@ -90,6 +90,11 @@ struct InputMesh {
   // `points` (both keep the file's order): the file's numbering of the
   // two kinds together, which meshenc --keep-order keeps (format 21.0).
   std::vector<uint8_t> node_is_edge_point;
+  // The file's own node ids (gmsh's node tags, Abaqus's node numbers, an
+  // Exodus node map), per node of the file in its order (node_is_edge_point
+  // says which of `points` and `edge_points` each is), where they are not
+  // 1 to n in that order; empty where they are (node_labels.h).
+  std::vector<int64_t> node_labels;
   // Voxel inputs on an isotropic lattice: the lattice itself as the
   // quantization grid, so that positions are coded losslessly. `points` then
   // holds the same positions as doubles.

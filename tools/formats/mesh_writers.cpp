@@ -57,6 +57,9 @@ void validate(const OutputMesh& m) {
   if (m.edge_nodes > n || (!m.cell_edge_nodes.empty() && m.cell_edge_nodes.size() != m.cells.size()) ||
       (!m.face_edge_nodes.empty() && m.face_edge_nodes.size() != m.faces.size()))
     throw std::invalid_argument("mesh writer: edge nodes that are not the cells' and faces'");
+  if (!m.node_labels.empty() && m.node_labels.size() != n)
+    throw std::invalid_argument("mesh writer: " + std::to_string(m.node_labels.size()) + " node labels for " +
+                                std::to_string(n) + " points");
   if (m.cell_edge_nodes.empty() && m.face_edge_nodes.empty()) return;
   std::vector<uint8_t> corner(n, 0);
   for (const auto& c : m.cells)
@@ -349,6 +352,7 @@ OutputMesh without_edge_nodes(OutputMesh mesh) {
   keep(mesh.points, 1);
   keep(mesh.level, 1);
   keep(mesh.boundary, 1);
+  keep(mesh.node_labels, 1);
   for (OutputField& f : mesh.fields) keep(f.bits, static_cast<size_t>(f.components));
   for (auto& c : mesh.cells)
     for (uint32_t& v : c) v = index[v];

@@ -77,6 +77,12 @@ struct OutputMesh {
   // triangles (VTU, VTK, gmsh); the formats without them write the linear
   // cells (without_edge_nodes()).
   size_t edge_nodes = 0;
+  // Optional (level 0 of a 22.0 stream, meshenc --keep-order of a file with
+  // its own node ids): per point, its id in the input, each in [1, 2^62 -
+  // 1], no two alike; empty: point k is node k + 1. The gmsh, Abaqus and
+  // Exodus writers number the nodes so (node tags, node numbers, the node
+  // number map); the others have no place for them.
+  std::vector<int64_t> node_labels;
   std::vector<std::array<uint32_t, 6>> cell_edge_nodes;
   std::vector<std::array<uint32_t, 3>> face_edge_nodes;
 };
