@@ -720,8 +720,8 @@ PY
 # as 3t + 100, and its nodes listed in reverse) comes back from meshdec's
 # .msh and .inp with each node under its id, within half a grid step, and
 # each 10-node tetrahedron naming the same ids; a box of it names its
-# vertices by their numbers; --exact-v20 writes 20.0; a mesh whose prisms'
-# nodes the stream does not hold is refused, naming the first.
+# vertices by their numbers; --exact-v20 writes 20.0; a mesh of second-order
+# prisms keeps the numbers of the nodes the stream holds.
 "$py" - <<'PY' || { echo "could not make ball_ids.msh"; failed=1; }
 import meshio
 m = meshio.read("ball2.msh")
@@ -816,9 +816,29 @@ worst = max(np.abs(box.points[i] - given[order[v]]).max() for i, v in enumerate(
 if worst > 0.5 * step * (1 + 1e-9):
     sys.exit("ball_ids.box.vtu: vertex_id is not the input's node number (%g away)" % worst)
 PY
-"$meshenc" layer_2.msh --exact --keep-order -q -o layer_2.dtm 2>layer_2.err && { echo "layer_2.msh --exact --keep-order: not refused"; failed=1; }
-grep -q "the nodes after them would not keep their numbers; the first is node [0-9]*" layer_2.err ||
-  { echo "layer_2.msh --exact --keep-order: refused without naming the node"; cat layer_2.err; failed=1; }
+# (A mesh of second-order prisms, whose edge nodes the stream does not
+# hold: the nodes it holds keep their numbers, as ids.)
+"$meshenc" layer_2.msh --exact --keep-order -q -o layer_2.dtm 2>layer_2.err || { cat layer_2.err; failed=1; }
+"$meshinfo" layer_2.dtm | head -1 | grep -q "\.dtm 22\.0" || { echo "layer_2.msh: its nodes' numbers not kept as ids"; failed=1; }
+"$meshdec" layer_2.dtm -q -o layer_2.out.inp || failed=1
+"$py" - "$("$meshinfo" layer_2.dtm --json)" <<'PY' || failed=1
+import json, sys
+import meshio
+import numpy as np
+step = json.loads(sys.argv[1])["step"]
+given = meshio.read("layer_2.msh").points
+nodes, mode = {}, False
+for line in open("layer_2.out.inp"):
+    line = line.strip()
+    if line.startswith("*"):
+        mode = line.upper() == "*NODE"
+    elif mode and line:
+        f = line.split(",")
+        nodes[int(f[0])] = np.array([float(x) for x in f[1:4]])
+worst = max(np.abs(given[i - 1] - p).max() for i, p in nodes.items())
+if worst > 0.5 * step * (1 + 1e-9):
+    sys.exit("layer_2.out.inp: a node %g from the input's node of its number" % worst)
+PY
 
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed

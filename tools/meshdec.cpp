@@ -189,6 +189,14 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
     for (const std::string& what : dtm::not_written(mesh, format))
       std::fprintf(stderr, "meshdec: %s: not written (the format has no place for it): %s\n",
                    c.output.c_str(), what.c_str());
+  // (The input's node ids, 22.0: only the gmsh, Abaqus and Exodus files
+  // number their nodes.)
+  if (!c.quiet && !mesh.node_labels.empty() && format != dtm::MeshFormat::kGmsh &&
+      format != dtm::MeshFormat::kAbaqus && format != dtm::MeshFormat::kExodus)
+    std::fprintf(stderr,
+                 "meshdec: %s: not written (the format has no place for it): the input's node ids (the nodes "
+                 "are in the input's order; .msh, .inp and .e number them with their ids)\n",
+                 c.output.c_str());
   if (!c.quiet && format == dtm::MeshFormat::kExodus)
     for (const std::string& what : dtm::exodus_renumbering(mesh))
       std::fprintf(stderr, "meshdec: %s: written with another id: %s\n", c.output.c_str(), what.c_str());

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <unordered_set>
 
@@ -483,40 +484,24 @@ std::vector<uint32_t> node_numbering(const dtm::InputMesh& in, const TetrahedraE
   return out;
 }
 
-// --keep-order of a second-order mesh keeps its numbering only where the
-// stream holds every node of the file, each a vertex or the one node of a
-// tetrahedron's edge: else every node after one it does not hold would come
-// back at a number one less. Throws naming the first such node (its place
-// in the file, and its id where the file has its own) and why.
-void check_every_node_kept(const dtm::InputMesh& in, const TetrahedraEdgeNodes& kept,
-                           std::span<const uint32_t> numbering, const std::string& input) {
+// --keep-order of a second-order mesh: a node the file puts on two edges
+// of its tetrahedra is two nodes of the stream, which no numbering of the
+// file's nodes names. Throws naming the first (its place in the file, and
+// its id where the file has its own).
+void check_no_node_shared(const dtm::InputMesh& in, const TetrahedraEdgeNodes& kept,
+                          const std::string& input) {
   std::vector<uint32_t> held(in.edge_points.size(), 0);  // per edge point, the nodes it is
   for (const uint32_t p : kept.points) ++held[p];
-  const auto unheld = static_cast<size_t>(std::count(held.begin(), held.end(), 0u));
-  const auto shared =
-      static_cast<size_t>(std::count_if(held.begin(), held.end(), [](uint32_t h) { return h > 1; }));
-  if (unheld == 0 && shared == 0 && numbering.size() == in.points.size() + kept.points.size()) return;
-  std::string first;
-  for (size_t k = 0, edge_point = 0; k < in.node_is_edge_point.size() && first.empty(); ++k) {
-    if (!in.node_is_edge_point[k]) continue;
-    if (held[edge_point++] != 1)
-      first = "node " + std::to_string(k + 1) + " of the file" +
-              (in.node_labels.size() == in.node_is_edge_point.size()
-                   ? " (id " + std::to_string(in.node_labels[k]) + ")"
-                   : "");
+  for (size_t k = 0, edge_point = 0; k < in.node_is_edge_point.size(); ++k) {
+    if (!in.node_is_edge_point[k] || held[edge_point++] < 2) continue;
+    throw std::runtime_error(
+        input + ": --keep-order: node " + std::to_string(k + 1) + " of the file" +
+        (in.node_labels.size() == in.node_is_edge_point.size()
+             ? " (id " + std::to_string(in.node_labels[k]) + ")"
+             : "") +
+        " is the node of more than one edge of its tetrahedra: no numbering of the file's nodes names the "
+        "stream's; leave out --keep-order to encode it");
   }
-  throw std::runtime_error(
-      input + ": --keep-order: " +
-      (unheld ? std::to_string(unheld) + (unheld == 1 ? " of its nodes is" : " of its nodes are") +
-                    " no tetrahedron's edge node the stream holds (nodes of second-order prisms, "
-                    "hexahedra, pyramids or faces alone, or a second node on one edge)"
-              : std::to_string(shared) + (shared == 1 ? " of its nodes is" : " of its nodes are") +
-                    " the node of more than one edge") +
-      ", so the nodes after them would not keep their numbers" +
-      (first.empty() ? "" : "; the first is " + first) +
-      ". --keep-order keeps the numbering of a mesh whose every node is a vertex or one edge's node: leave "
-      "it "
-      "out to encode this one");
 }
 
 // --keep-order of a file with its own node ids (format 22.0): each kept
@@ -1020,9 +1005,22 @@ int run(Command& c) {
   // numbering (not in the 18.0 and 19.0 streams asked for by name).
   const bool older_nodes = c.encode.edge_nodes_v18 || c.encode.edge_nodes_v19 || c.encode.edge_nodes_v20;
   // (Not in the streams asked for older decoders: 22.0 brought them.)
-  const bool keep_labels = c.encode.keep_order && !in.node_labels.empty() && !older_nodes &&
-                           (!c.encode.exact || c.encode.exact_ranks == dtm::ApexRanks::kAfterFlips);
+  const bool labels_allowed = c.encode.keep_order && !older_nodes &&
+                              (!c.encode.exact || c.encode.exact_ranks == dtm::ApexRanks::kAfterFlips);
+  // Where the stream holds fewer nodes than the file (a second-order mesh's
+  // edge nodes without --exact, or nodes of other second-order cells), the
+  // ones it holds keep their numbers as ids: their places in the file.
+  if (labels_allowed && in.node_labels.empty() && !in.edge_points.empty() &&
+      in.node_is_edge_point.size() == in.points.size() + in.edge_points.size()) {
+    in.node_labels.resize(in.node_is_edge_point.size());
+    std::iota(in.node_labels.begin(), in.node_labels.end(), int64_t{1});
+  }
+  const bool keep_labels = labels_allowed && !in.node_labels.empty();
   if (keep_labels) std::erase(in.left_out, std::string(dtm::kNodeIdsNote));
+  if (c.encode.keep_order && !labels_allowed && std::erase(in.left_out, std::string(dtm::kNodeIdsNote)) > 0)
+    in.left_out.emplace_back(
+        "the node ids (the file numbers its nodes otherwise than 1 to n; the format asked for predates "
+        "22.0, which keeps them)");
   if (c.encode.keep_order && keep_edge_nodes && older_nodes)
     in.left_out.emplace_back(
         "where the file numbers its edge nodes among its vertices (format 21.0's node order: an older "
@@ -1065,18 +1063,21 @@ int run(Command& c) {
     input.edge_nodes = edge_nodes.nodes;
     if (c.encode.keep_order && !c.encode.edge_nodes_v18 && !c.encode.edge_nodes_v19 &&
         !c.encode.edge_nodes_v20) {
+      check_no_node_shared(in, edge_nodes, c.input);
       numbering = node_numbering(in, edge_nodes);
-      check_every_node_kept(in, edge_nodes, numbering, c.input);
     }
     input.node_numbering = numbering;
     for (size_t f = 0; f < fields.size(); ++f) fields[f].edge_values = edge_nodes.values[f];
   }
   std::vector<int64_t> labels;
   if (keep_labels) {
-    if (!keep_edge_nodes || !numbering.empty()) labels = node_labels_in_order(in, numbering, edge_nodes);
-    if (labels.empty())
-      std::fprintf(stderr, "%s: left out (the stream does not hold it): %s\n", c.input.c_str(),
-                   std::string(dtm::kNodeIdsNote).c_str());
+    if (input.edge_nodes.empty() || !numbering.empty())
+      labels = node_labels_in_order(in, numbering, edge_nodes);
+    // (Ids 1 to n in order are what a stream without them gives.)
+    bool identity = true;
+    for (size_t k = 0; k < labels.size() && identity; ++k)
+      identity = labels[k] == static_cast<int64_t>(k + 1);
+    if (identity) labels.clear();
     input.node_labels = labels;
   }
   // Whether the input has tetrahedra (a rank's share may have none).

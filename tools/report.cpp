@@ -114,6 +114,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
                        {"moved", r.moved_edge_nodes},
                        {"value_bytes", r.edge_value_bytes}};
   if (r.edge_nodes_dropped > 0) j["edge_nodes_dropped"] = r.edge_nodes_dropped;
+  if (r.node_labels_dropped) j["node_labels_dropped"] = true;
   if (r.exact_bytes > 0 || r.exact_delaunay_cells > 0)
     j["exact"] = {{"bytes", r.exact_bytes},
                   {"delaunay_cells", r.exact_delaunay_cells},

@@ -74,6 +74,7 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
   j["vertex_order"] = (h.flags & kFlagVertexOrder) != 0;
   j["exact"] = (h.flags & kFlagExact) != 0;
   j["edge_nodes"] = (h.flags & kFlagEdgeNodes) != 0;
+  j["node_labels"] = (h.flags & kFlagNodeLabels) != 0;
   j["level_count"] = h.level_count;
   j["vertices"] = h.vertex_count;
   j["bytes"] = s.bytes;

@@ -136,6 +136,10 @@ class Mesh:
             Empty (0 x 6) otherwise.
         face_edge_nodes: int64, F x 3, the same for the tagged faces' edges
             (0,1) (1,2) (2,0).
+        node_ids: int64 per point, the input file's own id of each node
+            (format 22.0, ``meshenc --keep-order`` of a file that numbers
+            its nodes otherwise than 1 to n: gmsh node tags, Abaqus node
+            numbers, an Exodus node map); empty where the stream has none.
     """
 
     points: np.ndarray
@@ -153,6 +157,7 @@ class Mesh:
     cell_data: Dict[str, np.ndarray] = field(default_factory=dict)
     edge_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 6), np.int64))
     face_edge_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.int64))
+    node_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
 
     def to_meshio(self):
         """This level as a ``meshio.Mesh``: the fields, ``level`` and ``boundary`` as point data;
@@ -446,7 +451,7 @@ def _mesh_of(d: Dict[str, Any]) -> Mesh:
                 boundary=d["boundary"].astype(bool), regions=d["regions"],
                 region_names=dict(d["region_names"]), faces=d["faces"], face_tags=d["face_tags"],
                 face_tag_names=dict(d["face_tag_names"]), edge_nodes=d["edge_nodes"],
-                face_edge_nodes=d["face_edge_nodes"])
+                face_edge_nodes=d["face_edge_nodes"], node_ids=d["node_ids"])
 
 
 def _as_bytes(data: Union[Bytes, str, os.PathLike]) -> bytes:

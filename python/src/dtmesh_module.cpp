@@ -338,6 +338,9 @@ py::dict level_dict(const dtm::OutputMesh& mesh, int level, int level_count) {
   };
   d["edge_nodes"] = nodes(mesh.cell_edge_nodes, 6);
   d["face_edge_nodes"] = nodes(mesh.face_edge_nodes, 3);
+  // (22.0, level 0 of a --keep-order stream of a file with its own node
+  // ids: each point's; empty without.)
+  d["node_ids"] = array_of(mesh.node_labels, {static_cast<py::ssize_t>(mesh.node_labels.size())});
   d["level"] = level;
   d["level_count"] = level_count;
   return d;

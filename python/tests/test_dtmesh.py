@@ -617,6 +617,23 @@ def test_a_second_order_mesh_keeps_gmshs_numbering_of_all_its_nodes(tmp_path):
     assert cells(back) == cells(mesh)
 
 
+def test_a_files_own_node_ids_come_back_as_node_ids(tmp_path):
+    """An Abaqus deck numbering its nodes from an offset, encoded by meshenc --keep-order (format 22.0):
+    dtmesh.decode gives each point the deck's node number as node_ids, in the deck's order."""
+    points, tets, _ = read_tetgen(DATA / "torus_288.node")
+    ids = np.arange(len(points)) * 3 + 5001
+    deck = tmp_path / "torus.inp"
+    deck.write_text("*NODE\n" + "".join(f"{i}, {p[0]!r}, {p[1]!r}, {p[2]!r}\n" for i, p in zip(ids, points)) +
+                    "*ELEMENT, TYPE=C3D4\n" + "".join(f"{k + 1}, " + ", ".join(str(ids[v]) for v in t) + "\n"
+                                                    for k, t in enumerate(tets)))
+    stream = tmp_path / "torus.dtm"
+    run(tool("meshenc"), deck, "-q", "--keep-order", "--box", "256", "--dmax", "2", "-o", stream)
+    mesh = dtmesh.decode(stream.read_bytes())
+    np.testing.assert_array_equal(mesh.node_ids, ids)
+    assert np.abs(mesh.points - points).max() < 1e-3 * np.ptp(points, axis=0).max()
+    assert dtmesh.decode(stream.read_bytes(), level=1).node_ids.size == 0
+
+
 def test_a_second_order_meshs_point_data_is_kept_at_its_edge_nodes(tmp_path):
     """The ball with point data at every node (a simulation's results on tetra10): meshio.write with
     exact=True keeps the values at the edge nodes too (format 19.0), meshenc --exact's bytes for the

@@ -11,7 +11,10 @@ void set_node_labels(InputMesh& mesh, std::vector<int64_t> ids) {
   for (size_t i = 0; i < ids.size() && identity; ++i) identity = ids[i] == static_cast<int64_t>(i + 1);
   if (identity) return;
   if (!valid_node_labels(ids)) {
-    mesh.left_out.push_back("the node ids (not all from 1 to 2^62 - 1: the mesh is numbered 1..n)");
+    mesh.left_out.push_back(
+        "the node ids (not all from 1 to 2^62 - 1 and each once, as a stream holds them: the mesh is "
+        "numbered "
+        "1..n)");
     return;
   }
   mesh.node_labels = std::move(ids);
