@@ -1074,9 +1074,12 @@ int run(Command& c) {
     if (input.edge_nodes.empty() || !numbering.empty())
       labels = node_labels_in_order(in, numbering, edge_nodes);
     // (Ids 1 to n in order are what a stream without them gives.)
-    bool identity = true;
+    bool identity = !labels.empty();
     for (size_t k = 0; k < labels.size() && identity; ++k)
       identity = labels[k] == static_cast<int64_t>(k + 1);
+    if (labels.empty())  // (the reader's record does not fit the nodes kept)
+      std::fprintf(stderr, "%s: left out (the stream does not hold it): %s\n", c.input.c_str(),
+                   std::string(dtm::kNodeIdsNote).c_str());
     if (identity) labels.clear();
     input.node_labels = labels;
   }
