@@ -71,41 +71,8 @@ done
 # number them otherwise than 1 to n (gmsh 2.2 files written by meshio,
 # then each node tag t made: parts of 5,000 from their own offsets, every
 # tenth id, random ids below 10^9), each with --exact --keep-order.
-"$py" - <<'PY'
-import random
-import meshio
-meshio.write("ids_plain.msh", meshio.read("part_finer_2.msh"), file_format="gmsh22", binary=False)
-lines = open("ids_plain.msh").read().split("\n")
-def remap(path, tag):
-    out, i = [], 0
-    while i < len(lines):
-        out.append(lines[i])
-        if lines[i] in ("$Nodes", "$Elements"):
-            n = int(lines[i + 1])
-            out.append(lines[i + 1])
-            for line in lines[i + 2:i + 2 + n]:
-                f = line.split()
-                if lines[i] == "$Nodes":
-                    f[0] = tag(int(f[0]))
-                else:
-                    f = f[:3 + int(f[2])] + [tag(int(v)) for v in f[3 + int(f[2]):]]
-                out.append(" ".join(f))
-            i += 2 + n
-            continue
-        i += 1
-    open(path, "w").write("\n".join(out))
-remap("ids_offsets.msh", lambda t: str(t + 100000 * (t // 5000)))
-remap("ids_stride.msh", lambda t: str(10 * t))
-rnd, given, used = random.Random(3), {}, set()
-def random_id(t):
-    while t not in given:
-        v = rnd.randrange(1, 10**9)
-        if v not in used:
-            used.add(v)
-            given[t] = v
-    return str(given[t])
-remap("ids_random.msh", random_id)
-PY
+"$py" -c 'import meshio; meshio.write("ids_plain.msh", meshio.read("part_finer_2.msh"), file_format="gmsh22", binary=False)'
+for m in offsets stride random; do "$py" "$root/tests/gmsh22_node_tags.py" ids_plain.msh ids_$m.msh $m; done
 id_rows=()
 for m in ids_plain ids_offsets ids_stride ids_random; do
   "$enc" $m.msh --exact --keep-order -q -o $m.dtm --report $m.json >/dev/null

@@ -19,6 +19,7 @@
 set -euo pipefail
 meshenc=$1
 meshdec=$(dirname "$meshenc")/meshdec
+here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -388,6 +389,20 @@ for name, key in (("out.msh", "gmsh:physical"), ("out.vtu", "region"), ("out.mes
     if not tags or set(np.concatenate(tags).tolist()) != {3}:
         sys.exit("%s: the tagged faces are lost" % name)
 PY
+# Tagged faces without regions: meshdec's .msh puts the tetrahedra in a
+# physical volume of their own ("volume"), so that meshio, which refuses a
+# file whose volume entity is in no group beside surfaces in one, reads it.
+"$meshenc" a22.msh --no-regions -o faces_only.dtm -q 2>/dev/null
+"$meshdec" faces_only.dtm -o faces_only.msh -q
+"$py" - <<'PY' || failed=1
+import sys
+import meshio
+import numpy as np
+m = meshio.read("faces_only.msh")
+tags = {b.type: set(np.asarray(a).tolist()) for a, b in zip(m.cell_data["gmsh:physical"], m.cells)}
+if tags != {"triangle": {3}, "tetra": {1}} or m.field_data.get("volume", [None])[0] != 1:
+    sys.exit("faces_only.msh: meshio reads %s, %s" % (tags, m.field_data))
+PY
 # An element result as gmsh writes it: its mesh-quality plugin's view
 # (ICN, per tetrahedron) saved as $ElementData. meshenc keeps it as cell
 # data, nothing left out; meshdec's .msh and .vtu carry it back, gmsh
@@ -722,32 +737,9 @@ PY
 # each 10-node tetrahedron naming the same ids; a box of it names its
 # vertices by their numbers; --exact-v20 writes 20.0; a mesh of second-order
 # prisms keeps the numbers of the nodes the stream holds.
-"$py" - <<'PY' || { echo "could not make ball_ids.msh"; failed=1; }
-import meshio
-m = meshio.read("ball2.msh")
-meshio.write("ball22.msh", m, file_format="gmsh22", binary=False)
-lines = open("ball22.msh").read().split("\n")
-tag = lambda t: str(3 * int(t) + 100)
-out, i = [], 0
-while i < len(lines):
-    out.append(lines[i])
-    if lines[i] in ("$Nodes", "$Elements"):
-        n = int(lines[i + 1])
-        out.append(lines[i + 1])
-        rows = []
-        for line in lines[i + 2:i + 2 + n]:
-            f = line.split()
-            if lines[i] == "$Nodes":
-                f[0] = tag(f[0])
-            else:
-                f = f[:3 + int(f[2])] + [tag(v) for v in f[3 + int(f[2]):]]
-            rows.append(" ".join(f))
-        out += rows[::-1] if lines[i] == "$Nodes" else rows
-        i += 2 + n
-        continue
-    i += 1
-open("ball_ids.msh", "w").write("\n".join(out))
-PY
+"$py" -c 'import meshio; meshio.write("ball22.msh", meshio.read("ball2.msh"), file_format="gmsh22", binary=False)' &&
+  "$py" "$here/gmsh22_node_tags.py" ball22.msh ball_ids.msh 3t+100 --reverse ||
+  { echo "could not make ball_ids.msh"; failed=1; }
 "$meshenc" ball_ids.msh --exact --keep-order -o ball_ids.dtm >ball_ids.out 2>&1 || { cat ball_ids.out; failed=1; }
 grep -q "node labels (the input's node ids)" ball_ids.out || { echo "ball_ids.msh: its ids are not kept"; cat ball_ids.out; failed=1; }
 grep -q "left out.*node ids" ball_ids.out && { echo "ball_ids.msh: kept ids named as left out"; failed=1; }

@@ -1077,9 +1077,13 @@ int run(Command& c) {
     bool identity = !labels.empty();
     for (size_t k = 0; k < labels.size() && identity; ++k)
       identity = labels[k] == static_cast<int64_t>(k + 1);
-    if (labels.empty())  // (the reader's record does not fit the nodes kept)
-      std::fprintf(stderr, "%s: left out (the stream does not hold it): %s\n", c.input.c_str(),
-                   std::string(dtm::kNodeIdsNote).c_str());
+    if (labels.empty()) {  // (the reader's record does not fit the nodes kept)
+      in.left_out.emplace_back(dtm::kNodeIdsNote);
+      if (mpi.rank() == 0)
+        std::fprintf(stderr, "%s: left out (the stream does not hold it): %s\n", c.input.c_str(),
+                     std::string(dtm::kNodeIdsNote).c_str());
+      if (c.strict) throw std::runtime_error(c.input + ": --strict: the stream would leave out the node ids");
+    }
     if (identity) labels.clear();
     input.node_labels = labels;
   }
@@ -1241,13 +1245,6 @@ int run(Command& c) {
           static_cast<unsigned long long>(r.exact.second_ring),
           static_cast<unsigned long long>(r.exact.seeds));
     }
-    if (r.edge_nodes_dropped > 0)
-      std::fprintf(
-          stderr,
-          "%s: left out (the stream does not hold it): the %llu nodes on level 0's edges: the exact "
-          "cells fell back to format 11.0's coding (its fit tests over their budget), which holds none%s\n",
-          c.input.c_str(), static_cast<unsigned long long>(r.edge_nodes_dropped),
-          r.fields.empty() ? "" : ", and the fields' values there");
     if (r.edge_nodes > 0)
       std::printf(
           "  edge nodes: level 0's %llu second-order edges' nodes in %llu bytes (%.2f bits per vertex; %llu "
@@ -1264,11 +1261,6 @@ int run(Command& c) {
     if (r.node_label_bytes > 0)
       std::printf("  node labels (the input's node ids): %llu bytes\n",
                   static_cast<unsigned long long>(r.node_label_bytes));
-    if (r.node_labels_dropped)
-      std::fprintf(stderr,
-                   "%s: left out (the stream does not hold it): the node ids: the exact cells fell back to "
-                   "format 11.0's coding, which holds none\n",
-                   c.input.c_str());
     if (r.node_order_bytes > 0)
       std::printf(
           "  node order (the edge nodes among the vertices, as the input numbered them): %llu bytes, "
@@ -1293,6 +1285,26 @@ int run(Command& c) {
       std::printf("\n");
     }
   }
+  // What the encoder itself could not keep (the exact cells' fallback to
+  // 11.0's coding), named as the reader's left-outs are: quiet or not, in
+  // the report too; --strict refuses it, writing nothing.
+  std::vector<std::string> dropped;
+  if (r.edge_nodes_dropped > 0)
+    dropped.push_back("the " + std::to_string(r.edge_nodes_dropped) +
+                      " nodes on level 0's edges: the exact cells fell back to format 11.0's coding (its fit "
+                      "tests over their budget), which holds none" +
+                      (r.fields.empty() ? "" : ", and the fields' values there"));
+  if (r.node_labels_dropped)
+    dropped.emplace_back("the node ids: the exact cells fell back to format 11.0's coding, which holds none");
+  for (const std::string& what : dropped) {
+    if (mpi.rank() == 0)
+      std::fprintf(stderr, "%s: left out (the stream does not hold it): %s\n", c.input.c_str(), what.c_str());
+    in.left_out.push_back(what);
+  }
+  if (c.strict && !dropped.empty())
+    throw std::runtime_error(c.input + ": --strict: the stream would leave out " +
+                             std::to_string(dropped.size()) + " thing" + (dropped.size() == 1 ? "" : "s") +
+                             " of the input (named above)");
   if (mpi.rank() == 0) write_outputs(c, *encoded, in.left_out);
   display.finish();
   return 0;

@@ -222,13 +222,21 @@ class Encoded:
         bytes: the ``.dtm`` stream.
         report: every level's figures, as ``meshenc --report`` writes them
             (vertices, tetrahedra, quality, shape error both ways, bytes per layer, ...).
-        vertex_of_input: uint32 per input point, its vertex in the order the
-            decoder gives them (points that quantization merged share one).
+        vertex_of_input: uint32 per input point, its vertex in level 0 as
+            :func:`decode` gives it (points that quantization merged share
+            one). With ``keep_order`` that is the point's own index (with
+            ``node_numbering``, its place there).
+        layer_vertex_of_input: uint32 per input point, its vertex in the
+            order the layers bring the vertices (coarsest first), which every
+            level decodes in but a ``keep_order`` stream's level 0: a level
+            of n vertices holds the points whose entry is below n. Without
+            ``keep_order``, the same as ``vertex_of_input``.
     """
 
     bytes: bytes
     report: Dict[str, Any]
     vertex_of_input: np.ndarray
+    layer_vertex_of_input: np.ndarray
 
     def __len__(self) -> int:
         return len(self.bytes)
@@ -426,7 +434,16 @@ def encode(
             p, t, r, names, f, ft, face_names, field_list, cell_list, int(qbits), box, scale, dmax, preset,
             dict(field_errors or {}), bool(keep_order), bool(exact), bool(bricks), int(brick_points), ep, en,
             edge_list, numbering)
-    encoded = Encoded(stream, json.loads(report), vertex_of_input)
+    # With keep_order, level 0 comes in the points' own order (and with a
+    # node_numbering, point i where the numbering names it).
+    level0_vertex = vertex_of_input
+    if keep_order:
+        level0_vertex = np.arange(p.shape[0], dtype=np.uint32)
+        if numbering is not None:
+            place = np.empty(numbering.shape[0], dtype=np.uint32)
+            place[numbering] = np.arange(numbering.shape[0], dtype=np.uint32)
+            level0_vertex = place[: p.shape[0]]
+    encoded = Encoded(stream, json.loads(report), level0_vertex, vertex_of_input)
     if encoded.report.get("edge_nodes_dropped"):
         warnings.warn("left out (the stream does not hold it): the nodes on level 0's edges: the exact cells "
                       "fell back to format 11.0's coding, which holds none" +

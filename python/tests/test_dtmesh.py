@@ -407,6 +407,24 @@ def test_exact_level_zero_is_the_input_cell_for_cell(corpus):
         dtmesh.encode(points, tets, exact=True, qbits=6, box=256, dmax=2)
 
 
+def test_vertex_of_input_names_the_decoded_vertices_with_and_without_keep_order():
+    """vertex_of_input maps each point to its vertex in level 0 as decode() gives it: with
+    keep_order, its own index; layer_vertex_of_input to the layers' order, which coarser levels use."""
+    rng = np.random.default_rng(11)
+    points = rng.random((4000, 3))
+    for keep_order in (False, True):
+        encoded = dtmesh.encode(points, keep_order=keep_order)
+        step = dtmesh.info(encoded.bytes)["step"]
+        level0 = dtmesh.decode(encoded.bytes)
+        assert np.abs(level0.points[encoded.vertex_of_input] - points).max() <= 0.5 * step * (1 + 1e-6)
+        coarser = dtmesh.decode(encoded.bytes, level=1)
+        held = encoded.layer_vertex_of_input < len(coarser.points)
+        assert 0 < held.sum() < len(points)
+        at = coarser.points[encoded.layer_vertex_of_input[held]]
+        assert np.abs(at - points[held]).max() <= 0.5 * step * (1 + 1e-6)
+    np.testing.assert_array_equal(encoded.vertex_of_input, np.arange(len(points)))
+
+
 def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
     """A gmsh part of two materials: its physical volumes are the regions on every level, its
     physical surfaces the tagged faces."""

@@ -259,31 +259,8 @@ PY
 # section; recorded as their count and the sum over k of (k + 1) x the
 # k-th node's id modulo 2^64, in the file's order (which the stream keeps).
 gmsh "$tmp/ball_order2.geo" -3 -order 2 -format msh22 -o "$tmp/ball_order2_22.msh" >/dev/null
-/usr/bin/python3 - "$tmp/ball_order2_22.msh" "$tmp/ball_order2_labelled.msh" "$here/ball_order2_labelled.ids" <<'PY'
-import sys
-src, dst, ids_path = sys.argv[1:]
-lines = open(src).read().split("\n")
-tag = lambda t: str(3 * int(t) + 100)
-out, ids, i = [], [], 0
-while i < len(lines):
-    out.append(lines[i])
-    if lines[i] in ("$Nodes", "$Elements"):
-        n = int(lines[i + 1])
-        out.append(lines[i + 1])
-        for line in lines[i + 2:i + 2 + n]:
-            f = line.split()
-            if lines[i] == "$Nodes":
-                f[0] = tag(f[0])
-                ids.append(int(f[0]))
-            else:
-                f = f[:3 + int(f[2])] + [tag(v) for v in f[3 + int(f[2]):]]
-            out.append(" ".join(f))
-        i += 2 + n
-        continue
-    i += 1
-open(dst, "w").write("\n".join(out))
-open(ids_path, "w").write(" ".join(map(str, ids)))
-PY
+/usr/bin/python3 "$here/../gmsh22_node_tags.py" "$tmp/ball_order2_22.msh" "$tmp/ball_order2_labelled.msh" 3t+100 \
+  --ids "$here/ball_order2_labelled.ids"
 make_one ball_order2_labelled_exact ball_order2_labelled.msh --exact --keep-order
 /usr/bin/python3 - "$here/ball_order2_labelled_exact.expected.json" "$here/ball_order2_labelled.ids" <<'PY'
 import json, sys

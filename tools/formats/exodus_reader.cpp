@@ -239,8 +239,7 @@ class Reader {
         if (per == 10) {
           std::array<uint32_t, 6> edge{};
           for (size_t s = 0; s < 6; ++s) edge[s] = nodes[static_cast<size_t>(exodus::kTet10EdgeSlots[s])];
-          add_tet_edge_nodes(out_, edge);
-          ++out_.second_order_cells;
+          add_tet_edge_nodes(out_, edge);  // (counted there as a second-order tetrahedron)
         } else if (per > 4) {
           out_.other_edge_nodes.insert(out_.other_edge_nodes.end(), nodes.begin() + 4, nodes.end());
           ++out_.second_order_cells;

@@ -1172,8 +1172,15 @@ std::string render_gmsh(const OutputMesh& m) {
   for (int32_t tag : m.face_tags) surface_of.emplace(tag, 0);
   size_t surfaces = 0;
   for (auto& [tag, entity] : surface_of) entity = ++surfaces;
+  // Tagged faces without regions: the tetrahedra go in a physical volume of
+  // their own (tag 1, "volume"). A volume entity in no physical group beside
+  // surfaces in some is valid gmsh, but meshio's reader then gives
+  // gmsh:physical fewer blocks than cells and refuses the file (gmsh's own
+  // files with Mesh.SaveAll alike).
+  const bool whole_volume_group = entity_of.empty() && !surface_of.empty();
   if (!entity_of.empty() || !surface_of.empty()) {
-    out += "$PhysicalNames\n" + std::to_string(entity_of.size() + surface_of.size()) + "\n";
+    out += "$PhysicalNames\n" +
+           std::to_string(entity_of.size() + surface_of.size() + (whole_volume_group ? 1 : 0)) + "\n";
     for (const auto& [tag, entity] : surface_of) {
       const auto name = m.face_tag_names.find(tag);
       out += "2 " + std::to_string(tag) + " \"" +
@@ -1184,12 +1191,14 @@ std::string render_gmsh(const OutputMesh& m) {
       out += "3 " + std::to_string(label) + " \"" +
              (name != m.region_names.end() ? name->second : "region " + std::to_string(label)) + "\"\n";
     }
+    if (whole_volume_group) out += "3 1 \"volume\"\n";
     out += "$EndPhysicalNames\n";
   }
   // Per volume entity: its box (the mesh's), its physical groups, no
   // bounding surface.
   std::vector<std::string> physical(std::max<size_t>(1, entities), "0");
   for (const auto& [label, entity] : entity_of) physical[entity - 1] = "1 " + std::to_string(label);
+  if (whole_volume_group) physical[0] = "1 1";
   out += "$Entities\n0 0 " + std::to_string(surfaces) + " " + std::to_string(physical.size()) + "\n";
   for (const auto& [tag, entity] : surface_of) {
     out += std::to_string(entity);
