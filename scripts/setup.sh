@@ -24,6 +24,9 @@ if [ "${1:-}" = "--all" ]; then
              # HDF5 and OpenMPI's libraries), and through meshio (python/tests:
              # test_exodus_through_meshio; tests/mesher_outputs.sh: meshio's files)
              libexodusii-dev python3-netcdf4
+             # XDMF with HDF5 (FEniCS's and dolfinx's mesh files) through meshio
+             # (python/tests: test_xdmf_as_fenics_users_convert_gmsh_meshes)
+             python3-h5py
              # Draco's and zstd's sizes beside ours (bench/baselines.sh)
              zstd
              # The test "lint" (scripts/lint.sh)

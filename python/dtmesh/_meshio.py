@@ -177,9 +177,20 @@ def write(filename, mesh, **options):
     triangle_blocks = [i for i, block in enumerate(mesh.cells) if block.type == "triangle"]
     # The regions: an integer cell array of a known name, on the tetrahedra;
     # the same array on the triangles is their tags (gmsh's physical groups).
+    # (region_array=NAME, as meshenc's --region-array: that array, for a
+    # file whose regions have another name, such as FEniCS's XDMF files.)
     region_array = None
+    names = REGION_ARRAYS
+    if "region_array" in options:
+        chosen = options.pop("region_array")
+        arrays = mesh.cell_data.get(chosen)
+        if arrays is None or not tetra_blocks or not all(
+                np.asarray(arrays[i]).dtype.kind in "iu" for i in tetra_blocks):
+            raise ValueError(f"{filename}: region_array {chosen!r} is not an integer cell array on the tetrahedra "
+                             f"(the mesh has {sorted(mesh.cell_data)})")
+        names = (chosen,)
     if tetra_blocks and "regions" not in options:
-        for name in REGION_ARRAYS:
+        for name in names:
             arrays = mesh.cell_data.get(name)
             if arrays is not None and all(np.asarray(arrays[i]).dtype.kind in "iu" for i in tetra_blocks):
                 region_array = name

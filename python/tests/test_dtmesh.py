@@ -766,6 +766,38 @@ def test_exodus_through_meshio(corpus, tmp_path):
     assert via_exodus.read_bytes() == direct.read_bytes()
 
 
+def test_xdmf_as_fenics_users_convert_gmsh_meshes(tmp_path):
+    """XDMF with HDF5, FEniCS's and dolfinx's mesh files, made as their tutorials convert a gmsh mesh
+    (meshio, the physical volumes as a cell array "name_to_read"), goes through meshio's reader
+    (python3-h5py): region_array= takes that array as the regions (the stream of the .msh itself,
+    whose names XDMF does not hold); decoded, to_meshio() writes XDMF again, which meshio reads."""
+    pytest.importorskip("h5py", reason="apt-get install python3-h5py (scripts/setup.sh --all)")
+    msh = tmp_path / "two_materials.msh"
+    msh.write_bytes(lzma.open(DATA / "two_materials.msh.xz").read())
+    gmsh_mesh = meshio.read(msh)
+    tetra = gmsh_mesh.get_cells_type("tetra")
+    labels = gmsh_mesh.get_cell_data("gmsh:physical", "tetra")
+    xdmf = tmp_path / "mesh.xdmf"
+    meshio.write(xdmf, meshio.Mesh(gmsh_mesh.points, [("tetra", tetra)], cell_data={"name_to_read": [labels]}))
+    via_xdmf, direct = tmp_path / "via_xdmf.dtm", tmp_path / "direct.dtm"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing of the XDMF left out
+        meshio.write(via_xdmf, meshio.read(xdmf), region_array="name_to_read", box=256, dmax=2)
+    meshio.write(direct, meshio.Mesh(gmsh_mesh.points, [("tetra", tetra)], cell_data={"region": [labels]}),
+                 box=256, dmax=2)
+    assert via_xdmf.read_bytes() == direct.read_bytes()
+    assert len(dtmesh.info(via_xdmf)["regions"]) == 2
+    with pytest.raises(ValueError, match="region_array 'nothing'"):
+        meshio.write(tmp_path / "x.dtm", meshio.read(xdmf), region_array="nothing")
+    level = dtmesh.decode(via_xdmf.read_bytes())
+    back = tmp_path / "back.xdmf"
+    meshio.write(back, level.to_meshio())
+    again = meshio.read(back)
+    assert len(again.points) == len(level.points)
+    assert np.array_equal(again.get_cells_type("tetra"), level.tetrahedra)
+    assert np.array_equal(again.get_cell_data("gmsh:physical", "tetra"), level.regions)
+
+
 def test_vtk_grid_has_the_level_and_its_point_data(corpus):
     mesh = dtmesh.decode(corpus["fandisk_11k"][1].read_bytes(), level=1)
     grid = dtmesh.to_vtk(mesh)
