@@ -11,7 +11,8 @@
 # named materials and boundary conditions, which meshdec's .vol gives back
 # to Netgen. With --exact both decode cell for cell. A
 # graded gmsh mesh encoded in blocks keeps its coarse inside's large cells.
-# gmsh -save_all's volumes and surfaces in no physical group join none.
+# gmsh -save_all's volumes and surfaces in no physical group join none. A
+# partitioned mesh (gmsh -part) gives the stream of the mesh whole.
 # Second-order meshes (gmsh -order 2, Netgen's SecondOrder()) give their
 # linear mesh's stream (with --exact, their 10-node tetrahedra back, with
 # the point data at every node); prisms and hexahedra (gmsh's, VTK's, Netgen's
@@ -196,6 +197,40 @@ for ext in msh vtu mesh; do "$meshdec" a41.dtm -o out.$ext 2>/dev/null || failed
 gmsh out.msh -0 -format msh22 -o again.msh >/dev/null 2>&1 || { echo "gmsh does not read out.msh"; failed=1; }
 grep -A4 '^\$PhysicalNames' again.msh | grep -q '3 2 "steel"' || { echo "gmsh lost the regions"; failed=1; }
 grep -A4 '^\$PhysicalNames' again.msh | grep -q '2 3 "base"' || { echo "gmsh lost the tagged faces"; failed=1; }
+
+# A mesh cut for a parallel solver (gmsh -part N; 4.1 puts its elements in
+# the partitions' entities, $PartitionedEntities giving their physical
+# groups; 2.2 adds each element's partitions to its tags): the same stream
+# as the mesh whole, its regions and tagged faces kept; the partitioning,
+# the triangles between partitions, the ghost cells and a periodic
+# boundary's node pairs named as left out.
+for cut in "41 -part 2" "41 -part 3 -bin -part_ghosts" "22 -part 3" "22 -part 2 -bin"; do
+  set -- $cut
+  name=cut$(echo "$cut" | tr -d ' -')
+  # (gmsh 4.8 says "No mesh elements were found" where a partition has no
+  # point elements, exits 1, and writes the file whole.)
+  gmsh a41.msh -0 -format msh$1 "${@:2}" -o $name.msh >/dev/null 2>&1 || true
+  [ -s $name.msh ] || { echo "gmsh -part $3 wrote no $name.msh"; failed=1; continue; }
+  "$meshenc" $name.msh -o $name.dtm >$name.out 2>&1 || { cat $name.out; failed=1; continue; }
+  cmp -s a22.dtm $name.dtm || { echo "$name.msh (gmsh -part): not the stream of the mesh whole"; cat $name.out; failed=1; }
+  grep -q "left out.*the partitioning into $3 partitions" $name.out ||
+    { echo "$name.msh: the partitioning not named as left out"; cat $name.out; failed=1; }
+  if [ "$1" = 41 ]; then
+    grep -q "left out.*triangles of the interfaces between partitions" $name.out ||
+      { echo "$name.msh: the interfaces' triangles not named as left out"; cat $name.out; failed=1; }
+  fi
+done
+grep -q 'left out.*sections $GhostElements' cut41part3binpart_ghosts.out ||
+  { echo "gmsh -part_ghosts: the ghost cells not named as left out"; cat cut41part3binpart_ghosts.out; failed=1; }
+cat > periodic.geo <<'GEO'
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 1, 1, 1};
+Periodic Surface{2} = {1} Translate{1, 0, 0};
+Mesh.MeshSizeMax = 0.3;
+GEO
+gmsh periodic.geo -3 -format msh41 -o periodic.msh >/dev/null
+"$meshenc" periodic.msh -o periodic.dtm >periodic.out 2>&1 || { cat periodic.out; failed=1; }
+grep -q 'left out.*sections $Periodic' periodic.out || { echo "periodic.msh: its node pairs not named as left out"; cat periodic.out; failed=1; }
 
 # gmsh -save_all writes the volumes and surfaces in no physical group too,
 # under their entity numbers, which may be a group's tag: they must not
@@ -831,6 +866,43 @@ worst = max(np.abs(given[i - 1] - p).max() for i, p in nodes.items())
 if worst > 0.5 * step * (1 + 1e-9):
     sys.exit("layer_2.out.inp: a node %g from the input's node of its number" % worst)
 PY
+
+# meshdec --box of a level in the input's numbering: the same cells as the
+# box of the stream without it (a second-order one's nodes on a grid of
+# half the step); a linear mesh numbered 1 to n, its nodes named by their
+# numbers in the .msh (vertex_id + 1); a box that meets no cell refused,
+# nothing written. A region labelled 0 (a Medit ref) is a positive
+# physical tag in the .msh, said.
+"$meshenc" ball2.msh --exact -q -o ball_plain.dtm 2>/dev/null || failed=1
+"$meshdec" ball_plain.dtm -q --box -0.5 -0.5 -0.5 0.5 0.5 0.5 -o ball_plain.box.vtu || failed=1
+"$meshenc" a41.msh --keep-order -q -o a41_order.dtm 2>/dev/null || failed=1
+"$meshdec" a41_order.dtm -q --box 0.2 0.2 0.2 1.2 0.8 0.8 -o a41_order.box.msh || failed=1
+"$py" - <<'PY' || failed=1
+import sys
+import meshio
+import numpy as np
+def cells(path):
+    m = meshio.read(path)
+    return {tuple(sorted(map(tuple, np.round(m.points[t], 6)))) for t in m.cells_dict["tetra"]}
+if cells("ball_ids.box.vtu") != cells("ball_plain.box.vtu"):
+    sys.exit("ball_ids.box.vtu: not the cells of the same box without the numbering")
+given = meshio.read("a41.msh").points  # gmsh's tags 1..n: node k is the point k - 1
+lines = open("a41_order.box.msh").read().split("\n")
+i = lines.index("$Nodes")
+n = int(lines[i + 2].split()[3])
+tags = [int(t) for t in lines[i + 3:i + 3 + n]]
+xyz = np.array([[float(x) for x in l.split()] for l in lines[i + 3 + n:i + 3 + 2 * n]])
+if n == 0 or np.abs(given[np.array(tags) - 1] - xyz).max() > 1e-3:
+    sys.exit("a41_order.box.msh: its node tags are not the input's numbers")
+PY
+if "$meshdec" a41_order.dtm -q --box 5 5 5 6 6 6 -o far.msh 2>far.err || [ -e far.msh ] ||
+  ! grep -q "no tetrahedron of level 0 meets the box" far.err; then
+  echo "a box meeting no cell: not refused, or a file written"; cat far.err; failed=1
+fi
+printf 'MeshVersionFormatted 2\nDimension 3\nVertices 5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 1 0\nTetrahedra 2\n1 2 3 4 0\n2 3 4 5 0\nTriangles 1\n1 2 3 7\nEnd\n' >ref0.mesh
+"$meshenc" ref0.mesh -q -o ref0.dtm 2>/dev/null && "$meshdec" ref0.dtm -o ref0.msh 2>ref0.err || failed=1
+grep -q "region 0 as physical volume 1" ref0.err && grep -q '^3 1 "region 0"' ref0.msh ||
+  { echo "ref0.msh: region 0 not written as a positive physical tag, or not said"; cat ref0.err; failed=1; }
 
 [ $failed -eq 0 ] && echo "mesher_outputs: ok"
 exit $failed

@@ -115,6 +115,7 @@ EdgeNodeParts edge_node_parts(ProgressiveDecoder::EdgeNodes nodes, const OutputM
 // integer field's the lesser).
 void append_edge_nodes(OutputMesh& mesh, const EdgeNodeParts& parts, std::span<const uint32_t> new_of_old) {
   mesh.grid.step /= 2;
+  ++mesh.grid.qbits;  // (the same extent: twice the grid points)
   for (GridPoint& p : mesh.points) p = {2 * p.x, 2 * p.y, 2 * p.z};
   const auto base = static_cast<uint32_t>(mesh.points.size());
   const auto vertex = [&](uint32_t v) { return new_of_old.empty() ? v : new_of_old[v]; };
@@ -257,8 +258,14 @@ bool numbers_edge_nodes(const ProgressiveDecoder& decoder) {
          h.version_major >= kVersionMajorNodeOrder;
 }
 
-OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
+bool in_input_numbering(const ProgressiveDecoder& decoder) {
+  return decoder.has_header() && (decoder.header().flags & kFlagVertexOrder) && decoder.finest_level() == 0;
+}
+
+OutputMesh cut_to_box(const OutputMesh& whole, const std::array<double, 3>& lo,
+                      const std::array<double, 3>& hi, bool input_numbered) {
   constexpr uint32_t kNone = UINT32_MAX;
+  const GridBox box = grid_box_of(whole.grid, lo, hi);
   OutputMesh out;
   out.grid = whole.grid;
   out.region_names = whole.region_names;
@@ -276,7 +283,10 @@ OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box) {
     index[v] = static_cast<uint32_t>(out.points.size());
     out.points.push_back(whole.points[v]);
     ids.bits.push_back(v);
-    if (!whole.node_labels.empty()) out.node_labels.push_back(whole.node_labels[v]);
+    if (!whole.node_labels.empty())
+      out.node_labels.push_back(whole.node_labels[v]);
+    else if (input_numbered)
+      out.node_labels.push_back(int64_t{v} + 1);
     if (!whole.level.empty()) out.level.push_back(whole.level[v]);
     if (!whole.boundary.empty()) out.boundary.push_back(whole.boundary[v]);
   }

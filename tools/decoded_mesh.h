@@ -7,6 +7,7 @@
 // (meshenc --keep-order) level 0's vertices in the input's numbering.
 #pragma once
 
+#include <array>
 #include <string>
 
 #include "codec/decode.h"
@@ -29,14 +30,24 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
 // true)) for its vertices' numbers (vertex_id) to be the input's.
 bool numbers_edge_nodes(const ProgressiveDecoder& decoder);
 
-// The cells of `whole` whose bounding box (of grid points) meets `box`,
-// with what the level carries on them: their vertices in the whole's order
+// The cells of `whole` whose bounding box meets the box from `lo` to `hi`
+// (input units, on whole's own grid: with a second-order mesh's nodes that
+// is half the stream's step), with what the level carries on them: their vertices in the whole's order
 // with each one's number there (point data vertex_id, first), its fields,
 // level and `boundary` (the level's own surface), the cells' regions and
 // cell data, and the tagged faces of those cells (each with the cell the
 // level's surface takes it from: the kept one, at an interface the lower
 // region's).
-OutputMesh cut_to_box(const OutputMesh& whole, const GridBox& box);
+// `input_numbered`: whole is level 0 in the input's numbering (10.0,
+// --keep-order: in_input_numbering()), so that a box without the input's
+// node ids (22.0) numbers its nodes with their numbers there (vertex_id +
+// 1), as the whole level does.
+OutputMesh cut_to_box(const OutputMesh& whole, const std::array<double, 3>& lo,
+                      const std::array<double, 3>& hi, bool input_numbered = false);
+
+// Whether the level `decoder` decoded is level 0 in the input's numbering
+// (meshenc --keep-order): its vertex k the input's node k.
+bool in_input_numbering(const ProgressiveDecoder& decoder);
 
 // A box or piece a region reader decoded (codec/region_decode.h), as
 // meshdec --box, the pieces of -o X.pvtu and the Python package write it:

@@ -15,6 +15,7 @@
 #include "tools/field_types.h"
 #include "tools/formats/exodus.h"
 #include "tools/formats/gltf_writer.h"
+#include "tools/formats/gmsh.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/surface_writers.h"
 #include "tools/huge_pages.h"
@@ -197,8 +198,9 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
                  "meshdec: %s: not written (the format has no place for it): the input's node ids (the nodes "
                  "are in the input's order; .msh, .inp and .e number them with their ids)\n",
                  c.output.c_str());
-  if (!c.quiet && format == dtm::MeshFormat::kExodus)
-    for (const std::string& what : dtm::exodus_renumbering(mesh))
+  if (!c.quiet && (format == dtm::MeshFormat::kExodus || format == dtm::MeshFormat::kGmsh))
+    for (const std::string& what :
+         format == dtm::MeshFormat::kExodus ? dtm::exodus_renumbering(mesh) : dtm::gmsh_renumbering(mesh))
       std::fprintf(stderr, "meshdec: %s: written with another id: %s\n", c.output.c_str(), what.c_str());
   if (c.output != "-") return dtm::write_files_atomically(files);
   const std::string& bytes = files.front().second;
@@ -328,6 +330,21 @@ int run_pieces(const Command& c) {
   return 0;
 }
 
+// A box that meets no cell is said, and nothing written: a mesh file
+// without cells is one that gmsh, meshio and the surface writers refuse.
+void refuse_empty_box(const Command& c, const dtm::OutputMesh& mesh, int level, const dtm::Grid& grid) {
+  if (!mesh.cells.empty()) return;
+  const double span = grid.step * static_cast<double>((uint64_t{1} << grid.qbits) - 1);
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "--box %g %g %g %g %g %g: no tetrahedron of level %d meets the box (the stream's grid spans "
+                "%g %g %g to %g %g %g)",
+                c.box[0], c.box[1], c.box[2], c.box[3], c.box[4], c.box[5], level, grid.origin[0],
+                grid.origin[1], grid.origin[2], grid.origin[0] + span, grid.origin[1] + span,
+                grid.origin[2] + span);
+  throw std::runtime_error(c.input + ": " + text);
+}
+
 // --box: the region's cells, from the chunks it needs.
 int run_region(const Command& c, dtm::MeshFormat format) {
   if (c.input == "-") throw dtm::UsageError("--box reads the stream by offset: give a file, not '-'");
@@ -354,8 +371,9 @@ int run_region(const Command& c, dtm::MeshFormat format) {
     Verifier verifier;
     decode(c, decoder, verifier, display);
     const dtm::OutputMesh mesh =
-        dtm::cut_to_box(dtm::decoded_mesh(decoder, c.input, dtm::numbers_edge_nodes(decoder)),
-                        dtm::grid_box_of(header.grid, lo, hi));
+        dtm::cut_to_box(dtm::decoded_mesh(decoder, c.input, dtm::numbers_edge_nodes(decoder)), lo, hi,
+                        dtm::in_input_numbering(decoder));
+    refuse_empty_box(c, mesh, decoder.finest_level(), header.grid);
     if (decoder.has_edge_nodes() && !c.quiet)
       std::fprintf(
           stderr,
@@ -376,6 +394,7 @@ int run_region(const Command& c, dtm::MeshFormat format) {
       c, header.level_count, [&](int l) { return dtm::decode_region(*source, box, l, options); });
   if (!region.ok()) throw std::runtime_error(c.input + ": " + region.status().message());
   const dtm::OutputMesh mesh = dtm::region_output(*region, header.grid);
+  refuse_empty_box(c, mesh, level, header.grid);
   write_output(c, mesh, format);
   if (!c.quiet)
     std::fprintf(stderr,
@@ -443,7 +462,22 @@ int run(const Command& c) {
     std::fprintf(
         stderr,
         "meshdec: the nodes on level 0's edges (a second-order mesh's) are not written: this format holds "
-        "linear cells (.vtu, .vtk, .msh and .inp hold 10-node tetrahedra)\n");
+        "linear cells (.vtu, .vtk, .msh, .inp and .e hold 10-node tetrahedra)\n");
+  // The input's numbering and node ids (--keep-order) are level 0's: a
+  // coarser level's nodes are numbered in its own order; and a format of
+  // linear cells has no ids for a second-order mesh's nodes (the vertices
+  // are still in the input's order among themselves).
+  const uint32_t flags = decoder.header().flags;
+  if (!c.quiet && (flags & (dtm::kFlagVertexOrder | dtm::kFlagNodeLabels)) && decoder.finest_level() > 0)
+    std::fprintf(stderr,
+                 "meshdec: %s: level %d is numbered in its own order: the input's node numbers%s are level "
+                 "0's\n",
+                 c.output.c_str(), decoder.finest_level(), flags & dtm::kFlagNodeLabels ? " and ids" : "");
+  if (!c.quiet && (flags & dtm::kFlagNodeLabels) && decoder.finest_level() == 0 && mesh.node_labels.empty())
+    std::fprintf(stderr,
+                 "meshdec: %s: not written: the input's node ids (a second-order mesh's: .msh, .inp and .e "
+                 "number its nodes with them)\n",
+                 c.output.c_str());
   display.start("writing " + c.output);
   write_output(c, mesh, format);
   display.finish();

@@ -509,7 +509,7 @@ py::dict decode_part(const py::object& data, std::optional<std::array<double, 6>
         if (!s.ok()) truncated = s.message();
         found = decoder.finest_level();
         mesh.emplace(dtm::cut_to_box(dtm::decoded_mesh(decoder, "stream", dtm::numbers_edge_nodes(decoder)),
-                                     dtm::grid_box_of(header.grid, lo, hi)));
+                                     lo, hi, dtm::in_input_numbering(decoder)));
       } else {
         const auto part = [&](int l) {
           return box ? dtm::decode_region(source, dtm::grid_box_of(header.grid, lo, hi), l, options)

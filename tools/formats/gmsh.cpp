@@ -206,11 +206,16 @@ class GmshReader {
         physical_names();
       } else if (section == "$Entities" && v4_) {
         binary_ ? entities_binary() : entities();
+      } else if (section == "$PartitionedEntities" && v4_) {
+        binary_ ? partitioned_entities_binary() : partitioned_entities();
       } else {
         // Sections that describe the geometry ($Entities, $Periodic, ...)
         // carry nothing of the mesh; data sections do, and are named.
+        // So are a mesh's own relations: periodic boundaries' node pairs,
+        // a partitioned mesh's ghost cells.
         const std::string name = section.substr(1);
-        if (name.find("Data") != std::string::npos) skipped_data_.insert(name);
+        if (name.find("Data") != std::string::npos || name == "Periodic" || name == "GhostElements")
+          skipped_data_.insert(name);
         skip_section(name);
         continue;
       }
@@ -265,39 +270,96 @@ class GmshReader {
     uint64_t counts[4];
     for (auto& k : counts) k = c_.count("an entity count", c_.remaining() / 2);
     for (int dim = 0; dim < 4; ++dim)
+      for (uint64_t e = 0; e < counts[dim]; ++e) entity_record(dim, c_.number<int>("an entity tag"));
+  }
+  // 4.1's $PartitionedEntities (gmsh -part N, a mesh cut for a parallel
+  // solver): the partitions' entities, which the elements are in, each
+  // with its parent's physical groups; read as $Entities is. Which
+  // partition each is in is named as left out (note_left_out()).
+  void partitioned_entities() {
+    partitions_ = c_.count("a partition count", c_.remaining());
+    ghost_entities_ = c_.count("a ghost entity count", c_.remaining() / 4);
+    for (uint64_t g = 0; g < ghost_entities_; ++g)
+      c_.number<int>("a ghost entity tag"), c_.number<int>("a ghost entity's partition");
+    uint64_t counts[4];
+    for (auto& k : counts) k = c_.count("an entity count", c_.remaining() / 2);
+    for (int dim = 0; dim < 4; ++dim)
       for (uint64_t e = 0; e < counts[dim]; ++e) {
         const int tag = c_.number<int>("an entity tag");
-        for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) c_.number<double>("a coordinate");
-        const uint64_t physicals = c_.count("a physical tag count", c_.remaining() / 2);
-        for (uint64_t p = 0; p < physicals; ++p) {
-          const int physical = c_.number<int>("a physical tag");
-          if (dim == 3 && p == 0) volume_physical_[tag] = physical;
-          if (dim == 2 && p == 0) surface_physical_[tag] = physical;
-        }
-        if (dim == 0) continue;
-        const uint64_t bounding = c_.count("a bounding entity count", c_.remaining() / 2);
-        for (uint64_t b = 0; b < bounding; ++b) c_.number<int>("a bounding entity tag");
+        const int parent_dim = c_.number<int>("a parent entity's dimension");
+        const int parent = c_.number<int>("a parent entity's tag");
+        const uint64_t parts = c_.count("a partition count", c_.remaining() / 2);
+        for (uint64_t k = 0; k < parts; ++k) c_.number<int>("a partition tag");
+        entity_record(dim, partitioned(dim, tag, parent_dim, parent));
       }
+  }
+  // A partitioned entity's parent, where it is one of the model's entities
+  // cut: what it stands for where it is in no physical group. A surface
+  // whose parent is a volume is an interface between two partitions, no
+  // surface of the model: gmsh gives it (and its triangles) the volume's
+  // physical groups. Returns the tag under which to record its groups
+  // (kNoEntity: not recorded).
+  static constexpr int kNoEntity = INT32_MIN;
+  int partitioned(int dim, int tag, int parent_dim, int parent) {
+    if (dim == 2 && parent_dim == 3) {
+      interface_surfaces_.insert(tag);
+      return kNoEntity;
+    }
+    if (dim == 3 && parent_dim == 3) volume_parent_[tag] = parent;
+    if (dim == 2 && parent_dim == 2) surface_parent_[tag] = parent;
+    return tag;
+  }
+  // An entity's box, physical groups and bounding entities (none for a
+  // point), after its tag.
+  void entity_record(int dim, int tag) {
+    for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) c_.number<double>("a coordinate");
+    const uint64_t physicals = c_.count("a physical tag count", c_.remaining() / 2);
+    for (uint64_t p = 0; p < physicals; ++p) {
+      const int physical = c_.number<int>("a physical tag");
+      if (dim == 3 && p == 0 && tag != kNoEntity) volume_physical_[tag] = physical;
+      if (dim == 2 && p == 0 && tag != kNoEntity) surface_physical_[tag] = physical;
+    }
+    if (dim == 0) return;
+    const uint64_t bounding = c_.count("a bounding entity count", c_.remaining() / 2);
+    for (uint64_t b = 0; b < bounding; ++b) c_.number<int>("a bounding entity tag");
   }
   void entities_binary() {
     c_.skip_to_next_line();
     const std::string_view h = c_.bytes(32, "the $Entities header");
-    uint64_t counts[4];
-    for (int k = 0; k < 4; ++k) counts[k] = size_t64(h.substr(8 * k));
     for (int dim = 0; dim < 4; ++dim)
-      for (uint64_t e = 0; e < counts[dim]; ++e) {
+      for (uint64_t e = 0, n = size_t64(h.substr(8 * static_cast<size_t>(dim))); e < n; ++e)
+        entity_record_binary(dim, int32(c_.bytes(4, "an entity tag")), "$Entities");
+  }
+  void partitioned_entities_binary() {
+    c_.skip_to_next_line();
+    partitions_ = size_t64(c_.bytes(8, "the partition count"));
+    ghost_entities_ = size_t64(c_.bytes(8, "the ghost entity count"));
+    if (ghost_entities_ > c_.remaining() / 8)
+      c_.fail("$PartitionedEntities announces more than the file holds");
+    c_.bytes(8 * ghost_entities_, "the ghost entities");
+    const std::string_view h = c_.bytes(32, "the $PartitionedEntities counts");
+    for (int dim = 0; dim < 4; ++dim)
+      for (uint64_t e = 0, n = size_t64(h.substr(8 * static_cast<size_t>(dim))); e < n; ++e) {
         const int tag = int32(c_.bytes(4, "an entity tag"));
-        c_.bytes(dim == 0 ? 24 : 48, "an entity's box");
-        const uint64_t physicals = size_t64(c_.bytes(8, "a physical tag count"));
-        if (physicals > c_.remaining() / 4) c_.fail("$Entities announces more than the file holds");
-        const std::string_view p = c_.bytes(4 * physicals, "physical tags");
-        if (dim == 3 && physicals > 0) volume_physical_[tag] = int32(p);
-        if (dim == 2 && physicals > 0) surface_physical_[tag] = int32(p);
-        if (dim == 0) continue;
-        const uint64_t bounding = size_t64(c_.bytes(8, "a bounding entity count"));
-        if (bounding > c_.remaining() / 4) c_.fail("$Entities announces more than the file holds");
-        c_.bytes(4 * bounding, "bounding entity tags");
+        const std::string_view parent = c_.bytes(8, "a parent entity");
+        const uint64_t parts = size_t64(c_.bytes(8, "a partition count"));
+        if (parts > c_.remaining() / 4) c_.fail("$PartitionedEntities announces more than the file holds");
+        c_.bytes(4 * parts, "partition tags");
+        entity_record_binary(dim, partitioned(dim, tag, int32(parent), int32(parent.substr(4))),
+                             "$PartitionedEntities");
       }
+  }
+  void entity_record_binary(int dim, int tag, const char* section) {
+    c_.bytes(dim == 0 ? 24 : 48, "an entity's box");
+    const uint64_t physicals = size_t64(c_.bytes(8, "a physical tag count"));
+    if (physicals > c_.remaining() / 4) c_.fail(std::string(section) + " announces more than the file holds");
+    const std::string_view p = c_.bytes(4 * physicals, "physical tags");
+    if (dim == 3 && physicals > 0 && tag != kNoEntity) volume_physical_[tag] = int32(p);
+    if (dim == 2 && physicals > 0 && tag != kNoEntity) surface_physical_[tag] = int32(p);
+    if (dim == 0) return;
+    const uint64_t bounding = size_t64(c_.bytes(8, "a bounding entity count"));
+    if (bounding > c_.remaining() / 4) c_.fail(std::string(section) + " announces more than the file holds");
+    c_.bytes(4 * bounding, "bounding entity tags");
   }
 
   // Each tetrahedron's region: 2.x its physical tag (the first tag); 4.1
@@ -309,6 +371,9 @@ class GmshReader {
   // physical group), named "no physical group".
   void set_regions() {
     if (tet_tag_.size() != out_.tets.size() || tet_tag_.empty() || (!v4_ && !tagged_)) return;
+    // (2.x's physical tag 0 is no physical group: tetrahedra all in none,
+    // as meshio writes a mesh without groups, are no regions.)
+    if (!v4_ && std::all_of(tet_tag_.begin(), tet_tag_.end(), [](int64_t t) { return t == 0; })) return;
     std::set<int64_t> unnamed_entities;
     int64_t largest = 0;
     for (const auto& [entity, physical] : volume_physical_) largest = std::max<int64_t>(largest, physical);
@@ -323,7 +388,10 @@ class GmshReader {
         if (it != volume_physical_.end()) {
           region = it->second;
         } else {
-          unnamed_entities.insert(tag);
+          // (A partition's volume stands for the model's it was cut from.)
+          if (const auto p = volume_parent_.find(static_cast<int>(tag)); p != volume_parent_.end())
+            region = p->second;
+          unnamed_entities.insert(region);
           if (!volume_physical_.empty()) region = unassigned, ++unassigned_tets;
         }
       }
@@ -358,14 +426,20 @@ class GmshReader {
     // A triangle of a surface in no physical group beside others in one
     // (gmsh -save_all: 4.1's entity, 2.x's physical tag 0) is no boundary
     // condition: not tagged (an entity's number may be a group's tag).
-    uint64_t untagged = 0;
+    uint64_t untagged = 0, on_interfaces = 0;
     std::vector<std::array<uint32_t, 3>> tagged;
     for (size_t i = 0; i < tri_tag_.size(); ++i) {
       int64_t t = tri_tag_[i];
       bool in_no_group = !v4_ && t == 0;
       if (v4_) {
+        if (interface_surfaces_.count(static_cast<int>(t))) {
+          ++on_interfaces;
+          continue;
+        }
         if (const auto it = surface_physical_.find(static_cast<int>(t)); it != surface_physical_.end())
           t = it->second;
+        else if (const auto p = surface_parent_.find(static_cast<int>(t)); p != surface_parent_.end())
+          t = p->second, in_no_group = !surface_physical_.empty() || !volume_physical_.empty();
         else  // (with -save_all beside any physical group, volumes' too)
           in_no_group = !surface_physical_.empty() || !volume_physical_.empty();
       }
@@ -388,6 +462,9 @@ class GmshReader {
     }
     if (untagged > 0)
       out_.left_out.push_back(std::to_string(untagged) + " triangles of surfaces in no physical group");
+    if (on_interfaces > 0)
+      out_.left_out.push_back(std::to_string(on_interfaces) +
+                              " triangles of the interfaces between partitions (gmsh -part)");
     release(triangles_);
     out_.tagged_faces = std::move(tagged);
     out_.face_tag_names = surface_names_;
@@ -451,6 +528,13 @@ class GmshReader {
       out_.left_out.push_back("$ElementData not given at every tetrahedron (" +
                               joined(partial_element_data_) + ")");
     if (!skipped_data_.empty()) out_.left_out.push_back("sections $" + joined(skipped_data_));
+    if (partitions_ > 0)
+      out_.left_out.push_back("the partitioning into " + std::to_string(partitions_) +
+                              " partitions (gmsh -part: which partition each element is in" +
+                              (ghost_entities_ > 0
+                                   ? ", and its " + std::to_string(ghost_entities_) + " ghost entities"
+                                   : std::string()) +
+                              ")");
   }
 
   void skip_section(const std::string& name) {
@@ -654,6 +738,7 @@ class GmshReader {
       int64_t physical;  // the first tag (0: none)
       int64_t tag;       // a tetrahedron's element tag
       int32_t type;
+      int32_t partition;  // gmsh -part: the largest of its partitions (0: none)
       bool tagged;
       bool odd_triangle;  // a triangle of other than 3 or 6 nodes (counted, not kept)
     };
@@ -678,10 +763,18 @@ class GmshReader {
         if (ec != std::errc() || tags < 0) c_.fail_line(i, "bad element tag count");
         const bool kept = is_tetrahedron(r.type) || is_triangle(r.type);
         r.physical = 0;
+        r.partition = 0;
+        // (The tags: physical, elementary, then gmsh -part's partition
+        // count and partitions, a ghost cell's negative.)
         for (int k = 0; k < tags; ++k) {
           const std::string_view t = next_field(line, at);
           if (t.empty()) c_.fail_line(i, "bad element tag count");
           if (k == 0 && kept) std::from_chars(t.data(), t.data() + t.size(), r.physical);
+          if (k >= 3) {
+            int32_t part = 0;
+            std::from_chars(t.data() + (t[0] == '-'), t.data() + t.size(), part);
+            r.partition = std::max(r.partition, part);
+          }
         }
         r.tagged = kept && tags > 0;
         size_t nodes = 0;
@@ -703,6 +796,7 @@ class GmshReader {
         }
       });
       for (const Line& r : chunk) {
+        partitions_ = std::max<uint64_t>(partitions_, static_cast<uint64_t>(r.partition));
         if (is_tetrahedron(r.type) || is_triangle(r.type)) {
           tagged_ = tagged_ || r.tagged;
           note_volume_tag(r.physical);
@@ -881,6 +975,10 @@ class GmshReader {
       const std::string_view b = c_.bytes(count * record, "the elements");
       for (int64_t e = 0; e < count; ++e) {
         const std::string_view r = b.substr(e * record, record);
+        for (int k = 3; k < tags; ++k)  // (gmsh -part's partitions, as in elements_v2())
+          partitions_ = std::max<uint64_t>(
+              partitions_,
+              static_cast<uint64_t>(std::abs(static_cast<int64_t>(int32(r.substr(4 * (1 + k)))))));
         const bool kept = is_tetrahedron(type) || is_triangle(type);
         if (kept) note_volume_tag(tags > 0 ? int32(r.substr(4)) : 0);
         tagged_ = tagged_ || (kept && tags > 0);
@@ -1133,6 +1231,11 @@ class GmshReader {
   std::vector<NodeView> node_views_;
   std::vector<std::string> physical_names_, partial_node_data_, partial_element_data_;
   std::set<std::string> skipped_data_;
+  // 4.1's $PartitionedEntities: their count, the partitions' entities'
+  // parents, the surfaces between partitions.
+  uint64_t partitions_ = 0, ghost_entities_ = 0;
+  std::map<int, int> volume_parent_, surface_parent_;
+  std::set<int> interface_surfaces_;
   std::unordered_map<int64_t, uint32_t> index_of_;
   std::vector<int64_t> tet_element_;  // per tetrahedron: its element tag
   size_t indexed_ = 0;                // tetrahedra index_element_tags() has seen
@@ -1144,6 +1247,35 @@ class GmshReader {
 }  // namespace
 
 InputMesh read_gmsh(const std::string& path) { return GmshReader(path).read(); }
+
+namespace {
+
+// Each label's physical tag: itself, but 0 (gmsh's "no physical group",
+// which gmsh renumbers): the tag above the labels' largest.
+template <class Labels>
+std::map<int32_t, int64_t> physical_tags(const Labels& labels) {
+  std::map<int32_t, int64_t> tag_of;
+  for (int32_t label : labels) tag_of.emplace(label, label);
+  int64_t next = std::max<int64_t>(0, tag_of.empty() ? 0 : tag_of.rbegin()->first);
+  for (auto& [label, tag] : tag_of)
+    if (label == 0) tag = ++next;
+  return tag_of;
+}
+
+}  // namespace
+
+std::vector<std::string> gmsh_renumbering(const OutputMesh& m) {
+  std::vector<std::string> out;
+  for (const auto& [label, tag] : physical_tags(m.region))
+    if (tag != label)
+      out.push_back("region " + std::to_string(label) + " as physical volume " + std::to_string(tag) +
+                    " (gmsh's physical tag 0 is no group)");
+  for (const auto& [label, tag] : physical_tags(m.face_tags))
+    if (tag != label)
+      out.push_back("face tag " + std::to_string(label) + " as physical surface " + std::to_string(tag) +
+                    " (gmsh's physical tag 0 is no group)");
+  return out;
+}
 
 std::string render_gmsh(const OutputMesh& m) {
   const size_t n = m.points.size(), t = m.cells.size();
@@ -1178,17 +1310,20 @@ std::string render_gmsh(const OutputMesh& m) {
   // gmsh:physical fewer blocks than cells and refuses the file (gmsh's own
   // files with Mesh.SaveAll alike).
   const bool whole_volume_group = entity_of.empty() && !surface_of.empty();
+  // (Each label's physical tag: gmsh_renumbering().)
+  const std::map<int32_t, int64_t> volume_tag = physical_tags(m.region),
+                                   surface_tag = physical_tags(m.face_tags);
   if (!entity_of.empty() || !surface_of.empty()) {
     out += "$PhysicalNames\n" +
            std::to_string(entity_of.size() + surface_of.size() + (whole_volume_group ? 1 : 0)) + "\n";
     for (const auto& [tag, entity] : surface_of) {
       const auto name = m.face_tag_names.find(tag);
-      out += "2 " + std::to_string(tag) + " \"" +
+      out += "2 " + std::to_string(surface_tag.at(tag)) + " \"" +
              (name != m.face_tag_names.end() ? name->second : "surface " + std::to_string(tag)) + "\"\n";
     }
     for (const auto& [label, entity] : entity_of) {
       const auto name = m.region_names.find(label);
-      out += "3 " + std::to_string(label) + " \"" +
+      out += "3 " + std::to_string(volume_tag.at(label)) + " \"" +
              (name != m.region_names.end() ? name->second : "region " + std::to_string(label)) + "\"\n";
     }
     if (whole_volume_group) out += "3 1 \"volume\"\n";
@@ -1197,7 +1332,8 @@ std::string render_gmsh(const OutputMesh& m) {
   // Per volume entity: its box (the mesh's), its physical groups, no
   // bounding surface.
   std::vector<std::string> physical(std::max<size_t>(1, entities), "0");
-  for (const auto& [label, entity] : entity_of) physical[entity - 1] = "1 " + std::to_string(label);
+  for (const auto& [label, entity] : entity_of)
+    physical[entity - 1] = "1 " + std::to_string(volume_tag.at(label));
   if (whole_volume_group) physical[0] = "1 1";
   out += "$Entities\n0 0 " + std::to_string(surfaces) + " " + std::to_string(physical.size()) + "\n";
   for (const auto& [tag, entity] : surface_of) {
@@ -1206,7 +1342,7 @@ std::string render_gmsh(const OutputMesh& m) {
       out += ' ';
       append_number(out, v);
     }
-    out += " 1 " + std::to_string(tag) + " 0\n";
+    out += " 1 " + std::to_string(surface_tag.at(tag)) + " 0\n";
   }
   for (size_t e = 0; e < physical.size(); ++e) {
     out += std::to_string(e + 1);

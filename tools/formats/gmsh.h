@@ -6,7 +6,9 @@
 // physical tags and names, element data) is named in InputMesh::left_out.
 #pragma once
 
+#include <map>
 #include <string>
+#include <vector>
 
 #include "input_mesh.h"
 #include "mesh_writers.h"
@@ -28,5 +30,10 @@ InputMesh read_gmsh(const std::string& path);
 // Version 4.1 ASCII: one volume entity, nodes tagged 1..n, tetrahedra,
 // $NodeData "level" and "boundary" when present.
 std::string render_gmsh(const OutputMesh& mesh);
+
+// What render_gmsh() writes under another number than the mesh's: a
+// region or face tag 0 (gmsh's physical tag 0 is no group, which gmsh
+// renumbers) as the tag above the others', one line each.
+std::vector<std::string> gmsh_renumbering(const OutputMesh& mesh);
 
 }  // namespace dtm
