@@ -135,6 +135,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"empty_selection.nrrd", "--threshold 1 selects no voxel (values range from 0 to 0)"},
         BadInput{"flat_selection.nrrd", "all 9 distinct points are coplanar"},
         // TetGen, through the same entry point
+        BadInput{"count_too_low.vol", ":10: '1' where a section keyword should be"},
+        BadInput{"gmsh_v1.msh", ":1: gmsh's format 1.0 ($NOD), which is not read"},
+        BadInput{"fluent.msh", ":1: not a gmsh file: a Fluent or ANSYS mesh"},
+        BadInput{"order3.msh", "20-node tetrahedra: volume elements of order 3 or more are not read"},
         BadInput{"truncated.node", "file ends after 2 of 4 points"}, BadInput{"coplanar.node", "coplanar"},
         BadInput{"three_points.node", "at least 4"}),
     [](const auto& info) {

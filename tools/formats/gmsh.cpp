@@ -144,6 +144,20 @@ std::string element_name(int type) {
       return "10-node tetrahedra";
     case 15:
       return "points";
+    case 21:
+      return "10-node triangles";
+    case 26:
+      return "4-node lines";
+    case 29:
+      return "20-node tetrahedra";
+    case 30:
+      return "35-node tetrahedra";
+    case 31:
+      return "56-node tetrahedra";
+    case 92:
+      return "64-node hexahedra";
+    case 93:
+      return "125-node hexahedra";
     default:
       return "of gmsh type " + std::to_string(type);
   }
@@ -155,6 +169,13 @@ class GmshReader {
 
   InputMesh read() {
     if (c_.at_end()) c_.fail("empty file, expected '$MeshFormat'");
+    // (Other files named .msh: gmsh 1.0's, Fluent's and ANSYS's.)
+    if (const std::string_view first = c_.peek(); first == "$NOD" || first == "$NOE")
+      c_.fail(
+          "gmsh's format 1.0 ($NOD), which is not read: save the mesh as 2.2 or 4.1 (gmsh FILE -0 -format "
+          "msh41)");
+    else if (!first.empty() && first[0] == '(')
+      c_.fail("not a gmsh file: a Fluent or ANSYS mesh (its sections in parentheses), which is not read");
     c_.expect("$MeshFormat");
     const std::string version(c_.token("a version"));
     // A number: Netgen writes 2.0 as "2.000000". 2.0 and 2.1 are 2.2 less
@@ -188,6 +209,12 @@ class GmshReader {
           v4_ ? nodes_v4_binary() : nodes_v2_binary();
         else
           v4_ ? nodes_v4() : nodes_v2();
+      } else if (section == "$ParametricNodes" && !v4_) {
+        // (2.x with Mesh.SaveParametric: the nodes with where they lie on
+        // the geometry, which is read past.)
+        if (have_nodes) c_.fail("a second $Nodes section");
+        have_nodes = true;
+        binary_ ? parametric_nodes_v2_binary() : parametric_nodes_v2();
       } else if (section == "$Elements") {
         if (!have_nodes) c_.fail("$Elements before $Nodes");
         // (Element data and regions are per element of the one section.)
@@ -223,6 +250,15 @@ class GmshReader {
     }
     if (!have_nodes) throw FormatError(c_.path() + ": no $Nodes section");
     set_node_labels(out_, index_of_);
+    // (Elements of order 3 and more are not read as their linear cells, as
+    // the second-order ones are: their nodes would all become vertices.)
+    for (const int high : {29, 30, 31, 92, 93})
+      if (other_elements_.count(high))
+        throw FormatError(c_.path() + ": " + std::to_string(other_elements_.at(high)) + " " +
+                          element_name(high) +
+                          ": volume elements of order 3 or more are not read (save the mesh at order "
+                          "1 or 2: gmsh -order 2, Mesh.ElementOrder)");
+    if (!v4_) drop_repeated_elements();
     index_element_tags();
     release(by_element_);
     for (const auto& e : face_edge_nodes_)
@@ -244,10 +280,14 @@ class GmshReader {
     const uint64_t n = c_.count("a physical name count", c_.remaining() / 4);
     c_.skip_to_next_line();
     for (uint64_t i = 0; i < n; ++i) {
-      const auto f = split(c_.rest_of_line());
+      const std::string_view line = c_.rest_of_line();
+      const auto f = split(line);
       if (f.size() < 3) c_.fail("expected 'dimension tag \"name\"'");
-      std::string name;
-      for (size_t k = 2; k < f.size(); ++k) name += (k > 2 ? " " : "") + std::string(f[k]);
+      // The name as written, its blanks kept (from the third field on).
+      std::string_view rest = line.substr(static_cast<size_t>(f[2].data() - line.data()));
+      while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r'))
+        rest.remove_suffix(1);
+      std::string name(rest);
       if (name.size() >= 2 && name.front() == '"' && name.back() == '"')
         name = name.substr(1, name.size() - 2);
       int dim = 0;
@@ -318,6 +358,7 @@ class GmshReader {
       const int physical = c_.number<int>("a physical tag");
       if (dim == 3 && p == 0 && tag != kNoEntity) volume_physical_[tag] = physical;
       if (dim == 2 && p == 0 && tag != kNoEntity) surface_physical_[tag] = physical;
+      if ((dim == 3 || dim == 2) && p > 0 && tag != kNoEntity) later_groups_[dim - 2].insert(physical);
     }
     if (dim == 0) return;
     const uint64_t bounding = c_.count("a bounding entity count", c_.remaining() / 2);
@@ -356,10 +397,106 @@ class GmshReader {
     const std::string_view p = c_.bytes(4 * physicals, "physical tags");
     if (dim == 3 && physicals > 0 && tag != kNoEntity) volume_physical_[tag] = int32(p);
     if (dim == 2 && physicals > 0 && tag != kNoEntity) surface_physical_[tag] = int32(p);
+    for (uint64_t k = 1; k < physicals && (dim == 3 || dim == 2) && tag != kNoEntity; ++k)
+      later_groups_[dim - 2].insert(int32(p.substr(4 * k)));
     if (dim == 0) return;
     const uint64_t bounding = size_t64(c_.bytes(8, "a bounding entity count"));
     if (bounding > c_.remaining() / 4) c_.fail(std::string(section) + " announces more than the file holds");
     c_.bytes(4 * bounding, "bounding entity tags");
+  }
+
+  // 2.x writes an element once per physical group it is in (gmsh, a
+  // volume or surface in several groups): the copies after the first, with
+  // the same nodes, are dropped, their groups named as left out (a
+  // tetrahedron has one region, a face one tag). Hexahedra, prisms and
+  // pyramids are left as they are, and so are copies in one group.
+  void drop_repeated_elements() {
+    std::set<int64_t> groups[2];  // surfaces', volumes'
+    const auto drop = [&](size_t count, auto key_of, auto skip, auto&& compact, int d) {
+      // (A copy in the same group is a repeated element, not another
+      // group's: left as it is.)
+      std::unordered_map<std::string, int64_t> first_group;
+      std::vector<uint32_t> new_index(count);
+      uint32_t kept = 0;
+      for (size_t i = 0; i < count; ++i) {
+        if (!skip(i)) {
+          const int64_t group = d == 1 ? tet_tag_[i] : tri_tag_[i];
+          const auto [at, fresh] = first_group.emplace(key_of(i), group);
+          if (!fresh && at->second != group) {
+            groups[d].insert(group);
+            new_index[i] = UINT32_MAX;
+            continue;
+          }
+        }
+        new_index[i] = kept++;
+      }
+      if (kept < count) compact(new_index, kept);
+    };
+    const auto sorted_key = [](auto corners) {
+      std::sort(corners.begin(), corners.end());
+      return std::string(reinterpret_cast<const char*>(corners.data()), sizeof corners);
+    };
+    std::vector<uint8_t> split(out_.tets.size(), 0);
+    for (const SplitCell& c : split_cells_) split[c.slot] = 1;
+    const auto keep_where = [](auto& items, const std::vector<uint32_t>& new_index) {
+      if (items.empty()) return;
+      size_t k = 0;
+      for (size_t i = 0; i < new_index.size(); ++i)
+        if (new_index[i] != UINT32_MAX) items[k++] = items[i];
+      items.resize(k);
+    };
+    drop(
+        out_.tets.size(), [&](size_t i) { return sorted_key(out_.tets[i]); },
+        [&](size_t i) { return split[i] != 0; },
+        [&](const std::vector<uint32_t>& new_index, uint32_t) {
+          keep_where(out_.tets, new_index);
+          keep_where(tet_tag_, new_index);
+          keep_where(tet_entity_, new_index);
+          keep_where(tet_element_, new_index);
+          keep_where(out_.tet_edge_nodes, new_index);
+          for (VertexField& f : out_.cell_fields) {
+            const auto n = static_cast<size_t>(f.components);
+            size_t k = 0;
+            for (size_t i = 0; i < new_index.size(); ++i) {
+              if (new_index[i] == UINT32_MAX) continue;
+              for (size_t j = 0; j < n; ++j) f.values[k * n + j] = f.values[i * n + j];
+              ++k;
+            }
+            f.values.resize(k * n);
+          }
+          for (SplitCell& c : split_cells_) c.slot = new_index[c.slot];
+        },
+        1);
+    drop(
+        triangles_.size(),
+        [&](size_t i) {
+          std::array<uint32_t, 4> q = {triangles_[i][0], triangles_[i][1], triangles_[i][2],
+                                       quad_fourth_.empty() ? UINT32_MAX : quad_fourth_[i]};
+          return sorted_key(q);
+        },
+        [](size_t) { return false; },
+        [&](const std::vector<uint32_t>& new_index, uint32_t) {
+          keep_where(triangles_, new_index);
+          keep_where(tri_tag_, new_index);
+          keep_where(tri_entity_, new_index);
+          keep_where(face_edge_nodes_, new_index);
+          keep_where(quad_fourth_, new_index);
+        },
+        0);
+    for (int d = 1; d >= 0; --d) {
+      std::string list;
+      const auto& names = d == 1 ? volume_names_ : surface_names_;
+      for (int64_t g : groups[d]) {
+        const auto name = names.find(static_cast<int32_t>(g));
+        list += (list.empty() ? "" : ", ") + std::to_string(g) +
+                (name != names.end() ? " \"" + name->second + "\"" : std::string());
+      }
+      if (!list.empty())
+        out_.left_out.push_back(std::string("physical ") + (d == 1 ? "volumes" : "surfaces") +
+                                " an element is in after its first (2.x repeats the element: the first " +
+                                "copy kept, " + (d == 1 ? "a tetrahedron has one region" : "a face one tag") +
+                                "): " + list);
+    }
   }
 
   // Each tetrahedron's region: 2.x its physical tag (the first tag); 4.1
@@ -371,9 +508,25 @@ class GmshReader {
   // physical group), named "no physical group".
   void set_regions() {
     if (tet_tag_.size() != out_.tets.size() || tet_tag_.empty() || (!v4_ && !tagged_)) return;
-    // (2.x's physical tag 0 is no physical group: tetrahedra all in none,
-    // as meshio writes a mesh without groups, are no regions.)
-    if (!v4_ && std::all_of(tet_tag_.begin(), tet_tag_.end(), [](int64_t t) { return t == 0; })) return;
+    // (2.x's physical tag 0 is no physical group. A file without any
+    // takes its elementary entities instead, as 4.1's volume entities;
+    // tetrahedra in none of either, as meshio writes a mesh without
+    // groups, are no regions.)
+    const auto none = [](const std::vector<int64_t>& tags) {
+      return std::all_of(tags.begin(), tags.end(), [](int64_t t) { return t == 0; });
+    };
+    if (!v4_ && none(tet_tag_) && none(tri_tag_) && !none(tet_entity_)) {
+      tet_tag_ = tet_entity_;
+      if (!none(tri_entity_)) tri_tag_ = tri_entity_, by_entities_ = true;
+      out_.tet_regions.reserve(tet_tag_.size());
+      for (int64_t t : tet_tag_) {
+        if (t < INT32_MIN || t > INT32_MAX) c_.fail("a region tag out of the 32-bit range");
+        out_.tet_regions.push_back(static_cast<int32_t>(t));
+      }
+      out_.region_source = "volume entities";
+      return;
+    }
+    if (!v4_ && none(tet_tag_)) return;
     std::set<int64_t> unnamed_entities;
     int64_t largest = 0;
     for (const auto& [entity, physical] : volume_physical_) largest = std::max<int64_t>(largest, physical);
@@ -468,7 +621,9 @@ class GmshReader {
     release(triangles_);
     out_.tagged_faces = std::move(tagged);
     out_.face_tag_names = surface_names_;
-    out_.face_tag_source = v4_ ? "physical surfaces" : "physical tags";
+    out_.face_tag_source = by_entities_ || (v4_ && surface_physical_.empty()) ? "surface entities"
+                           : v4_                                              ? "physical surfaces"
+                                                                              : "physical tags";
   }
 
   // The hexahedra, prisms and pyramids as their tetrahedra (cell_split.h),
@@ -528,6 +683,20 @@ class GmshReader {
       out_.left_out.push_back("$ElementData not given at every tetrahedron (" +
                               joined(partial_element_data_) + ")");
     if (!skipped_data_.empty()) out_.left_out.push_back("sections $" + joined(skipped_data_));
+    // (4.1: an entity in several physical groups is its first's.)
+    for (int d = 1; d >= 0; --d) {
+      std::vector<std::string> groups;
+      for (int g : later_groups_[d]) {
+        const auto& names = d == 1 ? volume_names_ : surface_names_;
+        const auto name = names.find(g);
+        groups.push_back(std::to_string(g) + (name != names.end() ? " \"" + name->second + "\"" : ""));
+      }
+      if (!groups.empty())
+        out_.left_out.push_back(std::string(d == 1 ? "physical volumes" : "physical surfaces") +
+                                " beyond an entity's first (an entity in several groups is its first's: " +
+                                (d == 1 ? "a tetrahedron has one region" : "a face one tag") +
+                                "): " + joined(groups));
+    }
     if (partitions_ > 0)
       out_.left_out.push_back("the partitioning into " + std::to_string(partitions_) +
                               " partitions (gmsh -part: which partition each element is in" +
@@ -641,6 +810,7 @@ class GmshReader {
     const size_t first = out_.tets.size();
     out_.tets.resize(count);
     tet_tag_.resize(count, tag_);
+    if (!v4_) tet_entity_.resize(count, entity_);
     tet_element_.resize(count);
     if (type == kGmshTetrahedron10 || !out_.tet_edge_nodes.empty())
       out_.tet_edge_nodes.resize(count, kNoEdgeNodes);
@@ -654,6 +824,7 @@ class GmshReader {
   void make_room_for_triangles(int type, size_t count) {
     triangles_.resize(count);
     tri_tag_.resize(count, tag_);
+    if (!v4_) tri_entity_.resize(count, entity_);
     // (A second-order face's nodes past its corners, set aside with the
     // cells' unless they are some cell's corners: second_order.h.)
     if (kept_element_nodes(type) > (is_quadrangle(type) ? 4u : 3u) || !face_edge_nodes_.empty()) {
@@ -726,7 +897,7 @@ class GmshReader {
 
   // The tag of the tetrahedron read next: its physical tag (2.x: the first
   // tag), or its volume entity (4.1); set_regions() makes it its region.
-  void note_volume_tag(int64_t tag) { tag_ = tag; }
+  void note_volume_tag(int64_t tag, int64_t entity = 0) { tag_ = tag, entity_ = entity; }
 
   // 2.x's element lines ("tag type ntags tags... nodes..."), parsed on every
   // core a chunk at a time (each line into its record), then added in order.
@@ -736,6 +907,7 @@ class GmshReader {
     struct Line {
       ElementNodes nodes;
       int64_t physical;  // the first tag (0: none)
+      int64_t entity;    // the second (the elementary entity)
       int64_t tag;       // a tetrahedron's element tag
       int32_t type;
       int32_t partition;  // gmsh -part: the largest of its partitions (0: none)
@@ -763,6 +935,7 @@ class GmshReader {
         if (ec != std::errc() || tags < 0) c_.fail_line(i, "bad element tag count");
         const bool kept = is_tetrahedron(r.type) || is_triangle(r.type);
         r.physical = 0;
+        r.entity = 0;
         r.partition = 0;
         // (The tags: physical, elementary, then gmsh -part's partition
         // count and partitions, a ghost cell's negative.)
@@ -770,6 +943,7 @@ class GmshReader {
           const std::string_view t = next_field(line, at);
           if (t.empty()) c_.fail_line(i, "bad element tag count");
           if (k == 0 && kept) std::from_chars(t.data(), t.data() + t.size(), r.physical);
+          if (k == 1 && kept) std::from_chars(t.data(), t.data() + t.size(), r.entity);
           if (k >= 3) {
             int32_t part = 0;
             std::from_chars(t.data() + (t[0] == '-'), t.data() + t.size(), part);
@@ -799,7 +973,7 @@ class GmshReader {
         partitions_ = std::max<uint64_t>(partitions_, static_cast<uint64_t>(r.partition));
         if (is_tetrahedron(r.type) || is_triangle(r.type)) {
           tagged_ = tagged_ || r.tagged;
-          note_volume_tag(r.physical);
+          note_volume_tag(r.physical, r.entity);
         }
         if (is_tetrahedron(r.type)) {
           note_tetrahedron(r.tag);
@@ -947,6 +1121,33 @@ class GmshReader {
       if (e) std::rethrow_exception(e);
   }
 
+  // "tag x y z dimension entity [u [v]]" a line.
+  void parametric_nodes_v2() {
+    const uint64_t n = c_.count("a node count", c_.remaining() / 12);
+    out_.points.reserve(n);
+    for (uint64_t i = 0; i < n; ++i) {
+      add_node(c_.number<int64_t>("a node tag"), out_.points.size());
+      const double x = c_.coordinate(), y = c_.coordinate(), z = c_.coordinate();
+      out_.points.push_back({x, y, z});
+      c_.rest_of_line();
+    }
+  }
+  // int tag, 3 doubles, int dimension, int entity, then a curve's u or a
+  // surface's u and v (doubles).
+  void parametric_nodes_v2_binary() {
+    const uint64_t n = c_.count("a node count", c_.remaining() / 36);
+    c_.skip_to_next_line();
+    out_.points.reserve(n);
+    for (uint64_t i = 0; i < n; ++i) {
+      const std::string_view b = c_.bytes(36, "a node");
+      add_node(int32(b), out_.points.size());
+      add_point(b.substr(4, 24));
+      const int dim = int32(b.substr(28));
+      if (dim < 0 || dim > 3) c_.fail("a parametric node of dimension " + std::to_string(dim));
+      if (dim == 1 || dim == 2) c_.bytes(8 * static_cast<uint64_t>(dim), "a node's parameters");
+    }
+  }
+
   void nodes_v2_binary() {
     const uint64_t n = c_.count("a node count", c_.remaining() / 28);
     c_.skip_to_next_line();
@@ -980,7 +1181,7 @@ class GmshReader {
               partitions_,
               static_cast<uint64_t>(std::abs(static_cast<int64_t>(int32(r.substr(4 * (1 + k)))))));
         const bool kept = is_tetrahedron(type) || is_triangle(type);
-        if (kept) note_volume_tag(tags > 0 ? int32(r.substr(4)) : 0);
+        if (kept) note_volume_tag(tags > 0 ? int32(r.substr(4)) : 0, tags > 1 ? int32(r.substr(8)) : 0);
         tagged_ = tagged_ || (kept && tags > 0);
         binary_element(int32(r), r.substr(4 * (1 + tags)), type, per, 4);
       }
@@ -1080,7 +1281,7 @@ class GmshReader {
     for (int i = 0; i < reals; ++i) c_.number<double>("a real tag");
     const int ints = c_.number<int>("an integer tag count");
     if (ints < 3) c_.fail("$NodeData needs 3 integer tags (step, components, entries)");
-    c_.number<int64_t>("a time step");
+    const int64_t step = c_.number<int64_t>("a time step");
     f.components = c_.number<int>("a component count");
     const uint64_t entries = c_.count("an entry count", c_.remaining() / 4);
     for (int i = 3; i < ints; ++i) c_.number<int64_t>("an integer tag");
@@ -1113,6 +1314,9 @@ class GmshReader {
       }
     }
     if (distinct == out_.points.size()) release(seen);
+    // A view of several time steps: one field a step (as $ElementData's).
+    for (const NodeView& g : node_views_)
+      if (g.field.name == f.name) f.name += " (step " + std::to_string(step) + ")";
     node_views_.push_back({std::move(f), std::move(seen), distinct});
   }
 
@@ -1197,6 +1401,9 @@ class GmshReader {
   // What is not read into the mesh (InputMesh::left_out).
   std::map<int, uint64_t> other_elements_;  // by gmsh element type
   int64_t tag_ = 0;
+  int64_t entity_ = 0;                            // 2.x: the element's elementary entity (its second tag)
+  std::vector<int64_t> tet_entity_, tri_entity_;  // 2.x, per tetrahedron and triangle
+  bool by_entities_ = false;            // 2.x without physical groups: the faces tagged by their entities
   bool tagged_ = false;                 // 2.x: some tetrahedron has tags
   std::vector<int64_t> tet_tag_;        // per tetrahedron
   std::map<int, int> volume_physical_;  // 4.1: volume entity -> its first physical group
@@ -1234,6 +1441,7 @@ class GmshReader {
   // 4.1's $PartitionedEntities: their count, the partitions' entities'
   // parents, the surfaces between partitions.
   uint64_t partitions_ = 0, ghost_entities_ = 0;
+  std::set<int> later_groups_[2];  // surfaces', volumes' physical groups after an entity's first
   std::map<int, int> volume_parent_, surface_parent_;
   std::set<int> interface_surfaces_;
   std::unordered_map<int64_t, uint32_t> index_of_;

@@ -82,6 +82,14 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
       if (a > 0) out.region_source = "region attributes (TetGen -A)";
       out.tetgen_ele = ele.string(), out.tetgen_index_base = node.index_base;
     }
+    // TetGen's boundary faces beside them (tetgen -p writes them with their
+    // facet markers, the boundary conditions) are not read: named. (Its
+    // .edge and .neigh are the mesh's own, which the decoder makes again.)
+    if (const auto face = std::filesystem::path(path).replace_extension(".face");
+        std::filesystem::exists(face))
+      out.left_out.push_back(face.string() +
+                             " (the boundary faces and their markers: meshenc reads the .node "
+                             "and the .ele)");
   }
   return out;
 }
@@ -132,6 +140,14 @@ InputMesh read_input(const std::string& path, std::optional<InputFormat> format,
                             read_node, time_step);
   set_edge_nodes_aside(mesh);
   check_spans_3d(mesh.points, path);
+  // A tetrahedron that names a point twice has no volume: no cell of the
+  // solid (the encoder's reference shape leaves it out), said here.
+  uint64_t flat = 0;
+  for (const auto& t : mesh.tets)
+    flat += t[0] == t[1] || t[0] == t[2] || t[0] == t[3] || t[1] == t[2] || t[1] == t[3] || t[2] == t[3];
+  if (flat > 0)
+    mesh.left_out.push_back(std::to_string(flat) + " tetrahedr" + (flat == 1 ? "on" : "a") +
+                            " naming a point twice (no volume: not a cell of the solid)");
   return mesh;
 }
 

@@ -124,6 +124,14 @@ InputMesh read_medit(const std::string& path) {
       have_dimension = true;
       continue;
     }
+    if (keyword == "Identifier" || keyword == "Geometry") {
+      // (libMeshb's: a string, on this line or the next; a Geometry names
+      // the file of the geometry, which is not read.)
+      std::string_view text = c.rest_of_line();
+      if (text.find_first_not_of(" \t\r") == std::string_view::npos) text = c.rest_of_line();
+      if (keyword == "Geometry") other_records["Geometry"] += 1;
+      continue;
+    }
     if (!have_dimension) c.fail("'" + keyword + "' before 'Dimension 3'");
     const uint64_t limit = c.remaining() / 2;  // every value takes two bytes at least
     if (keyword == "Vertices") {

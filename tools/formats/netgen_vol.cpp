@@ -246,6 +246,11 @@ InputMesh read_netgen_vol(const std::string& path) {
   while (true) {
     if (c.at_end()) c.fail("file ends without 'endmesh'");
     const std::string keyword(c.token("a section keyword"));
+    // (A number where a section's name should be: the records of the
+    // section before, more than its count said.)
+    if (keyword.find_first_not_of("0123456789+-.eE") == std::string::npos)
+      c.fail("'" + keyword +
+             "' where a section keyword should be (a section holds more records than its count)");
     if (keyword == "endmesh") break;
     if (keyword == "dimension") {
       const int dim = c.number<int>("a dimension");

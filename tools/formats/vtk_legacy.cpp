@@ -19,12 +19,27 @@ namespace {
 
 std::optional<ScalarType> legacy_type(std::string_view name) {
   static const std::map<std::string, ScalarType, std::less<>> kTypes = {
-      {"char", ScalarType::kInt8},          {"unsigned_char", ScalarType::kUInt8},
-      {"short", ScalarType::kInt16},        {"unsigned_short", ScalarType::kUInt16},
-      {"int", ScalarType::kInt32},          {"unsigned_int", ScalarType::kUInt32},
-      {"long", ScalarType::kInt64},         {"unsigned_long", ScalarType::kUInt64},
-      {"vtktypeint64", ScalarType::kInt64}, {"vtktypeuint64", ScalarType::kUInt64},
-      {"vtkIdType", ScalarType::kInt64},    {"float", ScalarType::kFloat32},
+      {"char", ScalarType::kInt8},
+      {"unsigned_char", ScalarType::kUInt8},
+      {"short", ScalarType::kInt16},
+      {"unsigned_short", ScalarType::kUInt16},
+      {"int", ScalarType::kInt32},
+      {"unsigned_int", ScalarType::kUInt32},
+      {"long", ScalarType::kInt64},
+      {"unsigned_long", ScalarType::kUInt64},
+      // (VTK 9's and meshio's names of the fixed-size types.)
+      {"vtktypeint8", ScalarType::kInt8},
+      {"vtktypeuint8", ScalarType::kUInt8},
+      {"vtktypeint16", ScalarType::kInt16},
+      {"vtktypeuint16", ScalarType::kUInt16},
+      {"vtktypeint32", ScalarType::kInt32},
+      {"vtktypeuint32", ScalarType::kUInt32},
+      {"vtktypeint64", ScalarType::kInt64},
+      {"vtktypeuint64", ScalarType::kUInt64},
+      {"vtktypefloat32", ScalarType::kFloat32},
+      {"vtktypefloat64", ScalarType::kFloat64},
+      {"vtkIdType", ScalarType::kInt64},
+      {"float", ScalarType::kFloat32},
       {"double", ScalarType::kFloat64}};
   const auto it = kTypes.find(name);
   if (it == kTypes.end()) return std::nullopt;
@@ -116,9 +131,26 @@ class LegacyReader {
           if (f.components < 1 || f.components > 64)
             c_.fail("bad component count " + std::to_string(f.components));
           const std::string type(c_.token("a value type"));
+          if (type == "string") {
+            // Text, one value a line (in ASCII): read past, named.
+            if (binary_)
+              c_.fail("the string array '" + f.name +
+                      "' of a BINARY file is not read (save it as ASCII or .vtu)");
+            c_.skip_to_next_line();
+            for (uint64_t v = 0; v < tuples * static_cast<uint64_t>(f.components); ++v) {
+              if (c_.remaining() == 0) c_.fail("file ends inside the string array '" + f.name + "'");
+              c_.rest_of_line();
+            }
+            skip_metadata();
+            string_arrays_.push_back("'" + f.name + "'");
+            continue;
+          }
           f.values = array(tuples * f.components, type);
           if (const auto t = legacy_type(type)) f.type = *t;
-          if (in_point_data && data_count > 0) {
+          skip_metadata();  // (VTK >= 8: after each array of a FIELD)
+          if (!in_data) {
+            dataset_arrays_.push_back("'" + f.name + "'");  // the dataset's own (TimeValue, ...)
+          } else if (in_point_data && data_count > 0) {
             if (tuples != out_.points.size())
               c_.fail("array '" + f.name + "' has " + std::to_string(tuples) + " tuples for " +
                       std::to_string(out_.points.size()) + " points");
@@ -131,10 +163,7 @@ class LegacyReader {
           }
         }
       } else if (key == "METADATA") {
-        // VTK >= 8 writes array information after the data, up to a blank line.
-        c_.skip_to_next_line();
-        while (c_.remaining() > 0 && !c_.rest_of_line().empty()) {
-        }
+        skip_metadata_block();
       } else {
         c_.fail("unknown or unsupported keyword '" + key + "'");
       }
@@ -268,11 +297,30 @@ class LegacyReader {
     cell_data_.clear();
   }
 
+  // VTK >= 8 writes an array's information after its data ("METADATA",
+  // "INFORMATION n" and its entries, up to a blank line): read past.
+  void skip_metadata_block() {
+    c_.skip_to_next_line();
+    while (c_.remaining() > 0 && !c_.rest_of_line().empty()) {
+    }
+  }
+  void skip_metadata() {
+    if (c_.at_end() || c_.peek() != "METADATA") return;
+    c_.token("METADATA");
+    skip_metadata_block();
+  }
+
   // What the file holds that the mesh read does not (InputMesh::left_out).
   void note_left_out() {
     std::string names;
     for (const std::string& a : cell_arrays_) names += (names.empty() ? "" : ", ") + a;
     if (!names.empty()) out_.left_out.push_back("CELL_DATA arrays " + names);
+    std::string dataset;
+    for (const std::string& a : dataset_arrays_) dataset += (dataset.empty() ? "" : ", ") + a;
+    if (!dataset.empty()) out_.left_out.push_back("the dataset's field data " + dataset);
+    std::string strings;
+    for (const std::string& a : string_arrays_) strings += (strings.empty() ? "" : ", ") + a;
+    if (!strings.empty()) out_.left_out.push_back("string arrays " + strings);
     std::string others;
     for (const auto& [type, count] : other_cells_)
       others +=
@@ -372,6 +420,8 @@ class LegacyReader {
   bool binary_ = false;
   InputMesh out_;
   std::vector<std::string> cell_arrays_;     // CELL_DATA arrays left out, quoted
+  std::vector<std::string> string_arrays_;   // arrays of text, quoted
+  std::vector<std::string> dataset_arrays_;  // FIELD arrays outside POINT_DATA and CELL_DATA, quoted
   std::vector<VertexField> cell_data_;       // CELL_DATA arrays, per cell
   std::map<int64_t, uint64_t> other_cells_;  // cells that are not tetrahedra, by VTK type
   std::map<size_t, uint64_t> split_cells_;   // hexahedra, wedges and pyramids, by corner count

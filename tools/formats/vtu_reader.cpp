@@ -354,6 +354,12 @@ class VtuReader {
     for (size_t id : grid.children)
       if (p_.element(id).name == "Piece") pieces.push_back(id);
     if (pieces.empty()) p_.fail_at(grid.offset, "no <Piece>");
+    // The dataset's own arrays (ParaView's TimeValue, ...): named.
+    for (size_t id : grid.children)
+      if (const Element& fd = p_.element(id); fd.name == "FieldData")
+        for (size_t a : fd.children)
+          if (const Element& da = p_.element(a); da.name == "DataArray" || da.name == "Array")
+            dataset_arrays_.insert(da.attr("Name") ? *da.attr("Name") : "unnamed");
     // Several pieces (a parallel writer's, or VTK's when asked): one mesh,
     // their points one after the other, each piece's cells renumbered.
     InputMesh out;
@@ -381,7 +387,7 @@ class VtuReader {
     if (const Element* pd = optional_child(piece, "PointData"))
       for (size_t id : pd->children) {
         const Element& da = p_.element(id);
-        if (da.name != "DataArray") continue;
+        if (skipped_array(da)) continue;
         VertexField f;
         f.name = da.attr("Name") ? *da.attr("Name") : "unnamed";
         f.components = static_cast<int>(count_attr(da, "NumberOfComponents", 1));
@@ -404,8 +410,16 @@ class VtuReader {
     if (k > 0 && fields != out.fields.size())
       p_.fail_at(piece.offset, "piece " + std::to_string(k + 1) + " has " + std::to_string(fields) +
                                    " PointData arrays, the first piece " + std::to_string(out.fields.size()));
+    // A parallel writer's ghost cells (vtkGhostType's DUPLICATECELL bit, 1):
+    // the neighbouring pieces' cells, which their own pieces hold.
+    std::vector<double> ghost;
+    if (const Element* cd = optional_child(piece, "CellData"))
+      for (size_t id : cd->children)
+        if (const Element& da = p_.element(id);
+            da.name == "DataArray" && da.attr("Name") && *da.attr("Name") == kGhostArray)
+          ghost = array(da, cells, 1);
     std::vector<uint64_t> triangles;
-    const std::vector<uint64_t> tets = read_cells(piece, cells, n, first, out, triangles);
+    const std::vector<uint64_t> tets = read_cells(piece, cells, n, first, out, triangles, ghost);
     // Integer cell arrays of one component may be the regions
     // (InputMesh::tet_arrays); every other array is cell data
     // (InputMesh::cell_fields). Both are kept on the tetrahedra; an array
@@ -415,7 +429,7 @@ class VtuReader {
     if (const Element* cd = optional_child(piece, "CellData"))
       for (size_t id : cd->children) {
         const Element& da = p_.element(id);
-        if (da.name != "DataArray") continue;
+        if (skipped_array(da)) continue;
         const std::string name = da.attr("Name") ? *da.attr("Name") : "unnamed";
         // The type the file stores (an unknown one is read as float64).
         ScalarType type = ScalarType::kFloat64;
@@ -441,6 +455,7 @@ class VtuReader {
           std::vector<double>& into = out.cell_fields[cell_fields++].values;
           for (uint64_t c : tets)
             for (int j = 0; j < components; ++j) into.push_back(values[c * components + j]);
+          if (!triangles.empty()) triangle_values_.insert(name);  // (cell data is the tetrahedra's)
           continue;
         }
         if (k > 0 && !out.tet_arrays.count(name)) {
@@ -487,6 +502,34 @@ class VtuReader {
       others += (others.empty() ? "" : ", ") + std::to_string(count) + " " + vtk_cell_name(type);
     if (!others.empty()) out.left_out.push_back("cells other than tetrahedra (" + others + ")");
     if (!split_cells_.empty()) out.left_out.push_back(split_cells_note(split_cells_));
+    const auto quoted = [](const std::set<std::string>& names) {
+      std::string s;
+      for (const std::string& a : names) s += (s.empty() ? "'" : ", '") + a + "'";
+      return s;
+    };
+    if (!triangle_values_.empty())
+      out.left_out.push_back("the values of the cell arrays " + quoted(triangle_values_) +
+                             " on the triangles (cell data is the tetrahedra's)");
+    if (!text_arrays_.empty()) out.left_out.push_back("arrays of strings or bits " + quoted(text_arrays_));
+    if (!dataset_arrays_.empty())
+      out.left_out.push_back("the dataset's FieldData " + quoted(dataset_arrays_));
+    if (ghost_cells_ > 0)
+      out.left_out.push_back(
+          std::to_string(ghost_cells_) +
+          " ghost cells (vtkGhostType: copies of the neighbouring pieces' cells, read from "
+          "those pieces)");
+  }
+
+  // An array not read as values: the ghost cells' and points' flags (used
+  // by read_cells()), and arrays of strings or bits (named).
+  // (Also what is not a DataArray: VTK's <Array> of strings is named.)
+  bool skipped_array(const Element& da) {
+    if (da.name != "DataArray" && da.name != "Array") return true;
+    if (da.attr("Name") && *da.attr("Name") == kGhostArray) return true;
+    const auto* t = da.attr("type");
+    if (da.name == "DataArray" && (!t || (*t != "String" && *t != "Bit"))) return false;
+    text_arrays_.insert(da.attr("Name") ? *da.attr("Name") : "unnamed");
+    return true;
   }
 
   const Element* optional_child(const Element& parent, std::string_view name) const {
@@ -674,7 +717,8 @@ class VtuReader {
   // The piece's tetrahedra, added to `out`; returns which of its cells
   // they are.
   std::vector<uint64_t> read_cells(const Element& piece, uint64_t cells, uint64_t points, size_t first,
-                                   InputMesh& out, std::vector<uint64_t>& triangles) {
+                                   InputMesh& out, std::vector<uint64_t>& triangles,
+                                   const std::vector<double>& ghost) {
     std::vector<uint64_t> tets;
     const Element* ce = optional_child(piece, "Cells");
     if (!ce) {
@@ -706,6 +750,10 @@ class VtuReader {
       const auto at = [&](uint64_t i) {
         return static_cast<uint32_t>(first + static_cast<uint64_t>(conn[i]));
       };
+      if (!ghost.empty() && (static_cast<uint64_t>(ghost[c]) & 1)) {
+        ++ghost_cells_;
+        continue;
+      }
       // Triangles may carry tags (InputMesh::tagged_faces): held, tagged
       // or named by choose_regions().
       // (A quadratic one's edge nodes go aside: second_order.h.)
@@ -752,7 +800,12 @@ class VtuReader {
   bool big_endian_ = false;
   ScalarType header_type_ = ScalarType::kUInt32;
   std::optional<VtkCompressor> compressor_;
+  static constexpr std::string_view kGhostArray = "vtkGhostType";
   std::set<std::string> cell_arrays_;       // CellData arrays seen, by name
+  std::set<std::string> triangle_values_;   // non-label CellData arrays with values on triangles
+  std::set<std::string> text_arrays_;       // String and Bit arrays, not read
+  std::set<std::string> dataset_arrays_;    // the grid's FieldData
+  uint64_t ghost_cells_ = 0;                // vtkGhostType's duplicate cells, not read
   std::map<int, uint64_t> other_cells_;     // cells that are not tetrahedra, by VTK type
   std::map<size_t, uint64_t> split_cells_;  // hexahedra, wedges and pyramids, by corner count
 };
