@@ -10,8 +10,8 @@
 # name); meshio's and ParaView's legacy .vtk (VTK 9's vtktype names, the
 # arrays' METADATA) as their .vtu; a .pvtu of ghost cells (read from their
 # own pieces); a .vtu's string array and FieldData, values on its
-# triangles; TetGen's .face beside its .node and .ele, a tetrahedron naming
-# a point twice.
+# triangles; TetGen's .face beside its .node and .ele (its markers the
+# tagged faces, but TetGen's default), a tetrahedron naming a point twice.
 set -euo pipefail
 meshenc=$1
 meshdec=$(dirname "$meshenc")/meshdec
@@ -156,8 +156,8 @@ if cells("ghosts.out.vtu") != cells("mio.out.vtu"):
     sys.exit("ghosts.pvtu: level 0 is not the .vtu's (its ghost cells read as cells)")
 PY
 
-# TetGen: its .face (the boundary faces and their markers) named; a
-# tetrahedron naming a point twice named.
+# TetGen: its .face's boundary markers (a .poly's facet markers) are the
+# tagged faces; a tetrahedron naming a point twice named.
 cat > box.poly <<'POLY'
 8 3 0 0
 1 0 0 0
@@ -186,8 +186,13 @@ cat > box.poly <<'POLY'
 POLY
 tetgen -pq1.2a0.01Q box.poly >/dev/null
 "$meshenc" box.1.node -o box.dtm >box.out 2>&1 || { cat box.out; failed=1; }
-grep -q "left out.*box.1.face (the boundary faces and their markers" box.out ||
-  { echo "box.1.node: its .face not named as left out"; cat box.out; failed=1; }
+grep -q "tagged faces (the .face's boundary markers), 3: 1 ([0-9]* triangles), 2 ([0-9]* triangles), 3 " box.out ||
+  { echo "box.1.node: its .face's markers are not the tagged faces"; cat box.out; failed=1; }
+# (Every face marked 1, TetGen's default without facet markers: none.)
+sed 's/^1 0 [23]$/1 0 1/' box.poly >plain.poly
+tetgen -pq1.2a0.01Q plain.poly >/dev/null
+"$meshenc" plain.1.node -o plain_box.dtm >plain_box.out 2>&1 || { cat plain_box.out; failed=1; }
+grep -q "tagged faces\|left out" plain_box.out && { echo "plain.1.node: TetGen's default markers kept"; cat plain_box.out; failed=1; }
 cp box.1.node flat.node
 awk 'NR == 2 { $3 = $2 } { print }' box.1.ele >flat.ele
 "$meshenc" flat.node -o flat.dtm >flat.out 2>&1 || { cat flat.out; failed=1; }

@@ -1,6 +1,6 @@
 // The TetGen reader on arbitrary bytes: a FormatError or a valid point set,
-// never a crash. The first byte picks .node or .ele (and, for an .ele, the
-// index base and whether a second-order one may be read).
+// never a crash. The first byte picks .node, .ele or .face (and, for an
+// .ele, the index base and whether a second-order one may be read).
 #include <unistd.h>
 
 #include <cmath>
@@ -31,6 +31,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       FUZZ_CHECK(edge_nodes.empty() || edge_nodes.size() == tets.size());
       for (const auto& e : edge_nodes)
         for (uint32_t v : e) FUZZ_CHECK(v < 64);
+    } else if ((data[0] & 0x0c) == 0x0c) {
+      // (Bits 2 and 3 of a byte with bit 0 clear: a .face.)
+      const dtm::FaceFile faces = dtm::read_tetgen_face(path, 64, data[0] >> 7);
+      for (const auto& t : faces.faces)
+        for (uint32_t v : t) FUZZ_CHECK(v < 64);
+      FUZZ_CHECK(faces.markers.empty() || faces.markers.size() == faces.faces.size());
     } else {
       const auto node = dtm::read_tetgen_node(path);
       for (const auto& p : node.points)

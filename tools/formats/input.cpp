@@ -82,14 +82,36 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
       if (a > 0) out.region_source = "region attributes (TetGen -A)";
       out.tetgen_ele = ele.string(), out.tetgen_index_base = node.index_base;
     }
-    // TetGen's boundary faces beside them (tetgen -p writes them with their
-    // facet markers, the boundary conditions) are not read: named. (Its
-    // .edge and .neigh are the mesh's own, which the decoder makes again.)
+    // TetGen's faces beside them (tetgen -p writes the boundary's with their
+    // facet markers, the boundary conditions): those with a marker other
+    // than 0 (-f's inner faces have 0) are the tagged faces, unless every
+    // one is 1, TetGen's default where the input has no facet markers (an
+    // .off or .stl): nothing to keep. Under mpirun, where the ranks read
+    // the .ele in parts, tagged faces would need it whole on every rank:
+    // named instead. (TetGen's .edge and .neigh are the mesh's own, which
+    // the decoder makes again.)
     if (const auto face = std::filesystem::path(path).replace_extension(".face");
-        std::filesystem::exists(face))
-      out.left_out.push_back(face.string() +
-                             " (the boundary faces and their markers: meshenc reads the .node "
-                             "and the .ele)");
+        std::filesystem::exists(face)) {
+      const FaceFile faces = read_tetgen_face(face.string(), out.points.size(), node.index_base);
+      const bool marked =
+          std::any_of(faces.markers.begin(), faces.markers.end(), [](int32_t m) { return m != 0 && m != 1; });
+      if (faces.markers.empty() && !faces.faces.empty()) {
+        out.left_out.push_back(face.string() + "'s " + std::to_string(faces.faces.size()) +
+                               " faces (without markers)");
+      } else if (marked && !with_ele) {
+        out.left_out.push_back(
+            face.string() +
+            "'s boundary markers (under mpirun the ranks read the .ele in parts; meshenc on "
+            "one process keeps them as tagged faces)");
+      } else if (marked) {
+        for (size_t i = 0; i < faces.markers.size(); ++i)
+          if (faces.markers[i] != 0) {
+            out.tagged_faces.push_back(faces.faces[i]);
+            out.face_tags.push_back(faces.markers[i]);
+          }
+        out.face_tag_source = "the .face's boundary markers";
+      }
+    }
   }
   return out;
 }

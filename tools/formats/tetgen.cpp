@@ -283,6 +283,47 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
   return read_ele(path, num_points, index_base, keep, regions, 0, 1, counts, {}, edge_nodes);
 }
 
+FaceFile read_tetgen_face(const std::string& path, size_t num_points, int index_base) {
+  TextRecords r(path);
+  TextRecords::Fields tok;
+  if (!r.next(tok)) throw FormatError(path + ": empty file, expected a .face header");
+  const size_t header = r.line();
+  if (tok.empty() || tok.size() > 2)
+    r.fail(header, "expected a header '<faces> [<boundary markers: 0 or 1>]'");
+  const auto count = r.parse<uint64_t>(tok[0], "a face count", header);
+  const int marked = tok.size() > 1 ? r.parse<int>(tok[1], "0 or 1 (boundary markers)", header) : 0;
+  if (marked != 0 && marked != 1) r.fail(header, "the boundary marker flag must be 0 or 1");
+  FaceFile out;
+  for (uint64_t i = 0; i < count; ++i) {
+    if (!r.next(tok))
+      throw FormatError(path + ": file ends after " + std::to_string(i) + " of " + std::to_string(count) +
+                        " faces");
+    const size_t line = r.line();
+    // The face's number, its 3 (or, -o2, 6) nodes, its marker, and with
+    // -nn its two tetrahedra: the count of fields tells the nodes.
+    const size_t rest = tok.size() - 1 - static_cast<size_t>(marked);
+    if (tok.size() < 1 + static_cast<size_t>(marked) || (rest != 3 && rest != 5 && rest != 6 && rest != 8))
+      r.fail(line, "expected a face's number, its 3 or 6 nodes" + std::string(marked ? ", its marker" : "") +
+                       " and perhaps its 2 tetrahedra");
+    const size_t nodes = rest == 3 || rest == 5 ? 3 : 6;
+    std::array<uint32_t, 3> f{};
+    for (size_t k = 0; k < 3; ++k) {
+      const auto v = r.parse<int64_t>(tok[1 + k], "a vertex index", line) - index_base;
+      if (v < 0 || static_cast<uint64_t>(v) >= num_points)
+        r.fail(line, "vertex index " + std::string(tok[1 + k]) + " out of range");
+      f[k] = static_cast<uint32_t>(v);
+    }
+    out.faces.push_back(f);
+    if (marked) {
+      const auto m = r.parse<int64_t>(tok[1 + nodes], "a boundary marker", line);
+      if (m < INT32_MIN || m > INT32_MAX) r.fail(line, "a boundary marker out of the 32-bit range");
+      out.markers.push_back(static_cast<int32_t>(m));
+    }
+  }
+  if (r.next(tok)) r.fail(r.line(), "unexpected data after the " + std::to_string(count) + " faces");
+  return out;
+}
+
 ElePart read_tetgen_ele_part(const std::string& path, size_t num_points, int index_base, int part, int parts,
                              bool regions, const EleBlock& take) {
   ElePart counts;

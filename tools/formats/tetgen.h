@@ -64,6 +64,17 @@ std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::function<bool(const std::array<uint32_t, 4>&)>& keep = {},
     std::vector<int32_t>* regions = nullptr, std::vector<std::array<uint32_t, 6>>* edge_nodes = nullptr);
 
+// A .face file's faces (TetGen -p writes the boundary's, -f every face) as
+// 0-based indices into the .node's points, and their boundary markers
+// (empty when the file has none: its header's second number 0). A
+// second-order file's (-o2: 6 nodes a face) and one with the adjacent
+// tetrahedra (-nn: 2 more numbers a line) read the same.
+struct FaceFile {
+  std::vector<std::array<uint32_t, 3>> faces;
+  std::vector<int32_t> markers;
+};
+FaceFile read_tetgen_face(const std::string& path, size_t num_points, int index_base);
+
 // Part `part` of `parts` of an .ele's records (an MPI rank's range of the
 // file, TextRecords::keep_to_part()): passed to `take` a block at a time,
 // in file order, on the calling thread, with each one's region (its first
