@@ -102,8 +102,14 @@ class DtmeshReader(VTKPythonAlgorithmBase):
         data = self._stream()
         level = min(max(0, int(self._level)), self._info["level_count"] - 1)
         if level not in self._meshes:
-            self._meshes[level] = dtmesh.decode(data, level)
+            try:
+                self._meshes[level] = dtmesh.decode(data, level)
+            except dtmesh.Error:
+                # A truncated stream that does not reach the level: its
+                # finest whole level, shown as what it is (dtm_level).
+                self._meshes[level] = dtmesh.decode(data)
         mesh = self._meshes[level]
+        level = mesh.level
         output = vtkUnstructuredGrid.GetData(out_info, 0)
         output.ShallowCopy(dtmesh.to_vtk(mesh))
         # The stream's figures, for the Information panel.

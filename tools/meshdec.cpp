@@ -86,7 +86,15 @@ void add_options(CLI::App& app, Command& c) {
   app.add_flag("--verify", c.verify,
                "check every decoded level against the cell-set hashes in the stream (meshenc --hash-cells)");
   app.add_option("--max-vertices", c.max_vertices, "refuse streams claiming more vertices than this")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return !text.empty() && text.find_first_not_of("0123456789") == std::string::npos &&
+                           text.find_first_not_of('0') != std::string::npos
+                       ? std::string()
+                       : "must be a whole number above 0, got '" + text + "'";
+          },
+          "N>0"));
   app.add_option("--box", c.box,
                  "only the level's cells that meet this box (their bounding boxes do), in the input's units, "
                  "with point data vertex_id (the vertex's number in the whole level); from a bricked stream "
@@ -356,6 +364,8 @@ int run_region(const Command& c, dtm::MeshFormat format) {
   if (source->size() < head.size() || !source->read(0, head).ok() || !dtm::parse_header(head, header).ok())
     header = {};  // decode_region says what is wrong
   const std::array<double, 3> lo = {c.box[0], c.box[1], c.box[2]}, hi = {c.box[3], c.box[4], c.box[5]};
+  for (double v : c.box)
+    if (!std::isfinite(v)) throw dtm::UsageError("--box: each corner's coordinates must be finite numbers");
   if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2])
     throw dtm::UsageError("--box: each of X0 Y0 Z0 must be at most X1 Y1 Z1");
   dtm::DecoderOptions options;

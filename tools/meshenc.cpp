@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +29,7 @@
 #include "tools/formats/input.h"
 #include "tools/formats/node_labels.h"
 #include "tools/formats/second_order.h"
+#include "tools/formats/tagged_faces.h"
 #include "tools/formats/tetgen.h"
 #include "tools/huge_pages.h"
 #include "tools/mpi_session.h"
@@ -132,7 +134,7 @@ void add_options(CLI::App& app, Command& c) {
                  "voxel volumes: keep interior voxels whose indices are multiples of K (boundary voxels "
                  "are always kept)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(dtm::finite_number(false));
   app.add_option("-o,--output", c.output, "write the .dtm stream here ('-' = standard output)");
   app.add_flag("--no-reference", c.no_reference,
                "ignore the input's tetrahedra (no reference-shape error; a TetGen .ele is not even read)");
@@ -145,20 +147,20 @@ void add_options(CLI::App& app, Command& c) {
          "--dmax", e.dmax,
          "boundary tolerance Dmax in input units (default: 0.5% of the largest extent; a volume's: its "
          "solid's)")
-      ->check(CLI::PositiveNumber);
+      ->check(dtm::finite_number(false));
   auto* scale_opt =
       app.add_option(
              "--scale", e.scale,
              "measure in the input's coordinates times this: the units of --dmax, --alpha and the table "
              "(the stream keeps the input's units)")
-          ->check(CLI::PositiveNumber);
+          ->check(dtm::finite_number(false));
   app.add_option("--box", e.box,
                  "measure as if the input's largest extent were this: the units of --dmax, --alpha and the "
                  "table (the stream keeps the input's units)")
-      ->check(CLI::PositiveNumber)
+      ->check(dtm::finite_number(false))
       ->excludes(scale_opt);
   app.add_option("--levels", e.max_levels, "build at most this many coarser levels (0 = no limit)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(dtm::finite_number(true));
   app.add_option("--min-base", e.min_base_vertices, "never build a level with fewer vertices")
       ->capture_default_str();
   app.add_option("--preset", c.preset,
@@ -197,7 +199,7 @@ void add_options(CLI::App& app, Command& c) {
       "--no-candidates", [&e](int64_t) { e.candidates = false; },
       "send no point beside the coarser level's circumcentres and edge midpoints: a larger stream, whose "
       "finest level decodes faster");
-  app.add_flag(
+  CLI::Option* bricks = app.add_flag(
       "--bricks", e.bricks,
       "bricked layers (format 8.0; 15.0 with regions, 16.0 with cell data, 17.0 with tagged faces): each "
       "layer's points and corrections in one chunk per octree brick, so that meshdec --box decodes a region "
@@ -207,20 +209,23 @@ void add_options(CLI::App& app, Command& c) {
                  "with --bricks: each layer's bricks are the smallest that hold this many of its new points "
                  "on average (smaller: regions read fewer bytes, the stream grows)")
       ->capture_default_str()
-      ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 32));
+      ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 32))
+      ->needs(bricks);
   app.add_option("--block-points", e.block_points,
                  "with --bricks: the levels are built in blocks of at most this many points (boxes halved "
                  "where points crowd), each on its own (and, under mpirun, on the ranks in turn): "
                  "smaller takes less memory and more time; the stream depends on it, not on the ranks")
       ->capture_default_str()
-      ->check(CLI::Range(uint64_t{64}, uint64_t{1} << 32));
+      ->check(CLI::Range(uint64_t{64}, uint64_t{1} << 32))
+      ->needs(bricks);
   app.add_option(
          "--blocks-at-once", e.blocks_at_once,
          "with --bricks: build up to N blocks side by side in each process, each on its share of the "
          "threads (default: one per thread, as many as a quarter of the memory holds at about 1 KB a block "
          "point); each holds its region's tetrahedralization, so 1 takes "
          "the least memory; the stream is the same")
-      ->check(CLI::Range(1, 4096));
+      ->check(CLI::Range(1, 4096))
+      ->needs(bricks);
   app.add_option("--level-step", e.level_step,
                  "stream every N-th level (and the coarsest): fewer levels of detail, fewer bits")
       ->capture_default_str()
@@ -249,15 +254,17 @@ void add_options(CLI::App& app, Command& c) {
   app.add_flag("--exact", c.encode.exact,
                "decode level 0 as the input's own tetrahedra, cell for cell (the cells that are not Delaunay "
                "cells coded beside the levels; needs a valid mesh whose points stay apart on the grid)");
-  // An older decoder's format: --exact with that version's symbols.
-  const auto exact_for_older = [&app, &c](const char* flag, dtm::ApexRanks ranks, const char* help) {
-    app.add_flag_function(
+  // An older decoder's format: --exact with that version's symbols (one
+  // of them at most).
+  std::vector<CLI::Option*> older;
+  const auto exact_for_older = [&app, &c, &older](const char* flag, dtm::ApexRanks ranks, const char* help) {
+    older.push_back(app.add_flag_function(
         flag,
         [&c, ranks](int64_t) {
           c.encode.exact = true;
           c.encode.exact_ranks = ranks;
         },
-        help);
+        help));
   };
   exact_for_older(
       "--exact-v11", dtm::ApexRanks::kAmongCandidates,
@@ -271,22 +278,25 @@ void add_options(CLI::App& app, Command& c) {
       "--exact-v13", dtm::ApexRanks::kAmongFittingInContext,
       "--exact, written as format 13.0 for decoders older than 14.0 (without 14.0's flip flags: up "
       "to 0.4 bits a vertex more)");
-  app.add_flag_function(
+  older.push_back(app.add_flag_function(
       "--exact-v19",
       [&c](int64_t) {
         c.encode.exact = true;
         c.encode.edge_nodes_v19 = true;
       },
       "--exact, a second-order mesh's edge nodes written as format 19.0 for decoders older than 20.0 "
-      "(without 20.0's creases: up to 2.4 bits a vertex more)");
-  app.add_flag_function(
+      "(without 20.0's creases: up to 2.4 bits a vertex more)"));
+  older.push_back(app.add_flag_function(
       "--exact-v20",
       [&c](int64_t) {
         c.encode.exact = true;
         c.encode.edge_nodes_v20 = true;
       },
       "--exact, written as format 20.0 for decoders older than 21.0: with --keep-order, a second-order "
-      "mesh's edge nodes after its vertices, not where it numbered them");
+      "mesh's edge nodes after its vertices, not where it numbered them"));
+  for (CLI::Option* a : older)
+    for (CLI::Option* b : older)
+      if (a != b) a->excludes(b);
   app.add_flag("--strict", c.strict,
                "refuse an input of which the stream would leave something out (each thing is named)");
   app.add_option("--region-array", c.region_array,
@@ -831,6 +841,15 @@ void write_outputs(const Command& c, const dtm::EncodedMesh& encoded,
   dtm::write_files_atomically(files);
 }
 
+// `path`'s extension in lower case, with its dot ("" for none).
+std::string lower_extension(const std::string& path) {
+  const size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
+}
+
 int run(Command& c) {
   // Under mpirun every rank reads the input and builds its share of the
   // blocks; rank 0 writes the stream, the same bytes as one process writes.
@@ -892,6 +911,16 @@ int run(Command& c) {
   parse_field_errors(c.field_errors, c.encode);
   if (c.no_fields && !c.encode.field_errors.empty())
     throw dtm::UsageError("--field-error and --no-fields contradict each other");
+  // A stream under a mesh file's name is a mistake the next reader meets:
+  // said now.
+  if (const std::string ext = lower_extension(c.output);
+      !ext.empty() && ext != ".dtm" &&
+      std::string_view(
+          ".vtu .pvtu .vtk .msh .mesh .vol .inp .e .exo .node .ele .ply .off .obj .xyz .glb .gltf "
+          ".drc .stl .nrrd")
+              .find(ext + " ") != std::string_view::npos)
+    throw dtm::UsageError("-o " + c.output + ": meshenc writes a .dtm stream, not a " + ext +
+                          " file (meshdec writes the mesh as one)");
   // Said before the input is read, not after its table's header.
   if (c.encode.bricks && c.encode.exact)
     throw dtm::UsageError("--exact: bricked streams (--bricks) do not keep the input's cells exactly yet");
@@ -926,6 +955,11 @@ int run(Command& c) {
       regions_kept = false;
     }
   }
+  // (A tagged face no level can carry is said, not lost in silence: with
+  // the tetrahedra at hand, on one process.)
+  if (!in.tagged_faces.empty() && !in.tets.empty() && !c.no_face_tags)
+    if (const uint64_t inside = dtm::tagged_faces_inside(in.tets, in.tet_regions, in.tagged_faces))
+      in.left_out.push_back(dtm::tagged_faces_inside_note(inside, in.tagged_faces.size()));
   if (!in.tagged_faces.empty()) {
     const char* why = c.no_face_tags                      ? "--no-face-tags"
                       : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
@@ -976,6 +1010,21 @@ int run(Command& c) {
       in.left_out.push_back("the point arrays " + names + " (meshdec's own: the decoder makes them again)");
       std::erase_if(in.fields, meshdecs);
     }
+    // The input's own arrays under those names (a water level, say) and a
+    // cell array named as meshdec names the regions: kept under another
+    // name, said, or meshdec's files would hold two arrays of one name.
+    const auto rename = [&](std::vector<dtm::VertexField>& arrays, std::initializer_list<const char*> taken) {
+      for (dtm::VertexField& f : arrays)
+        for (const char* name : taken)
+          if (f.name == name) {
+            f.name += " (input)";
+            if (mpi.rank() == 0)
+              std::fprintf(stderr, "%s: the array '%s' is kept as '%s' (meshdec writes its own '%s')\n",
+                           c.input.c_str(), name, f.name.c_str(), name);
+          }
+    };
+    rename(in.fields, {"level", "boundary"});
+    rename(in.cell_fields, {"region"});
   }
   if (c.no_fields && !in.fields.empty()) {
     std::string names;

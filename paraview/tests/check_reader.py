@@ -7,7 +7,8 @@ data against `MESHINFO STREAM --json --stats`, moves Level to the coarsest
 and checks again, and saves a screenshot of the coarsest beside the finest.
 With REGIONS_STREAM (a stream with regions), checks that every level's cells
 carry the cell array `region`, with the stream's labels, and that level 0
-(and no other) carries the stream's cell arrays.
+(and no other) carries the stream's cell arrays. A copy of STREAM cut inside
+level 0's layer shows level 1 at Level 0, saying so.
 Exit status 0 and "N passed, 0 failed" when every check holds.
 """
 import inspect
@@ -131,6 +132,20 @@ view.GetActiveCamera().Dolly(1.5)
 Render(view)
 SaveScreenshot(screenshot, view, ImageResolution=[1200, 600])
 check("screenshot saved", True)
+# A stream cut inside level 0's layer: Level 0 shows the finest whole level,
+# and says which (dtm_level), not level 0.
+cut = os.path.join(os.path.dirname(os.path.abspath(screenshot)), "paraview_reader_cut.dtm")
+with open(stream, "rb") as f:
+    whole = f.read()
+with open(cut, "wb") as f:
+    f.write(whole[: len(whole) - rows[0]["layer_bytes"] // 2])
+cut_reader = OpenDataFile(cut)
+cut_reader.Level = 0
+cut_reader.UpdatePipeline()
+shown = servermanager.Fetch(cut_reader)
+shown_level = int(shown.GetFieldData().GetArray("dtm_level").GetValue(0))
+check(f"a cut stream at Level 0 shows its finest whole level as it is (dtm_level {shown_level})",
+      shown_level == 1 and shown.GetNumberOfPoints() == rows[1]["vertices"])
 say(f"{passed} passed, {failed} failed")
 # Straight out: Xvfb's GLX fails ParaView's render-window teardown at exit
 # (GLXBadContext), which would turn a passing run's status into 1.

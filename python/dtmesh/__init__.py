@@ -51,10 +51,12 @@ def set_threads(threads: Optional[int]) -> None:
     the process may run on (its affinity mask, as taskset or a container
     gives them), the default. Every later call of this process uses it."""
     global _threads_asked
-    if threads is not None and (not isinstance(threads, int) or threads < 1):
-        raise ValueError(f"threads must be a positive int or None, got {threads!r}")
-    _threads_asked = threads or 0
-    _dtmesh.set_threads(_threads_asked)
+    if threads is not None and (isinstance(threads, (bool, np.bool_)) or not isinstance(threads, (int, np.integer))
+                                or not 1 <= threads <= 4096):
+        raise ValueError(f"threads must be an int from 1 to 4096, or None, got {threads!r}")
+    asked = int(threads or 0)
+    _dtmesh.set_threads(asked)  # (the state changes only once the library took it)
+    _threads_asked = asked
 
 
 def threads() -> int:
@@ -242,6 +244,16 @@ class Encoded:
         return len(self.bytes)
 
 
+def _integers(values: Any, what: str) -> np.ndarray:
+    """`values` as int64, refusing what is not whole numbers (a float array of
+    indices would otherwise be truncated in silence)."""
+    a = np.asarray(values)
+    if a.size and not (np.issubdtype(a.dtype, np.integer) or a.dtype == np.bool_):
+        if not np.issubdtype(a.dtype, np.floating) or not np.all(np.isfinite(a)) or np.any(a != np.floor(a)):
+            raise TypeError(f"{what} must be integers, got {a.dtype} values that are not whole numbers")
+    return a.astype(np.int64, copy=False)
+
+
 def _field_in(name: str, values: Any, count: int, what: str = "field"):
     a = np.asarray(values)
     if a.dtype == np.bool_:
@@ -379,20 +391,41 @@ def encode(
         raise ValueError(f"points must be N x 3, got shape {p.shape}")
     t = None
     if tetrahedra is not None:
-        t = np.ascontiguousarray(np.asarray(tetrahedra, dtype=np.int64))
+        t = np.ascontiguousarray(_integers(tetrahedra, "tetrahedra"))
     r = None
     if regions is not None:
         if t is None:
             raise ValueError("regions label tetrahedra: give the tetrahedra too")
-        r = np.ascontiguousarray(np.asarray(regions, dtype=np.int64).reshape(-1))
+        r = _integers(regions, "regions")
+        if r.ndim != 1:
+            raise ValueError(f"regions must be one label a tetrahedron, a 1-D array, got shape {r.shape}")
+        r = np.ascontiguousarray(r)
     names = {int(label): str(name) for label, name in (region_names or {}).items()}
     f = ft = None
     if faces is not None:
         if t is None:
             raise ValueError("tagged faces bound tetrahedra: give the tetrahedra too")
-        f = np.ascontiguousarray(np.asarray(faces, dtype=np.int64))
-        ft = np.ascontiguousarray(np.asarray(face_tags if face_tags is not None else [], dtype=np.int64).reshape(-1))
+        f = np.ascontiguousarray(_integers(faces, "faces"))
+        ft = _integers(face_tags if face_tags is not None else np.zeros(0, np.int64), "face_tags")
+        if ft.ndim != 1:
+            raise ValueError(f"face_tags must be one tag a face, a 1-D array, got shape {ft.shape}")
+        ft = np.ascontiguousarray(ft)
+    elif face_tags is not None or face_tag_names:
+        raise ValueError("face_tags and face_tag_names tag faces: give the faces too")
+    if region_names and regions is None:
+        raise ValueError("region_names name regions: give the regions too")
     face_names = {int(tag): str(name) for tag, name in (face_tag_names or {}).items()}
+    # (The decoder makes these arrays itself: a field or cell array of the
+    # name would be hidden behind them.)
+    for name in fields or {}:
+        if name in ("level", "boundary", "vertex_id"):
+            raise ValueError(f"fields: {name!r} is the name of an array the decoder makes (each vertex's "
+                             f"{'level' if name == 'level' else 'place on the boundary' if name == 'boundary' else 'number'}): "
+                             "give the field another name")
+    for name in cell_data or {}:
+        if name in ("region", "gmsh:physical"):
+            raise ValueError(f"cell_data: {name!r} is the name the decoded mesh gives its regions: give the array "
+                             "another name, or pass it as regions=")
     field_list = [_field_in(name, values, p.shape[0]) for name, values in (fields or {}).items()]
     if cell_data and t is None:
         raise ValueError("cell_data belongs to tetrahedra: give the tetrahedra too")
@@ -444,6 +477,13 @@ def encode(
             place[numbering] = np.arange(numbering.shape[0], dtype=np.uint32)
             level0_vertex = place[: p.shape[0]]
     encoded = Encoded(stream, json.loads(report), level0_vertex, vertex_of_input)
+    # (Tagged faces no level can carry, said as meshenc says them.)
+    if f is not None and len(f) and t is not None:
+        inside = _dtmesh.faces_inside(t, r if r is not None else np.zeros(0, np.int64), f)
+        if inside:
+            warnings.warn(f"left out (the stream does not hold it): {inside} of the {len(f)} tagged triangles, "
+                          "inside a region or no face of the tetrahedra (a tagged face is one of the surface's, "
+                          "or between two regions)", stacklevel=2)
     if encoded.report.get("edge_nodes_dropped"):
         warnings.warn("left out (the stream does not hold it): the nodes on level 0's edges: the exact cells "
                       "fell back to format 11.0's coding, which holds none" +
@@ -475,7 +515,20 @@ def _as_bytes(data: Union[Bytes, str, os.PathLike]) -> bytes:
     if isinstance(data, (str, os.PathLike)):
         with open(data, "rb") as f:
             return f.read()
+    if not isinstance(data, (bytes, bytearray, memoryview)):
+        raise TypeError(f"a stream is bytes, bytearray, memoryview or a file's path, got {type(data).__name__}")
     return bytes(data)
+
+
+@contextlib.contextmanager
+def _named(data: Any) -> Iterator[None]:
+    """A stream given by its path: the library's errors name the file, as meshdec's do."""
+    try:
+        yield
+    except Error as e:
+        if isinstance(data, (str, os.PathLike)) and not str(e).startswith(os.fspath(data)):
+            raise Error(f"{os.fspath(data)}: {e}") from None
+        raise
 
 
 class Decoder:
@@ -496,17 +549,23 @@ class Decoder:
     """
 
     def __init__(self, level: Optional[int] = None, max_vertices: int = _dtmesh.default_max_vertices):
-        if level is not None and level < 0:
-            raise ValueError("level must be >= 0")
+        if level is not None and (not isinstance(level, (int, np.integer)) or level < 0):
+            raise ValueError(f"level must be an int >= 0 or None, got {level!r}")
+        if not isinstance(max_vertices, (int, np.integer)) or max_vertices < 1:
+            raise ValueError(f"max_vertices must be a positive int, got {max_vertices!r}")
         self._decoder = _dtmesh.Decoder(-1 if level is None else int(level), int(max_vertices))
+        self._finished = False
 
     def feed(self, chunk: Bytes) -> List[Mesh]:
         """Takes the next bytes (at once); returns each level they completed, coarsest first.
 
         Raises:
             Error: the stream is damaged or foreign (the levels decoded before stand).
+            ValueError: after :meth:`finish`.
         """
-        return [_mesh_of(d) for d in self._decoder.feed(bytes(chunk), True)]
+        if self._finished:
+            raise ValueError("feed() after finish(): the input has ended (a new Decoder reads another stream)")
+        return [_mesh_of(d) for d in self._decoder.feed(_as_bytes(chunk), True)]
 
     def finish(self) -> None:
         """Says the input has ended: warns if it stopped before the last level asked for.
@@ -514,6 +573,9 @@ class Decoder:
         Raises:
             Error: the stream is damaged.
         """
+        if self._finished:
+            return
+        self._finished = True
         truncated = self._decoder.finish()
         if truncated is not None:
             warnings.warn(f"truncated stream: {truncated}; the finest whole level is {self.finest_level}",
@@ -557,10 +619,10 @@ def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None, *,
         Error: the stream is damaged or foreign, holds no whole level, or has
             no such level.
     """
-    if level is not None and level < 0:
-        raise ValueError("level must be >= 0")
+    if level is not None and (not isinstance(level, (int, np.integer)) or level < 0):
+        raise ValueError(f"level must be an int >= 0 or None, got {level!r}")
     decoder = _dtmesh.Decoder(-1 if level is None else int(level), int(_dtmesh.default_max_vertices))
-    with _threads_for_call(threads):
+    with _threads_for_call(threads), _named(data):
         decoder.feed(_as_bytes(data), False)
         truncated = decoder.finish()
         count = decoder.level_count()
@@ -568,6 +630,10 @@ def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None, *,
             raise Error(f"level {level} asked, the stream has levels 0 to {count - 1}")
         if decoder.finest_level() < 0:
             raise Error(truncated or "the stream holds no whole level")
+        # (A level asked for that a truncated stream does not reach is an
+        # error, as meshdec --level says, not a coarser level in its place.)
+        if level is not None and decoder.finest_level() > level:
+            raise Error(f"level {level} asked, but {truncated}")
         if truncated is not None:
             warnings.warn(f"truncated stream: {truncated}; decoding level {decoder.finest_level()}",
                           stacklevel=2)
@@ -669,7 +735,8 @@ def info(data: Union[Bytes, str, os.PathLike], stats: bool = False) -> Dict[str,
     Read from the headers (checksums verified, no mesh rebuilt); with
     ``stats`` every level is decoded and its tetrahedra and quality added.
     """
-    return json.loads(_dtmesh.info(_as_bytes(data), bool(stats)))
+    with _named(data):
+        return json.loads(_dtmesh.info(_as_bytes(data), bool(stats)))
 
 
 def to_vtk(mesh: Mesh):

@@ -257,7 +257,37 @@ def write(filename, mesh, **options):
     # A decoded mesh names the point data the stream makes itself (level,
     # boundary): they are not stored as fields. A mesh from elsewhere keeps
     # every array it has.
-    derived = mesh.info.get("dtmesh_derived", []) if isinstance(mesh.info, dict) else []
+    derived = list(mesh.info.get("dtmesh_derived", []) if isinstance(mesh.info, dict) else [])
+    # A file meshdec wrote (its .vtu, .msh, ...) read by meshio carries those
+    # arrays too: level with boundary or vertex_id, whole non-negative
+    # numbers, are meshdec's own, as meshenc takes them; gmsh's node entities
+    # (meshio's gmsh:dim_tags) meshenc does not read either.
+    def meshdecs(name):
+        a = np.asarray(mesh.point_data[name])
+        return (name in ("level", "boundary", "vertex_id") and a.ndim == 1 and a.size > 0 and
+                np.issubdtype(a.dtype, np.number) and bool(np.all((a >= 0) & (a == np.floor(a)))) and
+                (name != "boundary" or bool(np.all(a <= 1))))
+    names = [n for n in mesh.point_data if n not in derived]
+    if "level" in names and meshdecs("level") and any(n in names and meshdecs(n) for n in ("boundary", "vertex_id")):
+        own = [n for n in ("level", "boundary", "vertex_id") if n in names and meshdecs(n)]
+        warnings.warn(f"{filename}: left out (the stream does not hold it): the point arrays " +
+                      ", ".join(f"'{n}'" for n in own) + " (meshdec's own: the decoder makes them again)",
+                      stacklevel=2)
+        derived += own
+    if "gmsh:dim_tags" in mesh.point_data and "gmsh:dim_tags" not in derived:
+        warnings.warn(f"{filename}: left out (the stream does not hold it): point data 'gmsh:dim_tags' "
+                      "(gmsh's entity of each node)", stacklevel=2)
+        derived.append("gmsh:dim_tags")
+    unheld_points = list(getattr(mesh, "point_sets", None) or {})
+    if unheld_points:
+        warnings.warn(f"{filename}: left out (the stream does not hold it): point sets " +
+                      ", ".join(f"'{n}'" for n in unheld_points), stacklevel=2)
+    region_like = set(options.get("region_names", {}).values()) | set(options.get("face_tag_names", {}).values())
+    other_field_data = [n for n in (mesh.field_data or {}) if n not in region_like]
+    if other_field_data:
+        warnings.warn(f"{filename}: left out (the stream does not hold it): field data " +
+                      ", ".join(f"'{n}'" for n in other_field_data) + " (not a region's or tag's name)",
+                      stacklevel=2)
     fields = {name: values for name, values in mesh.point_data.items() if name not in derived}
     if edge_fields and "edge_fields" not in options:
         options["edge_fields"] = {name: values for name, values in edge_fields.items() if name in fields}

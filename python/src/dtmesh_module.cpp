@@ -27,6 +27,7 @@
 #include "tools/decoded_mesh.h"
 #include "tools/field_types.h"
 #include "tools/formats/cell_split.h"
+#include "tools/formats/tagged_faces.h"
 #include "tools/report.h"
 #include "tools/stream_info.h"
 
@@ -605,6 +606,22 @@ py::tuple split_cells(py::array_t<int64_t, py::array::c_style | py::array::force
                         array_of(cell_of, {static_cast<py::ssize_t>(cell_of.size())}));
 }
 
+// The tagged faces no level can carry (tools/formats/tagged_faces.h), for
+// encode()'s warning; the arrays as encode() checked them.
+uint64_t faces_inside(py::array_t<int64_t, py::array::c_style | py::array::forcecast> tets,
+                      py::array_t<int64_t, py::array::c_style | py::array::forcecast> regions,
+                      py::array_t<int64_t, py::array::c_style | py::array::forcecast> faces) {
+  std::vector<std::array<uint32_t, 4>> t(static_cast<size_t>(tets.size() / 4));
+  for (size_t i = 0; i < t.size(); ++i)
+    for (size_t k = 0; k < 4; ++k) t[i][k] = static_cast<uint32_t>(tets.data()[4 * i + k]);
+  std::vector<int32_t> r(regions.data(), regions.data() + regions.size());
+  std::vector<std::array<uint32_t, 3>> f(static_cast<size_t>(faces.size() / 3));
+  for (size_t i = 0; i < f.size(); ++i)
+    for (size_t k = 0; k < 3; ++k) f[i][k] = static_cast<uint32_t>(faces.data()[3 * i + k]);
+  if (!r.empty() && r.size() != t.size()) r.clear();
+  return dtm::tagged_faces_inside(t, r, f);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_dtmesh, m) {
@@ -632,6 +649,7 @@ PYBIND11_MODULE(_dtmesh, m) {
       .def("mesh", &Decoder::mesh);
   m.def("info", &info, py::arg("data"), py::arg("stats"));
   m.def("split_cells", &split_cells, py::arg("cells"), py::arg("points"));
+  m.def("faces_inside", &faces_inside, py::arg("tetrahedra"), py::arg("regions"), py::arg("faces"));
   m.def("set_threads", &set_threads, py::arg("threads"));
   m.def("threads", &dtm::thread_count);
   m.attr("default_max_vertices") = dtm::DecoderOptions{}.max_vertices;

@@ -2,6 +2,7 @@
 meshes as meshdec, the same summary as meshinfo; and what a stream's damage
 does to it."""
 import json
+import subprocess
 import lzma
 import threading
 import time
@@ -859,3 +860,80 @@ def test_encoding_and_decoding_release_the_gil():
         pace_meanwhile = count_until(done)
         worker.join()
         assert pace_meanwhile > 0.15 * pace_alone, (pace_meanwhile, pace_alone)
+
+
+def test_bad_arguments_are_refused_not_truncated_and_leave_no_state(tmp_path):
+    """Indices that are not whole numbers, a field under a name the decoder gives its own arrays, a
+    failed set_threads, a Decoder fed after finish(), a truncated stream asked for a level it does
+    not reach: each refused, naming the problem (a path's file too)."""
+    points, tets, _ = read_tetgen(DATA / "torus_288.node")
+    with pytest.raises(TypeError, match="tetrahedra must be integers"):
+        dtmesh.encode(points, tets + 0.5)
+    with pytest.raises(ValueError, match="regions must be one label a tetrahedron"):
+        dtmesh.encode(points, tets, regions=np.zeros((len(tets) // 2, 2), np.int32))
+    with pytest.raises(ValueError, match="'level' is the name of an array the decoder makes"):
+        dtmesh.encode(points, tets, {"level": np.zeros(len(points))})
+    before = dtmesh.threads()
+    with pytest.raises(ValueError, match="threads must be an int from 1 to 4096"):
+        dtmesh.set_threads(2**40)
+    assert dtmesh.threads() == before
+    stream = dtmesh.encode(points, tets, box=256, dmax=2).bytes
+    decoder = dtmesh.Decoder()
+    decoder.feed(stream)
+    decoder.finish()
+    with pytest.raises(ValueError, match="after finish"):
+        decoder.feed(stream)
+    cut = stream[: len(stream) * 3 // 4]
+    with pytest.warns(UserWarning):
+        assert dtmesh.decode(cut).level > 0
+    with pytest.raises(dtmesh.Error, match="level 0 asked, but"):
+        dtmesh.decode(cut, 0)
+    damaged = tmp_path / "damaged.dtm"
+    damaged.write_bytes(stream[:40] + bytes([stream[40] ^ 0xFF]) + stream[41:])
+    with pytest.raises(dtmesh.Error, match="damaged.dtm: "):
+        dtmesh.decode(damaged)
+    with pytest.raises(TypeError, match="a stream is bytes"):
+        dtmesh.decode(5)
+
+
+def test_meshio_write_gives_meshencs_stream_of_gmsh_and_meshdec_files(tmp_path):
+    """meshio's reading of a gmsh file (with its gmsh:dim_tags) and of meshdec's own .vtu (with its
+    level and boundary) writes the stream meshenc makes of the same file, the arrays it leaves out
+    named."""
+    msh = tmp_path / "two_materials.msh"
+    msh.write_bytes(lzma.open(DATA / "two_materials.msh.xz").read())
+    ours, theirs = tmp_path / "ours.dtm", tmp_path / "theirs.dtm"
+    with pytest.warns(UserWarning, match="gmsh:dim_tags"):
+        meshio.write(ours, meshio.read(msh))
+    run(tool("meshenc"), msh, "-q", "-o", theirs)
+    assert ours.read_bytes() == theirs.read_bytes()
+    vtu = tmp_path / "decoded.vtu"
+    run(tool("meshdec"), theirs, "-q", "-o", vtu)
+    again, again_meshenc = tmp_path / "again.dtm", tmp_path / "again_meshenc.dtm"
+    with pytest.warns(UserWarning, match="'level', 'boundary' .meshdec's own"):
+        meshio.write(again, meshio.read(vtu))
+    run(tool("meshenc"), vtu, "-q", "-o", again_meshenc)
+    assert again.read_bytes() == again_meshenc.read_bytes()
+
+
+def test_tagged_faces_no_level_can_carry_are_named(tmp_path):
+    """Tagged triangles inside one region (a crack's, say) are no face of any level's surface: encode()
+    and meshenc say so (--strict refuses the file), where before they were dropped in silence."""
+    points, tets, _ = read_tetgen(DATA / "torus_288.node")
+    seen = {}
+    for t in tets:
+        for f in ((t[0], t[1], t[2]), (t[0], t[1], t[3]), (t[0], t[2], t[3]), (t[1], t[2], t[3])):
+            key = tuple(sorted(int(v) for v in f))
+            seen[key] = seen.get(key, 0) + 1
+    inner = np.array([f for f, n in seen.items() if n == 2][:5])
+    with pytest.warns(UserWarning, match="5 of the 5 tagged triangles, inside a region"):
+        dtmesh.encode(points, tets, faces=inner, face_tags=[7] * 5, box=256, dmax=2)
+    msh = tmp_path / "crack.msh"
+    meshio.write(msh, meshio.Mesh(points, [("tetra", tets), ("triangle", inner)],
+                                  cell_data={"gmsh:physical": [np.ones(len(tets), np.int32), np.full(5, 7, np.int32)],
+                                             "gmsh:geometrical": [np.ones(len(tets), np.int32), np.full(5, 7, np.int32)]}),
+                 file_format="gmsh22", binary=False)
+    said = subprocess.run([tool("meshenc"), msh, "--strict", "-o", tmp_path / "crack.dtm"], capture_output=True,
+                          text=True)
+    assert said.returncode != 0 and "5 of the 5 tagged triangles, inside a region" in said.stderr, said.stderr
+    assert not (tmp_path / "crack.dtm").exists()

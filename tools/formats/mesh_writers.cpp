@@ -291,6 +291,8 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
   // (A surface's point fields are PLY's properties, glTF's colour; OFF and
   // XYZ hold none.)
   if (format == MeshFormat::kOff || format == MeshFormat::kXyz) add("the point fields", names(m.fields, all));
+  if (format == MeshFormat::kGlb || format == MeshFormat::kGltf || format == MeshFormat::kDrc)
+    add("the point fields (a glTF or Draco surface's colours come from --color)", names(m.fields, all));
   if (surface) {
     if (!m.region.empty()) out.push_back("the cells' regions");
     if (!m.faces.empty()) out.push_back(std::to_string(m.faces.size()) + " tagged faces");
