@@ -193,6 +193,12 @@ sed 's/^1 0 [23]$/1 0 1/' box.poly >plain.poly
 tetgen -pq1.2a0.01Q plain.poly >/dev/null
 "$meshenc" plain.1.node -o plain_box.dtm >plain_box.out 2>&1 || { cat plain_box.out; failed=1; }
 grep -q "tagged faces\|left out" plain_box.out && { echo "plain.1.node: TetGen's default markers kept"; cat plain_box.out; failed=1; }
+# (One facet marked 1, the others 0: the 1s are the user's, kept.)
+sed 's/^1 0 [23]$/1 0 0/' box.poly >one.poly
+tetgen -pq1.2a0.01Q one.poly >/dev/null
+"$meshenc" one.1.node -o one_box.dtm >one_box.out 2>&1 || { cat one_box.out; failed=1; }
+grep -q "tagged faces (the .face's boundary markers), 1: 1 " one_box.out ||
+  { echo "one.1.node: the one facet marked 1 not kept"; cat one_box.out; failed=1; }
 cp box.1.node flat.node
 awk 'NR == 2 { $3 = $2 } { print }' box.1.ele >flat.ele
 "$meshenc" flat.node -o flat.dtm >flat.out 2>&1 || { cat flat.out; failed=1; }

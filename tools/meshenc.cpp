@@ -917,7 +917,7 @@ int run(Command& c) {
       !ext.empty() && ext != ".dtm" &&
       std::string_view(
           ".vtu .pvtu .vtk .msh .mesh .vol .inp .e .exo .node .ele .ply .off .obj .xyz .glb .gltf "
-          ".drc .stl .nrrd")
+          ".drc .stl .nrrd ")
               .find(ext + " ") != std::string_view::npos)
     throw dtm::UsageError("-o " + c.output + ": meshenc writes a .dtm stream, not a " + ext +
                           " file (meshdec writes the mesh as one)");
@@ -957,7 +957,8 @@ int run(Command& c) {
   }
   // (A tagged face no level can carry is said, not lost in silence: with
   // the tetrahedra at hand, on one process.)
-  if (!in.tagged_faces.empty() && !in.tets.empty() && !c.no_face_tags)
+  if (!in.tagged_faces.empty() && !in.tets.empty() && !c.no_face_tags && c.encode.carve_to_reference &&
+      !c.no_reference)
     if (const uint64_t inside = dtm::tagged_faces_inside(in.tets, in.tet_regions, in.tagged_faces))
       in.left_out.push_back(dtm::tagged_faces_inside_note(inside, in.tagged_faces.size()));
   if (!in.tagged_faces.empty()) {

@@ -78,9 +78,6 @@ inline void keep_freed_memory_between_phases() {
 #endif
 }
 
-// A command line the tool cannot take, found after parsing (options that
-// contradict each other, a value of the wrong form): exit 2, as CLI11's own.
-// Under mpirun every rank throws it; `print`: this one says it (rank 0).
 // A number option's check: finite and above 0 (or, `zero`, at least 0),
 // said in words (CLI11's own checks print the double range's 309 digits).
 inline CLI::Validator finite_number(bool zero) {
@@ -88,7 +85,8 @@ inline CLI::Validator finite_number(bool zero) {
       [zero](std::string& text) {
         double v = 0;
         const char* end = text.data() + text.size();
-        const auto [at, ec] = std::from_chars(text.data(), end, v);
+        const char* first = text.data() + (!text.empty() && text[0] == '+');  // (from_chars takes no '+')
+        const auto [at, ec] = std::from_chars(first, end, v);
         if (ec != std::errc() || at != end || !std::isfinite(v) || v < 0 || (v == 0 && !zero))
           return std::string(zero ? "must be a finite number of 0 or more"
                                   : "must be a finite number above 0") +
@@ -98,6 +96,9 @@ inline CLI::Validator finite_number(bool zero) {
       zero ? "NUMBER>=0" : "NUMBER>0");
 }
 
+// A command line the tool cannot take, found after parsing (options that
+// contradict each other, a value of the wrong form): exit 2, as CLI11's own.
+// Under mpirun every rank throws it; `print`: this one says it (rank 0).
 class UsageError : public std::invalid_argument {
  public:
   explicit UsageError(const std::string& what, bool print = true)

@@ -411,11 +411,24 @@ class GmshReader {
   // tetrahedron has one region, a face one tag). Hexahedra, prisms and
   // pyramids are left as they are, and so are copies in one group.
   void drop_repeated_elements() {
+    // (Only a file whose elements are in several groups can repeat one in
+    // another: most have one volume group and one surface group, or none.)
+    const auto one_group = [](const std::vector<int64_t>& tags) {
+      return std::adjacent_find(tags.begin(), tags.end(), std::not_equal_to<>()) == tags.end();
+    };
+    if (one_group(tet_tag_) && one_group(tri_tag_)) return;
     std::set<int64_t> groups[2];  // surfaces', volumes'
     const auto drop = [&](size_t count, auto key_of, auto skip, auto&& compact, int d) {
       // (A copy in the same group is a repeated element, not another
       // group's: left as it is.)
-      std::unordered_map<std::string, int64_t> first_group;
+      struct KeyHash {
+        size_t operator()(const std::array<uint32_t, 4>& k) const {
+          return (uint64_t{k[0]} * 0x9E3779B97F4A7C15ull) ^ (uint64_t{k[1]} * 0xC2B2AE3D27D4EB4Full) ^
+                 (uint64_t{k[2]} * 0x165667B19E3779F9ull) ^ k[3];
+        }
+      };
+      std::unordered_map<std::array<uint32_t, 4>, int64_t, KeyHash> first_group;
+      first_group.reserve(count);
       std::vector<uint32_t> new_index(count);
       uint32_t kept = 0;
       for (size_t i = 0; i < count; ++i) {
@@ -432,9 +445,9 @@ class GmshReader {
       }
       if (kept < count) compact(new_index, kept);
     };
-    const auto sorted_key = [](auto corners) {
+    const auto sorted_key = [](std::array<uint32_t, 4> corners) {
       std::sort(corners.begin(), corners.end());
-      return std::string(reinterpret_cast<const char*>(corners.data()), sizeof corners);
+      return corners;
     };
     std::vector<uint8_t> split(out_.tets.size(), 0);
     for (const SplitCell& c : split_cells_) split[c.slot] = 1;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <unordered_map>
 
 #include "abaqus.h"
 #include "exodus.h"
@@ -56,6 +57,26 @@ InputFormat input_format_for_path(const std::string& path) {
 
 namespace {
 
+// Whether a face of `faces` marked 0 is a face of the tetrahedra's
+// boundary (one tetrahedron's only): a .poly that marks some facets and
+// leaves others 0, not -f's inner faces.
+bool marks_a_boundary_face_0(const FaceFile& faces, const std::vector<std::array<uint32_t, 4>>& tets) {
+  const auto key = [](uint32_t a, uint32_t b, uint32_t c) {
+    std::array<uint32_t, 3> f = {a, b, c};
+    std::sort(f.begin(), f.end());
+    return (uint64_t{f[0]} * 0x9E3779B97F4A7C15ull) ^ (uint64_t{f[1]} * 0xC2B2AE3D27D4EB4Full) ^
+           (uint64_t{f[2]} << 1);
+  };
+  std::unordered_map<uint64_t, uint8_t> met;  // (a hash of the corners: a rare clash only misjudges a note)
+  for (size_t i = 0; i < faces.faces.size(); ++i)
+    if (faces.markers[i] == 0) met.emplace(key(faces.faces[i][0], faces.faces[i][1], faces.faces[i][2]), 0);
+  for (const auto& t : tets)
+    for (int k = 0; k < 4; ++k)
+      if (const auto it = met.find(key(t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4])); it != met.end())
+        it->second = static_cast<uint8_t>(std::min(2, it->second + 1));
+  return std::any_of(met.begin(), met.end(), [](const auto& m) { return m.second == 1; });
+}
+
 InputMesh read_tetgen(const std::string& path, bool with_ele,
                       const std::function<NodeFile(const std::string&)>& read_node) {
   NodeFile node = read_node ? read_node(path) : read_tetgen_node(path);
@@ -84,25 +105,26 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
     }
     // TetGen's faces beside them (tetgen -p writes the boundary's with their
     // facet markers, the boundary conditions): those with a marker other
-    // than 0 (-f's inner faces have 0) are the tagged faces, unless every
-    // one is 1, TetGen's default where the input has no facet markers (an
-    // .off or .stl): nothing to keep. Under mpirun, where the ranks read
-    // the .ele in parts, tagged faces would need it whole on every rank:
-    // named instead. (TetGen's .edge and .neigh are the mesh's own, which
-    // the decoder makes again.)
+    // than 0 are the tagged faces, unless every face of the boundary is
+    // marked 1, TetGen's default where the input has no facet markers (an
+    // .off or .stl), -f's inner faces 0: nothing to keep then. Without the
+    // tetrahedra at hand (under mpirun, where the ranks read the .ele in
+    // parts, or --no-reference), markers that may be more than that are
+    // named. (A .face without markers, like TetGen's .edge and .neigh, is
+    // the mesh's own, which the decoder makes again.)
     if (const auto face = std::filesystem::path(path).replace_extension(".face");
         std::filesystem::exists(face)) {
       const FaceFile faces = read_tetgen_face(face.string(), out.points.size(), node.index_base);
-      const bool marked =
+      bool marked =
           std::any_of(faces.markers.begin(), faces.markers.end(), [](int32_t m) { return m != 0 && m != 1; });
-      if (faces.markers.empty() && !faces.faces.empty()) {
-        out.left_out.push_back(face.string() + "'s " + std::to_string(faces.faces.size()) +
-                               " faces (without markers)");
-      } else if (marked && !with_ele) {
+      const bool zeros = std::find(faces.markers.begin(), faces.markers.end(), 0) != faces.markers.end();
+      if (!marked && zeros && with_ele) marked = marks_a_boundary_face_0(faces, out.tets);
+      if (!marked && zeros && !with_ele) marked = true;  // (which faces are the boundary's: not known here)
+      if (marked && !with_ele) {
         out.left_out.push_back(
             face.string() +
-            "'s boundary markers (under mpirun the ranks read the .ele in parts; meshenc on "
-            "one process keeps them as tagged faces)");
+            "'s boundary markers (the tetrahedra are read in parts, or not at all: meshenc "
+            "on one process with them keeps the markers as tagged faces)");
       } else if (marked) {
         for (size_t i = 0; i < faces.markers.size(); ++i)
           if (faces.markers[i] != 0) {

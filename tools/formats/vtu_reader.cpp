@@ -513,11 +513,10 @@ class VtuReader {
     if (!text_arrays_.empty()) out.left_out.push_back("arrays of strings or bits " + quoted(text_arrays_));
     if (!dataset_arrays_.empty())
       out.left_out.push_back("the dataset's FieldData " + quoted(dataset_arrays_));
+    // (One line alike for every piece of a .pvtu, which its reader joins.)
     if (ghost_cells_ > 0)
       out.left_out.push_back(
-          std::to_string(ghost_cells_) +
-          " ghost cells (vtkGhostType: copies of the neighbouring pieces' cells, read from "
-          "those pieces)");
+          "ghost cells (vtkGhostType: copies of the neighbouring pieces' cells, read from those pieces)");
   }
 
   // An array not read as values: the ghost cells' and points' flags (used
@@ -750,7 +749,8 @@ class VtuReader {
       const auto at = [&](uint64_t i) {
         return static_cast<uint32_t>(first + static_cast<uint64_t>(conn[i]));
       };
-      if (!ghost.empty() && (static_cast<uint64_t>(ghost[c]) & 1)) {
+      // (The flags are bytes; a damaged file's may be anything.)
+      if (!ghost.empty() && ghost[c] >= 0 && ghost[c] < 256 && (static_cast<int>(ghost[c]) & 1)) {
         ++ghost_cells_;
         continue;
       }
