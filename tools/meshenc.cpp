@@ -27,6 +27,7 @@
 #include "tools/atomic_file.h"
 #include "tools/field_types.h"
 #include "tools/formats/input.h"
+#include "tools/formats/mesh_writers.h"
 #include "tools/formats/node_labels.h"
 #include "tools/formats/second_order.h"
 #include "tools/formats/tagged_faces.h"
@@ -841,15 +842,6 @@ void write_outputs(const Command& c, const dtm::EncodedMesh& encoded,
   dtm::write_files_atomically(files);
 }
 
-// `path`'s extension in lower case, with its dot ("" for none).
-std::string lower_extension(const std::string& path) {
-  const size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot);
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext;
-}
-
 int run(Command& c) {
   // Under mpirun every rank reads the input and builds its share of the
   // blocks; rank 0 writes the stream, the same bytes as one process writes.
@@ -913,14 +905,23 @@ int run(Command& c) {
     throw dtm::UsageError("--field-error and --no-fields contradict each other");
   // A stream under a mesh file's name is a mistake the next reader meets:
   // said now.
-  if (const std::string ext = lower_extension(c.output);
-      !ext.empty() && ext != ".dtm" &&
-      std::string_view(
-          ".vtu .pvtu .vtk .msh .mesh .vol .inp .e .exo .node .ele .ply .off .obj .xyz .glb .gltf "
-          ".drc .stl .nrrd ")
-              .find(ext + " ") != std::string_view::npos)
-    throw dtm::UsageError("-o " + c.output + ": meshenc writes a .dtm stream, not a " + ext +
-                          " file (meshdec writes the mesh as one)");
+  // (A name meshenc reads or meshdec writes as a mesh.)
+  const auto mesh_name = [](const std::string& path) {
+    try {
+      dtm::input_format_for_path(path);
+      return true;
+    } catch (const std::exception&) {
+    }
+    try {
+      dtm::format_for_path(path);
+      return true;
+    } catch (const std::exception&) {
+    }
+    return false;
+  };
+  if (!c.output.empty() && c.output != "-" && mesh_name(c.output))
+    throw dtm::UsageError("-o " + c.output +
+                          ": meshenc writes a .dtm stream, not a mesh file (meshdec writes the mesh as one)");
   // Said before the input is read, not after its table's header.
   if (c.encode.bricks && c.encode.exact)
     throw dtm::UsageError("--exact: bricked streams (--bricks) do not keep the input's cells exactly yet");

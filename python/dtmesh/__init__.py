@@ -481,9 +481,7 @@ def encode(
     if f is not None and len(f) and t is not None:
         inside = _dtmesh.faces_inside(t, r if r is not None else np.zeros(0, np.int64), f)
         if inside:
-            warnings.warn(f"left out (the stream does not hold it): {inside} of the {len(f)} tagged triangles, "
-                          "inside a region or no face of the tetrahedra (a tagged face is one of the surface's, "
-                          "or between two regions)", stacklevel=2)
+            warnings.warn(f"left out (the stream does not hold it): {inside}", stacklevel=2)
     if encoded.report.get("edge_nodes_dropped"):
         warnings.warn("left out (the stream does not hold it): the nodes on level 0's edges: the exact cells "
                       "fell back to format 11.0's coding, which holds none" +

@@ -606,11 +606,12 @@ py::tuple split_cells(py::array_t<int64_t, py::array::c_style | py::array::force
                         array_of(cell_of, {static_cast<py::ssize_t>(cell_of.size())}));
 }
 
-// The tagged faces no level can carry (tools/formats/tagged_faces.h), for
-// encode()'s warning; the arrays as encode() checked them.
-uint64_t faces_inside(py::array_t<int64_t, py::array::c_style | py::array::forcecast> tets,
-                      py::array_t<int64_t, py::array::c_style | py::array::forcecast> regions,
-                      py::array_t<int64_t, py::array::c_style | py::array::forcecast> faces) {
+// The note on the tagged faces no level can carry (tools/formats/
+// tagged_faces.h), for encode()'s warning ("" for none); the arrays as
+// encode() checked them.
+std::string faces_inside(py::array_t<int64_t, py::array::c_style | py::array::forcecast> tets,
+                         py::array_t<int64_t, py::array::c_style | py::array::forcecast> regions,
+                         py::array_t<int64_t, py::array::c_style | py::array::forcecast> faces) {
   std::vector<std::array<uint32_t, 4>> t(static_cast<size_t>(tets.size() / 4));
   for (size_t i = 0; i < t.size(); ++i)
     for (size_t k = 0; k < 4; ++k) t[i][k] = static_cast<uint32_t>(tets.data()[4 * i + k]);
@@ -619,7 +620,8 @@ uint64_t faces_inside(py::array_t<int64_t, py::array::c_style | py::array::force
   for (size_t i = 0; i < f.size(); ++i)
     for (size_t k = 0; k < 3; ++k) f[i][k] = static_cast<uint32_t>(faces.data()[3 * i + k]);
   if (!r.empty() && r.size() != t.size()) r.clear();
-  return dtm::tagged_faces_inside(t, r, f);
+  const uint64_t inside = dtm::tagged_faces_inside(t, r, f);
+  return inside ? dtm::tagged_faces_inside_note(inside, f.size()) : std::string();
 }
 
 }  // namespace

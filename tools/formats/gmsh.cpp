@@ -214,7 +214,7 @@ class GmshReader {
         // the geometry, which is read past.)
         if (have_nodes) c_.fail("a second $Nodes section");
         have_nodes = true;
-        binary_ ? parametric_nodes_v2_binary() : parametric_nodes_v2();
+        binary_ ? parametric_nodes_v2_binary() : nodes_v2(true);
       } else if (section == "$Elements") {
         if (!have_nodes) c_.fail("$Elements before $Nodes");
         // (Element data and regions are per element of the one section.)
@@ -732,13 +732,16 @@ class GmshReader {
       c_.fail("node tag " + std::to_string(tag) + " defined twice");
   }
 
-  void nodes_v2() {
+  // "tag x y z" a line; `parametric` ($ParametricNodes): then "dimension
+  // entity [u [v]]", read past.
+  void nodes_v2(bool parametric = false) {
     const uint64_t n = c_.count("a node count", c_.remaining() / 8);
     out_.points.reserve(n);
     for (uint64_t i = 0; i < n; ++i) {
       add_node(c_.number<int64_t>("a node tag"), out_.points.size());
       const double x = c_.coordinate(), y = c_.coordinate(), z = c_.coordinate();
       out_.points.push_back({x, y, z});
+      if (parametric) c_.rest_of_line();
     }
   }
 
@@ -1134,17 +1137,6 @@ class GmshReader {
       if (e) std::rethrow_exception(e);
   }
 
-  // "tag x y z dimension entity [u [v]]" a line.
-  void parametric_nodes_v2() {
-    const uint64_t n = c_.count("a node count", c_.remaining() / 12);
-    out_.points.reserve(n);
-    for (uint64_t i = 0; i < n; ++i) {
-      add_node(c_.number<int64_t>("a node tag"), out_.points.size());
-      const double x = c_.coordinate(), y = c_.coordinate(), z = c_.coordinate();
-      out_.points.push_back({x, y, z});
-      c_.rest_of_line();
-    }
-  }
   // int tag, 3 doubles, int dimension, int entity, then a curve's u or a
   // surface's u and v (doubles).
   void parametric_nodes_v2_binary() {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <unordered_map>
 
 #include "abaqus.h"
 #include "exodus.h"
@@ -13,6 +12,7 @@
 #include "nrrd.h"
 #include "point_sets.h"
 #include "second_order.h"
+#include "tagged_faces.h"
 #include "tetgen.h"
 #include "vtk_legacy.h"
 #include "vtu_reader.h"
@@ -57,26 +57,6 @@ InputFormat input_format_for_path(const std::string& path) {
 
 namespace {
 
-// Whether a face of `faces` marked 0 is a face of the tetrahedra's
-// boundary (one tetrahedron's only): a .poly that marks some facets and
-// leaves others 0, not -f's inner faces.
-bool marks_a_boundary_face_0(const FaceFile& faces, const std::vector<std::array<uint32_t, 4>>& tets) {
-  const auto key = [](uint32_t a, uint32_t b, uint32_t c) {
-    std::array<uint32_t, 3> f = {a, b, c};
-    std::sort(f.begin(), f.end());
-    return (uint64_t{f[0]} * 0x9E3779B97F4A7C15ull) ^ (uint64_t{f[1]} * 0xC2B2AE3D27D4EB4Full) ^
-           (uint64_t{f[2]} << 1);
-  };
-  std::unordered_map<uint64_t, uint8_t> met;  // (a hash of the corners: a rare clash only misjudges a note)
-  for (size_t i = 0; i < faces.faces.size(); ++i)
-    if (faces.markers[i] == 0) met.emplace(key(faces.faces[i][0], faces.faces[i][1], faces.faces[i][2]), 0);
-  for (const auto& t : tets)
-    for (int k = 0; k < 4; ++k)
-      if (const auto it = met.find(key(t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4])); it != met.end())
-        it->second = static_cast<uint8_t>(std::min(2, it->second + 1));
-  return std::any_of(met.begin(), met.end(), [](const auto& m) { return m.second == 1; });
-}
-
 InputMesh read_tetgen(const std::string& path, bool with_ele,
                       const std::function<NodeFile(const std::string&)>& read_node) {
   NodeFile node = read_node ? read_node(path) : read_tetgen_node(path);
@@ -118,7 +98,15 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
       bool marked =
           std::any_of(faces.markers.begin(), faces.markers.end(), [](int32_t m) { return m != 0 && m != 1; });
       const bool zeros = std::find(faces.markers.begin(), faces.markers.end(), 0) != faces.markers.end();
-      if (!marked && zeros && with_ele) marked = marks_a_boundary_face_0(faces, out.tets);
+      if (!marked && zeros && with_ele) {
+        // (A face marked 0 on the boundary, which tagged_faces_inside()
+        // does not count: a .poly that marks some facets and leaves others
+        // 0, not -f's inner faces.)
+        std::vector<std::array<uint32_t, 3>> zero;
+        for (size_t i = 0; i < faces.faces.size(); ++i)
+          if (faces.markers[i] == 0) zero.push_back(faces.faces[i]);
+        marked = tagged_faces_inside(out.tets, {}, zero) < zero.size();
+      }
       if (!marked && zeros && !with_ele) marked = true;  // (which faces are the boundary's: not known here)
       if (marked && !with_ele) {
         out.left_out.push_back(
