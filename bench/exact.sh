@@ -51,8 +51,9 @@ for input in "${models[@]/%/.node}" gmsh_part.msh netgen_fine.msh; do
   /usr/bin/time -f "%e %M" -o $m.plain.time "$enc" $input -q -o $m.plain.dtm --report $m.plain.json "${extra[@]}"
   # Format 11.0's section (the apexes ranked among all their candidates).
   "$enc" $input -q -o $m.v11.dtm --report $m.v11.json --exact-v11 "${extra[@]}"
-  # And 13.0's (no flip flags; its level 0 carving split by the cells' flips).
-  "$enc" $input -q -o $m.v13.dtm --report $m.v13.json --exact-v13 "${extra[@]}"
+  # And 14.0's (the flips, without 23.0's contexts of the filled faces and
+  # order of the apexes, every layer header with every length).
+  "$enc" $input -q -o $m.v14.dtm --report $m.v14.json --exact-v22 "${extra[@]}"
   # The points as the decoder has them, for the construction; each stream
   # decoded in a process of its own.
   [ $input = $m.node ] || "$dec" $m.plain.dtm -q -o $m.node
@@ -71,22 +72,23 @@ def wall(path):
     return float(open(path).read().split()[-2])
 what = {"gmsh_part": "gmsh part, 2 materials (gmsh 4.8.4)", "netgen_fine": "Netgen part (Netgen 6.2, maxh 0.03)"}
 rows = ["| mesh | vertices | cells | Delaunay cells | non-Delaunay cells | stream | with --exact | extra bits/vertex "
-        "| 13.0's | exact section bits/vertex | 11.0's | carving bits/vertex | bits per non-Delaunay cell "
+        "| 14.0's | exact section bits/vertex | 14.0's | 11.0's | carving bits/vertex | bits per non-Delaunay cell "
         "| 3-2 flips (flags) | apex rank 0 | 11.0's | apex not a candidate (in the second ring) "
         "| decode / construction | decode without | encode time x |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
 for m in sys.argv[1:]:
     p, e = json.load(open(m + ".plain.json")), json.load(open(m + ".exact.json"))
     x, v11 = e["exact"], json.load(open(m + ".v11.json"))["exact"]
-    v13 = json.load(open(m + ".v13.json"))
+    v14 = json.load(open(m + ".v14.json"))
     n, cells = e["input_points"], x["delaunay_cells"] + x["fill_cells"]
     extra = 8.0 * (e["stream_bytes"] - p["stream_bytes"])
     carving = 8.0 * (e["levels"][0]["carving_bytes"] - p["levels"][0]["carving_bytes"])
     construction = seconds(m + ".cgal.txt")
-    rows.append("| %s%s | %d | %d | %.1f%% | %d | %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %d (%d) | %.0f%% | %.0f%% | %d (%d) | %.2fx (%.2f s / %.2f s) | %.2fx | %.2fx |" % (
+    rows.append("| %s%s | %d | %d | %.1f%% | %d | %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %d (%d) | %.0f%% | %.0f%% | %d (%d) | %.2fx (%.2f s / %.2f s) | %.2fx | %.2fx |" % (
         what.get(m, m), " (q=%d)" % e["qbits"] if e["qbits"] != 14 and m not in what else "", n, cells,
         100.0 * x["delaunay_cells"] / cells, x["fill_cells"], p["stream_bytes"], e["stream_bytes"], extra / n,
-        8.0 * (v13["stream_bytes"] - p["stream_bytes"]) / n, 8.0 * x["bytes"] / n, 8.0 * v11["bytes"] / n,
+        8.0 * (v14["stream_bytes"] - p["stream_bytes"]) / n, 8.0 * x["bytes"] / n, 8.0 * v14["exact"]["bytes"] / n,
+        8.0 * v11["bytes"] / n,
         carving / n, extra / max(x["fill_cells"], 1), x.get("flips", 0), x.get("flip_candidates", 0),
         100.0 * x["rank_zero"] / max(x["fill_cells"] - 2 * x.get("flips", 0) - x["seeds"], 1),
         100.0 * v11["rank_zero"] / max(x["fill_cells"] - x["seeds"], 1), x["escapes"], x.get("second_ring", 0),
@@ -99,8 +101,8 @@ out = ["# --exact: level 0 as the input's own tetrahedra", "",
        "the grid meshenc names, q=17). *Extra* = the whole stream's growth; it is the exact cell section "
        "(the non-Delaunay cells: flags for the 3-2 flips of the kept cells, then the rest grown face by "
        "face) plus what the carving section spends to keep exactly the Delaunay cells that are input cells "
-       "or that a flip replaces (the rest of the difference is the layer header). *13.0's*: the extra bits "
-       "a vertex of `meshenc --exact-v13`. *3-2 flips (flags)*: the flips made, and the flags sent. "
+       "or that a flip replaces (the rest of the difference is the layer headers). *14.0's*: the extra bits "
+       "a vertex, and the exact section's, of `meshenc --exact-v22` (format 14.0's coding). *3-2 flips (flags)*: the flips made, and the flags sent. "
        "*Apex rank 0*: of the cells grown from a face, those whose apex is the first candidate (that fits). "
        "*Decode / construction*: level 0 decoded in-process (`bench_hierarchy --peak-memory M.node decode`: "
        "every layer inserted, the carving, the exact cells) over one sequential CGAL construction of the "

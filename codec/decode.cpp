@@ -515,9 +515,7 @@ std::vector<uint32_t> ProgressiveDecoder::vertex_order(const TetMesh& dt) const 
 
 std::vector<uint32_t> ProgressiveDecoder::node_order(const EdgeNodes& nodes) const {
   std::vector<uint32_t> numbering;
-  if (!has_edge_nodes() || !(header_.flags & kFlagVertexOrder) ||
-      header_.version_major < kVersionMajorNodeOrder || !mesh_status_.ok() ||
-      nodes.present.size() != nodes.edges.corners.size())
+  if (!numbers_edge_nodes() || !mesh_status_.ok() || nodes.present.size() != nodes.edges.corners.size())
     return numbering;
   const Status s = decode_node_order(node_order_section_, nodes.edges,
                                      node_order_frame(nodes.edges, nodes.present), points_.size(), numbering);

@@ -179,6 +179,13 @@ class ProgressiveDecoder {
     std::vector<FieldValues> values;
   };
   bool has_edge_nodes() const { return (header_.flags & kFlagEdgeNodes) && finest_level() == 0; }
+  // Whether level 0's edge nodes come in the input's numbering among its
+  // vertices (a node order section, 21.0; in 23.0 a stream with the flags
+  // may go without, its nodes then after the vertices as in 20.0).
+  bool numbers_edge_nodes() const {
+    return has_edge_nodes() && (header_.flags & kFlagVertexOrder) &&
+           header_.version_major >= kVersionMajorNodeOrder && !node_order_section_.empty();
+  }
   EdgeNodes edge_nodes(const LevelCells& level) const;
   // With edge nodes and the vertex order (21.0, spec/FORMAT.md §3.13) and
   // level 0 decoded: the input's nodes in its numbering, each a vertex (an

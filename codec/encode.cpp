@@ -762,6 +762,11 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   if (options.exact) {
     stream_options.exact_cells = reference_tets;
     stream_options.exact_ranks = options.exact_ranks;
+    // (Edge nodes written for decoders older than 21.0 come with the exact
+    // cells those decoders read: 14.0's.)
+    if ((options.edge_nodes_v18 || options.edge_nodes_v19 || options.edge_nodes_v20) &&
+        options.exact_ranks == ApexRanks::kClosingFirst)
+      stream_options.exact_ranks = ApexRanks::kAfterFlips;
     stream_options.edge_nodes_v18 = options.edge_nodes_v18;
     stream_options.edge_nodes_v19 = options.edge_nodes_v19;
     if (region_index.size() == reference_tets.size()) stream_options.exact_labels = region_index;

@@ -101,7 +101,7 @@ struct EncodeOptions {
   // How the exact cells are coded: kAmongCandidates writes 11.0,
   // kAmongFitting 12.0, kAmongFittingInContext 13.0, which older decoders
   // read, at more bits (StreamOptions).
-  ApexRanks exact_ranks = ApexRanks::kAfterFlips;
+  ApexRanks exact_ranks = ApexRanks::kClosingFirst;
   // A second-order input's edge nodes as format 18.0 coded them (each
   // offset alone, no values there), for decoders of 18.0; or as 19.0 did
   // (the surface's normals summed across its creases), for decoders of

@@ -169,7 +169,7 @@ StatusOr<ExactLevel> exact_level(const TetMesh& dt, std::span<const GridPoint> p
   const std::vector<uint8_t> input_cells = e.delaunay_kept;
   const ApexRanks asked = ranks;
   const uint64_t flips =
-      ranks == ApexRanks::kAfterFlips ? keep_flipped_cells(dt, points, rest, e.delaunay_kept) : 0;
+      ranks >= ApexRanks::kAfterFlips ? keep_flipped_cells(dt, points, rest, e.delaunay_kept) : 0;
   std::vector<uint8_t> filled = e.delaunay_kept;
   DTM_ASSIGN_OR_RETURN(
       e.section, encode_exact_cells(dt, points, alpha, filled, e.order, rest, ranks, fill, source, &e.stats));
@@ -349,8 +349,10 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   const bool edge_nodes = exact && !options.edge_nodes.empty();
   if (!options.edge_nodes.empty()) {
     if (!exact) return invalid_input("encode_stream: edge nodes need exact cells");
-    if (options.exact_ranks != ApexRanks::kAfterFlips)
-      return invalid_input("encode_stream: edge nodes need format 14.0's exact cells (format 18.0)");
+    if (options.exact_ranks < ApexRanks::kAfterFlips)
+      return invalid_input("encode_stream: edge nodes need format 14.0's exact cells or later (format 18.0)");
+    if (options.exact_ranks == ApexRanks::kClosingFirst && (options.edge_nodes_v18 || options.edge_nodes_v19))
+      return invalid_input("encode_stream: edge nodes of format 18.0 or 19.0 need format 14.0's exact cells");
     for (const GridEdgeNode& e : options.edge_nodes)
       if (e.corners[0] >= points.size() || e.corners[1] >= points.size() || e.corners[0] == e.corners[1])
         return invalid_input("encode_stream: an edge node on an edge whose corners are not two points");
@@ -430,14 +432,15 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   // (An exact stream's version is settled when its section is: 11.0 where
   // its apexes are ranked among all the candidates.)
   ApexRanks exact_ranks = options.exact_ranks;
-  h.version_major = labels                    ? kVersionMajorNodeLabels
-                    : edge_nodes              ? edge_nodes_major(options)
-                    : exact                   ? kVersionMajorExact
-                    : cell_data || keep_order ? kVersionMajorCellData
-                    : regions || faces        ? kVersionMajorRegions
-                    : corrections             ? kVersionMajorUnbricked
-                    : values                  ? kVersionMajorWithValues
-                                              : kVersionMajorWithoutValues;
+  h.version_major = exact && exact_ranks == ApexRanks::kClosingFirst ? kVersionMajorExactClosing
+                    : labels                                         ? kVersionMajorNodeLabels
+                    : edge_nodes                                     ? edge_nodes_major(options)
+                    : exact                                          ? kVersionMajorExact
+                    : cell_data || keep_order                        ? kVersionMajorCellData
+                    : regions || faces                               ? kVersionMajorRegions
+                    : corrections                                    ? kVersionMajorUnbricked
+                    : values                                         ? kVersionMajorWithValues
+                                                                     : kVersionMajorWithoutValues;
   h.flags = (options.cell_hashes ? kFlagCellHashes : 0) | (corrections ? kFlagCarvingCorrections : 0) |
             (values ? kFlagValues : 0) | (regions ? kFlagRegions : 0) | (faces ? kFlagFaces : 0) |
             (cell_data ? kFlagCellData : 0) | (keep_order ? kFlagVertexOrder : 0) | (exact ? kFlagExact : 0) |
@@ -692,7 +695,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   }
   // (The exact cells fell back to 11.0's coding, which has no edge nodes:
   // the stream is 11.0's, without them, and says so.)
-  if (edge_nodes && format_major_of(exact_ranks) != kVersionMajorExact) {
+  if (edge_nodes && exact_ranks < ApexRanks::kAfterFlips) {
     out.edge_nodes_dropped = out.edge_nodes;
     out.edge_nodes = out.moved_edge_nodes = out.edge_node_bytes = out.edge_value_bytes = 0;
     out.node_order_bytes = 0;
@@ -703,7 +706,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     h.flags = static_cast<uint16_t>(h.flags & ~kFlagEdgeNodes);
   }
   // (Nor node labels, which 22.0 brought: they are dropped, and said so.)
-  if (labels && exact && format_major_of(exact_ranks) != kVersionMajorExact) {
+  if (labels && exact && exact_ranks < ApexRanks::kAfterFlips) {
     out.node_labels_dropped = true;
     out.node_label_bytes = 0;
     sections[0].node_labels.clear();
@@ -711,9 +714,10 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
   }
   // (An exact stream's version, and flags, as its sections settled them.)
   if (exact) {
-    const uint8_t major = (h.flags & kFlagNodeLabels)   ? kVersionMajorNodeLabels
-                          : !(h.flags & kFlagEdgeNodes) ? format_major_of(exact_ranks)
-                                                        : edge_nodes_major(options);
+    const uint8_t major = exact_ranks == ApexRanks::kClosingFirst ? kVersionMajorExactClosing
+                          : (h.flags & kFlagNodeLabels)           ? kVersionMajorNodeLabels
+                          : !(h.flags & kFlagEdgeNodes)           ? format_major_of(exact_ranks)
+                                                                  : edge_nodes_major(options);
     if (major != h.version_major || (edge_nodes && !(h.flags & kFlagEdgeNodes)) ||
         (labels && !(h.flags & kFlagNodeLabels))) {
       h.version_major = major;
@@ -748,6 +752,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
                           " bytes is beyond the format's 4 GiB a section (fewer fields, or lossy ones)"};
     LayerHeader lh;
     lh.format_major = h.version_major;
+    lh.stream_flags = h.flags;
     lh.candidate_kinds = s.points.kinds;
     lh.level = static_cast<uint16_t>(l);
     lh.new_vertices = static_cast<uint32_t>(layers[l].count);

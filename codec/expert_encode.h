@@ -81,7 +81,7 @@ struct StreamOptions {
   // How the exact cells are coded (ApexRanks): 14.0, or for older
   // decoders 13.0, 12.0 or 11.0 (11.0 is also what the encoder falls back
   // to where the fit tests pass their budget).
-  ApexRanks exact_ranks = ApexRanks::kAfterFlips;
+  ApexRanks exact_ranks = ApexRanks::kClosingFirst;
   // With exact_cells, of a second-order input (format 18.0, spec/FORMAT.md
   // §3.11): the nodes on the exact cells' edges, each edge once; empty:
   // none. Needs exact_ranks 14.0's. With fields, each field's values hold a

@@ -122,7 +122,7 @@ TEST_P(ExactCorpus, LevelZeroIsTheInputCellForCell) {
                  if (l.level > 0) plain_levels.push_back(x.carved_cells());
                }).ok());
   EXPECT_EQ(exact_levels, plain_levels);
-  EXPECT_EQ(d.header().version_major, kVersionMajorExact);
+  EXPECT_EQ(d.header().version_major, kVersionMajorExactClosing);
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, ExactCorpus, ::testing::ValuesIn(test::kCorpus));
@@ -143,6 +143,8 @@ TEST(Exact, EachVersionCodesTheSameCellsInFewerBits) {
   std::set<Tet> input;
   for (const Tet& t : m.tets) input.insert(sorted_tet(t));
   EncodeOptions options = exact_options();
+  const auto closing = encode(in, options);
+  options.exact_ranks = ApexRanks::kAfterFlips;
   const auto flips = encode(in, options);
   options.exact_ranks = ApexRanks::kAmongFittingInContext;
   const auto in_context = encode(in, options);
@@ -150,18 +152,20 @@ TEST(Exact, EachVersionCodesTheSameCellsInFewerBits) {
   const auto fitting = encode(in, options);
   options.exact_ranks = ApexRanks::kAmongCandidates;
   const auto all = encode(in, options);
+  ASSERT_TRUE(closing.ok()) << closing.status().message();
   ASSERT_TRUE(flips.ok()) << flips.status().message();
   ASSERT_TRUE(in_context.ok()) << in_context.status().message();
   ASSERT_TRUE(fitting.ok()) << fitting.status().message();
   ASSERT_TRUE(all.ok()) << all.status().message();
   for (const auto& [e, version] :
-       {std::pair{&*flips, kVersionMajorExact}, std::pair{&*in_context, kVersionMajorExactInContext},
-        std::pair{&*fitting, kVersionMajorExactFitting}, std::pair{&*all, kVersionMajorExactAllRanked}}) {
+       {std::pair{&*closing, kVersionMajorExactClosing}, std::pair{&*flips, kVersionMajorExact},
+        std::pair{&*in_context, kVersionMajorExactInContext}, std::pair{&*fitting, kVersionMajorExactFitting},
+        std::pair{&*all, kVersionMajorExactAllRanked}}) {
     ProgressiveDecoder d;
     ASSERT_TRUE(decode_stream(e->bytes, d).ok());
     EXPECT_EQ(d.header().version_major, version);
     EXPECT_TRUE(level0_in_input_numbering(d, *e, m.points.size()).cells == input);
-    if (e == &*flips) continue;
+    if (e == &*flips || e == &*closing) continue;
     EXPECT_EQ(e->report.exact.fill_cells, all->report.exact.fill_cells);
     EXPECT_EQ(e->report.exact.escapes, all->report.exact.escapes);
   }
@@ -176,6 +180,12 @@ TEST(Exact, EachVersionCodesTheSameCellsInFewerBits) {
   EXPECT_EQ(in_context->report.exact.rank_zero, fitting->report.exact.rank_zero);
   EXPECT_LT(fitting->report.exact_bytes * 10, all->report.exact_bytes * 8);         // 20% fewer at least
   EXPECT_LT(in_context->report.exact_bytes * 10, fitting->report.exact_bytes * 9);  // 10% fewer at least
+  // 23.0: the same cells as 14.0's, the filled bits in the context of the
+  // boundary's edges too and the apexes ranked closing faces first.
+  EXPECT_EQ(closing->report.exact.fill_cells, flips->report.exact.fill_cells);
+  EXPECT_EQ(closing->report.exact.flips, flips->report.exact.flips);
+  EXPECT_LT(closing->report.exact_bytes * 10, flips->report.exact_bytes * 8);  // 20% fewer at least
+  EXPECT_LT(closing->bytes.size(), flips->bytes.size());
   // Nearly every apex that is not a candidate is in the second ring.
   EXPECT_GT(in_context->report.exact.escapes, 0u);
   EXPECT_GE(in_context->report.exact.second_ring * 10, in_context->report.exact.escapes * 9);
@@ -646,7 +656,7 @@ void load_bunny_exact_level(BunnyExactLevel& b) {
   ASSERT_TRUE(e.ok());
   b.encoded = std::move(*e);
   ASSERT_TRUE(decode_stream(b.encoded.bytes, b.decoder).ok());
-  ASSERT_EQ(b.decoder.header().version_major, kVersionMajorExact);
+  ASSERT_EQ(b.decoder.header().version_major, kVersionMajorExactClosing);
   const auto& bytes = b.encoded.bytes;
   b.section.assign(bytes.end() - static_cast<std::ptrdiff_t>(b.encoded.report.exact_bytes), bytes.end());
   b.dt = b.decoder.delaunay();
@@ -666,16 +676,16 @@ TEST(ExactSection, FitTestsPastTheirBudgetAreRefusedAndTheEncoderFallsBack) {
   ASSERT_GT(b.encoded.report.exact.flips, 0u);
   ExactFill fill;
   std::vector<uint8_t> flipped = b.kept;
-  ASSERT_TRUE(
-      decode_exact_cells(b.section, b.dt, b.points(), b.alpha, flipped, b.order, ApexRanks::kAfterFlips, fill)
-          .ok());
+  ASSERT_TRUE(decode_exact_cells(b.section, b.dt, b.points(), b.alpha, flipped, b.order,
+                                 ApexRanks::kClosingFirst, fill)
+                  .ok());
   EXPECT_EQ(std::count(b.kept.begin(), b.kept.end(), 1) - std::count(flipped.begin(), flipped.end(), 1),
             3 * static_cast<std::ptrdiff_t>(b.encoded.report.exact.flips));
   const FitBudget none{0, 0};
   ExactFill refused;
   std::vector<uint8_t> kept = b.kept;
   const Status s = decode_exact_cells(b.section, b.dt, b.points(), b.alpha, kept, b.order,
-                                      ApexRanks::kAfterFlips, refused, none);
+                                      ApexRanks::kClosingFirst, refused, none);
   EXPECT_EQ(s.code(), StatusCode::kCorrupt);
   EXPECT_NE(s.message().find("too many overlap tests"), std::string::npos) << s.message();
 
@@ -687,10 +697,10 @@ TEST(ExactSection, FitTestsPastTheirBudgetAreRefusedAndTheEncoderFallsBack) {
     return encode_exact_cells(b.dt, b.points(), b.alpha, kept, b.order, fill.cells, ranks, again, source,
                               nullptr, budget);
   };
-  ApexRanks ranks = ApexRanks::kAfterFlips;
+  ApexRanks ranks = ApexRanks::kClosingFirst;
   const auto fitting = code_again(b.kept, ranks, {});
   ASSERT_TRUE(fitting.ok());
-  EXPECT_EQ(ranks, ApexRanks::kAfterFlips);
+  EXPECT_EQ(ranks, ApexRanks::kClosingFirst);
   EXPECT_EQ(*fitting, b.section);
   const auto fell_back = code_again(b.kept, ranks, none);
   ASSERT_TRUE(fell_back.ok());
@@ -717,7 +727,7 @@ TEST(ExactSection, BitFlipsAreRefusedOrChecked) {
   // fill whose every cell passed the decoder's checks; never a crash.
   BunnyExactLevel b;
   ASSERT_NO_FATAL_FAILURE(load_bunny_exact_level(b));
-  const ApexRanks ranks = ApexRanks::kAfterFlips;
+  const ApexRanks ranks = ApexRanks::kClosingFirst;
   ExactFill fill;
   std::vector<uint8_t> kept = b.kept;
   ASSERT_TRUE(decode_exact_cells(b.section, b.dt, b.points(), b.alpha, kept, b.order, ranks, fill).ok());

@@ -72,8 +72,7 @@ std::vector<Row> spec_table(const std::string& heading) {
 }
 
 template <class Header>
-void expect_spec_matches(const std::string& heading) {
-  Header h{};
+void expect_spec_matches(const std::string& heading, Header h = {}) {
   RowCollector code;
   visit_fields(h, code);
   const std::vector<Row> spec = spec_table(heading);
@@ -91,11 +90,34 @@ TEST(FormatFields, StreamHeaderTableIsTheCodesFieldList) {
   expect_spec_matches<StreamHeader>("## 2. Header");
 }
 
-TEST(FormatFields, LayerHeaderTableIsTheCodesFieldList) { expect_spec_matches<LayerHeader>("## 3. Layer"); }
+// (The table is level 0's layer of a stream with every section's flag.)
+TEST(FormatFields, LayerHeaderTableIsTheCodesFieldList) {
+  LayerHeader h;
+  h.stream_flags = kFlagValues | kFlagRegions | kFlagFaces | kFlagCellData | kFlagVertexOrder | kFlagExact |
+                   kFlagEdgeNodes | kFlagNodeLabels;
+  h.level = 0;
+  expect_spec_matches<LayerHeader>("## 3. Layer", h);
+}
 
 TEST(FormatFields, ChecksumsCoverTheBytesBeforeThem) {
   EXPECT_EQ(sized<StreamHeader>().checksum_offset + 4, kHeaderSize);
-  EXPECT_EQ(sized<LayerHeader>().checksum_offset + 8, layer_header_size(kVersionMajorNodeLabels));
+  EXPECT_EQ(sized<LayerHeader>(kVersionMajorNodeLabels).checksum_offset + 8,
+            layer_header_size(kVersionMajorNodeLabels));
+  // 23.0: the lengths the flags call for, level 0's own in level 0 alone.
+  for (const uint16_t flags : {0, kFlagValues | kFlagExact,
+                               kFlagValues | kFlagExact | kFlagEdgeNodes | kFlagVertexOrder |
+                                   kFlagNodeLabels | kFlagRegions | kFlagFaces | kFlagCellData})
+    for (const uint16_t level : {0, 1})
+      EXPECT_EQ(sized<LayerHeader>(kVersionMajorLayerSizesByFlags, false, flags, level).checksum_offset + 8,
+                layer_header_size(kVersionMajorLayerSizesByFlags, false, flags, level));
+  EXPECT_EQ(layer_header_size(kVersionMajorLayerSizesByFlags, false,
+                              kFlagValues | kFlagExact | kFlagEdgeNodes | kFlagVertexOrder | kFlagNodeLabels |
+                                  kFlagRegions | kFlagFaces | kFlagCellData,
+                              0),
+            layer_header_size(kVersionMajorNodeLabels));
+  EXPECT_EQ(
+      layer_header_size(kVersionMajorLayerSizesByFlags, false, kFlagRegions | kFlagFaces | kFlagExact, 1),
+      layer_header_size(kVersionMajorLayerSizesByFlags) + 8);
   EXPECT_EQ(sized<LayerHeader>(kVersionMajorNodeOrder).checksum_offset + 8,
             layer_header_size(kVersionMajorNodeOrder));
   EXPECT_EQ(sized<LayerHeader>(kVersionMajorPredictedEdgeNodes).checksum_offset + 8,

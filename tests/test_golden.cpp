@@ -251,20 +251,28 @@ INSTANTIATE_TEST_SUITE_P(Format19_0, GoldenStream,
 // along the pin's ends predicted on the creases' curves (every kind of
 // crease edge's tangent).
 INSTANTIATE_TEST_SUITE_P(Format20_0, GoldenStream,
-                         ::testing::Values("ball_order2_exact", "ball_order2_fields_exact",
-                                           "pin_order2_exact"));
+                         ::testing::Values("v20/ball_order2_exact", "v20/ball_order2_fields_exact",
+                                           "v20/pin_order2_exact"));
 // 21.0: the ball in gmsh's numbering of its vertices and edge nodes
 // together, a node order section after its edge node section.
-INSTANTIATE_TEST_SUITE_P(Format21_0, GoldenStream, ::testing::Values("ball_order2_numbered_exact"));
+INSTANTIATE_TEST_SUITE_P(Format21_0, GoldenStream, ::testing::Values("v21/ball_order2_numbered_exact"));
 // 22.0: the ball with its node tags made to skip, a node label section
 // after its node order section.
-INSTANTIATE_TEST_SUITE_P(Format22_0, GoldenStream, ::testing::Values("ball_order2_labelled_exact"));
+INSTANTIATE_TEST_SUITE_P(Format22_0, GoldenStream, ::testing::Values("v22/ball_order2_labelled_exact"));
+// 23.0: every exact stream above, its layer headers holding the section
+// lengths its flags call for, its exact cell section with the filled bits
+// in the context of the boundary's edges and the apexes ranked closing
+// faces first.
+INSTANTIATE_TEST_SUITE_P(Format23_0, GoldenStream,
+                         ::testing::Values("two_materials_exact", "ball_order2_exact",
+                                           "ball_order2_fields_exact", "pin_order2_exact",
+                                           "ball_order2_numbered_exact", "ball_order2_labelled_exact"));
 // 14.0 to 11.0: level 0 is the gmsh part's own tetrahedra (its recorded
 // cell hash is theirs, as the encoder hashed the input's cells), its apexes
 // ranked among the candidates that fit (12.0), with the filled bits in the
 // context of the Delaunay cell across and a second ring (13.0), after a
 // flag per 3-2 flip of the kept cells (14.0), or among them all (11.0).
-INSTANTIATE_TEST_SUITE_P(Format14_0, GoldenStream, ::testing::Values("two_materials_exact"));
+INSTANTIATE_TEST_SUITE_P(Format14_0, GoldenStream, ::testing::Values("v14/two_materials_exact"));
 INSTANTIATE_TEST_SUITE_P(Format13_0, GoldenStream, ::testing::Values("v13/two_materials_exact"));
 INSTANTIATE_TEST_SUITE_P(Format12_0, GoldenStream, ::testing::Values("v12/two_materials_exact"));
 INSTANTIATE_TEST_SUITE_P(Format11_0, GoldenStream, ::testing::Values("v11/two_materials_exact"));

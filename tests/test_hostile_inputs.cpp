@@ -24,25 +24,17 @@ std::vector<uint8_t> read_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-const char* kGolden[] = {"ellipsoid_793",
-                         "torus_288",
-                         "torus_288_paper",
-                         "torus_288_grid_q10_hull",
-                         "torus_288_q24",
-                         "v6/torus_288",
-                         "v6/torus_288_q24",
-                         "v5/torus_288",
-                         "v5/torus_288_q24",
-                         "v4/torus_288",
-                         "v4/torus_288_q24",
-                         "v3/torus_288",
-                         "v3/torus_288_q24",
-                         "v2/torus_288",
-                         "ball_order2_exact",
-                         "ball_order2_fields_exact",
-                         "v18/ball_order2_exact",
-                         "v19/ball_order2_exact",
-                         "v19/ball_order2_fields_exact",
+const char* kGolden[] = {"ellipsoid_793",         "torus_288",
+                         "torus_288_paper",       "torus_288_grid_q10_hull",
+                         "torus_288_q24",         "v6/torus_288",
+                         "v6/torus_288_q24",      "v5/torus_288",
+                         "v5/torus_288_q24",      "v4/torus_288",
+                         "v4/torus_288_q24",      "v3/torus_288",
+                         "v3/torus_288_q24",      "v2/torus_288",
+                         "ball_order2_exact",     "ball_order2_fields_exact",
+                         "v20/ball_order2_exact", "v20/ball_order2_fields_exact",
+                         "v20/pin_order2_exact",  "v18/ball_order2_exact",
+                         "v19/ball_order2_exact", "v19/ball_order2_fields_exact",
                          "pin_order2_exact"};
 std::string golden(const std::string& name) {
   return std::string(DTM_TEST_SOURCE_DIR) + "/golden/" + name + ".dtm";

@@ -176,8 +176,9 @@ TEST(Meshenc, RejectsBadOptions) {
 // cell hash meshdec checks) from each.
 TEST(Meshenc, ExactStreamsForOlderDecoders) {
   const std::string input = test::data_path("torus_288.node") + " --scale 25 --dmax 3 --hash-cells -q";
-  for (const auto& [flag, version] : {std::pair{"--exact", "14.0"}, std::pair{"--exact-v13", "13.0"},
-                                      std::pair{"--exact-v12", "12.0"}, std::pair{"--exact-v11", "11.0"}}) {
+  for (const auto& [flag, version] :
+       {std::pair{"--exact", "23.0"}, std::pair{"--exact-v22", "14.0"}, std::pair{"--exact-v13", "13.0"},
+        std::pair{"--exact-v12", "12.0"}, std::pair{"--exact-v11", "11.0"}}) {
     const std::string out = ::testing::TempDir() + "/torus_exact.dtm";
     const CommandRun r = meshenc(input + " " + flag + " -o " + out);
     ASSERT_EQ(r.status, 0) << flag << ": " << r.output;

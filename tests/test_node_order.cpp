@@ -147,7 +147,7 @@ TEST(NodeOrder, ASecondOrderMeshComesBackInTheInputsNumbering) {
   EXPECT_GT(encoded->report.node_order_bytes, 0u);
   ProgressiveDecoder d;
   ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
-  EXPECT_EQ(d.header().version_major, kVersionMajorNodeOrder);
+  EXPECT_EQ(d.header().version_major, kVersionMajorExactClosing);
   const OutputMesh mesh = decoded_mesh(d, "numbered", true);
   ASSERT_EQ(mesh.points.size(), m.at.size());
   EXPECT_EQ(mesh.edge_nodes, m.nodes.size());
@@ -199,7 +199,7 @@ TEST(NodeOrder, WithoutTheNumberingTheNodesFollowTheVertices) {
   EXPECT_EQ(encoded->report.node_order_bytes, 0u);
   ProgressiveDecoder d;
   ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
-  EXPECT_EQ(d.header().version_major, kVersionMajorCreaseEdgeNodes);
+  EXPECT_EQ(d.header().version_major, kVersionMajorExactClosing);
   const OutputMesh mesh = decoded_mesh(d, "after", true);
   for (const auto& e : mesh.cell_edge_nodes)
     for (uint32_t v : e) EXPECT_GE(v, m.points.size());
@@ -261,7 +261,7 @@ TEST(NodeOrder, TheNodesComeBackWithTheirIds) {
   ASSERT_TRUE(encoded.ok()) << encoded.status().message();
   ProgressiveDecoder d;
   ASSERT_TRUE(decode_stream(encoded->bytes, d).ok());
-  EXPECT_EQ(d.header().version_major, kVersionMajorNodeLabels);
+  EXPECT_EQ(d.header().version_major, kVersionMajorExactClosing);
   const OutputMesh mesh = decoded_mesh(d, "ids", true);
   EXPECT_EQ(mesh.node_labels, ids);
   // A writer of linear cells keeps the corners' ids.

@@ -252,11 +252,7 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
   return mesh;
 }
 
-bool numbers_edge_nodes(const ProgressiveDecoder& decoder) {
-  const StreamHeader& h = decoder.header();
-  return decoder.has_edge_nodes() && (h.flags & kFlagVertexOrder) &&
-         h.version_major >= kVersionMajorNodeOrder;
-}
+bool numbers_edge_nodes(const ProgressiveDecoder& decoder) { return decoder.numbers_edge_nodes(); }
 
 bool in_input_numbering(const ProgressiveDecoder& decoder) {
   return decoder.has_header() && (decoder.header().flags & kFlagVertexOrder) && decoder.finest_level() == 0;

@@ -279,6 +279,11 @@ void add_options(CLI::App& app, Command& c) {
       "--exact-v13", dtm::ApexRanks::kAmongFittingInContext,
       "--exact, written as format 13.0 for decoders older than 14.0 (without 14.0's flip flags: up "
       "to 0.4 bits a vertex more)");
+  exact_for_older(
+      "--exact-v22", dtm::ApexRanks::kAfterFlips,
+      "--exact, written for decoders older than 23.0: as format 14.0 (18.0 to 22.0 with edge nodes "
+      "or node ids), without 23.0's order of the apexes and contexts of the filled faces (up to "
+      "0.4 bits a vertex more)");
   older.push_back(app.add_flag_function(
       "--exact-v19",
       [&c](int64_t) {
@@ -1036,7 +1041,7 @@ int run(Command& c) {
   // --exact keeps a second-order mesh's tetrahedra's edge nodes (format
   // 18.0): what is left out of them says so.
   // (Not --exact-v13 and older: their streams have none.)
-  const bool keep_edge_nodes = c.encode.exact && c.encode.exact_ranks == dtm::ApexRanks::kAfterFlips &&
+  const bool keep_edge_nodes = c.encode.exact && c.encode.exact_ranks >= dtm::ApexRanks::kAfterFlips &&
                                !in.tet_edge_nodes.empty() && !in.tets.empty();
   if (keep_edge_nodes) {
     const std::string was =
@@ -1057,7 +1062,7 @@ int run(Command& c) {
   const bool older_nodes = c.encode.edge_nodes_v18 || c.encode.edge_nodes_v19 || c.encode.edge_nodes_v20;
   // (Not in the streams asked for older decoders: 22.0 brought them.)
   const bool labels_allowed = c.encode.keep_order && !older_nodes &&
-                              (!c.encode.exact || c.encode.exact_ranks == dtm::ApexRanks::kAfterFlips);
+                              (!c.encode.exact || c.encode.exact_ranks >= dtm::ApexRanks::kAfterFlips);
   // Where the stream holds fewer nodes than the file (a second-order mesh's
   // edge nodes without --exact, or nodes of other second-order cells), the
   // ones it holds keep their numbers as ids: their places in the file.

@@ -25,8 +25,12 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
                  const std::vector<dtm::QualityRow>& quality, bool stats) {
   const auto& h = s.header;
   const double step = h.grid.step;
+  // (23.0: a stream with both flags may have no node order section.)
+  const bool level0_numbers_nodes =
+      h.version_major < dtm::kVersionMajorLayerSizesByFlags ||
+      (!s.layers.empty() && s.layers.back().header.level == 0 && s.layers.back().header.node_order_bytes > 0);
   const bool numbered_nodes = (h.flags & dtm::kFlagEdgeNodes) && (h.flags & dtm::kFlagVertexOrder) &&
-                              h.version_major >= dtm::kVersionMajorNodeOrder;
+                              h.version_major >= dtm::kVersionMajorNodeOrder && level0_numbers_nodes;
   std::printf("%s: .dtm %u.%u, %u vertices in %u level%s, q=%d, step=%.6g, alpha policy %s%s%s%s%s%s%s%s%s\n",
               input.c_str(), h.version_major, h.version_minor, h.vertex_count, h.level_count,
               h.level_count == 1 ? "" : "s", h.grid.qbits, step, dtm::to_string(h.alpha_policy),

@@ -29,9 +29,8 @@ inline std::string version_text(const char* tool) {
   if (std::string_view(tool) == "meshenc")
     text += "; writes .dtm " + v(kVersionMajorUnbricked) + ", " + v(kVersionMajorBricked) +
             " with --bricks, " + v(kVersionMajorRegions) + " with regions or tagged faces, " +
-            v(kVersionMajorCellData) + " with cell data or --keep-order, " + v(kVersionMajorExact) +
-            " with --exact (" + v(kVersionMajorCreaseEdgeNodes) + " of a second-order mesh), " +
-            v(kVersionMajorBrickedRegions) + " with --bricks and regions, " +
+            v(kVersionMajorCellData) + " with cell data or --keep-order, " + v(kVersionMajorExactClosing) +
+            " with --exact, " + v(kVersionMajorBrickedRegions) + " with --bricks and regions, " +
             v(kVersionMajorBrickedCellData) + " with --bricks and cell data, " +
             v(kVersionMajorBrickedFaces) + " with --bricks and tagged faces; --preset paper " +
             v(kVersionMajorWithoutValues) + ", or " + v(kVersionMajorWithValues) + " with values";

@@ -1,4 +1,4 @@
-// Level 0 equal to the input's tetrahedra (format 11.0 to 14.0, kFlagExact,
+// Level 0 equal to the input's tetrahedra (format 11.0 and later, kFlagExact,
 // spec/FORMAT.md §3.10; meshenc --exact), encoder and decoder side by side.
 //
 // A mesher's output is mostly Delaunay: the decoder's DT(V_0) already holds
@@ -79,16 +79,32 @@ struct ExactFill {
 // is not a candidate by its rank in the face's second ring before its
 // index (bench/results/EXACT.md measures both; 13.0's level 0 carving
 // contexts change too, carving_coder.h). 14.0 codes as 13.0 does after the
-// flip flags (flip_context()).
-enum class ApexRanks : uint8_t { kAmongCandidates, kAmongFitting, kAmongFittingInContext, kAfterFlips };
+// flip flags (flip_context()). 23.0 (kClosingFirst) codes whether a face is
+// filled in the context of how many faces declared the boundary its edges
+// already have, and ranks an apex among the candidates that fit in another
+// order: the first in the Delaunay order, then the others by how many open
+// faces their cell would close, in the context of how many the first
+// closes; a candidate whose cell would cross a face declared the boundary,
+// or give a face a third cell, does not fit (ApexSearch,
+// exact_cell_coder_shared.h).
+enum class ApexRanks : uint8_t {
+  kAmongCandidates,
+  kAmongFitting,
+  kAmongFittingInContext,
+  kAfterFlips,
+  kClosingFirst
+};
 inline ApexRanks apex_ranks_of(uint8_t format_major) {
-  return format_major >= 14   ? ApexRanks::kAfterFlips
+  return format_major >= 23   ? ApexRanks::kClosingFirst
+         : format_major >= 14 ? ApexRanks::kAfterFlips
          : format_major >= 13 ? ApexRanks::kAmongFittingInContext
          : format_major >= 12 ? ApexRanks::kAmongFitting
                               : ApexRanks::kAmongCandidates;
 }
 inline uint8_t format_major_of(ApexRanks ranks) {
   switch (ranks) {
+    case ApexRanks::kClosingFirst:
+      return 23;
     case ApexRanks::kAfterFlips:
       return 14;
     case ApexRanks::kAmongFittingInContext:

@@ -38,6 +38,29 @@ class Decoder {
     return Status::Ok();
   }
 
+  // 23.0: the rank-th candidate that fits in the search's order; one past
+  // the last, an escape.
+  template <class Search, class Ring>
+  Status ranked_apex(const OpenFace&, Search& search, const Ring& ring, uint32_t& apex) {
+    uint32_t q = 0;
+    bool found = false;
+    DTM_RETURN_IF_ERROR(search.next(q, found));
+    uint64_t rank = 0;
+    DTM_RETURN_IF_ERROR(get_rank(rc_, search.models(), rank));
+    uint64_t seen = found;  // the candidates found to fit, q the last
+    while (found && seen <= rank) {
+      DTM_RETURN_IF_ERROR(search.next(q, found));
+      seen += found;
+    }
+    if (found) {
+      apex = q;
+      return Status::Ok();
+    }
+    // None left: the rank must be one past the last.
+    if (rank != seen) return corrupt("an apex rank past the candidates that fit");
+    return escaped(ring, search.less(), apex);
+  }
+
   bool another_seed(AdaptiveBit& model) { return rc_.decode(model); }
 
   bool flipped(AdaptiveBit& model, const FlipCandidate&) { return rc_.decode(model); }

@@ -51,9 +51,7 @@ class Encoder {
   Status apex(const OpenFace& f, std::vector<uint32_t>& candidates, const ApexOrder& less, RankModels& models,
               const Fit& fit, const Ring& ring, uint32_t& apex) {
     const MeshCell& c = rest_[pending_];
-    apex = c[0];
-    for (uint32_t v : c)
-      if (v != f.outward[0] && v != f.outward[1] && v != f.outward[2]) apex = v;
+    apex = apex_of(c, f);
     const bool candidate = std::find(candidates.begin(), candidates.end(), apex) != candidates.end();
     // The candidates ranked before the apex (all of them when it is not
     // one) and, in 12.0, of those only the ones that fit: the decoder tests
@@ -71,26 +69,40 @@ class Encoder {
       if (!fits) return invalid_input("input cell " + describe(c) + " overlaps another input cell");
     }
     put_rank(rc_, models, rank);
-    if (!candidate) {
-      ++stats_.escapes;
-      // 13.0: its rank in the second ring, one past it for an index.
-      bool in_ring = false;
-      if (ring.on()) {
-        DTM_RETURN_IF_ERROR(ring(second_));
-        in_ring = std::find(second_.begin(), second_.end(), apex) != second_.end();
-        const uint64_t second_rank =
-            in_ring ? static_cast<uint64_t>(std::count_if(second_.begin(), second_.end(),
-                                                          [&](uint32_t q) { return less(q, apex); }))
-                    : second_.size();
-        put_rank(rc_, ring.models(), second_rank);
-        stats_.second_ring += in_ring;
-      }
-      if (!in_ring) rc_.encode_index(apex, points_.size());
-    } else if (rank == 0) {
+    if (!candidate)
+      DTM_RETURN_IF_ERROR(escape(ring, less, apex));
+    else if (rank == 0)
       ++stats_.rank_zero;
+    place(pending_);
+    return Status::Ok();
+  }
+
+  // 23.0: the apex's rank among the candidates that fit, in the search's
+  // order; all of them when it is not one.
+  template <class Search, class Ring>
+  Status ranked_apex(const OpenFace& f, Search& search, const Ring& ring, uint32_t& apex) {
+    const MeshCell& c = rest_[pending_];
+    apex = apex_of(c, f);
+    uint32_t q = 0;
+    bool found = false;
+    DTM_RETURN_IF_ERROR(search.next(q, found));
+    RankModels& models = search.models();
+    uint64_t rank = 0;
+    while (found && q != apex) {
+      ++rank;
+      DTM_RETURN_IF_ERROR(search.next(q, found));
     }
-    source_.push_back(pending_);
-    placed_[pending_] = 1;
+    // (A candidate the search passed over overlaps a cell placed before
+    // it, or crosses a face declared the boundary, as no input cell can.)
+    if (!found && search.holds(apex))
+      return invalid_input("input cell " + describe(c) +
+                           " overlaps another input cell or gives a face a third cell");
+    put_rank(rc_, models, rank);
+    if (!found)
+      DTM_RETURN_IF_ERROR(escape(ring, search.less(), apex));
+    else if (rank == 0)
+      ++stats_.rank_zero;
+    place(pending_);
     return Status::Ok();
   }
 
@@ -104,7 +116,7 @@ class Encoder {
     rc_.encode(model, flip);
     if (!flip) return false;
     ++stats_.flips;
-    for (uint32_t i : {a, b}) placed_[i] = 1, source_.push_back(i);
+    for (uint32_t i : {a, b}) place(i);
     return true;
   }
 
@@ -123,8 +135,7 @@ class Encoder {
     if (o < 0) std::swap(c[2], c[3]);
     for (uint32_t v : c) rc_.encode_index(v, points_.size());
     cell = c;
-    source_.push_back(next_seed_);
-    placed_[next_seed_] = 1;
+    place(static_cast<uint32_t>(next_seed_));
     ++stats_.seeds;
     return Status::Ok();
   }
@@ -142,6 +153,37 @@ class Encoder {
     return kNone;
   }
   std::vector<uint32_t>& source() { return source_; }
+
+  // The corner of c off the face.
+  static uint32_t apex_of(const MeshCell& c, const OpenFace& f) {
+    uint32_t apex = c[0];
+    for (uint32_t v : c)
+      if (v != f.outward[0] && v != f.outward[1] && v != f.outward[2]) apex = v;
+    return apex;
+  }
+  void place(uint32_t i) {
+    source_.push_back(i);
+    placed_[i] = 1;
+  }
+  // An apex that is not a candidate (or, in 23.0, not one that fits): in
+  // 13.0 and later its rank in the second ring, one past it for an index.
+  template <class Ring>
+  Status escape(const Ring& ring, const ApexOrder& less, uint32_t apex) {
+    ++stats_.escapes;
+    bool in_ring = false;
+    if (ring.on()) {
+      DTM_RETURN_IF_ERROR(ring(second_));
+      in_ring = std::find(second_.begin(), second_.end(), apex) != second_.end();
+      const uint64_t second_rank =
+          in_ring ? static_cast<uint64_t>(std::count_if(second_.begin(), second_.end(),
+                                                        [&](uint32_t q) { return less(q, apex); }))
+                  : second_.size();
+      put_rank(rc_, ring.models(), second_rank);
+      stats_.second_ring += in_ring;
+    }
+    if (!in_ring) rc_.encode_index(apex, points_.size());
+    return Status::Ok();
+  }
 
   static std::string describe(const MeshCell& c) {
     return "(" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " + std::to_string(c[2]) + ", " +

@@ -88,19 +88,19 @@ struct FieldReader {
 };
 
 template <class Header>
-Header read_fields(std::span<const uint8_t> bytes, uint8_t format_major = kVersionMajor,
-                   bool bricked = false) {
+Header read_fields(std::span<const uint8_t> bytes, uint8_t format_major = kVersionMajor, bool bricked = false,
+                   uint16_t stream_flags = 0) {
   Header h;
-  if constexpr (requires { h.format_major; }) h.format_major = format_major, h.bricked = bricked;
+  if constexpr (requires { h.format_major; })
+    h.format_major = format_major, h.bricked = bricked, h.stream_flags = stream_flags;
   FieldReader reader{ByteReader(bytes)};
   visit_fields(h, reader);
   return h;
 }
 
 constexpr size_t kHeaderChecksumOffset = sized<StreamHeader>().checksum_offset;
-constexpr size_t layer_checksum_offset(uint8_t format_major, bool bricked) {
-  return sized<LayerHeader>(format_major, bricked).checksum_offset;
-}
+// (A layer header's checksum is its last field.)
+constexpr size_t layer_checksum_offset(size_t header_size) { return header_size - sizeof(uint64_t); }
 
 }  // namespace
 
@@ -312,7 +312,10 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
     return corrupt("a node order section present without edge nodes and a vertex order");
   if (h.level != 0 && h.node_order_bytes != 0)
     return corrupt("a node order section in a layer but level 0's");
-  if (h.level == 0 && node_order && h.format_major >= kVersionMajorNodeOrder && h.node_order_bytes == 0)
+  // (23.0: a stream given no numbering has none, its nodes after the
+  // vertices as in 20.0.)
+  if (h.level == 0 && node_order && h.format_major >= kVersionMajorNodeOrder &&
+      h.format_major < kVersionMajorLayerSizesByFlags && h.node_order_bytes == 0)
     return corrupt("level 0's layer without its node order section");
   if (!(header_.flags & kFlagNodeLabels) && h.node_label_bytes != 0)
     return corrupt("a node label section present without its flag");
@@ -349,11 +352,14 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   }
   const uint8_t major = header_.version_major;
   const bool bricked = header_.flags & kFlagBricks;
-  const size_t header_size = layer_header_size(major, bricked);
+  // (23.0: the header's size depends on the stream's flags and the level;
+  // a layer whose level is not this one is refused below.)
+  const size_t header_size =
+      layer_header_size(major, bricked, header_.flags, static_cast<uint16_t>(std::max(next_level_, 0)));
   if (bytes.size() < header_size) return {StatusCode::kNeedMoreInput, "layer header incomplete"};
   const std::string where = "level " + std::to_string(next_level_) + " at byte " + std::to_string(offset_);
   layer = Layer{};
-  layer.header = read_fields<LayerHeader>(bytes.first(header_size), major, bricked);
+  layer.header = read_fields<LayerHeader>(bytes.first(header_size), major, bricked, header_.flags);
   layer.offset = offset_;
   DTM_RETURN_IF_ERROR(check(layer.header).with_context(where));
   if (header_seen) *header_seen = true;
@@ -363,7 +369,7 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
     if (bytes.size() - header_size < needed) return {StatusCode::kNeedMoreInput, "layer incomplete"};
     layer.index = bytes.subspan(header_size, lh.index_bytes);
     if (with_chunks) layer.chunks = bytes.subspan(header_size + lh.index_bytes, lh.chunk_bytes);
-    if (xxh3_64(bytes.first(layer_checksum_offset(major, true)), layer.index) != lh.checksum)
+    if (xxh3_64(bytes.first(layer_checksum_offset(header_size)), layer.index) != lh.checksum)
       return corrupt(where + ": layer checksum mismatch");
     offset_ += header_size + lh.body_bytes();
     previous_vertices_ = lh.level_vertices;
@@ -392,7 +398,7 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   const uint64_t node_order_at = edge_nodes_at + lh.edge_node_bytes + lh.edge_value_bytes;
   layer.node_order = body.subspan(node_order_at, lh.node_order_bytes);
   layer.node_labels = body.subspan(node_order_at + lh.node_order_bytes);
-  if (xxh3_64(bytes.first(layer_checksum_offset(major, false)), body) != layer.header.checksum)
+  if (xxh3_64(bytes.first(layer_checksum_offset(header_size)), body) != layer.header.checksum)
     return corrupt(where + ": layer checksum mismatch");
   offset_ += header_size + layer.header.body_bytes();
   previous_vertices_ = layer.header.level_vertices;

@@ -77,8 +77,13 @@ inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'M', 0x0D, 0x0
 // section puts its edge nodes among its vertices where the input numbered
 // them (codec/sections/node_order_coder.h); 22.0 when it keeps the input's
 // node labels too (kFlagNodeLabels, codec/sections/node_label_coder.h);
-// the decoder reads 2.x to 22.x.
-inline constexpr uint8_t kVersionMajor = 22;
+// 23.0 for every exact stream (meshenc --exact; --exact-v22 writes 14.0 to
+// 22.0): its layer headers hold the section lengths its flags call for,
+// and its exact cell section has 23.0's contexts and order of the apexes
+// (codec/sections/exact_cell_coder.h); the decoder reads 2.x to 23.x.
+inline constexpr uint8_t kVersionMajor = 23;
+inline constexpr uint8_t kVersionMajorExactClosing = 23;
+inline constexpr uint8_t kVersionMajorLayerSizesByFlags = 23;
 inline constexpr uint8_t kVersionMajorNodeLabels = 22;
 inline constexpr uint8_t kVersionMajorNodeOrder = 21;
 inline constexpr uint8_t kVersionMajorCreaseEdgeNodes = 20;
@@ -158,10 +163,12 @@ struct StreamHeader {
 };
 
 struct LayerHeader {
-  // Not fields: the stream's major version and whether its layers are
-  // bricked (kFlagBricks), which say which fields follow.
+  // Not fields: the stream's major version, whether its layers are bricked
+  // (kFlagBricks), and (23.0) its header's flags, which say which fields
+  // follow.
   uint8_t format_major = kVersionMajor;
   bool bricked = false;
+  uint16_t stream_flags = 0;
   uint16_t level = 0;
   uint32_t new_vertices = 0;    // points in this layer's payload
   uint32_t level_vertices = 0;  // |V_level| = the coarser level's count + new_vertices
@@ -260,25 +267,36 @@ constexpr void visit_fields(LayerHeader& h, V& v) {
     return;
   }
   v.template field<uint32_t>("payload_bytes", h.payload_bytes);
+  // 23.0: a section's size is there only where the stream's flags call for
+  // the section, and a section of level 0 alone only in level 0's layer
+  // (before, every layer held every size its version knew, most of them
+  // 0: 20-36 bytes a layer of an exact stream).
+  const bool by_flags = h.format_major >= kVersionMajorLayerSizesByFlags;
+  const auto has = [&](uint16_t flags) { return !by_flags || (h.stream_flags & flags) == flags; };
+  const auto has_at_0 = [&](uint16_t flags) { return !by_flags || (has(flags) && h.level == 0); };
   if (h.format_major >= 4) v.template field<uint32_t>("carving_bytes", h.carving_bytes);
-  if (h.format_major >= 5) v.template field<uint32_t>("value_bytes", h.value_bytes);
+  if (h.format_major >= 5 && has(kFlagValues)) v.template field<uint32_t>("value_bytes", h.value_bytes);
   if (h.format_major >= 7) {
     v.template field<uint8_t>("candidate_kinds", h.candidate_kinds);
     v.template field<uint32_t>("candidate_bytes", h.candidate_bytes);
   }
   if (h.format_major >= 9) {
-    v.template field<uint32_t>("region_bytes", h.region_bytes);
-    v.template field<uint32_t>("face_bytes", h.face_bytes);
+    if (has(kFlagRegions)) v.template field<uint32_t>("region_bytes", h.region_bytes);
+    if (has(kFlagFaces)) v.template field<uint32_t>("face_bytes", h.face_bytes);
   }
   if (h.format_major >= 10) {
-    v.template field<uint32_t>("cell_value_bytes", h.cell_value_bytes);
-    v.template field<uint32_t>("order_bytes", h.order_bytes);
+    if (has_at_0(kFlagCellData)) v.template field<uint32_t>("cell_value_bytes", h.cell_value_bytes);
+    if (has_at_0(kFlagVertexOrder)) v.template field<uint32_t>("order_bytes", h.order_bytes);
   }
-  if (h.format_major >= 11) v.template field<uint32_t>("exact_bytes", h.exact_bytes);
-  if (h.format_major >= 18) v.template field<uint32_t>("edge_node_bytes", h.edge_node_bytes);
-  if (h.format_major >= 19) v.template field<uint32_t>("edge_value_bytes", h.edge_value_bytes);
-  if (h.format_major >= 21) v.template field<uint32_t>("node_order_bytes", h.node_order_bytes);
-  if (h.format_major >= 22) v.template field<uint32_t>("node_label_bytes", h.node_label_bytes);
+  if (h.format_major >= 11 && has_at_0(kFlagExact)) v.template field<uint32_t>("exact_bytes", h.exact_bytes);
+  if (h.format_major >= 18 && has_at_0(kFlagEdgeNodes))
+    v.template field<uint32_t>("edge_node_bytes", h.edge_node_bytes);
+  if (h.format_major >= 19 && has_at_0(kFlagEdgeNodes | kFlagValues))
+    v.template field<uint32_t>("edge_value_bytes", h.edge_value_bytes);
+  if (h.format_major >= 21 && has_at_0(kFlagEdgeNodes | kFlagVertexOrder))
+    v.template field<uint32_t>("node_order_bytes", h.node_order_bytes);
+  if (h.format_major >= 22 && has_at_0(kFlagNodeLabels))
+    v.template field<uint32_t>("node_label_bytes", h.node_label_bytes);
   v.template field<uint64_t>("cell_hash", h.cell_hash);
   v.template checksum<uint64_t>("layer_checksum", h.checksum);
 }
@@ -304,18 +322,25 @@ struct FieldSizer {
 };
 
 template <class Header>
-constexpr FieldSizer sized(uint8_t format_major = kVersionMajor, bool bricked = false) {
+constexpr FieldSizer sized(uint8_t format_major = kVersionMajor, bool bricked = false,
+                           uint16_t stream_flags = 0, uint16_t level = 0) {
   Header h{};
-  if constexpr (requires { h.format_major; }) h.format_major = format_major, h.bricked = bricked;
+  if constexpr (requires { h.format_major; })
+    h.format_major = format_major, h.bricked = bricked, h.stream_flags = stream_flags, h.level = level;
   FieldSizer s;
   visit_fields(h, s);
   return s;
 }
 
 inline constexpr size_t kHeaderSize = sized<StreamHeader>().size;
-// A layer header's size in a stream of this major version.
-constexpr size_t layer_header_size(uint8_t format_major, bool bricked = false) {
-  return sized<LayerHeader>(format_major, bricked).size;
+// A layer header's size in a stream of this major version (23.0: and these
+// flags, at this level).
+constexpr size_t layer_header_size(uint8_t format_major, bool bricked = false, uint16_t stream_flags = 0,
+                                   uint16_t level = 0) {
+  return sized<LayerHeader>(format_major, bricked, stream_flags, level).size;
+}
+inline size_t layer_header_size(const LayerHeader& h) {
+  return layer_header_size(h.format_major, h.bricked, h.stream_flags, h.level);
 }
 // A layer header of the streams meshenc writes most (7.0), of bricked ones
 // (8.0) and of those with regions (9.0).
@@ -331,7 +356,10 @@ static_assert(kHeaderSize == 56 && layer_header_size(3) == 38 && layer_header_si
                   layer_header_size(18, true) == 55 && layer_header_size(19) == 79 &&
                   layer_header_size(19, true) == 55 && layer_header_size(21) == 83 &&
                   layer_header_size(21, true) == 55 && layer_header_size(22) == 87 &&
-                  layer_header_size(22, true) == 55,
+                  layer_header_size(22, true) == 55 && layer_header_size(23) == 47 &&
+                  layer_header_size(23, false, kFlagValues | kFlagExact, 0) == 55 &&
+                  layer_header_size(23, false, kFlagValues | kFlagExact, 1) == 51 &&
+                  layer_header_size(23, true) == 55,
               "the format's header sizes changed");
 
 std::vector<uint8_t> write_header(StreamHeader h);
@@ -380,9 +408,7 @@ struct Layer {
   std::span<const uint8_t> index;
   std::span<const uint8_t> chunks;
   uint64_t offset = 0;  // of the layer header in the stream
-  uint64_t size() const {
-    return layer_header_size(header.format_major, header.bricked) + header.body_bytes();
-  }
+  uint64_t size() const { return layer_header_size(header) + header.body_bytes(); }
 };
 
 // Reads the layers of a stream in order, from bytes that may arrive in
@@ -440,9 +466,7 @@ struct LayerSummary {
       field_bytes;  // complete layers of a 5.0 stream: each field's share of the value section
   std::vector<uint64_t> cell_field_bytes;  // 10.0, level 0: each cell field's share of its section
   std::vector<uint64_t> edge_field_bytes;  // 19.0, level 0: each field's share of the edge value section
-  uint64_t size() const {
-    return layer_header_size(header.format_major, header.bricked) + header.body_bytes();
-  }
+  uint64_t size() const { return layer_header_size(header) + header.body_bytes(); }
 };
 struct StreamSummary {
   StreamHeader header;

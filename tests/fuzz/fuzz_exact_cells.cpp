@@ -13,7 +13,9 @@
 // 12.0's ranks with the filled bits in the context of the Delaunay cell
 // across and an apex outside the candidates ranked in the second ring);
 // bit 6 set: 14.0 (13.0's after a flag per 3-2 flip of the kept cells);
-// then the section.
+// bit 7 set: 23.0 (14.0's with the filled bits in the context of the
+// boundary's edges too and the apexes ranked closing faces first); then the
+// section.
 #include <algorithm>
 #include <cstdint>
 #include <map>
@@ -63,7 +65,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const Level& l = level(data[0] & 1);
   const unsigned skip = (data[0] >> 1) & 7;
-  dtm::ApexRanks ranks = (data[0] >> 6) & 1   ? dtm::ApexRanks::kAfterFlips
+  dtm::ApexRanks ranks = (data[0] >> 7) & 1   ? dtm::ApexRanks::kClosingFirst
+                         : (data[0] >> 6) & 1 ? dtm::ApexRanks::kAfterFlips
                          : (data[0] >> 5) & 1 ? dtm::ApexRanks::kAmongFittingInContext
                          : (data[0] >> 4) & 1 ? dtm::ApexRanks::kAmongCandidates
                                               : dtm::ApexRanks::kAmongFitting;

@@ -2,7 +2,7 @@
 # tests/golden/make.sh [BUILD_DIR] -- (re)writes the golden streams of the
 # current format version and their expected levels. Run it only when the
 # format's major version changes (spec/FORMAT.md §6), after moving the
-# previous version's streams to v<major>/ (as v2/ to v6/, v11/ to v13/, v18/ and v19/ hold formats 2.0 to 6.0, 11.0 to 13.0, 18.0 and 19.0) if
+# previous version's streams to v<major>/ (as v2/ to v6/, v11/ to v14/ and v18/ to v22/ hold formats 2.0 to 6.0, 11.0 to 14.0 and 18.0 to 22.0) if
 # decoders still read it: a golden stream is a promise that every later
 # decoder decodes it identically or refuses its version. The streams of
 # older versions it writes too need not come out the same (the encoder

@@ -9,7 +9,8 @@ import { basename, join } from 'node:path';
 export function allStreams(config) {
   const golden = join(config.source, 'tests', 'golden');
   const out = [];
-  for (const dir of [golden, ...['v2', 'v3', 'v4', 'v5', 'v6'].map((v) => join(golden, v))])
+  const older = ['v2', 'v3', 'v4', 'v5', 'v6', 'v14', 'v20', 'v21', 'v22'];
+  for (const dir of [golden, ...older.map((v) => join(golden, v))])
     for (const name of readdirSync(dir).sort())
       if (name.endsWith('.dtm')) out.push({ name: `${basename(dir)}/${name}`, path: join(dir, name) });
   for (const name of readdirSync(config.streams).sort())
