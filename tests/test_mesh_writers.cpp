@@ -161,6 +161,27 @@ TEST(MeshWriters, TetgenRendersTwoFilesWithTheCorpusHeaders) {
   EXPECT_EQ(files[0].second.substr(0, 8), "5 3 0 1\n");
 }
 
+// A stream's node ids go to 2^62 - 1; Abaqus's and Exodus's node numbers
+// are 32-bit: such ids are refused there, naming the file, and gmsh's
+// 64-bit tags take them.
+TEST(MeshWriters, NodeIdsPast32BitsAreRefusedWhereTheFormatCannotHoldThem) {
+  OutputMesh m = small_mesh();
+  m.node_labels = {1, 2, 3, 4, int64_t{1} << 40};
+  for (const auto& [format, path] :
+       {std::pair{MeshFormat::kAbaqus, "big.inp"}, std::pair{MeshFormat::kExodus, "big.e"}}) {
+    try {
+      render_mesh(m, format, path);
+      ADD_FAILURE() << path << ": written";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(std::string(path) + ": node ids above 2^31 - 1", 0), 0u)
+          << e.what();
+    }
+  }
+  EXPECT_NE(render_mesh(m, MeshFormat::kGmsh, "big.msh")[0].second.find("1099511627776"), std::string::npos);
+  m.node_labels.back() = INT32_MAX;
+  EXPECT_NO_THROW(render_mesh(m, MeshFormat::kAbaqus, "big.inp"));
+}
+
 TEST(MeshWriters, TetgenSmallMeshRoundTrip) {
   OutputMesh m = small_mesh();
   expect_tetgen_round_trip(m, "small_plain");

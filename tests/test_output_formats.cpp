@@ -370,5 +370,25 @@ TEST(OutputFormats, LinksDevicesAndPipesAreWrittenThroughNotReplaced) {
   fs::remove_all(dir);
 }
 
+// Files written together (.node and .ele, .gltf and .bin): where one cannot
+// be replaced (a directory of its name), none is written, nor left as a
+// temporary.
+TEST(OutputFormats, FilesWrittenTogetherAreAllWrittenOrNone) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("dtm_together_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "x.ele");
+  try {
+    write_files_atomically({{(dir / "x.node").string(), "nodes"}, {(dir / "x.ele").string(), "cells"}});
+    ADD_FAILURE() << "a directory replaced";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("x.ele: cannot replace"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "x.node"));
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace dtm

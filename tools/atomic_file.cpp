@@ -82,6 +82,16 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
     remove_temporaries(0, written);
     throw;
   }
+  // A rename fails on a directory: found before any file is replaced, so
+  // that a failed write of several files (.node and .ele, .gltf and .bin)
+  // leaves none of them.
+  for (size_t i = 0; i < files.size(); ++i) {
+    std::error_code ec;
+    if (!targets[i].in_place && std::filesystem::is_directory(targets[i].path, ec)) {
+      remove_temporaries(0, files.size());
+      throw std::runtime_error(files[i].first + ": cannot replace: " + std::strerror(EISDIR));
+    }
+  }
   for (size_t i = 0; i < files.size(); ++i) {
     if (targets[i].in_place) continue;
     const std::string& path = targets[i].path;

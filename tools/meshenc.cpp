@@ -51,8 +51,8 @@ Examples:
   meshenc flow.vtu -o flow.dtm --field-error pressure=0.01
 
 Inputs (by extension, or --format): TetGen .node (+ .ele), Medit .mesh, Netgen .vol(.gz), VTK
-.vtk, .vtu and .pvtu, gmsh .msh (2.0, 2.2, 4.1), Abaqus/CalculiX .inp, PLY, OFF, OBJ, XYZ,
-NRRD .nrrd/.nhdr.
+.vtk, .vtu and .pvtu, gmsh .msh (2.0, 2.2, 4.1), Abaqus/CalculiX .inp, Exodus II .e/.exo,
+PLY, OFF, OBJ, XYZ, NRRD .nrrd/.nhdr.
 The vertices are encoded with every per-vertex field of the file (VTK/VTU
 PointData, gmsh $NodeData, PLY vertex properties, TetGen .node attributes and
 markers, a volume's voxel values): losslessly, or a float field within

@@ -29,7 +29,8 @@ inline std::string version_text(const char* tool) {
   if (std::string_view(tool) == "meshenc")
     text += "; writes .dtm " + v(kVersionMajorUnbricked) + ", " + v(kVersionMajorBricked) +
             " with --bricks, " + v(kVersionMajorRegions) + " with regions or tagged faces, " +
-            v(kVersionMajorCellData) + " with cell data or --keep-order, " + v(kVersionMajorExactClosing) +
+            v(kVersionMajorCellData) + " with cell data or --keep-order, " + v(kVersionMajorNodeLabels) +
+            " with --keep-order of a file with its own node ids, " + v(kVersionMajorExactClosing) +
             " with --exact, " + v(kVersionMajorBrickedRegions) + " with --bricks and regions, " +
             v(kVersionMajorBrickedCellData) + " with --bricks and cell data, " +
             v(kVersionMajorBrickedFaces) + " with --bricks and tagged faces; --preset paper " +

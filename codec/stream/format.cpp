@@ -347,7 +347,9 @@ Status LayerWalk::walk(std::span<const uint8_t> bytes, Layer& layer, bool* heade
   if (header_seen) *header_seen = false;
   if (done()) {
     if (!bytes.empty())
-      return corrupt(std::to_string(bytes.size()) + " bytes of trailing data after the last layer");
+      // (The bytes after it may arrive in pieces: where they start is
+      // known, not how many follow.)
+      return corrupt("trailing data after the last layer, which ends at byte " + std::to_string(offset_));
     return {StatusCode::kNeedMoreInput, "complete"};
   }
   const uint8_t major = header_.version_major;

@@ -1,7 +1,9 @@
 #include "mesh_writers.h"
 
+#include <algorithm>
 #include <bit>
 #include <charconv>
+#include <climits>
 #include <filesystem>
 #include <stdexcept>
 #include <type_traits>
@@ -558,6 +560,13 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
   // (The formats without second-order cells: the linear ones.)
   if (mesh.edge_nodes > 0 && !writes_edge_nodes(format))
     return render_mesh(without_edge_nodes(mesh), format, path, style);
+  // (Abaqus and CalculiX read node numbers, and Exodus II's node number
+  // map holds them, as 32-bit integers; a stream's ids go to 2^62 - 1.)
+  if ((format == MeshFormat::kAbaqus || format == MeshFormat::kExodus) && !mesh.node_labels.empty() &&
+      *std::max_element(mesh.node_labels.begin(), mesh.node_labels.end()) > INT32_MAX)
+    throw std::invalid_argument(path +
+                                ": node ids above 2^31 - 1, which this format holds in 32 bits: write a .msh "
+                                "(gmsh's node tags hold them)");
   switch (format) {
     case MeshFormat::kTetgen: {
       if (!has_node_extension(path))
