@@ -98,9 +98,10 @@ struct EncodeOptions {
   // plan's map from input points once it is read no more, 4 bytes an input
   // point).
   bool vertex_of_input = true;
-  // How the exact cells are coded: kAmongCandidates writes 11.0,
-  // kAmongFitting 12.0, kAmongFittingInContext 13.0, which older decoders
-  // read, at more bits (StreamOptions).
+  // How the exact cells are coded: kClosingFirst (the default) writes
+  // 23.0; kAfterFlips 14.0 (18.0 to 22.0 with edge nodes or node ids),
+  // kAmongFittingInContext 13.0, kAmongFitting 12.0, kAmongCandidates 11.0,
+  // which older decoders read, at more bits (StreamOptions).
   ApexRanks exact_ranks = ApexRanks::kClosingFirst;
   // A second-order input's edge nodes as format 18.0 coded them (each
   // offset alone, no values there), for decoders of 18.0; or as 19.0 did

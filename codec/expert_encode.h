@@ -78,13 +78,13 @@ struct StreamOptions {
   // reference; with cell_values, the cells given are these, in this order.
   std::span<const std::array<uint32_t, 4>> exact_cells;
   std::span<const uint8_t> exact_labels;
-  // How the exact cells are coded (ApexRanks): 14.0, or for older
-  // decoders 13.0, 12.0 or 11.0 (11.0 is also what the encoder falls back
-  // to where the fit tests pass their budget).
+  // How the exact cells are coded (ApexRanks): 23.0, or for older
+  // decoders 14.0, 13.0, 12.0 or 11.0 (11.0 is also what the encoder falls
+  // back to where the fit tests pass their budget).
   ApexRanks exact_ranks = ApexRanks::kClosingFirst;
   // With exact_cells, of a second-order input (format 18.0, spec/FORMAT.md
   // §3.11): the nodes on the exact cells' edges, each edge once; empty:
-  // none. Needs exact_ranks 14.0's. With fields, each field's values hold a
+  // none. Needs exact_ranks 14.0's or 23.0's. With fields, each field's values hold a
   // row for each node after the points' (the k-th node's at row
   // points.size() + k): the edge value section (19.0, §3.12) carries them.
   std::span<const GridEdgeNode> edge_nodes;

@@ -371,17 +371,18 @@ class Fill {
     // The candidates after the first that fits, by the faces they close.
     void sort_rest() {
       const auto rest = candidates_.begin() + static_cast<std::ptrdiff_t>(first_ + 1);
-      keyed_.clear();
+      std::vector<std::pair<int, uint32_t>>& keyed = fill_.keyed_;
+      keyed.clear();
       for (auto it = rest; it != candidates_.end(); ++it) {
         int closes = 0;
-        fill_.closes(face_, *it, closes);
-        keyed_.push_back({closes, *it});
+        fill_.closes(face_, *it, closes);  // (a blocked one's count is partial: next() passes it over)
+        keyed.push_back({closes, *it});
       }
-      std::sort(keyed_.begin(), keyed_.end(),
+      std::sort(keyed.begin(), keyed.end(),
                 [&](const std::pair<int, uint32_t>& x, const std::pair<int, uint32_t>& y) {
                   return x.first != y.first ? x.first > y.first : less_(x.second, y.second);
                 });
-      for (size_t k = 0; k < keyed_.size(); ++k) rest[static_cast<std::ptrdiff_t>(k)] = keyed_[k].second;
+      for (size_t k = 0; k < keyed.size(); ++k) rest[static_cast<std::ptrdiff_t>(k)] = keyed[k].second;
     }
     Fill& fill_;
     std::array<uint32_t, 3> face_;
@@ -389,7 +390,6 @@ class Fill {
     const ApexOrder& less_;
     size_t next_ = 0, first_ = kNone;
     int first_closes_ = -1;
-    std::vector<std::pair<int, uint32_t>> keyed_;
   };
 
   // True when the last run stopped at the fit tests' budget (the encoder
@@ -744,9 +744,10 @@ class Fill {
 
   // 23.0: how many open faces the cell (face, q) would close (its faces
   // through q that are open, with their cell on the other side); false when
-  // it cannot be a cell of the mesh (add() would refuse it): one of those
-  // faces declared the boundary, closed already, or open with its cell on
-  // the same side.
+  // one of those faces, held in the table, is declared the boundary, closed
+  // already, or open with its cell on the same side (add() would refuse the
+  // cell; so it would for a face between two kept cells, which the table
+  // does not hold and which does not block here).
   bool closes(const std::array<uint32_t, 3>& face, uint32_t q, int& count) const {
     count = 0;
     const MeshCell cell = {face[0], face[1], face[2], q};
@@ -965,11 +966,12 @@ class Fill {
   // the work spent and the faces it is measured against.
   static constexpr uint32_t kNoSlot = UINT32_MAX;
   bool only_fitting_ = false;
-  bool in_context_ = false;     // 13.0
-  bool flips_ = false;          // 14.0
-  bool closing_first_ = false;  // 23.0
-  EdgeCounts boundary_edges_;   // 23.0
-  std::vector<uint32_t> ring_;  // second_ring()'s first ring
+  bool in_context_ = false;                      // 13.0
+  bool flips_ = false;                           // 14.0
+  bool closing_first_ = false;                   // 23.0
+  EdgeCounts boundary_edges_;                    // 23.0
+  std::vector<std::pair<int, uint32_t>> keyed_;  // 23.0: ApexSearch's candidates by the faces they close
+  std::vector<uint32_t> ring_;                   // second_ring()'s first ring
   FitBudget budget_;
   std::vector<uint32_t> fill_at_, fill_next_, fill_count_;
   uint64_t fit_work_ = 0, faces_given_cells_ = 0;

@@ -210,6 +210,12 @@ std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload
   FieldWriter writer;
   writer.trailer = body;
   visit_fields(h, writer);
+  // (23.0: a section whose length the stream's flags leave out of the
+  // header would make a stream no decoder reads: the caller's error.)
+  const std::vector<uint8_t>& header = writer.w.data();
+  const LayerHeader back = read_fields<LayerHeader>(header, h.format_major, h.bricked, h.stream_flags);
+  if (back.body_bytes() != h.body_bytes())
+    throw std::logic_error("write_layer: a section the stream's flags have no length for in this layer");
   writer.w.bytes(body);
   return writer.w.take();
 }
@@ -315,7 +321,8 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
   // (23.0: a stream given no numbering has none, its nodes after the
   // vertices as in 20.0.)
   if (h.level == 0 && node_order && h.format_major >= kVersionMajorNodeOrder &&
-      h.format_major < kVersionMajorLayerSizesByFlags && h.node_order_bytes == 0)
+      (h.format_major < kVersionMajorLayerSizesByFlags || (header_.flags & kFlagNodeLabels)) &&
+      h.node_order_bytes == 0)
     return corrupt("level 0's layer without its node order section");
   if (!(header_.flags & kFlagNodeLabels) && h.node_label_bytes != 0)
     return corrupt("a node label section present without its flag");
