@@ -137,6 +137,13 @@ awk 'FNR == NR { if ($1 ~ /^#/ || NF < 4) next; if (!h++) next; x[$1] = $2; next
      $1 ~ /^#/ || NF == 0 { next }
      !e++ { print $1, $2, 1; next }
      { print $0, (x[$2] + x[$3] + x[$4] + x[$5] > 0 ? 2 : 1) }' "$work/halves.node" "$data/bunny_10k.ele" > "$work/halves.ele"
+# A first attribute that is not an integer (TetGen's are real numbers):
+# cell data on one process; the ranks, which read it as the region, say
+# what to do instead of failing on a number.
+cp "$data/bunny_10k.node" "$work/real.node"
+awk '$1 ~ /^#/ || NF == 0 { next } !e++ { print $1, $2, 1; next } { print $0, 0.5 }' \
+  "$data/bunny_10k.ele" > "$work/real.ele"
+expect_error real "real.ele:.*give --no-regions"
 # (The repository's part, data/two_materials.geo: an aluminium block with
 # a steel pin, coarse.)
 geo="$(cd "$(dirname "$0")/.." && pwd)/data/two_materials.geo"

@@ -1021,6 +1021,25 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
   EXPECT_TRUE(m.tet_regions.empty());
   EXPECT_TRUE(m.tagged_faces.empty());
   EXPECT_TRUE(has(m, "1 triangles without tags"));
+  // gmsh 2.2 writes an element once per physical group it is in: the copies
+  // after the first are dropped, a hexahedron's as a tetrahedron's (it was
+  // split twice, one set of tetrahedra over the other), and their groups
+  // named. A hexahedron listed twice in one group is left as it is.
+  std::string cube =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n9\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n"
+      "5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n9 2 0 0\n$EndNodes\n";
+  const std::string hexahedron = " 5 2 1 1 1 2 3 4 5 6 7 8\n";
+  m = read_input(write_temp("repeated.msh", cube + "$Elements\n4\n1" + hexahedron +
+                                                "2 5 2 2 1 1 2 3 4 5 6 7 8\n" +
+                                                "3 4 2 1 2 2 9 3 6\n4 4 2 3 2 9 2 6 3\n$EndElements\n"));
+  EXPECT_EQ(m.tets.size(), 7u);  // the cube's 6 and one tetrahedron
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 1, 1, 1, 1, 1, 1}));
+  EXPECT_TRUE(has(m, "physical volumes an element is in after its first"));
+  EXPECT_TRUE(has(m, "1 hexahedra"));
+  m = read_input(write_temp("repeated_one_group.msh", cube + "$Elements\n3\n1" + hexahedron + "2" +
+                                                          hexahedron + "3 4 2 2 2 2 9 3 6\n$EndElements\n"));
+  EXPECT_EQ(m.tets.size(), 13u);
+  EXPECT_FALSE(has(m, "physical volumes an element is in after its first"));
   // Medit: tetrahedron refs and triangles.
   m = read_input(
       write_temp("refs.mesh",
@@ -1056,6 +1075,15 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
   write_temp("regions.ele", "2 4 2\n0 0 1 2 3 1 0.5\n1 1 2 3 4 2 0.5\n");
   m = read_input(::testing::TempDir() + "/regions.node");
   EXPECT_TRUE(has(m, "attributes after the first (1 per tetrahedron"));
+  // TetGen's attributes are real numbers: a first attribute that is not an
+  // integer is kept as cell data, not refused (nor read as regions).
+  write_temp("regions.ele", "2 4 1\n0 0 1 2 3 0.5\n1 1 2 3 4 2\n");
+  m = read_input(::testing::TempDir() + "/regions.node");
+  EXPECT_TRUE(m.tet_regions.empty());
+  ASSERT_EQ(m.cell_fields.size(), 1u);
+  EXPECT_EQ(m.cell_fields[0].name, "attribute");
+  EXPECT_EQ(m.cell_fields[0].values, (std::vector<double>{0.5, 2}));
+  EXPECT_TRUE(m.left_out.empty());
   // Nothing to name in a plain tetrahedral mesh.
   EXPECT_TRUE(read_input(test::data_path("torus_288.node")).left_out.empty());
 }

@@ -613,6 +613,11 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
                                        mpi.rank(), mpi.size(), regions != nullptr, take);
   } catch (const std::exception& e) {
     problem = e.what();
+    // (On one process such an attribute is kept as cell data.)
+    if (problem.find("a region attribute that is not") != std::string::npos)
+      problem +=
+          " (under mpirun the first attribute is read as the region: give --no-regions, or encode on "
+          "one process, which keeps it as cell data)";
   }
   agree_on_errors(mpi, problem);
   const uint64_t total = mpi.sum(counts.records);

@@ -408,8 +408,10 @@ class GmshReader {
   // 2.x writes an element once per physical group it is in (gmsh, a
   // volume or surface in several groups): the copies after the first, with
   // the same nodes, are dropped, their groups named as left out (a
-  // tetrahedron has one region, a face one tag). Hexahedra, prisms and
-  // pyramids are left as they are, and so are copies in one group.
+  // tetrahedron has one region, a face one tag); so are a hexahedron's,
+  // prism's or pyramid's (keyed by all their corners), which would
+  // otherwise be split into tetrahedra twice, one set over the other.
+  // Copies in one group are left as they are.
   void drop_repeated_elements() {
     // (Only a file whose elements are in several groups can repeat one in
     // another: most have one volume group and one surface group, or none.)
@@ -418,39 +420,43 @@ class GmshReader {
     };
     if (one_group(tet_tag_) && one_group(tri_tag_)) return;
     std::set<int64_t> groups[2];  // surfaces', volumes'
-    const auto drop = [&](size_t count, auto key_of, auto skip, auto&& compact, int d) {
+    const auto drop = [&](size_t count, auto key_of, auto&& compact, int d) {
       // (A copy in the same group is a repeated element, not another
       // group's: left as it is.)
       struct KeyHash {
-        size_t operator()(const std::array<uint32_t, 4>& k) const {
-          return (uint64_t{k[0]} * 0x9E3779B97F4A7C15ull) ^ (uint64_t{k[1]} * 0xC2B2AE3D27D4EB4Full) ^
-                 (uint64_t{k[2]} * 0x165667B19E3779F9ull) ^ k[3];
+        size_t operator()(const std::array<uint32_t, 8>& k) const {
+          uint64_t h = 0;
+          for (uint32_t v : k) h = (h ^ v) * 0x9E3779B97F4A7C15ull;
+          return h ^ (h >> 29);
         }
       };
-      std::unordered_map<std::array<uint32_t, 4>, int64_t, KeyHash> first_group;
+      std::unordered_map<std::array<uint32_t, 8>, int64_t, KeyHash> first_group;
       first_group.reserve(count);
       std::vector<uint32_t> new_index(count);
       uint32_t kept = 0;
       for (size_t i = 0; i < count; ++i) {
-        if (!skip(i)) {
-          const int64_t group = d == 1 ? tet_tag_[i] : tri_tag_[i];
-          const auto [at, fresh] = first_group.emplace(key_of(i), group);
-          if (!fresh && at->second != group) {
-            groups[d].insert(group);
-            new_index[i] = UINT32_MAX;
-            continue;
-          }
+        const int64_t group = d == 1 ? tet_tag_[i] : tri_tag_[i];
+        const auto [at, fresh] = first_group.emplace(key_of(i), group);
+        if (!fresh && at->second != group) {
+          groups[d].insert(group);
+          new_index[i] = UINT32_MAX;
+          continue;
         }
         new_index[i] = kept++;
       }
       if (kept < count) compact(new_index, kept);
     };
-    const auto sorted_key = [](std::array<uint32_t, 4> corners) {
-      std::sort(corners.begin(), corners.end());
-      return corners;
+    // (The key: an element's corners ascending, UINT32_MAX after them.)
+    const auto sorted_key = [](std::span<const uint32_t> corners) {
+      std::array<uint32_t, 8> key;
+      key.fill(UINT32_MAX);
+      std::copy_n(corners.begin(), std::min(corners.size(), key.size()), key.begin());
+      std::sort(key.begin(), key.end());  // (the padding stays last)
+      return key;
     };
-    std::vector<uint8_t> split(out_.tets.size(), 0);
-    for (const SplitCell& c : split_cells_) split[c.slot] = 1;
+    std::vector<uint32_t> split_of_slot(out_.tets.size(), UINT32_MAX);  // the slot's split cell
+    for (size_t k = 0; k < split_cells_.size(); ++k)
+      split_of_slot[split_cells_[k].slot] = static_cast<uint32_t>(k);
     const auto keep_where = [](auto& items, const std::vector<uint32_t>& new_index) {
       if (items.empty()) return;
       size_t k = 0;
@@ -459,8 +465,12 @@ class GmshReader {
       items.resize(k);
     };
     drop(
-        out_.tets.size(), [&](size_t i) { return sorted_key(out_.tets[i]); },
-        [&](size_t i) { return split[i] != 0; },
+        out_.tets.size(),
+        [&](size_t i) {
+          if (split_of_slot[i] == UINT32_MAX) return sorted_key(out_.tets[i]);
+          const SplitCell& c = split_cells_[split_of_slot[i]];
+          return sorted_key(std::span(c.corners).first(c.count));
+        },
         [&](const std::vector<uint32_t>& new_index, uint32_t) {
           keep_where(out_.tets, new_index);
           keep_where(tet_tag_, new_index);
@@ -478,16 +488,16 @@ class GmshReader {
             f.values.resize(k * n);
           }
           for (SplitCell& c : split_cells_) c.slot = new_index[c.slot];
+          std::erase_if(split_cells_, [](const SplitCell& c) { return c.slot == UINT32_MAX; });
         },
         1);
     drop(
         triangles_.size(),
         [&](size_t i) {
-          std::array<uint32_t, 4> q = {triangles_[i][0], triangles_[i][1], triangles_[i][2],
-                                       quad_fourth_.empty() ? UINT32_MAX : quad_fourth_[i]};
-          return sorted_key(q);
+          const std::array<uint32_t, 4> q = {triangles_[i][0], triangles_[i][1], triangles_[i][2],
+                                             quad_fourth_.empty() ? UINT32_MAX : quad_fourth_[i]};
+          return sorted_key(std::span(q).first(q[3] == UINT32_MAX ? 3 : 4));
         },
-        [](size_t) { return false; },
         [&](const std::vector<uint32_t>& new_index, uint32_t) {
           keep_where(triangles_, new_index);
           keep_where(tri_tag_, new_index);
@@ -507,7 +517,7 @@ class GmshReader {
       if (!list.empty())
         out_.left_out.push_back(std::string("physical ") + (d == 1 ? "volumes" : "surfaces") +
                                 " an element is in after its first (2.x repeats the element: the first " +
-                                "copy kept, " + (d == 1 ? "a tetrahedron has one region" : "a face one tag") +
+                                "copy kept, " + (d == 1 ? "a cell has one region" : "a face one tag") +
                                 "): " + list);
     }
   }
@@ -707,7 +717,7 @@ class GmshReader {
       if (!groups.empty())
         out_.left_out.push_back(std::string(d == 1 ? "physical volumes" : "physical surfaces") +
                                 " beyond an entity's first (an entity in several groups is its first's: " +
-                                (d == 1 ? "a tetrahedron has one region" : "a face one tag") +
+                                (d == 1 ? "a cell has one region" : "a face one tag") +
                                 "): " + joined(groups));
     }
     if (partitions_ > 0)

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 
 #include "abaqus.h"
@@ -73,11 +75,25 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
     const int a = tetgen_ele_attributes(ele.string());
     if (a > 1)
       out.left_out.push_back(ele.string() + "'s attributes after the first (" + std::to_string(a - 1) +
-                             " per tetrahedron; the first is the region)");
+                             " per tetrahedron; the first is kept, as the region or as cell data)");
     if (with_ele) {
-      out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base, {}, &out.tet_regions,
-                                 &out.tet_edge_nodes);
-      if (!out.tet_regions.empty()) out.region_source = "region attributes (TetGen -A)";
+      std::vector<double> first;
+      out.tets = read_tetgen_ele(ele.string(), out.points.size(), node.index_base, {}, nullptr,
+                                 &out.tet_edge_nodes, &first);
+      // TetGen's regional attributes (-A) are real numbers: integers, as
+      // a .poly's regions mostly number them, are the regions; any other
+      // value makes the attribute cell data (a material constant, say).
+      const bool labels = std::all_of(first.begin(), first.end(), [](double a) {
+        return a == std::floor(a) && a >= INT32_MIN && a <= INT32_MAX;
+      });
+      if (labels && !first.empty()) {
+        out.tet_regions.resize(first.size());
+        std::transform(first.begin(), first.end(), out.tet_regions.begin(),
+                       [](double a) { return static_cast<int32_t>(a); });
+        out.region_source = "region attributes (TetGen -A)";
+      } else if (!first.empty()) {
+        out.cell_fields.push_back({"attribute", 1, std::move(first), ScalarType::kFloat64});
+      }
     } else {
       // (Its tetrahedra and their regions are read by the ranks in parts.)
       if (a > 0) out.region_source = "region attributes (TetGen -A)";

@@ -159,7 +159,8 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
                                               const std::function<bool(const std::array<uint32_t, 4>&)>& keep,
                                               std::vector<int32_t>* regions, int part, int parts,
                                               ElePart& counts, const EleBlock& take = {},
-                                              std::vector<std::array<uint32_t, 6>>* edge_nodes = nullptr) {
+                                              std::vector<std::array<uint32_t, 6>>* edge_nodes = nullptr,
+                                              std::vector<double>* first_attribute = nullptr) {
   TextRecords r(path);
   TextRecords::Fields tok;
   if (!r.next(tok)) throw FormatError(path + ": empty file, expected an .ele header");
@@ -190,7 +191,9 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
   const uint64_t bytes = std::filesystem::file_size(path, size_error);
   if (!keep) out.reserve(std::min<uint64_t>(count, size_error ? uint64_t{1} << 20 : bytes / 10));
   // (With `take`, the block's regions go with its tetrahedra.)
-  const bool with_regions = regions && attributes > 0 && (!keep || take);
+  const bool with_regions = regions && attributes > 0 && (!keep || take) && !first_attribute;
+  // (Or, with `first_attribute` and no `keep`, the first attribute as it is.)
+  const bool with_attribute = first_attribute && attributes > 0 && !keep;
   std::vector<Tet> block;                     // with `keep`: the block's tetrahedra, before the choice
   std::vector<int32_t> block_regions;         // with `take`: theirs
   constexpr size_t kPiece = size_t{1} << 17;  // tetrahedra: 2 MiB
@@ -199,6 +202,7 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
   size_t room = 0;    // the block's tetrahedra that can be whole
   Tet* at = nullptr;  // where the block's tetrahedra go
   int32_t* region_at = nullptr;
+  double* attribute_at = nullptr;
   std::array<uint32_t, 6>* edge_at = nullptr;  // and their edge nodes (10 nodes per tetrahedron)
   const TextRecords::Found found = r.records(
       count,
@@ -221,6 +225,10 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
           regions->resize(regions->size() + n);
           region_at = regions->data() + (regions->size() - n);
         }
+        if (with_attribute) {
+          first_attribute->resize(first_attribute->size() + n);
+          attribute_at = first_attribute->data() + (first_attribute->size() - n);
+        }
       },
       [&](size_t i, size_t line, const TextRecords::Fields& f) {
         if (f.size() != fields) r.fail(line, "expected " + std::to_string(fields) + " fields");
@@ -242,6 +250,8 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
             r.fail(line, "a region attribute that is not a 32-bit integer: " + std::string(first));
           region_at[i] = static_cast<int32_t>(a);
         }
+        if (with_attribute)
+          attribute_at[i] = r.parse<double>(f[1 + static_cast<size_t>(per)], "an attribute", line);
         at[i] = t;
       },
       [&] {
@@ -278,9 +288,9 @@ std::vector<std::array<uint32_t, 4>> read_ele(const std::string& path, size_t nu
 std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::string& path, size_t num_points, int index_base,
     const std::function<bool(const std::array<uint32_t, 4>&)>& keep, std::vector<int32_t>* regions,
-    std::vector<std::array<uint32_t, 6>>* edge_nodes) {
+    std::vector<std::array<uint32_t, 6>>* edge_nodes, std::vector<double>* first_attribute) {
   ElePart counts;
-  return read_ele(path, num_points, index_base, keep, regions, 0, 1, counts, {}, edge_nodes);
+  return read_ele(path, num_points, index_base, keep, regions, 0, 1, counts, {}, edge_nodes, first_attribute);
 }
 
 FaceFile read_tetgen_face(const std::string& path, size_t num_points, int index_base) {

@@ -58,11 +58,14 @@ int tetgen_ele_attributes(const std::string& path);
 // A second-order .ele (10 nodes per tetrahedron, TetGen -o2) is read as its
 // linear tetrahedra with each one's edge nodes in `edge_nodes` (in
 // kTetEdges' order, second_order.h), which must then be given (and no
-// `keep`); refused otherwise.
+// `keep`); refused otherwise. With `first_attribute` (and no `keep`), the
+// first attribute is read into it as it is, a real number (TetGen's
+// regional attributes are), and `regions` is left alone.
 std::vector<std::array<uint32_t, 4>> read_tetgen_ele(
     const std::string& path, size_t num_points, int index_base = 0,
     const std::function<bool(const std::array<uint32_t, 4>&)>& keep = {},
-    std::vector<int32_t>* regions = nullptr, std::vector<std::array<uint32_t, 6>>* edge_nodes = nullptr);
+    std::vector<int32_t>* regions = nullptr, std::vector<std::array<uint32_t, 6>>* edge_nodes = nullptr,
+    std::vector<double>* first_attribute = nullptr);
 
 // A .face file's faces (TetGen -p writes the boundary's, -f every face) as
 // 0-based indices into the .node's points, and their boundary markers
