@@ -95,6 +95,29 @@ class Error(Exception):
 _dtmesh.set_error_type(Error)
 
 # The stored types, in the library's order (ScalarType / ValueType).
+_INT32_MAX = 2**31 - 1
+
+
+def _is_int(v: Any) -> bool:
+    return isinstance(v, (int, np.integer)) and not isinstance(v, bool)
+
+
+def _level_arg(level: Optional[int]) -> int:
+    """The decoder's level argument (-1: None), or ValueError naming what a level may be."""
+    if level is None:
+        return -1
+    if not _is_int(level) or not 0 <= level <= _INT32_MAX:
+        raise ValueError(f"level must be an int from 0 to {_INT32_MAX}, or None; got {level!r}")
+    return int(level)
+
+
+def _max_vertices_arg(max_vertices: int) -> int:
+    """The decoder's bound (a uint64: a larger one bounds nothing more)."""
+    if not _is_int(max_vertices) or max_vertices < 1:
+        raise ValueError(f"max_vertices must be a positive int, got {max_vertices!r}")
+    return int(min(max_vertices, 2**64 - 1))
+
+
 _DTYPES = [np.int8, np.uint8, np.int16, np.uint16, np.int32, np.uint32, np.int64, np.uint64, np.float32, np.float64]
 _TYPE_OF = {np.dtype(t): i for i, t in enumerate(_DTYPES)}
 
@@ -547,11 +570,7 @@ class Decoder:
     """
 
     def __init__(self, level: Optional[int] = None, max_vertices: int = _dtmesh.default_max_vertices):
-        if level is not None and (not isinstance(level, (int, np.integer)) or level < 0):
-            raise ValueError(f"level must be an int >= 0 or None, got {level!r}")
-        if not isinstance(max_vertices, (int, np.integer)) or max_vertices < 1:
-            raise ValueError(f"max_vertices must be a positive int, got {max_vertices!r}")
-        self._decoder = _dtmesh.Decoder(-1 if level is None else int(level), int(max_vertices))
+        self._decoder = _dtmesh.Decoder(_level_arg(level), _max_vertices_arg(max_vertices))
         self._finished = False
 
     def feed(self, chunk: Bytes) -> List[Mesh]:
@@ -617,9 +636,7 @@ def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None, *,
         Error: the stream is damaged or foreign, holds no whole level, or has
             no such level.
     """
-    if level is not None and (not isinstance(level, (int, np.integer)) or level < 0):
-        raise ValueError(f"level must be an int >= 0 or None, got {level!r}")
-    decoder = _dtmesh.Decoder(-1 if level is None else int(level), int(_dtmesh.default_max_vertices))
+    decoder = _dtmesh.Decoder(_level_arg(level), int(_dtmesh.default_max_vertices))
     with _threads_for_call(threads), _named(data):
         decoder.feed(_as_bytes(data), False)
         truncated = decoder.finish()
@@ -685,10 +702,9 @@ def decode_box(data: Union[Bytes, str, os.PathLike], box: Any, level: Optional[i
     b = tuple(float(v) for v in np.asarray(box, dtype=np.float64).reshape(-1))
     if len(b) != 6 or not all(np.isfinite(b)) or b[0] > b[3] or b[1] > b[4] or b[2] > b[5]:
         raise ValueError(f"box must be (x0, y0, z0, x1, y1, z1), finite, with each low corner at most its high one; got {box!r}")
-    if level is not None and level < 0:
-        raise ValueError("level must be >= 0")
+    level_arg, bound = _level_arg(level), _max_vertices_arg(max_vertices)
     with _threads_for_call(threads):
-        d = _dtmesh.decode_part(_part_source(data), b, 0, 1, -1 if level is None else int(level), int(max_vertices))
+        d = _dtmesh.decode_part(_part_source(data), b, 0, 1, level_arg, bound)
     return _part_mesh(d)
 
 
@@ -716,14 +732,11 @@ def decode_piece(data: Union[Bytes, str, os.PathLike], piece: int, pieces: int, 
         Error: the stream is not bricked, is damaged, or is too short for the level.
         ValueError: no such piece.
     """
-    if not (isinstance(pieces, (int, np.integer)) and pieces >= 1 and isinstance(piece, (int, np.integer))
-            and 0 <= piece < pieces):
-        raise ValueError(f"piece must be 0 to pieces - 1 and pieces at least 1; got piece {piece!r} of {pieces!r}")
-    if level is not None and level < 0:
-        raise ValueError("level must be >= 0")
+    if not (_is_int(pieces) and 1 <= pieces <= _INT32_MAX and _is_int(piece) and 0 <= piece < pieces):
+        raise ValueError(f"piece must be 0 to pieces - 1 and pieces 1 to {_INT32_MAX}; got piece {piece!r} of {pieces!r}")
+    level_arg, bound = _level_arg(level), _max_vertices_arg(max_vertices)
     with _threads_for_call(threads):
-        d = _dtmesh.decode_part(_part_source(data), None, int(piece), int(pieces), -1 if level is None else int(level),
-                                int(max_vertices))
+        d = _dtmesh.decode_part(_part_source(data), None, int(piece), int(pieces), level_arg, bound)
     return _part_mesh(d)
 
 

@@ -370,6 +370,18 @@ def test_bricked_streams_read_by_box_and_in_pieces(corpus, tmp_path):
     assert dtmesh.decode_piece(stream, 0, 2, level=1).cell_data == {}  # level 1 has none
     with pytest.raises(ValueError, match="piece"):
         dtmesh.decode_piece(stream, 3, 3)
+    # Numbers past what the decoder takes are a ValueError saying the range,
+    # not pybind11's TypeError; a bound past a uint64 bounds nothing more.
+    for piece, pieces in ((0, 2**40), (2**40, 2**41), (True, 2)):
+        with pytest.raises(ValueError, match="pieces 1 to 2147483647"):
+            dtmesh.decode_piece(stream, piece, pieces)
+    with pytest.raises(ValueError, match="level must be an int from 0 to 2147483647"):
+        dtmesh.decode_piece(stream, 0, 2, level=2**40)
+    with pytest.raises(ValueError, match="level must be an int from 0 to 2147483647"):
+        dtmesh.decode(stream, level=2**40)
+    with pytest.raises(ValueError, match="level must be an int from 0 to 2147483647"):
+        dtmesh.Decoder(level=2**40)
+    assert len(dtmesh.decode_box(stream, (-1e9, -1e9, -1e9, 1e9, 1e9, 1e9), max_vertices=2**70).tetrahedra) > 0
     with pytest.raises(ValueError, match="box"):
         dtmesh.decode_box(stream, (1, 1, 1, 0, 0, 0))
     with pytest.raises(dtmesh.Error, match="bunny_10k.dtm: pieces need a bricked"):  # the file named
