@@ -7,12 +7,14 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "codec/decode.h"
 #include "codec/encode.h"
 #include "codec/sections/value_fields.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
+#include "common/threads.h"
 #include "test_support.h"
 #include "tools/formats/input.h"
 
@@ -163,6 +165,86 @@ EncodeOptions torus_options() {
   o.scale = 25;
   o.dmax = 3;
   return o;
+}
+
+// A layer's components are coded alone, each by its own coder, and coded
+// and decoded on every core at once: the same bytes and values on any
+// number of threads, layer after layer (the coders carry their models
+// over), and damage in one component's block refused naming its field
+// (the first damaged block in order, as one thread reading them would say).
+TEST(FieldSections, ComponentsCodedOnEveryThreadGiveTheSameBytesAndValues) {
+  const std::vector<GridPoint> points = test::random_grid_points(6000, 12, 11);
+  std::vector<FieldValues> fields(3);
+  fields[0].description = lossless("velocity", ValueType::kF64, 3);
+  fields[1].description = lossless("zone", ValueType::kI32);
+  fields[2].description = lossless("stress", ValueType::kF32, 6);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const double x = points[i].x * 1e-3, y = points[i].y * 1e-3, z = points[i].z * 1e-3;
+    for (int c = 0; c < 3; ++c)
+      fields[0].bits.push_back(bits_of(std::sin(x * (c + 1)) + y * z, ValueType::kF64));
+    fields[1].bits.push_back(bits_of(static_cast<double>(i % 7), ValueType::kI32));
+    for (int c = 0; c < 6; ++c)
+      fields[2].bits.push_back(bits_of(static_cast<float>(x * c - y + z * z), ValueType::kF32));
+  }
+  // Three layers: a coarse one, then two finer.
+  const std::vector<size_t> ends = {500, 2000, points.size()};
+  std::vector<std::vector<uint8_t>> want;
+  for (const int threads : {1, 2, 3, 8}) {
+    set_thread_count(threads);
+    auto coder = FieldSectionEncoder::make(fields);
+    ASSERT_TRUE(coder.ok());
+    std::vector<std::vector<uint8_t>> sections;
+    for (size_t l = 0, first = 0; l < ends.size(); first = ends[l++]) {
+      std::vector<uint32_t> ids(ends[l] - first);
+      std::iota(ids.begin(), ids.end(), static_cast<uint32_t>(first));
+      std::vector<uint64_t> bytes;
+      sections.push_back(coder->encode_layer(ids, std::span(points).subspan(first, ids.size()), bytes));
+    }
+    if (want.empty()) want = sections;
+    EXPECT_EQ(sections, want) << threads << " threads";
+    FieldSectionDecoder decoder(coder->descriptions());
+    for (size_t l = 0, first = 0; l < ends.size(); first = ends[l++]) {
+      std::vector<FieldValues> out;
+      ASSERT_TRUE(decoder.decode_layer(want[l], std::span(points).subspan(first, ends[l] - first), out).ok());
+      ASSERT_EQ(out.size(), fields.size());
+      for (size_t f = 0; f < fields.size(); ++f) {
+        const auto n = static_cast<size_t>(fields[f].description.components);
+        EXPECT_TRUE(std::equal(out[f].bits.begin(), out[f].bits.end(), fields[f].bits.begin() + first * n))
+            << fields[f].description.name << ", layer " << l << ", " << threads << " threads";
+      }
+    }
+  }
+  // Damage: the second block of "stress" (the fifth component in order)
+  // and a length running past the section. Fresh decoders each time: the
+  // first layer's section.
+  const auto blocks = [&](std::span<const uint8_t> section) {
+    std::vector<size_t> starts;  // each block's first byte
+    ByteReader r(section);
+    for (uint32_t length = 0; r.u32(length) && r.skip(length);) starts.push_back(r.position() - length);
+    return starts;
+  };
+  const std::vector<size_t> starts = blocks(want[0]);
+  ASSERT_EQ(starts.size(), 10u);
+  for (const int threads : {1, 2, 8}) {
+    set_thread_count(threads);
+    auto coder = FieldSectionEncoder::make(fields);
+    std::vector<uint8_t> damaged = want[0];
+    for (size_t k = 0; k < 8; ++k) damaged[starts[5] + k] ^= 0xA5;
+    std::vector<FieldValues> out;
+    const std::span<const GridPoint> first_layer = std::span(points).first(ends[0]);
+    Status s = FieldSectionDecoder(coder->descriptions()).decode_layer(damaged, first_layer, out);
+    EXPECT_EQ(s.code(), StatusCode::kCorrupt) << threads << " threads";
+    EXPECT_NE(s.message().find("field 'stress'"), std::string::npos) << s.message();
+    // A length past the end in "stress" after damage in "velocity": the
+    // velocity's block is what a reader in order meets first.
+    damaged = want[0];
+    for (size_t k = 0; k < 8; ++k) damaged[starts[1] + k] ^= 0xA5;
+    damaged[starts[6] - 4] = 0xFF, damaged[starts[6] - 1] = 0x7F;
+    s = FieldSectionDecoder(coder->descriptions()).decode_layer(damaged, first_layer, out);
+    EXPECT_EQ(s.code(), StatusCode::kCorrupt);
+    EXPECT_NE(s.message().find("field 'velocity'"), std::string::npos) << s.message();
+  }
+  set_thread_count(0);
 }
 
 TEST(StreamValues, LosslessFieldsComeBackBitExactAtEveryLevel) {

@@ -1,5 +1,6 @@
 // The field table and the value sections written (spec/FORMAT.md §2.1,
 // §3.3, §3.5): the encoder's side of value_fields.h.
+#include <atomic>
 #include <string>
 #include <utility>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "codec/stream/table_framing.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
+#include "common/parallel_for.h"
 
 namespace dtm {
 namespace {
@@ -108,17 +110,30 @@ std::vector<uint8_t> FieldSectionEncoder::encode_layer(std::span<const uint32_t>
                                                        std::vector<uint64_t>& field_bytes) {
   field_bytes.assign(descriptions_.size(), 0);
   const std::vector<Neighbours> neighbours = search_.layer(positions);
+  // Each component is coded alone, by its own coder: all of them at once,
+  // on the threads the work holds, then written in order.
+  std::vector<std::vector<uint8_t>> blocks(coders_.size());
+  const auto encode = [&](size_t coder) {
+    std::vector<Int128> layer;
+    layer.reserve(points.size());
+    for (uint32_t p : points) layer.push_back(ordered_[coder][p]);
+    blocks[coder] = coders_[coder].encode_layer(neighbours, layer);
+  };
+  if (coders_.size() > 1 && thread_count() > 1) {
+    std::atomic<size_t> next{0};
+    on_every_thread([&](size_t, size_t) {
+      for (size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < coders_.size();) encode(k);
+    });
+  } else {
+    for (size_t k = 0; k < coders_.size(); ++k) encode(k);
+  }
   ByteWriter w;
   size_t coder = 0;
   for (size_t f = 0; f < descriptions_.size(); ++f) {
     const size_t before = w.data().size();
     for (int c = 0; c < descriptions_[f].components; ++c, ++coder) {
-      std::vector<Int128> layer;
-      layer.reserve(points.size());
-      for (uint32_t p : points) layer.push_back(ordered_[coder][p]);
-      const std::vector<uint8_t> block = coders_[coder].encode_layer(neighbours, layer);
-      w.u32(static_cast<uint32_t>(block.size()));
-      w.bytes(block);
+      w.u32(static_cast<uint32_t>(blocks[coder].size()));
+      w.bytes(blocks[coder]);
     }
     field_bytes[f] += w.data().size() - before;
   }
