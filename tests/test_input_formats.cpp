@@ -1040,6 +1040,21 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
                                                           hexahedron + "3 4 2 2 2 2 9 3 6\n$EndElements\n"));
   EXPECT_EQ(m.tets.size(), 13u);
   EXPECT_FALSE(has(m, "physical volumes an element is in after its first"));
+  // gmsh -save_all's 2.x: physical tag 0 on every element, $PhysicalNames
+  // listing groups whose members the file does not give. The regions are
+  // the elementary entities, without the groups' names (group 2's name is
+  // not entity 2's), and the groups are named as left out.
+  m = read_input(write_temp("save_all.msh",
+                            "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n"
+                            "3 2 \"steel\"\n2 1 \"base\"\n$EndPhysicalNames\n" +
+                                cube.substr(cube.find("$Nodes")) +
+                                "$Elements\n3\n1 4 2 0 1 2 9 3 6\n2 4 2 0 2 1 2 3 6\n"
+                                "3 2 2 0 1 2 9 3\n$EndElements\n"));
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
+  EXPECT_TRUE(m.region_names.empty());
+  EXPECT_EQ(m.face_tags, (std::vector<int32_t>{1}));
+  EXPECT_TRUE(m.face_tag_names.empty());
+  EXPECT_TRUE(has(m, "the physical groups of $PhysicalNames (volume 2 \"steel\", surface 1 \"base\")"));
   // Medit: tetrahedron refs and triangles.
   m = read_input(
       write_temp("refs.mesh",
@@ -1065,6 +1080,8 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
   ASSERT_EQ(m.tagged_faces.size(), 1u);
   EXPECT_EQ(m.triangle_arrays["material"], (std::vector<int32_t>{2}));
   EXPECT_FALSE(has(m, "cells other than tetrahedra"));
+  // The float array's value on the triangle (7) is not cell data: named.
+  EXPECT_TRUE(has(m, "the values of the cell arrays 'von mises' on the triangles"));
   // A TetGen .ele with a region attribute.
   write_temp("regions.node", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 1 1 1\n");
   write_temp("regions.ele", "2 4 1\n0 0 1 2 3 1\n1 1 2 3 4 2\n");

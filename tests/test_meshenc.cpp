@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +13,7 @@
 
 #include "codec/stream/format.h"
 #include "test_support.h"
+#include "tools/formats/input.h"
 
 namespace dtm {
 namespace {
@@ -295,6 +298,40 @@ TEST_F(Tools, ATruncatedStreamsBoxAndPiecesAreOfItsFinestWholeLevel) {
                   "/cut_box0.vtu --box -10 -10 -10 10 10 10 --level 0");
   EXPECT_NE(r.status, 0) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/cut_box0.vtu"));
+}
+
+// A parallel grid's pieces repeat the points on their borders: meshenc
+// reads a .pvtu as one mesh, those copies merged into one point, so that
+// --exact keeps its cells (a merge by quantization would refuse it).
+TEST_F(Tools, AParallelGridsPiecesEncodeExactlyAsOneMesh) {
+  const std::string bricked = dir_ + "/torus_bricked.dtm", exact = dir_ + "/from_pieces.dtm";
+  CommandRun r = meshenc(test::data_path("torus_288.node") + " --bricks --brick-points 64 -q -o " + bricked);
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = run_command(kMeshdec + " " + bricked + " -q -o " + dir_ + "/torus_pieces.pvtu --pieces 3");
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = run_command(kMeshdec + " " + bricked + " -q -o " + dir_ + "/torus_whole.vtu");
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = meshenc(dir_ + "/torus_pieces.pvtu --exact -o " + exact);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find(" 0 merged by quantization"), std::string::npos) << r.output;
+  r = run_command(kMeshdec + " " + exact + " -q -o " + dir_ + "/torus_again.vtu");
+  ASSERT_EQ(r.status, 0) << r.output;
+  // The same cells as the whole level's, by their corners' coordinates.
+  const auto cells = [](const std::string& path) {
+    const InputMesh m = read_input(path);
+    std::vector<std::array<std::array<double, 3>, 4>> out;
+    for (const auto& t : m.tets) {
+      std::array<std::array<double, 3>, 4> c;
+      for (size_t k = 0; k < 4; ++k) c[k] = {m.points[t[k]].x, m.points[t[k]].y, m.points[t[k]].z};
+      std::sort(c.begin(), c.end());
+      out.push_back(c);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  const auto whole = cells(dir_ + "/torus_whole.vtu");
+  EXPECT_GT(whole.size(), 500u);
+  EXPECT_EQ(cells(dir_ + "/torus_again.vtu"), whole);
 }
 
 // An output that cannot be written, or that is the input, is refused before

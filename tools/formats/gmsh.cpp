@@ -539,6 +539,20 @@ class GmshReader {
       return std::all_of(tags.begin(), tags.end(), [](int64_t t) { return t == 0; });
     };
     if (!v4_ && none(tet_tag_) && none(tri_tag_) && !none(tet_entity_)) {
+      // (gmsh -save_all writes 2.x's physical tag 0 on every element even
+      // where $PhysicalNames lists groups: which entities those groups
+      // hold is not in the file. Their names are not the entities' and
+      // are named as left out.)
+      std::string groups;
+      for (int d = 1; d >= 0; --d)
+        for (const auto& [tag, name] : d == 1 ? volume_names_ : surface_names_)
+          groups += (groups.empty() ? "" : ", ") + std::string(d == 1 ? "volume " : "surface ") +
+                    std::to_string(tag) + " \"" + name + "\"";
+      if (!groups.empty())
+        out_.left_out.push_back("the physical groups of $PhysicalNames (" + groups +
+                                "): no element carries a physical tag (gmsh -save_all writes 0), so the "
+                                "regions and face tags are the elementary entities, unnamed");
+      volume_names_.clear(), surface_names_.clear();
       tet_tag_ = tet_entity_;
       if (!none(tri_entity_)) tri_tag_ = tri_entity_, by_entities_ = true;
       out_.tet_regions.reserve(tet_tag_.size());

@@ -288,6 +288,9 @@ class LegacyReader {
         labels(triangle_cells, out_.triangle_arrays[f.name]);
         continue;
       }
+      // (Cell data is the tetrahedra's: its values on the triangles and
+      // quadrilaterals, which the mesh keeps as tagged faces, are named.)
+      if (!triangle_cells.empty()) triangle_values_.push_back("'" + f.name + "'");
       VertexField& kept = out_.cell_fields.emplace_back();
       kept.name = f.name, kept.components = f.components, kept.type = f.type;
       kept.values.reserve(tet_cells.size() * n);
@@ -315,6 +318,11 @@ class LegacyReader {
     std::string names;
     for (const std::string& a : cell_arrays_) names += (names.empty() ? "" : ", ") + a;
     if (!names.empty()) out_.left_out.push_back("CELL_DATA arrays " + names);
+    std::string on_triangles;
+    for (const std::string& a : triangle_values_) on_triangles += (on_triangles.empty() ? "" : ", ") + a;
+    if (!on_triangles.empty())
+      out_.left_out.push_back("the values of the cell arrays " + on_triangles +
+                              " on the triangles (cell data is the tetrahedra's)");
     std::string dataset;
     for (const std::string& a : dataset_arrays_) dataset += (dataset.empty() ? "" : ", ") + a;
     if (!dataset.empty()) out_.left_out.push_back("the dataset's field data " + dataset);
@@ -419,12 +427,13 @@ class LegacyReader {
   TextCursor c_;
   bool binary_ = false;
   InputMesh out_;
-  std::vector<std::string> cell_arrays_;     // CELL_DATA arrays left out, quoted
-  std::vector<std::string> string_arrays_;   // arrays of text, quoted
-  std::vector<std::string> dataset_arrays_;  // FIELD arrays outside POINT_DATA and CELL_DATA, quoted
-  std::vector<VertexField> cell_data_;       // CELL_DATA arrays, per cell
-  std::map<int64_t, uint64_t> other_cells_;  // cells that are not tetrahedra, by VTK type
-  std::map<size_t, uint64_t> split_cells_;   // hexahedra, wedges and pyramids, by corner count
+  std::vector<std::string> cell_arrays_;      // CELL_DATA arrays left out, quoted
+  std::vector<std::string> triangle_values_;  // cell data arrays with values on triangles left out, quoted
+  std::vector<std::string> string_arrays_;    // arrays of text, quoted
+  std::vector<std::string> dataset_arrays_;   // FIELD arrays outside POINT_DATA and CELL_DATA, quoted
+  std::vector<VertexField> cell_data_;        // CELL_DATA arrays, per cell
+  std::map<int64_t, uint64_t> other_cells_;   // cells that are not tetrahedra, by VTK type
+  std::map<size_t, uint64_t> split_cells_;    // hexahedra, wedges and pyramids, by corner count
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,8 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
+#include <unordered_map>
 
 #include "cell_split.h"
 #include "common/parallel_for.h"
@@ -881,6 +884,76 @@ void append_piece(InputMesh& whole, InputMesh part, bool first, const std::strin
       whole.left_out.push_back(std::move(what));
 }
 
+// A parallel writer repeats the points on its pieces' borders, one copy
+// in each piece (VTK's, ParaView's, meshdec --pieces): a point of a piece
+// at exactly the coordinates of a point of an earlier piece is that point.
+// Merged here, so that the mesh is one whole (--exact keeps its cells: a
+// merge by quantization would refuse it) and the tagged faces meet their
+// cells; points that coincide within one piece are left to quantization.
+// Where a copy's values differ from the first's, the first's are kept, said.
+void merge_shared_points(InputMesh& whole, std::span<const size_t> piece_first) {
+  struct Key {
+    double x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      uint64_t h = 0;
+      for (double v : {k.x, k.y, k.z})
+        h = (h ^ std::bit_cast<uint64_t>(v == 0 ? 0.0 : v)) * 0x9E3779B97F4A7C15ull;
+      return h ^ (h >> 31);
+    }
+  };
+  const size_t n = whole.points.size();
+  std::unordered_map<Key, uint32_t, KeyHash> first_at;  // coordinates -> the first point there
+  first_at.reserve(n);
+  std::vector<uint32_t> same_as(n);  // each point's first copy (itself if it is one)
+  size_t merged = 0;
+  for (size_t k = 0; k < piece_first.size(); ++k) {
+    const size_t end = k + 1 < piece_first.size() ? piece_first[k + 1] : n;
+    for (size_t i = piece_first[k]; i < end; ++i) {
+      const InputPoint& p = whole.points[i];
+      const auto [at, fresh] = first_at.emplace(Key{p.x, p.y, p.z}, static_cast<uint32_t>(i));
+      same_as[i] = !fresh && at->second < piece_first[k] ? at->second : static_cast<uint32_t>(i);
+      merged += same_as[i] != i;
+    }
+  }
+  if (merged == 0) return;
+  std::vector<uint32_t> new_index(n);
+  uint32_t kept = 0;
+  for (size_t i = 0; i < n; ++i) new_index[i] = same_as[i] == i ? kept++ : new_index[same_as[i]];
+  size_t differing = 0;
+  for (VertexField& f : whole.fields) {
+    const auto c = static_cast<size_t>(f.components);
+    for (size_t i = 0; i < n; ++i)
+      if (same_as[i] != i && !std::equal(f.values.begin() + static_cast<std::ptrdiff_t>(i * c),
+                                         f.values.begin() + static_cast<std::ptrdiff_t>(i * c + c),
+                                         f.values.begin() + static_cast<std::ptrdiff_t>(same_as[i] * c)))
+        ++differing;
+    size_t to = 0;
+    for (size_t i = 0; i < n; ++i)
+      if (same_as[i] == i)
+        for (size_t j = 0; j < c; ++j) f.values[to++] = f.values[i * c + j];
+    f.values.resize(to);
+  }
+  size_t to = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (same_as[i] == i) whole.points[to++] = whole.points[i];
+  whole.points.resize(to);
+  for (auto& t : whole.tets)
+    for (uint32_t& v : t) v = new_index[v];
+  for (auto& f : whole.tagged_faces)
+    for (uint32_t& v : f) v = new_index[v];
+  for (auto& e : whole.tet_edge_nodes)
+    for (uint32_t& v : e)
+      if (v != InputMesh::kNoEdgeNode) v = new_index[v];
+  for (uint32_t& v : whole.other_edge_nodes) v = new_index[v];
+  if (differing > 0)
+    whole.left_out.push_back("the values at " + std::to_string(differing) +
+                             " copies of points the pieces share that differ from the first piece's "
+                             "(its are kept; counted once a field)");
+}
+
 }  // namespace
 
 InputMesh read_pvtu(const std::string& path) {
@@ -903,15 +976,17 @@ InputMesh read_pvtu(const std::string& path) {
   }
   if (sources.empty()) p.fail_at(root.offset, "no <PUnstructuredGrid> with a <Piece Source=...>");
   // The pieces' paths are relative to the .pvtu's folder. Points a parallel
-  // writer repeats on the pieces' borders are merged by quantization, as
-  // any coincident points are.
+  // writer repeats on the pieces' borders are merged (merge_shared_points).
   const size_t slash = path.find_last_of('/');
   const std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
   InputMesh whole;
+  std::vector<size_t> piece_first;
   for (size_t k = 0; k < sources.size(); ++k) {
     const std::string piece = sources[k].first.front() == '/' ? sources[k].first : folder + sources[k].first;
+    piece_first.push_back(whole.points.size());
     append_piece(whole, read_vtu(piece), k == 0, piece);
   }
+  merge_shared_points(whole, piece_first);
   return whole;
 }
 
