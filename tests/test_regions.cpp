@@ -1365,6 +1365,30 @@ TEST(Faces, NetgenVolHoldsEverySurfaceFaceWithItsDomains) {
       std::ofstream(file, std::ios::binary) << text;
     EXPECT_EQ(read_input(path).tagged_faces.size(), tagged ? 7u : 6u);
   }
+  // Every face tagged 1 to K, one kind each (as a Netgen mesh's own
+  // boundary conditions come back): the numbers are the tags, the names
+  // theirs, whatever order the faces come in.
+  m.region = {5, 5};
+  m.faces = {{1, 2, 4}, {0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 4, 3}, {2, 3, 4}};
+  m.face_tags = {3, 2, 5, 1, 6, 4};
+  m.face_tag_names = {{1, "xmin"}, {3, "xmax"}};
+  for (const auto& [file, text] : render_mesh(m, format_for_path(path), path, {}))
+    std::ofstream(file, std::ios::binary) << text;
+  const InputMesh numbered = read_input(path);
+  ASSERT_EQ(numbered.tagged_faces.size(), 6u);
+  for (size_t f = 0; f < 6; ++f) {
+    auto t = numbered.tagged_faces[f];
+    std::sort(t.begin(), t.end());
+    const auto it = std::find_if(m.faces.begin(), m.faces.end(), [&](std::array<uint32_t, 3> g) {
+      std::sort(g.begin(), g.end());
+      return g == t;
+    });
+    ASSERT_NE(it, m.faces.end());
+    EXPECT_EQ(numbered.face_tags[f], m.face_tags[static_cast<size_t>(it - m.faces.begin())]);
+  }
+  EXPECT_EQ(numbered.face_tag_names.at(1), "xmin");
+  EXPECT_EQ(numbered.face_tag_names.at(3), "xmax");
+  EXPECT_EQ(numbered.face_tag_names.at(2), "bc_2");
 }
 
 }  // namespace

@@ -496,6 +496,20 @@ std::string render_netgen_vol(const OutputMesh& m) {
   for (const Element& e : surface)
     if (kind_number.emplace(std::array<int64_t, 3>{e.tag, e.domin, e.domout}, kind_tag.size() + 1).second)
       kind_tag.push_back(e.tag);
+  // Where the tags are 1 to K, one kind each (a Netgen mesh's own boundary
+  // condition numbers, say), each kind is numbered by its tag, and the
+  // elements go in that order, so that the descriptors Netgen makes come
+  // in it too: the file's numbers are the stream's tags.
+  std::vector<int64_t> tags_in_order = kind_tag;
+  std::sort(tags_in_order.begin(), tags_in_order.end());
+  bool numbered = true;
+  for (size_t k = 0; k < tags_in_order.size() && numbered; ++k) numbered = tags_in_order[k] == int64_t(k) + 1;
+  if (numbered && !tags_in_order.empty()) {
+    for (auto& [kind, number] : kind_number) number = static_cast<int>(kind[0]);
+    kind_tag = tags_in_order;
+    std::stable_sort(surface.begin(), surface.end(),
+                     [](const Element& a, const Element& b) { return a.tag < b.tag; });
+  }
 
   std::string out =
       "mesh3d\ndimension\n3\ngeomtype\n0\n\n# surfnr    bcnr   domin  domout      np      p1      p2      "
