@@ -126,6 +126,35 @@ expect_error() {  # expect_error NAME MESSAGE
 expect_error extra "extra.node:$((first + points)): unexpected data after the $((points - 1)) points"
 expect_error short "short.node: file ends after $points of $((points + 5)) points"
 expect_error sequence "sequence.node:$bad: point index 5 out of sequence"
+# Ranks started with other commands (an option on one rank only, meshdec at
+# another level) are refused before any work, said once, every rank
+# exiting: they waited on each other forever, or wrote a stream the decoder
+# refuses. Each rank's own --threads, -v and -q are its own: the same bytes.
+"$meshenc" "$data/torus_288.node" --bricks -q -o "$work/agreed.dtm"
+on_rank_2() {  # on_rank_2 TOOL EXTRA ARGS...: TOOL ARGS on 3 ranks, EXTRA added on rank 2
+  cat > "$work/on_rank_2.sh" <<EOF
+#!/bin/sh
+if [ "\$OMPI_COMM_WORLD_RANK" = 2 ]; then exec "$1" "\$@" $2; else exec "$1" "\$@"; fi
+EOF
+  chmod +x "$work/on_rank_2.sh"
+  shift 2
+  timeout 120 mpirun --oversubscribe "${as_root[@]}" -n 3 "$work/on_rank_2.sh" "$@"
+}
+for case in "meshenc --no-face-tags" "meshdec --level 1"; do
+  tool=${case%% *} extra=${case#* }
+  if [ $tool = meshenc ]; then
+    on_rank_2 "$meshenc" "$extra" "$data/torus_288.node" --bricks -q -o "$work/missing/d.dtm" 2>"$work/err"
+  else
+    on_rank_2 "$meshdec" "$extra" "$work/agreed.dtm" -q -o "$work/missing/d.pvtu" 2>"$work/err"
+  fi && { echo "$tool: ranks given other commands ran"; failed=1; }
+  grep -q "error: the ranks were not given the same command.*rank 2 with '${extra%% *}'" "$work/err" ||
+    { echo "$tool: ranks given other commands not refused as such:"; cat "$work/err"; failed=1; }
+  [ "$(grep -c "error:" "$work/err")" -eq 1 ] || { echo "$tool: not said once:"; cat "$work/err"; failed=1; }
+  [ -z "$(ls "$work/missing")" ] || { echo "files left behind: $(ls "$work/missing")"; failed=1; }
+done
+on_rank_2 "$meshenc" "--threads 1 -v" "$data/torus_288.node" --bricks -q -o "$work/threads.dtm" 2>/dev/null ||
+  { echo "meshenc: a rank's own --threads and -v refused"; failed=1; }
+cmp -s "$work/agreed.dtm" "$work/threads.dtm" || { echo "meshenc: a rank's own --threads: other bytes"; failed=1; }
 # Regions (materials) on ranks: each rank holds the reference in parts a
 # region at a time, and they answer which region holds a point; the same
 # bytes as one process, with the same count of tetrahedra per region said.

@@ -313,5 +313,17 @@ TEST(ParallelHelpers, GrowingOnEveryCoreIsResizeAndAssign) {
   set_thread_count(0);
 }
 
+// More threads than a few a core only wait for each other (and each loop
+// starts its own): a count asked above kMostThreadsPerCore a core given is
+// held to that; below, it is what was asked.
+TEST(Threads, AskedCountsAreHeldToAFewACore) {
+  const int most = kMostThreadsPerCore * cores_given();
+  EXPECT_EQ(threads_allowed(0), 0);
+  EXPECT_EQ(threads_allowed(1), 1);
+  EXPECT_EQ(threads_allowed(most), most);
+  EXPECT_EQ(threads_allowed(most + 1), most);
+  EXPECT_EQ(threads_allowed(4096), std::min(4096, most));
+}
+
 }  // namespace
 }  // namespace dtm

@@ -21,6 +21,7 @@
 #include "tools/huge_pages.h"
 #include "tools/mpi_session.h"
 #include "tools/phase_display.h"
+#include "tools/same_command.h"
 #include "tools/stream_input.h"
 #include "tools/thread_budget.h"
 #include "tools/tool_main.h"
@@ -243,7 +244,9 @@ auto of_finest_whole_level(const Command& c, int levels, Decode&& decode) {
 int run_pieces(const Command& c) {
   dtm::MpiSession& mpi = dtm::mpi_session();
   if (c.input == "-") throw dtm::UsageError("-o X.pvtu reads the stream by offset: give a file, not '-'");
-  if (!c.box.empty() || c.verify) throw dtm::UsageError("-o X.pvtu: no --box or --verify");
+  if (!c.box.empty() || c.verify)
+    throw dtm::UsageError(
+        "-o X.pvtu writes a whole level in pieces: --box and --verify are for one file's output");
   const int pieces = c.pieces > 0 ? c.pieces : mpi.size();
   int level = std::max(c.level, 0);
   const std::string stem = c.output.substr(0, c.output.size() - 5);
@@ -422,6 +425,9 @@ int run_region(const Command& c, dtm::MeshFormat format) {
 
 int run(const Command& c) {
   const dtm::ThreadBudget threads(c.threads, dtm::mpi_session().cores_share());
+  if (const std::string note = dtm::threads_held_note(c.threads);
+      !note.empty() && !c.quiet && dtm::mpi_session().rank() == 0)
+    std::fprintf(stderr, "meshdec: %s\n", note.c_str());
   // An output that cannot be written is said now, not after the decoding
   // (under mpirun by every rank, whose pieces go beside it, and said once).
   dtm::MpiSession& mpi = dtm::mpi_session();
@@ -535,6 +541,7 @@ int main(int argc, char** argv) {
   dtm::ask_for_huge_pages(argv);  // before MPI and any thread: it may start the tool again
   dtm::MpiSession mpi(&argc, &argv);
   dtm::the_session = &mpi;
+  if (!dtm::ranks_run_the_same_command(mpi, "meshdec", argc, argv)) return 2;
   return dtm::tool_main<Command>("meshdec", "decode a .dtm stream to a tetrahedral mesh", kExamples, argc,
                                  argv, add_options, run);
 }

@@ -36,6 +36,7 @@
 #include "tools/mpi_session.h"
 #include "tools/phase_display.h"
 #include "tools/report.h"
+#include "tools/same_command.h"
 #include "tools/thread_budget.h"
 #include "tools/tool_main.h"
 
@@ -382,8 +383,9 @@ dtm::NodeFile read_node_in_parts(const std::string& path, dtm::MpiSession& mpi) 
   }
   agree_on_errors(mpi, problem);
   if (start < part.header_count)
-    throw dtm::FormatError(path + ": file ends after " + std::to_string(start) + " of " +
-                           std::to_string(part.header_count) + " points");
+    throw dtm::AgreedError(path + ": file ends after " + std::to_string(start) + " of " +
+                               std::to_string(part.header_count) + " points",
+                           mpi.rank() == 0);
   dtm::NodeFile out;
   out.points = joined(mpi, part.node.points);
   dtm::release(part.node.points);
@@ -622,12 +624,14 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
   agree_on_errors(mpi, problem);
   const uint64_t total = mpi.sum(counts.records);
   if (total < counts.header_count)
-    throw dtm::FormatError(in.tetgen_ele + ": file ends after " + std::to_string(total) + " of " +
-                           std::to_string(counts.header_count) + " tetrahedra");
+    throw dtm::AgreedError(in.tetgen_ele + ": file ends after " + std::to_string(total) + " of " +
+                               std::to_string(counts.header_count) + " tetrahedra",
+                           mpi.rank() == 0);
   if (total > counts.header_count)
-    throw dtm::FormatError(in.tetgen_ele + ": unexpected data after the " +
-                           std::to_string(counts.header_count) + " tetrahedra (the file holds " +
-                           std::to_string(total) + ")");
+    throw dtm::AgreedError(in.tetgen_ele + ": unexpected data after the " +
+                               std::to_string(counts.header_count) + " tetrahedra (the file holds " +
+                               std::to_string(total) + ")",
+                           mpi.rank() == 0);
   try {
     std::vector<Tet> tets = mpi.all_to_all_in_pieces(std::move(to), piece);
     if (regions) *regions = mpi.all_to_all_in_pieces(std::move(regions_to), piece);
@@ -860,6 +864,9 @@ int run(Command& c) {
   dtm::MpiSession& mpi = dtm::mpi_session();
   mpi.lend_cores(c.threads == 0);
   const dtm::ThreadBudget threads(c.threads, mpi.cores_share(), mpi.cores_lent_at_most());
+  if (const std::string note = dtm::threads_held_note(c.threads);
+      !note.empty() && !c.quiet && mpi.rank() == 0)
+    std::fprintf(stderr, "meshenc: %s\n", note.c_str());
   if (mpi.size() > 1) {
     if (!c.encode.bricks)
       throw dtm::UsageError("under mpirun, meshenc writes a bricked stream: add --bricks", mpi.rank() == 0);
@@ -1382,6 +1389,7 @@ int main(int argc, char** argv) {
   dtm::ask_for_huge_pages(argv);  // before MPI and any thread: it may start the tool again
   dtm::MpiSession mpi(&argc, &argv);
   dtm::the_session = &mpi;
+  if (!dtm::ranks_run_the_same_command(mpi, "meshenc", argc, argv)) return 2;
   return dtm::tool_main<Command>("meshenc",
                                  "build the Delaunay level-of-detail hierarchy of a volume point set",
                                  kExamples, argc, argv, add_options, run);

@@ -126,6 +126,8 @@ void add_options(CLI::App& app, Command& c) {
 
 int run(const Command& c) {
   const dtm::ThreadBudget threads(c.threads, dtm::cores_given());
+  if (const std::string note = dtm::threads_held_note(c.threads); !note.empty())
+    std::fprintf(stderr, "meshinfo: %s\n", note.c_str());
   const std::string& input = c.input;
   std::vector<uint8_t> bytes;
   dtm::read_in_chunks(input, [&](std::span<const uint8_t> chunk) {

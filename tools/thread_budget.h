@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <optional>
+#include <string>
 
 #include "common/threads.h"
 
@@ -22,6 +23,7 @@ class ThreadBudget {
   // (an MPI rank at work while the others on its node wait:
   // RankExchange::threads_while_busy()), TBB's limit.
   ThreadBudget(int asked, int share, int lent = 0) {
+    asked = threads_allowed(asked);
     set_thread_count(asked > 0 ? asked : share);
     const int most = asked > 0 ? asked : std::max(share, lent);
     limit_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(most));
@@ -33,6 +35,15 @@ class ThreadBudget {
  private:
   std::optional<tbb::global_control> limit_;
 };
+
+// What the tool says where --threads asked for more than threads_allowed()
+// (empty otherwise).
+inline std::string threads_held_note(int asked) {
+  if (asked <= threads_allowed(asked)) return {};
+  return "--threads " + std::to_string(asked) + ": this process may run on " + std::to_string(cores_given()) +
+         " cores; using " + std::to_string(threads_allowed(asked)) + " threads (more than " +
+         std::to_string(kMostThreadsPerCore) + " a core only wait for each other)";
+}
 
 inline void add_threads_option(CLI::App& app, int& threads) {
   app.add_option("--threads", threads,

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -138,6 +139,15 @@ inline std::string printable(std::string_view message) {
   return out;
 }
 
+// Under mpirun, a rank other than the first (its launcher says so in the
+// environment). The ranks run the same command (tools/same_command.h), so
+// an error in it is every rank's alike: the first says it.
+inline bool another_rank() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+    if (const char* r = std::getenv(name)) return std::string_view(r) != "0";
+  return false;
+}
+
 template <class Command, class AddOptions, class Run>
 int tool_main(const char* tool, const char* description, const char* examples, int argc, char** argv,
               AddOptions add_options, Run run) {
@@ -157,7 +167,8 @@ int tool_main(const char* tool, const char* description, const char* examples, i
     }
     return run(command);
   } catch (const UsageError& e) {
-    if (e.print()) std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());
+    if (e.print() && !another_rank())
+      std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());
     return 2;
   } catch (const AgreedError& e) {
     if (e.print()) std::fprintf(stderr, "%s: error: %s\n", tool, printable(e.what()).c_str());

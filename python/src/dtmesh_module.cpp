@@ -561,6 +561,7 @@ std::string info(py::bytes data, bool stats) {
 // TBB held to the same; 0: the cores the process was given.
 void set_threads(int n) {
   static std::optional<tbb::global_control>* limit = new std::optional<tbb::global_control>();
+  n = dtm::threads_allowed(n);  // (more than a few a core only wait for each other)
   dtm::set_thread_count(n);
   limit->reset();
   if (n > 0) limit->emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(n));

@@ -1,0 +1,87 @@
+// Under mpirun every rank must run the same command: ranks given other
+// options or other inputs build other blocks, so that the stream they write
+// together is neither's, or they wait on each other at different points
+// forever (a rank with --no-fields kept the two others waiting; one with
+// --qbits 12 wrote a stream the decoder refuses; meshdec's ranks at other
+// levels wrote pieces of two levels). Checked first, before any work: the
+// command lines, but for what each rank may set for itself (--threads,
+// -v, -q), and the size of every file they name.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "tools/mpi_session.h"
+
+namespace dtm {
+
+// What must be alike on every rank: the arguments, each input file's
+// followed by its size, but for --threads (with its value), -v and -q.
+// (An output may stand on one node's disk and not another's: its size is
+// not compared.)
+inline std::string command_for_agreement(int argc, char** argv) {
+  std::string out;
+  bool output = false;  // the argument is an output's path
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a = argv[i];
+    if (a == "--threads") {
+      ++i;
+      continue;
+    }
+    if (a.starts_with("--threads=") || a == "-v" || a == "--verbose" || a == "-q" || a == "--quiet") continue;
+    out.append(a);
+    std::error_code ec;
+    if (!output && !a.starts_with("-") && std::filesystem::is_regular_file(std::string(a), ec))
+      out += " (" + std::to_string(std::filesystem::file_size(std::string(a), ec)) + " bytes)";
+    out += '\n';
+    output = a == "-o" || a == "--output" || a == "--report";
+  }
+  return out;
+}
+
+// On every rank: false (and rank 0 has said which ranks differ) where the
+// ranks' commands are not alike. A single process agrees with itself.
+inline bool ranks_run_the_same_command(MpiSession& mpi, const char* tool, int argc, char** argv) {
+  if (mpi.size() <= 1) return true;
+  const std::string mine = command_for_agreement(argc, argv);
+  const auto all = mpi.all_gather({reinterpret_cast<const uint8_t*>(mine.data()), mine.size()});
+  std::vector<int> other;
+  for (size_t r = 1; r < all.size(); ++r)
+    if (all[r] != all[0]) other.push_back(static_cast<int>(r));
+  if (other.empty()) return true;
+  if (mpi.rank() == 0) {
+    // The first line that differs, rank 0's and the first other rank's.
+    const auto lines = [](const std::vector<uint8_t>& bytes) {
+      std::vector<std::string> out(1);
+      for (uint8_t b : bytes) {
+        if (b == '\n')
+          out.emplace_back();
+        else
+          out.back().push_back(static_cast<char>(b));
+      }
+      return out;
+    };
+    const std::vector<std::string> a = lines(all[0]), b = lines(all[static_cast<size_t>(other[0])]);
+    size_t k = 0;
+    while (k < a.size() && k < b.size() && a[k] == b[k]) ++k;
+    const auto shown = [](const std::vector<std::string>& l, size_t k) {
+      return k < l.size() && !l[k].empty() ? "'" + l[k] + "'" : std::string("nothing more");
+    };
+    std::string ranks;
+    for (int r : other) ranks += (ranks.empty() ? "" : ", ") + std::to_string(r);
+    std::fprintf(stderr,
+                 "%s: error: the ranks were not given the same command (every rank must run the same "
+                 "options on the same files; only --threads, -v and -q may differ): rank%s %s differ%s "
+                 "from rank 0, rank %d with %s where rank 0 has %s\n",
+                 tool, other.size() > 1 ? "s" : "", ranks.c_str(), other.size() > 1 ? "" : "s", other[0],
+                 shown(b, k).c_str(), shown(a, k).c_str());
+  }
+  return false;
+}
+
+}  // namespace dtm
