@@ -364,6 +364,19 @@ TEST_F(Tools, AnOutputThatCannotBeWrittenOrIsTheInputIsRefusedFirst) {
   r = run_command(kMeshdec + " " + stream_ + " -o " + dir_ + "/no/such/folder/x.vtu");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("no folder"), std::string::npos) << r.output;
+  // A folder where no file can be made whatever its permission bits say
+  // (/proc, and /sys to root): found by making the file, before the work.
+  r = meshenc(copy + " -o /proc/dtm_cannot_be_here.dtm");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("cannot write in /proc"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("level"), std::string::npos) << "said after the work: " << r.output;
+  r = run_command(kMeshdec + " " + stream_ + " -o /proc/dtm_cannot_be_here.vtu");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("cannot write in /proc"), std::string::npos) << r.output;
+  // Options that cannot go together, before the input is read.
+  r = meshenc(dir_ + "/not_there.node --bricks --preset paper -o " + dir_ + "/x.dtm");
+  EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
+  EXPECT_NE(r.output.find("--bricks: bricked layers need the codec preset"), std::string::npos) << r.output;
 }
 
 // A mesh meshdec wrote, encoded again: its point arrays level, boundary

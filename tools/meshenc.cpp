@@ -947,6 +947,10 @@ int run(Command& c) {
         "--keep-order: bricked streams (--bricks) do not keep the input's vertex order yet");
   if (c.encode.bricks && c.encode.level_step != 1)
     throw dtm::UsageError("--level-step: bricked streams (--bricks) stream every level");
+  if (c.encode.bricks && !c.encode.carve_to_reference)
+    throw dtm::UsageError(
+        "--bricks: bricked layers need the codec preset (not --preset paper): its levels "
+        "carve to the input's solid");
   if (!c.encode.carve_to_reference && (c.encode.exact || c.encode.keep_order))
     throw dtm::UsageError(std::string(c.encode.exact ? "--exact" : "--keep-order") +
                           " needs the codec preset (not --preset paper)");
