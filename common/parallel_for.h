@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <exception>
 #include <thread>
 #include <vector>
 
@@ -64,6 +65,32 @@ void on_every_thread(const Body& body) {
   for (size_t part = 1; part < parts; ++part) workers.emplace_back([&, part] { body(part, parts); });
   body(size_t{0}, parts);
   for (auto& w : workers) w.join();
+}
+
+// Runs body(k) for each k in [0, n), each once, on at most n threads of
+// loop_threads() (the calling one too), handing the items out one at a
+// time: for a few items of much work each (a layer's value components),
+// where parallel_for's first item alone would keep the others waiting. An
+// exception an item throws is thrown again once every item is done (the
+// lowest item's).
+template <typename Body>
+void for_each_item(size_t n, const Body& body) {
+  const size_t threads = std::min(loop_threads(), n);
+  std::vector<std::exception_ptr> failed(n);
+  std::atomic<size_t> next{0};
+  const auto work = [&] {
+    for (size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < n;) try {
+        body(k);
+      } catch (...) {
+        failed[k] = std::current_exception();
+      }
+  };
+  std::vector<std::thread> workers;
+  for (size_t t = 1; t < threads; ++t) workers.emplace_back(work);
+  work();
+  for (auto& w : workers) w.join();
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
 }
 
 // Runs body(first, last) on consecutive ranges of at most `block` of [0, n),

@@ -127,7 +127,8 @@ expect_error extra "extra.node:$((first + points)): unexpected data after the $(
 expect_error short "short.node: file ends after $points of $((points + 5)) points"
 expect_error sequence "sequence.node:$bad: point index 5 out of sequence"
 # Ranks started with other commands (an option on one rank only, meshdec at
-# another level) are refused before any work, said once, every rank
+# another level, a --threads one rank cannot take) are refused before any
+# work, said once, every rank
 # exiting: they waited on each other forever, or wrote a stream the decoder
 # refuses. Each rank's own --threads, -v and -q are its own: the same bytes.
 "$meshenc" "$data/torus_288.node" --bricks -q -o "$work/agreed.dtm"
@@ -140,7 +141,7 @@ EOF
   shift 2
   timeout 120 mpirun --oversubscribe "${as_root[@]}" -n 3 "$work/on_rank_2.sh" "$@"
 }
-for case in "meshenc --no-face-tags" "meshdec --level 1"; do
+for case in "meshenc --no-face-tags" "meshdec --level 1" "meshenc --threads 0"; do
   tool=${case%% *} extra=${case#* }
   if [ $tool = meshenc ]; then
     on_rank_2 "$meshenc" "$extra" "$data/torus_288.node" --bricks -q -o "$work/missing/d.dtm" 2>"$work/err"

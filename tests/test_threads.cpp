@@ -325,5 +325,31 @@ TEST(Threads, AskedCountsAreHeldToAFewACore) {
   EXPECT_EQ(threads_allowed(4096), std::min(4096, most));
 }
 
+// for_each_item: each item once, on any number of threads, and an
+// exception an item throws is thrown again once all are done (the lowest
+// item's), the others still run.
+TEST(ParallelHelpers, ForEachItemRunsEachOnceAndThrowsTheLowestItemsError) {
+  for (const int threads : {1, 2, 3, 8}) {
+    set_thread_count(threads);
+    for (const size_t n : {size_t{0}, size_t{1}, size_t{2}, size_t{7}, size_t{100}}) {
+      std::vector<std::atomic<int>> ran(n);
+      for_each_item(n, [&](size_t k) { ++ran[k]; });
+      for (size_t k = 0; k < n; ++k) EXPECT_EQ(ran[k].load(), 1) << k << " of " << n << ", " << threads;
+    }
+    std::vector<std::atomic<int>> ran(9);
+    try {
+      for_each_item(9, [&](size_t k) {
+        ++ran[k];
+        if (k == 3 || k == 6) throw std::runtime_error("item " + std::to_string(k));
+      });
+      ADD_FAILURE() << "nothing thrown";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "item 3");
+    }
+    for (size_t k = 0; k < 9; ++k) EXPECT_EQ(ran[k].load(), 1) << k;
+  }
+  set_thread_count(0);
+}
+
 }  // namespace
 }  // namespace dtm

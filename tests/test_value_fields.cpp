@@ -214,7 +214,7 @@ TEST(FieldSections, ComponentsCodedOnEveryThreadGiveTheSameBytesAndValues) {
       }
     }
   }
-  // Damage: the second block of "stress" (the fifth component in order)
+  // Damage: the second block of "stress" (the sixth block in order)
   // and a length running past the section. Fresh decoders each time: the
   // first layer's section.
   const auto blocks = [&](std::span<const uint8_t> section) {

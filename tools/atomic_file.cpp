@@ -126,9 +126,9 @@ void check_writable(const std::string& path, const std::vector<std::string>& inp
     throw std::invalid_argument(path + ": cannot write: no folder " + folder.string());
   if (::access(folder.c_str(), W_OK) != 0)
     throw std::invalid_argument(path + ": cannot write in " + folder.string() + ": " + std::strerror(errno));
-  // access() answers by the permission bits alone: a folder whose files
-  // cannot be made whatever the bits say (/sys and /proc to root, a
-  // read-only mount) is found by making the temporary file there, now,
+  // access() answers by the permission bits (and a read-only mount): a
+  // folder whose files cannot be made whatever the bits say (/sys and
+  // /proc to root) is found by making the temporary file there, now,
   // rather than after the work.
   const std::string probe = temporary_for(t.path);
   std::FILE* f = std::fopen(probe.c_str(), "wb");

@@ -541,6 +541,7 @@ int main(int argc, char** argv) {
   dtm::ask_for_huge_pages(argv);  // before MPI and any thread: it may start the tool again
   dtm::MpiSession mpi(&argc, &argv);
   dtm::the_session = &mpi;
+  dtm::tool_rank() = mpi.rank();
   if (!dtm::ranks_run_the_same_command(mpi, "meshdec", argc, argv)) return 2;
   return dtm::tool_main<Command>("meshdec", "decode a .dtm stream to a tetrahedral mesh", kExamples, argc,
                                  argv, add_options, run);

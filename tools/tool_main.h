@@ -7,7 +7,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -139,14 +138,14 @@ inline std::string printable(std::string_view message) {
   return out;
 }
 
-// Under mpirun, a rank other than the first (its launcher says so in the
-// environment). The ranks run the same command (tools/same_command.h), so
-// an error in it is every rank's alike: the first says it.
-inline bool another_rank() {
-  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
-    if (const char* r = std::getenv(name)) return std::string_view(r) != "0";
-  return false;
+// This process's rank of an MPI job (0 alone): main() sets it from its
+// MpiSession. The ranks run the same command (tools/same_command.h), so an
+// error in it is every rank's alike: the first says it.
+inline int& tool_rank() {
+  static int rank = 0;
+  return rank;
 }
+inline bool another_rank() { return tool_rank() != 0; }
 
 template <class Command, class AddOptions, class Run>
 int tool_main(const char* tool, const char* description, const char* examples, int argc, char** argv,
@@ -163,6 +162,7 @@ int tool_main(const char* tool, const char* description, const char* examples, i
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
+      if (another_rank()) return e.get_exit_code() == 0 ? 0 : 2;  // (rank 0 says it)
       return app.exit(e) == 0 ? 0 : 2;
     }
     return run(command);

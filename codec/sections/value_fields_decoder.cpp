@@ -1,6 +1,5 @@
 // The field table and the value sections read (spec/FORMAT.md §2.1, §3.3,
 // §3.5): the decoder's side of value_fields.h.
-#include <atomic>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -207,7 +206,6 @@ Status FieldSectionDecoder::decode_layer(std::span<const uint8_t> section,
     }
   }
   std::vector<Status> decoded(blocks.size(), Status::Ok());
-  std::atomic<size_t> next{0};
   const auto decode = [&](size_t k) {
     const Block& b = blocks[k];
     const FieldDescription& d = descriptions_[b.field];
@@ -225,12 +223,7 @@ Status FieldSectionDecoder::decode_layer(std::span<const uint8_t> section,
           d.lossy ? bits_of(dequantize(ordered[i], d.lossy_scales[c], d.type == ValueType::kF32), d.type)
                   : from_ordered(ordered[i], d.type);
   };
-  if (blocks.size() > 1 && thread_count() > 1)
-    on_every_thread([&](size_t, size_t) {
-      for (size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < blocks.size();) decode(k);
-    });
-  else
-    for (size_t k = 0; k < blocks.size(); ++k) decode(k);
+  for_each_item(blocks.size(), decode);
   for (const Status& st : decoded)
     if (!st.ok()) return st;
   if (!framing.ok()) return framing;

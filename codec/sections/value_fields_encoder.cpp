@@ -1,6 +1,5 @@
 // The field table and the value sections written (spec/FORMAT.md §2.1,
 // §3.3, §3.5): the encoder's side of value_fields.h.
-#include <atomic>
 #include <string>
 #include <utility>
 #include <vector>
@@ -119,14 +118,7 @@ std::vector<uint8_t> FieldSectionEncoder::encode_layer(std::span<const uint32_t>
     for (uint32_t p : points) layer.push_back(ordered_[coder][p]);
     blocks[coder] = coders_[coder].encode_layer(neighbours, layer);
   };
-  if (coders_.size() > 1 && thread_count() > 1) {
-    std::atomic<size_t> next{0};
-    on_every_thread([&](size_t, size_t) {
-      for (size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < coders_.size();) encode(k);
-    });
-  } else {
-    for (size_t k = 0; k < coders_.size(); ++k) encode(k);
-  }
+  for_each_item(coders_.size(), encode);
   ByteWriter w;
   size_t coder = 0;
   for (size_t f = 0; f < descriptions_.size(); ++f) {

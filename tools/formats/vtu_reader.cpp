@@ -889,7 +889,8 @@ void append_piece(InputMesh& whole, InputMesh part, bool first, const std::strin
 // at exactly the coordinates of a point of an earlier piece is that point.
 // Merged here, so that the mesh is one whole (--exact keeps its cells: a
 // merge by quantization would refuse it) and the tagged faces meet their
-// cells; points that coincide within one piece are left to quantization.
+// cells; points that coincide within one piece only are left to
+// quantization.
 // Where a copy's values differ from the first's, the first's are kept, said.
 void merge_shared_points(InputMesh& whole, std::span<const size_t> piece_first) {
   struct Key {
@@ -925,10 +926,10 @@ void merge_shared_points(InputMesh& whole, std::span<const size_t> piece_first) 
   size_t differing = 0;
   for (VertexField& f : whole.fields) {
     const auto c = static_cast<size_t>(f.components);
+    // (Bit for bit: a NaN a writer repeats is the same NaN.)
     for (size_t i = 0; i < n; ++i)
-      if (same_as[i] != i && !std::equal(f.values.begin() + static_cast<std::ptrdiff_t>(i * c),
-                                         f.values.begin() + static_cast<std::ptrdiff_t>(i * c + c),
-                                         f.values.begin() + static_cast<std::ptrdiff_t>(same_as[i] * c)))
+      if (same_as[i] != i && std::memcmp(f.values.data() + i * c, f.values.data() + size_t{same_as[i]} * c,
+                                         c * sizeof(double)) != 0)
         ++differing;
     size_t to = 0;
     for (size_t i = 0; i < n; ++i)
