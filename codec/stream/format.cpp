@@ -476,7 +476,7 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
     bool header_seen = false;
     const Status st = walk.next(bytes.subspan(walk.offset()), layer, &header_seen);
     if (st.ok()) {
-      s.layers.push_back({layer.header, 0, layer.offset, true, {}, {}});
+      s.layers.push_back({layer.header, 0, layer.offset, true, {}, {}, {}});
       if (layer.header.bricked) {
         LayerHeader& lh = s.layers.back().header;
         std::vector<BrickChunk> chunks;
@@ -533,7 +533,7 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
     if (st.code() != StatusCode::kNeedMoreInput) {
       s.status = st;
     } else if (!walk.done()) {
-      if (header_seen) s.layers.push_back({layer.header, 0, layer.offset, false, {}, {}});
+      if (header_seen) s.layers.push_back({layer.header, 0, layer.offset, false, {}, {}, {}});
       s.status = {StatusCode::kTruncated,
                   header_seen
                       ? "the stream ends inside level " + std::to_string(level) + "'s layer"

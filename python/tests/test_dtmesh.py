@@ -2,6 +2,7 @@
 meshes as meshdec, the same summary as meshinfo; and what a stream's damage
 does to it."""
 import json
+import os
 import subprocess
 import lzma
 import threading
@@ -101,6 +102,13 @@ def test_threads_change_no_byte(corpus):
         dtmesh.set_threads(None)
     with pytest.raises(ValueError):
         dtmesh.set_threads(0)
+    # More than 4 a core of those the process may run on only wait for each
+    # other: held to that, as meshenc's --threads.
+    dtmesh.set_threads(4096)
+    try:
+        assert dtmesh.threads() == min(4096, 4 * len(os.sched_getaffinity(0)))
+    finally:
+        dtmesh.set_threads(None)
 
 
 def test_encode_options_match_meshencs(corpus, tmp_path):
