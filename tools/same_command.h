@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "tools/mpi_session.h"
+#include "tools/thread_budget.h"
 
 namespace dtm {
 
@@ -28,12 +29,13 @@ namespace dtm {
 // (An output may stand on one node's disk and not another's: its size is
 // not compared.)
 inline std::string command_for_agreement(int argc, char** argv) {
-  // (A --threads a rank cannot take is not its own choice: it would leave
-  // the others waiting while it stops at its command line. Kept, as given.)
+  // (A --threads a rank cannot take, outside add_threads_option()'s range,
+  // is not its own choice: it would leave the others waiting while it stops
+  // at its command line. Kept, as given.)
   const auto threads_taken = [](std::string_view v) {
     int n = 0;
     const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
-    return ec == std::errc() && end == v.data() + v.size() && n >= 1 && n <= 4096;
+    return ec == std::errc() && end == v.data() + v.size() && n >= 1 && n <= kMostThreadsAsked;
   };
   const auto own_flags = [](std::string_view a) {  // -v, -q, -qv, --verbose[=...], --quiet[=...]
     if (a.starts_with("--verbose") || a.starts_with("--quiet"))

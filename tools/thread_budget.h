@@ -45,11 +45,14 @@ inline std::string threads_held_note(int asked) {
          std::to_string(kMostThreadsPerCore) + " a core only wait for each other)";
 }
 
+// The most --threads takes (threads_allowed() then holds it to the cores).
+inline constexpr int kMostThreadsAsked = 4096;
+
 inline void add_threads_option(CLI::App& app, int& threads) {
   app.add_option("--threads", threads,
                  "threads to use (default: the cores this process may run on, as taskset or a container "
                  "gives them; under mpirun, this rank's share of its node's)")
-      ->check(CLI::Range(1, 4096));
+      ->check(CLI::Range(1, kMostThreadsAsked));
 }
 
 }  // namespace dtm

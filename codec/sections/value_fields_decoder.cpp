@@ -185,7 +185,7 @@ Status FieldSectionDecoder::decode_layer(std::span<const uint8_t> section,
   // time of one). The error said is the one a decoder reading them in
   // order would meet first: a block's damage before a later length's.
   struct Block {
-    size_t field = 0;
+    size_t field = 0, coder = 0;  // coders_[coder] codes the field's `component`
     int component = 0;
     std::span<const uint8_t> bytes;
   };
@@ -201,7 +201,7 @@ Status FieldSectionDecoder::decode_layer(std::span<const uint8_t> section,
         framing = {StatusCode::kCorrupt, "the value section of field '" + d.name + "' ends early"};
         break;
       }
-      blocks.push_back({f, c, section.subspan(r.position(), length)});
+      blocks.push_back({f, blocks.size(), c, section.subspan(r.position(), length)});
       r.skip(length);
     }
   }
@@ -209,12 +209,9 @@ Status FieldSectionDecoder::decode_layer(std::span<const uint8_t> section,
   const auto decode = [&](size_t k) {
     const Block& b = blocks[k];
     const FieldDescription& d = descriptions_[b.field];
-    size_t coder = 0;
-    for (size_t f = 0; f < b.field; ++f) coder += static_cast<size_t>(descriptions_[f].components);
-    coder += static_cast<size_t>(b.component);
     std::vector<Int128> ordered;
     decoded[k] =
-        coders_[coder].decode_layer(b.bytes, neighbours, ordered).with_context("field '" + d.name + "'");
+        coders_[b.coder].decode_layer(b.bytes, neighbours, ordered).with_context("field '" + d.name + "'");
     if (!decoded[k].ok()) return;
     const auto c = static_cast<size_t>(b.component), n = static_cast<size_t>(d.components);
     std::vector<uint64_t>& bits = out[b.field].bits;
