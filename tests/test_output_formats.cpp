@@ -6,7 +6,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <charconv>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -387,6 +389,58 @@ TEST(OutputFormats, FilesWrittenTogetherAreAllWrittenOrNone) {
   EXPECT_FALSE(fs::exists(dir / "x.node"));
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+  fs::remove_all(dir);
+}
+
+// A rename that fails partway for another reason than a directory (an
+// immutable file, a sticky folder's file of another owner): the files
+// replaced before it are put back, those that were not there are gone,
+// and nothing is left beside them.
+TEST(OutputFormats, AFailedRenamePutsBackTheFilesBeforeIt) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("dtm_put_back_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto read = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  std::ofstream(dir / "x.node") << "old nodes";
+  std::ofstream(dir / "x.ele") << "old cells";
+  // Fails on the third file: the first two are in place by then.
+  const RenameFile refuse_the_face = [](const char* from, const char* to) {
+    if (std::string(to).ends_with(".face")) {
+      errno = EPERM;
+      return -1;
+    }
+    return std::rename(from, to);
+  };
+  try {
+    write_files_atomically({{(dir / "x.node").string(), "nodes"},
+                            {(dir / "x.edge").string(), "edges"},
+                            {(dir / "x.ele").string(), "cells"},
+                            {(dir / "x.face").string(), "faces"}},
+                           refuse_the_face);
+    ADD_FAILURE() << "the failed rename was not said";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("x.face: cannot replace"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read(dir / "x.node"), "old nodes");
+  EXPECT_EQ(read(dir / "x.ele"), "old cells");
+  EXPECT_FALSE(fs::exists(dir / "x.edge"));
+  EXPECT_FALSE(fs::exists(dir / "x.face"));
+  size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    ++files;
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+    EXPECT_EQ(e.path().filename().string().find(".old."), std::string::npos) << e.path();
+  }
+  EXPECT_EQ(files, 2u);
+  // And when every rename succeeds, the new files and nothing else.
+  write_files_atomically({{(dir / "x.node").string(), "nodes"}, {(dir / "x.ele").string(), "cells"}});
+  EXPECT_EQ(read(dir / "x.node"), "nodes");
+  EXPECT_EQ(read(dir / "x.ele"), "cells");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 2);
   fs::remove_all(dir);
 }
 

@@ -3,16 +3,20 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
+#include <vector>
 
 namespace dtm {
 
 namespace {
 
 std::string temporary_for(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
+// Where a file about to be replaced is kept until its fellows are in place.
+std::string kept_for(const std::string& path) { return path + ".old." + std::to_string(::getpid()); }
 
 // `name`: the path as the caller gave it, for the message.
 void write_temporary(const std::string& name, const std::string& path, std::string_view bytes) {
@@ -66,6 +70,11 @@ void write_in_place(const std::string& name, const std::string& path, std::strin
 }  // namespace
 
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files) {
+  write_files_atomically(files, &std::rename);
+}
+
+void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files,
+                            RenameFile rename) {
   std::vector<Target> targets;
   targets.reserve(files.size());
   for (const auto& [path, bytes] : files) targets.push_back(target_of(path));
@@ -92,15 +101,43 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
       throw std::runtime_error(files[i].first + ": cannot replace: " + std::strerror(EISDIR));
     }
   }
+  // A rename can fail for other reasons too (a file made immutable, one a
+  // sticky folder keeps for its owner). Each target that exists is kept
+  // under a second name, a hard link, until every file is in place, so that
+  // a rename failing partway puts back the files replaced before it. Where
+  // no link can be made (a file system without them) that file cannot be
+  // put back, and is left as written.
+  enum class Before : uint8_t { kAbsent, kKept, kUnkept };
+  std::vector<Before> before(files.size(), Before::kAbsent);
+  for (size_t i = 0; i < files.size(); ++i) {
+    std::error_code ec;
+    if (targets[i].in_place || !std::filesystem::exists(std::filesystem::symlink_status(targets[i].path, ec)))
+      continue;
+    before[i] = ::link(targets[i].path.c_str(), kept_for(targets[i].path).c_str()) == 0 ? Before::kKept
+                                                                                        : Before::kUnkept;
+  }
+  const auto forget_kept = [&] {
+    for (size_t i = 0; i < files.size(); ++i)
+      if (before[i] == Before::kKept) std::remove(kept_for(targets[i].path).c_str());
+  };
   for (size_t i = 0; i < files.size(); ++i) {
     if (targets[i].in_place) continue;
     const std::string& path = targets[i].path;
-    if (std::rename(temporary_for(path).c_str(), path.c_str()) != 0) {
+    if (rename(temporary_for(path).c_str(), path.c_str()) != 0) {
       const int e = errno;
+      for (size_t j = 0; j < i; ++j) {
+        if (targets[j].in_place) continue;
+        if (before[j] == Before::kKept)
+          std::rename(kept_for(targets[j].path).c_str(), targets[j].path.c_str());
+        else if (before[j] == Before::kAbsent)
+          std::remove(targets[j].path.c_str());
+      }
       remove_temporaries(i, files.size());
+      forget_kept();
       throw std::runtime_error(files[i].first + ": cannot replace: " + std::strerror(e));
     }
   }
+  forget_kept();
   // Devices and pipes last: written into, not replaced (not atomically).
   for (size_t i = 0; i < files.size(); ++i)
     if (targets[i].in_place) write_in_place(files[i].first, targets[i].path, files[i].second);

@@ -14,8 +14,12 @@ namespace dtm {
 // and its report): every one is written to its temporary file first, and
 // only when all are complete are they renamed into place. Throws
 // std::runtime_error naming the path if anything fails; the targets are then
-// left as they were.
+// left as they were (but a file no hard link could keep: see the .cpp).
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files);
+// The same, each temporary file put in place by `rename` (std::rename's
+// contract): what the tests use to make a rename fail partway.
+using RenameFile = int (*)(const char* from, const char* to);
+void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files, RenameFile rename);
 
 // Said before the work rather than after it: throws std::invalid_argument
 // naming `path` if write_files_atomically() could not write it (its folder
