@@ -38,6 +38,10 @@ if [ "${1:-}" = "--all" ]; then
              pybind11-dev paraview python3-paraview xvfb
              # mpirun meshenc and meshdec (optional in the build; their tests need it)
              libopenmpi-dev openmpi-bin)
+  # The viewer's JavaScript dependencies come through npm (scripts/build_web.sh):
+  # Debian's package where no npm is on the PATH (a Node.js from elsewhere,
+  # NodeSource's, carries its own and conflicts with Debian's npm).
+  command -v npm >/dev/null || packages+=(npm)
 elif [ $# -gt 0 ]; then
   echo "usage: $0 [--all]" >&2
   exit 2
