@@ -1082,6 +1082,36 @@ TEST(InputFormats, WhatIsNotReadIsNamed) {
   EXPECT_FALSE(has(m, "cells other than tetrahedra"));
   // The float array's value on the triangle (7) is not cell data: named.
   EXPECT_TRUE(has(m, "the values of the cell arrays 'von mises' on the triangles"));
+  // An integer array that is not the regions becomes cell data: its value
+  // on the triangle is named too, unless it is 0, as a float array's 0 or
+  // NaN is not (what writers put where an array has no value).
+  m = read_input(write_temp(
+      "flags.vtk", "# vtk DataFile Version 3.0\nc\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n" +
+                       tet +
+                       "CELLS 2 9\n4 0 1 2 3\n3 1 2 3\nCELL_TYPES 2\n10\n5\n"
+                       "CELL_DATA 2\nSCALARS material int 1\nLOOKUP_TABLE default\n1 2\n"
+                       "SCALARS flag int 1\nLOOKUP_TABLE default\n4 5\n"
+                       "SCALARS blank int 1\nLOOKUP_TABLE default\n4 0\n"
+                       "FIELD FieldData 2\nheat 1 2 float\n0.5 0\nflux 1 2 double\n0.5 nan\n"));
+  choose_regions(m, "", "flags.vtk");
+  EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1}));
+  EXPECT_EQ(m.face_tags, (std::vector<int32_t>{2}));
+  EXPECT_EQ(m.cell_fields.size(), 4u);
+  EXPECT_TRUE(has(m, "the values of the integer cell arrays 'flag' on the triangles"));
+  EXPECT_FALSE(has(m, "'blank'"));
+  EXPECT_FALSE(has(m, "'heat'"));
+  EXPECT_FALSE(has(m, "'flux'"));
+  // gmsh's $ElementData on a triangle (a face's flux): named, unless 0.
+  const std::string with_triangle =
+      cube.substr(cube.find("$Nodes")) + "$Elements\n2\n1 4 2 1 1 1 2 3 6\n2 2 2 5 5 1 2 3\n$EndElements\n";
+  m = read_input(write_temp(
+      "flux.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n" + with_triangle +
+                      "$ElementData\n1\n\"flux\"\n1\n0\n3\n0\n1\n2\n1 0.25\n2 7\n$EndElementData\n"
+                      "$ElementData\n1\n\"quiet\"\n1\n0\n3\n0\n1\n2\n1 0.5\n2 0\n$EndElementData\n"));
+  ASSERT_EQ(m.cell_fields.size(), 2u);
+  EXPECT_EQ(m.cell_fields[0].values, (std::vector<double>{0.25}));
+  EXPECT_TRUE(has(m, "$ElementData's values on elements other than tetrahedra ('flux' at 1;"));
+  EXPECT_FALSE(has(m, "'quiet'"));
   // A TetGen .ele with a region attribute.
   write_temp("regions.node", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 1 1 1\n");
   write_temp("regions.ele", "2 4 1\n0 0 1 2 3 1\n1 1 2 3 4 2\n");

@@ -439,6 +439,22 @@ TEST_F(Tools, WhatAFormatCannotHoldIsNamed) {
   EXPECT_NE(r.output.find("not written (the format has no place for it): the cell arrays 'heat', 'zone'"),
             std::string::npos)
       << r.output;
+  // The labels' names where the format holds numbers only (VTK's arrays,
+  // Medit's refs); gmsh's $PhysicalNames hold them.
+  const std::string named = std::string(DTM_TEST_SOURCE_DIR) + "/golden/two_materials_bricks_faces.dtm";
+  for (const char* ext : {".vtu", ".vtk", ".mesh"}) {
+    const CommandRun n = run_command(kMeshdec + " " + named + " -o " + dir_ + "/named" + ext);
+    EXPECT_EQ(n.status, 0) << n.output;
+    EXPECT_NE(
+        n.output.find("not written (the format has no place for it): the regions' names (1 \"aluminium\", "
+                      "2 \"steel\")"),
+        std::string::npos)
+        << ext << n.output;
+    EXPECT_NE(n.output.find("the face tags' names (3 \"base\", 4 \"load\")"), std::string::npos)
+        << ext << n.output;
+  }
+  const CommandRun gmsh = run_command(kMeshdec + " " + named + " -o " + dir_ + "/named.msh");
+  EXPECT_EQ(gmsh.output.find("names"), std::string::npos) << gmsh.output;
   // An option the output does not use is said too.
   const CommandRun coloured =
       run_command(kMeshdec + " " + std::string(DTM_TEST_SOURCE_DIR) +

@@ -719,6 +719,9 @@ class GmshReader {
     if (!partial_element_data_.empty())
       out_.left_out.push_back("$ElementData not given at every tetrahedron (" +
                               joined(partial_element_data_) + ")");
+    if (!element_data_elsewhere_.empty())
+      out_.left_out.push_back("$ElementData's values on elements other than tetrahedra (" +
+                              joined(element_data_elsewhere_) + "; cell data is the tetrahedra's)");
     if (!skipped_data_.empty()) out_.left_out.push_back("sections $" + joined(skipped_data_));
     // (4.1: an entity in several physical groups is its first's.)
     for (int d = 1; d >= 0; --d) {
@@ -1390,11 +1393,19 @@ class GmshReader {
     const size_t tets = out_.tets.size();
     f.values.assign(tets * f.components, 0.0);
     std::vector<uint8_t> seen(tets, 0);
-    uint64_t distinct = 0;
+    uint64_t distinct = 0, elsewhere = 0;
     index_element_tags();
     const auto take = [&](int64_t tag, auto&& value) {
       const int64_t t = tet_of(tag);
-      if (t < 0) return;  // another element's
+      if (t < 0) {
+        // Another element's (a triangle's flux): not the mesh's cell data,
+        // said unless it is 0 or NaN, what a writer puts where it has no
+        // value (meshdec's .msh on its tagged faces).
+        bool says = false;
+        for (int k = 0; k < f.components; ++k) says |= value(k) != 0 && !std::isnan(value(k));
+        elsewhere += says;
+        return;
+      }
       distinct += !seen[t];
       seen[t] = 1;
       for (int k = 0; k < f.components; ++k) f.values[t * f.components + k] = value(k);
@@ -1417,6 +1428,7 @@ class GmshReader {
     // A view of several time steps: one array a step.
     for (const VertexField& g : out_.cell_fields)
       if (g.name == f.name) f.name += " (step " + std::to_string(step) + ")";
+    if (elsewhere > 0) element_data_elsewhere_.push_back("'" + f.name + "' at " + std::to_string(elsewhere));
     if (tets > 0 && distinct == tets)
       out_.cell_fields.push_back(std::move(f));
     else
@@ -1465,7 +1477,8 @@ class GmshReader {
     uint64_t distinct = 0;
   };
   std::vector<NodeView> node_views_;
-  std::vector<std::string> physical_names_, partial_node_data_, partial_element_data_;
+  std::vector<std::string> physical_names_, partial_node_data_, partial_element_data_,
+      element_data_elsewhere_;  // $ElementData with values on triangles and other elements
   std::set<std::string> skipped_data_;
   // 4.1's $PartitionedEntities: their count, the partitions' entities'
   // parents, the surfaces between partitions.

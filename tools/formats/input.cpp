@@ -217,6 +217,15 @@ void choose_regions(InputMesh& in, const std::string& name, const std::string& p
     throw FormatError(path + ": --region-array " + name + ": no integer cell array of that name" +
                       (have.empty() ? std::string(" (the file has none)") : " (it has " + have + ")"));
   }
+  // The integer arrays that are not the regions become the tetrahedra's
+  // cell data below: their values on a .vtu's triangles are named.
+  std::string on_triangles;
+  for (const auto& [n, values] : in.triangle_arrays)
+    if (n != chosen && any_value_said(values.size(), [&](size_t i) { return values[i]; }))
+      on_triangles += (on_triangles.empty() ? "'" : ", '") + n + "'";
+  if (!on_triangles.empty())
+    in.left_out.push_back("the values of the integer cell arrays " + on_triangles +
+                          " on the triangles (cell data is the tetrahedra's)");
   for (auto& [n, values] : in.tet_arrays) {
     if (n == chosen) {
       in.tet_regions = std::move(values);

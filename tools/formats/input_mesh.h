@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -16,6 +17,20 @@
 #include "scalar_type.h"
 
 namespace dtm {
+
+// Whether a cell array's values on the cells the mesh keeps none of (a
+// file's triangles, its other elements) say anything, so that dropping them
+// is named: 0 and NaN are what writers put where an array has no value
+// (meshdec's own files, on their tagged faces), and go without a word.
+// `at(i)`: the i-th of `count` values.
+template <class At>
+bool any_value_said(size_t count, At&& at) {
+  for (size_t i = 0; i < count; ++i) {
+    const double v = static_cast<double>(at(i));
+    if (v != 0 && !std::isnan(v)) return true;
+  }
+  return false;
+}
 
 // One per-vertex array of the input (or, as InputMesh::cell_fields, one
 // per-cell array): `components` values per point, point after point

@@ -263,6 +263,25 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
   const bool surface = format == MeshFormat::kPly || format == MeshFormat::kOff ||
                        format == MeshFormat::kXyz || format == MeshFormat::kGlb ||
                        format == MeshFormat::kGltf || format == MeshFormat::kDrc;
+  // The labels' names: gmsh's $PhysicalNames, Netgen's materials and
+  // boundary condition names, Abaqus's set names and Exodus's block and set
+  // names hold them; VTK's arrays, Medit's refs and TetGen's attributes are
+  // numbers only.
+  const auto label_names = [](const std::map<int32_t, std::string>& names) {
+    std::string list;
+    size_t listed = 0;
+    for (const auto& [label, name] : names)
+      if (++listed <= 8) list += (list.empty() ? "" : ", ") + std::to_string(label) + " \"" + name + "\"";
+    if (listed > 8) list += " and " + std::to_string(listed - 8) + " more";
+    return list;
+  };
+  if (!surface && format != MeshFormat::kGmsh && format != MeshFormat::kNetgen &&
+      format != MeshFormat::kAbaqus && format != MeshFormat::kExodus) {
+    if (!m.region.empty() && !m.region_names.empty())
+      out.push_back("the regions' names (" + label_names(m.region_names) + ")");
+    if (!m.faces.empty() && !m.face_tag_names.empty() && format != MeshFormat::kTetgen)
+      out.push_back("the face tags' names (" + label_names(m.face_tag_names) + ")");
+  }
   switch (format) {
     case MeshFormat::kVtu:
     case MeshFormat::kVtuAscii:

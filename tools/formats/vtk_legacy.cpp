@@ -290,7 +290,9 @@ class LegacyReader {
       }
       // (Cell data is the tetrahedra's: its values on the triangles and
       // quadrilaterals, which the mesh keeps as tagged faces, are named.)
-      if (!triangle_cells.empty()) triangle_values_.push_back("'" + f.name + "'");
+      if (any_value_said(triangle_cells.size() * n,
+                         [&](size_t i) { return f.values[triangle_cells[i / n] * n + i % n]; }))
+        triangle_values_.push_back("'" + f.name + "'");
       VertexField& kept = out_.cell_fields.emplace_back();
       kept.name = f.name, kept.components = f.components, kept.type = f.type;
       kept.values.reserve(tet_cells.size() * n);

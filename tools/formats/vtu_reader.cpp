@@ -458,7 +458,11 @@ class VtuReader {
           std::vector<double>& into = out.cell_fields[cell_fields++].values;
           for (uint64_t c : tets)
             for (int j = 0; j < components; ++j) into.push_back(values[c * components + j]);
-          if (!triangles.empty()) triangle_values_.insert(name);  // (cell data is the tetrahedra's)
+          // (Cell data is the tetrahedra's: its values on the triangles are named.)
+          const auto n = static_cast<size_t>(components);
+          if (any_value_said(triangles.size() * n,
+                             [&](size_t i) { return values[triangles[i / n] * n + i % n]; }))
+            triangle_values_.insert(name);
           continue;
         }
         if (k > 0 && !out.tet_arrays.count(name)) {
