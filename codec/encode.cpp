@@ -150,6 +150,10 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
     value_counts.push_back(f.values.size());
   }
   DTM_RETURN_IF_ERROR(check_fields(descriptions, value_counts, q.input_to_point.size()));
+  for (size_t k = 0; k < input.fields.size(); ++k) {
+    DTM_RETURN_IF_ERROR(check_field_values(descriptions[k], input.fields[k].values, "point"));
+    DTM_RETURN_IF_ERROR(check_field_values(descriptions[k], input.fields[k].edge_values, "edge node"));
+  }
 
   std::vector<FieldValues> out;
   std::vector<uint8_t> differs(q.points.size(), 0);
@@ -564,6 +568,9 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
       }
       DTM_RETURN_IF_ERROR(
           check_fields(cell_descriptions, value_counts, input.tetrahedra.size()).with_context("cell data"));
+      for (size_t k = 0; k < input.cell_fields.size(); ++k)
+        DTM_RETURN_IF_ERROR(check_field_values(cell_descriptions[k], input.cell_fields[k].values, "cell")
+                                .with_context("cell data"));
     }
     if (with_regions) {
       if (input.tetrahedron_regions.size() != input.tetrahedra.size())

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <tuple>
 
 #include "codec/decode.h"
 #include "codec/encode.h"
@@ -107,6 +108,74 @@ TEST(EncodeApi, RefusesWhatCannotMakeAMeshWithAStatus) {
   const std::vector<std::array<uint32_t, 4>> beyond = {{0, 1, 2, 9999}};
   input.tetrahedra = beyond;
   EXPECT_EQ(encode(input).status().code(), StatusCode::kInvalidInput);
+}
+
+// A field's values as doubles, each rounded to the field's type: one the
+// type cannot hold (300 as a uint8, NaN as an int16, 1e300 as a float32) is
+// refused, naming the field and the point, where it was stored as 0; a
+// value between two integers is rounded to the nearer, not truncated; a
+// type that is none is refused, not written into a stream the decoder
+// refuses. Cell data alike.
+TEST(EncodeApi, RefusesAFieldValueItsTypeCannotHoldAndRoundsTheOthers) {
+  const InputMesh in = torus();
+  const size_t n = in.points.size();
+  const auto encoded = [&](ValueType type, std::vector<double> values, size_t at = 0) {
+    std::vector<double> all(n, 7);
+    for (size_t i = 0; i < values.size(); ++i) all[at + i] = values[i];
+    const std::vector<EncodeInput::Field> fields = {{"f", type, 1, all}};
+    EncodeInput input;
+    input.points = in.points;
+    input.tetrahedra = in.tets;
+    input.fields = fields;
+    return encode(input);
+  };
+  for (const auto& [type, value] : std::vector<std::pair<ValueType, double>>{{ValueType::kU8, 300},
+                                                                             {ValueType::kU8, -1},
+                                                                             {ValueType::kI32, 1e12},
+                                                                             {ValueType::kI16, NAN},
+                                                                             {ValueType::kI64, INFINITY},
+                                                                             {ValueType::kU64, 0x1p64},
+                                                                             {ValueType::kI64, 0x1p63},
+                                                                             {ValueType::kF32, 1e300}}) {
+    const auto out = encoded(type, {value}, 5);
+    SCOPED_TRACE(std::string(value_type_name(type)) + " " + std::to_string(value));
+    ASSERT_EQ(out.status().code(), StatusCode::kInvalidInput);
+    EXPECT_NE(out.status().message().find("field 'f': point 5 holds"), std::string::npos)
+        << out.status().message();
+  }
+  EXPECT_EQ(encoded(static_cast<ValueType>(77), {}).status().code(), StatusCode::kInvalidInput);
+  // In range: 1.5 and 2.5 rounded away from zero, -0.4 to 0; a float32's NaN kept.
+  for (const auto& [type, values, expected] :
+       std::vector<std::tuple<ValueType, std::vector<double>, std::vector<double>>>{
+           {ValueType::kI32, {1.5, 2.5, -0.4, -2.6}, {2, 3, 0, -3}},
+           {ValueType::kU8, {254.6, 0.2}, {255, 0}},
+           {ValueType::kF32, {NAN, INFINITY, 0.1}, {NAN, INFINITY, static_cast<float>(0.1)}}}) {
+    const auto out = encoded(type, values);
+    ASSERT_TRUE(out.ok()) << out.status().message();
+    ProgressiveDecoder dec;
+    ASSERT_TRUE(decode_stream(out->bytes, dec).ok());
+    const auto& where = out->vertex_of_input;
+    for (size_t i = 0; i < values.size(); ++i) {
+      const double got = dec.fields()[0].value(where[i], 0);
+      if (std::isnan(expected[i]))
+        EXPECT_TRUE(std::isnan(got)) << i;
+      else
+        EXPECT_EQ(got, expected[i]) << i;
+    }
+  }
+  // Cell data: a cell's value its type cannot hold.
+  std::vector<double> cells(in.tets.size(), 1);
+  cells[3] = 70000;
+  const std::vector<EncodeInput::Field> cell_fields = {{"zone", ValueType::kU16, 1, cells}};
+  EncodeInput input;
+  input.points = in.points;
+  input.tetrahedra = in.tets;
+  input.cell_fields = cell_fields;
+  const auto out = encode(input);
+  ASSERT_EQ(out.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(out.status().message().find("field 'zone': cell 3 holds 70000, which is not a uint16 value"),
+            std::string::npos)
+      << out.status().message();
 }
 
 // A caller short of memory frees its points, values and tetrahedra when the

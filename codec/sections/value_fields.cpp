@@ -66,11 +66,15 @@ uint64_t bits_of(double v, ValueType t) {
     case ValueType::kF64:
       return bit_cast<uint64_t>(v);
     case ValueType::kU64:
+      v = std::round(v);
       return std::isfinite(v) && v >= 0 && v < 0x1p64 ? static_cast<uint64_t>(v) : 0;
     default: {
       // Every narrower integer fits an int64; its two's complement bits.
       const auto [lowest, highest] = ordered_range(t);
-      if (!std::isfinite(v) || v < static_cast<double>(lowest) || v > static_cast<double>(highest)) return 0;
+      v = std::round(v);
+      if (!std::isfinite(v) || v < static_cast<double>(lowest) || v >= 0x1p63 ||
+          v > static_cast<double>(highest))
+        return 0;
       return static_cast<uint64_t>(static_cast<int64_t>(v));
     }
   }

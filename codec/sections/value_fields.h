@@ -43,8 +43,10 @@ struct FieldDescription {
 const char* value_type_name(ValueType t);
 bool is_float(ValueType t);
 
-// Raw bits of a value given as a double, and back. Integers are rounded
-// toward zero; 64-bit integers beyond 2^53 are not exact as doubles.
+// Raw bits of a value given as a double, and back. Integers are rounded to
+// the nearest (halves away from zero); 64-bit integers beyond 2^53 are not exact
+// as doubles; a value outside the type's range gives 0 (refused before, by
+// check_field_values).
 uint64_t bits_of(double v, ValueType t);
 double value_of(uint64_t bits, ValueType t);
 
@@ -62,6 +64,13 @@ struct FieldValues {
 // positive bound, and value_counts[f] = points x components of field f.
 Status check_fields(std::span<const FieldDescription> fields, std::span<const size_t> value_counts,
                     size_t points);
+
+// kInvalidInput, naming the field and the `each` ("point", "cell") of the
+// first value that the field's type cannot hold: an integer type's NaN, an
+// infinity or a value outside its range once rounded to the nearest
+// integer, a float32's finite value beyond its range. (Not checked, the
+// value would be stored as 0 or an infinity.)
+Status check_field_values(const FieldDescription& f, std::span<const double> values, const char* each);
 
 std::vector<uint8_t> write_field_table(std::span<const FieldDescription> fields);
 // Parses the table at the start of `bytes`: kNeedMoreInput until it is all

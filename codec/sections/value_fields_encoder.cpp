@@ -1,5 +1,9 @@
 // The field table and the value sections written (spec/FORMAT.md §2.1,
 // §3.3, §3.5): the encoder's side of value_fields.h.
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -40,11 +44,40 @@ Status check_fields(std::span<const FieldDescription> fields, std::span<const si
       return invalid_input(field + " has " + std::to_string(value_counts[i]) + " values for " +
                            std::to_string(points) + " points of " + std::to_string(f.components) +
                            " components");
+    if (static_cast<uint8_t>(f.type) > static_cast<uint8_t>(ValueType::kF64))
+      return invalid_input(field + " has the type number " + std::to_string(static_cast<int>(f.type)) +
+                           ", which is none (int8 to float64)");
     if (f.lossy && !is_float(f.type))
       return invalid_input(field + " holds " + value_type_name(f.type) +
                            " values: only float fields can be lossy");
     if (f.lossy && !(f.error_bound > 0 && std::isfinite(f.error_bound)))
       return invalid_input(field + ": the error bound must be positive");
+  }
+  return Status::Ok();
+}
+
+Status check_field_values(const FieldDescription& f, std::span<const double> values, const char* each) {
+  if (f.type == ValueType::kF64 || f.components < 1) return Status::Ok();
+  const bool single = f.type == ValueType::kF32;
+  // (ordered_range's bounds as doubles: 2^63 and 2^64 round up, so the top
+  // of the 64-bit types is refused below, not wrapped.)
+  const auto [lowest, highest] = ordered_range(f.type);
+  const double low =
+      single ? -static_cast<double>(std::numeric_limits<float>::max()) : static_cast<double>(lowest);
+  const double high =
+      single ? static_cast<double>(std::numeric_limits<float>::max()) : static_cast<double>(highest);
+  for (size_t i = 0; i < values.size(); ++i) {
+    const double v = values[i];
+    // A float32 keeps NaN and the infinities; an integer holds neither.
+    if (single && !std::isfinite(v)) continue;
+    const double kept = single ? v : std::round(v);
+    const bool top_64 = (f.type == ValueType::kI64 || f.type == ValueType::kU64) && kept >= high;
+    if (std::isfinite(kept) && kept >= low && kept <= high && !top_64) continue;
+    std::ostringstream value;
+    value << std::setprecision(17) << v;
+    return invalid_input("field '" + f.name + "': " + each + " " + std::to_string(i / f.components) +
+                         " holds " + value.str() + ", which is not a " + value_type_name(f.type) + " value" +
+                         (single ? " (beyond float32's range)" : ""));
   }
   return Status::Ok();
 }
