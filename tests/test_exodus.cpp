@@ -342,7 +342,8 @@ TEST(Exodus, VariablesNotShapedAsExodusAreRefused) {
 }
 
 // Variables defined, no time step written (a run stopped before its
-// first): the mesh is read, the variables named; node sets of one name and
+// first): the mesh is read, the variables named; node sets of one name (a
+// named set's id that meshdec's .e will not give it again said) and
 // element variables beyond the stream's 32 kept apart or named; a QUAD's
 // sides are its edges.
 TEST(Exodus, TheStreamsLimitsAndTheLessCommonForms) {
@@ -355,7 +356,7 @@ TEST(Exodus, TheStreamsLimitsAndTheLessCommonForms) {
     EXPECT_EQ(ex_put_conn(id, EX_ELEM_BLOCK, 1, tet.data(), nullptr, nullptr), 0);
     EXPECT_EQ(ex_put_conn(id, EX_ELEM_BLOCK, 2, quad.data(), nullptr, nullptr), 0);
     const std::vector<int64_t> a = {1}, b = {2};
-    for (int64_t s : {1, 2}) {
+    for (int64_t s : {1, 4}) {
       EXPECT_EQ(ex_put_set_param(id, EX_NODE_SET, s, 1, 0), 0);
       EXPECT_EQ(ex_put_set(id, EX_NODE_SET, s, s == 1 ? a.data() : b.data(), nullptr), 0);
     }
@@ -375,6 +376,9 @@ TEST(Exodus, TheStreamsLimitsAndTheLessCommonForms) {
   ASSERT_EQ(m.fields.size(), 2u);
   EXPECT_EQ(m.fields[0].name, "nset:fixed");
   EXPECT_EQ(m.fields[1].name, "nset:fixed_2");
+  // meshdec's .e numbers named sets 1, 2, ...: set 4's id is said.
+  EXPECT_TRUE(leaves_out(m, "the ids of node sets 4 'fixed' as 2"));
+  EXPECT_FALSE(leaves_out(m, "the ids of node sets 1"));
   // (The quadrilateral itself is a tagged face, by its block's id.)
   EXPECT_EQ(std::set<int32_t>(m.face_tags.begin(), m.face_tags.end()), std::set<int32_t>{2});
 }

@@ -21,7 +21,8 @@ namespace dtm {
 // * side sets: the sides of those elements, tagged faces (the set's id the
 //   tag, its name the tag's);
 // * node sets: a uint8 field "nset:NAME" each (kNodeSetFieldPrefix; the
-//   set's id where it has no name);
+//   set's id where it has no name: a named set's id that render_exodus()
+//   would not give it again is named as left out);
 // * the nodal variables at time step `time_step` (1 the first; 0, the
 //   last), point fields (X_x, X_y, X_z one 3-component field X), and the
 //   element variables defined on every solid block, cell data.
@@ -38,6 +39,11 @@ InputMesh read_exodus(const std::string& path, int time_step = 0);
 // field as X_x, X_y, X_z). Throws std::runtime_error if libexodusii
 // fails.
 std::string render_exodus(const OutputMesh& mesh);
+
+// The ids render_exodus() gives what `labels` name (blocks, side sets,
+// node sets): each label where it is positive and not taken before, the
+// others the next free ids from 1.
+std::vector<int64_t> exodus_ids(const std::vector<int64_t>& labels);
 
 // Where render_exodus() gives a region or a face tag another id than its
 // label (a label of 0 or less: Exodus ids are positive; a region of linear

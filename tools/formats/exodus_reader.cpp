@@ -526,6 +526,10 @@ class Reader {
     const std::vector<std::string> set_names = names(EX_NODE_SET, set_ids.size(), "node sets");
     std::vector<std::string> unkept;
     uint64_t factors = 0;
+    // The ids the sets kept get again in meshdec's .e: an unnamed set's is
+    // its name, a named set's the next free one.
+    std::vector<int64_t> labels;
+    std::vector<size_t> kept;
     for (size_t s = 0; s < set_ids.size(); ++s) {
       const std::string shown =
           "node set " + std::to_string(set_ids[s]) + (set_names[s].empty() ? "" : " '" + set_names[s] + "'");
@@ -553,7 +557,23 @@ class Reader {
         f.values[static_cast<size_t>(v - 1)] = 1;
       }
       out_.fields.push_back(std::move(f));
+      // (As render_exodus() reads the name back: a number is the id.)
+      const std::string after = name.substr(std::string(kNodeSetFieldPrefix).size());
+      const bool number =
+          !after.empty() && after.size() < 10 && std::all_of(after.begin(), after.end(), ::isdigit);
+      labels.push_back(number ? std::stoll(after) : 0);
+      kept.push_back(s);
     }
+    const std::vector<int64_t> again = exodus_ids(labels);
+    std::vector<std::string> renumbered;
+    for (size_t k = 0; k < kept.size(); ++k)
+      if (again[k] != set_ids[kept[k]])
+        renumbered.push_back(std::to_string(set_ids[kept[k]]) +
+                             (set_names[kept[k]].empty() ? "" : " '" + set_names[kept[k]] + "'") + " as " +
+                             std::to_string(again[k]));
+    if (!renumbered.empty())
+      notes_.push_back("the ids of node sets " + joined(renumbered) +
+                       " (the stream keeps a node set's name, or its id where it has none)");
     if (!unkept.empty())
       notes_.push_back("node sets " + joined(unkept) +
                        " (a stream holds 32 fields, each named in 64 bytes: nset:NAME)");

@@ -65,22 +65,6 @@ struct OutBlock {
   std::vector<uint32_t> cells;
 };
 
-// The ids of `labels` where they are positive, the others the next free ones.
-std::vector<int64_t> exodus_ids(const std::vector<int64_t>& labels) {
-  std::set<int64_t> used;
-  std::vector<int64_t> out;
-  out.reserve(labels.size());
-  for (int64_t l : labels) out.push_back(l > 0 && used.insert(l).second ? l : 0);
-  int64_t next = 1;
-  for (int64_t& id : out)
-    if (id == 0) {
-      while (used.count(next)) ++next;
-      used.insert(next);
-      id = next;
-    }
-  return out;
-}
-
 std::vector<std::string> component_names(const OutputField& f) {
   if (f.components == 1) return {f.name};
   std::vector<std::string> out;
@@ -125,6 +109,21 @@ std::vector<std::pair<int32_t, int64_t>> side_set_ids(const OutputMesh& m) {
 }
 
 }  // namespace
+
+std::vector<int64_t> exodus_ids(const std::vector<int64_t>& labels) {
+  std::set<int64_t> used;
+  std::vector<int64_t> out;
+  out.reserve(labels.size());
+  for (int64_t l : labels) out.push_back(l > 0 && used.insert(l).second ? l : 0);
+  int64_t next = 1;
+  for (int64_t& id : out)
+    if (id == 0) {
+      while (used.count(next)) ++next;
+      used.insert(next);
+      id = next;
+    }
+  return out;
+}
 
 std::string render_exodus(const OutputMesh& m) {
   TemporaryFile temporary;
