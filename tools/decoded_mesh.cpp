@@ -153,6 +153,21 @@ void append_edge_nodes(OutputMesh& mesh, const EdgeNodeParts& parts, std::span<c
   for (const auto& f : parts.faces) mesh.face_edge_nodes.push_back({point(f[0]), point(f[1]), point(f[2])});
 }
 
+// A face's corners turned (an even permutation: its orientation kept) so
+// that the one at the smallest grid point comes first: the rotation a cell's
+// corners left it in depends on how the cells were made (a level decoded
+// whole or as a stream fed in chunks, a region's cells), its points do not.
+std::array<uint32_t, 3> smallest_point_first(std::array<uint32_t, 3> t, std::span<const GridPoint> points) {
+  const auto at = [&](int i) {
+    return std::array<int32_t, 3>{points[t[i]].x, points[t[i]].y, points[t[i]].z};
+  };
+  int first = 0;
+  for (int i = 1; i < 3; ++i)
+    if (at(i) < at(first)) first = i;
+  std::rotate(t.begin(), t.begin() + first, t.end());
+  return t;
+}
+
 }  // namespace
 
 OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& input, bool with_edge_nodes) {
@@ -189,8 +204,9 @@ OutputMesh decoded_mesh(const ProgressiveDecoder& decoder, const std::string& in
     const std::vector<RegionLabel>& table = decoder.face_tag_table();
     for (size_t f = 0; f < surface.faces.size(); ++f) {
       if (tag[f] < 2) continue;
-      mesh.faces.push_back(
-          outward_triangle(dt, mesh.points, {surface.faces[f].cell, surface.faces[f].opposite}));
+      mesh.faces.push_back(smallest_point_first(
+          outward_triangle(dt, mesh.points, {surface.faces[f].cell, surface.faces[f].opposite}),
+          mesh.points));
       mesh.face_tags.push_back(table[tag[f] - 2u].label);
     }
     for (const RegionLabel& t : table)
@@ -352,7 +368,8 @@ OutputMesh region_output(const RegionMesh& region, const Grid& grid) {
     mesh.cell_fields.push_back(
         {f.description.name, scalar_type(f.description.type), f.description.components, f.bits});
   // With tagged faces, the cells' tagged surface faces and the tags' names.
-  mesh.faces = region.faces;
+  mesh.faces.reserve(region.faces.size());
+  for (const auto& face : region.faces) mesh.faces.push_back(smallest_point_first(face, mesh.points));
   for (uint8_t t : region.face_labels) mesh.face_tags.push_back(region.face_tags.at(t - 2u).label);
   for (const RegionLabel& t : region.face_tags)
     if (!t.name.empty()) mesh.face_tag_names[t.label] = t.name;

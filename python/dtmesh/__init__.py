@@ -227,8 +227,12 @@ class Mesh:
             if len(cells) > 1:
                 blocks.append(np.zeros((len(self.faces),) + values.shape[1:], values.dtype))
             cell_data[name] = blocks
+        # What the decoder makes itself (a box's or a piece's vertex_id too: no
+        # stream's field may have that name), which meshio.write("x.dtm")
+        # leaves out without a word.
+        derived = ["level", "boundary"] + (["vertex_id"] if "vertex_id" in point_data else [])
         return meshio.Mesh(self.points, cells, point_data=point_data, cell_data=cell_data, field_data=field_data,
-                           cell_sets=cell_sets, info={"dtmesh_derived": ["level", "boundary"]})
+                           cell_sets=cell_sets, info={"dtmesh_derived": derived})
 
     def to_vtk(self):
         """This level as a ``vtkUnstructuredGrid`` (see :func:`to_vtk`)."""
@@ -407,7 +411,9 @@ def encode(
             distinct, all coplanar), or a field that cannot be coded as asked.
         ValueError, TypeError: arguments of the wrong shape, type or range.
     """
-    if not isinstance(brick_points, (int, np.integer)) or not 1 <= brick_points <= 2**32:
+    if not _is_int(qbits) or not 1 <= qbits <= 24:
+        raise ValueError(f"qbits must be an int from 1 to 24 (meshenc's --qbits), got {qbits!r}")
+    if not _is_int(brick_points) or not 1 <= brick_points <= 2**32:
         raise ValueError(f"brick_points must be an int from 1 to 2**32 (meshenc's --brick-points), got {brick_points!r}")
     p = np.ascontiguousarray(np.asarray(points, dtype=np.float64))
     if p.ndim != 2 or p.shape[1] != 3:
@@ -438,6 +444,12 @@ def encode(
     if region_names and regions is None:
         raise ValueError("region_names name regions: give the regions too")
     face_names = {int(tag): str(name) for tag, name in (face_tag_names or {}).items()}
+    # (A name whose label no cell or face has would be dropped in silence.)
+    for what, named, labels in (("region_names", names, r), ("face_tag_names", face_names, ft)):
+        absent = sorted(set(named) - set(np.unique(labels).tolist())) if named and labels is not None else []
+        if absent:
+            raise ValueError(f"{what} name labels that no {'tetrahedron' if what == 'region_names' else 'face'} "
+                             f"has: {absent}")
     # (The decoder makes these arrays itself: a field or cell array of the
     # name would be hidden behind them.)
     for name in fields or {}:
@@ -582,6 +594,9 @@ class Decoder:
         """
         if self._finished:
             raise ValueError("feed() after finish(): the input has ended (a new Decoder reads another stream)")
+        if not isinstance(chunk, (bytes, bytearray, memoryview)):
+            raise TypeError(f"feed() takes the stream's bytes (bytes, bytearray, memoryview), got "
+                            f"{type(chunk).__name__}: decode() reads a file by its path")
         return [_mesh_of(d) for d in self._decoder.feed(_as_bytes(chunk), True)]
 
     def finish(self) -> None:
@@ -619,7 +634,7 @@ class Decoder:
 
 
 def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None, *,
-           threads: Optional[int] = None) -> Mesh:
+           threads: Optional[int] = None, max_vertices: int = _dtmesh.default_max_vertices) -> Mesh:
     """Decodes a stream (bytes, or a file's path) to one level of detail.
 
     Args:
@@ -627,6 +642,8 @@ def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None, *,
         level: the level to decode (0 = the finest); None: the finest present.
         threads: threads to use for this call (meshdec's ``--threads``); None:
             :func:`set_threads`'s, by default the cores the process may run on.
+        max_vertices: refuse a stream that claims more vertices (meshdec's
+            ``--max-vertices``).
 
     Returns:
         :class:`Mesh`. A truncated stream gives its finest whole level, with a
@@ -636,7 +653,7 @@ def decode(data: Union[Bytes, str, os.PathLike], level: Optional[int] = None, *,
         Error: the stream is damaged or foreign, holds no whole level, or has
             no such level.
     """
-    decoder = _dtmesh.Decoder(_level_arg(level), int(_dtmesh.default_max_vertices))
+    decoder = _dtmesh.Decoder(_level_arg(level), _max_vertices_arg(max_vertices))
     with _threads_for_call(threads), _named(data):
         decoder.feed(_as_bytes(data), False)
         truncated = decoder.finish()

@@ -207,6 +207,17 @@ def write(filename, mesh, **options):
     # What the stream does not hold yet is named, as meshenc names it:
     # nothing of a user's mesh is left out without a word.
     left_out = [what for what in (split, set_aside) if what]
+    # A physical group's name without cells or faces of its label (gmsh
+    # lists every group): named, not given to encode(), which refuses it.
+    for what, labels_of in (("region_names", "regions"), ("face_tag_names", "face_tags")):
+        if options.get(what) and options.get(labels_of) is not None:
+            present = set(np.unique(np.asarray(options[labels_of])).tolist())
+            unheld = {label: name for label, name in options[what].items() if label not in present}
+            if unheld:
+                options[what] = {label: name for label, name in options[what].items() if label in present}
+                left_out.append(f"the names of {'regions' if what == 'region_names' else 'face tags'} without "
+                                f"{'cells' if what == 'region_names' else 'faces'}: " +
+                                ", ".join(f"{label} '{name}'" for label, name in sorted(unheld.items())))
     if others:
         left_out.append("cells other than tetrahedra (" + ", ".join(f"{n} {t}" for t, n in others.items()) + ")")
     # Copies of the regions (a decoded mesh gives them under several names) are kept with them.

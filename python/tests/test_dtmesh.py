@@ -372,8 +372,11 @@ def test_bricked_streams_read_by_box_and_in_pieces(corpus, tmp_path):
             assert key not in pieces, "a cell in two pieces"
             pieces[key] = values
     assert pieces == everything
-    # A part converts as a level does (without boundary: it has none).
+    # A part converts as a level does (without boundary: it has none), and
+    # meshio writes it back as a stream, its vertex_id (the decoder's) left out.
     assert "boundary" not in piece.to_meshio().point_data
+    meshio.write(tmp_path / "piece.dtm", piece.to_meshio())
+    assert "vertex_id" not in dtmesh.decode(tmp_path / "piece.dtm").fields
     assert piece.to_vtk().GetNumberOfCells() == len(piece.tetrahedra)
     assert dtmesh.decode_piece(stream, 0, 2, level=1).cell_data == {}  # level 1 has none
     with pytest.raises(ValueError, match="piece"):
@@ -480,6 +483,12 @@ def test_regions_through_numpy_meshio_and_gmsh(tmp_path):
     finest = dtmesh.decode(out.read_bytes())
     assert sorted(set(finest.face_tags.tolist())) == [3, 4]
     assert finest.faces.shape == (finest.face_tags.shape[0], 3)
+    # The stream fed in chunks gives the same faces, row for row, corners in the same turn.
+    decoder = dtmesh.Decoder()
+    fed = [decoder.feed(out.read_bytes()[k:k + 4000]) for k in range(0, len(out.read_bytes()), 4000)]
+    decoder.finish()
+    np.testing.assert_array_equal(decoder.mesh().faces, finest.faces)
+    np.testing.assert_array_equal([level for chunk in fed for level in chunk][-1].faces, finest.faces)
     # In bricks (17.0): the same tags on every level, and the pieces hold the whole level's tagged
     # faces, each once.
     bricked = dtmesh.encode(mesh.points, tets, regions=labels, region_names={1: "aluminium", 2: "steel"},
@@ -913,6 +922,18 @@ def test_bad_arguments_are_refused_not_truncated_and_leave_no_state(tmp_path):
         dtmesh.decode(damaged)
     with pytest.raises(TypeError, match="a stream is bytes"):
         dtmesh.decode(5)
+    # A float or text where an int is asked; a name whose label nothing has;
+    # a path fed to a Decoder (decode() reads files); a bound on the vertices.
+    with pytest.raises(ValueError, match="qbits must be an int"):
+        dtmesh.encode(points, tets, qbits=2.7)
+    with pytest.raises(ValueError, match="brick_points must be an int"):
+        dtmesh.encode(points, tets, bricks=True, brick_points=True)
+    with pytest.raises(ValueError, match=r"region_names name labels that no tetrahedron has: \[9\]"):
+        dtmesh.encode(points, tets, regions=np.ones(len(tets), np.int32), region_names={1: "steel", 9: "typo"})
+    with pytest.raises(TypeError, match="feed.. takes the stream's bytes"):
+        dtmesh.Decoder().feed(str(damaged))
+    with pytest.raises(dtmesh.Error, match="vertices"):
+        dtmesh.decode(stream, max_vertices=10)
 
 
 def test_meshio_write_gives_meshencs_stream_of_gmsh_and_meshdec_files(tmp_path):
