@@ -26,6 +26,8 @@ put the directory holding it on PYTHONPATH.
 """
 import inspect
 import json
+import sys
+import warnings
 
 import numpy as np
 
@@ -62,14 +64,63 @@ class DtmeshReader(VTKPythonAlgorithmBase):
         info.Set(vtkDataObject.DATA_TYPE_NAME(), "vtkUnstructuredGrid" if port == 0 else "vtkPolyData")
         return 1
 
+    def _say(self, message):
+        # ParaView's Output Messages window shows standard error.
+        print(f"dtmesh reader: {self._filename}: {message}", file=sys.stderr)
+
     def _stream(self):
         if self._bytes is None and self._filename:
             if dtmesh is None:
                 raise RuntimeError(f"the dtmesh Python package is not importable here: {_import_error}")
             with open(self._filename, "rb") as f:
                 self._bytes = f.read()
-            self._info = dtmesh.info(self._bytes)
+            try:
+                self._info = dtmesh.info(self._bytes)
+            except dtmesh.Error as e:
+                # A damaged stream: the levels before the damage are shown
+                # (_decode), the damage said once here.
+                self._info = None
+                self._say(e)
         return self._bytes
+
+    def _level_count(self):
+        if self._info is not None:
+            return self._info["level_count"]
+        decoder = dtmesh.Decoder()
+        try:
+            decoder.feed(self._bytes)
+        except dtmesh.Error:
+            pass
+        return max(1, decoder.level_count)
+
+    def _decode(self, level):
+        """The level's mesh; where the stream is cut or damaged before it, the
+        finest whole level before that, said; None when there is none."""
+        try:
+            with warnings.catch_warnings(record=True) as said:
+                warnings.simplefilter("always")
+                mesh = dtmesh.decode(self._bytes, level)
+            for w in said:
+                self._say(w.message)
+            return mesh
+        except dtmesh.Error as e:
+            if self._info is not None:
+                self._say(e)
+        # Fed as a viewer would: the levels complete before the cut or the
+        # damage stand.
+        decoder = dtmesh.Decoder()
+        try:
+            decoder.feed(self._bytes)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                decoder.finish()
+        except dtmesh.Error:
+            pass
+        if decoder.finest_level < 0:
+            self._say("no whole level to show")
+            return None
+        self._say(f"showing level {decoder.finest_level}, the finest whole level")
+        return decoder.mesh()
 
     @smproperty.stringvector(name="FileName")
     @smdomain.filelist()
@@ -84,7 +135,7 @@ class DtmeshReader(VTKPythonAlgorithmBase):
     def GetLevelRange(self):
         if self._stream() is None:
             return (0, 0)
-        return (0, max(0, self._info["level_count"] - 1))
+        return (0, max(0, self._level_count() - 1))
 
     # default_mode="min": a range domain's default is its middle unless
     # told, and File > Open showed a middle level, not the finest.
@@ -99,23 +150,25 @@ class DtmeshReader(VTKPythonAlgorithmBase):
             self.Modified()
 
     def RequestData(self, request, in_info, out_info):
-        data = self._stream()
-        level = min(max(0, int(self._level)), self._info["level_count"] - 1)
+        if self._stream() is None:
+            return 1
+        level = min(max(0, int(self._level)), self._level_count() - 1)
         if level not in self._meshes:
-            try:
-                self._meshes[level] = dtmesh.decode(data, level)
-            except dtmesh.Error:
-                # A truncated stream that does not reach the level: its
-                # finest whole level, shown as what it is (dtm_level).
-                self._meshes[level] = dtmesh.decode(data)
+            # A stream cut or damaged before the level: its finest whole
+            # level, shown as what it is (dtm_level).
+            self._meshes[level] = self._decode(level)
         mesh = self._meshes[level]
+        if mesh is None:
+            return 1
         level = mesh.level
         output = vtkUnstructuredGrid.GetData(out_info, 0)
         output.ShallowCopy(dtmesh.to_vtk(mesh))
         # The stream's figures, for the Information panel.
         fields = dataset_adapter.WrapDataObject(output).FieldData
         fields.append(np.array([level]), "dtm_level")
-        fields.append(np.array([self._info["level_count"]]), "dtm_level_count")
+        fields.append(np.array([self._level_count()]), "dtm_level_count")
+        if self._info is None:  # (damaged: meshinfo's figures are not known)
+            return self._faces(mesh, output, out_info)
         fields.append(np.array([self._info["bytes"]]), "dtm_stream_bytes")
         fields.append(np.array([self._info["bits_per_vertex"]]), "dtm_bits_per_vertex")
         layers = [row for row in self._info["levels"] if row["level"] >= level]
@@ -124,6 +177,9 @@ class DtmeshReader(VTKPythonAlgorithmBase):
         summary.SetName("dtm_info")
         summary.InsertNextValue(json.dumps(self._info))
         output.GetFieldData().AddArray(summary)
+        return self._faces(mesh, output, out_info)
+
+    def _faces(self, mesh, output, out_info):
         # The tagged faces on their own (the second output): triangles with
         # their tag as cell data `face_tag`, on the level's points.
         faces = vtkPolyData.GetData(out_info, 1)

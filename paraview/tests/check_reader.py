@@ -8,7 +8,8 @@ and checks again, and saves a screenshot of the coarsest beside the finest.
 With REGIONS_STREAM (a stream with regions), checks that every level's cells
 carry the cell array `region`, with the stream's labels, and that level 0
 (and no other) carries the stream's cell arrays. A copy of STREAM cut inside
-level 0's layer shows level 1 at Level 0, saying so.
+level 0's layer shows level 1 at Level 0, saying so; so does a copy damaged
+there.
 Exit status 0 and "N passed, 0 failed" when every check holds.
 """
 import inspect
@@ -146,6 +147,24 @@ shown = servermanager.Fetch(cut_reader)
 shown_level = int(shown.GetFieldData().GetArray("dtm_level").GetValue(0))
 check(f"a cut stream at Level 0 shows its finest whole level as it is (dtm_level {shown_level})",
       shown_level == 1 and shown.GetNumberOfPoints() == rows[1]["vertices"])
+# A stream damaged inside level 0's layer (its checksum fails): Level 0
+# shows level 1, the finest whole level before the damage, where the reader
+# raised before and showed nothing.
+damaged = os.path.join(os.path.dirname(os.path.abspath(screenshot)), "paraview_reader_damaged.dtm")
+flip = len(whole) - rows[0]["layer_bytes"] // 2
+with open(damaged, "wb") as f:
+    f.write(whole[:flip] + bytes([whole[flip] ^ 0x10]) + whole[flip + 1:])
+damaged_reader = OpenDataFile(damaged)
+damaged_reader.UpdatePropertyInformation()
+check("a damaged stream's Level range is still the stream's levels",
+      list(damaged_reader.GetProperty("LevelRange")) == [0, info["level_count"] - 1])
+damaged_reader.Level = 0
+damaged_reader.UpdatePipeline()
+shown = servermanager.Fetch(damaged_reader)
+shown_level = shown.GetFieldData().GetArray("dtm_level")
+check("a stream damaged in level 0 shows level 1, as it is",
+      shown_level is not None and int(shown_level.GetValue(0)) == 1 and
+      shown.GetNumberOfPoints() == rows[1]["vertices"])
 say(f"{passed} passed, {failed} failed")
 # Straight out: Xvfb's GLX fails ParaView's render-window teardown at exit
 # (GLXBadContext), which would turn a passing run's status into 1.
