@@ -388,6 +388,11 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
               "the stream ends at byte " + std::to_string(size) + ", before the end of " + what};
     plan.layers.push_back(std::move(p));
   }
+  // Past level 0, the last layer, bytes are refused as the whole decoder
+  // refuses them (spec/FORMAT.md §4), whichever chunks a region reads.
+  if (walk.done() && reader.source().size() > walk.offset())
+    return {StatusCode::kCorrupt,
+            "trailing data after the last layer, which ends at byte " + std::to_string(walk.offset())};
   return Status::Ok();
 }
 

@@ -689,6 +689,18 @@ TEST(BrickedStream, PiecesPartitionTheLevel) {
   }
   MemorySource source(bytes);
   EXPECT_FALSE(decode_piece(source, 0, 4, 4).ok());
+  // Bytes after level 0's layer: refused by a piece as by the whole decoder
+  // (spec/FORMAT.md §4), not read past; a coarser level's piece does not
+  // reach them.
+  std::vector<uint8_t> trailing = bytes;
+  trailing.insert(trailing.end(), {1, 2, 'j', 'u', 'n', 'k'});
+  MemorySource with_junk(trailing);
+  const auto refused = decode_piece(with_junk, 0, 0, 2);
+  ASSERT_EQ(refused.status().code(), StatusCode::kCorrupt);
+  EXPECT_NE(refused.status().message().find("trailing data after the last layer"), std::string::npos)
+      << refused.status().message();
+  MemorySource coarser(trailing);
+  EXPECT_TRUE(decode_piece(coarser, 2, 0, 2).ok());
 }
 
 // --box sets the units the encoder measures in; a bricked stream, like a
