@@ -147,6 +147,7 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   if (header_.flags & kFlagCellHashes) d.cell_hash = lh.cell_hash;
   d.stream_bytes = layer.offset + layer.size();
   levels_.push_back(d);
+  finest_offset_ = layer.offset;
   // Only the finest level's carving is ever asked for (carved_cells()).
   carving_.assign(layer.carving.begin(), layer.carving.end());
   region_section_.assign(layer.regions.begin(), layer.regions.end());
@@ -279,7 +280,7 @@ std::vector<uint8_t> ProgressiveDecoder::bricked_carving(const TetMesh& dt,
     s = decode_region_chunks(chunk_sections(&ChunkBytes::regions), dt, cells, b.chunk_of_cell,
                              regions_.size(), kept);
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
+    mesh_status_ = s.with_context(finest_where());
     return {};
   }
   return kept;
@@ -297,6 +298,10 @@ Status ProgressiveDecoder::finish() const {
 }
 
 int ProgressiveDecoder::finest_level() const { return levels_.empty() ? -1 : levels_.back().level; }
+
+std::string ProgressiveDecoder::finest_where() const {
+  return "level " + std::to_string(finest_level()) + " at byte " + std::to_string(finest_offset_);
+}
 
 uint32_t ProgressiveDecoder::level_vertices(int level) const {
   for (const auto& l : levels_)
@@ -330,7 +335,7 @@ void ProgressiveDecoder::insert_pending() const {
   const bool shared = parallel_delaunay_available() && batch.size() >= kParallelLayer;
   const Status s = one_layer && !shared ? dt_.insert_one_by_one(batch, ids) : dt_.insert(batch, ids);
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
+    mesh_status_ = s.with_context(finest_where());
     return;
   }
   inserted_ = points_.size();
@@ -368,7 +373,7 @@ std::vector<uint8_t> ProgressiveDecoder::carving(const TetMesh& dt, std::vector<
   if (s.ok() && (header_.flags & kFlagRegions) && !exact_level())
     s = decode_regions(region_section_, dt, order, regions_.size(), kept);
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
+    mesh_status_ = s.with_context(finest_where());
     return {};
   }
   return kept;
@@ -400,7 +405,7 @@ ProgressiveDecoder::LevelCells ProgressiveDecoder::level_cells() const {
       s = decode_regions(region_section_, out.mesh, out.order, regions_.size(), out.kept);
   }
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level 0");
+    mesh_status_ = s.with_context(finest_where());
     return {};
   }
   return out;
@@ -420,7 +425,7 @@ std::vector<uint8_t> ProgressiveDecoder::face_tags(const TetMesh& dt, std::span<
                        ? bricked_face_tags(dt, kept, surface, tag)
                        : decode_face_tags(face_section_, surface, face_tags_.size(), tag);
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level " + std::to_string(finest_level()));
+    mesh_status_ = s.with_context(finest_where());
     return {};
   }
   return tag;
@@ -496,7 +501,7 @@ std::vector<FieldValues> ProgressiveDecoder::cell_data(const TetMesh& dt, std::s
     s = decode_cell_values(cell_fields_, cell_value_section_, cell_positions(points_, cells), out);
   }
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level 0's cell values");
+    mesh_status_ = s.with_context(finest_where() + ", its cell values");
     return {};
   }
   return out;
@@ -507,7 +512,7 @@ std::vector<uint32_t> ProgressiveDecoder::vertex_order(const TetMesh& dt) const 
   if (!(header_.flags & kFlagVertexOrder) || finest_level() != 0 || !mesh_status_.ok()) return order;
   const Status s = decode_vertex_order(order_section_, vertex_neighbours(points_.size(), dt.cells), order);
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level 0's vertex order");
+    mesh_status_ = s.with_context(finest_where());
     return {};
   }
   return order;
@@ -520,7 +525,7 @@ std::vector<uint32_t> ProgressiveDecoder::node_order(const EdgeNodes& nodes) con
   const Status s = decode_node_order(node_order_section_, nodes.edges,
                                      node_order_frame(nodes.edges, nodes.present), points_.size(), numbering);
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level 0");
+    mesh_status_ = s.with_context(finest_where());
     return {};
   }
   return numbering;
@@ -531,7 +536,7 @@ std::vector<int64_t> ProgressiveDecoder::node_labels(size_t nodes) const {
   if (!(header_.flags & kFlagNodeLabels) || finest_level() != 0 || !mesh_status_.ok()) return labels;
   const Status s = decode_node_labels(node_label_section_, nodes, labels);
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level 0");
+    mesh_status_ = s.with_context(finest_where());
     return {};
   }
   return labels;
@@ -551,7 +556,7 @@ ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& l
   const Status s = decode_edge_nodes(edge_node_section_, out.edges, header_.grid.qbits, nodes,
                                      predictor ? &*predictor : nullptr);
   if (!s.ok()) {
-    mesh_status_ = s.with_context("level 0's edge nodes");
+    mesh_status_ = s.with_context(finest_where() + ", its edge nodes");
     return {};
   }
   // (19.0: their values, predicted from the vertices'.)
@@ -573,7 +578,7 @@ ProgressiveDecoder::EdgeNodes ProgressiveDecoder::edge_nodes(const LevelCells& l
       v = decode_edge_node_values(edge_value_section_, descriptions, fields_, out.edges, nodes.present,
                                   out.values);
     if (!v.ok()) {
-      mesh_status_ = v.with_context("level 0's edge nodes");
+      mesh_status_ = v.with_context(finest_where() + ", its edge nodes");
       return {};
     }
   }

@@ -232,7 +232,10 @@ class ProgressiveDecoder {
   bool has_header_ = false;
   bool has_field_table_ = false;
   bool has_region_table_ = false;
-  uint64_t tables_bytes_ = 0;  // the field and region tables' bytes
+  uint64_t tables_bytes_ = 0;   // the field and region tables' bytes
+  uint64_t finest_offset_ = 0;  // the finest level's layer: where it starts in the stream
+  // "level L at byte B": where an error in the finest level's sections is.
+  std::string finest_where() const;
   std::vector<RegionLabel> regions_;
   std::vector<uint8_t> region_section_;  // the finest level's
   bool has_face_table_ = false;

@@ -49,7 +49,7 @@ Status decode_node_labels(std::span<const uint8_t> section, size_t count, std::v
     if (!seen.insert(label).second) return bad_labels("label " + std::to_string(label) + " given twice");
     labels.push_back(label);
   }
-  if (!rc.finished_cleanly()) return bad_labels("the section does not end with its last label");
+  if (!rc.finished_cleanly()) return bad_labels("bytes after its last label's");
   return Status::Ok();
 }
 

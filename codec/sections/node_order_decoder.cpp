@@ -67,7 +67,7 @@ Status decode_node_order(std::span<const uint8_t> section, const LevelEdges& edg
     before_was_node = last_was_node;
     last_was_node = is_node;
   }
-  if (!rc.finished_cleanly()) return {StatusCode::kCorrupt, "node order: the section does not end with it"};
+  if (!rc.finished_cleanly()) return {StatusCode::kCorrupt, "node order: bytes after its last node's"};
   return Status::Ok();
 }
 

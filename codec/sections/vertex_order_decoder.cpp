@@ -54,7 +54,7 @@ Status decode_vertex_order(std::span<const uint8_t> section, const Csr& neighbou
     unvisited.visit(v);
     order.push_back(v);
   }
-  if (!rc.finished_cleanly()) return {StatusCode::kCorrupt, "vertex order: the section does not end with it"};
+  if (!rc.finished_cleanly()) return {StatusCode::kCorrupt, "vertex order: bytes after its last vertex's"};
   return Status::Ok();
 }
 
