@@ -377,6 +377,29 @@ TEST_F(Tools, AnOutputThatCannotBeWrittenOrIsTheInputIsRefusedFirst) {
   r = meshenc(dir_ + "/not_there.node --bricks --preset paper -o " + dir_ + "/x.dtm");
   EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
   EXPECT_NE(r.output.find("--bricks: bricked layers need the codec preset"), std::string::npos) << r.output;
+  r = meshenc(dir_ + "/not_there.node --quality-guard 0.1 -o " + dir_ + "/x.dtm");
+  EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
+  EXPECT_NE(r.output.find("--quality-guard: the per-removal quality rules belong to the paper preset"),
+            std::string::npos)
+      << r.output;
+  r = meshenc(dir_ + "/not_there.node --min-base -1 -o " + dir_ + "/x.dtm");
+  EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
+}
+
+// Extensions in any case: X.NODE reads its X.ELE beside it, -o X.VTU
+// writes a .vtu, -o Y.NODE its Y.ELE.
+TEST_F(Tools, ExtensionsInAnyCase) {
+  std::filesystem::copy_file(test::data_path("torus_288.node"), dir_ + "/T.NODE");
+  std::filesystem::copy_file(test::data_path("torus_288.ele"), dir_ + "/T.ELE");
+  CommandRun r = meshenc(dir_ + "/T.NODE -o " + dir_ + "/t.dtm");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("the input's 1080 tetrahedra"), std::string::npos) << r.output;
+  r = run_command(kMeshdec + " " + dir_ + "/t.dtm -o " + dir_ + "/OUT.VTU");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(read_input(dir_ + "/OUT.VTU").tets.size(), 1102u);
+  r = run_command(kMeshdec + " " + dir_ + "/t.dtm -o " + dir_ + "/Y.NODE");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir_ + "/Y.ELE"));
 }
 
 // A mesh meshdec wrote, encoded again: its point arrays level, boundary

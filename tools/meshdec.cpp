@@ -443,7 +443,7 @@ int run(const Command& c) {
   } else if (!problem.empty()) {
     throw std::invalid_argument(problem);
   }
-  if (ends_with(c.output, ".pvtu")) return run_pieces(c);
+  if (dtm::lower_extension(c.output) == ".pvtu") return run_pieces(c);
   // (Each rank would decode the same level and write the same file.)
   if (mpi.size() > 1 && !c.output.empty())
     throw dtm::UsageError("under mpirun, meshdec writes a level in pieces, one a rank: -o X.pvtu",
@@ -477,8 +477,8 @@ int run(const Command& c) {
   if (decoder.has_edge_nodes() && !dtm::writes_edge_nodes(format) && !c.quiet)
     std::fprintf(
         stderr,
-        "meshdec: the nodes on level 0's edges (a second-order mesh's) are not written: this format holds "
-        "linear cells (.vtu, .vtk, .msh, .inp and .e hold 10-node tetrahedra)\n");
+        "meshdec: the nodes on level 0's edges (a second-order mesh's) are not written: meshdec writes "
+        "this format's linear cells (.vtu, .vtk, .msh, .inp and .e hold 10-node tetrahedra)\n");
   // The input's numbering and node ids (--keep-order) are level 0's: a
   // coarser level's nodes are numbered in its own order; and a format of
   // linear cells has no ids for a second-order mesh's nodes (the vertices

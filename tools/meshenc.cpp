@@ -163,8 +163,9 @@ void add_options(CLI::App& app, Command& c) {
       ->excludes(scale_opt);
   app.add_option("--levels", e.max_levels, "build at most this many coarser levels (0 = no limit)")
       ->check(dtm::finite_number(true));
-  app.add_option("--min-base", e.min_base_vertices, "never build a level with fewer vertices")
-      ->capture_default_str();
+  app.add_option("--min-base", e.min_base_vertices, "never build a level with fewer vertices (4 to 2^32)")
+      ->capture_default_str()
+      ->check(CLI::Range(size_t{4}, size_t{1} << 32));
   app.add_option("--preset", c.preset,
                  "codec: levels carved to the input's solid (alpha predicts, the stream corrects), about "
                  "half the vertices each; paper: the seed paper's (alpha carving, one independent set per "
@@ -179,11 +180,11 @@ void add_options(CLI::App& app, Command& c) {
       ->capture_default_str();
   app.add_option("--quality-guard", c.quality_guard,
                  "accept a removal only if its new cells' smallest solid angle is >= "
-                 "min(S, the star's); 0 = off (both presets)")
+                 "min(S, the star's) (--preset paper only; 0 = off)")
       ->check(CLI::Range(0.0, 0.56));
   app.add_option("--quality-ratio", c.quality_ratio,
-                 "accept a removal only if its new cells' smallest solid angle is >= R x the star's; 0 = off "
-                 "(both presets)")
+                 "accept a removal only if its new cells' smallest solid angle is >= R x the star's "
+                 "(--preset paper only; 0 = off)")
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--quality-floor", c.quality_floor,
                  "keep every level's average smallest solid angle >= F x level 0's, removing as many "
@@ -284,7 +285,7 @@ void add_options(CLI::App& app, Command& c) {
       "--exact-v22", dtm::ApexRanks::kAfterFlips,
       "--exact, written for decoders older than 23.0: as format 14.0 (18.0 to 22.0 with edge nodes "
       "or node ids), without 23.0's order of the apexes and contexts of the filled faces (up to "
-      "0.4 bits a vertex more)");
+      "0.46 bits a vertex more)");
   older.push_back(app.add_flag_function(
       "--exact-v19",
       [&c](int64_t) {
@@ -951,6 +952,12 @@ int run(Command& c) {
     throw dtm::UsageError(
         "--bricks: bricked layers need the codec preset (not --preset paper): its levels "
         "carve to the input's solid");
+  if (c.encode.carve_to_reference &&
+      ((c.quality_guard && *c.quality_guard > 0) || (c.quality_ratio && *c.quality_ratio > 0)))
+    throw dtm::UsageError(
+        std::string(c.quality_guard && *c.quality_guard > 0 ? "--quality-guard" : "--quality-ratio") +
+        ": the per-removal quality rules belong to the paper preset's independent sets "
+        "(--preset paper); the codec preset keeps every level's average quality (--quality-floor)");
   if (!c.encode.carve_to_reference && (c.encode.exact || c.encode.keep_order))
     throw dtm::UsageError(std::string(c.encode.exact ? "--exact" : "--keep-order") +
                           " needs the codec preset (not --preset paper)");

@@ -59,6 +59,23 @@ InputFormat input_format_for_path(const std::string& path) {
 
 namespace {
 
+// A TetGen file beside the .node (its .ele, .face): named in the .node's
+// case where that one exists (X.NODE's X.ELE), else in lower case.
+std::filesystem::path beside(const std::string& node, const std::string& ext) {
+  std::filesystem::path p = node;
+  const std::string own = p.extension().string();
+  if (own.size() > 1 &&
+      std::all_of(own.begin() + 1, own.end(), [](unsigned char c) { return std::isupper(c); })) {
+    std::string upper = ext;
+    std::transform(upper.begin(), upper.end(), upper.begin(),
+                   [](unsigned char c) { return std::toupper(c); });
+    if (std::filesystem::path q = std::filesystem::path(node).replace_extension(upper);
+        std::filesystem::exists(q))
+      return q;
+  }
+  return p.replace_extension(ext);
+}
+
 InputMesh read_tetgen(const std::string& path, bool with_ele,
                       const std::function<NodeFile(const std::string&)>& read_node) {
   NodeFile node = read_node ? read_node(path) : read_tetgen_node(path);
@@ -70,7 +87,7 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
   if (!node.markers.empty())
     out.fields.push_back({"boundary_marker", 1, std::vector<double>(node.markers.begin(), node.markers.end()),
                           ScalarType::kInt32});
-  const std::filesystem::path ele = std::filesystem::path(path).replace_extension(".ele");
+  const std::filesystem::path ele = beside(path, ".ele");
   if (std::filesystem::exists(ele)) {
     const int a = tetgen_ele_attributes(ele.string());
     if (a > 1)
@@ -108,8 +125,7 @@ InputMesh read_tetgen(const std::string& path, bool with_ele,
     // parts, or --no-reference), markers that may be more than that are
     // named. (A .face without markers, like TetGen's .edge and .neigh, is
     // the mesh's own, which the decoder makes again.)
-    if (const auto face = std::filesystem::path(path).replace_extension(".face");
-        std::filesystem::exists(face)) {
+    if (const auto face = beside(path, ".face"); std::filesystem::exists(face)) {
       const FaceFile faces = read_tetgen_face(face.string(), out.points.size(), node.index_base);
       bool marked =
           std::any_of(faces.markers.begin(), faces.markers.end(), [](int32_t m) { return m != 0 && m != 1; });

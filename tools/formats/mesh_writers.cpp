@@ -78,9 +78,7 @@ void validate(const OutputMesh& m) {
         throw std::invalid_argument("mesh writer: a face's edge node is not one of the edge nodes");
 }
 
-bool has_node_extension(const std::string& path) {
-  return std::filesystem::path(path).extension() == kNodeExt;
-}
+bool has_node_extension(const std::string& path) { return lower_extension(path) == kNodeExt; }
 
 // --- TetGen -----------------------------------------------------------------
 
@@ -525,10 +523,17 @@ std::string base64_encode(std::string_view bytes) {
   return out;
 }
 
+// ".VTU" names a .vtu, as meshenc reads its inputs' extensions in any case.
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
 MeshFormat format_for_path(const std::string& path) {
   // extension() gives "" for "dir/.node" (a hidden file without a stem), so
   // that is rejected too.
-  const std::string ext = std::filesystem::path(path).extension().string();
+  const std::string ext = lower_extension(path);
   if (ext == kNodeExt) return MeshFormat::kTetgen;
   if (ext == ".vtu") return MeshFormat::kVtu;
   if (ext == ".vtk") return MeshFormat::kVtk;
@@ -590,7 +595,9 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
     case MeshFormat::kTetgen: {
       if (!has_node_extension(path))
         throw std::invalid_argument(path + ": a TetGen output path must end in .node");
-      const std::string ele = path.substr(0, path.size() - kNodeExt.size()) + ".ele";
+      // (X.NODE's elements in X.ELE, as TetGen names them in the .node's case.)
+      const bool upper = path.substr(path.size() - kNodeExt.size()) == ".NODE";
+      const std::string ele = path.substr(0, path.size() - kNodeExt.size()) + (upper ? ".ELE" : ".ele");
       return {{path, render_node(mesh)}, {ele, render_ele(mesh)}};
     }
     case MeshFormat::kVtu:

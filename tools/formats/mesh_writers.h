@@ -96,6 +96,9 @@ std::vector<OutputField> cell_and_face_fields(const OutputMesh& m);
 // without regions), a face's tag. Empty without either.
 std::vector<int32_t> physical_tags(const OutputMesh& m);
 
+// A path's extension in lower case (".VTU" names a .vtu).
+std::string lower_extension(const std::string& path);
+
 enum class MeshFormat {
   kTetgen,    // X.node + X.ele; `boundary` becomes the marker column, `level` is not written
   kVtu,       // VTK XML, format="binary": base64 of [UInt64 byte count][little-endian data]
