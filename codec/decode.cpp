@@ -291,6 +291,11 @@ Status ProgressiveDecoder::finish() const {
   if (stopped_ || complete()) return Status::Ok();
   if (!has_header_) return {StatusCode::kTruncated, "the input ends inside the header"};
   if (!has_field_table_) return {StatusCode::kTruncated, "the input ends inside the field table"};
+  // The input has ended: a layer that runs past it may be one whose header
+  // has a damaged length rather than a cut stream.
+  if (walk_ && pending_start_ <= pending_.size())
+    DTM_RETURN_IF_ERROR(
+        walk_->overshoot_is_damage(std::span<const uint8_t>(pending_).subspan(pending_start_)));
   return {StatusCode::kTruncated, levels_.empty()
                                       ? std::string("the input ends before the base level is complete")
                                       : "the input ends after level " + std::to_string(finest_level()) +

@@ -356,13 +356,24 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
   while (walk.next_level() >= level) {
     const int at = walk.next_level();
     const uint64_t offset = walk.offset();
+    const LayerWalk at_layer = walk;  // (next_index() moves past the layer)
     const std::string what = "level " + std::to_string(at) + "'s layer";
     Layer layer;
     bool header_seen = false;
     uint64_t want = kBrickedLayerHeaderSize;
     Status s;
+    // (The source is the whole input: a length that runs past its end may
+    // be damage, not a cut stream.)
+    const auto cut_or_damaged = [&](Status cut) -> Status {
+      const uint64_t size = reader.source().size();
+      if (cut.code() != StatusCode::kTruncated || offset >= size) return cut;
+      std::vector<uint8_t> rest(size - offset);
+      DTM_RETURN_IF_ERROR(reader.source().read(offset, rest));
+      DTM_RETURN_IF_ERROR(at_layer.overshoot_is_damage(rest));
+      return cut;
+    };
     while (true) {
-      DTM_RETURN_IF_ERROR(reader.read(offset, want, bytes, what));
+      if (Status read = reader.read(offset, want, bytes, what); !read.ok()) return cut_or_damaged(read);
       s = walk.next_index(bytes, layer, &header_seen);
       if (s.code() != StatusCode::kNeedMoreInput || !header_seen) break;
       const uint64_t whole = kBrickedLayerHeaderSize + uint64_t{layer.header.index_bytes};
@@ -384,8 +395,8 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
     // the whole decoder (and every piece of a cut stream finds the same).
     const uint64_t size = reader.source().size();
     if (p.chunk_area > size || layer.header.chunk_bytes > size - p.chunk_area)
-      return {StatusCode::kTruncated,
-              "the stream ends at byte " + std::to_string(size) + ", before the end of " + what};
+      return cut_or_damaged({StatusCode::kTruncated, "the stream ends at byte " + std::to_string(size) +
+                                                         ", before the end of " + what});
     plan.layers.push_back(std::move(p));
   }
   // Past level 0, the last layer, bytes are refused as the whole decoder

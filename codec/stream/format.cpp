@@ -340,6 +340,48 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
   return Status::Ok();
 }
 
+Status LayerWalk::overshoot_is_damage(std::span<const uint8_t> bytes) const {
+  if (done()) return Status::Ok();
+  const uint8_t major = header_.version_major;
+  const bool bricked = header_.flags & kFlagBricks;
+  const size_t header_size =
+      layer_header_size(major, bricked, header_.flags, static_cast<uint16_t>(std::max(next_level_, 0)));
+  if (bytes.size() < header_size) return Status::Ok();
+  const LayerHeader h = read_fields<LayerHeader>(bytes.first(header_size), major, bricked, header_.flags);
+  const uint64_t present = bytes.size() - header_size;
+  if (present >= h.body_bytes()) return Status::Ok();
+  const uint64_t over = h.body_bytes() - present;
+  // The header as the encoder wrote it, were `length` smaller by `over`:
+  // does its checksum hold for what follows?
+  const auto holds = [&](auto LayerHeader::*length) {
+    if (h.*length < over) return false;
+    LayerHeader fixed = h;
+    fixed.*length -= static_cast<std::remove_reference_t<decltype(fixed.*length)>>(over);
+    FieldWriter writer;
+    const std::span<const uint8_t> rest = bytes.subspan(header_size);
+    // (A bricked layer's checksum covers its index; the rest its body.)
+    writer.trailer = bricked ? rest.first(std::min<uint64_t>(rest.size(), fixed.index_bytes)) : rest;
+    visit_fields(fixed, writer);
+    return fixed.checksum == h.checksum;
+  };
+  bool damaged = false;
+  if (bricked) {
+    damaged = holds(&LayerHeader::chunk_bytes) || holds(&LayerHeader::index_bytes);
+  } else {
+    for (auto length :
+         {&LayerHeader::candidate_bytes, &LayerHeader::payload_bytes, &LayerHeader::carving_bytes,
+          &LayerHeader::region_bytes, &LayerHeader::face_bytes, &LayerHeader::value_bytes,
+          &LayerHeader::cell_value_bytes, &LayerHeader::order_bytes, &LayerHeader::exact_bytes,
+          &LayerHeader::edge_node_bytes, &LayerHeader::edge_value_bytes, &LayerHeader::node_order_bytes,
+          &LayerHeader::node_label_bytes})
+      damaged = damaged || holds(length);
+  }
+  if (!damaged) return Status::Ok();
+  return corrupt("level " + std::to_string(next_level_) + " at byte " + std::to_string(offset_) +
+                 ": a section length in its layer header is damaged: it runs " + std::to_string(over) +
+                 " bytes past the stream's end, where the layer's checksum holds for the layer ending there");
+}
+
 Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen) {
   return walk(bytes, layer, header_seen, true);
 }
@@ -533,6 +575,11 @@ StreamSummary scan_stream(std::span<const uint8_t> bytes) {
     if (st.code() != StatusCode::kNeedMoreInput) {
       s.status = st;
     } else if (!walk.done()) {
+      // (The bytes are the whole input: a length past their end may be damage.)
+      if (Status damage = walk.overshoot_is_damage(bytes.subspan(walk.offset())); !damage.ok()) {
+        s.status = damage;
+        return s;
+      }
       if (header_seen) s.layers.push_back({layer.header, 0, layer.offset, false, {}, {}, {}});
       s.status = {StatusCode::kTruncated,
                   header_seen
