@@ -109,7 +109,14 @@ TEST(LevelView, BitFlipsEndInAnErrorOrTheSameLevels) {
     LevelViewer viewer;
     const Status fed = viewer.feed(damaged);
     const Status end = viewer.finish();
-    EXPECT_EQ(fed.ok(), end.ok() || end.code() == StatusCode::kTruncated);
+    // Damage is said by feed(), or, where a layer's length was damaged so
+    // that it runs past the stream's end, by finish(), once the end is known.
+    if (!fed.ok()) {
+      EXPECT_FALSE(end.ok() || end.code() == StatusCode::kTruncated);
+    } else if (!end.ok() && end.code() != StatusCode::kTruncated) {
+      EXPECT_NE(end.message().find("a section length in its layer header is damaged"), std::string::npos)
+          << end.message();
+    }
     while (viewer.has_level()) viewer.take_level();
   }
 }

@@ -61,10 +61,12 @@ TEST(MeshWriters, FormatForPathByExtension) {
   EXPECT_EQ(format_for_path("dir.vtu/level3.node"), MeshFormat::kTetgen);  // the file's name decides
 }
 
-TEST(MeshWriters, FormatForPathRejectsUnknownAndUppercaseNamingThePath) {
-  // Uppercase is rejected on purpose: TetGen's names are lowercase and
-  // "X.NODE" would get an "X.ele" sibling (see mesh_writers.h).
-  for (const std::string path : {"mesh.stl", "mesh", "mesh.ele", "dir/.node", "OUT.VTU", "out.Node"}) {
+TEST(MeshWriters, FormatForPathRejectsUnknownNamingThePathAndTakesAnyCase) {
+  // Any case, as meshenc reads its inputs' (X.NODE's elements go to X.ELE).
+  EXPECT_EQ(format_for_path("OUT.VTU"), MeshFormat::kVtu);
+  EXPECT_EQ(format_for_path("out.Node"), MeshFormat::kTetgen);
+  EXPECT_EQ(format_for_path("X.MSH"), MeshFormat::kGmsh);
+  for (const std::string path : {"mesh.stl", "mesh", "mesh.ele", "dir/.node", "dir/.NODE"}) {
     try {
       format_for_path(path);
       ADD_FAILURE() << path << " was accepted";

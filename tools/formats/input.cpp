@@ -236,9 +236,11 @@ void choose_regions(InputMesh& in, const std::string& name, const std::string& p
   // The integer arrays that are not the regions become the tetrahedra's
   // cell data below: their values on a .vtu's triangles are named.
   std::string on_triangles;
-  for (const auto& [n, values] : in.triangle_arrays)
-    if (n != chosen && any_value_said(values.size(), [&](size_t i) { return values[i]; }))
-      on_triangles += (on_triangles.empty() ? "'" : ", '") + n + "'";
+  for (const auto& array : in.triangle_arrays) {
+    const std::vector<int32_t>& values = array.second;
+    if (array.first != chosen && any_value_said(values.size(), [&](size_t i) { return values[i]; }))
+      on_triangles += (on_triangles.empty() ? "'" : ", '") + array.first + "'";
+  }
   if (!on_triangles.empty())
     in.left_out.push_back("the values of the integer cell arrays " + on_triangles +
                           " on the triangles (cell data is the tetrahedra's)");
