@@ -166,7 +166,9 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   }
   pending_start_ += layer.size();
   if (on_level) on_level(*this, d);
-  if (level == options_.stop_after_level) stopped_ = true;
+  // (Level 0 is the last: asked for, the rest is read as without a level,
+  // so that bytes after it are refused as trailing data, spec §4.)
+  if (level == options_.stop_after_level && level > 0) stopped_ = true;
   return Status::Ok();
 }
 

@@ -362,18 +362,25 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
     bool header_seen = false;
     uint64_t want = kBrickedLayerHeaderSize;
     Status s;
-    // (The source is the whole input: a length that runs past its end may
-    // be damage, not a cut stream.)
-    const auto cut_or_damaged = [&](Status cut) -> Status {
+    // The source is the whole input: a length that runs past its end may be
+    // damage, not a cut stream. The layer's checksum covers its header and
+    // index: what is read to tell is the header and the index that each
+    // length's damage would leave (the index as given, or what is left
+    // before the chunks at the stream's end), never the chunks.
+    const auto cut_or_damaged = [&](Status cut, const LayerHeader& h) -> Status {
       const uint64_t size = reader.source().size();
-      if (cut.code() != StatusCode::kTruncated || offset >= size) return cut;
-      std::vector<uint8_t> rest(size - offset);
-      DTM_RETURN_IF_ERROR(reader.source().read(offset, rest));
-      DTM_RETURN_IF_ERROR(at_layer.overshoot_is_damage(rest));
+      if (cut.code() != StatusCode::kTruncated || offset + kBrickedLayerHeaderSize > size) return cut;
+      const uint64_t after = size - offset - kBrickedLayerHeaderSize;
+      const uint64_t index = std::max<uint64_t>(h.index_bytes <= after ? h.index_bytes : 0,
+                                                h.chunk_bytes <= after ? after - h.chunk_bytes : 0);
+      std::vector<uint8_t> head(kBrickedLayerHeaderSize + index);
+      DTM_RETURN_IF_ERROR(reader.source().read(offset, head));
+      DTM_RETURN_IF_ERROR(at_layer.overshoot_is_damage(head, size - offset));
       return cut;
     };
     while (true) {
-      if (Status read = reader.read(offset, want, bytes, what); !read.ok()) return cut_or_damaged(read);
+      if (Status read = reader.read(offset, want, bytes, what); !read.ok())
+        return header_seen ? cut_or_damaged(read, layer.header) : read;
       s = walk.next_index(bytes, layer, &header_seen);
       if (s.code() != StatusCode::kNeedMoreInput || !header_seen) break;
       const uint64_t whole = kBrickedLayerHeaderSize + uint64_t{layer.header.index_bytes};
@@ -394,9 +401,10 @@ Status read_plan(Reader& reader, int level, const DecoderOptions& options, Strea
     // chunks it reads: the levels a prefix holds are its whole layers', as for
     // the whole decoder (and every piece of a cut stream finds the same).
     const uint64_t size = reader.source().size();
+    // (A damaged chunk_bytes fails the checksum next_index() checked: a cut.)
     if (p.chunk_area > size || layer.header.chunk_bytes > size - p.chunk_area)
-      return cut_or_damaged({StatusCode::kTruncated, "the stream ends at byte " + std::to_string(size) +
-                                                         ", before the end of " + what});
+      return {StatusCode::kTruncated,
+              "the stream ends at byte " + std::to_string(size) + ", before the end of " + what};
     plan.layers.push_back(std::move(p));
   }
   // Past level 0, the last layer, bytes are refused as the whole decoder

@@ -57,6 +57,7 @@ class DtmeshReader(VTKPythonAlgorithmBase):
         self._level = 0
         self._bytes = None
         self._info = None
+        self._count = None  # a damaged stream's level count, from its header
         self._meshes = {}  # level -> dtmesh.Mesh, decoded once each
 
     def FillOutputPortInformation(self, port, info):
@@ -86,12 +87,15 @@ class DtmeshReader(VTKPythonAlgorithmBase):
     def _level_count(self):
         if self._info is not None:
             return self._info["level_count"]
-        decoder = dtmesh.Decoder()
-        try:
-            decoder.feed(self._bytes)
-        except dtmesh.Error:
-            pass
-        return max(1, decoder.level_count)
+        if self._count is None:  # (read from the header once: the stream is damaged)
+            decoder = dtmesh.Decoder()
+            try:
+                decoder.feed(self._bytes[:4096])  # (the header's 56 bytes give it)
+            except dtmesh.Error:
+                pass
+            self._count = max(1, decoder.level_count)
+        return self._count
+
 
     def _decode(self, level):
         """The level's mesh; where the stream is cut or damaged before it, the
@@ -119,8 +123,13 @@ class DtmeshReader(VTKPythonAlgorithmBase):
         if decoder.finest_level < 0:
             self._say("no whole level to show")
             return None
+        try:
+            mesh = decoder.mesh()
+        except dtmesh.Error as e:  # (damage in a section read only for the mesh)
+            self._say(f"level {decoder.finest_level}: {e}")
+            return None
         self._say(f"showing level {decoder.finest_level}, the finest whole level")
-        return decoder.mesh()
+        return mesh
 
     @smproperty.stringvector(name="FileName")
     @smdomain.filelist()
@@ -128,7 +137,7 @@ class DtmeshReader(VTKPythonAlgorithmBase):
     def SetFileName(self, name):
         if name != self._filename:
             self._filename = name
-            self._bytes, self._info, self._meshes = None, None, {}
+            self._bytes, self._info, self._meshes, self._count = None, None, {}, None
             self.Modified()
 
     @smproperty.intvector(name="LevelRange", information_only="1")

@@ -701,6 +701,11 @@ TEST(BrickedStream, PiecesPartitionTheLevel) {
       << refused.status().message();
   MemorySource coarser(trailing);
   EXPECT_TRUE(decode_piece(coarser, 2, 0, 2).ok());
+  // The whole decoder asked for level 0 (meshdec --level 0) refuses them too.
+  DecoderOptions to_level_0;
+  to_level_0.stop_after_level = 0;
+  ProgressiveDecoder whole_to_0(to_level_0);
+  EXPECT_EQ(decode_stream(trailing, whole_to_0).code(), StatusCode::kCorrupt);
 }
 
 // --box sets the units the encoder measures in; a bricked stream, like a

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <tuple>
 
@@ -149,7 +150,9 @@ TEST(EncodeApi, RefusesAFieldValueItsTypeCannotHoldAndRoundsTheOthers) {
        std::vector<std::tuple<ValueType, std::vector<double>, std::vector<double>>>{
            {ValueType::kI32, {1.5, 2.5, -0.4, -2.6}, {2, 3, 0, -3}},
            {ValueType::kU8, {254.6, 0.2}, {255, 0}},
-           {ValueType::kF32, {NAN, INFINITY, 0.1}, {NAN, INFINITY, static_cast<float>(0.1)}}}) {
+           {ValueType::kF32,
+            {NAN, INFINITY, 0.1, 3.4028235e+38},
+            {NAN, INFINITY, static_cast<float>(0.1), std::numeric_limits<float>::max()}}}) {
     const auto out = encoded(type, values);
     ASSERT_TRUE(out.ok()) << out.status().message();
     ProgressiveDecoder dec;

@@ -400,6 +400,10 @@ TEST_F(Tools, ExtensionsInAnyCase) {
   r = run_command(kMeshdec + " " + dir_ + "/t.dtm -o " + dir_ + "/Y.NODE");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir_ + "/Y.ELE"));
+  // X.NODE's X.ELE is an input: not an output.
+  r = meshenc(dir_ + "/T.NODE -o " + dir_ + "/T.ELE");
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("is the input"), std::string::npos) << r.output;
 }
 
 // A mesh meshdec wrote, encoded again: its point arrays level, boundary

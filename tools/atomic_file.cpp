@@ -113,8 +113,9 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
     std::error_code ec;
     if (targets[i].in_place || !std::filesystem::exists(std::filesystem::symlink_status(targets[i].path, ec)))
       continue;
-    before[i] = ::link(targets[i].path.c_str(), kept_for(targets[i].path).c_str()) == 0 ? Before::kKept
-                                                                                        : Before::kUnkept;
+    const std::string kept = kept_for(targets[i].path);
+    std::remove(kept.c_str());  // (one a run of this process number left)
+    before[i] = ::link(targets[i].path.c_str(), kept.c_str()) == 0 ? Before::kKept : Before::kUnkept;
   }
   const auto forget_kept = [&] {
     for (size_t i = 0; i < files.size(); ++i)
@@ -127,8 +128,10 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
       const int e = errno;
       for (size_t j = 0; j < i; ++j) {
         if (targets[j].in_place) continue;
-        if (before[j] == Before::kKept)
-          std::rename(kept_for(targets[j].path).c_str(), targets[j].path.c_str());
+        // (A file that cannot be put back keeps its copy beside it.)
+        if (before[j] == Before::kKept &&
+            std::rename(kept_for(targets[j].path).c_str(), targets[j].path.c_str()) != 0)
+          before[j] = Before::kUnkept;
         else if (before[j] == Before::kAbsent)
           std::remove(targets[j].path.c_str());
       }

@@ -163,9 +163,9 @@ void add_options(CLI::App& app, Command& c) {
       ->excludes(scale_opt);
   app.add_option("--levels", e.max_levels, "build at most this many coarser levels (0 = no limit)")
       ->check(dtm::finite_number(true));
-  app.add_option("--min-base", e.min_base_vertices, "never build a level with fewer vertices (4 to 2^32)")
+  app.add_option("--min-base", e.min_base_vertices, "never build a level with fewer vertices (0 to 2^32)")
       ->capture_default_str()
-      ->check(CLI::Range(size_t{4}, size_t{1} << 32));
+      ->check(CLI::Range(size_t{0}, size_t{1} << 32));
   app.add_option("--preset", c.preset,
                  "codec: levels carved to the input's solid (alpha predicts, the stream corrects), about "
                  "half the vertices each; paper: the seed paper's (alpha carving, one independent set per "
@@ -887,7 +887,8 @@ int run(Command& c) {
     std::string problem;
     // (A TetGen .node's .ele is read too.)
     const std::vector<std::string> inputs = {
-        c.input, std::filesystem::path(c.input).replace_extension(".ele").string()};
+        c.input, std::filesystem::path(c.input).replace_extension(".ele").string(),
+        std::filesystem::path(c.input).replace_extension(".ELE").string()};
     try {
       if (mpi.rank() == 0 && !c.output.empty() && c.output != "-") dtm::check_writable(c.output, inputs);
       if (mpi.rank() == 0 && !c.report_path.empty() && c.report_path != "-")

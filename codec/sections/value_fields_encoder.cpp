@@ -62,17 +62,19 @@ Status check_field_values(const FieldDescription& f, std::span<const double> val
   // (ordered_range's bounds as doubles: 2^63 and 2^64 round up, so the top
   // of the 64-bit types is refused below, not wrapped.)
   const auto [lowest, highest] = ordered_range(f.type);
-  const double low =
-      single ? -static_cast<double>(std::numeric_limits<float>::max()) : static_cast<double>(lowest);
-  const double high =
-      single ? static_cast<double>(std::numeric_limits<float>::max()) : static_cast<double>(highest);
+  const double low = static_cast<double>(lowest), high = static_cast<double>(highest);
   for (size_t i = 0; i < values.size(); ++i) {
     const double v = values[i];
-    // A float32 keeps NaN and the infinities; an integer holds neither.
-    if (single && !std::isfinite(v)) continue;
-    const double kept = single ? v : std::round(v);
-    const bool top_64 = (f.type == ValueType::kI64 || f.type == ValueType::kU64) && kept >= high;
-    if (std::isfinite(kept) && kept >= low && kept <= high && !top_64) continue;
+    // A float32 keeps NaN and the infinities, and a finite double that
+    // rounds to a finite float (FLT_MAX's text forms, 3.4028235e+38, lie a
+    // little above it); an integer holds neither NaN nor an infinity.
+    if (single) {
+      if (!std::isfinite(v) || std::isfinite(static_cast<float>(v))) continue;
+    } else {
+      const double kept = std::round(v);
+      const bool top_64 = (f.type == ValueType::kI64 || f.type == ValueType::kU64) && kept >= high;
+      if (std::isfinite(kept) && kept >= low && kept <= high && !top_64) continue;
+    }
     std::ostringstream value;
     value << std::setprecision(17) << v;
     return invalid_input("field '" + f.name + "': " + each + " " + std::to_string(i / f.components) +

@@ -340,15 +340,16 @@ Status LayerWalk::check_sections(const LayerHeader& h) const {
   return Status::Ok();
 }
 
-Status LayerWalk::overshoot_is_damage(std::span<const uint8_t> bytes) const {
-  if (done()) return Status::Ok();
+Status LayerWalk::overshoot_is_damage(std::span<const uint8_t> bytes, uint64_t to_end) const {
+  if (done() || to_end < bytes.size() || (!(header_.flags & kFlagBricks) && bytes.size() != to_end))
+    return Status::Ok();
   const uint8_t major = header_.version_major;
   const bool bricked = header_.flags & kFlagBricks;
   const size_t header_size =
       layer_header_size(major, bricked, header_.flags, static_cast<uint16_t>(std::max(next_level_, 0)));
   if (bytes.size() < header_size) return Status::Ok();
   const LayerHeader h = read_fields<LayerHeader>(bytes.first(header_size), major, bricked, header_.flags);
-  const uint64_t present = bytes.size() - header_size;
+  const uint64_t present = to_end - header_size;
   if (present >= h.body_bytes()) return Status::Ok();
   const uint64_t over = h.body_bytes() - present;
   // The header as the encoder wrote it, were `length` smaller by `over`:
@@ -360,7 +361,8 @@ Status LayerWalk::overshoot_is_damage(std::span<const uint8_t> bytes) const {
     FieldWriter writer;
     const std::span<const uint8_t> rest = bytes.subspan(header_size);
     // (A bricked layer's checksum covers its index; the rest its body.)
-    writer.trailer = bricked ? rest.first(std::min<uint64_t>(rest.size(), fixed.index_bytes)) : rest;
+    if (bricked && fixed.index_bytes > rest.size()) return false;
+    writer.trailer = bricked ? rest.first(fixed.index_bytes) : rest;
     visit_fields(fixed, writer);
     return fixed.checksum == h.checksum;
   };

@@ -449,7 +449,14 @@ class LayerWalk {
   // error. Ok otherwise (a stream cut short). No format change finds a
   // damaged length in any layer but the stream's last present one: there the
   // layer's true end is not known.
-  Status overshoot_is_damage(std::span<const uint8_t> bytes) const;
+  Status overshoot_is_damage(std::span<const uint8_t> bytes) const {
+    return overshoot_is_damage(bytes, bytes.size());
+  }
+  // The same where `bytes` are only the first of the `to_end` bytes to the
+  // stream's end: of a bricked layer, whose checksum covers its header and
+  // index alone, the header and what its index may be (a region reader
+  // reads no chunk for it); of any other layer, all of them (else Ok).
+  Status overshoot_is_damage(std::span<const uint8_t> bytes, uint64_t to_end) const;
 
  private:
   Status check(const LayerHeader& h) const;
