@@ -384,6 +384,14 @@ TEST_F(Tools, AnOutputThatCannotBeWrittenOrIsTheInputIsRefusedFirst) {
       << r.output;
   r = meshenc(dir_ + "/not_there.node --min-base -1 -o " + dir_ + "/x.dtm");
   EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
+  // A --field-error for no array of the file: said before the table.
+  r = meshenc(test::data_path("torus_288.node") + " --field-error nope=0.1 -o " + dir_ + "/x.dtm");
+  EXPECT_EQ(WEXITSTATUS(r.status), 1) << r.output;
+  EXPECT_NE(r.output.find("--field-error names 'nope', which is not a field of the input (it has "
+                          "'boundary_marker')"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("merged by quantization"), std::string::npos) << r.output;
 }
 
 // Extensions in any case: X.NODE reads its X.ELE beside it, -o X.VTU

@@ -971,6 +971,21 @@ int run(Command& c) {
                 (threads_used == 1 ? " thread)" : " threads)"));
   dtm::InputMesh in = read(c);
   dtm::choose_regions(in, c.region_array, c.input);
+  // A --field-error for no array of the file: said before the table (every
+  // rank reads the same file, and says it alike).
+  for (const auto& named : c.encode.field_errors) {
+    const auto has = [&](const std::vector<dtm::VertexField>& fields) {
+      return std::any_of(fields.begin(), fields.end(), [&](const auto& f) { return f.name == named.first; });
+    };
+    if (!has(in.fields) && !has(in.cell_fields)) {
+      std::string arrays;
+      for (const auto* list : {&in.fields, &in.cell_fields})
+        for (const auto& f : *list) arrays += (arrays.empty() ? "'" : ", '") + f.name + "'";
+      throw std::invalid_argument(c.input + ": --field-error names '" + named.first +
+                                  "', which is not a field of the input (" +
+                                  (arrays.empty() ? std::string("it has none") : "it has " + arrays) + ")");
+    }
+  }
   // The regions, where the stream can carry them; else named as left out.
   // (Under mpirun a TetGen .ele's are read with its tetrahedra, later.)
   bool regions_kept = true;
