@@ -130,14 +130,16 @@ TEST(EncodeApi, RefusesAFieldValueItsTypeCannotHoldAndRoundsTheOthers) {
     input.fields = fields;
     return encode(input);
   };
-  for (const auto& [type, value] : std::vector<std::pair<ValueType, double>>{{ValueType::kU8, 300},
-                                                                             {ValueType::kU8, -1},
-                                                                             {ValueType::kI32, 1e12},
-                                                                             {ValueType::kI16, NAN},
-                                                                             {ValueType::kI64, INFINITY},
-                                                                             {ValueType::kU64, 0x1p64},
-                                                                             {ValueType::kI64, 0x1p63},
-                                                                             {ValueType::kF32, 1e300}}) {
+  for (const auto& [type, value] :
+       std::vector<std::pair<ValueType, double>>{{ValueType::kU8, 300},
+                                                 {ValueType::kU8, -1},
+                                                 {ValueType::kI32, 1e12},
+                                                 {ValueType::kI16, NAN},
+                                                 {ValueType::kI64, INFINITY},
+                                                 {ValueType::kU64, 0x1p64},
+                                                 {ValueType::kI64, 0x1p63},
+                                                 {ValueType::kF32, 1e300},
+                                                 {ValueType::kF32, 0x1.fffffep127 + 0x1p103}}) {
     const auto out = encoded(type, {value}, 5);
     SCOPED_TRACE(std::string(value_type_name(type)) + " " + std::to_string(value));
     ASSERT_EQ(out.status().code(), StatusCode::kInvalidInput);

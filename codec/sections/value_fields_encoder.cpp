@@ -69,7 +69,11 @@ Status check_field_values(const FieldDescription& f, std::span<const double> val
     // rounds to a finite float (FLT_MAX's text forms, 3.4028235e+38, lie a
     // little above it); an integer holds neither NaN nor an infinity.
     if (single) {
-      if (!std::isfinite(v) || std::isfinite(static_cast<float>(v))) continue;
+      // (The largest double that rounds to FLT_MAX lies half its ulp, 2^103,
+      // above it, a tie rounding up to the even infinity; a double beyond a
+      // float's range is not converted, which C++ leaves undefined.)
+      constexpr double kBeyond = static_cast<double>(std::numeric_limits<float>::max()) + 0x1p103;
+      if (!std::isfinite(v) || std::abs(v) < kBeyond) continue;
     } else {
       const double kept = std::round(v);
       const bool top_64 = (f.type == ValueType::kI64 || f.type == ValueType::kU64) && kept >= high;
