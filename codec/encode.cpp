@@ -44,6 +44,15 @@ std::vector<int32_t> labels_of_every_rank(RankExchange& exchange, std::span<cons
 
 // A region or face tag table: each label with its name, if the input has
 // one (cut to what a table holds).
+// The first label that `names` names and `distinct` lacks: a name rides on
+// its label's cells or faces, so one with none would be lost in silence.
+std::optional<int32_t> name_without_label(const std::map<int32_t, std::string>& names,
+                                          std::span<const int32_t> distinct) {
+  for (const auto& entry : names)
+    if (!std::binary_search(distinct.begin(), distinct.end(), entry.first)) return entry.first;
+  return std::nullopt;
+}
+
 std::vector<RegionLabel> label_table(std::span<const int32_t> distinct,
                                      const std::map<int32_t, std::string>& names) {
   std::vector<RegionLabel> table;
@@ -690,6 +699,17 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   // encode_bricked()'s check.)
   if (options.bricks && options.exchange && options.exchange->size() > 1)
     face_distinct = labels_of_every_rank(*options.exchange, face_distinct);
+  // Names of labels nothing has are refused (on the ranks of a bricked run,
+  // all of them refuse, none waits: the tables are every rank's).
+  Status named = Status::Ok();
+  if (const auto label = name_without_label(input.region_names, distinct))
+    named =
+        invalid_input("region_names names region " + std::to_string(*label) + ", which no tetrahedron has");
+  else if (const auto tag = name_without_label(input.face_tag_names, face_distinct))
+    named = invalid_input("face_tag_names names tag " + std::to_string(*tag) + ", which no tagged face has");
+  if (options.bricks && options.exchange && options.exchange->size() > 1)
+    named = agreed(*options.exchange, named);
+  DTM_RETURN_IF_ERROR(named);
   // (The same on every rank: all of them refuse, none waits.)
   if (face_distinct.size() > kMaxFaceTags)
     return invalid_input("the input's faces have " + std::to_string(face_distinct.size()) +

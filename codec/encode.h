@@ -209,7 +209,8 @@ struct EncodeInput {
   // tetrahedra_on_grid, in the order of `tetrahedra` (grid_tetrahedra_in_place
   // with the labels).
   std::span<const int32_t> tetrahedron_regions;
-  // Names of the labels, where the input has them ($PhysicalNames).
+  // Names of the labels, where the input has them ($PhysicalNames). A name
+  // of a label no tetrahedron has is kInvalidInput (it would be lost).
   std::map<int32_t, std::string> region_names;
   // The input's tagged triangles (indices into `points`: gmsh physical
   // surfaces, Medit triangle refs) and each one's tag: every level's surface
@@ -220,7 +221,7 @@ struct EncodeInput {
   // otherwise).
   std::span<const std::array<uint32_t, 3>> tagged_faces;
   std::span<const int32_t> face_tags;
-  std::map<int32_t, std::string> face_tag_names;
+  std::map<int32_t, std::string> face_tag_names;  // likewise, of tags some face has
   // The tetrahedra name the plan's grid points already (grid_tetrahedra()
   // of the input's, core/reference_shape.h): a caller short of memory frees
   // its own before encoding (meshenc does, for meshes of 10M vertices).

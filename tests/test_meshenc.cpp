@@ -88,6 +88,27 @@ TEST(Meshenc, WhatIsLeftOutIsSaidAndStrictRefusesIt) {
   EXPECT_NE(strict.status, 0);
   EXPECT_NE(strict.output.find("--strict"), std::string::npos) << strict.output;
   EXPECT_FALSE(std::filesystem::exists(out));
+  // gmsh's names of physical groups no tetrahedron or triangle is in.
+  const std::string msh = dir + "/left_out.msh";
+  std::ofstream(msh) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n3 1 \"steel\"\n"
+                        "3 5 \"empty\"\n2 7 \"base\"\n2 9 \"ghost\"\n$EndPhysicalNames\n$Nodes\n5\n"
+                        "1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n$EndNodes\n$Elements\n3\n"
+                        "1 4 2 1 1 1 2 3 4\n2 4 2 1 1 2 3 4 5\n3 2 2 7 1 1 2 3\n$EndElements\n";
+  const CommandRun named =
+      run_command("(" + std::string(DTM_MESHENC) + " " + msh + " -o " + out + " >/dev/null)");
+  ASSERT_EQ(named.status, 0) << named.output;
+  EXPECT_NE(
+      named.output.find("left out (the stream does not hold it): the name \"empty\" of region 5, which no "
+                        "tetrahedron has"),
+      std::string::npos)
+      << named.output;
+  EXPECT_NE(named.output.find("the name \"ghost\" of face tag 9, which no triangle has"), std::string::npos)
+      << named.output;
+  EXPECT_EQ(named.output.find("steel"), std::string::npos) << named.output;
+  EXPECT_EQ(named.output.find("base"), std::string::npos) << named.output;
+  std::filesystem::remove(out);
+  EXPECT_NE(meshenc(msh + " -q --strict -o " + out).status, 0);
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 // A bricked level keeps no cell above its kept radius (twice alpha, from

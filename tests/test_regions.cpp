@@ -379,6 +379,16 @@ TEST(Regions, RefusedWhereTheStreamCannotCarryThem) {
   for (size_t i = 0; i < many.size(); ++i) many[i] = static_cast<int32_t>(i % 300);
   input.tetrahedron_regions = many;
   EXPECT_EQ(encode(input, EncodeOptions{}).status().code(), StatusCode::kInvalidInput);
+  // A name of a label no tetrahedron has would be lost: refused, naming it.
+  input.tetrahedron_regions = in.labels;
+  input.region_names = {{7, "kept"}, {8, "nothing"}};
+  const auto named = encode(input, EncodeOptions{});
+  EXPECT_EQ(named.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(named.status().message().find("region 8"), std::string::npos) << named.status().message();
+  input.region_names = {{7, "kept"}};
+  EXPECT_TRUE(encode(input, EncodeOptions{}).ok());
+  input.tetrahedron_regions = {};
+  EXPECT_EQ(encode(input, EncodeOptions{}).status().code(), StatusCode::kInvalidInput);
 }
 
 // Every prefix decodes to whole levels or stops as truncated; every bit
@@ -1015,6 +1025,9 @@ TEST(Faces, RanksGivenOtherFacesRefuseTogether) {
   EXPECT_EQ(codes([&](EncodeInput& i) { i.tagged_faces = {}, i.face_tags = {}; }), refused);
   EXPECT_EQ(codes([&](EncodeInput& i) { i.face_tags = own_tag; }), refused);
   EXPECT_EQ(codes([&](EncodeInput& i) { i.tagged_faces = beyond; }), refused);
+  // A name of a label or tag nothing has (it would be lost), given to one rank.
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.region_names = {{8, "nothing"}}; }), refused);
+  EXPECT_EQ(codes([&](EncodeInput& i) { i.face_tag_names[99] = "nothing"; }), refused);
 }
 
 // Below the chunks' checksums: a damaged or cut face section of a chunk is

@@ -1000,6 +1000,30 @@ int run(Command& c) {
       regions_kept = false;
     }
   }
+  if (!regions_kept) in.region_names.clear();
+  // A name of a label no cell or face has (a gmsh physical group of other
+  // elements, or of none) has nothing to ride on: said, not lost in silence.
+  // (A TetGen .ele, read later under mpirun, names none.)
+  const auto names_without_cells = [&in](std::map<int32_t, std::string>& names,
+                                         std::span<const int32_t> labels, const char* kind,
+                                         const char* holder) {
+    std::map<int32_t, bool> seen;
+    for (const auto& entry : names) seen[entry.first] = false;
+    std::optional<int32_t> last;
+    for (int32_t label : labels)
+      if (label != last) {
+        last = label;
+        if (const auto s = seen.find(label); s != seen.end()) s->second = true;
+      }
+    for (const auto& [label, has] : seen)
+      if (!has) {
+        in.left_out.push_back("the name \"" + names[label] + "\" of " + kind + " " + std::to_string(label) +
+                              ", which no " + holder + " has");
+        names.erase(label);
+      }
+  };
+  if (in.tetgen_ele.empty() || !in.tet_regions.empty())
+    names_without_cells(in.region_names, in.tet_regions, "region", "tetrahedron");
   // (A tagged face no level can carry is said, not lost in silence: with
   // the tetrahedra at hand, on one process.)
   if (!in.tagged_faces.empty() && !in.tets.empty() && !c.no_face_tags && c.encode.carve_to_reference &&
@@ -1016,8 +1040,11 @@ int run(Command& c) {
                             in.face_tag_source + " (" + why + ")");
       dtm::release(in.tagged_faces);
       dtm::release(in.face_tags);
+      in.face_tag_names.clear();
     }
   }
+  if (!in.face_tag_names.empty())
+    names_without_cells(in.face_tag_names, in.face_tags, "face tag", "triangle");
   if (!in.cell_fields.empty()) {
     const char* why = c.no_cell_data                      ? "--no-cell-data"
                       : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
