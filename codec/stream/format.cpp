@@ -352,19 +352,32 @@ Status LayerWalk::overshoot_is_damage(std::span<const uint8_t> bytes, uint64_t t
   const uint64_t present = to_end - header_size;
   if (present >= h.body_bytes()) return Status::Ok();
   const uint64_t over = h.body_bytes() - present;
-  // The header as the encoder wrote it, were `length` smaller by `over`:
-  // does its checksum hold for what follows?
-  const auto holds = [&](auto LayerHeader::*length) {
-    if (h.*length < over) return false;
+  const std::span<const uint8_t> rest = bytes.subspan(header_size);
+  // The header as the encoder wrote it, were `length` `value`: does its
+  // checksum hold for what follows, the layer ending inside the stream?
+  const auto holds_with = [&](auto LayerHeader::*length, uint64_t value) {
     LayerHeader fixed = h;
-    fixed.*length -= static_cast<std::remove_reference_t<decltype(fixed.*length)>>(over);
+    fixed.*length = static_cast<std::remove_reference_t<decltype(fixed.*length)>>(value);
+    if (fixed.*length != value || fixed.body_bytes() > present) return false;
     FieldWriter writer;
-    const std::span<const uint8_t> rest = bytes.subspan(header_size);
     // (A bricked layer's checksum covers its index; the rest its body.)
-    if (bricked && fixed.index_bytes > rest.size()) return false;
-    writer.trailer = bricked ? rest.first(fixed.index_bytes) : rest;
+    const uint64_t covered = bricked ? fixed.index_bytes : fixed.body_bytes();
+    if (covered > rest.size()) return false;
+    writer.trailer = rest.first(covered);
     visit_fields(fixed, writer);
     return fixed.checksum == h.checksum;
+  };
+  // Smaller by the overshoot (the last layer, whatever the damage), or by
+  // one bit set (any layer: one before the last runs past the stream's end
+  // by the layers after it too).
+  const auto holds = [&](auto LayerHeader::*length) {
+    const uint64_t value = h.*length;
+    if (value >= over && holds_with(length, value - over)) return true;
+    for (int bit = 0; bit < 64; ++bit) {
+      const uint64_t one = uint64_t{1} << bit;
+      if ((value & one) && one != over && holds_with(length, value & ~one)) return true;
+    }
+    return false;
   };
   bool damaged = false;
   if (bricked) {
@@ -379,9 +392,10 @@ Status LayerWalk::overshoot_is_damage(std::span<const uint8_t> bytes, uint64_t t
       damaged = damaged || holds(length);
   }
   if (!damaged) return Status::Ok();
-  return corrupt("level " + std::to_string(next_level_) + " at byte " + std::to_string(offset_) +
-                 ": a section length in its layer header is damaged: it runs " + std::to_string(over) +
-                 " bytes past the stream's end, where the layer's checksum holds for the layer ending there");
+  return corrupt(
+      "level " + std::to_string(next_level_) + " at byte " + std::to_string(offset_) +
+      ": a section length in its layer header is damaged: it runs " + std::to_string(over) +
+      " bytes past the stream's end, where the layer's checksum holds for it ending inside the stream");
 }
 
 Status LayerWalk::next(std::span<const uint8_t> bytes, Layer& layer, bool* header_seen) {

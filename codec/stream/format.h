@@ -443,12 +443,13 @@ class LayerWalk {
   // Where next() said kNeedMoreInput but the stream is known to end with
   // `bytes` (from offset() on: a file read whole, a decoder told the input
   // ended): kCorrupt, naming the layer, if the layer's checksum holds for it
-  // ending exactly there with one section length of its header smaller, by
-  // what it overshoots. A bit flipped in a length would otherwise read as a
-  // stream cut inside the layer, and give the coarser levels without an
-  // error. Ok otherwise (a stream cut short). No format change finds a
-  // damaged length in any layer but the stream's last present one: there the
-  // layer's true end is not known.
+  // ending inside the stream with one section length of its header smaller,
+  // by what it overshoots (the stream's last layer) or by one of its bits
+  // (any layer). A bit flipped in a length would otherwise read as a stream
+  // cut inside the layer, and give the coarser levels without an error. Ok
+  // otherwise (a stream cut short). A length of a layer before the last
+  // damaged in more than one bit still reads as a cut: that layer's true end
+  // is not known.
   Status overshoot_is_damage(std::span<const uint8_t> bytes) const {
     return overshoot_is_damage(bytes, bytes.size());
   }
