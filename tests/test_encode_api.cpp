@@ -138,6 +138,8 @@ TEST(EncodeApi, RefusesAFieldValueItsTypeCannotHoldAndRoundsTheOthers) {
                                                  {ValueType::kI64, INFINITY},
                                                  {ValueType::kU64, 0x1p64},
                                                  {ValueType::kI64, 0x1p63},
+                                                 {ValueType::kI64, 0x1p53 + 2},
+                                                 {ValueType::kU64, 0x1p62},
                                                  {ValueType::kF32, 1e300},
                                                  {ValueType::kF32, 0x1.fffffep127 + 0x1p103}}) {
     const auto out = encoded(type, {value}, 5);
@@ -147,11 +149,13 @@ TEST(EncodeApi, RefusesAFieldValueItsTypeCannotHoldAndRoundsTheOthers) {
         << out.status().message();
   }
   EXPECT_EQ(encoded(static_cast<ValueType>(77), {}).status().code(), StatusCode::kInvalidInput);
-  // In range: 1.5 and 2.5 rounded away from zero, -0.4 to 0; a float32's NaN kept.
+  // In range: 1.5 and 2.5 rounded away from zero, -0.4 to 0; a float32's NaN
+  // kept; a 64-bit integer up to 2^53 (beyond, a double may hold another one).
   for (const auto& [type, values, expected] :
        std::vector<std::tuple<ValueType, std::vector<double>, std::vector<double>>>{
            {ValueType::kI32, {1.5, 2.5, -0.4, -2.6}, {2, 3, 0, -3}},
            {ValueType::kU8, {254.6, 0.2}, {255, 0}},
+           {ValueType::kI64, {0x1p53, -0x1p53}, {0x1p53, -0x1p53}},
            {ValueType::kF32,
             {NAN, INFINITY, 0.1, 3.4028235e+38},
             {NAN, INFINITY, static_cast<float>(0.1), std::numeric_limits<float>::max()}}}) {

@@ -588,6 +588,32 @@ TEST(InputFormats, PlyPropertiesAreKeptAsFields) {
   EXPECT_EQ(m.fields[0].components, 3);
   EXPECT_EQ(m.fields[1].name, "intensity");
   EXPECT_EQ(m.fields[1].values, (std::vector<double>{7, 8, 9, 10}));
+  // In the types the file stores; a list property and the faces named.
+  EXPECT_EQ(m.fields[0].type, ScalarType::kFloat32);
+  EXPECT_EQ(m.fields[1].type, ScalarType::kUInt8);
+  EXPECT_EQ(m.left_out,
+            (std::vector<std::string>{
+                "1 faces (a surface's points are coded, the solid carved by alpha; its faces are not "
+                "read)"}));
+  const InputMesh typed = read_input(write_temp(
+      "typed.ply",
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+      "property int id\nproperty double t\nproperty list uchar int feat\nend_header\n0 0 0 -5 0.5 2 1 2\n"
+      "1 0 0 6 1.5 0\n0 1 0 7 2.5 1 3\n0 0 1 8 3.5 0\n"));
+  ASSERT_EQ(typed.fields.size(), 2u);
+  EXPECT_EQ(typed.fields[0].type, ScalarType::kInt32);
+  EXPECT_EQ(typed.fields[0].values, (std::vector<double>{-5, 6, 7, 8}));
+  EXPECT_EQ(typed.fields[1].type, ScalarType::kFloat64);
+  EXPECT_EQ(typed.left_out,
+            (std::vector<std::string>{"the point property 'feat' (a list, not a number per point)"}));
+  const InputMesh off =
+      read_input(write_temp("faces.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n"));
+  EXPECT_EQ(off.points.size(), 4u);
+  EXPECT_EQ(off.left_out,
+            (std::vector<std::string>{"2 faces (a surface's points are coded, the solid carved by "
+                                      "alpha; its faces are not read)"}));
+  const InputMesh obj = read_input(write_temp("faces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n"));
+  EXPECT_EQ(obj.left_out.size(), 1u);
 }
 
 TEST(InputFormats, MeditSkipsOtherSectionsAndKeepsRefs) {

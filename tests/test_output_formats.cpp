@@ -243,16 +243,22 @@ TEST(OutputFormats, BoundarySurfaceReadByMeshio) {
     EXPECT_EQ(tris, s.triangles);
     expect_closed_and_outward(m, d.points, tris);
     // And our own (CGAL's) reader: the same vertices (for PLY, its `level`
-    // read and left out, named: meshdec's own, which a decoder makes again).
+    // read and left out, named: meshdec's own, which a decoder makes again;
+    // the faces named, not read).
     const InputMesh back = read_input(::testing::TempDir() + "/" + name);
     ASSERT_EQ(back.points.size(), want.size());
     for (size_t i = 0; i < want.size(); ++i)
       ASSERT_TRUE(test::same_double(back.points[i].x, want[i].x) &&
                   test::same_double(back.points[i].z, want[i].z));
+    const std::string faces = std::to_string(s.triangles.size()) + " faces (";
     if (format == MeshFormat::kPly) {
       EXPECT_EQ(field(back, "level"), nullptr);
-      ASSERT_EQ(back.left_out.size(), 1u);
+      ASSERT_EQ(back.left_out.size(), 2u);
       EXPECT_NE(back.left_out[0].find("'level' (meshdec's own"), std::string::npos) << back.left_out[0];
+      EXPECT_EQ(back.left_out[1].rfind(faces, 0), 0u) << back.left_out[1];
+    } else {
+      ASSERT_EQ(back.left_out.size(), 1u);
+      EXPECT_EQ(back.left_out[0].rfind(faces, 0), 0u) << back.left_out[0];
     }
   }
 }

@@ -13,6 +13,7 @@
 #include <iostream>
 #include <set>
 #include <sstream>
+#include <type_traits>
 
 #include "format_error.h"
 #include "point_sets.h"
@@ -24,19 +25,36 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using PointSet = CGAL::Point_set_3<Kernel::Point_3, Kernel::Vector_3>;
 
-// The property `name` as a field if it has type T.
+// The file's type of a property held as T.
+template <class T>
+constexpr ScalarType scalar_type_of() {
+  if constexpr (std::is_same_v<T, int8_t>) return ScalarType::kInt8;
+  if constexpr (std::is_same_v<T, uint8_t>) return ScalarType::kUInt8;
+  if constexpr (std::is_same_v<T, int16_t>) return ScalarType::kInt16;
+  if constexpr (std::is_same_v<T, uint16_t>) return ScalarType::kUInt16;
+  if constexpr (std::is_same_v<T, int32_t>) return ScalarType::kInt32;
+  if constexpr (std::is_same_v<T, uint32_t>) return ScalarType::kUInt32;
+  if constexpr (std::is_same_v<T, float>) return ScalarType::kFloat32;
+  return ScalarType::kFloat64;
+}
+
+// The property `name` as a field, in the type the file stores, if it has
+// type T.
 template <class T>
 bool take_property(const PointSet& ps, const std::string& name, InputMesh& out) {
   const auto [map, found] = ps.template property_map<T>(name);
   if (!found) return false;
   VertexField f{name, 1, {}};
+  f.type = scalar_type_of<T>();
   f.values.reserve(ps.size());
   for (const auto& index : ps) f.values.push_back(static_cast<double>(map[index]));
   out.fields.push_back(std::move(f));
   return true;
 }
 
-InputMesh from_point_set(const PointSet& ps) {
+// `lists`: the vertex properties the file's header declares as lists
+// (named by the caller, once).
+InputMesh from_point_set(const PointSet& ps, const std::set<std::string>& lists) {
   InputMesh out;
   out.points.reserve(ps.size());
   for (const auto& index : ps) {
@@ -53,10 +71,12 @@ InputMesh from_point_set(const PointSet& ps) {
   }
   for (const std::string& name : ps.properties()) {
     if (name == "index" || name == "point" || name == "normal") continue;
-    take_property<int8_t>(ps, name, out) || take_property<uint8_t>(ps, name, out) ||
-        take_property<int16_t>(ps, name, out) || take_property<uint16_t>(ps, name, out) ||
-        take_property<int32_t>(ps, name, out) || take_property<uint32_t>(ps, name, out) ||
-        take_property<float>(ps, name, out) || take_property<double>(ps, name, out);
+    const bool taken = take_property<int8_t>(ps, name, out) || take_property<uint8_t>(ps, name, out) ||
+                       take_property<int16_t>(ps, name, out) || take_property<uint16_t>(ps, name, out) ||
+                       take_property<int32_t>(ps, name, out) || take_property<uint32_t>(ps, name, out) ||
+                       take_property<float>(ps, name, out) || take_property<double>(ps, name, out);
+    if (!taken && !lists.contains(name))
+      out.left_out.push_back("the point property '" + name + "' (not a number per point)");
   }
   return out;
 }
@@ -91,9 +111,17 @@ const char* expectations(PointSetFormat f) {
   return "";
 }
 
+// A surface's faces: its points are the input, its solid is carved by alpha.
+std::string faces_note(uint64_t faces) {
+  return std::to_string(faces) +
+         " faces (a surface's points are coded, the solid carved by alpha; its faces are "
+         "not read)";
+}
+
 // CGAL's OFF point reader stops quietly at the end of the file, however many
-// vertices the header announced: compare with the header ourselves.
-void check_off_count(const std::string& path, size_t read) {
+// vertices the header announced: compare with the header ourselves. The
+// faces it announces, which a point set does not read, are named.
+void check_off_count(const std::string& path, size_t read, std::vector<std::string>& left_out) {
   TextCursor c = TextCursor::open(path, '#');
   const std::string_view header = c.token("an OFF header");
   if (header.size() < 3 || header.substr(header.size() - 3) != "OFF")
@@ -102,6 +130,7 @@ void check_off_count(const std::string& path, size_t read) {
   if (announced != read)
     throw FormatError(path + ": the header announces " + std::to_string(announced) +
                       " vertices, the file holds " + std::to_string(read) + " (truncated?)");
+  if (const auto faces = c.number<uint64_t>("a face count"); faces > 0) left_out.push_back(faces_note(faces));
 }
 
 // CGAL's PLY reader trusts its header: a 'property' line before any
@@ -110,8 +139,16 @@ void check_off_count(const std::string& path, size_t read) {
 // pointer (undefined behaviour, both found by fuzzing); an element count is
 // reserved as announced (a few bytes can announce 4 billion vertices). The
 // header is checked here first; the data stays CGAL's to read.
-// Checks the header; true when meshdec wrote the file (its comment line).
-bool check_ply_header(const std::string& path) {
+// What the header says beside the checks.
+struct PlyHeader {
+  bool by_meshdec = false;             // meshdec wrote the file (its comment line)
+  std::set<std::string> vertex_lists;  // the vertex element's list properties
+  bool float_normals = false;          // nx is a float (CGAL holds normals as doubles)
+  std::vector<std::string> left_out;   // what a point set does not read, named
+};
+
+PlyHeader check_ply_header(const std::string& path) {
+  PlyHeader read;
   std::ifstream in(path, std::ios::binary);
   in.seekg(0, std::ios::end);
   const auto file_size = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
@@ -123,7 +160,6 @@ bool check_ply_header(const std::string& path) {
   std::string line, element;
   std::set<std::string> property_names;  // "element.property"
   int vertex_elements = 0, coordinates = 0;
-  bool by_meshdec = false;
   for (int number = 1; std::getline(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::string where = path + ":" + std::to_string(number) + ": ";
@@ -137,9 +173,11 @@ bool check_ply_header(const std::string& path) {
     if (keyword == "end_header") {
       if (vertex_elements != 1 || coordinates != 3)
         throw FormatError(path + ": the PLY header needs one 'vertex' element with float or double x, y, z");
-      return by_meshdec;
+      for (const std::string& name : read.vertex_lists)
+        read.left_out.push_back("the point property '" + name + "' (a list, not a number per point)");
+      return read;
     }
-    if (keyword == "comment" && line.rfind("comment written by dtmesh", 0) == 0) by_meshdec = true;
+    if (keyword == "comment" && line.rfind("comment written by dtmesh", 0) == 0) read.by_meshdec = true;
     if (keyword == "comment" || keyword == "obj_info" || keyword == "format") continue;
     if (keyword == "element") {
       std::string name, count_text, extra;
@@ -153,7 +191,11 @@ bool check_ply_header(const std::string& path) {
         throw FormatError(where + "element '" + name + "' announces " + count_text +
                           " items; the file has only " + std::to_string(file_size) + " bytes");
       element = name;
-      if (name == "vertex") ++vertex_elements;
+      if (name == "vertex")
+        ++vertex_elements;
+      else if (count > 0)
+        read.left_out.push_back(name == "face" ? faces_note(count)
+                                               : "the element '" + name + "' (" + count_text + " items)");
     } else if (keyword == "property") {
       if (element.empty()) throw FormatError(where + "'property' before any 'element'");
       std::string type, name, item_type, extra;
@@ -173,6 +215,8 @@ bool check_ply_header(const std::string& path) {
         throw FormatError(where + "vertex property '" + name + "' is '" + type +
                           "'; coordinates must be float or double");
       if (element == "vertex" && (name == "x" || name == "y" || name == "z")) ++coordinates;
+      if (element == "vertex" && !item_type.empty()) read.vertex_lists.insert(name);
+      if (element == "vertex" && name == "nx") read.float_normals = type == "float" || type == "float32";
     } else {
       throw FormatError(where + "unknown PLY header line '" + line.substr(0, 40) + "'");
     }
@@ -209,7 +253,9 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
   if (!in) throw FormatError(path + ": cannot open file");
   if (in.peek() == std::ifstream::traits_type::eof()) throw FormatError(path + ": empty file");
   InputMesh out;
-  bool ok = false, by_meshdec = false;
+  bool ok = false;
+  PlyHeader ply;
+  std::vector<std::string> left_out;
   std::string cgal_said;
   {
     const HeldCerr held;
@@ -226,11 +272,12 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
           if (v >= points.size())
             throw FormatError(path + ": a face names vertex " + std::to_string(v + 1) + " of " +
                               std::to_string(points.size()));
+      if (!faces.empty()) left_out.push_back(faces_note(faces.size()));
     } else {
       PointSet ps;
       switch (format) {
         case PointSetFormat::kPly:
-          by_meshdec = check_ply_header(path);
+          ply = check_ply_header(path);
           ok = CGAL::IO::read_PLY(in, ps);
           break;
         case PointSetFormat::kOff:
@@ -240,11 +287,11 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
           ok = CGAL::IO::read_XYZ(in, ps);
           break;
       }
-      if (ok) out = from_point_set(ps);
+      if (ok) out = from_point_set(ps, ply.vertex_lists);
     }
     cgal_said = held.first_line();
   }
-  if (ok && format == PointSetFormat::kOff) check_off_count(path, out.points.size());
+  if (ok && format == PointSetFormat::kOff) check_off_count(path, out.points.size(), left_out);
   if (!ok)
     throw FormatError(path + ": not a valid " + std::string(name_of(format)) +
                       " file (CGAL's reader stopped" +
@@ -254,8 +301,13 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
   // A surface meshdec wrote carries its own 'level' (each vertex's coarsest
   // level), which a decoder makes again: not a field of the input's (else a
   // decoded mesh would hold two).
-  if (by_meshdec && std::erase_if(out.fields, [](const VertexField& f) { return f.name == "level"; }) > 0)
+  if (ply.by_meshdec && std::erase_if(out.fields, [](const VertexField& f) { return f.name == "level"; }) > 0)
     out.left_out.push_back("the point property 'level' (meshdec's own: the decoder makes it again)");
+  if (ply.float_normals)
+    for (VertexField& f : out.fields)
+      if (f.name == "normal") f.type = ScalarType::kFloat32;
+  out.left_out.insert(out.left_out.end(), ply.left_out.begin(), ply.left_out.end());
+  out.left_out.insert(out.left_out.end(), left_out.begin(), left_out.end());
   for (size_t i = 0; i < out.points.size(); ++i) {
     const InputPoint& p = out.points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
