@@ -225,6 +225,38 @@ for name in pressure stress; do
   grep -q "Name=\"$name\"" "$work/cells.vtu" || { echo "cells.vtu: no cell array $name"; failed=1; }
 done
 echo "cells.msh: $(grep "cell data on level 0" "$work/said1" | sed 's/^ *//'); on 2 and 3 ranks the same bytes"
+# A TetGen .face whose markers tag the boundary (2 and 3): read whole on
+# every rank with the .ele, the same bytes as one process, the markers kept.
+cp "$data/bunny_10k.node" "$work/fc.node"
+cp "$data/bunny_10k.ele" "$work/fc.ele"
+awk 'NR > 1 && $1 !~ /^#/ && NF >= 5 {
+       v[0] = $2; v[1] = $3; v[2] = $4; v[3] = $5
+       for (k = 0; k < 4; ++k) {
+         n = 0
+         for (j = 0; j < 4; ++j) if (j != k) f[n++] = v[j]
+         if (f[0] + 0 > f[1] + 0) { t = f[0]; f[0] = f[1]; f[1] = t }
+         if (f[1] + 0 > f[2] + 0) { t = f[1]; f[1] = f[2]; f[2] = t }
+         if (f[0] + 0 > f[1] + 0) { t = f[0]; f[0] = f[1]; f[1] = t }
+         key = f[0] " " f[1] " " f[2]; seen[key]++
+       }
+     }
+     END { for (key in seen) if (seen[key] == 1) out[++count] = key
+           print count, 1
+           for (i = 1; i <= count; ++i) { split(out[i], a, " "); print i, out[i], (a[1] % 2) + 2 } }' \
+  "$work/fc.ele" > "$work/fc.face"
+"$meshenc" "$work/fc.node" "${options[@]}" -o "$work/fc1.dtm" > "$work/said1" 2>"$work/err"
+grep -q "tagged faces" "$work/said1" || { echo "fc.face: no tagged faces:"; cat "$work/said1" "$work/err"; failed=1; }
+mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$work/fc.node" "${options[@]}" -q -o "$work/fc2.dtm" 2>"$work/err"
+cmp -s "$work/fc1.dtm" "$work/fc2.dtm" || { echo "fc.face on 2 ranks: not the same bytes:"; cat "$work/err"; failed=1; }
+if grep -q "boundary markers" "$work/err"; then echo "fc.face on 2 ranks: markers left out:"; cat "$work/err"; failed=1; fi
+echo "fc.face's markers: on 2 ranks the same bytes as one process"
+# -o - under mpirun: a rank's standard output is not mpirun's (Open MPI's
+# own terminal): refused, said once.
+if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$data/bunny_10k.node" "${options[@]}" -q -o - \
+  >"$work/out.dtm" 2>"$work/err"; then
+  echo "mpirun meshenc -o - ran"; failed=1
+fi
+[ "$(grep -c "under mpirun a rank's standard output" "$work/err")" -eq 1 ] || { echo "-o -: not said once:"; cat "$work/err"; failed=1; }
 # Without --bricks: a clear error.
 if mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshenc" "$data/bunny_10k.node" --no-fields -q \
   -o "$work/missing/p.dtm" 2>"$work/err"; then

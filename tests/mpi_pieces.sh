@@ -94,6 +94,20 @@ vertices=$(grep -o '^[^:]*b.pvtu: [0-9]* points, [0-9]* merged' "$work/again.out
 expected=$(grep -o 'NumberOfPoints="[0-9]*"' "$work/whole.vtu" | grep -o '[0-9]*')
 echo "meshenc reads b.pvtu: $vertices distinct points (level 0 has $expected)"
 [ "$vertices" = "$expected" ] || failed=1
+# A damaged stream decoded over those pieces: every rank fails, and the
+# earlier run's pieces and .pvtu are left as they were (each rank's files
+# staged, put in place only once every rank has its own).
+cp -r "$work/mpi4" "$work/before4"
+size=$(stat -c %s "$work/b.dtm")
+cp "$work/b.dtm" "$work/damaged.dtm"
+printf '\x5a' | dd of="$work/damaged.dtm" bs=1 seek=$((size * 95 / 100)) conv=notrunc status=none
+if mpirun --oversubscribe "${as_root[@]}" -n 4 "$meshdec" "$work/damaged.dtm" -o "$work/mpi4/b.pvtu" 2>"$work/err"; then
+  echo "a damaged stream decoded"; failed=1
+fi
+diff -r "$work/before4" "$work/mpi4" >/dev/null || { echo "a failed decode changed the earlier pieces:"; ls -l "$work/mpi4"; cat "$work/err"; failed=1; }
+# Fewer pieces over them: the earlier run's others are named, not taken.
+mpirun --oversubscribe "${as_root[@]}" -n 2 "$meshdec" "$work/b.dtm" -o "$work/mpi4/b.pvtu" 2>"$work/err"
+grep -q "b_2.vtu, .*b_3.vtu: not pieces of" "$work/err" || { echo "the earlier pieces not named:"; cat "$work/err"; failed=1; }
 # A stream that is not bricked: a clear error and no file.
 "$meshenc" "$data/bunny_10k.node" --no-fields -q -o "$work/plain.dtm"
 mkdir -p "$work/plain"

@@ -447,6 +447,31 @@ TEST(OutputFormats, AFailedRenamePutsBackTheFilesBeforeIt) {
   EXPECT_EQ(read(dir / "x.node"), "nodes");
   EXPECT_EQ(read(dir / "x.ele"), "cells");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 2);
+  // Staged files (meshdec's pieces on ranks): left as they were if never
+  // committed; committed, then undone (another rank failed), put back.
+  {
+    StagedFiles staged;
+    staged.stage({{(dir / "x.node").string(), "staged nodes"}, {(dir / "y.vtu").string(), "piece"}});
+  }
+  EXPECT_EQ(read(dir / "x.node"), "nodes");
+  EXPECT_FALSE(fs::exists(dir / "y.vtu"));
+  {
+    StagedFiles staged;
+    staged.stage({{(dir / "x.node").string(), "staged nodes"}, {(dir / "y.vtu").string(), "piece"}});
+    staged.commit();
+    EXPECT_EQ(read(dir / "x.node"), "staged nodes");
+    EXPECT_EQ(read(dir / "y.vtu"), "piece");
+    staged.undo();
+  }
+  EXPECT_EQ(read(dir / "x.node"), "nodes");
+  EXPECT_FALSE(fs::exists(dir / "y.vtu"));
+  {
+    StagedFiles staged;
+    staged.stage({{(dir / "x.node").string(), "committed"}});
+    staged.commit();
+  }
+  EXPECT_EQ(read(dir / "x.node"), "committed");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 2);
   fs::remove_all(dir);
 }
 

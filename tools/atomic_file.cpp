@@ -75,31 +75,49 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
 
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files,
                             RenameFile rename) {
-  std::vector<Target> targets;
-  targets.reserve(files.size());
-  for (const auto& [path, bytes] : files) targets.push_back(target_of(path));
-  size_t written = 0;
-  const auto remove_temporaries = [&](size_t from, size_t to) {
-    for (size_t i = from; i < to; ++i)
-      if (!targets[i].in_place) std::remove(temporary_for(targets[i].path).c_str());
-  };
-  try {
-    for (; written < files.size(); ++written)
-      if (!targets[written].in_place)
-        write_temporary(files[written].first, targets[written].path, files[written].second);
-  } catch (...) {
-    remove_temporaries(0, written);
-    throw;
+  StagedFiles staged(rename);
+  staged.stage(files);
+  staged.commit();
+}
+
+StagedFiles::~StagedFiles() {
+  if (committed_) {
+    forget_kept();
+    return;
   }
+  for (const File& f : files_)
+    if (!f.in_place) std::remove(temporary_for(f.path).c_str());
+}
+
+void StagedFiles::stage(const std::vector<std::pair<std::string, std::string>>& files) {
+  for (const auto& [name, bytes] : files) {
+    File f;
+    f.name = name;
+    const Target t = target_of(name);
+    f.path = t.path;
+    f.in_place = t.in_place;
+    if (f.in_place)
+      f.bytes = bytes;
+    else
+      write_temporary(name, f.path, bytes);  // (throws: the destructor removes the others)
+    files_.push_back(std::move(f));
+  }
+}
+
+void StagedFiles::forget_kept() {
+  for (File& f : files_)
+    if (f.before == Before::kKept) std::remove(kept_for(f.path).c_str()), f.before = Before::kAbsent;
+}
+
+void StagedFiles::commit() {
+  const RenameFile rename = rename_ ? rename_ : &std::rename;
   // A rename fails on a directory: found before any file is replaced, so
   // that a failed write of several files (.node and .ele, .gltf and .bin)
   // leaves none of them.
-  for (size_t i = 0; i < files.size(); ++i) {
+  for (const File& f : files_) {
     std::error_code ec;
-    if (!targets[i].in_place && std::filesystem::is_directory(targets[i].path, ec)) {
-      remove_temporaries(0, files.size());
-      throw std::runtime_error(files[i].first + ": cannot replace: " + std::strerror(EISDIR));
-    }
+    if (!f.in_place && std::filesystem::is_directory(f.path, ec))
+      throw std::runtime_error(f.name + ": cannot replace: " + std::strerror(EISDIR));
   }
   // A rename can fail for other reasons too (a file made immutable, one a
   // sticky folder keeps for its owner). Each target that exists is kept
@@ -107,43 +125,50 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
   // a rename failing partway puts back the files replaced before it. Where
   // no link can be made (a file system without them) that file cannot be
   // put back, and is left as written.
-  enum class Before : uint8_t { kAbsent, kKept, kUnkept };
-  std::vector<Before> before(files.size(), Before::kAbsent);
-  for (size_t i = 0; i < files.size(); ++i) {
+  for (File& f : files_) {
     std::error_code ec;
-    if (targets[i].in_place || !std::filesystem::exists(std::filesystem::symlink_status(targets[i].path, ec)))
-      continue;
-    const std::string kept = kept_for(targets[i].path);
+    f.before = Before::kAbsent;
+    if (f.in_place || !std::filesystem::exists(std::filesystem::symlink_status(f.path, ec))) continue;
+    const std::string kept = kept_for(f.path);
     std::remove(kept.c_str());  // (one a run of this process number left)
-    before[i] = ::link(targets[i].path.c_str(), kept.c_str()) == 0 ? Before::kKept : Before::kUnkept;
+    f.before = ::link(f.path.c_str(), kept.c_str()) == 0 ? Before::kKept : Before::kUnkept;
   }
-  const auto forget_kept = [&] {
-    for (size_t i = 0; i < files.size(); ++i)
-      if (before[i] == Before::kKept) std::remove(kept_for(targets[i].path).c_str());
-  };
-  for (size_t i = 0; i < files.size(); ++i) {
-    if (targets[i].in_place) continue;
-    const std::string& path = targets[i].path;
-    if (rename(temporary_for(path).c_str(), path.c_str()) != 0) {
+  for (size_t i = 0; i < files_.size(); ++i) {
+    if (files_[i].in_place) continue;
+    if (rename(temporary_for(files_[i].path).c_str(), files_[i].path.c_str()) != 0) {
       const int e = errno;
-      for (size_t j = 0; j < i; ++j) {
-        if (targets[j].in_place) continue;
-        // (A file that cannot be put back keeps its copy beside it.)
-        if (before[j] == Before::kKept &&
-            std::rename(kept_for(targets[j].path).c_str(), targets[j].path.c_str()) != 0)
-          before[j] = Before::kUnkept;
-        else if (before[j] == Before::kAbsent)
-          std::remove(targets[j].path.c_str());
+      put_back(i);
+      for (size_t k = i; k < files_.size(); ++k) {
+        if (files_[k].before == Before::kKept) std::remove(kept_for(files_[k].path).c_str());
+        files_[k].before = Before::kAbsent;
       }
-      remove_temporaries(i, files.size());
-      forget_kept();
-      throw std::runtime_error(files[i].first + ": cannot replace: " + std::strerror(e));
+      throw std::runtime_error(files_[i].name + ": cannot replace: " + std::strerror(e));
     }
   }
-  forget_kept();
+  committed_ = true;
   // Devices and pipes last: written into, not replaced (not atomically).
-  for (size_t i = 0; i < files.size(); ++i)
-    if (targets[i].in_place) write_in_place(files[i].first, targets[i].path, files[i].second);
+  for (const File& f : files_)
+    if (f.in_place) write_in_place(f.name, f.path, f.bytes);
+}
+
+void StagedFiles::undo() {
+  if (!committed_) return;
+  put_back(files_.size());
+  committed_ = false;
+}
+
+void StagedFiles::put_back(size_t count) {
+  for (size_t i = 0; i < count; ++i) {
+    File& f = files_[i];
+    if (f.in_place) continue;
+    // (A file that cannot be put back keeps its copy beside it.)
+    if (f.before == Before::kKept && std::rename(kept_for(f.path).c_str(), f.path.c_str()) != 0)
+      f.before = Before::kUnkept;
+    else if (f.before == Before::kKept)
+      f.before = Before::kAbsent;
+    else if (f.before == Before::kAbsent)
+      std::remove(f.path.c_str());
+  }
 }
 
 void check_writable(const std::string& path, const std::vector<std::string>& inputs) {

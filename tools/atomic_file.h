@@ -4,6 +4,8 @@
 // a named pipe) is written into as it is, after the files.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,6 +22,42 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
 // contract): what the tests use to make a rename fail partway.
 using RenameFile = int (*)(const char* from, const char* to);
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files, RenameFile rename);
+
+// The same in two steps, for files written by several processes that stand
+// or fall together (meshdec's pieces on MPI ranks): stage() writes each
+// file to its temporary beside its target, commit() renames them all into
+// place (a rename failing partway puts back those before it, and throws),
+// and undo() puts back what commit() replaced, where another process's
+// commit failed. Destroyed, it removes what was staged and not committed,
+// and forgets the files a commit replaced.
+class StagedFiles {
+ public:
+  StagedFiles() = default;
+  explicit StagedFiles(RenameFile rename) : rename_(rename) {}
+  ~StagedFiles();
+  StagedFiles(const StagedFiles&) = delete;
+  StagedFiles& operator=(const StagedFiles&) = delete;
+
+  void stage(const std::vector<std::pair<std::string, std::string>>& files);
+  void commit();
+  void undo();
+
+ private:
+  enum class Before : uint8_t { kAbsent, kKept, kUnkept };
+  struct File {
+    std::string name;  // as the caller gave it, for messages
+    std::string path;  // where the bytes go (a link followed)
+    bool in_place = false;
+    std::string bytes;  // an in-place file's, written at commit()
+    Before before = Before::kAbsent;
+  };
+  void forget_kept();
+  void put_back(size_t count);  // the first `count` files as they were before commit()
+
+  RenameFile rename_ = nullptr;
+  std::vector<File> files_;
+  bool committed_ = false;
+};
 
 // Said before the work rather than after it: throws std::invalid_argument
 // naming `path` if write_files_atomically() could not write it (its folder

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "codec/decode.h"
@@ -239,8 +240,10 @@ auto of_finest_whole_level(const Command& c, int levels, Decode&& decode) {
 }
 
 // -o X.pvtu: the level in pieces X_0.vtu, X_1.vtu, ..., each rank writing
-// its own (ranks take pieces in turn), rank 0 the .pvtu once every piece is
-// written. Any rank's failure fails them all and leaves no file.
+// its own (ranks take pieces in turn), rank 0 the .pvtu with its own. Every
+// file is staged beside its target, and put in place once every rank has
+// staged its own: any rank's failure fails them all and leaves the files
+// as they were (an earlier run's pieces and .pvtu included).
 int run_pieces(const Command& c) {
   dtm::MpiSession& mpi = dtm::mpi_session();
   if (c.input == "-") throw dtm::UsageError("-o X.pvtu reads the stream by offset: give a file, not '-'");
@@ -252,7 +255,9 @@ int run_pieces(const Command& c) {
   const std::string stem = c.output.substr(0, c.output.size() - 5);
   const size_t slash = stem.find_last_of('/');
   const std::string base = slash == std::string::npos ? stem : stem.substr(slash + 1);
-  std::vector<std::string> names, written;
+  std::vector<std::string> names;
+  dtm::StagedFiles staged;
+  bool any_written = false;
   for (int i = 0; i < pieces; ++i) names.push_back(base + "_" + std::to_string(i) + ".vtu");
   std::string error;
   uint64_t cells = 0, bytes_read = 0, largest_read = 0, size = 0, empty = 0;
@@ -289,39 +294,53 @@ int run_pieces(const Command& c) {
       const std::string path = (slash == std::string::npos ? "" : stem.substr(0, slash + 1)) + names[i];
       display.start("writing " + path);
       dtm::OutputMesh mesh = dtm::region_output(*piece, grid);
-      dtm::write_files_atomically(dtm::render_mesh(mesh, dtm::MeshFormat::kVtu, path));
-      if (written.empty()) {
+      staged.stage(dtm::render_mesh(mesh, dtm::MeshFormat::kVtu, path));
+      if (!any_written) {
         like.declare_level = true;
         like.declare_region = mesh.declare_region;
         like.fields = std::move(mesh.fields);
         like.cell_fields = std::move(mesh.cell_fields);
       }
-      written.push_back(path);
+      any_written = true;
       cells += piece->cells.size();
       empty += piece->cells.empty();
       bytes_read += piece->bytes_read;
       largest_read = std::max(largest_read, piece->bytes_read);
     }
+    // (Rank 0 staged piece 0: its arrays are every piece's.)
+    if (mpi.rank() == 0) staged.stage({{c.output, dtm::render_pvtu(like, names)}});
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  // An error every rank met alike (a stream that is not there, damaged, not
+  // bricked) is printed once, by rank 0; the others each by their rank,
+  // named. (The staged files are removed as `staged` goes.)
+  const auto fail_together = [&mpi](const std::string& mine) {
+    const auto errors = mpi.all_gather({reinterpret_cast<const uint8_t*>(mine.data()), mine.size()});
+    const bool alike = std::all_of(errors.begin(), errors.end(),
+                                   [&](const std::vector<uint8_t>& e) { return e == errors.front(); });
+    if (alike) throw dtm::AgreedError(mine, mpi.rank() == 0);
+    if (!mine.empty()) throw std::runtime_error("rank " + std::to_string(mpi.rank()) + ": " + mine);
+  };
+  if (!mpi.all(error.empty())) {
+    fail_together(error);
+    return 1;  // another rank's error, which that rank reports
+  }
+  // Every rank's files in place, or none: a rank whose renames succeeded
+  // puts back what they replaced where another's failed.
+  try {
+    staged.commit();
   } catch (const std::exception& e) {
     error = e.what();
   }
   if (!mpi.all(error.empty())) {
-    for (const std::string& path : written) std::remove(path.c_str());
-    // An error every rank met alike (a stream that is not there, damaged,
-    // not bricked) is printed once, by rank 0; the others each by their
-    // rank, named.
-    const auto errors = mpi.all_gather({reinterpret_cast<const uint8_t*>(error.data()), error.size()});
-    const bool alike = std::all_of(errors.begin(), errors.end(),
-                                   [&](const std::vector<uint8_t>& e) { return e == errors.front(); });
-    if (alike) throw dtm::AgreedError(error, mpi.rank() == 0);
-    if (!error.empty()) throw std::runtime_error("rank " + std::to_string(mpi.rank()) + ": " + error);
-    return 1;  // another rank's error, which that rank reports
+    staged.undo();
+    fail_together(error);
+    return 1;
   }
   display.finish();
   const uint64_t all_cells = mpi.sum(cells), all_read = mpi.sum(bytes_read), all_empty = mpi.sum(empty);
   if (mpi.rank() == 0) {
-    // (Rank 0 wrote piece 0: its arrays are every piece's.)
-    dtm::write_files_atomically({{c.output, dtm::render_pvtu(like, names)}});
     if (!c.quiet)
       std::fprintf(
           stderr,
@@ -337,6 +356,19 @@ int run_pieces(const Command& c) {
                    "meshdec: %llu of the %d pieces hold no cell (the level has fewer chunks than pieces, or "
                    "none there)\n",
                    static_cast<unsigned long long>(all_empty), pieces);
+    // Pieces beyond these (an earlier run's, with more) are not the .pvtu's:
+    // said, for a count over X_*.vtu would take their cells twice.
+    std::string beyond;
+    std::error_code ec;
+    for (int i = pieces;; ++i) {
+      const std::string path = (slash == std::string::npos ? "" : stem.substr(0, slash + 1)) + base + "_" +
+                               std::to_string(i) + ".vtu";
+      if (!std::filesystem::exists(path, ec)) break;
+      beyond += (beyond.empty() ? "" : ", ") + path;
+    }
+    if (!c.quiet && !beyond.empty())
+      std::fprintf(stderr, "meshdec: %s: not pieces of %s (an earlier run's?): left as they are\n",
+                   beyond.c_str(), c.output.c_str());
   }
   return 0;
 }

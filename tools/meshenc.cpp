@@ -425,8 +425,14 @@ dtm::InputMesh read(const Command& c) {
     // is printed once. (Those of the .node's parts are agreed on already.)
     std::string problem;
     try {
+      // (A .face whose markers tag faces needs every tetrahedron on every
+      // rank, as a gmsh file's tagged faces do: its .ele is read whole.)
+      const bool whole_ele =
+          !c.no_reference &&
+          (format ? *format : dtm::input_format_for_path(c.input)) == dtm::InputFormat::kTetgen &&
+          dtm::tetgen_face_is_marked(c.input);
       in = dtm::read_input(
-          c.input, format, c.volume, false,
+          c.input, format, c.volume, whole_ele,
           [&mpi](const std::string& path) { return read_node_in_parts(path, mpi); }, c.time_step);
     } catch (const dtm::AgreedError&) {
       throw;
@@ -876,6 +882,11 @@ int run(Command& c) {
     if (mpi.rank() != 0) c.quiet = true;
   }
   if (c.output == "-") {
+    // (Open MPI hands each rank's standard output to mpirun through a
+    // terminal of its own, whatever mpirun's is.)
+    if (mpi.size() > 1 || std::getenv("OMPI_COMM_WORLD_SIZE"))
+      throw dtm::UsageError("-o -: under mpirun a rank's standard output is not the stream's: give -o FILE",
+                            mpi.rank() == 0);
     if (isatty(STDOUT_FILENO))
       throw std::invalid_argument(
           "-o -: standard output is a terminal; a stream is binary (pipe or redirect it)");
@@ -1427,7 +1438,14 @@ int run(Command& c) {
     throw std::runtime_error(c.input + ": --strict: the stream would leave out " +
                              std::to_string(dropped.size()) + " thing" + (dropped.size() == 1 ? "" : "s") +
                              " of the input (named above)");
-  if (mpi.rank() == 0) write_outputs(c, *encoded, in.left_out);
+  // Rank 0 writes; every rank fails with it (and says nothing of its own).
+  std::string unwritten;
+  if (mpi.rank() == 0) try {
+      write_outputs(c, *encoded, in.left_out);
+    } catch (const std::exception& e) {
+      unwritten = e.what();
+    }
+  if (!mpi.all(unwritten.empty())) throw dtm::AgreedError(unwritten, mpi.rank() == 0);
   display.finish();
   return 0;
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 
 #include "abaqus.h"
 #include "exodus.h"
@@ -75,6 +76,23 @@ std::filesystem::path beside(const std::string& node, const std::string& ext) {
   }
   return p.replace_extension(ext);
 }
+
+}  // namespace
+
+bool tetgen_face_is_marked(const std::string& path) {
+  const std::filesystem::path face = beside(path, ".face");
+  std::error_code ec;
+  if (!std::filesystem::exists(face, ec)) return false;
+  try {
+    // (Indices unchecked here: the whole read checks them.)
+    const FaceFile faces = read_tetgen_face(face.string(), std::numeric_limits<size_t>::max(), 0);
+    return std::any_of(faces.markers.begin(), faces.markers.end(), [](int32_t m) { return m != 1; });
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+namespace {
 
 InputMesh read_tetgen(const std::string& path, bool with_ele,
                       const std::function<NodeFile(const std::string&)>& read_node) {

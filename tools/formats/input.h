@@ -61,6 +61,13 @@ InputMesh read_input(const std::string& path, std::optional<InputFormat> format 
                      const VolumeOptions& volume = {}, bool tetgen_ele = true,
                      const std::function<NodeFile(const std::string&)>& read_node = {}, int time_step = 0);
 
+// Whether the TetGen .node at `path` has a .face beside it whose boundary
+// markers are tags (some other than 1, TetGen's default): they need every
+// tetrahedron, so meshenc under mpirun reads the .ele whole on every rank.
+// False for a file that is not a TetGen .node, or a .face that does not read
+// (its reader says why later).
+bool tetgen_face_is_marked(const std::string& path);
+
 // The names of cell arrays taken as the regions when the user names none,
 // in this order: what gmsh, Medit and meshio's converters write, and the
 // usual names.
