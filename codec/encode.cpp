@@ -150,7 +150,8 @@ StatusOr<std::vector<FieldValues>> grid_point_fields(const EncodeInput& input, c
     bool found = false;
     for (const auto& f : input.fields) found = found || f.name == name;
     for (const auto& f : input.cell_fields) found = found || f.name == name;
-    if (!found) return invalid_input("--field-error names '" + name + "', which is not a field of the input");
+    if (!found)
+      return invalid_input("an error bound names '" + name + "', which is not a field of the input");
   }
   std::vector<FieldDescription> descriptions;
   std::vector<size_t> value_counts;
@@ -577,9 +578,20 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
       }
       DTM_RETURN_IF_ERROR(
           check_fields(cell_descriptions, value_counts, input.tetrahedra.size()).with_context("cell data"));
-      for (size_t k = 0; k < input.cell_fields.size(); ++k)
-        DTM_RETURN_IF_ERROR(check_field_values(cell_descriptions[k], input.cell_fields[k].values, "cell")
-                                .with_context("cell data"));
+      for (size_t k = 0; k < input.cell_fields.size(); ++k) {
+        const auto& f = input.cell_fields[k];
+        DTM_RETURN_IF_ERROR(
+            check_field_values(cell_descriptions[k], f.values, "cell").with_context("cell data"));
+        // (Named here by the input's cell: the coder's own check counts
+        // level 0's cells.)
+        if (cell_descriptions[k].lossy)
+          for (size_t i = 0; i < f.values.size(); ++i)
+            if (!std::isfinite(f.values[i]))
+              return invalid_input("cell data: field '" + f.name + "': cell " +
+                                   std::to_string(i / f.components) + " holds " +
+                                   (std::isnan(f.values[i]) ? "NaN" : "an infinity") +
+                                   ", which a lossy field cannot keep (code it losslessly)");
+      }
     }
     if (with_regions) {
       if (input.tetrahedron_regions.size() != input.tetrahedra.size())

@@ -415,6 +415,36 @@ TEST_F(Tools, AnOutputThatCannotBeWrittenOrIsTheInputIsRefusedFirst) {
   EXPECT_EQ(r.output.find("merged by quantization"), std::string::npos) << r.output;
 }
 
+// What a field's values or bound cannot be is said in the file's terms: a
+// lossy cell array's NaN by the file's tetrahedron, a bound as given (not
+// %f's zeros); a --field-error for a cell array left out bounds nothing and
+// stops nothing; a .node's unnamed attributes name the fields they were.
+TEST_F(Tools, ValuesAreSaidInTheFilesTerms) {
+  const std::string vtk = dir_ + "/values.vtk", out = dir_ + "/values.dtm";
+  std::ofstream(vtk)
+      << "# vtk DataFile Version 3.0\nc\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n"
+         "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\nCELLS 2 10\n4 0 1 2 3\n4 1 2 3 4\n"
+         "CELL_TYPES 2\n10\n10\nCELL_DATA 2\nSCALARS c double 1\nLOOKUP_TABLE default\n1.5\nnan\n"
+         "POINT_DATA 5\nSCALARS t double 1\nLOOKUP_TABLE default\n0.1\n0.2\n0.3\n0.4\n0.5\n";
+  const CommandRun nan = meshenc(vtk + " -q --field-error c=0.1 -o " + out);
+  EXPECT_NE(nan.status, 0);
+  EXPECT_NE(nan.output.find("cell data 'c': tetrahedron 1 (from 0, in the file's order) holds NaN"),
+            std::string::npos)
+      << nan.output;
+  const CommandRun left = meshenc(vtk + " -q --no-cell-data --field-error c=0.1 -o " + out);
+  EXPECT_EQ(left.status, 0) << left.output;
+  ASSERT_EQ(meshenc(vtk + " -q --no-cell-data --field-error t=1e-12 -o " + out).status, 0);
+  const CommandRun info = run_command(kMeshinfo + " " + out);
+  EXPECT_NE(info.output.find("field 't': float64, within 1e-12,"), std::string::npos) << info.output;
+  const CommandRun node = run_command(kMeshdec + " " + out + " -o " + dir_ + "/values.node");
+  EXPECT_EQ(node.status, 0) << node.output;
+  EXPECT_NE(
+      node.output.find("not written (the format has no place for it): the point fields' names, components "
+                       "and types (a .node's attributes are numbers only, written in this order) 't'"),
+      std::string::npos)
+      << node.output;
+}
+
 // Extensions in any case: X.NODE reads its X.ELE beside it, -o X.VTU
 // writes a .vtu, -o Y.NODE its Y.ELE.
 TEST_F(Tools, ExtensionsInAnyCase) {

@@ -1065,9 +1065,25 @@ int run(Command& c) {
       std::string names;
       for (const auto& f : in.cell_fields) names += (names.empty() ? "'" : ", '") + f.name + "'";
       in.left_out.push_back("the cell arrays " + names + " (" + why + ")");
+      // (A --field-error for one of them has nothing left to bound.)
+      for (const auto& f : in.cell_fields)
+        if (std::none_of(in.fields.begin(), in.fields.end(), [&](const auto& p) { return p.name == f.name; }))
+          c.encode.field_errors.erase(f.name);
       in.cell_fields.clear();
     }
   }
+  // A lossy cell array's NaN or infinity, named by the file's tetrahedron
+  // (the encoder, given them on the grid, would count level 0's cells).
+  for (const auto& f : in.cell_fields)
+    if (c.encode.field_errors.contains(f.name) &&
+        (f.type == dtm::ScalarType::kFloat32 || f.type == dtm::ScalarType::kFloat64))
+      for (size_t i = 0; i < f.values.size(); ++i)
+        if (!std::isfinite(f.values[i]))
+          throw std::invalid_argument(c.input + ": cell data '" + f.name + "': tetrahedron " +
+                                      std::to_string(i / static_cast<size_t>(f.components)) +
+                                      " (from 0, in the file's order) holds " +
+                                      (std::isnan(f.values[i]) ? "NaN" : "an infinity") +
+                                      ", which a lossy field cannot keep (code it losslessly)");
   // meshdec's own point arrays (each vertex's coarsest level, whether it is
   // on the boundary, its number in the whole level): the decoder makes them
   // again, so a decoded mesh encoded again holds them once, not twice.

@@ -1,6 +1,7 @@
 // meshinfo: what a .dtm stream holds, read from its headers (checksums
 // verified, no mesh rebuilt); with --stats, each level decoded and measured.
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -14,6 +15,14 @@
 #include "tools/tool_main.h"
 
 namespace {
+
+// An error bound as its shortest exact text (1e-305 and 1e290 as they are,
+// not as %f's zeros or digits).
+std::string bound_text(double bound) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, bound).ptr;
+  return std::string(text, end);
+}
 
 constexpr const char* kExamples = R"(
 Examples:
@@ -55,7 +64,7 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
       if (f < l.edge_field_bytes.size()) edge += l.edge_field_bytes[f];
     std::printf("field '%s': %s%s, %s, %llu bytes%s\n", d.name.c_str(), dtm::value_type_name(d.type),
                 d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
-                d.lossy ? ("within " + std::to_string(d.error_bound)).c_str() : "lossless",
+                d.lossy ? ("within " + bound_text(d.error_bound)).c_str() : "lossless",
                 static_cast<unsigned long long>(field_bytes[f]),
                 edge ? (", and " + std::to_string(edge) + " bytes at the edge nodes").c_str() : "");
   }
@@ -73,7 +82,7 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
     std::printf("cell data '%s' (level 0): %s%s, %s, %llu bytes\n", d.name.c_str(),
                 dtm::value_type_name(d.type),
                 d.components > 1 ? (" x " + std::to_string(d.components)).c_str() : "",
-                d.lossy ? ("within " + std::to_string(d.error_bound)).c_str() : "lossless",
+                d.lossy ? ("within " + bound_text(d.error_bound)).c_str() : "lossless",
                 static_cast<unsigned long long>(bytes));
   }
   const bool regions = !s.regions.empty();

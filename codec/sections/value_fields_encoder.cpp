@@ -84,7 +84,7 @@ Status check_field_values(const FieldDescription& f, std::span<const double> val
         value << std::setprecision(17) << v;
         return invalid_input("field '" + f.name + "': " + each + " " + std::to_string(i / f.components) +
                              " holds " + value.str() + ", beyond 2^53: a " + value_type_name(f.type) +
-                             " so large cannot be kept exactly (its values pass through doubles)");
+                             " value so large cannot be kept exactly (it passes through a double)");
       }
       if (std::isfinite(kept) && kept >= low && kept <= high) continue;
     }

@@ -300,10 +300,17 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
       add("the point fields", names(m.fields, all));
       add("the cell arrays", names(m.cell_fields, all));
       break;
-    case MeshFormat::kTetgen:
+    case MeshFormat::kTetgen: {
       if (!m.faces.empty()) out.push_back(std::to_string(m.faces.size()) + " tagged faces");
+      // (Their values are the .node's attributes, in order: only what they
+      // were is lost.)
+      const OutputField* marker = marker_field(m);
+      add("the point fields' names, components and types (a .node's attributes are numbers only, written in "
+          "this order)",
+          names(m.fields, [&](const OutputField& f) { return all(f) && &f != marker; }));
       add("the cell arrays", names(m.cell_fields, all));
       break;
+    }
     default:
       break;
   }

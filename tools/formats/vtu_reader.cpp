@@ -59,6 +59,13 @@ struct Element {
   }
 };
 
+// A DataArray's name: "unnamed" where it has none, or an empty one (a
+// stream's field names have 1 to 64 bytes).
+std::string array_name(const Element& da) {
+  const std::string* name = da.attr("Name");
+  return name && !name->empty() ? *name : "unnamed";
+}
+
 // The XML subset VTK writes: declarations, comments, elements with quoted
 // attributes, character data; the raw bytes of <AppendedData> are sliced out
 // before parsing continues after them.
@@ -362,7 +369,7 @@ class VtuReader {
       if (const Element& fd = p_.element(id); fd.name == "FieldData")
         for (size_t a : fd.children)
           if (const Element& da = p_.element(a); da.name == "DataArray" || da.name == "Array")
-            dataset_arrays_.insert(da.attr("Name") ? *da.attr("Name") : "unnamed");
+            dataset_arrays_.insert(array_name(da));
     // Several pieces (a parallel writer's, or VTK's when asked): one mesh,
     // their points one after the other, each piece's cells renumbered.
     InputMesh out;
@@ -392,7 +399,7 @@ class VtuReader {
         const Element& da = p_.element(id);
         if (skipped_array(da)) continue;
         VertexField f;
-        f.name = da.attr("Name") ? *da.attr("Name") : "unnamed";
+        f.name = array_name(da);
         f.components = static_cast<int>(count_attr(da, "NumberOfComponents", 1));
         if (f.components < 1 || f.components > 64)
           p_.fail_at(da.offset, "NumberOfComponents must be 1 to 64");
@@ -433,7 +440,7 @@ class VtuReader {
       for (size_t id : cd->children) {
         const Element& da = p_.element(id);
         if (skipped_array(da)) continue;
-        const std::string name = da.attr("Name") ? *da.attr("Name") : "unnamed";
+        const std::string name = array_name(da);
         // The type the file stores (an unknown one is read as float64).
         ScalarType type = ScalarType::kFloat64;
         if (const auto* t = da.attr("type"))
@@ -534,7 +541,7 @@ class VtuReader {
     if (da.attr("Name") && *da.attr("Name") == kGhostArray) return true;
     const auto* t = da.attr("type");
     if (da.name == "DataArray" && (!t || (*t != "String" && *t != "Bit"))) return false;
-    text_arrays_.insert(da.attr("Name") ? *da.attr("Name") : "unnamed");
+    text_arrays_.insert(array_name(da));
     return true;
   }
 
