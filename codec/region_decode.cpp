@@ -1,9 +1,11 @@
 #include "codec/region_decode.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <numeric>
 
@@ -28,10 +30,11 @@ StatusOr<FileSource> FileSource::open(const std::string& path) {
   FileSource f;
   f.path_ = path;
   f.file_ = std::fopen(path.c_str(), "rb");
-  if (!f.file_) return Status{StatusCode::kInvalidInput, path + ": cannot open"};
-  if (std::fseek(f.file_, 0, SEEK_END) != 0) return Status{StatusCode::kInvalidInput, path + ": cannot seek"};
+  if (!f.file_) return Status{StatusCode::kInvalidInput, path + ": cannot open: " + std::strerror(errno)};
+  if (std::fseek(f.file_, 0, SEEK_END) != 0)
+    return Status{StatusCode::kInvalidInput, path + ": cannot seek: " + std::strerror(errno)};
   const long end = std::ftell(f.file_);
-  if (end < 0) return Status{StatusCode::kInvalidInput, path + ": cannot seek"};
+  if (end < 0) return Status{StatusCode::kInvalidInput, path + ": cannot seek: " + std::strerror(errno)};
   f.size_ = static_cast<uint64_t>(end);
   return f;
 }

@@ -320,12 +320,24 @@ int run_pieces(const Command& c) {
     const bool alike = std::all_of(errors.begin(), errors.end(),
                                    [&](const std::vector<uint8_t>& e) { return e == errors.front(); });
     if (alike) throw dtm::AgreedError(mine, mpi.rank() == 0);
-    if (!mine.empty()) throw std::runtime_error("rank " + std::to_string(mpi.rank()) + ": " + mine);
+    // Else each error once, by rank 0, with the ranks that met it.
+    std::vector<std::pair<std::string, std::string>> said;  // (error, its ranks)
+    for (size_t r = 0; r < errors.size(); ++r) {
+      if (errors[r].empty()) continue;
+      const std::string e(errors[r].begin(), errors[r].end());
+      const auto it = std::find_if(said.begin(), said.end(), [&](const auto& s) { return s.first == e; });
+      if (it == said.end())
+        said.emplace_back(e, std::to_string(r));
+      else
+        it->second += ", " + std::to_string(r);
+    }
+    std::string all;
+    for (const auto& [e, ranks] : said)
+      all += (all.empty() ? "" : "; ") +
+             std::string(ranks.find(',') == std::string::npos ? "rank " : "ranks ") + ranks + ": " + e;
+    throw dtm::AgreedError(all, mpi.rank() == 0);
   };
-  if (!mpi.all(error.empty())) {
-    fail_together(error);
-    return 1;  // another rank's error, which that rank reports
-  }
+  if (!mpi.all(error.empty())) fail_together(error);
   // Every rank's files in place, or none: a rank whose renames succeeded
   // puts back what they replaced where another's failed.
   try {
@@ -336,7 +348,6 @@ int run_pieces(const Command& c) {
   if (!mpi.all(error.empty())) {
     staged.undo();
     fail_together(error);
-    return 1;
   }
   display.finish();
   const uint64_t all_cells = mpi.sum(cells), all_read = mpi.sum(bytes_read), all_empty = mpi.sum(empty);
