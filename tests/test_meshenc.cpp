@@ -176,8 +176,9 @@ TEST(Meshenc, RejectsBadOptions) {
   EXPECT_TRUE(WIFEXITED(help.status) && WEXITSTATUS(help.status) == 0) << help.output;
   // Options that contradict each other, or a value of the wrong form,
   // found after parsing: 2 too.
-  for (const char* options : {" --alpha nonsense", " --scale 2 --box 3", " --field-error pressure",
-                              " --bricks --level-step 2", " --no-fields --field-error a=1"}) {
+  for (const char* options :
+       {" --alpha nonsense", " --scale 2 --box 3", " --field-error pressure", " --bricks --level-step 2",
+        " --no-fields --field-error a=1", " --field-error a=1 --field-error a=2"}) {
     const CommandRun run = meshenc(test::data_path("torus_288.node") + options + " -o -");
     EXPECT_TRUE(WIFEXITED(run.status) && WEXITSTATUS(run.status) == 2) << options << ": " << run.output;
   }

@@ -767,7 +767,10 @@ void parse_field_errors(const std::vector<std::string>& args, dtm::EncodeOptions
     if (eq == std::string::npos || eq == 0 || used == 0 || used != a.size() - eq - 1 || !(e > 0) ||
         !std::isfinite(e))
       throw dtm::UsageError("--field-error expects NAME=E with E a positive number, got '" + a + "'");
-    o.field_errors[a.substr(0, eq)] = e;
+    const auto [at, added] = o.field_errors.emplace(a.substr(0, eq), e);
+    if (!added && at->second != e)
+      throw dtm::UsageError("--field-error gives '" + at->first + "' two bounds (" +
+                            format_number(at->second) + " and " + format_number(e) + "): give one");
   }
 }
 
