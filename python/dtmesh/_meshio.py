@@ -299,6 +299,14 @@ def write(filename, mesh, **options):
         warnings.warn(f"{filename}: left out (the stream does not hold it): field data " +
                       ", ".join(f"'{n}'" for n in other_field_data) + " (not a region's or tag's name)",
                       stacklevel=2)
+    # Point arrays the stream cannot hold as they are (a tensor of more than
+    # one axis per point, complex numbers, strings): named, as cell data's are.
+    unkept_points = [name for name, values in mesh.point_data.items() if name not in derived and
+                     not (np.asarray(values).dtype.kind in "iufb" and np.asarray(values).ndim in (1, 2))]
+    if unkept_points:
+        warnings.warn(f"{filename}: left out (the stream does not hold it): point data " +
+                      ", ".join(f"'{n}'" for n in unkept_points), stacklevel=2)
+        derived += unkept_points
     fields = {name: values for name, values in mesh.point_data.items() if name not in derived}
     if edge_fields and "edge_fields" not in options:
         options["edge_fields"] = {name: values for name, values in edge_fields.items() if name in fields}

@@ -260,11 +260,14 @@ def test_meshio_write_names_what_the_stream_does_not_hold(corpus, tmp_path):
     triangles = tets[:5, :3]
     mesh = meshio.Mesh(points, [("tetra", tets), ("triangle", triangles)],
                        cell_data={"stress": [np.ones(len(tets)), np.zeros(5)]},
-                       cell_sets={"steel": [np.arange(10), np.array([], dtype=np.int64)]})
+                       cell_sets={"steel": [np.arange(10), np.array([], dtype=np.int64)]},
+                       point_data={"strain": np.ones((len(points), 3, 3))})
     out = tmp_path / "tagged.dtm"
     with pytest.warns(UserWarning) as said:
         meshio.write(out, mesh, box=256, dmax=2)
     lines = [str(w.message) for w in said]
+    # A point tensor of two axes: named, as cell data's are (it raised).
+    assert any("left out (the stream does not hold it): point data 'strain'" in m for m in lines), lines
     assert any("left out (the stream does not hold it): cells other than tetrahedra (5 triangle)" in m
                for m in lines), lines
     assert any("cell sets 'steel'" in m for m in lines), lines
