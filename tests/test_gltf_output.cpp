@@ -282,6 +282,12 @@ TEST_F(GltfOutput, GltfWritesItsBinBesideIt) {
   EXPECT_EQ(gltf["buffers"][0]["uri"], "split.bin");
   EXPECT_EQ(gltf["buffers"][0]["byteLength"].get<size_t>(), std::filesystem::file_size(dir_ + "/split.bin"));
   EXPECT_EQ(gltf["extensionsRequired"], json::array({"KHR_draco_mesh_compression"}));
+  // A name with a space and a '#': its URI percent-encoded (a '#' would
+  // start a fragment), the .bin beside it under its own name.
+  r = meshdec("-o '" + dir_ + "/my part #1.gltf'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(json::parse(test::slurp(dir_ + "/my part #1.gltf"))["buffers"][0]["uri"], "my%20part%20%231.bin");
+  EXPECT_TRUE(std::filesystem::exists(dir_ + "/my part #1.bin"));
   r = meshdec("-o - --format gltf");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("write .glb to standard output"), std::string::npos) << r.output;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -18,6 +19,24 @@
 
 namespace dtm {
 namespace {
+
+// A file name as a relative URI (glTF's are RFC 3986 references): every
+// byte but the unreserved percent-encoded, so that "my part #1.bin" is not
+// read as a fragment.
+std::string uri_of(const std::string& name) {
+  static const char kHex[] = "0123456789ABCDEF";
+  std::string out;
+  for (const unsigned char c : name) {
+    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~') {
+      out += static_cast<char>(c);
+    } else {
+      out += '%';
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out;
+}
 
 // Viridis at nine stops (sRGB), as the viewer's colours.js has it.
 constexpr std::array<std::array<double, 3>, 9> kRamp = {{{0.267, 0.005, 0.329},
@@ -282,7 +301,7 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
     }
   if (format == MeshFormat::kGlb) return {{path, assemble_glb(json, bin)}};
   const std::filesystem::path bin_path = std::filesystem::path(path).replace_extension(".bin");
-  json["buffers"][0]["uri"] = bin_path.filename().string();
+  json["buffers"][0]["uri"] = uri_of(bin_path.filename().string());
   return {{path, json.dump(1)}, {bin_path.string(), bin}};
 }
 

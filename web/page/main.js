@@ -46,6 +46,12 @@ window.dtmViewer = state;
 // Everything decoded so far, for the levels received (coarsest first).
 let store = null;
 let worker = null;
+// The most vertices a level may have: the decoder refuses a level above it,
+// so the buffers hold at most this many, whatever a header claims.
+const maxVertices = Number(params.get('maxVertices')) || 3_000_000;
+// Room for the stream's vertices: its header's count, which a damaged or
+// hostile stream may inflate, bounded by what can be shown.
+let capacity = 0;
 let followNewest = true;
 const view = {
   colour: params.get('colour') || 'plain',
@@ -55,7 +61,12 @@ const view = {
   edges: params.get('edges') === '1',
   camera: (params.get('camera') || '0,0').split(',').map(Number),
 };
+// (A value that is not a number, cut=y:abc or camera=abc, takes the default:
+// NaN drew nothing and said nothing.)
 if (view.axis < 0) view.axis = 0;
+if (!Number.isFinite(view.cut)) view.cut = 0.5;
+view.cut = Math.min(1, Math.max(0, view.cut));
+if (view.camera.length !== 2 || !view.camera.every(Number.isFinite)) view.camera = [0, 0];
 
 // The renderer, made once the decoder's worker runs (or at once when there is
 // no stream to load): a WebGL context and its shaders keep this thread busy
@@ -96,7 +107,7 @@ function start(source, request) {
     event.preventDefault();
     if (worker === load) finish('error', `the decoder stopped: ${event.message || 'worker error'}`);
   };
-  load.postMessage({ ...request, maxVertices: Number(params.get('maxVertices')) || 3_000_000 });
+  load.postMessage({ ...request, maxVertices });
   updateOverlay();
   publish();
 }
@@ -112,8 +123,9 @@ function receive(message) {
   } else if (message.type === 'header') {
     state.header = message.header;
     state.timings.header = performance.now();
-    ensureScene().allocate(message.header.vertexCount);
-    store = { levels: [], vertexLevels: new Uint16Array(message.header.vertexCount), values: null };
+    capacity = Math.min(message.header.vertexCount, maxVertices);
+    ensureScene().allocate(capacity);
+    store = { levels: [], vertexLevels: new Uint16Array(capacity), values: null };
   } else if (message.type === 'level') {
     addLevel(message);
   } else if (message.type === 'end') {
@@ -128,9 +140,12 @@ function receive(message) {
 }
 
 function addLevel(m) {
+  // (The decoder stops before a level above maxVertices, and at the
+  // header's count: a level beyond the room is a decoder's fault.)
+  if (m.vertices > capacity) throw new Error(`level ${m.level}: ${m.vertices} vertices, room for ${capacity}`);
   if (!store.values) {
     state.fields = m.fields;
-    store.values = m.fields.map((f) => new Float32Array(state.header.vertexCount * f.components));
+    store.values = m.fields.map((f) => new Float32Array(capacity * f.components));
     addFieldChoices(m.fields);
   }
   state.timings.decoded[m.level] = m.decodedAt - performance.timeOrigin;
