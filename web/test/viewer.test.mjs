@@ -112,6 +112,34 @@ for (const stream of [corpus('bunny_10k'), corpus('ct_torus')]) {
   }
 }
 
+// A header whose vertex count is 2^32 - 1 (its checksum made anew): the page
+// made room for the claim (a typed array of 12 GB: an exception, nothing
+// drawn); it holds room for maxVertices at most, draws the levels before the
+// decoder finds the count false, and says so.
+test('a header claiming 4 billion vertices costs no more than maxVertices', async () => {
+  const out = join(config.artifacts, 'broken-pages', 'claims_4g_vertices.dtm');
+  mkdirSync(join(config.artifacts, 'broken-pages'), { recursive: true });
+  execFileSync('python3', ['-c', `
+import ctypes, struct, sys
+xxh = ctypes.CDLL('libxxhash.so.0')
+xxh.XXH3_64bits.restype = ctypes.c_uint64
+xxh.XXH3_64bits.argtypes = [ctypes.c_char_p, ctypes.c_size_t]
+b = bytearray(open(sys.argv[1], 'rb').read())
+b[16:20] = struct.pack('<I', 0xFFFFFFFF)
+b[52:56] = struct.pack('<I', xxh.XXH3_64bits(bytes(b[:52]), 52) & 0xFFFFFFFF)
+open(sys.argv[2], 'wb').write(b)`, corpus('bunny_10k').path, out]);
+  const { page, state, done } = await load(out);
+  try {
+    assert.equal(state.status, 'error');
+    assert.match(state.error, /vertex count differs from the header/);
+    assert.ok(state.levels.length >= 1, 'the levels before level 0 are drawn');
+    assert.equal(state.shown, state.levels.at(-1).level);
+    assert.deepEqual(page.problems, []);
+  } finally {
+    await done();
+  }
+});
+
 test('a stream that is not there is an error, not a hang', async () => {
   const server = await serve(config);
   const page = await openPage(browser);
