@@ -247,15 +247,22 @@ std::vector<uint32_t> vertex_of_input(const QuantizedPoints& q, std::span<const 
   return out;
 }
 
-// Input cells that are flat on the grid, or turned the other way than most
-// (a mesh's cells all turn one way).
-uint64_t turned_cells(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets) {
+// Input cells that are flat on the grid, and those turned the other way
+// than most (a mesh's cells all turn one way).
+struct CellTurns {
+  uint64_t flat = 0, turned = 0;
+};
+CellTurns cell_turns(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets) {
   uint64_t positive = 0, negative = 0, flat = 0;
   for (const auto& t : tets) {
     const int o = orientation(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
     (o > 0 ? positive : o < 0 ? negative : flat) += 1;
   }
-  return flat + std::min(positive, negative);
+  return {flat, std::min(positive, negative)};
+}
+uint64_t turned_cells(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets) {
+  const CellTurns turns = cell_turns(points, tets);
+  return turns.flat + turns.turned;
 }
 
 // The input's cell data of `count` reference tetrahedra, the k-th being
@@ -484,6 +491,18 @@ Status check_exact_grid(std::span<const InputPoint> points,
     if (finer.ok() && problem(*finer).empty()) {
       fix = "--qbits " + std::to_string(bits) + " keeps them apart";
       break;
+    }
+    // (On the finest grid, cells that turn the other way and none flat: the
+    // input's own orientation, which no grid mends.)
+    if (bits == 24 && finer.ok() && finer->duplicates_merged == 0) {
+      std::vector<std::array<uint32_t, 4>> tets(tetrahedra.begin(), tetrahedra.end());
+      grid_tetrahedra_in_place(tets, *finer);
+      const CellTurns turns = cell_turns(finer->points, tets);
+      if (tets.size() == tetrahedra.size() && turns.flat == 0 && turns.turned > 0)
+        return invalid_input(
+            std::to_string(turns.turned) +
+            " input cells turn the other way from the rest (the input's own orientation, not "
+            "the grid's): reorient them to keep the cells exactly");
     }
   }
   return invalid_input(now + " on the grid of q=" + std::to_string(q.grid.qbits) +

@@ -264,6 +264,22 @@ TEST(Exact, RefusesWhatItCannotKeep) {
   EncodeInput points_only;
   points_only.points = m.points;
   EXPECT_FALSE(encode(points_only, exact_options()).ok());
+  // Some cells turned the other way from the rest (a tenth): the input's
+  // own orientation, said as such (no grid mends it); all of them: kept.
+  std::vector<Tet> some_turned = m.tets;
+  for (size_t t = 0; t < some_turned.size(); t += 10) std::swap(some_turned[t][0], some_turned[t][1]);
+  in.tetrahedra = some_turned;
+  r = encode(in, exact_options());
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find(std::to_string((m.tets.size() + 9) / 10) +
+                                      " input cells turn the other way from the rest"),
+            std::string::npos)
+      << r.status().message();
+  std::vector<Tet> all_turned = m.tets;
+  for (Tet& t : all_turned) std::swap(t[0], t[1]);
+  in.tetrahedra = all_turned;
+  EXPECT_TRUE(encode(in, exact_options()).ok());
+  in.tetrahedra = m.tets;
   // A cell twice, and a cell that overlaps its neighbour (one corner moved
   // across a face): not a mesh.
   std::vector<Tet> twice = m.tets;

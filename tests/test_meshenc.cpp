@@ -542,6 +542,14 @@ TEST_F(Tools, WhatAFormatCannotHoldIsNamed) {
   }
   const CommandRun gmsh = run_command(kMeshdec + " " + named + " -o " + dir_ + "/named.msh");
   EXPECT_EQ(gmsh.output.find("names"), std::string::npos) << gmsh.output;
+  // The input's numbering of a second-order mesh's nodes (its edge nodes
+  // among the corners): a format of linear cells numbers the corners alone.
+  const std::string numbered = std::string(DTM_TEST_SOURCE_DIR) + "/golden/ball_order2_numbered_exact.dtm";
+  const CommandRun linear = run_command(kMeshdec + " " + numbered + " -o " + dir_ + "/numbered.node");
+  EXPECT_EQ(linear.status, 0) << linear.output;
+  EXPECT_NE(linear.output.find("not written: the input's node numbers"), std::string::npos) << linear.output;
+  const CommandRun quadratic = run_command(kMeshdec + " " + numbered + " -o " + dir_ + "/numbered.msh");
+  EXPECT_EQ(quadratic.output.find("node numbers"), std::string::npos) << quadratic.output;
   // An option the output does not use is said too.
   const CommandRun coloured =
       run_command(kMeshdec + " " + std::string(DTM_TEST_SOURCE_DIR) +

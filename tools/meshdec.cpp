@@ -532,6 +532,15 @@ int run(const Command& c) {
                  "meshdec: %s: level %d is numbered in its own order: the input's node numbers%s are level "
                  "0's\n",
                  c.output.c_str(), decoder.finest_level(), flags & dtm::kFlagNodeLabels ? " and ids" : "");
+  // (21.0: the input numbered its edge nodes among the corners; without
+  // them the corners are numbered among themselves, 0 to n - 1.)
+  if (!c.quiet && !(flags & dtm::kFlagNodeLabels) && decoder.finest_level() == 0 &&
+      dtm::numbers_edge_nodes(decoder) && !dtm::writes_edge_nodes(format))
+    std::fprintf(
+        stderr,
+        "meshdec: %s: not written: the input's node numbers (its edge nodes were numbered among the "
+        "corners, which are numbered among themselves here: .msh, .vtu, .vtk, .inp and .e keep them)\n",
+        c.output.c_str());
   if (!c.quiet && (flags & dtm::kFlagNodeLabels) && decoder.finest_level() == 0 && mesh.node_labels.empty())
     std::fprintf(stderr,
                  "meshdec: %s: not written: the input's node ids (a second-order mesh's: .msh, .inp and .e "

@@ -1432,8 +1432,10 @@ int run(Command& c) {
       // The others are not faces of level 0 (a triangle inside a region, or
       // where level 0 is not the input): their patches' tags are the nearest.
       if (r.tagged_faces_kept < r.tagged_faces)
-        std::printf("; the other %llu are not faces of level 0, their patches tagged from the nearest",
-                    static_cast<unsigned long long>(r.tagged_faces - r.tagged_faces_kept));
+        std::printf(
+            "; the other %llu are not on its surface or an interface (inside a region, or where level "
+            "0 is not the input), their patches tagged from the nearest",
+            static_cast<unsigned long long>(r.tagged_faces - r.tagged_faces_kept));
       std::printf("\n");
     }
   }

@@ -236,7 +236,8 @@ StatusOr<std::vector<uint8_t>> encode_exact_cells(const TetMesh& dt, std::span<c
     return invalid_input(
         "the input is not a valid tetrahedral mesh on the grid (" + why +
         "): --exact needs positively oriented cells that do not overlap, each face shared by "
-        "at most two, none flat after quantization (raise --qbits)");
+        "at most two, none flat after quantization (a flat cell: raise --qbits; cells that overlap, or a "
+        "face of three cells: mend the input)");
   }
   s.fit_work = walk.fit_work();
   source = std::move(side.source());

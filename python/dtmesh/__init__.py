@@ -369,7 +369,7 @@ def encode(
             its own grid point.
         exact: decode level 0 as ``tetrahedra`` themselves, cell for cell
             (meshenc's ``--exact``; the cells that are not Delaunay cells are
-            coded beside the levels, 0.5-1.5 bits a vertex on gmsh and
+            coded beside the levels, 0.3-0.75 bits a vertex on gmsh and
             Netgen meshes); every point must quantize to its own grid point
             and every cell stay a tetrahedron there (the error names the
             ``qbits`` that would do).
