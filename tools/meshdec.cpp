@@ -256,6 +256,7 @@ int run_pieces(const Command& c) {
   const size_t slash = stem.find_last_of('/');
   const std::string base = slash == std::string::npos ? stem : stem.substr(slash + 1);
   std::vector<std::string> names;
+  names.reserve(static_cast<size_t>(pieces));
   dtm::StagedFiles staged;
   bool any_written = false;
   for (int i = 0; i < pieces; ++i) names.push_back(base + "_" + std::to_string(i) + ".vtu");
