@@ -313,9 +313,9 @@ int run_pieces(const Command& c) {
   } catch (const std::exception& e) {
     error = e.what();
   }
-  // An error every rank met alike (a stream that is not there, damaged, not
-  // bricked) is printed once, by rank 0; the others each by their rank,
-  // named. (The staged files are removed as `staged` goes.)
+  // Errors are printed by rank 0, each once: one every rank met alike (a
+  // stream that is not there, damaged, not bricked) as it is, others with
+  // the ranks that met them. (The staged files are removed as `staged` goes.)
   const auto fail_together = [&mpi](const std::string& mine) {
     const auto errors = mpi.all_gather({reinterpret_cast<const uint8_t*>(mine.data()), mine.size()});
     const bool alike = std::all_of(errors.begin(), errors.end(),
