@@ -471,16 +471,19 @@ StatusOr<std::vector<GridEdgeNode>> edge_nodes_on_grid(const EncodeInput& input,
 Status check_exact_grid(std::span<const InputPoint> points,
                         std::span<const std::array<uint32_t, 4>> tetrahedra, const EncodePlan& plan) {
   const QuantizedPoints& q = plan.quantized;
-  // What goes wrong on a grid of `bits` bits, if anything.
-  const auto problem = [&](const QuantizedPoints& grid) -> std::string {
+  // What goes wrong on a grid of `bits` bits, if anything; `turns` (if
+  // given) the cells' turns there, where every cell keeps its corners.
+  const auto problem = [&](const QuantizedPoints& grid, CellTurns* turns = nullptr) -> std::string {
     if (grid.duplicates_merged > 0)
       return std::to_string(grid.duplicates_merged) + " points share a grid point with another";
     std::vector<std::array<uint32_t, 4>> tets(tetrahedra.begin(), tetrahedra.end());
     grid_tetrahedra_in_place(tets, grid);
     if (tets.size() != tetrahedra.size())
       return std::to_string(tetrahedra.size() - tets.size()) + " input cells lose a corner";
-    if (const uint64_t turned = turned_cells(grid.points, tets); turned > 0)
-      return std::to_string(turned) + " input cells are flat or turned over";
+    const CellTurns found = cell_turns(grid.points, tets);
+    if (turns) *turns = found;
+    if (found.flat + found.turned > 0)
+      return std::to_string(found.flat + found.turned) + " input cells are flat or turned over";
     return {};
   };
   const std::string now = problem(q);
@@ -488,22 +491,18 @@ Status check_exact_grid(std::span<const InputPoint> points,
   std::string fix = "no grid of up to 24 bits does";
   for (int bits = q.grid.qbits + 1; bits <= 24; ++bits) {
     const auto finer = quantize(points, bits, plan.scale);
-    if (finer.ok() && problem(*finer).empty()) {
+    if (!finer.ok()) continue;
+    CellTurns turns;
+    if (problem(*finer, &turns).empty()) {
       fix = "--qbits " + std::to_string(bits) + " keeps them apart";
       break;
     }
     // (On the finest grid, cells that turn the other way and none flat: the
     // input's own orientation, which no grid mends.)
-    if (bits == 24 && finer.ok() && finer->duplicates_merged == 0) {
-      std::vector<std::array<uint32_t, 4>> tets(tetrahedra.begin(), tetrahedra.end());
-      grid_tetrahedra_in_place(tets, *finer);
-      const CellTurns turns = cell_turns(finer->points, tets);
-      if (tets.size() == tetrahedra.size() && turns.flat == 0 && turns.turned > 0)
-        return invalid_input(
-            std::to_string(turns.turned) +
-            " input cells turn the other way from the rest (the input's own orientation, not "
-            "the grid's): reorient them to keep the cells exactly");
-    }
+    if (bits == 24 && turns.flat == 0 && turns.turned > 0)
+      return invalid_input(std::to_string(turns.turned) +
+                           " input cells turn the other way from the rest (the input's own orientation, not "
+                           "the grid's): reorient them to keep the cells exactly");
   }
   return invalid_input(now + " on the grid of q=" + std::to_string(q.grid.qbits) +
                        ": the input's cells cannot be kept exactly (" + fix + ")");

@@ -65,6 +65,7 @@ Status check_field_values(const FieldDescription& f, std::span<const double> val
   const double low = static_cast<double>(lowest), high = static_cast<double>(highest);
   for (size_t i = 0; i < values.size(); ++i) {
     const double v = values[i];
+    std::string why;
     // A float32 keeps NaN and the infinities, and a finite double that
     // rounds to a finite float (FLT_MAX's text forms, 3.4028235e+38, lie a
     // little above it); an integer holds neither NaN nor an infinity.
@@ -74,25 +75,24 @@ Status check_field_values(const FieldDescription& f, std::span<const double> val
       // float's range is not converted, which C++ leaves undefined.)
       constexpr double kBeyond = static_cast<double>(std::numeric_limits<float>::max()) + 0x1p103;
       if (!std::isfinite(v) || std::abs(v) < kBeyond) continue;
+      why = ", which is not a float32 value (beyond float32's range)";
     } else {
       const double kept = std::round(v);
       const bool wide = f.type == ValueType::kI64 || f.type == ValueType::kU64;
       // (Values come as doubles: beyond 2^53 a 64-bit integer may already
       // be another one, a reader's or the caller's rounding, unseen here.)
-      if (wide && std::abs(kept) > 0x1p53 && std::isfinite(kept)) {
-        std::ostringstream value;
-        value << std::setprecision(17) << v;
-        return invalid_input("field '" + f.name + "': " + each + " " + std::to_string(i / f.components) +
-                             " holds " + value.str() + ", beyond 2^53: a " + value_type_name(f.type) +
-                             " value so large cannot be kept exactly (it passes through a double)");
-      }
-      if (std::isfinite(kept) && kept >= low && kept <= high) continue;
+      if (wide && std::isfinite(kept) && std::abs(kept) > 0x1p53)
+        why = ", beyond 2^53: a " + std::string(value_type_name(f.type)) +
+              " value so large cannot be kept exactly (it passes through a double)";
+      else if (std::isfinite(kept) && kept >= low && kept <= high)
+        continue;
+      else
+        why = ", which is not a " + std::string(value_type_name(f.type)) + " value";
     }
     std::ostringstream value;
     value << std::setprecision(17) << v;
     return invalid_input("field '" + f.name + "': " + each + " " + std::to_string(i / f.components) +
-                         " holds " + value.str() + ", which is not a " + value_type_name(f.type) + " value" +
-                         (single ? " (beyond float32's range)" : ""));
+                         " holds " + value.str() + why);
   }
   return Status::Ok();
 }
