@@ -8,6 +8,7 @@
 #include "codec/blocks/block_runs.h"
 #include "codec/blocks/bricked_encoder.h"
 #include "codec/blocks/reference_share.h"
+#include "codec/encode_exact_level0.h"
 #include "codec/expert_encode.h"
 #include "codec/sections/face_coder.h"
 #include "common/byte_io.h"
@@ -53,12 +54,20 @@ std::optional<int32_t> name_without_label(const std::map<int32_t, std::string>& 
   return std::nullopt;
 }
 
+// The table of `distinct` labels and their names, each as the stream holds
+// it (held_label_name()); a name cut is added to `cut`, as it was given.
 std::vector<RegionLabel> label_table(std::span<const int32_t> distinct,
-                                     const std::map<int32_t, std::string>& names) {
+                                     const std::map<int32_t, std::string>& names,
+                                     std::vector<std::string>& cut) {
   std::vector<RegionLabel> table;
   for (int32_t label : distinct) {
     const auto name = names.find(label);
-    table.push_back({label, name == names.end() ? "" : name->second.substr(0, kMaxRegionNameBytes)});
+    if (name == names.end()) {
+      table.push_back({label, ""});
+      continue;
+    }
+    if (name->second.size() > kMaxRegionNameBytes) cut.push_back(name->second);
+    table.push_back({label, held_label_name(name->second)});
   }
   return table;
 }
@@ -251,14 +260,23 @@ std::vector<uint32_t> vertex_of_input(const QuantizedPoints& q, std::span<const 
 // than most (a mesh's cells all turn one way).
 struct CellTurns {
   uint64_t flat = 0, turned = 0;
+  size_t first = SIZE_MAX;  // the first cell flat or turned, where there is one
 };
 CellTurns cell_turns(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets) {
   uint64_t positive = 0, negative = 0, flat = 0;
+  const auto turn = [&](const std::array<uint32_t, 4>& t) {
+    return orientation(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
+  };
   for (const auto& t : tets) {
-    const int o = orientation(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
+    const int o = turn(t);
     (o > 0 ? positive : o < 0 ? negative : flat) += 1;
   }
-  return {flat, std::min(positive, negative)};
+  CellTurns out{flat, std::min(positive, negative)};
+  const int most = positive >= negative ? 1 : -1;
+  if (out.flat + out.turned > 0)
+    for (size_t i = 0; i < tets.size() && out.first == SIZE_MAX; ++i)
+      if (turn(tets[i]) != most) out.first = i;
+  return out;
 }
 uint64_t turned_cells(std::span<const GridPoint> points, std::span<const std::array<uint32_t, 4>> tets) {
   const CellTurns turns = cell_turns(points, tets);
@@ -471,11 +489,34 @@ StatusOr<std::vector<GridEdgeNode>> edge_nodes_on_grid(const EncodeInput& input,
 Status check_exact_grid(std::span<const InputPoint> points,
                         std::span<const std::array<uint32_t, 4>> tetrahedra, const EncodePlan& plan) {
   const QuantizedPoints& q = plan.quantized;
-  // What goes wrong on a grid of `bits` bits, if anything; `turns` (if
-  // given) the cells' turns there, where every cell keeps its corners.
+  // (Named as given: in the order given, from 0, as meshenc's file lists them.)
+  const auto cell_named = [](size_t i) {
+    return "input cell " + std::to_string(i) + " (from 0, in the order given)";
+  };
+  // A cell naming a point twice is no tetrahedron on any grid.
+  for (size_t i = 0; i < tetrahedra.size(); ++i) {
+    std::array<uint32_t, 4> t = tetrahedra[i];
+    std::sort(t.begin(), t.end());
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[3])
+      return invalid_input(cell_named(i) +
+                           " names a point twice: it cannot be kept as a tetrahedron (mend the "
+                           "input)");
+  }
+  // What goes wrong on a grid of `bits` bits, if anything, with the first
+  // points or cell it happens to; `turns` (if given) the cells' turns
+  // there, where every cell keeps its corners.
   const auto problem = [&](const QuantizedPoints& grid, CellTurns* turns = nullptr) -> std::string {
-    if (grid.duplicates_merged > 0)
-      return std::to_string(grid.duplicates_merged) + " points share a grid point with another";
+    if (grid.duplicates_merged > 0) {
+      std::vector<uint32_t> first_at(grid.points.size(), UINT32_MAX);
+      for (uint32_t i = 0; i < grid.input_to_point.size(); ++i) {
+        uint32_t& first = first_at[grid.input_to_point[i]];
+        if (first != UINT32_MAX)
+          return std::to_string(grid.duplicates_merged) +
+                 " points share a grid point with another (the first: " + "points " + std::to_string(first) +
+                 " and " + std::to_string(i) + ", from 0, in the order given)";
+        first = i;
+      }
+    }
     std::vector<std::array<uint32_t, 4>> tets(tetrahedra.begin(), tetrahedra.end());
     grid_tetrahedra_in_place(tets, grid);
     if (tets.size() != tetrahedra.size())
@@ -483,12 +524,16 @@ Status check_exact_grid(std::span<const InputPoint> points,
     const CellTurns found = cell_turns(grid.points, tets);
     if (turns) *turns = found;
     if (found.flat + found.turned > 0)
-      return std::to_string(found.flat + found.turned) + " input cells are flat or turned over";
+      return std::to_string(found.flat + found.turned) +
+             " input cells are flat or turned over (the first: " + cell_named(found.first) + ")";
     return {};
   };
   const std::string now = problem(q);
   if (now.empty()) return Status::Ok();
-  std::string fix = "no grid of up to 24 bits does";
+  // (Where no grid does, the input itself: points that coincide there, or
+  // cells flat there.)
+  std::string fix = q.duplicates_merged > 0 ? "no grid of up to 24 bits does: do they coincide in the input?"
+                                            : "no grid of up to 24 bits does: are they flat in the input?";
   for (int bits = q.grid.qbits + 1; bits <= 24; ++bits) {
     const auto finer = quantize(points, bits, plan.scale);
     if (!finer.ok()) continue;
@@ -594,8 +639,8 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
         cell_descriptions.push_back(described(f, options));
         value_counts.push_back(f.values.size());
       }
-      DTM_RETURN_IF_ERROR(
-          check_fields(cell_descriptions, value_counts, input.tetrahedra.size()).with_context("cell data"));
+      DTM_RETURN_IF_ERROR(check_fields(cell_descriptions, value_counts, input.tetrahedra.size(), "tetrahedra")
+                              .with_context("cell data"));
       for (size_t k = 0; k < input.cell_fields.size(); ++k) {
         const auto& f = input.cell_fields[k];
         DTM_RETURN_IF_ERROR(
@@ -710,7 +755,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
     if (distinct.size() > kMaxRegionCount)
       return invalid_input("the input has " + std::to_string(distinct.size()) +
                            " regions; a stream holds at most " + std::to_string(kMaxRegionCount));
-    report.regions = label_table(distinct, input.region_names);
+    report.regions = label_table(distinct, input.region_names, report.names_cut);
     if (distinct.size() > 1) {
       region_index.reserve(labels.size());
       for (int32_t label : labels)
@@ -746,7 +791,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
                          " tags; a stream holds at most " + std::to_string(kMaxFaceTags));
   if (with_faces) {
     const std::vector<int32_t>& distinct = face_distinct;
-    report.face_tags = label_table(distinct, input.face_tag_names);
+    report.face_tags = label_table(distinct, input.face_tag_names, report.names_cut);
     std::vector<std::array<uint32_t, 3>> faces;
     std::vector<uint8_t> face_label;
     for (size_t i = 0; i < input.tagged_faces.size(); ++i) {
@@ -780,6 +825,11 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
                             std::move(fields), std::move(tet_values), tagger ? &*tagger : nullptr,
                             std::move(out), on_level);
   }
+  // Under --exact the decoded level 0 is the input's cells, not the carving
+  // the builder measured: its row gives theirs.
+  std::optional<ExactLevel0> exact_level0;
+  if (options.exact)
+    exact_level0 = measure_exact_level0(q.points, reference_tets, !hierarchy.reference_regions.empty());
   DTM_ASSIGN_OR_RETURN(const Hierarchy h, build_hierarchy(q.points, hierarchy, [&](const Level& level) {
                          LevelReport r;
                          r.stats = level.stats;
@@ -794,6 +844,7 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
                            r.level_to_reference = level.stats.reference_shape->to_reference;
                            r.reference_error = level.stats.reference_shape->both;
                          }
+                         if (exact_level0 && level.stats.level == 0) exact_level0->describe(r);
                          report.levels.push_back(r);
                          if (on_level) on_level(report.levels.back());
                        }));
@@ -801,7 +852,9 @@ StatusOr<EncodedMesh> encode_planned(const EncodeInput& input, const EncodeOptio
   if (!reference_tets.empty())
     report.reference_boundary_vertices =
         measured_only ? measured_only->boundary_vertices() : h.reference_boundary_vertices;
-  if (h.level0_difference)
+  if (exact_level0)
+    report.level0_difference = exact_level0->difference();
+  else if (h.level0_difference)
     report.level0_difference = h.level0_difference;
   else if (!reference_tets.empty() && !h.levels.empty())
     report.level0_difference = solid_difference(q.points, h.levels.front().carved_cells(), reference_tets);

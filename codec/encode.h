@@ -334,7 +334,10 @@ struct EncodeReport {
   std::vector<uint64_t> region_bytes;  // per hierarchy level, its region section
   uint64_t region_table_bytes = 0;
   std::vector<RegionLabel> face_tags;  // the face tag table (empty without tagged faces)
-  std::vector<uint64_t> face_bytes;    // per hierarchy level, its face section
+  // The region and face tag names longer than a stream holds (64 bytes), as
+  // given: the tables hold their first 64 bytes (a UTF-8 character whole).
+  std::vector<std::string> names_cut;
+  std::vector<uint64_t> face_bytes;  // per hierarchy level, its face section
   uint64_t face_table_bytes = 0;
   // The input's tagged triangles (those quantization did not collapse), and
   // how many of them are faces of level 0 (their tags kept exactly).

@@ -413,7 +413,7 @@ StatusOr<EncodedStream> encode_stream(const Hierarchy& hierarchy, std::span<cons
     std::vector<size_t> cell_value_counts;
     for (const FieldValues& f : cell_values)
       cell_descriptions.push_back(f.description), cell_value_counts.push_back(f.bits.size());
-    DTM_RETURN_IF_ERROR(check_fields(cell_descriptions, cell_value_counts, kept_cells.size())
+    DTM_RETURN_IF_ERROR(check_fields(cell_descriptions, cell_value_counts, kept_cells.size(), "cells")
                             .with_context("encode_stream: cell data"));
     DTM_ASSIGN_OR_RETURN(FieldSectionEncoder made, FieldSectionEncoder::make(std::move(cell_values)));
     cell_coder.emplace(std::move(made));

@@ -1,5 +1,7 @@
 #include "codec/region_decode.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cfloat>
@@ -31,6 +33,10 @@ StatusOr<FileSource> FileSource::open(const std::string& path) {
   f.path_ = path;
   f.file_ = std::fopen(path.c_str(), "rb");
   if (!f.file_) return Status{StatusCode::kInvalidInput, path + ": cannot open: " + std::strerror(errno)};
+  // (A folder opens for reading too; its reads fail later, saying less.)
+  struct stat st {};
+  if (::fstat(::fileno(f.file_), &st) == 0 && S_ISDIR(st.st_mode))
+    return Status{StatusCode::kInvalidInput, path + ": cannot open: " + std::strerror(EISDIR)};
   if (std::fseek(f.file_, 0, SEEK_END) != 0)
     return Status{StatusCode::kInvalidInput, path + ": cannot seek: " + std::strerror(errno)};
   const long end = std::ftell(f.file_);
@@ -129,9 +135,12 @@ void compact(std::span<const GridPoint> points, std::span<const uint32_t> ids,
       out.fields[f].bits.insert(out.fields[f].bits.end(), first, first + static_cast<std::ptrdiff_t>(n));
     }
   }
+  // Each cell positively oriented, its corners ascending but for the last
+  // two where that would turn it inside out (sorted_positive()): as the
+  // whole level's cells are written.
   for (auto& c : cells) {
     for (uint32_t& v : c) v = local[v];
-    std::sort(c.begin(), c.end());
+    c = sorted_positive(c, out.points);
   }
   // The faces in the new numbering, turned as they were, ascending.
   for (auto& f : faces.faces) {
@@ -519,6 +528,14 @@ Status decode_owned(Reader& reader, const StreamPlan& plan, const Owners& owners
         finest_chunks.insert(finest_chunks.end(), chunk_bytes[k].begin(), chunk_bytes[k].end());
       }
     if (!plan.fields.empty()) {
+      // (The decoder's value limit, as the whole decode's.)
+      uint64_t components = 0;
+      for (const FieldDescription& f : plan.fields) components += static_cast<uint64_t>(f.components);
+      const uint64_t count = points.size() + added.size();
+      if (count * components > options.max_values)
+        return {StatusCode::kLimitExceeded,
+                p.where() + ": " + std::to_string(count) + " vertices of " + std::to_string(components) +
+                    " values each exceed the limit of " + std::to_string(options.max_values) + " values"};
       DTM_RETURN_IF_ERROR(decode_bricked_values(inputs, q, p.header.brick_depth, plan.fields, points, values,
                                                 added, layer_values)
                               .with_context(p.where()));

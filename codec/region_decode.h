@@ -81,9 +81,11 @@ struct RegionMesh {
   // order, or with the input's numbering kept (level 0, flag vertex_order)
   // its number there.
   std::vector<uint32_t> vertex_ids;
-  std::vector<int32_t> vertex_levels;          // each one's coarsest level
-  std::vector<std::array<uint32_t, 4>> cells;  // indexing points; in the level's canonical order
-  std::vector<FieldValues> fields;             // the points' values, per field (the stream's)
+  std::vector<int32_t> vertex_levels;  // each one's coarsest level
+  // Indexing points; in the level's canonical order, each positively
+  // oriented (mesh/geometry.h sorted_positive()).
+  std::vector<std::array<uint32_t, 4>> cells;
+  std::vector<FieldValues> fields;  // the points' values, per field (the stream's)
   // With regions (flag regions): the region table, and per cell 1 + the
   // index of its region in it.
   std::vector<RegionLabel> regions;

@@ -11,6 +11,8 @@
 #ifdef CGAL_LINKED_WITH_TBB
 #include <oneapi/tbb/parallel_sort.h>
 #include <oneapi/tbb/task_arena.h>
+
+#include "common/tbb_threads.h"
 #endif
 
 namespace dtm {
@@ -21,7 +23,7 @@ void parallel_sort(It first, It last, const Less& less) {
   // Below some ten thousand items a thread costs more than it saves.
   const int threads = thread_count();
   if (threads > 1 && last - first >= 16384) {
-    tbb::task_arena(threads).execute([&] { tbb::parallel_sort(first, last, less); });
+    tbb::task_arena(arena_threads()).execute([&] { tbb::parallel_sort(first, last, less); });
     return;
   }
 #endif

@@ -20,14 +20,20 @@ int cores_given();
 
 // The threads the work uses: set_thread_count()'s, else cores_given().
 int thread_count();
-// n >= 1 sets it for the whole process; n <= 0 goes back to cores_given().
+// n >= 1 sets it for the whole process, as asked (a program holds a user's
+// count to threads_allowed() first, as the tools do); n <= 0 goes back to
+// cores_given(). TBB's arenas take no more than TBB's own limit either
+// (common/tbb_threads.h): a program that wants more TBB threads than the
+// machine's cores sets a tbb::global_control as well.
 void set_thread_count(int n);
 
 // Threads beyond a few a core only wait for each other, and each parallel
 // loop starts its own: --threads 4096 made bunny_10k's bricked encoding
 // take 118 s against 0.85 s (256: 10 s; 8 on 2 cores: 0.83 s against
-// 0.63 s). A count asked above kMostThreadsPerCore a core of those this
-// process may run on is held to that (the tools say so; Python's set_threads() the same).
+// 0.63 s). The tools and Python's set_threads() hold a count asked above
+// kMostThreadsPerCore a core of those this process may run on to that (the
+// tools say so); set_thread_count() takes what it is given (tests ask for
+// more on purpose).
 inline constexpr int kMostThreadsPerCore = 4;
 inline int threads_allowed(int asked) { return std::min(asked, kMostThreadsPerCore * cores_given()); }
 

@@ -39,6 +39,8 @@
 #ifdef CGAL_LINKED_WITH_TBB
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
+
+#include "common/tbb_threads.h"
 #endif
 
 #include "common/threads.h"
@@ -98,7 +100,7 @@ void build_on_every_core(Tree& tree) {
     if (boxes.empty()) {
       const auto range = static_cast<size_t>(beyond - first);
       boxes.resize(range - 1);
-      tbb::task_arena arena(threads);
+      tbb::task_arena arena(arena_threads());
       arena.execute([&] { aabb_detail::make_nodes(traits, first, beyond, range, 0, boxes); });
     }
     return boxes.at(next++);
@@ -117,7 +119,7 @@ template <class KdTree>
 void build_kd_tree_on_every_core(KdTree& tree) {
 #ifdef CGAL_LINKED_WITH_TBB
   if (const int threads = thread_count(); threads > 1) {
-    tbb::task_arena arena(threads);
+    tbb::task_arena arena(arena_threads());
     arena.execute([&] { tree.template build<CGAL::Parallel_tag>(); });
     return;
   }

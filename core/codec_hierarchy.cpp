@@ -40,7 +40,8 @@ Level describe(const LevelGeometry& L, std::span<const uint32_t> vertices, int i
   // (level 0's boundary, when level 0's carving is the reference).
   s.max_boundary_error = shape.to_level.max;
   s.mean_boundary_error = shape.to_level.mean;
-  s.reference_shape = ShapeFigures{shape.to_level, shape.to_reference, shape.both};
+  s.reference_shape =
+      ShapeFigures{shape.to_level, shape.to_reference, shape.both, shape.reference_squared.size()};
   return out;
 }
 

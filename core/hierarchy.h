@@ -86,6 +86,7 @@ struct HierarchyOptions {
 // together (the larger max, the mean over every point measured).
 struct ShapeFigures {
   DistanceSummary to_level, to_reference, both;
+  uint64_t reference_vertices = 0;  // the reference's boundary vertices, each measured to the level
 };
 
 struct LevelStats {

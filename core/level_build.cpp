@@ -60,16 +60,6 @@ Ball circumball(std::span<const GridPoint> points, const std::array<uint32_t, 4>
   return {{c.x, c.y, c.z}, norm(n) / (2 * std::abs(det))};
 }
 
-// The smallest solid angle of a cell, on its corners in lexicographic
-// order (as analyze_level computes it: the same bits whatever the order a
-// triangulation lists them in).
-double smallest_solid_angle(std::span<const GridPoint> points, std::array<uint32_t, 4> cell) {
-  std::sort(cell.begin(), cell.end(), [&](uint32_t a, uint32_t b) { return points[a] < points[b]; });
-  const auto angles = solid_angles(
-      {to_vec(points[cell[0]]), to_vec(points[cell[1]]), to_vec(points[cell[2]]), to_vec(points[cell[3]])});
-  return std::min({angles[0], angles[1], angles[2], angles[3]});
-}
-
 // Per cell of the current triangulation: the solid's verdict and, for a
 // kept cell, its smallest solid angle. A round keeps the results of the
 // cells the previous round's insertions left alone.

@@ -24,6 +24,7 @@
 #include "common/parallel_for.h"
 #include "common/parallel_sort.h"
 #include "common/release.h"
+#include "common/tbb_threads.h"
 #include "common/threads.h"
 #include "mesh/owned_lock_grid.h"
 
@@ -230,7 +231,7 @@ Status insert_batch(Tri& dt, std::span<const GridPoint> points, std::span<const 
   if constexpr (std::is_same_v<Tri, DT>) {
     if (batch.size() >= kParallelBatch && threads > 1 && !getenv("DTM_SEQ_DT")) {
       // TBB's threads, as many as the process was given (common/threads.h).
-      tbb::task_arena arena(threads);
+      tbb::task_arena arena(arena_threads());
       return arena.execute([&]() -> Status {
         CGAL::spatial_sort<CGAL::Parallel_tag>(batch.begin(), batch.end(), SortTraits());
         // The first points one by one, while the triangulation is small or flat:

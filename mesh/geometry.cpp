@@ -82,4 +82,11 @@ std::array<double, 4> solid_angles(const std::array<Vec3, 4>& t) {
           solid_angle(t[2], t[0], t[1], t[3]), solid_angle(t[3], t[0], t[1], t[2])};
 }
 
+double smallest_solid_angle(std::span<const GridPoint> points, std::array<uint32_t, 4> cell) {
+  std::sort(cell.begin(), cell.end(), [&](uint32_t a, uint32_t b) { return points[a] < points[b]; });
+  const auto angles = solid_angles(
+      {to_vec(points[cell[0]]), to_vec(points[cell[1]]), to_vec(points[cell[2]]), to_vec(points[cell[3]])});
+  return std::min({angles[0], angles[1], angles[2], angles[3]});
+}
+
 }  // namespace dtm

@@ -78,4 +78,9 @@ double solid_angle(const Vec3& apex, const Vec3& p, const Vec3& q, const Vec3& r
 // The four solid angles of a tetrahedron, at vertex i for i = 0..3.
 std::array<double, 4> solid_angles(const std::array<Vec3, 4>& t);
 
+// The smallest solid angle of a cell, on its corners in lexicographic
+// order (as analyze_level computes it: the same bits whatever the order a
+// triangulation lists them in).
+double smallest_solid_angle(std::span<const GridPoint> points, std::array<uint32_t, 4> cell);
+
 }  // namespace dtm

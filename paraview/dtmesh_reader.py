@@ -13,10 +13,9 @@ inspect.getfullargspec`: load_dtmesh.py says why):
 File > Open then opens .dtm files. The reader shows one level of the stream's
 hierarchy as an unstructured grid of tetrahedra, with the stream's per-vertex
 fields and, per vertex, `level` (the coarsest level holding it) and
-`boundary`; the regions as cell data `region`, the tagged boundary faces as
-triangles after the tetrahedra (their tag in `region`; and on their own as
-the reader's second output, a polydata with cell data `face_tag`), and level
-0's cell arrays as cell data; its Level property runs over the stream's levels (0 = the finest,
+`boundary`; the regions as cell data `region` and level 0's cell arrays as
+cell data; the tagged boundary faces as the reader's second output (a
+polydata with cell data `face_tag`, on the same points); its Level property runs over the stream's levels (0 = the finest,
 as meshdec --level counts them). The stream's figures (meshinfo's) are field
 data, in the Information panel.
 
@@ -171,7 +170,10 @@ class DtmeshReader(VTKPythonAlgorithmBase):
             return 1
         level = mesh.level
         output = vtkUnstructuredGrid.GetData(out_info, 0)
-        output.ShallowCopy(dtmesh.to_vtk(mesh))
+        # The tetrahedra alone: the tagged faces are the second output (among
+        # the cells, a filter such as Cell Data to Point Data would average
+        # their rows of the cell arrays in, and their tags into `region`).
+        output.ShallowCopy(dtmesh.to_vtk(mesh, faces=False))
         # The stream's figures, for the Information panel.
         fields = dataset_adapter.WrapDataObject(output).FieldData
         fields.append(np.array([level]), "dtm_level")

@@ -109,6 +109,18 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"count_mismatch.msh", ":5: $Nodes announces 5 nodes, its blocks hold 4"},
         BadInput{"index_out_of_range.msh", ":13: node tag 9 out of range"},
         BadInput{"inf.msh", ":9: coordinate is not finite"},
+        // (Read as 4, 1 and 0 until 2026-12-07: a region the file never had.)
+        BadInput{"gmsh2_type_not_a_number.msh", ":13: expected an element type, found '4x'"},
+        BadInput{"gmsh2_physical_not_a_number.msh", ":13: expected a physical tag, found '1.5'"},
+        BadInput{"gmsh2_garbage_not_a_number.msh", ":13: expected a physical tag, found 'x'"},
+        // What CGAL's point-set readers passed over (until 2026-12-07: wrong
+        // points, values dropped, in silence).
+        BadInput{"number_with_suffix.xyz", ":3: expected a number, found '0.5L7'"},
+        BadInput{"eight_columns.xyz", ":1: expected 3 numbers (x y z) or 6 (x y z nx ny nz), found 8"},
+        BadInput{"two_vertices_a_line.obj", ":3: expected a number, found 'v'"},
+        BadInput{"extra_value.ply", ":9: a vertex has 3 properties, this line 4 numbers"},
+        BadInput{"more_vertices_than_announced.off",
+                 ":8: more lines than the header's 5 vertices and no faces"},
         // PLY, OFF, OBJ, XYZ (CGAL's readers give no position: the message says what they need)
         BadInput{"bad_header.ply", "bad_header.ply:1: not a PLY file"},
         BadInput{"property_before_element.ply",

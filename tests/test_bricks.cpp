@@ -15,6 +15,7 @@
 #include "codec/region_decode.h"
 #include "core/reference_shape.h"
 #include "mesh/carving.h"
+#include "mesh/predicates.h"
 #include "test_support.h"
 #include "thread_ranks.h"
 #include "tools/formats/input.h"
@@ -66,6 +67,11 @@ GridBox bounds(std::span<const GridPoint> points) {
 void expect_same_region(const RegionMesh& got, const RegionMesh& want, const std::string& what) {
   EXPECT_EQ(got.cells.size(), want.cells.size()) << what;
   EXPECT_TRUE(got.cells == want.cells) << what;
+  // Each cell positively oriented, as the whole level's are written.
+  size_t inside_out = 0;
+  for (const auto& c : got.cells)
+    inside_out += orientation(got.points[c[0]], got.points[c[1]], got.points[c[2]], got.points[c[3]]) <= 0;
+  EXPECT_EQ(inside_out, 0u) << what;
   EXPECT_TRUE(got.points == want.points) << what;
   EXPECT_TRUE(got.vertex_ids == want.vertex_ids) << what;
   EXPECT_TRUE(got.vertex_levels == want.vertex_levels) << what;

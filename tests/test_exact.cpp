@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <random>
@@ -22,6 +23,7 @@
 #include "codec/sections/exact_cell_coder_shared.h"
 #include "codec/stream/format.h"
 #include "mesh/delaunay.h"
+#include "mesh/geometry.h"
 #include "mesh/predicates.h"
 #include "mesh/topology.h"
 #include "test_support.h"
@@ -107,6 +109,25 @@ TEST_P(ExactCorpus, LevelZeroIsTheInputCellForCell) {
   EXPECT_EQ(l0.count, m.tets.size());
   EXPECT_EQ(l0.positive, l0.count);
   EXPECT_TRUE(l0.cells == input);
+  // Level 0's row and its solid against the input's describe these cells,
+  // not the Delaunay carving they are coded against.
+  const LevelReport& row = exact->report.levels.front();
+  EXPECT_EQ(row.stats.tetrahedra, m.tets.size());
+  EXPECT_EQ(row.stats.boundary_vertices, exact->report.reference_boundary_vertices);
+  double angle_sum = 0, lowest = INFINITY;
+  for (const auto& c : d.carved_cells()) {
+    const double angle = smallest_solid_angle(d.points(), c);
+    angle_sum += angle;
+    lowest = std::min(lowest, angle);
+  }
+  EXPECT_NEAR(row.stats.avg_min_solid_angle, angle_sum / static_cast<double>(l0.count), 1e-12);
+  EXPECT_EQ(row.stats.min_solid_angle, lowest);
+  ASSERT_TRUE(row.reference_error && row.reference_to_level && row.level_to_reference);
+  EXPECT_EQ(row.reference_error->max, 0);
+  EXPECT_EQ(row.stats.max_boundary_error, 0);
+  ASSERT_TRUE(exact->report.level0_difference);
+  EXPECT_EQ(exact->report.level0_difference->symmetric(), 0);
+  EXPECT_EQ(exact->report.level0_difference->shared_cells, m.tets.size());
 
   // The coarser levels are those of the stream without --exact.
   EncodeOptions plain = options;
@@ -227,6 +248,22 @@ TEST(Exact, RegionsAndCellDataRideOnTheExactCells) {
   const OutputMesh out = decoded_mesh(d, "bunny");
   ASSERT_EQ(out.cells.size(), m.tets.size());
   ASSERT_EQ(out.region.size(), m.tets.size());
+  // Level 0's row counts the solid's boundary, not the regions' interface
+  // that the reference measures too: the corners of the faces one cell has.
+  std::map<std::array<uint32_t, 3>, int> cells_of_face;
+  for (const auto& c : out.cells)
+    for (int k = 0; k < 4; ++k) {
+      std::array<uint32_t, 3> f{};
+      for (int i = 0, j = 0; i < 4; ++i)
+        if (i != k) f[static_cast<size_t>(j++)] = c[static_cast<size_t>(i)];
+      std::sort(f.begin(), f.end());
+      ++cells_of_face[f];
+    }
+  std::set<uint32_t> on_boundary;
+  for (const auto& [f, count] : cells_of_face)
+    if (count == 1) on_boundary.insert(f.begin(), f.end());
+  EXPECT_EQ(e->report.levels.front().stats.boundary_vertices, on_boundary.size());
+  EXPECT_GT(e->report.reference_boundary_vertices, on_boundary.size());  // with the interface
   ASSERT_EQ(out.cell_fields.size(), 1u);
   std::vector<uint32_t> input_of_vertex(d.points().size());
   for (uint32_t i = 0; i < m.points.size(); ++i) input_of_vertex[e->vertex_of_input[i]] = i;
@@ -255,6 +292,17 @@ TEST(Exact, RefusesWhatItCannotKeep) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.status().message().find("--qbits"), std::string::npos) << r.status().message();
   EXPECT_NE(r.status().message().find("keeps them apart"), std::string::npos) << r.status().message();
+  EXPECT_NE(r.status().message().find("(the first: points "), std::string::npos) << r.status().message();
+  // A cell naming a point twice: named, and no grid tried.
+  std::vector<Tet> repeated = m.tets;
+  repeated[7][1] = repeated[7][0];
+  in.tetrahedra = repeated;
+  r = encode(in, exact_options());
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("input cell 7 (from 0, in the order given) names a point twice"),
+            std::string::npos)
+      << r.status().message();
+  in.tetrahedra = m.tets;
   EncodeOptions bricks = exact_options();
   bricks.bricks = true;
   EXPECT_FALSE(encode(in, bricks).ok());

@@ -20,6 +20,7 @@
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/second_order.h"
 #include "tools/formats/tetgen.h"
+#include "tools/formats/text_cursor.h"
 
 namespace dtm {
 namespace {
@@ -357,6 +358,54 @@ TEST_F(ConvertedCorpus, EveryFormatReadsTheSamePointsTetrahedraAndFields) {
       ASSERT_EQ(f->values.size(), m.points.size());
       for (size_t i = 0; i < m.points.size(); ++i) ASSERT_EQ(f->values[i], static_cast<double>(i % 3));
     }
+  }
+}
+
+// A UTF-8 byte-order mark first (a Windows editor's) is skipped: the file
+// reads as without it. (Every text reader but the VTU's called the first
+// line's keyword something else: "expected '$MeshFormat', found
+// '$MeshFormat'".)
+TEST_F(ConvertedCorpus, AByteOrderMarkFirstIsSkipped) {
+  std::vector<std::pair<std::string, std::string>> files;  // with, without
+  for (const Converted& c : kConverted)
+    if (!c.pieces) files.emplace_back(dir_ + "/bom_torus_288" + c.suffix, path("torus_288", c));
+  files.emplace_back(dir_ + "/bom_torus.node", test::data_path("torus_288.node"));
+  std::filesystem::copy_file(test::data_path("torus_288.ele"), dir_ + "/bom_torus.ele",
+                             std::filesystem::copy_options::overwrite_existing);
+  for (const auto& [with, without] : files) {
+    SCOPED_TRACE(with);
+    std::ofstream(with, std::ios::binary) << kUtf8ByteOrderMark << test::slurp(without);
+    InputMesh a, b;
+    ASSERT_NO_THROW(a = read_input(with));
+    b = read_input(without);
+    EXPECT_EQ(a.points.size(), b.points.size());
+    EXPECT_TRUE(std::equal(
+        a.points.begin(), a.points.end(), b.points.begin(), b.points.end(),
+        [](const InputPoint& p, const InputPoint& q) { return p.x == q.x && p.y == q.y && p.z == q.z; }));
+    EXPECT_EQ(a.tets, b.tets);
+    EXPECT_EQ(a.fields.size(), b.fields.size());
+  }
+}
+
+// What the point-set formats' files hold beside their numbers, and CGAL's
+// readers pass over, is read as before the lines were read again: comments
+// after a vertex's numbers, blank lines among a PLY's vertices.
+TEST(InputFormats, PointSetsCommentsAndBlankLinesAreRead) {
+  const std::string points = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n";
+  for (const auto& [name, text] :
+       {std::pair<std::string, std::string>{"commented.off",
+                                            "OFF\n5 0 0\n0 0 0 # a\n1 0 0\n0 1 0\n0 0 1\n1 1 1 # e\n"},
+        {"commented.xyz", "0 0 0 # a\n1 0 0\n0 1 0\n0 0 1\n1 1 1 # e\n"},
+        {"commented.obj", "# made by hand\nv 0 0 0 # a\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\n"},
+        {"blank_lines.ply",
+         "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+         "property float z\nend_header\n\n" +
+             points}}) {
+    const std::string path = ::testing::TempDir() + "/" + name;
+    std::ofstream(path, std::ios::binary) << text;
+    InputMesh m;
+    ASSERT_NO_THROW(m = read_input(path)) << name;
+    EXPECT_EQ(m.points.size(), 5u) << name;
   }
 }
 
@@ -1184,6 +1233,25 @@ TEST(InputFormats, VtuPiecesAreOneMeshAndCellDataIsNamed) {
   EXPECT_EQ(m.tet_arrays.at("material"), (std::vector<int32_t>{1, 2}));
   choose_regions(m, "", "two.vtu");
   EXPECT_EQ(m.tet_regions, (std::vector<int32_t>{1, 2}));
+  // The cell data in the file's order, integer arrays among the others (as
+  // Python's encode() keeps a dict's: the same stream both ways). They
+  // came after the others, alphabetically, until 2026-12-07.
+  const std::string arrays =
+      "<DataArray type=\"Int32\" Name=\"zone\" format=\"ascii\">%d</DataArray>"
+      "<DataArray type=\"Float64\" Name=\"stress\" format=\"ascii\">0.5</DataArray>"
+      "<DataArray type=\"Int32\" Name=\"count\" format=\"ascii\">7</DataArray>";
+  std::string with = piece;
+  with.replace(with.find("<DataArray type=\"Int32\" Name=\"material\" format=\"ascii\">%d</DataArray>"),
+               std::strlen("<DataArray type=\"Int32\" Name=\"material\" format=\"ascii\">%d</DataArray>"),
+               arrays);
+  std::snprintf(a, sizeof a, with.c_str(), "0 0 0 1 0 0 0 1 0 0 0 1", 3);
+  m = read_input(
+      write_temp("ordered.vtu", std::string("<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>") + a +
+                                    "</UnstructuredGrid></VTKFile>"));
+  choose_regions(m, "count", "ordered.vtu");
+  ASSERT_EQ(m.cell_fields.size(), 2u);
+  EXPECT_EQ(m.cell_fields[0].name, "zone");
+  EXPECT_EQ(m.cell_fields[1].name, "stress");
 }
 
 // A 4.1 binary block of tetrahedra is read on every core (ranges of 2^16

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -320,6 +321,16 @@ TEST_F(Tools, ATruncatedStreamsBoxAndPiecesAreOfItsFinestWholeLevel) {
                   "/cut_box0.vtu --box -10 -10 -10 10 10 10 --level 0");
   EXPECT_NE(r.status, 0) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/cut_box0.vtu"));
+  // A box that meets nothing says where the mesh is (not the grid's cube,
+  // far larger than the mesh along its shorter sides).
+  r = run_command(kMeshdec + " " + bricked + " -o " + dir_ + "/far.vtu --box 50 50 50 60 60 60");
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("meets the box (the coarsest level's vertices span "), std::string::npos)
+      << r.output;
+  r = run_command(kMeshdec + " " + stream_ + " -o " + dir_ + "/far.vtu --box 50 50 50 60 60 60");
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("meets the box (its vertices span "), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/far.vtu"));
 }
 
 // A parallel grid's pieces repeat the points on their borders: meshenc
@@ -375,6 +386,16 @@ TEST_F(Tools, AnOutputThatCannotBeWrittenOrIsTheInputIsRefusedFirst) {
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("is the input"), std::string::npos) << r.output;
   EXPECT_EQ(test::slurp(dir_ + "/mine.ele"), ele);
+  // Nor a file the input has beside it or names, found as it is read: the
+  // .face (an Abaqus *INCLUDE, a NRRD's data file, a .pvtu's piece alike).
+  const auto first = read_input(test::data_path("bunny_10k.node")).tets.front();
+  std::ofstream(dir_ + "/mine.face") << "1 1\n0 " << first[0] << " " << first[1] << " " << first[2] << " 7\n";
+  const std::string face = test::slurp(dir_ + "/mine.face");
+  r = meshenc(copy + " -o " + dir_ + "/mine.face");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("is the input"), std::string::npos) << r.output;
+  EXPECT_EQ(test::slurp(dir_ + "/mine.face"), face);
+  std::filesystem::remove(dir_ + "/mine.face");
   r = meshenc(copy + " --no-reference -o " + dir_ + "/no/such/folder/x.dtm");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("no folder"), std::string::npos) << r.output;
@@ -495,6 +516,27 @@ TEST_F(Tools, MeshdecsOwnArraysAreNotCodedAgain) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("the point arrays 'level', 'vertex_id' (meshdec's own"), std::string::npos)
       << r.output;
+  // The input's own vertex_id (global node numbers), without meshdec's
+  // level: kept under another name, said, so that a box's file does not
+  // hold two arrays of one name.
+  std::string own = test::slurp(vtu);
+  for (const auto& [from, to] : {std::pair{"Name=\"level\"", "Name=\"stage\""},
+                                 std::pair{"Name=\"boundary\"", "Name=\"vertex_id\""}}) {
+    const size_t at = own.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    own.replace(at, std::strlen(from), to);
+  }
+  std::ofstream(dir_ + "/own_ids.vtu") << own;
+  r = meshenc(dir_ + "/own_ids.vtu --bricks -o " + dir_ + "/own_ids.dtm");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("the array 'vertex_id' is kept as 'vertex_id (input)'"), std::string::npos)
+      << r.output;
+  r = run_command(kMeshdec + " " + dir_ + "/own_ids.dtm -q --box -100 -100 -100 100 100 100 -o " + dir_ +
+                  "/own_ids_box.vtu");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string written = test::slurp(dir_ + "/own_ids_box.vtu");
+  EXPECT_NE(written.find("Name=\"vertex_id (input)\""), std::string::npos);
+  EXPECT_EQ(written.find("Name=\"vertex_id\""), written.rfind("Name=\"vertex_id\""));
   // A surface meshdec wrote as PLY has its 'level' alone: meshdec's too
   // (by the file's comment); its surface decoded again as PLY reads back.
   const std::string ply = dir_ + "/again.ply", ply_again = dir_ + "/again2.ply";

@@ -1293,8 +1293,8 @@ TEST(Faces, ReadersAndWritersCarryTheTags) {
   m.face_tags = {21, 22};
   m.face_tag_names = {{21, "base"}};
   // (.vtk, ASCII and binary: the triangles after the tetrahedra, tagged by
-  // CELL_DATA region, as the .vtu.)
-  for (const char* ext : {".msh", ".mesh", ".vtu", ".vtk"}) {
+  // CELL_DATA region, as the .vtu; .node: the .face's boundary markers.)
+  for (const char* ext : {".msh", ".mesh", ".vtu", ".vtk", ".node"}) {
     const std::string path = (dir / (std::string("tagged") + ext)).string();
     for (const auto& [file, text] : render_mesh(m, format_for_path(path), path, {}))
       std::ofstream(file, std::ios::binary) << text;
@@ -1309,6 +1309,22 @@ TEST(Faces, ReadersAndWritersCarryTheTags) {
       EXPECT_EQ(back.face_tag_names.at(21), "base");
     }
   }
+  // The .node's .face: a mesh without tagged faces written over it replaces
+  // it by one without faces (its markers would be read as this mesh's); a
+  // tag 0, which a .face reads back as no tag, is said.
+  const std::string node = (dir / "tagged.node").string();
+  OutputMesh untagged = m;
+  untagged.faces.clear();
+  untagged.face_tags.clear();
+  untagged.face_tag_names.clear();
+  for (const auto& [file, text] : render_mesh(untagged, MeshFormat::kTetgen, node, {}))
+    std::ofstream(file, std::ios::binary) << text;
+  EXPECT_TRUE(read_input(node).tagged_faces.empty());
+  OutputMesh zero = m;
+  zero.face_tags = {0, 22};
+  const auto said = not_written(zero, MeshFormat::kTetgen);
+  EXPECT_TRUE(std::any_of(said.begin(), said.end(),
+                          [](const std::string& s) { return s.find("the tag 0 of 1 faces") == 0; }));
   std::filesystem::remove_all(dir);
 }
 

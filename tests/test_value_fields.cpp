@@ -11,6 +11,7 @@
 
 #include "codec/decode.h"
 #include "codec/encode.h"
+#include "codec/region_decode.h"
 #include "codec/sections/value_fields.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
@@ -408,6 +409,31 @@ TEST(StreamValues, TheValueLimitIsEnforcedBeforeDecoding) {
   ASSERT_FALSE(dec.levels().empty());
   EXPECT_LE(dec.points().size() * 7, options.max_values);
   EXPECT_EQ(dec.fields()[2].bits.size(), dec.points().size() * 3);
+}
+
+// The same limit where a bricked stream is read by box or piece (it used
+// to hold only for level 0's cell data there).
+TEST(StreamValues, TheValueLimitHoldsForARegionOfABrickedStream) {
+  FieldCase c = torus_with_fields();
+  EncodeInput in;
+  in.points = c.mesh.points;
+  in.tetrahedra = c.mesh.tets;
+  in.fields = c.fields;  // 7 components
+  EncodeOptions o = torus_options();
+  o.bricks = true;
+  const auto encoded = encode(in, o);
+  ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+  const GridBox everything{{0, 0, 0}, {1 << 20, 1 << 20, 1 << 20}};
+  DecoderOptions options;
+  options.max_values = 200 * 7;  // the coarsest level fits, level 0 does not
+  MemorySource source(encoded->bytes);
+  const auto refused = decode_region(source, everything, 0, options);
+  EXPECT_EQ(refused.status().code(), StatusCode::kLimitExceeded) << refused.status().message();
+  EXPECT_EQ(decode_piece(source, 0, 0, 1, options).status().code(), StatusCode::kLimitExceeded);
+  options.max_values = c.mesh.points.size() * 7;
+  const auto whole = decode_region(source, everything, 0, options);
+  ASSERT_TRUE(whole.ok()) << whole.status().message();
+  EXPECT_EQ(whole->points.size(), c.mesh.points.size());
 }
 
 // Lossy fields on every corpus model: a smooth analytic field (a sum of

@@ -350,8 +350,7 @@ OutputMesh region_output(const RegionMesh& region, const Grid& grid) {
   // (A tagged face is written as a cell whose region is its tag.)
   mesh.declare_region = !region.regions.empty() || !region.face_tags.empty();
   mesh.points = region.points;
-  mesh.cells.reserve(region.cells.size());
-  for (const auto& cell : region.cells) mesh.cells.push_back(sorted_positive(cell, mesh.points));
+  mesh.cells = region.cells;  // positively oriented, as the whole level's
   mesh.level = region.vertex_levels;
   OutputField ids{"vertex_id", ScalarType::kUInt32, 1, {}};
   ids.bits.assign(region.vertex_ids.begin(), region.vertex_ids.end());

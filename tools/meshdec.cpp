@@ -34,7 +34,7 @@ Examples:
   meshdec bunny.dtm -o bunny.vtu                 # finest level, for ParaView
   meshdec bunny.dtm -o coarse.node --level 3     # TetGen .node + .ele
   meshdec bunny.dtm -o bunny.msh                 # gmsh 4.1 (also .vtk, .mesh, Netgen's .vol)
-  meshdec bunny.dtm -o surface.ply --level 5     # the boundary surface, normals out
+  meshdec bunny.dtm -o surface.ply --level 3     # the boundary surface, normals out
   meshdec bunny.dtm -o bunny.glb --level 2       # the same as glTF 2.0, Draco-compressed (web, AR, Blender)
   meshdec ct.dtm -o ct.glb --color value         # coloured by the field 'value'
   meshdec bunny.dtm -o bunny.drc                 # the surface as a Draco file
@@ -218,10 +218,6 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
     throw std::runtime_error("cannot write to standard output");
 }
 
-bool ends_with(const std::string& s, const std::string& end) {
-  return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
-}
-
 // A region or a piece of the level asked for; without --level, of a
 // truncated stream's finest whole level, as the whole decode gives (level
 // 0 tried, then each coarser one while the stream ends before the one
@@ -387,17 +383,26 @@ int run_pieces(const Command& c) {
 
 // A box that meets no cell is said, and nothing written: a mesh file
 // without cells is one that gmsh, meshio and the surface writers refuse.
-void refuse_empty_box(const Command& c, const dtm::OutputMesh& mesh, int level, const dtm::Grid& grid) {
-  if (!mesh.cells.empty()) return;
-  const double span = grid.step * static_cast<double>((uint64_t{1} << grid.qbits) - 1);
+// Where the mesh is, for the next box: the bounds of `points` (grid
+// points), which `whose` names.
+[[noreturn]] void refuse_empty_box(const Command& c, int level, std::span<const dtm::GridPoint> points,
+                                   const dtm::Grid& grid, const char* whose) {
+  dtm::InputPoint lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const dtm::GridPoint& g : points) {
+    const dtm::InputPoint p = grid.to_input(g);
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
   char text[400];
-  std::snprintf(text, sizeof text,
-                "--box %g %g %g %g %g %g: no tetrahedron of level %d meets the box (the stream's grid spans "
-                "%g %g %g to %g %g %g)",
-                c.box[0], c.box[1], c.box[2], c.box[3], c.box[4], c.box[5], level, grid.origin[0],
-                grid.origin[1], grid.origin[2], grid.origin[0] + span, grid.origin[1] + span,
-                grid.origin[2] + span);
-  throw std::runtime_error(c.input + ": " + text);
+  std::snprintf(text, sizeof text, "--box %g %g %g %g %g %g: no tetrahedron of level %d meets the box",
+                c.box[0], c.box[1], c.box[2], c.box[3], c.box[4], c.box[5], level);
+  std::string why = text;
+  if (!points.empty()) {
+    std::snprintf(text, sizeof text, " (%s span %g %g %g to %g %g %g)", whose, lo.x, lo.y, lo.z, hi.x, hi.y,
+                  hi.z);
+    why += text;
+  }
+  throw std::runtime_error(c.input + ": " + why);
 }
 
 // --box: the region's cells, from the chunks it needs.
@@ -430,7 +435,8 @@ int run_region(const Command& c, dtm::MeshFormat format) {
     const dtm::OutputMesh mesh =
         dtm::cut_to_box(dtm::decoded_mesh(decoder, c.input, dtm::numbers_edge_nodes(decoder)), lo, hi,
                         dtm::in_input_numbering(decoder));
-    refuse_empty_box(c, mesh, decoder.finest_level(), header.grid);
+    if (mesh.cells.empty())
+      refuse_empty_box(c, decoder.finest_level(), decoder.points(), header.grid, "its vertices");
     if (decoder.has_edge_nodes() && !c.quiet)
       std::fprintf(
           stderr,
@@ -451,7 +457,14 @@ int run_region(const Command& c, dtm::MeshFormat format) {
       c, header.level_count, [&](int l) { return dtm::decode_region(*source, box, l, options); });
   if (!region.ok()) throw std::runtime_error(c.input + ": " + region.status().message());
   const dtm::OutputMesh mesh = dtm::region_output(*region, header.grid);
-  refuse_empty_box(c, mesh, level, header.grid);
+  if (mesh.cells.empty()) {
+    // (Only the chunks near the box were read: the coarsest level, read
+    // whole, says where the mesh is, within the levels' D_max.)
+    const dtm::GridBox everything{{INT32_MIN, INT32_MIN, INT32_MIN}, {INT32_MAX, INT32_MAX, INT32_MAX}};
+    const auto coarsest = dtm::decode_region(*source, everything, header.level_count - 1, options);
+    refuse_empty_box(c, level, coarsest.ok() ? coarsest->points : std::vector<dtm::GridPoint>{}, header.grid,
+                     "the coarsest level's vertices");
+  }
   write_output(c, mesh, format);
   if (!c.quiet)
     std::fprintf(stderr,

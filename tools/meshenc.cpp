@@ -20,12 +20,14 @@
 #include "codec/blocks/reference_share.h"
 #include "codec/encode.h"
 #include "codec/sections/edge_node_coder.h"
+#include "codec/sections/region_coder.h"
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
 #include "core/reference_shape.h"
 #include "tools/atomic_file.h"
 #include "tools/field_types.h"
+#include "tools/formats/files_read.h"
 #include "tools/formats/input.h"
 #include "tools/formats/mesh_writers.h"
 #include "tools/formats/node_labels.h"
@@ -861,7 +863,7 @@ void write_outputs(const Command& c, const dtm::EncodedMesh& encoded,
   if (!c.report_path.empty()) {
     nlohmann::json j = dtm::report_json(c.input, encoded.report);
     j["left_out"] = left_out;
-    files.emplace_back(c.report_path, j.dump(2) + "\n");
+    files.emplace_back(c.report_path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   }
   dtm::write_files_atomically(files);
 }
@@ -984,6 +986,18 @@ int run(Command& c) {
   display.start("reading " + c.input + " (" + std::to_string(threads_used) +
                 (threads_used == 1 ? " thread)" : " threads)"));
   dtm::InputMesh in = read(c);
+  // An output over a file the input named or has beside it (a .face, an
+  // *INCLUDE, a NRRD's data file, a piece) would destroy it.
+  {
+    std::string problem;
+    try {
+      for (const std::string& path : {c.output, c.report_path})
+        if (!path.empty() && path != "-") dtm::check_writable(path, dtm::files_read());
+    } catch (const std::invalid_argument& e) {
+      problem = e.what();
+    }
+    agree_on_errors(mpi, problem);
+  }
   dtm::choose_regions(in, c.region_array, c.input);
   // A --field-error for no array of the file: said before the table (every
   // rank reads the same file, and says it alike).
@@ -1059,6 +1073,15 @@ int run(Command& c) {
   }
   if (!in.face_tag_names.empty())
     names_without_cells(in.face_tag_names, in.face_tags, "face tag", "triangle");
+  // A name longer than a stream holds keeps its beginning (encode() cuts it).
+  for (const auto& [names, kind] :
+       {std::pair{&in.region_names, "region"}, std::pair{&in.face_tag_names, "face tag"}})
+    for (const auto& [label, name] : *names)
+      if (name.size() > dtm::kMaxRegionNameBytes)
+        in.left_out.push_back("the end of the name \"" + name + "\" of " + kind + " " +
+                              std::to_string(label) + " (a stream holds " +
+                              std::to_string(dtm::kMaxRegionNameBytes) + " bytes of a name: \"" +
+                              dtm::held_label_name(name) + "\")");
   if (!in.cell_fields.empty()) {
     const char* why = c.no_cell_data                      ? "--no-cell-data"
                       : !c.encode.carve_to_reference      ? "the paper preset carves by alpha alone"
@@ -1126,7 +1149,7 @@ int run(Command& c) {
                            c.input.c_str(), name, f.name.c_str(), name);
           }
     };
-    rename(in.fields, {"level", "boundary"});
+    rename(in.fields, {"level", "boundary", "vertex_id"});
     rename(in.cell_fields, {"region"});
   }
   if (c.no_fields && !in.fields.empty()) {
@@ -1350,11 +1373,13 @@ int run(Command& c) {
     // (What is not the levels: the values, level 0's cell data and vertex
     // order, the edge nodes' values.)
     value_bytes += r.cell_field_table_bytes + r.cell_value_bytes + r.order_bytes + r.edge_value_bytes;
-    if (!c.output.empty())
-      std::printf("%s: %llu bytes, %.2f bits per vertex for the levels (%zu vertices, %zu levels)%s\n",
-                  c.output.c_str(), static_cast<unsigned long long>(r.stream_bytes),
-                  8.0 * (r.stream_bytes - value_bytes) / vertices, vertices, r.streamed_levels.size(),
-                  r.fields.empty() && r.cell_fields.empty() && r.order_bytes == 0 ? "" : ", and:");
+    // (Without -o, to try options: the size all the same, and the lines below
+    // under it.)
+    std::printf("%s: %llu bytes, %.2f bits per vertex for the levels (%zu vertices, %zu levels)%s\n",
+                c.output.empty() ? "the stream (not written: no -o)" : c.output.c_str(),
+                static_cast<unsigned long long>(r.stream_bytes),
+                8.0 * (r.stream_bytes - value_bytes) / vertices, vertices, r.streamed_levels.size(),
+                r.fields.empty() && r.cell_fields.empty() && r.order_bytes == 0 ? "" : ", and:");
     print_fields(r, vertices);
     if (!r.regions.empty()) {
       uint64_t region_bytes = r.region_table_bytes;

@@ -1,6 +1,7 @@
 // meshinfo: what a .dtm stream holds, read from its headers (checksums
 // verified, no mesh rebuilt); with --stats, each level decoded and measured.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -93,16 +94,41 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
   // 8.0 bricked: each layer's chunks and its index's bytes instead.
   const bool bricks = s.header.flags & dtm::kFlagBricks;
   const bool candidates = s.header.version_major >= 7 && !bricks;
-  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s%s%s%s\n", "level", "vertices", "new", "alpha",
+  // Level 0's sections of --exact and --keep-order (11.0-22.0), each a
+  // column where some layer has its bytes.
+  struct Column {
+    const char* title;
+    uint32_t dtm::LayerHeader::*bytes;
+  };
+  std::vector<Column> level0_columns;
+  for (const Column& c :
+       {Column{"exact", &dtm::LayerHeader::exact_bytes}, Column{"order", &dtm::LayerHeader::order_bytes},
+        Column{"edge_nodes", &dtm::LayerHeader::edge_node_bytes},
+        Column{"edge_values", &dtm::LayerHeader::edge_value_bytes},
+        Column{"node_order", &dtm::LayerHeader::node_order_bytes},
+        Column{"node_labels", &dtm::LayerHeader::node_label_bytes}})
+    if (std::any_of(s.layers.begin(), s.layers.end(), [&](const auto& l) { return l.header.*c.bytes > 0; }))
+      level0_columns.push_back(c);
+  std::string level0_titles;
+  for (const Column& c : level0_columns) {
+    char title[16];
+    std::snprintf(title, sizeof title, " %11s", c.title);
+    level0_titles += title;
+  }
+  std::printf("%5s %9s %9s %11s %11s %9s %9s%s%s%s%s%s%s%s\n", "level", "vertices", "new", "alpha",
               "layer_bytes", "bits/new", "carving",
               candidates ? " candidate"
               : bricks   ? "    chunks     index"
                          : "",
               s.fields.empty() ? "" : "    values", regions ? "   regions" : "", faces ? "     faces" : "",
-              cells ? " cell_data" : "", stats ? "      tets  boundary avg_minSA    min_SA" : "");
+              cells ? " cell_data" : "", level0_titles.c_str(),
+              stats ? "      tets  boundary avg_minSA    min_SA" : "");
   for (size_t i = 0; i < s.layers.size(); ++i) {
     const auto& l = s.layers[i];
+    // (An incomplete layer's columns are what its header announces, as the
+    // JSON's; the bytes the stream holds of it are said after the row.)
     const uint64_t layer_bytes = l.size();
+    const uint64_t present = std::min(l.size(), s.bytes - std::min(s.bytes, l.offset));
     std::printf("%5u %9u %9u %11.5g %11llu %9.2f %9u", l.header.level, l.header.level_vertices,
                 l.header.new_vertices, l.header.alpha * step, static_cast<unsigned long long>(layer_bytes),
                 8.0 * layer_bytes / l.header.new_vertices, l.header.carving_bytes);
@@ -112,11 +138,16 @@ void print_table(const std::string& input, const dtm::StreamSummary& s,
     if (regions) std::printf(" %9u", l.header.region_bytes);
     if (faces) std::printf(" %9u", l.header.face_bytes);
     if (cells) std::printf(" %9u", l.header.cell_value_bytes);
+    for (const Column& c : level0_columns) std::printf(" %11u", l.header.*c.bytes);
     if (i < quality.size())
       std::printf(" %9llu %9llu %9.6f %9.3g", static_cast<unsigned long long>(quality[i].tetrahedra),
                   static_cast<unsigned long long>(quality[i].quality.boundary_vertices),
                   quality[i].quality.avg_min_solid_angle, quality[i].quality.min_solid_angle);
-    std::printf("%s\n", l.complete ? "" : "  (incomplete)");
+    if (l.complete)
+      std::printf("\n");
+    else
+      std::printf("  (incomplete: %llu of the %llu bytes its header announces)\n",
+                  static_cast<unsigned long long>(present), static_cast<unsigned long long>(l.size()));
   }
 }
 
@@ -147,7 +178,9 @@ int run(const Command& c) {
   const std::vector<dtm::QualityRow> quality =
       c.stats ? dtm::decode_quality(input, bytes) : std::vector<dtm::QualityRow>{};
   if (c.json)
-    std::printf("%s\n", dtm::summary_json(input, s, quality).dump(2).c_str());
+    std::printf("%s\n", dtm::summary_json(input, s, quality)
+                            .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
+                            .c_str());
   else
     print_table(input, s, quality, c.stats);
   return 0;

@@ -84,6 +84,7 @@ nlohmann::json report_json(const std::string& input, const EncodeReport& r) {
                            {"bytes", f.bytes}});
     if (r.edge_value_bytes > 0) j["fields"].back()["edge_value_bytes"] = f.edge_value_bytes;
   }
+  if (!r.names_cut.empty()) j["names_cut"] = r.names_cut;
   if (!r.fields.empty()) {
     j["field_table_bytes"] = r.field_table_bytes;
     j["merged_points_with_other_values"] = r.merged_points_with_other_values;

@@ -144,6 +144,9 @@ nlohmann::json summary_json(const std::string& input, const StreamSummary& s,
                           {"layer_bytes", layer_bytes},
                           {"layer_bits_per_new_vertex", 8.0 * layer_bytes / l.header.new_vertices},
                           {"complete", l.complete}};
+    // (An incomplete layer's sizes are those its header announces; the
+    // stream holds the first bytes_present of them.)
+    if (!l.complete) row["bytes_present"] = std::min(layer_bytes, s.bytes - std::min(s.bytes, l.offset));
     if (l.header.bricked)
       row.update({{"brick_depth", l.header.brick_depth},
                   {"chunks", l.chunks},

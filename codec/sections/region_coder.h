@@ -29,6 +29,16 @@ struct RegionLabel {
 inline constexpr size_t kMaxRegionCount = 255;  // a cell's region is a byte, 0 = not kept
 inline constexpr size_t kMaxRegionNameBytes = 64;
 
+// A name as a table holds it: its first kMaxRegionNameBytes bytes, a UTF-8
+// character not cut in two.
+inline std::string held_label_name(std::string name) {
+  if (name.size() <= kMaxRegionNameBytes) return name;
+  size_t end = kMaxRegionNameBytes;
+  while (end > 0 && (static_cast<unsigned char>(name[end]) & 0xC0) == 0x80) --end;  // a continuation byte
+  name.resize(end);
+  return name;
+}
+
 // The table: 1 to kMaxRegionCount regions, labels distinct.
 Status check_region_table(std::span<const RegionLabel> regions);
 std::vector<uint8_t> write_region_table(std::span<const RegionLabel> regions);

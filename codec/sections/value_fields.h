@@ -62,8 +62,9 @@ struct FieldValues {
 // for `points` points: at most 32 fields of distinct names of 1 to 64
 // bytes, 1 to 64 components each, lossy ones of a float type within a
 // positive bound, and value_counts[f] = points x components of field f.
+// `holders`: what the values are on, for the message ("points", "cells").
 Status check_fields(std::span<const FieldDescription> fields, std::span<const size_t> value_counts,
-                    size_t points);
+                    size_t points, const char* holders = "points");
 
 // kInvalidInput, naming the field and the `each` ("point", "cell") of the
 // first value that the field's type cannot hold: an integer type's NaN, an

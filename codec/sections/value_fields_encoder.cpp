@@ -27,7 +27,7 @@ void put_i128(ByteWriter& w, Int128 v) {
 }  // namespace
 
 Status check_fields(std::span<const FieldDescription> fields, std::span<const size_t> value_counts,
-                    size_t points) {
+                    size_t points, const char* holders) {
   if (fields.size() > kMaxFields)
     return invalid_input("the input has " + std::to_string(fields.size()) +
                          " fields; a stream holds at most " + std::to_string(kMaxFields));
@@ -42,7 +42,7 @@ Status check_fields(std::span<const FieldDescription> fields, std::span<const si
       return invalid_input(field + " has " + std::to_string(f.components) + " components (1 to 64)");
     if (value_counts[i] != points * f.components)
       return invalid_input(field + " has " + std::to_string(value_counts[i]) + " values for " +
-                           std::to_string(points) + " points of " + std::to_string(f.components) +
+                           std::to_string(points) + " " + holders + " of " + std::to_string(f.components) +
                            " components");
     if (static_cast<uint8_t>(f.type) > static_cast<uint8_t>(ValueType::kF64))
       return invalid_input(field + " has the type number " + std::to_string(static_cast<int>(f.type)) +

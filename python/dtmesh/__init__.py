@@ -30,6 +30,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import threading
 import warnings
 from dataclasses import dataclass, field
 from typing import Any, Dict, Iterator, List, Mapping, Optional, Union
@@ -43,6 +44,16 @@ __all__ = ["Error", "Mesh", "Encoded", "Decoder", "encode", "decode", "decode_bo
 __version__ = _dtmesh.version
 
 _threads_asked = 0  # set_threads()'s, 0: the cores the process was given
+# Calls with their own threads= share the process's one setting: the last
+# to start sets it, and set_threads()'s comes back once none is running.
+_threads_lock = threading.Lock()
+_calls_with_threads = 0
+
+
+def _checked_threads(n: Any) -> int:
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or not 1 <= n <= 4096:
+        raise ValueError(f"threads must be an int from 1 to 4096, or None, got {n!r}")
+    return int(n)
 
 
 def set_threads(threads: Optional[int]) -> None:
@@ -51,12 +62,10 @@ def set_threads(threads: Optional[int]) -> None:
     the process may run on (its affinity mask, as taskset or a container
     gives them), the default. Every later call of this process uses it."""
     global _threads_asked
-    if threads is not None and (isinstance(threads, (bool, np.bool_)) or not isinstance(threads, (int, np.integer))
-                                or not 1 <= threads <= 4096):
-        raise ValueError(f"threads must be an int from 1 to 4096, or None, got {threads!r}")
-    asked = int(threads or 0)
-    _dtmesh.set_threads(asked)  # (the state changes only once the library took it)
-    _threads_asked = asked
+    asked = 0 if threads is None else _checked_threads(threads)
+    with _threads_lock:
+        _dtmesh.set_threads(asked)  # (the state changes only once the library took it)
+        _threads_asked = asked
 
 
 def threads() -> int:
@@ -66,16 +75,23 @@ def threads() -> int:
 
 @contextlib.contextmanager
 def _threads_for_call(n: Optional[int]) -> Iterator[None]:
-    """``threads=`` of one call: set for it, then back to what it was."""
+    """``threads=`` of one call: set for it; set_threads()'s again once no
+    call with its own threads= is running (the setting is the process's)."""
     if n is None:
         yield
         return
-    before = _threads_asked
-    set_threads(n)
+    asked = _checked_threads(n)
+    global _calls_with_threads
+    with _threads_lock:
+        _dtmesh.set_threads(asked)
+        _calls_with_threads += 1
     try:
         yield
     finally:
-        set_threads(before or None)
+        with _threads_lock:
+            _calls_with_threads -= 1
+            if _calls_with_threads == 0:
+                _dtmesh.set_threads(_threads_asked)
 
 #: The ParaView reader plugin installed with the package (the repository's
 #: paraview/dtmesh_reader.py): load it in ParaView (Tools > Manage Plugins,
@@ -281,10 +297,29 @@ def _integers(values: Any, what: str) -> np.ndarray:
     return a.astype(np.int64, copy=False)
 
 
+def _label_names(names: Optional[Mapping[int, str]], what: str) -> Dict[int, str]:
+    """Names by label, checked: a float label would be truncated and None
+    stored as "None" in silence."""
+    out = {}
+    for label, name in (names or {}).items():
+        if not _is_int(label) or not -2**31 <= label < 2**31:
+            raise TypeError(f"{what}: labels are 32-bit ints, got {label!r}")
+        if not isinstance(name, str):
+            raise TypeError(f"{what}: names are str, got {name!r} for label {label}")
+        out[int(label)] = name
+    return out
+
+
 def _field_in(name: str, values: Any, count: int, what: str = "field"):
+    if not isinstance(name, str):
+        raise TypeError(f"{what} names are str, got {name!r}")
     a = np.asarray(values)
     if a.dtype == np.bool_:
         a = a.astype(np.uint8)
+    if a.dtype.kind in "iuf" and not a.dtype.isnative:  # as VTK's legacy binary files, read by meshio
+        a = a.astype(a.dtype.newbyteorder("="))
+    if a.dtype == np.float16:  # (stored as float32, the same values: encode() says so)
+        a = a.astype(np.float32)
     if a.dtype not in _TYPE_OF:
         raise TypeError(f"{what} {name!r}: dtype {a.dtype} is not one of int8..int64, uint8..uint64, float32, float64")
     if a.ndim not in (1, 2) or a.shape[0] != count:
@@ -292,7 +327,8 @@ def _field_in(name: str, values: Any, count: int, what: str = "field"):
     components = 1 if a.ndim == 1 else a.shape[1]
     as_double = a.astype(np.float64).reshape(-1)
     if a.dtype.kind in "iu" and a.dtype.itemsize == 8 and a.size:
-        back = as_double.astype(a.dtype)
+        with np.errstate(invalid="ignore"):  # (beyond 2^63 after rounding: refused below)
+            back = as_double.astype(a.dtype)
         if not np.array_equal(back, a.reshape(-1)):
             raise ValueError(f"field {name!r}: 64-bit integers beyond 2^53 cannot be coded exactly")
     return _dtmesh.FieldIn(name, _TYPE_OF[a.dtype], int(components), as_double)
@@ -319,7 +355,7 @@ def encode(
     keep_order: bool = False,
     exact: bool = False,
     bricks: bool = False,
-    brick_points: int = 2048,
+    brick_points: Optional[int] = None,
     edge_points: Any = None,
     edge_nodes: Any = None,
     edge_fields: Optional[Mapping[str, Any]] = None,
@@ -379,8 +415,8 @@ def encode(
             around a part; the levels are built in blocks, in less memory
             (the codec preset only; not with ``exact`` or ``keep_order``).
         brick_points: with ``bricks``, each layer's bricks hold about this
-            many of its new points (smaller: a part reads fewer bytes, the
-            stream grows).
+            many of its new points, 2048 by default (smaller: a part reads
+            fewer bytes, the stream grows).
         edge_points, edge_nodes: a second-order mesh's nodes on the
             tetrahedra's edges, not among ``points``: K x 3 positions, and per
             tetrahedron M x 6 indices into them, its edges (0,1) (0,2) (0,3)
@@ -413,6 +449,9 @@ def encode(
     """
     if not _is_int(qbits) or not 1 <= qbits <= 24:
         raise ValueError(f"qbits must be an int from 1 to 24 (meshenc's --qbits), got {qbits!r}")
+    if brick_points is not None and not bricks:
+        raise ValueError("brick_points sizes the bricks: give bricks=True too")
+    brick_points = 2048 if brick_points is None else brick_points
     if not _is_int(brick_points) or not 1 <= brick_points <= 2**32:
         raise ValueError(f"brick_points must be an int from 1 to 2**32 (meshenc's --brick-points), got {brick_points!r}")
     p = np.ascontiguousarray(np.asarray(points, dtype=np.float64))
@@ -429,7 +468,7 @@ def encode(
         if r.ndim != 1:
             raise ValueError(f"regions must be one label a tetrahedron, a 1-D array, got shape {r.shape}")
         r = np.ascontiguousarray(r)
-    names = {int(label): str(name) for label, name in (region_names or {}).items()}
+    names = _label_names(region_names, "region_names")
     f = ft = None
     if faces is not None:
         if t is None:
@@ -443,13 +482,25 @@ def encode(
         raise ValueError("face_tags and face_tag_names tag faces: give the faces too")
     if region_names and regions is None:
         raise ValueError("region_names name regions: give the regions too")
-    face_names = {int(tag): str(name) for tag, name in (face_tag_names or {}).items()}
+    face_names = _label_names(face_tag_names, "face_tag_names")
     # (A name whose label no cell or face has would be dropped in silence.)
     for what, named, labels in (("region_names", names, r), ("face_tag_names", face_names, ft)):
         absent = sorted(set(named) - set(np.unique(labels).tolist())) if named and labels is not None else []
         if absent:
             raise ValueError(f"{what} name labels that no {'tetrahedron' if what == 'region_names' else 'face'} "
                              f"has: {absent}")
+    # A face listed again keeps its first tag, as meshenc's readers keep it;
+    # a tag name that only such faces had goes with them, said.
+    if f is not None and f.ndim == 2 and f.shape[1] == 3 and len(f) == len(ft) and len(f):
+        _, first = np.unique(np.sort(f, axis=1), axis=0, return_index=True)
+        if len(first) < len(f):
+            first.sort()
+            warnings.warn(f"left out (the stream does not hold it): {len(f) - len(first)} faces tagged a second time "
+                          "(each keeps its first tag)", stacklevel=2)
+            f, ft = np.ascontiguousarray(f[first]), np.ascontiguousarray(ft[first])
+            for tag in sorted(set(face_names) - set(np.unique(ft).tolist())):
+                warnings.warn(f"left out (the stream does not hold it): the name {face_names.pop(tag)!r} of face tag "
+                              f"{tag}, which no face has but those tagged a second time", stacklevel=2)
     # (The decoder makes these arrays itself: a field or cell array of the
     # name would be hidden behind them.)
     for name in fields or {}:
@@ -461,18 +512,29 @@ def encode(
         if name in ("region", "gmsh:physical"):
             raise ValueError(f"cell_data: {name!r} is the name the decoded mesh gives its regions: give the array "
                              "another name, or pass it as regions=")
+    for what, arrays in (("field", fields), ("cell_data", cell_data), ("edge_fields", edge_fields)):
+        for name, values in (arrays or {}).items():
+            if getattr(values, "dtype", None) == np.float16:
+                warnings.warn(f"{what} {name!r}: float16 values are stored as float32 (the same values)",
+                              stacklevel=2)
     field_list = [_field_in(name, values, p.shape[0]) for name, values in (fields or {}).items()]
     if cell_data and t is None:
         raise ValueError("cell_data belongs to tetrahedra: give the tetrahedra too")
     cell_list = [_field_in(name, values, t.shape[0] if t is not None and t.ndim == 2 else 0, "cell_data")
                  for name, values in (cell_data or {}).items()]
     ep = en = None
+    if edge_points is not None and edge_nodes is None:
+        raise ValueError("edge_points are placed on the tetrahedra's edges by edge_nodes: give edge_nodes too")
     if edge_nodes is not None:
         if t is None:
             raise ValueError("edge_nodes lie on tetrahedra's edges: give the tetrahedra too")
         ep = np.ascontiguousarray(np.asarray(edge_points if edge_points is not None else np.zeros((0, 3)),
                                              dtype=np.float64))
-        en = np.ascontiguousarray(np.asarray(edge_nodes, dtype=np.int64))
+        if ep.size and not np.all(np.isfinite(ep)):
+            raise ValueError("edge_points must be finite: a NaN or infinite coordinate has no place on the grid")
+        en = np.ascontiguousarray(_integers(edge_nodes, "edge_nodes"))
+        if en.size and en.min() < -1:
+            raise ValueError(f"edge_nodes are indices into edge_points or -1 for none, got {int(en.min())}")
         if not exact:
             warnings.warn("left out (the stream does not hold it): the nodes on the tetrahedra's edges: "
                           "only exact=True keeps them; the stream holds the linear cells", stacklevel=2)
@@ -512,6 +574,13 @@ def encode(
             place[numbering] = np.arange(numbering.shape[0], dtype=np.uint32)
             level0_vertex = place[: p.shape[0]]
     encoded = Encoded(stream, json.loads(report), level0_vertex, vertex_of_input)
+    for name in encoded.report.get("names_cut", []):
+        warnings.warn(f"the name {name!r} is longer than a stream holds (64 bytes): its beginning is kept",
+                      stacklevel=2)
+    if encoded.report.get("merged_points_with_other_values"):
+        warnings.warn(f"{encoded.report['merged_points_with_other_values']} vertices merged points with different "
+                      "field values: each keeps its first point's (a larger qbits keeps the points apart)",
+                      stacklevel=2)
     # (Tagged faces no level can carry, said as meshenc says them.)
     if f is not None and len(f) and t is not None:
         inside = _dtmesh.faces_inside(t, r if r is not None else np.zeros(0, np.int64), f)
@@ -583,6 +652,7 @@ class Decoder:
 
     def __init__(self, level: Optional[int] = None, max_vertices: int = _dtmesh.default_max_vertices):
         self._decoder = _dtmesh.Decoder(_level_arg(level), _max_vertices_arg(max_vertices))
+        self._level = level
         self._finished = False
 
     def feed(self, chunk: Bytes) -> List[Mesh]:
@@ -603,11 +673,15 @@ class Decoder:
         """Says the input has ended: warns if it stopped before the last level asked for.
 
         Raises:
-            Error: the stream is damaged.
+            Error: the stream is damaged, or has no level as fine as the
+                one asked for (as :func:`decode` says).
         """
         if self._finished:
             return
         self._finished = True
+        count = self._decoder.level_count()
+        if self._level is not None and 0 < count <= self._level:
+            raise Error(f"level {self._level} asked, the stream has levels 0 to {count - 1}")
         truncated = self._decoder.finish()
         if truncated is not None:
             warnings.warn(f"truncated stream: {truncated}; the finest whole level is {self.finest_level}",
@@ -615,7 +689,7 @@ class Decoder:
 
     @property
     def done(self) -> bool:
-        """Every level asked for is decoded (later bytes would be ignored)."""
+        """Every level asked for is decoded."""
         return self._decoder.done()
 
     @property
@@ -676,6 +750,8 @@ def _part_source(data: Union[Bytes, str, os.PathLike]):
     # A path is read by offset (only the bytes a part needs); bytes as they are.
     if isinstance(data, (str, os.PathLike)):
         path = os.fsdecode(data)
+        if os.path.isdir(path):
+            raise IsADirectoryError(f"{path}: is a folder, not a stream")
         if not os.path.isfile(path):
             raise FileNotFoundError(f"{path}: no such file")
         return path
@@ -767,8 +843,15 @@ def info(data: Union[Bytes, str, os.PathLike], stats: bool = False) -> Dict[str,
         return json.loads(_dtmesh.info(_as_bytes(data), bool(stats)))
 
 
-def to_vtk(mesh: Mesh):
+def to_vtk(mesh: Mesh, faces: bool = True):
     """A level as a ``vtkUnstructuredGrid``: its fields, ``level`` and ``boundary`` as point data.
+
+    The regions are cell data ``region``, level 0's cell arrays cell data.
+    With ``faces``, the tagged faces follow the tetrahedra as triangles, as
+    in meshdec's .vtu: their tag in ``region``, their row of the cell arrays
+    0, which a filter averaging cell data to the points would take in.
+    ``faces=False``: the tetrahedra alone (the ParaView reader's first
+    output; it gives the faces as its second).
 
     Uses whatever VTK the interpreter has (``vtkmodules``: VTK's wheel,
     Debian's python3-vtk9, or ParaView's own inside pvpython).
@@ -802,7 +885,8 @@ def to_vtk(mesh: Mesh):
         a = numpy_to_vtk(np.ascontiguousarray(values), deep=True)
         a.SetName(name)
         grid.GetPointData().AddArray(a)
-    if mesh.face_tags.size:
+    with_faces = faces and mesh.face_tags.size > 0
+    if with_faces:
         # The tagged faces after the tetrahedra, as meshdec's .vtu has them.
         from vtkmodules.vtkCommonDataModel import VTK_TRIANGLE
         faces = mesh.faces.astype(np.int64)
@@ -810,16 +894,18 @@ def to_vtk(mesh: Mesh):
             faces = np.hstack([faces, mesh.face_edge_nodes])
         for face in faces:
             grid.InsertNextCell(VTK_TRIANGLE if len(face) == 3 else 22, len(face), [int(v) for v in face])
-    if mesh.regions.size or mesh.face_tags.size:
+    if mesh.regions.size or with_faces:
         # As gmsh's physical tags: a tetrahedron's region, a face's tag.
         regions = mesh.regions if mesh.regions.size else np.zeros(m, np.int32)
-        a = numpy_to_vtk(np.ascontiguousarray(np.concatenate([regions, mesh.face_tags]).astype(np.int32)), deep=True)
+        tags = mesh.face_tags if with_faces else mesh.face_tags[:0]
+        a = numpy_to_vtk(np.ascontiguousarray(np.concatenate([regions, tags]).astype(np.int32)), deep=True)
         a.SetName("region")
         grid.GetCellData().AddArray(a)
         grid.GetCellData().SetActiveScalars("region")
     for name, values in mesh.cell_data.items():
         # A tagged face's row 0.
-        padded = np.concatenate([values, np.zeros((len(mesh.face_tags),) + values.shape[1:], values.dtype)])
+        rows = len(mesh.face_tags) if with_faces else 0
+        padded = np.concatenate([values, np.zeros((rows,) + values.shape[1:], values.dtype)])
         a = numpy_to_vtk(np.ascontiguousarray(padded), deep=True)
         a.SetName(name)
         grid.GetCellData().AddArray(a)

@@ -245,7 +245,7 @@ def write(filename, mesh, **options):
     if unkept:
         left_out.append("cell data " + ", ".join(f"'{name}'" for name in unkept))
     if cell_data and "cell_data" not in options:
-        options["cell_data"] = cell_data
+        options["cell_data"] = _kept_aside(filename, cell_data, ("region",))
     # A cell set that is a named region's or tag's cells (meshio's gmsh
     # reader makes one a physical group) is held by the regions and tags;
     # gmsh's bounding entities are its geometry's bookkeeping.
@@ -307,12 +307,29 @@ def write(filename, mesh, **options):
         warnings.warn(f"{filename}: left out (the stream does not hold it): point data " +
                       ", ".join(f"'{n}'" for n in unkept_points), stacklevel=2)
         derived += unkept_points
-    fields = {name: values for name, values in mesh.point_data.items() if name not in derived}
+    fields = _kept_aside(filename, {name: values for name, values in mesh.point_data.items() if name not in derived},
+                         ("level", "boundary", "vertex_id"))
     if edge_fields and "edge_fields" not in options:
-        options["edge_fields"] = {name: values for name, values in edge_fields.items() if name in fields}
+        kept_as = {name: name + " (input)" if name in ("level", "boundary", "vertex_id") else name
+                   for name in edge_fields}
+        options["edge_fields"] = {kept_as[name]: values for name, values in edge_fields.items()
+                                  if kept_as[name] in fields}
     encoded = encode(mesh.points, tetrahedra, fields, **options)
     with open(filename, "wb") as f:
         f.write(encoded.bytes)
+
+
+def _kept_aside(filename, arrays, taken):
+    """The file's own arrays under a name meshdec gives its own (a water
+    level, say) kept under another name, as meshenc keeps them, and said."""
+    out = {}
+    for name, values in arrays.items():
+        if name in taken:
+            warnings.warn(f"{filename}: the array '{name}' is kept as '{name} (input)' (meshdec writes its own "
+                          f"'{name}')", stacklevel=3)
+            name += " (input)"
+        out[name] = values
+    return out
 
 
 def register():

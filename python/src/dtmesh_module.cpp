@@ -274,7 +274,7 @@ py::tuple encode(
   // meshenc's report; arrays from numpy leave nothing out.
   nlohmann::json report_fields = dtm::report_json("", (*encoded)->report);
   report_fields["left_out"] = nlohmann::json::array();
-  const std::string report = report_fields.dump();
+  const std::string report = report_fields.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   const auto& of_input = (*encoded)->vertex_of_input;
   py::array_t<uint32_t> vertex_of_input(static_cast<py::ssize_t>(of_input.size()));
   std::memcpy(vertex_of_input.mutable_data(), of_input.data(), of_input.size() * sizeof(uint32_t));
@@ -302,13 +302,24 @@ py::dict level_dict(const dtm::OutputMesh& mesh, int level, int level_count) {
   // Each array as (name, type, components, the stored type's bytes: the low
   // bytes of each value's bits, two's complement or IEEE, little-endian as
   // the stream is).
-  const auto arrays = [](const std::vector<dtm::OutputField>& from) {
+  // A name from the stream as text: a hostile stream's bytes that are not
+  // UTF-8 replaced (U+FFFD), not raised as a UnicodeDecodeError.
+  const auto text = [](const std::string& name) {
+    return py::reinterpret_steal<py::str>(
+        PyUnicode_DecodeUTF8(name.data(), static_cast<py::ssize_t>(name.size()), "replace"));
+  };
+  const auto named = [&text](const std::map<int32_t, std::string>& names) {
+    py::dict out;
+    for (const auto& [label, name] : names) out[py::int_(label)] = text(name);
+    return out;
+  };
+  const auto arrays = [&text](const std::vector<dtm::OutputField>& from) {
     py::list out;
     for (const dtm::OutputField& f : from) {
       const size_t size = static_cast<size_t>(dtm::scalar_size(f.type));
       std::string raw(f.bits.size() * size, '\0');
       for (size_t i = 0; i < f.bits.size(); ++i) std::memcpy(&raw[i * size], &f.bits[i], size);
-      out.append(py::make_tuple(f.name, static_cast<int>(f.type), f.components, py::bytes(raw)));
+      out.append(py::make_tuple(text(f.name), static_cast<int>(f.type), f.components, py::bytes(raw)));
     }
     return out;
   };
@@ -322,12 +333,12 @@ py::dict level_dict(const dtm::OutputMesh& mesh, int level, int level_count) {
   d["fields"] = fields;
   d["cell_data"] = arrays(mesh.cell_fields);
   d["regions"] = array_of(mesh.region, {static_cast<py::ssize_t>(mesh.region.size())});
-  d["region_names"] = mesh.region_names;
+  d["region_names"] = named(mesh.region_names);
   py::array_t<uint32_t> faces({static_cast<py::ssize_t>(mesh.faces.size()), py::ssize_t{3}});
   if (!mesh.faces.empty()) std::memcpy(faces.mutable_data(), mesh.faces.data(), mesh.faces.size() * 12);
   d["faces"] = faces;
   d["face_tags"] = array_of(mesh.face_tags, {static_cast<py::ssize_t>(mesh.face_tags.size())});
-  d["face_tag_names"] = mesh.face_tag_names;
+  d["face_tag_names"] = named(mesh.face_tag_names);
   // (18.0, level 0 of a second-order mesh's exact stream: the points on
   // each cell's and tagged face's edges, -1 for none; empty without.)
   const auto nodes = [](const auto& per_element, size_t width) {
@@ -548,7 +559,7 @@ std::string info(py::bytes data, bool stats) {
       const dtm::StreamSummary s = dtm::scan_for_info("stream", bytes);
       const std::vector<dtm::QualityRow> quality =
           stats ? dtm::decode_quality("stream", bytes) : std::vector<dtm::QualityRow>{};
-      text = dtm::summary_json("", s, quality).dump();
+      text = dtm::summary_json("", s, quality).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     } catch (const std::exception& e) {
       failure = e.what();
     }

@@ -939,6 +939,58 @@ def test_bad_arguments_are_refused_not_truncated_and_leave_no_state(tmp_path):
         dtmesh.decode(stream, max_vertices=10)
 
 
+def test_what_a_user_passes_is_taken_as_meshenc_takes_it_or_said(tmp_path):
+    """A review as a user, 2026-12-07: big-endian arrays (meshio's reading of a legacy .vtk) are
+    taken; a point array 'level' of the user's own is kept under another name, as meshenc keeps
+    it; merged points' values, faces tagged twice and names cut to 64 bytes are said; edge nodes
+    are checked as the tetrahedra are; threads= from several threads leaves set_threads()'s; a
+    Decoder asked for a level the stream lacks says so."""
+    points, tets, _ = read_tetgen(DATA / "torus_288.node")
+    value = np.linspace(0, 1, len(points))
+    native = dtmesh.encode(points, tets, {"t": value}).bytes
+    assert dtmesh.encode(points, tets, {"t": value.astype(">f8")}).bytes == native
+    vtu = tmp_path / "own_level.vtu"
+    meshio.write(vtu, meshio.Mesh(points, [("tetra", tets)], point_data={"level": value}))
+    ours, theirs = tmp_path / "ours.dtm", tmp_path / "theirs.dtm"
+    with pytest.warns(UserWarning, match="'level' is kept as 'level .input.'"):
+        meshio.write(ours, meshio.read(vtu))
+    run(tool("meshenc"), vtu, "-q", "-o", theirs)
+    assert ours.read_bytes() == theirs.read_bytes()
+    crowded = np.vstack([points, points[:5] + 1e-12])
+    with pytest.warns(UserWarning, match="5 vertices merged points with different field values"):
+        dtmesh.encode(crowded, tets, {"t": np.arange(len(crowded), dtype=np.float64)})
+    regions = np.ones(len(tets), np.int32)
+    face = tets[:1, :3]
+    with pytest.warns(UserWarning, match="1 faces tagged a second time"):
+        dtmesh.encode(points, tets, regions=regions, faces=np.vstack([face, face]), face_tags=[3, 4],
+                      face_tag_names={3: "wall", 4: "inlet"})
+    name = "x" + "\u00e4" * 40  # 81 bytes: cut between two characters
+    with pytest.warns(UserWarning, match="longer than a stream holds"):
+        stream = dtmesh.encode(points, tets, regions=regions, region_names={1: name}).bytes
+    assert dtmesh.decode(stream).region_names[1] == name[:32]  # x and 31 two-byte characters
+    with pytest.raises(TypeError, match="edge_nodes must be integers"):
+        dtmesh.encode(points, tets, exact=True, edge_points=np.zeros((1, 3)), edge_nodes=np.full((len(tets), 6), 0.5))
+    with pytest.raises(ValueError, match="edge_points must be finite"):
+        dtmesh.encode(points, tets, exact=True, edge_points=np.full((1, 3), np.nan),
+                      edge_nodes=np.full((len(tets), 6), -1))
+    with pytest.raises(ValueError, match="brick_points sizes the bricks"):
+        dtmesh.encode(points, tets, brick_points=100)
+    with pytest.raises(TypeError, match="labels are 32-bit ints"):
+        dtmesh.encode(points, tets, regions=regions, region_names={1.5: "a"})
+    before = dtmesh.threads()
+    calls = [threading.Thread(target=dtmesh.decode, args=(native,), kwargs={"threads": n}) for n in (1, 3, 1, 3)]
+    for call in calls:
+        call.start()
+    for call in calls:
+        call.join()
+    assert dtmesh.threads() == before
+    levels = dtmesh.info(native)["level_count"]
+    decoder = dtmesh.Decoder(level=levels + 3)
+    decoder.feed(native)
+    with pytest.raises(dtmesh.Error, match=f"level {levels + 3} asked, the stream has levels 0 to {levels - 1}"):
+        decoder.finish()
+
+
 def test_meshio_write_gives_meshencs_stream_of_gmsh_and_meshdec_files(tmp_path):
     """meshio's reading of a gmsh file (with its gmsh:dim_tags) and of meshdec's own .vtu (with its
     level and boundary) writes the stream meshenc makes of the same file, the arrays it leaves out

@@ -160,6 +160,7 @@ class AbaqusReader {
       if (stack_.empty()) throw;
       fail("*INCLUDE, INPUT=" + shown(named) + ": cannot open " + shown(path));
     }
+    if (text.starts_with(kUtf8ByteOrderMark)) text.erase(0, kUtf8ByteOrderMark.size());  // a Windows editor's
     sources_.push_back({path, std::move(text)});
     stack_.push_back(sources_.size() - 1);
   }

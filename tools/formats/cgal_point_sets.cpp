@@ -16,6 +16,7 @@
 #include <type_traits>
 
 #include "format_error.h"
+#include "point_set_text.h"
 #include "point_sets.h"
 #include "text_cursor.h"
 
@@ -145,6 +146,10 @@ struct PlyHeader {
   std::set<std::string> vertex_lists;  // the vertex element's list properties
   bool float_normals = false;          // nx is a float (CGAL holds normals as doubles)
   std::vector<std::string> left_out;   // what a point set does not read, named
+  bool ascii = false;                  // format ascii 1.0
+  std::vector<std::string> elements;   // in the header's order
+  uint64_t vertices = 0;               // the vertex element's count
+  size_t vertex_properties = 0;
 };
 
 PlyHeader check_ply_header(const std::string& path) {
@@ -153,6 +158,7 @@ PlyHeader check_ply_header(const std::string& path) {
   in.seekg(0, std::ios::end);
   const auto file_size = static_cast<uint64_t>(std::max<std::streamoff>(0, in.tellg()));
   in.seekg(0);
+  skip_byte_order_mark(in);
   auto is_name = [](const std::string& w) {
     return !w.empty() &&
            std::all_of(w.begin(), w.end(), [](unsigned char ch) { return std::isalnum(ch) || ch == '_'; });
@@ -178,6 +184,7 @@ PlyHeader check_ply_header(const std::string& path) {
       return read;
     }
     if (keyword == "comment" && line.rfind("comment written by dtmesh", 0) == 0) read.by_meshdec = true;
+    if (keyword == "format") read.ascii = line.rfind("format ascii", 0) == 0;
     if (keyword == "comment" || keyword == "obj_info" || keyword == "format") continue;
     if (keyword == "element") {
       std::string name, count_text, extra;
@@ -191,6 +198,8 @@ PlyHeader check_ply_header(const std::string& path) {
         throw FormatError(where + "element '" + name + "' announces " + count_text +
                           " items; the file has only " + std::to_string(file_size) + " bytes");
       element = name;
+      read.elements.push_back(name);
+      if (name == "vertex") read.vertices = count;
       if (name == "vertex")
         ++vertex_elements;
       else if (count > 0)
@@ -215,6 +224,7 @@ PlyHeader check_ply_header(const std::string& path) {
         throw FormatError(where + "vertex property '" + name + "' is '" + type +
                           "'; coordinates must be float or double");
       if (element == "vertex" && (name == "x" || name == "y" || name == "z")) ++coordinates;
+      if (element == "vertex") ++read.vertex_properties;
       if (element == "vertex" && !item_type.empty()) read.vertex_lists.insert(name);
       if (element == "vertex" && name == "nx") read.float_normals = type == "float" || type == "float32";
     } else {
@@ -252,6 +262,7 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FormatError(path + ": cannot open file");
   if (in.peek() == std::ifstream::traits_type::eof()) throw FormatError(path + ": empty file");
+  skip_byte_order_mark(in);
   InputMesh out;
   bool ok = false;
   PlyHeader ply;
@@ -297,6 +308,12 @@ InputMesh read_point_set(const std::string& path, PointSetFormat format) {
                       " file (CGAL's reader stopped" +
                       (cgal_said.empty() ? std::string() : ": \"" + cgal_said + "\"") + "; expected " +
                       expectations(format) + ")");
+  // (CGAL's parsing passes over what the text holds beyond each vertex's
+  // numbers: read again, line by line.)
+  const bool ply_lines =
+      ply.ascii && !ply.elements.empty() && ply.elements.front() == "vertex" && ply.vertex_lists.empty();
+  const PlyVertexLines vertex_lines{ply.vertices, ply.vertex_properties, ply.elements.size() == 1};
+  check_point_set_text(path, format, out.points.size(), ply_lines ? &vertex_lines : nullptr, left_out);
   if (out.points.empty()) throw FormatError(path + ": no vertices");
   // A surface meshdec wrote carries its own 'level' (each vertex's coarsest
   // level), which a decoder makes again: not a field of the input's (else a

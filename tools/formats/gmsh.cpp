@@ -972,10 +972,16 @@ class GmshReader {
         Line& r = chunk[i];
         r.type = 0;
         r.odd_triangle = false;
-        std::from_chars(type_text.data(), type_text.data() + type_text.size(), r.type);
+        // A field read whole: "4x" or "1.5" is an error, not 4 or 1.
+        const auto whole = [&](std::string_view f, auto& value, const char* what) {
+          const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), value);
+          if (ec != std::errc() || end != f.data() + f.size())
+            c_.fail_line(i, std::string("expected ") + what + ", found '" + std::string(f) + "'");
+        };
+        whole(type_text, r.type, "an element type");
         int tags = 0;
-        const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), tags);
-        if (ec != std::errc() || tags < 0) c_.fail_line(i, "bad element tag count");
+        whole(count, tags, "an element tag count");
+        if (tags < 0) c_.fail_line(i, "bad element tag count");
         const bool kept = is_tetrahedron(r.type) || is_triangle(r.type);
         r.physical = 0;
         r.entity = 0;
@@ -985,11 +991,11 @@ class GmshReader {
         for (int k = 0; k < tags; ++k) {
           const std::string_view t = next_field(line, at);
           if (t.empty()) c_.fail_line(i, "bad element tag count");
-          if (k == 0 && kept) std::from_chars(t.data(), t.data() + t.size(), r.physical);
-          if (k == 1 && kept) std::from_chars(t.data(), t.data() + t.size(), r.entity);
+          if (k == 0 && kept) whole(t, r.physical, "a physical tag");
+          if (k == 1 && kept) whole(t, r.entity, "an elementary tag");
           if (k >= 3) {
             int32_t part = 0;
-            std::from_chars(t.data() + (t[0] == '-'), t.data() + t.size(), part);
+            whole(t.substr(t[0] == '-'), part, "a partition");
             r.partition = std::max(r.partition, part);
           }
         }
@@ -1005,9 +1011,7 @@ class GmshReader {
           if (nodes != kept_element_nodes(r.type))
             c_.fail_line(
                 i, std::string("a ") + element_kind(r.type) + " with " + std::to_string(nodes) + " nodes");
-          const auto [tend, tec] = std::from_chars(tag.data(), tag.data() + tag.size(), r.tag);
-          if (tec != std::errc())
-            c_.fail_line(i, "expected an element tag, found '" + std::string(tag) + "'");
+          whole(tag, r.tag, "an element tag");
         } else if (is_triangle(r.type) && nodes != kept_element_nodes(r.type)) {
           r.odd_triangle = true;
         }

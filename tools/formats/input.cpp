@@ -277,6 +277,15 @@ void choose_regions(InputMesh& in, const std::string& name, const std::string& p
   }
   in.tet_arrays.clear();
   in.tet_array_types.clear();
+  // (The cell data in the file's order, as Python's encode() keeps them.)
+  if (!in.cell_array_order.empty()) {
+    const auto place = [&](const VertexField& f) {
+      return std::find(in.cell_array_order.begin(), in.cell_array_order.end(), f.name) -
+             in.cell_array_order.begin();
+    };
+    std::stable_sort(in.cell_fields.begin(), in.cell_fields.end(),
+                     [&](const VertexField& a, const VertexField& b) { return place(a) < place(b); });
+  }
   // A .vtu's triangles: tagged by the same array (as gmsh's physical tags
   // are, through meshio), else named.
   if (!in.tagged_faces.empty() && in.face_tags.empty()) {

@@ -69,6 +69,9 @@ struct InputMesh {
   // tetrahedron, in the order of `tets`): one of them may be the regions
   // (choose_regions(), tools/formats/input.h).
   std::map<std::string, std::vector<int32_t>> tet_arrays;
+  // Every cell array's name in the file's order (VTK's): the cell data keep
+  // it, those of tet_arrays among the others (choose_regions()).
+  std::vector<std::string> cell_array_order;
   std::map<std::string, ScalarType> tet_array_types;  // the type each one is stored in
   // Per-cell arrays on the tetrahedra (element results, material
   // properties: a VTU/VTK cell array, gmsh $ElementData), `components`

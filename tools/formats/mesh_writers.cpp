@@ -148,6 +148,26 @@ std::string render_ele(const OutputMesh& m) {
   return out;
 }
 
+// The tagged faces as a TetGen .face, each tag its boundary marker (as
+// meshenc reads a .face beside a .node).
+std::string render_face(const OutputMesh& m) {
+  std::string out;
+  append_number(out, m.faces.size());
+  out += " 1\n";
+  append_lines(out, m.faces.size(), [&](size_t i, std::string& line) {
+    append_number(line, i);
+    for (uint32_t v : m.faces[i]) {
+      line += ' ';
+      append_number(line, v);
+    }
+    line += ' ';
+    line += std::to_string(m.face_tags[i]);
+    line += '\n';
+  });
+  out += "# written by " + std::string(kProducer) + "\n";
+  return out;
+}
+
 // --- VTK XML ----------------------------------------------------------------
 
 // One <DataArray> of `components`-tuples. `values` is flat; ascii puts
@@ -277,7 +297,7 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
       format != MeshFormat::kAbaqus && format != MeshFormat::kExodus) {
     if (!m.region.empty() && !m.region_names.empty())
       out.push_back("the regions' names (" + label_names(m.region_names) + ")");
-    if (!m.faces.empty() && !m.face_tag_names.empty() && format != MeshFormat::kTetgen)
+    if (!m.faces.empty() && !m.face_tag_names.empty())
       out.push_back("the face tags' names (" + label_names(m.face_tag_names) + ")");
   }
   switch (format) {
@@ -301,7 +321,16 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
       add("the cell arrays", names(m.cell_fields, all));
       break;
     case MeshFormat::kTetgen: {
-      if (!m.faces.empty()) out.push_back(std::to_string(m.faces.size()) + " tagged faces");
+      // (A .face marker 0 is no tag, and markers all 1 are TetGen's own
+      // marking, to meshenc: such tags are written, and do not read back.)
+      if (const auto zeros = std::count(m.face_tags.begin(), m.face_tags.end(), 0); zeros > 0)
+        out.push_back("the tag 0 of " + std::to_string(zeros) +
+                      " faces as a tag (written in the .face, where marker 0 reads back as no tag)");
+      else if (!m.faces.empty() &&
+               std::all_of(m.face_tags.begin(), m.face_tags.end(), [](int32_t t) { return t == 1; }))
+        out.push_back(
+            "the faces' tag 1 as a tag (written in the .face, where markers all 1 read back as "
+            "TetGen's default marking)");
       // (Their values are the .node's attributes, in order: only what they
       // were is lost.)
       const OutputField* marker = marker_field(m);
@@ -604,8 +633,17 @@ std::vector<std::pair<std::string, std::string>> render_mesh(const OutputMesh& m
         throw std::invalid_argument(path + ": a TetGen output path must end in .node");
       // (X.NODE's elements in X.ELE, as TetGen names them in the .node's case.)
       const bool upper = path.substr(path.size() - kNodeExt.size()) == ".NODE";
-      const std::string ele = path.substr(0, path.size() - kNodeExt.size()) + (upper ? ".ELE" : ".ele");
-      return {{path, render_node(mesh)}, {ele, render_ele(mesh)}};
+      const std::string stem = path.substr(0, path.size() - kNodeExt.size());
+      std::vector<std::pair<std::string, std::string>> files = {
+          {path, render_node(mesh)}, {stem + (upper ? ".ELE" : ".ele"), render_ele(mesh)}};
+      // The tagged faces with their tags as boundary markers; none, where an
+      // earlier .face is there (meshenc would read its markers as this
+      // mesh's tags).
+      const std::string face = stem + (upper ? ".FACE" : ".face");
+      std::error_code ec;
+      if (!mesh.faces.empty() || std::filesystem::exists(face, ec))
+        files.push_back({face, render_face(mesh)});
+      return files;
     }
     case MeshFormat::kVtu:
       return {{path, render_vtu(mesh, true)}};

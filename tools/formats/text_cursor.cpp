@@ -11,12 +11,14 @@
 #include <vector>
 
 #include "common/parallel_for.h"
+#include "tools/formats/files_read.h"
 
 namespace dtm {
 
 std::string read_whole_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FormatError(path + ": cannot open file");
+  note_file_read(path);
   // A file of known size read into its string at once (a stream's copy
   // would hold it twice and copy it twice: 0.3 s at 350 MB).
   std::error_code ec;
@@ -34,7 +36,9 @@ std::string read_whole_file(const std::string& path) {
 }
 
 TextCursor::TextCursor(std::string path, std::string bytes, char comment)
-    : path_(std::move(path)), data_(std::move(bytes)), comment_(comment) {}
+    : path_(std::move(path)), data_(std::move(bytes)), comment_(comment) {
+  if (data_.starts_with(kUtf8ByteOrderMark)) pos_ = kUtf8ByteOrderMark.size();
+}
 
 void TextCursor::skip_space() {
   while (pos_ < data_.size()) {

@@ -8,12 +8,28 @@
 #include <charconv>
 #include <cstdint>
 #include <functional>
+#include <istream>
 #include <string>
 #include <string_view>
 
 #include "format_error.h"
 
 namespace dtm {
+
+// A UTF-8 byte-order mark, which Windows editors put first in a file: a
+// text reader skips it.
+inline constexpr std::string_view kUtf8ByteOrderMark = "\xef\xbb\xbf";
+// `in` past a byte-order mark at its start (left where it was otherwise).
+inline void skip_byte_order_mark(std::istream& in) {
+  const std::streampos start = in.tellg();
+  char head[3] = {};
+  in.read(head, sizeof head);
+  if (static_cast<size_t>(in.gcount()) == sizeof head &&
+      std::string_view(head, sizeof head) == kUtf8ByteOrderMark)
+    return;
+  in.clear();
+  in.seekg(start);
+}
 
 // The bytes of `path`; throws FormatError "path: cannot open file".
 std::string read_whole_file(const std::string& path);

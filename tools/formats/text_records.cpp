@@ -7,6 +7,8 @@
 #include <string_view>
 
 #include "common/parallel_for.h"
+#include "tools/formats/files_read.h"
+#include "tools/formats/text_cursor.h"
 
 namespace dtm {
 namespace {
@@ -88,6 +90,10 @@ uint64_t lines_before(const std::string& path, uint64_t end) {
 TextRecords::TextRecords(const std::string& path, size_t block_bytes)
     : path_(path), in_(path, std::ios::binary), block_bytes_(std::max<size_t>(block_bytes, 1)) {
   if (!in_) throw FormatError(path + ": cannot open file");
+  note_file_read(path);
+  // (A byte-order mark, as Windows editors write one, is not a record's.)
+  skip_byte_order_mark(in_);
+  read_ = static_cast<uint64_t>(in_.tellg());
   // A small file in one small block (a block is allocated whole).
   std::error_code error;
   const uintmax_t size = std::filesystem::file_size(path, error);

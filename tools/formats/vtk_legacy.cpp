@@ -272,6 +272,7 @@ class LegacyReader {
         continue;
       }
       const auto n = static_cast<size_t>(f.components);
+      out_.cell_array_order.push_back(f.name);
       if (n == 1 && is_integer(f.type)) {
         // The array on the tetrahedra (their regions) and on the triangles
         // (the faces' tags), each value a 32-bit integer.

@@ -461,6 +461,7 @@ class VtuReader {
             VertexField& f = out.cell_fields.emplace_back();
             f.name = name, f.components = components;
             f.type = type;
+            out.cell_array_order.push_back(name);
           }
           std::vector<double>& into = out.cell_fields[cell_fields++].values;
           for (uint64_t c : tets)
@@ -484,6 +485,7 @@ class VtuReader {
             into.push_back(static_cast<int32_t>(values[c]));
           }
         };
+        if (k == 0) out.cell_array_order.push_back(name);
         keep_on(tets, out.tet_arrays[name]);
         keep_on(triangles, out.triangle_arrays[name]);
         out.tet_array_types[name] = type;
@@ -855,6 +857,7 @@ void append_piece(InputMesh& whole, InputMesh part, bool first, const std::strin
   }
   for (uint32_t v : part.other_edge_nodes) whole.other_edge_nodes.push_back(v + offset);
   whole.second_order_cells += part.second_order_cells;
+  if (first) whole.cell_array_order = part.cell_array_order;
   const auto same_arrays = [&](std::vector<VertexField>& into, std::vector<VertexField>& from,
                                const char* what) {
     if (first) {
