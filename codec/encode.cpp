@@ -517,10 +517,12 @@ Status check_exact_grid(std::span<const InputPoint> points,
         first = i;
       }
     }
-    std::vector<std::array<uint32_t, 4>> tets(tetrahedra.begin(), tetrahedra.end());
-    grid_tetrahedra_in_place(tets, grid);
-    if (tets.size() != tetrahedra.size())
-      return std::to_string(tetrahedra.size() - tets.size()) + " input cells lose a corner";
+    // The cells on the grid in the order given (grid_tetrahedra_in_place()
+    // would sort them: the first named would not be the input's), each
+    // keeping its corners (no two points share a grid point here).
+    std::vector<std::array<uint32_t, 4>> tets(tetrahedra.size());
+    for (size_t i = 0; i < tets.size(); ++i)
+      for (size_t k = 0; k < 4; ++k) tets[i][k] = grid.input_to_point[tetrahedra[i][k]];
     const CellTurns found = cell_turns(grid.points, tets);
     if (turns) *turns = found;
     if (found.flat + found.turned > 0)
@@ -545,9 +547,11 @@ Status check_exact_grid(std::span<const InputPoint> points,
     // (On the finest grid, cells that turn the other way and none flat: the
     // input's own orientation, which no grid mends.)
     if (bits == 24 && turns.flat == 0 && turns.turned > 0)
-      return invalid_input(std::to_string(turns.turned) +
-                           " input cells turn the other way from the rest (the input's own orientation, not "
-                           "the grid's): reorient them to keep the cells exactly");
+      return invalid_input(
+          std::to_string(turns.turned) +
+          " input cells turn the other way from the rest (the first: " + cell_named(turns.first) +
+          "; the input's own orientation, not the grid's): reorient them to keep the cells "
+          "exactly");
   }
   return invalid_input(now + " on the grid of q=" + std::to_string(q.grid.qbits) +
                        ": the input's cells cannot be kept exactly (" + fix + ")");

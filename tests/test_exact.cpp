@@ -313,15 +313,18 @@ TEST(Exact, RefusesWhatItCannotKeep) {
   points_only.points = m.points;
   EXPECT_FALSE(encode(points_only, exact_options()).ok());
   // Some cells turned the other way from the rest (a tenth): the input's
-  // own orientation, said as such (no grid mends it); all of them: kept.
+  // own orientation, said as such (no grid mends it), the first named in
+  // the order given; all of them: kept.
   std::vector<Tet> some_turned = m.tets;
-  for (size_t t = 0; t < some_turned.size(); t += 10) std::swap(some_turned[t][0], some_turned[t][1]);
+  for (size_t t = 7; t < some_turned.size(); t += 10) std::swap(some_turned[t][0], some_turned[t][1]);
   in.tetrahedra = some_turned;
   r = encode(in, exact_options());
   ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.status().message().find(std::to_string((m.tets.size() + 9) / 10) +
-                                      " input cells turn the other way from the rest"),
-            std::string::npos)
+  EXPECT_NE(
+      r.status().message().find(std::to_string((m.tets.size() + 2) / 10) +
+                                " input cells turn the other way from the rest (the first: input cell 7 "
+                                "(from 0, in the order given)"),
+      std::string::npos)
       << r.status().message();
   std::vector<Tet> all_turned = m.tets;
   for (Tet& t : all_turned) std::swap(t[0], t[1]);

@@ -71,7 +71,8 @@ void check_xyz(const std::string& path, size_t points_read) {
     lines.numbers(w, 0);
     if (lines.number() == 1 && w.size() == 1) continue;  // the point count, which the first line may give
     if (w.size() != 3 && w.size() != 6)
-      lines.fail("expected 3 numbers (x y z) or 6 (x y z nx ny nz), found " + std::to_string(w.size()));
+      lines.fail("expected 3 numbers (x y z) or 6 (x y z nx ny nz), found " + std::to_string(w.size()) +
+                 " (an XYZ names no column: save colours or scalars as PLY, whose header names them)");
     ++points;
   }
   if (points != points_read)
