@@ -991,8 +991,10 @@ int run(Command& c) {
   {
     std::string problem;
     try {
+      // (Rank 0 writes, and checks, as before the reading; every rank
+      // stops with it.)
       for (const std::string& path : {c.output, c.report_path})
-        if (!path.empty() && path != "-") dtm::check_writable(path, dtm::files_read());
+        if (mpi.rank() == 0 && !path.empty() && path != "-") dtm::check_writable(path, dtm::files_read());
     } catch (const std::invalid_argument& e) {
       problem = e.what();
     }
