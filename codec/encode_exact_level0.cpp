@@ -4,9 +4,9 @@
 #include <cmath>
 #include <vector>
 
-#include "common/csr.h"
 #include "common/parallel_for.h"
 #include "mesh/geometry.h"
+#include "mesh/topology.h"
 
 namespace dtm {
 namespace {
@@ -14,31 +14,9 @@ namespace {
 // The corners of the faces that one cell alone has: the solid's outer
 // boundary (a reference of several regions measures its interfaces too).
 uint64_t outer_boundary_vertices(size_t points, std::span<const std::array<uint32_t, 4>> cells) {
-  const auto face = [&](size_t f) {
-    std::array<uint32_t, 3> t{};
-    for (size_t i = 0, j = 0; i < 4; ++i)
-      if (i != f % 4) t[j++] = cells[f / 4][i];
-    std::sort(t.begin(), t.end());
-    return t;
-  };
-  // Each face in the row of its least corner.
-  const Csr by_least = build_csr(points, [&](auto&& emit) {
-    for (size_t f = 0; f < 4 * cells.size(); ++f) emit(face(f)[0], static_cast<uint32_t>(f));
-  });
   std::vector<uint8_t> on(points, 0);
-  std::vector<std::array<uint32_t, 3>> row;
-  for (size_t v = 0; v < points; ++v) {
-    row.clear();
-    for (uint32_t f : by_least.row(v)) row.push_back(face(f));
-    std::sort(row.begin(), row.end());
-    for (size_t i = 0; i < row.size();) {
-      size_t j = i + 1;
-      while (j < row.size() && row[j] == row[i]) ++j;
-      if (j - i == 1)
-        for (uint32_t u : row[i]) on[u] = 1;
-      i = j;
-    }
-  }
+  for (const auto& face : boundary_triangles(cells))
+    for (uint32_t v : face) on[v] = 1;
   return static_cast<uint64_t>(std::count(on.begin(), on.end(), uint8_t{1}));
 }
 
