@@ -89,6 +89,7 @@ void LevelViewer::make_view(const ProgressiveDecoder& d, const DecodedLevel& lev
     if (kept[c]) {
       index[c] = static_cast<int32_t>(v.cells.size());
       v.cells.push_back(dt.cells[c]);
+      v.cell_regions.push_back(kept[c]);
     }
   v.cell_neighbors.reserve(v.cells.size());
   for (size_t c = 0; c < dt.cells.size(); ++c) {
@@ -98,7 +99,10 @@ void LevelViewer::make_view(const ProgressiveDecoder& d, const DecodedLevel& lev
     v.cell_neighbors.push_back(n);
   }
   const std::span<const GridPoint> points(d.points().data(), level.vertices);
-  for (const BoundaryFace& f : boundary_faces(dt, kept)) v.surface.push_back(outward_triangle(dt, points, f));
+  for (const BoundaryFace& f : boundary_faces(dt, kept)) {
+    v.surface.push_back(outward_triangle(dt, points, f));
+    v.surface_regions.push_back(kept[f.cell]);
+  }
   v.boundary = boundary_vertices(dt, level.vertices, kept);
 
   const Grid& grid = d.header().grid;
@@ -123,9 +127,23 @@ void LevelViewer::make_view(const ProgressiveDecoder& d, const DecodedLevel& lev
 
 std::string level_summary_json(const ProgressiveDecoder& decoder, const LevelView& view) {
   const std::span<const GridPoint> points(decoder.points().data(), view.vertices);
-  std::vector<std::array<uint32_t, 3>> surface = view.surface;
-  for (auto& t : surface) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  // The surface as a set: each face turned to start at its least corner,
+  // then sorted (the decoder's threads order the faces differently from run
+  // to run), its region beside it where the stream has regions.
+  const bool regions = !decoder.regions().empty();
+  std::vector<std::array<uint32_t, 4>> surface;
+  for (size_t i = 0; i < view.surface.size(); ++i) {
+    std::array<uint32_t, 3> t = view.surface[i];
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    surface.push_back({t[0], t[1], t[2], regions ? view.surface_regions[i] : 0u});
+  }
   std::sort(surface.begin(), surface.end());
+  std::vector<std::array<uint32_t, 3>> faces;
+  std::vector<uint32_t> face_regions;
+  for (const auto& f : surface) {
+    faces.push_back({f[0], f[1], f[2]});
+    face_regions.push_back(f[3]);
+  }
   std::string json =
       "{\"level\": " + std::to_string(view.level) + ", \"vertices\": " + std::to_string(view.vertices) +
       ", \"tetrahedra\": " + std::to_string(view.cells.size()) +
@@ -133,7 +151,7 @@ std::string level_summary_json(const ProgressiveDecoder& decoder, const LevelVie
       std::to_string(std::count(view.boundary.begin(), view.boundary.end(), 1)) +
       ", \"stream_bytes\": " + std::to_string(view.stream_bytes) + ", \"points_hash\": \"" +
       hex(hash_of(points)) + "\"" + ", \"cell_hash\": \"" + hex(cell_set_hash(points, view.cells)) + "\"" +
-      ", \"surface_hash\": \"" + hex(hash_of(std::span<const std::array<uint32_t, 3>>(surface))) + "\"" +
+      ", \"surface_hash\": \"" + hex(hash_of(std::span<const std::array<uint32_t, 3>>(faces))) + "\"" +
       ", \"boundary_hash\": \"" + hex(hash_of(std::span<const uint8_t>(view.boundary))) + "\"" +
       ", \"fields\": [";
   for (size_t f = 0; f < decoder.fields().size(); ++f) {
@@ -143,7 +161,23 @@ std::string level_summary_json(const ProgressiveDecoder& decoder, const LevelVie
     json += (f ? ", " : "") + std::string("{\"name\": \"") + json_escaped(field.description.name) +
             "\", \"values_hash\": \"" + hex(hash_of(bits)) + "\"}";
   }
-  return json + "]}";
+  json += "]";
+  if (regions) {
+    json += ", \"surface_regions_hash\": \"" + hex(hash_of(std::span<const uint32_t>(face_regions))) +
+            "\", \"regions\": [";
+    for (size_t r = 0; r < decoder.regions().size(); ++r) {
+      std::vector<std::array<uint32_t, 4>> cells;
+      for (size_t c = 0; c < view.cells.size(); ++c)
+        if (view.cell_regions[c] == r + 1) cells.push_back(view.cells[c]);
+      const RegionLabel& region = decoder.regions()[r];
+      json += (r ? ", " : "") + std::string("{\"label\": ") + std::to_string(region.label) +
+              ", \"name\": \"" + json_escaped(region.name) +
+              "\", \"tetrahedra\": " + std::to_string(cells.size()) + ", \"cell_hash\": \"" +
+              hex(cell_set_hash(points, cells)) + "\"}";
+    }
+    json += "]";
+  }
+  return json + "}";
 }
 
 std::string end_summary_json(const Status& end) {

@@ -1,7 +1,8 @@
 // What a viewer needs of each decoded level, made as the level completes:
 // the carved cells with their neighbours (for a cut through the solid or
-// shrunken cells), the boundary surface, the boundary flags, and the new
-// vertices' positions and values as floats ready for a GPU buffer.
+// shrunken cells) and their regions, the boundary surface, the boundary
+// flags, and the new vertices' positions and values as floats ready for a
+// GPU buffer.
 //
 // The same code runs natively (tests, the equivalence check's reference) and
 // in the WebAssembly decoder the browser viewer uses (web/wasm/): one
@@ -29,10 +30,14 @@ struct LevelView {
   // cell_neighbors[c][i]: the carved cell across the face of c opposite its
   // vertex i, or -1 when that face is on the level's boundary.
   std::vector<std::array<int32_t, 4>> cell_neighbors;
+  // Per cell, its region: 1 + its index in the decoder's regions() (1 in a
+  // stream without regions).
+  std::vector<uint8_t> cell_regions;
   // Faces of exactly one carved cell, normal pointing out (right-hand rule):
   // the surface meshdec writes as PLY or OFF, in another order.
   std::vector<std::array<uint32_t, 3>> surface;
-  std::vector<uint8_t> boundary;  // per vertex of the level (mesh/topology.h)
+  std::vector<uint8_t> surface_regions;  // per face, its cell's region
+  std::vector<uint8_t> boundary;         // per vertex of the level (mesh/topology.h)
   // The layer's points in input units, minus the grid's centre (floats keep
   // every grid point of up to 24 bits exactly), x y z each.
   std::vector<float> new_positions;
@@ -73,7 +78,8 @@ class LevelViewer {
 // One line of JSON that identifies a level exactly: counts, and XXH3 hashes
 // of its points in decoder order, of its carved cell set (codec/stream/format.h's
 // cell_set_hash), of its surface (sorted), its boundary flags and each field's
-// values as decoded. The equivalence test compares the native and the
+// values as decoded; with regions, each region's label, name, cell count and
+// cell set hash, and the surface's faces with their regions. The equivalence test compares the native and the
 // WebAssembly lines of every level of every stream.
 std::string level_summary_json(const ProgressiveDecoder& decoder, const LevelView& view);
 // The summary's last line: how the stream ended ("done", "truncated" or

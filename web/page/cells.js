@@ -31,7 +31,8 @@ export function keptBelow(centroids, threshold) {
 // level's boundary on the kept side and the cut through its interior
 // ("crinkle" cut: whole cells, no sliced ones). With every cell kept it is
 // the level's boundary surface. `cutFaces` receives the faces that are
-// interior to the level (across them is a carved cell the cut removed).
+// interior to the level (across them is a carved cell the cut removed), and
+// `triangleCells` each triangle's cell.
 export function keptSurface(cells, neighbors, kept) {
   let count = 0, cut = 0;
   const n = kept.length;
@@ -44,6 +45,7 @@ export function keptSurface(cells, neighbors, kept) {
     }
   }
   const triangles = new Uint32Array(3 * count);
+  const triangleCells = new Uint32Array(count);
   const cutFaces = new Uint32Array(3 * cut);
   let t = 0, u = 0;
   for (let c = 0; c < n; ++c) {
@@ -52,11 +54,28 @@ export function keptSurface(cells, neighbors, kept) {
       const other = neighbors[4 * c + i];
       if (other >= 0 && kept[other]) continue;
       const f = kOutwardFaces[i];
+      triangleCells[t / 3] = c;
       for (let k = 0; k < 3; ++k) triangles[t++] = cells[4 * c + f[k]];
       if (other >= 0) for (let k = 0; k < 3; ++k) cutFaces[u++] = cells[4 * c + f[k]];
     }
   }
-  return { triangles, cutFaces };
+  return { triangles, cutFaces, triangleCells };
+}
+
+// Triangles (indices into `positions`) as non-indexed arrays for a
+// BufferGeometry, each with one colour (`triangleColours`, 3 floats each):
+// a colour per cell, where the shared buffers hold one per vertex.
+export function flatTriangles(triangles, positions, triangleColours) {
+  const position = new Float32Array(3 * triangles.length);
+  const colour = new Float32Array(3 * triangles.length);
+  for (let k = 0; k < triangles.length; ++k) {
+    const v = triangles[k], t = Math.floor(k / 3);
+    for (let axis = 0; axis < 3; ++axis) {
+      position[3 * k + axis] = positions[3 * v + axis];
+      colour[3 * k + axis] = triangleColours[3 * t + axis];
+    }
+  }
+  return { position, colour };
 }
 
 // min(cap, kept cells) kept cells, those whose centroid is nearest
@@ -84,9 +103,10 @@ export function cellsNearest(centroids, kept, threshold, cap) {
 }
 
 // Every chosen cell as four triangles shrunk towards its centroid by
-// `factor` (1: touching its neighbours), each corner with its vertex's colour:
-// non-indexed arrays for a BufferGeometry.
-export function shrunkenCells(cells, chosen, positions, colours, factor) {
+// `factor` (1: touching its neighbours), each corner with its vertex's colour
+// (`colours`, 3 floats a vertex), or with its cell's where `cellColours`
+// (3 floats a cell) is given: non-indexed arrays for a BufferGeometry.
+export function shrunkenCells(cells, chosen, positions, colours, factor, cellColours = null) {
   const position = new Float32Array(chosen.length * 36);
   const colour = new Float32Array(chosen.length * 36);
   let w = 0;
@@ -106,9 +126,10 @@ export function shrunkenCells(cells, chosen, positions, colours, factor) {
         position[w] = cx + factor * (positions[3 * v] - cx);
         position[w + 1] = cy + factor * (positions[3 * v + 1] - cy);
         position[w + 2] = cz + factor * (positions[3 * v + 2] - cz);
-        colour[w] = colours[3 * v];
-        colour[w + 1] = colours[3 * v + 1];
-        colour[w + 2] = colours[3 * v + 2];
+        const from = cellColours ?? colours, at = cellColours ? 3 * c : 3 * v;
+        colour[w] = from[at];
+        colour[w + 1] = from[at + 1];
+        colour[w + 2] = from[at + 2];
         w += 3;
       }
   }

@@ -1,5 +1,6 @@
 // Per-vertex colours for the three colour modes: the vertex's level, the
-// level's boundary flag, or a value field on a colour ramp.
+// level's boundary flag, or a value field on a colour ramp; and a colour per
+// region (material), which the page gives each cell.
 
 export const kPlain = [0.85, 0.74, 0.58];
 const kBoundary = [0.84, 0.37, 0.00];
@@ -30,6 +31,47 @@ export function levelColour(level, coarsest) {
 
 // sRGB to linear: three.js takes vertex colours as linear light.
 const kToLinear = (c) => c.map((x) => (x <= 0.04045 ? x / 12.92 : ((x + 0.055) / 1.055) ** 2.4));
+
+// Regions' colours: Okabe and Ito's eight, told apart by most eyes, the
+// background's grey left out; past them, hues a golden angle apart.
+const kRegionColours = [
+  [0.902, 0.624, 0.000], [0.337, 0.706, 0.914], [0.000, 0.620, 0.451], [0.941, 0.894, 0.259],
+  [0.000, 0.447, 0.698], [0.835, 0.369, 0.000], [0.800, 0.475, 0.655],
+];
+
+// The colour of region index r (0 the stream's first region), sRGB.
+export function regionColour(r) {
+  if (r < kRegionColours.length) return kRegionColours[r];
+  const hue = ((r - kRegionColours.length) * 137.508 + 20) % 360;
+  return hslToRgb(hue, 0.6, 0.5 + 0.1 * (r % 3 - 1));
+}
+
+export function regionCss(r) {
+  return `rgb(${regionColour(r).map((v) => Math.round(255 * v)).join(',')})`;
+}
+
+function hslToRgb(h, s, l) {
+  const a = s * Math.min(l, 1 - l);
+  const f = (n) => {
+    const k = (n + h / 30) % 12;
+    return l - a * Math.max(-1, Math.min(k - 3, 9 - k, 1));
+  };
+  return [f(0), f(8), f(4)];
+}
+
+// Per item (a triangle or a cell), the linear colour of its region, from
+// `regions` (1 + the region's index, as the decoder gives it; 0 none):
+// 3 floats each.
+export function regionColours(regions) {
+  const table = [kToLinear([0.6, 0.6, 0.6])];
+  const out = new Float32Array(3 * regions.length);
+  for (let i = 0; i < regions.length; ++i) {
+    const r = regions[i];
+    while (table.length <= r) table.push(kToLinear(regionColour(table.length - 1)));
+    out[3 * i] = table[r][0], out[3 * i + 1] = table[r][1], out[3 * i + 2] = table[r][2];
+  }
+  return out;
+}
 
 // Writes the colours of vertices [0, count) into `out` (3 floats each, linear).
 //   mode 'plain'    one colour

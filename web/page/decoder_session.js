@@ -18,6 +18,7 @@ export class DecoderSession {
     if (!this.handle) throw new Error('out of memory creating the decoder');
     this.header = null;
     this.fields = null;
+    this.regions = null;  // [{label, name}], empty without regions
     this.bytesFed = 0;
     this.summaries = summaries;
   }
@@ -40,6 +41,7 @@ export class DecoderSession {
     const levels = [];
     while (m._dtm_session_next_level(this.handle)) {
       if (!this.fields) this.fields = this.#readFields();
+      if (!this.regions) this.regions = this.#readRegions();
       const level = this.#readLevel();
       if (this.summaries) level.summary = m.UTF8ToString(m._dtm_level_summary(this.handle));
       levels.push(level);
@@ -85,6 +87,14 @@ export class DecoderSession {
     return fields;
   }
 
+  #readRegions() {
+    const m = this.m, h = this.handle;
+    const regions = [];
+    for (let r = 0; r < m._dtm_region_count(h); ++r)
+      regions.push({ label: m._dtm_region_label(h, r), name: m.UTF8ToString(m._dtm_region_name(h, r)) });
+    return regions;
+  }
+
   #readLevel() {
     const m = this.m, h = this.handle;
     const vertices = m._dtm_level_vertices(h);
@@ -96,6 +106,7 @@ export class DecoderSession {
     const u32 = (ptr, n) => m.HEAPU32.slice(ptr >>> 2, (ptr >>> 2) + n);
     const i32 = (ptr, n) => m.HEAP32.slice(ptr >>> 2, (ptr >>> 2) + n);
     const f32 = (ptr, n) => m.HEAPF32.slice(ptr >>> 2, (ptr >>> 2) + n);
+    const u8 = (ptr, n) => m.HEAPU8.slice(ptr, ptr + n);
     const values = this.fields.map((field, f) => f32(m._dtm_level_values(h, f), fresh * field.components));
     return {
       level: m._dtm_level(h),
@@ -105,8 +116,10 @@ export class DecoderSession {
       tetrahedra,
       cells: u32(m._dtm_level_cells(h), 4 * tetrahedra),
       neighbors: i32(m._dtm_level_neighbors(h), 4 * tetrahedra),
+      cellRegions: u8(m._dtm_level_cell_regions(h), tetrahedra),
       surface: u32(m._dtm_level_surface(h), 3 * triangles),
-      boundary: m.HEAPU8.slice(m._dtm_level_boundary(h), m._dtm_level_boundary(h) + vertices),
+      surfaceRegions: u8(m._dtm_level_surface_regions(h), triangles),
+      boundary: u8(m._dtm_level_boundary(h), vertices),
       positions: f32(m._dtm_level_positions(h), 3 * fresh),
       values,
     };

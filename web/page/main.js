@@ -7,12 +7,14 @@
 // and a 'dtmviewer' event is dispatched on window whenever it changes.
 //
 // URL parameters: stream=URL (the .dtm to load), level=K (show level K once it
-// arrives), colour=plain|level|boundary|FIELD, view=surface|cut|cells,
+// arrives), colour=plain|level|boundary|region|FIELD (field:FIELD for a field
+// named as one of the others), view=surface|cut|cells,
 // cut=x|y|z:FRACTION, edges=1, camera=AZIMUTH,ELEVATION (degrees),
 // maxVertices=N, ui=0 (the canvas alone), surface=URL.off (draw an OFF surface
 // instead of a stream: the input beside its levels in the README's pictures).
-import { centroidCoordinates, keptBelow, keptSurface, cellsNearest, shrunkenCells, triangleEdges } from './cells.js';
-import { fillColours, fieldRange, kRampCss } from './colours.js';
+import { centroidCoordinates, keptBelow, keptSurface, cellsNearest, flatTriangles, shrunkenCells, triangleEdges }
+  from './cells.js';
+import { fillColours, fieldRange, kRampCss, regionColours, regionCss } from './colours.js';
 import { parseOff } from './off.js';
 import { LevelScene } from './scene.js';
 
@@ -31,6 +33,7 @@ const state = {
   total: null,    // the stream's length, when the server says it
   header: null,
   fields: [],
+  regions: [],     // [{label, name}] with regions (materials), else empty
   shown: null,     // the level drawn, or null
   cellsShown: 0,   // in the 'cells' view: how many shrunken cells are drawn
   trianglesDrawn: 0,
@@ -99,7 +102,7 @@ function start(source, request) {
   if (scene) scene.framed = false;  // the next model gets its own camera
   Object.assign(state, {
     status: 'loading', levels: [], error: null, source, received: 0, decoded: 0, total: null, header: null,
-    fields: [], shown: null, rendered: null, timings: { start: performance.now(), decoded: {}, drawn: {} },
+    fields: [], regions: [], shown: null, rendered: null, timings: { start: performance.now(), decoded: {}, drawn: {} },
   });
   const load = (worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' }));
   load.onmessage = (event) => { if (worker === load) receive(event.data); };
@@ -145,8 +148,9 @@ function addLevel(m) {
   if (m.vertices > capacity) throw new Error(`level ${m.level}: ${m.vertices} vertices, room for ${capacity}`);
   if (!store.values) {
     state.fields = m.fields;
+    state.regions = m.regions;
     store.values = m.fields.map((f) => new Float32Array(capacity * f.components));
-    addFieldChoices(m.fields);
+    addColourChoices(m.fields, m.regions);
   }
   state.timings.decoded[m.level] = m.decodedAt - performance.timeOrigin;
   scene.addPositions(m.firstNew, m.positions);
@@ -155,6 +159,7 @@ function addLevel(m) {
   store.levels.push({
     level: m.level, vertices: m.vertices, tetrahedra: m.tetrahedra, bytes: m.streamBytes,
     cells: m.cells, neighbors: m.neighbors, surface: m.surface, boundary: m.boundary, centroids: null,
+    cellRegions: m.cellRegions, surfaceRegions: m.surfaceRegions,
   });
   state.levels.push({ level: m.level, vertices: m.vertices, tetrahedra: m.tetrahedra, bytes: m.streamBytes });
   if (state.timings.firstLevel === undefined) state.timings.firstLevel = performance.now();
@@ -198,23 +203,37 @@ function show(index) {
   if (!l) return;
   state.shown = l.level;
   $('level').value = String(index);
-  colour(l);
+  // By region, every triangle takes its cell's colour: the triangles are
+  // drawn with positions of their own, not over the shared buffers.
+  const byRegion = colour(l) === 'region';
+  const positions = scene.positions;
   if (view.mode === 'surface') {
-    scene.showTriangles(l.surface, view.edges ? capped(triangleEdges(l.surface)) : null);
+    if (byRegion) {
+      const soup = flatTriangles(l.surface, positions, regionColours(l.surfaceRegions));
+      scene.showSoup(soup, view.edges ? capped(triangleEdges(l.surface)) : null, true);
+    } else {
+      scene.showTriangles(l.surface, view.edges ? capped(triangleEdges(l.surface)) : null);
+    }
     state.trianglesDrawn = l.surface.length / 3;
   } else {
-    const positions = scene.positions;
     l.centroids ??= [0, 1, 2].map((axis) => centroidCoordinates(l.cells, positions, axis));
     const centroids = l.centroids[view.axis];
     const threshold = cutThreshold(centroids);
     const kept = keptBelow(centroids, threshold);
     if (view.mode === 'cut') {
-      const { triangles, cutFaces } = keptSurface(l.cells, l.neighbors, kept);
-      scene.showTriangles(triangles, capped(triangleEdges(view.edges ? triangles : cutFaces)));
+      const { triangles, cutFaces, triangleCells } = keptSurface(l.cells, l.neighbors, kept);
+      const edges = capped(triangleEdges(view.edges ? triangles : cutFaces));
+      if (byRegion) {
+        const regions = triangleCells.map((c) => l.cellRegions[c]);
+        scene.showSoup(flatTriangles(triangles, positions, regionColours(regions)), edges, true);
+      } else {
+        scene.showTriangles(triangles, edges);
+      }
       state.trianglesDrawn = triangles.length / 3;
     } else {
       const chosen = cellsNearest(centroids, kept, threshold, kMaxShrunkenCells);
-      const soup = shrunkenCells(l.cells, chosen, positions, scene.colours, 0.75);
+      const cellColours = byRegion ? regionColours(l.cellRegions) : null;
+      const soup = shrunkenCells(l.cells, chosen, positions, scene.colours, 0.75, cellColours);
       scene.showSoup(soup, view.edges ? capped(triangleEdges(sequence(soup.position.length / 3))) : null);
       state.cellsShown = chosen.length;
       state.trianglesDrawn = 4 * chosen.length;
@@ -241,17 +260,32 @@ function cutThreshold(centroids) {
   return min + view.cut * (max - min);
 }
 
+// Colours the shown level's vertices as view.colour asks, sets the legend,
+// and returns the mode drawn: 'region' (the triangles take their cells'
+// colours), 'field', 'level', 'boundary' or 'plain'.
 function colour(l) {
   const coarsest = store.levels[0].level;
   const options = { vertexLevels: store.vertexLevels, coarsest, flags: l.boundary };
   let mode = view.colour;
-  const f = state.fields.findIndex((field) => field.name === view.colour);
-  if (f >= 0) {
+  const f = state.fields.findIndex((field) => `field:${field.name}` === view.colour);
+  const named = state.fields.findIndex((field) => field.name === view.colour);
+  if (mode === 'region' && state.regions.length > 0) {
+    regionLegend(l);
+    legend(null);
+    mode = 'plain';  // (the vertices' colours are not drawn)
+    fillColours(scene.colours, l.vertices, mode, options);
+    scene.coloursChanged(l.vertices);
+    return 'region';
+  }
+  regionLegend(null);
+  const field = f >= 0 ? f : ['plain', 'level', 'boundary'].includes(mode) ? -1 : named;
+  if (field >= 0) {
     mode = 'field';
-    options.values = store.values[f];
-    options.components = state.fields[f].components;
+    options.values = store.values[field];
+    options.components = state.fields[field].components;
     options.range = fieldRange(options.values, options.components, l.vertices);
-    legend(state.fields[f].components > 1 ? `|${view.colour}|` : view.colour,
+    const name = state.fields[field].name;
+    legend(state.fields[field].components > 1 ? `|${name}|` : name,
            formatValue(options.range.min), formatValue(options.range.max));
   } else if (mode === 'level') {
     legend('level', String(coarsest), '0');
@@ -261,6 +295,25 @@ function colour(l) {
   }
   fillColours(scene.colours, l.vertices, mode, options);
   scene.coloursChanged(l.vertices);
+  return mode;
+}
+
+// The regions' colours, names and cells at the shown level, or none.
+function regionLegend(l) {
+  const list = $('regions');
+  list.hidden = !l;
+  if (!l) return;
+  const cells = new Array(state.regions.length).fill(0);
+  for (const r of l.cellRegions) if (r > 0) ++cells[r - 1];
+  list.replaceChildren(...state.regions.map((region, r) => {
+    const item = document.createElement('span');
+    const swatch = document.createElement('span');
+    swatch.className = 'swatch';
+    swatch.style.background = regionCss(r);
+    const name = region.name ? `${region.name} (${region.label})` : `region ${region.label}`;
+    item.append(swatch, `${name}: ${number(cells[r])} tetrahedra`);
+    return item;
+  }));
 }
 
 // The ramp's legend, or none.
@@ -277,15 +330,22 @@ function formatValue(x) {
   return Math.abs(x) >= 1e5 || (Math.abs(x) < 1e-3 && x !== 0) ? x.toExponential(3) : String(Number(x.toPrecision(5)));
 }
 
-function addFieldChoices(fields) {
+// The colour menu: the three fixed choices, by region where the stream has
+// regions, then the fields (a field named as a fixed choice is field:NAME).
+function addColourChoices(fields, regions) {
   const select = $('colour');
-  while (select.options.length > 3) select.remove(3);  // an earlier stream's fields
-  for (const f of fields) {
+  while (select.options.length > 3) select.remove(3);  // an earlier stream's
+  const add = (value, text) => {
     const option = document.createElement('option');
-    option.value = f.name;
-    option.textContent = `${f.name} (${f.type}${f.components > 1 ? ` x${f.components}` : ''})`;
+    option.value = value;
+    option.textContent = text;
     select.append(option);
-  }
+  };
+  if (regions.length > 0) add('region', `by region (${regions.length})`);
+  const fixed = ['plain', 'level', 'boundary', 'region'];
+  for (const f of fields)
+    add(fixed.includes(f.name) ? `field:${f.name}` : f.name,
+        `${f.name} (${f.type}${f.components > 1 ? ` x${f.components}` : ''})`);
   select.value = view.colour;
   if (select.value !== view.colour) select.value = 'plain';
 }

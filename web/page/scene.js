@@ -76,15 +76,19 @@ export class LevelScene {
   }
 
   // Draws non-indexed triangles with their own positions and colours
-  // (shrunken cells).
-  showSoup({ position, colour }, edges) {
+  // (shrunken cells, triangles coloured by their cell's region), and edges:
+  // indices into the triangles' own positions, or with `sharedEdges` into
+  // the shared buffer.
+  showSoup({ position, colour }, edges, sharedEdges = false) {
     this.#clear();
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(position, 3));
     geometry.setAttribute('color', new THREE.BufferAttribute(colour, 3));
     this.mesh = new THREE.Mesh(geometry, this.material);
     this.scene.add(this.mesh);
-    if (edges) {
+    if (edges && sharedEdges) {
+      this.#showEdges(edges);
+    } else if (edges) {
       const lines = new THREE.BufferGeometry();
       lines.setAttribute('position', geometry.getAttribute('position'));
       lines.setIndex(new THREE.BufferAttribute(edges, 1));

@@ -72,8 +72,10 @@ async function openStream(url, file) {
 function postLevel(level, session) {
   level.type = 'level';
   level.fields = session.fields;
+  level.regions = session.regions;
   level.decodedAt = performance.timeOrigin + performance.now();  // ms since 1970
-  const buffers = [level.cells, level.neighbors, level.surface, level.boundary, level.positions, ...level.values]
+  const buffers = [level.cells, level.neighbors, level.cellRegions, level.surface, level.surfaceRegions,
+                   level.boundary, level.positions, ...level.values]
     .map((a) => a.buffer);
   self.postMessage(level, buffers);
 }

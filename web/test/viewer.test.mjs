@@ -259,6 +259,72 @@ test('every view and colour draws, and the slider steps through the levels', asy
   }
 });
 
+// Materials: coloured by region, the surface, a cut and shrunken cells show
+// both of the two_materials part's regions in their colours, and the legend
+// names them with the encoder's counts of their cells at the level shown.
+test('a picture of materials: colour by region shows each in its colour, named', async () => {
+  const stream = streams.find((s) => s.name === 'golden/two_materials.dtm');
+  const expected = JSON.parse(readFileSync(stream.path.replace(/\.dtm$/, '.expected.json'), 'utf8'));
+  const { page, state, done } = await load(stream.path, { query: '&colour=region&view=cut&cut=x:0.5&camera=60,20' });
+  try {
+    assert.equal(state.status, 'done', state.error);
+    assert.deepEqual(state.regions, [{ label: 1, name: 'aluminium' }, { label: 2, name: 'steel' }]);
+    assert.equal(await page.inputValue('#colour'), 'region');
+    // Pixels nearest each region's colour (orange, sky blue), on the drawing.
+    const shares = () => page.evaluate(() => {
+      const canvas = document.getElementById('canvas');
+      const probe = document.createElement('canvas');
+      probe.width = 200, probe.height = 150;
+      const context = probe.getContext('2d');
+      context.drawImage(canvas, 0, 0, probe.width, probe.height);
+      const p = context.getImageData(0, 0, probe.width, probe.height).data;
+      let orange = 0, blue = 0;
+      for (let i = 0; i < p.length; i += 4) {
+        if (p[i] > p[i + 2] + 60 && p[i + 1] > p[i + 2]) ++orange;
+        else if (p[i + 2] > p[i] + 40 && p[i + 2] >= p[i + 1]) ++blue;
+      }
+      return [orange / (probe.width * probe.height), blue / (probe.width * probe.height)];
+    });
+    const legendFor = (level) => expected.levels.find((l) => l.level === level).region_cells;
+    const draw = async (name, change) => {
+      const frames = await page.evaluate(() => window.dtmViewer.frames);
+      if (change) {
+        await page.evaluate(change);
+        await page.waitForFunction((f) => window.dtmViewer.frames > f, frames);
+      }
+      const [orange, blue] = await shares();
+      await page.screenshot({ path: join(shots, `two_materials_region_${name}.png`) });
+      const shown = await page.evaluate(() => window.dtmViewer.shown);
+      const cells = legendFor(shown);
+      const legend = await page.textContent('#regions');
+      assert.ok(await page.isVisible('#regions'), `${name}: the regions' legend`);
+      assert.match(legend, new RegExp(`aluminium \\(1\\): ${cells['1'].toLocaleString('en-US')} tetrahedra`), legend);
+      assert.match(legend, new RegExp(`steel \\(2\\): ${cells['2'].toLocaleString('en-US')} tetrahedra`), legend);
+      return { orange, blue };
+    };
+    const select = (id, value) => `{ const e = document.getElementById('${id}'); e.value = '${value}';
+                                      e.dispatchEvent(new Event(e.tagName === 'INPUT' ? 'input' : 'change')); }`;
+    const cut = await draw('cut');
+    // docs/VIEWER.md's picture (scripts/web_pictures.sh), and the artifacts'.
+    const out = process.env.DTM_UPDATE_PICTURES ? join(config.source, 'docs') : shots;
+    await page.screenshot({ path: join(out, 'viewer_regions.png') });
+    assert.ok(cut.orange > 0.01 && cut.blue > 0.005, `a cut shows both materials: ${JSON.stringify(cut)}`);
+    const cells = await draw('cells', select('mode', 'cells'));
+    assert.ok(cells.orange > 0.005 && cells.blue > 0.002, `shrunken cells of both: ${JSON.stringify(cells)}`);
+    await draw('surface', select('mode', 'surface'));
+    await draw('coarsest', select('level', '0'));
+    const frames = await page.evaluate(() => window.dtmViewer.frames);
+    await page.evaluate(select('colour', 'plain'));
+    await page.waitForFunction((f) => window.dtmViewer.frames > f, frames);
+    assert.equal(await page.isVisible('#regions'), false, 'no regions legend when not colouring by region');
+    const plain = await shares();
+    assert.ok(plain[1] < 0.001, `plain has no region colour: ${plain}`);
+    assert.deepEqual(page.problems, []);
+  } finally {
+    await done();
+  }
+});
+
 // The README's pictures (docs/viewer_*.png): written to the artifacts on every
 // run, and over the committed ones with DTM_UPDATE_PICTURES=1
 // (scripts/web_pictures.sh). The input's surface comes from data/surfaces.

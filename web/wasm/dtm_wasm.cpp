@@ -140,6 +140,19 @@ EMSCRIPTEN_KEEPALIVE int32_t dtm_field_components(Session* s, int32_t f) {
   return field(s, f) ? field(s, f)->components : 0;
 }
 
+// The regions (flag regions), once a level has been decoded: none without.
+EMSCRIPTEN_KEEPALIVE int32_t dtm_region_count(Session* s) {
+  return static_cast<int32_t>(s->viewer.decoder().regions().size());
+}
+EMSCRIPTEN_KEEPALIVE int32_t dtm_region_label(Session* s, int32_t r) {
+  const auto& regions = s->viewer.decoder().regions();
+  return r >= 0 && static_cast<size_t>(r) < regions.size() ? regions[r].label : 0;
+}
+EMSCRIPTEN_KEEPALIVE const char* dtm_region_name(Session* s, int32_t r) {
+  const auto& regions = s->viewer.decoder().regions();
+  return r >= 0 && static_cast<size_t>(r) < regions.size() ? keep(s, regions[r].name) : "";
+}
+
 // Makes the oldest completed level not yet taken the current one: 1, or 0
 // when there is none.
 EMSCRIPTEN_KEEPALIVE int32_t dtm_session_next_level(Session* s) {
@@ -164,11 +177,19 @@ EMSCRIPTEN_KEEPALIVE const uint32_t* dtm_level_cells(Session* s) {
 EMSCRIPTEN_KEEPALIVE const int32_t* dtm_level_neighbors(Session* s) {
   return reinterpret_cast<const int32_t*>(s->level.cell_neighbors.data());
 }
+// Per cell, 1 + its index among the regions (1 without regions).
+EMSCRIPTEN_KEEPALIVE const uint8_t* dtm_level_cell_regions(Session* s) {
+  return s->level.cell_regions.data();
+}
 EMSCRIPTEN_KEEPALIVE uint32_t dtm_level_triangles(Session* s) {
   return static_cast<uint32_t>(s->level.surface.size());
 }
 EMSCRIPTEN_KEEPALIVE const uint32_t* dtm_level_surface(Session* s) {
   return reinterpret_cast<const uint32_t*>(s->level.surface.data());
+}
+// Per surface face, its cell's region as above.
+EMSCRIPTEN_KEEPALIVE const uint8_t* dtm_level_surface_regions(Session* s) {
+  return s->level.surface_regions.data();
 }
 EMSCRIPTEN_KEEPALIVE const uint8_t* dtm_level_boundary(Session* s) { return s->level.boundary.data(); }
 EMSCRIPTEN_KEEPALIVE const float* dtm_level_positions(Session* s) { return s->level.new_positions.data(); }
