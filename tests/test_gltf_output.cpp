@@ -13,9 +13,13 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <span>
 #include <sstream>
 
+#include "codec/decode.h"
 #include "format_test_support.h"
+#include "mesh/topology.h"
 #include "test_support.h"
 #include "tools/formats/input.h"
 
@@ -94,6 +98,8 @@ std::vector<uint32_t> indices(const Glb& glb, int accessor) {
   for (size_t i = 0; i < n; ++i) {
     if (a["componentType"] == 5125) {
       std::memcpy(&out[i], glb.bin.data() + at + 4 * i, 4);
+    } else if (a["componentType"] == 5121) {  // (a primitive of under 256 vertices)
+      out[i] = static_cast<uint8_t>(glb.bin[at + i]);
     } else {
       uint16_t v;
       std::memcpy(&v, glb.bin.data() + at + 2 * i, 2);
@@ -311,6 +317,79 @@ TEST_F(GltfOutput, ColoursByAFieldAndRefusesAnUnknownOne) {
             std::string::npos)
       << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/nothing.glb"));
+}
+
+// --color region: a part of two materials is each material's own surface,
+// a primitive each, named as its region, closed, in one colour each; its
+// triangles are the faces of exactly one of the region's cells as the
+// decoder gives them. A stream without regions is refused.
+TEST_F(GltfOutput, ByRegionEachRegionIsItsOwnClosedSurfaceAPrimitiveNamedAsTheRegion) {
+  const std::string stream = std::string(DTM_TEST_SOURCE_DIR) + "/golden/two_materials.dtm";
+  const std::string out = dir_ + "/regions.glb";
+  auto r =
+      test::run_command(std::string(DTM_MESHDEC) + " " + stream + " --color region --no-draco -o " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find("the cells' regions"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the regions' surfaces: "), std::string::npos) << r.output;
+
+  // The decoder's faces of exactly one cell of each region.
+  ProgressiveDecoder decoder;
+  const std::string bytes = test::slurp(stream);
+  ASSERT_TRUE(
+      decode_stream(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), decoder).ok());
+  const ProgressiveDecoder::LevelCells level = decoder.level_cells();
+  ASSERT_EQ(decoder.regions().size(), 2u);
+
+  const Glb glb = read_glb(out);
+  const json& primitives = glb.gltf["meshes"][0]["primitives"];
+  ASSERT_EQ(primitives.size(), 2u);
+  std::set<std::array<uint8_t, 3>> colours;
+  for (size_t p = 0; p < 2; ++p) {
+    const json& primitive = primitives[p];
+    const json& material = glb.gltf["materials"][primitive["material"].get<int>()];
+    EXPECT_EQ(material["name"], decoder.regions()[p].name);
+    EXPECT_EQ(material["pbrMetallicRoughness"]["metallicFactor"], 0)
+        << "a metal draws black without light to reflect";
+    std::vector<uint8_t> in_region(level.kept.size());
+    for (size_t c = 0; c < level.kept.size(); ++c) in_region[c] = level.kept[c] == p + 1;
+    const std::vector<uint32_t> index = indices(glb, primitive["indices"].get<int>());
+    EXPECT_EQ(index.size(), 3 * boundary_faces(level.mesh, in_region).size()) << decoder.regions()[p].name;
+    // Closed: every directed edge met once, and once the other way (the
+    // corners by their positions: a glTF encoder may repeat a vertex).
+    const std::vector<float> positions = floats(glb, primitive["attributes"]["POSITION"].get<int>());
+    std::map<std::array<float, 3>, uint32_t> welded;
+    const auto corner = [&](uint32_t v) {
+      return welded
+          .emplace(std::array<float, 3>{positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]},
+                   static_cast<uint32_t>(welded.size()))
+          .first->second;
+    };
+    std::map<std::pair<uint32_t, uint32_t>, int> edges;
+    for (size_t t = 0; t < index.size(); t += 3)
+      for (int k = 0; k < 3; ++k) ++edges[{corner(index[t + k]), corner(index[t + (k + 1) % 3])}];
+    for (const auto& [edge, n] : edges) {
+      EXPECT_EQ(n, 1);
+      EXPECT_EQ(edges.count({edge.second, edge.first}), 1u);
+    }
+    // One colour for the whole region.
+    const json& a = glb.gltf["accessors"][primitive["attributes"]["COLOR_0"].get<int>()];
+    const json& view = glb.gltf["bufferViews"][a["bufferView"].get<int>()];
+    const size_t at = view.value("byteOffset", 0) + a.value("byteOffset", 0);
+    std::set<std::array<uint8_t, 3>> own;
+    for (size_t v = 0; v < a["count"].get<size_t>(); ++v) {
+      const auto* rgba = reinterpret_cast<const uint8_t*>(glb.bin.data() + at + 4 * v);
+      own.insert({rgba[0], rgba[1], rgba[2]});
+    }
+    EXPECT_EQ(own.size(), 1u);
+    colours.insert(own.begin(), own.end());
+  }
+  EXPECT_EQ(colours.size(), 2u) << "each region in its own colour";
+
+  const std::string none = dir_ + "/no_regions.glb";
+  r = test::run_command(std::string(DTM_MESHDEC) + " " + stream_ + " --color region -o " + none);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("--color region: the mesh has no regions"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(none));
 }
 
 TEST_F(GltfOutput, EmptySurfaceAndUnwritableOutputAreErrorsWithNoFile) {

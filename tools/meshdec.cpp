@@ -37,6 +37,7 @@ Examples:
   meshdec bunny.dtm -o surface.ply --level 3     # the boundary surface, normals out
   meshdec bunny.dtm -o bunny.glb --level 2       # the same as glTF 2.0, Draco-compressed (web, AR, Blender)
   meshdec ct.dtm -o ct.glb --color value         # coloured by the field 'value'
+  meshdec part.dtm -o part.glb --color region    # each material's surface, a glTF material each
   meshdec bunny.dtm -o bunny.drc                 # the surface as a Draco file
   meshdec big.dtm -o part.vtu --box 0 0 0 10 10 10   # the cells meeting a box (reads only the
                                                   # chunks around it from a meshenc --bricks stream)
@@ -81,7 +82,8 @@ void add_options(CLI::App& app, Command& c) {
   app.add_option(
          "--color", c.style.colour,
          "glTF and .drc vertex colours: level (dark = coarsest), boundary, or a field's name (a vector by "
-         "its length), on a colour ramp")
+         "its length), on a colour ramp; or region: each region's own surface in its colour (glTF: a "
+         "primitive each, its material named as the region)")
       ->capture_default_str()
       ->each([&c](const std::string&) { c.colour_given = true; });
   app.add_flag("--no-draco", c.no_draco, "glTF: plain buffers instead of Draco compression");
@@ -197,7 +199,7 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
   const auto files = dtm::render_mesh(mesh, format, c.output == "-" ? "out.vtu" : c.output, style);
   // Nothing of the stream's data dropped without a word.
   if (!c.quiet)
-    for (const std::string& what : dtm::not_written(mesh, format))
+    for (const std::string& what : dtm::not_written(mesh, format, style))
       std::fprintf(stderr, "meshdec: %s: not written (the format has no place for it): %s\n",
                    c.output.c_str(), what.c_str());
   // (The input's node ids, 22.0: only the gmsh, Abaqus and Exodus files
@@ -571,8 +573,14 @@ int run(const Command& c) {
         format == dtm::MeshFormat::kGlb || format == dtm::MeshFormat::kGltf ||
         format == dtm::MeshFormat::kDrc) {
       const dtm::BoundarySurface s = dtm::boundary_surface(mesh);
-      note += "; boundary surface: " + std::to_string(s.vertices.size()) + " vertices, " +
-              std::to_string(s.triangles.size()) + " triangles";
+      if (dtm::draws_regions(mesh, format, c.style)) {
+        const dtm::BoundarySurface r = dtm::region_surfaces(mesh).surface;
+        note += "; the regions' surfaces: " + std::to_string(r.vertices.size()) + " vertices, " +
+                std::to_string(r.triangles.size()) + " triangles";
+      } else {
+        note += "; boundary surface: " + std::to_string(s.vertices.size()) + " vertices, " +
+                std::to_string(s.triangles.size()) + " triangles";
+      }
       if (draco) {
         // The quantization Draco was given, and what it costs the positions.
         // (float32 positions add their rounding: a .drc holds them whole,

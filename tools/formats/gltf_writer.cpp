@@ -2,6 +2,7 @@
 
 #include <draco/compression/encode.h>
 #include <draco/io/gltf_encoder.h>
+#include <draco/material/material_library.h>
 #include <draco/mesh/mesh.h>
 
 #include <algorithm>
@@ -11,10 +12,12 @@
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 
 #include "codec/sections/value_fields.h"
 #include "mesh/geometry.h"
+#include "mesh/topology.h"
 #include "tools/field_types.h"
 
 namespace dtm {
@@ -58,6 +61,27 @@ std::array<double, 3> ramp(double t) {
   return c;
 }
 
+// Regions' colours (sRGB), as the viewer's colours.js has them: Okabe and
+// Ito's seven, then hues a golden angle apart.
+constexpr std::array<std::array<double, 3>, 7> kRegionColours = {{{0.902, 0.624, 0.000},
+                                                                  {0.337, 0.706, 0.914},
+                                                                  {0.000, 0.620, 0.451},
+                                                                  {0.941, 0.894, 0.259},
+                                                                  {0.000, 0.447, 0.698},
+                                                                  {0.835, 0.369, 0.000},
+                                                                  {0.800, 0.475, 0.655}}};
+
+std::array<double, 3> region_colour(size_t r) {
+  if (r < kRegionColours.size()) return kRegionColours[r];
+  const double hue = std::fmod(static_cast<double>(r - kRegionColours.size()) * 137.508 + 20, 360.0);
+  const double s = 0.6, l = 0.5 + 0.1 * (static_cast<double>(r % 3) - 1), a = s * std::min(l, 1 - l);
+  const auto f = [&](double n) {
+    const double k = std::fmod(n + hue / 30, 12.0);
+    return l - a * std::max(-1.0, std::min({k - 3, 9 - k, 1.0}));
+  };
+  return {f(0), f(8), f(4)};
+}
+
 // glTF's COLOR_0 is linear light; the ramp is sRGB.
 uint8_t linear_byte(double srgb) {
   const double linear = srgb <= 0.04045 ? srgb / 12.92 : std::pow((srgb + 0.055) / 1.055, 2.4);
@@ -82,7 +106,7 @@ std::vector<double> ramp_positions(const OutputMesh& m, const BoundarySurface& s
   const auto field =
       std::find_if(m.fields.begin(), m.fields.end(), [&](const OutputField& f) { return f.name == colour; });
   if (field == m.fields.end()) {
-    std::string known = "level, boundary";
+    std::string known = m.region.empty() ? "level, boundary" : "level, boundary, region";
     for (const OutputField& f : m.fields) known += ", " + f.name;
     throw std::invalid_argument("--color " + colour + ": no such field (known: " + known + ")");
   }
@@ -125,9 +149,12 @@ std::vector<std::array<float, 3>> float_positions(const OutputMesh& m, const Bou
 }
 
 // The surface as a Draco mesh: positions (input units, less `anchor`),
-// normals, colours.
+// normals, colours; with `regions` (--color region) each vertex in its
+// region's colour, and a MATERIAL attribute with a material per region,
+// named as the region, which Draco's glTF encoder makes a primitive each.
 std::unique_ptr<draco::Mesh> draco_surface(const OutputMesh& m, const BoundarySurface& s,
-                                           const SurfaceStyle& style, const InputPoint& anchor) {
+                                           const SurfaceStyle& style, const InputPoint& anchor,
+                                           const RegionSurfaces* regions) {
   const std::vector<std::array<float, 3>> positions = float_positions(m, s, anchor);
   // Area-weighted: each triangle adds its cross product (twice its area
   // along its normal), in grid units, where the points are exact.
@@ -146,10 +173,17 @@ std::unique_ptr<draco::Mesh> draco_surface(const OutputMesh& m, const BoundarySu
   }
   // RGBA, not RGB: a plain glTF's vertex attributes must be 4-byte aligned.
   std::vector<std::array<uint8_t, 4>> colours(s.vertices.size());
-  const std::vector<double> t = ramp_positions(m, s, style.colour);
-  for (size_t i = 0; i < t.size(); ++i) {
-    const auto c = ramp(t[i]);
-    colours[i] = {linear_byte(c[0]), linear_byte(c[1]), linear_byte(c[2]), 255};
+  if (regions) {
+    for (size_t i = 0; i < colours.size(); ++i) {
+      const auto c = region_colour(regions->region[i]);
+      colours[i] = {linear_byte(c[0]), linear_byte(c[1]), linear_byte(c[2]), 255};
+    }
+  } else {
+    const std::vector<double> t = ramp_positions(m, s, style.colour);
+    for (size_t i = 0; i < t.size(); ++i) {
+      const auto c = ramp(t[i]);
+      colours[i] = {linear_byte(c[0]), linear_byte(c[1]), linear_byte(c[2]), 255};
+    }
   }
 
   auto mesh = std::make_unique<draco::Mesh>();
@@ -157,6 +191,30 @@ std::unique_ptr<draco::Mesh> draco_surface(const OutputMesh& m, const BoundarySu
   add_attribute(*mesh, draco::GeometryAttribute::POSITION, draco::DT_FLOAT32, false, positions);
   add_attribute(*mesh, draco::GeometryAttribute::NORMAL, draco::DT_FLOAT32, false, normals);
   add_attribute(*mesh, draco::GeometryAttribute::COLOR, draco::DT_UINT8, true, colours);
+  if (regions) {
+    // One value per material, each point mapped to its region's (Draco's
+    // glTF encoder wants a value per material).
+    draco::GeometryAttribute a;
+    a.Init(draco::GeometryAttribute::MATERIAL, nullptr, 1, draco::DT_UINT8, false, 1, 0);
+    const int id = mesh->AddAttribute(a, false, static_cast<uint32_t>(regions->labels.size()));
+    for (uint32_t r = 0; r < regions->labels.size(); ++r) {
+      const uint8_t value = static_cast<uint8_t>(r);
+      mesh->attribute(id)->SetAttributeValue(draco::AttributeValueIndex(r), &value);
+    }
+    mesh->attribute(id)->SetExplicitMapping(s.vertices.size());
+    for (uint32_t i = 0; i < s.vertices.size(); ++i)
+      mesh->attribute(id)->SetPointMapEntry(draco::PointIndex(i),
+                                            draco::AttributeValueIndex(regions->region[i]));
+    for (size_t r = 0; r < regions->labels.size(); ++r) {
+      const int32_t label = regions->labels[r];
+      const auto name = m.region_names.find(label);
+      draco::Material* material_r = mesh->GetMaterialLibrary().MutableMaterial(static_cast<int>(r));
+      material_r->SetName(name != m.region_names.end() && !name->second.empty()
+                              ? name->second
+                              : "region " + std::to_string(label));
+      material_r->SetMetallicFactor(0);  // (a metal shows black without an environment to reflect)
+    }
+  }
   for (const auto& tri : s.triangles)
     mesh->AddFace({draco::PointIndex(tri[0]), draco::PointIndex(tri[1]), draco::PointIndex(tri[2])});
   return mesh;
@@ -211,6 +269,44 @@ std::string assemble_glb(const nlohmann::json& json, const std::string& bin) {
 
 }  // namespace
 
+bool draws_regions(const OutputMesh& m, MeshFormat format, const SurfaceStyle& style) {
+  if (format != MeshFormat::kGlb && format != MeshFormat::kGltf && format != MeshFormat::kDrc) return false;
+  // (A field named "region" is drawn as a field where the mesh has no regions.)
+  const bool region_field =
+      std::any_of(m.fields.begin(), m.fields.end(), [](const OutputField& f) { return f.name == "region"; });
+  return style.colour == "region" && (!m.region.empty() || !region_field);
+}
+
+RegionSurfaces region_surfaces(const OutputMesh& m) {
+  if (m.region.empty())
+    throw std::invalid_argument("--color region: the mesh has no regions (its stream was made without them)");
+  RegionSurfaces out;
+  out.labels = m.region;
+  std::sort(out.labels.begin(), out.labels.end());
+  out.labels.erase(std::unique(out.labels.begin(), out.labels.end()), out.labels.end());
+  if (out.labels.size() > 255) throw std::invalid_argument("--color region: over 255 regions");
+  std::vector<int64_t> local(m.points.size(), -1);
+  for (size_t r = 0; r < out.labels.size(); ++r) {
+    std::vector<std::array<uint32_t, 4>> cells;
+    for (size_t c = 0; c < m.cells.size(); ++c)
+      if (m.region[c] == out.labels[r]) cells.push_back(m.cells[c]);
+    const std::vector<std::array<uint32_t, 3>> faces = boundary_triangles(cells);
+    std::fill(local.begin(), local.end(), -1);
+    for (const auto& f : faces)
+      for (const uint32_t v : f) local[v] = 0;
+    for (uint32_t v = 0; v < m.points.size(); ++v)
+      if (local[v] == 0) {
+        local[v] = static_cast<int64_t>(out.surface.vertices.size());
+        out.surface.vertices.push_back(v);
+        out.region.push_back(static_cast<uint8_t>(r));
+      }
+    for (const auto& f : faces)
+      out.surface.triangles.push_back({static_cast<uint32_t>(local[f[0]]), static_cast<uint32_t>(local[f[1]]),
+                                       static_cast<uint32_t>(local[f[2]])});
+  }
+  return out;
+}
+
 SurfaceQuantization surface_quantization(const OutputMesh& mesh, const BoundarySurface& s,
                                          MeshFormat format) {
   SurfaceQuantization q;
@@ -250,7 +346,12 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
         path + ": the level's boundary surface is empty (no carved tetrahedron): nothing to write");
   const SurfaceQuantization q = surface_quantization(m, s, format);
   const InputPoint& anchor = q.anchor;
-  std::unique_ptr<draco::Mesh> mesh = draco_surface(m, s, style, anchor);
+  // (Every region's vertices lie in the whole surface's box: its
+  // quantization holds them.)
+  std::optional<RegionSurfaces> regions;
+  if (draws_regions(m, format, style)) regions = region_surfaces(m);
+  std::unique_ptr<draco::Mesh> mesh =
+      draco_surface(m, regions ? regions->surface : s, style, anchor, regions ? &*regions : nullptr);
 
   if (format == MeshFormat::kDrc) {
     draco::Encoder encoder;

@@ -20,7 +20,10 @@ namespace dtm {
 // level holding the vertex, on a ramp from dark to bright), "boundary" (the
 // boundary flag: every surface vertex has it, so one colour), or the name of
 // one of the mesh's fields (a vector by its length), on the same ramp between
-// the surface's smallest and largest value; and whether glTF is compressed.
+// the surface's smallest and largest value, or "region" (a mesh with
+// regions: each region's own surface in its colour, as the viewer's, and in
+// glTF a primitive each, its material named as the region); and whether
+// glTF is compressed.
 
 // Draco's position quantization for this surface: just enough bits that
 // Draco's step over the surface's extent is at most the stream's grid step,
@@ -46,6 +49,21 @@ std::vector<std::pair<std::string, std::string>> render_surface_gltf(const Outpu
                                                                      MeshFormat format,
                                                                      const std::string& path,
                                                                      const SurfaceStyle& style);
+
+// Whether render_surface_gltf draws `mesh` by region (--color region).
+bool draws_regions(const OutputMesh& mesh, MeshFormat format, const SurfaceStyle& style);
+
+// What it then draws: each region's own surface (the faces of exactly one
+// of its cells, outward), one after the other, its vertices its own (a
+// vertex on an interface is in both regions' surfaces); `region` per vertex
+// of `surface`, the region's index in `labels` (ascending). Throws
+// std::invalid_argument when the mesh has no regions.
+struct RegionSurfaces {
+  BoundarySurface surface;  // (vertices repeat across regions)
+  std::vector<uint8_t> region;
+  std::vector<int32_t> labels;
+};
+RegionSurfaces region_surfaces(const OutputMesh& mesh);
 
 // What render_surface_gltf uses for `mesh`, whose boundary_surface
 // (surface_writers.h) is `surface` (empty surface: position_bits 0), in

@@ -261,7 +261,7 @@ std::vector<int32_t> physical_tags(const OutputMesh& m) {
   return out;
 }
 
-std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
+std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format, const SurfaceStyle& style) {
   std::vector<std::string> out;
   const auto names = [](const std::vector<OutputField>& fields, const auto& dropped) {
     std::string list;
@@ -349,7 +349,11 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format) {
   if (format == MeshFormat::kGlb || format == MeshFormat::kGltf || format == MeshFormat::kDrc)
     add("the point fields (a glTF or Draco surface's colours come from --color)", names(m.fields, all));
   if (surface) {
-    if (!m.region.empty()) out.push_back("the cells' regions");
+    const bool coloured =
+        format == MeshFormat::kGlb || format == MeshFormat::kGltf || format == MeshFormat::kDrc;
+    if (!m.region.empty() && !draws_regions(m, format, style))
+      out.push_back(coloured ? "the cells' regions (--color region draws each region's surface)"
+                             : "the cells' regions");
     if (!m.faces.empty()) out.push_back(std::to_string(m.faces.size()) + " tagged faces");
     add("the cell arrays", names(m.cell_fields, all));
   }

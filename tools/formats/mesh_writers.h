@@ -138,18 +138,19 @@ bool writes_edge_nodes(MeshFormat format);
 // The mesh's linear cells: without the points on their edges.
 OutputMesh without_edge_nodes(OutputMesh mesh);
 
-// What of the stream's data `format` has no place for, named for a
-// "not written" line (the fields, regions, tagged faces and cell data a
-// user gave; `level` and `boundary`, which meshdec derives, are not named).
-// Empty when it holds everything.
-std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format);
-
 // How the surface formats that carry colours draw them (glTF, .drc;
 // tools/formats/gltf_writer.h says what each means).
 struct SurfaceStyle {
-  std::string colour = "level";  // "level", "boundary" or a field's name
+  std::string colour = "level";  // "level", "boundary", "region" or a field's name
   bool draco = true;             // glTF: KHR_draco_mesh_compression, or plain accessors
 };
+
+// What of the stream's data `format` has no place for, named for a
+// "not written" line (the fields, regions, tagged faces and cell data a
+// user gave; `level` and `boundary`, which meshdec derives, are not named).
+// Empty when it holds everything. A glTF or Draco surface drawn by region
+// (`style`) holds the regions.
+std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format, const SurfaceStyle& style = {});
 
 // The format named by the output path's extension: ".node" -> kTetgen (the
 // .ele goes beside it, same stem), ".vtu" -> kVtu, ".vtk" -> kVtk, ".mesh"
