@@ -629,7 +629,10 @@ def _named(data: Any) -> Iterator[None]:
         yield
     except Error as e:
         if isinstance(data, (str, os.PathLike)) and not str(e).startswith(os.fspath(data)):
-            raise Error(f"{os.fspath(data)}: {e}") from None
+            # (The library names bytes "stream": the path names them here.)
+            message = str(e)
+            message = message[len("stream: "):] if message.startswith("stream: ") else message
+            raise Error(f"{os.fspath(data)}: {message}") from None
         raise
 
 

@@ -224,6 +224,16 @@ def test_damaged_and_foreign_bytes_raise_the_librarys_error():
         dtmesh.decode(bytes(data), level=99)
 
 
+def test_a_file_that_is_not_a_stream_is_named_once(tmp_path):
+    # As meshinfo says it: "x.dtm: not a .dtm stream", not "x.dtm: stream: ...".
+    path = tmp_path / "notes.dtm"
+    path.write_bytes(b"not a stream at all, but long enough to hold a header's bytes" * 4)
+    for read in (dtmesh.info, dtmesh.decode):
+        with pytest.raises(dtmesh.Error) as caught:
+            read(str(path))
+        assert str(caught.value).startswith(f"{path}: not a .dtm stream"), str(caught.value)
+
+
 def test_bad_input_raises_with_the_reason():
     with pytest.raises(dtmesh.Error, match="not in one plane"):
         dtmesh.encode(np.zeros((10, 3)))
