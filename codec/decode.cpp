@@ -75,6 +75,12 @@ Status ProgressiveDecoder::step(const LevelCallback& on_level) {
   if (!has_header_) {
     DTM_RETURN_IF_ERROR(parse_header(avail, header_));
     has_header_ = true;
+    // A level asked for that the stream does not have: said now, not after
+    // decoding every level there is.
+    if (options_.stop_after_level < -1 || options_.stop_after_level >= static_cast<int>(header_.level_count))
+      return {StatusCode::kInvalidInput, "level " + std::to_string(options_.stop_after_level) +
+                                             " asked, the stream has levels 0 to " +
+                                             std::to_string(static_cast<int>(header_.level_count) - 1)};
     has_field_table_ = !(header_.flags & kFlagValues);
     has_region_table_ = !(header_.flags & kFlagRegions);
     has_face_table_ = !(header_.flags & kFlagFaces);

@@ -44,6 +44,8 @@ struct DecoderOptions {
   // stream may make this decoder hold, 8 bytes each: 1G is 8 GiB.
   uint64_t max_values = 1'000'000'000;
   // Stop after this level (0 = finest; -1 = decode every level present).
+  // A level the stream's header does not have is an error (kInvalidInput)
+  // as soon as the header is read.
   int stop_after_level = -1;
   // Named as each phase of the work starts ("level 0: carving"), for a
   // tool's status line or timings (common/progress.h).

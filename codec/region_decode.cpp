@@ -308,7 +308,8 @@ Status read_header(Reader& reader, int level, StreamHeader& header) {
                ? Status{StatusCode::kTruncated, "the stream ends in its header"}
                : s;
   if (level < 0 || level >= header.level_count)
-    return {StatusCode::kInvalidInput, "level " + std::to_string(level) + ": the stream has levels 0 to " +
+    return {StatusCode::kInvalidInput, "level " + std::to_string(level) +
+                                           " asked, the stream has levels 0 to " +
                                            std::to_string(header.level_count - 1)};
   return Status::Ok();
 }

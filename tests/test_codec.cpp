@@ -569,5 +569,28 @@ TEST(Codec, StopsAtTheRequestedLevel) {
   EXPECT_EQ(dec.points().size(), e.hierarchy.levels[2].vertices.size());
 }
 
+// A level the stream does not have is refused once the header is read: a
+// caller learns it from the first bytes, not after decoding every level.
+TEST(Codec, ALevelTheStreamLacksIsRefusedAtTheHeader) {
+  const Encoded e = small_stream();
+  const int levels = static_cast<int>(e.hierarchy.levels.size());
+  for (int stop : {levels, levels + 5, -2}) {
+    DecoderOptions o;
+    o.stop_after_level = stop;
+    ProgressiveDecoder dec(o);
+    const Status s = dec.feed(std::span(e.stream.bytes).first(kHeaderSize));
+    EXPECT_EQ(s.code(), StatusCode::kInvalidInput) << stop;
+    EXPECT_EQ(s.message(), "level " + std::to_string(stop) + " asked, the stream has levels 0 to " +
+                               std::to_string(levels - 1));
+    EXPECT_FALSE(dec.feed(e.stream.bytes).ok()) << "the error stands";
+    EXPECT_EQ(dec.finest_level(), -1);
+  }
+  DecoderOptions coarsest;
+  coarsest.stop_after_level = levels - 1;
+  ProgressiveDecoder dec(coarsest);
+  EXPECT_TRUE(decode_stream(e.stream.bytes, dec).ok());
+  EXPECT_EQ(dec.finest_level(), levels - 1);
+}
+
 }  // namespace
 }  // namespace dtm

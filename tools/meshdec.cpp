@@ -175,13 +175,15 @@ void decode(const Command& c, dtm::ProgressiveDecoder& decoder, Verifier& verifi
   });
   display.clear();
   const dtm::Status status = decoder.finish();
-  if (status.code() != dtm::StatusCode::kOk && status.code() != dtm::StatusCode::kTruncated)
-    throw std::runtime_error(c.input + ": " + status.message());
-  if (!verifier.error().ok()) throw std::runtime_error(c.input + ": " + verifier.error().message());
+  // (The decoder refuses a level its header does not have as soon as it
+  // reads the header.)
   if (c.level >= 0 && decoder.has_header() && c.level >= decoder.header().level_count)
     throw std::runtime_error(c.input + ": --level " + std::to_string(c.level) +
                              " asked, the stream has levels 0 to " +
                              std::to_string(decoder.header().level_count - 1));
+  if (status.code() != dtm::StatusCode::kOk && status.code() != dtm::StatusCode::kTruncated)
+    throw std::runtime_error(c.input + ": " + status.message());
+  if (!verifier.error().ok()) throw std::runtime_error(c.input + ": " + verifier.error().message());
   if (decoder.finest_level() < 0) throw std::runtime_error(c.input + ": " + status.message());
   // A level asked for that a truncated stream does not reach is an error,
   // as one the stream never had is: not a coarser level in its place.

@@ -514,10 +514,10 @@ py::dict decode_part(const py::object& data, std::optional<std::array<double, 6>
         const dtm::Status s = fed.ok() ? decoder.finish() : fed;
         if (!s.ok() && s.code() != dtm::StatusCode::kTruncated) throw std::runtime_error(s.message());
         if (decoder.finest_level() < 0 || (level >= 0 && decoder.finest_level() != level))
-          throw std::runtime_error(s.ok()
-                                       ? "level " + std::to_string(level) + ": the stream has levels 0 to " +
-                                             std::to_string(level_count - 1)
-                                       : s.message());
+          throw std::runtime_error(s.ok() ? "level " + std::to_string(level) +
+                                                " asked, the stream has levels 0 to " +
+                                                std::to_string(level_count - 1)
+                                          : s.message());
         if (!s.ok()) truncated = s.message();
         found = decoder.finest_level();
         mesh.emplace(dtm::cut_to_box(dtm::decoded_mesh(decoder, "stream", dtm::numbers_edge_nodes(decoder)),
