@@ -65,6 +65,11 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
                  const auto& want = expected["levels"][index++];
                  EXPECT_EQ(l.level, want["level"].get<int>());
                  EXPECT_EQ(l.vertices, want["vertices"].get<uint32_t>());
+                 if (want.contains("new_vertices")) {
+                   const size_t coarser =
+                       d.levels().size() >= 2 ? d.levels()[d.levels().size() - 2].vertices : 0;
+                   EXPECT_EQ(l.vertices - coarser, want["new_vertices"].get<uint32_t>());
+                 }
                  EXPECT_EQ(hex(level_cell_hash(d.header().flags, d.points(), d.carved_cells())),
                            want["cell_hash"].get<std::string>())
                      << GetParam() << " level " << l.level;
@@ -165,6 +170,10 @@ TEST_P(GoldenStream, DecodesToTheRecordedLevels) {
   EXPECT_EQ(index, expected["levels"].size());
   EXPECT_EQ(dec.header().grid.qbits, expected["qbits"].get<int>());
   EXPECT_EQ(dec.header().vertex_count, expected["vertices"].get<uint32_t>());
+  ASSERT_TRUE(expected.contains("format"));
+  EXPECT_EQ(
+      "dtm " + std::to_string(dec.header().version_major) + "." + std::to_string(dec.header().version_minor),
+      expected["format"].get<std::string>());
 }
 
 // Every byte is under a checksum, so any single flipped bit must be refused;

@@ -31,7 +31,8 @@ std::vector<std::array<uint32_t, 3>> canonical(std::vector<std::array<uint32_t, 
 }
 
 TEST(LevelView, EveryLevelAgreesWithTheDecodersMesh) {
-  for (const char* name : {"torus_288.dtm", "torus_288_grid_q10_hull.dtm", "v4/torus_288_paper.dtm"}) {
+  for (const char* name : {"torus_288.dtm", "torus_288_grid_q10_hull.dtm", "v4/torus_288_paper.dtm",
+                           "two_materials.dtm", "two_materials_exact.dtm"}) {
     const auto bytes = golden_bytes(name);
     ASSERT_FALSE(bytes.empty()) << name;
     LevelViewer viewer;
@@ -51,8 +52,39 @@ TEST(LevelView, EveryLevelAgreesWithTheDecodersMesh) {
         EXPECT_EQ(cell_set_hash(one.points(), view.cells), cell_set_hash(one.points(), cells)) << name;
         EXPECT_EQ(canonical(view.surface), canonical(boundary_triangles(cells)))
             << name << " level " << view.level;
-        const TetMesh dt = one.delaunay();
-        EXPECT_EQ(view.boundary, boundary_vertices(dt, one.points().size(), one.carving(dt)));
+        // Each cell's and each surface face's region: the decoder's (1 where
+        // the stream has none).
+        const ProgressiveDecoder::LevelCells level = one.level_cells();
+        ASSERT_EQ(view.cell_regions.size(), view.cells.size()) << name;
+        ASSERT_EQ(view.surface_regions.size(), view.surface.size()) << name;
+        const size_t regions = std::max<size_t>(1, one.regions().size());
+        for (uint8_t r = 1; r <= regions; ++r) {
+          std::vector<std::array<uint32_t, 4>> seen, decoded;
+          for (size_t c = 0; c < view.cells.size(); ++c)
+            if (view.cell_regions[c] == r) seen.push_back(view.cells[c]);
+          for (size_t c = 0; c < level.mesh.cells.size(); ++c)
+            if (level.kept[c] == r) decoded.push_back(level.mesh.cells[c]);
+          EXPECT_FALSE(seen.empty()) << name << " region " << int{r};
+          EXPECT_EQ(cell_set_hash(one.points(), seen), cell_set_hash(one.points(), decoded))
+              << name << " level " << view.level << " region " << int{r};
+          std::vector<std::array<uint32_t, 3>> faces;
+          for (size_t f = 0; f < view.surface.size(); ++f)
+            if (view.surface_regions[f] == r) faces.push_back(view.surface[f]);
+          // (A region's faces on the level's surface: those of its own
+          // surface that are no other region's.)
+          std::vector<std::array<uint32_t, 3>> outer;
+          const auto whole = canonical(boundary_triangles(cells));
+          for (const auto& t : canonical(boundary_triangles(decoded)))
+            if (std::binary_search(whole.begin(), whole.end(), t)) outer.push_back(t);
+          EXPECT_EQ(canonical(faces), outer) << name << " level " << view.level << " region " << int{r};
+        }
+        // The boundary flags: on a face of exactly one cell, or in no cell.
+        std::vector<uint8_t> flags(one.points().size(), 1);
+        for (const auto& t : cells)
+          for (uint32_t v : t) flags[v] = 0;
+        for (const auto& f : boundary_triangles(cells))
+          for (uint32_t v : f) flags[v] = 1;
+        EXPECT_EQ(view.boundary, flags) << name << " level " << view.level;
         // Neighbours are mutual and share the face.
         for (size_t c = 0; c < view.cells.size(); ++c)
           for (int i = 0; i < 4; ++i) {
@@ -102,6 +134,8 @@ TEST(LevelView, EveryTruncationEndsOnAWholeLevel) {
 
 TEST(LevelView, BitFlipsEndInAnErrorOrTheSameLevels) {
   const auto bytes = golden_bytes("torus_288.dtm");
+  ProgressiveDecoder whole;
+  ASSERT_TRUE(decode_stream(bytes, whole).ok());
   std::mt19937 random(14);
   for (int trial = 0; trial < 3000; ++trial) {
     std::vector<uint8_t> damaged = bytes;
@@ -117,7 +151,15 @@ TEST(LevelView, BitFlipsEndInAnErrorOrTheSameLevels) {
       EXPECT_NE(end.message().find("a section length in its layer header is damaged"), std::string::npos)
           << end.message();
     }
-    while (viewer.has_level()) viewer.take_level();
+    // Every byte is under a checksum: a flip never decodes as the whole.
+    EXPECT_FALSE(fed.ok() && end.ok()) << "trial " << trial;
+    // The levels shown before the damage are the stream's own.
+    for (size_t k = 0; viewer.has_level(); ++k) {
+      const LevelView view = viewer.take_level();
+      ASSERT_LT(k, whole.levels().size());
+      EXPECT_EQ(view.level, whole.levels()[k].level) << "trial " << trial;
+      EXPECT_EQ(view.vertices, whole.levels()[k].vertices) << "trial " << trial;
+    }
   }
 }
 

@@ -183,6 +183,16 @@ TEST(Meshenc, RejectsBadOptions) {
     const CommandRun run = meshenc(test::data_path("torus_288.node") + options + " -o -");
     EXPECT_TRUE(WIFEXITED(run.status) && WEXITSTATUS(run.status) == 2) << options << ": " << run.output;
   }
+  // Numbers as every number option reads them: decimal, finite, the whole
+  // argument (--alpha and --field-error took inf, hexadecimal and spaces).
+  for (const char* options : {" --alpha inf", " --alpha 0x20", " --alpha ' 20'", " --alpha 0", " --alpha nan",
+                              " --field-error boundary_marker=inf", " --field-error boundary_marker=0x1",
+                              " --field-error 'boundary_marker= 1'", " --dmax inf", " --dmax 0x20"}) {
+    const CommandRun run = meshenc(test::data_path("torus_288.node") + options + " -o -");
+    EXPECT_TRUE(WIFEXITED(run.status) && WEXITSTATUS(run.status) == 2) << options << ": " << run.output;
+    EXPECT_NE(run.output.find("finite number"), std::string::npos) << options << ": " << run.output;
+  }
+  EXPECT_EQ(meshenc(test::data_path("torus_288.node") + " --alpha 1e1 -q -o -").status, 0);
   const std::string golden = std::string(DTM_TEST_SOURCE_DIR) + "/golden/torus_288_cells_bricks.dtm";
   for (const char* options : {" --pieces 2 -o x.vtu", " --box 1 1 1 0 0 0 -o x.vtu", " -o - --format node"}) {
     const CommandRun run = run_command(kMeshdec + " " + golden + options);

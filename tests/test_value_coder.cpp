@@ -159,14 +159,25 @@ TEST(ValueCoder, ADamagedSectionIsRefusedNotMisread) {
   ValueDecoder dec(scale);
   std::vector<Int128> out;
   EXPECT_FALSE(dec.decode_layer(longer, l.points[0], out).ok());
-  // Flipped bits: refused or decoded to other values, never a crash.
+  // Flipped bits: refused, or decoded to a value for every point (the
+  // section has no checksum of its own: its layer's covers it), never a
+  // crash.
+  ValueDecoder plain(scale);
+  std::vector<Int128> undamaged;
+  ASSERT_TRUE(plain.decode_layer(s, l.points[0], undamaged).ok());
+  size_t refused = 0;
   for (size_t bit = 0; bit < 8 * s.size(); bit += 7) {
     std::vector<uint8_t> flipped = s;
     flipped[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
     ValueDecoder d(scale);
     std::vector<Int128> o;
-    (void)d.decode_layer(flipped, l.points[0], o);
+    if (!d.decode_layer(flipped, l.points[0], o).ok()) {
+      ++refused;
+      continue;
+    }
+    EXPECT_EQ(o.size(), undamaged.size()) << "bit " << bit;
   }
+  EXPECT_GT(refused, 0u) << "some flips are found out by the section itself";
 }
 
 TEST(LossyValues, EveryDecodedValueIsWithinTheBoundInItsOwnType) {

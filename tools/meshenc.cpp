@@ -109,17 +109,11 @@ void parse_alpha(const std::string& text, dtm::EncodeOptions& o) {
     o.alpha = text == "paper" ? dtm::AlphaKind::kPaper : dtm::AlphaKind::kConvexHull;
     return;
   }
-  size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (used != text.size() || !(v > 0))
-    throw dtm::UsageError("--alpha must be 'paper', 'hull' or a positive number, got '" + text + "'");
+  const std::optional<double> v = dtm::finite_decimal(text);
+  if (!v || !(*v > 0))
+    throw dtm::UsageError("--alpha must be 'paper', 'hull' or a finite number above 0, got '" + text + "'");
   o.alpha = dtm::AlphaKind::kFixed;
-  o.fixed_alpha = v;
+  o.fixed_alpha = *v;
 }
 
 void add_options(CLI::App& app, Command& c) {
@@ -598,16 +592,11 @@ std::vector<Tet> read_ele_in_parts(const dtm::InputMesh& in, const dtm::Quantize
     ranks.resize(block.size());
     dtm::parallel_ranges(block.size(), size_t{1} << 14, [&](size_t first, size_t last) {
       for (size_t i = first; i < last; ++i) {
-        // The two least corners on the grid (ReferenceShare::holds()).
-        uint32_t a = UINT32_MAX, b = UINT32_MAX;
-        for (uint32_t v : block[i]) {
-          const uint32_t g = q.input_to_point[v];
-          if (g < a)
-            b = a, a = g;
-          else if (g < b)
-            b = g;
-        }
-        ranks[i] = {static_cast<uint32_t>(share.rank_of(a)), static_cast<uint32_t>(share.rank_of(b))};
+        // (Its corners on the grid.)
+        const std::array<uint32_t, 4> t = {q.input_to_point[block[i][0]], q.input_to_point[block[i][1]],
+                                           q.input_to_point[block[i][2]], q.input_to_point[block[i][3]]};
+        const std::array<int, 2> holders = share.holding_ranks(t);
+        ranks[i] = {static_cast<uint32_t>(holders[0]), static_cast<uint32_t>(holders[1])};
       }
     });
     for (size_t i = 0; i < block.size(); ++i) {
@@ -759,16 +748,12 @@ void print_plan(const Command& c, const dtm::InputMesh& in, const dtm::EncodePla
 void parse_field_errors(const std::vector<std::string>& args, dtm::EncodeOptions& o) {
   for (const std::string& a : args) {
     const size_t eq = a.rfind('=');
-    size_t used = 0;
-    double e = 0;
-    if (eq != std::string::npos && eq > 0) try {
-        e = std::stod(a.substr(eq + 1), &used);
-      } catch (...) {
-        used = 0;
-      }
-    if (eq == std::string::npos || eq == 0 || used == 0 || used != a.size() - eq - 1 || !(e > 0) ||
-        !std::isfinite(e))
-      throw dtm::UsageError("--field-error expects NAME=E with E a positive number, got '" + a + "'");
+    const std::optional<double> bound = eq != std::string::npos && eq > 0
+                                            ? dtm::finite_decimal(std::string_view(a).substr(eq + 1))
+                                            : std::nullopt;
+    const double e = bound.value_or(0);
+    if (!bound || !(e > 0))
+      throw dtm::UsageError("--field-error expects NAME=E with E a finite number above 0, got '" + a + "'");
     const auto [at, added] = o.field_errors.emplace(a.substr(0, eq), e);
     if (!added && at->second != e)
       throw dtm::UsageError("--field-error gives '" + at->first + "' two bounds (" +

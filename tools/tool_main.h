@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -78,16 +79,26 @@ inline void keep_freed_memory_between_phases() {
 #endif
 }
 
+// The whole of `text` as a finite decimal number (an optional '+'; no
+// spaces, no hexadecimal, no inf or nan), or nothing: every number option
+// reads its value so.
+inline std::optional<double> finite_decimal(std::string_view text) {
+  double v = 0;
+  const char* end = text.data() + text.size();
+  const char* first = text.data() + (!text.empty() && text[0] == '+');  // (from_chars takes no '+')
+  const auto [at, ec] = std::from_chars(first, end, v);
+  if (text.empty() || ec != std::errc() || at != end || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
 // A number option's check: finite and above 0 (or, `zero`, at least 0),
 // said in words (CLI11's own checks print the double range's 309 digits).
 inline CLI::Validator finite_number(bool zero) {
   return CLI::Validator(
       [zero](std::string& text) {
-        double v = 0;
-        const char* end = text.data() + text.size();
-        const char* first = text.data() + (!text.empty() && text[0] == '+');  // (from_chars takes no '+')
-        const auto [at, ec] = std::from_chars(first, end, v);
-        if (ec != std::errc() || at != end || !std::isfinite(v) || v < 0 || (v == 0 && !zero))
+        const std::optional<double> number = finite_decimal(text);
+        const double v = number.value_or(0);
+        if (!number || v < 0 || (v == 0 && !zero))
           return std::string(zero ? "must be a finite number of 0 or more"
                                   : "must be a finite number above 0") +
                  ", got '" + text + "'";

@@ -38,6 +38,13 @@ class ReferenceShare {
     return mine(least) || mine(second);
   }
   bool owns(const std::array<uint32_t, 4>& t) const { return mine(two_least(t).first); }
+  // The ranks that hold t (its corners' ids into the points): those of its
+  // two least corners, as holds() says on each rank (meshenc sends each
+  // tetrahedron it read to them).
+  std::array<int, 2> holding_ranks(const std::array<uint32_t, 4>& t) const {
+    const auto [least, second] = two_least(t);
+    return {rank_of(least), rank_of(second)};
+  }
   // The rank whose run holds the point (every rank computes the same cuts):
   // a tetrahedron is held by the ranks of its two least corners, where a
   // rank that read it sends it (meshenc reads an .ele in parts).
