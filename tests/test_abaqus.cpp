@@ -444,6 +444,17 @@ TEST(Abaqus, WrittenFilesReadBackToTheSameMesh) {
   ASSERT_EQ(lost.size(), 1u);
   EXPECT_NE(lost[0].find("'temperature'"), std::string::npos);
   EXPECT_EQ(lost[0].find("clamped"), std::string::npos);
+  // A name written as another label is said (meshdec prints it).
+  EXPECT_EQ(abaqus_renaming(m), std::vector<std::string>{"region 1 \"inner part\" as inner_part"});
+  // Two tags of one name (Netgen's several face numbers of one boundary):
+  // the second surface told apart, and said.
+  OutputMesh twice = m;
+  twice.face_tag_names = {{7, "outer"}, {9, "outer"}};
+  EXPECT_EQ(abaqus_renaming(twice), (std::vector<std::string>{"region 1 \"inner part\" as inner_part",
+                                                              "face tag 9 \"outer\" as outer_2"}));
+  const std::string text = render_abaqus(twice);
+  EXPECT_NE(text.find("*SURFACE, NAME=outer, TYPE=ELEMENT"), std::string::npos);
+  EXPECT_NE(text.find("*SURFACE, NAME=outer_2, TYPE=ELEMENT"), std::string::npos);
 }
 
 }  // namespace

@@ -458,6 +458,40 @@ TEST(Exodus, WrittenFilesReadBackToTheSameMesh) {
   }
 }
 
+// ParaView's Exodus reader (IOSS) refuses a file where two blocks or sets
+// share a name: Netgen names several face numbers "outer", gmsh a volume
+// and a surface alike. Each later one is written with "_2", ..., and said.
+TEST(Exodus, NamesAreUniqueOverBlocksAndSetsAndTheRenamedAreSaid) {
+  OutputMesh m = test::torus_mesh();
+  for (size_t c = 0; c < m.cells.size(); ++c) m.region.push_back(c % 2 == 0 ? 1 : 2);
+  m.region_names = {{1, "outer"}, {2, "core"}};
+  std::map<std::array<uint32_t, 3>, std::array<uint32_t, 3>> faces;
+  static constexpr std::array<std::array<int, 3>, 4> kOutward = {
+      {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}}};
+  for (const auto& t : m.cells)
+    for (const auto& s : kOutward) {
+      const std::array<uint32_t, 3> f = {t[s[0]], t[s[1]], t[s[2]]};
+      if (faces.erase(corners_sorted(f)) == 0) faces[corners_sorted(f)] = f;
+    }
+  int k = 0;
+  for (const auto& [key, face] : faces) {
+    m.faces.push_back(face);
+    m.face_tags.push_back(3 + k++ % 3);
+  }
+  m.face_tag_names = {{3, "outer"}, {4, "outer"}, {5, "outer_2"}};
+  EXPECT_EQ(
+      exodus_renumbering(m),
+      (std::vector<std::string>{
+          "side set 3's name \"outer\" as \"outer_3\" (a name is unique over an Exodus file's blocks and "
+          "sets: ParaView refuses the file otherwise)",
+          "side set 4's name \"outer\" as \"outer_4\" (a name is unique over an Exodus file's blocks and "
+          "sets: ParaView refuses the file otherwise)"}));
+  const InputMesh back = read_input(test::write(m, MeshFormat::kExodus, "names.e"));
+  EXPECT_EQ(back.region_names, (std::map<int32_t, std::string>{{1, "outer"}, {2, "core"}}));
+  EXPECT_EQ(back.face_tag_names,
+            (std::map<int32_t, std::string>{{3, "outer_3"}, {4, "outer_4"}, {5, "outer_2"}}));
+}
+
 #else
 
 TEST(Exodus, ABuildWithoutLibexodusiiSaysHowToGetIt) {

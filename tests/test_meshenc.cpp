@@ -84,6 +84,28 @@ TEST(Meshenc, WhatIsLeftOutIsSaidAndStrictRefusesIt) {
   std::ifstream in(report);
   const auto j = nlohmann::json::parse(in);
   ASSERT_EQ(j["left_out"].size(), 1u);
+  // A cell array whose name a stream cannot hold (meshio's .vtk or .vtu of
+  // a gmsh mesh joins its groups' names into one array's): left out, named;
+  // the rest encoded. Its table on a full disk: an error.
+  const std::string long_name(70, 'g'), named_vtk = dir + "/long_name.vtk";
+  std::ofstream(named_vtk)
+      << "# vtk DataFile Version 3.0\nc\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n"
+         "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\nCELLS 2 10\n4 0 1 2 3\n4 1 2 3 4\n"
+         "CELL_TYPES 2\n10\n10\nCELL_DATA 2\nSCALARS "
+      << long_name << " double 1\nLOOKUP_TABLE default\n1.5\n2.5\n";
+  const CommandRun long_array =
+      run_command("(" + std::string(DTM_MESHENC) + " " + named_vtk + " -o " + out + " >/dev/null)");
+  ASSERT_EQ(long_array.status, 0) << long_array.output;
+  EXPECT_NE(long_array.output.find("left out (the stream does not hold it): the cell array '" + long_name +
+                                   "' (a stream names an array in at most 64 bytes)"),
+            std::string::npos)
+      << long_array.output;
+  const CommandRun full = run_command("(" + std::string(DTM_MESHENC) + " " + named_vtk + " >/dev/full)");
+  EXPECT_NE(full.status, 0) << full.output;
+  EXPECT_NE(full.output.find("cannot write to standard output"), std::string::npos) << full.output;
+  const CommandRun info = run_command("(" + std::string(DTM_MESHINFO) + " " + out + " --json >/dev/full)");
+  EXPECT_NE(info.status, 0) << info.output;
+  EXPECT_NE(info.output.find("cannot write to standard output"), std::string::npos) << info.output;
   std::filesystem::remove(out);
   const CommandRun strict = meshenc(vtk + " -q --strict -o " + out);
   EXPECT_NE(strict.status, 0);

@@ -22,6 +22,7 @@
 #include "tools/atomic_file.h"
 #include "tools/formats/input.h"
 #include "tools/formats/mesh_writers.h"
+#include "tools/formats/netgen_vol.h"
 #include "tools/formats/surface_writers.h"
 
 namespace dtm {
@@ -193,6 +194,22 @@ void expect_same_points(const Dump& d, const std::vector<InputPoint>& want) {
     ASSERT_TRUE(test::same_double(d.points[i].x, want[i].x) && test::same_double(d.points[i].y, want[i].y) &&
                 test::same_double(d.points[i].z, want[i].z))
         << "point " << i;
+}
+
+// A Netgen .vol numbers the domains 1 to K and names in one word: what it
+// writes otherwise than the stream is said (meshdec prints it).
+TEST(OutputFormats, WhatANetgenFileNumbersOrNamesOtherwiseIsSaid) {
+  OutputMesh m = test::torus_mesh();
+  for (size_t c = 0; c < m.cells.size(); ++c) m.region.push_back(c % 2 == 0 ? 10 : 20);
+  m.region_names = {{10, "left part"}, {20, "right"}};
+  EXPECT_EQ(
+      netgen_renumbering(m),
+      (std::vector<std::string>{"region 10 as material 1 (Netgen numbers its domains 1, 2, ...)",
+                                "region 20 as material 2 (Netgen numbers its domains 1, 2, ...)",
+                                "region 10's name \"left part\" as left_part (a Netgen name is one word)"}));
+  m.region = std::vector<int32_t>(m.cells.size(), 1);
+  m.region_names = {{1, "all"}};
+  EXPECT_TRUE(netgen_renumbering(m).empty());
 }
 
 TEST(OutputFormats, VolumeFormatsReadByMeshioAndVtk) {

@@ -14,10 +14,12 @@
 #include "tools/atomic_file.h"
 #include "tools/decoded_mesh.h"
 #include "tools/field_types.h"
+#include "tools/formats/abaqus.h"
 #include "tools/formats/exodus.h"
 #include "tools/formats/gltf_writer.h"
 #include "tools/formats/gmsh.h"
 #include "tools/formats/mesh_writers.h"
+#include "tools/formats/netgen_vol.h"
 #include "tools/formats/surface_writers.h"
 #include "tools/huge_pages.h"
 #include "tools/mpi_session.h"
@@ -195,6 +197,24 @@ void decode(const Command& c, dtm::ProgressiveDecoder& decoder, Verifier& verifi
                  status.message().c_str(), decoder.finest_level());
 }
 
+// The labels and names `format` writes otherwise than the stream has them
+// (Exodus and gmsh ids are positive, Exodus names unique, Abaqus labels
+// and Netgen names one word, Netgen's numbers its own).
+std::vector<std::string> written_otherwise(const dtm::OutputMesh& mesh, dtm::MeshFormat format) {
+  switch (format) {
+    case dtm::MeshFormat::kExodus:
+      return dtm::exodus_renumbering(mesh);
+    case dtm::MeshFormat::kGmsh:
+      return dtm::gmsh_renumbering(mesh);
+    case dtm::MeshFormat::kAbaqus:
+      return dtm::abaqus_renaming(mesh);
+    case dtm::MeshFormat::kNetgen:
+      return dtm::netgen_renumbering(mesh);
+    default:
+      return {};
+  }
+}
+
 void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat format) {
   dtm::SurfaceStyle style = c.style;
   style.draco = !c.no_draco;
@@ -212,10 +232,11 @@ void write_output(const Command& c, const dtm::OutputMesh& mesh, dtm::MeshFormat
                  "meshdec: %s: not written (the format has no place for it): the input's node ids (the nodes "
                  "are in the input's order; .msh, .inp and .e number them with their ids)\n",
                  c.output.c_str());
-  if (!c.quiet && (format == dtm::MeshFormat::kExodus || format == dtm::MeshFormat::kGmsh))
-    for (const std::string& what :
-         format == dtm::MeshFormat::kExodus ? dtm::exodus_renumbering(mesh) : dtm::gmsh_renumbering(mesh))
-      std::fprintf(stderr, "meshdec: %s: written with another id: %s\n", c.output.c_str(), what.c_str());
+  // What the format numbers or names otherwise than the stream: said, each.
+  if (!c.quiet)
+    for (const std::string& what : written_otherwise(mesh, format))
+      std::fprintf(stderr, "meshdec: %s: written with another id or name: %s\n", c.output.c_str(),
+                   what.c_str());
   if (c.output != "-") return dtm::write_files_atomically(files);
   const std::string& bytes = files.front().second;
   if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() || std::fflush(stdout) != 0)
@@ -296,6 +317,14 @@ int run_pieces(const Command& c) {
       display.start("writing " + path);
       dtm::OutputMesh mesh = dtm::region_output(*piece, grid);
       staged.stage(dtm::render_mesh(mesh, dtm::MeshFormat::kVtu, path));
+      // What a .vtu has no place for (the regions' and tags' names), said
+      // once, of piece 0: every piece has the stream's tables.
+      if (i == 0 && !c.quiet) {
+        display.clear();
+        for (const std::string& what : dtm::not_written(mesh, dtm::MeshFormat::kVtu))
+          std::fprintf(stderr, "meshdec: %s: not written (the format has no place for it): %s\n",
+                       c.output.c_str(), what.c_str());
+      }
       if (!any_written) {
         like.declare_level = true;
         like.declare_region = mesh.declare_region;
@@ -559,6 +588,16 @@ int run(const Command& c) {
         "meshdec: %s: not written: the input's node numbers (its edge nodes were numbered among the "
         "corners, which are numbered among themselves here: .msh, .vtu, .vtk, .inp and .e keep them)\n",
         c.output.c_str());
+  // Level 0's cell arrays: a coarser level has other cells.
+  if (!c.quiet && decoder.finest_level() > 0 && !decoder.cell_field_table().empty()) {
+    std::string names;
+    for (const dtm::FieldDescription& f : decoder.cell_field_table())
+      names += (names.empty() ? "'" : ", '") + f.name + "'";
+    std::fprintf(stderr,
+                 "meshdec: %s: not written: the cell arrays %s (level 0's cells carry them; level %d has "
+                 "cells of its own)\n",
+                 c.output.c_str(), names.c_str(), decoder.finest_level());
+  }
   if (!c.quiet && (flags & dtm::kFlagNodeLabels) && decoder.finest_level() == 0 && mesh.node_labels.empty())
     std::fprintf(stderr,
                  "meshdec: %s: not written: the input's node ids (a second-order mesh's: .msh, .inp and .e "

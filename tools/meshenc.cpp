@@ -21,6 +21,7 @@
 #include "codec/encode.h"
 #include "codec/sections/edge_node_coder.h"
 #include "codec/sections/region_coder.h"
+#include "codec/sections/value_fields.h"
 #include "common/byte_io.h"
 #include "common/parallel_for.h"
 #include "common/release.h"
@@ -986,6 +987,16 @@ int run(Command& c) {
     agree_on_errors(mpi, problem);
   }
   dtm::choose_regions(in, c.region_array, c.input);
+  // An array whose name a stream cannot hold (over 64 bytes: meshio's .vtu
+  // of a gmsh mesh joins its physical groups' names into one array's):
+  // left out, named, and the rest encoded.
+  for (auto* list : {&in.fields, &in.cell_fields})
+    std::erase_if(*list, [&](const dtm::VertexField& f) {
+      if (f.name.size() <= dtm::kMaxFieldNameBytes) return false;
+      in.left_out.push_back(std::string(list == &in.fields ? "the point array '" : "the cell array '") +
+                            f.name + "' (a stream names an array in at most 64 bytes)");
+      return true;
+    });
   // A --field-error for no array of the file: said before the table (every
   // rank reads the same file, and says it alike).
   for (const auto& named : c.encode.field_errors) {
@@ -1480,6 +1491,9 @@ int run(Command& c) {
     }
   if (!mpi.all(unwritten.empty())) throw dtm::AgreedError(unwritten, mpi.rank() == 0);
   display.finish();
+  // (The table on a full disk or a closed pipe: an error, not exit 0.)
+  if (mpi.rank() == 0 && (std::fflush(stdout) != 0 || std::ferror(stdout)))
+    throw std::runtime_error("cannot write to standard output");
   return 0;
 }
 

@@ -183,6 +183,9 @@ int run(const Command& c) {
                             .c_str());
   else
     print_table(input, s, quality, c.stats);
+  // (A full disk, a closed pipe: an error, not a table half written and exit 0.)
+  if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    throw std::runtime_error("cannot write to standard output");
   return 0;
 }
 

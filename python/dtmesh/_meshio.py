@@ -195,13 +195,12 @@ def write(filename, mesh, **options):
             if arrays is not None and all(np.asarray(arrays[i]).dtype.kind in "iu" for i in tetra_blocks):
                 region_array = name
                 options["regions"] = np.concatenate([np.asarray(arrays[i]).reshape(-1) for i in tetra_blocks])
-                options.setdefault("region_names", {int(v[0]): k for k, v in (mesh.field_data or {}).items()
-                                                    if len(v) >= 2 and int(v[1]) == 3})
+                options.setdefault("region_names", {int(v[0]): k for k, v in _tag_names(mesh) if int(v[1]) == 3})
                 if triangle_blocks and "faces" not in options:
                     options["faces"] = np.vstack([mesh.cells[i].data for i in triangle_blocks])
                     options["face_tags"] = np.concatenate([np.asarray(arrays[i]).reshape(-1) for i in triangle_blocks])
-                    options.setdefault("face_tag_names", {int(v[0]): k for k, v in (mesh.field_data or {}).items()
-                                                          if len(v) >= 2 and int(v[1]) == 2})
+                    options.setdefault("face_tag_names", {int(v[0]): k for k, v in _tag_names(mesh)
+                                                          if int(v[1]) == 2})
                     others.pop("triangle", None)
                 break
     # What the stream does not hold yet is named, as meshenc names it:
@@ -237,7 +236,10 @@ def write(filename, mesh, **options):
             continue
         arrays = mesh.cell_data[name]
         blocks = [np.asarray(arrays[i]) for i in tetra_blocks] if len(arrays) == len(mesh.cells) else []
-        if blocks and all(b.dtype.kind in "iufb" and b.ndim in (1, 2) for b in blocks):
+        # (A name over 64 bytes, which a stream cannot hold, is named below:
+        # meshio's .vtu of a gmsh mesh joins its groups' names into one.)
+        if (blocks and all(b.dtype.kind in "iufb" and b.ndim in (1, 2) for b in blocks) and
+                len(name.encode("utf-8", "surrogatepass")) <= 64):
             cell_data[name] = np.concatenate(blocks)
     unkept = [name for name in other_cell_data if name not in cell_data and name != "gmsh:geometrical"]
     if "gmsh:geometrical" in other_cell_data:
@@ -250,7 +252,7 @@ def write(filename, mesh, **options):
     # reader makes one a physical group) is held by the regions and tags;
     # gmsh's bounding entities are its geometry's bookkeeping.
     def held(name, sets):
-        label = (mesh.field_data or {}).get(name)
+        label = dict(_tag_names(mesh)).get(name)
         if region_array is None or label is None or len(sets) != len(mesh.cells):
             return False
         physical = mesh.cell_data[region_array]
@@ -302,7 +304,8 @@ def write(filename, mesh, **options):
     # Point arrays the stream cannot hold as they are (a tensor of more than
     # one axis per point, complex numbers, strings): named, as cell data's are.
     unkept_points = [name for name, values in mesh.point_data.items() if name not in derived and
-                     not (np.asarray(values).dtype.kind in "iufb" and np.asarray(values).ndim in (1, 2))]
+                     not (np.asarray(values).dtype.kind in "iufb" and np.asarray(values).ndim in (1, 2) and
+                          len(name.encode("utf-8", "surrogatepass")) <= 64)]
     if unkept_points:
         warnings.warn(f"{filename}: left out (the stream does not hold it): point data " +
                       ", ".join(f"'{n}'" for n in unkept_points), stacklevel=2)
@@ -317,6 +320,24 @@ def write(filename, mesh, **options):
     encoded = encode(mesh.points, tetrahedra, fields, **options)
     with open(filename, "wb") as f:
         f.write(encoded.bytes)
+
+
+def _tag_names(mesh):
+    """The field data entries that name a tag as gmsh's reader makes them: name -> [tag, dimension].
+
+    Other formats put other things there (MED its family names, as lists):
+    those are not names of tags.
+    """
+    out = []
+    for name, value in (mesh.field_data or {}).items():
+        try:
+            v = np.asarray(value)
+        except ValueError:
+            continue
+        if (v.ndim == 1 and v.size >= 2 and v.dtype.kind in "iuf" and bool(np.all(np.isfinite(v))) and
+                bool(np.all(v == np.floor(v)))):
+            out.append((name, v))
+    return out
 
 
 def _kept_aside(filename, arrays, taken):

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "input_mesh.h"
 #include "mesh_writers.h"
@@ -44,6 +45,11 @@ inline constexpr const char* kNodeSetFieldPrefix = "nset:";
 // values). The other fields and the cell data have no place in it
 // (not_written()).
 std::string render_abaqus(const OutputMesh& mesh);
+// What render_abaqus() writes under another name than the stream's: a name
+// made an Abaqus label (letters, digits, '_' and '-', from a letter, 72
+// characters), or told apart from another of its kind ("_2"), for
+// meshdec's "written as" lines.
+std::vector<std::string> abaqus_renaming(const OutputMesh& mesh);
 
 // A field render_abaqus() writes as a node set: one uint8 (or int8)
 // component, named kNodeSetFieldPrefix + the set's name.

@@ -36,9 +36,54 @@ void append_list(std::string& out, const std::vector<size_t>& numbers) {
   }
 }
 
+// The labels of the file's element sets (by region), surfaces (by face tag)
+// and node sets (by node set field, in the fields' order): each name made an
+// Abaqus label, unique among its kind (Abaqus's labels ignore case), the
+// later of two that meet with "_2", "_3", ...; `renamed` says each name
+// that is not its own label.
+struct AbaqusLabels {
+  std::map<int32_t, std::string> element_set, surface;
+  std::vector<std::string> node_set;
+  std::vector<std::string> renamed;
+};
+
+AbaqusLabels abaqus_labels(const OutputMesh& m) {
+  AbaqusLabels out;
+  std::map<char, std::set<std::string>> taken;
+  const auto label = [&](char kind, const std::string& what, const std::string* name,
+                         const std::string& fallback) {
+    std::string l = name ? abaqus_label(*name, fallback) : fallback;
+    const std::string base = l;
+    for (int k = 2; !taken[kind].insert(upper(l)).second; ++k) l = base + "_" + std::to_string(k);
+    if (name && l != *name) out.renamed.push_back(what + " \"" + *name + "\" as " + l);
+    return l;
+  };
+  for (const int32_t region : std::set<int32_t>(m.region.begin(), m.region.end())) {
+    const auto name = m.region_names.find(region);
+    out.element_set[region] =
+        label('e', "region " + std::to_string(region), name != m.region_names.end() ? &name->second : nullptr,
+              "REGION_" + std::to_string(region));
+  }
+  for (const int32_t tag : std::set<int32_t>(m.face_tags.begin(), m.face_tags.end())) {
+    const auto name = m.face_tag_names.find(tag);
+    out.surface[tag] =
+        label('s', "face tag " + std::to_string(tag),
+              name != m.face_tag_names.end() ? &name->second : nullptr, "FACES_" + std::to_string(tag));
+  }
+  for (const OutputField& f : m.fields)
+    if (is_node_set_field(f)) {
+      const std::string name = f.name.substr(std::string(kNodeSetFieldPrefix).size());
+      out.node_set.push_back(label('n', "node set", &name, "NSET"));
+    }
+  return out;
+}
+
 }  // namespace
 
+std::vector<std::string> abaqus_renaming(const OutputMesh& m) { return abaqus_labels(m).renamed; }
+
 std::string render_abaqus(const OutputMesh& m) {
+  const AbaqusLabels labels = abaqus_labels(m);
   std::string out = "*HEADING\nwritten by meshdec\n*NODE\n";
   // Each node's number: the input's (22.0, --keep-order), else its rank.
   const auto number = [&](size_t i) {
@@ -69,21 +114,11 @@ std::string render_abaqus(const OutputMesh& m) {
       out += '\n';
     }
   }
-  // (Element sets, surfaces and node sets are named apart, as Abaqus's.)
-  std::map<char, std::set<std::string>> labels;
-  const auto unique = [&](char kind, std::string label) {
-    const std::string base = label;
-    for (int k = 2; !labels[kind].insert(upper(label)).second; ++k) label = base + "_" + std::to_string(k);
-    return label;
-  };
   // A region an element set.
   std::map<int32_t, std::vector<size_t>> regions;
   for (size_t c = 0; c < m.region.size(); ++c) regions[m.region[c]].push_back(c + 1);
   for (const auto& [label, cells] : regions) {
-    const auto name = m.region_names.find(label);
-    const std::string fallback = "REGION_" + std::to_string(label);
-    out += "*ELSET, ELSET=" +
-           unique('e', name != m.region_names.end() ? abaqus_label(name->second, fallback) : fallback) + "\n";
+    out += "*ELSET, ELSET=" + labels.element_set.at(label) + "\n";
     append_list(out, cells);
   }
   // A face tag an element-based surface: each face as the face S1..S4 of
@@ -102,11 +137,7 @@ std::string render_abaqus(const OutputMesh& m) {
       if (sides[f].cell != CellSide::kNoCell)
         surfaces[m.face_tags[f]].emplace_back(sides[f].cell, sides[f].side);
     for (const auto& [tag, faces] : surfaces) {
-      const auto name = m.face_tag_names.find(tag);
-      const std::string fallback = "FACES_" + std::to_string(tag);
-      out += "*SURFACE, NAME=" +
-             unique('s', name != m.face_tag_names.end() ? abaqus_label(name->second, fallback) : fallback) +
-             ", TYPE=ELEMENT\n";
+      out += "*SURFACE, NAME=" + labels.surface.at(tag) + ", TYPE=ELEMENT\n";
       for (const auto& [c, s] : faces) {
         append_number(out, size_t{c} + 1);
         out += ", S" + std::to_string(s + 1) + "\n";
@@ -114,13 +145,13 @@ std::string render_abaqus(const OutputMesh& m) {
     }
   }
   // The node set fields, back as node sets.
+  size_t node_set = 0;
   for (const OutputField& f : m.fields) {
     if (!is_node_set_field(f)) continue;
     std::vector<size_t> nodes;
     for (size_t i = 0; i < f.bits.size(); ++i)
       if (f.bits[i] != 0) nodes.push_back(number(i));
-    out += "*NSET, NSET=" +
-           unique('n', abaqus_label(f.name.substr(std::string(kNodeSetFieldPrefix).size()), "NSET")) + "\n";
+    out += "*NSET, NSET=" + labels.node_set[node_set++] + "\n";
     append_list(out, nodes);
   }
   return out;

@@ -108,6 +108,65 @@ std::vector<std::pair<int32_t, int64_t>> side_set_ids(const OutputMesh& m) {
   return out;
 }
 
+// The names the file gives its blocks, side sets and node sets, in that
+// order, as wanted_names() lists them: ParaView's Exodus reader (IOSS)
+// refuses a file where two of them share a name, over all the kinds, and
+// Netgen gives several face numbers one boundary name, gmsh a volume and a
+// surface one name. The first keeps it, each later one gets "_2", "_3", ...;
+// an empty name (the set's id names it) stays empty; each at most
+// kWrittenNameLength bytes, cut on a UTF-8 boundary.
+struct NamedItem {
+  std::string kind;  // "element block 3", "side set 2", ...
+  std::string name;
+};
+std::vector<std::string> unique_exodus_names(const std::vector<NamedItem>& wanted) {
+  const auto cut = [](std::string name, size_t bytes) {
+    if (name.size() <= bytes) return name;
+    size_t at = bytes;
+    while (at > 0 && (static_cast<unsigned char>(name[at]) & 0xC0) == 0x80) --at;
+    return name.substr(0, at);
+  };
+  std::set<std::string> used;
+  for (const NamedItem& w : wanted) used.insert(cut(w.name, exodus::kWrittenNameLength));
+  std::set<std::string> given;
+  std::vector<std::string> out;
+  for (const NamedItem& w : wanted) {
+    std::string name = cut(w.name, exodus::kWrittenNameLength);
+    if (!name.empty() && !given.insert(name).second) {
+      for (int k = 2;; ++k) {
+        const std::string suffix = "_" + std::to_string(k);
+        const std::string candidate = cut(name, exodus::kWrittenNameLength - suffix.size()) + suffix;
+        if (!used.count(candidate) && given.insert(candidate).second) {
+          name = candidate;
+          break;
+        }
+      }
+    }
+    out.push_back(name);
+  }
+  return out;
+}
+
+// Every block's, side set's and node set's wanted name (node sets: the
+// fields kept as them; one named by a number has it as its id), in the
+// file's order.
+std::vector<NamedItem> wanted_names(const OutputMesh& m, const std::vector<OutBlock>& blocks) {
+  std::vector<NamedItem> out;
+  for (const OutBlock& b : blocks) out.push_back({"element block " + std::to_string(b.id), b.name});
+  for (const auto& [tag, set] : side_set_ids(m)) {
+    const auto name = m.face_tag_names.find(tag);
+    out.push_back({"side set " + std::to_string(set), name != m.face_tag_names.end() ? name->second : ""});
+  }
+  for (const OutputField& f : m.fields)
+    if (is_node_set_field(f)) {
+      const std::string name = f.name.substr(std::string(kNodeSetFieldPrefix).size());
+      const bool number =
+          !name.empty() && name.size() < 10 && std::all_of(name.begin(), name.end(), ::isdigit);
+      out.push_back({"node set " + name, number ? "" : name});
+    }
+  return out;
+}
+
 }  // namespace
 
 std::vector<int64_t> exodus_ids(const std::vector<int64_t>& labels) {
@@ -130,6 +189,12 @@ std::string render_exodus(const OutputMesh& m) {
   exodus::File file = exodus::File::create(temporary.path);
   const int id = file.id();
   std::vector<OutBlock> blocks = exodus_blocks(m);
+  // The names, as wanted_names() orders them: the blocks', then the side
+  // sets' by tag, then the node sets'.
+  const std::vector<std::string> names = unique_exodus_names(wanted_names(m, blocks));
+  std::map<int32_t, std::string> side_set_name;
+  size_t node_set_name = blocks.size();
+  for (const auto& [tag, set] : side_set_ids(m)) side_set_name[tag] = names[node_set_name++];
   // Each cell's element number (1-based, block after block).
   std::vector<int64_t> element_of(m.cells.size());
   int64_t next = 1;
@@ -194,7 +259,7 @@ std::string render_exodus(const OutputMesh& m) {
     }
     file.check(ex_put_conn(id, EX_ELEM_BLOCK, b.id, conn.data(), nullptr, nullptr),
                "element block " + std::to_string(b.id) + "'s connectivity");
-    block_names.names.push_back(b.name.substr(0, exodus::kWrittenNameLength));
+    block_names.names.push_back(names[block_names.names.size()]);  // (the blocks come first)
   }
   if (!blocks.empty())
     file.check(ex_put_names(id, EX_ELEM_BLOCK, block_names.pointers().data()), "the blocks' names");
@@ -209,9 +274,7 @@ std::string render_exodus(const OutputMesh& m) {
                "side set " + std::to_string(set));
     file.check(ex_put_set(id, EX_SIDE_SET, set, sides.first.data(), sides.second.data()),
                "side set " + std::to_string(set));
-    const auto name = m.face_tag_names.find(tag);
-    set_names.names.push_back(
-        name != m.face_tag_names.end() ? name->second.substr(0, exodus::kWrittenNameLength) : "");
+    set_names.names.push_back(side_set_name.at(tag));
   }
   if (!side_sets.empty())
     file.check(ex_put_names(id, EX_SIDE_SET, set_names.pointers().data()), "the side sets' names");
@@ -224,7 +287,7 @@ std::string render_exodus(const OutputMesh& m) {
     const std::string name = f->name.substr(std::string(kNodeSetFieldPrefix).size());
     const bool number = !name.empty() && name.size() < 10 && std::all_of(name.begin(), name.end(), ::isdigit);
     node_labels.push_back(number ? std::stoll(name) : 0);
-    node_set_names.push_back(number ? "" : name.substr(0, exodus::kWrittenNameLength));
+    node_set_names.push_back(names[node_set_name++]);
   }
   const std::vector<int64_t> node_set_ids = exodus_ids(node_labels);
   for (size_t k = 0; k < node_sets.size(); ++k) {
@@ -323,6 +386,14 @@ std::vector<std::string> exodus_renumbering(const OutputMesh& m) {
     if (id != tag)
       out.push_back("face tag " + std::to_string(tag) + " as side set " + std::to_string(id) +
                     " (Exodus ids are positive)");
+  // (Names cut to 64 bytes are said where the stream is read: a name holds 64.)
+  const std::vector<NamedItem> wanted = wanted_names(m, exodus_blocks(m));
+  const std::vector<std::string> given = unique_exodus_names(wanted);
+  for (size_t k = 0; k < wanted.size(); ++k)
+    if (given[k] != wanted[k].name && wanted[k].name.size() <= exodus::kWrittenNameLength)
+      out.push_back(wanted[k].kind + "'s name \"" + wanted[k].name + "\" as \"" + given[k] +
+                    "\" (a name is unique over an Exodus file's blocks and sets: ParaView refuses the file "
+                    "otherwise)");
   return out;
 }
 

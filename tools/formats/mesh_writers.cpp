@@ -347,7 +347,8 @@ std::vector<std::string> not_written(const OutputMesh& m, MeshFormat format, con
   // XYZ hold none.)
   if (format == MeshFormat::kOff || format == MeshFormat::kXyz) add("the point fields", names(m.fields, all));
   if (format == MeshFormat::kGlb || format == MeshFormat::kGltf || format == MeshFormat::kDrc)
-    add("the point fields (a glTF or Draco surface's colours come from --color)", names(m.fields, all));
+    add("the point fields (a glTF or Draco surface's colours come from --color)",
+        names(m.fields, [&](const OutputField& f) { return all(f) && f.name != style.colour; }));
   if (surface) {
     const bool coloured =
         format == MeshFormat::kGlb || format == MeshFormat::kGltf || format == MeshFormat::kDrc;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <set>
 #include <string_view>
 #include <vector>
 
@@ -410,6 +411,33 @@ std::string one_word(std::string name) {
 }
 
 }  // namespace
+
+std::vector<std::string> netgen_renumbering(const OutputMesh& m) {
+  std::vector<std::string> out;
+  std::vector<int32_t> labels(m.region.begin(), m.region.end());
+  std::sort(labels.begin(), labels.end());
+  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+  for (size_t d = 0; d < labels.size(); ++d)
+    if (labels[d] != static_cast<int32_t>(d) + 1)
+      out.push_back("region " + std::to_string(labels[d]) + " as material " + std::to_string(d + 1) +
+                    " (Netgen numbers its domains 1, 2, ...)");
+  const auto said = [&](const std::string& what, const std::map<int32_t, std::string>& names) {
+    for (const auto& [label, name] : names)
+      if (one_word(name) != name)
+        out.push_back(what + " " + std::to_string(label) + "'s name \"" + name + "\" as " + one_word(name) +
+                      " (a Netgen name is one word)");
+  };
+  if (!m.region.empty()) said("region", m.region_names);
+  // (The faces' numbers are their tags where the tags are 1 to K, each on
+  // one pair of domains; else one number per tag and pair, render_netgen_vol.)
+  std::set<int32_t> tags(m.face_tags.begin(), m.face_tags.end());
+  if (!tags.empty() && (*tags.begin() != 1 || *tags.rbegin() != static_cast<int32_t>(tags.size())))
+    out.push_back(
+        "the face tags as Netgen boundary condition numbers 1 to K, one per tag and pair of domains "
+        "(their names stay with them)");
+  said("face tag", m.face_tag_names);
+  return out;
+}
 
 std::string render_netgen_vol(const OutputMesh& m) {
   using Face = std::array<uint32_t, 3>;

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "input_mesh.h"
 #include "mesh_writers.h"
@@ -36,5 +37,9 @@ InputMesh read_netgen_vol(const std::string& path);
 // without a tag). Names lose their blanks (Netgen 6.2 reads a name as one
 // word).
 std::string render_netgen_vol(const OutputMesh& mesh);
+// What render_netgen_vol() numbers or names otherwise than the stream
+// (regions as materials 1 to K, names made one word, face tags as boundary
+// condition numbers), for meshdec's "written as" lines.
+std::vector<std::string> netgen_renumbering(const OutputMesh& mesh);
 
 }  // namespace dtm
