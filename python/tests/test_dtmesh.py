@@ -289,6 +289,18 @@ def test_meshio_write_names_what_the_stream_does_not_hold(corpus, tmp_path):
     plain = tmp_path / "plain.dtm"
     meshio.write(plain, meshio.Mesh(points, [("tetra", tets)]), box=256, dmax=2)
     assert np.array_equal(dtmesh.decode(plain).tetrahedra, decoded.tetrahedra)
+    # meshio's .vtu of a gmsh mesh joins its groups' names into one array's
+    # name, over the 64 bytes a stream holds; MED's field data are lists of
+    # names, not [tag, dim]: the one named as left out, the other passed by.
+    joined = "-".join(["base", "left_face", "pin_interface", "matrix", "pin", "ball", "gmsh:bounding_entities"])
+    odd = meshio.Mesh(points, [("tetra", tets)], cell_data={joined: [np.ones(len(tets), np.int32)],
+                                                            "stress": [np.ones(len(tets))]},
+                      field_data={"med:nom": [[], []]})
+    with pytest.warns(UserWarning) as said:
+        meshio.write(tmp_path / "odd.dtm", odd, box=256, dmax=2)
+    lines = [str(w.message) for w in said]
+    assert any(f"cell data '{joined}'" in m for m in lines), lines
+    assert np.all(dtmesh.decode(tmp_path / "odd.dtm").cell_data["stress"] == 1)
 
 
 def test_cell_data_through_numpy_meshio_and_vtk(corpus, tmp_path):
