@@ -172,25 +172,30 @@ void add_options(CLI::App& app, Command& c) {
   app.add_option("--removal-share", c.removal_share,
                  "each level removes about this share of the finer level's vertices (codec: 0.5; 0 = one "
                  "independent set per level)")
+      ->check(dtm::finite_number(true))
       ->check(CLI::Range(0.0, 0.95));
   app.add_option("--alpha", c.alpha_text, "alpha policy: paper (eq. 2.1), hull, or a value")
       ->capture_default_str();
   app.add_option("--quality-guard", c.quality_guard,
                  "accept a removal only if its new cells' smallest solid angle is >= "
                  "min(S, the star's) (--preset paper only; 0 = off)")
+      ->check(dtm::finite_number(true))
       ->check(CLI::Range(0.0, 0.56));
   app.add_option("--quality-ratio", c.quality_ratio,
                  "accept a removal only if its new cells' smallest solid angle is >= R x the star's "
                  "(--preset paper only; 0 = off)")
+      ->check(dtm::finite_number(true))
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--quality-floor", c.quality_floor,
                  "keep every level's average smallest solid angle >= F x level 0's, removing as many "
                  "vertices as that allows (codec: 0.85, paper: 1; 0 = off)")
+      ->check(dtm::finite_number(true))
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--quality-floor-cap", c.quality_floor_cap,
                  "the quality floor is at most this average smallest solid angle, so that a "
                  "best-shaped input gets levels too (codec: 0.25, what Delaunay levels of well-spaced points "
                  "reach; paper: none; 0 = none)")
+      ->check(dtm::finite_number(true))
       ->check(CLI::Range(0.0, 0.56));
   app.add_flag(
       "--no-paper-stop", [&e](int64_t) { e.paper_stop = false; },

@@ -30,9 +30,16 @@ InputMesh voxel_points(const Volume& v, const VolumeOptions& asked, const std::s
                           ": a volume that is not a 0/1 mask needs --threshold T (solid: value >= T) or "
                           "--label L");
     }
-  const VolumeOptions o = mask ? VolumeOptions{std::nullopt, 1.0, asked.interior_step} : asked;
+  VolumeOptions o = mask ? VolumeOptions{std::nullopt, 1.0, asked.interior_step} : asked;
+  // A float32 volume's values compared with the option as float32 holds it:
+  // --label 2.3 is the voxels of value 2.3f, not none.
+  if (v.type == ScalarType::kFloat32) {
+    if (o.threshold) o.threshold = static_cast<float>(*o.threshold);
+    if (o.label) o.label = static_cast<float>(*o.label);
+  }
   std::vector<uint8_t> solid(v.voxels());
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  uint64_t not_a_number = 0;
   for (uint64_t k = 0, at = 0; k < nz; ++k)
     for (uint64_t j = 0; j < ny; ++j)
       for (uint64_t i = 0; i < nx; ++i, ++at) {
@@ -40,6 +47,8 @@ InputMesh voxel_points(const Volume& v, const VolumeOptions& asked, const std::s
         if (!std::isnan(x)) {
           lo = std::min(lo, x);
           hi = std::max(hi, x);
+        } else {
+          ++not_a_number;
         }
         solid[at] = o.threshold ? x >= *o.threshold : x == *o.label;
       }
@@ -62,6 +71,8 @@ InputMesh voxel_points(const Volume& v, const VolumeOptions& asked, const std::s
           values.push_back(v.at(i, j, k));
         }
       }
+  if (voxels.empty() && mask)
+    throw FormatError(path + ": the volume has no solid voxel (a 0/1 mask of 0s only)");
   if (voxels.empty()) {
     char text[200];
     std::snprintf(text, sizeof text, "%s %g selects no voxel (values range from %g to %g)",
@@ -108,6 +119,10 @@ InputMesh voxel_points(const Volume& v, const VolumeOptions& asked, const std::s
     }
   }
   if (!mask) out.fields.push_back(std::move(value));
+  if (not_a_number > 0)
+    out.left_out.push_back(std::to_string(not_a_number) +
+                           " voxels whose value is NaN (outside the solid: no " +
+                           std::string(o.threshold ? "threshold" : "label") + " selects them)");
   VoxelMask& m = out.voxels.emplace();
   m.sizes = {nx, ny, nz};
   m.inside = std::move(solid);
