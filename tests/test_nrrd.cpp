@@ -403,6 +403,43 @@ TEST_F(Volumes, AMaskNeedsNoThresholdAndCarriesNoField) {
   const auto r = test::run_command(std::string(DTM_MESHENC) + " " + p + " -o " + path("mask.dtm"));
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(r.output.find("fields"), std::string::npos) << r.output;
+  // A mask of 0s only is said as such, not as a --label the user never gave.
+  const std::string empty = path("empty_mask.nrrd");
+  std::ofstream(empty, std::ios::binary)
+      << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n\n"
+      << std::string(64, '\0');
+  try {
+    read_input(empty, {}, {});
+    ADD_FAILURE() << "an empty mask was accepted";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("the volume has no solid voxel"), std::string::npos) << e.what();
+  }
+}
+
+// A float32 volume: --label and --threshold compare as float32 holds them
+// (2.3 is 2.29999995f: --label 2.3 found no voxel); a NaN voxel is outside
+// the solid, and said.
+TEST_F(Volumes, AFloatVolumesOptionsCompareAsItsValuesAndNaNIsSaid) {
+  const std::string p = path("floats.nrrd");
+  std::string bytes;
+  for (int k = 0; k < 8; ++k)
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i) {
+        const bool inside = i > 0 && i < 7 && j > 0 && j < 7 && k > 0 && k < 7;
+        append_binary(bytes, i == 3 && j == 3 && k == 3 ? NAN : inside ? 2.3f : 0.0f);
+      }
+  std::ofstream(p, std::ios::binary) << "NRRD0004\ntype: float\ndimension: 3\nsizes: 8 8 8\n"
+                                        "encoding: raw\nendian: little\n\n"
+                                     << bytes;
+  VolumeOptions label;
+  label.label = 2.3;
+  const InputMesh by_label = read_input(p, {}, label);
+  EXPECT_EQ(by_label.points.size(), 6u * 6 * 6 - 1);
+  const InputMesh by_threshold = read_input(p, {}, threshold(2.3));
+  EXPECT_EQ(by_threshold.points.size(), by_label.points.size());
+  ASSERT_EQ(by_threshold.left_out.size(), 1u);
+  EXPECT_EQ(by_threshold.left_out[0],
+            "1 voxels whose value is NaN (outside the solid: no threshold selects them)");
 }
 
 }  // namespace
