@@ -19,6 +19,7 @@
 #include "codec/sections/region_coder.h"
 #include "codec/sections/vertex_order_coder.h"
 #include "codec/stream/format.h"
+#include "codec/stream/format_encoder.h"
 #include "codec/stream/layer_coder.h"
 #include "common/threads.h"
 #include "mesh/carving.h"

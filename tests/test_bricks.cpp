@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "codec/blocks/block_runs.h"
+#include "codec/bricks/brick_index_encoder.h"
 #include "codec/bricks/bricks.h"
 #include "codec/encode.h"
 #include "codec/region_decode.h"

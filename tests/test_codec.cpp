@@ -12,6 +12,7 @@
 #include "codec/decode.h"
 #include "codec/expert_encode.h"
 #include "codec/stream/format.h"
+#include "codec/stream/format_encoder.h"
 #include "codec/stream/layer_coder.h"
 #include "core/hierarchy.h"
 #include "test_support.h"

@@ -19,6 +19,7 @@
 #include "codec/sections/edge_node_coder.h"
 #include "codec/sections/face_coder.h"
 #include "codec/stream/format.h"
+#include "codec/stream/format_encoder.h"
 #include "common/byte_io.h"
 #include "test_support.h"
 #include "tools/decoded_mesh.h"

@@ -15,6 +15,7 @@
 #include "codec/decode.h"
 #include "codec/region_decode.h"
 #include "codec/stream/format.h"
+#include "codec/stream/format_encoder.h"
 #include "codec/stream/layer_coder.h"
 #include "test_support.h"
 

@@ -13,6 +13,7 @@
 #include "codec/encode.h"
 #include "codec/sections/candidate_coder.h"
 #include "codec/stream/format.h"
+#include "codec/stream/format_encoder.h"
 #include "test_support.h"
 #include "tools/formats/tetgen.h"
 

@@ -26,6 +26,7 @@
 #include "codec/sections/face_coder.h"
 #include "codec/sections/region_coder.h"
 #include "codec/stream/format.h"
+#include "codec/stream/format_encoder.h"
 #include "core/quantize.h"
 #include "core/reference_shape.h"
 #include "mesh/carving.h"

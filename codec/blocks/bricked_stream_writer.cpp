@@ -5,8 +5,10 @@
 #include <utility>
 
 #include "codec/blocks/block_runs.h"
+#include "codec/bricks/brick_index_encoder.h"
 #include "codec/bricks/bricks.h"
 #include "codec/stream/format.h"
+#include "codec/stream/format_encoder.h"
 #include "common/byte_io.h"
 #include "common/release.h"
 

@@ -63,12 +63,7 @@ struct IndexFields {
 };
 IndexFields index_fields(uint16_t stream_flags, int level);
 
-// The index: varint chunk count, then per chunk varint (brick - previous
-// brick - 1; the first: brick), new_points, payload_bytes, carving_bytes,
-// value_bytes, region_bytes, face_bytes and cell_value_bytes where `fields` says, the
-// u32 checksum, and with cell_value_bytes the u32 cell_value_checksum.
-// Offsets are not stored.
-std::vector<uint8_t> write_brick_index(std::span<const BrickChunk> chunks, IndexFields fields);
+// The index's layout: write_brick_index (brick_index_encoder.h).
 // Parses and checks an index against its layer (of level `level`): bricks
 // ascending and below 8^depth, the new points adding up to new_vertices and
 // the chunk sizes to chunk_bytes, no empty chunk, a payload of at least the

@@ -7,6 +7,7 @@
 #include "codec/bricks/bricks.h"
 #include "codec/sections/candidate_coder.h"
 #include "codec/sections/face_coder.h"
+#include "codec/stream/header_fields.h"
 #include "codec/stream/layer_coder.h"
 #include "common/byte_io.h"
 #include "common/checksum.h"
@@ -15,100 +16,15 @@
 namespace dtm {
 namespace {
 
-template <class Wire>
-void put(ByteWriter& w, Wire v) {
-  if constexpr (std::is_same_v<Wire, double>)
-    w.f64(v);
-  else if constexpr (sizeof(Wire) == 1)
-    w.u8(v);
-  else if constexpr (sizeof(Wire) == 2)
-    w.u16(v);
-  else if constexpr (sizeof(Wire) == 4)
-    w.u32(v);
-  else
-    w.u64(v);
-}
-
-template <class Wire>
-Wire get(ByteReader& r) {
-  Wire v{};
-  if constexpr (std::is_same_v<Wire, double>)
-    r.f64(v);
-  else if constexpr (sizeof(Wire) == 1)
-    r.u8(v);
-  else if constexpr (sizeof(Wire) == 2)
-    r.u16(v);
-  else if constexpr (sizeof(Wire) == 4)
-    r.u32(v);
-  else
-    r.u64(v);
-  return v;
-}
-
-// Writes a field list. The checksum covers the bytes before it, then
-// `trailer` (a layer's payload; empty for the stream header), and keeps
-// only as many low bits as its field holds.
-struct FieldWriter {
-  ByteWriter w;
-  std::span<const uint8_t> trailer;
-  void magic(const char*) { w.bytes(kMagic); }
-  template <class Wire, class T>
-  void field(const char*, const T& v) {
-    put<Wire>(w, static_cast<Wire>(v));
-  }
-  template <class Wire, class T, size_t N>
-  void field(const char* name, const std::array<T, N>& a) {
-    for (const T& v : a) field<Wire>(name, v);
-  }
-  template <class Wire, class T>
-  void checksum(const char*, T& v) {
-    v = static_cast<T>(xxh3_64(w.data(), trailer));
-    put<Wire>(w, static_cast<Wire>(v));
-  }
-};
-
-// Reads a field list from bytes known to hold it whole.
-struct FieldReader {
-  ByteReader r;
-  void magic(const char*) {
-    for (size_t i = 0; i < kMagic.size(); ++i) get<uint8_t>(r);
-  }
-  template <class Wire, class T>
-  void field(const char*, T& v) {
-    v = static_cast<T>(get<Wire>(r));
-  }
-  template <class Wire, class T, size_t N>
-  void field(const char* name, std::array<T, N>& a) {
-    for (T& v : a) field<Wire>(name, v);
-  }
-  template <class Wire, class T>
-  void checksum(const char* name, T& v) {
-    field<Wire>(name, v);
-  }
-};
-
-template <class Header>
-Header read_fields(std::span<const uint8_t> bytes, uint8_t format_major = kVersionMajor, bool bricked = false,
-                   uint16_t stream_flags = 0) {
-  Header h;
-  if constexpr (requires { h.format_major; })
-    h.format_major = format_major, h.bricked = bricked, h.stream_flags = stream_flags;
-  FieldReader reader{ByteReader(bytes)};
-  visit_fields(h, reader);
-  return h;
-}
+using header_fields::FieldReader;
+using header_fields::FieldWriter;
+using header_fields::read_fields;
 
 constexpr size_t kHeaderChecksumOffset = sized<StreamHeader>().checksum_offset;
 // (A layer header's checksum is its last field.)
 constexpr size_t layer_checksum_offset(size_t header_size) { return header_size - sizeof(uint64_t); }
 
 }  // namespace
-
-std::vector<uint8_t> write_header(StreamHeader h) {
-  FieldWriter writer;
-  visit_fields(h, writer);
-  return writer.w.take();
-}
 
 Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
   const size_t magic_seen = std::min(bytes.size(), kMagic.size());
@@ -172,65 +88,6 @@ Status parse_header(std::span<const uint8_t> bytes, StreamHeader& h) {
     if (!std::isfinite(o)) return corrupt("origin is not finite");
   if (!std::isfinite(h.grid.step) || !(h.grid.step > 0)) return corrupt("step is not positive");
   return Status::Ok();
-}
-
-std::vector<uint8_t> write_layer(LayerHeader h, std::span<const uint8_t> payload,
-                                 std::span<const uint8_t> carving, std::span<const uint8_t> values,
-                                 std::span<const uint8_t> candidates, std::span<const uint8_t> regions,
-                                 std::span<const uint8_t> faces, std::span<const uint8_t> cell_values,
-                                 std::span<const uint8_t> order, std::span<const uint8_t> exact,
-                                 std::span<const uint8_t> edge_nodes, std::span<const uint8_t> edge_values,
-                                 std::span<const uint8_t> node_order, std::span<const uint8_t> node_labels) {
-  h.candidate_bytes = static_cast<uint32_t>(candidates.size());
-  h.payload_bytes = static_cast<uint32_t>(payload.size());
-  h.carving_bytes = static_cast<uint32_t>(carving.size());
-  h.value_bytes = static_cast<uint32_t>(values.size());
-  h.region_bytes = static_cast<uint32_t>(regions.size());
-  h.face_bytes = static_cast<uint32_t>(faces.size());
-  h.cell_value_bytes = static_cast<uint32_t>(cell_values.size());
-  h.order_bytes = static_cast<uint32_t>(order.size());
-  h.exact_bytes = static_cast<uint32_t>(exact.size());
-  h.edge_node_bytes = static_cast<uint32_t>(edge_nodes.size());
-  h.edge_value_bytes = static_cast<uint32_t>(edge_values.size());
-  h.node_order_bytes = static_cast<uint32_t>(node_order.size());
-  h.node_label_bytes = static_cast<uint32_t>(node_labels.size());
-  std::vector<uint8_t> body(candidates.begin(), candidates.end());
-  body.insert(body.end(), payload.begin(), payload.end());
-  body.insert(body.end(), carving.begin(), carving.end());
-  body.insert(body.end(), regions.begin(), regions.end());
-  body.insert(body.end(), faces.begin(), faces.end());
-  body.insert(body.end(), values.begin(), values.end());
-  body.insert(body.end(), cell_values.begin(), cell_values.end());
-  body.insert(body.end(), order.begin(), order.end());
-  body.insert(body.end(), exact.begin(), exact.end());
-  body.insert(body.end(), edge_nodes.begin(), edge_nodes.end());
-  body.insert(body.end(), edge_values.begin(), edge_values.end());
-  body.insert(body.end(), node_order.begin(), node_order.end());
-  body.insert(body.end(), node_labels.begin(), node_labels.end());
-  FieldWriter writer;
-  writer.trailer = body;
-  visit_fields(h, writer);
-  // (23.0: a section whose length the stream's flags leave out of the
-  // header would make a stream no decoder reads: the caller's error.)
-  const std::vector<uint8_t>& header = writer.w.data();
-  const LayerHeader back = read_fields<LayerHeader>(header, h.format_major, h.bricked, h.stream_flags);
-  if (back.body_bytes() != h.body_bytes())
-    throw std::logic_error("write_layer: a section the stream's flags have no length for in this layer");
-  writer.w.bytes(body);
-  return writer.w.take();
-}
-
-std::vector<uint8_t> write_bricked_layer(LayerHeader h, std::span<const uint8_t> index,
-                                         std::span<const uint8_t> chunks) {
-  h.bricked = true;
-  h.index_bytes = static_cast<uint32_t>(index.size());
-  h.chunk_bytes = chunks.size();
-  FieldWriter writer;
-  writer.trailer = index;
-  visit_fields(h, writer);
-  writer.w.bytes(index);
-  writer.w.bytes(chunks);
-  return writer.w.take();
 }
 
 LayerWalk::LayerWalk(const StreamHeader& header, uint64_t max_level_vertices, uint64_t table_bytes)

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 
+#include "codec/bricks/brick_index_encoder.h"
 #include "codec/bricks/bricks.h"
 #include "fuzz_check.h"
 
