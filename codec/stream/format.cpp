@@ -16,7 +16,6 @@
 namespace dtm {
 namespace {
 
-using header_fields::FieldReader;
 using header_fields::FieldWriter;
 using header_fields::read_fields;
 

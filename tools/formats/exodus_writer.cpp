@@ -152,6 +152,7 @@ std::vector<std::string> unique_exodus_names(const std::vector<NamedItem>& wante
 // file's order.
 std::vector<NamedItem> wanted_names(const OutputMesh& m, const std::vector<OutBlock>& blocks) {
   std::vector<NamedItem> out;
+  out.reserve(blocks.size() + m.face_tag_names.size() + m.fields.size());
   for (const OutBlock& b : blocks) out.push_back({"element block " + std::to_string(b.id), b.name});
   for (const auto& [tag, set] : side_set_ids(m)) {
     const auto name = m.face_tag_names.find(tag);
