@@ -285,12 +285,15 @@ RegionSurfaces region_surfaces(const OutputMesh& m) {
   std::sort(out.labels.begin(), out.labels.end());
   out.labels.erase(std::unique(out.labels.begin(), out.labels.end()), out.labels.end());
   if (out.labels.size() > 255) throw std::invalid_argument("--color region: over 255 regions");
+  // Each region's cells, in one pass.
+  std::vector<std::vector<std::array<uint32_t, 4>>> cells(out.labels.size());
+  for (size_t c = 0; c < m.cells.size(); ++c)
+    cells[static_cast<size_t>(std::lower_bound(out.labels.begin(), out.labels.end(), m.region[c]) -
+                              out.labels.begin())]
+        .push_back(m.cells[c]);
   std::vector<int64_t> local(m.points.size(), -1);
   for (size_t r = 0; r < out.labels.size(); ++r) {
-    std::vector<std::array<uint32_t, 4>> cells;
-    for (size_t c = 0; c < m.cells.size(); ++c)
-      if (m.region[c] == out.labels[r]) cells.push_back(m.cells[c]);
-    const std::vector<std::array<uint32_t, 3>> faces = boundary_triangles(cells);
+    const std::vector<std::array<uint32_t, 3>> faces = boundary_triangles(cells[r]);
     std::fill(local.begin(), local.end(), -1);
     for (const auto& f : faces)
       for (const uint32_t v : f) local[v] = 0;
