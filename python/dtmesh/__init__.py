@@ -662,7 +662,8 @@ class Decoder:
         """Takes the next bytes (at once); returns each level they completed, coarsest first.
 
         Raises:
-            Error: the stream is damaged or foreign (the levels decoded before stand).
+            Error: the stream is damaged or foreign (the levels decoded before stand), or its
+                header has no level as fine as the one asked for (said once the header is in).
             ValueError: after :meth:`finish`.
         """
         if self._finished:
