@@ -14,10 +14,12 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "codec/sections/carving_coder.h"
 #include "common/status.h"
+#include "common/utf8.h"
 #include "mesh/delaunay.h"
 
 namespace dtm {
@@ -32,11 +34,7 @@ inline constexpr size_t kMaxRegionNameBytes = 64;
 // A name as a table holds it: its first kMaxRegionNameBytes bytes, a UTF-8
 // character not cut in two.
 inline std::string held_label_name(std::string name) {
-  if (name.size() <= kMaxRegionNameBytes) return name;
-  size_t end = kMaxRegionNameBytes;
-  while (end > 0 && (static_cast<unsigned char>(name[end]) & 0xC0) == 0x80) --end;  // a continuation byte
-  name.resize(end);
-  return name;
+  return utf8_prefix(std::move(name), kMaxRegionNameBytes);
 }
 
 // The table: 1 to kMaxRegionCount regions, labels distinct.

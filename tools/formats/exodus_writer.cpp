@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "abaqus.h"  // kNodeSetFieldPrefix, is_node_set_field
+#include "common/utf8.h"
 #include "exodus.h"
 #include "exodus_file.h"
 #include "face_sides.h"
@@ -120,22 +121,16 @@ struct NamedItem {
   std::string name;
 };
 std::vector<std::string> unique_exodus_names(const std::vector<NamedItem>& wanted) {
-  const auto cut = [](std::string name, size_t bytes) {
-    if (name.size() <= bytes) return name;
-    size_t at = bytes;
-    while (at > 0 && (static_cast<unsigned char>(name[at]) & 0xC0) == 0x80) --at;
-    return name.substr(0, at);
-  };
   std::set<std::string> used;
-  for (const NamedItem& w : wanted) used.insert(cut(w.name, exodus::kWrittenNameLength));
+  for (const NamedItem& w : wanted) used.insert(utf8_prefix(w.name, exodus::kWrittenNameLength));
   std::set<std::string> given;
   std::vector<std::string> out;
   for (const NamedItem& w : wanted) {
-    std::string name = cut(w.name, exodus::kWrittenNameLength);
+    std::string name = utf8_prefix(w.name, exodus::kWrittenNameLength);
     if (!name.empty() && !given.insert(name).second) {
       for (int k = 2;; ++k) {
         const std::string suffix = "_" + std::to_string(k);
-        const std::string candidate = cut(name, exodus::kWrittenNameLength - suffix.size()) + suffix;
+        const std::string candidate = utf8_prefix(name, exodus::kWrittenNameLength - suffix.size()) + suffix;
         if (!used.count(candidate) && given.insert(candidate).second) {
           name = candidate;
           break;

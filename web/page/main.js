@@ -272,10 +272,7 @@ function colour(l) {
   if (mode === 'region' && state.regions.length > 0) {
     regionLegend(l);
     legend(null);
-    mode = 'plain';  // (the vertices' colours are not drawn)
-    fillColours(scene.colours, l.vertices, mode, options);
-    scene.coloursChanged(l.vertices);
-    return 'region';
+    return 'region';  // (the triangles carry their own colours: the vertices' are not drawn)
   }
   regionLegend(null);
   const field = f >= 0 ? f : ['plain', 'level', 'boundary'].includes(mode) ? -1 : named;

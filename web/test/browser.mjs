@@ -51,17 +51,27 @@ export async function waitForEnd(page, timeout = 120_000) {
   return page.evaluate(() => JSON.parse(JSON.stringify(window.dtmViewer)));
 }
 
-// How much of the canvas is drawn (not the white background): a share.
-export async function drawnShare(page) {
-  return page.evaluate(() => {
+// The canvas scaled to 200 x 150: its pixels' RGBA bytes.
+export async function canvasPixels(page) {
+  return Uint8Array.from(await page.evaluate(() => {
     const canvas = document.getElementById('canvas');
     const probe = document.createElement('canvas');
     probe.width = 200, probe.height = 150;
     const context = probe.getContext('2d');
     context.drawImage(canvas, 0, 0, probe.width, probe.height);
-    const pixels = context.getImageData(0, 0, probe.width, probe.height).data;
-    let drawn = 0;
-    for (let i = 0; i < pixels.length; i += 4) if (pixels[i] + pixels[i + 1] + pixels[i + 2] < 3 * 245) ++drawn;
-    return drawn / (probe.width * probe.height);
-  });
+    return Array.from(context.getImageData(0, 0, probe.width, probe.height).data);
+  }));
+}
+
+// The share of the canvas's pixels for which `is(r, g, b)` holds.
+export async function pixelShare(page, is) {
+  const pixels = await canvasPixels(page);
+  let count = 0;
+  for (let i = 0; i < pixels.length; i += 4) if (is(pixels[i], pixels[i + 1], pixels[i + 2])) ++count;
+  return count / (pixels.length / 4);
+}
+
+// How much of the canvas is drawn (not the white background): a share.
+export async function drawnShare(page) {
+  return pixelShare(page, (r, g, b) => r + g + b < 3 * 245);
 }

@@ -11,7 +11,7 @@ import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { basename, join } from 'node:path';
 import { webTestConfig } from './load_decoder.mjs';
 import { allStreams, brokenCopies, nativeSummary } from './streams.mjs';
-import { drawnShare, launchBrowser, openPage, serve, waitForEnd } from './browser.mjs';
+import { drawnShare, launchBrowser, openPage, pixelShare, serve, waitForEnd } from './browser.mjs';
 import { composePicture, levelPanels } from './pictures.mjs';
 
 const config = webTestConfig();
@@ -271,20 +271,10 @@ test('a picture of materials: colour by region shows each in its colour, named',
     assert.deepEqual(state.regions, [{ label: 1, name: 'aluminium' }, { label: 2, name: 'steel' }]);
     assert.equal(await page.inputValue('#colour'), 'region');
     // Pixels nearest each region's colour (orange, sky blue), on the drawing.
-    const shares = () => page.evaluate(() => {
-      const canvas = document.getElementById('canvas');
-      const probe = document.createElement('canvas');
-      probe.width = 200, probe.height = 150;
-      const context = probe.getContext('2d');
-      context.drawImage(canvas, 0, 0, probe.width, probe.height);
-      const p = context.getImageData(0, 0, probe.width, probe.height).data;
-      let orange = 0, blue = 0;
-      for (let i = 0; i < p.length; i += 4) {
-        if (p[i] > p[i + 2] + 60 && p[i + 1] > p[i + 2]) ++orange;
-        else if (p[i + 2] > p[i] + 40 && p[i + 2] >= p[i + 1]) ++blue;
-      }
-      return [orange / (probe.width * probe.height), blue / (probe.width * probe.height)];
-    });
+    const shares = async () => [
+      await pixelShare(page, (r, g, b) => r > b + 60 && g > b),
+      await pixelShare(page, (r, g, b) => !(r > b + 60 && g > b) && b > r + 40 && b >= g),
+    ];
     const legendFor = (level) => expected.levels.find((l) => l.level === level).region_cells;
     const draw = async (name, change) => {
       const frames = await page.evaluate(() => window.dtmViewer.frames);
